@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file output.hpp
+/// @brief Writing results: VTK XML files for ParaView and report.json.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+
+#include <filesystem>
+#include <ostream>
+#include <stdexcept>
+#include <vector>
+
+namespace shadow {
+
+/// A file could not be written (the message names the path and the system's reason).
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Writes every output file into `outdir` (created if missing):
+/// `fragments.vtp`, `faces.vtp`, `lights.vtp`, `report.json` and `scene.vtm` (ParaView
+/// multiblock of all of them). Files are written under temporary names and renamed into
+/// place only when all of them are complete, `report.json` last, so an interrupted run never
+/// leaves a directory that looks complete.
+/// @returns the paths written, in the order they were put in place.
+/// @throws OutputError
+std::vector<std::filesystem::path> write_outputs(const std::filesystem::path& outdir,
+                                                 const Scene& scene, const ShadowResult& result);
+
+/// The report (contract: faces[].lights[] with lit_area and lit_fraction, planes[]).
+void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result);
+
+}  // namespace shadow

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file scene.hpp
+/// @brief The scene: polygonal faces grouped in meshes, lights and receiving planes.
+///
+/// Plain structs with GLM types: no CGAL here. Coordinates are doubles as read;
+/// everything derived from them inside the library is exact (see docs/numeric-contract.md).
+#pragma once
+
+#include <shadow/error.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace shadow {
+
+/// One planar polygon. Its front is the side from which the vertices run counter-clockwise.
+struct Face {
+  std::vector<glm::dvec3> vertices;  ///< at least 3, consecutive duplicates removed
+  std::size_t mesh = 0;              ///< index into Scene::meshes
+  SourceLocation source;             ///< where the face was defined (OBJ line or JSON path)
+  /// Set by validation: the face has zero area (collinear or coincident vertices).
+  /// It keeps its face_id but casts no shadow and receives no light.
+  bool degenerate = false;
+};
+
+/// A named group of consecutive faces, read from an OBJ file or given inline.
+struct Mesh {
+  std::string name;
+  std::string file;             ///< OBJ path as written in the scene (empty for inline polygons)
+  std::size_t first_face = 0;   ///< face_id of the mesh's first face
+  std::size_t face_count = 0;
+  bool receiver = true;         ///< faces of this mesh receive light (see `receivers`)
+};
+
+enum class LightType { Directional, Point };
+
+/// A light source. Directional lights are at infinity in direction `to_light`.
+struct Light {
+  std::string name;
+  LightType type = LightType::Directional;
+  glm::dvec3 to_light{0.0, 0.0, 1.0};  ///< directional: from the scene toward the light (any length)
+  glm::dvec3 position{0.0};            ///< point: the light's position
+  double intensity = 1.0;              ///< radiometric scale (used by lighting models)
+  glm::dvec3 color{1.0, 1.0, 1.0};     ///< linear RGB in [0, 1]
+};
+
+/// An infinite receiving plane for Blinn projection shadows: n . (x - point) = 0.
+struct Plane {
+  std::string name;
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0, 0.0, 1.0};
+};
+
+/// A whole scene. Face ids are indices into `faces`: meshes in order, faces in file order.
+struct Scene {
+  std::vector<Mesh> meshes;
+  std::vector<Face> faces;
+  std::vector<Light> lights;
+  std::vector<Plane> planes;
+  std::filesystem::path source;    ///< the scene file (empty when built in code)
+  std::vector<Warning> warnings;   ///< non-fatal findings of loading and validation
+
+  /// True when face `face_id` belongs to a receiving mesh.
+  [[nodiscard]] bool is_receiver(std::size_t face_id) const {
+    return meshes[faces[face_id].mesh].receiver;
+  }
+};
+
+}  // namespace shadow

@@ -1,0 +1,11 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file shadow.hpp
+/// @brief Everything of libshadow's public API in one include.
+#pragma once
+
+#include <shadow/error.hpp>
+#include <shadow/output.hpp>
+#include <shadow/scene.hpp>
+#include <shadow/scene_io.hpp>
+#include <shadow/shadows.hpp>
+#include <shadow/version.hpp>

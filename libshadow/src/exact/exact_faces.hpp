@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Exact per-face data: each face's exact plane, its 2D chart and its convex pieces.
+//
+// A face is prepared once (FacePrep: plain numbers and indices, shareable between threads);
+// each worker thread then builds its own Epeck objects from it (ExactFace), because Epeck's
+// lazy values must not be shared between threads.
+#pragma once
+
+#include "exact/kernel.hpp"
+
+#include <shadow/scene.hpp>
+
+#include <array>
+#include <vector>
+
+namespace shadow::exact {
+
+/// What validation and the shadow computation need to know about a face, computed once with
+/// exact predicates and stored without CGAL types.
+struct FacePrep {
+  bool degenerate = false;     ///< zero area: casts and receives nothing
+  int axis = 2;                ///< k: dominant axis of the exact normal; the chart drops it
+  bool flipped = false;        ///< n_k < 0: the chart (x_i, x_j) sees the face clockwise
+  bool exactly_planar = true;  ///< all vertices lie exactly on one plane
+  /// Vertex indices around the face, counter-clockwise in the chart, collinear vertices removed.
+  std::vector<int> chart_ring;
+  /// Convex pieces (vertex indices, counter-clockwise in the chart) that tile the face.
+  std::vector<std::vector<int>> convex_pieces;
+  /// For exactly planar faces: a convex corner (prev, corner, next) whose cross product gives
+  /// the exact normal with the face's orientation.
+  std::array<int, 3> corner{0, 1, 2};
+  std::array<double, 2> chart_min{0, 0}, chart_max{0, 0};  ///< chart bounding box (exact doubles)
+  bool chart_is_box = false;  ///< the face is its own chart bounding box (axis-aligned rectangle)
+};
+
+/// Chart axes (i, j) for dropped axis k: cyclic, so that the chart sees the face
+/// counter-clockwise exactly when the normal's k component is positive.
+inline int chart_i(int k) { return (k + 1) % 3; }
+inline int chart_j(int k) { return (k + 2) % 3; }
+
+/// Prepares a face. Faces must be finite and free of consecutive duplicate vertices.
+FacePrep prepare_face(const std::vector<glm::dvec3>& vertices);
+
+/// One thread's exact view of a face.
+struct ExactFace {
+  Vector3 normal;                ///< exact normal pointing to the face's front (any length)
+  FT offset;                     ///< plane: normal . p + offset = 0
+  std::vector<Point3> vertices;  ///< on the plane (lifted along the chart axis if not planar)
+  Polygon2 chart;                ///< counter-clockwise chart polygon (chart_ring)
+  FT chart_area;                 ///< exact area of `chart`
+  FT area_scale_squared;         ///< (3D area / chart area)^2 = |n|^2 / n_k^2
+};
+
+ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePrep& prep);
+
+/// Lifts a chart point onto the face's plane.
+Point3 lift(const Point2& chart_point, const ExactFace& face, int axis);
+
+/// Converts an input vertex to an exact point.
+inline Point3 to_exact(const glm::dvec3& v) { return Point3(v.x, v.y, v.z); }
+
+/// The chart coordinates of a 3D point for dropped axis k.
+inline Point2 to_chart(const Point3& p, int k) {
+  return Point2(p[chart_i(k)], p[chart_j(k)]);
+}
+
+/// 3D area of a chart area on a face, rounded once.
+double area_3d(const FT& chart_area, const FT& area_scale_squared);
+
+}  // namespace shadow::exact

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// CGAL types used inside the exact core. Include only from src/exact/*.cpp: CGAL must stay out
+// of public headers (compile time, and users should not need CGAL to include libshadow).
+#pragma once
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/Polygon_set_2.h>
+#include <CGAL/Polygon_with_holes_2.h>
+
+#include <gmp.h>
+#include <mpfr.h>
+
+#include <type_traits>
+
+namespace shadow::exact {
+
+// Epeck: lazy exact rationals with interval filters. Boolean operations need exact
+// constructions (double constructions give wrong areas or crash on shadow unions).
+using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using FT = Kernel::FT;
+using Point2 = Kernel::Point_2;
+using Point3 = Kernel::Point_3;
+using Vector3 = Kernel::Vector_3;
+using Polygon2 = CGAL::Polygon_2<Kernel>;
+using PolygonWithHoles2 = CGAL::Polygon_with_holes_2<Kernel>;
+using PolygonSet2 = CGAL::Polygon_set_2<Kernel>;
+
+/// An affine function f(p) = a.p + b on 3D points; its sign decides a half-space.
+struct Affine3 {
+  Vector3 a;
+  FT b;
+  [[nodiscard]] FT operator()(const Point3& p) const {
+    return a.x() * p.x() + a.y() * p.y() + a.z() * p.z() + b;
+  }
+};
+
+namespace detail {
+template <class Rational>
+void rational_to_mpq(const Rational& q, mpq_t out) {
+  if constexpr (std::is_same_v<Rational, mpq_class>) {
+    mpq_set(out, q.get_mpq_t());
+  } else {
+    mpq_set(out, q.mpq());  // CGAL::Gmpq
+  }
+}
+}  // namespace detail
+
+/// Copies the exact rational value of an FT into `out` (mpq_t, initialised by the caller).
+inline void exact_to_mpq(const FT& value, mpq_t out) { detail::rational_to_mpq(CGAL::exact(value), out); }
+
+/// The double nearest to an exact value (one correct rounding, ties to even).
+inline double round_to_double(const FT& value) {
+  mpq_t q;
+  mpq_init(q);
+  exact_to_mpq(value, q);
+  mpfr_t r;
+  mpfr_init2(r, 53);
+  mpfr_set_q(r, q, MPFR_RNDN);
+  const double d = mpfr_get_d(r, MPFR_RNDN);
+  mpfr_clear(r);
+  mpq_clear(q);
+  return d;
+}
+
+/// sqrt(value) for an exact non-negative rational, rounded to double. The rational is first
+/// rounded to 256 bits, so the result is the correctly rounded root except in cases closer
+/// than 2^-200 to a rounding boundary.
+inline double sqrt_to_double(const FT& value) {
+  mpq_t q;
+  mpq_init(q);
+  exact_to_mpq(value, q);
+  mpfr_t r;
+  mpfr_init2(r, 256);
+  mpfr_set_q(r, q, MPFR_RNDN);
+  mpfr_sqrt(r, r, MPFR_RNDN);
+  const double d = mpfr_get_d(r, MPFR_RNDN);
+  mpfr_clear(r);
+  mpq_clear(q);
+  return d;
+}
+
+}  // namespace shadow::exact

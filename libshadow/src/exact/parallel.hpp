@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// A small dynamic scheduler: items are handed out one at a time from an atomic counter, because
+// the cost per item varies wildly (a face facing away from the light costs nothing; a ground
+// face under a city costs a large union). Static chunks left one thread with all the work.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace shadow::exact {
+
+inline unsigned resolve_threads(unsigned requested) {
+  if (requested != 0) return requested;
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw == 0 ? 1 : hw;
+}
+
+/// Runs work(worker, item) for item in [0, count) on `threads` workers. The calling thread
+/// reports progress (items finished so far) every ~100 ms and at the end. The first exception
+/// thrown by any item stops the others and is rethrown here.
+inline void parallel_for(std::size_t count, unsigned threads,
+                         const std::function<void(unsigned worker, std::size_t item)>& work,
+                         const std::function<void(std::size_t done)>& progress = {}) {
+  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> done{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::condition_variable finished;
+  unsigned running = 0;
+
+  auto run = [&](unsigned worker) {
+    for (;;) {
+      const std::size_t item = next.fetch_add(1, std::memory_order_relaxed);
+      if (item >= count || failed.load(std::memory_order_relaxed)) break;
+      try {
+        work(worker, item);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        failed = true;
+      }
+      done.fetch_add(1, std::memory_order_relaxed);
+    }
+  };
+
+  threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(count, 1))));
+  if (threads == 1 && !progress) {
+    run(0);
+  } else {
+    std::vector<std::thread> pool;
+    running = threads;
+    for (unsigned w = 0; w < threads; ++w) {
+      pool.emplace_back([&, w] {
+        run(w);
+        std::lock_guard<std::mutex> lock(mutex);
+        if (--running == 0) finished.notify_all();
+      });
+    }
+    {
+      std::unique_lock<std::mutex> lock(mutex);
+      while (running != 0) {
+        finished.wait_for(lock, std::chrono::milliseconds(100));
+        if (progress && running != 0) {
+          lock.unlock();
+          progress(done.load());
+          lock.lock();
+        }
+      }
+    }
+    for (std::thread& t : pool) t.join();
+  }
+  if (error) std::rethrow_exception(error);
+  if (progress) progress(done.load());
+}
+
+}  // namespace shadow::exact

@@ -1,0 +1,721 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact shadow engine (Atherton-Weiler-Greenberg, made exact).
+//
+// For a receiving face P that faces the light, a point X of P is in shadow exactly when the
+// open segment from X to the light meets another face. That segment lies in the open slab
+// between P's plane and the light, so
+//
+//   shadow(P) = P  intersected with  union over Q of  project_P(Q  clipped to that slab),
+//
+// where project_P is the projection from the light onto P's plane (Blinn's matrix for P's
+// plane). No depth order is needed; cyclic overlap and interpenetration need no special case.
+// Clipping Q also to the pyramid (point light) or prism (directional light) over P's chart
+// bounding box keeps the projection finite and the union small. Everything is done with exact
+// rationals (Epeck) in P's 2D chart; doubles appear only in culling (conservatively) and at
+// the output.
+#include "exact/exact_faces.hpp"
+#include "exact/parallel.hpp"
+
+#include <shadow/shadows.hpp>
+
+#include <CGAL/Polygon_triangulation_decomposition_2.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace shadow {
+
+const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id) const {
+  // `lighting` is sorted by (face_id, light_id).
+  auto it = std::lower_bound(lighting.begin(), lighting.end(), std::make_pair(face_id, light_id),
+                             [](const FaceLighting& l, const std::pair<std::size_t, std::size_t>& key) {
+                               return std::make_pair(l.face_id, l.light_id) < key;
+                             });
+  if (it == lighting.end() || it->face_id != face_id || it->light_id != light_id) return nullptr;
+  return &*it;
+}
+
+namespace exact {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Culling in double precision. Every test here is conservative: it rejects an occluder only
+// when it is certainly (by a margin far above rounding error) outside the receiver's slab,
+// prism or pyramid. Whatever passes is decided exactly.
+// ---------------------------------------------------------------------------------------------
+
+/// A face in a local frame (scene centre subtracted) with a unit normal, for culling.
+struct CullFace {
+  std::size_t first = 0, count = 0;  ///< range in CullScene::vertices
+  glm::dvec3 normal{0.0};            ///< unit normal (front side)
+  double offset = 0.0;               ///< plane: normal . p + offset = 0 (local frame)
+};
+
+struct CullScene {
+  glm::dvec3 origin{0.0};
+  double diameter = 1.0;
+  std::vector<glm::dvec3> vertices;  ///< local frame
+  std::vector<CullFace> faces;
+};
+
+/// An affine function on local-frame points with the margin below which its sign is unsure.
+struct DoubleAffine {
+  glm::dvec3 a{0.0};
+  double b = 0.0;
+  double tolerance = 0.0;
+  [[nodiscard]] double operator()(const glm::dvec3& p) const { return glm::dot(a, p) + b; }
+};
+
+/// Uniform grid over the faces' bounding boxes in light space (the plane orthogonal to a
+/// directional light): faces whose boxes do not overlap cannot shadow each other.
+class LightSpaceGrid {
+ public:
+  LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light) {
+    const glm::dvec3 d = glm::normalize(to_light);
+    const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    u_ = glm::normalize(glm::cross(d, helper));
+    v_ = glm::cross(d, u_);
+    const std::size_t n = scene.faces.size();
+    boxes_.assign(n, Box{});
+    Box all{};
+    bool any = false;
+    for (std::size_t f = 0; f < n; ++f) {
+      if (prep[f].degenerate) continue;
+      boxes_[f] = box_of(scene, scene.faces[f]);
+      all = any ? merge(all, boxes_[f]) : boxes_[f];
+      any = true;
+    }
+    margin_ = 1e-9 * scene.diameter;
+    origin_ = {all[0] - margin_, all[1] - margin_};
+    const double width = std::max(all[2] - all[0], 0.0) + 2 * margin_;
+    const double height = std::max(all[3] - all[1], 0.0) + 2 * margin_;
+    // About one cell per face, so that a typical query touches a handful of cells.
+    const double cells_wanted = std::max<double>(1.0, static_cast<double>(n));
+    cell_ = std::max(std::sqrt(width * height / cells_wanted), 1e-300);
+    nu_ = static_cast<int>(std::clamp(std::ceil(width / cell_), 1.0, 2048.0));
+    nv_ = static_cast<int>(std::clamp(std::ceil(height / cell_), 1.0, 2048.0));
+    cell_u_ = width / nu_;
+    cell_v_ = height / nv_;
+    // Compressed rows: count, prefix sum, fill.
+    start_.assign(static_cast<std::size_t>(nu_) * nv_ + 1, 0);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate) for_cells(boxes_[f], [&](std::size_t c) { ++start_[c + 1]; });
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    entries_.resize(start_.back());
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate)
+        for_cells(boxes_[f], [&](std::size_t c) { entries_[fill[c]++] = static_cast<std::uint32_t>(f); });
+  }
+
+  /// Calls visit(face) for every face whose light-space box overlaps `face`'s (with repeats).
+  template <class Visit>
+  void query(std::size_t face, Visit&& visit) const {
+    const Box& b = boxes_[face];
+    for_cells(b, [&](std::size_t c) {
+      for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
+        const Box& o = boxes_[entries_[e]];
+        if (o[0] <= b[2] + margin_ && b[0] <= o[2] + margin_ && o[1] <= b[3] + margin_ &&
+            b[1] <= o[3] + margin_)
+          visit(entries_[e]);
+      }
+    });
+  }
+
+ private:
+  using Box = std::array<double, 4>;  // umin, vmin, umax, vmax
+  static Box merge(const Box& a, const Box& b) {
+    return {std::min(a[0], b[0]), std::min(a[1], b[1]), std::max(a[2], b[2]), std::max(a[3], b[3])};
+  }
+  Box box_of(const CullScene& scene, const CullFace& face) const {
+    Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+          std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+    for (std::size_t k = face.first; k < face.first + face.count; ++k) {
+      const double u = glm::dot(u_, scene.vertices[k]), v = glm::dot(v_, scene.vertices[k]);
+      b = {std::min(b[0], u), std::min(b[1], v), std::max(b[2], u), std::max(b[3], v)};
+    }
+    return b;
+  }
+  template <class Visit>
+  void for_cells(const Box& b, Visit&& visit) const {
+    auto cell_index = [](double x, double origin, double size, int count) {
+      return std::clamp(static_cast<int>(std::floor((x - origin) / size)), 0, count - 1);
+    };
+    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
+    const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
+    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
+    const int v1 = cell_index(b[3] + margin_, origin_[1], cell_v_, nv_);
+    for (int v = v0; v <= v1; ++v)
+      for (int u = u0; u <= u1; ++u) visit(static_cast<std::size_t>(v) * nu_ + u);
+  }
+
+  glm::dvec3 u_{0.0}, v_{0.0};
+  std::vector<Box> boxes_;
+  std::array<double, 2> origin_{0, 0};
+  double margin_ = 0, cell_ = 1, cell_u_ = 1, cell_v_ = 1;
+  int nu_ = 1, nv_ = 1;
+  std::vector<std::uint32_t> start_;
+  std::vector<std::uint32_t> entries_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Exact geometry.
+// ---------------------------------------------------------------------------------------------
+
+/// A light in homogeneous form l = (x, y, z, w): (L, 1) for a point light, (d, 0) for a
+/// directional light with d pointing toward it. Exact (the input doubles are exact rationals).
+struct ExactLight {
+  std::array<FT, 4> l;
+  [[nodiscard]] bool is_point() const { return !CGAL::is_zero(l[3]); }
+};
+
+/// s~(l) = n . l_xyz + offset * l_w: positive when the light is on the front side of the plane.
+FT plane_at_light(const ExactFace& face, const ExactLight& light) {
+  return face.normal.x() * light.l[0] + face.normal.y() * light.l[1] +
+         face.normal.z() * light.l[2] + face.offset * light.l[3];
+}
+
+/// Sutherland-Hodgman clip of a convex polygon to f >= 0. Vertices exactly on f = 0 are kept;
+/// intersection points are made only where f changes sign strictly, so no duplicates arise.
+void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector<Point3>& scratch) {
+  if (poly.empty()) return;
+  const std::size_t n = poly.size();
+  std::vector<FT> value(n);
+  bool any_out = false, any_in = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    value[a] = f(poly[a]);
+    const CGAL::Sign s = CGAL::sign(value[a]);
+    any_out |= s == CGAL::NEGATIVE;
+    any_in |= s == CGAL::POSITIVE;
+  }
+  if (!any_out) return;  // wholly inside (or on the plane)
+  if (!any_in) {         // nothing strictly inside: the closure has no area
+    poly.clear();
+    return;
+  }
+  scratch.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    const CGAL::Sign sa = CGAL::sign(value[a]), sb = CGAL::sign(value[b]);
+    if (sa != CGAL::NEGATIVE) scratch.push_back(poly[a]);
+    if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) ||
+        (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+      const FT t = value[a] / (value[a] - value[b]);
+      scratch.push_back(poly[a] + t * (poly[b] - poly[a]));
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// The set of half-spaces a caster is clipped to for one receiver, and the projection.
+struct ReceiverFrame {
+  int axis = 2;
+  FT light_side;                  ///< s~(l) > 0
+  Affine3 front;                  ///< s(p) >= 0: in front of the receiver's plane
+  std::array<Affine3, 4> sides;   ///< the prism/pyramid over the chart bounding box
+};
+
+ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const ExactLight& light,
+                         const FT& light_side) {
+  ReceiverFrame frame;
+  const int k = prep.axis;
+  frame.axis = k;
+  frame.light_side = light_side;
+  frame.front = Affine3{face.normal, face.offset};
+  // For a chart bound x_c >= m (c = i or j), the plane through the bound's line on the
+  // receiver's plane and the light is  s~(l) (x_c - m) - (l_c - m l_w) s(p) = 0 : it vanishes on
+  // that line (s = 0, x_c = m) and at the light. Inside is >= 0. Upper bounds flip signs.
+  const int axes[2] = {chart_i(k), chart_j(k)};
+  for (int c = 0; c < 2; ++c) {
+    const int ax = axes[c];
+    Vector3 e(ax == 0 ? 1 : 0, ax == 1 ? 1 : 0, ax == 2 ? 1 : 0);
+    for (int upper = 0; upper < 2; ++upper) {
+      const FT m = upper ? prep.chart_max[c] : prep.chart_min[c];
+      const FT coef = light.l[ax] - m * light.l[3];
+      Affine3 f{light_side * e - coef * face.normal, -light_side * m - coef * face.offset};
+      if (upper) f = Affine3{-f.a, -f.b};
+      frame.sides[c * 2 + upper] = f;
+    }
+  }
+  return frame;
+}
+
+/// Projects a point (strictly between the receiver's plane and the light) from the light onto
+/// the receiver's plane and returns its chart coordinates:  X = (s~ Y - s(Y) l) / (s~ - s(Y) l_w).
+Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, const ExactLight& light) {
+  const FT s = frame.front(y);
+  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  const FT w = frame.light_side - s * light.l[3];
+  return Point2((frame.light_side * y[i] - s * light.l[i]) / w,
+                (frame.light_side * y[j] - s * light.l[j]) / w);
+}
+
+/// Splits a polygon with holes into simple polygons (triangles where there are holes).
+void append_simple_cells(const PolygonWithHoles2& region, std::vector<Polygon2>& cells) {
+  if (region.number_of_holes() == 0) {
+    cells.push_back(region.outer_boundary());
+    return;
+  }
+  CGAL::Polygon_triangulation_decomposition_2<Kernel> triangulate;
+  triangulate(region, std::back_inserter(cells));
+}
+
+FT region_area(const PolygonWithHoles2& region) {
+  FT area = region.outer_boundary().area();
+  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) area -= CGAL::abs(h->area());
+  return area;
+}
+
+}  // namespace
+}  // namespace exact
+
+// =============================================================================================
+
+struct ShadowEngine::Impl {
+  const Scene* scene = nullptr;
+  std::vector<exact::FacePrep> prep;
+  std::vector<double> face_area;
+  exact::CullScene cull;
+
+  /// Per-thread exact state. Epeck objects are never shared between threads.
+  struct Worker {
+    std::vector<std::unique_ptr<exact::ExactFace>> faces;  // built on first use
+    std::vector<std::uint32_t> seen;                       // candidate de-duplication stamps
+    std::uint32_t stamp = 0;
+    ShadowStats stats;
+    std::vector<std::size_t> candidates;
+    std::vector<exact::Point3> poly, scratch;
+  };
+
+  const exact::ExactFace& exact_face(Worker& w, std::size_t f) const {
+    if (!w.faces[f])
+      w.faces[f] = std::make_unique<exact::ExactFace>(
+          exact::make_exact_face(scene->faces[f].vertices, prep[f]));
+    return *w.faces[f];
+  }
+
+  /// Result for one receiving face under one light.
+  struct Item {
+    FaceLighting lighting;
+    std::vector<Fragment> fragments;  // fragment_id local to the item
+  };
+
+  void compute_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
+                     std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
+                     std::vector<Item>& items, std::size_t progress_base, std::size_t progress_total) const;
+
+  static ShadowResult assemble(std::vector<std::vector<Item>>& per_light,
+                               const std::vector<Worker>& workers);
+
+  Item compute_receiver(Worker& w, std::size_t face_id, std::size_t light_id,
+                        const exact::ExactLight& light, int facing, const Light& light_in,
+                        const exact::LightSpaceGrid* grid, bool polygons) const;
+};
+
+namespace {
+
+exact::CullScene make_cull_scene(const Scene& scene, const std::vector<exact::FacePrep>& prep) {
+  exact::CullScene cull;
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const Face& f : scene.faces)
+    for (const glm::dvec3& v : f.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  if (scene.faces.empty()) lo = hi = glm::dvec3(0.0);
+  cull.origin = 0.5 * (lo + hi);
+  cull.diameter = std::max(glm::length(hi - lo), 1e-300);
+  cull.faces.resize(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    exact::CullFace& cf = cull.faces[f];
+    cf.first = cull.vertices.size();
+    cf.count = scene.faces[f].vertices.size();
+    glm::dvec3 n(0.0);
+    for (std::size_t a = 0; a < cf.count; ++a) {
+      const glm::dvec3 u = scene.faces[f].vertices[a] - cull.origin;
+      const glm::dvec3 v = scene.faces[f].vertices[(a + 1) % cf.count] - cull.origin;
+      cull.vertices.push_back(u);
+      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+    }
+    const double len = glm::length(n);
+    if (prep[f].degenerate || !(len > 0)) continue;
+    cf.normal = n / len;
+    glm::dvec3 centroid(0.0);
+    for (std::size_t a = 0; a < cf.count; ++a) centroid += cull.vertices[cf.first + a];
+    cf.offset = -glm::dot(cf.normal, centroid / static_cast<double>(cf.count));
+  }
+  return cull;
+}
+
+}  // namespace
+
+ShadowEngine::ShadowEngine(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  impl_->scene = &scene;
+  const std::size_t n = scene.faces.size();
+  impl_->prep.resize(n);
+  impl_->face_area.assign(n, 0.0);
+  const unsigned threads = exact::resolve_threads(0);
+  exact::parallel_for(n, threads, [&](unsigned, std::size_t f) {
+    const Face& face = scene.faces[f];
+    exact::FacePrep& prep = impl_->prep[f];
+    if (face.degenerate || face.vertices.size() < 3) {
+      prep.degenerate = true;
+      return;
+    }
+    prep = exact::prepare_face(face.vertices);
+    if (prep.degenerate) return;
+    const exact::ExactFace ef = exact::make_exact_face(face.vertices, prep);
+    impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
+  });
+  impl_->cull = make_cull_scene(scene, impl_->prep);
+}
+
+ShadowEngine::~ShadowEngine() = default;
+ShadowEngine::ShadowEngine(ShadowEngine&&) noexcept = default;
+ShadowEngine& ShadowEngine::operator=(ShadowEngine&&) noexcept = default;
+
+double ShadowEngine::face_area(std::size_t face_id) const { return impl_->face_area.at(face_id); }
+
+namespace {
+
+void check_light(const Light& light, std::size_t light_id) {
+  auto finite = [](const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  const std::string place = "lights[" + std::to_string(light_id) + "]";
+  if (light.type == LightType::Directional) {
+    if (!finite(light.to_light)) throw InputError({"", place + ".to_light"}, "not a finite vector");
+    if (light.to_light == glm::dvec3(0.0))
+      throw InputError({"", place + ".to_light"}, "zero direction vector");
+  } else if (!finite(light.position)) {
+    throw InputError({"", place + ".position"}, "not a finite point");
+  }
+}
+
+exact::ExactLight to_exact_light(const Light& light) {
+  using exact::FT;
+  if (light.type == LightType::Point)
+    return {{FT(light.position.x), FT(light.position.y), FT(light.position.z), FT(1)}};
+  return {{FT(light.to_light.x), FT(light.to_light.y), FT(light.to_light.z), FT(0)}};
+}
+
+/// The face's own outline as one fragment (wholly lit or wholly in shadow).
+Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t light_id, bool lit,
+                             double area, const exact::FacePrep& prep, const exact::ExactFace* ef) {
+  Fragment fragment;
+  fragment.face_id = face_id;
+  fragment.light_id = light_id;
+  fragment.lit = lit;
+  fragment.area = area;
+  if (prep.exactly_planar || ef == nullptr) {
+    fragment.polygon = face.vertices;
+  } else {
+    for (const exact::Point3& p : ef->vertices)
+      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
+                                    CGAL::to_double(p.z()));
+  }
+  return fragment;
+}
+
+}  // namespace
+
+ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
+    Worker& w, std::size_t face_id, std::size_t light_id, const exact::ExactLight& light,
+    int facing, const Light& light_in, const exact::LightSpaceGrid* grid, bool polygons) const {
+  using namespace exact;
+  Item item;
+  FaceLighting& out = item.lighting;
+  out.face_id = face_id;
+  out.light_id = light_id;
+  out.area = face_area[face_id];
+  ++w.stats.receivers;
+  const Face& face = scene->faces[face_id];
+  const FacePrep& fp = prep[face_id];
+  if (fp.degenerate) return item;  // zero area: nothing to light
+
+  if (facing <= 0) {  // attached shadow: the front looks away from the light (or edge-on)
+    ++w.stats.back_facing;
+    out.shadow_area = out.area;
+    if (polygons)
+      item.fragments.push_back(whole_face_fragment(face, face_id, light_id, false, out.area, fp,
+                                                   fp.exactly_planar ? nullptr : &exact_face(w, face_id)));
+    return item;
+  }
+  out.faces_light = true;
+
+  // ---- culling in doubles -------------------------------------------------------------------
+  const CullFace& cp = cull.faces[face_id];
+  const double D = cull.diameter;
+  glm::dvec3 lxyz;
+  double lw;
+  if (light_in.type == LightType::Point) {
+    lxyz = light_in.position - cull.origin;
+    lw = 1.0;
+  } else {
+    lxyz = glm::normalize(light_in.to_light);
+    lw = 0.0;
+  }
+  const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
+  const double scale = D + (lw != 0.0 ? glm::length(lxyz) : 0.0);
+  std::array<DoubleAffine, 5> tests;
+  tests[0] = {cp.normal, cp.offset, 1e-9 * scale};
+  {
+    const int k = fp.axis;
+    const int axes[2] = {chart_i(k), chart_j(k)};
+    for (int c = 0; c < 2; ++c) {
+      const int ax = axes[c];
+      glm::dvec3 e(0.0);
+      e[ax] = 1.0;
+      for (int upper = 0; upper < 2; ++upper) {
+        const double m = (upper ? fp.chart_max[c] : fp.chart_min[c]) - cull.origin[ax];
+        const double coef = lxyz[ax] - m * lw;
+        DoubleAffine f{light_side * e - coef * cp.normal, -light_side * m - coef * cp.offset,
+                       1e-9 * (std::abs(light_side) + std::abs(coef)) * scale};
+        if (upper) {
+          f.a = -f.a;
+          f.b = -f.b;
+        }
+        tests[1 + c * 2 + upper] = f;
+      }
+    }
+  }
+  auto may_cast = [&](std::size_t q) {
+    const CullFace& cq = cull.faces[q];
+    for (const DoubleAffine& f : tests) {
+      bool all_out = true;
+      for (std::size_t a = cq.first; a < cq.first + cq.count && all_out; ++a)
+        all_out = f(cull.vertices[a]) < -f.tolerance;
+      if (all_out) return false;
+    }
+    return true;
+  };
+  w.candidates.clear();
+  if (++w.stamp == 0) {  // stamps wrapped: reset
+    std::fill(w.seen.begin(), w.seen.end(), 0);
+    w.stamp = 1;
+  }
+  auto consider = [&](std::size_t q) {
+    if (q == face_id || prep[q].degenerate || w.seen[q] == w.stamp) return;
+    w.seen[q] = w.stamp;
+    if (may_cast(q)) w.candidates.push_back(q);
+  };
+  if (grid) {
+    grid->query(face_id, consider);
+  } else {
+    for (std::size_t q = 0; q < prep.size(); ++q) consider(q);
+  }
+  // Deterministic order whatever the grid's visiting order.
+  std::sort(w.candidates.begin(), w.candidates.end());
+  w.stats.candidate_pairs += w.candidates.size();
+
+  // ---- exact clipping and projection ---------------------------------------------------------
+  const ExactFace& P = exact_face(w, face_id);
+  const ReceiverFrame frame = make_frame(P, fp, light, plane_at_light(P, light));
+  std::vector<Polygon2> shadows;
+  for (std::size_t q : w.candidates) {
+    const ExactFace& Q = exact_face(w, q);
+    const FacePrep& qp = prep[q];
+    bool cast = false;
+    for (const std::vector<int>& piece : qp.convex_pieces) {
+      w.poly.clear();
+      for (int v : piece) w.poly.push_back(Q.vertices[v]);
+      clip_convex(w.poly, frame.front, w.scratch);
+      for (const Affine3& side : frame.sides) clip_convex(w.poly, side, w.scratch);
+      if (w.poly.size() < 3) continue;
+      Polygon2 projected;
+      for (const Point3& y : w.poly) projected.push_back(project_to_chart(y, frame, light));
+      const CGAL::Sign orientation = CGAL::sign(projected.area());
+      if (orientation == CGAL::ZERO) continue;  // the caster is edge-on to the light
+      if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
+      shadows.push_back(std::move(projected));
+      cast = true;
+    }
+    if (cast) ++w.stats.casting_pairs;
+  }
+
+  if (shadows.empty()) {  // nothing in front: wholly lit, no Boolean operation needed
+    ++w.stats.unshadowed;
+    out.lit_area = out.area;
+    out.lit_fraction = 1.0;
+    if (polygons) item.fragments.push_back(whole_face_fragment(face, face_id, light_id, true, out.area, fp, &P));
+    return item;
+  }
+
+  PolygonSet2 shadow_set;
+  shadow_set.join(shadows.begin(), shadows.end());  // one aggregated union
+  if (!fp.chart_is_box) shadow_set.intersection(P.chart);
+  std::vector<PolygonWithHoles2> shadow_regions, lit_regions;
+  shadow_set.polygons_with_holes(std::back_inserter(shadow_regions));
+  FT shadow_chart_area = 0;
+  for (const PolygonWithHoles2& r : shadow_regions) shadow_chart_area += region_area(r);
+  const FT lit_chart_area = P.chart_area - shadow_chart_area;
+  out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
+  out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
+  out.lit_fraction = round_to_double(lit_chart_area / P.chart_area);
+  if (!polygons) return item;
+
+  PolygonSet2 lit_set(P.chart);
+  lit_set.difference(shadow_set);
+  lit_set.polygons_with_holes(std::back_inserter(lit_regions));
+
+  std::size_t fragment_id = 0;
+  std::vector<Polygon2> cells;
+  auto emit = [&](const std::vector<PolygonWithHoles2>& regions, bool lit) {
+    for (const PolygonWithHoles2& region : regions) {
+      cells.clear();
+      append_simple_cells(region, cells);
+      for (const Polygon2& cell : cells) {
+        Fragment fragment;
+        fragment.face_id = face_id;
+        fragment.light_id = light_id;
+        fragment.fragment_id = fragment_id;
+        fragment.lit = lit;
+        fragment.area = area_3d(CGAL::abs(cell.area()), P.area_scale_squared);
+        for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+          const Point3 p = lift(*v, P, fp.axis);
+          fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
+                                        CGAL::to_double(p.z()));
+        }
+        // The chart sees the face clockwise when flipped: restore the face's orientation.
+        if (fp.flipped == CGAL::is_positive(cell.area()))
+          std::reverse(fragment.polygon.begin(), fragment.polygon.end());
+        item.fragments.push_back(std::move(fragment));
+      }
+      ++fragment_id;
+    }
+  };
+  emit(lit_regions, true);
+  emit(shadow_regions, false);
+  return item;
+}
+
+void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_id,
+                                       const ShadowOptions& options, std::vector<Worker>& workers,
+                                       const std::vector<std::size_t>& receivers,
+                                       std::vector<Item>& items, std::size_t progress_base,
+                                       std::size_t progress_total) const {
+  using namespace exact;
+  check_light(light_in, light_id);
+  const unsigned threads = static_cast<unsigned>(workers.size());
+  const std::size_t n = scene->faces.size();
+
+  // Which side of each receiver the light is on: exact, per receiver.
+  std::vector<std::int8_t> facing(receivers.size(), 0);
+  std::optional<LightSpaceGrid> grid;
+  if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);
+
+  std::function<void(std::size_t)> report;
+  if (options.progress)
+    report = [&](std::size_t done) { options.progress(Progress{progress_base + done, progress_total}); };
+
+  std::vector<std::optional<ExactLight>> lights(threads);
+  parallel_for(
+      receivers.size(), threads,
+      [&](unsigned wi, std::size_t r) {
+        Worker& w = workers[wi];
+        if (!lights[wi]) lights[wi] = to_exact_light(light_in);
+        const ExactLight& light = *lights[wi];
+        const std::size_t f = receivers[r];
+        int side = 0;
+        if (!prep[f].degenerate) side = CGAL::sign(plane_at_light(exact_face(w, f), light));
+        facing[r] = static_cast<std::int8_t>(side);
+        items[r] = compute_receiver(w, f, light_id, light, side, light_in,
+                                    grid ? &*grid : nullptr, options.polygons);
+      },
+      report);
+  (void)n;
+}
+
+ShadowResult ShadowEngine::Impl::assemble(std::vector<std::vector<Item>>& per_light,
+                                          const std::vector<Worker>& workers) {
+  ShadowResult result;
+  const std::size_t lights = per_light.size();
+  const std::size_t receivers = lights ? per_light[0].size() : 0;
+  result.lighting.reserve(lights * receivers);
+  std::size_t next_fragment_id = 0;
+  for (std::size_t r = 0; r < receivers; ++r) {
+    for (std::size_t li = 0; li < lights; ++li) {
+      Item& item = per_light[li][r];
+      result.lighting.push_back(item.lighting);
+      std::size_t used = 0;
+      for (Fragment& fragment : item.fragments) {
+        used = std::max(used, fragment.fragment_id + 1);
+        fragment.fragment_id += next_fragment_id;
+        result.fragments.push_back(std::move(fragment));
+      }
+      next_fragment_id += used;
+      item.fragments.clear();
+      item.fragments.shrink_to_fit();
+    }
+  }
+  for (const Worker& w : workers) {
+    result.stats.receivers += w.stats.receivers;
+    result.stats.back_facing += w.stats.back_facing;
+    result.stats.candidate_pairs += w.stats.candidate_pairs;
+    result.stats.casting_pairs += w.stats.casting_pairs;
+    result.stats.unshadowed += w.stats.unshadowed;
+  }
+  return result;
+}
+
+ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {
+  const Scene& scene = *impl_->scene;
+  std::vector<std::size_t> light_ids = options.lights;
+  if (light_ids.empty())
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) light_ids.push_back(l);
+  for (std::size_t l : light_ids)
+    if (l >= scene.lights.size())
+      throw std::out_of_range("ShadowOptions::lights: no light " + std::to_string(l));
+  std::sort(light_ids.begin(), light_ids.end());
+  light_ids.erase(std::unique(light_ids.begin(), light_ids.end()), light_ids.end());
+
+  std::vector<std::size_t> receivers;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (scene.is_receiver(f)) receivers.push_back(f);
+
+  std::vector<Impl::Worker> workers(exact::resolve_threads(options.threads));
+  for (Impl::Worker& w : workers) {
+    w.faces.resize(scene.faces.size());
+    w.seen.assign(scene.faces.size(), 0);
+  }
+  std::vector<std::vector<Impl::Item>> per_light(light_ids.size(),
+                                                 std::vector<Impl::Item>(receivers.size()));
+  const std::size_t total = light_ids.size() * receivers.size();
+  for (std::size_t li = 0; li < light_ids.size(); ++li)
+    impl_->compute_light(scene.lights[light_ids[li]], light_ids[li], options, workers, receivers,
+                         per_light[li], li * receivers.size(), total);
+  return Impl::assemble(per_light, workers);
+}
+
+ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
+                                   const ShadowOptions& options) const {
+  const Scene& scene = *impl_->scene;
+  std::vector<std::size_t> receivers;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (scene.is_receiver(f)) receivers.push_back(f);
+  std::vector<Impl::Worker> workers(exact::resolve_threads(options.threads));
+  for (Impl::Worker& w : workers) {
+    w.faces.resize(scene.faces.size());
+    w.seen.assign(scene.faces.size(), 0);
+  }
+  std::vector<std::vector<Impl::Item>> per_light(1, std::vector<Impl::Item>(receivers.size()));
+  impl_->compute_light(light, light_id, options, workers, receivers, per_light[0], 0,
+                       receivers.size());
+  return Impl::assemble(per_light, workers);
+}
+
+ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
+  const ShadowEngine engine(scene);
+  return engine.compute(options);
+}
+
+}  // namespace shadow

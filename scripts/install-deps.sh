@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Installs libshadow's build and test dependencies from Debian's packages.
+# Idempotent: packages already present are skipped, and apt-get update runs
+# only when something is missing. Must run as root (or via sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  libglm-dev
+  libvtk9-dev
+  libgtest-dev libgmock-dev librapidcheck-dev
+  libcli11-dev nlohmann-json3-dev
+  libtbb-dev
+)
+if [[ "${LIBSHADOW_WITH_EXTRAS:-0}" == 1 ]]; then
+  packages+=(libbenchmark-dev python3-matplotlib python3-vtk9)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Properties of the exact shadows on seeded random scenes (rapidcheck). The seed and the number
+// of cases come from RC_PARAMS, set by CTest so that every run checks the same scenes.
+#include "support/polygon_tools.hpp"
+#include "support/ray_caster.hpp"
+#include "support/scene_builders.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+namespace shadow::test {
+namespace {
+
+ShadowResult run(Scene& scene, bool polygons = true) {
+  validate_scene(scene);
+  ShadowOptions options;
+  options.threads = 2;
+  options.polygons = polygons;
+  return compute_shadows(scene, options);
+}
+
+Scene generated_scene() {
+  const auto seed = *rc::gen::inRange<std::uint64_t>(0, 1u << 30);
+  RC_TAG(seed % 2);  // spread of light kinds shows in the tag counts
+  Scene scene = random_scene(seed);
+  RC_LOG() << "random_scene(" << seed << ")\n";
+  return scene;
+}
+
+RC_GTEST_PROP(ShadowProperties, FragmentsCoverEachFaceExactlyOnce, ()) {
+  Scene scene = generated_scene();
+  const ShadowResult r = run(scene);
+  std::map<std::pair<std::size_t, std::size_t>, double> sum;
+  for (const Fragment& f : r.fragments) {
+    sum[{f.face_id, f.light_id}] += f.area;
+    RC_ASSERT(std::abs(polygon_area(f.polygon) - f.area) <= 1e-9 * (1.0 + f.area));
+  }
+  for (const FaceLighting& fl : r.lighting) {
+    RC_ASSERT(fl.lit_area + fl.shadow_area == fl.area);
+    RC_ASSERT(fl.lit_fraction >= 0.0);
+    RC_ASSERT(fl.lit_fraction <= 1.0);
+    RC_ASSERT(std::abs(sum[{fl.face_id, fl.light_id}] - fl.area) <= 1e-10 * (1.0 + fl.area));
+  }
+  // No overlap: pieces of a face that add up to its area and lie inside it cannot overlap;
+  // check they lie inside by sampling their interiors.
+  std::mt19937_64 rng(1);
+  for (const Fragment& f : r.fragments) {
+    for (const glm::dvec3& p : sample_interior(f.polygon, 3, 1e-7, rng)) {
+      double d = 0;
+      const bool inside = inside_polygon(scene.faces[f.face_id].vertices, p, &d);
+      RC_ASSERT(inside || d < 1e-6);
+    }
+  }
+}
+
+RC_GTEST_PROP(ShadowProperties, LitPointsSeeTheLightAndShadowedPointsDoNot, ()) {
+  Scene scene = generated_scene();
+  const ShadowResult r = run(scene);
+  std::mt19937_64 rng(2);
+  int decided = 0, disagreements = 0;
+  for (const Fragment& f : r.fragments) {
+    for (const glm::dvec3& p : sample_interior(f.polygon, 4, 1e-6, rng)) {
+      const RayVerdict v = cast_shadow_ray(scene, f.face_id, p, scene.lights[f.light_id], 1e-6);
+      if (v == RayVerdict::Unsure) continue;
+      ++decided;
+      if ((v == RayVerdict::Lit) != f.lit) {
+        ++disagreements;
+        RC_LOG() << "face " << f.face_id << " point (" << p.x << ", " << p.y << ", " << p.z
+                 << ") fragment says " << (f.lit ? "lit" : "shadow") << "\n";
+      }
+    }
+  }
+  RC_ASSERT(disagreements == 0);
+  RC_ASSERT(decided > 0);
+}
+
+std::vector<double> lit_fractions(const ShadowResult& r) {
+  std::vector<double> out;
+  for (const FaceLighting& fl : r.lighting) out.push_back(fl.lit_fraction);
+  return out;
+}
+
+RC_GTEST_PROP(ShadowProperties, LitFractionsAreInvariantUnderTranslationRotationAndScale, ()) {
+  Scene scene = generated_scene();
+  const std::vector<double> base = lit_fractions(run(scene, false));
+  struct Move {
+    double scale;
+    glm::dvec3 axis;
+    double angle;
+    glm::dvec3 shift;
+    double tolerance;
+  };
+  const Move moves[] = {
+      {1.0, {0, 0, 1}, 0.0, {1e6, -2e6, 3e5}, 1e-6},   // georeferenced: far from the origin
+      {4.0, {0, 0, 1}, 0.0, {0, 0, 0}, 0.0},           // power of two: exactly the same scene
+      {0.37, {1, 2, 3}, 1.1, {5, -7, 2}, 1e-7},        // arbitrary similarity
+  };
+  for (const Move& m : moves) {
+    Scene moved = transformed(scene, m.scale, m.axis, m.angle, m.shift);
+    const std::vector<double> fractions = lit_fractions(run(moved, false));
+    RC_ASSERT(fractions.size() == base.size());
+    for (std::size_t a = 0; a < base.size(); ++a) {
+      if (std::abs(fractions[a] - base[a]) > m.tolerance)
+        RC_FAIL("lit fraction moved from " + std::to_string(base[a]) + " to " +
+                std::to_string(fractions[a]) + " (entry " + std::to_string(a) + ")");
+    }
+  }
+}
+
+RC_GTEST_PROP(ShadowProperties, AddingAnOccluderNeverAddsLight, ()) {
+  Scene scene = generated_scene();
+  const ShadowResult before = run(scene, false);
+  const auto x = *rc::gen::inRange(-10, 10);
+  const auto y = *rc::gen::inRange(-10, 10);
+  const auto h = *rc::gen::inRange(1, 9);
+  Scene more = scene;
+  add_mesh(more, "extra", {rectangle_z(x, y, x + 3, y + 2, h), rectangle_z(x, y, x + 3, y + 2, h, false)},
+           /*receiver=*/false);
+  const ShadowResult after = run(more, false);
+  RC_ASSERT(after.lighting.size() == before.lighting.size());
+  for (std::size_t a = 0; a < before.lighting.size(); ++a)
+    RC_ASSERT(after.lighting[a].lit_area <= before.lighting[a].lit_area);
+}
+
+RC_GTEST_PROP(ShadowProperties, WithoutOccludersEveryFrontFacingFaceIsFullyLit, ()) {
+  Scene scene = generated_scene();
+  // Each face alone with the light.
+  for (std::size_t f = 0; f < scene.faces.size(); f += 3) {
+    Scene alone;
+    add_mesh(alone, "one", {scene.faces[f].vertices});
+    alone.lights = scene.lights;
+    const ShadowResult r = run(alone);
+    const FaceLighting& fl = r.lighting.at(0);
+    RC_ASSERT(fl.lit_fraction == (fl.faces_light ? 1.0 : 0.0));
+  }
+}
+
+}  // namespace
+}  // namespace shadow::test

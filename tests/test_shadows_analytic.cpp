@@ -1,0 +1,219 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Shadows with answers known in closed form.
+#include "support/polygon_tools.hpp"
+#include "support/scene_builders.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace shadow::test {
+namespace {
+
+ShadowResult compute(Scene& scene, unsigned threads = 1) {
+  validate_scene(scene);
+  ShadowOptions options;
+  options.threads = threads;
+  return compute_shadows(scene, options);
+}
+
+double fragment_area_sum(const ShadowResult& r, std::size_t face, std::size_t light, int lit) {
+  double sum = 0;
+  for (const Fragment& f : r.fragments)
+    if (f.face_id == face && f.light_id == light && (lit < 0 || f.lit == (lit == 1))) sum += f.area;
+  return sum;
+}
+
+Scene square_over_ground(const Light& light) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+  add_mesh(scene, "square", {rectangle_z(0, 0, 1, 1, 1)});
+  scene.lights.push_back(light);
+  return scene;
+}
+
+TEST(AnalyticShadows, UnitSquareUnderOverheadSunShadowsExactlyOneSquareUnit) {
+  Scene scene = square_over_ground(directional_light("sun", {0, 0, 1}));
+  const ShadowResult r = compute(scene);
+  const FaceLighting* ground = r.find(0, 0);
+  ASSERT_NE(ground, nullptr);
+  EXPECT_EQ(ground->area, 100.0);
+  EXPECT_EQ(ground->lit_area, 99.0);
+  EXPECT_EQ(ground->shadow_area, 1.0);
+  EXPECT_EQ(ground->lit_fraction, 0.99);
+  EXPECT_TRUE(ground->faces_light);
+  const FaceLighting* square = r.find(1, 0);
+  ASSERT_NE(square, nullptr);
+  EXPECT_EQ(square->lit_area, 1.0);
+  EXPECT_EQ(square->lit_fraction, 1.0);
+}
+
+TEST(AnalyticShadows, ObliqueSunShiftsTheShadowWithoutChangingItsArea) {
+  Scene scene = square_over_ground(directional_light("sun", {1, 0.5, 1}));
+  const ShadowResult r = compute(scene);
+  EXPECT_EQ(r.find(0, 0)->shadow_area, 1.0);
+  // The shadow is the square moved by -(1, 0.5): its fragment has that outline.
+  bool found = false;
+  for (const Fragment& f : r.fragments) {
+    if (f.face_id != 0 || f.lit) continue;
+    found = true;
+    for (const glm::dvec3& v : f.polygon) {
+      EXPECT_TRUE(v.x == -1.0 || v.x == 0.0) << v.x;
+      EXPECT_TRUE(v.y == -0.5 || v.y == 0.5) << v.y;
+      EXPECT_EQ(v.z, 0.0);
+    }
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(AnalyticShadows, UnitSquareAtHeightOneUnderPointLightAtThreeCastsTwoAndAQuarter) {
+  Scene scene = square_over_ground(point_light("lamp", {0.5, 0.5, 3}));
+  const ShadowResult r = compute(scene);
+  EXPECT_EQ(r.find(0, 0)->shadow_area, 2.25);
+  EXPECT_EQ(r.find(0, 0)->lit_area, 100.0 - 2.25);
+}
+
+TEST(AnalyticShadows, PointLightOffCentreStillScalesTheShadowByItsHeightRatio) {
+  // Light at height 4 over (3, -2): the square at height 1 projects scaled by 4/3.
+  Scene scene = square_over_ground(point_light("lamp", {3, -2, 4}));
+  const ShadowResult r = compute(scene);
+  EXPECT_DOUBLE_EQ(r.find(0, 0)->shadow_area, 16.0 / 9.0);
+}
+
+TEST(AnalyticShadows, BoxOnTheGroundUnderA45DegreeSunCastsFootprintPlusSweep) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-10, -10, 10, 10, 0)});
+  add_mesh(scene, "box", box_faces({0, 0, 0}, {1, 1, 2}));
+  scene.lights.push_back(directional_light("sun", {1, 0, 1}));
+  const ShadowResult r = compute(scene);
+  // Footprint [0,1]^2 plus the sweep of the roof to x in [-2, 0]: 1 x 3.
+  EXPECT_EQ(r.find(0, 0)->shadow_area, 3.0);
+  // Box faces in scene order: top, bottom, south, north, east, west.
+  EXPECT_EQ(r.find(1, 0)->lit_fraction, 1.0);  // top
+  EXPECT_FALSE(r.find(2, 0)->faces_light);     // bottom
+  EXPECT_FALSE(r.find(3, 0)->faces_light);     // south: edge-on, attached shadow
+  EXPECT_FALSE(r.find(4, 0)->faces_light);     // north: edge-on
+  EXPECT_EQ(r.find(5, 0)->lit_fraction, 1.0);  // east faces the sun
+  EXPECT_EQ(r.find(6, 0)->lit_fraction, 0.0);  // west: back to the sun
+  EXPECT_EQ(r.find(6, 0)->shadow_area, 2.0);
+}
+
+TEST(AnalyticShadows, BoxUnderLowSunCastsALongShadowOfKnownLength) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-100, -10, 10, 10, 0)});
+  add_mesh(scene, "box", box_faces({0, 0, 0}, {1, 1, 2}));
+  const glm::dvec3 sun = sun_direction(5.0, 90.0);  // toward +x, 5 degrees up
+  scene.lights.push_back(directional_light("sun", sun));
+  const ShadowResult r = compute(scene);
+  const long double length = 2.0L * static_cast<long double>(sun.x) / static_cast<long double>(sun.z);
+  const double expected = static_cast<double>(1.0L + length);
+  EXPECT_NEAR(r.find(0, 0)->shadow_area, expected, 1e-13 * expected);
+}
+
+TEST(AnalyticShadows, FaceLitThroughASquareHoleReceivesExactlyTheHole) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+  // A ceiling at z = 2 covering [-6, 6]^2 except the hole [0, 1]^2, as four frames.
+  add_mesh(scene, "ceiling",
+           {rectangle_z(-6, -6, 6, 0, 2), rectangle_z(-6, 1, 6, 6, 2), rectangle_z(-6, 0, 0, 1, 2),
+            rectangle_z(1, 0, 6, 1, 2)},
+           /*receiver=*/false);
+  scene.lights.push_back(directional_light("sun", {1, 0, 2}));
+  const ShadowResult r = compute(scene);
+  ASSERT_EQ(r.lighting.size(), 1u) << "only the ground receives";
+  EXPECT_EQ(r.find(0, 0)->lit_area, 1.0);
+  int lit_cells = 0;
+  for (const Fragment& f : r.fragments) {
+    if (!f.lit) continue;
+    ++lit_cells;
+    for (const glm::dvec3& v : f.polygon) {
+      EXPECT_TRUE(v.x == -1.0 || v.x == 0.0) << v.x;  // the hole moved by -(1, 0) * 2 / 2
+      EXPECT_TRUE(v.y == 0.0 || v.y == 1.0) << v.y;
+    }
+  }
+  EXPECT_EQ(lit_cells, 1);
+}
+
+TEST(AnalyticShadows, NonConvexCasterOnNonConvexReceiver) {
+  Scene scene;
+  // An L-shaped receiver (area 3) and an L-shaped caster above it (area 3) under an overhead
+  // sun: the shadow is the overlap of the two Ls.
+  add_mesh(scene, "floor", {{{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {1, 1, 0}, {1, 2, 0}, {0, 2, 0}}});
+  add_mesh(scene, "awning", {{{1, 0, 1}, {3, 0, 1}, {3, 2, 1}, {2, 2, 1}, {2, 1, 1}, {1, 1, 1}}});
+  scene.lights.push_back(directional_light("sun", {0, 0, 1}));
+  const ShadowResult r = compute(scene);
+  EXPECT_EQ(r.find(0, 0)->area, 3.0);
+  EXPECT_EQ(r.find(0, 0)->shadow_area, 1.0);  // the overlap is [1,2]x[0,1]
+  EXPECT_EQ(r.find(1, 0)->area, 3.0);
+}
+
+TEST(AnalyticShadows, FragmentsOfEveryFaceAddUpToTheFace) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+  add_mesh(scene, "box", box_faces({-1, -1, 0}, {1, 1, 1}));
+  add_mesh(scene, "plate", {rectangle_z(0.5, 0.5, 2.5, 2.5, 2)});
+  scene.lights.push_back(directional_light("sun", {0.3, 0.2, 1}));
+  scene.lights.push_back(point_light("lamp", {3, 3, 4}));
+  const ShadowResult r = compute(scene);
+  for (const FaceLighting& fl : r.lighting) {
+    const double sum = fragment_area_sum(r, fl.face_id, fl.light_id, -1);
+    EXPECT_NEAR(sum, fl.area, 1e-12 * fl.area) << "face " << fl.face_id << " light " << fl.light_id;
+    EXPECT_NEAR(fragment_area_sum(r, fl.face_id, fl.light_id, 1), fl.lit_area, 1e-12 * fl.area);
+    EXPECT_EQ(fl.lit_area + fl.shadow_area, fl.area);
+  }
+  for (const Fragment& f : r.fragments) {
+    EXPECT_NEAR(polygon_area(f.polygon), f.area, 1e-12 * (1 + f.area));
+    // Same orientation as the face.
+    const glm::dvec3 nf = newell_normal(scene.faces[f.face_id].vertices);
+    EXPECT_GT(glm::dot(newell_normal(f.polygon), nf), 0.0);
+  }
+}
+
+TEST(AnalyticShadows, ThreadCountDoesNotChangeAnyNumber) {
+  Scene scene = make_city(60, 80, 7);
+  scene.lights.push_back(directional_light("sun", sun_direction(30, 200)));
+  scene.lights.push_back(point_light("lamp", {40, 40, 50}));
+  const ShadowResult one = compute(scene, 1);
+  const ShadowResult two = compute(scene, 3);
+  ASSERT_EQ(one.lighting.size(), two.lighting.size());
+  for (std::size_t a = 0; a < one.lighting.size(); ++a) {
+    EXPECT_EQ(one.lighting[a].lit_area, two.lighting[a].lit_area);
+    EXPECT_EQ(one.lighting[a].lit_fraction, two.lighting[a].lit_fraction);
+  }
+  ASSERT_EQ(one.fragments.size(), two.fragments.size());
+  for (std::size_t a = 0; a < one.fragments.size(); ++a) {
+    EXPECT_EQ(one.fragments[a].polygon, two.fragments[a].polygon);
+    EXPECT_EQ(one.fragments[a].fragment_id, two.fragments[a].fragment_id);
+  }
+}
+
+TEST(AnalyticShadows, AreasOnlyModeGivesTheSameAreasWithoutPolygons) {
+  Scene scene = make_city(30, 50, 3);
+  scene.lights.push_back(directional_light("sun", sun_direction(40, 135)));
+  validate_scene(scene);
+  ShadowOptions options;
+  const ShadowResult full = compute_shadows(scene, options);
+  options.polygons = false;
+  const ShadowResult areas = compute_shadows(scene, options);
+  EXPECT_TRUE(areas.fragments.empty());
+  ASSERT_EQ(full.lighting.size(), areas.lighting.size());
+  for (std::size_t a = 0; a < full.lighting.size(); ++a)
+    EXPECT_EQ(full.lighting[a].lit_area, areas.lighting[a].lit_area);
+}
+
+TEST(AnalyticShadows, EngineReusesOneSceneForManySunPositions) {
+  Scene scene = square_over_ground(directional_light("sun", {0, 0, 1}));
+  validate_scene(scene);
+  const ShadowEngine engine(scene);
+  for (double x : {-1.0, 0.0, 0.5, 2.0}) {
+    const ShadowResult r = engine.compute(directional_light("sun", {x, 0, 1}), 0);
+    EXPECT_EQ(r.find(0, 0)->shadow_area, 1.0) << x;
+  }
+  EXPECT_EQ(engine.face_area(0), 100.0);
+}
+
+}  // namespace
+}  // namespace shadow::test

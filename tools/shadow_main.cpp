@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `shadow` command line: `shadow compute SCENE.json -o OUTDIR`.
+#include <shadow/shadow.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Exit codes: 0 success, 1 usage error (CLI11), 2 bad input, 3 output failure, 4 internal error.
+enum ExitCode { kOk = 0, kBadInput = 2, kOutputFailed = 3, kInternal = 4 };
+
+struct ComputeArgs {
+  std::string scene;
+  std::string outdir;
+  unsigned threads = 0;
+  bool quiet = false;
+  bool areas_only = false;
+  double planarity_tolerance = 1e-6;
+};
+
+/// Progress on a terminal: one line rewritten in place, on stderr so stdout stays clean.
+class ProgressLine {
+ public:
+  explicit ProgressLine(bool enabled) : enabled_(enabled) {}
+  void update(const shadow::Progress& p) {
+    if (!enabled_ || p.total == 0) return;
+    const int percent = static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total));
+    if (percent == last_) return;
+    last_ = percent;
+    std::fprintf(stderr, "\rshadow: face-light pairs %zu/%zu (%d%%)", p.done, p.total, percent);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fprintf(stderr, "\r\033[K");
+    shown_ = false;
+  }
+
+ private:
+  bool enabled_;
+  bool shown_ = false;
+  int last_ = -1;
+};
+
+int run_compute(const ComputeArgs& args) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  shadow::LoadOptions load_options;
+  load_options.planarity_tolerance = args.planarity_tolerance;
+  shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  if (!args.quiet)
+    for (const shadow::Warning& warning : scene.warnings)
+      std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+
+  ProgressLine progress(!args.quiet && isatty(STDERR_FILENO));
+  shadow::ShadowOptions options;
+  options.threads = args.threads;
+  options.polygons = !args.areas_only;
+  options.progress = [&](const shadow::Progress& p) { progress.update(p); };
+  shadow::ShadowResult result;
+  try {
+    result = shadow::compute_shadows(scene, options);
+  } catch (const shadow::InputError& e) {
+    progress.finish();
+    // Errors about lights found while computing still name the scene file.
+    throw shadow::InputError({args.scene, e.where().place}, e.problem());
+  }
+  progress.finish();
+  const auto computed = Clock::now();
+
+  const std::vector<fs::path> written = shadow::write_outputs(args.outdir, scene, result);
+  const auto finished = Clock::now();
+
+  if (!args.quiet) {
+    auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+    std::size_t receivers = 0;
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) receivers += scene.is_receiver(f) ? 1 : 0;
+    std::printf("shadow %s: %zu faces (%zu receiving), %zu lights, %zu fragments\n",
+                shadow::version(), scene.faces.size(), receivers, scene.lights.size(),
+                result.fragments.size());
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+      double area = 0, lit = 0;
+      for (const shadow::FaceLighting& fl : result.lighting)
+        if (fl.light_id == l) {
+          area += fl.area;
+          lit += fl.lit_area;
+        }
+      std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
+                  lit, area, area > 0 ? 100.0 * lit / area : 0.0);
+    }
+    std::printf("  computed in %.3f s, written in %.3f s\n", seconds(computed - start),
+                seconds(finished - computed));
+    std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
+    for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());
+  }
+  return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"shadow: exact object-space shadows (libshadow " + std::string(shadow::version()) + ")"};
+  app.set_version_flag("--version", std::string(shadow::version()));
+  app.require_subcommand(1);
+
+  ComputeArgs args;
+  CLI::App* compute = app.add_subcommand(
+      "compute", "Compute every light's lit and shadowed polygons on every face and write them to OUTDIR");
+  compute->add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
+  compute->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
+  compute->add_option("-t,--threads", args.threads, "Worker threads (0: all cores)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  compute->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+  compute->add_flag("--areas-only", args.areas_only,
+                    "Compute lit areas only, no polygons: fragments.vtp then has no cells");
+  compute->add_option("--planarity-tolerance", args.planarity_tolerance,
+                      "Largest vertex distance from a face's plane, relative to the face's size")
+      ->default_val(1e-6)
+      ->check(CLI::PositiveNumber);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  try {
+    if (*compute) return run_compute(args);
+  } catch (const shadow::InputError& e) {
+    std::cerr << "shadow: error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const shadow::OutputError& e) {
+    std::cerr << "shadow: error: " << e.what() << "\n";
+    return kOutputFailed;
+  } catch (const std::exception& e) {
+    std::cerr << "shadow: internal error: " << e.what() << "\n";
+    return kInternal;
+  }
+  return kOk;
+}
