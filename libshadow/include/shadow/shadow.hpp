@@ -4,6 +4,7 @@
 #pragma once
 
 #include <shadow/error.hpp>
+#include <shadow/generators.hpp>
 #include <shadow/output.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>

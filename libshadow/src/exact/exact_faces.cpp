@@ -4,8 +4,11 @@
 
 #include "exact/exact_checks.hpp"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Partition_traits_2.h>
 #include <CGAL/partition_2.h>
+
+#include <glm/common.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -45,15 +48,16 @@ std::vector<Point3> exact_points(const std::vector<glm::dvec3>& vertices) {
 
 /// Removes vertices exactly collinear with their neighbours, repeatedly, so that every
 /// remaining vertex is a real turn (the faces are simple: validated before).
-std::vector<int> drop_collinear(std::vector<int> ring, const std::vector<Point2>& chart) {
+template <class Point>
+std::vector<int> drop_collinear(std::vector<int> ring, const std::vector<Point>& chart) {
   bool changed = true;
   while (changed && ring.size() >= 3) {
     changed = false;
     for (std::size_t a = 0; a < ring.size() && ring.size() >= 3; ++a) {
       const std::size_t n = ring.size();
-      const Point2& prev = chart[ring[(a + n - 1) % n]];
-      const Point2& cur = chart[ring[a]];
-      const Point2& next = chart[ring[(a + 1) % n]];
+      const Point& prev = chart[ring[(a + n - 1) % n]];
+      const Point& cur = chart[ring[a]];
+      const Point& next = chart[ring[(a + 1) % n]];
       // On a simple polygon a collinear vertex is "straight on": it adds no area.
       if (CGAL::collinear(prev, cur, next)) {
         ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(a));
@@ -65,7 +69,8 @@ std::vector<int> drop_collinear(std::vector<int> ring, const std::vector<Point2>
   return ring;
 }
 
-bool is_strictly_convex_ccw(const std::vector<int>& ring, const std::vector<Point2>& chart) {
+template <class Point>
+bool is_strictly_convex_ccw(const std::vector<int>& ring, const std::vector<Point>& chart) {
   const std::size_t n = ring.size();
   for (std::size_t a = 0; a < n; ++a) {
     if (CGAL::orientation(chart[ring[a]], chart[ring[(a + 1) % n]], chart[ring[(a + 2) % n]]) !=
@@ -78,44 +83,61 @@ bool is_strictly_convex_ccw(const std::vector<int>& ring, const std::vector<Poin
 }  // namespace
 
 FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
+  // Everything here is decided with Epick's exact predicates on the input doubles (static and
+  // interval filters, then an exact fallback): far cheaper than Epeck's lazy constructions,
+  // which would have to evaluate exactly every test that comes out zero (planarity tests do).
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   FacePrep prep;
-  const std::vector<Point3> points = exact_points(vertices);
-  const Vector3 normal = exact_newell_normal(points);
-  if (normal == CGAL::NULL_VECTOR) {
+  const std::size_t count = vertices.size();
+  glm::dvec3 newell(0.0);
+  for (std::size_t a = 0; a < count; ++a) {
+    const glm::dvec3 u = vertices[a] - vertices[0], v = vertices[(a + 1) % count] - vertices[0];
+    newell += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+  }
+  // The dominant axis only needs to be a good chart direction, not exact: its component is at
+  // least |n| / sqrt(3), far above rounding error for any face validation accepts.
+  const glm::dvec3 an = glm::abs(newell);
+  const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+  if (!(an[k] > 0)) {
     prep.degenerate = true;
     return prep;
   }
-  const int k = dominant_axis(normal);
   prep.axis = k;
-  prep.flipped = CGAL::is_negative(normal[k]);
+  const int i = chart_i(k), j = chart_j(k);
+  std::vector<K::Point_2> chart;
+  chart.reserve(count);
+  for (const glm::dvec3& v : vertices) chart.emplace_back(v[i], v[j]);
 
-  const FT offset0 = -(normal * (points[0] - CGAL::ORIGIN));
-  prep.exactly_planar = std::all_of(points.begin(), points.end(), [&](const Point3& p) {
-    return CGAL::is_zero(normal * (p - CGAL::ORIGIN) + offset0);
-  });
-
-  std::vector<Point2> chart;
-  chart.reserve(points.size());
-  for (const Point3& p : points) chart.push_back(to_chart(p, k));
-  std::vector<int> ring(points.size());
-  for (std::size_t a = 0; a < ring.size(); ++a) ring[a] = static_cast<int>(a);
-  if (prep.flipped) std::reverse(ring.begin(), ring.end());
+  std::vector<int> ring(count);
+  for (std::size_t a = 0; a < count; ++a) ring[a] = static_cast<int>(a);
   ring = drop_collinear(std::move(ring), chart);
-  if (ring.size() < 3) {  // cannot happen for a non-zero normal, but never trust a face
+  if (ring.size() < 3) {
     prep.degenerate = true;
     return prep;
   }
-  prep.chart_ring = ring;
-
-  // A convex corner: the lexicographically smallest chart vertex of a simple polygon.
-  const std::size_t n = ring.size();
+  // The lexicographically smallest vertex of a simple polygon is a strict convex corner: its
+  // turn gives the polygon's orientation in the chart, i.e. the exact sign of n_k.
+  std::size_t n = ring.size();
   std::size_t lowest = 0;
   for (std::size_t a = 1; a < n; ++a)
     if (CGAL::compare_xy(chart[ring[a]], chart[ring[lowest]]) == CGAL::SMALLER) lowest = a;
+  const CGAL::Orientation turn =
+      CGAL::orientation(chart[ring[(lowest + n - 1) % n]], chart[ring[lowest]], chart[ring[(lowest + 1) % n]]);
+  prep.flipped = turn == CGAL::RIGHT_TURN;
+  if (prep.flipped) {
+    std::reverse(ring.begin(), ring.end());
+    lowest = n - 1 - lowest;
+  }
+  prep.chart_ring = ring;
   prep.corner = {ring[(lowest + n - 1) % n], ring[lowest], ring[(lowest + 1) % n]};
 
+  auto point3 = [&](int v) { return K::Point_3(vertices[v].x, vertices[v].y, vertices[v].z); };
+  const K::Point_3 c0 = point3(prep.corner[1]), c1 = point3(prep.corner[2]), c2 = point3(prep.corner[0]);
+  prep.exactly_planar = true;
+  for (std::size_t v = 0; v < count && prep.exactly_planar; ++v)
+    prep.exactly_planar = CGAL::orientation(c0, c1, c2, point3(static_cast<int>(v))) == CGAL::COPLANAR;
+
   // Chart bounding box: chart coordinates are input doubles, so this box is exact.
-  const int i = chart_i(k), j = chart_j(k);
   prep.chart_min = {vertices[ring[0]][i], vertices[ring[0]][j]};
   prep.chart_max = prep.chart_min;
   for (int v : ring) {
@@ -136,12 +158,12 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
     prep.convex_pieces.push_back(ring);
   } else {
     // Hertel-Mehlhorn partition: diagonals only, so pieces reuse the face's own vertices.
-    using Traits = CGAL::Partition_traits_2<Kernel>;
+    using Traits = CGAL::Partition_traits_2<K>;
     std::vector<Traits::Point_2> ring_points;
-    std::map<Point2, int> index_of;
+    std::map<std::pair<double, double>, int> index_of;
     for (int v : ring) {
       ring_points.push_back(chart[v]);
-      index_of.emplace(chart[v], v);
+      index_of.emplace(std::make_pair(chart[v].x(), chart[v].y()), v);
     }
     std::vector<Traits::Polygon_2> pieces;
     CGAL::approx_convex_partition_2(ring_points.begin(), ring_points.end(),
@@ -149,7 +171,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
     for (const Traits::Polygon_2& piece : pieces) {
       std::vector<int> indices;
       for (auto it = piece.vertices_begin(); it != piece.vertices_end(); ++it)
-        indices.push_back(index_of.at(*it));
+        indices.push_back(index_of.at({it->x(), it->y()}));
       prep.convex_pieces.push_back(std::move(indices));
     }
   }

@@ -18,6 +18,7 @@
 
 #include <shadow/shadows.hpp>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_triangulation_decomposition_2.h>
 
 #include <glm/geometric.hpp>
@@ -216,12 +217,67 @@ void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector<Point3
   poly.swap(scratch);
 }
 
+/// Clip of a convex polygon to the front of the receiver's plane (s >= 0) when the exact signs of
+/// s at its vertices are already known; s is evaluated (lazily) only on edges that cross.
+void clip_front(std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign, const Affine3& s,
+                std::vector<Point3>& scratch) {
+  const std::size_t n = poly.size();
+  scratch.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (sign[a] != CGAL::NEGATIVE) scratch.push_back(poly[a]);
+    if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+        (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE)) {
+      const FT sa = s(poly[a]), sb = s(poly[b]);
+      scratch.push_back(poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]));
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// Sutherland-Hodgman clip of a convex 2D polygon to x_c >= m (keep_greater) or x_c <= m.
+void clip_convex_2d(std::vector<Point2>& poly, int c, double m, bool keep_greater,
+                    std::vector<Point2>& scratch) {
+  if (poly.empty()) return;
+  const std::size_t n = poly.size();
+  auto side = [&](const Point2& p) {
+    const CGAL::Comparison_result r = CGAL::compare(p[c], FT(m));
+    return keep_greater ? static_cast<int>(r) : -static_cast<int>(r);  // +1 inside, -1 outside
+  };
+  std::vector<int> in(n);
+  bool any_out = false, any_in = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    in[a] = side(poly[a]);
+    any_out |= in[a] < 0;
+    any_in |= in[a] > 0;
+  }
+  if (!any_out) return;
+  if (!any_in) {
+    poly.clear();
+    return;
+  }
+  scratch.clear();
+  const int o = 1 - c;
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (in[a] >= 0) scratch.push_back(poly[a]);
+    if (in[a] * in[b] < 0) {
+      const Point2& pa = poly[a];
+      const Point2& pb = poly[b];
+      const FT other = pa[o] + (FT(m) - pa[c]) * (pb[o] - pa[o]) / (pb[c] - pa[c]);
+      scratch.push_back(c == 0 ? Point2(FT(m), other) : Point2(other, FT(m)));
+    }
+  }
+  poly.swap(scratch);
+}
+
 /// The set of half-spaces a caster is clipped to for one receiver, and the projection.
 struct ReceiverFrame {
   int axis = 2;
   FT light_side;                  ///< s~(l) > 0
   Affine3 front;                  ///< s(p) >= 0: in front of the receiver's plane
   std::array<Affine3, 4> sides;   ///< the prism/pyramid over the chart bounding box
+  std::array<FT, 2> shift;        ///< directional: l_c / s~(l) for the chart axes c = i, j
 };
 
 ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const ExactLight& light,
@@ -246,6 +302,9 @@ ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const Exac
       frame.sides[c * 2 + upper] = f;
     }
   }
+  if (!light.is_point()) {
+    frame.shift = {light.l[chart_i(k)] / light_side, light.l[chart_j(k)] / light_side};
+  }
   return frame;
 }
 
@@ -254,7 +313,8 @@ ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const Exac
 Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, const ExactLight& light) {
   const FT s = frame.front(y);
   const int i = chart_i(frame.axis), j = chart_j(frame.axis);
-  const FT w = frame.light_side - s * light.l[3];
+  if (!light.is_point()) return Point2(y[i] - s * frame.shift[0], y[j] - s * frame.shift[1]);
+  const FT w = frame.light_side - s;
   return Point2((frame.light_side * y[i] - s * light.l[i]) / w,
                 (frame.light_side * y[j] - s * light.l[j]) / w);
 }
@@ -294,6 +354,8 @@ struct ShadowEngine::Impl {
     ShadowStats stats;
     std::vector<std::size_t> candidates;
     std::vector<exact::Point3> poly, scratch;
+    std::vector<exact::Point2> poly2, scratch2;
+    std::vector<CGAL::Sign> vertex_sign, piece_sign;
   };
 
   const exact::ExactFace& exact_face(Worker& w, std::size_t f) const {
@@ -520,19 +582,66 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   // ---- exact clipping and projection ---------------------------------------------------------
   const ExactFace& P = exact_face(w, face_id);
   const ReceiverFrame frame = make_frame(P, fp, light, plane_at_light(P, light));
+  // Signs of s (the receiver's plane) at input vertices are decided by Epick's orientation
+  // predicate on the doubles: exact, and cheap even when the answer is zero, which is common
+  // (faces that share an edge with the receiver). Lazy Epeck arithmetic would have to
+  // evaluate every zero exactly.
+  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto epick = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
+  const EK::Point_3 corner0 = epick(face.vertices[fp.corner[1]]);
+  const EK::Point_3 corner1 = epick(face.vertices[fp.corner[2]]);
+  const EK::Point_3 corner2 = epick(face.vertices[fp.corner[0]]);
+  const bool point_light = light.is_point();
   std::vector<Polygon2> shadows;
   for (std::size_t q : w.candidates) {
-    const ExactFace& Q = exact_face(w, q);
     const FacePrep& qp = prep[q];
+    const Face& qface = scene->faces[q];
+    w.vertex_sign.resize(qface.vertices.size());
+    bool any_front = false;
+    if (fp.exactly_planar && qp.exactly_planar) {
+      for (std::size_t v = 0; v < qface.vertices.size(); ++v) {
+        CGAL::Sign sv = CGAL::orientation(corner0, corner1, corner2, epick(qface.vertices[v]));
+        if (fp.flipped) sv = CGAL::opposite(sv);
+        w.vertex_sign[v] = sv;
+        any_front |= sv == CGAL::POSITIVE;
+      }
+      if (!any_front) continue;  // nothing strictly in front of the receiver
+    }
+    const ExactFace& Q = exact_face(w, q);
+    if (!(fp.exactly_planar && qp.exactly_planar)) {
+      for (std::size_t v = 0; v < Q.vertices.size(); ++v) {
+        w.vertex_sign[v] = CGAL::sign(frame.front(Q.vertices[v]));
+        any_front |= w.vertex_sign[v] == CGAL::POSITIVE;
+      }
+      if (!any_front) continue;
+    }
     bool cast = false;
     for (const std::vector<int>& piece : qp.convex_pieces) {
       w.poly.clear();
-      for (int v : piece) w.poly.push_back(Q.vertices[v]);
-      clip_convex(w.poly, frame.front, w.scratch);
-      for (const Affine3& side : frame.sides) clip_convex(w.poly, side, w.scratch);
-      if (w.poly.size() < 3) continue;
-      Polygon2 projected;
-      for (const Point3& y : w.poly) projected.push_back(project_to_chart(y, frame, light));
+      w.piece_sign.clear();
+      bool piece_front = false;
+      for (int v : piece) {
+        w.poly.push_back(Q.vertices[v]);
+        w.piece_sign.push_back(w.vertex_sign[v]);
+        piece_front |= w.vertex_sign[v] == CGAL::POSITIVE;
+      }
+      if (!piece_front) continue;
+      clip_front(w.poly, w.piece_sign, frame.front, w.scratch);
+      w.poly2.clear();
+      if (point_light) {
+        // The pyramid over the chart box keeps the central projection finite.
+        for (const Affine3& side : frame.sides) clip_convex(w.poly, side, w.scratch);
+        for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, frame, light));
+      } else {
+        // Parallel projection is affine: project, then clip to the chart box in 2D.
+        for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, frame, light));
+        for (int c = 0; c < 2; ++c) {
+          clip_convex_2d(w.poly2, c, fp.chart_min[c], true, w.scratch2);
+          clip_convex_2d(w.poly2, c, fp.chart_max[c], false, w.scratch2);
+        }
+      }
+      if (w.poly2.size() < 3) continue;
+      Polygon2 projected(w.poly2.begin(), w.poly2.end());
       const CGAL::Sign orientation = CGAL::sign(projected.area());
       if (orientation == CGAL::ZERO) continue;  // the caster is edge-on to the light
       if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
@@ -550,11 +659,17 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
     return item;
   }
 
-  PolygonSet2 shadow_set;
-  shadow_set.join(shadows.begin(), shadows.end());  // one aggregated union
-  if (!fp.chart_is_box) shadow_set.intersection(P.chart);
   std::vector<PolygonWithHoles2> shadow_regions, lit_regions;
-  shadow_set.polygons_with_holes(std::back_inserter(shadow_regions));
+  PolygonSet2 shadow_set;
+  if (shadows.size() == 1 && fp.chart_is_box) {
+    // One convex caster already clipped to a rectangular receiver: it is the shadow.
+    shadow_regions.emplace_back(shadows.front());
+    if (polygons) shadow_set.insert(shadows.front());
+  } else {
+    shadow_set.join(shadows.begin(), shadows.end());  // one aggregated union
+    if (!fp.chart_is_box) shadow_set.intersection(P.chart);
+    shadow_set.polygons_with_holes(std::back_inserter(shadow_regions));
+  }
   FT shadow_chart_area = 0;
   for (const PolygonWithHoles2& r : shadow_regions) shadow_chart_area += region_area(r);
   const FT lit_chart_area = P.chart_area - shadow_chart_area;

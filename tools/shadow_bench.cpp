@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// shadow-bench: times the exact engine on procedurally generated scenes.
+//
+// Each case runs in a forked child so that its peak memory (ru_maxrss) is its own. Output: a
+// Markdown table on stdout and, with --csv FILE, the same rows as CSV.
+#include <shadow/shadow.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+struct Case {
+  std::string scene;   // "city", "city-fixed", "room"
+  std::size_t size;    // boxes or tables
+  double extent;       // city side (m)
+  std::string light;   // description
+  double elevation;    // sun elevation (deg) for cities
+};
+
+struct Measurement {
+  double prepare_s = 0, compute_s = 0;
+  long peak_kib = 0;
+  std::size_t faces = 0;
+  shadow::ShadowStats stats;
+  double lit_fraction = 0;
+  bool ok = false;
+};
+
+shadow::Scene build(const Case& c) {
+  if (c.scene == "room") return shadow::make_furnished_room(c.size, 11);
+  shadow::Scene scene = shadow::make_city(c.size, c.extent, 2026);
+  scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(c.elevation, 135.0)));
+  return scene;
+}
+
+Measurement run_case(const Case& c, unsigned threads, bool polygons) {
+  using Clock = std::chrono::steady_clock;
+  Measurement m;
+  shadow::Scene scene = build(c);
+  shadow::validate_scene(scene);
+  m.faces = scene.faces.size();
+  const auto t0 = Clock::now();
+  const shadow::ShadowEngine engine(scene);
+  const auto t1 = Clock::now();
+  shadow::ShadowOptions options;
+  options.threads = threads;
+  options.polygons = polygons;
+  const shadow::ShadowResult result = engine.compute(options);
+  const auto t2 = Clock::now();
+  m.prepare_s = std::chrono::duration<double>(t1 - t0).count();
+  m.compute_s = std::chrono::duration<double>(t2 - t1).count();
+  m.stats = result.stats;
+  double area = 0, lit = 0;
+  for (const shadow::FaceLighting& fl : result.lighting) {
+    area += fl.area;
+    lit += fl.lit_area;
+  }
+  m.lit_fraction = area > 0 ? lit / area : 0;
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  m.peak_kib = usage.ru_maxrss;
+  m.ok = true;
+  return m;
+}
+
+/// Runs a case in a child process and reads its measurement back through a pipe.
+Measurement run_isolated(const Case& c, unsigned threads, bool polygons) {
+  int fds[2];
+  if (pipe(fds) != 0) return run_case(c, threads, polygons);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    Measurement m = run_case(c, threads, polygons);
+    std::ostringstream out;
+    out.precision(17);
+    out << m.prepare_s << ' ' << m.compute_s << ' ' << m.peak_kib << ' ' << m.faces << ' '
+        << m.stats.receivers << ' ' << m.stats.back_facing << ' ' << m.stats.candidate_pairs << ' '
+        << m.stats.casting_pairs << ' ' << m.stats.unshadowed << ' ' << m.lit_fraction;
+    const std::string text = out.str();
+    if (write(fds[1], text.data(), text.size()) < 0) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[512];
+  ssize_t n;
+  while ((n = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  Measurement m;
+  std::istringstream in(text);
+  in >> m.prepare_s >> m.compute_s >> m.peak_kib >> m.faces >> m.stats.receivers >>
+      m.stats.back_facing >> m.stats.candidate_pairs >> m.stats.casting_pairs >> m.stats.unshadowed >>
+      m.lit_fraction;
+  m.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && !in.fail();
+  return m;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"shadow-bench: time libshadow's exact engine on generated cities and rooms"};
+  std::vector<std::size_t> sizes{100, 1000, 10000};
+  std::vector<unsigned> threads{1, 2};
+  std::string csv_path;
+  bool areas_only = false;
+  bool quick = false;
+  app.add_option("--sizes", sizes, "City sizes in boxes")->delimiter(',');
+  app.add_option("--threads", threads, "Thread counts to run")->delimiter(',');
+  app.add_option("--csv", csv_path, "Also write the rows as CSV to this file");
+  app.add_flag("--areas-only", areas_only, "Compute areas only (no fragment polygons)");
+  app.add_flag("--quick", quick, "Only the 100- and 1,000-box cities at 40 degrees (smoke run)");
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<Case> cases;
+  // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).
+  for (std::size_t n : sizes) {
+    if (quick && n > 1000) continue;
+    const double extent = 500.0 * std::sqrt(static_cast<double>(n) / 1000.0);
+    for (double elevation : {40.0, 5.0}) {
+      if (quick && elevation != 40.0) continue;
+      cases.push_back({"city", n, extent, "sun " + std::to_string(static_cast<int>(elevation)) + " deg", elevation});
+    }
+  }
+  if (!quick) {
+    // Fixed extent: shadows pile up as N grows.
+    for (std::size_t n : sizes) cases.push_back({"city-fixed", n, 500.0, "sun 40 deg", 40.0});
+    cases.push_back({"room", 12, 0, "ceiling lamp", 0});
+  }
+
+  std::ofstream csv;
+  if (!csv_path.empty()) {
+    csv.open(csv_path);
+    csv << "scene,size,extent_m,light,faces,threads,prepare_s,compute_s,peak_mib,receivers,back_facing,"
+           "candidate_pairs,casting_pairs,unshadowed,lit_fraction\n";
+  }
+  std::printf("| scene | boxes/tables | extent (m) | light | faces | threads | prepare (s) | compute (s) | peak (MiB) | candidate pairs | casting pairs | lit fraction |\n");
+  std::printf("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const Case& c : cases) {
+    for (unsigned t : threads) {
+      const Measurement m = run_isolated(c, t, !areas_only);
+      if (!m.ok) {
+        std::printf("| %s | %zu | %.0f | %s | - | %u | failed |\n", c.scene.c_str(), c.size, c.extent, c.light.c_str(), t);
+        continue;
+      }
+      std::printf("| %s | %zu | %.0f | %s | %zu | %u | %.3f | %.3f | %.0f | %llu | %llu | %.6f |\n", c.scene.c_str(),
+                  c.size, c.extent, c.light.c_str(), m.faces, t, m.prepare_s, m.compute_s, m.peak_kib / 1024.0,
+                  static_cast<unsigned long long>(m.stats.candidate_pairs),
+                  static_cast<unsigned long long>(m.stats.casting_pairs), m.lit_fraction);
+      std::fflush(stdout);
+      if (csv.is_open())
+        csv << c.scene << ',' << c.size << ',' << c.extent << ',' << c.light << ',' << m.faces << ',' << t << ','
+            << m.prepare_s << ',' << m.compute_s << ',' << m.peak_kib / 1024.0 << ',' << m.stats.receivers << ','
+            << m.stats.back_facing << ',' << m.stats.candidate_pairs << ',' << m.stats.casting_pairs << ','
+            << m.stats.unshadowed << ',' << m.lit_fraction << '\n';
+    }
+  }
+  return 0;
+}
