@@ -1,1 +1,175 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "output/vtk_files.hpp"
+
+#include <shadow/output.hpp>
+#include <shadow/version.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace shadow {
+namespace {
+
+// ordered_json keeps keys in the order written here, which reads better than alphabetical.
+using Json = nlohmann::ordered_json;
+
+Json vec3(const glm::dvec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+/// Neumaier's compensated sum: totals over millions of faces keep the digits of their parts.
+class Sum {
+ public:
+  void add(double x) {
+    const double t = sum_ + x;
+    compensation_ += std::abs(sum_) >= std::abs(x) ? (sum_ - t) + x : (x - t) + sum_;
+    sum_ = t;
+  }
+  [[nodiscard]] double value() const { return sum_ + compensation_; }
+
+ private:
+  double sum_ = 0.0;
+  double compensation_ = 0.0;
+};
+
+Json lights_json(const Scene& scene) {
+  Json lights = Json::array();
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& light = scene.lights[i];
+    Json entry = {{"id", i}, {"name", light.name}};
+    if (light.type == LightType::Directional) {
+      entry["type"] = "directional";
+      entry["to_light"] = vec3(light.to_light);
+    } else {
+      entry["type"] = "point";
+      entry["position"] = vec3(light.position);
+    }
+    entry["intensity"] = light.intensity;
+    entry["color"] = vec3(light.color);
+    lights.push_back(std::move(entry));
+  }
+  return lights;
+}
+
+/// One face's report entry from its FaceLighting entries (all for `face_id`).
+Json face_json(const Scene& scene, std::size_t face_id,
+               const std::vector<const FaceLighting*>& entries) {
+  std::string mesh;
+  if (face_id < scene.faces.size() && scene.faces[face_id].mesh < scene.meshes.size())
+    mesh = scene.meshes[scene.faces[face_id].mesh].name;
+  Json lights = Json::array();
+  for (const FaceLighting* e : entries) {
+    lights.push_back({{"light", e->light_id},
+                      {"light_name", detail::light_display_name(scene, e->light_id)},
+                      {"lit_area", e->lit_area},
+                      {"shadow_area", e->shadow_area},
+                      {"lit_fraction", e->lit_fraction},
+                      {"faces_light", e->faces_light}});
+  }
+  return {{"id", face_id}, {"mesh", mesh}, {"area", entries.front()->area}, {"lights", lights}};
+}
+
+/// Pretty-printed (indent > 0) or compact text. Names come from user files: bytes that are not
+/// UTF-8 are replaced rather than failing the whole report.
+std::string dump(const Json& value, int indent = -1) {
+  return value.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
+/// `text` (a pretty-printed value) indented by `indent` more spaces after each newline.
+/// JSON strings never hold a raw newline, so this cannot touch their content.
+std::string indent_more(const std::string& text, std::size_t indent) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    out += c;
+    if (c == '\n') out.append(indent, ' ');
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result) {
+  // Entries by face then light, whatever order they came in (the engine already sorts them).
+  std::vector<const FaceLighting*> entries;
+  entries.reserve(result.lighting.size());
+  for (const FaceLighting& e : result.lighting) entries.push_back(&e);
+  auto by_face_light = [](const FaceLighting* a, const FaceLighting* b) {
+    return a->face_id != b->face_id ? a->face_id < b->face_id : a->light_id < b->light_id;
+  };
+  if (!std::is_sorted(entries.begin(), entries.end(), by_face_light))
+    std::stable_sort(entries.begin(), entries.end(), by_face_light);
+
+  struct LightTotals {
+    Sum area;
+    Sum lit_area;
+  };
+  std::map<std::size_t, LightTotals> per_light;
+  Sum total_area;
+  std::size_t receiving_faces = 0;
+
+  // The same text nlohmann's dump(2) gives for the whole document, but written piece by piece:
+  // the faces array can be huge and is never held as one document.
+  auto member = [&out](const char* key, const std::string& value_text, bool last = false) {
+    out << "  " << dump(Json(key)) << ": " << indent_more(value_text, 2) << (last ? "\n" : ",\n");
+  };
+  out << "{\n";
+  member("libshadow_version", dump(Json(version())));
+  member("scene", dump(Json(scene.source.string())));
+  member("lights", dump(lights_json(scene), 2));
+
+  out << "  \"faces\": [";
+  std::vector<const FaceLighting*> group;
+  for (std::size_t i = 0; i < entries.size();) {
+    const std::size_t face_id = entries[i]->face_id;
+    group.clear();
+    for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
+      group.push_back(entries[i]);
+      LightTotals& totals = per_light[entries[i]->light_id];
+      totals.area.add(entries[i]->area);
+      totals.lit_area.add(entries[i]->lit_area);
+    }
+    ++receiving_faces;
+    total_area.add(group.front()->area);
+    out << (receiving_faces == 1 ? "\n    " : ",\n    ")
+        << indent_more(dump(face_json(scene, face_id, group), 2), 4);
+  }
+  out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
+
+  member("planes", dump(Json::array(), 2));
+
+  Json per_light_json = Json::array();
+  for (const auto& [light_id, totals] : per_light) {
+    const double area = totals.area.value();
+    const double lit = totals.lit_area.value();
+    per_light_json.push_back({{"light", light_id},
+                              {"light_name", detail::light_display_name(scene, light_id)},
+                              {"area", area},
+                              {"lit_area", lit},
+                              {"lit_fraction", area > 0.0 ? lit / area : 0.0}});
+  }
+  const Json summary = {{"faces", scene.faces.size()},
+                        {"receiving_faces", receiving_faces},
+                        {"lights", scene.lights.size()},
+                        {"fragments", result.fragments.size()},
+                        {"total_area", total_area.value()},
+                        {"per_light", per_light_json}};
+  member("summary", dump(summary, 2));
+
+  const Json stats = {{"receivers", result.stats.receivers},
+                      {"back_facing", result.stats.back_facing},
+                      {"candidate_pairs", result.stats.candidate_pairs},
+                      {"casting_pairs", result.stats.casting_pairs},
+                      {"unshadowed", result.stats.unshadowed}};
+  member("stats", dump(stats, 2));
+
+  Json warnings = Json::array();
+  for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
+  member("warnings", dump(warnings, 2), true);
+  out << "}\n";
+}
+
+}  // namespace shadow

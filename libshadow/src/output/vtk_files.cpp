@@ -1,1 +1,407 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "output/vtk_files.hpp"
+
+#include <shadow/output.hpp>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkExecutive.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStringArray.h>
+#include <vtkType.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <unordered_map>
+
+namespace shadow::detail {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Polygons given as (vertex count, vertex at) packed into Float64 points and one cell array.
+/// Points are not shared between cells: the fragments of neighbouring faces rarely share
+/// vertices exactly, and merging would cost a hash map as large as the output.
+template <typename CountFn, typename VertexFn>
+void fill_polygons(vtkPolyData* poly, std::size_t cell_count, CountFn count, VertexFn vertex) {
+  vtkIdType point_count = 0;
+  for (std::size_t c = 0; c < cell_count; ++c) point_count += static_cast<vtkIdType>(count(c));
+
+  vtkNew<vtkDoubleArray> coords;
+  coords->SetNumberOfComponents(3);
+  coords->SetNumberOfTuples(point_count);
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfValues(static_cast<vtkIdType>(cell_count) + 1);
+  vtkNew<vtkIdTypeArray> connectivity;
+  connectivity->SetNumberOfValues(point_count);
+
+  double* xyz = coords->GetPointer(0);
+  vtkIdType next = 0;
+  for (std::size_t c = 0; c < cell_count; ++c) {
+    offsets->SetValue(static_cast<vtkIdType>(c), next);
+    const std::size_t n = count(c);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec3& p = vertex(c, i);
+      xyz[3 * next + 0] = p.x;
+      xyz[3 * next + 1] = p.y;
+      xyz[3 * next + 2] = p.z;
+      connectivity->SetValue(next, next);
+      ++next;
+    }
+  }
+  offsets->SetValue(static_cast<vtkIdType>(cell_count), next);
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetData(coords);
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(offsets, connectivity);
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+}
+
+template <typename Array>
+vtkSmartPointer<Array> make_array(const char* name, std::size_t tuples, int components = 1) {
+  auto array = vtkSmartPointer<Array>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(components);
+  array->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
+  return array;
+}
+
+/// Bounding box of every face vertex (an empty scene gets the unit box at the origin).
+struct Box {
+  glm::dvec3 centre{0.0};
+  double diagonal = 1.0;
+};
+
+Box scene_box(const Scene& scene) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity());
+  glm::dvec3 hi(-std::numeric_limits<double>::infinity());
+  for (const Face& face : scene.faces) {
+    for (const glm::dvec3& v : face.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  }
+  Box box;
+  if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;
+  box.centre = 0.5 * (lo + hi);
+  const double diagonal = glm::length(hi - lo);
+  // A single point (or a flat speck) would put the sun on the scene: keep a visible distance.
+  if (std::isfinite(diagonal) && diagonal > 0.0) box.diagonal = diagonal;
+  return box;
+}
+
+/// v / |v|, or zero when v has no usable direction (validation rejects such lights anyway).
+glm::dvec3 unit_or_zero(const glm::dvec3& v) {
+  const double length = glm::length(v);
+  if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
+  return v / length;
+}
+
+/// Collects VTK's error messages from one object instead of letting them go to stderr:
+/// the caller turns them into one OutputError line.
+class ErrorCollector : public vtkCommand {
+ public:
+  static ErrorCollector* New() { return new ErrorCollector; }
+  void Execute(vtkObject*, unsigned long, void* call_data) override {
+    if (call_data != nullptr && message.empty()) message = static_cast<const char*>(call_data);
+  }
+  std::string message;
+};
+
+/// VTK's messages end with a newline and start with "ClassName (0x...): ".
+std::string tidy_vtk_message(std::string message) {
+  while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
+    message.pop_back();
+  const std::size_t colon = message.find("): ");
+  if (colon != std::string::npos) message.erase(0, colon + 3);
+  return message;
+}
+
+}  // namespace
+
+std::string sanitize_array_name(const std::string& name) {
+  std::string out = name;
+  for (char& c : out) {
+    const bool keep = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
+    if (!keep) c = '_';
+  }
+  return out;
+}
+
+std::string light_display_name(const Scene& scene, std::size_t light_id) {
+  if (light_id < scene.lights.size()) return scene.lights[light_id].name;
+  return "light" + std::to_string(light_id);
+}
+
+std::vector<std::string> light_array_names(const Scene& scene,
+                                           const std::vector<std::size_t>& light_ids) {
+  std::vector<std::string> names;
+  names.reserve(light_ids.size());
+  std::unordered_map<std::string, int> uses;
+  for (std::size_t id : light_ids) {
+    std::string name = sanitize_array_name(light_display_name(scene, id));
+    if (name.empty()) name = "light" + std::to_string(id);
+    names.push_back(name);
+    ++uses[name];
+  }
+  // Names that clash ("sun 1" and "sun_1") get their light id so no array overwrites another.
+  std::set<std::string> taken;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (uses[names[i]] > 1) names[i] += "_" + std::to_string(light_ids[i]);
+    while (!taken.insert(names[i]).second) names[i] += "_";
+  }
+  return names;
+}
+
+std::vector<std::size_t> lights_with_results(const ShadowResult& result) {
+  std::set<std::size_t> ids;
+  for (const FaceLighting& entry : result.lighting) ids.insert(entry.light_id);
+  return {ids.begin(), ids.end()};
+}
+
+vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result) {
+  const std::vector<Fragment>& fragments = result.fragments;
+  const std::size_t n = fragments.size();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  fill_polygons(
+      poly, n, [&](std::size_t c) { return fragments[c].polygon.size(); },
+      [&](std::size_t c, std::size_t i) -> const glm::dvec3& { return fragments[c].polygon[i]; });
+
+  auto face_id = make_array<vtkTypeInt64Array>("face_id", n);
+  auto light_id = make_array<vtkTypeInt32Array>("light_id", n);
+  auto lit = make_array<vtkTypeInt32Array>("lit", n);
+  auto area = make_array<vtkDoubleArray>("area", n);
+  auto fragment_id = make_array<vtkTypeInt64Array>("fragment_id", n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const Fragment& f = fragments[c];
+    const auto cell = static_cast<vtkIdType>(c);
+    face_id->SetValue(cell, static_cast<vtkTypeInt64>(f.face_id));
+    light_id->SetValue(cell, static_cast<vtkTypeInt32>(f.light_id));
+    lit->SetValue(cell, f.lit ? 1 : 0);
+    area->SetValue(cell, f.area);
+    fragment_id->SetValue(cell, static_cast<vtkTypeInt64>(f.fragment_id));
+  }
+  vtkCellData* cd = poly->GetCellData();
+  cd->AddArray(face_id);
+  cd->AddArray(light_id);
+  cd->AddArray(lit);
+  cd->AddArray(area);
+  cd->AddArray(fragment_id);
+  // ParaView colours by the active scalars when a file is opened: lit/shadowed is the view
+  // people want first.
+  cd->SetActiveScalars("lit");
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result) {
+  const std::size_t n = scene.faces.size();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  fill_polygons(
+      poly, n, [&](std::size_t c) { return scene.faces[c].vertices.size(); },
+      [&](std::size_t c, std::size_t i) -> const glm::dvec3& {
+        return scene.faces[c].vertices[i];
+      });
+
+  auto face_id = make_array<vtkTypeInt64Array>("face_id", n);
+  auto mesh_id = make_array<vtkTypeInt32Array>("mesh_id", n);
+  auto mesh = vtkSmartPointer<vtkStringArray>::New();
+  mesh->SetName("mesh");
+  mesh->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto receiver = make_array<vtkTypeInt32Array>("receiver", n);
+  auto area = make_array<vtkDoubleArray>("area", n);
+  area->Fill(kNaN);
+  for (std::size_t c = 0; c < n; ++c) {
+    const Face& face = scene.faces[c];
+    const auto cell = static_cast<vtkIdType>(c);
+    const bool known_mesh = face.mesh < scene.meshes.size();
+    face_id->SetValue(cell, static_cast<vtkTypeInt64>(c));
+    mesh_id->SetValue(cell, static_cast<vtkTypeInt32>(face.mesh));
+    mesh->SetValue(cell, known_mesh ? scene.meshes[face.mesh].name : std::string());
+    receiver->SetValue(cell, known_mesh && scene.meshes[face.mesh].receiver ? 1 : 0);
+  }
+
+  // One lit_fraction_/lit_area_ pair per light with results, NaN where the pair was not computed.
+  const std::vector<std::size_t> light_ids = lights_with_results(result);
+  const std::vector<std::string> names = light_array_names(scene, light_ids);
+  std::unordered_map<std::size_t, std::size_t> column_of;
+  std::vector<vtkSmartPointer<vtkDoubleArray>> fractions;
+  std::vector<vtkSmartPointer<vtkDoubleArray>> lit_areas;
+  for (std::size_t k = 0; k < light_ids.size(); ++k) {
+    column_of[light_ids[k]] = k;
+    fractions.push_back(make_array<vtkDoubleArray>(("lit_fraction_" + names[k]).c_str(), n));
+    lit_areas.push_back(make_array<vtkDoubleArray>(("lit_area_" + names[k]).c_str(), n));
+    fractions.back()->Fill(kNaN);
+    lit_areas.back()->Fill(kNaN);
+  }
+  for (const FaceLighting& entry : result.lighting) {
+    if (entry.face_id >= n) continue;  // a result for another scene: nothing to attach it to
+    const auto cell = static_cast<vtkIdType>(entry.face_id);
+    const std::size_t k = column_of.at(entry.light_id);
+    area->SetValue(cell, entry.area);
+    fractions[k]->SetValue(cell, entry.lit_fraction);
+    lit_areas[k]->SetValue(cell, entry.lit_area);
+  }
+
+  vtkCellData* cd = poly->GetCellData();
+  cd->AddArray(face_id);
+  cd->AddArray(mesh_id);
+  cd->AddArray(mesh);
+  cd->AddArray(receiver);
+  cd->AddArray(area);
+  for (std::size_t k = 0; k < light_ids.size(); ++k) {
+    cd->AddArray(fractions[k]);
+    cd->AddArray(lit_areas[k]);
+  }
+  if (!fractions.empty()) cd->SetActiveScalars(fractions.front()->GetName());
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
+  const std::size_t n = scene.lights.size();
+  const Box box = scene_box(scene);
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  vtkNew<vtkCellArray> verts;
+  auto light_id = make_array<vtkTypeInt32Array>("light_id", n);
+  auto type = make_array<vtkTypeInt32Array>("type", n);
+  auto to_light = make_array<vtkDoubleArray>("to_light", n, 3);
+  auto direction = make_array<vtkDoubleArray>("direction", n, 3);
+  auto name = vtkSmartPointer<vtkStringArray>::New();
+  name->SetName("name");
+  name->SetNumberOfValues(static_cast<vtkIdType>(n));
+
+  for (std::size_t i = 0; i < n; ++i) {
+    const Light& light = scene.lights[i];
+    const auto id = static_cast<vtkIdType>(i);
+    glm::dvec3 position;
+    glm::dvec3 toward;
+    if (light.type == LightType::Directional) {
+      // The sun has no position: put its glyph one scene diagonal away, in its direction.
+      toward = unit_or_zero(light.to_light);
+      position = box.centre + toward * box.diagonal;
+    } else {
+      toward = unit_or_zero(light.position - box.centre);
+      position = light.position;
+    }
+    points->SetPoint(id, position.x, position.y, position.z);
+    verts->InsertNextCell(1, &id);
+    light_id->SetValue(id, static_cast<vtkTypeInt32>(i));
+    type->SetValue(id, light.type == LightType::Directional ? 0 : 1);
+    to_light->SetTuple3(id, toward.x, toward.y, toward.z);
+    direction->SetTuple3(id, -toward.x, -toward.y, -toward.z);
+    name->SetValue(id, light.name);
+  }
+
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetVerts(verts);
+  vtkPointData* pd = poly->GetPointData();
+  pd->AddArray(light_id);
+  pd->AddArray(type);
+  pd->AddArray(to_light);
+  pd->AddArray(direction);
+  pd->AddArray(name);
+  pd->SetActiveVectors("direction");
+  return poly;
+}
+
+void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
+                    const std::filesystem::path& shown_as) {
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  // The writer reports the cause (when it knows one); its executive then adds a generic
+  // "returned failure" dump that says nothing useful: keep it off stderr, and out of the message.
+  vtkNew<ErrorCollector> errors;
+  vtkNew<ErrorCollector> pipeline_errors;
+  writer->AddObserver(vtkCommand::ErrorEvent, errors);
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+  writer->SetFileName(path.string().c_str());
+  writer->SetInputData(data);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();  // raw binary: base64 would add a third to the size
+  writer->SetCompressorTypeToZLib();
+  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
+  writer->SetIdTypeToInt64();
+
+  errno = 0;
+  const int ok = writer->Write();
+  const unsigned long code = writer->GetErrorCode();
+  if (ok == 1 && code == vtkErrorCode::NoError) return;
+
+  const int saved_errno = errno;
+  std::string reason = tidy_vtk_message(errors.GetPointer()->message);
+  // VTK quotes the file it opened: that is the temporary name, which means nothing to users.
+  const std::string quoted_path = " \"" + path.string() + "\"";
+  if (const std::size_t at = reason.find(quoted_path); at != std::string::npos)
+    reason.erase(at, quoted_path.size());
+  if (reason.empty() && code != vtkErrorCode::NoError)
+    reason = vtkErrorCode::GetStringFromErrorCode(code);
+  // VTK's codes below its own range are errno values, so the system's reason may be there already.
+  const std::string system_reason = saved_errno != 0 ? std::strerror(saved_errno) : "";
+  if (!system_reason.empty() && reason.find(system_reason) == std::string::npos)
+    reason += (reason.empty() ? "" : ": ") + system_reason;
+  if (reason.empty()) reason = "VTK could not write the file";
+  throw OutputError((shown_as.empty() ? path : shown_as).string() + ": " + reason);
+}
+
+void write_vtm(const std::vector<VtmBlock>& blocks, const std::filesystem::path& path,
+               const std::filesystem::path& shown_as) {
+  // The layout vtkXMLMultiBlockDataWriter of VTK 9.1 produces, with files next to the .vtm
+  // rather than in a subdirectory, so the .vtp files are usable on their own too.
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n"
+      "  <vtkMultiBlockDataSet>\n";
+  auto escape = [](const std::string& text) {
+    std::string out;
+    for (char c : text) {
+      switch (c) {
+        case '&': out += "&amp;"; break;
+        case '<': out += "&lt;"; break;
+        case '>': out += "&gt;"; break;
+        case '"': out += "&quot;"; break;
+        default: out += c;
+      }
+    }
+    return out;
+  };
+  for (std::size_t i = 0; i < blocks.size(); ++i) {
+    xml += "    <DataSet index=\"" + std::to_string(i) + "\" name=\"" + escape(blocks[i].name) +
+           "\" file=\"" + escape(blocks[i].file) + "\"/>\n";
+  }
+  xml += "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
+
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (out) out.write(xml.data(), static_cast<std::streamsize>(xml.size()));
+  if (out) out.close();
+  if (!out) {
+    const int saved_errno = errno;
+    throw OutputError((shown_as.empty() ? path : shown_as).string() + ": " +
+                      (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
+  }
+}
+
+}  // namespace shadow::detail
