@@ -190,6 +190,25 @@ TEST(AnalyticShadows, ThreadCountDoesNotChangeAnyNumber) {
   }
 }
 
+TEST(AnalyticShadows, ConvexSolidsCastTheSameShadowAsTheirFacesOneByOne) {
+  // Boxes are found as closed convex solids and cast one hull each. With every face in a mesh
+  // of its own no solid is found, and each face casts on its own: two exact routes, one answer.
+  Scene solids = make_city(80, 70, 11);
+  solids.lights.push_back(directional_light("sun", sun_direction(25, 160)));
+  Scene faces;
+  add_mesh(faces, "ground", {solids.faces[0].vertices});
+  for (std::size_t f = 1; f < solids.faces.size(); ++f)
+    add_mesh(faces, "face" + std::to_string(f), {solids.faces[f].vertices});
+  faces.lights = solids.lights;
+  const ShadowResult a = compute(solids, 2);
+  const ShadowResult b = compute(faces, 2);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  for (std::size_t i = 0; i < a.lighting.size(); ++i) {
+    EXPECT_EQ(a.lighting[i].lit_area, b.lighting[i].lit_area) << "face " << a.lighting[i].face_id;
+    EXPECT_EQ(a.lighting[i].lit_fraction, b.lighting[i].lit_fraction);
+  }
+}
+
 TEST(AnalyticShadows, AreasOnlyModeGivesTheSameAreasWithoutPolygons) {
   Scene scene = make_city(30, 50, 3);
   scene.lights.push_back(directional_light("sun", sun_direction(40, 135)));

@@ -20,6 +20,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_triangulation_decomposition_2.h>
+#include <CGAL/convex_hull_2.h>
 
 #include <glm/geometric.hpp>
 
@@ -29,7 +30,10 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <map>
 #include <optional>
+#include <set>
+#include <tuple>
 #include <stdexcept>
 #include <string>
 
@@ -346,10 +350,23 @@ struct ShadowEngine::Impl {
   std::vector<double> face_area;
   exact::CullScene cull;
 
+  /// A closed convex polyhedron made of scene faces (a box, say), fronts outward. Whatever a
+  /// ray crosses it through, it crosses its boundary, so the solid can cast as one polygon: the
+  /// convex hull of its projected vertices (clipped to the receiver's front), instead of one
+  /// polygon per face whose projections share edges and make the union expensive.
+  struct ConvexSolid {
+    std::vector<glm::dvec3> vertices;         ///< unique vertices
+    std::vector<std::array<int, 2>> edges;    ///< unique edges (indices into vertices)
+  };
+  std::vector<ConvexSolid> solids;
+  std::vector<int> solid_of;  ///< per face: index into solids, or -1
+  void find_convex_solids();
+
   /// Per-thread exact state. Epeck objects are never shared between threads.
   struct Worker {
     std::vector<std::unique_ptr<exact::ExactFace>> faces;  // built on first use
     std::vector<std::uint32_t> seen;                       // candidate de-duplication stamps
+    std::vector<std::uint32_t> solid_seen;                 // same, for convex solids
     std::uint32_t stamp = 0;
     ShadowStats stats;
     std::vector<std::size_t> candidates;
@@ -420,6 +437,96 @@ exact::CullScene make_cull_scene(const Scene& scene, const std::vector<exact::Fa
 
 }  // namespace
 
+/// Finds the closed convex solids among each mesh's faces: faces joined by shared edges (equal
+/// vertex coordinates), every edge used exactly twice in opposite directions, and every vertex
+/// of the solid on or behind every face's plane (Epick's exact orientation test).
+void ShadowEngine::Impl::find_convex_solids() {
+  const Scene& scene = *this->scene;
+  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const std::size_t n = scene.faces.size();
+  solid_of.assign(n, -1);
+  // Vertex ids by exact coordinates (+0.0 folds -0.0 into 0.0).
+  std::map<std::array<double, 3>, int> vertex_id;
+  std::vector<std::vector<int>> face_vertices(n);
+  std::vector<glm::dvec3> vertex_position;
+  for (std::size_t f = 0; f < n; ++f) {
+    if (prep[f].degenerate || !prep[f].exactly_planar) continue;
+    for (const glm::dvec3& v : scene.faces[f].vertices) {
+      const std::array<double, 3> key{v.x + 0.0, v.y + 0.0, v.z + 0.0};
+      auto [it, inserted] = vertex_id.emplace(key, static_cast<int>(vertex_position.size()));
+      if (inserted) vertex_position.push_back(v);
+      face_vertices[f].push_back(it->second);
+    }
+  }
+  // Undirected edge -> uses (face, forward). Within one mesh only.
+  struct Use {
+    std::size_t face;
+    bool forward;
+  };
+  std::map<std::tuple<std::size_t, int, int>, std::vector<Use>> edge_uses;
+  for (std::size_t f = 0; f < n; ++f) {
+    const std::vector<int>& fv = face_vertices[f];
+    for (std::size_t a = 0; a < fv.size(); ++a) {
+      const int u = fv[a], v = fv[(a + 1) % fv.size()];
+      edge_uses[{scene.faces[f].mesh, std::min(u, v), std::max(u, v)}].push_back({f, u < v});
+    }
+  }
+  std::vector<std::size_t> parent(n);
+  for (std::size_t f = 0; f < n; ++f) parent[f] = f;
+  auto find = [&](std::size_t f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+  };
+  std::vector<bool> open(n, false);  // touches an edge that is not shared exactly twice, oppositely
+  for (const auto& [edge, uses] : edge_uses) {
+    const bool manifold = uses.size() == 2 && uses[0].forward != uses[1].forward;
+    if (manifold) {
+      parent[find(uses[0].face)] = find(uses[1].face);
+    } else {
+      for (const Use& u : uses) open[u.face] = true;
+    }
+  }
+  std::map<std::size_t, std::vector<std::size_t>> components;
+  for (std::size_t f = 0; f < n; ++f)
+    if (!face_vertices[f].empty()) components[find(f)].push_back(f);
+  for (const auto& [root, faces] : components) {
+    if (faces.size() < 4) continue;
+    if (std::any_of(faces.begin(), faces.end(), [&](std::size_t f) { return open[f]; })) continue;
+    std::map<int, int> local;
+    ConvexSolid solid;
+    for (std::size_t f : faces)
+      for (int v : face_vertices[f])
+        if (local.emplace(v, static_cast<int>(solid.vertices.size())).second)
+          solid.vertices.push_back(vertex_position[v]);
+    bool convex = true;
+    for (std::size_t f : faces) {
+      const std::vector<glm::dvec3>& fv = scene.faces[f].vertices;
+      const exact::FacePrep& fp = prep[f];
+      auto p3 = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
+      const EK::Point_3 c0 = p3(fv[fp.corner[1]]), c1 = p3(fv[fp.corner[2]]), c2 = p3(fv[fp.corner[0]]);
+      const CGAL::Orientation front = fp.flipped ? CGAL::NEGATIVE : CGAL::POSITIVE;
+      for (const glm::dvec3& v : solid.vertices)
+        if (CGAL::orientation(c0, c1, c2, p3(v)) == front) {
+          convex = false;
+          break;
+        }
+      if (!convex) break;
+    }
+    if (!convex) continue;
+    std::set<std::pair<int, int>> edges;
+    for (std::size_t f : faces) {
+      const std::vector<int>& fv = face_vertices[f];
+      for (std::size_t a = 0; a < fv.size(); ++a) {
+        const int u = local[fv[a]], v = local[fv[(a + 1) % fv.size()]];
+        edges.emplace(std::min(u, v), std::max(u, v));
+      }
+    }
+    for (const auto& [u, v] : edges) solid.edges.push_back({u, v});
+    for (std::size_t f : faces) solid_of[f] = static_cast<int>(solids.size());
+    solids.push_back(std::move(solid));
+  }
+}
+
 ShadowEngine::ShadowEngine(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
@@ -439,6 +546,7 @@ ShadowEngine::ShadowEngine(const Scene& scene) : impl_(std::make_unique<Impl>())
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
   });
   impl_->cull = make_cull_scene(scene, impl_->prep);
+  impl_->find_convex_solids();
 }
 
 ShadowEngine::~ShadowEngine() = default;
@@ -563,6 +671,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   w.candidates.clear();
   if (++w.stamp == 0) {  // stamps wrapped: reset
     std::fill(w.seen.begin(), w.seen.end(), 0);
+    std::fill(w.solid_seen.begin(), w.solid_seen.end(), 0);
     w.stamp = 1;
   }
   auto consider = [&](std::size_t q) {
@@ -593,7 +702,50 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   const EK::Point_3 corner2 = epick(face.vertices[fp.corner[0]]);
   const bool point_light = light.is_point();
   std::vector<Polygon2> shadows;
+  const int own_solid = solid_of[face_id];
   for (std::size_t q : w.candidates) {
+    const int solid = solid_of[q];
+    if (solid >= 0 && (solid == own_solid || w.solid_seen[solid] == w.stamp)) continue;
+    if (solid >= 0 && !point_light && fp.exactly_planar) {
+      // A convex solid casts the hull of its projection (see ConvexSolid).
+      w.solid_seen[solid] = w.stamp;
+      const ConvexSolid& cs = solids[solid];
+      w.vertex_sign.resize(cs.vertices.size());
+      bool any_front = false;
+      for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+        CGAL::Sign sv = CGAL::orientation(corner0, corner1, corner2, epick(cs.vertices[v]));
+        if (fp.flipped) sv = CGAL::opposite(sv);
+        w.vertex_sign[v] = sv;
+        any_front |= sv == CGAL::POSITIVE;
+      }
+      if (!any_front) continue;
+      w.poly2.clear();
+      w.poly.clear();
+      for (std::size_t v = 0; v < cs.vertices.size(); ++v)
+        w.poly.push_back(to_exact(cs.vertices[v]));
+      for (std::size_t v = 0; v < cs.vertices.size(); ++v)
+        if (w.vertex_sign[v] != CGAL::NEGATIVE) w.poly2.push_back(project_to_chart(w.poly[v], frame, light));
+      for (const auto& [a, b] : cs.edges) {
+        const CGAL::Sign sa = w.vertex_sign[a], sb = w.vertex_sign[b];
+        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+          const FT va = frame.front(w.poly[a]), vb = frame.front(w.poly[b]);
+          w.poly2.push_back(project_to_chart(w.poly[a] + (va / (va - vb)) * (w.poly[b] - w.poly[a]), frame, light));
+        }
+      }
+      w.scratch2.clear();
+      CGAL::convex_hull_2(w.poly2.begin(), w.poly2.end(), std::back_inserter(w.scratch2), Kernel());
+      w.poly2.swap(w.scratch2);
+      for (int c = 0; c < 2; ++c) {
+        clip_convex_2d(w.poly2, c, fp.chart_min[c], true, w.scratch2);
+        clip_convex_2d(w.poly2, c, fp.chart_max[c], false, w.scratch2);
+      }
+      if (w.poly2.size() < 3) continue;
+      Polygon2 projected(w.poly2.begin(), w.poly2.end());
+      if (CGAL::sign(projected.area()) != CGAL::POSITIVE) continue;  // flat: edge-on solid
+      shadows.push_back(std::move(projected));
+      ++w.stats.casting_pairs;
+      continue;
+    }
     const FacePrep& qp = prep[q];
     const Face& qface = scene->faces[q];
     w.vertex_sign.resize(qface.vertices.size());
@@ -801,6 +953,7 @@ ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {
   for (Impl::Worker& w : workers) {
     w.faces.resize(scene.faces.size());
     w.seen.assign(scene.faces.size(), 0);
+    w.solid_seen.assign(impl_->solids.size(), 0);
   }
   std::vector<std::vector<Impl::Item>> per_light(light_ids.size(),
                                                  std::vector<Impl::Item>(receivers.size()));
@@ -821,6 +974,7 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
   for (Impl::Worker& w : workers) {
     w.faces.resize(scene.faces.size());
     w.seen.assign(scene.faces.size(), 0);
+    w.solid_seen.assign(impl_->solids.size(), 0);
   }
   std::vector<std::vector<Impl::Item>> per_light(1, std::vector<Impl::Item>(receivers.size()));
   impl_->compute_light(light, light_id, options, workers, receivers, per_light[0], 0,
