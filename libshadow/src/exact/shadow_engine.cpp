@@ -295,7 +295,7 @@ ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const Exac
   // receiver's plane and the light is  s~(l) (x_c - m) - (l_c - m l_w) s(p) = 0 : it vanishes on
   // that line (s = 0, x_c = m) and at the light. Inside is >= 0. Upper bounds flip signs.
   const int axes[2] = {chart_i(k), chart_j(k)};
-  for (int c = 0; c < 2; ++c) {
+  for (int c = 0; c < 2 && light.is_point(); ++c) {  // directional: clipped in 2D instead
     const int ax = axes[c];
     Vector3 e(ax == 0 ? 1 : 0, ax == 1 ? 1 : 0, ax == 2 ? 1 : 0);
     for (int upper = 0; upper < 2; ++upper) {
@@ -321,6 +321,34 @@ Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, const Exact
   const FT w = frame.light_side - s;
   return Point2((frame.light_side * y[i] - s * light.l[i]) / w,
                 (frame.light_side * y[j] - s * light.l[j]) / w);
+}
+
+/// Where edge a-b (s(a) and s(b) of strictly opposite signs) crosses the receiver's plane, in
+/// chart coordinates. Points on the plane are their own projection: computing them through the
+/// projection formula would give the same value, but through an s that is exactly zero with an
+/// interval around it, and every later comparison of such points would need exact arithmetic.
+Point2 crossing_in_chart(const Point3& a, const Point3& b, const ReceiverFrame& frame) {
+  const FT sa = frame.front(a), sb = frame.front(b);
+  const FT t = sa / (sa - sb);
+  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  return Point2(a[i] + t * (b[i] - a[i]), a[j] + t * (b[j] - a[j]));
+}
+
+/// Projects the part of a convex polygon in front of the receiver (s >= 0, exact signs given)
+/// into the chart, in order: vertices in front are projected, vertices on the plane and
+/// crossings of the plane are their own chart points.
+void project_front_part(const std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign,
+                        const ReceiverFrame& frame, const ExactLight& light, std::vector<Point2>& out) {
+  const std::size_t n = poly.size();
+  out.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (sign[a] == CGAL::POSITIVE) out.push_back(project_to_chart(poly[a], frame, light));
+    if (sign[a] == CGAL::ZERO) out.push_back(to_chart(poly[a], frame.axis));
+    if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+        (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE))
+      out.push_back(crossing_in_chart(poly[a], poly[b], frame));
+  }
 }
 
 /// Splits a polygon with holes into simple polygons (triangles where there are holes).
@@ -689,8 +717,16 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   w.stats.candidate_pairs += w.candidates.size();
 
   // ---- exact clipping and projection ---------------------------------------------------------
-  const ExactFace& P = exact_face(w, face_id);
-  const ReceiverFrame frame = make_frame(P, fp, light, plane_at_light(P, light));
+  // The receiver's exact frame is built on first use: most receivers are decided by the
+  // predicates below alone (nothing strictly in front of them).
+  std::optional<ReceiverFrame> frame_storage;
+  auto exact_frame = [&]() -> const ReceiverFrame& {
+    if (!frame_storage) {
+      const ExactFace& receiver = exact_face(w, face_id);
+      frame_storage = make_frame(receiver, fp, light, plane_at_light(receiver, light));
+    }
+    return *frame_storage;
+  };
   // Signs of s (the receiver's plane) at input vertices are decided by Epick's orientation
   // predicate on the doubles: exact, and cheap even when the answer is zero, which is common
   // (faces that share an edge with the receiver). Lazy Epeck arithmetic would have to
@@ -719,18 +755,19 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         any_front |= sv == CGAL::POSITIVE;
       }
       if (!any_front) continue;
+      const ReceiverFrame& frame = exact_frame();
       w.poly2.clear();
       w.poly.clear();
       for (std::size_t v = 0; v < cs.vertices.size(); ++v)
         w.poly.push_back(to_exact(cs.vertices[v]));
-      for (std::size_t v = 0; v < cs.vertices.size(); ++v)
-        if (w.vertex_sign[v] != CGAL::NEGATIVE) w.poly2.push_back(project_to_chart(w.poly[v], frame, light));
+      for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+        if (w.vertex_sign[v] == CGAL::POSITIVE) w.poly2.push_back(project_to_chart(w.poly[v], frame, light));
+        if (w.vertex_sign[v] == CGAL::ZERO) w.poly2.push_back(to_chart(w.poly[v], frame.axis));
+      }
       for (const auto& [a, b] : cs.edges) {
         const CGAL::Sign sa = w.vertex_sign[a], sb = w.vertex_sign[b];
-        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
-          const FT va = frame.front(w.poly[a]), vb = frame.front(w.poly[b]);
-          w.poly2.push_back(project_to_chart(w.poly[a] + (va / (va - vb)) * (w.poly[b] - w.poly[a]), frame, light));
-        }
+        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+          w.poly2.push_back(crossing_in_chart(w.poly[a], w.poly[b], frame));
       }
       w.scratch2.clear();
       CGAL::convex_hull_2(w.poly2.begin(), w.poly2.end(), std::back_inserter(w.scratch2), Kernel());
@@ -760,6 +797,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       if (!any_front) continue;  // nothing strictly in front of the receiver
     }
     const ExactFace& Q = exact_face(w, q);
+    const ReceiverFrame& frame = exact_frame();
     if (!(fp.exactly_planar && qp.exactly_planar)) {
       for (std::size_t v = 0; v < Q.vertices.size(); ++v) {
         w.vertex_sign[v] = CGAL::sign(frame.front(Q.vertices[v]));
@@ -778,15 +816,15 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         piece_front |= w.vertex_sign[v] == CGAL::POSITIVE;
       }
       if (!piece_front) continue;
-      clip_front(w.poly, w.piece_sign, frame.front, w.scratch);
       w.poly2.clear();
       if (point_light) {
         // The pyramid over the chart box keeps the central projection finite.
+        clip_front(w.poly, w.piece_sign, frame.front, w.scratch);
         for (const Affine3& side : frame.sides) clip_convex(w.poly, side, w.scratch);
         for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, frame, light));
       } else {
         // Parallel projection is affine: project, then clip to the chart box in 2D.
-        for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, frame, light));
+        project_front_part(w.poly, w.piece_sign, frame, light, w.poly2);
         for (int c = 0; c < 2; ++c) {
           clip_convex_2d(w.poly2, c, fp.chart_min[c], true, w.scratch2);
           clip_convex_2d(w.poly2, c, fp.chart_max[c], false, w.scratch2);
@@ -803,6 +841,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
     if (cast) ++w.stats.casting_pairs;
   }
 
+  const ExactFace& P = exact_face(w, face_id);
   if (shadows.empty()) {  // nothing in front: wholly lit, no Boolean operation needed
     ++w.stats.unshadowed;
     out.lit_area = out.area;
