@@ -15,8 +15,11 @@ namespace shadow {
 struct LoadOptions {
   /// A face is planar when every vertex lies within `planarity_tolerance * diameter` of the
   /// plane through its centroid with its Newell normal (diameter: the largest extent of its
-  /// bounding box). Faces beyond it are an InputError. Within it, the library works on the face
-  /// lifted exactly onto that plane (docs/numeric-contract.md).
+  /// bounding box). The allowed distance is never below 8 ulps of the face's largest coordinate
+  /// (rounding alone moves coordinates that much), and faces whose normal is numerically zero
+  /// skip this test and go to the exact zero-area check. Must be > 0. Faces beyond it are an
+  /// InputError. Within it, the library works on the face lifted exactly onto that plane
+  /// (docs/numeric-contract.md).
   double planarity_tolerance = 1e-6;
 };
 
@@ -40,8 +43,10 @@ std::vector<std::vector<glm::dvec3>> parse_obj(const std::string& obj_text,
                                               const std::string& display_name);
 
 /// Checks every face's geometry: finite coordinates, planarity within tolerance, a simple
-/// (non-self-intersecting) boundary. Zero-area faces are marked `degenerate` and reported as
-/// warnings. Scenes built in code should call this before computing shadows.
+/// (non-self-intersecting) boundary; and the lights and planes. It changes the scene: removes
+/// consecutive duplicate vertices, marks zero-area faces `degenerate` and adds a warning for
+/// each. Scenes built in code must call this before computing shadows; calling it twice is
+/// harmless.
 /// @throws InputError naming the face's source.
 void validate_scene(Scene& scene, const LoadOptions& options = {});
 

@@ -1,1 +1,566 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+// Reading scene files (contract: meshes, lights, planes, receivers).
+//
+// Every error names the scene file and the JSON path of the offending value
+// (`lights[1].to_light`), or the line and column for malformed JSON, or the OBJ file and line.
+// The JSON is read in two passes: first the whole document is checked (cheap), then the mesh
+// files are read (possibly slow), so a typo in a light is reported before a large OBJ is loaded.
+#include "scene/obj_reader.hpp"
+
+#include <shadow/scene_io.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace shadow {
+
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+// ---- small helpers for messages ----------------------------------------------------------------
+
+/// A user string in double quotes, control characters escaped, so errors stay on one line.
+std::string quote(const std::string& s) {
+  constexpr std::size_t kMax = 60;
+  std::string out = Json(s.size() > kMax ? s.substr(0, kMax) + "..." : s)
+                        .dump(-1, ' ', false, Json::error_handler_t::replace);
+  return out;
+}
+
+std::string member(const std::string& path, const std::string& key) {
+  // Keys that are not plain names (spaces, dots, escaped newlines) are quoted in brackets, so
+  // the path stays unambiguous and on one line.
+  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '$';
+  });
+  if (!plain) return path + "[" + quote(key) + "]";
+  return path.empty() ? key : path + "." + key;
+}
+
+std::string element(const std::string& path, std::size_t index) {
+  return path + "[" + std::to_string(index) + "]";
+}
+
+/// "string \"abc\"", "null", "an object": what was found where something else belongs.
+std::string describe(const Json& value) {
+  switch (value.type()) {
+    case Json::value_t::object: return "an object";
+    case Json::value_t::array: return "an array";
+    case Json::value_t::null: return "null";
+    case Json::value_t::string: return "string " + quote(value.get_ref<const std::string&>());
+    case Json::value_t::boolean: return value.get<bool>() ? "true" : "false";
+    default: return std::string(value.type_name());
+  }
+}
+
+std::string format_number(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// " (did you mean \"position\"?)" for a near miss, else "".
+std::string suggestion(const std::string& given, const std::vector<std::string>& known) {
+  std::size_t best = 3;  // only suggest for typos (at most 2 edits)
+  const std::string* match = nullptr;
+  for (const std::string& k : known) {
+    const std::size_t d = edit_distance(given, k);
+    if (d < best && d < k.size()) {
+      best = d;
+      match = &k;
+    }
+  }
+  return match == nullptr ? std::string() : " (did you mean " + quote(*match) + "?)";
+}
+
+/// Line and column (1-based, column in characters) of byte `offset` of `text`.
+std::string line_column(const std::string& text, std::size_t offset) {
+  offset = std::min(offset, text.size());
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      ++line;
+      column = 1;
+    } else if ((c & 0xC0) != 0x80) {  // count UTF-8 characters, not continuation bytes
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+/// nlohmann's message without its "[json.exception...] parse error at line 3, column 7: "
+/// prefix (the place is reported separately).
+std::string clean_reason(const std::string& what) {
+  std::string reason = what;
+  if (reason.rfind("[json.exception.", 0) == 0) {
+    const std::size_t close = reason.find("] ");
+    if (close != std::string::npos) reason.erase(0, close + 2);
+  }
+  if (reason.rfind("parse error", 0) == 0) {
+    const std::size_t colon = reason.find(": ");
+    if (colon != std::string::npos) reason.erase(0, colon + 2);
+  }
+  std::replace(reason.begin(), reason.end(), '\n', ' ');
+  std::replace(reason.begin(), reason.end(), '\r', ' ');
+  return reason;
+}
+
+// ---- JSON document with places -----------------------------------------------------------------
+
+/// Builds the JSON document like nlohmann::json::parse, but knows the JSON path of what it is
+/// reading. That lets it report duplicate keys (nlohmann silently keeps the last one) and
+/// numbers that overflow a double (1e999) at their JSON path, and syntax errors at their line
+/// and column.
+class DocumentBuilder : public nlohmann::json_sax<Json> {
+ public:
+  DocumentBuilder(const std::string& text, std::string file) : text_(text), file_(std::move(file)) {}
+
+  Json take() { return std::move(root_); }
+
+  bool null() override { return add(Json(nullptr)); }
+  bool boolean(bool value) override { return add(Json(value)); }
+  bool number_integer(number_integer_t value) override { return add(Json(value)); }
+  bool number_unsigned(number_unsigned_t value) override { return add(Json(value)); }
+  bool number_float(number_float_t value, const string_t&) override { return add(Json(value)); }
+  bool string(string_t& value) override { return add(Json(std::move(value))); }
+  bool binary(binary_t& value) override { return add(Json::binary(std::move(value))); }
+
+  bool start_object(std::size_t) override {
+    frames_.push_back({insert(Json::object()), false, 0, {}});
+    return true;
+  }
+  bool key(string_t& key) override {
+    Frame& frame = frames_.back();
+    if (frame.value->contains(key))
+      throw InputError({file_, path(frames_.size() - 1)}, "duplicate key " + quote(key));
+    frame.key = key;
+    return true;
+  }
+  bool end_object() override {
+    frames_.pop_back();
+    element_done();
+    return true;
+  }
+  bool start_array(std::size_t) override {
+    frames_.push_back({insert(Json::array()), true, 0, {}});
+    return true;
+  }
+  bool end_array() override { return end_object(); }
+
+  bool parse_error(std::size_t position, const std::string& last_token,
+                   const nlohmann::detail::exception& error) override {
+    if (error.id == 406)  // number overflow: name the value, like any other non-finite number
+      throw InputError({file_, path(frames_.size())},
+                       "number " + last_token + " is not finite (it is beyond the range of a double)");
+    // `position` counts the characters read; the offending one is the last of them.
+    throw InputError({file_, line_column(text_, position == 0 ? 0 : position - 1)},
+                     "malformed JSON: " + clean_reason(error.what()));
+  }
+
+ private:
+  struct Frame {
+    Json* value;
+    bool is_array;
+    std::size_t index;  // arrays: index of the element being read
+    std::string key;    // objects: key of the member being read
+  };
+
+  /// The JSON path of the value being read inside the first `depth` open containers.
+  std::string path(std::size_t depth) const {
+    std::string p;
+    for (std::size_t i = 0; i < depth; ++i)
+      p = frames_[i].is_array ? element(p, frames_[i].index) : member(p, frames_[i].key);
+    return p;
+  }
+
+  Json* insert(Json value) {
+    if (frames_.empty()) {
+      root_ = std::move(value);
+      return &root_;
+    }
+    Frame& frame = frames_.back();
+    if (frame.is_array) {
+      frame.value->push_back(std::move(value));
+      return &frame.value->back();
+    }
+    Json& slot = (*frame.value)[frame.key];
+    slot = std::move(value);
+    return &slot;
+  }
+
+  bool add(Json value) {
+    insert(std::move(value));
+    element_done();
+    return true;
+  }
+
+  void element_done() {
+    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
+  }
+
+  const std::string& text_;
+  std::string file_;
+  Json root_;
+  std::vector<Frame> frames_;
+};
+
+// ---- the scene reader --------------------------------------------------------------------------
+
+/// A mesh as found in the JSON; its faces are read in the second pass.
+struct PendingMesh {
+  std::string path;  // "meshes[i]"
+  std::string file;  // empty for inline polygons
+  std::vector<std::vector<glm::dvec3>> polygons;
+};
+
+class SceneReader {
+ public:
+  explicit SceneReader(const fs::path& scene_file) : scene_file_(scene_file), file_(scene_file.string()) {}
+
+  Scene read(const std::string& text) {
+    DocumentBuilder builder(text, file_);
+    Json::sax_parse(text, &builder, nlohmann::detail::input_format_t::json, /*strict=*/true,
+                    /*ignore_comments=*/false);
+    const Json document = builder.take();
+    if (!document.is_object())
+      fail("", "a scene must be a JSON object with \"meshes\" and \"lights\", got " + describe(document));
+
+    check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera"});
+    const Json& meshes = require(document, "", "meshes", "the scene's meshes");
+    const Json& lights = require(document, "", "lights", "the scene's lights");
+
+    std::vector<PendingMesh> pending = read_meshes(meshes);
+    for (std::size_t i = 0; i < pending.size(); ++i) {
+      Mesh mesh;
+      mesh.name = mesh_names_[i];
+      mesh.file = pending[i].file;
+      scene_.meshes.push_back(std::move(mesh));
+    }
+    read_lights(lights);
+    if (const Json* planes = find(document, "planes")) read_planes(*planes);
+    if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
+
+    for (std::size_t i = 0; i < pending.size(); ++i) load_faces(i, std::move(pending[i]));
+    scene_.source = scene_file_;
+    return std::move(scene_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& path, const std::string& problem) const {
+    throw InputError({file_, path}, problem);
+  }
+
+  static const Json* find(const Json& object, const char* key) {
+    const auto it = object.find(key);
+    return it == object.end() ? nullptr : &*it;
+  }
+
+  const Json& require(const Json& object, const std::string& path, const char* key,
+                      const char* what) const {
+    const Json* value = find(object, key);
+    if (value == nullptr) fail(path, std::string("missing \"") + key + "\" (" + what + ")");
+    return *value;
+  }
+
+  /// Unknown keys are errors (they are usually typos); keys starting with `_` or `$` are
+  /// comments or schema references and always allowed.
+  void check_keys(const Json& object, const std::string& path,
+                  const std::vector<std::string>& known) const {
+    for (const auto& [key, value] : object.items()) {
+      if (!key.empty() && (key[0] == '_' || key[0] == '$')) continue;
+      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+      fail(path, "unknown key " + quote(key) + suggestion(key, known));
+    }
+  }
+
+  void require_object(const Json& value, const std::string& path, const char* what) const {
+    if (!value.is_object()) fail(path, std::string("expected ") + what + " (a JSON object), got " + describe(value));
+  }
+
+  void require_array(const Json& value, const std::string& path) const {
+    if (!value.is_array()) fail(path, "expected an array, got " + describe(value));
+  }
+
+  std::string get_name(const Json& object, const std::string& path, const char* what) const {
+    const Json& name = require(object, path, "name", what);
+    if (!name.is_string()) fail(member(path, "name"), "expected a string, got " + describe(name));
+    const std::string& s = name.get_ref<const std::string&>();
+    if (s.empty()) fail(member(path, "name"), "the name is empty");
+    return s;
+  }
+
+  double get_number(const Json& value, const std::string& path) const {
+    if (!value.is_number()) fail(path, "expected a number, got " + describe(value));
+    const double x = value.get<double>();
+    if (!std::isfinite(x)) fail(path, "number is not finite");
+    return x;
+  }
+
+  glm::dvec3 get_vec3(const Json& value, const std::string& path) const {
+    if (!value.is_array()) fail(path, "expected an array of 3 numbers [x, y, z], got " + describe(value));
+    if (value.size() != 3)
+      fail(path, "expected 3 numbers [x, y, z], got " + std::to_string(value.size()) +
+                     (value.size() == 1 ? " element" : " elements"));
+    glm::dvec3 v;
+    for (std::size_t i = 0; i < 3; ++i) v[static_cast<int>(i)] = get_number(value[i], element(path, i));
+    return v;
+  }
+
+  // -- meshes --
+
+  std::vector<PendingMesh> read_meshes(const Json& meshes) {
+    require_array(meshes, "meshes");
+    if (meshes.empty()) fail("meshes", "the scene has no meshes; at least one is needed");
+    std::vector<PendingMesh> pending;
+    std::map<std::string, std::size_t> seen;
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      const std::string path = element("meshes", i);
+      const Json& m = meshes[i];
+      require_object(m, path, "a mesh");
+      check_keys(m, path, {"name", "file", "polygons"});
+      const std::string name = get_name(m, path, "each mesh needs a unique name");
+      if (const auto [it, inserted] = seen.emplace(name, i); !inserted)
+        fail(member(path, "name"), "mesh name " + quote(name) + " is already used by " +
+                                       element("meshes", it->second));
+      mesh_names_.push_back(name);
+
+      const Json* file = find(m, "file");
+      const Json* polygons = find(m, "polygons");
+      if (file != nullptr && polygons != nullptr)
+        fail(path, "give either \"file\" or \"polygons\", not both");
+      if (file == nullptr && polygons == nullptr)
+        fail(path, "missing \"file\" (an OBJ file) or \"polygons\" (inline faces)");
+      PendingMesh p;
+      p.path = path;
+      if (file != nullptr) {
+        if (!file->is_string()) fail(member(path, "file"), "expected a file name, got " + describe(*file));
+        p.file = file->get<std::string>();
+        if (p.file.empty()) fail(member(path, "file"), "the file name is empty");
+      } else {
+        p.polygons = read_polygons(*polygons, member(path, "polygons"));
+      }
+      pending.push_back(std::move(p));
+    }
+    return pending;
+  }
+
+  std::vector<std::vector<glm::dvec3>> read_polygons(const Json& polygons, const std::string& path) const {
+    require_array(polygons, path);
+    std::vector<std::vector<glm::dvec3>> faces;
+    faces.reserve(polygons.size());
+    for (std::size_t j = 0; j < polygons.size(); ++j) {
+      const std::string polygon_path = element(path, j);
+      const Json& polygon = polygons[j];
+      if (!polygon.is_array())
+        fail(polygon_path, "expected a polygon (an array of [x, y, z] vertices), got " + describe(polygon));
+      if (!polygon.empty() && polygon[0].is_number())
+        fail(polygon_path, "expected a polygon (an array of [x, y, z] vertices), got an array of numbers "
+                           "(\"polygons\" is an array of polygons: [[[x, y, z], ...], ...])");
+      if (polygon.size() < 3)
+        fail(polygon_path, "polygon has " + std::to_string(polygon.size()) +
+                               (polygon.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed");
+      std::vector<glm::dvec3> face;
+      face.reserve(polygon.size());
+      for (std::size_t k = 0; k < polygon.size(); ++k)
+        face.push_back(get_vec3(polygon[k], element(polygon_path, k)));
+      faces.push_back(std::move(face));
+    }
+    return faces;
+  }
+
+  /// Second pass: the faces of mesh `index`, numbered after those of the meshes before it.
+  void load_faces(std::size_t index, PendingMesh pending) {
+    Mesh& mesh = scene_.meshes[index];
+    mesh.first_face = scene_.faces.size();
+    std::vector<std::vector<glm::dvec3>> polygons;
+    std::vector<std::size_t> lines;
+    std::string display;
+    if (!pending.file.empty()) {
+      const fs::path file = fs::path(pending.file);
+      // Errors name the mesh file as the user would find it: relative to the scene's directory.
+      display = (scene_file_.parent_path() / file).lexically_normal().string();
+      try {
+        polygons = detail::read_obj_with_lines(scene_file_.parent_path() / file, display, &lines);
+      } catch (const InputError& e) {
+        if (!e.where().place.empty()) throw;  // an error inside the OBJ: its file and line say all
+        // The file could not be opened: say which mesh of the scene wanted it.
+        std::string problem = e.problem();
+        const std::string prefix = "cannot open";
+        if (problem.rfind(prefix, 0) == 0) problem.insert(prefix.size(), " " + quote(display));
+        else problem = quote(display) + ": " + problem;
+        fail(member(pending.path, "file"), problem);
+      }
+    } else {
+      polygons = std::move(pending.polygons);
+    }
+    if (polygons.empty())
+      scene_.warnings.push_back(
+          {{file_, pending.path}, "mesh " + quote(mesh.name) + " has no faces" +
+                                      (pending.file.empty() ? "" : " (no f statements in " + quote(display) + ")")});
+    for (std::size_t j = 0; j < polygons.size(); ++j) {
+      Face face;
+      face.vertices = std::move(polygons[j]);
+      face.mesh = index;
+      face.source = pending.file.empty()
+                        ? SourceLocation{file_, element(member(pending.path, "polygons"), j)}
+                        : SourceLocation{display, "line " + std::to_string(lines[j])};
+      scene_.faces.push_back(std::move(face));
+    }
+    mesh.face_count = scene_.faces.size() - mesh.first_face;
+  }
+
+  // -- lights --
+
+  void read_lights(const Json& lights) {
+    require_array(lights, "lights");
+    if (lights.empty()) fail("lights", "the scene has no lights; at least one is needed");
+    std::map<std::string, std::size_t> seen;
+    const std::vector<std::string> types = {"directional", "point"};
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      const std::string path = element("lights", i);
+      const Json& l = lights[i];
+      require_object(l, path, "a light");
+      // An unknown type first: its keys would otherwise be reported as unknown keys.
+      const Json* type = find(l, "type");
+      if (type != nullptr && !type->is_string())
+        fail(member(path, "type"), "expected \"directional\" or \"point\", got " + describe(*type));
+      if (type != nullptr && std::find(types.begin(), types.end(), type->get<std::string>()) == types.end())
+        fail(member(path, "type"), "unknown light type " + quote(type->get<std::string>()) +
+                                       suggestion(type->get<std::string>(), types) +
+                                       "; known types: \"directional\", \"point\"");
+      check_keys(l, path, {"name", "type", "to_light", "position", "intensity", "color"});
+      Light light;
+      light.name = get_name(l, path, "each light needs a unique name");
+      if (const auto [it, inserted] = seen.emplace(light.name, i); !inserted)
+        fail(member(path, "name"), "light name " + quote(light.name) + " is already used by " +
+                                       element("lights", it->second));
+      if (type == nullptr) fail(path, "missing \"type\" (\"directional\" or \"point\")");
+      const Json* to_light = find(l, "to_light");
+      const Json* position = find(l, "position");
+      if (type->get<std::string>() == "directional") {
+        light.type = LightType::Directional;
+        if (position != nullptr)
+          fail(member(path, "position"),
+               "a directional light has no position; give \"to_light\", the direction toward the light");
+        if (to_light == nullptr)
+          fail(path, "missing \"to_light\" (the direction from the scene toward the light)");
+        light.to_light = get_vec3(*to_light, member(path, "to_light"));
+        if (light.to_light == glm::dvec3(0.0))
+          fail(member(path, "to_light"), "direction has zero length");
+      } else {
+        light.type = LightType::Point;
+        if (to_light != nullptr)
+          fail(member(path, "to_light"),
+               "a point light has no \"to_light\" direction; give its \"position\"");
+        if (position == nullptr) fail(path, "missing \"position\" (where the point light is)");
+        light.position = get_vec3(*position, member(path, "position"));
+      }
+      if (const Json* intensity = find(l, "intensity")) {
+        light.intensity = get_number(*intensity, member(path, "intensity"));
+        if (light.intensity < 0)
+          fail(member(path, "intensity"), "intensity must be >= 0, got " + format_number(light.intensity));
+      }
+      if (const Json* color = find(l, "color")) {
+        const std::string color_path = member(path, "color");
+        if (color->is_array() && color->size() != 3)
+          fail(color_path, "expected 3 numbers [r, g, b], got " + std::to_string(color->size()) +
+                               (color->size() == 1 ? " element" : " elements"));
+        light.color = get_vec3(*color, color_path);
+        for (int c = 0; c < 3; ++c)
+          if (light.color[c] < 0.0 || light.color[c] > 1.0)
+            fail(element(color_path, static_cast<std::size_t>(c)),
+                 "color components must be in [0, 1], got " + format_number(light.color[c]));
+      }
+      scene_.lights.push_back(std::move(light));
+    }
+  }
+
+  // -- planes and receivers --
+
+  void read_planes(const Json& planes) {
+    require_array(planes, "planes");
+    std::map<std::string, std::size_t> seen;
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+      const std::string path = element("planes", i);
+      const Json& p = planes[i];
+      require_object(p, path, "a plane");
+      check_keys(p, path, {"name", "point", "normal"});
+      Plane plane;
+      plane.name = get_name(p, path, "each plane needs a unique name");
+      if (const auto [it, inserted] = seen.emplace(plane.name, i); !inserted)
+        fail(member(path, "name"), "plane name " + quote(plane.name) + " is already used by " +
+                                       element("planes", it->second));
+      plane.point = get_vec3(require(p, path, "point", "a point on the plane"), member(path, "point"));
+      plane.normal = get_vec3(require(p, path, "normal", "the plane's normal"), member(path, "normal"));
+      if (plane.normal == glm::dvec3(0.0)) fail(member(path, "normal"), "normal has zero length");
+      scene_.planes.push_back(std::move(plane));
+    }
+  }
+
+  void read_receivers(const Json& receivers) {
+    require_array(receivers, "receivers");
+    for (Mesh& mesh : scene_.meshes) mesh.receiver = false;
+    for (std::size_t i = 0; i < receivers.size(); ++i) {
+      const std::string path = element("receivers", i);
+      const Json& r = receivers[i];
+      if (!r.is_string()) fail(path, "expected a mesh name, got " + describe(r));
+      const std::string& name = r.get_ref<const std::string&>();
+      const auto it = std::find(mesh_names_.begin(), mesh_names_.end(), name);
+      if (it == mesh_names_.end())
+        fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
+      scene_.meshes[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
+    }
+  }
+
+  fs::path scene_file_;
+  std::string file_;
+  Scene scene_;
+  std::vector<std::string> mesh_names_;
+};
+
+}  // namespace
+
+Scene parse_scene(const std::string& json_text, const fs::path& scene_file, const LoadOptions& options) {
+  Scene scene;
+  try {
+    scene = SceneReader(scene_file).read(json_text);
+  } catch (const nlohmann::json::exception& e) {
+    // Not expected (values are type-checked before use); still an input error, never a crash.
+    throw InputError({scene_file.string(), ""}, clean_reason(e.what()));
+  }
+  validate_scene(scene, options);
+  return scene;
+}
+
+Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
+  return parse_scene(detail::read_text_file(scene_file, scene_file.string()), scene_file, options);
+}
+
+}  // namespace shadow

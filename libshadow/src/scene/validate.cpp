@@ -1,1 +1,189 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+// Validation of a scene's geometry, for scenes read from files and scenes built in code alike.
+//
+// Cheap floating-point checks (finite values, planarity within the tolerance) come first, then
+// the exact shape check (zero area, self-intersection) from the exact kernel.
+#include <shadow/scene_io.hpp>
+
+#include <glm/common.hpp>
+
+#include "exact/exact_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace shadow {
+
+namespace {
+
+std::string format_number(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g", x);
+  return buffer;
+}
+
+bool finite(const glm::dvec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// Where a face came from; faces built in code have no source, so they are named by face_id.
+SourceLocation face_location(const Scene& scene, std::size_t face_id) {
+  const SourceLocation& source = scene.faces[face_id].source;
+  if (!source.file.empty() || !source.place.empty()) return source;
+  return {scene.source.string(), "face " + std::to_string(face_id)};
+}
+
+/// Removes consecutive duplicate vertices, including the last one repeating the first.
+void remove_consecutive_duplicates(std::vector<glm::dvec3>& vertices) {
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  while (vertices.size() > 1 && vertices.back() == vertices.front()) vertices.pop_back();
+}
+
+/// Checks that every vertex lies within `tolerance * diameter` of the plane through the
+/// centroid with the Newell normal (the plane the exact kernel lifts the face onto).
+void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
+                     const SourceLocation& where) {
+  using Real = long double;
+  const std::size_t n = vertices.size();
+  glm::dvec3 lo = vertices[0], hi = vertices[0];
+  for (const glm::dvec3& v : vertices) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const glm::dvec3 extent = hi - lo;
+  const double diameter = std::max({extent.x, extent.y, extent.z});
+  if (!(diameter > 0) || !std::isfinite(diameter)) return;  // coincident vertices: zero area
+
+  // Newell normal and centroid relative to the first vertex, so the sums do not lose the
+  // face's small size against large coordinates.
+  Real nx = 0, ny = 0, nz = 0, cx = 0, cy = 0, cz = 0;
+  const glm::dvec3 origin = vertices[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3& a = vertices[i];
+    const glm::dvec3& b = vertices[(i + 1) % n];
+    const Real ax = Real(a.x) - origin.x, ay = Real(a.y) - origin.y, az = Real(a.z) - origin.z;
+    const Real bx = Real(b.x) - origin.x, by = Real(b.y) - origin.y, bz = Real(b.z) - origin.z;
+    nx += (ay - by) * (az + bz);
+    ny += (az - bz) * (ax + bx);
+    nz += (ax - bx) * (ay + by);
+    cx += ax;
+    cy += ay;
+    cz += az;
+  }
+  const Real length = std::sqrt(nx * nx + ny * ny + nz * nz);
+  // The normal's rounding error is about n * eps * diameter^2. Where that could tilt the plane
+  // by more than a tenth of the tolerance, the normal says nothing about planarity: the face is
+  // (numerically) of zero area, which the exact shape check handles.
+  const Real d = diameter;
+  const Real noise = Real(n) * std::numeric_limits<Real>::epsilon() * d * d;
+  if (!(length > noise * 10 / Real(tolerance))) return;
+
+  cx /= Real(n);
+  cy /= Real(n);
+  cz /= Real(n);
+  Real worst = 0;
+  for (const glm::dvec3& v : vertices) {
+    const Real px = Real(v.x) - origin.x - cx, py = Real(v.y) - origin.y - cy, pz = Real(v.z) - origin.z - cz;
+    worst = std::max(worst, std::fabs((px * nx + py * ny + pz * nz) / length));
+  }
+  const double allowed = tolerance * diameter;
+  // Rounding the input to doubles alone moves a vertex by up to half an ulp of its largest
+  // coordinate; a tiny face far from the origin cannot be flatter than that.
+  double magnitude = 0;
+  for (const glm::dvec3& v : vertices)
+    magnitude = std::max({magnitude, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+  const double representable = 8 * std::numeric_limits<double>::epsilon() * magnitude;
+  if (static_cast<double>(worst) > std::max(allowed, representable))
+    throw InputError(where, "face is not planar: a vertex is " + format_number(static_cast<double>(worst)) +
+                                " off its plane (tolerance " + format_number(tolerance) + " x diameter " +
+                                format_number(diameter) + " = " + format_number(allowed) + ")");
+}
+
+void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options,
+                   std::vector<Warning>& warnings) {
+  Face& face = scene.faces[face_id];
+  const SourceLocation where = face_location(scene, face_id);
+  if (face.mesh >= scene.meshes.size())
+    throw InputError(where, "face belongs to mesh " + std::to_string(face.mesh) + ", but the scene has " +
+                                std::to_string(scene.meshes.size()) +
+                                (scene.meshes.size() == 1 ? " mesh" : " meshes"));
+  for (std::size_t i = 0; i < face.vertices.size(); ++i)
+    if (!finite(face.vertices[i]))
+      throw InputError(where, "vertex " + std::to_string(i) + " has a coordinate that is not finite (" +
+                                  format_number(face.vertices[i].x) + ", " +
+                                  format_number(face.vertices[i].y) + ", " +
+                                  format_number(face.vertices[i].z) + ")");
+  remove_consecutive_duplicates(face.vertices);
+  if (face.vertices.size() < 3)
+    throw InputError(where, "face has " + std::to_string(face.vertices.size()) + " distinct " +
+                                (face.vertices.size() == 1 ? "vertex" : "vertices") +
+                                "; at least 3 are needed");
+  check_planarity(face.vertices, options.planarity_tolerance, where);
+  switch (detail::classify_face_shape(face.vertices)) {
+    case detail::FaceShape::Simple:
+      face.degenerate = false;
+      break;
+    case detail::FaceShape::ZeroArea:
+      face.degenerate = true;
+      warnings.push_back({where, "face has zero area; it keeps its face_id but casts no shadow and receives no light"});
+      break;
+    case detail::FaceShape::SelfIntersecting:
+      throw InputError(where, "face boundary intersects itself");
+  }
+}
+
+void validate_light(const Scene& scene, std::size_t index) {
+  const Light& light = scene.lights[index];
+  const std::string file = scene.source.string();
+  const std::string path = "lights[" + std::to_string(index) + "]";
+  if (light.type == LightType::Directional) {
+    if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");
+    if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
+  } else if (light.type == LightType::Point) {
+    if (!finite(light.position)) throw InputError({file, path + ".position"}, "position is not finite");
+  } else {
+    throw InputError({file, path + ".type"}, "unknown light type");
+  }
+  if (!std::isfinite(light.intensity) || light.intensity < 0)
+    throw InputError({file, path + ".intensity"},
+                     "intensity must be finite and >= 0, got " + format_number(light.intensity));
+  for (int c = 0; c < 3; ++c)
+    if (!(light.color[c] >= 0.0 && light.color[c] <= 1.0))  // also catches NaN
+      throw InputError({file, path + ".color"},
+                       "color components must be in [0, 1], got " + format_number(light.color[c]));
+}
+
+void validate_plane(const Scene& scene, std::size_t index) {
+  const Plane& plane = scene.planes[index];
+  const std::string file = scene.source.string();
+  const std::string path = "planes[" + std::to_string(index) + "]";
+  if (!finite(plane.point)) throw InputError({file, path + ".point"}, "point is not finite");
+  if (!finite(plane.normal)) throw InputError({file, path + ".normal"}, "normal is not finite");
+  if (plane.normal == glm::dvec3(0.0)) throw InputError({file, path + ".normal"}, "normal has zero length");
+}
+
+}  // namespace
+
+void validate_scene(Scene& scene, const LoadOptions& options) {
+  // Zero cannot be checked in floating point: rounding alone puts vertices off the plane.
+  if (!(options.planarity_tolerance > 0) || !std::isfinite(options.planarity_tolerance))
+    throw InputError({}, "the planarity tolerance must be a positive finite number, got " +
+                             format_number(options.planarity_tolerance));
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) validate_light(scene, i);
+  for (std::size_t i = 0; i < scene.planes.size(); ++i) validate_plane(scene, i);
+  std::vector<Warning> warnings;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
+  // Validating twice (load_scene, then the caller) must not repeat warnings.
+  for (Warning& w : warnings) {
+    const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {
+      return old.where.file == w.where.file && old.where.place == w.where.place && old.message == w.message;
+    });
+    if (!known) scene.warnings.push_back(std::move(w));
+  }
+}
+
+}  // namespace shadow

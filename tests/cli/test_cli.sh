@@ -1,0 +1,188 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The `shadow` command line on bad and good input: exit status, one clear error line on stderr
+# naming the file and the place, and no output files after a failure.
+#
+# Usage: bash test_cli.sh /path/to/shadow /path/to/tests/data /path/to/examples
+set -u
+
+if [[ $# -ne 3 ]]; then
+  echo "usage: $0 SHADOW_BINARY TEST_DATA_DIR EXAMPLES_DIR" >&2
+  exit 2
+fi
+SHADOW=$1
+DATA=$2
+EXAMPLES=$3
+
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-cli-test.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "ok   $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
+
+# expect_input_error NAME SCENE PART...: `shadow compute SCENE` must exit with status 2 (bad
+# input), print exactly one line on stderr that contains every PART, and leave no output files.
+expect_input_error() {
+  local name=$1 scene=$2
+  shift 2
+  local out="$WORK/out-$name"
+  local status=0
+  "$SHADOW" compute "$scene" -o "$out" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+  local stderr
+  stderr=$(cat "$WORK/$name.stderr")
+  local lines
+  lines=$(wc -l <"$WORK/$name.stderr")
+  if [[ $status -ne 2 ]]; then
+    fail "$name" "exit status $status, expected 2 (stderr: $stderr)"
+    return
+  fi
+  if [[ $lines -ne 1 ]]; then
+    fail "$name" "expected exactly one line on stderr, got $lines: $stderr"
+    return
+  fi
+  if [[ $stderr != "shadow: error: "* ]]; then
+    fail "$name" "stderr does not start with 'shadow: error: ': $stderr"
+    return
+  fi
+  local part
+  for part in "$@"; do
+    if [[ $stderr != *"$part"* ]]; then
+      fail "$name" "stderr lacks '$part': $stderr"
+      return
+    fi
+  done
+  local file
+  for file in report.json fragments.vtp plane_shadows.vtp scene.vtm; do
+    if [[ -e "$out/$file" ]]; then
+      fail "$name" "a failed run left $out/$file"
+      return
+    fi
+  done
+  pass "$name"
+}
+
+S="$DATA/scenes"
+
+# ---- bad input ---------------------------------------------------------------------------------
+expect_input_error nonexistent_scene "$S/no_such_scene.json" \
+  "no_such_scene.json" "cannot open" "No such file"
+expect_input_error malformed_json "$S/malformed.json" \
+  "malformed.json" "line 5, column 5" "malformed JSON"
+expect_input_error missing_mesh_file "$S/missing_mesh_file.json" \
+  "missing_mesh_file.json" "meshes[1].file" "no_such_statue.obj" "cannot open"
+expect_input_error huge_coordinate "$S/huge_coordinate.json" \
+  "huge_coordinate.json" "meshes[0].polygons[0][1][2]" "not finite"
+expect_input_error nan_in_obj "$S/nan_vertex.json" \
+  "nan_vertex.obj" "line 4" "not finite"
+expect_input_error obj_index_out_of_range "$S/index_out_of_range.json" \
+  "index_out_of_range.obj" "line 8" "vertex index 12 is out of range"
+expect_input_error face_with_two_vertices "$S/two_vertex_face.json" \
+  "two_vertex_face.obj" "line 6" "face has 2 vertices"
+expect_input_error zero_to_light "$S/zero_to_light.json" \
+  "zero_to_light.json" "lights[1].to_light" "zero length"
+expect_input_error unknown_light_type "$S/unknown_light_type.json" \
+  "unknown_light_type.json" "lights[0].type" "unknown light type \"spot\"" "directional"
+expect_input_error unknown_key "$S/unknown_key.json" \
+  "unknown_key.json" "lights[1]" "unknown key \"postion\""
+expect_input_error nonplanar_face "$S/nonplanar.json" \
+  "nonplanar.obj" "line 7" "face is not planar"
+expect_input_error self_intersecting_face "$S/bowtie.json" \
+  "bowtie.obj" "line 7" "face boundary intersects itself"
+
+# A scene file that is a directory, and an empty scene file.
+mkdir -p "$WORK/a_directory.json"
+expect_input_error scene_is_a_directory "$WORK/a_directory.json" "a_directory.json" "cannot open"
+: >"$WORK/empty.json"
+expect_input_error empty_scene_file "$WORK/empty.json" "empty.json" "line 1, column 1" "malformed JSON"
+
+# ---- usage and help ----------------------------------------------------------------------------
+check_help() {
+  local name=$1
+  shift
+  local status=0 output
+  output=$("$@" 2>&1) || status=$?
+  if [[ $status -ne 0 ]]; then
+    fail "$name" "exit status $status"
+    return
+  fi
+  echo "$output" >"$WORK/$name.txt"
+  HELP_OUTPUT=$output
+  pass "$name"
+}
+HELP_OUTPUT=""
+check_help help "$SHADOW" --help
+top_help=$HELP_OUTPUT
+check_help compute_help "$SHADOW" compute --help
+compute_help=$HELP_OUTPUT
+
+if [[ $top_help == *compute* ]]; then pass "help_lists_compute"; else fail "help_lists_compute" "$top_help"; fi
+for word in compute -o --threads --quiet; do
+  if [[ $compute_help == *"$word"* ]]; then
+    pass "compute_help_mentions_$word"
+  else
+    fail "compute_help_mentions_$word" "missing from: $compute_help"
+  fi
+done
+
+status=0
+"$SHADOW" >/dev/null 2>&1 || status=$?
+if [[ $status -ne 0 ]]; then pass "no_subcommand_is_a_usage_error"; else fail "no_subcommand_is_a_usage_error" "exit 0"; fi
+status=0
+"$SHADOW" compute "$S/three_meshes.json" >/dev/null 2>&1 || status=$?
+if [[ $status -ne 0 ]]; then pass "missing_output_option_is_a_usage_error"; else fail "missing_output_option_is_a_usage_error" "exit 0"; fi
+
+# ---- good input --------------------------------------------------------------------------------
+# expect_success NAME SCENE: exit 0 with report.json and fragments.vtp in the output directory.
+expect_success() {
+  local name=$1 scene=$2
+  shift 2
+  local out="$WORK/out-$name"
+  local status=0
+  "$SHADOW" compute "$scene" -o "$out" "$@" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+  if [[ $status -ne 0 ]]; then
+    fail "$name" "exit status $status: $(cat "$WORK/$name.stderr")"
+    return
+  fi
+  local file
+  for file in report.json fragments.vtp; do
+    if [[ ! -s "$out/$file" ]]; then
+      fail "$name" "no $file in $out"
+      return
+    fi
+  done
+  pass "$name"
+}
+
+mkdir -p "$WORK/tiny"
+cat >"$WORK/tiny/scene.json" <<'EOF'
+{
+  "meshes": [{"name": "ground", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]]}],
+  "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 1]}]
+}
+EOF
+expect_success tiny_scene "$WORK/tiny/scene.json"
+expect_success tiny_scene_quiet_two_threads "$WORK/tiny/scene.json" --quiet --threads 2
+if [[ -s "$WORK/tiny_scene_quiet_two_threads.stdout" || -s "$WORK/tiny_scene_quiet_two_threads.stderr" ]]; then
+  fail "quiet_prints_nothing" "$(cat "$WORK/tiny_scene_quiet_two_threads.stdout" "$WORK/tiny_scene_quiet_two_threads.stderr")"
+else
+  pass "quiet_prints_nothing"
+fi
+
+expect_success scene_with_obj_meshes "$S/three_meshes.json"
+
+# A zero-area face is a warning, not an error: the run succeeds and says where the face is.
+expect_success zero_area_face_warns "$S/collinear.json"
+if grep -q "collinear.obj: line 9: face has zero area" "$WORK/zero_area_face_warns.stderr"; then
+  pass "zero_area_face_warning_names_the_face"
+else
+  fail "zero_area_face_warning_names_the_face" "stderr: $(cat "$WORK/zero_area_face_warns.stderr")"
+fi
+
+if [[ -f "$EXAMPLES/default/scene.json" ]]; then
+  expect_success example_default_scene "$EXAMPLES/default/scene.json" --quiet
+fi
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
