@@ -72,6 +72,13 @@ struct CullScene {
   std::vector<CullFace> faces;
 };
 
+/// A unit vector along v for any finite non-zero v, even when |v|^2 under- or overflows
+/// (to_light = (1e-200, 0, 1e-200) is a valid direction).
+glm::dvec3 unit(glm::dvec3 v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  return glm::normalize(v / m);
+}
+
 /// An affine function on local-frame points with the margin below which its sign is unsure.
 struct DoubleAffine {
   glm::dvec3 a{0.0};
@@ -85,7 +92,7 @@ struct DoubleAffine {
 class LightSpaceGrid {
  public:
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light) {
-    const glm::dvec3 d = glm::normalize(to_light);
+    const glm::dvec3 d = unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
@@ -659,7 +666,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
     lxyz = light_in.position - cull.origin;
     lw = 1.0;
   } else {
-    lxyz = glm::normalize(light_in.to_light);
+    lxyz = unit(light_in.to_light);
     lw = 0.0;
   }
   const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
@@ -787,6 +794,16 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
     const Face& qface = scene->faces[q];
     w.vertex_sign.resize(qface.vertices.size());
     bool any_front = false;
+    if (point_light) {
+      // A caster whose plane contains the light is edge-on to it and casts nothing; projecting
+      // it would divide by zero where it touches the light.
+      const bool edge_on =
+          qp.exactly_planar
+              ? CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
+                                  epick(qface.vertices[qp.corner[0]]), epick(light_in.position)) == CGAL::COPLANAR
+              : CGAL::is_zero(plane_at_light(exact_face(w, q), light));
+      if (edge_on) continue;
+    }
     if (fp.exactly_planar && qp.exactly_planar) {
       for (std::size_t v = 0; v < qface.vertices.size(); ++v) {
         CGAL::Sign sv = CGAL::orientation(corner0, corner1, corner2, epick(qface.vertices[v]));
