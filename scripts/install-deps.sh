@@ -12,7 +12,7 @@ packages=(
   libvtk9-dev
   libgtest-dev libgmock-dev librapidcheck-dev
   libcli11-dev nlohmann-json3-dev
-  libtbb-dev
+  libjemalloc-dev
 )
 if [[ "${LIBSHADOW_WITH_EXTRAS:-0}" == 1 ]]; then
   packages+=(libbenchmark-dev python3-matplotlib python3-vtk9)
