@@ -427,6 +427,10 @@ struct ShadowEngine::Impl {
                      std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
                      std::vector<Item>& items, std::size_t progress_base, std::size_t progress_total) const;
 
+  /// Computes `lights` (reported as `light_ids`) on every receiving face.
+  ShadowResult run(const std::vector<const Light*>& lights, const std::vector<std::size_t>& light_ids,
+                   const ShadowOptions& options) const;
+
   static ShadowResult assemble(std::vector<std::vector<Item>>& per_light,
                                const std::vector<Worker>& workers);
 
@@ -990,6 +994,26 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<std::vector<Item>>& per_li
   return result;
 }
 
+ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
+                                     const std::vector<std::size_t>& light_ids,
+                                     const ShadowOptions& options) const {
+  std::vector<std::size_t> receivers;
+  for (std::size_t f = 0; f < scene->faces.size(); ++f)
+    if (scene->is_receiver(f)) receivers.push_back(f);
+  std::vector<Worker> workers(exact::resolve_threads(options.threads));
+  for (Worker& w : workers) {
+    w.faces.resize(scene->faces.size());
+    w.seen.assign(scene->faces.size(), 0);
+    w.solid_seen.assign(solids.size(), 0);
+  }
+  std::vector<std::vector<Item>> per_light(lights.size(), std::vector<Item>(receivers.size()));
+  const std::size_t total = lights.size() * receivers.size();
+  for (std::size_t li = 0; li < lights.size(); ++li)
+    compute_light(*lights[li], light_ids[li], options, workers, receivers, per_light[li],
+                  li * receivers.size(), total);
+  return assemble(per_light, workers);
+}
+
 ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {
   const Scene& scene = *impl_->scene;
   std::vector<std::size_t> light_ids = options.lights;
@@ -1000,42 +1024,14 @@ ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {
       throw std::out_of_range("ShadowOptions::lights: no light " + std::to_string(l));
   std::sort(light_ids.begin(), light_ids.end());
   light_ids.erase(std::unique(light_ids.begin(), light_ids.end()), light_ids.end());
-
-  std::vector<std::size_t> receivers;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    if (scene.is_receiver(f)) receivers.push_back(f);
-
-  std::vector<Impl::Worker> workers(exact::resolve_threads(options.threads));
-  for (Impl::Worker& w : workers) {
-    w.faces.resize(scene.faces.size());
-    w.seen.assign(scene.faces.size(), 0);
-    w.solid_seen.assign(impl_->solids.size(), 0);
-  }
-  std::vector<std::vector<Impl::Item>> per_light(light_ids.size(),
-                                                 std::vector<Impl::Item>(receivers.size()));
-  const std::size_t total = light_ids.size() * receivers.size();
-  for (std::size_t li = 0; li < light_ids.size(); ++li)
-    impl_->compute_light(scene.lights[light_ids[li]], light_ids[li], options, workers, receivers,
-                         per_light[li], li * receivers.size(), total);
-  return Impl::assemble(per_light, workers);
+  std::vector<const Light*> lights;
+  for (std::size_t l : light_ids) lights.push_back(&scene.lights[l]);
+  return impl_->run(lights, light_ids, options);
 }
 
 ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
                                    const ShadowOptions& options) const {
-  const Scene& scene = *impl_->scene;
-  std::vector<std::size_t> receivers;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    if (scene.is_receiver(f)) receivers.push_back(f);
-  std::vector<Impl::Worker> workers(exact::resolve_threads(options.threads));
-  for (Impl::Worker& w : workers) {
-    w.faces.resize(scene.faces.size());
-    w.seen.assign(scene.faces.size(), 0);
-    w.solid_seen.assign(impl_->solids.size(), 0);
-  }
-  std::vector<std::vector<Impl::Item>> per_light(1, std::vector<Impl::Item>(receivers.size()));
-  impl_->compute_light(light, light_id, options, workers, receivers, per_light[0], 0,
-                       receivers.size());
-  return Impl::assemble(per_light, workers);
+  return impl_->run({&light}, {light_id}, options);
 }
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
