@@ -83,6 +83,15 @@ RC_GTEST_PROP(ShadowProperties, LitPointsSeeTheLightAndShadowedPointsDoNot, ()) 
   RC_ASSERT(decided > 0);
 }
 
+/// Both polygons lie on one plane (tested in doubles on axis-aligned grid coordinates, where
+/// the arithmetic is exact; random panels are never coplanar with anything).
+bool exactly_coplanar(const Polygon3& a, const Polygon3& b) {
+  const glm::dvec3 n = newell_normal(a);
+  for (const glm::dvec3& v : b)
+    if (glm::dot(n, v - a[0]) != 0.0) return false;
+  return true;
+}
+
 std::vector<double> lit_fractions(const ShadowResult& r) {
   std::vector<double> out;
   for (const FaceLighting& fl : r.lighting) out.push_back(fl.lit_fraction);
@@ -104,11 +113,20 @@ RC_GTEST_PROP(ShadowProperties, LitFractionsAreInvariantUnderTranslationRotation
       {4.0, {0, 0, 1}, 0.0, {0, 0, 0}, 0.0},           // power of two: exactly the same scene
       {0.37, {1, 2, 3}, 1.1, {5, -7, 2}, 1e-7},        // arbitrary similarity
   };
+  // Faces exactly coplanar with another face (overlapping boxes) are ill-posed under rotation:
+  // rounding the rotated coordinates tilts one against the other by ~1e-16 and, computed
+  // exactly, one then shadows part of the other. Rotations are checked on the other faces.
+  const ShadowResult base_result = run(scene, false);
+  std::vector<bool> coplanar(scene.faces.size(), false);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    for (std::size_t g = 0; g < scene.faces.size() && !coplanar[f]; ++g)
+      coplanar[f] = g != f && exactly_coplanar(scene.faces[f].vertices, scene.faces[g].vertices);
   for (const Move& m : moves) {
     Scene moved = transformed(scene, m.scale, m.axis, m.angle, m.shift);
     const std::vector<double> fractions = lit_fractions(run(moved, false));
     RC_ASSERT(fractions.size() == base.size());
     for (std::size_t a = 0; a < base.size(); ++a) {
+      if (m.angle != 0.0 && coplanar[base_result.lighting[a].face_id]) continue;
       if (std::abs(fractions[a] - base[a]) > m.tolerance)
         RC_FAIL("lit fraction moved from " + std::to_string(base[a]) + " to " +
                 std::to_string(fractions[a]) + " (entry " + std::to_string(a) + ")");

@@ -358,6 +358,78 @@ void project_front_part(const std::vector<Point3>& poly, const std::vector<CGAL:
   }
 }
 
+/// Parallel projection onto an exactly planar receiver, computed directly in GMP rationals from
+/// the input doubles. The results enter CGAL as exact leaves: their exact values are known and
+/// their intervals are tight, so when the union or the final area rounding needs exact values
+/// (ties between coordinates are common: boxes have parallel edges) nothing is left to evaluate.
+/// The lazy formula gives the same numbers through a tree of lazy nodes, each evaluated on
+/// demand; that evaluation dominated the time.
+class LeafProjector {
+ public:
+  LeafProjector(const std::vector<glm::dvec3>& receiver, const FacePrep& prep, const glm::dvec3& to_light)
+      : i_(chart_i(prep.axis)), j_(chart_j(prep.axis)) {
+    const glm::dvec3& c = receiver[prep.corner[1]];
+    const glm::dvec3& next = receiver[prep.corner[2]];
+    const glm::dvec3& prev = receiver[prep.corner[0]];
+    mpq_class u[3], v[3];
+    for (int a = 0; a < 3; ++a) {
+      u[a] = mpq_class(next[a]) - mpq_class(c[a]);
+      v[a] = mpq_class(prev[a]) - mpq_class(c[a]);
+    }
+    n_[0] = u[1] * v[2] - u[2] * v[1];
+    n_[1] = u[2] * v[0] - u[0] * v[2];
+    n_[2] = u[0] * v[1] - u[1] * v[0];
+    if (prep.flipped)
+      for (mpq_class& x : n_) x = -x;
+    offset_ = -(n_[0] * c.x + n_[1] * c.y + n_[2] * c.z);
+    const mpq_class light_side = n_[0] * to_light.x + n_[1] * to_light.y + n_[2] * to_light.z;
+    shift_i_ = mpq_class(to_light[i_]) / light_side;
+    shift_j_ = mpq_class(to_light[j_]) / light_side;
+  }
+
+  /// The projection of an input point in front of (or on) the receiver's plane.
+  Point2 project(const glm::dvec3& y) {
+    plane_value(y, s_);
+    x_ = y[i_];
+    x_ -= s_ * shift_i_;
+    z_ = y[j_];
+    z_ -= s_ * shift_j_;
+    return Point2(FT(x_), FT(z_));
+  }
+
+  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
+  Point2 crossing(const glm::dvec3& a, const glm::dvec3& b) {
+    plane_value(a, s_);
+    plane_value(b, t_);
+    t_ = s_ / (s_ - t_);
+    x_ = b[i_];
+    x_ -= a[i_];
+    x_ *= t_;
+    x_ += a[i_];
+    z_ = b[j_];
+    z_ -= a[j_];
+    z_ *= t_;
+    z_ += a[j_];
+    return Point2(FT(x_), FT(z_));
+  }
+
+  Point2 chart(const glm::dvec3& y) const { return Point2(y[i_], y[j_]); }
+
+ private:
+  void plane_value(const glm::dvec3& y, mpq_class& out) {
+    out = offset_;
+    for (int a = 0; a < 3; ++a) {
+      term_ = y[a];
+      term_ *= n_[a];
+      out += term_;
+    }
+  }
+
+  int i_, j_;
+  mpq_class n_[3], offset_, shift_i_, shift_j_;
+  mpq_class s_, t_, x_, z_, term_;  // scratch, to avoid reallocating limbs
+};
+
 /// Splits a polygon with holes into simple polygons (triangles where there are holes).
 void append_simple_cells(const PolygonWithHoles2& region, std::vector<Polygon2>& cells) {
   if (region.number_of_holes() == 0) {
@@ -748,6 +820,11 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   const EK::Point_3 corner1 = epick(face.vertices[fp.corner[2]]);
   const EK::Point_3 corner2 = epick(face.vertices[fp.corner[0]]);
   const bool point_light = light.is_point();
+  std::optional<LeafProjector> projector_storage;
+  auto leaf_projector = [&]() -> LeafProjector& {
+    if (!projector_storage) projector_storage.emplace(face.vertices, fp, light_in.to_light);
+    return *projector_storage;
+  };
   std::vector<Polygon2> shadows;
   const int own_solid = solid_of[face_id];
   for (std::size_t q : w.candidates) {
@@ -767,18 +844,16 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       }
       if (!any_front) continue;
       const ReceiverFrame& frame = exact_frame();
+      LeafProjector& projector = leaf_projector();
       w.poly2.clear();
-      w.poly.clear();
-      for (std::size_t v = 0; v < cs.vertices.size(); ++v)
-        w.poly.push_back(to_exact(cs.vertices[v]));
       for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
-        if (w.vertex_sign[v] == CGAL::POSITIVE) w.poly2.push_back(project_to_chart(w.poly[v], frame, light));
-        if (w.vertex_sign[v] == CGAL::ZERO) w.poly2.push_back(to_chart(w.poly[v], frame.axis));
+        if (w.vertex_sign[v] == CGAL::POSITIVE) w.poly2.push_back(projector.project(cs.vertices[v]));
+        if (w.vertex_sign[v] == CGAL::ZERO) w.poly2.push_back(projector.chart(cs.vertices[v]));
       }
       for (const auto& [a, b] : cs.edges) {
         const CGAL::Sign sa = w.vertex_sign[a], sb = w.vertex_sign[b];
         if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
-          w.poly2.push_back(crossing_in_chart(w.poly[a], w.poly[b], frame));
+          w.poly2.push_back(projector.crossing(cs.vertices[a], cs.vertices[b]));
       }
       w.scratch2.clear();
       CGAL::convex_hull_2(w.poly2.begin(), w.poly2.end(), std::back_inserter(w.scratch2), Kernel());
@@ -845,7 +920,21 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, frame, light));
       } else {
         // Parallel projection is affine: project, then clip to the chart box in 2D.
-        project_front_part(w.poly, w.piece_sign, frame, light, w.poly2);
+        if (fp.exactly_planar && qp.exactly_planar) {
+          LeafProjector& projector = leaf_projector();
+          const std::size_t m = piece.size();
+          for (std::size_t a = 0; a < m; ++a) {
+            const glm::dvec3& va = qface.vertices[piece[a]];
+            const glm::dvec3& vb = qface.vertices[piece[(a + 1) % m]];
+            const CGAL::Sign sa = w.piece_sign[a], sb = w.piece_sign[(a + 1) % m];
+            if (sa == CGAL::POSITIVE) w.poly2.push_back(projector.project(va));
+            if (sa == CGAL::ZERO) w.poly2.push_back(projector.chart(va));
+            if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+              w.poly2.push_back(projector.crossing(va, vb));
+          }
+        } else {
+          project_front_part(w.poly, w.piece_sign, frame, light, w.poly2);
+        }
         for (int c = 0; c < 2; ++c) {
           clip_convex_2d(w.poly2, c, fp.chart_min[c], true, w.scratch2);
           clip_convex_2d(w.poly2, c, fp.chart_max[c], false, w.scratch2);
