@@ -366,8 +366,8 @@ void project_front_part(const std::vector<Point3>& poly, const std::vector<CGAL:
 /// demand; that evaluation dominated the time.
 class LeafProjector {
  public:
-  LeafProjector(const std::vector<glm::dvec3>& receiver, const FacePrep& prep, const glm::dvec3& to_light)
-      : i_(chart_i(prep.axis)), j_(chart_j(prep.axis)) {
+  LeafProjector(const std::vector<glm::dvec3>& receiver, const FacePrep& prep, const Light& light)
+      : i_(chart_i(prep.axis)), j_(chart_j(prep.axis)), point_(light.type == LightType::Point) {
     const glm::dvec3& c = receiver[prep.corner[1]];
     const glm::dvec3& next = receiver[prep.corner[2]];
     const glm::dvec3& prev = receiver[prep.corner[0]];
@@ -382,9 +382,76 @@ class LeafProjector {
     if (prep.flipped)
       for (mpq_class& x : n_) x = -x;
     offset_ = -(n_[0] * c.x + n_[1] * c.y + n_[2] * c.z);
-    const mpq_class light_side = n_[0] * to_light.x + n_[1] * to_light.y + n_[2] * to_light.z;
-    shift_i_ = mpq_class(to_light[i_]) / light_side;
-    shift_j_ = mpq_class(to_light[j_]) / light_side;
+    if (!point_) {
+      const glm::dvec3& d = light.to_light;
+      const mpq_class light_side = n_[0] * d.x + n_[1] * d.y + n_[2] * d.z;
+      shift_i_ = mpq_class(d[i_]) / light_side;
+      shift_j_ = mpq_class(d[j_]) / light_side;
+      return;
+    }
+    for (int a = 0; a < 3; ++a) light_[a] = light.position[a];
+    light_side_ = n_[0] * light_[0] + n_[1] * light_[1] + n_[2] * light_[2] + offset_;
+    // The pyramid over the chart box: for a bound x_c >= m the plane through the bound's line
+    // on the receiver and the light is  s~ (x_c - m) - (L_c - m) s(p) = 0  (inside >= 0).
+    const int axes[2] = {i_, j_};
+    for (int c2 = 0; c2 < 2; ++c2) {
+      for (int upper = 0; upper < 2; ++upper) {
+        const mpq_class m(upper ? prep.chart_max[c2] : prep.chart_min[c2]);
+        const mpq_class coef = light_[axes[c2]] - m;
+        Side& side = sides_[c2 * 2 + upper];
+        for (int a = 0; a < 3; ++a) side.a[a] = -coef * n_[a];
+        side.a[axes[c2]] += light_side_;
+        side.b = -light_side_ * m - coef * offset_;
+        if (upper) {
+          for (mpq_class& x : side.a) x = -x;
+          side.b = -side.b;
+        }
+      }
+    }
+  }
+
+  /// Projects the part of a convex piece of a caster (input doubles, with the exact signs of
+  /// the receiver's plane at its vertices) in front of the receiver into the chart. For a point
+  /// light the piece is first clipped to the pyramid over the chart box, which keeps the
+  /// central projection finite; a directional light's piece is clipped in 2D by the caller.
+  void project_piece(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
+                     const std::vector<CGAL::Sign>& sign, std::vector<Point2>& out) {
+    if (!point_) {
+      project_piece_parallel(vertices, piece, sign, out);
+      return;
+    }
+    poly_.clear();
+    const std::size_t n = piece.size();
+    for (std::size_t a = 0; a < n; ++a) {
+      const std::size_t b = (a + 1) % n;
+      const glm::dvec3& va = vertices[piece[a]];
+      if (sign[a] != CGAL::NEGATIVE) poly_.push_back({{mpq_class(va.x), mpq_class(va.y), mpq_class(va.z)}, sign[a] == CGAL::ZERO});
+      if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+          (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE)) {
+        const glm::dvec3& vb = vertices[piece[b]];
+        plane_value(va, s_);
+        plane_value(vb, t_);
+        t_ = s_ / (s_ - t_);
+        QPoint p;
+        for (int c = 0; c < 3; ++c) p.v[c] = mpq_class(va[c]) + t_ * (mpq_class(vb[c]) - mpq_class(va[c]));
+        p.on_plane = true;
+        poly_.push_back(std::move(p));
+      }
+    }
+    for (const Side& side : sides_) clip(side);
+    out.clear();
+    for (const QPoint& p : poly_) {
+      if (p.on_plane) {
+        out.emplace_back(FT(p.v[i_]), FT(p.v[j_]));
+        continue;
+      }
+      s_ = offset_;
+      for (int c = 0; c < 3; ++c) s_ += n_[c] * p.v[c];
+      t_ = light_side_ - s_;
+      x_ = (light_side_ * p.v[i_] - s_ * light_[i_]) / t_;
+      z_ = (light_side_ * p.v[j_] - s_ * light_[j_]) / t_;
+      out.emplace_back(FT(x_), FT(z_));
+    }
   }
 
   /// The projection of an input point in front of (or on) the receiver's plane.
@@ -415,6 +482,22 @@ class LeafProjector {
 
   Point2 chart(const glm::dvec3& y) const { return Point2(y[i_], y[j_]); }
 
+  /// Directional light: the part of a convex piece in front of the receiver (exact signs of
+  /// its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
+  void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
+                              const std::vector<CGAL::Sign>& sign, std::vector<Point2>& out) {
+    out.clear();
+    const std::size_t m = piece.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3& va = vertices[piece[a]];
+      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      if (sa == CGAL::POSITIVE) out.push_back(project(va));
+      if (sa == CGAL::ZERO) out.push_back(chart(va));
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+        out.push_back(crossing(va, vertices[piece[(a + 1) % m]]));
+    }
+  }
+
  private:
   void plane_value(const glm::dvec3& y, mpq_class& out) {
     out = offset_;
@@ -425,8 +508,54 @@ class LeafProjector {
     }
   }
 
+  struct QPoint {
+    mpq_class v[3];
+    bool on_plane = false;  ///< on the receiver's plane: its own projection
+  };
+  struct Side {
+    mpq_class a[3], b;
+  };
+
+  /// Sutherland-Hodgman clip of poly_ to side(p) >= 0; crossings only on strict sign changes.
+  void clip(const Side& side) {
+    const std::size_t n = poly_.size();
+    if (n == 0) return;
+    value_.resize(n);
+    bool any_out = false, any_in = false;
+    for (std::size_t a = 0; a < n; ++a) {
+      value_[a] = side.b;
+      for (int c = 0; c < 3; ++c) value_[a] += side.a[c] * poly_[a].v[c];
+      any_out |= sgn(value_[a]) < 0;
+      any_in |= sgn(value_[a]) > 0;
+    }
+    if (!any_out) return;
+    if (!any_in) {
+      poly_.clear();
+      return;
+    }
+    next_.clear();
+    for (std::size_t a = 0; a < n; ++a) {
+      const std::size_t b = (a + 1) % n;
+      const int sa = sgn(value_[a]), sb = sgn(value_[b]);
+      if (sa >= 0) next_.push_back(poly_[a]);
+      if (sa * sb < 0) {
+        t_ = value_[a] / (value_[a] - value_[b]);
+        QPoint p;
+        for (int c = 0; c < 3; ++c) p.v[c] = poly_[a].v[c] + t_ * (poly_[b].v[c] - poly_[a].v[c]);
+        p.on_plane = poly_[a].on_plane && poly_[b].on_plane;
+        next_.push_back(std::move(p));
+      }
+    }
+    poly_.swap(next_);
+  }
+
   int i_, j_;
+  bool point_;
   mpq_class n_[3], offset_, shift_i_, shift_j_;
+  mpq_class light_[3], light_side_;
+  std::array<Side, 4> sides_;
+  std::vector<QPoint> poly_, next_;
+  std::vector<mpq_class> value_;
   mpq_class s_, t_, x_, z_, term_;  // scratch, to avoid reallocating limbs
 };
 
@@ -822,7 +951,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   const bool point_light = light.is_point();
   std::optional<LeafProjector> projector_storage;
   auto leaf_projector = [&]() -> LeafProjector& {
-    if (!projector_storage) projector_storage.emplace(face.vertices, fp, light_in.to_light);
+    if (!projector_storage) projector_storage.emplace(face.vertices, fp, light_in);
     return *projector_storage;
   };
   std::vector<Polygon2> shadows;
@@ -843,7 +972,6 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         any_front |= sv == CGAL::POSITIVE;
       }
       if (!any_front) continue;
-      const ReceiverFrame& frame = exact_frame();
       LeafProjector& projector = leaf_projector();
       w.poly2.clear();
       for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
@@ -883,58 +1011,52 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
               : CGAL::is_zero(plane_at_light(exact_face(w, q), light));
       if (edge_on) continue;
     }
-    if (fp.exactly_planar && qp.exactly_planar) {
+    // Two routes to the same exact polygons: exact leaves straight from the input doubles when
+    // both faces are exactly planar (the common case), lazy Epeck values for lifted faces.
+    const bool leaves = fp.exactly_planar && qp.exactly_planar;
+    const ExactFace* Q = nullptr;
+    const ReceiverFrame* frame = nullptr;
+    if (leaves) {
       for (std::size_t v = 0; v < qface.vertices.size(); ++v) {
         CGAL::Sign sv = CGAL::orientation(corner0, corner1, corner2, epick(qface.vertices[v]));
         if (fp.flipped) sv = CGAL::opposite(sv);
         w.vertex_sign[v] = sv;
         any_front |= sv == CGAL::POSITIVE;
       }
-      if (!any_front) continue;  // nothing strictly in front of the receiver
-    }
-    const ExactFace& Q = exact_face(w, q);
-    const ReceiverFrame& frame = exact_frame();
-    if (!(fp.exactly_planar && qp.exactly_planar)) {
-      for (std::size_t v = 0; v < Q.vertices.size(); ++v) {
-        w.vertex_sign[v] = CGAL::sign(frame.front(Q.vertices[v]));
+    } else {
+      Q = &exact_face(w, q);
+      frame = &exact_frame();
+      for (std::size_t v = 0; v < Q->vertices.size(); ++v) {
+        w.vertex_sign[v] = CGAL::sign(frame->front(Q->vertices[v]));
         any_front |= w.vertex_sign[v] == CGAL::POSITIVE;
       }
-      if (!any_front) continue;
     }
+    if (!any_front) continue;  // nothing strictly in front of the receiver
     bool cast = false;
     for (const std::vector<int>& piece : qp.convex_pieces) {
-      w.poly.clear();
       w.piece_sign.clear();
       bool piece_front = false;
       for (int v : piece) {
-        w.poly.push_back(Q.vertices[v]);
         w.piece_sign.push_back(w.vertex_sign[v]);
         piece_front |= w.vertex_sign[v] == CGAL::POSITIVE;
       }
       if (!piece_front) continue;
-      w.poly2.clear();
-      if (point_light) {
-        // The pyramid over the chart box keeps the central projection finite.
-        clip_front(w.poly, w.piece_sign, frame.front, w.scratch);
-        for (const Affine3& side : frame.sides) clip_convex(w.poly, side, w.scratch);
-        for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, frame, light));
+      if (leaves) {
+        leaf_projector().project_piece(qface.vertices, piece, w.piece_sign, w.poly2);
       } else {
-        // Parallel projection is affine: project, then clip to the chart box in 2D.
-        if (fp.exactly_planar && qp.exactly_planar) {
-          LeafProjector& projector = leaf_projector();
-          const std::size_t m = piece.size();
-          for (std::size_t a = 0; a < m; ++a) {
-            const glm::dvec3& va = qface.vertices[piece[a]];
-            const glm::dvec3& vb = qface.vertices[piece[(a + 1) % m]];
-            const CGAL::Sign sa = w.piece_sign[a], sb = w.piece_sign[(a + 1) % m];
-            if (sa == CGAL::POSITIVE) w.poly2.push_back(projector.project(va));
-            if (sa == CGAL::ZERO) w.poly2.push_back(projector.chart(va));
-            if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
-              w.poly2.push_back(projector.crossing(va, vb));
-          }
+        w.poly.clear();
+        for (int v : piece) w.poly.push_back(Q->vertices[v]);
+        if (point_light) {
+          // The pyramid over the chart box keeps the central projection finite.
+          clip_front(w.poly, w.piece_sign, frame->front, w.scratch);
+          for (const Affine3& side : frame->sides) clip_convex(w.poly, side, w.scratch);
+          w.poly2.clear();
+          for (const Point3& y : w.poly) w.poly2.push_back(project_to_chart(y, *frame, light));
         } else {
-          project_front_part(w.poly, w.piece_sign, frame, light, w.poly2);
+          project_front_part(w.poly, w.piece_sign, *frame, light, w.poly2);
         }
+      }
+      if (!point_light) {  // parallel projection is affine: clip to the chart box in 2D
         for (int c = 0; c < 2; ++c) {
           clip_convex_2d(w.poly2, c, fp.chart_min[c], true, w.scratch2);
           clip_convex_2d(w.poly2, c, fp.chart_max[c], false, w.scratch2);
