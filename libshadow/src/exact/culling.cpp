@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "exact/culling.hpp"
+
+#include <glm/common.hpp>
+
+namespace shadow::exact {
+
+CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep) {
+  CullScene cull;
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const Face& f : scene.faces)
+    for (const glm::dvec3& v : f.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  if (scene.faces.empty()) lo = hi = glm::dvec3(0.0);
+  cull.origin = 0.5 * (lo + hi);
+  cull.diameter = std::max(glm::length(hi - lo), 1e-300);
+  cull.faces.resize(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    CullFace& cf = cull.faces[f];
+    cf.first = cull.vertices.size();
+    cf.count = scene.faces[f].vertices.size();
+    glm::dvec3 n(0.0);
+    for (std::size_t a = 0; a < cf.count; ++a) {
+      const glm::dvec3 u = scene.faces[f].vertices[a] - cull.origin;
+      const glm::dvec3 v = scene.faces[f].vertices[(a + 1) % cf.count] - cull.origin;
+      cull.vertices.push_back(u);
+      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+    }
+    const double len = glm::length(n);
+    if (prep[f].degenerate || !(len > 0)) continue;
+    cf.normal = n / len;
+    glm::dvec3 centroid(0.0);
+    for (std::size_t a = 0; a < cf.count; ++a) centroid += cull.vertices[cf.first + a];
+    cf.offset = -glm::dot(cf.normal, centroid / static_cast<double>(cf.count));
+  }
+  return cull;
+}
+
+
+}  // namespace shadow::exact

@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Culling in double precision: which faces can possibly shadow a receiver. Every test is
+// conservative: it rejects a face only when it is certainly, by a margin far above rounding
+// error, outside the receiver's slab, prism or pyramid. Whatever passes is decided exactly.
+#pragma once
+
+#include "exact/face_prep.hpp"
+
+#include <shadow/scene.hpp>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace shadow::exact {
+
+/// A face in a local frame (scene centre subtracted) with a unit normal, for culling.
+struct CullFace {
+  std::size_t first = 0, count = 0;  ///< range in CullScene::vertices
+  glm::dvec3 normal{0.0};            ///< unit normal (front side)
+  double offset = 0.0;               ///< plane: normal . p + offset = 0 (local frame)
+};
+
+struct CullScene {
+  glm::dvec3 origin{0.0};
+  double diameter = 1.0;
+  std::vector<glm::dvec3> vertices;  ///< local frame
+  std::vector<CullFace> faces;
+};
+
+/// A unit vector along v for any finite non-zero v, even when |v|^2 under- or overflows
+/// (to_light = (1e-200, 0, 1e-200) is a valid direction).
+inline glm::dvec3 unit(glm::dvec3 v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  return glm::normalize(v / m);
+}
+
+/// An affine function on local-frame points with the margin below which its sign is unsure.
+struct DoubleAffine {
+  glm::dvec3 a{0.0};
+  double b = 0.0;
+  double tolerance = 0.0;
+  [[nodiscard]] double operator()(const glm::dvec3& p) const { return glm::dot(a, p) + b; }
+};
+
+/// Uniform grid over the faces' bounding boxes in light space (the plane orthogonal to a
+/// directional light): faces whose boxes do not overlap cannot shadow each other.
+class LightSpaceGrid {
+ public:
+  LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light) {
+    const glm::dvec3 d = unit(to_light);
+    const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+    u_ = glm::normalize(glm::cross(d, helper));
+    v_ = glm::cross(d, u_);
+    const std::size_t n = scene.faces.size();
+    boxes_.assign(n, Box{});
+    Box all{};
+    bool any = false;
+    for (std::size_t f = 0; f < n; ++f) {
+      if (prep[f].degenerate) continue;
+      boxes_[f] = box_of(scene, scene.faces[f]);
+      all = any ? merge(all, boxes_[f]) : boxes_[f];
+      any = true;
+    }
+    margin_ = 1e-9 * scene.diameter;
+    origin_ = {all[0] - margin_, all[1] - margin_};
+    const double width = std::max(all[2] - all[0], 0.0) + 2 * margin_;
+    const double height = std::max(all[3] - all[1], 0.0) + 2 * margin_;
+    // About one cell per face, so that a typical query touches a handful of cells.
+    const double cells_wanted = std::max<double>(1.0, static_cast<double>(n));
+    cell_ = std::max(std::sqrt(width * height / cells_wanted), 1e-300);
+    nu_ = static_cast<int>(std::clamp(std::ceil(width / cell_), 1.0, 2048.0));
+    nv_ = static_cast<int>(std::clamp(std::ceil(height / cell_), 1.0, 2048.0));
+    cell_u_ = width / nu_;
+    cell_v_ = height / nv_;
+    // Compressed rows: count, prefix sum, fill.
+    start_.assign(static_cast<std::size_t>(nu_) * nv_ + 1, 0);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate) for_cells(boxes_[f], [&](std::size_t c) { ++start_[c + 1]; });
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    entries_.resize(start_.back());
+    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate)
+        for_cells(boxes_[f], [&](std::size_t c) { entries_[fill[c]++] = static_cast<std::uint32_t>(f); });
+  }
+
+  /// Calls visit(face) for every face whose light-space box overlaps `face`'s (with repeats).
+  template <class Visit>
+  void query(std::size_t face, Visit&& visit) const {
+    const Box& b = boxes_[face];
+    for_cells(b, [&](std::size_t c) {
+      for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
+        const Box& o = boxes_[entries_[e]];
+        if (o[0] <= b[2] + margin_ && b[0] <= o[2] + margin_ && o[1] <= b[3] + margin_ &&
+            b[1] <= o[3] + margin_)
+          visit(entries_[e]);
+      }
+    });
+  }
+
+ private:
+  using Box = std::array<double, 4>;  // umin, vmin, umax, vmax
+  static Box merge(const Box& a, const Box& b) {
+    return {std::min(a[0], b[0]), std::min(a[1], b[1]), std::max(a[2], b[2]), std::max(a[3], b[3])};
+  }
+  Box box_of(const CullScene& scene, const CullFace& face) const {
+    Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+          std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+    for (std::size_t k = face.first; k < face.first + face.count; ++k) {
+      const double u = glm::dot(u_, scene.vertices[k]), v = glm::dot(v_, scene.vertices[k]);
+      b = {std::min(b[0], u), std::min(b[1], v), std::max(b[2], u), std::max(b[3], v)};
+    }
+    return b;
+  }
+  template <class Visit>
+  void for_cells(const Box& b, Visit&& visit) const {
+    auto cell_index = [](double x, double origin, double size, int count) {
+      return std::clamp(static_cast<int>(std::floor((x - origin) / size)), 0, count - 1);
+    };
+    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
+    const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
+    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
+    const int v1 = cell_index(b[3] + margin_, origin_[1], cell_v_, nv_);
+    for (int v = v0; v <= v1; ++v)
+      for (int u = u0; u <= u1; ++u) visit(static_cast<std::size_t>(v) * nu_ + u);
+  }
+
+  glm::dvec3 u_{0.0}, v_{0.0};
+  std::vector<Box> boxes_;
+  std::array<double, 2> origin_{0, 0};
+  double margin_ = 0, cell_ = 1, cell_u_ = 1, cell_v_ = 1;
+  int nu_ = 1, nv_ = 1;
+  std::vector<std::uint32_t> start_;
+  std::vector<std::uint32_t> entries_;
+};
+
+/// The faces in a local frame (scene centre subtracted), with unit normals.
+CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep);
+
+}  // namespace shadow::exact

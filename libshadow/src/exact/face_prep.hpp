@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What the engine knows about each face once prepared: plain numbers and indices, no CGAL types,
+// so that it can be shared between threads and used by code that does not include CGAL.
+#pragma once
+
+#include <array>
+#include <vector>
+
+namespace shadow::exact {
+
+/// What validation and the shadow computation need to know about a face, computed once with
+/// exact predicates and stored without CGAL types.
+struct FacePrep {
+  bool degenerate = false;     ///< zero area: casts and receives nothing
+  int axis = 2;                ///< k: dominant axis of the exact normal; the chart drops it
+  bool flipped = false;        ///< n_k < 0: the chart (x_i, x_j) sees the face clockwise
+  bool exactly_planar = true;  ///< all vertices lie exactly on one plane
+  /// Vertex indices around the face, counter-clockwise in the chart, collinear vertices removed.
+  std::vector<int> chart_ring;
+  /// Convex pieces (vertex indices, counter-clockwise in the chart) that tile the face.
+  std::vector<std::vector<int>> convex_pieces;
+  /// For exactly planar faces: a convex corner (prev, corner, next) whose cross product gives
+  /// the exact normal with the face's orientation.
+  std::array<int, 3> corner{0, 1, 2};
+  std::array<double, 2> chart_min{0, 0}, chart_max{0, 0};  ///< chart bounding box (exact doubles)
+  bool chart_is_box = false;  ///< the face is its own chart bounding box (axis-aligned rectangle)
+};
+
+/// Chart axes (i, j) for dropped axis k: cyclic, so that the chart sees the face
+/// counter-clockwise exactly when the normal's k component is positive.
+inline int chart_i(int k) { return (k + 1) % 3; }
+inline int chart_j(int k) { return (k + 2) % 3; }
+
+}  // namespace shadow::exact

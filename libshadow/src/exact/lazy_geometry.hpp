@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Clipping and projection of casters with lazy exact values (Epeck): the route for faces that
+// are not exactly planar in the input and are lifted onto their plane. Exact throughout.
+// Include only from src/exact/*.cpp (CGAL).
+#pragma once
+
+#include "exact/exact_faces.hpp"
+
+#include <array>
+#include <vector>
+
+namespace shadow::exact {
+
+
+/// A light in homogeneous form l = (x, y, z, w): (L, 1) for a point light, (d, 0) for a
+/// directional light with d pointing toward it. Exact (the input doubles are exact rationals).
+struct ExactLight {
+  std::array<FT, 4> l;
+  [[nodiscard]] bool is_point() const { return !CGAL::is_zero(l[3]); }
+};
+
+/// s~(l) = n . l_xyz + offset * l_w: positive when the light is on the front side of the plane.
+inline FT plane_at_light(const ExactFace& face, const ExactLight& light) {
+  return face.normal.x() * light.l[0] + face.normal.y() * light.l[1] +
+         face.normal.z() * light.l[2] + face.offset * light.l[3];
+}
+
+/// Sutherland-Hodgman clip of a convex polygon to f >= 0. Vertices exactly on f = 0 are kept;
+/// intersection points are made only where f changes sign strictly, so no duplicates arise.
+inline void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector<Point3>& scratch) {
+  if (poly.empty()) return;
+  const std::size_t n = poly.size();
+  std::vector<FT> value(n);
+  bool any_out = false, any_in = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    value[a] = f(poly[a]);
+    const CGAL::Sign s = CGAL::sign(value[a]);
+    any_out |= s == CGAL::NEGATIVE;
+    any_in |= s == CGAL::POSITIVE;
+  }
+  if (!any_out) return;  // wholly inside (or on the plane)
+  if (!any_in) {         // nothing strictly inside: the closure has no area
+    poly.clear();
+    return;
+  }
+  scratch.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    const CGAL::Sign sa = CGAL::sign(value[a]), sb = CGAL::sign(value[b]);
+    if (sa != CGAL::NEGATIVE) scratch.push_back(poly[a]);
+    if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) ||
+        (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+      const FT t = value[a] / (value[a] - value[b]);
+      scratch.push_back(poly[a] + t * (poly[b] - poly[a]));
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// Clip of a convex polygon to the front of the receiver's plane (s >= 0) when the exact signs of
+/// s at its vertices are already known; s is evaluated (lazily) only on edges that cross.
+inline void clip_front(std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign, const Affine3& s,
+                std::vector<Point3>& scratch) {
+  const std::size_t n = poly.size();
+  scratch.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (sign[a] != CGAL::NEGATIVE) scratch.push_back(poly[a]);
+    if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+        (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE)) {
+      const FT sa = s(poly[a]), sb = s(poly[b]);
+      scratch.push_back(poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]));
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// Sutherland-Hodgman clip of a convex 2D polygon to x_c >= m (keep_greater) or x_c <= m.
+inline void clip_convex_2d(std::vector<Point2>& poly, int c, double m, bool keep_greater,
+                    std::vector<Point2>& scratch) {
+  if (poly.empty()) return;
+  const std::size_t n = poly.size();
+  auto side = [&](const Point2& p) {
+    const CGAL::Comparison_result r = CGAL::compare(p[c], FT(m));
+    return keep_greater ? static_cast<int>(r) : -static_cast<int>(r);  // +1 inside, -1 outside
+  };
+  std::vector<int> in(n);
+  bool any_out = false, any_in = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    in[a] = side(poly[a]);
+    any_out |= in[a] < 0;
+    any_in |= in[a] > 0;
+  }
+  if (!any_out) return;
+  if (!any_in) {
+    poly.clear();
+    return;
+  }
+  scratch.clear();
+  const int o = 1 - c;
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (in[a] >= 0) scratch.push_back(poly[a]);
+    if (in[a] * in[b] < 0) {
+      const Point2& pa = poly[a];
+      const Point2& pb = poly[b];
+      const FT other = pa[o] + (FT(m) - pa[c]) * (pb[o] - pa[o]) / (pb[c] - pa[c]);
+      scratch.push_back(c == 0 ? Point2(FT(m), other) : Point2(other, FT(m)));
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// The set of half-spaces a caster is clipped to for one receiver, and the projection.
+struct ReceiverFrame {
+  int axis = 2;
+  FT light_side;                  ///< s~(l) > 0
+  Affine3 front;                  ///< s(p) >= 0: in front of the receiver's plane
+  std::array<Affine3, 4> sides;   ///< the prism/pyramid over the chart bounding box
+  std::array<FT, 2> shift;        ///< directional: l_c / s~(l) for the chart axes c = i, j
+};
+
+inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const ExactLight& light,
+                         const FT& light_side) {
+  ReceiverFrame frame;
+  const int k = prep.axis;
+  frame.axis = k;
+  frame.light_side = light_side;
+  frame.front = Affine3{face.normal, face.offset};
+  // For a chart bound x_c >= m (c = i or j), the plane through the bound's line on the
+  // receiver's plane and the light is  s~(l) (x_c - m) - (l_c - m l_w) s(p) = 0 : it vanishes on
+  // that line (s = 0, x_c = m) and at the light. Inside is >= 0. Upper bounds flip signs.
+  const int axes[2] = {chart_i(k), chart_j(k)};
+  for (int c = 0; c < 2 && light.is_point(); ++c) {  // directional: clipped in 2D instead
+    const int ax = axes[c];
+    Vector3 e(ax == 0 ? 1 : 0, ax == 1 ? 1 : 0, ax == 2 ? 1 : 0);
+    for (int upper = 0; upper < 2; ++upper) {
+      const FT m = upper ? prep.chart_max[c] : prep.chart_min[c];
+      const FT coef = light.l[ax] - m * light.l[3];
+      Affine3 f{light_side * e - coef * face.normal, -light_side * m - coef * face.offset};
+      if (upper) f = Affine3{-f.a, -f.b};
+      frame.sides[c * 2 + upper] = f;
+    }
+  }
+  if (!light.is_point()) {
+    frame.shift = {light.l[chart_i(k)] / light_side, light.l[chart_j(k)] / light_side};
+  }
+  return frame;
+}
+
+/// Projects a point (strictly between the receiver's plane and the light) from the light onto
+/// the receiver's plane and returns its chart coordinates:  X = (s~ Y - s(Y) l) / (s~ - s(Y) l_w).
+inline Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, const ExactLight& light) {
+  const FT s = frame.front(y);
+  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  if (!light.is_point()) return Point2(y[i] - s * frame.shift[0], y[j] - s * frame.shift[1]);
+  const FT w = frame.light_side - s;
+  return Point2((frame.light_side * y[i] - s * light.l[i]) / w,
+                (frame.light_side * y[j] - s * light.l[j]) / w);
+}
+
+/// Where edge a-b (s(a) and s(b) of strictly opposite signs) crosses the receiver's plane, in
+/// chart coordinates. Points on the plane are their own projection: computing them through the
+/// projection formula would give the same value, but through an s that is exactly zero with an
+/// interval around it, and every later comparison of such points would need exact arithmetic.
+inline Point2 crossing_in_chart(const Point3& a, const Point3& b, const ReceiverFrame& frame) {
+  const FT sa = frame.front(a), sb = frame.front(b);
+  const FT t = sa / (sa - sb);
+  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  return Point2(a[i] + t * (b[i] - a[i]), a[j] + t * (b[j] - a[j]));
+}
+
+/// Projects the part of a convex polygon in front of the receiver (s >= 0, exact signs given)
+/// into the chart, in order: vertices in front are projected, vertices on the plane and
+/// crossings of the plane are their own chart points.
+inline void project_front_part(const std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign,
+                        const ReceiverFrame& frame, const ExactLight& light, std::vector<Point2>& out) {
+  const std::size_t n = poly.size();
+  out.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (sign[a] == CGAL::POSITIVE) out.push_back(project_to_chart(poly[a], frame, light));
+    if (sign[a] == CGAL::ZERO) out.push_back(to_chart(poly[a], frame.axis));
+    if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+        (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE))
+      out.push_back(crossing_in_chart(poly[a], poly[b], frame));
+  }
+}
+
+}  // namespace shadow::exact

@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Projection of casters straight from the input doubles into exact GMP rationals: the route for
+// exactly planar faces (the common case). Include only from src/exact/*.cpp (CGAL).
+#pragma once
+
+#include "exact/exact_faces.hpp"
+
+#include <shadow/scene.hpp>
+
+#include <gmpxx.h>
+
+#include <CGAL/enum.h>
+
+#include <array>
+#include <vector>
+
+namespace shadow::exact {
+
+/// Parallel projection onto an exactly planar receiver, computed directly in GMP rationals from
+/// the input doubles. The results enter CGAL as exact leaves: their exact values are known and
+/// their intervals are tight, so when the union or the final area rounding needs exact values
+/// (ties between coordinates are common: boxes have parallel edges) nothing is left to evaluate.
+/// The lazy formula gives the same numbers through a tree of lazy nodes, each evaluated on
+/// demand; that evaluation dominated the time.
+class LeafProjector {
+ public:
+  LeafProjector(const std::vector<glm::dvec3>& receiver, const FacePrep& prep, const Light& light)
+      : i_(chart_i(prep.axis)), j_(chart_j(prep.axis)), point_(light.type == LightType::Point) {
+    const glm::dvec3& c = receiver[prep.corner[1]];
+    const glm::dvec3& next = receiver[prep.corner[2]];
+    const glm::dvec3& prev = receiver[prep.corner[0]];
+    mpq_class u[3], v[3];
+    for (int a = 0; a < 3; ++a) {
+      u[a] = mpq_class(next[a]) - mpq_class(c[a]);
+      v[a] = mpq_class(prev[a]) - mpq_class(c[a]);
+    }
+    n_[0] = u[1] * v[2] - u[2] * v[1];
+    n_[1] = u[2] * v[0] - u[0] * v[2];
+    n_[2] = u[0] * v[1] - u[1] * v[0];
+    if (prep.flipped)
+      for (mpq_class& x : n_) x = -x;
+    offset_ = -(n_[0] * c.x + n_[1] * c.y + n_[2] * c.z);
+    if (!point_) {
+      const glm::dvec3& d = light.to_light;
+      const mpq_class light_side = n_[0] * d.x + n_[1] * d.y + n_[2] * d.z;
+      shift_i_ = mpq_class(d[i_]) / light_side;
+      shift_j_ = mpq_class(d[j_]) / light_side;
+      return;
+    }
+    for (int a = 0; a < 3; ++a) light_[a] = light.position[a];
+    light_side_ = n_[0] * light_[0] + n_[1] * light_[1] + n_[2] * light_[2] + offset_;
+    // The pyramid over the chart box: for a bound x_c >= m the plane through the bound's line
+    // on the receiver and the light is  s~ (x_c - m) - (L_c - m) s(p) = 0  (inside >= 0).
+    const int axes[2] = {i_, j_};
+    for (int c2 = 0; c2 < 2; ++c2) {
+      for (int upper = 0; upper < 2; ++upper) {
+        const mpq_class m(upper ? prep.chart_max[c2] : prep.chart_min[c2]);
+        const mpq_class coef = light_[axes[c2]] - m;
+        Side& side = sides_[c2 * 2 + upper];
+        for (int a = 0; a < 3; ++a) side.a[a] = -coef * n_[a];
+        side.a[axes[c2]] += light_side_;
+        side.b = -light_side_ * m - coef * offset_;
+        if (upper) {
+          for (mpq_class& x : side.a) x = -x;
+          side.b = -side.b;
+        }
+      }
+    }
+  }
+
+  /// Projects the part of a convex piece of a caster (input doubles, with the exact signs of
+  /// the receiver's plane at its vertices) in front of the receiver into the chart. For a point
+  /// light the piece is first clipped to the pyramid over the chart box, which keeps the
+  /// central projection finite; a directional light's piece is clipped in 2D by the caller.
+  void project_piece(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
+                     const std::vector<CGAL::Sign>& sign, std::vector<Point2>& out) {
+    if (!point_) {
+      project_piece_parallel(vertices, piece, sign, out);
+      return;
+    }
+    poly_.clear();
+    const std::size_t n = piece.size();
+    for (std::size_t a = 0; a < n; ++a) {
+      const std::size_t b = (a + 1) % n;
+      const glm::dvec3& va = vertices[piece[a]];
+      if (sign[a] != CGAL::NEGATIVE) poly_.push_back({{mpq_class(va.x), mpq_class(va.y), mpq_class(va.z)}, sign[a] == CGAL::ZERO});
+      if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+          (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE)) {
+        const glm::dvec3& vb = vertices[piece[b]];
+        plane_value(va, s_);
+        plane_value(vb, t_);
+        t_ = s_ / (s_ - t_);
+        QPoint p;
+        for (int c = 0; c < 3; ++c) p.v[c] = mpq_class(va[c]) + t_ * (mpq_class(vb[c]) - mpq_class(va[c]));
+        p.on_plane = true;
+        poly_.push_back(std::move(p));
+      }
+    }
+    for (const Side& side : sides_) clip(side);
+    out.clear();
+    for (const QPoint& p : poly_) {
+      if (p.on_plane) {
+        out.emplace_back(FT(p.v[i_]), FT(p.v[j_]));
+        continue;
+      }
+      s_ = offset_;
+      for (int c = 0; c < 3; ++c) s_ += n_[c] * p.v[c];
+      t_ = light_side_ - s_;
+      x_ = (light_side_ * p.v[i_] - s_ * light_[i_]) / t_;
+      z_ = (light_side_ * p.v[j_] - s_ * light_[j_]) / t_;
+      out.emplace_back(FT(x_), FT(z_));
+    }
+  }
+
+  /// The projection of an input point in front of (or on) the receiver's plane.
+  Point2 project(const glm::dvec3& y) {
+    plane_value(y, s_);
+    x_ = y[i_];
+    x_ -= s_ * shift_i_;
+    z_ = y[j_];
+    z_ -= s_ * shift_j_;
+    return Point2(FT(x_), FT(z_));
+  }
+
+  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
+  Point2 crossing(const glm::dvec3& a, const glm::dvec3& b) {
+    plane_value(a, s_);
+    plane_value(b, t_);
+    t_ = s_ / (s_ - t_);
+    x_ = b[i_];
+    x_ -= a[i_];
+    x_ *= t_;
+    x_ += a[i_];
+    z_ = b[j_];
+    z_ -= a[j_];
+    z_ *= t_;
+    z_ += a[j_];
+    return Point2(FT(x_), FT(z_));
+  }
+
+  Point2 chart(const glm::dvec3& y) const { return Point2(y[i_], y[j_]); }
+
+  /// Directional light: the part of a convex piece in front of the receiver (exact signs of
+  /// its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
+  void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
+                              const std::vector<CGAL::Sign>& sign, std::vector<Point2>& out) {
+    out.clear();
+    const std::size_t m = piece.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3& va = vertices[piece[a]];
+      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      if (sa == CGAL::POSITIVE) out.push_back(project(va));
+      if (sa == CGAL::ZERO) out.push_back(chart(va));
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+        out.push_back(crossing(va, vertices[piece[(a + 1) % m]]));
+    }
+  }
+
+ private:
+  void plane_value(const glm::dvec3& y, mpq_class& out) {
+    out = offset_;
+    for (int a = 0; a < 3; ++a) {
+      term_ = y[a];
+      term_ *= n_[a];
+      out += term_;
+    }
+  }
+
+  struct QPoint {
+    mpq_class v[3];
+    bool on_plane = false;  ///< on the receiver's plane: its own projection
+  };
+  struct Side {
+    mpq_class a[3], b;
+  };
+
+  /// Sutherland-Hodgman clip of poly_ to side(p) >= 0; crossings only on strict sign changes.
+  void clip(const Side& side) {
+    const std::size_t n = poly_.size();
+    if (n == 0) return;
+    value_.resize(n);
+    bool any_out = false, any_in = false;
+    for (std::size_t a = 0; a < n; ++a) {
+      value_[a] = side.b;
+      for (int c = 0; c < 3; ++c) value_[a] += side.a[c] * poly_[a].v[c];
+      any_out |= sgn(value_[a]) < 0;
+      any_in |= sgn(value_[a]) > 0;
+    }
+    if (!any_out) return;
+    if (!any_in) {
+      poly_.clear();
+      return;
+    }
+    next_.clear();
+    for (std::size_t a = 0; a < n; ++a) {
+      const std::size_t b = (a + 1) % n;
+      const int sa = sgn(value_[a]), sb = sgn(value_[b]);
+      if (sa >= 0) next_.push_back(poly_[a]);
+      if (sa * sb < 0) {
+        t_ = value_[a] / (value_[a] - value_[b]);
+        QPoint p;
+        for (int c = 0; c < 3; ++c) p.v[c] = poly_[a].v[c] + t_ * (poly_[b].v[c] - poly_[a].v[c]);
+        p.on_plane = poly_[a].on_plane && poly_[b].on_plane;
+        next_.push_back(std::move(p));
+      }
+    }
+    poly_.swap(next_);
+  }
+
+  int i_, j_;
+  bool point_;
+  mpq_class n_[3], offset_, shift_i_, shift_j_;
+  mpq_class light_[3], light_side_;
+  std::array<Side, 4> sides_;
+  std::vector<QPoint> poly_, next_;
+  std::vector<mpq_class> value_;
+  mpq_class s_, t_, x_, z_, term_;  // scratch, to avoid reallocating limbs
+};
+
+}  // namespace shadow::exact
