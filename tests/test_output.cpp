@@ -40,6 +40,7 @@ namespace fs = std::filesystem;
 using shadow::Face;
 using shadow::FaceLighting;
 using shadow::Fragment;
+using shadow::PlaneShadow;
 using shadow::Light;
 using shadow::LightType;
 using shadow::Mesh;
@@ -87,6 +88,7 @@ Scene make_scene() {
 
   scene.warnings.push_back({{"/data/city/tree.obj", "line 7"}, "face has a repeated vertex"});
   scene.warnings.push_back({{"/data/city/scene.json", "meshes[1]"}, "mesh has a single face"});
+  scene.planes.push_back({"ground", {kFarX, 0.0, 0.0}, {0.0, 0.0, 1.0}, 0.0});
   return scene;
 }
 
@@ -136,6 +138,17 @@ ShadowResult make_result() {
       fragment(1, 0, 3, false, kRoofArea - kThird,
                {{kFarX, 1.0, 3.0}, {kFarX + 4.0, 1.0, 3.0}, {kFarX + 4.0, 2.0, 3.0 + kThird}}),
   };
+  // The lamp's shadow on the ground plane: a region with a hole, as two cells of region 0.
+  PlaneShadow ground;
+  ground.plane_id = 0;
+  ground.light_id = 1;
+  ground.polygons = {{{kFarX, 0.0, 0.0}, {kFarX + 2.0, 0.0, 0.0}, {kFarX, kThird, 0.0}},
+                     {{kFarX + 2.0, 0.0, 0.0}, {kFarX + 2.0, 1.0, 0.0}, {kFarX, kThird, 0.0}}};
+  ground.region_id = {0, 0};
+  ground.polygon_area = {kThird, 0.1 + 0.2};
+  ground.area = kThird + (0.1 + 0.2);
+  ground.window_half_size = 50.0;
+  r.plane_shadows.push_back(ground);
   r.stats.receivers = 4;
   r.stats.back_facing = 1;
   r.stats.candidate_pairs = 7;
@@ -222,8 +235,8 @@ TEST_F(OutputTest, WritesEveryFileAndPlacesReportJsonLast) {
   const fs::path out = root_ / "out";
   const std::vector<fs::path> written = shadow::write_outputs(out, scene_, result_);
   const std::vector<fs::path> expected = {out / "fragments.vtp", out / "faces.vtp",
-                                          out / "lights.vtp", out / "scene.vtm",
-                                          out / "report.json"};
+                                          out / "plane_shadows.vtp", out / "lights.vtp",
+                                          out / "scene.vtm", out / "report.json"};
   EXPECT_EQ(written, expected);
   for (const fs::path& p : expected) EXPECT_TRUE(fs::is_regular_file(p)) << p;
 }
@@ -231,8 +244,8 @@ TEST_F(OutputTest, WritesEveryFileAndPlacesReportJsonLast) {
 TEST_F(OutputTest, LeavesNoTemporaryFilesBehind) {
   shadow::write_outputs(root_, scene_, result_);
   EXPECT_EQ(directory_listing(root_),
-            (std::set<std::string>{"faces.vtp", "fragments.vtp", "lights.vtp", "report.json",
-                                   "scene.vtm"}));
+            (std::set<std::string>{"faces.vtp", "fragments.vtp", "lights.vtp", "plane_shadows.vtp",
+                                   "report.json", "scene.vtm"}));
 }
 
 TEST_F(OutputTest, CreatesAMissingOutputDirectoryAndItsParents) {
@@ -435,7 +448,7 @@ TEST_F(OutputTest, LightsVtpPutsPointLightsAtTheirPositionAndTheSunOneDiagonalAb
 
 // ---- scene.vtm ---------------------------------------------------------------------------------
 
-TEST_F(OutputTest, SceneVtmOpensFacesFragmentsAndLightsAsNamedBlocks) {
+TEST_F(OutputTest, SceneVtmOpensFacesFragmentsPlaneShadowsAndLightsAsNamedBlocks) {
   shadow::write_outputs(root_, scene_, result_);
   vtkNew<vtkXMLMultiBlockDataReader> reader;
   reader->SetFileName((root_ / "scene.vtm").string().c_str());
@@ -443,10 +456,10 @@ TEST_F(OutputTest, SceneVtmOpensFacesFragmentsAndLightsAsNamedBlocks) {
   ASSERT_EQ(reader->GetErrorCode(), 0u);
   auto* blocks = vtkMultiBlockDataSet::SafeDownCast(reader->GetOutput());
   ASSERT_NE(blocks, nullptr);
-  ASSERT_EQ(blocks->GetNumberOfBlocks(), 3u);
-  const std::vector<std::string> names = {"faces", "fragments", "lights"};
-  const std::vector<vtkIdType> points_or_cells = {3, 5, 2};
-  for (unsigned b = 0; b < 3; ++b) {
+  ASSERT_EQ(blocks->GetNumberOfBlocks(), 4u);
+  const std::vector<std::string> names = {"faces", "fragments", "plane_shadows", "lights"};
+  const std::vector<vtkIdType> points_or_cells = {3, 5, 2, 2};
+  for (unsigned b = 0; b < 4; ++b) {
     ASSERT_TRUE(blocks->HasMetaData(b));
     EXPECT_EQ(std::string(blocks->GetMetaData(b)->Get(vtkCompositeDataSet::NAME())), names[b]);
     auto* poly = vtkPolyData::SafeDownCast(blocks->GetBlock(b));
@@ -515,11 +528,40 @@ TEST_F(OutputTest, ReportOrdersFacesAndLightsByIdWhateverTheInputOrder) {
   }
 }
 
-TEST_F(OutputTest, ReportHasAnEmptyPlanesArrayUntilPlaneShadowsExist) {
+TEST_F(OutputTest, ReportHasOnePlanesEntryPerPlaneShadow) {
   shadow::write_outputs(root_, scene_, result_);
   const auto report = read_report(root_);
   ASSERT_TRUE(report["planes"].is_array());
-  EXPECT_TRUE(report["planes"].empty());
+  ASSERT_EQ(report["planes"].size(), 1u);
+  const auto& entry = report["planes"][0];
+  EXPECT_EQ(entry["name"], "ground");
+  EXPECT_EQ(entry["light"], 1);
+  EXPECT_EQ(entry["shadow_area"].get<double>(), result_.plane_shadows[0].area);
+  EXPECT_EQ(entry["reaches_window"], false);
+}
+
+TEST_F(OutputTest, PlaneShadowsVtpHoldsEveryPolygonWithItsPlaneLightRegionAndArea) {
+  shadow::write_outputs(root_, scene_, result_);
+  auto data = read_vtp(root_ / "plane_shadows.vtp");
+  const PlaneShadow& shadow = result_.plane_shadows[0];
+  ASSERT_EQ(data->GetNumberOfCells(), static_cast<vtkIdType>(shadow.polygons.size()));
+  EXPECT_EQ(data->GetPoints()->GetDataType(), VTK_DOUBLE);
+  vtkCellData* cd = data->GetCellData();
+  for (vtkIdType c = 0; c < data->GetNumberOfCells(); ++c) {
+    EXPECT_EQ(cd->GetArray("plane_id")->GetTuple1(c), 0.0);
+    EXPECT_EQ(cd->GetArray("light_id")->GetTuple1(c), 1.0);
+    EXPECT_EQ(cd->GetArray("region_id")->GetTuple1(c), static_cast<double>(shadow.region_id[c]));
+    EXPECT_EQ(cd->GetArray("area")->GetTuple1(c), shadow.polygon_area[c]);
+    vtkCell* cell = data->GetCell(c);
+    ASSERT_EQ(cell->GetNumberOfPoints(), static_cast<vtkIdType>(shadow.polygons[c].size()));
+    for (vtkIdType i = 0; i < cell->GetNumberOfPoints(); ++i) {
+      double x[3];
+      data->GetPoint(cell->GetPointId(i), x);
+      EXPECT_EQ(x[0], shadow.polygons[c][i].x);
+      EXPECT_EQ(x[1], shadow.polygons[c][i].y);
+      EXPECT_EQ(x[2], shadow.polygons[c][i].z);
+    }
+  }
 }
 
 TEST_F(OutputTest, ReportSummaryTotalsAreasPerLight) {

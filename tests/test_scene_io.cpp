@@ -753,6 +753,12 @@ TEST(SceneErrors, PlanesNeedAUniqueNameAPointAndANonZeroNormal) {
   EXPECT_TRUE(ThrowsInputError(
       [&] { parse(minimal_scene(sun, R"(, "planes": {"name": "g"})")); },
       {"inline.json", "planes", "expected an array"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse(minimal_scene(sun, R"(, "planes": [{"name": "g", "point": [0,0,0], "normal": [0,0,1], "window": 0}])")); },
+      {"inline.json", "planes[0].window", "must be > 0"}));
+  const Scene scene =
+      parse(minimal_scene(sun, R"(, "planes": [{"name": "g", "point": [0,0,0], "normal": [0,0,1], "window": 25}])"));
+  EXPECT_EQ(scene.planes.at(0).window, 25.0);
 }
 
 // ================================================================================================

@@ -27,6 +27,7 @@ struct ComputeArgs {
   bool quiet = false;
   bool areas_only = false;
   double planarity_tolerance = 1e-6;
+  double plane_window = 0.0;
 };
 
 /// Progress on a terminal: one line rewritten in place, on stderr so stdout stays clean.
@@ -67,6 +68,7 @@ int run_compute(const ComputeArgs& args) {
   shadow::ShadowOptions options;
   options.threads = args.threads;
   options.polygons = !args.areas_only;
+  options.plane_window = args.plane_window;
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::ShadowResult result;
   try {
@@ -99,6 +101,10 @@ int run_compute(const ComputeArgs& args) {
       std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
                   lit, area, area > 0 ? 100.0 * lit / area : 0.0);
     }
+    for (const shadow::PlaneShadow& ps : result.plane_shadows)
+      std::printf("  plane %-8s light %-12s shadow area %.6g%s\n", scene.planes[ps.plane_id].name.c_str(),
+                  scene.lights[ps.light_id].name.c_str(), ps.area,
+                  ps.reaches_window ? " (reaches the window's edge: the shadow is longer)" : "");
     std::printf("  computed in %.3f s, written in %.3f s\n", seconds(computed - start),
                 seconds(finished - computed));
     std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
@@ -125,6 +131,10 @@ int main(int argc, char** argv) {
   compute->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
   compute->add_flag("--areas-only", args.areas_only,
                     "Compute lit areas only, no polygons: fragments.vtp then has no cells");
+  compute->add_option("--plane-window", args.plane_window,
+                      "Half side of the square window on each plane in which plane shadows are computed "
+                      "(default: ten scene diagonals)")
+      ->check(CLI::NonNegativeNumber);
   compute->add_option("--planarity-tolerance", args.planarity_tolerance,
                       "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)

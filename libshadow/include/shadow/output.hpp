@@ -20,16 +20,19 @@ class OutputError : public std::runtime_error {
 };
 
 /// Writes every output file into `outdir` (created if missing):
-/// `fragments.vtp`, `faces.vtp`, `lights.vtp`, `report.json` and `scene.vtm` (ParaView
-/// multiblock of all of them). Files are written under temporary names and renamed into
-/// place only when all of them are complete, `report.json` last, so an interrupted run never
-/// leaves a directory that looks complete.
+/// `fragments.vtp`, `faces.vtp`, `plane_shadows.vtp`, `lights.vtp`, `report.json` and
+/// `scene.vtm` (ParaView multiblock of all of them). An existing `report.json` is removed
+/// first; files are written under temporary names and renamed into place only when all of them
+/// are complete, `report.json` last. So `report.json` is the sign of a complete set: an
+/// interrupted run never leaves a directory that looks complete.
 /// @returns the paths written, in the order they were put in place.
 /// @throws OutputError
 std::vector<std::filesystem::path> write_outputs(const std::filesystem::path& outdir,
                                                  const Scene& scene, const ShadowResult& result);
 
-/// The report (contract: faces[].lights[] with lit_area and lit_fraction, planes[]).
+/// The report: libshadow_version, scene, lights[], faces[] (id, mesh, area, lights[] with
+/// light, lit_area, shadow_area, lit_fraction, faces_light), planes[] (name, plane, light,
+/// shadow_area, reaches_window, ...), summary, stats, warnings.
 void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result);
 
 }  // namespace shadow

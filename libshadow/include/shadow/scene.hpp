@@ -53,6 +53,9 @@ struct Plane {
   std::string name;
   glm::dvec3 point{0.0};
   glm::dvec3 normal{0.0, 0.0, 1.0};
+  /// Half side of the square window, centred under the scene, in which this plane's shadows are
+  /// computed; 0 means ShadowOptions::plane_window.
+  double window = 0.0;
 };
 
 /// A whole scene. Face ids are indices into `faces`: meshes in order, faces in file order.

@@ -38,6 +38,12 @@ struct ShadowOptions {
   std::vector<std::size_t> lights;
   /// Called now and then from one thread at a time (never concurrently). May be empty.
   std::function<void(const Progress&)> progress;
+  /// compute_shadows() also computes the shadows on the scene's planes (Blinn projection).
+  bool planes = true;
+  /// Half the side of the square window, centred under the scene, in which plane shadows are
+  /// computed (a point light at the height of some geometry casts shadows without end).
+  /// 0 means ten times the diagonal of the scene's bounding box. A plane's own `window` wins.
+  double plane_window = 0.0;
 };
 
 /// One simple polygon of a face that is wholly lit or wholly shadowed by one light.
@@ -63,6 +69,23 @@ struct FaceLighting {
   bool faces_light = false;   ///< the face's front looks toward the light
 };
 
+/// The shadow that the scene casts on one of its planes from one light: the union of the
+/// Blinn projections of every face's part strictly between the plane and the light.
+struct PlaneShadow {
+  std::size_t plane_id = 0;
+  std::size_t light_id = 0;
+  /// Simple polygons on the plane, counter-clockwise seen from the side the plane's normal points
+  /// to; a region with holes is split into several cells that share a `region_id`.
+  std::vector<std::vector<glm::dvec3>> polygons;
+  std::vector<std::size_t> region_id;  ///< one per polygon
+  std::vector<double> polygon_area;    ///< one per polygon, exact, rounded once
+  double area = 0.0;                   ///< exact shadow area inside the window, rounded once
+  double window_half_size = 0.0;       ///< the window the shadow was computed in
+  /// Some shadow reaches the window's edge: the true shadow extends beyond it (and `area` is
+  /// that of its part inside the window).
+  bool reaches_window = false;
+};
+
 /// Counters that show how much work culling saved.
 struct ShadowStats {
   std::uint64_t receivers = 0;          ///< face-light pairs considered
@@ -78,16 +101,23 @@ struct ShadowResult {
   std::vector<FaceLighting> lighting;
   /// Lit and shadowed polygons, ordered by face_id, then light_id, then fragment_id.
   std::vector<Fragment> fragments;
+  /// Shadows on the scene's planes (compute_shadows with options.planes), by plane then light.
+  std::vector<PlaneShadow> plane_shadows;
   ShadowStats stats;
 
   /// The entry for (face, light), or nullptr when that pair was not computed.
   [[nodiscard]] const FaceLighting* find(std::size_t face_id, std::size_t light_id) const;
 };
 
-/// One call: validate-free computation of every selected light on every receiving face.
+/// One call: every selected light on every receiving face, and (options.planes) on every plane.
 /// The scene must have been validated (load_scene does it; see validate_scene).
 /// @throws InputError if a light or face is unusable (zero direction, NaN, ...).
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options = {});
+
+/// The exact shadows on the scene's planes for the selected lights (Blinn's projection: see
+/// blinn.hpp), ordered by plane then light. Independent of the per-face engine: the two are
+/// checked against each other in the tests.
+std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options = {});
 
 /// Reusable engine over one scene: exact face data (planes, charts, convex pieces, bounding
 /// boxes) is prepared once and reused for every light, e.g. many sun positions over a day.

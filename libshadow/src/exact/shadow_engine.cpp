@@ -600,7 +600,9 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
   const ShadowEngine engine(scene);
-  return engine.compute(options);
+  ShadowResult result = engine.compute(options);
+  if (options.planes) result.plane_shadows = compute_plane_shadows(scene, options);
+  return result;
 }
 
 }  // namespace shadow

@@ -139,7 +139,19 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
   }
   out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
 
-  member("planes", dump(Json::array(), 2));
+  Json planes = Json::array();
+  for (const PlaneShadow& shadow : result.plane_shadows) {
+    const Plane& plane = scene.planes.at(shadow.plane_id);
+    planes.push_back({{"name", plane.name},
+                      {"plane", shadow.plane_id},
+                      {"light", shadow.light_id},
+                      {"light_name", detail::light_display_name(scene, shadow.light_id)},
+                      {"shadow_area", shadow.area},
+                      {"polygons", shadow.polygons.size()},
+                      {"window_half_size", shadow.window_half_size},
+                      {"reaches_window", shadow.reaches_window}});
+  }
+  member("planes", dump(planes, 2));
 
   Json per_light_json = Json::array();
   for (const auto& [light_id, totals] : per_light) {

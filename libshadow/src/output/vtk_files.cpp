@@ -213,6 +213,37 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result)
   return poly;
 }
 
+vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& result) {
+  // One cell per polygon of every plane shadow, in plane then light order.
+  std::vector<std::pair<const PlaneShadow*, std::size_t>> cells;
+  for (const PlaneShadow& shadow : result.plane_shadows)
+    for (std::size_t c = 0; c < shadow.polygons.size(); ++c) cells.emplace_back(&shadow, c);
+  const std::size_t n = cells.size();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  fill_polygons(
+      poly, n, [&](std::size_t c) { return cells[c].first->polygons[cells[c].second].size(); },
+      [&](std::size_t c, std::size_t i) -> const glm::dvec3& { return cells[c].first->polygons[cells[c].second][i]; });
+  auto plane_id = make_array<vtkTypeInt32Array>("plane_id", n);
+  auto light_id = make_array<vtkTypeInt32Array>("light_id", n);
+  auto region_id = make_array<vtkTypeInt64Array>("region_id", n);
+  auto area = make_array<vtkDoubleArray>("area", n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const PlaneShadow& s = *cells[c].first;
+    const auto cell = static_cast<vtkIdType>(c);
+    plane_id->SetValue(cell, static_cast<vtkTypeInt32>(s.plane_id));
+    light_id->SetValue(cell, static_cast<vtkTypeInt32>(s.light_id));
+    region_id->SetValue(cell, static_cast<vtkTypeInt64>(s.region_id[cells[c].second]));
+    area->SetValue(cell, s.polygon_area[cells[c].second]);
+  }
+  vtkCellData* cd = poly->GetCellData();
+  cd->AddArray(plane_id);
+  cd->AddArray(light_id);
+  cd->AddArray(region_id);
+  cd->AddArray(area);
+  cd->SetActiveScalars("light_id");
+  return poly;
+}
+
 vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result) {
   const std::size_t n = scene.faces.size();
   auto poly = vtkSmartPointer<vtkPolyData>::New();

@@ -23,6 +23,10 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result)
 /// results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was computed).
 vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result);
 
+/// plane_shadows.vtp: one polygon cell per plane-shadow polygon; cell arrays plane_id, light_id,
+/// region_id, area.
+vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& result);
+
 /// One vertex per light; point arrays light_id, type, to_light, direction, name.
 vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
 

@@ -141,11 +141,17 @@ std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
                          fragments.final_path);
   const auto faces = staged.stage("faces.vtp");
   detail::write_polydata(detail::make_faces_polydata(scene, result), faces.temp, faces.final_path);
+  const auto plane_shadows = staged.stage("plane_shadows.vtp");
+  detail::write_polydata(detail::make_plane_shadows_polydata(result), plane_shadows.temp,
+                         plane_shadows.final_path);
   const auto lights = staged.stage("lights.vtp");
   detail::write_polydata(detail::make_lights_polydata(scene), lights.temp, lights.final_path);
   const auto vtm = staged.stage("scene.vtm");
   detail::write_vtm(
-      {{"faces", "faces.vtp"}, {"fragments", "fragments.vtp"}, {"lights", "lights.vtp"}},
+      {{"faces", "faces.vtp"},
+       {"fragments", "fragments.vtp"},
+       {"plane_shadows", "plane_shadows.vtp"},
+       {"lights", "lights.vtp"}},
       vtm.temp, vtm.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
   write_report_file(report.temp, report.final_path, scene, result);

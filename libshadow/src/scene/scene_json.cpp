@@ -511,7 +511,7 @@ class SceneReader {
       const std::string path = element("planes", i);
       const Json& p = planes[i];
       require_object(p, path, "a plane");
-      check_keys(p, path, {"name", "point", "normal"});
+      check_keys(p, path, {"name", "point", "normal", "window"});
       Plane plane;
       plane.name = get_name(p, path, "each plane needs a unique name");
       if (const auto [it, inserted] = seen.emplace(plane.name, i); !inserted)
@@ -520,6 +520,12 @@ class SceneReader {
       plane.point = get_vec3(require(p, path, "point", "a point on the plane"), member(path, "point"));
       plane.normal = get_vec3(require(p, path, "normal", "the plane's normal"), member(path, "normal"));
       if (plane.normal == glm::dvec3(0.0)) fail(member(path, "normal"), "normal has zero length");
+      if (const Json* window = find(p, "window")) {
+        plane.window = get_number(*window, member(path, "window"));
+        if (!(plane.window > 0))
+          fail(member(path, "window"), "window (half side of the square computed) must be > 0, got " +
+                                           format_number(plane.window));
+      }
       scene_.planes.push_back(std::move(plane));
     }
   }

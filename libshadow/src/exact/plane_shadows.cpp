@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Exact shadows on planes through Blinn's projection matrix.
+//
+// For a plane p = (n, c) and a light l, a point of the plane is in shadow when its segment to the
+// light meets a face strictly on the light's side of the plane. Every face is clipped to that
+// side (s = p.(x, 1) > 0 once p is turned toward the light) and to the prism or pyramid from the
+// light over a square window on the plane (a point light at the height of some geometry casts a
+// shadow without end), then mapped by the exact rational matrix M = (p.l) I - l p^T with the
+// homogeneous divide, and the images are united in one exact Boolean operation.
+//
+// This path shares no clipping or projection code with the per-face engine on purpose: a face
+// lying in a plane must come out of both with the same shadow, and the tests check that.
+#include "exact/exact_faces.hpp"
+#include "exact/parallel.hpp"
+
+#include <shadow/shadows.hpp>
+
+#include <CGAL/Polygon_triangulation_decomposition_2.h>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace shadow {
+namespace exact {
+namespace {
+
+using Q4 = std::array<mpq_class, 4>;  // homogeneous point or plane, exact
+using Q3 = std::array<mpq_class, 3>;
+
+mpq_class dot4(const Q4& a, const Q4& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]; }
+
+/// Value of the affine function (a, b) at a point: a.x + b.
+mpq_class affine(const Q4& f, const Q3& x) { return f[0] * x[0] + f[1] * x[1] + f[2] * x[2] + f[3]; }
+
+/// Sutherland-Hodgman clip of a convex polygon to f >= 0 (crossings only at strict sign
+/// changes, so no duplicate vertices). Returns whether anything was cut away.
+bool clip(std::vector<Q3>& poly, const Q4& f) {
+  const std::size_t n = poly.size();
+  if (n == 0) return false;
+  std::vector<mpq_class> value(n);
+  bool any_out = false, any_in = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    value[a] = affine(f, poly[a]);
+    any_out |= sgn(value[a]) < 0;
+    any_in |= sgn(value[a]) > 0;
+  }
+  if (!any_out) return false;
+  std::vector<Q3> out;
+  if (any_in) {
+    for (std::size_t a = 0; a < n; ++a) {
+      const std::size_t b = (a + 1) % n;
+      const int sa = sgn(value[a]), sb = sgn(value[b]);
+      if (sa >= 0) out.push_back(poly[a]);
+      if (sa * sb < 0) {
+        const mpq_class t = value[a] / (value[a] - value[b]);
+        Q3 x;
+        for (int c = 0; c < 3; ++c) x[c] = poly[a][c] + t * (poly[b][c] - poly[a][c]);
+        out.push_back(x);
+      }
+    }
+  }
+  poly.swap(out);
+  return true;
+}
+
+/// Cells of a polygon with holes (triangulated where there are holes) and its exact area.
+FT region_cells(const PolygonWithHoles2& region, std::vector<Polygon2>& cells) {
+  FT area = region.outer_boundary().area();
+  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) area -= CGAL::abs(h->area());
+  if (region.number_of_holes() == 0) {
+    cells.push_back(region.outer_boundary());
+  } else {
+    CGAL::Polygon_triangulation_decomposition_2<Kernel> triangulate;
+    triangulate(region, std::back_inserter(cells));
+  }
+  return area;
+}
+
+struct SceneFrame {
+  glm::dvec3 centre{0.0};
+  double diagonal = 1.0;
+};
+
+SceneFrame scene_frame(const Scene& scene) {
+  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+  for (const Face& f : scene.faces)
+    for (const glm::dvec3& v : f.vertices) {
+      lo = glm::min(lo, v);
+      hi = glm::max(hi, v);
+    }
+  if (scene.faces.empty()) return {};
+  return {0.5 * (lo + hi), std::max(glm::length(hi - lo), 1e-300)};
+}
+
+/// One plane and one light.
+PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, std::size_t plane_id,
+                         std::size_t light_id, const SceneFrame& frame, double window) {
+  PlaneShadow out;
+  out.plane_id = plane_id;
+  out.light_id = light_id;
+  out.window_half_size = window;
+  const Plane& plane = scene.planes[plane_id];
+  const Light& light = scene.lights[light_id];
+
+  const Q3 n{mpq_class(plane.normal.x), mpq_class(plane.normal.y), mpq_class(plane.normal.z)};
+  const mpq_class c = -(n[0] * plane.point.x + n[1] * plane.point.y + n[2] * plane.point.z);
+  Q4 p{n[0], n[1], n[2], c};
+  const bool point = light.type == LightType::Point;
+  const glm::dvec3 lv = point ? light.position : light.to_light;
+  const Q4 l{mpq_class(lv.x), mpq_class(lv.y), mpq_class(lv.z), mpq_class(point ? 1 : 0)};
+  mpq_class pl = dot4(p, l);
+  if (sgn(pl) == 0) return out;  // the light lies in the plane (or shines along it): no shadow
+  if (sgn(pl) < 0) {             // receive on the light's side
+    for (mpq_class& x : p) x = -x;
+    pl = -pl;
+  }
+  // Blinn's matrix, rows: M[r] . x = pl x_r - l_r (p . x).
+  std::array<Q4, 4> M;
+  for (int r = 0; r < 4; ++r)
+    for (int col = 0; col < 4; ++col) M[r][col] = (r == col ? pl : mpq_class(0)) - l[r] * p[col];
+
+  // The plane's chart and the window in it.
+  const glm::dvec3 an = glm::abs(plane.normal);
+  const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+  const int i = chart_i(k), j = chart_j(k);
+  const double lo[2] = {frame.centre[i] - window, frame.centre[j] - window};
+  const double hi[2] = {frame.centre[i] + window, frame.centre[j] + window};
+  // Prism or pyramid from the light over the window: for a bound x_c >= m the plane through the
+  // bound's line on the receiving plane and the light is pl (x_c - m) - (l_c - m l_w) s(x) = 0.
+  std::vector<Q4> sides;
+  const int axes[2] = {i, j};
+  for (int a = 0; a < 2; ++a)
+    for (int upper = 0; upper < 2; ++upper) {
+      const mpq_class m(upper ? hi[a] : lo[a]);
+      const mpq_class coef = l[axes[a]] - m * l[3];
+      Q4 f;
+      for (int col = 0; col < 4; ++col) f[col] = -coef * p[col];
+      f[axes[a]] += pl;
+      f[3] -= pl * m;
+      if (upper)
+        for (mpq_class& x : f) x = -x;
+      sides.push_back(f);
+    }
+
+  std::vector<Polygon2> images;
+  std::vector<Q3> poly;
+  for (std::size_t q = 0; q < scene.faces.size(); ++q) {
+    const FacePrep& qp = prep[q];
+    if (qp.degenerate) continue;
+    const Face& face = scene.faces[q];
+    std::vector<Q3> vertex(face.vertices.size());
+    if (qp.exactly_planar) {
+      for (std::size_t v = 0; v < face.vertices.size(); ++v)
+        vertex[v] = {mpq_class(face.vertices[v].x), mpq_class(face.vertices[v].y), mpq_class(face.vertices[v].z)};
+    } else {  // lifted onto its exact plane, as the per-face engine does
+      const ExactFace ef = make_exact_face(face.vertices, qp);
+      for (std::size_t v = 0; v < ef.vertices.size(); ++v)
+        for (int a = 0; a < 3; ++a) vertex[v][a] = CGAL::exact(ef.vertices[v][a]);
+    }
+    for (const std::vector<int>& piece : qp.convex_pieces) {
+      poly.clear();
+      for (int v : piece) poly.push_back(vertex[v]);
+      // Strictly on the light's side of the plane: the closure of s > 0 when s > 0 somewhere.
+      if (std::none_of(poly.begin(), poly.end(), [&](const Q3& x) { return sgn(affine(p, x)) > 0; })) continue;
+      clip(poly, p);
+      for (const Q4& side : sides) out.reaches_window |= clip(poly, side);  // cut: shadow beyond
+      if (poly.size() < 3) continue;
+      Polygon2 image;
+      for (const Q3& x : poly) {
+        const Q4 h{x[0], x[1], x[2], mpq_class(1)};
+        const mpq_class w = dot4(M[3], h);
+        image.push_back(Point2(FT(mpq_class(dot4(M[i], h) / w)), FT(mpq_class(dot4(M[j], h) / w))));
+      }
+      const CGAL::Sign orientation = CGAL::sign(image.area());
+      if (orientation == CGAL::ZERO) continue;  // edge-on to the light
+      if (orientation == CGAL::NEGATIVE) image.reverse_orientation();
+      images.push_back(std::move(image));
+    }
+  }
+  if (images.empty()) return out;
+
+  PolygonSet2 shadow;
+  shadow.join(images.begin(), images.end());
+  std::vector<PolygonWithHoles2> regions;
+  shadow.polygons_with_holes(std::back_inserter(regions));
+
+  // Back to 3D on the plane (as given, not turned): x_k = -(c + n_i x_i + n_j x_j) / n_k.
+  const FT nk(n[k]), ni(n[i]), nj(n[j]), cc(c);
+  const FT scale_squared = FT(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) / (nk * nk);
+  const bool flipped = plane.normal[k] < 0;  // the chart sees the plane clockwise
+  FT total = 0;
+  std::vector<Polygon2> cells;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    cells.clear();
+    total += region_cells(regions[r], cells);
+    for (const Polygon2& cell : cells) {
+      std::vector<glm::dvec3> polygon;
+      for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+        glm::dvec3 x;
+        x[i] = CGAL::to_double(v->x());
+        x[j] = CGAL::to_double(v->y());
+        x[k] = CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
+        polygon.push_back(x);
+      }
+      if (flipped == CGAL::is_positive(cell.area())) std::reverse(polygon.begin(), polygon.end());
+      out.polygons.push_back(std::move(polygon));
+      out.region_id.push_back(r);
+      out.polygon_area.push_back(area_3d(CGAL::abs(cell.area()), scale_squared));
+    }
+  }
+  out.area = area_3d(total, scale_squared);
+  return out;
+}
+
+}  // namespace
+}  // namespace exact
+
+std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+  std::vector<std::size_t> light_ids = options.lights;
+  if (light_ids.empty())
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) light_ids.push_back(l);
+  std::sort(light_ids.begin(), light_ids.end());
+  light_ids.erase(std::unique(light_ids.begin(), light_ids.end()), light_ids.end());
+  for (std::size_t l : light_ids)
+    if (l >= scene.lights.size()) throw std::out_of_range("ShadowOptions::lights: no light " + std::to_string(l));
+  if (scene.planes.empty() || light_ids.empty()) return {};
+
+  std::vector<exact::FacePrep> prep(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {
+      prep[f].degenerate = true;
+      continue;
+    }
+    prep[f] = exact::prepare_face(scene.faces[f].vertices);
+  }
+  const exact::SceneFrame frame = exact::scene_frame(scene);
+  const double window = options.plane_window > 0 ? options.plane_window : 10.0 * frame.diagonal;
+  std::vector<PlaneShadow> shadows(scene.planes.size() * light_ids.size());
+  exact::parallel_for(shadows.size(), exact::resolve_threads(options.threads), [&](unsigned, std::size_t item) {
+    const std::size_t plane_id = item / light_ids.size();
+    const double own = scene.planes[plane_id].window;
+    shadows[item] = exact::plane_shadow(scene, prep, plane_id, light_ids[item % light_ids.size()], frame,
+                                        own > 0 ? own : window);
+  });
+  return shadows;
+}
+
+}  // namespace shadow
