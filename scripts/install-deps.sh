@@ -14,8 +14,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev
   libjemalloc-dev
 )
+# Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
+# (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
 if [[ "${LIBSHADOW_WITH_EXTRAS:-0}" == 1 ]]; then
-  packages+=(libbenchmark-dev python3-matplotlib python3-vtk9)
+  packages+=(python3-matplotlib python3-vtk9 xvfb xauth)
 fi
 
 missing=()
