@@ -109,6 +109,8 @@ int run_compute(const ComputeArgs& args) {
                 seconds(finished - computed));
     std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
     for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());
+    std::printf("  open %s in ParaView (or run tools/paraview/open_result.py; docs/paraview.md)\n",
+                (fs::absolute(args.outdir).lexically_normal() / "scene.vtm").c_str());
   }
   return kOk;
 }

@@ -1,0 +1,103 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Checks a `shadow compute` output directory from the outside, with VTK's own Python readers:
+every file opens, points are Float64, scene.vtm has its named blocks, and the fragments and
+plane shadows add up to what report.json says.
+
+    /usr/bin/python3 tools/check_result.py OUTDIR      # prints "check_result: ok" or the problems
+"""
+import json
+import math
+import os
+import sys
+from collections import defaultdict
+
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+
+def read_vtp(path):
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    if reader.GetErrorCode() != 0:
+        raise RuntimeError(f"{path}: VTK cannot read it")
+    return reader.GetOutput()
+
+
+def main(outdir):
+    problems = []
+
+    def check(condition, message):
+        if not condition:
+            problems.append(message)
+
+    with open(os.path.join(outdir, "report.json")) as f:
+        report = json.load(f)
+
+    datasets = {}
+    for name in ("fragments", "faces", "plane_shadows", "lights"):
+        data = read_vtp(os.path.join(outdir, name + ".vtp"))
+        datasets[name] = data
+        if data.GetNumberOfPoints() > 0:
+            check(data.GetPoints().GetDataType() == vtk.VTK_DOUBLE, f"{name}.vtp: points are not Float64")
+
+    reader = vtk.vtkXMLMultiBlockDataReader()
+    reader.SetFileName(os.path.join(outdir, "scene.vtm"))
+    reader.Update()
+    blocks = reader.GetOutput()
+    names = [blocks.GetMetaData(b).Get(vtk.vtkCompositeDataSet.NAME()) for b in range(blocks.GetNumberOfBlocks())]
+    check(names == ["faces", "fragments", "plane_shadows", "lights"], f"scene.vtm blocks are {names}")
+
+    # Fragments against the report: per face and light, cells add up to the face's area and the
+    # lit cells to its lit area.
+    fragments = datasets["fragments"]
+    cells = fragments.GetCellData()
+    face_id = vtk_to_numpy(cells.GetArray("face_id"))
+    light_id = vtk_to_numpy(cells.GetArray("light_id"))
+    lit = vtk_to_numpy(cells.GetArray("lit"))
+    area = vtk_to_numpy(cells.GetArray("area"))
+    total = defaultdict(float)
+    lit_total = defaultdict(float)
+    for f, l, is_lit, a in zip(face_id, light_id, lit, area):
+        total[(int(f), int(l))] += a
+        if is_lit:
+            lit_total[(int(f), int(l))] += a
+    entries = 0
+    for face in report["faces"]:
+        for entry in face["lights"]:
+            key = (face["id"], entry["light"])
+            entries += 1
+            tolerance = 1e-12 * max(1.0, face["area"])
+            check(math.isclose(total[key], face["area"], abs_tol=tolerance),
+                  f"face {key}: fragments add up to {total[key]!r}, report says area {face['area']!r}")
+            check(math.isclose(lit_total[key], entry["lit_area"], abs_tol=tolerance),
+                  f"face {key}: lit fragments add up to {lit_total[key]!r}, report says {entry['lit_area']!r}")
+    check(entries > 0, "report.json has no face entries")
+
+    # Plane shadows against the report.
+    plane = datasets["plane_shadows"].GetCellData()
+    if datasets["plane_shadows"].GetNumberOfCells() > 0:
+        by_pair = defaultdict(float)
+        for p, l, a in zip(vtk_to_numpy(plane.GetArray("plane_id")), vtk_to_numpy(plane.GetArray("light_id")),
+                           vtk_to_numpy(plane.GetArray("area"))):
+            by_pair[(int(p), int(l))] += a
+        for entry in report["planes"]:
+            key = (entry["plane"], entry["light"])
+            check(math.isclose(by_pair[key], entry["shadow_area"], rel_tol=1e-12, abs_tol=1e-12),
+                  f"plane shadow {key}: cells add up to {by_pair[key]!r}, report says {entry['shadow_area']!r}")
+
+    check(datasets["lights"].GetNumberOfPoints() == len(report["lights"]), "lights.vtp: one point per light")
+
+    if problems:
+        for p in problems[:20]:
+            print("check_result:", p)
+        print(f"check_result: failed ({len(problems)} problems)")
+        return 1
+    print(f"check_result: ok ({fragments.GetNumberOfCells()} fragments, {entries} face-light entries, "
+          f"{len(report['planes'])} plane shadows)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1]))
