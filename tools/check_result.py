@@ -13,7 +13,12 @@ import sys
 from collections import defaultdict
 
 import vtk
-from vtk.util.numpy_support import vtk_to_numpy
+
+
+def values(array):
+    """The values of a one-component VTK array as a list (no numpy: python3-vtk9 does not
+    bring it)."""
+    return [array.GetValue(i) for i in range(array.GetNumberOfTuples())]
 
 
 def read_vtp(path):
@@ -53,10 +58,10 @@ def main(outdir):
     # lit cells to its lit area.
     fragments = datasets["fragments"]
     cells = fragments.GetCellData()
-    face_id = vtk_to_numpy(cells.GetArray("face_id"))
-    light_id = vtk_to_numpy(cells.GetArray("light_id"))
-    lit = vtk_to_numpy(cells.GetArray("lit"))
-    area = vtk_to_numpy(cells.GetArray("area"))
+    face_id = values(cells.GetArray("face_id"))
+    light_id = values(cells.GetArray("light_id"))
+    lit = values(cells.GetArray("lit"))
+    area = values(cells.GetArray("area"))
     total = defaultdict(float)
     lit_total = defaultdict(float)
     for f, l, is_lit, a in zip(face_id, light_id, lit, area):
@@ -79,8 +84,8 @@ def main(outdir):
     plane = datasets["plane_shadows"].GetCellData()
     if datasets["plane_shadows"].GetNumberOfCells() > 0:
         by_pair = defaultdict(float)
-        for p, l, a in zip(vtk_to_numpy(plane.GetArray("plane_id")), vtk_to_numpy(plane.GetArray("light_id")),
-                           vtk_to_numpy(plane.GetArray("area"))):
+        for p, l, a in zip(values(plane.GetArray("plane_id")), values(plane.GetArray("light_id")),
+                           values(plane.GetArray("area"))):
             by_pair[(int(p), int(l))] += a
         for entry in report["planes"]:
             key = (entry["plane"], entry["light"])
