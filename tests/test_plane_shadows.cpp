@@ -135,6 +135,34 @@ TEST(PlaneShadows, GeometryRisingAboveThePointLightCastsAShadowWithoutEnd) {
     for (const glm::dvec3& v : polygon) EXPECT_GE(v.x, 4.0 / 3.0 - 1e-12);  // starts where the wall's foot projects
 }
 
+TEST(PlaneShadows, ALampOnAFacesEdgeOrInsideItDoesNotBreakThePlaneShadow) {
+  // The face's plane contains the lamp: it is edge-on and casts nothing (its projection would
+  // divide by zero at the lamp).
+  Scene scene;
+  add_mesh(scene, "square", {rectangle_z(0, 0, 1, 1, 1)});
+  add_mesh(scene, "wall", {{{-1, -1, 0.5}, {-1, 1, 0.5}, {-1, 1, 2}, {-1, -1, 2}}});  // lamp on its top edge
+  add_mesh(scene, "panel", {{{-2, 2, 1.5}, {2, 2, 2.5}, {2, 3, 2.5}, {-2, 3, 1.5}}});   // lamp in its plane
+  scene.lights.push_back(point_light("lamp", {-1, 0, 2}));
+  scene.planes.push_back(ground_plane());
+  validate_scene(scene);
+  ShadowOptions options;
+  options.plane_window = 50;
+  const std::vector<PlaneShadow> s = compute_plane_shadows(scene, options);
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_GT(s[0].area, 0.0);
+}
+
+TEST(PlaneShadows, GeometryWhollyAboveALampCastsNothingAndIsNotReportedAsCut) {
+  Scene scene;
+  add_mesh(scene, "ceiling", {rectangle_z(-5, -5, 5, 5, 3, false)});
+  scene.lights.push_back(point_light("lamp", {0, 0, 2}));
+  scene.planes.push_back(ground_plane());
+  validate_scene(scene);
+  const std::vector<PlaneShadow> s = compute_plane_shadows(scene);
+  EXPECT_EQ(s[0].area, 0.0);
+  EXPECT_FALSE(s[0].reaches_window);
+}
+
 TEST(PlaneShadows, FacesLyingInThePlaneCastNothing) {
   Scene scene;
   add_mesh(scene, "floor", {rectangle_z(-1, -1, 1, 1, 0)});

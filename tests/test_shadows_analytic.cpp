@@ -150,6 +150,23 @@ TEST(AnalyticShadows, NonConvexCasterOnNonConvexReceiver) {
   EXPECT_EQ(r.find(1, 0)->area, 3.0);
 }
 
+TEST(AnalyticShadows, AShadowTouchingTheReceiversEdgeAtOnePointLeavesSimpleLitCells) {
+  // The lit part is the square minus a triangle whose apex touches the square's edge: CGAL
+  // returns it as one boundary that visits the apex twice; the output must be simple cells.
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(0, 0, 2, 2, 0)});
+  add_mesh(scene, "sail", {{{0, 1, 1}, {1, 0.5, 1}, {1, 1.5, 1}}});
+  scene.lights.push_back(directional_light("sun", {0, 0, 1}));
+  const ShadowResult r = compute(scene);
+  EXPECT_EQ(r.find(0, 0)->lit_area, 3.5);
+  for (const Fragment& f : r.fragments) {
+    for (std::size_t a = 0; a < f.polygon.size(); ++a)
+      for (std::size_t b = a + 1; b < f.polygon.size(); ++b)
+        EXPECT_NE(f.polygon[a], f.polygon[b]) << "fragment of face " << f.face_id << " repeats a vertex";
+  }
+  EXPECT_NEAR(fragment_area_sum(r, 0, 0, 1), 3.5, 1e-15);
+}
+
 TEST(AnalyticShadows, FragmentsOfEveryFaceAddUpToTheFace) {
   Scene scene;
   add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});

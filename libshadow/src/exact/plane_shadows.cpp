@@ -12,10 +12,10 @@
 // lying in a plane must come out of both with the same shadow, and the tests check that.
 #include "exact/exact_faces.hpp"
 #include "exact/parallel.hpp"
+#include "exact/regions.hpp"
 
 #include <shadow/shadows.hpp>
 
-#include <CGAL/Polygon_triangulation_decomposition_2.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -70,19 +70,6 @@ bool clip(std::vector<Q3>& poly, const Q4& f) {
   }
   poly.swap(out);
   return true;
-}
-
-/// Cells of a polygon with holes (triangulated where there are holes) and its exact area.
-FT region_cells(const PolygonWithHoles2& region, std::vector<Polygon2>& cells) {
-  FT area = region.outer_boundary().area();
-  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) area -= CGAL::abs(h->area());
-  if (region.number_of_holes() == 0) {
-    cells.push_back(region.outer_boundary());
-  } else {
-    CGAL::Polygon_triangulation_decomposition_2<Kernel> triangulate;
-    triangulate(region, std::back_inserter(cells));
-  }
-  return area;
 }
 
 struct SceneFrame {
@@ -151,6 +138,10 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
       sides.push_back(f);
     }
 
+  // The light's level: p.l - p.x >= 0 (point lights).
+  Q4 level;
+  for (int col = 0; col < 4; ++col) level[col] = -p[col];
+  level[3] += pl;
   std::vector<Polygon2> images;
   std::vector<Q3> poly;
   for (std::size_t q = 0; q < scene.faces.size(); ++q) {
@@ -172,14 +163,29 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
       // Strictly on the light's side of the plane: the closure of s > 0 when s > 0 somewhere.
       if (std::none_of(poly.begin(), poly.end(), [&](const Q3& x) { return sgn(affine(p, x)) > 0; })) continue;
       clip(poly, p);
-      for (const Q4& side : sides) out.reaches_window |= clip(poly, side);  // cut: shadow beyond
-      if (poly.size() < 3) continue;
+      // Nothing at or beyond a point light's level casts (it lies outside the pyramid anyway):
+      // cut it first so that only what really projects outside the window counts as cut by it.
+      if (point) clip(poly, level);
+      bool cut_by_window = false;
+      for (const Q4& side : sides) cut_by_window |= clip(poly, side);
+      if (poly.size() < 3) {
+        out.reaches_window |= cut_by_window;
+        continue;
+      }
       Polygon2 image;
+      bool touches_light = false;
       for (const Q3& x : poly) {
         const Q4 h{x[0], x[1], x[2], mpq_class(1)};
         const mpq_class w = dot4(M[3], h);
+        // w = 0 only at the lamp itself: this face's plane contains the light, it is edge-on.
+        if (sgn(w) == 0) {
+          touches_light = true;
+          break;
+        }
         image.push_back(Point2(FT(mpq_class(dot4(M[i], h) / w)), FT(mpq_class(dot4(M[j], h) / w))));
       }
+      if (touches_light) continue;
+      out.reaches_window |= cut_by_window;
       const CGAL::Sign orientation = CGAL::sign(image.area());
       if (orientation == CGAL::ZERO) continue;  // edge-on to the light
       if (orientation == CGAL::NEGATIVE) image.reverse_orientation();
@@ -201,7 +207,8 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
   std::vector<Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
     cells.clear();
-    total += region_cells(regions[r], cells);
+    total += region_area(regions[r]);
+    append_simple_cells(regions[r], cells);
     for (const Polygon2& cell : cells) {
       std::vector<glm::dvec3> polygon;
       for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {

@@ -19,11 +19,11 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/leaf_projector.hpp"
 #include "exact/parallel.hpp"
+#include "exact/regions.hpp"
 
 #include <shadow/shadows.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_triangulation_decomposition_2.h>
 #include <CGAL/convex_hull_2.h>
 
 #include <glm/geometric.hpp>
@@ -50,27 +50,6 @@ const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id
   return &*it;
 }
 
-namespace exact {
-namespace {
-
-/// Splits a polygon with holes into simple polygons (triangles where there are holes).
-void append_simple_cells(const PolygonWithHoles2& region, std::vector<Polygon2>& cells) {
-  if (region.number_of_holes() == 0) {
-    cells.push_back(region.outer_boundary());
-    return;
-  }
-  CGAL::Polygon_triangulation_decomposition_2<Kernel> triangulate;
-  triangulate(region, std::back_inserter(cells));
-}
-
-FT region_area(const PolygonWithHoles2& region) {
-  FT area = region.outer_boundary().area();
-  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) area -= CGAL::abs(h->area());
-  return area;
-}
-
-}  // namespace
-}  // namespace exact
 
 // =============================================================================================
 
