@@ -163,6 +163,12 @@ TEST(PlaneShadows, GeometryWhollyAboveALampCastsNothingAndIsNotReportedAsCut) {
   EXPECT_FALSE(s[0].reaches_window);
 }
 
+TEST(PlaneShadows, AWindowTooLargeToRepresentIsAnInputErrorNotACrash) {
+  Scene scene = square_above_ground(point_light("lamp", {0.5, 0.5, 3}));
+  scene.planes[0].window = 1.7e308;
+  EXPECT_THROW(compute_plane_shadows(scene), InputError);
+}
+
 TEST(PlaneShadows, FacesLyingInThePlaneCastNothing) {
   Scene scene;
   add_mesh(scene, "floor", {rectangle_z(-1, -1, 1, 1, 0)});

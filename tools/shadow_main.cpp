@@ -17,7 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Exit codes: 0 success, 1 usage error (CLI11), 2 bad input, 3 output failure, 4 internal error.
+/// Exit codes: 0 success, 2 bad input, 3 output failure, 4 internal error; usage errors exit
+/// with CLI11's own non-zero codes (e.g. 105-109).
 enum ExitCode { kOk = 0, kBadInput = 2, kOutputFailed = 3, kInternal = 4 };
 
 struct ComputeArgs {
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
   compute->add_option("--plane-window", args.plane_window,
                       "Half side of the square window on each plane in which plane shadows are computed "
                       "(default: ten scene diagonals)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber & CLI::Range(0.0, 1e300));
   compute->add_option("--planarity-tolerance", args.planarity_tolerance,
                       "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)

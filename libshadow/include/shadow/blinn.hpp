@@ -11,9 +11,12 @@
 ///   (p . M x = 0) on the line through X and the light. Divide by its w (homogeneous divide) to
 ///   get the shadow point: S = ((p.l) X - (p.x) L) / ((p.l) - (p.x)) for a point light and
 ///   S = X - ((p.x) / (p.l)) d for a directional one.
-/// - The sign of M is irrelevant (homogeneous); w = (p.l) - (p.x) l_w is positive exactly for
-///   points strictly between the plane's front and a point light, the only ones that cast a
-///   shadow. Points behind the plane or beyond the light give w <= 0 or a point behind the light.
+/// - The sign of M is irrelevant (homogeneous). For a point light w = (p.l) - (p.x) is positive
+///   for every point below the light's level (p.x < p.l, with p turned so that p.l > 0), behind
+///   the plane too, and zero on the plane through the light parallel to the receiving plane.
+///   The matrix does not decide what casts: only points strictly between the plane's front and
+///   the light do (0 < p.x < p.l), and callers must clip to that slab first (compute_plane_shadows
+///   does); a point behind the plane maps to a point on the far side of its foot.
 ///
 /// For the plane z = 0 and a directional light (x_l, y_l, z_l), M is z_l times Blinn's
 /// matrix [1 0 -x_l/z_l 0; 0 1 -y_l/z_l 0; 0 0 0 0; 0 0 0 1]; for a point light at

@@ -123,8 +123,9 @@ std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowO
 /// boxes) is prepared once and reused for every light, e.g. many sun positions over a day.
 class ShadowEngine {
  public:
-  /// Prepares the scene. The scene must outlive the engine and stay unchanged.
-  explicit ShadowEngine(const Scene& scene);
+  /// Prepares the scene on `threads` threads (0: every hardware thread). The scene must
+  /// outlive the engine and stay unchanged.
+  explicit ShadowEngine(const Scene& scene, unsigned threads = 0);
   ~ShadowEngine();
   ShadowEngine(ShadowEngine&&) noexcept;
   ShadowEngine& operator=(ShadowEngine&&) noexcept;

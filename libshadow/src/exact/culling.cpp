@@ -21,19 +21,29 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep)
     CullFace& cf = cull.faces[f];
     cf.first = cull.vertices.size();
     cf.count = scene.faces[f].vertices.size();
+    const std::vector<glm::dvec3>& vertices = scene.faces[f].vertices;
+    for (const glm::dvec3& v : vertices) cull.vertices.push_back(v - cull.origin);
+    // Newell's normal relative to the face's own first vertex: relative to the scene's centre a
+    // small face far from it would lose its normal's direction to cancellation.
     glm::dvec3 n(0.0);
     for (std::size_t a = 0; a < cf.count; ++a) {
-      const glm::dvec3 u = scene.faces[f].vertices[a] - cull.origin;
-      const glm::dvec3 v = scene.faces[f].vertices[(a + 1) % cf.count] - cull.origin;
-      cull.vertices.push_back(u);
+      const glm::dvec3 u = vertices[a] - vertices[0];
+      const glm::dvec3 v = vertices[(a + 1) % cf.count] - vertices[0];
       n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
     }
     const double len = glm::length(n);
-    if (prep[f].degenerate || !(len > 0)) continue;
+    if (prep[f].degenerate || !(len > 0) || !std::isfinite(len)) continue;
     cf.normal = n / len;
     glm::dvec3 centroid(0.0);
     for (std::size_t a = 0; a < cf.count; ++a) centroid += cull.vertices[cf.first + a];
     cf.offset = -glm::dot(cf.normal, centroid / static_cast<double>(cf.count));
+    if (!prep[f].exactly_planar) {
+      // The lift moves a vertex along the chart axis k by its distance to the plane / |n_k|.
+      double furthest = 0.0;
+      for (std::size_t a = 0; a < cf.count; ++a)
+        furthest = std::max(furthest, std::abs(glm::dot(cf.normal, cull.vertices[cf.first + a]) + cf.offset));
+      cf.slack = 2.0 * furthest / std::abs(cf.normal[prep[f].axis]) + 1e-12 * cull.diameter;
+    }
   }
   return cull;
 }

@@ -25,6 +25,9 @@ struct CullFace {
   std::size_t first = 0, count = 0;  ///< range in CullScene::vertices
   glm::dvec3 normal{0.0};            ///< unit normal (front side)
   double offset = 0.0;               ///< plane: normal . p + offset = 0 (local frame)
+  /// How far the exact engine may move a vertex of this face: faces that are planar only within
+  /// tolerance are lifted onto their exact plane; culling must allow for it. 0 if exactly planar.
+  double slack = 0.0;
 };
 
 struct CullScene {
@@ -117,7 +120,7 @@ class LightSpaceGrid {
       const double u = glm::dot(u_, scene.vertices[k]), v = glm::dot(v_, scene.vertices[k]);
       b = {std::min(b[0], u), std::min(b[1], v), std::max(b[2], u), std::max(b[3], v)};
     }
-    return b;
+    return {b[0] - face.slack, b[1] - face.slack, b[2] + face.slack, b[3] + face.slack};
   }
   template <class Visit>
   void for_cells(const Box& b, Visit&& visit) const {

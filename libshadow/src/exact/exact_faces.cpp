@@ -97,10 +97,15 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
   // The dominant axis only needs to be a good chart direction, not exact: its component is at
   // least |n| / sqrt(3), far above rounding error for any face validation accepts.
   const glm::dvec3 an = glm::abs(newell);
-  const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
-  if (!(an[k] > 0)) {
-    prep.degenerate = true;
-    return prep;
+  int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+  if (!(an[k] > 0) || !std::isfinite(an[k])) {
+    // Under- or overflow (coordinates beyond 1e+-150): decide exactly.
+    const Vector3 exact_normal = exact_newell_normal(exact_points(vertices));
+    if (exact_normal == CGAL::NULL_VECTOR) {
+      prep.degenerate = true;
+      return prep;
+    }
+    k = dominant_axis(exact_normal);
   }
   prep.axis = k;
   const int i = chart_i(k), j = chart_j(k);

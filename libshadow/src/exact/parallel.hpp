@@ -57,26 +57,51 @@ inline void parallel_for(std::size_t count, unsigned threads,
     run(0);
   } else {
     std::vector<std::thread> pool;
-    running = threads;
-    for (unsigned w = 0; w < threads; ++w) {
-      pool.emplace_back([&, w] {
-        run(w);
-        std::lock_guard<std::mutex> lock(mutex);
-        if (--running == 0) finished.notify_all();
-      });
-    }
+    auto record = [&](std::exception_ptr e) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!error) error = e;
+      failed = true;
+    };
     {
+      std::lock_guard<std::mutex> lock(mutex);
+      running = 0;
+    }
+    try {
+      for (unsigned w = 0; w < threads; ++w) {
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          ++running;
+        }
+        try {
+          pool.emplace_back([&, w] {
+            run(w);
+            std::lock_guard<std::mutex> lock(mutex);
+            if (--running == 0) finished.notify_all();
+          });
+        } catch (...) {  // no more threads to be had: the ones running finish the work
+          std::lock_guard<std::mutex> lock(mutex);
+          --running;
+          if (pool.empty()) throw;
+          break;
+        }
+      }
       std::unique_lock<std::mutex> lock(mutex);
       while (running != 0) {
         finished.wait_for(lock, std::chrono::milliseconds(100));
         if (progress && running != 0) {
           lock.unlock();
-          progress(done.load());
+          try {
+            progress(done.load());
+          } catch (...) {
+            record(std::current_exception());
+          }
           lock.lock();
         }
       }
+    } catch (...) {
+      record(std::current_exception());
     }
-    for (std::thread& t : pool) t.join();
+    for (std::thread& t : pool) t.join();  // never leave a joinable thread behind
   }
   if (error) std::rethrow_exception(error);
   if (progress) progress(done.load());

@@ -251,6 +251,14 @@ std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowO
   }
   const exact::SceneFrame frame = exact::scene_frame(scene);
   const double window = options.plane_window > 0 ? options.plane_window : 10.0 * frame.diagonal;
+  for (std::size_t plane_id = 0; plane_id < scene.planes.size(); ++plane_id) {
+    const double own = scene.planes[plane_id].window > 0 ? scene.planes[plane_id].window : window;
+    // The window's corners must be finite numbers to become exact rationals.
+    const glm::dvec3 lo = frame.centre - own, hi = frame.centre + own;
+    if (!std::isfinite(own) || !std::isfinite(lo.x + lo.y + lo.z) || !std::isfinite(hi.x + hi.y + hi.z))
+      throw InputError({"", "planes[" + std::to_string(plane_id) + "].window"},
+                       "the plane-shadow window is too large to represent (" + std::to_string(own) + ")");
+  }
   std::vector<PlaneShadow> shadows(scene.planes.size() * light_ids.size());
   exact::parallel_for(shadows.size(), exact::resolve_threads(options.threads), [&](unsigned, std::size_t item) {
     const std::size_t plane_id = item / light_ids.size();

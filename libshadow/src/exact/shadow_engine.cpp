@@ -105,13 +105,12 @@ struct ShadowEngine::Impl {
 };
 
 
-ShadowEngine::ShadowEngine(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::make_unique<Impl>()) {
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
   impl_->prep.resize(n);
   impl_->face_area.assign(n, 0.0);
-  const unsigned threads = exact::resolve_threads(0);
-  exact::parallel_for(n, threads, [&](unsigned, std::size_t f) {
+  exact::parallel_for(n, exact::resolve_threads(threads), [&](unsigned, std::size_t f) {
     const Face& face = scene.faces[f];
     exact::FacePrep& prep = impl_->prep[f];
     if (face.degenerate || face.vertices.size() < 3) {
@@ -227,7 +226,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         const double m = (upper ? fp.chart_max[c] : fp.chart_min[c]) - cull.origin[ax];
         const double coef = lxyz[ax] - m * lw;
         DoubleAffine f{light_side * e - coef * cp.normal, -light_side * m - coef * cp.offset,
-                       1e-9 * (std::abs(light_side) + std::abs(coef)) * scale};
+                       1e-9 * (std::abs(light_side) + std::abs(coef)) * scale + 1e-12 * scale * scale};
         if (upper) {
           f.a = -f.a;
           f.b = -f.b;
@@ -236,12 +235,17 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       }
     }
   }
+  // The side tests need the light's side of the receiver with the right sign: a grazing light
+  // (light_side near zero, where rounding could flip it) keeps only the plane test.
+  const std::size_t test_count = light_side > 1e-7 * (lw != 0.0 ? scale : 1.0) ? tests.size() : 1;
   auto may_cast = [&](std::size_t q) {
     const CullFace& cq = cull.faces[q];
-    for (const DoubleAffine& f : tests) {
+    for (std::size_t t = 0; t < test_count; ++t) {
+      const DoubleAffine& f = tests[t];
+      const double tolerance = f.tolerance + glm::length(f.a) * cq.slack;
       bool all_out = true;
       for (std::size_t a = cq.first; a < cq.first + cq.count && all_out; ++a)
-        all_out = f(cull.vertices[a]) < -f.tolerance;
+        all_out = f(cull.vertices[a]) < -tolerance;
       if (all_out) return false;
     }
     return true;
@@ -578,7 +582,7 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
 }
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
-  const ShadowEngine engine(scene);
+  const ShadowEngine engine(scene, options.threads);
   ShadowResult result = engine.compute(options);
   if (options.planes) result.plane_shadows = compute_plane_shadows(scene, options);
   return result;
