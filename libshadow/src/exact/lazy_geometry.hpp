@@ -4,6 +4,7 @@
 // Include only from src/exact/*.cpp (CGAL).
 #pragma once
 
+#include "exact/box_sides.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <array>
@@ -127,20 +128,12 @@ inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, con
   frame.axis = k;
   frame.light_side = light_side;
   frame.front = Affine3{face.normal, face.offset};
-  // For a chart bound x_c >= m (c = i or j), the plane through the bound's line on the
-  // receiver's plane and the light is  s~(l) (x_c - m) - (l_c - m l_w) s(p) = 0 : it vanishes on
-  // that line (s = 0, x_c = m) and at the light. Inside is >= 0. Upper bounds flip signs.
-  const int axes[2] = {chart_i(k), chart_j(k)};
-  for (int c = 0; c < 2 && light.is_point(); ++c) {  // directional: clipped in 2D instead
-    const int ax = axes[c];
-    Vector3 e(ax == 0 ? 1 : 0, ax == 1 ? 1 : 0, ax == 2 ? 1 : 0);
-    for (int upper = 0; upper < 2; ++upper) {
-      const FT m = upper ? prep.chart_max[c] : prep.chart_min[c];
-      const FT coef = light.l[ax] - m * light.l[3];
-      Affine3 f{light_side * e - coef * face.normal, -light_side * m - coef * face.offset};
-      if (upper) f = Affine3{-f.a, -f.b};
-      frame.sides[c * 2 + upper] = f;
-    }
+  if (light.is_point()) {  // directional lights are clipped to the box in 2D instead
+    const std::array<FT, 4> plane{face.normal.x(), face.normal.y(), face.normal.z(), face.offset};
+    const auto sides = box_sides(plane, light.l, light_side, chart_i(k), chart_j(k), prep.chart_min.data(),
+                                 prep.chart_max.data());
+    for (int t = 0; t < 4; ++t)
+      frame.sides[t] = Affine3{Vector3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3]};
   }
   if (!light.is_point()) {
     frame.shift = {light.l[chart_i(k)] / light_side, light.l[chart_j(k)] / light_side};

@@ -3,6 +3,7 @@
 // exactly planar faces (the common case). Include only from src/exact/*.cpp (CGAL).
 #pragma once
 
+#include "exact/box_sides.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <shadow/scene.hpp>
@@ -49,22 +50,12 @@ class LeafProjector {
     }
     for (int a = 0; a < 3; ++a) light_[a] = light.position[a];
     light_side_ = n_[0] * light_[0] + n_[1] * light_[1] + n_[2] * light_[2] + offset_;
-    // The pyramid over the chart box: for a bound x_c >= m the plane through the bound's line
-    // on the receiver and the light is  s~ (x_c - m) - (L_c - m) s(p) = 0  (inside >= 0).
-    const int axes[2] = {i_, j_};
-    for (int c2 = 0; c2 < 2; ++c2) {
-      for (int upper = 0; upper < 2; ++upper) {
-        const mpq_class m(upper ? prep.chart_max[c2] : prep.chart_min[c2]);
-        const mpq_class coef = light_[axes[c2]] - m;
-        Side& side = sides_[c2 * 2 + upper];
-        for (int a = 0; a < 3; ++a) side.a[a] = -coef * n_[a];
-        side.a[axes[c2]] += light_side_;
-        side.b = -light_side_ * m - coef * offset_;
-        if (upper) {
-          for (mpq_class& x : side.a) x = -x;
-          side.b = -side.b;
-        }
-      }
+    const std::array<mpq_class, 4> plane{n_[0], n_[1], n_[2], offset_};
+    const std::array<mpq_class, 4> light_h{light_[0], light_[1], light_[2], mpq_class(1)};
+    const auto sides = box_sides(plane, light_h, light_side_, i_, j_, prep.chart_min.data(), prep.chart_max.data());
+    for (int t = 0; t < 4; ++t) {
+      for (int a = 0; a < 3; ++a) sides_[t].a[a] = sides[t][a];
+      sides_[t].b = sides[t][3];
     }
   }
 

@@ -10,6 +10,7 @@
 //
 // This path shares no clipping or projection code with the per-face engine on purpose: a face
 // lying in a plane must come out of both with the same shadow, and the tests check that.
+#include "exact/box_sides.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/parallel.hpp"
 #include "exact/regions.hpp"
@@ -123,20 +124,7 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
   const double hi[2] = {frame.centre[i] + window, frame.centre[j] + window};
   // Prism or pyramid from the light over the window: for a bound x_c >= m the plane through the
   // bound's line on the receiving plane and the light is pl (x_c - m) - (l_c - m l_w) s(x) = 0.
-  std::vector<Q4> sides;
-  const int axes[2] = {i, j};
-  for (int a = 0; a < 2; ++a)
-    for (int upper = 0; upper < 2; ++upper) {
-      const mpq_class m(upper ? hi[a] : lo[a]);
-      const mpq_class coef = l[axes[a]] - m * l[3];
-      Q4 f;
-      for (int col = 0; col < 4; ++col) f[col] = -coef * p[col];
-      f[axes[a]] += pl;
-      f[3] -= pl * m;
-      if (upper)
-        for (mpq_class& x : f) x = -x;
-      sides.push_back(f);
-    }
+  const std::array<Q4, 4> sides = box_sides(p, l, pl, i, j, lo, hi);
 
   // The light's level: p.l - p.x >= 0 (point lights).
   Q4 level;

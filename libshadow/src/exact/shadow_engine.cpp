@@ -13,6 +13,7 @@
 // bounding box keeps the projection finite and the union small. Everything is done with exact
 // rationals (Epeck) in P's 2D chart; doubles appear only in culling (conservatively) and at
 // the output.
+#include "exact/box_sides.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/culling.hpp"
 #include "exact/exact_faces.hpp"
@@ -216,23 +217,17 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   std::array<DoubleAffine, 5> tests;
   tests[0] = {cp.normal, cp.offset, 1e-9 * scale};
   {
-    const int k = fp.axis;
-    const int axes[2] = {chart_i(k), chart_j(k)};
-    for (int c = 0; c < 2; ++c) {
-      const int ax = axes[c];
-      glm::dvec3 e(0.0);
-      e[ax] = 1.0;
-      for (int upper = 0; upper < 2; ++upper) {
-        const double m = (upper ? fp.chart_max[c] : fp.chart_min[c]) - cull.origin[ax];
-        const double coef = lxyz[ax] - m * lw;
-        DoubleAffine f{light_side * e - coef * cp.normal, -light_side * m - coef * cp.offset,
-                       1e-9 * (std::abs(light_side) + std::abs(coef)) * scale + 1e-12 * scale * scale};
-        if (upper) {
-          f.a = -f.a;
-          f.b = -f.b;
-        }
-        tests[1 + c * 2 + upper] = f;
-      }
+    // The same sides as the exact clip, in the local frame (chart box shifted by the origin).
+    const int i = chart_i(fp.axis), j = chart_j(fp.axis);
+    const double lo[2] = {fp.chart_min[0] - cull.origin[i], fp.chart_min[1] - cull.origin[j]};
+    const double hi[2] = {fp.chart_max[0] - cull.origin[i], fp.chart_max[1] - cull.origin[j]};
+    const std::array<double, 4> plane{cp.normal.x, cp.normal.y, cp.normal.z, cp.offset};
+    const std::array<double, 4> light_h{lxyz.x, lxyz.y, lxyz.z, lw};
+    const auto sides = box_sides(plane, light_h, light_side, i, j, lo, hi);
+    for (int t = 0; t < 4; ++t) {
+      const double coef = lxyz[t < 2 ? i : j] - (t % 2 ? hi : lo)[t / 2] * lw;
+      tests[1 + t] = {glm::dvec3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3],
+                      1e-9 * (std::abs(light_side) + std::abs(coef)) * scale + 1e-12 * scale * scale};
     }
   }
   // The side tests need the light's side of the receiver with the right sign: a grazing light
