@@ -139,6 +139,10 @@ class ShadowEngine {
   [[nodiscard]] ShadowResult compute(const Light& light, std::size_t light_id,
                                      const ShadowOptions& options = {}) const;
 
+  /// Shadows on the scene's planes (Blinn), reusing the engine's prepared faces; the same as
+  /// compute_plane_shadows(scene, options).
+  [[nodiscard]] std::vector<PlaneShadow> compute_planes(const ShadowOptions& options = {}) const;
+
   /// Exact area of a face, rounded once (0 for degenerate faces).
   [[nodiscard]] double face_area(std::size_t face_id) const;
 

@@ -13,6 +13,7 @@
 #include "exact/box_sides.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/parallel.hpp"
+#include "exact/plane_shadows.hpp"
 #include "exact/regions.hpp"
 
 #include <shadow/shadows.hpp>
@@ -219,7 +220,10 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
 }  // namespace
 }  // namespace exact
 
-std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+namespace exact {
+
+std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<FacePrep>& prep,
+                                       const ShadowOptions& options) {
   std::vector<std::size_t> light_ids = options.lights;
   if (light_ids.empty())
     for (std::size_t l = 0; l < scene.lights.size(); ++l) light_ids.push_back(l);
@@ -229,14 +233,6 @@ std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowO
     if (l >= scene.lights.size()) throw std::out_of_range("ShadowOptions::lights: no light " + std::to_string(l));
   if (scene.planes.empty() || light_ids.empty()) return {};
 
-  std::vector<exact::FacePrep> prep(scene.faces.size());
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {
-      prep[f].degenerate = true;
-      continue;
-    }
-    prep[f] = exact::prepare_face(scene.faces[f].vertices);
-  }
   const exact::SceneFrame frame = exact::scene_frame(scene);
   const double window = options.plane_window > 0 ? options.plane_window : 10.0 * frame.diagonal;
   for (std::size_t plane_id = 0; plane_id < scene.planes.size(); ++plane_id) {
@@ -255,6 +251,20 @@ std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowO
                                         own > 0 ? own : window);
   });
   return shadows;
+}
+
+}  // namespace exact
+
+std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+  std::vector<exact::FacePrep> prep(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {
+      prep[f].degenerate = true;
+      continue;
+    }
+    prep[f] = exact::prepare_face(scene.faces[f].vertices);
+  }
+  return exact::plane_shadows(scene, prep, options);
 }
 
 }  // namespace shadow

@@ -20,6 +20,7 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/leaf_projector.hpp"
 #include "exact/parallel.hpp"
+#include "exact/plane_shadows.hpp"
 #include "exact/regions.hpp"
 
 #include <shadow/shadows.hpp>
@@ -132,6 +133,10 @@ ShadowEngine::ShadowEngine(ShadowEngine&&) noexcept = default;
 ShadowEngine& ShadowEngine::operator=(ShadowEngine&&) noexcept = default;
 
 double ShadowEngine::face_area(std::size_t face_id) const { return impl_->face_area.at(face_id); }
+
+std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& options) const {
+  return exact::plane_shadows(*impl_->scene, impl_->prep, options);
+}
 
 namespace {
 
@@ -579,7 +584,7 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
   const ShadowEngine engine(scene, options.threads);
   ShadowResult result = engine.compute(options);
-  if (options.planes) result.plane_shadows = compute_plane_shadows(scene, options);
+  if (options.planes) result.plane_shadows = engine.compute_planes(options);
   return result;
 }
 
