@@ -5,17 +5,22 @@
 
 namespace shadow::exact {
 
-CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep) {
-  CullScene cull;
+SceneFrame scene_frame(const Scene& scene) {
+  if (scene.faces.empty()) return {};
   glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
   for (const Face& f : scene.faces)
     for (const glm::dvec3& v : f.vertices) {
       lo = glm::min(lo, v);
       hi = glm::max(hi, v);
     }
-  if (scene.faces.empty()) lo = hi = glm::dvec3(0.0);
-  cull.origin = 0.5 * (lo + hi);
-  cull.diameter = std::max(glm::length(hi - lo), 1e-300);
+  return {0.5 * (lo + hi), std::max(glm::length(hi - lo), 1e-300)};
+}
+
+CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep) {
+  CullScene cull;
+  const SceneFrame frame = scene_frame(scene);
+  cull.origin = frame.centre;
+  cull.diameter = frame.diagonal;
   cull.faces.resize(scene.faces.size());
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     CullFace& cf = cull.faces[f];

@@ -144,6 +144,13 @@ class LightSpaceGrid {
   std::vector<std::uint32_t> entries_;
 };
 
+/// The centre and diagonal of the faces' bounding box (origin and 1 for a scene without faces).
+struct SceneFrame {
+  glm::dvec3 centre{0.0};
+  double diagonal = 1.0;
+};
+SceneFrame scene_frame(const Scene& scene);
+
 /// The faces in a local frame (scene centre subtracted), with unit normals.
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep);
 

@@ -11,6 +11,7 @@
 // This path shares no clipping or projection code with the per-face engine on purpose: a face
 // lying in a plane must come out of both with the same shadow, and the tests check that.
 #include "exact/box_sides.hpp"
+#include "exact/culling.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/parallel.hpp"
 #include "exact/plane_shadows.hpp"
@@ -72,22 +73,6 @@ bool clip(std::vector<Q3>& poly, const Q4& f) {
   }
   poly.swap(out);
   return true;
-}
-
-struct SceneFrame {
-  glm::dvec3 centre{0.0};
-  double diagonal = 1.0;
-};
-
-SceneFrame scene_frame(const Scene& scene) {
-  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-  for (const Face& f : scene.faces)
-    for (const glm::dvec3& v : f.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  if (scene.faces.empty()) return {};
-  return {0.5 * (lo + hi), std::max(glm::length(hi - lo), 1e-300)};
 }
 
 /// One plane and one light.

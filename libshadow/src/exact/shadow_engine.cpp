@@ -22,6 +22,7 @@
 #include "exact/parallel.hpp"
 #include "exact/plane_shadows.hpp"
 #include "exact/regions.hpp"
+#include "scene/validate.hpp"
 
 #include <shadow/shadows.hpp>
 
@@ -139,20 +140,6 @@ std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& optio
 }
 
 namespace {
-
-void check_light(const Light& light, std::size_t light_id) {
-  auto finite = [](const glm::dvec3& v) {
-    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-  };
-  const std::string place = "lights[" + std::to_string(light_id) + "]";
-  if (light.type == LightType::Directional) {
-    if (!finite(light.to_light)) throw InputError({"", place + ".to_light"}, "not a finite vector");
-    if (light.to_light == glm::dvec3(0.0))
-      throw InputError({"", place + ".to_light"}, "zero direction vector");
-  } else if (!finite(light.position)) {
-    throw InputError({"", place + ".position"}, "not a finite point");
-  }
-}
 
 exact::ExactLight to_exact_light(const Light& light) {
   using exact::FT;
@@ -484,7 +471,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
                                        std::vector<Item>& items, std::size_t progress_base,
                                        std::size_t progress_total) const {
   using namespace exact;
-  check_light(light_in, light_id);
+  shadow::detail::check_light(light_in, "", "lights[" + std::to_string(light_id) + "]");
   const unsigned threads = static_cast<unsigned>(workers.size());
   std::optional<LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);

@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 
 #include "exact/exact_checks.hpp"
+#include "scene/validate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -136,10 +137,9 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
   }
 }
 
-void validate_light(const Scene& scene, std::size_t index) {
-  const Light& light = scene.lights[index];
-  const std::string file = scene.source.string();
-  const std::string path = "lights[" + std::to_string(index) + "]";
+}  // namespace
+
+void detail::check_light(const Light& light, const std::string& file, const std::string& path) {
   if (light.type == LightType::Directional) {
     if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");
     if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
@@ -157,6 +157,8 @@ void validate_light(const Scene& scene, std::size_t index) {
                        "color components must be in [0, 1], got " + format_number(light.color[c]));
 }
 
+namespace {
+
 void validate_plane(const Scene& scene, std::size_t index) {
   const Plane& plane = scene.planes[index];
   const std::string file = scene.source.string();
@@ -173,7 +175,8 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
   if (!(options.planarity_tolerance > 0) || !std::isfinite(options.planarity_tolerance))
     throw InputError({}, "the planarity tolerance must be a positive finite number, got " +
                              format_number(options.planarity_tolerance));
-  for (std::size_t i = 0; i < scene.lights.size(); ++i) validate_light(scene, i);
+  for (std::size_t i = 0; i < scene.lights.size(); ++i)
+    detail::check_light(scene.lights[i], scene.source.string(), "lights[" + std::to_string(i) + "]");
   for (std::size_t i = 0; i < scene.planes.size(); ++i) validate_plane(scene, i);
   std::vector<Warning> warnings;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
