@@ -14,6 +14,18 @@ packages=(
   libcli11-dev nlohmann-json3-dev
   libjemalloc-dev
 )
+# The test suite also needs a virtual X server and ParaView (its headless test opens a result
+# in pvpython): `install-deps.sh --tests`, as scripts/run-tests.sh does.
+with_tests=0
+for arg in "$@"; do
+  case "$arg" in
+    --tests) with_tests=1 ;;
+    *) echo "install-deps: unknown option $arg (known: --tests)" >&2; exit 2 ;;
+  esac
+done
+if ((with_tests)); then
+  packages+=(xvfb xauth paraview)
+fi
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
 if [[ "${LIBSHADOW_WITH_EXTRAS:-0}" == 1 ]]; then
@@ -27,8 +39,14 @@ for p in "${packages[@]}"; do
   fi
 done
 
+finish() {
+  # pvpython beside libvtk9-dev: see scripts/setup-pvpython.sh.
+  if ((with_tests)); then bash "$(dirname "$0")/setup-pvpython.sh"; fi
+}
+
 if ((${#missing[@]} == 0)); then
   echo "install-deps: all ${#packages[@]} packages present"
+  finish
   exit 0
 fi
 
@@ -39,3 +57,4 @@ export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 echo "install-deps: done"
+finish

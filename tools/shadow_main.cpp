@@ -55,6 +55,17 @@ class ProgressLine {
   int last_ = -1;
 };
 
+/// The ParaView script that opens a result: installed beside the binary
+/// (`<prefix>/share/libshadow/paraview`), or in the source tree of a build-tree binary.
+fs::path paraview_script() {
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  const fs::path relative = fs::path("share") / "libshadow" / "paraview" / "open_result.py";
+  if (!error && fs::exists(exe.parent_path().parent_path() / relative, error))
+    return (exe.parent_path().parent_path() / relative).lexically_normal();
+  return fs::path(LIBSHADOW_SOURCE_DIR) / "tools" / "paraview" / "open_result.py";
+}
+
 int run_compute(const ComputeArgs& args) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -110,8 +121,13 @@ int run_compute(const ComputeArgs& args) {
                 seconds(finished - computed));
     std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
     for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());
-    std::printf("  open %s in ParaView (or run tools/paraview/open_result.py; docs/paraview.md)\n",
-                (fs::absolute(args.outdir).lexically_normal() / "scene.vtm").c_str());
+    const fs::path result_dir = fs::absolute(args.outdir).lexically_normal();
+    std::printf("  open %s in ParaView, or with sensible defaults (docs/paraview.md):\n",
+                (result_dir / "scene.vtm").c_str());
+    std::printf("    LIBSHADOW_RESULT=%s paraview --script=%s\n", result_dir.c_str(), paraview_script().c_str());
+    std::printf("    %s %s %s --screenshot result.png   (headless)\n",
+                (paraview_script().parent_path() / "pvpython.sh").c_str(), paraview_script().c_str(),
+                result_dir.c_str());
   }
   return kOk;
 }

@@ -47,6 +47,9 @@ def style_bar(bar, title):
     bar.LabelColor = [0.1, 0.1, 0.1]
     bar.TitleFontSize = 18
     bar.LabelFontSize = 16
+    # The camera looks down on the scene, which fills the lower part of a view: keep the
+    # legend out of it.
+    bar.WindowLocation = "Upper Right Corner"
 
 
 def place_camera(view, report, light):
