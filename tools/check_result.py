@@ -92,7 +92,61 @@ def main(outdir):
             check(math.isclose(by_pair[key], entry["shadow_area"], rel_tol=1e-12, abs_tol=1e-12),
                   f"plane shadow {key}: cells add up to {by_pair[key]!r}, report says {entry['shadow_area']!r}")
 
-    check(datasets["lights"].GetNumberOfPoints() == len(report["lights"]), "lights.vtp: one point per light")
+    # Each fragment cell's own polygon, measured here from its Float64 points (Newell's formula),
+    # has the area its `area` array claims.
+    for c in range(fragments.GetNumberOfCells()):
+        ids = fragments.GetCell(c).GetPointIds()
+        pts = [fragments.GetPoint(ids.GetId(k)) for k in range(ids.GetNumberOfIds())]
+        n = [0.0, 0.0, 0.0]
+        for k, p in enumerate(pts):
+            q = pts[(k + 1) % len(pts)]
+            n[0] += (p[1] - q[1]) * (p[2] + q[2])
+            n[1] += (p[2] - q[2]) * (p[0] + q[0])
+            n[2] += (p[0] - q[0]) * (p[1] + q[1])
+        measured = 0.5 * math.sqrt(n[0] ** 2 + n[1] ** 2 + n[2] ** 2)
+        check(math.isclose(measured, area[c], rel_tol=1e-9, abs_tol=1e-9),
+              f"fragment cell {c}: polygon area {measured!r}, area array says {area[c]!r}")
+
+    # faces.vtp: every input face, its mesh name, and per light the report's lit fraction and area.
+    faces = datasets["faces"]
+    face_cells = faces.GetCellData()
+    check(values(face_cells.GetArray("face_id")) == list(range(faces.GetNumberOfCells())),
+          "faces.vtp: face_id is not 0, 1, 2, ... in cell order")
+    mesh_names = face_cells.GetAbstractArray("mesh")
+
+    def sanitize(name):
+        return "".join(ch if ch.isalnum() or ch == "_" else "_" for ch in name)
+
+    for face in report["faces"]:
+        fid = face["id"]
+        check(mesh_names.GetValue(fid) == face["mesh"], f"faces.vtp face {fid}: mesh {mesh_names.GetValue(fid)!r}, "
+              f"report says {face['mesh']!r}")
+        for entry in face["lights"]:
+            name = sanitize(report["lights"][entry["light"]]["name"])
+            for array, key in ((f"lit_fraction_{name}", "lit_fraction"), (f"lit_area_{name}", "lit_area")):
+                data = face_cells.GetArray(array)
+                if data is None:
+                    check(False, f"faces.vtp: no cell array {array}")
+                    continue
+                check(data.GetValue(fid) == entry[key],
+                      f"faces.vtp face {fid}: {array} = {data.GetValue(fid)!r}, report says {entry[key]!r}")
+
+    # lights.vtp: point lights where the report puts them, directional lights along to_light.
+    lights = datasets["lights"]
+    check(lights.GetNumberOfPoints() == len(report["lights"]), "lights.vtp: one point per light")
+    to_light = lights.GetPointData().GetArray("to_light")
+    direction = lights.GetPointData().GetArray("direction")
+    for i, light in enumerate(report["lights"][:lights.GetNumberOfPoints()]):
+        if light["type"] == "point":
+            check(list(lights.GetPoint(i)) == light["position"], f"lights.vtp: light {i} is not at its position")
+        else:
+            d = light["to_light"]
+            norm = math.sqrt(sum(x * x for x in d))
+            got = to_light.GetTuple3(i)
+            check(all(math.isclose(got[k], d[k] / norm, abs_tol=1e-12) for k in range(3)),
+                  f"lights.vtp: light {i} to_light {got}, report says {d}")
+            check(all(math.isclose(direction.GetTuple3(i)[k], -got[k], abs_tol=0) for k in range(3)),
+                  f"lights.vtp: light {i} direction is not -to_light")
 
     if problems:
         for p in problems[:20]:
