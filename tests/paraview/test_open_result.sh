@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Opens a `shadow compute` result in ParaView headless (pvpython, offscreen, under Xvfb when
-# there is no display) with the shipped script, saves a screenshot, and checks the picture.
+# there is no display) with the shipped script, saves a screenshot, and checks the picture;
+# then opens scene.vtm as a ParaView user would and checks its blocks.
 # Usage: test_open_result.sh SOURCE_DIR RESULT_DIR SCREENSHOT.png
 set -euo pipefail
 source_dir="$1" result="$2" screenshot="$3"
@@ -20,3 +21,9 @@ cat "$log"
 # pvpython's own exit status can be spoiled by GLX teardown; the script's verdict line is what counts.
 grep -q "^open_result: ok, wrote " "$log" || { echo "FAIL: open_result.py gave no verdict"; exit 1; }
 /usr/bin/python3 "$source_dir/tests/paraview/check_screenshot.py" "$screenshot" 1200 500
+
+# The one-step way: File > Open scene.vtm.
+"$source_dir/tools/paraview/pvpython.sh" "$source_dir/tests/paraview/open_vtm.py" "$result" >"$log" 2>&1 || true
+cat "$log"
+grep -q "^open_vtm: ok" "$log" || { echo "FAIL: ParaView did not open scene.vtm as expected"; exit 1; }
+echo "test_open_result: ok"
