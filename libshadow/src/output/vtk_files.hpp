@@ -16,8 +16,9 @@ class vtkPolyData;
 
 namespace shadow::detail {
 
-/// One polygon cell per fragment; cell arrays face_id, light_id, lit, area, fragment_id.
-vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result);
+/// One polygon cell per fragment; cell arrays face_id, light_id, lit, area, fragment_id; point
+/// array irradiance (from the cell's light; NaN for lights that are not in `scene`).
+vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const ShadowResult& result);
 
 /// Every input face; cell arrays face_id, mesh_id, mesh, receiver, area and, per light with
 /// results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was computed).
