@@ -13,6 +13,9 @@ packages=(
   libgtest-dev libgmock-dev librapidcheck-dev
   libcli11-dev nlohmann-json3-dev
   libjemalloc-dev
+  # `shadow render` and its tests on a machine without a display: an X server in memory and
+  # Mesa's software OpenGL (llvmpipe).
+  xvfb xauth libgl1-mesa-dri
 )
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
