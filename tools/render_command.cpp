@@ -6,14 +6,19 @@
 
 #include <shadow/shadow.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -41,6 +46,47 @@ bool on_path(const std::string& program) {
 }
 
 glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+/// The scene file's optional "camera" object: {"eye", "target", "up": [x, y, z], "fov": degrees},
+/// each key optional. The library ignores the key; only pictures use it. The scene has been
+/// loaded (and so read and parsed) already.
+void apply_scene_camera(const std::string& scene_file, shadow::render::Camera& camera) {
+  std::ifstream in(scene_file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  const nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  if (!document.is_object() || !document.contains("camera")) return;
+  const nlohmann::json& c = document["camera"];
+  auto fail = [&](const std::string& place, const std::string& problem) {
+    throw shadow::InputError({scene_file, place}, problem);
+  };
+  if (!c.is_object()) fail("camera", "expected an object {\"eye\", \"target\", \"up\", \"fov\"}");
+  auto vec3 = [&](const char* key, glm::dvec3& out) {
+    if (!c.contains(key)) return;
+    const nlohmann::json& v = c[key];
+    if (!v.is_array() || v.size() != 3) fail(std::string("camera.") + key, "expected 3 numbers [x, y, z]");
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        fail("camera." + std::string(key) + "[" + std::to_string(i) + "]", "expected a finite number");
+      out[static_cast<int>(i)] = v[i].get<double>();
+    }
+  };
+  for (const auto& [key, value] : c.items()) {
+    (void)value;
+    if (key.empty() || key[0] == '_' || key[0] == '$') continue;
+    if (key != "eye" && key != "target" && key != "up" && key != "fov")
+      fail("camera", "unknown key \"" + key + "\" (known: \"eye\", \"target\", \"up\", \"fov\")");
+  }
+  vec3("eye", camera.eye);
+  vec3("target", camera.target);
+  vec3("up", camera.up);
+  if (c.contains("fov")) {
+    const nlohmann::json& fov = c["fov"];
+    if (!fov.is_number() || !(fov.get<double>() >= 1.0 && fov.get<double>() <= 170.0))
+      fail("camera.fov", "expected a vertical view angle in degrees, in [1, 170]");
+    camera.fov_degrees = fov.get<double>();
+  }
+}
 
 }  // namespace
 
@@ -79,9 +125,9 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->expected(3)
       ->delimiter(',');
   render.add_option("--up", args.up, "Camera up direction x,y,z")->expected(3)->delimiter(',')->default_str("0,0,1");
-  render.add_option("--fov", args.fov, "Vertical view angle in degrees")
-      ->default_val(30.0)
-      ->check(CLI::Range(1.0, 170.0));
+  render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
+      ->check(CLI::Range(1.0, 170.0))
+      ->each([&args](const std::string&) { args.fov_given = true; });
   render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores)")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);
@@ -130,15 +176,17 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.lighting.ambient_intensity = args.ambient;
   options.shade.lighting.back_intensity = args.back_intensity;
   options.shade.camera = sr::default_camera(scene, static_cast<double>(args.width) / args.height);
+  apply_scene_camera(args.scene, options.shade.camera);  // the scene's "camera", then the options
   if (!args.target.empty()) options.shade.camera.target = to_vec3(args.target);
   if (!args.eye.empty()) options.shade.camera.eye = to_vec3(args.eye);
   if (!args.up.empty()) options.shade.camera.up = to_vec3(args.up);
-  options.shade.camera.fov_degrees = args.fov;
+  if (args.fov_given) options.shade.camera.fov_degrees = args.fov;
   const sr::Camera& camera = options.shade.camera;
   const glm::dvec3 view = camera.target - camera.eye;
-  if (glm::length(view) == 0.0) throw sr::RenderError("--eye and --target are the same point");
+  if (glm::length(view) == 0.0) throw sr::RenderError("the camera's eye and target are the same point");
   if (glm::length(glm::cross(view, camera.up)) <= 1e-12 * glm::length(view) * glm::length(camera.up))
-    throw sr::RenderError("--up is zero or parallel to the view direction (from --eye to --target)");
+    throw sr::RenderError("the camera's up direction (--up) is zero or parallel to the view direction "
+                          "(from eye to target)");
 
   shadow::ShadowOptions shadow_options;
   shadow_options.threads = args.threads;

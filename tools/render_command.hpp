@@ -22,6 +22,7 @@ struct RenderArgs {
   std::vector<double> target;
   std::vector<double> up;
   double fov = 30.0;
+  bool fov_given = false;
   unsigned threads = 0;
   bool quiet = false;
 };

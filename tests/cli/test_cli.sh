@@ -218,6 +218,15 @@ if "$SHADOW" render --help >/dev/null 2>&1; then
   }
   expect_render_error render_unknown_model 105 "--model" "$WORK/tiny/scene.json" --model toon
   expect_render_error render_missing_scene 2 "does-not-exist.json" "$S/does-not-exist.json"
+  mkdir -p "$WORK/cam"
+  cat >"$WORK/cam/scene.json" <<'EOF'
+{
+  "meshes": [{"name": "ground", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]]}],
+  "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 1]}],
+  "camera": {"eye": [0.5, 0.5], "fov": 40}
+}
+EOF
+  expect_render_error render_bad_scene_camera 2 "camera.eye: expected 3 numbers" "$WORK/cam/scene.json"
   expect_render_error render_up_along_view 3 "--up" "$WORK/tiny/scene.json" --eye 0,0,5 --target 0,0,0 --up 0,0,1
 fi
 

@@ -269,9 +269,12 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
                          const ShadeOptions& options) {
   ColouredMesh mesh;
   const Camera& camera = options.camera;
+  // Material lookup by name once per face, not once per shaded point.
+  std::vector<const Material*> material_of_face(scene.faces.size(), nullptr);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) material_of_face[f] = &scene.material_of(f);
   auto colour_at = [&](const glm::dvec3& p, const glm::dvec3& normal, const OverlayCell& cell) {
     ShadingPoint point{p, normal, camera.eye};
-    return clamp01(shade(point, scene.material_of(cell.face_id), scene.lights, cell.lit, options.lighting));
+    return clamp01(shade(point, *material_of_face[cell.face_id], scene.lights, cell.lit, options.lighting));
   };
 
   // Phong: the size of a pixel at distance 1, to subdivide cells to about a pixel.

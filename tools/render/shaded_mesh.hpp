@@ -71,7 +71,7 @@ struct ShadeOptions {
   Camera camera;
   int image_height = 600;  ///< with the camera's view angle, sets the pixel size for Phong
   /// Phong: the largest number of triangles; past it the subdivision is coarser than a pixel.
-  std::size_t max_triangles = 4'000'000;
+  std::size_t max_triangles = 2'000'000;
 };
 
 /// Colours the overlay cells with the lighting model (materials from `scene`).
