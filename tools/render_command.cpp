@@ -153,8 +153,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
       throw sr::RenderError(std::string("cannot start xvfb-run: ") + std::strerror(errno));
     }
     throw sr::RenderError(
-        "no X display (DISPLAY is not set) and no xvfb-run to make one: install xvfb and xauth, or run "
-        "`xvfb-run -a shadow render ...`");
+        "no X display (DISPLAY is not set) and no xvfb-run on the PATH to make one: install the packages "
+        "xvfb and xauth (shadow render then starts itself under xvfb-run), or point DISPLAY at an X server");
   }
 
   using Clock = std::chrono::steady_clock;

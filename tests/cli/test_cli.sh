@@ -197,6 +197,16 @@ if "$SHADOW" render --help >/dev/null 2>&1; then
       fail "render_writes_a_png_without_a_display" "status $status, stderr: $(cat "$WORK/render.stderr")"
     fi
   fi
+  # No display and no xvfb-run: one line that says what to install, status 3, no image.
+  status=0
+  env -u DISPLAY PATH=/nonexistent "$SHADOW" render "$WORK/tiny/scene.json" -o "$WORK/no-x.png" \
+    >"$WORK/no-x.stdout" 2>"$WORK/no-x.stderr" || status=$?
+  if [[ $status -eq 3 && $(grep -c . "$WORK/no-x.stderr") -eq 1 && $(cat "$WORK/no-x.stderr") == *xvfb* &&
+        ! -e "$WORK/no-x.png" ]]; then
+    pass "render_without_display_or_xvfb_says_what_to_do"
+  else
+    fail "render_without_display_or_xvfb_says_what_to_do" "status $status: $(cat "$WORK/no-x.stderr")"
+  fi
   # Bad options and bad scenes: non-zero status, one line on stderr.
   expect_render_error() {
     local name=$1 expected_status=$2 part=$3
