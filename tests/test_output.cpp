@@ -505,6 +505,24 @@ TEST_F(OutputTest, LightsVtpPutsPointLightsAtTheirPositionAndTheSunOneDiagonalAb
   }
 }
 
+TEST_F(OutputTest, LightsVtpCarriesIntensityAndColour) {
+  scene_.lights[1].intensity = 2.5;
+  scene_.lights[1].color = {1.0, 0.5, kThird};
+  shadow::write_outputs(root_, scene_, result_);
+  auto data = read_vtp(root_ / "lights.vtp");
+  vtkPointData* pd = data->GetPointData();
+  vtkDataArray* intensity = pd->GetArray("intensity");
+  vtkDataArray* color = pd->GetArray("color");
+  ASSERT_TRUE(is_float64(intensity));
+  ASSERT_TRUE(is_float64(color));
+  ASSERT_EQ(color->GetNumberOfComponents(), 3);
+  EXPECT_EQ(intensity->GetTuple1(0), 1.0);  // the defaults
+  EXPECT_EQ(color->GetComponent(0, 0), 1.0);
+  EXPECT_EQ(intensity->GetTuple1(1), 2.5);
+  EXPECT_EQ(color->GetComponent(1, 1), 0.5);
+  EXPECT_TRUE(same_bits(color->GetComponent(1, 2), kThird));
+}
+
 // ---- scene.vtm ---------------------------------------------------------------------------------
 
 TEST_F(OutputTest, SceneVtmOpensFacesFragmentsPlaneShadowsAndLightsAsNamedBlocks) {

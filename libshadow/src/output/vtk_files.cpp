@@ -357,6 +357,8 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   auto name = vtkSmartPointer<vtkStringArray>::New();
   name->SetName("name");
   name->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto intensity = make_array<vtkDoubleArray>("intensity", n);
+  auto color = make_array<vtkDoubleArray>("color", n, 3);
 
   for (std::size_t i = 0; i < n; ++i) {
     const Light& light = scene.lights[i];
@@ -378,6 +380,8 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
     to_light->SetTuple3(id, toward.x, toward.y, toward.z);
     direction->SetTuple3(id, -toward.x, -toward.y, -toward.z);
     name->SetValue(id, light.name);
+    intensity->SetValue(id, light.intensity);
+    color->SetTuple3(id, light.color.r, light.color.g, light.color.b);
   }
 
   auto poly = vtkSmartPointer<vtkPolyData>::New();
@@ -389,6 +393,8 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   pd->AddArray(to_light);
   pd->AddArray(direction);
   pd->AddArray(name);
+  pd->AddArray(intensity);
+  pd->AddArray(color);
   pd->SetActiveVectors("direction");
   return poly;
 }

@@ -28,7 +28,7 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
 /// region_id, area.
 vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& result);
 
-/// One vertex per light; point arrays light_id, type, to_light, direction, name.
+/// One vertex per light; point arrays light_id, type, to_light, direction, name, intensity, color.
 vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
 
 /// Writes `data` as a binary, appended, zlib-compressed .vtp file.
