@@ -9,6 +9,8 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -140,6 +142,40 @@ TEST(Overlay, PhongShadingSubdividesToAboutAPixelAndKeepsFlatOneColourPerTriangl
   EXPECT_GT(phong.triangles.size(), 20 * gouraud.triangles.size());
 }
 
+TEST(Camera, TheDefaultCameraHasEveryVertexInViewAndLooksDown) {
+  const shadow::Scene scene = roof_scene(false);
+  const double aspect = 4.0 / 3.0;
+  const sr::Camera camera = sr::default_camera(scene, aspect);
+  const glm::dvec3 view = glm::normalize(camera.target - camera.eye);
+  EXPECT_LT(view.z, -0.5);  // 40 degrees down
+  const glm::dvec3 right = glm::normalize(glm::cross(view, camera.up));
+  const glm::dvec3 up = glm::cross(right, view);
+  const double tan_v = std::tan(0.5 * camera.fov_degrees * M_PI / 180.0);
+  double widest = 0.0;
+  for (const shadow::Face& face : scene.faces)
+    for (const glm::dvec3& v : face.vertices) {
+      const glm::dvec3 o = v - camera.eye;
+      const double depth = glm::dot(o, view);
+      ASSERT_GT(depth, 0.0);
+      const double x = glm::dot(o, right) / (depth * tan_v * aspect);
+      const double y = glm::dot(o, up) / (depth * tan_v);
+      EXPECT_LE(std::abs(x), 1.0);
+      EXPECT_LE(std::abs(y), 1.0);
+      widest = std::max({widest, std::abs(x), std::abs(y)});
+    }
+  EXPECT_GT(widest, 0.9);  // and the scene fills the picture
+}
+
+TEST(Shading, NamesRoundTrip) {
+  for (sr::Shading s : {sr::Shading::Flat, sr::Shading::Gouraud, sr::Shading::Phong}) {
+    sr::Shading parsed = sr::Shading::Flat;
+    ASSERT_TRUE(sr::parse_shading(sr::to_string(s), parsed));
+    EXPECT_EQ(parsed, s);
+  }
+  sr::Shading unused;
+  EXPECT_FALSE(sr::parse_shading("smooth", unused));
+}
+
 // ---- pictures --------------------------------------------------------------------------------------
 
 class RenderTest : public ::testing::Test {
@@ -190,6 +226,26 @@ TEST_F(RenderTest, RendersAreDeterministic) {
   EXPECT_GT(a.size(), 100u);
   EXPECT_EQ(a, read_bytes(dir / "b.png"));
   fs::remove_all(dir);
+}
+
+TEST_F(RenderTest, PhongShadingShowsALampsPoolOfLightThatGouraudInterpolatesAway) {
+  // A lamp one unit above the ground, away from the roof: with 1/r^2 it makes a small bright
+  // pool. Gouraud only sees the ground cells' far corners; Phong evaluates under the lamp.
+  shadow::Scene scene = roof_scene(false);
+  shadow::Light lamp;
+  lamp.name = "lamp";
+  lamp.type = shadow::LightType::Point;
+  lamp.position = {3.0, 3.0, 1.0};
+  scene.lights = {lamp};
+  const shadow::ShadowResult result = shadow::compute_shadows(scene);
+  auto options = top_view(shadow::LightingModel::Lambert, sr::Shading::Gouraud);
+  options.shade.lighting.attenuation = shadow::Attenuation::InverseSquare;
+  const sr::Image gouraud = sr::render_scene(scene, result, options);
+  options.shade.shading = sr::Shading::Phong;
+  const sr::Image phong = sr::render_scene(scene, result, options);
+  EXPECT_GT(brightness(phong, 3.0, 3.0), brightness(gouraud, 3.0, 3.0) + 100);
+  // Under the lamp: N.L = 1, r = 1: k_a + k_d = 1.0, white.
+  EXPECT_GE(brightness(phong, 3.0, 3.0), 3 * 250);
 }
 
 TEST_F(RenderTest, TheAmbientModelShowsNoShadow) {
