@@ -13,9 +13,12 @@ packages=(
   libgtest-dev libgmock-dev librapidcheck-dev
   libcli11-dev nlohmann-json3-dev
   libjemalloc-dev
+  # `shadow render` and its tests on a machine without a display: an X server in memory and
+  # Mesa's software OpenGL (llvmpipe).
+  xvfb xauth libgl1-mesa-dri
 )
-# The test suite also needs a virtual X server and ParaView (its headless test opens a result
-# in pvpython): `install-deps.sh --tests`, as scripts/run-tests.sh does.
+# The test suite also needs ParaView (its headless test opens a result in pvpython):
+# `install-deps.sh --tests`, as scripts/run-tests.sh does.
 with_tests=0
 for arg in "$@"; do
   case "$arg" in
@@ -24,7 +27,7 @@ for arg in "$@"; do
   esac
 done
 if ((with_tests)); then
-  packages+=(xvfb xauth paraview)
+  packages+=(paraview)
 fi
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh

@@ -309,6 +309,65 @@ TEST_F(OutputTest, FragmentsVtpCarriesFaceLightLitAreaAndFragmentIdPerCell) {
   EXPECT_EQ(fragment_id->GetTuple1(0), fragment_id->GetTuple1(1));
 }
 
+TEST_F(OutputTest, FragmentsVtpHasPerPointIrradianceFromEachCellsOwnLight) {
+  // A unit ground square (normal +z) under a sun of intensity 2 at 60 degrees from the zenith
+  // (2 cos 60 = 1) and a lamp of intensity 8 two units above the corner (0, 0).
+  Scene scene;
+  scene.meshes = {Mesh{"ground", "", 0, 1, true}};
+  Face ground;
+  ground.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  scene.faces = {ground};
+  Light sun;
+  sun.name = "sun";
+  sun.to_light = {std::sqrt(3.0), 0.0, 1.0};  // 60 degrees from +z
+  sun.intensity = 2.0;
+  Light lamp;
+  lamp.name = "lamp";
+  lamp.type = LightType::Point;
+  lamp.position = {0.0, 0.0, 2.0};
+  lamp.intensity = 8.0;
+  scene.lights = {sun, lamp};
+
+  ShadowResult result;
+  result.lighting = {lighting(0, 0, 1.0, 0.5, true), lighting(0, 1, 1.0, 0.5, true)};
+  const std::vector<glm::dvec3> left = {{0, 0, 0}, {0.5, 0, 0}, {0.5, 1, 0}, {0, 1, 0}};
+  const std::vector<glm::dvec3> right = {{0.5, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0.5, 1, 0}};
+  result.fragments = {fragment(0, 0, 0, true, 0.5, left), fragment(0, 0, 1, false, 0.5, right),
+                      fragment(0, 1, 0, true, 0.5, left), fragment(0, 1, 1, false, 0.5, right),
+                      fragment(0, 7, 0, true, 1.0, ground.vertices)};  // light 7: not in the scene
+  shadow::write_outputs(root_, scene, result);
+  auto data = read_vtp(root_ / "fragments.vtp");
+  vtkDataArray* irradiance = data->GetPointData()->GetArray("irradiance");
+  ASSERT_TRUE(is_float64(irradiance));
+  ASSERT_EQ(irradiance->GetNumberOfTuples(), data->GetNumberOfPoints());
+
+  auto values = [&](vtkIdType cell) {
+    vtkNew<vtkIdList> ids;
+    data->GetCellPoints(cell, ids);
+    std::vector<double> v;
+    for (vtkIdType i = 0; i < ids->GetNumberOfIds(); ++i) v.push_back(irradiance->GetTuple1(ids->GetId(i)));
+    return v;
+  };
+  // Sun, lit: I cos = 1 at every vertex. Shadowed: 0.
+  for (double v : values(0)) EXPECT_NEAR(v, 1.0, 1e-12);
+  for (double v : values(1)) EXPECT_EQ(v, 0.0);
+  // Lamp, lit: I cos / r^2 = I h / r^3 with h = 2. (0,0): 8/4 = 2; (0.5,0): 8*2/(4.25)^1.5;
+  // (0.5,1): 16/(5.25)^1.5; (0,1): 16/5^1.5.
+  const std::vector<double> lamp_values = values(2);
+  ASSERT_EQ(lamp_values.size(), 4u);
+  EXPECT_NEAR(lamp_values[0], 2.0, 1e-12);
+  EXPECT_NEAR(lamp_values[1], 16.0 / std::pow(4.25, 1.5), 1e-12);
+  EXPECT_NEAR(lamp_values[2], 16.0 / std::pow(5.25, 1.5), 1e-12);
+  EXPECT_NEAR(lamp_values[3], 16.0 / std::pow(5.0, 1.5), 1e-12);
+  for (double v : values(3)) EXPECT_EQ(v, 0.0);
+  // The same point (0.5, 0) has different values in the sun's and the lamp's cells: points
+  // are not shared between cells.
+  EXPECT_NE(values(0)[1], lamp_values[1]);
+  for (double v : values(4)) EXPECT_TRUE(std::isnan(v));
+  // The existing cell arrays are still there.
+  EXPECT_NE(data->GetCellData()->GetArray("lit"), nullptr);
+}
+
 TEST_F(OutputTest, AnEmptyResultStillWritesReadableFiles) {
   shadow::write_outputs(root_, scene_, ShadowResult{});
   auto fragments = read_vtp(root_ / "fragments.vtp");
@@ -444,6 +503,24 @@ TEST_F(OutputTest, LightsVtpPutsPointLightsAtTheirPositionAndTheSunOneDiagonalAb
       EXPECT_EQ(direction->GetComponent(i, j), -to_light->GetComponent(i, j));
     }
   }
+}
+
+TEST_F(OutputTest, LightsVtpCarriesIntensityAndColour) {
+  scene_.lights[1].intensity = 2.5;
+  scene_.lights[1].color = {1.0, 0.5, kThird};
+  shadow::write_outputs(root_, scene_, result_);
+  auto data = read_vtp(root_ / "lights.vtp");
+  vtkPointData* pd = data->GetPointData();
+  vtkDataArray* intensity = pd->GetArray("intensity");
+  vtkDataArray* color = pd->GetArray("color");
+  ASSERT_TRUE(is_float64(intensity));
+  ASSERT_TRUE(is_float64(color));
+  ASSERT_EQ(color->GetNumberOfComponents(), 3);
+  EXPECT_EQ(intensity->GetTuple1(0), 1.0);  // the defaults
+  EXPECT_EQ(color->GetComponent(0, 0), 1.0);
+  EXPECT_EQ(intensity->GetTuple1(1), 2.5);
+  EXPECT_EQ(color->GetComponent(1, 1), 0.5);
+  EXPECT_TRUE(same_bits(color->GetComponent(1, 2), kThird));
 }
 
 // ---- scene.vtm ---------------------------------------------------------------------------------

@@ -400,7 +400,7 @@ TEST(SceneLoading, AllowsMaterialsCameraCommentAndSchemaKeys) {
   const Scene scene = parse(R"({
     "$schema": "https://example.org/scene.schema.json",
     "_comment": "ignored",
-    "materials": [{"anything": true}],
+    "materials": [{"name": "plaster"}],
     "camera": {"eye": [0, 0, 10]},
     "meshes": [{"name": "wall", "_note": "ok", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]]}],
     "lights": [{"name": "sun", "_note": "ok", "type": "directional", "to_light": [0, 0, 1]}],
@@ -860,3 +860,71 @@ TEST(ValidateScene, RejectsANonPositivePlanarityTolerance) {
 }
 
 }  // namespace
+
+// ---- materials ---------------------------------------------------------------------------------
+
+namespace {
+
+/// A scene with a wall mesh that may name a material, and `materials` JSON text.
+std::string scene_with_materials(const std::string& materials, const std::string& mesh_material = "") {
+  return R"({"materials": )" + materials + R"(, "meshes": [{"name": "wall", )" +
+         (mesh_material.empty() ? std::string() : R"("material": )" + mesh_material + ", ") +
+         R"("polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]]}, {"name": "floor", "polygons": [[[0, 0, 1], [1, 0, 1], [1, 1, 1]]]}],
+      "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})";
+}
+
+}  // namespace
+
+TEST(SceneMaterials, ReadsEveryKeyAndAssignsMaterialsToMeshes) {
+  const Scene scene = parse(scene_with_materials(
+      R"([{"name": "brick", "k_a": 0.1, "k_d": 0.6, "k_s": 0.05, "shininess": 8,
+           "color": [0.7, 0.3, 0.2], "specular_color": [1, 1, 0.5]},
+          {"name": "glass"}])",
+      R"("brick")"));
+  ASSERT_EQ(scene.materials.size(), 2u);
+  const shadow::Material& brick = scene.materials[0];
+  EXPECT_EQ(brick.name, "brick");
+  EXPECT_EQ(brick.k_a, 0.1);
+  EXPECT_EQ(brick.k_d, 0.6);
+  EXPECT_EQ(brick.k_s, 0.05);
+  EXPECT_EQ(brick.shininess, 8.0);
+  EXPECT_EQ(brick.color, dvec3(0.7, 0.3, 0.2));
+  EXPECT_EQ(brick.specular_color, dvec3(1, 1, 0.5));
+  // Keys not given keep the defaults of Material{}.
+  const shadow::Material defaults{};
+  EXPECT_EQ(scene.materials[1].k_d, defaults.k_d);
+  EXPECT_EQ(scene.materials[1].shininess, defaults.shininess);
+  EXPECT_EQ(scene.meshes[0].material, "brick");
+  EXPECT_EQ(scene.meshes[1].material, "");
+  EXPECT_EQ(&scene.material_of(0), &scene.materials[0]);
+  EXPECT_EQ(scene.material_of(1).name, "");
+  EXPECT_EQ(scene.material_of(1).k_d, defaults.k_d);
+}
+
+TEST(SceneMaterials, AnUnknownMaterialNameIsAnErrorWithASuggestion) {
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "brick"}])", R"("brik")")); },
+                               {"inline.json", "meshes[0].material", "no material is named \"brik\"", "brick"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials("[]", R"("brick")")); },
+                               {"inline.json", "meshes[0].material", "no material is named \"brick\""}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "brick"}])", "3")); },
+                               {"inline.json", "meshes[0].material", "expected a material name"}));
+}
+
+TEST(SceneMaterials, BadMaterialsNameThePlaceAndTheProblem) {
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"({"name": "brick"})")); },
+                               {"inline.json", "materials", "expected an array"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"k_d": 0.5}])")); },
+                               {"inline.json", "materials[0]", "missing \"name\""}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a"}, {"name": "a"}])")); },
+                               {"inline.json", "materials[1].name", "already used by materials[0]"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "k_d": -0.5}])")); },
+                               {"inline.json", "materials[0].k_d", "k_d must be >= 0"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "shininess": "high"}])")); },
+                               {"inline.json", "materials[0].shininess", "expected a number"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "color": [1, 2, 0]}])")); },
+                               {"inline.json", "materials[0].color[1]", "must be in [0, 1]"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "specular_color": [1]}])")); },
+                               {"inline.json", "materials[0].specular_color", "expected 3 numbers"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "kd": 0.5}])")); },
+                               {"inline.json", "materials[0]", "unknown key \"kd\""}));
+}

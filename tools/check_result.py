@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Checks a `shadow compute` output directory from the outside, with VTK's own Python readers:
-every file opens, points are Float64, scene.vtm has its named blocks, and the fragments and
-plane shadows add up to what report.json says.
+every file opens, points are Float64, scene.vtm has its named blocks, the fragments and
+plane shadows add up to what report.json says, and the fragments' irradiance is I max(0, n.l)
+(/ r^2 for point lights) where lit and 0 in shadow, recomputed from faces.vtp and lights.vtp.
 
     /usr/bin/python3 tools/check_result.py OUTDIR      # prints "check_result: ok" or the problems
 """
@@ -147,6 +148,55 @@ def main(outdir):
                   f"lights.vtp: light {i} to_light {got}, report says {d}")
             check(all(math.isclose(direction.GetTuple3(i)[k], -got[k], abs_tol=0) for k in range(3)),
                   f"lights.vtp: light {i} direction is not -to_light")
+
+    # Irradiance, recomputed: the face's Newell normal, the light from lights.vtp.
+    irradiance = fragments.GetPointData().GetArray("irradiance")
+    check(irradiance is not None and irradiance.GetDataType() == vtk.VTK_DOUBLE,
+          "fragments.vtp: no Float64 point array irradiance")
+    if irradiance is not None and fragments.GetNumberOfCells() > 0:
+        faces = datasets["faces"]
+        lights = datasets["lights"]
+        lpd = lights.GetPointData()
+
+        def face_normal(f):
+            ids = faces.GetCell(f).GetPointIds()
+            pts = [faces.GetPoint(ids.GetId(i)) for i in range(ids.GetNumberOfIds())]
+            n = [0.0, 0.0, 0.0]
+            for i, a in enumerate(pts):
+                b = pts[(i + 1) % len(pts)]
+                n[0] += (a[1] - b[1]) * (a[2] + b[2])
+                n[1] += (a[2] - b[2]) * (a[0] + b[0])
+                n[2] += (a[0] - b[0]) * (a[1] + b[1])
+            length = math.sqrt(sum(c * c for c in n))
+            return [c / length for c in n]
+
+        normals = {}
+        worst = 0.0
+        for c in range(fragments.GetNumberOfCells()):
+            f, l = int(face_id[c]), int(light_id[c])
+            if f not in normals:
+                normals[f] = face_normal(f)
+            n = normals[f]
+            point_light = lpd.GetArray("type").GetValue(l) == 1
+            strength = lpd.GetArray("intensity").GetValue(l)
+            ids = fragments.GetCell(c).GetPointIds()
+            for i in range(ids.GetNumberOfIds()):
+                pid = ids.GetId(i)
+                p = fragments.GetPoint(pid)
+                expected = 0.0
+                if lit[c]:
+                    if point_light:
+                        q = lights.GetPoint(l)
+                        d = [q[k] - p[k] for k in range(3)]
+                        r2 = sum(x * x for x in d)
+                        cosine = max(0.0, sum(n[k] * d[k] for k in range(3)) / math.sqrt(r2))
+                        expected = strength * cosine / r2
+                    else:
+                        t = lpd.GetArray("to_light").GetTuple3(l)
+                        expected = strength * max(0.0, sum(n[k] * t[k] for k in range(3)))
+                got = irradiance.GetValue(pid)
+                worst = max(worst, abs(got - expected) / max(1.0, abs(expected)))
+        check(worst < 1e-9, f"fragments.vtp: irradiance differs from I max(0, n.l) [/ r^2] by up to {worst:.3g}")
 
     if problems:
         for p in problems[:20]:

@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The `shadow` command line: `shadow compute SCENE.json -o OUTDIR`.
+// The `shadow` command line: `shadow compute SCENE.json -o OUTDIR`, `shadow render SCENE.json -o PNG`.
 #include <shadow/shadow.hpp>
+
+#ifdef LIBSHADOW_HAVE_RENDER
+#include "render/render_image.hpp"
+#include "render_command.hpp"
+#endif
 
 #include <CLI/CLI.hpp>
 
@@ -159,6 +164,14 @@ int main(int argc, char** argv) {
       ->default_val(1e-6)
       ->check(CLI::PositiveNumber);
 
+#ifdef LIBSHADOW_HAVE_RENDER
+  RenderArgs render_args;
+  CLI::App* render = app.add_subcommand(
+      "render", "Compute the exact shadows and draw the scene lit by a lighting model to a PNG image "
+                "(see docs/lighting.md; needs an X display or xvfb-run)");
+  add_render_options(*render, render_args);
+#endif
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -167,6 +180,12 @@ int main(int argc, char** argv) {
 
   try {
     if (*compute) return run_compute(args);
+#ifdef LIBSHADOW_HAVE_RENDER
+    if (*render) return run_render(render_args, argc, argv);
+  } catch (const shadow::render::RenderError& e) {
+    std::cerr << "shadow: error: " << e.what() << "\n";
+    return kOutputFailed;
+#endif
   } catch (const shadow::InputError& e) {
     std::cerr << "shadow: error: " << e.what() << "\n";
     return kBadInput;

@@ -184,5 +184,61 @@ if [[ -f "$EXAMPLES/default/scene.json" ]]; then
   expect_success example_default_scene "$EXAMPLES/default/scene.json" --quiet
 fi
 
+# ---- shadow render (built when VTK's OpenGL rendering is available) ----
+if "$SHADOW" render --help >/dev/null 2>&1; then
+  # Without DISPLAY the command restarts itself under xvfb-run (when it is installed).
+  if command -v xvfb-run >/dev/null 2>&1 || [[ -n ${DISPLAY:-} ]]; then
+    status=0
+    env -u DISPLAY "$SHADOW" render "$WORK/tiny/scene.json" -o "$WORK/tiny.png" --width 64 --height 48 \
+      --quiet >"$WORK/render.stdout" 2>"$WORK/render.stderr" || status=$?
+    if [[ $status -eq 0 && $(head -c 4 "$WORK/tiny.png" | od -An -c | tr -d ' ') == "211PNG" ]]; then
+      pass "render_writes_a_png_without_a_display"
+    else
+      fail "render_writes_a_png_without_a_display" "status $status, stderr: $(cat "$WORK/render.stderr")"
+    fi
+  fi
+  # No display and no xvfb-run: one line that says what to install, status 3, no image.
+  status=0
+  env -u DISPLAY PATH=/nonexistent "$SHADOW" render "$WORK/tiny/scene.json" -o "$WORK/no-x.png" \
+    >"$WORK/no-x.stdout" 2>"$WORK/no-x.stderr" || status=$?
+  if [[ $status -eq 3 && $(grep -c . "$WORK/no-x.stderr") -eq 1 && $(cat "$WORK/no-x.stderr") == *xvfb* &&
+        ! -e "$WORK/no-x.png" ]]; then
+    pass "render_without_display_or_xvfb_says_what_to_do"
+  else
+    fail "render_without_display_or_xvfb_says_what_to_do" "status $status: $(cat "$WORK/no-x.stderr")"
+  fi
+  # Bad options and bad scenes: non-zero status, one line on stderr.
+  expect_render_error() {
+    local name=$1 expected_status=$2 part=$3
+    shift 3
+    local status=0
+    "$SHADOW" render "$@" -o "$WORK/$name.png" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+    local lines
+    # (CLI11 follows a usage error with "Run with --help for more information.")
+    lines=$(grep -v -c -e '^Run with --help' -e '^$' "$WORK/$name.stderr")
+    if [[ $status -ne $expected_status ]]; then
+      fail "$name" "exit status $status, expected $expected_status: $(cat "$WORK/$name.stderr")"
+    elif [[ $lines -ne 1 || $(cat "$WORK/$name.stderr") != *"$part"* ]]; then
+      fail "$name" "expected one line with '$part': $(cat "$WORK/$name.stderr")"
+    elif [[ -e "$WORK/$name.png" ]]; then
+      fail "$name" "a failed run left $WORK/$name.png"
+    else
+      pass "$name"
+    fi
+  }
+  expect_render_error render_unknown_model 105 "--model" "$WORK/tiny/scene.json" --model toon
+  expect_render_error render_missing_scene 2 "does-not-exist.json" "$S/does-not-exist.json"
+  mkdir -p "$WORK/cam"
+  cat >"$WORK/cam/scene.json" <<'EOF'
+{
+  "meshes": [{"name": "ground", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]]}],
+  "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 1]}],
+  "camera": {"eye": [0.5, 0.5], "fov": 40}
+}
+EOF
+  expect_render_error render_bad_scene_camera 2 "camera.eye: expected 3 numbers" "$WORK/cam/scene.json"
+  expect_render_error render_up_along_view 3 "--up" "$WORK/tiny/scene.json" --eye 0,0,5 --target 0,0,0 --up 0,0,1
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <shadow/error.hpp>
+#include <shadow/material.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -34,6 +35,8 @@ struct Mesh {
   std::size_t first_face = 0;   ///< face_id of the mesh's first face
   std::size_t face_count = 0;
   bool receiver = true;         ///< faces of this mesh receive light (see `receivers`)
+  /// Name of the mesh's entry in Scene::materials; empty: the default Material{}.
+  std::string material;
 };
 
 enum class LightType { Directional, Point };
@@ -64,12 +67,24 @@ struct Scene {
   std::vector<Face> faces;
   std::vector<Light> lights;
   std::vector<Plane> planes;
+  std::vector<Material> materials;  ///< named materials for lighting (scene file `materials`)
   std::filesystem::path source;    ///< the scene file (empty when built in code)
   std::vector<Warning> warnings;   ///< non-fatal findings of loading and validation
 
   /// True when face `face_id` belongs to a receiving mesh.
   [[nodiscard]] bool is_receiver(std::size_t face_id) const {
     return meshes[faces[face_id].mesh].receiver;
+  }
+
+  /// The material of face `face_id`: its mesh's named material, or the default Material{}
+  /// when the mesh names none (or a name that is not in `materials`).
+  [[nodiscard]] const Material& material_of(std::size_t face_id) const {
+    static const Material default_material{};
+    const std::string& name = meshes[faces[face_id].mesh].material;
+    if (name.empty()) return default_material;
+    for (const Material& m : materials)
+      if (m.name == name) return m;
+    return default_material;
   }
 };
 

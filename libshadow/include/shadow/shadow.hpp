@@ -6,6 +6,7 @@
 #include <shadow/blinn.hpp>
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
+#include <shadow/lighting.hpp>
 #include <shadow/output.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "output/vtk_files.hpp"
 
+#include <shadow/lighting.hpp>
 #include <shadow/output.hpp>
 
 #include <glm/common.hpp>
@@ -179,7 +180,22 @@ std::vector<std::size_t> lights_with_results(const ShadowResult& result) {
   return {ids.begin(), ids.end()};
 }
 
-vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result) {
+namespace {
+
+/// Newell's normal of a polygon, unit length (zero for a polygon without area).
+glm::dvec3 polygon_normal(const std::vector<glm::dvec3>& polygon) {
+  glm::dvec3 n(0.0);
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3& a = polygon[i];
+    const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
+    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+  }
+  return unit_or_zero(n);
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const ShadowResult& result) {
   const std::vector<Fragment>& fragments = result.fragments;
   const std::size_t n = fragments.size();
   auto poly = vtkSmartPointer<vtkPolyData>::New();
@@ -207,6 +223,25 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result)
   cd->AddArray(lit);
   cd->AddArray(area);
   cd->AddArray(fragment_id);
+
+  // Points are not shared between cells, so each point takes the irradiance of its own cell's
+  // light: I max(0, n.l) (/ r^2 for a point light) where lit, 0 in shadow.
+  std::size_t point_count = 0;
+  for (const Fragment& f : fragments) point_count += f.polygon.size();
+  auto irradiance = make_array<vtkDoubleArray>("irradiance", point_count);
+  vtkIdType next = 0;
+  for (const Fragment& f : fragments) {
+    const bool known_light = f.light_id < scene.lights.size();
+    // The face's normal where the face is known (a fragment sliver could tilt its own).
+    const glm::dvec3 normal = f.face_id < scene.faces.size() ? polygon_normal(scene.faces[f.face_id].vertices)
+                                                             : polygon_normal(f.polygon);
+    for (const glm::dvec3& p : f.polygon) {
+      double value = kNaN;  // a light that is not in the scene: nothing to compute it from
+      if (known_light) value = f.lit ? shadow::irradiance(scene.lights[f.light_id], p, normal) : 0.0;
+      irradiance->SetValue(next++, value);
+    }
+  }
+  poly->GetPointData()->AddArray(irradiance);
   // ParaView colours by the active scalars when a file is opened: lit/shadowed is the view
   // people want first.
   cd->SetActiveScalars("lit");
@@ -322,6 +357,8 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   auto name = vtkSmartPointer<vtkStringArray>::New();
   name->SetName("name");
   name->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto intensity = make_array<vtkDoubleArray>("intensity", n);
+  auto color = make_array<vtkDoubleArray>("color", n, 3);
 
   for (std::size_t i = 0; i < n; ++i) {
     const Light& light = scene.lights[i];
@@ -343,6 +380,8 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
     to_light->SetTuple3(id, toward.x, toward.y, toward.z);
     direction->SetTuple3(id, -toward.x, -toward.y, -toward.z);
     name->SetValue(id, light.name);
+    intensity->SetValue(id, light.intensity);
+    color->SetTuple3(id, light.color.r, light.color.g, light.color.b);
   }
 
   auto poly = vtkSmartPointer<vtkPolyData>::New();
@@ -354,6 +393,8 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   pd->AddArray(to_light);
   pd->AddArray(direction);
   pd->AddArray(name);
+  pd->AddArray(intensity);
+  pd->AddArray(color);
   pd->SetActiveVectors("direction");
   return poly;
 }

@@ -16,8 +16,9 @@ class vtkPolyData;
 
 namespace shadow::detail {
 
-/// One polygon cell per fragment; cell arrays face_id, light_id, lit, area, fragment_id.
-vtkSmartPointer<vtkPolyData> make_fragments_polydata(const ShadowResult& result);
+/// One polygon cell per fragment; cell arrays face_id, light_id, lit, area, fragment_id; point
+/// array irradiance (from the cell's light; NaN for lights that are not in `scene`).
+vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const ShadowResult& result);
 
 /// Every input face; cell arrays face_id, mesh_id, mesh, receiver, area and, per light with
 /// results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was computed).
@@ -27,7 +28,7 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
 /// region_id, area.
 vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& result);
 
-/// One vertex per light; point arrays light_id, type, to_light, direction, name.
+/// One vertex per light; point arrays light_id, type, to_light, direction, name, intensity, color.
 vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
 
 /// Writes `data` as a binary, appended, zlib-compressed .vtp file.

@@ -137,7 +137,7 @@ std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
   StagedFiles staged(outdir);
   // Fragments first: by far the largest file, so a full disk shows up before the others.
   const auto fragments = staged.stage("fragments.vtp");
-  detail::write_polydata(detail::make_fragments_polydata(result), fragments.temp,
+  detail::write_polydata(detail::make_fragments_polydata(scene, result), fragments.temp,
                          fragments.final_path);
   const auto faces = staged.stage("faces.vtp");
   detail::write_polydata(detail::make_faces_polydata(scene, result), faces.temp, faces.final_path);

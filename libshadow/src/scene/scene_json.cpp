@@ -238,6 +238,7 @@ struct PendingMesh {
   std::string path;  // "meshes[i]"
   std::string file;  // empty for inline polygons
   std::vector<std::vector<glm::dvec3>> polygons;
+  std::string material;  // name of a scene material, empty for the default
 };
 
 class SceneReader {
@@ -256,11 +257,14 @@ class SceneReader {
     const Json& meshes = require(document, "", "meshes", "the scene's meshes");
     const Json& lights = require(document, "", "lights", "the scene's lights");
 
+    // Materials first: meshes name them.
+    if (const Json* materials = find(document, "materials")) read_materials(*materials);
     std::vector<PendingMesh> pending = read_meshes(meshes);
     for (std::size_t i = 0; i < pending.size(); ++i) {
       Mesh mesh;
       mesh.name = mesh_names_[i];
       mesh.file = pending[i].file;
+      mesh.material = pending[i].material;
       scene_.meshes.push_back(std::move(mesh));
     }
     read_lights(lights);
@@ -344,7 +348,7 @@ class SceneReader {
       const std::string path = element("meshes", i);
       const Json& m = meshes[i];
       require_object(m, path, "a mesh");
-      check_keys(m, path, {"name", "file", "polygons"});
+      check_keys(m, path, {"name", "file", "polygons", "material"});
       const std::string name = get_name(m, path, "each mesh needs a unique name");
       if (const auto [it, inserted] = seen.emplace(name, i); !inserted)
         fail(member(path, "name"), "mesh name " + quote(name) + " is already used by " +
@@ -359,6 +363,18 @@ class SceneReader {
         fail(path, "missing \"file\" (an OBJ file) or \"polygons\" (inline faces)");
       PendingMesh p;
       p.path = path;
+      if (const Json* material = find(m, "material")) {
+        const std::string material_path = member(path, "material");
+        if (!material->is_string())
+          fail(material_path, "expected a material name, got " + describe(*material));
+        p.material = material->get<std::string>();
+        std::vector<std::string> names;
+        for (const Material& known : scene_.materials) names.push_back(known.name);
+        if (std::find(names.begin(), names.end(), p.material) == names.end())
+          fail(material_path, "no material is named " + quote(p.material) +
+                                  (names.empty() ? std::string(" (the scene has no \"materials\")")
+                                                 : suggestion(p.material, names)));
+      }
       if (file != nullptr) {
         if (!file->is_string()) fail(member(path, "file"), "expected a file name, got " + describe(*file));
         p.file = file->get<std::string>();
@@ -436,6 +452,51 @@ class SceneReader {
     mesh.face_count = scene_.faces.size() - mesh.first_face;
   }
 
+  // -- materials --
+
+  /// A colour: 3 numbers in [0, 1].
+  glm::dvec3 get_color(const Json& value, const std::string& path) const {
+    if (value.is_array() && value.size() != 3)
+      fail(path, "expected 3 numbers [r, g, b], got " + std::to_string(value.size()) +
+                     (value.size() == 1 ? " element" : " elements"));
+    const glm::dvec3 color = get_vec3(value, path);
+    for (int c = 0; c < 3; ++c)
+      if (color[c] < 0.0 || color[c] > 1.0)
+        fail(element(path, static_cast<std::size_t>(c)),
+             "color components must be in [0, 1], got " + format_number(color[c]));
+    return color;
+  }
+
+  void read_materials(const Json& materials) {
+    require_array(materials, "materials");
+    std::map<std::string, std::size_t> seen;
+    for (std::size_t i = 0; i < materials.size(); ++i) {
+      const std::string path = element("materials", i);
+      const Json& m = materials[i];
+      require_object(m, path, "a material");
+      check_keys(m, path, {"name", "k_a", "k_d", "k_s", "shininess", "color", "specular_color"});
+      Material material;
+      material.name = get_name(m, path, "each material needs a unique name");
+      if (const auto [it, inserted] = seen.emplace(material.name, i); !inserted)
+        fail(member(path, "name"), "material name " + quote(material.name) + " is already used by " +
+                                       element("materials", it->second));
+      const std::pair<const char*, double*> coefficients[] = {
+          {"k_a", &material.k_a}, {"k_d", &material.k_d}, {"k_s", &material.k_s},
+          {"shininess", &material.shininess}};
+      for (const auto& [key, target] : coefficients) {
+        if (const Json* value = find(m, key)) {
+          *target = get_number(*value, member(path, key));
+          if (*target < 0)
+            fail(member(path, key), std::string(key) + " must be >= 0, got " + format_number(*target));
+        }
+      }
+      if (const Json* color = find(m, "color")) material.color = get_color(*color, member(path, "color"));
+      if (const Json* color = find(m, "specular_color"))
+        material.specular_color = get_color(*color, member(path, "specular_color"));
+      scene_.materials.push_back(std::move(material));
+    }
+  }
+
   // -- lights --
 
   void read_lights(const Json& lights) {
@@ -487,17 +548,7 @@ class SceneReader {
         if (light.intensity < 0)
           fail(member(path, "intensity"), "intensity must be >= 0, got " + format_number(light.intensity));
       }
-      if (const Json* color = find(l, "color")) {
-        const std::string color_path = member(path, "color");
-        if (color->is_array() && color->size() != 3)
-          fail(color_path, "expected 3 numbers [r, g, b], got " + std::to_string(color->size()) +
-                               (color->size() == 1 ? " element" : " elements"));
-        light.color = get_vec3(*color, color_path);
-        for (int c = 0; c < 3; ++c)
-          if (light.color[c] < 0.0 || light.color[c] > 1.0)
-            fail(element(color_path, static_cast<std::size_t>(c)),
-                 "color components must be in [0, 1], got " + format_number(light.color[c]));
-      }
+      if (const Json* color = find(l, "color")) light.color = get_color(*color, member(path, "color"));
       scene_.lights.push_back(std::move(light));
     }
   }

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file render_image.hpp
+/// @brief Pictures of a scene with its exact shadows, drawn with VTK off screen.
+///
+/// Colours come from libshadow's lighting models evaluated on the CPU (shaded_mesh.hpp); VTK
+/// only rasterises them, its own lighting switched off. Debian's VTK 9.1 draws through X11
+/// (GLX) even off screen, so an X display is needed: on a headless machine run under
+/// `xvfb-run -a` (the `shadow render` command does that by itself). See docs/lighting.md.
+#pragma once
+
+#include "render/shaded_mesh.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+namespace shadow::render {
+
+/// Rendering failed (no display, no OpenGL context, an unwritable file).
+class RenderError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// An RGB image, rows from the top, 3 bytes per pixel.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;
+  /// Red, green, blue of pixel (x, y), y counted from the top.
+  [[nodiscard]] const std::uint8_t* pixel(int x, int y) const {
+    return rgb.data() + 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x));
+  }
+};
+
+struct RenderOptions {
+  int width = 800;
+  int height = 600;
+  ShadeOptions shade;                     ///< model, shading method, camera (image_height is set from height)
+  glm::dvec3 background{0.93, 0.95, 0.98};  ///< as displayed (sRGB), a pale sky
+};
+
+/// True when an X display is available for VTK's OpenGL (DISPLAY set).
+bool display_available();
+
+/// Draws the coloured mesh. @throws RenderError
+Image render_mesh(const ColouredMesh& mesh, const RenderOptions& options);
+
+/// Everything: overlay the fragments of `result`, shade, draw. `result` must hold fragment
+/// polygons for every light of `scene` on every face to be drawn. @throws RenderError
+Image render_scene(const Scene& scene, const ShadowResult& result, const RenderOptions& options);
+
+/// Writes a PNG file. @throws RenderError naming the file
+void write_png(const Image& image, const std::filesystem::path& path);
+
+}  // namespace shadow::render

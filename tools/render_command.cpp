@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `shadow render SCENE.json -o image.png`: exact shadows, the seed lighting models, a picture.
+#include "render_command.hpp"
+
+#include "render/render_image.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Set in the environment of the copy of `shadow` started under xvfb-run, so that a display
+/// that still does not work ends in an error instead of another restart.
+constexpr const char* kUnderXvfb = "LIBSHADOW_RENDER_UNDER_XVFB";
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return false;
+  std::string dirs = path;
+  std::size_t start = 0;
+  while (start <= dirs.size()) {
+    const std::size_t end = std::min(dirs.find(':', start), dirs.size());
+    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / program;
+    if (access(candidate.c_str(), X_OK) == 0) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
+
+/// The scene file's optional "camera" object: {"eye", "target", "up": [x, y, z], "fov": degrees},
+/// each key optional. The library ignores the key; only pictures use it. The scene has been
+/// loaded (and so read and parsed) already.
+void apply_scene_camera(const std::string& scene_file, shadow::render::Camera& camera) {
+  std::ifstream in(scene_file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  const nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
+  if (!document.is_object() || !document.contains("camera")) return;
+  const nlohmann::json& c = document["camera"];
+  auto fail = [&](const std::string& place, const std::string& problem) {
+    throw shadow::InputError({scene_file, place}, problem);
+  };
+  if (!c.is_object()) fail("camera", "expected an object {\"eye\", \"target\", \"up\", \"fov\"}");
+  auto vec3 = [&](const char* key, glm::dvec3& out) {
+    if (!c.contains(key)) return;
+    const nlohmann::json& v = c[key];
+    if (!v.is_array() || v.size() != 3) fail(std::string("camera.") + key, "expected 3 numbers [x, y, z]");
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        fail("camera." + std::string(key) + "[" + std::to_string(i) + "]", "expected a finite number");
+      out[static_cast<int>(i)] = v[i].get<double>();
+    }
+  };
+  for (const auto& [key, value] : c.items()) {
+    (void)value;
+    if (key.empty() || key[0] == '_' || key[0] == '$') continue;
+    if (key != "eye" && key != "target" && key != "up" && key != "fov")
+      fail("camera", "unknown key \"" + key + "\" (known: \"eye\", \"target\", \"up\", \"fov\")");
+  }
+  vec3("eye", camera.eye);
+  vec3("target", camera.target);
+  vec3("up", camera.up);
+  if (c.contains("fov")) {
+    const nlohmann::json& fov = c["fov"];
+    if (!fov.is_number() || !(fov.get<double>() >= 1.0 && fov.get<double>() <= 170.0))
+      fail("camera.fov", "expected a vertical view angle in degrees, in [1, 170]");
+    camera.fov_degrees = fov.get<double>();
+  }
+}
+
+}  // namespace
+
+void add_render_options(CLI::App& render, RenderArgs& args) {
+  render.add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
+  render.add_option("-o,--output", args.image, "PNG file to write")->required();
+  render.add_option("--width", args.width, "Image width in pixels")->default_val(800)->check(CLI::Range(1, 16384));
+  render.add_option("--height", args.height, "Image height in pixels")->default_val(600)->check(CLI::Range(1, 16384));
+  render.add_option("--model", args.model,
+                    "Lighting model: ambient, lambert, half-lambert, modified-half-lambert, phong, blinn-phong")
+      ->default_val("blinn-phong")
+      ->check(CLI::IsMember({"ambient", "lambert", "half-lambert", "modified-half-lambert", "phong", "blinn-phong"}));
+  render.add_option("--shading", args.shading, "Shading method: flat, gouraud, phong (per pixel)")
+      ->default_val("phong")
+      ->check(CLI::IsMember({"flat", "gouraud", "phong"}));
+  render.add_option("--attenuation", args.attenuation,
+                    "Fall-off with distance: none, inverse-square (1/r^2 from point lights), "
+                    "viewer-linear (1/(d+K), d from the viewer: seeds 000/001), light-linear (1/(d+K), d from "
+                    "point lights)")
+      ->default_val("none")
+      ->check(CLI::IsMember({"none", "inverse-square", "viewer-linear", "light-linear"}));
+  render.add_option("-K,--attenuation-k", args.attenuation_k, "K of the linear attenuation 1/(d+K)")
+      ->default_val(1.0)
+      ->check(CLI::PositiveNumber);
+  render.add_option("--ambient", args.ambient, "Ambient light intensity i_a")
+      ->default_val(1.0)
+      ->check(CLI::NonNegativeNumber);
+  render.add_option("--back-intensity", args.back_intensity,
+                    "modified-half-lambert: intensity I_B of the back (fill) light")
+      ->default_val(0.5)
+      ->check(CLI::NonNegativeNumber);
+  render.add_option("--eye", args.eye, "Camera position x,y,z (default: frames the scene)")
+      ->expected(3)
+      ->delimiter(',');
+  render.add_option("--target,--look-at", args.target, "Point the camera looks at x,y,z (default: the scene's centre)")
+      ->expected(3)
+      ->delimiter(',');
+  render.add_option("--up", args.up, "Camera up direction x,y,z")->expected(3)->delimiter(',')->default_str("0,0,1");
+  render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
+      ->check(CLI::Range(1.0, 170.0))
+      ->each([&args](const std::string&) { args.fov_given = true; });
+  render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  render.add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+}
+
+int run_render(const RenderArgs& args, int argc, char** argv) {
+  namespace sr = shadow::render;
+  // Debian's VTK draws through X even off screen; without a display, start again under Xvfb.
+  if (!sr::display_available()) {
+    if (std::getenv(kUnderXvfb) == nullptr && on_path("xvfb-run")) {
+      setenv(kUnderXvfb, "1", 1);
+      // This very binary, by its real path (/proc/self/exe would name xvfb-run's shell there).
+      std::error_code error;
+      const fs::path self = fs::read_symlink("/proc/self/exe", error);
+      std::vector<std::string> words = {"xvfb-run", "-a", "-s", "-screen 0 2048x2048x24",
+                                        error ? std::string(argv[0]) : self.string()};
+      for (int i = 1; i < argc; ++i) words.emplace_back(argv[i]);
+      std::vector<char*> exec_args;
+      for (std::string& w : words) exec_args.push_back(w.data());
+      exec_args.push_back(nullptr);
+      execvp("xvfb-run", exec_args.data());
+      throw sr::RenderError(std::string("cannot start xvfb-run: ") + std::strerror(errno));
+    }
+    throw sr::RenderError(
+        "no X display (DISPLAY is not set) and no xvfb-run on the PATH to make one: install the packages "
+        "xvfb and xauth (shadow render then starts itself under xvfb-run), or point DISPLAY at an X server");
+  }
+
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  shadow::Scene scene = shadow::load_scene(args.scene);
+  if (!args.quiet)
+    for (const shadow::Warning& warning : scene.warnings)
+      std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+  // A picture shows every face lit as it is, whatever the scene's `receivers` say.
+  for (shadow::Mesh& mesh : scene.meshes) mesh.receiver = true;
+
+  sr::RenderOptions options;
+  options.width = args.width;
+  options.height = args.height;
+  shadow::parse_lighting_model(args.model, options.shade.lighting.model);
+  shadow::parse_attenuation(args.attenuation, options.shade.lighting.attenuation);
+  sr::parse_shading(args.shading, options.shade.shading);
+  options.shade.lighting.attenuation_k = args.attenuation_k;
+  options.shade.lighting.ambient_intensity = args.ambient;
+  options.shade.lighting.back_intensity = args.back_intensity;
+  options.shade.camera = sr::default_camera(scene, static_cast<double>(args.width) / args.height);
+  apply_scene_camera(args.scene, options.shade.camera);  // the scene's "camera", then the options
+  if (!args.target.empty()) options.shade.camera.target = to_vec3(args.target);
+  if (!args.eye.empty()) options.shade.camera.eye = to_vec3(args.eye);
+  if (!args.up.empty()) options.shade.camera.up = to_vec3(args.up);
+  if (args.fov_given) options.shade.camera.fov_degrees = args.fov;
+  const sr::Camera& camera = options.shade.camera;
+  const glm::dvec3 view = camera.target - camera.eye;
+  if (glm::length(view) == 0.0) throw sr::RenderError("the camera's eye and target are the same point");
+  if (glm::length(glm::cross(view, camera.up)) <= 1e-12 * glm::length(view) * glm::length(camera.up))
+    throw sr::RenderError("the camera's up direction (--up) is zero or parallel to the view direction "
+                          "(from eye to target)");
+
+  shadow::ShadowOptions shadow_options;
+  shadow_options.threads = args.threads;
+  shadow_options.planes = false;
+  shadow::ShadowResult result;
+  try {
+    result = shadow::compute_shadows(scene, shadow_options);
+  } catch (const shadow::InputError& e) {
+    throw shadow::InputError({args.scene, e.where().place}, e.problem());
+  }
+  const auto computed = Clock::now();
+  const sr::Image image = sr::render_scene(scene, result, options);
+  sr::write_png(image, args.image);
+  if (!args.quiet) {
+    auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+    std::printf("shadow %s: %zu faces, %zu lights, %zu fragments; %s model, %s shading, %dx%d\n",
+                shadow::version(), scene.faces.size(), scene.lights.size(), result.fragments.size(),
+                args.model.c_str(), args.shading.c_str(), args.width, args.height);
+    std::printf("  shadows in %.3f s, picture in %.3f s: %s\n", seconds(computed - start),
+                seconds(Clock::now() - computed), args.image.c_str());
+  }
+  return 0;
+}

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `shadow render` subcommand (built when VTK's OpenGL rendering is available).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+struct RenderArgs {
+  std::string scene;
+  std::string image;
+  int width = 800;
+  int height = 600;
+  std::string model = "blinn-phong";
+  std::string shading = "phong";
+  std::string attenuation = "none";
+  double attenuation_k = 1.0;
+  double ambient = 1.0;
+  double back_intensity = 0.5;
+  std::vector<double> eye;
+  std::vector<double> target;
+  std::vector<double> up;
+  double fov = 30.0;
+  bool fov_given = false;
+  unsigned threads = 0;
+  bool quiet = false;
+};
+
+/// Declares the options of `shadow render` on its subcommand.
+void add_render_options(CLI::App& render, RenderArgs& args);
+
+/// Runs `shadow render`; argc/argv are the whole command line, to start again under xvfb-run
+/// when there is no display. @throws shadow::InputError, shadow::render::RenderError
+int run_render(const RenderArgs& args, int argc, char** argv);
