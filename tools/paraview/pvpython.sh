@@ -5,7 +5,7 @@
 # Uses the system's pvpython when python3-paraview is installed; otherwise the copy that
 # scripts/setup-pvpython.sh unpacked beside libshadow's build dependencies (Debian 12's
 # python3-paraview conflicts with libvtk9-dev). Rendering is offscreen; without a DISPLAY the
-# script runs under a virtual X server (xvfb-run, Debian's xvfb and xauth).
+# script runs under a private virtual X server (tools/run-headless.sh: Debian's xvfb).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 prefix="${LIBSHADOW_PVPYTHON_PREFIX:-/opt/libshadow/python3-paraview}"
@@ -27,10 +27,9 @@ else
 fi
 
 if [[ -z "${DISPLAY:-}" ]]; then
-  if ! command -v xvfb-run >/dev/null; then
-    echo "pvpython.sh: no DISPLAY and no xvfb-run (Debian packages xvfb and xauth)" >&2
-    exit 2
-  fi
-  command=(xvfb-run -a -s "-screen 0 1920x1080x24" "${command[@]}")
+  # A private Xvfb (tools/run-headless.sh; installed one level up, in share/libshadow).
+  headless="$here/../run-headless.sh"
+  [[ -x "$headless" ]] || headless="$here/run-headless.sh"
+  command=("$headless" "${command[@]}")
 fi
 exec "${command[@]}"
