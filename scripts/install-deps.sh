@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev librapidcheck-dev
   libcli11-dev nlohmann-json3-dev
   libjemalloc-dev
+  libembree-dev
 )
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
