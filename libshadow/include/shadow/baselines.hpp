@@ -67,10 +67,10 @@ struct ShadowMapOptions {
   int resolution = 2048;          ///< texels per side of the map (of each cube face)
   double constant_bias = 1e-3;    ///< metres (scene units)
   double slope_bias = 1.0;        ///< texels of depth slope
-  double max_slope_bias = 8.0;    ///< cap of the slope term, in texels (grazing faces)
+  double max_slope_bias = 16.0;   ///< cap of the slope term, in texels (grazing faces)
   double sample_spacing = 1.0;    ///< face sample spacing in texel footprints
   /// Cap on samples per face (the spacing is widened on a face that would exceed it).
-  std::uint64_t max_samples_per_face = 1ull << 22;
+  std::uint64_t max_samples_per_face = 1ull << 26;
   unsigned threads = 0;           ///< 0: every hardware thread
   std::vector<std::size_t> lights;  ///< scene lights to compute; empty: every light
 };

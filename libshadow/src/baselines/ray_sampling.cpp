@@ -76,6 +76,8 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
   es.device = rtcNewDevice(config.c_str());
   if (!es.device) embree_failed(nullptr, "cannot create an Embree device");
   es.scene = rtcNewScene(es.device);
+  // Watertight traversal: without it rays leak through the shared diagonal of a triangulated quad.
+  rtcSetSceneFlags(es.scene, RTC_SCENE_FLAG_ROBUST);
   if (!indices.empty()) {
     RTCGeometry geom = rtcNewGeometry(es.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,

@@ -232,7 +232,15 @@ BaselineResult shadow_map_lighting(const Scene& scene, const ShadowMapOptions& o
     std::vector<SampleJob> jobs = setup.jobs(k);
     for (SampleJob& j : jobs) {
       if (light.point) {
-        const double dist = std::abs(glm::dot(j.frame->n, light.position - j.frame->origin));
+        // Nearest distance from the lamp to the face, bounded below by its distance to the
+        // face's plane and to the face's bounding box.
+        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
+        for (const glm::dvec3& p0 : scene.faces[setup.result.lighting[j.pair].face_id].vertices) {
+          lo = glm::min(lo, p0 - setup.shift);
+          hi = glm::max(hi, p0 - setup.shift);
+        }
+        const glm::dvec3 outside = glm::max(glm::dvec3(0.0), glm::max(lo - light.position, light.position - hi));
+        const double dist = std::max(glm::length(outside), std::abs(glm::dot(j.frame->n, light.position - j.frame->origin)));
         j.spacing = options.sample_spacing * 2.0 / R * std::max(dist, 1e-4 * std::max(1.0, diag));
       } else {
         j.spacing = options.sample_spacing * texel;

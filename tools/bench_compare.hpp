@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// shadow-bench's comparison modes: the exact engine against the sampled baselines.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+/// What one method returns for one scene and parameter.
+struct MethodRun {
+  std::vector<shadow::FaceLighting> lighting;  ///< by face then light, as the exact engine
+  double prepare_s = 0, compute_s = 0;
+  std::uint64_t samples = 0;                    ///< sample points or rays (0 for exact)
+};
+
+/// A method the bench runs. To add one, append it in methods() (bench_compare.cpp).
+struct Method {
+  std::string name;            ///< "exact", "shadow-map", "ray-sampling", ...
+  std::string parameter_name;  ///< "resolution", "spacing_m", or "" for none
+  /// The parameter values to run on a scene, coarse to fine; `{0}` for a method without one.
+  /// `spacings` are the scene's ray-sampling spacings (m).
+  std::function<std::vector<double>(const std::vector<double>& spacings, bool quick)> parameters;
+  std::function<MethodRun(const shadow::Scene&, double parameter, unsigned threads)> run;
+};
+
+/// Every method, exact first.
+std::vector<Method> methods();
+
+struct CompareOptions {
+  std::vector<std::size_t> sizes{100, 1000, 10000};
+  unsigned threads = 2;
+  bool quick = false;
+  double max_samples = 4e8;  ///< skip ray-sampling spacings that would cast more rays
+  std::string csv_path, json_path;
+  std::vector<std::string> only_methods;  ///< empty: all
+  std::vector<std::string> only_scenes;   ///< empty: all (names as in the table)
+};
+
+/// Runs every (scene, method, parameter) in a forked child; prints a Markdown table.
+int run_compare(const CompareOptions& options);
+
+/// Runs the hard cases of architecture.md through every method; prints a Markdown table.
+int run_hard_cases(unsigned threads, const std::string& csv_path);
+
+}  // namespace bench
