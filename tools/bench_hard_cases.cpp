@@ -186,7 +186,7 @@ int run_hard_cases(unsigned threads, const std::string& csv_path) {
           ++wrong;
         }
     }
-    for (int resolution : {2048, 8192}) {
+    for (int resolution : {1024, 4096}) {
       shadow::ShadowMapOptions options;
       options.resolution = resolution;
       options.threads = threads;

@@ -107,35 +107,51 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
     const ShiftedLight light = setup.shifted[k];
     std::vector<std::uint64_t> s(samples.size(), 0), l(samples.size(), 0);
     run_sampling(jobs, threads, std::numeric_limits<std::uint64_t>::max(),
-                 [&](unsigned) {
-                   return [&, context = std::make_shared<RTCIntersectContext>()](const glm::dvec3& p,
-                                                                                  const SampleJob& job) {
-                     rtcInitIntersectContext(context.get());
-                     const glm::dvec3 o = p + offset * job.frame->n;
-                     glm::dvec3 d;
-                     float tfar;
-                     if (light.point) {
-                       d = light.position - o;
-                       const double len = glm::length(d);
-                       if (!(len > offset)) return false;  // the light is on (or at) the face
-                       tfar = static_cast<float>(1.0 - offset / len);
-                     } else {
-                       d = light.to_light;
-                       tfar = std::numeric_limits<float>::infinity();
+                 [&](unsigned) -> BatchTest {
+                   // Per thread: a ray buffer; rays of one batch share a face and a light, so
+                   // they are coherent and Embree's stream traversal is told so.
+                   auto rays = std::make_shared<std::vector<RTCRay>>(kBatch);
+                   return [&, rays](const glm::dvec3* points, std::size_t count, const SampleJob& job) {
+                     RTCIntersectContext context;
+                     rtcInitIntersectContext(&context);
+                     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+                     std::size_t n = 0;
+                     std::uint64_t unusable = 0;  // samples at the lamp itself: in shadow
+                     for (std::size_t i = 0; i < count; ++i) {
+                       const glm::dvec3 o = points[i] + offset * job.frame->n;
+                       glm::dvec3 d;
+                       float tfar;
+                       if (light.point) {
+                         d = light.position - o;
+                         const double len = glm::length(d);
+                         if (!(len > offset)) {
+                           ++unusable;
+                           continue;
+                         }
+                         tfar = static_cast<float>(1.0 - offset / len);
+                       } else {
+                         d = light.to_light;
+                         tfar = std::numeric_limits<float>::infinity();
+                       }
+                       RTCRay& ray = (*rays)[n++];
+                       ray.org_x = static_cast<float>(o.x);
+                       ray.org_y = static_cast<float>(o.y);
+                       ray.org_z = static_cast<float>(o.z);
+                       ray.dir_x = static_cast<float>(d.x);
+                       ray.dir_y = static_cast<float>(d.y);
+                       ray.dir_z = static_cast<float>(d.z);
+                       ray.tnear = 0.0f;
+                       ray.tfar = tfar;
+                       ray.mask = 0xFFFFFFFFu;
+                       ray.time = 0.0f;
+                       ray.id = 0;
+                       ray.flags = 0;
                      }
-                     RTCRay ray{};
-                     ray.org_x = static_cast<float>(o.x);
-                     ray.org_y = static_cast<float>(o.y);
-                     ray.org_z = static_cast<float>(o.z);
-                     ray.dir_x = static_cast<float>(d.x);
-                     ray.dir_y = static_cast<float>(d.y);
-                     ray.dir_z = static_cast<float>(d.z);
-                     ray.tnear = 0.0f;
-                     ray.tfar = tfar;
-                     ray.mask = 0xFFFFFFFFu;
-                     ray.time = 0.0f;
-                     rtcOccluded1(es.scene, context.get(), &ray);
-                     return ray.tfar >= 0.0f;  // Embree sets tfar to -inf when occluded
+                     if (n > 0) rtcOccluded1M(es.scene, &context, rays->data(), static_cast<unsigned>(n), sizeof(RTCRay));
+                     std::uint64_t lit_count = 0;
+                     for (std::size_t i = 0; i < n; ++i) lit_count += (*rays)[i].tfar >= 0.0f ? 1 : 0;  // -inf: occluded
+                     (void)unusable;
+                     return lit_count;
                    };
                  },
                  s, l);

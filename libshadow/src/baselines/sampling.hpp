@@ -63,11 +63,14 @@ struct SampleJob {
 
 /// Samples every job's face on its cell-centred grid and counts lit samples, on `threads`
 /// threads scheduled dynamically over blocks of rows (one large face is many work items).
-/// `make_test(thread_index)` returns the per-thread predicate lit(point, job).
+/// `make_test(thread_index)` returns the per-thread test: how many of `count` points (all on
+/// one job's face, at most kBatch) are lit. Batches let Embree trace coherent rays together.
 /// Counts land in samples[pair] and lit[pair]. A face with no grid point inside gets one sample.
+constexpr std::size_t kBatch = 256;
+using BatchTest = std::function<std::uint64_t(const glm::dvec3* points, std::size_t count, const SampleJob& job)>;
 void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uint64_t max_samples_per_face,
-                  const std::function<std::function<bool(const glm::dvec3&, const SampleJob&)>(unsigned)>& make_test,
-                  std::vector<std::uint64_t>& samples, std::vector<std::uint64_t>& lit);
+                  const std::function<BatchTest(unsigned)>& make_test, std::vector<std::uint64_t>& samples,
+                  std::vector<std::uint64_t>& lit);
 
 /// What both baselines start from: the shift, every face's frame, the selected lights (shifted)
 /// and the result's entries (receivers x lights, by face then light, areas filled in).

@@ -250,7 +250,7 @@ BaselineResult shadow_map_lighting(const Scene& scene, const ShadowMapOptions& o
     std::vector<std::uint64_t> s(samples.size(), 0), l(samples.size(), 0);
     run_sampling(jobs, threads, options.max_samples_per_face,
                  [&](unsigned) {
-                   return [&](const glm::dvec3& p, const SampleJob& job) {
+                   auto lit_point = [&](const glm::dvec3& p, const SampleJob& job) {
                      double depth, foot, cosine;
                      float stored;
                      if (light.point) {
@@ -281,6 +281,11 @@ BaselineResult shadow_map_lighting(const Scene& scene, const ShadowMapOptions& o
                      const double tangent = std::sqrt(std::max(0.0, 1.0 - cosine * cosine)) / cosine;
                      const double bias = cb + foot * std::min(sb * tangent, sb_max);
                      return depth <= static_cast<double>(stored) + bias;
+                   };
+                   return [lit_point](const glm::dvec3* points, std::size_t count, const SampleJob& job) {
+                     std::uint64_t n = 0;
+                     for (std::size_t i = 0; i < count; ++i) n += lit_point(points[i], job) ? 1 : 0;
+                     return n;
                    };
                  },
                  s, l);
