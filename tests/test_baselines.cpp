@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace shadow::test {
@@ -146,6 +147,28 @@ TEST(Baselines, AgreeWithTheExactEngineOnRandomScenes) {
     EXPECT_NEAR(ray_lit / exact_lit, 1.0, 0.01) << "seed " << seed;
     EXPECT_NEAR(map_lit / exact_lit, 1.0, 0.02) << "seed " << seed;
   }
+}
+
+TEST(SphereField, OneSphereUnderOverheadSunCastsItsEquatorialTwelveGon) {
+  // Ground (20 + 10 + 10)^2 = 1600; the UV sphere's widest section is its equator, a regular
+  // 12-gon of radius r and area 3 r^2; the sphere touches the ground at its south pole.
+  Scene scene = make_sphere_field(1, 20, 5);
+  ASSERT_EQ(scene.faces.size(), 1u + 120u);
+  scene.lights.push_back(directional_light("sun", {0, 0, 1}));
+  validate_scene(scene);
+  double top = 0;
+  for (const Face& f : scene.faces)
+    for (const glm::dvec3& v : f.vertices) top = std::max(top, v.z);
+  const double r = top / 2, expected = 1 - 3 * r * r / 1600;
+  ShadowOptions options;
+  options.threads = 2;
+  options.polygons = false;
+  EXPECT_NEAR(compute_shadows(scene, options).find(0, 0)->lit_fraction, expected, 1e-12);
+  RaySamplingOptions rays;
+  rays.spacing = 0.05;
+  rays.threads = 2;
+  // The 12-gon's perimeter is below 2 pi r.
+  EXPECT_NEAR(ray_sampling_lighting(scene, rays).find(0, 0)->lit_fraction, expected, 2 * M_PI * r * 0.05 / 1600);
 }
 
 TEST(Baselines, RejectUnusableOptions) {
