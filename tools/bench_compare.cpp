@@ -23,7 +23,7 @@ namespace bench {
 
 std::vector<Method> methods() {
   std::vector<Method> out;
-  out.push_back({"exact", "", [](const std::vector<double>&, bool) { return std::vector<double>{0}; },
+  out.push_back({"exact", "", [](const std::vector<double>&, const std::vector<double>&, bool) { return std::vector<double>{0}; },
                  [](const shadow::Scene& scene, double, unsigned threads) {
                    using Clock = std::chrono::steady_clock;
                    MethodRun r;
@@ -39,7 +39,8 @@ std::vector<Method> methods() {
                    return r;
                  }});
   out.push_back({"shadow-map", "resolution",
-                 [](const std::vector<double>&, bool quick) {
+                 [](const std::vector<double>&, const std::vector<double>& resolutions, bool quick) {
+                   if (!resolutions.empty()) return resolutions;
                    return quick ? std::vector<double>{256, 1024}
                                 : std::vector<double>{256, 512, 1024, 2048, 4096, 8192};
                  },
@@ -51,7 +52,7 @@ std::vector<Method> methods() {
                    return MethodRun{std::move(b.lighting), b.prepare_seconds, b.compute_seconds, b.samples};
                  }});
   out.push_back({"ray-sampling", "spacing_m",
-                 [](const std::vector<double>& spacings, bool quick) {
+                 [](const std::vector<double>& spacings, const std::vector<double>&, bool quick) {
                    if (!quick) return spacings;
                    return std::vector<double>(spacings.begin(), spacings.begin() + std::min<std::size_t>(2, spacings.size()));
                  },
@@ -290,7 +291,8 @@ int run_compare(const CompareOptions& o) {
       if (!o.only_methods.empty() && m.name != "exact" &&
           std::find(o.only_methods.begin(), o.only_methods.end(), m.name) == o.only_methods.end())
         continue;
-      for (double p : m.parameters(bs.spacings, o.quick)) runs.emplace_back(&m, p);
+      for (double p : m.parameters(o.spacings.empty() ? bs.spacings : o.spacings, o.resolutions, o.quick))
+        runs.emplace_back(&m, p);
     }
     for (std::size_t k = 0; k < runs.size(); ++k) {
       const Method& m = *runs[k].first;
@@ -311,8 +313,10 @@ int run_compare(const CompareOptions& o) {
         if (is_reference) break;  // nothing to compare with
         continue;
       }
-      std::printf("| %s | %llu | %s | %g | %.3f | %.3f | %.3f | %.0f | %llu | %.6f | %.2e | %.2e | %.2e |\n",
-                  bs.name.c_str(), static_cast<unsigned long long>(row.faces), m.name.c_str(), p, row.prepare_s,
+      char parameter[32] = "-";
+      if (!m.parameter_name.empty()) std::snprintf(parameter, sizeof parameter, "%g", p);
+      std::printf("| %s | %llu | %s | %s | %.3f | %.3f | %.3f | %.0f | %llu | %.6f | %.2e | %.2e | %.2e |\n",
+                  bs.name.c_str(), static_cast<unsigned long long>(row.faces), m.name.c_str(), parameter, row.prepare_s,
                   row.compute_s, row.total_s, row.peak_mib, static_cast<unsigned long long>(row.samples),
                   row.lit_fraction, row.total_rel_error, row.mean_abs_error, row.max_abs_error);
       std::fflush(stdout);

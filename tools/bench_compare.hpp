@@ -25,7 +25,10 @@ struct Method {
   std::string parameter_name;  ///< "resolution", "spacing_m", or "" for none
   /// The parameter values to run on a scene, coarse to fine; `{0}` for a method without one.
   /// `spacings` are the scene's ray-sampling spacings (m).
-  std::function<std::vector<double>(const std::vector<double>& spacings, bool quick)> parameters;
+  /// `resolutions`: the shadow-map resolutions asked for on the command line (may be empty).
+  std::function<std::vector<double>(const std::vector<double>& spacings, const std::vector<double>& resolutions,
+                                    bool quick)>
+      parameters;
   std::function<MethodRun(const shadow::Scene&, double parameter, unsigned threads)> run;
 };
 
@@ -40,6 +43,8 @@ struct CompareOptions {
   std::string csv_path, json_path;
   std::vector<std::string> only_methods;  ///< empty: all
   std::vector<std::string> only_scenes;   ///< empty: all (names as in the table)
+  std::vector<double> spacings;           ///< ray-sampling spacings for every scene (empty: per scene)
+  std::vector<double> resolutions;        ///< shadow-map resolutions (empty: 256 .. 8192)
 };
 
 /// Runs every (scene, method, parameter) in a forked child; prints a Markdown table.

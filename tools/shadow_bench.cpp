@@ -155,6 +155,8 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("--max-samples", compare.max_samples, "Skip ray spacings that cast more rays");
   compare_cmd->add_option("--methods", compare.only_methods, "Only these baselines (exact always runs)")->delimiter(',');
   compare_cmd->add_option("--scenes", compare.only_scenes, "Only these scenes (names as in the table)")->delimiter(',');
+  compare_cmd->add_option("--spacings", compare.spacings, "Ray-sampling spacings (m) for every scene")->delimiter(',');
+  compare_cmd->add_option("--resolutions", compare.resolutions, "Shadow-map resolutions")->delimiter(',');
   compare_cmd->add_flag("--quick", compare.quick, "Smoke run: 100-box city and the room, two parameters each");
   unsigned hard_threads = 2;
   std::string hard_csv;
