@@ -51,6 +51,7 @@ struct CompareOptions {
 int run_compare(const CompareOptions& options);
 
 /// Runs the hard cases of architecture.md through every method; prints a Markdown table.
-int run_hard_cases(unsigned threads, const std::string& csv_path);
+/// Returns non-zero when the exact engine misses a closed-form answer. `quick`: coarser maps.
+int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick);
 
 }  // namespace bench

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <algorithm>
 #include <functional>
 #include <string>
 #include <vector>
@@ -127,7 +128,7 @@ std::vector<HardCase> hard_cases() {
 
 }  // namespace
 
-int run_hard_cases(unsigned threads, const std::string& csv_path) {
+int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
   using Clock = std::chrono::steady_clock;
   std::ofstream csv;
   if (!csv_path.empty()) {
@@ -186,7 +187,7 @@ int run_hard_cases(unsigned threads, const std::string& csv_path) {
           ++wrong;
         }
     }
-    for (int resolution : {1024, 4096}) {
+    for (int resolution : quick ? std::vector<int>{256, 1024} : std::vector<int>{1024, 4096}) {
       shadow::ShadowMapOptions options;
       options.resolution = resolution;
       options.threads = threads;

@@ -163,10 +163,12 @@ int main(int argc, char** argv) {
   CLI::App* hard_cmd = app.add_subcommand("hard-cases", "The hard cases of the design notes through every method");
   hard_cmd->add_option("--threads", hard_threads, "Threads for every method")->check(CLI::PositiveNumber);
   hard_cmd->add_option("--csv", hard_csv, "Write the rows as CSV to this file");
+  bool hard_quick = false;
+  hard_cmd->add_flag("--quick", hard_quick, "Shadow maps at 256 and 1024 instead of 1024 and 4096");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
-  if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv);
+  if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
 
   std::vector<Case> cases;
   // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).
