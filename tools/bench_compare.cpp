@@ -21,7 +21,7 @@
 
 namespace bench {
 
-std::vector<Method> methods() {
+std::vector<Method> methods(const CompareOptions& o) {
   std::vector<Method> out;
   out.push_back({"exact", "", [](const std::vector<double>&, const std::vector<double>&, bool) { return std::vector<double>{0}; },
                  [](const shadow::Scene& scene, double, unsigned threads) {
@@ -44,9 +44,12 @@ std::vector<Method> methods() {
                    return quick ? std::vector<double>{256, 1024}
                                 : std::vector<double>{256, 512, 1024, 2048, 4096, 8192};
                  },
-                 [](const shadow::Scene& scene, double resolution, unsigned threads) {
+                 [cb = o.constant_bias, sb = o.slope_bias](const shadow::Scene& scene, double resolution,
+                                                           unsigned threads) {
                    shadow::ShadowMapOptions options;
                    options.resolution = static_cast<int>(resolution);
+                   options.constant_bias = cb;
+                   options.slope_bias = sb;
                    options.threads = threads;
                    shadow::BaselineResult b = shadow::shadow_map_lighting(scene, options);
                    return MethodRun{std::move(b.lighting), b.prepare_seconds, b.compute_seconds, b.samples};
@@ -259,7 +262,7 @@ std::string json_escape(const std::string& s) {
 
 int run_compare(const CompareOptions& o) {
   const bool tty = isatty(2) != 0;
-  const std::vector<Method> all = methods();
+  const std::vector<Method> all = methods(o);
   std::vector<BenchScene> scenes = standard_scenes(o);
   if (!o.only_scenes.empty())
     scenes.erase(std::remove_if(scenes.begin(), scenes.end(),

@@ -2,6 +2,7 @@
 // shadow-bench's comparison modes: the exact engine against the sampled baselines.
 #pragma once
 
+#include <shadow/baselines.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
 
@@ -19,7 +20,8 @@ struct MethodRun {
   std::uint64_t samples = 0;                    ///< sample points or rays (0 for exact)
 };
 
-/// A method the bench runs. To add one, append it in methods() (bench_compare.cpp).
+/// A method the bench runs. To add one, append it in methods() (bench_compare.cpp): a name, its
+/// parameter's name and values, and a function that runs it on a scene.
 struct Method {
   std::string name;            ///< "exact", "shadow-map", "ray-sampling", ...
   std::string parameter_name;  ///< "resolution", "spacing_m", or "" for none
@@ -32,8 +34,10 @@ struct Method {
   std::function<MethodRun(const shadow::Scene&, double parameter, unsigned threads)> run;
 };
 
+struct CompareOptions;
+
 /// Every method, exact first.
-std::vector<Method> methods();
+std::vector<Method> methods(const CompareOptions& options);
 
 struct CompareOptions {
   std::vector<std::size_t> sizes{100, 1000, 10000};
@@ -45,6 +49,8 @@ struct CompareOptions {
   std::vector<std::string> only_scenes;   ///< empty: all (names as in the table)
   std::vector<double> spacings;           ///< ray-sampling spacings for every scene (empty: per scene)
   std::vector<double> resolutions;        ///< shadow-map resolutions (empty: 256 .. 8192)
+  double constant_bias = shadow::ShadowMapOptions{}.constant_bias;  ///< shadow map (m)
+  double slope_bias = shadow::ShadowMapOptions{}.slope_bias;        ///< shadow map (texels)
 };
 
 /// Runs every (scene, method, parameter) in a forked child; prints a Markdown table.

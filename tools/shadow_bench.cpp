@@ -157,6 +157,8 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("--scenes", compare.only_scenes, "Only these scenes (names as in the table)")->delimiter(',');
   compare_cmd->add_option("--spacings", compare.spacings, "Ray-sampling spacings (m) for every scene")->delimiter(',');
   compare_cmd->add_option("--resolutions", compare.resolutions, "Shadow-map resolutions")->delimiter(',');
+  compare_cmd->add_option("--constant-bias", compare.constant_bias, "Shadow-map constant depth bias (m)");
+  compare_cmd->add_option("--slope-bias", compare.slope_bias, "Shadow-map slope-scaled bias (texels)");
   compare_cmd->add_flag("--quick", compare.quick, "Smoke run: 100-box city and the room, two parameters each");
   unsigned hard_threads = 2;
   std::string hard_csv;
