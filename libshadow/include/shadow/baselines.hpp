@@ -10,10 +10,11 @@
 /// (`faces_light = false`, lit area 0); degenerate faces cast nothing and receive nothing.
 ///
 /// Each receiving face is sampled on a cell-centred square grid in its own plane (axes along
-/// its first edge and across it, the grid centred on the face's bounding rectangle); the
-/// samples inside the face are counted and the lit fraction is lit samples / samples. A face
-/// smaller than one cell gets one sample, at the centre of its bounding rectangle (or at a
-/// vertex average when that is outside). `lit_area` is that fraction times the face's area
+/// its longest edge and across it, the grid centred on the face's bounding rectangle and then
+/// moved by irrational fractions of a cell, so that rows of samples never line up with edges on
+/// the scene's own coordinate grid); the samples inside the face are counted and the lit
+/// fraction is lit samples / samples. A face with no grid point inside gets one sample, at the
+/// centre of its bounding rectangle. `lit_area` is that fraction times the face's area
 /// (Newell's formula in double precision).
 ///
 /// Coordinates are shifted by the centre of the scene's bounding box, in double precision,
@@ -80,10 +81,13 @@ struct ShadowMapOptions {
 BaselineResult shadow_map_lighting(const Scene& scene, const ShadowMapOptions& options = {});
 
 /// Ray sampling on Intel Embree 3: every non-degenerate face is triangulated into one Embree
-/// scene (float32, both sides occlude). Each front-facing receiver gets a cell-centred grid of
-/// spacing `spacing`; from each sample, moved `offset` off the face along its normal (not along
-/// the light: at grazing light that would stay on the face), one occlusion ray goes to the
-/// light (to `offset` short of a point light). Lit fraction = unoccluded rays / rays.
+/// scene (float32, both sides occlude, watertight traversal so that rays cannot slip through
+/// the shared edges of a face's triangles). Each front-facing receiver gets a cell-centred grid
+/// of spacing `spacing`; from each sample, moved off the face along its normal (not along the
+/// light: at grazing light that would stay on the face) by `offset` or 8 float ulps of the
+/// largest shifted coordinate, whichever is larger, one occlusion ray goes to the light (to that
+/// offset short of a point light). The rays of one face are traced together as a coherent
+/// stream. Lit fraction = unoccluded rays / rays.
 struct RaySamplingOptions {
   double spacing = 1.0;           ///< grid spacing on each face (scene units)
   double offset = 1e-4;           ///< start of each ray off the face (scene units)
