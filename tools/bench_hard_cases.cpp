@@ -146,10 +146,9 @@ int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
     std::vector<shadow::FaceLighting> exact;
     auto report = [&](const std::string& method, const std::string& parameter,
                       const std::vector<shadow::FaceLighting>& got, double seconds) {
-      double area = 0, lit = 0, ref_lit = 0, sum = 0, worst = 0, face_fraction = NAN;
+      double lit = 0, ref_lit = 0, sum = 0, worst = 0, face_fraction = NAN;
       std::size_t counted = 0;
       for (std::size_t e = 0; e < exact.size() && e < got.size(); ++e) {
-        area += exact[e].area;
         lit += got[e].lit_area;
         ref_lit += exact[e].lit_area;
         if (got[e].face_id == hc.face) face_fraction = got[e].lit_fraction;
@@ -169,7 +168,6 @@ int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
       if (csv.is_open())
         csv << '"' << hc.name << "\"," << method << ',' << parameter << ',' << hc.face << ',' << face_fraction << ','
             << hc.expected << ',' << rel << ',' << mean << ',' << worst << ',' << seconds << '\n';
-      (void)area;
     };
     {
       const auto t0 = Clock::now();

@@ -116,7 +116,6 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
                      rtcInitIntersectContext(&context);
                      context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
                      std::size_t n = 0;
-                     std::uint64_t unusable = 0;  // samples at the lamp itself: in shadow
                      for (std::size_t i = 0; i < count; ++i) {
                        const glm::dvec3 o = points[i] + offset * job.frame->n;
                        glm::dvec3 d;
@@ -124,10 +123,7 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
                        if (light.point) {
                          d = light.position - o;
                          const double len = glm::length(d);
-                         if (!(len > offset)) {
-                           ++unusable;
-                           continue;
-                         }
+                         if (!(len > offset)) continue;  // a sample at the lamp itself: not lit
                          tfar = static_cast<float>(1.0 - offset / len);
                        } else {
                          d = light.to_light;
@@ -150,7 +146,6 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
                      if (n > 0) rtcOccluded1M(es.scene, &context, rays->data(), static_cast<unsigned>(n), sizeof(RTCRay));
                      std::uint64_t lit_count = 0;
                      for (std::size_t i = 0; i < n; ++i) lit_count += (*rays)[i].tfar >= 0.0f ? 1 : 0;  // -inf: occluded
-                     (void)unusable;
                      return lit_count;
                    };
                  },
