@@ -30,6 +30,7 @@ struct HardCase {
   std::size_t face = 0;      // the face of interest
   double expected = NAN;     // its exact lit fraction, when known in closed form
   double ray_spacing = 0.05;
+  bool also_without_recentring = false;  // georeferenced: show float32 at the raw coordinates
 };
 
 Polygon3 reversed(Polygon3 p) {
@@ -101,7 +102,7 @@ std::vector<HardCase> hard_cases() {
                    s.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(40, 135)));
                    return s;
                  },
-                 0, NAN, 0.1});
+                 0, NAN, 0.1, true});
   out.push_back({"lamp on the ground plane", "point light in a receiver's plane: edge-on ground",
                  [] {
                    shadow::Scene s;
@@ -185,23 +186,31 @@ int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
           ++wrong;
         }
     }
-    for (int resolution : quick ? std::vector<int>{256, 1024} : std::vector<int>{1024, 4096}) {
-      shadow::ShadowMapOptions options;
-      options.resolution = resolution;
-      options.threads = threads;
-      const auto t0 = Clock::now();
-      const shadow::BaselineResult b = shadow::shadow_map_lighting(scene, options);
-      report("shadow-map", std::to_string(resolution), b.lighting, std::chrono::duration<double>(Clock::now() - t0).count());
-    }
-    {
+    for (bool recentre : {true, false}) {
+      if (!recentre && !hc.also_without_recentring) continue;
+      const std::string suffix = recentre ? "" : " (raw float32)";
+      // The shadow map here works in double up to the stored float depth, so raw coordinates
+      // would only show through the depth: the raw-float32 row is the rays' (Embree's vertices).
+      for (int resolution : quick ? std::vector<int>{256, 1024} : std::vector<int>{1024, 4096}) {
+        if (!recentre) break;
+        shadow::ShadowMapOptions options;
+        options.resolution = resolution;
+        options.threads = threads;
+        options.recentre = recentre;
+        const auto t0 = Clock::now();
+        const shadow::BaselineResult b = shadow::shadow_map_lighting(scene, options);
+        report("shadow-map" + suffix, std::to_string(resolution), b.lighting,
+               std::chrono::duration<double>(Clock::now() - t0).count());
+      }
       shadow::RaySamplingOptions options;
       options.spacing = hc.ray_spacing;
       options.threads = threads;
+      options.recentre = recentre;
       const auto t0 = Clock::now();
       const shadow::BaselineResult b = shadow::ray_sampling_lighting(scene, options);
       char parameter[32];
       std::snprintf(parameter, sizeof parameter, "%g m", hc.ray_spacing);
-      report("ray-sampling", parameter, b.lighting, std::chrono::duration<double>(Clock::now() - t0).count());
+      report("ray-sampling" + suffix, parameter, b.lighting, std::chrono::duration<double>(Clock::now() - t0).count());
     }
   }
   return wrong == 0 ? 0 : 1;

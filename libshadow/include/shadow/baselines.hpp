@@ -19,7 +19,8 @@
 ///
 /// Coordinates are shifted by the centre of the scene's bounding box, in double precision,
 /// before anything is converted to single precision (the depth map and Embree are float32):
-/// that is what a careful user does with georeferenced models.
+/// that is what a careful user does with georeferenced models (`recentre = false` shows what
+/// happens without it).
 ///
 /// Link `libshadow::baselines` (a separate library: the core does not depend on Embree).
 #pragma once
@@ -74,6 +75,7 @@ struct ShadowMapOptions {
   std::uint64_t max_samples_per_face = 1ull << 26;
   unsigned threads = 0;           ///< 0: every hardware thread
   std::vector<std::size_t> lights;  ///< scene lights to compute; empty: every light
+  bool recentre = true;           ///< subtract the scene's centre before going to float32
 };
 
 /// Shadow maps for the scene's lights. The scene must have been validated.
@@ -93,6 +95,7 @@ struct RaySamplingOptions {
   double offset = 1e-4;           ///< start of each ray off the face (scene units)
   unsigned threads = 0;           ///< 0: every hardware thread
   std::vector<std::size_t> lights;  ///< scene lights to compute; empty: every light
+  bool recentre = true;           ///< subtract the scene's centre before going to float32
 };
 
 /// Ray-sampled lit fractions. The scene must have been validated.

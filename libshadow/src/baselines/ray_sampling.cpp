@@ -46,7 +46,7 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
   if (!(options.offset >= 0) || !std::isfinite(options.offset))
     throw InputError({"", "ray sampling"}, "offset must be non-negative and finite");
   const auto t0 = Clock::now();
-  Setup setup = make_setup(scene, options.lights);
+  Setup setup = make_setup(scene, options.lights, options.recentre);
   const unsigned threads = thread_count(options.threads);
 
   // One triangle mesh of every non-degenerate face, in float32 after the shift.

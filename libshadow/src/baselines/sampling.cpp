@@ -319,9 +319,9 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
   }
 }
 
-Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_lights) {
+Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_lights, bool recentre) {
   Setup s;
-  s.shift = scene_centre(scene);
+  s.shift = recentre ? scene_centre(scene) : glm::dvec3(0.0);
   s.lights = selected_lights(scene, wanted_lights);
   for (std::size_t l : s.lights) s.shifted.push_back(shifted_light(scene, l, s.shift));
   s.frames.resize(scene.faces.size());

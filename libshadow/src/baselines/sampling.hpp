@@ -84,7 +84,8 @@ struct Setup {
   /// spacing left at 1.
   std::vector<SampleJob> jobs(std::size_t k) const;
 };
-Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_lights);
+/// `recentre`: shift by the scene's centre (else by nothing: coordinates go to float32 as they are).
+Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_lights, bool recentre);
 
 /// Fills lit estimates from sample counts (entries without samples: lit 0).
 void finish(Setup& setup, const std::vector<std::uint64_t>& samples, const std::vector<std::uint64_t>& lit);

@@ -118,7 +118,7 @@ BaselineResult shadow_map_lighting(const Scene& scene, const ShadowMapOptions& o
       !(options.slope_bias >= 0) || !(options.max_slope_bias >= 0))
     throw InputError({"", "shadow map"}, "biases must be non-negative and the sample spacing positive");
   const auto start = Clock::now();
-  Setup setup = make_setup(scene, options.lights);
+  Setup setup = make_setup(scene, options.lights, options.recentre);
   const unsigned threads = thread_count(options.threads);
   const int R = options.resolution;
 
