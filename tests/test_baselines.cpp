@@ -49,6 +49,21 @@ TEST(RaySampling, SquareUnderSlantedSunConvergesWithinPerimeterTimesSpacing) {
   }
 }
 
+TEST(RaySampling, GeoreferencedCoordinatesKeepTheirAccuracyThroughRecentring) {
+  // At 1e6 float32 has 6 cm steps; the baselines subtract the scene's centre in double first.
+  Scene scene = square_over_ground(directional_light("sun", {1, 0.5, 1}));
+  for (Face& f : scene.faces)
+    for (glm::dvec3& v : f.vertices) v += glm::dvec3(1e6, -2e6, 0);
+  RaySamplingOptions options;
+  options.spacing = 0.02;
+  options.threads = 2;
+  EXPECT_NEAR(at(ray_sampling_lighting(scene, options), 0).lit_fraction, 0.96, 8 * 0.02 / 100);
+  ShadowMapOptions map;
+  map.resolution = 1024;
+  map.threads = 2;
+  EXPECT_NEAR(at(shadow_map_lighting(scene, map), 0).lit_fraction, 0.96, 8 * 3 * 10 * std::sqrt(2.0) / 1024 / 100);
+}
+
 TEST(RaySampling, PointLightShadowIsTheSquareScaledFromTheLight) {
   // Lamp at height 4 over a square at height 2: shadow twice as wide, area 16. Lit 0.84.
   const Scene scene = square_over_ground(point_light("lamp", {0.1, 0.2, 4}));
