@@ -16,6 +16,8 @@ packages=(
   # `shadow render` and its tests on a machine without a display: an X server in memory and
   # Mesa's software OpenGL (llvmpipe).
   xvfb xauth libgl1-mesa-dri
+  # The sampled baselines that shadow-bench measures against the exact engine.
+  libembree-dev
 )
 # The test suite also needs ParaView (its headless test opens a result in pvpython):
 # `install-deps.sh --tests`, as scripts/run-tests.sh does.

@@ -3,6 +3,10 @@
 //
 // Each case runs in a forked child so that its peak memory (ru_maxrss) is its own. Output: a
 // Markdown table on stdout and, with --csv FILE, the same rows as CSV.
+// `shadow-bench compare` runs the exact engine against the sampled baselines (speed against
+// error) and `shadow-bench hard-cases` the hard cases through every method: bench_compare.cpp.
+#include "bench_compare.hpp"
+
 #include <shadow/shadow.hpp>
 
 #include <CLI/CLI.hpp>
@@ -140,7 +144,33 @@ int main(int argc, char** argv) {
   app.add_flag("--areas-only", areas_only, "Compute areas only (no fragment polygons)");
   app.add_option("--repeat", repeat, "Runs per case below 10,000 boxes; the fastest is kept")->check(CLI::PositiveNumber);
   app.add_flag("--quick", quick, "Only the 100- and 1,000-box cities at 40 degrees (smoke run)");
+
+  bench::CompareOptions compare;
+  CLI::App* compare_cmd = app.add_subcommand(
+      "compare", "Exact against the baselines (shadow map, ray sampling): time, memory, error");
+  compare_cmd->add_option("--sizes", compare.sizes, "City sizes in boxes")->delimiter(',');
+  compare_cmd->add_option("--threads", compare.threads, "Threads for every method")->check(CLI::PositiveNumber);
+  compare_cmd->add_option("--csv", compare.csv_path, "Write the rows as CSV to this file");
+  compare_cmd->add_option("--json", compare.json_path, "Write the rows as JSON to this file");
+  compare_cmd->add_option("--max-samples", compare.max_samples, "Skip ray spacings that cast more rays");
+  compare_cmd->add_option("--methods", compare.only_methods, "Only these baselines (exact always runs)")->delimiter(',');
+  compare_cmd->add_option("--scenes", compare.only_scenes, "Only these scenes (names as in the table)")->delimiter(',');
+  compare_cmd->add_option("--spacings", compare.spacings, "Ray-sampling spacings (m) for every scene")->delimiter(',');
+  compare_cmd->add_option("--resolutions", compare.resolutions, "Shadow-map resolutions")->delimiter(',');
+  compare_cmd->add_option("--constant-bias", compare.constant_bias, "Shadow-map constant depth bias (m)");
+  compare_cmd->add_option("--slope-bias", compare.slope_bias, "Shadow-map slope-scaled bias (texels)");
+  compare_cmd->add_flag("--quick", compare.quick, "Smoke run: 100-box city and the room, two parameters each");
+  unsigned hard_threads = 2;
+  std::string hard_csv;
+  CLI::App* hard_cmd = app.add_subcommand("hard-cases", "The hard cases of the design notes through every method");
+  hard_cmd->add_option("--threads", hard_threads, "Threads for every method")->check(CLI::PositiveNumber);
+  hard_cmd->add_option("--csv", hard_csv, "Write the rows as CSV to this file");
+  bool hard_quick = false;
+  hard_cmd->add_flag("--quick", hard_quick, "Shadow maps at 256 and 1024 instead of 1024 and 4096");
+  app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
+  if (compare_cmd->parsed()) return bench::run_compare(compare);
+  if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
 
   std::vector<Case> cases;
   // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).

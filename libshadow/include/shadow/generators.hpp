@@ -47,4 +47,10 @@ Scene make_city(std::size_t boxes, double extent, std::uint64_t seed);
 /// 0.3 m under the ceiling: geometry on every side of the light. Seeded.
 Scene make_furnished_room(std::size_t tables, std::uint64_t seed);
 
+/// A field of `spheres` polyhedral spheres (UV spheres of 12 longitudes and 6 latitude bands,
+/// 120 triangles each: closed convex solids) of random radius 1..4 m resting on a ground square
+/// of side `extent` (plus a 10 m margin; each sphere touches it at its south pole). Spheres may
+/// interpenetrate. Mesh 0 is "ground" (one face), mesh 1 "spheres". No lights. Seeded.
+Scene make_sphere_field(std::size_t spheres, double extent, std::uint64_t seed);
+
 }  // namespace shadow

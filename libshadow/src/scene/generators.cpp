@@ -92,6 +92,37 @@ Scene make_city(std::size_t boxes, double extent, std::uint64_t seed) {
   return scene;
 }
 
+Scene make_sphere_field(std::size_t spheres, double extent, std::uint64_t seed) {
+  Scene scene;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> pos(0.0, extent), radius(1.0, 4.0);
+  add_mesh(scene, "ground", {rectangle_z(-10, -10, extent + 10, extent + 10, 0)});
+  constexpr int kLon = 12, kLat = 6;
+  std::vector<Polygon3> faces;
+  faces.reserve(spheres * 2 * kLon * (kLat - 1));
+  for (std::size_t s = 0; s < spheres; ++s) {
+    const double r = centimetres(radius(rng));
+    const glm::dvec3 c(centimetres(pos(rng)), centimetres(pos(rng)), r);
+    // Ring k at polar angle pi k / kLat (k = 0: north pole); the poles are single vertices.
+    auto vertex = [&](int k, int j) {
+      if (k == 0) return c + glm::dvec3(0, 0, r);
+      if (k == kLat) return c - glm::dvec3(0, 0, r);
+      const double theta = M_PI * k / kLat, phi = 2 * M_PI * j / kLon;
+      return c + r * glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+    };
+    for (int k = 0; k < kLat; ++k) {
+      for (int j = 0; j < kLon; ++j) {
+        const glm::dvec3 a = vertex(k, j), b = vertex(k + 1, j), cc = vertex(k + 1, j + 1), d = vertex(k, j + 1);
+        // Counter-clockwise seen from outside; triangles keep every face exactly planar.
+        if (k > 0) faces.push_back({a, b, d});
+        if (k < kLat - 1) faces.push_back({b, cc, d});
+      }
+    }
+  }
+  add_mesh(scene, "spheres", faces);
+  return scene;
+}
+
 Scene make_furnished_room(std::size_t tables, std::uint64_t seed) {
   Scene scene;
   std::mt19937_64 rng(seed);

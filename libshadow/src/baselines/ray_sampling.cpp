@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Ray sampling on Intel Embree 3: a point grid on every receiving face, one occlusion ray per
+// point toward the light.
+#include "baselines/sampling.hpp"
+
+#include <shadow/baselines.hpp>
+#include <shadow/error.hpp>
+
+#include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+namespace shadow {
+
+using namespace baselines_detail;
+
+namespace {
+
+/// Owns an Embree device and scene.
+struct EmbreeScene {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  ~EmbreeScene() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+[[noreturn]] void embree_failed(RTCDevice device, const char* what) {
+  const RTCError e = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+  throw InputError({"", "ray sampling"}, std::string(what) + " (Embree error " + std::to_string(static_cast<int>(e)) + ")");
+}
+
+}  // namespace
+
+BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  if (!(options.spacing > 0) || !std::isfinite(options.spacing))
+    throw InputError({"", "ray sampling"}, "spacing must be positive and finite");
+  if (!(options.offset >= 0) || !std::isfinite(options.offset))
+    throw InputError({"", "ray sampling"}, "offset must be non-negative and finite");
+  const auto t0 = Clock::now();
+  Setup setup = make_setup(scene, options.lights, options.recentre);
+  const unsigned threads = thread_count(options.threads);
+
+  // One triangle mesh of every non-degenerate face, in float32 after the shift.
+  std::vector<float> vertices;
+  std::vector<unsigned> indices;
+  double max_coordinate = 0;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const FaceFrame& fr = setup.frames[f];
+    if (!fr.ok) continue;
+    const auto base = static_cast<unsigned>(vertices.size() / 3);
+    for (const glm::dvec3& p : scene.faces[f].vertices) {
+      const glm::dvec3 q = p - setup.shift;
+      for (int a = 0; a < 3; ++a) {
+        vertices.push_back(static_cast<float>(q[a]));
+        max_coordinate = std::max(max_coordinate, std::abs(q[a]));
+      }
+    }
+    for (const auto& t : triangulate(fr.polygon))
+      for (std::uint32_t i : t) indices.push_back(base + i);
+  }
+  // Rays start off the face by at least a few float ulps of the coordinates: closer, a ray can
+  // hit its own face in Embree's single precision.
+  const double offset = std::max(options.offset, 8.0 * std::numeric_limits<float>::epsilon() * max_coordinate);
+
+  EmbreeScene es;
+  const std::string config = "threads=" + std::to_string(threads);
+  es.device = rtcNewDevice(config.c_str());
+  if (!es.device) embree_failed(nullptr, "cannot create an Embree device");
+  es.scene = rtcNewScene(es.device);
+  // Watertight traversal: without it rays leak through the shared diagonal of a triangulated quad.
+  rtcSetSceneFlags(es.scene, RTC_SCENE_FLAG_ROBUST);
+  if (!indices.empty()) {
+    RTCGeometry geom = rtcNewGeometry(es.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), vertices.size() / 3));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), indices.size() / 3));
+    if (!vb || !ib) {
+      rtcReleaseGeometry(geom);
+      embree_failed(es.device, "cannot allocate Embree buffers");
+    }
+    std::copy(vertices.begin(), vertices.end(), vb);
+    std::copy(indices.begin(), indices.end(), ib);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(es.scene, geom);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(es.scene);
+  if (rtcGetDeviceError(es.device) != RTC_ERROR_NONE) embree_failed(es.device, "cannot build the Embree scene");
+  vertices = {};
+  indices = {};
+  const auto t1 = Clock::now();
+
+  std::vector<std::uint64_t> samples(setup.result.lighting.size(), 0), lit(samples.size(), 0);
+  for (std::size_t k = 0; k < setup.lights.size(); ++k) {
+    std::vector<SampleJob> jobs = setup.jobs(k);
+    for (SampleJob& j : jobs) j.spacing = options.spacing;
+    const ShiftedLight light = setup.shifted[k];
+    std::vector<std::uint64_t> s(samples.size(), 0), l(samples.size(), 0);
+    run_sampling(jobs, threads, std::numeric_limits<std::uint64_t>::max(),
+                 [&](unsigned) -> BatchTest {
+                   // Per thread: a ray buffer; rays of one batch share a face and a light, so
+                   // they are coherent and Embree's stream traversal is told so.
+                   auto rays = std::make_shared<std::vector<RTCRay>>(kBatch);
+                   return [&, rays](const glm::dvec3* points, std::size_t count, const SampleJob& job) {
+                     RTCIntersectContext context;
+                     rtcInitIntersectContext(&context);
+                     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+                     std::size_t n = 0;
+                     for (std::size_t i = 0; i < count; ++i) {
+                       const glm::dvec3 o = points[i] + offset * job.frame->n;
+                       glm::dvec3 d;
+                       float tfar;
+                       if (light.point) {
+                         d = light.position - o;
+                         const double len = glm::length(d);
+                         if (!(len > offset)) continue;  // a sample at the lamp itself: not lit
+                         tfar = static_cast<float>(1.0 - offset / len);
+                       } else {
+                         d = light.to_light;
+                         tfar = std::numeric_limits<float>::infinity();
+                       }
+                       RTCRay& ray = (*rays)[n++];
+                       ray.org_x = static_cast<float>(o.x);
+                       ray.org_y = static_cast<float>(o.y);
+                       ray.org_z = static_cast<float>(o.z);
+                       ray.dir_x = static_cast<float>(d.x);
+                       ray.dir_y = static_cast<float>(d.y);
+                       ray.dir_z = static_cast<float>(d.z);
+                       ray.tnear = 0.0f;
+                       ray.tfar = tfar;
+                       ray.mask = 0xFFFFFFFFu;
+                       ray.time = 0.0f;
+                       ray.id = 0;
+                       ray.flags = 0;
+                     }
+                     if (n > 0) rtcOccluded1M(es.scene, &context, rays->data(), static_cast<unsigned>(n), sizeof(RTCRay));
+                     std::uint64_t lit_count = 0;
+                     for (std::size_t i = 0; i < n; ++i) lit_count += (*rays)[i].tfar >= 0.0f ? 1 : 0;  // -inf: occluded
+                     return lit_count;
+                   };
+                 },
+                 s, l);
+    for (std::size_t e = 0; e < samples.size(); ++e) {
+      samples[e] += s[e];
+      lit[e] += l[e];
+    }
+  }
+  finish(setup, samples, lit);
+  const auto t2 = Clock::now();
+  setup.result.prepare_seconds = std::chrono::duration<double>(t1 - t0).count();
+  setup.result.compute_seconds = std::chrono::duration<double>(t2 - t1).count();
+  return std::move(setup.result);
+}
+
+}  // namespace shadow

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// shadow-bench's comparison modes: the exact engine against the sampled baselines.
+#pragma once
+
+#include <shadow/baselines.hpp>
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+/// What one method returns for one scene and parameter.
+struct MethodRun {
+  std::vector<shadow::FaceLighting> lighting;  ///< by face then light, as the exact engine
+  double prepare_s = 0, compute_s = 0;
+  std::uint64_t samples = 0;                    ///< sample points or rays (0 for exact)
+};
+
+/// A method the bench runs. To add one, append it in methods() (bench_compare.cpp): a name, its
+/// parameter's name and values, and a function that runs it on a scene.
+struct Method {
+  std::string name;            ///< "exact", "shadow-map", "ray-sampling", ...
+  std::string parameter_name;  ///< "resolution", "spacing_m", or "" for none
+  /// The parameter values to run on a scene, coarse to fine; `{0}` for a method without one.
+  /// `spacings` are the scene's ray-sampling spacings (m).
+  /// `resolutions`: the shadow-map resolutions asked for on the command line (may be empty).
+  std::function<std::vector<double>(const std::vector<double>& spacings, const std::vector<double>& resolutions,
+                                    bool quick)>
+      parameters;
+  std::function<MethodRun(const shadow::Scene&, double parameter, unsigned threads)> run;
+};
+
+struct CompareOptions;
+
+/// Every method, exact first.
+std::vector<Method> methods(const CompareOptions& options);
+
+struct CompareOptions {
+  std::vector<std::size_t> sizes{100, 1000, 10000};
+  unsigned threads = 2;
+  bool quick = false;
+  double max_samples = 4e8;  ///< skip ray-sampling spacings that would cast more rays
+  std::string csv_path, json_path;
+  std::vector<std::string> only_methods;  ///< empty: all
+  std::vector<std::string> only_scenes;   ///< empty: all (names as in the table)
+  std::vector<double> spacings;           ///< ray-sampling spacings for every scene (empty: per scene)
+  std::vector<double> resolutions;        ///< shadow-map resolutions (empty: 256 .. 8192)
+  double constant_bias = shadow::ShadowMapOptions{}.constant_bias;  ///< shadow map (m)
+  double slope_bias = shadow::ShadowMapOptions{}.slope_bias;        ///< shadow map (texels)
+};
+
+/// Runs every (scene, method, parameter) in a forked child; prints a Markdown table.
+int run_compare(const CompareOptions& options);
+
+/// Runs the hard cases of architecture.md through every method; prints a Markdown table.
+/// Returns non-zero when the exact engine misses a closed-form answer. `quick`: coarser maps.
+int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick);
+
+}  // namespace bench
