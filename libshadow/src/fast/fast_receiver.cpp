@@ -319,6 +319,14 @@ struct Grid {
   double rounding() const { return 0.5 * std::hypot(step[0], step[1]) * (1 + 8 * kEps); }
 };
 
+/// Whether a boundary visits some grid point twice (touches itself).
+bool has_repeated_vertex(CL::Path path) {
+  std::sort(path.begin(), path.end(), [](const CL::IntPoint& a, const CL::IntPoint& b) {
+    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
+  });
+  return std::adjacent_find(path.begin(), path.end()) != path.end();
+}
+
 /// Regions (outer boundary with its holes) of a PolyTree, at every nesting level.
 void regions_of(const CL::PolyNode& node, std::vector<CL::Paths>& regions) {
   for (const CL::PolyNode* outer : node.Childs) {
@@ -335,7 +343,20 @@ void regions_of(const CL::PolyNode& node, std::vector<CL::Paths>& regions) {
 /// vertical line through the middle of its median hole (by x), then the two sides likewise.
 /// Every hole is eventually cut by a line through its middle and opens onto the cut; halving
 /// keeps the work at O(n log n) Boolean operations' worth for a ground face with n holes.
-void simple_cells(const CL::Paths& region, CL::Paths& cells, int depth = 0) {
+void simple_cells(const CL::Paths& region, CL::Paths& cells, int depth = 0, bool split_touching = true) {
+  if (region.size() == 1 && split_touching && has_repeated_vertex(region[0])) {
+    // A boundary that touches itself at a vertex: Clipper's strictly simple output splits it
+    // there (done only here: on whole unions it costs quadratic point-in-polygon tests).
+    CL::Clipper clipper;
+    clipper.StrictlySimple(true);
+    clipper.AddPaths(region, CL::ptSubject, true);
+    CL::PolyTree tree;
+    clipper.Execute(CL::ctUnion, tree, CL::pftNonZero, CL::pftNonZero);
+    std::vector<CL::Paths> pieces;
+    regions_of(tree, pieces);
+    for (const CL::Paths& piece : pieces) simple_cells(piece, cells, depth + 1, false);
+    return;
+  }
   if (region.size() == 1 || depth > 64) {
     for (const CL::Path& p : region)
       if (area2(p) > 0) cells.push_back(p);
@@ -638,7 +659,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   Int128 shadow2 = 0;
   try {
     CL::Clipper clipper;
-    clipper.StrictlySimple(polygons);
+    clipper.StrictlySimple(false);
     clipper.AddPaths(casts, CL::ptSubject, true);
     // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
     const CL::ClipType op = fp.chart_is_box ? CL::ctUnion : CL::ctIntersection;
@@ -649,7 +670,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       CL::PolyTreeToPaths(shadow_tree, all);
       for (const CL::Path& p : all) shadow2 += area2(p);
       CL::Clipper lit;
-      lit.StrictlySimple(true);
+      lit.StrictlySimple(false);
       lit.AddPath(receiver, CL::ptSubject, true);
       lit.AddPaths(casts, CL::ptClip, true);
       lit.Execute(CL::ctDifference, lit_tree, CL::pftNonZero, CL::pftNonZero);
