@@ -206,6 +206,27 @@ TEST(FastPath, GeoreferencedCoordinatesNear1e6) {
   validate_scene(far_validated);
   const ShadowResult fast = expect_within_bounds(far_validated, "1e6");
   EXPECT_EQ(fast.stats.fast_exact_fallbacks, 0u);
+  // Offsets that are not representable steps: every coordinate is rounded when moved (faces of
+  // axis-aligned boxes stay exactly planar, since their shared coordinates round alike).
+  Scene odd = transformed(scene, 1.0, {0, 0, 1}, 0.0, {1e6 + 0.3, 2e6 + 0.7, 0.1});
+  validate_scene(odd);
+  expect_within_bounds(odd, "1e6 + 0.3");
+}
+
+TEST(FastPath, PointLightOnAndJustAboveTheReceiversPlane) {
+  // A lamp exactly in the ground's plane (the ground is edge-on to it: attached shadow), and
+  // 1e-9 m above it (the light's side of the plane is too close to call in doubles: exact).
+  for (double height : {0.0, 1e-9, 0.05}) {
+    Scene scene;
+    add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+    add_mesh(scene, "box", box_faces({1, 1, 0}, {2, 2, 1}));
+    scene.lights.push_back(point_light("lamp", {0.25, 0.5, height}));
+    validate_scene(scene);
+    const ShadowResult fast = expect_within_bounds(scene, "lamp at height " + std::to_string(height * 1e9) + " nm");
+    const FaceLighting* ground = fast.find(0, 0);
+    ASSERT_NE(ground, nullptr);
+    EXPECT_EQ(ground->faces_light, height > 0);
+  }
 }
 
 TEST(FastPath, GrazingAndParallelSun) {

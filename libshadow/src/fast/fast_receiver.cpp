@@ -14,8 +14,10 @@
 //   |area(P ∩ union Q_i) - area(P' ∩ union Q'_i)|  <=  sum_i (2 r_i L_i + pi r_i^2) + tube(P),
 //
 // with L_i the perimeter of caster polygon i and tube(P) the same for the receiver (0 when it
-// is its own chart box, whose corners are grid points). That is `lit_area_error_bound`, times
-// the chart-to-3D area factor, plus a few ulps of the final roundings.
+// is its own chart box, whose corners are grid points), plus the same for Clipper's rounding of
+// the intersection points it creates (under 2 rho, on a boundary no longer than sum L_i + L_P).
+// That is `lit_area_error_bound`, times the chart-to-3D area factor, plus a few ulps of the
+// final roundings.
 #include "fast/fast_receiver.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -521,6 +523,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   const double rho = grid.rounding();
   CL::Paths casts;
   double bound_chart = 0;
+  double cast_length = 0;  // total perimeter of the grid polygons given to Clipper
   std::vector<CGAL::Sign> vsign, psign;
   std::vector<glm::dvec2> points, hull;
   Cast cast;
@@ -535,7 +538,8 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     while (path.size() > 1 && path.front() == path.back()) path.pop_back();
     const double r = rho + c.delta + 4 * kEps * rc.magnitude;
     const double n_vertices = static_cast<double>(c.poly.size());
-    bound_chart += tube(std::max(c.free_length, perimeter(c.poly)) + 2 * n_vertices * c.delta, r);
+    const double length = perimeter(c.poly);
+    bound_chart += tube(std::max(c.free_length, length) + 2 * n_vertices * c.delta, r);
     const Int128 a2 = path.size() >= 3 ? area2(path) : 0;
     if (a2 == 0) {  // collapsed on the grid: its true area is within the bound just added
       double twice_area = 0;  // edge-on casters have no area in doubles either: not counted
@@ -549,6 +553,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     }
     if (a2 < 0) std::reverse(path.begin(), path.end());
     casts.push_back(std::move(path));
+    cast_length += length + 2 * n_vertices * rho;
   };
 
   const int own_solid = (*ctx.solid_of)[face_id];
@@ -646,15 +651,17 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   // ---- the union on the grid ----------------------------------------------------------------
   CL::Path receiver;
   for (int a : fp.chart_ring) receiver.push_back(grid.point({face.vertices[a][rc.i], face.vertices[a][rc.j]}));
-  if (!fp.chart_is_box) {
-    double length = 0;
-    for (std::size_t a = 0; a < fp.chart_ring.size(); ++a) {
-      const glm::dvec3& p = face.vertices[fp.chart_ring[a]];
-      const glm::dvec3& q = face.vertices[fp.chart_ring[(a + 1) % fp.chart_ring.size()]];
-      length += std::hypot(q[rc.i] - p[rc.i], q[rc.j] - p[rc.j]);
-    }
-    bound_chart += tube(length, rho);
+  double receiver_length = 0;
+  for (std::size_t a = 0; a < fp.chart_ring.size(); ++a) {
+    const glm::dvec3& p = face.vertices[fp.chart_ring[a]];
+    const glm::dvec3& q = face.vertices[fp.chart_ring[(a + 1) % fp.chart_ring.size()]];
+    receiver_length += std::hypot(q[rc.i] - p[rc.i], q[rc.j] - p[rc.j]);
   }
+  if (!fp.chart_is_box) bound_chart += tube(receiver_length, rho);
+  // Clipper rounds the intersection points it creates to the grid (by under one step): that
+  // moves the output's boundary, which lies on the input polygons' boundaries, by under 2 rho.
+  // (A box receiver's edges meet the casts only at their vertices, already grid points.)
+  bound_chart += tube(cast_length + (fp.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), 2 * rho);
   CL::PolyTree shadow_tree, lit_tree;
   Int128 shadow2 = 0;
   try {
