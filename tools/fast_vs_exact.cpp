@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
     lights.emplace_back("sun 5", shadow::directional_light("sun", shadow::sun_direction(5, 135)));
   }
   const shadow::ShadowEngine engine(scene, 2);
-  std::printf("| light | threads | polygons | exact (s) | fast (s) | speed-up | max abs error | max bound | max error/bound | sum abs error / lit area | fallbacks | collapsed |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  std::printf("| light | threads | polygons | exact (s) | fast (s) | speed-up | max abs error | max bound | max error/bound | sum abs error / lit area | sum bound / lit area | mean abs lit-fraction error | fallbacks | collapsed |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& [name, light] : lights) {
     for (unsigned threads : {1u, 2u}) {
       for (bool polygons : {false, true}) {
@@ -74,7 +74,9 @@ int main(int argc, char** argv) {
           exact = std::move(e.result);
           fast = std::move(f.result);
         }
-        double max_error = 0, max_bound = 0, max_ratio = 0, sum_error = 0, lit = 0;
+        double max_error = 0, max_bound = 0, max_ratio = 0, sum_error = 0, lit = 0, sum_bound = 0;
+        double fraction_error = 0;
+        std::size_t faces = 0;
         for (std::size_t a = 0; a < exact.lighting.size(); ++a) {
           const double err = std::abs(fast.lighting[a].lit_area - exact.lighting[a].lit_area);
           const double bound = fast.lighting[a].lit_area_error_bound;
@@ -82,11 +84,17 @@ int main(int argc, char** argv) {
           max_bound = std::max(max_bound, bound);
           if (err > 0) max_ratio = std::max(max_ratio, bound > 0 ? err / bound : 1e300);
           sum_error += err;
+          sum_bound += bound;
           lit += exact.lighting[a].lit_area;
+          if (exact.lighting[a].area > 0) {
+            fraction_error += std::abs(fast.lighting[a].lit_fraction - exact.lighting[a].lit_fraction);
+            ++faces;
+          }
         }
-        std::printf("| %s | %u | %s | %.3f | %.3f | %.2f | %.3g | %.3g | %.3g | %.3g | %llu | %llu |\n",
+        std::printf("| %s | %u | %s | %.3f | %.3f | %.2f | %.3g | %.3g | %.3g | %.3g | %.3g | %.3g | %llu | %llu |\n",
                     name.c_str(), threads, polygons ? "yes" : "no", best_exact, best_fast,
                     best_exact / best_fast, max_error, max_bound, max_ratio, lit > 0 ? sum_error / lit : 0.0,
+                    lit > 0 ? sum_bound / lit : 0.0, faces ? fraction_error / static_cast<double>(faces) : 0.0,
                     static_cast<unsigned long long>(fast.stats.fast_exact_fallbacks),
                     static_cast<unsigned long long>(fast.stats.fast_collapsed));
         std::fflush(stdout);
