@@ -3,10 +3,12 @@
 // lit area must be within its reported bound of the exact one, its fragments must partition the
 // face, and where the double route is ill-conditioned it must say so (exact fallback, bound 0).
 // Seeded scenes only; no timing.
+#include "support/polygon_tools.hpp"
 #include "support/scene_builders.hpp"
 
 #include <shadow/shadow.hpp>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,6 +43,18 @@ ShadowResult expect_within_bounds(const Scene& scene, const std::string& label, 
   EXPECT_EQ(exact.lighting.size(), fast.lighting.size()) << label;
   if (exact.lighting.size() != fast.lighting.size()) return fast;
   std::map<std::pair<std::size_t, std::size_t>, double> fragment_sum;
+  for (const Fragment& f : fast.fragments) {
+    // Each fragment lies on its face's plane, has the face's orientation and its stated area.
+    const Polygon3& face = scene.faces[f.face_id].vertices;
+    const glm::dvec3 n = glm::normalize(newell_normal(face));
+    const glm::dvec3 fn = newell_normal(f.polygon);
+    EXPECT_GT(glm::dot(fn, n), 0.0) << label << " face " << f.face_id << ": fragment turned over";
+    EXPECT_NEAR(polygon_area(f.polygon), f.area, 1e-9 * (1 + f.area)) << label << " face " << f.face_id;
+    double size = 1;
+    for (const glm::dvec3& v : face) size = std::max(size, glm::length(v - face[0]));
+    for (const glm::dvec3& v : f.polygon)
+      EXPECT_LT(std::abs(glm::dot(v - face[0], n)), 1e-9 * size) << label << " face " << f.face_id;
+  }
   double worst = 0, largest_error = 0;  // reported, for the record
   std::size_t shadowed = 0;
   for (const Fragment& f : fast.fragments) fragment_sum[{f.face_id, f.light_id}] += f.area;
