@@ -527,8 +527,12 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   std::vector<CGAL::Sign> vsign, psign;
   std::vector<glm::dvec2> points, hull;
   Cast cast;
+  bool not_finite = false;  // overflow in doubles (coordinates near 1e150): exact engine
   auto add_cast = [&](Cast& c) {
     if (c.poly.size() < 3) return;
+    for (const glm::dvec2& p : c.poly) not_finite |= !std::isfinite(p.x) || !std::isfinite(p.y);
+    not_finite |= !std::isfinite(c.delta);
+    if (not_finite) return;
     CL::Path path;
     path.reserve(c.poly.size());
     for (const glm::dvec2& p : c.poly) {
@@ -594,6 +598,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       if (!fr.clip_to_box(cast)) return false;
       const std::size_t before = casts.size();
       add_cast(cast);
+      if (not_finite) return false;
       if (casts.size() > before) ++local.casting_pairs;
       continue;
     }
@@ -625,6 +630,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       if (!ok) return false;
       const std::size_t before = casts.size();
       add_cast(cast);
+      if (not_finite) return false;
       cast_any |= casts.size() > before;
     }
     if (cast_any) ++local.casting_pairs;
@@ -636,6 +642,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     out.lit_area = out.area;
     out.lit_fraction = 1.0;
     out.lit_area_error_bound = bound_chart * scale * (1 + 1e-9);
+    if (!std::isfinite(out.lit_area_error_bound)) return false;
     if (polygons) {
       Fragment f;
       f.face_id = face_id;
@@ -696,6 +703,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   out.lit_fraction = out.area > 0 ? out.lit_area / out.area : 0.0;
   // The roundings of area, scale and the subtraction: a few ulps of the face's area.
   out.lit_area_error_bound = bound_chart * scale * (1 + 1e-9) + 16 * kEps * out.area;
+  if (!std::isfinite(out.lit_area_error_bound)) return false;
   if (!polygons) return commit();
 
   std::size_t fragment_id = 0;
@@ -732,8 +740,12 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       ++fragment_id;
     }
   };
-  emit(lit_tree, true);
-  emit(shadow_tree, false);
+  try {
+    emit(lit_tree, true);
+    emit(shadow_tree, false);
+  } catch (const CL::clipperException&) {
+    return false;  // the caller drops what was appended
+  }
   return commit();
 }
 

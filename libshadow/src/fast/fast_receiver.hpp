@@ -35,10 +35,11 @@ struct Worker {
   std::vector<std::size_t> candidates;
 };
 
-/// Computes receiver `face_id` under `light`. Returns false, having written nothing and counted
-/// nothing, when the receiver must be computed exactly instead (see docs/numeric-contract.md,
-/// "The fast path"). On success fills `out` (with lit_area_error_bound), appends the fragments
-/// (fragment_id local to the receiver, from 0) when `polygons`, and adds to `stats`.
+/// Computes receiver `face_id` under `light`. Returns false when the receiver must be computed
+/// exactly instead (see docs/numeric-contract.md, "The fast path"): `stats` is then untouched,
+/// and `out` and `fragments` may hold partial results that the caller discards. On success fills
+/// `out` (with lit_area_error_bound), appends the fragments (fragment_id local to the receiver,
+/// from 0) when `polygons`, and adds to `stats`.
 bool compute_receiver(const Context& context, Worker& worker, std::size_t face_id,
                       std::size_t light_id, const Light& light, const exact::LightSpaceGrid* grid,
                       bool polygons, FaceLighting& out, std::vector<Fragment>& fragments,
