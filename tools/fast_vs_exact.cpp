@@ -4,7 +4,8 @@
 // shared and noisy: compare the ratios), with the largest lit-area error against the exact
 // result and the largest reported bound. Not a test and not the benchmark.
 //
-//   fast-vs-exact [--boxes N] [--extent M] [--repeats R] [--room]
+//   fast-vs-exact [--boxes N] [--extent M] [--repeats R] [--room] [--elevation E...]
+//                 [--threads T...] [--areas-only]
 #include <shadow/shadow.hpp>
 
 #include <CLI/CLI.hpp>
@@ -39,10 +40,16 @@ int main(int argc, char** argv) {
   double extent = 500;
   int repeats = 3;
   bool room = false;
+  bool areas_only = false;
+  std::vector<double> elevations{40, 5};
+  std::vector<unsigned> thread_counts{1, 2};
   app.add_option("--boxes", boxes, "Boxes in the city")->default_val(1000);
   app.add_option("--extent", extent, "Side of the city (m)")->default_val(500);
   app.add_option("--repeats", repeats, "Alternating exact/fast runs per case (fastest kept)")->default_val(3);
   app.add_flag("--room", room, "The furnished room under its ceiling lamp instead of the city");
+  app.add_option("--elevation", elevations, "Sun elevations (degrees), azimuth 135")->default_str("40 5");
+  app.add_option("--threads", thread_counts, "Thread counts")->default_str("1 2");
+  app.add_flag("--areas-only", areas_only, "Only the runs without polygons");
   CLI11_PARSE(app, argc, argv);
 
   shadow::Scene scene = room ? shadow::make_furnished_room(12, 2026) : shadow::make_city(boxes, extent, 2026);
@@ -50,15 +57,17 @@ int main(int argc, char** argv) {
   if (room) {
     lights.emplace_back("lamp", scene.lights.at(0));
   } else {
-    lights.emplace_back("sun 40", shadow::directional_light("sun", shadow::sun_direction(40, 135)));
-    lights.emplace_back("sun 5", shadow::directional_light("sun", shadow::sun_direction(5, 135)));
+    for (double e : elevations)
+      lights.emplace_back("sun " + std::to_string(static_cast<int>(std::lround(e))),
+                          shadow::directional_light("sun", shadow::sun_direction(e, 135)));
   }
   const shadow::ShadowEngine engine(scene, 2);
   std::printf("| light | threads | polygons | exact (s) | fast (s) | speed-up | max abs error | max bound | max error/bound | sum abs error / lit area | sum bound / lit area | mean abs lit-fraction error | fallbacks | collapsed |\n");
   std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const auto& [name, light] : lights) {
-    for (unsigned threads : {1u, 2u}) {
+    for (unsigned threads : thread_counts) {
       for (bool polygons : {false, true}) {
+        if (polygons && areas_only) continue;
         shadow::ShadowOptions options;
         options.threads = threads;
         options.polygons = polygons;

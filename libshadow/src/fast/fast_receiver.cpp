@@ -386,7 +386,8 @@ void simple_cells(const CL::Paths& region, CL::Paths& cells, int depth = 0, bool
     if (x1 <= x0) continue;
     const CL::Path half{{x0, ymin}, {x1, ymin}, {x1, ymax}, {x0, ymax}};
     CL::Clipper clipper;
-    clipper.StrictlySimple(true);
+    clipper.StrictlySimple(false);
+    // (Not strictly simple here: cells that touch themselves are split when they come out.)
     clipper.AddPaths(region, CL::ptSubject, true);
     clipper.AddPath(half, CL::ptClip, true);
     CL::PolyTree tree;
