@@ -227,12 +227,27 @@ class FastReceiver {
     }
     const double lo_i = rc_.lo[0] - rc_.corner[rc_.i], hi_i = rc_.hi[0] - rc_.corner[rc_.i];
     const double lo_j = rc_.lo[1] - rc_.corner[rc_.j], hi_j = rc_.hi[1] - rc_.corner[rc_.j];
+    // Smallest positive w before the clip: if the clip leaves nothing, the exact clip may still
+    // hold a sliver along the box's edge, charged to the bound by the caller.
+    double w_front = std::numeric_limits<double>::infinity();
+    for (const Hom& p : hom_)
+      if (p.w > 0) w_front = std::min(w_front, p.w);
     clip_hom(hom_, [&](const Hom& p) { return p.x - lo_i * p.w; }, scratch_hom_);
     clip_hom(hom_, [&](const Hom& p) { return hi_i * p.w - p.x; }, scratch_hom_);
     clip_hom(hom_, [&](const Hom& p) { return p.z - lo_j * p.w; }, scratch_hom_);
     clip_hom(hom_, [&](const Hom& p) { return hi_j * p.w - p.z; }, scratch_hom_);
     cast.poly.clear();
-    if (hom_.size() < 3) return true;
+    // Errors of the homogeneous coordinates (products of s, the light and points, each with the
+    // plane's error), divided by the smallest w; crossings move H by light_side times their error.
+    const double e = rc_.normal_error, R = rc_.scene_reach, l = glm::length(rc_.light_rel);
+    const double box = std::max({std::abs(lo_i), std::abs(hi_i), std::abs(lo_j), std::abs(hi_j)});
+    const double dH = 4 * e * R * l + 4 * kEps * (l * R + l * box) + L * cross_delta;
+    const double dw = 4 * e * (R + l);
+    if (hom_.size() < 3) {  // nothing left in doubles: charge a sliver along the box's edges
+      cast.free_length = std::isfinite(w_front) ? 2 * (hi_i - lo_i + hi_j - lo_j) : 0.0;
+      cast.delta = std::isfinite(w_front) ? 2 * (dH + box * dw) / w_front + 4 * kEps * rc_.magnitude : 0.0;
+      return cast.delta <= max_delta_;
+    }
     double w_min = std::numeric_limits<double>::infinity();
     for (const Hom& p : hom_) w_min = std::min(w_min, p.w);
     if (!(w_min > 0)) return false;  // touches the light: leave it to the exact engine
@@ -240,12 +255,6 @@ class FastReceiver {
       glm::dvec2 x(p.x / p.w + rc_.corner[rc_.i], p.z / p.w + rc_.corner[rc_.j]);
       cast.poly.push_back(glm::clamp(x, glm::dvec2(rc_.lo[0], rc_.lo[1]), glm::dvec2(rc_.hi[0], rc_.hi[1])));
     }
-    // Errors of the homogeneous coordinates (products of s, the light and points, each with the
-    // plane's error), divided by the smallest w; crossings move H by light_side times their error.
-    const double e = rc_.normal_error, R = rc_.scene_reach, l = glm::length(rc_.light_rel);
-    const double box = std::max({std::abs(lo_i), std::abs(hi_i), std::abs(lo_j), std::abs(hi_j)});
-    const double dH = 4 * e * R * l + 4 * kEps * (l * R + l * box) + L * cross_delta;
-    const double dw = 4 * e * (R + l);
     cast.delta = 2 * (dH + box * dw) / w_min + 4 * kEps * rc_.magnitude;
     cast.free_length = perimeter(cast.poly);
     return cast.delta <= max_delta_;
@@ -530,7 +539,13 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   Cast cast;
   bool not_finite = false;  // overflow in doubles (coordinates near 1e150): exact engine
   auto add_cast = [&](Cast& c) {
-    if (c.poly.size() < 3) return;
+    if (c.poly.size() < 3) {
+      // Clipped away in doubles: the exact polygon may keep a sliver within delta of the box's
+      // edge, no longer than the polygon's perimeter before the clip.
+      if (c.free_length > 0) bound_chart += tube(c.free_length, c.delta + 4 * kEps * rc.magnitude);
+      not_finite |= !std::isfinite(bound_chart);
+      return;
+    }
     for (const glm::dvec2& p : c.poly) not_finite |= !std::isfinite(p.x) || !std::isfinite(p.y);
     not_finite |= !std::isfinite(c.delta);
     if (not_finite) return;
@@ -592,9 +607,12 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       }
       convex_hull(points, hull);
       cast.poly = hull;
-      if (cast.poly.size() < 3) continue;
       // The hull of points each within delta of the exact ones is within delta of the exact hull.
       cast.delta = std::max(parallel_delta, cross_delta);
+      if (cast.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver
+        bound_chart += tube(perimeter(cast.poly), cast.delta + 4 * kEps * rc.magnitude);
+        continue;
+      }
       cast.free_length = perimeter(cast.poly);
       if (!fr.clip_to_box(cast)) return false;
       const std::size_t before = casts.size();
