@@ -48,7 +48,11 @@ ShadowResult expect_within_bounds(const Scene& scene, const std::string& label, 
     const Polygon3& face = scene.faces[f.face_id].vertices;
     const glm::dvec3 n = glm::normalize(newell_normal(face));
     const glm::dvec3 fn = newell_normal(f.polygon);
-    EXPECT_GT(glm::dot(fn, n), 0.0) << label << " face " << f.face_id << ": fragment turned over";
+    // (Slivers the exact engine finds between faces that rotation made nearly coplanar can be
+    // too thin for a double Newell normal: orientation is checked on the others.)
+    if (f.area > 1e-12 * (1 + polygon_area(face)))
+      EXPECT_GT(glm::dot(fn, n), 0.0) << label << " face " << f.face_id << ": fragment turned over (area "
+                                    << f.area << ", " << f.polygon.size() << " vertices, lit " << f.lit << ")";
     EXPECT_NEAR(polygon_area(f.polygon), f.area, 1e-9 * (1 + f.area)) << label << " face " << f.face_id;
     double size = 1;
     for (const glm::dvec3& v : face) size = std::max(size, glm::length(v - face[0]));
@@ -175,15 +179,25 @@ TEST(FastPath, SeededPlanarScenesStayWithinTheirBounds) {
   }
 }
 
-TEST(FastPath, SeededRotatedScenesFallBackWhereNeeded) {
-  // Rotated panels are planar only within tolerance: receivers that see them go exact.
-  std::uint64_t fallbacks = 0;
+TEST(FastPath, SeededScenesWithRotatedPanelsStayWithinTheirBounds) {
+  // Rotated panels are planar only within tolerance: the exact engine lifts them onto a plane,
+  // the fast path charges the difference (or hands the receiver to the exact engine).
   for (std::uint64_t seed = 100; seed < 112; ++seed) {
     Scene scene = random_scene(seed);
     validate_scene(scene);
-    fallbacks += expect_within_bounds(scene, "random seed " + std::to_string(seed)).stats.fast_exact_fallbacks;
+    expect_within_bounds(scene, "random seed " + std::to_string(seed));
   }
-  EXPECT_GT(fallbacks, 0u);
+}
+
+TEST(FastPath, RotatedCityWhoseFacesAreNotExactlyPlanar) {
+  // After a rotation almost no face is exactly planar any more; the fast path still applies.
+  Scene scene = make_city(40, 80, 4);
+  scene.lights.push_back(directional_light("sun", sun_direction(30, 200)));
+  scene.lights.push_back(point_light("lamp", {10, -5, 60}));
+  Scene rotated = transformed(scene, 1.0, {0.3, 0.2, 1.0}, 0.7, {0, 0, 0});
+  validate_scene(rotated);
+  const ShadowResult fast = expect_within_bounds(rotated, "rotated city");
+  EXPECT_LT(fast.stats.fast_exact_fallbacks, fast.stats.receivers / 10);
 }
 
 TEST(FastPath, SmallCityBothSunsAndThreads) {

@@ -157,12 +157,28 @@ struct Receiver {
   double light_side = 0;      ///< s at the light (> 0)
   EK::Point_3 c0, c1, c2;     ///< corner points for the exact side predicate
   bool flipped = false;
+  /// Exactly planar receiver: sides of input points by Epick's exact predicate. Otherwise the
+  /// plane is the exact engine's lifted plane (Newell normal through the centroid) in doubles.
+  bool exact_sides = true;
+  double s_error = 0;  ///< bound on |s in doubles - exact s| for scene points
 
   [[nodiscard]] double s(const glm::dvec3& y) const { return glm::dot(normal, y - corner); }
-  /// Exact sign of the receiver's plane at an input point (positive: in front).
+  /// Exact sign of the receiver's plane at an input point (positive: in front); exactly planar
+  /// receivers only.
   [[nodiscard]] CGAL::Sign side(const glm::dvec3& y) const {
     const CGAL::Sign sv = CGAL::orientation(c0, c1, c2, epick(y));
     return flipped ? CGAL::opposite(sv) : sv;
+  }
+  /// The side of a caster vertex that the exact engine would see, or `unsure` when doubles cannot
+  /// tell (|s| within the error, plus `slack`: how far the exact engine lifts that vertex).
+  [[nodiscard]] CGAL::Sign side(const glm::dvec3& y, bool caster_planar, double slack, bool& unsure) const {
+    unsure = false;
+    if (exact_sides && caster_planar) return side(y);
+    const double value = s(y), tolerance = s_error + slack;
+    if (value > tolerance) return CGAL::POSITIVE;
+    if (value < -tolerance) return CGAL::NEGATIVE;
+    unsure = true;
+    return CGAL::ZERO;  // taken as on the plane; the caller charges the difference
   }
 };
 
@@ -185,7 +201,7 @@ class FastReceiver {
   bool project_parallel(const std::vector<glm::dvec3>& v, const std::vector<int>& piece,
                         const std::vector<CGAL::Sign>& sign, Cast& cast) {
     cast.poly.clear();
-    cast.delta = base_delta_;
+    cast.delta = base_delta_ + position_error_ * (1 + glm::length(rc_.shift));
     const std::size_t m = piece.size();
     for (std::size_t a = 0; a < m; ++a) {
       const glm::dvec3& va = v[piece[a]];
@@ -241,7 +257,8 @@ class FastReceiver {
     // plane's error), divided by the smallest w; crossings move H by light_side times their error.
     const double e = rc_.normal_error, R = rc_.scene_reach, l = glm::length(rc_.light_rel);
     const double box = std::max({std::abs(lo_i), std::abs(hi_i), std::abs(lo_j), std::abs(hi_j)});
-    const double dH = 4 * e * R * l + 4 * kEps * (l * R + l * box) + L * cross_delta;
+    const double dH = 4 * e * R * l + 4 * kEps * (l * R + l * box) + L * cross_delta +
+                      2 * (L + l) * position_error_ + 2 * l * s_extra_;
     const double dw = 4 * e * (R + l);
     if (hom_.size() < 3) {  // nothing left in doubles: charge a sliver along the box's edges
       cast.free_length = std::isfinite(w_front) ? 2 * (hi_i - lo_i + hi_j - lo_j) : 0.0;
@@ -264,6 +281,12 @@ class FastReceiver {
     base_delta_ = base_delta;
     max_delta_ = max_delta;
   }
+  /// For the next pieces: how far (3D) a vertex may be from the exact engine's (a lifted
+  /// caster, or a vertex of unsure side taken as on the plane), and the extra error of s.
+  void set_piece_error(double position, double s_extra) {
+    position_error_ = position;
+    s_extra_ = s_extra;
+  }
 
   glm::dvec2 chart(const glm::dvec3& y) const { return {y[rc_.i], y[rc_.j]}; }
 
@@ -276,7 +299,7 @@ class FastReceiver {
   /// error added to `delta`. False when the segment is nearly parallel to the plane.
   bool crossing(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& x, double& delta) const {
     const double sa = rc_.s(a), sb = rc_.s(b);
-    const double ds = 2 * (rc_.normal_error + 4 * kEps) * rc_.scene_reach;  // bound on |s error|
+    const double ds = 2 * (rc_.normal_error + 4 * kEps) * rc_.scene_reach + rc_.s_error + s_extra_;
     const double gap = std::abs(sa - sb);
     if (!(gap > 64 * ds)) return false;
     const double t = std::clamp(sa / (sa - sb), 0.0, 1.0);
@@ -303,7 +326,7 @@ class FastReceiver {
 
  private:
   const Receiver& rc_;
-  double base_delta_ = 0, max_delta_ = 0;
+  double base_delta_ = 0, max_delta_ = 0, position_error_ = 0, s_extra_ = 0;
   std::vector<glm::dvec2> scratch_;
   std::vector<Hom> hom_, scratch_hom_;
 };
@@ -432,44 +455,82 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     return true;
   };
   if (fp.degenerate) return commit();
-  // Faces planar only within tolerance are lifted onto their exact plane by the exact engine;
-  // the fast path does not model the lift.
-  if (!fp.exactly_planar) return false;
 
   Receiver rc;
   rc.k = fp.axis;
   rc.i = exact::chart_i(fp.axis);
   rc.j = exact::chart_j(fp.axis);
   rc.flipped = fp.flipped;
-  const glm::dvec3& corner = face.vertices[fp.corner[1]];
-  const glm::dvec3& next = face.vertices[fp.corner[2]];
-  const glm::dvec3& prev = face.vertices[fp.corner[0]];
-  rc.c0 = epick(corner);
-  rc.c1 = epick(next);
-  rc.c2 = epick(prev);
-  rc.corner = corner;
-  const glm::dvec3 u = next - corner, v = prev - corner;
-  glm::dvec3 n = glm::cross(u, v);
-  if (fp.flipped) n = -n;
-  const double nlen = glm::length(n);
-  if (!(nlen > 0) || !std::isfinite(nlen)) return false;
-  rc.normal = n / nlen;
-  // Rounded differences and products: the direction error grows with 1/sin(corner angle).
-  rc.normal_error = 8 * kEps * glm::length(u) * glm::length(v) / nlen + 4 * kEps;
+  const exact::CullScene& cull = *ctx.cull;
   rc.lo = fp.chart_min;
   rc.hi = fp.chart_max;
-  const exact::CullScene& cull = *ctx.cull;
-  rc.scene_reach = (glm::length(corner - cull.origin) + cull.diameter) * (1 + 1e-9);
   rc.magnitude = std::max({std::abs(rc.lo[0]), std::abs(rc.lo[1]), std::abs(rc.hi[0]), std::abs(rc.hi[1])}) +
                  glm::length(cull.origin) + cull.diameter;
+  if (fp.exactly_planar) {
+    const glm::dvec3& corner = face.vertices[fp.corner[1]];
+    const glm::dvec3& next = face.vertices[fp.corner[2]];
+    const glm::dvec3& prev = face.vertices[fp.corner[0]];
+    rc.c0 = epick(corner);
+    rc.c1 = epick(next);
+    rc.c2 = epick(prev);
+    rc.corner = corner;
+    const glm::dvec3 u = next - corner, v = prev - corner;
+    glm::dvec3 n = glm::cross(u, v);
+    if (fp.flipped) n = -n;
+    const double nlen = glm::length(n);
+    if (!(nlen > 0) || !std::isfinite(nlen)) return false;
+    rc.normal = n / nlen;
+    // Rounded differences and products: the direction error grows with 1/sin(corner angle).
+    rc.normal_error = 8 * kEps * glm::length(u) * glm::length(v) / nlen + 4 * kEps;
+    rc.scene_reach = (glm::length(corner - cull.origin) + cull.diameter) * (1 + 1e-9);
+    rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach;
+  } else {
+    // Planar only within tolerance: the exact engine lifts the face onto the plane through its
+    // centroid with its Newell normal (docs/numeric-contract.md); the same plane in doubles.
+    rc.exact_sides = false;
+    const std::vector<glm::dvec3>& p = face.vertices;
+    const std::size_t m = p.size();
+    glm::dvec3 n(0.0), centroid(0.0);
+    double rounding = 0, largest = 0;
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3 u = p[a] - p[0], v = p[(a + 1) % m] - p[0];
+      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+      rounding += glm::length(u - v) * (glm::length(u) + glm::length(v));
+      centroid += p[a];
+      largest = std::max({largest, std::abs(p[a].x), std::abs(p[a].y), std::abs(p[a].z)});
+    }
+    const double nlen = glm::length(n);
+    if (!(nlen > 0) || !std::isfinite(nlen)) return false;
+    rc.normal = n / nlen;
+    rc.corner = centroid / static_cast<double>(m);
+    rc.normal_error = 8 * kEps * rounding / nlen + 8 * kEps;
+    rc.scene_reach = (glm::length(rc.corner - cull.origin) + cull.diameter) * (1 + 1e-9);
+    rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach + 4 * kEps * static_cast<double>(m + 2) * largest;
+  }
+  const glm::dvec3 corner = rc.corner;
+  // The face's outline as a fragment: its own vertices, or lifted onto the plane in doubles.
+  auto whole_face = [&]() {
+    std::vector<glm::dvec3> outline = face.vertices;
+    if (!fp.exactly_planar)
+      for (glm::dvec3& y : outline)
+        y[rc.k] = corner[rc.k] - (rc.normal[rc.i] * (y[rc.i] - corner[rc.i]) +
+                                  rc.normal[rc.j] * (y[rc.j] - corner[rc.j])) / rc.normal[rc.k];
+    return outline;
+  };
 
   // ---- facing: exact where the double test could be wrong -----------------------------------
   int facing = 0;
   if (light.type == LightType::Point) {
     rc.point = true;
-    facing = rc.side(light.position);
     rc.light_rel = light.position - corner;
     rc.light_side = glm::dot(rc.normal, rc.light_rel);
+    if (fp.exactly_planar) {
+      facing = rc.side(light.position);
+    } else {
+      const double error = 2 * (rc.normal_error + 4 * kEps) * glm::length(rc.light_rel) + rc.s_error;
+      if (std::abs(rc.light_side) <= error) return false;
+      facing = rc.light_side > 0 ? 1 : -1;
+    }
     // The light so close to the receiver's plane that s at the light is unsure: exact engine.
     if (facing > 0 && !(rc.light_side > 64 * rc.normal_error * glm::length(rc.light_rel))) return false;
   } else {
@@ -489,7 +550,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       f.light_id = light_id;
       f.lit = false;
       f.area = out.area;
-      f.polygon = face.vertices;
+      f.polygon = whole_face();
       fragments.push_back(std::move(f));
     }
     return commit();
@@ -531,10 +592,11 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   fr.set_tolerances(parallel_delta, max_delta);
   const Grid grid(rc.lo, rc.hi);
   const double rho = grid.rounding();
-  CL::Paths casts;
+  CL::Paths casts, maybe;  // maybe: footprints of nearly coplanar casters (see below)
   double bound_chart = 0;
   double cast_length = 0;  // total perimeter of the grid polygons given to Clipper
   std::vector<CGAL::Sign> vsign, psign;
+  std::vector<char> unsure;
   std::vector<glm::dvec2> points, hull;
   Cast cast;
   bool not_finite = false;  // overflow in doubles (coordinates near 1e150): exact engine
@@ -580,7 +642,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   for (std::size_t q : w.candidates) {
     const int solid = (*ctx.solid_of)[q];
     if (solid >= 0 && (solid == own_solid || w.solid_seen[solid] == w.stamp)) continue;
-    if (solid >= 0 && !rc.point) {
+    if (solid >= 0 && !rc.point && rc.exact_sides) {
       // A convex solid casts the hull of its projection, as in the exact engine.
       w.solid_seen[solid] = w.stamp;
       const exact::ConvexSolid& cs = (*ctx.solids)[solid];
@@ -623,29 +685,84 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     }
     const exact::FacePrep& qp = prep[q];
     const Face& qface = scene.faces[q];
-    if (!qp.exactly_planar) return false;  // lifted casters: exact engine
-    if (rc.point &&
-        CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
-                          epick(qface.vertices[qp.corner[0]]), epick(light.position)) == CGAL::COPLANAR)
-      continue;  // edge-on to the light: casts nothing
-    vsign.resize(qface.vertices.size());
-    bool any_front = false;
-    for (std::size_t a = 0; a < qface.vertices.size(); ++a) {
-      vsign[a] = rc.side(qface.vertices[a]);
-      any_front |= vsign[a] == CGAL::POSITIVE;
+    const exact::CullFace& cq = cull.faces[q];
+    if (rc.point) {
+      if (qp.exactly_planar) {
+        if (CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
+                              epick(qface.vertices[qp.corner[0]]), epick(light.position)) == CGAL::COPLANAR)
+          continue;  // edge-on to the light: casts nothing
+      } else {
+        // A lifted caster nearly edge-on to the light: leave the receiver to the exact engine.
+        const glm::dvec3 l = light.position - cull.origin;
+        if (std::abs(glm::dot(cq.normal, l) + cq.offset) <= 1e-9 * (glm::length(l) + cull.diameter) + cq.slack)
+          return false;
+      }
     }
-    if (!any_front) continue;
+    // A lifted caster's vertices are up to `slack` from where the exact engine puts them.
+    const double slack = qp.exactly_planar ? 0.0 : cq.slack;
+    vsign.resize(qface.vertices.size());
+    unsure.resize(qface.vertices.size());
+    bool any_front = false, any_unsure = false;
+    for (std::size_t a = 0; a < qface.vertices.size(); ++a) {
+      bool u = false;
+      vsign[a] = rc.side(qface.vertices[a], qp.exactly_planar, slack, u);
+      unsure[a] = u;
+      any_front |= vsign[a] == CGAL::POSITIVE;
+      any_unsure |= u;
+    }
+    if (!any_front && !any_unsure) continue;
+    // A vertex of unsure side, taken as on the plane, is within (its s error) / sin(angle between
+    // the planes) of where the exact clip puts the boundary.
+    double unsure_shift = 0;
+    if (any_unsure) {
+      const double sine = glm::length(glm::cross(rc.normal, cq.normal));
+      unsure_shift = 2 * (rc.s_error + slack) / sine;
+      if (!(unsure_shift <= max_delta)) unsure_shift = std::numeric_limits<double>::infinity();
+    }
     bool cast_any = false;
     for (const std::vector<int>& piece : qp.convex_pieces) {
       psign.clear();
-      bool piece_front = false;
+      bool piece_front = false, piece_unsure = false;
       for (int a : piece) {
         psign.push_back(vsign[a]);
         piece_front |= vsign[a] == CGAL::POSITIVE;
+        piece_unsure |= unsure[a] != 0;
       }
-      if (!piece_front) continue;
+      const double position = slack + (piece_unsure ? unsure_shift : 0.0);
+      // Points within s_error + slack of the plane project to within this of their chart points.
+      const double grow = rc.point ? 2 * (1 + glm::length(rc.light_rel) / rc.light_side) : 1 + glm::length(rc.shift);
+      if (!piece_front) {
+        if (!piece_unsure) continue;
+        points.clear();
+        for (int a : piece) points.push_back(fr.chart(qface.vertices[a]));
+        if (std::isfinite(position)) {  // the exact front part is at most a sliver along the plane
+          bound_chart += tube(perimeter(points), (position + rc.s_error) * grow + 4 * kEps * rc.magnitude);
+          continue;
+        }
+        // Nearly coplanar with the receiver and nowhere clearly in front: its exact shadow lies
+        // somewhere inside its own chart footprint. United separately: the shadow is known to
+        // lie between the union without and with these footprints.
+        cast.poly = points;
+        cast.delta = (rc.s_error + slack) * grow;
+        cast.free_length = perimeter(cast.poly);
+        for (int c = 0; c < 2 && cast.poly.size() >= 3; ++c) {
+          clip_axis(cast.poly, c, rc.lo[c], true, hull);
+          clip_axis(cast.poly, c, rc.hi[c], false, hull);
+        }
+        const std::size_t before = casts.size();
+        add_cast(cast);
+        if (not_finite) return false;
+        if (casts.size() > before) {
+          maybe.push_back(std::move(casts.back()));
+          casts.pop_back();
+        }
+        continue;
+      }
+      if (!std::isfinite(position)) return false;  // nearly coplanar and partly in front: exact
+      fr.set_piece_error(position, rc.s_error + slack);
       const bool ok = rc.point ? fr.project_central(qface.vertices, piece, psign, cast)
                                : fr.project_parallel(qface.vertices, piece, psign, cast);
+      fr.set_piece_error(0, 0);
       if (!ok) return false;
       const std::size_t before = casts.size();
       add_cast(cast);
@@ -656,7 +773,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   }
 
   const double scale = 1.0 / std::abs(rc.normal[rc.k]);  // chart area -> 3D area
-  if (casts.empty()) {
+  if (casts.empty() && maybe.empty()) {
     ++local.unshadowed;
     out.lit_area = out.area;
     out.lit_fraction = 1.0;
@@ -668,7 +785,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       f.light_id = light_id;
       f.lit = true;
       f.area = out.area;
-      f.polygon = face.vertices;
+      f.polygon = whole_face();
       fragments.push_back(std::move(f));
     }
     return commit();
@@ -689,7 +806,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   // (A box receiver's edges meet the casts only at their vertices, already grid points.)
   bound_chart += tube(cast_length + (fp.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), 2 * rho);
   CL::PolyTree shadow_tree, lit_tree;
-  Int128 shadow2 = 0;
+  Int128 shadow2 = 0, gap2 = 0;
   try {
     CL::Clipper clipper;
     clipper.StrictlySimple(false);
@@ -712,6 +829,23 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       clipper.Execute(op, shadow_paths, CL::pftNonZero, CL::pftNonZero);
       for (const CL::Path& p : shadow_paths) shadow2 += area2(p);  // holes come out negative
     }
+    if (!maybe.empty()) {
+      // The exact shadow lies between the union without and with the nearly coplanar casters'
+      // footprints: report the middle, and half the gap in the bound (0 when they are covered,
+      // as a box's bottom is by its walls' shadows).
+      CL::Clipper with;
+      with.AddPaths(casts, CL::ptSubject, true);
+      with.AddPaths(maybe, CL::ptSubject, true);
+      if (!fp.chart_is_box) with.AddPath(receiver, CL::ptClip, true);
+      CL::Paths paths;
+      with.Execute(op, paths, CL::pftNonZero, CL::pftNonZero);
+      Int128 most = 0;
+      for (const CL::Path& p : paths) most += area2(p);
+      if (most > shadow2) {
+        gap2 = most - shadow2;
+        shadow2 += gap2 / 2;
+      }
+    }
   } catch (const CL::clipperException&) {
     return false;  // coordinates out of range cannot happen on the grid; be safe anyway
   }
@@ -721,7 +855,8 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   out.lit_area = out.area - out.shadow_area;
   out.lit_fraction = out.area > 0 ? out.lit_area / out.area : 0.0;
   // The roundings of area, scale and the subtraction: a few ulps of the face's area.
-  out.lit_area_error_bound = bound_chart * scale * (1 + 1e-9) + 16 * kEps * out.area;
+  out.lit_area_error_bound = (bound_chart * scale + 0.25 * static_cast<double>(gap2 > 0 ? gap2 + 1 : 0) * cell) * (1 + 1e-9) +
+                             16 * kEps * out.area;
   if (!std::isfinite(out.lit_area_error_bound)) return false;
   if (!polygons) return commit();
 
