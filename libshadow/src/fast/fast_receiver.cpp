@@ -3,10 +3,12 @@
 // project onto the receiver's chart) in doubles, and the union with Clipper (int64) on a grid
 // fitted to the receiver's chart box, then a bound on the lit-area error.
 //
-// What stays exact: which side of the receiver's plane every caster vertex is on (Epick's
-// orientation predicate on the input doubles, as in the exact engine), whether the receiver
-// faces the light (a double test with an error bound, else exact), the grid polygons' areas
-// (128-bit integers). What is not: projected and clipped points (doubles, each within an
+// What stays exact: which side of the receiver's plane every caster vertex is on when both
+// faces are exactly planar (Epick's orientation predicate on the input doubles, as in the exact
+// engine), whether the receiver faces the light (a double test with an error bound, else the
+// exact engine), the grid polygons' areas (128-bit integers). Faces planar only within tolerance
+// use the exact engine's lifted planes in doubles: sides that doubles cannot tell are taken as
+// "on the plane" and charged to delta; nearly coplanar casters are bracketed between two unions. What is not: projected and clipped points (doubles, each within an
 // estimated `delta` of the true point) and their rounding to the grid (within half a step per
 // axis). A point that moves by at most r can change which polygons cover a point x only if x
 // is within r of a polygon's boundary, so
