@@ -9,6 +9,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libglm-dev
+  libpolyclipping-dev
   libvtk9-dev
   libgtest-dev libgmock-dev librapidcheck-dev
   libcli11-dev nlohmann-json3-dev

@@ -34,6 +34,7 @@ struct ComputeArgs {
   bool areas_only = false;
   double planarity_tolerance = 1e-6;
   double plane_window = 0.0;
+  std::string arithmetic = "exact";
 };
 
 /// Progress on a terminal: one line rewritten in place, on stderr so stdout stays clean.
@@ -86,6 +87,7 @@ int run_compute(const ComputeArgs& args) {
   options.threads = args.threads;
   options.polygons = !args.areas_only;
   options.plane_window = args.plane_window;
+  if (args.arithmetic == "fast") options.arithmetic = shadow::Arithmetic::Fast;
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::ShadowResult result;
   try {
@@ -118,6 +120,9 @@ int run_compute(const ComputeArgs& args) {
       std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
                   lit, area, area > 0 ? 100.0 * lit / area : 0.0);
     }
+    if (options.arithmetic == shadow::Arithmetic::Fast)
+      std::printf("  arithmetic fast: lit areas within their bounds in report.json (%llu receivers computed exactly)\n",
+                  static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
     for (const shadow::PlaneShadow& ps : result.plane_shadows)
       std::printf("  plane %-8s light %-12s shadow area %.6g%s\n", scene.planes[ps.plane_id].name.c_str(),
                   scene.lights[ps.light_id].name.c_str(), ps.area,
@@ -159,6 +164,11 @@ int main(int argc, char** argv) {
                       "Half side of the square window on each plane in which plane shadows are computed "
                       "(default: ten scene diagonals)")
       ->check(CLI::NonNegativeNumber & CLI::Range(0.0, 1e300));
+  compute->add_option("--arithmetic", args.arithmetic,
+                      "exact (default), or fast: doubles and an integer grid, each face's lit area "
+                      "with an error bound in report.json (docs/numeric-contract.md)")
+      ->check(CLI::IsMember({"exact", "fast"}));
+  compute->add_flag_callback("--fast", [&args] { args.arithmetic = "fast"; }, "Same as --arithmetic fast");
   compute->add_option("--planarity-tolerance", args.planarity_tolerance,
                       "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)

@@ -240,5 +240,31 @@ EOF
   expect_render_error render_up_along_view 3 "--up" "$WORK/tiny/scene.json" --eye 0,0,5 --target 0,0,0 --up 0,0,1
 fi
 
+# The fast path: --fast (or --arithmetic fast) says so in report.json and carries error bounds.
+if [[ -f "$EXAMPLES/default/scene.json" ]]; then
+  expect_success fast_path "$EXAMPLES/default/scene.json" --quiet --fast
+  report="$WORK/out-fast_path/report.json"
+  if grep -q '"arithmetic": "fast"' "$report" && grep -q '"lit_area_error_bound"' "$report" &&
+     grep -q '"fast_exact_fallbacks"' "$report"; then
+    pass "fast_path_report_states_arithmetic_and_bounds"
+  else
+    fail "fast_path_report_states_arithmetic_and_bounds" "report.json lacks them"
+  fi
+  expect_success exact_arithmetic "$EXAMPLES/default/scene.json" --quiet --arithmetic exact
+  if grep -q '"arithmetic": "exact"' "$WORK/out-exact_arithmetic/report.json" &&
+     ! grep -q '"lit_area_error_bound"' "$WORK/out-exact_arithmetic/report.json"; then
+    pass "exact_report_states_arithmetic"
+  else
+    fail "exact_report_states_arithmetic" "report.json should say exact, without bounds"
+  fi
+fi
+status=0
+"$SHADOW" compute "$S/three_meshes.json" -o "$WORK/out-bad-arith" --arithmetic sloppy >/dev/null 2>&1 || status=$?
+if [[ $status -ne 0 && $status -ne 2 ]]; then
+  pass "unknown_arithmetic_is_a_usage_error"
+else
+  fail "unknown_arithmetic_is_a_usage_error" "exit status $status"
+fi
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

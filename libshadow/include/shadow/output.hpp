@@ -32,7 +32,9 @@ std::vector<std::filesystem::path> write_outputs(const std::filesystem::path& ou
 
 /// The report: libshadow_version, scene, lights[], faces[] (id, mesh, area, lights[] with
 /// light, lit_area, shadow_area, lit_fraction, faces_light), planes[] (name, plane, light,
-/// shadow_area, reaches_window, ...), summary, stats, warnings.
+/// shadow_area, reaches_window, ...), summary, stats, warnings. `summary.arithmetic` is "exact"
+/// or "fast"; for the fast path each face's light entries, and `summary.per_light`, also carry
+/// `lit_area_error_bound`, and `stats` carries `fast_exact_fallbacks` and `fast_collapsed`.
 void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result);
 
 }  // namespace shadow

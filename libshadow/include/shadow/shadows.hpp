@@ -28,6 +28,19 @@ struct Progress {
   std::size_t total = 0;
 };
 
+/// How the shadows on faces are computed.
+enum class Arithmetic {
+  /// Exact rationals throughout (CGAL Epeck): areas correct to the last digit. The default.
+  Exact,
+  /// The fast path: the same culling, clipping and projection in doubles, the union with
+  /// Clipper on an integer grid fitted to each receiver's chart box. Every FaceLighting then
+  /// carries `lit_area_error_bound`, a bound on |lit_area - exact lit_area|; receivers where the
+  /// double route is ill-conditioned (grazing light, glancing crossings, casters nearly in the
+  /// receiver's plane and partly in front of it) are computed exactly instead. 10-90 times
+  /// faster on the benchmark cities. See docs/numeric-contract.md, "The fast path".
+  Fast,
+};
+
 /// Options for computing shadows on faces.
 struct ShadowOptions {
   /// Worker threads; 0 means every hardware thread. Results do not depend on it.
@@ -44,6 +57,8 @@ struct ShadowOptions {
   /// computed (a point light at the height of some geometry casts shadows without end).
   /// 0 means ten times the diagonal of the scene's bounding box. A plane's own `window` wins.
   double plane_window = 0.0;
+  /// Exact (default) or the fast path with error bounds. Plane shadows are always exact.
+  Arithmetic arithmetic = Arithmetic::Exact;
 };
 
 /// One simple polygon of a face that is wholly lit or wholly shadowed by one light.
@@ -67,6 +82,9 @@ struct FaceLighting {
   double shadow_area = 0.0;   ///< exact shadowed area (area - lit_area exactly), rounded once
   double lit_fraction = 0.0;  ///< exact lit_area / area, rounded once (0 for zero-area faces)
   bool faces_light = false;   ///< the face's front looks toward the light
+  /// Bound on |lit_area - the exact lit area| (also on shadow_area's error): 0 for the exact
+  /// path and for receivers the fast path decided exactly (Arithmetic::Fast otherwise).
+  double lit_area_error_bound = 0.0;
 };
 
 /// The shadow that the scene casts on one of its planes from one light: the union of the
@@ -93,6 +111,12 @@ struct ShadowStats {
   std::uint64_t candidate_pairs = 0;    ///< occluder-receiver pairs after bounding-box culling
   std::uint64_t casting_pairs = 0;      ///< pairs whose exact projection was non-empty
   std::uint64_t unshadowed = 0;         ///< front-facing receivers with nothing in front (no clipping)
+  /// Arithmetic::Fast only: receivers the fast path handed to the exact engine because the double
+  /// route was ill-conditioned there (grazing light, glancing crossings, nearly coplanar casters).
+  std::uint64_t fast_exact_fallbacks = 0;
+  /// Arithmetic::Fast only: cast polygons that collapsed to zero area on the integer grid (their
+  /// true area is within the bound; they are dropped).
+  std::uint64_t fast_collapsed = 0;
 };
 
 /// Everything computed for a scene's faces.
@@ -104,6 +128,8 @@ struct ShadowResult {
   /// Shadows on the scene's planes (compute_shadows with options.planes), by plane then light.
   std::vector<PlaneShadow> plane_shadows;
   ShadowStats stats;
+  /// The arithmetic the faces were computed with (options.arithmetic).
+  Arithmetic arithmetic = Arithmetic::Exact;
 
   /// The entry for (face, light), or nullptr when that pair was not computed.
   [[nodiscard]] const FaceLighting* find(std::size_t face_id, std::size_t light_id) const;

@@ -4,6 +4,7 @@
 // error, outside the receiver's slab, prism or pyramid. Whatever passes is decided exactly.
 #pragma once
 
+#include "exact/box_sides.hpp"
 #include "exact/face_prep.hpp"
 
 #include <shadow/scene.hpp>
@@ -142,6 +143,66 @@ class LightSpaceGrid {
   int nu_ = 1, nv_ = 1;
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> entries_;
+};
+
+/// The conservative double-precision tests of one receiver (front-facing) under one light: its
+/// plane and, unless the light grazes it, the four sides of the prism or pyramid over its chart
+/// box. Shared by the exact engine and the fast path, so that both see the same candidates.
+class ReceiverCuller {
+ public:
+  ReceiverCuller(const CullScene& cull, const FacePrep& fp, std::size_t face_id, const Light& light)
+      : cull_(&cull) {
+    const CullFace& cp = cull.faces[face_id];
+    const double D = cull.diameter;
+    glm::dvec3 lxyz;
+    double lw;
+    if (light.type == LightType::Point) {
+      lxyz = light.position - cull.origin;
+      lw = 1.0;
+    } else {
+      lxyz = unit(light.to_light);
+      lw = 0.0;
+    }
+    const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
+    const double scale = D + (lw != 0.0 ? glm::length(lxyz) : 0.0);
+    tests_[0] = {cp.normal, cp.offset, 1e-9 * scale};
+    {
+      // The same sides as the exact clip, in the local frame (chart box shifted by the origin).
+      const int i = chart_i(fp.axis), j = chart_j(fp.axis);
+      const double lo[2] = {fp.chart_min[0] - cull.origin[i], fp.chart_min[1] - cull.origin[j]};
+      const double hi[2] = {fp.chart_max[0] - cull.origin[i], fp.chart_max[1] - cull.origin[j]};
+      const std::array<double, 4> plane{cp.normal.x, cp.normal.y, cp.normal.z, cp.offset};
+      const std::array<double, 4> light_h{lxyz.x, lxyz.y, lxyz.z, lw};
+      const auto sides = box_sides(plane, light_h, light_side, i, j, lo, hi);
+      for (int t = 0; t < 4; ++t) {
+        const double coef = lxyz[t < 2 ? i : j] - (t % 2 ? hi : lo)[t / 2] * lw;
+        tests_[1 + t] = {glm::dvec3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3],
+                         1e-9 * (std::abs(light_side) + std::abs(coef)) * scale + 1e-12 * scale * scale};
+      }
+    }
+    // The side tests need the light's side of the receiver with the right sign: a grazing light
+    // (light_side near zero, where rounding could flip it) keeps only the plane test.
+    count_ = light_side > 1e-7 * (lw != 0.0 ? scale : 1.0) ? tests_.size() : 1;
+  }
+
+  /// False when face q is certainly outside the receiver's slab, prism or pyramid.
+  [[nodiscard]] bool may_cast(std::size_t q) const {
+    const CullFace& cq = cull_->faces[q];
+    for (std::size_t t = 0; t < count_; ++t) {
+      const DoubleAffine& f = tests_[t];
+      const double tolerance = f.tolerance + glm::length(f.a) * cq.slack;
+      bool all_out = true;
+      for (std::size_t a = cq.first; a < cq.first + cq.count && all_out; ++a)
+        all_out = f(cull_->vertices[a]) < -tolerance;
+      if (all_out) return false;
+    }
+    return true;
+  }
+
+ private:
+  const CullScene* cull_;
+  std::array<DoubleAffine, 5> tests_;
+  std::size_t count_ = 1;
 };
 
 /// The centre and diagonal of the faces' bounding box (origin and 1 for a scene without faces).

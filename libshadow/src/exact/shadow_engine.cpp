@@ -22,6 +22,7 @@
 #include "exact/parallel.hpp"
 #include "exact/plane_shadows.hpp"
 #include "exact/regions.hpp"
+#include "fast/fast_receiver.hpp"
 #include "scene/validate.hpp"
 
 #include <shadow/shadows.hpp>
@@ -76,6 +77,7 @@ struct ShadowEngine::Impl {
     std::vector<exact::Point3> poly, scratch;
     std::vector<exact::Point2> poly2, scratch2;
     std::vector<CGAL::Sign> vertex_sign, piece_sign;
+    fast::Worker fast;  // Arithmetic::Fast: the fast path's scratch state
   };
 
   const exact::ExactFace& exact_face(Worker& w, std::size_t f) const {
@@ -193,50 +195,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   out.faces_light = true;
 
   // ---- culling in doubles -------------------------------------------------------------------
-  const CullFace& cp = cull.faces[face_id];
-  const double D = cull.diameter;
-  glm::dvec3 lxyz;
-  double lw;
-  if (light_in.type == LightType::Point) {
-    lxyz = light_in.position - cull.origin;
-    lw = 1.0;
-  } else {
-    lxyz = unit(light_in.to_light);
-    lw = 0.0;
-  }
-  const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
-  const double scale = D + (lw != 0.0 ? glm::length(lxyz) : 0.0);
-  std::array<DoubleAffine, 5> tests;
-  tests[0] = {cp.normal, cp.offset, 1e-9 * scale};
-  {
-    // The same sides as the exact clip, in the local frame (chart box shifted by the origin).
-    const int i = chart_i(fp.axis), j = chart_j(fp.axis);
-    const double lo[2] = {fp.chart_min[0] - cull.origin[i], fp.chart_min[1] - cull.origin[j]};
-    const double hi[2] = {fp.chart_max[0] - cull.origin[i], fp.chart_max[1] - cull.origin[j]};
-    const std::array<double, 4> plane{cp.normal.x, cp.normal.y, cp.normal.z, cp.offset};
-    const std::array<double, 4> light_h{lxyz.x, lxyz.y, lxyz.z, lw};
-    const auto sides = box_sides(plane, light_h, light_side, i, j, lo, hi);
-    for (int t = 0; t < 4; ++t) {
-      const double coef = lxyz[t < 2 ? i : j] - (t % 2 ? hi : lo)[t / 2] * lw;
-      tests[1 + t] = {glm::dvec3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3],
-                      1e-9 * (std::abs(light_side) + std::abs(coef)) * scale + 1e-12 * scale * scale};
-    }
-  }
-  // The side tests need the light's side of the receiver with the right sign: a grazing light
-  // (light_side near zero, where rounding could flip it) keeps only the plane test.
-  const std::size_t test_count = light_side > 1e-7 * (lw != 0.0 ? scale : 1.0) ? tests.size() : 1;
-  auto may_cast = [&](std::size_t q) {
-    const CullFace& cq = cull.faces[q];
-    for (std::size_t t = 0; t < test_count; ++t) {
-      const DoubleAffine& f = tests[t];
-      const double tolerance = f.tolerance + glm::length(f.a) * cq.slack;
-      bool all_out = true;
-      for (std::size_t a = cq.first; a < cq.first + cq.count && all_out; ++a)
-        all_out = f(cull.vertices[a]) < -tolerance;
-      if (all_out) return false;
-    }
-    return true;
-  };
+  const ReceiverCuller culler(cull, fp, face_id, light_in);
   w.candidates.clear();
   if (++w.stamp == 0) {  // stamps wrapped: reset
     std::fill(w.seen.begin(), w.seen.end(), 0);
@@ -246,7 +205,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   auto consider = [&](std::size_t q) {
     if (q == face_id || prep[q].degenerate || w.seen[q] == w.stamp) return;
     w.seen[q] = w.stamp;
-    if (may_cast(q)) w.candidates.push_back(q);
+    if (culler.may_cast(q)) w.candidates.push_back(q);
   };
   if (grid) {
     grid->query(face_id, consider);
@@ -481,10 +440,22 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
     report = [&](std::size_t done) { options.progress(Progress{progress_base + done, progress_total}); };
 
   std::vector<std::optional<ExactLight>> lights(threads);
+  const bool fast = options.arithmetic == Arithmetic::Fast;
+  const fast::Context fast_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
   parallel_for(
       receivers.size(), threads,
       [&](unsigned wi, std::size_t r) {
         Worker& w = workers[wi];
+        if (fast) {
+          Item item;
+          if (fast::compute_receiver(fast_context, w.fast, receivers[r], light_id, light_in,
+                                     grid ? &*grid : nullptr, options.polygons, item.lighting,
+                                     item.fragments, w.stats)) {
+            items[r] = std::move(item);
+            return;
+          }
+          ++w.stats.fast_exact_fallbacks;  // ill-conditioned in doubles: decided exactly below
+        }
         if (!lights[wi]) lights[wi] = to_exact_light(light_in);
         const ExactLight& light = *lights[wi];
         const std::size_t f = receivers[r];
@@ -524,6 +495,8 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<std::vector<Item>>& per_li
     result.stats.candidate_pairs += w.stats.candidate_pairs;
     result.stats.casting_pairs += w.stats.casting_pairs;
     result.stats.unshadowed += w.stats.unshadowed;
+    result.stats.fast_exact_fallbacks += w.stats.fast_exact_fallbacks;
+    result.stats.fast_collapsed += w.stats.fast_collapsed;
   }
   return result;
 }
@@ -539,13 +512,19 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
     w.faces.resize(scene->faces.size());
     w.seen.assign(scene->faces.size(), 0);
     w.solid_seen.assign(solids.size(), 0);
+    if (options.arithmetic == Arithmetic::Fast) {
+      w.fast.seen.assign(scene->faces.size(), 0);
+      w.fast.solid_seen.assign(solids.size(), 0);
+    }
   }
   std::vector<std::vector<Item>> per_light(lights.size(), std::vector<Item>(receivers.size()));
   const std::size_t total = lights.size() * receivers.size();
   for (std::size_t li = 0; li < lights.size(); ++li)
     compute_light(*lights[li], light_ids[li], options, workers, receivers, per_light[li],
                   li * receivers.size(), total);
-  return assemble(per_light, workers);
+  ShadowResult result = assemble(per_light, workers);
+  result.arithmetic = options.arithmetic;
+  return result;
 }
 
 ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {

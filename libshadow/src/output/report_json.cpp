@@ -56,7 +56,7 @@ Json lights_json(const Scene& scene) {
 
 /// One face's report entry from its FaceLighting entries (all for `face_id`).
 Json face_json(const Scene& scene, std::size_t face_id,
-               const std::vector<const FaceLighting*>& entries) {
+               const std::vector<const FaceLighting*>& entries, bool fast) {
   std::string mesh;
   if (face_id < scene.faces.size() && scene.faces[face_id].mesh < scene.meshes.size())
     mesh = scene.meshes[scene.faces[face_id].mesh].name;
@@ -68,6 +68,8 @@ Json face_json(const Scene& scene, std::size_t face_id,
                       {"shadow_area", e->shadow_area},
                       {"lit_fraction", e->lit_fraction},
                       {"faces_light", e->faces_light}});
+    // The fast path's certificate: |lit_area - exact lit area| <= this (additive key).
+    if (fast) lights.back()["lit_area_error_bound"] = e->lit_area_error_bound;
   }
   return {{"id", face_id}, {"mesh", mesh}, {"area", entries.front()->area}, {"lights", lights}};
 }
@@ -106,7 +108,9 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
   struct LightTotals {
     Sum area;
     Sum lit_area;
+    Sum bound;
   };
+  const bool fast = result.arithmetic == Arithmetic::Fast;
   std::map<std::size_t, LightTotals> per_light;
   Sum total_area;
   std::size_t receiving_faces = 0;
@@ -131,11 +135,12 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
       LightTotals& totals = per_light[entries[i]->light_id];
       totals.area.add(entries[i]->area);
       totals.lit_area.add(entries[i]->lit_area);
+      totals.bound.add(entries[i]->lit_area_error_bound);
     }
     ++receiving_faces;
     total_area.add(group.front()->area);
     out << (receiving_faces == 1 ? "\n    " : ",\n    ")
-        << indent_more(dump(face_json(scene, face_id, group), 2), 4);
+        << indent_more(dump(face_json(scene, face_id, group, fast), 2), 4);
   }
   out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
 
@@ -162,20 +167,26 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
                               {"area", area},
                               {"lit_area", lit},
                               {"lit_fraction", area > 0.0 ? lit / area : 0.0}});
+    if (fast) per_light_json.back()["lit_area_error_bound"] = totals.bound.value() * (1 + 1e-12);
   }
-  const Json summary = {{"faces", scene.faces.size()},
+  Json summary = {{"faces", scene.faces.size()},
                         {"receiving_faces", receiving_faces},
                         {"lights", scene.lights.size()},
                         {"fragments", result.fragments.size()},
                         {"total_area", total_area.value()},
                         {"per_light", per_light_json}};
+  summary["arithmetic"] = fast ? "fast" : "exact";
   member("summary", dump(summary, 2));
 
-  const Json stats = {{"receivers", result.stats.receivers},
+  Json stats = {{"receivers", result.stats.receivers},
                       {"back_facing", result.stats.back_facing},
                       {"candidate_pairs", result.stats.candidate_pairs},
                       {"casting_pairs", result.stats.casting_pairs},
                       {"unshadowed", result.stats.unshadowed}};
+  if (fast) {
+    stats["fast_exact_fallbacks"] = result.stats.fast_exact_fallbacks;
+    stats["fast_collapsed"] = result.stats.fast_collapsed;
+  }
   member("stats", dump(stats, 2));
 
   Json warnings = Json::array();

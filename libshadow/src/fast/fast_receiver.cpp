@@ -1,0 +1,908 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The fast path: the exact engine's pipeline (cull, clip to the slab and the prism or pyramid,
+// project onto the receiver's chart) in doubles, and the union with Clipper (int64) on a grid
+// fitted to the receiver's chart box, then a bound on the lit-area error.
+//
+// What stays exact: which side of the receiver's plane every caster vertex is on when both
+// faces are exactly planar (Epick's orientation predicate on the input doubles, as in the exact
+// engine), whether the receiver faces the light (a double test with an error bound, else the
+// exact engine), the grid polygons' areas (128-bit integers). Faces planar only within tolerance
+// use the exact engine's lifted planes in doubles: sides that doubles cannot tell are taken as
+// "on the plane" and charged to delta; nearly coplanar casters are bracketed between two unions. What is not: projected and clipped points (doubles, each within an
+// estimated `delta` of the true point) and their rounding to the grid (within half a step per
+// axis). A point that moves by at most r can change which polygons cover a point x only if x
+// is within r of a polygon's boundary, so
+//
+//   |area(P ∩ union Q_i) - area(P' ∩ union Q'_i)|  <=  sum_i (2 r_i L_i + pi r_i^2) + tube(P),
+//
+// with L_i the perimeter of caster polygon i and tube(P) the same for the receiver (0 when it
+// is its own chart box, whose corners are grid points), plus the same for Clipper's rounding of
+// the intersection points it creates (under 2 rho, on a boundary no longer than sum L_i + L_P).
+// That is `lit_area_error_bound`, times the chart-to-3D area factor, plus a few ulps of the
+// final roundings.
+#include "fast/fast_receiver.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <polyclipping/clipper.hpp>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <utility>
+
+namespace shadow::fast {
+namespace {
+
+using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+namespace CL = ClipperLib;
+__extension__ typedef __int128 Int128;  // exact shoelace sums of int64 grid coordinates
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2^-52
+constexpr double kPi = 3.14159265358979323846;
+// Grid half-range: Clipper 6.4 stays in its fast 64-bit mode for |coordinates| <= 2^30 - 1.
+constexpr CL::cInt kHalf = (CL::cInt(1) << 30) - 2;
+
+EK::Point_3 epick(const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); }
+
+/// Twice the signed area of a grid polygon, exactly.
+Int128 area2(const CL::Path& path) {
+  Int128 sum = 0;
+  const std::size_t n = path.size();
+  for (std::size_t a = 0; a < n; ++a) {
+    const CL::IntPoint& p = path[a];
+    const CL::IntPoint& q = path[(a + 1) % n];
+    sum += static_cast<Int128>(p.X) * q.Y - static_cast<Int128>(q.X) * p.Y;
+  }
+  return sum;
+}
+
+double perimeter(const std::vector<glm::dvec2>& poly) {
+  double length = 0;
+  for (std::size_t a = 0; a < poly.size(); ++a) length += glm::length(poly[(a + 1) % poly.size()] - poly[a]);
+  return length;
+}
+
+/// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper).
+/// Crossing points get the bound exactly in coordinate c.
+void clip_axis(std::vector<glm::dvec2>& poly, int c, double bound, bool lower, std::vector<glm::dvec2>& scratch) {
+  auto inside = [&](const glm::dvec2& p) { return lower ? p[c] >= bound : p[c] <= bound; };
+  scratch.clear();
+  const std::size_t n = poly.size();
+  for (std::size_t a = 0; a < n; ++a) {
+    const glm::dvec2& p = poly[a];
+    const glm::dvec2& q = poly[(a + 1) % n];
+    const bool pin = inside(p), qin = inside(q);
+    if (pin) scratch.push_back(p);
+    if (pin != qin) {
+      const double t = std::clamp((bound - p[c]) / (q[c] - p[c]), 0.0, 1.0);
+      glm::dvec2 x = p + t * (q - p);
+      x[c] = bound;
+      scratch.push_back(x);
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// Homogeneous chart point (X, Z, w) of a central projection; the chart point is (X, Z) / w.
+struct Hom {
+  double x, z, w;
+};
+
+/// Clip of a convex homogeneous polygon to f(p) >= 0 for a linear f.
+template <class F>
+void clip_hom(std::vector<Hom>& poly, F f, std::vector<Hom>& scratch) {
+  scratch.clear();
+  const std::size_t n = poly.size();
+  for (std::size_t a = 0; a < n; ++a) {
+    const Hom& p = poly[a];
+    const Hom& q = poly[(a + 1) % n];
+    const double fp = f(p), fq = f(q);
+    if (fp >= 0) scratch.push_back(p);
+    if ((fp >= 0) != (fq >= 0)) {
+      const double t = std::clamp(fp / (fp - fq), 0.0, 1.0);
+      scratch.push_back({p.x + t * (q.x - p.x), p.z + t * (q.z - p.z), p.w + t * (q.w - p.w)});
+    }
+  }
+  poly.swap(scratch);
+}
+
+/// Convex hull (counter-clockwise, Andrew's monotone chain) in doubles.
+void convex_hull(std::vector<glm::dvec2>& pts, std::vector<glm::dvec2>& hull) {
+  std::sort(pts.begin(), pts.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+  });
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  hull.clear();
+  if (pts.size() < 3) {
+    hull = pts;
+    return;
+  }
+  auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  hull.resize(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  hull.resize(k - 1);
+}
+
+/// Everything about the receiver the casters need, in a frame centred on its corner vertex.
+struct Receiver {
+  int i = 0, j = 1, k = 2;
+  glm::dvec3 corner{0.0};
+  glm::dvec3 normal{0.0};  ///< unit, towards the front
+  double normal_error = 0;  ///< bound on the direction error of `normal` plus rounding, relative
+  std::array<double, 2> lo{}, hi{};
+  double scene_reach = 0;  ///< bound on |Y - corner| for any scene point Y
+  double magnitude = 0;    ///< bound on |chart coordinates| of any point involved
+  // Directional light.
+  glm::dvec2 shift{0.0};   ///< projection: chart(Y) - s(Y) * shift
+  double inv_light_side = 0;
+  // Point light.
+  bool point = false;
+  glm::dvec3 light_rel{0.0};  ///< light - corner
+  double light_side = 0;      ///< s at the light (> 0)
+  EK::Point_3 c0, c1, c2;     ///< corner points for the exact side predicate
+  bool flipped = false;
+  /// Exactly planar receiver: sides of input points by Epick's exact predicate. Otherwise the
+  /// plane is the exact engine's lifted plane (Newell normal through the centroid) in doubles.
+  bool exact_sides = true;
+  double s_error = 0;  ///< bound on |s in doubles - exact s| for scene points
+
+  [[nodiscard]] double s(const glm::dvec3& y) const { return glm::dot(normal, y - corner); }
+  /// Exact sign of the receiver's plane at an input point (positive: in front); exactly planar
+  /// receivers only.
+  [[nodiscard]] CGAL::Sign side(const glm::dvec3& y) const {
+    const CGAL::Sign sv = CGAL::orientation(c0, c1, c2, epick(y));
+    return flipped ? CGAL::opposite(sv) : sv;
+  }
+  /// The side of a caster vertex that the exact engine would see, or `unsure` when doubles cannot
+  /// tell (|s| within the error, plus `slack`: how far the exact engine lifts that vertex).
+  [[nodiscard]] CGAL::Sign side(const glm::dvec3& y, bool caster_planar, double slack, bool& unsure) const {
+    unsure = false;
+    if (exact_sides && caster_planar) return side(y);
+    const double value = s(y), tolerance = s_error + slack;
+    if (value > tolerance) return CGAL::POSITIVE;
+    if (value < -tolerance) return CGAL::NEGATIVE;
+    unsure = true;
+    return CGAL::ZERO;  // taken as on the plane; the caller charges the difference
+  }
+};
+
+/// One projected caster polygon in the chart with its estimated double error.
+struct Cast {
+  std::vector<glm::dvec2> poly;
+  double delta = 0;         ///< bound on each vertex's distance to the exact point
+  double free_length = 0;   ///< perimeter before the box clip (directional), for the bound
+};
+
+/// The bound on |area change| when every point of a polygon of perimeter L moves by <= r.
+double tube(double length, double r) { return 2 * r * length + kPi * r * r; }
+
+class FastReceiver {
+ public:
+  explicit FastReceiver(const Receiver& rc) : rc_(rc) {}
+
+  /// Directional light: the front part of a convex piece (exact signs), projected, clipped to
+  /// the box. False: ill-conditioned (handed to the exact engine).
+  bool project_parallel(const std::vector<glm::dvec3>& v, const std::vector<int>& piece,
+                        const std::vector<CGAL::Sign>& sign, Cast& cast) {
+    cast.poly.clear();
+    cast.delta = base_delta_ + position_error_ * (1 + glm::length(rc_.shift));
+    const std::size_t m = piece.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3& va = v[piece[a]];
+      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      if (sa == CGAL::POSITIVE) cast.poly.push_back(project(va));
+      if (sa == CGAL::ZERO) cast.poly.push_back(chart(va));
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+        glm::dvec3 x;
+        if (!crossing(va, v[piece[(a + 1) % m]], x, cast.delta)) return false;
+        cast.poly.push_back(chart(x));
+      }
+    }
+    cast.free_length = perimeter(cast.poly);
+    return clip_to_box(cast);
+  }
+
+  /// Point light: the front part of a convex piece, clipped to the pyramid over the box in
+  /// homogeneous chart coordinates, then divided out.
+  bool project_central(const std::vector<glm::dvec3>& v, const std::vector<int>& piece,
+                       const std::vector<CGAL::Sign>& sign, Cast& cast) {
+    hom_.clear();
+    double cross_delta = 0;
+    const std::size_t m = piece.size();
+    const double L = rc_.light_side;
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3& va = v[piece[a]];
+      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      if (sa == CGAL::POSITIVE) hom_.push_back(homogeneous(va - rc_.corner));
+      if (sa == CGAL::ZERO) {
+        const glm::dvec3 y = va - rc_.corner;
+        hom_.push_back({L * y[rc_.i], L * y[rc_.j], L});
+      }
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+        glm::dvec3 x;
+        if (!crossing(va, v[piece[(a + 1) % m]], x, cross_delta)) return false;
+        const glm::dvec3 y = x - rc_.corner;
+        hom_.push_back({L * y[rc_.i], L * y[rc_.j], L});
+      }
+    }
+    const double lo_i = rc_.lo[0] - rc_.corner[rc_.i], hi_i = rc_.hi[0] - rc_.corner[rc_.i];
+    const double lo_j = rc_.lo[1] - rc_.corner[rc_.j], hi_j = rc_.hi[1] - rc_.corner[rc_.j];
+    // Smallest positive w before the clip: if the clip leaves nothing, the exact clip may still
+    // hold a sliver along the box's edge, charged to the bound by the caller.
+    double w_front = std::numeric_limits<double>::infinity();
+    for (const Hom& p : hom_)
+      if (p.w > 0) w_front = std::min(w_front, p.w);
+    clip_hom(hom_, [&](const Hom& p) { return p.x - lo_i * p.w; }, scratch_hom_);
+    clip_hom(hom_, [&](const Hom& p) { return hi_i * p.w - p.x; }, scratch_hom_);
+    clip_hom(hom_, [&](const Hom& p) { return p.z - lo_j * p.w; }, scratch_hom_);
+    clip_hom(hom_, [&](const Hom& p) { return hi_j * p.w - p.z; }, scratch_hom_);
+    cast.poly.clear();
+    // Errors of the homogeneous coordinates (products of s, the light and points, each with the
+    // plane's error), divided by the smallest w; crossings move H by light_side times their error.
+    const double e = rc_.normal_error, R = rc_.scene_reach, l = glm::length(rc_.light_rel);
+    const double box = std::max({std::abs(lo_i), std::abs(hi_i), std::abs(lo_j), std::abs(hi_j)});
+    const double dH = 4 * e * R * l + 4 * kEps * (l * R + l * box) + L * cross_delta +
+                      2 * (L + l) * position_error_ + 2 * l * s_extra_;
+    const double dw = 4 * e * (R + l);
+    if (hom_.size() < 3) {  // nothing left in doubles: charge a sliver along the box's edges
+      cast.free_length = std::isfinite(w_front) ? 2 * (hi_i - lo_i + hi_j - lo_j) : 0.0;
+      cast.delta = std::isfinite(w_front) ? 2 * (dH + box * dw) / w_front + 4 * kEps * rc_.magnitude : 0.0;
+      return cast.delta <= max_delta_;
+    }
+    double w_min = std::numeric_limits<double>::infinity();
+    for (const Hom& p : hom_) w_min = std::min(w_min, p.w);
+    if (!(w_min > 0)) return false;  // touches the light: leave it to the exact engine
+    for (const Hom& p : hom_) {
+      glm::dvec2 x(p.x / p.w + rc_.corner[rc_.i], p.z / p.w + rc_.corner[rc_.j]);
+      cast.poly.push_back(glm::clamp(x, glm::dvec2(rc_.lo[0], rc_.lo[1]), glm::dvec2(rc_.hi[0], rc_.hi[1])));
+    }
+    cast.delta = 2 * (dH + box * dw) / w_min + 4 * kEps * rc_.magnitude;
+    cast.free_length = perimeter(cast.poly);
+    return cast.delta <= max_delta_;
+  }
+
+  void set_tolerances(double base_delta, double max_delta) {
+    base_delta_ = base_delta;
+    max_delta_ = max_delta;
+  }
+  /// For the next pieces: how far (3D) a vertex may be from the exact engine's (a lifted
+  /// caster, or a vertex of unsure side taken as on the plane), and the extra error of s.
+  void set_piece_error(double position, double s_extra) {
+    position_error_ = position;
+    s_extra_ = s_extra;
+  }
+
+  glm::dvec2 chart(const glm::dvec3& y) const { return {y[rc_.i], y[rc_.j]}; }
+
+  glm::dvec2 project(const glm::dvec3& y) const {
+    const double s = rc_.s(y);
+    return {y[rc_.i] - s * rc_.shift.x, y[rc_.j] - s * rc_.shift.y};
+  }
+
+  /// Where segment a-b (exact signs strictly opposite) crosses the receiver's plane, with its
+  /// error added to `delta`. False when the segment is nearly parallel to the plane.
+  bool crossing(const glm::dvec3& a, const glm::dvec3& b, glm::dvec3& x, double& delta) const {
+    const double sa = rc_.s(a), sb = rc_.s(b);
+    const double ds = 2 * (rc_.normal_error + 4 * kEps) * rc_.scene_reach + rc_.s_error + s_extra_;
+    const double gap = std::abs(sa - sb);
+    if (!(gap > 64 * ds)) return false;
+    const double t = std::clamp(sa / (sa - sb), 0.0, 1.0);
+    x = a + t * (b - a);
+    delta = std::max(delta, 3 * ds / gap * glm::length(b - a) + 4 * kEps * rc_.magnitude);
+    return delta <= max_delta_;
+  }
+
+  Hom homogeneous(const glm::dvec3& y) const {
+    const double s = glm::dot(rc_.normal, y);
+    const double L = rc_.light_side;
+    return {L * y[rc_.i] - s * rc_.light_rel[rc_.i], L * y[rc_.j] - s * rc_.light_rel[rc_.j], L - s};
+  }
+
+  bool clip_to_box(Cast& cast) {
+    for (int c = 0; c < 2 && cast.poly.size() >= 3; ++c) {
+      clip_axis(cast.poly, c, rc_.lo[c], true, scratch_);
+      clip_axis(cast.poly, c, rc_.hi[c], false, scratch_);
+    }
+    for (glm::dvec2& p : cast.poly)
+      p = glm::clamp(p, glm::dvec2(rc_.lo[0], rc_.lo[1]), glm::dvec2(rc_.hi[0], rc_.hi[1]));
+    return cast.delta <= max_delta_;
+  }
+
+ private:
+  const Receiver& rc_;
+  double base_delta_ = 0, max_delta_ = 0, position_error_ = 0, s_extra_ = 0;
+  std::vector<glm::dvec2> scratch_;
+  std::vector<Hom> hom_, scratch_hom_;
+};
+
+/// The integer grid over the receiver's chart box: its corners are grid points.
+struct Grid {
+  std::array<double, 2> lo{}, hi{}, scale{}, step{};
+  Grid(const std::array<double, 2>& lo_, const std::array<double, 2>& hi_) : lo(lo_), hi(hi_) {
+    for (int c = 0; c < 2; ++c) {
+      scale[c] = static_cast<double>(2 * kHalf) / (hi[c] - lo[c]);
+      step[c] = (hi[c] - lo[c]) / static_cast<double>(2 * kHalf);
+    }
+  }
+  CL::cInt to_int(double x, int c) const {
+    const double g = std::clamp((x - lo[c]) * scale[c], 0.0, static_cast<double>(2 * kHalf));
+    return static_cast<CL::cInt>(std::llround(g)) - kHalf;
+  }
+  CL::IntPoint point(const glm::dvec2& p) const { return {to_int(p.x, 0), to_int(p.y, 1)}; }
+  glm::dvec2 chart(const CL::IntPoint& p) const {
+    return {p.X == kHalf ? hi[0] : lo[0] + static_cast<double>(p.X + kHalf) * step[0],
+            p.Y == kHalf ? hi[1] : lo[1] + static_cast<double>(p.Y + kHalf) * step[1]};
+  }
+  /// Bound on the distance between a chart point and its grid point (half a step per axis).
+  double rounding() const { return 0.5 * std::hypot(step[0], step[1]) * (1 + 8 * kEps); }
+};
+
+/// Whether a boundary visits some grid point twice (touches itself).
+bool has_repeated_vertex(CL::Path path) {
+  std::sort(path.begin(), path.end(), [](const CL::IntPoint& a, const CL::IntPoint& b) {
+    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
+  });
+  return std::adjacent_find(path.begin(), path.end()) != path.end();
+}
+
+/// Regions (outer boundary with its holes) of a PolyTree, at every nesting level.
+void regions_of(const CL::PolyNode& node, std::vector<CL::Paths>& regions) {
+  for (const CL::PolyNode* outer : node.Childs) {
+    CL::Paths region{outer->Contour};
+    for (const CL::PolyNode* hole : outer->Childs) {
+      region.push_back(hole->Contour);
+      regions_of(*hole, regions);
+    }
+    regions.push_back(std::move(region));
+  }
+}
+
+/// Splits a region (outer boundary and holes) into simple cells without holes: cut it with a
+/// vertical line through the middle of its median hole (by x), then the two sides likewise.
+/// Every hole is eventually cut by a line through its middle and opens onto the cut; halving
+/// keeps the work at O(n log n) Boolean operations' worth for a ground face with n holes.
+void simple_cells(const CL::Paths& region, CL::Paths& cells, int depth = 0, bool split_touching = true) {
+  if (region.size() == 1 && split_touching && has_repeated_vertex(region[0])) {
+    // A boundary that touches itself at a vertex: Clipper's strictly simple output splits it
+    // there (done only here: on whole unions it costs quadratic point-in-polygon tests).
+    CL::Clipper clipper;
+    clipper.StrictlySimple(true);
+    clipper.AddPaths(region, CL::ptSubject, true);
+    CL::PolyTree tree;
+    clipper.Execute(CL::ctUnion, tree, CL::pftNonZero, CL::pftNonZero);
+    std::vector<CL::Paths> pieces;
+    regions_of(tree, pieces);
+    for (const CL::Paths& piece : pieces) simple_cells(piece, cells, depth + 1, false);
+    return;
+  }
+  if (region.size() == 1 || depth > 64) {
+    for (const CL::Path& p : region)
+      if (area2(p) > 0) cells.push_back(p);
+    return;
+  }
+  CL::cInt xmin = std::numeric_limits<CL::cInt>::max(), xmax = std::numeric_limits<CL::cInt>::min();
+  CL::cInt ymin = xmin, ymax = xmax;
+  std::vector<CL::cInt> middles;
+  for (std::size_t h = 0; h < region.size(); ++h) {
+    CL::cInt lo = std::numeric_limits<CL::cInt>::max(), hi = std::numeric_limits<CL::cInt>::min();
+    for (const CL::IntPoint& p : region[h]) {
+      lo = std::min(lo, p.X);
+      hi = std::max(hi, p.X);
+      ymin = std::min(ymin, p.Y);
+      ymax = std::max(ymax, p.Y);
+    }
+    xmin = std::min(xmin, lo);
+    xmax = std::max(xmax, hi);
+    if (h > 0) middles.push_back(lo + (hi - lo) / 2);
+  }
+  std::nth_element(middles.begin(), middles.begin() + static_cast<std::ptrdiff_t>(middles.size() / 2), middles.end());
+  const CL::cInt cut = std::clamp(middles[middles.size() / 2], xmin, xmax);
+  for (int side = 0; side < 2; ++side) {
+    const CL::cInt x0 = side == 0 ? xmin : cut, x1 = side == 0 ? cut : xmax;
+    if (x1 <= x0) continue;
+    const CL::Path half{{x0, ymin}, {x1, ymin}, {x1, ymax}, {x0, ymax}};
+    CL::Clipper clipper;
+    clipper.StrictlySimple(false);
+    // (Not strictly simple here: cells that touch themselves are split when they come out.)
+    clipper.AddPaths(region, CL::ptSubject, true);
+    clipper.AddPath(half, CL::ptClip, true);
+    CL::PolyTree tree;
+    clipper.Execute(CL::ctIntersection, tree, CL::pftNonZero, CL::pftNonZero);
+    std::vector<CL::Paths> pieces;
+    regions_of(tree, pieces);
+    for (const CL::Paths& piece : pieces) simple_cells(piece, cells, depth + 1);
+  }
+}
+
+}  // namespace
+
+bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
+                      const Light& light, const exact::LightSpaceGrid* grid_index, bool polygons,
+                      FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
+  const Scene& scene = *ctx.scene;
+  const std::vector<exact::FacePrep>& prep = *ctx.prep;
+  const Face& face = scene.faces[face_id];
+  const exact::FacePrep& fp = prep[face_id];
+  out = FaceLighting{};
+  out.face_id = face_id;
+  out.light_id = light_id;
+  out.area = (*ctx.face_area)[face_id];
+  ShadowStats local;
+  ++local.receivers;
+  auto commit = [&] {
+    stats.receivers += local.receivers;
+    stats.back_facing += local.back_facing;
+    stats.candidate_pairs += local.candidate_pairs;
+    stats.casting_pairs += local.casting_pairs;
+    stats.unshadowed += local.unshadowed;
+    stats.fast_collapsed += local.fast_collapsed;
+    return true;
+  };
+  if (fp.degenerate) return commit();
+
+  Receiver rc;
+  rc.k = fp.axis;
+  rc.i = exact::chart_i(fp.axis);
+  rc.j = exact::chart_j(fp.axis);
+  rc.flipped = fp.flipped;
+  const exact::CullScene& cull = *ctx.cull;
+  rc.lo = fp.chart_min;
+  rc.hi = fp.chart_max;
+  rc.magnitude = std::max({std::abs(rc.lo[0]), std::abs(rc.lo[1]), std::abs(rc.hi[0]), std::abs(rc.hi[1])}) +
+                 glm::length(cull.origin) + cull.diameter;
+  if (fp.exactly_planar) {
+    const glm::dvec3& corner = face.vertices[fp.corner[1]];
+    const glm::dvec3& next = face.vertices[fp.corner[2]];
+    const glm::dvec3& prev = face.vertices[fp.corner[0]];
+    rc.c0 = epick(corner);
+    rc.c1 = epick(next);
+    rc.c2 = epick(prev);
+    rc.corner = corner;
+    const glm::dvec3 u = next - corner, v = prev - corner;
+    glm::dvec3 n = glm::cross(u, v);
+    if (fp.flipped) n = -n;
+    const double nlen = glm::length(n);
+    if (!(nlen > 0) || !std::isfinite(nlen)) return false;
+    rc.normal = n / nlen;
+    // Rounded differences and products: the direction error grows with 1/sin(corner angle).
+    rc.normal_error = 8 * kEps * glm::length(u) * glm::length(v) / nlen + 4 * kEps;
+    rc.scene_reach = (glm::length(corner - cull.origin) + cull.diameter) * (1 + 1e-9);
+    rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach;
+  } else {
+    // Planar only within tolerance: the exact engine lifts the face onto the plane through its
+    // centroid with its Newell normal (docs/numeric-contract.md); the same plane in doubles.
+    rc.exact_sides = false;
+    const std::vector<glm::dvec3>& p = face.vertices;
+    const std::size_t m = p.size();
+    glm::dvec3 n(0.0), centroid(0.0);
+    double rounding = 0, largest = 0;
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3 u = p[a] - p[0], v = p[(a + 1) % m] - p[0];
+      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+      rounding += glm::length(u - v) * (glm::length(u) + glm::length(v));
+      centroid += p[a];
+      largest = std::max({largest, std::abs(p[a].x), std::abs(p[a].y), std::abs(p[a].z)});
+    }
+    const double nlen = glm::length(n);
+    if (!(nlen > 0) || !std::isfinite(nlen)) return false;
+    rc.normal = n / nlen;
+    rc.corner = centroid / static_cast<double>(m);
+    rc.normal_error = 8 * kEps * rounding / nlen + 8 * kEps;
+    rc.scene_reach = (glm::length(rc.corner - cull.origin) + cull.diameter) * (1 + 1e-9);
+    rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach + 4 * kEps * static_cast<double>(m + 2) * largest;
+  }
+  const glm::dvec3 corner = rc.corner;
+  // The face's outline as a fragment: its own vertices, or lifted onto the plane in doubles.
+  auto whole_face = [&]() {
+    std::vector<glm::dvec3> outline = face.vertices;
+    if (!fp.exactly_planar)
+      for (glm::dvec3& y : outline)
+        y[rc.k] = corner[rc.k] - (rc.normal[rc.i] * (y[rc.i] - corner[rc.i]) +
+                                  rc.normal[rc.j] * (y[rc.j] - corner[rc.j])) / rc.normal[rc.k];
+    return outline;
+  };
+
+  // ---- facing: exact where the double test could be wrong -----------------------------------
+  int facing = 0;
+  if (light.type == LightType::Point) {
+    rc.point = true;
+    rc.light_rel = light.position - corner;
+    rc.light_side = glm::dot(rc.normal, rc.light_rel);
+    if (fp.exactly_planar) {
+      facing = rc.side(light.position);
+    } else {
+      const double error = 2 * (rc.normal_error + 4 * kEps) * glm::length(rc.light_rel) + rc.s_error;
+      if (std::abs(rc.light_side) <= error) return false;
+      facing = rc.light_side > 0 ? 1 : -1;
+    }
+    // The light so close to the receiver's plane that s at the light is unsure: exact engine.
+    if (facing > 0 && !(rc.light_side > 64 * rc.normal_error * glm::length(rc.light_rel))) return false;
+  } else {
+    const glm::dvec3 d = exact::unit(light.to_light);
+    const double nd = glm::dot(rc.normal, d);
+    if (std::abs(nd) <= 64 * rc.normal_error) return false;  // grazing: exact engine decides
+    facing = nd > 0 ? 1 : -1;
+    rc.inv_light_side = 1.0 / nd;
+    rc.shift = glm::dvec2(d[rc.i], d[rc.j]) * rc.inv_light_side;
+  }
+  if (facing <= 0) {  // attached shadow, as in the exact engine
+    ++local.back_facing;
+    out.shadow_area = out.area;
+    if (polygons) {
+      Fragment f;
+      f.face_id = face_id;
+      f.light_id = light_id;
+      f.lit = false;
+      f.area = out.area;
+      f.polygon = whole_face();
+      fragments.push_back(std::move(f));
+    }
+    return commit();
+  }
+  out.faces_light = true;
+
+  // ---- culling: the exact engine's tests ----------------------------------------------------
+  const exact::ReceiverCuller culler(cull, fp, face_id, light);
+  w.candidates.clear();
+  if (++w.stamp == 0) {
+    std::fill(w.seen.begin(), w.seen.end(), 0);
+    std::fill(w.solid_seen.begin(), w.solid_seen.end(), 0);
+    w.stamp = 1;
+  }
+  auto consider = [&](std::size_t q) {
+    if (q == face_id || prep[q].degenerate || w.seen[q] == w.stamp) return;
+    w.seen[q] = w.stamp;
+    if (culler.may_cast(q)) w.candidates.push_back(q);
+  };
+  if (grid_index) {
+    grid_index->query(face_id, consider);
+  } else {
+    for (std::size_t q = 0; q < prep.size(); ++q) consider(q);
+  }
+  std::sort(w.candidates.begin(), w.candidates.end());
+  local.candidate_pairs += w.candidates.size();
+
+  // ---- projection in doubles ----------------------------------------------------------------
+  FastReceiver fr(rc);
+  const double max_delta = std::ldexp(std::max(rc.hi[0] - rc.lo[0], rc.hi[1] - rc.lo[1]), -20);
+  double parallel_delta = 0;
+  if (!rc.point) {
+    // |error| of a projected point: s's error times |shift|, shift's error times |s|, roundings.
+    const double e = rc.normal_error + 8 * kEps, g = std::abs(rc.inv_light_side), R = rc.scene_reach;
+    const double shift = glm::length(rc.shift);
+    parallel_delta = 2 * (shift * e * R + R * e * g * g + 2 * kEps * (rc.magnitude + R * shift));
+    if (parallel_delta > max_delta) return false;  // grazing light: the exact engine is better
+  }
+  fr.set_tolerances(parallel_delta, max_delta);
+  const Grid grid(rc.lo, rc.hi);
+  const double rho = grid.rounding();
+  CL::Paths casts, maybe;  // maybe: footprints of nearly coplanar casters (see below)
+  double bound_chart = 0;
+  double cast_length = 0;  // total perimeter of the grid polygons given to Clipper
+  std::vector<CGAL::Sign> vsign, psign;
+  std::vector<char> unsure;
+  std::vector<glm::dvec2> points, hull;
+  Cast cast;
+  bool not_finite = false;  // overflow in doubles (coordinates near 1e150): exact engine
+  auto add_cast = [&](Cast& c) {
+    if (c.poly.size() < 3) {
+      // Clipped away in doubles: the exact polygon may keep a sliver within delta of the box's
+      // edge, no longer than the polygon's perimeter before the clip.
+      if (c.free_length > 0) bound_chart += tube(c.free_length, c.delta + 4 * kEps * rc.magnitude);
+      not_finite |= !std::isfinite(bound_chart);
+      return;
+    }
+    for (const glm::dvec2& p : c.poly) not_finite |= !std::isfinite(p.x) || !std::isfinite(p.y);
+    not_finite |= !std::isfinite(c.delta);
+    if (not_finite) return;
+    CL::Path path;
+    path.reserve(c.poly.size());
+    for (const glm::dvec2& p : c.poly) {
+      const CL::IntPoint ip = grid.point(p);
+      if (path.empty() || !(path.back() == ip)) path.push_back(ip);
+    }
+    while (path.size() > 1 && path.front() == path.back()) path.pop_back();
+    const double r = rho + c.delta + 4 * kEps * rc.magnitude;
+    const double n_vertices = static_cast<double>(c.poly.size());
+    const double length = perimeter(c.poly);
+    bound_chart += tube(std::max(c.free_length, length) + 2 * n_vertices * c.delta, r);
+    const Int128 a2 = path.size() >= 3 ? area2(path) : 0;
+    if (a2 == 0) {  // collapsed on the grid: its true area is within the bound just added
+      double twice_area = 0;  // edge-on casters have no area in doubles either: not counted
+      for (std::size_t a = 0; a < c.poly.size(); ++a) {
+        const glm::dvec2& p = c.poly[a];
+        const glm::dvec2& q = c.poly[(a + 1) % c.poly.size()];
+        twice_area += p.x * q.y - q.x * p.y;
+      }
+      if (twice_area != 0) ++local.fast_collapsed;
+      return;
+    }
+    if (a2 < 0) std::reverse(path.begin(), path.end());
+    casts.push_back(std::move(path));
+    cast_length += length + 2 * n_vertices * rho;
+  };
+
+  const int own_solid = (*ctx.solid_of)[face_id];
+  for (std::size_t q : w.candidates) {
+    const int solid = (*ctx.solid_of)[q];
+    if (solid >= 0 && (solid == own_solid || w.solid_seen[solid] == w.stamp)) continue;
+    if (solid >= 0 && !rc.point && rc.exact_sides) {
+      // A convex solid casts the hull of its projection, as in the exact engine.
+      w.solid_seen[solid] = w.stamp;
+      const exact::ConvexSolid& cs = (*ctx.solids)[solid];
+      vsign.resize(cs.vertices.size());
+      bool any_front = false;
+      for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+        vsign[a] = rc.side(cs.vertices[a]);
+        any_front |= vsign[a] == CGAL::POSITIVE;
+      }
+      if (!any_front) continue;
+      points.clear();
+      for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+        if (vsign[a] == CGAL::POSITIVE) points.push_back(fr.project(cs.vertices[a]));
+        if (vsign[a] == CGAL::ZERO) points.push_back(fr.chart(cs.vertices[a]));
+      }
+      double cross_delta = 0;
+      for (const auto& [a, b] : cs.edges) {
+        const CGAL::Sign sa = vsign[a], sb = vsign[b];
+        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+          glm::dvec3 x;
+          if (!fr.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
+          points.push_back(fr.chart(x));
+        }
+      }
+      convex_hull(points, hull);
+      cast.poly = hull;
+      // The hull of points each within delta of the exact ones is within delta of the exact hull.
+      cast.delta = std::max(parallel_delta, cross_delta);
+      if (cast.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver
+        bound_chart += tube(perimeter(cast.poly), cast.delta + 4 * kEps * rc.magnitude);
+        continue;
+      }
+      cast.free_length = perimeter(cast.poly);
+      if (!fr.clip_to_box(cast)) return false;
+      const std::size_t before = casts.size();
+      add_cast(cast);
+      if (not_finite) return false;
+      if (casts.size() > before) ++local.casting_pairs;
+      continue;
+    }
+    const exact::FacePrep& qp = prep[q];
+    const Face& qface = scene.faces[q];
+    const exact::CullFace& cq = cull.faces[q];
+    if (rc.point) {
+      if (qp.exactly_planar) {
+        if (CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
+                              epick(qface.vertices[qp.corner[0]]), epick(light.position)) == CGAL::COPLANAR)
+          continue;  // edge-on to the light: casts nothing
+      } else {
+        // A lifted caster nearly edge-on to the light: leave the receiver to the exact engine.
+        const glm::dvec3 l = light.position - cull.origin;
+        if (std::abs(glm::dot(cq.normal, l) + cq.offset) <= 1e-9 * (glm::length(l) + cull.diameter) + cq.slack)
+          return false;
+      }
+    }
+    // A lifted caster's vertices are up to `slack` from where the exact engine puts them.
+    const double slack = qp.exactly_planar ? 0.0 : cq.slack;
+    vsign.resize(qface.vertices.size());
+    unsure.resize(qface.vertices.size());
+    bool any_front = false, any_unsure = false;
+    for (std::size_t a = 0; a < qface.vertices.size(); ++a) {
+      bool u = false;
+      vsign[a] = rc.side(qface.vertices[a], qp.exactly_planar, slack, u);
+      unsure[a] = u;
+      any_front |= vsign[a] == CGAL::POSITIVE;
+      any_unsure |= u;
+    }
+    if (!any_front && !any_unsure) continue;
+    // A vertex of unsure side, taken as on the plane, is within (its s error) / sin(angle between
+    // the planes) of where the exact clip puts the boundary.
+    double unsure_shift = 0;
+    if (any_unsure) {
+      const double sine = glm::length(glm::cross(rc.normal, cq.normal));
+      unsure_shift = 2 * (rc.s_error + slack) / sine;
+      if (!(unsure_shift <= max_delta)) unsure_shift = std::numeric_limits<double>::infinity();
+    }
+    bool cast_any = false;
+    for (const std::vector<int>& piece : qp.convex_pieces) {
+      psign.clear();
+      bool piece_front = false, piece_unsure = false;
+      for (int a : piece) {
+        psign.push_back(vsign[a]);
+        piece_front |= vsign[a] == CGAL::POSITIVE;
+        piece_unsure |= unsure[a] != 0;
+      }
+      const double position = slack + (piece_unsure ? unsure_shift : 0.0);
+      // Points within s_error + slack of the plane project to within this of their chart points.
+      const double grow = rc.point ? 2 * (1 + glm::length(rc.light_rel) / rc.light_side) : 1 + glm::length(rc.shift);
+      if (!piece_front) {
+        if (!piece_unsure) continue;
+        points.clear();
+        for (int a : piece) points.push_back(fr.chart(qface.vertices[a]));
+        if (std::isfinite(position)) {  // the exact front part is at most a sliver along the plane
+          bound_chart += tube(perimeter(points), (position + rc.s_error) * grow + 4 * kEps * rc.magnitude);
+          continue;
+        }
+        // Nearly coplanar with the receiver and nowhere clearly in front: its exact shadow lies
+        // somewhere inside its own chart footprint. United separately: the shadow is known to
+        // lie between the union without and with these footprints.
+        cast.poly = points;
+        cast.delta = (rc.s_error + slack) * grow;
+        cast.free_length = perimeter(cast.poly);
+        for (int c = 0; c < 2 && cast.poly.size() >= 3; ++c) {
+          clip_axis(cast.poly, c, rc.lo[c], true, hull);
+          clip_axis(cast.poly, c, rc.hi[c], false, hull);
+        }
+        const std::size_t before = casts.size();
+        add_cast(cast);
+        if (not_finite) return false;
+        if (casts.size() > before) {
+          maybe.push_back(std::move(casts.back()));
+          casts.pop_back();
+        }
+        continue;
+      }
+      if (!std::isfinite(position)) return false;  // nearly coplanar and partly in front: exact
+      fr.set_piece_error(position, rc.s_error + slack);
+      const bool ok = rc.point ? fr.project_central(qface.vertices, piece, psign, cast)
+                               : fr.project_parallel(qface.vertices, piece, psign, cast);
+      fr.set_piece_error(0, 0);
+      if (!ok) return false;
+      const std::size_t before = casts.size();
+      add_cast(cast);
+      if (not_finite) return false;
+      cast_any |= casts.size() > before;
+    }
+    if (cast_any) ++local.casting_pairs;
+  }
+
+  const double scale = 1.0 / std::abs(rc.normal[rc.k]);  // chart area -> 3D area
+  if (casts.empty() && maybe.empty()) {
+    ++local.unshadowed;
+    out.lit_area = out.area;
+    out.lit_fraction = 1.0;
+    out.lit_area_error_bound = bound_chart * scale * (1 + 1e-9);
+    if (!std::isfinite(out.lit_area_error_bound)) return false;
+    if (polygons) {
+      Fragment f;
+      f.face_id = face_id;
+      f.light_id = light_id;
+      f.lit = true;
+      f.area = out.area;
+      f.polygon = whole_face();
+      fragments.push_back(std::move(f));
+    }
+    return commit();
+  }
+
+  // ---- the union on the grid ----------------------------------------------------------------
+  CL::Path receiver;
+  for (int a : fp.chart_ring) receiver.push_back(grid.point({face.vertices[a][rc.i], face.vertices[a][rc.j]}));
+  double receiver_length = 0;
+  for (std::size_t a = 0; a < fp.chart_ring.size(); ++a) {
+    const glm::dvec3& p = face.vertices[fp.chart_ring[a]];
+    const glm::dvec3& q = face.vertices[fp.chart_ring[(a + 1) % fp.chart_ring.size()]];
+    receiver_length += std::hypot(q[rc.i] - p[rc.i], q[rc.j] - p[rc.j]);
+  }
+  if (!fp.chart_is_box) bound_chart += tube(receiver_length, rho);
+  // Clipper rounds the intersection points it creates to the grid (by under one step): that
+  // moves the output's boundary, which lies on the input polygons' boundaries, by under 2 rho.
+  // (A box receiver's edges meet the casts only at their vertices, already grid points.)
+  bound_chart += tube(cast_length + (fp.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), 2 * rho);
+  CL::PolyTree shadow_tree, lit_tree;
+  Int128 shadow2 = 0, gap2 = 0;
+  try {
+    CL::Clipper clipper;
+    clipper.StrictlySimple(false);
+    clipper.AddPaths(casts, CL::ptSubject, true);
+    // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
+    const CL::ClipType op = fp.chart_is_box ? CL::ctUnion : CL::ctIntersection;
+    if (!fp.chart_is_box) clipper.AddPath(receiver, CL::ptClip, true);
+    if (polygons) {
+      clipper.Execute(op, shadow_tree, CL::pftNonZero, CL::pftNonZero);
+      CL::Paths all;
+      CL::PolyTreeToPaths(shadow_tree, all);
+      for (const CL::Path& p : all) shadow2 += area2(p);
+      CL::Clipper lit;
+      lit.StrictlySimple(false);
+      lit.AddPath(receiver, CL::ptSubject, true);
+      lit.AddPaths(casts, CL::ptClip, true);
+      lit.Execute(CL::ctDifference, lit_tree, CL::pftNonZero, CL::pftNonZero);
+    } else {
+      CL::Paths shadow_paths;
+      clipper.Execute(op, shadow_paths, CL::pftNonZero, CL::pftNonZero);
+      for (const CL::Path& p : shadow_paths) shadow2 += area2(p);  // holes come out negative
+    }
+    if (!maybe.empty()) {
+      // The exact shadow lies between the union without and with the nearly coplanar casters'
+      // footprints: report the middle, and half the gap in the bound (0 when they are covered,
+      // as a box's bottom is by its walls' shadows).
+      CL::Clipper with;
+      with.AddPaths(casts, CL::ptSubject, true);
+      with.AddPaths(maybe, CL::ptSubject, true);
+      if (!fp.chart_is_box) with.AddPath(receiver, CL::ptClip, true);
+      CL::Paths paths;
+      with.Execute(op, paths, CL::pftNonZero, CL::pftNonZero);
+      Int128 most = 0;
+      for (const CL::Path& p : paths) most += area2(p);
+      if (most > shadow2) {
+        gap2 = most - shadow2;
+        shadow2 += gap2 / 2;
+      }
+    }
+  } catch (const CL::clipperException&) {
+    return false;  // coordinates out of range cannot happen on the grid; be safe anyway
+  }
+  const double cell = grid.step[0] * grid.step[1] * scale;  // 3D area of one grid unit
+  const double shadow_3d = 0.5 * static_cast<double>(shadow2) * cell;
+  out.shadow_area = std::clamp(shadow_3d, 0.0, out.area);
+  out.lit_area = out.area - out.shadow_area;
+  out.lit_fraction = out.area > 0 ? out.lit_area / out.area : 0.0;
+  // The roundings of area, scale and the subtraction: a few ulps of the face's area.
+  out.lit_area_error_bound = (bound_chart * scale + 0.25 * static_cast<double>(gap2 > 0 ? gap2 + 1 : 0) * cell) * (1 + 1e-9) +
+                             16 * kEps * out.area;
+  if (!std::isfinite(out.lit_area_error_bound)) return false;
+  if (!polygons) return commit();
+
+  std::size_t fragment_id = 0;
+  std::vector<CL::Paths> regions;
+  CL::Paths cells;
+  const double ni = rc.normal[rc.i], nj = rc.normal[rc.j], nk = rc.normal[rc.k];
+  auto emit = [&](const CL::PolyTree& tree, bool lit) {
+    regions.clear();
+    regions_of(tree, regions);
+    for (const CL::Paths& region : regions) {
+      cells.clear();
+      simple_cells(region, cells);
+      if (cells.empty()) continue;
+      for (const CL::Path& c : cells) {
+        Fragment f;
+        f.face_id = face_id;
+        f.light_id = light_id;
+        f.fragment_id = fragment_id;
+        f.lit = lit;
+        f.area = 0.5 * static_cast<double>(area2(c)) * cell;
+        for (const CL::IntPoint& p : c) {
+          const glm::dvec2 x = grid.chart(p);
+          const double di = x.x - corner[rc.i], dj = x.y - corner[rc.j];
+          glm::dvec3 y;
+          y[rc.i] = x.x;
+          y[rc.j] = x.y;
+          y[rc.k] = corner[rc.k] - (ni * di + nj * dj) / nk;  // on the receiver's plane
+          f.polygon.push_back(y);
+        }
+        // Cells are counter-clockwise in the chart; the chart sees a flipped face clockwise.
+        if (fp.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
+        fragments.push_back(std::move(f));
+      }
+      ++fragment_id;
+    }
+  };
+  try {
+    emit(lit_tree, true);
+    emit(shadow_tree, false);
+  } catch (const CL::clipperException&) {
+    return false;  // the caller drops what was appended
+  }
+  return commit();
+}
+
+}  // namespace shadow::fast

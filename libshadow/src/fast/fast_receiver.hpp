@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The fast path (ShadowOptions::arithmetic = Arithmetic::Fast): one receiver under one light,
+// with the exact engine's culling, the clipping and projection in doubles, and the union with
+// Clipper on an integer grid fitted to the receiver's chart box. Every result carries a bound
+// on its lit-area error; receivers where the double route is ill-conditioned are handed back to
+// the exact engine. No CGAL and no Clipper types here: the engine includes this header.
+#pragma once
+
+#include "exact/convex_solids.hpp"
+#include "exact/culling.hpp"
+#include "exact/face_prep.hpp"
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace shadow::fast {
+
+/// What the fast path reads from the prepared engine (all shared, read-only).
+struct Context {
+  const Scene* scene = nullptr;
+  const std::vector<exact::FacePrep>* prep = nullptr;
+  const std::vector<double>* face_area = nullptr;  ///< exact face areas, rounded once
+  const exact::CullScene* cull = nullptr;
+  const std::vector<exact::ConvexSolid>* solids = nullptr;
+  const std::vector<int>* solid_of = nullptr;
+};
+
+/// Per-thread scratch state.
+struct Worker {
+  std::vector<std::uint32_t> seen, solid_seen;  ///< candidate de-duplication stamps
+  std::uint32_t stamp = 0;
+  std::vector<std::size_t> candidates;
+};
+
+/// Computes receiver `face_id` under `light`. Returns false when the receiver must be computed
+/// exactly instead (see docs/numeric-contract.md, "The fast path"): `stats` is then untouched,
+/// and `out` and `fragments` may hold partial results that the caller discards. On success fills
+/// `out` (with lit_area_error_bound), appends the fragments (fragment_id local to the receiver,
+/// from 0) when `polygons`, and adds to `stats`.
+bool compute_receiver(const Context& context, Worker& worker, std::size_t face_id,
+                      std::size_t light_id, const Light& light, const exact::LightSpaceGrid* grid,
+                      bool polygons, FaceLighting& out, std::vector<Fragment>& fragments,
+                      ShadowStats& stats);
+
+}  // namespace shadow::fast
