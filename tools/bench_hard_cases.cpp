@@ -186,6 +186,23 @@ int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
           ++wrong;
         }
     }
+    {
+      // The fast path: each face's lit area must lie within its certified bound of the exact one.
+      const auto t0 = Clock::now();
+      shadow::ShadowOptions options;
+      options.threads = threads;
+      options.polygons = false;
+      options.arithmetic = shadow::Arithmetic::Fast;
+      const std::vector<shadow::FaceLighting> fast = shadow::compute_shadows(scene, options).lighting;
+      report("fast", "-", fast, std::chrono::duration<double>(Clock::now() - t0).count());
+      for (std::size_t e = 0; e < fast.size() && e < exact.size(); ++e)
+        if (std::abs(fast[e].lit_area - exact[e].lit_area) > fast[e].lit_area_error_bound) {
+          std::fprintf(stderr, "hard-cases: %s: fast lit area of face %zu off by %.3g, beyond its bound %.3g\n",
+                       hc.name.c_str(), fast[e].face_id, std::abs(fast[e].lit_area - exact[e].lit_area),
+                       fast[e].lit_area_error_bound);
+          ++wrong;
+        }
+    }
     for (bool recentre : {true, false}) {
       if (!recentre && !hc.also_without_recentring) continue;
       const std::string suffix = recentre ? "" : " (raw float32)";

@@ -143,7 +143,9 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
       // This very binary, by its real path (/proc/self/exe would name xvfb-run's shell there).
       std::error_code error;
       const fs::path self = fs::read_symlink("/proc/self/exe", error);
-      std::vector<std::string> words = {"xvfb-run", "-a", "-s", "-screen 0 2048x2048x24",
+      // -noreset: a server that resets when its last client leaves refuses the next connection
+      // for a while, and VTK aborts when it cannot connect.
+      std::vector<std::string> words = {"xvfb-run", "-a", "-s", "-screen 0 2048x2048x24 -noreset",
                                         error ? std::string(argv[0]) : self.string()};
       for (int i = 1; i < argc; ++i) words.emplace_back(argv[i]);
       std::vector<char*> exec_args;
