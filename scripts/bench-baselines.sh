@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Regenerates the "Exact against the baselines" part of docs/benchmarks.md: builds shadow-bench,
-# runs the exact engine, the shadow map and ray sampling on the standard scenes and the hard
+# runs the exact engine, the fast path, the shadow map and ray sampling on the standard scenes and the hard
 # cases (2 threads each), and draws the speed/error plots. About 3 minutes on 2 cores.
 # Needs /usr/bin/python3 with matplotlib (LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh).
 set -euo pipefail
