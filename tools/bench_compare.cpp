@@ -21,41 +21,39 @@
 
 namespace bench {
 
+namespace {
+
+/// The engine (preparation + one computation of every light, areas only, like the baselines)
+/// in the given arithmetic.
+MethodRun run_engine(const shadow::Scene& scene, unsigned threads, shadow::Arithmetic arithmetic) {
+  using Clock = std::chrono::steady_clock;
+  MethodRun r;
+  const auto t0 = Clock::now();
+  const shadow::ShadowEngine engine(scene, threads);
+  const auto t1 = Clock::now();
+  shadow::ShadowOptions options;
+  options.threads = threads;
+  options.polygons = false;
+  options.arithmetic = arithmetic;
+  r.lighting = engine.compute(options).lighting;
+  r.prepare_s = std::chrono::duration<double>(t1 - t0).count();
+  r.compute_s = std::chrono::duration<double>(Clock::now() - t1).count();
+  return r;
+}
+
+std::vector<double> no_parameter(const std::vector<double>&, const std::vector<double>&, bool) { return {0}; }
+
+}  // namespace
+
 std::vector<Method> methods(const CompareOptions& o) {
   std::vector<Method> out;
-  out.push_back({"exact", "", [](const std::vector<double>&, const std::vector<double>&, bool) { return std::vector<double>{0}; },
-                 [](const shadow::Scene& scene, double, unsigned threads) {
-                   using Clock = std::chrono::steady_clock;
-                   MethodRun r;
-                   const auto t0 = Clock::now();
-                   const shadow::ShadowEngine engine(scene, threads);
-                   const auto t1 = Clock::now();
-                   shadow::ShadowOptions options;
-                   options.threads = threads;
-                   options.polygons = false;  // areas only, like the baselines
-                   r.lighting = engine.compute(options).lighting;
-                   r.prepare_s = std::chrono::duration<double>(t1 - t0).count();
-                   r.compute_s = std::chrono::duration<double>(Clock::now() - t1).count();
-                   return r;
+  out.push_back({"exact", "", no_parameter, [](const shadow::Scene& scene, double, unsigned threads) {
+                   return run_engine(scene, threads, shadow::Arithmetic::Exact);
                  }});
-  // The fast path (Arithmetic::Fast): the exact engine's pipeline in doubles, unions on an
-  // integer grid, each face's lit area with a certified error bound. Preparation is the
-  // engine's (exact) preparation.
-  out.push_back({"fast", "", [](const std::vector<double>&, const std::vector<double>&, bool) { return std::vector<double>{0}; },
-                 [](const shadow::Scene& scene, double, unsigned threads) {
-                   using Clock = std::chrono::steady_clock;
-                   MethodRun r;
-                   const auto t0 = Clock::now();
-                   const shadow::ShadowEngine engine(scene, threads);
-                   const auto t1 = Clock::now();
-                   shadow::ShadowOptions options;
-                   options.threads = threads;
-                   options.polygons = false;
-                   options.arithmetic = shadow::Arithmetic::Fast;
-                   r.lighting = engine.compute(options).lighting;
-                   r.prepare_s = std::chrono::duration<double>(t1 - t0).count();
-                   r.compute_s = std::chrono::duration<double>(Clock::now() - t1).count();
-                   return r;
+  // The fast path (Arithmetic::Fast): the engine's pipeline in doubles, unions on an integer
+  // grid, each face's lit area with a certified error bound; the preparation is the engine's.
+  out.push_back({"fast", "", no_parameter, [](const shadow::Scene& scene, double, unsigned threads) {
+                   return run_engine(scene, threads, shadow::Arithmetic::Fast);
                  }});
   out.push_back({"shadow-map", "resolution",
                  [](const std::vector<double>&, const std::vector<double>& resolutions, bool quick) {
