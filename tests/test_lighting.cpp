@@ -224,6 +224,24 @@ TEST(LightingModels, NoHighlightOnTheBackSide) {
               0.1);
 }
 
+TEST(LightingModels, TheBackOfAFaceIsNeverLitEvenWithTheLightInFront) {
+  // Sun straight above the ground's front, viewer below it: the viewer sees the back side, which
+  // only the front's light could reach through the face. Ambient only: 0.1.
+  for (LightingModel model : {LightingModel::Lambert, LightingModel::HalfLambert, LightingModel::Phong,
+                              LightingModel::BlinnPhong})
+    expect_grey(shadow::shade(ground_point({0, 0, -5}), plain(), {sun({0, 0, 1})}, {true}, settings(model)), 0.1);
+}
+
+TEST(LightingModels, ModifiedHalfLambertFillLightsTheBackSideWithItsOwnNormal) {
+  // Seen from below, the visible normal is -z: for the sun above, N.L = -1, H = 0, so the front
+  // light adds nothing and the fill adds I_B C_LB M_D (1 - H) = 0.5 * (0.55, 0.6, 0.75) * 0.5.
+  const glm::dvec3 c = shadow::shade(ground_point({0, 0, -5}), plain(), {sun({0, 0, 1})}, {true},
+                                     settings(LightingModel::ModifiedHalfLambert));
+  EXPECT_NEAR(c.r, 0.1 + 0.25 * 0.55, kTol);
+  EXPECT_NEAR(c.g, 0.1 + 0.25 * 0.6, kTol);
+  EXPECT_NEAR(c.b, 0.1 + 0.25 * 0.75, kTol);
+}
+
 TEST(LightingModels, SeveralLightsAddUp) {
   // Sun straight above (0.5) and sun 60 degrees off at intensity 2 (0.5 * 2 * 0.5 = 0.5): 0.1 + 1
   expect_grey(shadow::shade(ground_point(), plain(), {sun({0, 0, 1}), sun(kSixtyDegrees, 2.0)},

@@ -118,13 +118,30 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
                     "modified-half-lambert: intensity I_B of the back (fill) light")
       ->default_val(0.5)
       ->check(CLI::NonNegativeNumber);
+  // Each coordinate a finite number (NaN and inf parse as doubles), small enough that the
+  // camera's vector products cannot overflow.
+  const CLI::Validator coordinate(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || std::abs(value) > 1e150)
+          return "expected a finite coordinate of magnitude at most 1e150, got " + text;
+        return {};
+      },
+      "COORDINATE");
   render.add_option("--eye", args.eye, "Camera position x,y,z (default: frames the scene)")
       ->expected(3)
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(coordinate);
   render.add_option("--target,--look-at", args.target, "Point the camera looks at x,y,z (default: the scene's centre)")
       ->expected(3)
-      ->delimiter(',');
-  render.add_option("--up", args.up, "Camera up direction x,y,z")->expected(3)->delimiter(',')->default_str("0,0,1");
+      ->delimiter(',')
+      ->check(coordinate);
+  render.add_option("--up", args.up, "Camera up direction x,y,z")
+      ->expected(3)
+      ->delimiter(',')
+      ->default_str("0,0,1")
+      ->check(coordinate);
   render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
       ->check(CLI::Range(1.0, 170.0))
       ->each([&args](const std::string&) { args.fov_given = true; });
@@ -183,12 +200,23 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   if (!args.eye.empty()) options.shade.camera.eye = to_vec3(args.eye);
   if (!args.up.empty()) options.shade.camera.up = to_vec3(args.up);
   if (args.fov_given) options.shade.camera.fov_degrees = args.fov;
+  // A camera that cannot look is bad input: name the options, or the scene's "camera", that
+  // made it so.
   const sr::Camera& camera = options.shade.camera;
+  const bool view_from_options = !args.eye.empty() || !args.target.empty();
+  const shadow::SourceLocation view_source =
+      view_from_options ? shadow::SourceLocation{"", "--eye/--target"} : shadow::SourceLocation{args.scene, "camera"};
   const glm::dvec3 view = camera.target - camera.eye;
-  if (glm::length(view) == 0.0) throw sr::RenderError("the camera's eye and target are the same point");
-  if (glm::length(glm::cross(view, camera.up)) <= 1e-12 * glm::length(view) * glm::length(camera.up))
-    throw sr::RenderError("the camera's up direction (--up) is zero or parallel to the view direction "
-                          "(from eye to target)");
+  const double view_length = glm::length(view);
+  if (!(view_length > 0.0) || !std::isfinite(view_length))
+    throw shadow::InputError(view_source, "the camera's eye and target are the same point");
+  const double up_length = glm::length(camera.up);
+  if (!(up_length > 0.0) || !std::isfinite(up_length) ||
+      glm::length(glm::cross(view / view_length, camera.up / up_length)) <= 1e-12)
+    throw shadow::InputError(!args.up.empty() || view_from_options ? shadow::SourceLocation{"", "--up"}
+                                                                     : shadow::SourceLocation{args.scene, "camera.up"},
+                             "the camera's up direction is zero or parallel to the view direction (from eye to "
+                             "target)");
 
   shadow::ShadowOptions shadow_options;
   shadow_options.threads = args.threads;

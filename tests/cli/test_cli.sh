@@ -237,7 +237,19 @@ if "$SHADOW" render --help >/dev/null 2>&1; then
 }
 EOF
   expect_render_error render_bad_scene_camera 2 "camera.eye: expected 3 numbers" "$WORK/cam/scene.json"
-  expect_render_error render_up_along_view 3 "--up" "$WORK/tiny/scene.json" --eye 0,0,5 --target 0,0,0 --up 0,0,1
+  expect_render_error render_up_along_view 2 "--up" "$WORK/tiny/scene.json" --eye 0,0,5 --target 0,0,0 --up 0,0,1
+  expect_render_error render_nan_eye 105 "finite coordinate" "$WORK/tiny/scene.json" --eye nan,0,1
+  expect_render_error render_huge_target 105 "finite coordinate" "$WORK/tiny/scene.json" --target 1e200,0,0
+  mkdir -p "$WORK/cam2"
+  cat >"$WORK/cam2/scene.json" <<'EOF'
+{
+  "meshes": [{"name": "ground", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]]}],
+  "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 1]}],
+  "camera": {"eye": [0.5, 0.5, 2], "target": [0.5, 0.5, 2]}
+}
+EOF
+  expect_render_error render_scene_camera_eye_is_target 2 "cam2/scene.json: camera: the camera's eye and target" \
+    "$WORK/cam2/scene.json"
 fi
 
 # The fast path: --fast (or --arithmetic fast) says so in report.json and carries error bounds.

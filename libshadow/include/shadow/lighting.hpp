@@ -72,6 +72,9 @@ struct ShadingPoint {
 /// Linear RGB reflected toward the viewer at `point` (not clamped: values above 1 are
 /// over-exposed). `lit[j]` says whether `lights[j]` reaches the point (true: lit, false: in
 /// shadow); lights without an entry count as lit. Several lights add up (seed 000).
+/// Only a face's front can be lit: a viewer behind the point (normal . (viewer - position) < 0)
+/// sees the back side, which no scene light reaches (ambient only; ModifiedHalfLambert's fill
+/// light still lights it, with the back side's normal).
 [[nodiscard]] glm::dvec3 shade(const ShadingPoint& point, const Material& material,
                                const std::vector<Light>& lights, const std::vector<bool>& lit,
                                const LightingSettings& settings);

@@ -36,8 +36,8 @@ enum class Arithmetic {
   /// Clipper on an integer grid fitted to each receiver's chart box. Every FaceLighting then
   /// carries `lit_area_error_bound`, a bound on |lit_area - exact lit_area|; receivers where the
   /// double route is ill-conditioned (grazing light, glancing crossings, casters nearly in the
-  /// receiver's plane and partly in front of it) are computed exactly instead. 10-90 times
-  /// faster on the benchmark cities. See docs/numeric-contract.md, "The fast path".
+  /// receiver's plane and partly in front of it) are computed exactly instead. 7-90 times
+  /// faster than Exact on the benchmark cities (docs/benchmarks.md). See docs/numeric-contract.md, "The fast path".
   Fast,
 };
 

@@ -59,12 +59,17 @@ void rasterise(DepthMap& map, bool perspective, int row_begin, int row_end) {
     double area = (t.p[1].x - t.p[0].x) * (t.p[2].y - t.p[0].y) - (t.p[1].y - t.p[0].y) * (t.p[2].x - t.p[0].x);
     if (!(std::abs(area) > 0) || !std::isfinite(area)) continue;  // edge-on to the light
     const double lo_y = std::min({t.p[0].y, t.p[1].y, t.p[2].y}), hi_y = std::max({t.p[0].y, t.p[1].y, t.p[2].y});
-    const int y0 = std::max(row_begin, static_cast<int>(std::ceil(std::max(-1.0, lo_y - 0.5))));
-    const int y1 = std::min(row_end - 1, static_cast<int>(std::floor(std::min(double(R), hi_y - 0.5))));
+    // Clamp to [-1, R] in double before converting: a vertex far outside the map (a caster
+    // beyond the receivers' window, or near a lamp's near plane) must not overflow int.
+    auto texel = [R](double v) { return std::clamp(v, -1.0, static_cast<double>(R)); };
+    if (!std::isfinite(lo_y) || !std::isfinite(hi_y)) continue;
+    const int y0 = std::max(row_begin, static_cast<int>(std::ceil(texel(lo_y - 0.5))));
+    const int y1 = std::min(row_end - 1, static_cast<int>(std::floor(texel(hi_y - 0.5))));
     if (y0 > y1) continue;
     const double lo_x = std::min({t.p[0].x, t.p[1].x, t.p[2].x}), hi_x = std::max({t.p[0].x, t.p[1].x, t.p[2].x});
-    const int x0 = std::max(0, static_cast<int>(std::ceil(std::max(-1.0, lo_x - 0.5))));
-    const int x1 = std::min(R - 1, static_cast<int>(std::floor(std::min(double(R), hi_x - 0.5))));
+    if (!std::isfinite(lo_x) || !std::isfinite(hi_x)) continue;
+    const int x0 = std::max(0, static_cast<int>(std::ceil(texel(lo_x - 0.5))));
+    const int x1 = std::min(R - 1, static_cast<int>(std::floor(texel(hi_x - 0.5))));
     if (x0 > x1) continue;
     const double s = area > 0 ? 1.0 : -1.0;
     for (int y = y0; y <= y1; ++y) {

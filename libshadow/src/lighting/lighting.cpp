@@ -69,14 +69,18 @@ glm::dvec3 shade(const ShadingPoint& point, const Material& m, const std::vector
   glm::dvec3 colour = m.k_a * settings.ambient_intensity * settings.ambient_color * m.color;
   if (settings.model == LightingModel::Ambient) return colour;
 
-  const glm::dvec3 n = unit_or_zero(point.normal);
+  glm::dvec3 n = unit_or_zero(point.normal);
   const glm::dvec3 v = unit_or_zero(point.viewer - point.position);
+  // Only the front of a face can be lit (the scene contract). A viewer behind the face sees its
+  // back: the visible side's normal is -n, and no scene light reaches it (attached shadow).
+  const bool seen_from_behind = glm::dot(n, v) < 0.0;
+  if (seen_from_behind) n = -n;
   const glm::dvec3 diffuse_reflectance = m.k_d * m.color;           // M_D
   const glm::dvec3 specular_reflectance = m.k_s * m.specular_color;  // M_S
 
   for (std::size_t j = 0; j < lights.size(); ++j) {
     const Light& light = lights[j];
-    const bool reaches = j >= lit.size() || lit[j];
+    const bool reaches = !seen_from_behind && (j >= lit.size() || lit[j]);
     const glm::dvec3 l = direction_to_light(light, point.position);
     const double n_dot_l = glm::dot(n, l);
     const double falloff = attenuation_factor(light, point.position, point.viewer, settings);
