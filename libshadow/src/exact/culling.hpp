@@ -205,6 +205,54 @@ class ReceiverCuller {
   std::size_t count_ = 1;
 };
 
+/// The casters one receiver has to consider, as found by its ReceiverCuller. One per thread,
+/// reused for every receiver: stamps instead of clearing per-face flags. Shared by the exact
+/// engine and the fast path, so that both consider the same casters in the same order.
+class CasterCandidates {
+ public:
+  /// Sizes the stamps for a scene of `faces` faces and `solids` convex solids.
+  void reset(std::size_t faces, std::size_t solids) {
+    seen_.assign(faces, 0);
+    solid_seen_.assign(solids, 0);
+    stamp_ = 0;
+  }
+
+  /// The faces that `culler` cannot rule out as casters on `receiver` (itself and degenerate
+  /// faces excluded), from `grid`'s cells when there is one, else from every face. Sorted: the
+  /// same order whatever order the grid visits them in.
+  const std::vector<std::size_t>& gather(const ReceiverCuller& culler, const std::vector<FacePrep>& prep,
+                                         std::size_t receiver, const LightSpaceGrid* grid) {
+    faces_.clear();
+    if (++stamp_ == 0) {  // stamps wrapped: reset
+      std::fill(seen_.begin(), seen_.end(), 0);
+      std::fill(solid_seen_.begin(), solid_seen_.end(), 0);
+      stamp_ = 1;
+    }
+    auto consider = [&](std::size_t q) {
+      if (q == receiver || prep[q].degenerate || seen_[q] == stamp_) return;
+      seen_[q] = stamp_;
+      if (culler.may_cast(q)) faces_.push_back(q);
+    };
+    if (grid) {
+      grid->query(receiver, consider);
+    } else {
+      for (std::size_t q = 0; q < prep.size(); ++q) consider(q);
+    }
+    std::sort(faces_.begin(), faces_.end());
+    return faces_;
+  }
+
+  /// Convex solid `s` has already cast (as one hull) on the current receiver.
+  [[nodiscard]] bool solid_done(int s) const { return solid_seen_[static_cast<std::size_t>(s)] == stamp_; }
+  /// Marks convex solid `s` as cast on the current receiver.
+  void mark_solid_done(int s) { solid_seen_[static_cast<std::size_t>(s)] = stamp_; }
+
+ private:
+  std::vector<std::uint32_t> seen_, solid_seen_;
+  std::uint32_t stamp_ = 0;
+  std::vector<std::size_t> faces_;
+};
+
 /// The centre and diagonal of the faces' bounding box (origin and 1 for a scene without faces).
 struct SceneFrame {
   glm::dvec3 centre{0.0};

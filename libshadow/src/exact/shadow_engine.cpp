@@ -69,11 +69,8 @@ struct ShadowEngine::Impl {
   /// Per-thread exact state. Epeck objects are never shared between threads.
   struct Worker {
     std::vector<std::unique_ptr<exact::ExactFace>> faces;  // built on first use
-    std::vector<std::uint32_t> seen;                       // candidate de-duplication stamps
-    std::vector<std::uint32_t> solid_seen;                 // same, for convex solids
-    std::uint32_t stamp = 0;
+    exact::CasterCandidates casters;
     ShadowStats stats;
-    std::vector<std::size_t> candidates;
     std::vector<exact::Point3> poly, scratch;
     std::vector<exact::Point2> poly2, scratch2;
     std::vector<CGAL::Sign> vertex_sign, piece_sign;
@@ -196,25 +193,8 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
 
   // ---- culling in doubles -------------------------------------------------------------------
   const ReceiverCuller culler(cull, fp, face_id, light_in);
-  w.candidates.clear();
-  if (++w.stamp == 0) {  // stamps wrapped: reset
-    std::fill(w.seen.begin(), w.seen.end(), 0);
-    std::fill(w.solid_seen.begin(), w.solid_seen.end(), 0);
-    w.stamp = 1;
-  }
-  auto consider = [&](std::size_t q) {
-    if (q == face_id || prep[q].degenerate || w.seen[q] == w.stamp) return;
-    w.seen[q] = w.stamp;
-    if (culler.may_cast(q)) w.candidates.push_back(q);
-  };
-  if (grid) {
-    grid->query(face_id, consider);
-  } else {
-    for (std::size_t q = 0; q < prep.size(); ++q) consider(q);
-  }
-  // Deterministic order whatever the grid's visiting order.
-  std::sort(w.candidates.begin(), w.candidates.end());
-  w.stats.candidate_pairs += w.candidates.size();
+  const std::vector<std::size_t>& candidates = w.casters.gather(culler, prep, face_id, grid);
+  w.stats.candidate_pairs += candidates.size();
 
   // ---- exact clipping and projection ---------------------------------------------------------
   // The receiver's exact frame is built on first use: most receivers are decided by the
@@ -244,12 +224,12 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   };
   std::vector<Polygon2> shadows;
   const int own_solid = solid_of[face_id];
-  for (std::size_t q : w.candidates) {
+  for (std::size_t q : candidates) {
     const int solid = solid_of[q];
-    if (solid >= 0 && (solid == own_solid || w.solid_seen[solid] == w.stamp)) continue;
+    if (solid >= 0 && (solid == own_solid || w.casters.solid_done(solid))) continue;
     if (solid >= 0 && !point_light && fp.exactly_planar) {
       // A convex solid casts the hull of its projection (see ConvexSolid).
-      w.solid_seen[solid] = w.stamp;
+      w.casters.mark_solid_done(solid);
       const exact::ConvexSolid& cs = solids[solid];
       w.vertex_sign.resize(cs.vertices.size());
       bool any_front = false;
@@ -510,12 +490,8 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
   std::vector<Worker> workers(exact::resolve_threads(options.threads));
   for (Worker& w : workers) {
     w.faces.resize(scene->faces.size());
-    w.seen.assign(scene->faces.size(), 0);
-    w.solid_seen.assign(solids.size(), 0);
-    if (options.arithmetic == Arithmetic::Fast) {
-      w.fast.seen.assign(scene->faces.size(), 0);
-      w.fast.solid_seen.assign(solids.size(), 0);
-    }
+    w.casters.reset(scene->faces.size(), solids.size());
+    if (options.arithmetic == Arithmetic::Fast) w.fast.casters.reset(scene->faces.size(), solids.size());
   }
   std::vector<std::vector<Item>> per_light(lights.size(), std::vector<Item>(receivers.size()));
   const std::size_t total = lights.size() * receivers.size();

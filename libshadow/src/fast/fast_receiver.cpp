@@ -561,24 +561,8 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
 
   // ---- culling: the exact engine's tests ----------------------------------------------------
   const exact::ReceiverCuller culler(cull, fp, face_id, light);
-  w.candidates.clear();
-  if (++w.stamp == 0) {
-    std::fill(w.seen.begin(), w.seen.end(), 0);
-    std::fill(w.solid_seen.begin(), w.solid_seen.end(), 0);
-    w.stamp = 1;
-  }
-  auto consider = [&](std::size_t q) {
-    if (q == face_id || prep[q].degenerate || w.seen[q] == w.stamp) return;
-    w.seen[q] = w.stamp;
-    if (culler.may_cast(q)) w.candidates.push_back(q);
-  };
-  if (grid_index) {
-    grid_index->query(face_id, consider);
-  } else {
-    for (std::size_t q = 0; q < prep.size(); ++q) consider(q);
-  }
-  std::sort(w.candidates.begin(), w.candidates.end());
-  local.candidate_pairs += w.candidates.size();
+  const std::vector<std::size_t>& candidates = w.casters.gather(culler, prep, face_id, grid_index);
+  local.candidate_pairs += candidates.size();
 
   // ---- projection in doubles ----------------------------------------------------------------
   FastReceiver fr(rc);
@@ -641,12 +625,12 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   };
 
   const int own_solid = (*ctx.solid_of)[face_id];
-  for (std::size_t q : w.candidates) {
+  for (std::size_t q : candidates) {
     const int solid = (*ctx.solid_of)[q];
-    if (solid >= 0 && (solid == own_solid || w.solid_seen[solid] == w.stamp)) continue;
+    if (solid >= 0 && (solid == own_solid || w.casters.solid_done(solid))) continue;
     if (solid >= 0 && !rc.point && rc.exact_sides) {
       // A convex solid casts the hull of its projection, as in the exact engine.
-      w.solid_seen[solid] = w.stamp;
+      w.casters.mark_solid_done(solid);
       const exact::ConvexSolid& cs = (*ctx.solids)[solid];
       vsign.resize(cs.vertices.size());
       bool any_front = false;

@@ -30,9 +30,7 @@ struct Context {
 
 /// Per-thread scratch state.
 struct Worker {
-  std::vector<std::uint32_t> seen, solid_seen;  ///< candidate de-duplication stamps
-  std::uint32_t stamp = 0;
-  std::vector<std::size_t> candidates;
+  exact::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
 };
 
 /// Computes receiver `face_id` under `light`. Returns false when the receiver must be computed
