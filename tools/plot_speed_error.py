@@ -9,13 +9,14 @@ against faces for the cities, with fitted exponents) as Markdown.
       -> docs/img/bench-speed-error-total.png, docs/img/bench-speed-error-face.png
 """
 import csv
-import math
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from plot_bench import fit_exponent  # noqa: E402  (least-squares slope in log-log, shared)
 
 STYLE = {
     "exact": dict(color="black", marker="*"),
@@ -36,14 +37,6 @@ def label(method, name, value):
     if name == "spacing_m":
         return f"{value:g} m"
     return ""
-
-
-def fit_exponent(xs, ys):
-    lx = [math.log(x) for x in xs]
-    ly = [math.log(y) for y in ys]
-    mx, my = sum(lx) / len(lx), sum(ly) / len(ly)
-    sxx = sum((a - mx) ** 2 for a in lx)
-    return sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sxx if sxx > 0 else float("nan")
 
 
 def main(csv_path, png_prefix):
