@@ -144,9 +144,7 @@ struct Row {
   char error[160] = {};
 };
 
-struct Errors {
-  double lit_fraction = 0, total_rel = 0, mean_abs = 0, max_abs = 0;
-};
+}  // namespace
 
 Errors compare(const std::vector<shadow::FaceLighting>& got, const std::vector<shadow::FaceLighting>& ref) {
   Errors e;
@@ -173,6 +171,8 @@ Errors compare(const std::vector<shadow::FaceLighting>& got, const std::vector<s
   e.mean_abs = counted ? sum_abs / static_cast<double>(counted) : 0;
   return e;
 }
+
+namespace {
 
 bool read_all(int fd, void* data, std::size_t size) {
   auto* p = static_cast<char*>(data);

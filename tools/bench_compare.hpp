@@ -34,6 +34,15 @@ struct Method {
   std::function<MethodRun(const shadow::Scene&, double parameter, unsigned threads)> run;
 };
 
+/// Errors of a method's lighting against the reference (exact) lighting: the lit fraction of
+/// all receiving faces together, the relative error of the total lit area, and the mean and
+/// maximum absolute error of per-face lit fractions (faces of non-zero area).
+struct Errors {
+  double lit_fraction = 0, total_rel = 0, mean_abs = 0, max_abs = 0;
+};
+/// Both sorted by (face, light); an entry missing from `got` counts as unlit.
+Errors compare(const std::vector<shadow::FaceLighting>& got, const std::vector<shadow::FaceLighting>& ref);
+
 struct CompareOptions;
 
 /// Every method, exact first.

@@ -147,21 +147,11 @@ int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
     std::vector<shadow::FaceLighting> exact;
     auto report = [&](const std::string& method, const std::string& parameter,
                       const std::vector<shadow::FaceLighting>& got, double seconds) {
-      double lit = 0, ref_lit = 0, sum = 0, worst = 0, face_fraction = NAN;
-      std::size_t counted = 0;
-      for (std::size_t e = 0; e < exact.size() && e < got.size(); ++e) {
-        lit += got[e].lit_area;
-        ref_lit += exact[e].lit_area;
-        if (got[e].face_id == hc.face) face_fraction = got[e].lit_fraction;
-        if (exact[e].area > 0) {
-          const double d = std::abs(got[e].lit_fraction - exact[e].lit_fraction);
-          sum += d;
-          worst = std::max(worst, d);
-          ++counted;
-        }
-      }
-      const double rel = ref_lit > 0 ? std::abs(lit - ref_lit) / ref_lit : std::abs(lit);
-      const double mean = counted ? sum / static_cast<double>(counted) : 0.0;
+      double face_fraction = NAN;
+      for (const shadow::FaceLighting& fl : got)
+        if (fl.face_id == hc.face) face_fraction = fl.lit_fraction;
+      const Errors e = compare(got, exact);
+      const double rel = e.total_rel, mean = e.mean_abs, worst = e.max_abs;
       std::printf("| %s | %s | %s | %.10f | %s | %.2e | %.2e | %.2e | %.3f |\n", hc.name.c_str(), method.c_str(),
                   parameter.c_str(), face_fraction,
                   std::isnan(hc.expected) ? "-" : std::to_string(hc.expected).c_str(), rel, mean, worst, seconds);

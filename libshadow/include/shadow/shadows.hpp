@@ -119,6 +119,11 @@ struct ShadowStats {
   std::uint64_t fast_collapsed = 0;
 };
 
+/// The entry for (face_id, light_id) in `lighting` sorted by (face_id, light_id), as every
+/// result of libshadow is; nullptr when there is none. Binary search.
+[[nodiscard]] const FaceLighting* find_lighting(const std::vector<FaceLighting>& lighting, std::size_t face_id,
+                                                std::size_t light_id);
+
 /// Everything computed for a scene's faces.
 struct ShadowResult {
   /// One entry per receiving face and computed light, ordered by face_id then light_id.

@@ -13,12 +13,7 @@
 namespace shadow {
 
 const FaceLighting* BaselineResult::find(std::size_t face_id, std::size_t light_id) const {
-  auto it = std::lower_bound(lighting.begin(), lighting.end(), std::make_pair(face_id, light_id),
-                             [](const FaceLighting& l, const std::pair<std::size_t, std::size_t>& key) {
-                               return std::make_pair(l.face_id, l.light_id) < key;
-                             });
-  if (it == lighting.end() || it->face_id != face_id || it->light_id != light_id) return nullptr;
-  return &*it;
+  return find_lighting(lighting, face_id, light_id);
 }
 
 namespace baselines_detail {

@@ -44,14 +44,18 @@
 
 namespace shadow {
 
-const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id) const {
-  // `lighting` is sorted by (face_id, light_id).
+const FaceLighting* find_lighting(const std::vector<FaceLighting>& lighting, std::size_t face_id,
+                                  std::size_t light_id) {
   auto it = std::lower_bound(lighting.begin(), lighting.end(), std::make_pair(face_id, light_id),
                              [](const FaceLighting& l, const std::pair<std::size_t, std::size_t>& key) {
                                return std::make_pair(l.face_id, l.light_id) < key;
                              });
   if (it == lighting.end() || it->face_id != face_id || it->light_id != light_id) return nullptr;
   return &*it;
+}
+
+const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id) const {
+  return find_lighting(lighting, face_id, light_id);
 }
 
 

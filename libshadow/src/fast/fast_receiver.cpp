@@ -510,14 +510,20 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach + 4 * kEps * static_cast<double>(m + 2) * largest;
   }
   const glm::dvec3 corner = rc.corner;
-  // The face's outline as a fragment: its own vertices, or lifted onto the plane in doubles.
-  auto whole_face = [&]() {
-    std::vector<glm::dvec3> outline = face.vertices;
+  // The face's outline as one fragment, wholly lit or wholly in shadow: its own vertices, or
+  // lifted onto the plane in doubles.
+  auto push_whole_face = [&](bool lit) {
+    Fragment f;
+    f.face_id = face_id;
+    f.light_id = light_id;
+    f.lit = lit;
+    f.area = out.area;
+    f.polygon = face.vertices;
     if (!fp.exactly_planar)
-      for (glm::dvec3& y : outline)
+      for (glm::dvec3& y : f.polygon)
         y[rc.k] = corner[rc.k] - (rc.normal[rc.i] * (y[rc.i] - corner[rc.i]) +
                                   rc.normal[rc.j] * (y[rc.j] - corner[rc.j])) / rc.normal[rc.k];
-    return outline;
+    fragments.push_back(std::move(f));
   };
 
   // ---- facing: exact where the double test could be wrong -----------------------------------
@@ -546,15 +552,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   if (facing <= 0) {  // attached shadow, as in the exact engine
     ++local.back_facing;
     out.shadow_area = out.area;
-    if (polygons) {
-      Fragment f;
-      f.face_id = face_id;
-      f.light_id = light_id;
-      f.lit = false;
-      f.area = out.area;
-      f.polygon = whole_face();
-      fragments.push_back(std::move(f));
-    }
+    if (polygons) push_whole_face(false);
     return commit();
   }
   out.faces_light = true;
@@ -765,15 +763,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     out.lit_fraction = 1.0;
     out.lit_area_error_bound = bound_chart * scale * (1 + 1e-9);
     if (!std::isfinite(out.lit_area_error_bound)) return false;
-    if (polygons) {
-      Fragment f;
-      f.face_id = face_id;
-      f.light_id = light_id;
-      f.lit = true;
-      f.area = out.area;
-      f.polygon = whole_face();
-      fragments.push_back(std::move(f));
-    }
+    if (polygons) push_whole_face(true);
     return commit();
   }
 
