@@ -134,9 +134,10 @@ int run_compute(const ComputeArgs& args) {
     const fs::path result_dir = fs::absolute(args.outdir).lexically_normal();
     std::printf("  open %s in ParaView, or with sensible defaults (docs/paraview.md):\n",
                 (result_dir / "scene.vtm").c_str());
-    std::printf("    LIBSHADOW_RESULT=%s paraview --script=%s\n", result_dir.c_str(), paraview_script().c_str());
+    const fs::path script = paraview_script();
+    std::printf("    LIBSHADOW_RESULT=%s paraview --script=%s\n", result_dir.c_str(), script.c_str());
     std::printf("    %s %s %s --screenshot result.png   (headless)\n",
-                (paraview_script().parent_path() / "pvpython.sh").c_str(), paraview_script().c_str(),
+                (script.parent_path() / "pvpython.sh").c_str(), script.c_str(),
                 result_dir.c_str());
   }
   return kOk;
