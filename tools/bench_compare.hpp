@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bench {
@@ -68,5 +69,15 @@ int run_compare(const CompareOptions& options);
 /// Runs the hard cases of architecture.md through every method; prints a Markdown table.
 /// Returns non-zero when the exact engine misses a closed-form answer. `quick`: coarser maps.
 int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick);
+
+/// The hard cases' scenes, by name (lights included).
+std::vector<std::pair<std::string, shadow::Scene>> hard_case_scenes();
+
+/// Golden results: the exact and fast areas of the benchmark scenes, the hard cases and the
+/// default example, bit for bit, as one digest line per case (`write_dir`: also every value, one
+/// file per case, for diffing). With `check_path`, compares the digests with that file and
+/// returns non-zero on any difference. See bench_golden.cpp.
+int run_golden(const std::string& source_dir, const std::string& output_path, const std::string& check_path,
+               const std::string& write_dir, bool quick, unsigned threads);
 
 }  // namespace bench

@@ -129,6 +129,12 @@ std::vector<HardCase> hard_cases() {
 
 }  // namespace
 
+std::vector<std::pair<std::string, shadow::Scene>> hard_case_scenes() {
+  std::vector<std::pair<std::string, shadow::Scene>> out;
+  for (const HardCase& c : hard_cases()) out.emplace_back(c.name, c.build());
+  return out;
+}
+
 int run_hard_cases(unsigned threads, const std::string& csv_path, bool quick) {
   using Clock = std::chrono::steady_clock;
   std::ofstream csv;

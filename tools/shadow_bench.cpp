@@ -167,10 +167,22 @@ int main(int argc, char** argv) {
   hard_cmd->add_option("--csv", hard_csv, "Write the rows as CSV to this file");
   bool hard_quick = false;
   hard_cmd->add_flag("--quick", hard_quick, "Shadow maps at 256 and 1024 instead of 1024 and 4096");
+  std::string golden_output, golden_check, golden_dir;
+  bool golden_quick = false;
+  unsigned golden_threads = 2;
+  CLI::App* golden_cmd = app.add_subcommand(
+      "golden", "Areas of the benchmark scenes, hard cases and example, bit for bit, as digests (exact and fast)");
+  golden_cmd->add_option("--output", golden_output, "Write the digests to this file");
+  golden_cmd->add_option("--check", golden_check, "Compare with digests written earlier; exit 1 on a difference");
+  golden_cmd->add_option("--write-dir", golden_dir, "Also write every value, one file per case, into this folder");
+  golden_cmd->add_option("--threads", golden_threads, "Threads (results do not depend on it)")->check(CLI::PositiveNumber);
+  golden_cmd->add_flag("--quick", golden_quick, "Leave out the 1,000-box city; 10 spheres instead of 50");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
+  if (golden_cmd->parsed())
+    return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
 
   std::vector<Case> cases;
   // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).
