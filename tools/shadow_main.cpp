@@ -106,6 +106,7 @@ int run_compute(const ComputeArgs& args) {
   } catch (const shadow::InputError& e) {
     progress.finish();
     // Errors about lights found while computing still name the scene file.
+    if (!e.where().file.empty()) throw;
     throw shadow::InputError({args.scene, e.where().place}, e.problem());
   }
   progress.finish();
