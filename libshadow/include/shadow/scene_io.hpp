@@ -12,8 +12,9 @@
 
 namespace shadow {
 
-/// The largest accepted magnitude of any coordinate (vertices, light positions and directions,
-/// plane points, normals and windows): 2^500, about 3.27e150. Differences of two such values
+/// The largest accepted magnitude of any coordinate (vertices, point-light positions, plane
+/// points and windows): 2^500, about 3.27e150. Directions (`to_light`, plane normals) are
+/// scale-free and only need to be finite and non-zero. Differences of two such values
 /// and products of two differences stay finite in doubles (2^1002 < DBL_MAX), which the
 /// library's floating-point culling and the fast path rely on; beyond it input is an
 /// InputError. Scenes scaled by 2^450 (tests/test_fast_path.cpp) are inside the range.

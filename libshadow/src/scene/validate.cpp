@@ -159,8 +159,8 @@ void detail::check_light(const Light& light, const std::string& file, const std:
   if (light.type == LightType::Directional) {
     if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");
     if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
-    const std::string problem = coordinate_problem(light.to_light, "component");
-    if (!problem.empty()) throw InputError({file, path + ".to_light"}, "direction has a " + problem);
+    // A direction's length does not matter (it is normalised safely for culling, exactly
+    // elsewhere): any finite non-zero vector is accepted (tests/test_hard_cases.cpp).
   } else if (light.type == LightType::Point) {
     if (!finite(light.position)) throw InputError({file, path + ".position"}, "position is not finite");
     const std::string problem = coordinate_problem(light.position, "coordinate");
@@ -188,8 +188,6 @@ void validate_plane(const Scene& scene, std::size_t index) {
   if (plane.normal == glm::dvec3(0.0)) throw InputError({file, path + ".normal"}, "normal has zero length");
   std::string problem = detail::coordinate_problem(plane.point, "coordinate");
   if (!problem.empty()) throw InputError({file, path + ".point"}, "point has a " + problem);
-  problem = detail::coordinate_problem(plane.normal, "component");
-  if (!problem.empty()) throw InputError({file, path + ".normal"}, "normal has a " + problem);
   if (!(plane.window >= 0 && plane.window <= max_coordinate))
     throw InputError({file, path + ".window"}, "window must be in [0, 2^500 (about 3.27e150)], got " +
                                                    format_number(plane.window));
