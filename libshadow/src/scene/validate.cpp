@@ -14,7 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <map>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -211,11 +211,9 @@ struct EdgeKey {
 /// outside and are left alone.
 void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<Warning>& warnings) {
   const Mesh& mesh = scene.meshes[mesh_index];
-  struct Uses {
-    int forward = 0;   // runs from key.a to key.b
-    int backward = 0;  // runs from key.b to key.a
-  };
-  std::map<EdgeKey, Uses> edges;
+  // Every edge with the way it is run (forward: from key.a to key.b), sorted so that the uses
+  // of one edge are adjacent: a sort is several times faster than a map on big meshes.
+  std::vector<std::pair<EdgeKey, bool>> edges;
   std::size_t faces = 0;
   for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
@@ -226,15 +224,18 @@ void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<W
       const glm::dvec3& p = v[i];
       const glm::dvec3& q = v[(i + 1) % v.size()];
       const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
-      Uses& uses = edges[forward ? EdgeKey{p, q} : EdgeKey{q, p}];
-      ++(forward ? uses.forward : uses.backward);
+      edges.emplace_back(forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward);
     }
   }
   if (faces < 2) return;
+  std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
   bool consistent = true;
-  for (const auto& [key, uses] : edges) {
-    if (uses.forward + uses.backward != 2) return;  // open (or non-manifold): nothing to say
-    if (uses.forward != 1) consistent = false;
+  auto same = [](const EdgeKey& x, const EdgeKey& y) { return x.a == y.a && x.b == y.b; };
+  for (std::size_t i = 0; i < edges.size(); i += 2) {
+    // Closed: every edge exactly twice (an odd one out, or a third use, means open or non-manifold).
+    if (i + 1 >= edges.size() || !same(edges[i].first, edges[i + 1].first)) return;
+    if (i + 2 < edges.size() && same(edges[i].first, edges[i + 2].first)) return;
+    if (edges[i].second == edges[i + 1].second) consistent = false;
   }
   const std::string file = scene.source.string();
   const SourceLocation where{file, "meshes[" + std::to_string(mesh_index) + "]"};
