@@ -676,7 +676,7 @@ TEST_F(OutputTest, ReportIsPrettyPrintedWithTwoSpaceIndentInAFixedKeyOrder) {
   EXPECT_EQ(text.str(), parsed.dump(2) + "\n");
   std::vector<std::string> keys;
   for (const auto& item : parsed.items()) keys.push_back(item.key());
-  EXPECT_EQ(keys, (std::vector<std::string>{"libshadow_version", "scene", "lights", "faces",
+  EXPECT_EQ(keys, (std::vector<std::string>{"libshadow_version", "scene", "run", "lights", "faces",
                                             "planes", "summary", "stats", "warnings"}));
 }
 
@@ -773,6 +773,103 @@ TEST_F(OutputTest, AFullDiskIsAnOutputErrorThatSaysSoAndLeavesNoReport) {
   }
   EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
   EXPECT_TRUE(directory_listing(root_).empty()) << "old report or temporaries left behind";
+}
+
+}  // namespace
+
+// ---- issue 11, item 12: the output directory across runs --------------------------------------
+
+namespace {
+
+TEST_F(OutputTest, ReportCarriesTheRunsIdentity) {
+  shadow::RunInfo run;
+  run.scene = "city/scene.json";
+  run.started_utc = "2026-11-23T13:40:00Z";
+  run.options.threads = 3;
+  run.options.lights = {1};
+  run.options.plane_window = 25;
+  run.options.arithmetic = shadow::Arithmetic::Fast;
+  run.planarity_tolerance = 1e-5;
+  shadow::write_outputs(root_, scene_, result_, run);
+  const auto r = read_report(root_)["run"];
+  EXPECT_EQ(r["scene"], "city/scene.json");
+  EXPECT_EQ(r["started_utc"], "2026-11-23T13:40:00Z");
+  EXPECT_EQ(r["libshadow_version"], shadow::version());
+  EXPECT_EQ(r["arithmetic"], "exact");  // what the result was computed with
+  EXPECT_EQ(r["options"]["threads"], 3);
+  EXPECT_EQ(r["options"]["lights"], nlohmann::json::array({1}));
+  EXPECT_EQ(r["options"]["plane_window"], 25.0);
+  EXPECT_EQ(r["options"]["arithmetic"], "fast");
+  EXPECT_EQ(r["options"]["planarity_tolerance"], 1e-5);
+  // Without a RunInfo: the same object, start time unknown, no options.
+  shadow::write_outputs(root_, scene_, result_);
+  const auto plain = read_report(root_)["run"];
+  EXPECT_TRUE(plain["started_utc"].is_null());
+  EXPECT_FALSE(plain.contains("options"));
+  EXPECT_EQ(plain["scene"], scene_.source.string());
+}
+
+TEST(UtcNow, IsIso8601Utc) {
+  const std::string now = shadow::utc_now();
+  ASSERT_EQ(now.size(), 20u) << now;
+  EXPECT_EQ(now[4], '-');
+  EXPECT_EQ(now[10], 'T');
+  EXPECT_EQ(now.back(), 'Z');
+  EXPECT_GE(now.substr(0, 4), "2024");
+}
+
+TEST_F(OutputTest, OpeningTheDirectoryRemovesTheOldReportBeforeAnyComputing) {
+  shadow::write_outputs(root_, scene_, result_);
+  ASSERT_TRUE(fs::exists(root_ / "report.json"));
+  {
+    shadow::OutputDirectory out(root_);
+    // A run killed now (while computing) leaves no report.json: nothing looks complete.
+    EXPECT_FALSE(fs::exists(root_ / "report.json"));
+    EXPECT_TRUE(fs::exists(root_ / "fragments.vtp"));  // old data stays, without its report
+    out.write(scene_, result_);
+  }
+  EXPECT_TRUE(fs::exists(root_ / "report.json"));
+}
+
+TEST_F(OutputTest, ASecondWriterIsRefusedWhileTheFirstHoldsTheDirectory) {
+  shadow::OutputDirectory first(root_);
+  EXPECT_TRUE(fs::exists(root_ / ".shadow.lock"));
+  try {
+    shadow::OutputDirectory second(root_);
+    FAIL() << "a second writer got the directory";
+  } catch (const OutputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("another shadow process is writing to this directory"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos);
+  }
+  EXPECT_THROW(shadow::write_outputs(root_, scene_, result_), OutputError);
+  first.write(scene_, result_);
+  EXPECT_TRUE(fs::exists(root_ / "report.json"));
+}
+
+TEST_F(OutputTest, TheLockIsReleasedAndItsFileRemovedWhenTheDirectoryIsClosed) {
+  { shadow::OutputDirectory first(root_); }
+  EXPECT_FALSE(fs::exists(root_ / ".shadow.lock"));
+  { shadow::OutputDirectory again(root_); }
+  // A lock file left by a killed process (flock dies with it) does not stop the next run.
+  std::ofstream(root_ / ".shadow.lock") << "";
+  EXPECT_NO_THROW(shadow::write_outputs(root_, scene_, result_));
+}
+
+TEST_F(OutputTest, StaleTemporariesOfDeadProcessesAreRemoved) {
+  // PID 2147483646 exceeds any pid_max: no such process. Our own PID is alive.
+  const std::vector<std::string> dead = {".fragments.vtp.tmp-2147483646", ".report.json.tmp-2147483646",
+                                         ".scene.vtm.tmp-2147483646"};
+  const std::string live = ".faces.vtp.tmp-" + std::to_string(getppid());
+  const std::vector<std::string> foreign = {".fragments.vtp.tmp-abc", "notes.tmp-2147483646",
+                                            ".other.vtp.tmp-2147483646"};
+  for (const std::string& name : dead) std::ofstream(root_ / name) << "half";
+  for (const std::string& name : foreign) std::ofstream(root_ / name) << "mine";
+  std::ofstream(root_ / live) << "being written";
+  shadow::write_outputs(root_, scene_, result_);
+  for (const std::string& name : dead) EXPECT_FALSE(fs::exists(root_ / name)) << name;
+  for (const std::string& name : foreign) EXPECT_TRUE(fs::exists(root_ / name)) << name;
+  EXPECT_TRUE(fs::exists(root_ / live));
 }
 
 }  // namespace

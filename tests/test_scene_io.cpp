@@ -1,14 +1,21 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Reading scenes and OBJ meshes: what is accepted, and that every kind of bad input is an
 // InputError naming the file, the place (JSON path or OBJ line) and the problem.
+#include <shadow/generators.hpp>
 #include <shadow/scene_io.hpp>
+#include <shadow/shadows.hpp>
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -928,3 +935,264 @@ TEST(SceneMaterials, BadMaterialsNameThePlaceAndTheProblem) {
   EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "kd": 0.5}])")); },
                                {"inline.json", "materials[0]", "unknown key \"kd\""}));
 }
+
+// ================================================================================================
+// Issue 11: orientation warnings, the coordinate range, hostile files, escaped control bytes,
+// and the library's own checks on scenes that were never validated
+// ================================================================================================
+
+namespace issue11 {
+
+using shadow::add_mesh;
+using shadow::box_faces;
+using shadow::room_faces;
+
+std::vector<Polygon> reversed(std::vector<Polygon> faces) {
+  for (Polygon& p : faces) std::reverse(p.begin(), p.end());
+  return faces;
+}
+
+std::size_t count_warnings(const Scene& scene, const std::string& part) {
+  std::size_t n = 0;
+  for (const shadow::Warning& w : scene.warnings) n += w.to_string().find(part) != std::string::npos ? 1 : 0;
+  return n;
+}
+
+Scene with_sun() {
+  Scene scene;
+  scene.lights.push_back(shadow::directional_light("sun", {0.3, 0.2, 1}));
+  return scene;
+}
+
+TEST(Orientation, ClosedMeshWoundInwardWarnsOnce) {
+  Scene scene = with_sun();
+  add_mesh(scene, "outward", box_faces({0, 0, 0}, {1, 1, 1}));
+  add_mesh(scene, "inward", reversed(box_faces({2, 0, 0}, {3, 1, 1})));
+  shadow::validate_scene(scene);
+  shadow::validate_scene(scene);  // not twice
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_EQ(scene.warnings[0].where.place, "meshes[1]");
+  EXPECT_NE(scene.warnings[0].message.find("\"inward\" is closed, and its faces point inward"), std::string::npos);
+  EXPECT_NE(scene.warnings[0].message.find("room seen from within"), std::string::npos);
+}
+
+TEST(Orientation, RoomsSeenFromInsideGetTheSameWarningAndNothingElse) {
+  Scene scene = with_sun();
+  add_mesh(scene, "room", room_faces({0, 0, 0}, {4, 3, 2.5}));
+  shadow::validate_scene(scene);
+  EXPECT_EQ(count_warnings(scene, "point inward"), 1u);
+  EXPECT_EQ(scene.warnings.size(), 1u);
+}
+
+TEST(Orientation, InconsistentClosedMeshWarns) {
+  Scene scene = with_sun();
+  std::vector<Polygon> faces = box_faces({0, 0, 0}, {1, 1, 1});
+  std::reverse(faces[2].begin(), faces[2].end());
+  add_mesh(scene, "mixed", faces);
+  shadow::validate_scene(scene);
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].message.find("inconsistent face orientation"), std::string::npos);
+}
+
+TEST(Orientation, OpenMeshesNeverWarn) {
+  Scene scene = with_sun();
+  std::vector<Polygon> open = reversed(box_faces({0, 0, 0}, {1, 1, 1}));
+  open.pop_back();  // no lid: open, whatever the winding
+  add_mesh(scene, "open", open);
+  std::vector<Polygon> mixed_open = box_faces({2, 0, 0}, {3, 1, 1});
+  std::reverse(mixed_open[0].begin(), mixed_open[0].end());
+  mixed_open.pop_back();
+  add_mesh(scene, "mixed_open", mixed_open);
+  add_mesh(scene, "ground", {shadow::rectangle_z(-5, -5, 5, 5, 0, false)});
+  shadow::validate_scene(scene);
+  EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0].to_string();
+}
+
+TEST(Orientation, TheDocumentedRoomGeneratorWarnsOnlyAboutItsRoom) {
+  Scene scene = shadow::make_furnished_room(3, 7);
+  shadow::validate_scene(scene);
+  EXPECT_EQ(count_warnings(scene, "point inward"), 1u);
+  for (const shadow::Warning& w : scene.warnings)
+    EXPECT_NE(w.message.find("point inward"), std::string::npos) << w.to_string();
+}
+
+TEST(CoordinateRange, AcceptsTwoToThe500AndRejectsBeyond) {
+  const double top = shadow::max_coordinate;
+  EXPECT_EQ(top, std::ldexp(1.0, 500));
+  Scene ok = scene_in_code({{{-top, 0, 0}, {top, 0, 0}, {0, top, 0}}});
+  EXPECT_NO_THROW(shadow::validate_scene(ok));
+  Scene huge = scene_in_code({{{0, 0, 0}, {1e308, 0, 0}, {0, 1, 0}}});
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::validate_scene(huge); }, {"face 0", "vertex 1", "2^500"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] { parse(R"({"meshes": [{"name": "m", "polygons": [[[0,0,0],[1,0,0],[0,-1e200,0]]]}],
+                     "lights": [{"name": "s", "type": "directional", "to_light": [0,0,1]}]})"); },
+      {"inline.json", "meshes[0].polygons[0]", "vertex 2", "2^500"}));
+  // The OBJ reader reads any finite double ...
+  EXPECT_NO_THROW((void)shadow::parse_obj("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n", "big.obj"));
+  Scene obj = scene_in_code({{{0, 0, 0}, {1e300, 0, 0}, {0, 1, 0}}});
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::validate_scene(obj); }, {"vertex 1", "2^500"}));  // ... validation refuses
+}
+
+TEST(CoordinateRange, LightsAndPlanesAreCheckedTheSameWay) {
+  Scene far_lamp = scene_in_code({kSquare});
+  far_lamp.lights.push_back(shadow::point_light("lamp", {0, 0, -1e300}));
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::validate_scene(far_lamp); }, {"lights[1].position", "2^500"}));
+  // Directions and normals are scale-free (normalised safely, exact elsewhere): any finite
+  // non-zero vector, however long, is accepted and gives the shadow of its unit vector.
+  Scene long_sun = scene_in_code({kSquare});
+  long_sun.lights[0].to_light = {1.7e308, 0, 1e308};
+  long_sun.planes.push_back({"ground", {0, 0, -1}, {0, 1.7e308, 1.7e308}});
+  EXPECT_NO_THROW(shadow::validate_scene(long_sun));
+  Scene unit_sun = long_sun;
+  unit_sun.lights[0].to_light = {1.7, 0, 1};
+  unit_sun.planes[0].normal = {0, 1, 1};
+  EXPECT_EQ(shadow::compute_plane_shadows(long_sun)[0].area, shadow::compute_plane_shadows(unit_sun)[0].area);
+  EXPECT_GT(shadow::compute_plane_shadows(unit_sun)[0].area, 0.0);
+  Scene far_plane = scene_in_code({kSquare});
+  far_plane.planes.push_back({"ground", {0, 0, 1e160}, {0, 0, 1}});
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::validate_scene(far_plane); }, {"planes[0].point", "2^500"}));
+  Scene wide = scene_in_code({kSquare});
+  wide.planes.push_back({"ground", {0, 0, 0}, {0, 0, 1}, 1e300});
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::validate_scene(wide); }, {"planes[0].window", "2^500"}));
+}
+
+TEST(CoordinateRange, SceneAtTheTopOfTheRangeComputesFiniteAreas) {
+  // Boxes and a point light near 2^500: before the range was stated, 1e308 crashed CGAL or the
+  // double culling. At the top of the accepted range, exact and fast agree and stay finite.
+  const double s = shadow::max_coordinate / 8;
+  Scene scene = with_sun();
+  scene.lights.push_back(shadow::point_light("lamp", {3 * s, 3 * s, 5 * s}));
+  add_mesh(scene, "box", box_faces({0, 0, 0}, {s, s, 2 * s}));
+  add_mesh(scene, "ground", {shadow::rectangle_z(-5 * s, -5 * s, 5 * s, 5 * s, 0)});
+  scene.planes.push_back({"below", {0, 0, -s}, {0, 0, 1}});
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions options;
+  options.threads = 2;
+  const shadow::ShadowResult exact = shadow::compute_shadows(scene, options);
+  options.arithmetic = shadow::Arithmetic::Fast;
+  const shadow::ShadowResult fast = shadow::compute_shadows(scene, options);
+  ASSERT_EQ(exact.lighting.size(), fast.lighting.size());
+  for (std::size_t i = 0; i < exact.lighting.size(); ++i) {
+    EXPECT_TRUE(std::isfinite(exact.lighting[i].lit_area));
+    EXPECT_LE(std::abs(exact.lighting[i].lit_area - fast.lighting[i].lit_area),
+              fast.lighting[i].lit_area_error_bound + 1e-12 * exact.lighting[i].area);
+  }
+  for (const shadow::PlaneShadow& p : exact.plane_shadows) EXPECT_TRUE(std::isfinite(p.area));
+}
+
+TEST(LibraryChecks, EngineRejectsANaNVertexOfAnUnvalidatedScene) {
+  Scene scene = scene_in_code({kSquare, {{0, 0, 1}, {1, 0, 1}, {0, std::nan(""), 1}}});
+  scene.meshes[0].face_count = 2;
+  scene.faces[1].source = {"model.obj", "line 12"};
+  // No validate_scene: before the fix GMP died of SIGFPE.
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::ShadowEngine engine(scene); }, {"model.obj: line 12", "vertex 2", "not finite"}));
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(scene); }, {"model.obj: line 12", "not finite"}));
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_plane_shadows(scene); }, {"model.obj: line 12"}));
+  Scene huge = scene_in_code({{{0, 0, 0}, {1e308, 0, 0}, {0, 1e308, 0}}});
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(huge); }, {"face 0", "2^500"}));
+}
+
+TEST(LibraryChecks, LightsAreResolvedInOnePlaceForFacesAndPlanes) {
+  Scene scene = scene_in_code({kSquare});
+  scene.planes.push_back({"ground", {0, 0, -1}, {0, 0, 1}});
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions options;
+  options.lights = {0, 5};
+  // Documented as InputError (it was std::out_of_range).
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(scene, options); },
+                               {"ShadowOptions::lights[1]", "no light 5", "1 light"}));
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_plane_shadows(scene, options); }, {"no light 5"}));
+  // A zero direction: the plane shadows used to return an empty shadow silently.
+  scene.lights[0].to_light = {0, 0, 0};
+  options.lights.clear();
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_plane_shadows(scene, options); },
+                               {"lights[0].to_light", "zero length"}));
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::ShadowEngine(scene).compute(options); },
+                               {"lights[0].to_light", "zero length"}));
+}
+
+TEST(LibraryChecks, ThreadsAreBounded) {
+  Scene scene = scene_in_code({kSquare});
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions options;
+  options.threads = 99999999;
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(scene, options); },
+                               {"ShadowOptions::threads", "1024", "99999999"}));
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_plane_shadows(scene, options); }, {"1024"}));
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::ShadowEngine engine(scene, 5000); }, {"1024"}));
+  options.threads = 1024;
+  EXPECT_NO_THROW((void)shadow::compute_shadows(scene, options));
+}
+
+class HostileFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("libshadow-hostile-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path write_scene(const std::string& mesh_file) {
+    const fs::path scene = dir_ / "scene.json";
+    std::ofstream(scene) << R"({"meshes": [{"name": "m", "file": ")" << mesh_file
+                         << R"("}], "lights": [{"name": "s", "type": "directional", "to_light": [0, 0, 1]}]})";
+    return scene;
+  }
+  fs::path dir_;
+};
+
+TEST_F(HostileFiles, AFifoMeshFileIsRefusedWithoutBlocking) {
+  ASSERT_EQ(::mkfifo((dir_ / "pipe.obj").c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::load_scene(write_scene("pipe.obj")); },
+                               {"meshes[0].file", "pipe.obj", "not a regular file"}));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+}
+
+TEST_F(HostileFiles, DevicesAreRefusedAsScenesAndMeshes) {
+  fs::create_symlink("/dev/zero", dir_ / "zero.obj");
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::load_scene(write_scene("zero.obj")); },
+                               {"meshes[0].file", "zero.obj", "not a regular file"}));
+  EXPECT_TRUE(ThrowsInputError([] { shadow::load_scene("/dev/urandom"); }, {"/dev/urandom", "not a regular file"}));
+  EXPECT_TRUE(ThrowsInputError([] { (void)shadow::read_obj("/dev/zero", "zero.obj"); }, {"zero.obj", "not a regular file"}));
+}
+
+TEST_F(HostileFiles, FilesBeyondTheReadLimitAreRefused) {
+  EXPECT_EQ(LoadOptions{}.max_file_bytes, std::uintmax_t{2} << 30);
+  // A 1,034-byte mesh under a scene of about 140 bytes.
+  std::ofstream(dir_ / "mesh.obj") << "# " << std::string(999, '-') << "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  ASSERT_EQ(fs::file_size(dir_ / "mesh.obj"), 1034u);
+  LoadOptions small;
+  small.max_file_bytes = 1033;
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::load_scene(write_scene("mesh.obj"), small); },
+                               {"meshes[0].file", "mesh.obj", "larger than the limit of 1033 bytes"}));
+  small.max_file_bytes = 10;
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::load_scene(write_scene("mesh.obj"), small); },
+                               {"scene.json", "larger than the limit of 10 bytes"}));
+  small.max_file_bytes = 1034;
+  EXPECT_EQ(shadow::load_scene(write_scene("mesh.obj"), small).faces.size(), 1u);
+}
+
+TEST(ErrorText, ControlBytesAreEscapedAndLongTokensTruncated) {
+  const std::string obj = std::string("v 0 0 0\nv 1 0 0\nv 1 1") + '\0' + "junk 0\nf 1 2 3\n";
+  try {
+    (void)shadow::parse_obj(obj, "nul.obj");
+    FAIL() << "no exception";
+  } catch (const InputError& e) {
+    const std::string what = e.what();  // as a C string: the whole message survives
+    EXPECT_EQ(std::string(e.what()).size(), std::strlen(e.what()));
+    EXPECT_NE(what.find("nul.obj: line 3: y coordinate \"1\\x00junk\" is not a number"), std::string::npos) << what;
+  }
+  const std::string long_token(5000, 'x');
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::parse_obj("v 0 0 " + long_token + "\n", "long.obj"); },
+                               {"long.obj: line 1", "...\" is not a number"}));
+  try {
+    (void)shadow::parse_obj("v 0 0 " + long_token + "\n", "long.obj");
+  } catch (const InputError& e) {
+    EXPECT_LT(std::strlen(e.what()), 200u);
+  }
+  const shadow::Warning w{{"a\tb.obj", "line\n2"}, std::string("bell\a")};
+  EXPECT_EQ(w.to_string(), "a\\x09b.obj: line\\x0a2: bell\\x07");
+}
+
+}  // namespace issue11

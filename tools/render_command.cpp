@@ -2,6 +2,8 @@
 // `shadow render SCENE.json -o image.png`: exact shadows, the seed lighting models, a picture.
 #include "render_command.hpp"
 
+#include "cli_checks.hpp"
+
 #include "render/render_image.hpp"
 
 #include <shadow/shadow.hpp>
@@ -93,8 +95,8 @@ void apply_scene_camera(const std::string& scene_file, shadow::render::Camera& c
 void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
   render.add_option("-o,--output", args.image, "PNG file to write")->required();
-  render.add_option("--width", args.width, "Image width in pixels")->default_val(800)->check(CLI::Range(1, 16384));
-  render.add_option("--height", args.height, "Image height in pixels")->default_val(600)->check(CLI::Range(1, 16384));
+  render.add_option("--width", args.width, "Image width in pixels")->default_val(800)->check(shadow_cli::integer_in(1, 16384));
+  render.add_option("--height", args.height, "Image height in pixels")->default_val(600)->check(shadow_cli::integer_in(1, 16384));
   render.add_option("--model", args.model,
                     "Lighting model: ambient, lambert, half-lambert, modified-half-lambert, phong, blinn-phong")
       ->default_val("blinn-phong")
@@ -110,14 +112,14 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember({"none", "inverse-square", "viewer-linear", "light-linear"}));
   render.add_option("-K,--attenuation-k", args.attenuation_k, "K of the linear attenuation 1/(d+K)")
       ->default_val(1.0)
-      ->check(CLI::PositiveNumber);
+      ->check(shadow_cli::positive_up_to(1e150));
   render.add_option("--ambient", args.ambient, "Ambient light intensity i_a")
       ->default_val(1.0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(shadow_cli::finite_in(0.0, 1e150));
   render.add_option("--back-intensity", args.back_intensity,
                     "modified-half-lambert: intensity I_B of the back (fill) light")
       ->default_val(0.5)
-      ->check(CLI::NonNegativeNumber);
+      ->check(shadow_cli::finite_in(0.0, 1e150));
   // Each coordinate a finite number (NaN and inf parse as doubles), small enough that the
   // camera's vector products cannot overflow.
   const CLI::Validator coordinate(
@@ -143,11 +145,11 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->default_str("0,0,1")
       ->check(coordinate);
   render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
-      ->check(CLI::Range(1.0, 170.0))
+      ->check(shadow_cli::finite_in(1.0, 170.0))
       ->each([&args](const std::string&) { args.fov_given = true; });
-  render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores)")
+  render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores; at most 1024)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(shadow_cli::integer_in(0, 1024));
   render.add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
 }
 

@@ -7,6 +7,8 @@
 #include "render_command.hpp"
 #endif
 
+#include "cli_checks.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -22,8 +24,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Exit codes: 0 success, 2 bad input, 3 output failure, 4 internal error; usage errors exit
-/// with CLI11's own non-zero codes (e.g. 105-109).
+/// Exit codes: 0 success, 2 bad input or usage error, 3 output failure (including an OUTDIR
+/// locked by another run), 4 internal error. README.md and `shadow --help` list them.
 enum ExitCode { kOk = 0, kBadInput = 2, kOutputFailed = 3, kInternal = 4 };
 
 struct ComputeArgs {
@@ -75,9 +77,17 @@ fs::path paraview_script() {
 int run_compute(const ComputeArgs& args) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
+  shadow::RunInfo run;
+  run.scene = args.scene;
+  run.started_utc = shadow::utc_now();
+  run.planarity_tolerance = args.planarity_tolerance;
   shadow::LoadOptions load_options;
   load_options.planarity_tolerance = args.planarity_tolerance;
   shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  // Before computing: lock OUTDIR, clear what killed runs left, remove the old report.json (a
+  // run killed from here on leaves no report, so nothing looks complete). Bad input above
+  // leaves an earlier result alone.
+  shadow::OutputDirectory output(args.outdir);
   if (!args.quiet)
     for (const shadow::Warning& warning : scene.warnings)
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";
@@ -88,6 +98,7 @@ int run_compute(const ComputeArgs& args) {
   options.polygons = !args.areas_only;
   options.plane_window = args.plane_window;
   if (args.arithmetic == "fast") options.arithmetic = shadow::Arithmetic::Fast;
+  run.options = options;  // without the progress callback, which is no part of the identity
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::ShadowResult result;
   try {
@@ -95,12 +106,13 @@ int run_compute(const ComputeArgs& args) {
   } catch (const shadow::InputError& e) {
     progress.finish();
     // Errors about lights found while computing still name the scene file.
+    if (!e.where().file.empty()) throw;
     throw shadow::InputError({args.scene, e.where().place}, e.problem());
   }
   progress.finish();
   const auto computed = Clock::now();
 
-  const std::vector<fs::path> written = shadow::write_outputs(args.outdir, scene, result);
+  const std::vector<fs::path> written = output.write(scene, result, &run);
   const auto finished = Clock::now();
 
   if (!args.quiet) {
@@ -149,22 +161,24 @@ int main(int argc, char** argv) {
   CLI::App app{"shadow: exact object-space shadows (libshadow " + std::string(shadow::version()) + ")"};
   app.set_version_flag("--version", std::string(shadow::version()));
   app.require_subcommand(1);
+  app.footer(shadow_cli::exit_codes_help());
 
   ComputeArgs args;
   CLI::App* compute = app.add_subcommand(
       "compute", "Compute every light's lit and shadowed polygons on every face and write them to OUTDIR");
+  compute->footer(shadow_cli::exit_codes_help());
   compute->add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
   compute->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
-  compute->add_option("-t,--threads", args.threads, "Worker threads (0: all cores)")
+  compute->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(shadow_cli::integer_in(0, 1024));
   compute->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
   compute->add_flag("--areas-only", args.areas_only,
                     "Compute lit areas only, no polygons: fragments.vtp then has no cells");
   compute->add_option("--plane-window", args.plane_window,
                       "Half side of the square window on each plane in which plane shadows are computed "
                       "(default: ten scene diagonals)")
-      ->check(CLI::NonNegativeNumber & CLI::Range(0.0, 1e300));
+      ->check(shadow_cli::finite_in(0.0, shadow::max_coordinate, "2^500 (about 3.27e150)"));
   compute->add_option("--arithmetic", args.arithmetic,
                       "exact (default), or fast: doubles and an integer grid, each face's lit area "
                       "with an error bound in report.json (docs/numeric-contract.md)")
@@ -173,7 +187,7 @@ int main(int argc, char** argv) {
   compute->add_option("--planarity-tolerance", args.planarity_tolerance,
                       "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
-      ->check(CLI::PositiveNumber);
+      ->check(shadow_cli::positive_up_to(1.0));
 
 #ifdef LIBSHADOW_HAVE_RENDER
   RenderArgs render_args;
@@ -181,12 +195,39 @@ int main(int argc, char** argv) {
       "render", "Compute the exact shadows and draw the scene lit by a lighting model to a PNG image "
                 "(see docs/lighting.md; needs an X display or xvfb-run)");
   add_render_options(*render, render_args);
+  render->footer(shadow_cli::exit_codes_help());
 #endif
 
+  // An unknown subcommand would only get CLI11's "A subcommand is required": name it.
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    bool found = true;
+    try {
+      app.get_subcommand(word);
+    } catch (const CLI::OptionNotFound&) {
+      found = false;
+    }
+    if (!found) {
+#ifdef LIBSHADOW_HAVE_RENDER
+      const char* known = "compute, render";
+#else
+      const char* known = "compute";
+#endif
+      std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
+                << "; see shadow --help)\n";
+      return kBadInput;
+    }
+    break;  // the subcommand's own arguments follow
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version: CLI11 prints them and exits 0.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    // Every usage error: one line, exit 2, like bad input.
+    std::cerr << "shadow: error: " << shadow_cli::one_line(e.what()) << " (see shadow --help)\n";
+    return kBadInput;
   }
 
   try {

@@ -17,7 +17,9 @@ struct SourceLocation {
   [[nodiscard]] std::string to_string() const;
 };
 
-/// Bad user input. The message is one line: `FILE: PLACE: PROBLEM`.
+/// Bad user input. The message is one line: `FILE: PLACE: PROBLEM`. Control bytes in any of the
+/// three parts (a NUL from a binary file, a newline in a name) are shown as `\xHH`, in what()
+/// and in problem(), so the message is never cut short and stays on one line.
 ///
 /// Library code throws this (never aborts) for anything a user can get wrong:
 /// malformed JSON, missing mesh files, NaN coordinates, non-planar faces, ...
@@ -37,7 +39,7 @@ class InputError : public std::runtime_error {
 struct Warning {
   SourceLocation where;
   std::string message;
-  /// "file: place: message"
+  /// "file: place: message", control bytes shown as `\xHH` like InputError's
   [[nodiscard]] std::string to_string() const;
 };
 

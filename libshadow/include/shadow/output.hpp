@@ -7,8 +7,10 @@
 #include <shadow/shadows.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <ostream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace shadow {
@@ -19,6 +21,47 @@ class OutputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The identity of a run, written to report.json as its top-level "run" object, so that a
+/// result can be told from an older one in the same directory.
+struct RunInfo {
+  std::string scene;            ///< the scene file as given
+  std::string started_utc;      ///< start time, ISO 8601 UTC (`2026-11-23T13:40:00Z`); see utc_now()
+  ShadowOptions options;        ///< threads, polygons, planes, plane_window, arithmetic, lights
+  double planarity_tolerance = 1e-6;  ///< LoadOptions::planarity_tolerance of the run
+};
+
+/// The current time as ISO 8601 UTC, to the second: `2026-11-23T13:40:00Z`.
+std::string utc_now();
+
+/// An output directory held by one writer for the length of a run (POSIX).
+///
+/// Opening it, at the start of a run and before any computing: creates the directory (and its
+/// parents), takes an exclusive lock on `OUTDIR/.shadow.lock` (flock; a second writer gets an
+/// OutputError at once instead of mixing files), removes temporary files
+/// (`.NAME.tmp-PID`) left by killed processes that no longer exist, and removes the old
+/// `report.json`. report.json is written last, so while a run is under way, and after a run
+/// was killed, the directory has no report.json: its absence means "incomplete". The lock file
+/// is removed again when the directory is closed.
+class OutputDirectory {
+ public:
+  /// @throws OutputError (not a directory, cannot create, locked by another writer, ...)
+  explicit OutputDirectory(const std::filesystem::path& outdir);
+  ~OutputDirectory();
+  OutputDirectory(const OutputDirectory&) = delete;
+  OutputDirectory& operator=(const OutputDirectory&) = delete;
+
+  /// Writes every output file like write_outputs; report.json gets `run` when given.
+  /// @throws OutputError
+  std::vector<std::filesystem::path> write(const Scene& scene, const ShadowResult& result,
+                                           const RunInfo* run = nullptr);
+
+  [[nodiscard]] const std::filesystem::path& path() const noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Writes every output file into `outdir` (created if missing):
 /// `fragments.vtp`, `faces.vtp`, `plane_shadows.vtp`, `lights.vtp`, `report.json` and
 /// `scene.vtm` (ParaView multiblock of all of them). An existing `report.json` is removed
@@ -27,14 +70,28 @@ class OutputError : public std::runtime_error {
 /// interrupted run never leaves a directory that looks complete.
 /// @returns the paths written, in the order they were put in place.
 /// @throws OutputError
+/// It opens an OutputDirectory for the writing (lock, stale temporaries, old report); a caller
+/// that computes for long should open one itself before computing and use its write().
+/// @throws OutputError
 std::vector<std::filesystem::path> write_outputs(const std::filesystem::path& outdir,
                                                  const Scene& scene, const ShadowResult& result);
 
+/// write_outputs with the run's identity in report.json's `run` object.
+std::vector<std::filesystem::path> write_outputs(const std::filesystem::path& outdir,
+                                                 const Scene& scene, const ShadowResult& result,
+                                                 const RunInfo& run);
+
 /// The report: libshadow_version, scene, lights[], faces[] (id, mesh, area, lights[] with
 /// light, lit_area, shadow_area, lit_fraction, faces_light), planes[] (name, plane, light,
-/// shadow_area, reaches_window, ...), summary, stats, warnings. `summary.arithmetic` is "exact"
+/// shadow_area, reaches_window, ...), summary, stats, warnings; and `run` (after `scene`):
+/// scene, started_utc (null when unknown), libshadow_version, arithmetic, and with a RunInfo
+/// also options (threads, polygons, planes, plane_window, lights, planarity_tolerance). `summary.arithmetic` is "exact"
 /// or "fast"; for the fast path each face's light entries, and `summary.per_light`, also carry
 /// `lit_area_error_bound`, and `stats` carries `fast_exact_fallbacks` and `fast_collapsed`.
 void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result);
+
+/// write_report_json with the run's identity (`run.options` and `run.started_utc`).
+void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result,
+                       const RunInfo& run);
 
 }  // namespace shadow

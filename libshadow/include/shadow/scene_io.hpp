@@ -5,13 +5,22 @@
 
 #include <shadow/scene.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace shadow {
 
-/// How strictly face geometry is checked.
+/// The largest accepted magnitude of any coordinate (vertices, point-light positions, plane
+/// points and windows): 2^500, about 3.27e150. Directions (`to_light`, plane normals) are
+/// scale-free and only need to be finite and non-zero. Differences of two such values
+/// and products of two differences stay finite in doubles (2^1002 < DBL_MAX), which the
+/// library's floating-point culling and the fast path rely on; beyond it input is an
+/// InputError. Scenes scaled by 2^450 (tests/test_fast_path.cpp) are inside the range.
+inline constexpr double max_coordinate = 0x1p500;
+
+/// How strictly face geometry is checked, and how much is read.
 struct LoadOptions {
   /// A face is planar when every vertex lies within `planarity_tolerance * diameter` of the
   /// plane through its centroid with its Newell normal (diameter: the largest extent of its
@@ -21,6 +30,10 @@ struct LoadOptions {
   /// InputError. Within it, the library works on the face lifted exactly onto that plane
   /// (docs/numeric-contract.md).
   double planarity_tolerance = 1e-6;
+  /// The largest scene or mesh file read, in bytes (default 2 GiB). A bigger file, and anything
+  /// that is not a regular file after following symlinks (a FIFO, /dev/zero, a directory), is
+  /// an InputError naming the file.
+  std::uintmax_t max_file_bytes = std::uintmax_t{2} << 30;
 };
 
 /// Reads a scene file and every mesh it references, and validates it.
@@ -35,18 +48,22 @@ Scene parse_scene(const std::string& json_text, const std::filesystem::path& sce
 /// Reads the faces of a Wavefront OBJ file (v and f statements; `f v`, `v/t`, `v//n`, `v/t/n`,
 /// negative indices; other statements ignored). `display_name` is used in error messages.
 /// @throws InputError with the OBJ line number.
+/// Reads at most `max_bytes` bytes, and regular files only (see LoadOptions::max_file_bytes).
 std::vector<std::vector<glm::dvec3>> read_obj(const std::filesystem::path& obj_file,
-                                             const std::string& display_name);
+                                             const std::string& display_name,
+                                             std::uintmax_t max_bytes = LoadOptions{}.max_file_bytes);
 
 /// Parses OBJ text (for tests and in-memory meshes).
 std::vector<std::vector<glm::dvec3>> parse_obj(const std::string& obj_text,
                                               const std::string& display_name);
 
-/// Checks every face's geometry: finite coordinates, planarity within tolerance, a simple
+/// Checks every face's geometry: finite coordinates within max_coordinate, planarity within tolerance, a simple
 /// (non-self-intersecting) boundary; and the lights and planes. It changes the scene: removes
 /// consecutive duplicate vertices, marks zero-area faces `degenerate` and adds a warning for
-/// each. Scenes built in code must call this before computing shadows; calling it twice is
-/// harmless.
+/// each. It also warns (Scene::warnings) about a closed mesh whose faces point inward (negative
+/// signed volume) or whose faces are oriented inconsistently (an edge run the same way by both
+/// of its faces); open meshes are never warned about. Scenes built in code must call this
+/// before computing shadows; calling it twice is harmless.
 /// @throws InputError naming the face's source.
 void validate_scene(Scene& scene, const LoadOptions& options = {});
 

@@ -43,11 +43,14 @@ enum class Arithmetic {
 
 /// Options for computing shadows on faces.
 struct ShadowOptions {
-  /// Worker threads; 0 means every hardware thread. Results do not depend on it.
+  /// Worker threads; 0 means every hardware thread. Results do not depend on it. At most 1024:
+  /// more is an InputError (not clamped: a huge number is a mistake worth hearing about).
   unsigned threads = 0;
   /// Produce the 3D lit/shadow polygons. When false only areas are computed (cheaper).
   bool polygons = true;
-  /// Indices of the scene lights to compute; empty means every light.
+  /// Indices of the scene lights to compute; empty means every light. An index that is not a
+  /// scene light, or an unusable light (zero or non-finite direction, ...), is an InputError,
+  /// for the faces and the planes alike.
   std::vector<std::size_t> lights;
   /// Called now and then from one thread at a time (never concurrently). May be empty.
   std::function<void(const Progress&)> progress;
@@ -141,21 +144,26 @@ struct ShadowResult {
 };
 
 /// One call: every selected light on every receiving face, and (options.planes) on every plane.
-/// The scene must have been validated (load_scene does it; see validate_scene).
-/// @throws InputError if a light or face is unusable (zero direction, NaN, ...).
+/// The scene should have been validated (load_scene does it; see validate_scene); even if it was
+/// not, non-finite coordinates and coordinates beyond max_coordinate (scene_io.hpp) are found
+/// here and thrown as InputError naming the face's source.
+/// @throws InputError if a light, face or option is unusable (zero direction, NaN, threads > 1024, ...).
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options = {});
 
 /// The exact shadows on the scene's planes for the selected lights (Blinn's projection: see
 /// blinn.hpp), ordered by plane then light. Independent of the per-face engine: the two are
-/// checked against each other in the tests.
+/// checked against each other in the tests. Checks coordinates and lights like compute_shadows.
+/// @throws InputError
 std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options = {});
 
 /// Reusable engine over one scene: exact face data (planes, charts, convex pieces, bounding
 /// boxes) is prepared once and reused for every light, e.g. many sun positions over a day.
 class ShadowEngine {
  public:
-  /// Prepares the scene on `threads` threads (0: every hardware thread). The scene must
-  /// outlive the engine and stay unchanged.
+  /// Prepares the scene on `threads` threads (0: every hardware thread, at most 1024). The
+  /// scene must outlive the engine and stay unchanged.
+  /// @throws InputError for a non-finite or out-of-range coordinate (scene_io.hpp's
+  /// max_coordinate) of a face or plane, named by the face's source, and for threads > 1024.
   explicit ShadowEngine(const Scene& scene, unsigned threads = 0);
   ~ShadowEngine();
   ShadowEngine(ShadowEngine&&) noexcept;

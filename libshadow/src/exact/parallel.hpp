@@ -4,6 +4,8 @@
 // face under a city costs a large union). Static chunks left one thread with all the work.
 #pragma once
 
+#include <shadow/error.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,10 +14,24 @@
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
 namespace shadow::exact {
+
+/// ShadowOptions::threads (and ShadowEngine's `threads`) above this is an InputError: a typo
+/// such as 99999999 would otherwise try to start that many threads and workers.
+inline constexpr unsigned kMaxThreads = 1024;
+
+/// `requested`, or InputError when it is above kMaxThreads.
+inline unsigned checked_threads(unsigned requested) {
+  if (requested > kMaxThreads)
+    throw InputError({"", "ShadowOptions::threads"}, "must be 0 (every hardware thread) to " +
+                                                          std::to_string(kMaxThreads) + ", got " +
+                                                          std::to_string(requested));
+  return requested;
+}
 
 inline unsigned resolve_threads(unsigned requested) {
   if (requested != 0) return requested;

@@ -16,7 +16,9 @@
 #include "exact/parallel.hpp"
 #include "exact/plane_shadows.hpp"
 #include "exact/regions.hpp"
+#include "scene/validate.hpp"
 
+#include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 
 
@@ -28,6 +30,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -209,13 +212,15 @@ namespace exact {
 
 std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<FacePrep>& prep,
                                        const ShadowOptions& options) {
-  std::vector<std::size_t> light_ids = options.lights;
-  if (light_ids.empty())
-    for (std::size_t l = 0; l < scene.lights.size(); ++l) light_ids.push_back(l);
-  std::sort(light_ids.begin(), light_ids.end());
-  light_ids.erase(std::unique(light_ids.begin(), light_ids.end()), light_ids.end());
-  for (std::size_t l : light_ids)
-    if (l >= scene.lights.size()) throw std::out_of_range("ShadowOptions::lights: no light " + std::to_string(l));
+  const std::vector<std::size_t> light_ids = shadow::detail::resolve_lights(scene, options.lights);
+  const unsigned threads = exact::checked_threads(options.threads);
+  if (!(options.plane_window >= 0 && options.plane_window <= max_coordinate))
+    throw InputError({"", "ShadowOptions::plane_window"},
+                     "must be in [0, 2^500 (about 3.27e150)], got " + [&] {
+                       char text[32];
+                       std::snprintf(text, sizeof text, "%g", options.plane_window);
+                       return std::string(text);
+                     }());
   if (scene.planes.empty() || light_ids.empty()) return {};
 
   const exact::SceneFrame frame = exact::scene_frame(scene);
@@ -229,7 +234,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<Fac
                        "the plane-shadow window is too large to represent (" + std::to_string(own) + ")");
   }
   std::vector<PlaneShadow> shadows(scene.planes.size() * light_ids.size());
-  exact::parallel_for(shadows.size(), exact::resolve_threads(options.threads), [&](unsigned, std::size_t item) {
+  exact::parallel_for(shadows.size(), exact::resolve_threads(threads), [&](unsigned, std::size_t item) {
     const std::size_t plane_id = item / light_ids.size();
     const double own = scene.planes[plane_id].window;
     shadows[item] = exact::plane_shadow(scene, prep, plane_id, light_ids[item % light_ids.size()], frame,
@@ -241,6 +246,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<Fac
 }  // namespace exact
 
 std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+  shadow::detail::check_scene_numbers(scene);  // the scene may never have been validated
   std::vector<exact::FacePrep> prep(scene.faces.size());
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {

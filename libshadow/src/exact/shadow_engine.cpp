@@ -112,6 +112,10 @@ struct ShadowEngine::Impl {
 
 
 ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::make_unique<Impl>()) {
+  // Scenes built in code may not have been validated: NaN or huge coordinates would reach GMP
+  // (SIGFPE) or the double culling. One pass over the vertices.
+  shadow::detail::check_scene_numbers(scene);
+  threads = exact::checked_threads(threads);
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
   impl_->prep.resize(n);
@@ -491,7 +495,7 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
   std::vector<std::size_t> receivers;
   for (std::size_t f = 0; f < scene->faces.size(); ++f)
     if (scene->is_receiver(f)) receivers.push_back(f);
-  std::vector<Worker> workers(exact::resolve_threads(options.threads));
+  std::vector<Worker> workers(exact::resolve_threads(exact::checked_threads(options.threads)));
   for (Worker& w : workers) {
     w.faces.resize(scene->faces.size());
     w.casters.reset(scene->faces.size(), solids.size());
@@ -509,14 +513,7 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
 
 ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {
   const Scene& scene = *impl_->scene;
-  std::vector<std::size_t> light_ids = options.lights;
-  if (light_ids.empty())
-    for (std::size_t l = 0; l < scene.lights.size(); ++l) light_ids.push_back(l);
-  for (std::size_t l : light_ids)
-    if (l >= scene.lights.size())
-      throw std::out_of_range("ShadowOptions::lights: no light " + std::to_string(l));
-  std::sort(light_ids.begin(), light_ids.end());
-  light_ids.erase(std::unique(light_ids.begin(), light_ids.end()), light_ids.end());
+  const std::vector<std::size_t> light_ids = shadow::detail::resolve_lights(scene, options.lights);
   std::vector<const Light*> lights;
   for (std::size_t l : light_ids) lights.push_back(&scene.lights[l]);
   return impl_->run(lights, light_ids, options);

@@ -92,9 +92,41 @@ std::string indent_more(const std::string& text, std::size_t indent) {
   return out;
 }
 
+Json run_json(const Scene& scene, const ShadowResult& result, const RunInfo* run) {
+  Json j;
+  j["scene"] = run != nullptr && !run->scene.empty() ? run->scene : scene.source.string();
+  j["started_utc"] = run != nullptr && !run->started_utc.empty() ? Json(run->started_utc) : Json(nullptr);
+  j["libshadow_version"] = version();
+  j["arithmetic"] = result.arithmetic == Arithmetic::Fast ? "fast" : "exact";
+  if (run != nullptr) {
+    const ShadowOptions& o = run->options;
+    j["options"] = {{"threads", o.threads},
+                    {"polygons", o.polygons},
+                    {"planes", o.planes},
+                    {"plane_window", o.plane_window},
+                    {"lights", o.lights},
+                    {"arithmetic", o.arithmetic == Arithmetic::Fast ? "fast" : "exact"},
+                    {"planarity_tolerance", run->planarity_tolerance}};
+  }
+  return j;
+}
+
+void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run);
+
 }  // namespace
 
 void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result) {
+  write_report(out, scene, result, nullptr);
+}
+
+void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result,
+                       const RunInfo& run) {
+  write_report(out, scene, result, &run);
+}
+
+namespace {
+
+void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run) {
   // Entries by face then light, whatever order they came in (the engine already sorts them).
   std::vector<const FaceLighting*> entries;
   entries.reserve(result.lighting.size());
@@ -123,6 +155,7 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
   out << "{\n";
   member("libshadow_version", dump(Json(version())));
   member("scene", dump(Json(scene.source.string())));
+  member("run", dump(run_json(scene, result, run), 2));
   member("lights", dump(lights_json(scene), 2));
 
   out << "  \"faces\": [";
@@ -194,5 +227,7 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
   member("warnings", dump(warnings, 2), true);
   out << "}\n";
 }
+
+}  // namespace
 
 }  // namespace shadow

@@ -6,29 +6,53 @@
 #include <vtkPolyData.h>
 
 #include <cerrno>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <system_error>
 #include <utility>
 
-#ifdef _WIN32
-#include <process.h>
-#else
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
-#endif
 
 namespace shadow {
 namespace {
 
 namespace fs = std::filesystem;
 
-long process_id() {
-#ifdef _WIN32
-  return static_cast<long>(_getpid());
-#else
-  return static_cast<long>(getpid());
-#endif
+long process_id() { return static_cast<long>(getpid()); }
+
+/// The files write() stages; their temporaries are `.NAME.tmp-PID`.
+const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
+                                    "scene.vtm", "report.json"};
+
+/// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
+/// with SIGKILL cannot clean up after itself. Files of live processes are left alone.
+void remove_stale_temporaries(const fs::path& outdir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(outdir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    for (const char* output : kOutputNames) {
+      const std::string prefix = "." + std::string(output) + ".tmp-";
+      if (name.rfind(prefix, 0) != 0) continue;
+      const std::string digits = name.substr(prefix.size());
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) break;
+      char* stop = nullptr;
+      const long pid = std::strtol(digits.c_str(), &stop, 10);
+      if (pid <= 0) break;
+      // kill(pid, 0) checks existence without sending anything; ESRCH: no such process.
+      if (pid != process_id() && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+        std::error_code ignored;
+        fs::remove(it->path(), ignored);
+      }
+      break;
+    }
+  }
 }
 
 /// Output files written under temporary names. Whatever is not yet in place when this goes
@@ -113,10 +137,13 @@ void remove_stale_report(const fs::path& report) {
 }
 
 void write_report_file(const fs::path& path, const fs::path& shown_as, const Scene& scene,
-                       const ShadowResult& result) {
+                       const ShadowResult& result, const RunInfo* run) {
   errno = 0;
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (out) write_report_json(out, scene, result);
+  if (out) {
+    if (run != nullptr) write_report_json(out, scene, result, *run);
+    else write_report_json(out, scene, result);
+  }
   if (out) out.close();
   if (!out) {
     const int saved_errno = errno;
@@ -125,11 +152,72 @@ void write_report_file(const fs::path& path, const fs::path& shown_as, const Sce
   }
 }
 
+/// An exclusive flock on OUTDIR/.shadow.lock, released (and the file removed) on destruction.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const fs::path& outdir) : path_(outdir / ".shadow.lock") {
+    // The file is removed on release, so the inode locked may have been unlinked by its holder
+    // between our open and our flock: then try again on the new file.
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      if (fd_ < 0)
+        throw OutputError(path_.string() + ": cannot create the lock file: " + std::strerror(errno));
+      if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        const int error = errno;
+        ::close(fd_);
+        fd_ = -1;
+        if (error == EWOULDBLOCK)
+          throw OutputError(outdir.string() + ": another shadow process is writing to this directory (" +
+                            path_.filename().string() + " is locked); wait for it or choose another output");
+        throw OutputError(path_.string() + ": cannot lock: " + std::strerror(error));
+      }
+      struct stat held {}, now {};
+      if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &now) == 0 && held.st_ino == now.st_ino &&
+          held.st_dev == now.st_dev)
+        return;
+      ::close(fd_);
+      fd_ = -1;
+    }
+    throw OutputError(path_.string() + ": cannot lock: the lock file keeps changing");
+  }
+  ~DirectoryLock() {
+    if (fd_ < 0) return;
+    ::unlink(path_.c_str());  // while still locked: no one else can hold this inode now
+    ::close(fd_);
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  fs::path path_;
+  int fd_ = -1;
+};
+
 }  // namespace
 
-std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
-                                    const ShadowResult& result) {
+struct OutputDirectory::Impl {
+  fs::path outdir;
+  std::unique_ptr<DirectoryLock> lock;
+};
+
+OutputDirectory::OutputDirectory(const fs::path& outdir) : impl_(std::make_unique<Impl>()) {
+  impl_->outdir = outdir;
   make_output_directory(outdir);
+  impl_->lock = std::make_unique<DirectoryLock>(outdir);
+  remove_stale_temporaries(outdir);
+  // First, before any computing: a run killed from here on leaves no report.json, so nothing
+  // in the directory looks like a complete result.
+  remove_stale_report(outdir / "report.json");
+}
+
+OutputDirectory::~OutputDirectory() = default;
+
+const fs::path& OutputDirectory::path() const noexcept { return impl_->outdir; }
+
+std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowResult& result,
+                                             const RunInfo* run) {
+  const fs::path& outdir = impl_->outdir;
+  make_output_directory(outdir);  // it may have been removed while computing
   remove_stale_report(outdir / "report.json");
 
   // Each dataset is built just before it is written and freed right after: only one of them
@@ -154,8 +242,27 @@ std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
        {"lights", "lights.vtp"}},
       vtm.temp, vtm.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
-  write_report_file(report.temp, report.final_path, scene, result);
+  write_report_file(report.temp, report.final_path, scene, result, run);
   return staged.commit();
+}
+
+std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
+                                    const ShadowResult& result) {
+  return OutputDirectory(outdir).write(scene, result);
+}
+
+std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
+                                    const ShadowResult& result, const RunInfo& run) {
+  return OutputDirectory(outdir).write(scene, result, &run);
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
 }
 
 }  // namespace shadow

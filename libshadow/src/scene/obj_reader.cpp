@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -177,9 +178,21 @@ void for_each_statement(const std::string& text, Statement&& statement) {
 
 namespace detail {
 
-std::string read_text_file(const std::filesystem::path& file, const std::string& display_name) {
+std::string read_text_file(const std::filesystem::path& file, const std::string& display_name,
+                           std::uintmax_t max_bytes) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) throw_open_error(display_name, "cannot open", EISDIR);
+  // Regular files only (symlinks followed): a FIFO would block forever, /dev/zero never ends.
+  const fs::file_status status = fs::status(file, ec);
+  if (fs::is_directory(status)) throw_open_error(display_name, "cannot open", EISDIR);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError({display_name, ""}, "cannot open: not a regular file (a device, FIFO or socket)");
+  const std::uintmax_t size = fs::exists(status) ? fs::file_size(file, ec) : 0;
+  auto too_big = [&] {
+    return InputError({display_name, ""}, "file is larger than the limit of " + std::to_string(max_bytes) +
+                                              " bytes (LoadOptions::max_file_bytes)");
+  };
+  if (!ec && size > max_bytes) throw too_big();
   struct Closer {
     void operator()(std::FILE* f) const { std::fclose(f); }
   };
@@ -187,9 +200,14 @@ std::string read_text_file(const std::filesystem::path& file, const std::string&
   std::unique_ptr<std::FILE, Closer> in(std::fopen(file.c_str(), "rb"));
   if (!in) throw_open_error(display_name, "cannot open", errno != 0 ? errno : ENOENT);
   std::string text;
+  if (!ec) text.reserve(static_cast<std::size_t>(size));
   char buffer[1 << 16];
   std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, in.get())) > 0) text.append(buffer, n);
+  while ((n = std::fread(buffer, 1, sizeof buffer, in.get())) > 0) {
+    // The file may grow while it is read: the limit holds for what is read, not what was stat'ed.
+    if (text.size() + n > max_bytes) throw too_big();
+    text.append(buffer, n);
+  }
   if (std::ferror(in.get())) throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
   return text;
 }
@@ -237,15 +255,16 @@ std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj
 
 std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::path& obj_file,
                                                          const std::string& display_name,
-                                                         std::vector<std::size_t>* face_lines) {
-  return parse_obj_with_lines(read_text_file(obj_file, display_name), display_name, face_lines);
+                                                         std::vector<std::size_t>* face_lines,
+                                                         std::uintmax_t max_bytes) {
+  return parse_obj_with_lines(read_text_file(obj_file, display_name, max_bytes), display_name, face_lines);
 }
 
 }  // namespace detail
 
 std::vector<std::vector<glm::dvec3>> read_obj(const std::filesystem::path& obj_file,
-                                             const std::string& display_name) {
-  return detail::read_obj_with_lines(obj_file, display_name, nullptr);
+                                             const std::string& display_name, std::uintmax_t max_bytes) {
+  return detail::read_obj_with_lines(obj_file, display_name, nullptr, max_bytes);
 }
 
 std::vector<std::vector<glm::dvec3>> parse_obj(const std::string& obj_text,

@@ -243,7 +243,8 @@ struct PendingMesh {
 
 class SceneReader {
  public:
-  explicit SceneReader(const fs::path& scene_file) : scene_file_(scene_file), file_(scene_file.string()) {}
+  SceneReader(const fs::path& scene_file, std::uintmax_t max_file_bytes)
+      : scene_file_(scene_file), file_(scene_file.string()), max_file_bytes_(max_file_bytes) {}
 
   Scene read(const std::string& text) {
     DocumentBuilder builder(text, file_);
@@ -423,7 +424,8 @@ class SceneReader {
       // Errors name the mesh file as the user would find it: relative to the scene's directory.
       display = (scene_file_.parent_path() / file).lexically_normal().string();
       try {
-        polygons = detail::read_obj_with_lines(scene_file_.parent_path() / file, display, &lines);
+        polygons = detail::read_obj_with_lines(scene_file_.parent_path() / file, display, &lines,
+                                               max_file_bytes_);
       } catch (const InputError& e) {
         if (!e.where().place.empty()) throw;  // an error inside the OBJ: its file and line say all
         // The file could not be opened: say which mesh of the scene wanted it.
@@ -598,6 +600,7 @@ class SceneReader {
 
   fs::path scene_file_;
   std::string file_;
+  std::uintmax_t max_file_bytes_;
   Scene scene_;
   std::vector<std::string> mesh_names_;
 };
@@ -607,7 +610,7 @@ class SceneReader {
 Scene parse_scene(const std::string& json_text, const fs::path& scene_file, const LoadOptions& options) {
   Scene scene;
   try {
-    scene = SceneReader(scene_file).read(json_text);
+    scene = SceneReader(scene_file, options.max_file_bytes).read(json_text);
   } catch (const nlohmann::json::exception& e) {
     // Not expected (values are type-checked before use); still an input error, never a crash.
     throw InputError({scene_file.string(), ""}, clean_reason(e.what()));
@@ -617,7 +620,8 @@ Scene parse_scene(const std::string& json_text, const fs::path& scene_file, cons
 }
 
 Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
-  return parse_scene(detail::read_text_file(scene_file, scene_file.string()), scene_file, options);
+  return parse_scene(detail::read_text_file(scene_file, scene_file.string(), options.max_file_bytes),
+                     scene_file, options);
 }
 
 }  // namespace shadow

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,15 @@ std::string format_number(double x) {
 
 bool finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+bool in_range(const glm::dvec3& v) {
+  return std::fabs(v.x) <= max_coordinate && std::fabs(v.y) <= max_coordinate &&
+         std::fabs(v.z) <= max_coordinate;  // false for NaN too
+}
+
+std::string format_vec(const glm::dvec3& v) {
+  return "(" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + ")";
 }
 
 /// Where a face came from; faces built in code have no source, so they are named by face_id.
@@ -112,12 +122,10 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
     throw InputError(where, "face belongs to mesh " + std::to_string(face.mesh) + ", but the scene has " +
                                 std::to_string(scene.meshes.size()) +
                                 (scene.meshes.size() == 1 ? " mesh" : " meshes"));
-  for (std::size_t i = 0; i < face.vertices.size(); ++i)
-    if (!finite(face.vertices[i]))
-      throw InputError(where, "vertex " + std::to_string(i) + " has a coordinate that is not finite (" +
-                                  format_number(face.vertices[i].x) + ", " +
-                                  format_number(face.vertices[i].y) + ", " +
-                                  format_number(face.vertices[i].z) + ")");
+  for (std::size_t i = 0; i < face.vertices.size(); ++i) {
+    const std::string problem = detail::coordinate_problem(face.vertices[i], "coordinate");
+    if (!problem.empty()) throw InputError(where, "vertex " + std::to_string(i) + " has a " + problem);
+  }
   remove_consecutive_duplicates(face.vertices);
   if (face.vertices.size() < 3)
     throw InputError(where, "face has " + std::to_string(face.vertices.size()) + " distinct " +
@@ -139,12 +147,24 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
 
 }  // namespace
 
+std::string detail::coordinate_problem(const glm::dvec3& v, const char* what) {
+  if (!finite(v)) return std::string(what) + " that is not finite " + format_vec(v);
+  if (!in_range(v))
+    return std::string(what) + " beyond the accepted range |x| <= 2^500 (about 3.27e150) " + format_vec(v) +
+           " (docs/numeric-contract.md)";
+  return {};
+}
+
 void detail::check_light(const Light& light, const std::string& file, const std::string& path) {
   if (light.type == LightType::Directional) {
     if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");
     if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
+    // A direction's length does not matter (it is normalised safely for culling, exactly
+    // elsewhere): any finite non-zero vector is accepted (tests/test_hard_cases.cpp).
   } else if (light.type == LightType::Point) {
     if (!finite(light.position)) throw InputError({file, path + ".position"}, "position is not finite");
+    const std::string problem = coordinate_problem(light.position, "coordinate");
+    if (!problem.empty()) throw InputError({file, path + ".position"}, "position has a " + problem);
   } else {
     throw InputError({file, path + ".type"}, "unknown light type");
   }
@@ -166,9 +186,117 @@ void validate_plane(const Scene& scene, std::size_t index) {
   if (!finite(plane.point)) throw InputError({file, path + ".point"}, "point is not finite");
   if (!finite(plane.normal)) throw InputError({file, path + ".normal"}, "normal is not finite");
   if (plane.normal == glm::dvec3(0.0)) throw InputError({file, path + ".normal"}, "normal has zero length");
+  std::string problem = detail::coordinate_problem(plane.point, "coordinate");
+  if (!problem.empty()) throw InputError({file, path + ".point"}, "point has a " + problem);
+  if (!(plane.window >= 0 && plane.window <= max_coordinate))
+    throw InputError({file, path + ".window"}, "window must be in [0, 2^500 (about 3.27e150)], got " +
+                                                   format_number(plane.window));
+}
+
+/// A mesh's edges, keyed by their two end points (exact coordinates), lowest first.
+struct EdgeKey {
+  glm::dvec3 a, b;
+  bool operator<(const EdgeKey& o) const {
+    auto less = [](const glm::dvec3& p, const glm::dvec3& q) {
+      return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+    };
+    if (a != o.a) return less(a, o.a);
+    return less(b, o.b);
+  }
+};
+
+/// Warns about a closed mesh (every edge shared by exactly two of its faces) whose faces point
+/// inward or are oriented inconsistently; a face wound the wrong way otherwise reads silently
+/// as attached shadow. Open meshes (a ground plane, a single wall) say nothing about inside and
+/// outside and are left alone.
+void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<Warning>& warnings) {
+  const Mesh& mesh = scene.meshes[mesh_index];
+  // Every edge with the way it is run (forward: from key.a to key.b), sorted so that the uses
+  // of one edge are adjacent: a sort is several times faster than a map on big meshes.
+  std::vector<std::pair<EdgeKey, bool>> edges;
+  std::size_t faces = 0;
+  for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
+    const Face& face = scene.faces[f];
+    if (face.mesh != mesh_index || face.degenerate) continue;
+    ++faces;
+    const std::vector<glm::dvec3>& v = face.vertices;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const glm::dvec3& p = v[i];
+      const glm::dvec3& q = v[(i + 1) % v.size()];
+      const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
+      edges.emplace_back(forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward);
+    }
+  }
+  if (faces < 2) return;
+  std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  bool consistent = true;
+  auto same = [](const EdgeKey& x, const EdgeKey& y) { return x.a == y.a && x.b == y.b; };
+  for (std::size_t i = 0; i < edges.size(); i += 2) {
+    // Closed: every edge exactly twice (an odd one out, or a third use, means open or non-manifold).
+    if (i + 1 >= edges.size() || !same(edges[i].first, edges[i + 1].first)) return;
+    if (i + 2 < edges.size() && same(edges[i].first, edges[i + 2].first)) return;
+    if (edges[i].second == edges[i + 1].second) consistent = false;
+  }
+  const std::string file = scene.source.string();
+  const SourceLocation where{file, "meshes[" + std::to_string(mesh_index) + "]"};
+  const std::string name = "mesh \"" + mesh.name + "\" is ";
+  if (!consistent) {
+    warnings.push_back({where, name + "closed, with inconsistent face orientation: some edge is run the same way by "
+                               "both of its faces, so some faces' fronts point inward and those faces will be in "
+                               "their own (attached) shadow; check the vertex order of its faces"});
+    return;
+  }
+  // Signed volume (divergence theorem over fan triangles), relative to one vertex to keep digits.
+  using Real = long double;
+  const glm::dvec3 origin = scene.faces[mesh.first_face].vertices[0];
+  Real volume = 0;
+  for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count; ++f) {
+    const Face& face = scene.faces[f];
+    if (face.degenerate) continue;
+    const std::vector<glm::dvec3>& v = face.vertices;
+    auto rel = [&](const glm::dvec3& p, int k) { return Real(p[k]) - Real(origin[k]); };
+    for (std::size_t i = 1; i + 1 < v.size(); ++i) {
+      const glm::dvec3 &a = v[0], &b = v[i], &c = v[i + 1];
+      const Real ax = rel(a, 0), ay = rel(a, 1), az = rel(a, 2);
+      const Real bx = rel(b, 0), by = rel(b, 1), bz = rel(b, 2);
+      const Real cx = rel(c, 0), cy = rel(c, 1), cz = rel(c, 2);
+      volume += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+    }
+  }
+  if (volume < 0)
+    warnings.push_back({where, name + "closed, and its faces point inward (negative signed volume): its faces are lit "
+                               "only from inside, as for a room seen from within; if it is a solid seen from "
+                               "outside, reverse the vertex order of its faces (this is only a warning)"});
 }
 
 }  // namespace
+
+std::vector<std::size_t> detail::resolve_lights(const Scene& scene, const std::vector<std::size_t>& requested) {
+  std::vector<std::size_t> ids = requested;
+  if (ids.empty())
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) ids.push_back(l);
+  for (std::size_t i = 0; i < ids.size(); ++i)
+    if (ids[i] >= scene.lights.size())
+      throw InputError({"", "ShadowOptions::lights[" + std::to_string(i) + "]"},
+                       "no light " + std::to_string(ids[i]) + ": the scene has " +
+                           std::to_string(scene.lights.size()) + (scene.lights.size() == 1 ? " light" : " lights"));
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  for (std::size_t l : ids) check_light(scene.lights[l], scene.source.string(), "lights[" + std::to_string(l) + "]");
+  return ids;
+}
+
+void detail::check_scene_numbers(const Scene& scene) {
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const std::vector<glm::dvec3>& vertices = scene.faces[f].vertices;
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      if (in_range(vertices[i])) continue;  // the common case: one test per vertex
+      throw InputError(face_location(scene, f),
+                       "vertex " + std::to_string(i) + " has a " + coordinate_problem(vertices[i], "coordinate"));
+    }
+  }
+  for (std::size_t p = 0; p < scene.planes.size(); ++p) validate_plane(scene, p);
+}
 
 void validate_scene(Scene& scene, const LoadOptions& options) {
   // Zero cannot be checked in floating point: rounding alone puts vertices off the plane.
@@ -180,6 +308,7 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
   for (std::size_t i = 0; i < scene.planes.size(); ++i) validate_plane(scene, i);
   std::vector<Warning> warnings;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) check_orientation(scene, m, warnings);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {
     const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Option checks shared by `shadow compute` and `shadow render`. CLI11's own Range and
+// NonNegativeNumber let NaN through (every comparison with NaN is false) and print the range
+// of a double in 309 digits; these say what is expected in a few words.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace shadow_cli {
+
+/// Usage errors (any malformed command line) and bad input: exit 2.
+inline constexpr int kUsageExit = 2;
+
+inline std::string short_number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+
+/// A whole number in [lo, hi], written in decimal digits only.
+inline CLI::Validator integer_in(long long lo, long long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        errno = 0;
+        char* end = nullptr;
+        const long long value = std::strtoll(text.c_str(), &end, 10);
+        if (text.empty() || end == text.c_str() || *end != '\0' || errno == ERANGE || value < lo || value > hi)
+          return "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got \"" +
+                 text + "\"";
+        return {};
+      },
+      "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+/// A finite number in [lo, hi] (NaN and infinities rejected), `hi_text` naming the top.
+inline CLI::Validator finite_in(double lo, double hi, const std::string& hi_text = {}) {
+  const std::string top = hi_text.empty() ? short_number(hi) : hi_text;
+  return CLI::Validator(
+      [lo, hi, top](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(value) || !(value >= lo) ||
+            !(value <= hi))
+          return "expected a finite number from " + short_number(lo) + " to " + top + ", got \"" + text + "\"";
+        return {};
+      },
+      "NUMBER in [" + short_number(lo) + ", " + top + "]");
+}
+
+/// A finite number > 0 and at most `hi`.
+inline CLI::Validator positive_up_to(double hi) {
+  return CLI::Validator(
+      [hi](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || end == text.c_str() || *end != '\0' || !std::isfinite(value) || !(value > 0) ||
+            !(value <= hi))
+          return "expected a finite number > 0 and at most " + short_number(hi) + ", got \"" + text + "\"";
+        return {};
+      },
+      "NUMBER > 0");
+}
+
+/// CLI11's message on one line (it may hold newlines), for `shadow: error: ...`.
+inline std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+/// Exit codes, printed at the end of `shadow --help`.
+inline const char* exit_codes_help() {
+  return "Exit status: 0 success; 2 bad input or a usage error (one line on stderr naming the file, "
+         "place and problem, or the option); 3 an output could not be written (including OUTDIR locked "
+         "by another running shadow); 4 internal error (a bug: please report it).";
+}
+
+}  // namespace shadow_cli
