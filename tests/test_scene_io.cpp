@@ -1008,6 +1008,28 @@ TEST(Orientation, OpenMeshesNeverWarn) {
   EXPECT_TRUE(scene.warnings.empty()) << scene.warnings[0].to_string();
 }
 
+TEST(Orientation, OneInwardBoxAmongManyOutwardInOneMeshIsFound) {
+  // Parts are checked one by one: the outward boxes must not outvote the inward one.
+  Scene scene = with_sun();
+  std::vector<Polygon> city;
+  for (int b = 0; b < 20; ++b) {
+    std::vector<Polygon> box = box_faces({3.0 * b, 0, 0}, {3.0 * b + 1, 1, 2});
+    if (b == 7) box = reversed(box);
+    if (b == 12) std::reverse(box[4].begin(), box[4].end());  // one wall wound the wrong way
+    city.insert(city.end(), box.begin(), box.end());
+  }
+  city.push_back(shadow::rectangle_z(-5, -5, 70, 5, 0));  // an open part: never warns
+  add_mesh(scene, "city", city);
+  shadow::validate_scene(scene);
+  ASSERT_EQ(scene.warnings.size(), 2u);
+  EXPECT_NE(scene.warnings[0].message.find("has 1 closed part (of 21; the first has face 72"), std::string::npos)
+      << scene.warnings[0].to_string();
+  EXPECT_NE(scene.warnings[0].message.find("inconsistent face orientation"), std::string::npos);
+  EXPECT_NE(scene.warnings[1].message.find("has 1 closed part (of 21; the first has face 42"), std::string::npos)
+      << scene.warnings[1].to_string();
+  EXPECT_NE(scene.warnings[1].message.find("whose faces point inward"), std::string::npos);
+}
+
 TEST(Orientation, TheDocumentedRoomGeneratorWarnsOnlyAboutItsRoom) {
   Scene scene = shadow::make_furnished_room(3, 7);
   shadow::validate_scene(scene);

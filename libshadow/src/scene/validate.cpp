@@ -205,68 +205,117 @@ struct EdgeKey {
   }
 };
 
-/// Warns about a closed mesh (every edge shared by exactly two of its faces) whose faces point
-/// inward or are oriented inconsistently; a face wound the wrong way otherwise reads silently
-/// as attached shadow. Open meshes (a ground plane, a single wall) say nothing about inside and
-/// outside and are left alone.
+/// Warns about the closed parts of a mesh (faces joined by shared edges, every edge shared by
+/// exactly two faces of the part) whose faces point inward or are oriented inconsistently; a
+/// face wound the wrong way otherwise reads silently as attached shadow. Parts are checked one by
+/// one, so one inward box among a mesh of a thousand outward ones is still found. Open parts (a
+/// ground plane, a single wall, a box without a lid) say nothing about inside and outside and are
+/// left alone. At most one warning of each kind per mesh, with the number of parts and the first.
 void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<Warning>& warnings) {
   const Mesh& mesh = scene.meshes[mesh_index];
-  // Every edge with the way it is run (forward: from key.a to key.b), sorted so that the uses
-  // of one edge are adjacent: a sort is several times faster than a map on big meshes.
-  std::vector<std::pair<EdgeKey, bool>> edges;
-  std::size_t faces = 0;
+  struct Use {
+    EdgeKey key;
+    bool forward;       // run from key.a to key.b
+    std::size_t face;   // index into `faces`
+  };
+  // Every edge with the way it is run, sorted so that the uses of one edge are adjacent: a sort
+  // is several times faster than a map on big meshes.
+  std::vector<Use> edges;
+  std::vector<std::size_t> faces;  // face_ids of the mesh's non-degenerate faces
   for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
     if (face.mesh != mesh_index || face.degenerate) continue;
-    ++faces;
     const std::vector<glm::dvec3>& v = face.vertices;
     for (std::size_t i = 0; i < v.size(); ++i) {
       const glm::dvec3& p = v[i];
       const glm::dvec3& q = v[(i + 1) % v.size()];
       const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
-      edges.emplace_back(forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward);
+      edges.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, faces.size()});
     }
+    faces.push_back(f);
   }
-  if (faces < 2) return;
-  std::sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  bool consistent = true;
+  if (faces.size() < 2) return;
+  std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
+
+  // Parts: union-find over faces that share an edge.
+  std::vector<std::size_t> parent(faces.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  auto root = [&](std::size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<char> open(faces.size(), 0), inconsistent(faces.size(), 0);  // by face, folded to roots below
   auto same = [](const EdgeKey& x, const EdgeKey& y) { return x.a == y.a && x.b == y.b; };
-  for (std::size_t i = 0; i < edges.size(); i += 2) {
-    // Closed: every edge exactly twice (an odd one out, or a third use, means open or non-manifold).
-    if (i + 1 >= edges.size() || !same(edges[i].first, edges[i + 1].first)) return;
-    if (i + 2 < edges.size() && same(edges[i].first, edges[i + 2].first)) return;
-    if (edges[i].second == edges[i + 1].second) consistent = false;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i + 1;
+    while (j < edges.size() && same(edges[i].key, edges[j].key)) ++j;
+    for (std::size_t k = i + 1; k < j; ++k) parent[root(edges[k].face)] = root(edges[i].face);
+    // Closed: every edge exactly twice (once: a border; three times or more: non-manifold).
+    if (j - i != 2) open[edges[i].face] = 1;
+    else if (edges[i].forward == edges[i + 1].forward) inconsistent[edges[i].face] = 1;
+    i = j;
   }
-  const std::string file = scene.source.string();
-  const SourceLocation where{file, "meshes[" + std::to_string(mesh_index) + "]"};
-  const std::string name = "mesh \"" + mesh.name + "\" is ";
-  if (!consistent) {
-    warnings.push_back({where, name + "closed, with inconsistent face orientation: some edge is run the same way by "
-                               "both of its faces, so some faces' fronts point inward and those faces will be in "
-                               "their own (attached) shadow; check the vertex order of its faces"});
-    return;
+  std::vector<char> part_open(faces.size(), 0), part_inconsistent(faces.size(), 0);
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    part_open[root(f)] |= open[f];
+    part_inconsistent[root(f)] |= inconsistent[f];
   }
-  // Signed volume (divergence theorem over fan triangles), relative to one vertex to keep digits.
+  // Signed volume of each part (divergence theorem over fan triangles), relative to one vertex
+  // of the part to keep digits.
   using Real = long double;
-  const glm::dvec3 origin = scene.faces[mesh.first_face].vertices[0];
-  Real volume = 0;
-  for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count; ++f) {
-    const Face& face = scene.faces[f];
-    if (face.degenerate) continue;
-    const std::vector<glm::dvec3>& v = face.vertices;
+  std::vector<Real> volume(faces.size(), 0);
+  std::vector<std::size_t> first_face(faces.size(), faces.size());  // smallest face of each part
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const std::size_t r = root(f);
+    first_face[r] = std::min(first_face[r], f);
+  }
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const std::size_t r = root(f);
+    if (part_open[r] || part_inconsistent[r]) continue;
+    const glm::dvec3 origin = scene.faces[faces[first_face[r]]].vertices[0];
+    const std::vector<glm::dvec3>& v = scene.faces[faces[f]].vertices;
     auto rel = [&](const glm::dvec3& p, int k) { return Real(p[k]) - Real(origin[k]); };
     for (std::size_t i = 1; i + 1 < v.size(); ++i) {
       const glm::dvec3 &a = v[0], &b = v[i], &c = v[i + 1];
       const Real ax = rel(a, 0), ay = rel(a, 1), az = rel(a, 2);
       const Real bx = rel(b, 0), by = rel(b, 1), bz = rel(b, 2);
       const Real cx = rel(c, 0), cy = rel(c, 1), cz = rel(c, 2);
-      volume += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+      volume[r] += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
     }
   }
-  if (volume < 0)
-    warnings.push_back({where, name + "closed, and its faces point inward (negative signed volume): its faces are lit "
-                               "only from inside, as for a room seen from within; if it is a solid seen from "
-                               "outside, reverse the vertex order of its faces (this is only a warning)"});
+  std::size_t parts = 0, inward = 0, mixed = 0, first_inward = faces.size(), first_mixed = faces.size();
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (root(f) != f) continue;
+    ++parts;
+    if (part_open[f]) continue;
+    if (part_inconsistent[f]) {
+      ++mixed;
+      first_mixed = std::min(first_mixed, first_face[f]);
+    } else if (volume[f] < 0) {
+      ++inward;
+      first_inward = std::min(first_inward, first_face[f]);
+    }
+  }
+  const std::string file = scene.source.string();
+  const SourceLocation where{file, "meshes[" + std::to_string(mesh_index) + "]"};
+  // A mesh that is one part: "mesh "m" is closed, <single>"; else how many parts, and the first.
+  auto describe = [&](std::size_t count, std::size_t first, const std::string& single, const std::string& plural) {
+    if (parts == 1) return "mesh \"" + mesh.name + "\" is closed, " + single;
+    const std::string at = scene.faces[faces[first]].source.to_string();
+    return "mesh \"" + mesh.name + "\" has " + std::to_string(count) + " closed part" + (count == 1 ? "" : "s") +
+           " (of " + std::to_string(parts) + "; the first has face " + std::to_string(faces[first]) +
+           (at.empty() ? std::string() : ", " + at) + ") " + plural;
+  };
+  if (mixed > 0)
+    warnings.push_back({where, describe(mixed, first_mixed, "with inconsistent face orientation", "with inconsistent face orientation") +
+                                   ": some edge is run the same way by both of its faces, so some faces' fronts point "
+                                   "inward and those faces will be in their own (attached) shadow; check the vertex "
+                                   "order of its faces"});
+  if (inward > 0)
+    warnings.push_back({where, describe(inward, first_inward, "and its faces point inward", "whose faces point inward") +
+                                   " (negative signed volume): they are lit only from inside, as for a room seen from "
+                                   "within; if it is a solid seen from outside, reverse the vertex order of its faces "
+                                   "(this is only a warning)"});
 }
 
 }  // namespace
