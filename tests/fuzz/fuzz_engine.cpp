@@ -96,6 +96,8 @@ void check_result(const char* run, const shadow::ShadowResult& r, bool polygons)
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  // LIBSHADOW_FUZZ_VERBOSE=1: say whether each input was rejected or checked (corpus upkeep).
+  static const bool verbose = std::getenv("LIBSHADOW_FUZZ_VERBOSE") != nullptr;
   Bytes in{data, size};
   const std::uint8_t header = in.next();
   const bool point = (header & 1) != 0;
@@ -127,8 +129,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   shadow::add_mesh(scene, "fuzz", faces);
   try {
     shadow::validate_scene(scene);
-  } catch (const shadow::InputError&) {
-    return 0;  // non-planar, self-intersecting, zero light direction, ...: rejected, as it should be
+  } catch (const shadow::InputError& e) {
+    // Non-planar, self-intersecting, zero light direction, ...: rejected, as it should be.
+    if (verbose) std::fprintf(stderr, "fuzz_engine: rejected: %s\n", e.what());
+    return 0;
   }
   current = &scene;
 
@@ -163,6 +167,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   std::to_string(e.lit_area));
     }
   }
+  if (verbose)
+    std::fprintf(stderr, "fuzz_engine: checked %zu faces, %zu fragments\n", scene.faces.size(),
+                 results[0][1].fragments.size());
   current = nullptr;
   return 0;
 }
