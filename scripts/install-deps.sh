@@ -20,8 +20,10 @@ packages=(
   # The sampled baselines that shadow-bench measures against the exact engine.
   libembree-dev
 )
-# The test suite also needs ParaView (its headless test opens a result in pvpython):
-# `install-deps.sh --tests`, as scripts/run-tests.sh does.
+# The test suite also needs ParaView (its headless test opens a result in pvpython) and clang with
+# libFuzzer and the sanitizers' runtimes (scripts/run-fuzz.sh; GCC 12's UBSan miscompiles an
+# idiom of culling.hpp, so the sanitizer build uses clang): `install-deps.sh --tests`, as
+# scripts/run-tests.sh does.
 with_tests=0
 for arg in "$@"; do
   case "$arg" in
@@ -30,7 +32,7 @@ for arg in "$@"; do
   esac
 done
 if ((with_tests)); then
-  packages+=(paraview)
+  packages+=(paraview clang-14 libclang-rt-14-dev)
 fi
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh

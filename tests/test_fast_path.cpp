@@ -86,10 +86,24 @@ ShadowResult expect_within_bounds(const Scene& scene, const std::string& label, 
           << label << " face " << e.face_id << ": fragments do not partition the face";
     }
   }
-  std::printf("%s: %zu shadowed pairs, largest error %.3g, largest error/bound %.3g, %llu exact fallbacks\n",
+  std::printf("%s: %zu shadowed pairs, largest error %.3g, largest error/bound %.3g, %llu of %llu receivers fell back "
+              "to exact\n",
               label.c_str(), shadowed, largest_error, worst,
-              static_cast<unsigned long long>(fast.stats.fast_exact_fallbacks));
+              static_cast<unsigned long long>(fast.stats.fast_exact_fallbacks),
+              static_cast<unsigned long long>(fast.stats.receivers));
   return fast;
+}
+
+/// The fast route really ran: at most `max_share` of the receivers fell back to the exact engine,
+/// and some entry carries a non-zero bound (only the double route produces one). Without this a
+/// fast path that handed every receiver to the exact engine would pass every comparison above.
+void expect_fast_route_ran(const ShadowResult& fast, double max_share, const std::string& label) {
+  EXPECT_GT(fast.stats.receivers, 0u) << label;
+  EXPECT_LE(static_cast<double>(fast.stats.fast_exact_fallbacks), max_share * static_cast<double>(fast.stats.receivers))
+      << label << ": " << fast.stats.fast_exact_fallbacks << " of " << fast.stats.receivers << " receivers fell back";
+  EXPECT_TRUE(std::any_of(fast.lighting.begin(), fast.lighting.end(),
+                          [](const FaceLighting& l) { return l.lit_area_error_bound > 0; }))
+      << label << ": no entry has a fast-path bound";
 }
 
 /// Boxes on a ground square and L-shaped (concave) panels in axis-aligned planes, all exactly
@@ -150,10 +164,14 @@ TEST(FastPath, SquareUnderAFloatingSquareAnalytic) {
   const FaceLighting* lamp = fast.find(0, 1);
   ASSERT_NE(lamp, nullptr);
   EXPECT_NEAR(lamp->lit_area, 0.0, lamp->lit_area_error_bound);
-  // The roof's back faces both lights: attached shadow, known exactly.
-  const FaceLighting* back = fast.find(1, 0);
-  ASSERT_NE(back, nullptr);
-  EXPECT_TRUE(back->faces_light);
+  // The roof's front (up) faces both lights and nothing is above it: wholly lit.
+  for (std::size_t light : {0u, 1u}) {
+    const FaceLighting* roof = fast.find(1, light);
+    ASSERT_NE(roof, nullptr);
+    EXPECT_TRUE(roof->faces_light);
+    EXPECT_NEAR(roof->lit_area, roof->area, roof->lit_area_error_bound) << "light " << light;
+  }
+  expect_fast_route_ran(fast, 0.0, "analytic");
 }
 
 TEST(FastPath, BackFacingFacesAreExactlyShadowed) {
@@ -185,7 +203,8 @@ TEST(FastPath, SeededScenesWithRotatedPanelsStayWithinTheirBounds) {
   for (std::uint64_t seed = 100; seed < 112; ++seed) {
     Scene scene = random_scene(seed);
     validate_scene(scene);
-    expect_within_bounds(scene, "random seed " + std::to_string(seed));
+    const std::string label = "random seed " + std::to_string(seed);
+    expect_fast_route_ran(expect_within_bounds(scene, label), 0.1, label);
   }
 }
 
@@ -220,7 +239,7 @@ TEST(FastPath, SmallCityBothSunsAndThreads) {
 
 TEST(FastPath, FurnishedRoomUnderItsLamp) {
   const Scene scene = make_furnished_room(6, 11);
-  expect_within_bounds(scene, "room");
+  expect_fast_route_ran(expect_within_bounds(scene, "room"), 0.1, "room");
 }
 
 TEST(FastPath, GeoreferencedCoordinatesNear1e6) {
@@ -254,6 +273,15 @@ TEST(FastPath, PointLightOnAndJustAboveTheReceiversPlane) {
     const FaceLighting* ground = fast.find(0, 0);
     ASSERT_NE(ground, nullptr);
     EXPECT_EQ(ground->faces_light, height > 0);
+    if (height == 1e-9) {
+      // Too close to call in doubles: the ground must have gone to the exact engine (bound 0).
+      EXPECT_GE(fast.stats.fast_exact_fallbacks, 1u);
+      EXPECT_EQ(ground->lit_area_error_bound, 0.0);
+    } else if (height > 0) {
+      // Well above the plane: the ground is the fast route's (its box shadow carries a bound).
+      EXPECT_EQ(fast.stats.fast_exact_fallbacks, 0u);
+      EXPECT_GT(ground->lit_area_error_bound, 0.0);
+    }
   }
 }
 
@@ -272,6 +300,13 @@ TEST(FastPath, HugeAndTinyScalesStayWithinBoundsOrGoExact) {
     for (const FaceLighting& l : fast.lighting) {
       EXPECT_TRUE(std::isfinite(l.lit_area));
       EXPECT_TRUE(std::isfinite(l.lit_area_error_bound));
+    }
+    if (std::abs(exponent) < 300) {
+      // 2^+-200: products stay in range, so the double route must run on every receiver.
+      expect_fast_route_ran(fast, 0.0, "2^" + std::to_string(exponent));
+    } else {
+      // 2^+-450: products over- or underflow; the receivers that need clipping must go exact.
+      EXPECT_GT(fast.stats.fast_exact_fallbacks, 0u) << "2^" << exponent;
     }
   }
 }

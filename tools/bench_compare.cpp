@@ -140,6 +140,7 @@ struct Row {
   double total_rel_error = 0, mean_abs_error = 0, max_abs_error = 0;
   std::uint64_t samples = 0;
   std::uint64_t faces = 0;
+  std::uint64_t beyond_bound = 0;  // entries outside their own certified bound (Errors::beyond_bound)
   int ok = 0;
   char error[160] = {};
 };
@@ -156,6 +157,9 @@ Errors compare(const std::vector<shadow::FaceLighting>& got, const std::vector<s
     while (j < got.size() && std::make_pair(got[j].face_id, got[j].light_id) < std::make_pair(r.face_id, r.light_id)) ++j;
     const bool have = j < got.size() && got[j].face_id == r.face_id && got[j].light_id == r.light_id;
     const double g_lit = have ? got[j].lit_area : 0.0, g_frac = have ? got[j].lit_fraction : 0.0;
+    const double g_bound = have ? got[j].lit_area_error_bound : 0.0;
+    // Both lit areas are rounded once from exact values: allow those two roundings.
+    if (!(std::abs(g_lit - r.lit_area) <= g_bound + 2.3e-16 * r.area)) ++e.beyond_bound;
     area += r.area;
     lit += g_lit;
     ref_lit += r.lit_area;
@@ -233,6 +237,7 @@ Row run_isolated(const BenchScene& bs, const Method& method, double parameter, u
       r.total_rel_error = e.total_rel;
       r.mean_abs_error = e.mean_abs;
       r.max_abs_error = e.max_abs;
+      r.beyond_bound = e.beyond_bound;
       r.ok = 1;
       lighting = std::move(m.lighting);
     } catch (const std::exception& ex) {
@@ -340,6 +345,20 @@ int run_compare(const CompareOptions& o) {
                   row.compute_s, row.total_s, row.peak_mib, static_cast<unsigned long long>(row.samples),
                   row.lit_fraction, row.total_rel_error, row.mean_abs_error, row.max_abs_error);
       std::fflush(stdout);
+      if (o.max_error >= 0) {
+        // Exact and fast certify every face (exact: bound 0); the sampled baselines get a threshold.
+        const bool certified = m.name == "exact" || m.name == "fast";
+        std::string problem;
+        if (certified && row.beyond_bound > 0)
+          problem = std::to_string(row.beyond_bound) + " faces outside their error bound";
+        else if (!certified && !(row.total_rel_error <= o.max_error && row.mean_abs_error <= o.max_error))
+          problem = "error above --max-error " + std::to_string(o.max_error);
+        if (!problem.empty()) {
+          ++failures;
+          std::fprintf(stderr, "shadow-bench compare: %s, %s %s: %s\n", bs.name.c_str(), m.name.c_str(), parameter,
+                       problem.c_str());
+        }
+      }
       if (csv.is_open())
         csv << '"' << bs.name << "\"," << bs.kind << ',' << bs.size << ',' << row.faces << ',' << bs.light << ','
             << m.name << ',' << m.parameter_name << ',' << p << ',' << o.threads << ',' << row.prepare_s << ','

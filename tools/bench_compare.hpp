@@ -40,6 +40,9 @@ struct Method {
 /// maximum absolute error of per-face lit fractions (faces of non-zero area).
 struct Errors {
   double lit_fraction = 0, total_rel = 0, mean_abs = 0, max_abs = 0;
+  /// Entries whose lit area is further from the reference than their own lit_area_error_bound
+  /// (plus two roundings of the face area): must be 0 for the exact engine and the fast path.
+  std::uint64_t beyond_bound = 0;
 };
 /// Both sorted by (face, light); an entry missing from `got` counts as unlit.
 Errors compare(const std::vector<shadow::FaceLighting>& got, const std::vector<shadow::FaceLighting>& ref);
@@ -61,6 +64,10 @@ struct CompareOptions {
   std::vector<double> resolutions;        ///< shadow-map resolutions (empty: 256 .. 8192)
   double constant_bias = shadow::ShadowMapOptions{}.constant_bias;  ///< shadow map (m)
   double slope_bias = shadow::ShadowMapOptions{}.slope_bias;        ///< shadow map (texels)
+  /// Negative: report only. Otherwise run_compare fails (exit 1) when the exact engine or the
+  /// fast path leaves its certified bound on any face (exact: bound 0), or when a sampled
+  /// baseline's total lit-area relative error or mean per-face lit-fraction error exceeds it.
+  double max_error = -1;
 };
 
 /// Runs every (scene, method, parameter) in a forked child; prints a Markdown table.

@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Writes the seed corpus of the fuzz targets (tests/fuzz/corpus/<target>/): a few ordinary
+inputs and the hostile ones (coordinates near +-1e308, NaN/Inf, NUL bytes in OBJ lines, huge
+vertex indices, deeply nested JSON, a zero light direction, ...). Deterministic; rerun after
+editing and commit the files. Inputs that reproduce a defect not fixed yet go to
+tests/fuzz/known/ instead (see its README), out of the replay tests.
+Usage: python3 tests/fuzz/make_corpus.py"""
+import json
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def write(target, name, data):
+    folder = os.path.join(HERE, "corpus", target)
+    os.makedirs(folder, exist_ok=True)
+    if isinstance(data, str):
+        data = data.encode("utf-8", "surrogatepass")
+    with open(os.path.join(folder, name), "wb") as f:
+        f.write(data)
+
+
+def scene(meshes, lights, planes=None):
+    doc = {"meshes": meshes, "lights": lights}
+    if planes is not None:
+        doc["planes"] = planes
+    return json.dumps(doc)
+
+
+GROUND = [[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]]
+ROOF = [[1, 1, 2], [3, 1, 2], [3, 3, 2], [1, 3, 2]]
+SUN = {"name": "sun", "type": "directional", "to_light": [0.4, 0.3, 0.85]}
+LAMP = {"name": "lamp", "type": "point", "position": [2, 2, 5]}
+
+# ---- fuzz_scene: scene JSON text ----------------------------------------------------------------
+write("fuzz_scene", "ground_and_roof.json",
+      scene([{"name": "ground", "polygons": [GROUND]}, {"name": "roof", "polygons": [ROOF]}], [SUN, LAMP],
+            [{"name": "floor", "point": [0, 0, 0], "normal": [0, 0, 1]}]))
+write("fuzz_scene", "receivers_and_materials.json",
+      json.dumps({"meshes": [{"name": "a", "polygons": [GROUND]}, {"name": "b", "polygons": [ROOF]}],
+                  "receivers": ["a"], "lights": [SUN]}))
+write("fuzz_scene", "concave_l.json",
+      scene([{"name": "l", "polygons": [[[0, 0, 0], [2, 0, 0], [2, 1, 0], [1, 1, 0], [1, 2, 0], [0, 2, 0]]]}], [SUN]))
+write("fuzz_scene", "near_1e308.json",
+      scene([{"name": "big", "polygons": [[[-1.7e308, 0, 0], [1.7e308, 0, 0], [0, 1.7e308, 0]]]}], [SUN]))
+write("fuzz_scene", "overflow_to_inf.json",
+      '{"meshes": [{"name": "m", "polygons": [[[0,0,0],[1e400,0,0],[0,1,0]]]}], "lights": []}')
+write("fuzz_scene", "nan_literal.json",
+      '{"meshes": [{"name": "m", "polygons": [[[NaN,0,0],[1,0,0],[0,1,0]]]}], "lights": []}')
+write("fuzz_scene", "infinity_literal.json",
+      '{"meshes": [{"name": "m", "polygons": [[[0,0,0],[1,0,0],[0,1,0]]]}],'
+      ' "lights": [{"name": "s", "type": "directional", "to_light": [Infinity, 0, 1]}]}')
+write("fuzz_scene", "zero_light_direction.json",
+      scene([{"name": "g", "polygons": [GROUND]}], [{"name": "s", "type": "directional", "to_light": [0, 0, 0]}]))
+write("fuzz_scene", "zero_plane_normal.json",
+      scene([{"name": "g", "polygons": [GROUND]}], [SUN], [{"name": "p", "point": [0, 0, 0], "normal": [0, 0, 0]}]))
+write("fuzz_scene", "unknown_light_type.json",
+      scene([{"name": "g", "polygons": [GROUND]}], [{"name": "s", "type": "laser", "to_light": [0, 0, 1]}]))
+write("fuzz_scene", "deeply_nested_arrays.json", '{"meshes": ' + "[" * 100000 + "]" * 100000 + "}")
+write("fuzz_scene", "deeply_nested_objects.json", '{"a":' * 20000 + "1" + "}" * 20000)
+write("fuzz_scene", "bowtie.json",
+      scene([{"name": "b", "polygons": [[[0, 0, 0], [1, 1, 0], [1, 0, 0], [0, 1, 0]]]}], [SUN]))
+write("fuzz_scene", "collinear.json", scene([{"name": "c", "polygons": [[[0, 0, 0], [1, 0, 0], [2, 0, 0]]]}], [SUN]))
+write("fuzz_scene", "two_vertices.json", scene([{"name": "c", "polygons": [[[0, 0, 0], [1, 0, 0]]]}], [SUN]))
+write("fuzz_scene", "nonplanar.json", scene([{"name": "n", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 1], [0, 1, 0]]]}], [SUN]))
+write("fuzz_scene", "wrong_types.json",
+      '{"meshes": [{"name": 7, "polygons": "x"}], "lights": [{"name": "s", "type": "point", "position": [1, 2]}]}')
+write("fuzz_scene", "nul_in_string.json",
+      '{"meshes": [{"name": "a\\u0000b", "polygons": [[[0,0,0],[1,0,0],[0,1,0]]]}], "lights": []}')
+write("fuzz_scene", "raw_nul_bytes.json", b'{"meshes": [\x00], "lights": []}')
+write("fuzz_scene", "empty.json", "")
+write("fuzz_scene", "truncated.json", '{"meshes": [{"name": "m", "polygons": [[[0,0')
+write("fuzz_scene", "huge_integer.json",
+      '{"meshes": [{"name": "m", "polygons": [[[0,0,0],[123456789012345678901234567890,0,0],[0,1,0]]]}], "lights": []}')
+
+# ---- fuzz_obj: OBJ text -------------------------------------------------------------------------
+write("fuzz_obj", "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n")
+write("fuzz_obj", "index_forms.obj",
+      "# comment\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1//1 2//1 3//1\nf -3 -2 -1\n"
+      "o name\ng group\nusemtl x\ns off\n")
+write("fuzz_obj", "crlf_and_continuation.obj", "v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 \\\n3\r\n")
+write("fuzz_obj", "huge_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n")
+write("fuzz_obj", "huge_negative_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9223372036854775808\n")
+write("fuzz_obj", "index_max_int.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2147483648\nf 1 2 4294967296\n")
+write("fuzz_obj", "index_zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n")
+write("fuzz_obj", "nul_in_line.obj", b"v 0 0 0\nv 1\x00 0 0\nv 0 1 0\nf 1 2\x003\n")
+write("fuzz_obj", "nul_only.obj", b"\x00\x00\x00\n\x00")
+write("fuzz_obj", "nan_inf.obj", "v nan 0 0\nv inf 0 0\nv -inf 1 0\nv NaN(123) 0 0\nf 1 2 3\n")
+write("fuzz_obj", "near_1e308.obj", "v -1.7976931348623157e308 0 0\nv 1.7976931348623157e308 0 0\nv 0 1e308 0\nf 1 2 3\n")
+write("fuzz_obj", "overflow.obj", "v 1e400 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n")
+write("fuzz_obj", "denormals.obj", "v 4.9e-324 0 0\nv 0 4.9e-324 0\nv 0 0 0\nf 1 2 3\n")
+write("fuzz_obj", "two_vertex_face.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n")
+write("fuzz_obj", "garbage_numbers.obj", "v 1.2.3 0x10 --4\nv 1e 2 3\nv +.5 -.5 .5e1\nf 1/ /2 3//\n")
+write("fuzz_obj", "missing_coordinates.obj", "v 1 2\nv\nf\n")
+write("fuzz_obj", "long_line.obj", "v " + "1" * 5000 + " 0 0\n")
+write("fuzz_obj", "empty.obj", "")
+
+# ---- fuzz_engine: bytes decoded by fuzz_engine.cpp ----------------------------------------------
+# header: bit 0 point light, (faces - 1) << 1; light: 3 coordinates; per face: shape byte
+# ((vertices - 3) + 6 * kind; kind 0: z = c, 1: x = c, 2: y = c, 3: free 3D, 4: z = (a u + b w)/4 + c),
+# c, a, b, then per vertex u, w (and a third coordinate for kind 3). Coordinates are int8 / 4.
+
+
+def q(x):
+    return struct.pack("b", int(round(x * 4)))
+
+
+def face(kind, vertices, c=0.0, a=0, b=0):
+    out = bytes([(len(vertices) - 3) + 6 * kind]) + q(c) + struct.pack("b", a) + struct.pack("b", b)
+    for v in vertices:
+        out += b"".join(q(x) for x in v)
+    return out
+
+
+def engine(point, light, faces):
+    return bytes([(1 if point else 0) | ((len(faces) - 1) << 1)]) + b"".join(q(x) for x in light) + b"".join(faces)
+
+
+SQUARE = [(0, 0), (8, 0), (8, 8), (0, 8)]
+SMALL = [(2, 2), (5, 2), (5, 5), (2, 5)]
+write("fuzz_engine", "square_under_square_sun.bin",
+      engine(False, (1, 0.5, 4), [face(0, SQUARE), face(0, SMALL, c=3)]))
+write("fuzz_engine", "square_under_square_lamp.bin",
+      engine(True, (4, 4, 10), [face(0, SQUARE), face(0, SMALL, c=3)]))
+write("fuzz_engine", "wall_and_ground.bin",
+      engine(False, (-2, -1, 3), [face(0, SQUARE), face(1, [(1, 0), (6, 0), (6, 4), (1, 4)], c=3),
+                                   face(2, [(1, 0), (1, 4), (6, 4), (6, 0)], c=5)]))
+write("fuzz_engine", "concave_l_over_ground.bin",
+      engine(False, (0.25, 0.5, 2), [face(0, SQUARE), face(0, [(1, 1), (5, 1), (5, 3), (3, 3), (3, 6), (1, 6)], c=2)]))
+write("fuzz_engine", "octagon_and_sloped_roof.bin",
+      engine(True, (2, 3, 12), [face(0, [(3, 0), (6, 0), (9, 3), (9, 6), (6, 9), (3, 9), (0, 6), (0, 3)]),
+                                face(4, [(1, 1), (6, 1), (6, 6), (1, 6)], c=4, a=1, b=-1)]))
+write("fuzz_engine", "triangles_free.bin",
+      engine(False, (0.5, 0.25, 1), [face(3, [(0, 0, 0), (10, 0, 1), (0, 10, 2)]),
+                                     face(3, [(2, 2, 5), (6, 2, 4), (2, 6, 6)])]))
+write("fuzz_engine", "zero_light_direction.bin", engine(False, (0, 0, 0), [face(0, SQUARE), face(0, SMALL, c=3)]))
+write("fuzz_engine", "lamp_in_the_plane.bin", engine(True, (10, 10, 0), [face(0, SQUARE), face(0, SMALL, c=3)]))
+write("fuzz_engine", "lamp_on_a_vertex.bin", engine(True, (2, 2, 3), [face(0, SQUARE), face(0, SMALL, c=3)]))
+write("fuzz_engine", "grazing_sun.bin", engine(False, (31, 0, 0.25), [face(0, SQUARE), face(0, SMALL, c=3)]))
+write("fuzz_engine", "coplanar_overlap.bin", engine(False, (0, 0, 1), [face(0, SQUARE), face(0, SMALL, c=0)]))
+write("fuzz_engine", "degenerate_face.bin",
+      engine(False, (0, 0, 1), [face(0, SQUARE), face(0, [(1, 1), (1, 1), (1, 1)], c=2)]))
+write("fuzz_engine", "bowtie.bin", engine(False, (0, 0, 1), [face(0, [(0, 0), (4, 4), (4, 0), (0, 4)])]))
+write("fuzz_engine", "thin_sliver_caster.bin",
+      engine(False, (1, 1, 8), [face(0, SQUARE), face(0, [(1, 1), (7, 1.25), (1, 1.5)], c=2)]))
+write("fuzz_engine", "extreme_coordinates.bin",
+      engine(True, (-32, 31.75, 31.75), [face(0, [(-32, -32), (31.75, -32), (31.75, 31.75), (-32, 31.75)]),
+                                         face(0, SMALL, c=-32)]))
+write("fuzz_engine", "empty.bin", b"")
