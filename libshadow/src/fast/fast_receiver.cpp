@@ -678,7 +678,8 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       } else {
         // A lifted caster nearly edge-on to the light: leave the receiver to the exact engine.
         const glm::dvec3 l = light.position - cull.origin;
-        if (std::abs(glm::dot(cq.normal, l) + cq.offset) <= 1e-9 * (glm::length(l) + cull.diameter) + cq.slack)
+        if (std::abs(glm::dot(cq.normal, l) + cq.offset) <=
+            (1e-9 + cq.normal_error) * (glm::length(l) + cull.diameter) + cq.slack)
           return false;
       }
     }
