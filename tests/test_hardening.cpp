@@ -129,5 +129,94 @@ TEST(CullingThinReceivers, CasterExactlyInFrontOfANeedleReceiverIsNeverCulled) {
   }
 }
 
+
+// ---------------------------------------------------------------------------------------------
+// Items 5 and 13: one face with a very large number of vertices
+// ---------------------------------------------------------------------------------------------
+
+/// A comb in the plane z = 0: `teeth` teeth
+/// 0.5 wide and 9 long on a 1 wide spine; 4 teeth + 3 vertices; area teeth * 5.5.
+std::vector<glm::dvec3> comb(std::size_t teeth) {
+  std::vector<glm::dvec3> p;
+  for (std::size_t t = 0; t < teeth; ++t) {
+    const double x = static_cast<double>(teeth - t);
+    p.push_back({x, 1, 0});
+    p.push_back({x, 10, 0});
+    p.push_back({x - 0.5, 10, 0});
+    p.push_back({x - 0.5, 1, 0});
+  }
+  p.push_back({0, 1, 0});
+  p.push_back({0, 0, 0});
+  p.push_back({static_cast<double>(teeth), 0, 0});
+  return p;
+}
+
+/// Validates and computes (polygons on) a scene of one face under an oblique sun.
+ShadowResult one_face(const std::vector<glm::dvec3>& face, bool polygons = true) {
+  Scene scene;
+  add_mesh(scene, "face", {face});
+  scene.lights.push_back(directional_light("sun", {0.1, 0.2, 1}));
+  validate_scene(scene);
+  ShadowOptions options;
+  options.threads = 1;
+  options.polygons = polygons;
+  return compute_shadows(scene, options);
+}
+
+TEST(LargeFaces, CombWithFortyThousandVerticesIsLitWhole) {
+  const std::size_t teeth = 10000;
+  const ShadowResult r = one_face(comb(teeth));
+  ASSERT_EQ(r.lighting.size(), 1u);
+  EXPECT_EQ(r.lighting[0].area, 5.5 * teeth);
+  EXPECT_EQ(r.lighting[0].lit_area, 5.5 * teeth);
+  ASSERT_EQ(r.fragments.size(), 1u);
+  EXPECT_EQ(r.fragments[0].polygon.size(), 4 * teeth + 3);
+}
+
+/// n points on a circle of radius 10 in the plane spanned by e1 and e2.
+std::vector<glm::dvec3> circle(std::size_t n, glm::dvec3 e1, glm::dvec3 e2) {
+  const double pi = 3.14159265358979323846;
+  std::vector<glm::dvec3> p;
+  for (std::size_t a = 0; a < n; ++a) {
+    const double angle = 2 * pi * static_cast<double>(a) / static_cast<double>(n);
+    p.push_back(10 * std::cos(angle) * e1 + 10 * std::sin(angle) * e2);
+  }
+  return p;
+}
+
+TEST(LargeFaces, CircleWithTwoHundredThousandVerticesDoesNotOverflowTheStack) {
+  // The face's chart area was a running lazy sum 200,000 deep: evaluating it exactly recursed
+  // through every node (SIGSEGV at about 100,000 vertices).
+  const std::size_t n = 200000;
+  const std::vector<glm::dvec3> p = circle(n, {1, 0, 0}, {0, 1, 0});
+  long double shoelace = 0;  // the rounded vertices' own area, in long double
+  for (std::size_t a = 0; a < n; ++a) {
+    const glm::dvec3 &u = p[a], &v = p[(a + 1) % n];
+    shoelace += static_cast<long double>(u.x) * v.y - static_cast<long double>(u.y) * v.x;
+  }
+  const double expected = static_cast<double>(shoelace / 2);
+  const ShadowResult r = one_face(p);
+  ASSERT_EQ(r.lighting.size(), 1u);
+  EXPECT_NEAR(r.lighting[0].area, expected, 1e-12 * expected);
+  EXPECT_EQ(r.lighting[0].lit_area, r.lighting[0].area);
+  ASSERT_EQ(r.fragments.size(), 1u);
+  EXPECT_EQ(r.fragments[0].area, r.lighting[0].area);
+}
+
+TEST(LargeFaces, TiltedCircleLiftedOntoItsNewellPlaneKeepsItsSumsShallow) {
+  // Rotated, the rounded vertices are planar only within tolerance: the exact engine lifts them
+  // with the exact Newell normal and centroid, sums over every vertex.
+  const std::size_t n = 60000;
+  const glm::dvec3 e1 = glm::normalize(glm::dvec3(1, 2, 3));
+  const glm::dvec3 e2 = glm::normalize(glm::cross(e1, glm::dvec3(0, 0, 1)));
+  const glm::dvec3 normal = glm::cross(e1, e2);
+  const double expected = 0.5 * static_cast<double>(n) * 100 * std::sin(2 * 3.14159265358979323846 / n);
+  const ShadowResult r = one_face(circle(n, e1, e2));
+  ASSERT_EQ(r.lighting.size(), 1u);
+  EXPECT_NEAR(r.lighting[0].area, expected, 1e-9 * expected);
+  EXPECT_EQ(r.lighting[0].faces_light, glm::dot(normal, glm::dvec3(0.1, 0.2, 1)) > 0);
+  EXPECT_EQ(r.lighting[0].shadow_area + r.lighting[0].lit_area, r.lighting[0].area);
+}
+
 }  // namespace
 }  // namespace shadow::test

@@ -17,9 +17,9 @@ namespace shadow::exact {
 
 /// Exact area of a polygon with holes (holes come out clockwise).
 inline FT region_area(const PolygonWithHoles2& region) {
-  FT area = region.outer_boundary().area();
-  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) area -= CGAL::abs(h->area());
-  return area;
+  std::vector<FT> terms{polygon_area(region.outer_boundary())};
+  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) terms.push_back(-CGAL::abs(polygon_area(*h)));
+  return balanced_sum(terms);
 }
 
 /// Whether a boundary visits some point twice. The boundaries Boolean operations return are

@@ -264,7 +264,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       }
       if (w.poly2.size() < 3) continue;
       Polygon2 projected(w.poly2.begin(), w.poly2.end());
-      if (CGAL::sign(projected.area()) != CGAL::POSITIVE) continue;  // flat: edge-on solid
+      if (CGAL::sign(polygon_area(projected)) != CGAL::POSITIVE) continue;  // flat: edge-on solid
       shadows.push_back(std::move(projected));
       ++w.stats.casting_pairs;
       continue;
@@ -336,7 +336,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       }
       if (w.poly2.size() < 3) continue;
       Polygon2 projected(w.poly2.begin(), w.poly2.end());
-      const CGAL::Sign orientation = CGAL::sign(projected.area());
+      const CGAL::Sign orientation = CGAL::sign(polygon_area(projected));
       if (orientation == CGAL::ZERO) continue;  // the caster is edge-on to the light
       if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
       shadows.push_back(std::move(projected));
@@ -365,8 +365,9 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
     if (!fp.chart_is_box) shadow_set.intersection(P.chart);
     shadow_set.polygons_with_holes(std::back_inserter(shadow_regions));
   }
-  FT shadow_chart_area = 0;
-  for (const PolygonWithHoles2& r : shadow_regions) shadow_chart_area += region_area(r);
+  std::vector<FT> region_areas;
+  for (const PolygonWithHoles2& r : shadow_regions) region_areas.push_back(region_area(r));
+  const FT shadow_chart_area = balanced_sum(region_areas);
   const FT lit_chart_area = P.chart_area - shadow_chart_area;
   out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
   out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
@@ -389,14 +390,14 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         fragment.light_id = light_id;
         fragment.fragment_id = fragment_id;
         fragment.lit = lit;
-        fragment.area = area_3d(CGAL::abs(cell.area()), P.area_scale_squared);
+        fragment.area = area_3d(CGAL::abs(polygon_area(cell)), P.area_scale_squared);
         for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
           const Point3 p = lift(*v, P, fp.axis);
           fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
                                         CGAL::to_double(p.z()));
         }
         // The chart sees the face clockwise when flipped: restore the face's orientation.
-        if (fp.flipped == CGAL::is_positive(cell.area()))
+        if (fp.flipped == CGAL::is_positive(polygon_area(cell)))
           std::reverse(fragment.polygon.begin(), fragment.polygon.end());
         item.fragments.push_back(std::move(fragment));
       }
