@@ -379,33 +379,52 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   lit_set.polygons_with_holes(std::back_inserter(lit_regions));
 
   std::size_t fragment_id = 0;
-  std::vector<Polygon2> cells;
+  std::vector<Polygon2> cells, triangles;
+  std::vector<FT> dropped;  // exact chart areas of cells too thin to write (see below)
+  // One cell as a fragment, if its vertices rounded to doubles still make one simple polygon of
+  // non-zero area (the output contract); false, writing nothing, otherwise.
+  auto write = [&](const Polygon2& cell, const FT& cell_area, bool lit) {
+    Fragment fragment;
+    fragment.face_id = face_id;
+    fragment.light_id = light_id;
+    fragment.fragment_id = fragment_id;
+    fragment.lit = lit;
+    fragment.area = area_3d(CGAL::abs(cell_area), P.area_scale_squared);
+    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+      const Point3 p = lift(*v, P, fp.axis);
+      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    }
+    // The chart sees the face clockwise when flipped: restore the face's orientation.
+    if (fp.flipped == CGAL::is_positive(cell_area)) std::reverse(fragment.polygon.begin(), fragment.polygon.end());
+    if (!clean_double_polygon(fragment.polygon, fp.axis)) return false;
+    item.fragments.push_back(std::move(fragment));
+    return true;
+  };
   auto emit = [&](const std::vector<PolygonWithHoles2>& regions, bool lit) {
     for (const PolygonWithHoles2& region : regions) {
       cells.clear();
       append_simple_cells(region, cells);
-      for (const Polygon2& cell : cells) {
-        Fragment fragment;
-        fragment.face_id = face_id;
-        fragment.light_id = light_id;
-        fragment.fragment_id = fragment_id;
-        fragment.lit = lit;
-        fragment.area = area_3d(CGAL::abs(polygon_area(cell)), P.area_scale_squared);
-        for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-          const Point3 p = lift(*v, P, fp.axis);
-          fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
-                                        CGAL::to_double(p.z()));
+      const std::size_t written = item.fragments.size();
+      for (Polygon2& cell : cells) {
+        const FT cell_area = polygon_area(cell);
+        if (write(cell, cell_area, lit)) continue;
+        // Rounding broke the cell (a sliver a few ulps wide, or a spike that now crosses an
+        // edge): write its triangles instead, and leave out those that collapse, accounting
+        // for their exact area in dropped_area.
+        if (CGAL::is_negative(cell_area)) cell.reverse_orientation();
+        triangles.clear();
+        CGAL::Polygon_triangulation_decomposition_2<Kernel>()(PolygonWithHoles2(cell), std::back_inserter(triangles));
+        for (const Polygon2& t : triangles) {
+          const FT t_area = polygon_area(t);
+          if (!write(t, t_area, lit)) dropped.push_back(CGAL::abs(t_area));
         }
-        // The chart sees the face clockwise when flipped: restore the face's orientation.
-        if (fp.flipped == CGAL::is_positive(polygon_area(cell)))
-          std::reverse(fragment.polygon.begin(), fragment.polygon.end());
-        item.fragments.push_back(std::move(fragment));
       }
-      ++fragment_id;
+      if (item.fragments.size() > written) ++fragment_id;  // ids stay consecutive
     }
   };
   emit(lit_regions, true);
   emit(shadow_regions, false);
+  if (!dropped.empty()) out.dropped_area = area_3d(balanced_sum(dropped), P.area_scale_squared);
   return item;
 }
 

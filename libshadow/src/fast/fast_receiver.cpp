@@ -848,6 +848,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       cells.clear();
       simple_cells(region, cells);
       if (cells.empty()) continue;
+      bool any = false;
       for (const CL::Path& c : cells) {
         Fragment f;
         f.face_id = face_id;
@@ -866,9 +867,16 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
         }
         // Cells are counter-clockwise in the chart; the chart sees a flipped face clockwise.
         if (fp.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
+        // As in the exact engine: a cell that rounding made degenerate is not written; its
+        // area is reported in dropped_area.
+        if (!exact::clean_double_polygon(f.polygon, rc.k)) {
+          out.dropped_area += f.area;
+          continue;
+        }
         fragments.push_back(std::move(f));
+        any = true;
       }
-      ++fragment_id;
+      if (any) ++fragment_id;
     }
   };
   try {
