@@ -848,7 +848,6 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       cells.clear();
       simple_cells(region, cells);
       if (cells.empty()) continue;
-      bool any = false;
       for (const CL::Path& c : cells) {
         Fragment f;
         f.face_id = face_id;
@@ -867,21 +866,18 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
         }
         // Cells are counter-clockwise in the chart; the chart sees a flipped face clockwise.
         if (fp.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
-        // As in the exact engine: a cell that rounding made degenerate is not written; its
-        // area is reported in dropped_area.
-        if (!exact::clean_double_polygon(f.polygon, rc.k)) {
-          out.dropped_area += f.area;
-          continue;
-        }
+        // The output contract (one simple double polygon of non-zero area a cell): a cell that
+        // breaks it (a sliver rounding collapsed, a boundary touching itself) sends the
+        // receiver to the exact engine, which triangulates such cells (dropped_area).
+        if (!exact::clean_double_polygon(f.polygon, rc.k)) return false;
         fragments.push_back(std::move(f));
-        any = true;
       }
-      if (any) ++fragment_id;
+      ++fragment_id;
     }
+    return true;
   };
   try {
-    emit(lit_tree, true);
-    emit(shadow_tree, false);
+    if (!emit(lit_tree, true) || !emit(shadow_tree, false)) return false;  // the caller drops what was appended
   } catch (const CL::clipperException&) {
     return false;  // the caller drops what was appended
   }
