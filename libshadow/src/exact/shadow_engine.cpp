@@ -413,7 +413,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
         // for their exact area in dropped_area.
         if (CGAL::is_negative(cell_area)) cell.reverse_orientation();
         triangles.clear();
-        CGAL::Polygon_triangulation_decomposition_2<Kernel>()(PolygonWithHoles2(cell), std::back_inserter(triangles));
+        triangulate_region(PolygonWithHoles2(cell), triangles);
         for (const Polygon2& t : triangles) {
           const FT t_area = polygon_area(t);
           if (!write(t, t_area, lit)) dropped.push_back(CGAL::abs(t_area));
