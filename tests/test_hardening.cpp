@@ -317,5 +317,37 @@ TEST(FragmentPolygons, RotatedBoxesAndTetrahedraWriteOnlySimpleNonDegeneratePoly
   RecordProperty("entries_with_dropped_cells", static_cast<int>(dropped_entries));
 }
 
+TEST(LargeFaces, CombOverAGroundCastsItsExactAreaAndTheGroundsCellsTileIt) {
+  // The ground's lit region is a box with one comb-shaped hole of 8,000 vertices: its cells
+  // come from a triangulation of that region (it used to take minutes).
+  const std::size_t teeth = 2000;
+  std::vector<glm::dvec3> raised = comb(teeth);
+  for (glm::dvec3& v : raised) v.z = 1;
+  const double t = static_cast<double>(teeth);
+  Scene scene;
+  add_mesh(scene, "ground", {{{-5, -5, 0}, {t + 5, -5, 0}, {t + 5, 15, 0}, {-5, 15, 0}}});
+  add_mesh(scene, "comb", {raised});
+  scene.lights.push_back(directional_light("sun", {0.1, 0.2, 1}));
+  validate_scene(scene);
+  ShadowOptions options;
+  options.threads = 2;
+  const ShadowResult r = compute_shadows(scene, options);
+  const FaceLighting* ground = r.find(0, 0);
+  ASSERT_NE(ground, nullptr);
+  EXPECT_EQ(ground->area, (t + 10) * 20);
+  EXPECT_EQ(ground->shadow_area, 5.5 * t);  // a translated copy of the comb, all on the ground
+  double lit = 0, shadowed = 0;
+  std::size_t cells = 0;
+  for (const Fragment& f : r.fragments) {
+    if (f.face_id != 0) continue;
+    ++cells;
+    EXPECT_EQ(polygon_problem(f.polygon), "");
+    (f.lit ? lit : shadowed) += f.area;
+  }
+  EXPECT_GT(cells, 2u);
+  EXPECT_NEAR(lit + ground->dropped_area, ground->lit_area, 1e-9 * ground->area);
+  EXPECT_NEAR(shadowed, ground->shadow_area, 1e-9 * ground->area);
+}
+
 }  // namespace
 }  // namespace shadow::test
