@@ -88,6 +88,11 @@ struct FaceLighting {
   /// Bound on |lit_area - the exact lit area| (also on shadow_area's error): 0 for the exact
   /// path and for receivers the fast path decided exactly (Arithmetic::Fast otherwise).
   double lit_area_error_bound = 0.0;
+  /// Area of cells left out of `fragments` because rounding their vertices to doubles would
+  /// have made them degenerate (fewer than 3 distinct vertices, zero area, or not simple):
+  /// slivers no wider than a few ulps of their coordinates (docs/numeric-contract.md, "Output").
+  /// The fragments of (face, light) plus this add up to `area`. 0 without polygons.
+  double dropped_area = 0.0;
 };
 
 /// The shadow that the scene casts on one of its planes from one light: the union of the

@@ -29,25 +29,41 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep)
     const std::vector<glm::dvec3>& vertices = scene.faces[f].vertices;
     for (const glm::dvec3& v : vertices) cull.vertices.push_back(v - cull.origin);
     // Newell's normal relative to the face's own first vertex: relative to the scene's centre a
-    // small face far from it would lose its normal's direction to cancellation.
-    glm::dvec3 n(0.0);
+    // small face far from it would lose its normal's direction to cancellation. `bound` sums the
+    // terms' magnitudes: each component's rounding error (differences, sums, products and the
+    // running sum of m terms) is under (m + 8) eps times its magnitude sum.
+    glm::dvec3 n(0.0), bound(0.0);
     for (std::size_t a = 0; a < cf.count; ++a) {
       const glm::dvec3 u = vertices[a] - vertices[0];
       const glm::dvec3 v = vertices[(a + 1) % cf.count] - vertices[0];
       n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+      const glm::dvec3 au = glm::abs(u), av = glm::abs(v);
+      bound += glm::dvec3((au.y + av.y) * (au.z + av.z), (au.z + av.z) * (au.x + av.x),
+                          (au.x + av.x) * (au.y + av.y));
     }
     const double len = glm::length(n);
     if (prep[f].degenerate || !(len > 0) || !std::isfinite(len)) continue;
     cf.normal = n / len;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    const double error = (static_cast<double>(cf.count) + 8) * eps * glm::length(bound) * (1 + 1e-9);
+    // |n/|n| - n_exact/|n_exact|| <= 2 |n - n_exact| / |n_exact|, plus the division's rounding.
+    cf.normal_error = std::isfinite(error) && error < 0.5 * len ? std::min(2.0, 2 * error / (len - error) + 4 * eps) : 2.0;
     glm::dvec3 centroid(0.0);
     for (std::size_t a = 0; a < cf.count; ++a) centroid += cull.vertices[cf.first + a];
-    cf.offset = -glm::dot(cf.normal, centroid / static_cast<double>(cf.count));
+    centroid /= static_cast<double>(cf.count);
+    cf.offset = -glm::dot(cf.normal, centroid);
     if (!prep[f].exactly_planar) {
-      // The lift moves a vertex along the chart axis k by its distance to the plane / |n_k|.
-      double furthest = 0.0;
-      for (std::size_t a = 0; a < cf.count; ++a)
-        furthest = std::max(furthest, std::abs(glm::dot(cf.normal, cull.vertices[cf.first + a]) + cf.offset));
-      cf.slack = 2.0 * furthest / std::abs(cf.normal[prep[f].axis]) + 1e-12 * cull.diameter;
+      // The lift moves a vertex along the chart axis k by its distance to the exact plane / |n_k|;
+      // that distance is the double one plus the normal's error times the vertex's reach.
+      double furthest = 0.0, reach = 0.0;
+      for (std::size_t a = 0; a < cf.count; ++a) {
+        const glm::dvec3& p = cull.vertices[cf.first + a];
+        furthest = std::max(furthest, std::abs(glm::dot(cf.normal, p) + cf.offset));
+        reach = std::max(reach, glm::length(p - centroid));
+      }
+      const double nk = std::abs(cf.normal[prep[f].axis]) - cf.normal_error;
+      cf.slack = nk > 0 ? 2.0 * (furthest + cf.normal_error * 2 * reach) / nk + 1e-12 * cull.diameter
+                        : 2.0 * cull.diameter;
     }
   }
   return cull;

@@ -25,6 +25,9 @@ namespace shadow::exact {
 struct CullFace {
   std::size_t first = 0, count = 0;  ///< range in CullScene::vertices
   glm::dvec3 normal{0.0};            ///< unit normal (front side)
+  /// Rigorous bound on |normal - the exact unit Newell normal| (up to 2: direction unknown).
+  /// Large for thin faces, whose rounded edge vectors lose the normal's direction.
+  double normal_error = 2.0;
   double offset = 0.0;               ///< plane: normal . p + offset = 0 (local frame)
   /// How far the exact engine may move a vertex of this face: faces that are planar only within
   /// tolerance are lifted onto their exact plane; culling must allow for it. 0 if exactly planar.
@@ -165,7 +168,17 @@ class ReceiverCuller {
     }
     const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
     const double scale = D + (lw != 0.0 ? glm::length(lxyz) : 0.0);
-    tests_[0] = {cp.normal, cp.offset, 1e-9 * scale};
+    // Rigorous error bounds (docs/numeric-contract.md, "Culling"). For a scene point p (|p - c|
+    // <= D, c the receiver's centroid): |s(p) - s_exact(p)| <= e_n D + rounding, e_n the
+    // normal's direction bound; the rounding of the centroid, the dot product and the local
+    // frame is under (count + 16) eps D. The 1e-9 margin is only a safety factor on top.
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    const double e_n = cp.normal_error;
+    const double s_error = e_n * D * (1 + 1e-9) + (static_cast<double>(cp.count) + 16) * eps * D;
+    // The light's side: the light (or direction) is within |l - c| <= |l| + D of the centroid.
+    const double light_side_error =
+        lw != 0.0 ? (e_n + 8 * eps) * (glm::length(lxyz) + D) + s_error : e_n + 8 * eps;
+    tests_[0] = {cp.normal, cp.offset, 1e-9 * scale + s_error};
     {
       // The same sides as the exact clip, in the local frame (chart box shifted by the origin).
       const int i = chart_i(fp.axis), j = chart_j(fp.axis);
@@ -176,13 +189,17 @@ class ReceiverCuller {
       const auto sides = box_sides(plane, light_h, light_side, i, j, lo, hi);
       for (int t = 0; t < 4; ++t) {
         const double coef = lxyz[t < 2 ? i : j] - (t % 2 ? hi : lo)[t / 2] * lw;
+        // side = light_side (x_a - m) - coef s(x), |x_a - m| <= D: each factor's error times
+        // the other's size.
+        const double rigorous = light_side_error * D + std::abs(coef) * s_error;
         tests_[1 + t] = {glm::dvec3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3],
-                         1e-9 * (std::abs(light_side) + std::abs(coef)) * scale + 1e-12 * scale * scale};
+                         2 * rigorous + 1e-9 * (std::abs(light_side) + std::abs(coef)) * scale +
+                             1e-12 * scale * scale};
       }
     }
     // The side tests need the light's side of the receiver with the right sign: a grazing light
     // (light_side near zero, where rounding could flip it) keeps only the plane test.
-    count_ = light_side > 1e-7 * (lw != 0.0 ? scale : 1.0) ? tests_.size() : 1;
+    count_ = light_side > 1e-7 * (lw != 0.0 ? scale : 1.0) && light_side > 4 * light_side_error ? tests_.size() : 1;
   }
 
   /// False when face q is certainly outside the receiver's slab, prism or pyramid.

@@ -5,31 +5,38 @@
 #include "exact/exact_checks.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Partition_traits_2.h>
-#include <CGAL/partition_2.h>
+#include <CGAL/Polygon_2.h>
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <glm/common.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <iterator>
-#include <map>
+#include <limits>
+#include <cstdint>
+#include <unordered_map>
 
 namespace shadow::exact {
 namespace {
 
 /// 2 x the signed area vector of a closed polygon (Newell's method), exact.
 Vector3 exact_newell_normal(const std::vector<Point3>& p) {
-  FT nx = 0, ny = 0, nz = 0;
   const std::size_t n = p.size();
+  std::vector<FT> nx, ny, nz;  // summed as balanced trees: shallow lazy DAGs for any n
+  nx.reserve(n);
+  ny.reserve(n);
+  nz.reserve(n);
   for (std::size_t a = 0; a < n; ++a) {
     const Point3& u = p[a];
     const Point3& v = p[(a + 1) % n];
-    nx += (u.y() - v.y()) * (u.z() + v.z());
-    ny += (u.z() - v.z()) * (u.x() + v.x());
-    nz += (u.x() - v.x()) * (u.y() + v.y());
+    nx.push_back((u.y() - v.y()) * (u.z() + v.z()));
+    ny.push_back((u.z() - v.z()) * (u.x() + v.x()));
+    nz.push_back((u.x() - v.x()) * (u.y() + v.y()));
   }
-  return Vector3(nx, ny, nz);
+  return Vector3(balanced_sum(nx), balanced_sum(ny), balanced_sum(nz));
 }
 
 int dominant_axis(const Vector3& n) {
@@ -47,26 +54,162 @@ std::vector<Point3> exact_points(const std::vector<glm::dvec3>& vertices) {
 }
 
 /// Removes vertices exactly collinear with their neighbours, repeatedly, so that every
-/// remaining vertex is a real turn (the faces are simple: validated before).
+/// remaining vertex is a real turn (the faces are simple: validated before). A linked ring and
+/// a work list: each removal re-examines only its two neighbours, so O(n) tests in all.
 template <class Point>
-std::vector<int> drop_collinear(std::vector<int> ring, const std::vector<Point>& chart) {
-  bool changed = true;
-  while (changed && ring.size() >= 3) {
-    changed = false;
-    for (std::size_t a = 0; a < ring.size() && ring.size() >= 3; ++a) {
-      const std::size_t n = ring.size();
-      const Point& prev = chart[ring[(a + n - 1) % n]];
-      const Point& cur = chart[ring[a]];
-      const Point& next = chart[ring[(a + 1) % n]];
-      // On a simple polygon a collinear vertex is "straight on": it adds no area.
-      if (CGAL::collinear(prev, cur, next)) {
-        ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(a));
-        changed = true;
-        --a;
+std::vector<int> drop_collinear(const std::vector<int>& ring, const std::vector<Point>& chart) {
+  const std::size_t n = ring.size();
+  if (n < 3) return ring;
+  std::vector<std::size_t> prev(n), next(n), work(n);
+  std::vector<char> removed(n, 0);
+  for (std::size_t a = 0; a < n; ++a) {
+    prev[a] = (a + n - 1) % n;
+    next[a] = (a + 1) % n;
+    work[a] = n - 1 - a;  // popped in ring order
+  }
+  std::size_t left = n;
+  while (!work.empty() && left >= 3) {
+    const std::size_t a = work.back();
+    work.pop_back();
+    if (removed[a]) continue;
+    // On a simple polygon a collinear vertex is "straight on": it adds no area.
+    if (!CGAL::collinear(chart[ring[prev[a]]], chart[ring[a]], chart[ring[next[a]]])) continue;
+    removed[a] = 1;
+    --left;
+    next[prev[a]] = next[a];
+    prev[next[a]] = prev[a];
+    work.push_back(next[a]);
+    work.push_back(prev[a]);
+  }
+  std::vector<int> out;
+  for (std::size_t a = 0; a < n; ++a)
+    if (!removed[a]) out.push_back(ring[a]);
+  return out;
+}
+
+/// Convex pieces of a simple polygon (indices into `chart`, counter-clockwise, no collinear
+/// vertices) that tile it, by Hertel-Mehlhorn: a constrained Delaunay triangulation (O(n log n)
+/// expected), then every diagonal whose removal keeps both of its ends strictly convex is
+/// removed. The test at a vertex looks only at the diagonal's neighbours in the vertex's fan
+/// (linked lists), so the merge is O(n). (CGAL's approx_convex_partition_2 took 30 s for a
+/// comb of 8,000 vertices: its non-Delaunay constrained triangulation is quadratic there.)
+template <class K>
+std::vector<std::vector<int>> convex_partition(const std::vector<int>& ring, const std::vector<typename K::Point_2>& chart) {
+  using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
+  using Fbi = CGAL::Triangulation_face_base_with_info_2<int, K>;
+  using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
+  using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+  using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_tag>;
+  const std::size_t n = ring.size();
+  CDT cdt;
+  std::vector<std::pair<typename K::Point_2, int>> points;
+  points.reserve(n);
+  for (std::size_t a = 0; a < n; ++a) points.emplace_back(chart[ring[a]], static_cast<int>(a));
+  cdt.insert(points.begin(), points.end());
+  std::vector<typename CDT::Vertex_handle> handle(n);
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) handle[v->info()] = v;
+  for (std::size_t a = 0; a < n; ++a) cdt.insert_constraint(handle[a], handle[(a + 1) % n]);
+  // Inside faces: the polygon's edge (a, a + 1) has the inside on its left (counter-clockwise).
+  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
+  std::vector<typename CDT::Face_handle> stack, triangles;
+  for (std::size_t a = 0; a < n; ++a) {
+    typename CDT::Face_handle f;
+    int i;
+    if (!cdt.is_edge(handle[a], handle[(a + 1) % n], f, i)) continue;
+    // Edge (a, a+1) is f's edge opposite i; f lies on its left when f's vertex ccw(i) is a.
+    if (f->vertex(CDT::ccw(i)) != handle[a]) f = f->neighbor(i);
+    stack.push_back(f);
+  }
+  while (!stack.empty()) {
+    const typename CDT::Face_handle f = stack.back();
+    stack.pop_back();
+    if (f->info() >= 0 || cdt.is_infinite(f)) continue;
+    f->info() = static_cast<int>(triangles.size());
+    triangles.push_back(f);
+    for (int e = 0; e < 3; ++e)
+      if (!f->is_constrained(e) && f->neighbor(e)->info() < 0) stack.push_back(f->neighbor(e));
+  }
+  // Each vertex's fan of inside edges, counter-clockwise from its next to its previous vertex.
+  std::vector<std::vector<int>> fan(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    std::vector<int> around;
+    auto c = cdt.incident_vertices(handle[a]), done = c;
+    do {
+      if (!cdt.is_infinite(c)) around.push_back(c->info());
+    } while (++c != done);
+    const int after = static_cast<int>((a + 1) % n), before = static_cast<int>((a + n - 1) % n);
+    const auto start = std::find(around.begin(), around.end(), after);
+    std::rotate(around.begin(), start, around.end());
+    around.resize(static_cast<std::size_t>(std::find(around.begin(), around.end(), before) - around.begin()) + 1);
+    fan[a] = std::move(around);
+  }
+  // Linked lists over each fan; position of (a, b) in a's fan.
+  std::vector<std::size_t> first(n + 1, 0);
+  for (std::size_t a = 0; a < n; ++a) first[a + 1] = first[a] + fan[a].size();
+  std::vector<std::size_t> lprev(first[n]), lnext(first[n]);
+  std::unordered_map<std::uint64_t, std::size_t> position;
+  auto key = [n](std::size_t a, std::size_t b) { return static_cast<std::uint64_t>(a) * n + b; };
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t k = 0; k < fan[a].size(); ++k) {
+      lprev[first[a] + k] = first[a] + k - (k > 0 ? 1 : 0);
+      lnext[first[a] + k] = first[a] + k + (k + 1 < fan[a].size() ? 1 : 0);
+      if (k > 0 && k + 1 < fan[a].size()) position.emplace(key(a, static_cast<std::size_t>(fan[a][k])), first[a] + k);
+    }
+  auto vertex_of = [&](std::size_t a, std::size_t slot) { return fan[a][slot - first[a]]; };
+  auto convex_without = [&](std::size_t a, std::size_t slot) {
+    const int before = vertex_of(a, lprev[slot]), after = vertex_of(a, lnext[slot]);
+    return CGAL::orientation(chart[ring[after]], chart[ring[a]], chart[ring[before]]) == CGAL::LEFT_TURN;
+  };
+  // Union-find over triangles: removing a diagonal joins its two triangles' pieces.
+  std::vector<int> parent(triangles.size());
+  for (std::size_t t = 0; t < parent.size(); ++t) parent[t] = static_cast<int>(t);
+  auto find = [&](int t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  for (const auto& f : triangles)
+    for (int e = 0; e < 3; ++e) {
+      if (f->is_constrained(e)) continue;
+      const auto g = f->neighbor(e);
+      if (g->info() < f->info()) continue;  // each diagonal once
+      const std::size_t a = static_cast<std::size_t>(f->vertex(CDT::ccw(e))->info());
+      const std::size_t b = static_cast<std::size_t>(f->vertex(CDT::cw(e))->info());
+      const std::size_t pa = position.at(key(a, b)), pb = position.at(key(b, a));
+      if (!convex_without(a, pa) || !convex_without(b, pb)) continue;
+      lnext[lprev[pa]] = lnext[pa];
+      lprev[lnext[pa]] = lprev[pa];
+      lnext[lprev[pb]] = lnext[pb];
+      lprev[lnext[pb]] = lprev[pb];
+      parent[find(f->info())] = find(g->info());
+    }
+  // Each piece's boundary: the half-edges of its triangles whose twin is in another piece.
+  std::unordered_map<std::uint64_t, int> successor;  // key(piece root, vertex) -> next vertex
+  std::vector<int> roots, start_of(triangles.size(), -1);
+  for (const auto& f : triangles) {
+    const int r = find(f->info());
+    for (int e = 0; e < 3; ++e) {
+      const auto g = f->neighbor(e);
+      if (!f->is_constrained(e) && find(g->info()) == r) continue;
+      const int a = f->vertex(CDT::ccw(e))->info(), b = f->vertex(CDT::cw(e))->info();
+      successor.emplace(static_cast<std::uint64_t>(r) * n + static_cast<std::uint64_t>(a), b);
+      if (start_of[r] < 0) {
+        start_of[r] = a;
+        roots.push_back(r);
       }
     }
   }
-  return ring;
+  std::sort(roots.begin(), roots.end());
+  std::vector<std::vector<int>> pieces;
+  for (int r : roots) {
+    std::vector<int> piece;
+    int v = start_of[r];
+    do {
+      piece.push_back(ring[v]);
+      v = successor.at(static_cast<std::uint64_t>(r) * n + static_cast<std::uint64_t>(v));
+    } while (v != start_of[r] && piece.size() <= n);
+    pieces.push_back(std::move(piece));
+  }
+  return pieces;
 }
 
 template <class Point>
@@ -115,7 +258,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
 
   std::vector<int> ring(count);
   for (std::size_t a = 0; a < count; ++a) ring[a] = static_cast<int>(a);
-  ring = drop_collinear(std::move(ring), chart);
+  ring = drop_collinear(ring, chart);
   if (ring.size() < 3) {
     prep.degenerate = true;
     return prep;
@@ -163,22 +306,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
     prep.convex_pieces.push_back(ring);
   } else {
     // Hertel-Mehlhorn partition: diagonals only, so pieces reuse the face's own vertices.
-    using Traits = CGAL::Partition_traits_2<K>;
-    std::vector<Traits::Point_2> ring_points;
-    std::map<std::pair<double, double>, int> index_of;
-    for (int v : ring) {
-      ring_points.push_back(chart[v]);
-      index_of.emplace(std::make_pair(chart[v].x(), chart[v].y()), v);
-    }
-    std::vector<Traits::Polygon_2> pieces;
-    CGAL::approx_convex_partition_2(ring_points.begin(), ring_points.end(),
-                                    std::back_inserter(pieces), Traits());
-    for (const Traits::Polygon_2& piece : pieces) {
-      std::vector<int> indices;
-      for (auto it = piece.vertices_begin(); it != piece.vertices_end(); ++it)
-        indices.push_back(index_of.at({it->x(), it->y()}));
-      prep.convex_pieces.push_back(std::move(indices));
-    }
+    prep.convex_pieces = convex_partition<K>(ring, chart);
   }
   return prep;
 }
@@ -199,21 +327,58 @@ ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePre
     // the Newell normal and lift every vertex onto it along the chart axis. The chart
     // coordinates stay the input doubles (docs/numeric-contract.md).
     face.normal = exact_newell_normal(face.vertices);
-    FT sx = 0, sy = 0, sz = 0;
+    std::vector<FT> xs, ys, zs;
     for (const Point3& p : face.vertices) {
-      sx += p.x();
-      sy += p.y();
-      sz += p.z();
+      xs.push_back(p.x());
+      ys.push_back(p.y());
+      zs.push_back(p.z());
     }
+    const FT sx = balanced_sum(xs), sy = balanced_sum(ys), sz = balanced_sum(zs);
     const FT count = static_cast<int>(face.vertices.size());
     face.offset = -(face.normal.x() * sx + face.normal.y() * sy + face.normal.z() * sz) / count;
     for (Point3& p : face.vertices) p = lift(to_chart(p, k), face, k);
   }
   for (int v : prep.chart_ring) face.chart.push_back(to_chart(face.vertices[v], k));
-  face.chart_area = face.chart.area();
+  face.chart_area = polygon_area(face.chart);
   const FT nk = face.normal[k];
   face.area_scale_squared = face.normal.squared_length() / (nk * nk);
   return face;
+}
+
+bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<glm::dvec3> kept;
+  kept.reserve(polygon.size());
+  for (const glm::dvec3& v : polygon)
+    if (kept.empty() || v != kept.back()) kept.push_back(v);
+  while (kept.size() > 1 && kept.back() == kept.front()) kept.pop_back();
+  polygon.swap(kept);
+  if (polygon.size() < 3) return false;
+  for (const glm::dvec3& v : polygon)
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return false;
+  const int i = chart_i(k), j = chart_j(k);
+  CGAL::Polygon_2<K> chart;
+  for (const glm::dvec3& v : polygon) chart.push_back(K::Point_2(v[i], v[j]));
+  // Distinct chart points (a repeat is a touch, not simple), then a simplicity sweep.
+  std::vector<K::Point_2> sorted(chart.vertices_begin(), chart.vertices_end());
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
+  if (!chart.is_simple()) return false;
+  if (chart.orientation() == CGAL::COLLINEAR) return false;
+  // Non-zero area is not enough for a user's double arithmetic: a triangle of 1e-33 m^2 with
+  // distinct vertices has an exact area but a shoelace in doubles gets 0 or noise. Ask that the
+  // shoelace relative to the first vertex, in doubles, is non-zero beyond its rounding bound
+  // ((n + 4) eps times the sum of its terms' magnitudes).
+  double twice_area = 0, magnitude = 0;
+  const glm::dvec3& o = polygon[0];
+  for (std::size_t a = 1; a + 1 < polygon.size(); ++a) {
+    const double ux = polygon[a][i] - o[i], uy = polygon[a][j] - o[j];
+    const double vx = polygon[a + 1][i] - o[i], vy = polygon[a + 1][j] - o[j];
+    twice_area += ux * vy - uy * vx;
+    magnitude += std::abs(ux * vy) + std::abs(uy * vx);
+  }
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  return std::abs(twice_area) > (static_cast<double>(polygon.size()) + 4) * eps * magnitude;
 }
 
 Point3 lift(const Point2& c, const ExactFace& face, int k) {

@@ -3,6 +3,8 @@
 // so that it can be shared between threads and used by code that does not include CGAL.
 #pragma once
 
+#include <glm/vec3.hpp>
+
 #include <array>
 #include <vector>
 
@@ -30,5 +32,14 @@ struct FacePrep {
 /// counter-clockwise exactly when the normal's k component is positive.
 inline int chart_i(int k) { return (k + 1) % 3; }
 inline int chart_j(int k) { return (k + 2) % 3; }
+
+/// Makes a fragment's polygon of doubles (on a face whose chart drops axis k) fit the output
+/// contract: removes consecutive repeated vertices (cyclically; rounding can merge neighbours)
+/// and says whether what remains is one simple polygon with at least 3 vertices and non-zero
+/// area, decided with exact predicates on the doubles in the chart (simple there implies simple
+/// in 3D; non-zero chart area implies non-zero 3D area), whose area computed in doubles (the
+/// shoelace relative to its first vertex) is certainly non-zero too. O(n log n). Defined in
+/// exact_faces.cpp.
+bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k);
 
 }  // namespace shadow::exact

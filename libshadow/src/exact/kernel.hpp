@@ -12,6 +12,7 @@
 #include <mpfr.h>
 
 #include <type_traits>
+#include <vector>
 
 namespace shadow::exact {
 
@@ -34,6 +35,33 @@ struct Affine3 {
     return a.x() * p.x() + a.y() * p.y() + a.z() * p.z() + b;
   }
 };
+
+/// The sum of `terms` added as a balanced binary tree (`terms` is consumed). A running lazy sum
+/// of n terms is a DAG n deep, and evaluating it exactly recurses n frames deep: a face of
+/// 100,000 vertices overflowed the stack. Balanced, the depth is log2(n).
+inline FT balanced_sum(std::vector<FT>& terms) {
+  if (terms.empty()) return FT(0);
+  for (std::size_t width = 1; width < terms.size(); width *= 2)
+    for (std::size_t a = 0; a + width < terms.size(); a += 2 * width) terms[a] = terms[a] + terms[a + width];
+  return terms[0];
+}
+
+/// Signed area (counter-clockwise positive) of the polygon through points [begin, end), summed
+/// as a balanced tree (Polygon_2::area() sums one vertex after the other; see balanced_sum).
+template <class It>
+FT polygon_area(It begin, It end) {
+  std::vector<Point2> p(begin, end);
+  if (p.size() < 3) return FT(0);
+  std::vector<FT> terms;
+  terms.reserve(p.size());
+  for (std::size_t a = 0; a < p.size(); ++a) {
+    const Point2& u = p[a];
+    const Point2& v = p[(a + 1) % p.size()];
+    terms.push_back(u.x() * v.y() - v.x() * u.y());
+  }
+  return balanced_sum(terms) / 2;
+}
+inline FT polygon_area(const Polygon2& polygon) { return polygon_area(polygon.vertices_begin(), polygon.vertices_end()); }
 
 namespace detail {
 template <class Rational>

@@ -163,7 +163,7 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
       }
       if (touches_light) continue;
       out.reaches_window |= cut_by_window;
-      const CGAL::Sign orientation = CGAL::sign(image.area());
+      const CGAL::Sign orientation = CGAL::sign(polygon_area(image));
       if (orientation == CGAL::ZERO) continue;  // edge-on to the light
       if (orientation == CGAL::NEGATIVE) image.reverse_orientation();
       images.push_back(std::move(image));
@@ -180,11 +180,11 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
   const FT nk(n[k]), ni(n[i]), nj(n[j]), cc(c);
   const FT scale_squared = FT(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) / (nk * nk);
   const bool flipped = plane.normal[k] < 0;  // the chart sees the plane clockwise
-  FT total = 0;
+  std::vector<FT> region_areas;  // summed as a balanced tree (kernel.hpp, balanced_sum)
   std::vector<Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
     cells.clear();
-    total += region_area(regions[r]);
+    region_areas.push_back(region_area(regions[r]));
     append_simple_cells(regions[r], cells);
     for (const Polygon2& cell : cells) {
       std::vector<glm::dvec3> polygon;
@@ -195,13 +195,13 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
         x[k] = CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
         polygon.push_back(x);
       }
-      if (flipped == CGAL::is_positive(cell.area())) std::reverse(polygon.begin(), polygon.end());
+      if (flipped == CGAL::is_positive(polygon_area(cell))) std::reverse(polygon.begin(), polygon.end());
       out.polygons.push_back(std::move(polygon));
       out.region_id.push_back(r);
-      out.polygon_area.push_back(area_3d(CGAL::abs(cell.area()), scale_squared));
+      out.polygon_area.push_back(area_3d(CGAL::abs(polygon_area(cell)), scale_squared));
     }
   }
-  out.area = area_3d(total, scale_squared);
+  out.area = area_3d(balanced_sum(region_areas), scale_squared);
   return out;
 }
 

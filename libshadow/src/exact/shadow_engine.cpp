@@ -268,7 +268,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       }
       if (w.poly2.size() < 3) continue;
       Polygon2 projected(w.poly2.begin(), w.poly2.end());
-      if (CGAL::sign(projected.area()) != CGAL::POSITIVE) continue;  // flat: edge-on solid
+      if (CGAL::sign(polygon_area(projected)) != CGAL::POSITIVE) continue;  // flat: edge-on solid
       shadows.push_back(std::move(projected));
       ++w.stats.casting_pairs;
       continue;
@@ -340,7 +340,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
       }
       if (w.poly2.size() < 3) continue;
       Polygon2 projected(w.poly2.begin(), w.poly2.end());
-      const CGAL::Sign orientation = CGAL::sign(projected.area());
+      const CGAL::Sign orientation = CGAL::sign(polygon_area(projected));
       if (orientation == CGAL::ZERO) continue;  // the caster is edge-on to the light
       if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
       shadows.push_back(std::move(projected));
@@ -369,8 +369,9 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
     if (!fp.chart_is_box) shadow_set.intersection(P.chart);
     shadow_set.polygons_with_holes(std::back_inserter(shadow_regions));
   }
-  FT shadow_chart_area = 0;
-  for (const PolygonWithHoles2& r : shadow_regions) shadow_chart_area += region_area(r);
+  std::vector<FT> region_areas;
+  for (const PolygonWithHoles2& r : shadow_regions) region_areas.push_back(region_area(r));
+  const FT shadow_chart_area = balanced_sum(region_areas);
   const FT lit_chart_area = P.chart_area - shadow_chart_area;
   out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
   out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
@@ -382,33 +383,52 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_receiver(
   lit_set.polygons_with_holes(std::back_inserter(lit_regions));
 
   std::size_t fragment_id = 0;
-  std::vector<Polygon2> cells;
+  std::vector<Polygon2> cells, triangles;
+  std::vector<FT> dropped;  // exact chart areas of cells too thin to write (see below)
+  // One cell as a fragment, if its vertices rounded to doubles still make one simple polygon of
+  // non-zero area (the output contract); false, writing nothing, otherwise.
+  auto write = [&](const Polygon2& cell, const FT& cell_area, bool lit) {
+    Fragment fragment;
+    fragment.face_id = face_id;
+    fragment.light_id = light_id;
+    fragment.fragment_id = fragment_id;
+    fragment.lit = lit;
+    fragment.area = area_3d(CGAL::abs(cell_area), P.area_scale_squared);
+    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+      const Point3 p = lift(*v, P, fp.axis);
+      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    }
+    // The chart sees the face clockwise when flipped: restore the face's orientation.
+    if (fp.flipped == CGAL::is_positive(cell_area)) std::reverse(fragment.polygon.begin(), fragment.polygon.end());
+    if (!clean_double_polygon(fragment.polygon, fp.axis)) return false;
+    item.fragments.push_back(std::move(fragment));
+    return true;
+  };
   auto emit = [&](const std::vector<PolygonWithHoles2>& regions, bool lit) {
     for (const PolygonWithHoles2& region : regions) {
       cells.clear();
       append_simple_cells(region, cells);
-      for (const Polygon2& cell : cells) {
-        Fragment fragment;
-        fragment.face_id = face_id;
-        fragment.light_id = light_id;
-        fragment.fragment_id = fragment_id;
-        fragment.lit = lit;
-        fragment.area = area_3d(CGAL::abs(cell.area()), P.area_scale_squared);
-        for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-          const Point3 p = lift(*v, P, fp.axis);
-          fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
-                                        CGAL::to_double(p.z()));
+      const std::size_t written = item.fragments.size();
+      for (Polygon2& cell : cells) {
+        const FT cell_area = polygon_area(cell);
+        if (write(cell, cell_area, lit)) continue;
+        // Rounding broke the cell (a sliver a few ulps wide, or a spike that now crosses an
+        // edge): write its triangles instead, and leave out those that collapse, accounting
+        // for their exact area in dropped_area.
+        if (CGAL::is_negative(cell_area)) cell.reverse_orientation();
+        triangles.clear();
+        triangulate_region(PolygonWithHoles2(cell), triangles);
+        for (const Polygon2& t : triangles) {
+          const FT t_area = polygon_area(t);
+          if (!write(t, t_area, lit)) dropped.push_back(CGAL::abs(t_area));
         }
-        // The chart sees the face clockwise when flipped: restore the face's orientation.
-        if (fp.flipped == CGAL::is_positive(cell.area()))
-          std::reverse(fragment.polygon.begin(), fragment.polygon.end());
-        item.fragments.push_back(std::move(fragment));
       }
-      ++fragment_id;
+      if (item.fragments.size() > written) ++fragment_id;  // ids stay consecutive
     }
   };
   emit(lit_regions, true);
   emit(shadow_regions, false);
+  if (!dropped.empty()) out.dropped_area = area_3d(balanced_sum(dropped), P.area_scale_squared);
   return item;
 }
 

@@ -678,7 +678,8 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
       } else {
         // A lifted caster nearly edge-on to the light: leave the receiver to the exact engine.
         const glm::dvec3 l = light.position - cull.origin;
-        if (std::abs(glm::dot(cq.normal, l) + cq.offset) <= 1e-9 * (glm::length(l) + cull.diameter) + cq.slack)
+        if (std::abs(glm::dot(cq.normal, l) + cq.offset) <=
+            (1e-9 + cq.normal_error) * (glm::length(l) + cull.diameter) + cq.slack)
           return false;
       }
     }
@@ -865,14 +866,18 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
         }
         // Cells are counter-clockwise in the chart; the chart sees a flipped face clockwise.
         if (fp.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
+        // The output contract (one simple double polygon of non-zero area a cell): a cell that
+        // breaks it (a sliver rounding collapsed, a boundary touching itself) sends the
+        // receiver to the exact engine, which triangulates such cells (dropped_area).
+        if (!exact::clean_double_polygon(f.polygon, rc.k)) return false;
         fragments.push_back(std::move(f));
       }
       ++fragment_id;
     }
+    return true;
   };
   try {
-    emit(lit_tree, true);
-    emit(shadow_tree, false);
+    if (!emit(lit_tree, true) || !emit(shadow_tree, false)) return false;  // the caller drops what was appended
   } catch (const CL::clipperException&) {
     return false;  // the caller drops what was appended
   }

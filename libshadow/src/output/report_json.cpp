@@ -70,6 +70,8 @@ Json face_json(const Scene& scene, std::size_t face_id,
                       {"faces_light", e->faces_light}});
     // The fast path's certificate: |lit_area - exact lit area| <= this (additive key).
     if (fast) lights.back()["lit_area_error_bound"] = e->lit_area_error_bound;
+    // Cells too thin to be written as double polygons (additive key, only when there are some).
+    if (e->dropped_area > 0) lights.back()["dropped_area"] = e->dropped_area;
   }
   return {{"id", face_id}, {"mesh", mesh}, {"area", entries.front()->area}, {"lights", lights}};
 }
