@@ -1112,6 +1112,13 @@ TEST(LibraryChecks, EngineRejectsANaNVertexOfAnUnvalidatedScene) {
   EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_plane_shadows(scene); }, {"model.obj: line 12"}));
   Scene huge = scene_in_code({{{0, 0, 0}, {1e308, 0, 0}, {0, 1e308, 0}}});
   EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(huge); }, {"face 0", "2^500"}));
+  // A face of a mesh that does not exist: Scene::is_receiver() would read past the meshes.
+  Scene orphan = scene_in_code({kSquare});
+  orphan.faces[0].mesh = 3;
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(orphan); }, {"face 0", "mesh 3", "1 mesh"}));
+  // A zero-length edge, which validate_scene() would have removed.
+  Scene repeated = scene_in_code({{{0, 0, 0}, {1, 0, 0}, {1, 0, 0}, {0, 1, 0}}});
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::compute_shadows(repeated); }, {"face 0", "vertices 1 and 2 coincide"}));
 }
 
 TEST(LibraryChecks, LightsAreResolvedInOnePlaceForFacesAndPlanes) {

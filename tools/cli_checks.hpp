@@ -4,6 +4,8 @@
 // of a double in 309 digits; these say what is expected in a few words.
 #pragma once
 
+#include <shadow/error.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <cerrno>
@@ -72,7 +74,7 @@ inline std::string one_line(std::string text) {
   for (char& c : text)
     if (c == '\n' || c == '\r') c = ' ';
   while (!text.empty() && text.back() == ' ') text.pop_back();
-  return text;
+  return shadow::escape_control(text);  // any other control byte (ESC, NUL) shown as \xHH
 }
 
 /// Exit codes, printed at the end of `shadow --help`.

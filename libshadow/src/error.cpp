@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include <shadow/error.hpp>
+#include <shadow/output.hpp>
 
 #include <utility>
 
@@ -11,9 +12,6 @@ std::string SourceLocation::to_string() const {
   return file + ": " + place;
 }
 
-namespace {
-
-/// Control bytes (a NUL cuts a C string; a newline breaks the one-line rule) as \xHH.
 std::string escape_control(const std::string& text) {
   std::string out;
   out.reserve(text.size());
@@ -31,6 +29,8 @@ std::string escape_control(const std::string& text) {
   return out;
 }
 
+namespace {
+
 std::string format_error(const SourceLocation& where, const std::string& problem) {
   const std::string location = where.to_string();
   return location.empty() ? problem : location + ": " + problem;
@@ -43,6 +43,8 @@ InputError::InputError(SourceLocation where, std::string problem)
                                       escape_control(problem))),
       where_(std::move(where)),
       problem_(escape_control(problem)) {}
+
+OutputError::OutputError(const std::string& message) : std::runtime_error(escape_control(message)) {}
 
 std::string Warning::to_string() const {
   return format_error({escape_control(where.file), escape_control(where.place)}, escape_control(message));

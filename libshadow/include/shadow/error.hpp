@@ -8,6 +8,11 @@
 
 namespace shadow {
 
+/// `text` with control bytes (below 0x20, and 0x7F) written as `\xHH`: a NUL would cut a C
+/// string and a newline would break the one-line rule of error messages. Every InputError,
+/// OutputError and Warning text goes through it; the CLI uses it for its own messages.
+std::string escape_control(const std::string& text);
+
 /// Where a piece of input came from: a file and a place inside it.
 struct SourceLocation {
   std::string file;   ///< path as the user gave it (scene file or mesh file)

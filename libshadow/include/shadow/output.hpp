@@ -18,7 +18,8 @@ namespace shadow {
 /// A file could not be written (the message names the path and the system's reason).
 class OutputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  /// The message with control bytes escaped (escape_control): one line, whatever OUTDIR is called.
+  explicit OutputError(const std::string& message);
 };
 
 /// The identity of a run, written to report.json as its top-level "run" object, so that a

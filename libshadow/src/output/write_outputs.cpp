@@ -79,6 +79,10 @@ class StagedFiles {
     Entry e;
     e.final_path = dir_ / name;
     e.temp = dir_ / ("." + name + ".tmp-" + std::to_string(process_id()));
+    // Whatever is at that name now is not ours (a leftover of an earlier process with our pid, or
+    // a planted symbolic link that the writers would follow): remove the entry itself first.
+    std::error_code ignored;
+    fs::remove(e.temp, ignored);
     entries_.push_back(e);
     return {e.temp, e.final_path};
   }
@@ -159,7 +163,7 @@ class DirectoryLock {
     // The file is removed on release, so the inode locked may have been unlinked by its holder
     // between our open and our flock: then try again on the new file.
     for (int attempt = 0; attempt < 100; ++attempt) {
-      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);  // never through a planted link
       if (fd_ < 0)
         throw OutputError(path_.string() + ": cannot create the lock file: " + std::strerror(errno));
       if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {

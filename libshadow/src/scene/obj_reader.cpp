@@ -5,6 +5,10 @@
 // million-line mesh parses in a fraction of a second.
 #include "scene/obj_reader.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <shadow/scene_io.hpp>
 
 #include <glm/vec3.hpp>
@@ -180,27 +184,47 @@ namespace detail {
 
 std::string read_text_file(const std::filesystem::path& file, const std::string& display_name,
                            std::uintmax_t max_bytes) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
   // Regular files only (symlinks followed): a FIFO would block forever, /dev/zero never ends.
-  const fs::file_status status = fs::status(file, ec);
-  if (fs::is_directory(status)) throw_open_error(display_name, "cannot open", EISDIR);
-  if (fs::exists(status) && !fs::is_regular_file(status))
+  // The file is opened without blocking and its type taken from the open descriptor, so a FIFO
+  // swapped in after a check cannot block the open or the reads.
+  errno = 0;
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw_open_error(display_name, "cannot open", errno != 0 ? errno : ENOENT);
+  struct Closer {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  struct stat info {};
+  if (::fstat(fd, &info) != 0) {
+    const int error = errno;
+    ::close(fd);
+    throw_open_error(display_name, "cannot open", error);
+  }
+  if (S_ISDIR(info.st_mode)) {
+    ::close(fd);
+    throw_open_error(display_name, "cannot open", EISDIR);
+  }
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
     throw InputError({display_name, ""}, "cannot open: not a regular file (a device, FIFO or socket)");
-  const std::uintmax_t size = fs::exists(status) ? fs::file_size(file, ec) : 0;
+  }
   auto too_big = [&] {
     return InputError({display_name, ""}, "file is larger than the limit of " + std::to_string(max_bytes) +
                                               " bytes (LoadOptions::max_file_bytes)");
   };
-  if (!ec && size > max_bytes) throw too_big();
-  struct Closer {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
-  errno = 0;
-  std::unique_ptr<std::FILE, Closer> in(std::fopen(file.c_str(), "rb"));
-  if (!in) throw_open_error(display_name, "cannot open", errno != 0 ? errno : ENOENT);
+  const auto size = static_cast<std::uintmax_t>(info.st_size);
+  if (size > max_bytes) {
+    ::close(fd);
+    throw too_big();
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
+  std::unique_ptr<std::FILE, Closer> in(::fdopen(fd, "rb"));
+  if (!in) {
+    const int error = errno;
+    ::close(fd);
+    throw_open_error(display_name, "cannot open", error != 0 ? error : EIO);
+  }
   std::string text;
-  if (!ec) text.reserve(static_cast<std::size_t>(size));
+  text.reserve(static_cast<std::size_t>(size));
   char buffer[1 << 16];
   std::size_t n = 0;
   while ((n = std::fread(buffer, 1, sizeof buffer, in.get())) > 0) {
