@@ -20,6 +20,7 @@
 #include <fstream>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -415,6 +416,50 @@ TEST(SceneLoading, AllowsMaterialsCameraCommentAndSchemaKeys) {
   })");
   EXPECT_EQ(scene.faces.size(), 1u);
   EXPECT_EQ(scene.planes.size(), 1u);
+}
+
+TEST(SceneLoading, ReadsTheCameraKeyByKey) {
+  const std::string sun = R"({"name": "sun", "type": "directional", "to_light": [0, 0, 1]})";
+  EXPECT_FALSE(parse(minimal_scene()).camera.has_value());
+
+  const Scene full = parse(minimal_scene(
+      sun, R"(, "camera": {"eye": [1, 2, 3], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 45, "_why": "x"})"));
+  ASSERT_TRUE(full.camera.has_value());
+  EXPECT_EQ(full.camera->eye, std::optional<glm::dvec3>(glm::dvec3(1, 2, 3)));
+  EXPECT_EQ(full.camera->target, std::optional<glm::dvec3>(glm::dvec3(0, 0.5, 0)));
+  EXPECT_EQ(full.camera->up, std::optional<glm::dvec3>(glm::dvec3(0, 1, 0)));
+  EXPECT_EQ(full.camera->fov_degrees, std::optional<double>(45.0));
+
+  // Keys that are not given stay empty: the renderer's defaults fill them.
+  const Scene partial = parse(minimal_scene(sun, R"(, "camera": {"fov": 20})"));
+  ASSERT_TRUE(partial.camera.has_value());
+  EXPECT_FALSE(partial.camera->eye.has_value());
+  EXPECT_FALSE(partial.camera->target.has_value());
+  EXPECT_FALSE(partial.camera->up.has_value());
+  EXPECT_EQ(partial.camera->fov_degrees, std::optional<double>(20.0));
+  EXPECT_TRUE(parse(minimal_scene(sun, R"(, "camera": {})")).camera.has_value());
+}
+
+TEST(SceneLoading, BadCameraValuesAreErrorsAtTheirJsonPath) {
+  const std::string sun = R"({"name": "sun", "type": "directional", "to_light": [0, 0, 1]})";
+  auto with_camera = [&](const std::string& camera) {
+    return [json = minimal_scene(sun, R"(, "camera": )" + camera)] { parse(json); };
+  };
+  EXPECT_TRUE(ThrowsInputError(with_camera("[0, 0, 1]"),
+                               {"inline.json", "camera", "expected an object {\"eye\", \"target\", \"up\", \"fov\"}"}));
+  EXPECT_TRUE(ThrowsInputError(with_camera(R"({"pos": [0, 0, 1]})"),
+                               {"inline.json", "camera",
+                                "unknown key \"pos\" (known: \"eye\", \"target\", \"up\", \"fov\")"}));
+  EXPECT_TRUE(ThrowsInputError(with_camera(R"({"eye": [0.5, 0.5]})"),
+                               {"inline.json", "camera.eye", "expected 3 numbers [x, y, z]"}));
+  EXPECT_TRUE(ThrowsInputError(with_camera(R"({"target": "origin"})"),
+                               {"inline.json", "camera.target", "expected 3 numbers [x, y, z]"}));
+  EXPECT_TRUE(ThrowsInputError(with_camera(R"({"up": [0, null, 1]})"),
+                               {"inline.json", "camera.up[1]", "expected a finite number"}));
+  EXPECT_TRUE(ThrowsInputError(with_camera(R"({"fov": 0.5})"),
+                               {"inline.json", "camera.fov", "expected a vertical view angle in degrees, in [1, 170]"}));
+  EXPECT_TRUE(ThrowsInputError(with_camera(R"({"fov": "wide"})"),
+                               {"inline.json", "camera.fov", "expected a vertical view angle in degrees, in [1, 170]"}));
 }
 
 TEST(SceneLoading, MeshWithoutFacesLoadsWithAWarning) {

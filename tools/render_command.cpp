@@ -8,8 +8,6 @@
 
 #include <shadow/shadow.hpp>
 
-#include <nlohmann/json.hpp>
-
 #include <unistd.h>
 
 #include <cerrno>
@@ -19,8 +17,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -49,45 +45,15 @@ bool on_path(const std::string& program) {
 
 glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
-/// The scene file's optional "camera" object: {"eye", "target", "up": [x, y, z], "fov": degrees},
-/// each key optional. The library ignores the key; only pictures use it. The scene has been
-/// loaded (and so read and parsed) already.
-void apply_scene_camera(const std::string& scene_file, shadow::render::Camera& camera) {
-  std::ifstream in(scene_file, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  const nlohmann::json document = nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/false);
-  if (!document.is_object() || !document.contains("camera")) return;
-  const nlohmann::json& c = document["camera"];
-  auto fail = [&](const std::string& place, const std::string& problem) {
-    throw shadow::InputError({scene_file, place}, problem);
-  };
-  if (!c.is_object()) fail("camera", "expected an object {\"eye\", \"target\", \"up\", \"fov\"}");
-  auto vec3 = [&](const char* key, glm::dvec3& out) {
-    if (!c.contains(key)) return;
-    const nlohmann::json& v = c[key];
-    if (!v.is_array() || v.size() != 3) fail(std::string("camera.") + key, "expected 3 numbers [x, y, z]");
-    for (std::size_t i = 0; i < 3; ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        fail("camera." + std::string(key) + "[" + std::to_string(i) + "]", "expected a finite number");
-      out[static_cast<int>(i)] = v[i].get<double>();
-    }
-  };
-  for (const auto& [key, value] : c.items()) {
-    (void)value;
-    if (key.empty() || key[0] == '_' || key[0] == '$') continue;
-    if (key != "eye" && key != "target" && key != "up" && key != "fov")
-      fail("camera", "unknown key \"" + key + "\" (known: \"eye\", \"target\", \"up\", \"fov\")");
-  }
-  vec3("eye", camera.eye);
-  vec3("target", camera.target);
-  vec3("up", camera.up);
-  if (c.contains("fov")) {
-    const nlohmann::json& fov = c["fov"];
-    if (!fov.is_number() || !(fov.get<double>() >= 1.0 && fov.get<double>() <= 170.0))
-      fail("camera.fov", "expected a vertical view angle in degrees, in [1, 170]");
-    camera.fov_degrees = fov.get<double>();
-  }
+/// The scene file's "camera" (parsed and checked by load_scene): each key it gives replaces
+/// the default view's.
+void apply_scene_camera(const shadow::Scene& scene, shadow::render::Camera& camera) {
+  if (!scene.camera) return;
+  const shadow::Camera& given = *scene.camera;
+  if (given.eye) camera.eye = *given.eye;
+  if (given.target) camera.target = *given.target;
+  if (given.up) camera.up = *given.up;
+  if (given.fov_degrees) camera.fov_degrees = *given.fov_degrees;
 }
 
 }  // namespace
@@ -197,7 +163,7 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.lighting.ambient_intensity = args.ambient;
   options.shade.lighting.back_intensity = args.back_intensity;
   options.shade.camera = sr::default_camera(scene, static_cast<double>(args.width) / args.height);
-  apply_scene_camera(args.scene, options.shade.camera);  // the scene's "camera", then the options
+  apply_scene_camera(scene, options.shade.camera);  // the scene's "camera", then the options
   if (!args.target.empty()) options.shade.camera.target = to_vec3(args.target);
   if (!args.eye.empty()) options.shade.camera.eye = to_vec3(args.eye);
   if (!args.up.empty()) options.shade.camera.up = to_vec3(args.up);

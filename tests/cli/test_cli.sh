@@ -184,6 +184,18 @@ if [[ -f "$EXAMPLES/default/scene.json" ]]; then
   expect_success example_default_scene "$EXAMPLES/default/scene.json" --quiet
 fi
 
+# The scene's camera is read and checked by the library: a malformed one stops `shadow compute` too.
+mkdir -p "$WORK/badcam"
+cat >"$WORK/badcam/scene.json" <<'EOF'
+{
+  "meshes": [{"name": "ground", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]]}],
+  "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 1]}],
+  "camera": {"eye": [0.5, 0.5, 2], "fov": 200}
+}
+EOF
+expect_input_error compute_bad_scene_camera "$WORK/badcam/scene.json" \
+  "badcam/scene.json: camera.fov: expected a vertical view angle in degrees, in [1, 170]"
+
 # ---- shadow render (built when VTK's OpenGL rendering is available) ----
 if "$SHADOW" render --help >/dev/null 2>&1; then
   # Without DISPLAY the command restarts itself under xvfb-run (when it is installed).

@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,16 @@ struct Plane {
   double window = 0.0;
 };
 
+/// The scene file's `camera`: the view `shadow render` pictures the scene from. Every key is
+/// optional; one that is absent is left to the renderer (its default frames the scene, up
+/// [0, 0, 1], 30 degrees). The shadows do not depend on it.
+struct Camera {
+  std::optional<glm::dvec3> eye;     ///< where the camera stands
+  std::optional<glm::dvec3> target;  ///< the point it looks at
+  std::optional<glm::dvec3> up;      ///< its up direction (any length)
+  std::optional<double> fov_degrees; ///< vertical view angle in degrees, in [1, 170]
+};
+
 /// A whole scene. Face ids are indices into `faces`: meshes in order, faces in file order.
 struct Scene {
   std::vector<Mesh> meshes;
@@ -70,6 +81,8 @@ struct Scene {
   std::vector<Material> materials;  ///< named materials for lighting (scene file `materials`)
   std::filesystem::path source;    ///< the scene file (empty when built in code)
   std::vector<Warning> warnings;   ///< non-fatal findings of loading and validation
+  /// The scene file's `camera` (absent when the file has none, or the scene is built in code).
+  std::optional<Camera> camera;
 
   /// True when face `face_id` belongs to a receiving mesh.
   [[nodiscard]] bool is_receiver(std::size_t face_id) const {

@@ -2,10 +2,13 @@
 // The lighting models of the seed lecture notes (docs/lighting.md cites each equation).
 #include <shadow/lighting.hpp>
 
+#include "lighting/fragment_irradiance.hpp"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace shadow {
 namespace {
@@ -15,6 +18,17 @@ glm::dvec3 unit_or_zero(const glm::dvec3& v) {
   const double length = glm::length(v);
   if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
   return v / length;
+}
+
+/// Newell's normal of a polygon, unit length (zero for a polygon without area).
+glm::dvec3 polygon_normal(const std::vector<glm::dvec3>& polygon) {
+  glm::dvec3 n(0.0);
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const glm::dvec3& a = polygon[i];
+    const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
+    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
+  }
+  return unit_or_zero(n);
 }
 
 bool uses_specular(LightingModel model) {
@@ -36,6 +50,18 @@ double irradiance(const Light& light, const glm::dvec3& point, const glm::dvec3&
   const double r2 = glm::dot(offset, offset);
   if (!(r2 > 0.0)) return 0.0;  // the lamp sits on the point: no direction, no finite answer
   return light.intensity * cosine / r2;
+}
+
+void detail::fragment_irradiance(const Scene& scene, const Fragment& fragment, double* out) {
+  const bool known_light = fragment.light_id < scene.lights.size();
+  const glm::dvec3 normal = fragment.face_id < scene.faces.size()
+                                ? polygon_normal(scene.faces[fragment.face_id].vertices)
+                                : polygon_normal(fragment.polygon);
+  for (const glm::dvec3& p : fragment.polygon) {
+    double value = std::numeric_limits<double>::quiet_NaN();
+    if (known_light) value = fragment.lit ? irradiance(scene.lights[fragment.light_id], p, normal) : 0.0;
+    *out++ = value;
+  }
 }
 
 double attenuation_factor(const Light& light, const glm::dvec3& position, const glm::dvec3& viewer,

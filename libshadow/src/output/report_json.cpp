@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "output/vtk_files.hpp"
+#include "output/names.hpp"
 
 #include <shadow/output.hpp>
 #include <shadow/version.hpp>

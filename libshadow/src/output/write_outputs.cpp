@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "output/vtk_files.hpp"
+#include "output/vtk_datasets.hpp"
+#include "output/vtm_writer.hpp"
+#include "output/vtp_writer.hpp"
 
 #include <shadow/output.hpp>
 

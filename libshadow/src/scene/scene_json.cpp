@@ -271,6 +271,7 @@ class SceneReader {
     read_lights(lights);
     if (const Json* planes = find(document, "planes")) read_planes(*planes);
     if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
+    if (const Json* camera = find(document, "camera")) read_camera(*camera);
 
     for (std::size_t i = 0; i < pending.size(); ++i) load_faces(i, std::move(pending[i]));
     scene_.source = scene_file_;
@@ -556,6 +557,42 @@ class SceneReader {
   }
 
   // -- planes and receivers --
+
+  // -- camera --
+
+  /// The view of `shadow render`; the messages are the ones that tool gave when it read the key.
+  void read_camera(const Json& c) {
+    if (!c.is_object()) fail("camera", "expected an object {\"eye\", \"target\", \"up\", \"fov\"}");
+    for (const auto& [key, value] : c.items()) {
+      (void)value;
+      if (key.empty() || key[0] == '_' || key[0] == '$') continue;
+      if (key != "eye" && key != "target" && key != "up" && key != "fov")
+        fail("camera", "unknown key " + quote(key) + " (known: \"eye\", \"target\", \"up\", \"fov\")");
+    }
+    Camera camera;
+    auto vec3 = [&](const char* key, std::optional<glm::dvec3>& out) {
+      const Json* v = find(c, key);
+      if (v == nullptr) return;
+      const std::string path = member("camera", key);
+      if (!v->is_array() || v->size() != 3) fail(path, "expected 3 numbers [x, y, z]");
+      glm::dvec3 xyz;
+      for (std::size_t i = 0; i < 3; ++i) {
+        const Json& x = (*v)[i];
+        if (!x.is_number() || !std::isfinite(x.get<double>())) fail(element(path, i), "expected a finite number");
+        xyz[static_cast<int>(i)] = x.get<double>();
+      }
+      out = xyz;
+    };
+    vec3("eye", camera.eye);
+    vec3("target", camera.target);
+    vec3("up", camera.up);
+    if (const Json* fov = find(c, "fov")) {
+      if (!fov->is_number() || !(fov->get<double>() >= 1.0 && fov->get<double>() <= 170.0))
+        fail("camera.fov", "expected a vertical view angle in degrees, in [1, 170]");
+      camera.fov_degrees = fov->get<double>();
+    }
+    scene_.camera = camera;
+  }
 
   void read_planes(const Json& planes) {
     require_array(planes, "planes");

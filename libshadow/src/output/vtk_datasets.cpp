@@ -1,18 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "output/vtk_files.hpp"
+#include "output/vtk_datasets.hpp"
 
-#include <shadow/lighting.hpp>
-#include <shadow/output.hpp>
+#include "lighting/fragment_irradiance.hpp"
+#include "output/names.hpp"
+
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
-#include <vtkCommand.h>
 #include <vtkDoubleArray.h>
-#include <vtkErrorCode.h>
-#include <vtkExecutive.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -22,14 +20,9 @@
 #include <vtkType.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
-#include <vtkXMLPolyDataWriter.h>
 
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <limits>
-#include <set>
 #include <unordered_map>
 
 namespace shadow::detail {
@@ -118,81 +111,6 @@ glm::dvec3 unit_or_zero(const glm::dvec3& v) {
   return v / length;
 }
 
-/// Collects VTK's error messages from one object instead of letting them go to stderr:
-/// the caller turns them into one OutputError line.
-class ErrorCollector : public vtkCommand {
- public:
-  static ErrorCollector* New() { return new ErrorCollector; }
-  void Execute(vtkObject*, unsigned long, void* call_data) override {
-    if (call_data != nullptr && message.empty()) message = static_cast<const char*>(call_data);
-  }
-  std::string message;
-};
-
-/// VTK's messages end with a newline and start with "ClassName (0x...): ".
-std::string tidy_vtk_message(std::string message) {
-  while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
-    message.pop_back();
-  const std::size_t colon = message.find("): ");
-  if (colon != std::string::npos) message.erase(0, colon + 3);
-  return message;
-}
-
-}  // namespace
-
-std::string sanitize_array_name(const std::string& name) {
-  std::string out = name;
-  for (char& c : out) {
-    const bool keep = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9');
-    if (!keep) c = '_';
-  }
-  return out;
-}
-
-std::string light_display_name(const Scene& scene, std::size_t light_id) {
-  if (light_id < scene.lights.size()) return scene.lights[light_id].name;
-  return "light" + std::to_string(light_id);
-}
-
-std::vector<std::string> light_array_names(const Scene& scene,
-                                           const std::vector<std::size_t>& light_ids) {
-  std::vector<std::string> names;
-  names.reserve(light_ids.size());
-  std::unordered_map<std::string, int> uses;
-  for (std::size_t id : light_ids) {
-    std::string name = sanitize_array_name(light_display_name(scene, id));
-    if (name.empty()) name = "light" + std::to_string(id);
-    names.push_back(name);
-    ++uses[name];
-  }
-  // Names that clash ("sun 1" and "sun_1") get their light id so no array overwrites another.
-  std::set<std::string> taken;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (uses[names[i]] > 1) names[i] += "_" + std::to_string(light_ids[i]);
-    while (!taken.insert(names[i]).second) names[i] += "_";
-  }
-  return names;
-}
-
-std::vector<std::size_t> lights_with_results(const ShadowResult& result) {
-  std::set<std::size_t> ids;
-  for (const FaceLighting& entry : result.lighting) ids.insert(entry.light_id);
-  return {ids.begin(), ids.end()};
-}
-
-namespace {
-
-/// Newell's normal of a polygon, unit length (zero for a polygon without area).
-glm::dvec3 polygon_normal(const std::vector<glm::dvec3>& polygon) {
-  glm::dvec3 n(0.0);
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const glm::dvec3& a = polygon[i];
-    const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
-  return unit_or_zero(n);
-}
-
 }  // namespace
 
 vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const ShadowResult& result) {
@@ -225,21 +143,14 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
   cd->AddArray(fragment_id);
 
   // Points are not shared between cells, so each point takes the irradiance of its own cell's
-  // light: I max(0, n.l) (/ r^2 for a point light) where lit, 0 in shadow.
+  // light (lighting/fragment_irradiance.hpp).
   std::size_t point_count = 0;
   for (const Fragment& f : fragments) point_count += f.polygon.size();
   auto irradiance = make_array<vtkDoubleArray>("irradiance", point_count);
-  vtkIdType next = 0;
+  double* values = irradiance->GetPointer(0);
   for (const Fragment& f : fragments) {
-    const bool known_light = f.light_id < scene.lights.size();
-    // The face's normal where the face is known (a fragment sliver could tilt its own).
-    const glm::dvec3 normal = f.face_id < scene.faces.size() ? polygon_normal(scene.faces[f.face_id].vertices)
-                                                             : polygon_normal(f.polygon);
-    for (const glm::dvec3& p : f.polygon) {
-      double value = kNaN;  // a light that is not in the scene: nothing to compute it from
-      if (known_light) value = f.lit ? shadow::irradiance(scene.lights[f.light_id], p, normal) : 0.0;
-      irradiance->SetValue(next++, value);
-    }
+    fragment_irradiance(scene, f, values);
+    values += f.polygon.size();
   }
   poly->GetPointData()->AddArray(irradiance);
   // ParaView colours by the active scalars when a file is opened: lit/shadowed is the view
@@ -397,83 +308,6 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   pd->AddArray(color);
   pd->SetActiveVectors("direction");
   return poly;
-}
-
-void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
-                    const std::filesystem::path& shown_as) {
-  vtkNew<vtkXMLPolyDataWriter> writer;
-  // The writer reports the cause (when it knows one); its executive then adds a generic
-  // "returned failure" dump that says nothing useful: keep it off stderr, and out of the message.
-  vtkNew<ErrorCollector> errors;
-  vtkNew<ErrorCollector> pipeline_errors;
-  writer->AddObserver(vtkCommand::ErrorEvent, errors);
-  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
-  writer->SetFileName(path.string().c_str());
-  writer->SetInputData(data);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();  // raw binary: base64 would add a third to the size
-  writer->SetCompressorTypeToZLib();
-  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
-  writer->SetIdTypeToInt64();
-
-  errno = 0;
-  const int ok = writer->Write();
-  const unsigned long code = writer->GetErrorCode();
-  if (ok == 1 && code == vtkErrorCode::NoError) return;
-
-  const int saved_errno = errno;
-  std::string reason = tidy_vtk_message(errors.GetPointer()->message);
-  // VTK quotes the file it opened: that is the temporary name, which means nothing to users.
-  const std::string quoted_path = " \"" + path.string() + "\"";
-  if (const std::size_t at = reason.find(quoted_path); at != std::string::npos)
-    reason.erase(at, quoted_path.size());
-  if (reason.empty() && code != vtkErrorCode::NoError)
-    reason = vtkErrorCode::GetStringFromErrorCode(code);
-  // VTK's codes below its own range are errno values, so the system's reason may be there already.
-  const std::string system_reason = saved_errno != 0 ? std::strerror(saved_errno) : "";
-  if (!system_reason.empty() && reason.find(system_reason) == std::string::npos)
-    reason += (reason.empty() ? "" : ": ") + system_reason;
-  if (reason.empty()) reason = "VTK could not write the file";
-  throw OutputError((shown_as.empty() ? path : shown_as).string() + ": " + reason);
-}
-
-void write_vtm(const std::vector<VtmBlock>& blocks, const std::filesystem::path& path,
-               const std::filesystem::path& shown_as) {
-  // The layout vtkXMLMultiBlockDataWriter of VTK 9.1 produces, with files next to the .vtm
-  // rather than in a subdirectory, so the .vtp files are usable on their own too.
-  std::string xml =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      "header_type=\"UInt64\">\n"
-      "  <vtkMultiBlockDataSet>\n";
-  auto escape = [](const std::string& text) {
-    std::string out;
-    for (char c : text) {
-      switch (c) {
-        case '&': out += "&amp;"; break;
-        case '<': out += "&lt;"; break;
-        case '>': out += "&gt;"; break;
-        case '"': out += "&quot;"; break;
-        default: out += c;
-      }
-    }
-    return out;
-  };
-  for (std::size_t i = 0; i < blocks.size(); ++i) {
-    xml += "    <DataSet index=\"" + std::to_string(i) + "\" name=\"" + escape(blocks[i].name) +
-           "\" file=\"" + escape(blocks[i].file) + "\"/>\n";
-  }
-  xml += "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
-
-  errno = 0;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (out) out.write(xml.data(), static_cast<std::streamsize>(xml.size()));
-  if (out) out.close();
-  if (!out) {
-    const int saved_errno = errno;
-    throw OutputError((shown_as.empty() ? path : shown_as).string() + ": " +
-                      (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
-  }
 }
 
 }  // namespace shadow::detail

@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Internal: the VTK datasets of the output files (written by vtp_writer.hpp).
+// VTK types stay here, out of the public headers.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+
+#include <vtkSmartPointer.h>
+
+class vtkPolyData;
+
+namespace shadow::detail {
+
+/// One polygon cell per fragment; cell arrays face_id, light_id, lit, area, fragment_id; point
+/// array irradiance (from the cell's light; NaN for lights that are not in `scene`).
+vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const ShadowResult& result);
+
+/// Every input face; cell arrays face_id, mesh_id, mesh, receiver, area and, per light with
+/// results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was computed).
+vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result);
+
+/// plane_shadows.vtp: one polygon cell per plane-shadow polygon; cell arrays plane_id, light_id,
+/// region_id, area.
+vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& result);
+
+/// One vertex per light; point arrays light_id, type, to_light, direction, name, intensity, color.
+vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
+
+}  // namespace shadow::detail
