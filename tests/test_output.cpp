@@ -25,15 +25,18 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -755,24 +758,50 @@ TEST_F(OutputTest, AVtkWriteFailureNamesTheFileAndVtksReason) {
   EXPECT_FALSE(fs::exists(root_ / "fragments.vtp"));
 }
 
-TEST_F(OutputTest, AFullDiskIsAnOutputErrorThatSaysSoAndLeavesNoReport) {
-  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full on this system";
-  // Every write to /dev/full fails with ENOSPC: route the fragments' temporary file there.
-  const fs::path temporary = root_ / (".fragments.vtp.tmp-" + std::to_string(getpid()));
-  fs::create_symlink("/dev/full", temporary);
+TEST_F(OutputTest, AFailedWriteIsAnOutputErrorThatSaysSoAndLeavesNoReport) {
+  // Every write past 64 bytes of a regular file fails (EFBIG) under this limit, as on a full
+  // disk: SIGXFSZ ignored, so that write() returns the error instead of killing the process.
   std::ofstream(root_ / "report.json") << "old";
+  rlimit old_limit{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old_limit;
+  small.rlim_cur = 64;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string message;
+  bool thrown = false;
   ::testing::internal::CaptureStderr();
   try {
     shadow::write_outputs(root_, scene_, result_);
-    ADD_FAILURE() << "expected OutputError";
   } catch (const OutputError& e) {
-    const std::string message = e.what();
-    EXPECT_EQ(message.find((root_ / "fragments.vtp").string() + ": "), 0u) << message;
-    EXPECT_NE(message.find(std::strerror(ENOSPC)), std::string::npos) << message;
-    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+    thrown = true;
+    message = e.what();
   }
-  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  const std::string captured = ::testing::internal::GetCapturedStderr();
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  ASSERT_TRUE(thrown) << "expected OutputError";
+  EXPECT_EQ(message.find((root_ / "fragments.vtp").string() + ": "), 0u) << message;
+  EXPECT_NE(message.find(std::strerror(EFBIG)), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  EXPECT_EQ(captured, "");
   EXPECT_TRUE(directory_listing(root_).empty()) << "old report or temporaries left behind";
+}
+
+TEST_F(OutputTest, ATemporaryNameIsNeverFollowedThroughAPlantedLink) {
+  // A symbolic link planted at the name of a temporary file must not make the writer overwrite
+  // what it points to.
+  const fs::path victim = root_.parent_path() / (root_.filename().string() + "-victim.txt");
+  std::ofstream(victim) << "precious";
+  const fs::path temporary = root_ / (".fragments.vtp.tmp-" + std::to_string(getpid()));
+  fs::create_symlink(victim, temporary);
+  shadow::write_outputs(root_, scene_, result_);
+  std::ifstream in(victim);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "precious");
+  EXPECT_TRUE(fs::is_regular_file(root_ / "fragments.vtp"));
+  EXPECT_FALSE(fs::exists(fs::symlink_status(temporary)));
+  fs::remove(victim);
 }
 
 }  // namespace
