@@ -6,7 +6,7 @@
 // lazy values must not be shared between threads.
 #pragma once
 
-#include "exact/face_prep.hpp"
+#include "core/face_prep.hpp"
 #include "exact/kernel.hpp"
 
 #include <shadow/scene.hpp>

@@ -4,7 +4,7 @@
 // Include only from src/exact/*.cpp (CGAL).
 #pragma once
 
-#include "exact/box_sides.hpp"
+#include "geometry/box_sides.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <array>
@@ -130,7 +130,7 @@ inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, con
   frame.front = Affine3{face.normal, face.offset};
   if (light.is_point()) {  // directional lights are clipped to the box in 2D instead
     const std::array<FT, 4> plane{face.normal.x(), face.normal.y(), face.normal.z(), face.offset};
-    const auto sides = box_sides(plane, light.l, light_side, chart_i(k), chart_j(k), prep.chart_min.data(),
+    const auto sides = geometry::box_sides(plane, light.l, light_side, chart_i(k), chart_j(k), prep.chart_min.data(),
                                  prep.chart_max.data());
     for (int t = 0; t < 4; ++t)
       frame.sides[t] = Affine3{Vector3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3]};

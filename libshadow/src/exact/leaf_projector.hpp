@@ -3,7 +3,7 @@
 // exactly planar faces (the common case). Include only from src/exact/*.cpp (CGAL).
 #pragma once
 
-#include "exact/box_sides.hpp"
+#include "geometry/box_sides.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <shadow/scene.hpp>
@@ -52,7 +52,7 @@ class LeafProjector {
     light_side_ = n_[0] * light_[0] + n_[1] * light_[1] + n_[2] * light_[2] + offset_;
     const std::array<mpq_class, 4> plane{n_[0], n_[1], n_[2], offset_};
     const std::array<mpq_class, 4> light_h{light_[0], light_[1], light_[2], mpq_class(1)};
-    const auto sides = box_sides(plane, light_h, light_side_, i_, j_, prep.chart_min.data(), prep.chart_max.data());
+    const auto sides = geometry::box_sides(plane, light_h, light_side_, i_, j_, prep.chart_min.data(), prep.chart_max.data());
     for (int t = 0; t < 4; ++t) {
       for (int a = 0; a < 3; ++a) sides_[t].a[a] = sides[t][a];
       sides_[t].b = sides[t][3];

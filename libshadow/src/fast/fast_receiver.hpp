@@ -6,9 +6,9 @@
 // the exact engine. No CGAL and no Clipper types here: the engine includes this header.
 #pragma once
 
-#include "exact/convex_solids.hpp"
-#include "exact/culling.hpp"
-#include "exact/face_prep.hpp"
+#include "core/convex_solid.hpp"
+#include "core/culling.hpp"
+#include "core/face_prep.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>

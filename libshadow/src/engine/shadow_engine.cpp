@@ -13,17 +13,18 @@
 // bounding box keeps the projection finite and the union small. Everything is done with exact
 // rationals (Epeck) in P's 2D chart; doubles appear only in culling (conservatively) and at
 // the output.
-#include "exact/box_sides.hpp"
+#include "geometry/box_sides.hpp"
 #include "exact/convex_solids.hpp"
-#include "exact/culling.hpp"
+#include "core/culling.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "exact/leaf_projector.hpp"
-#include "exact/parallel.hpp"
-#include "exact/plane_shadows.hpp"
+#include "core/parallel.hpp"
+#include "planes/plane_shadows.hpp"
 #include "exact/regions.hpp"
 #include "fast/fast_receiver.hpp"
-#include "scene/validate.hpp"
+#include "core/input_checks.hpp"
+#include "core/lights.hpp"
 
 #include <shadow/shadows.hpp>
 

@@ -4,8 +4,8 @@
 // error, outside the receiver's slab, prism or pyramid. Whatever passes is decided exactly.
 #pragma once
 
-#include "exact/box_sides.hpp"
-#include "exact/face_prep.hpp"
+#include "geometry/box_sides.hpp"
+#include "core/face_prep.hpp"
 
 #include <shadow/scene.hpp>
 
@@ -186,7 +186,7 @@ class ReceiverCuller {
       const double hi[2] = {fp.chart_max[0] - cull.origin[i], fp.chart_max[1] - cull.origin[j]};
       const std::array<double, 4> plane{cp.normal.x, cp.normal.y, cp.normal.z, cp.offset};
       const std::array<double, 4> light_h{lxyz.x, lxyz.y, lxyz.z, lw};
-      const auto sides = box_sides(plane, light_h, light_side, i, j, lo, hi);
+      const auto sides = geometry::box_sides(plane, light_h, light_side, i, j, lo, hi);
       for (int t = 0; t < 4; ++t) {
         const double coef = lxyz[t < 2 ? i : j] - (t % 2 ? hi : lo)[t / 2] * lw;
         // side = light_side (x_a - m) - coef s(x), |x_a - m| <= D: each factor's error times

@@ -2,7 +2,7 @@
 // Internal entry to the Blinn plane-shadow path with faces already prepared (the engine's).
 #pragma once
 
-#include "exact/face_prep.hpp"
+#include "core/face_prep.hpp"
 
 #include <shadow/shadows.hpp>
 

@@ -10,13 +10,14 @@
 //
 // This path shares no clipping or projection code with the per-face engine on purpose: a face
 // lying in a plane must come out of both with the same shadow, and the tests check that.
-#include "exact/box_sides.hpp"
-#include "exact/culling.hpp"
+#include "geometry/box_sides.hpp"
+#include "core/culling.hpp"
 #include "exact/exact_faces.hpp"
-#include "exact/parallel.hpp"
-#include "exact/plane_shadows.hpp"
+#include "core/parallel.hpp"
+#include "planes/plane_shadows.hpp"
 #include "exact/regions.hpp"
-#include "scene/validate.hpp"
+#include "core/input_checks.hpp"
+#include "core/lights.hpp"
 
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
@@ -113,7 +114,7 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<FacePrep>& prep, 
   const double hi[2] = {frame.centre[i] + window, frame.centre[j] + window};
   // Prism or pyramid from the light over the window: for a bound x_c >= m the plane through the
   // bound's line on the receiving plane and the light is pl (x_c - m) - (l_c - m l_w) s(x) = 0.
-  const std::array<Q4, 4> sides = box_sides(p, l, pl, i, j, lo, hi);
+  const std::array<Q4, 4> sides = geometry::box_sides(p, l, pl, i, j, lo, hi);
 
   // The light's level: p.l - p.x >= 0 (point lights).
   Q4 level;

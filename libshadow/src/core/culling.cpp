@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "exact/culling.hpp"
+#include "core/culling.hpp"
 
 #include <glm/common.hpp>
 
