@@ -5,6 +5,7 @@
 #pragma once
 
 #include "geometry/box_sides.hpp"
+#include "geometry/unit_vector.hpp"
 #include "core/face_prep.hpp"
 
 #include <shadow/scene.hpp>
@@ -41,13 +42,6 @@ struct CullScene {
   std::vector<CullFace> faces;
 };
 
-/// A unit vector along v for any finite non-zero v, even when |v|^2 under- or overflows
-/// (to_light = (1e-200, 0, 1e-200) is a valid direction).
-inline glm::dvec3 unit(glm::dvec3 v) {
-  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  return glm::normalize(v / m);
-}
-
 /// An affine function on local-frame points with the margin below which its sign is unsure.
 struct DoubleAffine {
   glm::dvec3 a{0.0};
@@ -61,7 +55,7 @@ struct DoubleAffine {
 class LightSpaceGrid {
  public:
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light) {
-    const glm::dvec3 d = unit(to_light);
+    const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
@@ -163,7 +157,7 @@ class ReceiverCuller {
       lxyz = light.position - cull.origin;
       lw = 1.0;
     } else {
-      lxyz = unit(light.to_light);
+      lxyz = geometry::unit(light.to_light);
       lw = 0.0;
     }
     const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;

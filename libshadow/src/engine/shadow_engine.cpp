@@ -499,13 +499,7 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<std::vector<Item>>& per_li
     }
   }
   for (const Worker& w : workers) {
-    result.stats.receivers += w.stats.receivers;
-    result.stats.back_facing += w.stats.back_facing;
-    result.stats.candidate_pairs += w.stats.candidate_pairs;
-    result.stats.casting_pairs += w.stats.casting_pairs;
-    result.stats.unshadowed += w.stats.unshadowed;
-    result.stats.fast_exact_fallbacks += w.stats.fast_exact_fallbacks;
-    result.stats.fast_collapsed += w.stats.fast_collapsed;
+    result.stats += w.stats;
   }
   return result;
 }

@@ -3,6 +3,7 @@
 #include "exact/exact_faces.hpp"
 
 #include "exact/face_shape.hpp"
+#include "geometry/newell_normal.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_2.h>
@@ -32,9 +33,10 @@ Vector3 exact_newell_normal(const std::vector<Point3>& p) {
   for (std::size_t a = 0; a < n; ++a) {
     const Point3& u = p[a];
     const Point3& v = p[(a + 1) % n];
-    nx.push_back((u.y() - v.y()) * (u.z() + v.z()));
-    ny.push_back((u.z() - v.z()) * (u.x() + v.x()));
-    nz.push_back((u.x() - v.x()) * (u.y() + v.y()));
+    std::array<FT, 3> term = geometry::newell_term(u.x(), u.y(), u.z(), v.x(), v.y(), v.z());
+    nx.push_back(std::move(term[0]));
+    ny.push_back(std::move(term[1]));
+    nz.push_back(std::move(term[2]));
   }
   return Vector3(balanced_sum(nx), balanced_sum(ny), balanced_sum(nz));
 }
@@ -232,11 +234,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   FacePrep prep;
   const std::size_t count = vertices.size();
-  glm::dvec3 newell(0.0);
-  for (std::size_t a = 0; a < count; ++a) {
-    const glm::dvec3 u = vertices[a] - vertices[0], v = vertices[(a + 1) % count] - vertices[0];
-    newell += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
-  }
+  const glm::dvec3 newell = geometry::newell_normal(vertices, vertices[0]);
   // The dominant axis only needs to be a good chart direction, not exact: its component is at
   // least |n| / sqrt(3), far above rounding error for any face validation accepts.
   const glm::dvec3 an = glm::abs(newell);

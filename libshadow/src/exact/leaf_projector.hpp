@@ -4,6 +4,7 @@
 #pragma once
 
 #include "geometry/box_sides.hpp"
+#include "geometry/clip_convex.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <shadow/scene.hpp>
@@ -165,36 +166,29 @@ class LeafProjector {
     mpq_class a[3], b;
   };
 
-  /// Sutherland-Hodgman clip of poly_ to side(p) >= 0; crossings only on strict sign changes.
+  /// Sutherland-Hodgman clip of poly_ to side(p) >= 0 (geometry/clip_convex.hpp); crossings
+  /// only on strict sign changes.
   void clip(const Side& side) {
     const std::size_t n = poly_.size();
     if (n == 0) return;
     value_.resize(n);
-    bool any_out = false, any_in = false;
     for (std::size_t a = 0; a < n; ++a) {
       value_[a] = side.b;
       for (int c = 0; c < 3; ++c) value_[a] += side.a[c] * poly_[a].v[c];
-      any_out |= sgn(value_[a]) < 0;
-      any_in |= sgn(value_[a]) > 0;
     }
-    if (!any_out) return;
-    if (!any_in) {
-      poly_.clear();
-      return;
+    auto side_of = [&](std::size_t a) { return sgn(value_[a]); };
+    switch (geometry::clip_case(n, side_of)) {
+      case geometry::ClipCase::Inside: return;
+      case geometry::ClipCase::Empty: poly_.clear(); return;
+      case geometry::ClipCase::Cut: break;
     }
-    next_.clear();
-    for (std::size_t a = 0; a < n; ++a) {
-      const std::size_t b = (a + 1) % n;
-      const int sa = sgn(value_[a]), sb = sgn(value_[b]);
-      if (sa >= 0) next_.push_back(poly_[a]);
-      if (sa * sb < 0) {
-        t_ = value_[a] / (value_[a] - value_[b]);
-        QPoint p;
-        for (int c = 0; c < 3; ++c) p.v[c] = poly_[a].v[c] + t_ * (poly_[b].v[c] - poly_[a].v[c]);
-        p.on_plane = poly_[a].on_plane && poly_[b].on_plane;
-        next_.push_back(std::move(p));
-      }
-    }
+    geometry::clip_convex(poly_, side_of, [&](std::size_t a, std::size_t b) {
+      t_ = value_[a] / (value_[a] - value_[b]);
+      QPoint p;
+      for (int c = 0; c < 3; ++c) p.v[c] = poly_[a].v[c] + t_ * (poly_[b].v[c] - poly_[a].v[c]);
+      p.on_plane = poly_[a].on_plane && poly_[b].on_plane;
+      return p;
+    }, next_);
     poly_.swap(next_);
   }
 

@@ -22,6 +22,10 @@
 // final roundings.
 #include "fast/fast_receiver.hpp"
 
+#include "geometry/clip_convex.hpp"
+#include "geometry/newell_normal.hpp"
+#include "geometry/unit_vector.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <polyclipping/clipper.hpp>
@@ -70,24 +74,22 @@ double perimeter(const std::vector<glm::dvec2>& poly) {
   return length;
 }
 
-/// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper).
-/// Crossing points get the bound exactly in coordinate c.
+/// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper)
+/// (geometry/clip_convex.hpp). Crossing points get the bound exactly in coordinate c. In doubles a
+/// vertex is inside or outside (side +1 or -1), never on the boundary: as before the one walk.
 void clip_axis(std::vector<glm::dvec2>& poly, int c, double bound, bool lower, std::vector<glm::dvec2>& scratch) {
-  auto inside = [&](const glm::dvec2& p) { return lower ? p[c] >= bound : p[c] <= bound; };
-  scratch.clear();
-  const std::size_t n = poly.size();
-  for (std::size_t a = 0; a < n; ++a) {
+  auto side = [&](std::size_t a) {
     const glm::dvec2& p = poly[a];
-    const glm::dvec2& q = poly[(a + 1) % n];
-    const bool pin = inside(p), qin = inside(q);
-    if (pin) scratch.push_back(p);
-    if (pin != qin) {
-      const double t = std::clamp((bound - p[c]) / (q[c] - p[c]), 0.0, 1.0);
-      glm::dvec2 x = p + t * (q - p);
-      x[c] = bound;
-      scratch.push_back(x);
-    }
-  }
+    return (lower ? p[c] >= bound : p[c] <= bound) ? 1 : -1;
+  };
+  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+    const glm::dvec2& p = poly[a];
+    const glm::dvec2& q = poly[b];
+    const double t = std::clamp((bound - p[c]) / (q[c] - p[c]), 0.0, 1.0);
+    glm::dvec2 x = p + t * (q - p);
+    x[c] = bound;
+    return x;
+  }, scratch);
   poly.swap(scratch);
 }
 
@@ -96,21 +98,18 @@ struct Hom {
   double x, z, w;
 };
 
-/// Clip of a convex homogeneous polygon to f(p) >= 0 for a linear f.
+/// Clip of a convex homogeneous polygon to f(p) >= 0 for a linear f (geometry/clip_convex.hpp;
+/// side +1 or -1 as in clip_axis).
 template <class F>
 void clip_hom(std::vector<Hom>& poly, F f, std::vector<Hom>& scratch) {
-  scratch.clear();
-  const std::size_t n = poly.size();
-  for (std::size_t a = 0; a < n; ++a) {
-    const Hom& p = poly[a];
-    const Hom& q = poly[(a + 1) % n];
-    const double fp = f(p), fq = f(q);
-    if (fp >= 0) scratch.push_back(p);
-    if ((fp >= 0) != (fq >= 0)) {
-      const double t = std::clamp(fp / (fp - fq), 0.0, 1.0);
-      scratch.push_back({p.x + t * (q.x - p.x), p.z + t * (q.z - p.z), p.w + t * (q.w - p.w)});
-    }
-  }
+  geometry::clip_convex(poly, [&](std::size_t a) { return f(poly[a]) >= 0 ? 1 : -1; },
+                        [&](std::size_t a, std::size_t b) {
+                          const Hom& p = poly[a];
+                          const Hom& q = poly[b];
+                          const double fp = f(p), fq = f(q);
+                          const double t = std::clamp(fp / (fp - fq), 0.0, 1.0);
+                          return Hom{p.x + t * (q.x - p.x), p.z + t * (q.z - p.z), p.w + t * (q.w - p.w)};
+                        }, scratch);
   poly.swap(scratch);
 }
 
@@ -448,12 +447,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
   ShadowStats local;
   ++local.receivers;
   auto commit = [&] {
-    stats.receivers += local.receivers;
-    stats.back_facing += local.back_facing;
-    stats.candidate_pairs += local.candidate_pairs;
-    stats.casting_pairs += local.casting_pairs;
-    stats.unshadowed += local.unshadowed;
-    stats.fast_collapsed += local.fast_collapsed;
+    stats += local;  // local.fast_exact_fallbacks is 0: a fallback never commits
     return true;
   };
   if (fp.degenerate) return commit();
@@ -496,7 +490,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     double rounding = 0, largest = 0;
     for (std::size_t a = 0; a < m; ++a) {
       const glm::dvec3 u = p[a] - p[0], v = p[(a + 1) % m] - p[0];
-      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+      n += geometry::newell_term(u, v);
       rounding += glm::length(u - v) * (glm::length(u) + glm::length(v));
       centroid += p[a];
       largest = std::max({largest, std::abs(p[a].x), std::abs(p[a].y), std::abs(p[a].z)});
@@ -542,7 +536,7 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
     // The light so close to the receiver's plane that s at the light is unsure: exact engine.
     if (facing > 0 && !(rc.light_side > 64 * rc.normal_error * glm::length(rc.light_rel))) return false;
   } else {
-    const glm::dvec3 d = exact::unit(light.to_light);
+    const glm::dvec3 d = geometry::unit(light.to_light);
     const double nd = glm::dot(rc.normal, d);
     if (std::abs(nd) <= 64 * rc.normal_error) return false;  // grazing: exact engine decides
     facing = nd > 0 ? 1 : -1;

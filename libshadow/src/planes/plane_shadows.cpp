@@ -11,6 +11,7 @@
 // This path shares no clipping or projection code with the per-face engine on purpose: a face
 // lying in a plane must come out of both with the same shadow, and the tests check that.
 #include "geometry/box_sides.hpp"
+#include "geometry/clip_convex.hpp"
 #include "core/culling.hpp"
 #include "exact/exact_faces.hpp"
 #include "core/parallel.hpp"
@@ -48,33 +49,24 @@ mpq_class dot4(const Q4& a, const Q4& b) { return a[0] * b[0] + a[1] * b[1] + a[
 /// Value of the affine function (a, b) at a point: a.x + b.
 mpq_class affine(const Q4& f, const Q3& x) { return f[0] * x[0] + f[1] * x[1] + f[2] * x[2] + f[3]; }
 
-/// Sutherland-Hodgman clip of a convex polygon to f >= 0 (crossings only at strict sign
-/// changes, so no duplicate vertices). Returns whether anything was cut away.
+/// Sutherland-Hodgman clip of a convex polygon to f >= 0 (geometry/clip_convex.hpp: crossings
+/// only at strict sign changes, so no duplicate vertices). Returns whether anything was cut away.
 bool clip(std::vector<Q3>& poly, const Q4& f) {
   const std::size_t n = poly.size();
   if (n == 0) return false;
   std::vector<mpq_class> value(n);
-  bool any_out = false, any_in = false;
-  for (std::size_t a = 0; a < n; ++a) {
-    value[a] = affine(f, poly[a]);
-    any_out |= sgn(value[a]) < 0;
-    any_in |= sgn(value[a]) > 0;
-  }
-  if (!any_out) return false;
+  for (std::size_t a = 0; a < n; ++a) value[a] = affine(f, poly[a]);
+  auto side = [&](std::size_t a) { return sgn(value[a]); };
+  const geometry::ClipCase what = geometry::clip_case(n, side);
+  if (what == geometry::ClipCase::Inside) return false;
   std::vector<Q3> out;
-  if (any_in) {
-    for (std::size_t a = 0; a < n; ++a) {
-      const std::size_t b = (a + 1) % n;
-      const int sa = sgn(value[a]), sb = sgn(value[b]);
-      if (sa >= 0) out.push_back(poly[a]);
-      if (sa * sb < 0) {
-        const mpq_class t = value[a] / (value[a] - value[b]);
-        Q3 x;
-        for (int c = 0; c < 3; ++c) x[c] = poly[a][c] + t * (poly[b][c] - poly[a][c]);
-        out.push_back(x);
-      }
-    }
-  }
+  if (what == geometry::ClipCase::Cut)
+    geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+      const mpq_class t = value[a] / (value[a] - value[b]);
+      Q3 x;
+      for (int c = 0; c < 3; ++c) x[c] = poly[a][c] + t * (poly[b][c] - poly[a][c]);
+      return x;
+    }, out);
   poly.swap(out);
   return true;
 }
