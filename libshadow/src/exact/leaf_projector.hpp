@@ -14,12 +14,14 @@
 #include <CGAL/enum.h>
 
 #include <array>
+#include <cassert>
 #include <vector>
 
 namespace shadow::exact {
 
-/// Parallel projection onto an exactly planar receiver, computed directly in GMP rationals from
-/// the input doubles. The results enter CGAL as exact leaves: their exact values are known and
+/// Projection onto an exactly planar receiver, computed directly in GMP rationals from the input
+/// doubles: parallel for a directional light, central for a point light (project_piece picks;
+/// project() and project_piece_parallel() are the directional light's only and assert it). The results enter CGAL as exact leaves: their exact values are known and
 /// their intervals are tight, so when the union or the final area rounding needs exact values
 /// (ties between coordinates are common: boxes have parallel edges) nothing is left to evaluate.
 /// The lazy formula gives the same numbers through a tree of lazy nodes, each evaluated on
@@ -104,8 +106,11 @@ class LeafProjector {
     }
   }
 
-  /// The projection of an input point in front of (or on) the receiver's plane.
+  /// The parallel projection of an input point in front of (or on) the receiver's plane.
+  /// Directional lights only: the shift along the light is set for them alone (a point light's
+  /// points go through project_piece's central projection).
   Point2 project(const glm::dvec3& y) {
+    assert(!point_ && "LeafProjector::project is the parallel projection (directional light)");
     plane_value(y, s_);
     x_ = y[i_];
     x_ -= s_ * shift_i_;
@@ -114,7 +119,10 @@ class LeafProjector {
     return Point2(FT(x_), FT(z_));
   }
 
-  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
+  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs), in
+  /// the chart. A point on the plane is its own projection under any light, so this is right for
+  /// both kinds; the engine calls it on the directional routes (the point light's crossings are
+  /// made in project_piece, before the pyramid clip).
   Point2 crossing(const glm::dvec3& a, const glm::dvec3& b) {
     plane_value(a, s_);
     plane_value(b, t_);
@@ -132,10 +140,11 @@ class LeafProjector {
 
   Point2 chart(const glm::dvec3& y) const { return Point2(y[i_], y[j_]); }
 
-  /// Directional light: the part of a convex piece in front of the receiver (exact signs of
-  /// its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
+  /// Directional light only: the part of a convex piece in front of the receiver (exact signs
+  /// of its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
   void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
                               const std::vector<CGAL::Sign>& sign, std::vector<Point2>& out) {
+    assert(!point_ && "LeafProjector::project_piece_parallel needs a directional light");
     out.clear();
     const std::size_t m = piece.size();
     for (std::size_t a = 0; a < m; ++a) {
