@@ -10,8 +10,10 @@
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
 #include "exact/face_shape.hpp"
+#include "geometry/newell_normal.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -58,9 +60,10 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
     const glm::dvec3& b = vertices[(i + 1) % n];
     const Real ax = Real(a.x) - origin.x, ay = Real(a.y) - origin.y, az = Real(a.z) - origin.z;
     const Real bx = Real(b.x) - origin.x, by = Real(b.y) - origin.y, bz = Real(b.z) - origin.z;
-    nx += (ay - by) * (az + bz);
-    ny += (az - bz) * (ax + bx);
-    nz += (ax - bx) * (ay + by);
+    const std::array<Real, 3> term = geometry::newell_term(ax, ay, az, bx, by, bz);
+    nx += term[0];
+    ny += term[1];
+    nz += term[2];
     cx += ax;
     cy += ay;
     cz += az;
