@@ -2,6 +2,8 @@
 // The lighting models of the seed lecture notes (docs/lighting.md cites each equation).
 #include <shadow/lighting.hpp>
 
+#include "geometry/unit_vector.hpp"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -10,12 +12,7 @@
 namespace shadow {
 namespace {
 
-/// v / |v|, or zero when v has no usable direction.
-glm::dvec3 unit_or_zero(const glm::dvec3& v) {
-  const double length = glm::length(v);
-  if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
-  return v / length;
-}
+using geometry::unit_or_zero;  // v / |v|, or zero when v has no usable direction
 
 bool uses_specular(LightingModel model) {
   return model == LightingModel::Phong || model == LightingModel::BlinnPhong;
