@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "output/vtk_files.hpp"
+#include "geometry/newell_normal.hpp"
+#include "geometry/unit_vector.hpp"
 
 #include <shadow/lighting.hpp>
 #include <shadow/output.hpp>
@@ -111,12 +113,8 @@ Box scene_box(const Scene& scene) {
   return box;
 }
 
-/// v / |v|, or zero when v has no usable direction (validation rejects such lights anyway).
-glm::dvec3 unit_or_zero(const glm::dvec3& v) {
-  const double length = glm::length(v);
-  if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
-  return v / length;
-}
+// v / |v|, or zero when v has no usable direction (validation rejects such lights anyway).
+using geometry::unit_or_zero;
 
 /// Collects VTK's error messages from one object instead of letting them go to stderr:
 /// the caller turns them into one OutputError line.
@@ -184,13 +182,7 @@ namespace {
 
 /// Newell's normal of a polygon, unit length (zero for a polygon without area).
 glm::dvec3 polygon_normal(const std::vector<glm::dvec3>& polygon) {
-  glm::dvec3 n(0.0);
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const glm::dvec3& a = polygon[i];
-    const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
-  return unit_or_zero(n);
+  return unit_or_zero(geometry::newell_normal(polygon));
 }
 
 }  // namespace
