@@ -257,40 +257,37 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
     std::vector<double>& row_xs = row_buffers[t];
     glm::dvec3 batch[kBatch];
     std::size_t filled = 0;
-    {
-      const Task& task = tasks[k];
-      const SampleJob& job = jobs[task.job];
-      const FaceFrame& fr = *job.frame;
-      const Grid& g = grids[task.job];
-      std::uint64_t ns = 0, nl = 0;
-      if (task.row_begin < 0) {
-        // Centre of the bounding rectangle, else the vertex average, else the first vertex.
-        glm::dvec2 c(g.u0 + 0.5 * static_cast<double>(g.nu - 1) * g.h, g.v0 + 0.5 * static_cast<double>(g.nv - 1) * g.h);
-        glm::dvec3 p = fr.origin + c.x * fr.u + c.y * fr.v;
-        ns = 1;
-        nl = test(&p, 1, job);
-      } else {
-        for (std::int64_t r = task.row_begin; r < task.row_end; ++r) {
-          const double v = g.v0 + static_cast<double>(r) * g.h;
-          const glm::dvec3 row_origin = fr.origin + v * fr.v;
-          row_intervals(fr, g, v, row_xs, [&](std::int64_t a, std::int64_t b) {
-            for (std::int64_t c = a; c < b; ++c) {
-              const glm::dvec3 p = row_origin + (g.u0 + static_cast<double>(c) * g.h) * fr.u;
-              ++ns;
-              batch[filled++] = p;
-              if (filled == kBatch) {
-                nl += test(batch, filled, job);
-                filled = 0;
-              }
+    const Task& task = tasks[k];
+    const SampleJob& job = jobs[task.job];
+    const FaceFrame& fr = *job.frame;
+    const Grid& g = grids[task.job];
+    std::uint64_t ns = 0, nl = 0;
+    if (task.row_begin < 0) {
+      // Centre of the bounding rectangle, else the vertex average, else the first vertex.
+      glm::dvec2 c(g.u0 + 0.5 * static_cast<double>(g.nu - 1) * g.h, g.v0 + 0.5 * static_cast<double>(g.nv - 1) * g.h);
+      glm::dvec3 p = fr.origin + c.x * fr.u + c.y * fr.v;
+      ns = 1;
+      nl = test(&p, 1, job);
+    } else {
+      for (std::int64_t r = task.row_begin; r < task.row_end; ++r) {
+        const double v = g.v0 + static_cast<double>(r) * g.h;
+        const glm::dvec3 row_origin = fr.origin + v * fr.v;
+        row_intervals(fr, g, v, row_xs, [&](std::int64_t a, std::int64_t b) {
+          for (std::int64_t c = a; c < b; ++c) {
+            const glm::dvec3 p = row_origin + (g.u0 + static_cast<double>(c) * g.h) * fr.u;
+            ++ns;
+            batch[filled++] = p;
+            if (filled == kBatch) {
+              nl += test(batch, filled, job);
+              filled = 0;
             }
-          });
-        }
-        if (filled > 0) nl += test(batch, filled, job);
-        filled = 0;
+          }
+        });
       }
-      s[job.pair] += ns;
-      l[job.pair] += nl;
+      if (filled > 0) nl += test(batch, filled, job);
     }
+    s[job.pair] += ns;
+    l[job.pair] += nl;
   });
   for (std::size_t k = 0; k < samples.size(); ++k) {
     samples[k] = s[k];
