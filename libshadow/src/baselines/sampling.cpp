@@ -146,7 +146,7 @@ std::vector<std::size_t> selected_lights(const Scene& scene, const std::vector<s
   return out;
 }
 
-unsigned thread_count(unsigned requested) { return exact::resolve_threads(requested); }
+unsigned thread_count(unsigned requested) { return core::resolve_threads(requested); }
 
 bool faces_light(const FaceFrame& frame, const ShiftedLight& light) {
   if (!frame.ok) return false;
@@ -252,7 +252,7 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
   std::vector<BatchTest> tests;
   for (unsigned t = 0; t < workers; ++t) tests.push_back(make_test(t));
   std::vector<std::vector<double>> row_buffers(workers);
-  exact::parallel_for(tasks.size(), workers, [&](unsigned t, std::size_t k) {
+  core::parallel_for(tasks.size(), workers, [&](unsigned t, std::size_t k) {
     const BatchTest& test = tests[t];
     std::vector<double>& row_xs = row_buffers[t];
     glm::dvec3 batch[kBatch];

@@ -104,7 +104,7 @@ void rasterise(DepthMap& map, bool perspective, int row_begin, int row_end) {
 
 void rasterise_all(std::vector<DepthMap>& maps, bool perspective, unsigned threads) {
   // Bands of rows per thread: no two threads write the same texel, no locks.
-  exact::parallel_for(threads, threads, [&](unsigned, std::size_t t) {
+  core::parallel_for(threads, threads, [&](unsigned, std::size_t t) {
     for (DepthMap& map : maps) {
       const int R = map.resolution;
       const int begin = static_cast<int>(static_cast<long long>(R) * static_cast<long long>(t) / threads);

@@ -13,7 +13,7 @@
 #include <limits>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
@@ -51,4 +51,4 @@ bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k) {
   return std::abs(twice_area) > (static_cast<double>(polygon.size()) + 4) * eps * magnitude;
 }
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

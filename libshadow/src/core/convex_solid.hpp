@@ -10,7 +10,7 @@
 #include <array>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 /// A closed convex polyhedron made of scene faces (a box, say), fronts outward. Whatever a
 /// ray crosses it through, it crosses its boundary, so the solid can cast as one polygon: the
@@ -21,4 +21,4 @@ struct ConvexSolid {
   std::vector<std::array<int, 2>> edges;    ///< unique edges (indices into vertices)
 };
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

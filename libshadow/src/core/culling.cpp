@@ -6,7 +6,7 @@
 
 #include <glm/common.hpp>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 SceneFrame scene_frame(const Scene& scene) {
   if (scene.faces.empty()) return {};
@@ -68,4 +68,4 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep)
 }
 
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

@@ -20,7 +20,7 @@
 #include <limits>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 /// A face in a local frame (scene centre subtracted) with a unit normal, for culling.
 struct CullFace {
@@ -274,4 +274,4 @@ SceneFrame scene_frame(const Scene& scene);
 /// The faces in a local frame (scene centre subtracted), with unit normals.
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep);
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

@@ -8,7 +8,7 @@
 #include <array>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 /// What validation and the shadow computation need to know about a face, computed once with
 /// exact predicates and stored without CGAL types.
@@ -42,4 +42,4 @@ inline int chart_j(int k) { return (k + 2) % 3; }
 /// core/clean_polygon.cpp.
 bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k);
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

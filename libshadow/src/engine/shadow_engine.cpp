@@ -64,11 +64,11 @@ const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id
 
 struct ShadowEngine::Impl {
   const Scene* scene = nullptr;
-  std::vector<exact::FacePrep> prep;
+  std::vector<core::FacePrep> prep;
   std::vector<double> face_area;
-  exact::CullScene cull;
+  core::CullScene cull;
 
-  std::vector<exact::ConvexSolid> solids;
+  std::vector<core::ConvexSolid> solids;
   std::vector<int> solid_of;  ///< per face: index into solids, or -1
 
   /// Per-thread state: the exact engine's and the fast path's, and the counts of both.
@@ -98,14 +98,14 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
   // Scenes built in code may not have been validated: NaN or huge coordinates would reach GMP
   // (SIGFPE) or the double culling. One pass over the vertices.
   shadow::detail::check_scene_numbers(scene);
-  threads = exact::checked_threads(threads);
+  threads = core::checked_threads(threads);
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
   impl_->prep.resize(n);
   impl_->face_area.assign(n, 0.0);
-  exact::parallel_for(n, exact::resolve_threads(threads), [&](unsigned, std::size_t f) {
+  core::parallel_for(n, core::resolve_threads(threads), [&](unsigned, std::size_t f) {
     const Face& face = scene.faces[f];
-    exact::FacePrep& prep = impl_->prep[f];
+    core::FacePrep& prep = impl_->prep[f];
     if (face.degenerate || face.vertices.size() < 3) {
       prep.degenerate = true;
       return;
@@ -115,7 +115,7 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
     const exact::ExactFace ef = exact::make_exact_face(face.vertices, prep);
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
   });
-  impl_->cull = exact::make_cull_scene(scene, impl_->prep);
+  impl_->cull = core::make_cull_scene(scene, impl_->prep);
   impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of);
 }
 
@@ -126,7 +126,7 @@ ShadowEngine& ShadowEngine::operator=(ShadowEngine&&) noexcept = default;
 double ShadowEngine::face_area(std::size_t face_id) const { return impl_->face_area.at(face_id); }
 
 std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& options) const {
-  return exact::plane_shadows(*impl_->scene, impl_->prep, options);
+  return planes::plane_shadows(*impl_->scene, impl_->prep, options);
 }
 
 namespace {
@@ -148,7 +148,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   using namespace exact;
   shadow::detail::check_light(light_in, "", "lights[" + std::to_string(light_id) + "]");
   const unsigned threads = static_cast<unsigned>(workers.size());
-  std::optional<LightSpaceGrid> grid;
+  std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);
 
   std::function<void(std::size_t)> report;
@@ -159,7 +159,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   const bool fast = options.arithmetic == Arithmetic::Fast;
   const fast::Context fast_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
   const exact::ExactContext exact_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
-  parallel_for(
+  core::parallel_for(
       receivers.size(), threads,
       [&](unsigned wi, std::size_t r) {
         Worker& w = workers[wi];
@@ -218,7 +218,7 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
   std::vector<std::size_t> receivers;
   for (std::size_t f = 0; f < scene->faces.size(); ++f)
     if (scene->is_receiver(f)) receivers.push_back(f);
-  std::vector<Worker> workers(exact::resolve_threads(exact::checked_threads(options.threads)));
+  std::vector<Worker> workers(core::resolve_threads(core::checked_threads(options.threads)));
   for (Worker& w : workers) {
     w.exact.reset(scene->faces.size(), solids.size());
     if (options.arithmetic == Arithmetic::Fast) w.fast.casters.reset(scene->faces.size(), solids.size());

@@ -227,12 +227,12 @@ bool is_strictly_convex_ccw(const std::vector<int>& ring, const std::vector<Poin
 
 }  // namespace
 
-FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
+core::FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
   // Everything here is decided with Epick's exact predicates on the input doubles (static and
   // interval filters, then an exact fallback): far cheaper than Epeck's lazy constructions,
   // which would have to evaluate exactly every test that comes out zero (planarity tests do).
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  FacePrep prep;
+  core::FacePrep prep;
   const std::size_t count = vertices.size();
   const glm::dvec3 newell = geometry::newell_normal(vertices, vertices[0]);
   // The dominant axis only needs to be a good chart direction, not exact: its component is at
@@ -249,7 +249,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
     k = dominant_axis(exact_normal);
   }
   prep.axis = k;
-  const int i = chart_i(k), j = chart_j(k);
+  const int i = core::chart_i(k), j = core::chart_j(k);
   std::vector<K::Point_2> chart;
   chart.reserve(count);
   for (const glm::dvec3& v : vertices) chart.emplace_back(v[i], v[j]);
@@ -309,7 +309,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
   return prep;
 }
 
-ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePrep& prep) {
+ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
   ExactFace face;
   const int k = prep.axis;
   face.vertices = exact_points(vertices);
@@ -344,7 +344,7 @@ ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePre
 }
 
 Point3 lift(const Point2& c, const ExactFace& face, int k) {
-  const int i = chart_i(k), j = chart_j(k);
+  const int i = core::chart_i(k), j = core::chart_j(k);
   const FT xk = -(face.offset + face.normal[i] * c.x() + face.normal[j] * c.y()) / face.normal[k];
   FT xyz[3];
   xyz[i] = c.x();

@@ -30,7 +30,7 @@ EK::Point_3 epick(const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); }
 
 /// The face's own outline as one fragment (wholly lit or wholly in shadow).
 Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t light_id, bool lit,
-                             double area, const FacePrep& prep, const ExactFace* ef) {
+                             double area, const core::FacePrep& prep, const ExactFace* ef) {
   Fragment fragment;
   fragment.face_id = face_id;
   fragment.light_id = light_id;
@@ -48,7 +48,7 @@ Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t 
 class ExactReceiverJob {
  public:
   ExactReceiverJob(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
-                   const ExactLight& light, const Light& light_in, const LightSpaceGrid* grid, bool polygons,
+                   const ExactLight& light, const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                    ShadowStats& stats)
       : ctx_(ctx), w_(w), face_id_(face_id), light_id_(light_id), light_(light), light_in_(light_in),
         grid_(grid), polygons_(polygons), stats_(stats), face_(ctx.scene->faces[face_id]),
@@ -103,7 +103,7 @@ class ExactReceiverJob {
  private:
   // ---- culling in doubles -------------------------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
-    const ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
+    const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
     const std::vector<std::size_t>& candidates = w_.casters.gather(culler, *ctx_.prep, face_id_, grid_);
     stats_.candidate_pairs += candidates.size();
     return candidates;
@@ -143,10 +143,10 @@ class ExactReceiverJob {
     }
   }
 
-  // ---- a convex solid casts the hull of its projection (see ConvexSolid) --------------------
+  // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
   void cast_convex_solid(int solid) {
     w_.casters.mark_solid_done(solid);
-    const ConvexSolid& cs = (*ctx_.solids)[solid];
+    const core::ConvexSolid& cs = (*ctx_.solids)[solid];
     w_.vertex_sign.resize(cs.vertices.size());
     bool any_front = false;
     for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
@@ -178,7 +178,7 @@ class ExactReceiverJob {
 
   // ---- a caster face, convex piece by convex piece ------------------------------------------
   void cast_face(std::size_t q) {
-    const FacePrep& qp = (*ctx_.prep)[q];
+    const core::FacePrep& qp = (*ctx_.prep)[q];
     const Face& qface = ctx_.scene->faces[q];
     w_.vertex_sign.resize(qface.vertices.size());
     bool any_front = false;
@@ -307,7 +307,7 @@ class ExactReceiverJob {
     }
     // The chart sees the face clockwise when flipped: restore the face's orientation.
     if (fp_.flipped == CGAL::is_positive(cell_area)) std::reverse(fragment.polygon.begin(), fragment.polygon.end());
-    if (!clean_double_polygon(fragment.polygon, fp_.axis)) return false;
+    if (!core::clean_double_polygon(fragment.polygon, fp_.axis)) return false;
     item_.fragments.push_back(std::move(fragment));
     return true;
   }
@@ -340,11 +340,11 @@ class ExactReceiverJob {
   std::size_t face_id_, light_id_;
   const ExactLight& light_;
   const Light& light_in_;
-  const LightSpaceGrid* grid_;
+  const core::LightSpaceGrid* grid_;
   bool polygons_;
   ShadowStats& stats_;
   const Face& face_;
-  const FacePrep& fp_;
+  const core::FacePrep& fp_;
   const bool point_light_;
   EK::Point_3 corner0_, corner1_, corner2_;  ///< the receiver's corner, for input_side
   std::optional<ReceiverFrame> frame_;
@@ -362,7 +362,7 @@ class ExactReceiverJob {
 
 ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
-                                      const Light& light_in, const LightSpaceGrid* grid, bool polygons,
+                                      const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                                       ShadowStats& stats) {
   return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats).run(facing);
 }

@@ -26,17 +26,17 @@ namespace shadow::exact {
 /// What the exact computation reads from the prepared engine (all shared, read-only).
 struct ExactContext {
   const Scene* scene = nullptr;
-  const std::vector<FacePrep>* prep = nullptr;
+  const std::vector<core::FacePrep>* prep = nullptr;
   const std::vector<double>* face_area = nullptr;  ///< exact face areas, rounded once
-  const CullScene* cull = nullptr;
-  const std::vector<ConvexSolid>* solids = nullptr;
+  const core::CullScene* cull = nullptr;
+  const std::vector<core::ConvexSolid>* solids = nullptr;
   const std::vector<int>* solid_of = nullptr;
 };
 
 /// Per-thread exact state. Epeck objects are never shared between threads.
 struct ExactWorker {
   std::vector<std::unique_ptr<ExactFace>> faces;  ///< built on first use
-  CasterCandidates casters;
+  core::CasterCandidates casters;
   std::vector<Point3> poly, scratch;
   std::vector<Point2> poly2, scratch2;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
@@ -64,7 +64,7 @@ struct ReceiverResult {
 /// `facing` at the light (> 0: lit side). Adds to `stats`.
 ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
-                                      const Light& light_in, const LightSpaceGrid* grid, bool polygons,
+                                      const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                                       ShadowStats& stats);
 
 }  // namespace shadow::exact

@@ -96,7 +96,7 @@ struct ReceiverFrame {
   std::array<FT, 2> shift;        ///< directional: l_c / s~(l) for the chart axes c = i, j
 };
 
-inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const ExactLight& light,
+inline ReceiverFrame make_frame(const ExactFace& face, const core::FacePrep& prep, const ExactLight& light,
                          const FT& light_side) {
   ReceiverFrame frame;
   const int k = prep.axis;
@@ -105,13 +105,13 @@ inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, con
   frame.front = Affine3{face.normal, face.offset};
   if (light.is_point()) {  // directional lights are clipped to the box in 2D instead
     const std::array<FT, 4> plane{face.normal.x(), face.normal.y(), face.normal.z(), face.offset};
-    const auto sides = geometry::box_sides(plane, light.l, light_side, chart_i(k), chart_j(k), prep.chart_min.data(),
+    const auto sides = geometry::box_sides(plane, light.l, light_side, core::chart_i(k), core::chart_j(k), prep.chart_min.data(),
                                  prep.chart_max.data());
     for (int t = 0; t < 4; ++t)
       frame.sides[t] = Affine3{Vector3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3]};
   }
   if (!light.is_point()) {
-    frame.shift = {light.l[chart_i(k)] / light_side, light.l[chart_j(k)] / light_side};
+    frame.shift = {light.l[core::chart_i(k)] / light_side, light.l[core::chart_j(k)] / light_side};
   }
   return frame;
 }
@@ -120,7 +120,7 @@ inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, con
 /// the receiver's plane and returns its chart coordinates:  X = (s~ Y - s(Y) l) / (s~ - s(Y) l_w).
 inline Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, const ExactLight& light) {
   const FT s = frame.front(y);
-  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  const int i = core::chart_i(frame.axis), j = core::chart_j(frame.axis);
   if (!light.is_point()) return Point2(y[i] - s * frame.shift[0], y[j] - s * frame.shift[1]);
   const FT w = frame.light_side - s;
   return Point2((frame.light_side * y[i] - s * light.l[i]) / w,
@@ -134,7 +134,7 @@ inline Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, cons
 inline Point2 crossing_in_chart(const Point3& a, const Point3& b, const ReceiverFrame& frame) {
   const FT sa = frame.front(a), sb = frame.front(b);
   const FT t = sa / (sa - sb);
-  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  const int i = core::chart_i(frame.axis), j = core::chart_j(frame.axis);
   return Point2(a[i] + t * (b[i] - a[i]), a[j] + t * (b[j] - a[j]));
 }
 

@@ -28,8 +28,8 @@ namespace shadow::exact {
 /// demand; that evaluation dominated the time.
 class LeafProjector {
  public:
-  LeafProjector(const std::vector<glm::dvec3>& receiver, const FacePrep& prep, const Light& light)
-      : i_(chart_i(prep.axis)), j_(chart_j(prep.axis)), point_(light.type == LightType::Point) {
+  LeafProjector(const std::vector<glm::dvec3>& receiver, const core::FacePrep& prep, const Light& light)
+      : i_(core::chart_i(prep.axis)), j_(core::chart_j(prep.axis)), point_(light.type == LightType::Point) {
     const glm::dvec3& c = receiver[prep.corner[1]];
     const glm::dvec3& next = receiver[prep.corner[2]];
     const glm::dvec3& prev = receiver[prep.corner[0]];

@@ -435,7 +435,7 @@ void simple_cells(const CL::Paths& region, CL::Paths& cells, int depth = 0, bool
 class ReceiverJob {
  public:
   ReceiverJob(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id, const Light& light,
-              const exact::LightSpaceGrid* grid_index, bool polygons, FaceLighting& out,
+              const core::LightSpaceGrid* grid_index, bool polygons, FaceLighting& out,
               std::vector<Fragment>& fragments, ShadowStats& stats)
       : ctx_(ctx), w_(w), scene_(*ctx.scene), prep_(*ctx.prep), cull_(*ctx.cull), face_id_(face_id),
         light_id_(light_id), light_(light), grid_index_(grid_index), polygons_(polygons), face_(scene_.faces[face_id]),
@@ -488,8 +488,8 @@ class ReceiverJob {
   // ---- receiver frame: plane, normal and their error bounds ---------------------------------
   bool set_up_frame() {
     rc_.k = fp_.axis;
-    rc_.i = exact::chart_i(fp_.axis);
-    rc_.j = exact::chart_j(fp_.axis);
+    rc_.i = core::chart_i(fp_.axis);
+    rc_.j = core::chart_j(fp_.axis);
     rc_.flipped = fp_.flipped;
     rc_.lo = fp_.chart_min;
     rc_.hi = fp_.chart_max;
@@ -585,7 +585,7 @@ class ReceiverJob {
 
   // ---- culling: the exact engine's tests ----------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
-    const exact::ReceiverCuller culler(cull_, fp_, face_id_, light_);
+    const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
     const std::vector<std::size_t>& candidates = w_.casters.gather(culler, prep_, face_id_, grid_index_);
     local_.candidate_pairs += candidates.size();
     return candidates;
@@ -664,7 +664,7 @@ class ReceiverJob {
   /// light, exactly planar receiver).
   bool cast_convex_solid(int solid) {
     w_.casters.mark_solid_done(solid);
-    const exact::ConvexSolid& cs = (*ctx_.solids)[solid];
+    const core::ConvexSolid& cs = (*ctx_.solids)[solid];
     vsign_.resize(cs.vertices.size());
     bool any_front = false;
     for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
@@ -707,9 +707,9 @@ class ReceiverJob {
   /// or central projection), or, for pieces nowhere clearly in front, a sliver in the bound or a
   /// nearly coplanar footprint.
   bool cast_face(std::size_t q) {
-    const exact::FacePrep& qp = prep_[q];
+    const core::FacePrep& qp = prep_[q];
     const Face& qface = scene_.faces[q];
-    const exact::CullFace& cq = cull_.faces[q];
+    const core::CullFace& cq = cull_.faces[q];
     if (rc_.point) {
       if (qp.exactly_planar) {
         if (CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
@@ -910,7 +910,7 @@ class ReceiverJob {
         // The output contract (one simple double polygon of non-zero area a cell): a cell that
         // breaks it (a sliver rounding collapsed, a boundary touching itself) sends the
         // receiver to the exact engine, which triangulates such cells (dropped_area).
-        if (!exact::clean_double_polygon(f.polygon, rc_.k)) return false;
+        if (!core::clean_double_polygon(f.polygon, rc_.k)) return false;
         fragments_.push_back(std::move(f));
       }
       ++fragment_id_;
@@ -922,14 +922,14 @@ class ReceiverJob {
   const Context& ctx_;
   Worker& w_;
   const Scene& scene_;
-  const std::vector<exact::FacePrep>& prep_;
-  const exact::CullScene& cull_;
+  const std::vector<core::FacePrep>& prep_;
+  const core::CullScene& cull_;
   std::size_t face_id_, light_id_;
   const Light& light_;
-  const exact::LightSpaceGrid* grid_index_;
+  const core::LightSpaceGrid* grid_index_;
   bool polygons_;
   const Face& face_;
-  const exact::FacePrep& fp_;
+  const core::FacePrep& fp_;
   // Outputs.
   FaceLighting& out_;
   std::vector<Fragment>& fragments_;
@@ -962,7 +962,7 @@ class ReceiverJob {
 }  // namespace
 
 bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
-                      const Light& light, const exact::LightSpaceGrid* grid_index, bool polygons,
+                      const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
                       FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
   return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats).run();
 }

@@ -8,10 +8,10 @@
 
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::planes {
 
-/// compute_plane_shadows with the faces' preparation given (see FacePrep).
-std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<FacePrep>& prep,
+/// compute_plane_shadows with the faces' preparation given (see core::FacePrep).
+std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<core::FacePrep>& prep,
                                        const ShadowOptions& options);
 
-}  // namespace shadow::exact
+}  // namespace shadow::planes
