@@ -251,5 +251,40 @@ TEST(AnalyticShadows, EngineReusesOneSceneForManySunPositions) {
   EXPECT_EQ(engine.face_area(0), 100.0);
 }
 
+// ShadowStats::operator+= adds every counter (the engine sums its workers' counts with it).
+TEST(ShadowStats, PlusEqualsAddsEveryCounter) {
+  ShadowStats a;
+  a.receivers = 1;
+  a.back_facing = 2;
+  a.candidate_pairs = 3;
+  a.casting_pairs = 4;
+  a.unshadowed = 5;
+  a.fast_exact_fallbacks = 6;
+  a.fast_collapsed = 7;
+  ShadowStats b = a;
+  b += a;
+  b += ShadowStats{};
+  EXPECT_EQ(b.receivers, 2u);
+  EXPECT_EQ(b.back_facing, 4u);
+  EXPECT_EQ(b.candidate_pairs, 6u);
+  EXPECT_EQ(b.casting_pairs, 8u);
+  EXPECT_EQ(b.unshadowed, 10u);
+  EXPECT_EQ(b.fast_exact_fallbacks, 12u);
+  EXPECT_EQ(b.fast_collapsed, 14u);
+}
+
+// The total over threads equals the single-threaded count (the workers' stats summed with +=).
+TEST(ShadowStats, ThreadsSumToTheSingleThreadedCounts) {
+  Scene scene = square_over_ground(directional_light("sun", {0.3, 0.2, 1.0}));
+  const ShadowStats one = compute(scene, 1).stats;
+  const ShadowStats four = compute(scene, 4).stats;
+  EXPECT_GT(one.receivers, 0u);
+  EXPECT_EQ(four.receivers, one.receivers);
+  EXPECT_EQ(four.back_facing, one.back_facing);
+  EXPECT_EQ(four.candidate_pairs, one.candidate_pairs);
+  EXPECT_EQ(four.casting_pairs, one.casting_pairs);
+  EXPECT_EQ(four.unshadowed, one.unshadowed);
+}
+
 }  // namespace
 }  // namespace shadow::test

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "render/shaded_mesh.hpp"
 
+#include "geometry/newell_normal.hpp"  // libshadow/src/geometry: header-only, glm only
+#include "geometry/unit_vector.hpp"
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -12,22 +15,10 @@
 namespace shadow::render {
 namespace {
 
-glm::dvec3 unit_or_zero(const glm::dvec3& v) {
-  const double length = glm::length(v);
-  if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
-  return v / length;
-}
+using geometry::unit_or_zero;
 
 /// Newell's normal (not normalised): its length is twice the polygon's area.
-glm::dvec3 newell(const std::vector<glm::dvec3>& polygon) {
-  glm::dvec3 n(0.0);
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const glm::dvec3& a = polygon[i];
-    const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
-  return n;
-}
+glm::dvec3 newell(const std::vector<glm::dvec3>& polygon) { return geometry::newell_normal(polygon); }
 
 struct Triangle {
   glm::dvec3 a, b, c;

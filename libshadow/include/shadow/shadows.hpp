@@ -125,6 +125,18 @@ struct ShadowStats {
   /// Arithmetic::Fast only: cast polygons that collapsed to zero area on the integer grid (their
   /// true area is within the bound; they are dropped).
   std::uint64_t fast_collapsed = 0;
+
+  /// Adds every counter of `other` (per-thread or per-receiver counts summed into a total).
+  ShadowStats& operator+=(const ShadowStats& other) {
+    receivers += other.receivers;
+    back_facing += other.back_facing;
+    candidate_pairs += other.candidate_pairs;
+    casting_pairs += other.casting_pairs;
+    unshadowed += other.unshadowed;
+    fast_exact_fallbacks += other.fast_exact_fallbacks;
+    fast_collapsed += other.fast_collapsed;
+    return *this;
+  }
 };
 
 /// The entry for (face_id, light_id) in `lighting` sorted by (face_id, light_id), as every

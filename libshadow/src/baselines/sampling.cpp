@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "baselines/sampling.hpp"
 
+#include "geometry/bounding_box.hpp"
+#include "geometry/newell_normal.hpp"
+#include "core/parallel.hpp"
+
 #include <shadow/error.hpp>
 
 #include <glm/geometric.hpp>
@@ -19,17 +23,9 @@ const FaceLighting* BaselineResult::find(std::size_t face_id, std::size_t light_
 namespace baselines_detail {
 
 glm::dvec3 scene_centre(const Scene& scene) {
-  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-  bool any = false;
-  for (const Face& f : scene.faces) {
-    if (f.degenerate) continue;
-    for (const glm::dvec3& p : f.vertices) {
-      lo = glm::min(lo, p);
-      hi = glm::max(hi, p);
-      any = true;
-    }
-  }
-  return any ? 0.5 * (lo + hi) : glm::dvec3(0.0);
+  const geometry::BoundingBox box =
+      geometry::faces_bounding_box(scene.faces, [](const Face& f) { return f.degenerate; });
+  return box.any ? box.centre() : glm::dvec3(0.0);
 }
 
 FaceFrame face_frame(const std::vector<glm::dvec3>& vertices, const glm::dvec3& shift) {
@@ -37,11 +33,7 @@ FaceFrame face_frame(const std::vector<glm::dvec3>& vertices, const glm::dvec3& 
   if (vertices.size() < 3) return fr;
   // Newell's normal relative to the first vertex (small numbers, accurate).
   const glm::dvec3 o = vertices[0];
-  glm::dvec3 n(0.0);
-  for (std::size_t a = 0; a < vertices.size(); ++a) {
-    const glm::dvec3 p = vertices[a] - o, q = vertices[(a + 1) % vertices.size()] - o;
-    n += glm::dvec3((p.y - q.y) * (p.z + q.z), (p.z - q.z) * (p.x + q.x), (p.x - q.x) * (p.y + q.y));
-  }
+  const glm::dvec3 n = geometry::newell_normal(vertices, o);
   const double len = glm::length(n);
   if (!(len > 0) || !std::isfinite(len)) return fr;
   fr.n = n / len;
@@ -154,23 +146,12 @@ std::vector<std::size_t> selected_lights(const Scene& scene, const std::vector<s
   return out;
 }
 
-unsigned thread_count(unsigned requested) {
-  if (requested > 0) return requested;
-  const unsigned hw = std::thread::hardware_concurrency();
-  return hw > 0 ? hw : 1;
-}
+unsigned thread_count(unsigned requested) { return core::resolve_threads(requested); }
 
 bool faces_light(const FaceFrame& frame, const ShiftedLight& light) {
   if (!frame.ok) return false;
   if (light.point) return glm::dot(frame.n, light.position - frame.origin) > 0;
   return glm::dot(frame.n, light.to_light) > 0;
-}
-
-void parallel(unsigned threads, const std::function<void(unsigned)>& body) {
-  std::vector<std::thread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(body, t);
-  body(0);
-  for (std::thread& t : pool) t.join();
 }
 
 namespace {
@@ -265,48 +246,48 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
     s[k] = 0;
     l[k] = 0;
   }
-  std::atomic<std::size_t> next{0};
-  parallel(threads, [&](unsigned t) {
-    const auto test = make_test(t);
-    std::vector<double> row_xs;
+  // The one scheduler (core/parallel.hpp): tasks handed out dynamically; per worker a test and
+  // a row buffer, made before the run so that no item allocates them.
+  const unsigned workers = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(tasks.size(), 1))));
+  std::vector<BatchTest> tests;
+  for (unsigned t = 0; t < workers; ++t) tests.push_back(make_test(t));
+  std::vector<std::vector<double>> row_buffers(workers);
+  core::parallel_for(tasks.size(), workers, [&](unsigned t, std::size_t k) {
+    const BatchTest& test = tests[t];
+    std::vector<double>& row_xs = row_buffers[t];
     glm::dvec3 batch[kBatch];
     std::size_t filled = 0;
-    for (;;) {
-      const std::size_t k = next.fetch_add(1);
-      if (k >= tasks.size()) break;
-      const Task& task = tasks[k];
-      const SampleJob& job = jobs[task.job];
-      const FaceFrame& fr = *job.frame;
-      const Grid& g = grids[task.job];
-      std::uint64_t ns = 0, nl = 0;
-      if (task.row_begin < 0) {
-        // Centre of the bounding rectangle, else the vertex average, else the first vertex.
-        glm::dvec2 c(g.u0 + 0.5 * static_cast<double>(g.nu - 1) * g.h, g.v0 + 0.5 * static_cast<double>(g.nv - 1) * g.h);
-        glm::dvec3 p = fr.origin + c.x * fr.u + c.y * fr.v;
-        ns = 1;
-        nl = test(&p, 1, job);
-      } else {
-        for (std::int64_t r = task.row_begin; r < task.row_end; ++r) {
-          const double v = g.v0 + static_cast<double>(r) * g.h;
-          const glm::dvec3 row_origin = fr.origin + v * fr.v;
-          row_intervals(fr, g, v, row_xs, [&](std::int64_t a, std::int64_t b) {
-            for (std::int64_t c = a; c < b; ++c) {
-              const glm::dvec3 p = row_origin + (g.u0 + static_cast<double>(c) * g.h) * fr.u;
-              ++ns;
-              batch[filled++] = p;
-              if (filled == kBatch) {
-                nl += test(batch, filled, job);
-                filled = 0;
-              }
+    const Task& task = tasks[k];
+    const SampleJob& job = jobs[task.job];
+    const FaceFrame& fr = *job.frame;
+    const Grid& g = grids[task.job];
+    std::uint64_t ns = 0, nl = 0;
+    if (task.row_begin < 0) {
+      // Centre of the bounding rectangle, else the vertex average, else the first vertex.
+      glm::dvec2 c(g.u0 + 0.5 * static_cast<double>(g.nu - 1) * g.h, g.v0 + 0.5 * static_cast<double>(g.nv - 1) * g.h);
+      glm::dvec3 p = fr.origin + c.x * fr.u + c.y * fr.v;
+      ns = 1;
+      nl = test(&p, 1, job);
+    } else {
+      for (std::int64_t r = task.row_begin; r < task.row_end; ++r) {
+        const double v = g.v0 + static_cast<double>(r) * g.h;
+        const glm::dvec3 row_origin = fr.origin + v * fr.v;
+        row_intervals(fr, g, v, row_xs, [&](std::int64_t a, std::int64_t b) {
+          for (std::int64_t c = a; c < b; ++c) {
+            const glm::dvec3 p = row_origin + (g.u0 + static_cast<double>(c) * g.h) * fr.u;
+            ++ns;
+            batch[filled++] = p;
+            if (filled == kBatch) {
+              nl += test(batch, filled, job);
+              filled = 0;
             }
-          });
-        }
-        if (filled > 0) nl += test(batch, filled, job);
-        filled = 0;
+          }
+        });
       }
-      s[job.pair] += ns;
-      l[job.pair] += nl;
+      if (filled > 0) nl += test(batch, filled, job);
     }
+    s[job.pair] += ns;
+    l[job.pair] += nl;
   });
   for (std::size_t k = 0; k < samples.size(); ++k) {
     samples[k] = s[k];

@@ -90,7 +90,5 @@ Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_ligh
 /// Fills lit estimates from sample counts (entries without samples: lit 0).
 void finish(Setup& setup, const std::vector<std::uint64_t>& samples, const std::vector<std::uint64_t>& lit);
 
-/// Runs body(worker_index) on `threads` threads (the calling thread is one of them).
-void parallel(unsigned threads, const std::function<void(unsigned)>& body);
 
 }  // namespace shadow::baselines_detail

@@ -2,6 +2,7 @@
 // Shadow mapping: the z-buffer algorithm (Catmull) run from the light, then a depth comparison
 // with bias for every sample point of every receiving face.
 #include "baselines/sampling.hpp"
+#include "core/parallel.hpp"
 
 #include <shadow/baselines.hpp>
 #include <shadow/error.hpp>
@@ -103,11 +104,11 @@ void rasterise(DepthMap& map, bool perspective, int row_begin, int row_end) {
 
 void rasterise_all(std::vector<DepthMap>& maps, bool perspective, unsigned threads) {
   // Bands of rows per thread: no two threads write the same texel, no locks.
-  parallel(threads, [&](unsigned t) {
+  core::parallel_for(threads, threads, [&](unsigned, std::size_t t) {
     for (DepthMap& map : maps) {
       const int R = map.resolution;
-      const int begin = static_cast<int>(static_cast<long long>(R) * t / threads);
-      const int end = static_cast<int>(static_cast<long long>(R) * (t + 1) / threads);
+      const int begin = static_cast<int>(static_cast<long long>(R) * static_cast<long long>(t) / threads);
+      const int end = static_cast<int>(static_cast<long long>(R) * static_cast<long long>(t + 1) / threads);
       rasterise(map, perspective, begin, end);
     }
   });

@@ -10,9 +10,9 @@
 
 namespace shadow::exact {
 
-std::vector<ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<FacePrep>& prep,
+std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
                                             std::vector<int>& solid_of) {
-  std::vector<ConvexSolid> solids;
+  std::vector<core::ConvexSolid> solids;
   using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
   const std::size_t n = scene.faces.size();
   solid_of.assign(n, -1);
@@ -64,7 +64,7 @@ std::vector<ConvexSolid> find_convex_solids(const Scene& scene, const std::vecto
     if (faces.size() < 4) continue;
     if (std::any_of(faces.begin(), faces.end(), [&](std::size_t f) { return open[f]; })) continue;
     std::map<int, int> local;
-    ConvexSolid solid;
+    core::ConvexSolid solid;
     for (std::size_t f : faces)
       for (int v : face_vertices[f])
         if (local.emplace(v, static_cast<int>(solid.vertices.size())).second)
@@ -72,7 +72,7 @@ std::vector<ConvexSolid> find_convex_solids(const Scene& scene, const std::vecto
     bool convex = true;
     for (std::size_t f : faces) {
       const std::vector<glm::dvec3>& fv = scene.faces[f].vertices;
-      const FacePrep& fp = prep[f];
+      const core::FacePrep& fp = prep[f];
       auto p3 = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
       const EK::Point_3 c0 = p3(fv[fp.corner[1]]), c1 = p3(fv[fp.corner[2]]), c2 = p3(fv[fp.corner[0]]);
       const CGAL::Orientation front = fp.flipped ? CGAL::NEGATIVE : CGAL::POSITIVE;

@@ -2,7 +2,8 @@
 // Exact face preparation: planes, charts, convex pieces, and the exact checks of validation.
 #include "exact/exact_faces.hpp"
 
-#include "exact/exact_checks.hpp"
+#include "exact/face_shape.hpp"
+#include "geometry/newell_normal.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_2.h>
@@ -32,9 +33,10 @@ Vector3 exact_newell_normal(const std::vector<Point3>& p) {
   for (std::size_t a = 0; a < n; ++a) {
     const Point3& u = p[a];
     const Point3& v = p[(a + 1) % n];
-    nx.push_back((u.y() - v.y()) * (u.z() + v.z()));
-    ny.push_back((u.z() - v.z()) * (u.x() + v.x()));
-    nz.push_back((u.x() - v.x()) * (u.y() + v.y()));
+    std::array<FT, 3> term = geometry::newell_term(u.x(), u.y(), u.z(), v.x(), v.y(), v.z());
+    nx.push_back(std::move(term[0]));
+    ny.push_back(std::move(term[1]));
+    nz.push_back(std::move(term[2]));
   }
   return Vector3(balanced_sum(nx), balanced_sum(ny), balanced_sum(nz));
 }
@@ -225,18 +227,14 @@ bool is_strictly_convex_ccw(const std::vector<int>& ring, const std::vector<Poin
 
 }  // namespace
 
-FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
+core::FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
   // Everything here is decided with Epick's exact predicates on the input doubles (static and
   // interval filters, then an exact fallback): far cheaper than Epeck's lazy constructions,
   // which would have to evaluate exactly every test that comes out zero (planarity tests do).
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  FacePrep prep;
+  core::FacePrep prep;
   const std::size_t count = vertices.size();
-  glm::dvec3 newell(0.0);
-  for (std::size_t a = 0; a < count; ++a) {
-    const glm::dvec3 u = vertices[a] - vertices[0], v = vertices[(a + 1) % count] - vertices[0];
-    newell += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
-  }
+  const glm::dvec3 newell = geometry::newell_normal(vertices, vertices[0]);
   // The dominant axis only needs to be a good chart direction, not exact: its component is at
   // least |n| / sqrt(3), far above rounding error for any face validation accepts.
   const glm::dvec3 an = glm::abs(newell);
@@ -251,7 +249,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
     k = dominant_axis(exact_normal);
   }
   prep.axis = k;
-  const int i = chart_i(k), j = chart_j(k);
+  const int i = core::chart_i(k), j = core::chart_j(k);
   std::vector<K::Point_2> chart;
   chart.reserve(count);
   for (const glm::dvec3& v : vertices) chart.emplace_back(v[i], v[j]);
@@ -311,7 +309,7 @@ FacePrep prepare_face(const std::vector<glm::dvec3>& vertices) {
   return prep;
 }
 
-ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePrep& prep) {
+ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
   ExactFace face;
   const int k = prep.axis;
   face.vertices = exact_points(vertices);
@@ -345,44 +343,8 @@ ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePre
   return face;
 }
 
-bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k) {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  std::vector<glm::dvec3> kept;
-  kept.reserve(polygon.size());
-  for (const glm::dvec3& v : polygon)
-    if (kept.empty() || v != kept.back()) kept.push_back(v);
-  while (kept.size() > 1 && kept.back() == kept.front()) kept.pop_back();
-  polygon.swap(kept);
-  if (polygon.size() < 3) return false;
-  for (const glm::dvec3& v : polygon)
-    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return false;
-  const int i = chart_i(k), j = chart_j(k);
-  CGAL::Polygon_2<K> chart;
-  for (const glm::dvec3& v : polygon) chart.push_back(K::Point_2(v[i], v[j]));
-  // Distinct chart points (a repeat is a touch, not simple), then a simplicity sweep.
-  std::vector<K::Point_2> sorted(chart.vertices_begin(), chart.vertices_end());
-  std::sort(sorted.begin(), sorted.end());
-  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return false;
-  if (!chart.is_simple()) return false;
-  if (chart.orientation() == CGAL::COLLINEAR) return false;
-  // Non-zero area is not enough for a user's double arithmetic: a triangle of 1e-33 m^2 with
-  // distinct vertices has an exact area but a shoelace in doubles gets 0 or noise. Ask that the
-  // shoelace relative to the first vertex, in doubles, is non-zero beyond its rounding bound
-  // ((n + 4) eps times the sum of its terms' magnitudes).
-  double twice_area = 0, magnitude = 0;
-  const glm::dvec3& o = polygon[0];
-  for (std::size_t a = 1; a + 1 < polygon.size(); ++a) {
-    const double ux = polygon[a][i] - o[i], uy = polygon[a][j] - o[j];
-    const double vx = polygon[a + 1][i] - o[i], vy = polygon[a + 1][j] - o[j];
-    twice_area += ux * vy - uy * vx;
-    magnitude += std::abs(ux * vy) + std::abs(uy * vx);
-  }
-  constexpr double eps = std::numeric_limits<double>::epsilon();
-  return std::abs(twice_area) > (static_cast<double>(polygon.size()) + 4) * eps * magnitude;
-}
-
 Point3 lift(const Point2& c, const ExactFace& face, int k) {
-  const int i = chart_i(k), j = chart_j(k);
+  const int i = core::chart_i(k), j = core::chart_j(k);
   const FT xk = -(face.offset + face.normal[i] * c.x() + face.normal[j] * c.y()) / face.normal[k];
   FT xyz[3];
   xyz[i] = c.x();

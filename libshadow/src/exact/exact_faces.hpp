@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Exact per-face data: each face's exact plane, its 2D chart and its convex pieces.
 //
-// A face is prepared once (FacePrep: plain numbers and indices, shareable between threads);
+// A face is prepared once (core::FacePrep: plain numbers and indices, shareable between threads);
 // each worker thread then builds its own Epeck objects from it (ExactFace), because Epeck's
 // lazy values must not be shared between threads.
 #pragma once
 
-#include "exact/face_prep.hpp"
+#include "core/face_prep.hpp"
 #include "exact/kernel.hpp"
 
 #include <shadow/scene.hpp>
@@ -17,7 +17,7 @@
 namespace shadow::exact {
 
 /// Prepares a face. Faces must be finite and free of consecutive duplicate vertices.
-FacePrep prepare_face(const std::vector<glm::dvec3>& vertices);
+core::FacePrep prepare_face(const std::vector<glm::dvec3>& vertices);
 
 /// One thread's exact view of a face.
 struct ExactFace {
@@ -29,7 +29,7 @@ struct ExactFace {
   FT area_scale_squared;         ///< (3D area / chart area)^2 = |n|^2 / n_k^2
 };
 
-ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const FacePrep& prep);
+ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep);
 
 /// Lifts a chart point onto the face's plane.
 Point3 lift(const Point2& chart_point, const ExactFace& face, int axis);
@@ -39,7 +39,7 @@ inline Point3 to_exact(const glm::dvec3& v) { return Point3(v.x, v.y, v.z); }
 
 /// The chart coordinates of a 3D point for dropped axis k.
 inline Point2 to_chart(const Point3& p, int k) {
-  return Point2(p[chart_i(k)], p[chart_j(k)]);
+  return Point2(p[core::chart_i(k)], p[core::chart_j(k)]);
 }
 
 /// 3D area of a chart area on a face, rounded once.

@@ -4,7 +4,8 @@
 // Include only from src/exact/*.cpp (CGAL).
 #pragma once
 
-#include "exact/box_sides.hpp"
+#include "geometry/box_sides.hpp"
+#include "geometry/clip_convex.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <array>
@@ -26,35 +27,24 @@ inline FT plane_at_light(const ExactFace& face, const ExactLight& light) {
          face.normal.z() * light.l[2] + face.offset * light.l[3];
 }
 
-/// Sutherland-Hodgman clip of a convex polygon to f >= 0. Vertices exactly on f = 0 are kept;
-/// intersection points are made only where f changes sign strictly, so no duplicates arise.
+/// Sutherland-Hodgman clip of a convex polygon to f >= 0 (geometry/clip_convex.hpp). Vertices
+/// exactly on f = 0 are kept; intersection points are made only where f changes sign strictly,
+/// so no duplicates arise.
 inline void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector<Point3>& scratch) {
   if (poly.empty()) return;
   const std::size_t n = poly.size();
   std::vector<FT> value(n);
-  bool any_out = false, any_in = false;
-  for (std::size_t a = 0; a < n; ++a) {
-    value[a] = f(poly[a]);
-    const CGAL::Sign s = CGAL::sign(value[a]);
-    any_out |= s == CGAL::NEGATIVE;
-    any_in |= s == CGAL::POSITIVE;
+  for (std::size_t a = 0; a < n; ++a) value[a] = f(poly[a]);
+  auto side = [&](std::size_t a) { return static_cast<int>(CGAL::sign(value[a])); };
+  switch (geometry::clip_case(n, side)) {
+    case geometry::ClipCase::Inside: return;  // wholly inside (or on the plane)
+    case geometry::ClipCase::Empty: poly.clear(); return;  // nothing strictly inside: no area
+    case geometry::ClipCase::Cut: break;
   }
-  if (!any_out) return;  // wholly inside (or on the plane)
-  if (!any_in) {         // nothing strictly inside: the closure has no area
-    poly.clear();
-    return;
-  }
-  scratch.clear();
-  for (std::size_t a = 0; a < n; ++a) {
-    const std::size_t b = (a + 1) % n;
-    const CGAL::Sign sa = CGAL::sign(value[a]), sb = CGAL::sign(value[b]);
-    if (sa != CGAL::NEGATIVE) scratch.push_back(poly[a]);
-    if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) ||
-        (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
-      const FT t = value[a] / (value[a] - value[b]);
-      scratch.push_back(poly[a] + t * (poly[b] - poly[a]));
-    }
-  }
+  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+    const FT t = value[a] / (value[a] - value[b]);
+    return poly[a] + t * (poly[b] - poly[a]);
+  }, scratch);
   poly.swap(scratch);
 }
 
@@ -62,53 +52,38 @@ inline void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector
 /// s at its vertices are already known; s is evaluated (lazily) only on edges that cross.
 inline void clip_front(std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign, const Affine3& s,
                 std::vector<Point3>& scratch) {
-  const std::size_t n = poly.size();
-  scratch.clear();
-  for (std::size_t a = 0; a < n; ++a) {
-    const std::size_t b = (a + 1) % n;
-    if (sign[a] != CGAL::NEGATIVE) scratch.push_back(poly[a]);
-    if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
-        (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE)) {
-      const FT sa = s(poly[a]), sb = s(poly[b]);
-      scratch.push_back(poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]));
-    }
-  }
+  geometry::clip_convex(poly, [&](std::size_t a) { return static_cast<int>(sign[a]); },
+                        [&](std::size_t a, std::size_t b) {
+                          const FT sa = s(poly[a]), sb = s(poly[b]);
+                          return poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]);
+                        }, scratch);
   poly.swap(scratch);
 }
 
-/// Sutherland-Hodgman clip of a convex 2D polygon to x_c >= m (keep_greater) or x_c <= m.
+/// Sutherland-Hodgman clip of a convex 2D polygon to x_c >= m (keep_greater) or x_c <= m; the
+/// crossings get m exactly in coordinate c.
 inline void clip_convex_2d(std::vector<Point2>& poly, int c, double m, bool keep_greater,
                     std::vector<Point2>& scratch) {
   if (poly.empty()) return;
   const std::size_t n = poly.size();
-  auto side = [&](const Point2& p) {
-    const CGAL::Comparison_result r = CGAL::compare(p[c], FT(m));
-    return keep_greater ? static_cast<int>(r) : -static_cast<int>(r);  // +1 inside, -1 outside
-  };
   std::vector<int> in(n);
-  bool any_out = false, any_in = false;
   for (std::size_t a = 0; a < n; ++a) {
-    in[a] = side(poly[a]);
-    any_out |= in[a] < 0;
-    any_in |= in[a] > 0;
+    const CGAL::Comparison_result r = CGAL::compare(poly[a][c], FT(m));
+    in[a] = keep_greater ? static_cast<int>(r) : -static_cast<int>(r);  // +1 inside, -1 outside
   }
-  if (!any_out) return;
-  if (!any_in) {
-    poly.clear();
-    return;
+  auto side = [&](std::size_t a) { return in[a]; };
+  switch (geometry::clip_case(n, side)) {
+    case geometry::ClipCase::Inside: return;
+    case geometry::ClipCase::Empty: poly.clear(); return;
+    case geometry::ClipCase::Cut: break;
   }
-  scratch.clear();
   const int o = 1 - c;
-  for (std::size_t a = 0; a < n; ++a) {
-    const std::size_t b = (a + 1) % n;
-    if (in[a] >= 0) scratch.push_back(poly[a]);
-    if (in[a] * in[b] < 0) {
-      const Point2& pa = poly[a];
-      const Point2& pb = poly[b];
-      const FT other = pa[o] + (FT(m) - pa[c]) * (pb[o] - pa[o]) / (pb[c] - pa[c]);
-      scratch.push_back(c == 0 ? Point2(FT(m), other) : Point2(other, FT(m)));
-    }
-  }
+  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+    const Point2& pa = poly[a];
+    const Point2& pb = poly[b];
+    const FT other = pa[o] + (FT(m) - pa[c]) * (pb[o] - pa[o]) / (pb[c] - pa[c]);
+    return c == 0 ? Point2(FT(m), other) : Point2(other, FT(m));
+  }, scratch);
   poly.swap(scratch);
 }
 
@@ -121,7 +96,7 @@ struct ReceiverFrame {
   std::array<FT, 2> shift;        ///< directional: l_c / s~(l) for the chart axes c = i, j
 };
 
-inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, const ExactLight& light,
+inline ReceiverFrame make_frame(const ExactFace& face, const core::FacePrep& prep, const ExactLight& light,
                          const FT& light_side) {
   ReceiverFrame frame;
   const int k = prep.axis;
@@ -130,13 +105,13 @@ inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, con
   frame.front = Affine3{face.normal, face.offset};
   if (light.is_point()) {  // directional lights are clipped to the box in 2D instead
     const std::array<FT, 4> plane{face.normal.x(), face.normal.y(), face.normal.z(), face.offset};
-    const auto sides = box_sides(plane, light.l, light_side, chart_i(k), chart_j(k), prep.chart_min.data(),
+    const auto sides = geometry::box_sides(plane, light.l, light_side, core::chart_i(k), core::chart_j(k), prep.chart_min.data(),
                                  prep.chart_max.data());
     for (int t = 0; t < 4; ++t)
       frame.sides[t] = Affine3{Vector3(sides[t][0], sides[t][1], sides[t][2]), sides[t][3]};
   }
   if (!light.is_point()) {
-    frame.shift = {light.l[chart_i(k)] / light_side, light.l[chart_j(k)] / light_side};
+    frame.shift = {light.l[core::chart_i(k)] / light_side, light.l[core::chart_j(k)] / light_side};
   }
   return frame;
 }
@@ -145,7 +120,7 @@ inline ReceiverFrame make_frame(const ExactFace& face, const FacePrep& prep, con
 /// the receiver's plane and returns its chart coordinates:  X = (s~ Y - s(Y) l) / (s~ - s(Y) l_w).
 inline Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, const ExactLight& light) {
   const FT s = frame.front(y);
-  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  const int i = core::chart_i(frame.axis), j = core::chart_j(frame.axis);
   if (!light.is_point()) return Point2(y[i] - s * frame.shift[0], y[j] - s * frame.shift[1]);
   const FT w = frame.light_side - s;
   return Point2((frame.light_side * y[i] - s * light.l[i]) / w,
@@ -159,7 +134,7 @@ inline Point2 project_to_chart(const Point3& y, const ReceiverFrame& frame, cons
 inline Point2 crossing_in_chart(const Point3& a, const Point3& b, const ReceiverFrame& frame) {
   const FT sa = frame.front(a), sb = frame.front(b);
   const FT t = sa / (sa - sb);
-  const int i = chart_i(frame.axis), j = chart_j(frame.axis);
+  const int i = core::chart_i(frame.axis), j = core::chart_j(frame.axis);
   return Point2(a[i] + t * (b[i] - a[i]), a[j] + t * (b[j] - a[j]));
 }
 

@@ -3,7 +3,8 @@
 // exactly planar faces (the common case). Include only from src/exact/*.cpp (CGAL).
 #pragma once
 
-#include "exact/box_sides.hpp"
+#include "geometry/box_sides.hpp"
+#include "geometry/clip_convex.hpp"
 #include "exact/exact_faces.hpp"
 
 #include <shadow/scene.hpp>
@@ -13,20 +14,22 @@
 #include <CGAL/enum.h>
 
 #include <array>
+#include <cassert>
 #include <vector>
 
 namespace shadow::exact {
 
-/// Parallel projection onto an exactly planar receiver, computed directly in GMP rationals from
-/// the input doubles. The results enter CGAL as exact leaves: their exact values are known and
+/// Projection onto an exactly planar receiver, computed directly in GMP rationals from the input
+/// doubles: parallel for a directional light, central for a point light (project_piece picks;
+/// project() and project_piece_parallel() are the directional light's only and assert it). The results enter CGAL as exact leaves: their exact values are known and
 /// their intervals are tight, so when the union or the final area rounding needs exact values
 /// (ties between coordinates are common: boxes have parallel edges) nothing is left to evaluate.
 /// The lazy formula gives the same numbers through a tree of lazy nodes, each evaluated on
 /// demand; that evaluation dominated the time.
 class LeafProjector {
  public:
-  LeafProjector(const std::vector<glm::dvec3>& receiver, const FacePrep& prep, const Light& light)
-      : i_(chart_i(prep.axis)), j_(chart_j(prep.axis)), point_(light.type == LightType::Point) {
+  LeafProjector(const std::vector<glm::dvec3>& receiver, const core::FacePrep& prep, const Light& light)
+      : i_(core::chart_i(prep.axis)), j_(core::chart_j(prep.axis)), point_(light.type == LightType::Point) {
     const glm::dvec3& c = receiver[prep.corner[1]];
     const glm::dvec3& next = receiver[prep.corner[2]];
     const glm::dvec3& prev = receiver[prep.corner[0]];
@@ -52,7 +55,7 @@ class LeafProjector {
     light_side_ = n_[0] * light_[0] + n_[1] * light_[1] + n_[2] * light_[2] + offset_;
     const std::array<mpq_class, 4> plane{n_[0], n_[1], n_[2], offset_};
     const std::array<mpq_class, 4> light_h{light_[0], light_[1], light_[2], mpq_class(1)};
-    const auto sides = box_sides(plane, light_h, light_side_, i_, j_, prep.chart_min.data(), prep.chart_max.data());
+    const auto sides = geometry::box_sides(plane, light_h, light_side_, i_, j_, prep.chart_min.data(), prep.chart_max.data());
     for (int t = 0; t < 4; ++t) {
       for (int a = 0; a < 3; ++a) sides_[t].a[a] = sides[t][a];
       sides_[t].b = sides[t][3];
@@ -103,8 +106,11 @@ class LeafProjector {
     }
   }
 
-  /// The projection of an input point in front of (or on) the receiver's plane.
+  /// The parallel projection of an input point in front of (or on) the receiver's plane.
+  /// Directional lights only: the shift along the light is set for them alone (a point light's
+  /// points go through project_piece's central projection).
   Point2 project(const glm::dvec3& y) {
+    assert(!point_ && "LeafProjector::project is the parallel projection (directional light)");
     plane_value(y, s_);
     x_ = y[i_];
     x_ -= s_ * shift_i_;
@@ -113,7 +119,10 @@ class LeafProjector {
     return Point2(FT(x_), FT(z_));
   }
 
-  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
+  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs), in
+  /// the chart. A point on the plane is its own projection under any light, so this is right for
+  /// both kinds; the engine calls it on the directional routes (the point light's crossings are
+  /// made in project_piece, before the pyramid clip).
   Point2 crossing(const glm::dvec3& a, const glm::dvec3& b) {
     plane_value(a, s_);
     plane_value(b, t_);
@@ -131,10 +140,11 @@ class LeafProjector {
 
   Point2 chart(const glm::dvec3& y) const { return Point2(y[i_], y[j_]); }
 
-  /// Directional light: the part of a convex piece in front of the receiver (exact signs of
-  /// its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
+  /// Directional light only: the part of a convex piece in front of the receiver (exact signs
+  /// of its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
   void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
                               const std::vector<CGAL::Sign>& sign, std::vector<Point2>& out) {
+    assert(!point_ && "LeafProjector::project_piece_parallel needs a directional light");
     out.clear();
     const std::size_t m = piece.size();
     for (std::size_t a = 0; a < m; ++a) {
@@ -165,36 +175,29 @@ class LeafProjector {
     mpq_class a[3], b;
   };
 
-  /// Sutherland-Hodgman clip of poly_ to side(p) >= 0; crossings only on strict sign changes.
+  /// Sutherland-Hodgman clip of poly_ to side(p) >= 0 (geometry/clip_convex.hpp); crossings
+  /// only on strict sign changes.
   void clip(const Side& side) {
     const std::size_t n = poly_.size();
     if (n == 0) return;
     value_.resize(n);
-    bool any_out = false, any_in = false;
     for (std::size_t a = 0; a < n; ++a) {
       value_[a] = side.b;
       for (int c = 0; c < 3; ++c) value_[a] += side.a[c] * poly_[a].v[c];
-      any_out |= sgn(value_[a]) < 0;
-      any_in |= sgn(value_[a]) > 0;
     }
-    if (!any_out) return;
-    if (!any_in) {
-      poly_.clear();
-      return;
+    auto side_of = [&](std::size_t a) { return sgn(value_[a]); };
+    switch (geometry::clip_case(n, side_of)) {
+      case geometry::ClipCase::Inside: return;
+      case geometry::ClipCase::Empty: poly_.clear(); return;
+      case geometry::ClipCase::Cut: break;
     }
-    next_.clear();
-    for (std::size_t a = 0; a < n; ++a) {
-      const std::size_t b = (a + 1) % n;
-      const int sa = sgn(value_[a]), sb = sgn(value_[b]);
-      if (sa >= 0) next_.push_back(poly_[a]);
-      if (sa * sb < 0) {
-        t_ = value_[a] / (value_[a] - value_[b]);
-        QPoint p;
-        for (int c = 0; c < 3; ++c) p.v[c] = poly_[a].v[c] + t_ * (poly_[b].v[c] - poly_[a].v[c]);
-        p.on_plane = poly_[a].on_plane && poly_[b].on_plane;
-        next_.push_back(std::move(p));
-      }
-    }
+    geometry::clip_convex(poly_, side_of, [&](std::size_t a, std::size_t b) {
+      t_ = value_[a] / (value_[a] - value_[b]);
+      QPoint p;
+      for (int c = 0; c < 3; ++c) p.v[c] = poly_[a].v[c] + t_ * (poly_[b].v[c] - poly_[a].v[c]);
+      p.on_plane = poly_[a].on_plane && poly_[b].on_plane;
+      return p;
+    }, next_);
     poly_.swap(next_);
   }
 

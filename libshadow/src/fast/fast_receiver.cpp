@@ -22,6 +22,11 @@
 // final roundings.
 #include "fast/fast_receiver.hpp"
 
+#include "fast/error_bound.hpp"
+#include "geometry/clip_convex.hpp"
+#include "geometry/newell_normal.hpp"
+#include "geometry/unit_vector.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <polyclipping/clipper.hpp>
@@ -46,7 +51,6 @@ namespace CL = ClipperLib;
 __extension__ typedef __int128 Int128;  // exact shoelace sums of int64 grid coordinates
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();  // 2^-52
-constexpr double kPi = 3.14159265358979323846;
 // Grid half-range: Clipper 6.4 stays in its fast 64-bit mode for |coordinates| <= 2^30 - 1.
 constexpr CL::cInt kHalf = (CL::cInt(1) << 30) - 2;
 
@@ -70,24 +74,22 @@ double perimeter(const std::vector<glm::dvec2>& poly) {
   return length;
 }
 
-/// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper).
-/// Crossing points get the bound exactly in coordinate c.
+/// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper)
+/// (geometry/clip_convex.hpp). Crossing points get the bound exactly in coordinate c. In doubles a
+/// vertex is inside or outside (side +1 or -1), never on the boundary: as before the one walk.
 void clip_axis(std::vector<glm::dvec2>& poly, int c, double bound, bool lower, std::vector<glm::dvec2>& scratch) {
-  auto inside = [&](const glm::dvec2& p) { return lower ? p[c] >= bound : p[c] <= bound; };
-  scratch.clear();
-  const std::size_t n = poly.size();
-  for (std::size_t a = 0; a < n; ++a) {
+  auto side = [&](std::size_t a) {
     const glm::dvec2& p = poly[a];
-    const glm::dvec2& q = poly[(a + 1) % n];
-    const bool pin = inside(p), qin = inside(q);
-    if (pin) scratch.push_back(p);
-    if (pin != qin) {
-      const double t = std::clamp((bound - p[c]) / (q[c] - p[c]), 0.0, 1.0);
-      glm::dvec2 x = p + t * (q - p);
-      x[c] = bound;
-      scratch.push_back(x);
-    }
-  }
+    return (lower ? p[c] >= bound : p[c] <= bound) ? 1 : -1;
+  };
+  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+    const glm::dvec2& p = poly[a];
+    const glm::dvec2& q = poly[b];
+    const double t = std::clamp((bound - p[c]) / (q[c] - p[c]), 0.0, 1.0);
+    glm::dvec2 x = p + t * (q - p);
+    x[c] = bound;
+    return x;
+  }, scratch);
   poly.swap(scratch);
 }
 
@@ -96,21 +98,18 @@ struct Hom {
   double x, z, w;
 };
 
-/// Clip of a convex homogeneous polygon to f(p) >= 0 for a linear f.
+/// Clip of a convex homogeneous polygon to f(p) >= 0 for a linear f (geometry/clip_convex.hpp;
+/// side +1 or -1 as in clip_axis).
 template <class F>
 void clip_hom(std::vector<Hom>& poly, F f, std::vector<Hom>& scratch) {
-  scratch.clear();
-  const std::size_t n = poly.size();
-  for (std::size_t a = 0; a < n; ++a) {
-    const Hom& p = poly[a];
-    const Hom& q = poly[(a + 1) % n];
-    const double fp = f(p), fq = f(q);
-    if (fp >= 0) scratch.push_back(p);
-    if ((fp >= 0) != (fq >= 0)) {
-      const double t = std::clamp(fp / (fp - fq), 0.0, 1.0);
-      scratch.push_back({p.x + t * (q.x - p.x), p.z + t * (q.z - p.z), p.w + t * (q.w - p.w)});
-    }
-  }
+  geometry::clip_convex(poly, [&](std::size_t a) { return f(poly[a]) >= 0 ? 1 : -1; },
+                        [&](std::size_t a, std::size_t b) {
+                          const Hom& p = poly[a];
+                          const Hom& q = poly[b];
+                          const double fp = f(p), fq = f(q);
+                          const double t = std::clamp(fp / (fp - fq), 0.0, 1.0);
+                          return Hom{p.x + t * (q.x - p.x), p.z + t * (q.z - p.z), p.w + t * (q.w - p.w)};
+                        }, scratch);
   poly.swap(scratch);
 }
 
@@ -191,8 +190,6 @@ struct Cast {
   double free_length = 0;   ///< perimeter before the box clip (directional), for the bound
 };
 
-/// The bound on |area change| when every point of a polygon of perimeter L moves by <= r.
-double tube(double length, double r) { return 2 * r * length + kPi * r * r; }
 
 class FastReceiver {
  public:
@@ -336,6 +333,7 @@ class FastReceiver {
 /// The integer grid over the receiver's chart box: its corners are grid points.
 struct Grid {
   std::array<double, 2> lo{}, hi{}, scale{}, step{};
+  Grid() = default;
   Grid(const std::array<double, 2>& lo_, const std::array<double, 2>& hi_) : lo(lo_), hi(hi_) {
     for (int c = 0; c < 2; ++c) {
       scale[c] = static_cast<double>(2 * kHalf) / (hi[c] - lo[c]);
@@ -432,180 +430,205 @@ void simple_cells(const CL::Paths& region, CL::Paths& cells, int depth = 0, bool
   }
 }
 
-}  // namespace
+/// One receiver under one light on the fast path, in named steps (compute_receiver runs them in
+/// order). Every step that returns false sends the receiver to the exact engine.
+class ReceiverJob {
+ public:
+  ReceiverJob(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id, const Light& light,
+              const core::LightSpaceGrid* grid_index, bool polygons, FaceLighting& out,
+              std::vector<Fragment>& fragments, ShadowStats& stats)
+      : ctx_(ctx), w_(w), scene_(*ctx.scene), prep_(*ctx.prep), cull_(*ctx.cull), face_id_(face_id),
+        light_id_(light_id), light_(light), grid_index_(grid_index), polygons_(polygons), face_(scene_.faces[face_id]),
+        fp_(prep_[face_id]), out_(out), fragments_(fragments), stats_(stats), fr_(rc_) {}
 
-bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
-                      const Light& light, const exact::LightSpaceGrid* grid_index, bool polygons,
-                      FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
-  const Scene& scene = *ctx.scene;
-  const std::vector<exact::FacePrep>& prep = *ctx.prep;
-  const Face& face = scene.faces[face_id];
-  const exact::FacePrep& fp = prep[face_id];
-  out = FaceLighting{};
-  out.face_id = face_id;
-  out.light_id = light_id;
-  out.area = (*ctx.face_area)[face_id];
-  ShadowStats local;
-  ++local.receivers;
-  auto commit = [&] {
-    stats.receivers += local.receivers;
-    stats.back_facing += local.back_facing;
-    stats.candidate_pairs += local.candidate_pairs;
-    stats.casting_pairs += local.casting_pairs;
-    stats.unshadowed += local.unshadowed;
-    stats.fast_collapsed += local.fast_collapsed;
-    return true;
-  };
-  if (fp.degenerate) return commit();
-
-  Receiver rc;
-  rc.k = fp.axis;
-  rc.i = exact::chart_i(fp.axis);
-  rc.j = exact::chart_j(fp.axis);
-  rc.flipped = fp.flipped;
-  const exact::CullScene& cull = *ctx.cull;
-  rc.lo = fp.chart_min;
-  rc.hi = fp.chart_max;
-  rc.magnitude = std::max({std::abs(rc.lo[0]), std::abs(rc.lo[1]), std::abs(rc.hi[0]), std::abs(rc.hi[1])}) +
-                 glm::length(cull.origin) + cull.diameter;
-  if (fp.exactly_planar) {
-    const glm::dvec3& corner = face.vertices[fp.corner[1]];
-    const glm::dvec3& next = face.vertices[fp.corner[2]];
-    const glm::dvec3& prev = face.vertices[fp.corner[0]];
-    rc.c0 = epick(corner);
-    rc.c1 = epick(next);
-    rc.c2 = epick(prev);
-    rc.corner = corner;
-    const glm::dvec3 u = next - corner, v = prev - corner;
-    glm::dvec3 n = glm::cross(u, v);
-    if (fp.flipped) n = -n;
-    const double nlen = glm::length(n);
-    if (!(nlen > 0) || !std::isfinite(nlen)) return false;
-    rc.normal = n / nlen;
-    // Rounded differences and products: the direction error grows with 1/sin(corner angle).
-    rc.normal_error = 8 * kEps * glm::length(u) * glm::length(v) / nlen + 4 * kEps;
-    rc.scene_reach = (glm::length(corner - cull.origin) + cull.diameter) * (1 + 1e-9);
-    rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach;
-  } else {
-    // Planar only within tolerance: the exact engine lifts the face onto the plane through its
-    // centroid with its Newell normal (docs/numeric-contract.md); the same plane in doubles.
-    rc.exact_sides = false;
-    const std::vector<glm::dvec3>& p = face.vertices;
-    const std::size_t m = p.size();
-    glm::dvec3 n(0.0), centroid(0.0);
-    double rounding = 0, largest = 0;
-    for (std::size_t a = 0; a < m; ++a) {
-      const glm::dvec3 u = p[a] - p[0], v = p[(a + 1) % m] - p[0];
-      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
-      rounding += glm::length(u - v) * (glm::length(u) + glm::length(v));
-      centroid += p[a];
-      largest = std::max({largest, std::abs(p[a].x), std::abs(p[a].y), std::abs(p[a].z)});
+  bool run() {
+    out_ = FaceLighting{};
+    out_.face_id = face_id_;
+    out_.light_id = light_id_;
+    out_.area = (*ctx_.face_area)[face_id_];
+    ++local_.receivers;
+    if (fp_.degenerate) return commit();
+    if (!set_up_frame()) return false;
+    int facing = 0;
+    if (!decide_facing(facing)) return false;
+    if (facing <= 0) {  // attached shadow, as in the exact engine
+      ++local_.back_facing;
+      out_.shadow_area = out_.area;
+      if (polygons_) push_whole_face(false);
+      return commit();
     }
-    const double nlen = glm::length(n);
-    if (!(nlen > 0) || !std::isfinite(nlen)) return false;
-    rc.normal = n / nlen;
-    rc.corner = centroid / static_cast<double>(m);
-    rc.normal_error = 8 * kEps * rounding / nlen + 8 * kEps;
-    rc.scene_reach = (glm::length(rc.corner - cull.origin) + cull.diameter) * (1 + 1e-9);
-    rc.s_error = 2 * (rc.normal_error + 4 * kEps) * rc.scene_reach + 4 * kEps * static_cast<double>(m + 2) * largest;
-  }
-  const glm::dvec3 corner = rc.corner;
-  // The face's outline as one fragment, wholly lit or wholly in shadow: its own vertices, or
-  // lifted onto the plane in doubles.
-  auto push_whole_face = [&](bool lit) {
-    Fragment f;
-    f.face_id = face_id;
-    f.light_id = light_id;
-    f.lit = lit;
-    f.area = out.area;
-    f.polygon = face.vertices;
-    if (!fp.exactly_planar)
-      for (glm::dvec3& y : f.polygon)
-        y[rc.k] = corner[rc.k] - (rc.normal[rc.i] * (y[rc.i] - corner[rc.i]) +
-                                  rc.normal[rc.j] * (y[rc.j] - corner[rc.j])) / rc.normal[rc.k];
-    fragments.push_back(std::move(f));
-  };
-
-  // ---- facing: exact where the double test could be wrong -----------------------------------
-  int facing = 0;
-  if (light.type == LightType::Point) {
-    rc.point = true;
-    rc.light_rel = light.position - corner;
-    rc.light_side = glm::dot(rc.normal, rc.light_rel);
-    if (fp.exactly_planar) {
-      facing = rc.side(light.position);
-    } else {
-      const double error = 2 * (rc.normal_error + 4 * kEps) * glm::length(rc.light_rel) + rc.s_error;
-      if (std::abs(rc.light_side) <= error) return false;
-      facing = rc.light_side > 0 ? 1 : -1;
+    out_.faces_light = true;
+    const std::vector<std::size_t>& candidates = gather_casters();
+    if (!set_up_projection()) return false;
+    if (!cast_all(candidates)) return false;
+    scale_ = 1.0 / std::abs(rc_.normal[rc_.k]);  // chart area -> 3D area
+    if (casts_.empty() && maybe_.empty()) {
+      ++local_.unshadowed;
+      out_.lit_area = out_.area;
+      out_.lit_fraction = 1.0;
+      out_.lit_area_error_bound = bound_.unshadowed(scale_);
+      if (!std::isfinite(out_.lit_area_error_bound)) return false;
+      if (polygons_) push_whole_face(true);
+      return commit();
     }
-    // The light so close to the receiver's plane that s at the light is unsure: exact engine.
-    if (facing > 0 && !(rc.light_side > 64 * rc.normal_error * glm::length(rc.light_rel))) return false;
-  } else {
-    const glm::dvec3 d = exact::unit(light.to_light);
-    const double nd = glm::dot(rc.normal, d);
-    if (std::abs(nd) <= 64 * rc.normal_error) return false;  // grazing: exact engine decides
-    facing = nd > 0 ? 1 : -1;
-    rc.inv_light_side = 1.0 / nd;
-    rc.shift = glm::dvec2(d[rc.i], d[rc.j]) * rc.inv_light_side;
-  }
-  if (facing <= 0) {  // attached shadow, as in the exact engine
-    ++local.back_facing;
-    out.shadow_area = out.area;
-    if (polygons) push_whole_face(false);
+    if (!unite()) return false;
+    if (!polygons_) return commit();
+    if (!emit_fragments()) return false;  // the caller drops what was appended
     return commit();
   }
-  out.faces_light = true;
+
+ private:
+  /// Adds this receiver's counts to the caller's (only on success: a fallback leaves stats as
+  /// they were, so local_.fast_exact_fallbacks is 0 here).
+  bool commit() {
+    stats_ += local_;
+    return true;
+  }
+
+  // ---- receiver frame: plane, normal and their error bounds ---------------------------------
+  bool set_up_frame() {
+    rc_.k = fp_.axis;
+    rc_.i = core::chart_i(fp_.axis);
+    rc_.j = core::chart_j(fp_.axis);
+    rc_.flipped = fp_.flipped;
+    rc_.lo = fp_.chart_min;
+    rc_.hi = fp_.chart_max;
+    rc_.magnitude = std::max({std::abs(rc_.lo[0]), std::abs(rc_.lo[1]), std::abs(rc_.hi[0]), std::abs(rc_.hi[1])}) +
+                    glm::length(cull_.origin) + cull_.diameter;
+    if (fp_.exactly_planar) {
+      const glm::dvec3& corner = face_.vertices[fp_.corner[1]];
+      const glm::dvec3& next = face_.vertices[fp_.corner[2]];
+      const glm::dvec3& prev = face_.vertices[fp_.corner[0]];
+      rc_.c0 = epick(corner);
+      rc_.c1 = epick(next);
+      rc_.c2 = epick(prev);
+      rc_.corner = corner;
+      const glm::dvec3 u = next - corner, v = prev - corner;
+      glm::dvec3 n = glm::cross(u, v);
+      if (fp_.flipped) n = -n;
+      const double nlen = glm::length(n);
+      if (!(nlen > 0) || !std::isfinite(nlen)) return false;
+      rc_.normal = n / nlen;
+      // Rounded differences and products: the direction error grows with 1/sin(corner angle).
+      rc_.normal_error = 8 * kEps * glm::length(u) * glm::length(v) / nlen + 4 * kEps;
+      rc_.scene_reach = (glm::length(corner - cull_.origin) + cull_.diameter) * (1 + 1e-9);
+      rc_.s_error = 2 * (rc_.normal_error + 4 * kEps) * rc_.scene_reach;
+    } else {
+      // Planar only within tolerance: the exact engine lifts the face onto the plane through its
+      // centroid with its Newell normal (docs/numeric-contract.md); the same plane in doubles.
+      rc_.exact_sides = false;
+      const std::vector<glm::dvec3>& p = face_.vertices;
+      const std::size_t m = p.size();
+      glm::dvec3 n(0.0), centroid(0.0);
+      double rounding = 0, largest = 0;
+      for (std::size_t a = 0; a < m; ++a) {
+        const glm::dvec3 u = p[a] - p[0], v = p[(a + 1) % m] - p[0];
+        n += geometry::newell_term(u, v);
+        rounding += glm::length(u - v) * (glm::length(u) + glm::length(v));
+        centroid += p[a];
+        largest = std::max({largest, std::abs(p[a].x), std::abs(p[a].y), std::abs(p[a].z)});
+      }
+      const double nlen = glm::length(n);
+      if (!(nlen > 0) || !std::isfinite(nlen)) return false;
+      rc_.normal = n / nlen;
+      rc_.corner = centroid / static_cast<double>(m);
+      rc_.normal_error = 8 * kEps * rounding / nlen + 8 * kEps;
+      rc_.scene_reach = (glm::length(rc_.corner - cull_.origin) + cull_.diameter) * (1 + 1e-9);
+      rc_.s_error = 2 * (rc_.normal_error + 4 * kEps) * rc_.scene_reach + 4 * kEps * static_cast<double>(m + 2) * largest;
+    }
+    return true;
+  }
+
+  /// The face's outline as one fragment, wholly lit or wholly in shadow: its own vertices, or
+  /// lifted onto the plane in doubles.
+  void push_whole_face(bool lit) {
+    const glm::dvec3 corner = rc_.corner;
+    Fragment f;
+    f.face_id = face_id_;
+    f.light_id = light_id_;
+    f.lit = lit;
+    f.area = out_.area;
+    f.polygon = face_.vertices;
+    if (!fp_.exactly_planar)
+      for (glm::dvec3& y : f.polygon)
+        y[rc_.k] = corner[rc_.k] - (rc_.normal[rc_.i] * (y[rc_.i] - corner[rc_.i]) +
+                                    rc_.normal[rc_.j] * (y[rc_.j] - corner[rc_.j])) / rc_.normal[rc_.k];
+    fragments_.push_back(std::move(f));
+  }
+
+  // ---- facing: exact where the double test could be wrong -----------------------------------
+  bool decide_facing(int& facing) {
+    const glm::dvec3 corner = rc_.corner;
+    if (light_.type == LightType::Point) {
+      rc_.point = true;
+      rc_.light_rel = light_.position - corner;
+      rc_.light_side = glm::dot(rc_.normal, rc_.light_rel);
+      if (fp_.exactly_planar) {
+        facing = rc_.side(light_.position);
+      } else {
+        const double error = 2 * (rc_.normal_error + 4 * kEps) * glm::length(rc_.light_rel) + rc_.s_error;
+        if (std::abs(rc_.light_side) <= error) return false;
+        facing = rc_.light_side > 0 ? 1 : -1;
+      }
+      // The light so close to the receiver's plane that s at the light is unsure: exact engine.
+      if (facing > 0 && !(rc_.light_side > 64 * rc_.normal_error * glm::length(rc_.light_rel))) return false;
+    } else {
+      const glm::dvec3 d = geometry::unit(light_.to_light);
+      const double nd = glm::dot(rc_.normal, d);
+      if (std::abs(nd) <= 64 * rc_.normal_error) return false;  // grazing: exact engine decides
+      facing = nd > 0 ? 1 : -1;
+      rc_.inv_light_side = 1.0 / nd;
+      rc_.shift = glm::dvec2(d[rc_.i], d[rc_.j]) * rc_.inv_light_side;
+    }
+    return true;
+  }
 
   // ---- culling: the exact engine's tests ----------------------------------------------------
-  const exact::ReceiverCuller culler(cull, fp, face_id, light);
-  const std::vector<std::size_t>& candidates = w.casters.gather(culler, prep, face_id, grid_index);
-  local.candidate_pairs += candidates.size();
-
-  // ---- projection in doubles ----------------------------------------------------------------
-  FastReceiver fr(rc);
-  const double max_delta = std::ldexp(std::max(rc.hi[0] - rc.lo[0], rc.hi[1] - rc.lo[1]), -20);
-  double parallel_delta = 0;
-  if (!rc.point) {
-    // |error| of a projected point: s's error times |shift|, shift's error times |s|, roundings.
-    const double e = rc.normal_error + 8 * kEps, g = std::abs(rc.inv_light_side), R = rc.scene_reach;
-    const double shift = glm::length(rc.shift);
-    parallel_delta = 2 * (shift * e * R + R * e * g * g + 2 * kEps * (rc.magnitude + R * shift));
-    if (parallel_delta > max_delta) return false;  // grazing light: the exact engine is better
+  const std::vector<std::size_t>& gather_casters() {
+    const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
+    const std::vector<std::size_t>& candidates = w_.casters.gather(culler, prep_, face_id_, grid_index_);
+    local_.candidate_pairs += candidates.size();
+    return candidates;
   }
-  fr.set_tolerances(parallel_delta, max_delta);
-  const Grid grid(rc.lo, rc.hi);
-  const double rho = grid.rounding();
-  CL::Paths casts, maybe;  // maybe: footprints of nearly coplanar casters (see below)
-  double bound_chart = 0;
-  double cast_length = 0;  // total perimeter of the grid polygons given to Clipper
-  std::vector<CGAL::Sign> vsign, psign;
-  std::vector<char> unsure;
-  std::vector<glm::dvec2> points, hull;
-  Cast cast;
-  bool not_finite = false;  // overflow in doubles (coordinates near 1e150): exact engine
-  auto add_cast = [&](Cast& c) {
+
+  // ---- projection in doubles: tolerances and the grid ---------------------------------------
+  bool set_up_projection() {
+    max_delta_ = std::ldexp(std::max(rc_.hi[0] - rc_.lo[0], rc_.hi[1] - rc_.lo[1]), -20);
+    if (!rc_.point) {
+      // |error| of a projected point: s's error times |shift|, shift's error times |s|, roundings.
+      const double e = rc_.normal_error + 8 * kEps, g = std::abs(rc_.inv_light_side), R = rc_.scene_reach;
+      const double shift = glm::length(rc_.shift);
+      parallel_delta_ = 2 * (shift * e * R + R * e * g * g + 2 * kEps * (rc_.magnitude + R * shift));
+      if (parallel_delta_ > max_delta_) return false;  // grazing light: the exact engine is better
+    }
+    fr_.set_tolerances(parallel_delta_, max_delta_);
+    grid_ = Grid(rc_.lo, rc_.hi);
+    rho_ = grid_.rounding();
+    return true;
+  }
+
+  /// Puts a projected cast polygon on the grid and into the union (or the bound, when it
+  /// collapsed). Sets not_finite_ on overflow.
+  void add_cast(Cast& c) {
     if (c.poly.size() < 3) {
-      // Clipped away in doubles: the exact polygon may keep a sliver within delta of the box's
-      // edge, no longer than the polygon's perimeter before the clip.
-      if (c.free_length > 0) bound_chart += tube(c.free_length, c.delta + 4 * kEps * rc.magnitude);
-      not_finite |= !std::isfinite(bound_chart);
+      bound_.clipped_away(c.free_length, c.delta + 4 * kEps * rc_.magnitude);
+      not_finite_ |= !bound_.finite();
       return;
     }
-    for (const glm::dvec2& p : c.poly) not_finite |= !std::isfinite(p.x) || !std::isfinite(p.y);
-    not_finite |= !std::isfinite(c.delta);
-    if (not_finite) return;
+    for (const glm::dvec2& p : c.poly) not_finite_ |= !std::isfinite(p.x) || !std::isfinite(p.y);
+    not_finite_ |= !std::isfinite(c.delta);
+    if (not_finite_) return;
     CL::Path path;
     path.reserve(c.poly.size());
     for (const glm::dvec2& p : c.poly) {
-      const CL::IntPoint ip = grid.point(p);
+      const CL::IntPoint ip = grid_.point(p);
       if (path.empty() || !(path.back() == ip)) path.push_back(ip);
     }
     while (path.size() > 1 && path.front() == path.back()) path.pop_back();
-    const double r = rho + c.delta + 4 * kEps * rc.magnitude;
+    const double r = rho_ + c.delta + 4 * kEps * rc_.magnitude;
     const double n_vertices = static_cast<double>(c.poly.size());
     const double length = perimeter(c.poly);
-    bound_chart += tube(std::max(c.free_length, length) + 2 * n_vertices * c.delta, r);
+    bound_.cast_polygon(c.free_length, length, n_vertices, c.delta, r);
     const Int128 a2 = path.size() >= 3 ? area2(path) : 0;
     if (a2 == 0) {  // collapsed on the grid: its true area is within the bound just added
       double twice_area = 0;  // edge-on casters have no area in doubles either: not counted
@@ -614,274 +637,334 @@ bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::s
         const glm::dvec2& q = c.poly[(a + 1) % c.poly.size()];
         twice_area += p.x * q.y - q.x * p.y;
       }
-      if (twice_area != 0) ++local.fast_collapsed;
+      if (twice_area != 0) ++local_.fast_collapsed;
       return;
     }
     if (a2 < 0) std::reverse(path.begin(), path.end());
-    casts.push_back(std::move(path));
-    cast_length += length + 2 * n_vertices * rho;
-  };
+    casts_.push_back(std::move(path));
+    cast_length_ += length + 2 * n_vertices * rho_;
+  }
 
-  const int own_solid = (*ctx.solid_of)[face_id];
-  for (std::size_t q : candidates) {
-    const int solid = (*ctx.solid_of)[q];
-    if (solid >= 0 && (solid == own_solid || w.casters.solid_done(solid))) continue;
-    if (solid >= 0 && !rc.point && rc.exact_sides) {
-      // A convex solid casts the hull of its projection, as in the exact engine.
-      w.casters.mark_solid_done(solid);
-      const exact::ConvexSolid& cs = (*ctx.solids)[solid];
-      vsign.resize(cs.vertices.size());
-      bool any_front = false;
-      for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
-        vsign[a] = rc.side(cs.vertices[a]);
-        any_front |= vsign[a] == CGAL::POSITIVE;
-      }
-      if (!any_front) continue;
-      points.clear();
-      for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
-        if (vsign[a] == CGAL::POSITIVE) points.push_back(fr.project(cs.vertices[a]));
-        if (vsign[a] == CGAL::ZERO) points.push_back(fr.chart(cs.vertices[a]));
-      }
-      double cross_delta = 0;
-      for (const auto& [a, b] : cs.edges) {
-        const CGAL::Sign sa = vsign[a], sb = vsign[b];
-        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
-          glm::dvec3 x;
-          if (!fr.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
-          points.push_back(fr.chart(x));
-        }
-      }
-      convex_hull(points, hull);
-      cast.poly = hull;
-      // The hull of points each within delta of the exact ones is within delta of the exact hull.
-      cast.delta = std::max(parallel_delta, cross_delta);
-      if (cast.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver
-        bound_chart += tube(perimeter(cast.poly), cast.delta + 4 * kEps * rc.magnitude);
+  // ---- the casters, by route ----------------------------------------------------------------
+  bool cast_all(const std::vector<std::size_t>& candidates) {
+    const int own_solid = (*ctx_.solid_of)[face_id_];
+    for (std::size_t q : candidates) {
+      const int solid = (*ctx_.solid_of)[q];
+      if (solid >= 0 && (solid == own_solid || w_.casters.solid_done(solid))) continue;
+      if (solid >= 0 && !rc_.point && rc_.exact_sides) {
+        if (!cast_convex_solid(solid)) return false;
         continue;
       }
-      cast.free_length = perimeter(cast.poly);
-      if (!fr.clip_to_box(cast)) return false;
-      const std::size_t before = casts.size();
-      add_cast(cast);
-      if (not_finite) return false;
-      if (casts.size() > before) ++local.casting_pairs;
-      continue;
+      if (!cast_face(q)) return false;
     }
-    const exact::FacePrep& qp = prep[q];
-    const Face& qface = scene.faces[q];
-    const exact::CullFace& cq = cull.faces[q];
-    if (rc.point) {
+    return true;
+  }
+
+  /// A convex solid casts the hull of its projection, as in the exact engine (directional
+  /// light, exactly planar receiver).
+  bool cast_convex_solid(int solid) {
+    w_.casters.mark_solid_done(solid);
+    const core::ConvexSolid& cs = (*ctx_.solids)[solid];
+    vsign_.resize(cs.vertices.size());
+    bool any_front = false;
+    for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+      vsign_[a] = rc_.side(cs.vertices[a]);
+      any_front |= vsign_[a] == CGAL::POSITIVE;
+    }
+    if (!any_front) return true;
+    points_.clear();
+    for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+      if (vsign_[a] == CGAL::POSITIVE) points_.push_back(fr_.project(cs.vertices[a]));
+      if (vsign_[a] == CGAL::ZERO) points_.push_back(fr_.chart(cs.vertices[a]));
+    }
+    double cross_delta = 0;
+    for (const auto& [a, b] : cs.edges) {
+      const CGAL::Sign sa = vsign_[a], sb = vsign_[b];
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+        glm::dvec3 x;
+        if (!fr_.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
+        points_.push_back(fr_.chart(x));
+      }
+    }
+    convex_hull(points_, hull_);
+    cast_.poly = hull_;
+    // The hull of points each within delta of the exact ones is within delta of the exact hull.
+    cast_.delta = std::max(parallel_delta_, cross_delta);
+    if (cast_.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver
+      bound_.flat_solid(perimeter(cast_.poly), cast_.delta + 4 * kEps * rc_.magnitude);
+      return true;
+    }
+    cast_.free_length = perimeter(cast_.poly);
+    if (!fr_.clip_to_box(cast_)) return false;
+    const std::size_t before = casts_.size();
+    add_cast(cast_);
+    if (not_finite_) return false;
+    if (casts_.size() > before) ++local_.casting_pairs;
+    return true;
+  }
+
+  /// A caster face, convex piece by convex piece: projected in front of the receiver (parallel
+  /// or central projection), or, for pieces nowhere clearly in front, a sliver in the bound or a
+  /// nearly coplanar footprint.
+  bool cast_face(std::size_t q) {
+    const core::FacePrep& qp = prep_[q];
+    const Face& qface = scene_.faces[q];
+    const core::CullFace& cq = cull_.faces[q];
+    if (rc_.point) {
       if (qp.exactly_planar) {
         if (CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
-                              epick(qface.vertices[qp.corner[0]]), epick(light.position)) == CGAL::COPLANAR)
-          continue;  // edge-on to the light: casts nothing
+                              epick(qface.vertices[qp.corner[0]]), epick(light_.position)) == CGAL::COPLANAR)
+          return true;  // edge-on to the light: casts nothing
       } else {
         // A lifted caster nearly edge-on to the light: leave the receiver to the exact engine.
-        const glm::dvec3 l = light.position - cull.origin;
+        const glm::dvec3 l = light_.position - cull_.origin;
         if (std::abs(glm::dot(cq.normal, l) + cq.offset) <=
-            (1e-9 + cq.normal_error) * (glm::length(l) + cull.diameter) + cq.slack)
+            (1e-9 + cq.normal_error) * (glm::length(l) + cull_.diameter) + cq.slack)
           return false;
       }
     }
     // A lifted caster's vertices are up to `slack` from where the exact engine puts them.
     const double slack = qp.exactly_planar ? 0.0 : cq.slack;
-    vsign.resize(qface.vertices.size());
-    unsure.resize(qface.vertices.size());
+    vsign_.resize(qface.vertices.size());
+    unsure_.resize(qface.vertices.size());
     bool any_front = false, any_unsure = false;
     for (std::size_t a = 0; a < qface.vertices.size(); ++a) {
       bool u = false;
-      vsign[a] = rc.side(qface.vertices[a], qp.exactly_planar, slack, u);
-      unsure[a] = u;
-      any_front |= vsign[a] == CGAL::POSITIVE;
+      vsign_[a] = rc_.side(qface.vertices[a], qp.exactly_planar, slack, u);
+      unsure_[a] = u;
+      any_front |= vsign_[a] == CGAL::POSITIVE;
       any_unsure |= u;
     }
-    if (!any_front && !any_unsure) continue;
+    if (!any_front && !any_unsure) return true;
     // A vertex of unsure side, taken as on the plane, is within (its s error) / sin(angle between
     // the planes) of where the exact clip puts the boundary.
     double unsure_shift = 0;
     if (any_unsure) {
-      const double sine = glm::length(glm::cross(rc.normal, cq.normal));
-      unsure_shift = 2 * (rc.s_error + slack) / sine;
-      if (!(unsure_shift <= max_delta)) unsure_shift = std::numeric_limits<double>::infinity();
+      const double sine = glm::length(glm::cross(rc_.normal, cq.normal));
+      unsure_shift = 2 * (rc_.s_error + slack) / sine;
+      if (!(unsure_shift <= max_delta_)) unsure_shift = std::numeric_limits<double>::infinity();
     }
     bool cast_any = false;
     for (const std::vector<int>& piece : qp.convex_pieces) {
-      psign.clear();
+      psign_.clear();
       bool piece_front = false, piece_unsure = false;
       for (int a : piece) {
-        psign.push_back(vsign[a]);
-        piece_front |= vsign[a] == CGAL::POSITIVE;
-        piece_unsure |= unsure[a] != 0;
+        psign_.push_back(vsign_[a]);
+        piece_front |= vsign_[a] == CGAL::POSITIVE;
+        piece_unsure |= unsure_[a] != 0;
       }
       const double position = slack + (piece_unsure ? unsure_shift : 0.0);
       // Points within s_error + slack of the plane project to within this of their chart points.
-      const double grow = rc.point ? 2 * (1 + glm::length(rc.light_rel) / rc.light_side) : 1 + glm::length(rc.shift);
+      const double grow = rc_.point ? 2 * (1 + glm::length(rc_.light_rel) / rc_.light_side) : 1 + glm::length(rc_.shift);
       if (!piece_front) {
         if (!piece_unsure) continue;
-        points.clear();
-        for (int a : piece) points.push_back(fr.chart(qface.vertices[a]));
-        if (std::isfinite(position)) {  // the exact front part is at most a sliver along the plane
-          bound_chart += tube(perimeter(points), (position + rc.s_error) * grow + 4 * kEps * rc.magnitude);
-          continue;
-        }
-        // Nearly coplanar with the receiver and nowhere clearly in front: its exact shadow lies
-        // somewhere inside its own chart footprint. United separately: the shadow is known to
-        // lie between the union without and with these footprints.
-        cast.poly = points;
-        cast.delta = (rc.s_error + slack) * grow;
-        cast.free_length = perimeter(cast.poly);
-        for (int c = 0; c < 2 && cast.poly.size() >= 3; ++c) {
-          clip_axis(cast.poly, c, rc.lo[c], true, hull);
-          clip_axis(cast.poly, c, rc.hi[c], false, hull);
-        }
-        const std::size_t before = casts.size();
-        add_cast(cast);
-        if (not_finite) return false;
-        if (casts.size() > before) {
-          maybe.push_back(std::move(casts.back()));
-          casts.pop_back();
-        }
+        if (!cast_nearly_coplanar(qface, piece, position, grow, slack)) return false;
         continue;
       }
       if (!std::isfinite(position)) return false;  // nearly coplanar and partly in front: exact
-      fr.set_piece_error(position, rc.s_error + slack);
-      const bool ok = rc.point ? fr.project_central(qface.vertices, piece, psign, cast)
-                               : fr.project_parallel(qface.vertices, piece, psign, cast);
-      fr.set_piece_error(0, 0);
+      fr_.set_piece_error(position, rc_.s_error + slack);
+      const bool ok = rc_.point ? fr_.project_central(qface.vertices, piece, psign_, cast_)
+                                : fr_.project_parallel(qface.vertices, piece, psign_, cast_);
+      fr_.set_piece_error(0, 0);
       if (!ok) return false;
-      const std::size_t before = casts.size();
-      add_cast(cast);
-      if (not_finite) return false;
-      cast_any |= casts.size() > before;
+      const std::size_t before = casts_.size();
+      add_cast(cast_);
+      if (not_finite_) return false;
+      cast_any |= casts_.size() > before;
     }
-    if (cast_any) ++local.casting_pairs;
+    if (cast_any) ++local_.casting_pairs;
+    return true;
   }
 
-  const double scale = 1.0 / std::abs(rc.normal[rc.k]);  // chart area -> 3D area
-  if (casts.empty() && maybe.empty()) {
-    ++local.unshadowed;
-    out.lit_area = out.area;
-    out.lit_fraction = 1.0;
-    out.lit_area_error_bound = bound_chart * scale * (1 + 1e-9);
-    if (!std::isfinite(out.lit_area_error_bound)) return false;
-    if (polygons) push_whole_face(true);
-    return commit();
+  /// A piece nowhere clearly in front, some vertex of unsure side: a sliver along the plane in
+  /// the bound when its position is known, else (nearly coplanar with the receiver) its chart
+  /// footprint, united separately: the shadow lies between the union without and with these.
+  bool cast_nearly_coplanar(const Face& qface, const std::vector<int>& piece, double position, double grow,
+                            double slack) {
+    points_.clear();
+    for (int a : piece) points_.push_back(fr_.chart(qface.vertices[a]));
+    if (std::isfinite(position)) {  // the exact front part is at most a sliver along the plane
+      bound_.unsure_sliver(perimeter(points_), (position + rc_.s_error) * grow + 4 * kEps * rc_.magnitude);
+      return true;
+    }
+    // Its exact shadow lies somewhere inside its own chart footprint.
+    cast_.poly = points_;
+    cast_.delta = (rc_.s_error + slack) * grow;
+    cast_.free_length = perimeter(cast_.poly);
+    for (int c = 0; c < 2 && cast_.poly.size() >= 3; ++c) {
+      clip_axis(cast_.poly, c, rc_.lo[c], true, hull_);
+      clip_axis(cast_.poly, c, rc_.hi[c], false, hull_);
+    }
+    const std::size_t before = casts_.size();
+    add_cast(cast_);
+    if (not_finite_) return false;
+    if (casts_.size() > before) {
+      maybe_.push_back(std::move(casts_.back()));
+      casts_.pop_back();
+    }
+    return true;
   }
 
   // ---- the union on the grid ----------------------------------------------------------------
-  CL::Path receiver;
-  for (int a : fp.chart_ring) receiver.push_back(grid.point({face.vertices[a][rc.i], face.vertices[a][rc.j]}));
-  double receiver_length = 0;
-  for (std::size_t a = 0; a < fp.chart_ring.size(); ++a) {
-    const glm::dvec3& p = face.vertices[fp.chart_ring[a]];
-    const glm::dvec3& q = face.vertices[fp.chart_ring[(a + 1) % fp.chart_ring.size()]];
-    receiver_length += std::hypot(q[rc.i] - p[rc.i], q[rc.j] - p[rc.j]);
-  }
-  if (!fp.chart_is_box) bound_chart += tube(receiver_length, rho);
-  // Clipper rounds the intersection points it creates to the grid (by under one step): that
-  // moves the output's boundary, which lies on the input polygons' boundaries, by under 2 rho.
-  // (A box receiver's edges meet the casts only at their vertices, already grid points.)
-  bound_chart += tube(cast_length + (fp.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), 2 * rho);
-  CL::PolyTree shadow_tree, lit_tree;
-  Int128 shadow2 = 0, gap2 = 0;
-  try {
-    CL::Clipper clipper;
-    clipper.StrictlySimple(false);
-    clipper.AddPaths(casts, CL::ptSubject, true);
-    // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
-    const CL::ClipType op = fp.chart_is_box ? CL::ctUnion : CL::ctIntersection;
-    if (!fp.chart_is_box) clipper.AddPath(receiver, CL::ptClip, true);
-    if (polygons) {
-      clipper.Execute(op, shadow_tree, CL::pftNonZero, CL::pftNonZero);
-      CL::Paths all;
-      CL::PolyTreeToPaths(shadow_tree, all);
-      for (const CL::Path& p : all) shadow2 += area2(p);
-      CL::Clipper lit;
-      lit.StrictlySimple(false);
-      lit.AddPath(receiver, CL::ptSubject, true);
-      lit.AddPaths(casts, CL::ptClip, true);
-      lit.Execute(CL::ctDifference, lit_tree, CL::pftNonZero, CL::pftNonZero);
-    } else {
-      CL::Paths shadow_paths;
-      clipper.Execute(op, shadow_paths, CL::pftNonZero, CL::pftNonZero);
-      for (const CL::Path& p : shadow_paths) shadow2 += area2(p);  // holes come out negative
+  bool unite() {
+    receiver_.clear();
+    for (int a : fp_.chart_ring) receiver_.push_back(grid_.point({face_.vertices[a][rc_.i], face_.vertices[a][rc_.j]}));
+    double receiver_length = 0;
+    for (std::size_t a = 0; a < fp_.chart_ring.size(); ++a) {
+      const glm::dvec3& p = face_.vertices[fp_.chart_ring[a]];
+      const glm::dvec3& q = face_.vertices[fp_.chart_ring[(a + 1) % fp_.chart_ring.size()]];
+      receiver_length += std::hypot(q[rc_.i] - p[rc_.i], q[rc_.j] - p[rc_.j]);
     }
-    if (!maybe.empty()) {
-      // The exact shadow lies between the union without and with the nearly coplanar casters'
-      // footprints: report the middle, and half the gap in the bound (0 when they are covered,
-      // as a box's bottom is by its walls' shadows).
-      CL::Clipper with;
-      with.AddPaths(casts, CL::ptSubject, true);
-      with.AddPaths(maybe, CL::ptSubject, true);
-      if (!fp.chart_is_box) with.AddPath(receiver, CL::ptClip, true);
-      CL::Paths paths;
-      with.Execute(op, paths, CL::pftNonZero, CL::pftNonZero);
-      Int128 most = 0;
-      for (const CL::Path& p : paths) most += area2(p);
-      if (most > shadow2) {
-        gap2 = most - shadow2;
-        shadow2 += gap2 / 2;
+    if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, rho_);
+    // (A box receiver's edges meet the casts only at their vertices, already grid points.)
+    bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), rho_);
+    Int128 shadow2 = 0, gap2 = 0;
+    try {
+      CL::Clipper clipper;
+      clipper.StrictlySimple(false);
+      clipper.AddPaths(casts_, CL::ptSubject, true);
+      // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
+      const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
+      if (!fp_.chart_is_box) clipper.AddPath(receiver_, CL::ptClip, true);
+      if (polygons_) {
+        clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);
+        CL::Paths all;
+        CL::PolyTreeToPaths(shadow_tree_, all);
+        for (const CL::Path& p : all) shadow2 += area2(p);
+        CL::Clipper lit;
+        lit.StrictlySimple(false);
+        lit.AddPath(receiver_, CL::ptSubject, true);
+        lit.AddPaths(casts_, CL::ptClip, true);
+        lit.Execute(CL::ctDifference, lit_tree_, CL::pftNonZero, CL::pftNonZero);
+      } else {
+        CL::Paths shadow_paths;
+        clipper.Execute(op, shadow_paths, CL::pftNonZero, CL::pftNonZero);
+        for (const CL::Path& p : shadow_paths) shadow2 += area2(p);  // holes come out negative
       }
+      if (!maybe_.empty()) {
+        // The exact shadow lies between the union without and with the nearly coplanar casters'
+        // footprints: report the middle, and half the gap in the bound (0 when they are covered,
+        // as a box's bottom is by its walls' shadows).
+        CL::Clipper with;
+        with.AddPaths(casts_, CL::ptSubject, true);
+        with.AddPaths(maybe_, CL::ptSubject, true);
+        if (!fp_.chart_is_box) with.AddPath(receiver_, CL::ptClip, true);
+        CL::Paths paths;
+        with.Execute(op, paths, CL::pftNonZero, CL::pftNonZero);
+        Int128 most = 0;
+        for (const CL::Path& p : paths) most += area2(p);
+        if (most > shadow2) {
+          gap2 = most - shadow2;
+          shadow2 += gap2 / 2;
+        }
+      }
+    } catch (const CL::clipperException&) {
+      return false;  // coordinates out of range cannot happen on the grid; be safe anyway
     }
-  } catch (const CL::clipperException&) {
-    return false;  // coordinates out of range cannot happen on the grid; be safe anyway
+    cell_ = grid_.step[0] * grid_.step[1] * scale_;  // 3D area of one grid unit
+    const double shadow_3d = 0.5 * static_cast<double>(shadow2) * cell_;
+    out_.shadow_area = std::clamp(shadow_3d, 0.0, out_.area);
+    out_.lit_area = out_.area - out_.shadow_area;
+    out_.lit_fraction = out_.area > 0 ? out_.lit_area / out_.area : 0.0;
+    out_.lit_area_error_bound =
+        bound_.after_union(scale_, static_cast<double>(gap2 > 0 ? gap2 + 1 : 0), cell_, out_.area);
+    return std::isfinite(out_.lit_area_error_bound);
   }
-  const double cell = grid.step[0] * grid.step[1] * scale;  // 3D area of one grid unit
-  const double shadow_3d = 0.5 * static_cast<double>(shadow2) * cell;
-  out.shadow_area = std::clamp(shadow_3d, 0.0, out.area);
-  out.lit_area = out.area - out.shadow_area;
-  out.lit_fraction = out.area > 0 ? out.lit_area / out.area : 0.0;
-  // The roundings of area, scale and the subtraction: a few ulps of the face's area.
-  out.lit_area_error_bound = (bound_chart * scale + 0.25 * static_cast<double>(gap2 > 0 ? gap2 + 1 : 0) * cell) * (1 + 1e-9) +
-                             16 * kEps * out.area;
-  if (!std::isfinite(out.lit_area_error_bound)) return false;
-  if (!polygons) return commit();
 
-  std::size_t fragment_id = 0;
-  std::vector<CL::Paths> regions;
-  CL::Paths cells;
-  const double ni = rc.normal[rc.i], nj = rc.normal[rc.j], nk = rc.normal[rc.k];
-  auto emit = [&](const CL::PolyTree& tree, bool lit) {
-    regions.clear();
-    regions_of(tree, regions);
-    for (const CL::Paths& region : regions) {
-      cells.clear();
-      simple_cells(region, cells);
-      if (cells.empty()) continue;
-      for (const CL::Path& c : cells) {
+  // ---- fragments: the union's cells on the receiver's plane ---------------------------------
+  bool emit_fragments() {
+    try {
+      return emit(lit_tree_, true) && emit(shadow_tree_, false);
+    } catch (const CL::clipperException&) {
+      return false;
+    }
+  }
+
+  bool emit(const CL::PolyTree& tree, bool lit) {
+    const glm::dvec3 corner = rc_.corner;
+    const double ni = rc_.normal[rc_.i], nj = rc_.normal[rc_.j], nk = rc_.normal[rc_.k];
+    regions_.clear();
+    regions_of(tree, regions_);
+    for (const CL::Paths& region : regions_) {
+      cells_.clear();
+      simple_cells(region, cells_);
+      if (cells_.empty()) continue;
+      for (const CL::Path& c : cells_) {
         Fragment f;
-        f.face_id = face_id;
-        f.light_id = light_id;
-        f.fragment_id = fragment_id;
+        f.face_id = face_id_;
+        f.light_id = light_id_;
+        f.fragment_id = fragment_id_;
         f.lit = lit;
-        f.area = 0.5 * static_cast<double>(area2(c)) * cell;
+        f.area = 0.5 * static_cast<double>(area2(c)) * cell_;
         for (const CL::IntPoint& p : c) {
-          const glm::dvec2 x = grid.chart(p);
-          const double di = x.x - corner[rc.i], dj = x.y - corner[rc.j];
+          const glm::dvec2 x = grid_.chart(p);
+          const double di = x.x - corner[rc_.i], dj = x.y - corner[rc_.j];
           glm::dvec3 y;
-          y[rc.i] = x.x;
-          y[rc.j] = x.y;
-          y[rc.k] = corner[rc.k] - (ni * di + nj * dj) / nk;  // on the receiver's plane
+          y[rc_.i] = x.x;
+          y[rc_.j] = x.y;
+          y[rc_.k] = corner[rc_.k] - (ni * di + nj * dj) / nk;  // on the receiver's plane
           f.polygon.push_back(y);
         }
         // Cells are counter-clockwise in the chart; the chart sees a flipped face clockwise.
-        if (fp.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
+        if (fp_.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
         // The output contract (one simple double polygon of non-zero area a cell): a cell that
         // breaks it (a sliver rounding collapsed, a boundary touching itself) sends the
         // receiver to the exact engine, which triangulates such cells (dropped_area).
-        if (!exact::clean_double_polygon(f.polygon, rc.k)) return false;
-        fragments.push_back(std::move(f));
+        if (!core::clean_double_polygon(f.polygon, rc_.k)) return false;
+        fragments_.push_back(std::move(f));
       }
-      ++fragment_id;
+      ++fragment_id_;
     }
     return true;
-  };
-  try {
-    if (!emit(lit_tree, true) || !emit(shadow_tree, false)) return false;  // the caller drops what was appended
-  } catch (const CL::clipperException&) {
-    return false;  // the caller drops what was appended
   }
-  return commit();
+
+  // Inputs.
+  const Context& ctx_;
+  Worker& w_;
+  const Scene& scene_;
+  const std::vector<core::FacePrep>& prep_;
+  const core::CullScene& cull_;
+  std::size_t face_id_, light_id_;
+  const Light& light_;
+  const core::LightSpaceGrid* grid_index_;
+  bool polygons_;
+  const Face& face_;
+  const core::FacePrep& fp_;
+  // Outputs.
+  FaceLighting& out_;
+  std::vector<Fragment>& fragments_;
+  ShadowStats& stats_;
+  ShadowStats local_;
+  // The receiver's frame and the projection.
+  Receiver rc_;
+  FastReceiver fr_;  // holds a reference to rc_
+  double max_delta_ = 0, parallel_delta_ = 0;
+  Grid grid_;
+  double rho_ = 0;
+  // The casts and the bound.
+  CL::Paths casts_, maybe_;  // maybe_: footprints of nearly coplanar casters
+  LitAreaBound bound_;
+  double cast_length_ = 0;  // total perimeter of the grid polygons given to Clipper
+  bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine
+  double scale_ = 0, cell_ = 0;
+  // Scratch.
+  std::vector<CGAL::Sign> vsign_, psign_;
+  std::vector<char> unsure_;
+  std::vector<glm::dvec2> points_, hull_;
+  Cast cast_;
+  CL::Path receiver_;
+  CL::PolyTree shadow_tree_, lit_tree_;
+  std::vector<CL::Paths> regions_;
+  CL::Paths cells_;
+  std::size_t fragment_id_ = 0;
+};
+
+}  // namespace
+
+bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
+                      const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
+                      FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
+  return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats).run();
 }
 
 }  // namespace shadow::fast

@@ -6,9 +6,9 @@
 // the exact engine. No CGAL and no Clipper types here: the engine includes this header.
 #pragma once
 
-#include "exact/convex_solids.hpp"
-#include "exact/culling.hpp"
-#include "exact/face_prep.hpp"
+#include "core/convex_solid.hpp"
+#include "core/culling.hpp"
+#include "core/face_prep.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
@@ -21,16 +21,16 @@ namespace shadow::fast {
 /// What the fast path reads from the prepared engine (all shared, read-only).
 struct Context {
   const Scene* scene = nullptr;
-  const std::vector<exact::FacePrep>* prep = nullptr;
+  const std::vector<core::FacePrep>* prep = nullptr;
   const std::vector<double>* face_area = nullptr;  ///< exact face areas, rounded once
-  const exact::CullScene* cull = nullptr;
-  const std::vector<exact::ConvexSolid>* solids = nullptr;
+  const core::CullScene* cull = nullptr;
+  const std::vector<core::ConvexSolid>* solids = nullptr;
   const std::vector<int>* solid_of = nullptr;
 };
 
 /// Per-thread scratch state.
 struct Worker {
-  exact::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
+  core::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
 };
 
 /// Computes receiver `face_id` under `light`. Returns false when the receiver must be computed
@@ -39,7 +39,7 @@ struct Worker {
 /// `out` (with lit_area_error_bound), appends the fragments (fragment_id local to the receiver,
 /// from 0) when `polygons`, and adds to `stats`.
 bool compute_receiver(const Context& context, Worker& worker, std::size_t face_id,
-                      std::size_t light_id, const Light& light, const exact::LightSpaceGrid* grid,
+                      std::size_t light_id, const Light& light, const core::LightSpaceGrid* grid,
                       bool polygons, FaceLighting& out, std::vector<Fragment>& fragments,
                       ShadowStats& stats);
 

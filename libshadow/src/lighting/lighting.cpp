@@ -2,6 +2,8 @@
 // The lighting models of the seed lecture notes (docs/lighting.md cites each equation).
 #include <shadow/lighting.hpp>
 
+#include "geometry/newell_normal.hpp"
+#include "geometry/unit_vector.hpp"
 #include "lighting/fragment_irradiance.hpp"
 
 #include <glm/geometric.hpp>
@@ -13,22 +15,11 @@
 namespace shadow {
 namespace {
 
-/// v / |v|, or zero when v has no usable direction.
-glm::dvec3 unit_or_zero(const glm::dvec3& v) {
-  const double length = glm::length(v);
-  if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
-  return v / length;
-}
+using geometry::unit_or_zero;  // v / |v|, or zero when v has no usable direction
 
 /// Newell's normal of a polygon, unit length (zero for a polygon without area).
 glm::dvec3 polygon_normal(const std::vector<glm::dvec3>& polygon) {
-  glm::dvec3 n(0.0);
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const glm::dvec3& a = polygon[i];
-    const glm::dvec3& b = polygon[(i + 1) % polygon.size()];
-    n += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-  }
-  return unit_or_zero(n);
+  return unit_or_zero(geometry::newell_normal(polygon));
 }
 
 bool uses_specular(LightingModel model) {

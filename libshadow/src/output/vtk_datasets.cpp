@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "output/vtk_datasets.hpp"
 
+#include "geometry/unit_vector.hpp"
 #include "lighting/fragment_irradiance.hpp"
 #include "output/names.hpp"
-
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -104,12 +104,8 @@ Box scene_box(const Scene& scene) {
   return box;
 }
 
-/// v / |v|, or zero when v has no usable direction (validation rejects such lights anyway).
-glm::dvec3 unit_or_zero(const glm::dvec3& v) {
-  const double length = glm::length(v);
-  if (!std::isfinite(length) || length == 0.0) return glm::dvec3(0.0);
-  return v / length;
-}
+// v / |v|, or zero when v has no usable direction (validation rejects such lights anyway).
+using geometry::unit_or_zero;
 
 }  // namespace
 

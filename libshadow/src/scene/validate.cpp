@@ -7,10 +7,13 @@
 
 #include <glm/common.hpp>
 
-#include "exact/exact_checks.hpp"
-#include "scene/validate.hpp"
+#include "core/input_checks.hpp"
+#include "core/lights.hpp"
+#include "exact/face_shape.hpp"
+#include "geometry/newell_normal.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -22,31 +25,10 @@ namespace shadow {
 
 namespace {
 
-std::string format_number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g", x);
-  return buffer;
-}
-
-bool finite(const glm::dvec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-bool in_range(const glm::dvec3& v) {
-  return std::fabs(v.x) <= max_coordinate && std::fabs(v.y) <= max_coordinate &&
-         std::fabs(v.z) <= max_coordinate;  // false for NaN too
-}
-
-std::string format_vec(const glm::dvec3& v) {
-  return "(" + format_number(v.x) + ", " + format_number(v.y) + ", " + format_number(v.z) + ")";
-}
-
-/// Where a face came from; faces built in code have no source, so they are named by face_id.
-SourceLocation face_location(const Scene& scene, std::size_t face_id) {
-  const SourceLocation& source = scene.faces[face_id].source;
-  if (!source.file.empty() || !source.place.empty()) return source;
-  return {scene.source.string(), "face " + std::to_string(face_id)};
-}
+using detail::face_location;
+using detail::finite;
+using detail::format_number;
+using detail::in_range;
 
 /// Removes consecutive duplicate vertices, including the last one repeating the first.
 void remove_consecutive_duplicates(std::vector<glm::dvec3>& vertices) {
@@ -78,9 +60,10 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
     const glm::dvec3& b = vertices[(i + 1) % n];
     const Real ax = Real(a.x) - origin.x, ay = Real(a.y) - origin.y, az = Real(a.z) - origin.z;
     const Real bx = Real(b.x) - origin.x, by = Real(b.y) - origin.y, bz = Real(b.z) - origin.z;
-    nx += (ay - by) * (az + bz);
-    ny += (az - bz) * (ax + bx);
-    nz += (ax - bx) * (ay + by);
+    const std::array<Real, 3> term = geometry::newell_term(ax, ay, az, bx, by, bz);
+    nx += term[0];
+    ny += term[1];
+    nz += term[2];
     cx += ax;
     cy += ay;
     cz += az;
@@ -147,51 +130,7 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
 
 }  // namespace
 
-std::string detail::coordinate_problem(const glm::dvec3& v, const char* what) {
-  if (!finite(v)) return std::string(what) + " that is not finite " + format_vec(v);
-  if (!in_range(v))
-    return std::string(what) + " beyond the accepted range |x| <= 2^500 (about 3.27e150) " + format_vec(v) +
-           " (docs/numeric-contract.md)";
-  return {};
-}
-
-void detail::check_light(const Light& light, const std::string& file, const std::string& path) {
-  if (light.type == LightType::Directional) {
-    if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");
-    if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
-    // A direction's length does not matter (it is normalised safely for culling, exactly
-    // elsewhere): any finite non-zero vector is accepted (tests/test_hard_cases.cpp).
-  } else if (light.type == LightType::Point) {
-    if (!finite(light.position)) throw InputError({file, path + ".position"}, "position is not finite");
-    const std::string problem = coordinate_problem(light.position, "coordinate");
-    if (!problem.empty()) throw InputError({file, path + ".position"}, "position has a " + problem);
-  } else {
-    throw InputError({file, path + ".type"}, "unknown light type");
-  }
-  if (!std::isfinite(light.intensity) || light.intensity < 0)
-    throw InputError({file, path + ".intensity"},
-                     "intensity must be finite and >= 0, got " + format_number(light.intensity));
-  for (int c = 0; c < 3; ++c)
-    if (!(light.color[c] >= 0.0 && light.color[c] <= 1.0))  // also catches NaN
-      throw InputError({file, path + ".color"},
-                       "color components must be in [0, 1], got " + format_number(light.color[c]));
-}
-
 namespace {
-
-void validate_plane(const Scene& scene, std::size_t index) {
-  const Plane& plane = scene.planes[index];
-  const std::string file = scene.source.string();
-  const std::string path = "planes[" + std::to_string(index) + "]";
-  if (!finite(plane.point)) throw InputError({file, path + ".point"}, "point is not finite");
-  if (!finite(plane.normal)) throw InputError({file, path + ".normal"}, "normal is not finite");
-  if (plane.normal == glm::dvec3(0.0)) throw InputError({file, path + ".normal"}, "normal has zero length");
-  std::string problem = detail::coordinate_problem(plane.point, "coordinate");
-  if (!problem.empty()) throw InputError({file, path + ".point"}, "point has a " + problem);
-  if (!(plane.window >= 0 && plane.window <= max_coordinate))
-    throw InputError({file, path + ".window"}, "window must be in [0, 2^500 (about 3.27e150)], got " +
-                                                   format_number(plane.window));
-}
 
 /// A mesh's edges, keyed by their two end points (exact coordinates), lowest first.
 struct EdgeKey {
@@ -320,44 +259,6 @@ void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<W
 
 }  // namespace
 
-std::vector<std::size_t> detail::resolve_lights(const Scene& scene, const std::vector<std::size_t>& requested) {
-  std::vector<std::size_t> ids = requested;
-  if (ids.empty())
-    for (std::size_t l = 0; l < scene.lights.size(); ++l) ids.push_back(l);
-  for (std::size_t i = 0; i < ids.size(); ++i)
-    if (ids[i] >= scene.lights.size())
-      throw InputError({"", "ShadowOptions::lights[" + std::to_string(i) + "]"},
-                       "no light " + std::to_string(ids[i]) + ": the scene has " +
-                           std::to_string(scene.lights.size()) + (scene.lights.size() == 1 ? " light" : " lights"));
-  std::sort(ids.begin(), ids.end());
-  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  for (std::size_t l : ids) check_light(scene.lights[l], scene.source.string(), "lights[" + std::to_string(l) + "]");
-  return ids;
-}
-
-void detail::check_scene_numbers(const Scene& scene) {
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    const Face& face = scene.faces[f];
-    if (face.mesh >= scene.meshes.size())  // Scene::is_receiver() would read past the meshes
-      throw InputError(face_location(scene, f), "face belongs to mesh " + std::to_string(face.mesh) +
-                                                    ", but the scene has " + std::to_string(scene.meshes.size()) +
-                                                    (scene.meshes.size() == 1 ? " mesh" : " meshes"));
-    const std::vector<glm::dvec3>& vertices = face.vertices;
-    for (std::size_t i = 0; i < vertices.size(); ++i) {
-      if (in_range(vertices[i])) continue;  // the common case: one test per vertex
-      throw InputError(face_location(scene, f),
-                       "vertex " + std::to_string(i) + " has a " + coordinate_problem(vertices[i], "coordinate"));
-    }
-    // Face preparation assumes what validate_scene() establishes: no zero-length edge.
-    for (std::size_t i = 0; i < vertices.size() && vertices.size() > 1; ++i)
-      if (vertices[i] == vertices[(i + 1) % vertices.size()])
-        throw InputError(face_location(scene, f), "vertices " + std::to_string(i) + " and " +
-                                                      std::to_string((i + 1) % vertices.size()) +
-                                                      " coincide: call validate_scene() before computing shadows");
-  }
-  for (std::size_t p = 0; p < scene.planes.size(); ++p) validate_plane(scene, p);
-}
-
 void validate_scene(Scene& scene, const LoadOptions& options) {
   // Zero cannot be checked in floating point: rounding alone puts vertices off the plane.
   if (!(options.planarity_tolerance > 0) || !std::isfinite(options.planarity_tolerance))
@@ -365,7 +266,7 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
                              format_number(options.planarity_tolerance));
   for (std::size_t i = 0; i < scene.lights.size(); ++i)
     detail::check_light(scene.lights[i], scene.source.string(), "lights[" + std::to_string(i) + "]");
-  for (std::size_t i = 0; i < scene.planes.size(); ++i) validate_plane(scene, i);
+  for (std::size_t i = 0; i < scene.planes.size(); ++i) detail::check_plane(scene, i);
   std::vector<Warning> warnings;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) check_orientation(scene, m, warnings);

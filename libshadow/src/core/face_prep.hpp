@@ -8,7 +8,7 @@
 #include <array>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 /// What validation and the shadow computation need to know about a face, computed once with
 /// exact predicates and stored without CGAL types.
@@ -39,7 +39,7 @@ inline int chart_j(int k) { return (k + 2) % 3; }
 /// area, decided with exact predicates on the doubles in the chart (simple there implies simple
 /// in 3D; non-zero chart area implies non-zero 3D area), whose area computed in doubles (the
 /// shoelace relative to its first vertex) is certainly non-zero too. O(n log n). Defined in
-/// exact_faces.cpp.
+/// core/clean_polygon.cpp.
 bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k);
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

@@ -1,19 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "exact/culling.hpp"
+#include "core/culling.hpp"
+
+#include "geometry/bounding_box.hpp"
+#include "geometry/newell_normal.hpp"
 
 #include <glm/common.hpp>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 SceneFrame scene_frame(const Scene& scene) {
   if (scene.faces.empty()) return {};
-  glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-  for (const Face& f : scene.faces)
-    for (const glm::dvec3& v : f.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  return {0.5 * (lo + hi), std::max(glm::length(hi - lo), 1e-300)};
+  const geometry::BoundingBox box = geometry::faces_bounding_box(scene.faces);
+  return {box.centre(), std::max(box.diagonal(), 1e-300)};
 }
 
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep) {
@@ -36,7 +34,7 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep)
     for (std::size_t a = 0; a < cf.count; ++a) {
       const glm::dvec3 u = vertices[a] - vertices[0];
       const glm::dvec3 v = vertices[(a + 1) % cf.count] - vertices[0];
-      n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
+      n += geometry::newell_term(u, v);
       const glm::dvec3 au = glm::abs(u), av = glm::abs(v);
       bound += glm::dvec3((au.y + av.y) * (au.z + av.z), (au.z + av.z) * (au.x + av.x),
                           (au.x + av.x) * (au.y + av.y));
@@ -70,4 +68,4 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep)
 }
 
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

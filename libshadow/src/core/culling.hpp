@@ -4,8 +4,9 @@
 // error, outside the receiver's slab, prism or pyramid. Whatever passes is decided exactly.
 #pragma once
 
-#include "exact/box_sides.hpp"
-#include "exact/face_prep.hpp"
+#include "geometry/box_sides.hpp"
+#include "geometry/unit_vector.hpp"
+#include "core/face_prep.hpp"
 
 #include <shadow/scene.hpp>
 
@@ -19,7 +20,7 @@
 #include <limits>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 /// A face in a local frame (scene centre subtracted) with a unit normal, for culling.
 struct CullFace {
@@ -41,13 +42,6 @@ struct CullScene {
   std::vector<CullFace> faces;
 };
 
-/// A unit vector along v for any finite non-zero v, even when |v|^2 under- or overflows
-/// (to_light = (1e-200, 0, 1e-200) is a valid direction).
-inline glm::dvec3 unit(glm::dvec3 v) {
-  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  return glm::normalize(v / m);
-}
-
 /// An affine function on local-frame points with the margin below which its sign is unsure.
 struct DoubleAffine {
   glm::dvec3 a{0.0};
@@ -61,7 +55,7 @@ struct DoubleAffine {
 class LightSpaceGrid {
  public:
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light) {
-    const glm::dvec3 d = unit(to_light);
+    const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
@@ -163,7 +157,7 @@ class ReceiverCuller {
       lxyz = light.position - cull.origin;
       lw = 1.0;
     } else {
-      lxyz = unit(light.to_light);
+      lxyz = geometry::unit(light.to_light);
       lw = 0.0;
     }
     const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
@@ -186,7 +180,7 @@ class ReceiverCuller {
       const double hi[2] = {fp.chart_max[0] - cull.origin[i], fp.chart_max[1] - cull.origin[j]};
       const std::array<double, 4> plane{cp.normal.x, cp.normal.y, cp.normal.z, cp.offset};
       const std::array<double, 4> light_h{lxyz.x, lxyz.y, lxyz.z, lw};
-      const auto sides = box_sides(plane, light_h, light_side, i, j, lo, hi);
+      const auto sides = geometry::box_sides(plane, light_h, light_side, i, j, lo, hi);
       for (int t = 0; t < 4; ++t) {
         const double coef = lxyz[t < 2 ? i : j] - (t % 2 ? hi : lo)[t / 2] * lw;
         // side = light_side (x_a - m) - coef s(x), |x_a - m| <= D: each factor's error times
@@ -280,4 +274,4 @@ SceneFrame scene_frame(const Scene& scene);
 /// The faces in a local frame (scene centre subtracted), with unit normals.
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep);
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::core {
 
 /// ShadowOptions::threads (and ShadowEngine's `threads`) above this is an InputError: a typo
 /// such as 99999999 would otherwise try to start that many threads and workers.
@@ -123,4 +123,4 @@ inline void parallel_for(std::size_t count, unsigned threads,
   if (progress) progress(done.load());
 }
 
-}  // namespace shadow::exact
+}  // namespace shadow::core

@@ -6,7 +6,7 @@
 
 #include <array>
 
-namespace shadow::exact {
+namespace shadow::geometry {
 
 /// Affine functions f(x) = f[0] x + f[1] y + f[2] z + f[3], one per side, that are >= 0 inside.
 /// `plane` = (n, c) with the light on its front; `light` = (L, 1) or (d, 0); `light_side` =
@@ -34,4 +34,4 @@ std::array<std::array<T, 4>, 4> box_sides(const std::array<T, 4>& plane, const s
   return sides;
 }
 
-}  // namespace shadow::exact
+}  // namespace shadow::geometry

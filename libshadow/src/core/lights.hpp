@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Internal: checks shared by validate_scene and the engine (which also takes lights that were
-// never part of a validated scene).
+// The one place that resolves and checks lights: validation (scene/), the face engine (engine/)
+// and the plane shadows (planes/) call it, so all three reject the same lights the same way, and
+// the engine also checks lights that were never part of a validated scene. No CGAL.
 #pragma once
 
 #include <shadow/scene.hpp>
@@ -20,14 +21,5 @@ void check_light(const Light& light, const std::string& file, const std::string&
 /// plane shadows alike, so both reject the same lights the same way.
 /// @throws InputError for an index that is not a scene light, or an unusable light.
 std::vector<std::size_t> resolve_lights(const Scene& scene, const std::vector<std::size_t>& requested);
-
-/// The cheap part of validation that the library cannot do without (scenes built in code may
-/// skip validate_scene): every face vertex, plane point, normal and window finite and within
-/// max_coordinate. Linear in the number of vertices.
-/// @throws InputError naming the face's source (or `face N`) or the plane.
-void check_scene_numbers(const Scene& scene);
-
-/// InputError text when `v` is not finite or beyond max_coordinate, else empty.
-std::string coordinate_problem(const glm::dvec3& v, const char* what);
 
 }  // namespace shadow::detail

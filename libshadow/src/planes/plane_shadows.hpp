@@ -2,16 +2,16 @@
 // Internal entry to the Blinn plane-shadow path with faces already prepared (the engine's).
 #pragma once
 
-#include "exact/face_prep.hpp"
+#include "core/face_prep.hpp"
 
 #include <shadow/shadows.hpp>
 
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::planes {
 
-/// compute_plane_shadows with the faces' preparation given (see FacePrep).
-std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<FacePrep>& prep,
+/// compute_plane_shadows with the faces' preparation given (see core::FacePrep).
+std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<core::FacePrep>& prep,
                                        const ShadowOptions& options);
 
-}  // namespace shadow::exact
+}  // namespace shadow::planes

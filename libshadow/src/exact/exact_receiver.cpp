@@ -1,0 +1,370 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact per-receiver computation (Atherton-Weiler-Greenberg, made exact): for a receiving
+// face P that faces the light,
+//
+//   shadow(P) = P  intersected with  union over Q of  project_P(Q  clipped to the slab between
+//               P's plane and the light),
+//
+// in exact rationals in P's 2D chart (see engine/shadow_engine.cpp). Named steps: gather casters,
+// cast a convex solid, cast a face (leaf or lazy route), clip to the chart box, unite, areas,
+// emit fragments.
+#include "exact/exact_receiver.hpp"
+
+#include "exact/leaf_projector.hpp"
+#include "exact/regions.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/convex_hull_2.h>
+
+#include <algorithm>
+#include <iterator>
+#include <optional>
+#include <utility>
+
+namespace shadow::exact {
+namespace {
+
+using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+EK::Point_3 epick(const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); }
+
+/// The face's own outline as one fragment (wholly lit or wholly in shadow).
+Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t light_id, bool lit,
+                             double area, const core::FacePrep& prep, const ExactFace* ef) {
+  Fragment fragment;
+  fragment.face_id = face_id;
+  fragment.light_id = light_id;
+  fragment.lit = lit;
+  fragment.area = area;
+  if (prep.exactly_planar || ef == nullptr) {
+    fragment.polygon = face.vertices;
+  } else {
+    for (const Point3& p : ef->vertices)
+      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  }
+  return fragment;
+}
+
+class ExactReceiverJob {
+ public:
+  ExactReceiverJob(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+                   const ExactLight& light, const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
+                   ShadowStats& stats)
+      : ctx_(ctx), w_(w), face_id_(face_id), light_id_(light_id), light_(light), light_in_(light_in),
+        grid_(grid), polygons_(polygons), stats_(stats), face_(ctx.scene->faces[face_id]),
+        fp_((*ctx.prep)[face_id]), point_light_(light.is_point()) {}
+
+  ReceiverResult run(int facing) {
+    FaceLighting& out = item_.lighting;
+    out.face_id = face_id_;
+    out.light_id = light_id_;
+    out.area = (*ctx_.face_area)[face_id_];
+    ++stats_.receivers;
+    if (fp_.degenerate) return std::move(item_);  // zero area: nothing to light
+
+    if (facing <= 0) {  // attached shadow: the front looks away from the light (or edge-on)
+      ++stats_.back_facing;
+      out.shadow_area = out.area;
+      if (polygons_)
+        item_.fragments.push_back(whole_face_fragment(face_, face_id_, light_id_, false, out.area, fp_,
+                                                      fp_.exactly_planar ? nullptr : &w_.face(ctx_, face_id_)));
+      return std::move(item_);
+    }
+    out.faces_light = true;
+
+    const std::vector<std::size_t>& candidates = gather_casters();
+    corner0_ = epick(face_.vertices[fp_.corner[1]]);
+    corner1_ = epick(face_.vertices[fp_.corner[2]]);
+    corner2_ = epick(face_.vertices[fp_.corner[0]]);
+    const int own_solid = (*ctx_.solid_of)[face_id_];
+    for (std::size_t q : candidates) {
+      const int solid = (*ctx_.solid_of)[q];
+      if (solid >= 0 && (solid == own_solid || w_.casters.solid_done(solid))) continue;
+      if (solid >= 0 && !point_light_ && fp_.exactly_planar) {
+        cast_convex_solid(solid);
+        continue;
+      }
+      cast_face(q);
+    }
+
+    const ExactFace& P = w_.face(ctx_, face_id_);
+    if (shadows_.empty()) {  // nothing in front: wholly lit, no Boolean operation needed
+      ++stats_.unshadowed;
+      out.lit_area = out.area;
+      out.lit_fraction = 1.0;
+      if (polygons_) item_.fragments.push_back(whole_face_fragment(face_, face_id_, light_id_, true, out.area, fp_, &P));
+      return std::move(item_);
+    }
+    unite_and_measure(P);
+    if (polygons_) emit_fragments(P);
+    return std::move(item_);
+  }
+
+ private:
+  // ---- culling in doubles -------------------------------------------------------------------
+  const std::vector<std::size_t>& gather_casters() {
+    const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
+    const std::vector<std::size_t>& candidates = w_.casters.gather(culler, *ctx_.prep, face_id_, grid_);
+    stats_.candidate_pairs += candidates.size();
+    return candidates;
+  }
+
+  /// The receiver's exact frame, built on first use: most receivers are decided by the
+  /// predicates alone (nothing strictly in front of them).
+  const ReceiverFrame& exact_frame() {
+    if (!frame_) {
+      const ExactFace& receiver = w_.face(ctx_, face_id_);
+      frame_ = make_frame(receiver, fp_, light_, plane_at_light(receiver, light_));
+    }
+    return *frame_;
+  }
+
+  LeafProjector& leaf_projector() {
+    if (!projector_) projector_.emplace(face_.vertices, fp_, light_in_);
+    return *projector_;
+  }
+
+  /// Sign of s (the receiver's plane) at an input vertex, by Epick's orientation predicate on
+  /// the doubles: exact, and cheap even when the answer is zero, which is common (faces that
+  /// share an edge with the receiver). Lazy Epeck arithmetic would evaluate every zero exactly.
+  /// Exactly planar receivers only.
+  CGAL::Sign input_side(const glm::dvec3& v) const {
+    CGAL::Sign sv = CGAL::orientation(corner0_, corner1_, corner2_, epick(v));
+    if (fp_.flipped) sv = CGAL::opposite(sv);
+    return sv;
+  }
+
+  /// Parallel projection is affine: a directional light's casts are clipped to the chart box in
+  /// 2D (a point light's are clipped to the pyramid over it before the projection).
+  void clip_to_chart_box(std::vector<Point2>& poly) {
+    for (int c = 0; c < 2; ++c) {
+      clip_convex_2d(poly, c, fp_.chart_min[c], true, w_.scratch2);
+      clip_convex_2d(poly, c, fp_.chart_max[c], false, w_.scratch2);
+    }
+  }
+
+  // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
+  void cast_convex_solid(int solid) {
+    w_.casters.mark_solid_done(solid);
+    const core::ConvexSolid& cs = (*ctx_.solids)[solid];
+    w_.vertex_sign.resize(cs.vertices.size());
+    bool any_front = false;
+    for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+      w_.vertex_sign[v] = input_side(cs.vertices[v]);
+      any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+    }
+    if (!any_front) return;
+    LeafProjector& projector = leaf_projector();
+    w_.poly2.clear();
+    for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+      if (w_.vertex_sign[v] == CGAL::POSITIVE) w_.poly2.push_back(projector.project(cs.vertices[v]));
+      if (w_.vertex_sign[v] == CGAL::ZERO) w_.poly2.push_back(projector.chart(cs.vertices[v]));
+    }
+    for (const auto& [a, b] : cs.edges) {
+      const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+        w_.poly2.push_back(projector.crossing(cs.vertices[a], cs.vertices[b]));
+    }
+    w_.scratch2.clear();
+    CGAL::convex_hull_2(w_.poly2.begin(), w_.poly2.end(), std::back_inserter(w_.scratch2), Kernel());
+    w_.poly2.swap(w_.scratch2);
+    clip_to_chart_box(w_.poly2);
+    if (w_.poly2.size() < 3) return;
+    Polygon2 projected(w_.poly2.begin(), w_.poly2.end());
+    if (CGAL::sign(polygon_area(projected)) != CGAL::POSITIVE) return;  // flat: edge-on solid
+    shadows_.push_back(std::move(projected));
+    ++stats_.casting_pairs;
+  }
+
+  // ---- a caster face, convex piece by convex piece ------------------------------------------
+  void cast_face(std::size_t q) {
+    const core::FacePrep& qp = (*ctx_.prep)[q];
+    const Face& qface = ctx_.scene->faces[q];
+    w_.vertex_sign.resize(qface.vertices.size());
+    bool any_front = false;
+    if (point_light_) {
+      // A caster whose plane contains the light is edge-on to it and casts nothing; projecting
+      // it would divide by zero where it touches the light.
+      const bool edge_on =
+          qp.exactly_planar
+              ? CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
+                                  epick(qface.vertices[qp.corner[0]]), epick(light_in_.position)) == CGAL::COPLANAR
+              : CGAL::is_zero(plane_at_light(w_.face(ctx_, q), light_));
+      if (edge_on) return;
+    }
+    // Two routes to the same exact polygons: exact leaves straight from the input doubles when
+    // both faces are exactly planar (the common case), lazy Epeck values for lifted faces.
+    const bool leaves = fp_.exactly_planar && qp.exactly_planar;
+    const ExactFace* Q = nullptr;
+    const ReceiverFrame* frame = nullptr;
+    if (leaves) {
+      for (std::size_t v = 0; v < qface.vertices.size(); ++v) {
+        w_.vertex_sign[v] = input_side(qface.vertices[v]);
+        any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+      }
+    } else {
+      Q = &w_.face(ctx_, q);
+      frame = &exact_frame();
+      for (std::size_t v = 0; v < Q->vertices.size(); ++v) {
+        w_.vertex_sign[v] = CGAL::sign(frame->front(Q->vertices[v]));
+        any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+      }
+    }
+    if (!any_front) return;  // nothing strictly in front of the receiver
+    bool cast = false;
+    for (const std::vector<int>& piece : qp.convex_pieces) {
+      w_.piece_sign.clear();
+      bool piece_front = false;
+      for (int v : piece) {
+        w_.piece_sign.push_back(w_.vertex_sign[v]);
+        piece_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+      }
+      if (!piece_front) continue;
+      if (leaves)
+        leaf_projector().project_piece(qface.vertices, piece, w_.piece_sign, w_.poly2);
+      else
+        project_piece_lazy(*Q, piece, *frame);
+      if (!point_light_) clip_to_chart_box(w_.poly2);
+      cast |= add_shadow(w_.poly2);
+    }
+    if (cast) ++stats_.casting_pairs;
+  }
+
+  /// The lazy route (a lifted receiver or caster): the piece's front part, clipped to the
+  /// pyramid for a point light, projected into w_.poly2.
+  void project_piece_lazy(const ExactFace& Q, const std::vector<int>& piece, const ReceiverFrame& frame) {
+    w_.poly.clear();
+    for (int v : piece) w_.poly.push_back(Q.vertices[v]);
+    if (point_light_) {
+      // The pyramid over the chart box keeps the central projection finite.
+      clip_front(w_.poly, w_.piece_sign, frame.front, w_.scratch);
+      for (const Affine3& side : frame.sides) clip_convex(w_.poly, side, w_.scratch);
+      w_.poly2.clear();
+      for (const Point3& y : w_.poly) w_.poly2.push_back(project_to_chart(y, frame, light_));
+    } else {
+      project_front_part(w_.poly, w_.piece_sign, frame, light_, w_.poly2);
+    }
+  }
+
+  /// A projected piece as a counter-clockwise shadow polygon; false when it has no area (the
+  /// caster is edge-on to the light, or clipped away).
+  bool add_shadow(const std::vector<Point2>& poly) {
+    if (poly.size() < 3) return false;
+    Polygon2 projected(poly.begin(), poly.end());
+    const CGAL::Sign orientation = CGAL::sign(polygon_area(projected));
+    if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
+    if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
+    shadows_.push_back(std::move(projected));
+    return true;
+  }
+
+  // ---- unite, areas -------------------------------------------------------------------------
+  void unite_and_measure(const ExactFace& P) {
+    FaceLighting& out = item_.lighting;
+    shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
+    PolygonSet2& shadow_set_ = *shadow_set_storage_;
+    if (shadows_.size() == 1 && fp_.chart_is_box) {
+      // One convex caster already clipped to a rectangular receiver: it is the shadow.
+      shadow_regions_.emplace_back(shadows_.front());
+      if (polygons_) shadow_set_.insert(shadows_.front());
+    } else {
+      shadow_set_.join(shadows_.begin(), shadows_.end());  // one aggregated union
+      if (!fp_.chart_is_box) shadow_set_.intersection(P.chart);
+      shadow_set_.polygons_with_holes(std::back_inserter(shadow_regions_));
+    }
+    std::vector<FT> region_areas;
+    for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
+    const FT shadow_chart_area = balanced_sum(region_areas);
+    const FT lit_chart_area = P.chart_area - shadow_chart_area;
+    out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
+    out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
+    out.lit_fraction = round_to_double(lit_chart_area / P.chart_area);
+  }
+
+  // ---- fragments ----------------------------------------------------------------------------
+  void emit_fragments(const ExactFace& P) {
+    std::vector<PolygonWithHoles2> lit_regions;
+    PolygonSet2 lit_set(P.chart);
+    lit_set.difference(*shadow_set_storage_);
+    lit_set.polygons_with_holes(std::back_inserter(lit_regions));
+    emit(P, lit_regions, true);
+    emit(P, shadow_regions_, false);
+    if (!dropped_.empty()) item_.lighting.dropped_area = area_3d(balanced_sum(dropped_), P.area_scale_squared);
+  }
+
+  /// One cell as a fragment, if its vertices rounded to doubles still make one simple polygon
+  /// of non-zero area (the output contract); false, writing nothing, otherwise.
+  bool write(const ExactFace& P, const Polygon2& cell, const FT& cell_area, bool lit) {
+    Fragment fragment;
+    fragment.face_id = face_id_;
+    fragment.light_id = light_id_;
+    fragment.fragment_id = fragment_id_;
+    fragment.lit = lit;
+    fragment.area = area_3d(CGAL::abs(cell_area), P.area_scale_squared);
+    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+      const Point3 p = lift(*v, P, fp_.axis);
+      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    }
+    // The chart sees the face clockwise when flipped: restore the face's orientation.
+    if (fp_.flipped == CGAL::is_positive(cell_area)) std::reverse(fragment.polygon.begin(), fragment.polygon.end());
+    if (!core::clean_double_polygon(fragment.polygon, fp_.axis)) return false;
+    item_.fragments.push_back(std::move(fragment));
+    return true;
+  }
+
+  void emit(const ExactFace& P, const std::vector<PolygonWithHoles2>& regions, bool lit) {
+    for (const PolygonWithHoles2& region : regions) {
+      cells_.clear();
+      append_simple_cells(region, cells_);
+      const std::size_t written = item_.fragments.size();
+      for (Polygon2& cell : cells_) {
+        const FT cell_area = polygon_area(cell);
+        if (write(P, cell, cell_area, lit)) continue;
+        // Rounding broke the cell (a sliver a few ulps wide, or a spike that now crosses an
+        // edge): write its triangles instead, and leave out those that collapse, accounting
+        // for their exact area in dropped_area.
+        if (CGAL::is_negative(cell_area)) cell.reverse_orientation();
+        triangles_.clear();
+        triangulate_region(PolygonWithHoles2(cell), triangles_);
+        for (const Polygon2& t : triangles_) {
+          const FT t_area = polygon_area(t);
+          if (!write(P, t, t_area, lit)) dropped_.push_back(CGAL::abs(t_area));
+        }
+      }
+      if (item_.fragments.size() > written) ++fragment_id_;  // ids stay consecutive
+    }
+  }
+
+  const ExactContext& ctx_;
+  ExactWorker& w_;
+  std::size_t face_id_, light_id_;
+  const ExactLight& light_;
+  const Light& light_in_;
+  const core::LightSpaceGrid* grid_;
+  bool polygons_;
+  ShadowStats& stats_;
+  const Face& face_;
+  const core::FacePrep& fp_;
+  const bool point_light_;
+  EK::Point_3 corner0_, corner1_, corner2_;  ///< the receiver's corner, for input_side
+  std::optional<ReceiverFrame> frame_;
+  std::optional<LeafProjector> projector_;
+  ReceiverResult item_;
+  std::vector<Polygon2> shadows_;
+  std::vector<PolygonWithHoles2> shadow_regions_;
+  std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
+  std::size_t fragment_id_ = 0;
+  std::vector<Polygon2> cells_, triangles_;
+  std::vector<FT> dropped_;  ///< exact chart areas of cells too thin to write
+};
+
+}  // namespace
+
+ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
+                                      std::size_t light_id, const ExactLight& light, int facing,
+                                      const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
+                                      ShadowStats& stats) {
+  return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats).run(facing);
+}
+
+}  // namespace shadow::exact

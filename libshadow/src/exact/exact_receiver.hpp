@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact engine's computation for one receiving face under one light (the engine dispatches
+// each receiver here or to the fast path). Steps, in exact_receiver.cpp: gather casters (the
+// double culling), cast a convex solid, cast a face by the leaf route (exactly planar faces: GMP
+// straight from the input doubles) or by the lazy route (lifted faces: Epeck), clip to the
+// chart box, unite, areas, emit fragments. Include only from CGAL translation units.
+#pragma once
+
+#include "core/convex_solid.hpp"
+#include "core/culling.hpp"
+#include "core/face_prep.hpp"
+#include "exact/exact_faces.hpp"
+#include "exact/lazy_geometry.hpp"
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+
+#include <CGAL/enum.h>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace shadow::exact {
+
+/// What the exact computation reads from the prepared engine (all shared, read-only).
+struct ExactContext {
+  const Scene* scene = nullptr;
+  const std::vector<core::FacePrep>* prep = nullptr;
+  const std::vector<double>* face_area = nullptr;  ///< exact face areas, rounded once
+  const core::CullScene* cull = nullptr;
+  const std::vector<core::ConvexSolid>* solids = nullptr;
+  const std::vector<int>* solid_of = nullptr;
+};
+
+/// Per-thread exact state. Epeck objects are never shared between threads.
+struct ExactWorker {
+  std::vector<std::unique_ptr<ExactFace>> faces;  ///< built on first use
+  core::CasterCandidates casters;
+  std::vector<Point3> poly, scratch;
+  std::vector<Point2> poly2, scratch2;
+  std::vector<CGAL::Sign> vertex_sign, piece_sign;
+
+  /// Sized for a scene of `faces` faces and `solids` convex solids.
+  void reset(std::size_t face_count, std::size_t solid_count) {
+    faces.clear();
+    faces.resize(face_count);
+    casters.reset(face_count, solid_count);
+  }
+  /// This thread's exact view of face f (made on first use).
+  const ExactFace& face(const ExactContext& ctx, std::size_t f) {
+    if (!faces[f]) faces[f] = std::make_unique<ExactFace>(make_exact_face((*ctx.scene).faces[f].vertices, (*ctx.prep)[f]));
+    return *faces[f];
+  }
+};
+
+/// Result for one receiving face under one light.
+struct ReceiverResult {
+  FaceLighting lighting;
+  std::vector<Fragment> fragments;  ///< fragment_id local to the receiver, from 0
+};
+
+/// Computes receiver `face_id` under `light` (exact form of `light_in`), whose plane has sign
+/// `facing` at the light (> 0: lit side). Adds to `stats`.
+ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
+                                      std::size_t light_id, const ExactLight& light, int facing,
+                                      const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
+                                      ShadowStats& stats);
+
+}  // namespace shadow::exact
