@@ -18,6 +18,7 @@ namespace shadow::exact {
 
 /// Exact area of a polygon with holes (holes come out clockwise).
 inline FT region_area(const PolygonWithHoles2& region) {
+  if (region.number_of_holes() == 0) return polygon_area(region.outer_boundary());  // the common case
   std::vector<FT> terms{polygon_area(region.outer_boundary())};
   for (auto h = region.holes_begin(); h != region.holes_end(); ++h) terms.push_back(-CGAL::abs(polygon_area(*h)));
   return balanced_sum(terms);
