@@ -317,6 +317,36 @@ TEST(FragmentPolygons, RotatedBoxesAndTetrahedraWriteOnlySimpleNonDegeneratePoly
   RecordProperty("entries_with_dropped_cells", static_cast<int>(dropped_entries));
 }
 
+TEST(FragmentPolygons, ASliverFaceWhollyLitOrInShadowIsWrittenOnlyAsValidPolygons) {
+  // A triangle of exact area 2^-53 m^2 whose shoelace in doubles cannot be told from zero:
+  // written whole it would break the contract, so it goes the way of any other broken cell.
+  Scene scene;
+  add_mesh(scene, "sliver", {{{0, 0, 0}, {1, 1, 0}, {2, 2 + std::ldexp(1.0, -51), 0}}});
+  add_mesh(scene, "square", {rectangle_z(5, 5, 6, 6, 0)});
+  scene.lights.push_back(directional_light("sun", {0.2, 0.1, 1}));   // both lit whole
+  scene.lights.push_back(directional_light("under", {0.2, 0.1, -1}));  // both in attached shadow
+  validate_scene(scene);
+  ASSERT_FALSE(scene.faces[0].degenerate);
+  for (Arithmetic arithmetic : {Arithmetic::Exact, Arithmetic::Fast}) {
+    SCOPED_TRACE(arithmetic == Arithmetic::Exact ? "exact" : "fast");
+    ShadowOptions options;
+    options.arithmetic = arithmetic;
+    const ShadowResult r = compute_shadows(scene, options);
+    for (const Fragment& f : r.fragments) EXPECT_EQ(polygon_problem(f.polygon), "") << "face " << f.face_id;
+    for (const FaceLighting& fl : r.lighting) {
+      double written = 0;
+      for (const Fragment& f : r.fragments)
+        if (f.face_id == fl.face_id && f.light_id == fl.light_id) written += f.area;
+      EXPECT_EQ(written + fl.dropped_area, fl.area) << "face " << fl.face_id << " light " << fl.light_id;
+    }
+    EXPECT_EQ(r.find(0, 0)->lit_area, std::ldexp(1.0, -52));
+    // The sliver cannot be written: its whole area is accounted as dropped, lit or not.
+    EXPECT_EQ(r.find(0, 0)->dropped_area, std::ldexp(1.0, -52));
+    EXPECT_EQ(r.find(0, 1)->dropped_area, std::ldexp(1.0, -52));
+    EXPECT_EQ(r.find(1, 0)->dropped_area, 0.0);
+  }
+}
+
 TEST(LargeFaces, CombOverAGroundCastsItsExactAreaAndTheGroundsCellsTileIt) {
   // The ground's lit region is a box with one comb-shaped hole of 8,000 vertices: its cells
   // come from a triangulation of that region (it used to take minutes).

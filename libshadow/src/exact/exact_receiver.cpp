@@ -65,9 +65,7 @@ class ExactReceiverJob {
     if (facing <= 0) {  // attached shadow: the front looks away from the light (or edge-on)
       ++stats_.back_facing;
       out.shadow_area = out.area;
-      if (polygons_)
-        item_.fragments.push_back(whole_face_fragment(face_, face_id_, light_id_, false, out.area, fp_,
-                                                      fp_.exactly_planar ? nullptr : &w_.face(ctx_, face_id_)));
+      if (polygons_) emit_whole_face(false);
       return std::move(item_);
     }
     out.faces_light = true;
@@ -92,7 +90,7 @@ class ExactReceiverJob {
       ++stats_.unshadowed;
       out.lit_area = out.area;
       out.lit_fraction = 1.0;
-      if (polygons_) item_.fragments.push_back(whole_face_fragment(face_, face_id_, light_id_, true, out.area, fp_, &P));
+      if (polygons_) emit_whole_face(true);
       return std::move(item_);
     }
     unite_and_measure(P);
@@ -282,6 +280,21 @@ class ExactReceiverJob {
   }
 
   // ---- fragments ----------------------------------------------------------------------------
+  /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
+  /// outline in doubles is not a simple polygon of certainly non-zero area goes through emit()
+  /// like any other region: triangles, and dropped_area for those that collapse.
+  void emit_whole_face(bool lit) {
+    const ExactFace* ef = fp_.exactly_planar ? nullptr : &w_.face(ctx_, face_id_);
+    Fragment fragment = whole_face_fragment(face_, face_id_, light_id_, lit, item_.lighting.area, fp_, ef);
+    if (core::clean_double_polygon(fragment.polygon, fp_.axis)) {
+      item_.fragments.push_back(std::move(fragment));
+      return;
+    }
+    const ExactFace& P = w_.face(ctx_, face_id_);
+    emit(P, {PolygonWithHoles2(P.chart)}, lit);
+    if (!dropped_.empty()) item_.lighting.dropped_area = area_3d(balanced_sum(dropped_), P.area_scale_squared);
+  }
+
   void emit_fragments(const ExactFace& P) {
     std::vector<PolygonWithHoles2> lit_regions;
     PolygonSet2 lit_set(P.chart);

@@ -454,7 +454,7 @@ class ReceiverJob {
     if (facing <= 0) {  // attached shadow, as in the exact engine
       ++local_.back_facing;
       out_.shadow_area = out_.area;
-      if (polygons_) push_whole_face(false);
+      if (polygons_ && !push_whole_face(false)) return false;
       return commit();
     }
     out_.faces_light = true;
@@ -468,7 +468,7 @@ class ReceiverJob {
       out_.lit_fraction = 1.0;
       out_.lit_area_error_bound = bound_.unshadowed(scale_);
       if (!std::isfinite(out_.lit_area_error_bound)) return false;
-      if (polygons_) push_whole_face(true);
+      if (polygons_ && !push_whole_face(true)) return false;
       return commit();
     }
     if (!unite()) return false;
@@ -540,8 +540,9 @@ class ReceiverJob {
   }
 
   /// The face's outline as one fragment, wholly lit or wholly in shadow: its own vertices, or
-  /// lifted onto the plane in doubles.
-  void push_whole_face(bool lit) {
+  /// lifted onto the plane in doubles. False when that outline is not a simple polygon of
+  /// certainly non-zero area in doubles (a sliver face): the exact engine writes it then.
+  bool push_whole_face(bool lit) {
     const glm::dvec3 corner = rc_.corner;
     Fragment f;
     f.face_id = face_id_;
@@ -553,7 +554,9 @@ class ReceiverJob {
       for (glm::dvec3& y : f.polygon)
         y[rc_.k] = corner[rc_.k] - (rc_.normal[rc_.i] * (y[rc_.i] - corner[rc_.i]) +
                                     rc_.normal[rc_.j] * (y[rc_.j] - corner[rc_.j])) / rc_.normal[rc_.k];
+    if (!core::clean_double_polygon(f.polygon, fp_.axis)) return false;
     fragments_.push_back(std::move(f));
+    return true;
   }
 
   // ---- facing: exact where the double test could be wrong -----------------------------------
