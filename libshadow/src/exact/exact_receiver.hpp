@@ -6,9 +6,9 @@
 // chart box, unite, areas, emit fragments. Include only from CGAL translation units.
 #pragma once
 
-#include "core/convex_solid.hpp"
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
+#include "core/prepared_scene.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -23,15 +23,8 @@
 
 namespace shadow::exact {
 
-/// What the exact computation reads from the prepared engine (all shared, read-only).
-struct ExactContext {
-  const Scene* scene = nullptr;
-  const std::vector<core::FacePrep>* prep = nullptr;
-  const std::vector<double>* face_area = nullptr;  ///< exact face areas, rounded once
-  const core::CullScene* cull = nullptr;
-  const std::vector<core::ConvexSolid>* solids = nullptr;
-  const std::vector<int>* solid_of = nullptr;
-};
+/// What the computation reads from the prepared engine (all shared, read-only).
+using ExactContext = core::PreparedScene;
 
 /// Per-thread exact state. Epeck objects are never shared between threads.
 struct ExactWorker {

@@ -6,9 +6,9 @@
 // the exact engine. No CGAL and no Clipper types here: the engine includes this header.
 #pragma once
 
-#include "core/convex_solid.hpp"
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
+#include "core/prepared_scene.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
@@ -18,15 +18,8 @@
 
 namespace shadow::fast {
 
-/// What the fast path reads from the prepared engine (all shared, read-only).
-struct Context {
-  const Scene* scene = nullptr;
-  const std::vector<core::FacePrep>* prep = nullptr;
-  const std::vector<double>* face_area = nullptr;  ///< exact face areas, rounded once
-  const core::CullScene* cull = nullptr;
-  const std::vector<core::ConvexSolid>* solids = nullptr;
-  const std::vector<int>* solid_of = nullptr;
-};
+/// What the computation reads from the prepared engine (all shared, read-only).
+using Context = core::PreparedScene;
 
 /// Per-thread scratch state.
 struct Worker {
