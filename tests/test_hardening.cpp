@@ -379,5 +379,37 @@ TEST(LargeFaces, CombOverAGroundCastsItsExactAreaAndTheGroundsCellsTileIt) {
   EXPECT_NEAR(shadowed, ground->shadow_area, 1e-9 * ground->area);
 }
 
+TEST(LargeFaces, CombWhoseShadowLeavesTheGroundIsCutToIt) {
+  // A non-convex caster wholly in front casts its whole outline, unclipped: the union must then
+  // be cut to the receiver. Dyadic numbers: the expected area is exact in doubles.
+  const std::size_t teeth = 2000;
+  std::vector<glm::dvec3> raised = comb(teeth);
+  for (glm::dvec3& v : raised) v.z = 1;
+  Scene scene;
+  add_mesh(scene, "ground", {{{-5, -5, 0}, {1000.25, -5, 0}, {1000.25, 15, 0}, {-5, 15, 0}}});
+  add_mesh(scene, "comb", {raised});
+  scene.lights.push_back(directional_light("sun", {0.125, 0.25, 1}));  // shadow shifted by (-1/8, -1/4)
+  validate_scene(scene);
+  for (bool polygons : {false, true}) {
+    ShadowOptions options;
+    options.threads = 2;
+    options.polygons = polygons;
+    const ShadowResult r = compute_shadows(scene, options);
+    const FaceLighting* ground = r.find(0, 0);
+    ASSERT_NE(ground, nullptr);
+    // The spine from x = -1/8 to the ground's edge, and the 1,000 teeth left of it (the edge at
+    // 1000.25 falls in the gap between teeth 1000 and 1001).
+    EXPECT_EQ(ground->shadow_area, 1000.375 * 1 + 1000 * 0.5 * 9);
+    if (!polygons) continue;
+    double shadowed = 0;
+    for (const Fragment& f : r.fragments)
+      if (f.face_id == 0 && !f.lit) {
+        EXPECT_EQ(polygon_problem(f.polygon), "");
+        shadowed += f.area;
+      }
+    EXPECT_NEAR(shadowed, ground->shadow_area, 1e-9 * ground->area);
+  }
+}
+
 }  // namespace
 }  // namespace shadow::test

@@ -128,6 +128,37 @@ Measurement run_isolated(const Case& c, unsigned threads, bool polygons, int rep
   return m;
 }
 
+/// docs/benchmarks.md, "Large single faces": validation and computation on one thread.
+int run_comb(std::size_t teeth, bool polygons) {
+  std::vector<glm::dvec3> comb;
+  for (std::size_t t = 0; t < teeth; ++t) {
+    const double x = static_cast<double>(teeth - t);
+    comb.push_back({x, 1, 1});
+    comb.push_back({x, 10, 1});
+    comb.push_back({x - 0.5, 10, 1});
+    comb.push_back({x - 0.5, 1, 1});
+  }
+  const double n = static_cast<double>(teeth);
+  comb.push_back({0, 1, 1});
+  comb.push_back({0, 0, 1});
+  comb.push_back({n, 0, 1});
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "ground", {{{-5, -5, 0}, {n + 5, -5, 0}, {n + 5, 15, 0}, {-5, 15, 0}}});
+  shadow::add_mesh(scene, "comb", {comb});
+  scene.lights.push_back(shadow::directional_light("sun", {0.1, 0.2, 1}));
+  const auto t0 = std::chrono::steady_clock::now();
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions options;
+  options.threads = 1;
+  options.polygons = polygons;
+  const shadow::ShadowResult result = shadow::compute_shadows(scene, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const shadow::FaceLighting* ground = result.find(0, 0);
+  std::printf("comb of %zu vertices over a ground, %s: %.3f s, ground shadow %.17g m^2 (exact: %.17g)\n", comb.size(),
+              polygons ? "polygons" : "areas only", seconds, ground ? ground->shadow_area : -1.0, 5.5 * n);
+  return ground && ground->shadow_area == 5.5 * n ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -181,10 +212,17 @@ int main(int argc, char** argv) {
   golden_cmd->add_option("--write-dir", golden_dir, "Also write every value, one file per case, into this folder");
   golden_cmd->add_option("--threads", golden_threads, "Threads (results do not depend on it)")->check(CLI::PositiveNumber);
   golden_cmd->add_flag("--quick", golden_quick, "Leave out the 1,000-box city; 10 spheres instead of 50");
+  std::size_t comb_teeth = 10000;
+  bool comb_areas_only = false;
+  CLI::App* comb_cmd = app.add_subcommand(
+      "comb", "One comb-shaped face (4 vertices a tooth) 1 m above a ground it shadows: large single faces");
+  comb_cmd->add_option("--teeth", comb_teeth, "Teeth (the face has 4 x teeth + 3 vertices)")->check(CLI::PositiveNumber);
+  comb_cmd->add_flag("--areas-only", comb_areas_only, "Compute areas only (no fragment polygons)");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
+  if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
 

@@ -45,6 +45,11 @@ Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t 
   return fragment;
 }
 
+/// A non-convex caster of at least this many convex pieces, wholly in front of the receiver
+/// under a directional light and casting inside its chart box, casts its whole outline as one
+/// polygon (see cast_face).
+constexpr std::size_t kWholeFaceFromPieces = 16;
+
 class ExactReceiverJob {
  public:
   ExactReceiverJob(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
@@ -209,6 +214,28 @@ class ExactReceiverJob {
       }
     }
     if (!any_front) return;  // nothing strictly in front of the receiver
+    if (leaves && !point_light_ && qp.convex_pieces.size() >= kWholeFaceFromPieces &&
+        std::all_of(w_.vertex_sign.begin(), w_.vertex_sign.end(), [](CGAL::Sign s) { return s == CGAL::POSITIVE; })) {
+      // A non-convex caster wholly in front under a directional light: its projection is an
+      // affine image of the face, a simple polygon, so it can cast as one polygon instead of
+      // one per convex piece (pieces share edges, which makes the union slow). Only when that
+      // polygon lies inside the chart box: cutting it to the box afterwards (an intersection
+      // of the union) cost more than the pieces on long combs.
+      w_.poly2.clear();
+      bool inside = true;
+      for (int v : qp.chart_ring) {
+        w_.poly2.push_back(leaf_projector().project(qface.vertices[v]));
+        const Point2& p = w_.poly2.back();
+        for (int c = 0; c < 2 && inside; ++c)
+          inside = CGAL::compare(p[c], FT(fp_.chart_min[c])) != CGAL::SMALLER &&
+                   CGAL::compare(p[c], FT(fp_.chart_max[c])) != CGAL::LARGER;
+        if (!inside) break;
+      }
+      if (inside) {
+        if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
+        return;
+      }
+    }
     bool cast = false;
     for (const std::vector<int>& piece : qp.convex_pieces) {
       w_.piece_sign.clear();
