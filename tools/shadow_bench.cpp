@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("--constant-bias", compare.constant_bias, "Shadow-map constant depth bias (m)");
   compare_cmd->add_option("--slope-bias", compare.slope_bias, "Shadow-map slope-scaled bias (texels)");
   compare_cmd->add_option("--max-error", compare.max_error,
-                          "Fail (exit 1) when exact or fast leaves its error bound on any face, or a sampled "
+                          "Fail (exit 1) when the fast path leaves its error bound on any face (exact is the reference), or a sampled "
                           "baseline's total lit rel. error or mean face error exceeds this")
       ->check(CLI::NonNegativeNumber);
   compare_cmd->add_flag("--quick", compare.quick, "Smoke run: 100-box city and the room, two parameters each");
