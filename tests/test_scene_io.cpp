@@ -1183,6 +1183,10 @@ TEST(LibraryChecks, LightsAreResolvedInOnePlaceForFacesAndPlanes) {
                                {"lights[0].to_light", "zero length"}));
   EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::ShadowEngine(scene).compute(options); },
                                {"lights[0].to_light", "zero length"}));
+  // A light that is not one of the scene's (many sun positions over one engine) is checked too.
+  const shadow::Light bad = shadow::directional_light("sun", {0, 0, 0});
+  EXPECT_TRUE(ThrowsInputError([&] { (void)shadow::ShadowEngine(scene).compute(bad, 7, options); },
+                               {"lights[7].to_light", "zero length"}));
 }
 
 TEST(LibraryChecks, ThreadsAreBounded) {

@@ -58,19 +58,24 @@ void detail::check_plane(const Scene& scene, std::size_t index) {
                                                    format_number(plane.window));
 }
 
+void detail::check_face_numbers(const Scene& scene, std::size_t face_id) {
+  const Face& face = scene.faces[face_id];
+  if (face.mesh >= scene.meshes.size())  // Scene::is_receiver() would read past the meshes
+    throw InputError(face_location(scene, face_id), "face belongs to mesh " + std::to_string(face.mesh) +
+                                                        ", but the scene has " + std::to_string(scene.meshes.size()) +
+                                                        (scene.meshes.size() == 1 ? " mesh" : " meshes"));
+  const std::vector<glm::dvec3>& vertices = face.vertices;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (in_range(vertices[i])) continue;  // the common case: one test per vertex
+    throw InputError(face_location(scene, face_id),
+                     "vertex " + std::to_string(i) + " has a " + coordinate_problem(vertices[i], "coordinate"));
+  }
+}
+
 void detail::check_scene_numbers(const Scene& scene) {
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    const Face& face = scene.faces[f];
-    if (face.mesh >= scene.meshes.size())  // Scene::is_receiver() would read past the meshes
-      throw InputError(face_location(scene, f), "face belongs to mesh " + std::to_string(face.mesh) +
-                                                    ", but the scene has " + std::to_string(scene.meshes.size()) +
-                                                    (scene.meshes.size() == 1 ? " mesh" : " meshes"));
-    const std::vector<glm::dvec3>& vertices = face.vertices;
-    for (std::size_t i = 0; i < vertices.size(); ++i) {
-      if (in_range(vertices[i])) continue;  // the common case: one test per vertex
-      throw InputError(face_location(scene, f),
-                       "vertex " + std::to_string(i) + " has a " + coordinate_problem(vertices[i], "coordinate"));
-    }
+    check_face_numbers(scene, f);
+    const std::vector<glm::dvec3>& vertices = scene.faces[f].vertices;
     // Face preparation assumes what validate_scene() establishes: no zero-length edge.
     for (std::size_t i = 0; i < vertices.size() && vertices.size() > 1; ++i)
       if (vertices[i] == vertices[(i + 1) % vertices.size()])

@@ -32,6 +32,10 @@ std::string coordinate_problem(const glm::dvec3& v, const char* what);
 /// Throws InputError naming `planes[index]` if the plane's point, normal or window is unusable.
 void check_plane(const Scene& scene, std::size_t index);
 
+/// Throws InputError naming the face's source (or `face N`) if the face belongs to no mesh of
+/// the scene, or a vertex is not finite or beyond max_coordinate.
+void check_face_numbers(const Scene& scene, std::size_t face_id);
+
 /// The cheap part of validation that the library cannot do without (scenes built in code may
 /// skip validate_scene): every face vertex, plane point, normal and window finite and within
 /// max_coordinate. Linear in the number of vertices.

@@ -146,7 +146,6 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
                                        std::vector<Item>& items, std::size_t progress_base,
                                        std::size_t progress_total) const {
   using namespace exact;
-  shadow::detail::check_light(light_in, "", "lights[" + std::to_string(light_id) + "]");
   const unsigned threads = static_cast<unsigned>(workers.size());
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);
@@ -243,6 +242,8 @@ ShadowResult ShadowEngine::compute(const ShadowOptions& options) const {
 
 ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
                                    const ShadowOptions& options) const {
+  // A light that need not be one of the scene's: checked here (resolve_lights checks the scene's).
+  shadow::detail::check_light(light, "", "lights[" + std::to_string(light_id) + "]");
   return impl_->run({&light}, {light_id}, options);
 }
 

@@ -209,11 +209,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
   const unsigned threads = core::checked_threads(options.threads);
   if (!(options.plane_window >= 0 && options.plane_window <= max_coordinate))
     throw InputError({"", "ShadowOptions::plane_window"},
-                     "must be in [0, 2^500 (about 3.27e150)], got " + [&] {
-                       char text[32];
-                       std::snprintf(text, sizeof text, "%g", options.plane_window);
-                       return std::string(text);
-                     }());
+                     "must be in [0, 2^500 (about 3.27e150)], got " + shadow::detail::format_number(options.plane_window));
   if (scene.planes.empty() || light_ids.empty()) return {};
 
   const core::SceneFrame frame = core::scene_frame(scene);

@@ -101,14 +101,7 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
                    std::vector<Warning>& warnings) {
   Face& face = scene.faces[face_id];
   const SourceLocation where = face_location(scene, face_id);
-  if (face.mesh >= scene.meshes.size())
-    throw InputError(where, "face belongs to mesh " + std::to_string(face.mesh) + ", but the scene has " +
-                                std::to_string(scene.meshes.size()) +
-                                (scene.meshes.size() == 1 ? " mesh" : " meshes"));
-  for (std::size_t i = 0; i < face.vertices.size(); ++i) {
-    const std::string problem = detail::coordinate_problem(face.vertices[i], "coordinate");
-    if (!problem.empty()) throw InputError(where, "vertex " + std::to_string(i) + " has a " + problem);
-  }
+  detail::check_face_numbers(scene, face_id);
   remove_consecutive_duplicates(face.vertices);
   if (face.vertices.size() < 3)
     throw InputError(where, "face has " + std::to_string(face.vertices.size()) + " distinct " +
