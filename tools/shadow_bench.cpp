@@ -130,18 +130,8 @@ Measurement run_isolated(const Case& c, unsigned threads, bool polygons, int rep
 
 /// docs/benchmarks.md, "Large single faces": validation and computation on one thread.
 int run_comb(std::size_t teeth, bool polygons) {
-  std::vector<glm::dvec3> comb;
-  for (std::size_t t = 0; t < teeth; ++t) {
-    const double x = static_cast<double>(teeth - t);
-    comb.push_back({x, 1, 1});
-    comb.push_back({x, 10, 1});
-    comb.push_back({x - 0.5, 10, 1});
-    comb.push_back({x - 0.5, 1, 1});
-  }
+  const std::vector<glm::dvec3> comb = shadow::comb_polygon(teeth, 1);
   const double n = static_cast<double>(teeth);
-  comb.push_back({0, 1, 1});
-  comb.push_back({0, 0, 1});
-  comb.push_back({n, 0, 1});
   shadow::Scene scene;
   shadow::add_mesh(scene, "ground", {{{-5, -5, 0}, {n + 5, -5, 0}, {n + 5, 15, 0}, {-5, 15, 0}}});
   shadow::add_mesh(scene, "comb", {comb});

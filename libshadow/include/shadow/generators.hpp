@@ -30,6 +30,11 @@ std::vector<Polygon3> room_faces(glm::dvec3 lo, glm::dvec3 hi);
 /// An axis-aligned rectangle at height z, front facing +z (or -z when `up` is false).
 Polygon3 rectangle_z(double x0, double y0, double x1, double y1, double z, bool up = true);
 
+/// A comb in the plane at height z, front facing +z: `teeth` teeth 0.5 wide and 9 long (x from
+/// k - 0.5 to k for k = 1..teeth, y from 1 to 10) on a spine 1 wide (x from 0 to teeth, y from 0
+/// to 1). 4 x teeth + 3 vertices, area 5.5 x teeth: a large non-convex face (benchmarks, tests).
+Polygon3 comb_polygon(std::size_t teeth, double z = 0);
+
 Light directional_light(const std::string& name, glm::dvec3 to_light);
 Light point_light(const std::string& name, glm::dvec3 position);
 

@@ -50,6 +50,22 @@ Polygon3 rectangle_z(double x0, double y0, double x1, double y1, double z, bool 
   return r;
 }
 
+Polygon3 comb_polygon(std::size_t teeth, double z) {
+  Polygon3 p;
+  p.reserve(4 * teeth + 3);
+  for (std::size_t t = 0; t < teeth; ++t) {
+    const double x = static_cast<double>(teeth - t);
+    p.push_back({x, 1, z});
+    p.push_back({x, 10, z});
+    p.push_back({x - 0.5, 10, z});
+    p.push_back({x - 0.5, 1, z});
+  }
+  p.push_back({0, 1, z});
+  p.push_back({0, 0, z});
+  p.push_back({static_cast<double>(teeth), 0, z});
+  return p;
+}
+
 Light directional_light(const std::string& name, glm::dvec3 to_light) {
   Light l;
   l.name = name;
