@@ -8,6 +8,7 @@
 
 #include <shadow/error.hpp>
 #include <shadow/material.hpp>
+#include <shadow/sun.hpp>
 
 #include <glm/vec3.hpp>
 
@@ -24,6 +25,11 @@ struct Face {
   std::vector<glm::dvec3> vertices;  ///< at least 3, consecutive duplicates removed
   std::size_t mesh = 0;              ///< index into Scene::meshes
   SourceLocation source;             ///< where the face was defined (OBJ line or JSON path)
+  /// The name of the surface this face belongs to (an inline polygon's `name`, an OBJ `o`/`g`
+  /// group, an EnergyPlus surface, a CityJSON surface); empty when unnamed. Several faces may
+  /// share a name: the pieces of one surface with holes, the faces of one OBJ group. Results
+  /// per named surface add them up (named_surfaces()).
+  std::string name;
   /// Set by validation: the face has zero area (collinear or coincident vertices).
   /// It keeps its face_id but casts no shadow and receives no light.
   bool degenerate = false;
@@ -83,6 +89,12 @@ struct Scene {
   std::vector<Warning> warnings;   ///< non-fatal findings of loading and validation
   /// The scene file's `camera` (absent when the file has none, or the scene is built in code).
   std::optional<Camera> camera;
+  /// The scene's `sun` block (sun.hpp): the site and period whose suns were appended to
+  /// `lights` as directional lights. Absent when the scene has none.
+  std::optional<SunPeriod> sun;
+  /// Every instant of the sun period in time order, above the horizon or not; an instant above
+  /// it names its directional light in `lights` (SunInstant::light_id). Empty without `sun`.
+  std::vector<SunInstant> sun_instants;
 
   /// True when face `face_id` belongs to a receiving mesh.
   [[nodiscard]] bool is_receiver(std::size_t face_id) const {
@@ -100,5 +112,22 @@ struct Scene {
     return default_material;
   }
 };
+
+/// The faces that share one name, or one unnamed face: the unit in which named results (CSV
+/// columns, EnergyPlus surfaces) are reported. Its lit fraction is the area-weighted mean of its
+/// faces' (sum of lit areas over sum of areas).
+struct NamedSurface {
+  std::string label;              ///< the faces' name, or `face_<id>` for an unnamed face
+  std::vector<std::size_t> faces; ///< face ids, ascending
+};
+
+/// The scene's named surfaces in the order of their first face: faces with the same non-empty
+/// name form one surface (whatever their meshes), every unnamed face is a surface of its own
+/// labelled `face_<id>`. With `receivers_only`, faces of non-receiving meshes are left out (and
+/// a surface with none left is dropped).
+std::vector<NamedSurface> named_surfaces(const Scene& scene, bool receivers_only = true);
+
+/// A face's label: its name, or `face_<id>` when it has none.
+std::string face_label(const Scene& scene, std::size_t face_id);
 
 }  // namespace shadow
