@@ -30,6 +30,10 @@ struct Face {
   /// share a name: the pieces of one surface with holes, the faces of one OBJ group. Results
   /// per named surface add them up (named_surfaces()).
   std::string name;
+  /// What the model says the surface is: a CityJSON semantic surface (`RoofSurface`,
+  /// `WallSurface`, `GroundSurface`, ...) or an EnergyPlus surface type (`Wall`, `Roof`,
+  /// `Window`, `Door`, `Shading`, ...); empty when the input says nothing.
+  std::string kind;
   /// Set by validation: the face has zero area (collinear or coincident vertices).
   /// It keeps its face_id but casts no shadow and receives no light.
   bool degenerate = false;
