@@ -561,6 +561,16 @@ TEST(SceneSun, TimesInTheSceneAndTheirErrors) {
   EXPECT_NE(error("{" + meshes + R"(, "sun": {"latitude": 40, "longitude": 0, "times": ["2026-01-01T00:00:00Z"], "lattitude": 1}})")
                 .find("scene.json: sun: unknown key \"lattitude\""),
             std::string::npos);
+  // Every sun below the horizon: no lights, one warning.
+  const shadow::Scene night = shadow::parse_scene(
+      "{" + meshes + R"(, "sun": {"latitude": 40, "longitude": 0, "times": ["2026-06-21T00:00:00Z"]}})", "scene.json");
+  EXPECT_TRUE(night.lights.empty());
+  ASSERT_EQ(night.sun_instants.size(), 1u);
+  EXPECT_EQ(night.sun_instants[0].light_id, shadow::SunInstant::none);
+  ASSERT_EQ(night.warnings.size(), 1u);
+  EXPECT_EQ(night.warnings[0].to_string(),
+            "scene.json: sun: the sun is at or below min_elevation (0 degrees) at every one of the 1 instants: "
+            "no sun lights were added");
   // Without a sun block, lights are still required.
   EXPECT_NE(error("{" + meshes + "}").find("missing \"lights\""), std::string::npos);
 }

@@ -328,6 +328,7 @@ void add_sun_lights(Scene& scene, const SunPeriod& period) {
   std::vector<SunInstant> instants = expand_sun_period(period);
   std::set<std::string> taken;
   for (const Light& light : scene.lights) taken.insert(light.name);
+  std::size_t above = 0;
   for (SunInstant& instant : instants) {
     if (!(instant.position.elevation > period.min_elevation)) continue;
     Light light;
@@ -341,7 +342,14 @@ void add_sun_lights(Scene& scene, const SunPeriod& period) {
     light.color = {1.0, 1.0, 1.0};
     instant.light_id = scene.lights.size();
     scene.lights.push_back(std::move(light));
+    ++above;
   }
+  // Not an error (a winter night is a fair question), but nothing will be lit by the sun.
+  if (above == 0)
+    scene.warnings.push_back({{file, "sun"}, "the sun is at or below min_elevation (" +
+                                                 format_number(period.min_elevation) + " degrees) at every one of the " +
+                                                 std::to_string(instants.size()) +
+                                                 " instants: no sun lights were added"});
   scene.sun = period;
   scene.sun_instants = std::move(instants);
 }
