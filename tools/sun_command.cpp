@@ -6,8 +6,56 @@
 #include <shadow/error.hpp>
 #include <shadow/sun.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
+#include <string>
+
+namespace {
+
+/// Sunrise and sunset: the geometric centre of the sun at -0.8333 degrees (its upper limb on
+/// the horizon lifted by 34' of refraction, the usual almanac definition), found by stepping
+/// 5 minutes through the local mean solar day that holds `time` (longitude / 15 hours from UTC)
+/// and bisecting each crossing to the second. Nothing for a day without one (polar day or night).
+struct RiseSet {
+  std::optional<shadow::UtcSeconds> rise, set;
+};
+
+RiseSet rise_set(shadow::SolarSite site, shadow::UtcSeconds time, double delta_t) {
+  site.pressure = 0.0;  // the geometric elevation
+  constexpr double kHorizon = -0.8333;
+  auto above = [&](shadow::UtcSeconds t) {
+    return shadow::solar_position(site, t, 0.0, delta_t).elevation > kHorizon;
+  };
+  const auto mean_offset = static_cast<shadow::UtcSeconds>(std::llround(site.longitude / 15.0 * 3600.0));
+  const shadow::UtcSeconds local = time + mean_offset;
+  const shadow::UtcSeconds day_start = (local - ((local % 86400) + 86400) % 86400) - mean_offset;
+  RiseSet result;
+  constexpr shadow::UtcSeconds kStep = 300;
+  bool before = above(day_start);
+  for (shadow::UtcSeconds t = day_start; t < day_start + 86400; t += kStep) {
+    const shadow::UtcSeconds next = std::min<shadow::UtcSeconds>(t + kStep, day_start + 86400);
+    const bool after = above(next);
+    if (after != before) {
+      shadow::UtcSeconds lo = t, hi = next;  // above(lo) == before, above(hi) == after
+      while (hi - lo > 1) {
+        const shadow::UtcSeconds mid = lo + (hi - lo) / 2;
+        (above(mid) == before ? lo : hi) = mid;
+      }
+      if (after && !result.rise) result.rise = hi;
+      if (!after) result.set = hi;
+    }
+    before = after;
+  }
+  return result;
+}
+
+std::string json_time(const std::optional<shadow::UtcSeconds>& t) {
+  return t ? "\"" + shadow::format_iso8601_utc(*t) + "\"" : std::string("null");
+}
+
+}  // namespace
 
 void add_sun_options(CLI::App& sun, SunArgs& args) {
   sun.add_option("--latitude", args.latitude, "Degrees, north positive")
@@ -33,6 +81,10 @@ void add_sun_options(CLI::App& sun, SunArgs& args) {
       ->check(shadow_cli::finite_in(-360.0, 360.0));
   sun.add_option("--delta-t", args.delta_t, "TT - UT in seconds (default 69, the 2020s)")
       ->check(shadow_cli::finite_in(-1e6, 1e6));
+  sun.add_flag("--rise-set", args.rise_set,
+               "Also print \"sunrise\" and \"sunset\" (UTC, to the second; null when the sun does not "
+               "rise or set) of the local mean solar day that holds --time: the sun's centre at -0.8333 "
+               "degrees, as almanacs give them");
 }
 
 int run_sun(const SunArgs& args) {
@@ -50,8 +102,13 @@ int run_sun(const SunArgs& args) {
   site.temperature = args.temperature;
   const shadow::SunPosition p = shadow::solar_position(site, *time, args.north_axis, args.delta_t);
   std::printf("{\"time\": \"%s\", \"elevation\": %.17g, \"azimuth\": %.17g, \"zenith\": %.17g, "
-              "\"to_light\": [%.17g, %.17g, %.17g]}\n",
+              "\"to_light\": [%.17g, %.17g, %.17g]",
               shadow::format_iso8601_utc(*time).c_str(), p.elevation, p.azimuth, p.zenith, p.to_light.x,
               p.to_light.y, p.to_light.z);
+  if (args.rise_set) {
+    const RiseSet r = rise_set(site, *time, args.delta_t);
+    std::printf(", \"sunrise\": %s, \"sunset\": %s", json_time(r.rise).c_str(), json_time(r.set).c_str());
+  }
+  std::printf("}\n");
   return 0;
 }

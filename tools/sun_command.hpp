@@ -15,11 +15,12 @@ struct SunArgs {
   double temperature = 12.0;
   double north_axis = 0.0;
   double delta_t = 69.0;
+  bool rise_set = false;  ///< also print the day's sunrise and sunset
 };
 
 /// Declares the options of `shadow sun` on its subcommand.
 void add_sun_options(CLI::App& sun, SunArgs& args);
 
 /// Prints `{"time": ..., "elevation": .., "azimuth": .., "zenith": .., "to_light": [x, y, z]}`
-/// on one line; returns the exit status. A time that does not parse throws shadow::InputError.
+/// on one line (with --rise-set also `"sunrise"` and `"sunset"`); returns the exit status. A time that does not parse throws shadow::InputError.
 int run_sun(const SunArgs& args);

@@ -111,6 +111,34 @@ PY
 if [[ $? -eq 0 ]]; then pass "sun_agrees_with_almanac ($(cat "$WORK/almanac.out"))"
 else fail "sun_agrees_with_almanac" "$(cat "$WORK/almanac.out")"; fi
 
+# --rise-set: Berlin on the 2026 June solstice, almanac times 04:43 and 21:33 CEST (02:43 and
+# 19:33 UTC, to the minute); Sydney the same day 07:00 and 16:53 AEST; Longyearbyen (78.2 N) has
+# midnight sun in June and polar night in December: null.
+check_rise_set() {
+  local name=$1 lat=$2 lon=$3 time=$4 rise=$5 set=$6
+  local line
+  line=$("$SHADOW" sun --latitude "$lat" --longitude "$lon" --time "$time" --rise-set)
+  if python3 - "$line" "$rise" "$set" <<'PY'
+import datetime, json, sys
+j = json.loads(sys.argv[1])
+def close(got, want):
+    if want == "null":
+        return got is None
+    if want == "-":  # not checked against a published value, but it must be there
+        return got is not None
+    parse = lambda s: datetime.datetime.strptime(s, "%Y-%m-%dT%H:%M:%SZ" if s.count(":") == 2 else "%Y-%m-%dT%H:%MZ")
+    return got is not None and abs((parse(got) - parse(want)).total_seconds()) <= 60
+assert close(j["sunrise"], sys.argv[2]) and close(j["sunset"], sys.argv[3]), j
+PY
+  then pass "$name"; else fail "$name" "$line"; fi
+}
+check_rise_set rise_set_berlin 52.52 13.405 2026-06-21T12:00:00Z 2026-06-21T02:43Z 2026-06-21T19:33Z
+check_rise_set rise_set_sydney -33.87 151.21 2026-06-21T02:00:00Z 2026-06-20T21:00Z 2026-06-21T06:53Z
+check_rise_set rise_set_polar_day 78.22 15.65 2026-06-21T12:00:00Z null null
+check_rise_set rise_set_polar_night 78.22 15.65 2026-12-21T12:00:00Z null null
+# NREL's spa_tester prints sunrise 06:12:43 local time (UTC-7) for the paper's example.
+check_rise_set rise_set_spa_example 39.742476 -105.1786 2003-10-17T19:30:30Z 2003-10-17T13:12:43Z -
+
 expect_usage_error sun_bad_time "--time" sun --latitude 40 --longitude 0 --time 2026-02-30T12:00:00Z
 expect_usage_error sun_no_zone "--time" sun --latitude 40 --longitude 0 --time 2026-06-21T12:00:00
 expect_usage_error sun_hour_24 "--time" sun --latitude 40 --longitude 0 --time 2026-06-21T24:01:00Z
