@@ -140,8 +140,8 @@ std::optional<int> parse_utc_offset(std::string_view time_zone);
 /// The most instants a sun period may expand to.
 inline constexpr std::size_t max_sun_instants = 1'000'000;
 
-/// Checks a sun period: latitude in [-90, 90], longitude in [-180, 180], finite elevation,
-/// pressure > 0, temperature > -273.15, utc_offset in [-14, 14] and a whole number of minutes,
+/// Checks a sun period: latitude in [-90, 90], longitude in [-180, 180], elevation in
+/// [-1000, 100000] metres, pressure in (0, 5000] millibars, temperature in (-273.15, 1000] C, utc_offset in [-14, 14] and a whole number of minutes,
 /// valid `start` <= `end` dates and a step dividing 1440 (or strictly increasing `times`, not
 /// both), at most max_sun_instants instants, finite north_axis and delta_t, min_elevation in
 /// [-90, 90].
@@ -162,7 +162,8 @@ std::string sun_light_name(UtcSeconds time);
 /// Appends a directional light (intensity 1, white) to `scene.lights` for each instant of
 /// `period` whose sun is above `period.min_elevation`, and sets Scene::sun and
 /// Scene::sun_instants (light_id set for those, SunInstant::none for the others). The instants
-/// below are those with light_id == none.
+/// below are those with light_id == none. When no sun is above, a Scene::warnings entry says so.
+/// Call it once per scene: a second call would append the suns again.
 /// @throws InputError (check_sun_period with the scene's source as file; a light name taken)
 void add_sun_lights(Scene& scene, const SunPeriod& period);
 
