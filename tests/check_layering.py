@@ -26,6 +26,7 @@ import sys
 # each arrow exists, is in docs/architecture.md.
 ALLOWED = {
     "engine": {"planes", "fast", "exact", "core", "geometry"},
+    "sunmap": {"engine", "exact", "core", "geometry"},
     "planes": {"exact", "core", "geometry"},
     "exact": {"core", "geometry"},
     "fast": {"core", "geometry"},
