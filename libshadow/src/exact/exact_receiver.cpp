@@ -111,11 +111,13 @@ class ExactReceiverJob {
     const ReceiverResult r = run(facing);
     region.lighting = r.lighting;
     if (!r.lighting.faces_light || fp_.degenerate) return region;  // attached shadow: dark
-    if (!shadow_set_storage_) {                                     // nothing in front
+    const ExactFace& P = w_.face(ctx_, face_id_);
+    if (!shadow_set_storage_) {  // nothing in front
       region.kind = LitRegion::Kind::Whole;
+      region.lit_chart_area = P.chart_area;
       return region;
     }
-    const ExactFace& P = w_.face(ctx_, face_id_);
+    region.lit_chart_area = lit_chart_area_;
     region.lit = PolygonSet2(P.chart);
     region.lit.difference(*shadow_set_storage_);
     region.kind = region.lit.is_empty() ? LitRegion::Kind::Dark : LitRegion::Kind::Partial;
@@ -320,6 +322,7 @@ class ExactReceiverJob {
     for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
     const FT shadow_chart_area = balanced_sum(region_areas);
     const FT lit_chart_area = P.chart_area - shadow_chart_area;
+    lit_chart_area_ = lit_chart_area;
     out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
     out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
     out.lit_fraction = round_to_double(lit_chart_area / P.chart_area);
@@ -413,6 +416,7 @@ class ExactReceiverJob {
   std::vector<Polygon2> shadows_;
   std::vector<PolygonWithHoles2> shadow_regions_;
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
+  FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
   std::vector<Polygon2> cells_, triangles_;
   std::vector<FT> dropped_;  ///< exact chart areas of cells too thin to write

@@ -58,6 +58,7 @@ struct LitRegion {
   enum class Kind { Dark, Whole, Partial };
   Kind kind = Kind::Dark;  ///< Dark: nothing lit (also degenerate faces); Whole: the whole chart
   PolygonSet2 lit;         ///< Partial only: the lit region (the chart minus the shadow's union)
+  FT lit_chart_area{0};    ///< exact area of the lit region in the chart (the whole chart's when Whole)
   FaceLighting lighting;   ///< the areas, as compute_exact_receiver reports them
 };
 
