@@ -106,8 +106,9 @@ def style_sun_hours(shown, source, view):
     step = nice_step(total)
     digits = 0 if whole and step >= 1 else 1
     bar.AutomaticLabelFormat = 0
-    bar.LabelFormat = "%-#.{}f".format(digits)
-    bar.RangeLabelFormat = "%-#.{}f".format(digits)
+    bar.LabelFormat = "%.{}f".format(digits)
+    bar.RangeLabelFormat = "%.{}f".format(digits)
+    bar.ScalarBarLength = 0.5
     bar.UseCustomLabels = 1
     bar.CustomLabels = [k * step for k in range(int(total / step + 1e-9) + 1)]
     bar.AddRangeLabels = 1
@@ -201,8 +202,15 @@ def main():
     layout = CreateLayout("libshadow")
     left = CreateView("RenderView")
     right = CreateView("RenderView")
-    AssignViewToLayout(view=left, layout=layout, hint=0)
-    AssignViewToLayout(view=right, layout=layout, hint=0)
+    if has_sun_hours:
+        # Three views side by side: cells 1 | 5 | 6 of the layout's binary tree.
+        layout.SplitHorizontal(0, 1.0 / 3.0)
+        layout.SplitHorizontal(2, 0.5)
+        layout.AssignView(1, left)
+        layout.AssignView(5, right)
+    else:
+        AssignViewToLayout(view=left, layout=layout, hint=0)
+        AssignViewToLayout(view=right, layout=layout, hint=0)
     for view in (left, right):
         white_view(view)
 
@@ -255,7 +263,7 @@ def main():
     if has_sun_hours:
         # A third view: the exact sun-hours map.
         sun_view = CreateView("RenderView")
-        AssignViewToLayout(view=sun_view, layout=layout, hint=0)
+        layout.AssignView(6, sun_view)
         white_view(sun_view)
         show_sun_hours(outdir, sun_view, read)
         place_camera_above(sun_view)
