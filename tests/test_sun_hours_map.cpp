@@ -374,6 +374,9 @@ TEST(SunHoursMap, SceneKeyAndMeshNamesChooseFaces) {
   }
   EXPECT_THROW((void)parse_scene("{" + meshes + R"(, "sun_hours_map": "ground"})", dir / "s.json"), InputError);
   EXPECT_THROW((void)parse_scene("{" + meshes + R"(, "sun_hours_map": [3]})", dir / "s.json"), InputError);
+  Scene bad = scene;
+  bad.sun_hours_map = {0, 7};
+  EXPECT_THROW((void)sun_hours_map_faces(bad), InputError);
   // Without a sun block there are no instants.
   EXPECT_TRUE(sun_hours_instants(scene).empty());
   std::filesystem::remove_all(dir);

@@ -10,12 +10,16 @@
 
 #include <shadow/shadow.hpp>
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace bench {
@@ -60,11 +64,12 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
     if (scene.faces[f].mesh == 0) ground.push_back(f);
   }
   const shadow::ShadowEngine engine(scene, threads);
-  std::printf("| boxes | faces | instants | receivers | engine, areas (s) | map (s) | cells | cells unmerged | max cells/face |\n");
-  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  std::printf("| boxes | faces | instants | receivers | engine, areas (s) | map (s) | regions | regions unmerged | cells | "
+              "max cells/face | peak (MiB) |\n");
+  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
   for (std::size_t count : instant_counts) {
     const std::vector<shadow::SunHoursInstant> instants = equinox_day(count);
-    for (const auto& [label, faces] : std::map<std::string, const std::vector<std::size_t>*>{{"ground", &ground}, {"all", &all}}) {
+    for (const auto& [label, faces] : std::vector<std::pair<std::string, const std::vector<std::size_t>*>>{{"ground", &ground}, {"all", &all}}) {
       shadow::ShadowOptions options;
       options.threads = threads;
       options.polygons = false;
@@ -81,8 +86,12 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
       std::map<std::size_t, std::size_t> per_face;
       std::size_t most = 0;
       for (const shadow::SunHoursCell& c : map.cells) most = std::max(most, ++per_face[c.face_id]);
-      std::printf("| %zu | %zu | %zu | %s | %.3f | %.3f | %zu | %zu | %zu |\n", boxes, scene.faces.size(), instants.size(),
-                  label.c_str(), engine_s, map_s, map.cells.size(), unmerged.cells.size(), most);
+      const auto regions = [](const shadow::SunHoursMap& m) { return m.cells.empty() ? 0 : m.cells.back().region_id + 1; };
+      rusage usage{};
+      getrusage(RUSAGE_SELF, &usage);
+      std::printf("| %zu | %zu | %zu | %s | %.3f | %.3f | %zu | %zu | %zu | %zu | %.0f |\n", boxes, scene.faces.size(),
+                  instants.size(), label.c_str(), engine_s, map_s, regions(map), regions(unmerged), map.cells.size(), most,
+                  usage.ru_maxrss / 1024.0);
       std::fflush(stdout);
       if (!write_dir.empty() && label == "ground" && count == instant_counts.front()) {
         std::filesystem::create_directories(write_dir);

@@ -81,6 +81,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
                                   const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options = {});
 
 /// The faces of the scene's `sun_hours_map` meshes (Scene::sun_hours_map), ascending.
+/// @throws InputError for a mesh index out of range (possible only in scenes built in code).
 std::vector<std::size_t> sun_hours_map_faces(const Scene& scene);
 
 /// The faces of the meshes named in `mesh_names` (the CLI's `--sun-hours-map MESH[,MESH]`).

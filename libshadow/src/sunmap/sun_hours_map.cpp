@@ -358,8 +358,12 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
 
 std::vector<std::size_t> sun_hours_map_faces(const Scene& scene) {
   std::vector<std::size_t> faces;
-  for (std::size_t m : scene.sun_hours_map) {
-    if (m >= scene.meshes.size()) continue;
+  for (std::size_t k = 0; k < scene.sun_hours_map.size(); ++k) {
+    const std::size_t m = scene.sun_hours_map[k];
+    if (m >= scene.meshes.size())  // a scene built in code: load_scene only stores valid indices
+      throw InputError({scene.source.string(), "sun_hours_map[" + std::to_string(k) + "]"},
+                       "mesh index " + std::to_string(m) + " is out of range (the scene has " +
+                           std::to_string(scene.meshes.size()) + " meshes)");
     const Mesh& mesh = scene.meshes[m];
     for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count; ++f) faces.push_back(f);
   }
