@@ -5,6 +5,7 @@
 // that instant's fragments times its weight).
 #include "support/polygon_tools.hpp"
 #include "support/ray_caster.hpp"
+#include "support/scene_builders.hpp"
 
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
@@ -13,6 +14,7 @@
 #include <shadow/sun_hours.hpp>
 
 #include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
 
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -325,6 +327,63 @@ TEST(SunHoursMap, PointLightsAndBackFacingFacesWork) {
   const std::map<std::size_t, double> by_face = integral_by_face(map);
   EXPECT_DOUBLE_EQ(by_face.at(1), 3.0 * 0.0625);  // the top: lit by both
   EXPECT_EQ(by_face.at(2), 0.0);                    // the bottom: 0 hours everywhere
+}
+
+// Random scenes (boxes, floating and tilted polygons that are not exactly planar in doubles, a
+// point or directional light) under that light and three random suns of random weights: on
+// every face the cells cover the face once, their hours x area add up to the engine's exact lit
+// areas, and sampled points agree with the ray caster.
+RC_GTEST_PROP(SunHoursMapProperties, CellsMatchTheEngineAndRaysOnRandomScenes, ()) {
+  const auto seed = *rc::gen::inRange<std::uint64_t>(0, 1u << 30);
+  Scene scene = test::random_scene(seed);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants{{scene.lights.at(0), 1.0}};
+  for (int k = 0; k < 3; ++k) {
+    const double elevation = *rc::gen::inRange(8, 85);
+    const double azimuth = *rc::gen::inRange(0, 360);
+    const double hours = 0.25 * *rc::gen::inRange(1, 12);
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(elevation, azimuth)), hours});
+  }
+  const ShadowEngine engine(scene, 1);
+  std::vector<std::size_t> faces;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) faces.push_back(f);
+  SunHoursOptions options;
+  options.threads = 1;
+  const SunHoursMap map = compute_sun_hours_map(engine, faces, instants, options);
+  std::map<std::size_t, double> want, got, covered;
+  ShadowOptions areas;
+  areas.polygons = false;
+  for (std::size_t i = 0; i < instants.size(); ++i) {
+    const ShadowResult r = engine.compute(instants[i].light, i, areas);
+    for (const FaceLighting& l : r.lighting) want[l.face_id] += instants[i].hours * l.lit_area;
+  }
+  double total = 0;
+  for (const SunHoursInstant& instant : instants) total += instant.hours;
+  for (const SunHoursCell& c : map.cells) {
+    got[c.face_id] += c.sun_hours * c.area;
+    covered[c.face_id] += c.area;
+    RC_ASSERT(c.sun_hours >= 0.0);
+    RC_ASSERT(c.sun_hours <= total * (1 + 1e-15));
+  }
+  for (const SunHoursFace& f : map.faces) {
+    const double scale = 1.0 + total * f.area;
+    RC_ASSERT(std::abs(f.hour_area - want[f.face_id]) <= 1e-12 * scale);
+    RC_ASSERT(std::abs(got[f.face_id] - want[f.face_id]) <= 1e-10 * scale + total * f.dropped_area);
+    RC_ASSERT(std::abs(covered[f.face_id] + f.dropped_area - f.area) <= 1e-10 * (1.0 + f.area));
+  }
+  std::mt19937_64 rng(seed);
+  for (const SunHoursCell& cell : map.cells) {
+    for (const glm::dvec3& p : test::sample_interior(cell.polygon, 2, 1e-6, rng)) {
+      double hours = 0.0;
+      bool sure = true;
+      for (const SunHoursInstant& instant : instants) {
+        const test::RayVerdict v = test::cast_shadow_ray(scene, cell.face_id, p, instant.light, 1e-7);
+        if (v == test::RayVerdict::Unsure) sure = false;
+        if (v == test::RayVerdict::Lit) hours += instant.hours;
+      }
+      if (sure) RC_ASSERT(std::abs(hours - cell.sun_hours) <= 1e-9);
+    }
+  }
 }
 
 TEST(SunHoursMap, BadInputIsAnInputError) {
