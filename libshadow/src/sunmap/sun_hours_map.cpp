@@ -106,7 +106,9 @@ class FaceOverlay {
  public:
   FaceOverlay(const core::PreparedScene& ctx, const ExactFace& P, const core::FacePrep& fp, std::size_t face_id,
               const std::vector<double>& hours, bool merge)
-      : ctx_(ctx), P_(P), fp_(fp), face_id_(face_id), hours_(hours), merge_(merge), n_(hours.size()) {}
+      : ctx_(ctx), P_(P), fp_(fp), face_id_(face_id), hours_(hours), merge_(merge), n_(hours.size()) {
+    exact_to_mpq(P.area_scale_squared, scale_.get_mpq_t());
+  }
 
   /// An instant lights the whole face.
   void add_whole(std::size_t i) {
@@ -157,7 +159,7 @@ class FaceOverlay {
         ++out.regions;
       }
     }
-    if (!dropped_.empty()) out.face.dropped_area = area_3d(balanced_sum(dropped_), P_.area_scale_squared);
+    out.face.dropped_area = area_3d_mpq(dropped_);
     return out;
   }
 
@@ -227,28 +229,59 @@ class FaceOverlay {
   /// One simple cell as a SunHoursCell when its rounded polygon is clean, else its triangles
   /// (those that collapse are counted in dropped_area), as the exact engine writes fragments.
   void emit(Polygon2& cell, double sun_hours, FaceMap& out) {
-    const FT cell_area = polygon_area(cell);
+    const mpq_class cell_area = exact_area(cell);
     if (write(cell, cell_area, sun_hours, out)) return;
-    if (CGAL::is_negative(cell_area)) cell.reverse_orientation();
+    if (sgn(cell_area) < 0) cell.reverse_orientation();
     std::vector<Polygon2> triangles;
     triangulate_region(PolygonWithHoles2(cell), triangles);
     for (const Polygon2& t : triangles) {
-      const FT t_area = polygon_area(t);
-      if (!write(t, t_area, sun_hours, out)) dropped_.push_back(CGAL::abs(t_area));
+      const mpq_class t_area = exact_area(t);
+      if (!write(t, t_area, sun_hours, out)) dropped_ += abs(t_area);
     }
   }
 
-  bool write(const Polygon2& cell, const FT& cell_area, double sun_hours, FaceMap& out) {
+  /// The exact signed chart area of a cell: the shoelace on its vertices' exact rational
+  /// coordinates. The same value as polygon_area, with half the rational operations and no lazy
+  /// DAG per term: the cells' exact areas were half the map's run time.
+  static mpq_class exact_area(const Polygon2& cell) {
+    const std::size_t n = cell.size();
+    mpq_class twice(0), term;
+    for (std::size_t a = 0; a < n; ++a) {
+      const auto& p = CGAL::exact(cell[a]);
+      const auto& q = CGAL::exact(cell[(a + 1) % n]);
+      term = p.x() * q.y();
+      twice += term;
+      term = q.x() * p.y();
+      twice -= term;
+    }
+    return twice / 2;
+  }
+
+  /// area_3d for an exact rational chart area: sqrt(chart_area^2 x scale), the rational rounded
+  /// to 256 bits before the root as sqrt_to_double does, so the result is area_3d's bit for bit.
+  double area_3d_mpq(const mpq_class& chart_area) const {
+    if (sgn(chart_area) == 0) return 0.0;
+    const mpq_class squared = chart_area * chart_area * scale_;
+    mpfr_t r;
+    mpfr_init2(r, 256);
+    mpfr_set_q(r, squared.get_mpq_t(), MPFR_RNDN);
+    mpfr_sqrt(r, r, MPFR_RNDN);
+    const double d = mpfr_get_d(r, MPFR_RNDN);
+    mpfr_clear(r);
+    return d;
+  }
+
+  bool write(const Polygon2& cell, const mpq_class& cell_area, double sun_hours, FaceMap& out) {
     SunHoursCell c;
     c.face_id = face_id_;
     c.sun_hours = sun_hours;
-    c.area = area_3d(CGAL::abs(cell_area), P_.area_scale_squared);
+    c.area = area_3d_mpq(cell_area);
     for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
       const Point3 p = lift(*v, P_, fp_.axis);
       c.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
     }
     // The chart sees the face clockwise when flipped: restore the face's orientation.
-    if (fp_.flipped == CGAL::is_positive(cell_area)) std::reverse(c.polygon.begin(), c.polygon.end());
+    if (fp_.flipped == (sgn(cell_area) > 0)) std::reverse(c.polygon.begin(), c.polygon.end());
     if (!core::clean_double_polygon(c.polygon, fp_.axis)) return false;
     out.cells.push_back(std::move(c));
     return true;
@@ -262,12 +295,13 @@ class FaceOverlay {
   bool merge_;
   std::size_t n_;
   mpq_class base_{0};  ///< the hours of the instants that light the whole face
+  mpq_class scale_;    ///< (3D area / chart area)^2, exact
   std::size_t lit_instants_ = 0;
   std::vector<Traits::Curve_2> curves_;
   std::vector<PolygonWithHoles2> regions_;
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
-  std::vector<FT> dropped_;
+  mpq_class dropped_{0};  ///< exact chart area of the cells too thin to write
   std::vector<FT> hour_area_terms_;  ///< w_i x lit chart area_i
 };
 
