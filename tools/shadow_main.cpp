@@ -8,6 +8,7 @@
 #endif
 
 #include "cli_checks.hpp"
+#include "series_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -189,6 +190,9 @@ int main(int argc, char** argv) {
       ->default_val(1e-6)
       ->check(shadow_cli::positive_up_to(1.0));
 
+  SeriesArgs series_args;
+  CLI::App* series = add_series_command(app, series_args);
+
 #ifdef LIBSHADOW_HAVE_RENDER
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand(
@@ -210,9 +214,9 @@ int main(int argc, char** argv) {
     }
     if (!found) {
 #ifdef LIBSHADOW_HAVE_RENDER
-      const char* known = "compute, render";
+      const char* known = "compute, series, render";
 #else
-      const char* known = "compute";
+      const char* known = "compute, series";
 #endif
       std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
                 << "; see shadow --help)\n";
@@ -232,6 +236,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*compute) return run_compute(args);
+    if (*series) return run_series(series_args);
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) return run_render(render_args, argc, argv);
   } catch (const shadow::render::RenderError& e) {

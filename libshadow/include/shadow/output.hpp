@@ -4,6 +4,7 @@
 #pragma once
 
 #include <shadow/scene.hpp>
+#include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 
 #include <filesystem>
@@ -55,6 +56,15 @@ class OutputDirectory {
   /// @throws OutputError
   std::vector<std::filesystem::path> write(const Scene& scene, const ShadowResult& result,
                                            const RunInfo* run = nullptr);
+
+  /// Writes a sun series (docs/series.md): `sunlit.csv`, `energyplus-shading.csv` (when the
+  /// period maps onto EnergyPlus's time steps), `series/sun_NNNNN.vtp` and `series.pvd` (every
+  /// `every`-th instant; none when `every` is 0), `faces.vtp` (with `sun_hours`) and
+  /// `report.json` (last), under the same discipline as write().
+  /// @throws OutputError
+  std::vector<std::filesystem::path> write_series(const Scene& scene, const SunSeries& suns,
+                                                  const SeriesResult& series, std::size_t every = 1,
+                                                  const RunInfo* run = nullptr);
 
   [[nodiscard]] const std::filesystem::path& path() const noexcept;
 

@@ -10,5 +10,6 @@
 #include <shadow/output.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>
+#include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/version.hpp>
