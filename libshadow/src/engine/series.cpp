@@ -5,9 +5,9 @@
 // or exact), so every value equals a one-light compute(light, i, {polygons = false}) bit for
 // bit; what differs is what is shared. One set of workers (their exact faces and caster scratch
 // built on first use) serves every instant instead of being made afresh per call, and the work
-// is handed out over (receiver, instant) pairs of a batch of instants, receiver-major, so that
-// a thread takes one receiver through neighbouring suns while its exact face is warm, and no
-// thread waits at the end of each instant for the slowest receiver.
+// is handed out over the (instant, receiver) pairs of a batch of instants, so that no thread
+// waits at the end of each instant for the slowest receiver, and the table is filled in place
+// (no ShadowResult per instant).
 #include "engine/engine_impl.hpp"
 
 #include "core/lights.hpp"
@@ -81,8 +81,10 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights, cons
     core::parallel_for(
         rows * count, threads,
         [&](unsigned wi, std::size_t item) {
-          const std::size_t r = item / count;
-          const std::size_t k = item % count;
+          // Instant-major, as compute() runs a light: one light's grid stays in cache while its
+          // receivers are taken (receiver-major measured no faster, docs/benchmarks.md).
+          const std::size_t k = item / rows;
+          const std::size_t r = item % rows;
           const std::size_t instant = first + k;
           const std::size_t f = result.faces[r];
           const Light& light_in = lights[instant];
