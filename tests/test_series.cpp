@@ -392,9 +392,17 @@ fs::path files_dir(const std::string& name) {
   return fs::temp_directory_path() / ("libshadow-series-" + std::to_string(getpid()) + "-" + name);
 }
 
-TEST(SeriesFiles, Year2026Hourly) { write_year(files_dir("2026-hourly"), 2026, 60, 6); }
-TEST(SeriesFiles, Year2028Hourly) { write_year(files_dir("2028-hourly"), 2028, 60, 24); }
-TEST(SeriesFiles, Year2026QuarterHours) { write_year(files_dir("2026-15min"), 2026, 15, 0); }
+/// Writes and checks a year; the files stay only where LIBSHADOW_SERIES_FILES asked for them.
+void year_case(const std::string& name, int year, int step, std::size_t every) {
+  const fs::path dir = files_dir(name);
+  write_year(dir, year, step, every);
+  const char* env = std::getenv("LIBSHADOW_SERIES_FILES");
+  if (env == nullptr || *env == '\0') fs::remove_all(dir);
+}
+
+TEST(SeriesFiles, Year2026Hourly) { year_case("2026-hourly", 2026, 60, 6); }
+TEST(SeriesFiles, Year2028Hourly) { year_case("2028-hourly", 2028, 60, 24); }
+TEST(SeriesFiles, Year2026QuarterHours) { year_case("2026-15min", 2026, 15, 0); }
 
 TEST(SeriesFiles, ShortPeriodFillsTheRestOfTheYearWithZeros) {
   shadow::Scene scene;
