@@ -418,6 +418,47 @@ TEST(SeriesFiles, ShortPeriodFillsTheRestOfTheYearWithZeros) {
   EXPECT_FALSE(shadow::energyplus_schedule(scene).written);
 }
 
+TEST(SeriesFiles, APeriodAllBelowTheHorizonWritesEmptyRowsAndZeros) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  shadow::SunPeriod period;
+  period.start = period.end = "2026-06-21";
+  period.step_minutes = 60;
+  scene.sun = period;
+  for (int h = 0; h < 24; ++h) {  // a polar night: every instant below the horizon, no light
+    shadow::SunInstant instant;
+    instant.time = utc(2026, 6, 21, h);
+    scene.sun_instants.push_back(instant);
+  }
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  EXPECT_TRUE(suns.lights.empty());
+  const shadow::ShadowEngine engine(scene, 1);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  EXPECT_EQ(shadow::sun_hours(series, 1.0), std::vector<double>{0.0});
+  const fs::path dir = files_dir("all-night");
+  fs::remove_all(dir);
+  {
+    shadow::OutputDirectory out(dir);
+    out.write_series(scene, suns, series, 1);
+  }
+  std::ifstream sunlit(dir / "sunlit.csv");
+  const std::string text((std::istreambuf_iterator<char>(sunlit)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "time,face_0\r\n");
+  std::ifstream ep(dir / "energyplus-shading.csv");
+  std::string line;
+  std::size_t rows = 0, zeros = 0;
+  std::getline(ep, line);
+  while (std::getline(ep, line)) {
+    ++rows;
+    zeros += line.substr(line.find(',')) == ",0" ? 1 : 0;
+  }
+  EXPECT_EQ(rows, 8760u);
+  EXPECT_EQ(zeros, 8760u);
+  EXPECT_TRUE(fs::exists(dir / "report.json"));
+  EXPECT_FALSE(fs::exists(dir / ".shadow.lock"));
+  fs::remove_all(dir);
+}
+
 TEST(SeriesFiles, NoSunBlockIsAnInputError) {
   shadow::Scene scene;
   shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
