@@ -459,6 +459,57 @@ TEST(SeriesFiles, APeriodAllBelowTheHorizonWritesEmptyRowsAndZeros) {
   fs::remove_all(dir);
 }
 
+TEST(SeriesFiles, FragmentsOfTheInstantsShownAddUpToTheirLitAreas) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  shadow::add_mesh(scene, "roof", {shadow::rectangle_z(0, 0, 10, 5, 1)}, false);
+  add_equinox_period(scene, 45.0, utc(2026, 3, 20), 24, 60, "2026-03-20", "2026-03-20");
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  const shadow::ShadowEngine engine(scene, 2);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  shadow::OutputDirectory::SeriesFiles files;
+  files.every = 5;
+  std::vector<std::size_t> asked;
+  files.fragments = [&](std::size_t i) {
+    asked.push_back(i);
+    const std::size_t light = scene.sun_instants[suns.instants[i]].light_id;
+    return engine.compute(scene.lights[light], light);
+  };
+  const fs::path dir = files_dir("fragments");
+  fs::remove_all(dir);
+  {
+    shadow::OutputDirectory out(dir);
+    out.write_series(scene, suns, series, files);
+  }
+  EXPECT_EQ(asked, (std::vector<std::size_t>{0, 5, 10}));
+  ASSERT_TRUE(fs::exists(dir / "fragments.pvd"));
+  for (std::size_t i : asked) {
+    char name[64];
+    std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((dir / name).c_str());
+    reader->Update();
+    vtkPolyData* poly = reader->GetOutput();
+    vtkDataArray* lit = poly->GetCellData()->GetArray("lit");
+    vtkDataArray* area = poly->GetCellData()->GetArray("area");
+    vtkDataArray* face = poly->GetCellData()->GetArray("face_id");
+    ASSERT_TRUE(lit && area && face) << name;
+    double lit_area = 0;
+    for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c)
+      if (face->GetTuple1(c) == 0 && lit->GetTuple1(c) == 1) lit_area += area->GetTuple1(c);
+    EXPECT_NEAR(lit_area, series.lit_area[series.at(0, i)], 1e-9) << name;
+  }
+  // Written again without fragments: the earlier fragment files and fragments.pvd go.
+  {
+    shadow::OutputDirectory out(dir);
+    out.write_series(scene, suns, series, 5);
+  }
+  EXPECT_FALSE(fs::exists(dir / "fragments.pvd"));
+  EXPECT_FALSE(fs::exists(dir / "series" / "fragments_00000.vtp"));
+  EXPECT_TRUE(fs::exists(dir / "series" / "sun_00000.vtp"));
+  fs::remove_all(dir);
+}
+
 TEST(SeriesFiles, NoSunBlockIsAnInputError) {
   shadow::Scene scene;
   shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});

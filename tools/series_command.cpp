@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 namespace {
 
@@ -76,6 +77,9 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                      "(1: all; 0: no series.pvd). sunlit.csv, energyplus-shading.csv and sun hours always use every instant")
       ->default_val(1)
       ->check(shadow_cli::integer_in(0, 1000000));
+  series->add_flag("--fragments", args.fragments,
+                   "Also write each instant's lit and shadowed polygons (series/fragments_NNNNN.vtp, fragments.pvd) "
+                   "for the instants in series.pvd: one polygon computation per such instant, on top of the series");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
@@ -114,9 +118,10 @@ int run_series(const SeriesArgs& args) {
   SeriesProgress progress(!args.quiet && isatty(STDERR_FILENO));
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::SeriesResult series;
+  std::optional<shadow::ShadowEngine> engine_holder;
   try {
-    const shadow::ShadowEngine engine(scene, args.threads);
-    series = engine.compute_series(suns.lights, options);
+    engine_holder.emplace(scene, args.threads);
+    series = engine_holder->compute_series(suns.lights, options);
   } catch (const shadow::InputError& e) {
     progress.finish();
     if (!e.where().file.empty()) throw;
@@ -124,7 +129,21 @@ int run_series(const SeriesArgs& args) {
   }
   progress.finish();
   const auto computed = Clock::now();
-  const std::vector<fs::path> written = output.write_series(scene, suns, series, args.every, &run);
+  const shadow::ShadowEngine& engine = *engine_holder;
+  shadow::OutputDirectory::SeriesFiles files;
+  files.every = args.every;
+  if (args.fragments) {
+    files.fragments = [&](std::size_t i) {
+      shadow::ShadowOptions one;
+      one.threads = args.threads;
+      one.planes = false;
+      one.arithmetic = options.arithmetic;
+      // The instant's own light in the scene, so that fragments carry its light_id (and irradiance).
+      const std::size_t light_id = scene.sun_instants[suns.instants[i]].light_id;
+      return engine.compute(scene.lights[light_id], light_id, one);
+    };
+  }
+  const std::vector<fs::path> written = output.write_series(scene, suns, series, files, &run);
   const auto finished = Clock::now();
 
   if (!args.quiet) {

@@ -14,6 +14,7 @@ struct SeriesArgs {
   bool fast = false;
   bool quiet = false;
   std::size_t every = 1;
+  bool fragments = false;
   double planarity_tolerance = 1e-6;
 };
 

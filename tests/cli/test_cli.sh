@@ -119,7 +119,7 @@ compute_help=$HELP_OUTPUT
 
 # shadow series: its help, and a scene without a `sun` block is one clear line, exit 2, no OUTDIR.
 check_help series_help "$SHADOW" series --help
-for option in --threads --fast --quiet --every --output; do
+for option in --threads --fast --quiet --every --fragments --output; do
   [[ $HELP_OUTPUT == *"$option"* ]] || fail series_help_lists_options "series --help does not mention $option"
 done
 status=0

@@ -37,12 +37,18 @@ long process_id() { return static_cast<long>(getpid()); }
 /// The files write() stages; their temporaries are `.NAME.tmp-PID`.
 const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
                                     "scene.vtm", "report.json", "sunlit.csv", "energyplus-shading.csv",
-                                    "series.pvd"};
+                                    "series.pvd", "fragments.pvd"};
 
-/// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp`.
+/// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
+/// `fragments_NNNNN.vtp`.
 bool is_series_instant_name(const std::string& name) {
-  return name.size() == 13 && name.rfind("sun_", 0) == 0 && name.compare(9, 4, ".vtp") == 0 &&
-         name.find_first_not_of("0123456789", 4) == 9;
+  for (const std::string prefix : {"sun_", "fragments_"}) {
+    const std::size_t n = prefix.size();
+    if (name.size() == n + 9 && name.rfind(prefix, 0) == 0 && name.compare(n + 5, 4, ".vtp") == 0 &&
+        name.find_first_not_of("0123456789", n) == n + 5)
+      return true;
+  }
+  return false;
 }
 
 /// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
@@ -276,6 +282,15 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
 std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
                                                     const SeriesResult& series, std::size_t every,
                                                     const RunInfo* run) {
+  SeriesFiles files;
+  files.every = every;
+  return write_series(scene, suns, series, files, run);
+}
+
+std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
+                                                    const SeriesResult& series, const SeriesFiles& files,
+                                                    const RunInfo* run) {
+  const std::size_t every = files.every;
   const fs::path& outdir = impl_->outdir;
   make_output_directory(outdir);
   remove_stale_report(outdir / "report.json");
@@ -306,9 +321,9 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   std::vector<std::string> instant_files;
   if (every > 0) {
     make_output_directory(outdir / "series");
-    std::vector<std::pair<double, std::string>> steps;
+    std::vector<std::pair<double, std::string>> steps, fragment_steps;
     for (std::size_t i = 0; i < series.instants; i += every) {
-      char name[32];
+      char name[64];  // room for any size_t
       std::snprintf(name, sizeof name, "series/sun_%05zu.vtp", i);
       const auto target = staged.stage(name);
       detail::write_polydata(detail::make_series_instant(base, series, i), target.temp, target.final_path);
@@ -317,9 +332,22 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
                                              : static_cast<double>(i);
       steps.emplace_back(t, name);
       instant_files.push_back(fs::path(name).filename().string());
+      if (files.fragments) {
+        // One instant's polygons at a time: a year of them would not fit in memory.
+        const ShadowResult result = files.fragments(i);
+        std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
+        const auto fragments = staged.stage(name);
+        detail::write_polydata(detail::make_fragments_polydata(scene, result), fragments.temp, fragments.final_path);
+        fragment_steps.emplace_back(t, name);
+        instant_files.push_back(fs::path(name).filename().string());
+      }
     }
     const auto pvd = staged.stage("series.pvd");
     detail::write_pvd(steps, pvd.temp, pvd.final_path);
+    if (files.fragments) {
+      const auto fragments_pvd = staged.stage("fragments.pvd");
+      detail::write_pvd(fragment_steps, fragments_pvd.temp, fragments_pvd.final_path);
+    }
   }
   const auto faces = staged.stage("faces.vtp");
   detail::write_polydata(detail::make_series_faces(base, series, hours, bound), faces.temp, faces.final_path);
@@ -343,6 +371,10 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   if (every == 0) {
     std::error_code ignored;
     fs::remove(outdir / "series.pvd", ignored);
+  }
+  if (every == 0 || !files.fragments) {
+    std::error_code ignored;
+    fs::remove(outdir / "fragments.pvd", ignored);
   }
   return staged.commit();
 }
