@@ -36,8 +36,9 @@ long process_id() { return static_cast<long>(getpid()); }
 
 /// The files write() stages; their temporaries are `.NAME.tmp-PID`.
 const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
-                                    "scene.vtm", "report.json", "sunlit.csv", "energyplus-shading.csv",
-                                    "series.pvd", "fragments.pvd"};
+                                    "scene.vtm", "report.json"};
+/// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
+const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "series.pvd", "fragments.pvd"};
 
 /// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
 /// `fragments_NNNNN.vtp`.
@@ -58,6 +59,7 @@ void remove_stale_temporaries(const fs::path& outdir, bool series_folder = false
   for (fs::directory_iterator it(outdir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     std::vector<std::string> outputs(std::begin(kOutputNames), std::end(kOutputNames));
+    outputs.insert(outputs.end(), std::begin(kSeriesOutputNames), std::end(kSeriesOutputNames));
     if (series_folder) {
       outputs.clear();
       const std::size_t tmp = name.find(".tmp-");
