@@ -308,12 +308,6 @@ int main(int argc, char** argv) {
   golden_cmd->add_option("--write-dir", golden_dir, "Also write every value, one file per case, into this folder");
   golden_cmd->add_option("--threads", golden_threads, "Threads (results do not depend on it)")->check(CLI::PositiveNumber);
   golden_cmd->add_flag("--quick", golden_quick, "Leave out the 1,000-box city; 10 spheres instead of 50");
-  std::size_t comb_teeth = 10000;
-  bool comb_areas_only = false;
-  CLI::App* comb_cmd = app.add_subcommand(
-      "comb", "One comb-shaped face (4 vertices a tooth) 1 m above a ground it shadows: large single faces");
-  comb_cmd->add_option("--teeth", comb_teeth, "Teeth (the face has 4 x teeth + 3 vertices)")->check(CLI::PositiveNumber);
-  comb_cmd->add_flag("--areas-only", comb_areas_only, "Compute areas only (no fragment polygons)");
   std::size_t series_boxes = 1000, series_sample = 100;
   bool series_baseline = false;
   unsigned series_threads = 2;
@@ -331,16 +325,22 @@ int main(int argc, char** argv) {
   series_cmd->add_option("--arithmetic", series_arithmetic, "exact, fast or both")
       ->check(CLI::IsMember({"exact", "fast", "both"}));
   series_cmd->add_flag("--no-ground", series_no_ground, "The ground casts but does not receive (how much of the time is its one union)");
+  std::size_t comb_teeth = 10000;
+  bool comb_areas_only = false;
+  CLI::App* comb_cmd = app.add_subcommand(
+      "comb", "One comb-shaped face (4 vertices a tooth) 1 m above a ground it shadows: large single faces");
+  comb_cmd->add_option("--teeth", comb_teeth, "Teeth (the face has 4 x teeth + 3 vertices)")->check(CLI::PositiveNumber);
+  comb_cmd->add_flag("--areas-only", comb_areas_only, "Compute areas only (no fragment polygons)");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
+  if (golden_cmd->parsed())
+    return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
   if (series_cmd->parsed())
     return run_series_bench(series_boxes, series_sample, series_baseline, series_threads, series_latitude,
                             series_arithmetic, !series_no_ground);
-  if (golden_cmd->parsed())
-    return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
 
   std::vector<Case> cases;
   // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).

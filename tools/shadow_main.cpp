@@ -8,9 +8,10 @@
 #endif
 
 #include "cli_checks.hpp"
-#include "series_command.hpp"
 
 #include <CLI/CLI.hpp>
+
+#include "series_command.hpp"
 
 #include <unistd.h>
 
@@ -235,8 +236,8 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*compute) return run_compute(args);
     if (*series) return run_series(series_args);
+    if (*compute) return run_compute(args);
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) return run_render(render_args, argc, argv);
   } catch (const shadow::render::RenderError& e) {

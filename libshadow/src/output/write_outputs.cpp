@@ -32,11 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-long process_id() { return static_cast<long>(getpid()); }
-
-/// The files write() stages; their temporaries are `.NAME.tmp-PID`.
-const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
-                                    "scene.vtm", "report.json"};
 /// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
 const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "series.pvd", "fragments.pvd"};
 
@@ -51,6 +46,12 @@ bool is_series_instant_name(const std::string& name) {
   }
   return false;
 }
+
+long process_id() { return static_cast<long>(getpid()); }
+
+/// The files write() stages; their temporaries are `.NAME.tmp-PID`.
+const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
+                                    "scene.vtm", "report.json"};
 
 /// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
 /// with SIGKILL cannot clean up after itself. Files of live processes are left alone.
