@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -80,6 +81,9 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_flag("--fragments", args.fragments,
                    "Also write each instant's lit and shadowed polygons (series/fragments_NNNNN.vtp, fragments.pvd) "
                    "for the instants in series.pvd: one polygon computation per such instant, on top of the series");
+  series->add_option("--sun-hours-map", args.sun_hours_map,
+                     "Write sun_hours.vtp: the exact sun-hours map of these meshes' faces (comma-separated mesh "
+                     "names; adds to the scene's `sun_hours_map`; docs/sun-hours-map.md)");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
@@ -143,7 +147,33 @@ int run_series(const SeriesArgs& args) {
       return engine.compute(scene.lights[light_id], light_id, one);
     };
   }
-  const std::vector<fs::path> written = output.write_series(scene, suns, series, files, &run);
+  // The exact sun-hours map (docs/sun-hours-map.md) on the scene's `sun_hours_map` meshes and
+  // those of --sun-hours-map, written before write_series puts report.json in place last.
+  std::vector<std::size_t> map_faces = shadow::sun_hours_map_faces(scene);
+  if (!args.sun_hours_map.empty()) {
+    std::vector<std::string> names;
+    std::size_t begin = 0;
+    while (begin <= args.sun_hours_map.size()) {
+      const std::size_t comma = std::min(args.sun_hours_map.find(',', begin), args.sun_hours_map.size());
+      names.push_back(args.sun_hours_map.substr(begin, comma - begin));
+      begin = comma + 1;
+    }
+    for (std::size_t f : shadow::sun_hours_map_faces(scene, names, "--sun-hours-map")) map_faces.push_back(f);
+    std::sort(map_faces.begin(), map_faces.end());
+    map_faces.erase(std::unique(map_faces.begin(), map_faces.end()), map_faces.end());
+  }
+  std::optional<shadow::SunHoursMap> map;
+  if (!map_faces.empty()) {
+    shadow::SunHoursOptions map_options;
+    map_options.threads = args.threads;
+    SeriesProgress map_progress(!args.quiet && isatty(STDERR_FILENO));
+    map_options.progress = [&](const shadow::Progress& p) { map_progress.update(p); };
+    map = shadow::compute_sun_hours_map(engine, map_faces, shadow::sun_hours_instants(scene), map_options);
+    map_progress.finish();
+    shadow::write_sun_hours_vtp(output.path() / "sun_hours.vtp", *map);
+  }
+  std::vector<fs::path> written = output.write_series(scene, suns, series, files, &run);
+  if (map) written.insert(written.end() - 1, output.path() / "sun_hours.vtp");  // report.json stays last
   const auto finished = Clock::now();
 
   if (!args.quiet) {
@@ -170,6 +200,8 @@ int run_series(const SeriesArgs& args) {
       std::printf("    %s\n", p.filename().c_str());
     }
     if (instant_files > 0) std::printf("    series/ (%zu files, one per instant shown in series.pvd)\n", instant_files);
+    if (map)
+      std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", map->cells.size(), map->faces.size());
   }
   return 0;
 }

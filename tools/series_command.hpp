@@ -15,6 +15,7 @@ struct SeriesArgs {
   bool quiet = false;
   std::size_t every = 1;
   bool fragments = false;
+  std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
   double planarity_tolerance = 1e-6;
 };
 

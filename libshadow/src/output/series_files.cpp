@@ -4,6 +4,7 @@
 // it). Conventions and their sources: docs/series.md.
 #include <shadow/error.hpp>
 #include <shadow/series.hpp>
+#include <shadow/sun.hpp>
 
 #include <charconv>
 #include <cmath>
@@ -17,15 +18,11 @@ namespace {
 
 constexpr std::int64_t kDay = 86400;
 
-bool is_leap(std::int64_t y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; }
+// The calendar is shadow/sun.hpp's (days_from_civil, civil_from_days): one implementation.
+bool is_leap(std::int64_t y) { return is_valid_date(y, 2, 29); }
 
-/// Leap years in [1, y - 1] (y >= 1).
-std::int64_t leaps_before(std::int64_t y) { return (y - 1) / 4 - (y - 1) / 100 + (y - 1) / 400; }
-
-/// Days from 1970-01-01 to January 1st of year y (y >= 1; negative before 1970).
-std::int64_t days_to_year(std::int64_t y) { return 365 * (y - 1970) + leaps_before(y) - leaps_before(1970); }
-
-const int kMonthDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+/// Days from 1970-01-01 to January 1st of year y.
+std::int64_t days_to_year(std::int64_t y) { return days_from_civil(y, 1, 1); }
 
 struct Civil {
   std::int64_t year;
@@ -42,19 +39,8 @@ Civil civil(std::int64_t t) {
     rest += kDay;
     --days;
   }
-  // An estimate from the mean Gregorian year, then corrected by whole years.
-  std::int64_t y = 1970 + static_cast<std::int64_t>(std::floor(static_cast<double>(days) / 365.2425));
-  if (y < 1) y = 1;
-  while (y > 1 && days < days_to_year(y)) --y;
-  while (days >= days_to_year(y + 1)) ++y;
-  int day_of_year = static_cast<int>(days - days_to_year(y));
-  int month = 0;
-  for (; month < 12; ++month) {
-    const int length = kMonthDays[month] + (month == 1 && is_leap(y) ? 1 : 0);
-    if (day_of_year < length) break;
-    day_of_year -= length;
-  }
-  return {y, month + 1, day_of_year + 1, static_cast<int>(rest)};
+  const CivilDate date = civil_from_days(days);
+  return {date.year, date.month, date.day, static_cast<int>(rest)};
 }
 
 /// Shortest decimal form that reads back as the same double.
@@ -71,13 +57,7 @@ std::int64_t offset_seconds(const SunPeriod& period) {
 
 }  // namespace
 
-std::string format_series_time(UtcSeconds t) {
-  const Civil c = civil(t);
-  char text[40];
-  std::snprintf(text, sizeof text, "%04lld-%02d-%02dT%02d:%02d:%02dZ", static_cast<long long>(c.year), c.month, c.day,
-                c.second_of_day / 3600, c.second_of_day / 60 % 60, c.second_of_day % 60);
-  return text;
-}
+std::string format_series_time(UtcSeconds t) { return format_iso8601_utc(t); }
 
 std::string csv_field(const std::string& text) {
   const bool quote = text.find_first_of(",\"\r\n") != std::string::npos ||
