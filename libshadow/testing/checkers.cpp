@@ -88,9 +88,17 @@ double diameter(const Polygon& poly) {
   return std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
 }
 
+/// The face's name, else where it was defined (its source), else face_<id>.
+std::string label(const Scene& scene, std::size_t face_id) {
+  const Face& f = scene.faces.at(face_id);
+  if (!f.name.empty()) return f.name;
+  const std::string where = f.source.to_string();
+  return where.empty() ? face_label(scene, face_id) : where;
+}
+
 std::string describe(const Scene& scene, std::size_t face_id, std::size_t light_id) {
   std::ostringstream s;
-  s << "face " << face_id << " (" << face_label(scene, face_id) << ") light " << light_id;
+  s << "face " << face_id << " (" << label(scene, face_id) << ") light " << light_id;
   if (light_id < scene.lights.size()) s << " (" << scene.lights[light_id].name << ")";
   return s.str();
 }
@@ -153,14 +161,25 @@ Verdict check_partition(const Scene& scene, const ShadowResult& result) {
   std::ostringstream out;
   std::map<std::pair<std::size_t, std::size_t>, std::pair<double, double>> cells;  // all, lit
   for (const Fragment& f : result.fragments) {
+    const double drawn = f.polygon.size() >= 3 ? 0.5 * glm::length(newell(f.polygon)) : 0.0;
+    // Rounding each vertex to doubles (half an ulp of its coordinates) moves the area by at
+    // most the perimeter times that: far from the origin this dominates.
+    double perimeter = 0, largest = 0;
+    for (std::size_t a = 0; a < f.polygon.size(); ++a) {
+      perimeter += glm::length(f.polygon[(a + 1) % f.polygon.size()] - f.polygon[a]);
+      largest = std::max({largest, std::abs(f.polygon[a].x), std::abs(f.polygon[a].y), std::abs(f.polygon[a].z)});
+    }
+    const double rounding = 2 * perimeter * largest * std::numeric_limits<double>::epsilon();
+    if (std::abs(drawn - f.area) > 1e-9 * (1.0 + f.area) + rounding)
+      out << describe(scene, f.face_id, f.light_id) << " fragment " << f.fragment_id << ": polygon area " << drawn
+          << " != stated area " << f.area << "\n";
     auto& c = cells[{f.face_id, f.light_id}];
     c.first += f.area;
     if (f.lit) c.second += f.area;
   }
   const bool with_fragments = !result.fragments.empty();
   for (const FaceLighting& fl : result.lighting) {
-    const double ulps4 = 4 * std::numeric_limits<double>::epsilon() * fl.area;
-    if (std::abs(fl.lit_area + fl.shadow_area - fl.area) > ulps4)
+    if (std::abs(fl.lit_area + fl.shadow_area - fl.area) > 4e-16 * fl.area)
       out << describe(scene, fl.face_id, fl.light_id) << ": lit " << fl.lit_area << " + shadowed "
           << fl.shadow_area << " != area " << fl.area << "\n";
     if (!(fl.lit_fraction >= 0.0 && fl.lit_fraction <= 1.0))
@@ -169,7 +188,7 @@ Verdict check_partition(const Scene& scene, const ShadowResult& result) {
       const auto it = cells.find({fl.face_id, fl.light_id});
       const double all = it == cells.end() ? 0.0 : it->second.first;
       const double lit = it == cells.end() ? 0.0 : it->second.second;
-      const double tol = 1e-9 * (1.0 + fl.area) + fl.lit_area_error_bound;
+      const double tol = 1e-10 * (1.0 + fl.area) + fl.lit_area_error_bound;
       if (std::abs(all + fl.dropped_area - fl.area) > tol)
         out << describe(scene, fl.face_id, fl.light_id) << ": cells " << all << " + dropped " << fl.dropped_area
             << " != area " << fl.area << "\n";
@@ -185,18 +204,21 @@ Verdict check_lit_claims(const Scene& scene, const ShadowResult& result, std::ui
   std::mt19937_64 rng(seed);
   std::ostringstream out;
   std::size_t checked = 0, wrong = 0;
+  const ExactOracle oracle(scene);
   for (const Fragment& f : result.fragments) {
     if (f.polygon.size() < 3) continue;
     const double margin = 1e-7 * diameter(f.polygon);
     for (const glm::dvec3& p : sample_polygon(f.polygon, static_cast<std::size_t>(std::max(points_per_fragment, 0)), margin, rng)) {
       ++checked;
-      const bool lit = is_lit_on_face(scene, f.face_id, p, f.light_id);
+      const bool lit = oracle.is_lit_on_face(f.face_id, p, f.light_id);
       if (lit != f.lit && ++wrong <= 5)
         out << describe(scene, f.face_id, f.light_id) << " fragment " << f.fragment_id << " says "
             << (f.lit ? "lit" : "shadowed") << " but the exact query at (" << p.x << ", " << p.y << ", " << p.z
             << ") says " << (lit ? "lit" : "shadowed") << "\n";
     }
   }
+  if (checked == 0 && !result.fragments.empty())
+    return {false, "no point could be sampled inside any fragment: nothing was checked"};
   if (wrong == 0) return {true, {}};
   std::ostringstream head;
   head.precision(17);
@@ -257,25 +279,31 @@ Verdict check_invariance(const Scene& scene, const Similarity& s, double toleran
   return {false, head.str() + out.str()};
 }
 
-Verdict check_monotone_occluder(const Scene& scene, const std::vector<glm::dvec3>& occluder, double tolerance) {
+Verdict check_monotone_occluder(const Scene& scene, const std::vector<std::vector<glm::dvec3>>& occluder,
+                                double tolerance) {
   Scene more = scene;
   Mesh mesh;
   mesh.name = "added occluder";
   mesh.first_face = more.faces.size();
-  mesh.face_count = 1;
+  mesh.face_count = occluder.size();
   mesh.receiver = false;
   more.meshes.push_back(mesh);
-  Face face;
-  face.vertices = occluder;
-  face.mesh = more.meshes.size() - 1;
-  more.faces.push_back(face);
+  for (const auto& polygon : occluder) {
+    Face face;
+    face.vertices = polygon;
+    face.mesh = more.meshes.size() - 1;
+    face.source = {"shadow::testing", "added occluder"};
+    more.faces.push_back(face);
+  }
   const ShadowResult before = areas_only(scene);
   const ShadowResult after = areas_only(more);
   std::ostringstream out;
   out.precision(17);
   for (const FaceLighting& a : before.lighting) {
     const FaceLighting* b = after.find(a.face_id, a.light_id);
-    if (b && b->lit_area > a.lit_area + tolerance)
+    if (!b)
+      out << describe(scene, a.face_id, a.light_id) << ": missing once an occluder is added\n";
+    else if (b->lit_area > a.lit_area + tolerance)
       out << describe(scene, a.face_id, a.light_id) << ": lit area grows from " << a.lit_area << " to "
           << b->lit_area << " when an occluder is added\n";
   }
@@ -316,7 +344,7 @@ Comparison compare_lit_fractions(const Scene& scene, const LitFractionMethod& ap
       c.error = e;
     }
   }
-  if (c.pairs > 0) c.worst_label = face_label(scene, c.worst_face);
+  if (c.pairs > 0) c.worst_label = label(scene, c.worst_face);
   c.ok = c.error <= tolerance;
   return c;
 }

@@ -7,7 +7,10 @@
 
 #include <CGAL/Exact_rational.h>
 
+#include <algorithm>
 #include <array>
+#include <limits>
+#include <utility>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -137,12 +140,6 @@ bool blocks(const ExactFace& f, const V3& p, const ExactLight& light) {
   return in_closed_chart_polygon(f.chart, chart_of(f, hit));
 }
 
-bool unblocked(const Scene& scene, const V3& p, const ExactLight& light) {
-  for (const Face& face : scene.faces)
-    if (blocks(exact_face(face.vertices), p, light)) return false;
-  return true;
-}
-
 void check_face_id(const Scene& scene, std::size_t face_id) {
   if (face_id >= scene.faces.size())
     throw InputError(SourceLocation{"shadow::testing", ""}, "face " + std::to_string(face_id) + " is not a scene face (" +
@@ -151,20 +148,81 @@ void check_face_id(const Scene& scene, std::size_t face_id) {
 
 }  // namespace
 
-bool is_lit(const Scene& scene, glm::dvec3 point, std::size_t light_id) {
-  const ExactLight light = exact_light(scene, light_id);
-  const V3 p = exact(point);
-  for (const Face& face : scene.faces) {
-    const ExactFace f = exact_face(face.vertices);
-    if (on_exact_face(f, p) && !faces_light(f, light)) return false;
+/// Outward-rounded double bounds of an exact value.
+struct Box {
+  glm::dvec3 lo, hi;
+};
+
+struct ExactOracle::Impl {
+  const Scene* scene = nullptr;
+  std::vector<ExactFace> faces;
+  std::vector<Box> boxes;  // of each face's polygon on its exact plane (the lifted vertices)
+
+  bool unblocked(const V3& p, const Box& p_box, const ExactLight& light, const Light& l) const {
+    // The segment's (or ray's) box: from p's box to the light's position, or to infinity along
+    // each axis the direction moves on.
+    Box s = p_box;
+    for (int a = 0; a < 3; ++a) {
+      if (l.type == LightType::Point) {
+        s.lo[a] = std::min(s.lo[a], l.position[a]);
+        s.hi[a] = std::max(s.hi[a], l.position[a]);
+      } else if (l.to_light[a] > 0) {
+        s.hi[a] = std::numeric_limits<double>::infinity();
+      } else if (l.to_light[a] < 0) {
+        s.lo[a] = -std::numeric_limits<double>::infinity();
+      }
+    }
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const Box& b = boxes[f];
+      if (s.hi.x < b.lo.x || s.hi.y < b.lo.y || s.hi.z < b.lo.z || s.lo.x > b.hi.x || s.lo.y > b.hi.y ||
+          s.lo.z > b.hi.z)
+        continue;  // disjoint boxes: the segment cannot meet the face
+      if (blocks(faces[f], p, light)) return false;
+    }
+    return true;
   }
-  return unblocked(scene, p, light);
+};
+
+ExactOracle::ExactOracle(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  impl_->scene = &scene;
+  for (const Face& face : scene.faces) {
+    ExactFace f = exact_face(face.vertices);
+    Box box{glm::dvec3(std::numeric_limits<double>::infinity()), glm::dvec3(-std::numeric_limits<double>::infinity())};
+    if (!f.degenerate) {
+      const int i = (f.k + 1) % 3, j = (f.k + 2) % 3;
+      for (const auto& c : f.chart) {
+        V3 v;
+        v[i] = c[0];
+        v[j] = c[1];
+        v[f.k] = -(f.c + f.n[i] * c[0] + f.n[j] * c[1]) / f.n[f.k];
+        for (int a = 0; a < 3; ++a) {
+          const std::pair<double, double> iv = CGAL::to_interval(v[a]);
+          box.lo[a] = std::min(box.lo[a], iv.first);
+          box.hi[a] = std::max(box.hi[a], iv.second);
+        }
+      }
+    }
+    impl_->faces.push_back(std::move(f));
+    impl_->boxes.push_back(box);
+  }
 }
 
-bool is_lit_on_face(const Scene& scene, std::size_t face_id, glm::dvec3 point, std::size_t light_id) {
-  check_face_id(scene, face_id);
-  const ExactLight light = exact_light(scene, light_id);
-  const ExactFace f = exact_face(scene.faces[face_id].vertices);
+ExactOracle::~ExactOracle() = default;
+ExactOracle::ExactOracle(ExactOracle&&) noexcept = default;
+ExactOracle& ExactOracle::operator=(ExactOracle&&) noexcept = default;
+
+bool ExactOracle::is_lit(glm::dvec3 point, std::size_t light_id) const {
+  const ExactLight light = exact_light(*impl_->scene, light_id);
+  const V3 p = exact(point);
+  for (const ExactFace& f : impl_->faces)
+    if (on_exact_face(f, p) && !faces_light(f, light)) return false;
+  return impl_->unblocked(p, Box{point, point}, light, impl_->scene->lights[light_id]);
+}
+
+bool ExactOracle::is_lit_on_face(std::size_t face_id, glm::dvec3 point, std::size_t light_id) const {
+  check_face_id(*impl_->scene, face_id);
+  const ExactLight light = exact_light(*impl_->scene, light_id);
+  const ExactFace& f = impl_->faces[face_id];
   if (f.degenerate)
     throw InputError(SourceLocation{"shadow::testing", ""}, "face " + std::to_string(face_id) + " is degenerate (zero area)");
   if (!faces_light(f, light)) return false;
@@ -172,12 +230,28 @@ bool is_lit_on_face(const Scene& scene, std::size_t face_id, glm::dvec3 point, s
   V3 p = exact(point);
   const int i = (f.k + 1) % 3, j = (f.k + 2) % 3;
   p[f.k] = -(f.c + f.n[i] * p[i] + f.n[j] * p[j]) / f.n[f.k];
-  return unblocked(scene, p, light);
+  Box p_box{point, point};
+  const std::pair<double, double> iv = CGAL::to_interval(p[f.k]);
+  p_box.lo[f.k] = iv.first;
+  p_box.hi[f.k] = iv.second;
+  return impl_->unblocked(p, p_box, light, impl_->scene->lights[light_id]);
+}
+
+bool ExactOracle::on_face(std::size_t face_id, glm::dvec3 point) const {
+  check_face_id(*impl_->scene, face_id);
+  return on_exact_face(impl_->faces[face_id], exact(point));
+}
+
+bool is_lit(const Scene& scene, glm::dvec3 point, std::size_t light_id) {
+  return ExactOracle(scene).is_lit(point, light_id);
+}
+
+bool is_lit_on_face(const Scene& scene, std::size_t face_id, glm::dvec3 point, std::size_t light_id) {
+  return ExactOracle(scene).is_lit_on_face(face_id, point, light_id);
 }
 
 bool on_face(const Scene& scene, std::size_t face_id, glm::dvec3 point) {
-  check_face_id(scene, face_id);
-  return on_exact_face(exact_face(scene.faces[face_id].vertices), exact(point));
+  return ExactOracle(scene).on_face(face_id, point);
 }
 
 }  // namespace shadow::testing

@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,31 @@ bool is_lit_on_face(const Scene& scene, std::size_t face_id, glm::dvec3 point, s
 /// @throws InputError for a bad face_id.
 bool on_face(const Scene& scene, std::size_t face_id, glm::dvec3 point);
 
+/// The exact point oracles over one scene whose faces are prepared once (exact planes, outlines
+/// and outward-rounded bounding boxes that skip faces a segment cannot meet): for many queries.
+/// Same answers as the free functions, which build one per call. The scene must outlive it and
+/// stay unchanged.
+class ExactOracle {
+ public:
+  explicit ExactOracle(const Scene& scene);
+  ~ExactOracle();
+  ExactOracle(ExactOracle&&) noexcept;
+  ExactOracle& operator=(ExactOracle&&) noexcept;
+  ExactOracle(const ExactOracle&) = delete;
+  ExactOracle& operator=(const ExactOracle&) = delete;
+
+  /// is_lit(scene, point, light_id).
+  [[nodiscard]] bool is_lit(glm::dvec3 point, std::size_t light_id) const;
+  /// is_lit_on_face(scene, face_id, point, light_id).
+  [[nodiscard]] bool is_lit_on_face(std::size_t face_id, glm::dvec3 point, std::size_t light_id) const;
+  /// on_face(scene, face_id, point).
+  [[nodiscard]] bool on_face(std::size_t face_id, glm::dvec3 point) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// The exact lit area of face `face_id` under light `light_id`, rounded once: the engine's
 /// exact result (compute_shadows, Arithmetic::Exact, on this face's mesh and this light only),
 /// the reference value. Any face is computed, whether its mesh receives or not.
@@ -90,14 +116,17 @@ std::vector<glm::dvec3> sample_face(const Scene& scene, std::size_t face_id, std
 // ---- invariant checkers ----------------------------------------------------------------------
 
 /// Lit and shadowed parts partition each face: for every FaceLighting, lit_area + shadow_area
-/// equals area (each rounded once from exact values: within 4 ulps of the area), the fraction
-/// is in [0, 1]; with fragments, the cells of (face, light) plus dropped_area add up to the area
-/// and the lit cells to lit_area (relative 1e-9: cell areas are rounded one by one).
+/// equals area (each rounded once from exact values: within 4e-16 of the area, relative), the
+/// fraction is in [0, 1]; with fragments, each cell's double polygon has its stated area
+/// (1e-9 (1 + area) plus what rounding its vertices can move: 2 eps perimeter max|x|), and the cells of (face, light) plus dropped_area add up to the area and
+/// the lit cells to lit_area (1e-10 (1 + area): cell areas are rounded one by one; plus the
+/// error bound of a fast-path result).
 Verdict check_partition(const Scene& scene, const ShadowResult& result);
 
 /// Lit claims agree with exact point queries: `points_per_fragment` points sampled inside each
 /// fragment (at least 1e-7 of the fragment's size from its rounded boundary) must get the
-/// fragment's lit/shadowed verdict from is_lit_on_face. Seeded. Needs result fragments.
+/// fragment's lit/shadowed verdict from is_lit_on_face. Seeded. Needs result fragments; fails
+/// when there are fragments but no point could be sampled in any of them (nothing checked).
 Verdict check_lit_claims(const Scene& scene, const ShadowResult& result, std::uint64_t seed,
                          int points_per_fragment = 3);
 
@@ -125,9 +154,10 @@ Scene transformed(const Scene& scene, const Similarity& s);
 Verdict check_invariance(const Scene& scene, const Similarity& s, double tolerance,
                          const std::function<ShadowResult(const Scene&)>& compute = {});
 
-/// Monotone when an occluder is added: appending `occluder` (one face, in a new non-receiving
-/// mesh) must not increase any face's lit area under any light by more than `tolerance`.
-Verdict check_monotone_occluder(const Scene& scene, const std::vector<glm::dvec3>& occluder,
+/// Monotone when an occluder is added: appending `occluder` (its faces, in a new non-receiving
+/// mesh) must not increase any face's lit area under any light by more than `tolerance`, nor
+/// drop any face-light entry.
+Verdict check_monotone_occluder(const Scene& scene, const std::vector<std::vector<glm::dvec3>>& occluder,
                                 double tolerance = 0.0);
 
 // ---- comparing an approximate method -------------------------------------------------------
@@ -138,7 +168,7 @@ struct Comparison {
   std::size_t pairs = 0;        ///< face-light pairs compared
   std::size_t worst_face = 0;   ///< the pair with the largest error
   std::size_t worst_light = 0;
-  std::string worst_label;      ///< face_label() of the worst face
+  std::string worst_label;      ///< the worst face's name, else its source (file: place), else face_<id>
   double approximate = 0.0;     ///< its approximate lit fraction
   double exact = 0.0;           ///< its exact lit fraction
   double error = 0.0;           ///< |approximate - exact|
