@@ -319,7 +319,7 @@ std::string Comparison::report() const {
   if (pairs > 0)
     s << "worst face " << worst_face << " (" << worst_label << ") light " << worst_light << ": approximate lit fraction "
       << approximate << ", exact " << exact << ", error " << error << "\n";
-  s << "seed " << seed << " (reproduce: RC_PARAMS=\"seed=" << seed << "\", or rebuild the scene from this seed)\n";
+  s << "seed " << seed << ": the seed the scene and the method's sampling came from; rerun with it to reproduce\n";
   return s.str();
 }
 
