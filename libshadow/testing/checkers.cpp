@@ -170,9 +170,15 @@ Verdict check_partition(const Scene& scene, const ShadowResult& result) {
       largest = std::max({largest, std::abs(f.polygon[a].x), std::abs(f.polygon[a].y), std::abs(f.polygon[a].z)});
     }
     const double rounding = 2 * perimeter * largest * std::numeric_limits<double>::epsilon();
-    if (std::abs(drawn - f.area) > 1e-9 * (1.0 + f.area) + rounding)
+    if (std::abs(drawn - f.area) > 1e-12 * (1.0 + f.area) + rounding)
       out << describe(scene, f.face_id, f.light_id) << " fragment " << f.fragment_id << ": polygon area " << drawn
           << " != stated area " << f.area << "\n";
+    // The face's orientation, unless rounding flattened the cell (an exact sliver far below the
+    // coordinates' resolution).
+    if (f.face_id < scene.faces.size() && drawn > 2 * rounding + 1e-15 * (1.0 + f.area) &&
+        glm::dot(newell(f.polygon), newell(scene.faces[f.face_id].vertices)) <= 0)
+      out << describe(scene, f.face_id, f.light_id) << " fragment " << f.fragment_id
+          << ": polygon turns against its face\n";
     auto& c = cells[{f.face_id, f.light_id}];
     c.first += f.area;
     if (f.lit) c.second += f.area;
@@ -188,7 +194,7 @@ Verdict check_partition(const Scene& scene, const ShadowResult& result) {
       const auto it = cells.find({fl.face_id, fl.light_id});
       const double all = it == cells.end() ? 0.0 : it->second.first;
       const double lit = it == cells.end() ? 0.0 : it->second.second;
-      const double tol = 1e-10 * (1.0 + fl.area) + fl.lit_area_error_bound;
+      const double tol = 1e-12 * (1.0 + fl.area) + fl.lit_area_error_bound;
       if (std::abs(all + fl.dropped_area - fl.area) > tol)
         out << describe(scene, fl.face_id, fl.light_id) << ": cells " << all << " + dropped " << fl.dropped_area
             << " != area " << fl.area << "\n";
@@ -207,7 +213,11 @@ Verdict check_lit_claims(const Scene& scene, const ShadowResult& result, std::ui
   const ExactOracle oracle(scene);
   for (const Fragment& f : result.fragments) {
     if (f.polygon.size() < 3) continue;
-    const double margin = 1e-7 * diameter(f.polygon);
+    // Away from the cell's boundary by more than its vertices' rounding (half an ulp of the
+    // largest coordinate), so that the exact cell holds the point too.
+    double largest = 0;
+    for (const glm::dvec3& v : f.polygon) largest = std::max({largest, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    const double margin = 1e-7 * diameter(f.polygon) + 16 * std::numeric_limits<double>::epsilon() * largest;
     for (const glm::dvec3& p : sample_polygon(f.polygon, static_cast<std::size_t>(std::max(points_per_fragment, 0)), margin, rng)) {
       ++checked;
       const bool lit = oracle.is_lit_on_face(f.face_id, p, f.light_id);

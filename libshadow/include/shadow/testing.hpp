@@ -118,13 +118,15 @@ std::vector<glm::dvec3> sample_face(const Scene& scene, std::size_t face_id, std
 /// Lit and shadowed parts partition each face: for every FaceLighting, lit_area + shadow_area
 /// equals area (each rounded once from exact values: within 4e-16 of the area, relative), the
 /// fraction is in [0, 1]; with fragments, each cell's double polygon has its stated area
-/// (1e-9 (1 + area) plus what rounding its vertices can move: 2 eps perimeter max|x|), and the cells of (face, light) plus dropped_area add up to the area and
-/// the lit cells to lit_area (1e-10 (1 + area): cell areas are rounded one by one; plus the
-/// error bound of a fast-path result).
+/// (1e-12 (1 + area) plus what rounding its vertices can move: 2 eps perimeter max|x|) and its
+/// face's orientation (unless rounding flattened it), and the cells of (face, light) plus
+/// dropped_area add up to the area and the lit cells to lit_area (1e-12 (1 + area): cell areas
+/// are rounded one by one; plus the error bound of a fast-path result).
 Verdict check_partition(const Scene& scene, const ShadowResult& result);
 
 /// Lit claims agree with exact point queries: `points_per_fragment` points sampled inside each
-/// fragment (at least 1e-7 of the fragment's size from its rounded boundary) must get the
+/// fragment (at least 1e-7 of the fragment's size plus 16 ulps of its largest coordinate away
+/// from its rounded boundary) must get the
 /// fragment's lit/shadowed verdict from is_lit_on_face. Seeded. Needs result fragments; fails
 /// when there are fragments but no point could be sampled in any of them (nothing checked).
 Verdict check_lit_claims(const Scene& scene, const ShadowResult& result, std::uint64_t seed,
