@@ -10,6 +10,7 @@
 #include <shadow/testing/generators.hpp>
 #include <shadow/testing/gtest.hpp>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 #include <rapidcheck/gtest.h>
 
@@ -238,6 +239,37 @@ RC_GTEST_PROP(Generators, HolesTileExactly, ()) {
       RC_ASSERT(!(c.x > h[0].x && c.x < h[2].x && c.y > h[0].y && c.y < h[2].y));
   }
   RC_ASSERT(tiled == expected);
+}
+
+// Shrinking: a property that fails on cities of 3 boxes or more shrinks to exactly 3 unit cubes
+// at the origin; one that fails on polygons of 6 vertices or more, to a hexagon of radius 1.
+// The last failing case rapidcheck evaluates is the shrunk counterexample.
+TEST(Generators, ShrinkToSmallCounterexamples) {
+  Scene smallest;
+  EXPECT_FALSE(rc::check("cities have fewer than 3 boxes", [&] {
+    const Scene city = *kit::gen::box_city();
+    if (city.faces.size() >= 1 + 3 * 6) {
+      smallest = city;
+      RC_FAIL("3 boxes or more");
+    }
+  }));
+  ASSERT_EQ(smallest.faces.size(), 1u + 3 * 6);
+  for (std::size_t f = 1; f < smallest.faces.size(); ++f)
+    for (const glm::dvec3& v : smallest.faces[f].vertices) {
+      EXPECT_TRUE(v.x == 0 || v.x == 1) << v.x;
+      EXPECT_TRUE(v.y == 0 || v.y == 1) << v.y;
+      EXPECT_TRUE(v.z == 0 || v.z == 1) << v.z;
+    }
+  kit::Polygon2 shortest;
+  EXPECT_FALSE(rc::check("polygons have fewer than 6 vertices", [&] {
+    const kit::Polygon2 p = *kit::gen::simple_polygon();
+    if (p.size() >= 6) {
+      shortest = p;
+      RC_FAIL("6 vertices or more");
+    }
+  }));
+  ASSERT_EQ(shortest.size(), 6u);
+  for (const glm::dvec2& v : shortest) EXPECT_NEAR(glm::length(v), 1.0, 0.2);  // radius 1 on the 1/4 grid
 }
 
 void check_scene(Scene scene) {
