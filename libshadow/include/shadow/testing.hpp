@@ -13,9 +13,10 @@
 /// polygon. A face is the polygon the engine computes on: its exact plane is the one through
 /// the vertex average with the exact Newell normal (the plane itself for an exactly planar face,
 /// the "lift" of docs/numeric-contract.md otherwise) and its outline keeps the input chart
-/// coordinates. `exact_lit_area` and `exact_shadow_area` are the engine's exact results (they
-/// call compute_shadows): they are the reference values, checked against closed forms and a
-/// second method in libshadow's own tests.
+/// coordinates. Every face counts, whether its mesh receives or not. `exact_lit_area` and
+/// `exact_shadow_area` are the engine's exact results (they call compute_shadows and
+/// compute_plane_shadows): they are the reference values, checked against closed forms and
+/// against the oracles in libshadow's own tests (tests/test_testing_kit.cpp).
 #pragma once
 
 #include <shadow/scene.hpp>
@@ -54,6 +55,7 @@ struct Verdict {
 ///   not lit: the engine gives such faces no lit area. On an edge shared by a face toward the
 ///   light and one away from it the point is not lit (use is_lit_on_face to ask per face).
 /// - A point on no face is lit when nothing blocks: visibility in free space.
+/// - Each call prepares every face in rationals; for many queries use ExactOracle.
 /// @throws InputError when `light_id` is not a scene light or the light is unusable.
 bool is_lit(const Scene& scene, glm::dvec3 point, std::size_t light_id);
 
