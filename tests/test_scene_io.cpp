@@ -675,6 +675,12 @@ TEST(SceneErrors, InlinePolygonsAreCheckedVertexByVertex) {
       {"inline.json", "meshes[0].polygons[0]", "polygon has 2 vertices; at least 3 are needed"}));
   EXPECT_TRUE(ThrowsInputError(
       [&] { parse(R"({"meshes": [{"name": "m", "polygons": [{"a": 1}]}])" + light); },
+      {"inline.json", "meshes[0].polygons[0]", "unknown key \"a\""}));  // the object form: {"vertices", "name", ...}
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse(R"({"meshes": [{"name": "m", "polygons": [{"name": "w"}]}])" + light); },
+      {"inline.json", "meshes[0].polygons[0]", "missing \"vertices\""}));
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse(R"({"meshes": [{"name": "m", "polygons": [7]}])" + light); },
       {"inline.json", "meshes[0].polygons[0]", "expected a polygon"}));
   // A common slip: one level of brackets too few.
   EXPECT_TRUE(ThrowsInputError(
