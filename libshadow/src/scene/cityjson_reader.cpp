@@ -66,6 +66,47 @@ double lod_value(const Json& lod) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+/// How far the farthest vertex is off the plane through the centroid with the Newell normal, and
+/// the distance allowed: the criterion of validation (scene/validate.cpp), so a surface this
+/// reader keeps whole passes validation. Zero for a face whose normal is lost in rounding.
+std::pair<double, double> off_plane(const std::vector<glm::dvec3>& v, double tolerance) {
+  using Real = long double;
+  const std::size_t n = v.size();
+  glm::dvec3 lo = v[0], hi = v[0];
+  double magnitude = 0;
+  for (const glm::dvec3& p : v) {
+    lo = glm::dvec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+    hi = glm::dvec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+    magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+  }
+  const double diameter = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  const double allowed = std::max(tolerance * diameter, 8 * std::numeric_limits<double>::epsilon() * magnitude);
+  Real nx = 0, ny = 0, nz = 0, cx = 0, cy = 0, cz = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3 &a = v[i], &b = v[(i + 1) % n];
+    const Real ax = Real(a.x) - v[0].x, ay = Real(a.y) - v[0].y, az = Real(a.z) - v[0].z;
+    const Real bx = Real(b.x) - v[0].x, by = Real(b.y) - v[0].y, bz = Real(b.z) - v[0].z;
+    nx += (ay - by) * (az + bz);
+    ny += (az - bz) * (ax + bx);
+    nz += (ax - bx) * (ay + by);
+    cx += ax;
+    cy += ay;
+    cz += az;
+  }
+  const Real length = std::sqrt(nx * nx + ny * ny + nz * nz);
+  const Real noise = Real(n) * std::numeric_limits<Real>::epsilon() * Real(diameter) * Real(diameter);
+  if (!(length > noise * 10 / Real(tolerance))) return {0.0, allowed};
+  cx /= Real(n);
+  cy /= Real(n);
+  cz /= Real(n);
+  Real worst = 0;
+  for (const glm::dvec3& p : v) {
+    const Real px = Real(p.x) - v[0].x - cx, py = Real(p.y) - v[0].y - cy, pz = Real(p.z) - v[0].z - cz;
+    worst = std::max(worst, std::fabs((px * nx + py * ny + pz * nz) / length));
+  }
+  return {static_cast<double>(worst), allowed};
+}
+
 class Reader {
  public:
   Reader(std::string file, const LoadOptions& options) : file_(std::move(file)), options_(options) {}
@@ -99,6 +140,15 @@ class Reader {
       model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(skipped_lod_) +
                                                               " city objects have no geometry of LoD " +
                                                               options_.cityjson_lod + " and were left out"});
+    if (degenerate_ > 0)
+      model_.warnings.push_back({{file_, first_degenerate_}, std::to_string(degenerate_) +
+                                                                  (degenerate_ == 1 ? " surface has" : " surfaces have (this is the first)") +
+                                                                  " fewer than 3 distinct vertices and no area; left out"});
+    if (triangulated_ > 0)
+      model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(triangulated_) +
+                                                              " surfaces are not planar (up to " + std::to_string(worst_off_) +
+                                                              " m off their plane) and were split into triangles of their own "
+                                                              "vertices; the triangles keep the surface's name"});
     if (instances_ > 0)
       model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(instances_) +
                                                               " geometries are GeometryInstance (templates), which are not "
@@ -314,17 +364,36 @@ class Reader {
     });
     distinct.erase(std::unique(distinct.begin(), distinct.end()), distinct.end());
     if (distinct.size() < 3) {
-      model_.warnings.push_back({{file_, place}, "surface has fewer than 3 distinct vertices; left out"});
-      return;
-    }
-    if (surface.size() == 1) {
-      add(std::move(outer), place, name, kind);
+      if (degenerate_++ == 0) first_degenerate_ = place;
       return;
     }
     std::vector<std::vector<glm::dvec3>> holes;
     for (std::size_t h = 1; h < surface.size(); ++h) holes.push_back(ring(surface[h], at(place, h)));
-    const core::PolygonHolesSplit split =
+    const auto [off, allowed] = off_plane(outer, options_.planarity_tolerance);
+    if (off > allowed) {
+      // Not planar (LoD2 roofs often are, by millimetres): the documented split into triangles.
+      try {
+        for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
+      } catch (const core::PolygonHolesError& e) {
+        fail(at(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
+             std::string("surface is not planar (") + std::to_string(off) + " m off its plane) and cannot be "
+             "split into triangles: " + e.what());
+      }
+      ++triangulated_;
+      worst_off_ = std::max(worst_off_, off);
+      return;
+    }
+    if (holes.empty()) {
+      add(std::move(outer), place, name, kind);
+      return;
+    }
+    core::PolygonHolesSplit split =
         core::split_polygon_with_holes_checked(outer, holes, options_.planarity_tolerance);
+    if (!split.error.empty() && split.error.find("not in the plane") != std::string::npos) {
+      for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
+      ++triangulated_;
+      return;
+    }
     if (!split.error.empty()) {
       const std::size_t r = split.ring < 0 ? 0 : static_cast<std::size_t>(split.ring) + 1;
       std::string problem = split.error;
@@ -352,7 +421,9 @@ class Reader {
   std::vector<glm::dvec3> vertices_;
   glm::dvec3 low_{0.0}, high_{0.0};
   bool used_any_ = false;
-  std::size_t skipped_lod_ = 0, instances_ = 0;
+  std::size_t skipped_lod_ = 0, instances_ = 0, triangulated_ = 0, degenerate_ = 0;
+  std::string first_degenerate_;
+  double worst_off_ = 0;
 };
 
 }  // namespace

@@ -2,6 +2,7 @@
 // Which model format a file is, and the call of its reader (scene/model_dispatch.hpp).
 #include "scene/model_dispatch.hpp"
 
+#include "scene/cityjson_reader.hpp"
 #include "scene/energyplus_reader.hpp"
 
 #include <nlohmann/json.hpp>
@@ -65,8 +66,7 @@ ModelFormat model_format(const std::filesystem::path& file, const std::string& t
 Model read_model(ModelFormat format, const std::filesystem::path& path, const std::string& display_name,
                  const LoadOptions& options) {
   switch (format) {
-    case ModelFormat::cityjson:
-      throw InputError({display_name, ""}, "CityJSON is recognised but its reader is not in this commit yet");
+    case ModelFormat::cityjson: return read_cityjson(path, display_name, options);
     case ModelFormat::energyplus: return read_energyplus(path, display_name, options);
     case ModelFormat::none: break;
   }
