@@ -1073,10 +1073,10 @@ TEST(Orientation, OneInwardBoxAmongManyOutwardInOneMeshIsFound) {
   add_mesh(scene, "city", city);
   shadow::validate_scene(scene);
   ASSERT_EQ(scene.warnings.size(), 2u);
-  EXPECT_NE(scene.warnings[0].message.find("has 1 closed part (of 21; the first has face 72"), std::string::npos)
+  EXPECT_NE(scene.warnings[0].message.find("has 1 closed part (of 21; the first has faces 72"), std::string::npos)
       << scene.warnings[0].to_string();
   EXPECT_NE(scene.warnings[0].message.find("inconsistent face orientation"), std::string::npos);
-  EXPECT_NE(scene.warnings[1].message.find("has 1 closed part (of 21; the first has face 42"), std::string::npos)
+  EXPECT_NE(scene.warnings[1].message.find("has 1 closed part (of 21; the first has faces 42"), std::string::npos)
       << scene.warnings[1].to_string();
   EXPECT_NE(scene.warnings[1].message.find("whose faces point inward"), std::string::npos);
 }

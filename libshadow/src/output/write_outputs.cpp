@@ -229,17 +229,22 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   // Each dataset is built just before it is written and freed right after: only one of them
   // is in memory at a time. Errors name the final file, which is what the user asked for.
   StagedFiles staged(outdir);
+  // Points relative to Scene::origin when it has one (report.json states it).
+  auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {
+    detail::shift_to_origin(poly, scene);
+    return poly;
+  };
   // Fragments first: by far the largest file, so a full disk shows up before the others.
   const auto fragments = staged.stage("fragments.vtp");
-  detail::write_polydata(detail::make_fragments_polydata(scene, result), fragments.temp,
+  detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
                          fragments.final_path);
   const auto faces = staged.stage("faces.vtp");
-  detail::write_polydata(detail::make_faces_polydata(scene, result), faces.temp, faces.final_path);
+  detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path);
   const auto plane_shadows = staged.stage("plane_shadows.vtp");
-  detail::write_polydata(detail::make_plane_shadows_polydata(result), plane_shadows.temp,
+  detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
                          plane_shadows.final_path);
   const auto lights = staged.stage("lights.vtp");
-  detail::write_polydata(detail::make_lights_polydata(scene), lights.temp, lights.final_path);
+  detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path);
   const auto vtm = staged.stage("scene.vtm");
   detail::write_vtm(
       {{"faces", "faces.vtp"},
