@@ -294,9 +294,9 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
           reverse_face(f);
           flipped.push_back(f);
         }
-      warnings.push_back({where, part_text(part) + " had inconsistent face orientation: " +
-                                     list_faces(scene, face_ids(flipped)) + " reversed to agree with face " +
-                                     std::to_string(faces[part.front()]) + " (orient outward)"});
+      warnings.push_back({where, part_text(part) + " had inconsistent face orientation (orient outward): to agree "
+                                     "with face " + std::to_string(faces[part.front()]) + ", reversed " +
+                                     list_faces(scene, face_ids(flipped))});
     }
     if (volume_of(part) < 0) {
       if (orient) {
