@@ -180,6 +180,13 @@ TEST(CityJson, NamesKindsMeshesAndOrigin) {
       << scene.faces[2].source.to_string();
   ASSERT_TRUE(scene.origin.has_value());
   EXPECT_EQ(*scene.origin, glm::dvec3(90000, 435000, 1));
+  // Placed near (0, 0, 0) by the scene, the model needs no origin any more.
+  const shadow::Scene placed = shadow::load_scene(
+      dir.write("placed.json", scene_with("boxes.city.json", R"(, "transform": {"translate": [-90000, -435000, 0]})")));
+  EXPECT_FALSE(placed.origin.has_value());
+  // The translation is exact here (Sterbenz: the difference of two close doubles).
+  EXPECT_EQ(placed.faces[1].vertices[0], scene.faces[1].vertices[0] - glm::dvec3(90000, 435000, 0));
+  EXPECT_EQ(placed.faces[1].vertices[0].z, 5.5);
   // The model read whole: meshes by object id, no lights.
   const shadow::Scene whole = shadow::load_scene(dir.path() / "boxes.city.json");
   ASSERT_EQ(whole.meshes.size(), 2u);

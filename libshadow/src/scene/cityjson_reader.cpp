@@ -308,7 +308,6 @@ class Reader {
     std::size_t counter = 0;  // surfaces in boundaries order: the `n` of `<id>/<n>`
     // Depth of surfaces: MultiSurface/CompositeSurface 1, Solid 2, MultiSolid/CompositeSolid 3.
     const int depth = type == "Solid" ? 2 : (type == "MultiSolid" || type == "CompositeSolid") ? 3 : 1;
-    std::vector<std::size_t> index;
     walk(id, *boundaries, values, surfaces, bpath, vpath, depth, counter);
   }
 

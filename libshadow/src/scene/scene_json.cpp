@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -320,6 +321,7 @@ class SceneReader {
     if (const Json* camera = find(document, "camera")) read_camera(*camera);
 
     for (std::size_t i = 0; i < pending_.size(); ++i) load_faces(std::move(pending_[i]));
+    if (scene_.origin) place_origin();
     scene_.source = scene_file_;
     return std::move(scene_);
   }
@@ -655,6 +657,22 @@ class SceneReader {
     }
     scene_.meshes.back().face_count = scene_.faces.size() - scene_.meshes.back().first_face;
     finish_mesh(pending, first_mesh);
+  }
+
+  /// A model asked for an origin for the VTK outputs (it sits at projected coordinates); after
+  /// placement the scene may not be far away any more: whole metres below the placed scene when
+  /// it is still 1e4 or more from (0, 0, 0), else none.
+  void place_origin() {
+    glm::dvec3 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+    for (const Face& face : scene_.faces)
+      for (const glm::dvec3& v : face.vertices) {
+        low = glm::dvec3(std::min(low.x, v.x), std::min(low.y, v.y), std::min(low.z, v.z));
+        high = glm::dvec3(std::max(high.x, v.x), std::max(high.y, v.y), std::max(high.z, v.z));
+      }
+    scene_.origin.reset();
+    if (!(low.x <= high.x) || !std::isfinite(low.x + low.y + low.z + high.x + high.y + high.z)) return;
+    if (std::max({std::fabs(low.x), std::fabs(low.y), std::fabs(high.x), std::fabs(high.y)}) >= 1e4)
+      scene_.origin = glm::dvec3(std::floor(low.x), std::floor(low.y), std::floor(low.z));
   }
 
   /// A mirroring placement (negative determinant, or up_axis with a mirroring transform) turns
