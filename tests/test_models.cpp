@@ -516,3 +516,60 @@ TEST(Outputs, FacesCarryIdentityAndOrientationInReportAndVtp) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(CityJson, MultiSolidAndNonPlanarSurfacesAndNullSemantics) {
+  TempDir dir("multisolid");
+  // Two unit cubes as one MultiSolid (no semantics), and a MultiSurface quad whose fourth corner
+  // is 5 mm above the plane of the other three: split into 2 triangles of its own vertices.
+  Json doc = boxes_cityjson();
+  Json solids = Json::array();
+  for (const char* id : {"A", "B"}) solids.push_back(doc["CityObjects"][id]["geometry"][0]["boundaries"]);
+  doc["CityObjects"] = {{"M", {{"type", "GenericCityObject"},
+                               {"geometry", {{{"type", "MultiSolid"}, {"lod", "2"}, {"boundaries", solids}}}}}},
+                        {"Q", {{"type", "LandUse"},
+                               {"geometry", {{{"type", "MultiSurface"}, {"lod", 1},
+                                              {"boundaries", {{{16, 17, 18, 19}}}},
+                                              {"semantics", {{"surfaces", Json::array()}, {"values", {nullptr}}}}}}}}}};
+  for (const auto& v : std::vector<std::array<long long, 3>>{{0, 20000, 0}, {4000, 20000, 0}, {4000, 24000, 5}, {0, 24000, 0}})
+    doc["vertices"].push_back({v[0], v[1], v[2]});
+  const shadow::Scene scene = shadow::load_scene(dir.write("m.city.json", doc.dump()));
+  ASSERT_EQ(scene.meshes.size(), 2u);
+  EXPECT_EQ(scene.meshes[0].face_count, 12u);
+  EXPECT_EQ(scene.faces[7].name, "M/7");  // surfaces counted across the solids
+  EXPECT_EQ(scene.faces[7].kind, "");
+  ASSERT_EQ(scene.meshes[1].face_count, 2u);
+  EXPECT_EQ(scene.faces[12].name, "Q/0");
+  EXPECT_EQ(scene.faces[12].vertices.size(), 3u);
+  EXPECT_EQ(scene.faces[13].name, "Q/0");
+  bool warned = false;
+  for (const shadow::Warning& w : scene.warnings) warned |= w.message.find("1 surfaces are not planar") != std::string::npos;
+  EXPECT_TRUE(warned);
+  // The triangles cover the quad's chart exactly: 4 m x 4 m.
+  double area = 0;
+  for (std::size_t f = 12; f < 14; ++f) {
+    const auto& v = scene.faces[f].vertices;
+    area += std::fabs((v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y)) / 2;
+  }
+  EXPECT_DOUBLE_EQ(area, 16.0);
+}
+
+TEST(Outputs, AzimuthFollowsTheSunsNorthAxis) {
+  // A wall facing +x is east (90) with +y north; with the model's +y 30 degrees clockwise from
+  // north (EnergyPlus's Building North Axis), it faces 120.
+  shadow::Scene scene = parse(R"([{"name": "w", "polygons": [{"name": "east", "vertices": [[0,0,0],[0,1,0],[0,1,1],[0,0,1]]}]}])");
+  shadow::SunPeriod sun;
+  sun.north_axis = 30;
+  const shadow::ShadowResult result = compute(scene);
+  std::ostringstream plain, turned;
+  shadow::write_report_json(plain, scene, result);
+  scene.sun = sun;
+  shadow::write_report_json(turned, scene, result);
+  EXPECT_NEAR(Json::parse(plain.str())["faces"][0]["azimuth"].get<double>(), 90.0, 1e-9);
+  EXPECT_NEAR(Json::parse(turned.str())["faces"][0]["azimuth"].get<double>(), 120.0, 1e-9);
+  EXPECT_EQ(Json::parse(turned.str())["faces"][0]["name"], "east");
+  EXPECT_EQ(Json::parse(turned.str())["faces"][0]["source"], "placed.json: meshes[0].polygons[0]");
+}
+
+}  // namespace
