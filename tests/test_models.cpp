@@ -195,6 +195,21 @@ TEST(CityJson, NamesKindsMeshesAndOrigin) {
   EXPECT_EQ(whole.faces.size(), 12u);
 }
 
+TEST(CityJson, RecognisedByContentUnderAnyName) {
+  TempDir dir("content");
+  dir.write("model.json", boxes_cityjson().dump());
+  dir.write("model.dat", boxes_cityjson().dump());
+  EXPECT_EQ(shadow::load_scene(dir.path() / "model.json").meshes.size(), 2u);
+  const shadow::Scene scene = shadow::load_scene(dir.write("s.json", scene_with("model.dat")));
+  ASSERT_EQ(scene.meshes.size(), 2u);
+  EXPECT_EQ(scene.meshes[1].name, "city/B");
+  // A scene file that merely mentions CityJSON is still a scene file.
+  const shadow::Scene plain = shadow::load_scene(dir.write(
+      "plain.json", R"({"_note": "\"CityJSON\"", "meshes": [{"name": "CityJSON", "polygons": [[[0,0,0],[1,0,0],[0,1,0]]]}],
+                        "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})"));
+  EXPECT_EQ(plain.lights.size(), 1u);
+}
+
 TEST(CityJson, HighestLodByDefaultOrTheChosenOne) {
   TempDir dir("lod");
   Json doc = boxes_cityjson();

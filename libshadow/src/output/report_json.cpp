@@ -76,8 +76,8 @@ Json face_json(const Scene& scene, std::size_t face_id,
   }
   Json entry = {{"id", face_id}, {"mesh", mesh}};
   if (face_id < scene.faces.size()) {
-    // Identity and orientation (docs/output-format.md): which surface this is, where it was read,
-    // which way it faces. NaN (a face without area) is written as null.
+    // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
+    // where it was read, which way it faces. NaN (a face without area) is written as null.
     const Face& face = scene.faces[face_id];
     const detail::FaceOrientation o = detail::face_orientation(face, detail::north_axis_of(scene));
     auto number = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
