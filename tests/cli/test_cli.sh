@@ -400,6 +400,16 @@ else
   fail "orient_outward_reverses_the_inward_cube" "stderr: $(cat "$WORK/inward_cube_oriented.stderr")"
 fi
 
+# The bundled CityJSON example: three houses with windows cut out, named per surface.
+expect_success example_cityjson_street "$EXAMPLES/cityjson/scene.json"
+if grep -q '^  mesh street/house-3 lit sun ' "$WORK/example_cityjson_street.stdout" &&
+   grep -q '"kind": "Window"' "$WORK/out-example_cityjson_street/report.json" &&
+   grep -q '"name": "house-1/1"' "$WORK/out-example_cityjson_street/report.json"; then
+  pass "example_cityjson_street_is_named"
+else
+  fail "example_cityjson_street_is_named" "stdout: $(cat "$WORK/example_cityjson_street.stdout")"
+fi
+
 # A CityJSON model: as the scene it brings no lights (exit 2, one line); as a mesh file of a scene
 # with a sun it runs, and the summary gives lit fractions per city object.
 mkdir -p "$WORK/city"
