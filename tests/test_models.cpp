@@ -225,6 +225,9 @@ TEST(CityJson, HighestLodByDefaultOrTheChosenOne) {
   EXPECT_EQ(scene.faces[0].name, "A/0");
   ASSERT_FALSE(scene.warnings.empty());
   EXPECT_NE(scene.warnings[0].message.find("1 city objects have no geometry of LoD 1.2"), std::string::npos);
+  options.cityjson_lod = "two";
+  EXPECT_NE(error_of([&] { shadow::load_scene(file, options); }).find("lod.city.json: the level of detail to read, \"two\", is not one"),
+            std::string::npos);
 }
 
 TEST(CityJson, InnerRingsAreCutOutExactly) {
@@ -423,6 +426,12 @@ TEST(Names, ObjGroupsAndInlinePolygonObjectsNameFaces) {
   for (const shadow::FaceLighting& fl : compute(scene).lighting)
     if (scene.faces[fl.face_id].name == "facade") area += fl.area;
   EXPECT_NEAR(area, 12.0 - 1.0, 1e-12);
+  // A hole outside its polygon: the hole's path.
+  EXPECT_NE(error_of([&] {
+              parse(R"([{"name": "w", "polygons": [{"vertices": [[0,0,0],[4,0,0],[4,3,0],[0,3,0]],
+                                                     "holes": [[[1,1,0],[2,1,0],[2,2,0]], [[5,1,0],[6,1,0],[6,2,0]]]}]}])");
+            }).find("placed.json: meshes[0].polygons[0].holes[1]: hole 1 is outside the outer ring (vertex 0)"),
+            std::string::npos);
 }
 
 // ---- orientation -------------------------------------------------------------------------------

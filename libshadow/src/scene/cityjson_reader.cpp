@@ -26,7 +26,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;  // keeps the file's order of city objects
 
-std::string quoted(const std::string& s) {
+std::string json_quote(const std::string& s) {
   return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
 }
 
@@ -35,7 +35,7 @@ std::string at(const std::string& path, std::size_t i) { return path + "[" + std
 std::string type_of(const Json& v) {
   if (v.is_object()) return "an object";
   if (v.is_array()) return "an array";
-  if (v.is_string()) return "string " + quoted(v.get<std::string>());
+  if (v.is_string()) return "string " + json_quote(v.get<std::string>());
   return std::string(v.type_name());
 }
 
@@ -130,7 +130,10 @@ class Reader {
       fail("version", "missing or not a string (\"1.1\" or \"2.0\")");
     const std::string v = version->get<std::string>();
     if (v != "1.0" && v != "1.1" && v != "2.0" && v.rfind("1.1.", 0) != 0 && v.rfind("2.0.", 0) != 0)
-      fail("version", "CityJSON version " + quoted(v) + " is not read (1.1 and 2.0 are; 1.0 too)");
+      fail("version", "CityJSON version " + json_quote(v) + " is not read (1.1 and 2.0 are; 1.0 too)");
+    if (!options_.cityjson_lod.empty() && std::isnan(lod_value(Json(options_.cityjson_lod))))
+      fail("", "the level of detail to read, " + json_quote(options_.cityjson_lod) +
+                   ", is not one (a number like \"2\" or \"2.2\")");
     read_transform(doc);
     read_vertices(doc);
     const Json* objects = find(doc, "CityObjects");
@@ -227,7 +230,7 @@ class Reader {
   }
 
   void read_object(const std::string& id, const Json& object) {
-    const std::string path = "CityObjects[" + quoted(id) + "]";
+    const std::string path = "CityObjects[" + json_quote(id) + "]";
     if (!object.is_object()) fail(path, "expected a city object, got " + type_of(object));
     const Json* geometry = find(object, "geometry");
     if (geometry == nullptr) return;  // e.g. a Building whose geometry is in its BuildingParts
