@@ -187,6 +187,18 @@ TEST(CityJson, NamesKindsMeshesAndOrigin) {
   // The translation is exact here (Sterbenz: the difference of two close doubles).
   EXPECT_EQ(placed.faces[1].vertices[0], scene.faces[1].vertices[0] - glm::dvec3(90000, 435000, 0));
   EXPECT_EQ(placed.faces[1].vertices[0].z, 5.5);
+  // One building of a model as the only receiver; a name the model lacks is an error at its path.
+  const shadow::Scene only_b = shadow::load_scene(dir.write(
+      "only_b.json", R"({"meshes": [{"name": "city", "file": "boxes.city.json"}], "receivers": ["city/B"],
+                        "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})"));
+  EXPECT_FALSE(only_b.meshes[0].receiver);
+  EXPECT_TRUE(only_b.meshes[1].receiver);
+  EXPECT_NE(error_of([&] {
+              shadow::load_scene(dir.write(
+                  "only_c.json", R"({"meshes": [{"name": "city", "file": "boxes.city.json"}], "receivers": ["city/C"],
+                                    "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})"));
+            }).find("only_c.json: receivers[0]: no mesh is named \"city/C\" (the model \"city\" has no mesh \"C\")"),
+            std::string::npos);
   // The model read whole: meshes by object id, no lights.
   const shadow::Scene whole = shadow::load_scene(dir.path() / "boxes.city.json");
   ASSERT_EQ(whole.meshes.size(), 2u);

@@ -321,6 +321,7 @@ class SceneReader {
     if (const Json* camera = find(document, "camera")) read_camera(*camera);
 
     for (std::size_t i = 0; i < pending_.size(); ++i) load_faces(std::move(pending_[i]));
+    apply_model_receivers();
     if (scene_.origin) place_origin();
     scene_.source = scene_file_;
     return std::move(scene_);
@@ -871,9 +872,29 @@ class SceneReader {
       if (!r.is_string()) fail(path, "expected a mesh name, got " + describe(r));
       const std::string& name = r.get_ref<const std::string&>();
       const auto it = std::find(mesh_names_.begin(), mesh_names_.end(), name);
-      if (it == mesh_names_.end())
+      if (it != mesh_names_.end()) {
+        pending_[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
+        continue;
+      }
+      // `<mesh>/<model mesh>`: one building of a model file; checked once the model is read.
+      const std::size_t slash = name.find('/');
+      const auto parent = slash == std::string::npos ? mesh_names_.end()
+                                                     : std::find(mesh_names_.begin(), mesh_names_.end(), name.substr(0, slash));
+      if (parent == mesh_names_.end() || pending_[static_cast<std::size_t>(parent - mesh_names_.begin())].file.empty())
         fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
-      pending_[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
+      model_receivers_.push_back({path, name});
+    }
+  }
+
+  /// Receivers that name one mesh of a model (`city/B`): those meshes receive, the model's others
+  /// do not (unless the model's own name is listed too).
+  void apply_model_receivers() {
+    for (const auto& [path, name] : model_receivers_) {
+      const auto it = std::find_if(scene_.meshes.begin(), scene_.meshes.end(), [&](const Mesh& m) { return m.name == name; });
+      if (it == scene_.meshes.end())
+        fail(path, "no mesh is named " + quote(name) + " (the model " + quote(name.substr(0, name.find('/'))) +
+                       " has no mesh " + quote(name.substr(name.find('/') + 1)) + ")");
+      it->receiver = true;
     }
   }
 
@@ -884,6 +905,7 @@ class SceneReader {
   Scene scene_;
   std::vector<std::string> mesh_names_;
   std::vector<PendingMesh> pending_;
+  std::vector<std::pair<std::string, std::string>> model_receivers_;  // (JSON path, mesh name)
 };
 
 }  // namespace
