@@ -5,7 +5,7 @@
     engine -> planes -> exact -> core -> geometry
     engine -> fast -> core -> geometry
     scene -> exact (face shape check only), core, geometry;  output -> lighting, core, geometry
-    lighting -> geometry;  baselines -> core, geometry
+    lighting -> geometry;  baselines -> core, geometry;  scene -> sun -> geometry
 
 Reads every `#include "folder/..."` in libshadow/src and fails, listing each offending line, when
 a folder includes one that the table below does not allow (a folder may always include itself).
@@ -31,7 +31,8 @@ ALLOWED = {
     "fast": {"core", "geometry"},
     "core": {"geometry"},
     "geometry": set(),
-    "scene": {"exact", "core", "geometry"},
+    "scene": {"exact", "core", "geometry", "sun"},
+    "sun": {"geometry"},
     "output": {"lighting", "core", "geometry"},
     "lighting": {"geometry"},
     "baselines": {"core", "geometry"},

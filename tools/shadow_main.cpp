@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The `shadow` command line: `shadow compute SCENE.json -o OUTDIR`, `shadow render SCENE.json -o PNG`.
+// The `shadow` command line: `shadow compute SCENE.json -o OUTDIR`, `shadow render SCENE.json -o PNG`,
+// `shadow sun --latitude LAT --longitude LON --time ISO8601` (tools/sun_command.cpp).
 #include <shadow/shadow.hpp>
 
 #ifdef LIBSHADOW_HAVE_RENDER
@@ -8,6 +9,7 @@
 #endif
 
 #include "cli_checks.hpp"
+#include "sun_command.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -119,7 +121,7 @@ int run_compute(const ComputeArgs& args) {
   load_options.orient_outward = args.orient_outward;
   load_options.cityjson_lod = args.lod;
   shadow::Scene scene = shadow::load_scene(args.scene, load_options);
-  if (scene.lights.empty())
+  if (scene.lights.empty() && !scene.sun)
     // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
     throw shadow::InputError({args.scene, ""},
                              "the scene has no lights (a model file carries none unless it gives a site and period "
@@ -246,6 +248,13 @@ int main(int argc, char** argv) {
   render->footer(shadow_cli::exit_codes_help());
 #endif
 
+  SunArgs sun_args;
+  CLI::App* sun = app.add_subcommand(
+      "sun", "Print the sun's position (NREL SPA, topocentric, refraction included) at a place and UTC "
+             "instant as one JSON line: time, elevation, azimuth (clockwise from north), zenith, to_light");
+  add_sun_options(*sun, sun_args);
+  sun->footer(shadow_cli::exit_codes_help());
+
   // An unknown subcommand would only get CLI11's "A subcommand is required": name it.
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
@@ -258,9 +267,9 @@ int main(int argc, char** argv) {
     }
     if (!found) {
 #ifdef LIBSHADOW_HAVE_RENDER
-      const char* known = "compute, render";
+      const char* known = "compute, render, sun";
 #else
-      const char* known = "compute";
+      const char* known = "compute, sun";
 #endif
       std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
                 << "; see shadow --help)\n";
@@ -280,6 +289,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*compute) return run_compute(args);
+    if (*sun) return run_sun(sun_args);
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) return run_render(render_args, argc, argv);
   } catch (const shadow::render::RenderError& e) {

@@ -3,6 +3,7 @@
 #include "output/names.hpp"
 
 #include <shadow/output.hpp>
+#include <shadow/sun.hpp>
 #include <shadow/version.hpp>
 
 #include <nlohmann/json.hpp>
@@ -52,7 +53,45 @@ Json lights_json(const Scene& scene) {
     entry["color"] = vec3(light.color);
     lights.push_back(std::move(entry));
   }
+  // A sun's light also says when it shines and where the sun stands (additive keys).
+  for (const SunInstant& instant : scene.sun_instants) {
+    if (instant.light_id >= lights.size()) continue;
+    Json& entry = lights[instant.light_id];
+    entry["time"] = format_iso8601_utc(instant.time);
+    entry["elevation"] = instant.position.elevation;
+    entry["azimuth"] = instant.position.azimuth;
+  }
   return lights;
+}
+
+/// The scene's `sun` block as it was read, with the count of its instants above and below the
+/// horizon (below: at or under min_elevation, no light).
+Json sun_json(const Scene& scene) {
+  const SunPeriod& sun = *scene.sun;
+  Json j;
+  j["site"] = {{"latitude", sun.site.latitude},
+               {"longitude", sun.site.longitude},
+               {"elevation", sun.site.elevation},
+               {"pressure", sun.site.pressure},
+               {"temperature", sun.site.temperature}};
+  if (sun.times.empty()) {
+    j["period"] = {{"start", sun.start}, {"end", sun.end}, {"step_minutes", sun.step_minutes}};
+  } else {
+    Json times = Json::array();
+    for (const UtcSeconds t : sun.times) times.push_back(format_iso8601_utc(t));
+    j["times"] = std::move(times);
+  }
+  j["utc_offset"] = sun.utc_offset_hours;
+  if (!sun.time_zone.empty()) j["time_zone"] = sun.time_zone;
+  j["north_axis"] = sun.north_axis;
+  j["min_elevation"] = sun.min_elevation;
+  j["delta_t"] = sun.delta_t;
+  std::size_t above = 0;
+  for (const SunInstant& instant : scene.sun_instants) above += instant.light_id != SunInstant::none ? 1 : 0;
+  j["instants"] = scene.sun_instants.size();
+  j["above_horizon"] = above;
+  j["below_horizon"] = scene.sun_instants.size() - above;
+  return j;
 }
 
 /// One face's report entry from its FaceLighting entries (all for `face_id`).
@@ -179,6 +218,7 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   if (scene.origin) member("origin", dump(vec3(*scene.origin)));
   member("run", dump(run_json(scene, result, run), 2));
   member("lights", dump(lights_json(scene), 2));
+  if (scene.sun) member("sun", dump(sun_json(scene), 2));
 
   out << "  \"faces\": [";
   std::vector<const FaceLighting*> group;

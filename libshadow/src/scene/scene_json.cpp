@@ -10,6 +10,7 @@
 #include "scene/obj_reader.hpp"
 
 #include <shadow/scene_io.hpp>
+#include <shadow/sun.hpp>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
@@ -308,14 +309,22 @@ class SceneReader {
     if (!document.is_object())
       fail("", "a scene must be a JSON object with \"meshes\" and \"lights\", got " + describe(document));
 
-    check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera"});
+    check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera", "sun"});
     const Json& meshes = require(document, "", "meshes", "the scene's meshes");
-    const Json& lights = require(document, "", "lights", "the scene's lights");
+    // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
+    const Json* sun = find(document, "sun");
+    const Json* lights = sun != nullptr ? find(document, "lights")
+                                        : &require(document, "", "lights", "the scene's lights");
 
     // Materials first: meshes name them.
     if (const Json* materials = find(document, "materials")) read_materials(*materials);
     pending_ = read_meshes(meshes);
-    read_lights(lights);
+    if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/sun != nullptr);
+    if (sun != nullptr) {
+      // The suns' lights come after the scene's own; expanding is cheap next to loading meshes.
+      scene_.source = scene_file_;
+      add_sun_lights(scene_, read_sun(*sun));
+    }
     if (const Json* planes = find(document, "planes")) read_planes(*planes);
     if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
     if (const Json* camera = find(document, "camera")) read_camera(*camera);
@@ -745,9 +754,10 @@ class SceneReader {
 
   // -- lights --
 
-  void read_lights(const Json& lights) {
+  void read_lights(const Json& lights, bool may_be_empty) {
     require_array(lights, "lights");
-    if (lights.empty()) fail("lights", "the scene has no lights; at least one is needed");
+    if (lights.empty() && !may_be_empty)
+      fail("lights", "the scene has no lights; at least one is needed (or a \"sun\" block)");
     std::map<std::string, std::size_t> seen;
     const std::vector<std::string> types = {"directional", "point"};
     for (std::size_t i = 0; i < lights.size(); ++i) {
@@ -797,6 +807,84 @@ class SceneReader {
       if (const Json* color = find(l, "color")) light.color = get_color(*color, member(path, "color"));
       scene_.lights.push_back(std::move(light));
     }
+  }
+
+  // -- sun --
+
+  /// The `sun` block (docs/scene-format.md): a site and a period or times. Types are checked
+  /// here, ranges by check_sun_period (same file, place `sun.<key>`).
+  SunPeriod read_sun(const Json& sun) const {
+    require_object(sun, "sun", "the sun block");
+    check_keys(sun, "sun", {"latitude", "longitude", "elevation", "pressure", "temperature", "utc_offset",
+                            "time_zone", "start", "end", "step_minutes", "times", "north_axis",
+                            "min_elevation", "delta_t"});
+    SunPeriod period;
+    period.site.latitude = get_number(require(sun, "sun", "latitude", "degrees, north positive"), "sun.latitude");
+    period.site.longitude = get_number(require(sun, "sun", "longitude", "degrees, east positive"), "sun.longitude");
+    const std::pair<const char*, double*> numbers[] = {
+        {"elevation", &period.site.elevation}, {"pressure", &period.site.pressure},
+        {"temperature", &period.site.temperature}, {"north_axis", &period.north_axis},
+        {"min_elevation", &period.min_elevation}, {"delta_t", &period.delta_t}};
+    for (const auto& [key, target] : numbers)
+      if (const Json* value = find(sun, key)) *target = get_number(*value, member("sun", key));
+    const Json* offset = find(sun, "utc_offset");
+    const Json* zone = find(sun, "time_zone");
+    if (offset != nullptr && zone != nullptr)
+      fail("sun", "give either \"utc_offset\" or \"time_zone\", not both");
+    if (offset != nullptr) period.utc_offset_hours = get_number(*offset, "sun.utc_offset");
+    if (zone != nullptr) {
+      if (!zone->is_string()) fail("sun.time_zone", "expected a string like \"UTC+05:30\", got " + describe(*zone));
+      period.time_zone = zone->get<std::string>();
+      const std::optional<int> minutes = parse_utc_offset(period.time_zone);
+      if (!minutes)
+        fail("sun.time_zone",
+             "unknown time zone " + quote(period.time_zone) +
+                 "; give \"UTC\", \"UTC+hh:mm\" or \"UTC-hh:mm\" (local standard time, no daylight saving), "
+                 "or \"utc_offset\" in hours; zone names such as \"Europe/Paris\" are not read (their offset "
+                 "changes with daylight saving)");
+      period.utc_offset_hours = *minutes / 60.0;
+    }
+    auto date = [&](const char* key, std::string& out) {
+      if (const Json* value = find(sun, key)) {
+        if (!value->is_string()) fail(member("sun", key), "expected a date \"YYYY-MM-DD\", got " + describe(*value));
+        out = value->get<std::string>();
+        if (out.empty()) fail(member("sun", key), "expected a date \"YYYY-MM-DD\", got an empty string");
+      }
+    };
+    date("start", period.start);
+    date("end", period.end);
+    if (const Json* step = find(sun, "step_minutes")) {
+      if (!step->is_number_integer())
+        fail("sun.step_minutes", "expected a whole number of minutes, got " + describe(*step));
+      const auto minutes = step->get<std::int64_t>();
+      if (minutes <= 0 || minutes > 1440 || 1440 % minutes != 0)
+        fail("sun.step_minutes", "step_minutes must divide a day (1440 minutes: 1, 5, 10, 15, 30, 60, 120, ...), got " +
+                                     std::to_string(minutes));
+      period.step_minutes = static_cast<int>(minutes);
+      if (find(sun, "times") != nullptr) fail("sun", "\"step_minutes\" belongs to a period; with \"times\" leave it out");
+    }
+    if (const Json* times = find(sun, "times")) {
+      require_array(*times, "sun.times");
+      if (times->empty()) fail("sun.times", "no times; give at least one (or a period)");
+      if (times->size() > max_sun_instants)
+        fail("sun.times", std::to_string(times->size()) + " times; at most " + std::to_string(max_sun_instants) +
+                              " are allowed");
+      // A time without Z or an offset is local standard time (utc_offset), like the period's dates.
+      const double offset_minutes = period.utc_offset_hours * 60.0;
+      const int local = std::abs(offset_minutes) <= 14 * 60 ? static_cast<int>(std::lround(offset_minutes)) : 0;
+      for (std::size_t i = 0; i < times->size(); ++i) {
+        const Json& t = (*times)[i];
+        const std::string path = element("sun.times", i);
+        if (!t.is_string()) fail(path, "expected an ISO 8601 time \"YYYY-MM-DDThh:mm:ssZ\", got " + describe(t));
+        const std::optional<UtcSeconds> utc = parse_iso8601(t.get_ref<const std::string&>(), local);
+        if (!utc)
+          fail(path, "expected an ISO 8601 time that exists, \"YYYY-MM-DDThh:mm:ss\" with \"Z\", \"+hh:mm\" or "
+                     "nothing (local standard time), got " + describe(t));
+        period.times.push_back(*utc);
+      }
+    }
+    check_sun_period(period, file_, "sun");
+    return period;
   }
 
   // -- planes and receivers --
@@ -935,7 +1023,6 @@ Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
   scene.faces = std::move(model.faces);
   scene.warnings = std::move(model.warnings);
   scene.origin = model.origin;
-  scene.sun = model.sun;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     Mesh& mesh = scene.meshes[m];
     if (mesh.file.empty()) mesh.file = scene_file.string();
@@ -945,6 +1032,8 @@ Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
   if (scene.faces.empty())
     throw InputError({scene_file.string(), ""}, "the model has no geometry that libshadow reads (see docs/cityjson.md "
                                                 "and docs/energyplus.md for what is read)");
+  // The sun the model implies (EnergyPlus Site:Location and RunPeriod) lights it.
+  if (model.sun) add_sun_lights(scene, *model.sun);
   validate_scene(scene, options);
   return scene;
 }
