@@ -120,13 +120,15 @@ TEST(EnergyPlus, ExampleMeshesNamesKindsAndSources) {
       {"Wall-South", "Wall"}, {"Wall-East", "Wall"}, {"Wall-North", "Wall"}, {"Wall-West", "Wall"},
       {"Roof", "Roof"}, {"Floor", "Floor"}, {"Window-South", "Window"}, {"Window-East", "Window"},
       {"Door-South", "Door"}, {"Overhang-South", "Shading"}, {"Neighbour-North-Face", "Shading"},
-      {"Neighbour-West-Face", "Shading"}, {"Neighbour-Roof", "Shading"}};
+      {"Neighbour-West-Face", "Shading"}, {"Neighbour-Roof", "Shading"},
+      {"Neighbour-South-Face", "Shading"}, {"Neighbour-East-Face", "Shading"}};
   EXPECT_EQ(kind, expected);
   for (const Face& f : m.faces) {
     EXPECT_EQ(f.source.file, "box-office.idf");
     EXPECT_EQ(f.source.place.rfind("line ", 0), 0u) << f.source.place;
     EXPECT_NE(f.source.place.find("\"" + f.name + "\""), std::string::npos) << f.source.place;
   }
+  EXPECT_EQ(m.faces[0].source.to_string(), "box-office.idf: line 86, BuildingSurface:Detailed \"Wall-South\"");
   // The floor is on the ground: it casts but is no receiver.
   for (const Face& f : m.faces)
     EXPECT_EQ(m.meshes[f.mesh].receiver, f.kind != "Shading" && f.name != "Floor") << f.name;
@@ -245,9 +247,11 @@ TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
                       "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
                       "BuildingSurface:Detailed, Out, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 3,\n"
                       "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
-                      "Wall:Exterior, Simple, C, Z1, , 180, 90, 0, 0, 0, 1, 1;\n");
-  ASSERT_EQ(m.faces.size(), 1u);
+                      "Wall:Exterior, Simple, C, Z1, , 180, 90, 0, 0, 0, 1, 1;\n"
+                      "Shading:Site:Detailed, Tree, Leaves, 3, 5,5,0, 6,5,0, 6,5,4;\n");
+  ASSERT_EQ(m.faces.size(), 2u);
   EXPECT_EQ(m.faces[0].name, "Out");
+  EXPECT_EQ(m.faces[1].name, "Tree");
   EXPECT_EQ(m.sun->start, "2023-11-01");
   EXPECT_EQ(m.sun->end, "2024-02-28");
   EXPECT_EQ(m.sun->step_minutes, 30);
@@ -255,6 +259,11 @@ TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
   bool named = false;  // an unsupported geometry class is reported, not silently lost
   for (const auto& w : m.warnings) named = named || w.message.find("Wall:Exterior") != std::string::npos;
   EXPECT_TRUE(named);
+  bool opaque = false;  // shading is opaque: a transmittance schedule is not applied, and said so
+  for (const auto& w : m.warnings)
+    opaque = opaque || (w.message.find("\"Leaves\" not applied") != std::string::npos &&
+                        w.where.place.find("field \"Transmittance Schedule Name\"") != std::string::npos);
+  EXPECT_TRUE(opaque);
 }
 
 // --- The same building as OBJ and as IDF ------------------------------------------------------

@@ -231,6 +231,7 @@ class Reader {
   std::vector<glm::dvec3> simple_shading(const Object& o) const;
   void read_globals();
   void read_surfaces();
+  void warn_transmittance(const Object& o);
   void check_names();
   void cut_and_emit(Model& model);
   std::optional<SunPeriod> read_sun();
@@ -613,6 +614,14 @@ void Reader::read_globals() {
   }
 }
 
+// Shading is opaque here: a transmittance schedule (a tree in leaf) is not applied, and said so.
+void Reader::warn_transmittance(const Object& o) {
+  const Value& schedule = field(o, "transmittance_schedule_name");
+  if (schedule.present)
+    warnings_.push_back({{file_, schedule.place}, "transmittance schedule \"" + schedule.text +
+                                                      "\" not applied: libshadow's shading surfaces are opaque"});
+}
+
 void Reader::read_surfaces() {
   auto add = [&](Surface s) {
     const std::string key = lower(s.object->name);
@@ -657,6 +666,7 @@ void Reader::read_surfaces() {
       for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zone);
       add(std::move(s));
     } else if (cls == "Shading:Site:Detailed" || cls == "Shading:Building:Detailed") {
+      warn_transmittance(o);
       s.kind = "Shading";
       s.group = cls == "Shading:Site:Detailed" ? Surface::SiteShading : Surface::BuildingShading;
       s.vertices = raw_vertices(o);
@@ -701,6 +711,7 @@ void Reader::read_surfaces() {
       add(std::move(s));
       surfaces_[base].openings.push_back(index);
     } else if (cls == "Shading:Zone:Detailed") {
+      warn_transmittance(o);
       const std::size_t base = base_surface(o, "base_surface_name");
       const Surface& b = surfaces_[base];
       s.kind = "Shading";
