@@ -247,7 +247,7 @@ TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
                       "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
                       "BuildingSurface:Detailed, Out, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 3,\n"
                       "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
-                      "Wall:Exterior, Simple, C, Z1, , 180, 90, 0, 0, 0, 1, 1;\n"
+                      "Shading:Overhang, Simple, Out, 0.5, 90, 0, 0, 0.5;\n"
                       "Shading:Site:Detailed, Tree, Leaves, 3, 5,5,0, 6,5,0, 6,5,4;\n");
   ASSERT_EQ(m.faces.size(), 2u);
   EXPECT_EQ(m.faces[0].name, "Out");
@@ -257,13 +257,42 @@ TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
   EXPECT_EQ(m.sun->step_minutes, 30);
   EXPECT_EQ(m.sun->utc_offset_hours, 2.0);
   bool named = false;  // an unsupported geometry class is reported, not silently lost
-  for (const auto& w : m.warnings) named = named || w.message.find("Wall:Exterior") != std::string::npos;
+  for (const auto& w : m.warnings) named = named || w.message.find("Shading:Overhang") != std::string::npos;
   EXPECT_TRUE(named);
   bool opaque = false;  // shading is opaque: a transmittance schedule is not applied, and said so
   for (const auto& w : m.warnings)
     opaque = opaque || (w.message.find("\"Leaves\" not applied") != std::string::npos &&
                         w.where.place.find("field \"Transmittance Schedule Name\"") != std::string::npos);
   EXPECT_TRUE(opaque);
+}
+
+TEST(EnergyPlus, SimpleRectangularSurfacesMatchTheirDetailedTwins) {
+  // Zone +y points east, origin (5, 10, 0): a Wall:Exterior facing the zone's south is the wall of
+  // ClockwiseEntryAndRelativeCoordinatesWithZoneOriginAndNorth; a Roof and a Floor:GroundContact
+  // of 4 x 2 face up and down; a Wall:Interzone is left out.
+  const Model m = idf(
+      "Zone, Z1, 90, 5, 10, 0;\n"
+      "Wall:Exterior, W, C, Z1, , 180, 90, 0, 0, 0, 4, 3;\n"
+      "Roof, R, C, Z1, , 180, 0, 0, 0, 3, 4, 2;\n"
+      "Floor:GroundContact, F, C, Z1, , 180, 180, 0, 2, 0, 4, 2;\n"
+      "Wall:Interzone, I, C, Z1, , Other, 0, 90, 0, 2, 0, 4, 3;\n");
+  ASSERT_EQ(m.faces.size(), 3u);
+  EXPECT_EQ(m.faces[0].name, "W");
+  EXPECT_EQ(m.faces[0].kind, "Wall");
+  EXPECT_EQ(m.faces[0].vertices, (std::vector<dvec3>{{5, 10, 0}, {5, 6, 0}, {5, 6, 3}, {5, 10, 3}}));
+  EXPECT_EQ(m.faces[1].kind, "Roof");
+  EXPECT_EQ(newell(m.faces[1].vertices), dvec3(0, 0, 16));  // 4 x 2, facing up
+  EXPECT_EQ(m.faces[2].kind, "Floor");
+  EXPECT_EQ(m.meshes[m.faces[2].mesh].name, "Not exposed");
+  EXPECT_EQ(newell(m.faces[2].vertices), dvec3(0, 0, -16));  // facing down
+  for (const Face& f : m.faces) EXPECT_NE(f.name, "I");
+  // A Window on the simple wall, in the wall's own coordinates.
+  const Model w = idf(
+      "Zone, Z1;\n"
+      "Wall:Exterior, W, C, Z1, , 180, 90, 0, 0, 0, 4, 3;\n"
+      "Window, G, C, W, , 1, 1, 0.5, 2, 1.5;\n");
+  EXPECT_EQ(area_by_name(w).at("W"), 12.0 - 3.0);
+  EXPECT_EQ(w.faces.back().vertices, (std::vector<dvec3>{{1, 0, 0.5}, {3, 0, 0.5}, {3, 0, 2}, {1, 0, 2}}));
 }
 
 // --- The same building as OBJ and as IDF ------------------------------------------------------

@@ -100,6 +100,20 @@ std::vector<ClassSpec> class_specs(int version) {
                                               {"Starting Z Coordinate", "starting_z_coordinate"},
                                               {"Length", "length"},
                                               {"Height", "height"}};
+  // Wall:Exterior, Roof, Floor:GroundContact, ...: a rectangle from its lower left corner.
+  auto simple_surface = [&](bool interzone, const char* size_idd, const char* size_key) {
+    std::vector<FieldSpec> f{{"Name", nullptr}, {"Construction Name", "construction_name"}, {"Zone Name", "zone_name"}};
+    if (has_space) f.push_back({"Space Name", "space_name"});
+    if (interzone) f.push_back({"Outside Boundary Condition Object", "outside_boundary_condition_object"});
+    f.insert(f.end(), {{"Azimuth Angle", "azimuth_angle"},
+                       {"Tilt Angle", "tilt_angle"},
+                       {"Starting X Coordinate", "starting_x_coordinate"},
+                       {"Starting Y Coordinate", "starting_y_coordinate"},
+                       {"Starting Z Coordinate", "starting_z_coordinate"},
+                       {"Length", "length"},
+                       {size_idd, size_key}});
+    return f;
+  };
   std::vector<FieldSpec> run_period{{"Name", nullptr}, {"Begin Month", "begin_month"},
                                     {"Begin Day of Month", "begin_day_of_month"}};
   if (version >= 900) run_period.push_back({"Begin Year", "begin_year"});
@@ -127,6 +141,16 @@ std::vector<ClassSpec> class_specs(int version) {
         {"Transmittance Schedule Name", "transmittance_schedule_name"},
         {"Number of Vertices", "number_of_vertices"}},
        Vertices::List},
+      {"Wall:Exterior", simple_surface(false, "Height", "height")},
+      {"Wall:Adiabatic", simple_surface(false, "Height", "height")},
+      {"Wall:Underground", simple_surface(false, "Height", "height")},
+      {"Wall:Interzone", simple_surface(true, "Height", "height")},
+      {"Roof", simple_surface(false, "Width", "width")},
+      {"Ceiling:Adiabatic", simple_surface(false, "Width", "width")},
+      {"Ceiling:Interzone", simple_surface(true, "Width", "width")},
+      {"Floor:GroundContact", simple_surface(false, "Width", "width")},
+      {"Floor:Adiabatic", simple_surface(false, "Width", "width")},
+      {"Floor:Interzone", simple_surface(true, "Width", "width")},
       {"Shading:Site", simple_shading},
       {"Shading:Building", simple_shading},
       {"Zone",
@@ -148,11 +172,11 @@ std::vector<ClassSpec> class_specs(int version) {
 }
 
 /// Geometry classes this reader does not build: their objects are reported, never silently lost.
+/// (Window:Interzone and Door:Interzone are skipped without a word: they sit in interzone
+/// surfaces, which are left out anyway.)
 const std::vector<std::string>& unsupported_geometry_classes() {
   static const std::vector<std::string> classes{
-      "Wall:Exterior", "Wall:Adiabatic", "Wall:Underground", "Wall:Interzone", "Roof",
-      "Ceiling:Adiabatic", "Ceiling:Interzone", "Floor:GroundContact", "Floor:Adiabatic",
-      "Floor:Interzone", "Window:Interzone", "Door:Interzone", "Shading:Overhang",
+      "Shading:Overhang",
       "Shading:Overhang:Projection", "Shading:Fin", "Shading:Fin:Projection",
       "InternalMass", "GeometryTransform"};
   return classes;
@@ -228,7 +252,8 @@ class Reader {
   const ZoneFrame& zone_of(const Object& o, std::string_view key) const;
   std::size_t base_surface(const Object& o, std::string_view key) const;
   std::vector<glm::dvec3> rectangle_in_base(const Object& o, const Surface& base) const;
-  std::vector<glm::dvec3> simple_shading(const Object& o) const;
+  std::vector<glm::dvec3> rectangle(const Object& o, double default_tilt, const char* size_key,
+                                    double extra_azimuth = 0.0) const;
   void read_globals();
   void read_surfaces();
   void warn_transmittance(const Object& o);
@@ -554,23 +579,26 @@ std::vector<glm::dvec3> Reader::rectangle_in_base(const Object& o, const Surface
   return {at(x, z), at(x + length, z), at(x + length, z + height), at(x, z + height)};
 }
 
-// Shading:Site, Shading:Building: a rectangle from its lower left corner, with its outward normal
-// at `azimuth` (clockwise from north) and tilted `tilt` from the horizontal (90: vertical).
-std::vector<glm::dvec3> Reader::simple_shading(const Object& o) const {
-  const double azimuth = number_or(o, "azimuth_angle", 0.0);
-  const double tilt = number_or(o, "tilt_angle", 90.0);
+// Shading:Site, Shading:Building, Wall:Exterior, Roof, ...: a rectangle from its lower left
+// corner, with its outward normal at `azimuth` (clockwise from north) and tilted `tilt` from the
+// horizontal (90: vertical; 0: facing up), in the object's own frame; vertices counter-clockwise
+// seen from outside (EnergyPlus builds them so, whatever the vertex entry direction).
+std::vector<glm::dvec3> Reader::rectangle(const Object& o, double default_tilt, const char* size_key,
+                                          double extra_azimuth) const {
+  const double azimuth = required_number(field(o, "azimuth_angle"), "azimuth angle") + extra_azimuth;
+  const double tilt = number_or(o, "tilt_angle", default_tilt);
   const glm::dvec3 start(number_or(o, "starting_x_coordinate", 0.0), number_or(o, "starting_y_coordinate", 0.0),
                          number_or(o, "starting_z_coordinate", 0.0));
   const Value& length_field = field(o, "length");
-  const Value& height_field = field(o, "height");
+  const Value& height_field = field(o, size_key);
   const double length = required_number(length_field, "length");
-  const double height = required_number(height_field, "height");
+  const double height = required_number(height_field, size_key);
   if (!(length > 0)) fail(length_field.place, "the length must be positive");
-  if (!(height > 0)) fail(height_field.place, "the height must be positive");
+  if (!(height > 0)) fail(height_field.place, std::string("the ") + size_key + " must be positive");
   const auto [ca, sa] = cos_sin_degrees(azimuth);
   const auto [ct, st] = cos_sin_degrees(tilt);
-  const glm::dvec3 right(-ca, sa, 0.0);               // up x (horizontal normal (sa, ca, 0))
-  const glm::dvec3 up(-ct * sa, -ct * ca, st);         // up the slope, perpendicular to right
+  const glm::dvec3 right(-ca, sa, 0.0);        // up x (horizontal normal (sa, ca, 0))
+  const glm::dvec3 up(-ct * sa, -ct * ca, st);  // up the slope, perpendicular to right
   auto at = [&](double u, double v) { return start + u * right + v * up; };
   return {at(0, 0), at(length, 0), at(length, height), at(0, height)};
 }
@@ -622,6 +650,29 @@ void Reader::warn_transmittance(const Object& o) {
                                                       "\" not applied: libshadow's shading surfaces are opaque"});
 }
 
+/// The simple rectangular zone surfaces: type, exposure and EnergyPlus's default tilt.
+struct SimpleSurface {
+  const char* cls;
+  const char* kind;
+  int group;  // Surface::Group
+  double tilt;
+  const char* size_key;
+};
+
+const SimpleSurface* simple_surface(const std::string& cls) {
+  // Groups as in Reader::Surface::Group: 0 zone (receives), 3 not exposed, 4 dropped (interzone).
+  static const SimpleSurface table[] = {
+      {"Wall:Exterior", "Wall", 0, 90.0, "height"},       {"Wall:Adiabatic", "Wall", 3, 90.0, "height"},
+      {"Wall:Underground", "Wall", 3, 90.0, "height"},    {"Wall:Interzone", "Wall", 4, 90.0, "height"},
+      {"Roof", "Roof", 0, 0.0, "width"},                  {"Ceiling:Adiabatic", "Ceiling", 3, 0.0, "width"},
+      {"Ceiling:Interzone", "Ceiling", 4, 0.0, "width"},  {"Floor:GroundContact", "Floor", 3, 180.0, "width"},
+      {"Floor:Adiabatic", "Floor", 3, 180.0, "width"},    {"Floor:Interzone", "Floor", 4, 180.0, "width"},
+  };
+  for (const SimpleSurface& s : table)
+    if (cls == s.cls) return &s;
+  return nullptr;
+}
+
 void Reader::read_surfaces() {
   auto add = [&](Surface s) {
     const std::string key = lower(s.object->name);
@@ -665,6 +716,23 @@ void Reader::read_surfaces() {
       s.vertices = raw_vertices(o);
       for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zone);
       add(std::move(s));
+    } else if (const SimpleSurface* simple = simple_surface(cls)) {
+      const ZoneFrame& zone = zone_of(o, "zone_name");
+      s.zone = zone.name;
+      s.kind = simple->kind;
+      s.group = static_cast<Surface::Group>(simple->group);
+      if (rectangular_world_ && !world_) {
+        // Corner in world coordinates; the azimuth is still taken relative to the building and
+        // turned with the zone (EnergyPlus), so the building-frame shape is drawn at the corner.
+        s.vertices = rectangle(o, simple->tilt, simple->size_key, zone.north);
+        const glm::dvec3 corner = s.vertices.front();
+        const glm::dvec3 moved = world_to_model(corner);
+        for (glm::dvec3& p : s.vertices) p = moved + (p - corner);
+      } else {
+        s.vertices = rectangle(o, simple->tilt, simple->size_key);
+        for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zone);
+      }
+      add(std::move(s));
     } else if (cls == "Shading:Site:Detailed" || cls == "Shading:Building:Detailed") {
       warn_transmittance(o);
       s.kind = "Shading";
@@ -676,7 +744,7 @@ void Reader::read_surfaces() {
     } else if (cls == "Shading:Site" || cls == "Shading:Building") {
       s.kind = "Shading";
       s.group = cls == "Shading:Site" ? Surface::SiteShading : Surface::BuildingShading;
-      s.vertices = simple_shading(o);
+      s.vertices = rectangle(o, 90.0, "height");
       if (s.group == Surface::SiteShading)
         for (glm::dvec3& p : s.vertices) p = world_to_model(p);
       add(std::move(s));
