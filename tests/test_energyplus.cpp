@@ -399,6 +399,14 @@ TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
       },
       {"line 6, FenestrationSurface:Detailed \"Win\" field \"Building Surface Name\"",
        "no base surface named \"Nowhere\""}));
+  // Sticking out by a rounding error (1e-9 of a 4 m wall, under the 1e-6 tolerance): taken as
+  // rounding, with a warning; by 1 mm it is an error.
+  const Model r = idf(kWall + window("Win", "3,0,2, 3,0,1, 4.000000001,0,1, 4.000000001,0,2"));
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].message.find("taken as rounding"), std::string::npos);
+  EXPECT_NEAR(area_by_name(r).at("W"), 11.0, 1e-12);
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "3,0,2, 3,0,1, 4.001,0,1, 4.001,0,2")); },
+                               {"FenestrationSurface:Detailed \"Win\"", "not inside its base surface \"W\""}));
   // Side by side and on the wall's edge: allowed, and still exact.
   const Model m = idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "2,0,2, 2,0,0, 4,0,0, 4,0,2"));
   const auto areas = area_by_name(m);

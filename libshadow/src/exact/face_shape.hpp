@@ -30,14 +30,20 @@ struct OpeningsCut {
   int outside = -1;                 ///< an opening not wholly inside `surface`, or -1
   int overlap_first = -1;           ///< two openings whose insides overlap, or -1
   int overlap_second = -1;
+  /// Some opening sticks out of `surface`, or two openings overlap, by no more than `tolerance`
+  /// (rounding in the model's coordinates): accepted, and the cut is then exact only up to
+  /// those slivers (new vertices where edges cross are put on the surface's plane in doubles).
+  bool within_tolerance = false;
 };
 
 /// Cuts the openings (windows, doors) out of the planar polygon `surface`, exactly: `surface`
 /// and the openings are charted on the dominant axis of the surface's Newell normal (the caller
 /// has checked that the openings lie in its plane) and subtracted with exact Boolean operations
 /// on the input doubles. An opening may touch the surface's boundary (a door on the floor line)
-/// and other openings, but must lie inside the closed surface and not overlap another opening.
+/// and other openings, but must lie inside the closed surface and not overlap another opening,
+/// except by slivers no thicker than `tolerance` (a length in the chart: twice the area of each
+/// piece outside, or of each overlap, over its perimeter).
 OpeningsCut cut_openings(const std::vector<glm::dvec3>& surface,
-                         const std::vector<std::vector<glm::dvec3>>& openings);
+                         const std::vector<std::vector<glm::dvec3>>& openings, double tolerance = 0.0);
 
 }  // namespace shadow::detail

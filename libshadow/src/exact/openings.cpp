@@ -55,10 +55,34 @@ bool chart_polygon(const std::vector<glm::dvec3>& ring, int k, Polygon2& out, bo
   return true;
 }
 
+/// Every piece of `set` is a sliver no thicker than `tolerance` on average: twice its area over
+/// its perimeter (the width of a long thin strip) is at most `tolerance`. In doubles: a slack
+/// test of thickness, not a predicate.
+bool thin(const PolygonSet2& set, double tolerance) {
+  std::list<PolygonWithHoles2> parts;
+  set.polygons_with_holes(std::back_inserter(parts));
+  auto perimeter = [](const Polygon2& ring) {
+    double sum = 0.0;
+    for (auto e = ring.edges_begin(); e != ring.edges_end(); ++e)
+      sum += std::sqrt(CGAL::to_double(e->squared_length()));
+    return sum;
+  };
+  for (const PolygonWithHoles2& part : parts) {
+    double area = CGAL::to_double(part.outer_boundary().area());
+    double length = perimeter(part.outer_boundary());
+    for (auto hole = part.holes_begin(); hole != part.holes_end(); ++hole) {
+      area -= std::abs(CGAL::to_double(hole->area()));
+      length += perimeter(*hole);
+    }
+    if (!(2.0 * area <= tolerance * length)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 OpeningsCut cut_openings(const std::vector<glm::dvec3>& surface,
-                         const std::vector<std::vector<glm::dvec3>>& openings) {
+                         const std::vector<std::vector<glm::dvec3>>& openings, double tolerance) {
   OpeningsCut cut;
   if (surface.size() < 3) {
     cut.surface_not_simple = true;
@@ -84,6 +108,10 @@ OpeningsCut cut_openings(const std::vector<glm::dvec3>& surface,
     PolygonSet2 rest(holes[o]);
     rest.difference(outer);
     if (!rest.is_empty()) {
+      if (tolerance > 0 && thin(rest, tolerance)) {
+        cut.within_tolerance = true;
+        continue;
+      }
       cut.outside = static_cast<int>(o);
       return cut;
     }
@@ -94,6 +122,10 @@ OpeningsCut cut_openings(const std::vector<glm::dvec3>& surface,
       PolygonSet2 both(holes[a]);
       both.intersection(holes[b]);
       if (!both.is_empty()) {
+        if (tolerance > 0 && thin(both, tolerance)) {
+          cut.within_tolerance = true;
+          continue;
+        }
         cut.overlap_first = static_cast<int>(a);
         cut.overlap_second = static_cast<int>(b);
         return cut;

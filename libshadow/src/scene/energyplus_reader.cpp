@@ -511,6 +511,8 @@ std::vector<glm::dvec3> Reader::raw_vertices(const Object& o) const {
     const auto& v = o.vertices[n];
     glm::dvec3 p;
     for (int a = 0; a < 3; ++a) p[a] = required_number(v[a], "coordinate");
+    const std::string problem = detail::coordinate_problem(p, "vertex");
+    if (!problem.empty()) fail(v[0].place, problem);
     out.push_back(p);
   }
   const Value& count = field(o, "number_of_vertices");
@@ -845,7 +847,7 @@ void Reader::cut_and_emit(Model& model) {
       openings.push_back(opening.vertices);
     }
     // ... and inside it, without overlapping each other: exact predicates on the input doubles.
-    const detail::OpeningsCut cut = detail::cut_openings(s.vertices, openings);
+    const detail::OpeningsCut cut = detail::cut_openings(s.vertices, openings, allowed);
     if (cut.surface_not_simple) fail(s.object->place, "the surface has zero area or crosses itself");
     if (cut.not_simple >= 0)
       fail(surfaces_[s.openings[cut.not_simple]].object->place, "the opening has zero area or crosses itself");
@@ -855,6 +857,11 @@ void Reader::cut_and_emit(Model& model) {
     if (cut.overlap_first >= 0)
       fail(surfaces_[s.openings[cut.overlap_second]].object->place,
            "overlaps \"" + surfaces_[s.openings[cut.overlap_first]].object->name + "\" in the same base surface");
+    if (cut.within_tolerance)
+      warnings_.push_back({{file_, s.object->place},
+                           "an opening sticks out of the surface, or two openings overlap, by no more than the "
+                           "planarity tolerance (" + detail::format_number(allowed) +
+                               "): taken as rounding, the cut is exact up to those slivers"});
     for (const auto& region : cut.regions) {
       if (region.size() == 1) {
         face(s, region.front());
@@ -1017,7 +1024,9 @@ bool is_energyplus_file_name(const std::filesystem::path& file) {
 Model parse_energyplus(const std::string& text, const std::string& display_name, bool epjson,
                        const LoadOptions& options) {
   Reader reader(display_name, options);
-  return reader.read(text, epjson);
+  // A UTF-8 byte order mark (Windows editors write one) is not part of the first class name.
+  const bool bom = text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+  return reader.read(bom ? text.substr(3) : text, epjson);
 }
 
 Model read_energyplus(const std::filesystem::path& file, const std::string& display_name,
@@ -1025,7 +1034,7 @@ Model read_energyplus(const std::filesystem::path& file, const std::string& disp
   const std::string text = detail::read_text_file(file, display_name, options.max_file_bytes);
   bool epjson = lower(file.extension().string()) == ".epjson";
   if (!epjson) {
-    const std::size_t first = text.find_first_not_of(" \t\r\n");
+    const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
     epjson = first != std::string::npos && text[first] == '{';
   }
   return parse_energyplus(text, display_name, epjson, options);
