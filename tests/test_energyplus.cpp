@@ -11,6 +11,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
 #include <functional>
 #include <map>
 #include <string>
@@ -454,6 +457,48 @@ TEST(EnergyPlus, ReadsOlderIdfVersionsWithoutSpaceName) {
       "  0,0,1, 0,0,0, 1,0,0;\n");
   ASSERT_EQ(m.faces.size(), 1u);
   EXPECT_EQ(m.faces[0].vertices[2], dvec3(1, 0, 0));
+}
+
+}  // namespace
+
+namespace {
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Damaged models give a model or an InputError, never another exception or a crash: every
+// mutation of the example (a byte changed, a span deleted or doubled), seeded, both syntaxes.
+TEST(EnergyPlus, DamagedModelsGiveAModelOrAnInputErrorOnly) {
+  for (const char* name : {"box-office.idf", "box-office.epJSON"}) {
+    const std::string original = read_all(kExample / name);
+    const bool epjson = std::string(name).find("epJSON") != std::string::npos;
+    std::mt19937_64 random(20261123);
+    const std::string alphabet = "0123456789-.,;!{}[]\":eE \n+xX";
+    int models = 0, errors = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+      std::string text = original;
+      const std::size_t at = random() % text.size();
+      const std::size_t span = 1 + random() % 12;
+      switch (trial % 3) {
+        case 0: text[at] = alphabet[random() % alphabet.size()]; break;
+        case 1: text.erase(at, span); break;
+        default: text.insert(at, text.substr(at, span)); break;
+      }
+      try {
+        parse_energyplus(text, name, epjson);
+        ++models;
+      } catch (const InputError& e) {
+        ++errors;
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << name << " trial " << trial << ": not an InputError: " << e.what();
+      }
+    }
+    EXPECT_GT(models, 0) << name;
+    EXPECT_GT(errors, 0) << name;
+  }
 }
 
 }  // namespace
