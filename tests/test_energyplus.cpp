@@ -250,7 +250,7 @@ TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
                       "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
                       "BuildingSurface:Detailed, Out, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 3,\n"
                       "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
-                      "Shading:Overhang, Simple, Out, 0.5, 90, 0, 0, 0.5;\n"
+                      "InternalMass, Mass, C, Z1, 20;\n"
                       "Shading:Site:Detailed, Tree, Leaves, 3, 5,5,0, 6,5,0, 6,5,4;\n");
   ASSERT_EQ(m.faces.size(), 2u);
   EXPECT_EQ(m.faces[0].name, "Out");
@@ -260,7 +260,7 @@ TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
   EXPECT_EQ(m.sun->step_minutes, 30);
   EXPECT_EQ(m.sun->utc_offset_hours, 2.0);
   bool named = false;  // an unsupported geometry class is reported, not silently lost
-  for (const auto& w : m.warnings) named = named || w.message.find("Shading:Overhang") != std::string::npos;
+  for (const auto& w : m.warnings) named = named || w.message.find("InternalMass") != std::string::npos;
   EXPECT_TRUE(named);
   bool opaque = false;  // shading is opaque: a transmittance schedule is not applied, and said so
   for (const auto& w : m.warnings)
@@ -414,6 +414,30 @@ TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
   const Model m = idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "2,0,2, 2,0,0, 4,0,0, 4,0,2"));
   const auto areas = area_by_name(m);
   EXPECT_EQ(areas.at("W"), 12.0 - 1.0 - 4.0);
+}
+
+TEST(EnergyPlus, OverhangsAndFinsAreDrawnFromTheirWindow) {
+  // Window 2 x 1 at x 1..3, z 1..2 in a south wall; shades square to it (the default 90).
+  const Model m = idf(kWall + "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n"
+                              "  1,0,2, 1,0,1, 3,0,1, 3,0,2;\n"
+                              "Shading:Overhang, O, Win, 0.5, 90, 0.25, 0.5, 1;\n"
+                              "Shading:Overhang:Projection, P, Win, 0.25, , 0, 0, 0.5;\n"
+                              "Shading:Fin, F, Win, 0.25, 0.25, 0.5, 90, 0.5, 0.25, 0, 0, 90, 1;\n");
+  std::map<std::string, std::vector<dvec3>> shade;
+  for (const Face& f : m.faces)
+    if (f.kind == "Shading") {
+      EXPECT_EQ(m.meshes[f.mesh].name, "Shading:Building");
+      shade[f.name] = f.vertices;
+    }
+  ASSERT_EQ(shade.size(), 4u);
+  EXPECT_EQ(shade.at("O"), (std::vector<dvec3>{{0.75, 0, 2.5}, {3.5, 0, 2.5}, {3.5, -1, 2.5}, {0.75, -1, 2.5}}));
+  // Depth as a fraction of the window's height (1 m).
+  EXPECT_EQ(shade.at("P"), (std::vector<dvec3>{{1, 0, 2.25}, {3, 0, 2.25}, {3, -0.5, 2.25}, {1, -0.5, 2.25}}));
+  EXPECT_EQ(shade.at("F Left"), (std::vector<dvec3>{{0.75, 0, 0.5}, {0.75, 0, 2.25}, {0.75, -0.5, 2.25}, {0.75, -0.5, 0.5}}));
+  EXPECT_EQ(shade.at("F Right"), (std::vector<dvec3>{{3.25, 0, 1}, {3.25, 0, 2}, {3.25, -1, 2}, {3.25, -1, 1}}));
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + "Shading:Overhang, O, Nowhere, 0.5, 90, 0, 0, 1;\n"); },
+                               {"line 6, Shading:Overhang \"O\" field \"Window or Door Name\"",
+                                "no window or door named \"Nowhere\""}));
 }
 
 TEST(EnergyPlus, UnterminatedObjectDuplicateNamesAndUnknownZone) {

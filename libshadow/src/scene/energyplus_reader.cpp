@@ -114,6 +114,42 @@ std::vector<ClassSpec> class_specs(int version) {
                        {size_idd, size_key}});
     return f;
   };
+  const std::vector<FieldSpec> overhang{{"Name", nullptr},
+                                        {"Window or Door Name", "window_or_door_name"},
+                                        {"Height above Window or Door", "height_above_window_or_door"},
+                                        {"Tilt Angle from Window/Door", "tilt_angle_from_window_door"},
+                                        {"Left extension from Window/Door Width", "left_extension_from_window_door_width"},
+                                        {"Right extension from Window/Door Width", "right_extension_from_window_door_width"},
+                                        {"Depth", "depth"}};
+  std::vector<FieldSpec> overhang_projection = overhang;
+  overhang_projection.back() = {"Depth as Fraction of Window/Door Height", "depth_as_fraction_of_window_door_height"};
+  auto fin = [](bool projection) {
+    std::vector<FieldSpec> f{{"Name", nullptr}, {"Window or Door Name", "window_or_door_name"}};
+    if (projection) {
+      f.insert(f.end(), {{"Left Extension from Window/Door", "left_extension_from_window_door"},
+                         {"Left Distance Above Top of Window", "left_distance_above_top_of_window"},
+                         {"Left Distance Below Bottom of Window", "left_distance_below_bottom_of_window"},
+                         {"Left Tilt Angle from Window/Door", "left_tilt_angle_from_window_door"},
+                         {"Left Depth as Fraction of Window/Door Width", "left_depth_as_fraction_of_window_door_width"},
+                         {"Right Extension from Window/Door", "right_extension_from_window_door"},
+                         {"Right Distance Above Top of Window", "right_distance_above_top_of_window"},
+                         {"Right Distance Below Bottom of Window", "right_distance_below_bottom_of_window"},
+                         {"Right Tilt Angle from Window/Door", "right_tilt_angle_from_window_door"},
+                         {"Right Depth as Fraction of Window/Door Width", "right_depth_as_fraction_of_window_door_width"}});
+    } else {
+      f.insert(f.end(), {{"Left Extension from Window/Door", "left_extension_from_window_door"},
+                         {"Left Distance Above Top of Window", "left_distance_above_top_of_window"},
+                         {"Left Distance Below Bottom of Window", "left_distance_below_bottom_of_window"},
+                         {"Left Tilt Angle from Window/Door", "left_tilt_angle_from_window_door"},
+                         {"Left Depth", "left_depth"},
+                         {"Right Extension from Window/Door", "right_extension_from_window_door"},
+                         {"Right Distance Above Top of Window", "right_distance_above_top_of_window"},
+                         {"Right Distance Below Bottom of Window", "right_distance_below_bottom_of_window"},
+                         {"Right Tilt Angle from Window/Door", "right_tilt_angle_from_window_door"},
+                         {"Right Depth", "right_depth"}});
+    }
+    return f;
+  };
   std::vector<FieldSpec> run_period{{"Name", nullptr}, {"Begin Month", "begin_month"},
                                     {"Begin Day of Month", "begin_day_of_month"}};
   if (version >= 900) run_period.push_back({"Begin Year", "begin_year"});
@@ -151,6 +187,10 @@ std::vector<ClassSpec> class_specs(int version) {
       {"Floor:GroundContact", simple_surface(false, "Width", "width")},
       {"Floor:Adiabatic", simple_surface(false, "Width", "width")},
       {"Floor:Interzone", simple_surface(true, "Width", "width")},
+      {"Shading:Overhang", overhang},
+      {"Shading:Overhang:Projection", overhang_projection},
+      {"Shading:Fin", fin(false)},
+      {"Shading:Fin:Projection", fin(true)},
       {"Shading:Site", simple_shading},
       {"Shading:Building", simple_shading},
       {"Zone",
@@ -176,8 +216,6 @@ std::vector<ClassSpec> class_specs(int version) {
 /// surfaces, which are left out anyway.)
 const std::vector<std::string>& unsupported_geometry_classes() {
   static const std::vector<std::string> classes{
-      "Shading:Overhang",
-      "Shading:Overhang:Projection", "Shading:Fin", "Shading:Fin:Projection",
       "InternalMass", "GeometryTransform"};
   return classes;
 }
@@ -239,6 +277,7 @@ class Reader {
     std::vector<glm::dvec3> vertices;  ///< model coordinates, counter-clockwise seen from outside
     std::vector<std::size_t> openings;
     bool opening = false;
+    std::string name;  ///< the object's name, or "<fin> Left"/"<fin> Right" for a fin's two shades
   };
   struct ZoneFrame {
     std::string name;
@@ -252,6 +291,7 @@ class Reader {
   const ZoneFrame& zone_of(const Object& o, std::string_view key) const;
   std::size_t base_surface(const Object& o, std::string_view key) const;
   std::vector<glm::dvec3> rectangle_in_base(const Object& o, const Surface& base) const;
+  std::vector<std::vector<glm::dvec3>> window_shades(const Object& o, const Surface& window) const;
   std::vector<glm::dvec3> rectangle(const Object& o, double default_tilt, const char* size_key,
                                     double extra_azimuth = 0.0) const;
   void read_globals();
@@ -546,6 +586,48 @@ std::size_t Reader::base_surface(const Object& o, std::string_view key) const {
 
 // Window, Door, GlazedDoor: a rectangle given in its base surface's own coordinates (x along
 // the surface to the right seen from outside, z up the surface; origin at its lower left).
+/// A planar surface's own coordinates, as EnergyPlus's simple windows and shades use them: x to
+/// the right seen from outside (horizontal), y up the surface, n out; origin at the lower left
+/// of the surface's bounding rectangle in x and y, which spans [0, width] x [0, height].
+struct SurfaceFrame {
+  glm::dvec3 corner, right, up, n;
+  double width = 0.0, height = 0.0;
+  [[nodiscard]] glm::dvec3 at(double u, double v) const { return corner + u * right + v * up; }
+};
+
+std::optional<SurfaceFrame> surface_frame(const std::vector<glm::dvec3>& b) {
+  SurfaceFrame f;
+  f.n = geometry::newell_normal(b, b.front());
+  const double n_length = std::sqrt(f.n.x * f.n.x + f.n.y * f.n.y + f.n.z * f.n.z);
+  if (!(n_length > 0)) return std::nullopt;
+  f.n /= n_length;
+  // Right seen from outside: up x n; for a horizontal surface, the model's +x (roof) or -x (floor).
+  f.right = glm::dvec3(-f.n.y, f.n.x, 0.0);
+  const double r = std::sqrt(f.right.x * f.right.x + f.right.y * f.right.y);
+  if (r < 1e-9)
+    f.right = glm::dvec3(f.n.z > 0 ? 1.0 : -1.0, 0.0, 0.0);
+  else
+    f.right /= r;
+  const glm::dvec3& n = f.n;
+  const glm::dvec3& x = f.right;
+  f.up = glm::dvec3(n.y * x.z - n.z * x.y, n.z * x.x - n.x * x.z, n.x * x.y - n.y * x.x);
+  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const glm::dvec3 d = b[i] - b.front();
+    const double px = d.x * f.right.x + d.y * f.right.y + d.z * f.right.z;
+    const double py = d.x * f.up.x + d.y * f.up.y + d.z * f.up.z;
+    if (i == 0 || px < min_x) min_x = px;
+    if (i == 0 || py < min_y) min_y = py;
+    if (i == 0 || px > max_x) max_x = px;
+    if (i == 0 || py > max_y) max_y = py;
+  }
+  f.corner = b.front() + min_x * f.right + min_y * f.up;
+  f.width = max_x - min_x;
+  f.height = max_y - min_y;
+  return f;
+}
+
+// Window, Door, GlazedDoor: a rectangle given in its base surface's own coordinates.
 std::vector<glm::dvec3> Reader::rectangle_in_base(const Object& o, const Surface& base) const {
   const double x = required_number(field(o, "starting_x_coordinate"), "starting X coordinate");
   const double z = required_number(field(o, "starting_z_coordinate"), "starting Z coordinate");
@@ -555,30 +637,57 @@ std::vector<glm::dvec3> Reader::rectangle_in_base(const Object& o, const Surface
   const double height = required_number(height_field, "height");
   if (!(length > 0)) fail(length_field.place, "the length must be positive");
   if (!(height > 0)) fail(height_field.place, "the height must be positive");
-  const std::vector<glm::dvec3>& b = base.vertices;
-  glm::dvec3 n = geometry::newell_normal(b, b.front());
-  const double n_length = std::sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
-  if (!(n_length > 0)) fail(o.place, "its base surface has zero area");
-  n /= n_length;
-  // Right seen from outside: up x n; for a horizontal base, the model's +x (roof) or -x (floor).
-  glm::dvec3 right(-n.y, n.x, 0.0);
-  const double r = std::sqrt(right.x * right.x + right.y * right.y);
-  if (r < 1e-9)
-    right = glm::dvec3(n.z > 0 ? 1.0 : -1.0, 0.0, 0.0);
-  else
-    right /= r;
-  const glm::dvec3 up(n.y * right.z - n.z * right.y, n.z * right.x - n.x * right.z, n.x * right.y - n.y * right.x);
-  double min_x = 0, min_y = 0;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    const glm::dvec3 d = b[i] - b.front();
-    const double px = d.x * right.x + d.y * right.y + d.z * right.z;
-    const double py = d.x * up.x + d.y * up.y + d.z * up.z;
-    if (i == 0 || px < min_x) min_x = px;
-    if (i == 0 || py < min_y) min_y = py;
+  const std::optional<SurfaceFrame> f = surface_frame(base.vertices);
+  if (!f) fail(o.place, "its base surface has zero area");
+  return {f->at(x, z), f->at(x + length, z), f->at(x + length, z + height), f->at(x, z + height)};
+}
+
+// Shading:Overhang(:Projection) and Shading:Fin(:Projection): shades drawn from their window or
+// door. The angle from the window is 90 for a shade square to it; below 90 it turns toward the
+// wall beyond the window's edge (up for an overhang, outward sideways for a fin).
+std::vector<std::vector<glm::dvec3>> Reader::window_shades(const Object& o, const Surface& window) const {
+  const std::optional<SurfaceFrame> f = surface_frame(window.vertices);
+  if (!f) fail(o.place, "its window or door has zero area");
+  const std::string cls = o.spec->name;
+  const bool projection = cls.find(":Projection") != std::string::npos;
+  auto depth_of = [&](const char* key, double fraction_of) {
+    const Value& v = field(o, key);
+    const double d = number(v).value_or(0.0) * (projection ? fraction_of : 1.0);
+    if (d < 0) fail(v.place, "the depth must not be negative");
+    return d;
+  };
+  auto angle = [&](const char* key) { return cos_sin_degrees(number_or(o, key, 90.0)); };
+  std::vector<std::vector<glm::dvec3>> shades;
+  if (cls.rfind("Shading:Overhang", 0) == 0) {
+    const double depth = depth_of(projection ? "depth_as_fraction_of_window_door_height" : "depth", f->height);
+    if (depth == 0) return shades;
+    const double rise = number_or(o, "height_above_window_or_door", 0.0);
+    const double left = number_or(o, "left_extension_from_window_door_width", 0.0);
+    const double right = number_or(o, "right_extension_from_window_door_width", 0.0);
+    const auto [c, s] = angle("tilt_angle_from_window_door");
+    const glm::dvec3 out = depth * (s * f->n + c * f->up);
+    const glm::dvec3 a = f->at(-left, f->height + rise), b = f->at(f->width + right, f->height + rise);
+    shades.push_back({a, b, b + out, a + out});
+    return shades;
   }
-  const glm::dvec3 corner = b.front() + min_x * right + min_y * up;
-  auto at = [&](double u, double v) { return corner + u * right + v * up; };
-  return {at(x, z), at(x + length, z), at(x + length, z + height), at(x, z + height)};
+  // Fins: one on each side with a depth.
+  for (const bool left_side : {true, false}) {
+    const char* side = left_side ? "left" : "right";
+    const std::string depth_key = projection ? std::string(side) + "_depth_as_fraction_of_window_door_width"
+                                             : std::string(side) + "_depth";
+    const double depth = depth_of(depth_key.c_str(), f->width);
+    if (depth == 0) continue;
+    const double extension = number_or(o, (std::string(side) + "_extension_from_window_door").c_str(), 0.0);
+    const double above = number_or(o, (std::string(side) + "_distance_above_top_of_window").c_str(), 0.0);
+    const double below = number_or(o, (std::string(side) + "_distance_below_bottom_of_window").c_str(), 0.0);
+    const auto [c, s] = angle((std::string(side) + "_tilt_angle_from_window_door").c_str());
+    const double x = left_side ? -extension : f->width + extension;
+    const glm::dvec3 away = left_side ? -f->right : f->right;
+    const glm::dvec3 out = depth * (s * f->n + c * away);
+    const glm::dvec3 a = f->at(x, -below), b = f->at(x, f->height + above);
+    shades.push_back({a, b, b + out, a + out});
+  }
+  return shades;
 }
 
 // Shading:Site, Shading:Building, Wall:Exterior, Roof, ...: a rectangle from its lower left
@@ -677,11 +786,12 @@ const SimpleSurface* simple_surface(const std::string& cls) {
 
 void Reader::read_surfaces() {
   auto add = [&](Surface s) {
-    const std::string key = lower(s.object->name);
-    if (s.object->name.empty()) fail(s.object->place, "a surface needs a name");
+    if (s.name.empty()) s.name = s.object->name;
+    const std::string key = lower(s.name);
+    if (s.name.empty()) fail(s.object->place, "a surface needs a name");
     const auto [it, inserted] = surface_index_.emplace(key, surfaces_.size());
     if (!inserted)
-      fail(s.object->place, "a second surface named \"" + s.object->name + "\" (EnergyPlus names ignore case; the first is at " +
+      fail(s.object->place, "a second surface named \"" + s.name + "\" (EnergyPlus names ignore case; the first is at " +
                                 surfaces_[it->second].object->place + ")");
     surfaces_.push_back(std::move(s));
   };
@@ -792,6 +902,29 @@ void Reader::read_surfaces() {
       add(std::move(s));
     }
   }
+  // Overhangs and fins: drawn from their window or door, which is in model coordinates now.
+  for (const Object& o : objects_) {
+    const std::string cls = o.spec->name;
+    if (cls.rfind("Shading:Overhang", 0) != 0 && cls.rfind("Shading:Fin", 0) != 0) continue;
+    const Value& window_name = field(o, "window_or_door_name");
+    const auto it = surface_index_.find(lower(window_name.text));
+    if (it == surface_index_.end() || !surfaces_[it->second].opening)
+      fail(window_name.place, "no window or door named \"" + window_name.text + "\"");
+    const std::vector<std::vector<glm::dvec3>> shades = window_shades(o, surfaces_[it->second]);
+    for (std::size_t k = 0; k < shades.size(); ++k) {
+      Surface s;
+      s.object = &o;
+      s.kind = "Shading";
+      s.group = Surface::BuildingShading;
+      s.vertices = shades[k];
+      // EnergyPlus names a fin's two shades "<name> Left" and "<name> Right".
+      if (cls.rfind("Shading:Fin", 0) == 0)
+        s.name = o.name + (k == 0 && number_or(o, cls == "Shading:Fin" ? "left_depth" : "left_depth_as_fraction_of_window_door_width", 0.0) > 0
+                               ? " Left"
+                               : " Right");
+      add(std::move(s));
+    }
+  }
 }
 
 // Each base surface loses its openings (exactly), and is split into hole-free pieces that share
@@ -808,7 +941,7 @@ void Reader::cut_and_emit(Model& model) {
       Face f;
       f.vertices = std::move(vertices);
       f.source = {file_, surface.object->place};
-      f.name = surface.object->name;
+      f.name = surface.name;
       f.kind = surface.kind;
       out.push_back(std::move(f));
     };
@@ -853,10 +986,10 @@ void Reader::cut_and_emit(Model& model) {
       fail(surfaces_[s.openings[cut.not_simple]].object->place, "the opening has zero area or crosses itself");
     if (cut.outside >= 0)
       fail(surfaces_[s.openings[cut.outside]].object->place,
-           "not inside its base surface \"" + s.object->name + "\"");
+           "not inside its base surface \"" + s.name + "\"");
     if (cut.overlap_first >= 0)
       fail(surfaces_[s.openings[cut.overlap_second]].object->place,
-           "overlaps \"" + surfaces_[s.openings[cut.overlap_first]].object->name + "\" in the same base surface");
+           "overlaps \"" + surfaces_[s.openings[cut.overlap_first]].name + "\" in the same base surface");
     if (cut.within_tolerance)
       warnings_.push_back({{file_, s.object->place},
                            "an opening sticks out of the surface, or two openings overlap, by no more than the "
