@@ -137,6 +137,17 @@ TEST(EnergyPlus, ExampleMeshesNamesKindsAndSources) {
     EXPECT_EQ(m.meshes[f.mesh].receiver, f.kind != "Shading" && f.name != "Floor") << f.name;
 }
 
+TEST(EnergyPlus, ExampleNamedSurfacesAreExactlyTheExteriorSurfaces) {
+  // What `shadow series` writes as energyplus-shading.csv's columns: the named receiving
+  // surfaces, the wall pieces added up under the wall's name; no shading, no ground floor.
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  const Scene scene = scene_of(m, dvec3(0, -1, 1));
+  std::vector<std::string> labels;
+  for (const auto& surface : shadow::named_surfaces(scene)) labels.push_back(surface.label);
+  EXPECT_EQ(labels, (std::vector<std::string>{"Wall-South", "Window-South", "Door-South", "Wall-East", "Window-East",
+                                              "Wall-North", "Wall-West", "Roof"}));
+}
+
 TEST(EnergyPlus, ExampleSunFromSiteLocationRunPeriodTimestepAndNorthAxis) {
   const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
   ASSERT_TRUE(m.sun);
