@@ -537,3 +537,56 @@ TEST(EnergyPlus, DamagedModelsGiveAModelOrAnInputErrorOnly) {
 }
 
 }  // namespace
+
+namespace {
+
+// Seeded random windows and doors in one wall (some touching the wall's edges or each other),
+// with the zone turned by a multiple of 90 degrees and moved: wall pieces + openings = gross wall,
+// exactly, and the pieces are hole-free polygons of positive area that the validator accepts.
+TEST(EnergyPlus, RandomOpeningsAlwaysLeaveTheExactNetWall) {
+  std::mt19937 random(20261123);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int north = 90 * static_cast<int>(random() % 4);
+    const double ox = static_cast<double>(random() % 64) / 8.0, oy = static_cast<double>(random() % 64) / 8.0;
+    std::string text = "Zone, Z, " + std::to_string(north) + ", " + std::to_string(ox) + ", " + std::to_string(oy) +
+                       ", 0;\nBuildingSurface:Detailed, W, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+                       "  0,0,4, 0,0,0, 8,0,0, 8,0,4;\n";
+    double openings = 0.0;
+    int count = 0;
+    for (int cx = 0; cx < 4; ++cx)
+      for (int cy = 0; cy < 2; ++cy) {
+        if (random() % 2 == 0) continue;
+        // Inside the 2 x 2 cell, edges on eighths: 0 insets touch the neighbours or the wall's edge.
+        const double x0 = 2.0 * cx + static_cast<double>(random() % 4) / 8.0;
+        const double x1 = 2.0 * cx + 2.0 - static_cast<double>(random() % 4) / 8.0;
+        const double z0 = 2.0 * cy + static_cast<double>(random() % 4) / 8.0;
+        const double z1 = 2.0 * cy + 2.0 - static_cast<double>(random() % 4) / 8.0;
+        openings += (x1 - x0) * (z1 - z0);
+        char window[256];
+        std::snprintf(window, sizeof window,
+                      "FenestrationSurface:Detailed, O%d, Window, G, W, , , , 1, 4,\n"
+                      "  %.17g,0,%.17g, %.17g,0,%.17g, %.17g,0,%.17g, %.17g,0,%.17g;\n",
+                      count++, x0, z1, x0, z0, x1, z0, x1, z1);
+        text += window;
+      }
+    SCOPED_TRACE(text);
+    const Model m = idf(text);
+    const auto areas = area_by_name(m);
+    EXPECT_EQ(areas.at("W"), 32.0 - openings);
+    double wall_and_openings = 0.0;
+    for (const auto& [name, a] : areas) wall_and_openings += a;
+    EXPECT_EQ(wall_and_openings, 32.0);
+    for (const Face& f : m.faces) {
+      EXPECT_GT(area(f.vertices), 0.0) << f.name;
+      const dvec3 n = newell(f.vertices);
+      EXPECT_EQ(n.z, 0.0) << f.name;  // every piece stays in the (vertical) wall, facing its way:
+      // the zone's -y, turned `north` degrees clockwise
+      const double a = north * M_PI / 180.0;
+      EXPECT_GT(n.x * -std::sin(a) + n.y * -std::cos(a), 0.0) << f.name;
+    }
+    Scene scene = scene_of(m, dvec3(1, 1, 1));  // validation: planar, simple, no zero area
+    EXPECT_EQ(scene.faces.size(), m.faces.size());
+  }
+}
+
+}  // namespace
