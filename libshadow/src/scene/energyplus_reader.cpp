@@ -917,7 +917,7 @@ void Reader::read_surfaces() {
       s.kind = "Shading";
       s.group = Surface::BuildingShading;
       s.vertices = shades[k];
-      // EnergyPlus names a fin's two shades "<name> Left" and "<name> Right".
+      // A fin object gives two shades: "<name> Left" and "<name> Right".
       if (cls.rfind("Shading:Fin", 0) == 0)
         s.name = o.name + (k == 0 && number_or(o, cls == "Shading:Fin" ? "left_depth" : "left_depth_as_fraction_of_window_door_width", 0.0) > 0
                                ? " Left"
