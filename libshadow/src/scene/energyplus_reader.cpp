@@ -1132,7 +1132,9 @@ Model Reader::read(const std::string& text, bool epjson) {
   model.sun = read_sun();
   // Classes without geometry (constructions, schedules, HVAC...) are skipped without a word: a
   // model holds dozens. Geometry classes this reader does not build are named.
-  for (const auto& [key, entry] : ignored_) {
+  for (const auto& ignored : ignored_) {
+    const std::string& key = ignored.first;
+    const auto& entry = ignored.second;
     const bool geometry = std::any_of(unsupported_geometry_classes().begin(), unsupported_geometry_classes().end(),
                                       [&](const std::string& c) { return same_text(c, key); });
     if (geometry)
