@@ -95,7 +95,6 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
       std::fflush(stdout);
       if (!write_dir.empty() && label == "ground" && count == instant_counts.front()) {
         std::filesystem::create_directories(write_dir);
-        shadow::write_sun_hours_vtp(std::filesystem::path(write_dir) / "sun_hours.vtp", map);
         shadow::ShadowOptions noon;
         noon.threads = threads;
         noon.planes = false;
@@ -103,6 +102,8 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
         shadow::Scene with_noon = scene;
         with_noon.lights = {instants[instants.size() / 2].light};
         shadow::write_outputs(write_dir, with_noon, engine.compute(with_noon.lights[0], 0, noon));
+        // After write_outputs, which removes a sun-hours map left by an earlier run.
+        shadow::write_sun_hours_vtp(std::filesystem::path(write_dir) / "sun_hours.vtp", map);
       }
     }
   }

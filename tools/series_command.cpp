@@ -197,6 +197,9 @@ int run_series(const SeriesArgs& args) {
     map = shadow::compute_sun_hours_map(engine, map_faces, shadow::sun_hours_instants(scene), map_options);
     map_progress.finish();
     shadow::write_sun_hours_vtp(output.path() / "sun_hours.vtp", *map, scene);
+  } else {
+    std::error_code ignored;  // an earlier run's map is not this run's
+    fs::remove(output.path() / "sun_hours.vtp", ignored);
   }
   std::vector<fs::path> written = output.write_series(scene, suns, series, files, &run);
   if (map) written.insert(written.end() - 1, output.path() / "sun_hours.vtp");  // report.json stays last

@@ -53,7 +53,9 @@ class OutputDirectory {
   OutputDirectory(const OutputDirectory&) = delete;
   OutputDirectory& operator=(const OutputDirectory&) = delete;
 
-  /// Writes every output file like write_outputs; report.json gets `run` when given.
+  /// Writes every output file like write_outputs; report.json gets `run` when given. Files of
+  /// an earlier `shadow series` in the directory (sunlit.csv, energyplus-shading.csv,
+  /// series.pvd, fragments.pvd, sun_hours.vtp) are removed: they are not this run's.
   /// @throws OutputError
   std::vector<std::filesystem::path> write(const Scene& scene, const ShadowResult& result,
                                            const RunInfo* run = nullptr);

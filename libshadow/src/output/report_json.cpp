@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-#include "output/face_orientation.hpp"
+#include "output/face_identity_json.hpp"
 #include "output/names.hpp"
 
 #include <shadow/output.hpp>
@@ -114,19 +114,9 @@ Json face_json(const Scene& scene, std::size_t face_id,
     if (e->dropped_area > 0) lights.back()["dropped_area"] = e->dropped_area;
   }
   Json entry = {{"id", face_id}, {"mesh", mesh}};
-  if (face_id < scene.faces.size()) {
-    // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
-    // where it was read, which way it faces. NaN (a face without area) is written as null.
-    const Face& face = scene.faces[face_id];
-    const detail::FaceOrientation o = detail::face_orientation(face, detail::north_axis_of(scene));
-    auto number = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
-    entry["name"] = face.name;
-    entry["source"] = face.source.to_string();
-    if (!face.kind.empty()) entry["kind"] = face.kind;
-    entry["normal"] = vec3(o.normal);
-    entry["azimuth"] = number(o.azimuth);
-    entry["tilt"] = number(o.tilt);
-  }
+  // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
+  // where it was read, which way it faces.
+  detail::add_face_identity(entry, scene, face_id);
   entry["area"] = entries.front()->area;
   entry["lights"] = lights;
   return entry;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The datasets and report of a sun series (OutputDirectory::write_series, docs/series.md).
 #include "output/series_outputs.hpp"
+#include "output/face_identity_json.hpp"
 
 #include "output/vtk_datasets.hpp"
 
@@ -61,8 +62,10 @@ std::string xml_escape(const std::string& text) {
 vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene) {
   vtkSmartPointer<vtkPolyData> poly = make_faces_polydata(scene, ShadowResult{});
   const auto n = static_cast<vtkIdType>(scene.faces.size());
+  // faces.vtp's own `name` is the face's name as read (empty when unnamed); `label` is its
+  // column in sunlit.csv (the name, or face_<id>).
   auto name = vtkSmartPointer<vtkStringArray>::New();
-  name->SetName("name");
+  name->SetName("label");
   name->SetNumberOfValues(n);
   for (vtkIdType c = 0; c < n; ++c) name->SetValue(c, face_label(scene, static_cast<std::size_t>(c)));
   poly->GetCellData()->AddArray(name);
@@ -212,10 +215,11 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
     const std::size_t f = series.faces[r];
     const Face& face = scene.faces[f];
     Json entry = {{"id", f},
-                  {"mesh", face.mesh < scene.meshes.size() ? scene.meshes[face.mesh].name : std::string()},
-                  {"name", face_label(scene, f)},
-                  {"area", series.area[r]},
-                  {"sun_hours", sun_hours[r]}};
+                  {"mesh", face.mesh < scene.meshes.size() ? scene.meshes[face.mesh].name : std::string()}};
+    detail::add_face_identity(entry, scene, f);  // as in `shadow compute`'s report.json
+    entry["label"] = face_label(scene, f);       // its column in sunlit.csv: the name or face_<id>
+    entry["area"] = series.area[r];
+    entry["sun_hours"] = sun_hours[r];
     if (fast) entry["sun_hours_error_bound"] = sun_hours_bound[r];
     faces.push_back(std::move(entry));
   }

@@ -41,8 +41,9 @@ const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv"
 bool is_series_instant_name(const std::string& name) {
   for (const std::string prefix : {"sun_", "fragments_"}) {
     const std::size_t n = prefix.size();
-    if (name.size() == n + 9 && name.rfind(prefix, 0) == 0 && name.compare(n + 5, 4, ".vtp") == 0 &&
-        name.find_first_not_of("0123456789", n) == n + 5)
+    // `%05zu`: five digits, more from instant 100000 on.
+    if (name.size() >= n + 9 && name.rfind(prefix, 0) == 0 && name.compare(name.size() - 4, 4, ".vtp") == 0 &&
+        name.find_first_not_of("0123456789", n) == name.size() - 4)
       return true;
   }
   return false;
@@ -256,6 +257,12 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   const fs::path& outdir = impl_->outdir;
   make_output_directory(outdir);  // it may have been removed while computing
   remove_stale_report(outdir / "report.json");
+  // A sun series' files from an earlier `shadow series` into this OUTDIR would sit beside this
+  // run's complete-looking set (an old energyplus-shading.csv ready to import): remove them.
+  for (const char* old : {"sunlit.csv", "energyplus-shading.csv", "series.pvd", "fragments.pvd", "sun_hours.vtp"}) {
+    std::error_code ignored;
+    fs::remove(outdir / old, ignored);
+  }
 
   // Each dataset is built just before it is written and freed right after: only one of them
   // is in memory at a time. Errors name the final file, which is what the user asked for.
@@ -325,6 +332,10 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   if (energyplus.written) {
     const auto ep = staged.stage("energyplus-shading.csv");
     write_text(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
+  } else {
+    // Not this run's (report.json says why): an older one must not pass for it.
+    std::error_code ignored;
+    fs::remove(outdir / "energyplus-shading.csv", ignored);
   }
   // Points relative to Scene::origin when it has one, as in write() (report.json states it).
   auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {

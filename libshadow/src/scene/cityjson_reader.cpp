@@ -392,7 +392,14 @@ class Reader {
     core::PolygonHolesSplit split =
         core::split_polygon_with_holes_checked(outer, holes, options_.planarity_tolerance);
     if (!split.error.empty() && split.error.find("not in the plane") != std::string::npos) {
-      for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
+      // A hole off the outer ring's plane: triangles, which may still fail (a hole outside it).
+      try {
+        for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
+      } catch (const core::PolygonHolesError& e) {
+        fail(at(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
+             std::string("an inner ring is off the surface's plane, and the surface cannot be split into "
+                         "triangles: ") + e.what());
+      }
       ++triangulated_;
       return;
     }

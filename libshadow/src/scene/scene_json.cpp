@@ -623,11 +623,22 @@ class SceneReader {
         scene_readers::Model model = scene_readers::read_model(format, file, display, options_);
         for (Warning& w : model.warnings) scene_.warnings.push_back(std::move(w));
         if (model.origin && !scene_.origin) scene_.origin = model.origin;
+        if (model.sun && scene_.sun && model.sun->north_axis != scene_.sun->north_axis)
+          // The scene's `sun` block places the suns; the model's axes may be turned from north
+          // (EnergyPlus's Building North Axis), which the block must then repeat.
+          scene_.warnings.push_back(
+              {{file_, member(pending.path, "file")},
+               "the model " + quote(display) + " has a north axis of " + format_number(model.sun->north_axis) +
+                   " degrees but the scene's sun block has north_axis " + format_number(scene_.sun->north_axis) +
+                   ": its suns would come from the wrong directions; set \"north_axis\": " +
+                   format_number(model.sun->north_axis) + " in the sun block (or run the model file itself)"});
         if (model.meshes.empty())
           scene_.warnings.push_back({{file_, pending.path}, "mesh " + quote(pending.name) + " has no faces (the model " +
                                                                 quote(display) + " has no geometry that is read)"});
         for (const Mesh& part : model.meshes) {
-          new_mesh(pending.name + "/" + part.name);
+          // The model says which of its meshes receive (EnergyPlus: not its shading groups or its
+          // unexposed surfaces); `receivers` naming `<mesh>/<model mesh>` still makes one receive.
+          new_mesh(pending.name + "/" + part.name).receiver = pending.receiver && part.receiver;
           for (std::size_t f = part.first_face; f < part.first_face + part.face_count; ++f) {
             Face& face = model.faces.at(f);
             add_face(std::move(face.vertices), std::move(face.source), std::move(face.name), std::move(face.kind));
