@@ -384,6 +384,9 @@ TEST(EnergyPlus, VertexCountMismatch) {
       },
       {"line 5, Shading:Site:Detailed \"S\" field \"Vertex 3 Z-coordinate\"", "vertex 3 has only 2 of its 3 coordinates"}));
   EXPECT_TRUE(ThrowsInputError(
+      [] { idf(std::string(kHeader) + "Shading:Site:Detailed, S, , 1e150, 0,0,0, 1,0,0, 0,1,0;\n"); },
+      {"line 4, Shading:Site:Detailed \"S\" field \"Number of Vertices\"", "says 1e+150 vertices, but 3 are given"}));
+  EXPECT_TRUE(ThrowsInputError(
       [] { idf(std::string(kHeader) + "Shading:Site:Detailed, S, , 2,\n  0, 0, 3,  0, 0, 0;\n"); },
       {"line 4, Shading:Site:Detailed \"S\"", "at least 3 vertices, 2 given"}));
 }

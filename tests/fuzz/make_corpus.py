@@ -208,3 +208,5 @@ write("fuzz_energyplus", "epjson_wrong_types.epJSON",
           "Shading:Site:Detailed": []}))
 write("fuzz_energyplus", "epjson_not_an_object.epJSON", "[1, 2, 3]")
 write("fuzz_energyplus", "empty.idf", "")
+# Found by fuzz_energyplus: a vertex count too large for an integer was converted to one (UB).
+write("fuzz_energyplus", "vertex_count_1e150.idf", HEAD + "Shading:Site:Detailed, S, , 1e150, 0,0,0, 1,0,0, 0,1,0;\n")

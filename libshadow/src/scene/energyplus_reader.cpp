@@ -559,7 +559,8 @@ std::vector<glm::dvec3> Reader::raw_vertices(const Object& o) const {
   const std::optional<double> declared = number(count);
   if (declared && (*declared != std::floor(*declared) || *declared < 0))
     fail(count.place, "not a whole number of vertices: " + detail::format_number(*declared));
-  if (declared && static_cast<std::size_t>(*declared) != out.size())
+  // Compared as doubles: a count like 1e150 does not fit an integer (found by fuzz_energyplus).
+  if (declared && *declared != static_cast<double>(out.size()))
     fail(count.place, "says " + detail::format_number(*declared) + " vertices, but " +
                           std::to_string(out.size()) + " are given");
   if (out.size() < 3)
