@@ -2,10 +2,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The layering check (docs/architecture.md): dependencies between libshadow's folders run one way.
 
-    engine -> planes -> exact -> core -> geometry
+    sunmap -> engine -> planes -> exact -> core -> geometry  (sunmap also -> exact, core, geometry)
     engine -> fast -> core -> geometry
     scene -> exact (face shape check only), core, geometry;  output -> lighting, core, geometry
-    lighting -> geometry;  baselines -> core, geometry
+    lighting -> geometry;  baselines -> core, geometry;  scene -> sun -> geometry
 
 Reads every `#include "folder/..."` in libshadow/src and fails, listing each offending line, when
 a folder includes one that the table below does not allow (a folder may always include itself).
@@ -26,12 +26,14 @@ import sys
 # each arrow exists, is in docs/architecture.md.
 ALLOWED = {
     "engine": {"planes", "fast", "exact", "core", "geometry"},
+    "sunmap": {"engine", "exact", "core", "geometry"},
     "planes": {"exact", "core", "geometry"},
     "exact": {"core", "geometry"},
     "fast": {"core", "geometry"},
     "core": {"geometry"},
     "geometry": set(),
-    "scene": {"exact", "core", "geometry"},
+    "scene": {"exact", "core", "geometry", "sun"},
+    "sun": {"geometry"},
     "output": {"lighting", "core", "geometry"},
     "lighting": {"geometry"},
     "baselines": {"core", "geometry"},

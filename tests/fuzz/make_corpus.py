@@ -35,6 +35,15 @@ SUN = {"name": "sun", "type": "directional", "to_light": [0.4, 0.3, 0.85]}
 LAMP = {"name": "lamp", "type": "point", "position": [2, 2, 5]}
 
 # ---- fuzz_scene: scene JSON text ----------------------------------------------------------------
+# A sun block instead of lights (docs/scene-format.md): a period, and times with offsets.
+write("fuzz_scene", "sun_period.json", json.dumps(
+    {"meshes": [{"name": "ground", "polygons": [GROUND]}, {"name": "roof", "polygons": [ROOF]}],
+     "sun": {"latitude": 52.52, "longitude": 13.405, "time_zone": "UTC+01:00", "start": "2026-06-21",
+             "end": "2026-06-22", "step_minutes": 30, "north_axis": 30, "min_elevation": 2}}))
+write("fuzz_scene", "sun_times.json", json.dumps(
+    {"meshes": [{"name": "ground", "polygons": [GROUND]}], "lights": [LAMP],
+     "sun": {"latitude": -33.9, "longitude": 151.2, "utc_offset": 10, "pressure": 990, "temperature": 18,
+             "times": ["2026-12-21T12:00:00", "2026-12-21T03:00:00Z", "2026-12-21T14:30:00.5+10:00"]}}))
 write("fuzz_scene", "ground_and_roof.json",
       scene([{"name": "ground", "polygons": [GROUND]}, {"name": "roof", "polygons": [ROOF]}], [SUN, LAMP],
             [{"name": "floor", "point": [0, 0, 0], "normal": [0, 0, 1]}]))

@@ -68,7 +68,7 @@ bool rings_meet(const std::vector<Point>& r, const std::vector<Point>& s) {
 /// Convex pieces (global vertex indices, counter-clockwise in the chart) of the polygon whose
 /// rings are given by next/prev links over `chart`, each ring with the inside on its left.
 std::vector<std::vector<int>> convex_pieces(const std::vector<Point>& chart, const std::vector<int>& next,
-                                            const std::vector<int>& prev) {
+                                            const std::vector<int>& prev, bool merge) {
   using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
   using Fbi = CGAL::Triangulation_face_base_with_info_2<int, K>;
   using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
@@ -139,7 +139,7 @@ std::vector<std::vector<int>> convex_pieces(const std::vector<Point>& chart, con
   };
   for (const auto& f : triangles)
     for (int e = 0; e < 3; ++e) {
-      if (f->is_constrained(e)) continue;
+      if (!merge || f->is_constrained(e)) continue;
       const auto g = f->neighbor(e);
       if (g->info() < f->info()) continue;  // each diagonal once
       const std::size_t a = static_cast<std::size_t>(f->vertex(CDT::ccw(e))->info());
@@ -185,9 +185,13 @@ std::vector<std::vector<int>> convex_pieces(const std::vector<Point>& chart, con
 
 }  // namespace
 
-std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(
-    const std::vector<glm::dvec3>& outer_in, const std::vector<std::vector<glm::dvec3>>& holes_in,
-    double planarity_tolerance) {
+namespace {
+
+/// split_polygon_with_holes (convex pieces) or triangulate_polygon_with_holes (triangles, no
+/// planarity check of the holes).
+std::vector<std::vector<glm::dvec3>> split(const std::vector<glm::dvec3>& outer_in,
+                                          const std::vector<std::vector<glm::dvec3>>& holes_in,
+                                          double planarity_tolerance, bool triangles) {
   std::vector<std::vector<glm::dvec3>> rings;  // rings[0]: outer, rings[1 + h]: hole h
   rings.push_back(cleaned(outer_in, -1));
   for (std::size_t h = 0; h < holes_in.size(); ++h) rings.push_back(cleaned(holes_in[h], static_cast<int>(h)));
@@ -202,7 +206,7 @@ std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(
 
   // Holes must lie in the outer ring's plane (the pieces are checked for planarity later, but a
   // hole off the plane would be cut out along its shadow in the chart, silently).
-  if (rings.size() > 1) {
+  if (rings.size() > 1 && !triangles) {
     glm::dvec3 low = outer[0], high = outer[0];
     for (const glm::dvec3& v : outer) {
       low = glm::min(low, v);
@@ -266,7 +270,7 @@ std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(
   }
 
   std::vector<std::vector<glm::dvec3>> result;
-  if (rings.size() == 1 && outer_polygon.is_convex()) {
+  if (rings.size() == 1 && outer_polygon.is_convex() && (!triangles || rings[0].size() == 3)) {
     // Already one convex piece (collinear corners allowed): the cleaned ring as given.
     result.push_back(rings[0]);
     if (!outer_ccw) std::reverse(result[0].begin(), result[0].end());
@@ -287,7 +291,7 @@ std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(
   }
   std::vector<std::vector<int>> pieces;
   try {
-    pieces = convex_pieces(points, next, prev);
+    pieces = convex_pieces(points, next, prev, !triangles);
   } catch (const std::exception&) {
     // Only reachable if the checks above missed an intersection of constraints.
     throw PolygonHolesError(-1, -1, "the rings intersect");
@@ -300,6 +304,19 @@ std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(
     result.push_back(std::move(polygon));
   }
   return result;
+}
+
+}  // namespace
+
+std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(const std::vector<glm::dvec3>& outer,
+                                                              const std::vector<std::vector<glm::dvec3>>& holes,
+                                                              double planarity_tolerance) {
+  return split(outer, holes, planarity_tolerance, false);
+}
+
+std::vector<std::vector<glm::dvec3>> triangulate_polygon_with_holes(const std::vector<glm::dvec3>& outer,
+                                                                    const std::vector<std::vector<glm::dvec3>>& holes) {
+  return split(outer, holes, 0.0, true);
 }
 
 PolygonHolesSplit split_polygon_with_holes_checked(const std::vector<glm::dvec3>& outer,

@@ -53,6 +53,14 @@ std::vector<std::vector<glm::dvec3>> split_polygon_with_holes(
     const std::vector<glm::dvec3>& outer, const std::vector<std::vector<glm::dvec3>>& holes,
     double planarity_tolerance = 1e-6);
 
+/// The triangles of a constrained Delaunay triangulation of the polygon with holes, made of its
+/// own vertices and oriented like `outer`: the documented split of a surface that is not planar
+/// (each triangle is planar, the polygon is charted on the dominant axis of the outer ring's
+/// normal). The holes are not checked against the outer ring's plane; the other errors are
+/// those of split_polygon_with_holes (a ring whose chart is not simple among them).
+std::vector<std::vector<glm::dvec3>> triangulate_polygon_with_holes(
+    const std::vector<glm::dvec3>& outer, const std::vector<std::vector<glm::dvec3>>& holes);
+
 /// split_polygon_with_holes that returns the problem instead of throwing it.
 PolygonHolesSplit split_polygon_with_holes_checked(
     const std::vector<glm::dvec3>& outer, const std::vector<std::vector<glm::dvec3>>& holes,

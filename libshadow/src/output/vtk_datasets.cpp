@@ -3,6 +3,7 @@
 
 #include "geometry/unit_vector.hpp"
 #include "lighting/fragment_irradiance.hpp"
+#include "output/face_orientation.hpp"
 #include "output/names.hpp"
 
 #include <glm/common.hpp>
@@ -10,7 +11,9 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkFieldData.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -203,10 +206,30 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
   auto receiver = make_array<vtkTypeInt32Array>("receiver", n);
   auto area = make_array<vtkDoubleArray>("area", n);
   area->Fill(kNaN);
+  auto name = vtkSmartPointer<vtkStringArray>::New();
+  name->SetName("name");
+  name->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto kind = vtkSmartPointer<vtkStringArray>::New();
+  kind->SetName("kind");
+  kind->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto source = vtkSmartPointer<vtkStringArray>::New();
+  source->SetName("source");
+  source->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto normal = make_array<vtkDoubleArray>("normal", n, 3);
+  auto azimuth = make_array<vtkDoubleArray>("azimuth", n);
+  auto tilt = make_array<vtkDoubleArray>("tilt", n);
+  const double north_axis = north_axis_of(scene);
   for (std::size_t c = 0; c < n; ++c) {
     const Face& face = scene.faces[c];
     const auto cell = static_cast<vtkIdType>(c);
     const bool known_mesh = face.mesh < scene.meshes.size();
+    const FaceOrientation o = face_orientation(face, north_axis);
+    name->SetValue(cell, face.name);
+    kind->SetValue(cell, face.kind);
+    source->SetValue(cell, face.source.to_string());
+    normal->SetTuple3(cell, o.normal.x, o.normal.y, o.normal.z);
+    azimuth->SetValue(cell, o.azimuth);
+    tilt->SetValue(cell, o.tilt);
     face_id->SetValue(cell, static_cast<vtkTypeInt64>(c));
     mesh_id->SetValue(cell, static_cast<vtkTypeInt32>(face.mesh));
     mesh->SetValue(cell, known_mesh ? scene.meshes[face.mesh].name : std::string());
@@ -241,6 +264,12 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
   cd->AddArray(mesh);
   cd->AddArray(receiver);
   cd->AddArray(area);
+  cd->AddArray(name);
+  cd->AddArray(kind);
+  cd->AddArray(source);
+  cd->AddArray(normal);
+  cd->AddArray(azimuth);
+  cd->AddArray(tilt);
   for (std::size_t k = 0; k < light_ids.size(); ++k) {
     cd->AddArray(fractions[k]);
     cd->AddArray(lit_areas[k]);
@@ -304,6 +333,53 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   pd->AddArray(color);
   pd->SetActiveVectors("direction");
   return poly;
+}
+
+vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map) {
+  const std::vector<SunHoursCell>& cells = map.cells;
+  const std::size_t n = cells.size();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  fill_polygons(
+      poly, n, [&](std::size_t c) { return cells[c].polygon.size(); },
+      [&](std::size_t c, std::size_t i) -> const glm::dvec3& { return cells[c].polygon[i]; });
+  auto sun_hours = make_array<vtkDoubleArray>("sun_hours", n);
+  auto face_id = make_array<vtkTypeInt64Array>("face_id", n);
+  auto region_id = make_array<vtkTypeInt64Array>("region_id", n);
+  auto area = make_array<vtkDoubleArray>("area", n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const auto cell = static_cast<vtkIdType>(c);
+    sun_hours->SetValue(cell, cells[c].sun_hours);
+    face_id->SetValue(cell, static_cast<vtkTypeInt64>(cells[c].face_id));
+    region_id->SetValue(cell, static_cast<vtkTypeInt64>(cells[c].region_id));
+    area->SetValue(cell, cells[c].area);
+  }
+  vtkCellData* cd = poly->GetCellData();
+  cd->AddArray(sun_hours);
+  cd->AddArray(face_id);
+  cd->AddArray(region_id);
+  cd->AddArray(area);
+  cd->SetActiveScalars("sun_hours");  // what ParaView colours by when the file is opened
+  // The period's total, so that a legend can span 0..total even where no cell gets every hour.
+  auto total = make_array<vtkDoubleArray>("total_hours", 1);
+  total->SetValue(0, map.total_hours);
+  poly->GetFieldData()->AddArray(total);
+  return poly;
+}
+
+void shift_to_origin(vtkPolyData* poly, const Scene& scene) {
+  if (!scene.origin || poly == nullptr) return;
+  const glm::dvec3 origin = *scene.origin;
+  if (vtkPoints* points = poly->GetPoints()) {
+    for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i) {
+      double p[3];
+      points->GetPoint(i, p);
+      points->SetPoint(i, p[0] - origin.x, p[1] - origin.y, p[2] - origin.z);
+    }
+    points->Modified();
+  }
+  auto array = make_array<vtkDoubleArray>("origin", 1, 3);
+  array->SetTuple3(0, origin.x, origin.y, origin.z);
+  poly->GetFieldData()->AddArray(array);
 }
 
 }  // namespace shadow::detail
