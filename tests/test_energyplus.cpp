@@ -148,6 +148,17 @@ TEST(EnergyPlus, ExampleNamedSurfacesAreExactlyTheExteriorSurfaces) {
                                               "Wall-North", "Wall-West", "Roof"}));
 }
 
+TEST(EnergyPlus, AsAMeshFileTheModelKeepsItsReceivers) {
+  // examples/energyplus/scene.json names the IDF as a mesh file: the scene's meshes are
+  // office/<model mesh>, and shading and the ground floor still only cast.
+  const Scene scene = shadow::load_scene(kExample / "scene.json");
+  std::vector<std::string> receiving;
+  for (const auto& surface : shadow::named_surfaces(scene)) receiving.push_back(surface.label);
+  EXPECT_EQ(receiving, (std::vector<std::string>{"Wall-South", "Window-South", "Door-South", "Wall-East",
+                                                 "Window-East", "Wall-North", "Wall-West", "Roof"}));
+  EXPECT_EQ(scene.meshes.front().name, "office/Office");
+}
+
 TEST(EnergyPlus, ExampleSunFromSiteLocationRunPeriodTimestepAndNorthAxis) {
   const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
   ASSERT_TRUE(m.sun);

@@ -627,7 +627,8 @@ class SceneReader {
           scene_.warnings.push_back({{file_, pending.path}, "mesh " + quote(pending.name) + " has no faces (the model " +
                                                                 quote(display) + " has no geometry that is read)"});
         for (const Mesh& part : model.meshes) {
-          new_mesh(pending.name + "/" + part.name);
+          // A model's own non-receivers (EnergyPlus shading, surfaces that get no sun) stay so.
+          new_mesh(pending.name + "/" + part.name).receiver = pending.receiver && part.receiver;
           for (std::size_t f = part.first_face; f < part.first_face + part.face_count; ++f) {
             Face& face = model.faces.at(f);
             add_face(std::move(face.vertices), std::move(face.source), std::move(face.name), std::move(face.kind));
