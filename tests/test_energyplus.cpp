@@ -148,6 +148,17 @@ TEST(EnergyPlus, ExampleNamedSurfacesAreExactlyTheExteriorSurfaces) {
                                               "Wall-North", "Wall-West", "Roof"}));
 }
 
+TEST(EnergyPlus, AsAMeshFileTheModelKeepsItsReceivers) {
+  // examples/energyplus/scene.json names the IDF as a mesh file: the scene's meshes are
+  // office/<model mesh>, and shading and the ground floor still only cast.
+  const Scene scene = shadow::load_scene(kExample / "scene.json");
+  std::vector<std::string> receiving;
+  for (const auto& surface : shadow::named_surfaces(scene)) receiving.push_back(surface.label);
+  EXPECT_EQ(receiving, (std::vector<std::string>{"Wall-South", "Window-South", "Door-South", "Wall-East",
+                                                 "Window-East", "Wall-North", "Wall-West", "Roof"}));
+  EXPECT_EQ(scene.meshes.front().name, "office/Office");
+}
+
 TEST(EnergyPlus, ExampleSunFromSiteLocationRunPeriodTimestepAndNorthAxis) {
   const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
   ASSERT_TRUE(m.sun);
@@ -383,6 +394,9 @@ TEST(EnergyPlus, VertexCountMismatch) {
             "Shading:Site:Detailed, S, , ,\n  0, 0, 3,  0, 0, 0,  4, 0;\n");
       },
       {"line 5, Shading:Site:Detailed \"S\" field \"Vertex 3 Z-coordinate\"", "vertex 3 has only 2 of its 3 coordinates"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] { idf(std::string(kHeader) + "Shading:Site:Detailed, S, , 1e150, 0,0,0, 1,0,0, 0,1,0;\n"); },
+      {"line 4, Shading:Site:Detailed \"S\" field \"Number of Vertices\"", "says 1e+150 vertices, but 3 are given"}));
   EXPECT_TRUE(ThrowsInputError(
       [] { idf(std::string(kHeader) + "Shading:Site:Detailed, S, , 2,\n  0, 0, 3,  0, 0, 0;\n"); },
       {"line 4, Shading:Site:Detailed \"S\"", "at least 3 vertices, 2 given"}));

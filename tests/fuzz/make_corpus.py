@@ -217,3 +217,11 @@ write("fuzz_energyplus", "epjson_wrong_types.epJSON",
           "Shading:Site:Detailed": []}))
 write("fuzz_energyplus", "epjson_not_an_object.epJSON", "[1, 2, 3]")
 write("fuzz_energyplus", "empty.idf", "")
+# Found by fuzz_energyplus: a vertex count too large for an integer was converted to one (UB).
+write("fuzz_energyplus", "vertex_count_1e150.idf", HEAD + "Shading:Site:Detailed, S, , 1e150, 0,0,0, 1,0,0, 0,1,0;\n")
+write("fuzz_energyplus", "window_beyond_range.idf",
+      HEAD + WALL + "Window, G, C, W, , 1, 1, 1, 1e308, 1;\nZone, Y, 0, 1e308, 0, 0;\n"
+      "Shading:Zone:Detailed, O, W, , 3, 1e308,0,0, 0,1,0, 0,0,1;\n")
+# Found by fuzz_energyplus: a version number too large for an int overflowed (UB).
+write("fuzz_energyplus", "version_2400000001.idf",
+      "Version, 2400000001;\nZone, Z;\nShading:Site:Detailed, S, , 3, 0,0,0, 1,0,0, 0,1,0;\n")

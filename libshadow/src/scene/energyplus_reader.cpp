@@ -347,14 +347,26 @@ std::optional<double> Reader::number(const Value& v) const {
   return x;
 }
 
+/// "9.6", "24.1.0" -> major * 100 + minor; anything else (or a major beyond 999) leaves
+/// `fallback`, the current field lists.
+int parse_version(const std::string& text, int fallback) {
+  int major = 0, minor = 0;
+  const char* end = text.data() + text.size();
+  const auto [after_major, e1] = std::from_chars(text.data(), end, major);
+  if (e1 != std::errc() || major < 1 || major > 999) return fallback;
+  if (after_major < end && *after_major == '.') {
+    const auto [after_minor, e2] = std::from_chars(after_major + 1, end, minor);
+    if (e2 != std::errc() || minor < 0 || minor > 99) minor = 0;
+  }
+  return major * 100 + minor;
+}
+
 // IDF: objects come out of the tokenizer; the Version object picks the field lists first.
 void Reader::load_idf(const std::string& text) {
   const std::vector<IdfObject> idf = tokenize_idf(text, file_);
   for (const IdfObject& o : idf)
     if (same_text(o.fields[0].text, "Version") && o.fields.size() > 1) {
-      const std::string& v = o.fields[1].text;
-      int major = 0, minor = 0;
-      if (std::sscanf(v.c_str(), "%d.%d", &major, &minor) >= 1) version_ = major * 100 + minor;
+      version_ = parse_version(o.fields[1].text, version_);
     }
   specs_ = class_specs(version_);
   for (const IdfObject& o : idf) {
@@ -420,11 +432,8 @@ void Reader::load_epjson(const std::string& text) {
   for (auto c = root.begin(); c != root.end(); ++c)
     if (same_text(c.key(), "Version") && c.value().is_object())
       for (auto& [name, fields] : c.value().items())
-        if (fields.is_object() && fields.contains("version_identifier") && fields["version_identifier"].is_string()) {
-          int major = 0, minor = 0;
-          if (std::sscanf(fields["version_identifier"].get<std::string>().c_str(), "%d.%d", &major, &minor) >= 1)
-            version_ = major * 100 + minor;
-        }
+        if (fields.is_object() && fields.contains("version_identifier") && fields["version_identifier"].is_string())
+          version_ = parse_version(fields["version_identifier"].get<std::string>(), version_);
   specs_ = class_specs(version_);
   auto quoted = [](const std::string& s) { return nlohmann::json(s).dump(); };
   auto to_value = [&](const nlohmann::ordered_json* j, const std::string& place) {
@@ -559,7 +568,8 @@ std::vector<glm::dvec3> Reader::raw_vertices(const Object& o) const {
   const std::optional<double> declared = number(count);
   if (declared && (*declared != std::floor(*declared) || *declared < 0))
     fail(count.place, "not a whole number of vertices: " + detail::format_number(*declared));
-  if (declared && static_cast<std::size_t>(*declared) != out.size())
+  // Compared as doubles: a count like 1e150 does not fit an integer (found by fuzz_energyplus).
+  if (declared && *declared != static_cast<double>(out.size()))
     fail(count.place, "says " + detail::format_number(*declared) + " vertices, but " +
                           std::to_string(out.size()) + " are given");
   if (out.size() < 3)
@@ -786,6 +796,12 @@ const SimpleSurface* simple_surface(const std::string& cls) {
 
 void Reader::read_surfaces() {
   auto add = [&](Surface s) {
+    // Vertices computed from lengths and angles (or moved by a zone origin) can leave the range
+    // that the exact cut and the engine accept, though every number read was within it.
+    for (const glm::dvec3& p : s.vertices) {
+      const std::string problem = detail::coordinate_problem(p, "vertex");
+      if (!problem.empty()) fail(s.object->place, problem);
+    }
     if (s.name.empty()) s.name = s.object->name;
     const std::string key = lower(s.name);
     if (s.name.empty()) fail(s.object->place, "a surface needs a name");
