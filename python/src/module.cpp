@@ -1,0 +1,583 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The C++ half of the Python module `libshadow` (pybind11): scenes, the engine, results as numpy
+// arrays, output files and the sun. The pure-Python half (python/libshadow/__init__.py) builds
+// scenes from Python data, adds to_pandas() and sun hours. Only the public API (shadow/*.hpp)
+// is used: the module is a client of the library like the CLI.
+#include <shadow/shadow.hpp>
+#include <shadow/sun.hpp>
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+using namespace shadow;
+
+namespace {
+
+using ScenePtr = std::shared_ptr<Scene>;
+
+py::array_t<double> vec3_array(const glm::dvec3& v) {
+  py::array_t<double> a(3);
+  auto m = a.mutable_unchecked<1>();
+  for (int i = 0; i < 3; ++i) m(i) = v[i];
+  return a;
+}
+
+glm::dvec3 to_vec3(const py::handle& h, const char* what) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3)
+    throw py::value_error(std::string(what) + ": expected 3 numbers [x, y, z]");
+  return {a.at(0), a.at(1), a.at(2)};
+}
+
+/// Polygon vertices as an (n, 3) float64 array.
+py::array_t<double> polygon_array(const std::vector<glm::dvec3>& vertices) {
+  py::array_t<double> a({static_cast<py::ssize_t>(vertices.size()), py::ssize_t{3}});
+  auto m = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    for (int c = 0; c < 3; ++c) m(static_cast<py::ssize_t>(i), c) = vertices[i][c];
+  return a;
+}
+
+template <class T, class Item, class Get>
+py::array_t<T> column(const std::vector<Item>& items, Get get) {
+  py::array_t<T> a(static_cast<py::ssize_t>(items.size()));
+  T* out = a.mutable_data();
+  for (std::size_t i = 0; i < items.size(); ++i) out[i] = static_cast<T>(get(items[i]));
+  return a;
+}
+
+Arithmetic parse_arithmetic(const std::string& name) {
+  if (name == "exact") return Arithmetic::Exact;
+  if (name == "fast") return Arithmetic::Fast;
+  throw py::value_error("arithmetic must be \"exact\" or \"fast\", got \"" + name + "\"");
+}
+
+std::string arithmetic_name(Arithmetic a) { return a == Arithmetic::Fast ? "fast" : "exact"; }
+
+/// A Python progress callback run by the engine's reporting thread: it takes the GIL for the
+/// call; an exception it raises stops the computation and is raised again by compute().
+std::function<void(const Progress&)> wrap_progress(const py::object& callback) {
+  if (callback.is_none()) return {};
+  // The last copy of the callback may be dropped on any thread: take the GIL to release it.
+  std::shared_ptr<py::object> holder(new py::object(callback), [](py::object* o) {
+    py::gil_scoped_acquire gil;
+    delete o;
+  });
+  return [holder](const Progress& p) {
+    py::gil_scoped_acquire gil;
+    (*holder)(p.done, p.total);
+  };
+}
+
+ShadowOptions make_options(unsigned threads, bool polygons, const std::optional<std::vector<std::size_t>>& lights,
+                           const std::string& arithmetic, bool planes, double plane_window,
+                           const py::object& progress) {
+  ShadowOptions o;
+  o.threads = threads;
+  o.polygons = polygons;
+  if (lights) o.lights = *lights;
+  o.arithmetic = parse_arithmetic(arithmetic);
+  o.planes = planes;
+  o.plane_window = plane_window;
+  o.progress = wrap_progress(progress);
+  return o;
+}
+
+/// The progress callback holds a Python object: it must be dropped with the GIL held.
+void drop_progress(ShadowOptions& o) { o.progress = nullptr; }
+
+/// A result with the scene it belongs to (write_outputs and face labels need the scene).
+struct Result {
+  ScenePtr scene;
+  ShadowResult result;
+};
+
+struct Engine {
+  ScenePtr scene;
+  std::unique_ptr<ShadowEngine> engine;
+};
+
+std::shared_ptr<Result> run_compute(const ScenePtr& scene, ShadowOptions options,
+                                    const std::function<ShadowResult(const ShadowOptions&)>& compute) {
+  auto out = std::make_shared<Result>();
+  out->scene = scene;
+  try {
+    py::gil_scoped_release release;
+    out->result = compute(options);
+  } catch (...) {
+    drop_progress(options);
+    throw;
+  }
+  drop_progress(options);
+  return out;
+}
+
+UtcSeconds to_utc(const py::handle& t) {
+  if (py::isinstance<py::str>(t)) {
+    const std::string text = t.cast<std::string>();
+    const std::optional<UtcSeconds> s = parse_iso8601(text);
+    if (!s) throw py::value_error("not an ISO 8601 time with Z or an offset: \"" + text + "\"");
+    return *s;
+  }
+  const py::module_ datetime = py::module_::import("datetime");
+  if (py::isinstance(t, datetime.attr("datetime"))) {
+    if (t.attr("tzinfo").is_none() || t.attr("utcoffset")().is_none())
+      throw py::value_error("a naive datetime has no time zone: give tzinfo (datetime.timezone.utc, say)");
+    // Whole seconds, truncated like parse_iso8601 does with fractions.
+    const py::object epoch = datetime.attr("datetime")(1970, 1, 1, 0, 0, 0, 0, datetime.attr("timezone").attr("utc"));
+    const py::object delta = t - epoch;
+    const long long days = delta.attr("days").cast<long long>();
+    const long long seconds = delta.attr("seconds").cast<long long>();
+    return static_cast<UtcSeconds>(days * 86400 + seconds);
+  }
+  return t.cast<UtcSeconds>();
+}
+
+py::dict stats_dict(const ShadowStats& s) {
+  py::dict d;
+  d["receivers"] = s.receivers;
+  d["back_facing"] = s.back_facing;
+  d["candidate_pairs"] = s.candidate_pairs;
+  d["casting_pairs"] = s.casting_pairs;
+  d["unshadowed"] = s.unshadowed;
+  d["fast_exact_fallbacks"] = s.fast_exact_fallbacks;
+  d["fast_collapsed"] = s.fast_collapsed;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_libshadow, m) {
+  m.doc() = "libshadow's C++ core; import libshadow instead.";
+  m.attr("__version__") = version();
+
+  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  input_error.doc() = "Bad input: one line 'FILE: PLACE: PROBLEM', as the shadow CLI prints it.";
+  static py::exception<OutputError> output_error(m, "OutputError", PyExc_OSError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      input_error(e.what());
+    } catch (const OutputError& e) {
+      output_error(e.what());
+    }
+  });
+
+  // ---- scene ------------------------------------------------------------------------------------
+  py::class_<Mesh>(m, "Mesh", "A named group of consecutive faces.")
+      .def_readonly("name", &Mesh::name)
+      .def_readonly("file", &Mesh::file, "OBJ path as written in the scene ('' for inline polygons)")
+      .def_readonly("first_face", &Mesh::first_face)
+      .def_readonly("face_count", &Mesh::face_count)
+      .def_readonly("receiver", &Mesh::receiver)
+      .def_readonly("material", &Mesh::material)
+      .def("__repr__", [](const Mesh& x) {
+        return "Mesh(name=" + py::repr(py::str(x.name)).cast<std::string>() + ", faces=" +
+               std::to_string(x.face_count) + ", receiver=" + (x.receiver ? "True" : "False") + ")";
+      });
+
+  py::class_<Light>(m, "Light", "A light: directional (to_light, toward the light) or point (position).")
+      .def(py::init([](const std::string& name, const std::string& type, const py::object& to_light,
+                       const py::object& position, double intensity, const py::object& color) {
+             Light l;
+             l.name = name;
+             if (type == "directional") l.type = LightType::Directional;
+             else if (type == "point") l.type = LightType::Point;
+             else throw py::value_error("light type must be \"directional\" or \"point\", got \"" + type + "\"");
+             if (!to_light.is_none()) l.to_light = to_vec3(to_light, "to_light");
+             if (!position.is_none()) l.position = to_vec3(position, "position");
+             l.intensity = intensity;
+             if (!color.is_none()) l.color = to_vec3(color, "color");
+             return l;
+           }),
+           py::arg("name") = "", py::arg("type") = "directional", py::arg("to_light") = py::none(),
+           py::arg("position") = py::none(), py::arg("intensity") = 1.0, py::arg("color") = py::none())
+      .def_readonly("name", &Light::name)
+      .def_property_readonly("type", [](const Light& l) {
+        return l.type == LightType::Point ? "point" : "directional";
+      })
+      .def_property_readonly("to_light", [](const Light& l) { return vec3_array(l.to_light); })
+      .def_property_readonly("position", [](const Light& l) { return vec3_array(l.position); })
+      .def_readonly("intensity", &Light::intensity)
+      .def_property_readonly("color", [](const Light& l) { return vec3_array(l.color); })
+      .def("__repr__", [](const Light& l) {
+        return "Light(name=" + py::repr(py::str(l.name)).cast<std::string>() + ", type='" +
+               (l.type == LightType::Point ? "point" : "directional") + "')";
+      });
+
+  py::class_<Plane>(m, "Plane", "An infinite receiving plane n . (x - point) = 0.")
+      .def_readonly("name", &Plane::name)
+      .def_property_readonly("point", [](const Plane& p) { return vec3_array(p.point); })
+      .def_property_readonly("normal", [](const Plane& p) { return vec3_array(p.normal); })
+      .def_readonly("window", &Plane::window);
+
+  py::class_<Material>(m, "Material")
+      .def_readonly("name", &Material::name)
+      .def_readonly("k_a", &Material::k_a)
+      .def_readonly("k_d", &Material::k_d)
+      .def_readonly("k_s", &Material::k_s)
+      .def_readonly("shininess", &Material::shininess);
+
+  py::class_<NamedSurface>(m, "NamedSurface", "Faces sharing a name, or one unnamed face (label face_<id>).")
+      .def_readonly("label", &NamedSurface::label)
+      .def_readonly("faces", &NamedSurface::faces);
+
+  // ---- sun --------------------------------------------------------------------------------------
+  py::class_<SolarSite>(m, "SolarSite", "Where the sun is seen from (degrees, metres, millibars, Celsius).")
+      .def(py::init([](double latitude, double longitude, double elevation, double pressure, double temperature) {
+             return SolarSite{latitude, longitude, elevation, pressure, temperature};
+           }),
+           py::arg("latitude"), py::arg("longitude"), py::arg("elevation") = 0.0,
+           py::arg("pressure") = 1013.25, py::arg("temperature") = 12.0)
+      .def_readwrite("latitude", &SolarSite::latitude)
+      .def_readwrite("longitude", &SolarSite::longitude)
+      .def_readwrite("elevation", &SolarSite::elevation)
+      .def_readwrite("pressure", &SolarSite::pressure)
+      .def_readwrite("temperature", &SolarSite::temperature);
+
+  py::class_<SunPosition>(m, "SunPosition", "The sun seen from a site (topocentric, refraction included).")
+      .def_readonly("zenith", &SunPosition::zenith)
+      .def_readonly("elevation", &SunPosition::elevation)
+      .def_readonly("azimuth", &SunPosition::azimuth, "degrees clockwise from true north")
+      .def_property_readonly("to_light", [](const SunPosition& s) { return vec3_array(s.to_light); })
+      .def("__repr__", [](const SunPosition& s) {
+        std::ostringstream o;
+        o.precision(10);
+        o << "SunPosition(elevation=" << s.elevation << ", azimuth=" << s.azimuth << ")";
+        return o.str();
+      });
+
+  py::class_<SunPeriod>(m, "SunPeriod", "A scene's sun block: a site and a period (start..end, step) or times.")
+      .def(py::init([](const SolarSite& site, double utc_offset_hours, const std::string& start, const std::string& end,
+                       int step_minutes, const std::vector<py::object>& times, double north_axis,
+                       double min_elevation, double delta_t) {
+             SunPeriod p;
+             p.site = site;
+             p.utc_offset_hours = utc_offset_hours;
+             p.start = start;
+             p.end = end;
+             p.step_minutes = step_minutes;
+             for (const py::object& t : times) p.times.push_back(to_utc(t));
+             p.north_axis = north_axis;
+             p.min_elevation = min_elevation;
+             p.delta_t = delta_t;
+             return p;
+           }),
+           py::arg("site"), py::arg("utc_offset_hours") = 0.0, py::arg("start") = "", py::arg("end") = "",
+           py::arg("step_minutes") = 60, py::arg("times") = std::vector<py::object>{}, py::arg("north_axis") = 0.0,
+           py::arg("min_elevation") = 0.0, py::arg("delta_t") = 69.0)
+      .def_readwrite("site", &SunPeriod::site)
+      .def_readwrite("utc_offset_hours", &SunPeriod::utc_offset_hours)
+      .def_readwrite("start", &SunPeriod::start)
+      .def_readwrite("end", &SunPeriod::end)
+      .def_readwrite("step_minutes", &SunPeriod::step_minutes)
+      .def_readwrite("times", &SunPeriod::times, "explicit UTC instants (POSIX seconds)")
+      .def_readwrite("north_axis", &SunPeriod::north_axis)
+      .def_readwrite("min_elevation", &SunPeriod::min_elevation)
+      .def_readwrite("delta_t", &SunPeriod::delta_t)
+      .def_readwrite("time_zone", &SunPeriod::time_zone);
+
+  py::class_<SunInstant>(m, "SunInstant", "One instant of a sun period; light_id is None below the horizon.")
+      .def_readonly("time", &SunInstant::time, "UTC, POSIX seconds")
+      .def_readonly("position", &SunInstant::position)
+      .def_property_readonly("light_id", [](const SunInstant& s) -> py::object {
+        if (s.light_id == SunInstant::none) return py::none();
+        return py::int_(s.light_id);
+      });
+
+  m.def("solar_position",
+        [](const SolarSite& site, const py::object& time, double north_axis, double delta_t) {
+          return solar_position(site, to_utc(time), north_axis, delta_t);
+        },
+        py::arg("site"), py::arg("time"), py::arg("north_axis") = 0.0, py::arg("delta_t") = 69.0,
+        "The sun seen from `site` at `time` (UTC seconds, an ISO 8601 string with Z or an offset, or an\n"
+        "aware datetime): NREL's SPA, topocentric, refraction included. north_axis only turns to_light\n"
+        "into model coordinates (EnergyPlus's Building North Axis).");
+  m.def("sun_to_light", [](double e, double a, double n) { return vec3_array(sun_to_light(e, a, n)); },
+        py::arg("elevation"), py::arg("azimuth"), py::arg("north_axis") = 0.0,
+        "Unit vector toward a sun at `elevation` and `azimuth` (degrees) in model coordinates.");
+  m.def("parse_iso8601",
+        [](const std::string& text, std::optional<int> local_offset_minutes) {
+          const std::optional<UtcSeconds> s =
+              local_offset_minutes ? parse_iso8601(text, *local_offset_minutes) : parse_iso8601(text);
+          if (!s) throw py::value_error("not an ISO 8601 time that exists: \"" + text + "\"");
+          return *s;
+        },
+        py::arg("text"), py::arg("local_offset_minutes") = py::none(),
+        "UTC seconds of an ISO 8601 time; without Z or an offset it is local time local_offset_minutes\n"
+        "ahead of UTC (an error when that is None). Raises ValueError when malformed.");
+  m.def("format_iso8601_utc", &format_iso8601_utc, py::arg("time"), "YYYY-MM-DDThh:mm:ssZ");
+  m.def("parse_utc_offset", &parse_utc_offset, py::arg("time_zone"),
+        "Minutes east of UTC of 'UTC', 'UTC+hh:mm', ...; None for anything else.");
+  m.def("check_sun_period", &check_sun_period, py::arg("period"), py::arg("file") = "", py::arg("place") = "sun",
+        "Raises InputError when the period is out of range.");
+  m.def("expand_sun_period", &expand_sun_period, py::arg("period"),
+        "Every instant of the period in time order with its sun's position (light_id None).");
+  m.def("sun_light_name", &sun_light_name, py::arg("time"));
+  m.def("add_sun_lights", [](const ScenePtr& scene, const SunPeriod& period) { add_sun_lights(*scene, period); },
+        py::arg("scene"), py::arg("period"),
+        "Appends the period's suns above min_elevation to the scene's lights (call once per scene).");
+
+  py::class_<Scene, ScenePtr>(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.")
+      .def_property_readonly("source", [](const Scene& s) { return s.source.string(); })
+      .def_readonly("meshes", &Scene::meshes)
+      .def_readonly("lights", &Scene::lights)
+      .def_readonly("planes", &Scene::planes)
+      .def_readonly("materials", &Scene::materials)
+      .def_property_readonly("warnings", [](const Scene& s) {
+        std::vector<std::string> w;
+        for (const Warning& x : s.warnings) w.push_back(x.to_string());
+        return w;
+      }, "non-fatal findings of loading and validation, one line each")
+      .def_readonly("sun", &Scene::sun)
+      .def_readonly("sun_instants", &Scene::sun_instants)
+      .def_property_readonly("face_count", [](const Scene& s) { return s.faces.size(); })
+      .def("face_vertices", [](const Scene& s, std::size_t i) {
+        if (i >= s.faces.size()) throw py::index_error("face_id out of range");
+        return polygon_array(s.faces[i].vertices);
+      }, py::arg("face_id"), "The face's vertices, an (n, 3) float64 array.")
+      .def_property_readonly("faces", [](const Scene& s) {
+        py::list l;
+        for (const Face& f : s.faces) l.append(polygon_array(f.vertices));
+        return l;
+      }, "Every face's vertices: a list of (n, 3) float64 arrays indexed by face_id.")
+      .def_property_readonly("face_mesh", [](const Scene& s) {
+        return column<std::uint64_t>(s.faces, [](const Face& f) { return f.mesh; });
+      })
+      .def_property_readonly("face_degenerate", [](const Scene& s) {
+        return column<bool>(s.faces, [](const Face& f) { return f.degenerate; });
+      })
+      .def_property_readonly("face_receiver", [](const Scene& s) {
+        py::array_t<bool> a(static_cast<py::ssize_t>(s.faces.size()));
+        for (std::size_t i = 0; i < s.faces.size(); ++i) a.mutable_data()[i] = s.is_receiver(i);
+        return a;
+      })
+      .def_property_readonly("face_name", [](const Scene& s) {
+        std::vector<std::string> n;
+        for (const Face& f : s.faces) n.push_back(f.name);
+        return n;
+      })
+      .def_property_readonly("face_kind", [](const Scene& s) {
+        std::vector<std::string> n;
+        for (const Face& f : s.faces) n.push_back(f.kind);
+        return n;
+      })
+      .def_property_readonly("face_source", [](const Scene& s) {
+        std::vector<std::string> n;
+        for (const Face& f : s.faces) n.push_back(f.source.to_string());
+        return n;
+      })
+      .def("face_label", [](const Scene& s, std::size_t i) { return face_label(s, i); }, py::arg("face_id"))
+      .def("named_surfaces", [](const Scene& s, bool r) { return named_surfaces(s, r); },
+           py::arg("receivers_only") = true)
+      .def("validate", [](Scene& s, double tolerance) {
+        LoadOptions o;
+        o.planarity_tolerance = tolerance;
+        validate_scene(s, o);
+      }, py::arg("planarity_tolerance") = 1e-6, "Checks the scene again (load_scene already did).")
+      .def("__repr__", [](const Scene& s) {
+        return "<libshadow.Scene " + py::repr(py::str(s.source.string())).cast<std::string>() + ": " +
+               std::to_string(s.meshes.size()) + " meshes, " + std::to_string(s.faces.size()) + " faces, " +
+               std::to_string(s.lights.size()) + " lights, " + std::to_string(s.planes.size()) + " planes>";
+      });
+
+  m.def("load_scene",
+        [](const std::filesystem::path& path, double tolerance) {
+          LoadOptions o;
+          o.planarity_tolerance = tolerance;
+          py::gil_scoped_release release;
+          return std::make_shared<Scene>(load_scene(path, o));
+        },
+        py::arg("path"), py::arg("planarity_tolerance") = 1e-6,
+        "Reads and validates a scene file and its meshes. Raises InputError (a ValueError).");
+  m.def("parse_scene",
+        [](const std::string& text, const std::filesystem::path& name, double tolerance) {
+          LoadOptions o;
+          o.planarity_tolerance = tolerance;
+          py::gil_scoped_release release;
+          return std::make_shared<Scene>(parse_scene(text, name, o));
+        },
+        py::arg("text"), py::arg("name") = "<string>", py::arg("planarity_tolerance") = 1e-6,
+        "Parses and validates scene JSON text; `name` names it in errors and anchors mesh files.");
+
+  // ---- results ----------------------------------------------------------------------------------
+  py::class_<PlaneShadow>(m, "PlaneShadow", "The shadow the scene casts on one plane from one light.")
+      .def_readonly("plane_id", &PlaneShadow::plane_id)
+      .def_readonly("light_id", &PlaneShadow::light_id)
+      .def_property_readonly("polygons", [](const PlaneShadow& p) {
+        py::list l;
+        for (const auto& poly : p.polygons) l.append(polygon_array(poly));
+        return l;
+      })
+      .def_property_readonly("region_id", [](const PlaneShadow& p) {
+        return column<std::uint64_t>(p.region_id, [](std::size_t x) { return x; });
+      })
+      .def_property_readonly("polygon_area", [](const PlaneShadow& p) {
+        return column<double>(p.polygon_area, [](double x) { return x; });
+      })
+      .def_readonly("area", &PlaneShadow::area)
+      .def_readonly("window_half_size", &PlaneShadow::window_half_size)
+      .def_readonly("reaches_window", &PlaneShadow::reaches_window);
+
+  py::class_<Result, std::shared_ptr<Result>>(
+      m, "ShadowResult",
+      "Lit and shadowed areas per (face, light), ordered by face_id then light_id, as numpy arrays;\n"
+      "fragments (lit and shadowed polygons) and plane shadows.")
+      .def("__len__", [](const Result& r) { return r.result.lighting.size(); })
+      .def_property_readonly("scene", [](const Result& r) { return r.scene; })
+      .def_property_readonly("face_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.lighting, [](const FaceLighting& x) { return x.face_id; });
+      })
+      .def_property_readonly("light_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.lighting, [](const FaceLighting& x) { return x.light_id; });
+      })
+      .def_property_readonly("area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.area; });
+      })
+      .def_property_readonly("lit_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.lit_area; });
+      })
+      .def_property_readonly("shadow_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.shadow_area; });
+      })
+      .def_property_readonly("lit_fraction", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.lit_fraction; });
+      })
+      .def_property_readonly("lit_area_error_bound", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.lit_area_error_bound; });
+      })
+      .def_property_readonly("dropped_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.dropped_area; });
+      })
+      .def_property_readonly("faces_light", [](const Result& r) {
+        return column<bool>(r.result.lighting, [](const FaceLighting& x) { return x.faces_light; });
+      })
+      // Fragments, one entry per simple polygon, ordered by face, light, fragment_id.
+      .def_property_readonly("fragment_face_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.fragments, [](const Fragment& x) { return x.face_id; });
+      })
+      .def_property_readonly("fragment_light_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.fragments, [](const Fragment& x) { return x.light_id; });
+      })
+      .def_property_readonly("fragment_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.fragments, [](const Fragment& x) { return x.fragment_id; });
+      })
+      .def_property_readonly("fragment_lit", [](const Result& r) {
+        return column<bool>(r.result.fragments, [](const Fragment& x) { return x.lit; });
+      })
+      .def_property_readonly("fragment_area", [](const Result& r) {
+        return column<double>(r.result.fragments, [](const Fragment& x) { return x.area; });
+      })
+      .def_property_readonly("fragment_polygons", [](const Result& r) {
+        py::list l;
+        for (const Fragment& f : r.result.fragments) l.append(polygon_array(f.polygon));
+        return l;
+      })
+      .def_property_readonly("plane_shadows", [](const Result& r) { return r.result.plane_shadows; })
+      .def_property_readonly("stats", [](const Result& r) { return stats_dict(r.result.stats); })
+      .def_property_readonly("arithmetic", [](const Result& r) { return arithmetic_name(r.result.arithmetic); })
+      .def("find", [](const Result& r, std::size_t face, std::size_t light) -> py::object {
+        const FaceLighting* x = r.result.find(face, light);
+        if (x == nullptr) return py::none();
+        py::dict d;
+        d["face_id"] = x->face_id;
+        d["light_id"] = x->light_id;
+        d["area"] = x->area;
+        d["lit_area"] = x->lit_area;
+        d["shadow_area"] = x->shadow_area;
+        d["lit_fraction"] = x->lit_fraction;
+        d["faces_light"] = x->faces_light;
+        d["lit_area_error_bound"] = x->lit_area_error_bound;
+        d["dropped_area"] = x->dropped_area;
+        return d;
+      }, py::arg("face_id"), py::arg("light_id"), "The entry for (face, light) as a dict, or None.")
+      .def("report_json", [](const Result& r) {
+        std::ostringstream out;
+        write_report_json(out, *r.scene, r.result);
+        return out.str();
+      }, "report.json's text, as write_outputs writes it (without the run object).");
+
+  m.def("write_outputs",
+        [](const Result& r, const std::filesystem::path& outdir) {
+          std::vector<std::filesystem::path> paths;
+          {
+            py::gil_scoped_release release;
+            paths = write_outputs(outdir, *r.scene, r.result);
+          }
+          std::vector<std::string> out;
+          for (const auto& p : paths) out.push_back(p.string());
+          return out;
+        },
+        py::arg("result"), py::arg("outdir"),
+        "Writes the CLI's files (fragments.vtp, faces.vtp, plane_shadows.vtp, lights.vtp, scene.vtm,\n"
+        "report.json last) into outdir; returns their paths. Raises OutputError (an OSError).");
+
+  // ---- computing --------------------------------------------------------------------------------
+  const char* options_doc =
+      "threads: workers (0: every hardware thread); polygons: also the lit/shadowed polygons;\n"
+      "lights: indices of scene lights (None: all); arithmetic: 'exact' or 'fast' (with error bounds);\n"
+      "progress: callable(done, total), called with the GIL held; an exception it raises stops the run.";
+
+  py::class_<Engine>(m, "ShadowEngine",
+                     "Prepares a scene once (exact face data) and computes shadows for many lights.")
+      .def(py::init([](const ScenePtr& scene, unsigned threads) {
+             auto e = std::make_unique<Engine>();
+             e->scene = scene;
+             py::gil_scoped_release release;
+             e->engine = std::make_unique<ShadowEngine>(*scene, threads);
+             return e;
+           }),
+           py::arg("scene"), py::arg("threads") = 0)
+      .def("compute",
+           [](const Engine& e, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
+              const std::string& arithmetic, const py::object& progress) {
+             return run_compute(e.scene, make_options(threads, polygons, lights, arithmetic, true, 0.0, progress),
+                                [&](const ShadowOptions& o) { return e.engine->compute(o); });
+           },
+           py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
+           py::arg("arithmetic") = "exact", py::arg("progress") = py::none(), options_doc)
+      .def("compute_light",
+           [](const Engine& e, const Light& light, std::size_t light_id, unsigned threads, bool polygons,
+              const std::string& arithmetic, const py::object& progress) {
+             return run_compute(e.scene,
+                                make_options(threads, polygons, std::nullopt, arithmetic, true, 0.0, progress),
+                                [&](const ShadowOptions& o) { return e.engine->compute(light, light_id, o); });
+           },
+           py::arg("light"), py::arg("light_id"), py::arg("threads") = 0, py::arg("polygons") = true,
+           py::arg("arithmetic") = "exact", py::arg("progress") = py::none(),
+           "Any light, not necessarily in the scene; results carry light_id.")
+      .def("compute_planes",
+           [](const Engine& e, std::optional<std::vector<std::size_t>> lights, double plane_window) {
+             ShadowOptions o = make_options(0, true, lights, "exact", true, plane_window, py::none());
+             py::gil_scoped_release release;
+             return e.engine->compute_planes(o);
+           },
+           py::arg("lights") = py::none(), py::arg("plane_window") = 0.0)
+      .def("face_area", [](const Engine& e, std::size_t i) {
+        if (i >= e.scene->faces.size()) throw py::index_error("face_id out of range");
+        return e.engine->face_area(i);
+      }, py::arg("face_id"))
+      .def_property_readonly("scene", [](const Engine& e) { return e.scene; });
+
+  m.def("compute_shadows",
+        [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
+           const std::string& arithmetic, bool planes, double plane_window, const py::object& progress) {
+          return run_compute(scene, make_options(threads, polygons, lights, arithmetic, planes, plane_window, progress),
+                             [&](const ShadowOptions& o) { return compute_shadows(*scene, o); });
+        },
+        py::arg("scene"), py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
+        py::arg("arithmetic") = "exact", py::arg("planes") = true, py::arg("plane_window") = 0.0,
+        py::arg("progress") = py::none(),
+        "One call: every selected light on every receiving face and (planes) on every plane.");
+}
