@@ -173,7 +173,8 @@ def _sun_data(sun):
 
 def scene_to_dict(scene):
     """The scene as Python data in the layout scene_from_data takes (inline polygons as numpy arrays;
-    faces are those after validation, consecutive duplicate vertices removed)."""
+    faces are those after validation, consecutive duplicate vertices removed; the camera, which
+    does not change the shadows, is left out)."""
     meshes = []
     faces = scene.faces
     for m in scene.meshes:
@@ -190,6 +191,9 @@ def scene_to_dict(scene):
     out = {"meshes": meshes, "lights": lights,
            "planes": [{"name": p.name, "point": p.point, "normal": p.normal,
                        **({"window": p.window} if p.window > 0 else {})} for p in scene.planes]}
+    if scene.materials:
+        out["materials"] = [{"name": x.name, "k_a": x.k_a, "k_d": x.k_d, "k_s": x.k_s, "shininess": x.shininess,
+                             "color": x.color, "specular_color": x.specular_color} for x in scene.materials]
     if not all(m.receiver for m in scene.meshes):
         out["receivers"] = [m.name for m in scene.meshes if m.receiver]
     if scene.sun is not None:

@@ -227,7 +227,9 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("k_a", &Material::k_a)
       .def_readonly("k_d", &Material::k_d)
       .def_readonly("k_s", &Material::k_s)
-      .def_readonly("shininess", &Material::shininess);
+      .def_readonly("shininess", &Material::shininess)
+      .def_property_readonly("color", [](const Material& x) { return vec3_array(x.color); })
+      .def_property_readonly("specular_color", [](const Material& x) { return vec3_array(x.specular_color); });
 
   py::class_<NamedSurface>(m, "NamedSurface", "Faces sharing a name, or one unnamed face (label face_<id>).")
       .def_readonly("label", &NamedSurface::label)
