@@ -9,7 +9,7 @@ import pytest
 SOURCE_DIR = pathlib.Path(os.environ.get("LIBSHADOW_SOURCE_DIR") or pathlib.Path(__file__).resolve().parents[2])
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def source_dir():
     return SOURCE_DIR
 
