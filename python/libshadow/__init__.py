@@ -280,8 +280,11 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
     sums, docs/sun.md). Instants with the sun below the horizon add nothing. For a period the
     weight is step_minutes / 60; with explicit ``times`` give ``hours_per_instant``.
 
-    Returns (labels, hours): a list of face or surface labels and a float64 array. The result must
-    hold every sun light (compute without ``lights=``)."""
+    ``by="mesh"`` gives one value per receiving mesh (area-weighted over its faces): one mesh per
+    facade gives sun hours per facade.
+
+    Returns (labels, hours): a list of face, surface or mesh labels and a float64 array. The
+    result must hold every sun light (compute without ``lights=``)."""
     scene = result.scene
     if scene.sun is None:
         raise ValueError("sun_hours: the scene has no sun block")
@@ -305,11 +308,16 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
         with _np.errstate(invalid="ignore", divide="ignore"):
             hours = _np.where(area[faces] > 0, lit[faces] / area[faces], 0.0) * hours_per_instant
         return [scene.face_label(int(f)) for f in faces], hours
-    if by != "surface":
-        raise ValueError('sun_hours: by must be "face" or "surface", got %r' % (by,))
+    if by == "mesh":
+        groups = [(m.name, list(range(m.first_face, m.first_face + m.face_count)))
+                  for m in scene.meshes if m.receiver and m.face_count > 0]
+    elif by == "surface":
+        groups = [(s.label, s.faces) for s in scene.named_surfaces(True)]
+    else:
+        raise ValueError('sun_hours: by must be "face", "surface" or "mesh", got %r' % (by,))
     labels, hours = [], []
-    for s in scene.named_surfaces(True):
-        a = area[s.faces].sum()
-        labels.append(s.label)
-        hours.append(lit[s.faces].sum() / a * hours_per_instant if a > 0 else 0.0)
+    for label, faces in groups:
+        a = area[faces].sum()
+        labels.append(label)
+        hours.append(lit[faces].sum() / a * hours_per_instant if a > 0 else 0.0)
     return labels, _np.array(hours, dtype=float)
