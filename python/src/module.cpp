@@ -394,6 +394,16 @@ PYBIND11_MODULE(_libshadow, m) {
                std::to_string(s.lights.size()) + " lights, " + std::to_string(s.planes.size()) + " planes>";
       });
 
+  m.def("make_city",
+        [](std::size_t boxes, double extent, std::uint64_t seed, const std::vector<Light>& lights) {
+          auto scene = std::make_shared<Scene>(make_city(boxes, extent, seed));
+          scene->lights = lights;
+          validate_scene(*scene);
+          return scene;
+        },
+        py::arg("boxes"), py::arg("extent"), py::arg("seed"), py::arg("lights") = std::vector<Light>{},
+        "The benchmark city (generators.hpp): `boxes` random boxes on a ground square of side `extent`,\n"
+        "seeded; mesh 0 'ground', mesh 1 'buildings'. `lights` (Light objects) are its lights.");
   m.def("load_scene",
         [](const std::filesystem::path& path, double tolerance) {
           LoadOptions o;

@@ -118,6 +118,27 @@ def test_engine_shared_by_python_threads(default_scene):
     assert len(results) == 4
 
 
+def test_the_gil_is_released_while_computing():
+    """While one thread computes, Python code in another runs: the engine does not hold the GIL."""
+    scene = libshadow.make_city(80, 80.0, 7, [libshadow.Light("sun", to_light=[0.3, -0.5, 1.0])])
+    engine = libshadow.ShadowEngine(scene, threads=1)
+    done = threading.Event()
+    ticks = [0]
+
+    def work():
+        for _ in range(3):
+            engine.compute(threads=1, polygons=False)
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    while not done.is_set():
+        ticks[0] += 1
+    worker.join()
+    # Holding the GIL, compute() would have let this loop run only between the three calls.
+    assert ticks[0] > 1000
+
+
 def test_engine_options_and_lights(default_scene):
     engine = libshadow.ShadowEngine(default_scene)
     full = engine.compute()
