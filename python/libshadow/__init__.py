@@ -64,7 +64,9 @@ def _plain(value, place, problems):
     float64 -> float is the identity, and json writes the shortest text that reads back to the same
     double). A non-finite number cannot be written to JSON: its place is remembered instead."""
     if isinstance(value, _np.ndarray):
-        if value.dtype.kind in "fiu" and value.dtype.kind == "f" and not _np.isfinite(value).all():
+        if value.dtype.kind == "O":  # ragged or mixed: element by element
+            return _plain(value.tolist(), place, problems)
+        if value.dtype.kind == "f" and not _np.isfinite(value).all():
             bad = tuple(int(i) for i in _np.argwhere(~_np.isfinite(value))[0])
             problems.append(place + "".join("[%d]" % i for i in bad))
         return value.tolist()
@@ -249,7 +251,8 @@ def _to_pandas(result):
     data["face"] = [scene.face_label(int(f)) for f in face_id]
     data["mesh"] = [meshes[face_mesh[int(f)]] for f in face_id]
     names = [l.name for l in scene.lights]
-    data["light"] = [names[int(l)] for l in light_id]
+    # A light given to ShadowEngine.compute_light need not be the scene's: named like report.json.
+    data["light"] = [names[int(l)] if int(l) < len(names) else "light%d" % int(l) for l in light_id]
     if scene.sun_instants:
         time_of = {i.light_id: i.time for i in scene.sun_instants if i.light_id is not None}
         data["time"] = pd.to_datetime([time_of.get(int(l), None) for l in light_id], unit="s", utc=True)

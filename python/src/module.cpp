@@ -327,9 +327,16 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("expand_sun_period", &expand_sun_period, py::arg("period"),
         "Every instant of the period in time order with its sun's position (light_id None).");
   m.def("sun_light_name", &sun_light_name, py::arg("time"));
-  m.def("add_sun_lights", [](const ScenePtr& scene, const SunPeriod& period) { add_sun_lights(*scene, period); },
+  // A copy, not the scene changed in place: an engine may be computing on the scene given.
+  m.def("add_sun_lights",
+        [](const ScenePtr& scene, const SunPeriod& period) {
+          auto out = std::make_shared<Scene>(*scene);
+          add_sun_lights(*out, period);
+          return out;
+        },
         py::arg("scene"), py::arg("period"),
-        "Appends the period's suns above min_elevation to the scene's lights (call once per scene).");
+        "A copy of the scene with the period's suns above min_elevation appended to its lights (and\n"
+        "its sun and sun_instants set); the scene given is left as it was.");
 
   py::class_<Scene, ScenePtr>(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.")
       .def_property_readonly("source", [](const Scene& s) { return s.source.string(); })

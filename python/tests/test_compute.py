@@ -209,6 +209,8 @@ def test_to_pandas(default_scene):
     assert np.array_equal(frame["lit_area"].to_numpy(), result.lit_area)
     assert frame["light"].iloc[0] == default_scene.lights[int(result.light_id[0])].name
     assert frame["mesh"].iloc[0] == default_scene.meshes[int(default_scene.face_mesh[result.face_id[0]])].name
+    other = libshadow.ShadowEngine(default_scene).compute_light(default_scene.lights[0], 9, polygons=False)
+    assert set(other.to_pandas()["light"]) == {"light9"}
 
 
 # ---- an analytic property ------------------------------------------------------------------------

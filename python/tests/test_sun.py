@@ -103,3 +103,18 @@ def test_python_sun_block_equals_the_file_one(source_dir):
     expected = [i for i in from_file.sun_instants if i.time in {libshadow.parse_iso8601(t.isoformat()) for t in times}]
     assert [i.position.azimuth for i in by_times.sun_instants] == [i.position.azimuth for i in expected]
     assert len(by_times.lights) == 3
+
+
+def test_add_sun_lights_returns_a_new_scene():
+    square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    scene = libshadow.scene_from_data({"g": [square]}, lights=[{"name": "lamp", "type": "point", "position": [0, 0, 5]}])
+    period = libshadow.SunPeriod(libshadow.SolarSite(52.52, 13.405), utc_offset_hours=1.0,
+                                 start="2026-06-21", end="2026-06-21", step_minutes=60)
+    with_suns = libshadow.add_sun_lights(scene, period)
+    assert len(scene.lights) == 1 and scene.sun is None
+    up = [i for i in with_suns.sun_instants if i.light_id is not None]
+    assert len(with_suns.lights) == 1 + len(up) and all(i.light_id >= 1 for i in up)
+    assert with_suns.lights[up[0].light_id].name == libshadow.sun_light_name(up[0].time)
+    result = libshadow.compute_shadows(with_suns, polygons=False)
+    labels, hours = libshadow.sun_hours(result, by="face")
+    assert hours[0] == pytest.approx(len(up))  # a lone square, lit by every sun up
