@@ -33,6 +33,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     __version__,
     add_sun_lights,
     check_sun_period,
+    compute_plane_shadows,
     compute_shadows,
     expand_sun_period,
     format_iso8601_utc,
@@ -50,7 +51,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
 __all__ = [
     "InputError", "OutputError", "Light", "Material", "Mesh", "NamedSurface", "Plane", "PlaneShadow",
     "Scene", "ShadowEngine", "ShadowResult", "SolarSite", "SunInstant", "SunPeriod", "SunPosition",
-    "add_sun_lights", "check_sun_period", "compute_shadows", "expand_sun_period", "format_iso8601_utc",
+    "add_sun_lights", "check_sun_period", "compute_plane_shadows", "compute_shadows", "expand_sun_period", "format_iso8601_utc",
     "load_scene", "make_city", "parse_iso8601", "parse_scene", "parse_utc_offset", "solar_position",
     "solar_positions", "sun_hours", "sun_light_name", "sun_to_light", "write_outputs",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",

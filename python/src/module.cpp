@@ -599,4 +599,13 @@ PYBIND11_MODULE(_libshadow, m) {
         py::arg("arithmetic") = "exact", py::arg("planes") = true, py::arg("plane_window") = 0.0,
         py::arg("progress") = py::none(),
         "One call: every selected light on every receiving face and (planes) on every plane.");
+  m.def("compute_plane_shadows",
+        [](const ScenePtr& scene, unsigned threads, std::optional<std::vector<std::size_t>> lights, double plane_window) {
+          ShadowOptions o = make_options(threads, true, lights, "exact", true, plane_window, py::none());
+          py::gil_scoped_release release;
+          return compute_plane_shadows(*scene, o);
+        },
+        py::arg("scene"), py::arg("threads") = 0, py::arg("lights") = py::none(), py::arg("plane_window") = 0.0,
+        "The exact shadows on the scene's planes (Blinn's projection), by plane then light: a list of\n"
+        "PlaneShadow. Independent of the face engine.");
 }

@@ -157,6 +157,8 @@ def test_engine_options_and_lights(default_scene):
     assert len(planes) == len(one_call) > 0
     assert [(p.plane_id, p.light_id, p.area) for p in planes] == [(p.plane_id, p.light_id, p.area) for p in one_call]
     assert all(len(p.polygons) == len(p.region_id) == len(p.polygon_area) for p in planes)
+    alone = libshadow.compute_plane_shadows(default_scene, lights=[1])
+    assert [(p.plane_id, p.area) for p in alone] == [(p.plane_id, p.area) for p in planes if p.light_id == 1]
     entry = full.find(0, 1)
     assert entry["lit_area"] == full.lit_area[1] and full.find(0, 99) is None
 
