@@ -87,4 +87,10 @@ std::vector<std::pair<std::string, shadow::Scene>> hard_case_scenes();
 int run_golden(const std::string& source_dir, const std::string& output_path, const std::string& check_path,
                const std::string& write_dir, bool quick, unsigned threads);
 
+/// `shadow-bench sun-hours` (bench_sun_hours.cpp): the exact sun-hours map of a city of `boxes`
+/// boxes over an equinox day split into each of `instants`, timed against the per-instant
+/// engine; `write_dir` non-empty: also writes the ground's map there (sun_hours.vtp) and the city.
+int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instants, unsigned threads,
+                  const std::string& write_dir);
+
 }  // namespace bench

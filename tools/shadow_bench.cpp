@@ -208,11 +208,24 @@ int main(int argc, char** argv) {
       "comb", "One comb-shaped face (4 vertices a tooth) 1 m above a ground it shadows: large single faces");
   comb_cmd->add_option("--teeth", comb_teeth, "Teeth (the face has 4 x teeth + 3 vertices)")->check(CLI::PositiveNumber);
   comb_cmd->add_flag("--areas-only", comb_areas_only, "Compute areas only (no fragment polygons)");
+  std::size_t sun_boxes = 10;
+  std::vector<std::size_t> sun_instants{24, 96};
+  unsigned sun_threads = 2;
+  std::string sun_write;
+  CLI::App* sun_cmd = app.add_subcommand(
+      "sun-hours", "The exact sun-hours map of a generated city over an equinox day, against the per-instant engine");
+  sun_cmd->add_option("--boxes", sun_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--instants", sun_instants, "Instants over the day (12 h of daylight split evenly)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--threads", sun_threads, "Threads")->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--write", sun_write, "Write the ground's map (first instant count) as DIR/sun_hours.vtp, and the city");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
+  if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
 

@@ -4,6 +4,9 @@
 Left view: the fragments of one light, lit and shadowed in two colours, with the plane shadows
 and the lights (point lights as spheres, directional lights as arrows along the light).
 Right view: the input faces coloured by their lit fraction for that light, with a legend.
+When OUTDIR holds `sun_hours.vtp` (the exact sun-hours map of `shadow series`), one more view
+colours it by `sun_hours` with a legend titled "sun hours", the other faces in grey around it;
+a directory with the map and no `report.json` gets that view alone.
 
 In the ParaView GUI: View > Python Shell > Run Script (edit OUTDIR below, or set the environment
 variable LIBSHADOW_RESULT), or start it as `paraview --script=tools/paraview/open_result.py`.
@@ -14,6 +17,7 @@ Headless, to save a PNG:
 """
 import argparse
 import json
+import math
 import os
 import sys
 
@@ -68,15 +72,127 @@ def place_camera(view, report, light):
     view.ResetCamera(False)
 
 
+def nice_step(span, most=7):
+    """A round label step (1, 2 or 5 times a power of ten) giving at most `most` labels."""
+    if span <= 0:
+        return 1.0
+    step = 10.0 ** math.floor(math.log10(span / most))
+    for factor in (1, 2, 5, 10):
+        if span / (factor * step) <= most - 1:
+            return factor * step
+    return 10 * step
+
+
+def style_sun_hours(shown, source, view):
+    """Colour the map by sun_hours from 0 to the period's total: one band per hour up to a day,
+    labels at round hours, the legend titled "sun hours"."""
+    ColorBy(shown, ("CELLS", "sun_hours"))
+    lut = GetColorTransferFunction("sun_hours")
+    lut.ApplyPreset("Inferno (matplotlib)", True)
+    total = None
+    if "total_hours" in source.FieldData.keys():
+        total = source.FieldData["total_hours"].GetRange()[0]
+    if not total or total <= 0:
+        total = max(source.CellData["sun_hours"].GetRange()[1], 1.0)
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(0.0, total)
+    whole = abs(total - round(total)) < 1e-9
+    if whole and 1 <= round(total) <= 24:
+        lut.Discretize = 1
+        lut.NumberOfTableValues = int(round(total))  # one band per hour
+    shown.SetScalarBarVisibility(view, True)
+    bar = GetScalarBar(lut, view)
+    style_bar(bar, "sun hours")
+    step = nice_step(total)
+    digits = 0 if whole and step >= 1 else 1
+    bar.AutomaticLabelFormat = 0
+    bar.LabelFormat = "%.{}f".format(digits)
+    bar.RangeLabelFormat = "%.{}f".format(digits)
+    bar.ScalarBarLength = 0.5
+    bar.UseCustomLabels = 1
+    bar.CustomLabels = [k * step for k in range(int(total / step + 1e-9) + 1)]
+    bar.AddRangeLabels = 1
+
+
+def show_sun_hours(outdir, view, read):
+    """sun_hours.vtp coloured by its hours; faces.vtp (when present) in grey for context, less
+    the mapped faces (same face ids) so that the two do not fight for the same pixels."""
+    sun_hours = read("sun_hours.vtp")
+    shown = Show(sun_hours, view)
+    style_sun_hours(shown, sun_hours, view)
+    if os.path.isfile(os.path.join(outdir, "faces.vtp")):
+        faces = read("faces.vtp") if "faces.vtp" not in read.cache else read.cache["faces.vtp"]
+        low, high = sun_hours.CellData["face_id"].GetRange()
+        for method, value in (("Below Lower Threshold", low - 0.5), ("Above Upper Threshold", high + 0.5)):
+            others = Threshold(registrationName="faces around the map (%s)" % method.split()[0].lower(), Input=faces)
+            others.Scalars = ["CELLS", "face_id"]
+            others.ThresholdMethod = method
+            others.LowerThreshold = value
+            others.UpperThreshold = value
+            context = Show(others, view)
+            context.ColorArrayName = ["POINTS", ""]
+            context.DiffuseColor = [0.82, 0.82, 0.80]
+    return sun_hours
+
+
+def place_camera_above(view):
+    """Above the scene from the south-south-west, looking down at 50 degrees."""
+    ResetCamera(view)
+    camera = view.GetActiveCamera()
+    focal = camera.GetFocalPoint()
+    distance = camera.GetDistance()
+    camera.SetPosition(focal[0] - 0.25 * distance, focal[1] - 0.6 * distance, focal[2] + 0.75 * distance)
+    camera.SetViewUp(0, 0, 1)
+    view.ResetCamera(False)
+
+
+def white_view(view):
+    view.Background = [1.0, 1.0, 1.0]
+    view.OrientationAxesVisibility = 0
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+
+
+def finish(args, layout, views):
+    for view in views:
+        Render(view)
+    if args.screenshot:
+        SaveScreenshot(args.screenshot, layout, SaveAllViews=1, ImageResolution=args.size)
+        if not os.path.isfile(args.screenshot) or os.path.getsize(args.screenshot) == 0:
+            print("open_result: failed, no screenshot at " + args.screenshot)
+            return
+        print("open_result: ok, wrote " + args.screenshot)
+    else:
+        print("open_result: ok")
+
+
 def main():
     args = parse_arguments()
     outdir = os.path.abspath(args.outdir)
+
+    def read(name):
+        reader = XMLPolyDataReader(registrationName=name, FileName=[os.path.join(outdir, name)])
+        read.cache[name] = reader
+        return reader
+
+    read.cache = {}
+    has_sun_hours = os.path.isfile(os.path.join(outdir, "sun_hours.vtp"))
+    if has_sun_hours and not os.path.isfile(os.path.join(outdir, "report.json")):
+        # A sun-hours map alone (e.g. from a series run that wrote no per-light result).
+        layout = CreateLayout("libshadow sun hours")
+        view = CreateView("RenderView")
+        AssignViewToLayout(view=view, layout=layout, hint=0)
+        white_view(view)
+        show_sun_hours(outdir, view, read)
+        place_camera_above(view)
+        finish(args, layout, [view])
+        return
+
     with open(os.path.join(outdir, "report.json")) as f:
         report = json.load(f)
     light_name = report["lights"][args.light]["name"]
-
-    def read(name):
-        return XMLPolyDataReader(registrationName=name, FileName=[os.path.join(outdir, name)])
 
     fragments = read("fragments.vtp")
     faces = read("faces.vtp")
@@ -86,15 +202,17 @@ def main():
     layout = CreateLayout("libshadow")
     left = CreateView("RenderView")
     right = CreateView("RenderView")
-    AssignViewToLayout(view=left, layout=layout, hint=0)
-    AssignViewToLayout(view=right, layout=layout, hint=0)
+    if has_sun_hours:
+        # Three views side by side: cells 1 | 5 | 6 of the layout's binary tree.
+        layout.SplitHorizontal(0, 1.0 / 3.0)
+        layout.SplitHorizontal(2, 0.5)
+        layout.AssignView(1, left)
+        layout.AssignView(5, right)
+    else:
+        AssignViewToLayout(view=left, layout=layout, hint=0)
+        AssignViewToLayout(view=right, layout=layout, hint=0)
     for view in (left, right):
-        view.Background = [1.0, 1.0, 1.0]
-        view.OrientationAxesVisibility = 0
-        try:
-            view.UseColorPaletteForBackground = 0
-        except AttributeError:
-            pass
+        white_view(view)
 
     # Left: this light's fragments, lit or not.
     mine = Threshold(registrationName="fragments of " + light_name, Input=fragments)
@@ -141,16 +259,16 @@ def main():
 
     for view in (left, right):
         place_camera(view, report, args.light)
-    Render(left)
-    Render(right)
-    if args.screenshot:
-        SaveScreenshot(args.screenshot, layout, SaveAllViews=1, ImageResolution=args.size)
-        if not os.path.isfile(args.screenshot) or os.path.getsize(args.screenshot) == 0:
-            print("open_result: failed, no screenshot at " + args.screenshot)
-            return
-        print("open_result: ok, wrote " + args.screenshot)
-    else:
-        print("open_result: ok")
+    views = [left, right]
+    if has_sun_hours:
+        # A third view: the exact sun-hours map.
+        sun_view = CreateView("RenderView")
+        layout.AssignView(6, sun_view)
+        white_view(sun_view)
+        show_sun_hours(outdir, sun_view, read)
+        place_camera_above(sun_view)
+        views.append(sun_view)
+    finish(args, layout, views)
 
 
 main()

@@ -99,6 +99,9 @@ struct Scene {
   /// Every instant of the sun period in time order, above the horizon or not; an instant above
   /// it names its directional light in `lights` (SunInstant::light_id). Empty without `sun`.
   std::vector<SunInstant> sun_instants;
+  /// The scene file's `sun_hours_map`: indices into `meshes` of the meshes whose faces get the
+  /// exact sun-hours map (sun_hours.hpp, `sun_hours.vtp`), in the order given; empty: no map.
+  std::vector<std::size_t> sun_hours_map;
 
   /// True when face `face_id` belongs to a receiving mesh.
   [[nodiscard]] bool is_receiver(std::size_t face_id) const {

@@ -11,4 +11,5 @@
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
+#include <shadow/sun_hours.hpp>
 #include <shadow/version.hpp>

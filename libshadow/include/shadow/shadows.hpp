@@ -173,6 +173,10 @@ ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options = 
 /// @throws InputError
 std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options = {});
 
+namespace detail {
+struct EngineAccess;  // the library's own computations over a prepared engine (sun_hours.hpp)
+}  // namespace detail
+
 /// Reusable engine over one scene: exact face data (planes, charts, convex pieces, bounding
 /// boxes) is prepared once and reused for every light, e.g. many sun positions over a day.
 class ShadowEngine {
@@ -203,6 +207,7 @@ class ShadowEngine {
   [[nodiscard]] double face_area(std::size_t face_id) const;
 
  private:
+  friend struct detail::EngineAccess;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -22,6 +22,7 @@
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
 #include "core/parallel.hpp"
+#include "engine/engine_access.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/exact_receiver.hpp"
@@ -246,6 +247,15 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
   shadow::detail::check_light(light, "", "lights[" + std::to_string(light_id) + "]");
   return impl_->run({&light}, {light_id}, options);
 }
+
+namespace detail {
+
+core::PreparedScene EngineAccess::prepared(const ShadowEngine& engine) {
+  const ShadowEngine::Impl& impl = *engine.impl_;
+  return {impl.scene, &impl.prep, &impl.face_area, &impl.cull, &impl.solids, &impl.solid_of};
+}
+
+}  // namespace detail
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
   const ShadowEngine engine(scene, options.threads);

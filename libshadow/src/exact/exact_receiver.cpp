@@ -56,7 +56,7 @@ class ExactReceiverJob {
                    const ExactLight& light, const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                    ShadowStats& stats)
       : ctx_(ctx), w_(w), face_id_(face_id), light_id_(light_id), light_(light), light_in_(light_in),
-        grid_(grid), polygons_(polygons), stats_(stats), face_(ctx.scene->faces[face_id]),
+        grid_(grid), polygons_(polygons), emit_(polygons), stats_(stats), face_(ctx.scene->faces[face_id]),
         fp_((*ctx.prep)[face_id]), point_light_(light.is_point()) {}
 
   ReceiverResult run(int facing) {
@@ -70,7 +70,7 @@ class ExactReceiverJob {
     if (facing <= 0) {  // attached shadow: the front looks away from the light (or edge-on)
       ++stats_.back_facing;
       out.shadow_area = out.area;
-      if (polygons_) emit_whole_face(false);
+      if (emit_) emit_whole_face(false);
       return std::move(item_);
     }
     out.faces_light = true;
@@ -95,12 +95,33 @@ class ExactReceiverJob {
       ++stats_.unshadowed;
       out.lit_area = out.area;
       out.lit_fraction = 1.0;
-      if (polygons_) emit_whole_face(true);
+      if (emit_) emit_whole_face(true);
       return std::move(item_);
     }
     unite_and_measure(P);
-    if (polygons_) emit_fragments(P);
+    if (emit_) emit_fragments(P);
     return std::move(item_);
+  }
+
+  /// run()'s steps up to the union, for the sun-hours map: the lit region itself. Constructed
+  /// with polygons = true, so that the shadow's union is kept as a set.
+  LitRegion lit_region(int facing) {
+    LitRegion region;
+    emit_ = false;
+    const ReceiverResult r = run(facing);
+    region.lighting = r.lighting;
+    if (!r.lighting.faces_light || fp_.degenerate) return region;  // attached shadow: dark
+    const ExactFace& P = w_.face(ctx_, face_id_);
+    if (!shadow_set_storage_) {  // nothing in front
+      region.kind = LitRegion::Kind::Whole;
+      region.lit_chart_area = P.chart_area;
+      return region;
+    }
+    region.lit_chart_area = lit_chart_area_;
+    region.lit = PolygonSet2(P.chart);
+    region.lit.difference(*shadow_set_storage_);
+    region.kind = region.lit.is_empty() ? LitRegion::Kind::Dark : LitRegion::Kind::Partial;
+    return region;
   }
 
  private:
@@ -301,6 +322,7 @@ class ExactReceiverJob {
     for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
     const FT shadow_chart_area = balanced_sum(region_areas);
     const FT lit_chart_area = P.chart_area - shadow_chart_area;
+    lit_chart_area_ = lit_chart_area;
     out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
     out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
     out.lit_fraction = round_to_double(lit_chart_area / P.chart_area);
@@ -381,7 +403,8 @@ class ExactReceiverJob {
   const ExactLight& light_;
   const Light& light_in_;
   const core::LightSpaceGrid* grid_;
-  bool polygons_;
+  bool polygons_;     ///< keep the shadow's union as a set (fragments or the lit region need it)
+  bool emit_;         ///< write fragments (compute_exact_receiver with polygons)
   ShadowStats& stats_;
   const Face& face_;
   const core::FacePrep& fp_;
@@ -393,6 +416,7 @@ class ExactReceiverJob {
   std::vector<Polygon2> shadows_;
   std::vector<PolygonWithHoles2> shadow_regions_;
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
+  FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
   std::vector<Polygon2> cells_, triangles_;
   std::vector<FT> dropped_;  ///< exact chart areas of cells too thin to write
@@ -405,6 +429,12 @@ ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, s
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                                       ShadowStats& stats) {
   return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats).run(facing);
+}
+
+LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+                           const ExactLight& light, int facing, const Light& light_in,
+                           const core::LightSpaceGrid* grid, ShadowStats& stats) {
+  return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, true, stats).lit_region(facing);
 }
 
 }  // namespace shadow::exact

@@ -53,6 +53,21 @@ struct ReceiverResult {
   std::vector<Fragment> fragments;  ///< fragment_id local to the receiver, from 0
 };
 
+/// The lit part of a receiver under one light, exact, in the receiver's chart (ExactFace::chart).
+struct LitRegion {
+  enum class Kind { Dark, Whole, Partial };
+  Kind kind = Kind::Dark;  ///< Dark: nothing lit (also degenerate faces); Whole: the whole chart
+  PolygonSet2 lit;         ///< Partial only: the lit region (the chart minus the shadow's union)
+  FT lit_chart_area{0};    ///< exact area of the lit region in the chart (the whole chart's when Whole)
+  FaceLighting lighting;   ///< the areas, as compute_exact_receiver reports them
+};
+
+/// The lit region of receiver `face_id` under `light`: the same steps (casters, projection,
+/// union) as compute_exact_receiver, stopping at the exact region instead of fragments.
+LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+                           const ExactLight& light, int facing, const Light& light_in,
+                           const core::LightSpaceGrid* grid, ShadowStats& stats);
+
 /// Computes receiver `face_id` under `light` (exact form of `light_in`), whose plane has sign
 /// `facing` at the light (> 0: lit side). Adds to `stats`.
 ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,

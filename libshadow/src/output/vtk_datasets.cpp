@@ -11,6 +11,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -303,6 +304,37 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   pd->AddArray(intensity);
   pd->AddArray(color);
   pd->SetActiveVectors("direction");
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map) {
+  const std::vector<SunHoursCell>& cells = map.cells;
+  const std::size_t n = cells.size();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  fill_polygons(
+      poly, n, [&](std::size_t c) { return cells[c].polygon.size(); },
+      [&](std::size_t c, std::size_t i) -> const glm::dvec3& { return cells[c].polygon[i]; });
+  auto sun_hours = make_array<vtkDoubleArray>("sun_hours", n);
+  auto face_id = make_array<vtkTypeInt64Array>("face_id", n);
+  auto region_id = make_array<vtkTypeInt64Array>("region_id", n);
+  auto area = make_array<vtkDoubleArray>("area", n);
+  for (std::size_t c = 0; c < n; ++c) {
+    const auto cell = static_cast<vtkIdType>(c);
+    sun_hours->SetValue(cell, cells[c].sun_hours);
+    face_id->SetValue(cell, static_cast<vtkTypeInt64>(cells[c].face_id));
+    region_id->SetValue(cell, static_cast<vtkTypeInt64>(cells[c].region_id));
+    area->SetValue(cell, cells[c].area);
+  }
+  vtkCellData* cd = poly->GetCellData();
+  cd->AddArray(sun_hours);
+  cd->AddArray(face_id);
+  cd->AddArray(region_id);
+  cd->AddArray(area);
+  cd->SetActiveScalars("sun_hours");  // what ParaView colours by when the file is opened
+  // The period's total, so that a legend can span 0..total even where no cell gets every hour.
+  auto total = make_array<vtkDoubleArray>("total_hours", 1);
+  total->SetValue(0, map.total_hours);
+  poly->GetFieldData()->AddArray(total);
   return poly;
 }
 

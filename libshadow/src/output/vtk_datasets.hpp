@@ -5,6 +5,7 @@
 
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
+#include <shadow/sun_hours.hpp>
 
 #include <vtkSmartPointer.h>
 
@@ -26,5 +27,9 @@ vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& res
 
 /// One vertex per light; point arrays light_id, type, to_light, direction, name, intensity, color.
 vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
+
+/// sun_hours.vtp: one polygon cell per SunHoursCell; cell arrays sun_hours (active scalars),
+/// face_id, region_id, area; field data total_hours.
+vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map);
 
 }  // namespace shadow::detail

@@ -4,6 +4,7 @@
 #include "output/vtp_writer.hpp"
 
 #include <shadow/output.hpp>
+#include <shadow/sun_hours.hpp>
 
 #include <vtkPolyData.h>
 
@@ -31,7 +32,7 @@ long process_id() { return static_cast<long>(getpid()); }
 
 /// The files write() stages; their temporaries are `.NAME.tmp-PID`.
 const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
-                                    "scene.vtm", "report.json"};
+                                    "scene.vtm", "report.json", "sun_hours.vtp"};
 
 /// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
 /// with SIGKILL cannot clean up after itself. Files of live processes are left alone.
@@ -260,6 +261,16 @@ std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
 std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
                                     const ShadowResult& result, const RunInfo& run) {
   return OutputDirectory(outdir).write(scene, result, &run);
+}
+
+void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map) {
+  fs::path dir = path.parent_path();
+  if (dir.empty()) dir = ".";
+  make_output_directory(dir);
+  StagedFiles staged(dir);
+  const auto target = staged.stage(path.filename().string());
+  detail::write_polydata(detail::make_sun_hours_polydata(map), target.temp, target.final_path);
+  staged.commit();
 }
 
 std::string utc_now() {

@@ -255,7 +255,8 @@ class SceneReader {
     if (!document.is_object())
       fail("", "a scene must be a JSON object with \"meshes\" and \"lights\", got " + describe(document));
 
-    check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera", "sun"});
+    check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera", "sun",
+                              "sun_hours_map"});
     const Json& meshes = require(document, "", "meshes", "the scene's meshes");
     // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
     const Json* sun = find(document, "sun");
@@ -281,6 +282,7 @@ class SceneReader {
     if (const Json* planes = find(document, "planes")) read_planes(*planes);
     if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
     if (const Json* camera = find(document, "camera")) read_camera(*camera);
+    if (const Json* map = find(document, "sun_hours_map")) read_sun_hours_map(*map);
 
     for (std::size_t i = 0; i < pending.size(); ++i) load_faces(i, std::move(pending[i]));
     scene_.source = scene_file_;
@@ -720,6 +722,23 @@ class SceneReader {
       if (it == mesh_names_.end())
         fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
       scene_.meshes[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
+    }
+  }
+
+  /// `sun_hours_map`: the meshes whose faces get the exact sun-hours map (shadow/sun_hours.hpp).
+  void read_sun_hours_map(const Json& map) {
+    require_array(map, "sun_hours_map");
+    for (std::size_t i = 0; i < map.size(); ++i) {
+      const std::string path = element("sun_hours_map", i);
+      const Json& m = map[i];
+      if (!m.is_string()) fail(path, "expected a mesh name, got " + describe(m));
+      const std::string& name = m.get_ref<const std::string&>();
+      const auto it = std::find(mesh_names_.begin(), mesh_names_.end(), name);
+      if (it == mesh_names_.end())
+        fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
+      const auto index = static_cast<std::size_t>(it - mesh_names_.begin());
+      if (std::find(scene_.sun_hours_map.begin(), scene_.sun_hours_map.end(), index) == scene_.sun_hours_map.end())
+        scene_.sun_hours_map.push_back(index);
     }
   }
 

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// shadow-bench sun-hours: the exact sun-hours map (shadow/sun_hours.hpp) on a generated city
+// over one day, timed against the per-instant engine it is built from, with the size of the
+// result; --write DIR also writes DIR/sun_hours.vtp (the picture in docs/sun-hours-map.md).
+//
+// The day is an equinox at latitude 48 degrees (declination 0): sin(elevation) =
+// cos(latitude) cos(hour angle), azimuth from the same spherical triangle. Solar position proper
+// is the `sun` block's business; this only needs a plausible path of suns.
+#include "bench_compare.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace bench {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// `count` instants spread over the daylight of an equinox day at latitude 48: each weighs
+/// 12 / count hours; those below 2 degrees of elevation are left out (no sun on the ground).
+std::vector<shadow::SunHoursInstant> equinox_day(std::size_t count) {
+  constexpr double pi = 3.14159265358979323846;
+  const double latitude = 48.0 * pi / 180.0;
+  const double step = 12.0 / static_cast<double>(count);
+  std::vector<shadow::SunHoursInstant> out;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double hour = 6.0 + (static_cast<double>(k) + 0.5) * step;  // solar time, mid-step
+    const double h = (hour - 12.0) * 15.0 * pi / 180.0;                // hour angle
+    const double sin_e = std::cos(latitude) * std::cos(h);
+    const double e = std::asin(sin_e);
+    if (e * 180.0 / pi < 2.0) continue;
+    // Azimuth clockwise from north: east in the morning, south at noon, west in the evening.
+    const double cos_a = -std::sin(latitude) * std::cos(h) / std::cos(e);  // declination 0
+    double a = std::acos(std::max(-1.0, std::min(1.0, cos_a))) * 180.0 / pi;
+    if (h > 0) a = 360.0 - a;
+    out.push_back({shadow::directional_light("t" + std::to_string(k), shadow::sun_direction(e * 180.0 / pi, a)), step});
+  }
+  return out;
+}
+
+}  // namespace
+
+int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_counts, unsigned threads,
+                  const std::string& write_dir) {
+  shadow::Scene scene = shadow::make_city(boxes, 10.0 * std::sqrt(static_cast<double>(boxes)) + 30.0, 20261123);
+  shadow::validate_scene(scene);
+  std::vector<std::size_t> ground, all;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    all.push_back(f);
+    if (scene.faces[f].mesh == 0) ground.push_back(f);
+  }
+  const shadow::ShadowEngine engine(scene, threads);
+  std::printf("| boxes | faces | instants | receivers | engine, areas (s) | map (s) | regions | regions unmerged | cells | "
+              "max cells/face | peak (MiB) |\n");
+  std::printf("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (std::size_t count : instant_counts) {
+    const std::vector<shadow::SunHoursInstant> instants = equinox_day(count);
+    for (const auto& [label, faces] : std::vector<std::pair<std::string, const std::vector<std::size_t>*>>{{"ground", &ground}, {"all", &all}}) {
+      shadow::ShadowOptions options;
+      options.threads = threads;
+      options.polygons = false;
+      auto start = std::chrono::steady_clock::now();
+      for (std::size_t i = 0; i < instants.size(); ++i) (void)engine.compute(instants[i].light, i, options);
+      const double engine_s = seconds_since(start);
+      shadow::SunHoursOptions map_options;
+      map_options.threads = threads;
+      start = std::chrono::steady_clock::now();
+      const shadow::SunHoursMap map = shadow::compute_sun_hours_map(engine, *faces, instants, map_options);
+      const double map_s = seconds_since(start);
+      map_options.merge_equal = false;
+      const shadow::SunHoursMap unmerged = shadow::compute_sun_hours_map(engine, *faces, instants, map_options);
+      std::map<std::size_t, std::size_t> per_face;
+      std::size_t most = 0;
+      for (const shadow::SunHoursCell& c : map.cells) most = std::max(most, ++per_face[c.face_id]);
+      const auto regions = [](const shadow::SunHoursMap& m) { return m.cells.empty() ? 0 : m.cells.back().region_id + 1; };
+      rusage usage{};
+      getrusage(RUSAGE_SELF, &usage);
+      std::printf("| %zu | %zu | %zu | %s | %.3f | %.3f | %zu | %zu | %zu | %zu | %.0f |\n", boxes, scene.faces.size(),
+                  instants.size(), label.c_str(), engine_s, map_s, regions(map), regions(unmerged), map.cells.size(), most,
+                  usage.ru_maxrss / 1024.0);
+      std::fflush(stdout);
+      if (!write_dir.empty() && label == "ground" && count == instant_counts.front()) {
+        std::filesystem::create_directories(write_dir);
+        shadow::write_sun_hours_vtp(std::filesystem::path(write_dir) / "sun_hours.vtp", map);
+        shadow::ShadowOptions noon;
+        noon.threads = threads;
+        noon.planes = false;
+        // The city itself, for context in pictures: faces.vtp and friends under the noon sun.
+        shadow::Scene with_noon = scene;
+        with_noon.lights = {instants[instants.size() / 2].light};
+        shadow::write_outputs(write_dir, with_noon, engine.compute(with_noon.lights[0], 0, noon));
+      }
+    }
+  }
+  return 0;
+}
+
+}  // namespace bench
