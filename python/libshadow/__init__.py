@@ -27,6 +27,8 @@ from ._libshadow import (  # noqa: F401  (the public API)
     ShadowEngine,
     ShadowResult,
     SolarSite,
+    SunHoursInstant,
+    SunHoursMap,
     SunInstant,
     SunPeriod,
     SunPosition,
@@ -35,6 +37,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     check_sun_period,
     compute_plane_shadows,
     compute_shadows,
+    compute_sun_hours_map,
     expand_sun_period,
     format_iso8601_utc,
     load_scene,
@@ -43,17 +46,21 @@ from ._libshadow import (  # noqa: F401  (the public API)
     parse_scene,
     parse_utc_offset,
     solar_position,
+    sun_hours_instants,
+    sun_hours_map_faces,
     sun_light_name,
     sun_to_light,
     write_outputs,
+    write_sun_hours_vtp,
 )
 
 __all__ = [
     "InputError", "OutputError", "Light", "Material", "Mesh", "NamedSurface", "Plane", "PlaneShadow",
-    "Scene", "ShadowEngine", "ShadowResult", "SolarSite", "SunInstant", "SunPeriod", "SunPosition",
+    "Scene", "ShadowEngine", "ShadowResult", "SolarSite", "SunHoursInstant", "SunHoursMap", "SunInstant", "SunPeriod", "SunPosition",
     "add_sun_lights", "check_sun_period", "compute_plane_shadows", "compute_shadows", "expand_sun_period", "format_iso8601_utc",
     "load_scene", "make_city", "parse_iso8601", "parse_scene", "parse_utc_offset", "solar_position",
     "solar_positions", "sun_hours", "sun_light_name", "sun_to_light", "write_outputs",
+    "compute_sun_hours_map", "sun_hours_instants", "sun_hours_map_faces", "write_sun_hours_vtp",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",
 ]
 
@@ -87,7 +94,8 @@ def _plain(value, place, problems):
 
 
 def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=None, sun=None,
-                    camera=None, name="<python>", base_dir=None, planarity_tolerance=1e-6):
+                    camera=None, name="<python>", base_dir=None, planarity_tolerance=1e-6,
+                    sun_hours_map=None):
     """A validated Scene from Python data laid out like the scene file (docs/scene-format.md).
 
     meshes: a list of dicts ``{"name": ..., "polygons": ...}`` (or ``"file"``: an OBJ path, relative to
@@ -96,7 +104,8 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     lights: dicts ``{"name", "type": "directional"|"point", "to_light"|"position", "intensity", "color"}``
     or ``Light`` objects. planes: dicts ``{"name", "point", "normal", "window"}``. receivers: mesh
     names. materials, camera: as in the file. sun: the sun block as a dict (times may be aware
-    datetimes) or a ``SunPeriod``.
+    datetimes) or a ``SunPeriod``. sun_hours_map: names of the meshes that get the exact
+    sun-hours map.
 
     The scene is read and validated by the same code as a scene file, so it is the same scene bit
     for bit, and errors are the CLI's: ``InputError`` naming ``name`` and the place (``meshes[0].polygons[2]``).
@@ -116,6 +125,8 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
         document["sun"] = _sun_data(sun)
     if camera is not None:
         document["camera"] = camera
+    if sun_hours_map is not None:
+        document["sun_hours_map"] = list(sun_hours_map)
     problems = []
     document = _plain(document, "", problems)
     if problems:
@@ -202,6 +213,8 @@ def scene_to_dict(scene):
         out["receivers"] = [m.name for m in scene.meshes if m.receiver]
     if scene.sun is not None:
         out["sun"] = _sun_data(scene.sun)
+    if scene.sun_hours_map:
+        out["sun_hours_map"] = [scene.meshes[i].name for i in scene.sun_hours_map]
     return out
 
 
@@ -282,8 +295,10 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
     """Sun hours over the scene's sun period: for each receiving face (``by="face"``) or named
     surface (``by="surface"``, faces sharing a name, area-weighted), the sum over the period's
     instants of the lit fraction times the hours each instant stands for (its step: left-rectangle
-    sums, docs/sun.md). Instants with the sun below the horizon add nothing. For a period the
-    weight is step_minutes / 60; with explicit ``times`` give ``hours_per_instant``.
+    sums, docs/sun.md). Instants with the sun below the horizon add nothing. The weight is
+    step_minutes / 60 (explicit ``times`` weigh the same, as in sun_hours_instants) unless
+    ``hours_per_instant`` is given. compute_sun_hours_map gives the same totals per face
+    (hour_area / area) together with the exact map of where on the face.
 
     ``by="mesh"`` gives one value per receiving mesh (area-weighted over its faces): one mesh per
     facade gives sun hours per facade.
@@ -294,8 +309,6 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
     if scene.sun is None:
         raise ValueError("sun_hours: the scene has no sun block")
     if hours_per_instant is None:
-        if scene.sun.times:
-            raise ValueError("sun_hours: the sun period gives explicit times; pass hours_per_instant")
         hours_per_instant = scene.sun.step_minutes / 60.0
     sun_lights = _np.array(sorted(i.light_id for i in scene.sun_instants if i.light_id is not None), dtype=_np.uint64)
     face_id, light_id = result.face_id, result.light_id

@@ -5,6 +5,7 @@
 // is used: the module is a client of the library like the CLI.
 #include <shadow/shadow.hpp>
 #include <shadow/sun.hpp>
+#include <shadow/sun_hours.hpp>
 
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
@@ -351,6 +352,7 @@ PYBIND11_MODULE(_libshadow, m) {
       }, "non-fatal findings of loading and validation, one line each")
       .def_readonly("sun", &Scene::sun)
       .def_readonly("sun_instants", &Scene::sun_instants)
+      .def_readonly("sun_hours_map", &Scene::sun_hours_map, "indices of the meshes that get the sun-hours map")
       .def_property_readonly("face_count", [](const Scene& s) { return s.faces.size(); })
       .def("face_vertices", [](const Scene& s, std::size_t i) {
         if (i >= s.faces.size()) throw py::index_error("face_id out of range");
@@ -588,6 +590,87 @@ PYBIND11_MODULE(_libshadow, m) {
         return e.engine->face_area(i);
       }, py::arg("face_id"))
       .def_property_readonly("scene", [](const Engine& e) { return e.scene; });
+
+  // ---- the exact sun-hours map (sun_hours.hpp) ----------------------------------------------------
+  py::class_<SunHoursInstant>(m, "SunHoursInstant", "One instant of a sun path: a light and the hours it stands for.")
+      .def(py::init([](const Light& light, double hours) { return SunHoursInstant{light, hours}; }),
+           py::arg("light"), py::arg("hours") = 1.0)
+      .def_readwrite("light", &SunHoursInstant::light)
+      .def_readwrite("hours", &SunHoursInstant::hours);
+
+  py::class_<SunHoursMap, std::shared_ptr<SunHoursMap>>(
+      m, "SunHoursMap",
+      "The exact sun-hours map: cells (simple polygons lit under the same instants) with their sun\n"
+      "hours, and per face totals. Cell arrays: cell_face_id, sun_hours, region_id, cell_area,\n"
+      "cell_polygons; face arrays: face_id, area, hour_area, dropped_area, instants_lit.")
+      .def_readonly("total_hours", &SunHoursMap::total_hours)
+      .def_property_readonly("cell_face_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.cells, [](const SunHoursCell& c) { return c.face_id; });
+      })
+      .def_property_readonly("sun_hours", [](const SunHoursMap& x) {
+        return column<double>(x.cells, [](const SunHoursCell& c) { return c.sun_hours; });
+      })
+      .def_property_readonly("region_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.cells, [](const SunHoursCell& c) { return c.region_id; });
+      })
+      .def_property_readonly("cell_area", [](const SunHoursMap& x) {
+        return column<double>(x.cells, [](const SunHoursCell& c) { return c.area; });
+      })
+      .def_property_readonly("cell_polygons", [](const SunHoursMap& x) {
+        py::list l;
+        for (const SunHoursCell& c : x.cells) l.append(polygon_array(c.polygon));
+        return l;
+      })
+      .def_property_readonly("face_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.faces, [](const SunHoursFace& f) { return f.face_id; });
+      })
+      .def_property_readonly("area", [](const SunHoursMap& x) {
+        return column<double>(x.faces, [](const SunHoursFace& f) { return f.area; });
+      })
+      .def_property_readonly("hour_area", [](const SunHoursMap& x) {
+        return column<double>(x.faces, [](const SunHoursFace& f) { return f.hour_area; });
+      })
+      .def_property_readonly("dropped_area", [](const SunHoursMap& x) {
+        return column<double>(x.faces, [](const SunHoursFace& f) { return f.dropped_area; });
+      })
+      .def_property_readonly("instants_lit", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.faces, [](const SunHoursFace& f) { return f.instants_lit; });
+      })
+      .def("__len__", [](const SunHoursMap& x) { return x.cells.size(); });
+
+  m.def("sun_hours_instants", [](const Scene& s) { return sun_hours_instants(s); }, py::arg("scene"),
+        "The scene's suns above the horizon, each weighing the period's step (step_minutes / 60 hours).");
+  m.def("sun_hours_map_faces",
+        [](const Scene& s, const std::optional<std::vector<std::string>>& meshes) {
+          return meshes ? sun_hours_map_faces(s, *meshes, "meshes") : sun_hours_map_faces(s);
+        },
+        py::arg("scene"), py::arg("meshes") = py::none(),
+        "The faces of the named meshes, or (None) of the scene's sun_hours_map meshes, ascending.");
+  m.def("compute_sun_hours_map",
+        [](const Engine& e, std::optional<std::vector<std::size_t>> faces,
+           std::optional<std::vector<SunHoursInstant>> instants, unsigned threads, bool merge_equal,
+           const py::object& progress) {
+          const std::vector<std::size_t> f = faces ? *faces : sun_hours_map_faces(*e.scene);
+          const std::vector<SunHoursInstant> i = instants ? *instants : sun_hours_instants(*e.scene);
+          SunHoursOptions o;
+          o.threads = threads;
+          o.merge_equal = merge_equal;
+          o.progress = wrap_progress(progress);
+          auto out = std::make_shared<SunHoursMap>();
+          py::gil_scoped_release release;
+          *out = compute_sun_hours_map(*e.engine, f, i, o);
+          return out;
+        },
+        py::arg("engine"), py::arg("faces") = py::none(), py::arg("instants") = py::none(), py::arg("threads") = 0,
+        py::arg("merge_equal") = true, py::arg("progress") = py::none(),
+        "The exact sun-hours map on `faces` (None: the scene's sun_hours_map meshes) under `instants`\n"
+        "(None: the scene's suns, sun_hours_instants). The GIL is released while it works.");
+  m.def("write_sun_hours_vtp",
+        [](const SunHoursMap& map, const std::filesystem::path& path) {
+          py::gil_scoped_release release;
+          write_sun_hours_vtp(path, map);
+        },
+        py::arg("map"), py::arg("path"), "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp).");
 
   m.def("compute_shadows",
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,

@@ -118,3 +118,37 @@ def test_add_sun_lights_returns_a_new_scene():
     result = libshadow.compute_shadows(with_suns, polygons=False)
     labels, hours = libshadow.sun_hours(result, by="face")
     assert hours[0] == pytest.approx(len(up))  # a lone square, lit by every sun up
+
+
+def test_sun_hours_map_agrees_with_the_per_instant_results(source_dir, tmp_path):
+    """The exact map's hours per face (hour_area / area) against sun_hours from one compute per
+    sun light; its cells tile each face; the tower's roof is one cell lit by every sun."""
+    document = json.loads((source_dir / "examples" / "sun" / "scene.json").read_text())
+    scene = libshadow.scene_from_data(document["meshes"], sun=document["sun"], sun_hours_map=["ground", "tower"])
+    assert [scene.meshes[i].name for i in scene.sun_hours_map] == ["ground", "tower"]
+    faces = libshadow.sun_hours_map_faces(scene)
+    assert faces == list(range(0, 6))  # the ground's face and the tower's five
+    engine = libshadow.ShadowEngine(scene)
+    calls = []
+    hours_map = libshadow.compute_sun_hours_map(engine, progress=lambda d, t: calls.append(d))
+    assert calls
+    instants = libshadow.sun_hours_instants(scene)
+    assert hours_map.total_hours == pytest.approx(sum(i.hours for i in instants))
+    assert hours_map.face_id.tolist() == faces
+    labels, hours = libshadow.sun_hours(engine.compute(polygons=False), by="face")
+    per_face = dict(zip(labels, hours))
+    for f, area, hour_area in zip(hours_map.face_id, hours_map.area, hours_map.hour_area):
+        assert hour_area / area == pytest.approx(per_face["face_%d" % f], rel=1e-12, abs=1e-12)
+    for f, area, dropped in zip(hours_map.face_id, hours_map.area, hours_map.dropped_area):
+        cells = hours_map.cell_face_id == f
+        assert hours_map.cell_area[cells].sum() + dropped == pytest.approx(area, rel=1e-12)
+    roof = scene.meshes[1].first_face
+    roof_cells = hours_map.sun_hours[hours_map.cell_face_id == roof]
+    assert roof_cells.tolist() == [hours_map.total_hours]
+    assert len(hours_map.cell_polygons) == len(hours_map)
+    libshadow.write_sun_hours_vtp(hours_map, str(tmp_path / "sun_hours.vtp"))
+    assert (tmp_path / "sun_hours.vtp").stat().st_size > 0
+    with pytest.raises(libshadow.InputError):
+        libshadow.compute_sun_hours_map(engine, faces=[scene.face_count])
+    with pytest.raises(libshadow.InputError):
+        libshadow.sun_hours_map_faces(scene, ["no such mesh"])
