@@ -14,6 +14,7 @@
 #include "support/scene_builders.hpp"
 
 #include <shadow/shadow.hpp>
+#include <shadow/testing/gtest.hpp>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -76,35 +77,9 @@ std::set<std::size_t> regions(const ShadowResult& r, std::size_t face, std::size
 
 /// Every (face, light) entry: lit + shadow = area (each rounded once from exact values), the
 /// fragments add up to the face and the lit ones to lit_area, every fragment's polygon has its
-/// stated area and the face's orientation.
+/// stated area and the face's orientation (libshadow::testing's check_partition).
 void expect_fragments_tile_faces(const Scene& scene, const ShadowResult& r) {
-  for (const FaceLighting& fl : r.lighting) {
-    SCOPED_TRACE("face " + std::to_string(fl.face_id) + " light " + std::to_string(fl.light_id));
-    EXPECT_LE(std::abs(fl.lit_area + fl.shadow_area - fl.area), kTwoUlps * fl.area);
-    EXPECT_NEAR(fragment_area(r, fl.face_id, fl.light_id, -1), fl.area, 1e-12 * (1 + fl.area));
-    EXPECT_NEAR(fragment_area(r, fl.face_id, fl.light_id, 1), fl.lit_area, 1e-12 * (1 + fl.area));
-    EXPECT_GE(fl.lit_fraction, 0.0);
-    EXPECT_LE(fl.lit_fraction, 1.0);
-  }
-  for (const Fragment& f : r.fragments) {
-    const Polygon3& face = scene.faces[f.face_id].vertices;
-    // The polygon's vertices are the exact ones rounded to doubles: each moves by up to half an
-    // ulp of the largest coordinate, which changes the area by up to that times the perimeter.
-    double perimeter = 0, largest = 0;
-    for (std::size_t a = 0; a < f.polygon.size(); ++a) {
-      perimeter += glm::length(f.polygon[(a + 1) % f.polygon.size()] - f.polygon[a]);
-      largest = std::max({largest, std::abs(f.polygon[a].x), std::abs(f.polygon[a].y),
-                          std::abs(f.polygon[a].z)});
-    }
-    const double rounding = 2 * perimeter * largest * std::numeric_limits<double>::epsilon();
-    EXPECT_NEAR(polygon_area(f.polygon), f.area, 1e-12 * (1 + f.area) + rounding)
-        << "face " << f.face_id;
-    // Same orientation as the face, unless rounding to doubles flattened the cell (exact slivers
-    // far below the coordinates' resolution, e.g. between nearly coincident edges).
-    if (polygon_area(f.polygon) > 2 * rounding + 1e-15 * (1 + f.area))
-      EXPECT_GT(glm::dot(newell_normal(f.polygon), newell_normal(face)), 0.0)
-          << "face " << f.face_id << " light " << f.light_id << " area " << f.area;
-  }
+  EXPECT_PRED_FORMAT2(shadow::testing::Partitions, scene, r);
 }
 
 struct RayTally {

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Properties of the exact shadows on seeded random scenes (rapidcheck). The seed and the number
+// Properties of the exact shadows on seeded random scenes (rapidcheck), checked with the
+// libshadow::testing kit's oracles and checkers. The seed and the number
 // of cases come from RC_PARAMS, set by CTest so that every run checks the same scenes.
 #include "support/polygon_tools.hpp"
-#include "support/ray_caster.hpp"
 #include "support/scene_builders.hpp"
 
 #include <shadow/shadow.hpp>
+#include <shadow/testing.hpp>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -17,6 +18,8 @@
 
 namespace shadow::test {
 namespace {
+
+namespace kit = shadow::testing;
 
 ShadowResult run(Scene& scene, bool polygons = true) {
   validate_scene(scene);
@@ -37,19 +40,11 @@ Scene generated_scene() {
 RC_GTEST_PROP(ShadowProperties, FragmentsCoverEachFaceExactlyOnce, ()) {
   Scene scene = generated_scene();
   const ShadowResult r = run(scene);
-  std::map<std::pair<std::size_t, std::size_t>, double> sum;
-  for (const Fragment& f : r.fragments) {
-    sum[{f.face_id, f.light_id}] += f.area;
-    RC_ASSERT(std::abs(polygon_area(f.polygon) - f.area) <= 1e-9 * (1.0 + f.area));
-  }
-  for (const FaceLighting& fl : r.lighting) {
-    // Each area is rounded once from its exact value, so their double sum may differ from the
-    // rounded face area by an ulp or two, never more.
-    RC_ASSERT(std::abs(fl.lit_area + fl.shadow_area - fl.area) <= 4e-16 * fl.area);
-    RC_ASSERT(fl.lit_fraction >= 0.0);
-    RC_ASSERT(fl.lit_fraction <= 1.0);
-    RC_ASSERT(std::abs(sum[{fl.face_id, fl.light_id}] - fl.area) <= 1e-10 * (1.0 + fl.area));
-  }
+  // Each cell's polygon has its area; lit + shadowed = area to an ulp or two (each rounded once
+  // from exact values); the cells (and any dropped slivers) add up to the face, the lit ones to
+  // the lit area.
+  const kit::Verdict partition = kit::check_partition(scene, r);
+  if (!partition.ok) RC_FAIL(partition.message);
   // No overlap: pieces of a face that add up to its area and lie inside it cannot overlap;
   // check they lie inside by sampling their interiors.
   std::mt19937_64 rng(1);
@@ -63,24 +58,12 @@ RC_GTEST_PROP(ShadowProperties, FragmentsCoverEachFaceExactlyOnce, ()) {
 }
 
 RC_GTEST_PROP(ShadowProperties, LitPointsSeeTheLightAndShadowedPointsDoNot, ()) {
+  // Points inside each fragment against the kit's exact segment test (a second method: no
+  // projection, no Boolean operations), which is never unsure.
   Scene scene = generated_scene();
   const ShadowResult r = run(scene);
-  std::mt19937_64 rng(2);
-  int decided = 0, disagreements = 0;
-  for (const Fragment& f : r.fragments) {
-    for (const glm::dvec3& p : sample_interior(f.polygon, 4, 1e-6, rng)) {
-      const RayVerdict v = cast_shadow_ray(scene, f.face_id, p, scene.lights[f.light_id], 1e-6);
-      if (v == RayVerdict::Unsure) continue;
-      ++decided;
-      if ((v == RayVerdict::Lit) != f.lit) {
-        ++disagreements;
-        RC_LOG() << "face " << f.face_id << " point (" << p.x << ", " << p.y << ", " << p.z
-                 << ") fragment says " << (f.lit ? "lit" : "shadow") << "\n";
-      }
-    }
-  }
-  RC_ASSERT(disagreements == 0);
-  RC_ASSERT(decided > 0);
+  const kit::Verdict claims = kit::check_lit_claims(scene, r, 2, 4);
+  if (!claims.ok) RC_FAIL(claims.message);
 }
 
 /// Both polygons lie on one plane (tested in doubles on axis-aligned grid coordinates, where
@@ -110,7 +93,6 @@ RC_GTEST_PROP(ShadowProperties, LitFractionsAreInvariantUnderTranslationRotation
   };
   const Move moves[] = {
       {1.0, {0, 0, 1}, 0.0, {1e6, -2e6, 3e5}, 1e-6},   // georeferenced: far from the origin
-      {4.0, {0, 0, 1}, 0.0, {0, 0, 0}, 0.0},           // power of two: exactly the same scene
       {0.37, {1, 2, 3}, 1.1, {5, -7, 2}, 1e-7},        // arbitrary similarity
   };
   // Faces exactly coplanar with another face (overlapping boxes) are ill-posed under rotation:
@@ -121,6 +103,13 @@ RC_GTEST_PROP(ShadowProperties, LitFractionsAreInvariantUnderTranslationRotation
   for (std::size_t f = 0; f < scene.faces.size(); ++f)
     for (std::size_t g = 0; g < scene.faces.size() && !coplanar[f]; ++g)
       coplanar[f] = g != f && exactly_coplanar(scene.faces[f].vertices, scene.faces[g].vertices);
+  // Quarter turns and a power-of-two scale are exact in doubles: the same scene, to the bit.
+  kit::Similarity exact;
+  exact.quarter_turns_x = 1;
+  exact.quarter_turns_z = 3;
+  exact.scale_exponent = 2;
+  const kit::Verdict same = kit::check_invariance(scene, exact, 0.0);
+  if (!same.ok) RC_FAIL(same.message);
   for (const Move& m : moves) {
     Scene moved = transformed(scene, m.scale, m.axis, m.angle, m.shift);
     const std::vector<double> fractions = lit_fractions(run(moved, false));
@@ -136,17 +125,13 @@ RC_GTEST_PROP(ShadowProperties, LitFractionsAreInvariantUnderTranslationRotation
 
 RC_GTEST_PROP(ShadowProperties, AddingAnOccluderNeverAddsLight, ()) {
   Scene scene = generated_scene();
-  const ShadowResult before = run(scene, false);
+  validate_scene(scene);
   const auto x = *rc::gen::inRange(-10, 10);
   const auto y = *rc::gen::inRange(-10, 10);
   const auto h = *rc::gen::inRange(1, 9);
-  Scene more = scene;
-  add_mesh(more, "extra", {rectangle_z(x, y, x + 3, y + 2, h), rectangle_z(x, y, x + 3, y + 2, h, false)},
-           /*receiver=*/false);
-  const ShadowResult after = run(more, false);
-  RC_ASSERT(after.lighting.size() == before.lighting.size());
-  for (std::size_t a = 0; a < before.lighting.size(); ++a)
-    RC_ASSERT(after.lighting[a].lit_area <= before.lighting[a].lit_area);
+  const kit::Verdict v = kit::check_monotone_occluder(
+      scene, {rectangle_z(x, y, x + 3, y + 2, h), rectangle_z(x, y, x + 3, y + 2, h, false)});
+  if (!v.ok) RC_FAIL(v.message);
 }
 
 RC_GTEST_PROP(ShadowProperties, WithoutOccludersEveryFrontFacingFaceIsFullyLit, ()) {

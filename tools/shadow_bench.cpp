@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -149,6 +150,111 @@ int run_comb(std::size_t teeth, bool polygons) {
   return ground && ground->shadow_area == 5.5 * n ? 0 : 1;
 }
 
+/// docs/benchmarks.md, "A year of suns": hourly suns of a year at `latitude` (a simple solar
+/// model: Cooper's declination, solar time, no refraction: enough to place ~4,400 suns over the
+/// sky as the real ones are), of which `sample` spread over the year are computed with
+/// compute_series and (with `baseline`) the same instants one at a time with compute(light);
+/// the year is extrapolated from the cost per instant.
+int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsigned threads,
+                     double latitude, const std::string& arithmetic, bool ground) {
+  using Clock = std::chrono::steady_clock;
+  const double pi = 3.14159265358979323846;
+  const double phi = latitude * pi / 180.0;
+  std::vector<shadow::Light> year;
+  for (int day = 1; day <= 365; ++day) {
+    const double decl = 23.44 * pi / 180.0 * std::sin(2.0 * pi * (284.0 + day) / 365.0);
+    for (int hour = 0; hour < 24; ++hour) {
+      const double h = (hour - 12.0) * 15.0 * pi / 180.0;
+      const glm::dvec3 d{-std::cos(decl) * std::sin(h),
+                         std::sin(decl) * std::cos(phi) - std::cos(decl) * std::cos(h) * std::sin(phi),
+                         std::sin(decl) * std::sin(phi) + std::cos(decl) * std::cos(h) * std::cos(phi)};
+      if (d.z > 0) year.push_back(shadow::directional_light("sun", d));
+    }
+  }
+  sample = std::min(sample, year.size());
+  std::vector<shadow::Light> lights;
+  for (std::size_t i = 0; i < sample; ++i) lights.push_back(year[i * year.size() / sample]);
+  const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+  shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+  scene.meshes[0].receiver = ground;  // mesh 0 is the ground (one face)
+  shadow::validate_scene(scene);
+  const auto t0 = Clock::now();
+  const shadow::ShadowEngine engine(scene, threads);
+  const double prepare = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::printf("city of %zu boxes (%zu faces%s), latitude %.1f: %zu hourly suns above the horizon in a year; sample of %zu, "
+              "%u threads, preparation %.3f s\n",
+              boxes, scene.faces.size(), ground ? "" : ", ground not receiving", latitude, year.size(), sample, threads,
+              prepare);
+  // CPU time too: on a shared machine the wall clock measures the other processes as much as
+  // this one; CPU seconds / threads is what an otherwise idle machine would take.
+  const auto cpu_now = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+  };
+  std::printf("| arithmetic | method | instants | wall (s) | wall per instant (ms) | CPU per instant (ms) | year: wall (s) | year: CPU / threads (s) | fallbacks | lit fraction |\n");
+  std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  int status = 0;
+  for (const std::string a : {"exact", "fast"}) {
+    if (arithmetic != "both" && arithmetic != a) continue;
+    {
+      // Warm-up, not timed: the first computation of a process pays for page faults and the
+      // allocator's growth, which would count against whichever method ran first.
+      shadow::ShadowOptions warm;
+      warm.threads = threads;
+      warm.polygons = false;
+      warm.arithmetic = a == "fast" ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+      (void)engine.compute(lights[sample / 2], 0, warm);
+    }
+    shadow::SeriesOptions options;
+    options.threads = threads;
+    options.arithmetic = a == "fast" ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+    const auto s0 = Clock::now();
+    const double c0 = cpu_now();
+    const shadow::SeriesResult series = engine.compute_series(lights, options);
+    const double cpu = cpu_now() - c0;
+    const double seconds = std::chrono::duration<double>(Clock::now() - s0).count();
+    double lit = 0, area = 0;
+    for (std::size_t r = 0; r < series.faces.size(); ++r)
+      for (std::size_t i = 0; i < series.instants; ++i) {
+        lit += series.lit_area[series.at(r, i)];
+        area += series.area[r];
+      }
+    const double per = seconds / static_cast<double>(sample);
+    const double cpu_per = cpu / static_cast<double>(sample);
+    std::printf("| %s | compute_series | %zu | %.3f | %.1f | %.1f | %.0f | %.0f | %llu | %.6f |\n", a.c_str(), sample,
+                seconds, 1000 * per, 1000 * cpu_per, per * static_cast<double>(year.size()) + prepare,
+                cpu_per * static_cast<double>(year.size()) / threads + prepare,
+                static_cast<unsigned long long>(series.stats.fast_exact_fallbacks), area > 0 ? lit / area : 0.0);
+    std::fflush(stdout);
+    const std::size_t n = sample;
+    if (!baseline) continue;
+    // The same instants one call each (what a loop over compute(light) costs), and the check
+    // that the values agree bit for bit.
+    shadow::ShadowOptions one;
+    one.threads = threads;
+    one.polygons = false;
+    one.arithmetic = options.arithmetic;
+    const auto b0 = Clock::now();
+    const double bc0 = cpu_now();
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const shadow::ShadowResult result = engine.compute(lights[i], i, one);
+      for (std::size_t r = 0; r < result.lighting.size(); ++r)
+        differ += result.lighting[r].lit_area != series.lit_area[series.at(r, i)] ? 1 : 0;
+    }
+    const double bcpu = (cpu_now() - bc0) / static_cast<double>(n);
+    const double bseconds = std::chrono::duration<double>(Clock::now() - b0).count();
+    const double bper = bseconds / static_cast<double>(n);
+    std::printf("| %s | compute(light) each | %zu | %.3f | %.1f | %.1f | %.0f | %.0f | | %s |\n", a.c_str(), n, bseconds,
+                1000 * bper, 1000 * bcpu, bper * static_cast<double>(year.size()) + prepare,
+                bcpu * static_cast<double>(year.size()) / threads + prepare, differ == 0 ? "same values" : "DIFFERENT");
+    std::fflush(stdout);
+    if (differ != 0) status = 1;
+  }
+  return status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -202,6 +308,23 @@ int main(int argc, char** argv) {
   golden_cmd->add_option("--write-dir", golden_dir, "Also write every value, one file per case, into this folder");
   golden_cmd->add_option("--threads", golden_threads, "Threads (results do not depend on it)")->check(CLI::PositiveNumber);
   golden_cmd->add_flag("--quick", golden_quick, "Leave out the 1,000-box city; 10 spheres instead of 50");
+  std::size_t series_boxes = 1000, series_sample = 100;
+  bool series_baseline = false;
+  unsigned series_threads = 2;
+  double series_latitude = 48.0;
+  std::string series_arithmetic = "both";
+  bool series_no_ground = false;
+  CLI::App* series_cmd = app.add_subcommand(
+      "series", "A year of hourly suns on a city, areas only: a sample of instants, extrapolated to the year");
+  series_cmd->add_option("--boxes", series_boxes, "City size in boxes")->check(CLI::PositiveNumber);
+  series_cmd->add_option("--sample", series_sample, "Instants computed, spread over the year")->check(CLI::PositiveNumber);
+  series_cmd->add_flag("--baseline", series_baseline,
+                       "Also compute the sampled instants one compute(light) call each, and compare (time and values)");
+  series_cmd->add_option("--threads", series_threads, "Threads")->check(CLI::PositiveNumber);
+  series_cmd->add_option("--latitude", series_latitude, "Site latitude (degrees)")->check(CLI::Range(-66.0, 66.0));
+  series_cmd->add_option("--arithmetic", series_arithmetic, "exact, fast or both")
+      ->check(CLI::IsMember({"exact", "fast", "both"}));
+  series_cmd->add_flag("--no-ground", series_no_ground, "The ground casts but does not receive (how much of the time is its one union)");
   std::size_t comb_teeth = 10000;
   bool comb_areas_only = false;
   CLI::App* comb_cmd = app.add_subcommand(
@@ -228,6 +351,9 @@ int main(int argc, char** argv) {
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
+  if (series_cmd->parsed())
+    return run_series_bench(series_boxes, series_sample, series_baseline, series_threads, series_latitude,
+                            series_arithmetic, !series_no_ground);
 
   std::vector<Case> cases;
   // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).

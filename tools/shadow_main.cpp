@@ -13,6 +13,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "series_command.hpp"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -191,6 +193,9 @@ int main(int argc, char** argv) {
       ->default_val(1e-6)
       ->check(shadow_cli::positive_up_to(1.0));
 
+  SeriesArgs series_args;
+  CLI::App* series = add_series_command(app, series_args);
+
 #ifdef LIBSHADOW_HAVE_RENDER
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand(
@@ -219,9 +224,9 @@ int main(int argc, char** argv) {
     }
     if (!found) {
 #ifdef LIBSHADOW_HAVE_RENDER
-      const char* known = "compute, render, sun";
+      const char* known = "compute, series, render, sun";
 #else
-      const char* known = "compute, sun";
+      const char* known = "compute, series, sun";
 #endif
       std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
                 << "; see shadow --help)\n";
@@ -240,6 +245,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*series) return run_series(series_args);
     if (*compute) return run_compute(args);
     if (*sun) return run_sun(sun_args);
 #ifdef LIBSHADOW_HAVE_RENDER

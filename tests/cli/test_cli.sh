@@ -117,6 +117,20 @@ top_help=$HELP_OUTPUT
 check_help compute_help "$SHADOW" compute --help
 compute_help=$HELP_OUTPUT
 
+# shadow series: its help, and a scene without a `sun` block is one clear line, exit 2, no OUTDIR.
+check_help series_help "$SHADOW" series --help
+for option in --threads --fast --quiet --every --fragments --output; do
+  [[ $HELP_OUTPUT == *"$option"* ]] || fail series_help_lists_options "series --help does not mention $option"
+done
+status=0
+"$SHADOW" series "$EXAMPLES/default/scene.json" -o "$WORK/out-series-no-sun" 2>"$WORK/series-no-sun.stderr" >/dev/null || status=$?
+if [[ $status -eq 2 && $(wc -l <"$WORK/series-no-sun.stderr") -eq 1 && ! -e "$WORK/out-series-no-sun" ]] &&
+   grep -q "scene.json: sun: the scene has no \`sun\` block" "$WORK/series-no-sun.stderr"; then
+  pass series_without_sun_block
+else
+  fail series_without_sun_block "status $status: $(cat "$WORK/series-no-sun.stderr")"
+fi
+
 if [[ $top_help == *compute* ]]; then pass "help_lists_compute"; else fail "help_lists_compute" "$top_help"; fi
 for word in compute -o --threads --quiet; do
   if [[ $compute_help == *"$word"* ]]; then

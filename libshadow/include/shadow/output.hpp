@@ -4,9 +4,11 @@
 #pragma once
 
 #include <shadow/scene.hpp>
+#include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <stdexcept>
@@ -55,6 +57,31 @@ class OutputDirectory {
   /// @throws OutputError
   std::vector<std::filesystem::path> write(const Scene& scene, const ShadowResult& result,
                                            const RunInfo* run = nullptr);
+
+  /// Writes a sun series (docs/series.md): `sunlit.csv`, `energyplus-shading.csv` (when the
+  /// period maps onto EnergyPlus's time steps), `series/sun_NNNNN.vtp` and `series.pvd` (every
+  /// `every`-th instant; none when `every` is 0), `faces.vtp` (with `sun_hours`) and
+  /// `report.json` (last), under the same discipline as write().
+  /// @throws OutputError
+  std::vector<std::filesystem::path> write_series(const Scene& scene, const SunSeries& suns,
+                                                  const SeriesResult& series, std::size_t every = 1,
+                                                  const RunInfo* run = nullptr);
+
+  /// What write_series writes besides the tables.
+  struct SeriesFiles {
+    std::size_t every = 1;  ///< one dataset per `every`-th instant in series.pvd; 0: none
+    /// When set: for each instant in series.pvd also `series/fragments_NNNNN.vtp` (that instant's
+    /// lit and shadowed polygons, as fragments.vtp) and `fragments.pvd`. Called with the index
+    /// of the instant in the series, one instant at a time (only one result in memory); the
+    /// fragments' light_id should be the instant's light in Scene::lights.
+    std::function<ShadowResult(std::size_t instant)> fragments;
+  };
+
+  /// write_series with the fragments of the instants shown (SeriesFiles::fragments).
+  /// @throws OutputError, and whatever `files.fragments` throws
+  std::vector<std::filesystem::path> write_series(const Scene& scene, const SunSeries& suns,
+                                                  const SeriesResult& series, const SeriesFiles& files,
+                                                  const RunInfo* run = nullptr);
 
   [[nodiscard]] const std::filesystem::path& path() const noexcept;
 

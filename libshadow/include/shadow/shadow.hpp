@@ -10,6 +10,7 @@
 #include <shadow/output.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>
+#include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/sun_hours.hpp>
 #include <shadow/version.hpp>

@@ -160,6 +160,38 @@ struct ShadowResult {
   [[nodiscard]] const FaceLighting* find(std::size_t face_id, std::size_t light_id) const;
 };
 
+/// Options for a series of lights computed together (ShadowEngine::compute_series): the many
+/// suns of a day or a year. Areas only: no polygons, no plane shadows.
+struct SeriesOptions {
+  /// Worker threads; 0 means every hardware thread; at most 1024 (InputError above). Results do
+  /// not depend on it.
+  unsigned threads = 0;
+  /// Exact (default) or the fast path, exactly as ShadowOptions::arithmetic.
+  Arithmetic arithmetic = Arithmetic::Exact;
+  /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished.
+  std::function<void(const Progress&)> progress;
+};
+
+/// Lit areas of every receiving face under every light of a series: a faces x instants table.
+/// Entry (row, instant) is what `compute(lights[instant], id, {polygons = false})` reports for
+/// face `faces[row]`, bit for bit.
+struct SeriesResult {
+  std::vector<std::size_t> faces;  ///< the receiving faces, ascending: the rows
+  std::size_t instants = 0;        ///< the columns: one per light, in the order given
+  std::vector<double> area;        ///< per row: the face's exact area, rounded once
+  /// Row-major (row * instants + instant): exact lit area rounded once, the lit fraction, whether
+  /// the face's front looks toward the light (1/0), and the fast path's bound (0 when exact).
+  std::vector<double> lit_area;
+  std::vector<double> lit_fraction;
+  std::vector<unsigned char> faces_light;
+  std::vector<double> lit_area_error_bound;
+  ShadowStats stats;                          ///< summed over every face and instant
+  Arithmetic arithmetic = Arithmetic::Exact;  ///< SeriesOptions::arithmetic
+
+  /// Index of (row, instant) in the row-major arrays.
+  [[nodiscard]] std::size_t at(std::size_t row, std::size_t instant) const { return row * instants + instant; }
+};
+
 /// One call: every selected light on every receiving face, and (options.planes) on every plane.
 /// The scene should have been validated (load_scene does it; see validate_scene); even if it was
 /// not, non-finite coordinates and coordinates beyond max_coordinate (scene_io.hpp) are found
@@ -198,6 +230,15 @@ class ShadowEngine {
   /// Any light, not necessarily in the scene; results carry `light_id`.
   [[nodiscard]] ShadowResult compute(const Light& light, std::size_t light_id,
                                      const ShadowOptions& options = {}) const;
+
+  /// Lit areas of every receiving face under each of `lights` (the suns of a period), without
+  /// a ShadowResult per light: the prepared faces, the per-thread exact faces and caster lists
+  /// are shared by every instant, and the work is spread over instants and receivers together.
+  /// Values equal compute(lights[i], i, {polygons = false}) bit for bit. Lights are checked
+  /// like compute(light, ...) (named `lights[i]`).
+  /// @throws InputError for an unusable light or threads > 1024
+  [[nodiscard]] SeriesResult compute_series(const std::vector<Light>& lights,
+                                            const SeriesOptions& options = {}) const;
 
   /// Shadows on the scene's planes (Blinn), reusing the engine's prepared faces; the same as
   /// compute_plane_shadows(scene, options).

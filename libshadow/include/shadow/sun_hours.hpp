@@ -90,7 +90,8 @@ std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vect
                                              const std::string& what = "--sun-hours-map");
 
 /// The scene's sun instants above the horizon (Scene::sun_instants with a light), each weighing
-/// the period's step (SunPeriod::step_minutes / 60 hours; explicit `times` weigh the same).
+/// hours_per_instant() of the period (shadow/series.hpp): its step, or for explicit `times` the
+/// median gap between them, the same rule as the series' sun hours.
 /// Empty when the scene has no `sun` block.
 std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene);
 

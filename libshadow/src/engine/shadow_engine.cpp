@@ -18,6 +18,8 @@
 // receiver to the fast path (fast/, Arithmetic::Fast) or the exact computation
 // (exact/exact_receiver.cpp, also the fast path's fallback), and assembles the result;
 // compute_shadows and find_lighting.
+#include "engine/engine_impl.hpp"
+
 #include "core/culling.hpp"
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
@@ -63,36 +65,7 @@ const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id
 
 // =============================================================================================
 
-struct ShadowEngine::Impl {
-  const Scene* scene = nullptr;
-  std::vector<core::FacePrep> prep;
-  std::vector<double> face_area;
-  core::CullScene cull;
-
-  std::vector<core::ConvexSolid> solids;
-  std::vector<int> solid_of;  ///< per face: index into solids, or -1
-
-  /// Per-thread state: the exact engine's and the fast path's, and the counts of both.
-  struct Worker {
-    exact::ExactWorker exact;  // Epeck objects are never shared between threads
-    fast::Worker fast;         // Arithmetic::Fast: the fast path's scratch state
-    ShadowStats stats;
-  };
-
-  /// Result for one receiving face under one light (fragment_id local to the item).
-  using Item = exact::ReceiverResult;
-
-  void compute_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
-                     std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
-                     std::vector<Item>& items, std::size_t progress_base, std::size_t progress_total) const;
-
-  /// Computes `lights` (reported as `light_ids`) on every receiving face.
-  ShadowResult run(const std::vector<const Light*>& lights, const std::vector<std::size_t>& light_ids,
-                   const ShadowOptions& options) const;
-
-  static ShadowResult assemble(std::vector<std::vector<Item>>& per_light,
-                               const std::vector<Worker>& workers);
-};
+// ShadowEngine::Impl: engine/engine_impl.hpp (engine/series.cpp reads it too).
 
 
 ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::make_unique<Impl>()) {
@@ -130,16 +103,6 @@ std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& optio
   return planes::plane_shadows(*impl_->scene, impl_->prep, options);
 }
 
-namespace {
-
-exact::ExactLight to_exact_light(const Light& light) {
-  using exact::FT;
-  if (light.type == LightType::Point)
-    return {{FT(light.position.x), FT(light.position.y), FT(light.position.z), FT(1)}};
-  return {{FT(light.to_light.x), FT(light.to_light.y), FT(light.to_light.z), FT(0)}};
-}
-
-}  // namespace
 
 void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_id,
                                        const ShadowOptions& options, std::vector<Worker>& workers,
@@ -173,7 +136,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
           }
           ++w.stats.fast_exact_fallbacks;  // ill-conditioned in doubles: decided exactly below
         }
-        if (!lights[wi]) lights[wi] = to_exact_light(light_in);
+        if (!lights[wi]) lights[wi] = engine_detail::to_exact_light(light_in);
         const ExactLight& light = *lights[wi];
         const std::size_t f = receivers[r];
         int side = 0;

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "output/series_outputs.hpp"
 #include "output/vtk_datasets.hpp"
 #include "output/vtm_writer.hpp"
 #include "output/vtp_writer.hpp"
@@ -13,7 +14,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <vector>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -28,6 +33,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
+const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "series.pvd", "fragments.pvd"};
+
+/// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
+/// `fragments_NNNNN.vtp`.
+bool is_series_instant_name(const std::string& name) {
+  for (const std::string prefix : {"sun_", "fragments_"}) {
+    const std::size_t n = prefix.size();
+    if (name.size() == n + 9 && name.rfind(prefix, 0) == 0 && name.compare(n + 5, 4, ".vtp") == 0 &&
+        name.find_first_not_of("0123456789", n) == n + 5)
+      return true;
+  }
+  return false;
+}
+
 long process_id() { return static_cast<long>(getpid()); }
 
 /// The files write() stages; their temporaries are `.NAME.tmp-PID`.
@@ -36,12 +56,20 @@ const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows
 
 /// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
 /// with SIGKILL cannot clean up after itself. Files of live processes are left alone.
-void remove_stale_temporaries(const fs::path& outdir) {
+void remove_stale_temporaries(const fs::path& outdir, bool series_folder = false) {
   std::error_code ec;
   for (fs::directory_iterator it(outdir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    for (const char* output : kOutputNames) {
-      const std::string prefix = "." + std::string(output) + ".tmp-";
+    std::vector<std::string> outputs(std::begin(kOutputNames), std::end(kOutputNames));
+    outputs.insert(outputs.end(), std::begin(kSeriesOutputNames), std::end(kSeriesOutputNames));
+    if (series_folder) {
+      outputs.clear();
+      const std::size_t tmp = name.find(".tmp-");
+      if (name.size() > 1 && name[0] == '.' && tmp != std::string::npos && is_series_instant_name(name.substr(1, tmp - 1)))
+        outputs.push_back(name.substr(1, tmp - 1));
+    }
+    for (const std::string& output : outputs) {
+      const std::string prefix = "." + output + ".tmp-";
       if (name.rfind(prefix, 0) != 0) continue;
       const std::string digits = name.substr(prefix.size());
       if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) break;
@@ -81,7 +109,8 @@ class StagedFiles {
   Target stage(const std::string& name) {
     Entry e;
     e.final_path = dir_ / name;
-    e.temp = dir_ / ("." + name + ".tmp-" + std::to_string(process_id()));
+    // A name in a subfolder (series/sun_00000.vtp) gets its temporary beside it.
+    e.temp = e.final_path.parent_path() / ("." + e.final_path.filename().string() + ".tmp-" + std::to_string(process_id()));
     // Whatever is at that name now is not ours (a leftover of an earlier process with our pid, or
     // a planted symbolic link that the writers would follow): remove the entry itself first.
     std::error_code ignored;
@@ -212,6 +241,7 @@ OutputDirectory::OutputDirectory(const fs::path& outdir) : impl_(std::make_uniqu
   make_output_directory(outdir);
   impl_->lock = std::make_unique<DirectoryLock>(outdir);
   remove_stale_temporaries(outdir);
+  if (fs::is_directory(outdir / "series")) remove_stale_temporaries(outdir / "series", true);
   // First, before any computing: a run killed from here on leaves no report.json, so nothing
   // in the directory looks like a complete result.
   remove_stale_report(outdir / "report.json");
@@ -250,6 +280,106 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
       vtm.temp, vtm.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
   write_report_file(report.temp, report.final_path, scene, result, run);
+  return staged.commit();
+}
+
+std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
+                                                    const SeriesResult& series, std::size_t every,
+                                                    const RunInfo* run) {
+  SeriesFiles files;
+  files.every = every;
+  return write_series(scene, suns, series, files, run);
+}
+
+std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
+                                                    const SeriesResult& series, const SeriesFiles& files,
+                                                    const RunInfo* run) {
+  const std::size_t every = files.every;
+  const fs::path& outdir = impl_->outdir;
+  make_output_directory(outdir);
+  remove_stale_report(outdir / "report.json");
+  const SurfaceSeries surfaces = surface_series(scene, series, suns.hours_per_instant);
+  const std::vector<double> hours = sun_hours(series, suns.hours_per_instant);
+  const std::vector<double> bound = sun_hours_error_bound(series, suns.hours_per_instant);
+
+  StagedFiles staged(outdir);
+  auto write_text = [](const StagedFiles::Target& target, const auto& write) {
+    errno = 0;
+    std::ofstream out(target.temp, std::ios::binary | std::ios::trunc);
+    if (out) write(out);
+    if (out) out.close();
+    if (!out) {
+      const int saved_errno = errno;
+      throw OutputError(target.final_path.string() + ": " +
+                        (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
+    }
+  };
+  const auto sunlit = staged.stage("sunlit.csv");
+  write_text(sunlit, [&](std::ostream& out) { write_sunlit_csv(out, suns, surfaces); });
+  EnergyPlusSchedule energyplus = energyplus_schedule(scene);
+  if (energyplus.written) {
+    const auto ep = staged.stage("energyplus-shading.csv");
+    write_text(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
+  }
+  const vtkSmartPointer<vtkPolyData> base = detail::make_series_base(scene);
+  std::vector<std::string> instant_files;
+  if (every > 0) {
+    make_output_directory(outdir / "series");
+    std::vector<std::pair<double, std::string>> steps, fragment_steps;
+    for (std::size_t i = 0; i < series.instants; i += every) {
+      char name[64];  // room for any size_t
+      std::snprintf(name, sizeof name, "series/sun_%05zu.vtp", i);
+      const auto target = staged.stage(name);
+      detail::write_polydata(detail::make_series_instant(base, series, i), target.temp, target.final_path);
+      // ParaView's time: hours since the first instant (UTC seconds would lose its slider's digits).
+      const double t = i < suns.times.size() ? static_cast<double>(suns.times[i] - suns.times.front()) / 3600.0
+                                             : static_cast<double>(i);
+      steps.emplace_back(t, name);
+      instant_files.push_back(fs::path(name).filename().string());
+      if (files.fragments) {
+        // One instant's polygons at a time: a year of them would not fit in memory.
+        const ShadowResult result = files.fragments(i);
+        std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
+        const auto fragments = staged.stage(name);
+        detail::write_polydata(detail::make_fragments_polydata(scene, result), fragments.temp, fragments.final_path);
+        fragment_steps.emplace_back(t, name);
+        instant_files.push_back(fs::path(name).filename().string());
+      }
+    }
+    const auto pvd = staged.stage("series.pvd");
+    detail::write_pvd(steps, pvd.temp, pvd.final_path);
+    if (files.fragments) {
+      const auto fragments_pvd = staged.stage("fragments.pvd");
+      detail::write_pvd(fragment_steps, fragments_pvd.temp, fragments_pvd.final_path);
+    }
+  }
+  const auto faces = staged.stage("faces.vtp");
+  detail::write_polydata(detail::make_series_faces(base, series, hours, bound), faces.temp, faces.final_path);
+  const auto report = staged.stage("report.json");  // staged last, so placed last
+  write_text(report, [&](std::ostream& out) {
+    detail::write_series_report_json(out, scene, suns, series, surfaces, hours, bound, energyplus, every, run);
+  });
+  // Files of an earlier series that this one does not have would look like part of it.
+  const auto remove_others = [&] {
+    std::error_code ec;
+    for (fs::directory_iterator it(outdir / "series", ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (is_series_instant_name(name) &&
+          std::find(instant_files.begin(), instant_files.end(), name) == instant_files.end()) {
+        std::error_code ignored;
+        fs::remove(it->path(), ignored);
+      }
+    }
+  };
+  remove_others();
+  if (every == 0) {
+    std::error_code ignored;
+    fs::remove(outdir / "series.pvd", ignored);
+  }
+  if (every == 0 || !files.fragments) {
+    std::error_code ignored;
+    fs::remove(outdir / "fragments.pvd", ignored);
+  }
   return staged.commit();
 }
 

@@ -27,6 +27,8 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
 
+#include <shadow/series.hpp>
+
 #include <shadow/error.hpp>
 #include <shadow/sun_hours.hpp>
 
@@ -423,7 +425,7 @@ std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vect
 std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene) {
   std::vector<SunHoursInstant> out;
   if (!scene.sun) return out;
-  const double step_hours = scene.sun->step_minutes / 60.0;
+  const double step_hours = hours_per_instant(*scene.sun);  // the series' rule (shadow/series.hpp)
   for (const SunInstant& instant : scene.sun_instants) {
     if (instant.light_id == SunInstant::none || instant.light_id >= scene.lights.size()) continue;
     out.push_back({scene.lights[instant.light_id], step_hours});

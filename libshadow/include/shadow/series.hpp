@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file series.hpp
+/// @brief Sun series: the scene's suns as one job, sun hours, results per named surface, and
+/// the series files (sunlit.csv, energyplus-shading.csv). See docs/series.md.
+///
+/// Integration rule: each instant stands for the step that it starts. For a `sun` period,
+/// sun_hours = sum over instants of lit_fraction x step_minutes / 60. For explicit `times`,
+/// each instant counts for the median gap between consecutive times (a single time counts for
+/// one hour); report.json says which weight was used (`hours_per_instant`).
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+#include <shadow/sun.hpp>
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace shadow {
+
+/// The scene's sun instants above the horizon, as the lights of a series.
+struct SunSeries {
+  std::vector<Light> lights;          ///< one directional light per instant above the horizon
+  std::vector<UtcSeconds> times;      ///< their UTC instants, in time order
+  std::vector<std::size_t> instants;  ///< their indices in Scene::sun_instants
+  std::size_t all_instants = 0;       ///< every instant of the period, below the horizon too
+  double hours_per_instant = 1.0;     ///< the integration weight (see the file comment)
+  bool explicit_times = false;        ///< the period was given as `times`
+};
+
+/// The series of `scene.sun` (every instant whose light_id names a scene light).
+/// @throws InputError when the scene has no `sun` block, or an instant names a light that is
+/// not a directional light of the scene
+SunSeries sun_series(const Scene& scene);
+
+/// The hours each instant of `period` stands for: step_minutes / 60, or for explicit times the
+/// median gap between consecutive sorted times (1 for fewer than two times).
+double hours_per_instant(const SunPeriod& period);
+
+/// Sun hours per row of `series`: sum over instants of lit_fraction x hours_per_instant.
+std::vector<double> sun_hours(const SeriesResult& series, double hours_per_instant);
+
+/// Bound on |sun_hours - exact sun hours| per row (fast path; 0 for exact): the sum over
+/// instants of lit_area_error_bound / area x hours_per_instant, for faces of positive area.
+std::vector<double> sun_hours_error_bound(const SeriesResult& series, double hours_per_instant);
+
+/// Results per named surface (named_surfaces(): faces sharing a name add up).
+struct SurfaceSeries {
+  std::vector<NamedSurface> surfaces;  ///< receiving named surfaces, in the order of their first face
+  std::vector<double> area;            ///< per surface: the sum of its faces' areas
+  /// Row-major (surface * instants + instant): sum of the faces' lit areas / sum of their areas
+  /// (0 for a surface of zero area).
+  std::vector<double> lit_fraction;
+  std::vector<double> sun_hours;  ///< per surface: sum over instants of lit_fraction x hours
+  std::size_t instants = 0;
+};
+
+/// Aggregates `series` (computed on `scene`) per named surface.
+SurfaceSeries surface_series(const Scene& scene, const SeriesResult& series, double hours_per_instant);
+
+/// `2026-06-21T12:00:00Z`: a UTC instant in ISO 8601 (proleptic Gregorian calendar).
+std::string format_series_time(UtcSeconds t);
+
+/// One CSV field as RFC 4180 writes it: quoted (quotes doubled) when it holds a comma, a quote,
+/// a carriage return or a line feed, or starts or ends with a space; as is otherwise.
+std::string csv_field(const std::string& text);
+
+/// `sunlit.csv`: header `time,<surface>,...`, one row per instant of the series (ISO 8601 UTC),
+/// each surface's lit fraction in shortest round-trip form. CRLF line ends (RFC 4180).
+void write_sunlit_csv(std::ostream& out, const SunSeries& suns, const SurfaceSeries& surfaces);
+
+/// How energyplus-shading.csv covers the year (see docs/series.md).
+struct EnergyPlusSchedule {
+  bool written = false;          ///< false when the series cannot be one (reason says why)
+  std::string reason;            ///< why not written, or a note on what was written
+  int year = 0;                  ///< the calendar year (local standard time) of the first instant
+  int timesteps_per_hour = 0;    ///< 60 / step_minutes
+  std::size_t rows = 0;          ///< 24 x timesteps_per_hour x (365 or 366)
+  std::size_t rows_in_period = 0;  ///< rows that an instant of the period fills (the rest are 0)
+};
+
+/// Whether and how `scene.sun` maps onto EnergyPlus's year of time steps: a period (not
+/// explicit times) whose step divides an hour, in one calendar year.
+EnergyPlusSchedule energyplus_schedule(const Scene& scene);
+
+/// `energyplus-shading.csv` for Schedule:File:Shading: header `Surface Name,<surface>,...`,
+/// one row per time step of the whole year, stamped `MM/DD hh:mm` at the step's end (local
+/// standard time; the last is `12/31 24:00`); a row holds the lit fraction of the instant that
+/// starts its step, 0 at night and outside the period.
+/// @returns the schedule written (written = false, nothing written, when it cannot be one)
+EnergyPlusSchedule write_energyplus_shading_csv(std::ostream& out, const Scene& scene, const SunSeries& suns,
+                                                const SurfaceSeries& surfaces);
+
+}  // namespace shadow

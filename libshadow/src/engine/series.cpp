@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// ShadowEngine::compute_series: the many suns of a period on every receiving face, areas only.
+//
+// The same per-receiver computation as ShadowEngine::compute (fast path with its exact fallback,
+// or exact), so every value equals a one-light compute(light, i, {polygons = false}) bit for
+// bit; what differs is what is shared. One set of workers (their exact faces and caster scratch
+// built on first use) serves every instant instead of being made afresh per call, and the work
+// is handed out over the (instant, receiver) pairs of a batch of instants, so that no thread
+// waits at the end of each instant for the slowest receiver, and the table is filled in place
+// (no ShadowResult per instant).
+#include "engine/engine_impl.hpp"
+
+#include "core/lights.hpp"
+#include "core/parallel.hpp"
+#include "exact/lazy_geometry.hpp"
+
+#include <shadow/error.hpp>
+#include <shadow/series.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace shadow {
+
+SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights, const SeriesOptions& options) const {
+  const Impl& impl = *impl_;
+  const Scene& scene = *impl.scene;
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    shadow::detail::check_light(lights[i], "", "lights[" + std::to_string(i) + "]");
+  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
+  const bool fast = options.arithmetic == Arithmetic::Fast;
+
+  SeriesResult result;
+  result.arithmetic = options.arithmetic;
+  result.instants = lights.size();
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (scene.is_receiver(f)) result.faces.push_back(f);
+  const std::size_t rows = result.faces.size();
+  const std::size_t instants = lights.size();
+  result.area.resize(rows);
+  for (std::size_t r = 0; r < rows; ++r) result.area[r] = impl.face_area[result.faces[r]];
+  result.lit_area.assign(rows * instants, 0.0);
+  result.lit_fraction.assign(rows * instants, 0.0);
+  result.faces_light.assign(rows * instants, 0);
+  result.lit_area_error_bound.assign(rows * instants, 0.0);
+  if (rows == 0 || instants == 0) {
+    if (options.progress) options.progress(Progress{instants, instants});
+    return result;
+  }
+
+  std::vector<Impl::Worker> workers(threads);
+  for (Impl::Worker& w : workers) {
+    w.exact.reset(scene.faces.size(), impl.solids.size());
+    if (fast) w.fast.casters.reset(scene.faces.size(), impl.solids.size());
+  }
+  const core::PreparedScene context{&scene, &impl.prep, &impl.face_area, &impl.cull, &impl.solids, &impl.solid_of};
+
+  // A batch of instants at a time: their light-space grids are built together, then every
+  // (receiver, instant) pair of the batch is one work item. A few instants per thread keep the
+  // threads busy to the batch's end without holding a grid per instant of the year.
+  const std::size_t batch = std::min<std::size_t>(instants, std::max<std::size_t>(8, 4 * static_cast<std::size_t>(threads)));
+  std::vector<std::optional<core::LightSpaceGrid>> grids(batch);
+  // Epeck numbers are reference-counted without locks: each worker makes its own exact lights.
+  std::vector<std::vector<std::optional<exact::ExactLight>>> exact_lights(threads);
+
+  for (std::size_t first = 0; first < instants; first += batch) {
+    const std::size_t count = std::min(batch, instants - first);
+    core::parallel_for(count, threads, [&](unsigned, std::size_t k) {
+      grids[k].reset();
+      const Light& light = lights[first + k];
+      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light);
+    });
+    for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
+
+    std::function<void(std::size_t)> report;
+    if (options.progress)
+      report = [&](std::size_t done) { options.progress(Progress{first + done / rows, instants}); };
+    core::parallel_for(
+        rows * count, threads,
+        [&](unsigned wi, std::size_t item) {
+          // Instant-major, as compute() runs a light: one light's grid stays in cache while its
+          // receivers are taken (receiver-major measured no faster, docs/benchmarks.md).
+          const std::size_t k = item / rows;
+          const std::size_t r = item % rows;
+          const std::size_t instant = first + k;
+          const std::size_t f = result.faces[r];
+          const Light& light_in = lights[instant];
+          const core::LightSpaceGrid* grid = grids[k] ? &*grids[k] : nullptr;
+          Impl::Worker& w = workers[wi];
+          exact::ReceiverResult out;
+          bool done = false;
+          if (fast) {
+            done = fast::compute_receiver(context, w.fast, f, instant, light_in, grid, false, out.lighting,
+                                          out.fragments, w.stats);
+            if (!done) ++w.stats.fast_exact_fallbacks;  // ill-conditioned in doubles: exactly below
+          }
+          if (!done) {
+            std::optional<exact::ExactLight>& light = exact_lights[wi][k];
+            if (!light) light = engine_detail::to_exact_light(light_in);
+            int side = 0;
+            if (!impl.prep[f].degenerate) side = CGAL::sign(exact::plane_at_light(w.exact.face(context, f), *light));
+            out = exact::compute_exact_receiver(context, w.exact, f, instant, *light, side, light_in, grid, false,
+                                                w.stats);
+          }
+          const std::size_t at = result.at(r, instant);
+          result.lit_area[at] = out.lighting.lit_area;
+          result.lit_fraction[at] = out.lighting.lit_fraction;
+          result.faces_light[at] = out.lighting.faces_light ? 1 : 0;
+          result.lit_area_error_bound[at] = out.lighting.lit_area_error_bound;
+        },
+        report);
+  }
+  for (const Impl::Worker& w : workers) result.stats += w.stats;
+  if (options.progress) options.progress(Progress{instants, instants});
+  return result;
+}
+
+double hours_per_instant(const SunPeriod& period) {
+  if (period.times.empty()) return period.step_minutes / 60.0;
+  std::vector<UtcSeconds> times = period.times;
+  std::sort(times.begin(), times.end());
+  std::vector<UtcSeconds> gaps;
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (times[i] != times[i - 1]) gaps.push_back(times[i] - times[i - 1]);
+  if (gaps.empty()) return 1.0;
+  std::sort(gaps.begin(), gaps.end());
+  const std::size_t n = gaps.size();
+  // The median of an even count is the mean of the middle two (in seconds, exact in a double).
+  const double median = n % 2 ? static_cast<double>(gaps[n / 2])
+                              : 0.5 * (static_cast<double>(gaps[n / 2 - 1]) + static_cast<double>(gaps[n / 2]));
+  return median / 3600.0;
+}
+
+SunSeries sun_series(const Scene& scene) {
+  if (!scene.sun)
+    throw InputError({"", "sun"}, "the scene has no `sun` block: a series needs the sun's period or times");
+  SunSeries series;
+  series.all_instants = scene.sun_instants.size();
+  series.explicit_times = !scene.sun->times.empty();
+  series.hours_per_instant = hours_per_instant(*scene.sun);
+  for (std::size_t i = 0; i < scene.sun_instants.size(); ++i) {
+    const SunInstant& instant = scene.sun_instants[i];
+    if (instant.light_id == SunInstant::none) continue;
+    if (instant.light_id >= scene.lights.size() || scene.lights[instant.light_id].type != LightType::Directional)
+      throw InputError({"", "sun_instants[" + std::to_string(i) + "]"},
+                       "names light " + std::to_string(instant.light_id) + ", which is not a directional light of the scene");
+    series.lights.push_back(scene.lights[instant.light_id]);
+    series.times.push_back(instant.time);
+    series.instants.push_back(i);
+  }
+  return series;
+}
+
+std::vector<double> sun_hours(const SeriesResult& series, double hours) {
+  std::vector<double> out(series.faces.size(), 0.0);
+  for (std::size_t r = 0; r < series.faces.size(); ++r) {
+    double sum = 0.0;  // at most 1 per instant: a plain sum in time order loses nothing that matters
+    for (std::size_t i = 0; i < series.instants; ++i) sum += series.lit_fraction[series.at(r, i)];
+    out[r] = sum * hours;
+  }
+  return out;
+}
+
+std::vector<double> sun_hours_error_bound(const SeriesResult& series, double hours) {
+  std::vector<double> out(series.faces.size(), 0.0);
+  for (std::size_t r = 0; r < series.faces.size(); ++r) {
+    if (!(series.area[r] > 0.0)) continue;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < series.instants; ++i) sum += series.lit_area_error_bound[series.at(r, i)];
+    // Rounding of the division and the sum is far below the bound's own slack (it is one-sided:
+    // nudge up by a relative 1e-12 so that it stays a bound).
+    out[r] = sum / series.area[r] * hours * (1.0 + 1e-12);
+  }
+  return out;
+}
+
+SurfaceSeries surface_series(const Scene& scene, const SeriesResult& series, double hours) {
+  SurfaceSeries out;
+  out.instants = series.instants;
+  out.surfaces = named_surfaces(scene, true);
+  std::vector<std::size_t> row_of(scene.faces.size(), SIZE_MAX);
+  for (std::size_t r = 0; r < series.faces.size(); ++r) row_of[series.faces[r]] = r;
+  out.area.assign(out.surfaces.size(), 0.0);
+  out.lit_fraction.assign(out.surfaces.size() * series.instants, 0.0);
+  out.sun_hours.assign(out.surfaces.size(), 0.0);
+  std::vector<double> lit(series.instants);
+  for (std::size_t s = 0; s < out.surfaces.size(); ++s) {
+    std::fill(lit.begin(), lit.end(), 0.0);
+    double area = 0.0;
+    for (std::size_t f : out.surfaces[s].faces) {
+      const std::size_t r = f < row_of.size() ? row_of[f] : SIZE_MAX;
+      if (r == SIZE_MAX) continue;  // not computed (the series was made for another scene)
+      area += series.area[r];
+      for (std::size_t i = 0; i < series.instants; ++i) lit[i] += series.lit_area[series.at(r, i)];
+    }
+    out.area[s] = area;
+    double hours_sum = 0.0;
+    for (std::size_t i = 0; i < series.instants; ++i) {
+      // A single face: its own exact lit fraction, not lit_area / area re-rounded.
+      double fraction = 0.0;
+      if (out.surfaces[s].faces.size() == 1 && row_of[out.surfaces[s].faces[0]] != SIZE_MAX)
+        fraction = series.lit_fraction[series.at(row_of[out.surfaces[s].faces[0]], i)];
+      else if (area > 0.0)
+        fraction = std::min(1.0, lit[i] / area);
+      out.lit_fraction[s * series.instants + i] = fraction;
+      hours_sum += fraction;
+    }
+    out.sun_hours[s] = hours_sum * hours;
+  }
+  return out;
+}
+
+}  // namespace shadow

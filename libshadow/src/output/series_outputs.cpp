@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The datasets and report of a sun series (OutputDirectory::write_series, docs/series.md).
+#include "output/series_outputs.hpp"
+
+#include "output/vtk_datasets.hpp"
+
+#include <shadow/version.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkPolyData.h>
+#include <vtkStringArray.h>
+#include <vtkTypeInt32Array.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+
+namespace shadow::detail {
+namespace {
+
+using Json = nlohmann::ordered_json;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+vtkSmartPointer<vtkDoubleArray> double_array(const char* name, vtkIdType n) {
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfTuples(n);
+  a->Fill(kNaN);
+  return a;
+}
+
+/// A copy of `base` that shares its points, cells and arrays; new arrays go to the copy only.
+vtkSmartPointer<vtkPolyData> share(vtkPolyData* base) {
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->ShallowCopy(base);
+  return poly;
+}
+
+/// XML attribute text: & < > " escaped.
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene) {
+  vtkSmartPointer<vtkPolyData> poly = make_faces_polydata(scene, ShadowResult{});
+  const auto n = static_cast<vtkIdType>(scene.faces.size());
+  auto name = vtkSmartPointer<vtkStringArray>::New();
+  name->SetName("name");
+  name->SetNumberOfValues(n);
+  for (vtkIdType c = 0; c < n; ++c) name->SetValue(c, face_label(scene, static_cast<std::size_t>(c)));
+  poly->GetCellData()->AddArray(name);
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& series, std::size_t instant) {
+  vtkSmartPointer<vtkPolyData> poly = share(base);
+  const vtkIdType n = poly->GetNumberOfCells();
+  auto fraction = double_array("lit_fraction", n);
+  auto lit = double_array("lit_area", n);
+  auto facing = vtkSmartPointer<vtkTypeInt32Array>::New();
+  facing->SetName("faces_light");
+  facing->SetNumberOfTuples(n);
+  facing->Fill(0);
+  const bool fast = series.arithmetic == Arithmetic::Fast;
+  vtkSmartPointer<vtkDoubleArray> bound = fast ? double_array("lit_area_error_bound", n) : nullptr;
+  for (std::size_t r = 0; r < series.faces.size(); ++r) {
+    const auto cell = static_cast<vtkIdType>(series.faces[r]);
+    if (cell >= n) continue;
+    const std::size_t at = series.at(r, instant);
+    fraction->SetValue(cell, series.lit_fraction[at]);
+    lit->SetValue(cell, series.lit_area[at]);
+    facing->SetValue(cell, series.faces_light[at]);
+    if (bound) bound->SetValue(cell, series.lit_area_error_bound[at]);
+  }
+  vtkCellData* cd = poly->GetCellData();
+  cd->AddArray(fraction);
+  cd->AddArray(lit);
+  cd->AddArray(facing);
+  if (bound) cd->AddArray(bound);
+  cd->SetActiveScalars("lit_fraction");
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> make_series_faces(vtkPolyData* base, const SeriesResult& series,
+                                               const std::vector<double>& sun_hours,
+                                               const std::vector<double>& sun_hours_bound) {
+  vtkSmartPointer<vtkPolyData> poly = share(base);
+  const vtkIdType n = poly->GetNumberOfCells();
+  auto hours = double_array("sun_hours", n);
+  const bool fast = series.arithmetic == Arithmetic::Fast;
+  vtkSmartPointer<vtkDoubleArray> bound = fast ? double_array("sun_hours_error_bound", n) : nullptr;
+  for (std::size_t r = 0; r < series.faces.size(); ++r) {
+    const auto cell = static_cast<vtkIdType>(series.faces[r]);
+    if (cell >= n) continue;
+    hours->SetValue(cell, sun_hours[r]);
+    if (bound) bound->SetValue(cell, sun_hours_bound[r]);
+  }
+  poly->GetCellData()->AddArray(hours);
+  if (bound) poly->GetCellData()->AddArray(bound);
+  poly->GetCellData()->SetActiveScalars("sun_hours");
+  return poly;
+}
+
+void write_pvd(const std::vector<std::pair<double, std::string>>& steps, const std::filesystem::path& path,
+               const std::filesystem::path& shown_as) {
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (out) {
+    out << "<?xml version=\"1.0\"?>\n"
+           "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+           "  <Collection>\n";
+    char time[32];
+    for (const auto& [t, file] : steps) {
+      std::snprintf(time, sizeof time, "%.17g", t);
+      out << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\"" << xml_escape(file)
+          << "\"/>\n";
+    }
+    out << "  </Collection>\n</VTKFile>\n";
+    out.close();
+  }
+  if (!out) {
+    const int saved = errno;
+    throw OutputError(shown_as.string() + ": " + (saved != 0 ? std::strerror(saved) : "could not write the file"));
+  }
+}
+
+void write_series_report_json(std::ostream& out, const Scene& scene, const SunSeries& suns,
+                              const SeriesResult& series, const SurfaceSeries& surfaces,
+                              const std::vector<double>& sun_hours, const std::vector<double>& sun_hours_bound,
+                              const EnergyPlusSchedule& energyplus, std::size_t every, const RunInfo* run) {
+  const bool fast = series.arithmetic == Arithmetic::Fast;
+  Json report;
+  report["libshadow_version"] = version();
+  report["scene"] = scene.source.string();
+  Json run_json;
+  run_json["scene"] = run != nullptr && !run->scene.empty() ? run->scene : scene.source.string();
+  run_json["started_utc"] = run != nullptr && !run->started_utc.empty() ? Json(run->started_utc) : Json(nullptr);
+  run_json["libshadow_version"] = version();
+  run_json["command"] = "series";
+  run_json["arithmetic"] = fast ? "fast" : "exact";
+  if (run != nullptr) {
+    run_json["options"] = {{"threads", run->options.threads}, {"planarity_tolerance", run->planarity_tolerance},
+                           {"every", every}};
+  }
+  report["run"] = run_json;
+
+  Json s;
+  s["instants"] = suns.all_instants;
+  s["above_horizon"] = series.instants;
+  s["arithmetic"] = fast ? "fast" : "exact";
+  s["hours_per_instant"] = suns.hours_per_instant;
+  s["integration"] = suns.explicit_times
+                         ? "each instant counts for the median gap between consecutive times: "
+                           "sun_hours = sum(lit_fraction) * hours_per_instant"
+                         : "each instant stands for the step it starts: sun_hours = sum(lit_fraction) * step_minutes / 60";
+  if (scene.sun) {
+    const SunPeriod& p = *scene.sun;
+    s["site"] = {{"latitude", p.site.latitude}, {"longitude", p.site.longitude}, {"elevation", p.site.elevation}};
+    s["utc_offset"] = p.utc_offset_hours;
+    if (p.times.empty()) {
+      s["start"] = p.start;
+      s["end"] = p.end;
+      s["step_minutes"] = p.step_minutes;
+    }
+    s["north_axis"] = p.north_axis;
+    s["min_elevation"] = p.min_elevation;
+  }
+  if (!suns.times.empty()) {
+    s["first"] = format_series_time(suns.times.front());
+    s["last"] = format_series_time(suns.times.back());
+  }
+  s["pvd_every"] = every;
+  Json ep;
+  ep["written"] = energyplus.written;
+  if (energyplus.written) {
+    ep["file"] = "energyplus-shading.csv";
+    ep["year"] = energyplus.year;
+    ep["timesteps_per_hour"] = energyplus.timesteps_per_hour;
+    ep["rows"] = energyplus.rows;
+    ep["rows_in_period"] = energyplus.rows_in_period;
+  }
+  if (!energyplus.reason.empty()) ep["note"] = energyplus.reason;
+  s["energyplus"] = ep;
+  Json named = Json::array();
+  for (std::size_t i = 0; i < surfaces.surfaces.size(); ++i)
+    named.push_back({{"name", surfaces.surfaces[i].label},
+                     {"faces", surfaces.surfaces[i].faces},
+                     {"area", surfaces.area[i]},
+                     {"sun_hours", surfaces.sun_hours[i]}});
+  s["surfaces"] = named;
+  report["series"] = s;
+
+  Json faces = Json::array();
+  for (std::size_t r = 0; r < series.faces.size(); ++r) {
+    const std::size_t f = series.faces[r];
+    const Face& face = scene.faces[f];
+    Json entry = {{"id", f},
+                  {"mesh", face.mesh < scene.meshes.size() ? scene.meshes[face.mesh].name : std::string()},
+                  {"name", face_label(scene, f)},
+                  {"area", series.area[r]},
+                  {"sun_hours", sun_hours[r]}};
+    if (fast) entry["sun_hours_error_bound"] = sun_hours_bound[r];
+    faces.push_back(std::move(entry));
+  }
+  report["faces"] = faces;
+  const ShadowStats& st = series.stats;
+  Json stats = {{"receivers", st.receivers},           {"back_facing", st.back_facing},
+                {"candidate_pairs", st.candidate_pairs}, {"casting_pairs", st.casting_pairs},
+                {"unshadowed", st.unshadowed}};
+  if (fast) {
+    stats["fast_exact_fallbacks"] = st.fast_exact_fallbacks;
+    stats["fast_collapsed"] = st.fast_collapsed;
+  }
+  report["stats"] = stats;
+  Json warnings = Json::array();
+  for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
+  report["warnings"] = warnings;
+  out << report.dump(2) << '\n';
+}
+
+}  // namespace shadow::detail

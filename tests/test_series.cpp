@@ -1,0 +1,519 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The sun series: ShadowEngine::compute_series against one-light compute (bit for bit, exact and
+// fast), sun hours on analytic scenes, named-surface aggregation, and the series files.
+//
+// The suns are made here by hand (the `sun` block's solar position is another branch's work):
+// at an equinox (declination 0) the sun's direction at latitude phi and hour angle H is, in
+// east/north/up, (-sin H, -cos H sin phi, cos H cos phi); H = 15 deg per hour from solar noon.
+#include <shadow/shadow.hpp>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+/// The equinox sun at latitude `lat` (degrees), `hour` hours of solar time.
+glm::dvec3 equinox_sun(double lat, double hour) {
+  const double h = (hour - 12.0) * 15.0 * kPi / 180.0;
+  const double phi = lat * kPi / 180.0;
+  return {-std::sin(h), -std::cos(h) * std::sin(phi), std::cos(h) * std::cos(phi)};
+}
+
+/// UTC seconds of a UTC calendar time (POSIX timegm).
+shadow::UtcSeconds utc(int year, int month, int day, int hour = 0, int minute = 0) {
+  std::tm t{};
+  t.tm_year = year - 1900;
+  t.tm_mon = month - 1;
+  t.tm_mday = day;
+  t.tm_hour = hour;
+  t.tm_min = minute;
+  return static_cast<shadow::UtcSeconds>(timegm(&t));
+}
+
+/// Adds a sun period to `scene`: one instant every `step` minutes from `first` (UTC, at solar
+/// longitude 0 so that UTC is solar time) for `count` instants, the equinox sun at `lat` (so a
+/// day repeats: enough for the file structure tests). Instants below the horizon get no light.
+void add_equinox_period(shadow::Scene& scene, double lat, shadow::UtcSeconds first, std::size_t count, int step,
+                        const std::string& start, const std::string& end) {
+  shadow::SunPeriod period;
+  period.site.latitude = lat;
+  period.start = start;
+  period.end = end;
+  period.step_minutes = step;
+  scene.sun = period;
+  for (std::size_t i = 0; i < count; ++i) {
+    shadow::SunInstant instant;
+    instant.time = first + static_cast<shadow::UtcSeconds>(i) * step * 60;
+    const double hour = static_cast<double>((instant.time % 86400 + 86400) % 86400) / 3600.0;
+    const glm::dvec3 d = equinox_sun(lat, hour);
+    instant.position.to_light = d;
+    instant.position.elevation = std::asin(std::clamp(d.z, -1.0, 1.0)) * 180.0 / kPi;
+    if (d.z > 1e-9) {
+      instant.light_id = scene.lights.size();
+      scene.lights.push_back(shadow::directional_light("sun_" + std::to_string(i), d));
+    }
+    scene.sun_instants.push_back(instant);
+  }
+}
+
+std::vector<shadow::Light> city_suns() {
+  std::vector<shadow::Light> lights;
+  for (double hour = 7; hour <= 17; hour += 1.25) lights.push_back(shadow::directional_light("s", equinox_sun(48.0, hour)));
+  lights.push_back(shadow::directional_light("low", shadow::sun_direction(2.0, 250.0)));
+  return lights;
+}
+
+void expect_series_equals_compute(shadow::Arithmetic arithmetic) {
+  shadow::Scene scene = shadow::make_city(25, 60.0, 7);
+  shadow::validate_scene(scene);
+  const shadow::ShadowEngine engine(scene, 2);
+  const std::vector<shadow::Light> lights = city_suns();
+  shadow::SeriesOptions options;
+  options.threads = 2;
+  options.arithmetic = arithmetic;
+  std::size_t last_done = 0;
+  bool monotone = true;
+  options.progress = [&](const shadow::Progress& p) {
+    monotone = monotone && p.done >= last_done && p.total == lights.size();
+    last_done = p.done;
+  };
+  const shadow::SeriesResult series = engine.compute_series(lights, options);
+  EXPECT_TRUE(monotone);
+  EXPECT_EQ(last_done, lights.size());
+  ASSERT_EQ(series.instants, lights.size());
+  ASSERT_EQ(series.faces.size(), scene.faces.size());
+  std::size_t shadowed = 0;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    shadow::ShadowOptions one;
+    one.threads = 1;
+    one.polygons = false;
+    one.arithmetic = arithmetic;
+    const shadow::ShadowResult result = engine.compute(lights[i], i, one);
+    ASSERT_EQ(result.lighting.size(), series.faces.size());
+    for (std::size_t r = 0; r < series.faces.size(); ++r) {
+      const shadow::FaceLighting& fl = result.lighting[r];
+      ASSERT_EQ(fl.face_id, series.faces[r]);
+      const std::size_t at = series.at(r, i);
+      // Bit for bit: memcmp, so that even the sign of a zero must agree.
+      EXPECT_EQ(std::memcmp(&fl.lit_area, &series.lit_area[at], sizeof(double)), 0) << "face " << fl.face_id << " sun " << i;
+      EXPECT_EQ(std::memcmp(&fl.lit_fraction, &series.lit_fraction[at], sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(&fl.lit_area_error_bound, &series.lit_area_error_bound[at], sizeof(double)), 0);
+      EXPECT_EQ(fl.faces_light, series.faces_light[at] != 0);
+      EXPECT_EQ(std::memcmp(&fl.area, &series.area[r], sizeof(double)), 0);
+      if (fl.faces_light && fl.lit_fraction < 1.0) ++shadowed;
+    }
+  }
+  EXPECT_GT(shadowed, 20u) << "the city should shade something";
+  // The thread count changes nothing.
+  options.threads = 1;
+  options.progress = nullptr;
+  const shadow::SeriesResult single = engine.compute_series(lights, options);
+  EXPECT_EQ(single.lit_area, series.lit_area);
+  EXPECT_EQ(single.lit_area_error_bound, series.lit_area_error_bound);
+}
+
+TEST(Series, EqualsOneLightComputeBitForBitExact) { expect_series_equals_compute(shadow::Arithmetic::Exact); }
+
+TEST(Series, EqualsOneLightComputeBitForBitFast) {
+  expect_series_equals_compute(shadow::Arithmetic::Fast);
+}
+
+TEST(Series, RejectsUnusableLightsAndThreads) {
+  shadow::Scene scene = shadow::make_city(3, 20.0, 1);
+  const shadow::ShadowEngine engine(scene, 1);
+  std::vector<shadow::Light> lights{shadow::directional_light("ok", {0, 0, 1}),
+                                    shadow::directional_light("zero", {0, 0, 0})};
+  try {
+    (void)engine.compute_series(lights);
+    FAIL() << "a zero direction must be an InputError";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lights[1]"), std::string::npos) << e.what();
+  }
+  shadow::SeriesOptions options;
+  options.threads = 5000;
+  EXPECT_THROW((void)engine.compute_series({lights[0]}, options), shadow::InputError);
+  const shadow::SeriesResult empty = engine.compute_series({});
+  EXPECT_EQ(empty.instants, 0u);
+  EXPECT_TRUE(empty.lit_area.empty());
+}
+
+/// An open square and four walls standing apart (none shades another at any equinox sun), at
+/// 45 deg north, one instant an hour through a whole equinox day.
+shadow::Scene equinox_day_scene() {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  // Walls far from the square and each other, 3 m tall, fronts facing outward.
+  shadow::add_mesh(scene, "north_wall", {{{104, 100, 0}, {100, 100, 0}, {100, 100, 3}, {104, 100, 3}}});   // normal +y
+  shadow::add_mesh(scene, "south_wall", {{{200, 100, 0}, {204, 100, 0}, {204, 100, 3}, {200, 100, 3}}});   // normal -y
+  shadow::add_mesh(scene, "east_wall", {{{300, 100, 0}, {300, 104, 0}, {300, 104, 3}, {300, 100, 3}}});    // normal +x
+  scene.faces[1].name = "north facade";
+  scene.faces[2].name = "south facade";
+  scene.faces[3].name = "east facade";
+  add_equinox_period(scene, 45.0, utc(2026, 3, 20), 24, 60, "2026-03-20", "2026-03-20");
+  return scene;
+}
+
+TEST(Series, SunHoursOnAnEquinoxDay) {
+  shadow::Scene scene = equinox_day_scene();
+  shadow::validate_scene(scene);
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  // Above the horizon from 07:00 to 17:00 (06:00 and 18:00 are on it): 11 instants.
+  ASSERT_EQ(suns.lights.size(), 11u);
+  EXPECT_EQ(suns.all_instants, 24u);
+  EXPECT_EQ(suns.hours_per_instant, 1.0);
+  const shadow::ShadowEngine engine(scene, 2);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  const std::vector<double> hours = shadow::sun_hours(series, suns.hours_per_instant);
+  ASSERT_EQ(hours.size(), 4u);
+  EXPECT_EQ(hours[0], 11.0);  // the open square: every hour the sun is up
+  EXPECT_EQ(hours[1], 0.0);   // facing north: the sun is south of east-west all day
+  EXPECT_EQ(hours[2], 11.0);  // facing south: all day
+  EXPECT_EQ(hours[3], 5.0);   // facing east: 07:00 to 11:00 (at noon the sun is in its plane)
+  const shadow::SurfaceSeries surfaces = shadow::surface_series(scene, series, suns.hours_per_instant);
+  ASSERT_EQ(surfaces.surfaces.size(), 4u);
+  EXPECT_EQ(surfaces.surfaces[0].label, "face_0");
+  EXPECT_EQ(surfaces.surfaces[1].label, "north facade");
+  EXPECT_EQ(surfaces.sun_hours, hours);
+  EXPECT_EQ(shadow::sun_hours_error_bound(series, 1.0), std::vector<double>(4, 0.0));
+}
+
+TEST(Series, SunHoursUnderAnOverhang) {
+  // A 10 x 10 square under a 10 x 5 roof 1 m up over its southern half (y in [0, 5]). The noon
+  // equinox sun at 45 N is due south at 45 deg: the roof's shadow is the roof moved 1 m north,
+  // y in [1, 6], so the lit part is y in [0, 1) and (6, 10]: half the square.
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  shadow::add_mesh(scene, "roof", {shadow::rectangle_z(0, 0, 10, 5, 1)}, false);
+  shadow::SunPeriod period;
+  period.times = {utc(2026, 3, 20, 12)};
+  scene.sun = period;
+  shadow::SunInstant noon;
+  noon.time = period.times[0];
+  noon.light_id = 0;
+  scene.lights.push_back(shadow::directional_light("noon", equinox_sun(45.0, 12.0)));
+  scene.sun_instants.push_back(noon);
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  EXPECT_TRUE(suns.explicit_times);
+  EXPECT_EQ(suns.hours_per_instant, 1.0);  // a single time counts for an hour (docs/series.md)
+  const shadow::ShadowEngine engine(scene, 1);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  ASSERT_EQ(series.faces.size(), 1u);  // the roof receives nothing
+  EXPECT_NEAR(series.lit_fraction[0], 0.5, 1e-12);
+}
+
+TEST(Series, NamedSurfacesAddTheirFacesUp) {
+  shadow::Scene scene;
+  // Two pieces of one facade (6 m^2 and 2 m^2) facing south under a fin 1 m deep along its top,
+  // and an unnamed ground. At the three suns below the ratio of the sun's height to its
+  // southward run is 1 (noon: elevation 45 deg), so the fin shades the facade's upper half.
+  shadow::add_mesh(scene, "facade",
+                   {{{0, 0, 0}, {3, 0, 0}, {3, 0, 2}, {0, 0, 2}}, {{5, 0, 0}, {6, 0, 0}, {6, 0, 2}, {5, 0, 2}}});
+  shadow::add_mesh(scene, "fin", {shadow::rectangle_z(-3, -1, 9, 0, 2.0, false)}, false);
+  shadow::add_mesh(scene, "ground", {shadow::rectangle_z(-20, -20, 20, 20, -0.5)});
+  scene.faces[0].name = "facade, south";
+  scene.faces[1].name = "facade, south";
+  shadow::SunPeriod period;
+  period.times = {utc(2026, 3, 20, 10), utc(2026, 3, 20, 12), utc(2026, 3, 20, 13)};
+  scene.sun = period;
+  for (std::size_t i = 0; i < period.times.size(); ++i) {
+    shadow::SunInstant s;
+    s.time = period.times[i];
+    s.light_id = i;
+    scene.lights.push_back(shadow::directional_light("s", equinox_sun(45.0, 10.0 + (i == 0 ? 0.0 : i + 1.0))));
+    scene.sun_instants.push_back(s);
+  }
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  EXPECT_EQ(suns.hours_per_instant, 1.5);  // gaps 2 h and 1 h: median 1.5 h
+  const shadow::ShadowEngine engine(scene, 2);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  const shadow::SurfaceSeries surfaces = shadow::surface_series(scene, series, suns.hours_per_instant);
+  ASSERT_EQ(surfaces.surfaces.size(), 2u);
+  EXPECT_EQ(surfaces.surfaces[0].label, "facade, south");
+  EXPECT_EQ(surfaces.surfaces[0].faces, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(surfaces.surfaces[1].label, "face_3");
+  EXPECT_DOUBLE_EQ(surfaces.area[0], 8.0);
+  double hours = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double expected = (series.lit_area[series.at(0, i)] + series.lit_area[series.at(1, i)]) / 8.0;
+    EXPECT_DOUBLE_EQ(surfaces.lit_fraction[i], expected);
+    hours += surfaces.lit_fraction[i];
+    EXPECT_LT(surfaces.lit_fraction[i], 1.0);  // the fin shades the facade at each of these suns
+    EXPECT_GT(surfaces.lit_fraction[i], 0.0);
+  }
+  EXPECT_DOUBLE_EQ(surfaces.sun_hours[0], hours * 1.5);
+  // Noon (instant 1): shaded from z = 2 down to z = 1 on both pieces.
+  EXPECT_NEAR(series.lit_fraction[series.at(0, 1)], 0.5, 1e-12);
+  EXPECT_NEAR(surfaces.lit_fraction[1], 0.5, 1e-12);
+
+  std::ostringstream csv;
+  shadow::write_sunlit_csv(csv, suns, surfaces);
+  const std::string text = csv.str();
+  EXPECT_EQ(text.substr(0, text.find("\r\n")), "time,\"facade, south\",face_3");
+  EXPECT_NE(text.find("\r\n2026-03-20T12:00:00Z,"), std::string::npos) << text;
+  std::ostringstream ep;
+  EXPECT_FALSE(shadow::write_energyplus_shading_csv(ep, scene, suns, surfaces).written);  // explicit times
+  EXPECT_TRUE(ep.str().empty());
+}
+
+TEST(Series, TimesAndCsvFields) {
+  EXPECT_EQ(shadow::format_series_time(0), "1970-01-01T00:00:00Z");
+  EXPECT_EQ(shadow::format_series_time(utc(2028, 2, 29, 23, 45)), "2028-02-29T23:45:00Z");
+  EXPECT_EQ(shadow::format_series_time(utc(2026, 12, 31, 23, 59) + 59), "2026-12-31T23:59:59Z");
+  EXPECT_EQ(shadow::format_series_time(utc(1969, 12, 31, 12)), "1969-12-31T12:00:00Z");
+  EXPECT_EQ(shadow::format_series_time(utc(2100, 3, 1)), "2100-03-01T00:00:00Z");
+  for (shadow::UtcSeconds t = utc(1999, 1, 1); t < utc(2031, 1, 1); t += 86400 * 7 + 3601) {
+    std::tm tm{};
+    const std::time_t tt = static_cast<std::time_t>(t);
+    gmtime_r(&tt, &tm);
+    char expected[32];
+    std::strftime(expected, sizeof expected, "%Y-%m-%dT%H:%M:%SZ", &tm);
+    ASSERT_EQ(shadow::format_series_time(t), expected);
+  }
+  EXPECT_EQ(shadow::csv_field("plain"), "plain");
+  EXPECT_EQ(shadow::csv_field("a,b"), "\"a,b\"");
+  EXPECT_EQ(shadow::csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(shadow::csv_field("two\nlines"), "\"two\nlines\"");
+}
+
+/// series.pvd lists ceil(instants / every) readable .vtp files with lit_fraction.
+void check_pvd(const fs::path& dir, std::size_t instants, std::size_t every) {
+  std::ifstream pvd_file(dir / "series.pvd");
+  const std::string pvd((std::istreambuf_iterator<char>(pvd_file)), std::istreambuf_iterator<char>());
+  const std::regex file_re("file=\"([^\"]+)\"");
+  std::size_t datasets = 0;
+  for (auto it = std::sregex_iterator(pvd.begin(), pvd.end(), file_re); it != std::sregex_iterator(); ++it) {
+    const fs::path file = dir / (*it)[1].str();
+    ASSERT_TRUE(fs::exists(file)) << file;
+    if (datasets++ % 500 == 0) {  // reading them all would take long: a sample
+      vtkNew<vtkXMLPolyDataReader> reader;
+      reader->SetFileName(file.c_str());
+      reader->Update();
+      vtkPolyData* poly = reader->GetOutput();
+      ASSERT_EQ(poly->GetNumberOfCells(), 2);
+      ASSERT_NE(poly->GetCellData()->GetArray("lit_fraction"), nullptr);
+      EXPECT_EQ(poly->GetCellData()->GetArray("lit_fraction")->GetTuple1(0), 1.0);
+    }
+  }
+  EXPECT_EQ(datasets, (instants + every - 1) / every);
+}
+
+/// The year files (sunlit.csv, energyplus-shading.csv, series.pvd, faces.vtp, report.json) of a
+/// whole year in `dir`; checked here and, with LIBSHADOW_SERIES_FILES set, left there for the
+/// Python check (tests/check_series_files.py).
+void write_year(const fs::path& dir, int year, int step, std::size_t every) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  shadow::add_mesh(scene, "wall", {{{0, 12, 0}, {4, 12, 0}, {4, 12, 3}, {0, 12, 3}}});  // facing south
+  scene.faces[0].name = "court \"yard\"";
+  const bool leap = year % 4 == 0;
+  const std::size_t count = static_cast<std::size_t>((leap ? 366 : 365) * 24 * 60 / step);
+  add_equinox_period(scene, 45.0, utc(year, 1, 1), count, step, std::to_string(year) + "-01-01",
+                     std::to_string(year) + "-12-31");
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  const shadow::ShadowEngine engine(scene, 2);
+  shadow::SeriesOptions options;
+  options.threads = 2;
+  const shadow::SeriesResult series = engine.compute_series(suns.lights, options);
+  fs::remove_all(dir);
+  shadow::OutputDirectory out(dir);
+  const std::vector<fs::path> written = out.write_series(scene, suns, series, every);
+  ASSERT_FALSE(written.empty());
+  EXPECT_EQ(written.back().filename(), "report.json");
+
+  std::ifstream ep_file(dir / "energyplus-shading.csv");
+  std::string line;
+  std::getline(ep_file, line);
+  EXPECT_EQ(line, "Surface Name,\"court \"\"yard\"\"\",face_1");
+  std::size_t rows = 0;
+  std::string first, last;
+  while (std::getline(ep_file, line)) {
+    if (rows == 0) first = line;
+    last = line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, count);
+  char first_stamp[16];
+  std::snprintf(first_stamp, sizeof first_stamp, "01/01 00:%02d,", step % 60);
+  EXPECT_EQ(first.rfind(step == 60 ? "01/01 01:00," : first_stamp, 0), 0u) << first;
+  EXPECT_EQ(last.rfind("12/31 24:00,", 0), 0u) << last;
+
+  std::ifstream report_file(dir / "report.json");
+  const nlohmann::json report = nlohmann::json::parse(report_file);
+  EXPECT_EQ(report["series"]["instants"], count);
+  EXPECT_EQ(report["series"]["above_horizon"], suns.lights.size());
+  EXPECT_EQ(report["series"]["energyplus"]["rows"], count);
+  EXPECT_EQ(report["series"]["energyplus"]["rows_in_period"], count);
+  // The equinox sun every day: the square has sun whenever the sun is up (11 h a day at hourly
+  // steps: 07..17), the south-facing wall too.
+  const double days = leap ? 366 : 365;
+  if (step == 60) {
+    EXPECT_EQ(report["faces"][0]["sun_hours"], 11.0 * days);
+    EXPECT_EQ(report["series"]["surfaces"][1]["sun_hours"], 11.0 * days);
+  }
+
+  // series.pvd names readable .vtp files with lit_fraction; faces.vtp has sun_hours.
+  if (every == 0) {
+    EXPECT_FALSE(fs::exists(dir / "series.pvd"));
+  } else {
+    check_pvd(dir, suns.lights.size(), every);
+  }
+  vtkNew<vtkXMLPolyDataReader> faces;
+  faces->SetFileName((dir / "faces.vtp").c_str());
+  faces->Update();
+  ASSERT_NE(faces->GetOutput()->GetCellData()->GetArray("sun_hours"), nullptr);
+  if (step == 60) EXPECT_EQ(faces->GetOutput()->GetCellData()->GetArray("sun_hours")->GetTuple1(0), 11.0 * days);
+}
+
+fs::path files_dir(const std::string& name) {
+  const char* env = std::getenv("LIBSHADOW_SERIES_FILES");
+  if (env != nullptr && *env != '\0') return fs::path(env) / name;
+  return fs::temp_directory_path() / ("libshadow-series-" + std::to_string(getpid()) + "-" + name);
+}
+
+/// Writes and checks a year; the files stay only where LIBSHADOW_SERIES_FILES asked for them.
+void year_case(const std::string& name, int year, int step, std::size_t every) {
+  const fs::path dir = files_dir(name);
+  write_year(dir, year, step, every);
+  const char* env = std::getenv("LIBSHADOW_SERIES_FILES");
+  if (env == nullptr || *env == '\0') fs::remove_all(dir);
+}
+
+TEST(SeriesFiles, Year2026Hourly) { year_case("2026-hourly", 2026, 60, 6); }
+TEST(SeriesFiles, Year2028Hourly) { year_case("2028-hourly", 2028, 60, 24); }
+TEST(SeriesFiles, Year2026QuarterHours) { year_case("2026-15min", 2026, 15, 0); }
+
+TEST(SeriesFiles, ShortPeriodFillsTheRestOfTheYearWithZeros) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  add_equinox_period(scene, 45.0, utc(2026, 12, 21), 24 * 2, 30, "2026-12-21", "2026-12-21");
+  scene.sun->step_minutes = 30;
+  const shadow::EnergyPlusSchedule schedule = shadow::energyplus_schedule(scene);
+  EXPECT_TRUE(schedule.written);
+  EXPECT_EQ(schedule.rows, 365u * 48u);
+  EXPECT_EQ(schedule.rows_in_period, 48u);
+  EXPECT_NE(schedule.reason.find("the others are 0"), std::string::npos);
+  scene.sun->step_minutes = 90;
+  EXPECT_FALSE(shadow::energyplus_schedule(scene).written);
+}
+
+TEST(SeriesFiles, APeriodAllBelowTheHorizonWritesEmptyRowsAndZeros) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  shadow::SunPeriod period;
+  period.start = period.end = "2026-06-21";
+  period.step_minutes = 60;
+  scene.sun = period;
+  for (int h = 0; h < 24; ++h) {  // a polar night: every instant below the horizon, no light
+    shadow::SunInstant instant;
+    instant.time = utc(2026, 6, 21, h);
+    scene.sun_instants.push_back(instant);
+  }
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  EXPECT_TRUE(suns.lights.empty());
+  const shadow::ShadowEngine engine(scene, 1);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  EXPECT_EQ(shadow::sun_hours(series, 1.0), std::vector<double>{0.0});
+  const fs::path dir = files_dir("all-night");
+  fs::remove_all(dir);
+  {
+    shadow::OutputDirectory out(dir);
+    out.write_series(scene, suns, series, 1);
+  }
+  std::ifstream sunlit(dir / "sunlit.csv");
+  const std::string text((std::istreambuf_iterator<char>(sunlit)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text, "time,face_0\r\n");
+  std::ifstream ep(dir / "energyplus-shading.csv");
+  std::string line;
+  std::size_t rows = 0, zeros = 0;
+  std::getline(ep, line);
+  while (std::getline(ep, line)) {
+    ++rows;
+    zeros += line.substr(line.find(',')) == ",0" ? 1 : 0;
+  }
+  EXPECT_EQ(rows, 8760u);
+  EXPECT_EQ(zeros, 8760u);
+  EXPECT_TRUE(fs::exists(dir / "report.json"));
+  EXPECT_FALSE(fs::exists(dir / ".shadow.lock"));
+  fs::remove_all(dir);
+}
+
+TEST(SeriesFiles, FragmentsOfTheInstantsShownAddUpToTheirLitAreas) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  shadow::add_mesh(scene, "roof", {shadow::rectangle_z(0, 0, 10, 5, 1)}, false);
+  add_equinox_period(scene, 45.0, utc(2026, 3, 20), 24, 60, "2026-03-20", "2026-03-20");
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  const shadow::ShadowEngine engine(scene, 2);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  shadow::OutputDirectory::SeriesFiles files;
+  files.every = 5;
+  std::vector<std::size_t> asked;
+  files.fragments = [&](std::size_t i) {
+    asked.push_back(i);
+    const std::size_t light = scene.sun_instants[suns.instants[i]].light_id;
+    return engine.compute(scene.lights[light], light);
+  };
+  const fs::path dir = files_dir("fragments");
+  fs::remove_all(dir);
+  {
+    shadow::OutputDirectory out(dir);
+    out.write_series(scene, suns, series, files);
+  }
+  EXPECT_EQ(asked, (std::vector<std::size_t>{0, 5, 10}));
+  ASSERT_TRUE(fs::exists(dir / "fragments.pvd"));
+  for (std::size_t i : asked) {
+    char name[64];
+    std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((dir / name).c_str());
+    reader->Update();
+    vtkPolyData* poly = reader->GetOutput();
+    vtkDataArray* lit = poly->GetCellData()->GetArray("lit");
+    vtkDataArray* area = poly->GetCellData()->GetArray("area");
+    vtkDataArray* face = poly->GetCellData()->GetArray("face_id");
+    ASSERT_TRUE(lit && area && face) << name;
+    double lit_area = 0;
+    for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c)
+      if (face->GetTuple1(c) == 0 && lit->GetTuple1(c) == 1) lit_area += area->GetTuple1(c);
+    EXPECT_NEAR(lit_area, series.lit_area[series.at(0, i)], 1e-9) << name;
+  }
+  // Written again without fragments: the earlier fragment files and fragments.pvd go.
+  {
+    shadow::OutputDirectory out(dir);
+    out.write_series(scene, suns, series, 5);
+  }
+  EXPECT_FALSE(fs::exists(dir / "fragments.pvd"));
+  EXPECT_FALSE(fs::exists(dir / "series" / "fragments_00000.vtp"));
+  EXPECT_TRUE(fs::exists(dir / "series" / "sun_00000.vtp"));
+  fs::remove_all(dir);
+}
+
+TEST(SeriesFiles, NoSunBlockIsAnInputError) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+  EXPECT_THROW((void)shadow::sun_series(scene), shadow::InputError);
+}
+
+}  // namespace

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `shadow series` subcommand: the scene's sun instants as one job (docs/series.md).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstddef>
+#include <string>
+
+struct SeriesArgs {
+  std::string scene;
+  std::string outdir;
+  unsigned threads = 0;
+  bool fast = false;
+  bool quiet = false;
+  std::size_t every = 1;
+  bool fragments = false;
+  std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
+  double planarity_tolerance = 1e-6;
+};
+
+/// Declares the subcommand `series` and its options on `app`.
+CLI::App* add_series_command(CLI::App& app, SeriesArgs& args);
+
+/// Runs `shadow series`. @throws shadow::InputError, shadow::OutputError
+int run_series(const SeriesArgs& args);
