@@ -24,6 +24,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     Plane,
     PlaneShadow,
     Scene,
+    SeriesResult,
     ShadowEngine,
     ShadowResult,
     SolarSite,
@@ -32,14 +33,17 @@ from ._libshadow import (  # noqa: F401  (the public API)
     SunInstant,
     SunPeriod,
     SunPosition,
+    SunSeries,
     __version__,
     add_sun_lights,
     check_sun_period,
     compute_plane_shadows,
     compute_shadows,
     compute_sun_hours_map,
+    energyplus_shading_csv,
     expand_sun_period,
     format_iso8601_utc,
+    hours_per_instant,
     load_scene,
     make_city,
     parse_iso8601,
@@ -49,10 +53,14 @@ from ._libshadow import (  # noqa: F401  (the public API)
     sun_hours_instants,
     sun_hours_map_faces,
     sun_light_name,
+    sun_series,
     sun_to_light,
+    sunlit_csv,
     write_outputs,
+    write_series,
     write_sun_hours_vtp,
 )
+from . import _libshadow
 
 __all__ = [
     "InputError", "OutputError", "Light", "Material", "Mesh", "NamedSurface", "Plane", "PlaneShadow",
@@ -61,6 +69,8 @@ __all__ = [
     "load_scene", "make_city", "parse_iso8601", "parse_scene", "parse_utc_offset", "solar_position",
     "solar_positions", "sun_hours", "sun_light_name", "sun_to_light", "write_outputs",
     "compute_sun_hours_map", "sun_hours_instants", "sun_hours_map_faces", "write_sun_hours_vtp",
+    "SeriesResult", "SunSeries", "sun_series", "hours_per_instant", "sun_hours_error_bound", "surface_series",
+    "sunlit_csv", "energyplus_shading_csv", "write_series",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",
 ]
 
@@ -273,8 +283,23 @@ def _to_pandas(result):
     return pd.DataFrame(data)
 
 
+def _series_to_pandas(series, values="lit_fraction"):
+    """A SeriesResult as a DataFrame: one row per instant (indexed by UTC time for the scene's
+    suns), one column per face label; `values` is lit_fraction, lit_area or lit_area_error_bound."""
+    try:
+        import pandas as pd
+    except ImportError as e:
+        raise ImportError("to_pandas() needs pandas (Debian: python3-pandas)") from e
+    scene = series.scene
+    data = getattr(series, values)
+    columns = [scene.face_label(int(f)) for f in series.face_id]
+    index = pd.to_datetime(series.times, unit="s", utc=True) if len(series.times) == series.instants else None
+    return pd.DataFrame(data.T, index=index, columns=columns)
+
+
 ShadowResult.fragments = property(fragments, doc=Fragments.__doc__)
 ShadowResult.to_pandas = _to_pandas
+SeriesResult.to_pandas = _series_to_pandas
 
 
 # ---- the sun -------------------------------------------------------------------------------------
@@ -291,13 +316,35 @@ def solar_positions(site, times, north_axis=0.0, delta_t=69.0):
     }
 
 
+def _series_weight(series, weight):
+    if weight is not None:
+        return float(weight)
+    scene = series.scene
+    if scene.sun is None:
+        raise ValueError("sun_hours: the scene has no sun block; pass hours_per_instant")
+    return _libshadow.hours_per_instant(scene.sun)
+
+
+def surface_series(series, hours_per_instant=None):
+    """A SeriesResult per named surface (faces sharing a name add up): a dict with ``labels``,
+    ``surfaces`` (NamedSurface), ``area``, ``lit_fraction`` (surfaces x instants) and ``sun_hours``."""
+    return _libshadow._surface_series(series, _series_weight(series, hours_per_instant))
+
+
+def sun_hours_error_bound(series, hours_per_instant=None):
+    """Per row of a SeriesResult: a bound on |sun hours - exact sun hours| (0 for exact)."""
+    return _libshadow._series_sun_hours_error_bound(series, _series_weight(series, hours_per_instant))
+
+
 def sun_hours(result, hours_per_instant=None, by="surface"):
     """Sun hours over the scene's sun period: for each receiving face (``by="face"``) or named
     surface (``by="surface"``, faces sharing a name, area-weighted), the sum over the period's
     instants of the lit fraction times the hours each instant stands for (its step: left-rectangle
-    sums, docs/sun.md). Instants with the sun below the horizon add nothing. The weight is
-    step_minutes / 60 (explicit ``times`` weigh the same, as in sun_hours_instants) unless
-    ``hours_per_instant`` is given. compute_sun_hours_map gives the same totals per face
+    sums, docs/series.md). Instants with the sun below the horizon add nothing. The weight is
+    hours_per_instant(scene.sun) (step_minutes / 60, or the median gap of explicit ``times``)
+    unless ``hours_per_instant`` is given. ``result`` may be a ShadowResult (every sun light
+    computed) or a SeriesResult (ShadowEngine.compute_series(), the faster route; by "face" or
+    "surface"). compute_sun_hours_map gives the same totals per face
     (hour_area / area) together with the exact map of where on the face.
 
     ``by="mesh"`` gives one value per receiving mesh (area-weighted over its faces): one mesh per
@@ -305,11 +352,20 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
 
     Returns (labels, hours): a list of face, surface or mesh labels and a float64 array. The
     result must hold every sun light (compute without ``lights=``)."""
+    if isinstance(result, SeriesResult):
+        weight = _series_weight(result, hours_per_instant)
+        if by == "face":
+            return [result.scene.face_label(int(f)) for f in result.face_id], \
+                _libshadow._series_sun_hours(result, weight)
+        if by == "surface":
+            table = _libshadow._surface_series(result, weight)
+            return table["labels"], table["sun_hours"]
+        raise ValueError('sun_hours of a SeriesResult: by must be "face" or "surface", got %r' % (by,))
     scene = result.scene
     if scene.sun is None:
         raise ValueError("sun_hours: the scene has no sun block")
     if hours_per_instant is None:
-        hours_per_instant = scene.sun.step_minutes / 60.0
+        hours_per_instant = _libshadow.hours_per_instant(scene.sun)
     sun_lights = _np.array(sorted(i.light_id for i in scene.sun_instants if i.light_id is not None), dtype=_np.uint64)
     face_id, light_id = result.face_id, result.light_id
     is_sun = _np.isin(light_id, sun_lights)

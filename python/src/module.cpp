@@ -5,6 +5,7 @@
 // is used: the module is a client of the library like the CLI.
 #include <shadow/shadow.hpp>
 #include <shadow/sun.hpp>
+#include <shadow/series.hpp>
 #include <shadow/sun_hours.hpp>
 
 #include <pybind11/functional.h>
@@ -107,6 +108,23 @@ struct Engine {
   ScenePtr scene;
   std::unique_ptr<ShadowEngine> engine;
 };
+
+/// A series (faces x instants) with its scene and its suns.
+struct Series {
+  ScenePtr scene;
+  SeriesResult result;
+  std::vector<Light> lights;
+  std::vector<UtcSeconds> times;  ///< the instants' UTC times when they are the scene's suns
+};
+
+/// A row-major rows x cols table as a 2-D numpy array.
+template <class T, class Source>
+py::array_t<T> table(const std::vector<Source>& values, std::size_t rows, std::size_t cols) {
+  py::array_t<T> a({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+  T* out = a.mutable_data();
+  for (std::size_t i = 0; i < rows * cols && i < values.size(); ++i) out[i] = static_cast<T>(values[i]);
+  return a;
+}
 
 std::shared_ptr<Result> run_compute(const ScenePtr& scene, ShadowOptions options,
                                     const std::function<ShadowResult(const ShadowOptions&)>& compute) {
@@ -578,6 +596,30 @@ PYBIND11_MODULE(_libshadow, m) {
            py::arg("light"), py::arg("light_id"), py::arg("threads") = 0, py::arg("polygons") = true,
            py::arg("arithmetic") = "exact", py::arg("progress") = py::none(),
            "Any light, not necessarily in the scene; results carry light_id.")
+      .def("compute_series",
+           [](const Engine& e, std::optional<std::vector<Light>> lights, unsigned threads,
+              const std::string& arithmetic, const py::object& progress) {
+             auto out = std::make_shared<Series>();
+             out->scene = e.scene;
+             if (lights) {
+               out->lights = *lights;
+             } else {
+               SunSeries suns = sun_series(*e.scene);
+               out->lights = std::move(suns.lights);
+               out->times = std::move(suns.times);
+             }
+             SeriesOptions o;
+             o.threads = threads;
+             o.arithmetic = parse_arithmetic(arithmetic);
+             o.progress = wrap_progress(progress);
+             py::gil_scoped_release release;
+             out->result = e.engine->compute_series(out->lights, o);
+             return out;
+           },
+           py::arg("lights") = py::none(), py::arg("threads") = 0, py::arg("arithmetic") = "exact",
+           py::arg("progress") = py::none(),
+           "Lit areas of every receiving face under each light (None: the scene's suns, sun_series),\n"
+           "faces x instants, equal to compute_light per light bit for bit but faster.")
       .def("compute_planes",
            [](const Engine& e, std::optional<std::vector<std::size_t>> lights, double plane_window) {
              ShadowOptions o = make_options(0, true, lights, "exact", true, plane_window, py::none());
@@ -590,6 +632,111 @@ PYBIND11_MODULE(_libshadow, m) {
         return e.engine->face_area(i);
       }, py::arg("face_id"))
       .def_property_readonly("scene", [](const Engine& e) { return e.scene; });
+
+  // ---- sun series (series.hpp) -------------------------------------------------------------------
+  py::class_<SunSeries>(m, "SunSeries", "The scene's suns above the horizon, as the lights of a series.")
+      .def_readonly("lights", &SunSeries::lights)
+      .def_readonly("times", &SunSeries::times, "UTC, POSIX seconds")
+      .def_readonly("instants", &SunSeries::instants, "indices in Scene.sun_instants")
+      .def_readonly("all_instants", &SunSeries::all_instants)
+      .def_readonly("hours_per_instant", &SunSeries::hours_per_instant)
+      .def_readonly("explicit_times", &SunSeries::explicit_times);
+  m.def("sun_series", [](const Scene& s) { return sun_series(s); }, py::arg("scene"),
+        "The series of the scene's sun block. Raises InputError without one.");
+  m.def("hours_per_instant", &hours_per_instant, py::arg("period"),
+        "The hours each instant stands for: step_minutes / 60, or for explicit times the median gap.");
+
+  py::class_<Series, std::shared_ptr<Series>>(
+      m, "SeriesResult",
+      "Lit areas of every receiving face under every light of a series: rows are faces (face_id),\n"
+      "columns instants. 2-D arrays lit_area, lit_fraction, faces_light, lit_area_error_bound.")
+      .def_property_readonly("scene", [](const Series& x) { return x.scene; })
+      .def_property_readonly("face_id", [](const Series& x) {
+        return column<std::uint64_t>(x.result.faces, [](std::size_t f) { return f; });
+      })
+      .def_property_readonly("instants", [](const Series& x) { return x.result.instants; })
+      .def_property_readonly("times", [](const Series& x) { return x.times; },
+                             "UTC seconds of the columns (the scene's suns; empty for other lights)")
+      .def_property_readonly("lights", [](const Series& x) { return x.lights; })
+      .def_property_readonly("area", [](const Series& x) {
+        return column<double>(x.result.area, [](double a) { return a; });
+      })
+      .def_property_readonly("lit_area", [](const Series& x) {
+        return table<double>(x.result.lit_area, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("lit_fraction", [](const Series& x) {
+        return table<double>(x.result.lit_fraction, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("faces_light", [](const Series& x) {
+        return table<bool>(x.result.faces_light, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("lit_area_error_bound", [](const Series& x) {
+        return table<double>(x.result.lit_area_error_bound, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("stats", [](const Series& x) { return stats_dict(x.result.stats); })
+      .def_property_readonly("arithmetic", [](const Series& x) { return arithmetic_name(x.result.arithmetic); });
+
+  m.def("_series_sun_hours", [](const Series& x, double h) {
+    const std::vector<double> v = sun_hours(x.result, h);
+    return column<double>(v, [](double a) { return a; });
+  });
+  m.def("_series_sun_hours_error_bound", [](const Series& x, double h) {
+    const std::vector<double> v = sun_hours_error_bound(x.result, h);
+    return column<double>(v, [](double a) { return a; });
+  });
+  m.def("_surface_series", [](const Series& x, double h) {
+    const SurfaceSeries s = surface_series(*x.scene, x.result, h);
+    py::dict d;
+    std::vector<std::string> labels;
+    for (const NamedSurface& n : s.surfaces) labels.push_back(n.label);
+    d["labels"] = labels;
+    d["surfaces"] = s.surfaces;
+    d["area"] = column<double>(s.area, [](double a) { return a; });
+    d["lit_fraction"] = table<double>(s.lit_fraction, s.surfaces.size(), s.instants);
+    d["sun_hours"] = column<double>(s.sun_hours, [](double a) { return a; });
+    return d;
+  });
+  m.def("sunlit_csv",
+        [](const Series& x) {
+          const SunSeries suns = sun_series(*x.scene);
+          std::ostringstream out;
+          write_sunlit_csv(out, suns, surface_series(*x.scene, x.result, suns.hours_per_instant));
+          return out.str();
+        },
+        py::arg("series"), "sunlit.csv's text (the scene's suns): time, then each named surface's lit fraction.");
+  m.def("energyplus_shading_csv",
+        [](const Series& x) -> py::object {
+          const SunSeries suns = sun_series(*x.scene);
+          std::ostringstream out;
+          const EnergyPlusSchedule schedule = write_energyplus_shading_csv(
+              out, *x.scene, suns, surface_series(*x.scene, x.result, suns.hours_per_instant));
+          py::dict d;
+          d["written"] = schedule.written;
+          d["reason"] = schedule.reason;
+          d["year"] = schedule.year;
+          d["timesteps_per_hour"] = schedule.timesteps_per_hour;
+          d["rows"] = schedule.rows;
+          d["rows_in_period"] = schedule.rows_in_period;
+          return py::make_tuple(schedule.written ? py::object(py::str(out.str())) : py::object(py::none()), d);
+        },
+        py::arg("series"),
+        "energyplus-shading.csv for Schedule:File:Shading: (text or None, schedule dict with 'reason').");
+  m.def("write_series",
+        [](const Series& x, const std::filesystem::path& outdir, std::size_t every) {
+          std::vector<std::filesystem::path> paths;
+          {
+            py::gil_scoped_release release;
+            const SunSeries suns = sun_series(*x.scene);
+            OutputDirectory dir(outdir);
+            paths = dir.write_series(*x.scene, suns, x.result, every);
+          }
+          std::vector<std::string> out;
+          for (const auto& p : paths) out.push_back(p.string());
+          return out;
+        },
+        py::arg("series"), py::arg("outdir"), py::arg("every") = 1,
+        "Writes the series files of `shadow series` (sunlit.csv, energyplus-shading.csv, series.pvd\n"
+        "every `every`-th instant, faces.vtp with sun_hours, report.json last). Needs the scene's suns.");
 
   // ---- the exact sun-hours map (sun_hours.hpp) ----------------------------------------------------
   py::class_<SunHoursInstant>(m, "SunHoursInstant", "One instant of a sun path: a light and the hours it stands for.")
