@@ -66,18 +66,22 @@ Arithmetic parse_arithmetic(const std::string& name) {
 
 std::string arithmetic_name(Arithmetic a) { return a == Arithmetic::Fast ? "fast" : "exact"; }
 
-/// A Python progress callback run by the engine's reporting thread: it takes the GIL for the
-/// call; an exception it raises stops the computation and is raised again by compute().
+/// The engine's progress hook, run now and then by its reporting thread with the GIL taken: it
+/// raises a pending signal (Ctrl-C, a Jupyter kernel interrupt) as the Python exception, which
+/// stops the computation, then calls the user's callback, if any, whose exceptions stop it too.
 std::function<void(const Progress&)> wrap_progress(const py::object& callback) {
-  if (callback.is_none()) return {};
-  // The last copy of the callback may be dropped on any thread: take the GIL to release it.
-  std::shared_ptr<py::object> holder(new py::object(callback), [](py::object* o) {
-    py::gil_scoped_acquire gil;
-    delete o;
-  });
+  std::shared_ptr<py::object> holder;
+  if (!callback.is_none()) {
+    // The last copy of the callback may be dropped on any thread: take the GIL to release it.
+    holder.reset(new py::object(callback), [](py::object* o) {
+      py::gil_scoped_acquire gil;
+      delete o;
+    });
+  }
   return [holder](const Progress& p) {
     py::gil_scoped_acquire gil;
-    (*holder)(p.done, p.total);
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (holder) (*holder)(p.done, p.total);
   };
 }
 

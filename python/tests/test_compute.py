@@ -139,6 +139,24 @@ def test_the_gil_is_released_while_computing():
     assert ticks[0] > 1000
 
 
+def test_ctrl_c_stops_a_computation():
+    """A KeyboardInterrupt (Ctrl-C, a Jupyter interrupt) arriving while the engine works stops it
+    at its next progress report instead of after the whole run."""
+    import _thread
+
+    scene = libshadow.make_city(300, 150.0, 7, [libshadow.Light("sun", to_light=[0.3, -0.5, 1.0])])
+    engine = libshadow.ShadowEngine(scene, threads=1)
+    reports = []
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            engine.compute(threads=1, polygons=False, progress=lambda done, total: reports.append((done, total)))
+    finally:
+        timer.cancel()
+    assert reports and reports[-1][0] < reports[-1][1]  # stopped part way
+
+
 def test_engine_options_and_lights(default_scene):
     engine = libshadow.ShadowEngine(default_scene)
     full = engine.compute()
