@@ -17,13 +17,13 @@ if [[ "${LIBSHADOW_FUZZ_BUILD:-1}" == 1 ]]; then
   cmake --build --preset fuzz -j "$(nproc)"
 fi
 
-# Runs per target: sized so that the three together take a few minutes on 2 cores (the engine
-# runs the exact engine four times per accepted input). LIBSHADOW_FUZZ_RUNS overrides all three.
-declare -A runs=([fuzz_scene]=100000 [fuzz_obj]=300000 [fuzz_engine]=12000)
-declare -A max_len=([fuzz_scene]=4096 [fuzz_obj]=4096 [fuzz_engine]=256)
+# Runs per target: sized so that all of them together take a few minutes on 2 cores (the engine
+# runs the exact engine four times per accepted input). LIBSHADOW_FUZZ_RUNS overrides them all.
+declare -A runs=([fuzz_scene]=100000 [fuzz_obj]=300000 [fuzz_engine]=12000 [fuzz_energyplus]=100000)
+declare -A max_len=([fuzz_scene]=4096 [fuzz_obj]=4096 [fuzz_engine]=256 [fuzz_energyplus]=4096)
 # The engine's inputs are short: let them reach 5 faces of 8 vertices at once (libFuzzer otherwise
 # grows the length slowly and stays near 2 small faces for the whole bounded run).
-declare -A extra=([fuzz_scene]="" [fuzz_obj]="" [fuzz_engine]="-len_control=0")
+declare -A extra=([fuzz_scene]="" [fuzz_obj]="" [fuzz_engine]="-len_control=0" [fuzz_energyplus]="")
 # A cap on each target's time, so that a slow machine still ends (the run is then shorter, not
 # different: libFuzzer with -seed=1 explores in the same order).
 max_time="${LIBSHADOW_FUZZ_MAX_TIME:-150}"
@@ -34,7 +34,7 @@ export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
 work=build/fuzz/fuzz-run
 rm -rf "$work"
 status=0
-for target in fuzz_scene fuzz_obj fuzz_engine; do
+for target in fuzz_scene fuzz_obj fuzz_engine fuzz_energyplus; do
   dir="$work/$target"
   mkdir -p "$dir/corpus" "$dir/artifacts"
   n="${LIBSHADOW_FUZZ_RUNS:-${runs[$target]}}"

@@ -675,6 +675,12 @@ TEST(SceneErrors, InlinePolygonsAreCheckedVertexByVertex) {
       {"inline.json", "meshes[0].polygons[0]", "polygon has 2 vertices; at least 3 are needed"}));
   EXPECT_TRUE(ThrowsInputError(
       [&] { parse(R"({"meshes": [{"name": "m", "polygons": [{"a": 1}]}])" + light); },
+      {"inline.json", "meshes[0].polygons[0]", "unknown key \"a\""}));  // the object form: {"vertices", "name", ...}
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse(R"({"meshes": [{"name": "m", "polygons": [{"name": "w"}]}])" + light); },
+      {"inline.json", "meshes[0].polygons[0]", "missing \"vertices\""}));
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse(R"({"meshes": [{"name": "m", "polygons": [7]}])" + light); },
       {"inline.json", "meshes[0].polygons[0]", "expected a polygon"}));
   // A common slip: one level of brackets too few.
   EXPECT_TRUE(ThrowsInputError(
@@ -1067,10 +1073,10 @@ TEST(Orientation, OneInwardBoxAmongManyOutwardInOneMeshIsFound) {
   add_mesh(scene, "city", city);
   shadow::validate_scene(scene);
   ASSERT_EQ(scene.warnings.size(), 2u);
-  EXPECT_NE(scene.warnings[0].message.find("has 1 closed part (of 21; the first has face 72"), std::string::npos)
+  EXPECT_NE(scene.warnings[0].message.find("has 1 closed part (of 21; the first has faces 72"), std::string::npos)
       << scene.warnings[0].to_string();
   EXPECT_NE(scene.warnings[0].message.find("inconsistent face orientation"), std::string::npos);
-  EXPECT_NE(scene.warnings[1].message.find("has 1 closed part (of 21; the first has face 42"), std::string::npos)
+  EXPECT_NE(scene.warnings[1].message.find("has 1 closed part (of 21; the first has faces 42"), std::string::npos)
       << scene.warnings[1].to_string();
   EXPECT_NE(scene.warnings[1].message.find("whose faces point inward"), std::string::npos);
 }

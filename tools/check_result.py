@@ -137,9 +137,12 @@ def main(outdir):
     check(lights.GetNumberOfPoints() == len(report["lights"]), "lights.vtp: one point per light")
     to_light = lights.GetPointData().GetArray("to_light")
     direction = lights.GetPointData().GetArray("direction")
+    # VTK points are relative to report.json's "origin" when it has one (a city model far from 0).
+    origin = report.get("origin", [0.0, 0.0, 0.0])
     for i, light in enumerate(report["lights"][:lights.GetNumberOfPoints()]):
         if light["type"] == "point":
-            check(list(lights.GetPoint(i)) == light["position"], f"lights.vtp: light {i} is not at its position")
+            shifted = [p - o for p, o in zip(light["position"], origin)] if "origin" in report else light["position"]
+            check(list(lights.GetPoint(i)) == shifted, f"lights.vtp: light {i} is not at its position")
         else:
             d = light["to_light"]
             norm = math.sqrt(sum(x * x for x in d))

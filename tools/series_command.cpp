@@ -88,6 +88,15 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
       ->check(shadow_cli::positive_up_to(1.0));
+  series->add_flag("--orient-outward", args.orient_outward,
+                   "Turn the closed parts of every mesh outward (as for `shadow compute`)");
+  series->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
+  series->add_option("--from", args.from,
+                     "First local date of the sun period (YYYY-MM-DD), replacing the scene's or the model's "
+                     "(an EnergyPlus RunPeriod); its site stays");
+  series->add_option("--to", args.to, "Last local date of the sun period (YYYY-MM-DD, inclusive)");
+  series->add_option("--step", args.step_minutes, "Minutes between sun instants (dividing a day)")
+      ->check(shadow_cli::integer_in(1, 1440));
   return series;
 }
 
@@ -99,7 +108,24 @@ int run_series(const SeriesArgs& args) {
   run.planarity_tolerance = args.planarity_tolerance;
   shadow::LoadOptions load_options;
   load_options.planarity_tolerance = args.planarity_tolerance;
-  const shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  load_options.orient_outward = args.orient_outward;
+  load_options.cityjson_lod = args.lod;
+  shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  if (!args.from.empty() || !args.to.empty() || args.step_minutes > 0) {
+    // Another period at the same site: an IDF's RunPeriod, or a scene's `sun` block, overridden.
+    if (!scene.sun)
+      throw shadow::InputError({args.scene, "sun"}, "--from/--to/--step need a sun: the scene has no `sun` block "
+                                                    "(and the model no Site:Location)");
+    shadow::SunPeriod period = *scene.sun;
+    if (!period.times.empty() && (args.from.empty() || args.to.empty()))
+      throw shadow::InputError({args.scene, "sun.times"},
+                               "the sun is given by explicit times: give both --from and --to to replace them by a period");
+    period.times.clear();
+    if (!args.from.empty()) period.start = args.from;
+    if (!args.to.empty()) period.end = args.to;
+    if (args.step_minutes > 0) period.step_minutes = args.step_minutes;
+    shadow::replace_sun_lights(scene, period);
+  }
   shadow::SunSeries suns;
   try {
     suns = shadow::sun_series(scene);
@@ -170,7 +196,7 @@ int run_series(const SeriesArgs& args) {
     map_options.progress = [&](const shadow::Progress& p) { map_progress.update(p); };
     map = shadow::compute_sun_hours_map(engine, map_faces, shadow::sun_hours_instants(scene), map_options);
     map_progress.finish();
-    shadow::write_sun_hours_vtp(output.path() / "sun_hours.vtp", *map);
+    shadow::write_sun_hours_vtp(output.path() / "sun_hours.vtp", *map, scene);
   }
   std::vector<fs::path> written = output.write_series(scene, suns, series, files, &run);
   if (map) written.insert(written.end() - 1, output.path() / "sun_hours.vtp");  // report.json stays last

@@ -41,6 +41,8 @@ struct ComputeArgs {
   double planarity_tolerance = 1e-6;
   double plane_window = 0.0;
   std::string arithmetic = "exact";
+  bool orient_outward = false;
+  std::string lod;  // CityJSON level of detail; empty: the highest per object
 };
 
 /// Progress on a terminal: one line rewritten in place, on stderr so stdout stays clean.
@@ -78,6 +80,37 @@ fs::path paraview_script() {
   return fs::path(LIBSHADOW_SOURCE_DIR) / "tools" / "paraview" / "open_result.py";
 }
 
+/// Lit fractions per mesh (a building, a city object): the first meshes, each with its first
+/// lights; report.json's summary.per_mesh has them all.
+void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& result) {
+  constexpr std::size_t kMeshes = 20, kLights = 4;
+  std::vector<std::vector<double>> area(scene.meshes.size()), lit(scene.meshes.size());
+  for (const shadow::FaceLighting& fl : result.lighting) {
+    if (fl.face_id >= scene.faces.size() || fl.light_id >= scene.lights.size()) continue;
+    const std::size_t m = scene.faces[fl.face_id].mesh;
+    if (m >= scene.meshes.size()) continue;
+    if (area[m].empty()) {
+      area[m].assign(scene.lights.size(), 0.0);
+      lit[m].assign(scene.lights.size(), 0.0);
+    }
+    area[m][fl.light_id] += fl.area;
+    lit[m][fl.light_id] += fl.lit_area;
+  }
+  std::size_t shown = 0, with_results = 0;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (area[m].empty()) continue;
+    if (++with_results > kMeshes) continue;
+    ++shown;
+    std::printf("  mesh %s lit", scene.meshes[m].name.c_str());
+    for (std::size_t l = 0; l < scene.lights.size() && l < kLights; ++l)
+      std::printf("%s %s %.2f%%", l == 0 ? "" : ",", scene.lights[l].name.c_str(),
+                  area[m][l] > 0 ? 100.0 * lit[m][l] / area[m][l] : 0.0);
+    std::printf("%s\n", scene.lights.size() > kLights ? ", ... (report.json: summary.per_mesh)" : "");
+  }
+  if (with_results > shown)
+    std::printf("  ... %zu more meshes (report.json: summary.per_mesh)\n", with_results - shown);
+}
+
 int run_compute(const ComputeArgs& args) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -87,7 +120,15 @@ int run_compute(const ComputeArgs& args) {
   run.planarity_tolerance = args.planarity_tolerance;
   shadow::LoadOptions load_options;
   load_options.planarity_tolerance = args.planarity_tolerance;
+  load_options.orient_outward = args.orient_outward;
+  load_options.cityjson_lod = args.lod;
   shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  if (scene.lights.empty() && !scene.sun)
+    // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
+    throw shadow::InputError({args.scene, ""},
+                             "the scene has no lights (a model file carries none unless it gives a site and period "
+                             "for the sun): write a scene JSON that names this file as a mesh \"file\" and add "
+                             "\"lights\" or a \"sun\" block (docs/scene-format.md)");
   // Before computing: lock OUTDIR, clear what killed runs left, remove the old report.json (a
   // run killed from here on leaves no report, so nothing looks complete). Bad input above
   // leaves an earlier result alone.
@@ -136,6 +177,7 @@ int run_compute(const ComputeArgs& args) {
       std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
                   lit, area, area > 0 ? 100.0 * lit / area : 0.0);
     }
+    print_mesh_summary(scene, result);
     if (options.arithmetic == shadow::Arithmetic::Fast)
       std::printf("  arithmetic fast: lit areas within their bounds in report.json (%llu receivers computed exactly)\n",
                   static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
@@ -192,6 +234,12 @@ int main(int argc, char** argv) {
                       "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
       ->check(shadow_cli::positive_up_to(1.0));
+  compute->add_flag("--orient-outward", args.orient_outward,
+                    "Turn the closed parts of every mesh outward: make each part's faces consistent, then "
+                    "reverse a part whose faces point inward (each change is a warning)");
+  compute->add_option("--lod", args.lod,
+                      "CityJSON level of detail to read (\"1\", \"2\", \"2.2\"; default: the highest of each "
+                      "city object)");
 
   SeriesArgs series_args;
   CLI::App* series = add_series_command(app, series_args);

@@ -405,6 +405,47 @@ else
   fail "inward_closed_mesh_warns_once_and_in_the_report" "stderr: $(cat "$WORK/inward_cube_runs.stderr")"
 fi
 
+# --orient-outward turns the inward cube outward and says so, instead of warning about it.
+expect_success inward_cube_oriented "$WORK/orient/scene.json" --orient-outward
+if grep -q 'mesh "inward" (closed, faces 0, 1, 2, 3, 4 and 1 more.*pointed inward (negative signed volume): its 6 faces were reversed' \
+     "$WORK/inward_cube_oriented.stderr" && ! grep -q 'point inward' "$WORK/inward_cube_oriented.stderr"; then
+  pass "orient_outward_reverses_the_inward_cube"
+else
+  fail "orient_outward_reverses_the_inward_cube" "stderr: $(cat "$WORK/inward_cube_oriented.stderr")"
+fi
+
+# The bundled CityJSON example: three houses with windows cut out, named per surface.
+expect_success example_cityjson_street "$EXAMPLES/cityjson/scene.json"
+if grep -q '^  mesh street/house-3 lit sun ' "$WORK/example_cityjson_street.stdout" &&
+   grep -q '"kind": "Window"' "$WORK/out-example_cityjson_street/report.json" &&
+   grep -q '"name": "house-1/1"' "$WORK/out-example_cityjson_street/report.json"; then
+  pass "example_cityjson_street_is_named"
+else
+  fail "example_cityjson_street_is_named" "stdout: $(cat "$WORK/example_cityjson_street.stdout")"
+fi
+
+# A CityJSON model: as the scene it brings no lights (exit 2, one line); as a mesh file of a scene
+# with a sun it runs, and the summary gives lit fractions per city object.
+mkdir -p "$WORK/city"
+cat >"$WORK/city/b.city.json" <<'EOF'
+{"type": "CityJSON", "version": "2.0",
+ "transform": {"scale": [0.001, 0.001, 0.001], "translate": [85000, 446000, 0]},
+ "CityObjects": {"b1": {"type": "Building", "geometry": [{"type": "Solid", "lod": "1",
+   "boundaries": [[[[0,3,2,1]], [[4,5,6,7]], [[0,1,5,4]], [[1,2,6,5]], [[2,3,7,6]], [[3,0,4,7]]]]}]}},
+ "vertices": [[0,0,0],[8000,0,0],[8000,6000,0],[0,6000,0],[0,0,5000],[8000,0,5000],[8000,6000,5000],[0,6000,5000]]}
+EOF
+echo '{"meshes": [{"name": "city", "file": "b.city.json"}], "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, -0.4, 0.8]}]}' \
+  >"$WORK/city/scene.json"
+expect_input_error cityjson_without_lights "$WORK/city/b.city.json" "b.city.json" "the scene has no lights"
+expect_success cityjson_as_mesh_file "$WORK/city/scene.json"
+if grep -q '^  mesh city/b1 lit sun ' "$WORK/cityjson_as_mesh_file.stdout" &&
+   grep -q '"name": "b1/1"' "$WORK/out-cityjson_as_mesh_file/report.json" &&
+   grep -q '"origin": \[' "$WORK/out-cityjson_as_mesh_file/report.json"; then
+  pass "cityjson_faces_are_named_and_summarised_per_mesh"
+else
+  fail "cityjson_faces_are_named_and_summarised_per_mesh" "stdout: $(cat "$WORK/cityjson_as_mesh_file.stdout")"
+fi
+
 # ---- the output directory (item 12) ------------------------------------------------------------
 # A run identifies itself in report.json.
 if grep -q '"run": {' "$WORK/out-tiny_scene/report.json" && grep -q '"started_utc": "20[0-9-]*T[0-9:]*Z"' "$WORK/out-tiny_scene/report.json" &&

@@ -158,3 +158,62 @@ write("fuzz_engine", "extreme_coordinates.bin",
       engine(True, (-32, 31.75, 31.75), [face(0, [(-32, -32), (31.75, -32), (31.75, 31.75), (-32, 31.75)]),
                                          face(0, SMALL, c=-32)]))
 write("fuzz_engine", "empty.bin", b"")
+
+# --- fuzz_energyplus: IDF and epJSON text -> the EnergyPlus reader -> validate_scene ---------------
+EXAMPLE = os.path.join(HERE, "..", "..", "examples", "energyplus")
+for name in ("box-office.idf", "box-office.epJSON"):
+    with open(os.path.join(EXAMPLE, name), "rb") as example:
+        write("fuzz_energyplus", "example_" + name.replace("-", "_").replace(".", "_"), example.read())
+HEAD = "Version, 24.1;\nZone, Z, 30, 1, 2, 0;\n"
+WALL = ("BuildingSurface:Detailed, W, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+        "  0,0,3, 0,0,0, 4,0,0, 4,0,3;\n")
+
+
+def window(name, points, base="W"):
+    return ("FenestrationSurface:Detailed, %s, Window, G, %s, , , , 1, %d,\n  %s;\n"
+            % (name, base, len(points), ", ".join("%r,%r,%r" % p for p in points)))
+
+
+write("fuzz_energyplus", "door_on_the_floor_line.idf",
+      HEAD + WALL + window("D", [(1, 0, 2), (1, 0, 0), (2, 0, 0), (2, 0, 2)]))
+write("fuzz_energyplus", "windows_touching.idf",
+      HEAD + WALL + window("A", [(1, 0, 2), (1, 0, 1), (2, 0, 1), (2, 0, 2)])
+      + window("B", [(2, 0, 2), (2, 0, 1), (3, 0, 1), (3, 0, 2)]))
+write("fuzz_energyplus", "window_as_big_as_its_wall.idf",
+      HEAD + WALL + window("A", [(0, 0, 3), (0, 0, 0), (4, 0, 0), (4, 0, 3)]))
+write("fuzz_energyplus", "window_sticking_out_by_rounding.idf",
+      HEAD + WALL + window("A", [(3, 0, 2), (3, 0, 1), (4.000000001, 0, 1), (4.000000001, 0, 2)]))
+write("fuzz_energyplus", "window_overlapping.idf",
+      HEAD + WALL + window("A", [(1, 0, 2), (1, 0, 1), (2, 0, 1), (2, 0, 2)])
+      + window("B", [(1.5, 0, 2), (1.5, 0, 1), (3, 0, 1), (3, 0, 2)]))
+write("fuzz_energyplus", "window_reversed.idf",
+      HEAD + WALL + window("A", [(1, 0, 1), (1, 0, 2), (2, 0, 2), (2, 0, 1)]))
+write("fuzz_energyplus", "bowtie_wall_with_window.idf",
+      HEAD + "BuildingSurface:Detailed, W, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  0,0,3, 4,0,0, 0,0,0, 4,0,3;\n" + window("A", [(1, 0, 2), (1, 0, 1), (2, 0, 1), (2, 0, 2)]))
+write("fuzz_energyplus", "zero_area_wall_with_window.idf",
+      HEAD + "BuildingSurface:Detailed, W, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 3,\n"
+      "  0,0,0, 1,0,0, 2,0,0;\n" + window("A", [(0.5, 0, 0), (1, 0, 0), (1.5, 0, 0)]))
+write("fuzz_energyplus", "huge_coordinates.idf",
+      HEAD + "Shading:Site:Detailed, S, , 3, 1e150,0,0, -1e150,0,0, 0,1e150,1e150;\n"
+      "Shading:Site:Detailed, T, , 3, 1e300,0,0, 0,1,0, 0,0,1;\n")
+write("fuzz_energyplus", "not_numbers.idf",
+      HEAD + "Shading:Site:Detailed, S, , 3, nan,0,0, inf,0,0, 0x10,1e999,-0;\n")
+write("fuzz_energyplus", "unterminated.idf", HEAD + "Shading:Site:Detailed, S, , 3, 0,0,0, 1,0,0, 1,0,1")
+write("fuzz_energyplus", "comments_and_blank_objects.idf",
+      "! only a comment\n;;\n,;\nZone,Z;!x\nShading:Building:Detailed,S,,autocalculate,0,0,0,1,0,0,1,0,1,,,;\n")
+write("fuzz_energyplus", "simple_forms_and_shades.idf",
+      HEAD + "GlobalGeometryRules, LowerLeftCorner, Clockwise, Relative, Relative, World;\n"
+      "Building, B, 15;\nWall:Exterior, E, C, Z, , 180, 90, 0, 0, 0, 6, 3;\n"
+      "Roof, R, C, Z, , 0, 0, 0, 0, 3, 6, 4;\nWindow, G, C, E, , 1, 1, 1, 2, 1;\n"
+      "Door, D, C, E, 1, 4, 0, 1, 2;\nShading:Overhang, O, G, 0.2, 45, 0.5, 0.5, 1;\n"
+      "Shading:Fin:Projection, F, G, 0.1, 0.2, 0.3, 120, 0.5, 0.1, 0.2, 0.3, 60, 0.5;\n"
+      "Shading:Site, S, 200, 30, 5, -10, 0, 8, 3;\nShading:Building, T, 90, 90, 7, 0, 0, 2, 2;\n"
+      "Site:Location, L, 48.1, 11.6, 1, 520;\nRunPeriod, R1, 12, 1, , 1, 31, ;\nTimestep, 7;\n")
+write("fuzz_energyplus", "epjson_wrong_types.epJSON",
+      json.dumps({"Zone": {"Z": {}}, "BuildingSurface:Detailed": {"W": {
+          "surface_type": "Wall", "zone_name": "Z", "outside_boundary_condition": "Outdoors",
+          "number_of_vertices": [3], "vertices": [{"vertex_x_coordinate": True}, 5, None]}},
+          "Shading:Site:Detailed": []}))
+write("fuzz_energyplus", "epjson_not_an_object.epJSON", "[1, 2, 3]")
+write("fuzz_energyplus", "empty.idf", "")

@@ -48,6 +48,10 @@ struct Mesh {
   bool receiver = true;         ///< faces of this mesh receive light (see `receivers`)
   /// Name of the mesh's entry in Scene::materials; empty: the default Material{}.
   std::string material;
+  /// Validation turns the closed parts of this mesh outward (scene file `"orient": "outward"`,
+  /// or LoadOptions::orient_outward for every mesh): a part whose faces disagree is made
+  /// consistent, then a part with negative signed volume is reversed. Each change is a warning.
+  bool orient_outward = false;
 };
 
 enum class LightType { Directional, Point };
@@ -102,6 +106,12 @@ struct Scene {
   /// The scene file's `sun_hours_map`: indices into `meshes` of the meshes whose faces get the
   /// exact sun-hours map (sun_hours.hpp, `sun_hours.vtp`), in the order given; empty: no map.
   std::vector<std::size_t> sun_hours_map;
+  /// A point subtracted from every point written to the VTK files (faces, fragments, plane
+  /// shadows, lights) and stated in report.json as `origin`: a city model at projected
+  /// coordinates (1e5 to 1e7 m) then renders in ParaView without the jitter of float32
+  /// rendering. The scene's coordinates, and everything computed from them, stay as read.
+  /// Absent: points are written as they are. Set by the CityJSON reader (docs/cityjson.md).
+  std::optional<glm::dvec3> origin;
 
   /// True when face `face_id` belongs to a receiving mesh.
   [[nodiscard]] bool is_receiver(std::size_t face_id) const {

@@ -34,6 +34,13 @@ struct LoadOptions {
   /// that is not a regular file after following symlinks (a FIFO, /dev/zero, a directory), is
   /// an InputError naming the file.
   std::uintmax_t max_file_bytes = std::uintmax_t{2} << 30;
+  /// Turn the closed parts of every mesh outward during validation (Mesh::orient_outward for all
+  /// meshes; `shadow compute --orient-outward`).
+  bool orient_outward = false;
+  /// The CityJSON level of detail to read (`"1"`, `"2"`, `"2.2"`, compared with the geometry's
+  /// `lod` as written); empty: the highest level of each city object. A city object without
+  /// geometry at the chosen level is left out with a warning.
+  std::string cityjson_lod;
 };
 
 /// Reads a scene file and every mesh it references, and validates it.

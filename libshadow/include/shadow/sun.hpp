@@ -167,4 +167,11 @@ std::string sun_light_name(UtcSeconds time);
 /// @throws InputError (check_sun_period with the scene's source as file; a light name taken)
 void add_sun_lights(Scene& scene, const SunPeriod& period);
 
+/// Replaces the scene's sun period: removes the directional lights an earlier add_sun_lights
+/// appended (the lights named by Scene::sun_instants; other lights keep their order), then
+/// add_sun_lights(scene, period). `shadow series --from/--to/--step` uses it to run a model's
+/// own site over another period.
+/// @throws InputError like add_sun_lights
+void replace_sun_lights(Scene& scene, const SunPeriod& period);
+
 }  // namespace shadow

@@ -103,4 +103,9 @@ std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene);
 /// @throws OutputError
 void write_sun_hours_vtp(const std::filesystem::path& path, const SunHoursMap& map);
 
+/// write_sun_hours_vtp with the points shifted like the scene's other VTK files: relative to
+/// Scene::origin when it has one (a CityJSON model at projected coordinates; field data `origin`).
+/// @throws OutputError
+void write_sun_hours_vtp(const std::filesystem::path& path, const SunHoursMap& map, const Scene& scene);
+
 }  // namespace shadow

@@ -19,4 +19,31 @@ enum class FaceShape {
 /// exact Newell normal. Vertices must be finite, with consecutive duplicates removed.
 FaceShape classify_face_shape(const std::vector<glm::dvec3>& vertices);
 
+/// What cut_openings returns: the surface left once its openings are cut out, or the problem.
+struct OpeningsCut {
+  /// Polygons with holes: regions[r][0] is an outer ring, regions[r][1..] its holes. Every vertex
+  /// is one of the input vertices (nothing is computed); outer rings run the same way round as
+  /// `surface`, holes the other way.
+  std::vector<std::vector<std::vector<glm::dvec3>>> regions;
+  bool surface_not_simple = false;  ///< `surface` has zero area or crosses itself: nothing cut
+  int not_simple = -1;              ///< an opening with zero area or crossing itself, or -1
+  int outside = -1;                 ///< an opening not wholly inside `surface`, or -1
+  int overlap_first = -1;           ///< two openings whose insides overlap, or -1
+  int overlap_second = -1;
+  /// Some opening sticks out of `surface`, or two openings overlap, by no more than `tolerance`
+  /// (rounding in the model's coordinates): accepted, and the cut is then exact only up to
+  /// those slivers (new vertices where edges cross are put on the surface's plane in doubles).
+  bool within_tolerance = false;
+};
+
+/// Cuts the openings (windows, doors) out of the planar polygon `surface`, exactly: `surface`
+/// and the openings are charted on the dominant axis of the surface's Newell normal (the caller
+/// has checked that the openings lie in its plane) and subtracted with exact Boolean operations
+/// on the input doubles. An opening may touch the surface's boundary (a door on the floor line)
+/// and other openings, but must lie inside the closed surface and not overlap another opening,
+/// except by slivers no thicker than `tolerance` (a length in the chart: twice the area of each
+/// piece outside, or of each overlap, over its perimeter).
+OpeningsCut cut_openings(const std::vector<glm::dvec3>& surface,
+                         const std::vector<std::vector<glm::dvec3>>& openings, double tolerance = 0.0);
+
 }  // namespace shadow::detail

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "output/face_orientation.hpp"
 #include "output/names.hpp"
 
 #include <shadow/output.hpp>
@@ -112,7 +113,23 @@ Json face_json(const Scene& scene, std::size_t face_id,
     // Cells too thin to be written as double polygons (additive key, only when there are some).
     if (e->dropped_area > 0) lights.back()["dropped_area"] = e->dropped_area;
   }
-  return {{"id", face_id}, {"mesh", mesh}, {"area", entries.front()->area}, {"lights", lights}};
+  Json entry = {{"id", face_id}, {"mesh", mesh}};
+  if (face_id < scene.faces.size()) {
+    // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
+    // where it was read, which way it faces. NaN (a face without area) is written as null.
+    const Face& face = scene.faces[face_id];
+    const detail::FaceOrientation o = detail::face_orientation(face, detail::north_axis_of(scene));
+    auto number = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
+    entry["name"] = face.name;
+    entry["source"] = face.source.to_string();
+    if (!face.kind.empty()) entry["kind"] = face.kind;
+    entry["normal"] = vec3(o.normal);
+    entry["azimuth"] = number(o.azimuth);
+    entry["tilt"] = number(o.tilt);
+  }
+  entry["area"] = entries.front()->area;
+  entry["lights"] = lights;
+  return entry;
 }
 
 /// Pretty-printed (indent > 0) or compact text. Names come from user files: bytes that are not
@@ -185,6 +202,7 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   };
   const bool fast = result.arithmetic == Arithmetic::Fast;
   std::map<std::size_t, LightTotals> per_light;
+  std::map<std::pair<std::size_t, std::size_t>, LightTotals> per_mesh;  // (mesh, light)
   Sum total_area;
   std::size_t receiving_faces = 0;
 
@@ -196,6 +214,8 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   out << "{\n";
   member("libshadow_version", dump(Json(version())));
   member("scene", dump(Json(scene.source.string())));
+  // The VTK files' points are relative to this (Scene::origin; models at projected coordinates).
+  if (scene.origin) member("origin", dump(vec3(*scene.origin)));
   member("run", dump(run_json(scene, result, run), 2));
   member("lights", dump(lights_json(scene), 2));
   if (scene.sun) member("sun", dump(sun_json(scene), 2));
@@ -211,6 +231,11 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
       totals.area.add(entries[i]->area);
       totals.lit_area.add(entries[i]->lit_area);
       totals.bound.add(entries[i]->lit_area_error_bound);
+      if (face_id < scene.faces.size()) {
+        LightTotals& m = per_mesh[{scene.faces[face_id].mesh, entries[i]->light_id}];
+        m.area.add(entries[i]->area);
+        m.lit_area.add(entries[i]->lit_area);
+      }
     }
     ++receiving_faces;
     total_area.add(group.front()->area);
@@ -244,12 +269,28 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
                               {"lit_fraction", area > 0.0 ? lit / area : 0.0}});
     if (fast) per_light_json.back()["lit_area_error_bound"] = totals.bound.value() * (1 + 1e-12);
   }
+  // Lit fractions per mesh and light: a building's or a city object's share of sun at a glance.
+  Json per_mesh_json = Json::array();
+  for (auto it = per_mesh.begin(); it != per_mesh.end();) {
+    const std::size_t mesh = it->first.first;
+    Json lights_of_mesh = Json::array();
+    double mesh_area = 0.0;
+    for (; it != per_mesh.end() && it->first.first == mesh; ++it) {
+      const double area = it->second.area.value(), lit = it->second.lit_area.value();
+      mesh_area = area;
+      lights_of_mesh.push_back({{"light", it->first.second}, {"lit_area", lit}, {"lit_fraction", area > 0.0 ? lit / area : 0.0}});
+    }
+    per_mesh_json.push_back({{"mesh", mesh < scene.meshes.size() ? scene.meshes[mesh].name : std::string()},
+                             {"area", mesh_area},
+                             {"lights", std::move(lights_of_mesh)}});
+  }
   Json summary = {{"faces", scene.faces.size()},
                         {"receiving_faces", receiving_faces},
                         {"lights", scene.lights.size()},
                         {"fragments", result.fragments.size()},
                         {"total_area", total_area.value()},
-                        {"per_light", per_light_json}};
+                        {"per_light", per_light_json},
+                        {"per_mesh", per_mesh_json}};
   summary["arithmetic"] = fast ? "fast" : "exact";
   member("summary", dump(summary, 2));
 

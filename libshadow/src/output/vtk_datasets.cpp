@@ -3,6 +3,7 @@
 
 #include "geometry/unit_vector.hpp"
 #include "lighting/fragment_irradiance.hpp"
+#include "output/face_orientation.hpp"
 #include "output/names.hpp"
 
 #include <glm/common.hpp>
@@ -10,6 +11,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkFieldData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
@@ -204,10 +206,30 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
   auto receiver = make_array<vtkTypeInt32Array>("receiver", n);
   auto area = make_array<vtkDoubleArray>("area", n);
   area->Fill(kNaN);
+  auto name = vtkSmartPointer<vtkStringArray>::New();
+  name->SetName("name");
+  name->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto kind = vtkSmartPointer<vtkStringArray>::New();
+  kind->SetName("kind");
+  kind->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto source = vtkSmartPointer<vtkStringArray>::New();
+  source->SetName("source");
+  source->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto normal = make_array<vtkDoubleArray>("normal", n, 3);
+  auto azimuth = make_array<vtkDoubleArray>("azimuth", n);
+  auto tilt = make_array<vtkDoubleArray>("tilt", n);
+  const double north_axis = north_axis_of(scene);
   for (std::size_t c = 0; c < n; ++c) {
     const Face& face = scene.faces[c];
     const auto cell = static_cast<vtkIdType>(c);
     const bool known_mesh = face.mesh < scene.meshes.size();
+    const FaceOrientation o = face_orientation(face, north_axis);
+    name->SetValue(cell, face.name);
+    kind->SetValue(cell, face.kind);
+    source->SetValue(cell, face.source.to_string());
+    normal->SetTuple3(cell, o.normal.x, o.normal.y, o.normal.z);
+    azimuth->SetValue(cell, o.azimuth);
+    tilt->SetValue(cell, o.tilt);
     face_id->SetValue(cell, static_cast<vtkTypeInt64>(c));
     mesh_id->SetValue(cell, static_cast<vtkTypeInt32>(face.mesh));
     mesh->SetValue(cell, known_mesh ? scene.meshes[face.mesh].name : std::string());
@@ -242,6 +264,12 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
   cd->AddArray(mesh);
   cd->AddArray(receiver);
   cd->AddArray(area);
+  cd->AddArray(name);
+  cd->AddArray(kind);
+  cd->AddArray(source);
+  cd->AddArray(normal);
+  cd->AddArray(azimuth);
+  cd->AddArray(tilt);
   for (std::size_t k = 0; k < light_ids.size(); ++k) {
     cd->AddArray(fractions[k]);
     cd->AddArray(lit_areas[k]);
@@ -336,6 +364,22 @@ vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map) {
   total->SetValue(0, map.total_hours);
   poly->GetFieldData()->AddArray(total);
   return poly;
+}
+
+void shift_to_origin(vtkPolyData* poly, const Scene& scene) {
+  if (!scene.origin || poly == nullptr) return;
+  const glm::dvec3 origin = *scene.origin;
+  if (vtkPoints* points = poly->GetPoints()) {
+    for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i) {
+      double p[3];
+      points->GetPoint(i, p);
+      points->SetPoint(i, p[0] - origin.x, p[1] - origin.y, p[2] - origin.z);
+    }
+    points->Modified();
+  }
+  auto array = make_array<vtkDoubleArray>("origin", 1, 3);
+  array->SetTuple3(0, origin.x, origin.y, origin.z);
+  poly->GetFieldData()->AddArray(array);
 }
 
 }  // namespace shadow::detail

@@ -17,8 +17,10 @@ namespace shadow::detail {
 /// array irradiance (from the cell's light; NaN for lights that are not in `scene`).
 vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const ShadowResult& result);
 
-/// Every input face; cell arrays face_id, mesh_id, mesh, receiver, area and, per light with
-/// results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was computed).
+/// Every input face; cell arrays face_id, mesh_id, mesh, receiver, area, the face's identity
+/// (strings name, kind, source) and orientation (normal, 3 components; azimuth, tilt in degrees)
+/// and, per light with results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was
+/// computed).
 vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result);
 
 /// plane_shadows.vtp: one polygon cell per plane-shadow polygon; cell arrays plane_id, light_id,
@@ -31,5 +33,9 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
 /// sun_hours.vtp: one polygon cell per SunHoursCell; cell arrays sun_hours (active scalars),
 /// face_id, region_id, area; field data total_hours.
 vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map);
+/// Subtracts Scene::origin from every point of `poly` and records it as the field array `origin`
+/// (nothing when the scene has no origin): a model at projected coordinates renders in ParaView
+/// without float32 jitter, and the origin tells where it really is.
+void shift_to_origin(vtkPolyData* poly, const Scene& scene);
 
 }  // namespace shadow::detail

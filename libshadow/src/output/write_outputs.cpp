@@ -260,17 +260,22 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   // Each dataset is built just before it is written and freed right after: only one of them
   // is in memory at a time. Errors name the final file, which is what the user asked for.
   StagedFiles staged(outdir);
+  // Points relative to Scene::origin when it has one (report.json states it).
+  auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {
+    detail::shift_to_origin(poly, scene);
+    return poly;
+  };
   // Fragments first: by far the largest file, so a full disk shows up before the others.
   const auto fragments = staged.stage("fragments.vtp");
-  detail::write_polydata(detail::make_fragments_polydata(scene, result), fragments.temp,
+  detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
                          fragments.final_path);
   const auto faces = staged.stage("faces.vtp");
-  detail::write_polydata(detail::make_faces_polydata(scene, result), faces.temp, faces.final_path);
+  detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path);
   const auto plane_shadows = staged.stage("plane_shadows.vtp");
-  detail::write_polydata(detail::make_plane_shadows_polydata(result), plane_shadows.temp,
+  detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
                          plane_shadows.final_path);
   const auto lights = staged.stage("lights.vtp");
-  detail::write_polydata(detail::make_lights_polydata(scene), lights.temp, lights.final_path);
+  detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path);
   const auto vtm = staged.stage("scene.vtm");
   detail::write_vtm(
       {{"faces", "faces.vtp"},
@@ -321,7 +326,13 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
     const auto ep = staged.stage("energyplus-shading.csv");
     write_text(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
   }
-  const vtkSmartPointer<vtkPolyData> base = detail::make_series_base(scene);
+  // Points relative to Scene::origin when it has one, as in write() (report.json states it).
+  auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {
+    detail::shift_to_origin(poly, scene);
+    return poly;
+  };
+  // The instants' datasets share the base's points: shifting it shifts them all.
+  const vtkSmartPointer<vtkPolyData> base = shifted(detail::make_series_base(scene));
   std::vector<std::string> instant_files;
   if (every > 0) {
     make_output_directory(outdir / "series");
@@ -341,7 +352,8 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
         const ShadowResult result = files.fragments(i);
         std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
         const auto fragments = staged.stage(name);
-        detail::write_polydata(detail::make_fragments_polydata(scene, result), fragments.temp, fragments.final_path);
+        detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
+                               fragments.final_path);
         fragment_steps.emplace_back(t, name);
         instant_files.push_back(fs::path(name).filename().string());
       }
@@ -394,12 +406,18 @@ std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
 }
 
 void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map) {
+  write_sun_hours_vtp(path, map, Scene{});
+}
+
+void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map, const Scene& scene) {
   fs::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
   make_output_directory(dir);
   StagedFiles staged(dir);
   const auto target = staged.stage(path.filename().string());
-  detail::write_polydata(detail::make_sun_hours_polydata(map), target.temp, target.final_path);
+  vtkSmartPointer<vtkPolyData> poly = detail::make_sun_hours_polydata(map);
+  detail::shift_to_origin(poly, scene);  // like every other dataset of the run (Scene::origin)
+  detail::write_polydata(poly, target.temp, target.final_path);
   staged.commit();
 }
 

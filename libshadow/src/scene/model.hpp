@@ -22,6 +22,9 @@ struct Model {
   /// The sun the model implies (EnergyPlus Site:Location and RunPeriod); absent if none.
   std::optional<SunPeriod> sun;
   std::vector<Warning> warnings;
+  /// A point near the model for the VTK outputs (Scene::origin): set by readers of models at
+  /// projected coordinates (CityJSON); absent otherwise.
+  std::optional<glm::dvec3> origin;
 };
 
 }  // namespace shadow::scene_readers

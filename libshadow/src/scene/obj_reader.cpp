@@ -238,11 +238,14 @@ std::string read_text_file(const std::filesystem::path& file, const std::string&
 
 std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj_text,
                                                           const std::string& display_name,
-                                                          std::vector<std::size_t>* face_lines) {
+                                                          std::vector<std::size_t>* face_lines,
+                                                          std::vector<std::string>* face_groups) {
   std::vector<glm::dvec3> vertices;
+  std::string group;  // the latest `o` or `g` name: the name of the faces that follow
   std::vector<std::vector<glm::dvec3>> faces;
   std::vector<glm::dvec3> scratch;  // the face being read, reused
   if (face_lines != nullptr) face_lines->clear();
+  if (face_groups != nullptr) face_groups->clear();
   for_each_statement(obj_text, [&](std::string_view line, std::size_t line_number) {
     try {
       Tokens tokens(line);
@@ -267,8 +270,17 @@ std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj
                           (scratch.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed"};
         faces.emplace_back(scratch.begin(), scratch.end());  // one allocation of the right size
         if (face_lines != nullptr) face_lines->push_back(line_number);
+        if (face_groups != nullptr) face_groups->push_back(group);
+      } else if (keyword == "o" || keyword == "g") {
+        // The rest of the line, names separated by single spaces (`g a b` belongs to groups a
+        // and b: its name is "a b"); `g` alone goes back to no name.
+        group.clear();
+        for (std::string_view name = tokens.next(); !name.empty(); name = tokens.next()) {
+          if (!group.empty()) group += ' ';
+          group.append(name.data(), name.size());
+        }
       }
-      // vt, vn, vp, o, g, s, usemtl, mtllib, l, p, curves and unknown statements: not geometry
+      // vt, vn, vp, s, usemtl, mtllib, l, p, curves and unknown statements: not geometry
       // that casts shadows, ignored.
     } catch (const LineError& e) {
       throw InputError({display_name, "line " + std::to_string(line_number)}, e.problem);
@@ -280,8 +292,10 @@ std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj
 std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::path& obj_file,
                                                          const std::string& display_name,
                                                          std::vector<std::size_t>* face_lines,
-                                                         std::uintmax_t max_bytes) {
-  return parse_obj_with_lines(read_text_file(obj_file, display_name, max_bytes), display_name, face_lines);
+                                                         std::uintmax_t max_bytes,
+                                                         std::vector<std::string>* face_groups) {
+  return parse_obj_with_lines(read_text_file(obj_file, display_name, max_bytes), display_name, face_lines,
+                              face_groups);
 }
 
 }  // namespace detail

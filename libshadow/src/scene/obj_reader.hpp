@@ -12,16 +12,21 @@
 
 namespace shadow::detail {
 
-/// parse_obj that also reports the 1-based line of every face in `face_lines` (may be null).
+/// parse_obj that also reports the 1-based line of every face in `face_lines` (may be null), and
+/// in `face_groups` (may be null) the name of the latest `o` or `g` statement before each face
+/// (its names joined by single spaces; empty before any, or after a `g` without a name).
 std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj_text,
                                                           const std::string& display_name,
-                                                          std::vector<std::size_t>* face_lines);
+                                                          std::vector<std::size_t>* face_lines,
+                                                          std::vector<std::string>* face_groups = nullptr);
 
-/// read_obj that also reports the 1-based line of every face in `face_lines` (may be null).
+/// read_obj that also reports the 1-based line of every face in `face_lines` (may be null), and
+/// its `o`/`g` name in `face_groups` (may be null) as parse_obj_with_lines.
 std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::path& obj_file,
                                                          const std::string& display_name,
                                                          std::vector<std::size_t>* face_lines,
-                                                         std::uintmax_t max_bytes);
+                                                         std::uintmax_t max_bytes,
+                                                         std::vector<std::string>* face_groups = nullptr);
 
 /// The whole file as text; InputError {display_name, ""} "cannot open: <reason>" if unreadable
 /// or not a regular file, "file is larger than ..." beyond `max_bytes`.

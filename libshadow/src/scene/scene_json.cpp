@@ -5,17 +5,22 @@
 // (`lights[1].to_light`), or the line and column for malformed JSON, or the OBJ file and line.
 // The JSON is read in two passes: first the whole document is checked (cheap), then the mesh
 // files are read (possibly slow), so a typo in a light is reported before a large OBJ is loaded.
+#include "core/polygon_holes.hpp"
+#include "scene/model_dispatch.hpp"
 #include "scene/obj_reader.hpp"
 
 #include <shadow/scene_io.hpp>
 #include <shadow/sun.hpp>
 
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -234,18 +239,67 @@ class DocumentBuilder : public nlohmann::json_sax<Json> {
 
 // ---- the scene reader --------------------------------------------------------------------------
 
+/// An inline polygon: its vertices, and the optional name, kind and holes of the object form.
+struct InlinePolygon {
+  std::vector<glm::dvec3> vertices;
+  std::vector<std::vector<glm::dvec3>> holes;
+  std::string name, kind;
+};
+
 /// A mesh as found in the JSON; its faces are read in the second pass.
 struct PendingMesh {
   std::string path;  // "meshes[i]"
+  std::string name;
   std::string file;  // empty for inline polygons
-  std::vector<std::vector<glm::dvec3>> polygons;
+  std::vector<InlinePolygon> polygons;
   std::string material;  // name of a scene material, empty for the default
+  bool receiver = true;
+  bool orient_outward = false;
+  bool y_up = false;  // up_axis "y": (x, y, z) -> (x, -z, y) before the transform
+  std::optional<glm::dmat4> transform;
 };
+
+/// cos and sin of an angle in degrees, exact for multiples of 90 (a quarter turn then keeps
+/// coordinates exact).
+std::pair<double, double> cos_sin_degrees(double degrees) {
+  const double turns = degrees / 90.0;
+  if (turns == std::floor(turns) && std::fabs(turns) < 1e15) {
+    const long long q = ((static_cast<long long>(turns) % 4) + 4) % 4;
+    static constexpr double c[4] = {1, 0, -1, 0}, s[4] = {0, 1, 0, -1};
+    return {c[q], s[q]};
+  }
+  const double r = degrees * 3.14159265358979323846 / 180.0;
+  return {std::cos(r), std::sin(r)};
+}
+
+/// The rotation by `degrees` about the unit `axis` (Rodrigues), right-handed.
+glm::dmat4 rotation(const glm::dvec3& axis, double degrees) {
+  const auto [c, s] = cos_sin_degrees(degrees);
+  const double x = axis.x, y = axis.y, z = axis.z, t = 1 - c;
+  glm::dmat4 m(1.0);  // glm is column-major: m[column][row]
+  m[0][0] = t * x * x + c;     m[1][0] = t * x * y - s * z; m[2][0] = t * x * z + s * y;
+  m[0][1] = t * x * y + s * z; m[1][1] = t * y * y + c;     m[2][1] = t * y * z - s * x;
+  m[0][2] = t * x * z - s * y; m[1][2] = t * y * z + s * x; m[2][2] = t * z * z + c;
+  return m;
+}
+
+/// The vertex after the mesh's placement: up axis first, then the transform.
+glm::dvec3 place(const PendingMesh& mesh, glm::dvec3 v) {
+  if (mesh.y_up) v = glm::dvec3(v.x, -v.z, v.y);
+  if (mesh.transform) {
+    const glm::dmat4& m = *mesh.transform;
+    // Row by row, the translation added last: exact when the matrix is a pure translation.
+    v = glm::dvec3(m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z + m[3][0],
+                   m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z + m[3][1],
+                   m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z + m[3][2]);
+  }
+  return v;
+}
 
 class SceneReader {
  public:
-  SceneReader(const fs::path& scene_file, std::uintmax_t max_file_bytes)
-      : scene_file_(scene_file), file_(scene_file.string()), max_file_bytes_(max_file_bytes) {}
+  SceneReader(const fs::path& scene_file, const LoadOptions& options)
+      : scene_file_(scene_file), file_(scene_file.string()), max_file_bytes_(options.max_file_bytes), options_(options) {}
 
   Scene read(const std::string& text) {
     DocumentBuilder builder(text, file_);
@@ -265,14 +319,7 @@ class SceneReader {
 
     // Materials first: meshes name them.
     if (const Json* materials = find(document, "materials")) read_materials(*materials);
-    std::vector<PendingMesh> pending = read_meshes(meshes);
-    for (std::size_t i = 0; i < pending.size(); ++i) {
-      Mesh mesh;
-      mesh.name = mesh_names_[i];
-      mesh.file = pending[i].file;
-      mesh.material = pending[i].material;
-      scene_.meshes.push_back(std::move(mesh));
-    }
+    pending_ = read_meshes(meshes);
     if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/sun != nullptr);
     if (sun != nullptr) {
       // The suns' lights come after the scene's own; expanding is cheap next to loading meshes.
@@ -284,7 +331,9 @@ class SceneReader {
     if (const Json* camera = find(document, "camera")) read_camera(*camera);
     if (const Json* map = find(document, "sun_hours_map")) read_sun_hours_map(*map);
 
-    for (std::size_t i = 0; i < pending.size(); ++i) load_faces(i, std::move(pending[i]));
+    for (std::size_t i = 0; i < pending_.size(); ++i) load_faces(std::move(pending_[i]));
+    apply_model_receivers();
+    if (scene_.origin) place_origin();
     scene_.source = scene_file_;
     return std::move(scene_);
   }
@@ -361,7 +410,7 @@ class SceneReader {
       const std::string path = element("meshes", i);
       const Json& m = meshes[i];
       require_object(m, path, "a mesh");
-      check_keys(m, path, {"name", "file", "polygons", "material"});
+      check_keys(m, path, {"name", "file", "polygons", "material", "transform", "up_axis", "orient"});
       const std::string name = get_name(m, path, "each mesh needs a unique name");
       if (const auto [it, inserted] = seen.emplace(name, i); !inserted)
         fail(member(path, "name"), "mesh name " + quote(name) + " is already used by " +
@@ -376,6 +425,8 @@ class SceneReader {
         fail(path, "missing \"file\" (an OBJ file) or \"polygons\" (inline faces)");
       PendingMesh p;
       p.path = path;
+      p.name = name;
+      read_placement(m, path, p);
       if (const Json* material = find(m, "material")) {
         const std::string material_path = member(path, "material");
         if (!material->is_string())
@@ -393,53 +444,172 @@ class SceneReader {
         p.file = file->get<std::string>();
         if (p.file.empty()) fail(member(path, "file"), "the file name is empty");
       } else {
-        p.polygons = read_polygons(*polygons, member(path, "polygons"));
+        p.polygons = read_inline_polygons(*polygons, member(path, "polygons"));
       }
       pending.push_back(std::move(p));
     }
     return pending;
   }
 
-  std::vector<std::vector<glm::dvec3>> read_polygons(const Json& polygons, const std::string& path) const {
+  /// `transform`, `up_axis` and `orient` of a mesh.
+  void read_placement(const Json& m, const std::string& path, PendingMesh& p) const {
+    if (const Json* up = find(m, "up_axis")) {
+      const std::string up_path = member(path, "up_axis");
+      if (!up->is_string() || (*up != "z" && *up != "y"))
+        fail(up_path, "expected \"z\" (the default: +z is up) or \"y\" (+y is up, as most OBJ and glTF "
+                      "exports write it), got " + describe(*up));
+      p.y_up = *up == "y";
+    }
+    if (const Json* orient = find(m, "orient")) {
+      const std::string orient_path = member(path, "orient");
+      if (!orient->is_string() || (*orient != "outward" && *orient != "as-is"))
+        fail(orient_path, "expected \"outward\" (turn closed parts outward) or \"as-is\", got " + describe(*orient));
+      p.orient_outward = *orient == "outward";
+    }
+    if (const Json* t = find(m, "transform")) p.transform = read_transform(*t, member(path, "transform"));
+  }
+
+  /// A 4x4 row-major affine matrix, or {"translate", "rotate", "scale"} applied scale first,
+  /// then rotate, then translate.
+  glm::dmat4 read_transform(const Json& t, const std::string& path) const {
+    glm::dmat4 m(1.0);
+    if (t.is_array()) {
+      if (t.size() != 4) fail(path, "expected a 4x4 matrix (4 rows of 4 numbers, row-major), got " +
+                                        std::to_string(t.size()) + " rows");
+      for (std::size_t r = 0; r < 4; ++r) {
+        const std::string row_path = element(path, r);
+        if (!t[r].is_array() || t[r].size() != 4) fail(row_path, "expected a row of 4 numbers, got " + describe(t[r]));
+        for (std::size_t c = 0; c < 4; ++c)
+          m[static_cast<int>(c)][static_cast<int>(r)] = get_number(t[r][c], element(row_path, c));
+      }
+      if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+        fail(element(path, 3), "the last row must be [0, 0, 0, 1] (an affine transform)");
+    } else if (t.is_object()) {
+      check_keys(t, path, {"translate", "rotate", "scale"});
+      glm::dmat4 scale(1.0), rotate(1.0);
+      if (const Json* s = find(t, "scale")) {
+        const std::string s_path = member(path, "scale");
+        const glm::dvec3 k = s->is_number() ? glm::dvec3(get_number(*s, s_path)) : get_vec3(*s, s_path);
+        scale[0][0] = k.x;
+        scale[1][1] = k.y;
+        scale[2][2] = k.z;
+      }
+      if (const Json* r = find(t, "rotate")) {
+        const std::string r_path = member(path, "rotate");
+        if (r->is_object()) {
+          check_keys(*r, r_path, {"axis", "degrees"});
+          const glm::dvec3 axis = get_vec3(require(*r, r_path, "axis", "the rotation axis"), member(r_path, "axis"));
+          const double length = std::sqrt(axis.x * axis.x + axis.y * axis.y + axis.z * axis.z);
+          if (!(length > 0) || !std::isfinite(length)) fail(member(r_path, "axis"), "axis has zero length");
+          const double degrees = get_number(require(*r, r_path, "degrees", "the angle, counter-clockwise seen "
+                                                                            "from the axis' tip"),
+                                            member(r_path, "degrees"));
+          rotate = rotation(axis / length, degrees);
+        } else {
+          // [rx, ry, rz] in degrees: about x, then y, then z (fixed axes).
+          const glm::dvec3 angles = get_vec3(*r, r_path);
+          rotate = rotation({0, 0, 1}, angles.z) * rotation({0, 1, 0}, angles.y) * rotation({1, 0, 0}, angles.x);
+        }
+      }
+      glm::dmat4 translate(1.0);
+      if (const Json* d = find(t, "translate")) {
+        const glm::dvec3 v = get_vec3(*d, member(path, "translate"));
+        translate[3] = glm::dvec4(v, 1.0);
+      }
+      m = translate * rotate * scale;
+    } else {
+      fail(path, "expected a 4x4 matrix or {\"translate\", \"rotate\", \"scale\"}, got " + describe(t));
+    }
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
+                       m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2]) +
+                       m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]);
+    if (!(det != 0) || !std::isfinite(det)) fail(path, "the transform is singular (it flattens the mesh)");
+    return m;
+  }
+
+  /// Inline polygons: arrays of vertices, or objects {"vertices", "name", "kind", "holes"}.
+  std::vector<InlinePolygon> read_inline_polygons(const Json& polygons, const std::string& path) const {
     require_array(polygons, path);
-    std::vector<std::vector<glm::dvec3>> faces;
-    faces.reserve(polygons.size());
+    std::vector<InlinePolygon> out;
+    out.reserve(polygons.size());
     for (std::size_t j = 0; j < polygons.size(); ++j) {
       const std::string polygon_path = element(path, j);
       const Json& polygon = polygons[j];
-      if (!polygon.is_array())
-        fail(polygon_path, "expected a polygon (an array of [x, y, z] vertices), got " + describe(polygon));
-      if (!polygon.empty() && polygon[0].is_number())
-        fail(polygon_path, "expected a polygon (an array of [x, y, z] vertices), got an array of numbers "
-                           "(\"polygons\" is an array of polygons: [[[x, y, z], ...], ...])");
-      if (polygon.size() < 3)
-        fail(polygon_path, "polygon has " + std::to_string(polygon.size()) +
-                               (polygon.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed");
-      std::vector<glm::dvec3> face;
-      face.reserve(polygon.size());
-      for (std::size_t k = 0; k < polygon.size(); ++k)
-        face.push_back(get_vec3(polygon[k], element(polygon_path, k)));
-      faces.push_back(std::move(face));
+      InlinePolygon p;
+      if (polygon.is_object()) {
+        check_keys(polygon, polygon_path, {"vertices", "name", "kind", "holes"});
+        const Json& vertices = require(polygon, polygon_path, "vertices", "the polygon's [x, y, z] vertices");
+        p.vertices = read_ring(vertices, member(polygon_path, "vertices"));
+        for (const char* key : {"name", "kind"})
+          if (const Json* v = find(polygon, key)) {
+            if (!v->is_string()) fail(member(polygon_path, key), "expected a string, got " + describe(*v));
+            (std::string(key) == "name" ? p.name : p.kind) = v->get<std::string>();
+          }
+        if (const Json* holes = find(polygon, "holes")) {
+          const std::string holes_path = member(polygon_path, "holes");
+          require_array(*holes, holes_path);
+          for (std::size_t h = 0; h < holes->size(); ++h)
+            p.holes.push_back(read_ring((*holes)[h], element(holes_path, h)));
+        }
+      } else {
+        p.vertices = read_ring(polygon, polygon_path);
+      }
+      out.push_back(std::move(p));
     }
-    return faces;
+    return out;
   }
 
-  /// Second pass: the faces of mesh `index`, numbered after those of the meshes before it.
-  void load_faces(std::size_t index, PendingMesh pending) {
-    Mesh& mesh = scene_.meshes[index];
-    mesh.first_face = scene_.faces.size();
-    std::vector<std::vector<glm::dvec3>> polygons;
-    std::vector<std::size_t> lines;
+  std::vector<glm::dvec3> read_ring(const Json& polygon, const std::string& polygon_path) const {
+    if (!polygon.is_array())
+      fail(polygon_path, "expected a polygon (an array of [x, y, z] vertices, or an object with \"vertices\"), got " +
+                             describe(polygon));
+    if (!polygon.empty() && polygon[0].is_number())
+      fail(polygon_path, "expected a polygon (an array of [x, y, z] vertices), got an array of numbers "
+                         "(\"polygons\" is an array of polygons: [[[x, y, z], ...], ...])");
+    if (polygon.size() < 3)
+      fail(polygon_path, "polygon has " + std::to_string(polygon.size()) +
+                             (polygon.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed");
+    std::vector<glm::dvec3> face;
+    face.reserve(polygon.size());
+    for (std::size_t k = 0; k < polygon.size(); ++k) face.push_back(get_vec3(polygon[k], element(polygon_path, k)));
+    return face;
+  }
+
+  /// Second pass: the faces of a mesh, numbered after those of the meshes before it. A mesh
+  /// whose file is a model (CityJSON, EnergyPlus) becomes one scene mesh per model mesh, named
+  /// `<mesh>/<model mesh>`.
+  void load_faces(PendingMesh pending) {
+    const std::size_t first_mesh = scene_.meshes.size();
+    auto new_mesh = [&](const std::string& name) -> Mesh& {
+      Mesh mesh;
+      mesh.name = name;
+      mesh.file = pending.file;
+      mesh.material = pending.material;
+      mesh.receiver = pending.receiver;
+      mesh.orient_outward = pending.orient_outward;
+      mesh.first_face = scene_.faces.size();
+      scene_.meshes.push_back(std::move(mesh));
+      return scene_.meshes.back();
+    };
+    auto add_face = [&](std::vector<glm::dvec3> vertices, SourceLocation source, std::string name, std::string kind) {
+      for (glm::dvec3& v : vertices) v = place(pending, v);
+      Face face;
+      face.vertices = std::move(vertices);
+      face.mesh = scene_.meshes.size() - 1;
+      face.source = std::move(source);
+      face.name = std::move(name);
+      face.kind = std::move(kind);
+      scene_.faces.push_back(std::move(face));
+    };
     std::string display;
     if (!pending.file.empty()) {
-      const fs::path file = fs::path(pending.file);
+      const fs::path file = scene_file_.parent_path() / fs::path(pending.file);
       // Errors name the mesh file as the user would find it: relative to the scene's directory.
-      display = (scene_file_.parent_path() / file).lexically_normal().string();
+      display = file.lexically_normal().string();
+      std::string text;
       try {
-        polygons = detail::read_obj_with_lines(scene_file_.parent_path() / file, display, &lines,
-                                               max_file_bytes_);
+        text = detail::read_text_file(file, display, max_file_bytes_);
       } catch (const InputError& e) {
-        if (!e.where().place.empty()) throw;  // an error inside the OBJ: its file and line say all
         // The file could not be opened: say which mesh of the scene wanted it.
         std::string problem = e.problem();
         const std::string prefix = "cannot open";
@@ -447,23 +617,96 @@ class SceneReader {
         else problem = quote(display) + ": " + problem;
         fail(member(pending.path, "file"), problem);
       }
+      const scene_readers::ModelFormat format = scene_readers::model_format(file, text);
+      if (format != scene_readers::ModelFormat::none) {
+        text.clear();
+        scene_readers::Model model = scene_readers::read_model(format, file, display, options_);
+        for (Warning& w : model.warnings) scene_.warnings.push_back(std::move(w));
+        if (model.origin && !scene_.origin) scene_.origin = model.origin;
+        if (model.meshes.empty())
+          scene_.warnings.push_back({{file_, pending.path}, "mesh " + quote(pending.name) + " has no faces (the model " +
+                                                                quote(display) + " has no geometry that is read)"});
+        for (const Mesh& part : model.meshes) {
+          new_mesh(pending.name + "/" + part.name);
+          for (std::size_t f = part.first_face; f < part.first_face + part.face_count; ++f) {
+            Face& face = model.faces.at(f);
+            add_face(std::move(face.vertices), std::move(face.source), std::move(face.name), std::move(face.kind));
+          }
+          scene_.meshes.back().face_count = scene_.faces.size() - scene_.meshes.back().first_face;
+        }
+        finish_mesh(pending, first_mesh);
+        return;
+      }
+      std::vector<std::size_t> lines;
+      std::vector<std::string> groups;
+      std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups);
+      text.clear();
+      new_mesh(pending.name);
+      if (polygons.empty())
+        scene_.warnings.push_back({{file_, pending.path}, "mesh " + quote(pending.name) + " has no faces (no f statements in " +
+                                                              quote(display) + ")"});
+      for (std::size_t j = 0; j < polygons.size(); ++j)
+        add_face(std::move(polygons[j]), {display, "line " + std::to_string(lines[j])}, groups[j], "");
     } else {
-      polygons = std::move(pending.polygons);
+      new_mesh(pending.name);
+      if (pending.polygons.empty())
+        scene_.warnings.push_back({{file_, pending.path}, "mesh " + quote(pending.name) + " has no faces"});
+      for (std::size_t j = 0; j < pending.polygons.size(); ++j) {
+        InlinePolygon& polygon = pending.polygons[j];
+        const std::string path = element(member(pending.path, "polygons"), j);
+        if (polygon.holes.empty()) {
+          add_face(std::move(polygon.vertices), {file_, path}, polygon.name, polygon.kind);
+          continue;
+        }
+        // Holes: convex pieces of the polygon's own vertices, sharing its name.
+        const core::PolygonHolesSplit split =
+            core::split_polygon_with_holes_checked(polygon.vertices, polygon.holes, options_.planarity_tolerance);
+        if (!split.error.empty())
+          fail(split.ring < 0 ? member(path, "vertices") : element(member(path, "holes"), static_cast<std::size_t>(split.ring)),
+               split.error);
+        for (const std::vector<glm::dvec3>& piece : split.pieces) add_face(piece, {file_, path}, polygon.name, polygon.kind);
+      }
     }
-    if (polygons.empty())
-      scene_.warnings.push_back(
-          {{file_, pending.path}, "mesh " + quote(mesh.name) + " has no faces" +
-                                      (pending.file.empty() ? "" : " (no f statements in " + quote(display) + ")")});
-    for (std::size_t j = 0; j < polygons.size(); ++j) {
-      Face face;
-      face.vertices = std::move(polygons[j]);
-      face.mesh = index;
-      face.source = pending.file.empty()
-                        ? SourceLocation{file_, element(member(pending.path, "polygons"), j)}
-                        : SourceLocation{display, "line " + std::to_string(lines[j])};
-      scene_.faces.push_back(std::move(face));
+    scene_.meshes.back().face_count = scene_.faces.size() - scene_.meshes.back().first_face;
+    finish_mesh(pending, first_mesh);
+  }
+
+  /// A model asked for an origin for the VTK outputs (it sits at projected coordinates); after
+  /// placement the scene may not be far away any more: whole metres below the placed scene when
+  /// it is still 1e4 or more from (0, 0, 0), else none.
+  void place_origin() {
+    glm::dvec3 low(std::numeric_limits<double>::infinity()), high(-std::numeric_limits<double>::infinity());
+    for (const Face& face : scene_.faces)
+      for (const glm::dvec3& v : face.vertices) {
+        low = glm::dvec3(std::min(low.x, v.x), std::min(low.y, v.y), std::min(low.z, v.z));
+        high = glm::dvec3(std::max(high.x, v.x), std::max(high.y, v.y), std::max(high.z, v.z));
+      }
+    scene_.origin.reset();
+    if (!(low.x <= high.x) || !std::isfinite(low.x + low.y + low.z + high.x + high.y + high.z)) return;
+    if (std::max({std::fabs(low.x), std::fabs(low.y), std::fabs(high.x), std::fabs(high.y)}) >= 1e4)
+      scene_.origin = glm::dvec3(std::floor(low.x), std::floor(low.y), std::floor(low.z));
+  }
+
+  /// A mirroring placement (negative determinant, or up_axis with a mirroring transform) turns
+  /// every face's front to its back: the faces of the mesh are reversed so that they keep facing
+  /// where the model meant them to face.
+  void finish_mesh(const PendingMesh& pending, std::size_t first_mesh) {
+    if (!pending.transform) return;
+    const glm::dmat4& m = *pending.transform;
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[2][1] * m[1][2]) -
+                       m[1][0] * (m[0][1] * m[2][2] - m[2][1] * m[0][2]) +
+                       m[2][0] * (m[0][1] * m[1][2] - m[1][1] * m[0][2]);
+    if (!(det < 0)) return;
+    std::size_t reversed = 0;
+    for (std::size_t f = scene_.meshes[first_mesh].first_face; f < scene_.faces.size(); ++f) {
+      Face& face = scene_.faces[f];
+      std::reverse(face.vertices.begin(), face.vertices.end());
+      ++reversed;
     }
-    mesh.face_count = scene_.faces.size() - mesh.first_face;
+    scene_.warnings.push_back({{file_, member(pending.path, "transform")},
+                               "the transform mirrors the mesh (negative determinant): the vertex order of its " +
+                                   std::to_string(reversed) + " faces was reversed so that their fronts keep facing "
+                                   "outward"});
   }
 
   // -- materials --
@@ -712,16 +955,36 @@ class SceneReader {
 
   void read_receivers(const Json& receivers) {
     require_array(receivers, "receivers");
-    for (Mesh& mesh : scene_.meshes) mesh.receiver = false;
+    for (PendingMesh& mesh : pending_) mesh.receiver = false;
     for (std::size_t i = 0; i < receivers.size(); ++i) {
       const std::string path = element("receivers", i);
       const Json& r = receivers[i];
       if (!r.is_string()) fail(path, "expected a mesh name, got " + describe(r));
       const std::string& name = r.get_ref<const std::string&>();
       const auto it = std::find(mesh_names_.begin(), mesh_names_.end(), name);
-      if (it == mesh_names_.end())
+      if (it != mesh_names_.end()) {
+        pending_[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
+        continue;
+      }
+      // `<mesh>/<model mesh>`: one building of a model file; checked once the model is read.
+      const std::size_t slash = name.find('/');
+      const auto parent = slash == std::string::npos ? mesh_names_.end()
+                                                     : std::find(mesh_names_.begin(), mesh_names_.end(), name.substr(0, slash));
+      if (parent == mesh_names_.end() || pending_[static_cast<std::size_t>(parent - mesh_names_.begin())].file.empty())
         fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
-      scene_.meshes[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
+      model_receivers_.push_back({path, name});
+    }
+  }
+
+  /// Receivers that name one mesh of a model (`city/B`): those meshes receive, the model's others
+  /// do not (unless the model's own name is listed too).
+  void apply_model_receivers() {
+    for (const auto& [path, name] : model_receivers_) {
+      const auto it = std::find_if(scene_.meshes.begin(), scene_.meshes.end(), [&](const Mesh& m) { return m.name == name; });
+      if (it == scene_.meshes.end())
+        fail(path, "no mesh is named " + quote(name) + " (the model " + quote(name.substr(0, name.find('/'))) +
+                       " has no mesh " + quote(name.substr(name.find('/') + 1)) + ")");
+      it->receiver = true;
     }
   }
 
@@ -745,8 +1008,11 @@ class SceneReader {
   fs::path scene_file_;
   std::string file_;
   std::uintmax_t max_file_bytes_;
+  LoadOptions options_;
   Scene scene_;
   std::vector<std::string> mesh_names_;
+  std::vector<PendingMesh> pending_;
+  std::vector<std::pair<std::string, std::string>> model_receivers_;  // (JSON path, mesh name)
 };
 
 }  // namespace
@@ -754,7 +1020,7 @@ class SceneReader {
 Scene parse_scene(const std::string& json_text, const fs::path& scene_file, const LoadOptions& options) {
   Scene scene;
   try {
-    scene = SceneReader(scene_file, options.max_file_bytes).read(json_text);
+    scene = SceneReader(scene_file, options).read(json_text);
   } catch (const nlohmann::json::exception& e) {
     // Not expected (values are type-checked before use); still an input error, never a crash.
     throw InputError({scene_file.string(), ""}, clean_reason(e.what()));
@@ -764,8 +1030,31 @@ Scene parse_scene(const std::string& json_text, const fs::path& scene_file, cons
 }
 
 Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
-  return parse_scene(detail::read_text_file(scene_file, scene_file.string(), options.max_file_bytes),
-                     scene_file, options);
+  std::string text = detail::read_text_file(scene_file, scene_file.string(), options.max_file_bytes);
+  const scene_readers::ModelFormat format = scene_readers::model_format(scene_file, text);
+  if (format == scene_readers::ModelFormat::none) return parse_scene(text, scene_file, options);
+  // A whole model as the scene: its meshes and faces, its sun if it implies one, no lights.
+  text.clear();
+  scene_readers::Model model = scene_readers::read_model(format, scene_file, scene_file.string(), options);
+  Scene scene;
+  scene.source = scene_file;
+  scene.meshes = std::move(model.meshes);
+  scene.faces = std::move(model.faces);
+  scene.warnings = std::move(model.warnings);
+  scene.origin = model.origin;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    Mesh& mesh = scene.meshes[m];
+    if (mesh.file.empty()) mesh.file = scene_file.string();
+    for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f)
+      scene.faces[f].mesh = m;
+  }
+  if (scene.faces.empty())
+    throw InputError({scene_file.string(), ""}, "the model has no geometry that libshadow reads (see docs/cityjson.md "
+                                                "and docs/energyplus.md for what is read)");
+  // The sun the model implies (EnergyPlus Site:Location and RunPeriod) lights it.
+  if (model.sun) add_sun_lights(scene, *model.sun);
+  validate_scene(scene, options);
+  return scene;
 }
 
 }  // namespace shadow

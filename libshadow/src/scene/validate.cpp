@@ -137,21 +137,37 @@ struct EdgeKey {
   }
 };
 
-/// Warns about the closed parts of a mesh (faces joined by shared edges, every edge shared by
-/// exactly two faces of the part) whose faces point inward or are oriented inconsistently; a
-/// face wound the wrong way otherwise reads silently as attached shadow. Parts are checked one by
-/// one, so one inward box among a mesh of a thousand outward ones is still found. Open parts (a
-/// ground plane, a single wall, a box without a lid) say nothing about inside and outside and are
-/// left alone. At most one warning of each kind per mesh, with the number of parts and the first.
-void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<Warning>& warnings) {
+/// "faces 3 (\"wall\"), 4, 7 (\"roof\") and 12 more": the first few faces of a part by id and name.
+std::string list_faces(const Scene& scene, const std::vector<std::size_t>& ids) {
+  constexpr std::size_t kShown = 5;
+  std::string text = ids.size() == 1 ? "face " : "faces ";
+  for (std::size_t i = 0; i < ids.size() && i < kShown; ++i) {
+    if (i > 0) text += ", ";
+    text += std::to_string(ids[i]);
+    const Face& face = scene.faces[ids[i]];
+    if (!face.name.empty()) text += " (\"" + face.name + "\")";
+  }
+  if (ids.size() > kShown) text += " and " + std::to_string(ids.size() - kShown) + " more";
+  const std::string at = scene.faces[ids[0]].source.to_string();
+  if (!at.empty()) text += "; the first at " + at;
+  return text;
+}
+
+/// Checks the closed parts of a mesh (faces joined by shared edges, every edge shared by exactly
+/// two faces of the part): faces that point inward, or neighbours that disagree, read silently as
+/// attached shadow, so each such part gets a warning naming the mesh and its first faces. With
+/// `orient` (Mesh::orient_outward, LoadOptions::orient_outward), such parts are fixed instead: the
+/// faces of an inconsistent part are made to agree with its first face (breadth-first over shared
+/// edges), then a part with negative signed volume is reversed; the warning says what changed.
+/// Open parts (a ground plane, a single wall, a box without a lid) say nothing about inside and
+/// outside and are left alone.
+void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::vector<Warning>& warnings) {
   const Mesh& mesh = scene.meshes[mesh_index];
   struct Use {
     EdgeKey key;
     bool forward;       // run from key.a to key.b
     std::size_t face;   // index into `faces`
   };
-  // Every edge with the way it is run, sorted so that the uses of one edge are adjacent: a sort
-  // is several times faster than a map on big meshes.
   std::vector<Use> edges;
   std::vector<std::size_t> faces;  // face_ids of the mesh's non-degenerate faces
   for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
@@ -167,87 +183,150 @@ void check_orientation(const Scene& scene, std::size_t mesh_index, std::vector<W
     faces.push_back(f);
   }
   if (faces.size() < 2) return;
+  // Sorted so that the uses of one edge are adjacent: a sort is several times faster than a map.
   std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
-
-  // Parts: union-find over faces that share an edge.
   std::vector<std::size_t> parent(faces.size());
   for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
   auto root = [&](std::size_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  std::vector<char> open(faces.size(), 0), inconsistent(faces.size(), 0);  // by face, folded to roots below
+  std::vector<char> open(faces.size(), 0), inconsistent(faces.size(), 0);
+  // Manifold edges: (other face, same direction) for each face, for the breadth-first fix.
+  std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours(orient ? faces.size() : 0);
   auto same = [](const EdgeKey& x, const EdgeKey& y) { return x.a == y.a && x.b == y.b; };
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
     while (j < edges.size() && same(edges[i].key, edges[j].key)) ++j;
     for (std::size_t k = i + 1; k < j; ++k) parent[root(edges[k].face)] = root(edges[i].face);
     // Closed: every edge exactly twice (once: a border; three times or more: non-manifold).
-    if (j - i != 2) open[edges[i].face] = 1;
-    else if (edges[i].forward == edges[i + 1].forward) inconsistent[edges[i].face] = 1;
+    if (j - i != 2) {
+      open[edges[i].face] = 1;
+    } else {
+      const bool same_way = edges[i].forward == edges[i + 1].forward;
+      if (same_way) inconsistent[edges[i].face] = 1;
+      if (orient) {
+        neighbours[edges[i].face].push_back({edges[i + 1].face, same_way});
+        neighbours[edges[i + 1].face].push_back({edges[i].face, same_way});
+      }
+    }
     i = j;
   }
   std::vector<char> part_open(faces.size(), 0), part_inconsistent(faces.size(), 0);
+  std::vector<std::vector<std::size_t>> members(faces.size());  // by root: the part's face ids
   for (std::size_t f = 0; f < faces.size(); ++f) {
     part_open[root(f)] |= open[f];
     part_inconsistent[root(f)] |= inconsistent[f];
+    members[root(f)].push_back(f);
   }
-  // Signed volume of each part (divergence theorem over fan triangles), relative to one vertex
-  // of the part to keep digits.
-  using Real = long double;
-  std::vector<Real> volume(faces.size(), 0);
-  std::vector<std::size_t> first_face(faces.size(), faces.size());  // smallest face of each part
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const std::size_t r = root(f);
-    first_face[r] = std::min(first_face[r], f);
-  }
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    const std::size_t r = root(f);
-    if (part_open[r] || part_inconsistent[r]) continue;
-    const glm::dvec3 origin = scene.faces[faces[first_face[r]]].vertices[0];
-    const std::vector<glm::dvec3>& v = scene.faces[faces[f]].vertices;
-    auto rel = [&](const glm::dvec3& p, int k) { return Real(p[k]) - Real(origin[k]); };
-    for (std::size_t i = 1; i + 1 < v.size(); ++i) {
-      const glm::dvec3 &a = v[0], &b = v[i], &c = v[i + 1];
-      const Real ax = rel(a, 0), ay = rel(a, 1), az = rel(a, 2);
-      const Real bx = rel(b, 0), by = rel(b, 1), bz = rel(b, 2);
-      const Real cx = rel(c, 0), cy = rel(c, 1), cz = rel(c, 2);
-      volume[r] += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-    }
-  }
-  std::size_t parts = 0, inward = 0, mixed = 0, first_inward = faces.size(), first_mixed = faces.size();
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    if (root(f) != f) continue;
-    ++parts;
-    if (part_open[f]) continue;
-    if (part_inconsistent[f]) {
-      ++mixed;
-      first_mixed = std::min(first_mixed, first_face[f]);
-    } else if (volume[f] < 0) {
-      ++inward;
-      first_inward = std::min(first_inward, first_face[f]);
-    }
-  }
-  const std::string file = scene.source.string();
-  const SourceLocation where{file, "meshes[" + std::to_string(mesh_index) + "]"};
-  // A mesh that is one part: "mesh "m" is closed, <single>"; else how many parts, and the first.
-  auto describe = [&](std::size_t count, std::size_t first, const std::string& single, const std::string& plural) {
-    if (parts == 1) return "mesh \"" + mesh.name + "\" is closed, " + single;
-    const std::string at = scene.faces[faces[first]].source.to_string();
-    return "mesh \"" + mesh.name + "\" has " + std::to_string(count) + " closed part" + (count == 1 ? "" : "s") +
-           " (of " + std::to_string(parts) + "; the first has face " + std::to_string(faces[first]) +
-           (at.empty() ? std::string() : ", " + at) + ") " + plural;
+  auto face_ids = [&](const std::vector<std::size_t>& local) {
+    std::vector<std::size_t> ids;
+    for (std::size_t f : local) ids.push_back(faces[f]);
+    return ids;
   };
-  if (mixed > 0)
-    warnings.push_back({where, describe(mixed, first_mixed, "with inconsistent face orientation", "with inconsistent face orientation") +
+  auto reverse_face = [&](std::size_t f) {
+    std::vector<glm::dvec3>& v = scene.faces[faces[f]].vertices;
+    std::reverse(v.begin(), v.end());
+  };
+  // Signed volume of a part (divergence theorem over fan triangles), relative to one vertex of
+  // the part to keep digits.
+  using Real = long double;
+  auto volume_of = [&](const std::vector<std::size_t>& part) {
+    const glm::dvec3 origin = scene.faces[faces[part.front()]].vertices[0];
+    Real volume = 0;
+    for (std::size_t f : part) {
+      const std::vector<glm::dvec3>& v = scene.faces[faces[f]].vertices;
+      auto rel = [&](const glm::dvec3& p, int k) { return Real(p[k]) - Real(origin[k]); };
+      for (std::size_t i = 1; i + 1 < v.size(); ++i) {
+        const glm::dvec3 &a = v[0], &b = v[i], &c = v[i + 1];
+        const Real ax = rel(a, 0), ay = rel(a, 1), az = rel(a, 2);
+        const Real bx = rel(b, 0), by = rel(b, 1), bz = rel(b, 2);
+        const Real cx = rel(c, 0), cy = rel(c, 1), cz = rel(c, 2);
+        volume += ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
+      }
+    }
+    return volume;
+  };
+  std::size_t parts = 0;
+  for (std::size_t f = 0; f < faces.size(); ++f) parts += root(f) == f ? 1 : 0;
+  const SourceLocation where{scene.source.string(), "meshes[" + std::to_string(mesh_index) + "]"};
+  const std::string name = "mesh \"" + mesh.name + "\"";
+  auto part_text = [&](const std::vector<std::size_t>& part) {
+    return parts == 1 ? name + " (closed, " + list_faces(scene, face_ids(part)) + ")"
+                      : name + ": the closed part of " + list_faces(scene, face_ids(part));
+  };
+  std::size_t inward_parts = 0, mixed_parts = 0;
+  std::vector<std::size_t> first_inward, first_mixed;
+  for (std::size_t r = 0; r < faces.size(); ++r) {
+    if (root(r) != r || part_open[r]) continue;
+    const std::vector<std::size_t>& part = members[r];
+    if (part_inconsistent[r]) {
+      if (!orient) {
+        if (mixed_parts++ == 0) first_mixed = part;
+        continue;
+      }
+      // Breadth-first from the part's first face: a neighbour across an edge run the same way is
+      // flipped relative to the face it was reached from.
+      std::vector<int> flip(faces.size(), -1);
+      std::vector<std::size_t> queue{part.front()};
+      flip[part.front()] = 0;
+      bool orientable = true;
+      for (std::size_t q = 0; q < queue.size(); ++q) {
+        const std::size_t f = queue[q];
+        for (const auto& [g, same_way] : neighbours[f]) {
+          const int want = flip[f] ^ (same_way ? 1 : 0);
+          if (flip[g] < 0) {
+            flip[g] = want;
+            queue.push_back(g);
+          } else if (flip[g] != want) {
+            orientable = false;
+          }
+        }
+      }
+      if (!orientable) {
+        warnings.push_back({where, part_text(part) + " cannot be oriented consistently (a one-sided surface, like a "
+                                                     "Moebius strip); its faces were left as they are"});
+        continue;
+      }
+      std::vector<std::size_t> flipped;
+      for (std::size_t f : part)
+        if (flip[f] == 1) {
+          reverse_face(f);
+          flipped.push_back(f);
+        }
+      warnings.push_back({where, part_text(part) + " had inconsistent face orientation (orient outward): to agree "
+                                     "with face " + std::to_string(faces[part.front()]) + ", reversed " +
+                                     list_faces(scene, face_ids(flipped))});
+    }
+    if (volume_of(part) < 0) {
+      if (orient) {
+        for (std::size_t f : part) reverse_face(f);
+        warnings.push_back({where, part_text(part) + " pointed inward (negative signed volume): its " +
+                                       std::to_string(part.size()) + " faces were reversed (orient outward)"});
+      } else if (inward_parts++ == 0) {
+        first_inward = part;
+      }
+    }
+  }
+  // One part: "mesh "m" is closed, <single> (faces ...)"; else how many parts, and the first's faces.
+  auto describe = [&](std::size_t count, const std::vector<std::size_t>& first, const std::string& single,
+                      const std::string& plural) {
+    const std::string listed = list_faces(scene, face_ids(first));
+    if (parts == 1) return name + " is closed, " + single + " (" + listed + ")";
+    return name + " has " + std::to_string(count) + " closed part" + (count == 1 ? "" : "s") + " (of " +
+           std::to_string(parts) + "; the first has " + listed + ") " + plural;
+  };
+  if (mixed_parts > 0)
+    warnings.push_back({where, describe(mixed_parts, first_mixed, "with inconsistent face orientation",
+                                        "with inconsistent face orientation") +
                                    ": some edge is run the same way by both of its faces, so some faces' fronts point "
                                    "inward and those faces will be in their own (attached) shadow; check the vertex "
-                                   "order of its faces"});
-  if (inward > 0)
-    warnings.push_back({where, describe(inward, first_inward, "and its faces point inward", "whose faces point inward") +
+                                   "order of its faces, or orient it (\"orient\": \"outward\", --orient-outward)"});
+  if (inward_parts > 0)
+    warnings.push_back({where, describe(inward_parts, first_inward, "and its faces point inward", "whose faces point inward") +
                                    " (negative signed volume): they are lit only from inside, as for a room seen from "
-                                   "within; if it is a solid seen from outside, reverse the vertex order of its faces "
-                                   "(this is only a warning)"});
+                                   "within; if it is a solid seen from outside, reverse the vertex order of its faces, "
+                                   "or orient it (\"orient\": \"outward\", --orient-outward) (this is only a warning)"});
 }
 
 }  // namespace
@@ -262,7 +341,8 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
   for (std::size_t i = 0; i < scene.planes.size(); ++i) detail::check_plane(scene, i);
   std::vector<Warning> warnings;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
-  for (std::size_t m = 0; m < scene.meshes.size(); ++m) check_orientation(scene, m, warnings);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {
     const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {

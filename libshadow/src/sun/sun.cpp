@@ -354,4 +354,19 @@ void add_sun_lights(Scene& scene, const SunPeriod& period) {
   scene.sun_instants = std::move(instants);
 }
 
+void replace_sun_lights(Scene& scene, const SunPeriod& period) {
+  // Checked before anything changes: on an error the scene keeps its period and lights.
+  check_sun_period(period, scene.source.string());
+  std::vector<char> is_sun(scene.lights.size(), 0);
+  for (const SunInstant& instant : scene.sun_instants)
+    if (instant.light_id < scene.lights.size()) is_sun[instant.light_id] = 1;
+  std::vector<Light> kept;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l)
+    if (!is_sun[l]) kept.push_back(std::move(scene.lights[l]));
+  scene.lights = std::move(kept);
+  scene.sun.reset();
+  scene.sun_instants.clear();
+  add_sun_lights(scene, period);
+}
+
 }  // namespace shadow

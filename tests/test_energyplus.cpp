@@ -1,0 +1,592 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// EnergyPlus geometry in (IDF and epJSON): the example model both ways, coordinate systems,
+// windows cut out of their walls, the sun, and one-line errors with line and field.
+#include <shadow/scene_io.hpp>
+#include <shadow/shadows.hpp>
+
+#include "scene/energyplus_reader.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using glm::dvec3;
+using shadow::Face;
+using shadow::InputError;
+using shadow::Scene;
+using shadow::scene_readers::Model;
+using shadow::scene_readers::parse_energyplus;
+using shadow::scene_readers::read_energyplus;
+
+const fs::path kExample = fs::path(LIBSHADOW_EXAMPLES_DIR) / "energyplus";
+
+::testing::AssertionResult ThrowsInputError(const std::function<void()>& action,
+                                            const std::vector<std::string>& parts) {
+  try {
+    action();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    if (message.find('\n') != std::string::npos) return ::testing::AssertionFailure() << "two lines: " << message;
+    for (const std::string& part : parts)
+      if (message.find(part) == std::string::npos)
+        return ::testing::AssertionFailure() << "\"" << part << "\" not in: " << message;
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "no InputError";
+}
+
+Model idf(const std::string& text) { return parse_energyplus(text, "m.idf", false); }
+
+/// Twice the area vector (Newell); exact here: the tests use small dyadic coordinates.
+dvec3 newell(const std::vector<dvec3>& v) {
+  dvec3 n(0.0);
+  for (std::size_t a = 0; a < v.size(); ++a) {
+    const dvec3& p = v[a];
+    const dvec3& q = v[(a + 1) % v.size()];
+    n += dvec3((p.y - q.y) * (p.z + q.z), (p.z - q.z) * (p.x + q.x), (p.x - q.x) * (p.y + q.y));
+  }
+  return n;
+}
+
+double area(const std::vector<dvec3>& v) { return glm::length(newell(v)) / 2; }
+
+std::map<std::string, double> area_by_name(const Model& m) {
+  std::map<std::string, double> out;
+  for (const Face& f : m.faces) out[f.name] += area(f.vertices);
+  return out;
+}
+
+Scene scene_of(const Model& m, const dvec3& to_light) {
+  Scene scene;
+  scene.meshes = m.meshes;
+  scene.faces = m.faces;
+  scene.lights.push_back({"sun", shadow::LightType::Directional, to_light});
+  shadow::validate_scene(scene);
+  return scene;
+}
+
+const char* kHeader =
+    "Version, 24.1;\n"
+    "GlobalGeometryRules, UpperLeftCorner, Counterclockwise, Relative;\n"
+    "Zone, Z1;\n";
+
+// --- The example --------------------------------------------------------------------------
+
+TEST(EnergyPlus, ExampleIdfAndEpJsonGiveTheSameFacesBitForBit) {
+  const Model a = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  const Model b = read_energyplus(kExample / "box-office.epJSON", "box-office.epJSON", {});
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (std::size_t m = 0; m < a.meshes.size(); ++m) {
+    EXPECT_EQ(a.meshes[m].name, b.meshes[m].name);
+    EXPECT_EQ(a.meshes[m].first_face, b.meshes[m].first_face);
+    EXPECT_EQ(a.meshes[m].face_count, b.meshes[m].face_count);
+    EXPECT_EQ(a.meshes[m].receiver, b.meshes[m].receiver);
+  }
+  for (std::size_t f = 0; f < a.faces.size(); ++f) {
+    EXPECT_EQ(a.faces[f].name, b.faces[f].name);
+    EXPECT_EQ(a.faces[f].kind, b.faces[f].kind);
+    EXPECT_EQ(a.faces[f].mesh, b.faces[f].mesh);
+    ASSERT_EQ(a.faces[f].vertices.size(), b.faces[f].vertices.size()) << a.faces[f].name;
+    for (std::size_t v = 0; v < a.faces[f].vertices.size(); ++v)
+      for (int c = 0; c < 3; ++c)  // bit for bit: == on doubles, not a tolerance
+        EXPECT_EQ(a.faces[f].vertices[v][c], b.faces[f].vertices[v][c]) << a.faces[f].name << " vertex " << v;
+  }
+  ASSERT_TRUE(a.sun && b.sun);
+  EXPECT_EQ(a.sun->site.latitude, b.sun->site.latitude);
+  EXPECT_EQ(a.sun->site.longitude, b.sun->site.longitude);
+  EXPECT_EQ(a.sun->north_axis, b.sun->north_axis);
+  EXPECT_EQ(a.sun->start, b.sun->start);
+  EXPECT_EQ(a.sun->step_minutes, b.sun->step_minutes);
+}
+
+TEST(EnergyPlus, ExampleMeshesNamesKindsAndSources) {
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  std::vector<std::string> meshes;
+  for (const auto& mesh : m.meshes) meshes.push_back(mesh.name + (mesh.receiver ? "+" : "-"));
+  EXPECT_EQ(meshes, (std::vector<std::string>{"Office+", "Shading:Building-", "Shading:Site-", "Not exposed-"}));
+  std::map<std::string, std::string> kind;
+  for (const Face& f : m.faces) kind[f.name] = f.kind;
+  const std::map<std::string, std::string> expected{
+      {"Wall-South", "Wall"}, {"Wall-East", "Wall"}, {"Wall-North", "Wall"}, {"Wall-West", "Wall"},
+      {"Roof", "Roof"}, {"Floor", "Floor"}, {"Window-South", "Window"}, {"Window-East", "Window"},
+      {"Door-South", "Door"}, {"Overhang-South", "Shading"}, {"Neighbour-North-Face", "Shading"},
+      {"Neighbour-West-Face", "Shading"}, {"Neighbour-Roof", "Shading"},
+      {"Neighbour-South-Face", "Shading"}, {"Neighbour-East-Face", "Shading"}};
+  EXPECT_EQ(kind, expected);
+  for (const Face& f : m.faces) {
+    EXPECT_EQ(f.source.file, "box-office.idf");
+    EXPECT_EQ(f.source.place.rfind("line ", 0), 0u) << f.source.place;
+    EXPECT_NE(f.source.place.find("\"" + f.name + "\""), std::string::npos) << f.source.place;
+  }
+  EXPECT_EQ(m.faces[0].source.to_string(), "box-office.idf: line 86, BuildingSurface:Detailed \"Wall-South\"");
+  // The floor is on the ground: it casts but is no receiver.
+  for (const Face& f : m.faces)
+    EXPECT_EQ(m.meshes[f.mesh].receiver, f.kind != "Shading" && f.name != "Floor") << f.name;
+}
+
+TEST(EnergyPlus, ExampleNamedSurfacesAreExactlyTheExteriorSurfaces) {
+  // What `shadow series` writes as energyplus-shading.csv's columns: the named receiving
+  // surfaces, the wall pieces added up under the wall's name; no shading, no ground floor.
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  const Scene scene = scene_of(m, dvec3(0, -1, 1));
+  std::vector<std::string> labels;
+  for (const auto& surface : shadow::named_surfaces(scene)) labels.push_back(surface.label);
+  EXPECT_EQ(labels, (std::vector<std::string>{"Wall-South", "Window-South", "Door-South", "Wall-East", "Window-East",
+                                              "Wall-North", "Wall-West", "Roof"}));
+}
+
+TEST(EnergyPlus, ExampleSunFromSiteLocationRunPeriodTimestepAndNorthAxis) {
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  ASSERT_TRUE(m.sun);
+  EXPECT_EQ(m.sun->site.latitude, 41.98);
+  EXPECT_EQ(m.sun->site.longitude, -87.92);
+  EXPECT_EQ(m.sun->site.elevation, 201.0);
+  EXPECT_EQ(m.sun->utc_offset_hours, -6.0);
+  EXPECT_EQ(m.sun->start, "2023-01-01");
+  EXPECT_EQ(m.sun->end, "2023-12-31");
+  EXPECT_EQ(m.sun->step_minutes, 15);  // Timestep 4
+  EXPECT_EQ(m.sun->north_axis, 20.0);
+}
+
+TEST(EnergyPlus, WindowsAndDoorAreCutOutOfTheirWallExactly) {
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  const auto areas = area_by_name(m);
+  // Gross south wall 10 x 3; window 2.5 x 1.5; door 1 x 2.25 (touching the floor line).
+  EXPECT_EQ(areas.at("Window-South"), 3.75);
+  EXPECT_EQ(areas.at("Door-South"), 2.25);
+  EXPECT_EQ(areas.at("Wall-South"), 30.0 - 3.75 - 2.25);
+  EXPECT_EQ(areas.at("Wall-South") + areas.at("Window-South") + areas.at("Door-South"), 30.0);
+  EXPECT_EQ(areas.at("Window-East"), 3.75);  // the simple Window: 3 x 1.25
+  EXPECT_EQ(areas.at("Wall-East"), 24.0 - 3.75);
+  // The pieces of the wall face where the wall faces, and the engine's exact areas agree.
+  const Scene scene = scene_of(m, dvec3(0.2, -1.0, 0.6));
+  const shadow::ShadowResult result = shadow::compute_shadows(scene);
+  std::map<std::string, double> engine_area;
+  for (const auto& l : result.lighting) engine_area[scene.faces[l.face_id].name] += l.area;
+  EXPECT_EQ(engine_area.at("Wall-South"), 24.0);
+  for (const Face& f : m.faces)
+    if (f.name == "Wall-South") {
+      const dvec3 n = newell(f.vertices);
+      EXPECT_EQ(n.x, 0.0);
+      EXPECT_LT(n.y, 0.0);
+      EXPECT_EQ(n.z, 0.0);
+    }
+}
+
+TEST(EnergyPlus, SimpleWindowLiesWhereItsBaseSurfaceCoordinatesSay) {
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  for (const Face& f : m.faces) {
+    if (f.name == "Window-East")
+      EXPECT_EQ(f.vertices, (std::vector<dvec3>{{10, 2.5, 1}, {10, 5.5, 1}, {10, 5.5, 2.25}, {10, 2.5, 2.25}}));
+    if (f.name == "Door-South")
+      EXPECT_EQ(f.vertices, (std::vector<dvec3>{{6, 0, 0}, {7, 0, 0}, {7, 0, 2.25}, {6, 0, 2.25}}));
+  }
+}
+
+TEST(EnergyPlus, SiteShadingTurnsIntoBuildingCoordinatesBuildingShadingDoesNot) {
+  const Model m = read_energyplus(kExample / "box-office.idf", "box-office.idf", {});
+  // Building +y is 20 degrees clockwise from true north: a world point's building coordinates
+  // are its components along the building's axes.
+  const double a = 20.0 * M_PI / 180.0;
+  const dvec3 x_axis(std::cos(a), -std::sin(a), 0.0), y_axis(std::sin(a), std::cos(a), 0.0);
+  for (const Face& f : m.faces) {
+    if (f.name == "Neighbour-North-Face") {
+      const dvec3 world(24, -10, 9);
+      EXPECT_NEAR(f.vertices[0].x, glm::dot(world, x_axis), 1e-12);
+      EXPECT_NEAR(f.vertices[0].y, glm::dot(world, y_axis), 1e-12);
+      EXPECT_EQ(f.vertices[0].z, 9.0);
+    }
+    if (f.name == "Overhang-South") EXPECT_EQ(f.vertices[1], dvec3(0.5, -0.75, 2.5));
+  }
+}
+
+// --- Coordinate systems and vertex order ------------------------------------------------------
+
+TEST(EnergyPlus, ClockwiseEntryAndRelativeCoordinatesWithZoneOriginAndNorth) {
+  // The zone's +y points east (90 degrees clockwise from the building's +y); its origin is at
+  // (5, 10, 0). The wall faces the zone's -y (south in the zone), so the building's -x (west).
+  const Model m = idf(
+      "GlobalGeometryRules, LowerLeftCorner, Clockwise, Relative;\n"
+      "Zone, Z1, 90, 5, 10, 0;\n"
+      "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  0, 0, 0,  0, 0, 3,  4, 0, 3,  4, 0, 0;\n");
+  ASSERT_EQ(m.faces.size(), 1u);
+  EXPECT_EQ(m.faces[0].vertices, (std::vector<dvec3>{{5, 6, 0}, {5, 6, 3}, {5, 10, 3}, {5, 10, 0}}));
+  const dvec3 n = newell(m.faces[0].vertices);
+  EXPECT_LT(n.x, 0.0);
+  EXPECT_EQ(n.y, 0.0);
+  EXPECT_EQ(n.z, 0.0);
+  EXPECT_EQ(m.meshes[0].name, "Z1");
+  EXPECT_FALSE(m.sun);  // no Site:Location
+}
+
+TEST(EnergyPlus, WorldCoordinatesIgnoreZoneOriginAndNorthAxisWithAWarning) {
+  const Model m = idf(
+      "GlobalGeometryRules, UpperLeftCorner, Counterclockwise, World;\n"
+      "Building, B, 30;\n"
+      "Zone, Z1, 90, 5, 10, 0;\n"
+      "Site:Location, Somewhere, 45, 7, 1, 200;\n"
+      "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  0, 0, 3,  0, 0, 0,  4, 0, 0,  4, 0, 3;\n");
+  EXPECT_EQ(m.faces[0].vertices[0], dvec3(0, 0, 3));
+  ASSERT_TRUE(m.sun);
+  EXPECT_EQ(m.sun->north_axis, 0.0);
+  EXPECT_EQ(m.sun->step_minutes, 10);  // no Timestep: EnergyPlus's default of 6 per hour
+  EXPECT_EQ(m.sun->start, "2023-01-01");
+  ASSERT_FALSE(m.warnings.empty());
+  bool ignored = false;
+  for (const auto& w : m.warnings) ignored = ignored || w.message.find("ignored") != std::string::npos;
+  EXPECT_TRUE(ignored);
+}
+
+TEST(EnergyPlus, RunPeriodAcrossNewYearAndInterzoneSurfacesLeftOut) {
+  const Model m = idf(std::string(kHeader) +
+                      "Site:Location, S, 10, 20, 2, 0;\n"
+                      "RunPeriod, Winter, 11, 1, , 2, 28, ;\n"
+                      "Timestep, 2;\n"
+                      "BuildingSurface:Detailed, Partition, Wall, C, Z1, , Surface, Partition, NoSun, NoWind, , 3,\n"
+                      "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
+                      "BuildingSurface:Detailed, Out, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 3,\n"
+                      "  0, 0, 1,  0, 0, 0,  1, 0, 0;\n"
+                      "InternalMass, Mass, C, Z1, 20;\n"
+                      "Shading:Site:Detailed, Tree, Leaves, 3, 5,5,0, 6,5,0, 6,5,4;\n");
+  ASSERT_EQ(m.faces.size(), 2u);
+  EXPECT_EQ(m.faces[0].name, "Out");
+  EXPECT_EQ(m.faces[1].name, "Tree");
+  EXPECT_EQ(m.sun->start, "2023-11-01");
+  EXPECT_EQ(m.sun->end, "2024-02-28");
+  EXPECT_EQ(m.sun->step_minutes, 30);
+  EXPECT_EQ(m.sun->utc_offset_hours, 2.0);
+  bool named = false;  // an unsupported geometry class is reported, not silently lost
+  for (const auto& w : m.warnings) named = named || w.message.find("InternalMass") != std::string::npos;
+  EXPECT_TRUE(named);
+  bool opaque = false;  // shading is opaque: a transmittance schedule is not applied, and said so
+  for (const auto& w : m.warnings)
+    opaque = opaque || (w.message.find("\"Leaves\" not applied") != std::string::npos &&
+                        w.where.place.find("field \"Transmittance Schedule Name\"") != std::string::npos);
+  EXPECT_TRUE(opaque);
+}
+
+TEST(EnergyPlus, SimpleRectangularSurfacesMatchTheirDetailedTwins) {
+  // Zone +y points east, origin (5, 10, 0): a Wall:Exterior facing the zone's south is the wall of
+  // ClockwiseEntryAndRelativeCoordinatesWithZoneOriginAndNorth; a Roof and a Floor:GroundContact
+  // of 4 x 2 face up and down; a Wall:Interzone is left out.
+  const Model m = idf(
+      "Zone, Z1, 90, 5, 10, 0;\n"
+      "Wall:Exterior, W, C, Z1, , 180, 90, 0, 0, 0, 4, 3;\n"
+      "Roof, R, C, Z1, , 180, 0, 0, 0, 3, 4, 2;\n"
+      "Floor:GroundContact, F, C, Z1, , 180, 180, 0, 2, 0, 4, 2;\n"
+      "Wall:Interzone, I, C, Z1, , Other, 0, 90, 0, 2, 0, 4, 3;\n");
+  ASSERT_EQ(m.faces.size(), 3u);
+  EXPECT_EQ(m.faces[0].name, "W");
+  EXPECT_EQ(m.faces[0].kind, "Wall");
+  EXPECT_EQ(m.faces[0].vertices, (std::vector<dvec3>{{5, 10, 0}, {5, 6, 0}, {5, 6, 3}, {5, 10, 3}}));
+  EXPECT_EQ(m.faces[1].kind, "Roof");
+  EXPECT_EQ(newell(m.faces[1].vertices), dvec3(0, 0, 16));  // 4 x 2, facing up
+  EXPECT_EQ(m.faces[2].kind, "Floor");
+  EXPECT_EQ(m.meshes[m.faces[2].mesh].name, "Not exposed");
+  EXPECT_EQ(newell(m.faces[2].vertices), dvec3(0, 0, -16));  // facing down
+  for (const Face& f : m.faces) EXPECT_NE(f.name, "I");
+  // A Window on the simple wall, in the wall's own coordinates.
+  const Model w = idf(
+      "Zone, Z1;\n"
+      "Wall:Exterior, W, C, Z1, , 180, 90, 0, 0, 0, 4, 3;\n"
+      "Window, G, C, W, , 1, 1, 0.5, 2, 1.5;\n");
+  EXPECT_EQ(area_by_name(w).at("W"), 12.0 - 3.0);
+  EXPECT_EQ(w.faces.back().vertices, (std::vector<dvec3>{{1, 0, 0.5}, {3, 0, 0.5}, {3, 0, 2}, {1, 0, 2}}));
+}
+
+// --- The same building as OBJ and as IDF ------------------------------------------------------
+
+TEST(EnergyPlus, RoundTripWithObjGivesTheSameAreasUnderALight) {
+  // A 4 x 4 x 3 box with an overhang and a neighbouring wall; in the IDF the zone sits at
+  // (2, 1, 0) and vertices run clockwise, so every coordinate goes through the reader's frames.
+  const Model m = idf(
+      "GlobalGeometryRules, UpperLeftCorner, Clockwise, Relative;\n"
+      "Zone, Z, 0, 2, 1, 0;\n"
+      "BuildingSurface:Detailed, S, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  0,0,3, 4,0,3, 4,0,0, 0,0,0;\n"
+      "BuildingSurface:Detailed, E, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  4,0,3, 4,4,3, 4,4,0, 4,0,0;\n"
+      "BuildingSurface:Detailed, R, Roof, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  0,4,3, 4,4,3, 4,0,3, 0,0,3;\n"
+      "Shading:Zone:Detailed, O, S, , 4,  0,0,2.5, 4,0,2.5, 4,-1,2.5, 0,-1,2.5;\n"
+      "Shading:Site:Detailed, N, , 4,  8,-3,5, 8,-3,0, 0,-3,0, 0,-3,5;\n");
+  const std::string obj =
+      "v 2 1 3\nv 2 1 0\nv 6 1 0\nv 6 1 3\nf 1 2 3 4\n"        // S, counter-clockwise from outside
+      "v 6 1 3\nv 6 1 0\nv 6 5 0\nv 6 5 3\nf 5 6 7 8\n"        // E
+      "v 2 1 3\nv 6 1 3\nv 6 5 3\nv 2 5 3\nf 9 10 11 12\n"     // R
+      "v 2 0 2.5\nv 6 0 2.5\nv 6 1 2.5\nv 2 1 2.5\nf 13 14 15 16\n"  // O
+      "v 0 -3 5\nv 0 -3 0\nv 8 -3 0\nv 8 -3 5\nf 17 18 19 20\n";      // N
+  const auto polygons = shadow::parse_obj(obj, "same.obj");
+  Model from_obj;
+  from_obj.meshes = m.meshes;
+  for (std::size_t f = 0; f < polygons.size(); ++f) {
+    Face face;
+    face.vertices = polygons[f];
+    face.mesh = m.faces[f].mesh;
+    from_obj.faces.push_back(face);
+  }
+  const dvec3 to_light(0.35, -0.9, 1.6);
+  const Scene a = scene_of(m, to_light), b = scene_of(from_obj, to_light);
+  const auto ra = shadow::compute_shadows(a), rb = shadow::compute_shadows(b);
+  ASSERT_EQ(ra.lighting.size(), 3u);  // the three zone surfaces receive
+  ASSERT_EQ(ra.lighting.size(), rb.lighting.size());
+  for (std::size_t i = 0; i < ra.lighting.size(); ++i) {
+    EXPECT_EQ(ra.lighting[i].face_id, rb.lighting[i].face_id);
+    EXPECT_EQ(ra.lighting[i].area, rb.lighting[i].area);
+    EXPECT_EQ(ra.lighting[i].lit_area, rb.lighting[i].lit_area);
+  }
+  // The overhang shades the south wall: not all of it is lit, and the light reaches it.
+  EXPECT_GT(ra.lighting[0].lit_area, 0.0);
+  EXPECT_LT(ra.lighting[0].lit_area, 12.0);
+}
+
+// --- Errors -------------------------------------------------------------------------------------
+
+TEST(EnergyPlus, NonNumberNamesLineObjectAndField) {
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        idf(std::string(kHeader) +
+            "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+            "  0, 0, 3,\n"
+            "  0, 0, zero,\n"
+            "  4, 0, 0,  4, 0, 3;\n");
+      },
+      {"m.idf: line 6, BuildingSurface:Detailed \"W\" field \"Vertex 2 Z-coordinate\"", "not a number: \"zero\""}));
+}
+
+TEST(EnergyPlus, VertexCountMismatch) {
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        idf(std::string(kHeader) +
+            "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 5,\n"
+            "  0, 0, 3,  0, 0, 0,  4, 0, 0,  4, 0, 3;\n");
+      },
+      {"line 4, BuildingSurface:Detailed \"W\" field \"Number of Vertices\"", "says 5 vertices, but 4 are given"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        idf(std::string(kHeader) +
+            "Shading:Site:Detailed, S, , ,\n  0, 0, 3,  0, 0, 0,  4, 0;\n");
+      },
+      {"line 5, Shading:Site:Detailed \"S\" field \"Vertex 3 Z-coordinate\"", "vertex 3 has only 2 of its 3 coordinates"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] { idf(std::string(kHeader) + "Shading:Site:Detailed, S, , 2,\n  0, 0, 3,  0, 0, 0;\n"); },
+      {"line 4, Shading:Site:Detailed \"S\"", "at least 3 vertices, 2 given"}));
+}
+
+const std::string kWall =
+    std::string(kHeader) +
+    "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+    "  0, 0, 3,  0, 0, 0,  4, 0, 0,  4, 0, 3;\n";
+
+TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
+  auto window = [](const std::string& name, const std::string& vertices) {
+    return "FenestrationSurface:Detailed, " + name + ", Window, G, W, , , , 1, 4,\n  " + vertices + ";\n";
+  };
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "3,0,2, 3,0,1, 5,0,1, 5,0,2")); },
+                               {"m.idf: line 6, FenestrationSurface:Detailed \"Win\"",
+                                "not inside its base surface \"W\""}));
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "1,0.5,2, 1,0.5,1, 2,0.5,1, 2,0.5,2")); },
+                               {"line 6, FenestrationSurface:Detailed \"Win\"", "not in the plane of its base surface"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "1.5,0,2, 1.5,0,1, 3,0,1, 3,0,2")); },
+      {"FenestrationSurface:Detailed \"B\"", "overlaps \"A\""}));
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "1,0,2, 2,0,2, 2,0,1, 1,0,1")); },
+                               {"FenestrationSurface:Detailed \"Win\"", "faces the other way"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [&] {
+        idf(kWall + "FenestrationSurface:Detailed, Win, Window, G, Nowhere, , , , 1, 3,\n  1,0,2, 1,0,1, 2,0,1;\n");
+      },
+      {"line 6, FenestrationSurface:Detailed \"Win\" field \"Building Surface Name\"",
+       "no base surface named \"Nowhere\""}));
+  // Sticking out by a rounding error (1e-9 of a 4 m wall, under the 1e-6 tolerance): taken as
+  // rounding, with a warning; by 1 mm it is an error.
+  const Model r = idf(kWall + window("Win", "3,0,2, 3,0,1, 4.000000001,0,1, 4.000000001,0,2"));
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings[0].message.find("taken as rounding"), std::string::npos);
+  EXPECT_NEAR(area_by_name(r).at("W"), 11.0, 1e-12);
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "3,0,2, 3,0,1, 4.001,0,1, 4.001,0,2")); },
+                               {"FenestrationSurface:Detailed \"Win\"", "not inside its base surface \"W\""}));
+  // Side by side and on the wall's edge: allowed, and still exact.
+  const Model m = idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "2,0,2, 2,0,0, 4,0,0, 4,0,2"));
+  const auto areas = area_by_name(m);
+  EXPECT_EQ(areas.at("W"), 12.0 - 1.0 - 4.0);
+}
+
+TEST(EnergyPlus, OverhangsAndFinsAreDrawnFromTheirWindow) {
+  // Window 2 x 1 at x 1..3, z 1..2 in a south wall; shades square to it (the default 90).
+  const Model m = idf(kWall + "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n"
+                              "  1,0,2, 1,0,1, 3,0,1, 3,0,2;\n"
+                              "Shading:Overhang, O, Win, 0.5, 90, 0.25, 0.5, 1;\n"
+                              "Shading:Overhang:Projection, P, Win, 0.25, , 0, 0, 0.5;\n"
+                              "Shading:Fin, F, Win, 0.25, 0.25, 0.5, 90, 0.5, 0.25, 0, 0, 90, 1;\n");
+  std::map<std::string, std::vector<dvec3>> shade;
+  for (const Face& f : m.faces)
+    if (f.kind == "Shading") {
+      EXPECT_EQ(m.meshes[f.mesh].name, "Shading:Building");
+      shade[f.name] = f.vertices;
+    }
+  ASSERT_EQ(shade.size(), 4u);
+  EXPECT_EQ(shade.at("O"), (std::vector<dvec3>{{0.75, 0, 2.5}, {3.5, 0, 2.5}, {3.5, -1, 2.5}, {0.75, -1, 2.5}}));
+  // Depth as a fraction of the window's height (1 m).
+  EXPECT_EQ(shade.at("P"), (std::vector<dvec3>{{1, 0, 2.25}, {3, 0, 2.25}, {3, -0.5, 2.25}, {1, -0.5, 2.25}}));
+  EXPECT_EQ(shade.at("F Left"), (std::vector<dvec3>{{0.75, 0, 0.5}, {0.75, 0, 2.25}, {0.75, -0.5, 2.25}, {0.75, -0.5, 0.5}}));
+  EXPECT_EQ(shade.at("F Right"), (std::vector<dvec3>{{3.25, 0, 1}, {3.25, 0, 2}, {3.25, -1, 2}, {3.25, -1, 1}}));
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + "Shading:Overhang, O, Nowhere, 0.5, 90, 0, 0, 1;\n"); },
+                               {"line 6, Shading:Overhang \"O\" field \"Window or Door Name\"",
+                                "no window or door named \"Nowhere\""}));
+}
+
+TEST(EnergyPlus, UnterminatedObjectDuplicateNamesAndUnknownZone) {
+  EXPECT_TRUE(ThrowsInputError(
+      [] { idf(std::string(kHeader) + "Shading:Site:Detailed, S, , 3,\n  0,0,0, 1,0,0, 1,0,1\n"); },
+      {"m.idf: line 4", "Shading:Site:Detailed is not terminated by ';'"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        idf(std::string(kHeader) + "Shading:Site:Detailed, Fence, , 3, 0,0,0, 1,0,0, 1,0,1;\n" +
+            "Shading:Building:Detailed, FENCE, , 3, 0,0,0, 1,0,0, 1,0,1;\n");
+      },
+      {"line 5, Shading:Building:Detailed \"FENCE\"", "a second surface named \"FENCE\"", "line 4"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        idf("BuildingSurface:Detailed, W, Wall, C, Attic, , Outdoors, , SunExposed, WindExposed, , 3,\n"
+            "  0,0,1, 0,0,0, 1,0,0;\n");
+      },
+      {"line 1, BuildingSurface:Detailed \"W\" field \"Zone Name\"", "no Zone named \"Attic\""}));
+}
+
+TEST(EnergyPlus, EpJsonErrorsNameTheJsonPath) {
+  const std::string json = R"({
+    "Zone": {"Z1": {}},
+    "BuildingSurface:Detailed": {"W": {"surface_type": "Wall", "zone_name": "Z1",
+      "outside_boundary_condition": "Outdoors", "number_of_vertices": 3, "vertices": [
+        {"vertex_x_coordinate": 0, "vertex_y_coordinate": 0, "vertex_z_coordinate": 1},
+        {"vertex_x_coordinate": 0, "vertex_y_coordinate": 0, "vertex_z_coordinate": "low"},
+        {"vertex_x_coordinate": 1, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0}]}}})";
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse_energyplus(json, "m.epJSON", true); },
+      {"m.epJSON: [\"BuildingSurface:Detailed\"][\"W\"].vertices[1].vertex_z_coordinate", "not a number: \"low\""}));
+  EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus("{\"Zone\": ", "m.epJSON", true); },
+                               {"m.epJSON", "malformed JSON"}));
+}
+
+TEST(EnergyPlus, ReadsOlderIdfVersionsWithoutSpaceName) {
+  // Before EnergyPlus 9.6 the surfaces had no Space Name field.
+  const Model m = idf(
+      "Version, 9.4;\nZone, Z1;\n"
+      "BuildingSurface:Detailed, W, Wall, C, Z1, Outdoors, , SunExposed, WindExposed, , 3,\n"
+      "  0,0,1, 0,0,0, 1,0,0;\n");
+  ASSERT_EQ(m.faces.size(), 1u);
+  EXPECT_EQ(m.faces[0].vertices[2], dvec3(1, 0, 0));
+}
+
+}  // namespace
+
+namespace {
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// Damaged models give a model or an InputError, never another exception or a crash: every
+// mutation of the example (a byte changed, a span deleted or doubled), seeded, both syntaxes.
+TEST(EnergyPlus, DamagedModelsGiveAModelOrAnInputErrorOnly) {
+  for (const char* name : {"box-office.idf", "box-office.epJSON"}) {
+    const std::string original = read_all(kExample / name);
+    const bool epjson = std::string(name).find("epJSON") != std::string::npos;
+    std::mt19937_64 random(20261123);
+    const std::string alphabet = "0123456789-.,;!{}[]\":eE \n+xX";
+    int models = 0, errors = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+      std::string text = original;
+      const std::size_t at = random() % text.size();
+      const std::size_t span = 1 + random() % 12;
+      switch (trial % 3) {
+        case 0: text[at] = alphabet[random() % alphabet.size()]; break;
+        case 1: text.erase(at, span); break;
+        default: text.insert(at, text.substr(at, span)); break;
+      }
+      try {
+        parse_energyplus(text, name, epjson);
+        ++models;
+      } catch (const InputError& e) {
+        ++errors;
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+      } catch (const std::exception& e) {
+        ADD_FAILURE() << name << " trial " << trial << ": not an InputError: " << e.what();
+      }
+    }
+    EXPECT_GT(models, 0) << name;
+    EXPECT_GT(errors, 0) << name;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+// Seeded random windows and doors in one wall (some touching the wall's edges or each other),
+// with the zone turned by a multiple of 90 degrees and moved: wall pieces + openings = gross wall,
+// exactly, and the pieces are hole-free polygons of positive area that the validator accepts.
+TEST(EnergyPlus, RandomOpeningsAlwaysLeaveTheExactNetWall) {
+  std::mt19937 random(20261123);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int north = 90 * static_cast<int>(random() % 4);
+    const double ox = static_cast<double>(random() % 64) / 8.0, oy = static_cast<double>(random() % 64) / 8.0;
+    std::string text = "Zone, Z, " + std::to_string(north) + ", " + std::to_string(ox) + ", " + std::to_string(oy) +
+                       ", 0;\nBuildingSurface:Detailed, W, Wall, C, Z, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+                       "  0,0,4, 0,0,0, 8,0,0, 8,0,4;\n";
+    double openings = 0.0;
+    int count = 0;
+    for (int cx = 0; cx < 4; ++cx)
+      for (int cy = 0; cy < 2; ++cy) {
+        if (random() % 2 == 0) continue;
+        // Inside the 2 x 2 cell, edges on eighths: 0 insets touch the neighbours or the wall's edge.
+        const double x0 = 2.0 * cx + static_cast<double>(random() % 4) / 8.0;
+        const double x1 = 2.0 * cx + 2.0 - static_cast<double>(random() % 4) / 8.0;
+        const double z0 = 2.0 * cy + static_cast<double>(random() % 4) / 8.0;
+        const double z1 = 2.0 * cy + 2.0 - static_cast<double>(random() % 4) / 8.0;
+        openings += (x1 - x0) * (z1 - z0);
+        char window[256];
+        std::snprintf(window, sizeof window,
+                      "FenestrationSurface:Detailed, O%d, Window, G, W, , , , 1, 4,\n"
+                      "  %.17g,0,%.17g, %.17g,0,%.17g, %.17g,0,%.17g, %.17g,0,%.17g;\n",
+                      count++, x0, z1, x0, z0, x1, z0, x1, z1);
+        text += window;
+      }
+    SCOPED_TRACE(text);
+    const Model m = idf(text);
+    const auto areas = area_by_name(m);
+    EXPECT_EQ(areas.at("W"), 32.0 - openings);
+    double wall_and_openings = 0.0;
+    for (const auto& [name, a] : areas) wall_and_openings += a;
+    EXPECT_EQ(wall_and_openings, 32.0);
+    for (const Face& f : m.faces) {
+      EXPECT_GT(area(f.vertices), 0.0) << f.name;
+      const dvec3 n = newell(f.vertices);
+      EXPECT_EQ(n.z, 0.0) << f.name;  // every piece stays in the (vertical) wall, facing its way:
+      // the zone's -y, turned `north` degrees clockwise
+      const double a = north * M_PI / 180.0;
+      EXPECT_GT(n.x * -std::sin(a) + n.y * -std::cos(a), 0.0) << f.name;
+    }
+    Scene scene = scene_of(m, dvec3(1, 1, 1));  // validation: planar, simple, no zero area
+    EXPECT_EQ(scene.faces.size(), m.faces.size());
+  }
+}
+
+}  // namespace
