@@ -49,6 +49,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     parse_iso8601,
     parse_scene,
     parse_utc_offset,
+    replace_sun_lights,
     solar_position,
     sun_hours_instants,
     sun_hours_map_faces,
@@ -66,7 +67,7 @@ __all__ = [
     "InputError", "OutputError", "Light", "Material", "Mesh", "NamedSurface", "Plane", "PlaneShadow",
     "Scene", "ShadowEngine", "ShadowResult", "SolarSite", "SunHoursInstant", "SunHoursMap", "SunInstant", "SunPeriod", "SunPosition",
     "add_sun_lights", "check_sun_period", "compute_plane_shadows", "compute_shadows", "expand_sun_period", "format_iso8601_utc",
-    "load_scene", "make_city", "parse_iso8601", "parse_scene", "parse_utc_offset", "solar_position",
+    "load_scene", "make_city", "parse_iso8601", "parse_scene", "parse_utc_offset", "replace_sun_lights", "solar_position",
     "solar_positions", "sun_hours", "sun_light_name", "sun_to_light", "write_outputs",
     "compute_sun_hours_map", "sun_hours_instants", "sun_hours_map_faces", "write_sun_hours_vtp",
     "SeriesResult", "SunSeries", "sun_series", "hours_per_instant", "sun_hours_error_bound", "surface_series",
@@ -105,12 +106,13 @@ def _plain(value, place, problems):
 
 def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=None, sun=None,
                     camera=None, name="<python>", base_dir=None, planarity_tolerance=1e-6,
-                    sun_hours_map=None):
+                    sun_hours_map=None, orient_outward=False, cityjson_lod=""):
     """A validated Scene from Python data laid out like the scene file (docs/scene-format.md).
 
     meshes: a list of dicts ``{"name": ..., "polygons": ...}`` (or ``"file"``: an OBJ path, relative to
-    ``base_dir``; ``"material"``), or a dict ``{name: polygons}``. Polygons are a list of (n, 3)
-    sequences or numpy arrays, or one (faces, n, 3) array.
+    ``base_dir``, OBJ, CityJSON or EnergyPlus; ``"material"``, ``"transform"``, ``"up_axis"``,
+    ``"orient"``), or a dict ``{name: polygons}``. Polygons are a list of (n, 3) sequences or numpy
+    arrays, or of dicts ``{"vertices", "name", "kind", "holes"}``, or one (faces, n, 3) array.
     lights: dicts ``{"name", "type": "directional"|"point", "to_light"|"position", "intensity", "color"}``
     or ``Light`` objects. planes: dicts ``{"name", "point", "normal", "window"}``. receivers: mesh
     names. materials, camera: as in the file. sun: the sun block as a dict (times may be aware
@@ -145,7 +147,7 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     # Mesh files are found relative to the directory of the name given to the parser; errors
     # name it as given (no directory unless base_dir asks for one).
     source = name if base_dir is None else _os.path.join(str(base_dir), name)
-    return parse_scene(text, source, planarity_tolerance)
+    return parse_scene(text, source, planarity_tolerance, orient_outward, cityjson_lod)
 
 
 def _meshes_data(meshes):
@@ -198,14 +200,28 @@ def _sun_data(sun):
 
 def scene_to_dict(scene):
     """The scene as Python data in the layout scene_from_data takes (inline polygons as numpy arrays;
-    faces are those after validation, consecutive duplicate vertices removed; the camera, which
-    does not change the shadows, is left out)."""
+    faces are those after validation, consecutive duplicate vertices removed, with their names and
+    kinds; the camera and a CityJSON model's origin, which do not change the shadows, are left out)."""
     meshes = []
     faces = scene.faces
+    names, kinds = scene.face_name, scene.face_kind
     for m in scene.meshes:
-        d = {"name": m.name, "polygons": faces[m.first_face:m.first_face + m.face_count]}
+        polygons = []
+        for f in range(m.first_face, m.first_face + m.face_count):
+            if names[f] or kinds[f]:  # a named surface: the object form keeps its name and kind
+                p = {"vertices": faces[f]}
+                if names[f]:
+                    p["name"] = names[f]
+                if kinds[f]:
+                    p["kind"] = kinds[f]
+                polygons.append(p)
+            else:
+                polygons.append(faces[f])
+        d = {"name": m.name, "polygons": polygons}
         if m.material:
             d["material"] = m.material
+        if m.orient_outward:
+            d["orient"] = "outward"
         meshes.append(d)
     sun_lights = {i.light_id for i in scene.sun_instants if i.light_id is not None}
     lights = []

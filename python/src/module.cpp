@@ -205,6 +205,7 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("face_count", &Mesh::face_count)
       .def_readonly("receiver", &Mesh::receiver)
       .def_readonly("material", &Mesh::material)
+      .def_readonly("orient_outward", &Mesh::orient_outward)
       .def("__repr__", [](const Mesh& x) {
         return "Mesh(name=" + py::repr(py::str(x.name)).cast<std::string>() + ", faces=" +
                std::to_string(x.face_count) + ", receiver=" + (x.receiver ? "True" : "False") + ")";
@@ -350,6 +351,15 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("expand_sun_period", &expand_sun_period, py::arg("period"),
         "Every instant of the period in time order with its sun's position (light_id None).");
   m.def("sun_light_name", &sun_light_name, py::arg("time"));
+  m.def("replace_sun_lights",
+        [](const ScenePtr& scene, const SunPeriod& period) {
+          auto out = std::make_shared<Scene>(*scene);
+          replace_sun_lights(*out, period);
+          return out;
+        },
+        py::arg("scene"), py::arg("period"),
+        "A copy of the scene with its sun period replaced: the earlier suns' lights removed, the\n"
+        "period's added (other lights keep their order). The scene given is left as it was.");
   // A copy, not the scene changed in place: an engine may be computing on the scene given.
   m.def("add_sun_lights",
         [](const ScenePtr& scene, const SunPeriod& period) {
@@ -375,6 +385,10 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("sun", &Scene::sun)
       .def_readonly("sun_instants", &Scene::sun_instants)
       .def_readonly("sun_hours_map", &Scene::sun_hours_map, "indices of the meshes that get the sun-hours map")
+      .def_property_readonly("origin", [](const Scene& s) -> py::object {
+        if (!s.origin) return py::none();
+        return vec3_array(*s.origin);
+      }, "the point subtracted from the VTK files' points (CityJSON models), or None")
       .def_property_readonly("face_count", [](const Scene& s) { return s.faces.size(); })
       .def("face_vertices", [](const Scene& s, std::size_t i) {
         if (i >= s.faces.size()) throw py::index_error("face_id out of range");
@@ -436,22 +450,31 @@ PYBIND11_MODULE(_libshadow, m) {
         "The benchmark city (generators.hpp): `boxes` random boxes on a ground square of side `extent`,\n"
         "seeded; mesh 0 'ground', mesh 1 'buildings'. `lights` (Light objects) are its lights.");
   m.def("load_scene",
-        [](const std::filesystem::path& path, double tolerance) {
+        [](const std::filesystem::path& path, double tolerance, bool orient_outward, const std::string& lod) {
           LoadOptions o;
           o.planarity_tolerance = tolerance;
+          o.orient_outward = orient_outward;
+          o.cityjson_lod = lod;
           py::gil_scoped_release release;
           return std::make_shared<Scene>(load_scene(path, o));
         },
-        py::arg("path"), py::arg("planarity_tolerance") = 1e-6,
-        "Reads and validates a scene file and its meshes. Raises InputError (a ValueError).");
+        py::arg("path"), py::arg("planarity_tolerance") = 1e-6, py::arg("orient_outward") = false,
+        py::arg("cityjson_lod") = "",
+        "Reads and validates a scene file and its meshes (OBJ, CityJSON, EnergyPlus). Raises InputError\n"
+        "(a ValueError). orient_outward: turn every mesh's closed parts outward (--orient-outward);\n"
+        "cityjson_lod: the CityJSON level of detail ('' : the highest of each object).");
   m.def("parse_scene",
-        [](const std::string& text, const std::filesystem::path& name, double tolerance) {
+        [](const std::string& text, const std::filesystem::path& name, double tolerance, bool orient_outward,
+           const std::string& lod) {
           LoadOptions o;
           o.planarity_tolerance = tolerance;
+          o.orient_outward = orient_outward;
+          o.cityjson_lod = lod;
           py::gil_scoped_release release;
           return std::make_shared<Scene>(parse_scene(text, name, o));
         },
         py::arg("text"), py::arg("name") = "<string>", py::arg("planarity_tolerance") = 1e-6,
+        py::arg("orient_outward") = false, py::arg("cityjson_lod") = "",
         "Parses and validates scene JSON text; `name` names it in errors and anchors mesh files.");
 
   // ---- results ----------------------------------------------------------------------------------
@@ -817,11 +840,14 @@ PYBIND11_MODULE(_libshadow, m) {
         "The exact sun-hours map on `faces` (None: the scene's sun_hours_map meshes) under `instants`\n"
         "(None: the scene's suns, sun_hours_instants). The GIL is released while it works.");
   m.def("write_sun_hours_vtp",
-        [](const SunHoursMap& map, const std::filesystem::path& path) {
+        [](const SunHoursMap& map, const std::filesystem::path& path, const ScenePtr& scene) {
           py::gil_scoped_release release;
-          write_sun_hours_vtp(path, map);
+          if (scene) write_sun_hours_vtp(path, map, *scene);
+          else write_sun_hours_vtp(path, map);
         },
-        py::arg("map"), py::arg("path"), "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp).");
+        py::arg("map"), py::arg("path"), py::arg("scene") = ScenePtr{},
+        "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp); with the scene, points\n"
+        "are shifted by its origin like the scene's other VTK files.");
 
   m.def("compute_shadows",
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
