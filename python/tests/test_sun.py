@@ -152,3 +152,15 @@ def test_sun_hours_map_agrees_with_the_per_instant_results(source_dir, tmp_path)
         libshadow.compute_sun_hours_map(engine, faces=[scene.face_count])
     with pytest.raises(libshadow.InputError):
         libshadow.sun_hours_map_faces(scene, ["no such mesh"])
+
+
+def test_replace_sun_lights_returns_a_new_scene(source_dir):
+    scene = libshadow.load_scene(str(source_dir / "examples" / "sun" / "scene.json"))
+    winter = libshadow.SunPeriod(scene.sun.site, utc_offset_hours=1.0, start="2026-12-21", end="2026-12-21",
+                                 step_minutes=60)
+    replaced = libshadow.replace_sun_lights(scene, winter)
+    assert len(scene.lights) == sum(1 for i in scene.sun_instants if i.light_id is not None)  # unchanged
+    up = [i for i in replaced.sun_instants if i.light_id is not None]
+    assert len(replaced.lights) == len(up) < len(scene.lights)  # shorter days
+    assert replaced.sun.start == "2026-12-21"
+    assert all(replaced.lights[i.light_id].name == libshadow.sun_light_name(i.time) for i in up)
