@@ -19,6 +19,8 @@ packages=(
   xvfb xauth libgl1-mesa-dri
   # The sampled baselines that shadow-bench measures against the exact engine.
   libembree-dev
+  # The Python module (python/, docs/python.md) and its tests.
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis
 )
 # The test suite also needs ParaView (its headless test opens a result in pvpython) and clang with
 # libFuzzer and the sanitizers' runtimes (scripts/run-fuzz.sh; GCC 12's UBSan miscompiles an

@@ -1,0 +1,871 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The C++ half of the Python module `libshadow` (pybind11): scenes, the engine, results as numpy
+// arrays, output files and the sun. The pure-Python half (python/libshadow/__init__.py) builds
+// scenes from Python data, adds to_pandas() and sun hours. Only the public API (shadow/*.hpp)
+// is used: the module is a client of the library like the CLI.
+#include <shadow/shadow.hpp>
+#include <shadow/sun.hpp>
+#include <shadow/series.hpp>
+#include <shadow/sun_hours.hpp>
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+using namespace shadow;
+
+namespace {
+
+using ScenePtr = std::shared_ptr<Scene>;
+
+py::array_t<double> vec3_array(const glm::dvec3& v) {
+  py::array_t<double> a(3);
+  auto m = a.mutable_unchecked<1>();
+  for (int i = 0; i < 3; ++i) m(i) = v[i];
+  return a;
+}
+
+glm::dvec3 to_vec3(const py::handle& h, const char* what) {
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(h);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3)
+    throw py::value_error(std::string(what) + ": expected 3 numbers [x, y, z]");
+  return {a.at(0), a.at(1), a.at(2)};
+}
+
+/// Polygon vertices as an (n, 3) float64 array.
+py::array_t<double> polygon_array(const std::vector<glm::dvec3>& vertices) {
+  py::array_t<double> a({static_cast<py::ssize_t>(vertices.size()), py::ssize_t{3}});
+  auto m = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    for (int c = 0; c < 3; ++c) m(static_cast<py::ssize_t>(i), c) = vertices[i][c];
+  return a;
+}
+
+template <class T, class Item, class Get>
+py::array_t<T> column(const std::vector<Item>& items, Get get) {
+  py::array_t<T> a(static_cast<py::ssize_t>(items.size()));
+  T* out = a.mutable_data();
+  for (std::size_t i = 0; i < items.size(); ++i) out[i] = static_cast<T>(get(items[i]));
+  return a;
+}
+
+Arithmetic parse_arithmetic(const std::string& name) {
+  if (name == "exact") return Arithmetic::Exact;
+  if (name == "fast") return Arithmetic::Fast;
+  throw py::value_error("arithmetic must be \"exact\" or \"fast\", got \"" + name + "\"");
+}
+
+std::string arithmetic_name(Arithmetic a) { return a == Arithmetic::Fast ? "fast" : "exact"; }
+
+/// The engine's progress hook, run now and then by its reporting thread with the GIL taken: it
+/// raises a pending signal (Ctrl-C, a Jupyter kernel interrupt) as the Python exception, which
+/// stops the computation, then calls the user's callback, if any, whose exceptions stop it too.
+std::function<void(const Progress&)> wrap_progress(const py::object& callback) {
+  std::shared_ptr<py::object> holder;
+  if (!callback.is_none()) {
+    // The last copy of the callback may be dropped on any thread: take the GIL to release it.
+    holder.reset(new py::object(callback), [](py::object* o) {
+      py::gil_scoped_acquire gil;
+      delete o;
+    });
+  }
+  return [holder](const Progress& p) {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (holder) (*holder)(p.done, p.total);
+  };
+}
+
+ShadowOptions make_options(unsigned threads, bool polygons, const std::optional<std::vector<std::size_t>>& lights,
+                           const std::string& arithmetic, bool planes, double plane_window,
+                           const py::object& progress) {
+  ShadowOptions o;
+  o.threads = threads;
+  o.polygons = polygons;
+  if (lights) o.lights = *lights;
+  o.arithmetic = parse_arithmetic(arithmetic);
+  o.planes = planes;
+  o.plane_window = plane_window;
+  o.progress = wrap_progress(progress);
+  return o;
+}
+
+/// The progress callback holds a Python object: it must be dropped with the GIL held.
+void drop_progress(ShadowOptions& o) { o.progress = nullptr; }
+
+/// A result with the scene it belongs to (write_outputs and face labels need the scene).
+struct Result {
+  ScenePtr scene;
+  ShadowResult result;
+};
+
+struct Engine {
+  ScenePtr scene;
+  std::unique_ptr<ShadowEngine> engine;
+};
+
+/// A series (faces x instants) with its scene and its suns.
+struct Series {
+  ScenePtr scene;
+  SeriesResult result;
+  std::vector<Light> lights;
+  std::vector<UtcSeconds> times;  ///< the instants' UTC times when they are the scene's suns
+};
+
+/// A row-major rows x cols table as a 2-D numpy array.
+template <class T, class Source>
+py::array_t<T> table(const std::vector<Source>& values, std::size_t rows, std::size_t cols) {
+  py::array_t<T> a({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+  T* out = a.mutable_data();
+  for (std::size_t i = 0; i < rows * cols && i < values.size(); ++i) out[i] = static_cast<T>(values[i]);
+  return a;
+}
+
+std::shared_ptr<Result> run_compute(const ScenePtr& scene, ShadowOptions options,
+                                    const std::function<ShadowResult(const ShadowOptions&)>& compute) {
+  auto out = std::make_shared<Result>();
+  out->scene = scene;
+  try {
+    py::gil_scoped_release release;
+    out->result = compute(options);
+  } catch (...) {
+    drop_progress(options);
+    throw;
+  }
+  drop_progress(options);
+  return out;
+}
+
+UtcSeconds to_utc(const py::handle& t) {
+  if (py::isinstance<py::str>(t)) {
+    const std::string text = t.cast<std::string>();
+    const std::optional<UtcSeconds> s = parse_iso8601(text);
+    if (!s) throw py::value_error("not an ISO 8601 time with Z or an offset: \"" + text + "\"");
+    return *s;
+  }
+  const py::module_ datetime = py::module_::import("datetime");
+  if (py::isinstance(t, datetime.attr("datetime"))) {
+    if (t.attr("tzinfo").is_none() || t.attr("utcoffset")().is_none())
+      throw py::value_error("a naive datetime has no time zone: give tzinfo (datetime.timezone.utc, say)");
+    // Whole seconds, truncated like parse_iso8601 does with fractions.
+    const py::object epoch = datetime.attr("datetime")(1970, 1, 1, 0, 0, 0, 0, datetime.attr("timezone").attr("utc"));
+    const py::object delta = t - epoch;
+    const long long days = delta.attr("days").cast<long long>();
+    const long long seconds = delta.attr("seconds").cast<long long>();
+    return static_cast<UtcSeconds>(days * 86400 + seconds);
+  }
+  return t.cast<UtcSeconds>();
+}
+
+py::dict stats_dict(const ShadowStats& s) {
+  py::dict d;
+  d["receivers"] = s.receivers;
+  d["back_facing"] = s.back_facing;
+  d["candidate_pairs"] = s.candidate_pairs;
+  d["casting_pairs"] = s.casting_pairs;
+  d["unshadowed"] = s.unshadowed;
+  d["fast_exact_fallbacks"] = s.fast_exact_fallbacks;
+  d["fast_collapsed"] = s.fast_collapsed;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_libshadow, m) {
+  m.doc() = "libshadow's C++ core; import libshadow instead.";
+  m.attr("__version__") = version();
+
+  static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
+  input_error.doc() = "Bad input: one line 'FILE: PLACE: PROBLEM', as the shadow CLI prints it.";
+  static py::exception<OutputError> output_error(m, "OutputError", PyExc_OSError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      input_error(e.what());
+    } catch (const OutputError& e) {
+      output_error(e.what());
+    }
+  });
+
+  // ---- scene ------------------------------------------------------------------------------------
+  py::class_<Mesh>(m, "Mesh", "A named group of consecutive faces.")
+      .def_readonly("name", &Mesh::name)
+      .def_readonly("file", &Mesh::file, "OBJ path as written in the scene ('' for inline polygons)")
+      .def_readonly("first_face", &Mesh::first_face)
+      .def_readonly("face_count", &Mesh::face_count)
+      .def_readonly("receiver", &Mesh::receiver)
+      .def_readonly("material", &Mesh::material)
+      .def_readonly("orient_outward", &Mesh::orient_outward)
+      .def("__repr__", [](const Mesh& x) {
+        return "Mesh(name=" + py::repr(py::str(x.name)).cast<std::string>() + ", faces=" +
+               std::to_string(x.face_count) + ", receiver=" + (x.receiver ? "True" : "False") + ")";
+      });
+
+  py::class_<Light>(m, "Light", "A light: directional (to_light, toward the light) or point (position).")
+      .def(py::init([](const std::string& name, const std::string& type, const py::object& to_light,
+                       const py::object& position, double intensity, const py::object& color) {
+             Light l;
+             l.name = name;
+             if (type == "directional") l.type = LightType::Directional;
+             else if (type == "point") l.type = LightType::Point;
+             else throw py::value_error("light type must be \"directional\" or \"point\", got \"" + type + "\"");
+             if (!to_light.is_none()) l.to_light = to_vec3(to_light, "to_light");
+             if (!position.is_none()) l.position = to_vec3(position, "position");
+             l.intensity = intensity;
+             if (!color.is_none()) l.color = to_vec3(color, "color");
+             return l;
+           }),
+           py::arg("name") = "", py::arg("type") = "directional", py::arg("to_light") = py::none(),
+           py::arg("position") = py::none(), py::arg("intensity") = 1.0, py::arg("color") = py::none())
+      .def_readonly("name", &Light::name)
+      .def_property_readonly("type", [](const Light& l) {
+        return l.type == LightType::Point ? "point" : "directional";
+      })
+      .def_property_readonly("to_light", [](const Light& l) { return vec3_array(l.to_light); })
+      .def_property_readonly("position", [](const Light& l) { return vec3_array(l.position); })
+      .def_readonly("intensity", &Light::intensity)
+      .def_property_readonly("color", [](const Light& l) { return vec3_array(l.color); })
+      .def("__repr__", [](const Light& l) {
+        return "Light(name=" + py::repr(py::str(l.name)).cast<std::string>() + ", type='" +
+               (l.type == LightType::Point ? "point" : "directional") + "')";
+      });
+
+  py::class_<Plane>(m, "Plane", "An infinite receiving plane n . (x - point) = 0.")
+      .def_readonly("name", &Plane::name)
+      .def_property_readonly("point", [](const Plane& p) { return vec3_array(p.point); })
+      .def_property_readonly("normal", [](const Plane& p) { return vec3_array(p.normal); })
+      .def_readonly("window", &Plane::window);
+
+  py::class_<Material>(m, "Material")
+      .def_readonly("name", &Material::name)
+      .def_readonly("k_a", &Material::k_a)
+      .def_readonly("k_d", &Material::k_d)
+      .def_readonly("k_s", &Material::k_s)
+      .def_readonly("shininess", &Material::shininess)
+      .def_property_readonly("color", [](const Material& x) { return vec3_array(x.color); })
+      .def_property_readonly("specular_color", [](const Material& x) { return vec3_array(x.specular_color); });
+
+  py::class_<NamedSurface>(m, "NamedSurface", "Faces sharing a name, or one unnamed face (label face_<id>).")
+      .def_readonly("label", &NamedSurface::label)
+      .def_readonly("faces", &NamedSurface::faces);
+
+  // ---- sun --------------------------------------------------------------------------------------
+  py::class_<SolarSite>(m, "SolarSite", "Where the sun is seen from (degrees, metres, millibars, Celsius).")
+      .def(py::init([](double latitude, double longitude, double elevation, double pressure, double temperature) {
+             return SolarSite{latitude, longitude, elevation, pressure, temperature};
+           }),
+           py::arg("latitude"), py::arg("longitude"), py::arg("elevation") = 0.0,
+           py::arg("pressure") = 1013.25, py::arg("temperature") = 12.0)
+      .def_readwrite("latitude", &SolarSite::latitude)
+      .def_readwrite("longitude", &SolarSite::longitude)
+      .def_readwrite("elevation", &SolarSite::elevation)
+      .def_readwrite("pressure", &SolarSite::pressure)
+      .def_readwrite("temperature", &SolarSite::temperature);
+
+  py::class_<SunPosition>(m, "SunPosition", "The sun seen from a site (topocentric, refraction included).")
+      .def_readonly("zenith", &SunPosition::zenith)
+      .def_readonly("elevation", &SunPosition::elevation)
+      .def_readonly("azimuth", &SunPosition::azimuth, "degrees clockwise from true north")
+      .def_property_readonly("to_light", [](const SunPosition& s) { return vec3_array(s.to_light); })
+      .def("__repr__", [](const SunPosition& s) {
+        std::ostringstream o;
+        o.precision(10);
+        o << "SunPosition(elevation=" << s.elevation << ", azimuth=" << s.azimuth << ")";
+        return o.str();
+      });
+
+  py::class_<SunPeriod>(m, "SunPeriod", "A scene's sun block: a site and a period (start..end, step) or times.")
+      .def(py::init([](const SolarSite& site, double utc_offset_hours, const std::string& start, const std::string& end,
+                       int step_minutes, const std::vector<py::object>& times, double north_axis,
+                       double min_elevation, double delta_t) {
+             SunPeriod p;
+             p.site = site;
+             p.utc_offset_hours = utc_offset_hours;
+             p.start = start;
+             p.end = end;
+             p.step_minutes = step_minutes;
+             for (const py::object& t : times) p.times.push_back(to_utc(t));
+             p.north_axis = north_axis;
+             p.min_elevation = min_elevation;
+             p.delta_t = delta_t;
+             return p;
+           }),
+           py::arg("site"), py::arg("utc_offset_hours") = 0.0, py::arg("start") = "", py::arg("end") = "",
+           py::arg("step_minutes") = 60, py::arg("times") = std::vector<py::object>{}, py::arg("north_axis") = 0.0,
+           py::arg("min_elevation") = 0.0, py::arg("delta_t") = 69.0)
+      .def_readwrite("site", &SunPeriod::site)
+      .def_readwrite("utc_offset_hours", &SunPeriod::utc_offset_hours)
+      .def_readwrite("start", &SunPeriod::start)
+      .def_readwrite("end", &SunPeriod::end)
+      .def_readwrite("step_minutes", &SunPeriod::step_minutes)
+      .def_readwrite("times", &SunPeriod::times, "explicit UTC instants (POSIX seconds)")
+      .def_readwrite("north_axis", &SunPeriod::north_axis)
+      .def_readwrite("min_elevation", &SunPeriod::min_elevation)
+      .def_readwrite("delta_t", &SunPeriod::delta_t)
+      .def_readwrite("time_zone", &SunPeriod::time_zone);
+
+  py::class_<SunInstant>(m, "SunInstant", "One instant of a sun period; light_id is None below the horizon.")
+      .def_readonly("time", &SunInstant::time, "UTC, POSIX seconds")
+      .def_readonly("position", &SunInstant::position)
+      .def_property_readonly("light_id", [](const SunInstant& s) -> py::object {
+        if (s.light_id == SunInstant::none) return py::none();
+        return py::int_(s.light_id);
+      });
+
+  m.def("solar_position",
+        [](const SolarSite& site, const py::object& time, double north_axis, double delta_t) {
+          return solar_position(site, to_utc(time), north_axis, delta_t);
+        },
+        py::arg("site"), py::arg("time"), py::arg("north_axis") = 0.0, py::arg("delta_t") = 69.0,
+        "The sun seen from `site` at `time` (UTC seconds, an ISO 8601 string with Z or an offset, or an\n"
+        "aware datetime): NREL's SPA, topocentric, refraction included. north_axis only turns to_light\n"
+        "into model coordinates (EnergyPlus's Building North Axis).");
+  m.def("sun_to_light", [](double e, double a, double n) { return vec3_array(sun_to_light(e, a, n)); },
+        py::arg("elevation"), py::arg("azimuth"), py::arg("north_axis") = 0.0,
+        "Unit vector toward a sun at `elevation` and `azimuth` (degrees) in model coordinates.");
+  m.def("parse_iso8601",
+        [](const std::string& text, std::optional<int> local_offset_minutes) {
+          const std::optional<UtcSeconds> s =
+              local_offset_minutes ? parse_iso8601(text, *local_offset_minutes) : parse_iso8601(text);
+          if (!s) throw py::value_error("not an ISO 8601 time that exists: \"" + text + "\"");
+          return *s;
+        },
+        py::arg("text"), py::arg("local_offset_minutes") = py::none(),
+        "UTC seconds of an ISO 8601 time; without Z or an offset it is local time local_offset_minutes\n"
+        "ahead of UTC (an error when that is None). Raises ValueError when malformed.");
+  m.def("format_iso8601_utc", &format_iso8601_utc, py::arg("time"), "YYYY-MM-DDThh:mm:ssZ");
+  m.def("parse_utc_offset", &parse_utc_offset, py::arg("time_zone"),
+        "Minutes east of UTC of 'UTC', 'UTC+hh:mm', ...; None for anything else.");
+  m.def("check_sun_period", &check_sun_period, py::arg("period"), py::arg("file") = "", py::arg("place") = "sun",
+        "Raises InputError when the period is out of range.");
+  m.def("expand_sun_period", &expand_sun_period, py::arg("period"),
+        "Every instant of the period in time order with its sun's position (light_id None).");
+  m.def("sun_light_name", &sun_light_name, py::arg("time"));
+  m.def("replace_sun_lights",
+        [](const ScenePtr& scene, const SunPeriod& period) {
+          auto out = std::make_shared<Scene>(*scene);
+          replace_sun_lights(*out, period);
+          return out;
+        },
+        py::arg("scene"), py::arg("period"),
+        "A copy of the scene with its sun period replaced: the earlier suns' lights removed, the\n"
+        "period's added (other lights keep their order). The scene given is left as it was.");
+  // A copy, not the scene changed in place: an engine may be computing on the scene given.
+  m.def("add_sun_lights",
+        [](const ScenePtr& scene, const SunPeriod& period) {
+          auto out = std::make_shared<Scene>(*scene);
+          add_sun_lights(*out, period);
+          return out;
+        },
+        py::arg("scene"), py::arg("period"),
+        "A copy of the scene with the period's suns above min_elevation appended to its lights (and\n"
+        "its sun and sun_instants set); the scene given is left as it was.");
+
+  py::class_<Scene, ScenePtr>(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.")
+      .def_property_readonly("source", [](const Scene& s) { return s.source.string(); })
+      .def_readonly("meshes", &Scene::meshes)
+      .def_readonly("lights", &Scene::lights)
+      .def_readonly("planes", &Scene::planes)
+      .def_readonly("materials", &Scene::materials)
+      .def_property_readonly("warnings", [](const Scene& s) {
+        std::vector<std::string> w;
+        for (const Warning& x : s.warnings) w.push_back(x.to_string());
+        return w;
+      }, "non-fatal findings of loading and validation, one line each")
+      .def_readonly("sun", &Scene::sun)
+      .def_readonly("sun_instants", &Scene::sun_instants)
+      .def_readonly("sun_hours_map", &Scene::sun_hours_map, "indices of the meshes that get the sun-hours map")
+      .def_property_readonly("origin", [](const Scene& s) -> py::object {
+        if (!s.origin) return py::none();
+        return vec3_array(*s.origin);
+      }, "the point subtracted from the VTK files' points (CityJSON models), or None")
+      .def_property_readonly("face_count", [](const Scene& s) { return s.faces.size(); })
+      .def("face_vertices", [](const Scene& s, std::size_t i) {
+        if (i >= s.faces.size()) throw py::index_error("face_id out of range");
+        return polygon_array(s.faces[i].vertices);
+      }, py::arg("face_id"), "The face's vertices, an (n, 3) float64 array.")
+      .def_property_readonly("faces", [](const Scene& s) {
+        py::list l;
+        for (const Face& f : s.faces) l.append(polygon_array(f.vertices));
+        return l;
+      }, "Every face's vertices: a list of (n, 3) float64 arrays indexed by face_id.")
+      .def_property_readonly("face_mesh", [](const Scene& s) {
+        return column<std::uint64_t>(s.faces, [](const Face& f) { return f.mesh; });
+      })
+      .def_property_readonly("face_degenerate", [](const Scene& s) {
+        return column<bool>(s.faces, [](const Face& f) { return f.degenerate; });
+      })
+      .def_property_readonly("face_receiver", [](const Scene& s) {
+        py::array_t<bool> a(static_cast<py::ssize_t>(s.faces.size()));
+        for (std::size_t i = 0; i < s.faces.size(); ++i) a.mutable_data()[i] = s.is_receiver(i);
+        return a;
+      })
+      .def_property_readonly("face_name", [](const Scene& s) {
+        std::vector<std::string> n;
+        for (const Face& f : s.faces) n.push_back(f.name);
+        return n;
+      })
+      .def_property_readonly("face_kind", [](const Scene& s) {
+        std::vector<std::string> n;
+        for (const Face& f : s.faces) n.push_back(f.kind);
+        return n;
+      })
+      .def_property_readonly("face_source", [](const Scene& s) {
+        std::vector<std::string> n;
+        for (const Face& f : s.faces) n.push_back(f.source.to_string());
+        return n;
+      })
+      .def("face_label", [](const Scene& s, std::size_t i) { return face_label(s, i); }, py::arg("face_id"))
+      .def("named_surfaces", [](const Scene& s, bool r) { return named_surfaces(s, r); },
+           py::arg("receivers_only") = true)
+      .def("validate", [](Scene& s, double tolerance) {
+        LoadOptions o;
+        o.planarity_tolerance = tolerance;
+        validate_scene(s, o);
+      }, py::arg("planarity_tolerance") = 1e-6, "Checks the scene again (load_scene already did).")
+      .def("__repr__", [](const Scene& s) {
+        return "<libshadow.Scene " + py::repr(py::str(s.source.string())).cast<std::string>() + ": " +
+               std::to_string(s.meshes.size()) + " meshes, " + std::to_string(s.faces.size()) + " faces, " +
+               std::to_string(s.lights.size()) + " lights, " + std::to_string(s.planes.size()) + " planes>";
+      });
+
+  m.def("make_city",
+        [](std::size_t boxes, double extent, std::uint64_t seed, const std::vector<Light>& lights) {
+          auto scene = std::make_shared<Scene>(make_city(boxes, extent, seed));
+          scene->lights = lights;
+          validate_scene(*scene);
+          return scene;
+        },
+        py::arg("boxes"), py::arg("extent"), py::arg("seed"), py::arg("lights") = std::vector<Light>{},
+        "The benchmark city (generators.hpp): `boxes` random boxes on a ground square of side `extent`,\n"
+        "seeded; mesh 0 'ground', mesh 1 'buildings'. `lights` (Light objects) are its lights.");
+  m.def("load_scene",
+        [](const std::filesystem::path& path, double tolerance, bool orient_outward, const std::string& lod) {
+          LoadOptions o;
+          o.planarity_tolerance = tolerance;
+          o.orient_outward = orient_outward;
+          o.cityjson_lod = lod;
+          py::gil_scoped_release release;
+          return std::make_shared<Scene>(load_scene(path, o));
+        },
+        py::arg("path"), py::arg("planarity_tolerance") = 1e-6, py::arg("orient_outward") = false,
+        py::arg("cityjson_lod") = "",
+        "Reads and validates a scene file and its meshes (OBJ, CityJSON, EnergyPlus). Raises InputError\n"
+        "(a ValueError). orient_outward: turn every mesh's closed parts outward (--orient-outward);\n"
+        "cityjson_lod: the CityJSON level of detail ('' : the highest of each object).");
+  m.def("parse_scene",
+        [](const std::string& text, const std::filesystem::path& name, double tolerance, bool orient_outward,
+           const std::string& lod) {
+          LoadOptions o;
+          o.planarity_tolerance = tolerance;
+          o.orient_outward = orient_outward;
+          o.cityjson_lod = lod;
+          py::gil_scoped_release release;
+          return std::make_shared<Scene>(parse_scene(text, name, o));
+        },
+        py::arg("text"), py::arg("name") = "<string>", py::arg("planarity_tolerance") = 1e-6,
+        py::arg("orient_outward") = false, py::arg("cityjson_lod") = "",
+        "Parses and validates scene JSON text; `name` names it in errors and anchors mesh files.");
+
+  // ---- results ----------------------------------------------------------------------------------
+  py::class_<PlaneShadow>(m, "PlaneShadow", "The shadow the scene casts on one plane from one light.")
+      .def_readonly("plane_id", &PlaneShadow::plane_id)
+      .def_readonly("light_id", &PlaneShadow::light_id)
+      .def_property_readonly("polygons", [](const PlaneShadow& p) {
+        py::list l;
+        for (const auto& poly : p.polygons) l.append(polygon_array(poly));
+        return l;
+      })
+      .def_property_readonly("region_id", [](const PlaneShadow& p) {
+        return column<std::uint64_t>(p.region_id, [](std::size_t x) { return x; });
+      })
+      .def_property_readonly("polygon_area", [](const PlaneShadow& p) {
+        return column<double>(p.polygon_area, [](double x) { return x; });
+      })
+      .def_readonly("area", &PlaneShadow::area)
+      .def_readonly("window_half_size", &PlaneShadow::window_half_size)
+      .def_readonly("reaches_window", &PlaneShadow::reaches_window);
+
+  py::class_<Result, std::shared_ptr<Result>>(
+      m, "ShadowResult",
+      "Lit and shadowed areas per (face, light), ordered by face_id then light_id, as numpy arrays;\n"
+      "fragments (lit and shadowed polygons) and plane shadows.")
+      .def("__len__", [](const Result& r) { return r.result.lighting.size(); })
+      .def_property_readonly("scene", [](const Result& r) { return r.scene; })
+      .def_property_readonly("face_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.lighting, [](const FaceLighting& x) { return x.face_id; });
+      })
+      .def_property_readonly("light_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.lighting, [](const FaceLighting& x) { return x.light_id; });
+      })
+      .def_property_readonly("area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.area; });
+      })
+      .def_property_readonly("lit_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.lit_area; });
+      })
+      .def_property_readonly("shadow_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.shadow_area; });
+      })
+      .def_property_readonly("lit_fraction", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.lit_fraction; });
+      })
+      .def_property_readonly("lit_area_error_bound", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.lit_area_error_bound; });
+      })
+      .def_property_readonly("dropped_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.dropped_area; });
+      })
+      .def_property_readonly("faces_light", [](const Result& r) {
+        return column<bool>(r.result.lighting, [](const FaceLighting& x) { return x.faces_light; });
+      })
+      // Fragments, one entry per simple polygon, ordered by face, light, fragment_id.
+      .def_property_readonly("fragment_face_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.fragments, [](const Fragment& x) { return x.face_id; });
+      })
+      .def_property_readonly("fragment_light_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.fragments, [](const Fragment& x) { return x.light_id; });
+      })
+      .def_property_readonly("fragment_id", [](const Result& r) {
+        return column<std::uint64_t>(r.result.fragments, [](const Fragment& x) { return x.fragment_id; });
+      })
+      .def_property_readonly("fragment_lit", [](const Result& r) {
+        return column<bool>(r.result.fragments, [](const Fragment& x) { return x.lit; });
+      })
+      .def_property_readonly("fragment_area", [](const Result& r) {
+        return column<double>(r.result.fragments, [](const Fragment& x) { return x.area; });
+      })
+      .def_property_readonly("fragment_polygons", [](const Result& r) {
+        py::list l;
+        for (const Fragment& f : r.result.fragments) l.append(polygon_array(f.polygon));
+        return l;
+      })
+      .def_property_readonly("plane_shadows", [](const Result& r) { return r.result.plane_shadows; })
+      .def_property_readonly("stats", [](const Result& r) { return stats_dict(r.result.stats); })
+      .def_property_readonly("arithmetic", [](const Result& r) { return arithmetic_name(r.result.arithmetic); })
+      .def("find", [](const Result& r, std::size_t face, std::size_t light) -> py::object {
+        const FaceLighting* x = r.result.find(face, light);
+        if (x == nullptr) return py::none();
+        py::dict d;
+        d["face_id"] = x->face_id;
+        d["light_id"] = x->light_id;
+        d["area"] = x->area;
+        d["lit_area"] = x->lit_area;
+        d["shadow_area"] = x->shadow_area;
+        d["lit_fraction"] = x->lit_fraction;
+        d["faces_light"] = x->faces_light;
+        d["lit_area_error_bound"] = x->lit_area_error_bound;
+        d["dropped_area"] = x->dropped_area;
+        return d;
+      }, py::arg("face_id"), py::arg("light_id"), "The entry for (face, light) as a dict, or None.")
+      .def("report_json", [](const Result& r) {
+        std::ostringstream out;
+        write_report_json(out, *r.scene, r.result);
+        return out.str();
+      }, "report.json's text, as write_outputs writes it (without the run object).");
+
+  m.def("write_outputs",
+        [](const Result& r, const std::filesystem::path& outdir) {
+          std::vector<std::filesystem::path> paths;
+          {
+            py::gil_scoped_release release;
+            paths = write_outputs(outdir, *r.scene, r.result);
+          }
+          std::vector<std::string> out;
+          for (const auto& p : paths) out.push_back(p.string());
+          return out;
+        },
+        py::arg("result"), py::arg("outdir"),
+        "Writes the CLI's files (fragments.vtp, faces.vtp, plane_shadows.vtp, lights.vtp, scene.vtm,\n"
+        "report.json last) into outdir; returns their paths. Raises OutputError (an OSError).");
+
+  // ---- computing --------------------------------------------------------------------------------
+  const char* options_doc =
+      "threads: workers (0: every hardware thread); polygons: also the lit/shadowed polygons;\n"
+      "lights: indices of scene lights (None: all); arithmetic: 'exact' or 'fast' (with error bounds);\n"
+      "progress: callable(done, total), called with the GIL held; an exception it raises stops the run.";
+
+  py::class_<Engine>(m, "ShadowEngine",
+                     "Prepares a scene once (exact face data) and computes shadows for many lights.")
+      .def(py::init([](const ScenePtr& scene, unsigned threads) {
+             auto e = std::make_unique<Engine>();
+             e->scene = scene;
+             py::gil_scoped_release release;
+             e->engine = std::make_unique<ShadowEngine>(*scene, threads);
+             return e;
+           }),
+           py::arg("scene"), py::arg("threads") = 0)
+      .def("compute",
+           [](const Engine& e, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
+              const std::string& arithmetic, const py::object& progress) {
+             return run_compute(e.scene, make_options(threads, polygons, lights, arithmetic, true, 0.0, progress),
+                                [&](const ShadowOptions& o) { return e.engine->compute(o); });
+           },
+           py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
+           py::arg("arithmetic") = "exact", py::arg("progress") = py::none(), options_doc)
+      .def("compute_light",
+           [](const Engine& e, const Light& light, std::size_t light_id, unsigned threads, bool polygons,
+              const std::string& arithmetic, const py::object& progress) {
+             return run_compute(e.scene,
+                                make_options(threads, polygons, std::nullopt, arithmetic, true, 0.0, progress),
+                                [&](const ShadowOptions& o) { return e.engine->compute(light, light_id, o); });
+           },
+           py::arg("light"), py::arg("light_id"), py::arg("threads") = 0, py::arg("polygons") = true,
+           py::arg("arithmetic") = "exact", py::arg("progress") = py::none(),
+           "Any light, not necessarily in the scene; results carry light_id.")
+      .def("compute_series",
+           [](const Engine& e, std::optional<std::vector<Light>> lights, unsigned threads,
+              const std::string& arithmetic, const py::object& progress) {
+             auto out = std::make_shared<Series>();
+             out->scene = e.scene;
+             if (lights) {
+               out->lights = *lights;
+             } else {
+               SunSeries suns = sun_series(*e.scene);
+               out->lights = std::move(suns.lights);
+               out->times = std::move(suns.times);
+             }
+             SeriesOptions o;
+             o.threads = threads;
+             o.arithmetic = parse_arithmetic(arithmetic);
+             o.progress = wrap_progress(progress);
+             py::gil_scoped_release release;
+             out->result = e.engine->compute_series(out->lights, o);
+             return out;
+           },
+           py::arg("lights") = py::none(), py::arg("threads") = 0, py::arg("arithmetic") = "exact",
+           py::arg("progress") = py::none(),
+           "Lit areas of every receiving face under each light (None: the scene's suns, sun_series),\n"
+           "faces x instants, equal to compute_light per light bit for bit but faster.")
+      .def("compute_planes",
+           [](const Engine& e, std::optional<std::vector<std::size_t>> lights, double plane_window) {
+             ShadowOptions o = make_options(0, true, lights, "exact", true, plane_window, py::none());
+             py::gil_scoped_release release;
+             return e.engine->compute_planes(o);
+           },
+           py::arg("lights") = py::none(), py::arg("plane_window") = 0.0)
+      .def("face_area", [](const Engine& e, std::size_t i) {
+        if (i >= e.scene->faces.size()) throw py::index_error("face_id out of range");
+        return e.engine->face_area(i);
+      }, py::arg("face_id"))
+      .def_property_readonly("scene", [](const Engine& e) { return e.scene; });
+
+  // ---- sun series (series.hpp) -------------------------------------------------------------------
+  py::class_<SunSeries>(m, "SunSeries", "The scene's suns above the horizon, as the lights of a series.")
+      .def_readonly("lights", &SunSeries::lights)
+      .def_readonly("times", &SunSeries::times, "UTC, POSIX seconds")
+      .def_readonly("instants", &SunSeries::instants, "indices in Scene.sun_instants")
+      .def_readonly("all_instants", &SunSeries::all_instants)
+      .def_readonly("hours_per_instant", &SunSeries::hours_per_instant)
+      .def_readonly("explicit_times", &SunSeries::explicit_times);
+  m.def("sun_series", [](const Scene& s) { return sun_series(s); }, py::arg("scene"),
+        "The series of the scene's sun block. Raises InputError without one.");
+  m.def("hours_per_instant", &hours_per_instant, py::arg("period"),
+        "The hours each instant stands for: step_minutes / 60, or for explicit times the median gap.");
+
+  py::class_<Series, std::shared_ptr<Series>>(
+      m, "SeriesResult",
+      "Lit areas of every receiving face under every light of a series: rows are faces (face_id),\n"
+      "columns instants. 2-D arrays lit_area, lit_fraction, faces_light, lit_area_error_bound.")
+      .def_property_readonly("scene", [](const Series& x) { return x.scene; })
+      .def_property_readonly("face_id", [](const Series& x) {
+        return column<std::uint64_t>(x.result.faces, [](std::size_t f) { return f; });
+      })
+      .def_property_readonly("instants", [](const Series& x) { return x.result.instants; })
+      .def_property_readonly("times", [](const Series& x) { return x.times; },
+                             "UTC seconds of the columns (the scene's suns; empty for other lights)")
+      .def_property_readonly("lights", [](const Series& x) { return x.lights; })
+      .def_property_readonly("area", [](const Series& x) {
+        return column<double>(x.result.area, [](double a) { return a; });
+      })
+      .def_property_readonly("lit_area", [](const Series& x) {
+        return table<double>(x.result.lit_area, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("lit_fraction", [](const Series& x) {
+        return table<double>(x.result.lit_fraction, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("faces_light", [](const Series& x) {
+        return table<bool>(x.result.faces_light, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("lit_area_error_bound", [](const Series& x) {
+        return table<double>(x.result.lit_area_error_bound, x.result.faces.size(), x.result.instants);
+      })
+      .def_property_readonly("stats", [](const Series& x) { return stats_dict(x.result.stats); })
+      .def_property_readonly("arithmetic", [](const Series& x) { return arithmetic_name(x.result.arithmetic); });
+
+  m.def("_series_sun_hours", [](const Series& x, double h) {
+    const std::vector<double> v = sun_hours(x.result, h);
+    return column<double>(v, [](double a) { return a; });
+  });
+  m.def("_series_sun_hours_error_bound", [](const Series& x, double h) {
+    const std::vector<double> v = sun_hours_error_bound(x.result, h);
+    return column<double>(v, [](double a) { return a; });
+  });
+  m.def("_surface_series", [](const Series& x, double h) {
+    const SurfaceSeries s = surface_series(*x.scene, x.result, h);
+    py::dict d;
+    std::vector<std::string> labels;
+    for (const NamedSurface& n : s.surfaces) labels.push_back(n.label);
+    d["labels"] = labels;
+    d["surfaces"] = s.surfaces;
+    d["area"] = column<double>(s.area, [](double a) { return a; });
+    d["lit_fraction"] = table<double>(s.lit_fraction, s.surfaces.size(), s.instants);
+    d["sun_hours"] = column<double>(s.sun_hours, [](double a) { return a; });
+    return d;
+  });
+  m.def("sunlit_csv",
+        [](const Series& x) {
+          const SunSeries suns = sun_series(*x.scene);
+          std::ostringstream out;
+          write_sunlit_csv(out, suns, surface_series(*x.scene, x.result, suns.hours_per_instant));
+          return out.str();
+        },
+        py::arg("series"), "sunlit.csv's text (the scene's suns): time, then each named surface's lit fraction.");
+  m.def("energyplus_shading_csv",
+        [](const Series& x) -> py::object {
+          const SunSeries suns = sun_series(*x.scene);
+          std::ostringstream out;
+          const EnergyPlusSchedule schedule = write_energyplus_shading_csv(
+              out, *x.scene, suns, surface_series(*x.scene, x.result, suns.hours_per_instant));
+          py::dict d;
+          d["written"] = schedule.written;
+          d["reason"] = schedule.reason;
+          d["year"] = schedule.year;
+          d["timesteps_per_hour"] = schedule.timesteps_per_hour;
+          d["rows"] = schedule.rows;
+          d["rows_in_period"] = schedule.rows_in_period;
+          return py::make_tuple(schedule.written ? py::object(py::str(out.str())) : py::object(py::none()), d);
+        },
+        py::arg("series"),
+        "energyplus-shading.csv for Schedule:File:Shading: (text or None, schedule dict with 'reason').");
+  m.def("write_series",
+        [](const Series& x, const std::filesystem::path& outdir, std::size_t every) {
+          std::vector<std::filesystem::path> paths;
+          {
+            py::gil_scoped_release release;
+            const SunSeries suns = sun_series(*x.scene);
+            OutputDirectory dir(outdir);
+            paths = dir.write_series(*x.scene, suns, x.result, every);
+          }
+          std::vector<std::string> out;
+          for (const auto& p : paths) out.push_back(p.string());
+          return out;
+        },
+        py::arg("series"), py::arg("outdir"), py::arg("every") = 1,
+        "Writes the series files of `shadow series` (sunlit.csv, energyplus-shading.csv, series.pvd\n"
+        "every `every`-th instant, faces.vtp with sun_hours, report.json last). Needs the scene's suns.");
+
+  // ---- the exact sun-hours map (sun_hours.hpp) ----------------------------------------------------
+  py::class_<SunHoursInstant>(m, "SunHoursInstant", "One instant of a sun path: a light and the hours it stands for.")
+      .def(py::init([](const Light& light, double hours) { return SunHoursInstant{light, hours}; }),
+           py::arg("light"), py::arg("hours") = 1.0)
+      .def_readwrite("light", &SunHoursInstant::light)
+      .def_readwrite("hours", &SunHoursInstant::hours);
+
+  py::class_<SunHoursMap, std::shared_ptr<SunHoursMap>>(
+      m, "SunHoursMap",
+      "The exact sun-hours map: cells (simple polygons lit under the same instants) with their sun\n"
+      "hours, and per face totals. Cell arrays: cell_face_id, sun_hours, region_id, cell_area,\n"
+      "cell_polygons; face arrays: face_id, area, hour_area, dropped_area, instants_lit.")
+      .def_readonly("total_hours", &SunHoursMap::total_hours)
+      .def_property_readonly("cell_face_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.cells, [](const SunHoursCell& c) { return c.face_id; });
+      })
+      .def_property_readonly("sun_hours", [](const SunHoursMap& x) {
+        return column<double>(x.cells, [](const SunHoursCell& c) { return c.sun_hours; });
+      })
+      .def_property_readonly("region_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.cells, [](const SunHoursCell& c) { return c.region_id; });
+      })
+      .def_property_readonly("cell_area", [](const SunHoursMap& x) {
+        return column<double>(x.cells, [](const SunHoursCell& c) { return c.area; });
+      })
+      .def_property_readonly("cell_polygons", [](const SunHoursMap& x) {
+        py::list l;
+        for (const SunHoursCell& c : x.cells) l.append(polygon_array(c.polygon));
+        return l;
+      })
+      .def_property_readonly("face_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.faces, [](const SunHoursFace& f) { return f.face_id; });
+      })
+      .def_property_readonly("area", [](const SunHoursMap& x) {
+        return column<double>(x.faces, [](const SunHoursFace& f) { return f.area; });
+      })
+      .def_property_readonly("hour_area", [](const SunHoursMap& x) {
+        return column<double>(x.faces, [](const SunHoursFace& f) { return f.hour_area; });
+      })
+      .def_property_readonly("dropped_area", [](const SunHoursMap& x) {
+        return column<double>(x.faces, [](const SunHoursFace& f) { return f.dropped_area; });
+      })
+      .def_property_readonly("instants_lit", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.faces, [](const SunHoursFace& f) { return f.instants_lit; });
+      })
+      .def("__len__", [](const SunHoursMap& x) { return x.cells.size(); });
+
+  m.def("sun_hours_instants", [](const Scene& s) { return sun_hours_instants(s); }, py::arg("scene"),
+        "The scene's suns above the horizon, each weighing the period's step (step_minutes / 60 hours).");
+  m.def("sun_hours_map_faces",
+        [](const Scene& s, const std::optional<std::vector<std::string>>& meshes) {
+          return meshes ? sun_hours_map_faces(s, *meshes, "meshes") : sun_hours_map_faces(s);
+        },
+        py::arg("scene"), py::arg("meshes") = py::none(),
+        "The faces of the named meshes, or (None) of the scene's sun_hours_map meshes, ascending.");
+  m.def("compute_sun_hours_map",
+        [](const Engine& e, std::optional<std::vector<std::size_t>> faces,
+           std::optional<std::vector<SunHoursInstant>> instants, unsigned threads, bool merge_equal,
+           const py::object& progress) {
+          const std::vector<std::size_t> f = faces ? *faces : sun_hours_map_faces(*e.scene);
+          const std::vector<SunHoursInstant> i = instants ? *instants : sun_hours_instants(*e.scene);
+          SunHoursOptions o;
+          o.threads = threads;
+          o.merge_equal = merge_equal;
+          o.progress = wrap_progress(progress);
+          auto out = std::make_shared<SunHoursMap>();
+          py::gil_scoped_release release;
+          *out = compute_sun_hours_map(*e.engine, f, i, o);
+          return out;
+        },
+        py::arg("engine"), py::arg("faces") = py::none(), py::arg("instants") = py::none(), py::arg("threads") = 0,
+        py::arg("merge_equal") = true, py::arg("progress") = py::none(),
+        "The exact sun-hours map on `faces` (None: the scene's sun_hours_map meshes) under `instants`\n"
+        "(None: the scene's suns, sun_hours_instants). The GIL is released while it works.");
+  m.def("write_sun_hours_vtp",
+        [](const SunHoursMap& map, const std::filesystem::path& path, const ScenePtr& scene) {
+          py::gil_scoped_release release;
+          if (scene) write_sun_hours_vtp(path, map, *scene);
+          else write_sun_hours_vtp(path, map);
+        },
+        py::arg("map"), py::arg("path"), py::arg("scene") = ScenePtr{},
+        "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp); with the scene, points\n"
+        "are shifted by its origin like the scene's other VTK files.");
+
+  m.def("compute_shadows",
+        [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
+           const std::string& arithmetic, bool planes, double plane_window, const py::object& progress) {
+          return run_compute(scene, make_options(threads, polygons, lights, arithmetic, planes, plane_window, progress),
+                             [&](const ShadowOptions& o) { return compute_shadows(*scene, o); });
+        },
+        py::arg("scene"), py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
+        py::arg("arithmetic") = "exact", py::arg("planes") = true, py::arg("plane_window") = 0.0,
+        py::arg("progress") = py::none(),
+        "One call: every selected light on every receiving face and (planes) on every plane.");
+  m.def("compute_plane_shadows",
+        [](const ScenePtr& scene, unsigned threads, std::optional<std::vector<std::size_t>> lights, double plane_window) {
+          ShadowOptions o = make_options(threads, true, lights, "exact", true, plane_window, py::none());
+          py::gil_scoped_release release;
+          return compute_plane_shadows(*scene, o);
+        },
+        py::arg("scene"), py::arg("threads") = 0, py::arg("lights") = py::none(), py::arg("plane_window") = 0.0,
+        "The exact shadows on the scene's planes (Blinn's projection), by plane then light: a list of\n"
+        "PlaneShadow. Independent of the face engine.");
+}
