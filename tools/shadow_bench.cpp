@@ -226,6 +226,18 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
                 seconds, 1000 * per, 1000 * cpu_per, per * static_cast<double>(year.size()) + prepare,
                 cpu_per * static_cast<double>(year.size()) / threads + prepare,
                 static_cast<unsigned long long>(series.stats.fast_exact_fallbacks), area > 0 ? lit / area : 0.0);
+    // What neighbouring suns could share: the receivers each kind of work went to, per instant
+    // (back-facing and unshadowed ones need no union; only the shadowed ones do).
+    const shadow::ShadowStats& st = series.stats;
+    const double per_instant = 1.0 / static_cast<double>(sample);
+    std::fprintf(stderr,
+                 "%s per instant: %.0f receivers, %.0f back-facing, %.0f unshadowed, %.0f shadowed, %.0f candidate "
+                 "pairs, %.0f casting pairs\n",
+                 a.c_str(), static_cast<double>(st.receivers) * per_instant,
+                 static_cast<double>(st.back_facing) * per_instant, static_cast<double>(st.unshadowed) * per_instant,
+                 static_cast<double>(st.receivers - st.back_facing - st.unshadowed) * per_instant,
+                 static_cast<double>(st.candidate_pairs) * per_instant,
+                 static_cast<double>(st.casting_pairs) * per_instant);
     std::fflush(stdout);
     const std::size_t n = sample;
     if (!baseline) continue;
