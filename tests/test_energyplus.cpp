@@ -496,6 +496,10 @@ TEST(EnergyPlus, EpJsonErrorsNameTheJsonPath) {
       {"m.epJSON: [\"BuildingSurface:Detailed\"][\"W\"].vertices[1].vertex_z_coordinate", "not a number: \"low\""}));
   EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus("{\"Zone\": ", "m.epJSON", true); },
                                {"m.epJSON", "malformed JSON"}));
+  // A number beyond a double is nlohmann's out_of_range (406), not a parse_error: still an InputError.
+  EXPECT_TRUE(ThrowsInputError(
+      [&] { parse_energyplus(R"({"Zone": {"Z": {"x_origin": 1e400}}})", "m.epJSON", true); },
+      {"m.epJSON", "malformed JSON"}));
 }
 
 TEST(EnergyPlus, ReadsOlderIdfVersionsWithoutSpaceName) {

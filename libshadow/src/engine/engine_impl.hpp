@@ -7,6 +7,7 @@
 #include "core/convex_solid.hpp"
 #include "core/face_prep.hpp"
 #include "exact/exact_receiver.hpp"
+#include "exact/lazy_geometry.hpp"
 #include "fast/fast_receiver.hpp"
 
 #include <shadow/shadows.hpp>
@@ -50,12 +51,7 @@ struct ShadowEngine::Impl {
 namespace engine_detail {
 
 /// The exact form of a light: a point (w = 1) or a direction at infinity (w = 0).
-inline exact::ExactLight to_exact_light(const Light& light) {
-  using exact::FT;
-  if (light.type == LightType::Point)
-    return {{FT(light.position.x), FT(light.position.y), FT(light.position.z), FT(1)}};
-  return {{FT(light.to_light.x), FT(light.to_light.y), FT(light.to_light.z), FT(0)}};
-}
+using exact::to_exact_light;  // exact/lazy_geometry.hpp
 
 }  // namespace engine_detail
 }  // namespace shadow

@@ -21,6 +21,12 @@ struct ExactLight {
   [[nodiscard]] bool is_point() const { return !CGAL::is_zero(l[3]); }
 };
 
+/// A scene light in that form: (position, 1) for a point light, (to_light, 0) for a directional one.
+inline ExactLight to_exact_light(const Light& light) {
+  if (light.type == LightType::Point) return {{FT(light.position.x), FT(light.position.y), FT(light.position.z), FT(1)}};
+  return {{FT(light.to_light.x), FT(light.to_light.y), FT(light.to_light.z), FT(0)}};
+}
+
 /// s~(l) = n . l_xyz + offset * l_w: positive when the light is on the front side of the plane.
 inline FT plane_at_light(const ExactFace& face, const ExactLight& light) {
   return face.normal.x() * light.l[0] + face.normal.y() * light.l[1] +

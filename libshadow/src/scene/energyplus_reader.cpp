@@ -427,6 +427,9 @@ void Reader::load_epjson(const std::string& text) {
     root = nlohmann::ordered_json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     fail("byte " + std::to_string(e.byte), std::string("malformed JSON: ") + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    // Not a parse_error: a number beyond a double (1e400) is nlohmann's out_of_range 406.
+    fail("", std::string("malformed JSON: ") + e.what());
   }
   if (!root.is_object()) fail("", "an epJSON file must hold a JSON object (class -> objects)");
   for (auto c = root.begin(); c != root.end(); ++c)
@@ -1044,7 +1047,7 @@ void Reader::cut_and_emit(Model& model) {
   emit("Not exposed", per_group[Surface::NotExposed], false);
 }
 
-bool is_leap(int y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; }
+bool is_leap(int y) { return is_valid_date(y, 2, 29); }  // shadow/sun.hpp's calendar
 
 std::optional<SunPeriod> Reader::read_sun() {
   const Object* location = nullptr;
@@ -1177,7 +1180,12 @@ Model parse_energyplus(const std::string& text, const std::string& display_name,
   Reader reader(display_name, options);
   // A UTF-8 byte order mark (Windows editors write one) is not part of the first class name.
   const bool bom = text.compare(0, 3, "\xEF\xBB\xBF") == 0;
-  return reader.read(bom ? text.substr(3) : text, epjson);
+  try {
+    return reader.read(bom ? text.substr(3) : text, epjson);
+  } catch (const nlohmann::json::exception& e) {
+    // A JSON type the reader did not expect somewhere: still one line naming the file.
+    throw InputError({display_name, ""}, std::string("unexpected JSON: ") + e.what());
+  }
 }
 
 Model read_energyplus(const std::filesystem::path& file, const std::string& display_name,

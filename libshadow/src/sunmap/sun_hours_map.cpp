@@ -61,10 +61,6 @@ using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, long>;
 using Dcel = CGAL::Arr_face_extended_dcel<Traits, long>;  // face data: index into the walk's values
 using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 
-ExactLight to_exact_light(const Light& light) {
-  if (light.type == LightType::Point) return {{FT(light.position.x), FT(light.position.y), FT(light.position.z), FT(1)}};
-  return {{FT(light.to_light.x), FT(light.to_light.y), FT(light.to_light.z), FT(0)}};
-}
 
 double round_mpq(const mpq_class& q) {
   mpfr_t r;
