@@ -124,7 +124,15 @@ int run_series(const SeriesArgs& args) {
     if (!args.from.empty()) period.start = args.from;
     if (!args.to.empty()) period.end = args.to;
     if (args.step_minutes > 0) period.step_minutes = args.step_minutes;
-    shadow::replace_sun_lights(scene, period);
+    try {
+      shadow::replace_sun_lights(scene, period);
+    } catch (const shadow::InputError& e) {
+      // The period's keys came from the command line: name the flag.
+      const std::string& place = e.where().place;
+      const std::string flag = place == "sun.start" ? "--from" : place == "sun.end" ? "--to"
+                             : place == "sun.step_minutes" ? "--step" : place;
+      throw shadow::InputError({flag == place ? e.where().file : std::string(), flag}, e.problem());
+    }
   }
   shadow::SunSeries suns;
   try {

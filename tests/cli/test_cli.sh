@@ -131,6 +131,39 @@ else
   fail series_without_sun_block "status $status: $(cat "$WORK/series-no-sun.stderr")"
 fi
 
+# shadow series on an EnergyPlus model read whole: energyplus-shading.csv's header is exactly the
+# model's exterior surfaces (the zone's walls, their window and door, the roof: no floor, no
+# shading), and --from/--to/--step run its site over another period (one June day, hourly).
+idf="$EXAMPLES/energyplus/box-office.idf"
+out="$WORK/out-series-idf"
+status=0
+"$SHADOW" series "$idf" -o "$out" --from 2023-06-21 --to 2023-06-21 --step 60 --every 0 --quiet \
+  2>"$WORK/series-idf.stderr" || status=$?
+expected_header="Surface Name,Wall-South,Window-South,Door-South,Wall-East,Window-East,Wall-North,Wall-West,Roof"
+if [[ $status -eq 0 && -f "$out/report.json" ]] &&
+   [[ $(head -n 1 "$out/energyplus-shading.csv" | tr -d '\r') == "$expected_header" ]] &&
+   [[ $(wc -l <"$out/energyplus-shading.csv") -eq 8761 ]]; then
+  pass series_energyplus_model_header
+else
+  fail series_energyplus_model_header "status $status: $(head -c 300 "$out/energyplus-shading.csv" 2>/dev/null) $(cat "$WORK/series-idf.stderr")"
+fi
+# Chicago on 21 June: about 15 hours of sun, one sunlit.csv row each (and the header).
+rows=$(($(wc -l <"$out/sunlit.csv" 2>/dev/null || echo 0) - 1))
+if [[ $rows -ge 14 && $rows -le 16 ]] && grep -q '^2023-06-21T1[0-9]:00:00Z,' "$out/sunlit.csv"; then
+  pass series_from_to_step
+else
+  fail series_from_to_step "$rows rows in sunlit.csv"
+fi
+status=0
+"$SHADOW" series "$idf" -o "$WORK/out-series-bad-date" --from 2023-02-30 2>"$WORK/series-bad-date.stderr" >/dev/null ||
+  status=$?
+if [[ $status -eq 2 && $(wc -l <"$WORK/series-bad-date.stderr") -eq 1 && ! -e "$WORK/out-series-bad-date/report.json" ]] &&
+   grep -q -- "--from: expected a date" "$WORK/series-bad-date.stderr"; then
+  pass series_from_bad_date
+else
+  fail series_from_bad_date "status $status: $(cat "$WORK/series-bad-date.stderr")"
+fi
+
 if [[ $top_help == *compute* ]]; then pass "help_lists_compute"; else fail "help_lists_compute" "$top_help"; fi
 for word in compute -o --threads --quiet; do
   if [[ $compute_help == *"$word"* ]]; then
