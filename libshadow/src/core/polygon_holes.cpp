@@ -18,6 +18,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -67,8 +68,8 @@ bool rings_meet(const std::vector<Point>& r, const std::vector<Point>& s) {
 
 /// Convex pieces (global vertex indices, counter-clockwise in the chart) of the polygon whose
 /// rings are given by next/prev links over `chart`, each ring with the inside on its left.
-std::vector<std::vector<int>> convex_pieces(const std::vector<Point>& chart, const std::vector<int>& next,
-                                            const std::vector<int>& prev, bool merge) {
+std::vector<std::vector<int>> convex_pieces_of(const std::vector<Point>& chart, const std::vector<int>& next,
+                                               const std::vector<int>& prev, bool merge) {
   using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
   using Fbi = CGAL::Triangulation_face_base_with_info_2<int, K>;
   using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
@@ -291,7 +292,7 @@ std::vector<std::vector<glm::dvec3>> split(const std::vector<glm::dvec3>& outer_
   }
   std::vector<std::vector<int>> pieces;
   try {
-    pieces = convex_pieces(points, next, prev, !triangles);
+    pieces = convex_pieces_of(points, next, prev, !triangles);
   } catch (const std::exception&) {
     // Only reachable if the checks above missed an intersection of constraints.
     throw PolygonHolesError(-1, -1, "the rings intersect");
@@ -331,6 +332,14 @@ PolygonHolesSplit split_polygon_with_holes_checked(const std::vector<glm::dvec3>
     split.vertex = e.vertex;
   }
   return split;
+}
+
+std::vector<std::vector<int>> convex_pieces(const std::vector<std::array<double, 2>>& chart,
+                                            const std::vector<int>& next, const std::vector<int>& prev, bool merge) {
+  std::vector<Point> points;
+  points.reserve(chart.size());
+  for (const std::array<double, 2>& c : chart) points.emplace_back(c[0], c[1]);
+  return convex_pieces_of(points, next, prev, merge);
 }
 
 }  // namespace shadow::core

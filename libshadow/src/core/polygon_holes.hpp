@@ -5,6 +5,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -65,5 +66,17 @@ std::vector<std::vector<glm::dvec3>> triangulate_polygon_with_holes(
 PolygonHolesSplit split_polygon_with_holes_checked(
     const std::vector<glm::dvec3>& outer, const std::vector<std::vector<glm::dvec3>>& holes,
     double planarity_tolerance = 1e-6);
+
+/// Convex pieces of a polygon whose rings (the outer one and any holes) are given by `next`/`prev`
+/// links over the points of `chart`, each ring with the inside on its left: a constrained Delaunay
+/// triangulation with exact predicates on the doubles (CGAL Epick), the triangles inside, and
+/// Hertel-Mehlhorn's merge (a diagonal goes while both its ends stay strictly convex, tested on
+/// the neighbours in each end's fan: O(n)); `merge` false keeps the triangles. Pieces are lists
+/// of indices into `chart`, counter-clockwise, made of the input's own points. The one
+/// implementation for faces (exact/exact_faces.cpp) and polygons with holes. Rings must be
+/// simple, apart from each other and without collinear repeats (the callers check).
+std::vector<std::vector<int>> convex_pieces(const std::vector<std::array<double, 2>>& chart,
+                                            const std::vector<int>& next, const std::vector<int>& prev,
+                                            bool merge = true);
 
 }  // namespace shadow::core

@@ -3,13 +3,11 @@
 #include "exact/exact_faces.hpp"
 
 #include "exact/face_shape.hpp"
+#include "core/polygon_holes.hpp"
 #include "geometry/newell_normal.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_2.h>
-#include <CGAL/Constrained_Delaunay_triangulation_2.h>
-#include <CGAL/Triangulation_face_base_with_info_2.h>
-#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <glm/common.hpp>
 
@@ -18,7 +16,6 @@
 #include <iterator>
 #include <limits>
 #include <cstdint>
-#include <unordered_map>
 
 namespace shadow::exact {
 namespace {
@@ -90,127 +87,23 @@ std::vector<int> drop_collinear(const std::vector<int>& ring, const std::vector<
 }
 
 /// Convex pieces of a simple polygon (indices into `chart`, counter-clockwise, no collinear
-/// vertices) that tile it, by Hertel-Mehlhorn: a constrained Delaunay triangulation (O(n log n)
-/// expected), then every diagonal whose removal keeps both of its ends strictly convex is
-/// removed. The test at a vertex looks only at the diagonal's neighbours in the vertex's fan
-/// (linked lists), so the merge is O(n). (CGAL's approx_convex_partition_2 took 30 s for a
-/// comb of 8,000 vertices: its non-Delaunay constrained triangulation is quadratic there.)
+/// vertices) that tile it, by Hertel-Mehlhorn over a constrained Delaunay triangulation
+/// (core::convex_pieces, shared with polygons with holes). (CGAL's approx_convex_partition_2
+/// took 30 s for a comb of 8,000 vertices: its non-Delaunay constrained triangulation is
+/// quadratic there.)
 template <class K>
 std::vector<std::vector<int>> convex_partition(const std::vector<int>& ring, const std::vector<typename K::Point_2>& chart) {
-  using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
-  using Fbi = CGAL::Triangulation_face_base_with_info_2<int, K>;
-  using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbi>;
-  using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-  using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_tag>;
   const std::size_t n = ring.size();
-  CDT cdt;
-  std::vector<std::pair<typename K::Point_2, int>> points;
-  points.reserve(n);
-  for (std::size_t a = 0; a < n; ++a) points.emplace_back(chart[ring[a]], static_cast<int>(a));
-  cdt.insert(points.begin(), points.end());
-  std::vector<typename CDT::Vertex_handle> handle(n);
-  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) handle[v->info()] = v;
-  for (std::size_t a = 0; a < n; ++a) cdt.insert_constraint(handle[a], handle[(a + 1) % n]);
-  // Inside faces: the polygon's edge (a, a + 1) has the inside on its left (counter-clockwise).
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
-  std::vector<typename CDT::Face_handle> stack, triangles;
+  std::vector<std::array<double, 2>> points(n);
+  std::vector<int> next(n), prev(n);
   for (std::size_t a = 0; a < n; ++a) {
-    typename CDT::Face_handle f;
-    int i;
-    if (!cdt.is_edge(handle[a], handle[(a + 1) % n], f, i)) continue;
-    // Edge (a, a+1) is f's edge opposite i; f lies on its left when f's vertex ccw(i) is a.
-    if (f->vertex(CDT::ccw(i)) != handle[a]) f = f->neighbor(i);
-    stack.push_back(f);
+    points[a] = {CGAL::to_double(chart[ring[a]].x()), CGAL::to_double(chart[ring[a]].y())};
+    next[a] = static_cast<int>((a + 1) % n);
+    prev[a] = static_cast<int>((a + n - 1) % n);
   }
-  while (!stack.empty()) {
-    const typename CDT::Face_handle f = stack.back();
-    stack.pop_back();
-    if (f->info() >= 0 || cdt.is_infinite(f)) continue;
-    f->info() = static_cast<int>(triangles.size());
-    triangles.push_back(f);
-    for (int e = 0; e < 3; ++e)
-      if (!f->is_constrained(e) && f->neighbor(e)->info() < 0) stack.push_back(f->neighbor(e));
-  }
-  // Each vertex's fan of inside edges, counter-clockwise from its next to its previous vertex.
-  std::vector<std::vector<int>> fan(n);
-  for (std::size_t a = 0; a < n; ++a) {
-    std::vector<int> around;
-    auto c = cdt.incident_vertices(handle[a]), done = c;
-    do {
-      if (!cdt.is_infinite(c)) around.push_back(c->info());
-    } while (++c != done);
-    const int after = static_cast<int>((a + 1) % n), before = static_cast<int>((a + n - 1) % n);
-    const auto start = std::find(around.begin(), around.end(), after);
-    std::rotate(around.begin(), start, around.end());
-    around.resize(static_cast<std::size_t>(std::find(around.begin(), around.end(), before) - around.begin()) + 1);
-    fan[a] = std::move(around);
-  }
-  // Linked lists over each fan; position of (a, b) in a's fan.
-  std::vector<std::size_t> first(n + 1, 0);
-  for (std::size_t a = 0; a < n; ++a) first[a + 1] = first[a] + fan[a].size();
-  std::vector<std::size_t> lprev(first[n]), lnext(first[n]);
-  std::unordered_map<std::uint64_t, std::size_t> position;
-  auto key = [n](std::size_t a, std::size_t b) { return static_cast<std::uint64_t>(a) * n + b; };
-  for (std::size_t a = 0; a < n; ++a)
-    for (std::size_t k = 0; k < fan[a].size(); ++k) {
-      lprev[first[a] + k] = first[a] + k - (k > 0 ? 1 : 0);
-      lnext[first[a] + k] = first[a] + k + (k + 1 < fan[a].size() ? 1 : 0);
-      if (k > 0 && k + 1 < fan[a].size()) position.emplace(key(a, static_cast<std::size_t>(fan[a][k])), first[a] + k);
-    }
-  auto vertex_of = [&](std::size_t a, std::size_t slot) { return fan[a][slot - first[a]]; };
-  auto convex_without = [&](std::size_t a, std::size_t slot) {
-    const int before = vertex_of(a, lprev[slot]), after = vertex_of(a, lnext[slot]);
-    return CGAL::orientation(chart[ring[after]], chart[ring[a]], chart[ring[before]]) == CGAL::LEFT_TURN;
-  };
-  // Union-find over triangles: removing a diagonal joins its two triangles' pieces.
-  std::vector<int> parent(triangles.size());
-  for (std::size_t t = 0; t < parent.size(); ++t) parent[t] = static_cast<int>(t);
-  auto find = [&](int t) {
-    while (parent[t] != t) t = parent[t] = parent[parent[t]];
-    return t;
-  };
-  for (const auto& f : triangles)
-    for (int e = 0; e < 3; ++e) {
-      if (f->is_constrained(e)) continue;
-      const auto g = f->neighbor(e);
-      if (g->info() < f->info()) continue;  // each diagonal once
-      const std::size_t a = static_cast<std::size_t>(f->vertex(CDT::ccw(e))->info());
-      const std::size_t b = static_cast<std::size_t>(f->vertex(CDT::cw(e))->info());
-      const std::size_t pa = position.at(key(a, b)), pb = position.at(key(b, a));
-      if (!convex_without(a, pa) || !convex_without(b, pb)) continue;
-      lnext[lprev[pa]] = lnext[pa];
-      lprev[lnext[pa]] = lprev[pa];
-      lnext[lprev[pb]] = lnext[pb];
-      lprev[lnext[pb]] = lprev[pb];
-      parent[find(f->info())] = find(g->info());
-    }
-  // Each piece's boundary: the half-edges of its triangles whose twin is in another piece.
-  std::unordered_map<std::uint64_t, int> successor;  // key(piece root, vertex) -> next vertex
-  std::vector<int> roots, start_of(triangles.size(), -1);
-  for (const auto& f : triangles) {
-    const int r = find(f->info());
-    for (int e = 0; e < 3; ++e) {
-      const auto g = f->neighbor(e);
-      if (!f->is_constrained(e) && find(g->info()) == r) continue;
-      const int a = f->vertex(CDT::ccw(e))->info(), b = f->vertex(CDT::cw(e))->info();
-      successor.emplace(static_cast<std::uint64_t>(r) * n + static_cast<std::uint64_t>(a), b);
-      if (start_of[r] < 0) {
-        start_of[r] = a;
-        roots.push_back(r);
-      }
-    }
-  }
-  std::sort(roots.begin(), roots.end());
-  std::vector<std::vector<int>> pieces;
-  for (int r : roots) {
-    std::vector<int> piece;
-    int v = start_of[r];
-    do {
-      piece.push_back(ring[v]);
-      v = successor.at(static_cast<std::uint64_t>(r) * n + static_cast<std::uint64_t>(v));
-    } while (v != start_of[r] && piece.size() <= n);
-    pieces.push_back(std::move(piece));
-  }
+  std::vector<std::vector<int>> pieces = core::convex_pieces(points, next, prev, true);
+  for (std::vector<int>& piece : pieces)
+    for (int& v : piece) v = ring[static_cast<std::size_t>(v)];
   return pieces;
 }
 
