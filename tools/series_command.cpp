@@ -5,6 +5,7 @@
 #include "series_command.hpp"
 
 #include "cli_checks.hpp"
+#include "progress_line.hpp"
 
 #include <shadow/shadow.hpp>
 
@@ -21,41 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-/// "instants 120/4400 (2%), about 3 min 10 s left" on one line of stderr, rewritten in place.
-class SeriesProgress {
- public:
-  explicit SeriesProgress(bool enabled) : enabled_(enabled), start_(Clock::now()) {}
-  void update(const shadow::Progress& p) {
-    if (!enabled_ || p.total == 0) return;
-    const auto now = Clock::now();
-    if (p.done != p.total && now - last_ < std::chrono::milliseconds(250)) return;
-    last_ = now;
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    char eta[48] = "";
-    if (p.done > 0 && p.done < p.total) {
-      const double left = elapsed / static_cast<double>(p.done) * static_cast<double>(p.total - p.done);
-      if (left >= 60)
-        std::snprintf(eta, sizeof eta, ", about %d min %02d s left", static_cast<int>(left) / 60, static_cast<int>(left) % 60);
-      else
-        std::snprintf(eta, sizeof eta, ", about %d s left", static_cast<int>(left + 0.5));
-    }
-    std::fprintf(stderr, "\r\033[Kshadow: instants %zu/%zu (%d%%)%s", p.done, p.total,
-                 static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total)), eta);
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  void finish() {
-    if (shown_) std::fprintf(stderr, "\r\033[K");
-    shown_ = false;
-  }
-
- private:
-  bool enabled_;
-  bool shown_ = false;
-  Clock::time_point start_;
-  Clock::time_point last_{};
-};
 
 }  // namespace
 
@@ -153,7 +119,7 @@ int run_series(const SeriesArgs& args) {
   run.options.polygons = false;
   run.options.planes = false;
   run.options.arithmetic = options.arithmetic;
-  SeriesProgress progress(!args.quiet && isatty(STDERR_FILENO));
+  shadow_cli::ProgressLine progress(!args.quiet && isatty(STDERR_FILENO), "instants");
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::SeriesResult series;
   std::optional<shadow::ShadowEngine> engine_holder;
@@ -200,7 +166,7 @@ int run_series(const SeriesArgs& args) {
   if (!map_faces.empty()) {
     shadow::SunHoursOptions map_options;
     map_options.threads = args.threads;
-    SeriesProgress map_progress(!args.quiet && isatty(STDERR_FILENO));
+    shadow_cli::ProgressLine map_progress(!args.quiet && isatty(STDERR_FILENO), "sun-hours map faces");
     map_options.progress = [&](const shadow::Progress& p) { map_progress.update(p); };
     map = shadow::compute_sun_hours_map(engine, map_faces, shadow::sun_hours_instants(scene), map_options);
     map_progress.finish();

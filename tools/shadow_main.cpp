@@ -9,6 +9,7 @@
 #endif
 
 #include "cli_checks.hpp"
+#include "progress_line.hpp"
 #include "sun_command.hpp"
 
 #include <CLI/CLI.hpp>
@@ -45,29 +46,6 @@ struct ComputeArgs {
   std::string lod;  // CityJSON level of detail; empty: the highest per object
 };
 
-/// Progress on a terminal: one line rewritten in place, on stderr so stdout stays clean.
-class ProgressLine {
- public:
-  explicit ProgressLine(bool enabled) : enabled_(enabled) {}
-  void update(const shadow::Progress& p) {
-    if (!enabled_ || p.total == 0) return;
-    const int percent = static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total));
-    if (percent == last_) return;
-    last_ = percent;
-    std::fprintf(stderr, "\rshadow: face-light pairs %zu/%zu (%d%%)", p.done, p.total, percent);
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  void finish() {
-    if (shown_) std::fprintf(stderr, "\r\033[K");
-    shown_ = false;
-  }
-
- private:
-  bool enabled_;
-  bool shown_ = false;
-  int last_ = -1;
-};
 
 /// The ParaView script that opens a result: installed beside the binary
 /// (`<prefix>/share/libshadow/paraview`), or in the source tree of a build-tree binary.
@@ -137,7 +115,7 @@ int run_compute(const ComputeArgs& args) {
     for (const shadow::Warning& warning : scene.warnings)
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";
 
-  ProgressLine progress(!args.quiet && isatty(STDERR_FILENO));
+  shadow_cli::ProgressLine progress(!args.quiet && isatty(STDERR_FILENO), "face-light pairs");
   shadow::ShadowOptions options;
   options.threads = args.threads;
   options.polygons = !args.areas_only;

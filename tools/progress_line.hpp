@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Progress of a long run on a terminal, for `shadow compute` and `shadow series`.
+#pragma once
+
+#include <shadow/shadows.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+namespace shadow_cli {
+
+/// "shadow: instants 120/4400 (2%), about 3 min 10 s left": one line of stderr (stdout stays
+/// clean), rewritten in place at most four times a second, erased by finish().
+class ProgressLine {
+ public:
+  using Clock = std::chrono::steady_clock;
+  /// `what` names the work items ("face-light pairs", "instants"); nothing is shown unless enabled.
+  ProgressLine(bool enabled, std::string what) : enabled_(enabled), what_(std::move(what)), start_(Clock::now()) {}
+  void update(const shadow::Progress& p) {
+    if (!enabled_ || p.total == 0) return;
+    const auto now = Clock::now();
+    if (p.done != p.total && now - last_ < std::chrono::milliseconds(250)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    char eta[48] = "";
+    if (p.done > 0 && p.done < p.total) {
+      const double left = elapsed / static_cast<double>(p.done) * static_cast<double>(p.total - p.done);
+      if (left >= 60)
+        std::snprintf(eta, sizeof eta, ", about %d min %02d s left", static_cast<int>(left) / 60, static_cast<int>(left) % 60);
+      else
+        std::snprintf(eta, sizeof eta, ", about %d s left", static_cast<int>(left + 0.5));
+    }
+    std::fprintf(stderr, "\r\033[Kshadow: %s %zu/%zu (%d%%)%s", what_.c_str(), p.done, p.total,
+                 static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total)), eta);
+    std::fflush(stderr);
+    shown_ = true;
+  }
+  void finish() {
+    if (shown_) std::fprintf(stderr, "\r\033[K");
+    shown_ = false;
+  }
+
+ private:
+  bool enabled_;
+  std::string what_;
+  bool shown_ = false;
+  Clock::time_point start_;
+  Clock::time_point last_{};
+};
+
+}  // namespace shadow_cli
