@@ -257,6 +257,9 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   };
   std::size_t inward_parts = 0, mixed_parts = 0;
   std::vector<std::size_t> first_inward, first_mixed;
+  // Allocated once: a part's search touches only its own faces, reset before it starts, so a
+  // mesh of many inconsistent parts costs O(faces), not O(parts x faces).
+  std::vector<int> flip(faces.size(), -1);
   for (std::size_t r = 0; r < faces.size(); ++r) {
     if (root(r) != r || part_open[r]) continue;
     const std::vector<std::size_t>& part = members[r];
@@ -267,7 +270,7 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
       }
       // Breadth-first from the part's first face: a neighbour across an edge run the same way is
       // flipped relative to the face it was reached from.
-      std::vector<int> flip(faces.size(), -1);
+      for (std::size_t f : part) flip[f] = -1;
       std::vector<std::size_t> queue{part.front()};
       flip[part.front()] = 0;
       bool orientable = true;
