@@ -990,7 +990,9 @@ class SceneReader {
   /// Receivers that name one mesh of a model (`city/B`): those meshes receive, the model's others
   /// do not (unless the model's own name is listed too).
   void apply_model_receivers() {
-    for (const auto& [path, name] : model_receivers_) {
+    for (const auto& receiver : model_receivers_) {
+      const std::string& path = receiver.first;
+      const std::string& name = receiver.second;  // a structured binding cannot be captured in C++17
       const auto it = std::find_if(scene_.meshes.begin(), scene_.meshes.end(), [&](const Mesh& m) { return m.name == name; });
       if (it == scene_.meshes.end())
         fail(path, "no mesh is named " + quote(name) + " (the model " + quote(name.substr(0, name.find('/'))) +
