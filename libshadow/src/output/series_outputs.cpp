@@ -4,6 +4,7 @@
 #include "output/face_identity_json.hpp"
 
 #include "output/vtk_datasets.hpp"
+#include "output/vtm_writer.hpp"
 
 #include <shadow/version.hpp>
 
@@ -42,20 +43,6 @@ vtkSmartPointer<vtkPolyData> share(vtkPolyData* base) {
   return poly;
 }
 
-/// XML attribute text: & < > " escaped.
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 }  // namespace
 

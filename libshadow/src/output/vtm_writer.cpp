@@ -9,6 +9,20 @@
 
 namespace shadow::detail {
 
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 void write_vtm(const std::vector<VtmBlock>& blocks, const std::filesystem::path& path,
                const std::filesystem::path& shown_as) {
   // The layout vtkXMLMultiBlockDataWriter of VTK 9.1 produces, with files next to the .vtm
@@ -18,22 +32,9 @@ void write_vtm(const std::vector<VtmBlock>& blocks, const std::filesystem::path&
       "<VTKFile type=\"vtkMultiBlockDataSet\" version=\"1.0\" byte_order=\"LittleEndian\" "
       "header_type=\"UInt64\">\n"
       "  <vtkMultiBlockDataSet>\n";
-  auto escape = [](const std::string& text) {
-    std::string out;
-    for (char c : text) {
-      switch (c) {
-        case '&': out += "&amp;"; break;
-        case '<': out += "&lt;"; break;
-        case '>': out += "&gt;"; break;
-        case '"': out += "&quot;"; break;
-        default: out += c;
-      }
-    }
-    return out;
-  };
   for (std::size_t i = 0; i < blocks.size(); ++i) {
-    xml += "    <DataSet index=\"" + std::to_string(i) + "\" name=\"" + escape(blocks[i].name) +
-           "\" file=\"" + escape(blocks[i].file) + "\"/>\n";
+    xml += "    <DataSet index=\"" + std::to_string(i) + "\" name=\"" + xml_escape(blocks[i].name) +
+           "\" file=\"" + xml_escape(blocks[i].file) + "\"/>\n";
   }
   xml += "  </vtkMultiBlockDataSet>\n</VTKFile>\n";
 

@@ -15,6 +15,9 @@ struct VtmBlock {
   std::string file;
 };
 
+/// XML attribute text with & < > " escaped (block names, file names in .vtm and .pvd files).
+std::string xml_escape(const std::string& text);
+
 /// Writes a .vtm multiblock file in the form vtkXMLMultiBlockDataWriter (VTK 9.1) writes.
 /// @throws OutputError naming `shown_as` (default: `path`) and the system's reason.
 void write_vtm(const std::vector<VtmBlock>& blocks, const std::filesystem::path& path,
