@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Option checks shared by `shadow compute` and `shadow render`. CLI11's own Range and
+// Option checks and helpers shared by `shadow compute`, `shadow series` and `shadow render`. CLI11's own Range and
 // NonNegativeNumber let NaN through (every comparison with NaN is false) and print the range
 // of a double in 309 digits; these say what is expected in a few words.
 #pragma once
 
 #include <shadow/error.hpp>
+#include <shadow/scene_io.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -82,6 +83,22 @@ inline const char* exit_codes_help() {
   return "Exit status: 0 success; 2 bad input or a usage error (one line on stderr naming the file, "
          "place and problem, or the option); 3 an output could not be written (including OUTDIR locked "
          "by another running shadow); 4 internal error (a bug: please report it).";
+}
+
+/// The load options of `shadow compute` and `shadow series` (the same three flags).
+inline shadow::LoadOptions load_options(double planarity_tolerance, bool orient_outward, const std::string& lod) {
+  shadow::LoadOptions options;
+  options.planarity_tolerance = planarity_tolerance;
+  options.orient_outward = orient_outward;
+  options.cityjson_lod = lod;
+  return options;
+}
+
+/// Call from a catch block: an InputError found while computing (a light, an option) names no
+/// file; it gets the scene file's name. One that names its file is rethrown as it is.
+[[noreturn]] inline void rethrow_naming_scene(const shadow::InputError& e, const std::string& scene) {
+  if (!e.where().file.empty()) throw;
+  throw shadow::InputError({scene, e.where().place}, e.problem());
 }
 
 }  // namespace shadow_cli

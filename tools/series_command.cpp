@@ -72,11 +72,8 @@ int run_series(const SeriesArgs& args) {
   run.scene = args.scene;
   run.started_utc = shadow::utc_now();
   run.planarity_tolerance = args.planarity_tolerance;
-  shadow::LoadOptions load_options;
-  load_options.planarity_tolerance = args.planarity_tolerance;
-  load_options.orient_outward = args.orient_outward;
-  load_options.cityjson_lod = args.lod;
-  shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  shadow::Scene scene = shadow::load_scene(
+      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod));
   if (!args.from.empty() || !args.to.empty() || args.step_minutes > 0) {
     // Another period at the same site: an IDF's RunPeriod, or a scene's `sun` block, overridden.
     if (!scene.sun)
@@ -104,8 +101,7 @@ int run_series(const SeriesArgs& args) {
   try {
     suns = shadow::sun_series(scene);
   } catch (const shadow::InputError& e) {
-    if (!e.where().file.empty()) throw;
-    throw shadow::InputError({args.scene, e.where().place}, e.problem());
+    shadow_cli::rethrow_naming_scene(e, args.scene);
   }
   shadow::OutputDirectory output(args.outdir);  // lock, clear leftovers, remove the old report
   if (!args.quiet)
@@ -128,8 +124,7 @@ int run_series(const SeriesArgs& args) {
     series = engine_holder->compute_series(suns.lights, options);
   } catch (const shadow::InputError& e) {
     progress.finish();
-    if (!e.where().file.empty()) throw;
-    throw shadow::InputError({args.scene, e.where().place}, e.problem());
+    shadow_cli::rethrow_naming_scene(e, args.scene);
   }
   progress.finish();
   const auto computed = Clock::now();

@@ -96,11 +96,8 @@ int run_compute(const ComputeArgs& args) {
   run.scene = args.scene;
   run.started_utc = shadow::utc_now();
   run.planarity_tolerance = args.planarity_tolerance;
-  shadow::LoadOptions load_options;
-  load_options.planarity_tolerance = args.planarity_tolerance;
-  load_options.orient_outward = args.orient_outward;
-  load_options.cityjson_lod = args.lod;
-  shadow::Scene scene = shadow::load_scene(args.scene, load_options);
+  shadow::Scene scene = shadow::load_scene(
+      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod));
   if (scene.lights.empty() && !scene.sun)
     // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
     throw shadow::InputError({args.scene, ""},
@@ -129,8 +126,7 @@ int run_compute(const ComputeArgs& args) {
   } catch (const shadow::InputError& e) {
     progress.finish();
     // Errors about lights found while computing still name the scene file.
-    if (!e.where().file.empty()) throw;
-    throw shadow::InputError({args.scene, e.where().place}, e.problem());
+    shadow_cli::rethrow_naming_scene(e, args.scene);
   }
   progress.finish();
   const auto computed = Clock::now();
