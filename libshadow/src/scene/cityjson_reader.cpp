@@ -7,6 +7,7 @@
 // to the decimal number the file means: exact input, whatever the magnitude (1e5 to 1e7 m for
 // projected coordinates). Otherwise it is i * scale + translate, rounded once (fma).
 #include "scene/cityjson_reader.hpp"
+#include "scene/planarity.hpp"
 
 #include "core/polygon_holes.hpp"
 #include "scene/obj_reader.hpp"
@@ -64,47 +65,6 @@ double lod_value(const Json& lod) {
     if (end != s.c_str() && *end == '\0') return v;
   }
   return std::numeric_limits<double>::quiet_NaN();
-}
-
-/// How far the farthest vertex is off the plane through the centroid with the Newell normal, and
-/// the distance allowed: the criterion of validation (scene/validate.cpp), so a surface this
-/// reader keeps whole passes validation. Zero for a face whose normal is lost in rounding.
-std::pair<double, double> off_plane(const std::vector<glm::dvec3>& v, double tolerance) {
-  using Real = long double;
-  const std::size_t n = v.size();
-  glm::dvec3 lo = v[0], hi = v[0];
-  double magnitude = 0;
-  for (const glm::dvec3& p : v) {
-    lo = glm::dvec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
-    hi = glm::dvec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
-    magnitude = std::max({magnitude, std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
-  }
-  const double diameter = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  const double allowed = std::max(tolerance * diameter, 8 * std::numeric_limits<double>::epsilon() * magnitude);
-  Real nx = 0, ny = 0, nz = 0, cx = 0, cy = 0, cz = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const glm::dvec3 &a = v[i], &b = v[(i + 1) % n];
-    const Real ax = Real(a.x) - v[0].x, ay = Real(a.y) - v[0].y, az = Real(a.z) - v[0].z;
-    const Real bx = Real(b.x) - v[0].x, by = Real(b.y) - v[0].y, bz = Real(b.z) - v[0].z;
-    nx += (ay - by) * (az + bz);
-    ny += (az - bz) * (ax + bx);
-    nz += (ax - bx) * (ay + by);
-    cx += ax;
-    cy += ay;
-    cz += az;
-  }
-  const Real length = std::sqrt(nx * nx + ny * ny + nz * nz);
-  const Real noise = Real(n) * std::numeric_limits<Real>::epsilon() * Real(diameter) * Real(diameter);
-  if (!(length > noise * 10 / Real(tolerance))) return {0.0, allowed};
-  cx /= Real(n);
-  cy /= Real(n);
-  cz /= Real(n);
-  Real worst = 0;
-  for (const glm::dvec3& p : v) {
-    const Real px = Real(p.x) - v[0].x - cx, py = Real(p.y) - v[0].y - cy, pz = Real(p.z) - v[0].z - cz;
-    worst = std::max(worst, std::fabs((px * nx + py * ny + pz * nz) / length));
-  }
-  return {static_cast<double>(worst), allowed};
 }
 
 class Reader {
@@ -371,7 +331,9 @@ class Reader {
     }
     std::vector<std::vector<glm::dvec3>> holes;
     for (std::size_t h = 1; h < surface.size(); ++h) holes.push_back(ring(surface[h], at(place, h)));
-    const auto [off, allowed] = off_plane(outer, options_.planarity_tolerance);
+    // Validation's own measure (scene/planarity.hpp): a surface kept whole passes validation.
+    const detail::PlaneDeviation deviation = detail::plane_deviation(outer, options_.planarity_tolerance);
+    const double off = deviation.worst, allowed = deviation.allowed;
     if (off > allowed) {
       // Not planar (LoD2 roofs often are, by millimetres): the documented split into triangles.
       try {

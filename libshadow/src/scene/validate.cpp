@@ -11,6 +11,7 @@
 #include "core/lights.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
+#include "scene/planarity.hpp"
 
 #include <algorithm>
 #include <array>
@@ -23,24 +24,11 @@
 
 namespace shadow {
 
-namespace {
+namespace detail {
 
-using detail::face_location;
-using detail::finite;
-using detail::format_number;
-using detail::in_range;
-
-/// Removes consecutive duplicate vertices, including the last one repeating the first.
-void remove_consecutive_duplicates(std::vector<glm::dvec3>& vertices) {
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-  while (vertices.size() > 1 && vertices.back() == vertices.front()) vertices.pop_back();
-}
-
-/// Checks that every vertex lies within `tolerance * diameter` of the plane through the
-/// centroid with the Newell normal (the plane the exact kernel lifts the face onto).
-void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
-                     const SourceLocation& where) {
+PlaneDeviation plane_deviation(const std::vector<glm::dvec3>& vertices, double tolerance) {
   using Real = long double;
+  PlaneDeviation out;
   const std::size_t n = vertices.size();
   glm::dvec3 lo = vertices[0], hi = vertices[0];
   for (const glm::dvec3& v : vertices) {
@@ -49,7 +37,14 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
   }
   const glm::dvec3 extent = hi - lo;
   const double diameter = std::max({extent.x, extent.y, extent.z});
-  if (!(diameter > 0) || !std::isfinite(diameter)) return;  // coincident vertices: zero area
+  out.diameter = diameter;
+  // Rounding the input to doubles alone moves a vertex by up to half an ulp of its largest
+  // coordinate; a tiny face far from the origin cannot be flatter than that.
+  double magnitude = 0;
+  for (const glm::dvec3& v : vertices)
+    magnitude = std::max({magnitude, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+  out.allowed = std::max(tolerance * diameter, 8 * std::numeric_limits<double>::epsilon() * magnitude);
+  if (!(diameter > 0) || !std::isfinite(diameter)) return out;  // coincident vertices: zero area
 
   // Newell normal and centroid relative to the first vertex, so the sums do not lose the
   // face's small size against large coordinates.
@@ -74,7 +69,7 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
   // (numerically) of zero area, which the exact shape check handles.
   const Real d = diameter;
   const Real noise = Real(n) * std::numeric_limits<Real>::epsilon() * d * d;
-  if (!(length > noise * 10 / Real(tolerance))) return;
+  if (!(length > noise * 10 / Real(tolerance))) return out;
 
   cx /= Real(n);
   cy /= Real(n);
@@ -84,17 +79,36 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
     const Real px = Real(v.x) - origin.x - cx, py = Real(v.y) - origin.y - cy, pz = Real(v.z) - origin.z - cz;
     worst = std::max(worst, std::fabs((px * nx + py * ny + pz * nz) / length));
   }
-  const double allowed = tolerance * diameter;
-  // Rounding the input to doubles alone moves a vertex by up to half an ulp of its largest
-  // coordinate; a tiny face far from the origin cannot be flatter than that.
-  double magnitude = 0;
-  for (const glm::dvec3& v : vertices)
-    magnitude = std::max({magnitude, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
-  const double representable = 8 * std::numeric_limits<double>::epsilon() * magnitude;
-  if (static_cast<double>(worst) > std::max(allowed, representable))
-    throw InputError(where, "face is not planar: a vertex is " + format_number(static_cast<double>(worst)) +
+  out.worst = static_cast<double>(worst);
+  return out;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::face_location;
+using detail::finite;
+using detail::format_number;
+using detail::in_range;
+
+/// Removes consecutive duplicate vertices, including the last one repeating the first.
+void remove_consecutive_duplicates(std::vector<glm::dvec3>& vertices) {
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  while (vertices.size() > 1 && vertices.back() == vertices.front()) vertices.pop_back();
+}
+
+/// Checks that every vertex lies within `tolerance * diameter` of the plane through the
+/// centroid with the Newell normal (the plane the exact kernel lifts the face onto).
+void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
+                     const SourceLocation& where) {
+  const detail::PlaneDeviation d = detail::plane_deviation(vertices, tolerance);
+  if (d.worst > d.allowed) {
+    const double allowed = tolerance * d.diameter;
+    throw InputError(where, "face is not planar: a vertex is " + format_number(d.worst) +
                                 " off its plane (tolerance " + format_number(tolerance) + " x diameter " +
-                                format_number(diameter) + " = " + format_number(allowed) + ")");
+                                format_number(d.diameter) + " = " + format_number(allowed) + ")");
+  }
 }
 
 void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options,
