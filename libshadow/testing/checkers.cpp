@@ -6,6 +6,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "geometry/newell_normal.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,15 +21,8 @@ namespace {
 
 using Polygon = std::vector<glm::dvec3>;
 
-glm::dvec3 newell(const Polygon& p) {
-  glm::dvec3 n(0.0);
-  const glm::dvec3 o = p.empty() ? glm::dvec3(0.0) : p[0];  // local frame for accuracy
-  for (std::size_t a = 0; a < p.size(); ++a) {
-    const glm::dvec3 u = p[a] - o, v = p[(a + 1) % p.size()] - o;
-    n += glm::dvec3((u.y - v.y) * (u.z + v.z), (u.z - v.z) * (u.x + v.x), (u.x - v.x) * (u.y + v.y));
-  }
-  return n;
-}
+/// Newell's normal relative to the first vertex (geometry/newell_normal.hpp, the library's own).
+glm::dvec3 newell(const Polygon& p) { return p.empty() ? glm::dvec3(0.0) : geometry::newell_normal(p, p[0]); }
 
 int dominant_axis(const glm::dvec3& n) {
   const glm::dvec3 a = glm::abs(n);
