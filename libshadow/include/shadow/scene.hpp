@@ -54,16 +54,35 @@ struct Mesh {
   bool orient_outward = false;
 };
 
-enum class LightType { Directional, Point };
+/// Kinds of light. Directional and Point are points (at infinity or not) and cast hard shadows;
+/// Area and Disk are extended sources whose shadows have an umbra and a penumbra, as has a
+/// Directional light with an `angular_diameter` (the sun's disk). See docs/area-lights.md.
+enum class LightType { Directional, Point, Area, Disk };
 
 /// A light source. Directional lights are at infinity in direction `to_light`.
 struct Light {
   std::string name;
   LightType type = LightType::Directional;
   glm::dvec3 to_light{0.0, 0.0, 1.0};  ///< directional: from the scene toward the light (any length)
-  glm::dvec3 position{0.0};            ///< point: the light's position
+  glm::dvec3 position{0.0};            ///< point: the light's position; disk: its centre
   double intensity = 1.0;              ///< radiometric scale (used by lighting models)
   glm::dvec3 color{1.0, 1.0, 1.0};     ///< linear RGB in [0, 1]
+  /// Area: the luminous planar polygon (at least 3 vertices). Light leaves its front, the side
+  /// from which the vertices run counter-clockwise, as for faces.
+  std::vector<glm::dvec3> polygon;
+  /// Disk: the side the light leaves (any length); the disk lies in the plane through
+  /// `position` with this normal.
+  glm::dvec3 normal{0.0, 0.0, -1.0};
+  double radius = 0.0;                 ///< disk: its radius (> 0)
+  /// Directional only: the angular diameter of the source in degrees (the sun's is about
+  /// 0.53); 0, the default, keeps it a point at infinity with hard shadows.
+  double angular_diameter = 0.0;
+
+  /// True for a source with extent (Area, Disk, or Directional with angular_diameter > 0).
+  [[nodiscard]] bool is_extended() const {
+    return type == LightType::Area || type == LightType::Disk ||
+           (type == LightType::Directional && angular_diameter > 0.0);
+  }
 };
 
 /// An infinite receiving plane for Blinn projection shadows: n . (x - point) = 0.

@@ -3,6 +3,7 @@
 /// @brief Everything of libshadow's public API in one include.
 #pragma once
 
+#include <shadow/area_lights.hpp>
 #include <shadow/blinn.hpp>
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>

@@ -93,6 +93,13 @@ struct FaceLighting {
   /// slivers no wider than a few ulps of their coordinates (docs/numeric-contract.md, "Output").
   /// The fragments of (face, light) plus this add up to `area`. 0 without polygons.
   double dropped_area = 0.0;
+  /// Extended lights (Light::is_extended): the exact area of the points that see all of the
+  /// light, of those that see part of it, and of those that see none of it (docs/area-lights.md
+  /// states which are exact and which are certified bounds). For a point light they are the lit
+  /// area, 0 and the shadowed area.
+  double fully_lit_area = 0.0;
+  double penumbra_area = 0.0;
+  double umbra_area = 0.0;
 };
 
 /// The shadow that the scene casts on one of its planes from one light: the union of the
