@@ -267,6 +267,100 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
   return status;
 }
 
+
+/// One timing of compute_plane_shadows, measured in a child process (bench_planes below).
+struct PlaneTiming {
+  double wall_s = 0, cpu_s = 0, area = 0;
+  long peak_kib = 0;
+  std::size_t polygons = 0, regions = 0;
+  bool reaches = false, ok = false;
+};
+
+double cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+/// Plane shadows of the city on its ground plane, in a forked child: wall and CPU time of the
+/// fastest of `repeat` runs (CPU time of that run, all threads).
+PlaneTiming time_planes(std::size_t boxes, double elevation, unsigned threads, int repeat) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+    scene.planes.push_back({"ground", {0, 0, 0}, {0, 0, 1}});
+    shadow::validate_scene(scene);
+    shadow::ShadowOptions options;
+    options.threads = threads;
+    PlaneTiming t;
+    t.wall_s = 1e300;
+    for (int r = 0; r < repeat; ++r) {
+      const double cpu0 = cpu_seconds();
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::vector<shadow::PlaneShadow> shadows = shadow::compute_plane_shadows(scene, options);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double cpu = cpu_seconds() - cpu0;
+      if (wall < t.wall_s) {
+        t.wall_s = wall;
+        t.cpu_s = cpu;
+      }
+      const shadow::PlaneShadow& s = shadows.at(0);
+      t.area = s.area;
+      t.polygons = s.polygons.size();
+      t.regions = s.region_id.empty() ? 0 : *std::max_element(s.region_id.begin(), s.region_id.end()) + 1;
+      t.reaches = s.reaches_window;
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    char line[256];
+    const int n = std::snprintf(line, sizeof line, "%.17g %.17g %a %ld %zu %zu %d", t.wall_s, t.cpu_s, t.area,
+                                usage.ru_maxrss, t.polygons, t.regions, t.reaches ? 1 : 0);
+    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[512];
+  ssize_t got;
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  PlaneTiming t;
+  int reaches = 0;
+  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+         std::sscanf(text.c_str(), "%lg %lg %la %ld %zu %zu %d", &t.wall_s, &t.cpu_s, &t.area, &t.peak_kib, &t.polygons,
+                     &t.regions, &reaches) == 7;
+  t.reaches = reaches != 0;
+  return t;
+}
+
+/// docs/benchmarks.md, "Plane shadows": the city's shadow on its ground plane (Blinn).
+int run_planes_bench(const std::vector<std::size_t>& sizes, const std::vector<double>& elevations,
+                     const std::vector<unsigned>& threads, int repeat, const std::string& label) {
+  std::printf("| build | boxes | sun | threads | wall (s) | CPU (s) | peak (MiB) | polygons | regions | area (m^2) |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (std::size_t boxes : sizes)
+    for (double elevation : elevations)
+      for (unsigned t : threads) {
+        const PlaneTiming m = time_planes(boxes, elevation, t, repeat);
+        if (!m.ok) {
+          std::printf("| %s | %zu | %.0f | %u | failed |\n", label.c_str(), boxes, elevation, t);
+          continue;
+        }
+        std::printf("| %s | %zu | %.0f° | %u | %.3f | %.3f | %.0f | %zu | %zu | %.6f (%a) |\n", label.c_str(), boxes,
+                    elevation, t, m.wall_s, m.cpu_s, m.peak_kib / 1024.0, m.polygons, m.regions, m.area, m.area);
+        std::fflush(stdout);
+      }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -355,9 +449,22 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   sun_cmd->add_option("--threads", sun_threads, "Threads")->check(CLI::PositiveNumber);
   sun_cmd->add_option("--write", sun_write, "Write the ground's map (first instant count) as DIR/sun_hours.vtp, and the city");
+  std::vector<std::size_t> planes_sizes{10000};
+  std::vector<double> planes_elevations{40.0, 5.0};
+  std::vector<unsigned> planes_threads{1, 2};
+  int planes_repeat = 1;
+  std::string planes_label = "this";
+  CLI::App* planes_cmd = app.add_subcommand(
+      "planes", "Blinn plane shadows of the city on its ground plane: wall and CPU time (compute_plane_shadows)");
+  planes_cmd->add_option("--sizes", planes_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
+  planes_cmd->add_option("--elevations", planes_elevations, "Sun elevations (degrees)")->delimiter(',')->check(CLI::Range(1.0, 90.0));
+  planes_cmd->add_option("--threads", planes_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
+  planes_cmd->add_option("--repeat", planes_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
+  planes_cmd->add_option("--label", planes_label, "Text of the table's first column (which build this is)");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
+  if (planes_cmd->parsed()) return run_planes_bench(planes_sizes, planes_elevations, planes_threads, planes_repeat, planes_label);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);

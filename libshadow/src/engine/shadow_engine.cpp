@@ -100,7 +100,7 @@ ShadowEngine& ShadowEngine::operator=(ShadowEngine&&) noexcept = default;
 double ShadowEngine::face_area(std::size_t face_id) const { return impl_->face_area.at(face_id); }
 
 std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& options) const {
-  return planes::plane_shadows(*impl_->scene, impl_->prep, options);
+  return planes::plane_shadows(*impl_->scene, impl_->prep, impl_->solids, impl_->solid_of, options);
 }
 
 

@@ -2,17 +2,26 @@
 // Exact shadows on planes through Blinn's projection matrix.
 //
 // For a plane p = (n, c) and a light l, a point of the plane is in shadow when its segment to the
-// light meets a face strictly on the light's side of the plane. Every face is clipped to that
+// light meets a face strictly on the light's side of the plane. Every caster is clipped to that
 // side (s = p.(x, 1) > 0 once p is turned toward the light) and to the prism or pyramid from the
 // light over a square window on the plane (a point light at the height of some geometry casts a
 // shadow without end), then mapped by the exact rational matrix M = (p.l) I - l p^T with the
-// homogeneous divide, and the images are united in one exact Boolean operation.
+// homogeneous divide, and the images are united exactly.
+//
+// A caster is a face's convex piece, or a whole closed convex solid (a box) when all of it lies
+// between the plane and the light: it then casts the convex hull of its projected vertices.
+// Casters are projected in parallel (plain GMP rationals, which threads may share for reading);
+// the images are then cut along a grid of tiles fixed by the images alone (never by the thread
+// count), each tile is united on its own thread, and the tiles' regions are joined back by
+// their shared border edges. See docs/algorithm.md, "Shadows on planes (Blinn)".
 //
 // This path shares no clipping or projection code with the per-face engine on purpose: a face
-// lying in a plane must come out of both with the same shadow, and the tests check that.
+// lying in a plane must come out of both with the same shadow, and the tests check that. It
+// shares only the search for convex solids (exact/convex_solids.hpp).
 #include "geometry/box_sides.hpp"
 #include "geometry/clip_convex.hpp"
 #include "core/culling.hpp"
+#include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
 #include "core/parallel.hpp"
 #include "planes/plane_shadows.hpp"
@@ -23,6 +32,7 @@
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 
+#include <CGAL/convex_hull_2.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -33,7 +43,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <limits>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -43,6 +55,7 @@ namespace {
 
 using Q4 = std::array<mpq_class, 4>;  // homogeneous point or plane, exact
 using Q3 = std::array<mpq_class, 3>;
+using Q2 = std::array<mpq_class, 2>;  // a point of the plane's chart (axes i, j)
 
 mpq_class dot4(const Q4& a, const Q4& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]; }
 
@@ -71,54 +84,260 @@ bool clip(std::vector<Q3>& poly, const Q4& f) {
   return true;
 }
 
-/// One plane and one light.
-PlaneShadow plane_shadow(const Scene& scene, const std::vector<core::FacePrep>& prep, std::size_t plane_id,
-                         std::size_t light_id, const core::SceneFrame& frame, double window) {
-  PlaneShadow out;
-  out.plane_id = plane_id;
-  out.light_id = light_id;
-  out.window_half_size = window;
+/// The same clip in the chart, to the axis bound x_c >= m (upper: x_c <= m). The crossing gets m
+/// exactly in coordinate c. Returns whether anything was cut away.
+bool clip_axis(std::vector<Q2>& poly, int c, const mpq_class& m, bool upper) {
+  const std::size_t n = poly.size();
+  if (n == 0) return false;
+  auto side = [&](std::size_t a) { return upper ? -cmp(poly[a][c], m) : cmp(poly[a][c], m); };
+  const geometry::ClipCase what = geometry::clip_case(n, side);
+  if (what == geometry::ClipCase::Inside) return false;
+  std::vector<Q2> out;
+  if (what == geometry::ClipCase::Cut)
+    geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+      const mpq_class t = (m - poly[a][c]) / (poly[b][c] - poly[a][c]);
+      Q2 x;
+      x[c] = m;
+      x[1 - c] = poly[a][1 - c] + t * (poly[b][1 - c] - poly[a][1 - c]);
+      return x;
+    }, out);
+  poly.swap(out);
+  return true;
+}
+
+/// Twice the signed area of a chart polygon (counter-clockwise positive).
+mpq_class twice_area(const std::vector<Q2>& poly) {
+  mpq_class sum = 0;
+  const std::size_t n = poly.size();
+  for (std::size_t a = 1; a + 1 < n; ++a)
+    sum += (poly[a][0] - poly[0][0]) * (poly[a + 1][1] - poly[0][1]) - (poly[a + 1][0] - poly[0][0]) * (poly[a][1] - poly[0][1]);
+  return sum;
+}
+
+/// One caster's image on the plane's chart: a convex polygon, counter-clockwise, of positive
+/// area. Plain GMP rationals (not lazy CGAL numbers), so the tile threads may read it at once.
+struct Image {
+  std::vector<Q2> vertices;
+  std::array<double, 4> box;  ///< lo_i, lo_j, hi_i, hi_j: doubles that enclose the exact box
+};
+
+double below(const mpq_class& q) { return std::nextafter(q.get_d(), -std::numeric_limits<double>::infinity()); }
+double above(const mpq_class& q) { return std::nextafter(q.get_d(), std::numeric_limits<double>::infinity()); }
+
+/// One plane and one light, exactly: the plane turned toward the light, Blinn's matrix, the
+/// chart and the window.
+struct Pair {
+  std::size_t plane_id = 0, light_id = 0;
+  double window = 0;
+  bool casts = false;  ///< false when the light lies in the plane (or shines along it)
+  bool point = false;
+  Q3 n;                ///< the plane's normal as given (not turned)
+  mpq_class c;
+  Q4 p, l;             ///< the plane turned toward the light; the light (x, 1) or (d, 0)
+  mpq_class pl;        ///< p . l > 0
+  std::array<Q4, 4> M;
+  int k = 2, i = 0, j = 1;
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  std::array<mpq_class, 4> bound;  ///< lo[0], hi[0], lo[1], hi[1] exactly
+  std::array<Q4, 4> sides;         ///< the prism or pyramid over the window
+  Q4 level;                        ///< p.l - p.x >= 0 (point lights)
+  glm::dvec3 normal{0.0}, point_on{0.0};  ///< the plane as given, for the double filter
+  double turn = 1;                        ///< -1 when p is the plane turned around
+};
+
+Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, const core::SceneFrame& frame,
+               double window) {
+  Pair P;
+  P.plane_id = plane_id;
+  P.light_id = light_id;
+  P.window = window;
   const Plane& plane = scene.planes[plane_id];
   const Light& light = scene.lights[light_id];
-
-  const Q3 n{mpq_class(plane.normal.x), mpq_class(plane.normal.y), mpq_class(plane.normal.z)};
-  const mpq_class c = -(n[0] * plane.point.x + n[1] * plane.point.y + n[2] * plane.point.z);
-  Q4 p{n[0], n[1], n[2], c};
-  const bool point = light.type == LightType::Point;
-  const glm::dvec3 lv = point ? light.position : light.to_light;
-  const Q4 l{mpq_class(lv.x), mpq_class(lv.y), mpq_class(lv.z), mpq_class(point ? 1 : 0)};
-  mpq_class pl = dot4(p, l);
-  if (sgn(pl) == 0) return out;  // the light lies in the plane (or shines along it): no shadow
-  if (sgn(pl) < 0) {             // receive on the light's side
-    for (mpq_class& x : p) x = -x;
-    pl = -pl;
+  P.normal = plane.normal;
+  P.point_on = plane.point;
+  P.n = {mpq_class(plane.normal.x), mpq_class(plane.normal.y), mpq_class(plane.normal.z)};
+  P.c = -(P.n[0] * plane.point.x + P.n[1] * plane.point.y + P.n[2] * plane.point.z);
+  P.p = {P.n[0], P.n[1], P.n[2], P.c};
+  P.point = light.type == LightType::Point;
+  const glm::dvec3 lv = P.point ? light.position : light.to_light;
+  P.l = {mpq_class(lv.x), mpq_class(lv.y), mpq_class(lv.z), mpq_class(P.point ? 1 : 0)};
+  P.pl = dot4(P.p, P.l);
+  if (sgn(P.pl) == 0) return P;  // the light lies in the plane (or shines along it): no shadow
+  P.casts = true;
+  if (sgn(P.pl) < 0) {  // receive on the light's side
+    for (mpq_class& x : P.p) x = -x;
+    P.pl = -P.pl;
+    P.turn = -1;
   }
   // Blinn's matrix, rows: M[r] . x = pl x_r - l_r (p . x).
-  std::array<Q4, 4> M;
   for (int r = 0; r < 4; ++r)
-    for (int col = 0; col < 4; ++col) M[r][col] = (r == col ? pl : mpq_class(0)) - l[r] * p[col];
-
+    for (int col = 0; col < 4; ++col) P.M[r][col] = (r == col ? P.pl : mpq_class(0)) - P.l[r] * P.p[col];
   // The plane's chart and the window in it.
   const glm::dvec3 an = glm::abs(plane.normal);
-  const int k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
-  const int i = core::chart_i(k), j = core::chart_j(k);
-  const double lo[2] = {frame.centre[i] - window, frame.centre[j] - window};
-  const double hi[2] = {frame.centre[i] + window, frame.centre[j] + window};
+  P.k = an.x >= an.y && an.x >= an.z ? 0 : (an.y >= an.z ? 1 : 2);
+  P.i = core::chart_i(P.k);
+  P.j = core::chart_j(P.k);
+  P.lo[0] = frame.centre[P.i] - window;
+  P.lo[1] = frame.centre[P.j] - window;
+  P.hi[0] = frame.centre[P.i] + window;
+  P.hi[1] = frame.centre[P.j] + window;
+  P.bound = {mpq_class(P.lo[0]), mpq_class(P.hi[0]), mpq_class(P.lo[1]), mpq_class(P.hi[1])};
   // Prism or pyramid from the light over the window: for a bound x_c >= m the plane through the
   // bound's line on the receiving plane and the light is pl (x_c - m) - (l_c - m l_w) s(x) = 0.
-  const std::array<Q4, 4> sides = geometry::box_sides(p, l, pl, i, j, lo, hi);
+  P.sides = geometry::box_sides(P.p, P.l, P.pl, P.i, P.j, P.lo, P.hi);
+  for (int col = 0; col < 4; ++col) P.level[col] = -P.p[col];
+  P.level[3] += P.pl;
+  return P;
+}
 
-  // The light's level: p.l - p.x >= 0 (point lights).
-  Q4 level;
-  for (int col = 0; col < 4; ++col) level[col] = -p[col];
-  level[3] += pl;
-  std::vector<exact::Polygon2> images;
-  std::vector<Q3> poly;
-  for (std::size_t q = 0; q < scene.faces.size(); ++q) {
+/// Whether s(x) < 0 for certain, from doubles: s = n . (x - point) evaluated with a bound on its
+/// rounding error (8 units in the last place of the sum of magnitudes, far more than the five
+/// roundings need). Undecided (false) near zero, on underflow and on overflow.
+bool surely_behind(const Pair& P, const glm::dvec3& x) {
+  const glm::dvec3 d = x - P.point_on;
+  const double s = P.turn * glm::dot(P.normal, d);
+  const double magnitude = std::abs(P.normal.x * d.x) + std::abs(P.normal.y * d.y) + std::abs(P.normal.z * d.z);
+  if (!(magnitude > 1e-280) || !std::isfinite(magnitude)) return false;
+  return s < -8 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
+/// Turns chart polygons into images: projection, window, culling. One per worker thread.
+class Caster {
+ public:
+  Caster(const Pair& P, std::vector<Image>& out, bool& reaches) : P_(P), out_(out), reaches_(reaches) {}
+
+  /// A face's convex piece, vertices exact.
+  void piece(std::vector<Q3>& poly) {
+    const std::size_t n = poly.size();
+    s_.resize(n);
+    bool any_front = false, all_between = true;
+    for (std::size_t a = 0; a < n; ++a) {
+      s_[a] = affine(P_.p, poly[a]);
+      const int side = sgn(s_[a]);
+      any_front |= side > 0;
+      all_between &= side >= 0 && (!P_.point || cmp(s_[a], P_.pl) < 0);
+    }
+    // Strictly on the light's side of the plane: the closure of s > 0 when s > 0 somewhere.
+    if (!any_front) return;
+    if (all_between) {
+      // Nothing to cut in 3D: w = p.l - l_w s > 0 at every vertex, so the window's prism or
+      // pyramid sides become the window's edges in the chart (side(x) = w (x_c - m)).
+      chart_.clear();
+      for (std::size_t a = 0; a < n; ++a) chart_.push_back(project(poly[a], s_[a]));
+      finish(window_clip());
+      return;
+    }
+    clip(poly, P_.p);
+    // Nothing at or beyond a point light's level casts (it lies outside the pyramid anyway):
+    // cut it first so that only what really projects outside the window counts as cut by it.
+    if (P_.point) clip(poly, P_.level);
+    bool cut_by_window = false;
+    for (const Q4& side : P_.sides) cut_by_window |= clip(poly, side);
+    if (poly.size() < 3) {
+      reaches_ |= cut_by_window;
+      return;
+    }
+    chart_.clear();
+    for (const Q3& x : poly) {
+      const Q4 h{x[0], x[1], x[2], mpq_class(1)};
+      const mpq_class w = dot4(P_.M[3], h);
+      // w = 0 only at the lamp itself: this face's plane contains the light, it is edge-on.
+      if (sgn(w) == 0) return;
+      chart_.push_back({mpq_class(dot4(P_.M[P_.i], h) / w), mpq_class(dot4(P_.M[P_.j], h) / w)});
+    }
+    finish(cut_by_window);
+  }
+
+  /// A closed convex solid: true when it cast as one (all of it between the plane and the
+  /// light), false when its faces must cast one by one.
+  bool solid(const core::ConvexSolid& cs) {
+    const std::size_t n = cs.vertices.size();
+    s_.resize(n);
+    bool any_front = false;
+    for (std::size_t a = 0; a < n; ++a) {
+      const glm::dvec3& v = cs.vertices[a];
+      s_[a] = P_.p[0] * mpq_class(v.x) + P_.p[1] * mpq_class(v.y) + P_.p[2] * mpq_class(v.z) + P_.p[3];
+      const int side = sgn(s_[a]);
+      if (side < 0 || (P_.point && cmp(s_[a], P_.pl) >= 0)) return false;
+      any_front |= side > 0;
+    }
+    if (!any_front) return true;  // lies in the plane: casts nothing
+    // Its shadow is the projection of the solid, which is convex (w > 0 throughout) and the
+    // projection of its vertices' hull: a ray that meets the solid meets its boundary.
+    hull_in_.clear();
+    for (std::size_t a = 0; a < n; ++a) {
+      const Q2 x = project({mpq_class(cs.vertices[a].x), mpq_class(cs.vertices[a].y), mpq_class(cs.vertices[a].z)}, s_[a]);
+      hull_in_.emplace_back(exact::FT(x[0]), exact::FT(x[1]));
+    }
+    hull_out_.clear();
+    CGAL::convex_hull_2(hull_in_.begin(), hull_in_.end(), std::back_inserter(hull_out_), exact::Kernel());
+    chart_.clear();
+    for (const exact::Point2& x : hull_out_) chart_.push_back({mpq_class(CGAL::exact(x.x())), mpq_class(CGAL::exact(x.y()))});
+    finish(window_clip());
+    return true;
+  }
+
+ private:
+  /// Blinn's map of a point with s = p.x known: (pl x - l s) / (pl - l_w s) in the chart.
+  Q2 project(const Q3& x, const mpq_class& s) const {
+    const mpq_class w = P_.pl - P_.l[3] * s;
+    return {mpq_class((P_.pl * x[P_.i] - P_.l[P_.i] * s) / w), mpq_class((P_.pl * x[P_.j] - P_.l[P_.j] * s) / w)};
+  }
+
+  /// Clips chart_ to the window in the order of the 3D sides (i lo, i hi, j lo, j hi).
+  bool window_clip() {
+    bool cut = false;
+    for (int side = 0; side < 4; ++side) cut |= clip_axis(chart_, side / 2, P_.bound[side], side % 2 == 1);
+    return cut;
+  }
+
+  void finish(bool cut_by_window) {
+    reaches_ |= cut_by_window;
+    if (chart_.size() < 3) return;
+    const int orientation = sgn(twice_area(chart_));
+    if (orientation == 0) return;  // edge-on to the light
+    if (orientation < 0) std::reverse(chart_.begin(), chart_.end());
+    Image image;
+    image.box = {below(chart_[0][0]), below(chart_[0][1]), above(chart_[0][0]), above(chart_[0][1])};
+    for (const Q2& x : chart_) {
+      image.box[0] = std::min(image.box[0], below(x[0]));
+      image.box[1] = std::min(image.box[1], below(x[1]));
+      image.box[2] = std::max(image.box[2], above(x[0]));
+      image.box[3] = std::max(image.box[3], above(x[1]));
+    }
+    image.vertices = std::move(chart_);
+    chart_.clear();
+    out_.push_back(std::move(image));
+  }
+
+  const Pair& P_;
+  std::vector<Image>& out_;
+  bool& reaches_;
+  std::vector<mpq_class> s_;
+  std::vector<Q2> chart_;
+  std::vector<exact::Point2> hull_in_, hull_out_;
+};
+
+/// What casts: a face (its convex pieces) or a closed convex solid, in the order of the faces.
+struct Unit {
+  int solid = -1;  ///< index into the solids, or -1 for a face on its own
+  std::size_t face = 0;
+};
+
+/// The casts of units [first, last) for one pair, in unit order.
+void cast_units(const Scene& scene, const std::vector<core::FacePrep>& prep, const std::vector<core::ConvexSolid>& solids,
+                const std::vector<std::vector<std::size_t>>& solid_faces, const std::vector<Unit>& units, std::size_t first,
+                std::size_t last, const Pair& P, std::vector<Image>& out, bool& reaches) {
+  Caster caster(P, out, reaches);
+  std::vector<Q3> vertex, poly;
+  auto cast_face = [&](std::size_t q) {
     const core::FacePrep& qp = prep[q];
-    if (qp.degenerate) continue;
+    if (qp.degenerate) return;
     const Face& face = scene.faces[q];
-    std::vector<Q3> vertex(face.vertices.size());
+    // Culled before any exact work: every vertex behind the plane for certain.
+    if (std::all_of(face.vertices.begin(), face.vertices.end(), [&](const glm::dvec3& v) { return surely_behind(P, v); }))
+      return;
+    vertex.resize(face.vertices.size());
     if (qp.exactly_planar) {
       for (std::size_t v = 0; v < face.vertices.size(); ++v)
         vertex[v] = {mpq_class(face.vertices[v].x), mpq_class(face.vertices[v].y), mpq_class(face.vertices[v].z)};
@@ -130,54 +349,193 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<core::FacePrep>& 
     for (const std::vector<int>& piece : qp.convex_pieces) {
       poly.clear();
       for (int v : piece) poly.push_back(vertex[v]);
-      // Strictly on the light's side of the plane: the closure of s > 0 when s > 0 somewhere.
-      if (std::none_of(poly.begin(), poly.end(), [&](const Q3& x) { return sgn(affine(p, x)) > 0; })) continue;
-      clip(poly, p);
-      // Nothing at or beyond a point light's level casts (it lies outside the pyramid anyway):
-      // cut it first so that only what really projects outside the window counts as cut by it.
-      if (point) clip(poly, level);
-      bool cut_by_window = false;
-      for (const Q4& side : sides) cut_by_window |= clip(poly, side);
-      if (poly.size() < 3) {
-        out.reaches_window |= cut_by_window;
-        continue;
-      }
-      exact::Polygon2 image;
-      bool touches_light = false;
-      for (const Q3& x : poly) {
-        const Q4 h{x[0], x[1], x[2], mpq_class(1)};
-        const mpq_class w = dot4(M[3], h);
-        // w = 0 only at the lamp itself: this face's plane contains the light, it is edge-on.
-        if (sgn(w) == 0) {
-          touches_light = true;
-          break;
-        }
-        image.push_back(exact::Point2(exact::FT(mpq_class(dot4(M[i], h) / w)), exact::FT(mpq_class(dot4(M[j], h) / w))));
-      }
-      if (touches_light) continue;
-      out.reaches_window |= cut_by_window;
-      const CGAL::Sign orientation = CGAL::sign(exact::polygon_area(image));
-      if (orientation == CGAL::ZERO) continue;  // edge-on to the light
-      if (orientation == CGAL::NEGATIVE) image.reverse_orientation();
-      images.push_back(std::move(image));
+      caster.piece(poly);
+    }
+  };
+  for (std::size_t u = first; u < last; ++u) {
+    const Unit& unit = units[u];
+    if (unit.solid < 0) {
+      cast_face(unit.face);
+      continue;
+    }
+    const core::ConvexSolid& cs = solids[static_cast<std::size_t>(unit.solid)];
+    if (std::all_of(cs.vertices.begin(), cs.vertices.end(), [&](const glm::dvec3& v) { return surely_behind(P, v); }))
+      continue;
+    if (!caster.solid(cs))
+      for (std::size_t q : solid_faces[static_cast<std::size_t>(unit.solid)]) cast_face(q);
+  }
+}
+
+constexpr std::size_t kMaxTilesPerAxis = 16;
+
+/// The tile grid of a pair: inner cuts along the chart's two axes (infinite outer bounds).
+struct Grid {
+  std::array<std::vector<double>, 2> cuts;  ///< strictly increasing, finite
+  [[nodiscard]] std::size_t columns() const { return cuts[0].size() + 1; }
+  [[nodiscard]] std::size_t rows() const { return cuts[1].size() + 1; }
+  [[nodiscard]] std::size_t tiles() const { return columns() * rows(); }
+};
+
+/// Cuts at quantiles of the images' centres, so that tiles hold similar numbers of images, and
+/// tiles at least Tiling::tile_over_image times as wide as the median image (long shadows of a low sun
+/// cut into many pieces cost more than the tiles save). Depends on the images only, never on
+/// the thread count.
+Grid make_grid(const std::vector<Image>& images, const Tiling& tiling) {
+  Grid grid;
+  if (images.size() < tiling.tile_from || tiling.per_tile == 0) return grid;
+  const auto per_axis = static_cast<std::size_t>(
+      std::lround(std::sqrt(static_cast<double>(images.size()) / static_cast<double>(tiling.per_tile))));
+  std::vector<double> extent(images.size());
+  for (std::size_t a = 0; a < images.size(); ++a)
+    extent[a] = std::max(images[a].box[2] - images[a].box[0], images[a].box[3] - images[a].box[1]);
+  std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2), extent.end());
+  const double median_extent = extent[extent.size() / 2];
+  std::vector<double> centre(images.size());
+  for (int axis = 0; axis < 2; ++axis) {
+    for (std::size_t a = 0; a < images.size(); ++a) centre[a] = 0.5 * images[a].box[axis] + 0.5 * images[a].box[axis + 2];
+    std::sort(centre.begin(), centre.end());
+    const double spread = centre.back() - centre.front();
+    const double wide = tiling.tile_over_image > 0 ? spread / (tiling.tile_over_image * median_extent) : 1e6;
+    const std::size_t fit = wide >= 1 && std::isfinite(wide) ? static_cast<std::size_t>(std::min(wide, 1e6)) : 1;
+    const std::size_t g = std::clamp<std::size_t>(std::min(per_axis, fit), 1, kMaxTilesPerAxis);
+    for (std::size_t c = 1; c < g; ++c) {
+      const double cut = centre[c * centre.size() / g];
+      if (std::isfinite(cut) && (grid.cuts[axis].empty() || cut > grid.cuts[axis].back())) grid.cuts[axis].push_back(cut);
     }
   }
-  if (images.empty()) return out;
+  return grid;
+}
 
+/// An edge of a tile's region lying on one of the tile's inner borders.
+struct BorderEdge {
+  std::size_t line = 0;  ///< which cut: axis * 65536 + cut index
+  bool high = false;     ///< the edge lies on the tile's upper border along that axis
+  mpq_class from, to;    ///< its extent along the other axis, from < to
+  std::size_t region = 0;  ///< the region, numbered within the pair (tile offsets added later)
+};
+
+/// What one tile of one pair gives: polygons in 3D, exact chart area, edges on its borders.
+struct TileResult {
+  std::vector<std::vector<glm::dvec3>> polygons;
+  std::vector<std::size_t> region_id;  ///< within the tile
+  std::vector<double> polygon_area;
+  std::size_t regions = 0;
+  mpq_class chart_area = 0;
+  std::vector<BorderEdge> border;
+};
+
+/// Spreads the low 16 bits of v to the even bits (Morton code).
+std::uint32_t spread(std::uint32_t v) {
+  v &= 0xffff;
+  v = (v | (v << 8)) & 0x00ff00ff;
+  v = (v | (v << 4)) & 0x0f0f0f0f;
+  v = (v | (v << 2)) & 0x33333333;
+  v = (v | (v << 1)) & 0x55555555;
+  return v;
+}
+
+/// `members` in Z order of their boxes' centres (ties by index). CGAL's aggregated join merges
+/// its inputs by divide and conquer in the order given: in space order each partial union
+/// swallows the edges inside it before the next merge, instead of carrying every edge (and
+/// every crossing of the long shadows of a low sun) up to the last merge.
+std::vector<std::size_t> spatial_order(const std::vector<Image>& images, std::vector<std::size_t> members) {
+  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double hi[2] = {-lo[0], -lo[1]};
+  std::vector<std::array<double, 2>> centre(members.size());
+  for (std::size_t a = 0; a < members.size(); ++a)
+    for (int axis = 0; axis < 2; ++axis) {
+      const std::array<double, 4>& box = images[members[a]].box;
+      centre[a][axis] = 0.5 * box[axis] + 0.5 * box[axis + 2];
+      lo[axis] = std::min(lo[axis], centre[a][axis]);
+      hi[axis] = std::max(hi[axis], centre[a][axis]);
+    }
+  std::vector<std::pair<std::uint32_t, std::size_t>> keyed(members.size());
+  for (std::size_t a = 0; a < members.size(); ++a) {
+    std::uint32_t cell[2];
+    for (int axis = 0; axis < 2; ++axis) {
+      const double span = hi[axis] - lo[axis];
+      const double t = span > 0 && std::isfinite(span) ? (centre[a][axis] - lo[axis]) / span : 0.0;
+      cell[axis] = static_cast<std::uint32_t>(std::clamp(t, 0.0, 1.0) * 65535.0);
+    }
+    keyed[a] = {spread(cell[0]) | (spread(cell[1]) << 1), members[a]};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t a = 0; a < members.size(); ++a) members[a] = keyed[a].second;
+  return members;
+}
+
+/// Unites the images of one tile (clipped to it) and writes its regions back onto the plane.
+void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& images, const Grid& grid,
+                const std::vector<std::size_t>& members, std::size_t tile, TileResult& out) {
+  const std::size_t column = tile % grid.columns(), row = tile / grid.columns();
+  const std::size_t cell_of[2] = {column, row};
+  // The tile's finite bounds: lower[axis] is cut[cell - 1], upper[axis] is cut[cell].
+  bool has_lower[2], has_upper[2];
+  mpq_class lower[2], upper[2];
+  double lower_d[2], upper_d[2];
+  for (int axis = 0; axis < 2; ++axis) {
+    const std::vector<double>& cuts = grid.cuts[axis];
+    const std::size_t cell = cell_of[axis];
+    has_lower[axis] = cell > 0;
+    has_upper[axis] = cell < cuts.size();
+    lower_d[axis] = has_lower[axis] ? cuts[cell - 1] : -std::numeric_limits<double>::infinity();
+    upper_d[axis] = has_upper[axis] ? cuts[cell] : std::numeric_limits<double>::infinity();
+    if (has_lower[axis]) lower[axis] = cuts[cell - 1];
+    if (has_upper[axis]) upper[axis] = cuts[cell];
+  }
+  std::vector<exact::Polygon2> pieces;
+  std::vector<Q2> poly;
+  for (std::size_t m : spatial_order(images, members)) {
+    const Image& image = images[m];
+    poly = image.vertices;
+    for (int axis = 0; axis < 2; ++axis) {
+      if (image.box[axis] <= lower_d[axis]) clip_axis(poly, axis, lower[axis], false);
+      if (image.box[axis + 2] >= upper_d[axis]) clip_axis(poly, axis, upper[axis], true);
+    }
+    if (poly.size() < 3) continue;
+    exact::Polygon2 piece;
+    for (const Q2& x : poly) piece.push_back(exact::Point2(exact::FT(x[0]), exact::FT(x[1])));
+    // A cut along an image's edge leaves a flat sliver (or nothing).
+    if (CGAL::sign(exact::polygon_area(piece)) != CGAL::POSITIVE) continue;
+    pieces.push_back(std::move(piece));
+  }
+  if (pieces.empty()) return;
   exact::PolygonSet2 shadow;
-  shadow.join(images.begin(), images.end());
+  shadow.join(pieces.begin(), pieces.end());
   std::vector<exact::PolygonWithHoles2> regions;
   shadow.polygons_with_holes(std::back_inserter(regions));
+  out.regions = regions.size();
 
   // Back to 3D on the plane (as given, not turned): x_k = -(c + n_i x_i + n_j x_j) / n_k.
-  const exact::FT nk(n[k]), ni(n[i]), nj(n[j]), cc(c);
-  const exact::FT scale_squared = exact::FT(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) / (nk * nk);
-  const bool flipped = plane.normal[k] < 0;  // the chart sees the plane clockwise
+  const int i = P.i, j = P.j, k = P.k;
+  const exact::FT nk(P.n[k]), ni(P.n[i]), nj(P.n[j]), cc(P.c);
+  const exact::FT scale_squared = exact::FT(P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (nk * nk);
+  const bool flipped = scene.planes[P.plane_id].normal[k] < 0;  // the chart sees the plane clockwise
   std::vector<exact::FT> region_areas;  // summed as a balanced tree (kernel.hpp, exact::balanced_sum)
   std::vector<exact::Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
-    cells.clear();
     region_areas.push_back(exact::region_area(regions[r]));
+    // Edges on the tile's inner borders: where this region may continue in the next tile.
+    auto borders = [&](const exact::Polygon2& boundary) {
+      for (auto e = boundary.edges_begin(); e != boundary.edges_end(); ++e) {
+        for (int axis = 0; axis < 2; ++axis) {
+          for (int high = 0; high < 2; ++high) {
+            if (!(high ? has_upper[axis] : has_lower[axis])) continue;
+            const exact::FT m(high ? upper_d[axis] : lower_d[axis]);
+            const exact::FT& a = axis == 0 ? e->source().x() : e->source().y();
+            const exact::FT& b = axis == 0 ? e->target().x() : e->target().y();
+            if (a != m || b != m) continue;
+            mpq_class from(CGAL::exact(axis == 0 ? e->source().y() : e->source().x()));
+            mpq_class to(CGAL::exact(axis == 0 ? e->target().y() : e->target().x()));
+            if (from > to) std::swap(from, to);
+            const std::size_t cut = cell_of[axis] - (high ? 0 : 1);
+            out.border.push_back({static_cast<std::size_t>(axis) * 65536 + cut, high == 1, from, to, r});
+          }
+        }
+      }
+    };
+    borders(regions[r].outer_boundary());
+    cells.clear();
     exact::append_simple_cells(regions[r], cells);
     for (const exact::Polygon2& cell : cells) {
       std::vector<glm::dvec3> polygon;
@@ -194,9 +552,65 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<core::FacePrep>& 
       out.polygon_area.push_back(exact::area_3d(CGAL::abs(exact::polygon_area(cell)), scale_squared));
     }
   }
-  out.area = exact::area_3d(exact::balanced_sum(region_areas), scale_squared);
-  return out;
+  out.chart_area = mpq_class(CGAL::exact(exact::balanced_sum(region_areas)));
 }
+
+/// Union-find over the regions of a pair.
+struct Components {
+  std::vector<std::size_t> parent;
+  explicit Components(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), std::size_t{0}); }
+  std::size_t find(std::size_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  }
+  void join(std::size_t a, std::size_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the root is the first region
+  }
+};
+
+/// The tiles' results, in tile order, as one PlaneShadow: regions that share a stretch of
+/// border (not a mere point) are one region, as the untiled union would have made them.
+void assemble(const Pair& P, std::vector<TileResult>& tiles, PlaneShadow& out) {
+  std::vector<std::size_t> offset(tiles.size() + 1, 0);
+  for (std::size_t t = 0; t < tiles.size(); ++t) offset[t + 1] = offset[t] + tiles[t].regions;
+  Components components(offset.back());
+  std::vector<BorderEdge> border;
+  for (std::size_t t = 0; t < tiles.size(); ++t)
+    for (BorderEdge& e : tiles[t].border) {
+      e.region += offset[t];
+      border.push_back(std::move(e));
+    }
+  std::sort(border.begin(), border.end(), [](const BorderEdge& a, const BorderEdge& b) {
+    if (a.line != b.line) return a.line < b.line;
+    return cmp(a.from, b.from) < 0;
+  });
+  // Edges of one side of a line never overlap one another; an edge of the other side that
+  // starts before this one ends overlaps it along a stretch of positive length.
+  for (std::size_t a = 0; a < border.size(); ++a)
+    for (std::size_t b = a + 1; b < border.size() && border[b].line == border[a].line && border[b].from < border[a].to; ++b)
+      if (border[b].high != border[a].high) components.join(border[a].region, border[b].region);
+  std::vector<std::size_t> number(offset.back(), 0);
+  std::size_t regions = 0;
+  for (std::size_t r = 0; r < offset.back(); ++r) number[r] = components.find(r) == r ? regions++ : number[components.find(r)];
+  mpq_class chart_area = 0;
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    TileResult& tile = tiles[t];
+    chart_area += tile.chart_area;
+    for (std::size_t c = 0; c < tile.polygons.size(); ++c) {
+      out.polygons.push_back(std::move(tile.polygons[c]));
+      out.region_id.push_back(number[offset[t] + tile.region_id[c]]);
+      out.polygon_area.push_back(tile.polygon_area[c]);
+    }
+  }
+  const exact::FT nk(P.n[P.k]);
+  const exact::FT scale_squared = exact::FT(P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (nk * nk);
+  out.area = exact::area_3d(exact::FT(chart_area), scale_squared);
+}
+
+/// Units of this many casters are one work item of the projection phase.
+constexpr std::size_t kUnitsPerItem = 128;
 
 }  // namespace
 }  // namespace planes
@@ -204,9 +618,10 @@ PlaneShadow plane_shadow(const Scene& scene, const std::vector<core::FacePrep>& 
 namespace planes {
 
 std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<core::FacePrep>& prep,
-                                       const ShadowOptions& options) {
+                                       const std::vector<core::ConvexSolid>& solids, const std::vector<int>& solid_of,
+                                       const ShadowOptions& options, const Tiling& tiling) {
   const std::vector<std::size_t> light_ids = shadow::detail::resolve_lights(scene, options.lights);
-  const unsigned threads = core::checked_threads(options.threads);
+  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
   if (!(options.plane_window >= 0 && options.plane_window <= max_coordinate))
     throw InputError({"", "ShadowOptions::plane_window"},
                      "must be in [0, 2^500 (about 3.27e150)], got " + shadow::detail::format_number(options.plane_window));
@@ -222,29 +637,111 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
       throw InputError({"", "planes[" + std::to_string(plane_id) + "].window"},
                        "the plane-shadow window is too large to represent (" + std::to_string(own) + ")");
   }
-  std::vector<PlaneShadow> shadows(scene.planes.size() * light_ids.size());
-  core::parallel_for(shadows.size(), core::resolve_threads(threads), [&](unsigned, std::size_t item) {
+
+  // What casts, in face order: a solid at its first face, every other face on its own.
+  std::vector<std::vector<std::size_t>> solid_faces(solids.size());
+  std::vector<Unit> units;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const int s = tiling.solids && f < solid_of.size() ? solid_of[f] : -1;
+    if (s < 0) {
+      units.push_back({-1, f});
+      continue;
+    }
+    std::vector<std::size_t>& faces = solid_faces[static_cast<std::size_t>(s)];
+    if (faces.empty()) units.push_back({s, f});
+    faces.push_back(f);
+  }
+
+  const std::size_t pair_count = scene.planes.size() * light_ids.size();
+  std::vector<Pair> pairs(pair_count);
+  for (std::size_t item = 0; item < pair_count; ++item) {
     const std::size_t plane_id = item / light_ids.size();
     const double own = scene.planes[plane_id].window;
-    shadows[item] = planes::plane_shadow(scene, prep, plane_id, light_ids[item % light_ids.size()], frame,
-                                        own > 0 ? own : window);
+    pairs[item] = make_pair(scene, plane_id, light_ids[item % light_ids.size()], frame, own > 0 ? own : window);
+  }
+
+  // Projection: every pair's casters in chunks of units, all on the same workers.
+  const std::size_t chunks = (units.size() + kUnitsPerItem - 1) / kUnitsPerItem;
+  std::vector<std::vector<Image>> chunk_images(pair_count * chunks);
+  std::vector<char> chunk_reaches(pair_count * chunks, 0);
+  core::parallel_for(pair_count * chunks, threads, [&](unsigned, std::size_t item) {
+    const Pair& P = pairs[item / chunks];
+    if (!P.casts) return;
+    const std::size_t first = (item % chunks) * kUnitsPerItem;
+    bool reaches = false;
+    cast_units(scene, prep, solids, solid_faces, units, first, std::min(units.size(), first + kUnitsPerItem), P,
+               chunk_images[item], reaches);
+    chunk_reaches[item] = reaches;
   });
+
+  // Tiles: a grid fixed by each pair's images; each image goes to the tiles its box meets.
+  std::vector<std::vector<Image>> images(pair_count);
+  std::vector<Grid> grids(pair_count);
+  std::vector<std::vector<std::vector<std::size_t>>> members(pair_count);
+  std::vector<std::pair<std::size_t, std::size_t>> tile_items;  // (pair, tile)
+  std::vector<PlaneShadow> shadows(pair_count);
+  for (std::size_t a = 0; a < pair_count; ++a) {
+    PlaneShadow& out = shadows[a];
+    out.plane_id = pairs[a].plane_id;
+    out.light_id = pairs[a].light_id;
+    out.window_half_size = pairs[a].window;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      std::vector<Image>& part = chunk_images[a * chunks + c];
+      out.reaches_window |= chunk_reaches[a * chunks + c] != 0;
+      for (Image& image : part) images[a].push_back(std::move(image));
+      part = {};
+    }
+    grids[a] = make_grid(images[a], tiling);
+    const Grid& grid = grids[a];
+    members[a].resize(grid.tiles());
+    for (std::size_t m = 0; m < images[a].size(); ++m) {
+      const std::array<double, 4>& box = images[a][m].box;
+      std::size_t first[2], last[2];  // the columns and rows the box meets (closed bounds)
+      for (int axis = 0; axis < 2; ++axis) {
+        const std::vector<double>& cuts = grid.cuts[axis];
+        first[axis] = static_cast<std::size_t>(std::lower_bound(cuts.begin(), cuts.end(), box[axis]) - cuts.begin());
+        last[axis] = static_cast<std::size_t>(std::upper_bound(cuts.begin(), cuts.end(), box[axis + 2]) - cuts.begin());
+      }
+      for (std::size_t row = first[1]; row <= last[1]; ++row)
+        for (std::size_t column = first[0]; column <= last[0]; ++column) members[a][row * grid.columns() + column].push_back(m);
+    }
+    for (std::size_t t = 0; t < grid.tiles(); ++t)
+      if (!members[a][t].empty()) tile_items.emplace_back(a, t);
+  }
+
+  // Unions: every pair's tiles on the same workers.
+  std::vector<std::vector<TileResult>> tiles(pair_count);
+  for (std::size_t a = 0; a < pair_count; ++a) tiles[a].resize(grids[a].tiles());
+  core::parallel_for(tile_items.size(), threads, [&](unsigned, std::size_t item) {
+    const auto [a, t] = tile_items[item];
+    unite_tile(scene, pairs[a], images[a], grids[a], members[a][t], t, tiles[a][t]);
+  });
+  for (std::size_t a = 0; a < pair_count; ++a)
+    if (pairs[a].casts) assemble(pairs[a], tiles[a], shadows[a]);
   return shadows;
 }
 
 }  // namespace planes
 
-std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const ShadowOptions& options,
+                                                       const Tiling& tiling) {
   shadow::detail::check_scene_numbers(scene);  // the scene may never have been validated
+  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
   std::vector<core::FacePrep> prep(scene.faces.size());
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+  core::parallel_for(scene.faces.size(), threads, [&](unsigned, std::size_t f) {
     if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {
       prep[f].degenerate = true;
-      continue;
+      return;
     }
     prep[f] = exact::prepare_face(scene.faces[f].vertices);
-  }
-  return planes::plane_shadows(scene, prep, options);
+  });
+  std::vector<int> solid_of;
+  const std::vector<core::ConvexSolid> solids = exact::find_convex_solids(scene, prep, solid_of);
+  return planes::plane_shadows(scene, prep, solids, solid_of, options, tiling);
+}
+
+std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+  return planes::compute_plane_shadows(scene, options, planes::Tiling{});
 }
 
 }  // namespace shadow
