@@ -511,6 +511,10 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   const exact::FT nk(P.n[k]), ni(P.n[i]), nj(P.n[j]), cc(P.c);
   const exact::FT scale_squared = exact::FT(P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (nk * nk);
   const bool flipped = scene.planes[P.plane_id].normal[k] < 0;  // the chart sees the plane clockwise
+  // A plane normal to axis k (the ground): x_k is one number, -c / n_k, the same double as the
+  // general expression gives (0 x_i and 0 x_j add exact zeros, intervals included).
+  const bool level = sgn(P.n[i]) == 0 && sgn(P.n[j]) == 0;
+  const double level_k = level ? CGAL::to_double(-(cc + exact::FT(0) + exact::FT(0)) / nk) : 0.0;
   std::vector<exact::FT> region_areas;  // summed as a balanced tree (kernel.hpp, exact::balanced_sum)
   std::vector<exact::Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
@@ -543,13 +547,14 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
         glm::dvec3 x;
         x[i] = CGAL::to_double(v->x());
         x[j] = CGAL::to_double(v->y());
-        x[k] = CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
+        x[k] = level ? level_k : CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
         polygon.push_back(x);
       }
-      if (flipped == CGAL::is_positive(exact::polygon_area(cell))) std::reverse(polygon.begin(), polygon.end());
+      const exact::FT cell_area = exact::polygon_area(cell);
+      if (flipped == CGAL::is_positive(cell_area)) std::reverse(polygon.begin(), polygon.end());
       out.polygons.push_back(std::move(polygon));
       out.region_id.push_back(r);
-      out.polygon_area.push_back(exact::area_3d(CGAL::abs(exact::polygon_area(cell)), scale_squared));
+      out.polygon_area.push_back(exact::area_3d(CGAL::abs(cell_area), scale_squared));
     }
   }
   out.chart_area = mpq_class(CGAL::exact(exact::balanced_sum(region_areas)));
