@@ -273,7 +273,9 @@ class Caster {
     CGAL::convex_hull_2(hull_in_.begin(), hull_in_.end(), std::back_inserter(hull_out_), exact::Kernel());
     chart_.clear();
     for (const exact::Point2& x : hull_out_) chart_.push_back({mpq_class(CGAL::exact(x.x())), mpq_class(CGAL::exact(x.y()))});
-    finish(window_clip());
+    // Three hull points or more bound a positive area, counter-clockwise, and a window clip that
+    // keeps three points keeps a vertex strictly inside: no orientation to test.
+    finish(window_clip(), chart_.size() >= 3);
     return true;
   }
 
@@ -291,10 +293,10 @@ class Caster {
     return cut;
   }
 
-  void finish(bool cut_by_window) {
+  void finish(bool cut_by_window, bool counter_clockwise = false) {
     reaches_ |= cut_by_window;
     if (chart_.size() < 3) return;
-    const int orientation = sgn(twice_area(chart_));
+    const int orientation = counter_clockwise ? 1 : sgn(twice_area(chart_));
     if (orientation == 0) return;  // edge-on to the light
     if (orientation < 0) std::reverse(chart_.begin(), chart_.end());
     Image image;
