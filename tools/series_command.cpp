@@ -35,7 +35,9 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   CLI::App* series = app.add_subcommand(
       "series", "Compute every sun instant of the scene's `sun` block on every receiving face (areas only) and "
                 "write sunlit.csv, energyplus-shading.csv, series.pvd, faces.vtp (sun_hours) and report.json");
-  series->footer(shadow_cli::exit_codes_help());
+  series->footer(std::string(shadow_cli::exit_codes_help()) +
+                 " 5: stopped by SIGINT or SIGTERM while keeping a checkpoint; --resume finishes the run. Across "
+                 "machines: mpirun -np N shadow series ... (docs/cluster.md).");
   series->add_option("scene", args.scene, "Scene file with a `sun` block (JSON; see docs/scene-format.md)")->required();
   series->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
   series->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
@@ -79,7 +81,8 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                    "--checkpoint. The outputs are byte for byte those of an uninterrupted run");
   // A test hook (docs/cluster.md): interrupt deterministically, as a signal or a time limit would.
   series->add_option("--stop-after", args.stop_after,
-                     "Testing: stop (exit 5) after the round in which N instants are in the checkpoint")
+                     "Testing: stop (exit 5) after the round in which N instants are in the checkpoint (rounds "
+                     "then keep their first size: 4 instants per thread, at least 8, per rank)")
       ->check(shadow_cli::integer_in(1, 1000000000))
       ->group("");
   return series;
@@ -90,10 +93,7 @@ namespace {
 /// Set by SIGINT/SIGTERM while a checkpointed run computes: stop after the round in progress.
 volatile std::sig_atomic_t g_stop_signal = 0;
 
-extern "C" void on_stop_signal(int signal) {
-  g_stop_signal = signal;
-  std::signal(signal, SIG_DFL);  // a second one ends the process at once (the checkpoint stays valid)
-}
+extern "C" void on_stop_signal(int signal) { g_stop_signal = signal; }
 
 /// The --sun-hours-map names, comma-separated.
 std::vector<std::string> mesh_names(const std::string& list) {
@@ -266,6 +266,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   if (checkpointing) {
     struct sigaction action {};
     action.sa_handler = on_stop_signal;
+    action.sa_flags = SA_RESETHAND;  // a second signal ends the process at once (the checkpoint stays valid)
     sigemptyset(&action.sa_mask);
     sigaction(SIGINT, &action, &previous_int);
     sigaction(SIGTERM, &action, &previous_term);
@@ -334,8 +335,15 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
                  "); they are kept in " + shadow_cli::Checkpoint::file(args.outdir).string() +
                  ": run the same command with --resume to compute the rest");
     }
+    // Rounds of about a minute: each costs a little (fresh workers in compute_series, a gather,
+    // a checkpoint record), and an interruption loses at most the one in progress. Grown from
+    // rank 0's measured time per instant, at most eightfold at a time.
     const double seconds = std::chrono::duration<double>(Clock::now() - round_start).count();
-    if (chunk < share && seconds < 30.0) chunk *= 2;
+    if (chunk < share && count > 0 && args.stop_after == 0) {  // --stop-after: fixed rounds, a fixed stop
+      const double per_instant = seconds / static_cast<double>(count);
+      const double wanted = per_instant > 0 ? 60.0 / per_instant : 8.0 * static_cast<double>(chunk);
+      chunk = std::max<std::uint64_t>(chunk, static_cast<std::uint64_t>(std::min(wanted, 8.0 * static_cast<double>(chunk))));
+    }
     chunk = world.max(root ? chunk : 0);
   }
   progress.finish();

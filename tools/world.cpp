@@ -7,8 +7,10 @@
 #endif
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <thread>
 
 namespace shadow_cli {
 namespace {
@@ -29,22 +31,54 @@ const char* env(const char* name) {
 // Pieces of at most 1 GiB: MPI counts are ints.
 constexpr std::size_t kPiece = std::size_t{1} << 30;
 
+/// Waits for `request` sleeping between tests. MPI's blocking calls spin on a core while they
+/// wait; a rank waiting for rank 0 to write (or for a slower rank's round) would take that core
+/// from the computing threads of the ranks that share its node.
+void wait(MPI_Request& request) {
+  int done = 0;
+  long sleep_us = 20;
+  for (MPI_Test(&request, &done, MPI_STATUS_IGNORE); !done; MPI_Test(&request, &done, MPI_STATUS_IGNORE)) {
+    std::this_thread::sleep_for(std::chrono::microseconds(sleep_us));
+    sleep_us = std::min(sleep_us * 2, 5000L);  // at most 5 ms late
+  }
+}
+
 void send_bytes(const std::string& bytes, int to) {
   std::uint64_t n = bytes.size();
-  MPI_Send(&n, 1, MPI_UINT64_T, to, 1, MPI_COMM_WORLD);
-  for (std::size_t at = 0; at < bytes.size(); at += kPiece)
-    MPI_Send(bytes.data() + at, static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, to, 2,
-             MPI_COMM_WORLD);
+  MPI_Request request;
+  MPI_Isend(&n, 1, MPI_UINT64_T, to, 1, MPI_COMM_WORLD, &request);
+  wait(request);
+  for (std::size_t at = 0; at < bytes.size(); at += kPiece) {
+    MPI_Isend(bytes.data() + at, static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, to, 2,
+              MPI_COMM_WORLD, &request);
+    wait(request);
+  }
 }
 
 std::string receive_bytes(int from) {
   std::uint64_t n = 0;
-  MPI_Recv(&n, 1, MPI_UINT64_T, from, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  MPI_Request request;
+  MPI_Irecv(&n, 1, MPI_UINT64_T, from, 1, MPI_COMM_WORLD, &request);
+  wait(request);
   std::string bytes(n, '\0');
-  for (std::size_t at = 0; at < bytes.size(); at += kPiece)
-    MPI_Recv(&bytes[at], static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, from, 2, MPI_COMM_WORLD,
-             MPI_STATUS_IGNORE);
+  for (std::size_t at = 0; at < bytes.size(); at += kPiece) {
+    MPI_Irecv(&bytes[at], static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, from, 2, MPI_COMM_WORLD,
+              &request);
+    wait(request);
+  }
   return bytes;
+}
+
+void allreduce(const void* in, void* out, MPI_Datatype type, MPI_Op op) {
+  MPI_Request request;
+  MPI_Iallreduce(in, out, 1, type, op, MPI_COMM_WORLD, &request);
+  wait(request);
+}
+
+void bcast(void* data, int count, MPI_Datatype type, int root) {
+  MPI_Request request;
+  MPI_Ibcast(data, count, type, root, MPI_COMM_WORLD, &request);
+  wait(request);
 }
 #endif
 
@@ -90,15 +124,15 @@ void World::agree(int code, const std::string& message) {
   // The lowest failing rank speaks for all.
   int mine = code != 0 ? rank_ : size_;
   int first = size_;
-  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  allreduce(&mine, &first, MPI_INT, MPI_MIN);
   if (first == size_) return;
   int failed_code = code;
-  MPI_Bcast(&failed_code, 1, MPI_INT, first, MPI_COMM_WORLD);
+  bcast(&failed_code, 1, MPI_INT, first);
   std::string text = rank_ == first ? message : std::string();
   std::uint64_t n = text.size();
-  MPI_Bcast(&n, 1, MPI_UINT64_T, first, MPI_COMM_WORLD);
+  bcast(&n, 1, MPI_UINT64_T, first);
   text.resize(n);
-  if (n > 0) MPI_Bcast(&text[0], static_cast<int>(std::min<std::uint64_t>(n, 1u << 20)), MPI_CHAR, first, MPI_COMM_WORLD);
+  if (n > 0) bcast(&text[0], static_cast<int>(std::min<std::uint64_t>(n, 1u << 20)), MPI_CHAR, first);
   text.resize(std::min<std::uint64_t>(n, 1u << 20));
   // Name the rank when it is not rank 0 (which prints): a node that cannot see a file says so.
   if (first != 0 && text.rfind("shadow: ", 0) == 0)
@@ -111,7 +145,7 @@ std::uint64_t World::max(std::uint64_t value) {
 #ifdef LIBSHADOW_HAVE_MPI
   if (mpi_ && size_ > 1) {
     std::uint64_t out = value;
-    MPI_Allreduce(&value, &out, 1, MPI_UINT64_T, MPI_MAX, MPI_COMM_WORLD);
+    allreduce(&value, &out, MPI_UINT64_T, MPI_MAX);
     return out;
   }
 #endif
@@ -140,10 +174,10 @@ void World::broadcast(std::string& bytes) {
 #ifdef LIBSHADOW_HAVE_MPI
   if (!mpi_ || size_ == 1) return;
   std::uint64_t n = bytes.size();
-  MPI_Bcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+  bcast(&n, 1, MPI_UINT64_T, 0);
   bytes.resize(n);
   for (std::size_t at = 0; at < bytes.size(); at += kPiece)
-    MPI_Bcast(&bytes[at], static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, 0, MPI_COMM_WORLD);
+    bcast(&bytes[at], static_cast<int>(std::min(kPiece, bytes.size() - at)), MPI_BYTE, 0);
 #else
   (void)bytes;
 #endif
