@@ -5,6 +5,7 @@
 #include <shadow/shadows.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -18,13 +19,16 @@ class ProgressLine {
  public:
   using Clock = std::chrono::steady_clock;
   /// `what` names the work items ("face-light pairs", "instants"); nothing is shown unless enabled.
-  ProgressLine(bool enabled, std::string what, std::size_t base = 0)
-      : enabled_(enabled), what_(std::move(what)), base_(base), start_(Clock::now()) {}
+  /// `lines`: for a log rather than a terminal (a batch job's stderr, an MPI rank's): a new line
+  /// every 10 s at most instead of one line rewritten in place.
+  ProgressLine(bool enabled, std::string what, std::size_t base = 0, bool lines = false)
+      : enabled_(enabled), lines_(lines), what_(std::move(what)), base_(base), start_(Clock::now()) {}
   [[nodiscard]] bool enabled() const { return enabled_; }
   void update(const shadow::Progress& p) {
     if (!enabled_ || p.total == 0) return;
     const auto now = Clock::now();
-    if (p.done != p.total && now - last_ < std::chrono::milliseconds(250)) return;
+    if (p.done != p.total && now - last_ < std::chrono::milliseconds(lines_ ? 10000 : 250)) return;
+    if (lines_ && p.done == last_done_) return;
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     char eta[48] = "";
@@ -41,10 +45,12 @@ class ProgressLine {
       else
         std::snprintf(eta, sizeof eta, ", about %d s left", static_cast<int>(left + 0.5));
     }
-    std::fprintf(stderr, "\r\033[Kshadow: %s %zu/%zu (%d%%)%s%s", what_.c_str(), p.done, p.total,
+    std::fprintf(stderr, lines_ ? "shadow: %s %zu/%zu (%d%%)%s%s\n" : "\r\033[Kshadow: %s %zu/%zu (%d%%)%s%s",
+                 what_.c_str(), p.done, p.total,
                  static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total)), rate, eta);
     std::fflush(stderr);
-    shown_ = true;
+    last_done_ = p.done;
+    shown_ = !lines_;
   }
   void finish() {
     if (shown_) std::fprintf(stderr, "\r\033[K");
@@ -53,7 +59,9 @@ class ProgressLine {
 
  private:
   bool enabled_;
+  bool lines_;
   std::string what_;
+  std::size_t last_done_ = SIZE_MAX;
   std::size_t base_;
   bool shown_ = false;
   Clock::time_point start_;

@@ -271,7 +271,11 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     sigaction(SIGINT, &action, &previous_int);
     sigaction(SIGTERM, &action, &previous_term);
   }
-  shadow_cli::ProgressLine progress(talk && isatty(STDERR_FILENO), "instants", resumed);
+  // On a terminal one line rewritten in place; in a log (an MPI job's or a checkpointed batch
+  // job's stderr, which is no terminal) a line every 10 s at most.
+  const bool terminal = isatty(STDERR_FILENO) != 0;
+  const bool log_lines = !terminal && (world.distributed() || checkpointing);
+  shadow_cli::ProgressLine progress(talk && (terminal || log_lines), "instants", resumed, log_lines);
   std::size_t done_total = resumed;
   for (std::size_t taken = 0; taken < share;) {
     const std::size_t count = std::min<std::size_t>(chunk, share - taken);
@@ -379,9 +383,10 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     on_every_rank(world, [&] {
       shadow::SunHoursOptions map_options;
       map_options.threads = args.threads;
-      shadow_cli::ProgressLine map_progress(talk && isatty(STDERR_FILENO),
+      shadow_cli::ProgressLine map_progress(talk && (terminal || log_lines),
                                             world.distributed() ? "sun-hours map faces (rank 0's block)"
-                                                                : "sun-hours map faces");
+                                                                : "sun-hours map faces",
+                                            0, log_lines);
       map_options.progress = [&](const shadow::Progress& p) { map_progress.update(p); };
       shadow::SunHoursMap part = shadow::compute_sun_hours_map(engine, block, shadow::sun_hours_instants(scene), map_options);
       map_progress.finish();
