@@ -20,12 +20,6 @@ const char* env(const char* name) {
   return value != nullptr && *value != '\0' ? value : nullptr;
 }
 
-/// The number of ranks the launcher says it started (0 when it does not say).
-[[maybe_unused]] long launcher_size() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE", "MPI_LOCALNRANKS"})
-    if (const char* value = env(name)) return std::strtol(value, nullptr, 10);
-  return 0;
-}
 
 #ifdef LIBSHADOW_HAVE_MPI
 // Pieces of at most 1 GiB: MPI counts are ints.
@@ -84,6 +78,18 @@ void bcast(void* data, int count, MPI_Datatype type, int root) {
 
 }  // namespace
 
+long launcher_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    if (const char* value = env(name)) return launched_by_mpi_launcher() ? std::strtol(value, nullptr, 10) : 0;
+  return 0;
+}
+
+long launcher_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
+    if (const char* value = env(name)) return std::strtol(value, nullptr, 10);
+  return 0;
+}
+
 bool launched_by_mpi_launcher() {
   // Open MPI's mpirun; PMI-1/2 launchers (MPICH's hydra, srun --mpi=pmi2); PMIx (srun --mpi=pmix,
   // Open MPI 5's prterun).
@@ -103,7 +109,8 @@ World::World() {
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 #else
   if (launcher_size() > 1)
-    throw RunStopped(2, "shadow: error: started by an MPI launcher with " + std::to_string(launcher_size()) +
+    throw RunStopped(2, launcher_rank() != 0 ? std::string() :
+                        "shadow: error: started by an MPI launcher with " + std::to_string(launcher_size()) +
                             " processes, but this shadow was built without MPI (LIBSHADOW_MPI=OFF): each would "
                             "compute the whole series; run one process, or rebuild with MPI (docs/cluster.md)");
 #endif

@@ -28,6 +28,11 @@ struct RunStopped : std::runtime_error {
 /// launcher such as MPICH's hydra or Slurm's srun). Reads the environment only.
 bool launched_by_mpi_launcher();
 
+/// The number of processes the launcher says it started, and this one's rank among them, from
+/// the environment alone (0 when no launcher says).
+long launcher_size();
+long launcher_rank();
+
 /// The ranks of the run. Without MPI (not built with it, or not launched under a launcher)
 /// it is one rank and every collective is a no-op.
 class World {
