@@ -258,7 +258,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   const std::size_t share = (todo.size() + static_cast<std::size_t>(world.size()) - 1) / static_cast<std::size_t>(world.size());
   // Rounds: after each, rank 0 gathers the columns (and appends them to the checkpoint). One
   // round of everything for a single process that keeps no checkpoint (as before); else a few
-  // instants per thread to start with, doubled while a round takes under half a minute.
+  // instants per thread to start with, then rounds of about a minute (sized below).
   const unsigned threads = args.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : args.threads;
   std::uint64_t chunk = (!checkpointing && !world.distributed()) ? share : std::max<std::uint64_t>(8, 4 * threads);
   chunk = world.max(root ? chunk : 0);  // rank 0's choice
