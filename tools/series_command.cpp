@@ -36,7 +36,7 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
       "series", "Compute every sun instant of the scene's `sun` block on every receiving face (areas only) and "
                 "write sunlit.csv, energyplus-shading.csv, series.pvd, faces.vtp (sun_hours) and report.json");
   series->footer(std::string(shadow_cli::exit_codes_help()) +
-                 " 5: stopped by SIGINT or SIGTERM while keeping a checkpoint; --resume finishes the run. Across "
+                 " Also 5: stopped by SIGINT or SIGTERM while keeping a checkpoint; --resume finishes the run. Across "
                  "machines: mpirun -np N shadow series ... (docs/cluster.md).");
   series->add_option("scene", args.scene, "Scene file with a `sun` block (JSON; see docs/scene-format.md)")->required();
   series->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
