@@ -312,6 +312,49 @@ TEST(SunHoursMap, CityIntegralAndRaysAgree) {
   }
 }
 
+// SunHoursMap::regions: maps of consecutive blocks of the faces, concatenated with each block's
+// region ids shifted by the regions before it, are the map of all the faces (how `mpirun shadow
+// series` gathers the ranks' blocks, docs/cluster.md).
+TEST(SunHoursMap, BlocksOfFacesConcatenateToTheWholeMap) {
+  Scene scene = make_city(6, 40, 5);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < 4; ++k)
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(20 + 12 * k, 100 + 45 * k)), 0.5});
+  const ShadowEngine engine(scene, 1);
+  std::vector<std::size_t> faces;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) faces.push_back(f);
+  SunHoursOptions options;
+  options.threads = 1;
+  const SunHoursMap whole = compute_sun_hours_map(engine, faces, instants, options);
+  ASSERT_GT(whole.regions, 0u);
+  for (const SunHoursCell& c : whole.cells) EXPECT_LT(c.region_id, whole.regions);
+  for (std::size_t cut : {std::size_t{1}, faces.size() / 3, faces.size() - 1}) {
+    const std::vector<std::size_t> first(faces.begin(), faces.begin() + static_cast<std::ptrdiff_t>(cut));
+    const std::vector<std::size_t> second(faces.begin() + static_cast<std::ptrdiff_t>(cut), faces.end());
+    const SunHoursMap a = compute_sun_hours_map(engine, first, instants, options);
+    const SunHoursMap b = compute_sun_hours_map(engine, second, instants, options);
+    EXPECT_EQ(a.regions + b.regions, whole.regions) << "cut " << cut;
+    ASSERT_EQ(a.cells.size() + b.cells.size(), whole.cells.size()) << "cut " << cut;
+    ASSERT_EQ(a.faces.size() + b.faces.size(), whole.faces.size());
+    for (std::size_t i = 0; i < whole.cells.size(); ++i) {
+      const bool in_a = i < a.cells.size();
+      const SunHoursCell& c = in_a ? a.cells[i] : b.cells[i - a.cells.size()];
+      EXPECT_EQ(c.face_id, whole.cells[i].face_id);
+      EXPECT_EQ(c.region_id + (in_a ? 0 : a.regions), whole.cells[i].region_id);
+      EXPECT_EQ(c.sun_hours, whole.cells[i].sun_hours);
+      EXPECT_EQ(c.area, whole.cells[i].area);
+      EXPECT_EQ(c.polygon, whole.cells[i].polygon);
+    }
+    for (std::size_t i = 0; i < whole.faces.size(); ++i) {
+      const SunHoursFace& f = i < a.faces.size() ? a.faces[i] : b.faces[i - a.faces.size()];
+      EXPECT_EQ(f.face_id, whole.faces[i].face_id);
+      EXPECT_EQ(f.hour_area, whole.faces[i].hour_area);
+      EXPECT_EQ(f.instants_lit, whole.faces[i].instants_lit);
+    }
+  }
+}
+
 TEST(SunHoursMap, PointLightsAndBackFacingFacesWork) {
   const Scene scene = pole_scene();
   const ShadowEngine engine(scene, 1);

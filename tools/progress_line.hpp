@@ -5,37 +5,52 @@
 #include <shadow/shadows.hpp>
 
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <utility>
 
 namespace shadow_cli {
 
-/// "shadow: instants 120/4400 (2%), about 3 min 10 s left": one line of stderr (stdout stays
-/// clean), rewritten in place at most four times a second, erased by finish().
+/// "shadow: instants 120/4400 (2%), 3.1/s, about 3 min 10 s left": one line of stderr (stdout
+/// stays clean), rewritten in place at most four times a second, erased by finish(). The rate
+/// and the time left count only what this process did (a resumed run starts at `base`).
 class ProgressLine {
  public:
   using Clock = std::chrono::steady_clock;
   /// `what` names the work items ("face-light pairs", "instants"); nothing is shown unless enabled.
-  ProgressLine(bool enabled, std::string what) : enabled_(enabled), what_(std::move(what)), start_(Clock::now()) {}
+  /// `lines`: for a log rather than a terminal (a batch job's stderr, an MPI rank's): a new line
+  /// every 10 s at most instead of one line rewritten in place.
+  ProgressLine(bool enabled, std::string what, std::size_t base = 0, bool lines = false)
+      : enabled_(enabled), lines_(lines), what_(std::move(what)), base_(base), start_(Clock::now()) {}
+  [[nodiscard]] bool enabled() const { return enabled_; }
   void update(const shadow::Progress& p) {
     if (!enabled_ || p.total == 0) return;
     const auto now = Clock::now();
-    if (p.done != p.total && now - last_ < std::chrono::milliseconds(250)) return;
+    if (p.done != p.total && now - last_ < std::chrono::milliseconds(lines_ ? 10000 : 250)) return;
+    if (lines_ && p.done == last_done_) return;
     last_ = now;
     const double elapsed = std::chrono::duration<double>(now - start_).count();
     char eta[48] = "";
-    if (p.done > 0 && p.done < p.total) {
-      const double left = elapsed / static_cast<double>(p.done) * static_cast<double>(p.total - p.done);
+    char rate[32] = "";
+    const std::size_t done_here = p.done > base_ ? p.done - base_ : 0;
+    if (done_here > 0 && elapsed > 0) {
+      const double per_second = static_cast<double>(done_here) / elapsed;
+      std::snprintf(rate, sizeof rate, per_second >= 10 ? ", %.0f/s" : ", %.2g/s", per_second);
+    }
+    if (done_here > 0 && p.done < p.total) {
+      const double left = elapsed / static_cast<double>(done_here) * static_cast<double>(p.total - p.done);
       if (left >= 60)
         std::snprintf(eta, sizeof eta, ", about %d min %02d s left", static_cast<int>(left) / 60, static_cast<int>(left) % 60);
       else
         std::snprintf(eta, sizeof eta, ", about %d s left", static_cast<int>(left + 0.5));
     }
-    std::fprintf(stderr, "\r\033[Kshadow: %s %zu/%zu (%d%%)%s", what_.c_str(), p.done, p.total,
-                 static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total)), eta);
+    std::fprintf(stderr, lines_ ? "shadow: %s %zu/%zu (%d%%)%s%s\n" : "\r\033[Kshadow: %s %zu/%zu (%d%%)%s%s",
+                 what_.c_str(), p.done, p.total,
+                 static_cast<int>(100.0 * static_cast<double>(p.done) / static_cast<double>(p.total)), rate, eta);
     std::fflush(stderr);
-    shown_ = true;
+    last_done_ = p.done;
+    shown_ = !lines_;
   }
   void finish() {
     if (shown_) std::fprintf(stderr, "\r\033[K");
@@ -44,7 +59,10 @@ class ProgressLine {
 
  private:
   bool enabled_;
+  bool lines_;
   std::string what_;
+  std::size_t last_done_ = SIZE_MAX;
+  std::size_t base_;
   bool shown_ = false;
   Clock::time_point start_;
   Clock::time_point last_{};

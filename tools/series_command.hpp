@@ -21,6 +21,9 @@ struct SeriesArgs {
   std::string lod;         ///< CityJSON level of detail; empty: the highest per object
   std::string from, to;    ///< --from/--to: override the sun period's dates (YYYY-MM-DD, local standard)
   int step_minutes = 0;    ///< --step: override its step in minutes (0: keep)
+  bool checkpoint = false;  ///< --checkpoint: keep OUTDIR/series.checkpoint as the run goes
+  bool resume = false;      ///< --resume: start from OUTDIR/series.checkpoint (implies --checkpoint)
+  std::size_t stop_after = 0;  ///< --stop-after N (testing): stop once N instants are checkpointed
 };
 
 /// Declares the subcommand `series` and its options on `app`.

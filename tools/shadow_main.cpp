@@ -11,6 +11,7 @@
 #include "cli_checks.hpp"
 #include "progress_line.hpp"
 #include "sun_command.hpp"
+#include "world.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -266,6 +267,15 @@ int main(int argc, char** argv) {
     return kBadInput;
   }
 
+  // Only `shadow series` shares its work between MPI ranks; N copies of another subcommand
+  // would each do all of it (and fight over OUTDIR's lock): say so once, from the first rank.
+  if (!*series && shadow_cli::launcher_size() > 1) {
+    if (shadow_cli::launcher_rank() == 0)
+      std::cerr << "shadow: error: started by an MPI launcher with " << shadow_cli::launcher_size()
+                << " processes: only `shadow series` runs across MPI ranks (docs/cluster.md); run this "
+                   "subcommand as one process\n";
+    return kBadInput;
+  }
   try {
     if (*series) return run_series(series_args);
     if (*compute) return run_compute(args);

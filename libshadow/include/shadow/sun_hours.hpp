@@ -59,6 +59,10 @@ struct SunHoursMap {
   std::vector<SunHoursCell> cells;  ///< ordered by face_id, then region_id
   std::vector<SunHoursFace> faces;  ///< one per chosen face, by face_id
   double total_hours = 0.0;         ///< the sum of the instants' hours
+  /// Region ids used: every cell's region_id is below it (a region whose cells were all too
+  /// thin to write still takes its id). A map of more faces computed in parts is their
+  /// concatenation in face order, each part's region ids shifted by the earlier parts' `regions`.
+  std::size_t regions = 0;
 };
 
 /// Options of compute_sun_hours_map.

@@ -385,6 +385,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
     next_region += fm.regions;
     map.faces.push_back(fm.face);
   }
+  map.regions = next_region;
   return map;
 }
 

@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# `shadow series --checkpoint / --resume` (docs/cluster.md): a run stopped part-way (the
+# --stop-after test hook, exit 5) leaves no file that looks complete, only its checkpoint; the
+# resumed run computes the rest and writes every file byte for byte as an uninterrupted run
+# does (report.json's run.started_utc aside, which no two runs share). A checkpoint whose last
+# record was cut short (a kill mid-write) is resumed from its last whole record; a checkpoint of
+# another scene or arithmetic is refused with one line and exit 2.
+#
+# Usage: bash test_series_resume.sh /path/to/shadow /path/to/examples
+set -u
+
+if [[ $# -ne 2 ]]; then
+  echo "usage: $0 SHADOW_BINARY EXAMPLES_DIR" >&2
+  exit 2
+fi
+SHADOW=$1
+SCENE=$2/sun/scene.json
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-series-resume.XXXXXX")
+trap 'rm -rf "$WORK"' EXIT
+
+passed=0
+failed=0
+pass() { passed=$((passed + 1)); echo "ok   $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
+
+# Three June days in Berlin, hourly: 51 instants above the horizon, with the exact sun-hours map
+# of two meshes, every second instant's dataset and its fragments.
+ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments -t 1 -q)
+TALK=("${ARGS[@]:0:${#ARGS[@]}-1}")  # without -q: the resume note is printed
+
+# same_outputs NAME A B: the same files, byte for byte (report.json without its start time).
+same_outputs() {
+  local name=$1 a=$2 b=$3
+  local listing_a listing_b
+  listing_a=$(cd "$a" && find . -type f | sort)
+  listing_b=$(cd "$b" && find . -type f | sort)
+  if [[ "$listing_a" != "$listing_b" ]]; then
+    fail "$name" "different files: $(diff <(echo "$listing_a") <(echo "$listing_b") | tr '\n' ' ')"
+    return
+  fi
+  local f
+  while read -r f; do
+    if [[ "$f" == ./report.json ]]; then
+      if ! cmp -s <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f"); then
+        fail "$name" "report.json differs: $(diff <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f") | head -5 | tr '\n' ' ')"
+        return
+      fi
+    elif ! cmp -s "$a/$f" "$b/$f"; then
+      fail "$name" "$f differs"
+      return
+    fi
+  done <<<"$listing_a"
+  pass "$name ($(echo "$listing_a" | wc -l) files identical)"
+}
+
+"$SHADOW" series "$SCENE" -o "$WORK/whole" "${ARGS[@]}" || fail reference "exit $?"
+[[ -f "$WORK/whole/report.json" && -f "$WORK/whole/sun_hours.vtp" ]] && pass "reference run" || fail "reference run" "no report.json or sun_hours.vtp"
+
+# Stopped after the first rounds: exit 5, one line naming the checkpoint, nothing that looks done.
+status=0
+"$SHADOW" series "$SCENE" -o "$WORK/stopped" "${ARGS[@]}" --checkpoint --stop-after 10 2>"$WORK/stop.err" || status=$?
+if [[ $status -eq 5 && $(wc -l <"$WORK/stop.err") -eq 1 ]] && grep -q "series.checkpoint" "$WORK/stop.err" &&
+   grep -q -- "--resume" "$WORK/stop.err"; then
+  pass "stopped: exit 5, one line naming the checkpoint"
+else
+  fail "stopped" "exit $status, stderr: $(cat "$WORK/stop.err")"
+fi
+left=$(cd "$WORK/stopped" && find . -type f ! -name series.checkpoint | sort | tr '\n' ' ')
+[[ -z "$left" && -f "$WORK/stopped/series.checkpoint" ]] && pass "stopped: only the checkpoint in OUTDIR" ||
+  fail "stopped: only the checkpoint" "found: $left"
+cp -r "$WORK/stopped" "$WORK/torn"
+cp -r "$WORK/stopped" "$WORK/other"
+
+# Another scene (the tower one metre taller) and the other arithmetic are refused.
+sed 's/, 30\]/, 31]/g' "$SCENE" >"$WORK/taller.json"
+for variant in "taller:$WORK/taller.json:" "fast:$SCENE:--fast"; do
+  IFS=: read -r name scene extra <<<"$variant"
+  status=0
+  # shellcheck disable=SC2086
+  "$SHADOW" series "$scene" -o "$WORK/other" "${ARGS[@]}" --resume $extra 2>"$WORK/$name.err" || status=$?
+  if [[ $status -eq 2 && $(wc -l <"$WORK/$name.err") -eq 1 ]] && grep -q "series.checkpoint: .*another scene or other options" "$WORK/$name.err" &&
+     [[ -f "$WORK/other/series.checkpoint" && ! -f "$WORK/other/report.json" ]]; then
+    pass "resume refused for a changed input ($name)"
+  else
+    fail "resume refused ($name)" "exit $status, stderr: $(cat "$WORK/$name.err")"
+  fi
+done
+
+# Resumed: the rest computed, the files the uninterrupted run's, the checkpoint gone.
+"$SHADOW" series "$SCENE" -o "$WORK/stopped" "${TALK[@]}" --resume 2>"$WORK/resume.err" >/dev/null || fail resume "exit $?"
+grep -q "resuming from .*: 16 of 51 instants done" "$WORK/resume.err" && pass "resume reads 16 of 51 instants (two rounds of 8)" ||
+  fail "resume count" "$(cat "$WORK/resume.err")"
+same_outputs "resumed run equals the uninterrupted one" "$WORK/whole" "$WORK/stopped"
+[[ ! -e "$WORK/stopped/series.checkpoint" ]] && pass "checkpoint removed when complete" || fail "checkpoint removed" "still there"
+
+# A kill in the middle of appending a record: the torn record (the file's last 100 bytes cut
+# off) is dropped and its instants computed again.
+size=$(stat -c %s "$WORK/torn/series.checkpoint")
+truncate -s $((size - 100)) "$WORK/torn/series.checkpoint"
+"$SHADOW" series "$SCENE" -o "$WORK/torn" "${TALK[@]}" --resume 2>"$WORK/torn.err" >/dev/null || fail "torn resume" "exit $?"
+grep -q "8 of 51 instants done (an unfinished last record was dropped)" "$WORK/torn.err" &&
+  pass "torn last record dropped" || fail "torn record" "$(cat "$WORK/torn.err")"
+same_outputs "resumed from a torn checkpoint" "$WORK/whole" "$WORK/torn"
+
+# --resume without a checkpoint starts afresh (a job script may always pass it); --checkpoint
+# alone gives the same files too.
+"$SHADOW" series "$SCENE" -o "$WORK/fresh" "${ARGS[@]}" --resume 2>/dev/null || fail "fresh resume" "exit $?"
+same_outputs "--resume without a checkpoint" "$WORK/whole" "$WORK/fresh"
+"$SHADOW" series "$SCENE" -o "$WORK/checkpointed" "${ARGS[@]}" --checkpoint || fail "checkpointed" "exit $?"
+same_outputs "--checkpoint, uninterrupted" "$WORK/whole" "$WORK/checkpointed"
+
+# Not a checkpoint at all: refused with one line.
+mkdir -p "$WORK/junk" && echo "not a checkpoint" >"$WORK/junk/series.checkpoint"
+status=0
+"$SHADOW" series "$SCENE" -o "$WORK/junk" "${ARGS[@]}" --resume 2>"$WORK/junk.err" || status=$?
+[[ $status -eq 2 && $(wc -l <"$WORK/junk.err") -eq 1 ]] && grep -q "not a shadow series checkpoint" "$WORK/junk.err" &&
+  pass "junk checkpoint refused" || fail "junk checkpoint" "exit $status: $(cat "$WORK/junk.err")"
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]

@@ -1,0 +1,454 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Series columns as raw bytes: MPI messages and OUTDIR/series.checkpoint (series_checkpoint.hpp).
+#include "series_checkpoint.hpp"
+
+#include <shadow/error.hpp>
+#include <shadow/output.hpp>
+#include <shadow/version.hpp>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+
+namespace shadow_cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kMagic[8] = {'S', 'H', 'D', 'W', 'C', 'K', 'P', 'T'};
+constexpr std::uint32_t kFormat = 1;
+constexpr std::uint32_t kRecord = 0x52454331;  // "REC1"
+
+/// FNV-1a, 64 bits: a digest of inputs and a checksum of records (not a defence against
+/// tampering, a guard against changed inputs and torn writes).
+struct Fnv {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  void bytes(const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) {
+      h ^= p[i];
+      h *= 0x100000001b3ull;
+    }
+  }
+  template <typename T>
+  void value(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes(&v, sizeof v);
+  }
+  void text(const std::string& s) {
+    value(static_cast<std::uint64_t>(s.size()));
+    bytes(s.data(), s.size());
+  }
+};
+
+class Writer {
+ public:
+  template <typename T>
+  void put(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  template <typename T>
+  void put_all(const std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    put(static_cast<std::uint64_t>(v.size()));
+    if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  }
+  void text(const std::string& s) {
+    put(static_cast<std::uint64_t>(s.size()));
+    out += s;
+  }
+  std::string out;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::string& bytes) : data_(bytes) {}
+  template <typename T>
+  T get() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, data_.data() + at_, sizeof v);
+    at_ += sizeof v;
+    return v;
+  }
+  template <typename T>
+  std::vector<T> get_all() {
+    const auto n = get<std::uint64_t>();
+    if (n > (data_.size() - at_) / sizeof(T)) throw std::runtime_error("series message: truncated");
+    std::vector<T> v(n);
+    if (n > 0) std::memcpy(v.data(), data_.data() + at_, n * sizeof(T));
+    at_ += n * sizeof(T);
+    return v;
+  }
+  std::string text() {
+    const auto n = get<std::uint64_t>();
+    need(n);
+    std::string s = data_.substr(at_, n);
+    at_ += n;
+    return s;
+  }
+  [[nodiscard]] bool at_end() const { return at_ == data_.size(); }
+
+ private:
+  void need(std::uint64_t n) const {
+    if (n > data_.size() - at_) throw std::runtime_error("series message: truncated");
+  }
+  const std::string& data_;
+  std::size_t at_ = 0;
+};
+
+void put_stats(Writer& w, const shadow::ShadowStats& s) {
+  for (std::uint64_t v : {s.receivers, s.back_facing, s.candidate_pairs, s.casting_pairs, s.unshadowed,
+                          s.fast_exact_fallbacks, s.fast_collapsed})
+    w.put(v);
+}
+
+shadow::ShadowStats get_stats(Reader& r) {
+  shadow::ShadowStats s;
+  for (std::uint64_t* v : {&s.receivers, &s.back_facing, &s.candidate_pairs, &s.casting_pairs, &s.unshadowed,
+                           &s.fast_exact_fallbacks, &s.fast_collapsed})
+    *v = r.get<std::uint64_t>();
+  return s;
+}
+
+void put_vec3(Writer& w, const glm::dvec3& p) {
+  w.put(p.x);
+  w.put(p.y);
+  w.put(p.z);
+}
+
+glm::dvec3 get_vec3(Reader& r) {
+  glm::dvec3 p;
+  p.x = r.get<double>();
+  p.y = r.get<double>();
+  p.z = r.get<double>();
+  return p;
+}
+
+std::string errno_text(int saved) { return saved != 0 ? std::strerror(saved) : "could not write the file"; }
+
+/// Writes all of `bytes` at the file's end and flushes them to the disk.
+void write_durably(std::FILE* file, const std::string& bytes, const fs::path& path) {
+  errno = 0;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size() || std::fflush(file) != 0 ||
+      ::fsync(::fileno(file)) != 0)
+    throw shadow::OutputError(path.string() + ": " + errno_text(errno));
+}
+
+}  // namespace
+
+SeriesColumns columns_of(const shadow::SeriesResult& part, const std::vector<std::uint64_t>& instants) {
+  if (part.instants != instants.size()) throw std::runtime_error("series columns: instants do not match");
+  SeriesColumns c;
+  c.instants = instants;
+  c.rows = part.faces.size();
+  const std::size_t n = c.rows * instants.size();
+  c.lit_area.resize(n);
+  c.lit_fraction.resize(n);
+  c.lit_area_error_bound.resize(n);
+  c.faces_light.resize(n);
+  for (std::size_t k = 0; k < instants.size(); ++k)
+    for (std::size_t r = 0; r < c.rows; ++r) {
+      const std::size_t from = part.at(r, k), to = k * c.rows + r;
+      c.lit_area[to] = part.lit_area[from];
+      c.lit_fraction[to] = part.lit_fraction[from];
+      c.lit_area_error_bound[to] = part.lit_area_error_bound[from];
+      c.faces_light[to] = part.faces_light[from];
+    }
+  c.stats = part.stats;
+  return c;
+}
+
+void place_columns(const SeriesColumns& c, shadow::SeriesResult& full) {
+  const std::size_t n = c.rows * c.instants.size();
+  if (c.rows != full.faces.size() || c.lit_area.size() != n || c.lit_fraction.size() != n ||
+      c.lit_area_error_bound.size() != n || c.faces_light.size() != n)
+    throw std::runtime_error("series columns: their shape is not the series'");
+  for (std::size_t k = 0; k < c.instants.size(); ++k) {
+    if (c.instants[k] >= full.instants) throw std::runtime_error("series columns: instant out of range");
+    for (std::size_t r = 0; r < c.rows; ++r) {
+      const std::size_t to = full.at(r, c.instants[k]), from = k * c.rows + r;
+      full.lit_area[to] = c.lit_area[from];
+      full.lit_fraction[to] = c.lit_fraction[from];
+      full.lit_area_error_bound[to] = c.lit_area_error_bound[from];
+      full.faces_light[to] = c.faces_light[from];
+    }
+  }
+  full.stats += c.stats;
+}
+
+std::string encode_columns(const SeriesColumns& c) {
+  Writer w;
+  w.put(static_cast<std::uint64_t>(c.rows));
+  w.put_all(c.instants);
+  w.put_all(c.lit_area);
+  w.put_all(c.lit_fraction);
+  w.put_all(c.lit_area_error_bound);
+  w.put_all(c.faces_light);
+  put_stats(w, c.stats);
+  return std::move(w.out);
+}
+
+SeriesColumns decode_columns(const std::string& bytes) {
+  Reader r(bytes);
+  SeriesColumns c;
+  c.rows = r.get<std::uint64_t>();
+  c.instants = r.get_all<std::uint64_t>();
+  c.lit_area = r.get_all<double>();
+  c.lit_fraction = r.get_all<double>();
+  c.lit_area_error_bound = r.get_all<double>();
+  c.faces_light = r.get_all<unsigned char>();
+  c.stats = get_stats(r);
+  if (!r.at_end()) throw std::runtime_error("series message: trailing bytes");
+  return c;
+}
+
+std::string encode_map(const shadow::SunHoursMap& map) {
+  Writer w;
+  w.put(map.total_hours);
+  w.put(static_cast<std::uint64_t>(map.regions));
+  w.put(static_cast<std::uint64_t>(map.cells.size()));
+  for (const shadow::SunHoursCell& c : map.cells) {
+    w.put(static_cast<std::uint64_t>(c.face_id));
+    w.put(c.sun_hours);
+    w.put(static_cast<std::uint64_t>(c.region_id));
+    w.put(c.area);
+    w.put(static_cast<std::uint64_t>(c.polygon.size()));
+    for (const glm::dvec3& p : c.polygon) put_vec3(w, p);
+  }
+  w.put(static_cast<std::uint64_t>(map.faces.size()));
+  for (const shadow::SunHoursFace& f : map.faces) {
+    w.put(static_cast<std::uint64_t>(f.face_id));
+    w.put(f.area);
+    w.put(f.hour_area);
+    w.put(f.dropped_area);
+    w.put(static_cast<std::uint64_t>(f.instants_lit));
+  }
+  return std::move(w.out);
+}
+
+shadow::SunHoursMap decode_map(const std::string& bytes) {
+  Reader r(bytes);
+  shadow::SunHoursMap map;
+  map.total_hours = r.get<double>();
+  map.regions = r.get<std::uint64_t>();
+  const auto cells = r.get<std::uint64_t>();
+  for (std::uint64_t i = 0; i < cells; ++i) {
+    shadow::SunHoursCell c;
+    c.face_id = r.get<std::uint64_t>();
+    c.sun_hours = r.get<double>();
+    c.region_id = r.get<std::uint64_t>();
+    c.area = r.get<double>();
+    const auto points = r.get<std::uint64_t>();
+    for (std::uint64_t p = 0; p < points; ++p) c.polygon.push_back(get_vec3(r));
+    map.cells.push_back(std::move(c));
+  }
+  const auto faces = r.get<std::uint64_t>();
+  for (std::uint64_t i = 0; i < faces; ++i) {
+    shadow::SunHoursFace f;
+    f.face_id = r.get<std::uint64_t>();
+    f.area = r.get<double>();
+    f.hour_area = r.get<double>();
+    f.dropped_area = r.get<double>();
+    f.instants_lit = r.get<std::uint64_t>();
+    map.faces.push_back(f);
+  }
+  if (!r.at_end()) throw std::runtime_error("sun-hours map message: trailing bytes");
+  return map;
+}
+
+shadow::SunHoursMap merge_maps(const std::vector<shadow::SunHoursMap>& parts) {
+  shadow::SunHoursMap map;
+  std::size_t offset = 0;
+  for (const shadow::SunHoursMap& part : parts) {
+    for (shadow::SunHoursCell c : part.cells) {
+      c.region_id += offset;
+      map.cells.push_back(std::move(c));
+    }
+    map.faces.insert(map.faces.end(), part.faces.begin(), part.faces.end());
+    offset += part.regions;
+    // Every part sums the same instants' hours (compute_sun_hours_map sums them whatever the faces).
+    map.total_hours = part.total_hours;
+  }
+  map.regions = offset;
+  return map;
+}
+
+std::uint64_t series_digest(const shadow::Scene& scene, const shadow::SunSeries& suns, shadow::Arithmetic arithmetic) {
+  Fnv d;
+  d.text(shadow::version());
+  d.value(static_cast<int>(arithmetic));
+  d.value(static_cast<std::uint64_t>(scene.faces.size()));
+  for (const shadow::Face& f : scene.faces) {
+    d.value(static_cast<std::uint64_t>(f.mesh));
+    d.value(static_cast<unsigned char>(f.degenerate));
+    d.value(static_cast<unsigned char>(f.mesh < scene.meshes.size() && scene.meshes[f.mesh].receiver));
+    d.value(static_cast<std::uint64_t>(f.vertices.size()));
+    for (const glm::dvec3& v : f.vertices) {
+      d.value(v.x);
+      d.value(v.y);
+      d.value(v.z);
+    }
+  }
+  d.value(static_cast<std::uint64_t>(suns.lights.size()));
+  for (std::size_t i = 0; i < suns.lights.size(); ++i) {
+    const shadow::Light& l = suns.lights[i];
+    d.value(static_cast<int>(l.type));
+    d.value(l.to_light.x);
+    d.value(l.to_light.y);
+    d.value(l.to_light.z);
+    d.value(l.angular_diameter);
+    d.value(static_cast<std::int64_t>(suns.times[i]));
+  }
+  return d.h;
+}
+
+Checkpoint Checkpoint::create(const fs::path& path, std::uint64_t digest, std::size_t rows, std::size_t instants,
+                              const std::string& started_utc) {
+  Writer w;
+  w.out.append(kMagic, sizeof kMagic);
+  w.put(kFormat);
+  w.put(digest);
+  w.put(static_cast<std::uint64_t>(rows));
+  w.put(static_cast<std::uint64_t>(instants));
+  w.text(started_utc);
+  Fnv check;
+  check.bytes(w.out.data(), w.out.size());
+  w.put(check.h);
+  // The header under a temporary name, renamed into place: a checkpoint is whole or absent.
+  const fs::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  std::error_code ignored;
+  fs::remove(temp, ignored);
+  std::FILE* file = std::fopen(temp.c_str(), "wb");
+  if (file == nullptr) throw shadow::OutputError(path.string() + ": " + errno_text(errno));
+  try {
+    write_durably(file, w.out, path);
+  } catch (...) {
+    std::fclose(file);
+    fs::remove(temp, ignored);
+    throw;
+  }
+  std::fclose(file);
+  std::error_code ec;
+  fs::rename(temp, path, ec);
+  if (ec) {
+    fs::remove(temp, ignored);
+    throw shadow::OutputError(path.string() + ": cannot move the checkpoint into place: " + ec.message());
+  }
+  return reopen(path, w.out.size());
+}
+
+Checkpoint::Contents Checkpoint::read(const fs::path& path, std::uint64_t digest, std::size_t rows,
+                                      std::size_t instants) {
+  std::string bytes;
+  {
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (file == nullptr)
+      throw shadow::InputError({path.string(), ""}, std::string("cannot read the checkpoint: ") + std::strerror(errno));
+    char buffer[1 << 16];
+    std::size_t n;
+    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) bytes.append(buffer, n);
+    std::fclose(file);
+  }
+  const std::string place = "";
+  auto refuse = [&](const std::string& why) {
+    throw shadow::InputError({path.string(), place}, why + "; remove it (or run without --resume) to start afresh");
+  };
+  Contents out;
+  std::size_t at = 0;
+  try {
+    if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+      refuse("not a shadow series checkpoint");
+    Reader r(bytes);
+    for (std::size_t i = 0; i < sizeof kMagic; ++i) r.get<char>();
+    if (r.get<std::uint32_t>() != kFormat) refuse("a checkpoint of another format version");
+    const auto their_digest = r.get<std::uint64_t>();
+    const auto their_rows = r.get<std::uint64_t>();
+    const auto their_instants = r.get<std::uint64_t>();
+    out.started_utc = r.text();
+    at = sizeof kMagic + 4 + 3 * 8 + 8 + out.started_utc.size();
+    Fnv check;
+    check.bytes(bytes.data(), at);
+    if (r.get<std::uint64_t>() != check.h) refuse("its header is damaged");
+    at += 8;
+    if (their_digest != digest || their_rows != rows || their_instants != instants)
+      refuse("written for another scene or other options (" + std::to_string(their_rows) + " receiving faces x " +
+             std::to_string(their_instants) + " instants, digest " + std::to_string(their_digest) +
+             "; this run: " + std::to_string(rows) + " x " + std::to_string(instants) + ", digest " +
+             std::to_string(digest) + ")");
+  } catch (const std::runtime_error& e) {
+    if (dynamic_cast<const shadow::InputError*>(&e) != nullptr) throw;
+    refuse("its header is truncated");
+  }
+  // Records until the first that is incomplete or fails its checksum: a kill mid-write.
+  while (at < bytes.size()) {
+    if (bytes.size() - at < 4 + 8) break;
+    std::uint32_t tag;
+    std::uint64_t length;
+    std::memcpy(&tag, bytes.data() + at, 4);
+    std::memcpy(&length, bytes.data() + at + 4, 8);
+    if (tag != kRecord || length > bytes.size() - at - 12 || bytes.size() - at - 12 - length < 8) break;
+    const std::string payload = bytes.substr(at + 12, length);
+    std::uint64_t sum;
+    std::memcpy(&sum, bytes.data() + at + 12 + length, 8);
+    Fnv check;
+    check.bytes(payload.data(), payload.size());
+    if (check.h != sum) break;
+    try {
+      SeriesColumns c = decode_columns(payload);
+      bool fits = c.rows == rows;
+      for (std::uint64_t i : c.instants) fits = fits && i < instants;
+      if (!fits) break;
+      out.records.push_back(std::move(c));
+    } catch (const std::runtime_error&) {
+      break;
+    }
+    at += 12 + length + 8;
+  }
+  out.valid_bytes = at;
+  out.torn = at < bytes.size();
+  return out;
+}
+
+Checkpoint Checkpoint::reopen(const fs::path& path, std::uint64_t valid_bytes) {
+  if (::truncate(path.c_str(), static_cast<off_t>(valid_bytes)) != 0)
+    throw shadow::OutputError(path.string() + ": cannot cut the checkpoint's torn end: " + std::strerror(errno));
+  std::FILE* file = std::fopen(path.c_str(), "ab");
+  if (file == nullptr) throw shadow::OutputError(path.string() + ": " + errno_text(errno));
+  return Checkpoint(path, file);
+}
+
+Checkpoint::Checkpoint(Checkpoint&& other) noexcept : path_(std::move(other.path_)), file_(other.file_) {
+  other.file_ = nullptr;
+}
+
+Checkpoint::~Checkpoint() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void Checkpoint::append(const SeriesColumns& columns) {
+  const std::string payload = encode_columns(columns);
+  Fnv check;
+  check.bytes(payload.data(), payload.size());
+  Writer w;
+  w.put(kRecord);
+  w.put(static_cast<std::uint64_t>(payload.size()));
+  w.out += payload;
+  w.put(check.h);
+  write_durably(file_, w.out, path_);
+}
+
+void Checkpoint::remove() {
+  if (file_ != nullptr) std::fclose(file_);
+  file_ = nullptr;
+  std::error_code ignored;
+  fs::remove(path_, ignored);
+}
+
+}  // namespace shadow_cli
