@@ -45,17 +45,6 @@ bool on_path(const std::string& program) {
 
 glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
-/// The scene file's "camera" (parsed and checked by load_scene): each key it gives replaces
-/// the default view's.
-void apply_scene_camera(const shadow::Scene& scene, shadow::render::Camera& camera) {
-  if (!scene.camera) return;
-  const shadow::Camera& given = *scene.camera;
-  if (given.eye) camera.eye = *given.eye;
-  if (given.target) camera.target = *given.target;
-  if (given.up) camera.up = *given.up;
-  if (given.fov_degrees) camera.fov_degrees = *given.fov_degrees;
-}
-
 }  // namespace
 
 void add_render_options(CLI::App& render, RenderArgs& args) {
@@ -113,6 +102,11 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
       ->check(shadow_cli::finite_in(1.0, 170.0))
       ->each([&args](const std::string&) { args.fov_given = true; });
+  render.add_option("--frame", args.frame,
+                    "What the default camera frames: shadows (the meshes but the ground, and their shadows "
+                    "on it) or scene (every vertex, the whole ground included)")
+      ->default_val("shadows")
+      ->check(CLI::IsMember({"shadows", "scene"}));
   render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
@@ -162,29 +156,15 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.lighting.attenuation_k = args.attenuation_k;
   options.shade.lighting.ambient_intensity = args.ambient;
   options.shade.lighting.back_intensity = args.back_intensity;
-  options.shade.camera = sr::default_camera(scene, static_cast<double>(args.width) / args.height);
-  apply_scene_camera(scene, options.shade.camera);  // the scene's "camera", then the options
-  if (!args.target.empty()) options.shade.camera.target = to_vec3(args.target);
-  if (!args.eye.empty()) options.shade.camera.eye = to_vec3(args.eye);
-  if (!args.up.empty()) options.shade.camera.up = to_vec3(args.up);
-  if (args.fov_given) options.shade.camera.fov_degrees = args.fov;
-  // A camera that cannot look is bad input: name the options, or the scene's "camera", that
-  // made it so.
-  const sr::Camera& camera = options.shade.camera;
-  const bool view_from_options = !args.eye.empty() || !args.target.empty();
-  const shadow::SourceLocation view_source =
-      view_from_options ? shadow::SourceLocation{"", "--eye/--target"} : shadow::SourceLocation{args.scene, "camera"};
-  const glm::dvec3 view = camera.target - camera.eye;
-  const double view_length = glm::length(view);
-  if (!(view_length > 0.0) || !std::isfinite(view_length))
-    throw shadow::InputError(view_source, "the camera's eye and target are the same point");
-  const double up_length = glm::length(camera.up);
-  if (!(up_length > 0.0) || !std::isfinite(up_length) ||
-      glm::length(glm::cross(view / view_length, camera.up / up_length)) <= 1e-12)
-    throw shadow::InputError(!args.up.empty() || view_from_options ? shadow::SourceLocation{"", "--up"}
-                                                                     : shadow::SourceLocation{args.scene, "camera.up"},
-                             "the camera's up direction is zero or parallel to the view direction (from eye to "
-                             "target)");
+  sr::CameraRequest request;
+  if (!args.eye.empty()) request.eye = to_vec3(args.eye);
+  if (!args.target.empty()) request.target = to_vec3(args.target);
+  if (!args.up.empty()) request.up = to_vec3(args.up);
+  if (args.fov_given) request.fov_degrees = args.fov;
+  request.framing = args.frame == "scene" ? sr::Framing::Scene : sr::Framing::Shadows;
+  request.scene_file = args.scene;
+  // the default framing, then the scene's "camera", then the options
+  options.shade.camera = sr::resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
 
   shadow::ShadowOptions shadow_options;
   shadow_options.threads = args.threads;

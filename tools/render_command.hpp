@@ -23,6 +23,7 @@ struct RenderArgs {
   std::vector<double> up;
   double fov = 30.0;
   bool fov_given = false;
+  std::string frame = "shadows";
   unsigned threads = 0;
   bool quiet = false;
 };

@@ -9,6 +9,8 @@
 /// shadow edges of the fragments (rounded to double once), not a shadow map's staircase.
 #pragma once
 
+#include "render/camera.hpp"
+
 #include <shadow/lighting.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
@@ -20,19 +22,6 @@
 #include <vector>
 
 namespace shadow::render {
-
-/// A pinhole camera: eye, the point looked at, the up direction and the vertical view angle.
-struct Camera {
-  glm::dvec3 eye{0.0, -10.0, 10.0};
-  glm::dvec3 target{0.0};
-  glm::dvec3 up{0.0, 0.0, 1.0};
-  double fov_degrees = 30.0;
-};
-
-/// A camera that frames the whole scene from 40 degrees above the horizon, on the side the
-/// first light's shadows fall to, looking back toward the light (turned 17 degrees), with
-/// every vertex in view and the picture centred.
-Camera default_camera(const Scene& scene, double aspect);
 
 /// Shading methods of seed 000.
 enum class Shading {
