@@ -102,6 +102,27 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
       ->check(shadow_cli::finite_in(1.0, 170.0))
       ->each([&args](const std::string&) { args.fov_given = true; });
+  render.add_option("--colours,--colors", args.colours,
+                    "Meshes without a material: palette (the ground, buildings and other meshes each "
+                    "their colour) or white (the lighting models' default material)")
+      ->default_val("palette")
+      ->check(CLI::IsMember({"palette", "white"}));
+  render.add_option("--exposure", args.exposure,
+                    "auto (scale down so that lit surfaces are not clipped: the 99th percentile of the "
+                    "brightest channel at 0.85) or a factor for the colours (1: the models' values)")
+      ->default_val("auto")
+      ->check([](const std::string& text) -> std::string {
+        if (text == "auto") return {};
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || !(value > 0.0) || value > 1e6)
+          return "expected auto or a factor in (0, 1e6], got " + text;
+        return {};
+      });
+  render.add_option("--tone", args.tone,
+                    "Values above 0.8: soft (run smoothly toward white) or clip (cut at 1)")
+      ->default_val("soft")
+      ->check(CLI::IsMember({"soft", "clip"}));
   render.add_option("--frame", args.frame,
                     "What the default camera frames: shadows (the meshes but the ground, and their shadows "
                     "on it) or scene (every vertex, the whole ground included)")
@@ -156,6 +177,10 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.lighting.attenuation_k = args.attenuation_k;
   options.shade.lighting.ambient_intensity = args.ambient;
   options.shade.lighting.back_intensity = args.back_intensity;
+  if (args.colours == "palette") options.shade.palette = sr::Palette{};
+  options.shade.exposure.automatic = args.exposure == "auto";
+  if (args.exposure != "auto") options.shade.exposure.scale = std::strtod(args.exposure.c_str(), nullptr);
+  options.shade.exposure.soft_shoulder = args.tone == "soft";
   sr::CameraRequest request;
   if (!args.eye.empty()) request.eye = to_vec3(args.eye);
   if (!args.target.empty()) request.target = to_vec3(args.target);
@@ -183,8 +208,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
     std::printf("shadow %s: %zu faces, %zu lights, %zu fragments; %s model, %s shading, %dx%d\n",
                 shadow::version(), scene.faces.size(), scene.lights.size(), result.fragments.size(),
                 args.model.c_str(), args.shading.c_str(), args.width, args.height);
-    std::printf("  shadows in %.3f s, picture in %.3f s: %s\n", seconds(computed - start),
-                seconds(Clock::now() - computed), args.image.c_str());
+    std::printf("  exposure %.3g; shadows in %.3f s, picture in %.3f s: %s\n", image.exposure,
+                seconds(computed - start), seconds(Clock::now() - computed), args.image.c_str());
   }
   return 0;
 }

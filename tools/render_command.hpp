@@ -24,6 +24,9 @@ struct RenderArgs {
   double fov = 30.0;
   bool fov_given = false;
   std::string frame = "shadows";
+  std::string colours = "palette";
+  std::string exposure = "auto";
+  std::string tone = "soft";
   unsigned threads = 0;
   bool quiet = false;
 };

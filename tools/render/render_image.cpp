@@ -164,7 +164,10 @@ Image render_scene(const Scene& scene, const ShadowResult& result, const RenderO
   RenderOptions adjusted = options;
   adjusted.shade.image_height = options.height;
   const std::vector<OverlayCell> cells = overlay_fragments(scene, result);
-  return render_mesh(shade_cells(scene, cells, adjusted.shade), adjusted);
+  const ColouredMesh mesh = shade_cells(scene, cells, adjusted.shade);
+  Image image = render_mesh(mesh, adjusted);
+  image.exposure = mesh.exposure;
+  return image;
 }
 
 void write_png(const Image& image, const std::filesystem::path& path) {

@@ -28,6 +28,7 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgb;
+  double exposure = 1.0;  ///< the factor the colours were scaled by (render_scene; Exposure)
   /// Red, green, blue of pixel (x, y), y counted from the top.
   [[nodiscard]] const std::uint8_t* pixel(int x, int y) const {
     return rgb.data() + 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x));

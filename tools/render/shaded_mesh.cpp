@@ -109,6 +109,34 @@ glm::dvec3 centroid(const std::vector<glm::dvec3>& polygon) {
 
 glm::dvec3 clamp01(const glm::dvec3& c) { return glm::clamp(c, glm::dvec3(0.0), glm::dvec3(1.0)); }
 
+double shoulder(double x, double knee) {
+  if (!(x > knee)) return std::max(x, 0.0);
+  const double room = 1.0 - knee;
+  return knee + room * (1.0 - std::exp(-(x - knee) / room));
+}
+
+/// Scales and maps the shaded colours into [0, 1] (see Exposure).
+void apply_exposure(ColouredMesh& mesh, const Exposure& exposure) {
+  std::vector<glm::dvec3>& colours = mesh.triangle_colours.empty() ? mesh.point_colours : mesh.triangle_colours;
+  double scale = exposure.scale;
+  if (exposure.automatic && !colours.empty()) {
+    std::vector<double> brightest(colours.size());
+    for (std::size_t i = 0; i < colours.size(); ++i)
+      brightest[i] = std::max({colours[i].r, colours[i].g, colours[i].b});
+    const double rank = std::clamp(exposure.percentile, 0.0, 1.0) * static_cast<double>(brightest.size() - 1);
+    const auto nth = brightest.begin() + static_cast<std::ptrdiff_t>(rank);
+    std::nth_element(brightest.begin(), nth, brightest.end());
+    if (*nth > exposure.target) scale *= exposure.target / *nth;
+  }
+  mesh.exposure = scale;
+  const double knee = std::clamp(exposure.knee, 0.0, 0.999);
+  for (glm::dvec3& c : colours) {
+    c *= scale;
+    if (exposure.soft_shoulder) c = glm::dvec3(shoulder(c.r, knee), shoulder(c.g, knee), shoulder(c.b, knee));
+    c = clamp01(c);
+  }
+}
+
 }  // namespace
 
 std::string to_string(Shading shading) {
@@ -190,11 +218,12 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
   ColouredMesh mesh;
   const Camera& camera = options.camera;
   // Material lookup by name once per face, not once per shaded point.
+  const std::vector<Material> materials = display_materials(scene, options.palette);
   std::vector<const Material*> material_of_face(scene.faces.size(), nullptr);
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) material_of_face[f] = &scene.material_of(f);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) material_of_face[f] = &materials[scene.faces[f].mesh];
   auto colour_at = [&](const glm::dvec3& p, const glm::dvec3& normal, const OverlayCell& cell) {
     ShadingPoint point{p, normal, camera.eye};
-    return clamp01(shade(point, *material_of_face[cell.face_id], scene.lights, cell.lit, options.lighting));
+    return shade(point, *material_of_face[cell.face_id], scene.lights, cell.lit, options.lighting);
   };
 
   // Phong: the size of a pixel at distance 1, to subdivide cells to about a pixel.
@@ -269,7 +298,40 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
       }
     }
   }
+  apply_exposure(mesh, options.exposure);
   return mesh;
+}
+
+std::vector<Material> display_materials(const Scene& scene, const std::optional<Palette>& palette) {
+  std::vector<Material> materials(scene.meshes.size());
+  const std::vector<MeshRole> roles = mesh_roles(scene);
+  const bool any_building = std::find(roles.begin(), roles.end(), MeshRole::Building) != roles.end();
+  std::size_t next_other = any_building ? 1 : 0;  // without buildings, the first other mesh looks like one
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const std::string& name = scene.meshes[m].material;
+    const auto named = std::find_if(scene.materials.begin(), scene.materials.end(),
+                                    [&](const Material& material) { return !name.empty() && material.name == name; });
+    if (named != scene.materials.end()) {
+      materials[m] = *named;  // the scene's materials win
+      continue;
+    }
+    if (!palette) continue;
+    Material& material = materials[m];
+    material.k_a = palette->k_a;
+    material.k_d = palette->k_d;
+    material.k_s = palette->k_s;
+    material.shininess = palette->shininess;
+    if (roles[m] == MeshRole::Ground) {
+      material.color = palette->ground;
+    } else if (roles[m] == MeshRole::Building) {
+      material.color = palette->building;
+    } else {
+      const std::size_t i = next_other++;
+      material.color = i == 0 || palette->others.empty() ? palette->building
+                                                         : palette->others[(i - 1) % palette->others.size()];
+    }
+  }
+  return materials;
 }
 
 }  // namespace shadow::render
