@@ -268,3 +268,122 @@ TEST(RenderFiles, AnUnwritablePngIsARenderErrorNamingTheFile) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos) << e.what();
   }
 }
+
+// ---- the exact overlay: no pinholes ----------------------------------------------------------------
+
+namespace {
+
+/// True when (x, y) is inside the polygon's plan (even-odd rule).
+bool inside_plan(const std::vector<glm::dvec3>& polygon, double x, double y) {
+  bool in = false;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const glm::dvec3& a = polygon[i];
+    const glm::dvec3& b = polygon[j];
+    if ((a.y > y) != (b.y > y) && x < a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y)) in = !in;
+  }
+  return in;
+}
+
+/// Distance in plan from (x, y) to segment a-b.
+double plan_distance(const glm::dvec3& a, const glm::dvec3& b, double x, double y) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double length2 = dx * dx + dy * dy;
+  double t = length2 > 0 ? ((x - a.x) * dx + (y - a.y) * dy) / length2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(a.x + t * dx - x, a.y + t * dy - y);
+}
+
+std::uint8_t srgb_byte(double linear) {
+  const double c = std::clamp(linear, 0.0, 1.0);
+  const double encoded = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return static_cast<std::uint8_t>(std::lround(255.0 * encoded));
+}
+
+}  // namespace
+
+// Seventeen suns on the ground of examples/sun (a June day in Berlin), seen from straight above:
+// every ground pixel away from an edge must have the colour its exact fragments say (Lambert,
+// directional suns: one grey per combination of lit suns, whatever the shading). The
+// double-precision overlay this replaced, with its per-triangle Phong grids, left 3 of these
+// 34,318 pixels showing the sky through cracks between cells: pinholes.
+TEST_F(RenderTest, EveryGroundPixelHasTheColourOfItsExactFragments) {
+  shadow::Scene scene = shadow::load_scene(fs::path(LIBSHADOW_EXAMPLES_DIR) / "sun" / "scene.json");
+  const shadow::ShadowResult result = shadow::compute_shadows(scene);
+  ASSERT_GT(scene.lights.size(), 10u);
+  const std::size_t ground = 0;  // the scene's first face
+  ASSERT_EQ(scene.meshes[0].name, "ground");
+
+  sr::RenderOptions options;
+  options.width = 300;
+  options.height = 300;
+  options.shade.shading = sr::Shading::Phong;
+  options.shade.lighting.model = shadow::LightingModel::Lambert;
+  const glm::dvec3 centre(10.0, 10.0, 0.0);  // the ground spans [-20, 40]^2
+  const double fov = 20.0;
+  const double height = 30.0 / std::tan(0.5 * fov * M_PI / 180.0);  // half width 30 in view
+  options.shade.camera.eye = centre + glm::dvec3(0, 0, height);
+  options.shade.camera.target = centre;
+  options.shade.camera.up = {0, 1, 0};
+  options.shade.camera.fov_degrees = fov;
+  // Every sun lit: k_a + k_d sum of cosines; scaled to 1 so that no combination is clipped.
+  double all = 0.3;
+  for (const shadow::Light& light : scene.lights) all += 0.7 * glm::normalize(light.to_light).z;
+  options.shade.exposure.scale = 1.0 / all;
+  const sr::Image image = sr::render_scene(scene, result, options);
+
+  std::vector<std::vector<const shadow::Fragment*>> by_light(scene.lights.size());
+  for (const shadow::Fragment& f : result.fragments)
+    if (f.face_id == ground) by_light[f.light_id].push_back(&f);
+  const double tan_half = std::tan(0.5 * fov * M_PI / 180.0);
+  const double pixel = 2.0 * height * tan_half / options.height;  // on the ground
+  std::size_t checked = 0, wrong = 0;
+  for (int py = 0; py < image.height; ++py)
+    for (int px = 0; px < image.width; ++px) {
+      // Where the pixel's centre looks at the ground (the ground plane is z = 0).
+      const double sx = (2.0 * (px + 0.5) / image.width - 1.0) * tan_half;
+      const double sy = (1.0 - 2.0 * (py + 0.5) / image.height) * tan_half;
+      const double x = centre.x + sx * height, y = centre.y + sy * height;
+      // Only open ground: off the buildings as seen from the eye (each face projected from the
+      // eye onto the ground) and away from their edges.
+      bool skip = false;
+      for (std::size_t f = 1; f < scene.faces.size() && !skip; ++f) {
+        std::vector<glm::dvec3> seen;
+        for (const glm::dvec3& v : scene.faces[f].vertices) {
+          const glm::dvec3 eye = options.shade.camera.eye;
+          seen.push_back(eye + (v - eye) * (eye.z / (eye.z - v.z)));
+        }
+        skip = inside_plan(seen, x, y);
+        for (std::size_t i = 0; i < seen.size() && !skip; ++i)
+          skip = plan_distance(seen[i], seen[(i + 1) % seen.size()], x, y) < 2 * pixel;
+      }
+      if (skip || std::abs(x - 10) > 29 || std::abs(y - 10) > 29) continue;
+      std::vector<bool> lit(scene.lights.size(), false);
+      bool near_edge = false, found_all = true;
+      for (std::size_t k = 0; k < scene.lights.size() && !near_edge; ++k) {
+        bool found = false;
+        for (const shadow::Fragment* f : by_light[k]) {
+          for (std::size_t i = 0; i < f->polygon.size() && !near_edge; ++i)
+            near_edge = plan_distance(f->polygon[i], f->polygon[(i + 1) % f->polygon.size()], x, y) < 2 * pixel;
+          if (!found && inside_plan(f->polygon, x, y)) {
+            found = true;
+            lit[k] = f->lit;
+          }
+        }
+        found_all = found_all && found;
+      }
+      if (near_edge || !found_all) continue;
+      double expected = 0.3;
+      for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        if (lit[k]) expected += 0.7 * glm::normalize(scene.lights[k].to_light).z;
+      const int want = srgb_byte(expected / all);
+      const std::uint8_t* p = image.pixel(px, py);
+      ++checked;
+      if (std::abs(p[0] - want) > 2 || std::abs(p[1] - want) > 2 || std::abs(p[2] - want) > 2) {
+        ++wrong;
+        if (std::getenv("LIBSHADOW_TEST_VERBOSE"))
+          std::printf("wrong %d %d (%.3f %.3f): %d %d %d want %d\n", px, py, x, y, p[0], p[1], p[2], want);
+      }
+    }
+  EXPECT_GT(checked, 20000u);
+  EXPECT_EQ(wrong, 0u) << "of " << checked << " ground pixels";
+}
