@@ -229,11 +229,42 @@ Camera frame_points(const Scene& scene, const std::vector<glm::dvec3>& points, d
     if (glm::length(flat) > 1e-9 * glm::length(to_light)) shadow_side = glm::normalize(flat);
   }
   const double turn = 0.3;  // radians
-  const glm::dvec3 eye_side(shadow_side.x * std::cos(turn) - shadow_side.y * std::sin(turn),
-                            shadow_side.x * std::sin(turn) + shadow_side.y * std::cos(turn), 0.0);
   const double elevation = 40.0 * M_PI / 180.0;
-  const glm::dvec3 view = glm::normalize(glm::dvec3(-eye_side.x * std::cos(elevation),
-                                                    -eye_side.y * std::cos(elevation), -std::sin(elevation)));
+  auto view_from = [&](double azimuth_turn) {
+    const double t = turn + azimuth_turn;
+    const glm::dvec3 side(shadow_side.x * std::cos(t) - shadow_side.y * std::sin(t),
+                          shadow_side.x * std::sin(t) + shadow_side.y * std::cos(t), 0.0);
+    return glm::normalize(glm::dvec3(-side.x * std::cos(elevation), -side.y * std::cos(elevation),
+                                     -std::sin(elevation)));
+  };
+  // Closed solids show as much front as back from any side; open geometry (the walls of a
+  // room) need not. When the shadow side sees clearly more backs than fronts of the upright
+  // faces, take the one of eight sides that sees most fronts.
+  auto front_seen = [&](const glm::dvec3& v) {
+    double seen = 0.0;
+    for (const Face& face : scene.faces) {
+      const glm::dvec3 n = geometry::newell_normal(face.vertices);
+      seen -= n.x * v.x + n.y * v.y;
+    }
+    return seen;
+  };
+  double total = 0.0;
+  for (const Face& face : scene.faces) {
+    const glm::dvec3 n = geometry::newell_normal(face.vertices);
+    total += std::abs(n.x) + std::abs(n.y);
+  }
+  glm::dvec3 view = view_from(0.0);
+  double best = front_seen(view);
+  if (best < -0.05 * total) {
+    for (int k : {1, -1, 2, -2, 3, -3, 4}) {
+      const glm::dvec3 candidate = view_from(k * M_PI / 4.0);
+      const double seen = front_seen(candidate);
+      if (seen > best + 1e-9 * total) {
+        best = seen;
+        view = candidate;
+      }
+    }
+  }
   const glm::dvec3 right = glm::normalize(glm::cross(view, glm::dvec3(0.0, 0.0, 1.0)));
   const glm::dvec3 up = glm::cross(right, view);
   const double fill = 1.0 / (1.0 + std::max(0.0, margin));
