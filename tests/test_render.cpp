@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `shadow render`'s pieces: the overlay of per-light fragments (no display needed) and the
 // pictures (need an X display: ctest runs this under xvfb-run).
+#include "render/camera.hpp"
 #include "render/render_image.hpp"
 #include "render/shaded_mesh.hpp"
 
@@ -8,8 +9,12 @@
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -386,4 +391,195 @@ TEST_F(RenderTest, EveryGroundPixelHasTheColourOfItsExactFragments) {
     }
   EXPECT_GT(checked, 20000u);
   EXPECT_EQ(wrong, 0u) << "of " << checked << " ground pixels";
+}
+
+// ---- `shadow render`'s defaults on a scene without materials (issue 17) ----------------------------
+
+namespace {
+
+struct Png {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // rows from the top
+  const std::uint8_t* pixel(int x, int y) const { return rgb.data() + 3 * (static_cast<std::size_t>(y) * width + x); }
+};
+
+/// Reads a PNG back with VTK's reader (rows from the top).
+Png read_png(const fs::path& path) {
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.string().c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  Png png;
+  png.width = dims[0];
+  png.height = dims[1];
+  const int components = image->GetNumberOfScalarComponents();
+  png.rgb.resize(static_cast<std::size_t>(3) * dims[0] * dims[1]);
+  for (int y = 0; y < dims[1]; ++y)
+    for (int x = 0; x < dims[0]; ++x)
+      for (int c = 0; c < 3; ++c)
+        png.rgb[3 * (static_cast<std::size_t>(y) * dims[0] + x) + c] =
+            static_cast<std::uint8_t>(image->GetScalarComponentAsDouble(x, dims[1] - 1 - y, 0, std::min(c, components - 1)));
+  return png;
+}
+
+/// Runs the `shadow` program; its exit status.
+int run_shadow(const std::string& arguments) {
+  const std::string command = std::string("'") + LIBSHADOW_SHADOW_EXE + "' " + arguments + " > /dev/null";
+  return std::system(command.c_str());
+}
+
+double linear(std::uint8_t byte) {
+  const double c = byte / 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+/// Relative luminance (Rec. 709 weights on linear RGB).
+double luminance(const std::uint8_t* p) { return 0.2126 * linear(p[0]) + 0.7152 * linear(p[1]) + 0.0722 * linear(p[2]); }
+
+/// True when the segment from `from` to `to` meets the axis-aligned box [lo, hi] (slabs).
+bool segment_meets_box(const glm::dvec3& from, const glm::dvec3& to, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double t0 = 0.0, t1 = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = to[a] - from[a];
+    if (d == 0.0) {
+      if (from[a] < lo[a] || from[a] > hi[a]) return false;
+      continue;
+    }
+    double u = (lo[a] - from[a]) / d, v = (hi[a] - from[a]) / d;
+    if (u > v) std::swap(u, v);
+    t0 = std::max(t0, u);
+    t1 = std::min(t1, v);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// examples/gallery/boxes.json: three boxes on a 60 m ground under one sun, no materials.
+TEST_F(RenderTest, TheDefaultsReadWellOnASceneWithoutMaterials) {
+  const fs::path gallery = fs::path(LIBSHADOW_EXAMPLES_DIR) / "gallery";
+  const fs::path scene_file = gallery / "boxes.json";
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-test_render-defaults-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  auto render = [&](const fs::path& scene, const std::string& name, const std::string& options) {
+    EXPECT_EQ(run_shadow("render '" + scene.string() + "' -o '" + (dir / name).string() + "' " + options), 0);
+    return read_png(dir / name);
+  };
+  const Png now = render(scene_file, "boxes.png", "");
+  // A sun and a lamp: now, and in the look before issue 17 (white material, the models'
+  // values clipped at 1, the whole scene framed).
+  const Png two_lights = render(gallery / "sun_and_lamp.json", "two.png", "");
+  const Png two_lights_before =
+      render(gallery / "sun_and_lamp.json", "two-old.png", "--colours white --exposure 1 --tone clip --frame scene");
+  fs::remove_all(dir);
+  ASSERT_EQ(now.width, 800);
+  ASSERT_EQ(now.height, 600);
+
+  const std::uint8_t background[3] = {now.pixel(0, 0)[0], now.pixel(0, 0)[1], now.pixel(0, 0)[2]};
+  auto is_background = [&](const std::uint8_t* p) { return std::equal(p, p + 3, background); };
+  // The share of the model's pixels clipped to white, and the model's share of the frame.
+  auto clipped_share = [&](const Png& png) {
+    std::size_t model = 0, white = 0;
+    for (int y = 0; y < png.height; ++y)
+      for (int x = 0; x < png.width; ++x) {
+        const std::uint8_t* p = png.pixel(x, y);
+        if (is_background(p)) continue;
+        ++model;
+        if (p[0] >= 254 && p[1] >= 254 && p[2] >= 254) ++white;
+      }
+    return std::make_pair(static_cast<double>(white) / std::max<std::size_t>(model, 1),
+                          static_cast<double>(model) / (png.width * png.height));
+  };
+  const auto [white_now, model_now] = clipped_share(now);
+  const auto [white_two, model_two] = clipped_share(two_lights);
+  const auto [white_two_before, model_two_before] = clipped_share(two_lights_before);
+  std::printf("clipped to white: boxes %.2f%%, sun and lamp %.2f%% (before: %.2f%%) of the model's pixels; "
+              "model %.0f%% and %.0f%% of the frame (before: %.0f%%)\n",
+              100 * white_now, 100 * white_two, 100 * white_two_before, 100 * model_now, 100 * model_two,
+              100 * model_two_before);
+  EXPECT_LT(white_now, 0.01);  // issue 17: less than 1% of the model's pixels clipped to white
+  EXPECT_LT(white_two, 0.01);
+  EXPECT_GT(white_two_before, 0.1);  // where the old look clipped a good part of it (17%)
+  EXPECT_GT(model_now, 0.9);         // the model (ground included) fills the frame
+  EXPECT_GT(model_two, 0.6);         // the lamp's long shadows leave a corner of sky
+
+  // The boxes (everything but the ground) fill a stated share of the frame: their projected
+  // extent is at least 60% of the picture's width or height.
+  shadow::Scene scene = shadow::load_scene(scene_file);
+  const sr::Camera camera = sr::resolve_camera(scene, sr::CameraRequest{}, 800.0 / 600.0);
+  const glm::dvec3 view = glm::normalize(camera.target - camera.eye);
+  const glm::dvec3 right = glm::normalize(glm::cross(view, camera.up));
+  const glm::dvec3 up = glm::cross(right, view);
+  const double tan_v = std::tan(0.5 * camera.fov_degrees * M_PI / 180.0), tan_h = tan_v * 800.0 / 600.0;
+  double x_lo = 1, x_hi = -1, y_lo = 1, y_hi = -1;
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> boxes;  // the boxes' bounds, for occlusion
+  for (std::size_t m = 1; m < scene.meshes.size(); ++m) {
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (std::size_t f = scene.meshes[m].first_face; f < scene.meshes[m].first_face + scene.meshes[m].face_count; ++f)
+      for (const glm::dvec3& v : scene.faces[f].vertices) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+        const glm::dvec3 o = v - camera.eye;
+        const double depth = glm::dot(o, view);
+        x_lo = std::min(x_lo, glm::dot(o, right) / (depth * tan_h));
+        x_hi = std::max(x_hi, glm::dot(o, right) / (depth * tan_h));
+        y_lo = std::min(y_lo, glm::dot(o, up) / (depth * tan_v));
+        y_hi = std::max(y_hi, glm::dot(o, up) / (depth * tan_v));
+      }
+    boxes.emplace_back(lo, hi);
+  }
+  const double extent = std::max(0.5 * (x_hi - x_lo), 0.5 * (y_hi - y_lo));
+  std::printf("boxes: %.0f%% of the frame's width, %.0f%% of its height\n", 50 * (x_hi - x_lo), 50 * (y_hi - y_lo));
+  EXPECT_GE(extent, 0.6);
+  EXPECT_LE(std::max({-x_lo, x_hi, -y_lo, y_hi}), 1.0);  // and all in view
+
+  // Lit and shadowed ground tell apart: mean luminance of open ground pixels (seen directly,
+  // 2 pixels from any shadow edge) in the sun and in the boxes' shadows. With the palette's
+  // k_a = 0.25, k_d = 0.75 and the sun 41.8 degrees up (sin = 0.667), Lambert alone gives
+  // (0.25 + 0.75 * 0.667) / 0.25 = 3.0; Blinn-Phong's highlight (k_s = 0.1) adds to the lit side.
+  const shadow::ShadowResult result = shadow::compute_shadows(scene);
+  std::vector<const shadow::Fragment*> ground;
+  for (const shadow::Fragment& f : result.fragments)
+    if (f.face_id == 0) ground.push_back(&f);
+  double lit_sum = 0, shadow_sum = 0;
+  std::size_t lit_count = 0, shadow_count = 0;
+  for (int py = 0; py < now.height; py += 2)
+    for (int px = 0; px < now.width; px += 2) {
+      const glm::dvec3 ray = view + (2.0 * (px + 0.5) / now.width - 1.0) * tan_h * right +
+                             (1.0 - 2.0 * (py + 0.5) / now.height) * tan_v * up;
+      if (!(ray.z < 0)) continue;
+      const glm::dvec3 hit = camera.eye + ray * (-camera.eye.z / ray.z);
+      if (std::abs(hit.x) > 29 || std::abs(hit.y) > 29) continue;
+      bool hidden = false;
+      for (const auto& [lo, hi] : boxes) hidden = hidden || segment_meets_box(camera.eye, hit, lo - 0.3, hi + 0.3);
+      if (hidden) continue;
+      const double pixel = 2.0 * glm::length(hit - camera.eye) * tan_v / now.height;
+      bool near_edge = false, lit = false, found = false;
+      for (const shadow::Fragment* f : ground) {
+        for (std::size_t i = 0; i < f->polygon.size(); ++i)
+          near_edge = near_edge || plan_distance(f->polygon[i], f->polygon[(i + 1) % f->polygon.size()], hit.x, hit.y) < 3 * pixel;
+        if (inside_plan(f->polygon, hit.x, hit.y)) {
+          found = true;
+          lit = f->lit;
+        }
+      }
+      if (near_edge || !found) continue;
+      const double l = luminance(now.pixel(px, py));
+      if (lit) {
+        lit_sum += l;
+        ++lit_count;
+      } else {
+        shadow_sum += l;
+        ++shadow_count;
+      }
+    }
+  ASSERT_GT(lit_count, 1000u);
+  ASSERT_GT(shadow_count, 500u);
+  const double ratio = (lit_sum / lit_count) / (shadow_sum / shadow_count);
+  std::printf("ground: lit/shadowed luminance %.2f (%zu and %zu pixels sampled)\n", ratio, lit_count, shadow_count);
+  EXPECT_GT(ratio, 2.5);
+  EXPECT_LT(ratio, 4.5);
 }
