@@ -123,6 +123,12 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
                     "Values above 0.8: soft (run smoothly toward white) or clip (cut at 1)")
       ->default_val("soft")
       ->check(CLI::IsMember({"soft", "clip"}));
+  render.add_flag("--legend", args.legend, "Draw a legend: each mesh group's colour lit and in shadow, and the lights");
+  render.add_option("--compass", args.compass,
+                    "Draw a compass (north, and the suns' directions on the ground): on, off, or auto (on when "
+                    "the scene has a sun block)")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   render.add_option("--frame", args.frame,
                     "What the default camera frames: shadows (the meshes but the ground, and their shadows "
                     "on it) or scene (every vertex, the whole ground included)")
@@ -181,6 +187,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.exposure.automatic = args.exposure == "auto";
   if (args.exposure != "auto") options.shade.exposure.scale = std::strtod(args.exposure.c_str(), nullptr);
   options.shade.exposure.soft_shoulder = args.tone == "soft";
+  options.legend = args.legend;
+  options.compass = args.compass == "on" || (args.compass == "auto" && scene.sun.has_value());
   sr::CameraRequest request;
   if (!args.eye.empty()) request.eye = to_vec3(args.eye);
   if (!args.target.empty()) request.target = to_vec3(args.target);
@@ -188,6 +196,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   if (args.fov_given) request.fov_degrees = args.fov;
   request.framing = args.frame == "scene" ? sr::Framing::Scene : sr::Framing::Shadows;
   request.scene_file = args.scene;
+  // Room for the corner marks: the framing keeps clear of them.
+  if (options.legend || options.compass) request.margin = 0.12;
   // the default framing, then the scene's "camera", then the options
   options.shade.camera = sr::resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
 

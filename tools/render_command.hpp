@@ -27,6 +27,8 @@ struct RenderArgs {
   std::string colours = "palette";
   std::string exposure = "auto";
   std::string tone = "soft";
+  bool legend = false;
+  std::string compass = "auto";
   unsigned threads = 0;
   bool quiet = false;
 };

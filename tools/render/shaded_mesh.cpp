@@ -36,6 +36,12 @@ double shoulder(double x, double knee) {
   return knee + room * (1.0 - std::exp(-(x - knee) / room));
 }
 
+}  // namespace
+
+glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double scale);
+
+namespace {
+
 /// Scales and maps the shaded colours into [0, 1] (see Exposure).
 void apply_exposure(ColouredMesh& mesh, const Exposure& exposure) {
   std::vector<glm::dvec3>& colours = mesh.triangle_colours.empty() ? mesh.point_colours : mesh.triangle_colours;
@@ -50,12 +56,7 @@ void apply_exposure(ColouredMesh& mesh, const Exposure& exposure) {
     if (*nth > exposure.target) scale *= exposure.target / *nth;
   }
   mesh.exposure = scale;
-  const double knee = std::clamp(exposure.knee, 0.0, 0.999);
-  for (glm::dvec3& c : colours) {
-    c *= scale;
-    if (exposure.soft_shoulder) c = glm::dvec3(shoulder(c.r, knee), shoulder(c.g, knee), shoulder(c.b, knee));
-    c = clamp01(c);
-  }
+  for (glm::dvec3& c : colours) c = expose(c, exposure, scale);
 }
 
 }  // namespace
@@ -259,6 +260,13 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
   }
   apply_exposure(mesh, options.exposure);
   return mesh;
+}
+
+glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double scale) {
+  glm::dvec3 c = linear * scale;
+  const double knee = std::clamp(exposure.knee, 0.0, 0.999);
+  if (exposure.soft_shoulder) c = glm::dvec3(shoulder(c.r, knee), shoulder(c.g, knee), shoulder(c.b, knee));
+  return clamp01(c);
 }
 
 std::vector<Material> display_materials(const Scene& scene, const std::optional<Palette>& palette) {

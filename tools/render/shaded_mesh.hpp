@@ -82,6 +82,10 @@ struct Palette {
   double k_a = 0.25, k_d = 0.75, k_s = 0.1, shininess = 16.0;
 };
 
+/// `linear` (a model's colour) as displayed under `exposure`: scaled, through the soft shoulder
+/// if it is on, clipped to [0, 1] (still linear).
+glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double scale);
+
 /// One material per scene mesh: the mesh's named material where the scene has it; otherwise,
 /// with `palette`, a palette material by the mesh's role (ground, building, other in turn);
 /// otherwise Material{} (white), as the lighting models' default.
