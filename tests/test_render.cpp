@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -582,4 +583,129 @@ TEST_F(RenderTest, TheDefaultsReadWellOnASceneWithoutMaterials) {
   std::printf("ground: lit/shadowed luminance %.2f (%zu and %zu pixels sampled)\n", ratio, lit_count, shadow_count);
   EXPECT_GT(ratio, 2.5);
   EXPECT_LT(ratio, 4.5);
+}
+
+// ---- the camera shared by the raster and vector views (tools/render/camera.hpp) --------------------
+
+TEST(Camera, TheGroundIsFoundByNameOrByShape) {
+  shadow::Scene scene = roof_scene(false);  // "ground" and "roof"
+  EXPECT_EQ(sr::ground_mesh(scene), std::optional<std::size_t>(0));
+  const auto roles = sr::mesh_roles(scene);
+  EXPECT_EQ(roles[0], sr::MeshRole::Ground);
+  EXPECT_EQ(roles[1], sr::MeshRole::Building);  // "roof" is named like a building
+  // Renamed: found by shape (upward, lowest, larger in plan than the rest).
+  scene.meshes[0].name = "mesh A";
+  scene.meshes[1].name = "mesh B";
+  EXPECT_EQ(sr::ground_mesh(scene), std::optional<std::size_t>(0));
+  EXPECT_EQ(sr::mesh_roles(scene)[1], sr::MeshRole::Other);
+  // A roof larger than the ground is not a ground under it; nor is a lone mesh.
+  for (glm::dvec3& v : scene.faces[1].vertices) v *= glm::dvec3(10.0, 10.0, 1.0);
+  EXPECT_FALSE(sr::ground_mesh(scene).has_value());
+  scene.meshes.resize(1);
+  scene.faces.resize(1);
+  EXPECT_FALSE(sr::ground_mesh(scene).has_value());
+}
+
+TEST(Camera, TheDefaultFramesTheModelAndItsShadowsNotTheWholeGround) {
+  // The roof's shadow under the sun along (1, 0, 1) lies on x in [-2, 0], |y| <= 1: framed are the
+  // roof's corners and its shadow, within [-2, 1] x [-1, 1], not the 10 x 10 ground.
+  const shadow::Scene scene = roof_scene(false);
+  const std::vector<glm::dvec3> points = sr::framed_points(scene, sr::Framing::Shadows);
+  ASSERT_FALSE(points.empty());
+  for (const glm::dvec3& p : points) {
+    EXPECT_GE(p.x, -2.0 - 1e-12);
+    EXPECT_LE(p.x, 1.0 + 1e-12);
+    EXPECT_LE(std::abs(p.y), 1.0 + 1e-12);
+  }
+  bool shadow_tip = false;  // the far end of the shadow is among them
+  for (const glm::dvec3& p : points) shadow_tip = shadow_tip || (std::abs(p.x + 2.0) < 1e-12 && p.z == 0.0);
+  EXPECT_TRUE(shadow_tip);
+  EXPECT_EQ(sr::framed_points(scene, sr::Framing::Scene).size(), 8u);  // every vertex
+  // The shadows' framing comes closer than the whole-scene framing.
+  const sr::Camera near = sr::resolve_camera(scene, sr::CameraRequest{}, 4.0 / 3.0);
+  sr::CameraRequest whole;
+  whole.framing = sr::Framing::Scene;
+  const sr::Camera far = sr::resolve_camera(scene, whole, 4.0 / 3.0);
+  EXPECT_LT(glm::length(near.eye - near.target), 0.6 * glm::length(far.eye - far.target));
+}
+
+TEST(Camera, TheSceneCameraThenTheRequestReplaceTheDefaultAndBadViewsAreInputErrors) {
+  shadow::Scene scene = roof_scene(false);
+  shadow::Camera given;
+  given.eye = glm::dvec3(0, -20, 5);
+  given.fov_degrees = 50.0;
+  scene.camera = given;
+  sr::CameraRequest request;
+  request.scene_file = "scene.json";
+  sr::Camera camera = sr::resolve_camera(scene, request, 1.0);
+  EXPECT_EQ(camera.eye, glm::dvec3(0, -20, 5));
+  EXPECT_EQ(camera.fov_degrees, 50.0);
+  request.eye = glm::dvec3(3, 3, 3);
+  request.fov_degrees = 20.0;
+  camera = sr::resolve_camera(scene, request, 1.0);
+  EXPECT_EQ(camera.eye, glm::dvec3(3, 3, 3));
+  EXPECT_EQ(camera.fov_degrees, 20.0);
+  request.target = glm::dvec3(3, 3, 3);
+  try {
+    (void)sr::resolve_camera(scene, request, 1.0);
+    FAIL() << "no error";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--eye/--target"), std::string::npos) << e.what();
+  }
+  request = sr::CameraRequest{};
+  request.scene_file = "scene.json";
+  scene.camera->up = glm::dvec3(0, 0, 0);
+  try {
+    (void)sr::resolve_camera(scene, request, 1.0);
+    FAIL() << "no error";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.json: camera.up"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Palette, SceneMaterialsWinAndMeshesWithoutOneGetColoursByRole) {
+  shadow::Scene scene = roof_scene(false);
+  const sr::Palette palette;
+  std::vector<shadow::Material> materials = sr::display_materials(scene, palette);
+  EXPECT_EQ(materials[0].color, palette.ground);
+  EXPECT_EQ(materials[1].color, palette.building);
+  EXPECT_EQ(materials[0].k_a, palette.k_a);
+  // Without the palette: the models' white default.
+  EXPECT_EQ(sr::display_materials(scene, std::nullopt)[0].color, glm::dvec3(1.0));
+  // A named material wins.
+  shadow::Material red;
+  red.name = "red";
+  red.color = {1, 0, 0};
+  scene.materials = {red};
+  scene.meshes[1].material = "red";
+  materials = sr::display_materials(scene, palette);
+  EXPECT_EQ(materials[1].color, glm::dvec3(1, 0, 0));
+  EXPECT_EQ(materials[0].color, palette.ground);
+}
+
+TEST_F(RenderTest, TheLegendAndTheCompassAreDrawnInTheirCorners) {
+  const fs::path scene_file = fs::path(LIBSHADOW_EXAMPLES_DIR) / "gallery" / "sun_and_lamp.json";
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-test_render-legend-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string base = "render '" + scene_file.string() + "' --width 400 --height 300 -o '";
+  ASSERT_EQ(run_shadow(base + (dir / "plain.png").string() + "' --compass off"), 0);
+  ASSERT_EQ(run_shadow(base + (dir / "marked.png").string() + "' --legend --compass on"), 0);
+  const Png plain = read_png(dir / "plain.png"), marked = read_png(dir / "marked.png");
+  fs::remove_all(dir);
+  // The legend's white panel top left, the compass's white disk bottom right.
+  auto white_share = [](const Png& png, int x0, int y0, int x1, int y1) {
+    std::size_t white = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const std::uint8_t* p = png.pixel(x, y);
+        white += p[0] == 255 && p[1] == 255 && p[2] == 255;
+      }
+    return static_cast<double>(white) / ((x1 - x0) * (y1 - y0));
+  };
+  EXPECT_GT(white_share(marked, 5, 5, 60, 30), 0.3);
+  EXPECT_LT(white_share(plain, 5, 5, 60, 30), 0.01);
+  // The compass: radius 16 at 300 pixels high, 7 from the corner; its disk around the centre.
+  const int cx = 400 - 16 - 7, cy = 300 - 16 - 7;
+  EXPECT_GT(white_share(marked, cx - 14, cy - 14, cx + 14, cy + 14), 0.3);
+  EXPECT_LT(white_share(plain, cx - 14, cy - 14, cx + 14, cy + 14), 0.01);
 }
