@@ -34,8 +34,9 @@ def main(path, min_share):
             if not bar["title"].strip():
                 problems.append(f"{name}: a colour bar without a title")
             px, py = bar["position"]
-            # The bar with its labels: up to 0.12 of the view to its left.
-            if x1 > px - 0.12 and y1 > py and y0 < py + bar["length"]:
+            # The bar with its labels: up to 100 pixels to its left.
+            room = 100.0 / bar["view_size"][0]
+            if x1 > px - room and y1 > py and y0 < py + bar["length"]:
                 problems.append(f"{name}: the colour bar '{bar['title']}' at x {px:.2f} overlaps the model "
                                 f"(right edge {x1:.2f})")
             if bar["categorical"]:

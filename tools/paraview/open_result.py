@@ -24,7 +24,7 @@ import sys
 
 from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView,
                              GetColorTransferFunction, GetScalarBar, Glyph, Hide, ProgrammableSource,
-                             Render, ResetCamera, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
+                             Render, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
 
 OUTDIR = os.environ.get("LIBSHADOW_RESULT", "out/default")
 
@@ -48,11 +48,23 @@ def sanitize(name):
 
 # The model is framed in the left part of each view (frame_model); the colour bars stand in the
 # strip on the right, clear of it.
-MODEL_SHARE = 0.72
+MODEL_SHARE = 0.74
 BAR_POSITION = [0.86, 0.1]
 BAR_LENGTH = 0.66
-MODEL_ZOOM = 0.85  # of the bounding sphere's fit, which leaves room around a model seen from above
 VIEW_ASPECT = [1.6]  # width / height of each view, set by main from --size
+VIEW_WIDTH = [800]   # pixels
+LABEL_ROOM = 100     # pixels left of a bar for its labels
+TITLE_ROOM = 66      # pixels right of a bar's left edge: half a short title, centred on the bar
+
+
+def bar_position():
+    """The bar's lower left corner: far enough from the right edge for its title."""
+    return [builtins.min(BAR_POSITION[0], 1.0 - TITLE_ROOM / VIEW_WIDTH[0]), BAR_POSITION[1]]
+
+
+def model_share():
+    """The part of a view's width left to the model: up to the bar's labels."""
+    return builtins.min(MODEL_SHARE, bar_position()[0] - LABEL_ROOM / VIEW_WIDTH[0])
 
 
 def style_bar(bar, title, digits=None, labels=None, annotations_left=False):
@@ -66,9 +78,10 @@ def style_bar(bar, title, digits=None, labels=None, annotations_left=False):
     bar.LabelFontSize = 14
     bar.WindowLocation = "Any Location"
     bar.Orientation = "Vertical"
-    bar.Position = BAR_POSITION
+
     bar.ScalarBarLength = BAR_LENGTH
     bar.HorizontalTitle = 1
+    bar.Position = bar_position()
     # Labels toward the model's side, inside the view.
     bar.TextPosition = ("Ticks right/top, annotations left/bottom" if annotations_left
                         else "Ticks left/bottom, annotations right/top")
@@ -88,22 +101,38 @@ def model_bounds(source):
     return list(source.GetDataInformation().GetBounds())
 
 
-def reset_to(view, bounds):
-    """The camera fitted to `bounds` alone (the view's own reset takes every visible thing)."""
-    view.GetRenderer().ResetCamera(*bounds)
+def reset_to(view, bounds, share=1.0):
+    """Look at the centre of `bounds` from where the camera looks now, at the distance where
+    their bounding sphere fits `share` of the view's width and 95% of its height (the view's
+    own reset takes every visible thing, light glyphs included, and an aspect the offscreen
+    view may not have yet)."""
+    camera = view.GetActiveCamera()
+    centre = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+    radius = builtins.max(0.5 * builtins.sum((bounds[2 * i + 1] - bounds[2 * i]) ** 2 for i in range(3)) ** 0.5,
+                          1e-9)
+    position, focal = camera.GetPosition(), camera.GetFocalPoint()
+    away = [p - f for p, f in zip(position, focal)]
+    length = builtins.sum(c * c for c in away) ** 0.5
+    away = [c / length for c in away] if length > 0 else [0.0, -0.6, 0.8]
+    half_v = math.radians(camera.GetViewAngle()) / 2
+    half_h = math.atan(math.tan(half_v) * VIEW_ASPECT[0] * share)
+    half = builtins.min(math.atan(math.tan(half_v) * 0.95), half_h)
+    distance = radius / math.sin(half)
+    camera.SetFocalPoint(*centre)
+    camera.SetPosition(*[c + distance * a for c, a in zip(centre, away)])
+    view.CenterOfRotation = centre
 
 
 def frame_model(view, bounds):
-    """Fit the camera to `bounds` (whatever else is shown), then move the model into the left
-    MODEL_SHARE of the view, leaving the right strip to the colour bar."""
+    """Fit the model's bounding sphere into the left MODEL_SHARE of the view, leaving the right
+    strip to the colour bar."""
     camera = view.GetActiveCamera()
-    reset_to(view, bounds)
+    share = model_share()
+    reset_to(view, bounds, share)
     aspect = VIEW_ASPECT[0]
-    # Smaller by MODEL_SHARE, and shifted so that its centre sits at MODEL_SHARE / 2 of the width.
-    camera.Dolly(MODEL_ZOOM)
     distance = camera.GetDistance()
     visible_width = 2 * distance * math.tan(math.radians(camera.GetViewAngle()) / 2) * aspect
-    shift = (0.5 - MODEL_SHARE / 2) * visible_width
+    shift = (0.5 - share / 2) * visible_width
     position, focal, up = camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp()
     view_dir = [f - p for f, p in zip(focal, position)]
     right = [view_dir[1] * up[2] - view_dir[2] * up[1], view_dir[2] * up[0] - view_dir[0] * up[2],
@@ -112,7 +141,6 @@ def frame_model(view, bounds):
     right = [c / norm for c in right]
     camera.SetPosition(*[p + shift * r for p, r in zip(position, right)])
     camera.SetFocalPoint(*[f + shift * r for f, r in zip(focal, right)])
-    view.ResetCameraClippingRange() if hasattr(view, "ResetCameraClippingRange") else None
 
 
 def place_camera(view, report, light, bounds):
@@ -161,7 +189,7 @@ def style_sun_hours(shown, source, view):
         lut.NumberOfTableValues = int(builtins.round(total))  # one band per hour
     shown.SetScalarBarVisibility(view, True)
     bar = GetScalarBar(lut, view)
-    style_bar(bar, "sun hours (h)")
+    style_bar(bar, "sun hours")
     step = nice_step(total)
     digits = 0 if whole and step >= 1 else 1
     bar.AutomaticLabelFormat = 0
@@ -327,6 +355,7 @@ def main():
     if has_sun_hours and not os.path.isfile(os.path.join(outdir, "report.json")):
         # A sun-hours map alone (e.g. from a series run that wrote no per-light result).
         VIEW_ASPECT[0] = args.size[0] / args.size[1]
+        VIEW_WIDTH[0] = args.size[0]
         layout = CreateLayout("libshadow sun hours")
         view = CreateView("RenderView")
         AssignViewToLayout(view=view, layout=layout, hint=0)
@@ -347,6 +376,7 @@ def main():
     plane_shadows = read("plane_shadows.vtp")
 
     VIEW_ASPECT[0] = args.size[0] / (3 if has_sun_hours else 2) / args.size[1]
+    VIEW_WIDTH[0] = args.size[0] / (3 if has_sun_hours else 2)
     layout = CreateLayout("libshadow")
     left = CreateView("RenderView")
     right = CreateView("RenderView")
@@ -412,7 +442,7 @@ def main():
     fraction.RescaleTransferFunction(0.0, 1.0)
     fraction.AutomaticRescaleRangeMode = "Never"
     faces_shown.SetScalarBarVisibility(right, True)
-    style_bar(GetScalarBar(fraction, right), "lit fraction, " + light_name, digits=2,
+    style_bar(GetScalarBar(fraction, right), "lit fraction", digits=2,
               labels=[0.0, 0.25, 0.5, 0.75, 1.0])
 
     for view in (left, right):
