@@ -251,9 +251,9 @@ output.GetPointData().AddArray(direction)
 
 
 def light_glyphs(report, centre, radius):
-    """(tail, direction) of each light's arrow: a directional light's arrow ends just outside
-    the model's bounding sphere (centre, radius) and points at its centre, along the light's
-    travel; a point or area light's arrow starts at the light, pointing at the centre."""
+    """(tail, direction) of each light's arrow: a directional light's arrow starts on the
+    model's bounding sphere (centre, radius), inside the framed view, and points at its centre,
+    along the light's travel; a point or area light's arrow starts at the light, pointing at the centre."""
     origin = report.get("origin", [0.0, 0.0, 0.0])
     glyphs = []
     for light in report["lights"]:
@@ -261,7 +261,7 @@ def light_glyphs(report, centre, radius):
             t = light["to_light"]
             n = builtins.max(builtins.sum(c * c for c in t) ** 0.5, 1e-300)
             u = [c / n for c in t]
-            tail = [c + 1.35 * radius * k for c, k in zip(centre, u)]
+            tail = [c + radius * k for c, k in zip(centre, u)]
             glyphs.append((tail, [-k for k in u]))
             continue
         if light.get("position"):
