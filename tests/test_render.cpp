@@ -709,3 +709,30 @@ TEST_F(RenderTest, TheLegendAndTheCompassAreDrawnInTheirCorners) {
   EXPECT_GT(white_share(marked, cx - 14, cy - 14, cx + 14, cy + 14), 0.3);
   EXPECT_LT(white_share(plain, cx - 14, cy - 14, cx + 14, cy + 14), 0.01);
 }
+
+// The exact overlay against the engine's own areas, two methods: on every face of examples/sun
+// (17 suns) and examples/default (a sun and a lamp, a wall with a window), the cells cover the
+// face once (their areas add up to the face's), and for every light the cells lit by it add up
+// to the engine's exact lit area (FaceLighting::lit_area, computed from the exact regions, not
+// from the fragments).
+TEST(Overlay, TheExactOverlayAddsUpToTheEnginesAreasForEveryLight) {
+  for (const char* name : {"sun", "default"}) {
+    const shadow::Scene scene = shadow::load_scene(fs::path(LIBSHADOW_EXAMPLES_DIR) / name / "scene.json");
+    const shadow::ShadowResult result = shadow::compute_shadows(scene);
+    const std::vector<sr::OverlayCell> cells = sr::overlay_fragments(scene, result);
+    std::vector<double> covered(scene.faces.size(), 0.0);
+    std::vector<std::vector<double>> lit(scene.faces.size(), std::vector<double>(scene.lights.size(), 0.0));
+    for (const sr::OverlayCell& cell : cells) {
+      const double a = area(cell.polygon);
+      covered[cell.face_id] += a;
+      for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        if (cell.lit[k]) lit[cell.face_id][k] += a;
+    }
+    for (const shadow::FaceLighting& entry : result.lighting) {
+      const double tolerance = 1e-9 * std::max(1.0, entry.area) + entry.dropped_area;
+      EXPECT_NEAR(covered[entry.face_id], entry.area, tolerance) << name << " face " << entry.face_id;
+      EXPECT_NEAR(lit[entry.face_id][entry.light_id], entry.lit_area, tolerance)
+          << name << " face " << entry.face_id << " light " << entry.light_id;
+    }
+  }
+}

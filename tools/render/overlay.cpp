@@ -169,8 +169,11 @@ void clip(Cell& cell, const Line& line) {
 /// the rest is fanned.
 std::vector<std::array<glm::dvec2, 3>> triangulate(std::vector<glm::dvec2> p) {
   std::vector<std::array<glm::dvec2, 3>> out;
-  auto strictly_inside = [](const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
-    return orient(a, b, q) > 0 && orient(b, c, q) > 0 && orient(c, a, q) > 0;
+  // A vertex in the closed triangle, its boundary included, spoils the ear: one on the
+  // diagonal would leave the rest of the polygon touching itself, and a later ear could then
+  // cover part of the outside (seen on the default scene's lamp-lit ground).
+  auto in_closed = [](const glm::dvec2& q, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+    return orient(a, b, q) >= 0 && orient(b, c, q) >= 0 && orient(c, a, q) >= 0;
   };
   while (p.size() > 3) {
     const std::size_t n = p.size();
@@ -184,7 +187,7 @@ std::vector<std::array<glm::dvec2, 3>> triangulate(std::vector<glm::dvec2> p) {
         for (std::size_t j = 0; j < n && empty; ++j) {
           if (j == i || j == (i + n - 1) % n || j == (i + 1) % n) continue;
           if (p[j] == a || p[j] == b || p[j] == c) continue;
-          if (strictly_inside(p[j], a, b, c)) empty = false;
+          if (in_closed(p[j], a, b, c)) empty = false;
         }
         if (!empty) continue;
         out.push_back({a, b, c});
