@@ -12,6 +12,7 @@
 #include <limits>
 #include <array>
 #include <map>
+#include <unordered_map>
 #include <utility>
 
 namespace shadow::render {
@@ -35,6 +36,20 @@ double shoulder(double x, double knee) {
   const double room = 1.0 - knee;
   return knee + room * (1.0 - std::exp(-(x - knee) / room));
 }
+
+struct PointHash {
+  std::size_t operator()(const std::array<double, 3>& p) const {
+    std::size_t h = 0;
+    for (double c : p) h = h * 1000003u ^ std::hash<double>{}(c);
+    return h;
+  }
+};
+
+struct EdgeHash {
+  std::size_t operator()(const std::pair<std::size_t, std::size_t>& e) const {
+    return std::hash<std::size_t>{}(e.first * 0x9E3779B97F4A7C15ull ^ e.second);
+  }
+};
 
 }  // namespace
 
@@ -145,7 +160,7 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
 
     // The face's triangles over shared vertex ids.
     std::vector<glm::dvec3> points;
-    std::map<std::array<double, 3>, std::size_t> id_of;
+    std::unordered_map<std::array<double, 3>, std::size_t, PointHash> id_of;
     auto vertex = [&](const glm::dvec3& p) {
       const auto [it, added] = id_of.try_emplace({p.x, p.y, p.z}, points.size());
       if (added) points.push_back(p);
@@ -165,7 +180,7 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
     }
 
     if (options.shading == Shading::Phong) {
-      using Edge = std::pair<std::size_t, std::size_t>;
+      using Edge = std::pair<std::size_t, std::size_t>;  // ends in increasing order
       auto key = [](std::size_t a, std::size_t b) { return a < b ? Edge{a, b} : Edge{b, a}; };
       auto too_long = [&](std::size_t a, std::size_t b) {
         const glm::dvec3 m = 0.5 * (points[a] + points[b]);
@@ -184,9 +199,10 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
         }
         return best;
       };
-      std::map<Edge, std::size_t> midpoint;
+      std::unordered_map<Edge, std::size_t, EdgeHash> midpoint;
       for (int round = 0; round < 64; ++round) {
-        std::map<Edge, bool> marked;
+        std::unordered_map<Edge, bool, EdgeHash> marked;
+        marked.reserve(2 * tris.size());
         for (const Tri& t : tris)
           for (int i = 0; i < 3; ++i)
             if (too_long(t.v[i], t.v[(i + 1) % 3])) marked[key(t.v[i], t.v[(i + 1) % 3])] = true;
@@ -243,7 +259,8 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
     }
 
     // Colours at each (vertex, cell): a vertex on a shadow edge has one colour per side.
-    std::map<std::pair<std::size_t, std::size_t>, std::size_t> point_of;
+    std::unordered_map<std::pair<std::size_t, std::size_t>, std::size_t, EdgeHash> point_of;
+    point_of.reserve(2 * tris.size());
     for (const Tri& t : tris) {
       std::size_t ids[3];
       for (int i = 0; i < 3; ++i) {
