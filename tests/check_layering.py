@@ -27,6 +27,7 @@ import sys
 ALLOWED = {
     "engine": {"planes", "fast", "exact", "core", "geometry"},
     "sunmap": {"engine", "exact", "core", "geometry"},
+    "views": {"engine", "exact", "core", "geometry"},
     "planes": {"exact", "core", "geometry"},
     "exact": {"core", "geometry"},
     "fast": {"core", "geometry"},
