@@ -382,6 +382,61 @@ TEST(VectorView, EachLightSplitsItsOwnView) {
   EXPECT_EQ(*low.light_id, 1u);
 }
 
+TEST(VectorView, FromInsideAClosedBoxEveryWallIsSeenFromItsBackAndFillsTheImage) {
+  Scene scene;
+  add_mesh(scene, "box", box_faces({-2, -3, -1}, {4, 2, 3}));  // fronts outward
+  scene.lights.push_back(point_light("inside", {0.5, 0.5, 1}));
+  validate_scene(scene);
+  const ShadowEngine engine(scene, 1);
+  ViewCamera camera;
+  camera.eye = {0.3, -0.2, 0.4};
+  camera.target = {1, 1, 0.5};
+  camera.fov_degrees = 100;
+  camera.width = 300;
+  camera.height = 200;
+  const VectorView view = compute_vector_view(engine, camera, {std::size_t{0}, 1});
+  double image = 0;
+  for (const ViewPiece& p : view.pieces) {
+    EXPECT_TRUE(p.back);
+    EXPECT_FALSE(p.lit);  // the light inside sees only backs too
+    image += image_area(p.image);
+  }
+  EXPECT_NEAR(image, 300.0 * 200.0, 1e-6);
+  EXPECT_LE(check_against_zbuffer(scene, view), 1.0);
+  // Inside a room (fronts inward) the same walls are seen from the front and lit.
+  Scene room;
+  add_mesh(room, "room", room_faces({-2, -3, -1}, {4, 2, 3}));
+  room.lights.push_back(point_light("inside", {0.5, 0.5, 1}));
+  validate_scene(room);
+  const ShadowEngine room_engine(room, 1);
+  const VectorView inside = compute_vector_view(room_engine, camera, {std::size_t{0}, 1});
+  image = 0;
+  for (const ViewPiece& p : inside.pieces) {
+    EXPECT_FALSE(p.back);
+    EXPECT_TRUE(p.lit);
+    image += image_area(p.image);
+  }
+  EXPECT_NEAR(image, 300.0 * 200.0, 1e-6);
+}
+
+TEST(VectorView, ThreadsDoNotChangeThePieces) {
+  Scene scene = random_scene(5);
+  validate_scene(scene);
+  const ShadowEngine engine(scene, 2);
+  ViewCamera camera;
+  camera.eye = {9, -7, 5};
+  camera.target = {0, 0, 0.5};
+  const VectorView one = compute_vector_view(engine, camera, {std::size_t{0}, 1});
+  const VectorView two = compute_vector_view(engine, camera, {std::size_t{0}, 2});
+  ASSERT_EQ(one.pieces.size(), two.pieces.size());
+  for (std::size_t k = 0; k < one.pieces.size(); ++k) {
+    EXPECT_EQ(one.pieces[k].face_id, two.pieces[k].face_id);
+    EXPECT_EQ(one.pieces[k].lit, two.pieces[k].lit);
+    EXPECT_EQ(one.pieces[k].polygon, two.pieces[k].polygon);
+    EXPECT_EQ(one.pieces[k].area, two.pieces[k].area);
+  }
+}
+
 TEST(VectorView, BadInputIsAnInputError) {
   Scene scene = box_scene();
   scene.lights.push_back(point_light("lamp", {3, 3, 3}));
