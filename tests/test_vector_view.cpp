@@ -243,6 +243,7 @@ TEST(VectorView, GroundCrossingTheEyesPlaneIsCutAtTheNearPlaneAndMatchesAZBuffer
   Scene scene;
   add_mesh(scene, "ground", {rectangle_z(-50, -50, 50, 50, 0)});
   add_mesh(scene, "box", box_faces({-1, 2, 0}, {1, 4, 1.5}));
+  add_mesh(scene, "behind", {{{-3, -5, 0}, {3, -5, 0}, {3, -5, 3}, {-3, -5, 3}}});  // face 7, behind the eye
   scene.lights.push_back(point_light("lamp", {3, 0, 4}));
   validate_scene(scene);
   const ShadowEngine engine(scene, 1);
@@ -260,6 +261,7 @@ TEST(VectorView, GroundCrossingTheEyesPlaneIsCutAtTheNearPlaneAndMatchesAZBuffer
       EXPECT_GE(q.y, -1e-6);
       EXPECT_LE(q.y, 300 + 1e-6);
     }
+  EXPECT_EQ(per_face(view).count(7), 0u);
   EXPECT_LE(check_against_zbuffer(scene, view), 1.0);
 }
 
