@@ -19,6 +19,7 @@ import struct
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
+import zlib
 
 SVG = "{http://www.w3.org/2000/svg}"
 failures = []
@@ -97,6 +98,16 @@ def main():
         check(data.startswith(b"%PDF-"), "the PDF does not start with %PDF-")
         check(data.rstrip().endswith(b"%%EOF"), "the PDF does not end with %%EOF")
         check(f"/MediaBox [ 0 0 {width} {height} ]".encode() in data, "the PDF page is not the image's size")
+        # The page draws the background and then one filled path per piece, as many as the SVG's.
+        painted = 0
+        for m in re.finditer(rb"stream\r?\n(.*?)\r?\nendstream", data, re.S):
+            try:
+                content = zlib.decompress(m.group(1))
+            except zlib.error:
+                continue  # not a Flate stream (fonts, metadata)
+            painted += len(re.findall(rb"(?<![\w.])(?:B\*?|f\*?)(?![\w])", content))
+        pieces = sum(len(g.findall(SVG + "path")) for g in groups)
+        check(painted == pieces + 1, f"the PDF paints {painted} paths, the SVG has {pieces} pieces + background")
     else:
         check(r.returncode == 3 and "cairo" in r.stderr, f"pdf without cairo: {r.returncode} {r.stderr.strip()}")
 
