@@ -262,6 +262,13 @@ TEST(VectorView, GroundCrossingTheEyesPlaneIsCutAtTheNearPlaneAndMatchesAZBuffer
       EXPECT_LE(q.y, 300 + 1e-6);
     }
   EXPECT_EQ(per_face(view).count(7), 0u);
+  for (const ViewPiece& p : view.pieces)  // nothing nearer than the near plane
+    for (const glm::dvec3& v : p.polygon) {
+      double depth = 0;
+      (void)project_to_image(view.frame, v, &depth);
+      EXPECT_GE(depth, view.frame.near * (1 - 1e-9));
+    }
+  EXPECT_NEAR(view.frame.near, 1e-3 * glm::length(camera.target - camera.eye), 1e-15);
   EXPECT_LE(check_against_zbuffer(scene, view), 1.0);
 }
 

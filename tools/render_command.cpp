@@ -129,6 +129,9 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   namespace sr = shadow::render;
   // The exact vector view needs no display: dispatched before looking for one.
   if (sr::is_vector_output(args.image)) return sr::run_vector_render(args);
+  if (args.light >= 0 || args.edges)
+    throw shadow::InputError({"", args.light >= 0 ? "--light" : "--edges"},
+                             "applies to the vector view only (-o VIEW.svg or VIEW.pdf), not to " + args.image);
   // Debian's VTK draws through X even off screen; without a display, start again under Xvfb.
   if (!sr::display_available()) {
     if (std::getenv(kUnderXvfb) == nullptr && on_path("xvfb-run")) {

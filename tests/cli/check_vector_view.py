@@ -118,6 +118,9 @@ def main():
     bad = run([shadow, "render", scene, "-o", os.path.join(work, "bad.svg"), "--eye", "1,2,3", "--target", "1,2,3"])
     check(bad.returncode == 2 and "--eye" in bad.stderr and bad.stderr.count("\n") == 1,
           f"eye = target: {bad.returncode} {bad.stderr!r}")
+    bad = run([shadow, "render", scene, "-o", os.path.join(work, "bad.png"), "--light", "0"])
+    check(bad.returncode == 2 and "--light" in bad.stderr and bad.stderr.count("\n") == 1,
+          f"--light with a PNG: {bad.returncode} {bad.stderr!r}")
     return 1 if failures else 0
 
 
