@@ -347,11 +347,27 @@ TEST(VectorView, TheLitSplitAgreesWithTheEngineAndAShadowRay) {
       }
     }
     EXPECT_GT(fully_visible, 0);
-    int checked = 0;
+    // Sample points of each front piece: lit exactly when the engine's lit fragments of that face
+    // hold them (the same light), and when a shadow ray in doubles reaches the light.
+    int checked = 0, in_fragments = 0;
     std::mt19937_64 rng(seed);
     for (const ViewPiece& p : view.pieces) {
       if (p.back || p.area < 1e-4) continue;
       for (const glm::dvec3& q : sample_interior(p.polygon, 3, 1e-3, rng)) {
+        int lit_hits = 0, dark_hits = 0;
+        bool near_edge = false;
+        for (const Fragment& fragment : result.fragments) {
+          if (fragment.face_id != p.face_id || fragment.light_id != 0) continue;
+          double d = 0;
+          const bool inside = inside_polygon(fragment.polygon, q, &d);
+          if (d < 1e-7) near_edge = true;
+          if (inside) ++(fragment.lit ? lit_hits : dark_hits);
+        }
+        if (!near_edge) {
+          EXPECT_EQ(lit_hits + dark_hits, 1) << "face " << p.face_id;
+          EXPECT_EQ(lit_hits == 1, p.lit) << "face " << p.face_id;
+          ++in_fragments;
+        }
         const RayVerdict v = cast_shadow_ray(scene, p.face_id, q, scene.lights[0], 1e-7);
         if (v == RayVerdict::Unsure) continue;
         EXPECT_EQ(v == RayVerdict::Lit, p.lit) << "face " << p.face_id;
@@ -359,6 +375,9 @@ TEST(VectorView, TheLitSplitAgreesWithTheEngineAndAShadowRay) {
       }
     }
     EXPECT_GT(checked, 0);
+    EXPECT_GT(in_fragments, 0);
+    std::printf("seed %llu: %d sample points against the fragments, %d against a shadow ray\n",
+                static_cast<unsigned long long>(seed), in_fragments, checked);
   }
 }
 
