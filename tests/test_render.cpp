@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `shadow render`'s pieces: the overlay of per-light fragments (no display needed) and the
 // pictures (need an X display: ctest runs this under xvfb-run).
+#include "render/camera.hpp"
 #include "render/render_image.hpp"
 #include "render/shaded_mesh.hpp"
 
@@ -8,13 +9,18 @@
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -266,5 +272,467 @@ TEST(RenderFiles, AnUnwritablePngIsARenderErrorNamingTheFile) {
     FAIL() << "no error";
   } catch (const sr::RenderError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos) << e.what();
+  }
+}
+
+// ---- the exact overlay: no pinholes ----------------------------------------------------------------
+
+namespace {
+
+/// True when (x, y) is inside the polygon's plan (even-odd rule).
+bool inside_plan(const std::vector<glm::dvec3>& polygon, double x, double y) {
+  bool in = false;
+  for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++) {
+    const glm::dvec3& a = polygon[i];
+    const glm::dvec3& b = polygon[j];
+    if ((a.y > y) != (b.y > y) && x < a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y)) in = !in;
+  }
+  return in;
+}
+
+/// Distance in plan from (x, y) to segment a-b.
+double plan_distance(const glm::dvec3& a, const glm::dvec3& b, double x, double y) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  const double length2 = dx * dx + dy * dy;
+  double t = length2 > 0 ? ((x - a.x) * dx + (y - a.y) * dy) / length2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(a.x + t * dx - x, a.y + t * dy - y);
+}
+
+std::uint8_t srgb_byte(double linear) {
+  const double c = std::clamp(linear, 0.0, 1.0);
+  const double encoded = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  return static_cast<std::uint8_t>(std::lround(255.0 * encoded));
+}
+
+}  // namespace
+
+// Seventeen suns on the ground of examples/sun (a June day in Berlin), seen from straight above:
+// every ground pixel away from an edge must have the colour its exact fragments say (Lambert,
+// directional suns: one grey per combination of lit suns, whatever the shading). The
+// double-precision overlay this replaced, with its per-triangle Phong grids, left 3 of these
+// 34,318 pixels showing the sky through cracks between cells: pinholes.
+TEST_F(RenderTest, EveryGroundPixelHasTheColourOfItsExactFragments) {
+  shadow::Scene scene = shadow::load_scene(fs::path(LIBSHADOW_EXAMPLES_DIR) / "sun" / "scene.json");
+  const shadow::ShadowResult result = shadow::compute_shadows(scene);
+  ASSERT_GT(scene.lights.size(), 10u);
+  const std::size_t ground = 0;  // the scene's first face
+  ASSERT_EQ(scene.meshes[0].name, "ground");
+
+  sr::RenderOptions options;
+  options.width = 300;
+  options.height = 300;
+  options.shade.shading = sr::Shading::Phong;
+  options.shade.lighting.model = shadow::LightingModel::Lambert;
+  const glm::dvec3 centre(10.0, 10.0, 0.0);  // the ground spans [-20, 40]^2
+  const double fov = 20.0;
+  const double height = 30.0 / std::tan(0.5 * fov * M_PI / 180.0);  // half width 30 in view
+  options.shade.camera.eye = centre + glm::dvec3(0, 0, height);
+  options.shade.camera.target = centre;
+  options.shade.camera.up = {0, 1, 0};
+  options.shade.camera.fov_degrees = fov;
+  // Every sun lit: k_a + k_d sum of cosines; scaled to 1 so that no combination is clipped.
+  double all = 0.3;
+  for (const shadow::Light& light : scene.lights) all += 0.7 * glm::normalize(light.to_light).z;
+  options.shade.exposure.scale = 1.0 / all;
+  const sr::Image image = sr::render_scene(scene, result, options);
+
+  std::vector<std::vector<const shadow::Fragment*>> by_light(scene.lights.size());
+  for (const shadow::Fragment& f : result.fragments)
+    if (f.face_id == ground) by_light[f.light_id].push_back(&f);
+  const double tan_half = std::tan(0.5 * fov * M_PI / 180.0);
+  const double pixel = 2.0 * height * tan_half / options.height;  // on the ground
+  std::size_t checked = 0, wrong = 0;
+  for (int py = 0; py < image.height; ++py)
+    for (int px = 0; px < image.width; ++px) {
+      // Where the pixel's centre looks at the ground (the ground plane is z = 0).
+      const double sx = (2.0 * (px + 0.5) / image.width - 1.0) * tan_half;
+      const double sy = (1.0 - 2.0 * (py + 0.5) / image.height) * tan_half;
+      const double x = centre.x + sx * height, y = centre.y + sy * height;
+      // Only open ground: off the buildings as seen from the eye (each face projected from the
+      // eye onto the ground) and away from their edges.
+      bool skip = false;
+      for (std::size_t f = 1; f < scene.faces.size() && !skip; ++f) {
+        std::vector<glm::dvec3> seen;
+        for (const glm::dvec3& v : scene.faces[f].vertices) {
+          const glm::dvec3 eye = options.shade.camera.eye;
+          seen.push_back(eye + (v - eye) * (eye.z / (eye.z - v.z)));
+        }
+        skip = inside_plan(seen, x, y);
+        for (std::size_t i = 0; i < seen.size() && !skip; ++i)
+          skip = plan_distance(seen[i], seen[(i + 1) % seen.size()], x, y) < 2 * pixel;
+      }
+      if (skip || std::abs(x - 10) > 29 || std::abs(y - 10) > 29) continue;
+      std::vector<bool> lit(scene.lights.size(), false);
+      bool near_edge = false, found_all = true;
+      for (std::size_t k = 0; k < scene.lights.size() && !near_edge; ++k) {
+        bool found = false;
+        for (const shadow::Fragment* f : by_light[k]) {
+          for (std::size_t i = 0; i < f->polygon.size() && !near_edge; ++i)
+            near_edge = plan_distance(f->polygon[i], f->polygon[(i + 1) % f->polygon.size()], x, y) < 2 * pixel;
+          if (!found && inside_plan(f->polygon, x, y)) {
+            found = true;
+            lit[k] = f->lit;
+          }
+        }
+        found_all = found_all && found;
+      }
+      if (near_edge || !found_all) continue;
+      double expected = 0.3;
+      for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        if (lit[k]) expected += 0.7 * glm::normalize(scene.lights[k].to_light).z;
+      const int want = srgb_byte(expected / all);
+      const std::uint8_t* p = image.pixel(px, py);
+      ++checked;
+      if (std::abs(p[0] - want) > 2 || std::abs(p[1] - want) > 2 || std::abs(p[2] - want) > 2) {
+        ++wrong;
+        if (std::getenv("LIBSHADOW_TEST_VERBOSE"))
+          std::printf("wrong %d %d (%.3f %.3f): %d %d %d want %d\n", px, py, x, y, p[0], p[1], p[2], want);
+      }
+    }
+  EXPECT_GT(checked, 20000u);
+  EXPECT_EQ(wrong, 0u) << "of " << checked << " ground pixels";
+}
+
+// ---- `shadow render`'s defaults on a scene without materials (issue 17) ----------------------------
+
+namespace {
+
+struct Png {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // rows from the top
+  const std::uint8_t* pixel(int x, int y) const { return rgb.data() + 3 * (static_cast<std::size_t>(y) * width + x); }
+};
+
+/// Reads a PNG back with VTK's reader (rows from the top).
+Png read_png(const fs::path& path) {
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(path.string().c_str());
+  reader->Update();
+  vtkImageData* image = reader->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  Png png;
+  png.width = dims[0];
+  png.height = dims[1];
+  const int components = image->GetNumberOfScalarComponents();
+  png.rgb.resize(static_cast<std::size_t>(3) * dims[0] * dims[1]);
+  for (int y = 0; y < dims[1]; ++y)
+    for (int x = 0; x < dims[0]; ++x)
+      for (int c = 0; c < 3; ++c)
+        png.rgb[3 * (static_cast<std::size_t>(y) * dims[0] + x) + c] =
+            static_cast<std::uint8_t>(image->GetScalarComponentAsDouble(x, dims[1] - 1 - y, 0, std::min(c, components - 1)));
+  return png;
+}
+
+/// Runs the `shadow` program; its exit status.
+int run_shadow(const std::string& arguments) {
+  const std::string command = std::string("'") + LIBSHADOW_SHADOW_EXE + "' " + arguments + " > /dev/null";
+  return std::system(command.c_str());
+}
+
+double linear(std::uint8_t byte) {
+  const double c = byte / 255.0;
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+
+/// Relative luminance (Rec. 709 weights on linear RGB).
+double luminance(const std::uint8_t* p) { return 0.2126 * linear(p[0]) + 0.7152 * linear(p[1]) + 0.0722 * linear(p[2]); }
+
+/// True when the segment from `from` to `to` meets the axis-aligned box [lo, hi] (slabs).
+bool segment_meets_box(const glm::dvec3& from, const glm::dvec3& to, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double t0 = 0.0, t1 = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = to[a] - from[a];
+    if (d == 0.0) {
+      if (from[a] < lo[a] || from[a] > hi[a]) return false;
+      continue;
+    }
+    double u = (lo[a] - from[a]) / d, v = (hi[a] - from[a]) / d;
+    if (u > v) std::swap(u, v);
+    t0 = std::max(t0, u);
+    t1 = std::min(t1, v);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+// examples/gallery/boxes.json: three boxes on a 60 m ground under one sun, no materials.
+TEST_F(RenderTest, TheDefaultsReadWellOnASceneWithoutMaterials) {
+  const fs::path gallery = fs::path(LIBSHADOW_EXAMPLES_DIR) / "gallery";
+  const fs::path scene_file = gallery / "boxes.json";
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-test_render-defaults-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  auto render = [&](const fs::path& scene, const std::string& name, const std::string& options) {
+    EXPECT_EQ(run_shadow("render '" + scene.string() + "' -o '" + (dir / name).string() + "' " + options), 0);
+    return read_png(dir / name);
+  };
+  const Png now = render(scene_file, "boxes.png", "");
+  // A sun and a lamp: now, and in the look before issue 17 (white material, the models'
+  // values clipped at 1, the whole scene framed).
+  const Png two_lights = render(gallery / "sun_and_lamp.json", "two.png", "");
+  const Png two_lights_before =
+      render(gallery / "sun_and_lamp.json", "two-old.png", "--colours white --exposure 1 --tone clip --frame scene");
+  fs::remove_all(dir);
+  ASSERT_EQ(now.width, 800);
+  ASSERT_EQ(now.height, 600);
+
+  const std::uint8_t background[3] = {now.pixel(0, 0)[0], now.pixel(0, 0)[1], now.pixel(0, 0)[2]};
+  auto is_background = [&](const std::uint8_t* p) { return std::equal(p, p + 3, background); };
+  // The share of the model's pixels clipped to white, and the model's share of the frame.
+  auto clipped_share = [&](const Png& png) {
+    std::size_t model = 0, white = 0;
+    for (int y = 0; y < png.height; ++y)
+      for (int x = 0; x < png.width; ++x) {
+        const std::uint8_t* p = png.pixel(x, y);
+        if (is_background(p)) continue;
+        ++model;
+        if (p[0] >= 254 && p[1] >= 254 && p[2] >= 254) ++white;
+      }
+    return std::make_pair(static_cast<double>(white) / std::max<std::size_t>(model, 1),
+                          static_cast<double>(model) / (png.width * png.height));
+  };
+  const auto [white_now, model_now] = clipped_share(now);
+  const auto [white_two, model_two] = clipped_share(two_lights);
+  const auto [white_two_before, model_two_before] = clipped_share(two_lights_before);
+  std::printf("clipped to white: boxes %.2f%%, sun and lamp %.2f%% (before: %.2f%%) of the model's pixels; "
+              "model %.0f%% and %.0f%% of the frame (before: %.0f%%)\n",
+              100 * white_now, 100 * white_two, 100 * white_two_before, 100 * model_now, 100 * model_two,
+              100 * model_two_before);
+  EXPECT_LT(white_now, 0.01);  // issue 17: less than 1% of the model's pixels clipped to white
+  EXPECT_LT(white_two, 0.01);
+  EXPECT_GT(white_two_before, 0.1);  // where the old look clipped a good part of it (17%)
+  EXPECT_GT(model_now, 0.9);         // the model (ground included) fills the frame
+  EXPECT_GT(model_two, 0.6);         // the lamp's long shadows leave a corner of sky
+
+  // The boxes (everything but the ground) fill a stated share of the frame: their projected
+  // extent is at least 60% of the picture's width or height.
+  shadow::Scene scene = shadow::load_scene(scene_file);
+  const sr::Camera camera = sr::resolve_camera(scene, sr::CameraRequest{}, 800.0 / 600.0);
+  const glm::dvec3 view = glm::normalize(camera.target - camera.eye);
+  const glm::dvec3 right = glm::normalize(glm::cross(view, camera.up));
+  const glm::dvec3 up = glm::cross(right, view);
+  const double tan_v = std::tan(0.5 * camera.fov_degrees * M_PI / 180.0), tan_h = tan_v * 800.0 / 600.0;
+  double x_lo = 1, x_hi = -1, y_lo = 1, y_hi = -1;
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> boxes;  // the boxes' bounds, for occlusion
+  for (std::size_t m = 1; m < scene.meshes.size(); ++m) {
+    glm::dvec3 lo(1e300), hi(-1e300);
+    for (std::size_t f = scene.meshes[m].first_face; f < scene.meshes[m].first_face + scene.meshes[m].face_count; ++f)
+      for (const glm::dvec3& v : scene.faces[f].vertices) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+        const glm::dvec3 o = v - camera.eye;
+        const double depth = glm::dot(o, view);
+        x_lo = std::min(x_lo, glm::dot(o, right) / (depth * tan_h));
+        x_hi = std::max(x_hi, glm::dot(o, right) / (depth * tan_h));
+        y_lo = std::min(y_lo, glm::dot(o, up) / (depth * tan_v));
+        y_hi = std::max(y_hi, glm::dot(o, up) / (depth * tan_v));
+      }
+    boxes.emplace_back(lo, hi);
+  }
+  const double extent = std::max(0.5 * (x_hi - x_lo), 0.5 * (y_hi - y_lo));
+  std::printf("boxes: %.0f%% of the frame's width, %.0f%% of its height\n", 50 * (x_hi - x_lo), 50 * (y_hi - y_lo));
+  EXPECT_GE(extent, 0.6);
+  EXPECT_LE(std::max({-x_lo, x_hi, -y_lo, y_hi}), 1.0);  // and all in view
+
+  // Lit and shadowed ground tell apart: mean luminance of open ground pixels (seen directly,
+  // 2 pixels from any shadow edge) in the sun and in the boxes' shadows. With the palette's
+  // k_a = 0.25, k_d = 0.75 and the sun 41.8 degrees up (sin = 0.667), Lambert alone gives
+  // (0.25 + 0.75 * 0.667) / 0.25 = 3.0; Blinn-Phong's highlight (k_s = 0.1) adds to the lit side.
+  const shadow::ShadowResult result = shadow::compute_shadows(scene);
+  std::vector<const shadow::Fragment*> ground;
+  for (const shadow::Fragment& f : result.fragments)
+    if (f.face_id == 0) ground.push_back(&f);
+  double lit_sum = 0, shadow_sum = 0;
+  std::size_t lit_count = 0, shadow_count = 0;
+  for (int py = 0; py < now.height; py += 2)
+    for (int px = 0; px < now.width; px += 2) {
+      const glm::dvec3 ray = view + (2.0 * (px + 0.5) / now.width - 1.0) * tan_h * right +
+                             (1.0 - 2.0 * (py + 0.5) / now.height) * tan_v * up;
+      if (!(ray.z < 0)) continue;
+      const glm::dvec3 hit = camera.eye + ray * (-camera.eye.z / ray.z);
+      if (std::abs(hit.x) > 29 || std::abs(hit.y) > 29) continue;
+      bool hidden = false;
+      for (const auto& [lo, hi] : boxes) hidden = hidden || segment_meets_box(camera.eye, hit, lo - 0.3, hi + 0.3);
+      if (hidden) continue;
+      const double pixel = 2.0 * glm::length(hit - camera.eye) * tan_v / now.height;
+      bool near_edge = false, lit = false, found = false;
+      for (const shadow::Fragment* f : ground) {
+        for (std::size_t i = 0; i < f->polygon.size(); ++i)
+          near_edge = near_edge || plan_distance(f->polygon[i], f->polygon[(i + 1) % f->polygon.size()], hit.x, hit.y) < 3 * pixel;
+        if (inside_plan(f->polygon, hit.x, hit.y)) {
+          found = true;
+          lit = f->lit;
+        }
+      }
+      if (near_edge || !found) continue;
+      const double l = luminance(now.pixel(px, py));
+      if (lit) {
+        lit_sum += l;
+        ++lit_count;
+      } else {
+        shadow_sum += l;
+        ++shadow_count;
+      }
+    }
+  ASSERT_GT(lit_count, 1000u);
+  ASSERT_GT(shadow_count, 500u);
+  const double ratio = (lit_sum / lit_count) / (shadow_sum / shadow_count);
+  std::printf("ground: lit/shadowed luminance %.2f (%zu and %zu pixels sampled)\n", ratio, lit_count, shadow_count);
+  EXPECT_GT(ratio, 2.5);
+  EXPECT_LT(ratio, 4.5);
+}
+
+// ---- the camera shared by the raster and vector views (tools/render/camera.hpp) --------------------
+
+TEST(Camera, TheGroundIsFoundByNameOrByShape) {
+  shadow::Scene scene = roof_scene(false);  // "ground" and "roof"
+  EXPECT_EQ(sr::ground_mesh(scene), std::optional<std::size_t>(0));
+  const auto roles = sr::mesh_roles(scene);
+  EXPECT_EQ(roles[0], sr::MeshRole::Ground);
+  EXPECT_EQ(roles[1], sr::MeshRole::Building);  // "roof" is named like a building
+  // Renamed: found by shape (upward, lowest, larger in plan than the rest).
+  scene.meshes[0].name = "mesh A";
+  scene.meshes[1].name = "mesh B";
+  EXPECT_EQ(sr::ground_mesh(scene), std::optional<std::size_t>(0));
+  EXPECT_EQ(sr::mesh_roles(scene)[1], sr::MeshRole::Other);
+  // A roof larger than the ground is not a ground under it; nor is a lone mesh.
+  for (glm::dvec3& v : scene.faces[1].vertices) v *= glm::dvec3(10.0, 10.0, 1.0);
+  EXPECT_FALSE(sr::ground_mesh(scene).has_value());
+  scene.meshes.resize(1);
+  scene.faces.resize(1);
+  EXPECT_FALSE(sr::ground_mesh(scene).has_value());
+}
+
+TEST(Camera, TheDefaultFramesTheModelAndItsShadowsNotTheWholeGround) {
+  // The roof's shadow under the sun along (1, 0, 1) lies on x in [-2, 0], |y| <= 1: framed are the
+  // roof's corners and its shadow, within [-2, 1] x [-1, 1], not the 10 x 10 ground.
+  const shadow::Scene scene = roof_scene(false);
+  const std::vector<glm::dvec3> points = sr::framed_points(scene, sr::Framing::Shadows);
+  ASSERT_FALSE(points.empty());
+  for (const glm::dvec3& p : points) {
+    EXPECT_GE(p.x, -2.0 - 1e-12);
+    EXPECT_LE(p.x, 1.0 + 1e-12);
+    EXPECT_LE(std::abs(p.y), 1.0 + 1e-12);
+  }
+  bool shadow_tip = false;  // the far end of the shadow is among them
+  for (const glm::dvec3& p : points) shadow_tip = shadow_tip || (std::abs(p.x + 2.0) < 1e-12 && p.z == 0.0);
+  EXPECT_TRUE(shadow_tip);
+  EXPECT_EQ(sr::framed_points(scene, sr::Framing::Scene).size(), 8u);  // every vertex
+  // The shadows' framing comes closer than the whole-scene framing.
+  const sr::Camera near = sr::resolve_camera(scene, sr::CameraRequest{}, 4.0 / 3.0);
+  sr::CameraRequest whole;
+  whole.framing = sr::Framing::Scene;
+  const sr::Camera far = sr::resolve_camera(scene, whole, 4.0 / 3.0);
+  EXPECT_LT(glm::length(near.eye - near.target), 0.6 * glm::length(far.eye - far.target));
+}
+
+TEST(Camera, TheSceneCameraThenTheRequestReplaceTheDefaultAndBadViewsAreInputErrors) {
+  shadow::Scene scene = roof_scene(false);
+  shadow::Camera given;
+  given.eye = glm::dvec3(0, -20, 5);
+  given.fov_degrees = 50.0;
+  scene.camera = given;
+  sr::CameraRequest request;
+  request.scene_file = "scene.json";
+  sr::Camera camera = sr::resolve_camera(scene, request, 1.0);
+  EXPECT_EQ(camera.eye, glm::dvec3(0, -20, 5));
+  EXPECT_EQ(camera.fov_degrees, 50.0);
+  request.eye = glm::dvec3(3, 3, 3);
+  request.fov_degrees = 20.0;
+  camera = sr::resolve_camera(scene, request, 1.0);
+  EXPECT_EQ(camera.eye, glm::dvec3(3, 3, 3));
+  EXPECT_EQ(camera.fov_degrees, 20.0);
+  request.target = glm::dvec3(3, 3, 3);
+  try {
+    (void)sr::resolve_camera(scene, request, 1.0);
+    FAIL() << "no error";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--eye/--target"), std::string::npos) << e.what();
+  }
+  request = sr::CameraRequest{};
+  request.scene_file = "scene.json";
+  scene.camera->up = glm::dvec3(0, 0, 0);
+  try {
+    (void)sr::resolve_camera(scene, request, 1.0);
+    FAIL() << "no error";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.json: camera.up"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Palette, SceneMaterialsWinAndMeshesWithoutOneGetColoursByRole) {
+  shadow::Scene scene = roof_scene(false);
+  const sr::Palette palette;
+  std::vector<shadow::Material> materials = sr::display_materials(scene, palette);
+  EXPECT_EQ(materials[0].color, palette.ground);
+  EXPECT_EQ(materials[1].color, palette.building);
+  EXPECT_EQ(materials[0].k_a, palette.k_a);
+  // Without the palette: the models' white default.
+  EXPECT_EQ(sr::display_materials(scene, std::nullopt)[0].color, glm::dvec3(1.0));
+  // A named material wins.
+  shadow::Material red;
+  red.name = "red";
+  red.color = {1, 0, 0};
+  scene.materials = {red};
+  scene.meshes[1].material = "red";
+  materials = sr::display_materials(scene, palette);
+  EXPECT_EQ(materials[1].color, glm::dvec3(1, 0, 0));
+  EXPECT_EQ(materials[0].color, palette.ground);
+}
+
+TEST_F(RenderTest, TheLegendAndTheCompassAreDrawnInTheirCorners) {
+  const fs::path scene_file = fs::path(LIBSHADOW_EXAMPLES_DIR) / "gallery" / "sun_and_lamp.json";
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-test_render-legend-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  const std::string base = "render '" + scene_file.string() + "' --width 400 --height 300 -o '";
+  ASSERT_EQ(run_shadow(base + (dir / "plain.png").string() + "' --compass off"), 0);
+  ASSERT_EQ(run_shadow(base + (dir / "marked.png").string() + "' --legend --compass on"), 0);
+  const Png plain = read_png(dir / "plain.png"), marked = read_png(dir / "marked.png");
+  fs::remove_all(dir);
+  // The legend's white panel top left, the compass's white disk bottom right.
+  auto white_share = [](const Png& png, int x0, int y0, int x1, int y1) {
+    std::size_t white = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const std::uint8_t* p = png.pixel(x, y);
+        white += p[0] == 255 && p[1] == 255 && p[2] == 255;
+      }
+    return static_cast<double>(white) / ((x1 - x0) * (y1 - y0));
+  };
+  EXPECT_GT(white_share(marked, 5, 5, 60, 30), 0.3);
+  EXPECT_LT(white_share(plain, 5, 5, 60, 30), 0.01);
+  // The compass: radius 16 at 300 pixels high, 7 from the corner; its disk around the centre.
+  const int cx = 400 - 16 - 7, cy = 300 - 16 - 7;
+  EXPECT_GT(white_share(marked, cx - 14, cy - 14, cx + 14, cy + 14), 0.3);
+  EXPECT_LT(white_share(plain, cx - 14, cy - 14, cx + 14, cy + 14), 0.01);
+}
+
+// The exact overlay against the engine's own areas, two methods: on every face of examples/sun
+// (17 suns) and examples/default (a sun and a lamp, a wall with a window), the cells cover the
+// face once (their areas add up to the face's), and for every light the cells lit by it add up
+// to the engine's exact lit area (FaceLighting::lit_area, computed from the exact regions, not
+// from the fragments).
+TEST(Overlay, TheExactOverlayAddsUpToTheEnginesAreasForEveryLight) {
+  for (const char* name : {"sun", "default"}) {
+    const shadow::Scene scene = shadow::load_scene(fs::path(LIBSHADOW_EXAMPLES_DIR) / name / "scene.json");
+    const shadow::ShadowResult result = shadow::compute_shadows(scene);
+    const std::vector<sr::OverlayCell> cells = sr::overlay_fragments(scene, result);
+    std::vector<double> covered(scene.faces.size(), 0.0);
+    std::vector<std::vector<double>> lit(scene.faces.size(), std::vector<double>(scene.lights.size(), 0.0));
+    for (const sr::OverlayCell& cell : cells) {
+      const double a = area(cell.polygon);
+      covered[cell.face_id] += a;
+      for (std::size_t k = 0; k < scene.lights.size(); ++k)
+        if (cell.lit[k]) lit[cell.face_id][k] += a;
+    }
+    for (const shadow::FaceLighting& entry : result.lighting) {
+      const double tolerance = 1e-9 * std::max(1.0, entry.area) + entry.dropped_area;
+      EXPECT_NEAR(covered[entry.face_id], entry.area, tolerance) << name << " face " << entry.face_id;
+      EXPECT_NEAR(lit[entry.face_id][entry.light_id], entry.lit_area, tolerance)
+          << name << " face " << entry.face_id << " light " << entry.light_id;
+    }
   }
 }

@@ -46,17 +46,6 @@ bool on_path(const std::string& program) {
 
 glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
-/// The scene file's "camera" (parsed and checked by load_scene): each key it gives replaces
-/// the default view's.
-void apply_scene_camera(const shadow::Scene& scene, shadow::render::Camera& camera) {
-  if (!scene.camera) return;
-  const shadow::Camera& given = *scene.camera;
-  if (given.eye) camera.eye = *given.eye;
-  if (given.target) camera.target = *given.target;
-  if (given.up) camera.up = *given.up;
-  if (given.fov_degrees) camera.fov_degrees = *given.fov_degrees;
-}
-
 }  // namespace
 
 void add_render_options(CLI::App& render, RenderArgs& args) {
@@ -116,6 +105,38 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--fov", args.fov, "Vertical view angle in degrees (default: the scene's camera, or 30)")
       ->check(shadow_cli::finite_in(1.0, 170.0))
       ->each([&args](const std::string&) { args.fov_given = true; });
+  render.add_option("--colours,--colors", args.colours,
+                    "Meshes without a material: palette (the ground, buildings and other meshes each "
+                    "their colour) or white (the lighting models' default material)")
+      ->default_val("palette")
+      ->check(CLI::IsMember({"palette", "white"}));
+  render.add_option("--exposure", args.exposure,
+                    "auto (scale down so that lit surfaces are not clipped: the 99th percentile of the "
+                    "brightest channel at 0.85) or a factor for the colours (1: the models' values)")
+      ->default_val("auto")
+      ->check([](const std::string& text) -> std::string {
+        if (text == "auto") return {};
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || !(value > 0.0) || value > 1e6)
+          return "expected auto or a factor in (0, 1e6], got " + text;
+        return {};
+      });
+  render.add_option("--tone", args.tone,
+                    "Values above 0.8: soft (run smoothly toward white) or clip (cut at 1)")
+      ->default_val("soft")
+      ->check(CLI::IsMember({"soft", "clip"}));
+  render.add_flag("--legend", args.legend, "Draw a legend: each mesh group's colour lit and in shadow, and the lights");
+  render.add_option("--compass", args.compass,
+                    "Draw a compass (north, and the suns' directions on the ground): on, off, or auto (on when "
+                    "the scene has a sun block)")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  render.add_option("--frame", args.frame,
+                    "What the default camera frames: shadows (the meshes but the ground, and their shadows "
+                    "on it) or scene (every vertex, the whole ground included)")
+      ->default_val("shadows")
+      ->check(CLI::IsMember({"shadows", "scene"}));
   render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
@@ -173,29 +194,23 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.lighting.attenuation_k = args.attenuation_k;
   options.shade.lighting.ambient_intensity = args.ambient;
   options.shade.lighting.back_intensity = args.back_intensity;
-  options.shade.camera = sr::default_camera(scene, static_cast<double>(args.width) / args.height);
-  apply_scene_camera(scene, options.shade.camera);  // the scene's "camera", then the options
-  if (!args.target.empty()) options.shade.camera.target = to_vec3(args.target);
-  if (!args.eye.empty()) options.shade.camera.eye = to_vec3(args.eye);
-  if (!args.up.empty()) options.shade.camera.up = to_vec3(args.up);
-  if (args.fov_given) options.shade.camera.fov_degrees = args.fov;
-  // A camera that cannot look is bad input: name the options, or the scene's "camera", that
-  // made it so.
-  const sr::Camera& camera = options.shade.camera;
-  const bool view_from_options = !args.eye.empty() || !args.target.empty();
-  const shadow::SourceLocation view_source =
-      view_from_options ? shadow::SourceLocation{"", "--eye/--target"} : shadow::SourceLocation{args.scene, "camera"};
-  const glm::dvec3 view = camera.target - camera.eye;
-  const double view_length = glm::length(view);
-  if (!(view_length > 0.0) || !std::isfinite(view_length))
-    throw shadow::InputError(view_source, "the camera's eye and target are the same point");
-  const double up_length = glm::length(camera.up);
-  if (!(up_length > 0.0) || !std::isfinite(up_length) ||
-      glm::length(glm::cross(view / view_length, camera.up / up_length)) <= 1e-12)
-    throw shadow::InputError(!args.up.empty() || view_from_options ? shadow::SourceLocation{"", "--up"}
-                                                                     : shadow::SourceLocation{args.scene, "camera.up"},
-                             "the camera's up direction is zero or parallel to the view direction (from eye to "
-                             "target)");
+  if (args.colours == "palette") options.shade.palette = sr::Palette{};
+  options.shade.exposure.automatic = args.exposure == "auto";
+  if (args.exposure != "auto") options.shade.exposure.scale = std::strtod(args.exposure.c_str(), nullptr);
+  options.shade.exposure.soft_shoulder = args.tone == "soft";
+  options.legend = args.legend;
+  options.compass = args.compass == "on" || (args.compass == "auto" && scene.sun.has_value());
+  sr::CameraRequest request;
+  if (!args.eye.empty()) request.eye = to_vec3(args.eye);
+  if (!args.target.empty()) request.target = to_vec3(args.target);
+  if (!args.up.empty()) request.up = to_vec3(args.up);
+  if (args.fov_given) request.fov_degrees = args.fov;
+  request.framing = args.frame == "scene" ? sr::Framing::Scene : sr::Framing::Shadows;
+  request.scene_file = args.scene;
+  // Room for the corner marks: the framing keeps clear of them.
+  if (options.legend || options.compass) request.margin = 0.12;
+  // the default framing, then the scene's "camera", then the options
+  options.shade.camera = sr::resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
 
   shadow::ShadowOptions shadow_options;
   shadow_options.threads = args.threads;
@@ -214,8 +229,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
     std::printf("shadow %s: %zu faces, %zu lights, %zu fragments; %s model, %s shading, %dx%d\n",
                 shadow::version(), scene.faces.size(), scene.lights.size(), result.fragments.size(),
                 args.model.c_str(), args.shading.c_str(), args.width, args.height);
-    std::printf("  shadows in %.3f s, picture in %.3f s: %s\n", seconds(computed - start),
-                seconds(Clock::now() - computed), args.image.c_str());
+    std::printf("  exposure %.3g; shadows in %.3f s, picture in %.3f s: %s\n", image.exposure,
+                seconds(computed - start), seconds(Clock::now() - computed), args.image.c_str());
   }
   return 0;
 }

@@ -23,6 +23,12 @@ struct RenderArgs {
   std::vector<double> up;
   double fov = 30.0;
   bool fov_given = false;
+  std::string frame = "shadows";
+  std::string colours = "palette";
+  std::string exposure = "auto";
+  std::string tone = "soft";
+  bool legend = false;
+  std::string compass = "auto";
   unsigned threads = 0;
   bool quiet = false;
   int light = -1;      ///< SVG/PDF: the light that splits lit from shadowed (-1: the first, if any)

@@ -301,6 +301,13 @@ EOF
   expect_render_error render_up_along_view 2 "--up" "$WORK/tiny/scene.json" --eye 0,0,5 --target 0,0,0 --up 0,0,1
   expect_render_error render_nan_eye 2 "finite coordinate" "$WORK/tiny/scene.json" --eye nan,0,1
   expect_render_error render_huge_target 2 "finite coordinate" "$WORK/tiny/scene.json" --target 1e200,0,0
+  # The look options (docs/render.md): one line naming the option.
+  expect_render_error render_bad_exposure 2 "--exposure" "$WORK/tiny/scene.json" --exposure bright
+  expect_render_error render_zero_exposure 2 "--exposure" "$WORK/tiny/scene.json" --exposure 0
+  expect_render_error render_bad_colours 2 "--colours" "$WORK/tiny/scene.json" --colours pink
+  expect_render_error render_bad_tone 2 "--tone" "$WORK/tiny/scene.json" --tone reinhard
+  expect_render_error render_bad_frame 2 "--frame" "$WORK/tiny/scene.json" --frame all
+  expect_render_error render_bad_compass 2 "--compass" "$WORK/tiny/scene.json" --compass maybe
   mkdir -p "$WORK/cam2"
   cat >"$WORK/cam2/scene.json" <<'EOF'
 {

@@ -16,7 +16,7 @@ trap 'rm -f "$log"' EXIT
 for case in map-only full; do
   status=0
   "$source_dir/tools/paraview/pvpython.sh" "$source_dir/tools/paraview/open_result.py" "$work/$case" \
-    --screenshot "$work/$case.png" --size 900 600 >"$log" 2>&1 || status=$?
+    --screenshot "$work/$case.png" --size 900 600 --describe "$work/$case.json" >"$log" 2>&1 || status=$?
   if [[ $status -eq 2 ]] && grep -q "^pvpython.sh: no pvpython" "$log"; then
     cat "$log"
     exit 77  # ctest SKIP_RETURN_CODE: this machine has no ParaView Python
@@ -49,5 +49,7 @@ if (dims[0], dims[1]) != (900, 600) or share < 0.05 or len(bands) < 4:
     print("FAIL: the sun-hours map is not visible as expected")
     sys.exit(1)
 PY
+  # The map framed and clear of its bar, which reads hours in fixed point.
+  /usr/bin/python3 "$source_dir/tests/paraview/check_layout.py" "$work/$case.json" 0.3
 done
 echo "test_sun_hours_view: ok"

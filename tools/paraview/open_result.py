@@ -16,14 +16,15 @@ Headless, to save a PNG:
         --light 0 --screenshot result.png
 """
 import argparse
+import builtins  # a ProgrammableSource's script replaces max, min, sum... in this namespace
 import json
 import math
 import os
 import sys
 
 from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView,
-                             GetColorTransferFunction, GetScalarBar, Glyph, Hide, Render,
-                             ResetCamera, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
+                             GetColorTransferFunction, GetScalarBar, Glyph, Hide, ProgrammableSource,
+                             Render, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
 
 OUTDIR = os.environ.get("LIBSHADOW_RESULT", "out/default")
 
@@ -34,6 +35,8 @@ def parse_arguments():
     parser.add_argument("--light", type=int, default=0, help="light whose shadows are shown")
     parser.add_argument("--screenshot", help="save the layout to this PNG and exit")
     parser.add_argument("--size", type=int, nargs=2, default=[1600, 700])
+    parser.add_argument("--describe", help="write the views' layout (model on screen, colour bars, light "
+                                           "glyphs) to this JSON file, for tests")
     # ParaView passes its own options to scripts run from the GUI: ignore what we do not know.
     args, _ = parser.parse_known_args(sys.argv[1:])
     return args
@@ -43,33 +46,117 @@ def sanitize(name):
     return "".join(c if c.isalnum() or c == "_" else "_" for c in name)
 
 
-def style_bar(bar, title):
-    """Dark text: the views have white backgrounds."""
+# The model is framed in the left part of each view (frame_model); the colour bars stand in the
+# strip on the right, clear of it.
+MODEL_SHARE = 0.74
+BAR_POSITION = [0.86, 0.1]
+BAR_LENGTH = 0.66
+VIEW_ASPECT = [1.6]  # width / height of each view, set by main from --size
+VIEW_WIDTH = [800]   # pixels
+LABEL_ROOM = 100     # pixels left of a bar for its labels
+TITLE_ROOM = 66      # pixels right of a bar's left edge: half a short title, centred on the bar
+
+
+def bar_position():
+    """The bar's lower left corner: far enough from the right edge for its title."""
+    return [builtins.min(BAR_POSITION[0], 1.0 - TITLE_ROOM / VIEW_WIDTH[0]), BAR_POSITION[1]]
+
+
+def model_share():
+    """The part of a view's width left to the model: up to the bar's labels."""
+    return builtins.min(MODEL_SHARE, bar_position()[0] - LABEL_ROOM / VIEW_WIDTH[0])
+
+
+def style_bar(bar, title, digits=None, labels=None, annotations_left=False):
+    """Dark text on the white views, the bar upright in the strip right of the model; with
+    `digits`, fixed-point labels (not ParaView's default 1.0e+00), at `labels` if given."""
     bar.Title = title
     bar.ComponentTitle = ""
     bar.TitleColor = [0.1, 0.1, 0.1]
     bar.LabelColor = [0.1, 0.1, 0.1]
-    bar.TitleFontSize = 18
-    bar.LabelFontSize = 16
-    # The camera looks down on the scene, which fills the lower part of a view: keep the
-    # legend out of it.
-    bar.WindowLocation = "Upper Right Corner"
+    bar.TitleFontSize = 16
+    bar.LabelFontSize = 14
+    bar.WindowLocation = "Any Location"
+    bar.Orientation = "Vertical"
+
+    bar.ScalarBarLength = BAR_LENGTH
+    bar.HorizontalTitle = 1
+    bar.Position = bar_position()
+    # Labels toward the model's side, inside the view.
+    bar.TextPosition = ("Ticks right/top, annotations left/bottom" if annotations_left
+                        else "Ticks left/bottom, annotations right/top")
+    if digits is not None:
+        bar.AutomaticLabelFormat = 0
+        bar.LabelFormat = "%.{}f".format(digits)
+        bar.RangeLabelFormat = "%.{}f".format(digits)
+    if labels is not None:
+        bar.UseCustomLabels = 1
+        bar.CustomLabels = labels
+        bar.AddRangeLabels = 0
 
 
-def place_camera(view, report, light):
-    """Look at the scene from above, on the side its shadows fall to."""
+def model_bounds(source):
+    """The bounds of a reader's data: the model, not the light glyphs."""
+    source.UpdatePipeline()
+    return list(source.GetDataInformation().GetBounds())
+
+
+def reset_to(view, bounds, share=1.0):
+    """Look at the centre of `bounds` from where the camera looks now, at the distance where
+    their bounding sphere fits `share` of the view's width and 95% of its height (the view's
+    own reset takes every visible thing, light glyphs included, and an aspect the offscreen
+    view may not have yet)."""
+    camera = view.GetActiveCamera()
+    centre = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+    radius = builtins.max(0.5 * builtins.sum((bounds[2 * i + 1] - bounds[2 * i]) ** 2 for i in range(3)) ** 0.5,
+                          1e-9)
+    position, focal = camera.GetPosition(), camera.GetFocalPoint()
+    away = [p - f for p, f in zip(position, focal)]
+    length = builtins.sum(c * c for c in away) ** 0.5
+    away = [c / length for c in away] if length > 0 else [0.0, -0.6, 0.8]
+    half_v = math.radians(camera.GetViewAngle()) / 2
+    half_h = math.atan(math.tan(half_v) * VIEW_ASPECT[0] * share)
+    half = builtins.min(math.atan(math.tan(half_v) * 0.95), half_h)
+    distance = radius / math.sin(half)
+    camera.SetFocalPoint(*centre)
+    camera.SetPosition(*[c + distance * a for c, a in zip(centre, away)])
+    view.CenterOfRotation = centre
+
+
+def frame_model(view, bounds):
+    """Fit the model's bounding sphere into the left MODEL_SHARE of the view, leaving the right
+    strip to the colour bar."""
+    camera = view.GetActiveCamera()
+    share = model_share()
+    reset_to(view, bounds, share)
+    aspect = VIEW_ASPECT[0]
+    distance = camera.GetDistance()
+    visible_width = 2 * distance * math.tan(math.radians(camera.GetViewAngle()) / 2) * aspect
+    shift = (0.5 - share / 2) * visible_width
+    position, focal, up = camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp()
+    view_dir = [f - p for f, p in zip(focal, position)]
+    right = [view_dir[1] * up[2] - view_dir[2] * up[1], view_dir[2] * up[0] - view_dir[0] * up[2],
+             view_dir[0] * up[1] - view_dir[1] * up[0]]
+    norm = builtins.max(builtins.sum(c * c for c in right) ** 0.5, 1e-300)
+    right = [c / norm for c in right]
+    camera.SetPosition(*[p + shift * r for p, r in zip(position, right)])
+    camera.SetFocalPoint(*[f + shift * r for f, r in zip(focal, right)])
+
+
+def place_camera(view, report, light, bounds):
+    """Look at the model from above, on the side its shadows fall to."""
     to_light = report["lights"][light].get("to_light")
-    ResetCamera(view)
+    reset_to(view, bounds)
     camera = view.GetActiveCamera()
     focal = camera.GetFocalPoint()
     distance = camera.GetDistance()
     dx, dy = (-to_light[0], -to_light[1]) if to_light else (1.0, 1.0)
-    norm = max((dx * dx + dy * dy) ** 0.5, 1e-9)
+    norm = builtins.max((dx * dx + dy * dy) ** 0.5, 1e-9)
     dx, dy = dx / norm, dy / norm
     camera.SetPosition(focal[0] + 0.8 * distance * (dx - 0.3 * dy), focal[1] + 0.8 * distance * (dy + 0.3 * dx),
                        focal[2] + 0.7 * distance)
     camera.SetViewUp(0, 0, 1)
-    view.ResetCamera(False)
+    frame_model(view, bounds)
 
 
 def nice_step(span, most=7):
@@ -93,13 +180,13 @@ def style_sun_hours(shown, source, view):
     if "total_hours" in source.FieldData.keys():
         total = source.FieldData["total_hours"].GetRange()[0]
     if not total or total <= 0:
-        total = max(source.CellData["sun_hours"].GetRange()[1], 1.0)
+        total = builtins.max(source.CellData["sun_hours"].GetRange()[1], 1.0)
     lut.AutomaticRescaleRangeMode = "Never"
     lut.RescaleTransferFunction(0.0, total)
-    whole = abs(total - round(total)) < 1e-9
-    if whole and 1 <= round(total) <= 24:
+    whole = builtins.abs(total - builtins.round(total)) < 1e-9
+    if whole and 1 <= builtins.round(total) <= 24:
         lut.Discretize = 1
-        lut.NumberOfTableValues = int(round(total))  # one band per hour
+        lut.NumberOfTableValues = int(builtins.round(total))  # one band per hour
     shown.SetScalarBarVisibility(view, True)
     bar = GetScalarBar(lut, view)
     style_bar(bar, "sun hours")
@@ -108,7 +195,6 @@ def style_sun_hours(shown, source, view):
     bar.AutomaticLabelFormat = 0
     bar.LabelFormat = "%.{}f".format(digits)
     bar.RangeLabelFormat = "%.{}f".format(digits)
-    bar.ScalarBarLength = 0.5
     bar.UseCustomLabels = 1
     bar.CustomLabels = [k * step for k in range(int(total / step + 1e-9) + 1)]
     bar.AddRangeLabels = 1
@@ -135,15 +221,97 @@ def show_sun_hours(outdir, view, read):
     return sun_hours
 
 
-def place_camera_above(view):
-    """Above the scene from the south-south-west, looking down at 50 degrees."""
-    ResetCamera(view)
+def place_camera_above(view, bounds):
+    """Above the model from the south-south-west, looking down at 50 degrees."""
+    reset_to(view, bounds)
     camera = view.GetActiveCamera()
     focal = camera.GetFocalPoint()
     distance = camera.GetDistance()
     camera.SetPosition(focal[0] - 0.25 * distance, focal[1] - 0.6 * distance, focal[2] + 0.75 * distance)
     camera.SetViewUp(0, 0, 1)
-    view.ResetCamera(False)
+    frame_model(view, bounds)
+
+
+LIGHTS_SCRIPT = """
+import vtk
+points = vtk.vtkPoints()
+direction = vtk.vtkDoubleArray()
+direction.SetName("direction")
+direction.SetNumberOfComponents(3)
+verts = vtk.vtkCellArray()
+for position, toward in {glyphs}:
+    verts.InsertNextCell(1)
+    verts.InsertCellPoint(points.InsertNextPoint(*position))
+    direction.InsertNextTuple3(*toward)
+output = self.GetPolyDataOutput()
+output.SetPoints(points)
+output.SetVerts(verts)
+output.GetPointData().AddArray(direction)
+"""
+
+
+def light_glyphs(report, centre, radius):
+    """(tail, direction) of each light's arrow: a directional light's arrow starts on the
+    model's bounding sphere (centre, radius), inside the framed view, and points at its centre,
+    along the light's travel; a point or area light's arrow starts at the light, pointing at the centre."""
+    origin = report.get("origin", [0.0, 0.0, 0.0])
+    glyphs = []
+    for light in report["lights"]:
+        if light.get("to_light"):
+            t = light["to_light"]
+            n = builtins.max(builtins.sum(c * c for c in t) ** 0.5, 1e-300)
+            u = [c / n for c in t]
+            tail = [c + radius * k for c, k in zip(centre, u)]
+            glyphs.append((tail, [-k for k in u]))
+            continue
+        if light.get("position"):
+            where = light["position"]
+        elif light.get("polygon"):
+            where = [builtins.sum(p[i] for p in light["polygon"]) / len(light["polygon"]) for i in range(3)]
+        else:
+            continue
+        tail = [w - o for w, o in zip(where, origin)]
+        toward = [c - w for c, w in zip(centre, tail)]
+        n = builtins.max(builtins.sum(c * c for c in toward) ** 0.5, 1e-300)
+        glyphs.append((tail, [c / n for c in toward]))
+    return glyphs
+
+
+def describe(path, views, bounds, glyphs, size):
+    """The model's box on screen, each colour bar and the light glyphs, as JSON (for tests)."""
+    corners = [[bounds[i], bounds[2 + j], bounds[4 + k]] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+    out = {"bounds": bounds, "glyphs": glyphs, "views": []}
+    for name, view, (width, height) in views:
+        camera = view.GetActiveCamera()
+        matrix = camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1)
+        xs, ys = [], []
+        for c in corners:
+            h = [builtins.sum(matrix.GetElement(r, k) * v for k, v in enumerate(c + [1.0])) for r in range(4)]
+            xs.append(0.5 * (h[0] / h[3] + 1))
+            ys.append(0.5 * (h[1] / h[3] + 1))
+        bars = []
+        for rep in view.Representations:
+            try:
+                if not rep.Visibility or not rep.ColorArrayName or not rep.ColorArrayName[1]:
+                    continue
+            except AttributeError:
+                continue
+            lut = GetColorTransferFunction(rep.ColorArrayName[1])
+            bar = GetScalarBar(lut, view)
+            if not bar.Visibility:
+                continue
+            bars.append({"title": str(bar.Title), "label_format": str(bar.LabelFormat),
+                         "range_label_format": str(bar.RangeLabelFormat),
+                         "automatic_label_format": int(bar.AutomaticLabelFormat),
+                         "custom_labels": list(bar.CustomLabels) if bar.UseCustomLabels else [],
+                         "position": list(bar.Position), "length": bar.ScalarBarLength,
+                         "categorical": bool(lut.InterpretValuesAsCategories),
+                         "range": [lut.RGBPoints[0], lut.RGBPoints[-4]] if len(lut.RGBPoints) >= 4 else [0, 0],
+                         "thickness": bar.ScalarBarThickness, "orientation": str(bar.Orientation),
+                         "view_size": [width, height]})
+        out["views"].append({"name": name, "model_box": [builtins.min(xs), builtins.max(xs), builtins.min(ys), builtins.max(ys)], "bars": bars})
+    with open(path, "w") as f:
+        json.dump(out, f, indent=1)
 
 
 def white_view(view):
@@ -155,9 +323,14 @@ def white_view(view):
         pass
 
 
-def finish(args, layout, views):
+def finish(args, layout, views, described=None):
     for view in views:
         Render(view)
+    if args.describe and described is not None:
+        bounds, glyphs = described
+        width = args.size[0] / len(views)
+        describe(args.describe, [("view %d" % i, v, (width, args.size[1])) for i, v in enumerate(views)], bounds,
+                 glyphs, args.size)
     if args.screenshot:
         SaveScreenshot(args.screenshot, layout, SaveAllViews=1, ImageResolution=args.size)
         if not os.path.isfile(args.screenshot) or os.path.getsize(args.screenshot) == 0:
@@ -181,13 +354,16 @@ def main():
     has_sun_hours = os.path.isfile(os.path.join(outdir, "sun_hours.vtp"))
     if has_sun_hours and not os.path.isfile(os.path.join(outdir, "report.json")):
         # A sun-hours map alone (e.g. from a series run that wrote no per-light result).
+        VIEW_ASPECT[0] = args.size[0] / args.size[1]
+        VIEW_WIDTH[0] = args.size[0]
         layout = CreateLayout("libshadow sun hours")
         view = CreateView("RenderView")
         AssignViewToLayout(view=view, layout=layout, hint=0)
         white_view(view)
-        show_sun_hours(outdir, view, read)
-        place_camera_above(view)
-        finish(args, layout, [view])
+        sun_hours = show_sun_hours(outdir, view, read)
+        Render(view)
+        place_camera_above(view, model_bounds(sun_hours))
+        finish(args, layout, [view], (model_bounds(sun_hours), []))
         return
 
     with open(os.path.join(outdir, "report.json")) as f:
@@ -199,6 +375,8 @@ def main():
     lights = read("lights.vtp")
     plane_shadows = read("plane_shadows.vtp")
 
+    VIEW_ASPECT[0] = args.size[0] / (3 if has_sun_hours else 2) / args.size[1]
+    VIEW_WIDTH[0] = args.size[0] / (3 if has_sun_hours else 2)
     layout = CreateLayout("libshadow")
     left = CreateView("RenderView")
     right = CreateView("RenderView")
@@ -226,7 +404,7 @@ def main():
     lit.Annotations = ["0", "shadowed", "1", "lit"]
     lit.IndexedColors = [0.30, 0.34, 0.45, 0.98, 0.86, 0.62]
     shown.SetScalarBarVisibility(left, True)
-    style_bar(GetScalarBar(lit, left), light_name)
+    style_bar(GetScalarBar(lit, left), "light " + light_name, annotations_left=True)
 
     plane_mine = Threshold(registrationName="plane shadows of " + light_name, Input=plane_shadows)
     plane_mine.Scalars = ["CELLS", "light_id"]
@@ -237,12 +415,20 @@ def main():
     plane_shown.DiffuseColor = [0.55, 0.1, 0.1]
     Hide(plane_mine, left)  # loaded, one click away in the Pipeline Browser
 
-    # Lights: arrows along the light's travel for directional lights, spheres for point lights.
-    size = report.get("summary", {}).get("total_area", 100.0) ** 0.5 / 10.0
-    arrows = Glyph(registrationName="lights", Input=lights, GlyphType="Arrow")
+    # Lights: arrows for directional lights, pointing at the model from its bounding sphere
+    # (lights.vtp puts a sun a scene diagonal away, which would shrink the model in the view);
+    # point and area lights where they are.
+    bounds = model_bounds(faces)
+    centre = [(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)]
+    radius = builtins.max(0.5 * builtins.sum((bounds[2 * i + 1] - bounds[2 * i]) ** 2 for i in range(3)) ** 0.5, 1e-9)
+    glyphs = light_glyphs(report, centre, radius)
+    placed = ProgrammableSource(registrationName="lights (placed at the model)")
+    placed.OutputDataSetType = "vtkPolyData"
+    placed.Script = LIGHTS_SCRIPT.format(glyphs=repr(glyphs))
+    arrows = Glyph(registrationName="lights", Input=placed, GlyphType="Arrow")
     arrows.OrientationArray = ["POINTS", "direction"]
     arrows.ScaleArray = ["POINTS", "No scale array"]
-    arrows.ScaleFactor = 3 * size
+    arrows.ScaleFactor = 0.3 * radius
     arrows_shown = Show(arrows, left)
     arrows_shown.ColorArrayName = ["POINTS", ""]
     arrows_shown.DiffuseColor = [0.9, 0.6, 0.0]
@@ -254,21 +440,25 @@ def main():
     fraction = GetColorTransferFunction(array)
     fraction.ApplyPreset("Inferno (matplotlib)", True)
     fraction.RescaleTransferFunction(0.0, 1.0)
+    fraction.AutomaticRescaleRangeMode = "Never"
     faces_shown.SetScalarBarVisibility(right, True)
-    style_bar(GetScalarBar(fraction, right), "lit fraction, " + light_name)
+    style_bar(GetScalarBar(fraction, right), "lit fraction", digits=2,
+              labels=[0.0, 0.25, 0.5, 0.75, 1.0])
 
     for view in (left, right):
-        place_camera(view, report, args.light)
+        Render(view)  # ParaView resets the camera on a view's first render: get that done first
+        place_camera(view, report, args.light, bounds)
     views = [left, right]
     if has_sun_hours:
         # A third view: the exact sun-hours map.
         sun_view = CreateView("RenderView")
         layout.AssignView(6, sun_view)
         white_view(sun_view)
-        show_sun_hours(outdir, sun_view, read)
-        place_camera_above(sun_view)
+        sun_hours = show_sun_hours(outdir, sun_view, read)
+        Render(sun_view)
+        place_camera_above(sun_view, model_bounds(sun_hours))
         views.append(sun_view)
-    finish(args, layout, views)
+    finish(args, layout, views, (bounds, glyphs))
 
 
 main()

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace shadow::render {
@@ -28,6 +29,7 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<std::uint8_t> rgb;
+  double exposure = 1.0;  ///< the factor the colours were scaled by (render_scene; Exposure)
   /// Red, green, blue of pixel (x, y), y counted from the top.
   [[nodiscard]] const std::uint8_t* pixel(int x, int y) const {
     return rgb.data() + 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x));
@@ -39,13 +41,39 @@ struct RenderOptions {
   int height = 600;
   ShadeOptions shade;                     ///< model, shading method, camera (image_height is set from height)
   glm::dvec3 background{0.93, 0.95, 0.98};  ///< as displayed (sRGB), a pale sky
+  /// render_scene: a legend in the top left corner (each mesh group's colour lit and in
+  /// shadow, and the lights).
+  bool legend = false;
+  /// render_scene: a compass in the bottom right corner: north (the scene's sun block's
+  /// north_axis, or +y) and the directions of the directional lights (suns) on the ground.
+  bool compass = false;
 };
+
+/// One row of the legend: a label and its colours lit and in shadow (displayed, sRGB 0-1).
+struct LegendEntry {
+  std::string label;
+  glm::dvec3 lit{1.0};
+  glm::dvec3 shadow{0.5};
+};
+
+/// What is drawn over the picture (render_scene makes it from the scene and the options).
+struct Decorations {
+  std::vector<LegendEntry> legend;  ///< empty: no legend
+  std::vector<std::string> notes;   ///< lines under the legend's rows (the lights)
+  bool compass = false;
+  glm::dvec3 anchor{0.0};           ///< a point on the ground the compass directions start from
+  glm::dvec3 north{0.0, 1.0, 0.0};  ///< horizontal
+  std::vector<glm::dvec3> suns;     ///< horizontal directions toward the suns
+};
+
+/// The decorations `options` ask for on `scene` (colours through the exposure `exposure`).
+Decorations make_decorations(const Scene& scene, const RenderOptions& options, double exposure);
 
 /// True when an X display is available for VTK's OpenGL (DISPLAY set).
 bool display_available();
 
-/// Draws the coloured mesh. @throws RenderError
-Image render_mesh(const ColouredMesh& mesh, const RenderOptions& options);
+/// Draws the coloured mesh, and `decorations` over it. @throws RenderError
+Image render_mesh(const ColouredMesh& mesh, const RenderOptions& options, const Decorations& decorations = {});
 
 /// Everything: overlay the fragments of `result`, shade, draw. `result` must hold fragment
 /// polygons for every light of `scene` on every face to be drawn. @throws RenderError

@@ -10,7 +10,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <array>
 #include <map>
+#include <unordered_map>
+#include <utility>
 
 namespace shadow::render {
 namespace {
@@ -20,87 +23,6 @@ using geometry::unit_or_zero;
 /// Newell's normal (not normalised): its length is twice the polygon's area.
 glm::dvec3 newell(const std::vector<glm::dvec3>& polygon) { return geometry::newell_normal(polygon); }
 
-struct Triangle {
-  glm::dvec3 a, b, c;
-  bool lit = false;
-  glm::dvec3 lo, hi;  // bounding box
-};
-
-Triangle make_triangle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, bool lit) {
-  return {a, b, c, lit, glm::min(a, glm::min(b, c)), glm::max(a, glm::max(b, c))};
-}
-
-/// Ear clipping of a simple polygon in the plane with normal `normal` (the polygon's own
-/// orientation). Fragments are simple, so an ear always exists; if rounding hides every ear,
-/// the rest is fanned rather than dropped.
-std::vector<Triangle> triangulate(const std::vector<glm::dvec3>& polygon, const glm::dvec3& normal,
-                                  bool lit) {
-  std::vector<Triangle> out;
-  std::vector<glm::dvec3> p = polygon;
-  auto cross_along_normal = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    return glm::dot(glm::cross(b - a, c - a), normal);
-  };
-  auto inside = [&](const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    return cross_along_normal(a, b, q) > 0 && cross_along_normal(b, c, q) > 0 &&
-           cross_along_normal(c, a, q) > 0;
-  };
-  while (p.size() > 3) {
-    const std::size_t n = p.size();
-    bool clipped = false;
-    for (std::size_t i = 0; i < n && !clipped; ++i) {
-      const glm::dvec3& a = p[(i + n - 1) % n];
-      const glm::dvec3& b = p[i];
-      const glm::dvec3& c = p[(i + 1) % n];
-      const double turn = cross_along_normal(a, b, c);
-      if (turn < 0) continue;  // reflex corner
-      bool empty = true;
-      if (turn > 0) {
-        for (std::size_t j = 0; j < n && empty; ++j) {
-          if (j == i || j == (i + n - 1) % n || j == (i + 1) % n) continue;
-          if (inside(p[j], a, b, c)) empty = false;
-        }
-      }
-      if (!empty) continue;
-      if (turn > 0) out.push_back(make_triangle(a, b, c, lit));  // a collinear corner just goes
-      p.erase(p.begin() + static_cast<std::ptrdiff_t>(i));
-      clipped = true;
-    }
-    if (!clipped) break;
-  }
-  for (std::size_t i = 1; i + 1 < p.size(); ++i)
-    if (cross_along_normal(p[0], p[i], p[i + 1]) > 0) out.push_back(make_triangle(p[0], p[i], p[i + 1], lit));
-  return out;
-}
-
-/// Sutherland–Hodgman: the part of convex `polygon` inside triangle `t` (both on one plane).
-std::vector<glm::dvec3> clip(const std::vector<glm::dvec3>& polygon, const Triangle& t) {
-  const glm::dvec3 tn = glm::cross(t.b - t.a, t.c - t.a);
-  std::vector<glm::dvec3> current = polygon;
-  const glm::dvec3 corners[3] = {t.a, t.b, t.c};
-  for (int e = 0; e < 3 && !current.empty(); ++e) {
-    const glm::dvec3& from = corners[e];
-    const glm::dvec3& to = corners[(e + 1) % 3];
-    const glm::dvec3 inward = glm::cross(tn, to - from);
-    auto side = [&](const glm::dvec3& q) { return glm::dot(inward, q - from); };
-    std::vector<glm::dvec3> next;
-    for (std::size_t i = 0; i < current.size(); ++i) {
-      const glm::dvec3& p = current[i];
-      const glm::dvec3& q = current[(i + 1) % current.size()];
-      const double sp = side(p);
-      const double sq = side(q);
-      if (sp >= 0) next.push_back(p);
-      if ((sp >= 0) != (sq >= 0)) next.push_back(p + (q - p) * (sp / (sp - sq)));
-    }
-    current.swap(next);
-  }
-  return current;
-}
-
-bool boxes_overlap(const glm::dvec3& lo1, const glm::dvec3& hi1, const glm::dvec3& lo2, const glm::dvec3& hi2) {
-  return lo1.x <= hi2.x && lo2.x <= hi1.x && lo1.y <= hi2.y && lo2.y <= hi1.y && lo1.z <= hi2.z &&
-         lo2.z <= hi1.z;
-}
-
 glm::dvec3 centroid(const std::vector<glm::dvec3>& polygon) {
   glm::dvec3 sum(0.0);
   for (const glm::dvec3& p : polygon) sum += p;
@@ -108,6 +30,49 @@ glm::dvec3 centroid(const std::vector<glm::dvec3>& polygon) {
 }
 
 glm::dvec3 clamp01(const glm::dvec3& c) { return glm::clamp(c, glm::dvec3(0.0), glm::dvec3(1.0)); }
+
+double shoulder(double x, double knee) {
+  if (!(x > knee)) return std::max(x, 0.0);
+  const double room = 1.0 - knee;
+  return knee + room * (1.0 - std::exp(-(x - knee) / room));
+}
+
+struct PointHash {
+  std::size_t operator()(const std::array<double, 3>& p) const {
+    std::size_t h = 0;
+    for (double c : p) h = h * 1000003u ^ std::hash<double>{}(c);
+    return h;
+  }
+};
+
+struct EdgeHash {
+  std::size_t operator()(const std::pair<std::size_t, std::size_t>& e) const {
+    return std::hash<std::size_t>{}(e.first * 0x9E3779B97F4A7C15ull ^ e.second);
+  }
+};
+
+}  // namespace
+
+glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double scale);
+
+namespace {
+
+/// Scales and maps the shaded colours into [0, 1] (see Exposure).
+void apply_exposure(ColouredMesh& mesh, const Exposure& exposure) {
+  std::vector<glm::dvec3>& colours = mesh.triangle_colours.empty() ? mesh.point_colours : mesh.triangle_colours;
+  double scale = exposure.scale;
+  if (exposure.automatic && !colours.empty()) {
+    std::vector<double> brightest(colours.size());
+    for (std::size_t i = 0; i < colours.size(); ++i)
+      brightest[i] = std::max({colours[i].r, colours[i].g, colours[i].b});
+    const double rank = std::clamp(exposure.percentile, 0.0, 1.0) * static_cast<double>(brightest.size() - 1);
+    const auto nth = brightest.begin() + static_cast<std::ptrdiff_t>(rank);
+    std::nth_element(brightest.begin(), nth, brightest.end());
+    if (*nth > exposure.target) scale *= exposure.target / *nth;
+  }
+  mesh.exposure = scale;
+  for (glm::dvec3& c : colours) c = expose(c, exposure, scale);
+}
 
 }  // namespace
 
@@ -130,217 +95,227 @@ bool parse_shading(const std::string& name, Shading& shading) {
   return false;
 }
 
-Camera default_camera(const Scene& scene, double aspect) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity());
-  glm::dvec3 hi(-std::numeric_limits<double>::infinity());
-  for (const Face& face : scene.faces)
-    for (const glm::dvec3& v : face.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
-  Camera camera;
-  if (!(lo.x <= hi.x)) return camera;
-  camera.target = 0.5 * (lo + hi);
-  const double radius = std::max(0.5 * glm::length(hi - lo), 1e-9);
-  // From the side the first light's shadows fall to, looking back toward the light, turned
-  // 17 degrees and 40 degrees above the horizon: the shadows lie in front of what casts them,
-  // in full view (tools/render_result.py frames the same way).
-  glm::dvec3 shadow_side(0.0, -1.0, 0.0);
-  if (!scene.lights.empty()) {
-    const Light& light = scene.lights.front();
-    const glm::dvec3 to_light = light.type == LightType::Directional ? light.to_light
-                                                                     : light.position - camera.target;
-    const glm::dvec3 flat(-to_light.x, -to_light.y, 0.0);
-    if (glm::length(flat) > 1e-9 * glm::length(to_light)) shadow_side = glm::normalize(flat);
-  }
-  const double turn = 0.3;  // radians
-  const glm::dvec3 eye_side(shadow_side.x * std::cos(turn) - shadow_side.y * std::sin(turn),
-                            shadow_side.x * std::sin(turn) + shadow_side.y * std::cos(turn), 0.0);
-  const double elevation = 40.0 * M_PI / 180.0;
-  const glm::dvec3 view = glm::normalize(glm::dvec3(-eye_side.x * std::cos(elevation),
-                                                    -eye_side.y * std::cos(elevation), -std::sin(elevation)));
-  const glm::dvec3 right = glm::normalize(glm::cross(view, glm::dvec3(0.0, 0.0, 1.0)));
-  const glm::dvec3 up = glm::cross(right, view);
-  const double tan_vertical = std::tan(0.5 * camera.fov_degrees * M_PI / 180.0);
-  const double tan_horizontal = tan_vertical * aspect;
-
-  // The nearest distance at which every vertex is in view (tighter than the bounding sphere,
-  // mostly empty air for a flat scene seen at an angle); then the target moves sideways to
-  // centre the picture, and the fit is repeated.
-  double distance = 0.0;
-  for (int pass = 0; pass < 4; ++pass) {
-    distance = 0.0;
-    for (const Face& face : scene.faces)
-      for (const glm::dvec3& v : face.vertices) {
-        const glm::dvec3 offset = v - camera.target;
-        const double depth = glm::dot(offset, view);  // positive: beyond the target
-        distance = std::max({distance, std::abs(glm::dot(offset, right)) / tan_horizontal - depth,
-                             std::abs(glm::dot(offset, up)) / tan_vertical - depth});
-      }
-    distance = 1.04 * std::max(distance, 0.1 * radius);
-    if (pass == 3) break;
-    const glm::dvec3 eye = camera.target - distance * view;
-    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
-    for (const Face& face : scene.faces)
-      for (const glm::dvec3& v : face.vertices) {
-        const glm::dvec3 offset = v - eye;
-        const double depth = glm::dot(offset, view);
-        if (!(depth > 0.0)) continue;
-        const double x = glm::dot(offset, right) / depth;
-        const double y = glm::dot(offset, up) / depth;
-        x_lo = std::min(x_lo, x);
-        x_hi = std::max(x_hi, x);
-        y_lo = std::min(y_lo, y);
-        y_hi = std::max(y_hi, y);
-      }
-    if (!(x_lo <= x_hi)) break;
-    camera.target += distance * (0.5 * (x_lo + x_hi) * right + 0.5 * (y_lo + y_hi) * up);
-  }
-  camera.eye = camera.target - distance * view;
-  camera.up = {0.0, 0.0, 1.0};
-  return camera;
-}
-
-std::vector<OverlayCell> overlay_fragments(const Scene& scene, const ShadowResult& result) {
-  const std::size_t light_count = scene.lights.size();
-  // Triangles of every face, per light; fragments come ordered by face then light.
-  std::map<std::size_t, std::vector<std::vector<Triangle>>> by_face;
-  for (const Fragment& f : result.fragments) {
-    if (f.face_id >= scene.faces.size() || f.light_id >= light_count || f.polygon.size() < 3) continue;
-    auto& lights = by_face[f.face_id];
-    if (lights.empty()) lights.resize(light_count);
-    const glm::dvec3 normal = newell(scene.faces[f.face_id].vertices);
-    for (Triangle& t : triangulate(f.polygon, normal, f.lit)) lights[f.light_id].push_back(t);
-  }
-
-  std::vector<OverlayCell> cells;
-  for (auto& [face_id, lights] : by_face) {
-    const double face_area = 0.5 * glm::length(newell(scene.faces[face_id].vertices));
-    // Pieces below this are rounding slivers along shared edges.
-    const double negligible = 1e-12 * face_area;
-    std::vector<OverlayCell> current;
-    for (std::size_t k = 0; k < light_count; ++k) {
-      const std::vector<Triangle>& triangles = lights[k];
-      if (k == 0) {
-        for (const Triangle& t : triangles) {
-          OverlayCell cell;
-          cell.face_id = face_id;
-          cell.polygon = {t.a, t.b, t.c};
-          cell.lit.assign(light_count, false);
-          cell.lit[0] = t.lit;
-          current.push_back(std::move(cell));
-        }
-        continue;
-      }
-      std::vector<OverlayCell> next;
-      for (const OverlayCell& cell : current) {
-        glm::dvec3 lo = cell.polygon.front(), hi = cell.polygon.front();
-        for (const glm::dvec3& p : cell.polygon) {
-          lo = glm::min(lo, p);
-          hi = glm::max(hi, p);
-        }
-        for (const Triangle& t : triangles) {
-          if (!boxes_overlap(lo, hi, t.lo, t.hi)) continue;
-          std::vector<glm::dvec3> piece = clip(cell.polygon, t);
-          if (piece.size() < 3 || 0.5 * glm::length(newell(piece)) <= negligible) continue;
-          OverlayCell split = cell;
-          split.polygon = std::move(piece);
-          split.lit[k] = t.lit;
-          next.push_back(std::move(split));
-        }
-      }
-      current.swap(next);
-    }
-    for (OverlayCell& cell : current) cells.push_back(std::move(cell));
-  }
-  return cells;
-}
-
 ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cells,
                          const ShadeOptions& options) {
   ColouredMesh mesh;
   const Camera& camera = options.camera;
-  // Material lookup by name once per face, not once per shaded point.
-  std::vector<const Material*> material_of_face(scene.faces.size(), nullptr);
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) material_of_face[f] = &scene.material_of(f);
+  // Material lookup once per face, not once per shaded point.
+  const std::vector<Material> materials = display_materials(scene, options.palette);
   auto colour_at = [&](const glm::dvec3& p, const glm::dvec3& normal, const OverlayCell& cell) {
     ShadingPoint point{p, normal, camera.eye};
-    return clamp01(shade(point, *material_of_face[cell.face_id], scene.lights, cell.lit, options.lighting));
+    return shade(point, materials[scene.faces[cell.face_id].mesh], scene.lights, cell.lit, options.lighting);
   };
 
-  // Phong: the size of a pixel at distance 1, to subdivide cells to about a pixel.
+  // Phong: the size of a pixel at distance 1, to refine the triangles to about a pixel.
   const double pixel_at_unit_distance =
       2.0 * std::tan(0.5 * camera.fov_degrees * M_PI / 180.0) / std::max(1, options.image_height);
-  double pixels_per_segment = 1.5;
+  double pixels_per_edge = 1.5;
   if (options.shading == Shading::Phong) {
-    // Coarser if the fine subdivision would be too large.
+    // Coarser if the fine refinement would be too large (about (edge / target)^2 triangles each).
     auto count = [&](double pixels) {
-      std::size_t total = 0;
-      for (const OverlayCell& cell : cells)
-        for (std::size_t i = 1; i + 1 < cell.polygon.size(); ++i) {
-          const glm::dvec3 &a = cell.polygon[0], &b = cell.polygon[i], &c = cell.polygon[i + 1];
+      double total = 0.0;
+      for (const OverlayCell& cell : cells) {
+        const glm::dvec3 c = centroid(cell.polygon);
+        for (std::size_t i = 0; i < cell.polygon.size(); ++i) {
+          const glm::dvec3 &a = cell.polygon[i], &b = cell.polygon[(i + 1) % cell.polygon.size()];
           const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
           const double target = pixels * pixel_at_unit_distance * glm::length((a + b + c) / 3.0 - camera.eye);
-          const double n = std::min(512.0, std::ceil(longest / std::max(target, 1e-300)));
-          total += static_cast<std::size_t>(n * n);
+          total += std::max(1.0, 2.0 * std::pow(longest / std::max(target, 1e-300), 2.0));
         }
+      }
       return total;
     };
-    while (count(pixels_per_segment) > options.max_triangles) pixels_per_segment *= 1.5;
+    while (count(pixels_per_edge) > static_cast<double>(options.max_triangles) && pixels_per_edge < 1e6)
+      pixels_per_edge *= 1.5;
   }
 
-  for (const OverlayCell& cell : cells) {
-    const glm::dvec3 normal = unit_or_zero(newell(scene.faces[cell.face_id].vertices));
+  // Face by face (the overlay lists a face's cells together): each cell is fanned from its
+  // centroid, so every point of a cell's boundary (the overlay puts the neighbours' vertices on
+  // it) is a vertex, and neighbouring triangles meet vertex to vertex. Phong refines that mesh
+  // by longest-edge bisection (Rivara), splitting an edge at the same midpoint from both sides:
+  // the refined mesh stays conforming, and the rasteriser leaves no crack between triangles.
+  std::size_t begin = 0;
+  while (begin < cells.size()) {
+    std::size_t end = begin;
+    while (end < cells.size() && cells[end].face_id == cells[begin].face_id) ++end;
+    const glm::dvec3 normal = unit_or_zero(newell(scene.faces[cells[begin].face_id].vertices));
+
     if (options.shading == Shading::Flat) {
-      const glm::dvec3 colour = colour_at(centroid(cell.polygon), normal, cell);
-      const std::size_t base = mesh.points.size();
-      for (const glm::dvec3& p : cell.polygon) mesh.points.push_back(p);
-      for (std::size_t i = 1; i + 1 < cell.polygon.size(); ++i) {
-        mesh.triangles.insert(mesh.triangles.end(), {base, base + i, base + i + 1});
-        mesh.triangle_colours.push_back(colour);
-      }
-    } else if (options.shading == Shading::Gouraud) {
-      const std::size_t base = mesh.points.size();
-      for (const glm::dvec3& p : cell.polygon) {
-        mesh.points.push_back(p);
-        mesh.point_colours.push_back(colour_at(p, normal, cell));
-      }
-      for (std::size_t i = 1; i + 1 < cell.polygon.size(); ++i)
-        mesh.triangles.insert(mesh.triangles.end(), {base, base + i, base + i + 1});
-    } else {
-      // Per pixel: a fan of the convex cell, each triangle cut into an n x n grid of
-      // triangles about a pixel wide, the model evaluated at every grid point.
-      for (std::size_t i = 1; i + 1 < cell.polygon.size(); ++i) {
-        const glm::dvec3 a = cell.polygon[0], b = cell.polygon[i], c = cell.polygon[i + 1];
-        const double longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-        const double target =
-            pixels_per_segment * pixel_at_unit_distance * glm::length((a + b + c) / 3.0 - camera.eye);
-        const int n = static_cast<int>(std::clamp(std::ceil(longest / std::max(target, 1e-300)), 1.0, 512.0));
+      for (std::size_t k = begin; k < end; ++k) {
+        const OverlayCell& cell = cells[k];
+        const glm::dvec3 c = centroid(cell.polygon);
+        const glm::dvec3 colour = colour_at(c, normal, cell);
         const std::size_t base = mesh.points.size();
-        auto index = [&](int row, int col) {  // row + col <= n; rows of n + 1, n, ..., 1 points
-          return base + static_cast<std::size_t>(row * (n + 1) - row * (row - 1) / 2 + col);
+        mesh.points.push_back(c);
+        for (const glm::dvec3& p : cell.polygon) mesh.points.push_back(p);
+        const std::size_t n = cell.polygon.size();
+        for (std::size_t i = 0; i < n; ++i) {
+          mesh.triangles.insert(mesh.triangles.end(), {base, base + 1 + i, base + 1 + (i + 1) % n});
+          mesh.triangle_colours.push_back(colour);
+        }
+      }
+      begin = end;
+      continue;
+    }
+
+    // The face's triangles over shared vertex ids.
+    std::vector<glm::dvec3> points;
+    std::unordered_map<std::array<double, 3>, std::size_t, PointHash> id_of;
+    auto vertex = [&](const glm::dvec3& p) {
+      const auto [it, added] = id_of.try_emplace({p.x, p.y, p.z}, points.size());
+      if (added) points.push_back(p);
+      return it->second;
+    };
+    struct Tri {
+      std::array<std::size_t, 3> v;
+      std::size_t cell;
+    };
+    std::vector<Tri> tris;
+    for (std::size_t k = begin; k < end; ++k) {
+      const OverlayCell& cell = cells[k];
+      const std::size_t c = vertex(centroid(cell.polygon));
+      const std::size_t n = cell.polygon.size();
+      for (std::size_t i = 0; i < n; ++i)
+        tris.push_back({{c, vertex(cell.polygon[i]), vertex(cell.polygon[(i + 1) % n])}, k});
+    }
+
+    if (options.shading == Shading::Phong) {
+      using Edge = std::pair<std::size_t, std::size_t>;  // ends in increasing order
+      auto key = [](std::size_t a, std::size_t b) { return a < b ? Edge{a, b} : Edge{b, a}; };
+      auto too_long = [&](std::size_t a, std::size_t b) {
+        const glm::dvec3 m = 0.5 * (points[a] + points[b]);
+        return glm::length(points[b] - points[a]) >
+               pixels_per_edge * pixel_at_unit_distance * glm::length(m - camera.eye);
+      };
+      auto longest = [&](const Tri& t) {  // index i of the longest edge v[i] -> v[i + 1]
+        int best = 0;
+        double length = -1.0;
+        for (int i = 0; i < 3; ++i) {
+          const double l = glm::length(points[t.v[(i + 1) % 3]] - points[t.v[i]]);
+          if (l > length) {
+            length = l;
+            best = i;
+          }
+        }
+        return best;
+      };
+      std::unordered_map<Edge, std::size_t, EdgeHash> midpoint;
+      for (int round = 0; round < 64; ++round) {
+        std::unordered_map<Edge, bool, EdgeHash> marked;
+        marked.reserve(2 * tris.size());
+        for (const Tri& t : tris)
+          for (int i = 0; i < 3; ++i)
+            if (too_long(t.v[i], t.v[(i + 1) % 3])) marked[key(t.v[i], t.v[(i + 1) % 3])] = true;
+        if (marked.empty()) break;
+        // Closure: a triangle with a marked edge has its longest edge marked too.
+        for (bool changed = true; changed;) {
+          changed = false;
+          for (const Tri& t : tris) {
+            bool any = false;
+            for (int i = 0; i < 3; ++i) any = any || marked.count(key(t.v[i], t.v[(i + 1) % 3])) > 0;
+            const int l = longest(t);
+            if (any && marked.emplace(key(t.v[l], t.v[(l + 1) % 3]), true).second) changed = true;
+          }
+        }
+        auto split_point = [&](std::size_t a, std::size_t b) {
+          const Edge e = key(a, b);
+          const auto found = midpoint.find(e);
+          if (found != midpoint.end()) return found->second;
+          // From the edge's ordered ends: the same bits whichever triangle asks.
+          const std::size_t m = vertex(0.5 * (points[e.first] + points[e.second]));
+          midpoint.emplace(e, m);
+          return m;
         };
-        for (int row = 0; row <= n; ++row)
-          for (int col = 0; col + row <= n; ++col) {
-            // Corners exactly where they were: shadow edges stay put.
-            glm::dvec3 p = a + (b - a) * (static_cast<double>(col) / n) + (c - a) * (static_cast<double>(row) / n);
-            if (row == 0 && col == 0) p = a;
-            if (row == 0 && col == n) p = b;
-            if (row == n) p = c;
-            mesh.points.push_back(p);
-            mesh.point_colours.push_back(colour_at(p, normal, cell));
+        std::vector<Tri> next;
+        next.reserve(tris.size() * 2);
+        for (const Tri& t : tris) {
+          // Bisect the longest edge, then in each half the marked original edge, if any.
+          const int l = longest(t);
+          const std::size_t a = t.v[l], b = t.v[(l + 1) % 3], c = t.v[(l + 2) % 3];
+          if (!marked.count(key(a, b))) {
+            next.push_back(t);
+            continue;
           }
-        for (int row = 0; row < n; ++row)
-          for (int col = 0; col + row < n; ++col) {
-            mesh.triangles.insert(mesh.triangles.end(), {index(row, col), index(row, col + 1), index(row + 1, col)});
-            if (col + row + 1 < n)
-              mesh.triangles.insert(mesh.triangles.end(),
-                                    {index(row, col + 1), index(row + 1, col + 1), index(row + 1, col)});
+          const std::size_t m = split_point(a, b);
+          // Halves (a, m, c) and (m, b, c); their original edges are c-a and b-c.
+          if (marked.count(key(c, a))) {
+            const std::size_t q = split_point(c, a);
+            next.push_back({{a, m, q}, t.cell});
+            next.push_back({{m, c, q}, t.cell});
+          } else {
+            next.push_back({{a, m, c}, t.cell});
           }
+          if (marked.count(key(b, c))) {
+            const std::size_t q = split_point(b, c);
+            next.push_back({{m, b, q}, t.cell});
+            next.push_back({{m, q, c}, t.cell});
+          } else {
+            next.push_back({{m, b, c}, t.cell});
+          }
+        }
+        tris.swap(next);
+        if (tris.size() > options.max_triangles) break;
       }
     }
+
+    // Colours at each (vertex, cell): a vertex on a shadow edge has one colour per side.
+    std::unordered_map<std::pair<std::size_t, std::size_t>, std::size_t, EdgeHash> point_of;
+    point_of.reserve(2 * tris.size());
+    for (const Tri& t : tris) {
+      std::size_t ids[3];
+      for (int i = 0; i < 3; ++i) {
+        const auto [it, added] = point_of.try_emplace({t.v[i], t.cell}, mesh.points.size());
+        if (added) {
+          mesh.points.push_back(points[t.v[i]]);
+          mesh.point_colours.push_back(colour_at(points[t.v[i]], normal, cells[t.cell]));
+        }
+        ids[i] = it->second;
+      }
+      mesh.triangles.insert(mesh.triangles.end(), {ids[0], ids[1], ids[2]});
+    }
+    begin = end;
   }
+  apply_exposure(mesh, options.exposure);
   return mesh;
+}
+
+glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double scale) {
+  glm::dvec3 c = linear * scale;
+  const double knee = std::clamp(exposure.knee, 0.0, 0.999);
+  if (exposure.soft_shoulder) c = glm::dvec3(shoulder(c.r, knee), shoulder(c.g, knee), shoulder(c.b, knee));
+  return clamp01(c);
+}
+
+std::vector<Material> display_materials(const Scene& scene, const std::optional<Palette>& palette) {
+  std::vector<Material> materials(scene.meshes.size());
+  const std::vector<MeshRole> roles = mesh_roles(scene);
+  const bool any_building = std::find(roles.begin(), roles.end(), MeshRole::Building) != roles.end();
+  std::size_t next_other = any_building ? 1 : 0;  // without buildings, the first other mesh looks like one
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const std::string& name = scene.meshes[m].material;
+    const auto named = std::find_if(scene.materials.begin(), scene.materials.end(),
+                                    [&](const Material& material) { return !name.empty() && material.name == name; });
+    if (named != scene.materials.end()) {
+      materials[m] = *named;  // the scene's materials win
+      continue;
+    }
+    if (!palette) continue;
+    Material& material = materials[m];
+    material.k_a = palette->k_a;
+    material.k_d = palette->k_d;
+    material.k_s = palette->k_s;
+    material.shininess = palette->shininess;
+    if (roles[m] == MeshRole::Ground) {
+      material.color = palette->ground;
+    } else if (roles[m] == MeshRole::Building) {
+      material.color = palette->building;
+    } else {
+      const std::size_t i = next_other++;
+      material.color = i == 0 || palette->others.empty() ? palette->building
+                                                         : palette->others[(i - 1) % palette->others.size()];
+    }
+  }
+  return materials;
 }
 
 }  // namespace shadow::render

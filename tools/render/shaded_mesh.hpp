@@ -9,6 +9,8 @@
 /// shadow edges of the fragments (rounded to double once), not a shadow map's staircase.
 #pragma once
 
+#include "render/camera.hpp"
+
 #include <shadow/lighting.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
@@ -16,23 +18,11 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace shadow::render {
-
-/// A pinhole camera: eye, the point looked at, the up direction and the vertical view angle.
-struct Camera {
-  glm::dvec3 eye{0.0, -10.0, 10.0};
-  glm::dvec3 target{0.0};
-  glm::dvec3 up{0.0, 0.0, 1.0};
-  double fov_degrees = 30.0;
-};
-
-/// A camera that frames the whole scene from 40 degrees above the horizon, on the side the
-/// first light's shadows fall to, looking back toward the light (turned 17 degrees), with
-/// every vertex in view and the picture centred.
-Camera default_camera(const Scene& scene, double aspect);
 
 /// Shading methods of seed 000.
 enum class Shading {
@@ -62,7 +52,44 @@ struct ColouredMesh {
   std::vector<std::size_t> triangles;   ///< 3 point indices per triangle
   std::vector<glm::dvec3> point_colours;     ///< Gouraud, Phong: one per point
   std::vector<glm::dvec3> triangle_colours;  ///< Flat: one per triangle
+  double exposure = 1.0;  ///< the scale the colours were multiplied by (Exposure)
 };
+
+/// How the models' linear colours become displayable ones in [0, 1] (docs/render.md). The
+/// defaults keep the models' values, clipped at 1.
+struct Exposure {
+  /// Scale the colours down (never up) so that `percentile` of the brightest channel of the
+  /// shaded points lands at `target`: lit surfaces are not clipped whatever the lights add to.
+  bool automatic = false;
+  double percentile = 0.99;
+  double target = 0.85;
+  double scale = 1.0;  ///< multiplies the colours (after the automatic scale)
+  /// Above `knee`, values run smoothly toward 1 (knee + (1 - knee)(1 - exp(-(x - knee)/(1 - knee))))
+  /// instead of being clipped: highlights keep some shape and pure white needs x > 1.7.
+  bool soft_shoulder = false;
+  double knee = 0.8;
+};
+
+/// The display palette for meshes without a material (linear RGB): the ground one calm colour,
+/// buildings another, further meshes each their own (see mesh_roles in camera.hpp).
+struct Palette {
+  glm::dvec3 ground{0.40, 0.46, 0.30};
+  glm::dvec3 building{0.76, 0.60, 0.44};
+  std::vector<glm::dvec3> others{{0.26, 0.40, 0.62}, {0.60, 0.24, 0.15}, {0.36, 0.24, 0.44},
+                                 {0.16, 0.42, 0.38}, {0.60, 0.48, 0.13}, {0.45, 0.45, 0.48}};
+  /// Less ambient than Material{} (0.3): shadows read as shadows (lit/shadowed ground about
+  /// 1 + 3 cos(sun's zenith angle) : 1).
+  double k_a = 0.25, k_d = 0.75, k_s = 0.1, shininess = 16.0;
+};
+
+/// `linear` (a model's colour) as displayed under `exposure`: scaled, through the soft shoulder
+/// if it is on, clipped to [0, 1] (still linear).
+glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double scale);
+
+/// One material per scene mesh: the mesh's named material where the scene has it; otherwise,
+/// with `palette`, a palette material by the mesh's role (ground, building, other in turn);
+/// otherwise Material{} (white), as the lighting models' default.
+std::vector<Material> display_materials(const Scene& scene, const std::optional<Palette>& palette);
 
 /// What to shade and how.
 struct ShadeOptions {
@@ -72,6 +99,9 @@ struct ShadeOptions {
   int image_height = 600;  ///< with the camera's view angle, sets the pixel size for Phong
   /// Phong: the largest number of triangles; past it the subdivision is coarser than a pixel.
   std::size_t max_triangles = 2'000'000;
+  Exposure exposure;
+  /// Meshes without a material get the palette's colours (none: white Material{}).
+  std::optional<Palette> palette;
 };
 
 /// Colours the overlay cells with the lighting model (materials from `scene`).

@@ -3,6 +3,7 @@
 // the format is a few elements) or PDF (cairo). Needs no X display, unlike the PNG.
 #include "render/vector_view.hpp"
 
+#include "render/camera.hpp"
 #include "render/render_image.hpp"
 #include "render/shaded_mesh.hpp"
 #include "render_command.hpp"
@@ -76,8 +77,11 @@ bool is_vector_output(const std::string& path) {
   return ext == ".svg" || ext == ".pdf";
 }
 
-glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece) {
-  const glm::dvec3 base = scene.material_of(piece.face_id).color;
+glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece,
+                        const VectorStyle& style) {
+  const std::size_t mesh = scene.faces[piece.face_id].mesh;
+  const glm::dvec3 base = mesh < style.mesh_colours.size() ? style.mesh_colours[mesh]
+                                                           : scene.material_of(piece.face_id).color;
   // Lit: the material's colour a little darkened, so that white stays apart from the sky;
   // shadowed: a third of it. Without a light every piece is drawn as lit.
   const double scale = !view.light_id || piece.lit ? 0.8 : 0.18;
@@ -106,7 +110,7 @@ void write_svg(const Scene& scene, const VectorView& view, const std::filesystem
     out << ">\n";
     for (; k < view.pieces.size() && view.pieces[k].face_id == face; ++k) {
       const ViewPiece& p = view.pieces[k];
-      const std::string fill = hex_colour(piece_colour(scene, view, p));
+      const std::string fill = hex_colour(piece_colour(scene, view, p, style));
       out << "<path data-lit=\"" << (p.lit ? 1 : 0) << "\" fill=\"" << fill << "\"";
       // Without edges, a half-pixel outline in the piece's own colour, as thin on screen at any
       // zoom: renderers anti-alias each piece alone and leave the background showing through
@@ -148,7 +152,7 @@ void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem
     cairo_move_to(cr, p.image[0].x, p.image[0].y);
     for (std::size_t v = 1; v < p.image.size(); ++v) cairo_line_to(cr, p.image[v].x, p.image[v].y);
     cairo_close_path(cr);
-    const glm::dvec3 c = piece_colour(scene, view, p);
+    const glm::dvec3 c = piece_colour(scene, view, p, style);
     cairo_set_source_rgb(cr, c.x, c.y, c.z);
     // The seams between touching pieces hidden as in the SVG, by an outline in the fill's
     // colour (a quarter point wide: PDF has no non-scaling stroke), or dark edges.
@@ -177,19 +181,17 @@ void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem
 }
 
 ViewCamera vector_camera(const Scene& scene, const RenderArgs& args) {
-  // The PNG's choice, in the same order: its default framing, the scene's camera, the options.
-  Camera c = default_camera(scene, static_cast<double>(args.width) / args.height);
-  if (scene.camera) {
-    if (scene.camera->eye) c.eye = *scene.camera->eye;
-    if (scene.camera->target) c.target = *scene.camera->target;
-    if (scene.camera->up) c.up = *scene.camera->up;
-    if (scene.camera->fov_degrees) c.fov_degrees = *scene.camera->fov_degrees;
-  }
+  // The PNG's camera, from the one function that chooses it (render/camera.hpp): its default
+  // framing, then the scene's camera, then the options; errors name the options or the scene.
+  CameraRequest request;
   auto vec = [](const std::vector<double>& v) { return glm::dvec3(v[0], v[1], v[2]); };
-  if (!args.target.empty()) c.target = vec(args.target);
-  if (!args.eye.empty()) c.eye = vec(args.eye);
-  if (!args.up.empty()) c.up = vec(args.up);
-  if (args.fov_given) c.fov_degrees = args.fov;
+  if (!args.eye.empty()) request.eye = vec(args.eye);
+  if (!args.target.empty()) request.target = vec(args.target);
+  if (!args.up.empty()) request.up = vec(args.up);
+  if (args.fov_given) request.fov_degrees = args.fov;
+  request.framing = args.frame == "scene" ? Framing::Scene : Framing::Shadows;
+  request.scene_file = args.scene;
+  const Camera c = resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
   ViewCamera camera;
   camera.eye = c.eye;
   camera.target = c.target;
@@ -206,14 +208,7 @@ int run_vector_render(const RenderArgs& args) {
   Scene scene = load_scene(args.scene);
   if (!args.quiet)
     for (const Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
-  const ViewCamera camera = vector_camera(scene, args);
-  // A camera that cannot look is bad input: name the options, or the scene's "camera".
-  const bool from_options = !args.eye.empty() || !args.target.empty() || !args.up.empty() || args.fov_given;
-  try {
-    (void)make_view_frame(camera, from_options ? "--eye/--target/--up/--fov" : "camera");
-  } catch (const InputError& e) {
-    throw InputError({from_options ? std::string() : args.scene, e.where().place}, e.problem());
-  }
+  const ViewCamera camera = vector_camera(scene, args);  // checked there, naming options or scene
   VectorViewOptions options;
   options.threads = args.threads;
   if (args.light >= 0) {
@@ -233,6 +228,10 @@ int run_vector_render(const RenderArgs& args) {
   }
   VectorStyle style;
   style.edges = args.edges;
+  // The PNG's colours: each mesh's material, or the palette by role for meshes without one.
+  for (const Material& m : display_materials(scene, args.colours == "palette" ? std::optional<Palette>(Palette{})
+                                                                              : std::nullopt))
+    style.mesh_colours.push_back(m.color);
   style.title = std::filesystem::path(args.scene).filename().string();
   if (view.light_id) {
     const Light& light = scene.lights[*view.light_id];

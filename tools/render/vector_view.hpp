@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 struct RenderArgs;
 
@@ -18,13 +19,17 @@ namespace shadow::render {
 struct VectorStyle {
   bool edges = false;  ///< a thin dark outline around every piece
   std::string title;   ///< the SVG's <title> and the PDF's title
+  /// Linear RGB per scene mesh (the PNG's display_materials); empty: each face's material.
+  std::vector<glm::dvec3> mesh_colours;
 };
 
 /// Whether `path` names a vector output (".svg" or ".pdf", any case).
 bool is_vector_output(const std::string& path);
 
-/// Fill colour of a piece as sRGB in [0, 1]: its face's material colour, lit or in shadow.
-glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece);
+/// Fill colour of a piece as sRGB in [0, 1]: its mesh's colour (style.mesh_colours, else the
+/// face's material), lit or in shadow.
+glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece,
+                        const VectorStyle& style);
 
 /// Writes the view as SVG: a <g> per face (data-face-id, data-mesh, data-back), a <path> per
 /// piece (data-lit), coordinates with 17 significant digits. @throws RenderError naming the file
@@ -36,8 +41,8 @@ void write_svg(const Scene& scene, const VectorView& view, const std::filesystem
 void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
                const VectorStyle& style);
 
-/// The camera of `shadow render` for a vector view: the PNG's default framing, then the scene's
-/// `camera`, then the options (one function, so that the PNG's camera choice can replace it).
+/// The camera of `shadow render` for a vector view: resolve_camera (render/camera.hpp), the
+/// PNG's own choice, at the image's size. @throws InputError naming the options or the scene
 ViewCamera vector_camera(const Scene& scene, const RenderArgs& args);
 
 /// Runs `shadow render` for an .svg or .pdf output. @throws InputError, RenderError
