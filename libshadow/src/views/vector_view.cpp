@@ -239,6 +239,18 @@ VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& cam
     for (std::size_t f = 0; f < n; ++f)
       if (!(*ctx.prep)[f].degenerate) eye_side[f] = CGAL::sign(plane_at_light(w.face(ctx, f), eye));
   }
+  // A face of a closed convex solid (fronts outward) seen from its back, by an eye outside the
+  // solid (in front of one of its faces), is hidden by the solid itself: from any of its points
+  // the way to the eye runs through the solid and leaves it through another face. Such faces are
+  // skipped, not computed (a city of boxes shows half of its faces from the back).
+  std::vector<char> eye_outside(ctx.solids->size(), 0);
+  for (std::size_t f = 0; f < n; ++f)
+    if ((*ctx.solid_of)[f] >= 0 && eye_side[f] > 0) eye_outside[static_cast<std::size_t>((*ctx.solid_of)[f])] = 1;
+  auto hidden_by_own_solid = [&](std::size_t f) {
+    const int s = (*ctx.solid_of)[f];
+    return s >= 0 && eye_side[f] < 0 && eye_outside[static_cast<std::size_t>(s)];
+  };
+
   // The scene as the eye sees it: every face turned to show the eye its front.
   Scene seen;
   seen.meshes = scene.meshes;
@@ -275,7 +287,7 @@ VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& cam
   core::parallel_for(
       n, threads,
       [&](unsigned wi, std::size_t f) {
-        if (eye_side[f] == 0 || (*ctx.prep)[f].degenerate) return;
+        if (eye_side[f] == 0 || (*ctx.prep)[f].degenerate || hidden_by_own_solid(f)) return;
         Worker& w = workers[wi];
         const core::FacePrep& fp = (*ctx.prep)[f];
         const ExactFace& P = w.given.face(ctx, f);
