@@ -19,6 +19,9 @@ packages=(
   # `shadow render` and its tests on a machine without a display: an X server in memory and
   # Mesa's software OpenGL (llvmpipe).
   xvfb xauth libgl1-mesa-dri
+  # `shadow render -o view.pdf` (the exact vector view through cairo), and rsvg-convert, with
+  # which the tests render the SVG view.
+  libcairo2-dev librsvg2-bin
   # The sampled baselines that shadow-bench measures against the exact engine.
   libembree-dev
   # The Python module (python/, docs/python.md) and its tests.

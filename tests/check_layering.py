@@ -3,6 +3,7 @@
 """The layering check (docs/architecture.md): dependencies between libshadow's folders run one way.
 
     sunmap -> engine -> planes -> exact -> core -> geometry  (sunmap also -> exact, core, geometry)
+    views -> engine, exact, core, geometry  (as sunmap)
     engine -> fast -> core -> geometry
     scene -> exact (face shape check only), core, geometry;  output -> lighting, core, geometry
     lighting -> geometry;  baselines -> core, geometry;  scene -> sun -> geometry
@@ -27,6 +28,7 @@ import sys
 ALLOWED = {
     "engine": {"planes", "fast", "exact", "core", "geometry"},
     "sunmap": {"engine", "exact", "core", "geometry"},
+    "views": {"engine", "exact", "core", "geometry"},
     "planes": {"exact", "core", "geometry"},
     "exact": {"core", "geometry"},
     "fast": {"core", "geometry"},

@@ -5,6 +5,7 @@
 #include "cli_checks.hpp"
 
 #include "render/render_image.hpp"
+#include "render/vector_view.hpp"
 
 #include <shadow/shadow.hpp>
 
@@ -49,7 +50,9 @@ glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
 void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
-  render.add_option("-o,--output", args.image, "PNG file to write")->required();
+  render.add_option("-o,--output", args.image,
+                    "File to write: .png (a picture), .svg or .pdf (the exact vector view, docs/vector-views.md)")
+      ->required();
   render.add_option("--width", args.width, "Image width in pixels")->default_val(800)->check(shadow_cli::integer_in(1, 16384));
   render.add_option("--height", args.height, "Image height in pixels")->default_val(600)->check(shadow_cli::integer_in(1, 16384));
   render.add_option("--model", args.model,
@@ -138,10 +141,18 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
   render.add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+  render.add_option("--light", args.light, "SVG/PDF: the light whose shadows split the pieces (default: the first)")
+      ->check(shadow_cli::integer_in(0, 1 << 30));
+  render.add_flag("--edges", args.edges, "SVG/PDF: outline every piece");
 }
 
 int run_render(const RenderArgs& args, int argc, char** argv) {
   namespace sr = shadow::render;
+  // The exact vector view needs no display: dispatched before looking for one.
+  if (sr::is_vector_output(args.image)) return sr::run_vector_render(args);
+  if (args.light >= 0 || args.edges)
+    throw shadow::InputError({"", args.light >= 0 ? "--light" : "--edges"},
+                             "applies to the vector view only (-o VIEW.svg or VIEW.pdf), not to " + args.image);
   // Debian's VTK draws through X even off screen; without a display, start again under Xvfb.
   if (!sr::display_available()) {
     if (std::getenv(kUnderXvfb) == nullptr && on_path("xvfb-run")) {

@@ -31,6 +31,8 @@ struct RenderArgs {
   std::string compass = "auto";
   unsigned threads = 0;
   bool quiet = false;
+  int light = -1;      ///< SVG/PDF: the light that splits lit from shadowed (-1: the first, if any)
+  bool edges = false;  ///< SVG/PDF: outline every piece
 };
 
 /// Declares the options of `shadow render` on its subcommand.

@@ -15,3 +15,4 @@
 #include <shadow/shadows.hpp>
 #include <shadow/sun_hours.hpp>
 #include <shadow/version.hpp>
+#include <shadow/view.hpp>

@@ -1,0 +1,260 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `shadow render SCENE -o view.svg|view.pdf`: the exact vector view written as SVG (by hand:
+// the format is a few elements) or PDF (cairo). Needs no X display, unlike the PNG.
+#include "render/vector_view.hpp"
+
+#include "render/camera.hpp"
+#include "render/render_image.hpp"
+#include "render/shaded_mesh.hpp"
+#include "render_command.hpp"
+
+#include <shadow/shadow.hpp>
+
+#ifdef LIBSHADOW_HAVE_CAIRO
+#include <cairo-pdf.h>
+#include <cairo.h>
+#endif
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+namespace shadow::render {
+namespace {
+
+double srgb(double linear) {
+  const double c = std::clamp(linear, 0.0, 1.0);
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+}
+
+std::string hex_colour(const glm::dvec3& c) {
+  char text[8];
+  auto byte = [](double v) { return static_cast<int>(std::lround(std::clamp(v, 0.0, 1.0) * 255.0)); };
+  std::snprintf(text, sizeof text, "#%02x%02x%02x", byte(c.x), byte(c.y), byte(c.z));
+  return text;
+}
+
+std::string xml_text(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        // Control characters are not allowed in XML 1.0 (tab, newline and return are).
+        if (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') out += ' ';
+        else out += c;
+    }
+  }
+  return out;
+}
+
+/// Shortest text that reads back as the same double: 17 significant digits always do.
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", v == 0.0 ? 0.0 : v);  // no "-0"
+  return text;
+}
+
+constexpr glm::dvec3 kBackground{0.93, 0.95, 0.98};  // as displayed: the PNG's pale sky
+constexpr glm::dvec3 kEdge{0.15, 0.15, 0.18};
+constexpr double kEdgeWidth = 0.5;  // pixels (points in the PDF)
+
+}  // namespace
+
+bool is_vector_output(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".svg" || ext == ".pdf";
+}
+
+glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece,
+                        const VectorStyle& style) {
+  const std::size_t mesh = scene.faces[piece.face_id].mesh;
+  const glm::dvec3 base = mesh < style.mesh_colours.size() ? style.mesh_colours[mesh]
+                                                           : scene.material_of(piece.face_id).color;
+  // Lit: the material's colour a little darkened, so that white stays apart from the sky;
+  // shadowed: a third of it. Without a light every piece is drawn as lit.
+  const double scale = !view.light_id || piece.lit ? 0.8 : 0.18;
+  return {srgb(base.x * scale), srgb(base.y * scale), srgb(base.z * scale)};
+}
+
+void write_svg(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
+               const VectorStyle& style) {
+  std::ostringstream out;
+  const int w = view.frame.width, h = view.frame.height;
+  out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << w << "\" height=\"" << h
+      << "\" viewBox=\"0 0 " << w << ' ' << h << "\">\n"
+      << "<title>" << xml_text(style.title) << "</title>\n"
+      << "<rect x=\"0\" y=\"0\" width=\"" << w << "\" height=\"" << h << "\" fill=\"" << hex_colour(kBackground)
+      << "\"/>\n";
+  // Pieces are interior-disjoint in the image: any order draws the same picture.
+  std::size_t k = 0;
+  while (k < view.pieces.size()) {
+    const std::size_t face = view.pieces[k].face_id;
+    const Mesh& mesh = scene.meshes[scene.faces[face].mesh];
+    out << "<g id=\"face-" << face << "\" data-face-id=\"" << face << "\" data-mesh=\"" << xml_text(mesh.name)
+        << "\" data-back=\"" << (view.pieces[k].back ? 1 : 0) << "\"";
+    out << " stroke-width=\"" << kEdgeWidth << "\" stroke-linejoin=\"round\"";
+    if (style.edges) out << " stroke=\"" << hex_colour(kEdge) << "\"";
+    out << ">\n";
+    for (; k < view.pieces.size() && view.pieces[k].face_id == face; ++k) {
+      const ViewPiece& p = view.pieces[k];
+      const std::string fill = hex_colour(piece_colour(scene, view, p, style));
+      out << "<path data-lit=\"" << (p.lit ? 1 : 0) << "\" fill=\"" << fill << "\"";
+      // Without edges, a half-pixel outline in the piece's own colour, as thin on screen at any
+      // zoom: renderers anti-alias each piece alone and leave the background showing through
+      // the seam between two pieces that touch.
+      if (!style.edges) out << " stroke=\"" << fill << "\" vector-effect=\"non-scaling-stroke\"";
+      out << " d=\"";
+      for (std::size_t v = 0; v < p.image.size(); ++v)
+        out << (v == 0 ? "M" : " L") << number(p.image[v].x) << ' ' << number(p.image[v].y);
+      out << " Z\"/>\n";
+    }
+    out << "</g>\n";
+  }
+  out << "</svg>\n";
+  std::ofstream file(path, std::ios::binary);
+  file << out.str();
+  file.close();
+  if (!file) throw RenderError("cannot write " + path.string());
+}
+
+void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
+               const VectorStyle& style) {
+#ifdef LIBSHADOW_HAVE_CAIRO
+  cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), view.frame.width, view.frame.height);
+  auto fail = [&](cairo_status_t status) {
+    cairo_surface_destroy(surface);
+    throw RenderError("cannot write " + path.string() + ": " + cairo_status_to_string(status));
+  };
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) fail(cairo_surface_status(surface));
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, style.title.c_str());
+  cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_CREATOR, (std::string("libshadow ") + version()).c_str());
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, kBackground.x, kBackground.y, kBackground.z);
+  cairo_paint(cr);
+  cairo_set_line_width(cr, kEdgeWidth);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  for (const ViewPiece& p : view.pieces) {
+    if (p.image.empty()) continue;
+    cairo_new_path(cr);
+    cairo_move_to(cr, p.image[0].x, p.image[0].y);
+    for (std::size_t v = 1; v < p.image.size(); ++v) cairo_line_to(cr, p.image[v].x, p.image[v].y);
+    cairo_close_path(cr);
+    const glm::dvec3 c = piece_colour(scene, view, p, style);
+    cairo_set_source_rgb(cr, c.x, c.y, c.z);
+    // The seams between touching pieces hidden as in the SVG, by an outline in the fill's
+    // colour (a quarter point wide: PDF has no non-scaling stroke), or dark edges.
+    cairo_fill_preserve(cr);
+    if (style.edges) {
+      cairo_set_source_rgb(cr, kEdge.x, kEdge.y, kEdge.z);
+      cairo_set_line_width(cr, kEdgeWidth);
+    } else {
+      cairo_set_line_width(cr, 0.25);
+    }
+    cairo_stroke(cr);
+  }
+  const cairo_status_t drawn = cairo_status(cr);
+  cairo_destroy(cr);
+  if (drawn != CAIRO_STATUS_SUCCESS) fail(drawn);
+  cairo_surface_finish(surface);  // writes the file
+  if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) fail(cairo_surface_status(surface));
+  cairo_surface_destroy(surface);
+#else
+  (void)scene;
+  (void)view;
+  (void)style;
+  throw RenderError("cannot write " + path.string() +
+                    ": this shadow was built without cairo (install libcairo2-dev and build again)");
+#endif
+}
+
+ViewCamera vector_camera(const Scene& scene, const RenderArgs& args) {
+  // The PNG's camera, from the one function that chooses it (render/camera.hpp): its default
+  // framing, then the scene's camera, then the options; errors name the options or the scene.
+  CameraRequest request;
+  auto vec = [](const std::vector<double>& v) { return glm::dvec3(v[0], v[1], v[2]); };
+  if (!args.eye.empty()) request.eye = vec(args.eye);
+  if (!args.target.empty()) request.target = vec(args.target);
+  if (!args.up.empty()) request.up = vec(args.up);
+  if (args.fov_given) request.fov_degrees = args.fov;
+  request.framing = args.frame == "scene" ? Framing::Scene : Framing::Shadows;
+  request.scene_file = args.scene;
+  const Camera c = resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
+  ViewCamera camera;
+  camera.eye = c.eye;
+  camera.target = c.target;
+  camera.up = c.up;
+  camera.fov_degrees = c.fov_degrees;
+  camera.width = args.width;
+  camera.height = args.height;
+  return camera;
+}
+
+int run_vector_render(const RenderArgs& args) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  Scene scene = load_scene(args.scene);
+  if (!args.quiet)
+    for (const Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+  const ViewCamera camera = vector_camera(scene, args);  // checked there, naming options or scene
+  VectorViewOptions options;
+  options.threads = args.threads;
+  if (args.light >= 0) {
+    if (static_cast<std::size_t>(args.light) >= scene.lights.size())
+      throw InputError({"", "--light"}, "light " + std::to_string(args.light) + " is out of range (" + args.scene +
+                                            " has " + std::to_string(scene.lights.size()) + " lights)");
+    options.light = static_cast<std::size_t>(args.light);
+  } else if (!scene.lights.empty()) {
+    options.light = 0;
+  }
+  VectorView view;
+  try {
+    const ShadowEngine engine(scene, args.threads);
+    view = compute_vector_view(engine, camera, options);
+  } catch (const InputError& e) {
+    throw InputError({e.where().file.empty() ? args.scene : e.where().file, e.where().place}, e.problem());
+  }
+  VectorStyle style;
+  style.edges = args.edges;
+  // The PNG's colours: each mesh's material, or the palette by role for meshes without one.
+  for (const Material& m : display_materials(scene, args.colours == "palette" ? std::optional<Palette>(Palette{})
+                                                                              : std::nullopt))
+    style.mesh_colours.push_back(m.color);
+  style.title = std::filesystem::path(args.scene).filename().string();
+  if (view.light_id) {
+    const Light& light = scene.lights[*view.light_id];
+    style.title += ", light " + std::to_string(*view.light_id) + (light.name.empty() ? "" : " (" + light.name + ")");
+  }
+  style.title += ": exact vector view, libshadow " + std::string(version());
+  const auto computed = Clock::now();
+  std::string ext = std::filesystem::path(args.image).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".pdf")
+    write_pdf(scene, view, args.image, style);
+  else
+    write_svg(scene, view, args.image, style);
+  if (!args.quiet) {
+    auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+    std::size_t lit = 0;
+    for (const ViewPiece& p : view.pieces) lit += p.lit ? 1 : 0;
+    std::printf("shadow %s: %zu faces, %zu visible pieces (%zu lit), %dx%d\n", version(), scene.faces.size(),
+                view.pieces.size(), lit, args.width, args.height);
+    std::printf("  view in %.3f s, written in %.3f s: %s\n", seconds(computed - start),
+                seconds(Clock::now() - computed), args.image.c_str());
+  }
+  return 0;
+}
+
+}  // namespace shadow::render

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file vector_view.hpp
+/// @brief `shadow render SCENE -o view.svg|view.pdf`: the exact vector view (shadow/view.hpp)
+/// written as SVG (by the project) or PDF (through cairo). See docs/vector-views.md.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/view.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+struct RenderArgs;
+
+namespace shadow::render {
+
+/// How a vector view is drawn.
+struct VectorStyle {
+  bool edges = false;  ///< a thin dark outline around every piece
+  std::string title;   ///< the SVG's <title> and the PDF's title
+  /// Linear RGB per scene mesh (the PNG's display_materials); empty: each face's material.
+  std::vector<glm::dvec3> mesh_colours;
+};
+
+/// Whether `path` names a vector output (".svg" or ".pdf", any case).
+bool is_vector_output(const std::string& path);
+
+/// Fill colour of a piece as sRGB in [0, 1]: its mesh's colour (style.mesh_colours, else the
+/// face's material), lit or in shadow.
+glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece,
+                        const VectorStyle& style);
+
+/// Writes the view as SVG: a <g> per face (data-face-id, data-mesh, data-back), a <path> per
+/// piece (data-lit), coordinates with 17 significant digits. @throws RenderError naming the file
+void write_svg(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
+               const VectorStyle& style);
+
+/// Writes the view as a one-page PDF through cairo, 1 pixel = 1 point. @throws RenderError
+/// naming the file, with cairo's own words, or when libshadow was built without cairo
+void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
+               const VectorStyle& style);
+
+/// The camera of `shadow render` for a vector view: resolve_camera (render/camera.hpp), the
+/// PNG's own choice, at the image's size. @throws InputError naming the options or the scene
+ViewCamera vector_camera(const Scene& scene, const RenderArgs& args);
+
+/// Runs `shadow render` for an .svg or .pdf output. @throws InputError, RenderError
+int run_vector_render(const RenderArgs& args);
+
+}  // namespace shadow::render
