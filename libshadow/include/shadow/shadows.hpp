@@ -64,6 +64,10 @@ struct ShadowOptions {
   Arithmetic arithmetic = Arithmetic::Exact;
 };
 
+/// Where a cell of a face lies with respect to an extended light (Light::is_extended): it sees
+/// all of the light, part of it, or none of it. `Hard` marks the cells of a point light.
+enum class LightRegion : int { Hard = -1, FullyLit = 0, Penumbra = 1, Umbra = 2 };
+
 /// One simple polygon of a face that is wholly lit or wholly shadowed by one light.
 /// A lit or shadowed region with holes is split into several simple cells that share
 /// `fragment_id`. The polygon has the orientation of its face.
@@ -74,6 +78,11 @@ struct Fragment {
   bool lit = false;
   std::vector<glm::dvec3> polygon;
   double area = 0.0;            ///< exact area of this cell, rounded once
+  /// Extended lights: the region this cell lies in (docs/area-lights.md); Hard otherwise.
+  LightRegion region = LightRegion::Hard;
+  /// Extended lights: the visible fraction (0..1) of the light at each vertex of `polygon`, in
+  /// order; empty for point lights.
+  std::vector<double> visibility;
 };
 
 /// Lit and shadowed areas of one receiving face under one light.
