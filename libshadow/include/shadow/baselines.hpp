@@ -22,9 +22,17 @@
 /// that is what a careful user does with georeferenced models (`recentre = false` shows what
 /// happens without it).
 ///
+/// Soft shadows of extended lights (Light::is_extended: an area polygon, a disk, the sun's
+/// disk) by the three approximations people use (docs/soft-shadows.md): a shadow map whose edge
+/// is blurred by a kernel of fixed size (percentage-closer filtering), penumbra estimation (PCSS),
+/// and k rays per point to the light. Each gives the visible fraction (0..1) of the light at
+/// given points on faces, the quantity light_visibility (area_lights.hpp) computes exactly;
+/// face_sample_points and soft_face_estimates turn them into per-face region estimates.
+///
 /// Link `libshadow::baselines` (a separate library: the core does not depend on Embree).
 #pragma once
 
+#include <shadow/area_lights.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
 
@@ -101,5 +109,112 @@ struct RaySamplingOptions {
 /// Ray-sampled lit fractions. The scene must have been validated.
 /// @throws InputError on an unusable light or spacing, or when Embree fails.
 BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOptions& options = {});
+
+// ---- Soft shadows of extended lights ---------------------------------------------------------
+
+/// Points on the receiving faces, grouped by face: the cell-centred grid of the baselines above
+/// (spacing `spacing` in scene units, irrational offsets, one point at the centre of the bounding
+/// rectangle of a face too small for the grid), so that methods can be compared point by point
+/// and face by face.
+struct FacePoints {
+  std::vector<SurfacePoint> points;    ///< every point, face after face
+  std::vector<std::size_t> face_ids;   ///< the faces sampled (non-degenerate receivers, in order)
+  std::vector<std::size_t> offsets;    ///< points of face_ids[i]: [offsets[i], offsets[i + 1])
+  std::vector<double> areas;           ///< area of face_ids[i] (Newell's formula, double)
+};
+
+/// Samples every non-degenerate receiving face (or only `faces`, when not empty) on its grid of
+/// spacing `spacing`, at most `max_per_face` points a face (the spacing is widened on a face
+/// that would have more). The scene must have been validated.
+/// @throws InputError for a spacing that is not positive and finite, or a face id out of range.
+FacePoints face_sample_points(const Scene& scene, double spacing, std::uint64_t max_per_face = 1u << 16,
+                              const std::vector<std::size_t>& faces = {});
+
+/// What a soft-shadow baseline computed at the points.
+struct SoftResult {
+  std::vector<double> visibility;  ///< visible fraction of the light at each point, in [0, 1]
+  double prepare_seconds = 0.0;    ///< depth maps (shadow maps) or BVH build (rays)
+  double compute_seconds = 0.0;    ///< the points
+  std::uint64_t lookups = 0;       ///< depth-map texels read or rays traced
+  std::size_t map_bytes = 0;       ///< depth-map memory (shadow maps only)
+};
+
+/// The two soft-shadow-map methods share one depth map rendered from the light's centre (the
+/// centroid of an area light, a disk's centre: a cube map of six `resolution`-squared
+/// perspective maps; the sun's disk: one orthographic map along its centre direction, fitted to
+/// the receivers as for shadow_map_lighting), and the same depth test with bias as the hard
+/// shadow map (`constant_bias + texel * min(slope_bias * tan(angle), max_slope_bias)` with the
+/// angle at the light's centre). A filter tap at an offset from the point compares the stored
+/// depth of the texel there with the depth of the point's own plane along that texel's ray from
+/// the light (receiver-plane depth), so that a wide kernel on a sloping face does not shadow the
+/// face itself. Taps at cube-face seams continue on the neighbouring face. A point whose face
+/// looks away from the light's centre, or that lies behind an area or disk light's front, gets 0.
+///
+/// - **PCF** (percentage-closer filtering, fixed blur): the fraction of the (2r + 1)^2 taps one
+///   texel apart, r = `pcf_radius`, that pass the depth test. r = 0 is the hard shadow map.
+/// - **PCSS** (percentage-closer soft shadows, penumbra estimation): (1) blocker search: the
+///   taps inside the cone from the point to the light, cut at the nearest depth in the map, give
+///   the mean depth d_b of the texels nearer the light than the point's plane (none: the point
+///   sees all of the light); (2) penumbra width by similar triangles, w = size x (d_r - d_b) / d_b
+///   for an area light (size: the square root of its area) or a disk (its diameter), and
+///   w = angular_diameter x (d_r - d_b) for the sun (depths along the light); (3) a PCF whose
+///   half-width is w / 2 in texels at the point's depth d_r, capped at `max_kernel_radius`.
+///   Wide kernels are read with at most (2 `max_taps` + 1)^2 taps spread evenly over them.
+struct SoftShadowMapOptions {
+  int resolution = 2048;           ///< texels per side of the map (of each cube face)
+  double constant_bias = 1e-3;     ///< metres (scene units)
+  double slope_bias = 1.0;         ///< texels of depth slope
+  double max_slope_bias = 16.0;    ///< cap of the slope term, in texels
+  int pcf_radius = 2;              ///< PCF: kernel half-width r in texels ((2r + 1)^2 taps)
+  double max_kernel_radius = 64.0; ///< PCSS: cap on the penumbra kernel's half-width (texels)
+  double max_search_radius = 64.0; ///< PCSS: cap on the blocker search's half-width (texels)
+  int max_taps = 8;                ///< PCSS: taps per half-width of a search or kernel, at most
+  unsigned threads = 0;            ///< 0: every hardware thread
+  bool recentre = true;            ///< subtract the scene's centre before going to float32
+};
+
+/// Percentage-closer filtering (fixed kernel) of `light` at `points`. The scene must have been
+/// validated.
+/// @throws InputError for a light that is not extended or is unusable, a face id out of range,
+/// or options out of range (resolution in [1, 65536], radii and biases non-negative).
+SoftResult pcf_visibility(const Scene& scene, const Light& light, const std::vector<SurfacePoint>& points,
+                          const SoftShadowMapOptions& options = {});
+
+/// Penumbra estimation (PCSS) of `light` at `points`. Same conditions as pcf_visibility.
+SoftResult pcss_visibility(const Scene& scene, const Light& light, const std::vector<SurfacePoint>& points,
+                           const SoftShadowMapOptions& options = {});
+
+/// k rays per point to the light, on Embree (the scene as for ray_sampling_lighting). The light
+/// is sampled uniformly in the measure light_visibility uses, stratified on an n x n grid of the
+/// unit square with n = ceil(sqrt(rays)) (so n^2 rays) and jittered per point from `seed`: an area
+/// light by its area (its polygon split into triangles, the first coordinate choosing the
+/// triangle in proportion to its area), a disk by area (the concentric square-to-disk map), the
+/// sun's disk by solid angle (the spherical cap of half-angle angular_diameter / 2). A ray counts
+/// when it reaches its light point unoccluded; light points behind the point's face, or a point
+/// behind an area or disk light's front, count as hidden. The estimate converges to
+/// light_visibility as rays grow (its standard error is at most 0.5 / sqrt(rays), far less in
+/// practice with stratification). The result does not depend on `threads`.
+struct SoftRayOptions {
+  unsigned rays = 64;              ///< rays per point (rounded up to a square number)
+  std::uint64_t seed = 1;          ///< jitter of the strata
+  double offset = 1e-4;            ///< start of each ray off the face (scene units), as ray sampling
+  unsigned threads = 0;            ///< 0: every hardware thread
+  bool recentre = true;            ///< subtract the scene's centre before going to float32
+};
+
+/// k rays per point. The scene must have been validated.
+/// @throws InputError for a light that is not extended or is unusable, a face id out of range,
+/// rays = 0, or when Embree fails.
+SoftResult ray_visibility(const Scene& scene, const Light& light, const std::vector<SurfacePoint>& points,
+                          const SoftRayOptions& options = {});
+
+/// Per-face estimates from the visible fractions at `samples.points`, in the exact engine's
+/// shape (one FaceLighting per face of `samples`, light id `light_id`): fully_lit_area, umbra_area
+/// and penumbra_area are the face's area times the share of its points whose visibility is at
+/// least 1 - `tolerance`, at most `tolerance`, and between; lit_fraction is the mean visibility
+/// (the face's mean share of the light) and lit_area its product with the area; faces_light is
+/// true when any point sees some of the light.
+std::vector<FaceLighting> soft_face_estimates(const FacePoints& samples, const std::vector<double>& visibility,
+                                              std::size_t light_id, double tolerance = 1e-9);
 
 }  // namespace shadow

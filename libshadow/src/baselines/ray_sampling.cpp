@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Ray sampling on Intel Embree 3: a point grid on every receiving face, one occlusion ray per
 // point toward the light.
+#include "baselines/embree_scene.hpp"
 #include "baselines/sampling.hpp"
 
 #include <shadow/baselines.hpp>
@@ -20,25 +21,6 @@ namespace shadow {
 
 using namespace baselines_detail;
 
-namespace {
-
-/// Owns an Embree device and scene.
-struct EmbreeScene {
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  ~EmbreeScene() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
-  }
-};
-
-[[noreturn]] void embree_failed(RTCDevice device, const char* what) {
-  const RTCError e = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
-  throw InputError({"", "ray sampling"}, std::string(what) + " (Embree error " + std::to_string(static_cast<int>(e)) + ")");
-}
-
-}  // namespace
-
 BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOptions& options) {
   using Clock = std::chrono::steady_clock;
   if (!(options.spacing > 0) || !std::isfinite(options.spacing))
@@ -49,55 +31,11 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
   Setup setup = make_setup(scene, options.lights, options.recentre);
   const unsigned threads = thread_count(options.threads);
 
-  // One triangle mesh of every non-degenerate face, in float32 after the shift.
-  std::vector<float> vertices;
-  std::vector<unsigned> indices;
-  double max_coordinate = 0;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    const FaceFrame& fr = setup.frames[f];
-    if (!fr.ok) continue;
-    const auto base = static_cast<unsigned>(vertices.size() / 3);
-    for (const glm::dvec3& p : scene.faces[f].vertices) {
-      const glm::dvec3 q = p - setup.shift;
-      for (int a = 0; a < 3; ++a) {
-        vertices.push_back(static_cast<float>(q[a]));
-        max_coordinate = std::max(max_coordinate, std::abs(q[a]));
-      }
-    }
-    for (const auto& t : triangulate(fr.polygon))
-      for (std::uint32_t i : t) indices.push_back(base + i);
-  }
+  EmbreeScene es;
+  build_embree_scene(scene, setup, threads, "ray sampling", es);
   // Rays start off the face by at least a few float ulps of the coordinates: closer, a ray can
   // hit its own face in Embree's single precision.
-  const double offset = std::max(options.offset, 8.0 * std::numeric_limits<float>::epsilon() * max_coordinate);
-
-  EmbreeScene es;
-  const std::string config = "threads=" + std::to_string(threads);
-  es.device = rtcNewDevice(config.c_str());
-  if (!es.device) embree_failed(nullptr, "cannot create an Embree device");
-  es.scene = rtcNewScene(es.device);
-  // Watertight traversal: without it rays leak through the shared diagonal of a triangulated quad.
-  rtcSetSceneFlags(es.scene, RTC_SCENE_FLAG_ROBUST);
-  if (!indices.empty()) {
-    RTCGeometry geom = rtcNewGeometry(es.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), vertices.size() / 3));
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), indices.size() / 3));
-    if (!vb || !ib) {
-      rtcReleaseGeometry(geom);
-      embree_failed(es.device, "cannot allocate Embree buffers");
-    }
-    std::copy(vertices.begin(), vertices.end(), vb);
-    std::copy(indices.begin(), indices.end(), ib);
-    rtcCommitGeometry(geom);
-    rtcAttachGeometry(es.scene, geom);
-    rtcReleaseGeometry(geom);
-  }
-  rtcCommitScene(es.scene);
-  if (rtcGetDeviceError(es.device) != RTC_ERROR_NONE) embree_failed(es.device, "cannot build the Embree scene");
-  vertices = {};
-  indices = {};
+  const double offset = std::max(options.offset, 8.0 * std::numeric_limits<float>::epsilon() * es.max_coordinate);
   const auto t1 = Clock::now();
 
   std::vector<std::uint64_t> samples(setup.result.lighting.size(), 0), lit(samples.size(), 0);

@@ -295,6 +295,25 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
   }
 }
 
+std::vector<glm::dvec3> grid_points(const FaceFrame& fr, double spacing, std::uint64_t cap) {
+  std::vector<glm::dvec3> out;
+  if (!fr.ok) return out;
+  const Grid g = make_grid(fr, spacing, std::max<std::uint64_t>(1, cap));
+  std::vector<double> xs;
+  for (std::int64_t r = 0; r < g.nv; ++r) {
+    const double v = g.v0 + static_cast<double>(r) * g.h;
+    const glm::dvec3 row_origin = fr.origin + v * fr.v;
+    row_intervals(fr, g, v, xs, [&](std::int64_t a, std::int64_t b) {
+      for (std::int64_t c = a; c < b; ++c) out.push_back(row_origin + (g.u0 + static_cast<double>(c) * g.h) * fr.u);
+    });
+  }
+  if (out.empty()) {
+    const glm::dvec2 c(g.u0 + 0.5 * static_cast<double>(g.nu - 1) * g.h, g.v0 + 0.5 * static_cast<double>(g.nv - 1) * g.h);
+    out.push_back(fr.origin + c.x * fr.u + c.y * fr.v);
+  }
+  return out;
+}
+
 Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_lights, bool recentre) {
   Setup s;
   s.shift = recentre ? scene_centre(scene) : glm::dvec3(0.0);

@@ -72,6 +72,11 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
                   const std::function<BatchTest(unsigned)>& make_test, std::vector<std::uint64_t>& samples,
                   std::vector<std::uint64_t>& lit);
 
+/// The points of a face's cell-centred grid of spacing `spacing` (widened to at most `cap`
+/// points) that lie inside it, in the frame's coordinates; a face with none gets the centre of
+/// its bounding rectangle. The same grid as run_sampling.
+std::vector<glm::dvec3> grid_points(const FaceFrame& frame, double spacing, std::uint64_t cap);
+
 /// What both baselines start from: the shift, every face's frame, the selected lights (shifted)
 /// and the result's entries (receivers x lights, by face then light, areas filled in).
 struct Setup {
