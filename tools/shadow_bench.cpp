@@ -6,6 +6,7 @@
 // `shadow-bench compare` runs the exact engine against the sampled baselines (speed against
 // error) and `shadow-bench hard-cases` the hard cases through every method: bench_compare.cpp.
 #include "bench_compare.hpp"
+#include "bench_soft.hpp"
 
 #include <shadow/shadow.hpp>
 
@@ -461,9 +462,23 @@ int main(int argc, char** argv) {
   planes_cmd->add_option("--threads", planes_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
   planes_cmd->add_option("--repeat", planes_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
   planes_cmd->add_option("--label", planes_label, "Text of the table's first column (which build this is)");
+  bench::SoftOptions soft;
+  CLI::App* soft_cmd = app.add_subcommand(
+      "soft", "Soft shadows of extended lights: PCF, PCSS and k rays per point against the reference visible fraction");
+  soft_cmd->add_option("--threads", soft.threads, "Threads for every method")->check(CLI::PositiveNumber);
+  soft_cmd->add_option("--csv", soft.csv_path, "Write the rows as CSV to this file");
+  soft_cmd->add_option("--scenes", soft.only_scenes, "Only these scenes (luminaire, sun-city, room-disk)")->delimiter(',');
+  soft_cmd->add_option("--reference-rays", soft.reference_rays, "Rays a point of the ray reference")
+      ->check(CLI::PositiveNumber);
+  soft_cmd->add_option("--max-error", soft.max_error,
+                       "Fail (exit 1) when the most rays' mean error exceeds this, rays do not improve with k, or a "
+                       "visibility leaves [0, 1]")
+      ->check(CLI::NonNegativeNumber);
+  soft_cmd->add_flag("--quick", soft.quick, "Smoke run: a small luminaire scene, two settings a method");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
+  if (soft_cmd->parsed()) return bench::run_soft(soft);
   if (planes_cmd->parsed()) return run_planes_bench(planes_sizes, planes_elevations, planes_threads, planes_repeat, planes_label);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);

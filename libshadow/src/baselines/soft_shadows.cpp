@@ -227,7 +227,8 @@ SoftResult map_visibility(const Scene& scene, const Light& light, const std::vec
         if (ext.sun) return 0.5 * ext.size * (d_r - d_b) / m.foot;
         return 0.5 * ext.size * (d_r - d_b) / std::max(d_b, 1e-12) / m.foot;
       };
-      const double search = maps.min_depth < d_r ? std::min(half_width(maps.min_depth), options.max_search_radius) : 0.0;
+      const double search =
+          maps.min_depth < d_r ? std::clamp(half_width(maps.min_depth), 0.0, options.max_search_radius) : 0.0;
       const int ns = std::min(static_cast<int>(std::ceil(search)), options.max_taps);
       const double step = ns > 0 ? search / ns : 0.0;
       double sum = 0;
@@ -244,7 +245,9 @@ SoftResult map_visibility(const Scene& scene, const Light& light, const std::vec
         result.visibility[i] = 1.0;
         continue;
       }
-      const double kernel = std::min(half_width(sum / static_cast<double>(blockers)), options.max_kernel_radius);
+      // Blockers found beside the point, under a sloping receiver, can lie beyond d_r: no blur.
+      const double kernel =
+          std::clamp(half_width(sum / static_cast<double>(blockers)), 0.0, options.max_kernel_radius);
       const int nk = std::min(static_cast<int>(std::ceil(kernel)), options.max_taps);
       result.visibility[i] = filter(kernel, nk);
     }
