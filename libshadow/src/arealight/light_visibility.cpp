@@ -1,0 +1,685 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The visible fraction of an extended light from points, and the irradiance it delivers
+// (docs/area-light-visibility.md). From a point x the light is a receiver and x a point light:
+// every face that can stand between x and the light is clipped exactly to the pyramid from x
+// over the light (its convex hull; a disk's or the sun's circumscribed square), projected
+// centrally from x onto the light's plane, and the projections are united exactly (CGAL, as in
+// exact/). A polygonal light's hidden area is then exact; a disk's is the area of that union
+// inside the circle, summed edge by edge in closed form (doubles).
+#include <shadow/area_lights.hpp>
+
+#include "arealight/light_visibility.hpp"
+#include "core/face_prep.hpp"
+#include "core/parallel.hpp"
+#include "exact/exact_faces.hpp"
+#include "exact/kernel.hpp"
+#include "exact/regions.hpp"
+
+#include <shadow/error.hpp>
+
+#include <CGAL/convex_hull_2.h>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace shadow {
+namespace {
+
+using namespace exact;
+
+constexpr double kPi = 3.14159265358979323846;
+/// Vertices of the regular polygon inscribed in a disk light for its irradiance (the visible
+/// fraction uses the circle itself).
+constexpr int kDiskIrradianceSides = 1024;
+
+bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string light_place(const std::string& what) { return "light." + what; }
+
+/// What kind of shape is measured on the target plane.
+enum class Shape { Polygon, Disk, Sun };
+
+/// The light, checked, in plain numbers (shared by all threads).
+struct LightPlan {
+  Shape shape = Shape::Polygon;
+  std::vector<glm::dvec3> polygon;  // Polygon: the light's vertices, consecutive repeats removed
+  core::FacePrep prep;              // Polygon: its exact plane and chart
+  glm::dvec3 centre{0.0};           // Disk
+  glm::dvec3 normal{0.0};           // Disk: front normal; Sun: to_light
+  double radius = 0.0;              // Disk: radius; Sun: tan(angular radius)
+};
+
+LightPlan plan_light(const Light& light) {
+  if (!light.is_extended())
+    throw InputError({"", "light.type"}, "light_visibility needs an extended light (area, disk, or directional "
+                                         "with angular_diameter > 0)");
+  if (!std::isfinite(light.intensity) || light.intensity < 0)
+    throw InputError({"", light_place("intensity")}, "intensity must be finite and >= 0");
+  LightPlan plan;
+  if (light.type == LightType::Area) {
+    plan.shape = Shape::Polygon;
+    for (const glm::dvec3& v : light.polygon) {
+      if (!finite3(v)) throw InputError({"", light_place("polygon")}, "a vertex is not finite");
+      if (plan.polygon.empty() || plan.polygon.back() != v) plan.polygon.push_back(v);
+    }
+    while (plan.polygon.size() > 1 && plan.polygon.front() == plan.polygon.back()) plan.polygon.pop_back();
+    if (plan.polygon.size() < 3)
+      throw InputError({"", light_place("polygon")}, "an area light needs at least 3 distinct vertices");
+    plan.prep = prepare_face(plan.polygon);
+    if (plan.prep.degenerate) throw InputError({"", light_place("polygon")}, "the area light has zero area");
+    const ExactFace face = make_exact_face(plan.polygon, plan.prep);
+    if (!face.chart.is_simple())
+      throw InputError({"", light_place("polygon")}, "the area light's polygon is not simple");
+  } else if (light.type == LightType::Disk) {
+    plan.shape = Shape::Disk;
+    if (!finite3(light.position)) throw InputError({"", light_place("position")}, "position is not finite");
+    if (!finite3(light.normal) || light.normal == glm::dvec3(0.0))
+      throw InputError({"", light_place("normal")}, "normal must be finite and non-zero");
+    if (!(std::isfinite(light.radius) && light.radius > 0.0))
+      throw InputError({"", light_place("radius")}, "radius must be finite and > 0");
+    plan.centre = light.position;
+    plan.normal = light.normal;
+    plan.radius = light.radius;
+  } else {
+    plan.shape = Shape::Sun;
+    if (!finite3(light.to_light) || light.to_light == glm::dvec3(0.0))
+      throw InputError({"", light_place("to_light")}, "direction must be finite and non-zero");
+    if (!(std::isfinite(light.angular_diameter) && light.angular_diameter > 0.0 && light.angular_diameter <= 170.0))
+      throw InputError({"", light_place("angular_diameter")}, "angular_diameter must be in (0, 170] degrees");
+    plan.normal = light.to_light;
+    plan.radius = std::tan(0.5 * light.angular_diameter * kPi / 180.0);
+  }
+  return plan;
+}
+
+/// The plane the light is measured on, exact (one per thread: lazy values are not shared),
+/// with 2D coordinates (u, v) on it: the chart of a polygonal light, or an orthogonal frame
+/// (e1, e2) around a disk's centre or the sun's direction.
+struct Target {
+  Shape shape = Shape::Polygon;
+  Vector3 n;          // toward the front (the side points must be on)
+  FT offset;          // plane: n . p + offset = 0 (Sun: per point)
+  int axis = 2;       // Polygon: the chart's dropped axis
+  Point3 c;           // Disk/Sun: origin of (u, v) (Sun: per point)
+  Vector3 e1, e2;     // Disk/Sun: u = e1 . (y - c), v = e2 . (y - c); e1 x e2 along n
+  FT e1sq, e2sq;
+  Polygon2 light;                 // Polygon: the light in chart coordinates, counter-clockwise
+  bool light_convex = true;
+  FT light_area;                  // Polygon: its chart area
+  std::vector<Point2> hull;       // counter-clockwise hull of what is measured (Disk/Sun: a square)
+  std::vector<Point3> hull3;      // the hull on the plane (Sun: per point)
+  double scale_u = 1, scale_v = 1;  // Disk/Sun: orthonormal coordinates U = u * scale_u
+  double radius = 0;                // Disk/Sun: the circle's radius in (U, V)
+};
+
+Point2 to_uv(const Target& t, const Point3& y) {
+  if (t.shape == Shape::Polygon) return to_chart(y, t.axis);
+  const Vector3 d = y - t.c;
+  return Point2(d * t.e1, d * t.e2);
+}
+
+Point3 from_uv(const Target& t, const Point2& p) {
+  if (t.shape == Shape::Polygon) {
+    const int k = t.axis, i = core::chart_i(k), j = core::chart_j(k);
+    const FT xk = -(t.offset + t.n[i] * p.x() + t.n[j] * p.y()) / t.n[k];
+    FT xyz[3];
+    xyz[i] = p.x();
+    xyz[j] = p.y();
+    xyz[k] = xk;
+    return Point3(xyz[0], xyz[1], xyz[2]);
+  }
+  return t.c + t.e1 * (p.x() / t.e1sq) + t.e2 * (p.y() / t.e2sq);
+}
+
+/// e1, e2 orthogonal to n, rational, e1 x e2 = |e1|^2 n.
+void make_frame(Target& t) {
+  const double ax = std::abs(CGAL::to_double(t.n.x())), ay = std::abs(CGAL::to_double(t.n.y())),
+               az = std::abs(CGAL::to_double(t.n.z()));
+  Vector3 axis = ax <= ay && ax <= az ? Vector3(1, 0, 0) : (ay <= az ? Vector3(0, 1, 0) : Vector3(0, 0, 1));
+  t.e1 = CGAL::cross_product(t.n, axis);
+  t.e2 = CGAL::cross_product(t.n, t.e1);
+  t.e1sq = t.e1.squared_length();
+  t.e2sq = t.e2.squared_length();
+}
+
+/// Square [-bu, bu] x [-bv, bv] in (u, v) around the circle of radius `radius` in (U, V), with a
+/// margin, so that the pyramid over it holds the whole disk.
+void make_square(Target& t) {
+  const double bu = t.radius * (1.0 + 1e-6) / t.scale_u, bv = t.radius * (1.0 + 1e-6) / t.scale_v;
+  t.hull = {Point2(-bu, -bv), Point2(bu, -bv), Point2(bu, bv), Point2(-bu, bv)};
+}
+
+Target make_target(const LightPlan& plan) {
+  Target t;
+  t.shape = plan.shape;
+  if (plan.shape == Shape::Polygon) {
+    const ExactFace face = make_exact_face(plan.polygon, plan.prep);
+    t.n = face.normal;
+    t.offset = face.offset;
+    t.axis = plan.prep.axis;
+    t.light = face.chart;
+    t.light_convex = t.light.is_convex();
+    t.light_area = polygon_area(t.light);
+    CGAL::convex_hull_2(t.light.vertices_begin(), t.light.vertices_end(), std::back_inserter(t.hull));
+    for (const Point2& p : t.hull) t.hull3.push_back(from_uv(t, p));
+  } else if (plan.shape == Shape::Disk) {
+    t.n = Vector3(plan.normal.x, plan.normal.y, plan.normal.z);
+    t.c = to_exact(plan.centre);
+    t.offset = -(t.n * (t.c - CGAL::ORIGIN));
+    make_frame(t);
+    t.scale_u = 1.0 / std::sqrt(CGAL::to_double(t.e1sq));
+    t.scale_v = 1.0 / std::sqrt(CGAL::to_double(t.e2sq));
+    t.radius = plan.radius;
+    make_square(t);
+    for (const Point2& p : t.hull) t.hull3.push_back(from_uv(t, p));
+  } else {
+    // The sun: the plane at distance |s| from the point toward the sun, facing the point; the
+    // central projection onto it is the gnomonic projection (scaled by |s|).
+    const Vector3 s(plan.normal.x, plan.normal.y, plan.normal.z);
+    t.n = -s;
+    make_frame(t);
+    const double s_len = glm::length(plan.normal);
+    // (u, v) / (|e| |s|) are the coordinates on the tangent plane at unit distance.
+    t.scale_u = 1.0 / (std::sqrt(CGAL::to_double(t.e1sq)) * s_len);
+    t.scale_v = 1.0 / (std::sqrt(CGAL::to_double(t.e2sq)) * s_len);
+    t.radius = plan.radius;
+    make_square(t);
+  }
+  return t;
+}
+
+/// Per point for the sun: the plane through x + s.
+void place_sun(Target& t, const Point3& x) {
+  t.c = x - t.n;  // n = -s
+  t.offset = -(t.n * (t.c - CGAL::ORIGIN));
+  t.hull3.clear();
+  for (const Point2& p : t.hull) t.hull3.push_back(from_uv(t, p));
+}
+
+/// Keeps the part of a convex polygon where f >= 0 (Sutherland-Hodgman, exact).
+std::vector<Point3> clip(const std::vector<Point3>& polygon, const Affine3& f) {
+  std::vector<Point3> out;
+  const std::size_t n = polygon.size();
+  if (n == 0) return out;
+  std::vector<FT> value;
+  std::vector<CGAL::Sign> sign;
+  value.reserve(n);
+  sign.reserve(n);
+  bool all_in = true, all_out = true;
+  for (const Point3& p : polygon) {
+    value.push_back(f(p));
+    sign.push_back(CGAL::sign(value.back()));
+    all_in = all_in && sign.back() != CGAL::NEGATIVE;
+    all_out = all_out && sign.back() == CGAL::NEGATIVE;
+  }
+  if (all_in) return polygon;
+  if (all_out) return out;
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    if (sign[a] != CGAL::NEGATIVE) out.push_back(polygon[a]);
+    if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+        (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE))
+      out.push_back(polygon[a] + (polygon[b] - polygon[a]) * (value[a] / (value[a] - value[b])));
+  }
+  return out;
+}
+
+/// The part of convex polygon `box` (counter-clockwise) where a u + b v + c >= 0.
+Polygon2 clip2(const std::vector<Point2>& box, const FT& a, const FT& b, const FT& c) {
+  Polygon2 out;
+  const std::size_t n = box.size();
+  auto f = [&](const Point2& p) { return a * p.x() + b * p.y() + c; };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Point2& p = box[i];
+    const Point2& q = box[(i + 1) % n];
+    const FT fp = f(p), fq = f(q);
+    const CGAL::Sign sp = CGAL::sign(fp), sq = CGAL::sign(fq);
+    if (sp != CGAL::NEGATIVE) out.push_back(p);
+    if ((sp == CGAL::POSITIVE && sq == CGAL::NEGATIVE) || (sp == CGAL::NEGATIVE && sq == CGAL::POSITIVE))
+      out.push_back(p + (q - p) * (fp / (fp - fq)));
+  }
+  return out;
+}
+
+/// Per-face data shared by the threads: bounding boxes of the exact (lifted) vertices.
+struct SceneFaces {
+  std::vector<core::FacePrep> prep;
+  std::vector<std::array<double, 6>> box;  // min xyz, max xyz, widened by a margin
+};
+
+SceneFaces prepare_scene(const Scene& scene) {
+  SceneFaces s;
+  s.prep.resize(scene.faces.size());
+  s.box.resize(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const Face& face = scene.faces[f];
+    if (face.degenerate || face.vertices.size() < 3) {
+      s.prep[f].degenerate = true;
+      continue;
+    }
+    s.prep[f] = prepare_face(face.vertices);
+    if (s.prep[f].degenerate) continue;
+    std::array<double, 6> b{};
+    for (int k = 0; k < 3; ++k) {
+      b[k] = std::numeric_limits<double>::infinity();
+      b[k + 3] = -std::numeric_limits<double>::infinity();
+    }
+    if (s.prep[f].exactly_planar) {
+      for (const glm::dvec3& v : face.vertices)
+        for (int k = 0; k < 3; ++k) b[k] = std::min(b[k], v[k]), b[k + 3] = std::max(b[k + 3], v[k]);
+    } else {
+      const ExactFace ef = make_exact_face(face.vertices, s.prep[f]);
+      for (const Point3& p : ef.vertices)
+        for (int k = 0; k < 3; ++k) {
+          const double d = CGAL::to_double(p[k]);
+          b[k] = std::min(b[k], d);
+          b[k + 3] = std::max(b[k + 3], d);
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+      const double m = 1e-9 * (std::abs(b[k]) + std::abs(b[k + 3]) + (b[k + 3] - b[k])) + 1e-300;
+      b[k] -= m;
+      b[k + 3] += m;
+    }
+    s.box[f] = b;
+  }
+  return s;
+}
+
+/// One thread's exact state.
+struct Worker {
+  std::optional<Target> target;
+  std::vector<std::unique_ptr<ExactFace>> faces;
+  const ExactFace& face(const Scene& scene, const SceneFaces& sf, std::size_t f) {
+    if (!faces[f]) faces[f] = std::make_unique<ExactFace>(make_exact_face(scene.faces[f].vertices, sf.prep[f]));
+    return *faces[f];
+  }
+};
+
+// ---- measuring on a circle -----------------------------------------------------------------
+
+/// Weight of a region inside the circle of radius R around the origin: its area, or the solid
+/// angle it subtends from the point at unit distance above the origin (the sun's gnomonic
+/// plane). Sum over a region's boundary edges of edge_measure gives the measure of the region's
+/// part inside the circle: inside the circle an edge contributes its triangle with the origin
+/// (area, or Van Oosterom and Strackee's solid angle of that triangle); outside, the arc it
+/// subtends, G(R) times its angle, G(R) = R^2/2 or 1 - 1/sqrt(1 + R^2).
+struct CircleMeasure {
+  double R = 1;
+  bool solid_angle = false;
+  double g_of_r = 0;
+  double total = 0;
+  explicit CircleMeasure(double radius, bool solid) : R(radius), solid_angle(solid) {
+    if (solid) {
+      const double root = std::sqrt(1.0 + R * R);
+      g_of_r = R * R / (root * (1.0 + root));  // 1 - 1/sqrt(1 + R^2) without cancellation
+    } else {
+      g_of_r = 0.5 * R * R;
+    }
+    total = 2.0 * kPi * g_of_r;
+  }
+  static double angle(double ax, double ay, double bx, double by) {
+    return std::atan2(ax * by - ay * bx, ax * bx + ay * by);
+  }
+  double inside(double ax, double ay, double bx, double by) const {
+    const double cross = ax * by - ay * bx;
+    if (cross == 0.0) return 0.0;
+    if (!solid_angle) return 0.5 * cross;
+    // A = (0, 0, 1), B = (a, 1), C = (b, 1): tan(omega / 2) = det / denominator.
+    const double la = std::sqrt(ax * ax + ay * ay + 1.0), lb = std::sqrt(bx * bx + by * by + 1.0);
+    const double denominator = la * lb + (ax * bx + ay * by + 1.0) + lb + la;
+    return 2.0 * std::atan2(cross, denominator);
+  }
+  double outside(double ax, double ay, double bx, double by) const { return g_of_r * angle(ax, ay, bx, by); }
+  double edge(double ax, double ay, double bx, double by) const {
+    const double dx = bx - ax, dy = by - ay;
+    const double dd = dx * dx + dy * dy;
+    if (dd == 0.0) return 0.0;
+    const double ad = ax * dx + ay * dy;
+    const double aa = ax * ax + ay * ay;
+    const double disc = ad * ad - dd * (aa - R * R);
+    if (!(disc > 0.0)) return outside(ax, ay, bx, by);
+    const double root = std::sqrt(disc);
+    double t1 = (-ad - root) / dd, t2 = (-ad + root) / dd;
+    t1 = std::clamp(t1, 0.0, 1.0);
+    t2 = std::clamp(t2, 0.0, 1.0);
+    const double px = ax + t1 * dx, py = ay + t1 * dy, qx = ax + t2 * dx, qy = ay + t2 * dy;
+    double sum = 0.0;
+    if (t1 > 0.0) sum += outside(ax, ay, px, py);
+    if (t2 > t1) sum += inside(px, py, qx, qy);
+    if (t2 < 1.0) sum += outside(qx, qy, bx, by);
+    return sum;
+  }
+};
+
+// ---- Lambert's contour integral ----------------------------------------------------------
+
+/// Sum over the edges of a closed 3D polygon (relative to the point x) of
+/// angle(r_a, r_b) (r_a x r_b) / |r_a x r_b| . n: twice the integral of cos cos' / r^2 over the
+/// polygon with a sign set by its orientation (Lambert's formula for the form factor).
+double lambert_contour(const std::vector<glm::dvec3>& r, const glm::dvec3& n) {
+  double sum = 0.0;
+  for (std::size_t a = 0; a < r.size(); ++a) {
+    const glm::dvec3& p = r[a];
+    const glm::dvec3& q = r[(a + 1) % r.size()];
+    const glm::dvec3 cross = glm::cross(p, q);
+    const double len = glm::length(cross);
+    if (!(len > 0.0)) continue;
+    const double gamma = std::atan2(len, glm::dot(p, q));
+    sum += gamma * glm::dot(cross, n) / len;
+  }
+  return sum;
+}
+
+glm::dvec3 to_dvec(const Point3& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}; }
+
+// ---- one point ------------------------------------------------------------------------------
+
+struct PointResult {
+  double visibility = 0.0;
+  double irradiance = 0.0;
+};
+
+class Evaluator {
+ public:
+  Evaluator(const Scene& scene, const Light& light, const LightPlan& plan, const SceneFaces& faces, bool irradiance)
+      : scene_(scene), light_(light), plan_(plan), faces_(faces), want_irradiance_(irradiance) {
+    for (int k = 0; k < 3; ++k) scene_box_[k] = std::numeric_limits<double>::infinity(), scene_box_[k + 3] = -scene_box_[k];
+    for (std::size_t f = 0; f < faces.box.size(); ++f)
+      if (!faces.prep[f].degenerate)
+        for (int k = 0; k < 3; ++k)
+          scene_box_[k] = std::min(scene_box_[k], faces.box[f][k]), scene_box_[k + 3] = std::max(scene_box_[k + 3], faces.box[f][k + 3]);
+  }
+
+  PointResult evaluate(Worker& w, const SurfacePoint& sp) const {
+    PointResult none;
+    const std::size_t f = sp.face_id;
+    if (faces_.prep[f].degenerate) return none;
+    if (!w.target) {
+      w.target = make_target(plan_);
+      w.faces.resize(scene_.faces.size());
+    }
+    Target& t = *w.target;
+    const Point3 x = to_exact(sp.position);
+    if (t.shape == Shape::Sun) place_sun(t, x);
+    const FT h = t.n * (x - CGAL::ORIGIN) + t.offset;  // > 0: in front of the light
+    if (CGAL::sign(h) != CGAL::POSITIVE) return none;
+    const ExactFace& receiver = w.face(scene_, faces_, f);
+
+    // The light's part behind the receiver's plane (n_R . (y - x) < 0) is not seen: g(u, v) >= 0
+    // keeps the part behind, as an affine function of (u, v) on the plane.
+    const Point3 o = from_uv(t, Point2(0, 0)), pu = from_uv(t, Point2(1, 0)), pv = from_uv(t, Point2(0, 1));
+    const FT g0 = -(receiver.normal * (o - x));
+    const FT gu = -(receiver.normal * (pu - o)), gv = -(receiver.normal * (pv - o));
+    bool all_behind = true, any_behind = false;
+    for (const Point3& y : t.hull3) {
+      const CGAL::Sign s = CGAL::sign(receiver.normal * (y - x));
+      all_behind = all_behind && s != CGAL::POSITIVE;
+      any_behind = any_behind || s == CGAL::NEGATIVE;
+    }
+    if (all_behind) return none;
+
+    // The pyramid from x over the hull, and (planar lights) the light's plane: what can hide.
+    std::vector<Affine3> planes;
+    const std::size_t m = t.hull3.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      const Point3& p = t.hull3[a];
+      const Point3& q = t.hull3[(a + 1) % m];
+      const Point3& r = t.hull3[(a + 2) % m];
+      Vector3 normal = CGAL::cross_product(p - x, q - x);
+      if (CGAL::sign(normal * (r - x)) == CGAL::NEGATIVE) normal = -normal;
+      planes.push_back({normal, -(normal * (x - CGAL::ORIGIN))});
+    }
+    if (t.shape != Shape::Sun) planes.push_back({t.n, t.offset});  // between the light's plane and x
+
+    // Bounding box of the pyramid (truncated by the scene for the sun), in doubles with a margin.
+    std::array<double, 6> box = frustum_box(t, sp.position);
+
+    std::vector<Polygon2> hidden;
+    if (any_behind) {
+      Polygon2 behind = clip2(t.hull, gu, gv, g0);
+      if (behind.size() >= 3 && CGAL::sign(polygon_area(behind)) == CGAL::POSITIVE) hidden.push_back(std::move(behind));
+    }
+    for (std::size_t o_id = 0; o_id < scene_.faces.size(); ++o_id) {
+      if (o_id == f || faces_.prep[o_id].degenerate) continue;
+      const std::array<double, 6>& b = faces_.box[o_id];
+      if (b[0] > box[3] || b[3] < box[0] || b[1] > box[4] || b[4] < box[1] || b[2] > box[5] || b[5] < box[2]) continue;
+      const ExactFace& face = w.face(scene_, faces_, o_id);
+      // A face through x projects onto a line; one in the light's own plane does not stand between.
+      if (CGAL::is_zero(face.normal * (x - CGAL::ORIGIN) + face.offset)) continue;
+      bool outside = false;
+      for (const Affine3& pl : planes) {
+        bool all_out = true;
+        for (const Point3& p : face.vertices)
+          if (CGAL::sign(pl(p)) != CGAL::NEGATIVE) {
+            all_out = false;
+            break;
+          }
+        if (all_out) {
+          outside = true;
+          break;
+        }
+      }
+      if (outside) continue;
+      if (t.shape != Shape::Sun) {
+        bool in_plane = true;
+        for (const Point3& p : face.vertices)
+          if (!CGAL::is_zero(planes.back()(p))) {
+            in_plane = false;
+            break;
+          }
+        if (in_plane) continue;
+      }
+      for (const std::vector<int>& piece : faces_.prep[o_id].convex_pieces) {
+        std::vector<Point3> poly;
+        poly.reserve(piece.size());
+        for (int v : piece) poly.push_back(face.vertices[static_cast<std::size_t>(v)]);
+        for (const Affine3& pl : planes) {
+          poly = clip(poly, pl);
+          if (poly.size() < 3) break;
+        }
+        if (poly.size() < 3) continue;
+        Polygon2 image;
+        for (const Point3& q : poly) {
+          const FT sq = t.n * (q - CGAL::ORIGIN) + t.offset;
+          const FT tt = h / (h - sq);
+          image.push_back(to_uv(t, x + (q - x) * tt));
+        }
+        const CGAL::Sign orientation = CGAL::sign(polygon_area(image));
+        if (orientation == CGAL::ZERO) continue;
+        if (orientation == CGAL::NEGATIVE) image.reverse_orientation();
+        hidden.push_back(std::move(image));
+      }
+    }
+
+    PointResult result;
+    if (t.shape == Shape::Polygon) {
+      PolygonSet2 set;
+      if (!hidden.empty()) {
+        set.join(hidden.begin(), hidden.end());
+        if (!t.light_convex) set.intersection(t.light);
+      }
+      std::vector<PolygonWithHoles2> regions;
+      set.polygons_with_holes(std::back_inserter(regions));
+      std::vector<FT> terms;
+      for (const PolygonWithHoles2& r : regions) terms.push_back(region_area(r));
+      const FT hidden_area = balanced_sum(terms);
+      const FT fraction = (t.light_area - hidden_area) / t.light_area;
+      result.visibility = std::clamp(round_to_double(fraction), 0.0, 1.0);
+      if (want_irradiance_ && result.visibility > 0.0) {
+        PolygonSet2 visible(t.light);
+        if (!regions.empty()) visible.difference(set);
+        result.irradiance = contour_irradiance(t, visible, sp.position, receiver);
+      }
+      return result;
+    }
+    // Disk or sun: the hidden union's part inside the circle, measured edge by edge.
+    const CircleMeasure measure(t.radius, t.shape == Shape::Sun);
+    double hidden_measure = 0.0;
+    PolygonSet2 set;
+    if (!hidden.empty()) {
+      set.join(hidden.begin(), hidden.end());
+      std::vector<PolygonWithHoles2> regions;
+      set.polygons_with_holes(std::back_inserter(regions));
+      auto add = [&](const Polygon2& boundary) {
+        std::vector<std::array<double, 2>> p;
+        for (auto v = boundary.vertices_begin(); v != boundary.vertices_end(); ++v)
+          p.push_back({CGAL::to_double(v->x()) * t.scale_u, CGAL::to_double(v->y()) * t.scale_v});
+        for (std::size_t a = 0; a < p.size(); ++a) {
+          const auto& u = p[a];
+          const auto& v = p[(a + 1) % p.size()];
+          hidden_measure += measure.edge(u[0], u[1], v[0], v[1]);
+        }
+      };
+      for (const PolygonWithHoles2& r : regions) {
+        add(r.outer_boundary());
+        for (auto hole = r.holes_begin(); hole != r.holes_end(); ++hole) add(*hole);
+      }
+    }
+    result.visibility = std::clamp(1.0 - hidden_measure / measure.total, 0.0, 1.0);
+    if (want_irradiance_ && result.visibility > 0.0) {
+      if (t.shape == Shape::Sun) {
+        const double c = glm::dot(glm::normalize(to_dvec(Point3(0, 0, 0) + receiver.normal)), glm::normalize(plan_.normal));
+        result.irradiance = light_.intensity * result.visibility * std::max(0.0, c);
+      } else {
+        // The disk's irradiance: the inscribed regular polygon's visible part.
+        Polygon2 disk;
+        for (int k = 0; k < kDiskIrradianceSides; ++k) {
+          const double a = 2.0 * kPi * k / kDiskIrradianceSides;
+          disk.push_back(Point2(t.radius * std::cos(a) / t.scale_u, t.radius * std::sin(a) / t.scale_v));
+        }
+        PolygonSet2 visible(disk);
+        if (!hidden.empty()) visible.difference(set);
+        result.irradiance = contour_irradiance(t, visible, sp.position, receiver);
+      }
+    }
+    return result;
+  }
+
+ private:
+  std::array<double, 6> frustum_box(const Target& t, const glm::dvec3& x) const {
+    std::array<double, 6> b{x.x, x.y, x.z, x.x, x.y, x.z};
+    auto add = [&](const glm::dvec3& p) {
+      for (int k = 0; k < 3; ++k) b[k] = std::min(b[k], p[k]), b[k + 3] = std::max(b[k + 3], p[k]);
+    };
+    if (t.shape == Shape::Sun) {
+      // Far enough along the pyramid's edges to leave the scene's box.
+      const auto& s = scene_box_;
+      double reach = 0.0;
+      for (int k = 0; k < 3; ++k) reach += std::max(std::abs(s[k] - x[k]), std::abs(s[k + 3] - x[k]));
+      const double s_len = glm::length(plan_.normal);
+      const double scale = std::isfinite(reach) ? 2.0 * reach / s_len + 1.0 : 1.0;
+      for (const Point3& p : t.hull3) add(x + (to_dvec(p) - x) * scale);
+    } else {
+      for (const Point3& p : t.hull3) add(to_dvec(p));
+    }
+    for (int k = 0; k < 3; ++k) {
+      const double m = 1e-9 * (std::abs(b[k]) + std::abs(b[k + 3]) + (b[k + 3] - b[k])) + 1e-300;
+      b[k] -= m;
+      b[k + 3] += m;
+    }
+    return b;
+  }
+
+  /// L times the integral of cos cos' / r^2 over `visible` (Lambert's contour formula).
+  double contour_irradiance(const Target& t, const PolygonSet2& visible, const glm::dvec3& x,
+                            const ExactFace& receiver) const {
+    const glm::dvec3 n = glm::normalize(to_dvec(Point3(0, 0, 0) + receiver.normal));
+    // Counter-clockwise in (u, v) is counter-clockwise seen from the front for the frames; for a
+    // chart, when the plane's normal has a positive dropped component.
+    double orientation = 1.0;
+    if (t.shape == Shape::Polygon && CGAL::sign(t.n[t.axis]) == CGAL::NEGATIVE) orientation = -1.0;
+    std::vector<PolygonWithHoles2> regions;
+    visible.polygons_with_holes(std::back_inserter(regions));
+    double sum = 0.0;
+    auto add = [&](const Polygon2& boundary) {
+      std::vector<glm::dvec3> r;
+      for (auto v = boundary.vertices_begin(); v != boundary.vertices_end(); ++v) r.push_back(to_dvec(from_uv(t, *v)) - x);
+      sum += lambert_contour(r, n);
+    };
+    for (const PolygonWithHoles2& region : regions) {
+      add(region.outer_boundary());
+      for (auto hole = region.holes_begin(); hole != region.holes_end(); ++hole) add(*hole);
+    }
+    // Counter-clockwise seen from the front (from x) gives r_a x r_b pointing away from the
+    // receiver's side: the sum is negative for a light in front.
+    return std::max(0.0, -0.5 * orientation * sum * light_.intensity);
+  }
+
+  const Scene& scene_;
+  const Light& light_;
+  const LightPlan& plan_;
+  const SceneFaces& faces_;
+  bool want_irradiance_;
+  std::array<double, 6> scene_box_{};  // the non-degenerate faces' box (for the sun's reach)
+};
+
+}  // namespace
+
+namespace detail {
+
+std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& scene, const Light& light,
+                                                                   const std::vector<SurfacePoint>& points,
+                                                                   unsigned threads, bool irradiance) {
+  const LightPlan plan = plan_light(light);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].face_id >= scene.faces.size())
+      throw InputError({"", "points[" + std::to_string(i) + "].face_id"},
+                       "no face " + std::to_string(points[i].face_id) + ": the scene has " +
+                           std::to_string(scene.faces.size()) + " faces");
+    if (!finite3(points[i].position))
+      throw InputError({"", "points[" + std::to_string(i) + "].position"}, "position is not finite");
+  }
+  std::vector<std::pair<double, double>> out(points.size(), {0.0, 0.0});
+  if (points.empty()) return out;
+  const SceneFaces faces = prepare_scene(scene);
+  const Evaluator evaluator(scene, light, plan, faces, irradiance);
+  const unsigned n = core::resolve_threads(core::checked_threads(threads));
+  std::vector<Worker> workers(std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(points.size()))));
+  core::parallel_for(points.size(), static_cast<unsigned>(workers.size()), [&](unsigned wi, std::size_t i) {
+    const PointResult r = evaluator.evaluate(workers[wi], points[i]);
+    out[i] = {r.visibility, r.irradiance};
+  });
+  return out;
+}
+
+}  // namespace detail
+
+std::vector<double> light_visibility(const Scene& scene, const Light& light, const std::vector<SurfacePoint>& points,
+                                     unsigned threads) {
+  const auto both = shadow::detail::light_visibility_irradiance(scene, light, points, threads, false);
+  std::vector<double> out(both.size());
+  for (std::size_t i = 0; i < both.size(); ++i) out[i] = both[i].first;
+  return out;
+}
+
+std::vector<double> light_irradiance(const Scene& scene, const Light& light, const std::vector<SurfacePoint>& points,
+                                     unsigned threads) {
+  const auto both = shadow::detail::light_visibility_irradiance(scene, light, points, threads, true);
+  std::vector<double> out(both.size());
+  for (std::size_t i = 0; i < both.size(); ++i) out[i] = both[i].second;
+  return out;
+}
+
+void fill_fragment_visibility(const Scene& scene, const Light& light, std::vector<Fragment>& fragments,
+                              unsigned threads) {
+  std::vector<SurfacePoint> points;
+  for (const Fragment& f : fragments)
+    for (const glm::dvec3& p : f.polygon) points.push_back({f.face_id, p});
+  const std::vector<double> values = light_visibility(scene, light, points, threads);
+  std::size_t next = 0;
+  for (Fragment& f : fragments) {
+    f.visibility.assign(values.begin() + static_cast<std::ptrdiff_t>(next),
+                        values.begin() + static_cast<std::ptrdiff_t>(next + f.polygon.size()));
+    next += f.polygon.size();
+  }
+}
+
+}  // namespace shadow

@@ -1,0 +1,325 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The visible fraction of extended lights and their irradiance (docs/area-light-visibility.md):
+// analytic fractions, open space and a closed box, monotonicity when occluders are added, the
+// form factor of a square in closed form, and agreement with many random rays per point.
+#include <shadow/area_lights.hpp>
+#include <shadow/error.hpp>
+#include <shadow/scene.hpp>
+
+#include "support/ray_caster.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace {
+
+using shadow::Light;
+using shadow::LightType;
+using shadow::Scene;
+using shadow::SurfacePoint;
+using glm::dvec3;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Adds one face (its own mesh) and returns its id.
+std::size_t add_face(Scene& scene, std::vector<dvec3> vertices) {
+  shadow::Mesh mesh;
+  mesh.name = "m" + std::to_string(scene.meshes.size());
+  mesh.first_face = scene.faces.size();
+  mesh.face_count = 1;
+  scene.meshes.push_back(mesh);
+  shadow::Face face;
+  face.vertices = std::move(vertices);
+  face.mesh = scene.meshes.size() - 1;
+  scene.faces.push_back(face);
+  return scene.faces.size() - 1;
+}
+
+/// Axis-aligned rectangle [x0, x1] x [y0, y1] at height z, facing up (+z) or down.
+std::vector<dvec3> rect_z(double x0, double x1, double y0, double y1, double z, bool up = true) {
+  std::vector<dvec3> v{{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}};
+  if (!up) std::reverse(v.begin(), v.end());
+  return v;
+}
+
+Scene ground_scene() {
+  Scene scene;
+  add_face(scene, rect_z(-5, 5, -5, 5, 0));  // face 0: the receiving ground, facing up
+  return scene;
+}
+
+Light square_light(double half, double z) {
+  Light light;
+  light.type = LightType::Area;
+  light.polygon = rect_z(-half, half, -half, half, z, /*up=*/false);  // light leaves downward
+  light.intensity = 1.0;
+  return light;
+}
+
+Light disk_light(double radius, double z) {
+  Light light;
+  light.type = LightType::Disk;
+  light.position = {0, 0, z};
+  light.normal = {0, 0, -1};
+  light.radius = radius;
+  return light;
+}
+
+Light sun(dvec3 to_light, double diameter = 0.53) {
+  Light light;
+  light.type = LightType::Directional;
+  light.to_light = to_light;
+  light.angular_diameter = diameter;
+  return light;
+}
+
+double visibility_at(const Scene& scene, const Light& light, dvec3 p, std::size_t face = 0) {
+  return shadow::light_visibility(scene, light, {SurfacePoint{face, p}}, 1).at(0);
+}
+
+/// Closed-form integral of cos cos' / r^2 over a w x h rectangle parallel to the receiver at
+/// distance c, seen from below one corner (the classic corner form factor times pi).
+double corner_integral(double w, double h, double c) {
+  const double a = w / c, b = h / c;
+  const double ra = std::sqrt(1 + a * a), rb = std::sqrt(1 + b * b);
+  return 0.5 * (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb));
+}
+
+TEST(LightVisibility, OpenSpaceSeesAllOfTheLight) {
+  const Scene scene = ground_scene();
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {0.3, -0.2, 0}), 1.0);
+  EXPECT_EQ(visibility_at(scene, disk_light(1, 2), {0.3, -0.2, 0}), 1.0);
+  EXPECT_EQ(visibility_at(scene, sun({0.2, 0.1, 1}), {0.3, -0.2, 0}), 1.0);
+}
+
+TEST(LightVisibility, HalfCoveringEdgeHidesHalfOfASquare) {
+  Scene scene = ground_scene();
+  add_face(scene, rect_z(0, 3, -3, 3, 1));  // its edge x = 0 projects onto the light's middle
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {0, 0, 0}), 0.5);
+  // Seen from (0.1, 0, 0) the edge projects to u = 2 * 0 - 0.1: 0.45 of the width stays visible.
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {0.1, 0, 0}), 0.45);
+}
+
+TEST(LightVisibility, SquareSeenThroughASquareHole) {
+  Scene scene = ground_scene();
+  // A plate at z = 1 with a hole [-0.25, 0.25]^2, as four rectangles; the light is [-1, 1]^2
+  // at z = 2: from the ground the hole projects onto a square of side 1, a quarter of the light.
+  add_face(scene, rect_z(-3, -0.25, -3, 3, 1));
+  add_face(scene, rect_z(0.25, 3, -3, 3, 1));
+  add_face(scene, rect_z(-0.25, 0.25, -3, -0.25, 1));
+  add_face(scene, rect_z(-0.25, 0.25, 0.25, 3, 1));
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {0, 0, 0}), 0.25);
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {0.1, -0.2, 0}), 0.25);
+  // Far off to the side the hole's image leaves the light: nothing is seen.
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {4, 0, 0}), 0.0);
+}
+
+TEST(LightVisibility, DiskAgainstTheCircularSegment) {
+  for (double d : {0.0, 0.1, 0.3, -0.2, 0.45}) {
+    Scene scene = ground_scene();
+    add_face(scene, rect_z(d, 3, -3, 3, 1));  // projects onto u >= 2d on the disk of radius 1
+    const double c = 2 * d, R = 1.0;
+    const double segment = R * R * std::acos(c / R) - c * std::sqrt(R * R - c * c);  // area with u >= c
+    const double expected = 1.0 - segment / (kPi * R * R);
+    EXPECT_NEAR(visibility_at(scene, disk_light(R, 2), {0, 0, 0}), expected, 1e-13) << "d = " << d;
+  }
+}
+
+TEST(LightVisibility, SunDiskHalfHiddenByAHorizonEdge) {
+  Scene scene = ground_scene();
+  // A wall at x = 10, 10 high: its top edge lies on the ray from the origin to the sun's centre.
+  add_face(scene, {{10, -100, 0}, {10, 100, 0}, {10, 100, 10}, {10, -100, 10}});
+  EXPECT_NEAR(visibility_at(scene, sun({1, 0, 1}), {0, 0, 0}), 0.5, 1e-12);
+  // The sun is 0.53 degrees wide: 0.3 degrees lower it is hidden, 0.3 degrees higher it is clear.
+  const double a = (45.0 - 0.3) * kPi / 180, b = (45.0 + 0.3) * kPi / 180;
+  EXPECT_EQ(visibility_at(scene, sun({std::cos(a), 0, std::sin(a)}), {0, 0, 0}), 0.0);
+  EXPECT_EQ(visibility_at(scene, sun({std::cos(b), 0, std::sin(b)}), {0, 0, 0}), 1.0);
+  // Straight overhead, an occluder whose edge passes over the point hides half.
+  Scene over = ground_scene();
+  add_face(over, rect_z(0, 100, -100, 100, 10));
+  EXPECT_NEAR(visibility_at(over, sun({0, 0, 1}), {0, 0, 0}), 0.5, 1e-12);
+}
+
+TEST(LightVisibility, SunDiskAgainstTheCapSegmentInSolidAngle) {
+  // An edge at angular distance beta from the sun's centre hides a segment of the cap. Its solid
+  // angle, by numerical quadrature over the polar angle (independent of the library's
+  // closed-form edge sums): omega(beta) = int_0^alpha sin t * 2 acos(tan(beta)/tan(t)) dt.
+  const double alpha = 2.0 * kPi / 180;  // a 4-degree sun, to make the solid-angle weight matter
+  for (double beta_deg : {0.5, 1.0, 1.7}) {
+    const double beta = beta_deg * kPi / 180;
+    const int steps = 200000;
+    double hidden = 0;
+    for (int i = 0; i < steps; ++i) {
+      const double t = (i + 0.5) * alpha / steps;
+      if (t <= beta) continue;
+      hidden += std::sin(t) * 2.0 * std::acos(std::tan(beta) / std::tan(t)) * (alpha / steps);
+    }
+    const double total = 2 * kPi * (1 - std::cos(alpha));
+    Scene scene = ground_scene();
+    add_face(scene, rect_z(10 * std::tan(beta), 100, -100, 100, 10));  // hides directions with x/z >= tan(beta)
+    EXPECT_NEAR(visibility_at(scene, sun({0, 0, 1}, 4.0), {0, 0, 0}), 1 - hidden / total, 2e-6) << beta_deg;
+  }
+}
+
+TEST(LightVisibility, ClosedBoxSeesNothing) {
+  Scene scene;
+  add_face(scene, rect_z(-1, 1, -1, 1, 0, /*up=*/true));  // the box's floor, seen from inside
+  add_face(scene, rect_z(-1, 1, -1, 1, 2, /*up=*/true));  // roof
+  add_face(scene, {{-1, -1, 0}, {1, -1, 0}, {1, -1, 2}, {-1, -1, 2}});
+  add_face(scene, {{1, -1, 0}, {1, 1, 0}, {1, 1, 2}, {1, -1, 2}});
+  add_face(scene, {{1, 1, 0}, {-1, 1, 0}, {-1, 1, 2}, {1, 1, 2}});
+  add_face(scene, {{-1, 1, 0}, {-1, -1, 0}, {-1, -1, 2}, {-1, 1, 2}});
+  EXPECT_EQ(visibility_at(scene, square_light(3, 5), {0.3, 0.2, 0}), 0.0);
+  EXPECT_EQ(visibility_at(scene, disk_light(3, 5), {0.3, 0.2, 0}), 0.0);
+  EXPECT_EQ(visibility_at(scene, sun({0.3, 0.2, 1}), {0.3, 0.2, 0}), 0.0);
+  // Next to the floor's edge the roof and the wall still shut it in; on the edge itself the wall
+  // passes through the point and hides nothing of measure (docs/area-light-visibility.md: contact).
+  EXPECT_EQ(visibility_at(scene, square_light(3, 5), {0.999, 0, 0}), 0.0);
+  EXPECT_EQ(visibility_at(scene, square_light(3, 5), {1, 0, 0}), 1.0 / 3.0);
+}
+
+TEST(LightVisibility, BehindTheLightOrLookingAwaySeesNothing) {
+  Scene scene = ground_scene();
+  add_face(scene, rect_z(-5, 5, -5, 5, 3));  // face 1, facing up at z = 3: above the light's plane
+  EXPECT_EQ(visibility_at(scene, square_light(1, 2), {0, 0, 3}, 1), 0.0);
+  Scene down;
+  add_face(down, rect_z(-5, 5, -5, 5, 0, /*up=*/false));  // facing away from the light
+  EXPECT_EQ(visibility_at(down, square_light(1, 2), {0, 0, 0}), 0.0);
+  EXPECT_EQ(visibility_at(down, disk_light(1, 2), {0, 0, 0}), 0.0);
+  EXPECT_EQ(visibility_at(down, sun({0, 0, 1}), {0, 0, 0}), 0.0);
+}
+
+TEST(LightVisibility, LightHalfBelowTheReceiversHorizon) {
+  const Scene scene = ground_scene();
+  Light wall_lamp;  // a vertical square at x = 2, z in [-1, 1], shining toward -x
+  wall_lamp.type = LightType::Area;
+  wall_lamp.polygon = {{2, -1, -1}, {2, -1, 1}, {2, 1, 1}, {2, 1, -1}};
+  EXPECT_EQ(visibility_at(scene, wall_lamp, {0, 0, 0}), 0.5);
+}
+
+TEST(LightVisibility, InputErrors) {
+  const Scene scene = ground_scene();
+  Light point;
+  point.type = LightType::Point;
+  EXPECT_THROW(shadow::light_visibility(scene, point, {SurfacePoint{0, {0, 0, 0}}}), shadow::InputError);
+  EXPECT_THROW(shadow::light_visibility(scene, square_light(1, 2), {SurfacePoint{7, {0, 0, 0}}}), shadow::InputError);
+  Light flat = square_light(1, 2);
+  flat.polygon = {{0, 0, 2}, {1, 0, 2}, {2, 0, 2}};
+  EXPECT_THROW(shadow::light_visibility(scene, flat, {SurfacePoint{0, {0, 0, 0}}}), shadow::InputError);
+  Light bowtie = square_light(1, 2);
+  bowtie.polygon = {{-1, -1, 2}, {1, 1, 2}, {1, -1, 2}, {-1, 1, 2}};
+  EXPECT_THROW(shadow::light_visibility(scene, bowtie, {SurfacePoint{0, {0, 0, 0}}}), shadow::InputError);
+  Light no_radius = disk_light(0, 2);
+  EXPECT_THROW(shadow::light_visibility(scene, no_radius, {SurfacePoint{0, {0, 0, 0}}}), shadow::InputError);
+  EXPECT_THROW(shadow::light_visibility(scene, sun({0, 0, 1}, 200), {SurfacePoint{0, {0, 0, 0}}}), shadow::InputError);
+}
+
+TEST(LightIrradiance, UnoccludedSquareAgainstItsClosedForm) {
+  const Scene scene = ground_scene();
+  const Light light = square_light(1, 2);  // radiance 1
+  // Under the centre: four 1 x 1 rectangles seen from below a corner, at distance 2.
+  const double centre = 4 * corner_integral(1, 1, 2);
+  // Under (0.5, 0.25): rectangles 1.5 x 1.25, 0.5 x 1.25, 1.5 x 0.75, 0.5 x 0.75.
+  const double off = corner_integral(1.5, 1.25, 2) + corner_integral(0.5, 1.25, 2) + corner_integral(1.5, 0.75, 2) +
+                     corner_integral(0.5, 0.75, 2);
+  const auto e = shadow::light_irradiance(scene, light, {SurfacePoint{0, {0, 0, 0}}, SurfacePoint{0, {0.5, 0.25, 0}}}, 1);
+  EXPECT_NEAR(e[0], centre, 1e-14);
+  EXPECT_NEAR(e[1], off, 1e-14);
+  // Half of the light hidden by an edge over the centre: half the irradiance, by symmetry.
+  Scene half = ground_scene();
+  add_face(half, rect_z(0, 3, -3, 3, 1));
+  EXPECT_NEAR(shadow::light_irradiance(half, light, {SurfacePoint{0, {0, 0, 0}}}, 1)[0], centre / 2, 1e-14);
+}
+
+TEST(LightIrradiance, DiskAndSun) {
+  const Scene scene = ground_scene();
+  // A disk of radius R at distance h straight above: E = pi L R^2 / (h^2 + R^2).
+  Light disk = disk_light(1, 2);
+  disk.intensity = 3;
+  EXPECT_NEAR(shadow::light_irradiance(scene, disk, {SurfacePoint{0, {0, 0, 0}}}, 1)[0], 3 * kPi / 5, 3 * kPi / 5 * 7e-6);
+  // The sun: intensity * fraction * cos(incidence).
+  Light s = sun({1, 0, 1});
+  s.intensity = 1000;
+  Scene wall = ground_scene();
+  add_face(wall, {{10, -100, 0}, {10, 100, 0}, {10, 100, 10}, {10, -100, 10}});
+  EXPECT_NEAR(shadow::light_irradiance(wall, s, {SurfacePoint{0, {0, 0, 0}}}, 1)[0], 1000 * 0.5 * std::sqrt(0.5), 1e-9);
+}
+
+/// A ground, a light, and `count` random quads between them (seeded).
+Scene random_scene(std::mt19937& rng, int count) {
+  Scene scene = ground_scene();
+  std::uniform_real_distribution<double> pos(-2.5, 2.5), size(0.2, 1.2), height(0.3, 2.7), tilt(-0.4, 0.4);
+  for (int i = 0; i < count; ++i) {
+    const dvec3 c{pos(rng), pos(rng), height(rng)};
+    const double w = size(rng), h = size(rng), t1 = tilt(rng), t2 = tilt(rng);
+    add_face(scene, {c + dvec3(-w, -h, -w * t1 - h * t2), c + dvec3(w, -h, w * t1 - h * t2),
+                     c + dvec3(w, h, w * t1 + h * t2), c + dvec3(-w, h, -w * t1 + h * t2)});
+  }
+  return scene;
+}
+
+TEST(LightVisibility, AddingAnOccluderNeverRaisesVisibility) {
+  std::mt19937 rng(20261126);
+  std::uniform_real_distribution<double> on_ground(-3, 3);
+  for (int trial = 0; trial < 4; ++trial) {
+    const Scene full = random_scene(rng, 6);
+    std::vector<SurfacePoint> points;
+    for (int i = 0; i < 25; ++i) points.push_back({0, {on_ground(rng), on_ground(rng), 0}});
+    for (const Light& light : {square_light(1.5, 3), disk_light(1.5, 3), sun({0.3, -0.2, 1}, 20.0)}) {
+      std::vector<double> before(points.size(), 1.0);
+      for (std::size_t keep = 1; keep < full.faces.size() + 1; ++keep) {
+        Scene partial = full;
+        partial.faces.resize(keep);
+        partial.meshes.resize(keep);
+        const std::vector<double> now = shadow::light_visibility(partial, light, points, 2);
+        for (std::size_t i = 0; i < points.size(); ++i) {
+          EXPECT_LE(now[i], before[i] + (light.type == LightType::Area ? 0.0 : 1e-13)) << trial << " " << keep << " " << i;
+          EXPECT_GE(now[i], 0.0);
+        }
+        before = now;
+      }
+    }
+  }
+}
+
+TEST(LightVisibility, AgreesWithManyRandomRaysPerPoint) {
+  // k rays from each point to uniform random points of the light, cast by the tests' own
+  // double-precision ray caster. With k = 4,000 the sampled fraction's standard deviation is
+  // at most 0.008; the tolerance is 5 of them (rays too close to an edge to decide are dropped).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0, 1), on_ground(-3, 3);
+  const Scene scene = random_scene(rng, 8);
+  const Light light = square_light(1.5, 3);
+  const Light disk = disk_light(1.5, 3);
+  std::vector<SurfacePoint> points;
+  for (int i = 0; i < 12; ++i) points.push_back({0, {on_ground(rng), on_ground(rng), 0}});
+  const std::vector<double> exact = shadow::light_visibility(scene, light, points, 2);
+  const std::vector<double> exact_disk = shadow::light_visibility(scene, disk, points, 2);
+  const int k = 4000;
+  int partial = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    int lit = 0, decided = 0, lit_disk = 0, decided_disk = 0;
+    for (int r = 0; r < k; ++r) {
+      Light sample;
+      sample.type = LightType::Point;
+      sample.position = {-1.5 + 3 * unit(rng), -1.5 + 3 * unit(rng), 3};
+      const auto v = shadow::test::cast_shadow_ray(scene, 0, points[i].position, sample, 1e-9);
+      if (v != shadow::test::RayVerdict::Unsure) ++decided, lit += v == shadow::test::RayVerdict::Lit;
+      const double rho = 1.5 * std::sqrt(unit(rng)), phi = 2 * kPi * unit(rng);
+      sample.position = {rho * std::cos(phi), rho * std::sin(phi), 3};
+      const auto d = shadow::test::cast_shadow_ray(scene, 0, points[i].position, sample, 1e-9);
+      if (d != shadow::test::RayVerdict::Unsure) ++decided_disk, lit_disk += d == shadow::test::RayVerdict::Lit;
+    }
+    ASSERT_GT(decided, k * 9 / 10);
+    ASSERT_GT(decided_disk, k * 9 / 10);
+    EXPECT_NEAR(exact[i], double(lit) / decided, 0.04) << "point " << i;
+    EXPECT_NEAR(exact_disk[i], double(lit_disk) / decided_disk, 0.04) << "point " << i;
+    partial += exact[i] > 0.05 && exact[i] < 0.95;
+  }
+  EXPECT_GE(partial, 2);  // the scene does put points in penumbrae
+}
+
+}  // namespace
