@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // shadow-bench soft: speed against error of the soft-shadow baselines on scenes with an extended
 // light. Every method estimates the visible fraction of the light at the same points (a grid on
-// every receiving face); errors are against a reference at those points, per point and, through
+// every receiving face); errors are against the exact fraction at those points, per point and, through
 // soft_face_estimates, per face (fully-lit and umbra areas).
 #include "bench_soft.hpp"
 
@@ -210,23 +210,33 @@ int run_soft(const SoftOptions& o) {
       continue;
     shadow::validate_scene(s.scene);
     const shadow::FacePoints pts = shadow::face_sample_points(s.scene, s.spacing);
-    // The reference: k rays with a very large k.
-    const std::string reference = "rays k=" + std::to_string(reference_rays);
-    shadow::SoftRayOptions ro;
-    ro.rays = reference_rays;
-    ro.threads = o.threads;
-    ro.seed = 12345;
-    const shadow::SoftResult ref = shadow::ray_visibility(s.scene, s.light, pts.points, ro);
+    // The reference: the exact visible fraction (light_visibility), timed like the others.
+    const std::string reference = "exact light_visibility";
+    shadow::SoftResult ref;
+    {
+      const auto t0 = std::chrono::steady_clock::now();
+      ref.visibility = shadow::light_visibility(s.scene, s.light, pts.points, o.threads);
+      ref.compute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
     const std::vector<shadow::FaceLighting> ref_faces = shadow::soft_face_estimates(pts, ref.visibility, 0);
     std::vector<Run> all = runs(o.quick);
-    all.insert(all.begin(), Run{"reference", "k", static_cast<double>(reference_rays), reference, nullptr});
+    all.insert(all.begin(), Run{"exact", "", 0, reference, nullptr});
+    // The cross-check: k rays with a very large k must agree with the exact fractions.
+    all.push_back(Run{"rays-reference", "k", static_cast<double>(reference_rays), "stratified, seed 12345",
+                      [reference_rays](const SoftScene& sc, const std::vector<shadow::SurfacePoint>& p, unsigned threads) {
+                        shadow::SoftRayOptions ro;
+                        ro.rays = reference_rays;
+                        ro.threads = threads;
+                        ro.seed = 12345;
+                        return shadow::ray_visibility(sc.scene, sc.light, p, ro);
+                      }});
     std::vector<std::pair<double, double>> ray_errors;  // (k, mean error)
     for (const Run& r : all) {
       const shadow::SoftResult got = r.run ? r.run(s, pts.points, o.threads) : ref;
       const PointErrors pe = point_errors(got.visibility, ref.visibility);
       const FaceErrors fe = face_errors(shadow::soft_face_estimates(pts, got.visibility, 0), ref_faces);
       if (pe.out_of_range) status = 1;
-      if (r.method == "rays") ray_errors.emplace_back(r.parameter, pe.mean);
+      if (r.method == "rays" || r.method == "rays-reference") ray_errors.emplace_back(r.parameter, pe.mean);
       const double total = got.prepare_seconds + got.compute_seconds;
       std::printf("| %s | %zu | %s | %g | %.3f | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e |\n", s.name.c_str(),
                   pts.points.size(), r.method.c_str(), r.parameter, total, pe.mean, pe.max, pe.penumbra_mean, fe.lit,

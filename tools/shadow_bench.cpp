@@ -464,15 +464,15 @@ int main(int argc, char** argv) {
   planes_cmd->add_option("--label", planes_label, "Text of the table's first column (which build this is)");
   bench::SoftOptions soft;
   CLI::App* soft_cmd = app.add_subcommand(
-      "soft", "Soft shadows of extended lights: PCF, PCSS and k rays per point against the reference visible fraction");
+      "soft", "Soft shadows of extended lights: PCF, PCSS and k rays per point against the exact visible fraction");
   soft_cmd->add_option("--threads", soft.threads, "Threads for every method")->check(CLI::PositiveNumber);
   soft_cmd->add_option("--csv", soft.csv_path, "Write the rows as CSV to this file");
   soft_cmd->add_option("--scenes", soft.only_scenes, "Only these scenes (luminaire, sun-city, room-disk)")->delimiter(',');
-  soft_cmd->add_option("--reference-rays", soft.reference_rays, "Rays a point of the ray reference")
+  soft_cmd->add_option("--reference-rays", soft.reference_rays, "Rays a point of the ray cross-check against the exact fractions")
       ->check(CLI::PositiveNumber);
   soft_cmd->add_option("--max-error", soft.max_error,
-                       "Fail (exit 1) when the most rays' mean error exceeds this, rays do not improve with k, or a "
-                       "visibility leaves [0, 1]")
+                       "Fail (exit 1) when the ray cross-check's mean error exceeds this, rays do not improve with k, "
+                       "or a visibility leaves [0, 1]")
       ->check(CLI::NonNegativeNumber);
   soft_cmd->add_flag("--quick", soft.quick, "Smoke run: a small luminaire scene, two settings a method");
   app.require_subcommand(0, 1);
