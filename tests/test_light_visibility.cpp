@@ -5,6 +5,7 @@
 #include <shadow/area_lights.hpp>
 #include <shadow/error.hpp>
 #include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
 
 #include "support/ray_caster.hpp"
 
@@ -320,6 +321,45 @@ TEST(LightVisibility, AgreesWithManyRandomRaysPerPoint) {
     partial += exact[i] > 0.05 && exact[i] < 0.95;
   }
   EXPECT_GE(partial, 2);  // the scene does put points in penumbrae
+}
+
+}  // namespace
+
+namespace {
+
+TEST(FragmentVisibility, ComputeShadowsFillsExtendedLightsFragments) {
+  // A box on the ground under a 5-degree sun: every fragment vertex carries the visible fraction,
+  // equal to light_visibility at that vertex; a hard sun's fragments carry none.
+  Scene scene = ground_scene();
+  add_face(scene, rect_z(-1, 1, -1, 1, 2));
+  add_face(scene, {{-1, -1, 0}, {1, -1, 0}, {1, -1, 2}, {-1, -1, 2}});
+  add_face(scene, {{1, -1, 0}, {1, 1, 0}, {1, 1, 2}, {1, -1, 2}});
+  add_face(scene, {{1, 1, 0}, {-1, 1, 0}, {-1, 1, 2}, {1, 1, 2}});
+  add_face(scene, {{-1, 1, 0}, {-1, -1, 0}, {-1, -1, 2}, {-1, 1, 2}});
+  scene.lights = {sun({0.5, 0.3, 1}, 5.0), sun({0.5, 0.3, 1}, 0.0)};
+  shadow::ShadowOptions options;
+  options.threads = 2;
+  const shadow::ShadowResult result = shadow::compute_shadows(scene, options);
+  int filled = 0, partial = 0;
+  for (const shadow::Fragment& f : result.fragments) {
+    if (f.light_id == 1) {
+      EXPECT_TRUE(f.visibility.empty());
+      continue;
+    }
+    ASSERT_EQ(f.visibility.size(), f.polygon.size());
+    std::vector<SurfacePoint> points;
+    for (const dvec3& p : f.polygon) points.push_back({f.face_id, p});
+    const std::vector<double> direct = shadow::light_visibility(scene, scene.lights[0], points, 1);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      EXPECT_EQ(f.visibility[i], direct[i]);
+      EXPECT_GE(f.visibility[i], 0.0);
+      EXPECT_LE(f.visibility[i], 1.0);
+      partial += f.visibility[i] > 0.0 && f.visibility[i] < 1.0;
+    }
+    ++filled;
+  }
+  EXPECT_GT(filled, 0);
+  EXPECT_GT(partial, 0);  // the hard shadow's outline runs through the penumbra
 }
 
 }  // namespace

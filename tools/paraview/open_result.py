@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Opens a `shadow compute` result in ParaView with sensible defaults.
 
-Left view: the fragments of one light, lit and shadowed in two colours, with the plane shadows
-and the lights (point lights as spheres, directional lights as arrows along the light).
+Left view: the fragments of one light, lit and shadowed in two colours (for an extended light,
+coloured by the visible fraction of the light at each point, 0 to 1, with a legend), with the
+plane shadows and the lights (point lights as spheres, directional lights as arrows along the light).
 Right view: the input faces coloured by their lit fraction for that light, with a legend.
 When OUTDIR holds `sun_hours.vtp` (the exact sun-hours map of `shadow series`), one more view
 colours it by `sun_hours` with a legend titled "sun hours", the other faces in grey around it;
@@ -250,6 +251,18 @@ output.GetPointData().AddArray(direction)
 """
 
 
+def is_extended(light):
+    """An area or disk light, or a sun with an angular diameter (report.json's light entry)."""
+    return light.get("type") in ("area", "disk") or (light.get("angular_diameter") or 0) > 0
+
+
+def has_point_array(source, name):
+    """Whether a reader's output has the point array `name` (fragments.vtp has `visibility`
+    only for scenes with an extended light)."""
+    source.UpdatePipeline()
+    return source.PointData.GetArray(name) is not None
+
+
 def light_glyphs(report, centre, radius):
     """(tail, direction) of each light's arrow: a directional light's arrow starts on the
     model's bounding sphere (centre, radius), inside the framed view, and points at its centre,
@@ -398,13 +411,25 @@ def main():
     mine.LowerThreshold = args.light
     mine.UpperThreshold = args.light
     shown = Show(mine, left)
-    ColorBy(shown, ("CELLS", "lit"))
-    lit = GetColorTransferFunction("lit")
-    lit.InterpretValuesAsCategories = 1
-    lit.Annotations = ["0", "shadowed", "1", "lit"]
-    lit.IndexedColors = [0.30, 0.34, 0.45, 0.98, 0.86, 0.62]
-    shown.SetScalarBarVisibility(left, True)
-    style_bar(GetScalarBar(lit, left), "light " + light_name, annotations_left=True)
+    if is_extended(report["lights"][args.light]) and has_point_array(fragments, "visibility"):
+        # An extended light (docs/area-light-visibility.md): the exact visible fraction of the
+        # light at every fragment vertex, interpolated across the cells: the penumbra's gradient.
+        ColorBy(shown, ("POINTS", "visibility"))
+        visibility = GetColorTransferFunction("visibility")
+        visibility.ApplyPreset("Inferno (matplotlib)", True)
+        visibility.RescaleTransferFunction(0.0, 1.0)
+        visibility.AutomaticRescaleRangeMode = "Never"
+        shown.SetScalarBarVisibility(left, True)
+        style_bar(GetScalarBar(visibility, left), "visible part of " + light_name, digits=2,
+                  labels=[0.0, 0.25, 0.5, 0.75, 1.0])
+    else:
+        ColorBy(shown, ("CELLS", "lit"))
+        lit = GetColorTransferFunction("lit")
+        lit.InterpretValuesAsCategories = 1
+        lit.Annotations = ["0", "shadowed", "1", "lit"]
+        lit.IndexedColors = [0.30, 0.34, 0.45, 0.98, 0.86, 0.62]
+        shown.SetScalarBarVisibility(left, True)
+        style_bar(GetScalarBar(lit, left), "light " + light_name, annotations_left=True)
 
     plane_mine = Threshold(registrationName="plane shadows of " + light_name, Input=plane_shadows)
     plane_mine.Scalars = ["CELLS", "light_id"]

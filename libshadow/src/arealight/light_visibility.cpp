@@ -650,6 +650,38 @@ std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& 
   return out;
 }
 
+void fill_light_fragment_visibility(const Scene& scene, const Light& light, std::size_t light_id,
+                                    std::vector<Fragment>& fragments, unsigned threads) {
+  std::vector<SurfacePoint> points;
+  for (const Fragment& f : fragments)
+    if (f.light_id == light_id)
+      for (const glm::dvec3& p : f.polygon) points.push_back({f.face_id, p});
+  if (points.empty()) return;
+  const auto values = light_visibility_irradiance(scene, light, points, threads, false);
+  std::size_t next = 0;
+  for (Fragment& f : fragments) {
+    if (f.light_id != light_id) continue;
+    f.visibility.resize(f.polygon.size());
+    for (double& v : f.visibility) v = values[next++].first;
+  }
+}
+
+void light_fragment_irradiance(const Scene& scene, const Light& light, std::size_t light_id,
+                               const std::vector<Fragment>& fragments, const std::vector<std::size_t>& offsets,
+                               double* out) {
+  std::vector<SurfacePoint> points;
+  for (const Fragment& f : fragments)
+    if (f.light_id == light_id)
+      for (const glm::dvec3& p : f.polygon) points.push_back({f.face_id, p});
+  if (points.empty()) return;
+  const auto values = light_visibility_irradiance(scene, light, points, 0, true);
+  std::size_t next = 0;
+  for (std::size_t c = 0; c < fragments.size(); ++c) {
+    if (fragments[c].light_id != light_id) continue;
+    for (std::size_t i = 0; i < fragments[c].polygon.size(); ++i) out[offsets[c] + i] = values[next++].second;
+  }
+}
+
 }  // namespace detail
 
 std::vector<double> light_visibility(const Scene& scene, const Light& light, const std::vector<SurfacePoint>& points,

@@ -23,6 +23,7 @@
 #include "core/culling.hpp"
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
+#include "arealight/light_visibility.hpp"
 #include "core/parallel.hpp"
 #include "engine/engine_access.hpp"
 #include "exact/convex_solids.hpp"
@@ -193,6 +194,11 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
                   li * receivers.size(), total);
   ShadowResult result = assemble(per_light, workers);
   result.arithmetic = options.arithmetic;
+  // Extended lights: the exact visible fraction of the light at every fragment vertex.
+  for (std::size_t li = 0; li < lights.size(); ++li)
+    if (lights[li]->is_extended())
+      shadow::detail::fill_light_fragment_visibility(*scene, *lights[li], light_ids[li], result.fragments,
+                                                     options.threads);
   return result;
 }
 

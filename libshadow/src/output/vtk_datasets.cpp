@@ -2,6 +2,7 @@
 #include "output/vtk_datasets.hpp"
 
 #include "geometry/unit_vector.hpp"
+#include "arealight/light_visibility.hpp"
 #include "lighting/fragment_irradiance.hpp"
 #include "output/face_orientation.hpp"
 #include "output/names.hpp"
@@ -151,7 +152,29 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
     fragment_irradiance(scene, f, values);
     values += f.polygon.size();
   }
+  // Extended lights (docs/area-light-visibility.md): the irradiance through the visible part of
+  // the light, and the visible fraction `visibility` (0..1) at each point; a point light's
+  // points get 1 where lit and 0 in shadow. Scenes without extended lights write neither change.
+  std::vector<std::size_t> extended;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l)
+    if (scene.lights[l].is_extended()) extended.push_back(l);
+  bool any_visibility = false;
+  for (const Fragment& f : fragments) any_visibility = any_visibility || !f.visibility.empty();
+  vtkSmartPointer<vtkDoubleArray> visibility;
+  if (!extended.empty() && any_visibility) {
+    std::vector<std::size_t> offsets(n);
+    std::size_t next = 0;
+    for (std::size_t c = 0; c < n; ++c) offsets[c] = next, next += fragments[c].polygon.size();
+    for (std::size_t l : extended)
+      light_fragment_irradiance(scene, scene.lights[l], l, fragments, offsets, irradiance->GetPointer(0));
+    visibility = make_array<vtkDoubleArray>("visibility", point_count);
+    double* v = visibility->GetPointer(0);
+    for (const Fragment& f : fragments)
+      for (std::size_t i = 0; i < f.polygon.size(); ++i)
+        *v++ = i < f.visibility.size() ? f.visibility[i] : (f.lit ? 1.0 : 0.0);
+  }
   poly->GetPointData()->AddArray(irradiance);
+  if (visibility) poly->GetPointData()->AddArray(visibility);
   // ParaView colours by the active scalars when a file is opened: lit/shadowed is the view
   // people want first.
   cd->SetActiveScalars("lit");
