@@ -162,7 +162,7 @@ std::vector<Run> runs(bool quick) {
                        return shadow::pcf_visibility(s.scene, s.light, p, o);
                      }});
   for (int res : resolutions)
-    out.push_back({"pcss", "resolution", static_cast<double>(res), "caps 512 texels, at most 17^2 taps",
+    out.push_back({"pcss", "resolution", static_cast<double>(res), "caps 64 texels, at most 17^2 taps",
                    [res](const SoftScene& s, const std::vector<shadow::SurfacePoint>& p, unsigned threads) {
                      shadow::SoftShadowMapOptions o;
                      o.resolution = res;

@@ -166,8 +166,8 @@ struct SoftShadowMapOptions {
   double slope_bias = 1.0;         ///< texels of depth slope
   double max_slope_bias = 16.0;    ///< cap of the slope term, in texels
   int pcf_radius = 2;              ///< PCF: kernel half-width r in texels ((2r + 1)^2 taps)
-  double max_kernel_radius = 512.0; ///< PCSS: cap on the penumbra kernel's half-width (texels)
-  double max_search_radius = 512.0; ///< PCSS: cap on the blocker search's half-width (texels)
+  double max_kernel_radius = 64.0; ///< PCSS: cap on the penumbra kernel's half-width (texels)
+  double max_search_radius = 64.0; ///< PCSS: cap on the blocker search's half-width (texels)
   int max_taps = 8;                ///< PCSS: taps per half-width of a search or kernel, at most
   unsigned threads = 0;            ///< 0: every hardware thread
   bool recentre = true;            ///< subtract the scene's centre before going to float32
