@@ -49,6 +49,8 @@ using exact::PolygonSet2;
 using exact::PolygonWithHoles2;
 using H4 = std::array<FT, 4>;  // a homogeneous point (w = 1) or direction (w = 0), or a plane
 
+bool force_separating_planes = false;
+
 struct AreaWorker::Exact {
   ExactFace light;  ///< the shape's polygon on its exact plane
 };
@@ -288,7 +290,7 @@ class AreaReceiverJob {
   bool cast_piece(const std::vector<Point3>& C, const H4& own_plane) {
     // The projection route needs every point of C strictly nearer to P's plane than every
     // light vertex (always so for directions, as long as the light is wholly in front).
-    bool projections = !straddles_;
+    bool projections = !straddles_ && !force_separating_planes;
     if (projections && lp_.shape.finite) {
       FT lowest_light = dot4(receiver_, light_points_.front());
       for (const H4& v : light_points_) lowest_light = CGAL::min(lowest_light, dot4(receiver_, v));

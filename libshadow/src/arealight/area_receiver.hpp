@@ -32,6 +32,11 @@ struct AreaLightPrep {
 /// @throws InputError when the light's polygon is degenerate in exact arithmetic.
 AreaLightPrep prepare_area_light(const core::PreparedScene& ctx, const Light& light, std::size_t light_id);
 
+/// Tests only (tests/test_area_lights.cpp): every occluder piece takes the separating-plane
+/// route, so that the two exact routes can be compared on the same scenes. Off by default; set
+/// it only while no computation runs.
+extern bool force_separating_planes;
+
 /// Per-thread state: the light's exact polygon (Epeck values are never shared between threads).
 struct AreaWorker {
   struct Exact;

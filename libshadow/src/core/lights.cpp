@@ -161,15 +161,15 @@ void detail::check_light(const Light& light, const std::string& file, const std:
     if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
     // A direction's length does not matter (it is normalised safely for culling, exactly
     // elsewhere): any finite non-zero vector is accepted (tests/test_hard_cases.cpp).
-  } else if (light.type == LightType::Point) {
-    if (!finite(light.position)) throw InputError({file, path + ".position"}, "position is not finite");
-    const std::string problem = coordinate_problem(light.position, "coordinate");
-    if (!problem.empty()) throw InputError({file, path + ".position"}, "position has a " + problem);
     if (!std::isfinite(light.angular_diameter) || light.angular_diameter < 0 ||
         light.angular_diameter > max_angular_diameter)
       throw InputError({file, path + ".angular_diameter"},
                        "angular_diameter must be a number of degrees in [0, " + format_number(max_angular_diameter) +
                            "] (0: a point at infinity), got " + format_number(light.angular_diameter));
+  } else if (light.type == LightType::Point) {
+    if (!finite(light.position)) throw InputError({file, path + ".position"}, "position is not finite");
+    const std::string problem = coordinate_problem(light.position, "coordinate");
+    if (!problem.empty()) throw InputError({file, path + ".position"}, "position has a " + problem);
   } else if (light.type == LightType::Area) {
     check_area_polygon(light.polygon, file, path + ".polygon");
   } else if (light.type == LightType::Disk) {
