@@ -6,7 +6,7 @@
     engine -> arealight -> exact, core, geometry
     views -> engine, exact, core, geometry  (as sunmap)
     engine -> fast -> core -> geometry
-    scene -> exact (face shape check only), core, geometry;  output -> lighting, core, geometry
+    scene -> exact (face shape check only), core, geometry;  output -> arealight, lighting, core, geometry
     lighting -> geometry;  baselines -> core, geometry;  scene -> sun -> geometry
 
 Reads every `#include "folder/..."` in libshadow/src and fails, listing each offending line, when
@@ -38,7 +38,7 @@ ALLOWED = {
     "geometry": set(),
     "scene": {"exact", "core", "geometry", "sun"},
     "sun": {"geometry"},
-    "output": {"lighting", "core", "geometry"},
+    "output": {"arealight", "lighting", "core", "geometry"},
     "lighting": {"geometry"},
     "baselines": {"core", "geometry"},
 }

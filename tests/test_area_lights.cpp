@@ -90,7 +90,15 @@ TEST(AreaLightRegions, SquareLightOverParallelSquareMatchesTheClosedForm) {
       if (f.face_id != 0) continue;
       ASSERT_NE(f.region, LightRegion::Hard);
       EXPECT_EQ(f.lit, f.region != LightRegion::Umbra);
-      EXPECT_TRUE(f.visibility.empty());
+      // The visible fraction at the cell's vertices (light_visibility.cpp, an independent exact
+      // route) agrees with its region: 1 on fully lit cells, 0 on umbra cells.
+      ASSERT_EQ(f.visibility.size(), f.polygon.size());
+      for (double v : f.visibility) {
+        if (f.region == LightRegion::FullyLit) EXPECT_EQ(v, 1.0);
+        if (f.region == LightRegion::Umbra) EXPECT_EQ(v, 0.0);
+        EXPECT_GE(v, 0.0);
+        EXPECT_LE(v, 1.0);
+      }
       cells[static_cast<int>(f.region)] += f.area;
     }
     EXPECT_NEAR(cells[0], ground->fully_lit_area, 1e-12);

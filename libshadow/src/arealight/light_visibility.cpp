@@ -409,6 +409,19 @@ class Evaluator {
       w.faces.resize(scene_.faces.size());
     }
     Target& t = *w.target;
+    // A fragment vertex is a rounded double: one on a contact line may lie a rounding error on
+    // the wrong side of the face through it. Where a face passes within 1e-9 (relative) of the
+    // point but not exactly through it, the value is taken at the point moved by `toward`
+    // (into the fragment by 1e-6 of the shorter adjacent edge, at least 1e-7 of the
+    // coordinates' size, at most half the edge), exactly.
+    if (toward != glm::dvec3(0.0) && finite3(toward)) {
+      const double eps = 1e-9 * (1.0 + std::max({std::abs(sp.position.x), std::abs(sp.position.y), std::abs(sp.position.z)}));
+      if (glm::length(toward) > 10.0 * eps && near_contact(w, sp, eps)) {
+        SurfacePoint moved = sp;
+        moved.position += toward;
+        return evaluate(w, moved, toward);
+      }
+    }
     const Point3 x = to_exact(sp.position);
     if (t.shape == Shape::Sun) place_sun(t, x);
     const FT h = t.n * (x - CGAL::ORIGIN) + t.offset;  // > 0: in front of the light
@@ -583,6 +596,26 @@ class Evaluator {
   }
 
  private:
+  /// Whether a face other than the point's own passes within `eps` of it without passing
+  /// exactly through it.
+  bool near_contact(Worker& w, const SurfacePoint& sp, double eps) const {
+    const glm::dvec3& p = sp.position;
+    const Point3 x = to_exact(p);
+    for (std::size_t o = 0; o < scene_.faces.size(); ++o) {
+      if (o == sp.face_id || faces_.prep[o].degenerate) continue;
+      const std::array<double, 6>& b = faces_.box[o];
+      if (p.x < b[0] - eps || p.x > b[3] + eps || p.y < b[1] - eps || p.y > b[4] + eps || p.z < b[2] - eps ||
+          p.z > b[5] + eps)
+        continue;
+      const ExactFace& face = w.face(scene_, faces_, o);
+      const FT s = face.normal * (x - CGAL::ORIGIN) + face.offset;
+      if (CGAL::is_zero(s)) continue;
+      const double n = std::sqrt(CGAL::to_double(face.normal.squared_length()));
+      if (std::abs(CGAL::to_double(s)) < eps * n) return true;
+    }
+    return false;
+  }
+
   /// Face `face` passes through x. Seen from x + e d (e -> 0+), its part near x hides the light
   /// points y with y - x in the cone spanned by the face's tangent cone at x and -d: for each
   /// convex piece holding x, the half-space on the -d side of the face's plane, cut by one plane
@@ -747,6 +780,12 @@ void add_fragment_points(const Scene& scene, const Fragment& f, std::vector<Surf
       const double turn = glm::dot(glm::cross(-to_prev, to_next), normal);  // > 0: convex corner
       if (glm::length(bisector) > 1e-9 && turn != 0.0) dir = turn > 0 ? bisector : -bisector;
       else dir = glm::cross(normal, to_next);  // a straight corner: left of the way round
+      const double len = glm::length(dir);
+      // 1e-6 of the shorter edge, at least 1e-7 of the coordinates' size, at most half the edge.
+      const double edge = std::min(lp, ln);
+      const double size = 1.0 + std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+      const double step = std::min(0.5 * edge, std::max(1e-6 * edge, 1e-7 * size));
+      dir = len > 0 ? dir * (step / len) : glm::dvec3(0.0);
     }
     points.push_back({f.face_id, v});
     toward.push_back(dir);

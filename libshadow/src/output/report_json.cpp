@@ -62,9 +62,6 @@ Json lights_json(const Scene& scene) {
     }
     entry["intensity"] = light.intensity;
     entry["color"] = vec3(light.color);
-    // The sun's disk (an extended light): additive, absent for a point sun.
-    if (light.type == LightType::Directional && light.angular_diameter > 0.0)
-      entry["angular_diameter"] = light.angular_diameter;
     lights.push_back(std::move(entry));
   }
   // A sun's light also says when it shines and where the sun stands (additive keys).

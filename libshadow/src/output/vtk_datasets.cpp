@@ -166,17 +166,17 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
   // Extended lights (docs/area-light-visibility.md): the irradiance through the visible part of
   // the light, and the visible fraction `visibility` (0..1) at each point; a point light's
   // points get 1 where lit and 0 in shadow. Scenes without extended lights write neither change.
-  std::vector<std::size_t> extended;
+  std::vector<std::size_t> extended_ids;
   for (std::size_t l = 0; l < scene.lights.size(); ++l)
-    if (scene.lights[l].is_extended()) extended.push_back(l);
+    if (scene.lights[l].is_extended()) extended_ids.push_back(l);
   bool any_visibility = false;
   for (const Fragment& f : fragments) any_visibility = any_visibility || !f.visibility.empty();
   vtkSmartPointer<vtkDoubleArray> visibility;
-  if (!extended.empty() && any_visibility) {
+  if (!extended_ids.empty() && any_visibility) {
     std::vector<std::size_t> offsets(n);
     std::size_t next = 0;
     for (std::size_t c = 0; c < n; ++c) offsets[c] = next, next += fragments[c].polygon.size();
-    for (std::size_t l : extended)
+    for (std::size_t l : extended_ids)
       light_fragment_irradiance(scene, scene.lights[l], l, fragments, offsets, irradiance->GetPointer(0));
     visibility = make_array<vtkDoubleArray>("visibility", point_count);
     double* v = visibility->GetPointer(0);
