@@ -7,6 +7,7 @@
 // error) and `shadow-bench hard-cases` the hard cases through every method: bench_compare.cpp.
 #include "bench_compare.hpp"
 #include "bench_soft.hpp"
+#include "bench_light_visibility.hpp"
 
 #include <shadow/shadow.hpp>
 
@@ -475,6 +476,13 @@ int main(int argc, char** argv) {
                        "or a visibility leaves [0, 1]")
       ->check(CLI::NonNegativeNumber);
   soft_cmd->add_flag("--quick", soft.quick, "Smoke run: a small luminaire scene, two settings a method");
+  std::size_t vis_boxes = 200, vis_points = 2000;
+  unsigned vis_threads = 2;
+  CLI::App* vis_cmd = app.add_subcommand(
+      "light-visibility", "The exact visible fraction of extended lights at ground points of a city (area_lights.hpp)");
+  vis_cmd->add_option("--boxes", vis_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
+  vis_cmd->add_option("--points", vis_points, "Ground points")->check(CLI::PositiveNumber);
+  vis_cmd->add_option("--threads", vis_threads, "Most threads (1, 2, 4, ... up to it)")->check(CLI::PositiveNumber);
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
@@ -483,6 +491,7 @@ int main(int argc, char** argv) {
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
+  if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
   if (series_cmd->parsed())

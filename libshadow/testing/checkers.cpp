@@ -193,9 +193,18 @@ Verdict check_partition(const Scene& scene, const ShadowResult& result) {
       if (std::abs(all + fl.dropped_area - fl.area) > tol)
         out << describe(scene, fl.face_id, fl.light_id) << ": cells " << all << " + dropped " << fl.dropped_area
             << " != area " << fl.area << "\n";
-      if (std::abs(lit - fl.lit_area) > tol + fl.dropped_area)
-        out << describe(scene, fl.face_id, fl.light_id) << ": lit cells " << lit << " != lit area " << fl.lit_area << "\n";
+      // An extended light's lit cells are its fully lit and penumbra cells; lit_area is that of
+      // the light's centre (docs/area-lights.md).
+      const bool extended = fl.light_id < scene.lights.size() && scene.lights[fl.light_id].is_extended();
+      const double lit_expected = extended ? fl.fully_lit_area + fl.penumbra_area : fl.lit_area;
+      if (std::abs(lit - lit_expected) > tol + fl.dropped_area)
+        out << describe(scene, fl.face_id, fl.light_id) << ": lit cells " << lit << " != lit area " << lit_expected
+            << "\n";
     }
+    if (fl.light_id < scene.lights.size() && scene.lights[fl.light_id].is_extended() &&
+        std::abs(fl.fully_lit_area + fl.penumbra_area + fl.umbra_area - fl.area) > 1e-12 * (1.0 + fl.area))
+      out << describe(scene, fl.face_id, fl.light_id) << ": fully lit " << fl.fully_lit_area << " + penumbra "
+          << fl.penumbra_area << " + umbra " << fl.umbra_area << " != area " << fl.area << "\n";
   }
   const std::string message = out.str();
   return {message.empty(), message.empty() ? message : "lit and shadowed parts do not partition the faces:\n" + message};

@@ -541,5 +541,29 @@ else
 fi
 rm -f "$out/.faces.vtp.tmp-$$"
 
+# Extended lights (docs/area-lights.md): the example room's luminaire and the sun disk over a wall
+# run, report the three regions per face, and put a `region` cell array in fragments.vtp; a
+# scene without an extended light has neither (its files stay as they were).
+for example in scene sun-disk; do
+  expect_success "area_light_$example" "$EXAMPLES/area-light/$example.json" --quiet
+  report="$WORK/out-area_light_$example/report.json"
+  if grep -q '"fully_lit_area"' "$report" && grep -q '"penumbra_area"' "$report" &&
+     grep -q '"umbra_area"' "$report" && grep -aq 'Name="region"' "$WORK/out-area_light_$example/fragments.vtp"; then
+    pass "area_light_${example}_reports_regions"
+  else
+    fail "area_light_${example}_reports_regions" "no region keys in $report or no region array"
+  fi
+done
+if grep -q '"fully_lit_area"' "$WORK/out-tiny_scene/report.json" ||
+   grep -aq 'Name="region"' "$WORK/out-tiny_scene/fragments.vtp"; then
+  fail "point_lights_have_no_region_outputs" "region keys or array in the tiny scene's result"
+else
+  pass "point_lights_have_no_region_outputs"
+fi
+mkdir -p "$WORK/badarea"
+printf '%s\n' '{"meshes": [{"name": "g", "polygons": [[[0,0,0],[1,0,0],[1,1,0],[0,1,0]]]}],' \
+  ' "lights": [{"name": "lum", "type": "area", "polygon": [[0,0,2],[2,2,2],[2,0,2],[0,1,2]]}]}' >"$WORK/badarea/scene.json"
+expect_input_error area_light_not_simple "$WORK/badarea/scene.json" "scene.json" "lights[0].polygon" "not simple"
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -420,7 +420,7 @@ def main():
         visibility.RescaleTransferFunction(0.0, 1.0)
         visibility.AutomaticRescaleRangeMode = "Never"
         shown.SetScalarBarVisibility(left, True)
-        style_bar(GetScalarBar(visibility, left), "visible part of " + light_name, digits=2,
+        style_bar(GetScalarBar(visibility, left), "visible part", digits=2,
                   labels=[0.0, 0.25, 0.5, 0.75, 1.0])
     else:
         ColorBy(shown, ("CELLS", "lit"))

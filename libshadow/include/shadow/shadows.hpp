@@ -141,6 +141,18 @@ struct ShadowStats {
   /// Arithmetic::Fast only: cast polygons that collapsed to zero area on the integer grid (their
   /// true area is within the bound; they are dropped).
   std::uint64_t fast_collapsed = 0;
+  /// Extended lights (docs/area-lights.md): face-light pairs whose regions were computed.
+  std::uint64_t area_receivers = 0;
+  /// Extended lights: pairs where two or more occluder pieces cast on the face, so that
+  /// `umbra_area` is a certified inner bound (the union of each piece's umbra) rather than exact.
+  std::uint64_t area_umbra_bounded = 0;
+  /// Extended lights: pairs whose face sees part of the light from behind its own plane (the
+  /// light crosses it): nowhere fully lit, the umbra taken for the part of the light in front.
+  std::uint64_t area_light_straddles = 0;
+  /// Extended lights: occluder pieces cast by projection from the light's vertices (the piece is
+  /// nearer to the receiver's plane than the whole light) and by separating planes (the rest).
+  std::uint64_t area_projection_pieces = 0;
+  std::uint64_t area_plane_pieces = 0;
 
   /// Adds every counter of `other` (per-thread or per-receiver counts summed into a total).
   ShadowStats& operator+=(const ShadowStats& other) {
@@ -151,6 +163,11 @@ struct ShadowStats {
     unshadowed += other.unshadowed;
     fast_exact_fallbacks += other.fast_exact_fallbacks;
     fast_collapsed += other.fast_collapsed;
+    area_receivers += other.area_receivers;
+    area_umbra_bounded += other.area_umbra_bounded;
+    area_light_straddles += other.area_light_straddles;
+    area_projection_pieces += other.area_projection_pieces;
+    area_plane_pieces += other.area_plane_pieces;
     return *this;
   }
 };

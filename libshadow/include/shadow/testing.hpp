@@ -123,7 +123,9 @@ std::vector<glm::dvec3> sample_face(const Scene& scene, std::size_t face_id, std
 /// (1e-12 (1 + area) plus what rounding its vertices can move: 2 eps perimeter max|x|) and its
 /// face's orientation (unless rounding flattened it), and the cells of (face, light) plus
 /// dropped_area add up to the area and the lit cells to lit_area (1e-12 (1 + area): cell areas
-/// are rounded one by one; plus the error bound of a fast-path result).
+/// are rounded one by one; plus the error bound of a fast-path result). For an extended light
+/// the lit cells add up to fully_lit_area + penumbra_area instead (lit_area is the centre's), and
+/// fully_lit_area + penumbra_area + umbra_area to the area.
 Verdict check_partition(const Scene& scene, const ShadowResult& result);
 
 /// Lit claims agree with exact point queries: `points_per_fragment` points sampled inside each

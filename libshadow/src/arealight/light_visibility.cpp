@@ -398,7 +398,9 @@ class Evaluator {
           scene_box_[k] = std::min(scene_box_[k], faces.box[f][k]), scene_box_[k + 3] = std::max(scene_box_[k + 3], faces.box[f][k + 3]);
   }
 
-  PointResult evaluate(Worker& w, const SurfacePoint& sp) const {
+  /// `toward`: zero, or a direction along the point's face: the value is then the limit from
+  /// that side (faces through the point hide what they hide from points just beside it).
+  PointResult evaluate(Worker& w, const SurfacePoint& sp, const glm::dvec3& toward) const {
     PointResult none;
     const std::size_t f = sp.face_id;
     if (faces_.prep[f].degenerate) return none;
@@ -407,11 +409,31 @@ class Evaluator {
       w.faces.resize(scene_.faces.size());
     }
     Target& t = *w.target;
+    // A fragment vertex is a rounded double: one on a contact line may lie a rounding error on
+    // the wrong side of the face through it. Where a face passes within 1e-9 (relative) of the
+    // point but not exactly through it, the value is taken at the point moved by `toward`
+    // (into the fragment by 1e-6 of the shorter adjacent edge, at least 1e-7 of the
+    // coordinates' size, at most half the edge), exactly.
+    if (toward != glm::dvec3(0.0) && finite3(toward)) {
+      const double eps = 1e-9 * (1.0 + std::max({std::abs(sp.position.x), std::abs(sp.position.y), std::abs(sp.position.z)}));
+      if (glm::length(toward) > 10.0 * eps && near_contact(w, sp, eps)) {
+        SurfacePoint moved = sp;
+        moved.position += toward;
+        return evaluate(w, moved, toward);
+      }
+    }
     const Point3 x = to_exact(sp.position);
     if (t.shape == Shape::Sun) place_sun(t, x);
     const FT h = t.n * (x - CGAL::ORIGIN) + t.offset;  // > 0: in front of the light
     if (CGAL::sign(h) != CGAL::POSITIVE) return none;
     const ExactFace& receiver = w.face(scene_, faces_, f);
+    // The side to take the limit from, projected exactly onto the receiver's plane.
+    const bool has_toward = toward != glm::dvec3(0.0) && finite3(toward);
+    Vector3 d(0, 0, 0);
+    if (has_toward) {
+      const Vector3 raw(toward.x, toward.y, toward.z);
+      d = raw - receiver.normal * ((raw * receiver.normal) / receiver.normal.squared_length());
+    }
 
     // The light's part behind the receiver's plane (n_R . (y - x) < 0) is not seen: g(u, v) >= 0
     // keeps the part behind, as an affine function of (u, v) on the plane.
@@ -452,8 +474,13 @@ class Evaluator {
       const std::array<double, 6>& b = faces_.box[o_id];
       if (b[0] > box[3] || b[3] < box[0] || b[1] > box[4] || b[4] < box[1] || b[2] > box[5] || b[5] < box[2]) continue;
       const ExactFace& face = w.face(scene_, faces_, o_id);
-      // A face through x projects onto a line; one in the light's own plane does not stand between.
-      if (CGAL::is_zero(face.normal * (x - CGAL::ORIGIN) + face.offset)) continue;
+      // A face through x projects onto a line: it hides nothing of measure from x itself, but
+      // from points beside x on the side `toward` it hides a wedge (add_contact). One in the
+      // light's own plane does not stand between.
+      if (CGAL::is_zero(face.normal * (x - CGAL::ORIGIN) + face.offset)) {
+        if (has_toward) add_contact(t, face, faces_.prep[o_id], x, d, o, pu, pv, hidden);
+        continue;
+      }
       bool outside = false;
       for (const Affine3& pl : planes) {
         bool all_out = true;
@@ -538,6 +565,11 @@ class Evaluator {
           hidden_measure += measure.edge(u[0], u[1], v[0], v[1]);
         }
       };
+      // The union lies in the square around the circle: all of the square hidden is all of
+      // the light hidden, exactly.
+      std::vector<FT> terms;
+      for (const PolygonWithHoles2& r : regions) terms.push_back(region_area(r));
+      if (balanced_sum(terms) == polygon_area(t.hull.begin(), t.hull.end())) return result;
       for (const PolygonWithHoles2& r : regions) {
         add(r.outer_boundary());
         for (auto hole = r.holes_begin(); hole != r.holes_end(); ++hole) add(*hole);
@@ -564,6 +596,82 @@ class Evaluator {
   }
 
  private:
+  /// Whether a face other than the point's own passes within `eps` of it without passing
+  /// exactly through it.
+  bool near_contact(Worker& w, const SurfacePoint& sp, double eps) const {
+    const glm::dvec3& p = sp.position;
+    const Point3 x = to_exact(p);
+    for (std::size_t o = 0; o < scene_.faces.size(); ++o) {
+      if (o == sp.face_id || faces_.prep[o].degenerate) continue;
+      const std::array<double, 6>& b = faces_.box[o];
+      if (p.x < b[0] - eps || p.x > b[3] + eps || p.y < b[1] - eps || p.y > b[4] + eps || p.z < b[2] - eps ||
+          p.z > b[5] + eps)
+        continue;
+      const ExactFace& face = w.face(scene_, faces_, o);
+      const FT s = face.normal * (x - CGAL::ORIGIN) + face.offset;
+      if (CGAL::is_zero(s)) continue;
+      const double n = std::sqrt(CGAL::to_double(face.normal.squared_length()));
+      if (std::abs(CGAL::to_double(s)) < eps * n) return true;
+    }
+    return false;
+  }
+
+  /// Face `face` passes through x. Seen from x + e d (e -> 0+), its part near x hides the light
+  /// points y with y - x in the cone spanned by the face's tangent cone at x and -d: for each
+  /// convex piece holding x, the half-space on the -d side of the face's plane, cut by one plane
+  /// per piece edge through x. Each such convex cone meets the light's plane in a convex region,
+  /// clipped here from the light's hull.
+  static void add_contact(const Target& t, const ExactFace& face, const core::FacePrep& prep, const Point3& x,
+                          const Vector3& d, const Point3& o, const Point3& pu, const Point3& pv,
+                          std::vector<Polygon2>& hidden) {
+    const Vector3& nf = face.normal;
+    const FT nd = nf * d;
+    const CGAL::Sign side = CGAL::sign(nd);
+    if (side == CGAL::ZERO) return;  // approaching along the face's plane: it stays a line
+    const int k = prep.axis;
+    const Point2 xc = to_chart(x, k);
+    // A functional psi(z) >= 0 on z = y - x, as an affine function of (u, v).
+    auto clip_by = [&](Polygon2& poly, const Vector3& psi) {
+      const FT c0 = psi * (o - x), cu = psi * (pu - o), cv = psi * (pv - o);
+      std::vector<Point2> box(poly.vertices_begin(), poly.vertices_end());
+      poly = clip2(box, cu, cv, c0);
+    };
+    for (const std::vector<int>& piece : prep.convex_pieces) {
+      const std::size_t m = piece.size();
+      std::vector<Vector3> cuts;
+      bool inside = true;
+      for (std::size_t e = 0; e < m && inside; ++e) {
+        const Point3& a = face.vertices[static_cast<std::size_t>(piece[e])];
+        const Point3& b = face.vertices[static_cast<std::size_t>(piece[(e + 1) % m])];
+        const CGAL::Orientation turn = CGAL::orientation(to_chart(a, k), to_chart(b, k), xc);
+        if (turn == CGAL::RIGHT_TURN) inside = false;
+        if (turn != CGAL::COLLINEAR) continue;
+        // The edge's line holds x: the tangent cone is on the piece's side of it.
+        Vector3 w = CGAL::cross_product(nf, b - a);
+        std::vector<FT> sx, sy, sz;  // m times the piece's centroid, relative to a
+        for (int v : piece) {
+          const Vector3 r = face.vertices[static_cast<std::size_t>(v)] - a;
+          sx.push_back(r.x());
+          sy.push_back(r.y());
+          sz.push_back(r.z());
+        }
+        if (CGAL::sign(w * Vector3(balanced_sum(sx), balanced_sum(sy), balanced_sum(sz))) == CGAL::NEGATIVE) w = -w;
+        // phi(z) = (n.d)(w.z) - (w.d)(n.z), kept with the sign of n.d.
+        Vector3 phi = w * nd - nf * (w * d);
+        if (side == CGAL::NEGATIVE) phi = -phi;
+        cuts.push_back(phi);
+      }
+      if (!inside) continue;
+      Polygon2 poly(t.hull.begin(), t.hull.end());
+      clip_by(poly, side == CGAL::POSITIVE ? -nf : nf);  // the -d side of the face's plane
+      for (const Vector3& phi : cuts) {
+        if (poly.size() < 3) break;
+        clip_by(poly, phi);
+      }
+      if (poly.size() >= 3 && CGAL::sign(polygon_area(poly)) == CGAL::POSITIVE) hidden.push_back(std::move(poly));
+    }
+  }
+
   std::array<double, 6> frustum_box(const Target& t, const glm::dvec3& x) const {
     std::array<double, 6> b{x.x, x.y, x.z, x.x, x.y, x.z};
     auto add = [&](const glm::dvec3& p) {
@@ -627,7 +735,8 @@ namespace detail {
 
 std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& scene, const Light& light,
                                                                    const std::vector<SurfacePoint>& points,
-                                                                   unsigned threads, bool irradiance) {
+                                                                   unsigned threads, bool irradiance,
+                                                                   const std::vector<glm::dvec3>& toward) {
   const LightPlan plan = plan_light(light);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (points[i].face_id >= scene.faces.size())
@@ -644,20 +753,55 @@ std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& 
   const unsigned n = core::resolve_threads(core::checked_threads(threads));
   std::vector<Worker> workers(std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(points.size()))));
   core::parallel_for(points.size(), static_cast<unsigned>(workers.size()), [&](unsigned wi, std::size_t i) {
-    const PointResult r = evaluator.evaluate(workers[wi], points[i]);
+    const PointResult r = evaluator.evaluate(workers[wi], points[i], i < toward.size() ? toward[i] : glm::dvec3(0.0));
     out[i] = {r.visibility, r.irradiance};
   });
   return out;
 }
 
+namespace {
+
+/// A fragment's vertices, each with the direction into the fragment at it: the bisector of its
+/// corner (turned round at a reflex corner), so that a vertex on a contact edge takes the value
+/// of the fragment's side.
+void add_fragment_points(const Scene& scene, const Fragment& f, std::vector<SurfacePoint>& points,
+                         std::vector<glm::dvec3>& toward) {
+  const std::size_t n = f.polygon.size();
+  glm::dvec3 normal(0.0);
+  const std::vector<glm::dvec3>& ring = f.face_id < scene.faces.size() ? scene.faces[f.face_id].vertices : f.polygon;
+  for (std::size_t a = 0; a < ring.size(); ++a) normal += glm::cross(ring[a], ring[(a + 1) % ring.size()]);
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3& v = f.polygon[i];
+    const glm::dvec3 to_prev = f.polygon[(i + n - 1) % n] - v, to_next = f.polygon[(i + 1) % n] - v;
+    glm::dvec3 dir(0.0);
+    const double lp = glm::length(to_prev), ln = glm::length(to_next);
+    if (lp > 0 && ln > 0) {
+      const glm::dvec3 bisector = to_prev / lp + to_next / ln;
+      const double turn = glm::dot(glm::cross(-to_prev, to_next), normal);  // > 0: convex corner
+      if (glm::length(bisector) > 1e-9 && turn != 0.0) dir = turn > 0 ? bisector : -bisector;
+      else dir = glm::cross(normal, to_next);  // a straight corner: left of the way round
+      const double len = glm::length(dir);
+      // 1e-6 of the shorter edge, at least 1e-7 of the coordinates' size, at most half the edge.
+      const double edge = std::min(lp, ln);
+      const double size = 1.0 + std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+      const double step = std::min(0.5 * edge, std::max(1e-6 * edge, 1e-7 * size));
+      dir = len > 0 ? dir * (step / len) : glm::dvec3(0.0);
+    }
+    points.push_back({f.face_id, v});
+    toward.push_back(dir);
+  }
+}
+
+}  // namespace
+
 void fill_light_fragment_visibility(const Scene& scene, const Light& light, std::size_t light_id,
                                     std::vector<Fragment>& fragments, unsigned threads) {
   std::vector<SurfacePoint> points;
+  std::vector<glm::dvec3> toward;
   for (const Fragment& f : fragments)
-    if (f.light_id == light_id)
-      for (const glm::dvec3& p : f.polygon) points.push_back({f.face_id, p});
+    if (f.light_id == light_id) add_fragment_points(scene, f, points, toward);
   if (points.empty()) return;
-  const auto values = light_visibility_irradiance(scene, light, points, threads, false);
+  const auto values = light_visibility_irradiance(scene, light, points, threads, false, toward);
   std::size_t next = 0;
   for (Fragment& f : fragments) {
     if (f.light_id != light_id) continue;
@@ -670,11 +814,11 @@ void light_fragment_irradiance(const Scene& scene, const Light& light, std::size
                                const std::vector<Fragment>& fragments, const std::vector<std::size_t>& offsets,
                                double* out) {
   std::vector<SurfacePoint> points;
+  std::vector<glm::dvec3> toward;
   for (const Fragment& f : fragments)
-    if (f.light_id == light_id)
-      for (const glm::dvec3& p : f.polygon) points.push_back({f.face_id, p});
+    if (f.light_id == light_id) add_fragment_points(scene, f, points, toward);
   if (points.empty()) return;
-  const auto values = light_visibility_irradiance(scene, light, points, 0, true);
+  const auto values = light_visibility_irradiance(scene, light, points, 0, true, toward);
   std::size_t next = 0;
   for (std::size_t c = 0; c < fragments.size(); ++c) {
     if (fragments[c].light_id != light_id) continue;
@@ -703,14 +847,13 @@ std::vector<double> light_irradiance(const Scene& scene, const Light& light, con
 void fill_fragment_visibility(const Scene& scene, const Light& light, std::vector<Fragment>& fragments,
                               unsigned threads) {
   std::vector<SurfacePoint> points;
-  for (const Fragment& f : fragments)
-    for (const glm::dvec3& p : f.polygon) points.push_back({f.face_id, p});
-  const std::vector<double> values = light_visibility(scene, light, points, threads);
+  std::vector<glm::dvec3> toward;
+  for (const Fragment& f : fragments) shadow::detail::add_fragment_points(scene, f, points, toward);
+  const auto values = shadow::detail::light_visibility_irradiance(scene, light, points, threads, false, toward);
   std::size_t next = 0;
   for (Fragment& f : fragments) {
-    f.visibility.assign(values.begin() + static_cast<std::ptrdiff_t>(next),
-                        values.begin() + static_cast<std::ptrdiff_t>(next + f.polygon.size()));
-    next += f.polygon.size();
+    f.visibility.resize(f.polygon.size());
+    for (double& v : f.visibility) v = values[next++].first;
   }
 }
 

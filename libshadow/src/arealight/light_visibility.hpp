@@ -12,10 +12,14 @@
 namespace shadow::detail {
 
 /// For each point: (visible fraction, irradiance); the irradiance is computed only when
-/// `irradiance` is true (0 otherwise). Errors as light_visibility.
+/// `irradiance` is true (0 otherwise). `toward[i]`, where given and non-zero, is a direction
+/// along point i's face: the values are then the limits from that side (they differ from the
+/// point's own only where a face passes through the point: a contact edge). Errors as
+/// light_visibility.
 std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& scene, const Light& light,
                                                                    const std::vector<SurfacePoint>& points,
-                                                                   unsigned threads, bool irradiance);
+                                                                   unsigned threads, bool irradiance,
+                                                                   const std::vector<glm::dvec3>& toward = {});
 
 /// Sets Fragment::visibility of the fragments in `fragments` whose light_id is `light_id`
 /// (`light`, extended), in one batch over all their vertices; other fragments are left as they are.

@@ -40,6 +40,12 @@ struct ShadowEngine::Impl {
                      std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
                      std::vector<Item>& items, std::size_t progress_base, std::size_t progress_total) const;
 
+  /// compute_light for an extended light (Light::is_extended): the centre's lit areas, then the
+  /// exact fully-lit, penumbra and umbra regions (arealight/).
+  void compute_extended_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
+                              std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
+                              std::vector<Item>& items, std::size_t progress_base, std::size_t progress_total) const;
+
   /// Computes `lights` (reported as `light_ids`) on every receiving face.
   ShadowResult run(const std::vector<const Light*>& lights, const std::vector<std::size_t>& light_ids,
                    const ShadowOptions& options) const;

@@ -25,11 +25,16 @@
 
 namespace shadow {
 
-SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights, const SeriesOptions& options) const {
+SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, const SeriesOptions& options) const {
   const Impl& impl = *impl_;
   const Scene& scene = *impl.scene;
-  for (std::size_t i = 0; i < lights.size(); ++i)
-    shadow::detail::check_light(lights[i], "", "lights[" + std::to_string(i) + "]");
+  for (std::size_t i = 0; i < lights_in.size(); ++i)
+    shadow::detail::check_light(lights_in[i], "", "lights[" + std::to_string(i) + "]");
+  // Lit areas only: an extended light counts as its centre (docs/area-lights.md), so a series of
+  // sun disks has the sunlit fractions of the point suns.
+  std::vector<Light> lights;
+  lights.reserve(lights_in.size());
+  for (const Light& light : lights_in) lights.push_back(shadow::detail::centre_light(light));
   const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
   const bool fast = options.arithmetic == Arithmetic::Fast;
 

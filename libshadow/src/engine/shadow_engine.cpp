@@ -20,6 +20,7 @@
 // compute_shadows and find_lighting.
 #include "engine/engine_impl.hpp"
 
+#include "arealight/area_receiver.hpp"
 #include "core/culling.hpp"
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
@@ -111,6 +112,10 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
                                        std::vector<Item>& items, std::size_t progress_base,
                                        std::size_t progress_total) const {
   using namespace exact;
+  if (light_in.is_extended()) {
+    compute_extended_light(light_in, light_id, options, workers, receivers, items, progress_base, progress_total);
+    return;
+  }
   const unsigned threads = static_cast<unsigned>(workers.size());
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);
@@ -144,6 +149,42 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
         if (!prep[f].degenerate) side = CGAL::sign(plane_at_light(w.exact.face(exact_context, f), light));
         items[r] = compute_exact_receiver(exact_context, w.exact, f, light_id, light, side, light_in,
                                           grid ? &*grid : nullptr, options.polygons, w.stats);
+      },
+      report);
+}
+
+void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size_t light_id,
+                                                const ShadowOptions& options, std::vector<Worker>& workers,
+                                                const std::vector<std::size_t>& receivers, std::vector<Item>& items,
+                                                std::size_t progress_base, std::size_t progress_total) const {
+  // lit_area, shadow_area, lit_fraction, faces_light and the fast path's bound are the light's
+  // centre's (docs/area-lights.md): computed by the point-light route, areas only.
+  const Light centre = shadow::detail::centre_light(light_in);
+  ShadowOptions centre_options = options;
+  centre_options.polygons = false;
+  centre_options.progress = nullptr;
+  std::vector<Item> centre_items(receivers.size());
+  compute_light(centre, light_id, centre_options, workers, receivers, centre_items, 0, 0);
+
+  const core::PreparedScene ctx{scene, &prep, &face_area, &cull, &solids, &solid_of};
+  const arealight::AreaLightPrep area = arealight::prepare_area_light(ctx, light_in, light_id);
+  std::vector<arealight::AreaWorker> area_workers(workers.size());
+  std::function<void(std::size_t)> report;
+  if (options.progress)
+    report = [&](std::size_t done) { options.progress(Progress{progress_base + done, progress_total}); };
+  core::parallel_for(
+      receivers.size(), static_cast<unsigned>(workers.size()),
+      [&](unsigned wi, std::size_t r) {
+        Worker& w = workers[wi];
+        Item item = arealight::compute_area_receiver(ctx, w.exact, area_workers[wi], area, receivers[r], light_id,
+                                                     options.polygons, w.stats);
+        const FaceLighting& c = centre_items[r].lighting;
+        item.lighting.lit_area = c.lit_area;
+        item.lighting.shadow_area = c.shadow_area;
+        item.lighting.lit_fraction = c.lit_fraction;
+        item.lighting.faces_light = c.faces_light;
+        item.lighting.lit_area_error_bound = c.lit_area_error_bound;
+        items[r] = std::move(item);
       },
       report);
 }

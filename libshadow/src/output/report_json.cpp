@@ -45,15 +45,23 @@ Json lights_json(const Scene& scene) {
     if (light.type == LightType::Directional) {
       entry["type"] = "directional";
       entry["to_light"] = vec3(light.to_light);
+      if (light.angular_diameter > 0) entry["angular_diameter"] = light.angular_diameter;
+    } else if (light.type == LightType::Area) {
+      entry["type"] = "area";
+      Json polygon = Json::array();
+      for (const glm::dvec3& v : light.polygon) polygon.push_back(vec3(v));
+      entry["polygon"] = std::move(polygon);
+    } else if (light.type == LightType::Disk) {
+      entry["type"] = "disk";
+      entry["position"] = vec3(light.position);
+      entry["normal"] = vec3(light.normal);
+      entry["radius"] = light.radius;
     } else {
       entry["type"] = "point";
       entry["position"] = vec3(light.position);
     }
     entry["intensity"] = light.intensity;
     entry["color"] = vec3(light.color);
-    // The sun's disk (an extended light): additive, absent for a point sun.
-    if (light.type == LightType::Directional && light.angular_diameter > 0.0)
-      entry["angular_diameter"] = light.angular_diameter;
     lights.push_back(std::move(entry));
   }
   // A sun's light also says when it shines and where the sun stands (additive keys).
@@ -115,6 +123,12 @@ Json face_json(const Scene& scene, std::size_t face_id,
     if (fast) lights.back()["lit_area_error_bound"] = e->lit_area_error_bound;
     // Cells too thin to be written as double polygons (additive key, only when there are some).
     if (e->dropped_area > 0) lights.back()["dropped_area"] = e->dropped_area;
+    // An extended light's exact regions (docs/area-lights.md; additive keys, extended lights only).
+    if (e->light_id < scene.lights.size() && scene.lights[e->light_id].is_extended()) {
+      lights.back()["fully_lit_area"] = e->fully_lit_area;
+      lights.back()["penumbra_area"] = e->penumbra_area;
+      lights.back()["umbra_area"] = e->umbra_area;
+    }
   }
   Json entry = {{"id", face_id}, {"mesh", mesh}};
   // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
@@ -295,6 +309,13 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   if (fast) {
     stats["fast_exact_fallbacks"] = result.stats.fast_exact_fallbacks;
     stats["fast_collapsed"] = result.stats.fast_collapsed;
+  }
+  if (result.stats.area_receivers > 0) {  // extended lights only (additive keys)
+    stats["area_receivers"] = result.stats.area_receivers;
+    stats["area_umbra_bounded"] = result.stats.area_umbra_bounded;
+    stats["area_light_straddles"] = result.stats.area_light_straddles;
+    stats["area_projection_pieces"] = result.stats.area_projection_pieces;
+    stats["area_plane_pieces"] = result.stats.area_plane_pieces;
   }
   member("stats", dump(stats, 2));
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "output/vtk_datasets.hpp"
 
+#include "core/lights.hpp"
 #include "geometry/unit_vector.hpp"
 #include "arealight/light_visibility.hpp"
 #include "lighting/fragment_irradiance.hpp"
@@ -141,6 +142,16 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
   cd->AddArray(lit);
   cd->AddArray(area);
   cd->AddArray(fragment_id);
+  // Extended lights' regions (0 fully lit, 1 penumbra, 2 umbra; -1 for a point light's cells),
+  // only when the scene has an extended light: other files stay as they were.
+  bool extended = false;
+  for (const Light& light : scene.lights) extended |= light.is_extended();
+  if (extended) {
+    auto region = make_array<vtkTypeInt32Array>("region", n);
+    for (std::size_t c = 0; c < n; ++c)
+      region->SetValue(static_cast<vtkIdType>(c), static_cast<vtkTypeInt32>(fragments[c].region));
+    cd->AddArray(region);
+  }
 
   // Points are not shared between cells, so each point takes the irradiance of its own cell's
   // light (lighting/fragment_irradiance.hpp).
@@ -155,17 +166,17 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
   // Extended lights (docs/area-light-visibility.md): the irradiance through the visible part of
   // the light, and the visible fraction `visibility` (0..1) at each point; a point light's
   // points get 1 where lit and 0 in shadow. Scenes without extended lights write neither change.
-  std::vector<std::size_t> extended;
+  std::vector<std::size_t> extended_ids;
   for (std::size_t l = 0; l < scene.lights.size(); ++l)
-    if (scene.lights[l].is_extended()) extended.push_back(l);
+    if (scene.lights[l].is_extended()) extended_ids.push_back(l);
   bool any_visibility = false;
   for (const Fragment& f : fragments) any_visibility = any_visibility || !f.visibility.empty();
   vtkSmartPointer<vtkDoubleArray> visibility;
-  if (!extended.empty() && any_visibility) {
+  if (!extended_ids.empty() && any_visibility) {
     std::vector<std::size_t> offsets(n);
     std::size_t next = 0;
     for (std::size_t c = 0; c < n; ++c) offsets[c] = next, next += fragments[c].polygon.size();
-    for (std::size_t l : extended)
+    for (std::size_t l : extended_ids)
       light_fragment_irradiance(scene, scene.lights[l], l, fragments, offsets, irradiance->GetPointer(0));
     visibility = make_array<vtkDoubleArray>("visibility", point_count);
     double* v = visibility->GetPointer(0);
@@ -329,13 +340,18 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
       toward = unit_or_zero(light.to_light);
       position = box.centre + toward * box.diagonal;
     } else {
-      toward = unit_or_zero(light.position - box.centre);
-      position = light.position;
+      // An area light stands at its centroid (the point that stands for it: core/lights.hpp).
+      position = light.type == LightType::Area ? shadow::detail::centre_light(light).position : light.position;
+      toward = unit_or_zero(position - box.centre);
     }
     points->SetPoint(id, position.x, position.y, position.z);
     verts->InsertNextCell(1, &id);
     light_id->SetValue(id, static_cast<vtkTypeInt32>(i));
-    type->SetValue(id, light.type == LightType::Directional ? 0 : 1);
+    // 0 directional, 1 point, 2 area, 3 disk
+    type->SetValue(id, light.type == LightType::Directional ? 0
+                       : light.type == LightType::Area  ? 2
+                       : light.type == LightType::Disk  ? 3
+                                                        : 1);
     to_light->SetTuple3(id, toward.x, toward.y, toward.z);
     direction->SetTuple3(id, -toward.x, -toward.y, -toward.z);
     name->SetValue(id, light.name);

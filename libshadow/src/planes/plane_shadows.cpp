@@ -152,7 +152,8 @@ Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, c
   P.light_id = light_id;
   P.window = window;
   const Plane& plane = scene.planes[plane_id];
-  const Light& light = scene.lights[light_id];
+  // An extended light's plane shadow is its centre's (docs/area-lights.md).
+  const Light light = shadow::detail::centre_light(scene.lights[light_id]);
   P.normal = plane.normal;
   P.point_on = plane.point;
   P.n = {mpq_class(plane.normal.x), mpq_class(plane.normal.y), mpq_class(plane.normal.z)};

@@ -5,6 +5,7 @@
 // (`lights[1].to_light`), or the line and column for malformed JSON, or the OBJ file and line.
 // The JSON is read in two passes: first the whole document is checked (cheap), then the mesh
 // files are read (possibly slow), so a typo in a light is reported before a large OBJ is loaded.
+#include "core/lights.hpp"
 #include "core/polygon_holes.hpp"
 #include "scene/model_dispatch.hpp"
 #include "scene/obj_reader.hpp"
@@ -772,7 +773,7 @@ class SceneReader {
     if (lights.empty() && !may_be_empty)
       fail("lights", "the scene has no lights; at least one is needed (or a \"sun\" block)");
     std::map<std::string, std::size_t> seen;
-    const std::vector<std::string> types = {"directional", "point"};
+    const std::vector<std::string> types = {"directional", "point", "area", "disk"};
     for (std::size_t i = 0; i < lights.size(); ++i) {
       const std::string path = element("lights", i);
       const Json& l = lights[i];
@@ -780,21 +781,36 @@ class SceneReader {
       // An unknown type first: its keys would otherwise be reported as unknown keys.
       const Json* type = find(l, "type");
       if (type != nullptr && !type->is_string())
-        fail(member(path, "type"), "expected \"directional\" or \"point\", got " + describe(*type));
+        fail(member(path, "type"), "expected \"directional\", \"point\", \"area\" or \"disk\", got " +
+                                       describe(*type));
       if (type != nullptr && std::find(types.begin(), types.end(), type->get<std::string>()) == types.end())
         fail(member(path, "type"), "unknown light type " + quote(type->get<std::string>()) +
                                        suggestion(type->get<std::string>(), types) +
-                                       "; known types: \"directional\", \"point\"");
-      check_keys(l, path, {"name", "type", "to_light", "position", "intensity", "color"});
+                                       "; known types: \"directional\", \"point\", \"area\", \"disk\"");
+      check_keys(l, path, {"name", "type", "to_light", "position", "intensity", "color", "polygon", "normal",
+                           "radius", "angular_diameter"});
       Light light;
       light.name = get_name(l, path, "each light needs a unique name");
       if (const auto [it, inserted] = seen.emplace(light.name, i); !inserted)
         fail(member(path, "name"), "light name " + quote(light.name) + " is already used by " +
                                        element("lights", it->second));
-      if (type == nullptr) fail(path, "missing \"type\" (\"directional\" or \"point\")");
+      if (type == nullptr) fail(path, "missing \"type\" (\"directional\", \"point\", \"area\" or \"disk\")");
+      const std::string kind = type->get<std::string>();
       const Json* to_light = find(l, "to_light");
       const Json* position = find(l, "position");
-      if (type->get<std::string>() == "directional") {
+      // Keys that belong to other kinds of light: named, with what the kind takes instead.
+      auto refuse = [&](const char* key, const std::string& instead) {
+        if (find(l, key) != nullptr)
+          fail(member(path, key), "a" + std::string(kind == "area" ? "n " : " ") + kind + " light has no \"" + key +
+                                      "\"; " + instead);
+      };
+      if (kind != "directional") refuse("angular_diameter", "only a directional light (the sun's disk) has one");
+      if (kind != "area") refuse("polygon", "only an area light has one");
+      if (kind != "disk") {
+        refuse("normal", "only a disk light has one");
+        refuse("radius", "only a disk light has one");
+      }
+      if (kind == "directional") {
         light.type = LightType::Directional;
         if (position != nullptr)
           fail(member(path, "position"),
@@ -804,13 +820,50 @@ class SceneReader {
         light.to_light = get_vec3(*to_light, member(path, "to_light"));
         if (light.to_light == glm::dvec3(0.0))
           fail(member(path, "to_light"), "direction has zero length");
-      } else {
+        if (const Json* d = find(l, "angular_diameter")) {
+          light.angular_diameter = get_number(*d, member(path, "angular_diameter"));
+          if (light.angular_diameter < 0 || light.angular_diameter > detail::max_angular_diameter)
+            fail(member(path, "angular_diameter"),
+                 "angular_diameter must be in [0, " + format_number(detail::max_angular_diameter) +
+                     "] degrees (0: a point sun; the sun's disk is about 0.53), got " +
+                     format_number(light.angular_diameter));
+        }
+      } else if (kind == "point") {
         light.type = LightType::Point;
         if (to_light != nullptr)
           fail(member(path, "to_light"),
                "a point light has no \"to_light\" direction; give its \"position\"");
         if (position == nullptr) fail(path, "missing \"position\" (where the point light is)");
         light.position = get_vec3(*position, member(path, "position"));
+      } else if (kind == "area") {
+        light.type = LightType::Area;
+        if (to_light != nullptr)
+          fail(member(path, "to_light"), "an area light has no \"to_light\"; its \"polygon\" says where it is");
+        if (position != nullptr)
+          fail(member(path, "position"), "an area light has no \"position\"; its \"polygon\" says where it is");
+        const Json* polygon = find(l, "polygon");
+        if (polygon == nullptr)
+          fail(path, "missing \"polygon\" (the luminous polygon, [[x, y, z], ...], counter-clockwise seen from "
+                     "the side it lights)");
+        const std::string polygon_path = member(path, "polygon");
+        require_array(*polygon, polygon_path);
+        for (std::size_t k = 0; k < polygon->size(); ++k)
+          light.polygon.push_back(get_vec3((*polygon)[k], element(polygon_path, k)));
+        detail::check_area_polygon(light.polygon, file_, polygon_path);
+      } else {
+        light.type = LightType::Disk;
+        if (to_light != nullptr)
+          fail(member(path, "to_light"), "a disk light has no \"to_light\"; give its \"normal\", the side it lights");
+        if (position == nullptr) fail(path, "missing \"position\" (the disk's centre)");
+        light.position = get_vec3(*position, member(path, "position"));
+        const Json* normal = find(l, "normal");
+        if (normal == nullptr) fail(path, "missing \"normal\" (the side the disk lights)");
+        light.normal = get_vec3(*normal, member(path, "normal"));
+        if (light.normal == glm::dvec3(0.0)) fail(member(path, "normal"), "normal has zero length");
+        const Json* radius = find(l, "radius");
+        if (radius == nullptr) fail(path, "missing \"radius\" (the disk's radius)");
+        light.radius = get_number(*radius, member(path, "radius"));
+        if (!(light.radius > 0)) fail(member(path, "radius"), "radius must be > 0, got " + format_number(light.radius));
       }
       if (const Json* intensity = find(l, "intensity")) {
         light.intensity = get_number(*intensity, member(path, "intensity"));

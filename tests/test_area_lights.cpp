@@ -1,0 +1,415 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Extended lights (docs/area-lights.md): scene input and its errors, the exact fully-lit,
+// penumbra and umbra regions against closed forms, against exact point queries from sampled
+// light points (libshadow::testing), and the two exact routes against each other.
+#include "arealight/area_receiver.hpp"  // force_separating_planes (tests only)
+#include "support/scene_builders.hpp"
+
+#include <shadow/shadow.hpp>
+#include <shadow/testing.hpp>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+namespace shadow::test {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Light area_light(const std::string& name, std::vector<glm::dvec3> polygon) {
+  Light light;
+  light.name = name;
+  light.type = LightType::Area;
+  light.polygon = std::move(polygon);
+  return light;
+}
+
+Light disk_light(const std::string& name, glm::dvec3 centre, glm::dvec3 normal, double radius) {
+  Light light;
+  light.name = name;
+  light.type = LightType::Disk;
+  light.position = centre;
+  light.normal = normal;
+  light.radius = radius;
+  return light;
+}
+
+Light sun_disk(const std::string& name, glm::dvec3 to_light, double degrees) {
+  Light light = directional_light(name, to_light);
+  light.angular_diameter = degrees;
+  return light;
+}
+
+/// A square light of side a at height H facing down, centred over the origin.
+Light square_light(double a, double H) {
+  return area_light("lum", {{-a / 2, -a / 2, H}, {-a / 2, a / 2, H}, {a / 2, a / 2, H}, {a / 2, -a / 2, H}});
+}
+
+ShadowResult compute(Scene& scene, unsigned threads = 1, bool polygons = true) {
+  validate_scene(scene);
+  ShadowOptions options;
+  options.threads = threads;
+  options.polygons = polygons;
+  return compute_shadows(scene, options);
+}
+
+// ---- closed forms ------------------------------------------------------------------------------
+
+// A square light (side a, height H) over a parallel square occluder (side b, height h) over the
+// ground: from each light vertex the occluder casts a square of side b s (s = H / (H - h)) moved
+// by -v t (t = h / (H - h)); the hull of the four is a square of side b s + a t, their
+// intersection one of side b s - a t (when positive).
+TEST(AreaLightRegions, SquareLightOverParallelSquareMatchesTheClosedForm) {
+  struct Case {
+    double a, H, b, h;
+  };
+  for (const Case& c : {Case{1, 4, 2, 2}, Case{0.5, 3, 1, 1}, Case{2, 4, 1, 2}, Case{0.25, 8, 0.75, 3}}) {
+    Scene scene;
+    add_mesh(scene, "ground", {rectangle_z(-20, -20, 20, 20, 0)});
+    add_mesh(scene, "occluder", {rectangle_z(-c.b / 2, -c.b / 2, c.b / 2, c.b / 2, c.h)});
+    scene.lights.push_back(square_light(c.a, c.H));
+    const ShadowResult r = compute(scene);
+    const FaceLighting* ground = r.find(0, 0);
+    ASSERT_NE(ground, nullptr);
+    const double s = c.H / (c.H - c.h), t = c.h / (c.H - c.h);
+    const double outer = c.b * s + c.a * t, inner = std::max(0.0, c.b * s - c.a * t);
+    SCOPED_TRACE("a " + std::to_string(c.a) + " b " + std::to_string(c.b));
+    EXPECT_NEAR(ground->fully_lit_area, 1600 - outer * outer, 1e-12);
+    EXPECT_NEAR(ground->umbra_area, inner * inner, 1e-12);
+    EXPECT_NEAR(ground->penumbra_area, outer * outer - inner * inner, 1e-12);
+    // The light's centre: a point light there casts the square scaled by s.
+    EXPECT_NEAR(ground->shadow_area, (c.b * s) * (c.b * s), 1e-12);
+    EXPECT_EQ(r.stats.area_umbra_bounded, 0u);
+    // The cells: one region each, adding up; lit means fully lit or penumbra.
+    double cells[3] = {0, 0, 0};
+    for (const Fragment& f : r.fragments) {
+      if (f.face_id != 0) continue;
+      ASSERT_NE(f.region, LightRegion::Hard);
+      EXPECT_EQ(f.lit, f.region != LightRegion::Umbra);
+      // The visible fraction at the cell's vertices (light_visibility.cpp, an independent exact
+      // route) agrees with its region: 1 on fully lit cells, 0 on umbra cells.
+      ASSERT_EQ(f.visibility.size(), f.polygon.size());
+      for (double v : f.visibility) {
+        if (f.region == LightRegion::FullyLit) EXPECT_EQ(v, 1.0);
+        if (f.region == LightRegion::Umbra) EXPECT_EQ(v, 0.0);
+        EXPECT_GE(v, 0.0);
+        EXPECT_LE(v, 1.0);
+      }
+      cells[static_cast<int>(f.region)] += f.area;
+    }
+    EXPECT_NEAR(cells[0], ground->fully_lit_area, 1e-12);
+    EXPECT_NEAR(cells[1], ground->penumbra_area, 1e-12);
+    EXPECT_NEAR(cells[2], ground->umbra_area, 1e-12);
+    EXPECT_TRUE(testing::check_partition(scene, r)) << testing::check_partition(scene, r).message;
+  }
+}
+
+// The sun's disk over a long thick wall, the sun square to it at elevation e: the top edge casts
+// a penumbra band of width H (cot(e - a) - cot(e + a)), about H x angular diameter / sin^2 e, where
+// a is the angular radius; the 32-gon circumscribed about the disk reaches between a and
+// a / cos(pi / 32) in that plane.
+TEST(AreaLightRegions, SunDiskOverALongWallCastsAPenumbraOfHeightTimesAngularDiameter) {
+  const double H = 30, e = 45 * kPi / 180, degrees = 0.53, a = degrees * kPi / 360;
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-100, -10, 100, 200, 0)});
+  add_mesh(scene, "wall", box_faces({-1000, 0, 0}, {1000, 0.25, H}));
+  scene.lights.push_back(sun_disk("sun", {0, -std::cos(e), std::sin(e)}, degrees));
+  const ShadowResult r = compute(scene, 2, false);
+  const FaceLighting* ground = r.find(0, 0);
+  ASSERT_NE(ground, nullptr);
+  auto width = [&](double alpha) { return H / std::tan(e - alpha) - H / std::tan(e + alpha); };
+  const double low = width(a), high = width(a / std::cos(kPi / 32));
+  const double band = ground->penumbra_area / 200;
+  EXPECT_GE(band, low * (1 - 1e-9));
+  EXPECT_LE(band, high * (1 + 1e-9));
+  // to first order in the angle (the rest, and the 32-gon, are under 1 %)
+  EXPECT_NEAR(band, H * (degrees * kPi / 180) / (std::sin(e) * std::sin(e)), 1e-2 * band);
+  // Umbra: under the wall and up to the inner edge of the band; fully lit: beyond it.
+  const double umbra = ground->umbra_area / 200;
+  EXPECT_GE(umbra, 0.25 + H / std::tan(e + a / std::cos(kPi / 32)) - 1e-9);
+  EXPECT_LE(umbra, 0.25 + H / std::tan(e + a) + 1e-9);
+  EXPECT_NEAR(ground->fully_lit_area + ground->penumbra_area + ground->umbra_area, ground->area, 1e-9);
+  // lit_area is the point sun's: its shadow ends at 0.25 + H / tan(e).
+  EXPECT_NEAR(ground->shadow_area / 200, 0.25 + H / std::tan(e), 1e-9);
+}
+
+// ---- special cases -----------------------------------------------------------------------------
+
+TEST(AreaLightRegions, FacesBehindTheLightAreUmbraAndACrossingLightLeavesNothingFullyLit) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+  // a wall through the light's middle (x = 0, facing +x) and one wholly behind the light
+  add_mesh(scene, "walls",
+           {{{0, -1, 0.5}, {0, 1, 0.5}, {0, 1, 1.5}, {0, -1, 1.5}},
+            {{-1, -1, 4}, {1, -1, 4}, {1, 1, 4}, {-1, 1, 4}}});
+  scene.lights.push_back(square_light(1, 3));
+  const ShadowResult r = compute(scene);
+  const FaceLighting* crossing = r.find(1, 0);
+  ASSERT_NE(crossing, nullptr);
+  EXPECT_EQ(crossing->fully_lit_area, 0.0);
+  EXPECT_EQ(crossing->penumbra_area, crossing->area);  // nothing hides the part it sees
+  EXPECT_GE(r.stats.area_light_straddles, 1u);
+  const FaceLighting* above = r.find(2, 0);  // above the light, which shines down
+  ASSERT_NE(above, nullptr);
+  EXPECT_EQ(above->umbra_area, above->area);
+  // The ground: the crossing wall stands on x = 0 and hides part of the light from both sides.
+  const FaceLighting* ground = r.find(0, 0);
+  EXPECT_GT(ground->penumbra_area, 0.0);
+  EXPECT_TRUE(testing::check_partition(scene, r)) << testing::check_partition(scene, r).message;
+}
+
+// lit_area is the point light's at the centre, bit for bit; shrinking the light shrinks the
+// penumbra onto that point light's shadow boundary.
+TEST(AreaLightRegions, ShrinkingTheLightGivesBackThePointLight) {
+  Scene point_scene;
+  add_mesh(point_scene, "ground", {rectangle_z(-20, -20, 20, 20, 0)});
+  add_mesh(point_scene, "boxes", box_faces({-1, -0.5, 1}, {1.5, 0.75, 2}));
+  point_scene.lights.push_back(point_light("p", {0.25, 0.125, 5}));
+  const ShadowResult point = compute(point_scene);
+  for (double size : {1.0, 1e-3, 1e-6}) {
+    Scene scene = point_scene;
+    const double h = size / 2;
+    scene.lights[0] = area_light("lum", {{0.25 - h, 0.125 - h, 5}, {0.25 - h, 0.125 + h, 5}, {0.25 + h, 0.125 + h, 5},
+                                         {0.25 + h, 0.125 - h, 5}});
+    const ShadowResult r = compute(scene);
+    for (const FaceLighting& fl : r.lighting) {
+      const FaceLighting* p = point.find(fl.face_id, 0);
+      ASSERT_NE(p, nullptr);
+      EXPECT_EQ(fl.lit_area, p->lit_area);
+      EXPECT_EQ(fl.shadow_area, p->shadow_area);
+      EXPECT_EQ(fl.lit_fraction, p->lit_fraction);
+      // The centre is a point of the light: seeing all of the light means seeing it, seeing
+      // none of it means not.
+      EXPECT_LE(fl.fully_lit_area, p->lit_area + 1e-12);
+      EXPECT_LE(fl.umbra_area, p->shadow_area + 1e-12);
+      // The penumbra's width is of the order of the light's size.
+      EXPECT_LE(fl.penumbra_area, 40 * size + 1e-12) << "face " << fl.face_id << " size " << size;
+    }
+  }
+}
+
+// ---- properties against exact point queries ----------------------------------------------------
+
+/// Seeded points of the extended light (for a sun disk: directions) and the lights they make.
+std::vector<Light> sample_lights(const Light& light, std::mt19937_64& rng, int count) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Light> out;
+  if (light.type == LightType::Area) {
+    for (const glm::dvec3& v : light.polygon) out.push_back(point_light("v", v));
+    const glm::dvec3& a = light.polygon[0];
+    for (int i = 0; i < count; ++i) {  // in the fan triangles of a convex polygon
+      const std::size_t t = 1 + static_cast<std::size_t>(unit(rng) * (light.polygon.size() - 2));
+      double u = unit(rng), v = unit(rng);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      out.push_back(point_light("s", a + u * (light.polygon[t] - a) + v * (light.polygon[t + 1] - a)));
+    }
+    return out;
+  }
+  const glm::dvec3 n = glm::normalize(light.type == LightType::Disk ? light.normal : light.to_light);
+  const glm::dvec3 u = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  const glm::dvec3 v = glm::cross(n, u);
+  const double radius =
+      light.type == LightType::Disk ? light.radius : std::tan(light.angular_diameter * kPi / 360);
+  for (int i = 0; i < count + 8; ++i) {
+    // the rim (8 points) and the inside, a hair within the disk
+    const double angle = 2 * kPi * unit(rng);
+    const double r = (i < 8 ? 1.0 : std::sqrt(unit(rng))) * radius * (1 - 1e-7);
+    const glm::dvec3 offset = r * (std::cos(angle) * u + std::sin(angle) * v);
+    if (light.type == LightType::Disk)
+      out.push_back(point_light("s", light.position + offset));
+    else
+      out.push_back(directional_light("s", n + offset));
+  }
+  return out;
+}
+
+/// Fully lit cells see every sampled light point, umbra cells none (exact point queries).
+void check_regions_against_samples(const Scene& scene, const ShadowResult& r, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  const std::vector<Light> samples = sample_lights(scene.lights[0], rng, 6);
+  Scene probe = scene;
+  for (const Light& l : samples) probe.lights.push_back(l);
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    ShadowResult claims;
+    for (const Fragment& f : r.fragments) {
+      if (f.region == LightRegion::Penumbra) continue;
+      Fragment claim = f;
+      claim.light_id = 1 + s;
+      claims.fragments.push_back(claim);
+    }
+    if (claims.fragments.empty()) continue;
+    const testing::Verdict verdict = testing::check_lit_claims(probe, claims, seed + s, 2);
+    EXPECT_TRUE(verdict.ok) << "seed " << seed << " light sample " << s << ": " << verdict.message;
+  }
+}
+
+Light random_extended_light(std::mt19937_64& rng, int kind) {
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  if (kind == 0) {  // a tilted rectangle over the scene, facing down
+    const glm::dvec3 c(3 * U(rng), 3 * U(rng), 15 + U(rng));
+    const glm::dvec3 a(1.5 + U(rng), 0.3 * U(rng), 0.5 * U(rng)), b(0.3 * U(rng), 1 + 0.5 * U(rng), 0.5 * U(rng));
+    return area_light("lum", {c - a - b, c - a + b, c + a + b, c + a - b});  // counter-clockwise seen from below
+  }
+  if (kind == 1)
+    return disk_light("disk", {3 * U(rng), 3 * U(rng), 16 + U(rng)}, {0.2 * U(rng), 0.2 * U(rng), -1}, 1 + 0.5 * U(rng));
+  return sun_disk("sun", {U(rng), U(rng), 1.5 + U(rng) * 0.5}, 4 + 2 * U(rng));
+}
+
+TEST(AreaLightProperties, RegionsAgreeWithExactPointQueriesFromSampledLightPoints) {
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    Scene scene = random_scene(seed);
+    std::mt19937_64 rng(seed * 7919);
+    scene.lights.assign(1, random_extended_light(rng, static_cast<int>(seed % 3)));
+    const ShadowResult r = compute(scene, 2);
+    const testing::Verdict partition = testing::check_partition(scene, r);
+    EXPECT_TRUE(partition.ok) << "seed " << seed << ": " << partition.message;
+    for (const FaceLighting& fl : r.lighting) {
+      EXPECT_GE(fl.fully_lit_area, 0.0);
+      EXPECT_GE(fl.penumbra_area, 0.0);
+      EXPECT_GE(fl.umbra_area, 0.0);
+      EXPECT_LE(fl.fully_lit_area, fl.lit_area + 1e-9 * (1 + fl.area)) << "seed " << seed;
+      EXPECT_LE(fl.umbra_area, fl.shadow_area + 1e-9 * (1 + fl.area)) << "seed " << seed;
+    }
+    check_regions_against_samples(scene, r, seed);
+  }
+}
+
+// The projection route and the separating-plane route compute the same sets: equal areas,
+// rounded from the same exact values.
+TEST(AreaLightProperties, ProjectionAndSeparatingPlaneRoutesAgree) {
+  for (std::uint64_t seed = 11; seed <= 14; ++seed) {
+    Scene scene = random_scene(seed);
+    std::mt19937_64 rng(seed * 104729);
+    scene.lights.assign(1, random_extended_light(rng, static_cast<int>(seed % 3)));
+    const ShadowResult by_projection = compute(scene, 2, false);
+    arealight::force_separating_planes = true;
+    const ShadowResult by_planes = compute(scene, 2, false);
+    arealight::force_separating_planes = false;
+    EXPECT_GT(by_projection.stats.area_projection_pieces, 0u);
+    EXPECT_EQ(by_planes.stats.area_projection_pieces, 0u);
+    ASSERT_EQ(by_projection.lighting.size(), by_planes.lighting.size());
+    for (std::size_t i = 0; i < by_planes.lighting.size(); ++i) {
+      const FaceLighting &a = by_projection.lighting[i], &b = by_planes.lighting[i];
+      EXPECT_EQ(a.fully_lit_area, b.fully_lit_area) << "seed " << seed << " face " << a.face_id;
+      EXPECT_EQ(a.penumbra_area, b.penumbra_area) << "seed " << seed << " face " << a.face_id;
+      EXPECT_EQ(a.umbra_area, b.umbra_area) << "seed " << seed << " face " << a.face_id;
+    }
+  }
+}
+
+TEST(AreaLightProperties, ResultsDoNotDependOnThreadsOrEntryPoint) {
+  Scene scene = random_scene(42);
+  std::mt19937_64 rng(42);
+  scene.lights.assign(1, random_extended_light(rng, 0));
+  const ShadowResult one = compute(scene, 1);
+  const ShadowResult two = compute(scene, 2);
+  const ShadowEngine engine(scene, 2);
+  const ShadowResult via_engine = engine.compute(scene.lights[0], 0, {});
+  ASSERT_EQ(one.lighting.size(), two.lighting.size());
+  ASSERT_EQ(one.lighting.size(), via_engine.lighting.size());
+  for (std::size_t i = 0; i < one.lighting.size(); ++i)
+    for (const ShadowResult* other : {&two, &via_engine}) {
+      EXPECT_EQ(one.lighting[i].fully_lit_area, other->lighting[i].fully_lit_area);
+      EXPECT_EQ(one.lighting[i].penumbra_area, other->lighting[i].penumbra_area);
+      EXPECT_EQ(one.lighting[i].umbra_area, other->lighting[i].umbra_area);
+      EXPECT_EQ(one.lighting[i].lit_area, other->lighting[i].lit_area);
+    }
+  EXPECT_EQ(one.fragments.size(), two.fragments.size());
+  // A series of sun disks keeps the point suns' lit areas.
+  Scene sunny = random_scene(43);
+  const ShadowEngine sunny_engine(sunny, 2);
+  const Light point_sun = directional_light("sun", {0.3, -0.4, 1});
+  const SeriesResult plain = sunny_engine.compute_series({point_sun});
+  const SeriesResult disk = sunny_engine.compute_series({sun_disk("sun", {0.3, -0.4, 1}, 0.53)});
+  EXPECT_EQ(plain.lit_area, disk.lit_area);
+}
+
+// ---- scene input -------------------------------------------------------------------------------
+
+std::string scene_with_light(const std::string& light) {
+  return R"({"meshes": [{"name": "g", "polygons": [{"vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}]}], "lights": [)" + light + "]}";
+}
+
+TEST(AreaLightInput, ReadsAreaDiskAndSunDiskLights) {
+  const Scene scene = parse_scene(
+      R"({"meshes": [{"name": "g", "polygons": [{"vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}]}], "lights": [
+        {"name": "a", "type": "area", "polygon": [[0,0,2],[0,1,2],[1,1,2],[1,0,2]], "intensity": 3, "color": [1, 0.5, 0.25]},
+        {"name": "d", "type": "disk", "position": [0,0,3], "normal": [0,0,-1], "radius": 0.5},
+        {"name": "s", "type": "directional", "to_light": [0,0,1], "angular_diameter": 0.53},
+        {"name": "p", "type": "directional", "to_light": [0,0,1], "angular_diameter": 0}]})",
+      "inline.json");
+  ASSERT_EQ(scene.lights.size(), 4u);
+  EXPECT_EQ(scene.lights[0].type, LightType::Area);
+  EXPECT_EQ(scene.lights[0].polygon.size(), 4u);
+  EXPECT_EQ(scene.lights[0].intensity, 3.0);
+  EXPECT_EQ(scene.lights[1].type, LightType::Disk);
+  EXPECT_EQ(scene.lights[1].radius, 0.5);
+  EXPECT_EQ(scene.lights[2].angular_diameter, 0.53);
+  EXPECT_TRUE(scene.lights[2].is_extended());
+  EXPECT_FALSE(scene.lights[3].is_extended());
+}
+
+TEST(AreaLightInput, EveryBadValueIsOneInputErrorNamingThePlace) {
+  struct Case {
+    std::string light, place, words;
+  };
+  const std::vector<Case> cases = {
+      {R"({"name": "a", "type": "area", "polygon": [[0,0,2],[0,1,2]]})", "lights[0].polygon", "at least 3 vertices"},
+      {R"({"name": "a", "type": "area", "polygon": [[0,0,2],[1,0,2],[2,0,2]]})", "lights[0].polygon", "zero area"},
+      {R"({"name": "a", "type": "area", "polygon": [[0,0,2],[0,1,2],[1,1,2.5],[1,0,2]]})", "lights[0].polygon[",
+       "not planar"},
+      {R"({"name": "a", "type": "area", "polygon": [[0,0,2],[2,2,2],[2,0,2],[0,1,2]]})", "lights[0].polygon",
+       "not simple"},
+      {R"({"name": "a", "type": "area", "polygon": [[0,0,2],[0,0,2],[1,1,2],[1,0,2]]})", "lights[0].polygon[1]",
+       "repeats"},
+      {R"({"name": "a", "type": "area"})", "lights[0]", "missing \"polygon\""},
+      {R"({"name": "a", "type": "area", "polygon": [[0,0,2],[0,1,2],[1,1,2]], "position": [0,0,1]})",
+       "lights[0].position", "no \"position\""},
+      {R"({"name": "d", "type": "disk", "position": [0,0,3], "normal": [0,0,-1], "radius": 0})", "lights[0].radius",
+       "radius must be > 0"},
+      {R"({"name": "d", "type": "disk", "position": [0,0,3], "normal": [0,0,0], "radius": 1})", "lights[0].normal",
+       "zero length"},
+      {R"({"name": "d", "type": "disk", "position": [0,0,3], "radius": 1})", "lights[0]", "missing \"normal\""},
+      {R"({"name": "d", "type": "disk", "position": [0,0,3], "normal": [0,0,-1]})", "lights[0]", "missing \"radius\""},
+      {R"({"name": "d", "type": "disk", "normal": [0,0,-1], "radius": 1})", "lights[0]", "missing \"position\""},
+      {R"({"name": "s", "type": "directional", "to_light": [0,0,1], "angular_diameter": -1})",
+       "lights[0].angular_diameter", "angular_diameter must be in"},
+      {R"({"name": "s", "type": "directional", "to_light": [0,0,1], "angular_diameter": 90})",
+       "lights[0].angular_diameter", "angular_diameter must be in"},
+      {R"({"name": "p", "type": "point", "position": [0,0,1], "angular_diameter": 1})", "lights[0].angular_diameter",
+       "only a directional light"},
+      {R"({"name": "p", "type": "point", "position": [0,0,1], "polygon": [[0,0,1]]})", "lights[0].polygon",
+       "only an area light"},
+      {R"({"name": "p", "type": "directional", "to_light": [0,0,1], "radius": 1})", "lights[0].radius",
+       "only a disk light"},
+      {R"({"name": "x", "type": "spot", "position": [0,0,1]})", "lights[0].type", "unknown light type"},
+  };
+  for (const Case& c : cases) {
+    try {
+      (void)parse_scene(scene_with_light(c.light), "bad.json");
+      ADD_FAILURE() << "no error for " << c.light;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().file, "bad.json") << c.light;
+      EXPECT_EQ(e.where().place.rfind(c.place, 0), 0u) << c.light << " -> " << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.words), std::string::npos) << c.light << " -> " << e.what();
+    }
+  }
+}
+
+TEST(AreaLightInput, LightsBuiltInCodeAreCheckedByTheEngine) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+  scene.lights.push_back(disk_light("d", {0, 0, 3}, {0, 0, -1}, -1));
+  EXPECT_THROW((void)compute_shadows(scene), InputError);
+  scene.lights[0] = sun_disk("s", {0, 0, 1}, std::nan(""));
+  EXPECT_THROW((void)compute_shadows(scene), InputError);
+  scene.lights[0] = area_light("a", {{0, 0, 1}, {2, 2, 1}, {2, 0, 1}, {0, 1, 1}});  // a bow tie
+  EXPECT_THROW((void)compute_shadows(scene), InputError);
+}
+
+}  // namespace
+}  // namespace shadow::test
