@@ -127,9 +127,11 @@ PointErrors point_errors(const std::vector<double>& got, const std::vector<doubl
 /// fully-lit and umbra areas, over the faces' total area.
 struct FaceErrors {
   double lit = 0, fully_lit = 0, umbra = 0;
+  double region_fully_lit = 0, region_umbra = 0;  ///< against the exact regions (polygons)
 };
 
-FaceErrors face_errors(const std::vector<shadow::FaceLighting>& got, const std::vector<shadow::FaceLighting>& ref) {
+FaceErrors face_errors(const std::vector<shadow::FaceLighting>& got, const std::vector<shadow::FaceLighting>& ref,
+                       const std::vector<shadow::FaceLighting>& regions) {
   FaceErrors e;
   double area = 0;
   for (std::size_t k = 0; k < ref.size(); ++k) {
@@ -137,13 +139,38 @@ FaceErrors face_errors(const std::vector<shadow::FaceLighting>& got, const std::
     e.lit += std::abs(got[k].lit_area - ref[k].lit_area);
     e.fully_lit += std::abs(got[k].fully_lit_area - ref[k].fully_lit_area);
     e.umbra += std::abs(got[k].umbra_area - ref[k].umbra_area);
+    e.region_fully_lit += std::abs(got[k].fully_lit_area - regions[k].fully_lit_area);
+    e.region_umbra += std::abs(got[k].umbra_area - regions[k].umbra_area);
   }
   if (area > 0) {
     e.lit /= area;
     e.fully_lit /= area;
     e.umbra /= area;
+    e.region_fully_lit /= area;
+    e.region_umbra /= area;
   }
   return e;
+}
+
+/// The exact fully-lit, penumbra and umbra regions of every sampled face (the engine with the
+/// light as the scene's only light, areas only), in the order of `pts.face_ids`.
+std::vector<shadow::FaceLighting> exact_regions(const SoftScene& s, const shadow::FacePoints& pts, unsigned threads,
+                                                double& seconds) {
+  shadow::Scene scene = s.scene;
+  scene.lights = {s.light};
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions options;
+  options.threads = threads;
+  options.polygons = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  const shadow::ShadowResult result = shadow::compute_shadows(scene, options);
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::vector<shadow::FaceLighting> out;
+  for (std::size_t f : pts.face_ids) {
+    const shadow::FaceLighting* fl = result.find(f, 0);
+    out.push_back(fl ? *fl : shadow::FaceLighting{});
+  }
+  return out;
 }
 
 std::vector<Run> runs(bool quick) {
@@ -199,11 +226,12 @@ int run_soft(const SoftOptions& o) {
     csv.precision(10);
     csv << "scene,light,faces,points,penumbra_points,method,parameter_name,parameter,setting,reference,threads,prepare_s,"
            "compute_s,total_s,lookups,map_mib,mean_abs_error,rms_error,max_abs_error,penumbra_mean_abs_error,"
-           "lit_area_error,fully_lit_area_error,umbra_area_error\n";
+           "lit_area_error,fully_lit_area_error,umbra_area_error,region_fully_lit_area_error,region_umbra_area_error,"
+           "regions_s\n";
   }
   std::printf("| scene | points | method | parameter | total (s) | mean abs err | max abs err | penumbra mean err | "
-              "lit area err | fully-lit area err | umbra area err |\n");
-  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+              "lit area err | fully-lit area err | umbra area err | fully-lit err (regions) | umbra err (regions) |\n");
+  std::printf("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   int status = 0;
   for (SoftScene& s : scenes) {
     if (!o.only_scenes.empty() && std::find(o.only_scenes.begin(), o.only_scenes.end(), s.name) == o.only_scenes.end())
@@ -219,6 +247,8 @@ int run_soft(const SoftOptions& o) {
       ref.compute_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     const std::vector<shadow::FaceLighting> ref_faces = shadow::soft_face_estimates(pts, ref.visibility, 0);
+    double region_seconds = 0;
+    const std::vector<shadow::FaceLighting> regions = exact_regions(s, pts, o.threads, region_seconds);
     std::vector<Run> all = runs(o.quick);
     all.insert(all.begin(), Run{"exact", "", 0, reference, nullptr});
     // The cross-check: k rays with a very large k must agree with the exact fractions.
@@ -234,13 +264,13 @@ int run_soft(const SoftOptions& o) {
     for (const Run& r : all) {
       const shadow::SoftResult got = r.run ? r.run(s, pts.points, o.threads) : ref;
       const PointErrors pe = point_errors(got.visibility, ref.visibility);
-      const FaceErrors fe = face_errors(shadow::soft_face_estimates(pts, got.visibility, 0), ref_faces);
+      const FaceErrors fe = face_errors(shadow::soft_face_estimates(pts, got.visibility, 0), ref_faces, regions);
       if (pe.out_of_range) status = 1;
       if (r.method == "rays" || r.method == "rays-reference") ray_errors.emplace_back(r.parameter, pe.mean);
       const double total = got.prepare_seconds + got.compute_seconds;
-      std::printf("| %s | %zu | %s | %g | %.3f | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e |\n", s.name.c_str(),
-                  pts.points.size(), r.method.c_str(), r.parameter, total, pe.mean, pe.max, pe.penumbra_mean, fe.lit,
-                  fe.fully_lit, fe.umbra);
+      std::printf("| %s | %zu | %s | %g | %.3f | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e | %.2e |\n",
+                  s.name.c_str(), pts.points.size(), r.method.c_str(), r.parameter, total, pe.mean, pe.max,
+                  pe.penumbra_mean, fe.lit, fe.fully_lit, fe.umbra, fe.region_fully_lit, fe.region_umbra);
       std::fflush(stdout);
       if (csv.is_open())
         csv << s.name << ",\"" << s.light_text << "\"," << s.scene.faces.size() << ',' << pts.points.size() << ','
@@ -248,7 +278,8 @@ int run_soft(const SoftOptions& o) {
             << r.setting << "\",\"" << reference << "\"," << o.threads << ',' << got.prepare_seconds << ','
             << got.compute_seconds << ',' << total << ',' << got.lookups << ','
             << static_cast<double>(got.map_bytes) / (1024.0 * 1024.0) << ',' << pe.mean << ',' << pe.rms << ','
-            << pe.max << ',' << pe.penumbra_mean << ',' << fe.lit << ',' << fe.fully_lit << ',' << fe.umbra << '\n';
+            << pe.max << ',' << pe.penumbra_mean << ',' << fe.lit << ',' << fe.fully_lit << ',' << fe.umbra << ','
+            << fe.region_fully_lit << ',' << fe.region_umbra << ',' << region_seconds << '\n';
     }
     if (o.max_error >= 0 && ray_errors.size() >= 2) {
       const double first = ray_errors.front().second, last = ray_errors.back().second;
