@@ -529,3 +529,21 @@ TEST(FragmentVisibility, AgreesWithTheExactRegions) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(FragmentVisibility, VerticesInTheLightsPlaneTakeTheFragmentsSide) {
+  // A wall up to the height of a ceiling luminaire: the wall cell's top vertices lie in the
+  // light's plane. The point itself is not in front of the light (0); a hair below it the light
+  // is seen whole, edge-on (1), and that is the cell's value there.
+  Scene scene;
+  add_face(scene, {{0, -2, 0}, {0, 2, 0}, {0, 2, 3}, {0, -2, 3}});  // faces +x
+  Light lamp = square_light(0.5, 3);
+  lamp.polygon = rect_z(1, 2, -0.5, 0.5, 3, /*up=*/false);
+  std::vector<shadow::Fragment> wall{fragment_on(0, {{0, -2, 0}, {0, 2, 0}, {0, 2, 3}, {0, -2, 3}})};
+  shadow::fill_fragment_visibility(scene, lamp, wall, 1);
+  EXPECT_EQ(visibility_at(scene, lamp, {0, 2, 3}), 0.0);
+  for (double v : wall[0].visibility) EXPECT_EQ(v, 1.0);
+}
+
+}  // namespace

@@ -419,13 +419,22 @@ class Evaluator {
       if (glm::length(toward) > 10.0 * eps && near_contact(w, sp, eps)) {
         SurfacePoint moved = sp;
         moved.position += toward;
-        return evaluate(w, moved, toward);
+        return evaluate(w, moved, glm::dvec3(0.0));
       }
     }
     const Point3 x = to_exact(sp.position);
     if (t.shape == Shape::Sun) place_sun(t, x);
     const FT h = t.n * (x - CGAL::ORIGIN) + t.offset;  // > 0: in front of the light
-    if (CGAL::sign(h) != CGAL::POSITIVE) return none;
+    if (CGAL::sign(h) != CGAL::POSITIVE) {
+      // A fragment vertex exactly in the light's plane (a wall cell's top edge at the height of
+      // a ceiling luminaire) takes the value of the fragment's side, a hair inside it.
+      if (CGAL::sign(h) == CGAL::ZERO && toward != glm::dvec3(0.0) && finite3(toward)) {
+        SurfacePoint moved = sp;
+        moved.position += toward;
+        return evaluate(w, moved, glm::dvec3(0.0));
+      }
+      return none;
+    }
     const ExactFace& receiver = w.face(scene_, faces_, f);
     // The side to take the limit from, projected exactly onto the receiver's plane.
     const bool has_toward = toward != glm::dvec3(0.0) && finite3(toward);
