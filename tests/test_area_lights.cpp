@@ -368,6 +368,24 @@ TEST(AreaLightInput, ReadsAreaDiskAndSunDiskLights) {
   EXPECT_FALSE(scene.lights[3].is_extended());
 }
 
+TEST(AreaLightInput, ASunBlockGivesItsSunsTheAngularDiameter) {
+  const std::string head = R"({"meshes": [{"name": "g", "polygons": [{"vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}]}],
+    "sun": {"latitude": 52.5, "longitude": 13.4, "times": ["2026-06-21T10:00:00Z", "2026-06-21T12:00:00Z"], )";
+  const Scene scene = parse_scene(head + R"("angular_diameter": 0.53}})", "sun.json");
+  ASSERT_EQ(scene.lights.size(), 2u);
+  for (const Light& light : scene.lights) {
+    EXPECT_EQ(light.angular_diameter, 0.53);
+    EXPECT_TRUE(light.is_extended());
+  }
+  try {
+    (void)parse_scene(head + R"("angular_diameter": 61}})", "sun.json");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().place, "sun.angular_diameter");
+    EXPECT_NE(std::string(e.what()).find("angular_diameter must be in [0, 60]"), std::string::npos) << e.what();
+  }
+}
+
 TEST(AreaLightInput, EveryBadValueIsOneInputErrorNamingThePlace) {
   struct Case {
     std::string light, place, words;
