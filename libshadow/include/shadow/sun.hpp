@@ -53,6 +53,10 @@ struct SunPeriod {
   std::vector<UtcSeconds> times;  ///< explicit instants (instead of a period)
   double north_axis = 0.0;        ///< degrees clockwise from true north to the model's +y
   double min_elevation = 0.0;     ///< suns at or below this elevation (degrees) are skipped
+  /// The sun's angular diameter in degrees given to every sun light (Light::angular_diameter):
+  /// 0, the default, keeps them points; about 0.53 makes them the sun's disk, with exact
+  /// penumbrae (docs/area-lights.md). In [0, 60].
+  double angular_diameter = 0.0;
   /// TT - UT1 in seconds for solar_position (about 69 s in the 2020s; docs/sun.md).
   double delta_t = 69.0;
   /// The time zone as the input named it (`UTC`, `UTC+05:30`); empty when `utc_offset_hours`

@@ -172,8 +172,29 @@ class AreaReceiverJob {
       }
     }
 
+    // Occluders: convex solids whole where the projection route takes them (an exact umbra for
+    // the solid), other faces piece by piece. The receiver's own solid lies behind its plane.
     std::size_t casting = 0;
-    for (std::size_t q : candidates()) casting += cast_face(q);
+    const std::vector<std::size_t> faces = candidates();
+    const std::vector<int>& solid_of = *ctx_.solid_of;
+    const int own_solid = solid_of[face_id_];
+    std::vector<int> solids_seen;
+    for (std::size_t q : faces) {
+      const int solid = solid_of[q];
+      if (solid < 0) {
+        casting += cast_face(q);
+        continue;
+      }
+      if (solid == own_solid || std::find(solids_seen.begin(), solids_seen.end(), solid) != solids_seen.end())
+        continue;
+      solids_seen.push_back(solid);
+      if (const std::optional<bool> cast = cast_solid(solid)) {
+        casting += *cast ? 1 : 0;
+        continue;
+      }
+      for (std::size_t q2 : faces)  // its faces one by one, as any other
+        if (solid_of[q2] == solid) casting += cast_face(q2);
+    }
     if (casting >= 2) ++stats_.area_umbra_bounded;
     ++stats_.area_receivers;
     measure(straddles);
@@ -287,75 +308,101 @@ class AreaReceiverJob {
     return Point2(xi / w, xj / w);
   }
 
-  bool cast_piece(const std::vector<Point3>& C, const H4& own_plane) {
-    // The projection route needs every point of C strictly nearer to P's plane than every
-    // light vertex (always so for directions, as long as the light is wholly in front).
-    bool projections = !straddles_ && !force_separating_planes;
-    if (projections && lp_.shape.finite) {
-      FT lowest_light = dot4(receiver_, light_points_.front());
-      for (const H4& v : light_points_) lowest_light = CGAL::min(lowest_light, dot4(receiver_, v));
-      for (const Point3& c : C)
-        if (CGAL::compare(dot4(receiver_, homogeneous(c)), lowest_light) != CGAL::SMALLER) {
-          projections = false;
-          break;
-        }
-    }
-    std::vector<std::vector<Point2>> regions;  // U for each light piece (one with projections)
+  /// True when the projection route applies to the convex set of points C: the light wholly
+  /// in front of P and every point of C strictly nearer to P's plane than every light vertex
+  /// (always so for directions).
+  bool projections_apply(const std::vector<Point3>& C) const {
+    if (straddles_ || force_separating_planes) return false;
+    if (!lp_.shape.finite) return true;
+    FT lowest_light = dot4(receiver_, light_points_.front());
+    for (const H4& v : light_points_) lowest_light = CGAL::min(lowest_light, dot4(receiver_, v));
+    for (const Point3& c : C)
+      if (CGAL::compare(dot4(receiver_, homogeneous(c)), lowest_light) != CGAL::SMALLER) return false;
+    return true;
+  }
+
+  /// The projection route for the convex hull of the points C (a convex piece, or the vertices
+  /// of a convex solid): per convex light piece, the hull of C's shadows from its vertices (not
+  /// fully lit); the intersection over the light's vertices of C's shadow from each (umbra).
+  bool cast_by_projection(const std::vector<Point3>& C) {
+    ++stats_.area_projection_pieces;
     std::vector<Point2> umbra = box_;
-    if (projections) {
-      ++stats_.area_projection_pieces;
-      for (const H4& v : light_points_) {
-        if (umbra.empty()) break;
-        // umbra: inside every vertex's shadow, a convex polygon (either orientation)
-        std::vector<Point2> from_v;
-        for (const Point3& c : C) from_v.push_back(project(v, c));
-        const CGAL::Sign o = CGAL::sign(exact::polygon_area(from_v.begin(), from_v.end()));
-        if (o == CGAL::ZERO) {
-          umbra.clear();
-          break;
-        }
-        for (std::size_t a = 0; a < from_v.size() && !umbra.empty(); ++a) {
-          const Point2& p = from_v[a];
-          const Point2& r = from_v[(a + 1) % from_v.size()];
-          // orientation(p, r, x) = (r - p) x (x - p) >= 0 for counter-clockwise from_v
-          HalfPlane h{-(r.y() - p.y()), r.x() - p.x(), (r.y() - p.y()) * p.x() - (r.x() - p.x()) * p.y()};
-          if (o == CGAL::NEGATIVE) h = {-h.a, -h.b, -h.c};
-          clip(umbra, h, scratch2_);
-        }
+    for (const H4& v : light_points_) {
+      if (umbra.empty()) break;
+      std::vector<Point2> projected, from_v;
+      for (const Point3& c : C) projected.push_back(project(v, c));
+      CGAL::convex_hull_2(projected.begin(), projected.end(), std::back_inserter(from_v), exact::Kernel());
+      if (!has_area(from_v)) {  // edge-on from this vertex: no umbra
+        umbra.clear();
+        break;
       }
-      // not fully lit: per convex light piece, the hull of its vertices' shadows
-      for (const std::vector<H4>& L : light_pieces_) {
-        std::vector<Point2> shadows;
-        for (const H4& v : L)
-          for (const Point3& c : C) shadows.push_back(project(v, c));
-        std::vector<Point2> hull;
-        CGAL::convex_hull_2(shadows.begin(), shadows.end(), std::back_inserter(hull), exact::Kernel());
-        for (int c = 0; c < 2; ++c) {
-          exact::clip_convex_2d(hull, c, fp_.chart_min[c], true, scratch2_);
-          exact::clip_convex_2d(hull, c, fp_.chart_max[c], false, scratch2_);
-        }
-        regions.push_back(std::move(hull));
-      }
-    } else {
-      ++stats_.area_plane_pieces;
-      std::vector<H4> Ch;
-      for (const Point3& c : C) Ch.push_back(homogeneous(c));
-      for (const std::vector<H4>& L : light_pieces_) {
-        std::vector<Point2> region = box_;
-        separate(L, Ch, own_plane, region);
-        regions.push_back(std::move(region));
-      }
-      for (const H4& v : light_points_) {
-        if (umbra.empty()) break;
-        separate({v}, Ch, own_plane, umbra);
+      for (std::size_t a = 0; a < from_v.size() && !umbra.empty(); ++a) {  // counter-clockwise
+        const Point2& p = from_v[a];
+        const Point2& r = from_v[(a + 1) % from_v.size()];
+        // orientation(p, r, x) = (r - p) x (x - p) >= 0
+        clip(umbra, HalfPlane{-(r.y() - p.y()), r.x() - p.x(), (r.y() - p.y()) * p.x() - (r.x() - p.x()) * p.y()},
+             scratch2_);
       }
     }
     bool any = false;
-    for (std::vector<Point2>& region : regions)
+    for (const std::vector<H4>& L : light_pieces_) {
+      std::vector<Point2> shadows;
+      for (const H4& v : L)
+        for (const Point3& c : C) shadows.push_back(project(v, c));
+      std::vector<Point2> hull;
+      CGAL::convex_hull_2(shadows.begin(), shadows.end(), std::back_inserter(hull), exact::Kernel());
+      for (int c = 0; c < 2; ++c) {
+        exact::clip_convex_2d(hull, c, fp_.chart_min[c], true, scratch2_);
+        exact::clip_convex_2d(hull, c, fp_.chart_max[c], false, scratch2_);
+      }
+      if (has_area(hull)) {
+        not_fully_lit_.push_back(std::move(hull));
+        any = true;
+      }
+    }
+    if (has_area(umbra)) umbra_.push_back(std::move(umbra));
+    return any;
+  }
+
+  /// A convex solid as one occluder (its umbra is then exact, not the union of its faces'), when
+  /// the projection route applies to it unclipped: every vertex on or in front of P's plane (and
+  /// of the light's), nearer to P's plane than the light. Empty when it does not apply.
+  std::optional<bool> cast_solid(int solid) {
+    const core::ConvexSolid& cs = (*ctx_.solids)[static_cast<std::size_t>(solid)];
+    std::vector<Point3> C;
+    bool any_front = false;
+    for (const glm::dvec3& v : cs.vertices) {
+      C.push_back(exact::to_exact(v));
+      const CGAL::Sign side = CGAL::sign(dot4(receiver_, homogeneous(C.back())));
+      if (side == CGAL::NEGATIVE) return std::nullopt;
+      any_front |= side == CGAL::POSITIVE;
+      if (light_plane_ && CGAL::is_negative(dot4(*light_plane_, homogeneous(C.back())))) return std::nullopt;
+    }
+    if (!any_front || !projections_apply(C)) return std::nullopt;
+    const bool cast = cast_by_projection(C);
+    if (cast) ++stats_.casting_pairs;
+    return cast;
+  }
+
+  bool cast_piece(const std::vector<Point3>& C, const H4& own_plane) {
+    if (projections_apply(C)) return cast_by_projection(C);
+    ++stats_.area_plane_pieces;
+    std::vector<H4> Ch;
+    for (const Point3& c : C) Ch.push_back(homogeneous(c));
+    bool any = false;
+    for (const std::vector<H4>& L : light_pieces_) {
+      std::vector<Point2> region = box_;
+      separate(L, Ch, own_plane, region);
       if (has_area(region)) {
         not_fully_lit_.push_back(std::move(region));
         any = true;
       }
+    }
+    std::vector<Point2> umbra = box_;
+    for (const H4& v : light_points_) {
+      if (umbra.empty()) break;
+      separate({v}, Ch, own_plane, umbra);
+    }
     if (has_area(umbra)) umbra_.push_back(std::move(umbra));
     return any;
   }

@@ -472,6 +472,29 @@ class Evaluator {
 
     // Bounding box of the pyramid (truncated by the scene for the sun), in doubles with a margin.
     std::array<double, 6> box = frustum_box(t, sp.position);
+    // The pyramid's planes in doubles, for a conservative first cull of each face's box: a box
+    // whose corners are all outside one plane by more than rounding could move them is culled.
+    const glm::dvec3& xd = sp.position;
+    std::vector<std::pair<glm::dvec3, double>> dplanes;  // (normal, tolerance)
+    {
+      const double size = 1.0 + std::max({std::abs(xd.x), std::abs(xd.y), std::abs(xd.z)});
+      for (const Affine3& pl : planes) {
+        // Planes through x only (the light's own plane is left to the exact test). The normal is
+        // rounded from its exact value: a lazy value's approximation could be coarse.
+        if (!CGAL::is_zero(pl(x))) continue;
+        const glm::dvec3 m(CGAL::to_double(CGAL::exact(pl.a.x())), CGAL::to_double(CGAL::exact(pl.a.y())),
+                           CGAL::to_double(CGAL::exact(pl.a.z())));
+        dplanes.emplace_back(m, 1e-9 * glm::length(m) * size);
+      }
+    }
+    auto box_outside = [&](const std::array<double, 6>& b) {
+      for (const auto& [m, tol] : dplanes) {
+        // The corner farthest along m: if even it is outside, the whole box is.
+        const glm::dvec3 corner(m.x > 0 ? b[3] : b[0], m.y > 0 ? b[4] : b[1], m.z > 0 ? b[5] : b[2]);
+        if (glm::dot(m, corner - xd) < -tol * (1.0 + glm::length(corner - xd))) return true;
+      }
+      return false;
+    };
 
     std::vector<Polygon2> hidden;
     if (any_behind) {
@@ -482,6 +505,7 @@ class Evaluator {
       if (o_id == f || faces_.prep[o_id].degenerate) continue;
       const std::array<double, 6>& b = faces_.box[o_id];
       if (b[0] > box[3] || b[3] < box[0] || b[1] > box[4] || b[4] < box[1] || b[2] > box[5] || b[5] < box[2]) continue;
+      if (box_outside(b)) continue;
       const ExactFace& face = w.face(scene_, faces_, o_id);
       // A face through x projects onto a line: it hides nothing of measure from x itself, but
       // from points beside x on the side `toward` it hides a wedge (add_contact). One in the

@@ -96,6 +96,7 @@ Json sun_json(const Scene& scene) {
   if (!sun.time_zone.empty()) j["time_zone"] = sun.time_zone;
   j["north_axis"] = sun.north_axis;
   j["min_elevation"] = sun.min_elevation;
+  if (sun.angular_diameter > 0) j["angular_diameter"] = sun.angular_diameter;  // additive key
   j["delta_t"] = sun.delta_t;
   std::size_t above = 0;
   for (const SunInstant& instant : scene.sun_instants) above += instant.light_id != SunInstant::none ? 1 : 0;

@@ -883,14 +883,15 @@ class SceneReader {
     require_object(sun, "sun", "the sun block");
     check_keys(sun, "sun", {"latitude", "longitude", "elevation", "pressure", "temperature", "utc_offset",
                             "time_zone", "start", "end", "step_minutes", "times", "north_axis",
-                            "min_elevation", "delta_t"});
+                            "min_elevation", "delta_t", "angular_diameter"});
     SunPeriod period;
     period.site.latitude = get_number(require(sun, "sun", "latitude", "degrees, north positive"), "sun.latitude");
     period.site.longitude = get_number(require(sun, "sun", "longitude", "degrees, east positive"), "sun.longitude");
     const std::pair<const char*, double*> numbers[] = {
         {"elevation", &period.site.elevation}, {"pressure", &period.site.pressure},
         {"temperature", &period.site.temperature}, {"north_axis", &period.north_axis},
-        {"min_elevation", &period.min_elevation}, {"delta_t", &period.delta_t}};
+        {"min_elevation", &period.min_elevation}, {"delta_t", &period.delta_t},
+        {"angular_diameter", &period.angular_diameter}};
     for (const auto& [key, target] : numbers)
       if (const Json* value = find(sun, key)) *target = get_number(*value, member("sun", key));
     const Json* offset = find(sun, "utc_offset");

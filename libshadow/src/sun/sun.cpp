@@ -265,6 +265,11 @@ void check_sun_period(const SunPeriod& p, const std::string& file, const std::st
   finite(p.delta_t, "delta_t");
   if (std::abs(p.delta_t) > 1e6)
     fail("delta_t", "delta_t (TT - UT, seconds) must be within +-1e6, got " + format_number(p.delta_t));
+  finite(p.angular_diameter, "angular_diameter");
+  // The bound of core/lights.hpp's max_angular_diameter (sun/ does not include core/).
+  if (p.angular_diameter < 0 || p.angular_diameter > 60)
+    fail("angular_diameter", "angular_diameter must be in [0, 60] degrees (0: point suns; the sun's disk is about "
+                             "0.53), got " + format_number(p.angular_diameter));
   finite(p.min_elevation, "min_elevation");
   if (p.min_elevation < -90 || p.min_elevation > 90)
     fail("min_elevation", "min_elevation must be in [-90, 90] degrees, got " + format_number(p.min_elevation));
@@ -338,6 +343,7 @@ void add_sun_lights(Scene& scene, const SunPeriod& period) {
                                           "\" of a sun is already taken by another light; rename that light");
     light.type = LightType::Directional;
     light.to_light = instant.position.to_light;
+    light.angular_diameter = period.angular_diameter;
     light.intensity = 1.0;
     light.color = {1.0, 1.0, 1.0};
     instant.light_id = scene.lights.size();
