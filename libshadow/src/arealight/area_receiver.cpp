@@ -33,6 +33,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <iterator>
 #include <limits>
 #include <optional>
@@ -252,15 +253,8 @@ class AreaReceiverJob {
       first = false;
     };
     for (const glm::dvec3& v : face.vertices) grow(v);
-    if (lp_.shape.finite) {
-      for (const glm::dvec3& v : lp_.shape.polygon) grow(v);
-    } else {
-      // Directions d are at least unit length (c . d = 1 with |c| = 1): p + t d with t beyond
-      // the scene's diagonal has left the scene.
-      const double reach = lp_.diagonal * (1 + 1e-6);
-      for (const glm::dvec3& v : face.vertices)
-        for (const glm::dvec3& d : lp_.shape.polygon) grow(v + reach * d);
-    }
+    if (!lp_.shape.finite) return sun_candidates();
+    for (const glm::dvec3& v : lp_.shape.polygon) grow(v);
     double size = 0;
     for (int c = 0; c < 3; ++c) size = std::max({size, std::abs(box[c]), std::abs(box[3 + c]), box[3 + c] - box[c]});
     const double margin = 1e-9 * size + 1e-300;
@@ -270,6 +264,38 @@ class AreaReceiverJob {
       const std::array<double, 6>& b = lp_.boxes[q];
       bool overlap = true;
       for (int c = 0; c < 3 && overlap; ++c) overlap = b[c] <= box[3 + c] + margin && box[c] <= b[3 + c] + margin;
+      if (overlap) result.push_back(q);
+    }
+    stats_.candidate_pairs += result.size();
+    return result;
+  }
+
+  /// A sun disk's candidates: in the frame (u, v, c) of the sun's central direction c, an
+  /// occluder point x = p + t d (p on the face, d a direction of the cone with c . d = 1, t at
+  /// most the scene's diagonal) has c . x >= c . p and lies within diagonal x spread of p across c.
+  std::vector<std::size_t> sun_candidates() const {
+    const Face& face = ctx_.scene->faces[face_id_];
+    std::array<double, 6> box{};
+    bool first = true;
+    for (const glm::dvec3& x : face.vertices) {
+      const double w[3] = {glm::dot(lp_.u, x), glm::dot(lp_.v, x), glm::dot(lp_.c, x)};
+      for (int k = 0; k < 3; ++k) {
+        box[k] = first ? w[k] : std::min(box[k], w[k]);
+        box[3 + k] = first ? w[k] : std::max(box[3 + k], w[k]);
+      }
+      first = false;
+    }
+    double size = lp_.diagonal;
+    for (int k = 0; k < 6; ++k) size = std::max(size, std::abs(box[k]));
+    const double margin = 1e-9 * size + 1e-300;
+    const double reach = lp_.diagonal * lp_.spread * (1 + 1e-6) + margin;
+    std::vector<std::size_t> result;
+    for (std::size_t q = 0; q < ctx_.scene->faces.size(); ++q) {
+      if (q == face_id_ || (*ctx_.prep)[q].degenerate) continue;
+      const std::array<double, 6>& b = lp_.sun_boxes[q];
+      if (b[5] < box[2] - margin) continue;  // wholly on the far side from the sun
+      bool overlap = true;
+      for (int k = 0; k < 2 && overlap; ++k) overlap = b[k] <= box[3 + k] + reach && box[k] <= b[3 + k] + reach;
       if (overlap) result.push_back(q);
     }
     stats_.candidate_pairs += result.size();
@@ -326,6 +352,23 @@ class AreaReceiverJob {
   /// fully lit); the intersection over the light's vertices of C's shadow from each (umbra).
   bool cast_by_projection(const std::vector<Point3>& C) {
     ++stats_.area_projection_pieces;
+    bool any = false;
+    for (const std::vector<H4>& L : light_pieces_) {
+      std::vector<Point2> shadows;
+      for (const H4& v : L)
+        for (const Point3& c : C) shadows.push_back(project(v, c));
+      std::vector<Point2> hull;
+      CGAL::convex_hull_2(shadows.begin(), shadows.end(), std::back_inserter(hull), exact::Kernel());
+      for (int c = 0; c < 2; ++c) {
+        exact::clip_convex_2d(hull, c, fp_.chart_min[c], true, scratch2_);
+        exact::clip_convex_2d(hull, c, fp_.chart_max[c], false, scratch2_);
+      }
+      if (has_area(hull)) {
+        not_fully_lit_.push_back(std::move(hull));
+        any = true;
+      }
+    }
+    if (!any) return false;  // the umbra lies inside: nothing on the chart box either
     std::vector<Point2> umbra = box_;
     for (const H4& v : light_points_) {
       if (umbra.empty()) break;
@@ -344,24 +387,8 @@ class AreaReceiverJob {
              scratch2_);
       }
     }
-    bool any = false;
-    for (const std::vector<H4>& L : light_pieces_) {
-      std::vector<Point2> shadows;
-      for (const H4& v : L)
-        for (const Point3& c : C) shadows.push_back(project(v, c));
-      std::vector<Point2> hull;
-      CGAL::convex_hull_2(shadows.begin(), shadows.end(), std::back_inserter(hull), exact::Kernel());
-      for (int c = 0; c < 2; ++c) {
-        exact::clip_convex_2d(hull, c, fp_.chart_min[c], true, scratch2_);
-        exact::clip_convex_2d(hull, c, fp_.chart_max[c], false, scratch2_);
-      }
-      if (has_area(hull)) {
-        not_fully_lit_.push_back(std::move(hull));
-        any = true;
-      }
-    }
     if (has_area(umbra)) umbra_.push_back(std::move(umbra));
-    return any;
+    return true;
   }
 
   /// A convex solid as one occluder (its umbra is then exact, not the union of its faces'), when
@@ -602,6 +629,32 @@ AreaLightPrep prepare_area_light(const core::PreparedScene& ctx, const Light& li
       }
   }
   lp.diagonal = scene.faces.empty() ? 1.0 : glm::length(hi - lo) + 1e-300;
+  if (!lp.shape.finite) {
+    // The sun's frame: c the central direction, u and v across it; the cone's spread across c
+    // per unit along it (its directions have c . d = 1 up to rounding).
+    lp.c = glm::normalize(light.to_light);
+    lp.u = glm::normalize(glm::cross(lp.c, std::abs(lp.c.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    lp.v = glm::cross(lp.c, lp.u);
+    for (const glm::dvec3& d : lp.shape.polygon) {
+      const double along = glm::dot(lp.c, d);
+      lp.spread = std::max(lp.spread, std::hypot(glm::dot(lp.u, d), glm::dot(lp.v, d)) / along);
+    }
+    lp.spread = lp.spread * (1 + 1e-9) + 1e-12;
+    lp.sun_boxes.resize(scene.faces.size());
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      std::array<double, 6>& b = lp.sun_boxes[f];
+      b = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+           std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
+           std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+      for (const glm::dvec3& x : scene.faces[f].vertices) {
+        const double w[3] = {glm::dot(lp.u, x), glm::dot(lp.v, x), glm::dot(lp.c, x)};
+        for (int k = 0; k < 3; ++k) {
+          b[k] = std::min(b[k], w[k]);
+          b[3 + k] = std::max(b[3 + k], w[k]);
+        }
+      }
+    }
+  }
   return lp;
 }
 

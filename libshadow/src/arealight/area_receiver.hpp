@@ -12,6 +12,8 @@
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
 
+#include <glm/vec3.hpp>
+
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -26,6 +28,11 @@ struct AreaLightPrep {
   /// Per scene face: its bounding box (min x, y, z, max x, y, z) in doubles, for culling.
   std::vector<std::array<double, 6>> boxes;
   double diagonal = 1.0;  ///< of the scene's faces' bounding box (the sun's prisms stop there)
+  /// Sun disks: the frame of the central direction c (u, v across it), the cone's spread across
+  /// c per unit along it, and every face's box in that frame (min u, v, c, max u, v, c).
+  glm::dvec3 u{1, 0, 0}, v{0, 1, 0}, c{0, 0, 1};
+  double spread = 0.0;
+  std::vector<std::array<double, 6>> sun_boxes;
 };
 
 /// Prepares `light` (extended, already checked) over the prepared scene.
