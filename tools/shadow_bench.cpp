@@ -361,6 +361,87 @@ int run_planes_bench(const std::vector<std::size_t>& sizes, const std::vector<do
   return 0;
 }
 
+/// One sun on the city, in a forked child (bench_city_sun below): wall and CPU time of the
+/// computation (areas only), the process's peak memory, the sum of the lit areas.
+struct SunTiming {
+  double wall_s = 0, cpu_s = 0, lit = 0, bound = 0;
+  long peak_kib = 0;
+  unsigned long long fallbacks = 0;
+  bool ok = false;
+};
+
+SunTiming time_city_sun(std::size_t boxes, double elevation, const std::string& arithmetic, unsigned threads) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+    shadow::validate_scene(scene);
+    const shadow::ShadowEngine engine(scene, threads);
+    shadow::ShadowOptions options;
+    options.threads = threads;
+    options.polygons = false;
+    options.planes = false;
+    options.arithmetic = arithmetic == "fast" ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+    const double cpu0 = cpu_seconds();
+    const auto t0 = std::chrono::steady_clock::now();
+    const shadow::ShadowResult result = engine.compute(options);
+    SunTiming t;
+    t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    t.cpu_s = cpu_seconds() - cpu0;
+    for (const shadow::FaceLighting& f : result.lighting) {
+      t.lit += f.lit_area;
+      t.bound += f.lit_area_error_bound;
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    char line[256];
+    const int n = std::snprintf(line, sizeof line, "%.17g %.17g %a %a %ld %llu", t.wall_s, t.cpu_s, t.lit, t.bound,
+                                usage.ru_maxrss, static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
+    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[512];
+  ssize_t got;
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  SunTiming t;
+  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+         std::sscanf(text.c_str(), "%lg %lg %la %la %ld %llu", &t.wall_s, &t.cpu_s, &t.lit, &t.bound, &t.peak_kib,
+                     &t.fallbacks) == 6;
+  return t;
+}
+
+/// docs/benchmarks.md, "The fast path at a low sun": one sun on the city at each elevation, exact
+/// and fast side by side (areas only), one child process per row.
+int run_low_sun_bench(const std::vector<std::size_t>& sizes, const std::vector<double>& elevations,
+                      const std::vector<std::string>& arithmetics, const std::vector<unsigned>& threads,
+                      const std::string& label) {
+  std::printf("| build | boxes | sun | arithmetic | threads | wall (s) | CPU (s) | peak (MiB) | fallbacks | lit area (m^2) | sum of bounds (m^2) |\n");
+  std::printf("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (std::size_t boxes : sizes)
+    for (double elevation : elevations)
+      for (unsigned t : threads)
+        for (const std::string& a : arithmetics) {
+          const SunTiming m = time_city_sun(boxes, elevation, a, t);
+          if (!m.ok) {
+            std::printf("| %s | %zu | %.0f° | %s | %u | failed |\n", label.c_str(), boxes, elevation, a.c_str(), t);
+            continue;
+          }
+          std::printf("| %s | %zu | %.0f° | %s | %u | %.3f | %.3f | %.0f | %llu | %.6f | %.3g |\n", label.c_str(), boxes,
+                      elevation, a.c_str(), t, m.wall_s, m.cpu_s, m.peak_kib / 1024.0, m.fallbacks, m.lit, m.bound);
+          std::fflush(stdout);
+        }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -461,9 +542,24 @@ int main(int argc, char** argv) {
   planes_cmd->add_option("--threads", planes_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
   planes_cmd->add_option("--repeat", planes_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
   planes_cmd->add_option("--label", planes_label, "Text of the table's first column (which build this is)");
+  std::vector<std::size_t> low_sizes{10000};
+  std::vector<double> low_elevations{5.0, 40.0};
+  std::vector<std::string> low_arithmetics{"exact", "fast"};
+  std::vector<unsigned> low_threads{1};
+  std::string low_label = "this";
+  CLI::App* low_cmd = app.add_subcommand(
+      "low-sun", "One sun on the city, exact and fast side by side (areas only): wall, CPU time and peak memory");
+  low_cmd->add_option("--sizes", low_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
+  low_cmd->add_option("--elevations", low_elevations, "Sun elevations (degrees)")->delimiter(',')->check(CLI::Range(1.0, 90.0));
+  low_cmd->add_option("--arithmetic", low_arithmetics, "exact, fast or both, in this order")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"exact", "fast"}));
+  low_cmd->add_option("--threads", low_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
+  low_cmd->add_option("--label", low_label, "Text of the table's first column (which build this is)");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
+  if (low_cmd->parsed()) return run_low_sun_bench(low_sizes, low_elevations, low_arithmetics, low_threads, low_label);
   if (planes_cmd->parsed()) return run_planes_bench(planes_sizes, planes_elevations, planes_threads, planes_repeat, planes_label);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);

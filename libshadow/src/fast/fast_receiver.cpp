@@ -23,6 +23,7 @@
 #include "fast/fast_receiver.hpp"
 
 #include "fast/error_bound.hpp"
+#include "fast/strip_union.hpp"
 #include "geometry/clip_convex.hpp"
 #include "geometry/newell_normal.hpp"
 #include "geometry/unit_vector.hpp"
@@ -819,17 +820,34 @@ class ReceiverJob {
       receiver_length += std::hypot(q[rc_.i] - p[rc_.i], q[rc_.j] - p[rc_.j]);
     }
     if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, rho_);
-    // (A box receiver's edges meet the casts only at their vertices, already grid points.)
-    bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), rho_);
     Int128 shadow2 = 0, gap2 = 0;
     try {
+      // Many casts (a ground under a low sun): united in strips first (fast/strip_union.hpp),
+      // and that union stands for the casts below (one more level of rounding), or, when it is
+      // all that is asked for (areas only, a box receiver, no nearly coplanar footprints), its
+      // area is the shadow's.
+      const CL::Paths* casts = &casts_;
+      CL::Paths united;
+      double levels = 1;
+      bool strips_only = false;
+      if (casts_.size() > StripUnionOptions{}.threshold) {
+        const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
+        const int strip_levels = strip_union(casts_, along.x * grid_.scale[0], along.y * grid_.scale[1], united);
+        casts = &united;
+        strips_only = fp_.chart_is_box && !polygons_ && maybe_.empty();
+        levels = strip_levels + (strips_only ? 0 : 1);
+      }
+      // (A box receiver's edges meet the casts only at their vertices, already grid points.)
+      bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
       CL::Clipper clipper;
       clipper.StrictlySimple(false);
-      clipper.AddPaths(casts_, CL::ptSubject, true);
+      if (!strips_only) clipper.AddPaths(*casts, CL::ptSubject, true);
       // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
       const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
-      if (!fp_.chart_is_box) clipper.AddPath(receiver_, CL::ptClip, true);
-      if (polygons_) {
+      if (!fp_.chart_is_box && !strips_only) clipper.AddPath(receiver_, CL::ptClip, true);
+      if (strips_only) {
+        for (const CL::Path& p : united) shadow2 += area2(p);  // holes come out negative
+      } else if (polygons_) {
         clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);
         CL::Paths all;
         CL::PolyTreeToPaths(shadow_tree_, all);
@@ -837,7 +855,7 @@ class ReceiverJob {
         CL::Clipper lit;
         lit.StrictlySimple(false);
         lit.AddPath(receiver_, CL::ptSubject, true);
-        lit.AddPaths(casts_, CL::ptClip, true);
+        lit.AddPaths(*casts, CL::ptClip, true);
         lit.Execute(CL::ctDifference, lit_tree_, CL::pftNonZero, CL::pftNonZero);
       } else {
         CL::Paths shadow_paths;
@@ -849,7 +867,7 @@ class ReceiverJob {
         // footprints: report the middle, and half the gap in the bound (0 when they are covered,
         // as a box's bottom is by its walls' shadows).
         CL::Clipper with;
-        with.AddPaths(casts_, CL::ptSubject, true);
+        with.AddPaths(*casts, CL::ptSubject, true);
         with.AddPaths(maybe_, CL::ptSubject, true);
         if (!fp_.chart_is_box) with.AddPath(receiver_, CL::ptClip, true);
         CL::Paths paths;
