@@ -126,6 +126,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
       receivers.size(), threads,
       [&](unsigned wi, std::size_t r) {
         Worker& w = workers[wi];
+        w.exact.trim(exact::kExactFaceCache);
         if (fast) {
           Item item;
           if (fast::compute_receiver(fast_context, w.fast, receivers[r], light_id, light_in,
