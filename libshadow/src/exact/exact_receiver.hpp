@@ -9,6 +9,7 @@
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
 #include "core/prepared_scene.hpp"
+#include "core/tiles.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -67,10 +68,18 @@ struct ExactWorker {
   }
 };
 
-/// Result for one receiving face under one light.
+/// Result for one receiving face (or one tile of it) under one light.
 struct ReceiverResult {
   FaceLighting lighting;
-  std::vector<Fragment> fragments;  ///< fragment_id local to the receiver, from 0
+  std::vector<Fragment> fragments;  ///< fragment_id local to the receiver (or tile), from 0
+  /// Set, and nothing else computed, when the face asked to be split into tiles
+  /// (core::TileRequest::split_above): its number of candidate casters.
+  std::size_t split_candidates = 0;
+  /// A tile (core::TileRequest::tile) only: its exact shadowed area in the face's chart, as a
+  /// plain exact rational (no lazy DAG shared with the worker that made it); the engine sums
+  /// the tiles' before rounding once. `tile_unshadowed`: nothing in front of the tile.
+  FT::Exact_type tile_shadow_chart_area{0};
+  bool tile_unshadowed = false;
 };
 
 /// The lit part of a receiver under one light, exact, in the receiver's chart (ExactFace::chart).
@@ -93,6 +102,6 @@ LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t 
 ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
-                                      ShadowStats& stats);
+                                      ShadowStats& stats, const core::TileRequest& tiles = {});
 
 }  // namespace shadow::exact

@@ -437,11 +437,22 @@ class ReceiverJob {
  public:
   ReceiverJob(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id, const Light& light,
               const core::LightSpaceGrid* grid_index, bool polygons, FaceLighting& out,
-              std::vector<Fragment>& fragments, ShadowStats& stats)
+              std::vector<Fragment>& fragments, ShadowStats& stats, const core::TileRequest& tiles)
       : ctx_(ctx), w_(w), scene_(*ctx.scene), prep_(*ctx.prep), cull_(*ctx.cull), face_id_(face_id),
         light_id_(light_id), light_(light), grid_index_(grid_index), polygons_(polygons), face_(scene_.faces[face_id]),
-        fp_(prep_[face_id]), out_(out), fragments_(fragments), stats_(stats), fr_(rc_) {}
+        fp_(tiles.tile ? *tiles.tile : prep_[face_id]), tile_(tiles.tile != nullptr),
+        split_above_(tiles.tile ? 0 : tiles.split_above), out_(out), fragments_(fragments), stats_(stats), fr_(rc_) {}
 
+  /// Set by run() when it returned Outcome::Split.
+  std::size_t split_candidates = 0;
+
+  Outcome run_job() {
+    const bool done = run();
+    if (split_candidates > 0) return Outcome::Split;
+    return done ? Outcome::Done : Outcome::Exact;
+  }
+
+ private:
   bool run() {
     out_ = FaceLighting{};
     out_.face_id = face_id_;
@@ -459,7 +470,20 @@ class ReceiverJob {
       return commit();
     }
     out_.faces_light = true;
+    if (split_above_ > 0 && grid_index_ && core::tileable(fp_)) {
+      // A directional light: decided from the light-space grid's count (an upper bound on the
+      // candidates, without culling each of them: for a ground, culling is most of an item).
+      const std::size_t potential = grid_index_->count(face_id_);
+      if (potential > split_above_) {
+        split_candidates = potential;  // the engine splits it into tiles; nothing counted
+        return true;
+      }
+    }
     const std::vector<std::size_t>& candidates = gather_casters();
+    if (split_above_ > 0 && !grid_index_ && candidates.size() > split_above_ && core::tileable(fp_)) {
+      split_candidates = candidates.size();
+      return true;
+    }
     if (!set_up_projection()) return false;
     if (!cast_all(candidates)) return false;
     scale_ = 1.0 / std::abs(rc_.normal[rc_.k]);  // chart area -> 3D area
@@ -545,6 +569,27 @@ class ReceiverJob {
   /// certainly non-zero area in doubles (a sliver face): the exact engine writes it then.
   bool push_whole_face(bool lit) {
     const glm::dvec3 corner = rc_.corner;
+    if (tile_) {  // the tile's rectangle (only box faces are tiled) lifted onto the plane
+      Fragment f;
+      f.face_id = face_id_;
+      f.light_id = light_id_;
+      f.lit = lit;
+      const double x[4] = {fp_.chart_min[0], fp_.chart_max[0], fp_.chart_max[0], fp_.chart_min[0]};
+      const double y[4] = {fp_.chart_min[1], fp_.chart_min[1], fp_.chart_max[1], fp_.chart_max[1]};
+      for (int a = 0; a < 4; ++a) {
+        glm::dvec3 v;
+        v[rc_.i] = x[a];
+        v[rc_.j] = y[a];
+        v[rc_.k] = corner[rc_.k] - (rc_.normal[rc_.i] * (x[a] - corner[rc_.i]) +
+                                    rc_.normal[rc_.j] * (y[a] - corner[rc_.j])) / rc_.normal[rc_.k];
+        f.polygon.push_back(v);
+      }
+      f.area = (fp_.chart_max[0] - fp_.chart_min[0]) * (fp_.chart_max[1] - fp_.chart_min[1]) / std::abs(rc_.normal[rc_.k]);
+      if (fp_.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
+      if (!core::clean_double_polygon(f.polygon, fp_.axis)) return false;
+      fragments_.push_back(std::move(f));
+      return true;
+    }
     Fragment f;
     f.face_id = face_id_;
     f.light_id = light_id_;
@@ -590,7 +635,8 @@ class ReceiverJob {
   // ---- culling: the exact engine's tests ----------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
     const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
-    const std::vector<std::size_t>& candidates = w_.casters.gather(culler, prep_, face_id_, grid_index_);
+    const std::vector<std::size_t>& candidates =
+        w_.casters.gather(culler, prep_, face_id_, grid_index_, tile_ ? &cull_ : nullptr, tile_ ? &fp_ : nullptr);
     local_.candidate_pairs += candidates.size();
     return candidates;
   }
@@ -950,7 +996,9 @@ class ReceiverJob {
   const core::LightSpaceGrid* grid_index_;
   bool polygons_;
   const Face& face_;
-  const core::FacePrep& fp_;
+  const core::FacePrep& fp_;  // the tile's (its chart box) when computing a tile
+  const bool tile_;
+  const std::size_t split_above_;
   // Outputs.
   FaceLighting& out_;
   std::vector<Fragment>& fragments_;
@@ -985,7 +1033,18 @@ class ReceiverJob {
 bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
                       const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
                       FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
-  return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats).run();
+  return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats, {}).run_job() ==
+         Outcome::Done;
+}
+
+Outcome compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
+                         const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
+                         FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats,
+                         const core::TileRequest& tiles, std::size_t& split_candidates) {
+  ReceiverJob job(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats, tiles);
+  const Outcome outcome = job.run_job();
+  split_candidates = job.split_candidates;
+  return outcome;
 }
 
 }  // namespace shadow::fast
