@@ -212,8 +212,11 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   };
   std::vector<Tile> tiles;
   std::vector<std::size_t> first_tile;  // per split receiver, then the end
-  // Tiles of about kTileCandidates candidates each (fewer when the threshold is lower).
-  const std::size_t per_tile = std::max<std::size_t>(1, std::min(split_above / 2, core::kTileCandidates));
+  // Tiles of about kTileCandidates candidates each (fewer when the threshold is lower); the fast
+  // path's half as many: its items are cheaper, and under a low sun the tiles downstream of long
+  // shadows cost several times the others.
+  const std::size_t target = fast ? core::kTileCandidates / 2 : core::kTileCandidates;
+  const std::size_t per_tile = std::max<std::size_t>(1, std::min(split_above / 2, target));
   for (std::size_t r : split) {
     first_tile.push_back(tiles.size());
     for (core::FacePrep& t : core::make_tiles(prep[receivers[r]], items[r].split_candidates, per_tile))
