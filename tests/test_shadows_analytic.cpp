@@ -261,9 +261,17 @@ TEST(ShadowStats, PlusEqualsAddsEveryCounter) {
   a.unshadowed = 5;
   a.fast_exact_fallbacks = 6;
   a.fast_collapsed = 7;
+  a.tiled_receivers = 8;
+  a.tiles = 9;
+  a.item_seconds = 0.5;
+  a.longest_item_seconds = 0.25;
   ShadowStats b = a;
   b += a;
   b += ShadowStats{};
+  ShadowStats longer;
+  longer.longest_item_seconds = 0.375;
+  ShadowStats c = a;
+  c += longer;
   EXPECT_EQ(b.receivers, 2u);
   EXPECT_EQ(b.back_facing, 4u);
   EXPECT_EQ(b.candidate_pairs, 6u);
@@ -271,6 +279,11 @@ TEST(ShadowStats, PlusEqualsAddsEveryCounter) {
   EXPECT_EQ(b.unshadowed, 10u);
   EXPECT_EQ(b.fast_exact_fallbacks, 12u);
   EXPECT_EQ(b.fast_collapsed, 14u);
+  EXPECT_EQ(b.tiled_receivers, 16u);
+  EXPECT_EQ(b.tiles, 18u);
+  EXPECT_EQ(b.item_seconds, 1.0);
+  EXPECT_EQ(b.longest_item_seconds, 0.25);  // the longest item: a maximum, not a sum
+  EXPECT_EQ(c.longest_item_seconds, 0.375);
 }
 
 // The total over threads equals the single-threaded count (the workers' stats summed with +=).

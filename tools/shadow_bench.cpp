@@ -21,6 +21,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <iostream>
@@ -249,6 +251,7 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
     one.threads = threads;
     one.polygons = false;
     one.arithmetic = options.arithmetic;
+    one.fast_tile_casters = 0;  // compute_series does not split receivers into tiles
     const auto b0 = Clock::now();
     const double bc0 = cpu_now();
     std::size_t differ = 0;
@@ -360,6 +363,201 @@ int run_planes_bench(const std::vector<std::size_t>& sizes, const std::vector<do
                     elevation, t, m.wall_s, m.cpu_s, m.peak_kib / 1024.0, m.polygons, m.regions, m.area, m.area);
         std::fflush(stdout);
       }
+  return 0;
+}
+
+/// One sun on the city, in a forked child (bench_city_sun below): wall and CPU time of the
+/// computation (areas only), the process's peak memory, the sum of the lit areas.
+struct SunTiming {
+  double wall_s = 0, cpu_s = 0, lit = 0, bound = 0;
+  long peak_kib = 0;
+  unsigned long long fallbacks = 0;
+  bool ok = false;
+};
+
+SunTiming time_city_sun(std::size_t boxes, double elevation, const std::string& arithmetic, unsigned threads) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+    shadow::validate_scene(scene);
+    const shadow::ShadowEngine engine(scene, threads);
+    shadow::ShadowOptions options;
+    options.threads = threads;
+    options.polygons = false;
+    options.planes = false;
+    options.arithmetic = arithmetic == "fast" ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+    const double cpu0 = cpu_seconds();
+    const auto t0 = std::chrono::steady_clock::now();
+    const shadow::ShadowResult result = engine.compute(options);
+    SunTiming t;
+    t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    t.cpu_s = cpu_seconds() - cpu0;
+    for (const shadow::FaceLighting& f : result.lighting) {
+      t.lit += f.lit_area;
+      t.bound += f.lit_area_error_bound;
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    char line[256];
+    const int n = std::snprintf(line, sizeof line, "%.17g %.17g %a %a %ld %llu", t.wall_s, t.cpu_s, t.lit, t.bound,
+                                usage.ru_maxrss, static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
+    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[512];
+  ssize_t got;
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  SunTiming t;
+  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+         std::sscanf(text.c_str(), "%lg %lg %la %la %ld %llu", &t.wall_s, &t.cpu_s, &t.lit, &t.bound, &t.peak_kib,
+                     &t.fallbacks) == 6;
+  return t;
+}
+
+/// One sun on the city with given tile thresholds, in a forked child (bench_tiles below).
+struct TileTiming {
+  double wall_s = 0, cpu_s = 0, item_s = 0, longest_s = 0, lit = 0, bound = 0;
+  long peak_kib = 0;
+  unsigned long long tiles = 0, tiled = 0, digest = 0;
+  bool ok = false;
+};
+
+TileTiming time_tiles(std::size_t boxes, double elevation, bool fast, unsigned threads, std::size_t tile_casters,
+                      std::size_t fast_tile_casters) {
+  int fds[2];
+  if (pipe(fds) != 0) return {};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+    shadow::validate_scene(scene);
+    const shadow::ShadowEngine engine(scene, threads);
+    shadow::ShadowOptions options;
+    options.threads = threads;
+    options.polygons = false;
+    options.planes = false;
+    options.arithmetic = fast ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+    options.tile_casters = tile_casters;
+    options.fast_tile_casters = fast_tile_casters;
+    const double cpu0 = cpu_seconds();
+    const auto t0 = std::chrono::steady_clock::now();
+    const shadow::ShadowResult result = engine.compute(options);
+    TileTiming t;
+    t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    t.cpu_s = cpu_seconds() - cpu0;
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over every lit area's bits
+    for (const shadow::FaceLighting& f : result.lighting) {
+      t.lit += f.lit_area;
+      t.bound += f.lit_area_error_bound;
+      std::uint64_t bits = 0;
+      std::memcpy(&bits, &f.lit_area, sizeof bits);
+      for (int b = 0; b < 8; ++b) h = (h ^ ((bits >> (8 * b)) & 0xff)) * 1099511628211ull;
+    }
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    char line[512];
+    const int n = std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %a %a %ld %llu %llu %llu", t.wall_s, t.cpu_s,
+                                result.stats.item_seconds, result.stats.longest_item_seconds, t.lit, t.bound,
+                                usage.ru_maxrss, static_cast<unsigned long long>(result.stats.tiles),
+                                static_cast<unsigned long long>(result.stats.tiled_receivers),
+                                static_cast<unsigned long long>(h));
+    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[512];
+  ssize_t got;
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  TileTiming t;
+  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
+         std::sscanf(text.c_str(), "%lg %lg %lg %lg %la %la %ld %llu %llu %llu", &t.wall_s, &t.cpu_s, &t.item_s,
+                     &t.longest_s, &t.lit, &t.bound, &t.peak_kib, &t.tiles, &t.tiled, &t.digest) == 10;
+  return t;
+}
+
+/// docs/tiles.md: the city at each elevation, untiled and tiled, on 1 and 2 threads: CPU time,
+/// the longest work item's share of the items' CPU time, and whether the lit areas are the same
+/// bits (a digest of every lit area) as untiled on one thread.
+int run_tiles_bench(const std::vector<std::size_t>& sizes, const std::vector<double>& elevations,
+                    const std::vector<std::string>& arithmetics, const std::vector<unsigned>& threads,
+                    std::size_t tile_casters, std::size_t fast_tile_casters, bool untiled) {
+  std::printf("| boxes | sun | arithmetic | tiles | threads | wall (s) | CPU (s) | items' CPU (s) | longest item (s) | longest / items | peak (MiB) | tiles made | lit area (m^2) | same bits as untiled |\n");
+  std::printf("|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  for (std::size_t boxes : sizes)
+    for (double elevation : elevations)
+      for (const std::string& a : arithmetics) {
+        const bool fast = a == "fast";
+        unsigned long long reference = 0;
+        bool have_reference = false;
+        double cpu_one = 0;
+        for (int tiled = untiled ? 0 : 1; tiled <= 1; ++tiled)
+          for (unsigned t : threads) {
+            const TileTiming m =
+                time_tiles(boxes, elevation, fast, t, tiled ? tile_casters : 0, tiled ? fast_tile_casters : 0);
+            if (!m.ok) {
+              std::printf("| %zu | %.0f° | %s | %s | %u | failed |\n", boxes, elevation, a.c_str(), tiled ? "on" : "off", t);
+              continue;
+            }
+            if (!have_reference) {
+              reference = m.digest;
+              have_reference = true;
+            }
+            if (t == 1) cpu_one = m.cpu_s;
+            char speed[64] = "";
+            // On a shared machine the wall clock measures the other processes too: the 2-thread
+            // time an idle machine would take is the serial part (CPU outside the items) plus
+            // half the items' CPU, plus up to the longest item for the last one to finish.
+            if (t == 2 && cpu_one > 0) {
+              const double serial = std::max(0.0, m.cpu_s - m.item_s);
+              std::snprintf(speed, sizeof speed, " (CPU-based 1->2: %.2f-%.2f)",
+                            cpu_one / (serial + m.item_s / 2 + m.longest_s), cpu_one / (serial + m.item_s / 2));
+            }
+            std::printf("| %zu | %.0f° | %s | %s | %u | %.3f | %.3f%s | %.3f | %.3f | %.2f%% | %.0f | %llu | %.6f | %s |\n", boxes,
+                        elevation, a.c_str(), tiled ? "on" : "off", t, m.wall_s, m.cpu_s, speed, m.item_s, m.longest_s,
+                        m.item_s > 0 ? 100 * m.longest_s / m.item_s : 0.0, m.peak_kib / 1024.0, m.tiles, m.lit,
+                        m.digest == reference ? "yes" : (fast ? "no (fast: within bounds)" : "NO"));
+            std::fflush(stdout);
+          }
+      }
+  return 0;
+}
+
+/// docs/benchmarks.md, "The fast path at a low sun": one sun on the city at each elevation, exact
+/// and fast side by side (areas only), one child process per row.
+int run_low_sun_bench(const std::vector<std::size_t>& sizes, const std::vector<double>& elevations,
+                      const std::vector<std::string>& arithmetics, const std::vector<unsigned>& threads,
+                      const std::string& label) {
+  std::printf("| build | boxes | sun | arithmetic | threads | wall (s) | CPU (s) | peak (MiB) | fallbacks | lit area (m^2) | sum of bounds (m^2) |\n");
+  std::printf("|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (std::size_t boxes : sizes)
+    for (double elevation : elevations)
+      for (unsigned t : threads)
+        for (const std::string& a : arithmetics) {
+          const SunTiming m = time_city_sun(boxes, elevation, a, t);
+          if (!m.ok) {
+            std::printf("| %s | %zu | %.0f° | %s | %u | failed |\n", label.c_str(), boxes, elevation, a.c_str(), t);
+            continue;
+          }
+          std::printf("| %s | %zu | %.0f° | %s | %u | %.3f | %.3f | %.0f | %llu | %.6f | %.3g |\n", label.c_str(), boxes,
+                      elevation, a.c_str(), t, m.wall_s, m.cpu_s, m.peak_kib / 1024.0, m.fallbacks, m.lit, m.bound);
+          std::fflush(stdout);
+        }
   return 0;
 }
 
@@ -483,10 +681,46 @@ int main(int argc, char** argv) {
   vis_cmd->add_option("--boxes", vis_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
   vis_cmd->add_option("--points", vis_points, "Ground points")->check(CLI::PositiveNumber);
   vis_cmd->add_option("--threads", vis_threads, "Most threads (1, 2, 4, ... up to it)")->check(CLI::PositiveNumber);
+  std::vector<std::size_t> low_sizes{10000};
+  std::vector<double> low_elevations{5.0, 40.0};
+  std::vector<std::string> low_arithmetics{"exact", "fast"};
+  std::vector<unsigned> low_threads{1};
+  std::string low_label = "this";
+  CLI::App* low_cmd = app.add_subcommand(
+      "low-sun", "One sun on the city, exact and fast side by side (areas only): wall, CPU time and peak memory");
+  low_cmd->add_option("--sizes", low_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
+  low_cmd->add_option("--elevations", low_elevations, "Sun elevations (degrees)")->delimiter(',')->check(CLI::Range(1.0, 90.0));
+  low_cmd->add_option("--arithmetic", low_arithmetics, "exact, fast or both, in this order")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"exact", "fast"}));
+  low_cmd->add_option("--threads", low_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
+  low_cmd->add_option("--label", low_label, "Text of the table's first column (which build this is)");
+  std::vector<std::size_t> tiles_sizes{10000};
+  std::vector<double> tiles_elevations{40.0, 5.0};
+  std::vector<std::string> tiles_arithmetics{"exact", "fast"};
+  std::vector<unsigned> tiles_threads{1, 2};
+  std::size_t tiles_casters = shadow::ShadowOptions{}.tile_casters;
+  std::size_t tiles_fast_casters = shadow::ShadowOptions{}.fast_tile_casters;
+  bool tiles_no_untiled = false;
+  CLI::App* tiles_cmd = app.add_subcommand(
+      "tiles", "Large receivers split into tiles: the longest work item's share, 1 and 2 threads, same bits as untiled");
+  tiles_cmd->add_option("--sizes", tiles_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
+  tiles_cmd->add_option("--elevations", tiles_elevations, "Sun elevations (degrees)")->delimiter(',')->check(CLI::Range(1.0, 90.0));
+  tiles_cmd->add_option("--arithmetic", tiles_arithmetics, "exact, fast or both, in this order")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"exact", "fast"}));
+  tiles_cmd->add_option("--threads", tiles_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
+  tiles_cmd->add_option("--tile-casters", tiles_casters, "ShadowOptions::tile_casters for the tiled rows");
+  tiles_cmd->add_option("--fast-tile-casters", tiles_fast_casters, "ShadowOptions::fast_tile_casters for the tiled rows");
+  tiles_cmd->add_flag("--no-untiled", tiles_no_untiled, "Leave out the untiled rows");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
   if (soft_cmd->parsed()) return bench::run_soft(soft);
+  if (tiles_cmd->parsed())
+    return run_tiles_bench(tiles_sizes, tiles_elevations, tiles_arithmetics, tiles_threads, tiles_casters,
+                           tiles_fast_casters, !tiles_no_untiled);
+  if (low_cmd->parsed()) return run_low_sun_bench(low_sizes, low_elevations, low_arithmetics, low_threads, low_label);
   if (planes_cmd->parsed()) return run_planes_bench(planes_sizes, planes_elevations, planes_threads, planes_repeat, planes_label);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);

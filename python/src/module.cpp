@@ -175,6 +175,8 @@ py::dict stats_dict(const ShadowStats& s) {
   d["unshadowed"] = s.unshadowed;
   d["fast_exact_fallbacks"] = s.fast_exact_fallbacks;
   d["fast_collapsed"] = s.fast_collapsed;
+  d["tiled_receivers"] = s.tiled_receivers;
+  d["tiles"] = s.tiles;
   return d;
 }
 

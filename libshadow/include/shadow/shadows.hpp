@@ -62,6 +62,16 @@ struct ShadowOptions {
   double plane_window = 0.0;
   /// Exact (default) or the fast path with error bounds. Plane shadows are always exact.
   Arithmetic arithmetic = Arithmetic::Exact;
+  /// Tiles (docs/tiles.md): a receiver that faces the light, is an axis-aligned rectangle in its
+  /// chart (a city's ground, most walls and roofs) and has more candidate casters than this is
+  /// split into square tiles of its chart, each a separate work item that sees only the casters
+  /// whose shadows reach it, so that one large receiver does not hold the other threads up.
+  /// Areas are unchanged to the last bit (the tiles' exact areas are summed before rounding
+  /// once); fragments are cut at tile borders. 0: never split. Arithmetic::Exact only.
+  std::size_t tile_casters = 4000;
+  /// The same for Arithmetic::Fast, whose receivers are cheaper. Tiles have their own grids: the
+  /// fast areas of a split receiver change within their bounds. 0: never split.
+  std::size_t fast_tile_casters = 20000;
 };
 
 /// Where a cell of a face lies with respect to an extended light (Light::is_extended): it sees
@@ -153,6 +163,16 @@ struct ShadowStats {
   /// nearer to the receiver's plane than the whole light) and by separating planes (the rest).
   std::uint64_t area_projection_pieces = 0;
   std::uint64_t area_plane_pieces = 0;
+  /// Receivers split into tiles (ShadowOptions::tile_casters, fast_tile_casters), and the tiles
+  /// they were split into. A split receiver counts once in `receivers` (and in `unshadowed` when
+  /// no tile has a shadow); candidate and casting pairs are counted per tile.
+  std::uint64_t tiled_receivers = 0;
+  std::uint64_t tiles = 0;
+  /// CPU time (per-thread clock) of the work items: whole receivers, tiles, and the culling of
+  /// a receiver that was then split. Summed; `longest_item_seconds` is the largest single one
+  /// (operator+= takes the maximum). They vary from run to run, unlike the counts.
+  double item_seconds = 0;
+  double longest_item_seconds = 0;
 
   /// Adds every counter of `other` (per-thread or per-receiver counts summed into a total).
   ShadowStats& operator+=(const ShadowStats& other) {
@@ -168,6 +188,11 @@ struct ShadowStats {
     area_light_straddles += other.area_light_straddles;
     area_projection_pieces += other.area_projection_pieces;
     area_plane_pieces += other.area_plane_pieces;
+    tiled_receivers += other.tiled_receivers;
+    tiles += other.tiles;
+    item_seconds += other.item_seconds;
+    longest_item_seconds = longest_item_seconds > other.longest_item_seconds ? longest_item_seconds
+                                                                             : other.longest_item_seconds;
     return *this;
   }
 };
@@ -207,7 +232,8 @@ struct SeriesOptions {
 
 /// Lit areas of every receiving face under every light of a series: a faces x instants table.
 /// Entry (row, instant) is what `compute(lights[instant], id, {polygons = false})` reports for
-/// face `faces[row]`, bit for bit.
+/// face `faces[row]`, bit for bit (with the fast path: with `fast_tile_casters = 0`; a series
+/// does not split receivers into tiles, and exact tiles change no bit).
 struct SeriesResult {
   std::vector<std::size_t> faces;  ///< the receiving faces, ascending: the rows
   std::size_t instants = 0;        ///< the columns: one per light, in the order given
@@ -267,7 +293,8 @@ class ShadowEngine {
   /// Lit areas of every receiving face under each of `lights` (the suns of a period), without
   /// a ShadowResult per light: the prepared faces, the per-thread exact faces and caster lists
   /// are shared by every instant, and the work is spread over instants and receivers together.
-  /// Values equal compute(lights[i], i, {polygons = false}) bit for bit. Lights are checked
+  /// Values equal compute(lights[i], i, {polygons = false}) bit for bit (Arithmetic::Fast: with
+  /// fast_tile_casters = 0; receivers are not split into tiles here). Lights are checked
   /// like compute(light, ...) (named `lights[i]`).
   /// @throws InputError for an unusable light or threads > 1024
   [[nodiscard]] SeriesResult compute_series(const std::vector<Light>& lights,

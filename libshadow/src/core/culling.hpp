@@ -84,6 +84,9 @@ class LightSpaceGrid {
     start_.assign(static_cast<std::size_t>(nu_) * nv_ + 1, 0);
     for (std::size_t f = 0; f < n; ++f)
       if (!prep[f].degenerate) for_cells(boxes_[f], [&](std::size_t c) { ++start_[c + 1]; });
+    home_.assign(static_cast<std::size_t>(nu_) * nv_, 0);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate) ++home_[cell_of(boxes_[f][0], boxes_[f][1])];
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     entries_.resize(start_.back());
     entry_boxes_.resize(start_.back());
@@ -99,7 +102,37 @@ class LightSpaceGrid {
   /// Calls visit(face) for every face whose light-space box overlaps `face`'s (with repeats).
   template <class Visit>
   void query(std::size_t face, Visit&& visit) const {
-    const Box& b = boxes_[face];
+    query_box(boxes_[face], visit);
+  }
+
+  /// About how many faces query(face) visits, in O(cells): the faces whose light-space box has
+  /// its lower corner in a cell that `face`'s box touches (each face counted once).
+  [[nodiscard]] std::size_t count(std::size_t face) const {
+    std::size_t n = 0;
+    for_cells(boxes_[face], [&](std::size_t c) { n += home_[c]; });
+    return n;
+  }
+
+  /// The same for a part of a face (a tile): the light-space box of `points` (local frame)
+  /// widened by `slack` on every side, intersected with `face`'s own box.
+  template <class Visit>
+  void query_part(std::size_t face, const std::vector<glm::dvec3>& points, double slack, Visit&& visit) const {
+    Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+          std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
+    for (const glm::dvec3& p : points) {
+      const double u = glm::dot(u_, p), v = glm::dot(v_, p);
+      b = {std::min(b[0], u), std::min(b[1], v), std::max(b[2], u), std::max(b[3], v)};
+    }
+    const Box& f = boxes_[face];
+    b = {std::max(b[0] - slack, f[0]), std::max(b[1] - slack, f[1]), std::min(b[2] + slack, f[2]),
+         std::min(b[3] + slack, f[3])};
+    if (!(b[0] <= b[2]) || !(b[1] <= b[3])) b = f;  // (rounding: fall back to the whole face)
+    query_box(b, visit);
+  }
+
+ private:
+  template <class Visit>
+  void query_box(const std::array<double, 4>& b, Visit&& visit) const {
     for_cells(b, [&](std::size_t c) {
       for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
         // The entry's own copy of its face's box: read in cell order, no jump per entry (the
@@ -112,7 +145,6 @@ class LightSpaceGrid {
     });
   }
 
- private:
   using Box = std::array<double, 4>;  // umin, vmin, umax, vmax
   static Box merge(const Box& a, const Box& b) {
     return {std::min(a[0], b[0]), std::min(a[1], b[1]), std::max(a[2], b[2]), std::max(a[3], b[3])};
@@ -125,6 +157,11 @@ class LightSpaceGrid {
       b = {std::min(b[0], u), std::min(b[1], v), std::max(b[2], u), std::max(b[3], v)};
     }
     return {b[0] - face.slack, b[1] - face.slack, b[2] + face.slack, b[3] + face.slack};
+  }
+  std::size_t cell_of(double u, double v) const {
+    const int cu = std::clamp(static_cast<int>(std::floor((u - origin_[0]) / cell_u_)), 0, nu_ - 1);
+    const int cv = std::clamp(static_cast<int>(std::floor((v - origin_[1]) / cell_v_)), 0, nv_ - 1);
+    return static_cast<std::size_t>(cv) * nu_ + cu;
   }
   template <class Visit>
   void for_cells(const Box& b, Visit&& visit) const {
@@ -147,6 +184,7 @@ class LightSpaceGrid {
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> entries_;
   std::vector<Box> entry_boxes_;  ///< boxes_[entries_[e]], in entries_' order
+  std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
 };
 
 /// The conservative double-precision tests of one receiver (front-facing) under one light: its
@@ -241,7 +279,8 @@ class CasterCandidates {
   /// faces excluded), from `grid`'s cells when there is one, else from every face. Sorted: the
   /// same order whatever order the grid visits them in.
   const std::vector<std::size_t>& gather(const ReceiverCuller& culler, const std::vector<FacePrep>& prep,
-                                         std::size_t receiver, const LightSpaceGrid* grid) {
+                                         std::size_t receiver, const LightSpaceGrid* grid,
+                                         const CullScene* tile_scene = nullptr, const FacePrep* tile = nullptr) {
     faces_.clear();
     if (++stamp_ == 0) {  // stamps wrapped: reset
       std::fill(seen_.begin(), seen_.end(), 0);
@@ -253,7 +292,23 @@ class CasterCandidates {
       seen_[q] = stamp_;
       if (culler.may_cast(q)) faces_.push_back(q);
     };
-    if (grid) {
+    if (grid && tile && tile_scene) {
+      // A tile: the light-space box of its corners on the receiver's plane (local frame).
+      const CullFace& cf = tile_scene->faces[receiver];
+      const int k = tile->axis, i = chart_i(k), j = chart_j(k);
+      corners_.clear();
+      for (int c = 0; c < 4; ++c) {
+        glm::dvec3 p;
+        p[i] = (c == 1 || c == 2 ? tile->chart_max[0] : tile->chart_min[0]) - tile_scene->origin[i];
+        p[j] = (c >= 2 ? tile->chart_max[1] : tile->chart_min[1]) - tile_scene->origin[j];
+        p[k] = -(cf.offset + cf.normal[i] * p[i] + cf.normal[j] * p[j]) / cf.normal[k];
+        corners_.push_back(p);
+      }
+      // The culling plane is within the normal's error (over the scene's diameter) and the
+      // slack of the exact one.
+      const double slack = (cf.normal_error + 1e-9) * tile_scene->diameter * 4 + 4 * cf.slack;
+      grid->query_part(receiver, corners_, std::isfinite(slack) ? slack : 0.0, consider);
+    } else if (grid) {
       grid->query(receiver, consider);
     } else {
       for (std::size_t q = 0; q < prep.size(); ++q) consider(q);
@@ -271,6 +326,7 @@ class CasterCandidates {
   std::vector<std::uint32_t> seen_, solid_seen_;
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> faces_;
+  std::vector<glm::dvec3> corners_;
 };
 
 /// The centre and diagonal of the faces' bounding box (origin and 1 for a scene without faces).

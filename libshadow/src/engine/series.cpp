@@ -95,6 +95,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
           const Light& light_in = lights[instant];
           const core::LightSpaceGrid* grid = grids[k] ? &*grids[k] : nullptr;
           Impl::Worker& w = workers[wi];
+          w.exact.trim(exact::kExactFaceCache);
           exact::ReceiverResult out;
           bool done = false;
           if (fast) {

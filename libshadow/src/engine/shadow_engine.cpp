@@ -26,6 +26,7 @@
 #include "core/lights.hpp"
 #include "arealight/light_visibility.hpp"
 #include "core/parallel.hpp"
+#include "core/tiles.hpp"
 #include "engine/engine_access.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
@@ -42,8 +43,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <ctime>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -106,6 +109,33 @@ std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& optio
 }
 
 
+namespace {
+
+/// CPU time of the calling thread (work items are timed with it: on a shared machine the wall
+/// clock would count the other processes' time as the item's).
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// Adds one work item's CPU time to `stats`.
+void count_item(ShadowStats& stats, double seconds) {
+  stats.item_seconds += seconds;
+  stats.longest_item_seconds = std::max(stats.longest_item_seconds, seconds);
+}
+
+/// The tile counts that a split receiver's tiles add to the totals: the candidate and casting
+/// pairs of every tile, and the fast path's counters; the receiver itself counts once.
+void add_tile_counts(ShadowStats& total, const ShadowStats& tile) {
+  total.candidate_pairs += tile.candidate_pairs;
+  total.casting_pairs += tile.casting_pairs;
+  total.fast_exact_fallbacks += tile.fast_exact_fallbacks;
+  total.fast_collapsed += tile.fast_collapsed;
+}
+
+}  // namespace
+
 void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_id,
                                        const ShadowOptions& options, std::vector<Worker>& workers,
                                        const std::vector<std::size_t>& receivers,
@@ -126,31 +156,167 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
 
   std::vector<std::optional<ExactLight>> lights(threads);
   const bool fast = options.arithmetic == Arithmetic::Fast;
+  const std::size_t split_above = fast ? options.fast_tile_casters : options.tile_casters;
   const fast::Context fast_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
   const exact::ExactContext exact_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
+
+  // One work item: receiver f, or one tile of it. Tiles run with their own counts (`stats`),
+  // which the merge below adds up as one receiver's.
+  auto compute_item = [&](Worker& w, unsigned wi, std::size_t f, const core::TileRequest& tiles,
+                          ShadowStats& stats) {
+    w.exact.trim(exact::kExactFaceCache);
+    Item item;
+    if (fast) {
+      std::size_t split = 0;
+      const fast::Outcome outcome = fast::compute_receiver(fast_context, w.fast, f, light_id, light_in,
+                                                           grid ? &*grid : nullptr, options.polygons, item.lighting,
+                                                           item.fragments, stats, tiles, split);
+      if (outcome == fast::Outcome::Done) return item;
+      if (outcome == fast::Outcome::Split) {
+        item = Item{};
+        item.split_candidates = split;
+        return item;
+      }
+      ++stats.fast_exact_fallbacks;  // ill-conditioned in doubles: decided exactly below
+      item = Item{};
+    }
+    if (!lights[wi]) lights[wi] = engine_detail::to_exact_light(light_in);
+    const ExactLight& light = *lights[wi];
+    int side = 0;
+    if (!prep[f].degenerate) side = CGAL::sign(plane_at_light(w.exact.face(exact_context, f), light));
+    // A fast split request that falls back: the exact engine may split it too (its threshold).
+    core::TileRequest exact_tiles = tiles;
+    if (!tiles.tile) exact_tiles.split_above = fast ? 0 : split_above;
+    return compute_exact_receiver(exact_context, w.exact, f, light_id, light, side, light_in,
+                                  grid ? &*grid : nullptr, options.polygons, stats, exact_tiles);
+  };
+
+  std::vector<std::size_t> split;  // receivers (indices into `receivers`) that asked for tiles
+  std::mutex split_mutex;
+  core::TileRequest whole;
+  whole.split_above = split_above;
   core::parallel_for(
       receivers.size(), threads,
       [&](unsigned wi, std::size_t r) {
         Worker& w = workers[wi];
-        if (fast) {
-          Item item;
-          if (fast::compute_receiver(fast_context, w.fast, receivers[r], light_id, light_in,
-                                     grid ? &*grid : nullptr, options.polygons, item.lighting,
-                                     item.fragments, w.stats)) {
-            items[r] = std::move(item);
-            return;
-          }
-          ++w.stats.fast_exact_fallbacks;  // ill-conditioned in doubles: decided exactly below
+        const double t0 = thread_cpu_seconds();
+        items[r] = compute_item(w, wi, receivers[r], whole, w.stats);
+        if (items[r].split_candidates > 0) {
+          std::lock_guard<std::mutex> lock(split_mutex);
+          split.push_back(r);
         }
-        if (!lights[wi]) lights[wi] = engine_detail::to_exact_light(light_in);
-        const ExactLight& light = *lights[wi];
-        const std::size_t f = receivers[r];
-        int side = 0;
-        if (!prep[f].degenerate) side = CGAL::sign(plane_at_light(w.exact.face(exact_context, f), light));
-        items[r] = compute_exact_receiver(exact_context, w.exact, f, light_id, light, side, light_in,
-                                          grid ? &*grid : nullptr, options.polygons, w.stats);
+        count_item(w.stats, thread_cpu_seconds() - t0);
       },
       report);
+  if (split.empty()) return;
+
+  // Tiles of the receivers that asked for them, every tile of every such receiver one work item.
+  std::sort(split.begin(), split.end());
+  struct Tile {
+    std::size_t r;  // index into `receivers`
+    core::FacePrep prep;
+  };
+  std::vector<Tile> tiles;
+  std::vector<std::size_t> first_tile;  // per split receiver, then the end
+  // Tiles of about kTileCandidates candidates each (fewer when the threshold is lower); the fast
+  // path's half as many: its items are cheaper, and under a low sun the tiles downstream of long
+  // shadows cost several times the others.
+  const std::size_t target = fast ? core::kTileCandidates / 2 : core::kTileCandidates;
+  const std::size_t per_tile = std::max<std::size_t>(1, std::min(split_above / 2, target));
+  for (std::size_t r : split) {
+    first_tile.push_back(tiles.size());
+    for (core::FacePrep& t : core::make_tiles(prep[receivers[r]], items[r].split_candidates, per_tile))
+      tiles.push_back({r, std::move(t)});
+  }
+  first_tile.push_back(tiles.size());
+  std::vector<Item> tile_items(tiles.size());
+  std::vector<ShadowStats> tile_stats(tiles.size());
+  core::parallel_for(tiles.size(), threads, [&](unsigned wi, std::size_t t) {
+    Worker& w = workers[wi];
+    const double t0 = thread_cpu_seconds();
+    core::TileRequest request;
+    request.tile = &tiles[t].prep;
+    tile_items[t] = compute_item(w, wi, receivers[tiles[t].r], request, tile_stats[t]);
+    count_item(w.stats, thread_cpu_seconds() - t0);
+  });
+
+  // Merge each split receiver's tiles into its item (on this thread only).
+  Worker& w0 = workers[0];
+  for (std::size_t s = 0; s < split.size(); ++s) {
+    const std::size_t r = split[s], f = receivers[r];
+    const std::size_t t0 = first_tile[s], t1 = first_tile[s + 1];
+    Item& item = items[r];
+    item = Item{};
+    FaceLighting& out = item.lighting;
+    out.face_id = f;
+    out.light_id = light_id;
+    out.area = face_area[f];
+    ShadowStats& stats = w0.stats;
+    if (t1 == t0) {  // the face could not be cut (a sliver of a box): computed whole
+      items[r] = compute_item(w0, 0, f, core::TileRequest{}, stats);
+      continue;
+    }
+    ++stats.receivers;
+    ++stats.tiled_receivers;
+    stats.tiles += t1 - t0;
+    bool unshadowed = true, exact_tiles = true;
+    for (std::size_t t = t0; t < t1; ++t) {
+      add_tile_counts(stats, tile_stats[t]);
+      unshadowed &= tile_stats[t].unshadowed == 1;
+      exact_tiles &= tile_items[t].lighting.lit_area_error_bound == 0;
+    }
+    out.faces_light = true;
+    if (unshadowed) ++stats.unshadowed;
+    // Fragments: the tiles' in order, fragment ids renumbered (cells cut at tile borders stay
+    // separate fragments: docs/tiles.md).
+    std::size_t next_id = 0;
+    double dropped = 0;
+    for (std::size_t t = t0; t < t1; ++t) {
+      std::size_t used = 0;
+      for (Fragment& fragment : tile_items[t].fragments) {
+        used = std::max(used, fragment.fragment_id + 1);
+        fragment.fragment_id += next_id;
+        item.fragments.push_back(std::move(fragment));
+      }
+      next_id += used;
+      dropped += tile_items[t].lighting.dropped_area;
+    }
+    out.dropped_area = dropped;
+    if (!fast || exact_tiles) {
+      // Exact: the tiles' exact shadowed chart areas summed, then rounded once as for the whole
+      // face (exact_receiver.cpp, unite_and_measure): the same bits.
+      FT::Exact_type shadow_chart(0);
+      for (std::size_t t = t0; t < t1; ++t) shadow_chart += tile_items[t].tile_shadow_chart_area;
+      if (unshadowed) {
+        out.lit_area = out.area;
+        out.lit_fraction = 1.0;
+        continue;
+      }
+      const ExactFace& P = w0.exact.face(exact_context, f);
+      const FT shadow_ft(shadow_chart);
+      const FT lit_chart = P.chart_area - shadow_ft;
+      out.lit_area = area_3d(lit_chart, P.area_scale_squared);
+      out.shadow_area = area_3d(shadow_ft, P.area_scale_squared);
+      out.lit_fraction = round_to_double(lit_chart / P.chart_area);
+      continue;
+    }
+    // Fast: each tile's shadow is within its bound of the exact one (a tile that fell back to
+    // the exact engine: within half an ulp); sums and the subtraction in doubles, their
+    // rounding added to the bound.
+    constexpr double kEps = std::numeric_limits<double>::epsilon();
+    double shadow = 0, bound = 0;
+    for (std::size_t t = t0; t < t1; ++t) {
+      const FaceLighting& tl = tile_items[t].lighting;
+      shadow += tl.shadow_area;
+      bound += tl.lit_area_error_bound > 0 ? tl.lit_area_error_bound : kEps * tl.shadow_area;
+    }
+    const double n = static_cast<double>(t1 - t0);
+    bound = (bound + (n + 2) * kEps * (shadow + out.area)) * (1 + 1e-9);
+    out.shadow_area = std::clamp(shadow, 0.0, out.area);
+    out.lit_area = out.area - out.shadow_area;
+    out.lit_fraction = out.area > 0 ? out.lit_area / out.area : 0.0;
+    out.lit_area_error_bound = bound;
+  }
 }
 
 void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size_t light_id,

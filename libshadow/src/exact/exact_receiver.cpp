@@ -54,10 +54,11 @@ class ExactReceiverJob {
  public:
   ExactReceiverJob(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
                    const ExactLight& light, const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
-                   ShadowStats& stats)
+                   ShadowStats& stats, const core::TileRequest& tiles = {})
       : ctx_(ctx), w_(w), face_id_(face_id), light_id_(light_id), light_(light), light_in_(light_in),
         grid_(grid), polygons_(polygons), emit_(polygons), stats_(stats), face_(ctx.scene->faces[face_id]),
-        fp_((*ctx.prep)[face_id]), point_light_(light.is_point()) {}
+        fp_(tiles.tile ? *tiles.tile : (*ctx.prep)[face_id]), point_light_(light.is_point()),
+        tile_(tiles.tile != nullptr), split_above_(tiles.tile ? 0 : tiles.split_above) {}
 
   ReceiverResult run(int facing) {
     FaceLighting& out = item_.lighting;
@@ -75,7 +76,25 @@ class ExactReceiverJob {
     }
     out.faces_light = true;
 
+    if (split_above_ > 0 && grid_ && core::tileable(fp_)) {
+      // A directional light: decided from the light-space grid's count (an upper bound on the
+      // candidates, without culling each of them: for a ground, culling is most of an item).
+      const std::size_t potential = grid_->count(face_id_);
+      if (potential > split_above_) {
+        --stats_.receivers;
+        item_.split_candidates = potential;
+        return std::move(item_);
+      }
+    }
     const std::vector<std::size_t>& candidates = gather_casters();
+    if (split_above_ > 0 && !grid_ && candidates.size() > split_above_ && core::tileable(fp_)) {
+      // Too many casters for one work item: the engine splits the face into tiles (and counts
+      // it then), nothing else is done here.
+      --stats_.receivers;
+      stats_.candidate_pairs -= candidates.size();
+      item_.split_candidates = candidates.size();
+      return std::move(item_);
+    }
     corner0_ = epick(face_.vertices[fp_.corner[1]]);
     corner1_ = epick(face_.vertices[fp_.corner[2]]);
     corner2_ = epick(face_.vertices[fp_.corner[0]]);
@@ -95,6 +114,7 @@ class ExactReceiverJob {
       ++stats_.unshadowed;
       out.lit_area = out.area;
       out.lit_fraction = 1.0;
+      item_.tile_unshadowed = tile_;
       if (emit_) emit_whole_face(true);
       return std::move(item_);
     }
@@ -128,7 +148,8 @@ class ExactReceiverJob {
   // ---- culling in doubles -------------------------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
     const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
-    const std::vector<std::size_t>& candidates = w_.casters.gather(culler, *ctx_.prep, face_id_, grid_);
+    const std::vector<std::size_t>& candidates =
+        w_.casters.gather(culler, *ctx_.prep, face_id_, grid_, tile_ ? ctx_.cull : nullptr, tile_ ? &fp_ : nullptr);
     stats_.candidate_pairs += candidates.size();
     return candidates;
   }
@@ -321,6 +342,7 @@ class ExactReceiverJob {
     std::vector<FT> region_areas;
     for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
     const FT shadow_chart_area = balanced_sum(region_areas);
+    if (tile_) item_.tile_shadow_chart_area = CGAL::exact(shadow_chart_area);
     const FT lit_chart_area = P.chart_area - shadow_chart_area;
     lit_chart_area_ = lit_chart_area;
     out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
@@ -333,6 +355,12 @@ class ExactReceiverJob {
   /// outline in doubles is not a simple polygon of certainly non-zero area goes through emit()
   /// like any other region: triangles, and dropped_area for those that collapse.
   void emit_whole_face(bool lit) {
+    if (tile_) {  // the tile's rectangle, cut into cells like any region
+      const ExactFace& P = w_.face(ctx_, face_id_);
+      emit(P, {PolygonWithHoles2(tile_polygon())}, lit);
+      if (!dropped_.empty()) item_.lighting.dropped_area = area_3d(balanced_sum(dropped_), P.area_scale_squared);
+      return;
+    }
     const ExactFace* ef = fp_.exactly_planar ? nullptr : &w_.face(ctx_, face_id_);
     Fragment fragment = whole_face_fragment(face_, face_id_, light_id_, lit, item_.lighting.area, fp_, ef);
     if (core::clean_double_polygon(fragment.polygon, fp_.axis)) {
@@ -344,9 +372,18 @@ class ExactReceiverJob {
     if (!dropped_.empty()) item_.lighting.dropped_area = area_3d(balanced_sum(dropped_), P.area_scale_squared);
   }
 
+  /// A tile's chart box as a counter-clockwise polygon (its corners are exact doubles).
+  Polygon2 tile_polygon() const {
+    const FT x0(fp_.chart_min[0]), y0(fp_.chart_min[1]), x1(fp_.chart_max[0]), y1(fp_.chart_max[1]);
+    const Point2 corners[4] = {Point2(x0, y0), Point2(x1, y0), Point2(x1, y1), Point2(x0, y1)};
+    return Polygon2(corners, corners + 4);
+  }
+
   void emit_fragments(const ExactFace& P) {
     std::vector<PolygonWithHoles2> lit_regions;
-    PolygonSet2 lit_set(P.chart);
+    // A tile's lit part is its own rectangle (inside the face: only box faces are tiled) minus
+    // the shadow.
+    PolygonSet2 lit_set(tile_ ? tile_polygon() : P.chart);
     lit_set.difference(*shadow_set_storage_);
     lit_set.polygons_with_holes(std::back_inserter(lit_regions));
     emit(P, lit_regions, true);
@@ -409,6 +446,8 @@ class ExactReceiverJob {
   const Face& face_;
   const core::FacePrep& fp_;
   const bool point_light_;
+  const bool tile_;                 ///< computing one tile of the face (fp_ is the tile's)
+  const std::size_t split_above_;   ///< ask for tiles above this many candidates (0: never)
   EK::Point_3 corner0_, corner1_, corner2_;  ///< the receiver's corner, for input_side
   std::optional<ReceiverFrame> frame_;
   std::optional<LeafProjector> projector_;
@@ -427,8 +466,8 @@ class ExactReceiverJob {
 ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
-                                      ShadowStats& stats) {
-  return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats).run(facing);
+                                      ShadowStats& stats, const core::TileRequest& tiles) {
+  return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats, tiles).run(facing);
 }
 
 LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,

@@ -9,6 +9,7 @@
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
 #include "core/prepared_scene.hpp"
+#include "core/tiles.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -26,6 +27,11 @@ namespace shadow::exact {
 /// What the computation reads from the prepared engine (all shared, read-only).
 using ExactContext = core::PreparedScene;
 
+/// How many exact faces a worker keeps (ExactWorker::trim between work items): a receiver's
+/// face and its lazy-route casters are made again when needed after a trim, which a light's
+/// receivers rarely need (each is a receiver once per light).
+constexpr std::size_t kExactFaceCache = 4096;
+
 /// Per-thread exact state. Epeck objects are never shared between threads.
 struct ExactWorker {
   std::vector<std::unique_ptr<ExactFace>> faces;  ///< built on first use
@@ -34,23 +40,46 @@ struct ExactWorker {
   std::vector<Point2> poly2, scratch2;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
 
+  std::vector<std::size_t> built;  ///< the faces that have an entry in `faces`
+
   /// Sized for a scene of `faces` faces and `solids` convex solids.
   void reset(std::size_t face_count, std::size_t solid_count) {
     faces.clear();
     faces.resize(face_count);
+    built.clear();
     casters.reset(face_count, solid_count);
   }
   /// This thread's exact view of face f (made on first use).
   const ExactFace& face(const ExactContext& ctx, std::size_t f) {
-    if (!faces[f]) faces[f] = std::make_unique<ExactFace>(make_exact_face((*ctx.scene).faces[f].vertices, (*ctx.prep)[f]));
+    if (!faces[f]) {
+      faces[f] = std::make_unique<ExactFace>(make_exact_face((*ctx.scene).faces[f].vertices, (*ctx.prep)[f]));
+      built.push_back(f);
+    }
     return *faces[f];
+  }
+  /// Frees every exact face made so far when there are more than `cap` of them: the cache
+  /// otherwise grows to one ExactFace (about 0.45 KiB with its lazy numbers, measured) per face
+  /// and thread.
+  /// Only between work items: it invalidates the references face() handed out.
+  void trim(std::size_t cap) {
+    if (built.size() <= cap) return;
+    for (std::size_t f : built) faces[f].reset();
+    built.clear();
   }
 };
 
-/// Result for one receiving face under one light.
+/// Result for one receiving face (or one tile of it) under one light.
 struct ReceiverResult {
   FaceLighting lighting;
-  std::vector<Fragment> fragments;  ///< fragment_id local to the receiver, from 0
+  std::vector<Fragment> fragments;  ///< fragment_id local to the receiver (or tile), from 0
+  /// Set, and nothing else computed, when the face asked to be split into tiles
+  /// (core::TileRequest::split_above): its number of candidate casters.
+  std::size_t split_candidates = 0;
+  /// A tile (core::TileRequest::tile) only: its exact shadowed area in the face's chart, as a
+  /// plain exact rational (no lazy DAG shared with the worker that made it); the engine sums
+  /// the tiles' before rounding once. `tile_unshadowed`: nothing in front of the tile.
+  FT::Exact_type tile_shadow_chart_area{0};
+  bool tile_unshadowed = false;
 };
 
 /// The lit part of a receiver under one light, exact, in the receiver's chart (ExactFace::chart).
@@ -73,6 +102,6 @@ LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t 
 ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
-                                      ShadowStats& stats);
+                                      ShadowStats& stats, const core::TileRequest& tiles = {});
 
 }  // namespace shadow::exact

@@ -41,7 +41,8 @@ class LitAreaBound {
   void receiver_outline(double length, double rho) { chart_ += tube(length, rho); }
   /// Clipper rounds the intersection points it creates to the grid (by under one step): the
   /// output's boundary, on the input polygons' boundaries of total length `length`, moves by
-  /// under 2 rho.
+  /// under 2 rho. Unions in sequence (fast/strip_union.hpp: n levels) pass rho = n x the grid
+  /// rounding: each level moves the boundary it was given by under 2 x the grid rounding.
   void union_rounding(double length, double rho) { chart_ += tube(length, 2 * rho); }
 
   /// Whether the terms so far are finite (overflow in doubles sends the receiver to the exact

@@ -23,6 +23,7 @@
 #include "fast/fast_receiver.hpp"
 
 #include "fast/error_bound.hpp"
+#include "fast/strip_union.hpp"
 #include "geometry/clip_convex.hpp"
 #include "geometry/newell_normal.hpp"
 #include "geometry/unit_vector.hpp"
@@ -436,11 +437,22 @@ class ReceiverJob {
  public:
   ReceiverJob(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id, const Light& light,
               const core::LightSpaceGrid* grid_index, bool polygons, FaceLighting& out,
-              std::vector<Fragment>& fragments, ShadowStats& stats)
+              std::vector<Fragment>& fragments, ShadowStats& stats, const core::TileRequest& tiles)
       : ctx_(ctx), w_(w), scene_(*ctx.scene), prep_(*ctx.prep), cull_(*ctx.cull), face_id_(face_id),
         light_id_(light_id), light_(light), grid_index_(grid_index), polygons_(polygons), face_(scene_.faces[face_id]),
-        fp_(prep_[face_id]), out_(out), fragments_(fragments), stats_(stats), fr_(rc_) {}
+        fp_(tiles.tile ? *tiles.tile : prep_[face_id]), tile_(tiles.tile != nullptr),
+        split_above_(tiles.tile ? 0 : tiles.split_above), out_(out), fragments_(fragments), stats_(stats), fr_(rc_) {}
 
+  /// Set by run() when it returned Outcome::Split.
+  std::size_t split_candidates = 0;
+
+  Outcome run_job() {
+    const bool done = run();
+    if (split_candidates > 0) return Outcome::Split;
+    return done ? Outcome::Done : Outcome::Exact;
+  }
+
+ private:
   bool run() {
     out_ = FaceLighting{};
     out_.face_id = face_id_;
@@ -458,7 +470,20 @@ class ReceiverJob {
       return commit();
     }
     out_.faces_light = true;
+    if (split_above_ > 0 && grid_index_ && core::tileable(fp_)) {
+      // A directional light: decided from the light-space grid's count (an upper bound on the
+      // candidates, without culling each of them: for a ground, culling is most of an item).
+      const std::size_t potential = grid_index_->count(face_id_);
+      if (potential > split_above_) {
+        split_candidates = potential;  // the engine splits it into tiles; nothing counted
+        return true;
+      }
+    }
     const std::vector<std::size_t>& candidates = gather_casters();
+    if (split_above_ > 0 && !grid_index_ && candidates.size() > split_above_ && core::tileable(fp_)) {
+      split_candidates = candidates.size();
+      return true;
+    }
     if (!set_up_projection()) return false;
     if (!cast_all(candidates)) return false;
     scale_ = 1.0 / std::abs(rc_.normal[rc_.k]);  // chart area -> 3D area
@@ -544,6 +569,27 @@ class ReceiverJob {
   /// certainly non-zero area in doubles (a sliver face): the exact engine writes it then.
   bool push_whole_face(bool lit) {
     const glm::dvec3 corner = rc_.corner;
+    if (tile_) {  // the tile's rectangle (only box faces are tiled) lifted onto the plane
+      Fragment f;
+      f.face_id = face_id_;
+      f.light_id = light_id_;
+      f.lit = lit;
+      const double x[4] = {fp_.chart_min[0], fp_.chart_max[0], fp_.chart_max[0], fp_.chart_min[0]};
+      const double y[4] = {fp_.chart_min[1], fp_.chart_min[1], fp_.chart_max[1], fp_.chart_max[1]};
+      for (int a = 0; a < 4; ++a) {
+        glm::dvec3 v;
+        v[rc_.i] = x[a];
+        v[rc_.j] = y[a];
+        v[rc_.k] = corner[rc_.k] - (rc_.normal[rc_.i] * (x[a] - corner[rc_.i]) +
+                                    rc_.normal[rc_.j] * (y[a] - corner[rc_.j])) / rc_.normal[rc_.k];
+        f.polygon.push_back(v);
+      }
+      f.area = (fp_.chart_max[0] - fp_.chart_min[0]) * (fp_.chart_max[1] - fp_.chart_min[1]) / std::abs(rc_.normal[rc_.k]);
+      if (fp_.flipped) std::reverse(f.polygon.begin(), f.polygon.end());
+      if (!core::clean_double_polygon(f.polygon, fp_.axis)) return false;
+      fragments_.push_back(std::move(f));
+      return true;
+    }
     Fragment f;
     f.face_id = face_id_;
     f.light_id = light_id_;
@@ -589,7 +635,8 @@ class ReceiverJob {
   // ---- culling: the exact engine's tests ----------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
     const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
-    const std::vector<std::size_t>& candidates = w_.casters.gather(culler, prep_, face_id_, grid_index_);
+    const std::vector<std::size_t>& candidates =
+        w_.casters.gather(culler, prep_, face_id_, grid_index_, tile_ ? &cull_ : nullptr, tile_ ? &fp_ : nullptr);
     local_.candidate_pairs += candidates.size();
     return candidates;
   }
@@ -819,17 +866,34 @@ class ReceiverJob {
       receiver_length += std::hypot(q[rc_.i] - p[rc_.i], q[rc_.j] - p[rc_.j]);
     }
     if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, rho_);
-    // (A box receiver's edges meet the casts only at their vertices, already grid points.)
-    bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), rho_);
     Int128 shadow2 = 0, gap2 = 0;
     try {
+      // Many casts (a ground under a low sun): united in strips first (fast/strip_union.hpp),
+      // and that union stands for the casts below (one more level of rounding), or, when it is
+      // all that is asked for (areas only, a box receiver, no nearly coplanar footprints), its
+      // area is the shadow's.
+      const CL::Paths* casts = &casts_;
+      CL::Paths united;
+      double levels = 1;
+      bool strips_only = false;
+      if (casts_.size() > StripUnionOptions{}.threshold) {
+        const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
+        const int strip_levels = strip_union(casts_, along.x * grid_.scale[0], along.y * grid_.scale[1], united);
+        casts = &united;
+        strips_only = fp_.chart_is_box && !polygons_ && maybe_.empty();
+        levels = strip_levels + (strips_only ? 0 : 1);
+      }
+      // (A box receiver's edges meet the casts only at their vertices, already grid points.)
+      bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
       CL::Clipper clipper;
       clipper.StrictlySimple(false);
-      clipper.AddPaths(casts_, CL::ptSubject, true);
+      if (!strips_only) clipper.AddPaths(*casts, CL::ptSubject, true);
       // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
       const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
-      if (!fp_.chart_is_box) clipper.AddPath(receiver_, CL::ptClip, true);
-      if (polygons_) {
+      if (!fp_.chart_is_box && !strips_only) clipper.AddPath(receiver_, CL::ptClip, true);
+      if (strips_only) {
+        for (const CL::Path& p : united) shadow2 += area2(p);  // holes come out negative
+      } else if (polygons_) {
         clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);
         CL::Paths all;
         CL::PolyTreeToPaths(shadow_tree_, all);
@@ -837,7 +901,7 @@ class ReceiverJob {
         CL::Clipper lit;
         lit.StrictlySimple(false);
         lit.AddPath(receiver_, CL::ptSubject, true);
-        lit.AddPaths(casts_, CL::ptClip, true);
+        lit.AddPaths(*casts, CL::ptClip, true);
         lit.Execute(CL::ctDifference, lit_tree_, CL::pftNonZero, CL::pftNonZero);
       } else {
         CL::Paths shadow_paths;
@@ -849,7 +913,7 @@ class ReceiverJob {
         // footprints: report the middle, and half the gap in the bound (0 when they are covered,
         // as a box's bottom is by its walls' shadows).
         CL::Clipper with;
-        with.AddPaths(casts_, CL::ptSubject, true);
+        with.AddPaths(*casts, CL::ptSubject, true);
         with.AddPaths(maybe_, CL::ptSubject, true);
         if (!fp_.chart_is_box) with.AddPath(receiver_, CL::ptClip, true);
         CL::Paths paths;
@@ -932,7 +996,9 @@ class ReceiverJob {
   const core::LightSpaceGrid* grid_index_;
   bool polygons_;
   const Face& face_;
-  const core::FacePrep& fp_;
+  const core::FacePrep& fp_;  // the tile's (its chart box) when computing a tile
+  const bool tile_;
+  const std::size_t split_above_;
   // Outputs.
   FaceLighting& out_;
   std::vector<Fragment>& fragments_;
@@ -967,7 +1033,18 @@ class ReceiverJob {
 bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
                       const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
                       FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
-  return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats).run();
+  return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats, {}).run_job() ==
+         Outcome::Done;
+}
+
+Outcome compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
+                         const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
+                         FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats,
+                         const core::TileRequest& tiles, std::size_t& split_candidates) {
+  ReceiverJob job(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats, tiles);
+  const Outcome outcome = job.run_job();
+  split_candidates = job.split_candidates;
+  return outcome;
 }
 
 }  // namespace shadow::fast

@@ -9,6 +9,7 @@
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
 #include "core/prepared_scene.hpp"
+#include "core/tiles.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
@@ -35,5 +36,21 @@ bool compute_receiver(const Context& context, Worker& worker, std::size_t face_i
                       std::size_t light_id, const Light& light, const core::LightSpaceGrid* grid,
                       bool polygons, FaceLighting& out, std::vector<Fragment>& fragments,
                       ShadowStats& stats);
+
+/// What compute_receiver did with a receiver (or tile).
+enum class Outcome {
+  Done,   ///< computed: `out`, `fragments` and `stats` filled as above
+  Exact,  ///< ill-conditioned in doubles: compute it exactly instead (as `false` above)
+  Split,  ///< too many casters (core::TileRequest::split_above): split it into tiles; nothing filled
+};
+
+/// compute_receiver with tiles: computes `tiles.tile` of the face when set (its chart box
+/// replaces the face's; fragments and areas are the tile's, `out.shadow_area` its shadow), or
+/// asks for tiles (Outcome::Split, `split_candidates` set) when the face has more candidate
+/// casters than `tiles.split_above`.
+Outcome compute_receiver(const Context& context, Worker& worker, std::size_t face_id, std::size_t light_id,
+                         const Light& light, const core::LightSpaceGrid* grid, bool polygons, FaceLighting& out,
+                         std::vector<Fragment>& fragments, ShadowStats& stats, const core::TileRequest& tiles,
+                         std::size_t& split_candidates);
 
 }  // namespace shadow::fast

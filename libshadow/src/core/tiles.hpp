@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Tiles of a large receiver (docs/tiles.md): a receiver that faces the light, is its own chart
+// box (an axis-aligned rectangle in its chart: a city's ground, most walls and roofs) and has
+// more candidate casters than a threshold is split into square cells of its chart, each a
+// separate work item. A tile is the receiver's FacePrep with the tile's box as its chart box:
+// culling (the prism or pyramid over the box), clipping and the fast path's grid all follow
+// from it, so a tile sees only the casters whose shadows reach it. Plain data: no CGAL here.
+#pragma once
+
+#include "core/face_prep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+namespace shadow::core {
+
+/// The number of candidate casters a tile is cut for (about: a tile near the receiver's edge,
+/// or under long shadows, has fewer or more).
+constexpr std::size_t kTileCandidates = 2000;
+
+/// What a receiver computation is asked to do about tiles.
+struct TileRequest {
+  /// The tile to compute (its chart box replaces the face's), or nullptr for the whole face.
+  const FacePrep* tile = nullptr;
+  /// Whole faces only: stop after culling when the face is tileable (front-facing, its own
+  /// chart box) and has more candidate casters than this; 0: never.
+  std::size_t split_above = 0;
+};
+
+/// Whether a face may be split into tiles at all.
+inline bool tileable(const FacePrep& fp) { return !fp.degenerate && fp.chart_is_box; }
+
+/// The tiles of face `fp`: about ceil(candidates / per_tile) square cells of its chart box (at
+/// most `max_tiles`), in rows; each a copy of `fp` with the cell as its chart box. Borders are
+/// doubles shared exactly by neighbouring tiles: the tiles partition the box.
+inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidates, std::size_t per_tile,
+                                        std::size_t max_tiles = 1024) {
+  std::vector<FacePrep> tiles;
+  const double w = fp.chart_max[0] - fp.chart_min[0], h = fp.chart_max[1] - fp.chart_min[1];
+  if (!(w > 0) || !(h > 0) || per_tile == 0) return tiles;
+  const double wanted = std::clamp(std::ceil(static_cast<double>(candidates) / static_cast<double>(per_tile)), 1.0,
+                                   static_cast<double>(max_tiles));
+  const double side = std::sqrt(w * h / wanted);
+  const auto count = [&](double length) {
+    return static_cast<std::size_t>(std::clamp(std::round(length / side), 1.0, static_cast<double>(max_tiles)));
+  };
+  const std::size_t ni = count(w), nj = count(h);
+  auto border = [&](int c, std::size_t k, std::size_t n) {
+    if (k == 0) return fp.chart_min[c];
+    if (k == n) return fp.chart_max[c];
+    const double lo = fp.chart_min[c], hi = fp.chart_max[c];
+    return std::min(hi, lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(n));
+  };
+  for (std::size_t b = 0; b < nj; ++b)
+    for (std::size_t a = 0; a < ni; ++a) {
+      FacePrep tile = fp;
+      tile.chart_min = {border(0, a, ni), border(1, b, nj)};
+      tile.chart_max = {border(0, a + 1, ni), border(1, b + 1, nj)};
+      if (!(tile.chart_min[0] < tile.chart_max[0]) || !(tile.chart_min[1] < tile.chart_max[1])) continue;
+      tiles.push_back(std::move(tile));
+    }
+  if (tiles.size() < 2) tiles.clear();  // not worth it: the face as one item
+  return tiles;
+}
+
+}  // namespace shadow::core
