@@ -3,6 +3,7 @@
 // penumbra and umbra regions against closed forms, against exact point queries from sampled
 // light points (libshadow::testing), and the two exact routes against each other.
 #include "arealight/area_receiver.hpp"  // force_separating_planes (tests only)
+#include "arealight/light_shape.hpp"    // the sun disk's 32-gon (a direction parallel to a face)
 #include "support/scene_builders.hpp"
 
 #include <shadow/shadow.hpp>
@@ -11,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -160,6 +162,61 @@ TEST(AreaLightRegions, FacesBehindTheLightAreUmbraAndACrossingLightLeavesNothing
   const FaceLighting* ground = r.find(0, 0);
   EXPECT_GT(ground->penumbra_area, 0.0);
   EXPECT_TRUE(testing::check_partition(scene, r)) << testing::check_partition(scene, r).message;
+}
+
+// A face lying in the receiver's plane (the back face of a double-sided floor) casts nothing on
+// it (docs/algorithm.md section 2), under an area light and under the sun's disk alike.
+TEST(AreaLightRegions, ACoincidentBackFacingQuadLeavesTheReceiverFullyLit) {
+  for (const Light& light : {square_light(1, 3), sun_disk("sun", {0.3, 0.2, 1}, 0.53)}) {
+    Scene scene;
+    add_mesh(scene, "floor", {rectangle_z(-2, -2, 2, 2, 0)});
+    std::vector<glm::dvec3> back = rectangle_z(-1, -1, 1, 1, 0);
+    std::reverse(back.begin(), back.end());  // facing down, in the floor's plane
+    add_mesh(scene, "underside", {back});
+    scene.lights.push_back(light);
+    const ShadowResult r = compute(scene);
+    const FaceLighting* floor = r.find(0, 0);
+    ASSERT_NE(floor, nullptr);
+    SCOPED_TRACE(light.name);
+    EXPECT_EQ(floor->fully_lit_area, floor->area);
+    EXPECT_EQ(floor->penumbra_area, 0.0);
+    EXPECT_EQ(floor->umbra_area, 0.0);
+    EXPECT_LE(floor->umbra_area, floor->shadow_area);
+    EXPECT_LE(floor->fully_lit_area, floor->lit_area);
+    EXPECT_TRUE(testing::check_partition(scene, r)) << testing::check_partition(scene, r).message;
+  }
+}
+
+// A direction of the sun disk's 32-gon exactly parallel to the receiver's plane (s = 0): it has
+// no shadow on the plane, so the projection route does not apply (it divided by zero); the
+// separating planes give the regions. The sun straight up: the 32-gon's vertex 0 is (0, -r, 1)
+// exactly, and the wall y + r z = 0 contains it while every other direction is in its front.
+TEST(AreaLightRegions, ASunDiskDirectionParallelToTheReceiverTakesTheSeparatingRoute) {
+  const Light sun = sun_disk("sun", {0, 0, 1}, 0.53);
+  const arealight::LightShape shape = arealight::light_shape(sun);
+  const double r = -shape.polygon[0].y;
+  ASSERT_EQ(shape.polygon[0], glm::dvec3(0, -r, 1));
+  for (std::size_t i = 1; i < shape.polygon.size(); ++i) ASSERT_GT(shape.polygon[i].y + r * shape.polygon[i].z, 0.0);
+  Scene scene;
+  // the wall y + r z = 0 facing (0, 1, r), and a roof over it
+  add_mesh(scene, "wall", {{{-1, 0, 0}, {-1, -r, 1}, {1, -r, 1}, {1, 0, 0}}});
+  add_mesh(scene, "roof", {rectangle_z(-0.5, -0.01, 0.5, 0.2, 1.5)});
+  scene.lights.push_back(sun);
+  const ShadowResult r1 = compute(scene, 1, false);
+  const FaceLighting* wall = r1.find(0, 0);
+  ASSERT_NE(wall, nullptr);
+  EXPECT_NEAR(wall->fully_lit_area + wall->penumbra_area + wall->umbra_area, wall->area, 1e-12);
+  // Under the roof's middle every direction of the half of the cone in front of the wall meets
+  // the roof: umbra; the wall's ends beyond the roof's reach are lit by part of the sun.
+  EXPECT_GT(wall->umbra_area, 0.0);
+  EXPECT_GT(wall->fully_lit_area + wall->penumbra_area, 0.0);
+  EXPECT_GT(wall->fully_lit_area, 0.0);  // the grazing direction is seen along the wall
+  // The same regions with every piece on the separating route.
+  arealight::force_separating_planes = true;
+  const ShadowResult r2 = compute(scene, 1, false);
+  arealight::force_separating_planes = false;
+  EXPECT_EQ(r2.find(0, 0)->umbra_area, wall->umbra_area);
+  EXPECT_EQ(r2.find(0, 0)->penumbra_area, wall->penumbra_area);
 }
 
 // lit_area is the point light's at the centre, bit for bit; shrinking the light shrinks the

@@ -76,6 +76,35 @@ TEST(RaySampling, PointLightShadowIsTheSquareScaledFromTheLight) {
   EXPECT_FALSE(at(r, 2).faces_light);
 }
 
+// An extended light stands for its centre in the hard baselines, as FaceLighting::lit_area of
+// the exact engine (docs/area-lights.md): an area light centred at the lamp of the test above
+// gives the lamp's results; before, it was taken as a directional light overhead (to_light's
+// default) and gave 0.96.
+TEST(RaySampling, AnAreaLightIsSampledFromItsCentre) {
+  Light area;
+  area.name = "panel";
+  area.type = LightType::Area;
+  area.polygon = {{-0.15, -0.05, 4}, {-0.15, 0.45, 4}, {0.35, 0.45, 4}, {0.35, -0.05, 4}};  // centroid (0.1, 0.2, 4)
+  const Scene panel = square_over_ground(area);
+  const Scene lamp = square_over_ground(point_light("lamp", centre_light(area).position));
+  RaySamplingOptions options;
+  options.spacing = 0.02;
+  options.threads = 2;
+  ShadowMapOptions map;
+  map.resolution = 512;
+  map.threads = 2;
+  EXPECT_EQ(at(ray_sampling_lighting(panel, options), 0).lit_area, at(ray_sampling_lighting(lamp, options), 0).lit_area);
+  EXPECT_NEAR(at(ray_sampling_lighting(panel, options), 0).lit_fraction, 0.84, 16 * 0.02 / 100);
+  EXPECT_EQ(at(shadow_map_lighting(panel, map), 0).lit_area, at(shadow_map_lighting(lamp, map), 0).lit_area);
+  // A sun disk: its central direction.
+  Light sun = directional_light("sun", {1, 0.5, 1});
+  const Scene point_sun = square_over_ground(sun);
+  sun.angular_diameter = 0.53;
+  const Scene disk_sun = square_over_ground(sun);
+  EXPECT_EQ(at(ray_sampling_lighting(disk_sun, options), 0).lit_area,
+            at(ray_sampling_lighting(point_sun, options), 0).lit_area);
+}
+
 TEST(ShadowMap, SquareUnderSlantedSunConvergesWithinPerimeterTimesTexel) {
   const Scene scene = square_over_ground(directional_light("sun", {1, 0.5, 1}));
   double previous = 1;

@@ -100,6 +100,38 @@ TEST(Irradiance, ANonUnitNormalIsNormalised) {
   EXPECT_NEAR(shadow::irradiance(sun({0, 0, 1}), {0, 0, 0}, {0, 0, 7}), 1.0, kTol);
 }
 
+// An area light or a disk lights as a point light at its centre (centre_light): before, the
+// shading functions read Light::position, (0, 0, 0) for an area light.
+TEST(Irradiance, AnAreaLightOrADiskLightsFromItsCentre) {
+  Light area;
+  area.type = LightType::Area;
+  area.intensity = 3.0;
+  area.polygon = {{0.5, 1.5, 4}, {0.5, 2.5, 4}, {1.5, 2.5, 4}, {1.5, 1.5, 4}};  // centroid (1, 2, 4)
+  Light disk;
+  disk.type = LightType::Disk;
+  disk.intensity = 3.0;
+  disk.position = {1, 2, 4};
+  disk.radius = 0.5;
+  const Light centre = lamp({1, 2, 4}, 3.0);
+  const glm::dvec3 p(0.25, -0.5, 0.0), n(0, 0, 1), viewer(3, -4, 5);
+  LightingSettings settings;
+  settings.model = LightingModel::BlinnPhong;
+  settings.attenuation = Attenuation::InverseSquare;
+  Material m;
+  for (const Light& light : {area, disk}) {
+    EXPECT_EQ(shadow::centre_light(light).position, centre.position);
+    EXPECT_NEAR(shadow::irradiance(light, p, n), shadow::irradiance(centre, p, n), kTol);
+    EXPECT_NEAR(shadow::irradiance(light, p, n), 3.0 * 4 / std::pow(glm::length(centre.position - p), 3), kTol);
+    const glm::dvec3 d = shadow::direction_to_light(light, p) - shadow::direction_to_light(centre, p);
+    EXPECT_LT(glm::length(d), kTol);
+    EXPECT_NEAR(shadow::attenuation_factor(light, p, viewer, settings),
+                shadow::attenuation_factor(centre, p, viewer, settings), kTol);
+    const glm::dvec3 c = shadow::shade({p, n, viewer}, m, {light}, {true}, settings) -
+                         shadow::shade({p, n, viewer}, m, {centre}, {true}, settings);
+    EXPECT_LT(glm::length(c), kTol);
+  }
+}
+
 TEST(Irradiance, ALampOnThePointGivesZeroNotInfinity) {
   EXPECT_EQ(shadow::irradiance(lamp({0, 0, 0}), {0, 0, 0}, {0, 0, 1}), 0.0);
 }

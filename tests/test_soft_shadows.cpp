@@ -244,6 +244,17 @@ TEST(SoftBaselines, RejectUnusableInput) {
   Light flat = square_light(2, 4);
   flat.polygon = {{0, 0, 4}, {1, 0, 4}, {2, 0, 4}};
   EXPECT_THROW(ray_visibility(scene, flat, origin), InputError);
+  // One bound for angular_diameter, check_light's [0, 60] (it was (0, 180) here).
+  EXPECT_NO_THROW(ray_visibility(scene, sun_disk({0, 0, 1}, 60.0), origin, rays(16)));
+  try {
+    (void)ray_visibility(scene, sun_disk({0, 0, 1}, 61.0), origin, rays(16));
+    ADD_FAILURE() << "a 61-degree sun was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.where().place.find("angular_diameter"), std::string::npos) << e.what();
+  }
+  Light no_radius = disk_light(1, 4);
+  no_radius.radius = 0;
+  EXPECT_THROW(pcf_visibility(scene, no_radius, origin), InputError);
   EXPECT_THROW(face_sample_points(scene, 0.0), InputError);
 }
 

@@ -465,6 +465,45 @@ TEST(VectorView, ThreadsDoNotChangeThePieces) {
   }
 }
 
+// An extended light splits the view by the hard shadow of its centre (it was refused): the
+// pieces are those of a point light at an area light's centroid, of the sun disk's central
+// direction.
+TEST(VectorView, AnExtendedLightSplitsTheViewFromItsCentre) {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-5, -5, 5, 5, 0)});
+  add_mesh(scene, "square", {rectangle_z(0, 0, 1, 1, 1)});
+  Light area;
+  area.name = "panel";
+  area.type = LightType::Area;
+  area.polygon = {{0, 0, 4}, {0, 1, 4}, {1, 1, 4}, {1, 0, 4}};
+  scene.lights.push_back(area);
+  scene.lights.push_back(point_light("centre", {0.5, 0.5, 4}));
+  Light sun = directional_light("sun", {0.3, 0.4, 1});
+  sun.angular_diameter = 0.53;
+  scene.lights.push_back(sun);
+  scene.lights.push_back(directional_light("point sun", {0.3, 0.4, 1}));
+  validate_scene(scene);
+  const ShadowEngine engine(scene, 1);
+  ViewCamera camera;
+  camera.eye = {6, -7, 9};
+  camera.target = {0, 0, 0};
+  for (std::size_t pair : {0u, 2u}) {
+    const VectorView extended = compute_vector_view(engine, camera, {std::size_t{pair}, 1});
+    const VectorView centre = compute_vector_view(engine, camera, {std::size_t{pair + 1}, 1});
+    ASSERT_TRUE(extended.light_id);
+    EXPECT_EQ(*extended.light_id, pair);
+    ASSERT_EQ(extended.pieces.size(), centre.pieces.size());
+    std::size_t shadowed = 0;
+    for (std::size_t k = 0; k < extended.pieces.size(); ++k) {
+      EXPECT_EQ(extended.pieces[k].face_id, centre.pieces[k].face_id);
+      EXPECT_EQ(extended.pieces[k].lit, centre.pieces[k].lit);
+      EXPECT_EQ(extended.pieces[k].polygon, centre.pieces[k].polygon);
+      shadowed += extended.pieces[k].lit ? 0 : 1;
+    }
+    EXPECT_GT(shadowed, 0u);
+  }
+}
+
 TEST(VectorView, BadInputIsAnInputError) {
   Scene scene = box_scene();
   scene.lights.push_back(point_light("lamp", {3, 3, 3}));
@@ -472,6 +511,7 @@ TEST(VectorView, BadInputIsAnInputError) {
   disk.type = LightType::Disk;
   disk.position = {0, 0, 5};
   disk.radius = 1;
+  disk.normal = {0, 0, 0};  // unusable (an extended light as such is drawn from its centre)
   scene.lights.push_back(disk);
   const ShadowEngine engine(scene, 1);
   ViewCamera camera;

@@ -184,6 +184,9 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";
   // A picture shows every face lit as it is, whatever the scene's `receivers` say.
   for (shadow::Mesh& mesh : scene.meshes) mesh.receiver = true;
+  // A picture has hard shadows: an extended light lights it from its centre (docs/render.md).
+  for (shadow::Light& light : scene.lights)
+    if (light.is_extended()) light = shadow::centre_light(light);
 
   sr::RenderOptions options;
   options.width = args.width;

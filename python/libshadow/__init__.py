@@ -272,7 +272,7 @@ def fragments(result):
 
 
 _COLUMNS = ("face_id", "light_id", "area", "lit_area", "shadow_area", "lit_fraction", "faces_light",
-            "lit_area_error_bound", "dropped_area")
+            "lit_area_error_bound", "dropped_area", "fully_lit_area", "penumbra_area", "umbra_area")
 
 
 def _to_pandas(result):

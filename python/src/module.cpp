@@ -121,6 +121,17 @@ struct Series {
   std::vector<UtcSeconds> times;  ///< the instants' UTC times when they are the scene's suns
 };
 
+/// The scene file's name of a light type.
+std::string light_type_name(LightType type) {
+  switch (type) {
+    case LightType::Point: return "point";
+    case LightType::Area: return "area";
+    case LightType::Disk: return "disk";
+    case LightType::Directional: break;
+  }
+  return "directional";
+}
+
 /// A row-major rows x cols table as a 2-D numpy array.
 template <class T, class Source>
 py::array_t<T> table(const std::vector<Source>& values, std::size_t rows, std::size_t cols) {
@@ -230,16 +241,14 @@ PYBIND11_MODULE(_libshadow, m) {
            py::arg("name") = "", py::arg("type") = "directional", py::arg("to_light") = py::none(),
            py::arg("position") = py::none(), py::arg("intensity") = 1.0, py::arg("color") = py::none())
       .def_readonly("name", &Light::name)
-      .def_property_readonly("type", [](const Light& l) {
-        return l.type == LightType::Point ? "point" : "directional";
-      })
+      .def_property_readonly("type", [](const Light& l) { return light_type_name(l.type); })
       .def_property_readonly("to_light", [](const Light& l) { return vec3_array(l.to_light); })
       .def_property_readonly("position", [](const Light& l) { return vec3_array(l.position); })
       .def_readonly("intensity", &Light::intensity)
       .def_property_readonly("color", [](const Light& l) { return vec3_array(l.color); })
       .def("__repr__", [](const Light& l) {
         return "Light(name=" + py::repr(py::str(l.name)).cast<std::string>() + ", type='" +
-               (l.type == LightType::Point ? "point" : "directional") + "')";
+               light_type_name(l.type) + "')";
       });
 
   py::class_<Plane>(m, "Plane", "An infinite receiving plane n . (x - point) = 0.")
@@ -528,6 +537,16 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_property_readonly("dropped_area", [](const Result& r) {
         return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.dropped_area; });
       })
+      // Extended lights' regions (docs/area-lights.md); 0 for point and directional lights.
+      .def_property_readonly("fully_lit_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.fully_lit_area; });
+      })
+      .def_property_readonly("penumbra_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.penumbra_area; });
+      })
+      .def_property_readonly("umbra_area", [](const Result& r) {
+        return column<double>(r.result.lighting, [](const FaceLighting& x) { return x.umbra_area; });
+      })
       .def_property_readonly("faces_light", [](const Result& r) {
         return column<bool>(r.result.lighting, [](const FaceLighting& x) { return x.faces_light; });
       })
@@ -568,6 +587,9 @@ PYBIND11_MODULE(_libshadow, m) {
         d["faces_light"] = x->faces_light;
         d["lit_area_error_bound"] = x->lit_area_error_bound;
         d["dropped_area"] = x->dropped_area;
+        d["fully_lit_area"] = x->fully_lit_area;
+        d["penumbra_area"] = x->penumbra_area;
+        d["umbra_area"] = x->umbra_area;
         return d;
       }, py::arg("face_id"), py::arg("light_id"), "The entry for (face, light) as a dict, or None.")
       .def("report_json", [](const Result& r) {

@@ -286,3 +286,34 @@ if given is not None:
         scene = libshadow.scene_from_data({"t": [triangle]},
                                           lights=[{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}])
         assert np.array_equal(scene.faces[0].view(np.uint64), triangle.view(np.uint64))
+
+
+# ---- extended lights: the three regions ------------------------------------------------------------
+def test_area_light_regions_are_arrays_like_the_others():
+    """A square light (side a, height H) over a parallel square occluder (side b, height h) over a
+    20 x 20 ground: not fully lit is the square of side b s + a t, umbra that of side b s - a t,
+    with s = H / (H - h), t = h / (H - h) (docs/area-lights.md); a point sun has no regions."""
+    a, H, b, h = 1.0, 4.0, 2.0, 2.0
+    light = {"name": "panel", "type": "area",
+             "polygon": [[-a / 2, -a / 2, H], [-a / 2, a / 2, H], [a / 2, a / 2, H], [a / 2, -a / 2, H]]}
+    ground = [[-10, -10, 0], [10, -10, 0], [10, 10, 0], [-10, 10, 0]]
+    roof = [[-b / 2, -b / 2, h], [b / 2, -b / 2, h], [b / 2, b / 2, h], [-b / 2, b / 2, h]]
+    scene = libshadow.scene_from_data({"ground": [ground], "roof": [roof]},
+                                      lights=[light, {"name": "sun", "type": "directional", "to_light": [0, 0, 1]}],
+                                      receivers=["ground"])
+    assert scene.lights[0].type == "area"
+    result = libshadow.compute_shadows(scene, threads=1, polygons=False)
+    s, t = H / (H - h), h / (H - h)
+    outer, inner = b * s + a * t, b * s - a * t
+    for name in ("fully_lit_area", "penumbra_area", "umbra_area"):
+        column = getattr(result, name)
+        assert column.dtype == np.float64 and column.shape == result.area.shape
+    panel = result.find(0, 0)
+    assert panel["fully_lit_area"] == pytest.approx(400 - outer * outer, abs=1e-12)
+    assert panel["penumbra_area"] == pytest.approx(outer * outer - inner * inner, abs=1e-12)
+    assert panel["umbra_area"] == pytest.approx(inner * inner, abs=1e-12)
+    i = int(np.flatnonzero((result.face_id == 0) & (result.light_id == 0))[0])
+    assert result.umbra_area[i] == panel["umbra_area"]
+    assert result.fully_lit_area[i] + result.penumbra_area[i] + result.umbra_area[i] == pytest.approx(400, abs=1e-12)
+    sun = result.find(0, 1)
+    assert sun["fully_lit_area"] == sun["penumbra_area"] == sun["umbra_area"] == 0.0

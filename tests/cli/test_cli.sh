@@ -256,6 +256,44 @@ if "$SHADOW" render --help >/dev/null 2>&1; then
       fail "render_writes_a_png_without_a_display" "status $status, stderr: $(cat "$WORK/render.stderr")"
     fi
   fi
+  # An extended light lights the picture and the vector view from its centre, a point light
+  # (docs/render.md, docs/vector-views.md): the same files as a lamp at the area light's centroid.
+  mkdir -p "$WORK/centre"
+  cat >"$WORK/centre/area.json" <<'EOF2'
+{
+  "meshes": [
+    {"name": "ground", "polygons": [[[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]]]},
+    {"name": "square", "polygons": [[[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]]]}
+  ],
+  "lights": [{"name": "lamp", "type": "area",
+              "polygon": [[0.25, 0.25, 4], [0.25, 0.75, 4], [0.75, 0.75, 4], [0.75, 0.25, 4]]}],
+  "camera": {"eye": [6, -7, 9], "target": [0, 0, 0]}
+}
+EOF2
+  sed 's/"type": "area",/"type": "point", "position": [0.5, 0.5, 4]}],/; /"polygon"/d' "$WORK/centre/area.json" \
+    >"$WORK/centre/point.json"
+  status=0
+  for n in area point; do
+    "$SHADOW" render "$WORK/centre/$n.json" -o "$WORK/centre/$n.svg" --quiet 2>>"$WORK/centre/stderr" || status=$?
+  done
+  if [[ $status -eq 0 ]] && diff <(grep -v '<title>' "$WORK/centre/area.svg") \
+      <(grep -v '<title>' "$WORK/centre/point.svg") >/dev/null && grep -q 'fill' "$WORK/centre/area.svg"; then
+    pass "render_svg_of_an_area_light_is_its_centres"
+  else
+    fail "render_svg_of_an_area_light_is_its_centres" "status $status: $(cat "$WORK/centre/stderr")"
+  fi
+  if command -v xvfb-run >/dev/null 2>&1 || [[ -n ${DISPLAY:-} ]]; then
+    status=0
+    for n in area point; do
+      env -u DISPLAY "$SHADOW" render "$WORK/centre/$n.json" -o "$WORK/centre/$n.png" --width 160 --height 120 \
+        --quiet 2>>"$WORK/centre/stderr" || status=$?
+    done
+    if [[ $status -eq 0 ]] && cmp -s "$WORK/centre/area.png" "$WORK/centre/point.png"; then
+      pass "render_png_of_an_area_light_is_its_centres"
+    else
+      fail "render_png_of_an_area_light_is_its_centres" "status $status: $(cat "$WORK/centre/stderr")"
+    fi
+  fi
   # No display and no xvfb-run: one line that says what to install, status 3, no image.
   status=0
   env -u DISPLAY PATH=/nonexistent "$SHADOW" render "$WORK/tiny/scene.json" -o "$WORK/no-x.png" \

@@ -8,6 +8,10 @@
 /// face and light), so errors are computed the same way. Conventions shared with the exact
 /// engine: a face whose front looks away from the light (or is edge-on) is wholly in shadow
 /// (`faces_light = false`, lit area 0); degenerate faces cast nothing and receive nothing.
+/// Lights are checked as the engine checks them (InputError naming `lights[i].<key>`); an
+/// extended light (Light::is_extended) stands for its centre (centre_light: an area light's
+/// centroid, a disk's centre, a sun disk's central direction), whose hard shadow is the exact
+/// engine's FaceLighting::lit_area for that light (docs/area-lights.md).
 ///
 /// Each receiving face is sampled on a cell-centred square grid in its own plane (axes along
 /// its longest edge and across it, the grid centred on the face's bounding rectangle and then

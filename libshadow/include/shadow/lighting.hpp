@@ -23,10 +23,13 @@ namespace shadow {
 /// (no shadowing: multiply by 0 when the point is in shadow):
 /// directional: I max(0, n.l); point: I max(0, n.l) / r^2, r the distance to the light.
 /// Returns 0 for a point light at the point itself (r = 0) and for a zero light direction.
+/// An area light or a disk counts as a point light at its centre, a sun disk as its central
+/// direction (centre_light); the exact irradiance of an extended light is light_irradiance
+/// (area_lights.hpp).
 [[nodiscard]] double irradiance(const Light& light, const glm::dvec3& point, const glm::dvec3& normal);
 
 /// Unit vector from `point` toward `light` (the light's to_light for a directional light),
-/// or zero when it has no direction.
+/// or zero when it has no direction. Toward the centre of an area light or disk (centre_light).
 [[nodiscard]] glm::dvec3 direction_to_light(const Light& light, const glm::dvec3& point);
 
 /// The local lighting models. Each one adds the ambient term k_a i_a (seed 000) to its

@@ -85,6 +85,14 @@ struct Light {
   }
 };
 
+/// The point light (or directional light) that stands for `light` where one point is needed:
+/// an area light's area centroid, a disk's centre, a sun disk's central direction (its
+/// `angular_diameter` set to 0), with the same name, intensity and colour. Point and directional
+/// lights come back as they are. FaceLighting::lit_area of an extended light is this light's;
+/// the shading functions (lighting.hpp), the shadow-map and ray baselines and `shadow render`
+/// use it for extended lights (docs/area-lights.md).
+[[nodiscard]] Light centre_light(const Light& light);
+
 /// An infinite receiving plane for Blinn projection shadows: n . (x - point) = 0.
 struct Plane {
   std::string name;

@@ -89,7 +89,8 @@ struct VectorView {
 
 struct VectorViewOptions {
   /// The scene light that splits the pieces (index into Scene::lights); none: unsplit pieces,
-  /// all with lit = false. Point and directional lights only (hard shadows).
+  /// all with lit = false. Hard shadows: an extended light (Light::is_extended) splits them by
+  /// its centre (centre_light), as FaceLighting::lit_area does.
   std::optional<std::size_t> light;
   unsigned threads = 0;  ///< 0: every hardware thread (at most 1024)
 };

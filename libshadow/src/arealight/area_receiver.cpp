@@ -87,25 +87,8 @@ struct HalfPlane {
 /// Clips a convex chart polygon to h >= 0 (vertices on the line kept, crossings only on strict
 /// sign changes).
 void clip(std::vector<Point2>& poly, const HalfPlane& h, std::vector<Point2>& scratch) {
-  if (poly.empty()) return;
-  const std::size_t n = poly.size();
-  std::vector<FT> value(n);
-  std::vector<int> side(n);
-  for (std::size_t a = 0; a < n; ++a) {
-    value[a] = h(poly[a]);
-    side[a] = static_cast<int>(CGAL::sign(value[a]));
-  }
-  auto side_of = [&](std::size_t a) { return side[a]; };
-  switch (geometry::clip_case(n, side_of)) {
-    case geometry::ClipCase::Inside: return;
-    case geometry::ClipCase::Empty: poly.clear(); return;
-    case geometry::ClipCase::Cut: break;
-  }
-  geometry::clip_convex(poly, side_of, [&](std::size_t a, std::size_t b) {
-    const FT t = value[a] / (value[a] - value[b]);
-    return Point2(poly[a].x() + t * (poly[b].x() - poly[a].x()), poly[a].y() + t * (poly[b].y() - poly[a].y()));
-  }, scratch);
-  poly.swap(scratch);
+  exact::clip_by_value(poly, h, [](const Point2& a, const Point2& b, const FT& t) { return a + t * (b - a); },
+                       scratch);
 }
 
 bool has_area(const std::vector<Point2>& poly) {
@@ -215,27 +198,13 @@ class AreaReceiverJob {
 
   /// Sutherland-Hodgman on homogeneous vertices: keeps f >= 0.
   static void clip_homogeneous(std::vector<H4>& poly, const H4& f) {
-    const std::size_t n = poly.size();
-    std::vector<FT> value(n);
-    std::vector<int> side(n);
-    for (std::size_t a = 0; a < n; ++a) {
-      value[a] = dot4(f, poly[a]);
-      side[a] = static_cast<int>(CGAL::sign(value[a]));
-    }
-    auto side_of = [&](std::size_t a) { return side[a]; };
-    switch (geometry::clip_case(n, side_of)) {
-      case geometry::ClipCase::Inside: return;
-      case geometry::ClipCase::Empty: poly.clear(); return;
-      case geometry::ClipCase::Cut: break;
-    }
     std::vector<H4> out;
-    geometry::clip_convex(poly, side_of, [&](std::size_t a, std::size_t b) {
-      const FT t = value[a] / (value[a] - value[b]);
-      H4 x;
-      for (int c = 0; c < 4; ++c) x[c] = poly[a][c] + t * (poly[b][c] - poly[a][c]);
-      return x;
-    }, out);
-    poly.swap(out);
+    exact::clip_by_value(poly, [&](const H4& x) { return dot4(f, x); },
+                         [](const H4& a, const H4& b, const FT& t) {
+                           H4 x;
+                           for (int c = 0; c < 4; ++c) x[c] = a[c] + t * (b[c] - a[c]);
+                           return x;
+                         }, out);
   }
 
   // ---- culling in doubles -------------------------------------------------------------------
@@ -316,12 +285,28 @@ class AreaReceiverJob {
       for (int v : piece) C.push_back(Q.vertices[v]);
       exact::clip_convex(C, front, w_.scratch);
       if (light_front) exact::clip_convex(C, *light_front, w_.scratch);
-      if (C.size() < 3) continue;
+      // A piece lying in P's plane (the back face of a double-sided wall, a decal) or in the
+      // light's plane comes back from the clip whole: it casts nothing (docs/algorithm.md §2).
+      if (C.size() < 3 || !strictly_in_front(C)) continue;
       const H4 own{Q.normal.x(), Q.normal.y(), Q.normal.z(), Q.offset};
       cast += cast_piece(C, own) ? 1 : 0;
     }
     if (cast > 0) ++stats_.casting_pairs;
     return cast;
+  }
+
+  /// True when some point of C lies strictly in front of P's plane and some strictly in front
+  /// of the light's (finite lights): only then can C stand between P and the light. C is convex
+  /// and already clipped to both closed half-spaces, so it then has area in front of both.
+  bool strictly_in_front(const std::vector<Point3>& C) const {
+    bool receiver = false, light = !light_plane_;
+    for (const Point3& c : C) {
+      const H4 h = homogeneous(c);
+      receiver = receiver || CGAL::is_positive(dot4(receiver_, h));
+      light = light || CGAL::is_positive(dot4(*light_plane_, h));
+      if (receiver && light) return true;
+    }
+    return false;
   }
 
   /// The chart point where the line from light point or direction l through x meets P's plane:
@@ -339,6 +324,10 @@ class AreaReceiverJob {
   /// (always so for directions).
   bool projections_apply(const std::vector<Point3>& C) const {
     if (straddles_ || force_separating_planes) return false;
+    // Every light point strictly in front of P: a direction of a sun disk parallel to P's plane
+    // (s = 0) has no shadow on P (project() would divide by zero).
+    for (const H4& v : light_points_)
+      if (!CGAL::is_positive(dot4(receiver_, v))) return false;
     if (!lp_.shape.finite) return true;
     FT lowest_light = dot4(receiver_, light_points_.front());
     for (const H4& v : light_points_) lowest_light = CGAL::min(lowest_light, dot4(receiver_, v));
@@ -489,33 +478,27 @@ class AreaReceiverJob {
     return exact::balanced_sum(areas);
   }
 
+  /// The union of convex chart polygons (either orientation), in one aggregated join.
+  static PolygonSet2 joined(const std::vector<std::vector<Point2>>& regions) {
+    PolygonSet2 set;
+    std::vector<Polygon2> polys;
+    for (const std::vector<Point2>& r : regions) {
+      Polygon2 poly(r.begin(), r.end());
+      if (CGAL::is_negative(exact::polygon_area(poly))) poly.reverse_orientation();
+      polys.push_back(std::move(poly));
+    }
+    if (!polys.empty()) set.join(polys.begin(), polys.end());
+    return set;
+  }
+
   void measure(bool straddles) {
     const ExactFace& P = *P_;
     FaceLighting& out = item_.lighting;
     PolygonSet2 nfl(P.chart);  // not fully lit
-    if (!straddles) {          // a face that cannot see all of the light is nowhere fully lit
-      PolygonSet2 cast;
-      std::vector<Polygon2> polys;
-      for (const std::vector<Point2>& r : not_fully_lit_) {
-        Polygon2 poly(r.begin(), r.end());
-        if (CGAL::is_negative(exact::polygon_area(poly))) poly.reverse_orientation();
-        polys.push_back(std::move(poly));
-      }
-      if (!polys.empty()) cast.join(polys.begin(), polys.end());
-      nfl.intersection(cast);
-    }
+    // a face that cannot see all of the light is nowhere fully lit
+    if (!straddles) nfl.intersection(joined(not_fully_lit_));
     PolygonSet2 um(P.chart);
-    {
-      PolygonSet2 cast;
-      std::vector<Polygon2> polys;
-      for (const std::vector<Point2>& r : umbra_) {
-        Polygon2 poly(r.begin(), r.end());
-        if (CGAL::is_negative(exact::polygon_area(poly))) poly.reverse_orientation();
-        polys.push_back(std::move(poly));
-      }
-      if (!polys.empty()) cast.join(polys.begin(), polys.end());
-      um.intersection(cast);
-    }
+    um.intersection(joined(umbra_));
     std::vector<PolygonWithHoles2> nfl_regions, um_regions;
     const FT nfl_area = set_area(nfl, nfl_regions);
     const FT um_area = set_area(um, um_regions);

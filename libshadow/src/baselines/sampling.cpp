@@ -3,7 +3,9 @@
 
 #include "geometry/bounding_box.hpp"
 #include "geometry/newell_normal.hpp"
+#include "core/lights.hpp"
 #include "core/parallel.hpp"
+#include "geometry/unit_vector.hpp"
 
 #include <shadow/error.hpp>
 
@@ -113,20 +115,18 @@ std::vector<std::array<std::uint32_t, 3>> triangulate(const std::vector<glm::dve
 }
 
 ShiftedLight shifted_light(const Scene& scene, std::size_t light_id, const glm::dvec3& shift) {
-  const Light& l = scene.lights[light_id];
-  const SourceLocation where{scene.source.string(), "lights[" + std::to_string(light_id) + "]"};
+  // Checked as the engine checks it; an extended light stands for its centre (an area light's
+  // centroid, a disk's centre, a sun disk's central direction), as FaceLighting::lit_area of
+  // the exact engine does (docs/area-lights.md).
+  detail::check_light(scene.lights[light_id], scene.source.string(), "lights[" + std::to_string(light_id) + "]");
+  const Light l = detail::centre_light(scene.lights[light_id]);
   ShiftedLight out;
   if (l.type == LightType::Point) {
-    if (!std::isfinite(l.position.x) || !std::isfinite(l.position.y) || !std::isfinite(l.position.z))
-      throw InputError(where, "point light position is not finite");
     out.point = true;
     out.position = l.position - shift;
     return out;
   }
-  const glm::dvec3 d = l.to_light;
-  const double m = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
-  if (!(m > 0) || !std::isfinite(m)) throw InputError(where, "directional light has a zero or non-finite direction");
-  out.to_light = glm::normalize(d / m);  // scaled first: tiny or huge vectors normalise too
+  out.to_light = geometry::unit(l.to_light);  // scaled first: tiny or huge vectors normalise too
   return out;
 }
 

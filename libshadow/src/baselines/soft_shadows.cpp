@@ -5,8 +5,10 @@
 #include "baselines/depth_map.hpp"
 #include "baselines/embree_scene.hpp"
 #include "baselines/sampling.hpp"
+#include "core/lights.hpp"
 #include "core/parallel.hpp"
 #include "geometry/newell_normal.hpp"
+#include "geometry/unit_vector.hpp"
 
 #include <shadow/baselines.hpp>
 #include <shadow/error.hpp>
@@ -65,12 +67,11 @@ bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 ExtendedLight extended_light(const Scene& scene, const Light& light, const glm::dvec3& shift) {
   const SourceLocation where{scene.source.string(), "light \"" + light.name + "\""};
   if (!light.is_extended()) throw InputError(where, "soft shadows need an extended light (area, disk, or a sun with angular_diameter)");
+  // The one check of lights (core/lights.hpp): the engine and the reader reject the same ones.
+  detail::check_light(light, scene.source.string(), where.place);
   ExtendedLight e;
   e.type = light.type;
   if (light.type == LightType::Area) {
-    if (light.polygon.size() < 3) throw InputError(where, "an area light needs at least 3 vertices");
-    for (const glm::dvec3& p : light.polygon)
-      if (!finite(p)) throw InputError(where, "an area light's vertex is not finite");
     const glm::dvec3 n = geometry::newell_normal(light.polygon, light.polygon[0]);
     const double len = glm::length(n);
     if (!(len > 0) || !std::isfinite(len)) throw InputError(where, "an area light's polygon has no area");
@@ -95,22 +96,14 @@ ExtendedLight extended_light(const Scene& scene, const Light& light, const glm::
     e.centre = weighted / total;
     e.size = std::sqrt(total);
   } else if (light.type == LightType::Disk) {
-    if (!(light.radius > 0) || !std::isfinite(light.radius)) throw InputError(where, "a disk light needs a positive radius");
-    if (!finite(light.position)) throw InputError(where, "a disk light's centre is not finite");
-    const double len = glm::length(light.normal);
-    if (!(len > 0) || !std::isfinite(len)) throw InputError(where, "a disk light's normal is zero or not finite");
-    e.normal = light.normal / len;
+    e.normal = geometry::unit(light.normal);
     basis(e.normal, e.e1, e.e2);
     e.centre = light.position - shift;
     e.radius = light.radius;
     e.size = 2 * light.radius;
   } else {
-    if (!(light.angular_diameter > 0) || !(light.angular_diameter < 180))
-      throw InputError(where, "angular_diameter must be in (0, 180) degrees");
-    const double m = std::max({std::abs(light.to_light.x), std::abs(light.to_light.y), std::abs(light.to_light.z)});
-    if (!(m > 0) || !std::isfinite(m)) throw InputError(where, "directional light has a zero or non-finite direction");
     e.sun = true;
-    e.to_light = glm::normalize(light.to_light / m);
+    e.to_light = geometry::unit(light.to_light);  // scaled first: tiny or huge vectors too
     basis(e.to_light, e.e1, e.e2);
     e.size = light.angular_diameter * kPi / 180.0;
     e.cos_half = std::cos(0.5 * e.size);

@@ -155,6 +155,8 @@ Light detail::centre_light(const Light& light) {
   return centre;
 }
 
+Light centre_light(const Light& light) { return detail::centre_light(light); }
+
 void detail::check_light(const Light& light, const std::string& file, const std::string& path) {
   if (light.type == LightType::Directional) {
     if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");

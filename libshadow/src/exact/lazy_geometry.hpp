@@ -33,25 +33,36 @@ inline FT plane_at_light(const ExactFace& face, const ExactLight& light) {
          face.normal.z() * light.l[2] + face.offset * light.l[3];
 }
 
-/// Sutherland-Hodgman clip of a convex polygon to f >= 0 (geometry/clip_convex.hpp). Vertices
-/// exactly on f = 0 are kept; intersection points are made only where f changes sign strictly,
-/// so no duplicates arise.
-inline void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector<Point3>& scratch) {
+/// Sutherland-Hodgman clip of a convex polygon of any exact point type P to value(p) >= 0, for
+/// an affine `value` (geometry/clip_convex.hpp). Vertices with value exactly 0 are kept;
+/// crossings, lerp(a, b, t) = a + t (b - a) at t = value(a) / (value(a) - value(b)), are made
+/// only where the value changes sign strictly, so no duplicates arise. The one exact half-space
+/// clip: 3D planes, chart half-planes and homogeneous points all go through it.
+template <class P, class Value, class Lerp>
+void clip_by_value(std::vector<P>& poly, Value&& value_of, Lerp&& lerp, std::vector<P>& scratch) {
   if (poly.empty()) return;
   const std::size_t n = poly.size();
   std::vector<FT> value(n);
-  for (std::size_t a = 0; a < n; ++a) value[a] = f(poly[a]);
-  auto side = [&](std::size_t a) { return static_cast<int>(CGAL::sign(value[a])); };
-  switch (geometry::clip_case(n, side)) {
-    case geometry::ClipCase::Inside: return;  // wholly inside (or on the plane)
+  std::vector<int> side(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    value[a] = value_of(poly[a]);
+    side[a] = static_cast<int>(CGAL::sign(value[a]));
+  }
+  auto side_of = [&](std::size_t a) { return side[a]; };
+  switch (geometry::clip_case(n, side_of)) {
+    case geometry::ClipCase::Inside: return;  // wholly inside (or on the boundary)
     case geometry::ClipCase::Empty: poly.clear(); return;  // nothing strictly inside: no area
     case geometry::ClipCase::Cut: break;
   }
-  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
-    const FT t = value[a] / (value[a] - value[b]);
-    return poly[a] + t * (poly[b] - poly[a]);
+  geometry::clip_convex(poly, side_of, [&](std::size_t a, std::size_t b) {
+    return lerp(poly[a], poly[b], value[a] / (value[a] - value[b]));
   }, scratch);
   poly.swap(scratch);
+}
+
+/// clip_by_value for 3D points and the affine function f: keeps f >= 0.
+inline void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector<Point3>& scratch) {
+  clip_by_value(poly, f, [](const Point3& a, const Point3& b, const FT& t) { return a + t * (b - a); }, scratch);
 }
 
 /// Clip of a convex polygon to the front of the receiver's plane (s >= 0) when the exact signs of

@@ -26,14 +26,19 @@ bool uses_specular(LightingModel model) {
   return model == LightingModel::Phong || model == LightingModel::BlinnPhong;
 }
 
+/// Area lights and disks light as their centre (centre_light), a point light.
+bool needs_centre(const Light& light) { return light.type == LightType::Area || light.type == LightType::Disk; }
+
 }  // namespace
 
 glm::dvec3 direction_to_light(const Light& light, const glm::dvec3& point) {
+  if (needs_centre(light)) return direction_to_light(centre_light(light), point);
   if (light.type == LightType::Directional) return unit_or_zero(light.to_light);
   return unit_or_zero(light.position - point);
 }
 
 double irradiance(const Light& light, const glm::dvec3& point, const glm::dvec3& normal) {
+  if (needs_centre(light)) return irradiance(centre_light(light), point, normal);
   const glm::dvec3 l = direction_to_light(light, point);
   const double cosine = std::max(0.0, glm::dot(unit_or_zero(normal), l));
   if (light.type == LightType::Directional) return light.intensity * cosine;
@@ -57,6 +62,7 @@ void detail::fragment_irradiance(const Scene& scene, const Fragment& fragment, d
 
 double attenuation_factor(const Light& light, const glm::dvec3& position, const glm::dvec3& viewer,
                           const LightingSettings& settings) {
+  if (needs_centre(light)) return attenuation_factor(centre_light(light), position, viewer, settings);
   const bool point_light = light.type == LightType::Point;
   switch (settings.attenuation) {
     case Attenuation::None:

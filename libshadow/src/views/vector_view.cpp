@@ -212,6 +212,7 @@ VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& cam
   const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
 
   const Light* light = nullptr;
+  Light centre;  // an extended light's centre, a point or directional light
   if (options.light) {
     const std::size_t id = *options.light;
     if (id >= scene.lights.size())
@@ -219,10 +220,13 @@ VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& cam
                                           std::to_string(scene.lights.size()) + " lights)");
     light = &scene.lights[id];
     shadow::detail::check_light(*light, "", "lights[" + std::to_string(id) + "]");
-    if (light->is_extended())
-      throw InputError({"", "lights[" + std::to_string(id) + "]"},
-                       "a vector view splits pieces by a point or directional light (hard shadows); this light is "
-                       "extended");
+    // The view splits pieces by hard shadows: an extended light lights it from its centre (an
+    // area light's centroid, a disk's centre, a sun disk's central direction), as
+    // FaceLighting::lit_area does (docs/vector-views.md).
+    if (light->is_extended()) {
+      centre = shadow::detail::centre_light(*light);
+      light = &centre;
+    }
     view.light_id = id;
   }
 
