@@ -8,6 +8,8 @@
 
 #include <embree3/rtcore.h>
 
+#include <glm/vec3.hpp>
+
 namespace shadow::baselines_detail {
 
 /// Owns an Embree device and scene.
@@ -25,5 +27,24 @@ struct EmbreeScene {
 /// Builds the scene of `setup`'s faces on `threads` threads into `out`.
 /// @throws InputError (place `what`) when Embree fails.
 void build_embree_scene(const Scene& scene, const Setup& setup, unsigned threads, const char* what, EmbreeScene& out);
+
+/// An occlusion ray from `origin` along `direction` (any length), hitting in (0, tfar] of it:
+/// Embree's fields in float32, no motion blur, every geometry mask.
+inline RTCRay occlusion_ray(const glm::dvec3& origin, const glm::dvec3& direction, float tfar) {
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(origin.x);
+  ray.org_y = static_cast<float>(origin.y);
+  ray.org_z = static_cast<float>(origin.z);
+  ray.dir_x = static_cast<float>(direction.x);
+  ray.dir_y = static_cast<float>(direction.y);
+  ray.dir_z = static_cast<float>(direction.z);
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xFFFFFFFFu;
+  ray.time = 0.0f;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
 
 }  // namespace shadow::baselines_detail

@@ -67,19 +67,7 @@ BaselineResult ray_sampling_lighting(const Scene& scene, const RaySamplingOption
                          d = light.to_light;
                          tfar = std::numeric_limits<float>::infinity();
                        }
-                       RTCRay& ray = (*rays)[n++];
-                       ray.org_x = static_cast<float>(o.x);
-                       ray.org_y = static_cast<float>(o.y);
-                       ray.org_z = static_cast<float>(o.z);
-                       ray.dir_x = static_cast<float>(d.x);
-                       ray.dir_y = static_cast<float>(d.y);
-                       ray.dir_z = static_cast<float>(d.z);
-                       ray.tnear = 0.0f;
-                       ray.tfar = tfar;
-                       ray.mask = 0xFFFFFFFFu;
-                       ray.time = 0.0f;
-                       ray.id = 0;
-                       ray.flags = 0;
+                       (*rays)[n++] = occlusion_ray(o, d, tfar);
                      }
                      if (n > 0) rtcOccluded1M(es.scene, &context, rays->data(), static_cast<unsigned>(n), sizeof(RTCRay));
                      std::uint64_t lit_count = 0;

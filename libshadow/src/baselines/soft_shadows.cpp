@@ -381,19 +381,7 @@ SoftResult ray_visibility(const Scene& scene, const Light& light, const std::vec
             tfar = static_cast<float>(1.0 - offset / len);
           }
           if (!(glm::dot(fr.n, d) > 0)) continue;  // behind the point's own face
-          RTCRay& ray = rays[filled++];
-          ray.org_x = static_cast<float>(o.x);
-          ray.org_y = static_cast<float>(o.y);
-          ray.org_z = static_cast<float>(o.z);
-          ray.dir_x = static_cast<float>(d.x);
-          ray.dir_y = static_cast<float>(d.y);
-          ray.dir_z = static_cast<float>(d.z);
-          ray.tnear = 0.0f;
-          ray.tfar = tfar;
-          ray.mask = 0xFFFFFFFFu;
-          ray.time = 0.0f;
-          ray.id = 0;
-          ray.flags = 0;
+          rays[filled++] = occlusion_ray(o, d, tfar);
           if (filled == rays.size()) flush();
         }
       flush();
