@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -65,6 +67,57 @@ int run_light_visibility(std::size_t boxes, std::size_t point_count, unsigned ma
       }
     }
   }
+  return 0;
+}
+
+namespace {
+
+/// FNV-1a over the bits of the values.
+struct Checksum {
+  std::uint64_t h = 1469598103934665603ull;
+  void add(double v) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int i = 0; i < 8; ++i) h = (h ^ ((bits >> (8 * i)) & 0xffu)) * 1099511628211ull;
+  }
+};
+
+}  // namespace
+
+int run_area_city(std::size_t boxes, double diameter, unsigned threads) {
+  const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+  shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+  shadow::Light sun;
+  sun.type = shadow::LightType::Directional;
+  sun.name = "sun";
+  sun.to_light = shadow::sun_direction(35.0, 200.0);
+  sun.angular_diameter = diameter;
+  scene.lights = {sun};
+  shadow::ShadowOptions options;
+  options.threads = threads;
+  const auto start = std::chrono::steady_clock::now();
+  const shadow::ShadowEngine engine(scene, threads);
+  const shadow::ShadowResult result = engine.compute(options);
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<shadow::Fragment> fragments = result.fragments;
+  const auto start_vis = std::chrono::steady_clock::now();
+  shadow::fill_fragment_visibility(scene, scene.lights[0], fragments, threads);
+  const double vis = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_vis).count();
+  Checksum areas, cells;
+  std::size_t vertices = 0;
+  for (const shadow::FaceLighting& f : result.lighting)
+    for (double v : {f.lit_area, f.shadow_area, f.fully_lit_area, f.penumbra_area, f.umbra_area}) areas.add(v);
+  for (const shadow::Fragment& f : result.fragments) {
+    cells.add(static_cast<double>(f.region));
+    for (const glm::dvec3& p : f.polygon) cells.add(p.x), cells.add(p.y), cells.add(p.z);
+    for (double v : f.visibility) cells.add(v);
+    vertices += f.polygon.size();
+  }
+  std::printf("city of %zu boxes (%zu faces), sun disk %.2f deg at 35 deg, %u threads: %zu fragments, %zu vertices\n",
+              boxes, scene.faces.size(), diameter, threads, result.fragments.size(), vertices);
+  std::printf("compute %.3f s = regions %.3f s + fragment visibility %.3f s\n", total, total - vis, vis);
+  std::printf("checksum areas %016llx cells %016llx\n", static_cast<unsigned long long>(areas.h),
+              static_cast<unsigned long long>(cells.h));
   return 0;
 }
 

@@ -713,6 +713,14 @@ int main(int argc, char** argv) {
   tiles_cmd->add_option("--tile-casters", tiles_casters, "ShadowOptions::tile_casters for the tiled rows");
   tiles_cmd->add_option("--fast-tile-casters", tiles_fast_casters, "ShadowOptions::fast_tile_casters for the tiled rows");
   tiles_cmd->add_flag("--no-untiled", tiles_no_untiled, "Leave out the untiled rows");
+  std::size_t city_boxes = 200;
+  double city_diameter = 0.53;
+  unsigned city_threads = 1;
+  CLI::App* city_cmd = app.add_subcommand(
+      "area-city", "ShadowEngine::compute for a city under a sun disk: regions and fragment visibility (docs/area-lights.md)");
+  city_cmd->add_option("--boxes", city_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
+  city_cmd->add_option("--diameter", city_diameter, "The sun's angular diameter (degrees)")->check(CLI::PositiveNumber);
+  city_cmd->add_option("--threads", city_threads, "Threads")->check(CLI::PositiveNumber);
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
@@ -725,6 +733,7 @@ int main(int argc, char** argv) {
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
   if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
+  if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);

@@ -54,7 +54,8 @@ std::vector<double> light_irradiance(const Scene& scene, const Light& light, con
 /// extended light, and on faces of `scene`): the visible fraction of the light at each vertex of
 /// its polygon (light_visibility), taken as the limit from inside the fragment: at a vertex
 /// where a face touches the receiver (a wall's foot), the value of the fragment's side, not the
-/// one of the contact point itself (docs/area-light-visibility.md). ShadowEngine::compute and
+/// one of the contact point itself (docs/area-light-visibility.md). Sets Fragment::irradiance
+/// in the same pass (light_irradiance, with the same limit). ShadowEngine::compute and
 /// compute_shadows call it for the fragments of extended lights.
 /// @throws InputError as light_visibility.
 void fill_fragment_visibility(const Scene& scene, const Light& light, std::vector<Fragment>& fragments,

@@ -93,6 +93,10 @@ struct Fragment {
   /// Extended lights: the visible fraction (0..1) of the light at each vertex of `polygon`, in
   /// order; empty for point lights.
   std::vector<double> visibility;
+  /// Extended lights: the irradiance (W/m^2) delivered through the visible part of the light at
+  /// each vertex of `polygon` (light_irradiance, taken as the same limit from inside the
+  /// fragment as `visibility`), computed in the same pass; empty for point lights.
+  std::vector<double> irradiance;
 };
 
 /// Lit and shadowed areas of one receiving face under one light.

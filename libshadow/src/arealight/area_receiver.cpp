@@ -24,6 +24,7 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
 #include "geometry/clip_convex.hpp"
+#include "geometry/unit_vector.hpp"
 
 #include <shadow/error.hpp>
 
@@ -615,7 +616,7 @@ AreaLightPrep prepare_area_light(const core::PreparedScene& ctx, const Light& li
   if (!lp.shape.finite) {
     // The sun's frame: c the central direction, u and v across it; the cone's spread across c
     // per unit along it (its directions have c . d = 1 up to rounding).
-    lp.c = glm::normalize(light.to_light);
+    lp.c = geometry::unit(light.to_light);  // any finite scale: |to_light|^2 may overflow
     lp.u = glm::normalize(glm::cross(lp.c, std::abs(lp.c.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     lp.v = glm::cross(lp.c, lp.u);
     for (const glm::dvec3& d : lp.shape.polygon) {

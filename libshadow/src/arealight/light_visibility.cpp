@@ -43,6 +43,26 @@ bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v
 
 std::string light_place(const std::string& what) { return "light." + what; }
 
+/// `v` scaled by a power of two so that its largest component lies in [1, 2), where it is outside
+/// [2^-20, 2^21) (left as it is inside, so ordinary inputs keep their exact values). Only the
+/// direction of a disk's normal or the sun's to_light matters; scaling keeps it exactly (up to
+/// components below 2^-1000 of the largest, which underflow), and the frames built from it
+/// (squared lengths ~|v|^4) stay far from overflow and underflow.
+glm::dvec3 tame_direction(const glm::dvec3& v) {
+  const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  const int e = std::ilogb(m);
+  if (e >= -20 && e <= 20) return v;
+  return {std::ldexp(v.x, -e), std::ldexp(v.y, -e), std::ldexp(v.z, -e)};
+}
+
+/// A few dozen units in the last place of the largest coordinate of p: how far a point
+/// rounded to doubles can be from the exact point it stands for (0 at the origin).
+double rounding_eps(const glm::dvec3& p) {
+  const double size = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  if (!(size > 0.0)) return 0.0;
+  return std::ldexp(64.0, std::ilogb(size) - std::numeric_limits<double>::digits + 1);
+}
+
 /// What kind of shape is measured on the target plane.
 enum class Shape { Polygon, Disk, Sun };
 
@@ -85,7 +105,7 @@ LightPlan plan_light(const Light& light) {
     if (!(std::isfinite(light.radius) && light.radius > 0.0))
       throw InputError({"", light_place("radius")}, "radius must be finite and > 0");
     plan.centre = light.position;
-    plan.normal = light.normal;
+    plan.normal = tame_direction(light.normal);
     plan.radius = light.radius;
   } else {
     plan.shape = Shape::Sun;
@@ -93,7 +113,7 @@ LightPlan plan_light(const Light& light) {
       throw InputError({"", light_place("to_light")}, "direction must be finite and non-zero");
     if (!(std::isfinite(light.angular_diameter) && light.angular_diameter > 0.0 && light.angular_diameter <= 170.0))
       throw InputError({"", light_place("angular_diameter")}, "angular_diameter must be in (0, 170] degrees");
-    plan.normal = light.to_light;
+    plan.normal = tame_direction(light.to_light);
     plan.radius = std::tan(0.5 * light.angular_diameter * kPi / 180.0);
   }
   return plan;
@@ -410,13 +430,13 @@ class Evaluator {
     }
     Target& t = *w.target;
     // A fragment vertex is a rounded double: one on a contact line may lie a rounding error on
-    // the wrong side of the face through it. Where a face passes within 1e-9 (relative) of the
-    // point but not exactly through it, the value is taken at the point moved by `toward`
-    // (into the fragment by 1e-6 of the shorter adjacent edge, at least 1e-7 of the
-    // coordinates' size, at most half the edge), exactly.
+    // the wrong side of the face through it. Where a face passes within 64 units in the last
+    // place of the point's coordinates but not exactly through it, the value is taken at the
+    // point moved by `toward` (into the fragment by 1e-6 of the shorter adjacent edge, at least
+    // 1,000 times that distance, at most half the edge), exactly.
     if (toward != glm::dvec3(0.0) && finite3(toward)) {
-      const double eps = 1e-9 * (1.0 + std::max({std::abs(sp.position.x), std::abs(sp.position.y), std::abs(sp.position.z)}));
-      if (glm::length(toward) > 10.0 * eps && near_contact(w, sp, eps)) {
+      const double eps = rounding_eps(sp.position);
+      if (eps > 0.0 && glm::length(toward) > 10.0 * eps && near_contact(w, sp, eps)) {
         SurfacePoint moved = sp;
         moved.position += toward;
         return evaluate(w, moved, glm::dvec3(0.0));
@@ -814,10 +834,11 @@ void add_fragment_points(const Scene& scene, const Fragment& f, std::vector<Surf
       if (glm::length(bisector) > 1e-9 && turn != 0.0) dir = turn > 0 ? bisector : -bisector;
       else dir = glm::cross(normal, to_next);  // a straight corner: left of the way round
       const double len = glm::length(dir);
-      // 1e-6 of the shorter edge, at least 1e-7 of the coordinates' size, at most half the edge.
+      // 1e-6 of the shorter edge, at least 1,000 times the rounding distance of the vertex's
+      // coordinates (rounding_eps), at most half the edge: tied to the fragment, not to where
+      // the scene lies (a georeferenced scene at 5e6 m takes the same step as at the origin).
       const double edge = std::min(lp, ln);
-      const double size = 1.0 + std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-      const double step = std::min(0.5 * edge, std::max(1e-6 * edge, 1e-7 * size));
+      const double step = std::min(0.5 * edge, std::max(1e-6 * edge, 1e3 * rounding_eps(v)));
       dir = len > 0 ? dir * (step / len) : glm::dvec3(0.0);
     }
     points.push_back({f.face_id, v});
@@ -834,28 +855,16 @@ void fill_light_fragment_visibility(const Scene& scene, const Light& light, std:
   for (const Fragment& f : fragments)
     if (f.light_id == light_id) add_fragment_points(scene, f, points, toward);
   if (points.empty()) return;
-  const auto values = light_visibility_irradiance(scene, light, points, threads, false, toward);
+  const auto values = light_visibility_irradiance(scene, light, points, threads, true, toward);
   std::size_t next = 0;
   for (Fragment& f : fragments) {
     if (f.light_id != light_id) continue;
     f.visibility.resize(f.polygon.size());
-    for (double& v : f.visibility) v = values[next++].first;
-  }
-}
-
-void light_fragment_irradiance(const Scene& scene, const Light& light, std::size_t light_id,
-                               const std::vector<Fragment>& fragments, const std::vector<std::size_t>& offsets,
-                               double* out) {
-  std::vector<SurfacePoint> points;
-  std::vector<glm::dvec3> toward;
-  for (const Fragment& f : fragments)
-    if (f.light_id == light_id) add_fragment_points(scene, f, points, toward);
-  if (points.empty()) return;
-  const auto values = light_visibility_irradiance(scene, light, points, 0, true, toward);
-  std::size_t next = 0;
-  for (std::size_t c = 0; c < fragments.size(); ++c) {
-    if (fragments[c].light_id != light_id) continue;
-    for (std::size_t i = 0; i < fragments[c].polygon.size(); ++i) out[offsets[c] + i] = values[next++].second;
+    f.irradiance.resize(f.polygon.size());
+    for (std::size_t i = 0; i < f.polygon.size(); ++i, ++next) {
+      f.visibility[i] = values[next].first;
+      f.irradiance[i] = values[next].second;
+    }
   }
 }
 
@@ -882,11 +891,15 @@ void fill_fragment_visibility(const Scene& scene, const Light& light, std::vecto
   std::vector<SurfacePoint> points;
   std::vector<glm::dvec3> toward;
   for (const Fragment& f : fragments) shadow::detail::add_fragment_points(scene, f, points, toward);
-  const auto values = shadow::detail::light_visibility_irradiance(scene, light, points, threads, false, toward);
+  const auto values = shadow::detail::light_visibility_irradiance(scene, light, points, threads, true, toward);
   std::size_t next = 0;
   for (Fragment& f : fragments) {
     f.visibility.resize(f.polygon.size());
-    for (double& v : f.visibility) v = values[next++].first;
+    f.irradiance.resize(f.polygon.size());
+    for (std::size_t i = 0; i < f.polygon.size(); ++i, ++next) {
+      f.visibility[i] = values[next].first;
+      f.irradiance[i] = values[next].second;
+    }
   }
 }
 

@@ -21,16 +21,10 @@ std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& 
                                                                    unsigned threads, bool irradiance,
                                                                    const std::vector<glm::dvec3>& toward = {});
 
-/// Sets Fragment::visibility of the fragments in `fragments` whose light_id is `light_id`
-/// (`light`, extended), in one batch over all their vertices; other fragments are left as they are.
+/// Sets Fragment::visibility and Fragment::irradiance of the fragments in `fragments` whose
+/// light_id is `light_id` (`light`, extended), in one batch over all their vertices on `threads`
+/// threads; other fragments are left as they are.
 void fill_light_fragment_visibility(const Scene& scene, const Light& light, std::size_t light_id,
                                     std::vector<Fragment>& fragments, unsigned threads);
-
-/// The irradiance of `light` (extended) at each vertex of the fragments whose light_id is
-/// `light_id`, written at out + offsets[c] for fragment c (offsets: where each fragment's
-/// vertices start); other fragments' entries are left as they are.
-void light_fragment_irradiance(const Scene& scene, const Light& light, std::size_t light_id,
-                               const std::vector<Fragment>& fragments, const std::vector<std::size_t>& offsets,
-                               double* out);
 
 }  // namespace shadow::detail

@@ -3,7 +3,6 @@
 
 #include "core/lights.hpp"
 #include "geometry/unit_vector.hpp"
-#include "arealight/light_visibility.hpp"
 #include "lighting/fragment_irradiance.hpp"
 #include "output/face_orientation.hpp"
 #include "output/names.hpp"
@@ -26,6 +25,7 @@
 #include <vtkTypeInt32Array.h>
 #include <vtkTypeInt64Array.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -173,11 +173,13 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
   for (const Fragment& f : fragments) any_visibility = any_visibility || !f.visibility.empty();
   vtkSmartPointer<vtkDoubleArray> visibility;
   if (!extended_ids.empty() && any_visibility) {
-    std::vector<std::size_t> offsets(n);
-    std::size_t next = 0;
-    for (std::size_t c = 0; c < n; ++c) offsets[c] = next, next += fragments[c].polygon.size();
-    for (std::size_t l : extended_ids)
-      light_fragment_irradiance(scene, scene.lights[l], l, fragments, offsets, irradiance->GetPointer(0));
+    // The engine computed the irradiance with the visibility (Fragment::irradiance): kept, not
+    // recomputed here.
+    double* e = irradiance->GetPointer(0);
+    for (const Fragment& f : fragments) {
+      if (f.irradiance.size() == f.polygon.size()) std::copy(f.irradiance.begin(), f.irradiance.end(), e);
+      e += f.polygon.size();
+    }
     visibility = make_array<vtkDoubleArray>("visibility", point_count);
     double* v = visibility->GetPointer(0);
     for (const Fragment& f : fragments)
