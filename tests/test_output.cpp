@@ -683,6 +683,22 @@ TEST_F(OutputTest, ReportIsPrettyPrintedWithTwoSpaceIndentInAFixedKeyOrder) {
                                             "planes", "summary", "stats", "warnings"}));
 }
 
+TEST_F(OutputTest, ReportStatsNameTilesOnlyWhenReceiversWereSplit) {
+  std::ostringstream whole;
+  shadow::write_report_json(whole, scene_, result_);
+  const auto stats = nlohmann::json::parse(whole.str())["stats"];
+  EXPECT_FALSE(stats.contains("tiled_receivers"));  // additive keys: earlier reports unchanged
+  EXPECT_FALSE(stats.contains("tiles"));
+  ShadowResult tiled = result_;
+  tiled.stats.tiled_receivers = 2;
+  tiled.stats.tiles = 17;
+  std::ostringstream text;
+  shadow::write_report_json(text, scene_, tiled);
+  const auto with = nlohmann::json::parse(text.str())["stats"];
+  EXPECT_EQ(with["tiled_receivers"], 2);
+  EXPECT_EQ(with["tiles"], 17);
+}
+
 TEST_F(OutputTest, ReportWithoutFacesIsStillPrettyPrinted) {
   std::ostringstream text;
   shadow::write_report_json(text, Scene{}, ShadowResult{});

@@ -6,11 +6,14 @@
 #include "fast/error_bound.hpp"
 #include "fast/strip_union.hpp"
 
+#include <shadow/shadow.hpp>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string>
 
 namespace {
 
@@ -75,10 +78,11 @@ TEST(StripUnion, AreaWithinTheRoundingOfItsLevels) {
     const int levels = shadow::fast::strip_union(polygons, dx, dy, strips, options);
     EXPECT_GE(levels, 2) << "seed " << seed;
     // What unite() charges: the grid's rounding is half a step per axis (rho = sqrt(2)/2 in grid
-    // units); the plain union has its one level, the strips `levels` of them.
+    // units) per level.
     const double rho = 0.5 * std::sqrt(2.0);
     shadow::fast::LitAreaBound bound;
-    bound.union_rounding(perimeter(polygons), levels * rho);
+    // The strips carry `levels` roundings and the one-pass union it is compared with its own.
+    bound.union_rounding(perimeter(polygons), (levels + 1) * rho);
     const double allowed = bound.unshadowed(1.0);
     const double plain = 0.5 * static_cast<double>(one_pass(polygons));
     const double strip = 0.5 * static_cast<double>(area2(strips));
@@ -115,6 +119,63 @@ TEST(StripUnion, DisjointPolygonsKeepTheirExactArea) {
   EXPECT_GE(shadow::fast::strip_union(squares, 1, 1, strips, {100, 16}), 2);
   EXPECT_EQ(area2(strips), total);
   EXPECT_EQ(strips.size(), squares.size());
+}
+
+/// Sets the engine's strip-union options for one scope (internal knob), then restores them.
+class EngineStrips {
+ public:
+  explicit EngineStrips(const shadow::fast::StripUnionOptions& options)
+      : saved_(shadow::fast::engine_strip_union().options) {
+    shadow::fast::engine_strip_union().options = options;
+    shadow::fast::engine_strip_union().used = 0;
+  }
+  ~EngineStrips() { shadow::fast::engine_strip_union().options = saved_; }
+  EngineStrips(const EngineStrips&) = delete;
+  EngineStrips& operator=(const EngineStrips&) = delete;
+  std::uint64_t used() const { return shadow::fast::engine_strip_union().used.load(); }
+
+ private:
+  shadow::fast::StripUnionOptions saved_;
+};
+
+// Inside the engine: a low threshold sends a small city's ground (and walls) under a low sun
+// through the strips; its fast areas stay within their bounds of the exact ones, areas only (the
+// strips' area is the shadow's) and with polygons (the strips' union stands for the casts).
+TEST(StripUnion, EngineFastAreasWithinBoundsThroughTheStrips) {
+  using namespace shadow;
+  Scene scene = make_city(120, 110, 4);
+  scene.lights.push_back(directional_light("low sun", sun_direction(6, 130)));
+  scene.lights.push_back(directional_light("sun", sun_direction(30, 200)));
+  validate_scene(scene);
+  ShadowOptions exact_options;
+  exact_options.threads = 2;
+  exact_options.polygons = false;
+  exact_options.planes = false;
+  const ShadowResult exact = compute_shadows(scene, exact_options);
+  for (const fast::StripUnionOptions& strips : {fast::StripUnionOptions{12, 4, 0}, fast::StripUnionOptions{12, 4, 2}})
+    for (bool polygons : {false, true}) {
+      const std::string label = std::string(polygons ? "polygons" : "areas only") + ", fan-in " +
+                                std::to_string(strips.fan_in);
+      const EngineStrips knob(strips);
+      ShadowOptions o = exact_options;
+      o.arithmetic = Arithmetic::Fast;
+      o.polygons = polygons;
+      o.fast_tile_casters = 0;
+      const ShadowResult fast = compute_shadows(scene, o);
+      EXPECT_GT(knob.used(), 10u) << label;  // the strips were reached
+      ASSERT_EQ(fast.lighting.size(), exact.lighting.size());
+      std::size_t shadowed = 0;
+      for (std::size_t n = 0; n < fast.lighting.size(); ++n) {
+        const FaceLighting& e = exact.lighting[n];
+        const FaceLighting& f = fast.lighting[n];
+        EXPECT_LE(std::abs(f.lit_area - e.lit_area), f.lit_area_error_bound)
+            << label << ": face " << f.face_id << " light " << f.light_id;
+        EXPECT_LE(f.lit_area_error_bound, 1e-5 * (1 + e.area)) << label << ": face " << f.face_id;
+        shadowed += e.shadow_area > 0 ? 1 : 0;
+      }
+      EXPECT_GT(shadowed, 50u) << label;
+    }
+  EXPECT_EQ(fast::engine_strip_union().options.threshold, fast::StripUnionOptions{}.threshold);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 // bounds of the exact ones, its fragments (cut at tile borders) must add up to the face and to
 // the lit and shadowed areas, and nothing may depend on the thread count. Small thresholds on
 // small seeded cities, so that the ground (and some walls) are cut into many tiles.
+#include "core/tiles.hpp"
+
 #include <shadow/shadow.hpp>
 
 #include <gtest/gtest.h>
@@ -148,6 +150,50 @@ TEST(Tiles, ResultsDoNotDependOnTheThreadCount) {
       EXPECT_EQ(one.fragments[n].polygon, three.fragments[n].polygon);
     }
   }
+}
+
+/// A box face prep with chart box [0, w] x [0, h].
+core::FacePrep box_prep(double w, double h) {
+  core::FacePrep fp;
+  fp.chart_is_box = true;
+  fp.chart_min = {0, 0};
+  fp.chart_max = {w, h};
+  return fp;
+}
+
+/// The tiles partition the box: borders shared exactly, first and last at the box's sides.
+void expect_partition(const std::vector<core::FacePrep>& tiles, double w, double h) {
+  std::size_t at_origin = 0;
+  for (const core::FacePrep& t : tiles) {
+    EXPECT_LT(t.chart_min[0], t.chart_max[0]);
+    EXPECT_LT(t.chart_min[1], t.chart_max[1]);
+    EXPECT_GE(t.chart_min[0], 0.0);
+    EXPECT_GE(t.chart_min[1], 0.0);
+    EXPECT_LE(t.chart_max[0], w);
+    EXPECT_LE(t.chart_max[1], h);
+    at_origin += t.chart_min[0] == 0 && t.chart_min[1] == 0 ? 1 : 0;
+  }
+  if (!tiles.empty()) EXPECT_EQ(at_origin, 1u);
+}
+
+TEST(Tiles, TileCountIsBoundedOnDegenerateBoxes) {
+  // Sides near 1e-162: w * h underflows to 0, which once made a million tiles.
+  for (double side : {1e-162, 1e-200, 1e-300}) {
+    const auto tiles = core::make_tiles(box_prep(side, side), 1000000, 1);
+    EXPECT_LE(tiles.size(), 1024u) << side;
+    expect_partition(tiles, side, side);
+  }
+  // Subnormal: h / wanted underflows to 0; no tiles rather than a division by zero.
+  EXPECT_TRUE(core::make_tiles(box_prep(1, 5e-324), 1000000, 1).empty());
+  // Both sides rounded up (4 x 3 for 10 wanted): the product is capped, not each side alone.
+  const auto capped = core::make_tiles(box_prep(1.5, 1), 10, 1, 10);
+  EXPECT_LE(capped.size(), 10u);
+  EXPECT_GE(capped.size(), 2u);
+  expect_partition(capped, 1.5, 1);
+  // A long thin box: one row, at most max_tiles cells.
+  const auto row = core::make_tiles(box_prep(1e6, 1), 5000, 1, 64);
+  EXPECT_EQ(row.size(), 64u);
+  expect_partition(row, 1e6, 1);
 }
 
 TEST(Tiles, DefaultsLeaveSmallScenesWhole) {

@@ -45,6 +45,8 @@ struct ComputeArgs {
   std::string arithmetic = "exact";
   bool orient_outward = false;
   std::string lod;  // CityJSON level of detail; empty: the highest per object
+  std::size_t tile_casters = shadow::ShadowOptions{}.tile_casters;
+  std::size_t fast_tile_casters = shadow::ShadowOptions{}.fast_tile_casters;
 };
 
 
@@ -119,6 +121,8 @@ int run_compute(const ComputeArgs& args) {
   options.polygons = !args.areas_only;
   options.plane_window = args.plane_window;
   if (args.arithmetic == "fast") options.arithmetic = shadow::Arithmetic::Fast;
+  options.tile_casters = args.tile_casters;
+  options.fast_tile_casters = args.fast_tile_casters;
   run.options = options;  // without the progress callback, which is no part of the identity
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::ShadowResult result;
@@ -212,6 +216,16 @@ int main(int argc, char** argv) {
   compute->add_flag("--orient-outward", args.orient_outward,
                     "Turn the closed parts of every mesh outward: make each part's faces consistent, then "
                     "reverse a part whose faces point inward (each change is a warning)");
+  compute->add_option("--tile-casters", args.tile_casters,
+                      "Split a large receiver into tiles when it has more candidate casters than this "
+                      "(exact arithmetic; areas unchanged, fragments cut at tile borders; 0: never; "
+                      "docs/tiles.md)")
+      ->default_val(shadow::ShadowOptions{}.tile_casters)
+      ->check(CLI::NonNegativeNumber);
+  compute->add_option("--fast-tile-casters", args.fast_tile_casters,
+                      "The same for --arithmetic fast (areas change within their bounds; 0: never)")
+      ->default_val(shadow::ShadowOptions{}.fast_tile_casters)
+      ->check(CLI::NonNegativeNumber);
   compute->add_option("--lod", args.lod,
                       "CityJSON level of detail to read (\"1\", \"2\", \"2.2\"; default: the highest of each "
                       "city object)");

@@ -87,8 +87,11 @@ std::function<void(const Progress&)> wrap_progress(const py::object& callback) {
 
 ShadowOptions make_options(unsigned threads, bool polygons, const std::optional<std::vector<std::size_t>>& lights,
                            const std::string& arithmetic, bool planes, double plane_window,
-                           const py::object& progress) {
+                           const py::object& progress, std::size_t tile_casters = ShadowOptions{}.tile_casters,
+                           std::size_t fast_tile_casters = ShadowOptions{}.fast_tile_casters) {
   ShadowOptions o;
+  o.tile_casters = tile_casters;
+  o.fast_tile_casters = fast_tile_casters;
   o.threads = threads;
   o.polygons = polygons;
   if (lights) o.lights = *lights;
@@ -617,7 +620,9 @@ PYBIND11_MODULE(_libshadow, m) {
   const char* options_doc =
       "threads: workers (0: every hardware thread); polygons: also the lit/shadowed polygons;\n"
       "lights: indices of scene lights (None: all); arithmetic: 'exact' or 'fast' (with error bounds);\n"
-      "progress: callable(done, total), called with the GIL held; an exception it raises stops the run.";
+      "progress: callable(done, total), called with the GIL held; an exception it raises stops the run;\n"
+      "tile_casters, fast_tile_casters: split a receiver with more candidate casters than this into tiles\n"
+      "(exact: areas unchanged; fast: within the bounds; fragments cut at tile borders; 0: never).";
 
   py::class_<Engine>(m, "ShadowEngine",
                      "Prepares a scene once (exact face data) and computes shadows for many lights.")
@@ -631,21 +636,30 @@ PYBIND11_MODULE(_libshadow, m) {
            py::arg("scene"), py::arg("threads") = 0)
       .def("compute",
            [](const Engine& e, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
-              const std::string& arithmetic, const py::object& progress) {
-             return run_compute(e.scene, make_options(threads, polygons, lights, arithmetic, true, 0.0, progress),
+              const std::string& arithmetic, const py::object& progress, std::size_t tile_casters,
+              std::size_t fast_tile_casters) {
+             return run_compute(e.scene,
+                                make_options(threads, polygons, lights, arithmetic, true, 0.0, progress, tile_casters,
+                                             fast_tile_casters),
                                 [&](const ShadowOptions& o) { return e.engine->compute(o); });
            },
            py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
-           py::arg("arithmetic") = "exact", py::arg("progress") = py::none(), options_doc)
+           py::arg("arithmetic") = "exact", py::arg("progress") = py::none(),
+           py::arg("tile_casters") = ShadowOptions{}.tile_casters,
+           py::arg("fast_tile_casters") = ShadowOptions{}.fast_tile_casters, options_doc)
       .def("compute_light",
            [](const Engine& e, const Light& light, std::size_t light_id, unsigned threads, bool polygons,
-              const std::string& arithmetic, const py::object& progress) {
+              const std::string& arithmetic, const py::object& progress, std::size_t tile_casters,
+              std::size_t fast_tile_casters) {
              return run_compute(e.scene,
-                                make_options(threads, polygons, std::nullopt, arithmetic, true, 0.0, progress),
+                                make_options(threads, polygons, std::nullopt, arithmetic, true, 0.0, progress,
+                                             tile_casters, fast_tile_casters),
                                 [&](const ShadowOptions& o) { return e.engine->compute(light, light_id, o); });
            },
            py::arg("light"), py::arg("light_id"), py::arg("threads") = 0, py::arg("polygons") = true,
            py::arg("arithmetic") = "exact", py::arg("progress") = py::none(),
+           py::arg("tile_casters") = ShadowOptions{}.tile_casters,
+           py::arg("fast_tile_casters") = ShadowOptions{}.fast_tile_casters,
            "Any light, not necessarily in the scene; results carry light_id.")
       .def("compute_series",
            [](const Engine& e, std::optional<std::vector<Light>> lights, unsigned threads,
@@ -875,14 +889,20 @@ PYBIND11_MODULE(_libshadow, m) {
 
   m.def("compute_shadows",
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
-           const std::string& arithmetic, bool planes, double plane_window, const py::object& progress) {
-          return run_compute(scene, make_options(threads, polygons, lights, arithmetic, planes, plane_window, progress),
+           const std::string& arithmetic, bool planes, double plane_window, const py::object& progress,
+           std::size_t tile_casters, std::size_t fast_tile_casters) {
+          return run_compute(scene,
+                             make_options(threads, polygons, lights, arithmetic, planes, plane_window, progress,
+                                          tile_casters, fast_tile_casters),
                              [&](const ShadowOptions& o) { return compute_shadows(*scene, o); });
         },
         py::arg("scene"), py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
         py::arg("arithmetic") = "exact", py::arg("planes") = true, py::arg("plane_window") = 0.0,
-        py::arg("progress") = py::none(),
-        "One call: every selected light on every receiving face and (planes) on every plane.");
+        py::arg("progress") = py::none(), py::arg("tile_casters") = ShadowOptions{}.tile_casters,
+        py::arg("fast_tile_casters") = ShadowOptions{}.fast_tile_casters,
+        "One call: every selected light on every receiving face and (planes) on every plane.\n"
+        "tile_casters, fast_tile_casters: split a receiver with more candidate casters than this into\n"
+        "tiles (exact: areas unchanged; fast: within the bounds; fragments cut at tile borders; 0: never).");
   m.def("compute_plane_shadows",
         [](const ScenePtr& scene, unsigned threads, std::optional<std::vector<std::size_t>> lights, double plane_window) {
           ShadowOptions o = make_options(threads, true, lights, "exact", true, plane_window, py::none());

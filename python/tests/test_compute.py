@@ -96,6 +96,19 @@ def test_threads_give_the_same_results(default_scene):
         assert np.array_equal(one.fragment_area, other.fragment_area)
 
 
+def test_tile_options(default_scene):
+    whole = libshadow.compute_shadows(default_scene, threads=2, tile_casters=0)
+    tiled = libshadow.compute_shadows(default_scene, threads=2, tile_casters=1)
+    assert whole.stats["tiled_receivers"] == 0
+    assert tiled.stats["tiled_receivers"] > 0 and tiled.stats["tiles"] >= 2 * tiled.stats["tiled_receivers"]
+    # Exact tiles change no area bit; fragments are cut at tile borders.
+    for key in ARRAYS:
+        assert np.array_equal(getattr(whole, key), getattr(tiled, key)), key
+    assert len(tiled.fragments) > len(whole.fragments)
+    fast = libshadow.ShadowEngine(default_scene).compute(threads=2, arithmetic="fast", fast_tile_casters=1)
+    assert fast.stats["tiled_receivers"] > 0
+
+
 def test_engine_shared_by_python_threads(default_scene):
     """One engine, four Python threads computing at once (the GIL is released while it works):
     each gets what one computation alone gets."""

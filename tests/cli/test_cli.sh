@@ -375,6 +375,18 @@ if [[ -f "$EXAMPLES/default/scene.json" ]]; then
   else
     fail "exact_report_states_arithmetic" "report.json should say exact, without bounds"
   fi
+  # Tiles: --tile-casters 1 splits receivers with a caster (named in stats and options);
+  # 0 never splits, and the defaults write neither key.
+  expect_success tiles_on "$EXAMPLES/default/scene.json" --quiet --tile-casters 1
+  expect_success tiles_off "$EXAMPLES/default/scene.json" --quiet --tile-casters 0 --fast-tile-casters 0
+  if grep -q '"tiled_receivers"' "$WORK/out-tiles_on/report.json" &&
+     grep -q '"tile_casters": 1' "$WORK/out-tiles_on/report.json" &&
+     ! grep -q '"tiled_receivers"' "$WORK/out-tiles_off/report.json" &&
+     ! grep -q '"tiled_receivers"\|"tile_casters"' "$WORK/out-exact_arithmetic/report.json"; then
+    pass "tile_options_reach_report"
+  else
+    fail "tile_options_reach_report" "report.json: tiled_receivers or tile_casters missing or unexpected"
+  fi
 fi
 status=0
 "$SHADOW" compute "$S/three_meshes.json" -o "$WORK/out-bad-arith" --arithmetic sloppy >/dev/null 2>&1 || status=$?

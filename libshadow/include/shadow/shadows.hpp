@@ -295,8 +295,10 @@ class ShadowEngine {
                                      const ShadowOptions& options = {}) const;
 
   /// Lit areas of every receiving face under each of `lights` (the suns of a period), without
-  /// a ShadowResult per light: the prepared faces, the per-thread exact faces and caster lists
-  /// are shared by every instant, and the work is spread over instants and receivers together.
+  /// a ShadowResult per light: the prepared faces, light-space grids and per-thread caster
+  /// lists are shared by the instants (the per-thread exact faces too, up to 4,096 faces a
+  /// thread; above that they are rebuilt as needed), and the work is spread over instants and
+  /// receivers together.
   /// Values equal compute(lights[i], i, {polygons = false}) bit for bit (Arithmetic::Fast: with
   /// fast_tile_casters = 0; receivers are not split into tiles here). Lights are checked
   /// like compute(light, ...) (named `lights[i]`).

@@ -33,8 +33,9 @@ struct TileRequest {
 inline bool tileable(const FacePrep& fp) { return !fp.degenerate && fp.chart_is_box; }
 
 /// The tiles of face `fp`: about ceil(candidates / per_tile) square cells of its chart box (at
-/// most `max_tiles`), in rows; each a copy of `fp` with the cell as its chart box. Borders are
-/// doubles shared exactly by neighbouring tiles: the tiles partition the box.
+/// most `max_tiles` in all; none for a box too small to cut), in rows; each a copy of `fp` with
+/// the cell as its chart box. Borders are doubles shared exactly by neighbouring tiles: the
+/// tiles partition the box.
 inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidates, std::size_t per_tile,
                                         std::size_t max_tiles = 1024) {
   std::vector<FacePrep> tiles;
@@ -42,11 +43,16 @@ inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidat
   if (!(w > 0) || !(h > 0) || per_tile == 0) return tiles;
   const double wanted = std::clamp(std::ceil(static_cast<double>(candidates) / static_cast<double>(per_tile)), 1.0,
                                    static_cast<double>(max_tiles));
-  const double side = std::sqrt(w * h / wanted);
+  // sqrt(w) * sqrt(h / wanted), not sqrt(w * h / wanted): w * h underflows to 0 for sides near
+  // 1e-162 (validation accepts them), which would make every side count max_tiles.
+  const double side = std::sqrt(w) * std::sqrt(h / wanted);
+  if (!std::isfinite(side) || !(side > 0)) return tiles;
   const auto count = [&](double length) {
     return static_cast<std::size_t>(std::clamp(std::round(length / side), 1.0, static_cast<double>(max_tiles)));
   };
-  const std::size_t ni = count(w), nj = count(h);
+  std::size_t ni = count(w), nj = count(h);
+  // Each side is clamped on its own; the product may not exceed max_tiles either.
+  while (ni * nj > max_tiles && ni * nj > 1) (ni >= nj ? ni : nj) -= 1;
   auto border = [&](int c, std::size_t k, std::size_t n) {
     if (k == 0) return fp.chart_min[c];
     if (k == n) return fp.chart_max[c];

@@ -876,9 +876,12 @@ class ReceiverJob {
       CL::Paths united;
       double levels = 1;
       bool strips_only = false;
-      if (casts_.size() > StripUnionOptions{}.threshold) {
+      EngineStripUnion& strips = engine_strip_union();
+      if (casts_.size() > strips.options.threshold) {
+        strips.used.fetch_add(1, std::memory_order_relaxed);
         const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
-        const int strip_levels = strip_union(casts_, along.x * grid_.scale[0], along.y * grid_.scale[1], united);
+        const int strip_levels =
+            strip_union(casts_, along.x * grid_.scale[0], along.y * grid_.scale[1], united, strips.options);
         casts = &united;
         strips_only = fp_.chart_is_box && !polygons_ && maybe_.empty();
         levels = strip_levels + (strips_only ? 0 : 1);
@@ -1029,6 +1032,11 @@ class ReceiverJob {
 };
 
 }  // namespace
+
+EngineStripUnion& engine_strip_union() {
+  static EngineStripUnion state;
+  return state;
+}
 
 bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
                       const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,

@@ -18,8 +18,10 @@
 #include <polyclipping/clipper.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <numeric>
 #include <utility>
@@ -38,6 +40,17 @@ struct StripUnionOptions {
   /// them in one union. Each pass is one more level of rounding in the bound.
   std::size_t fan_in = 0;
 };
+
+/// The options the engine's fast receivers use (fast/fast_receiver.cpp): StripUnionOptions{}
+/// unless a test changed them, and how many receivers (or tiles) went through the strips. An
+/// internal knob for the tests (test_strip_union: a low threshold, so that a small city reaches
+/// the strips inside the engine); change it only while no computation runs. Defined in
+/// fast/fast_receiver.cpp.
+struct EngineStripUnion {
+  StripUnionOptions options;
+  std::atomic<std::uint64_t> used{0};
+};
+EngineStripUnion& engine_strip_union();
 
 /// Unites `polygons` (closed, non-zero fill) into `out` (Clipper's union: outer boundaries
 /// counter-clockwise, holes clockwise, non-overlapping). (dx, dy), in grid units, points along

@@ -173,6 +173,10 @@ Json run_json(const Scene& scene, const ShadowResult& result, const RunInfo* run
                     {"lights", o.lights},
                     {"arithmetic", o.arithmetic == Arithmetic::Fast ? "fast" : "exact"},
                     {"planarity_tolerance", run->planarity_tolerance}};
+    // Additive keys, written only when not the defaults (earlier reports stay as they were).
+    const ShadowOptions defaults;
+    if (o.tile_casters != defaults.tile_casters) j["options"]["tile_casters"] = o.tile_casters;
+    if (o.fast_tile_casters != defaults.fast_tile_casters) j["options"]["fast_tile_casters"] = o.fast_tile_casters;
   }
   return j;
 }
@@ -317,6 +321,10 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
     stats["area_light_straddles"] = result.stats.area_light_straddles;
     stats["area_projection_pieces"] = result.stats.area_projection_pieces;
     stats["area_plane_pieces"] = result.stats.area_plane_pieces;
+  }
+  if (result.stats.tiled_receivers > 0) {  // receivers split into tiles only (additive keys)
+    stats["tiled_receivers"] = result.stats.tiled_receivers;
+    stats["tiles"] = result.stats.tiles;
   }
   member("stats", dump(stats, 2));
 
