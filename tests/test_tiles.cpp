@@ -110,9 +110,14 @@ TEST(Tiles, ExactFragmentsOfTilesAddUp) {
   for (const Fragment& f : whole.fragments) ground_whole += f.face_id == 0 ? 1 : 0;
   for (const Fragment& f : tiled.fragments) ground_tiled += f.face_id == 0 ? 1 : 0;
   EXPECT_GT(ground_tiled, ground_whole);
-  // Fragment ids stay consecutive per (face, light) from where the previous pair's ended.
-  for (std::size_t n = 1; n < tiled.fragments.size(); ++n)
-    EXPECT_LE(tiled.fragments[n].fragment_id, tiled.fragments[n - 1].fragment_id + 1);
+  // Fragment ids stay consecutive per (face, light) from where the previous pair's ended:
+  // within a pair they never decrease and never skip one.
+  for (std::size_t n = 1; n < tiled.fragments.size(); ++n) {
+    const Fragment& a = tiled.fragments[n - 1];
+    const Fragment& b = tiled.fragments[n];
+    EXPECT_LE(b.fragment_id, a.fragment_id + 1);
+    if (a.face_id == b.face_id && a.light_id == b.light_id) EXPECT_GE(b.fragment_id, a.fragment_id) << b.face_id;
+  }
 }
 
 TEST(Tiles, FastTilesStayWithinTheirBounds) {
@@ -194,6 +199,23 @@ TEST(Tiles, TileCountIsBoundedOnDegenerateBoxes) {
   const auto row = core::make_tiles(box_prep(1e6, 1), 5000, 1, 64);
   EXPECT_EQ(row.size(), 64u);
   expect_partition(row, 1e6, 1);
+}
+
+TEST(Tiles, ProgressCountsSplitReceiversWhenTheirTilesAreDone) {
+  const Scene scene = city(100, 100, 12, 3);
+  for (Arithmetic a : {Arithmetic::Exact, Arithmetic::Fast}) {
+    std::vector<Progress> calls;
+    ShadowOptions o = options(a, 25, false);
+    o.progress = [&](const Progress& p) { calls.push_back(p); };
+    const ShadowResult r = compute_shadows(scene, o);
+    ASSERT_GT(r.stats.tiled_receivers, 0u);
+    ASSERT_FALSE(calls.empty());
+    for (std::size_t n = 1; n < calls.size(); ++n) {
+      EXPECT_GE(calls[n].done, calls[n - 1].done);
+      EXPECT_EQ(calls[n].total, calls[0].total);
+    }
+    EXPECT_EQ(calls.back().done, calls.back().total);
+  }
 }
 
 TEST(Tiles, DefaultsLeaveSmallScenesWhole) {

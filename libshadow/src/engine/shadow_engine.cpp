@@ -41,6 +41,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <ctime>
@@ -150,9 +151,18 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);
 
+  // Progress in receivers done: a receiver split into tiles counts when its tiles are done
+  // (in proportion during the tile round). Called from this thread only; never goes back.
+  std::atomic<std::size_t> splits_so_far{0};
+  std::size_t reported = 0;
+  auto report_receivers = [&](std::size_t done) {
+    if (done < reported) return;
+    reported = done;
+    options.progress(Progress{progress_base + done, progress_total});
+  };
   std::function<void(std::size_t)> report;
   if (options.progress)
-    report = [&](std::size_t done) { options.progress(Progress{progress_base + done, progress_total}); };
+    report = [&](std::size_t done) { report_receivers(done - std::min(done, splits_so_far.load())); };
 
   std::vector<std::optional<ExactLight>> lights(threads);
   const bool fast = options.arithmetic == Arithmetic::Fast;
@@ -202,6 +212,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
         const double t0 = thread_cpu_seconds();
         items[r] = compute_item(w, wi, receivers[r], whole, w.stats);
         if (items[r].split_candidates > 0) {
+          splits_so_far.fetch_add(1);
           std::lock_guard<std::mutex> lock(split_mutex);
           split.push_back(r);
         }
@@ -231,14 +242,23 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   first_tile.push_back(tiles.size());
   std::vector<Item> tile_items(tiles.size());
   std::vector<ShadowStats> tile_stats(tiles.size());
-  core::parallel_for(tiles.size(), threads, [&](unsigned wi, std::size_t t) {
-    Worker& w = workers[wi];
-    const double t0 = thread_cpu_seconds();
-    core::TileRequest request;
-    request.tile = &tiles[t].prep;
-    tile_items[t] = compute_item(w, wi, receivers[tiles[t].r], request, tile_stats[t]);
-    count_item(w.stats, thread_cpu_seconds() - t0);
-  });
+  std::function<void(std::size_t)> report_tiles;
+  if (options.progress)
+    report_tiles = [&](std::size_t done) {
+      const std::size_t whole = receivers.size() - split.size();
+      report_receivers(whole + (tiles.empty() ? split.size() : done * split.size() / tiles.size()));
+    };
+  core::parallel_for(
+      tiles.size(), threads,
+      [&](unsigned wi, std::size_t t) {
+        Worker& w = workers[wi];
+        const double t0 = thread_cpu_seconds();
+        core::TileRequest request;
+        request.tile = &tiles[t].prep;
+        tile_items[t] = compute_item(w, wi, receivers[tiles[t].r], request, tile_stats[t]);
+        count_item(w.stats, thread_cpu_seconds() - t0);
+      },
+      report_tiles);
 
   // Merge each split receiver's tiles into its item (on this thread only).
   Worker& w0 = workers[0];
@@ -263,7 +283,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
     for (std::size_t t = t0; t < t1; ++t) {
       add_tile_counts(stats, tile_stats[t]);
       unshadowed &= tile_stats[t].unshadowed == 1;
-      exact_tiles &= tile_items[t].lighting.lit_area_error_bound == 0;
+      exact_tiles &= tile_items[t].tile_exact;
     }
     out.faces_light = true;
     if (unshadowed) ++stats.unshadowed;

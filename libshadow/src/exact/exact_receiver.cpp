@@ -65,6 +65,7 @@ class ExactReceiverJob {
     out.face_id = face_id_;
     out.light_id = light_id_;
     out.area = (*ctx_.face_area)[face_id_];
+    item_.tile_exact = tile_;
     ++stats_.receivers;
     if (fp_.degenerate) return std::move(item_);  // zero area: nothing to light
 

@@ -80,6 +80,9 @@ struct ReceiverResult {
   /// the tiles' before rounding once. `tile_unshadowed`: nothing in front of the tile.
   FT::Exact_type tile_shadow_chart_area{0};
   bool tile_unshadowed = false;
+  /// A tile computed by the exact engine (tile_shadow_chart_area is then its shadow); false for
+  /// a tile of the fast path, whatever its bound (a fast bound of 0 does not make it exact).
+  bool tile_exact = false;
 };
 
 /// The lit part of a receiver under one light, exact, in the receiver's chart (ExactFace::chart).

@@ -858,7 +858,14 @@ class ReceiverJob {
   // ---- the union on the grid ----------------------------------------------------------------
   bool unite() {
     receiver_.clear();
-    for (int a : fp_.chart_ring) receiver_.push_back(grid_.point({face_.vertices[a][rc_.i], face_.vertices[a][rc_.j]}));
+    if (tile_) {  // the tile's rectangle (counter-clockwise in the chart, as chart_ring is)
+      const double x[4] = {fp_.chart_min[0], fp_.chart_max[0], fp_.chart_max[0], fp_.chart_min[0]};
+      const double y[4] = {fp_.chart_min[1], fp_.chart_min[1], fp_.chart_max[1], fp_.chart_max[1]};
+      for (int a = 0; a < 4; ++a) receiver_.push_back(grid_.point({x[a], y[a]}));
+    } else {
+      for (int a : fp_.chart_ring)
+        receiver_.push_back(grid_.point({face_.vertices[a][rc_.i], face_.vertices[a][rc_.j]}));
+    }
     double receiver_length = 0;
     for (std::size_t a = 0; a < fp_.chart_ring.size(); ++a) {
       const glm::dvec3& p = face_.vertices[fp_.chart_ring[a]];
