@@ -25,6 +25,7 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -288,17 +289,43 @@ double cpu_seconds() {
          1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
-/// Plane shadows of the city on its ground plane, in a forked child: wall and CPU time of the
-/// fastest of `repeat` runs (CPU time of that run, all threads).
-PlaneTiming time_planes(std::size_t boxes, double elevation, unsigned threads, int repeat) {
+/// Runs `child` in a forked process (so that each measurement has its own peak memory and no
+/// warm caches) and returns the text it produced; false when the child failed or could not start.
+bool output_of_child(const std::function<std::string()>& child, std::string& text) {
   int fds[2];
-  if (pipe(fds) != 0) return {};
+  if (pipe(fds) != 0) return false;
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
-    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
-    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
-    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+    const std::string out = child();
+    if (out.empty() || write(fds[1], out.data(), out.size()) < 0) _exit(1);
+    _exit(0);
+  }
+  close(fds[1]);
+  text.clear();
+  char buffer[512];
+  ssize_t got;
+  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return pid > 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+/// The benchmark city of `boxes` boxes at constant density under one sun from the south-east.
+shadow::Scene city_under_sun(std::size_t boxes, double elevation) {
+  const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+  shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
+  scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+  return scene;
+}
+
+/// Plane shadows of the city on its ground plane, in a forked child: wall and CPU time of the
+/// fastest of `repeat` runs (CPU time of that run, all threads).
+PlaneTiming time_planes(std::size_t boxes, double elevation, unsigned threads, int repeat) {
+  std::string text;
+  const bool ran = output_of_child([&]() -> std::string {
+    shadow::Scene scene = city_under_sun(boxes, elevation);
     scene.planes.push_back({"ground", {0, 0, 0}, {0, 0, 1}});
     shadow::validate_scene(scene);
     shadow::ShadowOptions options;
@@ -326,21 +353,11 @@ PlaneTiming time_planes(std::size_t boxes, double elevation, unsigned threads, i
     char line[256];
     const int n = std::snprintf(line, sizeof line, "%.17g %.17g %a %ld %zu %zu %d", t.wall_s, t.cpu_s, t.area,
                                 usage.ru_maxrss, t.polygons, t.regions, t.reaches ? 1 : 0);
-    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
-    _exit(0);
-  }
-  close(fds[1]);
-  std::string text;
-  char buffer[512];
-  ssize_t got;
-  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
+    return n > 0 ? std::string(line, static_cast<std::size_t>(n)) : std::string();
+  }, text);
   PlaneTiming t;
   int reaches = 0;
-  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
-         std::sscanf(text.c_str(), "%lg %lg %la %ld %zu %zu %d", &t.wall_s, &t.cpu_s, &t.area, &t.peak_kib, &t.polygons,
+  t.ok = ran && std::sscanf(text.c_str(), "%lg %lg %la %ld %zu %zu %d", &t.wall_s, &t.cpu_s, &t.area, &t.peak_kib, &t.polygons,
                      &t.regions, &reaches) == 7;
   t.reaches = reaches != 0;
   return t;
@@ -376,14 +393,9 @@ struct SunTiming {
 };
 
 SunTiming time_city_sun(std::size_t boxes, double elevation, const std::string& arithmetic, unsigned threads) {
-  int fds[2];
-  if (pipe(fds) != 0) return {};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fds[0]);
-    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
-    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
-    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+  std::string text;
+  const bool ran = output_of_child([&]() -> std::string {
+    shadow::Scene scene = city_under_sun(boxes, elevation);
     shadow::validate_scene(scene);
     const shadow::ShadowEngine engine(scene, threads);
     shadow::ShadowOptions options;
@@ -406,20 +418,10 @@ SunTiming time_city_sun(std::size_t boxes, double elevation, const std::string& 
     char line[256];
     const int n = std::snprintf(line, sizeof line, "%.17g %.17g %a %a %ld %llu", t.wall_s, t.cpu_s, t.lit, t.bound,
                                 usage.ru_maxrss, static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
-    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
-    _exit(0);
-  }
-  close(fds[1]);
-  std::string text;
-  char buffer[512];
-  ssize_t got;
-  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
+    return n > 0 ? std::string(line, static_cast<std::size_t>(n)) : std::string();
+  }, text);
   SunTiming t;
-  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
-         std::sscanf(text.c_str(), "%lg %lg %la %la %ld %llu", &t.wall_s, &t.cpu_s, &t.lit, &t.bound, &t.peak_kib,
+  t.ok = ran && std::sscanf(text.c_str(), "%lg %lg %la %la %ld %llu", &t.wall_s, &t.cpu_s, &t.lit, &t.bound, &t.peak_kib,
                      &t.fallbacks) == 6;
   return t;
 }
@@ -434,14 +436,9 @@ struct TileTiming {
 
 TileTiming time_tiles(std::size_t boxes, double elevation, bool fast, unsigned threads, std::size_t tile_casters,
                       std::size_t fast_tile_casters) {
-  int fds[2];
-  if (pipe(fds) != 0) return {};
-  const pid_t pid = fork();
-  if (pid == 0) {
-    close(fds[0]);
-    const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
-    shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
-    scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(elevation, 135.0)));
+  std::string text;
+  const bool ran = output_of_child([&]() -> std::string {
+    shadow::Scene scene = city_under_sun(boxes, elevation);
     shadow::validate_scene(scene);
     const shadow::ShadowEngine engine(scene, threads);
     shadow::ShadowOptions options;
@@ -473,20 +470,10 @@ TileTiming time_tiles(std::size_t boxes, double elevation, bool fast, unsigned t
                                 usage.ru_maxrss, static_cast<unsigned long long>(result.stats.tiles),
                                 static_cast<unsigned long long>(result.stats.tiled_receivers),
                                 static_cast<unsigned long long>(h));
-    if (n <= 0 || write(fds[1], line, static_cast<std::size_t>(n)) < 0) _exit(1);
-    _exit(0);
-  }
-  close(fds[1]);
-  std::string text;
-  char buffer[512];
-  ssize_t got;
-  while ((got = read(fds[0], buffer, sizeof buffer)) > 0) text.append(buffer, static_cast<std::size_t>(got));
-  close(fds[0]);
-  int status = 0;
-  waitpid(pid, &status, 0);
+    return n > 0 ? std::string(line, static_cast<std::size_t>(n)) : std::string();
+  }, text);
   TileTiming t;
-  t.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 &&
-         std::sscanf(text.c_str(), "%lg %lg %lg %lg %la %la %ld %llu %llu %llu", &t.wall_s, &t.cpu_s, &t.item_s,
+  t.ok = ran && std::sscanf(text.c_str(), "%lg %lg %lg %lg %la %la %ld %llu %llu %llu", &t.wall_s, &t.cpu_s, &t.item_s,
                      &t.longest_s, &t.lit, &t.bound, &t.peak_kib, &t.tiles, &t.tiled, &t.digest) == 10;
   return t;
 }
