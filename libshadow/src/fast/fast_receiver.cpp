@@ -23,6 +23,7 @@
 #include "fast/fast_receiver.hpp"
 
 #include "fast/error_bound.hpp"
+#include "fast/cluster_union.hpp"
 #include "fast/strip_union.hpp"
 #include "geometry/clip_convex.hpp"
 #include "geometry/newell_normal.hpp"
@@ -897,12 +898,17 @@ class ReceiverJob {
       bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
       CL::Clipper clipper;
       clipper.StrictlySimple(false);
-      if (!strips_only) clipper.AddPaths(*casts, CL::ptSubject, true);
+      const bool clustered = !strips_only && fp_.chart_is_box && !polygons_ && maybe_.empty();
+      if (!strips_only && !clustered) clipper.AddPaths(*casts, CL::ptSubject, true);
       // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
       const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
       if (!fp_.chart_is_box && !strips_only) clipper.AddPath(receiver_, CL::ptClip, true);
       if (strips_only) {
         for (const CL::Path& p : united) shadow2 += area2(p);  // holes come out negative
+      } else if (clustered) {
+        // Areas only: the union's area cluster by cluster (fast/cluster_union.hpp), convex
+        // singletons without a union. The same single level of rounding as one union.
+        shadow2 = clustered_union_area2(*casts);
       } else if (polygons_) {
         clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);
         CL::Paths all;
