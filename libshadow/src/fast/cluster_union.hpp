@@ -9,18 +9,22 @@
 // most of a city's casts are such singletons or small clusters, and Clipper's sweep, whose
 // active edge list spans the whole receiver, was a third of the fast path's time.
 //
-// Areas are exact integer sums (twice the area, in __int128), so the order of the clusters does
-// not matter. A singleton's area is bit for bit what a union of it alone would give. A cluster
-// of several polygons goes through one Clipper union like the whole set did: its intersection
-// points are rounded once (the same level of rounding as the one-pass union, so the same bound;
-// docs/numeric-contract.md, "The fast path").
+// A cluster of several convex polygons is measured by its boundary (boundary_union_area2): the
+// parts of each edge that no other polygon covers, integrated, with exact integer decisions and
+// the interval ends in doubles. Its area is then that of the exact union of the grid polygons up
+// to a few ulps (a stated bound), where Clipper's union rounded every intersection point to the
+// grid. Only a cluster holding a polygon that is not convex still goes through Clipper. The
+// integer parts are exact sums (twice the area, in __int128): their order does not matter.
 #pragma once
 
 #include <polyclipping/clipper.hpp>
 
 #include <algorithm>
 #include <cstddef>
+#include <cmath>
 #include <cstdint>
+#include <limits>
+#include <utility>
 #include <numeric>
 #include <vector>
 
@@ -68,16 +72,192 @@ inline bool is_convex_ccw(const ClipperLib::Path& path) {
   return changes <= 2 && twice_area(path) > 0;
 }
 
-/// Counts of what the clustered union did (for the benchmarks' per-instant summary).
-struct ClusterUnionCounts {
-  std::size_t singletons = 0;  ///< convex polygons measured without a union
-  std::size_t unions = 0;      ///< Clipper unions run (one per cluster of several polygons)
+/// The area of one cluster of convex counter-clockwise polygons from its boundary, without a
+/// union: area(P_1 u ... u P_n) = 1/2 sum over the edges e = (s, s + d) of every P_i of
+/// cross(s, d) L_e, where L_e is the measure of the parameters t in [0, 1] at which s + t d is
+/// not covered (an uncovered piece [t0, t1] of the edge contributes cross(s + t0 d, s + t1 d) / 2
+/// = (t1 - t0) cross(s, d) / 2). A point of e is covered by P_j (j != i) when it lies in P_j's
+/// interior, or on an edge of P_j collinear with e pointing the same way and j < i: a boundary
+/// shared by polygons on the same side counts once, and one with polygons on both sides counts
+/// once each way, which cancels (the union is on both sides there). All decisions are exact in
+/// integers; only the interval ends t = -a/b and the sums are in doubles, and `error` bounds what
+/// that costs (docs/numeric-contract.md, "The fast path").
+struct BoundaryArea {
+  double twice_area = 0;  ///< twice the union's area, grid units squared
+  double error = 0;       ///< bound on |twice_area - the exact value|
 };
 
-/// Twice the area of the union (non-zero fill) of `polygons`, each closed and counter-clockwise
-/// (as the fast path's casts are), computed cluster by cluster. Polygons in one cluster are
-/// those whose bounding boxes overlap with positive area, transitively.
-inline ClusterInt128 clustered_union_area2(const ClipperLib::Paths& polygons, ClusterUnionCounts* counts = nullptr) {
+///
+/// (ax, ay), any non-zero direction (the shadows' in grid units), only speeds up the search for
+/// overlapping pairs: long thin shadows along it have wide boxes but narrow extents across it.
+inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, const std::vector<std::size_t>& members,
+                                         double ax = 0, double ay = 1) {
+  namespace CL = ClipperLib;
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const std::size_t m = members.size();
+  struct Box {
+    CL::cInt x0, y0, x1, y1;
+  };
+  std::vector<Box> box(m);
+  Box all{};
+  // Extents across (ax, ay), widened far beyond their rounding (|coordinates| <= 2^31, a unit
+  // normal: under 1e-6): two polygons whose extents are apart are disjoint (a separating axis).
+  double length = std::hypot(ax, ay);
+  if (!(length > 0) || !std::isfinite(length)) {
+    ax = 0;
+    ay = 1;
+    length = 1;
+  }
+  const double nx = -ay / length, ny = ax / length, margin = 1e-3;
+  std::vector<std::pair<double, double>> across(m);
+  auto apart = [](const std::pair<double, double>& u, const std::pair<double, double>& v) {
+    return u.second < v.first || v.second < u.first;
+  };
+  for (std::size_t a = 0; a < m; ++a) {
+    const CL::Path& path = polygons[members[a]];
+    Box b{path[0].X, path[0].Y, path[0].X, path[0].Y};
+    for (const CL::IntPoint& q : path) {
+      b.x0 = std::min(b.x0, q.X);
+      b.y0 = std::min(b.y0, q.Y);
+      b.x1 = std::max(b.x1, q.X);
+      b.y1 = std::max(b.y1, q.Y);
+    }
+    box[a] = b;
+    double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
+    for (const CL::IntPoint& q : path) {
+      const double t = nx * static_cast<double>(q.X) + ny * static_cast<double>(q.Y);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+    }
+    across[a] = {lo - margin, hi + margin};
+    all = a == 0 ? b : Box{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
+  }
+  // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters).
+  std::vector<std::vector<std::size_t>> near(m);
+  {
+    std::vector<std::size_t> order(m);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return box[a].x0 != box[b].x0 ? box[a].x0 < box[b].x0 : a < b;
+    });
+    std::vector<std::size_t> open;
+    for (std::size_t p : order) {
+      const Box& b = box[p];
+      std::size_t kept = 0;
+      for (std::size_t o : open) {
+        const Box& c = box[o];
+        if (c.x1 < b.x0) continue;
+        open[kept++] = o;
+        if (c.y1 >= b.y0 && b.y1 >= c.y0 && !apart(across[p], across[o])) {
+          near[p].push_back(o);
+          near[o].push_back(p);
+        }
+      }
+      open.resize(kept);
+      open.push_back(p);
+    }
+  }
+  // Local coordinates about the cluster's centre keep cross(s, d) small (the area is the same:
+  // the uncovered pieces close up into the union's boundary).
+  const CL::cInt cx = all.x0 / 2 + all.x1 / 2, cy = all.y0 / 2 + all.y1 / 2;
+  BoundaryArea out;
+  double sum_abs = 0;
+  std::size_t terms = 0;
+  std::vector<std::pair<double, double>> covered;
+  for (std::size_t a = 0; a < m; ++a) {
+    const CL::Path& P = polygons[members[a]];
+    const std::size_t i = members[a];
+    for (std::size_t k = 0; k < P.size(); ++k) {
+      const CL::IntPoint& s = P[k];
+      const CL::IntPoint& e = P[(k + 1) % P.size()];
+      const ClusterInt128 dx = e.X - s.X, dy = e.Y - s.Y;
+      const ClusterInt128 sx = s.X - cx, sy = s.Y - cy;
+      const ClusterInt128 cross_sd = sx * dy - sy * dx;
+      const CL::cInt ex0 = std::min(s.X, e.X), ex1 = std::max(s.X, e.X), ey0 = std::min(s.Y, e.Y),
+                     ey1 = std::max(s.Y, e.Y);
+      const double ts = nx * static_cast<double>(s.X) + ny * static_cast<double>(s.Y);
+      const double te = nx * static_cast<double>(e.X) + ny * static_cast<double>(e.Y);
+      const std::pair<double, double> edge_across{std::min(ts, te) - margin, std::max(ts, te) + margin};
+      covered.clear();
+      for (std::size_t b : near[a]) {
+        const Box& q = box[b];
+        if (q.x1 < ex0 || ex1 < q.x0 || q.y1 < ey0 || ey1 < q.y0 || apart(edge_across, across[b])) continue;
+        const CL::Path& Q = polygons[members[b]];
+        const std::size_t j = members[b];
+        double lo = 0, hi = 1;
+        bool empty = false;
+        for (std::size_t f = 0; f < Q.size() && !empty; ++f) {
+          const CL::IntPoint& q0 = Q[f];
+          const CL::IntPoint& q1 = Q[(f + 1) % Q.size()];
+          const ClusterInt128 gx = q1.X - q0.X, gy = q1.Y - q0.Y;
+          // h(p) = cross(g, p - q0): positive inside (counter-clockwise); h(s + t d) = A + t B.
+          const ClusterInt128 A = gx * (s.Y - q0.Y) - gy * (s.X - q0.X);
+          const ClusterInt128 B = gx * dy - gy * dx;
+          if (B == 0) {
+            if (A > 0) continue;
+            if (A < 0 || !(gx * dx + gy * dy > 0 && j < i)) empty = true;
+            continue;  // collinear, same way, lower index: this side's boundary, counted there
+          }
+          const double t = -static_cast<double>(A) / static_cast<double>(B);
+          if (B > 0) lo = std::max(lo, t);
+          else hi = std::min(hi, t);
+          if (!(lo < hi)) empty = true;
+        }
+        if (!empty) covered.emplace_back(lo, hi);
+      }
+      double uncovered = 1;
+      if (!covered.empty()) {
+        std::sort(covered.begin(), covered.end());
+        double measure = 0, run_lo = covered[0].first, run_hi = covered[0].second;
+        for (std::size_t c = 1; c < covered.size(); ++c) {
+          if (covered[c].first > run_hi) {
+            measure += run_hi - run_lo;
+            run_lo = covered[c].first;
+          }
+          run_hi = std::max(run_hi, covered[c].second);
+        }
+        measure += run_hi - run_lo;
+        uncovered = std::max(0.0, 1 - measure);
+      }
+      if (uncovered == 0) continue;
+      const double c = static_cast<double>(cross_sd);
+      const double term = c * uncovered;
+      out.twice_area += term;
+      sum_abs += std::abs(term);
+      ++terms;
+      // Each interval end is within 4 eps of its exact value (two conversions and a division,
+      // |t| <= 1 where it counts), the measure moves by at most the sum of those, and the
+      // measure, the product and c's conversion add a few roundings.
+      out.error += std::abs(c) * (8 * kEps * static_cast<double>(covered.size()) + 4 * kEps);
+    }
+  }
+  // Recursive summation: |error| <= (terms - 1) eps sum |term|.
+  out.error += static_cast<double>(terms) * kEps * sum_abs;
+  out.error *= 1 + 1e-9;
+  return out;
+}
+
+/// Counts of what the clustered union did (for the tests and the benchmarks).
+struct ClusterUnionCounts {
+  std::size_t singletons = 0;  ///< convex polygons measured without a union
+  std::size_t boundaries = 0;  ///< clusters of convex polygons measured by their boundary
+  std::size_t unions = 0;      ///< Clipper unions run (a cluster with a polygon that is not convex)
+};
+
+/// The area of a union of grid polygons, cluster by cluster.
+struct ClusteredArea {
+  ClusterInt128 exact2 = 0;   ///< twice the area of the singletons and the Clipper clusters, exactly
+  BoundaryArea boundary;      ///< the clusters measured by their boundary, in doubles
+  bool clipper = false;       ///< some cluster went through a Clipper union (rounded points)
+};
+
+/// The area of the union (non-zero fill) of `polygons`, each closed and counter-clockwise (as the
+/// fast path's casts are), computed cluster by cluster: polygons in one cluster are those whose
+/// bounding boxes overlap with positive area, transitively. A convex singleton is its shoelace
+/// area; a cluster of convex polygons is measured by its boundary (boundary_union_area2); any
+/// other cluster goes through one Clipper union.
+inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, double ax = 0, double ay = 1,
+                                          ClusterUnionCounts* counts = nullptr) {
   namespace CL = ClipperLib;
   const std::size_t n = polygons.size();
   struct Box {
@@ -120,7 +300,7 @@ inline ClusterInt128 clustered_union_area2(const ClipperLib::Paths& polygons, Cl
     open.resize(kept);
     open.push_back(p);
   }
-  // Members of each cluster, in input order (the one-pass union's order).
+  // Members of each cluster, in input order.
   std::vector<std::size_t> first(n, n), next(n, n), last(n, n);
   for (std::size_t p = 0; p < n; ++p) {
     const std::size_t r = find(p);
@@ -128,26 +308,43 @@ inline ClusterInt128 clustered_union_area2(const ClipperLib::Paths& polygons, Cl
     else next[last[r]] = p;
     last[r] = p;
   }
-  ClusterInt128 total = 0;
+  std::vector<char> convex(n);
+  for (std::size_t p = 0; p < n; ++p) convex[p] = is_convex_ccw(polygons[p]) ? 1 : 0;
+  ClusteredArea out;
+  std::vector<std::size_t> members;
   CL::Paths cluster, united;
   for (std::size_t r = 0; r < n; ++r) {
     if (first[r] == n) continue;
-    if (next[first[r]] == n && is_convex_ccw(polygons[first[r]])) {
-      total += twice_area(polygons[first[r]]);
+    members.clear();
+    bool all_convex = true;
+    for (std::size_t p = first[r]; p != n; p = next[p]) {
+      members.push_back(p);
+      all_convex &= convex[p] != 0;
+    }
+    if (members.size() == 1 && all_convex) {
+      out.exact2 += twice_area(polygons[members[0]]);
       if (counts) ++counts->singletons;
       continue;
     }
+    if (all_convex) {
+      const BoundaryArea b = boundary_union_area2(polygons, members, ax, ay);
+      out.boundary.twice_area += b.twice_area;
+      out.boundary.error += b.error + 2 * std::numeric_limits<double>::epsilon() * std::abs(out.boundary.twice_area);
+      if (counts) ++counts->boundaries;
+      continue;
+    }
     cluster.clear();
-    for (std::size_t p = first[r]; p != n; p = next[p]) cluster.push_back(polygons[p]);
+    for (std::size_t p : members) cluster.push_back(polygons[p]);
     CL::Clipper clipper;
     clipper.StrictlySimple(false);
     clipper.AddPaths(cluster, CL::ptSubject, true);
     united.clear();
     clipper.Execute(CL::ctUnion, united, CL::pftNonZero, CL::pftNonZero);
-    for (const CL::Path& p : united) total += twice_area(p);  // holes come out negative
+    for (const CL::Path& p : united) out.exact2 += twice_area(p);  // holes come out negative
+    out.clipper = true;
     if (counts) ++counts->unions;
   }
-  return total;
+  return out;
 }
 
 }  // namespace shadow::fast

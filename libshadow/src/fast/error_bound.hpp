@@ -45,6 +45,12 @@ class LitAreaBound {
   /// rounding: each level moves the boundary it was given by under 2 x the grid rounding.
   void union_rounding(double length, double rho) { chart_ += tube(length, 2 * rho); }
 
+  /// The union's area measured from its boundary in doubles (fast/cluster_union.hpp): `chart_area`
+  /// bounds its arithmetic error (interval ends and sums), already in chart units.
+  void boundary_arithmetic(double chart_area) {
+    if (chart_area > 0) chart_ += chart_area;
+  }
+
   /// Whether the terms so far are finite (overflow in doubles sends the receiver to the exact
   /// engine).
   [[nodiscard]] bool finite() const { return std::isfinite(chart_); }

@@ -875,6 +875,7 @@ class ReceiverJob {
     }
     if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, rho_);
     Int128 shadow2 = 0, gap2 = 0;
+    double boundary2 = 0;  // twice the area of the clusters measured by their boundary (grid units)
     try {
       // Many casts (a ground under a low sun): united in strips first (fast/strip_union.hpp),
       // and that union stands for the casts below (one more level of rounding), or, when it is
@@ -894,11 +895,23 @@ class ReceiverJob {
         strips_only = fp_.chart_is_box && !polygons_ && maybe_.empty();
         levels = strip_levels + (strips_only ? 0 : 1);
       }
+      const bool clustered = !strips_only && fp_.chart_is_box && !polygons_ && maybe_.empty();
+      if (clustered) {
+        // Areas only: the union's area cluster by cluster (fast/cluster_union.hpp). Clusters of
+        // convex casts are measured by their boundary, without rounding intersection points:
+        // their arithmetic bound replaces the union's rounding term.
+        const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
+        const ClusteredArea area = clustered_union_area(*casts, along.x * grid_.scale[0], along.y * grid_.scale[1]);
+        if (area.clipper) bound_.union_rounding(cast_length_, rho_);
+        bound_.boundary_arithmetic(0.5 * area.boundary.error * grid_.step[0] * grid_.step[1]);
+        shadow2 = area.exact2;
+        boundary2 = area.boundary.twice_area;
+      }
       // (A box receiver's edges meet the casts only at their vertices, already grid points.)
-      bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
+      if (!clustered)
+        bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
       CL::Clipper clipper;
       clipper.StrictlySimple(false);
-      const bool clustered = !strips_only && fp_.chart_is_box && !polygons_ && maybe_.empty();
       if (!strips_only && !clustered) clipper.AddPaths(*casts, CL::ptSubject, true);
       // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
       const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
@@ -906,9 +919,7 @@ class ReceiverJob {
       if (strips_only) {
         for (const CL::Path& p : united) shadow2 += area2(p);  // holes come out negative
       } else if (clustered) {
-        // Areas only: the union's area cluster by cluster (fast/cluster_union.hpp), convex
-        // singletons without a union. The same single level of rounding as one union.
-        shadow2 = clustered_union_area2(*casts);
+        // (measured above)
       } else if (polygons_) {
         clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);
         CL::Paths all;
@@ -945,7 +956,7 @@ class ReceiverJob {
       return false;  // coordinates out of range cannot happen on the grid; be safe anyway
     }
     cell_ = grid_.step[0] * grid_.step[1] * scale_;  // 3D area of one grid unit
-    const double shadow_3d = 0.5 * static_cast<double>(shadow2) * cell_;
+    const double shadow_3d = 0.5 * (static_cast<double>(shadow2) + boundary2) * cell_;
     out_.shadow_area = std::clamp(shadow_3d, 0.0, out_.area);
     out_.lit_area = out_.area - out_.shadow_area;
     out_.lit_fraction = out_.area > 0 ? out_.lit_area / out_.area : 0.0;
