@@ -10,6 +10,7 @@
 #include "bench_light_visibility.hpp"
 
 #include <shadow/shadow.hpp>
+#include <shadow/sun.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -155,18 +156,32 @@ int run_comb(std::size_t teeth, bool polygons) {
   return ground && ground->shadow_area == 5.5 * n ? 0 : 1;
 }
 
-/// docs/benchmarks.md, "A year of suns": hourly suns of a year at `latitude` (a simple solar
-/// model: Cooper's declination, solar time, no refraction: enough to place ~4,400 suns over the
-/// sky as the real ones are), of which `sample` spread over the year are computed with
-/// compute_series and (with `baseline`) the same instants one at a time with compute(light);
-/// the year is extrapolated from the cost per instant.
+/// docs/benchmarks.md, "A year of suns": hourly suns of a year at `latitude`, of which `sample`
+/// spread over the year are computed with compute_series and (with `baseline`) the same
+/// instants one at a time with compute(light); the year is extrapolated from the cost per
+/// instant. `sun_path` "spa": what `shadow series` runs, the library's solar position (SPA) at
+/// every hour of 2026 in local standard time at longitude 2.35 E (UTC+1), suns above the horizon;
+/// "solar-time": a simple model (Cooper's declination, solar time, no refraction), whose noon sun
+/// lies exactly in the plane of every east and west wall (edge-on, up to the rounding of its
+/// direction: such walls go to the exact engine), which no clock-time series does.
 int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsigned threads,
-                     double latitude, const std::string& arithmetic, bool ground) {
+                     double latitude, const std::string& arithmetic, bool ground, const std::string& sun_path) {
   using Clock = std::chrono::steady_clock;
   const double pi = 3.14159265358979323846;
   const double phi = latitude * pi / 180.0;
   std::vector<shadow::Light> year;
-  for (int day = 1; day <= 365; ++day) {
+  if (sun_path == "spa") {
+    shadow::SunPeriod period;
+    period.site.latitude = latitude;
+    period.site.longitude = 2.35;
+    period.utc_offset_hours = 1.0;
+    period.start = "2026-01-01";
+    period.end = "2026-12-31";
+    period.step_minutes = 60;
+    for (const shadow::SunInstant& instant : shadow::expand_sun_period(period))
+      if (instant.position.elevation > 0) year.push_back(shadow::directional_light("sun", instant.position.to_light));
+  }
+  for (int day = 1; day <= 365 && sun_path != "spa"; ++day) {
     const double decl = 23.44 * pi / 180.0 * std::sin(2.0 * pi * (284.0 + day) / 365.0);
     for (int hour = 0; hour < 24; ++hour) {
       const double h = (hour - 12.0) * 15.0 * pi / 180.0;
@@ -186,10 +201,10 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
   const auto t0 = Clock::now();
   const shadow::ShadowEngine engine(scene, threads);
   const double prepare = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::printf("city of %zu boxes (%zu faces%s), latitude %.1f: %zu hourly suns above the horizon in a year; sample of %zu, "
-              "%u threads, preparation %.3f s\n",
-              boxes, scene.faces.size(), ground ? "" : ", ground not receiving", latitude, year.size(), sample, threads,
-              prepare);
+  std::printf("city of %zu boxes (%zu faces%s), latitude %.1f, sun path %s: %zu hourly suns above the horizon in a year; "
+              "sample of %zu, %u threads, preparation %.3f s\n",
+              boxes, scene.faces.size(), ground ? "" : ", ground not receiving", latitude, sun_path.c_str(), year.size(),
+              sample, threads, prepare);
   // CPU time too: on a shared machine the wall clock measures the other processes as much as
   // this one; CPU seconds / threads is what an otherwise idle machine would take.
   const auto cpu_now = [] {
@@ -618,6 +633,9 @@ int main(int argc, char** argv) {
   series_cmd->add_option("--arithmetic", series_arithmetic, "exact, fast or both")
       ->check(CLI::IsMember({"exact", "fast", "both"}));
   series_cmd->add_flag("--no-ground", series_no_ground, "The ground casts but does not receive (how much of the time is its one union)");
+  std::string series_sun_path = "spa";
+  series_cmd->add_option("--sun-path", series_sun_path, "spa (the library's solar position, clock time) or solar-time (a simple model)")
+      ->check(CLI::IsMember({"spa", "solar-time"}));
   std::size_t comb_teeth = 10000;
   bool comb_areas_only = false;
   CLI::App* comb_cmd = app.add_subcommand(
@@ -726,7 +744,7 @@ int main(int argc, char** argv) {
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
   if (series_cmd->parsed())
     return run_series_bench(series_boxes, series_sample, series_baseline, series_threads, series_latitude,
-                            series_arithmetic, !series_no_ground);
+                            series_arithmetic, !series_no_ground, series_sun_path);
 
   std::vector<Case> cases;
   // Constant density: 1,000 boxes on 500 m x 500 m; the side grows with sqrt(N).

@@ -150,7 +150,8 @@ class ExactReceiverJob {
   const std::vector<std::size_t>& gather_casters() {
     const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
     const std::vector<std::size_t>& candidates =
-        w_.casters.gather(culler, *ctx_.prep, face_id_, grid_, tile_ ? ctx_.cull : nullptr, tile_ ? &fp_ : nullptr);
+        w_.casters.gather(culler, *ctx_.prep, face_id_, grid_, tile_ ? ctx_.cull : nullptr, tile_ ? &fp_ : nullptr,
+                          ctx_.solid_of);
     stats_.candidate_pairs += candidates.size();
     return candidates;
   }

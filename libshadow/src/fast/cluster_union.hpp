@@ -88,7 +88,8 @@ struct BoundaryArea {
 };
 
 ///
-/// (ax, ay), any non-zero direction (the shadows' in grid units), only speeds up the search for
+/// Coordinates within 2^30 of 0 (the fast path's grid), so that 64-bit integers hold every
+/// product exactly. (ax, ay), any non-zero direction (the shadows' in grid units), only speeds up the search for
 /// overlapping pairs: long thin shadows along it have wide boxes but narrow extents across it.
 inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, const std::vector<std::size_t>& members,
                                          double ax = 0, double ay = 1) {
@@ -98,7 +99,17 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   struct Box {
     CL::cInt x0, y0, x1, y1;
   };
-  std::vector<Box> box(m);
+  // Scratch kept per thread: most receivers' clusters are small and many, and allocating for
+  // each was a visible share of the measure.
+  struct Scratch {
+    std::vector<Box> box;
+    std::vector<std::pair<double, double>> across, covered;
+    std::vector<std::vector<std::size_t>> near;
+    std::vector<std::size_t> order, open;
+  };
+  static thread_local Scratch scratch;
+  std::vector<Box>& box = scratch.box;
+  box.resize(m);
   Box all{};
   // Extents across (ax, ay), widened far beyond their rounding (|coordinates| <= 2^31, a unit
   // normal: under 1e-6): two polygons whose extents are apart are disjoint (a separating axis).
@@ -109,7 +120,8 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
     length = 1;
   }
   const double nx = -ay / length, ny = ax / length, margin = 1e-3;
-  std::vector<std::pair<double, double>> across(m);
+  std::vector<std::pair<double, double>>& across = scratch.across;
+  across.resize(m);
   auto apart = [](const std::pair<double, double>& u, const std::pair<double, double>& v) {
     return u.second < v.first || v.second < u.first;
   };
@@ -133,14 +145,18 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
     all = a == 0 ? b : Box{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
   }
   // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters).
-  std::vector<std::vector<std::size_t>> near(m);
+  std::vector<std::vector<std::size_t>>& near = scratch.near;
+  if (near.size() < m) near.resize(m);
+  for (std::size_t a = 0; a < m; ++a) near[a].clear();
   {
-    std::vector<std::size_t> order(m);
+    std::vector<std::size_t>& order = scratch.order;
+    order.resize(m);
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
       return box[a].x0 != box[b].x0 ? box[a].x0 < box[b].x0 : a < b;
     });
-    std::vector<std::size_t> open;
+    std::vector<std::size_t>& open = scratch.open;
+    open.clear();
     for (std::size_t p : order) {
       const Box& b = box[p];
       std::size_t kept = 0;
@@ -163,16 +179,18 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   BoundaryArea out;
   double sum_abs = 0;
   std::size_t terms = 0;
-  std::vector<std::pair<double, double>> covered;
+  std::vector<std::pair<double, double>>& covered = scratch.covered;
   for (std::size_t a = 0; a < m; ++a) {
     const CL::Path& P = polygons[members[a]];
     const std::size_t i = members[a];
     for (std::size_t k = 0; k < P.size(); ++k) {
       const CL::IntPoint& s = P[k];
       const CL::IntPoint& e = P[(k + 1) % P.size()];
-      const ClusterInt128 dx = e.X - s.X, dy = e.Y - s.Y;
-      const ClusterInt128 sx = s.X - cx, sy = s.Y - cy;
-      const ClusterInt128 cross_sd = sx * dy - sy * dx;
+      // Grid coordinates are within 2^30 of 0: differences below 2^31, products below 2^62, and
+      // the difference of two products below 2^63, so 64-bit integers hold every value exactly.
+      const std::int64_t dx = e.X - s.X, dy = e.Y - s.Y;
+      const std::int64_t sx = s.X - cx, sy = s.Y - cy;
+      const std::int64_t cross_sd = sx * dy - sy * dx;
       const CL::cInt ex0 = std::min(s.X, e.X), ex1 = std::max(s.X, e.X), ey0 = std::min(s.Y, e.Y),
                      ey1 = std::max(s.Y, e.Y);
       const double ts = nx * static_cast<double>(s.X) + ny * static_cast<double>(s.Y);
@@ -189,10 +207,10 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
         for (std::size_t f = 0; f < Q.size() && !empty; ++f) {
           const CL::IntPoint& q0 = Q[f];
           const CL::IntPoint& q1 = Q[(f + 1) % Q.size()];
-          const ClusterInt128 gx = q1.X - q0.X, gy = q1.Y - q0.Y;
+          const std::int64_t gx = q1.X - q0.X, gy = q1.Y - q0.Y;
           // h(p) = cross(g, p - q0): positive inside (counter-clockwise); h(s + t d) = A + t B.
-          const ClusterInt128 A = gx * (s.Y - q0.Y) - gy * (s.X - q0.X);
-          const ClusterInt128 B = gx * dy - gy * dx;
+          const std::int64_t A = gx * (s.Y - q0.Y) - gy * (s.X - q0.X);
+          const std::int64_t B = gx * dy - gy * dx;
           if (B == 0) {
             if (A > 0) continue;
             if (A < 0 || !(gx * dx + gy * dy > 0 && j < i)) empty = true;

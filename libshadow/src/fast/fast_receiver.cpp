@@ -31,6 +31,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <gmpxx.h>
 #include <polyclipping/clipper.hpp>
 
 #include <glm/common.hpp>
@@ -625,7 +626,14 @@ class ReceiverJob {
     } else {
       const glm::dvec3 d = geometry::unit(light_.to_light);
       const double nd = glm::dot(rc_.normal, d);
-      if (std::abs(nd) <= 64 * rc_.normal_error) return false;  // grazing: exact engine decides
+      if (std::abs(nd) <= 64 * rc_.normal_error) {
+        // Grazing: the exact engine decides, unless the sun is exactly in the receiver's plane
+        // (an east or west wall at solar noon): then the face is edge-on, an attached shadow in
+        // the exact engine too, and one exact determinant says so.
+        if (!fp_.exactly_planar || exact_facing_sign(light_.to_light) != 0) return false;
+        facing = 0;
+        return true;
+      }
       facing = nd > 0 ? 1 : -1;
       rc_.inv_light_side = 1.0 / nd;
       rc_.shift = glm::dvec2(d[rc_.i], d[rc_.j]) * rc_.inv_light_side;
@@ -633,11 +641,30 @@ class ReceiverJob {
     return true;
   }
 
+  /// The sign of det[next - corner, prev - corner, d] in exact rationals (the exactly planar
+  /// receiver's normal against the light's direction, up to the orientation): the exact engine's
+  /// facing test where it matters here, its zero.
+  int exact_facing_sign(const glm::dvec3& d) const {
+    const glm::dvec3& corner = face_.vertices[fp_.corner[1]];
+    const glm::dvec3& next = face_.vertices[fp_.corner[2]];
+    const glm::dvec3& prev = face_.vertices[fp_.corner[0]];
+    mpq_class u[3], v[3], w[3];
+    for (int c = 0; c < 3; ++c) {
+      u[c] = mpq_class(next[c]) - mpq_class(corner[c]);
+      v[c] = mpq_class(prev[c]) - mpq_class(corner[c]);
+      w[c] = mpq_class(d[c]);
+    }
+    const mpq_class det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                          u[2] * (v[0] * w[1] - v[1] * w[0]);
+    return sgn(det);
+  }
+
   // ---- culling: the exact engine's tests ----------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
     const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
     const std::vector<std::size_t>& candidates =
-        w_.casters.gather(culler, prep_, face_id_, grid_index_, tile_ ? &cull_ : nullptr, tile_ ? &fp_ : nullptr);
+        w_.casters.gather(culler, prep_, face_id_, grid_index_, tile_ ? &cull_ : nullptr, tile_ ? &fp_ : nullptr,
+                          ctx_.solid_of);
     local_.candidate_pairs += candidates.size();
     return candidates;
   }
