@@ -719,6 +719,11 @@ class ReceiverJob {
       return;
     }
     if (a2 < 0) std::reverse(path.begin(), path.end());
+    // Areas only on a box receiver: a convex cast that fills the whole chart box (on the grid,
+    // the box is [-kHalf, kHalf]^2) is the shadow; no later caster can change that, and its own
+    // rounding is in the bound already (a low sun shadows many walls wholly).
+    const Int128 box2 = 2 * static_cast<Int128>(2 * kHalf) * (2 * kHalf);
+    if (!polygons_ && fp_.chart_is_box && (a2 == box2 || a2 == -box2) && is_convex_ccw(path)) covered_ = true;
     casts_.push_back(std::move(path));
     cast_length_ += length + 2 * n_vertices * rho_;
   }
@@ -731,9 +736,11 @@ class ReceiverJob {
       if (solid >= 0 && (solid == own_solid || w_.casters.solid_done(solid))) continue;
       if (solid >= 0 && !rc_.point && rc_.exact_sides) {
         if (!cast_convex_solid(solid)) return false;
+        if (covered_) break;
         continue;
       }
       if (!cast_face(q)) return false;
+      if (covered_) break;  // the whole box is in shadow: the other casters cannot add to it
     }
     return true;
   }
@@ -903,7 +910,9 @@ class ReceiverJob {
     if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, rho_);
     Int128 shadow2 = 0, gap2 = 0;
     double boundary2 = 0;  // twice the area of the clusters measured by their boundary (grid units)
-    try {
+    if (covered_) {
+      shadow2 = 2 * static_cast<Int128>(2 * kHalf) * (2 * kHalf);
+    } else try {
       // Many casts (a ground under a low sun): united in strips first (fast/strip_union.hpp),
       // and that union stands for the casts below (one more level of rounding), or, when it is
       // all that is asked for (areas only, a box receiver, no nearly coplanar footprints), its
@@ -1066,6 +1075,7 @@ class ReceiverJob {
   double rho_ = 0;
   // The casts and the bound.
   CL::Paths casts_, maybe_;  // maybe_: footprints of nearly coplanar casters
+  bool covered_ = false;      // a cast fills the whole box (areas only): the shadow is the box
   LitAreaBound bound_;
   double cast_length_ = 0;  // total perimeter of the grid polygons given to Clipper
   bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine
