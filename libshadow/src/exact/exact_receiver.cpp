@@ -105,9 +105,10 @@ class ExactReceiverJob {
       if (solid >= 0 && (solid == own_solid || w_.casters.solid_done(solid))) continue;
       if (solid >= 0 && !point_light_ && fp_.exactly_planar) {
         cast_convex_solid(solid);
-        continue;
+      } else {
+        cast_face(q);
       }
-      cast_face(q);
+      if (covered_) break;  // one shadow fills the whole box: no other caster can add to it
     }
 
     const ExactFace& P = w_.face(ctx_, face_id_);
@@ -219,6 +220,7 @@ class ExactReceiverJob {
     if (w_.poly2.size() < 3) return;
     Polygon2 projected(w_.poly2.begin(), w_.poly2.end());
     if (CGAL::sign(polygon_area(projected)) != CGAL::POSITIVE) return;  // flat: edge-on solid
+    note_cover(projected);
     shadows_.push_back(std::move(projected));
     ++stats_.casting_pairs;
   }
@@ -323,13 +325,37 @@ class ExactReceiverJob {
     const CGAL::Sign orientation = CGAL::sign(polygon_area(projected));
     if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
     if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
+    note_cover(projected);
     shadows_.push_back(std::move(projected));
     return true;
+  }
+
+  /// Areas only, a box receiver (not a tile): a convex shadow inside the chart box (every cast
+  /// is clipped to it) whose area is the box's is the box, and the union is the box whatever
+  /// else casts (under a low sun many walls are wholly in shadow). Doubles first, so that only
+  /// a near match costs an exact comparison.
+  void note_cover(const Polygon2& shadow) {
+    if (polygons_ || !fp_.chart_is_box || tile_ || covered_) return;
+    const double box = (fp_.chart_max[0] - fp_.chart_min[0]) * (fp_.chart_max[1] - fp_.chart_min[1]);
+    double twice = 0;
+    for (auto a = shadow.vertices_begin(); a != shadow.vertices_end(); ++a) {
+      const auto b = std::next(a) == shadow.vertices_end() ? shadow.vertices_begin() : std::next(a);
+      twice += CGAL::to_double(a->x()) * CGAL::to_double(b->y()) - CGAL::to_double(b->x()) * CGAL::to_double(a->y());
+    }
+    if (!(std::abs(0.5 * twice - box) <= 1e-9 * box) || !shadow.is_convex()) return;
+    covered_ = polygon_area(shadow) == w_.face(ctx_, face_id_).chart_area;
   }
 
   // ---- unite, areas -------------------------------------------------------------------------
   void unite_and_measure(const ExactFace& P) {
     FaceLighting& out = item_.lighting;
+    if (covered_) {  // the box itself (note_cover): the same exact values as its union would give
+      lit_chart_area_ = FT(0);
+      out.lit_area = area_3d(FT(0), P.area_scale_squared);
+      out.shadow_area = area_3d(P.chart_area, P.area_scale_squared);
+      out.lit_fraction = round_to_double(FT(0) / P.chart_area);
+      return;
+    }
     shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
     PolygonSet2& shadow_set_ = *shadow_set_storage_;
     if (shadows_.size() == 1 && fp_.chart_is_box) {
@@ -455,6 +481,7 @@ class ExactReceiverJob {
   std::optional<LeafProjector> projector_;
   ReceiverResult item_;
   std::vector<Polygon2> shadows_;
+  bool covered_ = false;  ///< a shadow fills the whole chart box (areas only; note_cover)
   std::vector<PolygonWithHoles2> shadow_regions_;
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
   FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
