@@ -54,7 +54,12 @@ struct DoubleAffine {
 /// directional light): faces whose boxes do not overlap cannot shadow each other.
 class LightSpaceGrid {
  public:
-  LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light) {
+  /// With `solid_of` (the convex solid of each face, -1 for none), the faces of one convex solid
+  /// are one entry of the grid: a query then meets a box once instead of each of its faces in
+  /// each cell they share, and tests the faces' own boxes only for the solids it overlaps. The
+  /// faces reported are the same either way.
+  LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light,
+                 const std::vector<int>* solid_of = nullptr) {
     const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
@@ -82,10 +87,40 @@ class LightSpaceGrid {
     nv_ = static_cast<int>(std::clamp(std::ceil(height / cell_), 1.0, 2048.0));
     cell_u_ = width / nu_;
     cell_v_ = height / nv_;
+    // Items: a convex solid's faces together, every other face alone (faces in increasing order).
+    std::vector<std::uint32_t> item_of(n, 0), item_of_solid;
+    std::size_t items = 0;
+    for (std::size_t f = 0; f < n; ++f) {
+      if (prep[f].degenerate) continue;
+      const int s = solid_of ? (*solid_of)[f] : -1;
+      if (s >= 0) {
+        if (item_of_solid.size() <= static_cast<std::size_t>(s)) item_of_solid.resize(static_cast<std::size_t>(s) + 1, UINT32_MAX);
+        if (item_of_solid[static_cast<std::size_t>(s)] == UINT32_MAX) item_of_solid[static_cast<std::size_t>(s)] = static_cast<std::uint32_t>(items++);
+        item_of[f] = item_of_solid[static_cast<std::size_t>(s)];
+      } else {
+        item_of[f] = static_cast<std::uint32_t>(items++);
+      }
+    }
+    item_start_.assign(items + 1, 0);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate) ++item_start_[item_of[f] + 1];
+    for (std::size_t i = 1; i < item_start_.size(); ++i) item_start_[i] += item_start_[i - 1];
+    item_faces_.resize(item_start_.back());
+    std::vector<Box> item_box(items);
+    std::vector<char> item_seen(items, 0);
+    {
+      std::vector<std::uint32_t> fill(item_start_.begin(), item_start_.end() - 1);
+      for (std::size_t f = 0; f < n; ++f) {
+        if (prep[f].degenerate) continue;
+        const std::uint32_t i = item_of[f];
+        item_faces_[fill[i]++] = static_cast<std::uint32_t>(f);
+        item_box[i] = item_seen[i] ? merge(item_box[i], boxes_[f]) : boxes_[f];
+        item_seen[i] = 1;
+      }
+    }
     // Compressed rows: count, prefix sum, fill.
     start_.assign(static_cast<std::size_t>(nu_) * nv_ + 1, 0);
-    for (std::size_t f = 0; f < n; ++f)
-      if (!prep[f].degenerate) for_cells(boxes_[f], [&](std::size_t c) { ++start_[c + 1]; });
+    for (std::size_t i = 0; i < items; ++i) for_cells(item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
     home_.assign(static_cast<std::size_t>(nu_) * nv_, 0);
     for (std::size_t f = 0; f < n; ++f)
       if (!prep[f].degenerate) ++home_[cell_of(boxes_[f][0], boxes_[f][1])];
@@ -93,15 +128,14 @@ class LightSpaceGrid {
     entries_.resize(start_.back());
     entry_boxes_.resize(start_.back());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t f = 0; f < n; ++f)
-      if (!prep[f].degenerate)
-        for_cells(boxes_[f], [&](std::size_t c) {
-          entry_boxes_[fill[c]] = boxes_[f];
-          entries_[fill[c]++] = static_cast<std::uint32_t>(f);
-        });
+    for (std::size_t i = 0; i < items; ++i)
+      for_cells(item_box[i], [&](std::size_t c) {
+        entry_boxes_[fill[c]] = item_box[i];
+        entries_[fill[c]++] = static_cast<std::uint32_t>(i);
+      });
   }
 
-  /// Calls visit(face) for every face whose light-space box overlaps `face`'s (with repeats).
+  /// Calls visit(face) once for every face whose light-space box overlaps `face`'s.
   template <class Visit>
   void query(std::size_t face, Visit&& visit) const {
     query_box(boxes_[face], visit);
@@ -135,16 +169,40 @@ class LightSpaceGrid {
  private:
   template <class Visit>
   void query_box(const std::array<double, 4>& b, Visit&& visit) const {
-    for_cells(b, [&](std::size_t c) {
-      for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
-        // The entry's own copy of its face's box: read in cell order, no jump per entry (the
-        // query was a quarter of the fast path's receiver work, most of it that cache miss).
-        const Box& o = entry_boxes_[e];
-        if (o[0] <= b[2] + margin_ && b[0] <= o[2] + margin_ && o[1] <= b[3] + margin_ &&
-            b[1] <= o[3] + margin_)
-          visit(entries_[e]);
+    // Each overlapping face is reported once, in the cell that holds the lower corner of the two
+    // boxes' intersection (a cell both boxes cover), instead of once per shared cell: most faces
+    // span several cells, and their repeats were most of a query's visits.
+    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
+    const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
+    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
+    const int v1 = cell_index(b[3] + margin_, origin_[1], cell_v_, nv_);
+    for (int v = v0; v <= v1; ++v)
+      for (int u = u0; u <= u1; ++u) {
+        const std::size_t c = static_cast<std::size_t>(v) * nu_ + u;
+        for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
+          // The entry's own copy of its item's box: read in cell order, no jump per entry.
+          const Box& o = entry_boxes_[e];
+          if (!(o[0] <= b[2] + margin_ && b[0] <= o[2] + margin_ && o[1] <= b[3] + margin_ && b[1] <= o[3] + margin_))
+            continue;
+          // An item is taken only in the cell of the intersection's lower corner: that corner is
+          // at least b's lower edge and at most both boxes' upper edges (plus the margin), so the
+          // query visits that cell and the item is registered in it.
+          const int cu = cell_index(std::max(o[0], b[0]), origin_[0], cell_u_, nu_);
+          const int cv = cell_index(std::max(o[1], b[1]), origin_[1], cell_v_, nv_);
+          if (cu != u || cv != v) continue;
+          // The item's faces whose own boxes overlap.
+          for (std::uint32_t k = item_start_[entries_[e]]; k < item_start_[entries_[e] + 1]; ++k) {
+            const std::uint32_t f = item_faces_[k];
+            const Box& fb = boxes_[f];
+            if (fb[0] <= b[2] + margin_ && b[0] <= fb[2] + margin_ && fb[1] <= b[3] + margin_ && b[1] <= fb[3] + margin_)
+              visit(f);
+          }
+        }
       }
-    });
+  }
+
+  static int cell_index(double x, double origin, double size, int count) {
+    return std::clamp(static_cast<int>(std::floor((x - origin) / size)), 0, count - 1);
   }
 
   using Box = std::array<double, 4>;  // umin, vmin, umax, vmax
@@ -167,9 +225,6 @@ class LightSpaceGrid {
   }
   template <class Visit>
   void for_cells(const Box& b, Visit&& visit) const {
-    auto cell_index = [](double x, double origin, double size, int count) {
-      return std::clamp(static_cast<int>(std::floor((x - origin) / size)), 0, count - 1);
-    };
     const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
     const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
     const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
@@ -184,8 +239,9 @@ class LightSpaceGrid {
   double margin_ = 0, cell_ = 1, cell_u_ = 1, cell_v_ = 1;
   int nu_ = 1, nv_ = 1;
   std::vector<std::uint32_t> start_;
-  std::vector<std::uint32_t> entries_;
-  std::vector<Box> entry_boxes_;  ///< boxes_[entries_[e]], in entries_' order
+  std::vector<std::uint32_t> entries_;  ///< items, by cell
+  std::vector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
+  std::vector<std::uint32_t> item_start_, item_faces_;  ///< each item's faces (compressed rows)
   std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
 };
 

@@ -76,7 +76,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     core::parallel_for(count, threads, [&](unsigned, std::size_t k) {
       grids[k].reset();
       const Light& light = lights[first + k];
-      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light);
+      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 

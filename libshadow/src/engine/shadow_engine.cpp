@@ -149,7 +149,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   }
   const unsigned threads = static_cast<unsigned>(workers.size());
   std::optional<core::LightSpaceGrid> grid;
-  if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light);
+  if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of);
 
   // Progress in receivers done: a receiver split into tiles counts when its tiles are done
   // (in proportion during the tile round). Called from this thread only; never goes back.
