@@ -328,7 +328,17 @@ class ExactReceiverJob {
 
   // ---- unite, areas -------------------------------------------------------------------------
   void unite_and_measure(const ExactFace& P) {
-    FaceLighting& out = item_.lighting;
+    if (!polygons_ && fp_.chart_is_box && shadows_.size() > 1) {
+      // Areas only, casts already inside the chart box: the union's area from the casts'
+      // boundaries (exact/convex_union_area.hpp), the same exact rational as the join's regions
+      // give, without an arrangement. Not for a non-convex cast (the whole-face route of
+      // cast_face): the join then.
+      if (w_.union_area.twice_area(shadows_, twice_area_)) {
+        twice_area_ /= 2;
+        measure(P, FT(twice_area_));
+        return;
+      }
+    }
     shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
     PolygonSet2& shadow_set_ = *shadow_set_storage_;
     if (shadows_.size() == 1 && fp_.chart_is_box) {
@@ -342,7 +352,12 @@ class ExactReceiverJob {
     }
     std::vector<FT> region_areas;
     for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
-    const FT shadow_chart_area = balanced_sum(region_areas);
+    measure(P, balanced_sum(region_areas));
+  }
+
+  /// The areas from the shadow's exact area in the chart.
+  void measure(const ExactFace& P, const FT& shadow_chart_area) {
+    FaceLighting& out = item_.lighting;
     if (tile_) item_.tile_shadow_chart_area = CGAL::exact(shadow_chart_area);
     const FT lit_chart_area = P.chart_area - shadow_chart_area;
     lit_chart_area_ = lit_chart_area;
@@ -456,6 +471,7 @@ class ExactReceiverJob {
   std::vector<Polygon2> shadows_;
   std::vector<PolygonWithHoles2> shadow_regions_;
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
+  ConvexUnionArea::EQ twice_area_;                 ///< scratch for the union's area (areas only)
   FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
   std::vector<Polygon2> cells_, triangles_;

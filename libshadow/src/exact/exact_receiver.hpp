@@ -10,6 +10,7 @@
 #include "core/face_prep.hpp"
 #include "core/prepared_scene.hpp"
 #include "core/tiles.hpp"
+#include "exact/convex_union_area.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -39,6 +40,7 @@ struct ExactWorker {
   std::vector<Point3> poly, scratch;
   std::vector<Point2> poly2, scratch2;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
+  ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
 
   std::vector<std::size_t> built;  ///< the faces that have an entry in `faces`
 
