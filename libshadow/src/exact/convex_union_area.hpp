@@ -18,55 +18,66 @@
 // intervals of all P_j are merged, and L_e is what they leave of [0, 1].
 //
 // Exact throughout: signs and comparisons are filtered (intervals first, exact rationals when
-// the intervals cannot decide), and only the ends of the uncovered pieces are made exactly.
+// the intervals cannot decide), and only the ends of the uncovered pieces are made exactly. The
+// polygons come as plain rational points (exact/rational_points.hpp): no lazy number is
+// evaluated here.
 #pragma once
 
 #include "exact/kernel.hpp"
-
-#include <CGAL/Interval_nt.h>
+#include "exact/rational_points.hpp"
 
 #include <algorithm>
 #include <cstddef>
 #include <deque>
 #include <numeric>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
 namespace shadow::exact {
 
 /// Twice the exact area of a union of convex polygons, reusing its scratch between calls (one
-/// per thread: Epeck objects are never shared between threads).
+/// per thread).
 class ConvexUnionArea {
  public:
-  using EQ = FT::Exact_type;
+  using EQ = shadow::exact::EQ;
 
   /// Counts of the last call (for tests and the benchmark's notes).
   struct Counts {
-    std::size_t polygons = 0;       ///< after dropping none: every input polygon
+    std::size_t polygons = 0;       ///< input polygons
     std::size_t pairs = 0;          ///< polygon pairs whose bounding boxes meet
     std::size_t edges_partial = 0;  ///< edges partly covered (those need exact parameters)
     std::size_t exact_params = 0;   ///< parameters t made exactly
   };
 
-  /// Twice the exact area of the union of `polygons`, each counter-clockwise with positive
-  /// area, into `out`. False (and `out` unchanged) when some polygon is not convex: the caller
-  /// unites them with a Boolean operation instead.
-  bool twice_area(const std::vector<Polygon2>& polygons, EQ& out) {
-    if (!load(polygons)) return false;
+  /// Twice the exact area of the union of the polygons points[first[k], first[k + 1]) (each
+  /// counter-clockwise with positive area) into `out`. False (and `out` unchanged) when some
+  /// polygon is not convex: the caller unites them with a Boolean operation instead.
+  bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
+    if (!load(points, first)) return false;
     find_pairs();
     terms_.clear();
-    for (std::size_t i = 0; i < first_.size() - 1; ++i) measure_polygon(i);
+    for (std::size_t i = 0; i + 1 < first_.size(); ++i) measure_polygon(i);
     out = sum_terms();
     return true;
+  }
+
+  /// The same for Epeck polygons (their exact values are copied first).
+  bool twice_area(const std::vector<Polygon2>& polygons, EQ& out) {
+    copy_.clear();
+    copy_first_.assign(1, 0);
+    for (const Polygon2& polygon : polygons) {
+      for (auto v = polygon.vertices_begin(); v != polygon.vertices_end(); ++v) {
+        const auto& e = CGAL::exact(*v);
+        copy_.push_back(QPoint2{e.x(), e.y()});
+      }
+      copy_first_.push_back(copy_.size());
+    }
+    return twice_area(copy_, copy_first_, out);
   }
 
   [[nodiscard]] const Counts& counts() const { return counts_; }
 
  private:
-  using IA = CGAL::Interval_nt<false>;
-  using EPoint = std::decay_t<decltype(CGAL::exact(std::declval<const Point2&>()))>;
-
   struct Box {
     double x0, y0, x1, y1;
   };
@@ -74,10 +85,10 @@ class ConvexUnionArea {
     return a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
   }
 
-  /// A parameter t on the current edge: 0, 1, or where edge f of polygon j crosses the edge's
-  /// line (exact value made on demand, in exact_[cache]).
+  /// A parameter t on the current edge: 0, 1, or where the line of edge f (a vertex index)
+  /// crosses the edge (exact value made on demand, in exact_[cache]).
   struct Param {
-    int kind = 0;  ///< 0: t = 0; 1: t = 1; 2: crossing with edge `f` (a global vertex index)
+    int kind = 0;  ///< 0: t = 0; 1: t = 1; 2: crossing with edge f
     std::size_t f = 0;
     IA approx{0};
     int cache = -1;
@@ -87,51 +98,69 @@ class ConvexUnionArea {
   };
 
   // ---- loading: vertices without repeats, convexity checked exactly -----------------------------
-  bool load(const std::vector<Polygon2>& polygons) {
+  bool equal(std::size_t a, std::size_t b) const {
+    const IPoint2& p = ip_[a];
+    const IPoint2& q = ip_[b];
+    if (compare(pts_[a]->x, p.x, pts_[b]->x, q.x) != 0) return false;
+    return compare(pts_[a]->y, p.y, pts_[b]->y, q.y) == 0;
+  }
+
+  bool load(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first) {
     pts_.clear();
+    ip_.clear();
     nxt_.clear();
-    first_.clear();
+    first_.assign(1, 0);
     box_.clear();
     counts_ = Counts{};
-    counts_.polygons = polygons.size();
-    first_.push_back(0);
-    for (const Polygon2& polygon : polygons) {
+    counts_.polygons = first.empty() ? 0 : first.size() - 1;
+    for (std::size_t k = 0; k + 1 < first.size(); ++k) {
       const std::size_t start = pts_.size();
-      for (auto v = polygon.vertices_begin(); v != polygon.vertices_end(); ++v)
-        if (pts_.size() == start || !(*pts_.back() == *v)) pts_.push_back(&*v);
-      while (pts_.size() - start > 1 && *pts_.back() == *pts_[start]) pts_.pop_back();
+      for (std::size_t v = first[k]; v < first[k + 1]; ++v) {
+        pts_.push_back(&points[v]);
+        ip_.push_back(interval_of(points[v]));
+        if (pts_.size() > start + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
+          pts_.pop_back();
+          ip_.pop_back();
+        }
+      }
+      while (pts_.size() - start > 1 && equal(pts_.size() - 1, start)) {
+        pts_.pop_back();
+        ip_.pop_back();
+      }
       if (!convex(start, pts_.size())) return false;
       first_.push_back(pts_.size());
-      for (std::size_t v = start; v < pts_.size(); ++v) nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
-      Box b{0, 0, 0, 0};
+      Box b{ip_[start].x.inf(), ip_[start].y.inf(), ip_[start].x.sup(), ip_[start].y.sup()};
       for (std::size_t v = start; v < pts_.size(); ++v) {
-        const auto& a = CGAL::approx(*pts_[v]);
-        if (v == start) b = {a.x().inf(), a.y().inf(), a.x().sup(), a.y().sup()};
-        b.x0 = std::min(b.x0, a.x().inf());
-        b.y0 = std::min(b.y0, a.y().inf());
-        b.x1 = std::max(b.x1, a.x().sup());
-        b.y1 = std::max(b.y1, a.y().sup());
+        nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
+        b.x0 = std::min(b.x0, ip_[v].x.inf());
+        b.y0 = std::min(b.y0, ip_[v].y.inf());
+        b.x1 = std::max(b.x1, ip_[v].x.sup());
+        b.y1 = std::max(b.y1, ip_[v].y.sup());
       }
       box_.push_back(b);
     }
     return true;
   }
 
+  CGAL::Sign turn(std::size_t a, std::size_t b, std::size_t c) {
+    return orientation(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
+  }
+
   /// Whether vertices [a, b) (no two consecutive equal) make a convex polygon that winds once:
   /// every turn to the left or straight on, and the sign of dx changes at most twice around it
   /// (a pentagram turns left everywhere but winds twice). Exact predicates.
-  bool convex(std::size_t a, std::size_t b) const {
+  bool convex(std::size_t a, std::size_t b) {
     const std::size_t n = b - a;
     if (n < 3) return false;
     int changes = 0, last = 0, first = 0;
     for (std::size_t k = 0; k < n; ++k) {
-      const Point2& p = *pts_[a + k];
-      const Point2& q = *pts_[a + (k + 1) % n];
-      const Point2& r = *pts_[a + (k + 2) % n];
-      const CGAL::Orientation o = CGAL::orientation(p, q, r);
-      if (o == CGAL::RIGHT_TURN) return false;
-      if (o == CGAL::COLLINEAR && CGAL::angle(p, q, r) != CGAL::OBTUSE) return false;  // a spike back
-      const int sign = static_cast<int>(CGAL::compare_x(q, p));
+      const std::size_t p = a + k, q = a + (k + 1) % n, r = a + (k + 2) % n;
+      const CGAL::Sign o = turn(p, q, r);
+      if (o == CGAL::NEGATIVE) return false;
+      if (o == CGAL::ZERO && dot_sign(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) !=
+                                 CGAL::POSITIVE)
+        return false;  // a spike back
+      const int sign = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);
       if (sign != 0) {
         if (first == 0) first = sign;
         if (last != 0 && sign != last) ++changes;
@@ -184,23 +213,15 @@ class ConvexUnionArea {
   }
 
   // ---- one polygon's edges ----------------------------------------------------------------------
-  std::size_t next_vertex(std::size_t i, std::size_t v) const { return v + 1 == first_[i + 1] ? first_[i] : v + 1; }
-
-  /// Sign of the orientation (u, v, p): the side of p of the directed line through edge u -> v.
-  static CGAL::Sign side(const Point2& u, const Point2& v, const Point2& p) {
-    return static_cast<CGAL::Sign>(CGAL::orientation(u, v, p));
-  }
-
   void measure_polygon(std::size_t i) {
-    const std::size_t begin = first_[i], end = first_[i + 1];
-    for (std::size_t v = begin; v < end; ++v) {
-      const std::size_t w = next_vertex(i, v);
-      const Point2& s = *pts_[v];
-      const Point2& s2 = *pts_[w];
-      const auto& as = CGAL::approx(s);
-      const auto& as2 = CGAL::approx(s2);
-      const Box eb{std::min(as.x().inf(), as2.x().inf()), std::min(as.y().inf(), as2.y().inf()),
-                   std::max(as.x().sup(), as2.x().sup()), std::max(as.y().sup(), as2.y().sup())};
+    if (nstart_[i] == nstart_[i + 1]) {  // alone: its own area
+      twice_polygon_area(pts_.data() + first_[i], first_[i + 1] - first_[i]);
+      return;
+    }
+    for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) {
+      const std::size_t w = nxt_[v];
+      const Box eb{std::min(ip_[v].x.inf(), ip_[w].x.inf()), std::min(ip_[v].y.inf(), ip_[w].y.inf()),
+                   std::max(ip_[v].x.sup(), ip_[w].x.sup()), std::max(ip_[v].y.sup(), ip_[w].y.sup())};
       covers_.clear();
       bool full = false;
       exact_used_ = 0;  // parameters are per edge
@@ -210,7 +231,7 @@ class ConvexUnionArea {
         const std::size_t j = nlist_[k];
         if (!meet(eb, box_[j])) continue;
         Cover c;
-        if (!cover_by(i, v, w, j, c)) continue;
+        if (!cover_by(i, j, c)) continue;
         if (c.lo.kind == 0 && c.hi.kind == 1) full = true;
         else covers_.push_back(c);
       }
@@ -224,33 +245,33 @@ class ConvexUnionArea {
     }
   }
 
-  /// The open interval of t that P_j covers on edge v -> w of P_i; false when it is empty.
-  bool cover_by(std::size_t i, std::size_t v, std::size_t w, std::size_t j, Cover& c) {
-    const Point2& s = *pts_[v];
-    const Point2& s2 = *pts_[w];
+  /// The open interval of t that P_j covers on the current edge of P_i; false when it is empty.
+  bool cover_by(std::size_t i, std::size_t j, Cover& c) {
+    const std::size_t v = cur_v_, w = cur_w_;
     c.lo = Param{};
     c.lo.kind = 0;
     c.hi = Param{};
     c.hi.kind = 1;
     c.hi.approx = IA(1);
     for (std::size_t f = first_[j]; f < first_[j + 1]; ++f) {
-      const Point2& u = *pts_[f];
-      const Point2& u2 = *pts_[next_vertex(j, f)];
-      const CGAL::Sign a = side(u, u2, s), b = side(u, u2, s2);
+      const std::size_t f2 = nxt_[f];
+      const CGAL::Sign a = turn(f, f2, v), b = turn(f, f2, w);
       if (a == CGAL::POSITIVE && b == CGAL::POSITIVE) continue;
       if (a != CGAL::POSITIVE && b != CGAL::POSITIVE) {
         // Both on or outside f's line: nothing covered unless the edge lies on f's line going the
         // same way, and P_j comes first (then f's closed side is the constraint, and it holds).
-        if (a == CGAL::ZERO && b == CGAL::ZERO && j < i && same_direction(s, s2, u, u2)) continue;
+        if (a == CGAL::ZERO && b == CGAL::ZERO && j < i &&
+            dot_sign(*pts_[v], ip_[v], *pts_[w], ip_[w], *pts_[f], ip_[f], *pts_[f2], ip_[f2], scratch_) == CGAL::POSITIVE)
+          continue;
         return false;
       }
       if (a == CGAL::POSITIVE) {  // t < tau (tau = 1 when b is zero: no constraint in (0, 1))
         if (b == CGAL::ZERO) continue;
-        Param p = crossing(v, w, f);
+        Param p = crossing(f);
         if (c.hi.kind == 1 || less(p, c.hi)) c.hi = p;
       } else {  // t > tau
         if (a == CGAL::ZERO) continue;
-        Param p = crossing(v, w, f);
+        Param p = crossing(f);
         if (c.lo.kind == 0 || less(c.lo, p)) c.lo = p;
       }
     }
@@ -258,36 +279,27 @@ class ConvexUnionArea {
     return less(c.lo, c.hi);
   }
 
-  static bool same_direction(const Point2& s, const Point2& s2, const Point2& u, const Point2& u2) {
-    // Collinear, non-degenerate: same way iff the angle s2 - s, u2 - u is acute.
-    return CGAL::angle(s2 - s, u2 - u) == CGAL::ACUTE;
-  }
-
-  /// Where the line of edge f (f -> next) crosses edge v -> w: t = cross(fd, u - s) / cross(fd, d).
-  Param crossing(std::size_t v, std::size_t w, std::size_t f) {
+  /// Where the line of edge f (f -> next) crosses the current edge s -> s2:
+  /// t = cross(fd, u - s) / cross(fd, s2 - s), strictly inside (0, 1).
+  Param crossing(std::size_t f) {
     Param p;
     p.kind = 2;
     p.f = f;
-    const auto& s = CGAL::approx(*pts_[v]);
-    const auto& s2 = CGAL::approx(*pts_[w]);
-    const auto& u = CGAL::approx(*pts_[f]);
-    const auto& u2 = CGAL::approx(*pts_[next_of_global(f)]);
+    const IPoint2& s = ip_[cur_v_];
+    const IPoint2& s2 = ip_[cur_w_];
+    const IPoint2& u = ip_[f];
+    const IPoint2& u2 = ip_[nxt_[f]];
     CGAL::Protect_FPU_rounding<true> guard;
-    const IA fx = u2.x() - u.x(), fy = u2.y() - u.y();
-    const IA dx = s2.x() - s.x(), dy = s2.y() - s.y();
-    const IA num = fx * (u.y() - s.y()) - fy * (u.x() - s.x());
-    const IA den = fx * dy - fy * dx;
-    // den is certainly non-zero here (the edge's ends are on strictly opposite sides of f's line).
-    if (CGAL::possibly(den == IA(0))) p.approx = IA(0, 1);
-    else p.approx = num / den;
-    // t lies in (0, 1) exactly.
-    p.approx = IA(std::max(p.approx.inf(), 0.0), std::min(p.approx.sup(), 1.0));
+    const IA fx = u2.x - u.x, fy = u2.y - u.y;
+    const IA num = fx * (u.y - s.y) - fy * (u.x - s.x);
+    const IA den = fx * (s2.y - s.y) - fy * (s2.x - s.x);
+    IA t(0, 1);
+    if (!CGAL::possibly(den == IA(0))) t = num / den;
+    p.approx = IA(std::max(t.inf(), 0.0), std::min(t.sup(), 1.0));
     return p;
   }
 
-  std::size_t next_of_global(std::size_t f) const { return nxt_[f]; }
-
-  /// The exact value of a parameter (on the current edge v -> w).
+  /// The exact value of a parameter (on the current edge).
   const EQ& exact_value(Param& p) {
     if (p.kind == 0) return zero_;
     if (p.kind == 1) return one_;
@@ -295,18 +307,22 @@ class ConvexUnionArea {
     if (exact_used_ == exact_.size()) exact_.emplace_back();
     EQ& t = exact_[exact_used_];
     p.cache = static_cast<int>(exact_used_++);
-    const EPoint& s = CGAL::exact(*pts_[cur_v_]);
-    const EPoint& s2 = CGAL::exact(*pts_[cur_w_]);
-    const EPoint& u = CGAL::exact(*pts_[p.f]);
-    const EPoint& u2 = CGAL::exact(*pts_[next_of_global(p.f)]);
-    fx_ = u2.x() - u.x();
-    fy_ = u2.y() - u.y();
-    dx_ = s2.x() - s.x();
-    dy_ = s2.y() - s.y();
-    ux_ = u.x() - s.x();
-    uy_ = u.y() - s.y();
-    t = fx_ * uy_ - fy_ * ux_;
-    den_ = fx_ * dy_ - fy_ * dx_;
+    const QPoint2& s = *pts_[cur_v_];
+    const QPoint2& s2 = *pts_[cur_w_];
+    const QPoint2& u = *pts_[p.f];
+    const QPoint2& u2 = *pts_[nxt_[p.f]];
+    fx_ = u2.x - u.x;
+    fy_ = u2.y - u.y;
+    dx_ = s2.x - s.x;
+    dy_ = s2.y - s.y;
+    ux_ = u.x - s.x;
+    uy_ = u.y - s.y;
+    t = fx_ * uy_;
+    den_ = fy_ * ux_;
+    t -= den_;
+    den_ = fx_ * dy_;
+    dx_ *= fy_;
+    den_ -= dx_;
     t /= den_;
     ++counts_.exact_params;
     return t;
@@ -316,8 +332,7 @@ class ConvexUnionArea {
   bool less(Param& p, Param& q) {
     if (p.kind != 2 || q.kind != 2) {
       const int kp = p.kind == 2 ? 1 : (p.kind == 0 ? 0 : 2), kq = q.kind == 2 ? 1 : (q.kind == 0 ? 0 : 2);
-      if (kp != kq) return kp < kq;  // 0 < (0, 1) < 1
-      return false;
+      return kp < kq;  // 0 < (0, 1) < 1
     }
     if (p.f == q.f) return false;
     {
@@ -328,11 +343,26 @@ class ConvexUnionArea {
     return exact_value(p) < exact_value(q);
   }
 
+  void twice_polygon_area(const QPoint2* const* pts, std::size_t n) {
+    terms_.emplace_back(0);
+    EQ& out = terms_.back();
+    for (std::size_t a = 0; a < n; ++a) {
+      const QPoint2& p = *pts[a];
+      const QPoint2& q = *pts[(a + 1) % n];
+      scratch_.a = p.x * q.y;
+      scratch_.b = p.y * q.x;
+      scratch_.a -= scratch_.b;
+      out += scratch_.a;
+    }
+  }
+
   /// Adds cross(s, s2) * measure to the sum (measure null: the whole edge).
   void add_cross(std::size_t v, std::size_t w, const EQ* measure) {
-    const EPoint& s = CGAL::exact(*pts_[v]);
-    const EPoint& s2 = CGAL::exact(*pts_[w]);
-    terms_.emplace_back(s.x() * s2.y() - s.y() * s2.x());
+    const QPoint2& s = *pts_[v];
+    const QPoint2& s2 = *pts_[w];
+    terms_.emplace_back(s.x * s2.y);
+    scratch_.a = s.y * s2.x;
+    terms_.back() -= scratch_.a;
     if (measure) terms_.back() *= *measure;
   }
 
@@ -345,7 +375,7 @@ class ConvexUnionArea {
     while (a < covers_.size()) {
       Param lo = covers_[a].lo, hi = covers_[a].hi;
       std::size_t b = a + 1;
-      // Open intervals (lo, hi) and (lo', hi') with lo' <= ... merge when lo' < hi; when lo' ==
+      // Open intervals (lo, hi) and (lo', hi') with lo <= lo' merge when lo' < hi; when lo' ==
       // hi a single point is left out, which has no measure: merging then changes nothing.
       while (b < covers_.size() && !less(hi, covers_[b].lo)) {
         if (less(hi, covers_[b].hi)) hi = covers_[b].hi;
@@ -358,7 +388,7 @@ class ConvexUnionArea {
     }
     measure_ = one_;
     measure_ -= covered_;
-    if (CGAL::sign(measure_) != CGAL::ZERO) add_cross(v, w, &measure_);
+    if (sgn(measure_) != 0) add_cross(v, w, &measure_);
   }
 
   EQ sum_terms() {
@@ -368,7 +398,8 @@ class ConvexUnionArea {
     return terms_[0];
   }
 
-  std::vector<const Point2*> pts_;
+  std::vector<const QPoint2*> pts_;
+  std::vector<IPoint2> ip_;
   std::vector<std::size_t> nxt_;    ///< the next vertex around the same polygon
   std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
   std::vector<Box> box_;
@@ -376,8 +407,11 @@ class ConvexUnionArea {
   std::vector<Cover> covers_;
   std::deque<EQ> exact_;  ///< exact parameters of the current edge (references stay valid)
   std::vector<EQ> terms_;
+  std::vector<QPoint2> copy_;
+  std::vector<std::size_t> copy_first_;
   std::size_t exact_used_ = 0, cur_v_ = 0, cur_w_ = 0;
   EQ zero_{0}, one_{1}, fx_, fy_, dx_, dy_, ux_, uy_, den_, piece_, covered_, measure_;
+  QScratch scratch_;
   Counts counts_;
 };
 
