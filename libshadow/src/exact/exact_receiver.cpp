@@ -418,12 +418,12 @@ class ExactReceiverJob {
       if (w_.qfirst.size() == 2) {  // one convex cast inside the box: it is the shadow
         twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
         twice_area_ /= 2;
-        measure(P, FT(twice_area_));
+        measure(P, twice_area_);
         return;
       }
       if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
         twice_area_ /= 2;
-        measure(P, FT(twice_area_));
+        measure(P, twice_area_);
         return;
       }
       // A non-convex cast: the Boolean union of all of them, as Epeck polygons.
@@ -440,7 +440,7 @@ class ExactReceiverJob {
       // cast_face): the join then.
       if (w_.union_area.twice_area(shadows_, twice_area_)) {
         twice_area_ /= 2;
-        measure(P, FT(twice_area_));
+        measure(P, twice_area_);
         return;
       }
     }
@@ -460,15 +460,29 @@ class ExactReceiverJob {
     measure(P, balanced_sum(region_areas));
   }
 
-  /// The areas from the shadow's exact area in the chart.
-  void measure(const ExactFace& P, const FT& shadow_chart_area) {
+  /// The areas from the shadow's exact area in the chart, in plain rationals (the same values
+  /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
+  void measure(const ExactFace& P, const FT& shadow_chart_area) { measure(P, CGAL::exact(shadow_chart_area)); }
+  void measure(const ExactFace& P, const EQ& shadow) {
     FaceLighting& out = item_.lighting;
-    if (tile_) item_.tile_shadow_chart_area = CGAL::exact(shadow_chart_area);
-    const FT lit_chart_area = P.chart_area - shadow_chart_area;
-    lit_chart_area_ = lit_chart_area;
-    out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
-    out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
-    out.lit_fraction = round_to_double(lit_chart_area / P.chart_area);
+    if (tile_) item_.tile_shadow_chart_area = shadow;
+    const EQ& chart = CGAL::exact(P.chart_area);
+    const EQ& scale = CGAL::exact(P.area_scale_squared);
+    EQ& lit = w_.qarea;
+    lit = chart - shadow;
+    if (polygons_) lit_chart_area_ = FT(lit);  // lit_region's
+    out.lit_area = area_3d_exact(lit, scale);
+    out.shadow_area = area_3d_exact(shadow, scale);
+    w_.qbound = lit / chart;
+    out.lit_fraction = round_mpq_to_double(w_.qbound.get_mpq_t());
+  }
+  /// area_3d on exact rationals: sqrt(a^2 s) rounded once.
+  double area_3d_exact(const EQ& a, const EQ& scale) {
+    if (sgn(a) == 0) return 0.0;
+    EQ& t = w_.qs.a;
+    t = a * a;
+    t *= scale;
+    return sqrt_mpq_to_double(t.get_mpq_t());
   }
 
   // ---- fragments ----------------------------------------------------------------------------
