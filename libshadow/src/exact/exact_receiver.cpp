@@ -466,8 +466,9 @@ class ExactReceiverJob {
   void measure(const ExactFace& P, const EQ& shadow) {
     FaceLighting& out = item_.lighting;
     if (tile_) item_.tile_shadow_chart_area = shadow;
-    const EQ& chart = CGAL::exact(P.chart_area);
-    const EQ& scale = CGAL::exact(P.area_scale_squared);
+    const auto [chart_ptr, scale_ptr] = w_.exact_areas(face_id_, P);
+    const EQ& chart = *chart_ptr;
+    const EQ& scale = *scale_ptr;
     EQ& lit = w_.qarea;
     lit = chart - shadow;
     if (polygons_) lit_chart_area_ = FT(lit);  // lit_region's
