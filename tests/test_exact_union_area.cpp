@@ -5,9 +5,15 @@
 // convex polygons full of degenerate contacts: shared edges going the same way and the other
 // way, identical polygons, polygons inside others, touching at vertices, collinear overlapping
 // edges, collinear vertices, triangles, slivers, points on coarse rational grids (many exact
-// ties) and points made by lazy arithmetic (as clipping makes them).
+// ties) and points made by lazy arithmetic (as clipping makes them). Also the rational-point
+// helpers of the areas-only route (exact/rational_points.hpp) against their Epeck counterparts:
+// hull, clip to a box, intervals, area signs.
 #include "exact/convex_union_area.hpp"
+#include "exact/lazy_geometry.hpp"
+#include "exact/rational_points.hpp"
 #include "exact/regions.hpp"
+
+#include <shadow/shadow.hpp>
 
 #include <gtest/gtest.h>
 
@@ -248,6 +254,135 @@ TEST(ExactUnionArea, ManyBoxesInAGridEqualTheBooleanUnion) {
   ASSERT_TRUE(u.twice_area(polygons, twice));
   EXPECT_EQ(twice / 2, joined_area(polygons));
   EXPECT_GT(u.counts().pairs, 0u);
+}
+
+std::vector<shadow::exact::QPoint2> rational(const std::vector<Point2>& points) {
+  std::vector<shadow::exact::QPoint2> out;
+  for (const Point2& p : points) out.push_back({CGAL::exact(p.x()), CGAL::exact(p.y())});
+  return out;
+}
+
+EQ twice_area_of(const std::vector<shadow::exact::QPoint2>& pts) {
+  EQ out;
+  shadow::exact::QScratch s;
+  shadow::exact::twice_polygon_area(pts.data(), pts.data() + pts.size(), out, s);
+  return out;
+}
+
+TEST(RationalPoints, IntervalsHoldTheirValue) {
+  std::mt19937 rng(5);
+  for (int k = 0; k < 2000; ++k) {
+    const long num = std::uniform_int_distribution<long>(-1000000, 1000000)(rng);
+    const long den = std::uniform_int_distribution<long>(1, 5000)(rng);
+    EQ q(num, den);
+    q.canonicalize();
+    if (k % 3 == 0) q = EQ(static_cast<double>(num) / 1024.0);  // exact doubles: point intervals
+    const shadow::exact::IA i = shadow::exact::interval_of(q);
+    EXPECT_LE(EQ(i.inf()), q);
+    EXPECT_GE(EQ(i.sup()), q);
+    if (k % 3 == 0) EXPECT_TRUE(i.is_point());
+  }
+}
+
+TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {
+  Generator g(31);
+  shadow::exact::QScratch s;
+  std::vector<shadow::exact::IPoint2> ipts;
+  std::vector<std::size_t> order, chain;
+  std::vector<int> side;
+  EQ bound, sum;
+  for (int round = 0; round < 300; ++round) {
+    // Points with ties (coarse grid, repeats, collinear runs), some through lazy nodes.
+    std::vector<Point2> in;
+    const int n = g.uniform(1, 12);
+    for (int k = 0; k < n; ++k) in.emplace_back(g.coord(3, 4), g.coord(3, 4));
+    if (n > 2) in.push_back(CGAL::midpoint(in[0], in[1]));
+    if (n > 1) in.push_back(in[1]);
+    std::vector<Point2> hull;
+    CGAL::convex_hull_2(in.begin(), in.end(), std::back_inserter(hull), Kernel());
+    std::vector<shadow::exact::QPoint2> q = rational(in), qhull;
+    shadow::exact::convex_hull(q, qhull, ipts, order, chain, s);
+    ASSERT_EQ(qhull.size(), hull.size()) << "round " << round;  // no collinear vertices either way
+    if (hull.size() >= 3) {
+      EXPECT_EQ(twice_area_of(qhull), CGAL::exact(shadow::exact::polygon_area(hull.begin(), hull.end())) * 2);
+      EXPECT_EQ(shadow::exact::area_sign(qhull, ipts, s, sum), CGAL::POSITIVE);
+      std::vector<shadow::exact::QPoint2> reversed(qhull.rbegin(), qhull.rend());
+      EXPECT_EQ(shadow::exact::area_sign(reversed, ipts, s, sum), CGAL::NEGATIVE);
+    }
+    // Clip both to the same box (bounds on the grid: vertices exactly on them).
+    std::vector<Point2> lazy = hull, scratch;
+    std::vector<shadow::exact::QPoint2> rat = qhull, qscratch;
+    const double x0 = g.uniform(0, 6) / 3.0, x1 = x0 + g.uniform(1, 6) / 3.0;
+    const double y0 = g.uniform(0, 6) / 3.0, y1 = y0 + g.uniform(1, 6) / 3.0;
+    for (int c = 0; c < 2; ++c) {
+      shadow::exact::clip_convex_2d(lazy, c, c == 0 ? x0 : y0, true, scratch);
+      shadow::exact::clip_convex_2d(lazy, c, c == 0 ? x1 : y1, false, scratch);
+      shadow::exact::clip_convex_2d(rat, c, c == 0 ? x0 : y0, true, qscratch, side, bound);
+      shadow::exact::clip_convex_2d(rat, c, c == 0 ? x1 : y1, false, qscratch, side, bound);
+    }
+    ASSERT_EQ(rat.size(), lazy.size()) << "round " << round;
+    for (std::size_t v = 0; v < rat.size(); ++v) {
+      EXPECT_EQ(rat[v].x, CGAL::exact(lazy[v].x()));
+      EXPECT_EQ(rat[v].y, CGAL::exact(lazy[v].y()));
+    }
+  }
+}
+
+/// The engine with areas only (the route without a Boolean operation) against the engine with
+/// polygons (PolygonSet2::join, then the regions' areas): the same doubles, bit for bit.
+void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_t tile_casters) {
+  shadow::ShadowOptions areas, polygons;
+  areas.threads = polygons.threads = 2;
+  areas.polygons = false;
+  areas.tile_casters = polygons.tile_casters = tile_casters;
+  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
+  const shadow::ShadowResult b = shadow::compute_shadows(scene, polygons);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  std::size_t shadowed = 0;
+  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
+    EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area) << "face " << a.lighting[r].face_id;
+    EXPECT_EQ(a.lighting[r].shadow_area, b.lighting[r].shadow_area) << "face " << a.lighting[r].face_id;
+    EXPECT_EQ(a.lighting[r].lit_fraction, b.lighting[r].lit_fraction) << "face " << a.lighting[r].face_id;
+    shadowed += a.lighting[r].faces_light && a.lighting[r].shadow_area > 0 && a.lighting[r].lit_area > 0;
+  }
+  EXPECT_GT(shadowed, 10u);  // partly shadowed receivers: the unions were exercised
+}
+
+TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
+  shadow::Scene scene = shadow::make_city(60, 120, 17);
+  scene.lights.push_back(shadow::directional_light("low sun", shadow::sun_direction(12, 130)));
+  scene.lights.push_back(shadow::directional_light("noon", shadow::sun_direction(60, 185)));
+  scene.lights.push_back(shadow::directional_light("oblique", {0.3, -0.7, 0.5}));
+  scene.lights.push_back(shadow::point_light("lamp", {15, -20, 40}));
+  shadow::validate_scene(scene);
+  expect_areas_route_equals_join_route(scene, 0);
+  expect_areas_route_equals_join_route(scene, 40);  // the ground in tiles
+}
+
+TEST(ExactUnionAreaInTheEngine, NonConvexCastFallsBackToTheJoin) {
+  // A comb (one polygon cast whole: not convex) over a ground with boxes whose shadows overlap it.
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "ground", {shadow::rectangle_z(-10, -10, 40, 30, 0)});
+  shadow::add_mesh(scene, "comb", {shadow::comb_polygon(20, 2)}, false);
+  std::vector<shadow::Polygon3> boxes = shadow::box_faces({3, 3, 0}, {6, 5, 4});
+  const std::vector<shadow::Polygon3> more = shadow::box_faces({10.5, -2, 0}, {12, 12, 3});
+  boxes.insert(boxes.end(), more.begin(), more.end());
+  shadow::add_mesh(scene, "boxes", boxes);
+  scene.lights.push_back(shadow::directional_light("sun", {0.1, 0.2, 1}));
+  scene.lights.push_back(shadow::directional_light("sun 2", {-0.3, 0.1, 1}));
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions areas, polygons;
+  areas.polygons = false;
+  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
+  const shadow::ShadowResult b = shadow::compute_shadows(scene, polygons);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
+    EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area);
+    EXPECT_EQ(a.lighting[r].lit_fraction, b.lighting[r].lit_fraction);
+  }
+  const shadow::FaceLighting* ground = a.find(0, 0);
+  ASSERT_NE(ground, nullptr);
+  EXPECT_GT(ground->shadow_area, 5.5 * 20);  // the comb's shadow and the boxes'
 }
 
 }  // namespace
