@@ -282,6 +282,22 @@ TEST(RationalPoints, IntervalsHoldTheirValue) {
     EXPECT_GE(EQ(i.sup()), q);
     if (k % 3 == 0) EXPECT_TRUE(i.is_point());
   }
+  // Long numerators and denominators (as projections and clips make them), both signs.
+  for (int k = 0; k < 500; ++k) {
+    mpz_class num = 0, den = 0;
+    for (int limb = 0; limb < 1 + k % 9; ++limb) {
+      num = num * 4294967296.0 + static_cast<double>(rng());
+      den = den * 4294967296.0 + static_cast<double>(rng() | 1u);
+    }
+    if (k % 2) num = -num;
+    if (k % 5 == 0) den = 1;
+    EQ q(num, den);
+    q.canonicalize();
+    const shadow::exact::IA i = shadow::exact::interval_of(q);
+    EXPECT_LE(EQ(i.inf()), q) << k;
+    EXPECT_GE(EQ(i.sup()), q) << k;
+    EXPECT_LE(i.sup() - i.inf(), 1e-14 * std::fabs(q.get_d())) << k;
+  }
 }
 
 TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {

@@ -34,16 +34,32 @@ struct QPoint2 {
 using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
 
 /// An interval around q: the value itself when it is a double (a dyadic numerator of at most 53
-/// bits), else the doubles on either side of the truncated value.
+/// bits), else the quotient of intervals around the numerator's and the denominator's leading
+/// bits (mpz_get_d_2exp truncates: within one ulp each), scaled back by their exponents. This
+/// reads only the top limbs; mpq_get_d divides the whole numbers.
 inline IA interval_of(const EQ& q) {
   const mpq_srcptr r = q.get_mpq_t();
-  if (mpz_sgn(mpq_numref(r)) == 0) return IA(0.0);
-  const double d = mpq_get_d(r);  // truncated toward zero: within one ulp
-  if (mpz_popcount(mpq_denref(r)) == 1 && mpz_sizeinbase(mpq_numref(r), 2) <= 53 && std::isfinite(d) &&
-      std::fabs(d) >= std::numeric_limits<double>::min())
-    return IA(d);  // a double exactly
+  const mpz_srcptr num = mpq_numref(r), den = mpq_denref(r);
+  if (mpz_sgn(num) == 0) return IA(0.0);
+  long en = 0, ed = 0;
+  const double n = mpz_get_d_2exp(&en, num);  // |n| in [0.5, 1), num ~ n 2^en
+  const double d = mpz_get_d_2exp(&ed, den);
+  if (mpz_popcount(den) == 1 && mpz_sizeinbase(num, 2) <= 53) {
+    const double v = std::ldexp(n, static_cast<int>(en - ed + 1));  // den = 2^(ed - 1)
+    if (std::isfinite(v) && std::fabs(v) >= std::numeric_limits<double>::min()) return IA(v);  // exactly
+  }
+  const long shift = en - ed;
+  if (shift > 900 || shift < -900) {  // out of a safe exponent range: the slow, exact way
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const double t = mpq_get_d(r);
+    return IA(std::nextafter(t, -inf), std::nextafter(t, inf));
+  }
   constexpr double inf = std::numeric_limits<double>::infinity();
-  return IA(std::nextafter(d, -inf), std::nextafter(d, inf));
+  CGAL::Protect_FPU_rounding<true> guard;
+  const IA in(std::nextafter(n, -inf), std::nextafter(n, inf));
+  const IA id(d, std::nextafter(d, inf));
+  const IA quotient = in / id;  // in (-2.1, 2.1), away from under- and overflow
+  return IA(std::ldexp(quotient.inf(), static_cast<int>(shift)), std::ldexp(quotient.sup(), static_cast<int>(shift)));
 }
 
 /// A point's intervals.
