@@ -76,6 +76,13 @@ class ExactReceiverJob {
       return std::move(item_);
     }
     out.faces_light = true;
+    // Areas only, a box chart, a directional light, an exactly planar receiver: the casts are kept
+    // as plain rational points and united by their boundaries (no Epeck number, no arrangement).
+    q_mode_ = !polygons_ && fp_.chart_is_box && !point_light_ && fp_.exactly_planar;
+    if (q_mode_) {
+      w_.qshadows.clear();
+      w_.qfirst.assign(1, 0);
+    }
 
     if (split_above_ > 0 && grid_ && core::tileable(fp_)) {
       // A directional light: decided from the light-space grid's count (an upper bound on the
@@ -112,7 +119,7 @@ class ExactReceiverJob {
     }
 
     const ExactFace& P = w_.face(ctx_, face_id_);
-    if (shadows_.empty()) {  // nothing in front: wholly lit, no Boolean operation needed
+    if (shadow_count() == 0) {  // nothing in front: wholly lit, no Boolean operation needed
       ++stats_.unshadowed;
       out.lit_area = out.area;
       out.lit_fraction = 1.0;
@@ -191,6 +198,21 @@ class ExactReceiverJob {
     }
   }
 
+  void clip_to_chart_box_q(std::vector<QPoint2>& poly) {
+    // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
+    bool inside = true;
+    for (std::size_t v = 0; v < poly.size() && inside; ++v) {
+      const IPoint2 i = interval_of(poly[v]);
+      inside = i.x.inf() >= fp_.chart_min[0] && i.x.sup() <= fp_.chart_max[0] && i.y.inf() >= fp_.chart_min[1] &&
+               i.y.sup() <= fp_.chart_max[1];
+    }
+    if (inside) return;
+    for (int c = 0; c < 2; ++c) {
+      clip_convex_2d(poly, c, fp_.chart_min[c], true, w_.qscratch, w_.qside, w_.qbound);
+      clip_convex_2d(poly, c, fp_.chart_max[c], false, w_.qscratch, w_.qside, w_.qbound);
+    }
+  }
+
   // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
   void cast_convex_solid(int solid) {
     w_.casters.mark_solid_done(solid);
@@ -203,6 +225,29 @@ class ExactReceiverJob {
     }
     if (!any_front) return;
     LeafProjector& projector = leaf_projector();
+    if (q_mode_) {
+      std::vector<QPoint2>& pts = w_.qpoly;
+      pts.clear();
+      for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+        if (w_.vertex_sign[v] == CGAL::POSITIVE) projector.project(cs.vertices[v], pts.emplace_back());
+        if (w_.vertex_sign[v] == CGAL::ZERO) projector.chart(cs.vertices[v], pts.emplace_back());
+      }
+      for (const auto& [a, b] : cs.edges) {
+        const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
+        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+          projector.crossing(cs.vertices[a], cs.vertices[b], pts.emplace_back());
+      }
+      convex_hull(pts, w_.qscratch, w_.qintervals, w_.qorder, w_.qchain, w_.qs);
+      pts.swap(w_.qscratch);
+      clip_to_chart_box_q(pts);
+      if (pts.size() < 3) return;
+      if (area_sign(pts, w_.qintervals, w_.qs, w_.qarea) != CGAL::POSITIVE) return;  // flat: edge-on solid
+      w_.qshadows.insert(w_.qshadows.end(), pts.begin(), pts.end());
+      w_.qfirst.push_back(w_.qshadows.size());
+      ++stats_.casting_pairs;
+      note_cover_q(pts);
+      return;
+    }
     w_.poly2.clear();
     for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
       if (w_.vertex_sign[v] == CGAL::POSITIVE) w_.poly2.push_back(projector.project(cs.vertices[v]));
@@ -267,6 +312,28 @@ class ExactReceiverJob {
       // one per convex piece (pieces share edges, which makes the union slow). Only when that
       // polygon lies inside the chart box: cutting it to the box afterwards (an intersection
       // of the union) cost more than the pieces on long combs.
+      if (q_mode_) {
+        std::vector<QPoint2>& pts = w_.qpoly;
+        pts.clear();
+        bool inside = true;
+        for (int v : qp.chart_ring) {
+          leaf_projector().project(qface.vertices[v], pts.emplace_back());
+          const QPoint2& p = pts.back();
+          for (int c = 0; c < 2 && inside; ++c) {
+            const EQ& x = c == 0 ? p.x : p.y;
+            const IA ix = interval_of(x);
+            w_.qbound = fp_.chart_min[c];
+            inside = compare(x, ix, w_.qbound, IA(fp_.chart_min[c])) >= 0;
+            w_.qbound = fp_.chart_max[c];
+            inside = inside && compare(x, ix, w_.qbound, IA(fp_.chart_max[c])) <= 0;
+          }
+          if (!inside) break;
+        }
+        if (inside) {
+          if (add_shadow_q(pts)) ++stats_.casting_pairs;
+          return;
+        }
+      }
       w_.poly2.clear();
       bool inside = true;
       for (int v : qp.chart_ring) {
@@ -291,11 +358,26 @@ class ExactReceiverJob {
         piece_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
       }
       if (!piece_front) continue;
+      if (q_mode_ && leaves) {
+        leaf_projector().project_piece_parallel(qface.vertices, piece, w_.piece_sign, w_.qpoly);
+        clip_to_chart_box_q(w_.qpoly);
+        cast |= add_shadow_q(w_.qpoly);
+        continue;
+      }
       if (leaves)
         leaf_projector().project_piece(qface.vertices, piece, w_.piece_sign, w_.poly2);
       else
         project_piece_lazy(*Q, piece, *frame);
       if (!point_light_) clip_to_chart_box(w_.poly2);
+      if (q_mode_) {  // a lifted caster: its exact values as rational points
+        w_.qpoly.clear();
+        for (const Point2& p : w_.poly2) {
+          const auto& e = CGAL::exact(p);
+          w_.qpoly.push_back(QPoint2{e.x(), e.y()});
+        }
+        cast |= add_shadow_q(w_.qpoly);
+        continue;
+      }
       cast |= add_shadow(w_.poly2);
     }
     if (cast) ++stats_.casting_pairs;
@@ -346,15 +428,75 @@ class ExactReceiverJob {
     covered_ = polygon_area(shadow) == w_.face(ctx_, face_id_).chart_area;
   }
 
+  /// add_shadow for rational points (the areas-only route).
+  bool add_shadow_q(std::vector<QPoint2>& poly) {
+    if (poly.size() < 3) return false;
+    const CGAL::Sign orientation = area_sign(poly, w_.qintervals, w_.qs, w_.qarea);
+    if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
+    if (orientation == CGAL::NEGATIVE) std::reverse(poly.begin(), poly.end());
+    w_.qshadows.insert(w_.qshadows.end(), poly.begin(), poly.end());
+    w_.qfirst.push_back(w_.qshadows.size());
+    note_cover_q(poly);
+    return true;
+  }
+
+  /// note_cover for a rational cast (counter-clockwise). Every cast is a simple polygon inside
+  /// the chart box (a convex piece or hull clipped to it, or a face's affine image lying in it),
+  /// and a simple polygon inside the box with the box's area is the box.
+  void note_cover_q(const std::vector<QPoint2>& poly) {
+    if (tile_ || covered_ || poly.size() < 3) return;
+    const double box = (fp_.chart_max[0] - fp_.chart_min[0]) * (fp_.chart_max[1] - fp_.chart_min[1]);
+    double twice = 0;
+    for (std::size_t a = 0; a < poly.size(); ++a) {
+      const QPoint2& p = poly[a];
+      const QPoint2& q = poly[(a + 1) % poly.size()];
+      twice += p.x.get_d() * q.y.get_d() - q.x.get_d() * p.y.get_d();
+    }
+    if (!(std::abs(0.5 * twice - box) <= 1e-9 * box)) return;
+    EQ exact_twice;
+    twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
+    const EQ exact_box = (EQ(fp_.chart_max[0]) - EQ(fp_.chart_min[0])) * (EQ(fp_.chart_max[1]) - EQ(fp_.chart_min[1]));
+    covered_ = exact_twice == 2 * exact_box;
+  }
+
+  std::size_t shadow_count() const { return q_mode_ ? w_.qfirst.size() - 1 : shadows_.size(); }
+
   // ---- unite, areas -------------------------------------------------------------------------
   void unite_and_measure(const ExactFace& P) {
-    FaceLighting& out = item_.lighting;
     if (covered_) {  // the box itself (note_cover): the same exact values as its union would give
-      lit_chart_area_ = FT(0);
-      out.lit_area = area_3d(FT(0), P.area_scale_squared);
-      out.shadow_area = area_3d(P.chart_area, P.area_scale_squared);
-      out.lit_fraction = round_to_double(FT(0) / P.chart_area);
+      twice_area_ = *w_.exact_areas(face_id_, P).first;  // (the chart's area, not twice)
+      measure(P, twice_area_);
       return;
+    }
+    if (q_mode_) {
+      if (w_.qfirst.size() == 2) {  // one convex cast inside the box: it is the shadow
+        twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
+        twice_area_ /= 2;
+        measure(P, twice_area_);
+        return;
+      }
+      if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
+        twice_area_ /= 2;
+        measure(P, twice_area_);
+        return;
+      }
+      // A non-convex cast: the Boolean union of all of them, as Epeck polygons.
+      for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+        Polygon2 polygon;
+        for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v)
+          polygon.push_back(Point2(FT(w_.qshadows[v].x), FT(w_.qshadows[v].y)));
+        shadows_.push_back(std::move(polygon));
+      }
+    } else if (!polygons_ && fp_.chart_is_box && shadows_.size() > 1) {
+      // Areas only, casts already inside the chart box: the union's area from the casts'
+      // boundaries (exact/convex_union_area.hpp), the same exact rational as the join's regions
+      // give, without an arrangement. Not for a non-convex cast (the whole-face route of
+      // cast_face): the join then.
+      if (w_.union_area.twice_area(shadows_, twice_area_)) {
+        twice_area_ /= 2;
+        measure(P, twice_area_);
+        return;
+      }
     }
     shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
     PolygonSet2& shadow_set_ = *shadow_set_storage_;
@@ -369,13 +511,33 @@ class ExactReceiverJob {
     }
     std::vector<FT> region_areas;
     for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
-    const FT shadow_chart_area = balanced_sum(region_areas);
-    if (tile_) item_.tile_shadow_chart_area = CGAL::exact(shadow_chart_area);
-    const FT lit_chart_area = P.chart_area - shadow_chart_area;
-    lit_chart_area_ = lit_chart_area;
-    out.lit_area = area_3d(lit_chart_area, P.area_scale_squared);
-    out.shadow_area = area_3d(shadow_chart_area, P.area_scale_squared);
-    out.lit_fraction = round_to_double(lit_chart_area / P.chart_area);
+    measure(P, balanced_sum(region_areas));
+  }
+
+  /// The areas from the shadow's exact area in the chart, in plain rationals (the same values
+  /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
+  void measure(const ExactFace& P, const FT& shadow_chart_area) { measure(P, CGAL::exact(shadow_chart_area)); }
+  void measure(const ExactFace& P, const EQ& shadow) {
+    FaceLighting& out = item_.lighting;
+    if (tile_) item_.tile_shadow_chart_area = shadow;
+    const auto [chart_ptr, scale_ptr] = w_.exact_areas(face_id_, P);
+    const EQ& chart = *chart_ptr;
+    const EQ& scale = *scale_ptr;
+    EQ& lit = w_.qarea;
+    lit = chart - shadow;
+    if (polygons_) lit_chart_area_ = FT(lit);  // lit_region's
+    out.lit_area = area_3d_exact(lit, scale);
+    out.shadow_area = area_3d_exact(shadow, scale);
+    w_.qbound = lit / chart;
+    out.lit_fraction = round_mpq_to_double(w_.qbound.get_mpq_t());
+  }
+  /// area_3d on exact rationals: sqrt(a^2 s) rounded once.
+  double area_3d_exact(const EQ& a, const EQ& scale) {
+    if (sgn(a) == 0) return 0.0;
+    EQ& t = w_.qs.a;
+    t = a * a;
+    t *= scale;
+    return sqrt_mpq_to_double(t.get_mpq_t());
   }
 
   // ---- fragments ----------------------------------------------------------------------------
@@ -484,6 +646,8 @@ class ExactReceiverJob {
   bool covered_ = false;  ///< a shadow fills the whole chart box (areas only; note_cover)
   std::vector<PolygonWithHoles2> shadow_regions_;
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
+  ConvexUnionArea::EQ twice_area_;                 ///< scratch for the union's area (areas only)
+  bool q_mode_ = false;                            ///< casts as rational points (see run())
   FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
   std::vector<Polygon2> cells_, triangles_;

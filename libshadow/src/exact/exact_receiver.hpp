@@ -10,6 +10,7 @@
 #include "core/face_prep.hpp"
 #include "core/prepared_scene.hpp"
 #include "core/tiles.hpp"
+#include "exact/convex_union_area.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -20,6 +21,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace shadow::exact {
@@ -39,6 +41,33 @@ struct ExactWorker {
   std::vector<Point3> poly, scratch;
   std::vector<Point2> poly2, scratch2;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
+  ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
+  // The areas-only route's casts as rational points (exact/rational_points.hpp) and scratch.
+  std::vector<QPoint2> qshadows, qpoly, qscratch;
+  std::vector<std::size_t> qfirst, qorder, qchain;
+  std::vector<IPoint2> qintervals;
+  std::vector<int> qside;
+  QScratch qs;
+  EQ qbound, qarea;
+  /// Per face, made on first use and kept across trims: the exact chart area and area scale of
+  /// ExactFace (evaluating their lazy DAGs again after every trim cost a tenth of a year's run).
+  std::vector<EQ> chart_area_q, area_scale_q;
+  std::vector<char> has_area_q;
+
+  /// Face f's exact chart area and area scale (P is its ExactFace).
+  std::pair<const EQ*, const EQ*> exact_areas(std::size_t f, const ExactFace& P) {
+    if (has_area_q.size() != faces.size()) {
+      has_area_q.assign(faces.size(), 0);
+      chart_area_q.resize(faces.size());
+      area_scale_q.resize(faces.size());
+    }
+    if (!has_area_q[f]) {
+      chart_area_q[f] = CGAL::exact(P.chart_area);
+      area_scale_q[f] = CGAL::exact(P.area_scale_squared);
+      has_area_q[f] = 1;
+    }
+    return {&chart_area_q[f], &area_scale_q[f]};
+  }
 
   std::vector<std::size_t> built;  ///< the faces that have an entry in `faces`
 
@@ -47,6 +76,7 @@ struct ExactWorker {
     faces.clear();
     faces.resize(face_count);
     built.clear();
+    has_area_q.clear();
     casters.reset(face_count, solid_count);
   }
   /// This thread's exact view of face f (made on first use).

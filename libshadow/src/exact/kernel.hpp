@@ -85,16 +85,22 @@ void rational_to_mpq(const Rational& q, mpq_t out) {
 /// Copies the exact rational value of an FT into `out` (mpq_t, initialised by the caller).
 inline void exact_to_mpq(const FT& value, mpq_t out) { detail::rational_to_mpq(CGAL::exact(value), out); }
 
-/// The double nearest to an exact value (one correct rounding, ties to even).
-inline double round_to_double(const FT& value) {
-  mpq_t q;
-  mpq_init(q);
-  exact_to_mpq(value, q);
+/// The double nearest to an exact rational (one correct rounding, ties to even).
+inline double round_mpq_to_double(mpq_srcptr q) {
   mpfr_t r;
   mpfr_init2(r, 53);
   mpfr_set_q(r, q, MPFR_RNDN);
   const double d = mpfr_get_d(r, MPFR_RNDN);
   mpfr_clear(r);
+  return d;
+}
+
+/// The double nearest to an exact value (one correct rounding, ties to even).
+inline double round_to_double(const FT& value) {
+  mpq_t q;
+  mpq_init(q);
+  exact_to_mpq(value, q);
+  const double d = round_mpq_to_double(q);
   mpq_clear(q);
   return d;
 }
@@ -102,16 +108,20 @@ inline double round_to_double(const FT& value) {
 /// sqrt(value) for an exact non-negative rational, rounded to double. The rational is first
 /// rounded to 256 bits, so the result is the correctly rounded root except in cases closer
 /// than 2^-200 to a rounding boundary.
-inline double sqrt_to_double(const FT& value) {
-  mpq_t q;
-  mpq_init(q);
-  exact_to_mpq(value, q);
+inline double sqrt_mpq_to_double(mpq_srcptr q) {
   mpfr_t r;
   mpfr_init2(r, 256);
   mpfr_set_q(r, q, MPFR_RNDN);
   mpfr_sqrt(r, r, MPFR_RNDN);
   const double d = mpfr_get_d(r, MPFR_RNDN);
   mpfr_clear(r);
+  return d;
+}
+inline double sqrt_to_double(const FT& value) {
+  mpq_t q;
+  mpq_init(q);
+  exact_to_mpq(value, q);
+  const double d = sqrt_mpq_to_double(q);
   mpq_clear(q);
   return d;
 }

@@ -1,0 +1,418 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact area of a union of convex polygons without an arrangement (docs/algorithm.md,
+// "The exact union's area without a Boolean operation"). Include only from src/exact/*.cpp or
+// tests (CGAL).
+//
+// Twice the area of a region is the integral of cross(p, dp) around its boundary. The boundary
+// of a union of closed convex counter-clockwise polygons P_1..P_n is made of pieces of their
+// edges, so
+//
+//   2 area = sum over edges e = (s, s + d) of every P_i of cross(s, d) * L_e,
+//
+// where L_e is the measure of the parameters t in [0, 1] for which s + t d is not covered. A
+// point is covered by P_j (j != i) when it lies in P_j's interior, or on an edge of P_j on the
+// same line as e, going the same way, with j < i: a stretch of boundary that several polygons
+// share is counted once, by the smallest index; an edge on the same line going the other way
+// does not cover (the polygons lie on both sides, and the two edges' pieces cancel). The
+// covered set from one P_j is an open interval of t (an intersection of half-planes), the
+// intervals of all P_j are merged, and L_e is what they leave of [0, 1].
+//
+// Exact throughout: signs and comparisons are filtered (intervals first, exact rationals when
+// the intervals cannot decide), and only the ends of the uncovered pieces are made exactly. The
+// polygons come as plain rational points (exact/rational_points.hpp): no lazy number is
+// evaluated here.
+#pragma once
+
+#include "exact/kernel.hpp"
+#include "exact/rational_points.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <deque>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace shadow::exact {
+
+/// Twice the exact area of a union of convex polygons, reusing its scratch between calls (one
+/// per thread).
+class ConvexUnionArea {
+ public:
+  using EQ = shadow::exact::EQ;
+
+  /// Counts of the last call (for tests and the benchmark's notes).
+  struct Counts {
+    std::size_t polygons = 0;       ///< input polygons
+    std::size_t pairs = 0;          ///< polygon pairs whose bounding boxes meet
+    std::size_t edges_partial = 0;  ///< edges partly covered (those need exact parameters)
+    std::size_t exact_params = 0;   ///< parameters t made exactly
+  };
+
+  /// Twice the exact area of the union of the polygons points[first[k], first[k + 1]) (each
+  /// counter-clockwise with positive area) into `out`. False (and `out` unchanged) when some
+  /// polygon is not convex: the caller unites them with a Boolean operation instead.
+  bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
+    if (!load(points, first)) return false;
+    find_pairs();
+    terms_.clear();
+    for (std::size_t i = 0; i + 1 < first_.size(); ++i) measure_polygon(i);
+    out = sum_terms();
+    return true;
+  }
+
+  /// The same for Epeck polygons (their exact values are copied first).
+  bool twice_area(const std::vector<Polygon2>& polygons, EQ& out) {
+    copy_.clear();
+    copy_first_.assign(1, 0);
+    for (const Polygon2& polygon : polygons) {
+      for (auto v = polygon.vertices_begin(); v != polygon.vertices_end(); ++v) {
+        const auto& e = CGAL::exact(*v);
+        copy_.push_back(QPoint2{e.x(), e.y()});
+      }
+      copy_first_.push_back(copy_.size());
+    }
+    return twice_area(copy_, copy_first_, out);
+  }
+
+  [[nodiscard]] const Counts& counts() const { return counts_; }
+
+ private:
+  struct Box {
+    double x0, y0, x1, y1;
+  };
+  [[nodiscard]] static bool meet(const Box& a, const Box& b) {
+    return a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
+  }
+
+  /// A parameter t on the current edge: 0, 1, or where the line of edge f (a vertex index)
+  /// crosses the edge (exact value made on demand, in exact_[cache]).
+  struct Param {
+    int kind = 0;  ///< 0: t = 0; 1: t = 1; 2: crossing with edge f
+    std::size_t f = 0;
+    IA approx{0};
+    int cache = -1;
+  };
+  struct Cover {
+    Param lo, hi;
+  };
+
+  // ---- loading: vertices without repeats, convexity checked exactly -----------------------------
+  bool equal(std::size_t a, std::size_t b) const {
+    const IPoint2& p = ip_[a];
+    const IPoint2& q = ip_[b];
+    if (compare(pts_[a]->x, p.x, pts_[b]->x, q.x) != 0) return false;
+    return compare(pts_[a]->y, p.y, pts_[b]->y, q.y) == 0;
+  }
+
+  bool load(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first) {
+    pts_.clear();
+    ip_.clear();
+    nxt_.clear();
+    first_.assign(1, 0);
+    box_.clear();
+    counts_ = Counts{};
+    counts_.polygons = first.empty() ? 0 : first.size() - 1;
+    for (std::size_t k = 0; k + 1 < first.size(); ++k) {
+      const std::size_t start = pts_.size();
+      for (std::size_t v = first[k]; v < first[k + 1]; ++v) {
+        pts_.push_back(&points[v]);
+        ip_.push_back(interval_of(points[v]));
+        if (pts_.size() > start + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
+          pts_.pop_back();
+          ip_.pop_back();
+        }
+      }
+      while (pts_.size() - start > 1 && equal(pts_.size() - 1, start)) {
+        pts_.pop_back();
+        ip_.pop_back();
+      }
+      if (!convex(start, pts_.size())) return false;
+      first_.push_back(pts_.size());
+      Box b{ip_[start].x.inf(), ip_[start].y.inf(), ip_[start].x.sup(), ip_[start].y.sup()};
+      for (std::size_t v = start; v < pts_.size(); ++v) {
+        nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
+        b.x0 = std::min(b.x0, ip_[v].x.inf());
+        b.y0 = std::min(b.y0, ip_[v].y.inf());
+        b.x1 = std::max(b.x1, ip_[v].x.sup());
+        b.y1 = std::max(b.y1, ip_[v].y.sup());
+      }
+      box_.push_back(b);
+    }
+    return true;
+  }
+
+  CGAL::Sign turn(std::size_t a, std::size_t b, std::size_t c) {
+    return orientation(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
+  }
+
+  /// Whether vertices [a, b) (no two consecutive equal) make a convex polygon that winds once:
+  /// every turn to the left or straight on, and the sign of dx changes at most twice around it
+  /// (a pentagram turns left everywhere but winds twice). Exact predicates.
+  bool convex(std::size_t a, std::size_t b) {
+    const std::size_t n = b - a;
+    if (n < 3) return false;
+    int changes = 0, last = 0, first = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t p = a + k, q = a + (k + 1) % n, r = a + (k + 2) % n;
+      const CGAL::Sign o = turn(p, q, r);
+      if (o == CGAL::NEGATIVE) return false;
+      if (o == CGAL::ZERO && dot_sign(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) !=
+                                 CGAL::POSITIVE)
+        return false;  // a spike back
+      const int sign = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);
+      if (sign != 0) {
+        if (first == 0) first = sign;
+        if (last != 0 && sign != last) ++changes;
+        last = sign;
+      }
+    }
+    if (last != 0 && first != 0 && last != first) ++changes;
+    return changes <= 2;
+  }
+
+  // ---- neighbours: polygon pairs whose boxes meet (a sweep in x) ------------------------------
+  void find_pairs() {
+    const std::size_t n = box_.size();
+    order_.resize(n);
+    std::iota(order_.begin(), order_.end(), std::size_t{0});
+    std::sort(order_.begin(), order_.end(),
+              [&](std::size_t a, std::size_t b) { return box_[a].x0 != box_[b].x0 ? box_[a].x0 < box_[b].x0 : a < b; });
+    pair_a_.clear();
+    pair_b_.clear();
+    open_.clear();
+    for (std::size_t p : order_) {
+      const Box& b = box_[p];
+      std::size_t kept = 0;
+      for (std::size_t o : open_) {
+        const Box& c = box_[o];
+        if (c.x1 < b.x0) continue;  // closed before this one starts
+        open_[kept++] = o;
+        if (c.y1 >= b.y0 && b.y1 >= c.y0) {
+          pair_a_.push_back(p);
+          pair_b_.push_back(o);
+        }
+      }
+      open_.resize(kept);
+      open_.push_back(p);
+    }
+    counts_.pairs = pair_a_.size();
+    // Neighbour lists, both ways (CSR).
+    nstart_.assign(n + 1, 0);
+    for (std::size_t k = 0; k < pair_a_.size(); ++k) {
+      ++nstart_[pair_a_[k] + 1];
+      ++nstart_[pair_b_[k] + 1];
+    }
+    for (std::size_t p = 0; p < n; ++p) nstart_[p + 1] += nstart_[p];
+    nlist_.resize(nstart_[n]);
+    fill_ = nstart_;
+    for (std::size_t k = 0; k < pair_a_.size(); ++k) {
+      nlist_[fill_[pair_a_[k]]++] = pair_b_[k];
+      nlist_[fill_[pair_b_[k]]++] = pair_a_[k];
+    }
+  }
+
+  // ---- one polygon's edges ----------------------------------------------------------------------
+  void measure_polygon(std::size_t i) {
+    if (nstart_[i] == nstart_[i + 1]) {  // alone: its own area
+      twice_polygon_area(pts_.data() + first_[i], first_[i + 1] - first_[i]);
+      return;
+    }
+    for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) {
+      const std::size_t w = nxt_[v];
+      const Box eb{std::min(ip_[v].x.inf(), ip_[w].x.inf()), std::min(ip_[v].y.inf(), ip_[w].y.inf()),
+                   std::max(ip_[v].x.sup(), ip_[w].x.sup()), std::max(ip_[v].y.sup(), ip_[w].y.sup())};
+      covers_.clear();
+      bool full = false;
+      exact_used_ = 0;  // parameters are per edge
+      cur_v_ = v;
+      cur_w_ = w;
+      for (std::size_t k = nstart_[i]; k < nstart_[i + 1] && !full; ++k) {
+        const std::size_t j = nlist_[k];
+        if (!meet(eb, box_[j])) continue;
+        Cover c;
+        if (!cover_by(i, j, c)) continue;
+        if (c.lo.kind == 0 && c.hi.kind == 1) full = true;
+        else covers_.push_back(c);
+      }
+      if (full) continue;
+      if (covers_.empty()) {
+        add_cross(v, w, nullptr);
+        continue;
+      }
+      ++counts_.edges_partial;
+      uncovered_measure(v, w);
+    }
+  }
+
+  /// The open interval of t that P_j covers on the current edge of P_i; false when it is empty.
+  bool cover_by(std::size_t i, std::size_t j, Cover& c) {
+    const std::size_t v = cur_v_, w = cur_w_;
+    c.lo = Param{};
+    c.lo.kind = 0;
+    c.hi = Param{};
+    c.hi.kind = 1;
+    c.hi.approx = IA(1);
+    for (std::size_t f = first_[j]; f < first_[j + 1]; ++f) {
+      const std::size_t f2 = nxt_[f];
+      const CGAL::Sign a = turn(f, f2, v), b = turn(f, f2, w);
+      if (a == CGAL::POSITIVE && b == CGAL::POSITIVE) continue;
+      if (a != CGAL::POSITIVE && b != CGAL::POSITIVE) {
+        // Both on or outside f's line: nothing covered unless the edge lies on f's line going the
+        // same way, and P_j comes first (then f's closed side is the constraint, and it holds).
+        if (a == CGAL::ZERO && b == CGAL::ZERO && j < i &&
+            dot_sign(*pts_[v], ip_[v], *pts_[w], ip_[w], *pts_[f], ip_[f], *pts_[f2], ip_[f2], scratch_) == CGAL::POSITIVE)
+          continue;
+        return false;
+      }
+      if (a == CGAL::POSITIVE) {  // t < tau (tau = 1 when b is zero: no constraint in (0, 1))
+        if (b == CGAL::ZERO) continue;
+        Param p = crossing(f);
+        if (c.hi.kind == 1 || less(p, c.hi)) c.hi = p;
+      } else {  // t > tau
+        if (a == CGAL::ZERO) continue;
+        Param p = crossing(f);
+        if (c.lo.kind == 0 || less(c.lo, p)) c.lo = p;
+      }
+    }
+    if (c.lo.kind == 0 || c.hi.kind == 1) return true;  // tau is strictly inside (0, 1)
+    return less(c.lo, c.hi);
+  }
+
+  /// Where the line of edge f (f -> next) crosses the current edge s -> s2:
+  /// t = cross(fd, u - s) / cross(fd, s2 - s), strictly inside (0, 1).
+  Param crossing(std::size_t f) {
+    Param p;
+    p.kind = 2;
+    p.f = f;
+    const IPoint2& s = ip_[cur_v_];
+    const IPoint2& s2 = ip_[cur_w_];
+    const IPoint2& u = ip_[f];
+    const IPoint2& u2 = ip_[nxt_[f]];
+    CGAL::Protect_FPU_rounding<true> guard;
+    const IA fx = u2.x - u.x, fy = u2.y - u.y;
+    const IA num = fx * (u.y - s.y) - fy * (u.x - s.x);
+    const IA den = fx * (s2.y - s.y) - fy * (s2.x - s.x);
+    IA t(0, 1);
+    if (!CGAL::possibly(den == IA(0))) t = num / den;
+    p.approx = IA(std::max(t.inf(), 0.0), std::min(t.sup(), 1.0));
+    return p;
+  }
+
+  /// The exact value of a parameter (on the current edge).
+  const EQ& exact_value(Param& p) {
+    if (p.kind == 0) return zero_;
+    if (p.kind == 1) return one_;
+    if (p.cache >= 0) return exact_[static_cast<std::size_t>(p.cache)];
+    if (exact_used_ == exact_.size()) exact_.emplace_back();
+    EQ& t = exact_[exact_used_];
+    p.cache = static_cast<int>(exact_used_++);
+    const QPoint2& s = *pts_[cur_v_];
+    const QPoint2& s2 = *pts_[cur_w_];
+    const QPoint2& u = *pts_[p.f];
+    const QPoint2& u2 = *pts_[nxt_[p.f]];
+    fx_ = u2.x - u.x;
+    fy_ = u2.y - u.y;
+    dx_ = s2.x - s.x;
+    dy_ = s2.y - s.y;
+    ux_ = u.x - s.x;
+    uy_ = u.y - s.y;
+    t = fx_ * uy_;
+    den_ = fy_ * ux_;
+    t -= den_;
+    den_ = fx_ * dy_;
+    dx_ *= fy_;
+    den_ -= dx_;
+    t /= den_;
+    ++counts_.exact_params;
+    return t;
+  }
+
+  /// p < q for two parameters on the current edge.
+  bool less(Param& p, Param& q) {
+    if (p.kind != 2 || q.kind != 2) {
+      const int kp = p.kind == 2 ? 1 : (p.kind == 0 ? 0 : 2), kq = q.kind == 2 ? 1 : (q.kind == 0 ? 0 : 2);
+      return kp < kq;  // 0 < (0, 1) < 1
+    }
+    if (p.f == q.f) return false;
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      const CGAL::Uncertain<bool> r = p.approx < q.approx;
+      if (CGAL::is_certain(r)) return CGAL::get_certain(r);
+    }
+    return exact_value(p) < exact_value(q);
+  }
+
+  void twice_polygon_area(const QPoint2* const* pts, std::size_t n) {
+    terms_.emplace_back(0);
+    EQ& out = terms_.back();
+    for (std::size_t a = 0; a < n; ++a) {
+      const QPoint2& p = *pts[a];
+      const QPoint2& q = *pts[(a + 1) % n];
+      scratch_.a = p.x * q.y;
+      scratch_.b = p.y * q.x;
+      scratch_.a -= scratch_.b;
+      out += scratch_.a;
+    }
+  }
+
+  /// Adds cross(s, s2) * measure to the sum (measure null: the whole edge).
+  void add_cross(std::size_t v, std::size_t w, const EQ* measure) {
+    const QPoint2& s = *pts_[v];
+    const QPoint2& s2 = *pts_[w];
+    terms_.emplace_back(s.x * s2.y);
+    scratch_.a = s.y * s2.x;
+    terms_.back() -= scratch_.a;
+    if (measure) terms_.back() *= *measure;
+  }
+
+  /// The edge's uncovered measure from covers_ (sorted by lower end, merged), times cross(s, d).
+  void uncovered_measure(std::size_t v, std::size_t w) {
+    for (std::size_t a = 1; a < covers_.size(); ++a)  // insertion sort by lower end (few)
+      for (std::size_t b = a; b > 0 && less(covers_[b].lo, covers_[b - 1].lo); --b) std::swap(covers_[b], covers_[b - 1]);
+    covered_ = 0;
+    std::size_t a = 0;
+    while (a < covers_.size()) {
+      Param lo = covers_[a].lo, hi = covers_[a].hi;
+      std::size_t b = a + 1;
+      // Open intervals (lo, hi) and (lo', hi') with lo <= lo' merge when lo' < hi; when lo' ==
+      // hi a single point is left out, which has no measure: merging then changes nothing.
+      while (b < covers_.size() && !less(hi, covers_[b].lo)) {
+        if (less(hi, covers_[b].hi)) hi = covers_[b].hi;
+        ++b;
+      }
+      piece_ = exact_value(hi);
+      piece_ -= exact_value(lo);
+      covered_ += piece_;
+      a = b;
+    }
+    measure_ = one_;
+    measure_ -= covered_;
+    if (sgn(measure_) != 0) add_cross(v, w, &measure_);
+  }
+
+  EQ sum_terms() {
+    if (terms_.empty()) return EQ(0);
+    for (std::size_t width = 1; width < terms_.size(); width *= 2)
+      for (std::size_t a = 0; a + width < terms_.size(); a += 2 * width) terms_[a] += terms_[a + width];
+    return terms_[0];
+  }
+
+  std::vector<const QPoint2*> pts_;
+  std::vector<IPoint2> ip_;
+  std::vector<std::size_t> nxt_;    ///< the next vertex around the same polygon
+  std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
+  std::vector<Box> box_;
+  std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
+  std::vector<Cover> covers_;
+  std::deque<EQ> exact_;  ///< exact parameters of the current edge (references stay valid)
+  std::vector<EQ> terms_;
+  std::vector<QPoint2> copy_;
+  std::vector<std::size_t> copy_first_;
+  std::size_t exact_used_ = 0, cur_v_ = 0, cur_w_ = 0;
+  EQ zero_{0}, one_{1}, fx_, fy_, dx_, dy_, ux_, uy_, den_, piece_, covered_, measure_;
+  QScratch scratch_;
+  Counts counts_;
+};
+
+}  // namespace shadow::exact

@@ -1,0 +1,234 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Plain GMP rational points with filtered predicates: the exact engine's areas-only route keeps
+// its casts in these instead of lazy Epeck points. Every first exact() of a lazy number runs a
+// std::call_once, whose slow path ends in a futex system call; the areas-only route needs the
+// exact value of nearly every vertex, and those calls were a fifth of its time. Here the exact
+// values are the numbers themselves and the filter's intervals are made from them once.
+// Include only from src/exact/*.cpp or tests (CGAL).
+#pragma once
+
+#include "exact/kernel.hpp"
+#include "geometry/clip_convex.hpp"
+
+#include <CGAL/Interval_nt.h>
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+namespace shadow::exact {
+
+/// The exact rationals of the kernel (GMP's mpq_class in this build).
+using EQ = FT::Exact_type;
+static_assert(std::is_same_v<EQ, mpq_class>, "rational_points.hpp expects Epeck over mpq_class");
+
+/// A point with exact rational coordinates.
+struct QPoint2 {
+  EQ x, y;
+};
+
+using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
+
+/// An interval around q: the value itself when it is a double (a dyadic numerator of at most 53
+/// bits), else the quotient of intervals around the numerator's and the denominator's leading
+/// bits (mpz_get_d_2exp truncates: within one ulp each), scaled back by their exponents. This
+/// reads only the top limbs; mpq_get_d divides the whole numbers.
+inline IA interval_of(const EQ& q) {
+  const mpq_srcptr r = q.get_mpq_t();
+  const mpz_srcptr num = mpq_numref(r), den = mpq_denref(r);
+  if (mpz_sgn(num) == 0) return IA(0.0);
+  long en = 0, ed = 0;
+  const double n = mpz_get_d_2exp(&en, num);  // |n| in [0.5, 1), num ~ n 2^en
+  const double d = mpz_get_d_2exp(&ed, den);
+  if (mpz_popcount(den) == 1 && mpz_sizeinbase(num, 2) <= 53) {
+    const double v = std::ldexp(n, static_cast<int>(en - ed + 1));  // den = 2^(ed - 1)
+    if (std::isfinite(v) && std::fabs(v) >= std::numeric_limits<double>::min()) return IA(v);  // exactly
+  }
+  const long shift = en - ed;
+  if (shift > 900 || shift < -900) {  // out of a safe exponent range: the slow, exact way
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    const double t = mpq_get_d(r);
+    return IA(std::nextafter(t, -inf), std::nextafter(t, inf));
+  }
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  CGAL::Protect_FPU_rounding<true> guard;
+  const IA in(std::nextafter(n, -inf), std::nextafter(n, inf));
+  const IA id(d, std::nextafter(d, inf));
+  const IA quotient = in / id;  // in (-2.1, 2.1), away from under- and overflow
+  return IA(std::ldexp(quotient.inf(), static_cast<int>(shift)), std::ldexp(quotient.sup(), static_cast<int>(shift)));
+}
+
+/// A point's intervals.
+struct IPoint2 {
+  IA x, y;
+};
+inline IPoint2 interval_of(const QPoint2& p) { return {interval_of(p.x), interval_of(p.y)}; }
+
+/// Scratch rationals for the exact fallbacks (no allocation once grown).
+struct QScratch {
+  EQ a, b, c, d;
+};
+
+/// Sign of cross(q - p, r - p): LEFT_TURN (positive) when p, q, r turn left. Filtered.
+inline CGAL::Sign orientation(const QPoint2& p, const IPoint2& ip, const QPoint2& q, const IPoint2& iq,
+                              const QPoint2& r, const IPoint2& ir, QScratch& s) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (ir.y - ip.y) - (iq.y - ip.y) * (ir.x - ip.x));
+    if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
+  }
+  s.a = q.x - p.x;
+  s.b = r.y - p.y;
+  s.a *= s.b;
+  s.c = q.y - p.y;
+  s.d = r.x - p.x;
+  s.c *= s.d;
+  const int c = cmp(s.a, s.c);
+  return c > 0 ? CGAL::POSITIVE : c < 0 ? CGAL::NEGATIVE : CGAL::ZERO;
+}
+
+/// Sign of dot(q - p, s - r). Filtered.
+inline CGAL::Sign dot_sign(const QPoint2& p, const IPoint2& ip, const QPoint2& q, const IPoint2& iq, const QPoint2& r,
+                           const IPoint2& ir, const QPoint2& t, const IPoint2& it, QScratch& s) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (it.x - ir.x) + (iq.y - ip.y) * (it.y - ir.y));
+    if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
+  }
+  s.a = q.x - p.x;
+  s.b = t.x - r.x;
+  s.a *= s.b;
+  s.c = q.y - p.y;
+  s.d = t.y - r.y;
+  s.c *= s.d;
+  s.a += s.c;
+  return static_cast<CGAL::Sign>(sgn(s.a));
+}
+
+/// Compares two rationals with their intervals.
+inline int compare(const EQ& a, const IA& ia, const EQ& b, const IA& ib) {
+  if (ia.sup() < ib.inf()) return -1;
+  if (ia.inf() > ib.sup()) return 1;
+  if (ia.is_point() && ib.is_point()) return ia.inf() < ib.inf() ? -1 : ia.inf() > ib.inf() ? 1 : 0;
+  return cmp(a, b);
+}
+
+/// Twice the signed area's sign of the polygon pts[0..n) (fan from the first vertex). Filtered.
+inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, std::vector<IPoint2>& ipts, QScratch& s, EQ& sum) {
+  const std::size_t n = pts.size();
+  if (n < 3) return CGAL::ZERO;
+  ipts.resize(n);
+  for (std::size_t a = 0; a < n; ++a) ipts[a] = interval_of(pts[a]);
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    IA total(0);
+    for (std::size_t a = 1; a + 1 < n; ++a)
+      total += (ipts[a].x - ipts[0].x) * (ipts[a + 1].y - ipts[0].y) - (ipts[a].y - ipts[0].y) * (ipts[a + 1].x - ipts[0].x);
+    const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign(total);
+    if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
+  }
+  sum = 0;
+  for (std::size_t a = 1; a + 1 < n; ++a) {
+    s.a = pts[a].x - pts[0].x;
+    s.b = pts[a + 1].y - pts[0].y;
+    s.a *= s.b;
+    s.c = pts[a].y - pts[0].y;
+    s.d = pts[a + 1].x - pts[0].x;
+    s.c *= s.d;
+    s.a -= s.c;
+    sum += s.a;
+  }
+  return static_cast<CGAL::Sign>(sgn(sum));
+}
+
+/// Twice the signed area of pts[begin, end), exactly (shoelace).
+inline void twice_polygon_area(const QPoint2* begin, const QPoint2* end, EQ& out, QScratch& s) {
+  out = 0;
+  const std::size_t n = static_cast<std::size_t>(end - begin);
+  for (std::size_t a = 0; a < n; ++a) {
+    const QPoint2& p = begin[a];
+    const QPoint2& q = begin[(a + 1) % n];
+    s.a = p.x * q.y;
+    s.b = p.y * q.x;
+    s.a -= s.b;
+    out += s.a;
+  }
+}
+
+/// The convex hull of `pts` (counter-clockwise, no collinear or repeated vertices) into `out`
+/// (Andrew's monotone chain with filtered predicates).
+inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, std::vector<IPoint2>& ipts,
+                        std::vector<std::size_t>& order, std::vector<std::size_t>& chain, QScratch& s) {
+  const std::size_t n = pts.size();
+  out.clear();
+  ipts.resize(n);
+  for (std::size_t a = 0; a < n; ++a) ipts[a] = interval_of(pts[a]);
+  order.resize(n);
+  for (std::size_t a = 0; a < n; ++a) order[a] = a;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const int cx = compare(pts[a].x, ipts[a].x, pts[b].x, ipts[b].x);
+    if (cx != 0) return cx < 0;
+    return compare(pts[a].y, ipts[a].y, pts[b].y, ipts[b].y) < 0;
+  });
+  if (n < 3) {
+    for (std::size_t a : order) out.push_back(pts[a]);
+    return;
+  }
+  chain.clear();
+  auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
+    return orientation(pts[a], ipts[a], pts[b], ipts[b], pts[c], ipts[c], s);
+  };
+  for (std::size_t k = 0; k < n; ++k) {  // lower hull
+    while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), order[k]) != CGAL::POSITIVE) chain.pop_back();
+    chain.push_back(order[k]);
+  }
+  const std::size_t lower = chain.size() + 1;
+  for (std::size_t k = n - 1; k-- > 0;) {  // upper hull
+    while (chain.size() >= lower && turn(chain[chain.size() - 2], chain.back(), order[k]) != CGAL::POSITIVE) chain.pop_back();
+    chain.push_back(order[k]);
+  }
+  chain.pop_back();  // the first point again
+  for (std::size_t a : chain) out.push_back(pts[a]);
+}
+
+/// Sutherland-Hodgman clip of a convex polygon to x_c >= m (keep_greater) or x_c <= m; the
+/// crossings get m exactly in coordinate c (the same values as clip_convex_2d's).
+inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, double m, bool keep_greater, std::vector<QPoint2>& scratch,
+                           std::vector<int>& in, EQ& bound) {
+  if (poly.empty()) return;
+  const std::size_t n = poly.size();
+  in.resize(n);
+  const IA im(m);
+  bound = m;
+  for (std::size_t a = 0; a < n; ++a) {
+    const EQ& v = c == 0 ? poly[a].x : poly[a].y;
+    const int r = compare(v, interval_of(v), bound, im);
+    in[a] = keep_greater ? r : -r;
+  }
+  auto side = [&](std::size_t a) { return in[a]; };
+  switch (geometry::clip_case(n, side)) {
+    case geometry::ClipCase::Inside: return;
+    case geometry::ClipCase::Empty: poly.clear(); return;
+    case geometry::ClipCase::Cut: break;
+  }
+  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+    const QPoint2& pa = poly[a];
+    const QPoint2& pb = poly[b];
+    const EQ& ac = c == 0 ? pa.x : pa.y;
+    const EQ& ao = c == 0 ? pa.y : pa.x;
+    const EQ& bc = c == 0 ? pb.x : pb.y;
+    const EQ& bo = c == 0 ? pb.y : pb.x;
+    EQ other = bo - ao;
+    other *= bound - ac;
+    other /= bc - ac;
+    other += ao;
+    return c == 0 ? QPoint2{bound, std::move(other)} : QPoint2{std::move(other), bound};
+  }, scratch);
+  poly.swap(scratch);
+}
+
+}  // namespace shadow::exact

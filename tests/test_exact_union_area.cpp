@@ -1,0 +1,404 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact engine's union area without a Boolean operation (exact/convex_union_area.hpp,
+// internal header) against CGAL's aggregated union (PolygonSet2::join and the regions' areas,
+// the route it replaces): the two exact rationals are equal (==, not doubles) on seeded random
+// convex polygons full of degenerate contacts: shared edges going the same way and the other
+// way, identical polygons, polygons inside others, touching at vertices, collinear overlapping
+// edges, collinear vertices, triangles, slivers, points on coarse rational grids (many exact
+// ties) and points made by lazy arithmetic (as clipping makes them). Also the rational-point
+// helpers of the areas-only route (exact/rational_points.hpp) against their Epeck counterparts:
+// hull, clip to a box, intervals, area signs.
+#include "exact/convex_union_area.hpp"
+#include "exact/lazy_geometry.hpp"
+#include "exact/rational_points.hpp"
+#include "exact/regions.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <gtest/gtest.h>
+
+#include <CGAL/convex_hull_2.h>
+
+#include <cstdint>
+#include <iterator>
+#include <random>
+#include <vector>
+
+namespace {
+
+using shadow::exact::ConvexUnionArea;
+using shadow::exact::FT;
+using shadow::exact::Kernel;
+using shadow::exact::Point2;
+using shadow::exact::Polygon2;
+using shadow::exact::PolygonSet2;
+using shadow::exact::PolygonWithHoles2;
+using EQ = ConvexUnionArea::EQ;
+
+/// The reference: CGAL's union, the sum of its regions' exact areas.
+EQ joined_area(const std::vector<Polygon2>& polygons) {
+  PolygonSet2 set;
+  set.join(polygons.begin(), polygons.end());
+  std::vector<PolygonWithHoles2> regions;
+  set.polygons_with_holes(std::back_inserter(regions));
+  std::vector<FT> areas;
+  for (const PolygonWithHoles2& r : regions) areas.push_back(shadow::exact::region_area(r));
+  return CGAL::exact(shadow::exact::balanced_sum(areas));
+}
+
+EQ union_area(const std::vector<Polygon2>& polygons) {
+  ConvexUnionArea u;
+  EQ twice;
+  EXPECT_TRUE(u.twice_area(polygons, twice));
+  return twice / 2;
+}
+
+Polygon2 box(FT x0, FT y0, FT x1, FT y1) {
+  const Point2 p[4] = {Point2(x0, y0), Point2(x1, y0), Point2(x1, y1), Point2(x0, y1)};
+  return Polygon2(p, p + 4);
+}
+
+TEST(ExactUnionArea, AnalyticCases) {
+  // Two unit squares overlapping by half, side by side (a shared edge going the other way), one
+  // inside another, identical ones.
+  EXPECT_EQ(union_area({box(0, 0, 1, 1), box(FT(1) / 2, 0, FT(3) / 2, 1)}), EQ(3) / 2);
+  EXPECT_EQ(union_area({box(0, 0, 1, 1), box(1, 0, 2, 1)}), EQ(2));
+  EXPECT_EQ(union_area({box(0, 0, 4, 4), box(1, 1, 2, 2)}), EQ(16));
+  EXPECT_EQ(union_area({box(1, 1, 2, 2), box(0, 0, 4, 4)}), EQ(16));
+  EXPECT_EQ(union_area({box(0, 0, 1, 1), box(0, 0, 1, 1), box(0, 0, 1, 1)}), EQ(1));
+  // A shared edge going the same way: [0,2]x[0,1] and [0,1]x[0,1/3] share part of the bottom.
+  EXPECT_EQ(union_area({box(0, 0, 2, 1), box(0, 0, 1, FT(1) / 3)}), EQ(2));
+  EXPECT_EQ(union_area({box(0, 0, 1, FT(1) / 3), box(0, -1, 2, 0), box(0, 0, 2, 1)}), EQ(4));
+  // Touching at a corner only.
+  EXPECT_EQ(union_area({box(0, 0, 1, 1), box(1, 1, 3, 2)}), EQ(3));
+  EXPECT_EQ(union_area({}), EQ(0));
+}
+
+TEST(ExactUnionArea, NonConvexIsRefused) {
+  const Point2 p[6] = {Point2(0, 0), Point2(3, 0), Point2(3, 3), Point2(2, 3), Point2(2, 1), Point2(0, 1)};
+  ConvexUnionArea u;
+  EQ twice(7);
+  EXPECT_FALSE(u.twice_area({box(0, 0, 1, 1), Polygon2(p, p + 6)}, twice));
+  EXPECT_EQ(twice, EQ(7));
+  // A pentagram turns left at every corner but winds twice.
+  const Point2 star[5] = {Point2(0, 10), Point2(-6, -8), Point2(10, 3), Point2(-10, 3), Point2(6, -8)};
+  EXPECT_FALSE(u.twice_area({Polygon2(star, star + 5)}, twice));
+  // A spike back along an edge.
+  const Point2 spike[4] = {Point2(0, 0), Point2(2, 0), Point2(1, 0), Point2(1, 1)};
+  EXPECT_FALSE(u.twice_area({Polygon2(spike, spike + 4)}, twice));
+  // Repeated and collinear vertices are fine.
+  const Point2 rep[7] = {Point2(0, 0), Point2(0, 0), Point2(1, 0), Point2(2, 0), Point2(2, 2), Point2(0, 2), Point2(0, 0)};
+  ASSERT_TRUE(u.twice_area({Polygon2(rep, rep + 7)}, twice));
+  EXPECT_EQ(twice, EQ(8));
+}
+
+/// Seeded random convex polygons with many exact coincidences.
+class Generator {
+ public:
+  explicit Generator(std::uint32_t seed) : rng_(seed) {}
+
+  int uniform(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+
+  /// A grid coordinate: integers over a small denominator (ties between polygons are common).
+  FT coord(int denominator, int range) { return FT(uniform(0, range * denominator)) / FT(denominator); }
+
+  /// The hull of a few grid points (CCW, no collinear vertices), optionally with an edge's
+  /// midpoint put in (a straight-on vertex) or rebuilt by lazy arithmetic.
+  Polygon2 hull(int denominator, int range, int points) {
+    for (;;) {
+      std::vector<Point2> in, out;
+      for (int k = 0; k < points; ++k) in.emplace_back(coord(denominator, range), coord(denominator, range));
+      CGAL::convex_hull_2(in.begin(), in.end(), std::back_inserter(out), Kernel());
+      if (out.size() < 3) continue;
+      Polygon2 p(out.begin(), out.end());
+      if (CGAL::sign(shadow::exact::polygon_area(p)) != CGAL::POSITIVE) continue;
+      if (uniform(0, 3) == 0) {  // a collinear vertex in the middle of an edge
+        const std::size_t e = static_cast<std::size_t>(uniform(0, static_cast<int>(out.size()) - 1));
+        const Point2& a = out[e];
+        const Point2& b = out[(e + 1) % out.size()];
+        out.insert(out.begin() + static_cast<std::ptrdiff_t>(e + 1), CGAL::midpoint(a, b));
+        p = Polygon2(out.begin(), out.end());
+      }
+      return p;
+    }
+  }
+
+  /// Points through lazy arithmetic nodes (a + (b - a) * t with t = 1), as clipping makes them.
+  static Polygon2 lazy(const Polygon2& p) {
+    Polygon2 q;
+    const FT third = FT(1) / 3;
+    for (auto v = p.vertices_begin(); v != p.vertices_end(); ++v)
+      q.push_back(Point2((v->x() + third) - third, v->y() * 3 / 3));
+    return q;
+  }
+
+  /// A thin triangle: two close points far from a third.
+  Polygon2 sliver(int range) {
+    for (;;) {
+      const FT x = coord(7, range), y = coord(7, range);
+      const Point2 a(x, y), b(x + FT(1) / 1024, y + FT(1) / 4096), c(coord(3, range), coord(5, range));
+      if (CGAL::orientation(a, b, c) == CGAL::COLLINEAR) continue;
+      Polygon2 t;
+      t.push_back(a);
+      t.push_back(b);
+      t.push_back(c);
+      if (t.is_clockwise_oriented()) t.reverse_orientation();
+      return t;
+    }
+  }
+
+  /// A cell of a grid partition (rectangles and their diagonal halves: shared edges both ways).
+  Polygon2 cell(int range) {
+    const int x = uniform(0, range - 1), y = uniform(0, range - 1);
+    const Point2 p[4] = {Point2(x, y), Point2(x + 1, y), Point2(x + 1, y + 1), Point2(x, y + 1)};
+    switch (uniform(0, 2)) {
+      case 0: return Polygon2(p, p + 4);
+      case 1: { const Point2 t[3] = {p[0], p[1], p[2]}; return Polygon2(t, t + 3); }
+      default: { const Point2 t[3] = {p[0], p[2], p[3]}; return Polygon2(t, t + 3); }
+    }
+  }
+
+  std::vector<Polygon2> scene(int n) {
+    std::vector<Polygon2> polygons;
+    const int range = uniform(2, 6);
+    for (int k = 0; k < n; ++k) {
+      switch (uniform(0, 7)) {
+        case 0: polygons.push_back(hull(1, range, uniform(3, 6))); break;
+        case 1: polygons.push_back(hull(3, range, uniform(3, 8))); break;
+        case 2: polygons.push_back(lazy(hull(2, range, uniform(3, 6)))); break;
+        case 3: polygons.push_back(sliver(range)); break;
+        case 4: polygons.push_back(cell(range)); break;
+        case 5:  // a copy of an earlier polygon (identical), sometimes through lazy nodes
+          if (!polygons.empty()) {
+            const Polygon2& q = polygons[static_cast<std::size_t>(uniform(0, static_cast<int>(polygons.size()) - 1))];
+            polygons.push_back(uniform(0, 1) ? q : lazy(q));
+          } else {
+            polygons.push_back(cell(range));
+          }
+          break;
+        case 6:  // an earlier polygon's vertex as one corner of a box (touching, sharing)
+          if (!polygons.empty()) {
+            const Polygon2& q = polygons.back();
+            const Point2& c = q.vertex(static_cast<std::ptrdiff_t>(uniform(0, static_cast<int>(q.size()) - 1)));
+            const FT w = FT(uniform(1, 4)) / 2, h = FT(uniform(1, 4)) / 2;
+            switch (uniform(0, 3)) {
+              case 0: polygons.push_back(box(c.x(), c.y(), c.x() + w, c.y() + h)); break;
+              case 1: polygons.push_back(box(c.x() - w, c.y(), c.x(), c.y() + h)); break;
+              case 2: polygons.push_back(box(c.x() - w, c.y() - h, c.x(), c.y())); break;
+              default: polygons.push_back(box(c.x(), c.y() - h, c.x() + w, c.y())); break;
+            }
+          } else {
+            polygons.push_back(cell(range));
+          }
+          break;
+        default: {  // a triangle with rational corners
+          for (;;) {
+            const Point2 a(coord(5, range), coord(5, range)), b(coord(5, range), coord(5, range)),
+                c(coord(5, range), coord(5, range));
+            const CGAL::Orientation o = CGAL::orientation(a, b, c);
+            if (o == CGAL::COLLINEAR) continue;
+            const Point2 t[3] = {a, o == CGAL::LEFT_TURN ? b : c, o == CGAL::LEFT_TURN ? c : b};
+            polygons.emplace_back(t, t + 3);
+            break;
+          }
+        }
+      }
+    }
+    return polygons;
+  }
+
+ private:
+  std::mt19937 rng_;
+};
+
+TEST(ExactUnionArea, EqualsTheBooleanUnionOnRandomDegenerateScenes) {
+  Generator g(20261126);
+  ConvexUnionArea u;  // reused, as the engine's workers do
+  int compared = 0;
+  for (int round = 0; round < 600; ++round) {
+    const std::vector<Polygon2> polygons = g.scene(g.uniform(1, 14));
+    EQ twice;
+    ASSERT_TRUE(u.twice_area(polygons, twice)) << "round " << round;
+    const EQ expected = joined_area(polygons);
+    ASSERT_EQ(twice / 2, expected) << "round " << round << ": " << polygons.size() << " polygons";
+    ++compared;
+  }
+  EXPECT_EQ(compared, 600);
+}
+
+TEST(ExactUnionArea, OrderDoesNotMatter) {
+  // The tie-break (the smaller index counts a shared stretch) must give the same area in any
+  // order, including reversed.
+  Generator g(7);
+  ConvexUnionArea u;
+  for (int round = 0; round < 100; ++round) {
+    std::vector<Polygon2> polygons = g.scene(g.uniform(2, 10));
+    EQ forward, backward;
+    ASSERT_TRUE(u.twice_area(polygons, forward));
+    std::reverse(polygons.begin(), polygons.end());
+    ASSERT_TRUE(u.twice_area(polygons, backward));
+    ASSERT_EQ(forward, backward) << "round " << round;
+  }
+}
+
+TEST(ExactUnionArea, ManyBoxesInAGridEqualTheBooleanUnion) {
+  // A larger cluster like a ground's: 150 overlapping rectangles with rational corners.
+  Generator g(99);
+  std::vector<Polygon2> polygons;
+  for (int k = 0; k < 150; ++k) {
+    const FT x = g.coord(4, 20), y = g.coord(4, 20);
+    polygons.push_back(box(x, y, x + FT(g.uniform(1, 12)) / 4, y + FT(g.uniform(1, 12)) / 4));
+  }
+  ConvexUnionArea u;
+  EQ twice;
+  ASSERT_TRUE(u.twice_area(polygons, twice));
+  EXPECT_EQ(twice / 2, joined_area(polygons));
+  EXPECT_GT(u.counts().pairs, 0u);
+}
+
+std::vector<shadow::exact::QPoint2> rational(const std::vector<Point2>& points) {
+  std::vector<shadow::exact::QPoint2> out;
+  for (const Point2& p : points) out.push_back({CGAL::exact(p.x()), CGAL::exact(p.y())});
+  return out;
+}
+
+EQ twice_area_of(const std::vector<shadow::exact::QPoint2>& pts) {
+  EQ out;
+  shadow::exact::QScratch s;
+  shadow::exact::twice_polygon_area(pts.data(), pts.data() + pts.size(), out, s);
+  return out;
+}
+
+TEST(RationalPoints, IntervalsHoldTheirValue) {
+  std::mt19937 rng(5);
+  for (int k = 0; k < 2000; ++k) {
+    const long num = std::uniform_int_distribution<long>(-1000000, 1000000)(rng);
+    const long den = std::uniform_int_distribution<long>(1, 5000)(rng);
+    EQ q(num, den);
+    q.canonicalize();
+    if (k % 3 == 0) q = EQ(static_cast<double>(num) / 1024.0);  // exact doubles: point intervals
+    const shadow::exact::IA i = shadow::exact::interval_of(q);
+    EXPECT_LE(EQ(i.inf()), q);
+    EXPECT_GE(EQ(i.sup()), q);
+    if (k % 3 == 0) EXPECT_TRUE(i.is_point());
+  }
+  // Long numerators and denominators (as projections and clips make them), both signs.
+  for (int k = 0; k < 500; ++k) {
+    mpz_class num = 0, den = 0;
+    for (int limb = 0; limb < 1 + k % 9; ++limb) {
+      num = num * 4294967296.0 + static_cast<double>(rng());
+      den = den * 4294967296.0 + static_cast<double>(rng() | 1u);
+    }
+    if (k % 2) num = -num;
+    if (k % 5 == 0) den = 1;
+    EQ q(num, den);
+    q.canonicalize();
+    const shadow::exact::IA i = shadow::exact::interval_of(q);
+    EXPECT_LE(EQ(i.inf()), q) << k;
+    EXPECT_GE(EQ(i.sup()), q) << k;
+    EXPECT_LE(i.sup() - i.inf(), 1e-14 * std::fabs(q.get_d())) << k;
+  }
+}
+
+TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {
+  Generator g(31);
+  shadow::exact::QScratch s;
+  std::vector<shadow::exact::IPoint2> ipts;
+  std::vector<std::size_t> order, chain;
+  std::vector<int> side;
+  EQ bound, sum;
+  for (int round = 0; round < 300; ++round) {
+    // Points with ties (coarse grid, repeats, collinear runs), some through lazy nodes.
+    std::vector<Point2> in;
+    const int n = g.uniform(1, 12);
+    for (int k = 0; k < n; ++k) in.emplace_back(g.coord(3, 4), g.coord(3, 4));
+    if (n > 2) in.push_back(CGAL::midpoint(in[0], in[1]));
+    if (n > 1) in.push_back(in[1]);
+    std::vector<Point2> hull;
+    CGAL::convex_hull_2(in.begin(), in.end(), std::back_inserter(hull), Kernel());
+    std::vector<shadow::exact::QPoint2> q = rational(in), qhull;
+    shadow::exact::convex_hull(q, qhull, ipts, order, chain, s);
+    ASSERT_EQ(qhull.size(), hull.size()) << "round " << round;  // no collinear vertices either way
+    if (hull.size() >= 3) {
+      EXPECT_EQ(twice_area_of(qhull), CGAL::exact(shadow::exact::polygon_area(hull.begin(), hull.end())) * 2);
+      EXPECT_EQ(shadow::exact::area_sign(qhull, ipts, s, sum), CGAL::POSITIVE);
+      std::vector<shadow::exact::QPoint2> reversed(qhull.rbegin(), qhull.rend());
+      EXPECT_EQ(shadow::exact::area_sign(reversed, ipts, s, sum), CGAL::NEGATIVE);
+    }
+    // Clip both to the same box (bounds on the grid: vertices exactly on them).
+    std::vector<Point2> lazy = hull, scratch;
+    std::vector<shadow::exact::QPoint2> rat = qhull, qscratch;
+    const double x0 = g.uniform(0, 6) / 3.0, x1 = x0 + g.uniform(1, 6) / 3.0;
+    const double y0 = g.uniform(0, 6) / 3.0, y1 = y0 + g.uniform(1, 6) / 3.0;
+    for (int c = 0; c < 2; ++c) {
+      shadow::exact::clip_convex_2d(lazy, c, c == 0 ? x0 : y0, true, scratch);
+      shadow::exact::clip_convex_2d(lazy, c, c == 0 ? x1 : y1, false, scratch);
+      shadow::exact::clip_convex_2d(rat, c, c == 0 ? x0 : y0, true, qscratch, side, bound);
+      shadow::exact::clip_convex_2d(rat, c, c == 0 ? x1 : y1, false, qscratch, side, bound);
+    }
+    ASSERT_EQ(rat.size(), lazy.size()) << "round " << round;
+    for (std::size_t v = 0; v < rat.size(); ++v) {
+      EXPECT_EQ(rat[v].x, CGAL::exact(lazy[v].x()));
+      EXPECT_EQ(rat[v].y, CGAL::exact(lazy[v].y()));
+    }
+  }
+}
+
+/// The engine with areas only (the route without a Boolean operation) against the engine with
+/// polygons (PolygonSet2::join, then the regions' areas): the same doubles, bit for bit.
+void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_t tile_casters) {
+  shadow::ShadowOptions areas, polygons;
+  areas.threads = polygons.threads = 2;
+  areas.polygons = false;
+  areas.tile_casters = polygons.tile_casters = tile_casters;
+  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
+  const shadow::ShadowResult b = shadow::compute_shadows(scene, polygons);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  std::size_t shadowed = 0;
+  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
+    EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area) << "face " << a.lighting[r].face_id;
+    EXPECT_EQ(a.lighting[r].shadow_area, b.lighting[r].shadow_area) << "face " << a.lighting[r].face_id;
+    EXPECT_EQ(a.lighting[r].lit_fraction, b.lighting[r].lit_fraction) << "face " << a.lighting[r].face_id;
+    shadowed += a.lighting[r].faces_light && a.lighting[r].shadow_area > 0 && a.lighting[r].lit_area > 0;
+  }
+  EXPECT_GT(shadowed, 10u);  // partly shadowed receivers: the unions were exercised
+}
+
+TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
+  shadow::Scene scene = shadow::make_city(60, 120, 17);
+  scene.lights.push_back(shadow::directional_light("low sun", shadow::sun_direction(12, 130)));
+  scene.lights.push_back(shadow::directional_light("noon", shadow::sun_direction(60, 185)));
+  scene.lights.push_back(shadow::directional_light("oblique", {0.3, -0.7, 0.5}));
+  scene.lights.push_back(shadow::point_light("lamp", {15, -20, 40}));
+  shadow::validate_scene(scene);
+  expect_areas_route_equals_join_route(scene, 0);
+  expect_areas_route_equals_join_route(scene, 40);  // the ground in tiles
+}
+
+TEST(ExactUnionAreaInTheEngine, NonConvexCastFallsBackToTheJoin) {
+  // A comb (one polygon cast whole: not convex) over a ground with boxes whose shadows overlap it.
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "ground", {shadow::rectangle_z(-10, -10, 40, 30, 0)});
+  shadow::add_mesh(scene, "comb", {shadow::comb_polygon(20, 2)}, false);
+  std::vector<shadow::Polygon3> boxes = shadow::box_faces({3, 3, 0}, {6, 5, 4});
+  const std::vector<shadow::Polygon3> more = shadow::box_faces({10.5, -2, 0}, {12, 12, 3});
+  boxes.insert(boxes.end(), more.begin(), more.end());
+  shadow::add_mesh(scene, "boxes", boxes);
+  scene.lights.push_back(shadow::directional_light("sun", {0.1, 0.2, 1}));
+  scene.lights.push_back(shadow::directional_light("sun 2", {-0.3, 0.1, 1}));
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions areas, polygons;
+  areas.polygons = false;
+  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
+  const shadow::ShadowResult b = shadow::compute_shadows(scene, polygons);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
+    EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area);
+    EXPECT_EQ(a.lighting[r].lit_fraction, b.lighting[r].lit_fraction);
+  }
+  const shadow::FaceLighting* ground = a.find(0, 0);
+  ASSERT_NE(ground, nullptr);
+  EXPECT_GT(ground->shadow_area, 5.5 * 20);  // the comb's shadow and the boxes'
+}
+
+}  // namespace
