@@ -38,6 +38,7 @@
 #include <glm/geometric.hpp>
 
 #include <gmpxx.h>
+#include <mpfr.h>
 
 #include <algorithm>
 #include <array>
@@ -47,6 +48,8 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace shadow {
@@ -467,6 +470,38 @@ std::vector<std::size_t> spatial_order(const std::vector<Image>& images, std::ve
   return members;
 }
 
+/// Twice the signed area of a polygon, exactly, from its vertices' exact rational coordinates
+/// (the shoelace; the same value as exact::polygon_area's, without a lazy node per term).
+mpq_class exact_twice_area(const exact::Polygon2& polygon) {
+  static_assert(std::is_same_v<std::decay_t<decltype(CGAL::exact(std::declval<exact::FT>()))>, mpq_class>,
+                "the exact kernel's numbers are GMP rationals");
+  const std::size_t n = polygon.size();
+  mpq_class twice(0), term;
+  for (std::size_t a = 0; a < n; ++a) {
+    const auto& p = CGAL::exact(polygon[a]);
+    const auto& q = CGAL::exact(polygon[(a + 1) % n]);
+    term = p.x() * q.y();
+    twice += term;
+    term = q.x() * p.y();
+    twice -= term;
+  }
+  return twice;
+}
+
+/// exact::area_3d for twice an exact chart area: sqrt(area^2 x scale), the rational rounded to
+/// 256 bits before the root (exact::sqrt_to_double), so bit for bit the same double.
+double area_3d(const mpq_class& twice_chart_area, const mpq_class& scale_squared) {
+  if (sgn(twice_chart_area) == 0) return 0.0;
+  const mpq_class squared = twice_chart_area * twice_chart_area * scale_squared / 4;
+  mpfr_t r;
+  mpfr_init2(r, 256);
+  mpfr_set_q(r, squared.get_mpq_t(), MPFR_RNDN);
+  mpfr_sqrt(r, r, MPFR_RNDN);
+  const double d = mpfr_get_d(r, MPFR_RNDN);
+  mpfr_clear(r);
+  return d;
+}
+
 /// Unites the images of one tile (clipped to it) and writes its regions back onto the plane.
 void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& images, const Grid& grid,
                 const std::vector<std::size_t>& members, std::size_t tile, TileResult& out) {
@@ -510,57 +545,75 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   out.regions = regions.size();
 
   // Back to 3D on the plane (as given, not turned): x_k = -(c + n_i x_i + n_j x_j) / n_k.
+  // Everything below works on the vertices' exact rational coordinates, taken from each lazy
+  // point once (CGAL::exact), never on new lazy numbers: each lazy node evaluated exactly costs
+  // a std::call_once (and, in glibc, a futex wake system call), and areas, border edges and
+  // cells built as lazy expressions were a third of a tile's time.
   const int i = P.i, j = P.j, k = P.k;
   const exact::FT nk(P.n[k]), ni(P.n[i]), nj(P.n[j]), cc(P.c);
-  const exact::FT scale_squared = exact::FT(P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (nk * nk);
+  const mpq_class scale_squared = (P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (P.n[k] * P.n[k]);
   const bool flipped = scene.planes[P.plane_id].normal[k] < 0;  // the chart sees the plane clockwise
   // A plane normal to axis k (the ground): x_k is one number, -c / n_k, the same double as the
   // general expression gives (0 x_i and 0 x_j add exact zeros, intervals included).
   const bool level = sgn(P.n[i]) == 0 && sgn(P.n[j]) == 0;
   const double level_k = level ? CGAL::to_double(-(cc + exact::FT(0) + exact::FT(0)) / nk) : 0.0;
-  std::vector<exact::FT> region_areas;  // summed as a balanced tree (kernel.hpp, exact::balanced_sum)
+  mpq_class chart_area = 0, region_twice, twice;
   std::vector<exact::Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
-    region_areas.push_back(exact::region_area(regions[r]));
+    const exact::Polygon2& outer = regions[r].outer_boundary();
+    // Exact twice areas: the outer boundary's (counter-clockwise) less the holes'.
+    region_twice = exact_twice_area(outer);
+    for (auto h = regions[r].holes_begin(); h != regions[r].holes_end(); ++h) region_twice -= abs(exact_twice_area(*h));
+    chart_area += region_twice;
     // Edges on the tile's inner borders: where this region may continue in the next tile.
-    auto borders = [&](const exact::Polygon2& boundary) {
-      for (auto e = boundary.edges_begin(); e != boundary.edges_end(); ++e) {
-        for (int axis = 0; axis < 2; ++axis) {
-          for (int high = 0; high < 2; ++high) {
-            if (!(high ? has_upper[axis] : has_lower[axis])) continue;
-            const exact::FT m(high ? upper_d[axis] : lower_d[axis]);
-            const exact::FT& a = axis == 0 ? e->source().x() : e->source().y();
-            const exact::FT& b = axis == 0 ? e->target().x() : e->target().y();
-            if (a != m || b != m) continue;
-            mpq_class from(CGAL::exact(axis == 0 ? e->source().y() : e->source().x()));
-            mpq_class to(CGAL::exact(axis == 0 ? e->target().y() : e->target().x()));
-            if (from > to) std::swap(from, to);
-            const std::size_t cut = cell_of[axis] - (high ? 0 : 1);
-            out.border.push_back({static_cast<std::size_t>(axis) * 65536 + cut, high == 1, from, to, r});
-          }
+    const std::size_t n = outer.size();
+    for (std::size_t a = 0; a < n; ++a) {
+      const auto& source = CGAL::exact(outer[a]);
+      const auto& target = CGAL::exact(outer[(a + 1) % n]);
+      for (int axis = 0; axis < 2; ++axis) {
+        const mpq_class& sa = axis == 0 ? source.x() : source.y();
+        const mpq_class& ta = axis == 0 ? target.x() : target.y();
+        if (sa != ta) continue;  // not parallel to that border
+        for (int high = 0; high < 2; ++high) {
+          if (!(high ? has_upper[axis] : has_lower[axis]) || sa != (high ? upper[axis] : lower[axis])) continue;
+          mpq_class from(axis == 0 ? source.y() : source.x());
+          mpq_class to(axis == 0 ? target.y() : target.x());
+          if (from > to) std::swap(from, to);
+          const std::size_t cut = cell_of[axis] - (high ? 0 : 1);
+          out.border.push_back({static_cast<std::size_t>(axis) * 65536 + cut, high == 1, from, to, r});
         }
       }
-    };
-    borders(regions[r].outer_boundary());
+    }
     cells.clear();
-    exact::append_simple_cells(regions[r], cells);
-    for (const exact::Polygon2& cell : cells) {
+    const bool whole = regions[r].number_of_holes() == 0 && !exact::has_repeated_vertex(outer);
+    if (!whole) exact::append_simple_cells(regions[r], cells);
+    const std::size_t count = whole ? 1 : cells.size();
+    for (std::size_t c = 0; c < count; ++c) {
+      const exact::Polygon2& cell = whole ? outer : cells[c];
+      if (whole) {
+        twice = region_twice;
+      } else {
+        twice = exact_twice_area(cell);
+      }
       std::vector<glm::dvec3> polygon;
+      polygon.reserve(cell.size());
       for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+        // The exact value is known (its approximation refined to the tightest interval): the
+        // double CGAL::to_double gives for it.
+        const auto& approx = CGAL::approx(*v);
         glm::dvec3 x;
-        x[i] = CGAL::to_double(v->x());
-        x[j] = CGAL::to_double(v->y());
+        x[i] = CGAL::to_double(approx.x());
+        x[j] = CGAL::to_double(approx.y());
         x[k] = level ? level_k : CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
         polygon.push_back(x);
       }
-      const exact::FT cell_area = exact::polygon_area(cell);
-      if (flipped == CGAL::is_positive(cell_area)) std::reverse(polygon.begin(), polygon.end());
+      if (flipped == (sgn(twice) > 0)) std::reverse(polygon.begin(), polygon.end());
       out.polygons.push_back(std::move(polygon));
       out.region_id.push_back(r);
-      out.polygon_area.push_back(exact::area_3d(CGAL::abs(cell_area), scale_squared));
+      out.polygon_area.push_back(area_3d(twice, scale_squared));
     }
   }
-  out.chart_area = mpq_class(CGAL::exact(exact::balanced_sum(region_areas)));
+  out.chart_area = chart_area / 2;
 }
 
 /// Union-find over the regions of a pair.
