@@ -32,7 +32,7 @@
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 
-#include <CGAL/convex_hull_2.h>
+#include <CGAL/Interval_nt.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -205,6 +205,66 @@ bool surely_behind(const Pair& P, const glm::dvec3& x) {
   return s < -8 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
+/// A chart point for the convex hull: the exact point and an interval of doubles around each
+/// coordinate (below and above its double), which decides most comparisons without rationals.
+struct HullPoint {
+  const Q2* q = nullptr;
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+};
+
+/// Exact comparison of two chart points by (x, y), filtered by their intervals.
+bool less_xy(const HullPoint& a, const HullPoint& b) {
+  for (int c = 0; c < 2; ++c) {
+    if (a.hi[c] < b.lo[c]) return true;
+    if (b.hi[c] < a.lo[c]) return false;
+    const int order = cmp((*a.q)[c], (*b.q)[c]);
+    if (order != 0) return order < 0;
+  }
+  return false;
+}
+
+/// Exact sign of the orientation of (a, b, c), filtered by interval arithmetic.
+int orientation(const HullPoint& a, const HullPoint& b, const HullPoint& c) {
+  using I = CGAL::Interval_nt<true>;  // protects its own rounding mode
+  const I ax(a.lo[0], a.hi[0]), ay(a.lo[1], a.hi[1]);
+  const I det = (I(b.lo[0], b.hi[0]) - ax) * (I(c.lo[1], c.hi[1]) - ay) - (I(b.lo[1], b.hi[1]) - ay) * (I(c.lo[0], c.hi[0]) - ax);
+  if (det.inf() > 0) return 1;
+  if (det.sup() < 0) return -1;
+  const Q2 &p = *a.q, &q = *b.q, &r = *c.q;
+  return sgn(mpq_class((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])));
+}
+
+/// The convex hull of chart points, exactly (Andrew's monotone chain, no collinear or repeated
+/// vertices): counter-clockwise from the least point by (x, y), into `out`. Fewer than three
+/// vertices when the points do not bound an area. Replaces CGAL's hull on lazy numbers built
+/// from the rationals (the numbers' construction was most of the hull's cost).
+void convex_hull(const std::vector<Q2>& points, std::vector<HullPoint>& order, std::vector<Q2>& out) {
+  order.clear();
+  out.clear();
+  if (points.empty()) return;
+  for (const Q2& q : points) {
+    HullPoint h;
+    h.q = &q;
+    for (int c = 0; c < 2; ++c) {
+      h.lo[c] = below(q[c]);
+      h.hi[c] = above(q[c]);
+    }
+    order.push_back(h);
+  }
+  std::sort(order.begin(), order.end(), less_xy);
+  std::vector<const HullPoint*> chain;
+  chain.reserve(2 * order.size());
+  auto extend = [&](const HullPoint& p, std::size_t floor) {
+    while (chain.size() >= floor + 2 && orientation(*chain[chain.size() - 2], *chain.back(), p) <= 0) chain.pop_back();
+    chain.push_back(&p);
+  };
+  for (const HullPoint& p : order) extend(p, 0);  // lower hull, left to right
+  const std::size_t lower = chain.size();
+  for (std::size_t a = order.size() - 1; a-- > 0;) extend(order[a], lower - 1);  // upper hull, right to left
+  // The chain ends where it began; two vertices or fewer when the points bound no area.
+  for (std::size_t a = 0; a + 1 < chain.size(); ++a) out.push_back(*chain[a]->q);
+}
+
 /// Turns chart polygons into images: projection, window, culling. One per worker thread.
 class Caster {
  public:
@@ -269,14 +329,9 @@ class Caster {
     // Its shadow is the projection of the solid, which is convex (w > 0 throughout) and the
     // projection of its vertices' hull: a ray that meets the solid meets its boundary.
     hull_in_.clear();
-    for (std::size_t a = 0; a < n; ++a) {
-      const Q2 x = project({mpq_class(cs.vertices[a].x), mpq_class(cs.vertices[a].y), mpq_class(cs.vertices[a].z)}, s_[a]);
-      hull_in_.emplace_back(exact::FT(x[0]), exact::FT(x[1]));
-    }
-    hull_out_.clear();
-    CGAL::convex_hull_2(hull_in_.begin(), hull_in_.end(), std::back_inserter(hull_out_), exact::Kernel());
-    chart_.clear();
-    for (const exact::Point2& x : hull_out_) chart_.push_back({mpq_class(CGAL::exact(x.x())), mpq_class(CGAL::exact(x.y()))});
+    for (std::size_t a = 0; a < n; ++a)
+      hull_in_.push_back(project({mpq_class(cs.vertices[a].x), mpq_class(cs.vertices[a].y), mpq_class(cs.vertices[a].z)}, s_[a]));
+    convex_hull(hull_in_, hull_order_, chart_);
     // Three hull points or more bound a positive area, counter-clockwise, and a window clip that
     // keeps three points keeps a vertex strictly inside: no orientation to test.
     finish(window_clip(), chart_.size() >= 3);
@@ -321,7 +376,8 @@ class Caster {
   bool& reaches_;
   std::vector<mpq_class> s_;
   std::vector<Q2> chart_;
-  std::vector<exact::Point2> hull_in_, hull_out_;
+  std::vector<Q2> hull_in_;
+  std::vector<HullPoint> hull_order_;
 };
 
 /// What casts: a face (its convex pieces) or a closed convex solid, in the order of the faces.
