@@ -526,6 +526,37 @@ std::vector<std::size_t> spatial_order(const std::vector<Image>& images, std::ve
   return members;
 }
 
+using ApproxKernel = exact::Kernel::Approximate_kernel;
+using ExactKernel = exact::Kernel::Exact_kernel;
+using PointRep = CGAL::Lazy_rep_0<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
+
+/// The tightest interval of doubles around a rational: a point when it is a double, else the
+/// double below and the double above (mpq_get_d truncates toward zero). What CGAL's conversion
+/// gives, without its MPFR division.
+CGAL::Interval_nt<false> enclosure(const mpq_class& q) {
+  const double d = q.get_d();
+  const int sign = sgn(q);
+  if (mpz_popcount(q.get_den_mpz_t()) == 1 && cmp(q, d) == 0) return {d, d};  // a dyadic rational may be a double
+  const double away = std::nextafter(d, sign > 0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity());
+  return sign > 0 ? CGAL::Interval_nt<false>(d, away) : CGAL::Interval_nt<false>(away, d);
+}
+
+/// An exact chart point as a lazy point whose exact value is known from the start (one node,
+/// no lazy coordinates): CGAL evaluates it without a DAG, and exact_of reads it back directly.
+exact::Point2 lazy_point(const Q2& q) {
+  return exact::Point2(new PointRep(ApproxKernel::Point_2(enclosure(q[0]), enclosure(q[1])), ExactKernel::Point_2(q[0], q[1])));
+}
+
+/// CGAL::exact(p), without std::call_once when the exact value is already known (glibc's
+/// pthread_once makes a futex system call every time it runs an initialisation, even an
+/// empty one). Only for lazy points that no other thread touches. CGAL 5.5's Lazy keeps its
+/// representation private; Handle::for_compact_container is the public way to it.
+const ExactKernel::Point_2& exact_of(const exact::Point2& p) {
+  using Rep = CGAL::Lazy_rep<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
+  const auto* rep = static_cast<const Rep*>(static_cast<CGAL::Rep*>(static_cast<const CGAL::Handle&>(p).for_compact_container()));
+  return rep->is_lazy() ? CGAL::exact(p) : rep->exact_unsafe();
+}
+
 /// Twice the signed area of a polygon, exactly, from its vertices' exact rational coordinates
 /// (the shoelace; the same value as exact::polygon_area's, without a lazy node per term).
 mpq_class exact_twice_area(const exact::Polygon2& polygon) {
@@ -534,8 +565,8 @@ mpq_class exact_twice_area(const exact::Polygon2& polygon) {
   const std::size_t n = polygon.size();
   mpq_class twice(0), term;
   for (std::size_t a = 0; a < n; ++a) {
-    const auto& p = CGAL::exact(polygon[a]);
-    const auto& q = CGAL::exact(polygon[(a + 1) % n]);
+    const auto& p = exact_of(polygon[a]);
+    const auto& q = exact_of(polygon[(a + 1) % n]);
     term = p.x() * q.y();
     twice += term;
     term = q.x() * p.y();
@@ -582,15 +613,17 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   for (std::size_t m : spatial_order(images, members)) {
     const Image& image = images[m];
     poly = image.vertices;
+    bool cut = false;
     for (int axis = 0; axis < 2; ++axis) {
-      if (image.box[axis] <= lower_d[axis]) clip_axis(poly, axis, lower[axis], false);
-      if (image.box[axis + 2] >= upper_d[axis]) clip_axis(poly, axis, upper[axis], true);
+      if (image.box[axis] <= lower_d[axis]) cut |= clip_axis(poly, axis, lower[axis], false);
+      if (image.box[axis + 2] >= upper_d[axis]) cut |= clip_axis(poly, axis, upper[axis], true);
     }
     if (poly.size() < 3) continue;
+    // A cut along an image's edge leaves a flat sliver (or nothing); an image not cut has a
+    // positive area.
+    if (cut && sgn(twice_area(poly)) <= 0) continue;
     exact::Polygon2 piece;
-    for (const Q2& x : poly) piece.push_back(exact::Point2(exact::FT(x[0]), exact::FT(x[1])));
-    // A cut along an image's edge leaves a flat sliver (or nothing).
-    if (CGAL::sign(exact::polygon_area(piece)) != CGAL::POSITIVE) continue;
+    for (const Q2& x : poly) piece.push_back(lazy_point(x));
     pieces.push_back(std::move(piece));
   }
   if (pieces.empty()) return;
@@ -624,8 +657,8 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
     // Edges on the tile's inner borders: where this region may continue in the next tile.
     const std::size_t n = outer.size();
     for (std::size_t a = 0; a < n; ++a) {
-      const auto& source = CGAL::exact(outer[a]);
-      const auto& target = CGAL::exact(outer[(a + 1) % n]);
+      const auto& source = exact_of(outer[a]);
+      const auto& target = exact_of(outer[(a + 1) % n]);
       for (int axis = 0; axis < 2; ++axis) {
         const mpq_class& sa = axis == 0 ? source.x() : source.y();
         const mpq_class& ta = axis == 0 ? target.x() : target.y();
