@@ -4,9 +4,11 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 #include <set>
 #include <tuple>
+#include <vector>
 
 namespace shadow::exact {
 
@@ -16,32 +18,65 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
   const std::size_t n = scene.faces.size();
   solid_of.assign(n, -1);
-  // Vertex ids by exact coordinates (+0.0 folds -0.0 into 0.0).
-  std::map<std::array<double, 3>, int> vertex_id;
+  // Vertex ids by exact coordinates (+0.0 folds -0.0 into 0.0), numbered in order of first
+  // use. Sorted arrays instead of ordered maps: this search runs before every plane shadow
+  // and engine, on one thread (a map of 240,000 keys was most of its time for 10,000 boxes).
   std::vector<std::vector<int>> face_vertices(n);
   std::vector<glm::dvec3> vertex_position;
-  for (std::size_t f = 0; f < n; ++f) {
-    if (prep[f].degenerate || !prep[f].exactly_planar) continue;
-    for (const glm::dvec3& v : scene.faces[f].vertices) {
-      const std::array<double, 3> key{v.x + 0.0, v.y + 0.0, v.z + 0.0};
-      auto [it, inserted] = vertex_id.emplace(key, static_cast<int>(vertex_position.size()));
-      if (inserted) vertex_position.push_back(v);
-      face_vertices[f].push_back(it->second);
+  {
+    struct Corner {
+      std::array<double, 3> key;
+      std::size_t use;  // position in face order
+      glm::dvec3 position;  // as given (a first use's -0.0 stays)
+    };
+    std::vector<Corner> corners;
+    std::vector<std::size_t> first_use(n + 1, 0);
+    for (std::size_t f = 0; f < n; ++f) {
+      first_use[f] = corners.size();
+      if (prep[f].degenerate || !prep[f].exactly_planar) continue;
+      for (const glm::dvec3& v : scene.faces[f].vertices) corners.push_back({{v.x + 0.0, v.y + 0.0, v.z + 0.0}, corners.size(), v});
     }
+    first_use[n] = corners.size();
+    std::vector<Corner> sorted = corners;
+    std::sort(sorted.begin(), sorted.end(), [](const Corner& a, const Corner& b) { return a.key != b.key ? a.key < b.key : a.use < b.use; });
+    // Each group of equal keys: its first use names it; ids follow the first uses' order.
+    std::vector<std::size_t> group_of(corners.size());
+    std::vector<std::size_t> group_first;
+    for (std::size_t a = 0; a < sorted.size(); ++a) {
+      if (a == 0 || sorted[a].key != sorted[a - 1].key) group_first.push_back(sorted[a].use);
+      group_of[sorted[a].use] = group_first.size() - 1;
+    }
+    std::vector<std::size_t> by_first(group_first.size());
+    for (std::size_t g = 0; g < by_first.size(); ++g) by_first[g] = g;
+    std::sort(by_first.begin(), by_first.end(), [&](std::size_t a, std::size_t b) { return group_first[a] < group_first[b]; });
+    std::vector<int> id_of_group(group_first.size());
+    vertex_position.resize(group_first.size());
+    for (std::size_t rank = 0; rank < by_first.size(); ++rank) {
+      id_of_group[by_first[rank]] = static_cast<int>(rank);
+      vertex_position[rank] = corners[group_first[by_first[rank]]].position;
+    }
+    for (std::size_t f = 0; f < n; ++f)
+      for (std::size_t c = first_use[f]; c < first_use[f + 1]; ++c) face_vertices[f].push_back(id_of_group[group_of[c]]);
   }
-  // Undirected edge -> uses (face, forward). Within one mesh only.
+  // Undirected edge -> uses (face, forward). Within one mesh only. In key order, each key's
+  // uses in face order.
   struct Use {
+    std::size_t mesh;
+    int u, v;
     std::size_t face;
     bool forward;
   };
-  std::map<std::tuple<std::size_t, int, int>, std::vector<Use>> edge_uses;
+  std::vector<Use> uses_list;
   for (std::size_t f = 0; f < n; ++f) {
     const std::vector<int>& fv = face_vertices[f];
     for (std::size_t a = 0; a < fv.size(); ++a) {
       const int u = fv[a], v = fv[(a + 1) % fv.size()];
-      edge_uses[{scene.faces[f].mesh, std::min(u, v), std::max(u, v)}].push_back({f, u < v});
+      uses_list.push_back({scene.faces[f].mesh, std::min(u, v), std::max(u, v), f, u < v});
     }
   }
+  std::stable_sort(uses_list.begin(), uses_list.end(), [](const Use& a, const Use& b) {
+    return std::tie(a.mesh, a.u, a.v) < std::tie(b.mesh, b.u, b.v);
+  });
   std::vector<std::size_t> parent(n);
   for (std::size_t f = 0; f < n; ++f) parent[f] = f;
   auto find = [&](std::size_t f) {
@@ -49,18 +84,25 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     return f;
   };
   std::vector<bool> open(n, false);  // touches an edge that is not shared exactly twice, oppositely
-  for (const auto& [edge, uses] : edge_uses) {
-    const bool manifold = uses.size() == 2 && uses[0].forward != uses[1].forward;
+  for (std::size_t a = 0; a < uses_list.size();) {
+    std::size_t b = a + 1;
+    while (b < uses_list.size() && uses_list[b].mesh == uses_list[a].mesh && uses_list[b].u == uses_list[a].u &&
+           uses_list[b].v == uses_list[a].v)
+      ++b;
+    const bool manifold = b - a == 2 && uses_list[a].forward != uses_list[a + 1].forward;
     if (manifold) {
-      parent[find(uses[0].face)] = find(uses[1].face);
+      parent[find(uses_list[a].face)] = find(uses_list[a + 1].face);
     } else {
-      for (const Use& u : uses) open[u.face] = true;
+      for (std::size_t c = a; c < b; ++c) open[uses_list[c].face] = true;
     }
+    a = b;
   }
-  std::map<std::size_t, std::vector<std::size_t>> components;
+  std::vector<std::vector<std::size_t>> component(n);  // by root, in root order below
   for (std::size_t f = 0; f < n; ++f)
-    if (!face_vertices[f].empty()) components[find(f)].push_back(f);
-  for (const auto& [root, faces] : components) {
+    if (!face_vertices[f].empty()) component[find(f)].push_back(f);
+  for (std::size_t root = 0; root < n; ++root) {
+    const std::vector<std::size_t>& faces = component[root];
+    if (faces.empty()) continue;
     if (faces.size() < 4) continue;
     if (std::any_of(faces.begin(), faces.end(), [&](std::size_t f) { return open[f]; })) continue;
     std::map<int, int> local;
