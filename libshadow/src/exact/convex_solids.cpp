@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <map>
 #include <set>
 #include <tuple>
@@ -26,34 +27,36 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   {
     struct Corner {
       std::array<double, 3> key;
-      std::size_t use;  // position in face order
-      glm::dvec3 position;  // as given (a first use's -0.0 stays)
+      std::uint32_t use;  // position in face order
     };
     std::vector<Corner> corners;
     std::vector<std::size_t> first_use(n + 1, 0);
+    std::vector<const glm::dvec3*> position_of;  // by use, as given (a first use's -0.0 stays)
     for (std::size_t f = 0; f < n; ++f) {
       first_use[f] = corners.size();
       if (prep[f].degenerate || !prep[f].exactly_planar) continue;
-      for (const glm::dvec3& v : scene.faces[f].vertices) corners.push_back({{v.x + 0.0, v.y + 0.0, v.z + 0.0}, corners.size(), v});
+      for (const glm::dvec3& v : scene.faces[f].vertices) {
+        corners.push_back({{v.x + 0.0, v.y + 0.0, v.z + 0.0}, static_cast<std::uint32_t>(corners.size())});
+        position_of.push_back(&v);
+      }
     }
     first_use[n] = corners.size();
-    std::vector<Corner> sorted = corners;
-    std::sort(sorted.begin(), sorted.end(), [](const Corner& a, const Corner& b) { return a.key != b.key ? a.key < b.key : a.use < b.use; });
+    std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) { return a.key != b.key ? a.key < b.key : a.use < b.use; });
     // Each group of equal keys: its first use names it; ids follow the first uses' order.
-    std::vector<std::size_t> group_of(corners.size());
-    std::vector<std::size_t> group_first;
-    for (std::size_t a = 0; a < sorted.size(); ++a) {
-      if (a == 0 || sorted[a].key != sorted[a - 1].key) group_first.push_back(sorted[a].use);
-      group_of[sorted[a].use] = group_first.size() - 1;
+    std::vector<std::uint32_t> group_of(corners.size());
+    std::vector<std::uint32_t> group_first;
+    for (std::size_t a = 0; a < corners.size(); ++a) {
+      if (a == 0 || corners[a].key != corners[a - 1].key) group_first.push_back(corners[a].use);
+      group_of[corners[a].use] = static_cast<std::uint32_t>(group_first.size() - 1);
     }
-    std::vector<std::size_t> by_first(group_first.size());
-    for (std::size_t g = 0; g < by_first.size(); ++g) by_first[g] = g;
-    std::sort(by_first.begin(), by_first.end(), [&](std::size_t a, std::size_t b) { return group_first[a] < group_first[b]; });
+    std::vector<std::uint32_t> by_first(group_first.size());
+    for (std::size_t g = 0; g < by_first.size(); ++g) by_first[g] = static_cast<std::uint32_t>(g);
+    std::sort(by_first.begin(), by_first.end(), [&](std::uint32_t a, std::uint32_t b) { return group_first[a] < group_first[b]; });
     std::vector<int> id_of_group(group_first.size());
     vertex_position.resize(group_first.size());
     for (std::size_t rank = 0; rank < by_first.size(); ++rank) {
       id_of_group[by_first[rank]] = static_cast<int>(rank);
-      vertex_position[rank] = corners[group_first[by_first[rank]]].position;
+      vertex_position[rank] = *position_of[group_first[by_first[rank]]];
     }
     for (std::size_t f = 0; f < n; ++f)
       for (std::size_t c = first_use[f]; c < first_use[f + 1]; ++c) face_vertices[f].push_back(id_of_group[group_of[c]]);
@@ -63,7 +66,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   struct Use {
     std::size_t mesh;
     int u, v;
-    std::size_t face;
+    std::uint32_t face;
+    std::uint32_t index;  // insertion order: a key's uses stay in face order
     bool forward;
   };
   std::vector<Use> uses_list;
@@ -71,11 +75,12 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     const std::vector<int>& fv = face_vertices[f];
     for (std::size_t a = 0; a < fv.size(); ++a) {
       const int u = fv[a], v = fv[(a + 1) % fv.size()];
-      uses_list.push_back({scene.faces[f].mesh, std::min(u, v), std::max(u, v), f, u < v});
+      uses_list.push_back({scene.faces[f].mesh, std::min(u, v), std::max(u, v), static_cast<std::uint32_t>(f),
+                           static_cast<std::uint32_t>(uses_list.size()), u < v});
     }
   }
-  std::stable_sort(uses_list.begin(), uses_list.end(), [](const Use& a, const Use& b) {
-    return std::tie(a.mesh, a.u, a.v) < std::tie(b.mesh, b.u, b.v);
+  std::sort(uses_list.begin(), uses_list.end(), [](const Use& a, const Use& b) {
+    return std::tie(a.mesh, a.u, a.v, a.index) < std::tie(b.mesh, b.u, b.v, b.index);
   });
   std::vector<std::size_t> parent(n);
   for (std::size_t f = 0; f < n; ++f) parent[f] = f;

@@ -646,14 +646,10 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   // general expression gives (0 x_i and 0 x_j add exact zeros, intervals included).
   const bool level = sgn(P.n[i]) == 0 && sgn(P.n[j]) == 0;
   const double level_k = level ? CGAL::to_double(-(cc + exact::FT(0) + exact::FT(0)) / nk) : 0.0;
-  mpq_class chart_area = 0, region_twice, twice;
+  mpq_class chart_area = 0, twice;
   std::vector<exact::Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const exact::Polygon2& outer = regions[r].outer_boundary();
-    // Exact twice areas: the outer boundary's (counter-clockwise) less the holes'.
-    region_twice = exact_twice_area(outer);
-    for (auto h = regions[r].holes_begin(); h != regions[r].holes_end(); ++h) region_twice -= abs(exact_twice_area(*h));
-    chart_area += region_twice;
     // Edges on the tile's inner borders: where this region may continue in the next tile.
     const std::size_t n = outer.size();
     for (std::size_t a = 0; a < n; ++a) {
@@ -673,17 +669,15 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
         }
       }
     }
+    // Simple cells, and the region's exact twice area as the sum of theirs (they tile it).
     cells.clear();
     const bool whole = regions[r].number_of_holes() == 0 && !exact::has_repeated_vertex(outer);
     if (!whole) exact::append_simple_cells(regions[r], cells);
     const std::size_t count = whole ? 1 : cells.size();
     for (std::size_t c = 0; c < count; ++c) {
       const exact::Polygon2& cell = whole ? outer : cells[c];
-      if (whole) {
-        twice = region_twice;
-      } else {
-        twice = exact_twice_area(cell);
-      }
+      twice = exact_twice_area(cell);
+      chart_area += twice;
       std::vector<glm::dvec3> polygon;
       polygon.reserve(cell.size());
       for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
