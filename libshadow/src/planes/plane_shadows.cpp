@@ -144,6 +144,8 @@ struct Pair {
   std::array<mpq_class, 4> bound;  ///< lo[0], hi[0], lo[1], hi[1] exactly
   std::array<Q4, 4> sides;         ///< the prism or pyramid over the window
   Q4 level;                        ///< p.l - p.x >= 0 (point lights)
+  std::array<bool, 3> p_nonzero{};  ///< which of p's first three coefficients are not zero
+  std::array<mpq_class, 2> ratio;   ///< l_i / p.l and l_j / p.l (directional lights)
   glm::dvec3 normal{0.0}, point_on{0.0};  ///< the plane as given, for the double filter
   double turn = 1;                        ///< -1 when p is the plane turned around
 };
@@ -191,6 +193,8 @@ Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, c
   P.sides = geometry::box_sides(P.p, P.l, P.pl, P.i, P.j, P.lo, P.hi);
   for (int col = 0; col < 4; ++col) P.level[col] = -P.p[col];
   P.level[3] += P.pl;
+  for (int c = 0; c < 3; ++c) P.p_nonzero[c] = sgn(P.p[c]) != 0;
+  P.ratio = {P.l[P.i] / P.pl, P.l[P.j] / P.pl};
   return P;
 }
 
@@ -320,7 +324,14 @@ class Caster {
     bool any_front = false;
     for (std::size_t a = 0; a < n; ++a) {
       const glm::dvec3& v = cs.vertices[a];
-      s_[a] = P_.p[0] * mpq_class(v.x) + P_.p[1] * mpq_class(v.y) + P_.p[2] * mpq_class(v.z) + P_.p[3];
+      // s = p.(v, 1), skipping the plane's zero coefficients (the ground: s = z).
+      s_[a] = P_.p[3];
+      for (int c = 0; c < 3; ++c)
+        if (P_.p_nonzero[c]) {
+          coordinate_ = v[c];
+          term_ = P_.p[c] * coordinate_;
+          s_[a] += term_;
+        }
       const int side = sgn(s_[a]);
       if (side < 0 || (P_.point && cmp(s_[a], P_.pl) >= 0)) return false;
       any_front |= side > 0;
@@ -328,9 +339,20 @@ class Caster {
     if (!any_front) return true;  // lies in the plane: casts nothing
     // Its shadow is the projection of the solid, which is convex (w > 0 throughout) and the
     // projection of its vertices' hull: a ray that meets the solid meets its boundary.
-    hull_in_.clear();
-    for (std::size_t a = 0; a < n; ++a)
-      hull_in_.push_back(project({mpq_class(cs.vertices[a].x), mpq_class(cs.vertices[a].y), mpq_class(cs.vertices[a].z)}, s_[a]));
+    hull_in_.resize(n);
+    for (std::size_t a = 0; a < n; ++a) {
+      const glm::dvec3& v = cs.vertices[a];
+      if (P_.point) {
+        hull_in_[a] = project({mpq_class(v.x), mpq_class(v.y), mpq_class(v.z)}, s_[a]);
+        continue;
+      }
+      // A directional light: w = p.l, and the image is x - (l / p.l) s, the same rational.
+      for (int c = 0; c < 2; ++c) {
+        hull_in_[a][c] = v[c == 0 ? P_.i : P_.j];
+        term_ = P_.ratio[c] * s_[a];
+        hull_in_[a][c] -= term_;
+      }
+    }
     convex_hull(hull_in_, hull_order_, chart_);
     // Three hull points or more bound a positive area, counter-clockwise, and a window clip that
     // keeps three points keeps a vertex strictly inside: no orientation to test.
@@ -377,6 +399,7 @@ class Caster {
   std::vector<mpq_class> s_;
   std::vector<Q2> chart_;
   std::vector<Q2> hull_in_;
+  mpq_class coordinate_, term_;
   std::vector<HullPoint> hull_order_;
 };
 
