@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
+#include <unordered_map>
 #include <map>
 #include <set>
 #include <tuple>
@@ -20,46 +22,41 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   const std::size_t n = scene.faces.size();
   solid_of.assign(n, -1);
   // Vertex ids by exact coordinates (+0.0 folds -0.0 into 0.0), numbered in order of first
-  // use. Sorted arrays instead of ordered maps: this search runs before every plane shadow
-  // and engine, on one thread (a map of 240,000 keys was most of its time for 10,000 boxes).
+  // use. A hash table instead of an ordered map: this search runs on one thread before every
+  // plane shadow and engine (a map of 240,000 keys was most of its time for 10,000 boxes).
   std::vector<std::vector<int>> face_vertices(n);
   std::vector<glm::dvec3> vertex_position;
   {
-    struct Corner {
-      std::array<double, 3> key;
-      std::uint32_t use;  // position in face order
+    using Key = std::array<std::uint64_t, 3>;  // the coordinates' bits, -0.0 folded
+    struct KeyHash {
+      std::size_t operator()(const Key& k) const {
+        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+        for (std::uint64_t x : k) {
+          h ^= x + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+          h *= 0xff51afd7ed558ccdULL;
+          h ^= h >> 33;
+        }
+        return static_cast<std::size_t>(h);
+      }
     };
-    std::vector<Corner> corners;
-    std::vector<std::size_t> first_use(n + 1, 0);
-    std::vector<const glm::dvec3*> position_of;  // by use, as given (a first use's -0.0 stays)
+    auto bits = [](double x) {
+      x += 0.0;
+      std::uint64_t b;
+      std::memcpy(&b, &x, sizeof b);
+      return b;
+    };
+    std::unordered_map<Key, int, KeyHash> vertex_id;
+    std::size_t corners = 0;
+    for (std::size_t f = 0; f < n; ++f) corners += scene.faces[f].vertices.size();
+    vertex_id.reserve(corners);
     for (std::size_t f = 0; f < n; ++f) {
-      first_use[f] = corners.size();
       if (prep[f].degenerate || !prep[f].exactly_planar) continue;
       for (const glm::dvec3& v : scene.faces[f].vertices) {
-        corners.push_back({{v.x + 0.0, v.y + 0.0, v.z + 0.0}, static_cast<std::uint32_t>(corners.size())});
-        position_of.push_back(&v);
+        auto [it, inserted] = vertex_id.emplace(Key{bits(v.x), bits(v.y), bits(v.z)}, static_cast<int>(vertex_position.size()));
+        if (inserted) vertex_position.push_back(v);
+        face_vertices[f].push_back(it->second);
       }
     }
-    first_use[n] = corners.size();
-    std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) { return a.key != b.key ? a.key < b.key : a.use < b.use; });
-    // Each group of equal keys: its first use names it; ids follow the first uses' order.
-    std::vector<std::uint32_t> group_of(corners.size());
-    std::vector<std::uint32_t> group_first;
-    for (std::size_t a = 0; a < corners.size(); ++a) {
-      if (a == 0 || corners[a].key != corners[a - 1].key) group_first.push_back(corners[a].use);
-      group_of[corners[a].use] = static_cast<std::uint32_t>(group_first.size() - 1);
-    }
-    std::vector<std::uint32_t> by_first(group_first.size());
-    for (std::size_t g = 0; g < by_first.size(); ++g) by_first[g] = static_cast<std::uint32_t>(g);
-    std::sort(by_first.begin(), by_first.end(), [&](std::uint32_t a, std::uint32_t b) { return group_first[a] < group_first[b]; });
-    std::vector<int> id_of_group(group_first.size());
-    vertex_position.resize(group_first.size());
-    for (std::size_t rank = 0; rank < by_first.size(); ++rank) {
-      id_of_group[by_first[rank]] = static_cast<int>(rank);
-      vertex_position[rank] = *position_of[group_first[by_first[rank]]];
-    }
-    for (std::size_t f = 0; f < n; ++f)
-      for (std::size_t c = first_use[f]; c < first_use[f + 1]; ++c) face_vertices[f].push_back(id_of_group[group_of[c]]);
   }
   // Undirected edge -> uses (face, forward). Within one mesh only. In key order, each key's
   // uses in face order.
