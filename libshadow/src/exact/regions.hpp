@@ -133,6 +133,11 @@ inline void triangulate_region(const PolygonWithHoles2& region, std::vector<Poly
   };
   gather(region.outer_boundary());
   for (auto h = region.holes_begin(); h != region.holes_end(); ++h) gather(*h);
+  // Every exact value first: CGAL walks to a point with doubles from the lazy points'
+  // intervals, which an exact evaluation narrows, and the walk decides which faces the
+  // triangulation's containers hold first, so the cells would depend on what was evaluated
+  // before. Evaluated, the cells depend on the region alone (and its area needs them anyway).
+  for (const Point2& p : points) CGAL::exact(p);
   std::vector<std::size_t> order(points.size());
   for (std::size_t a = 0; a < order.size(); ++a) order[a] = a;
   using Map = CGAL::Pointer_property_map<Point2>::type;
