@@ -33,6 +33,7 @@
 #include <shadow/shadows.hpp>
 
 #include <CGAL/Interval_nt.h>
+#include <CGAL/version.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -551,8 +552,17 @@ std::vector<std::size_t> spatial_order(const std::vector<Image>& images, std::ve
 
 using ApproxKernel = exact::Kernel::Approximate_kernel;
 using ExactKernel = exact::Kernel::Exact_kernel;
-using PointRep = CGAL::Lazy_rep_0<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
 
+// lazy_point and exact_of reach into CGAL 5.5's lazy representations (Lazy_rep_0 built with
+// both values, Lazy_rep::is_lazy and exact_unsafe): checked there; any other CGAL takes the
+// public, slower route (the same values).
+#if CGAL_VERSION_NR >= 1050500000 && CGAL_VERSION_NR < 1050600000
+#define SHADOW_PLANES_LAZY_INTERNALS 1
+#else
+#define SHADOW_PLANES_LAZY_INTERNALS 0
+#endif
+
+#if SHADOW_PLANES_LAZY_INTERNALS
 /// The tightest interval of doubles around a rational: a point when it is a double, else the
 /// double below and the double above (mpq_get_d truncates toward zero). What CGAL's conversion
 /// gives, without its MPFR division.
@@ -563,11 +573,17 @@ CGAL::Interval_nt<false> enclosure(const mpq_class& q) {
   const double away = std::nextafter(d, sign > 0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity());
   return sign > 0 ? CGAL::Interval_nt<false>(d, away) : CGAL::Interval_nt<false>(away, d);
 }
+#endif
 
 /// An exact chart point as a lazy point whose exact value is known from the start (one node,
 /// no lazy coordinates): CGAL evaluates it without a DAG, and exact_of reads it back directly.
 exact::Point2 lazy_point(const Q2& q) {
+#if SHADOW_PLANES_LAZY_INTERNALS
+  using PointRep = CGAL::Lazy_rep_0<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
   return exact::Point2(new PointRep(ApproxKernel::Point_2(enclosure(q[0]), enclosure(q[1])), ExactKernel::Point_2(q[0], q[1])));
+#else
+  return exact::Point2(exact::FT(q[0]), exact::FT(q[1]));
+#endif
 }
 
 /// CGAL::exact(p), without std::call_once when the exact value is already known (glibc's
@@ -575,9 +591,13 @@ exact::Point2 lazy_point(const Q2& q) {
 /// empty one). Only for lazy points that no other thread touches. CGAL 5.5's Lazy keeps its
 /// representation private; Handle::for_compact_container is the public way to it.
 const ExactKernel::Point_2& exact_of(const exact::Point2& p) {
+#if SHADOW_PLANES_LAZY_INTERNALS
   using Rep = CGAL::Lazy_rep<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
   const auto* rep = static_cast<const Rep*>(static_cast<CGAL::Rep*>(static_cast<const CGAL::Handle&>(p).for_compact_container()));
   return rep->is_lazy() ? CGAL::exact(p) : rep->exact_unsafe();
+#else
+  return CGAL::exact(p);
+#endif
 }
 
 /// Twice the signed area of a polygon, exactly, from its vertices' exact rational coordinates
