@@ -896,7 +896,12 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
       if (!members[a][t].empty()) tile_items.emplace_back(a, t);
   }
 
-  // Unions: every pair's tiles on the same workers.
+  // Unions: every pair's tiles on the same workers, the tiles with the most images first (the
+  // workers take items in order: a large tile taken last would leave the others idle). Each
+  // tile writes its own result, so the order changes no result.
+  std::stable_sort(tile_items.begin(), tile_items.end(), [&](const auto& x, const auto& y) {
+    return members[x.first][x.second].size() > members[y.first][y.second].size();
+  });
   std::vector<std::vector<TileResult>> tiles(pair_count);
   for (std::size_t a = 0; a < pair_count; ++a) tiles[a].resize(grids[a].tiles());
   core::parallel_for(tile_items.size(), threads, [&](unsigned, std::size_t item) {
