@@ -63,8 +63,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   struct Use {
     std::size_t mesh;
     int u, v;
-    std::uint32_t face;
-    std::uint32_t index;  // insertion order: a key's uses stay in face order
+    std::size_t face;
+    std::size_t index;  // insertion order: a key's uses stay in face order
     bool forward;
   };
   std::vector<Use> uses_list;
@@ -72,8 +72,7 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     const std::vector<int>& fv = face_vertices[f];
     for (std::size_t a = 0; a < fv.size(); ++a) {
       const int u = fv[a], v = fv[(a + 1) % fv.size()];
-      uses_list.push_back({scene.faces[f].mesh, std::min(u, v), std::max(u, v), static_cast<std::uint32_t>(f),
-                           static_cast<std::uint32_t>(uses_list.size()), u < v});
+      uses_list.push_back({scene.faces[f].mesh, std::min(u, v), std::max(u, v), f, uses_list.size(), u < v});
     }
   }
   std::sort(uses_list.begin(), uses_list.end(), [](const Use& a, const Use& b) {
