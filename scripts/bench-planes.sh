@@ -5,6 +5,7 @@
 # (BEFORE_LIB=DIR holding its libshadow.so.0), each row is run with it and then with this build,
 # interleaved, so that both see the same load: the same shadow-bench binary, the old library
 # through LD_LIBRARY_PATH (the public API it calls has not changed). About 3 minutes on 2 cores.
+# REPEAT=N: each row the fastest of N runs (its CPU time with it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset release >/dev/null
@@ -16,8 +17,8 @@ echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for e in 40 5; do
   for t in 1 2; do
     if [ -n "${BEFORE_LIB:-}" ]; then
-      LD_LIBRARY_PATH="$BEFORE_LIB" "$bench" planes --sizes "$sizes" --elevations "$e" --threads "$t" --label before | tail -1
+      LD_LIBRARY_PATH="$BEFORE_LIB" "$bench" planes --sizes "$sizes" --elevations "$e" --threads "$t" --repeat "${REPEAT:-1}" --label before | tail -1
     fi
-    "$bench" planes --sizes "$sizes" --elevations "$e" --threads "$t" --label after | tail -1
+    "$bench" planes --sizes "$sizes" --elevations "$e" --threads "$t" --repeat "${REPEAT:-1}" --label after | tail -1
   done
 done

@@ -7,6 +7,9 @@
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/property_map.h>
+#include <CGAL/spatial_sort.h>
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
 
 #include <algorithm>
 #include <iterator>
@@ -111,29 +114,50 @@ inline std::vector<Polygon2> merge_into_convex(const std::vector<Polygon2>& tria
 /// triangulation of its boundaries, faces at odd nesting depth. CGAL's
 /// Polygon_triangulation_decomposition_2 uses a constrained triangulation that is not Delaunay,
 /// whose constraint insertion is quadratic on combs (70% of 19 s for a ground around the shadow
-/// of a 32,000-vertex comb). Vertices are inserted along each boundary with the previous one's
-/// face as the hint, so each location is a short walk.
+/// of a 32,000-vertex comb). The vertices are inserted in spatial order (CGAL's spatial_sort: a
+/// Hilbert order over rounds of a deterministic shuffle), then the boundaries' edges as
+/// constraints: inserted along the boundaries instead, a long comb-like boundary (the shadows
+/// of a low sun) made each insertion flip many edges (80% of the plane shadow's time spent in
+/// the flips at 5 degrees).
 inline void triangulate_region(const PolygonWithHoles2& region, std::vector<Polygon2>& triangles) {
   using Fbi = CGAL::Triangulation_face_base_with_info_2<int, Kernel>;
   using Fb = CGAL::Constrained_triangulation_face_base_2<Kernel, Fbi>;
   using Tds = CGAL::Triangulation_data_structure_2<CGAL::Triangulation_vertex_base_2<Kernel>, Fb>;
   using CDT = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
   CDT cdt;
-  auto add = [&](const Polygon2& boundary) {
-    std::vector<typename CDT::Vertex_handle> handles;
-    typename CDT::Face_handle hint;
-    for (auto v = boundary.vertices_begin(); v != boundary.vertices_end(); ++v) {
-      handles.push_back(cdt.insert(*v, hint));
-      hint = handles.back()->face();
-    }
-    for (std::size_t a = 0; a < handles.size(); ++a) {
+  std::vector<Point2> points;
+  std::vector<std::size_t> ends;  // one past each boundary's last point
+  auto gather = [&](const Polygon2& boundary) {
+    points.insert(points.end(), boundary.vertices_begin(), boundary.vertices_end());
+    ends.push_back(points.size());
+  };
+  gather(region.outer_boundary());
+  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) gather(*h);
+  // Every exact value first: CGAL walks to a point with doubles from the lazy points'
+  // intervals, which an exact evaluation narrows, and the walk decides which faces the
+  // triangulation's containers hold first, so the cells would depend on what was evaluated
+  // before. Evaluated, the cells depend on the region alone (and its area needs them anyway).
+  for (const Point2& p : points) CGAL::exact(p);
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t a = 0; a < order.size(); ++a) order[a] = a;
+  using Map = CGAL::Pointer_property_map<Point2>::type;
+  CGAL::spatial_sort(order.begin(), order.end(),
+                     CGAL::Spatial_sort_traits_adapter_2<Kernel, Map>(CGAL::make_property_map(points)));
+  std::vector<typename CDT::Vertex_handle> handles(points.size());
+  typename CDT::Face_handle hint;
+  for (std::size_t a : order) {
+    handles[a] = cdt.insert(points[a], hint);  // a point met before gives its vertex
+    hint = handles[a]->face();
+  }
+  std::size_t first = 0;
+  for (std::size_t end : ends) {
+    for (std::size_t a = first; a < end; ++a) {
       const auto& from = handles[a];
-      const auto& to = handles[(a + 1) % handles.size()];
+      const auto& to = handles[a + 1 < end ? a + 1 : first];
       if (from != to) cdt.insert_constraint(from, to);
     }
-  };
-  add(region.outer_boundary());
-  for (auto h = region.holes_begin(); h != region.holes_end(); ++h) add(*h);
+    first = end;
+  }
   // Nesting depth: 0 outside, +1 across each constrained edge; the region is at odd depth.
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
   std::vector<typename CDT::Face_handle> level{cdt.infinite_face()}, next_level;

@@ -32,12 +32,14 @@
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 
-#include <CGAL/convex_hull_2.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/version.h>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <gmpxx.h>
+#include <mpfr.h>
 
 #include <algorithm>
 #include <array>
@@ -47,6 +49,8 @@
 #include <limits>
 #include <numeric>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace shadow {
@@ -141,6 +145,8 @@ struct Pair {
   std::array<mpq_class, 4> bound;  ///< lo[0], hi[0], lo[1], hi[1] exactly
   std::array<Q4, 4> sides;         ///< the prism or pyramid over the window
   Q4 level;                        ///< p.l - p.x >= 0 (point lights)
+  std::array<bool, 3> p_nonzero{};  ///< which of p's first three coefficients are not zero
+  std::array<mpq_class, 2> ratio;   ///< l_i / p.l and l_j / p.l (directional lights)
   glm::dvec3 normal{0.0}, point_on{0.0};  ///< the plane as given, for the double filter
   double turn = 1;                        ///< -1 when p is the plane turned around
 };
@@ -188,6 +194,8 @@ Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, c
   P.sides = geometry::box_sides(P.p, P.l, P.pl, P.i, P.j, P.lo, P.hi);
   for (int col = 0; col < 4; ++col) P.level[col] = -P.p[col];
   P.level[3] += P.pl;
+  for (int c = 0; c < 3; ++c) P.p_nonzero[c] = sgn(P.p[c]) != 0;
+  P.ratio = {P.l[P.i] / P.pl, P.l[P.j] / P.pl};
   return P;
 }
 
@@ -200,6 +208,66 @@ bool surely_behind(const Pair& P, const glm::dvec3& x) {
   const double magnitude = std::abs(P.normal.x * d.x) + std::abs(P.normal.y * d.y) + std::abs(P.normal.z * d.z);
   if (!(magnitude > 1e-280) || !std::isfinite(magnitude)) return false;
   return s < -8 * std::numeric_limits<double>::epsilon() * magnitude;
+}
+
+/// A chart point for the convex hull: the exact point and an interval of doubles around each
+/// coordinate (below and above its double), which decides most comparisons without rationals.
+struct HullPoint {
+  const Q2* q = nullptr;
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+};
+
+/// Exact comparison of two chart points by (x, y), filtered by their intervals.
+bool less_xy(const HullPoint& a, const HullPoint& b) {
+  for (int c = 0; c < 2; ++c) {
+    if (a.hi[c] < b.lo[c]) return true;
+    if (b.hi[c] < a.lo[c]) return false;
+    const int order = cmp((*a.q)[c], (*b.q)[c]);
+    if (order != 0) return order < 0;
+  }
+  return false;
+}
+
+/// Exact sign of the orientation of (a, b, c), filtered by interval arithmetic.
+int orientation(const HullPoint& a, const HullPoint& b, const HullPoint& c) {
+  using I = CGAL::Interval_nt<true>;  // protects its own rounding mode
+  const I ax(a.lo[0], a.hi[0]), ay(a.lo[1], a.hi[1]);
+  const I det = (I(b.lo[0], b.hi[0]) - ax) * (I(c.lo[1], c.hi[1]) - ay) - (I(b.lo[1], b.hi[1]) - ay) * (I(c.lo[0], c.hi[0]) - ax);
+  if (det.inf() > 0) return 1;
+  if (det.sup() < 0) return -1;
+  const Q2 &p = *a.q, &q = *b.q, &r = *c.q;
+  return sgn(mpq_class((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])));
+}
+
+/// The convex hull of chart points, exactly (Andrew's monotone chain, no collinear or repeated
+/// vertices): counter-clockwise from the least point by (x, y), into `out`. Fewer than three
+/// vertices when the points do not bound an area. Replaces CGAL's hull on lazy numbers built
+/// from the rationals (the numbers' construction was most of the hull's cost).
+void convex_hull(const std::vector<Q2>& points, std::vector<HullPoint>& order, std::vector<Q2>& out) {
+  order.clear();
+  out.clear();
+  if (points.empty()) return;
+  for (const Q2& q : points) {
+    HullPoint h;
+    h.q = &q;
+    for (int c = 0; c < 2; ++c) {
+      h.lo[c] = below(q[c]);
+      h.hi[c] = above(q[c]);
+    }
+    order.push_back(h);
+  }
+  std::sort(order.begin(), order.end(), less_xy);
+  std::vector<const HullPoint*> chain;
+  chain.reserve(2 * order.size());
+  auto extend = [&](const HullPoint& p, std::size_t floor) {
+    while (chain.size() >= floor + 2 && orientation(*chain[chain.size() - 2], *chain.back(), p) <= 0) chain.pop_back();
+    chain.push_back(&p);
+  };
+  for (const HullPoint& p : order) extend(p, 0);  // lower hull, left to right
+  const std::size_t lower = chain.size();
+  for (std::size_t a = order.size() - 1; a-- > 0;) extend(order[a], lower - 1);  // upper hull, right to left
+  // The chain ends where it began; two vertices or fewer when the points bound no area.
+  for (std::size_t a = 0; a + 1 < chain.size(); ++a) out.push_back(*chain[a]->q);
 }
 
 /// Turns chart polygons into images: projection, window, culling. One per worker thread.
@@ -257,7 +325,14 @@ class Caster {
     bool any_front = false;
     for (std::size_t a = 0; a < n; ++a) {
       const glm::dvec3& v = cs.vertices[a];
-      s_[a] = P_.p[0] * mpq_class(v.x) + P_.p[1] * mpq_class(v.y) + P_.p[2] * mpq_class(v.z) + P_.p[3];
+      // s = p.(v, 1), skipping the plane's zero coefficients (the ground: s = z).
+      s_[a] = P_.p[3];
+      for (int c = 0; c < 3; ++c)
+        if (P_.p_nonzero[c]) {
+          coordinate_ = v[c];
+          term_ = P_.p[c] * coordinate_;
+          s_[a] += term_;
+        }
       const int side = sgn(s_[a]);
       if (side < 0 || (P_.point && cmp(s_[a], P_.pl) >= 0)) return false;
       any_front |= side > 0;
@@ -265,15 +340,21 @@ class Caster {
     if (!any_front) return true;  // lies in the plane: casts nothing
     // Its shadow is the projection of the solid, which is convex (w > 0 throughout) and the
     // projection of its vertices' hull: a ray that meets the solid meets its boundary.
-    hull_in_.clear();
+    hull_in_.resize(n);
     for (std::size_t a = 0; a < n; ++a) {
-      const Q2 x = project({mpq_class(cs.vertices[a].x), mpq_class(cs.vertices[a].y), mpq_class(cs.vertices[a].z)}, s_[a]);
-      hull_in_.emplace_back(exact::FT(x[0]), exact::FT(x[1]));
+      const glm::dvec3& v = cs.vertices[a];
+      if (P_.point) {
+        hull_in_[a] = project({mpq_class(v.x), mpq_class(v.y), mpq_class(v.z)}, s_[a]);
+        continue;
+      }
+      // A directional light: w = p.l, and the image is x - (l / p.l) s, the same rational.
+      for (int c = 0; c < 2; ++c) {
+        hull_in_[a][c] = v[c == 0 ? P_.i : P_.j];
+        term_ = P_.ratio[c] * s_[a];
+        hull_in_[a][c] -= term_;
+      }
     }
-    hull_out_.clear();
-    CGAL::convex_hull_2(hull_in_.begin(), hull_in_.end(), std::back_inserter(hull_out_), exact::Kernel());
-    chart_.clear();
-    for (const exact::Point2& x : hull_out_) chart_.push_back({mpq_class(CGAL::exact(x.x())), mpq_class(CGAL::exact(x.y()))});
+    convex_hull(hull_in_, hull_order_, chart_);
     // Three hull points or more bound a positive area, counter-clockwise, and a window clip that
     // keeps three points keeps a vertex strictly inside: no orientation to test.
     finish(window_clip(), chart_.size() >= 3);
@@ -318,7 +399,9 @@ class Caster {
   bool& reaches_;
   std::vector<mpq_class> s_;
   std::vector<Q2> chart_;
-  std::vector<exact::Point2> hull_in_, hull_out_;
+  std::vector<Q2> hull_in_;
+  mpq_class coordinate_, term_;
+  std::vector<HullPoint> hull_order_;
 };
 
 /// What casts: a face (its convex pieces) or a closed convex solid, in the order of the faces.
@@ -467,6 +550,88 @@ std::vector<std::size_t> spatial_order(const std::vector<Image>& images, std::ve
   return members;
 }
 
+using ApproxKernel = exact::Kernel::Approximate_kernel;
+using ExactKernel = exact::Kernel::Exact_kernel;
+
+// lazy_point and exact_of reach into CGAL 5.5's lazy representations (Lazy_rep_0 built with
+// both values, Lazy_rep::is_lazy and exact_unsafe): checked there; any other CGAL takes the
+// public, slower route (the same values).
+#if CGAL_VERSION_NR >= 1050500000 && CGAL_VERSION_NR < 1050600000
+#define SHADOW_PLANES_LAZY_INTERNALS 1
+#else
+#define SHADOW_PLANES_LAZY_INTERNALS 0
+#endif
+
+#if SHADOW_PLANES_LAZY_INTERNALS
+/// The tightest interval of doubles around a rational: a point when it is a double, else the
+/// double below and the double above (mpq_get_d truncates toward zero). What CGAL's conversion
+/// gives, without its MPFR division.
+CGAL::Interval_nt<false> enclosure(const mpq_class& q) {
+  const double d = q.get_d();
+  const int sign = sgn(q);
+  if (mpz_popcount(q.get_den_mpz_t()) == 1 && cmp(q, d) == 0) return {d, d};  // a dyadic rational may be a double
+  const double away = std::nextafter(d, sign > 0 ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity());
+  return sign > 0 ? CGAL::Interval_nt<false>(d, away) : CGAL::Interval_nt<false>(away, d);
+}
+#endif
+
+/// An exact chart point as a lazy point whose exact value is known from the start (one node,
+/// no lazy coordinates): CGAL evaluates it without a DAG, and exact_of reads it back directly.
+exact::Point2 lazy_point(const Q2& q) {
+#if SHADOW_PLANES_LAZY_INTERNALS
+  using PointRep = CGAL::Lazy_rep_0<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
+  return exact::Point2(new PointRep(ApproxKernel::Point_2(enclosure(q[0]), enclosure(q[1])), ExactKernel::Point_2(q[0], q[1])));
+#else
+  return exact::Point2(exact::FT(q[0]), exact::FT(q[1]));
+#endif
+}
+
+/// CGAL::exact(p), without std::call_once when the exact value is already known (glibc's
+/// pthread_once makes a futex system call every time it runs an initialisation, even an
+/// empty one). Only for lazy points that no other thread touches. CGAL 5.5's Lazy keeps its
+/// representation private; Handle::for_compact_container is the public way to it.
+const ExactKernel::Point_2& exact_of(const exact::Point2& p) {
+#if SHADOW_PLANES_LAZY_INTERNALS
+  using Rep = CGAL::Lazy_rep<ApproxKernel::Point_2, ExactKernel::Point_2, exact::Kernel::E2A>;
+  const auto* rep = static_cast<const Rep*>(static_cast<CGAL::Rep*>(static_cast<const CGAL::Handle&>(p).for_compact_container()));
+  return rep->is_lazy() ? CGAL::exact(p) : rep->exact_unsafe();
+#else
+  return CGAL::exact(p);
+#endif
+}
+
+/// Twice the signed area of a polygon, exactly, from its vertices' exact rational coordinates
+/// (the shoelace; the same value as exact::polygon_area's, without a lazy node per term).
+mpq_class exact_twice_area(const exact::Polygon2& polygon) {
+  static_assert(std::is_same_v<std::decay_t<decltype(CGAL::exact(std::declval<exact::FT>()))>, mpq_class>,
+                "the exact kernel's numbers are GMP rationals");
+  const std::size_t n = polygon.size();
+  mpq_class twice(0), term;
+  for (std::size_t a = 0; a < n; ++a) {
+    const auto& p = exact_of(polygon[a]);
+    const auto& q = exact_of(polygon[(a + 1) % n]);
+    term = p.x() * q.y();
+    twice += term;
+    term = q.x() * p.y();
+    twice -= term;
+  }
+  return twice;
+}
+
+/// exact::area_3d for twice an exact chart area: sqrt(area^2 x scale), the rational rounded to
+/// 256 bits before the root (exact::sqrt_to_double), so bit for bit the same double.
+double area_3d(const mpq_class& twice_chart_area, const mpq_class& scale_squared) {
+  if (sgn(twice_chart_area) == 0) return 0.0;
+  const mpq_class squared = twice_chart_area * twice_chart_area * scale_squared / 4;
+  mpfr_t r;
+  mpfr_init2(r, 256);
+  mpfr_set_q(r, squared.get_mpq_t(), MPFR_RNDN);
+  mpfr_sqrt(r, r, MPFR_RNDN);
+  const double d = mpfr_get_d(r, MPFR_RNDN);
+  mpfr_clear(r);
+  return d;
+}
+
 /// Unites the images of one tile (clipped to it) and writes its regions back onto the plane.
 void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& images, const Grid& grid,
                 const std::vector<std::size_t>& members, std::size_t tile, TileResult& out) {
@@ -491,15 +656,17 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   for (std::size_t m : spatial_order(images, members)) {
     const Image& image = images[m];
     poly = image.vertices;
+    bool cut = false;
     for (int axis = 0; axis < 2; ++axis) {
-      if (image.box[axis] <= lower_d[axis]) clip_axis(poly, axis, lower[axis], false);
-      if (image.box[axis + 2] >= upper_d[axis]) clip_axis(poly, axis, upper[axis], true);
+      if (image.box[axis] <= lower_d[axis]) cut |= clip_axis(poly, axis, lower[axis], false);
+      if (image.box[axis + 2] >= upper_d[axis]) cut |= clip_axis(poly, axis, upper[axis], true);
     }
     if (poly.size() < 3) continue;
+    // A cut along an image's edge leaves a flat sliver (or nothing); an image not cut has a
+    // positive area.
+    if (cut && sgn(twice_area(poly)) <= 0) continue;
     exact::Polygon2 piece;
-    for (const Q2& x : poly) piece.push_back(exact::Point2(exact::FT(x[0]), exact::FT(x[1])));
-    // A cut along an image's edge leaves a flat sliver (or nothing).
-    if (CGAL::sign(exact::polygon_area(piece)) != CGAL::POSITIVE) continue;
+    for (const Q2& x : poly) piece.push_back(lazy_point(x));
     pieces.push_back(std::move(piece));
   }
   if (pieces.empty()) return;
@@ -510,57 +677,69 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   out.regions = regions.size();
 
   // Back to 3D on the plane (as given, not turned): x_k = -(c + n_i x_i + n_j x_j) / n_k.
+  // Everything below works on the vertices' exact rational coordinates, taken from each lazy
+  // point once (CGAL::exact), never on new lazy numbers: each lazy node evaluated exactly costs
+  // a std::call_once (and, in glibc, a futex wake system call), and areas, border edges and
+  // cells built as lazy expressions were a third of a tile's time.
   const int i = P.i, j = P.j, k = P.k;
   const exact::FT nk(P.n[k]), ni(P.n[i]), nj(P.n[j]), cc(P.c);
-  const exact::FT scale_squared = exact::FT(P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (nk * nk);
+  const mpq_class scale_squared = (P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (P.n[k] * P.n[k]);
   const bool flipped = scene.planes[P.plane_id].normal[k] < 0;  // the chart sees the plane clockwise
   // A plane normal to axis k (the ground): x_k is one number, -c / n_k, the same double as the
   // general expression gives (0 x_i and 0 x_j add exact zeros, intervals included).
   const bool level = sgn(P.n[i]) == 0 && sgn(P.n[j]) == 0;
   const double level_k = level ? CGAL::to_double(-(cc + exact::FT(0) + exact::FT(0)) / nk) : 0.0;
-  std::vector<exact::FT> region_areas;  // summed as a balanced tree (kernel.hpp, exact::balanced_sum)
+  mpq_class chart_area = 0, twice;
   std::vector<exact::Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
-    region_areas.push_back(exact::region_area(regions[r]));
+    const exact::Polygon2& outer = regions[r].outer_boundary();
     // Edges on the tile's inner borders: where this region may continue in the next tile.
-    auto borders = [&](const exact::Polygon2& boundary) {
-      for (auto e = boundary.edges_begin(); e != boundary.edges_end(); ++e) {
-        for (int axis = 0; axis < 2; ++axis) {
-          for (int high = 0; high < 2; ++high) {
-            if (!(high ? has_upper[axis] : has_lower[axis])) continue;
-            const exact::FT m(high ? upper_d[axis] : lower_d[axis]);
-            const exact::FT& a = axis == 0 ? e->source().x() : e->source().y();
-            const exact::FT& b = axis == 0 ? e->target().x() : e->target().y();
-            if (a != m || b != m) continue;
-            mpq_class from(CGAL::exact(axis == 0 ? e->source().y() : e->source().x()));
-            mpq_class to(CGAL::exact(axis == 0 ? e->target().y() : e->target().x()));
-            if (from > to) std::swap(from, to);
-            const std::size_t cut = cell_of[axis] - (high ? 0 : 1);
-            out.border.push_back({static_cast<std::size_t>(axis) * 65536 + cut, high == 1, from, to, r});
-          }
+    const std::size_t n = outer.size();
+    for (std::size_t a = 0; a < n; ++a) {
+      const auto& source = exact_of(outer[a]);
+      const auto& target = exact_of(outer[(a + 1) % n]);
+      for (int axis = 0; axis < 2; ++axis) {
+        const mpq_class& sa = axis == 0 ? source.x() : source.y();
+        const mpq_class& ta = axis == 0 ? target.x() : target.y();
+        if (sa != ta) continue;  // not parallel to that border
+        for (int high = 0; high < 2; ++high) {
+          if (!(high ? has_upper[axis] : has_lower[axis]) || sa != (high ? upper[axis] : lower[axis])) continue;
+          mpq_class from(axis == 0 ? source.y() : source.x());
+          mpq_class to(axis == 0 ? target.y() : target.x());
+          if (from > to) std::swap(from, to);
+          const std::size_t cut = cell_of[axis] - (high ? 0 : 1);
+          out.border.push_back({static_cast<std::size_t>(axis) * 65536 + cut, high == 1, from, to, r});
         }
       }
-    };
-    borders(regions[r].outer_boundary());
+    }
+    // Simple cells, and the region's exact twice area as the sum of theirs (they tile it).
     cells.clear();
-    exact::append_simple_cells(regions[r], cells);
-    for (const exact::Polygon2& cell : cells) {
+    const bool whole = regions[r].number_of_holes() == 0 && !exact::has_repeated_vertex(outer);
+    if (!whole) exact::append_simple_cells(regions[r], cells);
+    const std::size_t count = whole ? 1 : cells.size();
+    for (std::size_t c = 0; c < count; ++c) {
+      const exact::Polygon2& cell = whole ? outer : cells[c];
+      twice = exact_twice_area(cell);
+      chart_area += twice;
       std::vector<glm::dvec3> polygon;
+      polygon.reserve(cell.size());
       for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+        // The exact value is known (its approximation refined to the tightest interval): the
+        // double CGAL::to_double gives for it.
+        const auto& approx = CGAL::approx(*v);
         glm::dvec3 x;
-        x[i] = CGAL::to_double(v->x());
-        x[j] = CGAL::to_double(v->y());
+        x[i] = CGAL::to_double(approx.x());
+        x[j] = CGAL::to_double(approx.y());
         x[k] = level ? level_k : CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
         polygon.push_back(x);
       }
-      const exact::FT cell_area = exact::polygon_area(cell);
-      if (flipped == CGAL::is_positive(cell_area)) std::reverse(polygon.begin(), polygon.end());
+      if (flipped == (sgn(twice) > 0)) std::reverse(polygon.begin(), polygon.end());
       out.polygons.push_back(std::move(polygon));
       out.region_id.push_back(r);
-      out.polygon_area.push_back(exact::area_3d(CGAL::abs(cell_area), scale_squared));
+      out.polygon_area.push_back(area_3d(twice, scale_squared));
     }
   }
-  out.chart_area = mpq_class(CGAL::exact(exact::balanced_sum(region_areas)));
+  out.chart_area = chart_area / 2;
 }
 
 /// Union-find over the regions of a pair.
@@ -717,7 +896,12 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
       if (!members[a][t].empty()) tile_items.emplace_back(a, t);
   }
 
-  // Unions: every pair's tiles on the same workers.
+  // Unions: every pair's tiles on the same workers, the tiles with the most images first (the
+  // workers take items in order: a large tile taken last would leave the others idle). Each
+  // tile writes its own result, so the order changes no result.
+  std::stable_sort(tile_items.begin(), tile_items.end(), [&](const auto& x, const auto& y) {
+    return members[x.first][x.second].size() > members[y.first][y.second].size();
+  });
   std::vector<std::vector<TileResult>> tiles(pair_count);
   for (std::size_t a = 0; a < pair_count; ++a) tiles[a].resize(grids[a].tiles());
   core::parallel_for(tile_items.size(), threads, [&](unsigned, std::size_t item) {
