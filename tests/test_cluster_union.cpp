@@ -153,6 +153,40 @@ TEST(ClusterUnion, RandomConvexClustersAgreeWithAFineClipperUnion) {
   EXPECT_GT(boundaries, 200u);  // the boundary measure was reached
 }
 
+// Near the grid's limits (coordinates up to 2^30, as on a receiver's grid): the interval ends are
+// rounded there, and the bound the measure returns must cover it. Against Clipper's union of the
+// same polygons, whose own rounding moves its boundary by under one grid step.
+TEST(ClusterUnion, LargeCoordinatesStayWithinTheReturnedBound) {
+  std::mt19937 rng(20261127);
+  std::size_t boundaries = 0;
+  for (int round = 0; round < 200; ++round) {
+    CL::Paths polygons = random_convex(rng, 2 + static_cast<std::size_t>(round % 12), 64);
+    const CL::cInt scale = CL::cInt(1) << (20 + round % 4), shift = (round % 3 - 1) * (CL::cInt(1) << 28);
+    double perimeter = 0;
+    for (CL::Path& p : polygons) {
+      for (CL::IntPoint& q : p) q = {q.X * scale + shift + 7 * round, q.Y * scale - shift + 3};
+      for (std::size_t v = 0; v < p.size(); ++v) {
+        const CL::IntPoint& q = p[(v + 1) % p.size()];
+        perimeter += std::hypot(static_cast<double>(q.X - p[v].X), static_cast<double>(q.Y - p[v].Y));
+      }
+    }
+    ClusterUnionCounts counts;
+    const ClusteredArea a = shadow::fast::clustered_union_area(polygons, 1, 0.5, &counts);
+    boundaries += counts.boundaries;
+    CL::Clipper clipper;
+    clipper.AddPaths(polygons, CL::ptSubject, true);
+    CL::Paths united;
+    clipper.Execute(CL::ctUnion, united, CL::pftNonZero, CL::pftNonZero);
+    double clipped = 0;
+    for (const CL::Path& p : united) clipped += static_cast<double>(shadow::fast::twice_area(p));
+    clipped *= 0.5;
+    const double clipper_error = 2 * 1.42 * perimeter + 3.15 * 1.42 * 1.42;
+    EXPECT_NEAR(area_of(a), clipped, error_of(a) + clipper_error + 1e-15 * clipped) << "round " << round;
+    EXPECT_LT(error_of(a), 1e-12 * clipped + 1e6) << "round " << round;
+  }
+  EXPECT_GT(boundaries, 100u);
+}
+
 // Inside the engine, areas only: the fast areas of a city under suns of the year (most
 // receivers' casts go through the boundary measure) stay within their bounds of the exact ones.
 TEST(ClusterUnion, EngineFastAreasOnlyWithinBounds) {

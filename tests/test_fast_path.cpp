@@ -320,7 +320,28 @@ TEST(FastPath, GrazingAndParallelSun) {
   scene.lights.push_back(directional_light("grazing", sun_direction(0.01, 135)));
   scene.lights.push_back(directional_light("horizon", {1, 1, 0}));
   const ShadowResult fast = expect_within_bounds(scene, "grazing");
-  EXPECT_GT(fast.stats.fast_exact_fallbacks, 0u);  // edge-on walls, at least
+  EXPECT_GT(fast.stats.fast_exact_fallbacks, 0u);  // the grazing and horizon suns' walls, at least
+}
+
+TEST(FastPath, ExactlyEdgeOnWallsStayOnTheFastPath) {
+  // A sun exactly in the plane of every wall facing +-y: those walls are edge-on, decided by one
+  // exact determinant (the exact engine's own test), an attached shadow without a fallback.
+  Scene scene = make_city(30, 60, 5);
+  scene.lights.push_back(directional_light("parallel", {1, 0, 0.5}));
+  const ShadowResult fast = expect_within_bounds(scene, "edge-on", false);
+  const ShadowResult exact = compute_shadows(scene, with(Arithmetic::Exact, false));
+  std::size_t edge_on = 0;
+  for (std::size_t a = 0; a < fast.lighting.size(); ++a) {
+    const glm::dvec3 n = newell_normal(scene.faces[fast.lighting[a].face_id].vertices);
+    if (n.x != 0.0 || n.z != 0.0 || n.y == 0.0) continue;  // walls facing +-y only
+    ++edge_on;
+    EXPECT_FALSE(fast.lighting[a].faces_light);
+    EXPECT_EQ(fast.lighting[a].lit_area, 0.0);
+    EXPECT_EQ(fast.lighting[a].lit_area, exact.lighting[a].lit_area);
+    EXPECT_EQ(fast.lighting[a].lit_area_error_bound, 0.0);
+  }
+  EXPECT_GE(edge_on, 60u);  // two a box
+  EXPECT_EQ(fast.stats.fast_exact_fallbacks, 0u);
 }
 
 TEST(FastPath, ExactRemainsTheDefault) {

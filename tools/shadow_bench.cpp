@@ -162,8 +162,9 @@ int run_comb(std::size_t teeth, bool polygons) {
 /// instant. `sun_path` "spa": what `shadow series` runs, the library's solar position (SPA) at
 /// every hour of 2026 in local standard time at longitude 2.35 E (UTC+1), suns above the horizon;
 /// "solar-time": a simple model (Cooper's declination, solar time, no refraction), whose noon sun
-/// lies exactly in the plane of every east and west wall (edge-on, up to the rounding of its
-/// direction: such walls go to the exact engine), which no clock-time series does.
+/// lies in the plane of every east and west wall up to the rounding of its direction (exactly
+/// edge-on walls stay on the fast path; those grazed by 1e-17 go to the exact engine), which no
+/// clock-time series does.
 int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsigned threads,
                      double latitude, const std::string& arithmetic, bool ground, const std::string& sun_path) {
   using Clock = std::chrono::steady_clock;

@@ -422,7 +422,11 @@ class ExactReceiverJob {
     double twice = 0;
     for (auto a = shadow.vertices_begin(); a != shadow.vertices_end(); ++a) {
       const auto b = std::next(a) == shadow.vertices_end() ? shadow.vertices_begin() : std::next(a);
-      twice += CGAL::to_double(a->x()) * CGAL::to_double(b->y()) - CGAL::to_double(b->x()) * CGAL::to_double(a->y());
+      // About the box's corner: georeferenced charts (coordinates of 1e6) would cancel the
+      // products' leading digits away.
+      const double ax = CGAL::to_double(a->x()) - fp_.chart_min[0], ay = CGAL::to_double(a->y()) - fp_.chart_min[1];
+      const double bx = CGAL::to_double(b->x()) - fp_.chart_min[0], by = CGAL::to_double(b->y()) - fp_.chart_min[1];
+      twice += ax * by - bx * ay;
     }
     if (!(std::abs(0.5 * twice - box) <= 1e-9 * box) || !shadow.is_convex()) return;
     covered_ = polygon_area(shadow) == w_.face(ctx_, face_id_).chart_area;
@@ -450,7 +454,9 @@ class ExactReceiverJob {
     for (std::size_t a = 0; a < poly.size(); ++a) {
       const QPoint2& p = poly[a];
       const QPoint2& q = poly[(a + 1) % poly.size()];
-      twice += p.x.get_d() * q.y.get_d() - q.x.get_d() * p.y.get_d();
+      const double px = p.x.get_d() - fp_.chart_min[0], py = p.y.get_d() - fp_.chart_min[1];
+      const double qx = q.x.get_d() - fp_.chart_min[0], qy = q.y.get_d() - fp_.chart_min[1];
+      twice += px * qy - qx * py;
     }
     if (!(std::abs(0.5 * twice - box) <= 1e-9 * box)) return;
     EQ exact_twice;
@@ -469,7 +475,7 @@ class ExactReceiverJob {
       return;
     }
     if (q_mode_) {
-      if (w_.qfirst.size() == 2) {  // one convex cast inside the box: it is the shadow
+      if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
         twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
         twice_area_ /= 2;
         measure(P, twice_area_);

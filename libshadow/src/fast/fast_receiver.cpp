@@ -881,7 +881,10 @@ class ReceiverJob {
       clip_axis(cast_.poly, c, rc_.hi[c], false, hull_);
     }
     const std::size_t before = casts_.size();
+    // A footprint may cast anything from nothing to itself: it never counts as filling the box.
+    const bool covered_before = covered_;
     add_cast(cast_);
+    covered_ = covered_before;
     if (not_finite_) return false;
     if (casts_.size() > before) {
       maybe_.push_back(std::move(casts_.back()));
