@@ -8,6 +8,9 @@
 #include "geometry/clip_convex.hpp"
 #include "exact/exact_faces.hpp"
 
+#include <CGAL/Interval_nt.h>
+#include <gmpxx.h>
+
 #include <array>
 #include <vector>
 
@@ -25,6 +28,45 @@ struct ExactLight {
 inline ExactLight to_exact_light(const Light& light) {
   if (light.type == LightType::Point) return {{FT(light.position.x), FT(light.position.y), FT(light.position.z), FT(1)}};
   return {{FT(light.to_light.x), FT(light.to_light.y), FT(light.to_light.z), FT(0)}};
+}
+
+/// The sign of plane_at_light(make_exact_face(face), to_exact_light(light)) for an exactly
+/// planar face under a directional light, without building the exact face: the sign of
+/// det[next - corner, prev - corner, d] (negated for a flipped face), on intervals first and in
+/// rationals when they hold 0 (a wall edge-on to the sun). The year's series decides half its
+/// receivers (the back-facing ones) by this alone.
+inline int directional_facing_sign(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
+                                   const glm::dvec3& d) {
+  const glm::dvec3& corner = vertices[prep.corner[1]];
+  const glm::dvec3& next = vertices[prep.corner[2]];
+  const glm::dvec3& prev = vertices[prep.corner[0]];
+  int sign = 0;
+  {
+    using IA = CGAL::Interval_nt<false>;
+    CGAL::Protect_FPU_rounding<true> guard;
+    IA u[3], v[3], w[3];
+    for (int c = 0; c < 3; ++c) {
+      u[c] = IA(next[c]) - IA(corner[c]);
+      v[c] = IA(prev[c]) - IA(corner[c]);
+      w[c] = IA(d[c]);
+    }
+    const IA det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                   u[2] * (v[0] * w[1] - v[1] * w[0]);
+    if (det.inf() > 0) sign = 1;
+    else if (det.sup() < 0) sign = -1;
+  }
+  if (sign == 0) {
+    mpq_class u[3], v[3], w[3];
+    for (int c = 0; c < 3; ++c) {
+      u[c] = mpq_class(next[c]) - mpq_class(corner[c]);
+      v[c] = mpq_class(prev[c]) - mpq_class(corner[c]);
+      w[c] = mpq_class(d[c]);
+    }
+    const mpq_class det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                          u[2] * (v[0] * w[1] - v[1] * w[0]);
+    sign = sgn(det);
+  }
+  return prep.flipped ? -sign : sign;
 }
 
 /// s~(l) = n . l_xyz + offset * l_w: positive when the light is on the front side of the plane.
