@@ -6,10 +6,8 @@
 
 #include "geometry/box_sides.hpp"
 #include "geometry/clip_convex.hpp"
+#include "geometry/exact_facing.hpp"
 #include "exact/exact_faces.hpp"
-
-#include <CGAL/Interval_nt.h>
-#include <gmpxx.h>
 
 #include <array>
 #include <vector>
@@ -37,35 +35,7 @@ inline ExactLight to_exact_light(const Light& light) {
 /// receivers (the back-facing ones) by this alone.
 inline int directional_facing_sign(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
                                    const glm::dvec3& d) {
-  const glm::dvec3& corner = vertices[prep.corner[1]];
-  const glm::dvec3& next = vertices[prep.corner[2]];
-  const glm::dvec3& prev = vertices[prep.corner[0]];
-  int sign = 0;
-  {
-    using IA = CGAL::Interval_nt<false>;
-    CGAL::Protect_FPU_rounding<true> guard;
-    IA u[3], v[3], w[3];
-    for (int c = 0; c < 3; ++c) {
-      u[c] = IA(next[c]) - IA(corner[c]);
-      v[c] = IA(prev[c]) - IA(corner[c]);
-      w[c] = IA(d[c]);
-    }
-    const IA det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                   u[2] * (v[0] * w[1] - v[1] * w[0]);
-    if (det.inf() > 0) sign = 1;
-    else if (det.sup() < 0) sign = -1;
-  }
-  if (sign == 0) {
-    mpq_class u[3], v[3], w[3];
-    for (int c = 0; c < 3; ++c) {
-      u[c] = mpq_class(next[c]) - mpq_class(corner[c]);
-      v[c] = mpq_class(prev[c]) - mpq_class(corner[c]);
-      w[c] = mpq_class(d[c]);
-    }
-    const mpq_class det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                          u[2] * (v[0] * w[1] - v[1] * w[0]);
-    sign = sgn(det);
-  }
+  const int sign = geometry::exact_facing_sign(vertices[prep.corner[1]], vertices[prep.corner[2]], vertices[prep.corner[0]], d);
   return prep.flipped ? -sign : sign;
 }
 

@@ -26,12 +26,12 @@
 #include "fast/cluster_union.hpp"
 #include "fast/strip_union.hpp"
 #include "geometry/clip_convex.hpp"
+#include "geometry/exact_facing.hpp"
 #include "geometry/newell_normal.hpp"
 #include "geometry/unit_vector.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
-#include <gmpxx.h>
 #include <polyclipping/clipper.hpp>
 
 #include <glm/common.hpp>
@@ -59,17 +59,8 @@ constexpr CL::cInt kHalf = (CL::cInt(1) << 30) - 2;
 
 EK::Point_3 epick(const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); }
 
-/// Twice the signed area of a grid polygon, exactly.
-Int128 area2(const CL::Path& path) {
-  Int128 sum = 0;
-  const std::size_t n = path.size();
-  for (std::size_t a = 0; a < n; ++a) {
-    const CL::IntPoint& p = path[a];
-    const CL::IntPoint& q = path[(a + 1) % n];
-    sum += static_cast<Int128>(p.X) * q.Y - static_cast<Int128>(q.X) * p.Y;
-  }
-  return sum;
-}
+/// Twice the signed area of a grid polygon, exactly (fast/cluster_union.hpp).
+Int128 area2(const CL::Path& path) { return twice_area(path); }
 
 double perimeter(const std::vector<glm::dvec2>& poly) {
   double length = 0;
@@ -630,7 +621,8 @@ class ReceiverJob {
         // Grazing: the exact engine decides, unless the sun is exactly in the receiver's plane
         // (an east or west wall at solar noon): then the face is edge-on, an attached shadow in
         // the exact engine too, and one exact determinant says so.
-        if (!fp_.exactly_planar || exact_facing_sign(light_.to_light) != 0) return false;
+        if (!fp_.exactly_planar || geometry::exact_facing_sign(face_.vertices[fp_.corner[1]], face_.vertices[fp_.corner[2]],
+                                                                 face_.vertices[fp_.corner[0]], light_.to_light) != 0) return false;
         facing = 0;
         return true;
       }
@@ -639,24 +631,6 @@ class ReceiverJob {
       rc_.shift = glm::dvec2(d[rc_.i], d[rc_.j]) * rc_.inv_light_side;
     }
     return true;
-  }
-
-  /// The sign of det[next - corner, prev - corner, d] in exact rationals (the exactly planar
-  /// receiver's normal against the light's direction, up to the orientation): the exact engine's
-  /// facing test where it matters here, its zero.
-  int exact_facing_sign(const glm::dvec3& d) const {
-    const glm::dvec3& corner = face_.vertices[fp_.corner[1]];
-    const glm::dvec3& next = face_.vertices[fp_.corner[2]];
-    const glm::dvec3& prev = face_.vertices[fp_.corner[0]];
-    mpq_class u[3], v[3], w[3];
-    for (int c = 0; c < 3; ++c) {
-      u[c] = mpq_class(next[c]) - mpq_class(corner[c]);
-      v[c] = mpq_class(prev[c]) - mpq_class(corner[c]);
-      w[c] = mpq_class(d[c]);
-    }
-    const mpq_class det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                          u[2] * (v[0] * w[1] - v[1] * w[0]);
-    return sgn(det);
   }
 
   // ---- culling: the exact engine's tests ----------------------------------------------------
