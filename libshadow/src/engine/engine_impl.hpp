@@ -59,5 +59,17 @@ namespace engine_detail {
 /// The exact form of a light: a point (w = 1) or a direction at infinity (w = 0).
 using exact::to_exact_light;  // exact/lazy_geometry.hpp
 
+/// The exact sign of receiver f's plane at the light (its facing): 0 for a degenerate face; one
+/// determinant of the input doubles for an exactly planar face under a directional light (no
+/// exact face built: half the receivers of a sun face away from it); else from its exact face.
+inline int receiver_side(const core::PreparedScene& ctx, exact::ExactWorker& w, std::size_t f, const Light& light_in,
+                         const exact::ExactLight& light) {
+  const core::FacePrep& fp = (*ctx.prep)[f];
+  if (fp.degenerate) return 0;
+  if (fp.exactly_planar && light_in.type == LightType::Directional)
+    return exact::directional_facing_sign(ctx.scene->faces[f].vertices, fp, light_in.to_light);
+  return CGAL::sign(exact::plane_at_light(w.face(ctx, f), light));
+}
+
 }  // namespace engine_detail
 }  // namespace shadow

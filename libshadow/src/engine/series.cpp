@@ -109,11 +109,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
           if (!done) {
             std::optional<exact::ExactLight>& light = exact_lights[wi][k];
             if (!light) light = engine_detail::to_exact_light(light_in);
-            int side = 0;
-            if (impl.prep[f].degenerate) side = 0;
-            else if (impl.prep[f].exactly_planar && light_in.type == LightType::Directional)
-              side = exact::directional_facing_sign(scene.faces[f].vertices, impl.prep[f], light_in.to_light);
-            else side = CGAL::sign(exact::plane_at_light(w.exact.face(context, f), *light));
+            const int side = engine_detail::receiver_side(context, w.exact, f, light_in, *light);
             out = exact::compute_exact_receiver(context, w.exact, f, instant, *light, side, light_in, grid, false,
                                                 w.stats);
           }

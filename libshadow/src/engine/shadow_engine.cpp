@@ -192,8 +192,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
     }
     if (!lights[wi]) lights[wi] = engine_detail::to_exact_light(light_in);
     const ExactLight& light = *lights[wi];
-    int side = 0;
-    if (!prep[f].degenerate) side = CGAL::sign(plane_at_light(w.exact.face(exact_context, f), light));
+    const int side = engine_detail::receiver_side(exact_context, w.exact, f, light_in, light);
     // A fast split request that falls back: the exact engine may split it too (its threshold).
     core::TileRequest exact_tiles = tiles;
     if (!tiles.tile) exact_tiles.split_above = fast ? 0 : split_above;

@@ -11,32 +11,28 @@
 
 namespace shadow::geometry {
 
+/// det[next - corner, prev - corner, d] in number type N (differences and products in N).
+template <class N>
+N facing_determinant(const glm::dvec3& corner, const glm::dvec3& next, const glm::dvec3& prev, const glm::dvec3& d) {
+  N u[3], v[3], w[3];
+  for (int c = 0; c < 3; ++c) {
+    u[c] = N(next[c]) - N(corner[c]);
+    v[c] = N(prev[c]) - N(corner[c]);
+    w[c] = N(d[c]);
+  }
+  return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) + u[2] * (v[0] * w[1] - v[1] * w[0]);
+}
+
 /// Sign (-1, 0, 1) of det[next - corner, prev - corner, d], exactly.
 inline int exact_facing_sign(const glm::dvec3& corner, const glm::dvec3& next, const glm::dvec3& prev,
                              const glm::dvec3& d) {
   {
-    using IA = CGAL::Interval_nt<false>;
     CGAL::Protect_FPU_rounding<true> guard;
-    IA u[3], v[3], w[3];
-    for (int c = 0; c < 3; ++c) {
-      u[c] = IA(next[c]) - IA(corner[c]);
-      v[c] = IA(prev[c]) - IA(corner[c]);
-      w[c] = IA(d[c]);
-    }
-    const IA det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                   u[2] * (v[0] * w[1] - v[1] * w[0]);
+    const CGAL::Interval_nt<false> det = facing_determinant<CGAL::Interval_nt<false>>(corner, next, prev, d);
     if (det.inf() > 0) return 1;
     if (det.sup() < 0) return -1;
   }
-  mpq_class u[3], v[3], w[3];
-  for (int c = 0; c < 3; ++c) {
-    u[c] = mpq_class(next[c]) - mpq_class(corner[c]);
-    v[c] = mpq_class(prev[c]) - mpq_class(corner[c]);
-    w[c] = mpq_class(d[c]);
-  }
-  const mpq_class det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                        u[2] * (v[0] * w[1] - v[1] * w[0]);
-  return sgn(det);
+  return sgn(facing_determinant<mpq_class>(corner, next, prev, d));
 }
 
 }  // namespace shadow::geometry
