@@ -28,6 +28,16 @@ double error_of(const ClusteredArea& a) { return 0.5 * a.boundary.error; }
 
 CL::Path rect(CL::cInt x0, CL::cInt y0, CL::cInt x1, CL::cInt y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
 
+double perimeter(const CL::Paths& paths) {
+  double length = 0;
+  for (const CL::Path& p : paths)
+    for (std::size_t v = 0; v < p.size(); ++v) {
+      const CL::IntPoint& q = p[(v + 1) % p.size()];
+      length += std::hypot(static_cast<double>(q.X - p[v].X), static_cast<double>(q.Y - p[v].Y));
+    }
+  return length;
+}
+
 TEST(ClusterUnion, AnalyticCasesWithSharedAndCollinearEdges) {
   struct Case {
     std::string name;
@@ -131,12 +141,7 @@ TEST(ClusterUnion, RandomConvexClustersAgreeWithAFineClipperUnion) {
     // exact union's, 2^-20 of a unit here.
     constexpr double kScale = 1 << 20;
     CL::Paths scaled = polygons;
-    double perimeter = 0;
-    for (CL::Path& p : scaled)
-      for (std::size_t v = 0; v < p.size(); ++v) {
-        const CL::IntPoint& q = p[(v + 1) % p.size()];
-        perimeter += std::hypot(static_cast<double>(q.X - p[v].X), static_cast<double>(q.Y - p[v].Y));
-      }
+    const double length = perimeter(polygons);
     for (CL::Path& p : scaled)
       for (CL::IntPoint& q : p) q = {q.X << 20, q.Y << 20};
     CL::Clipper clipper;
@@ -146,7 +151,7 @@ TEST(ClusterUnion, RandomConvexClustersAgreeWithAFineClipperUnion) {
     double fine = 0;
     for (const CL::Path& p : united) fine += static_cast<double>(shadow::fast::twice_area(p));
     fine = 0.5 * fine / (kScale * kScale);
-    const double clipper_error = (2 * 0.71 * perimeter * kScale + 4) / (kScale * kScale);
+    const double clipper_error = (2 * 0.71 * length * kScale + 4) / (kScale * kScale);
     EXPECT_NEAR(area_of(a), fine, error_of(a) + clipper_error + 1e-9 * fine) << "round " << round;
     EXPECT_LT(error_of(a), 1e-9 * (1 + fine)) << "round " << round;
   }
@@ -162,14 +167,8 @@ TEST(ClusterUnion, LargeCoordinatesStayWithinTheReturnedBound) {
   for (int round = 0; round < 200; ++round) {
     CL::Paths polygons = random_convex(rng, 2 + static_cast<std::size_t>(round % 12), 64);
     const CL::cInt scale = CL::cInt(1) << (20 + round % 4), shift = (round % 3 - 1) * (CL::cInt(1) << 28);
-    double perimeter = 0;
-    for (CL::Path& p : polygons) {
+    for (CL::Path& p : polygons)
       for (CL::IntPoint& q : p) q = {q.X * scale + shift + 7 * round, q.Y * scale - shift + 3};
-      for (std::size_t v = 0; v < p.size(); ++v) {
-        const CL::IntPoint& q = p[(v + 1) % p.size()];
-        perimeter += std::hypot(static_cast<double>(q.X - p[v].X), static_cast<double>(q.Y - p[v].Y));
-      }
-    }
     ClusterUnionCounts counts;
     const ClusteredArea a = shadow::fast::clustered_union_area(polygons, 1, 0.5, &counts);
     boundaries += counts.boundaries;
@@ -180,7 +179,7 @@ TEST(ClusterUnion, LargeCoordinatesStayWithinTheReturnedBound) {
     double clipped = 0;
     for (const CL::Path& p : united) clipped += static_cast<double>(shadow::fast::twice_area(p));
     clipped *= 0.5;
-    const double clipper_error = 2 * 1.42 * perimeter + 3.15 * 1.42 * 1.42;
+    const double clipper_error = 2 * 1.42 * perimeter(polygons) + 3.15 * 1.42 * 1.42;
     EXPECT_NEAR(area_of(a), clipped, error_of(a) + clipper_error + 1e-15 * clipped) << "round " << round;
     EXPECT_LT(error_of(a), 1e-12 * clipped + 1e6) << "round " << round;
   }

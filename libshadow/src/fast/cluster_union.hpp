@@ -72,6 +72,49 @@ inline bool is_convex_ccw(const ClipperLib::Path& path) {
   return changes <= 2 && twice_area(path) > 0;
 }
 
+/// A grid polygon's bounding box.
+struct GridBox {
+  ClipperLib::cInt x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+inline GridBox grid_box(const ClipperLib::Path& path) {
+  if (path.empty()) return {};
+  GridBox b{path[0].X, path[0].Y, path[0].X, path[0].Y};
+  for (const ClipperLib::IntPoint& q : path) {
+    b.x0 = std::min(b.x0, q.X);
+    b.y0 = std::min(b.y0, q.Y);
+    b.x1 = std::max(b.x1, q.X);
+    b.y1 = std::max(b.y1, q.Y);
+  }
+  return b;
+}
+
+/// Calls pair(a, b) for every two of `boxes` that overlap, by a sweep in x (each box against the
+/// boxes still open at its left edge): with positive area, or with `closed` touching too.
+/// `order` and `open` are scratch.
+template <class Pair>
+void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, std::vector<std::size_t>& order,
+                           std::vector<std::size_t>& open, Pair&& pair) {
+  order.resize(boxes.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return boxes[a].x0 != boxes[b].x0 ? boxes[a].x0 < boxes[b].x0 : a < b;
+  });
+  open.clear();
+  for (std::size_t p : order) {
+    const GridBox& b = boxes[p];
+    std::size_t kept = 0;
+    for (std::size_t o : open) {
+      const GridBox& c = boxes[o];
+      if (closed ? c.x1 < b.x0 : c.x1 <= b.x0) continue;  // ended before this one starts
+      open[kept++] = o;
+      if (closed ? c.y1 >= b.y0 && b.y1 >= c.y0 : c.y1 > b.y0 && b.y1 > c.y0) pair(p, o);
+    }
+    open.resize(kept);
+    open.push_back(p);
+  }
+}
+
 /// The area of one cluster of convex counter-clockwise polygons from its boundary, without a
 /// union: area(P_1 u ... u P_n) = 1/2 sum over the edges e = (s, s + d) of every P_i of
 /// cross(s, d) L_e, where L_e is the measure of the parameters t in [0, 1] at which s + t d is
@@ -91,26 +134,24 @@ struct BoundaryArea {
 /// Coordinates within 2^30 of 0 (the fast path's grid), so that 64-bit integers hold every
 /// product exactly. (ax, ay), any non-zero direction (the shadows' in grid units), only speeds up the search for
 /// overlapping pairs: long thin shadows along it have wide boxes but narrow extents across it.
-inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, const std::vector<std::size_t>& members,
-                                         double ax = 0, double ay = 1) {
+/// `boxes`: the bounding box of every polygon (grid_box).
+inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, const std::vector<GridBox>& boxes,
+                                         const std::vector<std::size_t>& members, double ax = 0, double ay = 1) {
   namespace CL = ClipperLib;
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   const std::size_t m = members.size();
-  struct Box {
-    CL::cInt x0, y0, x1, y1;
-  };
   // Scratch kept per thread: most receivers' clusters are small and many, and allocating for
   // each was a visible share of the measure.
   struct Scratch {
-    std::vector<Box> box;
+    std::vector<GridBox> box;
     std::vector<std::pair<double, double>> across, covered;
     std::vector<std::vector<std::size_t>> near;
     std::vector<std::size_t> order, open;
   };
   static thread_local Scratch scratch;
-  std::vector<Box>& box = scratch.box;
+  std::vector<GridBox>& box = scratch.box;
   box.resize(m);
-  Box all{};
+  GridBox all{};
   // Extents across (ax, ay), widened far beyond their rounding (|coordinates| <= 2^31, a unit
   // normal: under 1e-6): two polygons whose extents are apart are disjoint (a separating axis).
   double length = std::hypot(ax, ay);
@@ -127,14 +168,7 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   };
   for (std::size_t a = 0; a < m; ++a) {
     const CL::Path& path = polygons[members[a]];
-    Box b{path[0].X, path[0].Y, path[0].X, path[0].Y};
-    for (const CL::IntPoint& q : path) {
-      b.x0 = std::min(b.x0, q.X);
-      b.y0 = std::min(b.y0, q.Y);
-      b.x1 = std::max(b.x1, q.X);
-      b.y1 = std::max(b.y1, q.Y);
-    }
-    box[a] = b;
+    const GridBox& b = box[a] = boxes[members[a]];
     double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
     for (const CL::IntPoint& q : path) {
       const double t = nx * static_cast<double>(q.X) + ny * static_cast<double>(q.Y);
@@ -142,37 +176,17 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
       hi = std::max(hi, t);
     }
     across[a] = {lo - margin, hi + margin};
-    all = a == 0 ? b : Box{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
+    all = a == 0 ? b : GridBox{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
   }
   // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters).
   std::vector<std::vector<std::size_t>>& near = scratch.near;
   if (near.size() < m) near.resize(m);
   for (std::size_t a = 0; a < m; ++a) near[a].clear();
-  {
-    std::vector<std::size_t>& order = scratch.order;
-    order.resize(m);
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return box[a].x0 != box[b].x0 ? box[a].x0 < box[b].x0 : a < b;
-    });
-    std::vector<std::size_t>& open = scratch.open;
-    open.clear();
-    for (std::size_t p : order) {
-      const Box& b = box[p];
-      std::size_t kept = 0;
-      for (std::size_t o : open) {
-        const Box& c = box[o];
-        if (c.x1 < b.x0) continue;
-        open[kept++] = o;
-        if (c.y1 >= b.y0 && b.y1 >= c.y0 && !apart(across[p], across[o])) {
-          near[p].push_back(o);
-          near[o].push_back(p);
-        }
-      }
-      open.resize(kept);
-      open.push_back(p);
-    }
-  }
+  for_overlapping_boxes(box, true, scratch.order, scratch.open, [&](std::size_t p, std::size_t o) {
+    if (apart(across[p], across[o])) return;
+    near[p].push_back(o);
+    near[o].push_back(p);
+  });
   // Local coordinates about the cluster's centre keep cross(s, d) small (the area is the same:
   // the uncovered pieces close up into the union's boundary).
   const CL::cInt cx = all.x0 / 2 + all.x1 / 2, cy = all.y0 / 2 + all.y1 / 2;
@@ -199,7 +213,7 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
       covered.clear();
       std::size_t reached = 0;  // intervals with a computed end, kept or not (rounding may drop one)
       for (std::size_t b : near[a]) {
-        const Box& q = box[b];
+        const GridBox& q = box[b];
         if (q.x1 < ex0 || ex1 < q.x0 || q.y1 < ey0 || ey1 < q.y0 || apart(edge_across, across[b])) continue;
         const CL::Path& Q = polygons[members[b]];
         const std::size_t j = members[b];
@@ -283,46 +297,17 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
                                           ClusterUnionCounts* counts = nullptr) {
   namespace CL = ClipperLib;
   const std::size_t n = polygons.size();
-  struct Box {
-    CL::cInt x0, y0, x1, y1;
-  };
-  std::vector<Box> box(n);
-  for (std::size_t p = 0; p < n; ++p) {
-    Box b{polygons[p].empty() ? 0 : polygons[p][0].X, polygons[p].empty() ? 0 : polygons[p][0].Y,
-          polygons[p].empty() ? 0 : polygons[p][0].X, polygons[p].empty() ? 0 : polygons[p][0].Y};
-    for (const CL::IntPoint& q : polygons[p]) {
-      b.x0 = std::min(b.x0, q.X);
-      b.y0 = std::min(b.y0, q.Y);
-      b.x1 = std::max(b.x1, q.X);
-      b.y1 = std::max(b.y1, q.Y);
-    }
-    box[p] = b;
-  }
-  // Union-find over a sweep in x: each box against the boxes still open at its left edge.
+  std::vector<GridBox> box(n);
+  for (std::size_t p = 0; p < n; ++p) box[p] = grid_box(polygons[p]);
+  // Union-find over the pairs whose boxes overlap with positive area (touching adds no area).
   std::vector<std::size_t> parent(n);
   std::iota(parent.begin(), parent.end(), std::size_t{0});
   auto find = [&](std::size_t a) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  std::vector<std::size_t> order(n);
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return box[a].x0 != box[b].x0 ? box[a].x0 < box[b].x0 : a < b;
-  });
-  std::vector<std::size_t> open;
-  for (std::size_t p : order) {
-    const Box& b = box[p];
-    std::size_t kept = 0;
-    for (std::size_t o : open) {
-      const Box& c = box[o];
-      if (c.x1 <= b.x0) continue;  // closed before this one starts (touching adds no area)
-      open[kept++] = o;
-      if (c.y1 > b.y0 && b.y1 > c.y0) parent[find(p)] = find(o);
-    }
-    open.resize(kept);
-    open.push_back(p);
-  }
+  std::vector<std::size_t> order, open;
+  for_overlapping_boxes(box, false, order, open, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); });
   // Members of each cluster, in input order.
   std::vector<std::size_t> first(n, n), next(n, n), last(n, n);
   for (std::size_t p = 0; p < n; ++p) {
@@ -350,7 +335,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
       continue;
     }
     if (all_convex) {
-      const BoundaryArea b = boundary_union_area2(polygons, members, ax, ay);
+      const BoundaryArea b = boundary_union_area2(polygons, box, members, ax, ay);
       out.boundary.twice_area += b.twice_area;
       out.boundary.error += b.error + 2 * std::numeric_limits<double>::epsilon() * std::abs(out.boundary.twice_area);
       if (counts) ++counts->boundaries;
