@@ -404,7 +404,8 @@ struct SceneFrame {
 };
 SceneFrame scene_frame(const Scene& scene);
 
-/// The faces in a local frame (scene centre subtracted), with unit normals.
-CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep);
+/// The faces in a local frame (scene centre subtracted), with unit normals; the faces divided
+/// among `threads` threads (the result does not depend on it).
+CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep, unsigned threads = 1);
 
 }  // namespace shadow::core

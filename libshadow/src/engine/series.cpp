@@ -56,11 +56,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     return result;
   }
 
-  std::vector<Impl::Worker> workers(threads);
-  for (Impl::Worker& w : workers) {
-    w.exact.reset(scene.faces.size(), impl.solids.size());
-    if (fast) w.fast.casters.reset(scene.faces.size(), impl.solids.size());
-  }
+  std::vector<Impl::Worker> workers = impl.make_workers(threads, fast);
   const core::PreparedScene context{&scene, &impl.prep, &impl.face_area, &impl.cull, &impl.solids, &impl.solid_of};
 
   // A batch of instants at a time: their light-space grids are built together, then every
@@ -122,6 +118,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
         report);
   }
   for (const Impl::Worker& w : workers) result.stats += w.stats;
+  Impl::release_workers(workers);
   if (options.progress) options.progress(Progress{instants, instants});
   return result;
 }

@@ -92,10 +92,16 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
     }
     prep = exact::prepare_face(face.vertices);
     if (prep.degenerate) return;
+    if (prep.exactly_planar) {  // plain integers: about 10 times cheaper than the lazy exact face
+      if (const std::optional<double> area = exact::planar_face_area(face.vertices, prep)) {
+        impl_->face_area[f] = *area;
+        return;
+      }
+    }
     const exact::ExactFace ef = exact::make_exact_face(face.vertices, prep);
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
   });
-  impl_->cull = core::make_cull_scene(scene, impl_->prep);
+  impl_->cull = core::make_cull_scene(scene, impl_->prep, core::resolve_threads(threads));
   impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of);
 }
 
@@ -140,7 +146,7 @@ void add_tile_counts(ShadowStats& total, const ShadowStats& tile) {
 void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_id,
                                        const ShadowOptions& options, std::vector<Worker>& workers,
                                        const std::vector<std::size_t>& receivers,
-                                       std::vector<Item>& items, std::size_t progress_base,
+                                       ItemTable& items, std::size_t progress_base,
                                        std::size_t progress_total) const {
   using namespace exact;
   if (light_in.is_extended()) {
@@ -305,7 +311,8 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
       // Exact: the tiles' exact shadowed chart areas summed, then rounded once as for the whole
       // face (exact_receiver.cpp, unite_and_measure): the same bits.
       FT::Exact_type shadow_chart(0);
-      for (std::size_t t = t0; t < t1; ++t) shadow_chart += tile_items[t].tile_shadow_chart_area;
+      for (std::size_t t = t0; t < t1; ++t)
+        if (tile_items[t].tile_shadow_chart_area) shadow_chart += *tile_items[t].tile_shadow_chart_area;
       if (unshadowed) {
         out.lit_area = out.area;
         out.lit_fraction = 1.0;
@@ -340,7 +347,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
 
 void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size_t light_id,
                                                 const ShadowOptions& options, std::vector<Worker>& workers,
-                                                const std::vector<std::size_t>& receivers, std::vector<Item>& items,
+                                                const std::vector<std::size_t>& receivers, ItemTable& items,
                                                 std::size_t progress_base, std::size_t progress_total) const {
   // lit_area, shadow_area, lit_fraction, faces_light and the fast path's bound are the light's
   // centre's (docs/area-lights.md): computed by the point-light route, areas only.
@@ -348,7 +355,7 @@ void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size
   ShadowOptions centre_options = options;
   centre_options.polygons = false;
   centre_options.progress = nullptr;
-  std::vector<Item> centre_items(receivers.size());
+  ItemTable centre_items(receivers.size(), static_cast<unsigned>(workers.size()));
   compute_light(centre, light_id, centre_options, workers, receivers, centre_items, 0, 0);
 
   const core::PreparedScene ctx{scene, &prep, &face_area, &cull, &solids, &solid_of};
@@ -374,17 +381,26 @@ void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size
       report);
 }
 
-ShadowResult ShadowEngine::Impl::assemble(std::vector<std::vector<Item>>& per_light,
+ShadowResult ShadowEngine::Impl::assemble(std::vector<ItemTable>& per_light,
                                           const std::vector<Worker>& workers) {
   ShadowResult result;
   const std::size_t lights = per_light.size();
   const std::size_t receivers = lights ? per_light[0].size() : 0;
-  result.lighting.reserve(lights * receivers);
+  // The lighting rows (receiver-major, then light) copied by blocks on every worker's thread.
+  result.lighting.resize(lights * receivers);
+  constexpr std::size_t kBlock = 4096;
+  core::parallel_for((receivers + kBlock - 1) / kBlock, static_cast<unsigned>(std::max<std::size_t>(1, workers.size())),
+                     [&](unsigned, std::size_t b) {
+                       for (std::size_t r = b * kBlock; r < std::min(receivers, (b + 1) * kBlock); ++r)
+                         for (std::size_t li = 0; li < lights; ++li)
+                           result.lighting[r * lights + li] = per_light[li][r].lighting;
+                     });
+  // Fragments in the same order, their ids made global.
   std::size_t next_fragment_id = 0;
   for (std::size_t r = 0; r < receivers; ++r) {
     for (std::size_t li = 0; li < lights; ++li) {
       Item& item = per_light[li][r];
-      result.lighting.push_back(item.lighting);
+      if (item.fragments.empty()) continue;
       std::size_t used = 0;
       for (Fragment& fragment : item.fragments) {
         used = std::max(used, fragment.fragment_id + 1);
@@ -402,23 +418,39 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<std::vector<Item>>& per_li
   return result;
 }
 
+std::vector<ShadowEngine::Impl::Worker> ShadowEngine::Impl::make_workers(unsigned threads, bool fast) const {
+  std::vector<Worker> workers(threads);
+  core::parallel_for(workers.size(), threads, [&](unsigned, std::size_t i) {
+    workers[i].exact.reset(scene->faces.size(), solids.size());
+    if (fast) workers[i].fast.casters.reset(scene->faces.size(), solids.size());
+  });
+  return workers;
+}
+
+void ShadowEngine::Impl::release_workers(std::vector<Worker>& workers) {
+  core::parallel_for(workers.size(), static_cast<unsigned>(workers.size()), [&](unsigned, std::size_t i) {
+    workers[i].exact = exact::ExactWorker{};
+    workers[i].fast = fast::Worker{};
+  });
+}
+
 ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
                                      const std::vector<std::size_t>& light_ids,
                                      const ShadowOptions& options) const {
   std::vector<std::size_t> receivers;
   for (std::size_t f = 0; f < scene->faces.size(); ++f)
     if (scene->is_receiver(f)) receivers.push_back(f);
-  std::vector<Worker> workers(core::resolve_threads(core::checked_threads(options.threads)));
-  for (Worker& w : workers) {
-    w.exact.reset(scene->faces.size(), solids.size());
-    if (options.arithmetic == Arithmetic::Fast) w.fast.casters.reset(scene->faces.size(), solids.size());
-  }
-  std::vector<std::vector<Item>> per_light(lights.size(), std::vector<Item>(receivers.size()));
+  std::vector<Worker> workers = make_workers(core::resolve_threads(core::checked_threads(options.threads)),
+                                             options.arithmetic == Arithmetic::Fast);
+  std::vector<ItemTable> per_light;
+  for (std::size_t li = 0; li < lights.size(); ++li)
+    per_light.emplace_back(receivers.size(), static_cast<unsigned>(workers.size()));
   const std::size_t total = lights.size() * receivers.size();
   for (std::size_t li = 0; li < lights.size(); ++li)
     compute_light(*lights[li], light_ids[li], options, workers, receivers, per_light[li],
                   li * receivers.size(), total);
   ShadowResult result = assemble(per_light, workers);
+  release_workers(workers);
   result.arithmetic = options.arithmetic;
   // Extended lights: the exact visible fraction of the light at every fragment vertex.
   for (std::size_t li = 0; li < lights.size(); ++li)

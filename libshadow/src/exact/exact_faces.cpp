@@ -16,6 +16,9 @@
 #include <iterator>
 #include <limits>
 #include <cstdint>
+#include <optional>
+
+#include <gmpxx.h>
 
 namespace shadow::exact {
 namespace {
@@ -249,6 +252,86 @@ Point3 lift(const Point2& c, const ExactFace& face, int k) {
 double area_3d(const FT& chart_area, const FT& area_scale_squared) {
   if (CGAL::is_zero(chart_area)) return 0.0;
   return sqrt_to_double(chart_area * chart_area * area_scale_squared);
+}
+
+std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
+  // Every double is an integer times a power of two: with the least of those powers, 2^e, every
+  // coordinate is an exact integer multiple of 2^e, and so are the differences below. Twice the
+  // chart area is then T 2^(2e) and the normal N 2^(2e) with integers T and N, and
+  //   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2),
+  // the rational area_3d takes the root of (the same value, so the same rounding).
+  const int k = prep.axis, i = core::chart_i(k), j = core::chart_j(k);
+  const auto [prev, corner, next] = prep.corner;
+  // c = M 2^low with M odd (c != 0).
+  auto odd_mantissa = [](double c, std::int64_t& M, long& low) {
+    int ex = 0;
+    const double m = std::frexp(c, &ex);  // c = m 2^ex, |m| in [0.5, 1)
+    M = static_cast<std::int64_t>(std::ldexp(m, 53));  // exact: |m 2^53| < 2^53
+    low = ex - 53;
+    while ((M & 1) == 0) {
+      M /= 2;
+      ++low;
+    }
+  };
+  long e = std::numeric_limits<long>::max();
+  for (const glm::dvec3& v : vertices)
+    for (int a = 0; a < 3; ++a)
+      if (v[a] != 0) {
+        std::int64_t M = 0;
+        long low = 0;
+        odd_mantissa(v[a], M, low);
+        e = std::min(e, low);
+      }
+  if (e == std::numeric_limits<long>::max()) return 0.0;  // every coordinate zero
+  // c / 2^e as an integer: M shifted left by low - e >= 0 (no double overflow for any exponent).
+  auto scaled = [&](double c, mpz_class& out) {
+    if (c == 0) {
+      out = 0;
+      return;
+    }
+    std::int64_t M = 0;
+    long low = 0;
+    odd_mantissa(c, M, low);
+    out = static_cast<long>(M);
+    mpz_mul_2exp(out.get_mpz_t(), out.get_mpz_t(), static_cast<mp_bitcnt_t>(low - e));
+  };
+  const std::vector<int>& ring = prep.chart_ring;
+  const std::size_t n = ring.size();
+  if (n < 3) return 0.0;
+  std::vector<mpz_class> x(n), y(n);
+  for (std::size_t a = 0; a < n; ++a) {
+    scaled(vertices[static_cast<std::size_t>(ring[a])][i], x[a]);
+    scaled(vertices[static_cast<std::size_t>(ring[a])][j], y[a]);
+  }
+  mpz_class twice_area = 0, dx1, dy1, dx2, dy2;  // the shoelace about the first vertex
+  for (std::size_t a = 1; a + 1 < n; ++a) {
+    dx1 = x[a] - x[0];
+    dy1 = y[a] - y[0];
+    dx2 = x[a + 1] - x[0];
+    dy2 = y[a + 1] - y[0];
+    twice_area += dx1 * dy2 - dx2 * dy1;
+  }
+  if (twice_area == 0) return 0.0;
+  mpz_class p[3], u[3], w[3];
+  for (int a = 0; a < 3; ++a) {
+    scaled(vertices[static_cast<std::size_t>(corner)][a], p[a]);
+    scaled(vertices[static_cast<std::size_t>(next)][a], u[a]);
+    scaled(vertices[static_cast<std::size_t>(prev)][a], w[a]);
+    u[a] -= p[a];
+    w[a] -= p[a];
+  }
+  const mpz_class nx = u[1] * w[2] - u[2] * w[1];
+  const mpz_class ny = u[2] * w[0] - u[0] * w[2];
+  const mpz_class nz = u[0] * w[1] - u[1] * w[0];
+  const mpz_class& nk = k == 0 ? nx : (k == 1 ? ny : nz);
+  if (nk == 0) return std::nullopt;  // (not for a face prepare_face accepted: its k is dominant)
+  mpq_class q(twice_area * twice_area * (nx * nx + ny * ny + nz * nz), 4 * nk * nk);
+  q.canonicalize();
+  if (e >= 0)
+    mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(4 * e));
+  else
+    mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-4 * e));
+  return sqrt_mpq_to_double(q.get_mpq_t());
 }
 
 }  // namespace shadow::exact

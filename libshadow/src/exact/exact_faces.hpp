@@ -12,6 +12,7 @@
 #include <shadow/scene.hpp>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace shadow::exact {
@@ -44,5 +45,11 @@ inline Point2 to_chart(const Point3& p, int k) {
 
 /// 3D area of a chart area on a face, rounded once.
 double area_3d(const FT& chart_area, const FT& area_scale_squared);
+
+/// The 3D area of an exactly planar face (prep.exactly_planar), rounded once: the same double as
+/// area_3d(make_exact_face(...).chart_area, ...area_scale_squared), computed in plain integers
+/// from the input doubles (all scaled by one power of two) instead of lazy exact numbers; nullopt
+/// when the corner's normal has a zero k component (then use area_3d).
+std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep);
 
 }  // namespace shadow::exact

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The face area the engine reports (ShadowEngine::face_area) for exactly planar faces comes from
+// exact::planar_face_area (plain integers from the input doubles, exact/exact_faces.hpp,
+// internal) instead of the lazy exact face: the two must be the same double on every face.
+// Seeded random triangles, axis-aligned polygons and polygons in exactly representable tilted
+// planes, with coordinates from 1e-12 to 1e12 and far from the origin; and analytic areas.
+#include "exact/exact_faces.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace {
+
+using shadow::exact::area_3d;
+using shadow::exact::make_exact_face;
+using shadow::exact::planar_face_area;
+using shadow::exact::prepare_face;
+
+/// The lazy route (what the engine did before): 0 for a degenerate face.
+double lazy_area(const std::vector<glm::dvec3>& v) {
+  const shadow::core::FacePrep prep = prepare_face(v);
+  if (prep.degenerate) return 0.0;
+  const shadow::exact::ExactFace f = make_exact_face(v, prep);
+  return area_3d(f.chart_area, f.area_scale_squared);
+}
+
+/// Both routes on one face; returns whether the face was exactly planar (compared).
+bool same_area(const std::vector<glm::dvec3>& v) {
+  const shadow::core::FacePrep prep = prepare_face(v);
+  if (prep.degenerate || !prep.exactly_planar) return false;
+  const std::optional<double> fast = planar_face_area(v, prep);
+  EXPECT_TRUE(fast.has_value());
+  if (!fast) return false;
+  const double reference = lazy_area(v);
+  EXPECT_EQ(*fast, reference) << std::hexfloat << *fast << " against " << reference;
+  return true;
+}
+
+TEST(FaceArea, AnalyticAreas) {
+  const shadow::core::FacePrep square = prepare_face({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}});
+  EXPECT_EQ(planar_face_area({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, square).value(), 1.0);
+  const std::vector<glm::dvec3> triangle{{0, 0, 5}, {3, 0, 5}, {0, 4, 5}};
+  EXPECT_EQ(planar_face_area(triangle, prepare_face(triangle)).value(), 6.0);
+  // A 2 x 3 rectangle in the plane z = x (tilted 45 degrees): 6 exactly, its chart area 6 / sqrt(2).
+  const std::vector<glm::dvec3> tilted{{0, 0, 0}, {0, 3, 0}, {std::sqrt(2.0), 3, std::sqrt(2.0)}, {std::sqrt(2.0), 0, std::sqrt(2.0)}};
+  const shadow::core::FacePrep tp = prepare_face(tilted);
+  ASSERT_TRUE(tp.exactly_planar);
+  EXPECT_NEAR(planar_face_area(tilted, tp).value(), 6.0, 1e-14);
+  EXPECT_EQ(planar_face_area(tilted, tp).value(), lazy_area(tilted));
+  // Tiny and huge faces: scaling by powers of two scales the area exactly.
+  for (int e : {-200, -40, 40, 200}) {
+    std::vector<glm::dvec3> t = triangle;
+    for (glm::dvec3& p : t) p = glm::dvec3(std::ldexp(p.x, e), std::ldexp(p.y, e), std::ldexp(p.z, e));
+    EXPECT_EQ(planar_face_area(t, prepare_face(t)).value(), std::ldexp(6.0, 2 * e));
+  }
+}
+
+TEST(FaceArea, SameDoubleAsTheLazyExactFace) {
+  std::mt19937_64 rng(20261126);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-40, 40), small(-4, 4), count(3, 9);
+  int compared = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const double scale = std::ldexp(1.0, exponent(rng));
+    const glm::dvec3 offset = glm::dvec3(unit(rng), unit(rng), unit(rng)) * std::ldexp(1.0, exponent(rng));
+    std::vector<glm::dvec3> v;
+    switch (trial % 4) {
+      case 0:  // any triangle is exactly planar
+        for (int a = 0; a < 3; ++a) v.push_back(offset + scale * glm::dvec3(unit(rng), unit(rng), unit(rng)));
+        break;
+      case 1: {  // a convex polygon in an axis plane
+        const int n = count(rng), axis = trial % 3;
+        const double c = offset[axis];
+        for (int a = 0; a < n; ++a) {
+          const double t = 2 * M_PI * (a + 0.3 * unit(rng)) / n;
+          glm::dvec3 p = offset + scale * glm::dvec3(std::cos(t), std::sin(t), std::cos(t + 1));
+          p[axis] = c;
+          v.push_back(p);
+        }
+        break;
+      }
+      case 2:
+      case 3: {  // z = a x + b y with small integers a, b and coordinates on a dyadic grid: exact
+        const int n = count(rng);
+        const double a = small(rng), b = small(rng);
+        for (int k = 0; k < n; ++k) {
+          const double t = 2 * M_PI * (k + 0.3 * unit(rng)) / n;
+          const double x = std::ldexp(std::round(std::ldexp(std::cos(t), 20)), -20) * scale;
+          const double y = std::ldexp(std::round(std::ldexp(std::sin(t), 20)), -20) * scale;
+          v.push_back({x, y, a * x + b * y});
+        }
+        break;
+      }
+    }
+    if (same_area(v)) ++compared;
+  }
+  EXPECT_GT(compared, 2500);  // nearly every face above is exactly planar and not degenerate
+}
+
+}  // namespace
