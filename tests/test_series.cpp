@@ -85,7 +85,9 @@ std::vector<shadow::Light> city_suns() {
   return lights;
 }
 
-void expect_series_equals_compute(shadow::Arithmetic arithmetic) {
+/// With `tile_casters` > 0 both thresholds are set to it (small enough to split the city's
+/// ground and some walls), in the series and in compute() alike.
+void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t tile_casters = 0) {
   shadow::Scene scene = shadow::make_city(25, 60.0, 7);
   shadow::validate_scene(scene);
   const shadow::ShadowEngine engine(scene, 2);
@@ -93,6 +95,7 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic) {
   shadow::SeriesOptions options;
   options.threads = 2;
   options.arithmetic = arithmetic;
+  if (tile_casters > 0) options.tile_casters = options.fast_tile_casters = tile_casters;
   std::size_t last_done = 0;
   bool monotone = true;
   options.progress = [&](const shadow::Progress& p) {
@@ -110,6 +113,8 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic) {
     one.threads = 1;
     one.polygons = false;
     one.arithmetic = arithmetic;
+    one.tile_casters = options.tile_casters;
+    one.fast_tile_casters = options.fast_tile_casters;
     const shadow::ShadowResult result = engine.compute(lights[i], i, one);
     ASSERT_EQ(result.lighting.size(), series.faces.size());
     for (std::size_t r = 0; r < series.faces.size(); ++r) {
@@ -132,6 +137,16 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic) {
   const shadow::SeriesResult single = engine.compute_series(lights, options);
   EXPECT_EQ(single.lit_area, series.lit_area);
   EXPECT_EQ(single.lit_area_error_bound, series.lit_area_error_bound);
+  if (tile_casters > 0) {
+    EXPECT_GT(series.stats.tiled_receivers, lights.size()) << "the ground should be split at every instant";
+    if (arithmetic == shadow::Arithmetic::Exact) {  // exact tiles change no bit
+      options.tile_casters = 0;
+      const shadow::SeriesResult untiled = engine.compute_series(lights, options);
+      EXPECT_EQ(untiled.stats.tiled_receivers, 0u);
+      EXPECT_EQ(untiled.lit_area, series.lit_area);
+      EXPECT_EQ(untiled.lit_fraction, series.lit_fraction);
+    }
+  }
 }
 
 TEST(Series, EqualsOneLightComputeBitForBitExact) { expect_series_equals_compute(shadow::Arithmetic::Exact); }
@@ -139,6 +154,11 @@ TEST(Series, EqualsOneLightComputeBitForBitExact) { expect_series_equals_compute
 TEST(Series, EqualsOneLightComputeBitForBitFast) {
   expect_series_equals_compute(shadow::Arithmetic::Fast);
 }
+
+// Receivers above the tile threshold are split in the series as in compute(): the same bits
+// (exact: also the same as untiled).
+TEST(Series, TiledReceiversEqualOneLightComputeExact) { expect_series_equals_compute(shadow::Arithmetic::Exact, 6); }
+TEST(Series, TiledReceiversEqualOneLightComputeFast) { expect_series_equals_compute(shadow::Arithmetic::Fast, 6); }
 
 TEST(Series, RejectsUnusableLightsAndThreads) {
   shadow::Scene scene = shadow::make_city(3, 20.0, 1);

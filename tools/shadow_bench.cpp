@@ -268,7 +268,6 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
     one.threads = threads;
     one.polygons = false;
     one.arithmetic = options.arithmetic;
-    one.fast_tile_casters = 0;  // compute_series does not split receivers into tiles
     const auto b0 = Clock::now();
     const double bc0 = cpu_now();
     std::size_t differ = 0;

@@ -230,14 +230,19 @@ struct SeriesOptions {
   unsigned threads = 0;
   /// Exact (default) or the fast path, exactly as ShadowOptions::arithmetic.
   Arithmetic arithmetic = Arithmetic::Exact;
+  /// Tiles, exactly as ShadowOptions::tile_casters and fast_tile_casters: a receiver with more
+  /// candidate casters at an instant is split into tiles that are separate work items (exact
+  /// areas unchanged to the last bit; fast ones within their bounds). 0: never split.
+  std::size_t tile_casters = 4000;
+  std::size_t fast_tile_casters = 20000;
   /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished.
   std::function<void(const Progress&)> progress;
 };
 
 /// Lit areas of every receiving face under every light of a series: a faces x instants table.
 /// Entry (row, instant) is what `compute(lights[instant], id, {polygons = false})` reports for
-/// face `faces[row]`, bit for bit (with the fast path: with `fast_tile_casters = 0`; a series
-/// does not split receivers into tiles, and exact tiles change no bit).
+/// face `faces[row]`, bit for bit, with the same tile thresholds (SeriesOptions::tile_casters,
+/// fast_tile_casters; exact tiles change no bit).
 struct SeriesResult {
   std::vector<std::size_t> faces;  ///< the receiving faces, ascending: the rows
   std::size_t instants = 0;        ///< the columns: one per light, in the order given
@@ -299,9 +304,9 @@ class ShadowEngine {
   /// lists are shared by the instants (the per-thread exact faces too, up to 4,096 faces a
   /// thread; above that they are rebuilt as needed), and the work is spread over instants and
   /// receivers together.
-  /// Values equal compute(lights[i], i, {polygons = false}) bit for bit (Arithmetic::Fast: with
-  /// fast_tile_casters = 0; receivers are not split into tiles here). Lights are checked
-  /// like compute(light, ...) (named `lights[i]`).
+  /// Values equal compute(lights[i], i, {polygons = false}) bit for bit, with the same tile
+  /// thresholds: a receiver with more candidates than the threshold at an instant is split into
+  /// tiles, as compute() splits it. Lights are checked like compute(light, ...) (named `lights[i]`).
   /// @throws InputError for an unusable light or threads > 1024
   [[nodiscard]] SeriesResult compute_series(const std::vector<Light>& lights,
                                             const SeriesOptions& options = {}) const;

@@ -7,6 +7,7 @@
 #include "geometry/box_sides.hpp"
 #include "geometry/unit_vector.hpp"
 #include "core/face_prep.hpp"
+#include "core/parallel.hpp"
 
 #include <shadow/scene.hpp>
 
@@ -58,20 +59,35 @@ class LightSpaceGrid {
   /// are one entry of the grid: a query then meets a box once instead of each of its faces in
   /// each cell they share, and tests the faces' own boxes only for the solids it overlaps. The
   /// faces reported are the same either way.
+  ///
+  /// The faces' light-space boxes are computed on `threads` threads (the grid does not depend on it).
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light,
-                 const std::vector<int>* solid_of = nullptr) {
+                 const std::vector<int>* solid_of = nullptr, unsigned threads = 1) {
     const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
     const std::size_t n = scene.faces.size();
     boxes_.assign(n, Box{});
+    // Boxes by blocks of faces; each block's union, then the blocks' (min and max: exact, so
+    // the same box in any order).
+    constexpr std::size_t kBlock = 8192;
+    const std::size_t blocks = (n + kBlock - 1) / kBlock;
+    std::vector<Box> block_box(blocks);
+    std::vector<char> block_any(blocks, 0);
+    parallel_for(blocks, threads, [&](unsigned, std::size_t b) {
+      for (std::size_t f = b * kBlock; f < std::min(n, (b + 1) * kBlock); ++f) {
+        if (prep[f].degenerate) continue;
+        boxes_[f] = box_of(scene, scene.faces[f]);
+        block_box[b] = block_any[b] ? merge(block_box[b], boxes_[f]) : boxes_[f];
+        block_any[b] = 1;
+      }
+    });
     Box all{};
     bool any = false;
-    for (std::size_t f = 0; f < n; ++f) {
-      if (prep[f].degenerate) continue;
-      boxes_[f] = box_of(scene, scene.faces[f]);
-      all = any ? merge(all, boxes_[f]) : boxes_[f];
+    for (std::size_t b = 0; b < blocks; ++b) {
+      if (!block_any[b]) continue;
+      all = any ? merge(all, block_box[b]) : block_box[b];
       any = true;
     }
     margin_ = 1e-9 * scene.diameter;

@@ -14,7 +14,9 @@
 #include <shadow/shadows.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace shadow {
@@ -66,6 +68,41 @@ struct ShadowEngine::Impl {
     std::vector<std::vector<Item>> blocks_;
     std::size_t size_ = 0;
   };
+
+  /// How a work item is computed: the arithmetic, whether fragments are built, and the tile
+  /// threshold of whole receivers (0: never split).
+  struct ItemMode {
+    bool fast = false;
+    bool polygons = false;
+    std::size_t split_above = 0;
+  };
+
+  /// One work item: receiver f under `light_in` (grid: its light-space grid, or nullptr), or one
+  /// tile of it (`tiles.tile`). A whole receiver with more candidates than tiles.split_above is
+  /// not computed: the item only says how many (split_candidates). `exact_light`: this worker's
+  /// exact form of the light, made on first need.
+  Item compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light, std::size_t f, std::size_t light_id,
+                    const Light& light_in, const core::LightSpaceGrid* grid, const ItemMode& mode,
+                    const core::TileRequest& tiles, ShadowStats& stats) const;
+
+  /// A receiver under one light that asked to be split (compute_item's split_candidates), and
+  /// the item its tiles' merged result goes to.
+  struct SplitReceiver {
+    std::size_t face = 0;
+    std::size_t light_id = 0;
+    const Light* light = nullptr;
+    const core::LightSpaceGrid* grid = nullptr;
+    std::size_t light_slot = 0;  ///< which of a worker's exact lights (exact_light below) it uses
+    Item* out = nullptr;
+  };
+
+  /// Computes the split receivers by tiles, every tile of every receiver one work item, and
+  /// merges each receiver's tiles into its item: exact areas summed exactly and rounded once (the
+  /// same bits as whole), fast ones summed with their bounds. `exact_light(worker, slot)` is that
+  /// worker's exact light for a slot; `progress(done, total)` counts tiles.
+  void compute_splits(std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<Worker>& workers,
+                      const std::function<std::optional<exact::ExactLight>&(unsigned, std::size_t)>& exact_light,
+                      const std::function<void(std::size_t, std::size_t)>& progress) const;
 
   void compute_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
                      std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,

@@ -20,7 +20,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <optional>
+#include <tuple>
 #include <string>
 
 namespace shadow {
@@ -57,8 +59,6 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   }
 
   std::vector<Impl::Worker> workers = impl.make_workers(threads, fast);
-  const core::PreparedScene context{&scene, &impl.prep, &impl.face_area, &impl.cull, &impl.solids, &impl.solid_of};
-
   // A batch of instants at a time: their light-space grids are built together, then every
   // (receiver, instant) pair of the batch is one work item. A few instants per thread keep the
   // threads busy to the batch's end without holding a grid per instant of the year.
@@ -66,6 +66,26 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   std::vector<std::optional<core::LightSpaceGrid>> grids(batch);
   // Epeck numbers are reference-counted without locks: each worker makes its own exact lights.
   std::vector<std::vector<std::optional<exact::ExactLight>>> exact_lights(threads);
+
+  Impl::ItemMode mode;
+  mode.fast = fast;
+  mode.polygons = false;
+  mode.split_above = fast ? options.fast_tile_casters : options.tile_casters;
+  core::TileRequest whole;
+  whole.split_above = mode.split_above;
+  auto write_row = [&](std::size_t r, std::size_t instant, const FaceLighting& lighting) {
+    const std::size_t at = result.at(r, instant);
+    result.lit_area[at] = lighting.lit_area;
+    result.lit_fraction[at] = lighting.lit_fraction;
+    result.faces_light[at] = lighting.faces_light ? 1 : 0;
+    result.lit_area_error_bound[at] = lighting.lit_area_error_bound;
+  };
+  struct Pending {
+    std::size_t k, r;  // instant in the batch, row
+    Impl::Item item;   // its split_candidates, then the merged result
+  };
+  std::vector<Pending> pending;
+  std::mutex split_mutex;
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
@@ -91,31 +111,34 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
           const Light& light_in = lights[instant];
           const core::LightSpaceGrid* grid = grids[k] ? &*grids[k] : nullptr;
           Impl::Worker& w = workers[wi];
-          // Trimmed as in compute(): above 4,096 faces a worker rebuilds exact faces it had built
-          // for an earlier instant. Measured side by side without the trim (docs/benchmarks.md,
-          // "Memory"): CPU time the same within noise, peak memory 38% higher at 2,500 boxes.
-          w.exact.trim(exact::kExactFaceCache);
-          exact::ReceiverResult out;
-          bool done = false;
-          if (fast) {
-            done = fast::compute_receiver(context, w.fast, f, instant, light_in, grid, false, out.lighting,
-                                          out.fragments, w.stats);
-            if (!done) ++w.stats.fast_exact_fallbacks;  // ill-conditioned in doubles: exactly below
+          // Trimmed as in compute() (compute_item): above 4,096 faces a worker rebuilds exact
+          // faces it had built for an earlier instant. Measured side by side without the trim
+          // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38%
+          // higher at 2,500 boxes.
+          Impl::Item out = impl.compute_item(w, exact_lights[wi][k], f, instant, light_in, grid, mode, whole, w.stats);
+          if (out.split_candidates > 0) {  // tiled after the batch's other items
+            std::lock_guard<std::mutex> lock(split_mutex);
+            pending.push_back({k, r, std::move(out)});
+            return;
           }
-          if (!done) {
-            std::optional<exact::ExactLight>& light = exact_lights[wi][k];
-            if (!light) light = engine_detail::to_exact_light(light_in);
-            const int side = engine_detail::receiver_side(context, w.exact, f, light_in, *light);
-            out = exact::compute_exact_receiver(context, w.exact, f, instant, *light, side, light_in, grid, false,
-                                                w.stats);
-          }
-          const std::size_t at = result.at(r, instant);
-          result.lit_area[at] = out.lighting.lit_area;
-          result.lit_fraction[at] = out.lighting.lit_fraction;
-          result.faces_light[at] = out.lighting.faces_light ? 1 : 0;
-          result.lit_area_error_bound[at] = out.lighting.lit_area_error_bound;
+          write_row(r, instant, out.lighting);
         },
         report);
+    if (pending.empty()) continue;
+    // Receivers with more candidates than the tile threshold (a large city's ground): their
+    // tiles are the work items of a second round, as in compute().
+    std::sort(pending.begin(), pending.end(),
+              [](const Pending& a, const Pending& b) { return std::tie(a.k, a.r) < std::tie(b.k, b.r); });
+    std::vector<Impl::SplitReceiver> splits;
+    for (Pending& p : pending) {
+      const std::size_t k = p.k;
+      splits.push_back({result.faces[p.r], first + k, &lights[first + k], grids[k] ? &*grids[k] : nullptr, k, &p.item});
+    }
+    impl.compute_splits(
+        splits, mode, workers,
+        [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; }, {});
+    for (const Pending& p : pending) write_row(p.r, first + p.k, p.item.lighting);
+    pending.clear();
   }
   for (const Impl::Worker& w : workers) result.stats += w.stats;
   Impl::release_workers(workers);

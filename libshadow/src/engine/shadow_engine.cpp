@@ -155,7 +155,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   }
   const unsigned threads = static_cast<unsigned>(workers.size());
   std::optional<core::LightSpaceGrid> grid;
-  if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of);
+  if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
 
   // Progress in receivers done: a receiver split into tiles counts when its tiles are done
   // (in proportion during the tile round). Called from this thread only; never goes back.
@@ -171,51 +171,22 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
     report = [&](std::size_t done) { report_receivers(done - std::min(done, splits_so_far.load())); };
 
   std::vector<std::optional<ExactLight>> lights(threads);
-  const bool fast = options.arithmetic == Arithmetic::Fast;
-  const std::size_t split_above = fast ? options.fast_tile_casters : options.tile_casters;
-  const fast::Context fast_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
-  const exact::ExactContext exact_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
-
-  // One work item: receiver f, or one tile of it. Tiles run with their own counts (`stats`),
-  // which the merge below adds up as one receiver's.
-  auto compute_item = [&](Worker& w, unsigned wi, std::size_t f, const core::TileRequest& tiles,
-                          ShadowStats& stats) {
-    w.exact.trim(exact::kExactFaceCache);
-    Item item;
-    if (fast) {
-      std::size_t split = 0;
-      const fast::Outcome outcome = fast::compute_receiver(fast_context, w.fast, f, light_id, light_in,
-                                                           grid ? &*grid : nullptr, options.polygons, item.lighting,
-                                                           item.fragments, stats, tiles, split);
-      if (outcome == fast::Outcome::Done) return item;
-      if (outcome == fast::Outcome::Split) {
-        item = Item{};
-        item.split_candidates = split;
-        return item;
-      }
-      ++stats.fast_exact_fallbacks;  // ill-conditioned in doubles: decided exactly below
-      item = Item{};
-    }
-    if (!lights[wi]) lights[wi] = engine_detail::to_exact_light(light_in);
-    const ExactLight& light = *lights[wi];
-    const int side = engine_detail::receiver_side(exact_context, w.exact, f, light_in, light);
-    // A fast split request that falls back: the exact engine may split it too (its threshold).
-    core::TileRequest exact_tiles = tiles;
-    if (!tiles.tile) exact_tiles.split_above = fast ? 0 : split_above;
-    return compute_exact_receiver(exact_context, w.exact, f, light_id, light, side, light_in,
-                                  grid ? &*grid : nullptr, options.polygons, stats, exact_tiles);
-  };
+  ItemMode mode;
+  mode.fast = options.arithmetic == Arithmetic::Fast;
+  mode.polygons = options.polygons;
+  mode.split_above = mode.fast ? options.fast_tile_casters : options.tile_casters;
+  const core::LightSpaceGrid* grid_ptr = grid ? &*grid : nullptr;
 
   std::vector<std::size_t> split;  // receivers (indices into `receivers`) that asked for tiles
   std::mutex split_mutex;
   core::TileRequest whole;
-  whole.split_above = split_above;
+  whole.split_above = mode.split_above;
   core::parallel_for(
       receivers.size(), threads,
       [&](unsigned wi, std::size_t r) {
         Worker& w = workers[wi];
         const double t0 = thread_cpu_seconds();
-        items[r] = compute_item(w, wi, receivers[r], whole, w.stats);
+        items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
         if (items[r].split_candidates > 0) {
           splits_so_far.fetch_add(1);
           std::lock_guard<std::mutex> lock(split_mutex);
@@ -226,10 +197,57 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
       report);
   if (split.empty()) return;
 
-  // Tiles of the receivers that asked for them, every tile of every such receiver one work item.
   std::sort(split.begin(), split.end());
+  std::vector<SplitReceiver> splits;
+  for (std::size_t r : split) splits.push_back({receivers[r], light_id, &light_in, grid_ptr, 0, &items[r]});
+  std::function<void(std::size_t, std::size_t)> report_tiles;
+  if (options.progress)
+    report_tiles = [&](std::size_t done, std::size_t total) {
+      const std::size_t whole_receivers = receivers.size() - split.size();
+      report_receivers(whole_receivers + (total == 0 ? split.size() : done * split.size() / total));
+    };
+  compute_splits(splits, mode, workers, [&](unsigned wi, std::size_t) -> std::optional<ExactLight>& { return lights[wi]; },
+                 report_tiles);
+}
+
+ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light,
+                                                          std::size_t f, std::size_t light_id, const Light& light_in,
+                                                          const core::LightSpaceGrid* grid, const ItemMode& mode,
+                                                          const core::TileRequest& tiles, ShadowStats& stats) const {
+  const core::PreparedScene context{scene, &prep, &face_area, &cull, &solids, &solid_of};
+  w.exact.trim(exact::kExactFaceCache);
+  Item item;
+  if (mode.fast) {
+    std::size_t split = 0;
+    const fast::Outcome outcome = fast::compute_receiver(context, w.fast, f, light_id, light_in, grid, mode.polygons,
+                                                         item.lighting, item.fragments, stats, tiles, split);
+    if (outcome == fast::Outcome::Done) return item;
+    if (outcome == fast::Outcome::Split) {
+      item = Item{};
+      item.split_candidates = split;
+      return item;
+    }
+    ++stats.fast_exact_fallbacks;  // ill-conditioned in doubles: decided exactly below
+    item = Item{};
+  }
+  if (!exact_light) exact_light = engine_detail::to_exact_light(light_in);
+  const int side = engine_detail::receiver_side(context, w.exact, f, light_in, *exact_light);
+  // A fast split request that falls back: the exact engine may split it too (its threshold).
+  core::TileRequest exact_tiles = tiles;
+  if (!tiles.tile) exact_tiles.split_above = mode.fast ? 0 : mode.split_above;
+  return exact::compute_exact_receiver(context, w.exact, f, light_id, *exact_light, side, light_in, grid,
+                                       mode.polygons, stats, exact_tiles);
+}
+
+void ShadowEngine::Impl::compute_splits(
+    std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<Worker>& workers,
+    const std::function<std::optional<exact::ExactLight>&(unsigned, std::size_t)>& exact_light,
+    const std::function<void(std::size_t, std::size_t)>& progress) const {
+  using namespace exact;
+  const unsigned threads = static_cast<unsigned>(workers.size());
+  const bool fast = mode.fast;
   struct Tile {
-    std::size_t r;  // index into `receivers`
+    std::size_t s;  // index into `splits`
     core::FacePrep prep;
   };
   std::vector<Tile> tiles;
@@ -238,47 +256,48 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   // path's half as many: its items are cheaper, and under a low sun the tiles downstream of long
   // shadows cost several times the others.
   const std::size_t target = fast ? core::kTileCandidates / 2 : core::kTileCandidates;
-  const std::size_t per_tile = std::max<std::size_t>(1, std::min(split_above / 2, target));
-  for (std::size_t r : split) {
+  const std::size_t per_tile = std::max<std::size_t>(1, std::min(mode.split_above / 2, target));
+  for (std::size_t s = 0; s < splits.size(); ++s) {
     first_tile.push_back(tiles.size());
-    for (core::FacePrep& t : core::make_tiles(prep[receivers[r]], items[r].split_candidates, per_tile))
-      tiles.push_back({r, std::move(t)});
+    for (core::FacePrep& t : core::make_tiles(prep[splits[s].face], splits[s].out->split_candidates, per_tile))
+      tiles.push_back({s, std::move(t)});
   }
   first_tile.push_back(tiles.size());
   std::vector<Item> tile_items(tiles.size());
   std::vector<ShadowStats> tile_stats(tiles.size());
   std::function<void(std::size_t)> report_tiles;
-  if (options.progress)
-    report_tiles = [&](std::size_t done) {
-      const std::size_t whole = receivers.size() - split.size();
-      report_receivers(whole + (tiles.empty() ? split.size() : done * split.size() / tiles.size()));
-    };
+  if (progress) report_tiles = [&](std::size_t done) { progress(done, tiles.size()); };
   core::parallel_for(
       tiles.size(), threads,
       [&](unsigned wi, std::size_t t) {
         Worker& w = workers[wi];
+        const SplitReceiver& sr = splits[tiles[t].s];
         const double t0 = thread_cpu_seconds();
         core::TileRequest request;
         request.tile = &tiles[t].prep;
-        tile_items[t] = compute_item(w, wi, receivers[tiles[t].r], request, tile_stats[t]);
+        tile_items[t] = compute_item(w, exact_light(wi, sr.light_slot), sr.face, sr.light_id, *sr.light, sr.grid, mode,
+                                     request, tile_stats[t]);
         count_item(w.stats, thread_cpu_seconds() - t0);
       },
       report_tiles);
 
   // Merge each split receiver's tiles into its item (on this thread only).
+  const exact::ExactContext exact_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
   Worker& w0 = workers[0];
-  for (std::size_t s = 0; s < split.size(); ++s) {
-    const std::size_t r = split[s], f = receivers[r];
+  for (std::size_t s = 0; s < splits.size(); ++s) {
+    const SplitReceiver& sr = splits[s];
+    const std::size_t f = sr.face;
     const std::size_t t0 = first_tile[s], t1 = first_tile[s + 1];
-    Item& item = items[r];
+    Item& item = *sr.out;
     item = Item{};
     FaceLighting& out = item.lighting;
     out.face_id = f;
-    out.light_id = light_id;
+    out.light_id = sr.light_id;
     out.area = face_area[f];
     ShadowStats& stats = w0.stats;
     if (t1 == t0) {  // the face could not be cut (a sliver of a box): computed whole
-      items[r] = compute_item(w0, 0, f, core::TileRequest{}, stats);
+      item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, mode,
+                          core::TileRequest{}, stats);
       continue;
     }
     ++stats.receivers;
