@@ -9,14 +9,18 @@
 
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
+#include "core/parallel.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
 #include "scene/planarity.hpp"
+#include "scene/validate_reference.hpp"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <utility>
 #include <string>
@@ -111,8 +115,10 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
   }
 }
 
+using Classifier = detail::FaceShape (*)(const std::vector<glm::dvec3>&);
+
 void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options,
-                   std::vector<Warning>& warnings) {
+                   std::vector<Warning>& warnings, Classifier classify = detail::classify_face_shape) {
   Face& face = scene.faces[face_id];
   const SourceLocation where = face_location(scene, face_id);
   detail::check_face_numbers(scene, face_id);
@@ -122,7 +128,7 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
                                 (face.vertices.size() == 1 ? "vertex" : "vertices") +
                                 "; at least 3 are needed");
   check_planarity(face.vertices, options.planarity_tolerance, where);
-  switch (detail::classify_face_shape(face.vertices)) {
+  switch (classify(face.vertices)) {
     case detail::FaceShape::Simple:
       face.degenerate = false;
       break;
@@ -132,6 +138,44 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
       break;
     case detail::FaceShape::SelfIntersecting:
       throw InputError(where, "face boundary intersects itself");
+  }
+}
+
+/// validate_face for every face, on `threads` threads, with the serial loop's outcome: the
+/// warnings in face order, or the error of the first face (in face order) that has one. Each
+/// face's check reads the scene and changes only that face. Faces are handed out in chunks, each
+/// checked in order and stopped at its first error; faces after an error already found are
+/// skipped (only faces before the first error matter). (Unlike the serial loop, faces after
+/// the failing one may have been cleaned up too when the error is thrown.)
+void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, std::vector<Warning>& warnings) {
+  const std::size_t n = scene.faces.size();
+  constexpr std::size_t kChunk = 256;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  struct ChunkOutcome {
+    std::vector<Warning> warnings;
+    std::exception_ptr error;
+  };
+  std::vector<ChunkOutcome> outcome(chunks);
+  std::atomic<std::size_t> first_error{n};
+  core::parallel_for(chunks, threads, [&](unsigned, std::size_t c) {
+    ChunkOutcome& o = outcome[c];
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    for (std::size_t f = c * kChunk; f < end; ++f) {
+      if (f > first_error.load(std::memory_order_relaxed)) return;
+      try {
+        validate_face(scene, f, options, o.warnings);
+      } catch (...) {
+        o.error = std::current_exception();
+        std::size_t seen = first_error.load();
+        while (f < seen && !first_error.compare_exchange_weak(seen, f)) {
+        }
+        return;
+      }
+    }
+  });
+  for (ChunkOutcome& o : outcome) {
+    if (o.error) std::rethrow_exception(o.error);
+    for (Warning& w : o.warnings) warnings.push_back(std::move(w));
   }
 }
 
@@ -348,7 +392,10 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
 
 }  // namespace
 
-void validate_scene(Scene& scene, const LoadOptions& options) {
+namespace {
+
+/// validate_scene; `reference`: the faces one after the other with classify_face_shape_exact.
+void validate_scene_impl(Scene& scene, const LoadOptions& options, bool reference) {
   // Zero cannot be checked in floating point: rounding alone puts vertices off the plane.
   if (!(options.planarity_tolerance > 0) || !std::isfinite(options.planarity_tolerance))
     throw InputError({}, "the planarity tolerance must be a positive finite number, got " +
@@ -357,7 +404,16 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
     detail::check_light(scene.lights[i], scene.source.string(), "lights[" + std::to_string(i) + "]");
   for (std::size_t i = 0; i < scene.planes.size(); ++i) detail::check_plane(scene, i);
   std::vector<Warning> warnings;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
+  if (options.threads > core::kMaxThreads)
+    throw InputError({"", "LoadOptions::threads"}, "must be 0 (every hardware thread) to " +
+                                                       std::to_string(core::kMaxThreads) + ", got " +
+                                                       std::to_string(options.threads));
+  if (reference) {
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      validate_face(scene, f, options, warnings, detail::classify_face_shape_exact);
+  } else {
+    validate_faces(scene, options, core::resolve_threads(options.threads), warnings);
+  }
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
     check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
@@ -367,6 +423,14 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
     });
     if (!known) scene.warnings.push_back(std::move(w));
   }
+}
+
+}  // namespace
+
+void validate_scene(Scene& scene, const LoadOptions& options) { validate_scene_impl(scene, options, false); }
+
+void detail::validate_scene_reference(Scene& scene, const LoadOptions& options) {
+  validate_scene_impl(scene, options, true);
 }
 
 }  // namespace shadow
