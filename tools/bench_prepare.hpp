@@ -13,6 +13,7 @@ namespace bench {
 /// detail::validate_scene_reference, and exact::find_convex_solids against
 /// exact::find_convex_solids_reference, side by side in one process, the fastest of `repeat`
 /// runs each; checks that each pair's outcomes are identical. Prints a table; 1 on a difference.
-int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigned>& threads, int repeat);
+/// `new_only`: leave the references out (to profile the new code alone; nothing is compared).
+int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigned>& threads, int repeat, bool new_only);
 
 }  // namespace bench

@@ -696,6 +696,8 @@ int main(int argc, char** argv) {
   prepare_cmd->add_option("--sizes", prepare_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
   prepare_cmd->add_option("--threads", prepare_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
   prepare_cmd->add_option("--repeat", prepare_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
+  bool prepare_new_only = false;
+  prepare_cmd->add_flag("--new-only", prepare_new_only, "Leave the reference implementations out (for profiling)");
   std::vector<std::size_t> low_sizes{10000};
   std::vector<double> low_elevations{5.0, 40.0};
   std::vector<std::string> low_arithmetics{"exact", "fast"};
@@ -750,7 +752,7 @@ int main(int argc, char** argv) {
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
   if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
-  if (prepare_cmd->parsed()) return bench::run_prepare(prepare_sizes, prepare_threads, prepare_repeat);
+  if (prepare_cmd->parsed()) return bench::run_prepare(prepare_sizes, prepare_threads, prepare_repeat, prepare_new_only);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
   if (series_cmd->parsed())
