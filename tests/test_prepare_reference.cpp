@@ -248,6 +248,18 @@ shadow::Scene city_with_defects(std::uint64_t seed, bool errors) {
     std::vector<glm::dvec3>& v = scene.faces[at()].vertices;
     v.insert(v.begin() + 1, v[1]);
   }
+  // Closed parts turned inward (a whole box reversed) and made inconsistent (one face reversed):
+  // warnings whose order and "first part" follow the part search's union-find roots.
+  const std::size_t boxes = (scene.faces.size() - 1) / 6;
+  auto box = [&] { return 1 + 6 * std::uniform_int_distribution<std::size_t>(0, boxes - 1)(rng); };
+  for (int i = 0; i < 8; ++i) {
+    const std::size_t first = box();
+    for (std::size_t f = first; f < first + 6; ++f) std::reverse(scene.faces[f].vertices.begin(), scene.faces[f].vertices.end());
+  }
+  for (int i = 0; i < 8; ++i) {
+    std::vector<glm::dvec3>& v = scene.faces[box() + 2].vertices;
+    std::reverse(v.begin(), v.end());
+  }
   if (errors) {
     scene.faces[at()].vertices = {{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 2, 0}};
     scene.faces[at()].vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5}, {0, 1, 0}};
@@ -267,6 +279,10 @@ TEST(ValidateScene, SameOutcomeAsTheSerialReference) {
         const std::string fast = outcome_of(a, options, false), reference = outcome_of(b, options, true);
         EXPECT_EQ(fast, reference) << "seed " << seed << ", threads " << threads;
         EXPECT_EQ(fast.rfind("error: ", 0) == 0, errors);
+        if (!errors) {
+          EXPECT_NE(fast.find("zero area"), std::string::npos);
+          EXPECT_NE(fast.find(options.orient_outward ? "orient outward" : "inconsistent face orientation"), std::string::npos);
+        }
         if (!errors) {
           ASSERT_EQ(a.faces.size(), b.faces.size());
           for (std::size_t f = 0; f < a.faces.size(); ++f) {

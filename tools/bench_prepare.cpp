@@ -97,9 +97,13 @@ int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigne
         solids_new = std::min(solids_new, seconds_of([&] { solids = shadow::exact::find_convex_solids(scene, prep, of, t); }));
       const bool same = same_faces(scene, reference) && same_solids(solids, of, ref_solids, ref_of);
       all_same = all_same && (same || new_only);
-      std::printf("%9zu %9zu %7u | %11.3f s %11.3f s %6.1fx | %11.3f s %11.3f s %6.1fx | %s\n", boxes, city.faces.size(), t,
-                  validate_ref, validate_new, validate_ref / validate_new, solids_ref, solids_new, solids_ref / solids_new,
-                  same ? "yes" : "NO");
+      if (new_only)
+        std::printf("%9zu %9zu %7u | %13s %11.3f s %7s | %13s %11.3f s %7s | -\n", boxes, city.faces.size(), t, "-",
+                    validate_new, "-", "-", solids_new, "-");
+      else
+        std::printf("%9zu %9zu %7u | %11.3f s %11.3f s %6.1fx | %11.3f s %11.3f s %6.1fx | %s\n", boxes, city.faces.size(),
+                    t, validate_ref, validate_new, validate_ref / validate_new, solids_ref, solids_new,
+                    solids_ref / solids_new, same ? "yes" : "NO");
       std::fflush(stdout);
     }
   }

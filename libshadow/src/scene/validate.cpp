@@ -19,7 +19,9 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <utility>
@@ -219,30 +221,112 @@ std::string list_faces(const Scene& scene, const std::vector<std::size_t>& ids) 
 /// edges), then a part with negative signed volume is reversed; the warning says what changed.
 /// Open parts (a ground plane, a single wall, a box without a lid) say nothing about inside and
 /// outside and are left alone.
-void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::vector<Warning>& warnings) {
+/// `reference`: the edges sorted by their coordinates as before (validate_scene_reference).
+void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::vector<Warning>& warnings,
+                       bool reference = false) {
   const Mesh& mesh = scene.meshes[mesh_index];
+  // Each distinct vertex (by ==, so -0.0 is 0.0) gets its rank in EdgeKey's lexicographic
+  // order; an edge's key is then its two ranks, which compare exactly as the EdgeKeys of its
+  // coordinates do. The sort below therefore makes the same comparisons with the same outcomes
+  // as a sort of the EdgeKeys, and so the same permutation (ties included: the union-find roots
+  // below, and with them the order of the warnings, depend on it), only far cheaper.
+  std::vector<std::size_t> faces;  // face_ids of the mesh's non-degenerate faces
+  std::size_t corners = 0;
+  for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
+    const Face& face = scene.faces[f];
+    if (face.mesh != mesh_index || face.degenerate) continue;
+    faces.push_back(f);
+    corners += face.vertices.size();
+  }
+  struct Key {
+    std::size_t a, b;  // the ranks of the edge's end points, lowest first
+    bool operator==(const Key& o) const { return a == o.a && b == o.b; }
+    bool operator<(const Key& o) const { return a != o.a ? a < o.a : b < o.b; }
+  };
   struct Use {
-    EdgeKey key;
+    Key key;
     bool forward;       // run from key.a to key.b
     std::size_t face;   // index into `faces`
   };
   std::vector<Use> edges;
-  std::vector<std::size_t> faces;  // face_ids of the mesh's non-degenerate faces
-  for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
-    const Face& face = scene.faces[f];
-    if (face.mesh != mesh_index || face.degenerate) continue;
-    const std::vector<glm::dvec3>& v = face.vertices;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const glm::dvec3& p = v[i];
-      const glm::dvec3& q = v[(i + 1) % v.size()];
-      const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
-      edges.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, faces.size()});
-    }
-    faces.push_back(f);
-  }
   if (faces.size() < 2) return;
-  // Sorted so that the uses of one edge are adjacent: a sort is several times faster than a map.
-  std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
+  if (reference) {
+    // The sort as it was, on the coordinates; then numbered by group, in the sorted order.
+    struct OldUse {
+      EdgeKey key;
+      bool forward;
+      std::size_t face;
+    };
+    std::vector<OldUse> old;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const std::vector<glm::dvec3>& v = scene.faces[faces[i]].vertices;
+      for (std::size_t a = 0; a < v.size(); ++a) {
+        const glm::dvec3& p = v[a];
+        const glm::dvec3& q = v[(a + 1) % v.size()];
+        const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
+        old.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, i});
+      }
+    }
+    std::sort(old.begin(), old.end(), [](const OldUse& x, const OldUse& y) { return x.key < y.key; });
+    std::size_t group = 0;
+    for (std::size_t i = 0; i < old.size(); ++i) {
+      if (i > 0 && !(old[i].key.a == old[i - 1].key.a && old[i].key.b == old[i - 1].key.b)) ++group;
+      edges.push_back({Key{group, 0}, old[i].forward, old[i].face});
+    }
+  } else {
+    std::vector<std::size_t> corner_vertex(corners);  // distinct vertex of each corner, face by face
+    std::vector<glm::dvec3> distinct;
+    {
+      std::size_t size = 16;
+      while (size < 2 * corners) size *= 2;
+      std::vector<std::size_t> table(size, SIZE_MAX);
+      auto hash = [](const glm::dvec3& v) {
+        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+        for (int c = 0; c < 3; ++c) {
+          const double x = v[c] + 0.0;  // -0.0 == 0.0
+          std::uint64_t b;
+          std::memcpy(&b, &x, sizeof b);
+          h ^= b + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+          h *= 0xff51afd7ed558ccdULL;
+          h ^= h >> 33;
+        }
+        return static_cast<std::size_t>(h);
+      };
+      std::size_t c = 0;
+      for (std::size_t f : faces)
+        for (const glm::dvec3& v : scene.faces[f].vertices) {
+          std::size_t h = hash(v) & (size - 1);
+          while (table[h] != SIZE_MAX && distinct[table[h]] != v) h = (h + 1) & (size - 1);
+          if (table[h] == SIZE_MAX) {
+            table[h] = distinct.size();
+            distinct.push_back(v);
+          }
+          corner_vertex[c++] = table[h];
+        }
+    }
+    std::vector<std::size_t> rank(distinct.size());
+    {
+      std::vector<std::size_t> order(distinct.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+      auto less = [](const glm::dvec3& p, const glm::dvec3& q) {  // EdgeKey's order on points
+        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+      };
+      std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return less(distinct[x], distinct[y]); });
+      for (std::size_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
+    }
+    edges.reserve(corners);
+    for (std::size_t i = 0, c = 0; i < faces.size(); ++i) {
+      const std::size_t m = scene.faces[faces[i]].vertices.size();
+      for (std::size_t a = 0; a < m; ++a) {
+        const std::size_t p = rank[corner_vertex[c + a]], q = rank[corner_vertex[c + (a + 1) % m]];
+        const bool forward = p < q;
+        edges.push_back({forward ? Key{p, q} : Key{q, p}, forward, i});
+      }
+      c += m;
+    }
+    // Sorted so that the uses of one edge are adjacent: a sort is several times faster than a map.
+    std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
+  }
   std::vector<std::size_t> parent(faces.size());
   for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
   auto root = [&](std::size_t x) {
@@ -252,7 +336,7 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   std::vector<char> open(faces.size(), 0), inconsistent(faces.size(), 0);
   // Manifold edges: (other face, same direction) for each face, for the breadth-first fix.
   std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours(orient ? faces.size() : 0);
-  auto same = [](const EdgeKey& x, const EdgeKey& y) { return x.a == y.a && x.b == y.b; };
+  auto same = [](const Key& x, const Key& y) { return x == y; };
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
     while (j < edges.size() && same(edges[i].key, edges[j].key)) ++j;
@@ -415,7 +499,7 @@ void validate_scene_impl(Scene& scene, const LoadOptions& options, bool referenc
     validate_faces(scene, options, core::resolve_threads(options.threads), warnings);
   }
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings);
+    check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings, reference);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {
     const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {
