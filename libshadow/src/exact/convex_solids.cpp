@@ -44,8 +44,23 @@ std::uint64_t hash_key(const VertexKey& k) {
 struct EdgeUse {
   int v;
   int face;
+  int mesh;      // the face's (kept here: looking it up in the faces costs a cache miss)
   bool forward;  // the face runs it from u to v
 };
+
+/// Stable sort by v: insertion sort for the usual few uses of a vertex (no buffer to allocate).
+void sort_by_v(EdgeUse* begin, EdgeUse* end) {
+  if (end - begin > 32) {
+    std::stable_sort(begin, end, [](const EdgeUse& x, const EdgeUse& y) { return x.v < y.v; });
+    return;
+  }
+  for (EdgeUse* i = begin + 1; i < end; ++i) {
+    const EdgeUse e = *i;
+    EdgeUse* j = i;
+    for (; j != begin && (j - 1)->v > e.v; --j) *j = *(j - 1);
+    *j = e;
+  }
+}
 
 }  // namespace
 
@@ -66,10 +81,14 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   const std::size_t n = scene.faces.size();
   auto takes_part = [&](std::size_t f) { return !prep[f].degenerate && prep[f].exactly_planar; };
   std::vector<std::size_t> corner_start(n + 1, 0);
-  for (std::size_t f = 0; f < n; ++f)
+  std::size_t max_mesh = 0;
+  for (std::size_t f = 0; f < n; ++f) {
     corner_start[f + 1] = corner_start[f] + (takes_part(f) ? scene.faces[f].vertices.size() : 0);
+    max_mesh = std::max(max_mesh, scene.faces[f].mesh);
+  }
   const std::size_t corners = corner_start[n];
-  if (corners >= static_cast<std::size_t>(INT_MAX) / 4 || n >= static_cast<std::size_t>(INT_MAX))
+  if (corners >= static_cast<std::size_t>(INT_MAX) / 4 || n >= static_cast<std::size_t>(INT_MAX) ||
+      max_mesh >= static_cast<std::size_t>(INT_MAX))
     return find_convex_solids_reference(scene, prep, solid_of);  // beyond int ids
   solid_of.assign(n, -1);
 
@@ -114,7 +133,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     for (std::size_t f = 0; f < n; ++f)
       for (std::size_t a = 0, m = face_size(f); a < m; ++a) {
         const int u = face_vertex(f, a), v = face_vertex(f, (a + 1) % m);
-        uses[fill[static_cast<std::size_t>(std::min(u, v))]++] = {std::max(u, v), static_cast<int>(f), u < v};
+        uses[fill[static_cast<std::size_t>(std::min(u, v))]++] = {std::max(u, v), static_cast<int>(f),
+                                                                  static_cast<int>(scene.faces[f].mesh), u < v};
       }
   }
   std::vector<std::size_t> parent(n);
@@ -131,12 +151,12 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
       for (const EdgeUse* e = first; e != last; ++e) open[static_cast<std::size_t>(e->face)] = 1;
     }
   };
-  auto mesh_of = [&](const EdgeUse& e) { return scene.faces[static_cast<std::size_t>(e.face)].mesh; };
+  auto mesh_of = [](const EdgeUse& e) { return e.mesh; };
   std::vector<EdgeUse> split;
   for (std::size_t u = 0; u < vertex_count; ++u) {
     EdgeUse* const begin = uses.data() + bucket[u];
     EdgeUse* const end = uses.data() + bucket[u + 1];
-    std::stable_sort(begin, end, [](const EdgeUse& x, const EdgeUse& y) { return x.v < y.v; });
+    sort_by_v(begin, end);
     for (EdgeUse* a = begin; a != end;) {
       EdgeUse* b = a + 1;
       bool one_mesh = true;
