@@ -238,18 +238,18 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
     faces.push_back(f);
     corners += face.vertices.size();
   }
-  struct Key {
-    std::size_t a, b;  // the ranks of the edge's end points, lowest first
-    bool operator==(const Key& o) const { return a == o.a && b == o.b; }
-    bool operator<(const Key& o) const { return a != o.a ? a < o.a : b < o.b; }
-  };
+  // An edge's key: the ranks of its end points, lowest first, as rank_a * 2^32 + rank_b (so
+  // integer order is their lexicographic order); 16 bytes a use, cheap to move in the sort.
+  using Key = std::uint64_t;
   struct Use {
     Key key;
-    bool forward;       // run from key.a to key.b
-    std::size_t face;   // index into `faces`
+    std::uint32_t face;  // index into `faces`
+    bool forward;        // run from the lower rank to the higher
   };
   std::vector<Use> edges;
   if (faces.size() < 2) return;
+  // Beyond 2^32 corners ranks and face indices would not fit: the coordinate sort then.
+  if (corners >= (std::size_t{1} << 32)) reference = true;
   if (reference) {
     // The sort as it was, on the coordinates; then numbered by group, in the sorted order.
     struct OldUse {
@@ -271,15 +271,15 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
     std::size_t group = 0;
     for (std::size_t i = 0; i < old.size(); ++i) {
       if (i > 0 && !(old[i].key.a == old[i - 1].key.a && old[i].key.b == old[i - 1].key.b)) ++group;
-      edges.push_back({Key{group, 0}, old[i].forward, old[i].face});
+      edges.push_back({Key{group}, static_cast<std::uint32_t>(old[i].face), old[i].forward});
     }
   } else {
-    std::vector<std::size_t> corner_vertex(corners);  // distinct vertex of each corner, face by face
+    std::vector<std::uint32_t> corner_vertex(corners);  // distinct vertex of each corner, face by face
     std::vector<glm::dvec3> distinct;
     {
       std::size_t size = 16;
       while (size < 2 * corners) size *= 2;
-      std::vector<std::size_t> table(size, SIZE_MAX);
+      std::vector<std::uint32_t> table(size, UINT32_MAX);
       auto hash = [](const glm::dvec3& v) {
         std::uint64_t h = 0x9e3779b97f4a7c15ULL;
         for (int c = 0; c < 3; ++c) {
@@ -296,31 +296,36 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
       for (std::size_t f : faces)
         for (const glm::dvec3& v : scene.faces[f].vertices) {
           std::size_t h = hash(v) & (size - 1);
-          while (table[h] != SIZE_MAX && distinct[table[h]] != v) h = (h + 1) & (size - 1);
-          if (table[h] == SIZE_MAX) {
-            table[h] = distinct.size();
+          while (table[h] != UINT32_MAX && distinct[table[h]] != v) h = (h + 1) & (size - 1);
+          if (table[h] == UINT32_MAX) {
+            table[h] = static_cast<std::uint32_t>(distinct.size());
             distinct.push_back(v);
           }
           corner_vertex[c++] = table[h];
         }
     }
-    std::vector<std::size_t> rank(distinct.size());
+    std::vector<std::uint64_t> rank(distinct.size());
     {
-      std::vector<std::size_t> order(distinct.size());
-      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-      auto less = [](const glm::dvec3& p, const glm::dvec3& q) {  // EdgeKey's order on points
-        return p.x != q.x ? p.x < q.x : p.y != q.y ? p.y < q.y : p.z < q.z;
+      // Distinct points: no ties, so any sort gives the same ranks. Sorted with their index
+      // beside them (no indirection in the comparisons).
+      struct Ranked {
+        glm::dvec3 p;
+        std::size_t index;
       };
-      std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return less(distinct[x], distinct[y]); });
-      for (std::size_t i = 0; i < order.size(); ++i) rank[order[i]] = i;
+      std::vector<Ranked> order(distinct.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = {distinct[i], i};
+      std::sort(order.begin(), order.end(), [](const Ranked& x, const Ranked& y) {  // EdgeKey's order on points
+        return x.p.x != y.p.x ? x.p.x < y.p.x : x.p.y != y.p.y ? x.p.y < y.p.y : x.p.z < y.p.z;
+      });
+      for (std::size_t i = 0; i < order.size(); ++i) rank[order[i].index] = i;
     }
     edges.reserve(corners);
     for (std::size_t i = 0, c = 0; i < faces.size(); ++i) {
       const std::size_t m = scene.faces[faces[i]].vertices.size();
       for (std::size_t a = 0; a < m; ++a) {
-        const std::size_t p = rank[corner_vertex[c + a]], q = rank[corner_vertex[c + (a + 1) % m]];
+        const std::uint64_t p = rank[corner_vertex[c + a]], q = rank[corner_vertex[c + (a + 1) % m]];
         const bool forward = p < q;
-        edges.push_back({forward ? Key{p, q} : Key{q, p}, forward, i});
+        edges.push_back({forward ? (p << 32 | q) : (q << 32 | p), static_cast<std::uint32_t>(i), forward});
       }
       c += m;
     }
