@@ -85,9 +85,12 @@ inline const char* exit_codes_help() {
          "by another running shadow); 4 internal error (a bug: please report it).";
 }
 
-/// The load options of `shadow compute` and `shadow series` (the same three flags).
-inline shadow::LoadOptions load_options(double planarity_tolerance, bool orient_outward, const std::string& lod) {
+/// The load options of `shadow compute` and `shadow series` (the same three flags, and
+/// `--threads` for validation's per-face checks).
+inline shadow::LoadOptions load_options(double planarity_tolerance, bool orient_outward, const std::string& lod,
+                                        unsigned threads = 0) {
   shadow::LoadOptions options;
+  options.threads = threads;
   options.planarity_tolerance = planarity_tolerance;
   options.orient_outward = orient_outward;
   options.cityjson_lod = lod;

@@ -135,7 +135,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   std::optional<shadow::ShadowEngine> engine_holder;
   on_every_rank(world, [&] {
     scene = shadow::load_scene(args.scene,
-                               shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod));
+                               shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads));
     if (!args.from.empty() || !args.to.empty() || args.step_minutes > 0) {
       // Another period at the same site: an IDF's RunPeriod, or a scene's `sun` block, overridden.
       if (!scene.sun)

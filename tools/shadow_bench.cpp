@@ -8,6 +8,7 @@
 #include "bench_compare.hpp"
 #include "bench_soft.hpp"
 #include "bench_light_visibility.hpp"
+#include "bench_prepare.hpp"
 
 #include <shadow/shadow.hpp>
 #include <shadow/sun.hpp>
@@ -689,6 +690,16 @@ int main(int argc, char** argv) {
   vis_cmd->add_option("--boxes", vis_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
   vis_cmd->add_option("--points", vis_points, "Ground points")->check(CLI::PositiveNumber);
   vis_cmd->add_option("--threads", vis_threads, "Most threads (1, 2, 4, ... up to it)")->check(CLI::PositiveNumber);
+  std::vector<std::size_t> prepare_sizes{10000, 166667};
+  std::vector<unsigned> prepare_threads{1, 2};
+  int prepare_repeat = 1;
+  CLI::App* prepare_cmd = app.add_subcommand(
+      "prepare", "Validation and the convex-solid search on the city, against the reference implementations");
+  prepare_cmd->add_option("--sizes", prepare_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
+  prepare_cmd->add_option("--threads", prepare_threads, "Thread counts")->delimiter(',')->check(CLI::PositiveNumber);
+  prepare_cmd->add_option("--repeat", prepare_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
+  bool prepare_new_only = false;
+  prepare_cmd->add_flag("--new-only", prepare_new_only, "Leave the reference implementations out (for profiling)");
   std::vector<std::size_t> low_sizes{10000};
   std::vector<double> low_elevations{5.0, 40.0};
   std::vector<std::string> low_arithmetics{"exact", "fast"};
@@ -743,6 +754,7 @@ int main(int argc, char** argv) {
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
   if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
+  if (prepare_cmd->parsed()) return bench::run_prepare(prepare_sizes, prepare_threads, prepare_repeat, prepare_new_only);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
   if (series_cmd->parsed())

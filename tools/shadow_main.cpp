@@ -100,7 +100,7 @@ int run_compute(const ComputeArgs& args) {
   run.started_utc = shadow::utc_now();
   run.planarity_tolerance = args.planarity_tolerance;
   shadow::Scene scene = shadow::load_scene(
-      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod));
+      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads));
   if (scene.lights.empty() && !scene.sun)
     // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
     throw shadow::InputError({args.scene, ""},

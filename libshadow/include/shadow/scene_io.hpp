@@ -41,6 +41,10 @@ struct LoadOptions {
   /// `lod` as written); empty: the highest level of each city object. A city object without
   /// geometry at the chosen level is left out with a warning.
   std::string cityjson_lod;
+  /// Threads for validation's per-face checks (0: every hardware thread; at most 1024, else an
+  /// InputError). The outcome does not depend on it: warnings come in face order, and the
+  /// error reported is that of the first face (in face order) that has one.
+  unsigned threads = 0;
 };
 
 /// Reads a scene file and every mesh it references, and validates it.

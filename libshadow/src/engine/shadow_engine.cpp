@@ -102,7 +102,7 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
   });
   impl_->cull = core::make_cull_scene(scene, impl_->prep, core::resolve_threads(threads));
-  impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of);
+  impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, core::resolve_threads(threads));
 }
 
 ShadowEngine::~ShadowEngine() = default;

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "exact/convex_solids.hpp"
 
+#include "core/parallel.hpp"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
 #include <array>
+#include <climits>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
@@ -14,9 +17,260 @@
 #include <vector>
 
 namespace shadow::exact {
+namespace {
 
+using VertexKey = std::array<std::uint64_t, 3>;  // the coordinates' bits, -0.0 folded
+
+VertexKey vertex_key(const glm::dvec3& v) {
+  VertexKey key;
+  for (int c = 0; c < 3; ++c) {
+    const double x = v[c] + 0.0;
+    std::memcpy(&key[static_cast<std::size_t>(c)], &x, sizeof x);
+  }
+  return key;
+}
+
+std::uint64_t hash_key(const VertexKey& k) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (std::uint64_t x : k) {
+    h ^= x + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+  }
+  return h;
+}
+
+/// One use of an undirected edge {u, v} (u < v, vertex ids) by a face; kept in a bucket per u.
+struct EdgeUse {
+  int v;
+  int face;
+  int mesh;      // the face's (kept here: looking it up in the faces costs a cache miss)
+  bool forward;  // the face runs it from u to v
+};
+
+/// Stable sort by v: insertion sort for the usual few uses of a vertex (no buffer to allocate).
+void sort_by_v(EdgeUse* begin, EdgeUse* end) {
+  if (end - begin > 32) {
+    std::stable_sort(begin, end, [](const EdgeUse& x, const EdgeUse& y) { return x.v < y.v; });
+    return;
+  }
+  for (EdgeUse* i = begin + 1; i < end; ++i) {
+    const EdgeUse e = *i;
+    EdgeUse* j = i;
+    for (; j != begin && (j - 1)->v > e.v; --j) *j = *(j - 1);
+    *j = e;
+  }
+}
+
+}  // namespace
+
+// The same search as find_convex_solids_reference, step for step, with the same result:
+// - vertex ids in order of first use (an open-addressing table of ids instead of a node map);
+// - the edge uses in (u, v, face order) order: a counting sort by u and a stable sort by v
+//   within each u (small buckets) instead of one sort of every use by (mesh, u, v, index);
+//   uses of one edge by several meshes are split by mesh, keeping face order. The reference
+//   sorts mesh first, but a union joins faces of one mesh only, and the union-find root of a
+//   part (which orders the solids) depends only on the order of that part's own unions, which
+//   is (u, v) order in both;
+// - the parts listed in flat arrays, and each candidate part (at least four faces, every edge
+//   shared) tested and assembled on its own thread, with a scratch array per thread for its
+//   local vertex numbers and a sorted vector for its edges (the reference: a map and a set).
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
-                                            std::vector<int>& solid_of) {
+                                            std::vector<int>& solid_of, unsigned threads) {
+  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const std::size_t n = scene.faces.size();
+  auto takes_part = [&](std::size_t f) { return !prep[f].degenerate && prep[f].exactly_planar; };
+  std::vector<std::size_t> corner_start(n + 1, 0);
+  std::size_t max_mesh = 0;
+  for (std::size_t f = 0; f < n; ++f) {
+    corner_start[f + 1] = corner_start[f] + (takes_part(f) ? scene.faces[f].vertices.size() : 0);
+    max_mesh = std::max(max_mesh, scene.faces[f].mesh);
+  }
+  const std::size_t corners = corner_start[n];
+  if (corners >= static_cast<std::size_t>(INT_MAX) / 4 || n >= static_cast<std::size_t>(INT_MAX) ||
+      max_mesh >= static_cast<std::size_t>(INT_MAX))
+    return find_convex_solids_reference(scene, prep, solid_of);  // beyond int ids
+  solid_of.assign(n, -1);
+
+  // Vertex ids by exact coordinates, numbered in order of first use.
+  std::vector<int> corner_vertex(corners);
+  std::vector<VertexKey> keys;
+  std::vector<glm::dvec3> vertex_position;
+  {
+    std::size_t size = 16;
+    while (size < 2 * corners) size *= 2;
+    const std::size_t mask = size - 1;
+    std::vector<int> table(size, -1);
+    std::size_t c = 0;
+    for (std::size_t f = 0; f < n; ++f) {
+      if (!takes_part(f)) continue;
+      for (const glm::dvec3& v : scene.faces[f].vertices) {
+        const VertexKey key = vertex_key(v);
+        std::size_t h = static_cast<std::size_t>(hash_key(key)) & mask;
+        while (table[h] >= 0 && keys[static_cast<std::size_t>(table[h])] != key) h = (h + 1) & mask;
+        if (table[h] < 0) {
+          table[h] = static_cast<int>(keys.size());
+          keys.push_back(key);
+          vertex_position.push_back(v);
+        }
+        corner_vertex[c++] = table[h];
+      }
+    }
+  }
+  const std::size_t vertex_count = vertex_position.size();
+  auto face_vertex = [&](std::size_t f, std::size_t a) { return corner_vertex[corner_start[f] + a]; };
+  auto face_size = [&](std::size_t f) { return corner_start[f + 1] - corner_start[f]; };
+
+  // Edge uses bucketed by their lower vertex id, in face order within each bucket.
+  std::vector<std::size_t> bucket(vertex_count + 1, 0);
+  for (std::size_t f = 0; f < n; ++f)
+    for (std::size_t a = 0, m = face_size(f); a < m; ++a)
+      ++bucket[static_cast<std::size_t>(std::min(face_vertex(f, a), face_vertex(f, (a + 1) % m))) + 1];
+  for (std::size_t u = 0; u < vertex_count; ++u) bucket[u + 1] += bucket[u];
+  std::vector<EdgeUse> uses(corners);
+  {
+    std::vector<std::size_t> fill(bucket.begin(), bucket.end() - 1);
+    for (std::size_t f = 0; f < n; ++f)
+      for (std::size_t a = 0, m = face_size(f); a < m; ++a) {
+        const int u = face_vertex(f, a), v = face_vertex(f, (a + 1) % m);
+        uses[fill[static_cast<std::size_t>(std::min(u, v))]++] = {std::max(u, v), static_cast<int>(f),
+                                                                  static_cast<int>(scene.faces[f].mesh), u < v};
+      }
+  }
+  std::vector<std::size_t> parent(n);
+  for (std::size_t f = 0; f < n; ++f) parent[f] = f;
+  auto find = [&](std::size_t f) {
+    while (parent[f] != f) f = parent[f] = parent[parent[f]];
+    return f;
+  };
+  std::vector<char> open(n, 0);  // touches an edge that is not shared exactly twice, oppositely
+  auto edge_group = [&](const EdgeUse* first, const EdgeUse* last) {
+    if (last - first == 2 && first[0].forward != first[1].forward) {
+      parent[find(static_cast<std::size_t>(first[0].face))] = find(static_cast<std::size_t>(first[1].face));
+    } else {
+      for (const EdgeUse* e = first; e != last; ++e) open[static_cast<std::size_t>(e->face)] = 1;
+    }
+  };
+  auto mesh_of = [](const EdgeUse& e) { return e.mesh; };
+  std::vector<EdgeUse> split;
+  for (std::size_t u = 0; u < vertex_count; ++u) {
+    EdgeUse* const begin = uses.data() + bucket[u];
+    EdgeUse* const end = uses.data() + bucket[u + 1];
+    sort_by_v(begin, end);
+    for (EdgeUse* a = begin; a != end;) {
+      EdgeUse* b = a + 1;
+      bool one_mesh = true;
+      while (b != end && b->v == a->v) {
+        one_mesh = one_mesh && mesh_of(*b) == mesh_of(*a);
+        ++b;
+      }
+      if (one_mesh) {
+        edge_group(a, b);
+      } else {  // the edge in several meshes: one group per mesh, each in face order
+        split.assign(a, b);
+        std::stable_sort(split.begin(), split.end(),
+                         [&](const EdgeUse& x, const EdgeUse& y) { return mesh_of(x) < mesh_of(y); });
+        for (std::size_t s = 0; s < split.size();) {
+          std::size_t t = s + 1;
+          while (t < split.size() && mesh_of(split[t]) == mesh_of(split[s])) ++t;
+          edge_group(split.data() + s, split.data() + t);
+          s = t;
+        }
+      }
+      a = b;
+    }
+  }
+
+  // The parts: faces by root, in face order, roots in increasing order.
+  std::vector<std::size_t> part_start(n + 1, 0);
+  for (std::size_t f = 0; f < n; ++f)
+    if (face_size(f) > 0) ++part_start[find(f) + 1];
+  for (std::size_t r = 0; r < n; ++r) part_start[r + 1] += part_start[r];
+  std::vector<std::size_t> part_faces(part_start[n]);
+  std::vector<char> part_open(n, 0);
+  {
+    std::vector<std::size_t> fill(part_start.begin(), part_start.end() - 1);
+    for (std::size_t f = 0; f < n; ++f)
+      if (face_size(f) > 0) {
+        const std::size_t r = find(f);
+        part_faces[fill[r]++] = f;
+        part_open[r] |= open[f];
+      }
+  }
+  std::vector<std::size_t> candidates;
+  for (std::size_t r = 0; r < n; ++r)
+    if (part_start[r + 1] - part_start[r] >= 4 && !part_open[r]) candidates.push_back(r);
+
+  std::vector<core::ConvexSolid> found(candidates.size());
+  std::vector<char> convex_part(candidates.size(), 0);
+  const unsigned workers = std::max(1u, core::resolve_threads(threads));
+  std::vector<std::vector<int>> local_of(workers);  // per worker: vertex id -> local number, or -1
+  constexpr std::size_t kChunk = 64;
+  core::parallel_for((candidates.size() + kChunk - 1) / kChunk, workers, [&](unsigned worker, std::size_t chunk) {
+    std::vector<int>& local = local_of[worker];
+    if (local.empty()) local.assign(vertex_count, -1);
+    std::vector<int> ids;  // the part's vertex ids, in order of first use
+    std::vector<std::pair<int, int>> edges;
+    for (std::size_t item = chunk * kChunk; item < std::min(candidates.size(), (chunk + 1) * kChunk); ++item) {
+      const std::size_t r = candidates[item];
+      const std::size_t* const faces = part_faces.data() + part_start[r];
+      const std::size_t face_count = part_start[r + 1] - part_start[r];
+      core::ConvexSolid& solid = found[item];
+      ids.clear();
+      for (std::size_t i = 0; i < face_count; ++i)
+        for (std::size_t a = 0, m = face_size(faces[i]); a < m; ++a) {
+          const int v = face_vertex(faces[i], a);
+          if (local[static_cast<std::size_t>(v)] < 0) {
+            local[static_cast<std::size_t>(v)] = static_cast<int>(ids.size());
+            ids.push_back(v);
+            solid.vertices.push_back(vertex_position[static_cast<std::size_t>(v)]);
+          }
+        }
+      bool convex = true;
+      auto p3 = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
+      for (std::size_t i = 0; i < face_count && convex; ++i) {
+        const std::vector<glm::dvec3>& fv = scene.faces[faces[i]].vertices;
+        const core::FacePrep& fp = prep[faces[i]];
+        const EK::Point_3 c0 = p3(fv[fp.corner[1]]), c1 = p3(fv[fp.corner[2]]), c2 = p3(fv[fp.corner[0]]);
+        const CGAL::Orientation front = fp.flipped ? CGAL::NEGATIVE : CGAL::POSITIVE;
+        for (const glm::dvec3& v : solid.vertices)
+          if (CGAL::orientation(c0, c1, c2, p3(v)) == front) {
+            convex = false;
+            break;
+          }
+      }
+      if (convex) {
+        edges.clear();
+        for (std::size_t i = 0; i < face_count; ++i)
+          for (std::size_t a = 0, m = face_size(faces[i]); a < m; ++a) {
+            const int u = local[static_cast<std::size_t>(face_vertex(faces[i], a))];
+            const int v = local[static_cast<std::size_t>(face_vertex(faces[i], (a + 1) % m))];
+            edges.emplace_back(std::min(u, v), std::max(u, v));
+          }
+        std::sort(edges.begin(), edges.end());
+        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+        solid.edges.reserve(edges.size());
+        for (const auto& [u, v] : edges) solid.edges.push_back({u, v});
+        convex_part[item] = 1;
+      } else {
+        solid = core::ConvexSolid{};
+      }
+      for (int v : ids) local[static_cast<std::size_t>(v)] = -1;
+    }
+  });
+  std::vector<core::ConvexSolid> solids;
+  for (std::size_t item = 0; item < candidates.size(); ++item) {
+    if (!convex_part[item]) continue;
+    const std::size_t r = candidates[item];
+    for (std::size_t i = part_start[r]; i < part_start[r + 1]; ++i) solid_of[part_faces[i]] = static_cast<int>(solids.size());
+    solids.push_back(std::move(found[item]));
+  }
+  return solids;
+}
+
+
+std::vector<core::ConvexSolid> find_convex_solids_reference(const Scene& scene, const std::vector<core::FacePrep>& prep,
+                                                      std::vector<int>& solid_of) {
   std::vector<core::ConvexSolid> solids;
   using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
   const std::size_t n = scene.faces.size();

@@ -16,7 +16,14 @@ namespace shadow::exact {
 /// vertex coordinates), every edge used exactly twice in opposite directions, and every vertex
 /// of the solid on or behind every face's plane (decided with exact predicates). Only exactly
 /// planar faces take part. `solid_of[f]` receives the solid of face f, or -1.
+/// The solids come in the order of their union-find roots (see convex_solids.cpp); the per-solid
+/// work runs on `threads` threads (0: every hardware thread), with the same result for any count.
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
-                                            std::vector<int>& solid_of);
+                                            std::vector<int>& solid_of, unsigned threads = 0);
+
+/// The previous implementation (ordered maps, one thread), kept as the reference that tests
+/// and shadow-bench compare find_convex_solids with: the same solids in the same order.
+std::vector<core::ConvexSolid> find_convex_solids_reference(const Scene& scene, const std::vector<core::FacePrep>& prep,
+                                                      std::vector<int>& solid_of);
 
 }  // namespace shadow::exact

@@ -338,7 +338,7 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
 
 namespace shadow::detail {
 
-FaceShape classify_face_shape(const std::vector<glm::dvec3>& vertices) {
+FaceShape classify_face_shape_exact(const std::vector<glm::dvec3>& vertices) {
   using namespace shadow::exact;
   std::vector<Point3> points;
   for (const glm::dvec3& v : vertices) points.push_back(to_exact(v));
@@ -351,6 +351,79 @@ FaceShape classify_face_shape(const std::vector<glm::dvec3>& vertices) {
   const int k = dominant_axis(normal);
   Polygon2 chart;
   for (const Point3& p : points) chart.push_back(to_chart(p, k));
+  return chart.is_simple() ? FaceShape::Simple : FaceShape::SelfIntersecting;
+}
+
+namespace {
+
+/// The exact Newell normal's zero test and dominant axis (dominant_axis's tie rule) from an
+/// interval enclosure: -1 for a zero normal, 0..2 for the axis, or -2 when the intervals cannot
+/// decide. The normal of a closed polygon does not change when every vertex is translated, so
+/// the vertices are taken relative to the first one (differences enclosed in intervals too):
+/// the intervals stay tight for a small face far from the origin, and a face lying in a
+/// coordinate plane gets exact zeros in the other two components.
+int interval_normal_axis(const std::vector<glm::dvec3>& vertices) {
+  using I = CGAL::Interval_nt<false>;  // needs the rounding mode set upward: the guard below
+  I n[3] = {I(0), I(0), I(0)};
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const glm::dvec3& o = vertices[0];
+    const std::size_t count = vertices.size();
+    auto rel = [&](std::size_t a, int c) { return I(vertices[a][c]) - I(o[c]); };
+    for (std::size_t a = 0; a < count; ++a) {
+      const std::size_t b = (a + 1) % count;
+      const std::array<I, 3> term = geometry::newell_term(rel(a, 0), rel(a, 1), rel(a, 2), rel(b, 0), rel(b, 1), rel(b, 2));
+      n[0] += term[0];
+      n[1] += term[1];
+      n[2] += term[2];
+    }
+  }
+  bool zero = true, nonzero = false;
+  for (const I& c : n) {
+    if (!std::isfinite(c.inf()) || !std::isfinite(c.sup())) return -2;  // overflow: decide exactly
+    zero = zero && c.inf() == 0 && c.sup() == 0;
+    nonzero = nonzero || c.inf() > 0 || c.sup() < 0;
+  }
+  if (zero) return -1;
+  if (!nonzero) return -2;
+  const I ax = CGAL::abs(n[0]), ay = CGAL::abs(n[1]), az = CGAL::abs(n[2]);
+  // dominant_axis: ax >= ay && ax >= az -> 0; else ay >= az -> 1; else 2; each comparison used
+  // must be certain.
+  const CGAL::Uncertain<bool> x_over_y = ax >= ay;
+  if (!CGAL::is_certain(x_over_y)) return -2;
+  if (CGAL::get_certain(x_over_y)) {
+    const CGAL::Uncertain<bool> x_over_z = ax >= az;
+    if (!CGAL::is_certain(x_over_z)) return -2;
+    if (CGAL::get_certain(x_over_z)) return 0;
+  }
+  const CGAL::Uncertain<bool> y_over_z = ay >= az;
+  if (!CGAL::is_certain(y_over_z)) return -2;
+  return CGAL::get_certain(y_over_z) ? 1 : 2;
+}
+
+}  // namespace
+
+FaceShape classify_face_shape(const std::vector<glm::dvec3>& vertices) {
+  // classify_face_shape_exact's decisions, made with Epick's exact predicates on the input
+  // doubles (static and interval filters, exact fallback) and, for the Newell normal, an
+  // interval enclosure that hands over to the lazy exact normal only when it cannot decide.
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const std::size_t count = vertices.size();
+  auto point3 = [&](std::size_t a) { return K::Point_3(vertices[a].x, vertices[a].y, vertices[a].z); };
+  bool all_collinear = true;
+  for (std::size_t a = 2; a < count && all_collinear; ++a)
+    all_collinear = CGAL::collinear(point3(0), point3(1), point3(a));
+  if (all_collinear) return FaceShape::ZeroArea;
+  int k = interval_normal_axis(vertices);
+  if (k == -2) {
+    const exact::Vector3 normal = exact::exact_newell_normal(exact::exact_points(vertices));
+    k = normal == CGAL::NULL_VECTOR ? -1 : exact::dominant_axis(normal);
+  }
+  if (k == -1) return FaceShape::SelfIntersecting;  // e.g. a symmetric bow-tie
+  // Chart coordinates are input doubles: Epick's exact predicates decide simplicity exactly.
+  const int i = core::chart_i(k), j = core::chart_j(k);
+  CGAL::Polygon_2<K> chart;
+  for (const glm::dvec3& v : vertices) chart.push_back(K::Point_2(v[i], v[j]));
   return chart.is_simple() ? FaceShape::Simple : FaceShape::SelfIntersecting;
 }
 

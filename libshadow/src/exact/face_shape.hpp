@@ -17,7 +17,14 @@ enum class FaceShape {
 
 /// Classifies a face's boundary exactly, in the 2D chart that drops the dominant axis of its
 /// exact Newell normal. Vertices must be finite, with consecutive duplicates removed.
+/// Decided with Epick's exact predicates on the input doubles and an interval filter on the
+/// normal (the lazy exact normal only where the filter cannot decide); the same answers as
+/// classify_face_shape_exact on every input, many times cheaper.
 FaceShape classify_face_shape(const std::vector<glm::dvec3>& vertices);
+
+/// The same classification computed wholly with Epeck's lazy exact numbers: the reference that
+/// classify_face_shape is tested against (and shadow-bench times it against).
+FaceShape classify_face_shape_exact(const std::vector<glm::dvec3>& vertices);
 
 /// What cut_openings returns: the surface left once its openings are cut out, or the problem.
 struct OpeningsCut {

@@ -928,7 +928,7 @@ std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const
     prep[f] = exact::prepare_face(scene.faces[f].vertices);
   });
   std::vector<int> solid_of;
-  const std::vector<core::ConvexSolid> solids = exact::find_convex_solids(scene, prep, solid_of);
+  const std::vector<core::ConvexSolid> solids = exact::find_convex_solids(scene, prep, solid_of, threads);
   return planes::plane_shadows(scene, prep, solids, solid_of, options, tiling);
 }
 

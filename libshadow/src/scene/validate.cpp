@@ -9,14 +9,20 @@
 
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
+#include "core/parallel.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
 #include "scene/planarity.hpp"
+#include "scene/validate_reference.hpp"
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <exception>
 #include <limits>
 #include <utility>
 #include <string>
@@ -111,8 +117,10 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
   }
 }
 
+using Classifier = detail::FaceShape (*)(const std::vector<glm::dvec3>&);
+
 void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options,
-                   std::vector<Warning>& warnings) {
+                   std::vector<Warning>& warnings, Classifier classify = detail::classify_face_shape) {
   Face& face = scene.faces[face_id];
   const SourceLocation where = face_location(scene, face_id);
   detail::check_face_numbers(scene, face_id);
@@ -122,7 +130,7 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
                                 (face.vertices.size() == 1 ? "vertex" : "vertices") +
                                 "; at least 3 are needed");
   check_planarity(face.vertices, options.planarity_tolerance, where);
-  switch (detail::classify_face_shape(face.vertices)) {
+  switch (classify(face.vertices)) {
     case detail::FaceShape::Simple:
       face.degenerate = false;
       break;
@@ -132,6 +140,44 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
       break;
     case detail::FaceShape::SelfIntersecting:
       throw InputError(where, "face boundary intersects itself");
+  }
+}
+
+/// validate_face for every face, on `threads` threads, with the serial loop's outcome: the
+/// warnings in face order, or the error of the first face (in face order) that has one. Each
+/// face's check reads the scene and changes only that face. Faces are handed out in chunks, each
+/// checked in order and stopped at its first error; faces after an error already found are
+/// skipped (only faces before the first error matter). (Unlike the serial loop, faces after
+/// the failing one may have been cleaned up too when the error is thrown.)
+void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, std::vector<Warning>& warnings) {
+  const std::size_t n = scene.faces.size();
+  constexpr std::size_t kChunk = 256;
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  struct ChunkOutcome {
+    std::vector<Warning> warnings;
+    std::exception_ptr error;
+  };
+  std::vector<ChunkOutcome> outcome(chunks);
+  std::atomic<std::size_t> first_error{n};
+  core::parallel_for(chunks, threads, [&](unsigned, std::size_t c) {
+    ChunkOutcome& o = outcome[c];
+    const std::size_t end = std::min(n, (c + 1) * kChunk);
+    for (std::size_t f = c * kChunk; f < end; ++f) {
+      if (f > first_error.load(std::memory_order_relaxed)) return;
+      try {
+        validate_face(scene, f, options, o.warnings);
+      } catch (...) {
+        o.error = std::current_exception();
+        std::size_t seen = first_error.load();
+        while (f < seen && !first_error.compare_exchange_weak(seen, f)) {
+        }
+        return;
+      }
+    }
+  });
+  for (ChunkOutcome& o : outcome) {
+    if (o.error) std::rethrow_exception(o.error);
+    for (Warning& w : o.warnings) warnings.push_back(std::move(w));
   }
 }
 
@@ -175,30 +221,117 @@ std::string list_faces(const Scene& scene, const std::vector<std::size_t>& ids) 
 /// edges), then a part with negative signed volume is reversed; the warning says what changed.
 /// Open parts (a ground plane, a single wall, a box without a lid) say nothing about inside and
 /// outside and are left alone.
-void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::vector<Warning>& warnings) {
+/// `reference`: the edges sorted by their coordinates as before (validate_scene_reference).
+void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::vector<Warning>& warnings,
+                       bool reference = false) {
   const Mesh& mesh = scene.meshes[mesh_index];
-  struct Use {
-    EdgeKey key;
-    bool forward;       // run from key.a to key.b
-    std::size_t face;   // index into `faces`
-  };
-  std::vector<Use> edges;
+  // Each distinct vertex (by ==, so -0.0 is 0.0) gets its rank in EdgeKey's lexicographic
+  // order; an edge's key is then its two ranks, which compare exactly as the EdgeKeys of its
+  // coordinates do. The sort below therefore makes the same comparisons with the same outcomes
+  // as a sort of the EdgeKeys, and so the same permutation (ties included: the union-find roots
+  // below, and with them the order of the warnings, depend on it), only far cheaper.
   std::vector<std::size_t> faces;  // face_ids of the mesh's non-degenerate faces
+  std::size_t corners = 0;
   for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
     if (face.mesh != mesh_index || face.degenerate) continue;
-    const std::vector<glm::dvec3>& v = face.vertices;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const glm::dvec3& p = v[i];
-      const glm::dvec3& q = v[(i + 1) % v.size()];
-      const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
-      edges.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, faces.size()});
-    }
     faces.push_back(f);
+    corners += face.vertices.size();
   }
+  // An edge's key: the ranks of its end points, lowest first, as rank_a * 2^32 + rank_b (so
+  // integer order is their lexicographic order); 16 bytes a use, cheap to move in the sort.
+  using Key = std::uint64_t;
+  struct Use {
+    Key key;
+    std::uint32_t face;  // index into `faces`
+    bool forward;        // run from the lower rank to the higher
+  };
+  std::vector<Use> edges;
   if (faces.size() < 2) return;
-  // Sorted so that the uses of one edge are adjacent: a sort is several times faster than a map.
-  std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
+  // Beyond 2^32 corners ranks and face indices would not fit: the coordinate sort then.
+  if (corners >= (std::size_t{1} << 32)) reference = true;
+  if (reference) {
+    // The sort as it was, on the coordinates; then numbered by group, in the sorted order.
+    struct OldUse {
+      EdgeKey key;
+      bool forward;
+      std::size_t face;
+    };
+    std::vector<OldUse> old;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const std::vector<glm::dvec3>& v = scene.faces[faces[i]].vertices;
+      for (std::size_t a = 0; a < v.size(); ++a) {
+        const glm::dvec3& p = v[a];
+        const glm::dvec3& q = v[(a + 1) % v.size()];
+        const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
+        old.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, i});
+      }
+    }
+    std::sort(old.begin(), old.end(), [](const OldUse& x, const OldUse& y) { return x.key < y.key; });
+    std::size_t group = 0;
+    for (std::size_t i = 0; i < old.size(); ++i) {
+      if (i > 0 && !(old[i].key.a == old[i - 1].key.a && old[i].key.b == old[i - 1].key.b)) ++group;
+      edges.push_back({Key{group}, static_cast<std::uint32_t>(old[i].face), old[i].forward});
+    }
+  } else {
+    std::vector<std::uint32_t> corner_vertex(corners);  // distinct vertex of each corner, face by face
+    std::vector<glm::dvec3> distinct;
+    {
+      std::size_t size = 16;
+      while (size < 2 * corners) size *= 2;
+      std::vector<std::uint32_t> table(size, UINT32_MAX);
+      auto hash = [](const glm::dvec3& v) {
+        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+        for (int c = 0; c < 3; ++c) {
+          const double x = v[c] + 0.0;  // -0.0 == 0.0
+          std::uint64_t b;
+          std::memcpy(&b, &x, sizeof b);
+          h ^= b + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+          h *= 0xff51afd7ed558ccdULL;
+          h ^= h >> 33;
+        }
+        return static_cast<std::size_t>(h);
+      };
+      std::size_t c = 0;
+      for (std::size_t f : faces)
+        for (const glm::dvec3& v : scene.faces[f].vertices) {
+          std::size_t h = hash(v) & (size - 1);
+          while (table[h] != UINT32_MAX && distinct[table[h]] != v) h = (h + 1) & (size - 1);
+          if (table[h] == UINT32_MAX) {
+            table[h] = static_cast<std::uint32_t>(distinct.size());
+            distinct.push_back(v);
+          }
+          corner_vertex[c++] = table[h];
+        }
+    }
+    std::vector<std::uint64_t> rank(distinct.size());
+    {
+      // Distinct points: no ties, so any sort gives the same ranks. Sorted with their index
+      // beside them (no indirection in the comparisons).
+      struct Ranked {
+        glm::dvec3 p;
+        std::size_t index;
+      };
+      std::vector<Ranked> order(distinct.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = {distinct[i], i};
+      std::sort(order.begin(), order.end(), [](const Ranked& x, const Ranked& y) {  // EdgeKey's order on points
+        return x.p.x != y.p.x ? x.p.x < y.p.x : x.p.y != y.p.y ? x.p.y < y.p.y : x.p.z < y.p.z;
+      });
+      for (std::size_t i = 0; i < order.size(); ++i) rank[order[i].index] = i;
+    }
+    edges.reserve(corners);
+    for (std::size_t i = 0, c = 0; i < faces.size(); ++i) {
+      const std::size_t m = scene.faces[faces[i]].vertices.size();
+      for (std::size_t a = 0; a < m; ++a) {
+        const std::uint64_t p = rank[corner_vertex[c + a]], q = rank[corner_vertex[c + (a + 1) % m]];
+        const bool forward = p < q;
+        edges.push_back({forward ? (p << 32 | q) : (q << 32 | p), static_cast<std::uint32_t>(i), forward});
+      }
+      c += m;
+    }
+    // Sorted so that the uses of one edge are adjacent: a sort is several times faster than a map.
+    std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
+  }
   std::vector<std::size_t> parent(faces.size());
   for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
   auto root = [&](std::size_t x) {
@@ -208,7 +341,7 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   std::vector<char> open(faces.size(), 0), inconsistent(faces.size(), 0);
   // Manifold edges: (other face, same direction) for each face, for the breadth-first fix.
   std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours(orient ? faces.size() : 0);
-  auto same = [](const EdgeKey& x, const EdgeKey& y) { return x.a == y.a && x.b == y.b; };
+  auto same = [](const Key& x, const Key& y) { return x == y; };
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
     while (j < edges.size() && same(edges[i].key, edges[j].key)) ++j;
@@ -348,7 +481,10 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
 
 }  // namespace
 
-void validate_scene(Scene& scene, const LoadOptions& options) {
+namespace {
+
+/// validate_scene; `reference`: the faces one after the other with classify_face_shape_exact.
+void validate_scene_impl(Scene& scene, const LoadOptions& options, bool reference) {
   // Zero cannot be checked in floating point: rounding alone puts vertices off the plane.
   if (!(options.planarity_tolerance > 0) || !std::isfinite(options.planarity_tolerance))
     throw InputError({}, "the planarity tolerance must be a positive finite number, got " +
@@ -357,9 +493,18 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
     detail::check_light(scene.lights[i], scene.source.string(), "lights[" + std::to_string(i) + "]");
   for (std::size_t i = 0; i < scene.planes.size(); ++i) detail::check_plane(scene, i);
   std::vector<Warning> warnings;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) validate_face(scene, f, options, warnings);
+  if (options.threads > core::kMaxThreads)
+    throw InputError({"", "LoadOptions::threads"}, "must be 0 (every hardware thread) to " +
+                                                       std::to_string(core::kMaxThreads) + ", got " +
+                                                       std::to_string(options.threads));
+  if (reference) {
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      validate_face(scene, f, options, warnings, detail::classify_face_shape_exact);
+  } else {
+    validate_faces(scene, options, core::resolve_threads(options.threads), warnings);
+  }
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings);
+    check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings, reference);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {
     const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {
@@ -367,6 +512,14 @@ void validate_scene(Scene& scene, const LoadOptions& options) {
     });
     if (!known) scene.warnings.push_back(std::move(w));
   }
+}
+
+}  // namespace
+
+void validate_scene(Scene& scene, const LoadOptions& options) { validate_scene_impl(scene, options, false); }
+
+void detail::validate_scene_reference(Scene& scene, const LoadOptions& options) {
+  validate_scene_impl(scene, options, true);
 }
 
 }  // namespace shadow

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// validate_scene as it was before its per-face checks ran in parallel on Epick's predicates:
+// the reference that tests compare validate_scene with, and that shadow-bench times it against.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/scene_io.hpp>
+
+namespace shadow::detail {
+
+/// validate_scene with the faces checked one after the other on one thread, each face's shape
+/// decided by classify_face_shape_exact (all in Epeck's lazy exact numbers). Same outcome as
+/// validate_scene: same changes to the scene, same warnings, same first error.
+void validate_scene_reference(Scene& scene, const LoadOptions& options = {});
+
+}  // namespace shadow::detail

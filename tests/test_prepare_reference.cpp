@@ -1,0 +1,386 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The fast preparation steps against the implementations they replaced, kept as references:
+// classify_face_shape (Epick predicates and an interval normal) against classify_face_shape_exact
+// (all lazy exact), validate_scene (per-face checks in parallel) against validate_scene_reference
+// (serial), and find_convex_solids against find_convex_solids_reference. Each pair must agree
+// exactly: same classes, same scene changes, warnings and first error, same solids in the same order.
+#include "core/parallel.hpp"
+#include "exact/convex_solids.hpp"
+#include "exact/exact_faces.hpp"
+#include "exact/face_shape.hpp"
+#include "scene/validate_reference.hpp"
+
+#include <shadow/generators.hpp>
+#include <shadow/scene_io.hpp>
+#include <shadow/testing/generators.hpp>
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using shadow::detail::FaceShape;
+using Polygon = std::vector<glm::dvec3>;
+
+/// The classifier's precondition: no consecutive duplicates (the last vertex repeating the first
+/// included); at least 3 vertices.
+bool tidy(Polygon& p) {
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  while (p.size() > 1 && p.back() == p.front()) p.pop_back();
+  return p.size() >= 3;
+}
+
+/// Seeded faces of every kind the classifier must decide: random polygons on small integer
+/// grids (collinear runs, repeated vertices, crossings), lifted into planes of every tilt
+/// (axis-aligned, 45 degrees: ties between normal components), bow-ties and symmetric bow-ties
+/// (zero Newell normal), slivers one ulp off a line, nearly coplanar vertices, and all of that
+/// scaled to huge (2^450) and tiny (2^-1000, subnormal products) coordinates or moved far from
+/// the origin.
+class FaceMaker {
+ public:
+  explicit FaceMaker(std::uint64_t seed) : rng_(seed) {}
+
+  Polygon next() {
+    Polygon p;
+    switch (pick(0, 7)) {
+      case 0: p = grid_polygon(); break;
+      case 1: p = collinear(); break;
+      case 2: p = bow_tie(); break;
+      case 3: p = sliver(); break;
+      case 4: p = nearly_coplanar(); break;
+      case 5: p = regular_like(); break;
+      case 6: p = diagonal_plane(); break;
+      default: p = grid_polygon(); break;
+    }
+    transform(p);
+    return p;
+  }
+
+ private:
+  int pick(int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng_); }
+  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+
+  /// 2D points -> 3D on a random plane: one of the axis planes, or tilted with small integer
+  /// slopes (exactly planar), vertices in either order.
+  Polygon lift(const std::vector<std::array<double, 2>>& q) {
+    Polygon p;
+    const int axis = pick(0, 2);
+    const double a = pick(-2, 2), b = pick(-2, 2), c = pick(-3, 3);
+    const bool flat = pick(0, 2) == 0;
+    for (const auto& [x, y] : q) {
+      const double h = flat ? c : a * x + b * y + c;
+      glm::dvec3 v;
+      v[axis] = h;
+      v[(axis + 1) % 3] = x;
+      v[(axis + 2) % 3] = y;
+      p.push_back(v);
+    }
+    if (pick(0, 1)) std::reverse(p.begin(), p.end());
+    return p;
+  }
+
+  Polygon grid_polygon() {
+    const int n = pick(3, 9), size = pick(1, 4);
+    std::vector<std::array<double, 2>> q;
+    for (int i = 0; i < n; ++i) q.push_back({double(pick(0, size)), double(pick(0, size))});
+    return lift(q);
+  }
+
+  Polygon collinear() {
+    const int n = pick(3, 6);
+    const glm::dvec3 o(pick(-5, 5), pick(-5, 5), pick(-5, 5)), d(pick(-3, 3), pick(-3, 3), pick(-3, 3));
+    Polygon p;
+    for (int i = 0; i < n; ++i) p.push_back(o + double(pick(-4, 4)) * d);
+    return p;
+  }
+
+  Polygon bow_tie() {
+    const double s = pick(1, 5), t = pick(0, 1) ? s : pick(1, 5);  // s == t: symmetric, zero normal
+    std::vector<std::array<double, 2>> q{{0, 0}, {s, t}, {s, 0}, {0, t}};
+    if (pick(0, 2) == 0) q = {{0, 0}, {2 * s, 0}, {0, t}, {2 * s, t}};  // crossing the other way
+    return lift(q);
+  }
+
+  Polygon sliver() {
+    // A triangle (or quad) whose apex is one ulp off the line through the base, or on it.
+    const double x = uniform(-10, 10), y = uniform(-10, 10);
+    const double dx = uniform(-10, 10), dy = uniform(-10, 10);
+    double mx = x + dx / 2, my = y + dy / 2;
+    const int nudge = pick(-1, 1);
+    if (nudge > 0) my = std::nextafter(my, 1e300);
+    if (nudge < 0) mx = std::nextafter(mx, -1e300);
+    std::vector<std::array<double, 2>> q{{x, y}, {x + dx, y + dy}, {mx, my}};
+    if (pick(0, 1)) q.push_back({x + dx / 3, y + dy / 3 + (pick(0, 1) ? 0.0 : 1e-12)});
+    return lift(q);
+  }
+
+  Polygon nearly_coplanar() {
+    Polygon p = grid_polygon();
+    for (glm::dvec3& v : p)
+      for (int c = 0; c < 3; ++c)
+        if (pick(0, 3) == 0) v[c] = std::nextafter(v[c], pick(0, 1) ? 1e300 : -1e300);
+    return p;
+  }
+
+  Polygon regular_like() {
+    // A star or convex polygon of 5 to 12 vertices with random radii, in a random tilted plane.
+    const int n = pick(5, 12);
+    const bool star = pick(0, 1);
+    const glm::dvec3 u = glm::dvec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+    const glm::dvec3 w = glm::dvec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+    Polygon p;
+    for (int i = 0; i < n; ++i) {
+      const double angle = 2 * M_PI * i * (star ? 2 : 1) / n;
+      const double r = uniform(0.5, 2);
+      p.push_back(r * std::cos(angle) * u + r * std::sin(angle) * w);
+    }
+    return p;
+  }
+
+  Polygon diagonal_plane() {
+    // Planes x = y, x = z or y = z and x + y + z = c: equal normal components (ties).
+    const int n = pick(3, 6);
+    Polygon p;
+    const int kind = pick(0, 3);
+    for (int i = 0; i < n; ++i) {
+      const double a = pick(-3, 3), b = pick(-3, 3);
+      switch (kind) {
+        case 0: p.push_back({a, a, b}); break;
+        case 1: p.push_back({a, b, a}); break;
+        case 2: p.push_back({b, a, a}); break;
+        default: p.push_back({a, b, 6 - a - b}); break;
+      }
+    }
+    return p;
+  }
+
+  /// Scales (exactly, by powers of two) to huge or tiny coordinates, or moves far off.
+  void transform(Polygon& p) {
+    switch (pick(0, 6)) {
+      case 0:
+        for (glm::dvec3& v : p) v *= std::ldexp(1.0, 450);
+        break;
+      case 1:
+        for (glm::dvec3& v : p) v *= std::ldexp(1.0, -1000);
+        break;
+      case 2: {
+        const glm::dvec3 off(pick(-1, 1) * 1e8, pick(-1, 1) * 1e8, pick(-1, 1) * 1e7);
+        for (glm::dvec3& v : p) v += off;
+        break;
+      }
+      case 3:
+        for (glm::dvec3& v : p) v *= std::ldexp(1.0, pick(-60, 60));
+        break;
+      default:
+        break;
+    }
+  }
+
+  std::mt19937_64 rng_;
+};
+
+TEST(ClassifyFaceShape, SameAsTheExactReferenceOnSeededFaces) {
+  FaceMaker maker(20261126);
+  std::array<int, 3> seen{0, 0, 0};
+  int checked = 0;
+  while (checked < 60000) {
+    Polygon p = maker.next();
+    if (!tidy(p)) continue;
+    ++checked;
+    const FaceShape fast = shadow::detail::classify_face_shape(p);
+    const FaceShape exact = shadow::detail::classify_face_shape_exact(p);
+    ++seen[static_cast<int>(exact)];
+    if (fast != exact) {
+      std::string text;
+      for (const glm::dvec3& v : p) text += "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ") ";
+      ADD_FAILURE() << "face " << checked << ": " << text << "fast " << int(fast) << ", exact " << int(exact);
+      break;
+    }
+  }
+  // Every class comes up often: the comparison covers each decision.
+  for (int count : seen) EXPECT_GT(count, 3000);
+}
+
+TEST(ClassifyFaceShape, KnownAnswers) {
+  using shadow::detail::classify_face_shape;
+  EXPECT_EQ(classify_face_shape({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}), FaceShape::Simple);
+  EXPECT_EQ(classify_face_shape({{0, 0, 0}, {1, 1, 1}, {3, 3, 3}}), FaceShape::ZeroArea);
+  // Symmetric bow-tie: the exact Newell normal is zero.
+  EXPECT_EQ(classify_face_shape({{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 1, 0}}), FaceShape::SelfIntersecting);
+  // Asymmetric bow-tie: a non-zero normal, a crossing boundary.
+  EXPECT_EQ(classify_face_shape({{0, 0, 0}, {2, 1, 0}, {2, 0, 0}, {0, 3, 0}}), FaceShape::SelfIntersecting);
+  // Tiny (subnormal products) and huge coordinates.
+  const double tiny = std::ldexp(1.0, -1000), huge = std::ldexp(1.0, 480);
+  EXPECT_EQ(classify_face_shape({{0, 0, 0}, {tiny, 0, 0}, {0, tiny, tiny}}), FaceShape::Simple);
+  EXPECT_EQ(classify_face_shape({{huge, 0, 0}, {0, huge, 0}, {0, 0, huge}}), FaceShape::Simple);
+}
+
+std::string outcome_of(shadow::Scene& scene, const shadow::LoadOptions& options, bool reference) {
+  try {
+    if (reference)
+      shadow::detail::validate_scene_reference(scene, options);
+    else
+      shadow::validate_scene(scene, options);
+  } catch (const shadow::InputError& e) {
+    return std::string("error: ") + e.what();
+  }
+  std::string text;
+  for (const shadow::Warning& w : scene.warnings) text += w.to_string() + "\n";
+  return text;
+}
+
+/// A city with bad faces put in at seeded places: zero-area faces (warnings), and, when
+/// `errors`, a bow-tie, a non-planar face, a two-vertex face; plus consecutive duplicates.
+shadow::Scene city_with_defects(std::uint64_t seed, bool errors) {
+  shadow::Scene scene = shadow::make_city(400, 200, seed);
+  std::mt19937_64 rng(seed);
+  auto at = [&] { return std::uniform_int_distribution<std::size_t>(1, scene.faces.size() - 1)(rng); };
+  for (int i = 0; i < 5; ++i) scene.faces[at()].vertices = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}};
+  for (int i = 0; i < 5; ++i) {
+    std::vector<glm::dvec3>& v = scene.faces[at()].vertices;
+    v.insert(v.begin() + 1, v[1]);
+  }
+  // Closed parts turned inward (a whole box reversed) and made inconsistent (one face reversed):
+  // warnings whose order and "first part" follow the part search's union-find roots.
+  const std::size_t boxes = (scene.faces.size() - 1) / 6;
+  auto box = [&] { return 1 + 6 * std::uniform_int_distribution<std::size_t>(0, boxes - 1)(rng); };
+  for (int i = 0; i < 8; ++i) {
+    const std::size_t first = box();
+    for (std::size_t f = first; f < first + 6; ++f) std::reverse(scene.faces[f].vertices.begin(), scene.faces[f].vertices.end());
+  }
+  for (int i = 0; i < 8; ++i) {
+    std::vector<glm::dvec3>& v = scene.faces[box() + 2].vertices;
+    std::reverse(v.begin(), v.end());
+  }
+  // The buildings' faces shuffled: the boxes' faces interleave, so the order in which closed parts
+  // are visited (by union-find root) is not simply box order.
+  std::shuffle(scene.faces.begin() + 1, scene.faces.end(), rng);
+  if (errors) {
+    scene.faces[at()].vertices = {{0, 0, 0}, {1, 1, 0}, {1, 0, 0}, {0, 2, 0}};
+    scene.faces[at()].vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5}, {0, 1, 0}};
+    scene.faces[at()].vertices = {{0, 0, 0}, {1, 0, 0}, {1, 0, 0}};
+  }
+  return scene;
+}
+
+TEST(ValidateScene, SameOutcomeAsTheSerialReference) {
+  for (std::uint64_t seed = 1; seed <= 6; ++seed)
+    for (bool errors : {false, true})
+      for (unsigned threads : {1u, 2u, 3u, 8u}) {
+        shadow::Scene a = city_with_defects(seed, errors), b = a;
+        shadow::LoadOptions options;
+        options.threads = threads;
+        options.orient_outward = seed % 2 == 0;
+        const std::string fast = outcome_of(a, options, false), reference = outcome_of(b, options, true);
+        EXPECT_EQ(fast, reference) << "seed " << seed << ", threads " << threads;
+        EXPECT_EQ(fast.rfind("error: ", 0) == 0, errors);
+        if (!errors) {
+          EXPECT_NE(fast.find("zero area"), std::string::npos);
+          EXPECT_NE(fast.find(options.orient_outward ? "orient outward" : "inconsistent face orientation"), std::string::npos);
+        }
+        if (!errors) {
+          ASSERT_EQ(a.faces.size(), b.faces.size());
+          for (std::size_t f = 0; f < a.faces.size(); ++f) {
+            EXPECT_EQ(a.faces[f].vertices, b.faces[f].vertices);
+            EXPECT_EQ(a.faces[f].degenerate, b.faces[f].degenerate);
+          }
+        }
+      }
+}
+
+TEST(ValidateScene, ThreadCountAboveTheLimitIsAnInputError) {
+  shadow::Scene scene = shadow::make_city(2, 20, 1);
+  shadow::LoadOptions options;
+  options.threads = 100000;
+  EXPECT_THROW(shadow::validate_scene(scene, options), shadow::InputError);
+}
+
+void expect_same_solids(const shadow::Scene& scene, unsigned threads) {
+  std::vector<shadow::core::FacePrep> prep(scene.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) {
+    if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3)
+      prep[f].degenerate = true;
+    else
+      prep[f] = shadow::exact::prepare_face(scene.faces[f].vertices);
+  }
+  std::vector<int> of, ref_of;
+  const std::vector<shadow::core::ConvexSolid> solids = shadow::exact::find_convex_solids(scene, prep, of, threads);
+  const std::vector<shadow::core::ConvexSolid> ref = shadow::exact::find_convex_solids_reference(scene, prep, ref_of);
+  ASSERT_EQ(solids.size(), ref.size());
+  EXPECT_EQ(of, ref_of);
+  for (std::size_t s = 0; s < solids.size(); ++s) {
+    EXPECT_EQ(solids[s].vertices, ref[s].vertices) << "solid " << s;
+    EXPECT_EQ(solids[s].edges, ref[s].edges) << "solid " << s;
+  }
+}
+
+TEST(FindConvexSolids, SameAsTheReferenceOnGeneratedScenes) {
+  for (unsigned threads : {1u, 2u, 5u}) {
+    shadow::Scene city = shadow::make_city(3000, 600, 2026);  // overlapping and touching boxes
+    shadow::validate_scene(city);
+    expect_same_solids(city, threads);
+    // Faces shuffled within the mesh: the solids' order (by union-find root) is not box order.
+    std::mt19937_64 rng(threads);
+    std::shuffle(city.faces.begin() + 1, city.faces.end(), rng);
+    expect_same_solids(city, threads);
+    shadow::Scene spheres = shadow::make_sphere_field(40, 60, 7);
+    shadow::validate_scene(spheres);
+    expect_same_solids(spheres, threads);
+    shadow::Scene room = shadow::make_furnished_room(6, 3);
+    shadow::validate_scene(room);
+    expect_same_solids(room, threads);
+  }
+}
+
+TEST(FindConvexSolids, SharedEdgesAcrossMeshesAndOpenParts) {
+  // Two meshes with the same box (each its own solid), a box missing its lid (open), a box
+  // whose one face is reversed (not oppositely shared), and a non-convex closed L-prism built
+  // from boxes' faces sharing vertices with the others.
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "a", shadow::box_faces({0, 0, 0}, {1, 1, 1}));
+  shadow::add_mesh(scene, "b", shadow::box_faces({0, 0, 0}, {1, 1, 1}));
+  std::vector<shadow::Polygon3> lidless = shadow::box_faces({1, 0, 0}, {2, 1, 1});
+  lidless.pop_back();
+  shadow::add_mesh(scene, "c", lidless);
+  std::vector<shadow::Polygon3> reversed = shadow::box_faces({0, 1, 0}, {1, 2, 1});
+  std::reverse(reversed[2].begin(), reversed[2].end());
+  std::vector<shadow::Polygon3> both = shadow::box_faces({3, 0, 0}, {4, 1, 1});
+  for (const shadow::Polygon3& f : shadow::box_faces({4, 0, 0}, {5, 1, 2})) both.push_back(f);
+  for (const shadow::Polygon3& f : reversed) both.push_back(f);
+  shadow::add_mesh(scene, "d", both);
+  for (unsigned threads : {1u, 3u}) expect_same_solids(scene, threads);
+}
+
+RC_GTEST_PROP(FindConvexSolids, SameAsTheReferenceOnHardCases, ()) {
+  shadow::Scene scene = *shadow::testing::gen::hard_case();
+  shadow::validate_scene(scene);
+  std::vector<shadow::core::FacePrep> prep(scene.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) {
+    if (scene.faces[f].degenerate)
+      prep[f].degenerate = true;
+    else
+      prep[f] = shadow::exact::prepare_face(scene.faces[f].vertices);
+  }
+  std::vector<int> of, ref_of;
+  const auto solids = shadow::exact::find_convex_solids(scene, prep, of, 2);
+  const auto ref = shadow::exact::find_convex_solids_reference(scene, prep, ref_of);
+  RC_ASSERT(of == ref_of);
+  RC_ASSERT(solids.size() == ref.size());
+  for (std::size_t s = 0; s < solids.size(); ++s) {
+    RC_ASSERT(solids[s].vertices == ref[s].vertices);
+    RC_ASSERT(solids[s].edges == ref[s].edges);
+  }
+  // Every face's class too.
+  for (const shadow::Face& face : scene.faces)
+    RC_ASSERT(shadow::detail::classify_face_shape(face.vertices) == shadow::detail::classify_face_shape_exact(face.vertices));
+}
+
+}  // namespace
