@@ -181,20 +181,28 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::mutex split_mutex;
   core::TileRequest whole;
   whole.split_above = mode.split_above;
+  // Runs of kRun consecutive receivers are taken at a time: neighbouring faces (a box's six)
+  // share their casters, whose exact faces and caster lists the worker then still has.
+  constexpr std::size_t kRun = 16;
+  const std::size_t runs = (receivers.size() + kRun - 1) / kRun;
+  std::function<void(std::size_t)> report_runs;
+  if (report) report_runs = [&](std::size_t done) { report(std::min(receivers.size(), done * kRun)); };
   core::parallel_for(
-      receivers.size(), threads,
-      [&](unsigned wi, std::size_t r) {
+      runs, threads,
+      [&](unsigned wi, std::size_t run) {
         Worker& w = workers[wi];
-        const double t0 = thread_cpu_seconds();
-        items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
-        if (items[r].split_candidates > 0) {
-          splits_so_far.fetch_add(1);
-          std::lock_guard<std::mutex> lock(split_mutex);
-          split.push_back(r);
+        for (std::size_t r = run * kRun; r < std::min(receivers.size(), (run + 1) * kRun); ++r) {
+          const double t0 = thread_cpu_seconds();
+          items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
+          if (items[r].split_candidates > 0) {
+            splits_so_far.fetch_add(1);
+            std::lock_guard<std::mutex> lock(split_mutex);
+            split.push_back(r);
+          }
+          count_item(w.stats, thread_cpu_seconds() - t0);
         }
-        count_item(w.stats, thread_cpu_seconds() - t0);
       },
-      report);
+      report_runs);
   if (split.empty()) return;
 
   std::sort(split.begin(), split.end());
