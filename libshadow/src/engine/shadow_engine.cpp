@@ -92,7 +92,7 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
     }
     prep = exact::prepare_face(face.vertices);
     if (prep.degenerate) return;
-    if (prep.exactly_planar) {  // plain integers: about 10 times cheaper than the lazy exact face
+    if (prep.exactly_planar) {  // plain integers: no lazy exact face (its DAG, a futex call per node)
       if (const std::optional<double> area = exact::planar_face_area(face.vertices, prep)) {
         impl_->face_area[f] = *area;
         return;

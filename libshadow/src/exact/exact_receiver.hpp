@@ -54,8 +54,8 @@ struct ExactWorker {
   /// Per face, made on first use and kept across trims: the exact chart area and area scale of
   /// ExactFace (evaluating their lazy DAGs again after every trim cost a tenth of a year's run).
   /// A map, not a vector per face: a worker needs them for the receivers it measures, and
-  /// vectors of every face's rationals in every worker held 1.3 GB of a million-face city's
-  /// 2.6 GB peak on 16 threads (and their construction was a serial cost per thread).
+  /// vectors of every face's rationals in every worker were about 1.2 GB of a million-face
+  /// city's 2.6 GB peak on 16 threads (and their construction was a serial cost per thread).
   std::unordered_map<std::size_t, std::pair<EQ, EQ>> areas_q;
 
   /// Face f's exact chart area and area scale (P is its ExactFace).
