@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -59,6 +60,34 @@ TEST(FaceArea, AnalyticAreas) {
     for (glm::dvec3& p : t) p = glm::dvec3(std::ldexp(p.x, e), std::ldexp(p.y, e), std::ldexp(p.z, e));
     EXPECT_EQ(planar_face_area(t, prepare_face(t)).value(), std::ldexp(6.0, 2 * e));
   }
+}
+
+// Exponents far apart within one face (subnormals beside 2^500): the power-of-two scaling's shifts
+// are large here.
+TEST(FaceArea, MixedExponentsInOneFace) {
+  std::mt19937_64 rng(20261127);
+  std::uniform_real_distribution<double> unit(0.5, 1.0);
+  std::uniform_int_distribution<int> exponent(-1074, 500), sign(0, 1);
+  int compared = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    auto coordinate = [&] { return (sign(rng) ? 1 : -1) * std::ldexp(unit(rng), exponent(rng)); };
+    std::vector<glm::dvec3> v;
+    for (int a = 0; a < 3; ++a) v.push_back({coordinate(), coordinate(), coordinate()});
+    if (same_area(v)) ++compared;
+  }
+  // A right triangle with legs 2^500 and 1 and a subnormal offset: the area 2^499 exactly.
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  const std::vector<glm::dvec3> right{{tiny, 0, 0}, {tiny + std::ldexp(1.0, 500), 0, 0}, {tiny, 1, 0}};
+  EXPECT_TRUE(same_area(right));
+  EXPECT_GT(compared, 200);
+}
+
+// The engine reports these areas: ShadowEngine::face_area against the lazy exact face on a city.
+TEST(FaceArea, EngineFaceAreasAreTheLazyOnes) {
+  shadow::Scene scene = shadow::make_city(40, 80.0, 11);
+  const shadow::ShadowEngine engine(scene, 2);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    EXPECT_EQ(engine.face_area(f), lazy_area(scene.faces[f].vertices)) << "face " << f;
 }
 
 TEST(FaceArea, SameDoubleAsTheLazyExactFace) {

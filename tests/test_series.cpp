@@ -108,6 +108,7 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t til
   ASSERT_EQ(series.instants, lights.size());
   ASSERT_EQ(series.faces.size(), scene.faces.size());
   std::size_t shadowed = 0;
+  shadow::ShadowStats summed;  // the one-light computes' counts, added up
   for (std::size_t i = 0; i < lights.size(); ++i) {
     shadow::ShadowOptions one;
     one.threads = 1;
@@ -116,6 +117,7 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t til
     one.tile_casters = options.tile_casters;
     one.fast_tile_casters = options.fast_tile_casters;
     const shadow::ShadowResult result = engine.compute(lights[i], i, one);
+    summed += result.stats;
     ASSERT_EQ(result.lighting.size(), series.faces.size());
     for (std::size_t r = 0; r < series.faces.size(); ++r) {
       const shadow::FaceLighting& fl = result.lighting[r];
@@ -131,6 +133,13 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t til
     }
   }
   EXPECT_GT(shadowed, 20u) << "the city should shade something";
+  // The same work, counted the same way (tiles included).
+  EXPECT_EQ(series.stats.receivers, summed.receivers);
+  EXPECT_EQ(series.stats.tiled_receivers, summed.tiled_receivers);
+  EXPECT_EQ(series.stats.tiles, summed.tiles);
+  EXPECT_EQ(series.stats.candidate_pairs, summed.candidate_pairs);
+  EXPECT_EQ(series.stats.casting_pairs, summed.casting_pairs);
+  EXPECT_EQ(series.stats.fast_exact_fallbacks, summed.fast_exact_fallbacks);
   // The thread count changes nothing.
   options.threads = 1;
   options.progress = nullptr;

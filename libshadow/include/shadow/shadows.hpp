@@ -230,13 +230,13 @@ struct SeriesOptions {
   unsigned threads = 0;
   /// Exact (default) or the fast path, exactly as ShadowOptions::arithmetic.
   Arithmetic arithmetic = Arithmetic::Exact;
+  /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished.
+  std::function<void(const Progress&)> progress;
   /// Tiles, exactly as ShadowOptions::tile_casters and fast_tile_casters: a receiver with more
   /// candidate casters at an instant is split into tiles that are separate work items (exact
   /// areas unchanged to the last bit; fast ones within their bounds). 0: never split.
   std::size_t tile_casters = 4000;
   std::size_t fast_tile_casters = 20000;
-  /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished.
-  std::function<void(const Progress&)> progress;
 };
 
 /// Lit areas of every receiving face under every light of a series: a faces x instants table.

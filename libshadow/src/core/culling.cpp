@@ -26,6 +26,10 @@ void describe_face(const Scene& scene, const std::vector<FacePrep>& prep, std::s
   CullFace& cf = cull.faces[f];
   const std::vector<glm::dvec3>& vertices = scene.faces[f].vertices;
   for (std::size_t a = 0; a < cf.count; ++a) cull.vertices[cf.first + a] = vertices[a] - cull.origin;
+  // Newell's normal relative to the face's own first vertex: relative to the scene's centre a
+  // small face far from it would lose its normal's direction to cancellation. `bound` sums the
+  // terms' magnitudes: each component's rounding error (differences, sums, products and the
+  // running sum of m terms) is under (m + 8) eps times its magnitude sum.
   glm::dvec3 n(0.0), bound(0.0);
   for (std::size_t a = 0; a < cf.count; ++a) {
     const glm::dvec3 u = vertices[a] - vertices[0];

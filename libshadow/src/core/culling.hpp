@@ -60,7 +60,8 @@ class LightSpaceGrid {
   /// each cell they share, and tests the faces' own boxes only for the solids it overlaps. The
   /// faces reported are the same either way.
   ///
-  /// The faces' light-space boxes are computed on `threads` threads (the grid does not depend on it).
+  /// The faces' light-space boxes are computed on `threads` threads (0 counts as 1; the grid does
+  /// not depend on it).
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light,
                  const std::vector<int>* solid_of = nullptr, unsigned threads = 1) {
     const glm::dvec3 d = geometry::unit(to_light);
@@ -421,7 +422,7 @@ struct SceneFrame {
 SceneFrame scene_frame(const Scene& scene);
 
 /// The faces in a local frame (scene centre subtracted), with unit normals; the faces divided
-/// among `threads` threads (the result does not depend on it).
+/// among `threads` threads (0 counts as 1; the result does not depend on it).
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep, unsigned threads = 1);
 
 }  // namespace shadow::core

@@ -14,6 +14,7 @@
 #include <shadow/shadows.hpp>
 
 #include <algorithm>
+#include <ctime>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -123,6 +124,21 @@ struct ShadowEngine::Impl {
 };
 
 namespace engine_detail {
+
+/// CPU time of the calling thread (work items are timed with it: on a shared machine the wall
+/// clock would count the other processes' time as the item's).
+inline double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// Adds one work item's CPU time to `stats`.
+inline void count_item(ShadowStats& stats, double seconds) {
+  stats.item_seconds += seconds;
+  stats.longest_item_seconds = std::max(stats.longest_item_seconds, seconds);
+}
+
 
 /// The exact form of a light: a point (w = 1) or a direction at infinity (w = 0).
 using exact::to_exact_light;  // exact/lazy_geometry.hpp

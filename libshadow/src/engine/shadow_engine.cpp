@@ -118,20 +118,6 @@ std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& optio
 
 namespace {
 
-/// CPU time of the calling thread (work items are timed with it: on a shared machine the wall
-/// clock would count the other processes' time as the item's).
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-/// Adds one work item's CPU time to `stats`.
-void count_item(ShadowStats& stats, double seconds) {
-  stats.item_seconds += seconds;
-  stats.longest_item_seconds = std::max(stats.longest_item_seconds, seconds);
-}
-
 /// The tile counts that a split receiver's tiles add to the totals: the candidate and casting
 /// pairs of every tile, and the fast path's counters; the receiver itself counts once.
 void add_tile_counts(ShadowStats& total, const ShadowStats& tile) {
@@ -192,14 +178,14 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
       [&](unsigned wi, std::size_t run) {
         Worker& w = workers[wi];
         for (std::size_t r = run * kRun; r < std::min(receivers.size(), (run + 1) * kRun); ++r) {
-          const double t0 = thread_cpu_seconds();
+          const double t0 = engine_detail::thread_cpu_seconds();
           items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
           if (items[r].split_candidates > 0) {
             splits_so_far.fetch_add(1);
             std::lock_guard<std::mutex> lock(split_mutex);
             split.push_back(r);
           }
-          count_item(w.stats, thread_cpu_seconds() - t0);
+          engine_detail::count_item(w.stats, engine_detail::thread_cpu_seconds() - t0);
         }
       },
       report_runs);
@@ -280,12 +266,12 @@ void ShadowEngine::Impl::compute_splits(
       [&](unsigned wi, std::size_t t) {
         Worker& w = workers[wi];
         const SplitReceiver& sr = splits[tiles[t].s];
-        const double t0 = thread_cpu_seconds();
+        const double t0 = engine_detail::thread_cpu_seconds();
         core::TileRequest request;
         request.tile = &tiles[t].prep;
         tile_items[t] = compute_item(w, exact_light(wi, sr.light_slot), sr.face, sr.light_id, *sr.light, sr.grid, mode,
                                      request, tile_stats[t]);
-        count_item(w.stats, thread_cpu_seconds() - t0);
+        engine_detail::count_item(w.stats, engine_detail::thread_cpu_seconds() - t0);
       },
       report_tiles);
 

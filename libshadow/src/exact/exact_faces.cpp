@@ -292,7 +292,7 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
     std::int64_t M = 0;
     long low = 0;
     odd_mantissa(c, M, low);
-    out = static_cast<long>(M);
+    out = static_cast<double>(M);  // exact: |M| < 2^53 (and no 32-bit long in the way)
     mpz_mul_2exp(out.get_mpz_t(), out.get_mpz_t(), static_cast<mp_bitcnt_t>(low - e));
   };
   const std::vector<int>& ring = prep.chart_ring;
@@ -324,7 +324,7 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
   const mpz_class ny = u[2] * w[0] - u[0] * w[2];
   const mpz_class nz = u[0] * w[1] - u[1] * w[0];
   const mpz_class& nk = k == 0 ? nx : (k == 1 ? ny : nz);
-  if (nk == 0) return std::nullopt;  // (not for a face prepare_face accepted: its k is dominant)
+  if (nk == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
   mpq_class q(twice_area * twice_area * (nx * nx + ny * ny + nz * nz), 4 * nk * nk);
   q.canonicalize();
   if (e >= 0)

@@ -91,6 +91,9 @@ struct ExactWorker {
   /// and thread.
   /// Only between work items: it invalidates the references face() handed out.
   void trim(std::size_t cap) {
+    // The exact areas outlive trims (a series measures every receiver at every instant) up to
+    // eight times as many faces: a million-face series would otherwise end with one per face.
+    if (areas_q.size() > 8 * cap) areas_q.clear();
     if (built.size() <= cap) return;
     for (std::size_t f : built) faces[f].reset();
     built.clear();
