@@ -82,9 +82,8 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep,
   }
   cull.vertices.resize(vertex_count);
   // Blocks of faces as work items: one face is a few hundred nanoseconds.
-  constexpr std::size_t kBlock = 4096;
-  parallel_for((n + kBlock - 1) / kBlock, threads, [&](unsigned, std::size_t block) {
-    for (std::size_t f = block * kBlock; f < std::min(n, (block + 1) * kBlock); ++f) describe_face(scene, prep, f, cull);
+  parallel_for_blocks(n, 4096, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) describe_face(scene, prep, f, cull);
   });
   return cull;
 }

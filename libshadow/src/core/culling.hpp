@@ -76,8 +76,8 @@ class LightSpaceGrid {
     const std::size_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<Box> block_box(blocks);
     std::vector<char> block_any(blocks, 0);
-    parallel_for(blocks, threads, [&](unsigned, std::size_t b) {
-      for (std::size_t f = b * kBlock; f < std::min(n, (b + 1) * kBlock); ++f) {
+    parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+      for (std::size_t f = begin; f < end; ++f) {
         if (prep[f].degenerate) continue;
         boxes_[f] = box_of(scene, scene.faces[f]);
         block_box[b] = block_any[b] ? merge(block_box[b], boxes_[f]) : boxes_[f];

@@ -123,4 +123,17 @@ inline void parallel_for(std::size_t count, unsigned threads,
   if (progress) progress(done.load());
 }
 
+/// parallel_for over the indices [0, count) in blocks of `block` consecutive ones, each block
+/// one work item: work(worker, b, begin, end) for block b = [begin, end) (the last may be
+/// shorter). For items too small to be handed out one by one, or whose neighbours share data.
+/// `progress` counts blocks.
+inline void parallel_for_blocks(std::size_t count, std::size_t block, unsigned threads,
+                                const std::function<void(unsigned, std::size_t, std::size_t, std::size_t)>& work,
+                                const std::function<void(std::size_t done)>& progress = {}) {
+  parallel_for(
+      (count + block - 1) / block, threads,
+      [&](unsigned worker, std::size_t b) { work(worker, b, b * block, std::min(count, (b + 1) * block)); },
+      progress);
+}
+
 }  // namespace shadow::core

@@ -57,8 +57,9 @@ struct ShadowEngine::Impl {
     ItemTable() = default;
     ItemTable(std::size_t count, unsigned threads) : size_(count) {
       blocks_.resize((count + kBlock - 1) / kBlock);
-      core::parallel_for(blocks_.size(), threads,
-                         [&](unsigned, std::size_t b) { blocks_[b].resize(std::min(kBlock, count - b * kBlock)); });
+      core::parallel_for_blocks(count, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+        blocks_[b].resize(end - begin);
+      });
     }
     Item& operator[](std::size_t r) { return blocks_[r / kBlock][r % kBlock]; }
     const Item& operator[](std::size_t r) const { return blocks_[r / kBlock][r % kBlock]; }

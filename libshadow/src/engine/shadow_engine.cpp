@@ -170,14 +170,13 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   // Runs of kRun consecutive receivers are taken at a time: neighbouring faces (a box's six)
   // share their casters, whose exact faces and caster lists the worker then still has.
   constexpr std::size_t kRun = 16;
-  const std::size_t runs = (receivers.size() + kRun - 1) / kRun;
   std::function<void(std::size_t)> report_runs;
   if (report) report_runs = [&](std::size_t done) { report(std::min(receivers.size(), done * kRun)); };
-  core::parallel_for(
-      runs, threads,
-      [&](unsigned wi, std::size_t run) {
+  core::parallel_for_blocks(
+      receivers.size(), kRun, threads,
+      [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
         Worker& w = workers[wi];
-        for (std::size_t r = run * kRun; r < std::min(receivers.size(), (run + 1) * kRun); ++r) {
+        for (std::size_t r = begin; r < end; ++r) {
           const double t0 = engine_detail::thread_cpu_seconds();
           items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
           if (items[r].split_candidates > 0) {
@@ -401,13 +400,12 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<ItemTable>& per_light,
   const std::size_t receivers = lights ? per_light[0].size() : 0;
   // The lighting rows (receiver-major, then light) copied by blocks on every worker's thread.
   result.lighting.resize(lights * receivers);
-  constexpr std::size_t kBlock = 4096;
-  core::parallel_for((receivers + kBlock - 1) / kBlock, static_cast<unsigned>(std::max<std::size_t>(1, workers.size())),
-                     [&](unsigned, std::size_t b) {
-                       for (std::size_t r = b * kBlock; r < std::min(receivers, (b + 1) * kBlock); ++r)
-                         for (std::size_t li = 0; li < lights; ++li)
-                           result.lighting[r * lights + li] = per_light[li][r].lighting;
-                     });
+  core::parallel_for_blocks(receivers, 4096, static_cast<unsigned>(std::max<std::size_t>(1, workers.size())),
+                            [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+                              for (std::size_t r = begin; r < end; ++r)
+                                for (std::size_t li = 0; li < lights; ++li)
+                                  result.lighting[r * lights + li] = per_light[li][r].lighting;
+                            });
   // Fragments in the same order, their ids made global.
   std::size_t next_fragment_id = 0;
   for (std::size_t r = 0; r < receivers; ++r) {

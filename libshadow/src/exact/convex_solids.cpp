@@ -206,12 +206,13 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   const unsigned workers = std::max(1u, core::resolve_threads(threads));
   std::vector<std::vector<int>> local_of(workers);  // per worker: vertex id -> local number, or -1
   constexpr std::size_t kChunk = 64;
-  core::parallel_for((candidates.size() + kChunk - 1) / kChunk, workers, [&](unsigned worker, std::size_t chunk) {
+  core::parallel_for_blocks(candidates.size(), kChunk, workers, [&](unsigned worker, std::size_t, std::size_t begin,
+                                                                     std::size_t end) {
     std::vector<int>& local = local_of[worker];
     if (local.empty()) local.assign(vertex_count, -1);
     std::vector<int> ids;  // the part's vertex ids, in order of first use
     std::vector<std::pair<int, int>> edges;
-    for (std::size_t item = chunk * kChunk; item < std::min(candidates.size(), (chunk + 1) * kChunk); ++item) {
+    for (std::size_t item = begin; item < end; ++item) {
       const std::size_t r = candidates[item];
       const std::size_t* const faces = part_faces.data() + part_start[r];
       const std::size_t face_count = part_start[r + 1] - part_start[r];

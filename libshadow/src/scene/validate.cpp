@@ -159,10 +159,9 @@ void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, 
   };
   std::vector<ChunkOutcome> outcome(chunks);
   std::atomic<std::size_t> first_error{n};
-  core::parallel_for(chunks, threads, [&](unsigned, std::size_t c) {
+  core::parallel_for_blocks(n, kChunk, threads, [&](unsigned, std::size_t c, std::size_t begin, std::size_t end) {
     ChunkOutcome& o = outcome[c];
-    const std::size_t end = std::min(n, (c + 1) * kChunk);
-    for (std::size_t f = c * kChunk; f < end; ++f) {
+    for (std::size_t f = begin; f < end; ++f) {
       if (f > first_error.load(std::memory_order_relaxed)) return;
       try {
         validate_face(scene, f, options, o.warnings);
