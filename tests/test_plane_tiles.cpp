@@ -137,5 +137,62 @@ TEST(PlaneTiles, TiledShadowOnThePlaneEqualsTheFaceEnginesOnTheGround) {
   }
 }
 
+TEST(PlaneTiles, StripsAlongTheShadowsGiveTheSameUnion) {
+  // Under a directional light the images are united in the chart sheared along the shadows
+  // (tiles are strips parallel to them). A shear has determinant 1: the exact area, the regions
+  // and the window flag must be those of the chart's own axes, bit for bit, for suns whose
+  // shadows run mostly along either chart axis (the shear's two forms) and on a tilted plane
+  // (vertices back from the frame onto it).
+  Scene scene = city(250, 120, 150);
+  scene.lights.clear();
+  scene.lights.push_back(directional_light("low sun, east", sun_direction(6, 100)));
+  scene.lights.push_back(directional_light("low sun, south", sun_direction(5, 190)));
+  scene.lights.push_back(directional_light("diagonal", sun_direction(20, 225)));
+  scene.lights.push_back(directional_light("overhead", sun_direction(88, 30)));  // short shadows: no shear
+  for (const planes::Tiling& base : {one_tile(), small_tiles()}) {
+    planes::Tiling axes = base;
+    axes.shear = false;
+    const std::vector<PlaneShadow> strips = planes_of(scene, 2, base);
+    const std::vector<PlaneShadow> chart = planes_of(scene, 2, axes);
+    ASSERT_EQ(strips.size(), 8u);
+    ASSERT_EQ(chart.size(), strips.size());
+    for (std::size_t a = 0; a < strips.size(); ++a) {
+      SCOPED_TRACE("pair " + std::to_string(a));
+      const PlaneShadow& s = strips[a];
+      EXPECT_GT(s.area, 0.0);
+      EXPECT_EQ(s.area, chart[a].area);
+      EXPECT_EQ(s.reaches_window, chart[a].reaches_window);
+      EXPECT_EQ(regions_of(s), regions_of(chart[a]));
+      // Every polygon vertex lies on its plane (to rounding) and the pieces add up to the area.
+      const Plane& plane = scene.planes[s.plane_id];
+      const glm::dvec3 n = glm::normalize(plane.normal);
+      double sum = 0;
+      for (std::size_t p = 0; p < s.polygons.size(); ++p) {
+        sum += s.polygon_area[p];
+        for (const glm::dvec3& v : s.polygons[p]) EXPECT_NEAR(glm::dot(n, v - plane.point), 0.0, 1e-9);
+      }
+      EXPECT_NEAR(sum, s.area, 1e-9 * s.area);
+    }
+  }
+}
+
+TEST(PlaneTiles, LowSunStripsMatchTheFaceEngine) {
+  // The ground face under a 5 degree sun from the south-west (long diagonal shadows, strips of
+  // the sheared chart): the Atherton split of that face and the tiled Blinn union agree bit for bit.
+  Scene scene = city(250, 120, 1500);  // a ground wide enough for every shadow
+  scene.lights.clear();
+  scene.lights.push_back(directional_light("low sun", sun_direction(5, 225)));
+  ShadowOptions options;
+  options.threads = 2;
+  options.planes = false;
+  options.polygons = false;
+  const ShadowResult faces = compute_shadows(scene, options);
+  const std::vector<PlaneShadow> tiled = planes::compute_plane_shadows(scene, options, small_tiles());
+  const PlaneShadow& plane = tiled.at(0);
+  ASSERT_EQ(plane.plane_id, 0u);
+  ASSERT_FALSE(plane.reaches_window);
+  EXPECT_EQ(plane.area, faces.find(0, 0)->shadow_area);
+}
+
 }  // namespace
 }  // namespace shadow

@@ -13,7 +13,9 @@
 // Casters are projected in parallel (plain GMP rationals, which threads may share for reading);
 // the images are then cut along a grid of tiles fixed by the images alone (never by the thread
 // count), each tile is united on its own thread, and the tiles' regions are joined back by
-// their shared border edges. See docs/algorithm.md, "Shadows on planes (Blinn)".
+// their shared border edges. Under a directional light the images are united in the chart
+// sheared along the shadows, so that tiles are strips that long shadows seldom cross. See
+// docs/algorithm.md, "Shadows on planes (Blinn)".
 //
 // This path shares no clipping or projection code with the per-face engine on purpose: a face
 // lying in a plane must come out of both with the same shadow, and the tests check that. It
@@ -121,8 +123,8 @@ mpq_class twice_area(const std::vector<Q2>& poly) {
 /// One caster's image on the plane's chart: a convex polygon, counter-clockwise, of positive
 /// area. Plain GMP rationals (not lazy CGAL numbers), so the tile threads may read it at once.
 struct Image {
-  std::vector<Q2> vertices;
-  std::array<double, 4> box;  ///< lo_i, lo_j, hi_i, hi_j: doubles that enclose the exact box
+  std::vector<Q2> vertices;   ///< in the pair's tile frame (Pair::sheared)
+  std::array<double, 4> box;  ///< lo_0, lo_1, hi_0, hi_1: doubles that enclose the exact box
 };
 
 double below(const mpq_class& q) { return std::nextafter(q.get_d(), -std::numeric_limits<double>::infinity()); }
@@ -149,10 +151,21 @@ struct Pair {
   std::array<mpq_class, 2> ratio;   ///< l_i / p.l and l_j / p.l (directional lights)
   glm::dvec3 normal{0.0}, point_on{0.0};  ///< the plane as given, for the double filter
   double turn = 1;                        ///< -1 when p is the plane turned around
+  /// The tile frame: images are united in coordinates (u_0, u_1) of the chart sheared along the
+  /// shadows of a directional light, u_lead = x_lead and u_other = x_other - slope x_lead, with
+  /// slope = l_other / l_lead (|slope| <= 1, a double taken exactly). Every shadow runs along
+  /// u_lead there (to within the slope's rounding), so that tiles cut along u_other are strips
+  /// that a low sun's long shadows seldom cross, and the cuts stay lines of one exact double
+  /// coordinate (what keeps CGAL's filters deciding points on them). A shear has determinant 1:
+  /// areas and orientations are the chart's. Point lights (shadows in every direction) and a
+  /// light near the plane's normal keep the chart (sheared false).
+  bool sheared = false;
+  int lead = 0;
+  mpq_class slope = 0;
 };
 
 Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, const core::SceneFrame& frame,
-               double window) {
+               double window, bool shear) {
   Pair P;
   P.plane_id = plane_id;
   P.light_id = light_id;
@@ -196,7 +209,29 @@ Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, c
   P.level[3] += P.pl;
   for (int c = 0; c < 3; ++c) P.p_nonzero[c] = sgn(P.p[c]) != 0;
   P.ratio = {P.l[P.i] / P.pl, P.l[P.j] / P.pl};
+  if (shear && !P.point) {
+    const double di = lv[P.i], dj = lv[P.j];
+    if (std::hypot(di, dj) > 0.1 * glm::length(lv)) {  // shadows longer than a tenth of the height
+      P.sheared = true;
+      P.lead = std::abs(di) >= std::abs(dj) ? 0 : 1;
+      P.slope = P.lead == 0 ? dj / di : di / dj;
+    }
+  }
   return P;
+}
+
+/// A chart point into the pair's tile frame (in place).
+void to_frame(const Pair& P, Q2& x, mpq_class& scratch) {
+  if (!P.sheared) return;
+  scratch = P.slope * x[P.lead];
+  x[1 - P.lead] -= scratch;
+}
+
+/// A tile-frame point back to the chart.
+Q2 from_frame(const Pair& P, const mpq_class& u0, const mpq_class& u1) {
+  Q2 x{u0, u1};
+  if (P.sheared) x[1 - P.lead] += P.slope * x[P.lead];
+  return x;
 }
 
 /// Whether s(x) < 0 for certain, from doubles: s = n . (x - point) evaluated with a bound on its
@@ -381,6 +416,7 @@ class Caster {
     const int orientation = counter_clockwise ? 1 : sgn(twice_area(chart_));
     if (orientation == 0) return;  // edge-on to the light
     if (orientation < 0) std::reverse(chart_.begin(), chart_.end());
+    for (Q2& x : chart_) to_frame(P_, x, term_);  // a shear: still counter-clockwise
     Image image;
     image.box = {below(chart_[0][0]), below(chart_[0][1]), above(chart_[0][0]), above(chart_[0][1])};
     for (const Q2& x : chart_) {
@@ -454,7 +490,8 @@ void cast_units(const Scene& scene, const std::vector<core::FacePrep>& prep, con
 
 constexpr std::size_t kMaxTilesPerAxis = 16;
 
-/// The tile grid of a pair: inner cuts along the chart's two axes (infinite outer bounds).
+/// The tile grid of a pair: inner cuts along its tile frame's two axes (Pair::sheared; infinite
+/// outer bounds).
 struct Grid {
   std::array<std::vector<double>, 2> cuts;  ///< strictly increasing, finite
   [[nodiscard]] std::size_t columns() const { return cuts[0].size() + 1; }
@@ -462,30 +499,43 @@ struct Grid {
   [[nodiscard]] std::size_t tiles() const { return columns() * rows(); }
 };
 
-/// Cuts at quantiles of the images' centres, so that tiles hold similar numbers of images, and
-/// tiles at least Tiling::tile_over_image times as wide as the median image (long shadows of a low sun
-/// cut into many pieces cost more than the tiles save). Depends on the images only, never on
-/// the thread count.
+/// Cuts at quantiles of the images' centres along the tile frame's axes, so that tiles hold
+/// similar numbers of images (about images / per_tile tiles), and tiles at least
+/// Tiling::tile_over_image times as wide as the median image along each axis (an image cut into
+/// many pieces costs more than the tiles save): an axis along which images are long (u_lead of a
+/// sheared frame under a low sun) gets fewer cuts and the other more. Depends on the images
+/// only, never on the thread count.
 Grid make_grid(const std::vector<Image>& images, const Tiling& tiling) {
   Grid grid;
   if (images.size() < tiling.tile_from || tiling.per_tile == 0) return grid;
-  const auto per_axis = static_cast<std::size_t>(
-      std::lround(std::sqrt(static_cast<double>(images.size()) / static_cast<double>(tiling.per_tile))));
+  const double wanted = static_cast<double>(images.size()) / static_cast<double>(tiling.per_tile);
+  std::array<std::vector<double>, 2> centre;
+  std::size_t fit[2];
   std::vector<double> extent(images.size());
-  for (std::size_t a = 0; a < images.size(); ++a)
-    extent[a] = std::max(images[a].box[2] - images[a].box[0], images[a].box[3] - images[a].box[1]);
-  std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2), extent.end());
-  const double median_extent = extent[extent.size() / 2];
-  std::vector<double> centre(images.size());
   for (int axis = 0; axis < 2; ++axis) {
-    for (std::size_t a = 0; a < images.size(); ++a) centre[a] = 0.5 * images[a].box[axis] + 0.5 * images[a].box[axis + 2];
-    std::sort(centre.begin(), centre.end());
-    const double spread = centre.back() - centre.front();
+    for (std::size_t a = 0; a < images.size(); ++a) extent[a] = images[a].box[axis + 2] - images[a].box[axis];
+    std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2), extent.end());
+    const double median_extent = extent[extent.size() / 2];
+    centre[axis].resize(images.size());
+    for (std::size_t a = 0; a < images.size(); ++a) centre[axis][a] = 0.5 * images[a].box[axis] + 0.5 * images[a].box[axis + 2];
+    std::sort(centre[axis].begin(), centre[axis].end());
+    const double spread = centre[axis].back() - centre[axis].front();
     const double wide = tiling.tile_over_image > 0 ? spread / (tiling.tile_over_image * median_extent) : 1e6;
-    const std::size_t fit = wide >= 1 && std::isfinite(wide) ? static_cast<std::size_t>(std::min(wide, 1e6)) : 1;
-    const std::size_t g = std::clamp<std::size_t>(std::min(per_axis, fit), 1, kMaxTilesPerAxis);
+    fit[axis] = wide >= 1 && std::isfinite(wide) ? static_cast<std::size_t>(std::min(wide, 1e6)) : 1;
+  }
+  // The square grid's share per axis; what one axis cannot take (fit) goes to the other.
+  const auto share = [](double of) {
+    return static_cast<std::size_t>(std::clamp(std::round(of), 1.0, static_cast<double>(kMaxTilesPerAxis)));
+  };
+  std::size_t count[2];
+  count[0] = std::min(share(std::sqrt(wanted)), fit[0]);
+  count[1] = std::min(share(wanted / static_cast<double>(std::max<std::size_t>(count[0], 1))), fit[1]);
+  count[0] = std::min(std::max(count[0], share(wanted / static_cast<double>(std::max<std::size_t>(count[1], 1)))), fit[0]);
+  for (int axis = 0; axis < 2; ++axis) {
+    const std::vector<double>& sorted = centre[axis];
+    const std::size_t g = std::clamp<std::size_t>(count[axis], 1, kMaxTilesPerAxis);
     for (std::size_t c = 1; c < g; ++c) {
-      const double cut = centre[c * centre.size() / g];
+      const double cut = sorted[c * sorted.size() / g];
       if (std::isfinite(cut) && (grid.cuts[axis].empty() || cut > grid.cuts[axis].back())) grid.cuts[axis].push_back(cut);
     }
   }
@@ -724,10 +774,19 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
       std::vector<glm::dvec3> polygon;
       polygon.reserve(cell.size());
       for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+        glm::dvec3 x;
+        if (P.sheared) {  // back from the tile frame, exactly, then each coordinate's double
+          const auto& e = exact_of(*v);
+          const Q2 q = from_frame(P, e.x(), e.y());
+          x[i] = q[0].get_d();
+          x[j] = q[1].get_d();
+          x[k] = level ? level_k : mpq_class(-(P.c + P.n[i] * q[0] + P.n[j] * q[1]) / P.n[k]).get_d();
+          polygon.push_back(x);
+          continue;
+        }
         // The exact value is known (its approximation refined to the tightest interval): the
         // double CGAL::to_double gives for it.
         const auto& approx = CGAL::approx(*v);
-        glm::dvec3 x;
         x[i] = CGAL::to_double(approx.x());
         x[j] = CGAL::to_double(approx.y());
         x[k] = level ? level_k : CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
@@ -844,7 +903,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
   for (std::size_t item = 0; item < pair_count; ++item) {
     const std::size_t plane_id = item / light_ids.size();
     const double own = scene.planes[plane_id].window;
-    pairs[item] = make_pair(scene, plane_id, light_ids[item % light_ids.size()], frame, own > 0 ? own : window);
+    pairs[item] = make_pair(scene, plane_id, light_ids[item % light_ids.size()], frame, own > 0 ? own : window, tiling.shear);
   }
 
   // Projection: every pair's casters in chunks of units, all on the same workers.

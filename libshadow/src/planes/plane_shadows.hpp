@@ -19,8 +19,9 @@ namespace shadow::planes {
 struct Tiling {
   std::size_t tile_from = 2000;  ///< a pair with fewer images is united as one tile
   std::size_t per_tile = 600;    ///< otherwise about this many images a tile (at most 16 x 16 tiles)
-  double tile_over_image = 3;    ///< tiles at least this many median image widths wide (0: any)
+  double tile_over_image = 10;   ///< tiles at least this many median image widths wide (0: any)
   bool solids = true;            ///< closed convex solids between the plane and the light cast as one
+  bool shear = true;             ///< under a directional light, tiles are strips along the shadows
 };
 
 /// compute_plane_shadows with the faces' preparation and the closed convex solids given (see
