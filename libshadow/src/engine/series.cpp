@@ -18,6 +18,7 @@
 #include <shadow/series.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <mutex>
@@ -86,6 +87,18 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   };
   std::vector<Pending> pending;
   std::mutex split_mutex;
+  // Progress in instants: an instant counts when all its receivers are done, a split one when its
+  // tiles are (in proportion during the tile round, as compute() counts receivers). The first
+  // round's items are taken in instant order, so `done / rows` instants are about finished, but
+  // none from the first instant with a split receiver on; the tile round then finishes them in
+  // (instant, receiver) order. Called from this thread only; never goes back.
+  std::size_t reported = 0;
+  auto report_instants = [&](std::size_t done) {
+    if (done < reported) return;
+    reported = done;
+    options.progress(Progress{done, instants});
+  };
+  std::atomic<std::size_t> first_split{SIZE_MAX};  // the batch's first instant with a split receiver
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
@@ -96,9 +109,10 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 
+    first_split = SIZE_MAX;
     std::function<void(std::size_t)> report;
     if (options.progress)
-      report = [&](std::size_t done) { options.progress(Progress{first + done / rows, instants}); };
+      report = [&](std::size_t done) { report_instants(first + std::min(done / rows, first_split.load())); };
     core::parallel_for(
         rows * count, threads,
         [&](unsigned wi, std::size_t item) {
@@ -121,6 +135,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
           if (out.split_candidates > 0) {  // tiled after the batch's other items
             std::lock_guard<std::mutex> lock(split_mutex);
             pending.push_back({k, r, std::move(out)});
+            if (k < first_split.load()) first_split = k;
             return;
           }
           write_row(r, instant, out.lighting);
@@ -136,15 +151,24 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       const std::size_t k = p.k;
       splits.push_back({result.faces[p.r], first + k, &lights[first + k], grids[k] ? &*grids[k] : nullptr, k, &p.item});
     }
+    // The tile round's progress: `done` of `total` tiles stand for as many split receivers in
+    // proportion; the instants before the first unfinished one's are done.
+    std::function<void(std::size_t, std::size_t)> report_tiles;
+    if (options.progress)
+      report_tiles = [&](std::size_t done, std::size_t total) {
+        const std::size_t finished = total == 0 ? pending.size() : done * pending.size() / total;
+        report_instants(first + (finished < pending.size() ? pending[finished].k : count));
+      };
     impl.compute_splits(
         splits, mode, workers,
-        [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; }, {});
+        [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; },
+        report_tiles);
     for (const Pending& p : pending) write_row(p.r, first + p.k, p.item.lighting);
     pending.clear();
   }
   for (const Impl::Worker& w : workers) result.stats += w.stats;
   Impl::release_workers(workers);
-  if (options.progress) options.progress(Progress{instants, instants});
+  if (options.progress) report_instants(instants);
   return result;
 }
 
