@@ -169,9 +169,9 @@ TEST(Series, EqualsOneLightComputeBitForBitFast) {
 TEST(Series, TiledReceiversEqualOneLightComputeExact) { expect_series_equals_compute(shadow::Arithmetic::Exact, 6); }
 TEST(Series, TiledReceiversEqualOneLightComputeFast) { expect_series_equals_compute(shadow::Arithmetic::Fast, 6); }
 
-// Progress when receivers are split: instants count when their tiles are done (the tile round
-// moves it, as compute()'s counts split receivers), never backwards, ending at every instant;
-// two batches of 8 instants, the ground split at each, on one and two threads.
+// Progress when receivers are split: it moves through the tile round too (each batch's end is
+// reported when its tiles are done), never backwards, ending at every instant; two batches of 8
+// instants, the ground split at each, on one and two threads.
 TEST(Series, ProgressCountsInstantsWhenTheirTilesAreDone) {
   shadow::Scene scene = shadow::make_city(25, 60.0, 7);
   shadow::validate_scene(scene);
