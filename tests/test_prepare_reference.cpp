@@ -296,6 +296,98 @@ TEST(ValidateScene, SameOutcomeAsTheSerialReference) {
       }
 }
 
+/// Scenes for the orientation check alone, seeded: a large city mesh ("buildings": a million-face
+/// city scaled down to `boxes` boxes in one mesh, its faces shuffled, so that closed parts
+/// interleave) with boxes turned inward, faces reversed and zeros of either sign (-0.0 == 0.0
+/// must join edges); a second large mesh of boxes in a row, some inward; and small meshes (a box
+/// each: outward, inward, one face reversed, open, an edge used three times). Validated with
+/// orient outward off (which leaves the faces as they are).
+shadow::Scene orientation_scene(std::uint64_t seed, std::size_t boxes) {
+  shadow::Scene scene = shadow::make_city(boxes, 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0), seed);
+  std::mt19937_64 rng(seed);
+  const shadow::Mesh buildings = scene.meshes.back();
+  const std::size_t count = buildings.face_count / 6;
+  auto box = [&] { return buildings.first_face + 6 * std::uniform_int_distribution<std::size_t>(0, count - 1)(rng); };
+  auto reverse = [&](std::size_t f) { std::reverse(scene.faces[f].vertices.begin(), scene.faces[f].vertices.end()); };
+  for (int i = 0; i < 12; ++i) {
+    const std::size_t first = box();
+    for (std::size_t f = first; f < first + 6; ++f) reverse(f);
+  }
+  for (int i = 0; i < 12; ++i) reverse(box() + std::uniform_int_distribution<std::size_t>(0, 5)(rng));
+  for (std::size_t f = buildings.first_face; f < buildings.first_face + buildings.face_count; ++f)
+    for (glm::dvec3& v : scene.faces[f].vertices)
+      if (v.z == 0 && rng() % 2 == 0) v.z = -0.0;
+  std::shuffle(scene.faces.begin() + static_cast<std::ptrdiff_t>(buildings.first_face),
+               scene.faces.begin() + static_cast<std::ptrdiff_t>(buildings.first_face + buildings.face_count), rng);
+  std::vector<Polygon> row;
+  for (int b = 0; b < 800; ++b) {
+    std::vector<Polygon> faces = shadow::box_faces({5000.0 + 3 * b, 0, 0}, {5001.0 + 3 * b, 1, 2});
+    if (b % 97 == 5)
+      for (Polygon& f : faces) std::reverse(f.begin(), f.end());
+    row.insert(row.end(), faces.begin(), faces.end());
+  }
+  shadow::add_mesh(scene, "row", row);
+  for (int m = 0; m < 40; ++m) {
+    std::vector<Polygon> faces = shadow::box_faces({-1000.0 - 3 * m, 0, 0}, {-999.0 - 3 * m, 1, 1});
+    switch (m % 5) {
+      case 1:
+        for (Polygon& f : faces) std::reverse(f.begin(), f.end());
+        break;
+      case 2:
+        std::reverse(faces[m % 6].begin(), faces[m % 6].end());
+        break;
+      case 3:
+        faces.pop_back();
+        break;
+      case 4:
+        faces.push_back(faces[0]);
+        break;
+      default:
+        break;
+    }
+    shadow::add_mesh(scene, "box" + std::to_string(m), faces);
+  }
+  shadow::validate_scene(scene);
+  return scene;
+}
+
+std::vector<std::string> texts(const std::vector<shadow::Warning>& warnings) {
+  std::vector<std::string> out;
+  for (const shadow::Warning& w : warnings) out.push_back(w.to_string());
+  return out;
+}
+
+TEST(Orientation, ParallelCheckEqualsTheSerialReference) {
+  for (std::uint64_t seed : {3u, 4u})
+    for (bool orient : {false, true}) {
+      const shadow::Scene base = orientation_scene(seed, 1500);
+      ASSERT_GE(base.meshes[1].face_count, 9000u);
+      shadow::LoadOptions options;
+      options.orient_outward = orient;
+      shadow::Scene reference = base;
+      const std::vector<std::string> expected = texts(shadow::detail::check_mesh_orientation(reference, options, true));
+      // Something to find in each kind of mesh: the buildings, the row, the small boxes.
+      for (const char* mesh : {"mesh \"buildings\"", "mesh \"row\"", "mesh \"box1\"", "mesh \"box2\""})
+        EXPECT_TRUE(std::any_of(expected.begin(), expected.end(),
+                                [&](const std::string& w) { return w.find(mesh) != std::string::npos; }))
+            << mesh;
+      std::size_t changed = 0;
+      for (std::size_t f = 0; f < base.faces.size(); ++f) changed += reference.faces[f].vertices != base.faces[f].vertices;
+      if (orient)
+        EXPECT_GT(changed, 12u * 6);
+      else
+        EXPECT_EQ(changed, 0u);
+      for (unsigned threads : {1u, 2u, 3u, 8u}) {
+        shadow::Scene scene = base;
+        options.threads = threads;
+        EXPECT_EQ(texts(shadow::detail::check_mesh_orientation(scene, options, false)), expected)
+            << "seed " << seed << ", orient " << orient << ", threads " << threads;
+        for (std::size_t f = 0; f < scene.faces.size(); ++f)
+          ASSERT_EQ(scene.faces[f].vertices, reference.faces[f].vertices) << "face " << f << ", threads " << threads;
+      }
+    }
+}
+
 TEST(ValidateScene, ThreadCountAboveTheLimitIsAnInputError) {
   shadow::Scene scene = shadow::make_city(2, 20, 1);
   shadow::LoadOptions options;

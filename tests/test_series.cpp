@@ -169,6 +169,40 @@ TEST(Series, EqualsOneLightComputeBitForBitFast) {
 TEST(Series, TiledReceiversEqualOneLightComputeExact) { expect_series_equals_compute(shadow::Arithmetic::Exact, 6); }
 TEST(Series, TiledReceiversEqualOneLightComputeFast) { expect_series_equals_compute(shadow::Arithmetic::Fast, 6); }
 
+// Progress when receivers are split: it moves through the tile round too (each batch's end is
+// reported when its tiles are done), never backwards, ending at every instant; two batches of 8
+// instants, the ground split at each, on one and two threads.
+TEST(Series, ProgressCountsInstantsWhenTheirTilesAreDone) {
+  shadow::Scene scene = shadow::make_city(25, 60.0, 7);
+  shadow::validate_scene(scene);
+  const shadow::ShadowEngine engine(scene, 2);
+  std::vector<shadow::Light> lights;
+  for (double hour = 7; hour < 17; hour += 10.0 / 16) lights.push_back(shadow::directional_light("s", equinox_sun(48.0, hour)));
+  ASSERT_EQ(lights.size(), 16u);
+  for (shadow::Arithmetic arithmetic : {shadow::Arithmetic::Exact, shadow::Arithmetic::Fast})
+    for (unsigned threads : {1u, 2u}) {
+      shadow::SeriesOptions options;
+      options.threads = threads;
+      options.arithmetic = arithmetic;
+      options.tile_casters = options.fast_tile_casters = 6;
+      std::vector<shadow::Progress> calls;
+      options.progress = [&](const shadow::Progress& p) { calls.push_back(p); };
+      const shadow::SeriesResult series = engine.compute_series(lights, options);
+      ASSERT_GE(series.stats.tiled_receivers, lights.size()) << "the ground should be split at every instant";
+      ASSERT_FALSE(calls.empty());
+      for (std::size_t n = 0; n < calls.size(); ++n) {
+        EXPECT_EQ(calls[n].total, lights.size());
+        EXPECT_LE(calls[n].done, lights.size());
+        if (n > 0) EXPECT_GE(calls[n].done, calls[n - 1].done) << "call " << n;
+      }
+      EXPECT_EQ(calls.back().done, lights.size());
+      // The first batch's end is reported before the second batch ends.
+      bool batch_end = false;
+      for (const shadow::Progress& p : calls) batch_end = batch_end || p.done == 8;
+      EXPECT_TRUE(batch_end);
+    }
+}
+
 TEST(Series, RejectsUnusableLightsAndThreads) {
   shadow::Scene scene = shadow::make_city(3, 20.0, 1);
   const shadow::ShadowEngine engine(scene, 1);

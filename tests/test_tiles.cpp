@@ -218,6 +218,33 @@ TEST(Tiles, ProgressCountsSplitReceiversWhenTheirTilesAreDone) {
   }
 }
 
+TEST(Tiles, AReceiverTooSmallToCutIsComputedWhole) {
+  // The tower of examples/sun under its sun of 07:00 UTC: the roof has two candidates in the
+  // light-space grid, so a threshold of 1 asks for tiles, but two candidates make one cell (no
+  // tiles): the roof is then computed whole, and must not ask for tiles again (it used to be
+  // left unfilled: lit area 0 instead of 64).
+  const Scene scene = parse_scene(R"({"meshes": [
+    {"name": "ground", "polygons": [[[-20, -20, 0], [40, -20, 0], [40, 40, 0], [-20, 40, 0]]]},
+    {"name": "tower", "polygons": [
+      [[0, 0, 30], [8, 0, 30], [8, 8, 30], [0, 8, 30]],
+      [[0, 0, 0], [8, 0, 0], [8, 0, 30], [0, 0, 30]],
+      [[8, 0, 0], [8, 8, 0], [8, 8, 30], [8, 0, 30]],
+      [[8, 8, 0], [0, 8, 0], [0, 8, 30], [8, 8, 30]],
+      [[0, 8, 0], [0, 0, 0], [0, 0, 30], [0, 8, 30]]]}],
+    "lights": [{"name": "sun", "type": "directional", "to_light": [0.8101643, -0.09933632, 0.57772493]}]})",
+                                  "tower.json");
+  for (bool polygons : {false, true}) {
+    const ShadowResult whole = compute_shadows(scene, options(Arithmetic::Exact, 0, polygons, 1));
+    const ShadowResult tiled = compute_shadows(scene, options(Arithmetic::Exact, 1, polygons, 1));
+    expect_same_bits(whole, tiled, polygons ? "polygons" : "areas");
+    const FaceLighting* roof = tiled.find(1, 0);
+    ASSERT_NE(roof, nullptr);
+    EXPECT_EQ(roof->lit_area, 64.0);
+    EXPECT_EQ(whole.stats.receivers, tiled.stats.receivers);
+    if (polygons) expect_fragments_add_up(tiled, "tower", [](const FaceLighting&) { return 0.0; });
+  }
+}
+
 TEST(Tiles, DefaultsLeaveSmallScenesWhole) {
   const Scene scene = city(100, 100, 12, 3);
   const ShadowResult r = compute_shadows(scene, ShadowOptions{});

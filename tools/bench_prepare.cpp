@@ -40,6 +40,12 @@ bool same_faces(const shadow::Scene& a, const shadow::Scene& b) {
   return true;
 }
 
+std::vector<std::string> texts(const std::vector<shadow::Warning>& warnings) {
+  std::vector<std::string> out;
+  for (const shadow::Warning& w : warnings) out.push_back(w.to_string());
+  return out;
+}
+
 bool same_solids(const std::vector<shadow::core::ConvexSolid>& a, const std::vector<int>& a_of,
                  const std::vector<shadow::core::ConvexSolid>& b, const std::vector<int>& b_of) {
   if (a.size() != b.size() || a_of != b_of) return false;
@@ -52,8 +58,9 @@ bool same_solids(const std::vector<shadow::core::ConvexSolid>& a, const std::vec
 
 int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigned>& threads, int repeat, bool new_only) {
   bool all_same = true;
-  std::printf("%9s %9s %7s | %13s %13s %7s | %13s %13s %7s | %s\n", "boxes", "faces", "threads", "validate ref",
-              "validate new", "ratio", "solids ref", "solids new", "ratio", "same");
+  std::printf("%9s %9s %7s | %13s %13s %7s | %13s %13s %7s | %13s %13s %7s | %s\n", "boxes", "faces", "threads",
+              "validate ref", "validate new", "ratio", "orient ref", "orient new", "ratio", "solids ref", "solids new",
+              "ratio", "same");
   for (std::size_t boxes : sizes) {
     const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
     const shadow::Scene city = shadow::make_city(boxes, extent, 2026);
@@ -74,6 +81,16 @@ int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigne
       else
         prep[f] = shadow::exact::prepare_face(face.vertices);
     });
+    // The orientation check alone (validate_scene's last step) on the validated city, serial
+    // reference against the new one; orient outward off, so the scene stays as it is.
+    std::vector<std::string> ref_warnings;
+    double orient_ref = 1e300;
+    for (int r = 0; r < (new_only ? 0 : repeat); ++r) {
+      shadow::Scene copy = reference;
+      orient_ref = std::min(orient_ref, seconds_of([&] {
+                              ref_warnings = texts(shadow::detail::check_mesh_orientation(copy, {}, true));
+                            }));
+    }
     std::vector<int> ref_of;
     std::vector<shadow::core::ConvexSolid> ref_solids;
     double solids_ref = 1e300;
@@ -90,20 +107,30 @@ int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigne
         scene = city;
         validate_new = std::min(validate_new, seconds_of([&] { shadow::validate_scene(scene, options); }));
       }
+      std::vector<std::string> orient_warnings;
+      double orient_new = 1e300;
+      for (int r = 0; r < repeat; ++r) {
+        shadow::Scene copy = scene;
+        orient_new = std::min(orient_new, seconds_of([&] {
+                                orient_warnings = texts(shadow::detail::check_mesh_orientation(copy, options, false));
+                              }));
+      }
       std::vector<int> of;
       std::vector<shadow::core::ConvexSolid> solids;
       double solids_new = 1e300;
       for (int r = 0; r < repeat; ++r)
         solids_new = std::min(solids_new, seconds_of([&] { solids = shadow::exact::find_convex_solids(scene, prep, of, t); }));
-      const bool same = same_faces(scene, reference) && same_solids(solids, of, ref_solids, ref_of);
+      const bool same = same_faces(scene, reference) && same_solids(solids, of, ref_solids, ref_of) &&
+                        orient_warnings == ref_warnings;
       all_same = all_same && (same || new_only);
       if (new_only)
-        std::printf("%9zu %9zu %7u | %13s %11.3f s %7s | %13s %11.3f s %7s | -\n", boxes, city.faces.size(), t, "-",
-                    validate_new, "-", "-", solids_new, "-");
+        std::printf("%9zu %9zu %7u | %13s %11.3f s %7s | %13s %11.3f s %7s | %13s %11.3f s %7s | -\n", boxes,
+                    city.faces.size(), t, "-", validate_new, "-", "-", orient_new, "-", "-", solids_new, "-");
       else
-        std::printf("%9zu %9zu %7u | %11.3f s %11.3f s %6.1fx | %11.3f s %11.3f s %6.1fx | %s\n", boxes, city.faces.size(),
-                    t, validate_ref, validate_new, validate_ref / validate_new, solids_ref, solids_new,
-                    solids_ref / solids_new, same ? "yes" : "NO");
+        std::printf("%9zu %9zu %7u | %11.3f s %11.3f s %6.1fx | %11.3f s %11.3f s %6.1fx | %11.3f s %11.3f s %6.1fx | %s\n",
+                    boxes, city.faces.size(), t, validate_ref, validate_new, validate_ref / validate_new, orient_ref,
+                    orient_new, orient_ref / orient_new, solids_ref, solids_new, solids_ref / solids_new,
+                    same ? "yes" : "NO");
       std::fflush(stdout);
     }
   }

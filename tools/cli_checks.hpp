@@ -41,6 +41,10 @@ inline CLI::Validator integer_in(long long lo, long long hi) {
       "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
+/// The largest --tile-casters / --fast-tile-casters (a billion candidate casters: more than a
+/// scene has; 0 turns tiles off).
+constexpr long long kMaxTileCasters = 1000000000;
+
 /// A finite number in [lo, hi] (NaN and infinities rejected), `hi_text` naming the top.
 inline CLI::Validator finite_in(double lo, double hi, const std::string& hi_text = {}) {
   const std::string top = hi_text.empty() ? short_number(hi) : hi_text;

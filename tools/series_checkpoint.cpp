@@ -280,10 +280,19 @@ shadow::SunHoursMap merge_maps(const std::vector<shadow::SunHoursMap>& parts) {
   return map;
 }
 
-std::uint64_t series_digest(const shadow::Scene& scene, const shadow::SunSeries& suns, shadow::Arithmetic arithmetic) {
+std::uint64_t series_digest(const shadow::Scene& scene, const shadow::SunSeries& suns, const shadow::SeriesOptions& options) {
   Fnv d;
   d.text(shadow::version());
-  d.value(static_cast<int>(arithmetic));
+  d.value(static_cast<int>(options.arithmetic));
+  // The tile threshold of the arithmetic, when not the default (the digests of default runs stay
+  // as they were): fast tiles change lit areas within their bounds, and either changes the stats.
+  const bool fast = options.arithmetic == shadow::Arithmetic::Fast;
+  const shadow::SeriesOptions defaults;
+  const std::size_t threshold = fast ? options.fast_tile_casters : options.tile_casters;
+  if (threshold != (fast ? defaults.fast_tile_casters : defaults.tile_casters)) {
+    d.text("tile_casters");
+    d.value(static_cast<std::uint64_t>(threshold));
+  }
   d.value(static_cast<std::uint64_t>(scene.faces.size()));
   for (const shadow::Face& f : scene.faces) {
     d.value(static_cast<std::uint64_t>(f.mesh));

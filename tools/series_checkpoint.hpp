@@ -48,10 +48,12 @@ shadow::SunHoursMap decode_map(const std::string& bytes);
 shadow::SunHoursMap merge_maps(const std::vector<shadow::SunHoursMap>& parts);
 
 /// What the columns depend on, as a 64-bit digest: libshadow's version, the arithmetic, every
-/// face's vertices (bits), mesh and receiver flag, and every instant's light direction and time.
-/// Output-only options (--every, --fragments, --sun-hours-map) are left out: a resumed run
-/// may change them.
-std::uint64_t series_digest(const shadow::Scene& scene, const shadow::SunSeries& suns, shadow::Arithmetic arithmetic);
+/// face's vertices (bits), mesh and receiver flag, every instant's light direction and time, and
+/// the tile threshold of the arithmetic (tile_casters, or fast_tile_casters with --fast) when it
+/// is not the default: fast tiles change lit areas within their bounds, and tiles change the
+/// stats' candidate counts. Output-only options (--every, --fragments, --sun-hours-map) and the
+/// threads are left out: a resumed run may change them.
+std::uint64_t series_digest(const shadow::Scene& scene, const shadow::SunSeries& suns, const shadow::SeriesOptions& options);
 
 /// OUTDIR/series.checkpoint: a header (format, digest, shape, the run's start time) and then one
 /// record per completed round of instants, appended and flushed to disk as the run goes. Each

@@ -64,6 +64,16 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
       ->check(shadow_cli::positive_up_to(1.0));
   series->add_flag("--orient-outward", args.orient_outward,
                    "Turn the closed parts of every mesh outward (as for `shadow compute`)");
+  series->add_option("--tile-casters", args.tile_casters,
+                     "Split a large receiver into tiles when it has more candidate casters at an instant than this "
+                     "(exact arithmetic; sun hours and lit fractions unchanged, --fragments cut at tile borders; "
+                     "0: never; docs/tiles.md)")
+      ->default_val(shadow::SeriesOptions{}.tile_casters)
+      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
+  series->add_option("--fast-tile-casters", args.fast_tile_casters,
+                     "The same for --fast (lit fractions change within their bounds; 0: never)")
+      ->default_val(shadow::SeriesOptions{}.fast_tile_casters)
+      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
   series->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
   series->add_option("--from", args.from,
                      "First local date of the sun period (YYYY-MM-DD), replacing the scene's or the model's "
@@ -180,14 +190,18 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   shadow::SeriesOptions options;
   options.threads = args.threads;
   options.arithmetic = args.fast ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+  options.tile_casters = args.tile_casters;
+  options.fast_tile_casters = args.fast_tile_casters;
   run.options.threads = args.threads;
   run.options.polygons = false;
   run.options.planes = false;
   run.options.arithmetic = options.arithmetic;
+  run.options.tile_casters = options.tile_casters;  // report.json names them when not the defaults
+  run.options.fast_tile_casters = options.fast_tile_casters;
   const std::size_t instants = suns.lights.size();
 
   // Every rank must have read the same scene: its digest is rank 0's.
-  const std::uint64_t digest = shadow_cli::series_digest(scene, suns, options.arithmetic);
+  const std::uint64_t digest = shadow_cli::series_digest(scene, suns, options);
   if (world.distributed()) {
     std::string theirs = encode_u64s({digest});
     world.broadcast(theirs);
@@ -365,6 +379,8 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       one.threads = args.threads;
       one.planes = false;
       one.arithmetic = options.arithmetic;
+      one.tile_casters = options.tile_casters;  // fragments cut at the same tile borders as compute's
+      one.fast_tile_casters = options.fast_tile_casters;
       // The instant's own light in the scene, so that fragments carry its light_id (and irradiance).
       const std::size_t light_id = scene.sun_instants[suns.instants[i]].light_id;
       return engine.compute(scene.lights[light_id], light_id, one);

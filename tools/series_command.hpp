@@ -2,6 +2,8 @@
 // The `shadow series` subcommand: the scene's sun instants as one job (docs/series.md).
 #pragma once
 
+#include <shadow/shadows.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <cstddef>
@@ -24,6 +26,9 @@ struct SeriesArgs {
   bool checkpoint = false;  ///< --checkpoint: keep OUTDIR/series.checkpoint as the run goes
   bool resume = false;      ///< --resume: start from OUTDIR/series.checkpoint (implies --checkpoint)
   std::size_t stop_after = 0;  ///< --stop-after N (testing): stop once N instants are checkpointed
+  /// --tile-casters / --fast-tile-casters: SeriesOptions' tile thresholds (docs/tiles.md)
+  std::size_t tile_casters = shadow::SeriesOptions{}.tile_casters;
+  std::size_t fast_tile_casters = shadow::SeriesOptions{}.fast_tile_casters;
 };
 
 /// Declares the subcommand `series` and its options on `app`.

@@ -221,11 +221,11 @@ int main(int argc, char** argv) {
                       "(exact arithmetic; areas unchanged, fragments cut at tile borders; 0: never; "
                       "docs/tiles.md)")
       ->default_val(shadow::ShadowOptions{}.tile_casters)
-      ->check(CLI::NonNegativeNumber);
+      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
   compute->add_option("--fast-tile-casters", args.fast_tile_casters,
                       "The same for --arithmetic fast (areas change within their bounds; 0: never)")
       ->default_val(shadow::ShadowOptions{}.fast_tile_casters)
-      ->check(CLI::NonNegativeNumber);
+      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
   compute->add_option("--lod", args.lod,
                       "CityJSON level of detail to read (\"1\", \"2\", \"2.2\"; default: the highest of each "
                       "city object)");

@@ -663,7 +663,8 @@ PYBIND11_MODULE(_libshadow, m) {
            "Any light, not necessarily in the scene; results carry light_id.")
       .def("compute_series",
            [](const Engine& e, std::optional<std::vector<Light>> lights, unsigned threads,
-              const std::string& arithmetic, const py::object& progress) {
+              const std::string& arithmetic, const py::object& progress, std::size_t tile_casters,
+              std::size_t fast_tile_casters) {
              auto out = std::make_shared<Series>();
              out->scene = e.scene;
              if (lights) {
@@ -677,14 +678,20 @@ PYBIND11_MODULE(_libshadow, m) {
              o.threads = threads;
              o.arithmetic = parse_arithmetic(arithmetic);
              o.progress = wrap_progress(progress);
+             o.tile_casters = tile_casters;
+             o.fast_tile_casters = fast_tile_casters;
              py::gil_scoped_release release;
              out->result = e.engine->compute_series(out->lights, o);
              return out;
            },
            py::arg("lights") = py::none(), py::arg("threads") = 0, py::arg("arithmetic") = "exact",
-           py::arg("progress") = py::none(),
+           py::arg("progress") = py::none(), py::arg("tile_casters") = SeriesOptions{}.tile_casters,
+           py::arg("fast_tile_casters") = SeriesOptions{}.fast_tile_casters,
            "Lit areas of every receiving face under each light (None: the scene's suns, sun_series),\n"
-           "faces x instants, equal to compute_light per light bit for bit but faster.")
+           "faces x instants, equal to compute_light per light bit for bit (with the same tile thresholds)\n"
+           "but faster. progress: callable(done, total) in instants. tile_casters, fast_tile_casters: split\n"
+           "a receiver with more candidate casters at an instant than this into tiles (exact: no bit\n"
+           "changes; fast: within the bounds; 0: never).")
       .def("compute_planes",
            [](const Engine& e, std::optional<std::vector<std::size_t>> lights, double plane_window) {
              ShadowOptions o = make_options(0, true, lights, "exact", true, plane_window, py::none());

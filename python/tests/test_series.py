@@ -84,6 +84,31 @@ def test_series_with_other_lights_and_errors(sun_scene):
         libshadow.ShadowEngine(plain).compute_series()  # no sun block: name the lights
 
 
+def test_series_tile_options(sun_scene):
+    engine = libshadow.ShadowEngine(sun_scene)
+    whole = engine.compute_series(threads=2, tile_casters=0)
+    calls = []
+    tiled = engine.compute_series(threads=2, tile_casters=1, progress=lambda done, total: calls.append((done, total)))
+    assert whole.stats["tiled_receivers"] == 0
+    assert tiled.stats["tiled_receivers"] > 0 and tiled.stats["tiles"] >= 2 * tiled.stats["tiled_receivers"]
+    # Exact tiles change no bit; progress never goes back and ends at every instant.
+    assert np.array_equal(whole.lit_area.view(np.uint64), tiled.lit_area.view(np.uint64))
+    assert np.array_equal(whole.lit_fraction, tiled.lit_fraction)
+    assert np.array_equal(whole.faces_light, tiled.faces_light)
+    assert calls and calls[-1] == (tiled.instants, tiled.instants)
+    assert all(a[0] <= b[0] and a[1] == b[1] for a, b in zip(calls, calls[1:]))
+    # The fast path: its own threshold, and the tiled areas within the untiled ones' bounds.
+    fast_whole = engine.compute_series(threads=2, arithmetic="fast", fast_tile_casters=0)
+    fast_tiled = engine.compute_series(threads=2, arithmetic="fast", fast_tile_casters=1)
+    assert fast_whole.stats["tiled_receivers"] == 0 and fast_tiled.stats["tiled_receivers"] > 0
+    for fast in (fast_whole, fast_tiled):
+        assert (np.abs(fast.lit_area - whole.lit_area) <= fast.lit_area_error_bound).all()
+    # The defaults are compute's, and a negative threshold is refused by the binding.
+    assert engine.compute_series(threads=2).stats["tiled_receivers"] == 0
+    with pytest.raises(TypeError):
+        engine.compute_series(tile_casters=-1)
+
+
 def test_series_to_pandas(sun_scene):
     series = libshadow.ShadowEngine(sun_scene).compute_series(threads=2)
     try:

@@ -119,7 +119,7 @@ compute_help=$HELP_OUTPUT
 
 # shadow series: its help, and a scene without a `sun` block is one clear line, exit 2, no OUTDIR.
 check_help series_help "$SHADOW" series --help
-for option in --threads --fast --quiet --every --fragments --output; do
+for option in --threads --fast --quiet --every --fragments --output --tile-casters --fast-tile-casters; do
   [[ $HELP_OUTPUT == *"$option"* ]] || fail series_help_lists_options "series --help does not mention $option"
 done
 status=0
@@ -428,6 +428,10 @@ expect_usage_error usage_plane_window_inf "--plane-window" compute "$T" -o "$WOR
 expect_usage_error usage_planarity_nan "--planarity-tolerance" compute "$T" -o "$WORK/u" --planarity-tolerance nan
 expect_usage_error usage_unknown_option "--bogus" compute "$T" -o "$WORK/u" --bogus
 expect_usage_error usage_missing_output "--output" compute "$T"
+expect_usage_error usage_tile_casters_negative '--tile-casters: expected a whole number from 0 to 1000000000, got "-1"' \
+  compute "$T" -o "$WORK/u" --tile-casters -1
+expect_usage_error usage_fast_tile_casters_fraction '--fast-tile-casters: expected a whole number' \
+  compute "$T" -o "$WORK/u" --fast-tile-casters 2.5
 [[ ! -e "$WORK/u" ]] && pass "usage_errors_write_nothing" || fail "usage_errors_write_nothing" "$WORK/u exists"
 if "$SHADOW" --help | grep -q "Exit status: 0 success; 2 bad input or a usage error" &&
    "$SHADOW" compute --help | grep -q "3 an output could not be written"; then

@@ -230,7 +230,10 @@ struct SeriesOptions {
   unsigned threads = 0;
   /// Exact (default) or the fast path, exactly as ShadowOptions::arithmetic.
   Arithmetic arithmetic = Arithmetic::Exact;
-  /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished.
+  /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished,
+  /// never decreasing, ending at `total`. Within a batch of instants it moves through both rounds
+  /// (the receivers, then the tiles of split receivers), in proportion to the time the previous
+  /// batch spent in each (docs/tiles.md).
   std::function<void(const Progress&)> progress;
   /// Tiles, exactly as ShadowOptions::tile_casters and fast_tile_casters: a receiver with more
   /// candidate casters at an instant is split into tiles that are separate work items (exact

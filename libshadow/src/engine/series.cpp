@@ -18,6 +18,8 @@
 #include <shadow/series.hpp>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <mutex>
@@ -86,6 +88,21 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   };
   std::vector<Pending> pending;
   std::mutex split_mutex;
+  // Progress in instants, moving through both rounds of a batch: a fraction of the batch is done,
+  // the first round standing for (1 - tile_share) of it and the tile round for the rest.
+  // tile_share is the tile round's share of the previous batch's time (neighbouring instants
+  // cost about the same); on the first batch, or after one without tiles, a split receiver
+  // counts as one item that is done when its tiles are, as compute() counts receivers. Called
+  // from this thread only; never goes back.
+  std::size_t reported = 0;
+  auto report_instants = [&](std::size_t done) {
+    if (done < reported) return;
+    reported = done;
+    options.progress(Progress{done, instants});
+  };
+  double tile_share = 0.0;
+  std::atomic<std::size_t> splits_so_far{0};
+  using Clock = std::chrono::steady_clock;
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
@@ -96,9 +113,19 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 
+    const double items = static_cast<double>(rows * count);
+    auto report_fraction = [&](double fraction) {
+      report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));
+    };
+    splits_so_far = 0;
+    double round_fraction = 0;  // of the batch, at the first round's end
     std::function<void(std::size_t)> report;
     if (options.progress)
-      report = [&](std::size_t done) { options.progress(Progress{first + done / rows, instants}); };
+      report = [&](std::size_t done) {
+        round_fraction = (1 - tile_share) * static_cast<double>(done - std::min(done, splits_so_far.load())) / items;
+        report_fraction(round_fraction);
+      };
+    const auto round_start = Clock::now();
     core::parallel_for(
         rows * count, threads,
         [&](unsigned wi, std::size_t item) {
@@ -121,12 +148,18 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
           if (out.split_candidates > 0) {  // tiled after the batch's other items
             std::lock_guard<std::mutex> lock(split_mutex);
             pending.push_back({k, r, std::move(out)});
+            splits_so_far.fetch_add(1);
             return;
           }
           write_row(r, instant, out.lighting);
         },
         report);
-    if (pending.empty()) continue;
+    if (pending.empty()) {
+      tile_share = 0.0;
+      if (options.progress) report_instants(first + count);
+      continue;
+    }
+    const auto tiles_start = Clock::now();
     // Receivers with more candidates than the tile threshold (a large city's ground): their
     // tiles are the work items of a second round, as in compute().
     std::sort(pending.begin(), pending.end(),
@@ -136,15 +169,28 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       const std::size_t k = p.k;
       splits.push_back({result.faces[p.r], first + k, &lights[first + k], grids[k] ? &*grids[k] : nullptr, k, &p.item});
     }
+    // The tile round: the rest of the batch, in proportion to the tiles done.
+    std::function<void(std::size_t, std::size_t)> report_tiles;
+    if (options.progress)
+      report_tiles = [&](std::size_t done, std::size_t total) {
+        report_fraction(total == 0 ? 1.0
+                                   : round_fraction + (1 - round_fraction) * static_cast<double>(done) /
+                                                          static_cast<double>(total));
+      };
     impl.compute_splits(
         splits, mode, workers,
-        [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; }, {});
+        [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; },
+        report_tiles);
     for (const Pending& p : pending) write_row(p.r, first + p.k, p.item.lighting);
     pending.clear();
+    const double round_seconds = std::chrono::duration<double>(tiles_start - round_start).count();
+    const double tile_seconds = std::chrono::duration<double>(Clock::now() - tiles_start).count();
+    tile_share = round_seconds + tile_seconds > 0 ? tile_seconds / (round_seconds + tile_seconds) : 0.0;
+    if (options.progress) report_instants(first + count);
   }
   for (const Impl::Worker& w : workers) result.stats += w.stats;
   Impl::release_workers(workers);
-  if (options.progress) options.progress(Progress{instants, instants});
+  if (options.progress) report_instants(instants);
   return result;
 }
 

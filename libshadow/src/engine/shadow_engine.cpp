@@ -288,8 +288,12 @@ void ShadowEngine::Impl::compute_splits(
     out.light_id = sr.light_id;
     out.area = face_area[f];
     ShadowStats& stats = w0.stats;
-    if (t1 == t0) {  // the face could not be cut (a sliver of a box): computed whole
-      item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, mode,
+    if (t1 == t0) {  // the face could not be cut (a sliver of a box, or too few candidates): computed whole
+      // Without a threshold: compute_item applies mode.split_above to a whole exact face, which
+      // would only ask for tiles again and leave the face's item unfilled (lit area 0).
+      ItemMode whole_mode = mode;
+      whole_mode.split_above = 0;
+      item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, whole_mode,
                           core::TileRequest{}, stats);
       continue;
     }

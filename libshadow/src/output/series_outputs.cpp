@@ -148,6 +148,12 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
   if (run != nullptr) {
     run_json["options"] = {{"threads", run->options.threads}, {"planarity_tolerance", run->planarity_tolerance},
                            {"every", every}};
+    // Additive keys, written only when not the defaults (as in `shadow compute`'s report.json):
+    // reports of runs with the default thresholds stay as they were.
+    const SeriesOptions defaults;
+    if (run->options.tile_casters != defaults.tile_casters) run_json["options"]["tile_casters"] = run->options.tile_casters;
+    if (run->options.fast_tile_casters != defaults.fast_tile_casters)
+      run_json["options"]["fast_tile_casters"] = run->options.fast_tile_casters;
   }
   report["run"] = run_json;
 

@@ -212,6 +212,224 @@ std::string list_faces(const Scene& scene, const std::vector<std::size_t>& ids) 
   return text;
 }
 
+/// An edge use of a mesh: the edge's key (equal for the uses of one edge), the face (index into
+/// the mesh's list of faces) and whether it runs the edge forward (from its lower end point, in
+/// whatever order the keys were made with, to the higher).
+struct EdgeUse {
+  std::uint64_t key;
+  std::uint32_t face;
+  bool forward;
+};
+
+/// Meshes of this many faces or more are checked on every thread (grouped_edge_uses, parts in
+/// parallel); smaller ones many at once, one thread each, with the coordinate sort.
+constexpr std::size_t kLargeMesh = 4096;
+
+/// 256 shards, chosen by a hash's top byte: the parallel grouping's unit of work (a fixed
+/// number, so that the work does not depend on the thread count).
+constexpr std::size_t kShards = 256;
+
+/// The items make(i) for i in [0, n), grouped by shard_of(i) < kShards and in index order within
+/// a shard (a counting scatter, in parallel over blocks of indices): shard s is
+/// out[start[s], start[s + 1]). Reading the inputs in order and writing each shard's items one
+/// after the other keeps the memory traffic sequential.
+template <class T, class ShardOf, class Make>
+void scatter_by_shard(std::size_t n, unsigned threads, const ShardOf& shard_of, const Make& make, std::vector<T>& out,
+                      std::vector<std::size_t>& start) {
+  constexpr std::size_t kBlock = std::size_t{1} << 16;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::size_t> at(blocks * kShards, 0);
+  core::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t* count = &at[b * kShards];
+    for (std::size_t i = begin; i < end; ++i) ++count[shard_of(i)];
+  });
+  start.assign(kShards + 1, 0);
+  std::size_t next = 0;
+  for (std::size_t s = 0; s < kShards; ++s) {
+    start[s] = next;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t count = at[b * kShards + s];
+      at[b * kShards + s] = next;
+      next += count;
+    }
+  }
+  start[kShards] = next;
+  out.resize(n);
+  core::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t* place = &at[b * kShards];
+    for (std::size_t i = begin; i < end; ++i) out[place[shard_of(i)]++] = make(i);
+  });
+}
+
+/// A 64-bit mix (the finaliser of MurmurHash3's 64-bit variant, a well-known constant choice).
+inline std::uint64_t mix64(std::uint64_t h) {
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdULL;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ULL;
+  h ^= h >> 33;
+  return h;
+}
+
+/// The hash of a point's coordinates (-0.0 hashed as 0.0, as == compares them).
+inline std::uint64_t point_hash(const glm::dvec3& v) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+  for (int c = 0; c < 3; ++c) {
+    const double x = v[c] + 0.0;
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    h = mix64(h ^ b);
+  }
+  return h;
+}
+
+/// The uses of the edges of `faces` (corners in all, below 2^32), grouped so that the uses of
+/// one edge are adjacent, on `threads` threads: the corners scattered into shards by their
+/// point's hash and numbered in each shard (an open-addressing table, points equal by ==), each
+/// edge keyed by its two end points' numbers, the uses scattered into shards by their key's hash
+/// and grouped in each shard (a table of its keys). Neither the order of the groups nor the
+/// order within a group is the serial sort's; the part search below does not depend on them.
+std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std::size_t>& faces, std::size_t corners,
+                                       unsigned threads) {
+  std::vector<std::size_t> offset(faces.size() + 1, 0);  // each face's first corner
+  std::vector<std::uint32_t> face_of(corners);
+  for (std::size_t i = 0; i < faces.size(); ++i) offset[i + 1] = offset[i] + scene.faces[faces[i]].vertices.size();
+  constexpr std::size_t kFaceBlock = 4096;
+  core::parallel_for_blocks(faces.size(), kFaceBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      std::fill(face_of.begin() + static_cast<std::ptrdiff_t>(offset[i]), face_of.begin() + static_cast<std::ptrdiff_t>(offset[i + 1]),
+                static_cast<std::uint32_t>(i));
+  });
+  auto point = [&](std::size_t c) -> const glm::dvec3& {
+    return scene.faces[faces[face_of[c]]].vertices[c - offset[face_of[c]]];
+  };
+  // Each corner's point with its hash and corner, by shard (the hash's top byte).
+  struct Corner {
+    glm::dvec3 p;
+    std::uint32_t corner, hash;  // the hash's low bits: the slot in the shard's table
+  };
+  std::vector<Corner> by_shard;
+  std::vector<std::size_t> start;
+  {
+    std::vector<std::uint64_t> hash(corners);
+    core::parallel_for_blocks(corners, std::size_t{1} << 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t c = begin; c < end; ++c) hash[c] = point_hash(point(c));
+    });
+    scatter_by_shard(
+        corners, threads, [&](std::size_t c) { return static_cast<std::size_t>(hash[c] >> 56); },
+        [&](std::size_t c) { return Corner{point(c), static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(hash[c])}; },
+        by_shard, start);
+  }
+  // Vertex numbers: within a shard by first use, then offset by the shards before it.
+  std::vector<std::uint32_t> local(corners);  // by shard order: the corner's number in its shard
+  std::vector<std::size_t> distinct(kShards + 1, 0);
+  core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+    const std::size_t n = start[s + 1] - start[s];
+    std::size_t size = 16;
+    while (size < 2 * n) size *= 2;
+    std::vector<std::uint32_t> table(size, UINT32_MAX);  // a number's first corner, in shard order
+    std::uint32_t next = 0;
+    for (std::size_t k = start[s]; k < start[s + 1]; ++k) {
+      const Corner& c = by_shard[k];
+      std::size_t h = c.hash & (size - 1);
+      while (table[h] != UINT32_MAX && by_shard[table[h]].p != c.p) h = (h + 1) & (size - 1);
+      if (table[h] == UINT32_MAX) {
+        table[h] = static_cast<std::uint32_t>(k);
+        local[k] = next++;
+      } else {
+        local[k] = local[table[h]];
+      }
+    }
+    distinct[s] = next;
+  });
+  std::size_t base = 0;
+  for (std::size_t s = 0; s < kShards; ++s) {
+    const std::size_t n = distinct[s];
+    distinct[s] = base;
+    base += n;
+  }
+  std::vector<std::uint32_t> vertex(corners);  // by corner: its point's number
+  core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+    const auto shift = static_cast<std::uint32_t>(distinct[s]);
+    for (std::size_t k = start[s]; k < start[s + 1]; ++k) vertex[by_shard[k].corner] = local[k] + shift;
+  });
+  by_shard = {};
+  local = {};
+  // Each corner's edge (to the next corner of its face), by shard of its key's hash.
+  auto use = [&](std::size_t c) {
+    const std::size_t i = face_of[c];
+    const std::uint64_t p = vertex[c], q = vertex[c + 1 < offset[i + 1] ? c + 1 : offset[i]];
+    const bool forward = p < q;
+    return EdgeUse{forward ? (p << 32 | q) : (q << 32 | p), static_cast<std::uint32_t>(i), forward};
+  };
+  std::vector<EdgeUse> uses;
+  scatter_by_shard(
+      corners, threads, [&](std::size_t c) { return static_cast<std::size_t>(mix64(use(c).key) >> 56); }, use, uses,
+      start);
+  vertex = {};
+  face_of = {};
+  // Within a shard, the uses of one edge made adjacent: each key's group numbered by first use
+  // (a table of the shard's keys), then the uses placed group after group.
+  std::vector<EdgeUse> grouped(corners);
+  core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+    const std::size_t n = start[s + 1] - start[s];
+    std::size_t size = 16;
+    while (size < 2 * n) size *= 2;
+    std::vector<std::uint32_t> table(size, UINT32_MAX);  // a key's group
+    std::vector<std::uint64_t> keys;                     // by group
+    std::vector<std::uint32_t> group(n), place;          // each use's group; then each group's next place
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint64_t key = uses[start[s] + k].key;
+      std::size_t h = mix64(key) & (size - 1);
+      while (table[h] != UINT32_MAX && keys[table[h]] != key) h = (h + 1) & (size - 1);
+      if (table[h] == UINT32_MAX) {
+        table[h] = static_cast<std::uint32_t>(keys.size());
+        keys.push_back(key);
+        place.push_back(0);
+      }
+      group[k] = table[h];
+      ++place[table[h]];
+    }
+    std::uint32_t next = 0;
+    for (std::uint32_t& p : place) {
+      const std::uint32_t count = p;
+      p = next;
+      next += count;
+    }
+    for (std::size_t k = 0; k < n; ++k) grouped[start[s] + place[group[k]]++] = uses[start[s] + k];
+  });
+  return grouped;
+}
+
+/// The uses of the edges of `faces`, sorted by their end points' coordinates, one thread: the
+/// serial reference (validate_scene_reference) of grouped_edge_uses. Keys are the group numbers.
+std::vector<EdgeUse> sorted_edge_uses(const Scene& scene, const std::vector<std::size_t>& faces) {
+  struct CoordinateUse {
+    EdgeKey key;
+    bool forward;
+    std::size_t face;
+  };
+  std::vector<CoordinateUse> uses;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const std::vector<glm::dvec3>& v = scene.faces[faces[i]].vertices;
+    for (std::size_t a = 0; a < v.size(); ++a) {
+      const glm::dvec3& p = v[a];
+      const glm::dvec3& q = v[(a + 1) % v.size()];
+      const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
+      uses.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, i});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const CoordinateUse& x, const CoordinateUse& y) { return x.key < y.key; });
+  std::vector<EdgeUse> edges;
+  edges.reserve(uses.size());
+  std::uint64_t group = 0;
+  for (std::size_t i = 0; i < uses.size(); ++i) {
+    if (i > 0 && !(uses[i].key.a == uses[i - 1].key.a && uses[i].key.b == uses[i - 1].key.b)) ++group;
+    edges.push_back({group, static_cast<std::uint32_t>(uses[i].face), uses[i].forward});
+  }
+  return edges;
+}
+
 /// Checks the closed parts of a mesh (faces joined by shared edges, every edge shared by exactly
 /// two faces of the part): faces that point inward, or neighbours that disagree, read silently as
 /// attached shadow, so each such part gets a warning naming the mesh and its first faces. With
@@ -220,15 +438,14 @@ std::string list_faces(const Scene& scene, const std::vector<std::size_t>& ids) 
 /// edges), then a part with negative signed volume is reversed; the warning says what changed.
 /// Open parts (a ground plane, a single wall, a box without a lid) say nothing about inside and
 /// outside and are left alone.
-/// `reference`: the edges sorted by their coordinates as before (validate_scene_reference).
+///
+/// Parts are taken in the order of their first faces (each part's union-find root is its lowest
+/// face, whatever order the unions come in), so the outcome does not depend on how the edge uses
+/// were grouped: on `threads` threads (grouped_edge_uses, the parts checked in parallel) it is
+/// the serial `reference`'s (sorted_edge_uses, one thread) for any thread count.
 void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::vector<Warning>& warnings,
-                       bool reference = false) {
+                       bool reference, unsigned threads) {
   const Mesh& mesh = scene.meshes[mesh_index];
-  // Each distinct vertex (by ==, so -0.0 is 0.0) gets its rank in EdgeKey's lexicographic
-  // order; an edge's key is then its two ranks, which compare exactly as the EdgeKeys of its
-  // coordinates do. The sort below therefore makes the same comparisons with the same outcomes
-  // as a sort of the EdgeKeys, and so the same permutation (ties included: the union-find roots
-  // below, and with them the order of the warnings, depend on it), only far cheaper.
   std::vector<std::size_t> faces;  // face_ids of the mesh's non-degenerate faces
   std::size_t corners = 0;
   for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f) {
@@ -237,114 +454,37 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
     faces.push_back(f);
     corners += face.vertices.size();
   }
-  // An edge's key: the ranks of its end points, lowest first, as rank_a * 2^32 + rank_b (so
-  // integer order is their lexicographic order); 16 bytes a use, cheap to move in the sort.
-  using Key = std::uint64_t;
-  struct Use {
-    Key key;
-    std::uint32_t face;  // index into `faces`
-    bool forward;        // run from the lower rank to the higher
-  };
-  std::vector<Use> edges;
   if (faces.size() < 2) return;
-  // Beyond 2^32 corners ranks and face indices would not fit: the coordinate sort then.
-  if (corners >= (std::size_t{1} << 32)) reference = true;
-  if (reference) {
-    // The sort as it was, on the coordinates; then numbered by group, in the sorted order.
-    struct OldUse {
-      EdgeKey key;
-      bool forward;
-      std::size_t face;
-    };
-    std::vector<OldUse> old;
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      const std::vector<glm::dvec3>& v = scene.faces[faces[i]].vertices;
-      for (std::size_t a = 0; a < v.size(); ++a) {
-        const glm::dvec3& p = v[a];
-        const glm::dvec3& q = v[(a + 1) % v.size()];
-        const bool forward = EdgeKey{p, q} < EdgeKey{q, p};
-        old.push_back({forward ? EdgeKey{p, q} : EdgeKey{q, p}, forward, i});
-      }
-    }
-    std::sort(old.begin(), old.end(), [](const OldUse& x, const OldUse& y) { return x.key < y.key; });
-    std::size_t group = 0;
-    for (std::size_t i = 0; i < old.size(); ++i) {
-      if (i > 0 && !(old[i].key.a == old[i - 1].key.a && old[i].key.b == old[i - 1].key.b)) ++group;
-      edges.push_back({Key{group}, static_cast<std::uint32_t>(old[i].face), old[i].forward});
-    }
-  } else {
-    std::vector<std::uint32_t> corner_vertex(corners);  // distinct vertex of each corner, face by face
-    std::vector<glm::dvec3> distinct;
-    {
-      std::size_t size = 16;
-      while (size < 2 * corners) size *= 2;
-      std::vector<std::uint32_t> table(size, UINT32_MAX);
-      auto hash = [](const glm::dvec3& v) {
-        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-        for (int c = 0; c < 3; ++c) {
-          const double x = v[c] + 0.0;  // -0.0 == 0.0
-          std::uint64_t b;
-          std::memcpy(&b, &x, sizeof b);
-          h ^= b + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-          h *= 0xff51afd7ed558ccdULL;
-          h ^= h >> 33;
-        }
-        return static_cast<std::size_t>(h);
-      };
-      std::size_t c = 0;
-      for (std::size_t f : faces)
-        for (const glm::dvec3& v : scene.faces[f].vertices) {
-          std::size_t h = hash(v) & (size - 1);
-          while (table[h] != UINT32_MAX && distinct[table[h]] != v) h = (h + 1) & (size - 1);
-          if (table[h] == UINT32_MAX) {
-            table[h] = static_cast<std::uint32_t>(distinct.size());
-            distinct.push_back(v);
-          }
-          corner_vertex[c++] = table[h];
-        }
-    }
-    std::vector<std::uint64_t> rank(distinct.size());
-    {
-      // Distinct points: no ties, so any sort gives the same ranks. Sorted with their index
-      // beside them (no indirection in the comparisons).
-      struct Ranked {
-        glm::dvec3 p;
-        std::size_t index;
-      };
-      std::vector<Ranked> order(distinct.size());
-      for (std::size_t i = 0; i < order.size(); ++i) order[i] = {distinct[i], i};
-      std::sort(order.begin(), order.end(), [](const Ranked& x, const Ranked& y) {  // EdgeKey's order on points
-        return x.p.x != y.p.x ? x.p.x < y.p.x : x.p.y != y.p.y ? x.p.y < y.p.y : x.p.z < y.p.z;
-      });
-      for (std::size_t i = 0; i < order.size(); ++i) rank[order[i].index] = i;
-    }
-    edges.reserve(corners);
-    for (std::size_t i = 0, c = 0; i < faces.size(); ++i) {
-      const std::size_t m = scene.faces[faces[i]].vertices.size();
-      for (std::size_t a = 0; a < m; ++a) {
-        const std::uint64_t p = rank[corner_vertex[c + a]], q = rank[corner_vertex[c + (a + 1) % m]];
-        const bool forward = p < q;
-        edges.push_back({forward ? (p << 32 | q) : (q << 32 | p), static_cast<std::uint32_t>(i), forward});
-      }
-      c += m;
-    }
-    // Sorted so that the uses of one edge are adjacent: a sort is several times faster than a map.
-    std::sort(edges.begin(), edges.end(), [](const Use& x, const Use& y) { return x.key < y.key; });
-  }
-  std::vector<std::size_t> parent(faces.size());
-  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  if (reference) threads = 1;
+  // The coordinate sort for the reference, for small meshes (where the shards' tables would
+  // cost more than the sort) and beyond 2^32 corners (vertex numbers and face indices would not
+  // fit); else the parallel grouping.
+  const bool grouped = !reference && faces.size() >= kLargeMesh && corners < (std::size_t{1} << 32);
+  const std::vector<EdgeUse> edges =
+      grouped ? grouped_edge_uses(scene, faces, corners, threads) : sorted_edge_uses(scene, faces);
+  const std::size_t n = faces.size();
+  std::vector<std::size_t> parent(n);
+  for (std::size_t i = 0; i < n; ++i) parent[i] = i;
   auto root = [&](std::size_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  std::vector<char> open(faces.size(), 0), inconsistent(faces.size(), 0);
+  // The lower root becomes the root: a part's root is its lowest face, whatever the order.
+  auto unite = [&](std::size_t a, std::size_t b) {
+    a = root(a);
+    b = root(b);
+    if (a < b)
+      parent[b] = a;
+    else if (b < a)
+      parent[a] = b;
+  };
+  std::vector<char> open(n, 0), inconsistent(n, 0);
   // Manifold edges: (other face, same direction) for each face, for the breadth-first fix.
-  std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours(orient ? faces.size() : 0);
-  auto same = [](const Key& x, const Key& y) { return x == y; };
+  std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours(orient ? n : 0);
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i + 1;
-    while (j < edges.size() && same(edges[i].key, edges[j].key)) ++j;
-    for (std::size_t k = i + 1; k < j; ++k) parent[root(edges[k].face)] = root(edges[i].face);
+    while (j < edges.size() && edges[i].key == edges[j].key) ++j;
+    for (std::size_t k = i + 1; k < j; ++k) unite(edges[i].face, edges[k].face);
     // Closed: every edge exactly twice (once: a border; three times or more: non-manifold).
     if (j - i != 2) {
       open[edges[i].face] = 1;
@@ -358,13 +498,25 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
     }
     i = j;
   }
-  std::vector<char> part_open(faces.size(), 0), part_inconsistent(faces.size(), 0);
-  std::vector<std::vector<std::size_t>> members(faces.size());  // by root: the part's face ids
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    part_open[root(f)] |= open[f];
-    part_inconsistent[root(f)] |= inconsistent[f];
-    members[root(f)].push_back(f);
+  // Each part's faces, ascending, by root (a counting sort: members of part r are
+  // member[first[r], first[r + 1])).
+  std::vector<std::size_t> root_of(n), first(n + 1, 0), member(n);
+  std::vector<char> part_open(n, 0), part_inconsistent(n, 0);
+  for (std::size_t f = 0; f < n; ++f) {
+    root_of[f] = root(f);
+    ++first[root_of[f] + 1];
+    part_open[root_of[f]] |= open[f];
+    part_inconsistent[root_of[f]] |= inconsistent[f];
   }
+  for (std::size_t r = 0; r < n; ++r) first[r + 1] += first[r];
+  {
+    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f < n; ++f) member[next[root_of[f]]++] = f;
+  }
+  auto part_of = [&](std::size_t r) {
+    return std::vector<std::size_t>(member.begin() + static_cast<std::ptrdiff_t>(first[r]),
+                                    member.begin() + static_cast<std::ptrdiff_t>(first[r + 1]));
+  };
   auto face_ids = [&](const std::vector<std::size_t>& local) {
     std::vector<std::size_t> ids;
     for (std::size_t f : local) ids.push_back(faces[f]);
@@ -377,12 +529,12 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   // Signed volume of a part (divergence theorem over fan triangles), relative to one vertex of
   // the part to keep digits.
   using Real = long double;
-  auto volume_of = [&](const std::vector<std::size_t>& part) {
-    const glm::dvec3 origin = scene.faces[faces[part.front()]].vertices[0];
+  auto volume_of = [&](std::size_t r) {
+    const glm::dvec3 origin = scene.faces[faces[member[first[r]]]].vertices[0];
     Real volume = 0;
-    for (std::size_t f : part) {
-      const std::vector<glm::dvec3>& v = scene.faces[faces[f]].vertices;
-      auto rel = [&](const glm::dvec3& p, int k) { return Real(p[k]) - Real(origin[k]); };
+    for (std::size_t k = first[r]; k < first[r + 1]; ++k) {
+      const std::vector<glm::dvec3>& v = scene.faces[faces[member[k]]].vertices;
+      auto rel = [&](const glm::dvec3& p, int c) { return Real(p[c]) - Real(origin[c]); };
       for (std::size_t i = 1; i + 1 < v.size(); ++i) {
         const glm::dvec3 &a = v[0], &b = v[i], &c = v[i + 1];
         const Real ax = rel(a, 0), ay = rel(a, 1), az = rel(a, 2);
@@ -393,8 +545,69 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
     }
     return volume;
   };
+  // Each closed part on its own (in parallel: a part changes only its own faces): made
+  // consistent and outward with `orient`, else only looked at.
+  std::vector<std::size_t> closed;  // roots, ascending
   std::size_t parts = 0;
-  for (std::size_t f = 0; f < faces.size(); ++f) parts += root(f) == f ? 1 : 0;
+  for (std::size_t r = 0; r < n; ++r) {
+    if (root_of[r] != r) continue;
+    ++parts;
+    if (!part_open[r]) closed.push_back(r);
+  }
+  enum Outcome : char { kFine, kMixed, kOneSided, kInward };
+  struct PartOutcome {
+    Outcome outcome = kFine;
+    bool made_consistent = false;
+    std::vector<std::size_t> flipped;  // made consistent: the faces reversed
+  };
+  std::vector<PartOutcome> outcome(closed.size());
+  // A part's search touches only its own faces, reset before it starts: one array for all.
+  std::vector<int> flip(orient ? n : 0, -1);
+  core::parallel_for_blocks(closed.size(), 64, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    std::vector<std::size_t> queue;
+    for (std::size_t p = begin; p < end; ++p) {
+      const std::size_t r = closed[p];
+      PartOutcome& o = outcome[p];
+      if (part_inconsistent[r]) {
+        if (!orient) {
+          o.outcome = kMixed;
+          continue;
+        }
+        // Breadth-first from the part's first face: a neighbour across an edge run the same way
+        // is flipped relative to the face it was reached from.
+        queue.assign(1, r);
+        flip[r] = 0;
+        bool orientable = true;
+        for (std::size_t q = 0; q < queue.size(); ++q) {
+          const std::size_t f = queue[q];
+          for (const auto& [g, same_way] : neighbours[f]) {
+            const int want = flip[f] ^ (same_way ? 1 : 0);
+            if (flip[g] < 0) {
+              flip[g] = want;
+              queue.push_back(g);
+            } else if (flip[g] != want) {
+              orientable = false;
+            }
+          }
+        }
+        if (!orientable) {
+          o.outcome = kOneSided;
+          continue;
+        }
+        o.made_consistent = true;
+        for (std::size_t k = first[r]; k < first[r + 1]; ++k)
+          if (flip[member[k]] == 1) {
+            reverse_face(member[k]);
+            o.flipped.push_back(member[k]);
+          }
+      }
+      if (volume_of(r) < 0) {
+        o.outcome = kInward;
+        if (orient)
+          for (std::size_t k = first[r]; k < first[r + 1]; ++k) reverse_face(member[k]);
+      }
+    }
+  });
   const SourceLocation where{scene.source.string(), "meshes[" + std::to_string(mesh_index) + "]"};
   const std::string name = "mesh \"" + mesh.name + "\"";
   auto part_text = [&](const std::vector<std::size_t>& part) {
@@ -403,64 +616,34 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   };
   std::size_t inward_parts = 0, mixed_parts = 0;
   std::vector<std::size_t> first_inward, first_mixed;
-  // Allocated once: a part's search touches only its own faces, reset before it starts, so a
-  // mesh of many inconsistent parts costs O(faces), not O(parts x faces).
-  std::vector<int> flip(faces.size(), -1);
-  for (std::size_t r = 0; r < faces.size(); ++r) {
-    if (root(r) != r || part_open[r]) continue;
-    const std::vector<std::size_t>& part = members[r];
-    if (part_inconsistent[r]) {
-      if (!orient) {
-        if (mixed_parts++ == 0) first_mixed = part;
-        continue;
-      }
-      // Breadth-first from the part's first face: a neighbour across an edge run the same way is
-      // flipped relative to the face it was reached from.
-      for (std::size_t f : part) flip[f] = -1;
-      std::vector<std::size_t> queue{part.front()};
-      flip[part.front()] = 0;
-      bool orientable = true;
-      for (std::size_t q = 0; q < queue.size(); ++q) {
-        const std::size_t f = queue[q];
-        for (const auto& [g, same_way] : neighbours[f]) {
-          const int want = flip[f] ^ (same_way ? 1 : 0);
-          if (flip[g] < 0) {
-            flip[g] = want;
-            queue.push_back(g);
-          } else if (flip[g] != want) {
-            orientable = false;
-          }
-        }
-      }
-      if (!orientable) {
-        warnings.push_back({where, part_text(part) + " cannot be oriented consistently (a one-sided surface, like a "
-                                                     "Moebius strip); its faces were left as they are"});
-        continue;
-      }
-      std::vector<std::size_t> flipped;
-      for (std::size_t f : part)
-        if (flip[f] == 1) {
-          reverse_face(f);
-          flipped.push_back(f);
-        }
-      warnings.push_back({where, part_text(part) + " had inconsistent face orientation (orient outward): to agree "
-                                     "with face " + std::to_string(faces[part.front()]) + ", reversed " +
-                                     list_faces(scene, face_ids(flipped))});
+  for (std::size_t p = 0; p < closed.size(); ++p) {
+    const PartOutcome& o = outcome[p];
+    const std::size_t r = closed[p];
+    if (o.outcome == kMixed) {
+      if (mixed_parts++ == 0) first_mixed = part_of(r);
+      continue;
     }
-    if (volume_of(part) < 0) {
-      if (orient) {
-        for (std::size_t f : part) reverse_face(f);
-        warnings.push_back({where, part_text(part) + " pointed inward (negative signed volume): its " +
-                                       std::to_string(part.size()) + " faces were reversed (orient outward)"});
-      } else if (inward_parts++ == 0) {
-        first_inward = part;
-      }
+    if (o.outcome == kOneSided) {
+      warnings.push_back({where, part_text(part_of(r)) + " cannot be oriented consistently (a one-sided surface, like "
+                                                         "a Moebius strip); its faces were left as they are"});
+      continue;
+    }
+    if (o.made_consistent)
+      warnings.push_back({where, part_text(part_of(r)) + " had inconsistent face orientation (orient outward): to "
+                                     "agree with face " + std::to_string(faces[r]) + ", reversed " +
+                                     list_faces(scene, face_ids(o.flipped))});
+    if (o.outcome == kInward) {
+      if (orient)
+        warnings.push_back({where, part_text(part_of(r)) + " pointed inward (negative signed volume): its " +
+                                       std::to_string(first[r + 1] - first[r]) + " faces were reversed (orient outward)"});
+      else if (inward_parts++ == 0)
+        first_inward = part_of(r);
     }
   }
   // One part: "mesh "m" is closed, <single> (faces ...)"; else how many parts, and the first's faces.
-  auto describe = [&](std::size_t count, const std::vector<std::size_t>& first, const std::string& single,
+  auto describe = [&](std::size_t count, const std::vector<std::size_t>& first_part, const std::string& single,
                       const std::string& plural) {
-    const std::string listed = list_faces(scene, face_ids(first));
+    const std::string listed = list_faces(scene, face_ids(first_part));
     if (parts == 1) return name + " is closed, " + single + " (" + listed + ")";
     return name + " has " + std::to_string(count) + " closed part" + (count == 1 ? "" : "s") + " (of " +
            std::to_string(parts) + "; the first has " + listed + ") " + plural;
@@ -476,6 +659,27 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
                                    " (negative signed volume): they are lit only from inside, as for a room seen from "
                                    "within; if it is a solid seen from outside, reverse the vertex order of its faces, "
                                    "or orient it (\"orient\": \"outward\", --orient-outward) (this is only a warning)"});
+}
+
+/// Every mesh's orientation check, the warnings in mesh order. Meshes below kLargeMesh faces
+/// (a building each, say) are checked many at once, one thread each; larger ones one after the
+/// other on every thread. `reference`: one mesh after the other, one thread, the coordinate sort.
+void check_orientations(Scene& scene, const LoadOptions& options, bool reference, unsigned threads,
+                        std::vector<Warning>& warnings) {
+  std::vector<std::vector<Warning>> per_mesh(scene.meshes.size());
+  auto orient = [&](std::size_t m) { return options.orient_outward || scene.meshes[m].orient_outward; };
+  if (reference) {
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) check_orientation(scene, m, orient(m), per_mesh[m], true, 1);
+  } else {
+    core::parallel_for_blocks(scene.meshes.size(), 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t m = begin; m < end; ++m)
+        if (scene.meshes[m].face_count < kLargeMesh) check_orientation(scene, m, orient(m), per_mesh[m], false, 1);
+    });
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+      if (scene.meshes[m].face_count >= kLargeMesh) check_orientation(scene, m, orient(m), per_mesh[m], false, threads);
+  }
+  for (std::vector<Warning>& mesh_warnings : per_mesh)
+    for (Warning& w : mesh_warnings) warnings.push_back(std::move(w));
 }
 
 }  // namespace
@@ -502,8 +706,7 @@ void validate_scene_impl(Scene& scene, const LoadOptions& options, bool referenc
   } else {
     validate_faces(scene, options, core::resolve_threads(options.threads), warnings);
   }
-  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    check_orientation(scene, m, options.orient_outward || scene.meshes[m].orient_outward, warnings, reference);
+  check_orientations(scene, options, reference, core::resolve_threads(options.threads), warnings);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {
     const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {
@@ -519,6 +722,12 @@ void validate_scene(Scene& scene, const LoadOptions& options) { validate_scene_i
 
 void detail::validate_scene_reference(Scene& scene, const LoadOptions& options) {
   validate_scene_impl(scene, options, true);
+}
+
+std::vector<Warning> detail::check_mesh_orientation(Scene& scene, const LoadOptions& options, bool reference) {
+  std::vector<Warning> warnings;
+  check_orientations(scene, options, reference, core::resolve_threads(core::checked_threads(options.threads)), warnings);
+  return warnings;
 }
 
 }  // namespace shadow

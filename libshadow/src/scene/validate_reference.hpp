@@ -13,4 +13,11 @@ namespace shadow::detail {
 /// validate_scene: same changes to the scene, same warnings, same first error.
 void validate_scene_reference(Scene& scene, const LoadOptions& options = {});
 
+/// validate_scene's orientation check alone, on a validated scene: every mesh's closed parts,
+/// the warnings returned in mesh order, faces reversed where orient outward asks. On
+/// LoadOptions::threads threads (meshes of 4,096 faces or more one after the other, each on every
+/// thread; smaller ones many at once), or with `reference` the serial one (one mesh after the
+/// other, its edges sorted by their end points' coordinates). Same warnings, same faces.
+std::vector<Warning> check_mesh_orientation(Scene& scene, const LoadOptions& options, bool reference);
+
 }  // namespace shadow::detail
