@@ -252,7 +252,12 @@ void ShadowEngine::Impl::compute_splits(
   const std::size_t per_tile = std::max<std::size_t>(1, std::min(mode.split_above / 2, target));
   for (std::size_t s = 0; s < splits.size(); ++s) {
     first_tile.push_back(tiles.size());
-    for (core::FacePrep& t : core::make_tiles(prep[splits[s].face], splits[s].out->split_candidates, per_tile))
+    const std::size_t f = splits[s].face;
+    // A face that is not its own chart box: cells are placed against its outline, exactly.
+    const core::PlaceCell place = [&](const std::array<double, 2>& lo, const std::array<double, 2>& hi) {
+      return exact::place_cell(scene->faces[f].vertices, prep[f], lo, hi);
+    };
+    for (core::FacePrep& t : core::make_tiles(prep[f], splits[s].out->split_candidates, per_tile, core::kMaxTiles, place))
       tiles.push_back({s, std::move(t)});
   }
   first_tile.push_back(tiles.size());
@@ -288,7 +293,7 @@ void ShadowEngine::Impl::compute_splits(
     out.light_id = sr.light_id;
     out.area = face_area[f];
     ShadowStats& stats = w0.stats;
-    if (t1 == t0) {  // the face could not be cut (a sliver of a box): computed whole
+    if (t1 == t0) {  // the face could not be cut (a sliver, or one cell meets it): computed whole
       item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, mode,
                           core::TileRequest{}, stats);
       continue;
