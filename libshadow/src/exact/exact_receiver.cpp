@@ -554,7 +554,10 @@ class ExactReceiverJob {
     if (tile_) {  // the tile's part of the face, cut into cells like any region
       const ExactFace& P = w_.face(ctx_, face_id_);
       std::vector<PolygonWithHoles2> regions;
-      tile_region(P).polygons_with_holes(std::back_inserter(regions));
+      if (fp_.chart_is_box)
+        regions.emplace_back(tile_polygon());
+      else
+        tile_region(P).polygons_with_holes(std::back_inserter(regions));
       emit(P, regions, lit);
       if (!dropped_.empty()) item_.lighting.dropped_area = area_3d(balanced_sum(dropped_), P.area_scale_squared);
       return;
