@@ -312,23 +312,32 @@ TEST(Tiles, CellsArePlacedExactlyAgainstTheOutline) {
                                       });
   // Unit cells [a, a + 1] x [b, b + 1] of a 10 x 10 grid: those with a + b >= 11 miss the
   // triangle (36 dropped); Inside are those whose closed cell stays off the outline (a, b >= 1,
-  // a + b <= 7: 21); the others meet it, if only at a corner or along a side, and are cut.
-  ASSERT_EQ(tiles.size(), 64u);
+  // a + b <= 7: 21); the other 43 meet it, if only at a corner or along a side, and are cut
+  // into quarters, placed again: the 15 along the legs (a + b <= 7) and the 9 with a + b = 8
+  // keep 4 quarters each, the 10 with a + b = 9 too, the 9 with a + b = 10 one (the quarter at
+  // their lower left corner, which touches the hypotenuse). Inside quarters: 1 of cell (0, 0),
+  // 2 of each other leg cell (28), 3 of each a + b = 8 cell off the legs (21), 1 of (0, 8) and
+  // of (8, 0).
+  ASSERT_EQ(tiles.size(), 21u + 15 * 4 + 9 * 4 + 10 * 4 + 9);
   std::size_t inside = 0;
+  double cells = 0;
   for (const core::FacePrep& t : tiles) {
     inside += t.chart_is_box ? 1 : 0;
-    EXPECT_LE(t.chart_min[0] + t.chart_min[1], 10.0);
-    if (t.chart_is_box) EXPECT_LE(t.chart_max[0] + t.chart_max[1], 9.0);
+    cells += (t.chart_max[0] - t.chart_min[0]) * (t.chart_max[1] - t.chart_min[1]);
+    EXPECT_LT(t.chart_min[0] + t.chart_min[1], 10.0 + 1e-12);  // (== 10: touches the hypotenuse)
+    EXPECT_EQ(exact::place_cell(triangle, fp, t.chart_min, t.chart_max),
+              t.chart_is_box ? core::CellPlace::Inside : core::CellPlace::Crossing);
   }
-  EXPECT_EQ(inside, 21u);
+  EXPECT_EQ(inside, 21u + 1 + 28 + 21 + 2);
+  EXPECT_EQ(cells, 21 + 15 + 9 + 10 + 9 * 0.25);  // the kept cells' areas (dyadic: exact)
 }
 
 TEST(Tiles, NonRectangularReceiversExactBitForBit) {
   std::size_t g = 0;
-  for (const auto& [name, ground] : odd_grounds(120)) {
+  for (const auto& [name, ground] : odd_grounds(100)) {
     // A high sun and a low one, each on every other ground (and the lamp on all).
     for (double elevation : {g++ % 2 == 0 ? 35.0 : 8.0}) {
-      const Scene scene = city_on(ground, 150, 120, elevation, 11);
+      const Scene scene = city_on(ground, 100, 100, elevation, 11);
       const std::string label = name + ", sun " + std::to_string(elevation);
       const ShadowResult whole = compute_shadows(scene, options(Arithmetic::Exact, 0, false));
       const ShadowResult tiled = compute_shadows(scene, options(Arithmetic::Exact, 40, false));
@@ -341,8 +350,8 @@ TEST(Tiles, NonRectangularReceiversExactBitForBit) {
 }
 
 TEST(Tiles, NonRectangularReceiversExactFragmentsAddUp) {
-  for (const auto& [name, ground] : odd_grounds(110)) {
-    const Scene scene = city_on(ground, 100, 110, 20, 5);
+  for (const auto& [name, ground] : odd_grounds(90)) {
+    const Scene scene = city_on(ground, 70, 90, 20, 5);
     const ShadowResult whole = compute_shadows(scene, options(Arithmetic::Exact, 0, true));
     const ShadowResult tiled = compute_shadows(scene, options(Arithmetic::Exact, 30, true));
     ASSERT_GT(tiled.stats.tiled_receivers, 0u) << name;
@@ -356,11 +365,13 @@ TEST(Tiles, NonRectangularReceiversExactFragmentsAddUp) {
 }
 
 TEST(Tiles, NonRectangularReceiversFastWithinTheirBounds) {
-  for (const auto& [name, ground] : odd_grounds(110)) {
-    const Scene scene = city_on(ground, 100, 110, 20, 5);
+  for (const auto& [name, ground] : odd_grounds(90)) {
+    const Scene scene = city_on(ground, 70, 90, 20, 5);
     const ShadowResult exact = compute_shadows(scene, options(Arithmetic::Exact, 0, true));
     const ShadowResult fast = compute_shadows(scene, options(Arithmetic::Fast, 30, true));
     ASSERT_GT(fast.stats.tiled_receivers, 0u) << name;
+    // The tiles are computed on the fast path (not sent to the exact engine).
+    EXPECT_LT(fast.stats.fast_exact_fallbacks, 1 + fast.stats.tiles / 10) << name;
     ASSERT_EQ(exact.lighting.size(), fast.lighting.size());
     for (std::size_t n = 0; n < exact.lighting.size(); ++n) {
       const FaceLighting& e = exact.lighting[n];

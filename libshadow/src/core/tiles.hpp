@@ -97,19 +97,49 @@ inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidat
     const double lo = fp.chart_min[c], hi = fp.chart_max[c];
     return std::min(hi, lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(n));
   };
+  // Places a cell of a face that is not a box; false: it misses the face.
+  auto placed = [&](FacePrep& tile) {
+    if (fp.chart_is_box || !place) return true;
+    const CellPlace where = place(tile.chart_min, tile.chart_max);
+    tile.chart_is_box = where == CellPlace::Inside;
+    return where != CellPlace::Outside;
+  };
+  std::size_t crossing = 0;
   for (std::size_t b = 0; b < nj; ++b)
     for (std::size_t a = 0; a < ni; ++a) {
       FacePrep tile = fp;
       tile.chart_min = {border(0, a, ni), border(1, b, nj)};
       tile.chart_max = {border(0, a + 1, ni), border(1, b + 1, nj)};
       if (!(tile.chart_min[0] < tile.chart_max[0]) || !(tile.chart_min[1] < tile.chart_max[1])) continue;
-      if (!fp.chart_is_box && place) {
-        const CellPlace where = place(tile.chart_min, tile.chart_max);
-        if (where == CellPlace::Outside) continue;
-        tile.chart_is_box = where == CellPlace::Inside;
-      }
+      if (!placed(tile)) continue;
+      crossing += tile.chart_is_box ? 0 : 1;
       tiles.push_back(std::move(tile));
     }
+  // Crossing cells of a face that is not a box cost several times an inner one (the shadow is
+  // intersected with the outline: on the exact path a Boolean operation instead of the
+  // boundary's area), so each is cut once more into quarters, when the cap allows all of them.
+  if (!fp.chart_is_box && place && crossing > 0 && tiles.size() + 3 * crossing <= max_tiles) {
+    std::vector<FacePrep> cut;
+    for (FacePrep& tile : tiles) {
+      const double mx = tile.chart_min[0] + (tile.chart_max[0] - tile.chart_min[0]) / 2;
+      const double my = tile.chart_min[1] + (tile.chart_max[1] - tile.chart_min[1]) / 2;
+      if (tile.chart_is_box || !(tile.chart_min[0] < mx && mx < tile.chart_max[0]) ||
+          !(tile.chart_min[1] < my && my < tile.chart_max[1])) {
+        cut.push_back(std::move(tile));
+        continue;
+      }
+      // Quarters in rows; the midpoints are shared by both halves: they partition the cell.
+      const double xs[3] = {tile.chart_min[0], mx, tile.chart_max[0]}, ys[3] = {tile.chart_min[1], my, tile.chart_max[1]};
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+          FacePrep quarter = fp;
+          quarter.chart_min = {xs[a], ys[b]};
+          quarter.chart_max = {xs[a + 1], ys[b + 1]};
+          if (placed(quarter)) cut.push_back(std::move(quarter));
+        }
+    }
+    tiles.swap(cut);
+  }
   if (tiles.size() < 2) tiles.clear();  // not worth it: the face as one item
   return tiles;
 }
