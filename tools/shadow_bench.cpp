@@ -30,6 +30,7 @@
 #include <functional>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -445,6 +446,34 @@ SunTiming time_city_sun(std::size_t boxes, double elevation, const std::string& 
   return t;
 }
 
+/// The city's ground (face 0, the square [-10, extent + 10]^2 at z = 0) made into another shape
+/// of about its size (docs/tiles.md, receivers that are not rectangles): "rectangle" leaves it,
+/// "octagon" cuts the square's corners (a regular octagon in it), "rotated" turns the square by
+/// 30 degrees about its centre. Throws on another name.
+void reshape_ground(shadow::Scene& scene, const std::string& shape) {
+  if (shape == "rectangle") return;
+  std::vector<glm::dvec3>& ground = scene.faces.at(0).vertices;
+  double lo = ground[0].x, hi = ground[0].x;
+  for (const glm::dvec3& v : ground) {
+    lo = std::min({lo, v.x, v.y});
+    hi = std::max({hi, v.x, v.y});
+  }
+  const double side = hi - lo, mid = lo + side / 2;
+  std::vector<glm::dvec3> outline;
+  if (shape == "octagon") {
+    const double cut = side / (2 + std::sqrt(2.0));
+    outline = {{lo + cut, lo, 0}, {hi - cut, lo, 0}, {hi, lo + cut, 0}, {hi, hi - cut, 0},
+               {hi - cut, hi, 0}, {lo + cut, hi, 0}, {lo, hi - cut, 0}, {lo, lo + cut, 0}};
+  } else if (shape == "rotated") {
+    const double a = 30 * M_PI / 180, c = std::cos(a), s = std::sin(a), h = side / 2;
+    for (const glm::dvec2 d : {glm::dvec2(-h, -h), glm::dvec2(h, -h), glm::dvec2(h, h), glm::dvec2(-h, h)})
+      outline.emplace_back(mid + c * d.x - s * d.y, mid + s * d.x + c * d.y, 0);
+  } else {
+    throw std::invalid_argument("unknown ground shape '" + shape + "' (rectangle, octagon, rotated)");
+  }
+  ground = outline;
+}
+
 /// One sun on the city with given tile thresholds, in a forked child (bench_tiles below).
 struct TileTiming {
   double wall_s = 0, cpu_s = 0, item_s = 0, longest_s = 0, lit = 0, bound = 0;
@@ -454,10 +483,11 @@ struct TileTiming {
 };
 
 TileTiming time_tiles(std::size_t boxes, double elevation, bool fast, unsigned threads, std::size_t tile_casters,
-                      std::size_t fast_tile_casters) {
+                      std::size_t fast_tile_casters, const std::string& ground) {
   std::string text;
   const bool ran = output_of_child([&]() -> std::string {
     shadow::Scene scene = city_under_sun(boxes, elevation);
+    reshape_ground(scene, ground);
     shadow::validate_scene(scene);
     const shadow::ShadowEngine engine(scene, threads);
     shadow::ShadowOptions options;
@@ -502,9 +532,11 @@ TileTiming time_tiles(std::size_t boxes, double elevation, bool fast, unsigned t
 /// bits (a digest of every lit area) as untiled on one thread.
 int run_tiles_bench(const std::vector<std::size_t>& sizes, const std::vector<double>& elevations,
                     const std::vector<std::string>& arithmetics, const std::vector<unsigned>& threads,
-                    std::size_t tile_casters, std::size_t fast_tile_casters, bool untiled) {
-  std::printf("| boxes | sun | arithmetic | tiles | threads | wall (s) | CPU (s) | items' CPU (s) | longest item (s) | longest / items | peak (MiB) | tiles made | lit area (m^2) | same bits as untiled |\n");
-  std::printf("|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+                    std::size_t tile_casters, std::size_t fast_tile_casters, bool untiled,
+                    const std::vector<std::string>& grounds) {
+  std::printf("| ground | boxes | sun | arithmetic | tiles | threads | wall (s) | CPU (s) | items' CPU (s) | longest item (s) | longest / items | peak (MiB) | tiles made | lit area (m^2) | same bits as untiled |\n");
+  std::printf("|---|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");
+  for (const std::string& ground : grounds)
   for (std::size_t boxes : sizes)
     for (double elevation : elevations)
       for (const std::string& a : arithmetics) {
@@ -515,9 +547,10 @@ int run_tiles_bench(const std::vector<std::size_t>& sizes, const std::vector<dou
         for (int tiled = untiled ? 0 : 1; tiled <= 1; ++tiled)
           for (unsigned t : threads) {
             const TileTiming m =
-                time_tiles(boxes, elevation, fast, t, tiled ? tile_casters : 0, tiled ? fast_tile_casters : 0);
+                time_tiles(boxes, elevation, fast, t, tiled ? tile_casters : 0, tiled ? fast_tile_casters : 0, ground);
             if (!m.ok) {
-              std::printf("| %zu | %.0f° | %s | %s | %u | failed |\n", boxes, elevation, a.c_str(), tiled ? "on" : "off", t);
+              std::printf("| %s | %zu | %.0f° | %s | %s | %u | failed |\n", ground.c_str(), boxes, elevation, a.c_str(),
+                          tiled ? "on" : "off", t);
               continue;
             }
             if (!have_reference) {
@@ -534,8 +567,8 @@ int run_tiles_bench(const std::vector<std::size_t>& sizes, const std::vector<dou
               std::snprintf(speed, sizeof speed, " (CPU-based 1->2: %.2f-%.2f)",
                             cpu_one / (serial + m.item_s / 2 + m.longest_s), cpu_one / (serial + m.item_s / 2));
             }
-            std::printf("| %zu | %.0f° | %s | %s | %u | %.3f | %.3f%s | %.3f | %.3f | %.2f%% | %.0f | %llu | %.6f | %s |\n", boxes,
-                        elevation, a.c_str(), tiled ? "on" : "off", t, m.wall_s, m.cpu_s, speed, m.item_s, m.longest_s,
+            std::printf("| %s | %zu | %.0f° | %s | %s | %u | %.3f | %.3f%s | %.3f | %.3f | %.2f%% | %.0f | %llu | %.6f | %s |\n",
+                        ground.c_str(), boxes, elevation, a.c_str(), tiled ? "on" : "off", t, m.wall_s, m.cpu_s, speed, m.item_s, m.longest_s,
                         m.item_s > 0 ? 100 * m.longest_s / m.item_s : 0.0, m.peak_kib / 1024.0, m.tiles, m.lit,
                         m.digest == reference ? "yes" : (fast ? "no (fast: within bounds)" : "NO"));
             std::fflush(stdout);
@@ -721,6 +754,7 @@ int main(int argc, char** argv) {
   std::size_t tiles_casters = shadow::ShadowOptions{}.tile_casters;
   std::size_t tiles_fast_casters = shadow::ShadowOptions{}.fast_tile_casters;
   bool tiles_no_untiled = false;
+  std::vector<std::string> tiles_grounds{"rectangle"};
   CLI::App* tiles_cmd = app.add_subcommand(
       "tiles", "Large receivers split into tiles: the longest work item's share, 1 and 2 threads, same bits as untiled");
   tiles_cmd->add_option("--sizes", tiles_sizes, "City sizes in boxes")->delimiter(',')->check(CLI::PositiveNumber);
@@ -732,6 +766,9 @@ int main(int argc, char** argv) {
   tiles_cmd->add_option("--tile-casters", tiles_casters, "ShadowOptions::tile_casters for the tiled rows");
   tiles_cmd->add_option("--fast-tile-casters", tiles_fast_casters, "ShadowOptions::fast_tile_casters for the tiled rows");
   tiles_cmd->add_flag("--no-untiled", tiles_no_untiled, "Leave out the untiled rows");
+  tiles_cmd->add_option("--grounds", tiles_grounds, "The city's ground: rectangle, octagon (corners cut), rotated (30 degrees)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"rectangle", "octagon", "rotated"}));
   std::size_t city_boxes = 200;
   double city_diameter = 0.53;
   unsigned city_threads = 1;
@@ -746,7 +783,7 @@ int main(int argc, char** argv) {
   if (soft_cmd->parsed()) return bench::run_soft(soft);
   if (tiles_cmd->parsed())
     return run_tiles_bench(tiles_sizes, tiles_elevations, tiles_arithmetics, tiles_threads, tiles_casters,
-                           tiles_fast_casters, !tiles_no_untiled);
+                           tiles_fast_casters, !tiles_no_untiled, tiles_grounds);
   if (low_cmd->parsed()) return run_low_sun_bench(low_sizes, low_elevations, low_arithmetics, low_threads, low_label);
   if (planes_cmd->parsed()) return run_planes_bench(planes_sizes, planes_elevations, planes_threads, planes_repeat, planes_label);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);

@@ -1,17 +1,21 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Tiles of a large receiver (docs/tiles.md): a receiver that faces the light, is its own chart
-// box (an axis-aligned rectangle in its chart: a city's ground, most walls and roofs) and has
-// more candidate casters than a threshold is split into square cells of its chart, each a
-// separate work item. A tile is the receiver's FacePrep with the tile's box as its chart box:
+// Tiles of a large receiver (docs/tiles.md): a receiver that faces the light and has more
+// candidate casters than a threshold is split into square cells of its chart bounding box, each
+// a separate work item. A tile is the receiver's FacePrep with the tile's cell as its chart box:
 // culling (the prism or pyramid over the box), clipping and the fast path's grid all follow
-// from it, so a tile sees only the casters whose shadows reach it. Plain data: no CGAL here.
+// from it, so a tile sees only the casters whose shadows reach it. A face that is not its own
+// chart box (a triangle, an L, a rotated rectangle) keeps its outline: its part of a tile is the
+// outline intersected with the cell; cells that miss it are dropped, and cells wholly inside it
+// are boxes of their own (chart_is_box). Plain data: no CGAL here.
 #pragma once
 
 #include "core/face_prep.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace shadow::core {
@@ -20,24 +24,58 @@ namespace shadow::core {
 /// or under long shadows, has fewer or more).
 constexpr std::size_t kTileCandidates = 2000;
 
+/// The most tiles one receiver is cut into.
+constexpr std::size_t kMaxTiles = 1024;
+
 /// What a receiver computation is asked to do about tiles.
 struct TileRequest {
   /// The tile to compute (its chart box replaces the face's), or nullptr for the whole face.
   const FacePrep* tile = nullptr;
-  /// Whole faces only: stop after culling when the face is tileable (front-facing, its own
-  /// chart box) and has more candidate casters than this; 0: never.
+  /// Whole faces only: stop after culling when the face is tileable (front-facing, not
+  /// degenerate) and has more candidate casters than this; 0: never.
   std::size_t split_above = 0;
 };
 
-/// Whether a face may be split into tiles at all.
-inline bool tileable(const FacePrep& fp) { return !fp.degenerate && fp.chart_is_box; }
+/// Whether a face may be split into tiles at all: any face with an area, whatever its outline.
+inline bool tileable(const FacePrep& fp) { return !fp.degenerate; }
+
+/// Where a cell of a face's chart box lies with respect to the face's outline, decided exactly
+/// (exact::place_cell).
+enum class CellPlace {
+  Outside,   ///< the cell and the face have no interior point in common: no tile
+  Inside,    ///< the closed cell lies in the face: the tile is a box of its own
+  Crossing,  ///< anything else (the outline meets the closed cell): the outline is cut to it
+};
+
+/// The share of its chart box that a face covers (its chart area over the box's, in doubles: a
+/// guide for the number of tiles, not an exact value), in (0, 1]; 1 for a box face.
+inline double box_fill(const std::vector<glm::dvec3>& vertices, const FacePrep& fp) {
+  if (fp.chart_is_box || fp.chart_ring.size() < 3) return 1.0;
+  const int i = chart_i(fp.axis), j = chart_j(fp.axis);
+  double twice = 0;
+  const std::size_t n = fp.chart_ring.size();
+  for (std::size_t a = 0; a < n; ++a) {  // about the box's corner (large coordinates cancel)
+    const glm::dvec3& p = vertices[fp.chart_ring[a]];
+    const glm::dvec3& q = vertices[fp.chart_ring[(a + 1) % n]];
+    twice += (p[i] - fp.chart_min[0]) * (q[j] - fp.chart_min[1]) - (q[i] - fp.chart_min[0]) * (p[j] - fp.chart_min[1]);
+  }
+  const double box = (fp.chart_max[0] - fp.chart_min[0]) * (fp.chart_max[1] - fp.chart_min[1]);
+  const double fill = 0.5 * std::abs(twice) / box;
+  return std::isfinite(fill) && fill > 0 ? std::min(fill, 1.0) : 1.0;
+}
+
+/// Places a cell (its lower and upper corners) with respect to a face's outline.
+using PlaceCell = std::function<CellPlace(const std::array<double, 2>& lo, const std::array<double, 2>& hi)>;
 
 /// The tiles of face `fp`: about ceil(candidates / per_tile) square cells of its chart box (at
 /// most `max_tiles` in all; none for a box too small to cut), in rows; each a copy of `fp` with
 /// the cell as its chart box. Borders are doubles shared exactly by neighbouring tiles: the
-/// tiles partition the box.
+/// cells partition the box. A face that is not its own chart box needs `place` (without it every
+/// cell counts as Crossing): Outside cells are left out, Inside ones get chart_is_box (the tile
+/// is the cell, as for a box face), Crossing ones keep chart_is_box false (the tile is the
+/// face's outline intersected with the cell: the receivers intersect with the outline).
 inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidates, std::size_t per_tile,
-                                        std::size_t max_tiles = 1024) {
+                                        std::size_t max_tiles = kMaxTiles, const PlaceCell& place = {}) {
   std::vector<FacePrep> tiles;
   const double w = fp.chart_max[0] - fp.chart_min[0], h = fp.chart_max[1] - fp.chart_min[1];
   if (!(w > 0) || !(h > 0) || per_tile == 0) return tiles;
@@ -59,14 +97,49 @@ inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidat
     const double lo = fp.chart_min[c], hi = fp.chart_max[c];
     return std::min(hi, lo + (hi - lo) * static_cast<double>(k) / static_cast<double>(n));
   };
+  // Places a cell of a face that is not a box; false: it misses the face.
+  auto placed = [&](FacePrep& tile) {
+    if (fp.chart_is_box || !place) return true;
+    const CellPlace where = place(tile.chart_min, tile.chart_max);
+    tile.chart_is_box = where == CellPlace::Inside;
+    return where != CellPlace::Outside;
+  };
+  std::size_t crossing = 0;
   for (std::size_t b = 0; b < nj; ++b)
     for (std::size_t a = 0; a < ni; ++a) {
       FacePrep tile = fp;
       tile.chart_min = {border(0, a, ni), border(1, b, nj)};
       tile.chart_max = {border(0, a + 1, ni), border(1, b + 1, nj)};
       if (!(tile.chart_min[0] < tile.chart_max[0]) || !(tile.chart_min[1] < tile.chart_max[1])) continue;
+      if (!placed(tile)) continue;
+      crossing += tile.chart_is_box ? 0 : 1;
       tiles.push_back(std::move(tile));
     }
+  // Crossing cells of a face that is not a box cost several times an inner one (the shadow is
+  // intersected with the outline: on the exact path a Boolean operation instead of the
+  // boundary's area), so each is cut once more into quarters, when the cap allows all of them.
+  if (!fp.chart_is_box && place && crossing > 0 && tiles.size() + 3 * crossing <= max_tiles) {
+    std::vector<FacePrep> cut;
+    for (FacePrep& tile : tiles) {
+      const double mx = tile.chart_min[0] + (tile.chart_max[0] - tile.chart_min[0]) / 2;
+      const double my = tile.chart_min[1] + (tile.chart_max[1] - tile.chart_min[1]) / 2;
+      if (tile.chart_is_box || !(tile.chart_min[0] < mx && mx < tile.chart_max[0]) ||
+          !(tile.chart_min[1] < my && my < tile.chart_max[1])) {
+        cut.push_back(std::move(tile));
+        continue;
+      }
+      // Quarters in rows; the midpoints are shared by both halves: they partition the cell.
+      const double xs[3] = {tile.chart_min[0], mx, tile.chart_max[0]}, ys[3] = {tile.chart_min[1], my, tile.chart_max[1]};
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+          FacePrep quarter = fp;
+          quarter.chart_min = {xs[a], ys[b]};
+          quarter.chart_max = {xs[a + 1], ys[b + 1]};
+          if (placed(quarter)) cut.push_back(std::move(quarter));
+        }
+    }
+    tiles.swap(cut);
+  }
   if (tiles.size() < 2) tiles.clear();  // not worth it: the face as one item
   return tiles;
 }

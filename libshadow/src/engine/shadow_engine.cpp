@@ -252,7 +252,19 @@ void ShadowEngine::Impl::compute_splits(
   const std::size_t per_tile = std::max<std::size_t>(1, std::min(mode.split_above / 2, target));
   for (std::size_t s = 0; s < splits.size(); ++s) {
     first_tile.push_back(tiles.size());
-    for (core::FacePrep& t : core::make_tiles(prep[splits[s].face], splits[s].out->split_candidates, per_tile))
+    const std::size_t f = splits[s].face;
+    // A face that is not its own chart box: cells are placed against its outline, exactly, and
+    // cut for its candidates spread over the face, not over its box (the cells outside it are
+    // dropped: a triangle's would otherwise get half as many tiles, each twice the work).
+    const core::PlaceCell place = [&](const std::array<double, 2>& lo, const std::array<double, 2>& hi) {
+      return exact::place_cell(scene->faces[f].vertices, prep[f], lo, hi);
+    };
+    std::size_t candidates = splits[s].out->split_candidates;
+    if (!prep[f].chart_is_box) {
+      const double fill = core::box_fill(scene->faces[f].vertices, prep[f]);
+      candidates = static_cast<std::size_t>(static_cast<double>(candidates) / std::max(fill, 1.0 / 16));
+    }
+    for (core::FacePrep& t : core::make_tiles(prep[f], candidates, per_tile, core::kMaxTiles, place))
       tiles.push_back({s, std::move(t)});
   }
   first_tile.push_back(tiles.size());
@@ -288,7 +300,7 @@ void ShadowEngine::Impl::compute_splits(
     out.light_id = sr.light_id;
     out.area = face_area[f];
     ShadowStats& stats = w0.stats;
-    if (t1 == t0) {  // the face could not be cut (a sliver of a box, or too few candidates): computed whole
+    if (t1 == t0) {  // the face could not be cut (a sliver, or one cell meets it): computed whole
       // Without a threshold: compute_item applies mode.split_above to a whole exact face, which
       // would only ask for tiles again and leave the face's item unfilled (lit area 0).
       ItemMode whole_mode = mode;

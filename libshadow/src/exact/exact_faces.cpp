@@ -334,6 +334,40 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
   return sqrt_mpq_to_double(q.get_mpq_t());
 }
 
+core::CellPlace place_cell(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
+                           const std::array<double, 2>& lo, const std::array<double, 2>& hi) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const int i = core::chart_i(prep.axis), j = core::chart_j(prep.axis);
+  const std::size_t n = prep.chart_ring.size();
+  std::vector<K::Point_2> ring;
+  ring.reserve(n);
+  for (int v : prep.chart_ring) ring.emplace_back(vertices[v][i], vertices[v][j]);
+  const K::Point_2 corners[4] = {K::Point_2(lo[0], lo[1]), K::Point_2(hi[0], lo[1]), K::Point_2(hi[0], hi[1]),
+                                 K::Point_2(lo[0], hi[1])};
+  for (std::size_t a = 0; a < n; ++a) {
+    const K::Point_2& p = ring[a];
+    const K::Point_2& q = ring[(a + 1) % n];
+    // Two closed convex sets are disjoint exactly when the direction of one of their edges
+    // separates them strictly: the cell's axes (comparisons of doubles) or the segment's line
+    // (the cell's four corners strictly on one side: the exact orientation predicate).
+    if (std::max(p.x(), q.x()) < lo[0] || std::min(p.x(), q.x()) > hi[0] || std::max(p.y(), q.y()) < lo[1] ||
+        std::min(p.y(), q.y()) > hi[1])
+      continue;
+    int left = 0, right = 0;
+    for (const K::Point_2& c : corners) {
+      const CGAL::Orientation o = CGAL::orientation(p, q, c);
+      left += o == CGAL::LEFT_TURN ? 1 : 0;
+      right += o == CGAL::RIGHT_TURN ? 1 : 0;
+    }
+    if (left == 4 || right == 4) continue;
+    return core::CellPlace::Crossing;
+  }
+  // No edge meets the closed cell: the whole cell lies on one side of the outline, as its corner.
+  return CGAL::bounded_side_2(ring.begin(), ring.end(), corners[0], K()) == CGAL::ON_BOUNDED_SIDE
+             ? core::CellPlace::Inside
+             : core::CellPlace::Outside;
+}
+
 }  // namespace shadow::exact
 
 namespace shadow::detail {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/face_prep.hpp"
+#include "core/tiles.hpp"
 #include "exact/kernel.hpp"
 
 #include <shadow/scene.hpp>
@@ -51,5 +52,12 @@ double area_3d(const FT& chart_area, const FT& area_scale_squared);
 /// from the input doubles (all scaled by one power of two) instead of lazy exact numbers; nullopt
 /// when the corner's normal has a zero k component (then use area_3d).
 std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep);
+
+/// Where the closed axis-aligned cell [lo, hi] of the chart lies with respect to the face's
+/// outline (its chart ring, in the input doubles), decided with exact predicates: Crossing when
+/// some edge of the outline meets the closed cell, else Inside or Outside as its corner `lo` is
+/// (docs/tiles.md). O(outline vertices).
+core::CellPlace place_cell(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
+                           const std::array<double, 2>& lo, const std::array<double, 2>& hi);
 
 }  // namespace shadow::exact

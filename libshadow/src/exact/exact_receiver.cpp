@@ -551,9 +551,14 @@ class ExactReceiverJob {
   /// outline in doubles is not a simple polygon of certainly non-zero area goes through emit()
   /// like any other region: triangles, and dropped_area for those that collapse.
   void emit_whole_face(bool lit) {
-    if (tile_) {  // the tile's rectangle, cut into cells like any region
+    if (tile_) {  // the tile's part of the face, cut into cells like any region
       const ExactFace& P = w_.face(ctx_, face_id_);
-      emit(P, {PolygonWithHoles2(tile_polygon())}, lit);
+      std::vector<PolygonWithHoles2> regions;
+      if (fp_.chart_is_box)
+        regions.emplace_back(tile_polygon());
+      else
+        tile_region(P).polygons_with_holes(std::back_inserter(regions));
+      emit(P, regions, lit);
       if (!dropped_.empty()) item_.lighting.dropped_area = area_3d(balanced_sum(dropped_), P.area_scale_squared);
       return;
     }
@@ -575,11 +580,18 @@ class ExactReceiverJob {
     return Polygon2(corners, corners + 4);
   }
 
+  /// A tile's part of the face: its box, intersected with the face's outline unless the box
+  /// lies in the face (chart_is_box: a box face's tiles, and the inner cells of other faces).
+  PolygonSet2 tile_region(const ExactFace& P) const {
+    PolygonSet2 region(tile_polygon());
+    if (!fp_.chart_is_box) region.intersection(P.chart);
+    return region;
+  }
+
   void emit_fragments(const ExactFace& P) {
     std::vector<PolygonWithHoles2> lit_regions;
-    // A tile's lit part is its own rectangle (inside the face: only box faces are tiled) minus
-    // the shadow.
-    PolygonSet2 lit_set(tile_ ? tile_polygon() : P.chart);
+    // A tile's lit part is its part of the face minus the shadow.
+    PolygonSet2 lit_set = tile_ ? tile_region(P) : PolygonSet2(P.chart);
     lit_set.difference(*shadow_set_storage_);
     lit_set.polygons_with_holes(std::back_inserter(lit_regions));
     emit(P, lit_regions, true);

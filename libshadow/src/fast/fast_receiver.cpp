@@ -484,6 +484,12 @@ class ReceiverJob {
       ++local_.unshadowed;
       out_.lit_area = out_.area;
       out_.lit_fraction = 1.0;
+      if (tile_ && !fp_.chart_is_box) {
+        // A tile's part of a face that is not a box is made on the grid (its fragment): its
+        // outline's rounding in the bound, as for a shadowed one.
+        set_up_receiver();
+        bound_.receiver_outline(receiver_length_, receiver_rho_);
+      }
       out_.lit_area_error_bound = bound_.unshadowed(scale_);
       if (!std::isfinite(out_.lit_area_error_bound)) return false;
       if (polygons_ && !push_whole_face(true)) return false;
@@ -562,7 +568,23 @@ class ReceiverJob {
   /// certainly non-zero area in doubles (a sliver face): the exact engine writes it then.
   bool push_whole_face(bool lit) {
     const glm::dvec3 corner = rc_.corner;
-    if (tile_) {  // the tile's rectangle (only box faces are tiled) lifted onto the plane
+    if (tile_ && !fp_.chart_is_box) {
+      // A tile's part of a face that is not a box: the face's outline cut to the tile, on the
+      // grid (set up in run() before this is called), in cells like any region.
+      if (!(grid_.step[0] > 0) || !(grid_.step[1] > 0)) return false;  // (not set up: exact engine)
+      set_up_receiver();
+      cell_ = grid_.step[0] * grid_.step[1] * scale_;
+      try {
+        CL::Clipper clipper;
+        clipper.StrictlySimple(false);
+        clipper.AddPath(receiver_, CL::ptSubject, true);
+        clipper.Execute(CL::ctUnion, lit_tree_, CL::pftNonZero, CL::pftNonZero);
+        return emit(lit_tree_, lit);
+      } catch (const CL::clipperException&) {
+        return false;
+      }
+    }
+    if (tile_) {  // the tile's rectangle (in the face: chart_is_box) lifted onto the plane
       Fragment f;
       f.face_id = face_id_;
       f.light_id = light_id_;
@@ -868,23 +890,47 @@ class ReceiverJob {
   }
 
   // ---- the union on the grid ----------------------------------------------------------------
-  bool unite() {
+  /// The receiver's outline on the grid (receiver_), counter-clockwise, with its length in the
+  /// chart (receiver_length_) and a bound on the distance from its grid points to the exact
+  /// outline (receiver_rho_). A tile of a box (chart_is_box): its rectangle. A tile of another
+  /// face: the face's outline clipped to the tile's box in doubles (Sutherland-Hodgman, which
+  /// may leave zero-width bridges along the box: no area under the non-zero rule), whose new
+  /// vertices are a few ulps from the exact crossings. Once per job.
+  void set_up_receiver() {
+    if (receiver_ready_) return;
+    receiver_ready_ = true;
     receiver_.clear();
-    if (tile_) {  // the tile's rectangle (counter-clockwise in the chart, as chart_ring is)
+    receiver_rho_ = rho_;
+    receiver_length_ = 0;
+    if (tile_ && fp_.chart_is_box) {
       const double x[4] = {fp_.chart_min[0], fp_.chart_max[0], fp_.chart_max[0], fp_.chart_min[0]};
       const double y[4] = {fp_.chart_min[1], fp_.chart_min[1], fp_.chart_max[1], fp_.chart_max[1]};
       for (int a = 0; a < 4; ++a) receiver_.push_back(grid_.point({x[a], y[a]}));
-    } else {
-      for (int a : fp_.chart_ring)
-        receiver_.push_back(grid_.point({face_.vertices[a][rc_.i], face_.vertices[a][rc_.j]}));
+      return;  // (a box's outline adds nothing to the bound: its length is not used)
     }
-    double receiver_length = 0;
-    for (std::size_t a = 0; a < fp_.chart_ring.size(); ++a) {
-      const glm::dvec3& p = face_.vertices[fp_.chart_ring[a]];
-      const glm::dvec3& q = face_.vertices[fp_.chart_ring[(a + 1) % fp_.chart_ring.size()]];
-      receiver_length += std::hypot(q[rc_.i] - p[rc_.i], q[rc_.j] - p[rc_.j]);
+    outline_.clear();
+    for (int a : fp_.chart_ring) outline_.emplace_back(face_.vertices[a][rc_.i], face_.vertices[a][rc_.j]);
+    if (tile_) {
+      for (int c = 0; c < 2 && outline_.size() >= 3; ++c) {
+        clip_axis(outline_, c, rc_.lo[c], true, hull_);
+        if (outline_.size() >= 3) clip_axis(outline_, c, rc_.hi[c], false, hull_);
+      }
+      if (outline_.size() < 3) outline_.clear();  // only touches the tile: no area
+      // A crossing's other coordinate: t = (m - p) / (q - p), p + t (q - p), each rounded.
+      receiver_rho_ = rho_ + 16 * kEps * rc_.magnitude;
     }
-    if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, rho_);
+    for (const glm::dvec2& p : outline_) receiver_.push_back(grid_.point(p));
+    for (std::size_t a = 0; a < outline_.size(); ++a) {
+      const glm::dvec2& p = outline_[a];
+      const glm::dvec2& q = outline_[(a + 1) % outline_.size()];
+      receiver_length_ += std::hypot(q.x - p.x, q.y - p.y);
+    }
+  }
+
+  bool unite() {
+    set_up_receiver();
+    const double receiver_length = receiver_length_;
+    if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, receiver_rho_);
     Int128 shadow2 = 0, gap2 = 0;
     double boundary2 = 0;  // twice the area of the clusters measured by their boundary (grid units)
     if (covered_) {
@@ -1063,6 +1109,9 @@ class ReceiverJob {
   std::vector<glm::dvec2> points_, hull_;
   Cast cast_;
   CL::Path receiver_;
+  bool receiver_ready_ = false;                    // receiver_ and the two below set up
+  double receiver_length_ = 0, receiver_rho_ = 0;  // see set_up_receiver
+  std::vector<glm::dvec2> outline_;
   CL::PolyTree shadow_tree_, lit_tree_;
   std::vector<CL::Paths> regions_;
   CL::Paths cells_;
