@@ -14,6 +14,7 @@
 #include <shadow/shadows.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <ctime>
 #include <functional>
 #include <memory>
@@ -139,6 +140,38 @@ inline void count_item(ShadowStats& stats, double seconds) {
   stats.item_seconds += seconds;
   stats.longest_item_seconds = std::max(stats.longest_item_seconds, seconds);
 }
+
+/// Times the work items of one block that a thread takes at once (a run of receivers): the
+/// thread's CPU clock is read at the block's ends only, since reading it is a system call
+/// (about 0.5 us on the 2-core machine, a quarter of a fast receiver's whole item: timing every
+/// item made the fast path at a 40 degree sun 1.35 times slower); each item is timed on the
+/// steady clock (no system call), and the longest one's CPU time is its steady time scaled by
+/// the block's CPU / wall ratio (at most 1: a preempted thread's item is not counted longer).
+class BlockTimer {
+ public:
+  BlockTimer() : cpu_start_(thread_cpu_seconds()), start_(Clock::now()), item_start_(start_) {}
+  /// An item of the block ends (the next starts).
+  void item_done() {
+    const Clock::time_point now = Clock::now();
+    longest_ = std::max(longest_, now - item_start_);
+    item_start_ = now;
+  }
+  /// Adds the block's CPU time and its longest item to `stats`.
+  void finish(ShadowStats& stats) const {
+    const double cpu = thread_cpu_seconds() - cpu_start_;
+    const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
+    const double ratio = wall > cpu && wall > 0 ? cpu / wall : 1.0;
+    stats.item_seconds += cpu;
+    stats.longest_item_seconds =
+        std::max(stats.longest_item_seconds, std::min(cpu, std::chrono::duration<double>(longest_).count() * ratio));
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double cpu_start_;
+  Clock::time_point start_, item_start_;
+  Clock::duration longest_{0};
+};
 
 
 /// The exact form of a light: a point (w = 1) or a direction at infinity (w = 0).

@@ -126,34 +126,42 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
         report_fraction(round_fraction);
       };
     const auto round_start = Clock::now();
-    core::parallel_for(
-        rows * count, threads,
-        [&](unsigned wi, std::size_t item) {
-          // Instant-major, as compute() runs a light: one light's grid stays in cache while its
-          // receivers are taken (receiver-major measured no faster, docs/benchmarks.md).
-          const std::size_t k = item / rows;
-          const std::size_t r = item % rows;
-          const std::size_t instant = first + k;
-          const std::size_t f = result.faces[r];
-          const Light& light_in = lights[instant];
-          const core::LightSpaceGrid* grid = grids[k] ? &*grids[k] : nullptr;
+    // Items in blocks of kRun consecutive ones (as compute() hands out runs of receivers: the
+    // thread's CPU clock is then read per block, engine_detail::BlockTimer).
+    constexpr std::size_t kRun = 16;
+    std::function<void(std::size_t)> report_blocks;
+    if (report) report_blocks = [&](std::size_t blocks) { report(std::min(rows * count, blocks * kRun)); };
+    core::parallel_for_blocks(
+        rows * count, kRun, threads,
+        [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
           Impl::Worker& w = workers[wi];
-          // Trimmed as in compute() (compute_item): above 4,096 faces a worker rebuilds exact
-          // faces it had built for an earlier instant. Measured side by side without the trim
-          // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38%
-          // higher at 2,500 boxes.
-          const double t0 = engine_detail::thread_cpu_seconds();
-          Impl::Item out = impl.compute_item(w, exact_lights[wi][k], f, instant, light_in, grid, mode, whole, w.stats);
-          engine_detail::count_item(w.stats, engine_detail::thread_cpu_seconds() - t0);
-          if (out.split_candidates > 0) {  // tiled after the batch's other items
-            std::lock_guard<std::mutex> lock(split_mutex);
-            pending.push_back({k, r, std::move(out)});
-            splits_so_far.fetch_add(1);
-            return;
+          engine_detail::BlockTimer timer;
+          for (std::size_t item = begin; item < end; ++item) {
+            // Instant-major, as compute() runs a light: one light's grid stays in cache while its
+            // receivers are taken (receiver-major measured no faster, docs/benchmarks.md).
+            const std::size_t k = item / rows;
+            const std::size_t r = item % rows;
+            const std::size_t instant = first + k;
+            const std::size_t f = result.faces[r];
+            const Light& light_in = lights[instant];
+            const core::LightSpaceGrid* grid = grids[k] ? &*grids[k] : nullptr;
+            // Trimmed as in compute() (compute_item): above 4,096 faces a worker rebuilds exact
+            // faces it had built for an earlier instant. Measured side by side without the trim
+            // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38%
+            // higher at 2,500 boxes.
+            Impl::Item out = impl.compute_item(w, exact_lights[wi][k], f, instant, light_in, grid, mode, whole, w.stats);
+            timer.item_done();
+            if (out.split_candidates > 0) {  // tiled after the batch's other items
+              std::lock_guard<std::mutex> lock(split_mutex);
+              pending.push_back({k, r, std::move(out)});
+              splits_so_far.fetch_add(1);
+              continue;
+            }
+            write_row(r, instant, out.lighting);
           }
-          write_row(r, instant, out.lighting);
+          timer.finish(w.stats);
         },
-        report);
+        report_blocks);
     if (pending.empty()) {
       tile_share = 0.0;
       if (options.progress) report_instants(first + count);

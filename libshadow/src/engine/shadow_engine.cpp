@@ -176,16 +176,17 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
       receivers.size(), kRun, threads,
       [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
         Worker& w = workers[wi];
+        engine_detail::BlockTimer timer;
         for (std::size_t r = begin; r < end; ++r) {
-          const double t0 = engine_detail::thread_cpu_seconds();
           items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
           if (items[r].split_candidates > 0) {
             splits_so_far.fetch_add(1);
             std::lock_guard<std::mutex> lock(split_mutex);
             split.push_back(r);
           }
-          engine_detail::count_item(w.stats, engine_detail::thread_cpu_seconds() - t0);
+          timer.item_done();
         }
+        timer.finish(w.stats);
       },
       report_runs);
   if (split.empty()) return;
