@@ -158,6 +158,14 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t til
   }
 }
 
+TEST(Series, TileDefaultsAreComputes) {
+  // A series splits receivers as compute() does (docs/tiles.md), and its report writes the
+  // thresholds only when they differ from SeriesOptions' defaults: the two sets of defaults are
+  // one rule and must not drift apart.
+  EXPECT_EQ(shadow::SeriesOptions{}.tile_casters, shadow::ShadowOptions{}.tile_casters);
+  EXPECT_EQ(shadow::SeriesOptions{}.fast_tile_casters, shadow::ShadowOptions{}.fast_tile_casters);
+}
+
 TEST(Series, EqualsOneLightComputeBitForBitExact) { expect_series_equals_compute(shadow::Arithmetic::Exact); }
 
 TEST(Series, EqualsOneLightComputeBitForBitFast) {

@@ -484,9 +484,10 @@ class ReceiverJob {
       ++local_.unshadowed;
       out_.lit_area = out_.area;
       out_.lit_fraction = 1.0;
-      if (tile_ && !fp_.chart_is_box) {
+      if (polygons_ && tile_ && !fp_.chart_is_box) {
         // A tile's part of a face that is not a box is made on the grid (its fragment): its
-        // outline's rounding in the bound, as for a shadowed one.
+        // outline's rounding in the bound, as for a shadowed one. Areas only, the tile's
+        // shadow is exactly nothing and the outline is not made.
         set_up_receiver();
         bound_.receiver_outline(receiver_length_, receiver_rho_);
       }
@@ -916,8 +917,10 @@ class ReceiverJob {
         if (outline_.size() >= 3) clip_axis(outline_, c, rc_.hi[c], false, hull_);
       }
       if (outline_.size() < 3) outline_.clear();  // only touches the tile: no area
-      // A crossing's other coordinate: t = (m - p) / (q - p), p + t (q - p), each rounded.
-      receiver_rho_ = rho_ + 16 * kEps * rc_.magnitude;
+      // A crossing's other coordinate: t = (m - p) / (q - p), p + t (q - p), each rounded (about
+      // 6 eps of the magnitude), and up to four clips in a row each start from the last's
+      // rounded crossings: 64 eps covers the chain with room.
+      receiver_rho_ = rho_ + 64 * kEps * rc_.magnitude;
     }
     for (const glm::dvec2& p : outline_) receiver_.push_back(grid_.point(p));
     for (std::size_t a = 0; a < outline_.size(); ++a) {

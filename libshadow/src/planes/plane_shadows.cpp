@@ -158,7 +158,7 @@ struct Pair {
   /// that a low sun's long shadows seldom cross, and the cuts stay lines of one exact double
   /// coordinate (what keeps CGAL's filters deciding points on them). A shear has determinant 1:
   /// areas and orientations are the chart's. Point lights (shadows in every direction) and a
-  /// light near the plane's normal keep the chart (sheared false).
+  /// light within about 6 degrees of the chart's axis k keep the chart (sheared false).
   bool sheared = false;
   int lead = 0;
   mpq_class slope = 0;
@@ -211,7 +211,9 @@ Pair make_pair(const Scene& scene, std::size_t plane_id, std::size_t light_id, c
   P.ratio = {P.l[P.i] / P.pl, P.l[P.j] / P.pl};
   if (shear && !P.point) {
     const double di = lv[P.i], dj = lv[P.j];
-    if (std::hypot(di, dj) > 0.1 * glm::length(lv)) {  // shadows longer than a tenth of the height
+    // Not within about 6 degrees of the chart's axis k (for the ground, the vertical: shadows
+    // longer than a tenth of the height).
+    if (std::hypot(di, dj) > 0.1 * glm::length(lv)) {
       P.sheared = true;
       P.lead = std::abs(di) >= std::abs(dj) ? 0 : 1;
       P.slope = P.lead == 0 ? dj / di : di / dj;
@@ -778,9 +780,9 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
         if (P.sheared) {  // back from the tile frame, exactly, then each coordinate's double
           const auto& e = exact_of(*v);
           const Q2 q = from_frame(P, e.x(), e.y());
-          x[i] = q[0].get_d();
-          x[j] = q[1].get_d();
-          x[k] = level ? level_k : mpq_class(-(P.c + P.n[i] * q[0] + P.n[j] * q[1]) / P.n[k]).get_d();
+          x[i] = exact::round_mpq_to_double(q[0].get_mpq_t());
+          x[j] = exact::round_mpq_to_double(q[1].get_mpq_t());
+          x[k] = level ? level_k : exact::round_mpq_to_double(mpq_class(-(P.c + P.n[i] * q[0] + P.n[j] * q[1]) / P.n[k]).get_mpq_t());
           polygon.push_back(x);
           continue;
         }
