@@ -251,8 +251,11 @@ void ShadowEngine::Impl::compute_splits(
   // shadows cost several times the others.
   const std::size_t target = fast ? core::kTileCandidates / 2 : core::kTileCandidates;
   const std::size_t per_tile = std::max<std::size_t>(1, std::min(mode.split_above / 2, target));
-  for (std::size_t s = 0; s < splits.size(); ++s) {
-    first_tile.push_back(tiles.size());
+  // Each split receiver's cells on its own thread (placing them against a long outline is a
+  // predicate per cell and outline edge), then in split order: the tiles do not depend on the
+  // thread count.
+  std::vector<std::vector<core::FacePrep>> cells(splits.size());
+  core::parallel_for(splits.size(), threads, [&](unsigned, std::size_t s) {
     const std::size_t f = splits[s].face;
     // A face that is not its own chart box: cells are placed against its outline, exactly, and
     // cut for its candidates spread over the face, not over its box (the cells outside it are
@@ -265,8 +268,11 @@ void ShadowEngine::Impl::compute_splits(
       const double fill = core::box_fill(scene->faces[f].vertices, prep[f]);
       candidates = static_cast<std::size_t>(static_cast<double>(candidates) / std::max(fill, 1.0 / 16));
     }
-    for (core::FacePrep& t : core::make_tiles(prep[f], candidates, per_tile, core::kMaxTiles, place))
-      tiles.push_back({s, std::move(t)});
+    cells[s] = core::make_tiles(prep[f], candidates, per_tile, core::kMaxTiles, place);
+  });
+  for (std::size_t s = 0; s < splits.size(); ++s) {
+    first_tile.push_back(tiles.size());
+    for (core::FacePrep& t : cells[s]) tiles.push_back({s, std::move(t)});
   }
   first_tile.push_back(tiles.size());
   std::vector<Item> tile_items(tiles.size());
