@@ -12,6 +12,7 @@
 #include "core/parallel.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
+#include "geometry/point_hash.hpp"
 #include "scene/planarity.hpp"
 #include "scene/validate_reference.hpp"
 
@@ -21,7 +22,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <utility>
@@ -283,27 +283,8 @@ std::uint32_t number_by_first_use(std::size_t n, const Hash& hash, const Same& s
   return next;
 }
 
-/// A 64-bit mix (the finaliser of MurmurHash3's 64-bit variant, a well-known constant choice).
-inline std::uint64_t mix64(std::uint64_t h) {
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdULL;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ULL;
-  h ^= h >> 33;
-  return h;
-}
-
-/// The hash of a point's coordinates (-0.0 hashed as 0.0, as == compares them).
-inline std::uint64_t point_hash(const glm::dvec3& v) {
-  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (int c = 0; c < 3; ++c) {
-    const double x = v[c] + 0.0;
-    std::uint64_t b;
-    std::memcpy(&b, &x, sizeof b);
-    h = mix64(h ^ b);
-  }
-  return h;
-}
+using geometry::mix64;
+using geometry::point_hash;  // -0.0 hashed as 0.0, as == compares them
 
 /// The uses of the edges of `faces` (corners in all, below 2^32), grouped so that the uses of
 /// one edge are adjacent, on `threads` threads: the corners scattered into shards by their
