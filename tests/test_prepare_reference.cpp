@@ -8,6 +8,7 @@
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/face_shape.hpp"
+#include "geometry/point_hash.hpp"
 #include "scene/validate_reference.hpp"
 
 #include <shadow/generators.hpp>
@@ -449,6 +450,41 @@ TEST(FindConvexSolids, SharedEdgesAcrossMeshesAndOpenParts) {
   for (const shadow::Polygon3& f : reversed) both.push_back(f);
   shadow::add_mesh(scene, "d", both);
   for (unsigned threads : {1u, 3u}) expect_same_solids(scene, threads);
+}
+
+TEST(PointHash, NegativeZeroIsZeroAndOtherBitsDiffer) {
+  using namespace shadow::geometry;
+  const glm::dvec3 zero(0.0, 2.5, 0.0), negative(-0.0, 2.5, -0.0);
+  EXPECT_EQ(point_key(zero), point_key(negative));
+  EXPECT_EQ(point_hash(zero), point_hash(negative));
+  EXPECT_EQ(PointKeyHash{}(point_key(zero)), PointKeyHash{}(point_key(negative)));
+  EXPECT_EQ(point_hash(zero), point_key_hash(point_key(zero)));
+  const glm::dvec3 tiny(std::nextafter(0.0, 1.0), 2.5, 0.0);  // the smallest subnormal: another point
+  EXPECT_NE(point_key(zero), point_key(tiny));
+  EXPECT_NE(point_hash(zero), point_hash(tiny));
+  EXPECT_NE(point_hash(zero), point_hash(glm::dvec3(2.5, 0.0, 0.0)));  // coordinates in order
+}
+
+TEST(FindConvexSolids, NegativeZeroCoordinatesAreTheSameVertex) {
+  // A unit box whose bottom face writes its zeros as -0.0: both searches (vertex keys from
+  // geometry/point_hash.hpp) must still see one closed convex solid.
+  std::vector<shadow::Polygon3> faces = shadow::box_faces({0, 0, 0}, {1, 1, 1});
+  std::size_t flipped = 0;
+  for (glm::dvec3& v : faces[0])
+    for (int c = 0; c < 3; ++c)
+      if (v[c] == 0.0) {
+        v[c] = -0.0;
+        ++flipped;
+      }
+  ASSERT_GT(flipped, 0u);
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "box", faces);
+  for (unsigned threads : {1u, 2u}) expect_same_solids(scene, threads);
+  std::vector<shadow::core::FacePrep> prep(scene.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(scene.faces[f].vertices);
+  std::vector<int> of;
+  EXPECT_EQ(shadow::exact::find_convex_solids(scene, prep, of, 1).size(), 1u);
+  EXPECT_EQ(of, std::vector<int>(scene.faces.size(), 0));
 }
 
 RC_GTEST_PROP(FindConvexSolids, SameAsTheReferenceOnHardCases, ()) {

@@ -368,6 +368,29 @@ TEST(Tiles, CellsArePlacedExactlyAgainstTheOutline) {
   EXPECT_EQ(cells, 21 + 15 + 9 + 10 + 9 * 0.25);  // the kept cells' areas (dyadic: exact)
 }
 
+TEST(Tiles, BoxFillIsTheFaceShareOfItsChartBoxFarFromTheOrigin) {
+  // core::box_fill and the exact engine's cover test share core::twice_area_about_box_corner:
+  // twice the ring's signed area in doubles, about the chart box's lower corner, so that a
+  // georeferenced face (coordinates of 1e6) keeps the digits of a face near the origin.
+  for (const double x0 : {0.0, 1e6 + 0.25}) {
+    const double y0 = x0 == 0.0 ? 0.0 : 2e6 + 0.5;
+    const Polygon3 triangle = plan({{x0, y0}, {x0 + 10, y0}, {x0, y0 + 10}});
+    const core::FacePrep t = exact::prepare_face(triangle);
+    ASSERT_FALSE(t.chart_is_box);
+    EXPECT_EQ(core::chart_box_area(t), 100.0);
+    EXPECT_EQ(core::box_fill(triangle, t), 0.5) << "at x " << x0;
+    auto point = [&](std::size_t a) { return std::array<double, 2>{triangle[a].x, triangle[a].y}; };
+    EXPECT_EQ(core::twice_area_about_box_corner(t, 3, point), 100.0);  // counter-clockwise
+    EXPECT_EQ(core::twice_area_about_box_corner(t, 3, [&](std::size_t a) { return point(2 - a); }), -100.0);
+    const Polygon3 ell = plan({{x0, y0}, {x0 + 4, y0}, {x0 + 4, y0 + 2}, {x0 + 2, y0 + 2}, {x0 + 2, y0 + 4}, {x0, y0 + 4}});
+    EXPECT_EQ(core::box_fill(ell, exact::prepare_face(ell)), 0.75) << "at x " << x0;
+    const Polygon3 box = plan({{x0, y0}, {x0 + 3, y0}, {x0 + 3, y0 + 1}, {x0, y0 + 1}});
+    const core::FacePrep b = exact::prepare_face(box);
+    ASSERT_TRUE(b.chart_is_box);
+    EXPECT_EQ(core::box_fill(box, b), 1.0);
+  }
+}
+
 TEST(Tiles, NonRectangularReceiversExactBitForBit) {
   std::size_t g = 0;
   for (const auto& [name, ground] : odd_grounds(100)) {

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cerrno>
+#include <cstddef>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -44,6 +45,36 @@ inline CLI::Validator integer_in(long long lo, long long hi) {
 /// The largest --tile-casters / --fast-tile-casters (a billion candidate casters: more than a
 /// scene has; 0 turns tiles off).
 constexpr long long kMaxTileCasters = 1000000000;
+
+/// What `--tile-casters` and `--fast-tile-casters` say about one command's results: their help
+/// texts differ in these parts only.
+struct TileOptionsHelp {
+  std::string casters_when;  ///< after "more candidate casters": "" or " at an instant"
+  std::string kept;          ///< the results that exact tiles leave unchanged
+  std::string cut;           ///< what exact tiles cut at tile borders (the polygons)
+  std::string fast_switch;   ///< how the command's help names the fast path
+  std::string fast_changes;  ///< the results that the fast path's tiles change within their bounds
+};
+
+/// Adds `--tile-casters` and `--fast-tile-casters` (into `tile_casters` and `fast_tile_casters`)
+/// to `command`, with the defaults of `Options` (shadow::ShadowOptions, shadow::SeriesOptions).
+template <class Options>
+void add_tile_options(CLI::App& command, std::size_t& tile_casters, std::size_t& fast_tile_casters,
+                      const TileOptionsHelp& help) {
+  command
+      .add_option("--tile-casters", tile_casters,
+                  "Split a large receiver into tiles when it has more candidate casters" + help.casters_when +
+                      " than this (exact arithmetic; " + help.kept + " unchanged, " + help.cut +
+                      " cut at tile borders; 0: never; docs/tiles.md)")
+      ->default_val(Options{}.tile_casters)
+      ->check(integer_in(0, kMaxTileCasters));
+  command
+      .add_option("--fast-tile-casters", fast_tile_casters,
+                  "The same for " + help.fast_switch + " (" + help.fast_changes +
+                      " change within their bounds; 0: never)")
+      ->default_val(Options{}.fast_tile_casters)
+      ->check(integer_in(0, kMaxTileCasters));
+}
 
 /// A finite number in [lo, hi] (NaN and infinities rejected), `hi_text` naming the top.
 inline CLI::Validator finite_in(double lo, double hi, const std::string& hi_text = {}) {

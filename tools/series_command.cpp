@@ -64,16 +64,9 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
       ->check(shadow_cli::positive_up_to(1.0));
   series->add_flag("--orient-outward", args.orient_outward,
                    "Turn the closed parts of every mesh outward (as for `shadow compute`)");
-  series->add_option("--tile-casters", args.tile_casters,
-                     "Split a large receiver into tiles when it has more candidate casters at an instant than this "
-                     "(exact arithmetic; sun hours and lit fractions unchanged, --fragments cut at tile borders; "
-                     "0: never; docs/tiles.md)")
-      ->default_val(shadow::SeriesOptions{}.tile_casters)
-      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
-  series->add_option("--fast-tile-casters", args.fast_tile_casters,
-                     "The same for --fast (lit fractions change within their bounds; 0: never)")
-      ->default_val(shadow::SeriesOptions{}.fast_tile_casters)
-      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
+  shadow_cli::add_tile_options<shadow::SeriesOptions>(
+      *series, args.tile_casters, args.fast_tile_casters,
+      {" at an instant", "sun hours and lit fractions", "--fragments", "--fast", "lit fractions"});
   series->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
   series->add_option("--from", args.from,
                      "First local date of the sun period (YYYY-MM-DD), replacing the scene's or the model's "

@@ -216,16 +216,8 @@ int main(int argc, char** argv) {
   compute->add_flag("--orient-outward", args.orient_outward,
                     "Turn the closed parts of every mesh outward: make each part's faces consistent, then "
                     "reverse a part whose faces point inward (each change is a warning)");
-  compute->add_option("--tile-casters", args.tile_casters,
-                      "Split a large receiver into tiles when it has more candidate casters than this "
-                      "(exact arithmetic; areas unchanged, fragments cut at tile borders; 0: never; "
-                      "docs/tiles.md)")
-      ->default_val(shadow::ShadowOptions{}.tile_casters)
-      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
-  compute->add_option("--fast-tile-casters", args.fast_tile_casters,
-                      "The same for --arithmetic fast (areas change within their bounds; 0: never)")
-      ->default_val(shadow::ShadowOptions{}.fast_tile_casters)
-      ->check(shadow_cli::integer_in(0, shadow_cli::kMaxTileCasters));
+  shadow_cli::add_tile_options<shadow::ShadowOptions>(*compute, args.tile_casters, args.fast_tile_casters,
+                                                      {"", "areas", "fragments", "--arithmetic fast", "areas"});
   compute->add_option("--lod", args.lod,
                       "CityJSON level of detail to read (\"1\", \"2\", \"2.2\"; default: the highest of each "
                       "city object)");

@@ -52,15 +52,11 @@ enum class CellPlace {
 inline double box_fill(const std::vector<glm::dvec3>& vertices, const FacePrep& fp) {
   if (fp.chart_is_box || fp.chart_ring.size() < 3) return 1.0;
   const int i = chart_i(fp.axis), j = chart_j(fp.axis);
-  double twice = 0;
-  const std::size_t n = fp.chart_ring.size();
-  for (std::size_t a = 0; a < n; ++a) {  // about the box's corner (large coordinates cancel)
-    const glm::dvec3& p = vertices[fp.chart_ring[a]];
-    const glm::dvec3& q = vertices[fp.chart_ring[(a + 1) % n]];
-    twice += (p[i] - fp.chart_min[0]) * (q[j] - fp.chart_min[1]) - (q[i] - fp.chart_min[0]) * (p[j] - fp.chart_min[1]);
-  }
-  const double box = (fp.chart_max[0] - fp.chart_min[0]) * (fp.chart_max[1] - fp.chart_min[1]);
-  const double fill = 0.5 * std::abs(twice) / box;
+  const double twice = twice_area_about_box_corner(fp, fp.chart_ring.size(), [&](std::size_t a) {
+    const glm::dvec3& p = vertices[static_cast<std::size_t>(fp.chart_ring[a])];
+    return std::array<double, 2>{p[i], p[j]};
+  });
+  const double fill = 0.5 * std::abs(twice) / chart_box_area(fp);
   return std::isfinite(fill) && fill > 0 ? std::min(fill, 1.0) : 1.0;
 }
 

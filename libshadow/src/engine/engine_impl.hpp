@@ -14,6 +14,7 @@
 #include <shadow/shadows.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <ctime>
 #include <functional>
@@ -140,6 +141,46 @@ inline void count_item(ShadowStats& stats, double seconds) {
   stats.item_seconds += seconds;
   stats.longest_item_seconds = std::max(stats.longest_item_seconds, seconds);
 }
+
+/// Work items are handed out in runs of kRun consecutive ones: neighbouring receivers (a box's
+/// six faces) share their casters, whose exact faces and caster lists the worker then still has,
+/// and the thread's CPU clock is read once per run (BlockTimer).
+inline constexpr std::size_t kRun = 16;
+
+/// Progress that never goes back: `base + done` of `total` handed to `callback` (none when it is
+/// empty), a count below one already reported dropped. For one thread only (parallel_for calls
+/// its progress on the calling thread).
+class ForwardProgress {
+ public:
+  ForwardProgress(const std::function<void(const Progress&)>& callback, std::size_t base, std::size_t total)
+      : callback_(callback), base_(base), total_(total) {}
+  explicit operator bool() const { return static_cast<bool>(callback_); }
+  void operator()(std::size_t done) {
+    if (!callback_ || done < reported_) return;
+    reported_ = done;
+    callback_(Progress{base_ + done, total_});
+  }
+
+ private:
+  const std::function<void(const Progress&)>& callback_;
+  std::size_t base_, total_;
+  std::size_t reported_ = 0;
+};
+
+/// The first round of `items` work items, handed out in runs of kRun, some of which ask to be
+/// split into tiles (counted in `split`, from any thread): an item that asked counts as done
+/// when its tiles are, in the tile round. A split item is known only once its run has begun, so
+/// done() can fall behind a value it gave before (ForwardProgress drops those).
+struct FirstRound {
+  explicit FirstRound(std::size_t item_count) : items(item_count) {}
+  /// The items done when `runs` runs are, less those that asked to be split so far.
+  [[nodiscard]] std::size_t done(std::size_t runs) const {
+    const std::size_t finished = std::min(items, runs * kRun);
+    return finished - std::min(finished, split.load());
+  }
+  std::size_t items;
+  std::atomic<std::size_t> split{0};
+};
 
 /// Times the work items of one block that a thread takes at once (a run of receivers): the
 /// thread's CPU clock is read at the block's ends only, since reading it is a system call

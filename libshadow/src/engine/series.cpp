@@ -92,16 +92,9 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   // the first round standing for (1 - tile_share) of it and the tile round for the rest.
   // tile_share is the tile round's share of the previous batch's time (neighbouring instants
   // cost about the same); on the first batch, or after one without tiles, a split receiver
-  // counts as one item that is done when its tiles are, as compute() counts receivers. Called
-  // from this thread only; never goes back.
-  std::size_t reported = 0;
-  auto report_instants = [&](std::size_t done) {
-    if (done < reported) return;
-    reported = done;
-    options.progress(Progress{done, instants});
-  };
+  // counts as one item that is done when its tiles are, as compute() counts receivers.
+  engine_detail::ForwardProgress report_instants(options.progress, 0, instants);
   double tile_share = 0.0;
-  std::atomic<std::size_t> splits_so_far{0};
   using Clock = std::chrono::steady_clock;
 
   for (std::size_t first = 0; first < instants; first += batch) {
@@ -113,26 +106,22 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 
-    const double items = static_cast<double>(rows * count);
     auto report_fraction = [&](double fraction) {
       report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));
     };
-    splits_so_far = 0;
+    engine_detail::FirstRound first_round(rows * count);
     double round_fraction = 0;  // of the batch, at the first round's end
-    std::function<void(std::size_t)> report;
-    if (options.progress)
-      report = [&](std::size_t done) {
-        round_fraction = (1 - tile_share) * static_cast<double>(done - std::min(done, splits_so_far.load())) / items;
+    // Items in runs of engine_detail::kRun consecutive ones, as compute() hands out receivers.
+    std::function<void(std::size_t)> report_runs;
+    if (report_instants)
+      report_runs = [&](std::size_t runs) {
+        round_fraction =
+            (1 - tile_share) * static_cast<double>(first_round.done(runs)) / static_cast<double>(first_round.items);
         report_fraction(round_fraction);
       };
     const auto round_start = Clock::now();
-    // Items in blocks of kRun consecutive ones (as compute() hands out runs of receivers: the
-    // thread's CPU clock is then read per block, engine_detail::BlockTimer).
-    constexpr std::size_t kRun = 16;
-    std::function<void(std::size_t)> report_blocks;
-    if (report) report_blocks = [&](std::size_t blocks) { report(std::min(rows * count, blocks * kRun)); };
     core::parallel_for_blocks(
-        rows * count, kRun, threads,
+        rows * count, engine_detail::kRun, threads,
         [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
           Impl::Worker& w = workers[wi];
           engine_detail::BlockTimer timer;
@@ -154,17 +143,17 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
             if (out.split_candidates > 0) {  // tiled after the batch's other items
               std::lock_guard<std::mutex> lock(split_mutex);
               pending.push_back({k, r, std::move(out)});
-              splits_so_far.fetch_add(1);
+              first_round.split.fetch_add(1);
               continue;
             }
             write_row(r, instant, out.lighting);
           }
           timer.finish(w.stats);
         },
-        report_blocks);
+        report_runs);
     if (pending.empty()) {
       tile_share = 0.0;
-      if (options.progress) report_instants(first + count);
+      report_instants(first + count);
       continue;
     }
     const auto tiles_start = Clock::now();
@@ -179,7 +168,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     }
     // The tile round: the rest of the batch, in proportion to the tiles done.
     std::function<void(std::size_t, std::size_t)> report_tiles;
-    if (options.progress)
+    if (report_instants)
       report_tiles = [&](std::size_t done, std::size_t total) {
         report_fraction(total == 0 ? 1.0
                                    : round_fraction + (1 - round_fraction) * static_cast<double>(done) /
@@ -194,11 +183,11 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     const double round_seconds = std::chrono::duration<double>(tiles_start - round_start).count();
     const double tile_seconds = std::chrono::duration<double>(Clock::now() - tiles_start).count();
     tile_share = round_seconds + tile_seconds > 0 ? tile_seconds / (round_seconds + tile_seconds) : 0.0;
-    if (options.progress) report_instants(first + count);
+    report_instants(first + count);
   }
   for (const Impl::Worker& w : workers) result.stats += w.stats;
   Impl::release_workers(workers);
-  if (options.progress) report_instants(instants);
+  report_instants(instants);
   return result;
 }
 

@@ -144,17 +144,9 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
 
   // Progress in receivers done: a receiver split into tiles counts when its tiles are done
-  // (in proportion during the tile round). Called from this thread only; never goes back.
-  std::atomic<std::size_t> splits_so_far{0};
-  std::size_t reported = 0;
-  auto report_receivers = [&](std::size_t done) {
-    if (done < reported) return;
-    reported = done;
-    options.progress(Progress{progress_base + done, progress_total});
-  };
-  std::function<void(std::size_t)> report;
-  if (options.progress)
-    report = [&](std::size_t done) { report_receivers(done - std::min(done, splits_so_far.load())); };
+  // (in proportion during the tile round).
+  engine_detail::ForwardProgress report_receivers(options.progress, progress_base, progress_total);
+  engine_detail::FirstRound first_round(receivers.size());
 
   std::vector<std::optional<ExactLight>> lights(threads);
   ItemMode mode;
@@ -167,20 +159,18 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::mutex split_mutex;
   core::TileRequest whole;
   whole.split_above = mode.split_above;
-  // Runs of kRun consecutive receivers are taken at a time: neighbouring faces (a box's six)
-  // share their casters, whose exact faces and caster lists the worker then still has.
-  constexpr std::size_t kRun = 16;
+  // Runs of kRun consecutive receivers are taken at a time (engine_detail::kRun).
   std::function<void(std::size_t)> report_runs;
-  if (report) report_runs = [&](std::size_t done) { report(std::min(receivers.size(), done * kRun)); };
+  if (report_receivers) report_runs = [&](std::size_t runs) { report_receivers(first_round.done(runs)); };
   core::parallel_for_blocks(
-      receivers.size(), kRun, threads,
+      receivers.size(), engine_detail::kRun, threads,
       [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
         Worker& w = workers[wi];
         engine_detail::BlockTimer timer;
         for (std::size_t r = begin; r < end; ++r) {
           items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
           if (items[r].split_candidates > 0) {
-            splits_so_far.fetch_add(1);
+            first_round.split.fetch_add(1);
             std::lock_guard<std::mutex> lock(split_mutex);
             split.push_back(r);
           }
@@ -195,7 +185,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::vector<SplitReceiver> splits;
   for (std::size_t r : split) splits.push_back({receivers[r], light_id, &light_in, grid_ptr, 0, &items[r]});
   std::function<void(std::size_t, std::size_t)> report_tiles;
-  if (options.progress)
+  if (report_receivers)
     report_tiles = [&](std::size_t done, std::size_t total) {
       const std::size_t whole_receivers = receivers.size() - split.size();
       report_receivers(whole_receivers + (total == 0 ? split.size() : done * split.size() / total));

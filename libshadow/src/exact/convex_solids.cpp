@@ -2,14 +2,13 @@
 #include "exact/convex_solids.hpp"
 
 #include "core/parallel.hpp"
+#include "geometry/point_hash.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
-#include <array>
 #include <climits>
 #include <cstdint>
-#include <cstring>
 #include <unordered_map>
 #include <map>
 #include <set>
@@ -19,26 +18,7 @@
 namespace shadow::exact {
 namespace {
 
-using VertexKey = std::array<std::uint64_t, 3>;  // the coordinates' bits, -0.0 folded
-
-VertexKey vertex_key(const glm::dvec3& v) {
-  VertexKey key;
-  for (int c = 0; c < 3; ++c) {
-    const double x = v[c] + 0.0;
-    std::memcpy(&key[static_cast<std::size_t>(c)], &x, sizeof x);
-  }
-  return key;
-}
-
-std::uint64_t hash_key(const VertexKey& k) {
-  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (std::uint64_t x : k) {
-    h ^= x + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-    h *= 0xff51afd7ed558ccdULL;
-    h ^= h >> 33;
-  }
-  return h;
-}
+using geometry::PointKey;  // a vertex's coordinates' bits, -0.0 folded (geometry/point_hash.hpp)
 
 /// One use of an undirected edge {u, v} (u < v, vertex ids) by a face; kept in a bucket per u.
 struct EdgeUse {
@@ -94,7 +74,7 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
 
   // Vertex ids by exact coordinates, numbered in order of first use.
   std::vector<int> corner_vertex(corners);
-  std::vector<VertexKey> keys;
+  std::vector<PointKey> keys;
   std::vector<glm::dvec3> vertex_position;
   {
     std::size_t size = 16;
@@ -105,8 +85,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     for (std::size_t f = 0; f < n; ++f) {
       if (!takes_part(f)) continue;
       for (const glm::dvec3& v : scene.faces[f].vertices) {
-        const VertexKey key = vertex_key(v);
-        std::size_t h = static_cast<std::size_t>(hash_key(key)) & mask;
+        const PointKey key = geometry::point_key(v);
+        std::size_t h = static_cast<std::size_t>(geometry::point_key_hash(key)) & mask;
         while (table[h] >= 0 && keys[static_cast<std::size_t>(table[h])] != key) h = (h + 1) & mask;
         if (table[h] < 0) {
           table[h] = static_cast<int>(keys.size());
@@ -282,32 +262,14 @@ std::vector<core::ConvexSolid> find_convex_solids_reference(const Scene& scene, 
   std::vector<std::vector<int>> face_vertices(n);
   std::vector<glm::dvec3> vertex_position;
   {
-    using Key = std::array<std::uint64_t, 3>;  // the coordinates' bits, -0.0 folded
-    struct KeyHash {
-      std::size_t operator()(const Key& k) const {
-        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-        for (std::uint64_t x : k) {
-          h ^= x + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-          h *= 0xff51afd7ed558ccdULL;
-          h ^= h >> 33;
-        }
-        return static_cast<std::size_t>(h);
-      }
-    };
-    auto bits = [](double x) {
-      x += 0.0;
-      std::uint64_t b;
-      std::memcpy(&b, &x, sizeof b);
-      return b;
-    };
-    std::unordered_map<Key, int, KeyHash> vertex_id;
+    std::unordered_map<PointKey, int, geometry::PointKeyHash> vertex_id;
     std::size_t corners = 0;
     for (std::size_t f = 0; f < n; ++f) corners += scene.faces[f].vertices.size();
     vertex_id.reserve(corners);
     for (std::size_t f = 0; f < n; ++f) {
       if (prep[f].degenerate || !prep[f].exactly_planar) continue;
       for (const glm::dvec3& v : scene.faces[f].vertices) {
-        auto [it, inserted] = vertex_id.emplace(Key{bits(v.x), bits(v.y), bits(v.z)}, static_cast<int>(vertex_position.size()));
+        auto [it, inserted] = vertex_id.emplace(geometry::point_key(v), static_cast<int>(vertex_position.size()));
         if (inserted) vertex_position.push_back(v);
         face_vertices[f].push_back(it->second);
       }

@@ -17,6 +17,7 @@
 #include <CGAL/convex_hull_2.h>
 
 #include <algorithm>
+#include <array>
 #include <iterator>
 #include <optional>
 #include <utility>
@@ -418,17 +419,11 @@ class ExactReceiverJob {
   /// a near match costs an exact comparison.
   void note_cover(const Polygon2& shadow) {
     if (polygons_ || !fp_.chart_is_box || tile_ || covered_) return;
-    const double box = (fp_.chart_max[0] - fp_.chart_min[0]) * (fp_.chart_max[1] - fp_.chart_min[1]);
-    double twice = 0;
-    for (auto a = shadow.vertices_begin(); a != shadow.vertices_end(); ++a) {
-      const auto b = std::next(a) == shadow.vertices_end() ? shadow.vertices_begin() : std::next(a);
-      // About the box's corner: georeferenced charts (coordinates of 1e6) would cancel the
-      // products' leading digits away.
-      const double ax = CGAL::to_double(a->x()) - fp_.chart_min[0], ay = CGAL::to_double(a->y()) - fp_.chart_min[1];
-      const double bx = CGAL::to_double(b->x()) - fp_.chart_min[0], by = CGAL::to_double(b->y()) - fp_.chart_min[1];
-      twice += ax * by - bx * ay;
-    }
-    if (!(std::abs(0.5 * twice - box) <= 1e-9 * box) || !shadow.is_convex()) return;
+    const double twice = core::twice_area_about_box_corner(fp_, shadow.size(), [&](std::size_t a) {
+      const auto& p = shadow.vertex(a);
+      return std::array<double, 2>{CGAL::to_double(p.x()), CGAL::to_double(p.y())};
+    });
+    if (!near_box_area(twice) || !shadow.is_convex()) return;
     covered_ = polygon_area(shadow) == w_.face(ctx_, face_id_).chart_area;
   }
 
@@ -449,20 +444,21 @@ class ExactReceiverJob {
   /// and a simple polygon inside the box with the box's area is the box.
   void note_cover_q(const std::vector<QPoint2>& poly) {
     if (tile_ || covered_ || poly.size() < 3) return;
-    const double box = (fp_.chart_max[0] - fp_.chart_min[0]) * (fp_.chart_max[1] - fp_.chart_min[1]);
-    double twice = 0;
-    for (std::size_t a = 0; a < poly.size(); ++a) {
-      const QPoint2& p = poly[a];
-      const QPoint2& q = poly[(a + 1) % poly.size()];
-      const double px = p.x.get_d() - fp_.chart_min[0], py = p.y.get_d() - fp_.chart_min[1];
-      const double qx = q.x.get_d() - fp_.chart_min[0], qy = q.y.get_d() - fp_.chart_min[1];
-      twice += px * qy - qx * py;
-    }
-    if (!(std::abs(0.5 * twice - box) <= 1e-9 * box)) return;
+    const double twice = core::twice_area_about_box_corner(fp_, poly.size(), [&](std::size_t a) {
+      return std::array<double, 2>{poly[a].x.get_d(), poly[a].y.get_d()};
+    });
+    if (!near_box_area(twice)) return;
     EQ exact_twice;
     twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
     const EQ exact_box = (EQ(fp_.chart_max[0]) - EQ(fp_.chart_min[0])) * (EQ(fp_.chart_max[1]) - EQ(fp_.chart_min[1]));
     covered_ = exact_twice == 2 * exact_box;
+  }
+
+  /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
+  /// of twice the chart box's: only such a cast can be the whole box (note_cover, note_cover_q).
+  bool near_box_area(double twice) const {
+    const double box = core::chart_box_area(fp_);
+    return std::abs(0.5 * twice - box) <= 1e-9 * box;
   }
 
   std::size_t shadow_count() const { return q_mode_ ? w_.qfirst.size() - 1 : shadows_.size(); }

@@ -12,6 +12,7 @@
 #include "core/parallel.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
+#include "geometry/point_hash.hpp"
 #include "scene/planarity.hpp"
 #include "scene/validate_reference.hpp"
 
@@ -21,7 +22,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <exception>
 #include <limits>
 #include <utility>
@@ -261,27 +261,30 @@ void scatter_by_shard(std::size_t n, unsigned threads, const ShardOf& shard_of, 
   });
 }
 
-/// A 64-bit mix (the finaliser of MurmurHash3's 64-bit variant, a well-known constant choice).
-inline std::uint64_t mix64(std::uint64_t h) {
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdULL;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ULL;
-  h ^= h >> 33;
-  return h;
+/// Numbers the `n` items of a shard by first use, items equal by same(a, b) sharing a number:
+/// number[i] for i in [0, n), counting up from 0; returns how many numbers. An open-addressing
+/// table, slots chosen by the low bits of hash(i), holds each number's first item (n < 2^32).
+template <class Hash, class Same>
+std::uint32_t number_by_first_use(std::size_t n, const Hash& hash, const Same& same, std::uint32_t* number) {
+  std::size_t size = 16;
+  while (size < 2 * n) size *= 2;
+  std::vector<std::uint32_t> table(size, UINT32_MAX);  // a number's first item
+  std::uint32_t next = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t h = static_cast<std::size_t>(hash(i)) & (size - 1);
+    while (table[h] != UINT32_MAX && !same(table[h], i)) h = (h + 1) & (size - 1);
+    if (table[h] == UINT32_MAX) {
+      table[h] = static_cast<std::uint32_t>(i);
+      number[i] = next++;
+    } else {
+      number[i] = number[table[h]];
+    }
+  }
+  return next;
 }
 
-/// The hash of a point's coordinates (-0.0 hashed as 0.0, as == compares them).
-inline std::uint64_t point_hash(const glm::dvec3& v) {
-  std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-  for (int c = 0; c < 3; ++c) {
-    const double x = v[c] + 0.0;
-    std::uint64_t b;
-    std::memcpy(&b, &x, sizeof b);
-    h = mix64(h ^ b);
-  }
-  return h;
-}
+using geometry::mix64;
+using geometry::point_hash;  // -0.0 hashed as 0.0, as == compares them
 
 /// The uses of the edges of `faces` (corners in all, below 2^32), grouped so that the uses of
 /// one edge are adjacent, on `threads` threads: the corners scattered into shards by their
@@ -320,27 +323,14 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
         [&](std::size_t c) { return Corner{point(c), static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(hash[c])}; },
         by_shard, start);
   }
-  // Vertex numbers: within a shard by first use, then offset by the shards before it.
+  // Vertex numbers: within a shard by first use (number_by_first_use), then offset by the shards before it.
   std::vector<std::uint32_t> local(corners);  // by shard order: the corner's number in its shard
   std::vector<std::size_t> distinct(kShards + 1, 0);
   core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
-    const std::size_t n = start[s + 1] - start[s];
-    std::size_t size = 16;
-    while (size < 2 * n) size *= 2;
-    std::vector<std::uint32_t> table(size, UINT32_MAX);  // a number's first corner, in shard order
-    std::uint32_t next = 0;
-    for (std::size_t k = start[s]; k < start[s + 1]; ++k) {
-      const Corner& c = by_shard[k];
-      std::size_t h = c.hash & (size - 1);
-      while (table[h] != UINT32_MAX && by_shard[table[h]].p != c.p) h = (h + 1) & (size - 1);
-      if (table[h] == UINT32_MAX) {
-        table[h] = static_cast<std::uint32_t>(k);
-        local[k] = next++;
-      } else {
-        local[k] = local[table[h]];
-      }
-    }
-    distinct[s] = next;
+    const Corner* c = by_shard.data() + start[s];
+    distinct[s] = number_by_first_use(
+        start[s + 1] - start[s], [&](std::size_t i) { return c[i].hash; },
+        [&](std::size_t a, std::size_t b) { return c[a].p == c[b].p; }, local.data() + start[s]);
   });
   std::size_t base = 0;
   for (std::size_t s = 0; s < kShards; ++s) {
@@ -369,27 +359,17 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
   vertex = {};
   face_of = {};
   // Within a shard, the uses of one edge made adjacent: each key's group numbered by first use
-  // (a table of the shard's keys), then the uses placed group after group.
+  // (number_by_first_use), then the uses placed group after group.
   std::vector<EdgeUse> grouped(corners);
   core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const std::size_t n = start[s + 1] - start[s];
-    std::size_t size = 16;
-    while (size < 2 * n) size *= 2;
-    std::vector<std::uint32_t> table(size, UINT32_MAX);  // a key's group
-    std::vector<std::uint64_t> keys;                     // by group
-    std::vector<std::uint32_t> group(n), place;          // each use's group; then each group's next place
-    for (std::size_t k = 0; k < n; ++k) {
-      const std::uint64_t key = uses[start[s] + k].key;
-      std::size_t h = mix64(key) & (size - 1);
-      while (table[h] != UINT32_MAX && keys[table[h]] != key) h = (h + 1) & (size - 1);
-      if (table[h] == UINT32_MAX) {
-        table[h] = static_cast<std::uint32_t>(keys.size());
-        keys.push_back(key);
-        place.push_back(0);
-      }
-      group[k] = table[h];
-      ++place[table[h]];
-    }
+    const EdgeUse* u = uses.data() + start[s];
+    std::vector<std::uint32_t> group(n);  // each use's group
+    const std::uint32_t groups = number_by_first_use(
+        n, [&](std::size_t i) { return mix64(u[i].key); },
+        [&](std::size_t a, std::size_t b) { return u[a].key == u[b].key; }, group.data());
+    std::vector<std::uint32_t> place(groups, 0);  // each group's size, then its next place
+    for (const std::uint32_t g : group) ++place[g];
     std::uint32_t next = 0;
     for (std::uint32_t& p : place) {
       const std::uint32_t count = p;
