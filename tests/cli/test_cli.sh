@@ -6,21 +6,11 @@
 # Usage: bash test_cli.sh /path/to/shadow /path/to/tests/data /path/to/examples
 set -u
 
-if [[ $# -ne 3 ]]; then
-  echo "usage: $0 SHADOW_BINARY TEST_DATA_DIR EXAMPLES_DIR" >&2
-  exit 2
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin cli-test 3 "SHADOW_BINARY TEST_DATA_DIR EXAMPLES_DIR" "$@"
 SHADOW=$1
 DATA=$2
 EXAMPLES=$3
-
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-cli-test.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
 
 # expect_input_error NAME SCENE PART...: `shadow compute SCENE` must exit with status 2 (bad
 # input), print exactly one line on stderr that contains every PART, and leave no output files.
@@ -619,5 +609,4 @@ printf '%s\n' '{"meshes": [{"name": "g", "polygons": [[[0,0,0],[1,0,0],[1,1,0],[
   ' "lights": [{"name": "lum", "type": "area", "polygon": [[0,0,2],[2,2,2],[2,0,2],[0,1,2]]}]}' >"$WORK/badarea/scene.json"
 expect_input_error area_light_not_simple "$WORK/badarea/scene.json" "scene.json" "lights[0].polygon" "not simple"
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+cli_test_end

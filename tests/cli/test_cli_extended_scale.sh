@@ -8,19 +8,10 @@
 # Usage: bash test_cli_extended_scale.sh /path/to/shadow /path/to/examples
 set -u
 
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 SHADOW_BINARY EXAMPLES_DIR" >&2
-  exit 2
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin cli-extended 2 "SHADOW_BINARY EXAMPLES_DIR" "$@"
 SHADOW=$1
 EXAMPLES=$2
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-cli-extended.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
 
 for scale in 1 1e200 1e-200; do
   python3 - "$EXAMPLES/area-light/sun-disk.json" "$WORK/scene-$scale.json" "$scale" <<'PY'
@@ -66,5 +57,4 @@ PY
   then pass "report_areas_scale_$scale"; else fail "report_areas_scale_$scale" "areas differ from the unit direction's"; fi
 done
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+cli_test_end

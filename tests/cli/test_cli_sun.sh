@@ -8,19 +8,10 @@
 # Usage: bash test_cli_sun.sh /path/to/shadow /path/to/examples
 set -u
 
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 SHADOW_BINARY EXAMPLES_DIR" >&2
-  exit 2
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin cli-sun 2 "SHADOW_BINARY EXAMPLES_DIR" "$@"
 SHADOW=$1
 EXAMPLES=$2
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-cli-sun.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
 
 # expect_usage_error NAME PART ARGS...: exit 2, exactly one line on stderr containing PART.
 expect_usage_error() {
@@ -178,5 +169,4 @@ expect_usage_error compute_bad_step "scene.json: sun.step_minutes: step_minutes 
   compute "$WORK/bad/scene.json" -o "$WORK/out-bad"
 if [[ -e "$WORK/out-bad/report.json" ]]; then fail "compute_bad_step_no_output" "report.json written"; fi
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+cli_test_end

@@ -10,20 +10,11 @@
 # Usage: bash test_series_mpi.sh /path/to/shadow /path/to/examples /path/to/mpiexec
 set -u
 
-if [[ $# -ne 3 ]]; then
-  echo "usage: $0 SHADOW_BINARY EXAMPLES_DIR MPIEXEC" >&2
-  exit 2
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin series-mpi 3 "SHADOW_BINARY EXAMPLES_DIR MPIEXEC" "$@"
 SHADOW=$1
 SCENE=$2/sun/scene.json
 MPIEXEC=$3
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-series-mpi.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
 
 # Open MPI refuses root unless told, and more ranks than cores unless told (CI: 2 cores).
 MPI_FLAGS=()
@@ -106,5 +97,4 @@ mpi -np 1 "$SHADOW" series "$SCENE" -o "$WORK/differ" -q : -np 1 "$SHADOW" serie
 [[ $status -eq 2 && $(grep -c "^shadow" "$WORK/differ.err") -eq 1 ]] && grep -q "rank 1: error: .*another scene" "$WORK/differ.err" &&
   pass "ranks with different scenes refused" || fail "different scenes" "exit $status: $(grep "^shadow" "$WORK/differ.err")"
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+cli_test_end

@@ -10,19 +10,10 @@
 # Usage: bash test_series_resume.sh /path/to/shadow /path/to/examples
 set -u
 
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 SHADOW_BINARY EXAMPLES_DIR" >&2
-  exit 2
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin series-resume 2 "SHADOW_BINARY EXAMPLES_DIR" "$@"
 SHADOW=$1
 SCENE=$2/sun/scene.json
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-series-resume.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
 
 # Three June days in Berlin, hourly: 51 instants above the horizon, with the exact sun-hours map
 # of two meshes, every second instant's dataset and its fragments.
@@ -117,5 +108,4 @@ status=0
 [[ $status -eq 2 && $(wc -l <"$WORK/junk.err") -eq 1 ]] && grep -q "not a shadow series checkpoint" "$WORK/junk.err" &&
   pass "junk checkpoint refused" || fail "junk checkpoint" "exit $status: $(cat "$WORK/junk.err")"
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+cli_test_end

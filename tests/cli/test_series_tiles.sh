@@ -11,19 +11,10 @@
 # Usage: bash test_series_tiles.sh /path/to/shadow /path/to/examples
 set -u
 
-if [[ $# -ne 2 ]]; then
-  echo "usage: $0 SHADOW_BINARY EXAMPLES_DIR" >&2
-  exit 2
-fi
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin series-tiles 2 "SHADOW_BINARY EXAMPLES_DIR" "$@"
 SHADOW=$1
 SCENE=$2/sun/scene.json
-WORK=$(mktemp -d "${TMPDIR:-/tmp}/shadow-series-tiles.XXXXXX")
-trap 'rm -rf "$WORK"' EXIT
-
-passed=0
-failed=0
-pass() { passed=$((passed + 1)); echo "ok   $1"; }
-fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
 
 # Two June days in Berlin, hourly (34 instants above the horizon), every third instant's dataset.
 ARGS=(--from 2026-06-20 --to 2026-06-21 --every 3 -t 2 -q)
@@ -139,5 +130,4 @@ cmp -s <(grep -v '"started_utc"' "$WORK/tiled1/report.json") <(grep -v '"started
 [[ -z "$differing" ]] && pass "resumed with the same thresholds: the uninterrupted run's files" ||
   fail "resumed" "differ:$differing"
 
-echo "$passed passed, $failed failed"
-[[ $failed -eq 0 ]]
+cli_test_end
