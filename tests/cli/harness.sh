@@ -4,7 +4,7 @@
 #
 #   source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
 #   cli_test_begin NAME COUNT "USAGE ARGS" "$@"   # exit 2 with a usage line unless COUNT arguments
-#   ... pass "check" || fail "check" "why" ...
+#   ... pass "check" || fail "check" "why" ... same_outputs "check" DIR_A DIR_B ...
 #   cli_test_end                                  # the tally; fails when any check failed
 
 # cli_test_begin NAME COUNT USAGE ARGS...: checks that ARGS has COUNT words and makes $WORK.
@@ -23,6 +23,32 @@ passed=0
 failed=0
 pass() { passed=$((passed + 1)); echo "ok   $1"; }
 fail() { failed=$((failed + 1)); echo "FAIL $1: $2"; }
+
+# same_outputs NAME A B: folders A and B hold the same files, byte for byte (report.json without
+# its start time, which no two runs share); one pass or fail named NAME.
+same_outputs() {
+  local name=$1 a=$2 b=$3
+  local listing_a listing_b
+  listing_a=$(cd "$a" && find . -type f | sort)
+  listing_b=$(cd "$b" && find . -type f | sort)
+  if [[ "$listing_a" != "$listing_b" ]]; then
+    fail "$name" "different files: $(diff <(echo "$listing_a") <(echo "$listing_b") | tr '\n' ' ')"
+    return
+  fi
+  local f
+  while read -r f; do
+    if [[ "$f" == ./report.json ]]; then
+      if ! cmp -s <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f"); then
+        fail "$name" "report.json differs: $(diff <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f") | head -5 | tr '\n' ' ')"
+        return
+      fi
+    elif ! cmp -s "$a/$f" "$b/$f"; then
+      fail "$name" "$f differs"
+      return
+    fi
+  done <<<"$listing_a"
+  pass "$name ($(echo "$listing_a" | wc -l) files identical)"
+}
 
 # cli_test_end: prints the tally; its status is the script's (non-zero when a check failed).
 cli_test_end() {

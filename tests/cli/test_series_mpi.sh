@@ -27,31 +27,6 @@ mpi() { "$MPIEXEC" "${MPI_FLAGS[@]}" "$@"; }
 
 ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments -t 1 -q)
 
-# same_outputs NAME A B: the same files, byte for byte (report.json without its start time).
-same_outputs() {
-  local name=$1 a=$2 b=$3
-  local listing_a listing_b
-  listing_a=$(cd "$a" && find . -type f | sort)
-  listing_b=$(cd "$b" && find . -type f | sort)
-  if [[ "$listing_a" != "$listing_b" ]]; then
-    fail "$name" "different files: $(diff <(echo "$listing_a") <(echo "$listing_b") | tr '\n' ' ')"
-    return
-  fi
-  local f
-  while read -r f; do
-    if [[ "$f" == ./report.json ]]; then
-      if ! cmp -s <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f"); then
-        fail "$name" "report.json differs: $(diff <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f") | head -5 | tr '\n' ' ')"
-        return
-      fi
-    elif ! cmp -s "$a/$f" "$b/$f"; then
-      fail "$name" "$f differs"
-      return
-    fi
-  done <<<"$listing_a"
-  pass "$name ($(echo "$listing_a" | wc -l) files identical)"
-}
-
 # The reference: one process, no launcher, with an MPI environment under which MPI_Init fails
 # (no such point-to-point layer): it must not call it.
 status=0

@@ -20,31 +20,6 @@ SCENE=$2/sun/scene.json
 ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments -t 1 -q)
 TALK=("${ARGS[@]:0:${#ARGS[@]}-1}")  # without -q: the resume note is printed
 
-# same_outputs NAME A B: the same files, byte for byte (report.json without its start time).
-same_outputs() {
-  local name=$1 a=$2 b=$3
-  local listing_a listing_b
-  listing_a=$(cd "$a" && find . -type f | sort)
-  listing_b=$(cd "$b" && find . -type f | sort)
-  if [[ "$listing_a" != "$listing_b" ]]; then
-    fail "$name" "different files: $(diff <(echo "$listing_a") <(echo "$listing_b") | tr '\n' ' ')"
-    return
-  fi
-  local f
-  while read -r f; do
-    if [[ "$f" == ./report.json ]]; then
-      if ! cmp -s <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f"); then
-        fail "$name" "report.json differs: $(diff <(grep -v '"started_utc"' "$a/$f") <(grep -v '"started_utc"' "$b/$f") | head -5 | tr '\n' ' ')"
-        return
-      fi
-    elif ! cmp -s "$a/$f" "$b/$f"; then
-      fail "$name" "$f differs"
-      return
-    fi
-  done <<<"$listing_a"
-  pass "$name ($(echo "$listing_a" | wc -l) files identical)"
-}
-
 "$SHADOW" series "$SCENE" -o "$WORK/whole" "${ARGS[@]}" || fail reference "exit $?"
 [[ -f "$WORK/whole/report.json" && -f "$WORK/whole/sun_hours.vtp" ]] && pass "reference run" || fail "reference run" "no report.json or sun_hours.vtp"
 

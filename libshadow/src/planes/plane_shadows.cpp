@@ -41,7 +41,6 @@
 #include <glm/geometric.hpp>
 
 #include <gmpxx.h>
-#include <mpfr.h>
 
 #include <algorithm>
 #include <array>
@@ -675,13 +674,7 @@ mpq_class exact_twice_area(const exact::Polygon2& polygon) {
 double area_3d(const mpq_class& twice_chart_area, const mpq_class& scale_squared) {
   if (sgn(twice_chart_area) == 0) return 0.0;
   const mpq_class squared = twice_chart_area * twice_chart_area * scale_squared / 4;
-  mpfr_t r;
-  mpfr_init2(r, 256);
-  mpfr_set_q(r, squared.get_mpq_t(), MPFR_RNDN);
-  mpfr_sqrt(r, r, MPFR_RNDN);
-  const double d = mpfr_get_d(r, MPFR_RNDN);
-  mpfr_clear(r);
-  return d;
+  return exact::sqrt_mpq_to_double(squared.get_mpq_t());
 }
 
 /// Unites the images of one tile (clipped to it) and writes its regions back onto the plane.

@@ -38,7 +38,6 @@
 #include <CGAL/Arrangement_2.h>
 
 #include <gmpxx.h>
-#include <mpfr.h>
 
 #include <algorithm>
 #include <atomic>
@@ -62,14 +61,7 @@ using Dcel = CGAL::Arr_face_extended_dcel<Traits, long>;  // face data: index in
 using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 
 
-double round_mpq(const mpq_class& q) {
-  mpfr_t r;
-  mpfr_init2(r, 53);
-  mpfr_set_q(r, q.get_mpq_t(), MPFR_RNDN);
-  const double d = mpfr_get_d(r, MPFR_RNDN);
-  mpfr_clear(r);
-  return d;
-}
+double round_mpq(const mpq_class& q) { return exact::round_mpq_to_double(q.get_mpq_t()); }
 
 /// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
 void add_boundary(const Polygon2& polygon, long instant, std::vector<Traits::Curve_2>& curves) {
@@ -260,13 +252,7 @@ class FaceOverlay {
   double area_3d_mpq(const mpq_class& chart_area) const {
     if (sgn(chart_area) == 0) return 0.0;
     const mpq_class squared = chart_area * chart_area * scale_;
-    mpfr_t r;
-    mpfr_init2(r, 256);
-    mpfr_set_q(r, squared.get_mpq_t(), MPFR_RNDN);
-    mpfr_sqrt(r, r, MPFR_RNDN);
-    const double d = mpfr_get_d(r, MPFR_RNDN);
-    mpfr_clear(r);
-    return d;
+    return exact::sqrt_mpq_to_double(squared.get_mpq_t());
   }
 
   bool write(const Polygon2& cell, const mpq_class& cell_area, double sun_hours, FaceMap& out) {
