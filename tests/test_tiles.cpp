@@ -83,6 +83,18 @@ void expect_fragments_add_up(const ShadowResult& r, const std::string& label, Sl
   }
 }
 
+/// Every fast area within its reported bound of the exact one, and the same faces facing the light.
+void expect_fast_within_bounds(const ShadowResult& exact, const ShadowResult& fast, const std::string& label) {
+  ASSERT_EQ(exact.lighting.size(), fast.lighting.size()) << label;
+  for (std::size_t n = 0; n < exact.lighting.size(); ++n) {
+    const FaceLighting& e = exact.lighting[n];
+    const FaceLighting& f = fast.lighting[n];
+    EXPECT_LE(std::abs(f.lit_area - e.lit_area), f.lit_area_error_bound) << label << " face " << f.face_id;
+    EXPECT_LE(std::abs(f.shadow_area - e.shadow_area), f.lit_area_error_bound) << label << " face " << f.face_id;
+    EXPECT_EQ(f.faces_light, e.faces_light) << label << " face " << f.face_id;
+  }
+}
+
 TEST(Tiles, ExactAreasAreTheUntiledOnesBitForBit) {
   for (double elevation : {35.0, 8.0}) {
     const Scene scene = city(150, 120, elevation, 11);
@@ -133,14 +145,7 @@ TEST(Tiles, FastTilesStayWithinTheirBounds) {
     const ShadowResult exact = compute_shadows(scene, options(Arithmetic::Exact, 0, true));
     const ShadowResult fast = compute_shadows(scene, options(Arithmetic::Fast, 40, true));
     ASSERT_GT(fast.stats.tiled_receivers, 0u) << label;
-    ASSERT_EQ(exact.lighting.size(), fast.lighting.size());
-    for (std::size_t n = 0; n < exact.lighting.size(); ++n) {
-      const FaceLighting& e = exact.lighting[n];
-      const FaceLighting& f = fast.lighting[n];
-      EXPECT_LE(std::abs(f.lit_area - e.lit_area), f.lit_area_error_bound) << label << " face " << f.face_id;
-      EXPECT_LE(std::abs(f.shadow_area - e.shadow_area), f.lit_area_error_bound) << label << " face " << f.face_id;
-      EXPECT_EQ(f.faces_light, e.faces_light);
-    }
+    expect_fast_within_bounds(exact, fast, label);
     expect_fragments_add_up(fast, label, [](const FaceLighting& l) { return 2 * l.lit_area_error_bound; });
   }
 }
@@ -432,13 +437,8 @@ TEST(Tiles, NonRectangularReceiversFastWithinTheirBounds) {
     ASSERT_GE(fast.stats.tiled_receivers, ground.size()) << name;
     // The tiles are computed on the fast path (not sent to the exact engine).
     EXPECT_LT(fast.stats.fast_exact_fallbacks, 1 + fast.stats.tiles / 10) << name;
-    ASSERT_EQ(exact.lighting.size(), fast.lighting.size());
-    for (std::size_t n = 0; n < exact.lighting.size(); ++n) {
-      const FaceLighting& e = exact.lighting[n];
-      const FaceLighting& f = fast.lighting[n];
-      EXPECT_LE(std::abs(f.lit_area - e.lit_area), f.lit_area_error_bound) << name << " face " << f.face_id;
-      EXPECT_LE(std::abs(f.shadow_area - e.shadow_area), f.lit_area_error_bound) << name << " face " << f.face_id;
-      EXPECT_EQ(f.faces_light, e.faces_light);
+    expect_fast_within_bounds(exact, fast, name);
+    for (const FaceLighting& f : fast.lighting) {
       // The grounds are shaded, so their bounds are reported (and small).
       if (scene.faces[f.face_id].mesh == 0 && f.faces_light) {
         EXPECT_GT(f.lit_area_error_bound, 0.0) << name << " face " << f.face_id;
@@ -448,10 +448,7 @@ TEST(Tiles, NonRectangularReceiversFastWithinTheirBounds) {
     expect_fragments_add_up(fast, name, [](const FaceLighting& l) { return 2 * l.lit_area_error_bound; });
     // Areas only: the same bounds hold.
     const ShadowResult fast_areas = compute_shadows(scene, options(Arithmetic::Fast, 30, false));
-    for (std::size_t n = 0; n < exact.lighting.size(); ++n)
-      EXPECT_LE(std::abs(fast_areas.lighting[n].lit_area - exact.lighting[n].lit_area),
-                fast_areas.lighting[n].lit_area_error_bound)
-          << name << " face " << exact.lighting[n].face_id;
+    expect_fast_within_bounds(exact, fast_areas, name + ", areas only");
   }
 }
 
