@@ -82,12 +82,12 @@ struct ShadowEngine::Impl {
   };
 
   /// One work item: receiver f under `light_in` (grid: its light-space grid, or nullptr), or one
-  /// tile of it (`tiles.tile`). A whole receiver with more candidates than tiles.split_above is
-  /// not computed: the item only says how many (split_candidates). `exact_light`: this worker's
-  /// exact form of the light, made on first need.
+  /// tile of it (`tile`: the tile's FacePrep; nullptr for the whole face). A whole receiver with
+  /// more candidates than mode.split_above is not computed: the item only says how many
+  /// (split_candidates). `exact_light`: this worker's exact form of the light, made on first need.
   Item compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light, std::size_t f, std::size_t light_id,
                     const Light& light_in, const core::LightSpaceGrid* grid, const ItemMode& mode,
-                    const core::TileRequest& tiles, ShadowStats& stats) const;
+                    const core::FacePrep* tile, ShadowStats& stats) const;
 
   /// A receiver under one light that asked to be split (compute_item's split_candidates), and
   /// the item its tiles' merged result goes to.
@@ -213,7 +213,6 @@ class BlockTimer {
   Clock::time_point start_, item_start_;
   Clock::duration longest_{0};
 };
-
 
 /// The exact form of a light: a point (w = 1) or a direction at infinity (w = 0).
 using exact::to_exact_light;  // exact/lazy_geometry.hpp

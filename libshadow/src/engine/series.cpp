@@ -73,8 +73,6 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   mode.fast = fast;
   mode.polygons = false;
   mode.split_above = fast ? options.fast_tile_casters : options.tile_casters;
-  core::TileRequest whole;
-  whole.split_above = mode.split_above;
   auto write_row = [&](std::size_t r, std::size_t instant, const FaceLighting& lighting) {
     const std::size_t at = result.at(r, instant);
     result.lit_area[at] = lighting.lit_area;
@@ -138,7 +136,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
             // faces it had built for an earlier instant. Measured side by side without the trim
             // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38%
             // higher at 2,500 boxes.
-            Impl::Item out = impl.compute_item(w, exact_lights[wi][k], f, instant, light_in, grid, mode, whole, w.stats);
+            Impl::Item out = impl.compute_item(w, exact_lights[wi][k], f, instant, light_in, grid, mode, nullptr, w.stats);
             timer.item_done();
             if (out.split_candidates > 0) {  // tiled after the batch's other items
               std::lock_guard<std::mutex> lock(split_mutex);

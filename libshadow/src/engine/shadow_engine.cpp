@@ -157,8 +157,6 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
 
   std::vector<std::size_t> split;  // receivers (indices into `receivers`) that asked for tiles
   std::mutex split_mutex;
-  core::TileRequest whole;
-  whole.split_above = mode.split_above;
   // Runs of kRun consecutive receivers are taken at a time (engine_detail::kRun).
   std::function<void(std::size_t)> report_runs;
   if (report_receivers) report_runs = [&](std::size_t runs) { report_receivers(first_round.done(runs)); };
@@ -168,7 +166,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
         Worker& w = workers[wi];
         engine_detail::BlockTimer timer;
         for (std::size_t r = begin; r < end; ++r) {
-          items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, whole, w.stats);
+          items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, nullptr, w.stats);
           if (items[r].split_candidates > 0) {
             first_round.split.fetch_add(1);
             std::lock_guard<std::mutex> lock(split_mutex);
@@ -197,9 +195,12 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
 ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light,
                                                           std::size_t f, std::size_t light_id, const Light& light_in,
                                                           const core::LightSpaceGrid* grid, const ItemMode& mode,
-                                                          const core::TileRequest& tiles, ShadowStats& stats) const {
+                                                          const core::FacePrep* tile, ShadowStats& stats) const {
   const core::PreparedScene context{scene, &prep, &face_area, &cull, &solids, &solid_of};
   w.exact.trim(exact::kExactFaceCache);
+  core::TileRequest tiles;
+  tiles.tile = tile;
+  if (!tile) tiles.split_above = mode.split_above;
   Item item;
   if (mode.fast) {
     std::size_t split = 0;
@@ -275,10 +276,8 @@ void ShadowEngine::Impl::compute_splits(
         Worker& w = workers[wi];
         const SplitReceiver& sr = splits[tiles[t].s];
         const double t0 = engine_detail::thread_cpu_seconds();
-        core::TileRequest request;
-        request.tile = &tiles[t].prep;
         tile_items[t] = compute_item(w, exact_light(wi, sr.light_slot), sr.face, sr.light_id, *sr.light, sr.grid, mode,
-                                     request, tile_stats[t]);
+                                     &tiles[t].prep, tile_stats[t]);
         engine_detail::count_item(w.stats, engine_detail::thread_cpu_seconds() - t0);
       },
       report_tiles);
@@ -302,8 +301,8 @@ void ShadowEngine::Impl::compute_splits(
       // would only ask for tiles again and leave the face's item unfilled (lit area 0).
       ItemMode whole_mode = mode;
       whole_mode.split_above = 0;
-      item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, whole_mode,
-                          core::TileRequest{}, stats);
+      item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, whole_mode, nullptr,
+                          stats);
       continue;
     }
     ++stats.receivers;
