@@ -524,17 +524,18 @@ Grid make_grid(const std::vector<Image>& images, const Tiling& tiling) {
     const double wide = tiling.tile_over_image > 0 ? spread / (tiling.tile_over_image * median_extent) : 1e6;
     fit[axis] = wide >= 1 && std::isfinite(wide) ? static_cast<std::size_t>(std::min(wide, 1e6)) : 1;
   }
-  // The square grid's share per axis; what one axis cannot take (fit) goes to the other.
+  // The square grid's share per axis; what one axis cannot take (fit) goes to the other. Every
+  // count is in [1, kMaxTilesPerAxis] (share's range, fit >= 1).
   const auto share = [](double of) {
     return static_cast<std::size_t>(std::clamp(std::round(of), 1.0, static_cast<double>(kMaxTilesPerAxis)));
   };
   std::size_t count[2];
   count[0] = std::min(share(std::sqrt(wanted)), fit[0]);
-  count[1] = std::min(share(wanted / static_cast<double>(std::max<std::size_t>(count[0], 1))), fit[1]);
-  count[0] = std::min(std::max(count[0], share(wanted / static_cast<double>(std::max<std::size_t>(count[1], 1)))), fit[0]);
+  count[1] = std::min(share(wanted / static_cast<double>(count[0])), fit[1]);
+  count[0] = std::min(std::max(count[0], share(wanted / static_cast<double>(count[1]))), fit[0]);
   for (int axis = 0; axis < 2; ++axis) {
     const std::vector<double>& sorted = centre[axis];
-    const std::size_t g = std::clamp<std::size_t>(count[axis], 1, kMaxTilesPerAxis);
+    const std::size_t g = count[axis];
     for (std::size_t c = 1; c < g; ++c) {
       const double cut = sorted[c * sorted.size() / g];
       if (std::isfinite(cut) && (grid.cuts[axis].empty() || cut > grid.cuts[axis].back())) grid.cuts[axis].push_back(cut);
