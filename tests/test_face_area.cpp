@@ -40,6 +40,13 @@ bool same_area(const std::vector<glm::dvec3>& v) {
   if (!fast) return false;
   const double reference = lazy_area(v);
   EXPECT_EQ(*fast, reference) << std::hexfloat << *fast << " against " << reference;
+  // The exact chart area and area scale the engine measures receivers with (ExactWorker::
+  // exact_areas): the same rationals as the lazy exact face's.
+  const shadow::exact::ExactFace lazy = make_exact_face(v, prep);
+  shadow::exact::FT::Exact_type chart_area, scale;
+  EXPECT_TRUE(shadow::exact::planar_face_exact_areas(v, prep, chart_area, scale));
+  EXPECT_EQ(chart_area, CGAL::exact(lazy.chart_area));
+  EXPECT_EQ(scale, CGAL::exact(lazy.area_scale_squared));
   return true;
 }
 
@@ -80,6 +87,19 @@ TEST(FaceArea, MixedExponentsInOneFace) {
   const std::vector<glm::dvec3> right{{tiny, 0, 0}, {tiny + std::ldexp(1.0, 500), 0, 0}, {tiny, 1, 0}};
   EXPECT_TRUE(same_area(right));
   EXPECT_GT(compared, 200);
+}
+
+// The exact areas of a face that has none (the engine falls back to the lazy exact face).
+TEST(FaceArea, ExactAreasOfAZeroChartAreaAreRefused) {
+  const std::vector<glm::dvec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  shadow::core::FacePrep prep = prepare_face(square);
+  shadow::exact::FT::Exact_type chart_area, scale;
+  ASSERT_TRUE(shadow::exact::planar_face_exact_areas(square, prep, chart_area, scale));
+  EXPECT_EQ(chart_area, 1);
+  EXPECT_EQ(scale, 1);
+  const std::vector<glm::dvec3> zeros(4, glm::dvec3(0.0));
+  EXPECT_FALSE(shadow::exact::planar_face_exact_areas(zeros, prep, chart_area, scale));
+  EXPECT_EQ(chart_area, 1);  // untouched
 }
 
 // The engine reports these areas: ShadowEngine::face_area against the lazy exact face on a city.

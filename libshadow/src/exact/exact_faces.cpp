@@ -254,12 +254,20 @@ double area_3d(const FT& chart_area, const FT& area_scale_squared) {
   return sqrt_to_double(chart_area * chart_area * area_scale_squared);
 }
 
-std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
-  // Every double is an integer times a power of two: with the least of those powers, 2^e, every
-  // coordinate is an exact integer multiple of 2^e, and so are the differences below. Twice the
-  // chart area is then T 2^(2e) and the normal N 2^(2e) with integers T and N, and
-  //   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2),
-  // the rational area_3d takes the root of (the same value, so the same rounding).
+namespace {
+
+/// An exactly planar face in plain integers: with 2^e the least power of two of its nonzero
+/// input coordinates, every coordinate is an integer multiple of 2^e, and so are their
+/// differences. Twice the chart area is then twice_area 2^(2e) and the corner's normal
+/// (nx, ny, nz) 2^(2e), all integers.
+struct PlanarIntegers {
+  mpz_class twice_area, n[3];
+  long e = 0;
+  bool zero = false;  ///< every coordinate zero, or a zero chart area
+};
+
+PlanarIntegers planar_integers(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
+  PlanarIntegers out;
   const int k = prep.axis, i = core::chart_i(k), j = core::chart_j(k);
   const auto [prev, corner, next] = prep.corner;
   // c = M 2^low with M odd (c != 0).
@@ -282,36 +290,42 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
         odd_mantissa(v[a], M, low);
         e = std::min(e, low);
       }
-  if (e == std::numeric_limits<long>::max()) return 0.0;  // every coordinate zero
+  const std::vector<int>& ring = prep.chart_ring;
+  const std::size_t n = ring.size();
+  if (e == std::numeric_limits<long>::max() || n < 3) {  // every coordinate zero
+    out.zero = true;
+    return out;
+  }
+  out.e = e;
   // c / 2^e as an integer: M shifted left by low - e >= 0 (no double overflow for any exponent).
-  auto scaled = [&](double c, mpz_class& out) {
+  auto scaled = [&](double c, mpz_class& result) {
     if (c == 0) {
-      out = 0;
+      result = 0;
       return;
     }
     std::int64_t M = 0;
     long low = 0;
     odd_mantissa(c, M, low);
-    out = static_cast<double>(M);  // exact: |M| < 2^53 (and no 32-bit long in the way)
-    mpz_mul_2exp(out.get_mpz_t(), out.get_mpz_t(), static_cast<mp_bitcnt_t>(low - e));
+    result = static_cast<double>(M);  // exact: |M| < 2^53 (and no 32-bit long in the way)
+    mpz_mul_2exp(result.get_mpz_t(), result.get_mpz_t(), static_cast<mp_bitcnt_t>(low - e));
   };
-  const std::vector<int>& ring = prep.chart_ring;
-  const std::size_t n = ring.size();
-  if (n < 3) return 0.0;
   std::vector<mpz_class> x(n), y(n);
   for (std::size_t a = 0; a < n; ++a) {
     scaled(vertices[static_cast<std::size_t>(ring[a])][i], x[a]);
     scaled(vertices[static_cast<std::size_t>(ring[a])][j], y[a]);
   }
-  mpz_class twice_area = 0, dx1, dy1, dx2, dy2;  // the shoelace about the first vertex
+  mpz_class dx1, dy1, dx2, dy2;  // the shoelace about the first vertex
   for (std::size_t a = 1; a + 1 < n; ++a) {
     dx1 = x[a] - x[0];
     dy1 = y[a] - y[0];
     dx2 = x[a + 1] - x[0];
     dy2 = y[a + 1] - y[0];
-    twice_area += dx1 * dy2 - dx2 * dy1;
+    out.twice_area += dx1 * dy2 - dx2 * dy1;
   }
-  if (twice_area == 0) return 0.0;
+  if (out.twice_area == 0) {
+    out.zero = true;
+    return out;
+  }
   mpz_class p[3], u[3], w[3];
   for (int a = 0; a < 3; ++a) {
     scaled(vertices[static_cast<std::size_t>(corner)][a], p[a]);
@@ -320,18 +334,48 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
     u[a] -= p[a];
     w[a] -= p[a];
   }
-  const mpz_class nx = u[1] * w[2] - u[2] * w[1];
-  const mpz_class ny = u[2] * w[0] - u[0] * w[2];
-  const mpz_class nz = u[0] * w[1] - u[1] * w[0];
-  const mpz_class& nk = k == 0 ? nx : (k == 1 ? ny : nz);
-  if (nk == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
-  mpq_class q(twice_area * twice_area * (nx * nx + ny * ny + nz * nz), 4 * nk * nk);
-  q.canonicalize();
-  if (e >= 0)
-    mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(4 * e));
+  out.n[0] = u[1] * w[2] - u[2] * w[1];
+  out.n[1] = u[2] * w[0] - u[0] * w[2];
+  out.n[2] = u[0] * w[1] - u[1] * w[0];
+  return out;
+}
+
+/// q times 2^shift (either sign).
+void scale_by_power_of_two(mpq_class& q, long shift) {
+  if (shift >= 0)
+    mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(shift));
   else
-    mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-4 * e));
+    mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-shift));
+}
+
+}  // namespace
+
+std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
+  //   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2)
+  // with T = twice_area and N = n of PlanarIntegers: the rational area_3d takes the root of (the
+  // same value, so the same rounding).
+  const PlanarIntegers z = planar_integers(vertices, prep);
+  if (z.zero) return 0.0;
+  const mpz_class& nk = z.n[prep.axis];
+  if (nk == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
+  mpq_class q(z.twice_area * z.twice_area * (z.n[0] * z.n[0] + z.n[1] * z.n[1] + z.n[2] * z.n[2]), 4 * nk * nk);
+  q.canonicalize();
+  scale_by_power_of_two(q, 4 * z.e);
   return sqrt_mpq_to_double(q.get_mpq_t());
+}
+
+bool planar_face_exact_areas(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
+                             FT::Exact_type& chart_area, FT::Exact_type& area_scale_squared) {
+  const PlanarIntegers z = planar_integers(vertices, prep);
+  if (z.zero) return false;  // (prepare_face calls such a face degenerate)
+  const mpz_class& nk = z.n[prep.axis];
+  if (nk == 0) return false;
+  chart_area = z.twice_area;
+  scale_by_power_of_two(chart_area, 2 * z.e - 1);
+  // n = N 2^(2e): the power cancels in |n|^2 / n_k^2.
+  area_scale_squared = mpq_class(z.n[0] * z.n[0] + z.n[1] * z.n[1] + z.n[2] * z.n[2], nk * nk);
+  area_scale_squared.canonicalize();
+  return true;
 }
 
 core::CellPlace place_cell(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,

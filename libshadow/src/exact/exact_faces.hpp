@@ -53,6 +53,13 @@ double area_3d(const FT& chart_area, const FT& area_scale_squared);
 /// when the corner's normal has a zero k component (then use area_3d).
 std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep);
 
+/// ExactFace::chart_area and ::area_scale_squared of an exactly planar face (prep.exactly_planar),
+/// the same rationals, from plain integers as planar_face_area: no lazy exact face (each node of
+/// its DAG evaluated through std::call_once, a futex system call). False, and nothing set, where
+/// the corner's normal has a zero k component or the chart area is zero (use make_exact_face).
+bool planar_face_exact_areas(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
+                             FT::Exact_type& chart_area, FT::Exact_type& area_scale_squared);
+
 /// Where the closed axis-aligned cell [lo, hi] of the chart lies with respect to the face's
 /// outline (its chart ring, in the input doubles), decided with exact predicates: Crossing when
 /// some edge of the outline meets the closed cell, else Inside or Outside as its corner `lo` is

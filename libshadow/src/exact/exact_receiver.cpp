@@ -119,7 +119,6 @@ class ExactReceiverJob {
       if (covered_) break;  // one shadow fills the whole box: no other caster can add to it
     }
 
-    const ExactFace& P = w_.face(ctx_, face_id_);
     if (shadow_count() == 0) {  // nothing in front: wholly lit, no Boolean operation needed
       ++stats_.unshadowed;
       out.lit_area = out.area;
@@ -128,8 +127,10 @@ class ExactReceiverJob {
       if (emit_) emit_whole_face(true);
       return std::move(item_);
     }
-    unite_and_measure(P);
-    if (emit_) emit_fragments(P);
+    // The receiver's lazy exact face only where a step needs it (the areas come from plain
+    // integers for an exactly planar face: ExactWorker::exact_areas).
+    unite_and_measure();
+    if (emit_) emit_fragments(w_.face(ctx_, face_id_));
     return std::move(item_);
   }
 
@@ -464,22 +465,22 @@ class ExactReceiverJob {
   std::size_t shadow_count() const { return q_mode_ ? w_.qfirst.size() - 1 : shadows_.size(); }
 
   // ---- unite, areas -------------------------------------------------------------------------
-  void unite_and_measure(const ExactFace& P) {
+  void unite_and_measure() {
     if (covered_) {  // the box itself (note_cover): the same exact values as its union would give
-      twice_area_ = *w_.exact_areas(face_id_, P).first;  // (the chart's area, not twice)
-      measure(P, twice_area_);
+      twice_area_ = *w_.exact_areas(ctx_, face_id_).first;  // (the chart's area, not twice)
+      measure(twice_area_);
       return;
     }
     if (q_mode_) {
       if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
         twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
         twice_area_ /= 2;
-        measure(P, twice_area_);
+        measure(twice_area_);
         return;
       }
       if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
         twice_area_ /= 2;
-        measure(P, twice_area_);
+        measure(twice_area_);
         return;
       }
       // A non-convex cast: the Boolean union of all of them, as Epeck polygons.
@@ -496,7 +497,7 @@ class ExactReceiverJob {
       // cast_face): the join then.
       if (w_.union_area.twice_area(shadows_, twice_area_)) {
         twice_area_ /= 2;
-        measure(P, twice_area_);
+        measure(twice_area_);
         return;
       }
     }
@@ -508,21 +509,21 @@ class ExactReceiverJob {
       if (polygons_) shadow_set_.insert(shadows_.front());
     } else {
       shadow_set_.join(shadows_.begin(), shadows_.end());  // one aggregated union
-      if (!fp_.chart_is_box) shadow_set_.intersection(P.chart);
+      if (!fp_.chart_is_box) shadow_set_.intersection(w_.face(ctx_, face_id_).chart);
       shadow_set_.polygons_with_holes(std::back_inserter(shadow_regions_));
     }
     std::vector<FT> region_areas;
     for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
-    measure(P, balanced_sum(region_areas));
+    measure(balanced_sum(region_areas));
   }
 
   /// The areas from the shadow's exact area in the chart, in plain rationals (the same values
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
-  void measure(const ExactFace& P, const FT& shadow_chart_area) { measure(P, CGAL::exact(shadow_chart_area)); }
-  void measure(const ExactFace& P, const EQ& shadow) {
+  void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
+  void measure(const EQ& shadow) {
     FaceLighting& out = item_.lighting;
     if (tile_) item_.tile_shadow_chart_area = shadow;
-    const auto [chart_ptr, scale_ptr] = w_.exact_areas(face_id_, P);
+    const auto [chart_ptr, scale_ptr] = w_.exact_areas(ctx_, face_id_);
     const EQ& chart = *chart_ptr;
     const EQ& scale = *scale_ptr;
     EQ& lit = w_.qarea;
@@ -537,6 +538,10 @@ class ExactReceiverJob {
   double area_3d_exact(const EQ& a, const EQ& scale) {
     if (sgn(a) == 0) return 0.0;
     EQ& t = w_.qs.a;
+    if (mpq_cmp_ui(scale.get_mpq_t(), 1, 1) == 0) {  // an axis-aligned face: |a| itself, no root
+      mpq_abs(t.get_mpq_t(), a.get_mpq_t());
+      return round_mpq_to_double(t.get_mpq_t());
+    }
     t = a * a;
     t *= scale;
     return sqrt_mpq_to_double(t.get_mpq_t());

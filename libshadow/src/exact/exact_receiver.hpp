@@ -58,12 +58,19 @@ struct ExactWorker {
   /// city's 2.6 GB peak on 16 threads (and their construction was a serial cost per thread).
   std::unordered_map<std::size_t, std::pair<EQ, EQ>> areas_q;
 
-  /// Face f's exact chart area and area scale (P is its ExactFace).
-  std::pair<const EQ*, const EQ*> exact_areas(std::size_t f, const ExactFace& P) {
+  /// Face f's exact chart area and area scale (ExactFace::chart_area, ::area_scale_squared):
+  /// for an exactly planar face from plain integers (planar_face_exact_areas), without making
+  /// its lazy ExactFace.
+  std::pair<const EQ*, const EQ*> exact_areas(const ExactContext& ctx, std::size_t f) {
     auto [it, inserted] = areas_q.try_emplace(f);
     if (inserted) {
-      it->second.first = CGAL::exact(P.chart_area);
-      it->second.second = CGAL::exact(P.area_scale_squared);
+      const core::FacePrep& prep = (*ctx.prep)[f];
+      if (!prep.exactly_planar ||
+          !planar_face_exact_areas((*ctx.scene).faces[f].vertices, prep, it->second.first, it->second.second)) {
+        const ExactFace& P = face(ctx, f);
+        it->second.first = CGAL::exact(P.chart_area);
+        it->second.second = CGAL::exact(P.area_scale_squared);
+      }
     }
     return {&it->second.first, &it->second.second};
   }
