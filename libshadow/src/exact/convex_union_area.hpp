@@ -56,7 +56,12 @@ class ConvexUnionArea {
     if (!load(points, first)) return false;
     find_pairs();
     terms_.clear();
-    for (std::size_t i = 0; i + 1 < first_.size(); ++i) measure_polygon(i);
+    {
+      // Rounding upward for every interval filter of the sweep, set once (the exact fallbacks
+      // are GMP integer arithmetic; nothing below rounds a plain double).
+      CGAL::Protect_FPU_rounding<true> guard;
+      for (std::size_t i = 0; i + 1 < first_.size(); ++i) measure_polygon(i);
+    }
     out = sum_terms();
     return true;
   }
@@ -142,8 +147,10 @@ class ConvexUnionArea {
     return true;
   }
 
+  /// kSetRounding false: inside measure_polygon, under twice_area's rounding guard.
+  template <bool kSetRounding = true>
   CGAL::Sign turn(std::size_t a, std::size_t b, std::size_t c) {
-    return orientation(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
+    return orientation<kSetRounding>(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
   }
 
   /// Whether vertices [a, b) (no two consecutive equal) make a convex polygon that winds once:
@@ -255,13 +262,13 @@ class ConvexUnionArea {
     c.hi.approx = IA(1);
     for (std::size_t f = first_[j]; f < first_[j + 1]; ++f) {
       const std::size_t f2 = nxt_[f];
-      const CGAL::Sign a = turn(f, f2, v), b = turn(f, f2, w);
+      const CGAL::Sign a = turn<false>(f, f2, v), b = turn<false>(f, f2, w);
       if (a == CGAL::POSITIVE && b == CGAL::POSITIVE) continue;
       if (a != CGAL::POSITIVE && b != CGAL::POSITIVE) {
         // Both on or outside f's line: nothing covered unless the edge lies on f's line going the
         // same way, and P_j comes first (then f's closed side is the constraint, and it holds).
         if (a == CGAL::ZERO && b == CGAL::ZERO && j < i &&
-            dot_sign(*pts_[v], ip_[v], *pts_[w], ip_[w], *pts_[f], ip_[f], *pts_[f2], ip_[f2], scratch_) == CGAL::POSITIVE)
+            dot_sign<false>(*pts_[v], ip_[v], *pts_[w], ip_[w], *pts_[f], ip_[f], *pts_[f2], ip_[f2], scratch_) == CGAL::POSITIVE)
           continue;
         return false;
       }
@@ -288,8 +295,7 @@ class ConvexUnionArea {
     const IPoint2& s = ip_[cur_v_];
     const IPoint2& s2 = ip_[cur_w_];
     const IPoint2& u = ip_[f];
-    const IPoint2& u2 = ip_[nxt_[f]];
-    CGAL::Protect_FPU_rounding<true> guard;
+    const IPoint2& u2 = ip_[nxt_[f]];  // (rounding upward: twice_area's guard)
     const IA fx = u2.x - u.x, fy = u2.y - u.y;
     const IA num = fx * (u.y - s.y) - fy * (u.x - s.x);
     const IA den = fx * (s2.y - s.y) - fy * (s2.x - s.x);
@@ -335,11 +341,8 @@ class ConvexUnionArea {
       return kp < kq;  // 0 < (0, 1) < 1
     }
     if (p.f == q.f) return false;
-    {
-      CGAL::Protect_FPU_rounding<true> guard;
-      const CGAL::Uncertain<bool> r = p.approx < q.approx;
-      if (CGAL::is_certain(r)) return CGAL::get_certain(r);
-    }
+    const CGAL::Uncertain<bool> r = p.approx < q.approx;  // comparisons only: no rounding
+    if (CGAL::is_certain(r)) return CGAL::get_certain(r);
     return exact_value(p) < exact_value(q);
   }
 

@@ -74,10 +74,15 @@ struct QScratch {
 };
 
 /// Sign of cross(q - p, r - p): LEFT_TURN (positive) when p, q, r turn left. Filtered.
+/// kSetRounding false: the caller already holds a CGAL::Protect_FPU_rounding<true> (the interval
+/// filter needs rounding upward; setting it and back costs two MXCSR writes, a large share of a
+/// filtered predicate in a loop). The exact fallback is integer arithmetic (GMP), which the
+/// rounding mode does not touch.
+template <bool kSetRounding = true>
 inline CGAL::Sign orientation(const QPoint2& p, const IPoint2& ip, const QPoint2& q, const IPoint2& iq,
                               const QPoint2& r, const IPoint2& ir, QScratch& s) {
   {
-    CGAL::Protect_FPU_rounding<true> guard;
+    CGAL::Protect_FPU_rounding<kSetRounding> guard;
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (ir.y - ip.y) - (iq.y - ip.y) * (ir.x - ip.x));
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
@@ -91,11 +96,12 @@ inline CGAL::Sign orientation(const QPoint2& p, const IPoint2& ip, const QPoint2
   return c > 0 ? CGAL::POSITIVE : c < 0 ? CGAL::NEGATIVE : CGAL::ZERO;
 }
 
-/// Sign of dot(q - p, s - r). Filtered.
+/// Sign of dot(q - p, s - r). Filtered (kSetRounding as for orientation).
+template <bool kSetRounding = true>
 inline CGAL::Sign dot_sign(const QPoint2& p, const IPoint2& ip, const QPoint2& q, const IPoint2& iq, const QPoint2& r,
                            const IPoint2& ir, const QPoint2& t, const IPoint2& it, QScratch& s) {
   {
-    CGAL::Protect_FPU_rounding<true> guard;
+    CGAL::Protect_FPU_rounding<kSetRounding> guard;
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (it.x - ir.x) + (iq.y - ip.y) * (it.y - ir.y));
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
