@@ -53,7 +53,12 @@ class ConvexUnionArea {
   /// counter-clockwise with positive area) into `out`. False (and `out` unchanged) when some
   /// polygon is not convex: the caller unites them with a Boolean operation instead.
   bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
-    if (!load(points, first)) return false;
+    bool convex_polygons = false;
+    {
+      CGAL::Protect_FPU_rounding<true> guard;  // the loading's intervals and convexity tests
+      convex_polygons = load(points, first);
+    }
+    if (!convex_polygons) return false;
     find_pairs();
     terms_.clear();
     {
@@ -122,7 +127,7 @@ class ConvexUnionArea {
       const std::size_t start = pts_.size();
       for (std::size_t v = first[k]; v < first[k + 1]; ++v) {
         pts_.push_back(&points[v]);
-        ip_.push_back(interval_of(points[v]));
+        ip_.push_back(interval_of<false>(points[v]));
         if (pts_.size() > start + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
           pts_.pop_back();
           ip_.pop_back();
@@ -147,10 +152,9 @@ class ConvexUnionArea {
     return true;
   }
 
-  /// kSetRounding false: inside measure_polygon, under twice_area's rounding guard.
-  template <bool kSetRounding = true>
+  /// Only under one of twice_area's rounding guards (every caller is: load and the sweep).
   CGAL::Sign turn(std::size_t a, std::size_t b, std::size_t c) {
-    return orientation<kSetRounding>(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
+    return orientation<false>(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
   }
 
   /// Whether vertices [a, b) (no two consecutive equal) make a convex polygon that winds once:
@@ -164,7 +168,7 @@ class ConvexUnionArea {
       const std::size_t p = a + k, q = a + (k + 1) % n, r = a + (k + 2) % n;
       const CGAL::Sign o = turn(p, q, r);
       if (o == CGAL::NEGATIVE) return false;
-      if (o == CGAL::ZERO && dot_sign(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) !=
+      if (o == CGAL::ZERO && dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) !=
                                  CGAL::POSITIVE)
         return false;  // a spike back
       const int sign = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);
@@ -262,7 +266,7 @@ class ConvexUnionArea {
     c.hi.approx = IA(1);
     for (std::size_t f = first_[j]; f < first_[j + 1]; ++f) {
       const std::size_t f2 = nxt_[f];
-      const CGAL::Sign a = turn<false>(f, f2, v), b = turn<false>(f, f2, w);
+      const CGAL::Sign a = turn(f, f2, v), b = turn(f, f2, w);
       if (a == CGAL::POSITIVE && b == CGAL::POSITIVE) continue;
       if (a != CGAL::POSITIVE && b != CGAL::POSITIVE) {
         // Both on or outside f's line: nothing covered unless the edge lies on f's line going the

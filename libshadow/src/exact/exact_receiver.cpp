@@ -203,10 +203,13 @@ class ExactReceiverJob {
   void clip_to_chart_box_q(std::vector<QPoint2>& poly) {
     // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
     bool inside = true;
-    for (std::size_t v = 0; v < poly.size() && inside; ++v) {
-      const IPoint2 i = interval_of(poly[v]);
-      inside = i.x.inf() >= fp_.chart_min[0] && i.x.sup() <= fp_.chart_max[0] && i.y.inf() >= fp_.chart_min[1] &&
-               i.y.sup() <= fp_.chart_max[1];
+    {
+      CGAL::Protect_FPU_rounding<true> guard;  // once for the polygon's intervals
+      for (std::size_t v = 0; v < poly.size() && inside; ++v) {
+        const IPoint2 i = interval_of<false>(poly[v]);
+        inside = i.x.inf() >= fp_.chart_min[0] && i.x.sup() <= fp_.chart_max[0] && i.y.inf() >= fp_.chart_min[1] &&
+                 i.y.sup() <= fp_.chart_max[1];
+      }
     }
     if (inside) return;
     for (int c = 0; c < 2; ++c) {

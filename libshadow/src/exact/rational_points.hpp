@@ -36,7 +36,10 @@ using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
 /// An interval around q: the value itself when it is a double (a dyadic numerator of at most 53
 /// bits), else the quotient of intervals around the numerator's and the denominator's leading
 /// bits (mpz_get_d_2exp truncates: within one ulp each), scaled back by their exponents. This
-/// reads only the top limbs; mpq_get_d divides the whole numbers.
+/// reads only the top limbs; mpq_get_d divides the whole numbers. kSetRounding false: the
+/// caller holds a CGAL::Protect_FPU_rounding<true> (the rest is exact under any rounding mode:
+/// GMP's conversions truncate bit by bit, nextafter and ldexp into the normal range are exact).
+template <bool kSetRounding = true>
 inline IA interval_of(const EQ& q) {
   const mpq_srcptr r = q.get_mpq_t();
   const mpz_srcptr num = mpq_numref(r), den = mpq_denref(r);
@@ -55,7 +58,7 @@ inline IA interval_of(const EQ& q) {
     return IA(std::nextafter(t, -inf), std::nextafter(t, inf));
   }
   constexpr double inf = std::numeric_limits<double>::infinity();
-  CGAL::Protect_FPU_rounding<true> guard;
+  CGAL::Protect_FPU_rounding<kSetRounding> guard;
   const IA in(std::nextafter(n, -inf), std::nextafter(n, inf));
   const IA id(d, std::nextafter(d, inf));
   const IA quotient = in / id;  // in (-2.1, 2.1), away from under- and overflow
@@ -66,7 +69,10 @@ inline IA interval_of(const EQ& q) {
 struct IPoint2 {
   IA x, y;
 };
-inline IPoint2 interval_of(const QPoint2& p) { return {interval_of(p.x), interval_of(p.y)}; }
+template <bool kSetRounding = true>
+inline IPoint2 interval_of(const QPoint2& p) {
+  return {interval_of<kSetRounding>(p.x), interval_of<kSetRounding>(p.y)};
+}
 
 /// Scratch rationals for the exact fallbacks (no allocation once grown).
 struct QScratch {
@@ -172,7 +178,8 @@ inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, st
   const std::size_t n = pts.size();
   out.clear();
   ipts.resize(n);
-  for (std::size_t a = 0; a < n; ++a) ipts[a] = interval_of(pts[a]);
+  CGAL::Protect_FPU_rounding<true> guard;  // once for every filter below (GMP needs no mode)
+  for (std::size_t a = 0; a < n; ++a) ipts[a] = interval_of<false>(pts[a]);
   order.resize(n);
   for (std::size_t a = 0; a < n; ++a) order[a] = a;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -186,7 +193,7 @@ inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, st
   }
   chain.clear();
   auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
-    return orientation(pts[a], ipts[a], pts[b], ipts[b], pts[c], ipts[c], s);
+    return orientation<false>(pts[a], ipts[a], pts[b], ipts[b], pts[c], ipts[c], s);
   };
   for (std::size_t k = 0; k < n; ++k) {  // lower hull
     while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), order[k]) != CGAL::POSITIVE) chain.pop_back();
