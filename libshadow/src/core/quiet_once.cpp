@@ -22,7 +22,7 @@
 // library's flags are those of its own lazy objects, each made and evaluated by one thread
 // (exact/exact_faces.hpp); CGAL uses std::call_once nowhere else (Lazy.h, Lazy_exact_nt.h).
 // Measured: 517,830 futex calls -> 149 on `shadow-bench --sizes 100`, and the fragment route
-// on the 1,000-box city 1.2-1.25 times faster (docs/benchmarks.md).
+// on the 1,000-box city 1.20-1.26 times faster (docs/benchmarks.md).
 #include <pthread.h>
 
 #include <atomic>

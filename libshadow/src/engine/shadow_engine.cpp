@@ -342,12 +342,13 @@ void ShadowEngine::Impl::compute_splits(
         out.lit_fraction = 1.0;
         continue;
       }
-      const ExactFace& P = w0.exact.face(exact_context, f);
-      const FT shadow_ft(shadow_chart);
-      const FT lit_chart = P.chart_area - shadow_ft;
-      out.lit_area = area_3d(lit_chart, P.area_scale_squared);
-      out.shadow_area = area_3d(shadow_ft, P.area_scale_squared);
-      out.lit_fraction = round_to_double(lit_chart / P.chart_area);
+      // The same operations as a whole receiver's (exact_receiver.cpp, measure).
+      const auto [chart, scale] = w0.exact.exact_areas(exact_context, f);
+      FT::Exact_type lit = *chart - shadow_chart, scratch;
+      out.lit_area = area_3d_exact(lit, *scale, scratch);
+      out.shadow_area = area_3d_exact(shadow_chart, *scale, scratch);
+      scratch = lit / *chart;
+      out.lit_fraction = round_mpq_to_double(scratch.get_mpq_t());
       continue;
     }
     // Fast: each tile's shadow is within its bound of the exact one (a tile that fell back to

@@ -254,6 +254,18 @@ double area_3d(const FT& chart_area, const FT& area_scale_squared) {
   return sqrt_to_double(chart_area * chart_area * area_scale_squared);
 }
 
+double area_3d_exact(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                     FT::Exact_type& scratch) {
+  if (sgn(chart_area) == 0) return 0.0;
+  if (mpq_cmp_ui(area_scale_squared.get_mpq_t(), 1, 1) == 0) {  // an axis-plane face: |A|, no root
+    mpq_abs(scratch.get_mpq_t(), chart_area.get_mpq_t());
+    return round_mpq_to_double(scratch.get_mpq_t());
+  }
+  scratch = chart_area * chart_area;
+  scratch *= area_scale_squared;
+  return sqrt_mpq_to_double(scratch.get_mpq_t());
+}
+
 namespace {
 
 /// An exactly planar face in plain integers: with 2^e the least power of two of its nonzero

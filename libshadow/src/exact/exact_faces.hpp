@@ -47,6 +47,12 @@ inline Point2 to_chart(const Point3& p, int k) {
 /// 3D area of a chart area on a face, rounded once.
 double area_3d(const FT& chart_area, const FT& area_scale_squared);
 
+/// area_3d on plain exact rationals (no lazy DAG): sqrt(A^2 s) rounded once, and |A| rounded
+/// once where s is exactly 1 (a face in an axis plane; docs/numeric-contract.md). `scratch` is
+/// the caller's, to reuse its limbs.
+double area_3d_exact(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                     FT::Exact_type& scratch);
+
 /// The 3D area of an exactly planar face (prep.exactly_planar), rounded once: the same double as
 /// area_3d(make_exact_face(...).chart_area, ...area_scale_squared), computed in plain integers
 /// from the input doubles (all scaled by one power of two) instead of lazy exact numbers; nullopt

@@ -537,18 +537,7 @@ class ExactReceiverJob {
     w_.qbound = lit / chart;
     out.lit_fraction = round_mpq_to_double(w_.qbound.get_mpq_t());
   }
-  /// area_3d on exact rationals: sqrt(a^2 s) rounded once.
-  double area_3d_exact(const EQ& a, const EQ& scale) {
-    if (sgn(a) == 0) return 0.0;
-    EQ& t = w_.qs.a;
-    if (mpq_cmp_ui(scale.get_mpq_t(), 1, 1) == 0) {  // an axis-aligned face: |a| itself, no root
-      mpq_abs(t.get_mpq_t(), a.get_mpq_t());
-      return round_mpq_to_double(t.get_mpq_t());
-    }
-    t = a * a;
-    t *= scale;
-    return sqrt_mpq_to_double(t.get_mpq_t());
-  }
+  double area_3d_exact(const EQ& a, const EQ& scale) { return exact::area_3d_exact(a, scale, w_.qs.a); }
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
