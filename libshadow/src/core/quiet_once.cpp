@@ -17,10 +17,14 @@
 // the flag back to 0 (the next call runs it again, as std::call_once requires) and wakes the
 // sleepers, one of which then runs it.
 //
-// Not for a flag that code outside the library (glibc's pthread_once) runs at the same moment
-// from another thread: a glibc waiter sleeps without saying so and would not be woken. The
-// library's flags are those of its own lazy objects, each made and evaluated by one thread
-// (exact/exact_faces.hpp); CGAL uses std::call_once nowhere else (Lazy.h, Lazy_exact_nt.h).
+// Not for a flag that glibc's pthread_once runs at the same moment from another thread: a glibc
+// waiter sleeps without saying so and would not be woken, and glibc would read 1 | kWaiting as
+// a run of another fork generation and start its own. Such a flag cannot reach this code: the
+// library exports none of the CGAL template code that calls pthread_once (libshadow.map), binds
+// its own calls to its own functions (-Bsymbolic-functions), and its lazy objects are each made
+// and evaluated by one thread (exact/exact_faces.hpp); CGAL uses std::call_once nowhere else
+// (Lazy.h, Lazy_exact_nt.h). A fork while a run is in progress on another thread leaves the
+// child's flag running forever (glibc would start it again); the library never forks.
 // Measured: 517,830 futex calls -> 149 on `shadow-bench --sizes 100`, and the fragment route
 // on the 1,000-box city 1.20-1.26 times faster (docs/benchmarks.md).
 #include <pthread.h>
