@@ -20,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr char kMagic[8] = {'S', 'H', 'D', 'W', 'C', 'K', 'P', 'T'};
-constexpr std::uint32_t kFormat = 1;
+constexpr std::uint32_t kFormat = 2;  // 2: the stats carry tiled_receivers and tiles
 constexpr std::uint32_t kRecord = 0x52454331;  // "REC1"
 
 /// FNV-1a, 64 bits: a digest of inputs and a checksum of records (not a defence against
@@ -105,14 +105,14 @@ class Reader {
 
 void put_stats(Writer& w, const shadow::ShadowStats& s) {
   for (std::uint64_t v : {s.receivers, s.back_facing, s.candidate_pairs, s.casting_pairs, s.unshadowed,
-                          s.fast_exact_fallbacks, s.fast_collapsed})
+                          s.fast_exact_fallbacks, s.fast_collapsed, s.tiled_receivers, s.tiles})
     w.put(v);
 }
 
 shadow::ShadowStats get_stats(Reader& r) {
   shadow::ShadowStats s;
   for (std::uint64_t* v : {&s.receivers, &s.back_facing, &s.candidate_pairs, &s.casting_pairs, &s.unshadowed,
-                           &s.fast_exact_fallbacks, &s.fast_collapsed})
+                           &s.fast_exact_fallbacks, &s.fast_collapsed, &s.tiled_receivers, &s.tiles})
     *v = r.get<std::uint64_t>();
   return s;
 }

@@ -44,7 +44,7 @@ done
 
 # report.json: the same faces, surfaces and series; the thresholds in run.options only when not
 # the defaults; the tiled runs did split receivers (more candidate pairs: a caster is counted
-# once per tile that it reaches).
+# once per tile that it reaches; stats.tiled_receivers and stats.tiles count the splits).
 if python3 - "$WORK" <<'PY'
 import json, sys
 work = sys.argv[1]
@@ -61,6 +61,11 @@ assert options["whole"]["tile_casters"] == 0 and options["whole"]["fast_tile_cas
 assert options["tiled1"]["tile_casters"] == 1 and options["tiled3"]["fast_tile_casters"] == 3, options
 assert r["tiled1"]["stats"]["candidate_pairs"] > r["whole"]["stats"]["candidate_pairs"]
 assert r["default"]["stats"] == r["whole"]["stats"]  # the defaults split nothing here
+# The splits are counted (summed over the instants), and only where there were any.
+for n in ("tiled1", "tiled3"):
+    st = r[n]["stats"]
+    assert 0 < st["tiled_receivers"] <= st["receivers"] and st["tiles"] >= 2 * st["tiled_receivers"], (n, st)
+assert "tiled_receivers" not in r["whole"]["stats"] and "tiles" not in r["whole"]["stats"]
 PY
 then
   pass "report.json: same areas, thresholds in run.options, more candidate pairs when tiled"

@@ -225,6 +225,10 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
     stats["fast_exact_fallbacks"] = st.fast_exact_fallbacks;
     stats["fast_collapsed"] = st.fast_collapsed;
   }
+  if (st.tiled_receivers > 0) {  // receivers split into tiles only (additive keys, as in compute's)
+    stats["tiled_receivers"] = st.tiled_receivers;
+    stats["tiles"] = st.tiles;
+  }
   report["stats"] = stats;
   Json warnings = Json::array();
   for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
