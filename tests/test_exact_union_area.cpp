@@ -300,6 +300,33 @@ TEST(RationalPoints, IntervalsHoldTheirValue) {
   }
 }
 
+// Dyadic values at the low end of the double range: exact point intervals only where the value
+// is a normal double; just below the least normal one (which ldexp would round up to it) and
+// among the subnormals, an interval that holds the value.
+TEST(RationalPoints, IntervalsAtTheEndsOfTheDoubleRange) {
+  const auto check = [](const EQ& q, bool point) {
+    const shadow::exact::IA i = shadow::exact::interval_of(q);
+    EXPECT_LE(EQ(i.inf()), q) << q;
+    EXPECT_GE(EQ(i.sup()), q) << q;
+    EXPECT_EQ(i.is_point(), point) << q;
+  };
+  auto power = [](long e) {  // 2^e exactly
+    EQ q(1);
+    if (e >= 0)
+      mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
+    else
+      mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
+    return q;
+  };
+  for (int sign : {1, -1}) {
+    check(sign * power(-1022), true);                       // the least normal double
+    check(sign * (power(-1022) - power(-1075)), false);     // just below it: 53 bits, not a double
+    check(sign * (power(-1022) + power(-1074)), true);      // a normal double, 53 bits
+    check(sign * power(-1030), false);                      // a subnormal: left to the slow path
+    check(sign * (power(53) - 1) / 2, true);                 // 53 bits over a power of two
+  }
+}
+
 TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {
   Generator g(31);
   shadow::exact::QScratch s;

@@ -48,8 +48,11 @@ inline IA interval_of(const EQ& q) {
   const double n = mpz_get_d_2exp(&en, num);  // |n| in [0.5, 1), num ~ n 2^en
   const double d = mpz_get_d_2exp(&ed, den);
   if (mpz_popcount(den) == 1 && mpz_sizeinbase(num, 2) <= 53) {
-    const double v = std::ldexp(n, static_cast<int>(en - ed + 1));  // den = 2^(ed - 1)
-    if (std::isfinite(v) && std::fabs(v) >= std::numeric_limits<double>::min()) return IA(v);  // exactly
+    // q = n 2^x exactly (den = 2^(ed - 1)), a double when it is in the normal range: with |n| in
+    // [0.5, 1) that is x in [-1021, 1024]. Decided on x, not on ldexp's result: a value just
+    // below the least normal double would round up to it in ldexp and pass for exact.
+    const long x = en - ed + 1;
+    if (x >= -1021 && x <= 1024) return IA(std::ldexp(n, static_cast<int>(x)));  // exactly
   }
   const long shift = en - ed;
   if (shift > 900 || shift < -900) {  // out of a safe exponent range: the slow, exact way
