@@ -342,13 +342,9 @@ void ShadowEngine::Impl::compute_splits(
         out.lit_fraction = 1.0;
         continue;
       }
-      // The same operations as a whole receiver's (exact_receiver.cpp, measure).
       const auto [chart, scale] = w0.exact.exact_areas(exact_context, f);
-      FT::Exact_type lit = *chart - shadow_chart, scratch;
-      out.lit_area = area_3d_exact(lit, *scale, scratch);
-      out.shadow_area = area_3d_exact(shadow_chart, *scale, scratch);
-      scratch = lit / *chart;
-      out.lit_fraction = round_mpq_to_double(scratch.get_mpq_t());
+      FT::Exact_type lit, scratch;
+      measure_lit_and_shadow(*chart, *scale, shadow_chart, lit, scratch, out);
       continue;
     }
     // Fast: each tile's shadow is within its bound of the exact one (a tile that fell back to

@@ -266,6 +266,16 @@ double area_3d_exact(const FT::Exact_type& chart_area, const FT::Exact_type& are
   return sqrt_mpq_to_double(scratch.get_mpq_t());
 }
 
+void measure_lit_and_shadow(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                            const FT::Exact_type& shadow_chart_area, FT::Exact_type& lit,
+                            FT::Exact_type& scratch, FaceLighting& out) {
+  lit = chart_area - shadow_chart_area;
+  out.lit_area = area_3d_exact(lit, area_scale_squared, scratch);
+  out.shadow_area = area_3d_exact(shadow_chart_area, area_scale_squared, scratch);
+  scratch = lit / chart_area;
+  out.lit_fraction = round_mpq_to_double(scratch.get_mpq_t());
+}
+
 namespace {
 
 /// An exactly planar face in plain integers: with 2^e the least power of two of its nonzero

@@ -11,6 +11,7 @@
 #include "exact/kernel.hpp"
 
 #include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
 
 #include <array>
 #include <optional>
@@ -52,6 +53,14 @@ double area_3d(const FT& chart_area, const FT& area_scale_squared);
 /// the caller's, to reuse its limbs.
 double area_3d_exact(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
                      FT::Exact_type& scratch);
+
+/// A receiver's lit_area, shadow_area and lit_fraction from its exact chart area and area scale
+/// (ExactWorker::exact_areas) and its shadow's exact chart area, each rounded once: the one
+/// measure of whole receivers (exact_receiver.cpp) and of tiled ones summed (the engine's merge).
+/// `lit` receives chart - shadow; `scratch` is reused.
+void measure_lit_and_shadow(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                            const FT::Exact_type& shadow_chart_area, FT::Exact_type& lit,
+                            FT::Exact_type& scratch, FaceLighting& out);
 
 /// The 3D area of an exactly planar face (prep.exactly_planar), rounded once: the same double as
 /// area_3d(make_exact_face(...).chart_area, ...area_scale_squared), computed in plain integers

@@ -524,20 +524,11 @@ class ExactReceiverJob {
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
   void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
   void measure(const EQ& shadow) {
-    FaceLighting& out = item_.lighting;
     if (tile_) item_.tile_shadow_chart_area = shadow;
-    const auto [chart_ptr, scale_ptr] = w_.exact_areas(ctx_, face_id_);
-    const EQ& chart = *chart_ptr;
-    const EQ& scale = *scale_ptr;
-    EQ& lit = w_.qarea;
-    lit = chart - shadow;
-    if (polygons_) lit_chart_area_ = FT(lit);  // lit_region's
-    out.lit_area = area_3d_exact(lit, scale);
-    out.shadow_area = area_3d_exact(shadow, scale);
-    w_.qbound = lit / chart;
-    out.lit_fraction = round_mpq_to_double(w_.qbound.get_mpq_t());
+    const auto [chart, scale] = w_.exact_areas(ctx_, face_id_);
+    measure_lit_and_shadow(*chart, *scale, shadow, w_.qarea, w_.qbound, item_.lighting);
+    if (polygons_) lit_chart_area_ = FT(w_.qarea);  // lit_region's
   }
-  double area_3d_exact(const EQ& a, const EQ& scale) { return exact::area_3d_exact(a, scale, w_.qs.a); }
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
