@@ -9,6 +9,7 @@
 
 #include <shadow/scene.hpp>
 
+#include <optional>
 #include <vector>
 
 namespace shadow::core {
@@ -21,6 +22,10 @@ struct PreparedScene {
   const CullScene* cull = nullptr;
   const std::vector<ConvexSolid>* solids = nullptr;
   const std::vector<int>* solid_of = nullptr;
+  /// The least set bit of every coordinate of the scene (all are integers times 2^this), when
+  /// they span few enough bits for the exact areas route's integer charts
+  /// (exact/scaled_chart.hpp); nullopt otherwise.
+  std::optional<int> chart_least_bit;
 };
 
 }  // namespace shadow::core

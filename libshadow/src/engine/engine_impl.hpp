@@ -7,6 +7,7 @@
 #include "core/convex_solid.hpp"
 #include "core/face_prep.hpp"
 #include "core/parallel.hpp"
+#include "core/prepared_scene.hpp"
 #include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "fast/fast_receiver.hpp"
@@ -32,6 +33,12 @@ struct ShadowEngine::Impl {
 
   std::vector<core::ConvexSolid> solids;
   std::vector<int> solid_of;  ///< per face: index into solids, or -1
+  std::optional<int> chart_least_bit;  ///< core::PreparedScene::chart_least_bit
+
+  /// What the per-receiver computations read (pointers into this).
+  [[nodiscard]] core::PreparedScene prepared() const {
+    return {scene, &prep, &face_area, &cull, &solids, &solid_of, chart_least_bit};
+  }
 
   /// Per-thread state: the exact engine's and the fast path's, and the counts of both.
   struct Worker {

@@ -22,6 +22,7 @@
 
 #include "arealight/area_receiver.hpp"
 #include "core/culling.hpp"
+#include "core/dyadic.hpp"
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
 #include "arealight/light_visibility.hpp"
@@ -32,6 +33,7 @@
 #include "exact/exact_faces.hpp"
 #include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
+#include "exact/scaled_chart.hpp"
 #include "fast/fast_receiver.hpp"
 #include "planes/plane_shadows.hpp"
 
@@ -83,8 +85,12 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
   const std::size_t n = scene.faces.size();
   impl_->prep.resize(n);
   impl_->face_area.assign(n, 0.0);
-  core::parallel_for(n, core::resolve_threads(threads), [&](unsigned, std::size_t f) {
+  // The bits every coordinate spans (integer charts, exact/scaled_chart.hpp), per thread.
+  std::vector<core::BitSpan> spans(core::resolve_threads(threads));
+  core::parallel_for(n, core::resolve_threads(threads), [&](unsigned thread, std::size_t f) {
     const Face& face = scene.faces[f];
+    for (const glm::dvec3& v : face.vertices)
+      for (int k = 0; k < 3; ++k) spans[thread].add(v[k]);
     core::FacePrep& prep = impl_->prep[f];
     if (face.degenerate || face.vertices.size() < 3) {
       prep.degenerate = true;
@@ -101,6 +107,9 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
     const exact::ExactFace ef = exact::make_exact_face(face.vertices, prep);
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
   });
+  core::BitSpan span;
+  for (const core::BitSpan& s : spans) span.add(s);
+  impl_->chart_least_bit = exact::chart_least_bit(span);
   impl_->cull = core::make_cull_scene(scene, impl_->prep, core::resolve_threads(threads));
   impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, core::resolve_threads(threads));
 }
@@ -196,7 +205,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::option
                                                           std::size_t f, std::size_t light_id, const Light& light_in,
                                                           const core::LightSpaceGrid* grid, const ItemMode& mode,
                                                           const core::FacePrep* tile, ShadowStats& stats) const {
-  const core::PreparedScene context{scene, &prep, &face_area, &cull, &solids, &solid_of};
+  const core::PreparedScene context = prepared();
   w.exact.trim(exact::kExactFaceCache);
   core::TileRequest tiles;
   tiles.tile = tile;
@@ -283,7 +292,7 @@ void ShadowEngine::Impl::compute_splits(
       report_tiles);
 
   // Merge each split receiver's tiles into its item (on this thread only).
-  const exact::ExactContext exact_context{scene, &prep, &face_area, &cull, &solids, &solid_of};
+  const exact::ExactContext exact_context = prepared();
   Worker& w0 = workers[0];
   for (std::size_t s = 0; s < splits.size(); ++s) {
     const SplitReceiver& sr = splits[s];
@@ -379,7 +388,7 @@ void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size
   ItemTable centre_items(receivers.size(), static_cast<unsigned>(workers.size()));
   compute_light(centre, light_id, centre_options, workers, receivers, centre_items, 0, 0);
 
-  const core::PreparedScene ctx{scene, &prep, &face_area, &cull, &solids, &solid_of};
+  const core::PreparedScene ctx = prepared();
   const arealight::AreaLightPrep area = arealight::prepare_area_light(ctx, light_in, light_id);
   std::vector<arealight::AreaWorker> area_workers(workers.size());
   std::function<void(std::size_t)> report;
@@ -498,8 +507,7 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
 namespace detail {
 
 core::PreparedScene EngineAccess::prepared(const ShadowEngine& engine) {
-  const ShadowEngine::Impl& impl = *engine.impl_;
-  return {impl.scene, &impl.prep, &impl.face_area, &impl.cull, &impl.solids, &impl.solid_of};
+  return engine.impl_->prepared();
 }
 
 }  // namespace detail

@@ -61,6 +61,7 @@ class ConvexUnionArea {
     if (!convex_polygons) return false;
     find_pairs();
     terms_.clear();
+    integer_terms_ = 0;
     {
       // Rounding upward for every interval filter of the sweep, set once (the exact fallbacks
       // are GMP integer arithmetic; nothing below rounds a plain double).
@@ -321,6 +322,27 @@ class ConvexUnionArea {
     const QPoint2& s2 = *pts_[cur_w_];
     const QPoint2& u = *pts_[p.f];
     const QPoint2& u2 = *pts_[nxt_[p.f]];
+    ++counts_.exact_params;
+    if (is_integer(s) && is_integer(s2) && is_integer(u) && is_integer(u2)) {
+      // cross(u2 - u, u - s) / cross(u2 - u, s2 - s), normalised once
+      mpz_class& fx = scratch_.za;
+      mpz_class& fy = scratch_.zb;
+      mpz_class& z = scratch_.zc;
+      mpz_ptr tn = mpq_numref(t.get_mpq_t());
+      mpz_ptr td = mpq_denref(t.get_mpq_t());
+      mpz_sub(fx.get_mpz_t(), num(u2.x), num(u.x));
+      mpz_sub(fy.get_mpz_t(), num(u2.y), num(u.y));
+      mpz_sub(z.get_mpz_t(), num(u.y), num(s.y));
+      mpz_mul(tn, fx.get_mpz_t(), z.get_mpz_t());
+      mpz_sub(z.get_mpz_t(), num(u.x), num(s.x));
+      mpz_submul(tn, fy.get_mpz_t(), z.get_mpz_t());
+      mpz_sub(z.get_mpz_t(), num(s2.y), num(s.y));
+      mpz_mul(td, fx.get_mpz_t(), z.get_mpz_t());
+      mpz_sub(z.get_mpz_t(), num(s2.x), num(s.x));
+      mpz_submul(td, fy.get_mpz_t(), z.get_mpz_t());
+      mpq_canonicalize(t.get_mpq_t());
+      return t;
+    }
     fx_ = u2.x - u.x;
     fy_ = u2.y - u.y;
     dx_ = s2.x - s.x;
@@ -334,7 +356,6 @@ class ConvexUnionArea {
     dx_ *= fy_;
     den_ -= dx_;
     t /= den_;
-    ++counts_.exact_params;
     return t;
   }
 
@@ -351,6 +372,15 @@ class ConvexUnionArea {
   }
 
   void twice_polygon_area(const QPoint2* const* pts, std::size_t n) {
+    if (std::all_of(pts, pts + n, [](const QPoint2* p) { return is_integer(*p); })) {
+      for (std::size_t a = 0; a < n; ++a) {
+        const QPoint2& p = *pts[a];
+        const QPoint2& q = *pts[(a + 1) % n];
+        mpz_addmul(integer_terms_.get_mpz_t(), num(p.x), num(q.y));
+        mpz_submul(integer_terms_.get_mpz_t(), num(p.y), num(q.x));
+      }
+      return;
+    }
     terms_.emplace_back(0);
     EQ& out = terms_.back();
     for (std::size_t a = 0; a < n; ++a) {
@@ -367,6 +397,11 @@ class ConvexUnionArea {
   void add_cross(std::size_t v, std::size_t w, const EQ* measure) {
     const QPoint2& s = *pts_[v];
     const QPoint2& s2 = *pts_[w];
+    if (!measure && is_integer(s) && is_integer(s2)) {  // a whole edge of integer points
+      mpz_addmul(integer_terms_.get_mpz_t(), num(s.x), num(s2.y));
+      mpz_submul(integer_terms_.get_mpz_t(), num(s.y), num(s2.x));
+      return;
+    }
     terms_.emplace_back(s.x * s2.y);
     scratch_.a = s.y * s2.x;
     terms_.back() -= scratch_.a;
@@ -399,10 +434,11 @@ class ConvexUnionArea {
   }
 
   EQ sum_terms() {
-    if (terms_.empty()) return EQ(0);
+    EQ total(integer_terms_);
+    if (terms_.empty()) return total;
     for (std::size_t width = 1; width < terms_.size(); width *= 2)
       for (std::size_t a = 0; a + width < terms_.size(); a += 2 * width) terms_[a] += terms_[a + width];
-    return terms_[0];
+    return total += terms_[0];
   }
 
   std::vector<const QPoint2*> pts_;
@@ -418,6 +454,7 @@ class ConvexUnionArea {
   std::vector<std::size_t> copy_first_;
   std::size_t exact_used_ = 0, cur_v_ = 0, cur_w_ = 0;
   EQ zero_{0}, one_{1}, fx_, fy_, dx_, dy_, ux_, uy_, den_, piece_, covered_, measure_;
+  mpz_class integer_terms_;  ///< terms of whole edges of integer points, summed as integers
   QScratch scratch_;
   Counts counts_;
 };

@@ -12,6 +12,7 @@
 
 #include "exact/leaf_projector.hpp"
 #include "exact/regions.hpp"
+#include "exact/scaled_chart.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/convex_hull_2.h>
@@ -181,6 +182,12 @@ class ExactReceiverJob {
     return *projector_;
   }
 
+  /// The areas-only route's chart, scaled so that projections are integers (q_mode_ only).
+  ScaledChart& scaled_chart() {
+    if (!scaled_chart_) scaled_chart_.emplace(face_.vertices, fp_, light_in_, ctx_.chart_least_bit);
+    return *scaled_chart_;
+  }
+
   /// Sign of s (the receiver's plane) at an input vertex, by Epick's orientation predicate on
   /// the doubles: exact, and cheap even when the answer is zero, which is common (faces that
   /// share an edge with the receiver). Lazy Epeck arithmetic would evaluate every zero exactly.
@@ -200,21 +207,20 @@ class ExactReceiverJob {
     }
   }
 
+  /// clip_to_chart_box for a cast in the scaled chart (the box's bounds scaled with it).
   void clip_to_chart_box_q(std::vector<QPoint2>& poly) {
+    const ScaledChart& chart = scaled_chart();
     // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
     bool inside = true;
-    {
-      CGAL::Protect_FPU_rounding<true> guard;  // once for the polygon's intervals
-      for (std::size_t v = 0; v < poly.size() && inside; ++v) {
-        const IPoint2 i = interval_of<false>(poly[v]);
-        inside = i.x.inf() >= fp_.chart_min[0] && i.x.sup() <= fp_.chart_max[0] && i.y.inf() >= fp_.chart_min[1] &&
-                 i.y.sup() <= fp_.chart_max[1];
-      }
+    for (std::size_t v = 0; v < poly.size() && inside; ++v) {
+      const IPoint2& i = poly[v].i;  // of the unscaled chart
+      inside = i.x.inf() >= fp_.chart_min[0] && i.x.sup() <= fp_.chart_max[0] && i.y.inf() >= fp_.chart_min[1] &&
+               i.y.sup() <= fp_.chart_max[1];
     }
     if (inside) return;
     for (int c = 0; c < 2; ++c) {
-      clip_convex_2d(poly, c, fp_.chart_min[c], true, w_.qscratch, w_.qside, w_.qbound);
-      clip_convex_2d(poly, c, fp_.chart_max[c], false, w_.qscratch, w_.qside, w_.qbound);
+      clip_convex_2d(poly, c, chart.lo(c), chart.ilo(c), true, w_.qscratch, w_.qside, chart.scale_interval());
+      clip_convex_2d(poly, c, chart.hi(c), chart.ihi(c), false, w_.qscratch, w_.qside, chart.scale_interval());
     }
   }
 
@@ -229,8 +235,8 @@ class ExactReceiverJob {
       any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
     }
     if (!any_front) return;
-    LeafProjector& projector = leaf_projector();
     if (q_mode_) {
+      ScaledChart& projector = scaled_chart();
       std::vector<QPoint2>& pts = w_.qpoly;
       pts.clear();
       for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
@@ -253,6 +259,7 @@ class ExactReceiverJob {
       note_cover_q(pts);
       return;
     }
+    LeafProjector& projector = leaf_projector();
     w_.poly2.clear();
     for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
       if (w_.vertex_sign[v] == CGAL::POSITIVE) w_.poly2.push_back(projector.project(cs.vertices[v]));
@@ -318,19 +325,17 @@ class ExactReceiverJob {
       // polygon lies inside the chart box: cutting it to the box afterwards (an intersection
       // of the union) cost more than the pieces on long combs.
       if (q_mode_) {
+        ScaledChart& chart = scaled_chart();
         std::vector<QPoint2>& pts = w_.qpoly;
         pts.clear();
         bool inside = true;
         for (int v : qp.chart_ring) {
-          leaf_projector().project(qface.vertices[v], pts.emplace_back());
+          chart.project(qface.vertices[v], pts.emplace_back());
           const QPoint2& p = pts.back();
           for (int c = 0; c < 2 && inside; ++c) {
             const EQ& x = c == 0 ? p.x : p.y;
-            const IA ix = interval_of(x);
-            w_.qbound = fp_.chart_min[c];
-            inside = compare(x, ix, w_.qbound, IA(fp_.chart_min[c])) >= 0;
-            w_.qbound = fp_.chart_max[c];
-            inside = inside && compare(x, ix, w_.qbound, IA(fp_.chart_max[c])) <= 0;
+            const IA& ix = c == 0 ? p.i.x : p.i.y;
+            inside = compare(x, ix, chart.lo(c), chart.ilo(c)) >= 0 && compare(x, ix, chart.hi(c), chart.ihi(c)) <= 0;
           }
           if (!inside) break;
         }
@@ -339,6 +344,7 @@ class ExactReceiverJob {
           return;
         }
       }
+      if (!q_mode_) {  // (the same test, on lazy points: the rational one above has decided)
       w_.poly2.clear();
       bool inside = true;
       for (int v : qp.chart_ring) {
@@ -353,6 +359,7 @@ class ExactReceiverJob {
         if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
         return;
       }
+      }
     }
     bool cast = false;
     for (const std::vector<int>& piece : qp.convex_pieces) {
@@ -364,7 +371,7 @@ class ExactReceiverJob {
       }
       if (!piece_front) continue;
       if (q_mode_ && leaves) {
-        leaf_projector().project_piece_parallel(qface.vertices, piece, w_.piece_sign, w_.qpoly);
+        scaled_chart().project_piece_parallel(qface.vertices, piece, w_.piece_sign, w_.qpoly);
         clip_to_chart_box_q(w_.qpoly);
         cast |= add_shadow_q(w_.qpoly);
         continue;
@@ -374,11 +381,12 @@ class ExactReceiverJob {
       else
         project_piece_lazy(*Q, piece, *frame);
       if (!point_light_) clip_to_chart_box(w_.poly2);
-      if (q_mode_) {  // a lifted caster: its exact values as rational points
+      if (q_mode_) {  // a lifted caster: its exact values as rational points, scaled
         w_.qpoly.clear();
+        const ScaledChart& chart = scaled_chart();
         for (const Point2& p : w_.poly2) {
           const auto& e = CGAL::exact(p);
-          w_.qpoly.push_back(QPoint2{e.x(), e.y()});
+          chart.scale_point(w_.qpoly.emplace_back(QPoint2{e.x(), e.y()}));
         }
         cast |= add_shadow_q(w_.qpoly);
         continue;
@@ -443,27 +451,30 @@ class ExactReceiverJob {
     return true;
   }
 
-  /// note_cover for a rational cast (counter-clockwise). Every cast is a simple polygon inside
-  /// the chart box (a convex piece or hull clipped to it, or a face's affine image lying in it),
-  /// and a simple polygon inside the box with the box's area is the box.
+  /// note_cover for a rational cast (counter-clockwise, in the scaled chart). Every cast is a
+  /// simple polygon inside the chart box (a convex piece or hull clipped to it, or a face's
+  /// affine image lying in it), and a simple polygon inside the box with the box's area is the box.
   void note_cover_q(const std::vector<QPoint2>& poly) {
     if (tile_ || covered_ || poly.size() < 3) return;
-    const double twice = core::twice_area_about_box_corner(fp_, poly.size(), [&](std::size_t a) {
-      return std::array<double, 2>{poly[a].x.get_d(), poly[a].y.get_d()};
-    });
-    if (!near_box_area(twice)) return;
+    const ScaledChart& chart = scaled_chart();
+    const double x0 = chart.lo(0).get_d(), y0 = chart.lo(1).get_d();
+    double twice = 0;  // about the box's corner, as core::twice_area_about_box_corner
+    for (std::size_t a = 0; a < poly.size(); ++a) {
+      const QPoint2& p = poly[a];
+      const QPoint2& q = poly[(a + 1) % poly.size()];
+      twice += (p.x.get_d() - x0) * (q.y.get_d() - y0) - (q.x.get_d() - x0) * (p.y.get_d() - y0);
+    }
+    if (!near_box_area(twice, (chart.hi(0).get_d() - x0) * (chart.hi(1).get_d() - y0))) return;
     EQ exact_twice;
     twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
-    const EQ exact_box = (EQ(fp_.chart_max[0]) - EQ(fp_.chart_min[0])) * (EQ(fp_.chart_max[1]) - EQ(fp_.chart_min[1]));
+    const EQ exact_box = (chart.hi(0) - chart.lo(0)) * (chart.hi(1) - chart.lo(1));
     covered_ = exact_twice == 2 * exact_box;
   }
 
   /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
   /// of twice the chart box's: only such a cast can be the whole box (note_cover, note_cover_q).
-  bool near_box_area(double twice) const {
-    const double box = core::chart_box_area(fp_);
-    return std::abs(0.5 * twice - box) <= 1e-9 * box;
-  }
+  bool near_box_area(double twice) const { return near_box_area(twice, core::chart_box_area(fp_)); }
+  static bool near_box_area(double twice, double box) { return std::abs(0.5 * twice - box) <= 1e-9 * box; }
 
   std::size_t shadow_count() const { return q_mode_ ? w_.qfirst.size() - 1 : shadows_.size(); }
 
@@ -475,22 +486,26 @@ class ExactReceiverJob {
       return;
     }
     if (q_mode_) {
+      // Areas of the scaled chart (scaled_chart()), divided by K^2 before measuring.
+      const ScaledChart& chart = scaled_chart();
       if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
         twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
         twice_area_ /= 2;
+        chart.unscale_area(twice_area_);
         measure(twice_area_);
         return;
       }
       if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
         twice_area_ /= 2;
+        chart.unscale_area(twice_area_);
         measure(twice_area_);
         return;
       }
-      // A non-convex cast: the Boolean union of all of them, as Epeck polygons.
+      // A non-convex cast: the Boolean union of all of them, as Epeck polygons (of the chart).
       for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
         Polygon2 polygon;
         for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v)
-          polygon.push_back(Point2(FT(w_.qshadows[v].x), FT(w_.qshadows[v].y)));
+          polygon.push_back(Point2(FT(w_.qshadows[v].x / chart.scale()), FT(w_.qshadows[v].y / chart.scale())));
         shadows_.push_back(std::move(polygon));
       }
     } else if (!polygons_ && fp_.chart_is_box && shadows_.size() > 1) {
@@ -643,6 +658,7 @@ class ExactReceiverJob {
   EK::Point_3 corner0_, corner1_, corner2_;  ///< the receiver's corner, for input_side
   std::optional<ReceiverFrame> frame_;
   std::optional<LeafProjector> projector_;
+  std::optional<ScaledChart> scaled_chart_;  ///< q_mode_ only
   ReceiverResult item_;
   std::vector<Polygon2> shadows_;
   bool covered_ = false;  ///< a shadow fills the whole chart box (areas only; note_cover)

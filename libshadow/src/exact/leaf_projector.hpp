@@ -149,6 +149,7 @@ class LeafProjector {
     out.x -= s_ * shift_i_;
     out.y = y[j_];
     out.y -= s_ * shift_j_;
+    out.update_intervals();
   }
   void crossing(const glm::dvec3& a, const glm::dvec3& b, QPoint2& out) {
     plane_value(a, s_);
@@ -162,10 +163,12 @@ class LeafProjector {
     out.y -= a[j_];
     out.y *= t_;
     out.y += a[j_];
+    out.update_intervals();
   }
   void chart(const glm::dvec3& y, QPoint2& out) const {
     out.x = y[i_];
     out.y = y[j_];
+    out.i = {IA(y[i_]), IA(y[j_])};
   }
   /// project_piece_parallel into rational points.
   void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,

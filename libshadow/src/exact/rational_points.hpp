@@ -26,11 +26,6 @@ namespace shadow::exact {
 using EQ = FT::Exact_type;
 static_assert(std::is_same_v<EQ, mpq_class>, "rational_points.hpp expects Epeck over mpq_class");
 
-/// A point with exact rational coordinates.
-struct QPoint2 {
-  EQ x, y;
-};
-
 using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
 
 /// An interval around q: the value itself when it is a double (a dyadic numerator of at most 53
@@ -72,15 +67,70 @@ inline IA interval_of(const EQ& q) {
 struct IPoint2 {
   IA x, y;
 };
+
+/// A point with exact rational coordinates, and intervals around them for the filters. In a
+/// scaled chart (exact/scaled_chart.hpp) x and y are the scaled coordinates and the intervals are
+/// around the unscaled ones (x / K): every predicate here is invariant under a positive scale,
+/// and a coordinate that is a double unscaled (a point on the receiver's plane, a cut at a chart
+/// bound) keeps an interval that is that point, so that its ties (boxes' shared coordinates)
+/// are decided without GMP. Made from coordinates alone, the intervals are around them (K = 1).
+struct QPoint2 {
+  EQ x, y;
+  IPoint2 i;
+
+  QPoint2() = default;
+  QPoint2(EQ x_, EQ y_) : x(std::move(x_)), y(std::move(y_)) { update_intervals(); }
+  QPoint2(EQ x_, EQ y_, const IPoint2& i_) : x(std::move(x_)), y(std::move(y_)), i(i_) {}
+  /// The intervals around x and y (after setting them in an unscaled chart).
+  void update_intervals() { i = {interval_of(x), interval_of(y)}; }
+};
+
+/// A point's intervals (QPoint2::i). kSetRounding: unused, kept for the callers' symmetry.
 template <bool kSetRounding = true>
-inline IPoint2 interval_of(const QPoint2& p) {
-  return {interval_of<kSetRounding>(p.x), interval_of<kSetRounding>(p.y)};
+inline const IPoint2& interval_of(const QPoint2& p) {
+  return p.i;
 }
 
-/// Scratch rationals for the exact fallbacks (no allocation once grown).
+/// Scratch rationals for the exact fallbacks (no allocation once grown), and integers for their
+/// integer paths.
 struct QScratch {
   EQ a, b, c, d;
+  mpz_class za, zb, zc;
 };
+
+/// Whether q is an integer. The areas route's points mostly are (exact/scaled_chart.hpp), and
+/// GMP's rational sums multiply by both denominators and take a gcd even when they are 1: on
+/// integers the exact steps below use integer arithmetic, with the same results.
+inline bool is_integer(const EQ& q) { return mpz_cmp_ui(mpq_denref(q.get_mpq_t()), 1) == 0; }
+inline bool is_integer(const QPoint2& p) { return is_integer(p.x) && is_integer(p.y); }
+inline mpz_srcptr num(const EQ& q) { return mpq_numref(q.get_mpq_t()); }
+
+/// cross(q - p, r - p) of integer points into `out` (z: scratch).
+inline void integer_cross(const QPoint2& p, const QPoint2& q, const QPoint2& r, mpz_class& out, mpz_class& z1,
+                          mpz_class& z2) {
+  mpz_sub(z1.get_mpz_t(), num(q.x), num(p.x));
+  mpz_sub(z2.get_mpz_t(), num(r.y), num(p.y));
+  mpz_mul(out.get_mpz_t(), z1.get_mpz_t(), z2.get_mpz_t());
+  mpz_sub(z1.get_mpz_t(), num(q.y), num(p.y));
+  mpz_sub(z2.get_mpz_t(), num(r.x), num(p.x));
+  mpz_submul(out.get_mpz_t(), z1.get_mpz_t(), z2.get_mpz_t());
+}
+
+/// orientation's exact step (out of line, so that the filter stays small enough to inline).
+[[gnu::noinline]] inline CGAL::Sign orientation_exact(const QPoint2& p, const QPoint2& q, const QPoint2& r, QScratch& s) {
+  if (is_integer(p) && is_integer(q) && is_integer(r)) {
+    integer_cross(p, q, r, s.za, s.zb, s.zc);
+    return static_cast<CGAL::Sign>(sgn(s.za));
+  }
+  s.a = q.x - p.x;
+  s.b = r.y - p.y;
+  s.a *= s.b;
+  s.c = q.y - p.y;
+  s.d = r.x - p.x;
+  s.c *= s.d;
+  const int c = cmp(s.a, s.c);
+  return c > 0 ? CGAL::POSITIVE : c < 0 ? CGAL::NEGATIVE : CGAL::ZERO;
+}
 
 /// Sign of cross(q - p, r - p): LEFT_TURN (positive) when p, q, r turn left. Filtered.
 /// kSetRounding false: the caller already holds a CGAL::Protect_FPU_rounding<true> (the interval
@@ -95,14 +145,7 @@ inline CGAL::Sign orientation(const QPoint2& p, const IPoint2& ip, const QPoint2
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (ir.y - ip.y) - (iq.y - ip.y) * (ir.x - ip.x));
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
-  s.a = q.x - p.x;
-  s.b = r.y - p.y;
-  s.a *= s.b;
-  s.c = q.y - p.y;
-  s.d = r.x - p.x;
-  s.c *= s.d;
-  const int c = cmp(s.a, s.c);
-  return c > 0 ? CGAL::POSITIVE : c < 0 ? CGAL::NEGATIVE : CGAL::ZERO;
+  return orientation_exact(p, q, r, s);
 }
 
 /// Sign of dot(q - p, s - r). Filtered (kSetRounding as for orientation).
@@ -113,6 +156,15 @@ inline CGAL::Sign dot_sign(const QPoint2& p, const IPoint2& ip, const QPoint2& q
     CGAL::Protect_FPU_rounding<kSetRounding> guard;
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (it.x - ir.x) + (iq.y - ip.y) * (it.y - ir.y));
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
+  }
+  if (is_integer(p) && is_integer(q) && is_integer(r) && is_integer(t)) {
+    mpz_sub(s.zb.get_mpz_t(), num(q.x), num(p.x));
+    mpz_sub(s.zc.get_mpz_t(), num(t.x), num(r.x));
+    mpz_mul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
+    mpz_sub(s.zb.get_mpz_t(), num(q.y), num(p.y));
+    mpz_sub(s.zc.get_mpz_t(), num(t.y), num(r.y));
+    mpz_addmul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
+    return static_cast<CGAL::Sign>(sgn(s.za));
   }
   s.a = q.x - p.x;
   s.b = t.x - r.x;
@@ -132,7 +184,33 @@ inline int compare(const EQ& a, const IA& ia, const EQ& b, const IA& ib) {
   return cmp(a, b);
 }
 
-/// Twice the signed area's sign of the polygon pts[0..n) (fan from the first vertex). Filtered.
+/// Twice the signed area of pts[begin, end), exactly (shoelace).
+inline void twice_polygon_area(const QPoint2* begin, const QPoint2* end, EQ& out, QScratch& s) {
+  out = 0;
+  const std::size_t n = static_cast<std::size_t>(end - begin);
+  if (std::all_of(begin, end, [](const QPoint2& p) { return is_integer(p); })) {
+    s.za = 0;
+    for (std::size_t a = 0; a < n; ++a) {
+      const QPoint2& p = begin[a];
+      const QPoint2& q = begin[(a + 1) % n];
+      mpz_addmul(s.za.get_mpz_t(), num(p.x), num(q.y));
+      mpz_submul(s.za.get_mpz_t(), num(p.y), num(q.x));
+    }
+    mpq_set_z(out.get_mpq_t(), s.za.get_mpz_t());
+    return;
+  }
+  for (std::size_t a = 0; a < n; ++a) {
+    const QPoint2& p = begin[a];
+    const QPoint2& q = begin[(a + 1) % n];
+    s.a = p.x * q.y;
+    s.b = p.y * q.x;
+    s.a -= s.b;
+    out += s.a;
+  }
+}
+
+/// Twice the signed area's sign of the polygon pts[0..n) (fan from the first vertex). Filtered;
+/// `sum` receives twice the area when the filter cannot decide.
 inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, std::vector<IPoint2>& ipts, QScratch& s, EQ& sum) {
   const std::size_t n = pts.size();
   if (n < 3) return CGAL::ZERO;
@@ -146,32 +224,8 @@ inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, std::vector<IPoint2
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign(total);
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
-  sum = 0;
-  for (std::size_t a = 1; a + 1 < n; ++a) {
-    s.a = pts[a].x - pts[0].x;
-    s.b = pts[a + 1].y - pts[0].y;
-    s.a *= s.b;
-    s.c = pts[a].y - pts[0].y;
-    s.d = pts[a + 1].x - pts[0].x;
-    s.c *= s.d;
-    s.a -= s.c;
-    sum += s.a;
-  }
+  twice_polygon_area(pts.data(), pts.data() + n, sum, s);
   return static_cast<CGAL::Sign>(sgn(sum));
-}
-
-/// Twice the signed area of pts[begin, end), exactly (shoelace).
-inline void twice_polygon_area(const QPoint2* begin, const QPoint2* end, EQ& out, QScratch& s) {
-  out = 0;
-  const std::size_t n = static_cast<std::size_t>(end - begin);
-  for (std::size_t a = 0; a < n; ++a) {
-    const QPoint2& p = begin[a];
-    const QPoint2& q = begin[(a + 1) % n];
-    s.a = p.x * q.y;
-    s.b = p.y * q.x;
-    s.a -= s.b;
-    out += s.a;
-  }
 }
 
 /// The convex hull of `pts` (counter-clockwise, no collinear or repeated vertices) into `out`
@@ -211,26 +265,37 @@ inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, st
   for (std::size_t a : chain) out.push_back(pts[a]);
 }
 
-/// Sutherland-Hodgman clip of a convex polygon to x_c >= m (keep_greater) or x_c <= m; the
-/// crossings get m exactly in coordinate c (the same values as clip_convex_2d's).
-inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, double m, bool keep_greater, std::vector<QPoint2>& scratch,
-                           std::vector<int>& in, EQ& bound) {
+/// Sutherland-Hodgman clip of a convex polygon to x_c >= m (keep_greater) or x_c <= m, with m
+/// given exactly and as an interval (both as the points are: scaled and unscaled, QPoint2); the
+/// crossings get m exactly in coordinate c. `scale`: an interval around the chart's scale K
+/// (1 unscaled), for the crossings' other intervals.
+inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, const EQ& bound, const IA& ibound, bool keep_greater,
+                           std::vector<QPoint2>& scratch, std::vector<int>& in, const IA& scale) {
   if (poly.empty()) return;
   const std::size_t n = poly.size();
   in.resize(n);
-  const IA im(m);
-  bound = m;
   for (std::size_t a = 0; a < n; ++a) {
     const EQ& v = c == 0 ? poly[a].x : poly[a].y;
-    const int r = compare(v, interval_of(v), bound, im);
+    const int r = compare(v, c == 0 ? poly[a].i.x : poly[a].i.y, bound, ibound);
     in[a] = keep_greater ? r : -r;
   }
+  const bool unscaled = scale.is_point() && scale.inf() == 1.0;
+  auto make_point = [&](EQ&& other) {
+    IA iother = interval_of(other);
+    if (!unscaled) {
+      CGAL::Protect_FPU_rounding<true> guard;
+      iother = iother / scale;
+    }
+    return c == 0 ? QPoint2{bound, std::move(other), {ibound, iother}}
+                  : QPoint2{std::move(other), bound, {iother, ibound}};
+  };
   auto side = [&](std::size_t a) { return in[a]; };
   switch (geometry::clip_case(n, side)) {
     case geometry::ClipCase::Inside: return;
     case geometry::ClipCase::Empty: poly.clear(); return;
     case geometry::ClipCase::Cut: break;
   }
+  const bool integer_bound = is_integer(bound);
   geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
     const QPoint2& pa = poly[a];
     const QPoint2& pb = poly[b];
@@ -238,13 +303,41 @@ inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, double m, bool kee
     const EQ& ao = c == 0 ? pa.y : pa.x;
     const EQ& bc = c == 0 ? pb.x : pb.y;
     const EQ& bo = c == 0 ? pb.y : pb.x;
-    EQ other = bo - ao;
+    const IA& iao = c == 0 ? pa.i.y : pa.i.x;
+    const IA& ibo = c == 0 ? pb.i.y : pb.i.x;
+    if (iao.is_point() && ibo.is_point() && iao.inf() == ibo.inf()) {
+      // Both ends at one exact double (an edge along the other bound): so is the cut, exactly.
+      return c == 0 ? QPoint2{bound, ao, {ibound, iao}} : QPoint2{ao, bound, {iao, ibound}};
+    }
+    EQ other;
+    if (integer_bound && is_integer(pa) && is_integer(pb)) {
+      // (ao (bc - m) + bo (m - ac)) / (bc - ac), one normalisation
+      mpz_ptr on = mpq_numref(other.get_mpq_t());
+      mpz_ptr od = mpq_denref(other.get_mpq_t());
+      mpz_sub(od, num(bc), num(bound));
+      mpz_mul(on, num(ao), od);
+      mpz_sub(od, num(bound), num(ac));
+      mpz_addmul(on, num(bo), od);
+      mpz_sub(od, num(bc), num(ac));
+      mpq_canonicalize(other.get_mpq_t());
+      return make_point(std::move(other));
+    }
+    other = bo - ao;
     other *= bound - ac;
     other /= bc - ac;
     other += ao;
-    return c == 0 ? QPoint2{bound, std::move(other)} : QPoint2{std::move(other), bound};
+    return make_point(std::move(other));
   }, scratch);
   poly.swap(scratch);
+}
+
+/// The same for a bound m given as a double (the same values as clip_convex_2d's for Epeck
+/// points); `bound` is scratch.
+inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, double m, bool keep_greater, std::vector<QPoint2>& scratch,
+                           std::vector<int>& in, EQ& bound) {
+  if (poly.empty()) return;
+  bound = m;
+  clip_convex_2d(poly, c, bound, IA(m), keep_greater, scratch, in, IA(1));
 }
 
 }  // namespace shadow::exact

@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The areas-only route's chart, scaled so that a directional light's projections are integers.
+// Include only from src/exact/*.cpp or tests (GMP, CGAL).
+//
+// Every coordinate of the scene is an integer times 2^e, e the least set bit of them all
+// (PreparedScene::chart_least_bit), and the light's direction d is an integer vector D times
+// 2^f. Let c be the receiver's corner, u and v its edges from c, Y = y 2^-e, C = c 2^-e, and
+// N = (u x v) 2^-2e (negated for a face wound the other way), O = -N.C, L = N.D, all integers.
+// A point y in front of the receiver goes along d to
+//
+//   x = y - s(y) d / (n.d),    s(y) = n.(y - c),
+//
+// and with S = N.Y + O (= s(y) 2^-3e) its chart coordinates i, j satisfy
+//
+//   x_i K = Y_i L - S D_i,     K = L 2^-e    (L > 0: D's sign is chosen so),
+//
+// an integer. In the chart scaled by K every projected vertex is an integer, a point on the
+// receiver's plane is Y_i L, and a crossing of the plane is L (S_a B_i - S_b A_i) / (S_a - S_b):
+// none of the rationals of LeafProjector's unscaled route is made, whose normalisation by L's
+// odd part (gcds of numbers of a few hundred bits) was a third of the route's time. N is taken
+// primitive (divided by the gcd of its components: S, L and K scale with it, the chart does
+// not), which keeps the integers short: a ground's N is (0, 0, 1). The scaling is a similarity
+// with a positive factor, so every sign and comparison is the same as unscaled, and an area of
+// the scaled chart is the unscaled one times K^2: the receiver's shadow is divided once.
+//
+// Scenes whose coordinates span more than kChartSpanBits bits, and light directions spanning more
+// than kDirectionSpanBits, keep the unscaled route (K = 1, LeafProjector's rationals): the
+// integers would grow past what the doubles of the interval filters hold (below 2^430 here, so
+// that products of two stay below 2^860).
+#pragma once
+
+#include "core/dyadic.hpp"
+#include "core/face_prep.hpp"
+#include "exact/leaf_projector.hpp"
+#include "exact/rational_points.hpp"
+
+#include <gmp.h>
+#include <gmpxx.h>
+
+#include <cassert>
+#include <optional>
+#include <vector>
+
+namespace shadow::exact {
+
+/// The widest span of the scene's coordinates (core::BitSpan::width) with integer charts.
+constexpr int kChartSpanBits = 100;
+/// The widest span of a light direction's components with integer charts.
+constexpr int kDirectionSpanBits = 120;
+
+/// The scene's least coordinate bit when integer charts can be used (its coordinates span at
+/// most kChartSpanBits), else nullopt.
+inline std::optional<int> chart_least_bit(const core::BitSpan& scene) {
+  if (scene.empty() || scene.width() > kChartSpanBits) return std::nullopt;
+  return scene.least;
+}
+
+/// A receiver's chart scaled by K (see the top of this file) for the areas-only route under a
+/// directional light: projections of input points, the chart box's bounds, and the way back.
+class ScaledChart {
+ public:
+  /// `prep`: the receiver's (or its tile's) FacePrep; `least_bit`: PreparedScene::chart_least_bit.
+  ScaledChart(const std::vector<glm::dvec3>& receiver, const core::FacePrep& prep, const Light& light,
+              std::optional<int> least_bit) {
+    if (least_bit) integer_ = make_integer(receiver, prep, light.to_light, *least_bit);
+    if (!integer_) {
+      rational_.emplace(receiver, prep, light);
+      scale_ = 1;
+    }
+    iscale_ = interval_of(scale_);
+    for (int c = 0; c < 2; ++c) {
+      scaled(prep.chart_min[c], lo_[c]);
+      scaled(prep.chart_max[c], hi_[c]);
+      ilo_[c] = IA(prep.chart_min[c]);  // intervals are of the unscaled chart (QPoint2)
+      ihi_[c] = IA(prep.chart_max[c]);
+    }
+  }
+
+  /// Whether projections are integers (false: the unscaled rationals, K = 1).
+  [[nodiscard]] bool integer() const { return integer_; }
+  /// K.
+  [[nodiscard]] const EQ& scale() const { return scale_; }
+  /// An interval around K (clip_convex_2d's `scale`).
+  [[nodiscard]] const IA& scale_interval() const { return iscale_; }
+  /// The chart box's bounds in coordinate c, scaled, and their intervals (unscaled: the bounds).
+  [[nodiscard]] const EQ& lo(int c) const { return lo_[c]; }
+  [[nodiscard]] const EQ& hi(int c) const { return hi_[c]; }
+  [[nodiscard]] const IA& ilo(int c) const { return ilo_[c]; }
+  [[nodiscard]] const IA& ihi(int c) const { return ihi_[c]; }
+
+  /// The parallel projection of an input point in front of (or on) the receiver's plane.
+  void project(const glm::dvec3& y, QPoint2& out) {
+    if (!integer_) return rational_->project(y, out);
+    plane_value(y, s_);  // also sets y_
+    set_integer(out.x, y_[i_], s_, d_[i_]);
+    set_integer(out.y, y_[j_], s_, d_[j_]);
+    set_intervals(out);
+  }
+
+  /// An input point on the receiver's plane.
+  void chart(const glm::dvec3& y, QPoint2& out) {
+    if (!integer_) return rational_->chart(y, out);
+    integer_of(y[i_], a_[0].get_mpz_t());
+    integer_of(y[j_], a_[1].get_mpz_t());
+    mpz_mul(mpq_numref(out.x.get_mpq_t()), a_[0].get_mpz_t(), l_.get_mpz_t());
+    mpz_set_ui(mpq_denref(out.x.get_mpq_t()), 1);
+    mpz_mul(mpq_numref(out.y.get_mpq_t()), a_[1].get_mpz_t(), l_.get_mpz_t());
+    mpz_set_ui(mpq_denref(out.y.get_mpq_t()), 1);
+    out.i = {IA(y[i_]), IA(y[j_])};  // exactly
+  }
+
+  /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
+  void crossing(const glm::dvec3& a, const glm::dvec3& b, QPoint2& out) {
+    if (!integer_) return rational_->crossing(a, b, out);
+    plane_value(a, s_);
+    for (int k = 0; k < 3; ++k) mpz_swap(a_[k].get_mpz_t(), y_[k].get_mpz_t());  // a_ = A
+    plane_value(b, t_);                                                      // y_ = B
+    mpz_sub(den_.get_mpz_t(), s_.get_mpz_t(), t_.get_mpz_t());
+    set_crossing(out.x, i_);
+    set_crossing(out.y, j_);
+    set_intervals(out);
+  }
+
+  /// The part of a convex piece in front of the receiver (exact signs of its plane given),
+  /// projected in order (LeafProjector::project_piece_parallel's steps).
+  void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
+                              const std::vector<CGAL::Sign>& sign, std::vector<QPoint2>& out) {
+    out.clear();
+    const std::size_t m = piece.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec3& va = vertices[piece[a]];
+      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      if (sa == CGAL::POSITIVE) project(va, out.emplace_back());
+      if (sa == CGAL::ZERO) chart(va, out.emplace_back());
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+        crossing(va, vertices[piece[(a + 1) % m]], out.emplace_back());
+    }
+  }
+
+  /// A point of the unscaled chart (its intervals are of it), scaled.
+  void scale_point(QPoint2& p) const {
+    if (!integer_) return;
+    p.x *= scale_;
+    p.y *= scale_;
+  }
+
+  /// An area of the scaled chart as an area of the chart (divided by K^2).
+  void unscale_area(EQ& area) const {
+    if (!integer_) return;
+    area /= scale_;
+    area /= scale_;
+  }
+
+ private:
+  bool make_integer(const std::vector<glm::dvec3>& receiver, const core::FacePrep& prep, const glm::dvec3& d, int e) {
+    core::BitSpan direction;
+    for (int k = 0; k < 3; ++k) direction.add(d[k]);
+    if (direction.empty() || direction.width() > kDirectionSpanBits) return false;
+    e_ = e;
+    i_ = core::chart_i(prep.axis);
+    j_ = core::chart_j(prep.axis);
+    const glm::dvec3& c = receiver[prep.corner[1]];
+    const glm::dvec3& next = receiver[prep.corner[2]];
+    const glm::dvec3& prev = receiver[prep.corner[0]];
+    mpz_class u[3], v[3], corner[3];
+    for (int k = 0; k < 3; ++k) {
+      integer_of(c[k], corner[k].get_mpz_t());
+      integer_of(next[k], u[k].get_mpz_t());
+      integer_of(prev[k], v[k].get_mpz_t());
+      u[k] -= corner[k];
+      v[k] -= corner[k];
+    }
+    n_[0] = u[1] * v[2] - u[2] * v[1];
+    n_[1] = u[2] * v[0] - u[0] * v[2];
+    n_[2] = u[0] * v[1] - u[1] * v[0];
+    if (prep.flipped)
+      for (mpz_class& x : n_) x = -x;
+    // Any positive multiple of N gives the same chart (S and L scale with it, x does not): the
+    // primitive one keeps the integers short (a ground's N is (0, 0, 1), not its area 2^-2e).
+    mpz_gcd(u[0].get_mpz_t(), n_[0].get_mpz_t(), n_[1].get_mpz_t());
+    mpz_gcd(u[0].get_mpz_t(), u[0].get_mpz_t(), n_[2].get_mpz_t());
+    if (sgn(u[0]) == 0) return false;  // a degenerate receiver (q mode never sees one)
+    for (mpz_class& x : n_) mpz_divexact(x.get_mpz_t(), x.get_mpz_t(), u[0].get_mpz_t());
+    offset_ = -(n_[0] * corner[0] + n_[1] * corner[1] + n_[2] * corner[2]);
+    for (int k = 0; k < 3; ++k) {
+      if (d[k] == 0.0) {
+        d_[k] = 0;
+        continue;
+      }
+      const core::Dyadic q = core::dyadic(d[k]);
+      d_[k] = static_cast<long>(q.mantissa);
+      mpz_mul_2exp(d_[k].get_mpz_t(), d_[k].get_mpz_t(), static_cast<mp_bitcnt_t>(q.exponent - direction.least));
+    }
+    l_ = n_[0] * d_[0] + n_[1] * d_[1] + n_[2] * d_[2];
+    if (sgn(l_) == 0) return false;  // light along the plane: no receiver in q mode sees it so
+    if (sgn(l_) < 0) {
+      l_ = -l_;
+      for (mpz_class& x : d_) x = -x;
+    }
+    // K within the doubles' range by far (its interval divides the points' ones).
+    const long k_bits = static_cast<long>(mpz_sizeinbase(l_.get_mpz_t(), 2)) - e_;
+    if (k_bits > 600 || k_bits < -600) return false;
+    mpz_set(mpq_numref(scale_.get_mpq_t()), l_.get_mpz_t());
+    mpz_set_ui(mpq_denref(scale_.get_mpq_t()), 1);
+    if (e_ < 0) mpq_mul_2exp(scale_.get_mpq_t(), scale_.get_mpq_t(), static_cast<mp_bitcnt_t>(-e_));
+    if (e_ > 0) mpq_div_2exp(scale_.get_mpq_t(), scale_.get_mpq_t(), static_cast<mp_bitcnt_t>(e_));
+    return true;
+  }
+
+  /// v 2^-e as an integer (every scene coordinate is a multiple of 2^e).
+  void integer_of(double v, mpz_ptr out) const {
+    if (v == 0.0) {
+      mpz_set_ui(out, 0);
+      return;
+    }
+    const core::Dyadic q = core::dyadic(v);
+    assert(q.exponent >= e_ && "a coordinate below the scene's least bit");
+    mpz_set_si(out, static_cast<long>(q.mantissa));
+    mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(q.exponent - e_));
+  }
+
+  /// S = N.Y + O for input point y into `out`, with Y in y_.
+  void plane_value(const glm::dvec3& y, mpz_class& out) {
+    out = offset_;
+    for (int k = 0; k < 3; ++k) {
+      integer_of(y[k], y_[k].get_mpz_t());
+      mpz_addmul(out.get_mpz_t(), n_[k].get_mpz_t(), y_[k].get_mpz_t());
+    }
+  }
+
+  /// out = Y L - S D, an integer.
+  void set_integer(EQ& out, const mpz_class& y, const mpz_class& s, const mpz_class& d) const {
+    mpz_ptr num = mpq_numref(out.get_mpq_t());
+    mpz_mul(num, y.get_mpz_t(), l_.get_mpz_t());
+    mpz_submul(num, s.get_mpz_t(), d.get_mpz_t());
+    mpz_set_ui(mpq_denref(out.get_mpq_t()), 1);
+  }
+
+  /// out = L (S_a B_k - S_b A_k) / (S_a - S_b) (a_ = A, y_ = B, s_ = S_a, t_ = S_b, den_).
+  void set_crossing(EQ& out, int k) {
+    mpz_ptr num = mpq_numref(out.get_mpq_t());
+    mpz_mul(num, s_.get_mpz_t(), y_[k].get_mpz_t());
+    mpz_submul(num, t_.get_mpz_t(), a_[k].get_mpz_t());
+    mpz_mul(num, num, l_.get_mpz_t());
+    mpz_set(mpq_denref(out.get_mpq_t()), den_.get_mpz_t());
+    mpq_canonicalize(out.get_mpq_t());
+  }
+
+  /// The point's intervals: around its unscaled coordinates (QPoint2).
+  void set_intervals(QPoint2& p) const {
+    CGAL::Protect_FPU_rounding<true> guard;
+    p.i = {interval_of<false>(p.x) / iscale_, interval_of<false>(p.y) / iscale_};
+  }
+
+  /// m K for a chart coordinate m.
+  void scaled(double m, EQ& out) const {
+    out = m;
+    if (integer_) out *= scale_;
+  }
+
+  bool integer_ = false;
+  std::optional<LeafProjector> rational_;  ///< the unscaled route (integer_ false)
+  int e_ = 0, i_ = 0, j_ = 0;
+  mpz_class n_[3], offset_, d_[3], l_;
+  EQ scale_;
+  IA iscale_;
+  EQ lo_[2], hi_[2];
+  IA ilo_[2], ihi_[2];
+  mpz_class y_[3], a_[3], s_, t_, den_;  // scratch, to avoid reallocating limbs
+};
+
+}  // namespace shadow::exact

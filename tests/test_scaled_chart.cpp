@@ -1,0 +1,318 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact areas route computes in each receiver's chart scaled by K (exact/scaled_chart.hpp,
+// internal), where a directional light's projections are integers. Checked here two ways:
+//  - point by point, against the unscaled rationals of LeafProjector: every projection, plane
+//    point and crossing is exactly K times them (seeded receivers, directions and points with
+//    coordinates from 1e-9 to 1e6), and the chart box's bounds are too;
+//  - whole scenes, against the unscaled route: a scene whose coordinates span too many bits for
+//    integer charts (one far triangle with a tiny coordinate) must give the other faces the same
+//    areas, bit for bit, as the scene without it, which uses them. Tiles, convex solids,
+//    non-convex casters and faces crossing a receiver's plane are all in the scenes.
+#include "core/dyadic.hpp"
+#include "engine/engine_access.hpp"
+#include "exact/exact_faces.hpp"
+#include "exact/leaf_projector.hpp"
+#include "exact/scaled_chart.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using shadow::exact::EQ;
+using shadow::exact::QPoint2;
+
+TEST(Dyadic, MantissaTimesPowerOfTwoIsTheDouble) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-1080, 1020);
+  std::vector<double> values{1.0, -1.0, 0.75, 3.0, std::numeric_limits<double>::denorm_min(),
+                             -std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::min(),
+                             std::numeric_limits<double>::max(), 0x1.fffffffffffffp-1030};
+  for (int k = 0; k < 5000; ++k) values.push_back(std::ldexp(unit(rng), exponent(rng)));
+  for (double v : values) {
+    if (v == 0.0) continue;
+    const shadow::core::Dyadic d = shadow::core::dyadic(v);
+    EXPECT_NE(d.mantissa % 2, 0) << v;
+    EXPECT_EQ(std::ldexp(static_cast<double>(d.mantissa), d.exponent), v) << std::hexfloat << v;
+  }
+  EXPECT_EQ(shadow::core::dyadic(0.75).exponent, -2);
+  EXPECT_EQ(shadow::core::dyadic(-12.0).mantissa, -3);
+  EXPECT_EQ(shadow::core::dyadic(std::numeric_limits<double>::denorm_min()).exponent, -1074);
+}
+
+TEST(Dyadic, BitSpans) {
+  shadow::core::BitSpan span;
+  EXPECT_TRUE(span.empty());
+  EXPECT_EQ(span.width(), 0);
+  span.add(0.0);
+  EXPECT_TRUE(span.empty());
+  span.add(0.75);  // bits 2^-1 and 2^-2
+  EXPECT_EQ(span.least, -2);
+  EXPECT_EQ(span.top, -1);
+  span.add(-8.0);
+  EXPECT_EQ(span.top, 3);
+  EXPECT_EQ(span.width(), 6);
+  // Integer charts only while the scene spans at most kChartSpanBits bits.
+  shadow::core::BitSpan wide;
+  wide.add(std::ldexp(1.0, 99));
+  wide.add(1.0);
+  EXPECT_EQ(shadow::exact::chart_least_bit(wide), 0);
+  wide.add(std::ldexp(1.0, 100));
+  EXPECT_EQ(wide.width(), shadow::exact::kChartSpanBits + 1);
+  EXPECT_FALSE(shadow::exact::chart_least_bit(wide).has_value());
+}
+
+/// Sign of the receiver's plane (front positive) at y, as the engine decides it.
+CGAL::Sign plane_side(const std::vector<glm::dvec3>& receiver, const shadow::core::FacePrep& prep, const glm::dvec3& y) {
+  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto p = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
+  CGAL::Sign s = CGAL::orientation(p(receiver[prep.corner[1]]), p(receiver[prep.corner[2]]), p(receiver[prep.corner[0]]), p(y));
+  return prep.flipped ? CGAL::opposite(s) : s;
+}
+
+bool is_integer(const EQ& q) { return mpz_cmp_ui(mpq_denref(q.get_mpq_t()), 1) == 0; }
+
+/// Whether the point's intervals (of the unscaled chart) hold the unscaled coordinates u.
+bool intervals_hold(const QPoint2& q, const QPoint2& u) {
+  return EQ(q.i.x.inf()) <= u.x && u.x <= EQ(q.i.x.sup()) && EQ(q.i.y.inf()) <= u.y && u.y <= EQ(q.i.y.sup());
+}
+
+TEST(ScaledChart, IsTheUnscaledChartTimesK) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> magnitude(-30, 20);  // coordinates 1e-9 .. 1e6
+  int crossings = 0, projections = 0;
+  std::size_t clipped = 0;
+  for (int round = 0; round < 300; ++round) {
+    const double scale = std::ldexp(1.0, magnitude(rng));
+    const glm::dvec3 origin{unit(rng) * scale * 8, unit(rng) * scale * 8, unit(rng) * scale * 8};
+    auto point = [&] { return origin + glm::dvec3{unit(rng), unit(rng), unit(rng)} * scale; };
+    std::vector<glm::dvec3> receiver{point(), point(), point()};  // a triangle: exactly planar
+    const shadow::core::FacePrep prep = shadow::exact::prepare_face(receiver);
+    if (prep.degenerate || !prep.exactly_planar) continue;
+    shadow::Light light;
+    light.to_light = {unit(rng), unit(rng), unit(rng)};
+    if (round % 7 == 0) light.to_light.x = 0.0;  // an axis-parallel component
+    std::vector<glm::dvec3> points;
+    for (int k = 0; k < 12; ++k) points.push_back(point());
+    shadow::core::BitSpan span;
+    for (const auto& v : receiver)
+      for (int c = 0; c < 3; ++c) span.add(v[c]);
+    for (const auto& v : points)
+      for (int c = 0; c < 3; ++c) span.add(v[c]);
+    ASSERT_TRUE(shadow::exact::chart_least_bit(span).has_value());
+
+    shadow::exact::ScaledChart chart(receiver, prep, light, shadow::exact::chart_least_bit(span));
+    ASSERT_TRUE(chart.integer());
+    EXPECT_GT(sgn(chart.scale()), 0);
+    shadow::exact::LeafProjector unscaled(receiver, prep, light);
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_EQ(chart.lo(c), EQ(prep.chart_min[c]) * chart.scale());
+      EXPECT_EQ(chart.hi(c), EQ(prep.chart_max[c]) * chart.scale());
+    }
+    QPoint2 q, r;
+    for (const glm::dvec3& y : points) {
+      chart.project(y, q);
+      unscaled.project(y, r);
+      EXPECT_TRUE(is_integer(q.x) && is_integer(q.y));
+      EXPECT_EQ(q.x, r.x * chart.scale());
+      EXPECT_EQ(q.y, r.y * chart.scale());
+      EXPECT_TRUE(intervals_hold(q, r));
+      ++projections;
+    }
+    for (const glm::dvec3& v : receiver) {  // on the plane
+      chart.chart(v, q);
+      unscaled.chart(v, r);
+      EXPECT_TRUE(is_integer(q.x) && is_integer(q.y));
+      EXPECT_EQ(q.x, r.x * chart.scale());
+      EXPECT_EQ(q.y, r.y * chart.scale());
+      // A point of the plane keeps its double as an exact interval (its ties need no GMP).
+      EXPECT_TRUE(q.i.x.is_point() && q.i.y.is_point());
+      EXPECT_TRUE(intervals_hold(q, r));
+    }
+    for (std::size_t a = 0; a < points.size(); ++a)
+      for (std::size_t b = a + 1; b < points.size(); ++b) {
+        const CGAL::Sign sa = plane_side(receiver, prep, points[a]), sb = plane_side(receiver, prep, points[b]);
+        if (sa == CGAL::ZERO || sb == CGAL::ZERO || sa == sb) continue;
+        chart.crossing(points[a], points[b], q);
+        unscaled.crossing(points[a], points[b], r);
+        EXPECT_EQ(q.x, r.x * chart.scale());
+        EXPECT_EQ(q.y, r.y * chart.scale());
+        EXPECT_TRUE(intervals_hold(q, r));
+        ++crossings;
+      }
+    // Clipped to the chart box in the scaled chart: K times the unscaled clip, the cut
+    // coordinates exactly the bounds, as points.
+    {
+      std::vector<QPoint2> scaled_poly, unscaled_poly, scratch;
+      std::vector<int> side;
+      EQ bound;
+      for (std::size_t a = 0; a < 6; ++a) {
+        chart.project(points[a], scaled_poly.emplace_back());
+        unscaled.project(points[a], unscaled_poly.emplace_back());
+      }
+      shadow::exact::QScratch qs;
+      std::vector<shadow::exact::IPoint2> ipts;
+      std::vector<std::size_t> order, hull_chain;
+      std::vector<QPoint2> hull;
+      shadow::exact::convex_hull(scaled_poly, hull, ipts, order, hull_chain, qs);
+      scaled_poly = hull;
+      shadow::exact::convex_hull(unscaled_poly, hull, ipts, order, hull_chain, qs);
+      unscaled_poly = hull;
+      ASSERT_EQ(scaled_poly.size(), unscaled_poly.size());
+      for (int c = 0; c < 2; ++c) {
+        shadow::exact::clip_convex_2d(scaled_poly, c, chart.lo(c), chart.ilo(c), true, scratch, side, chart.scale_interval());
+        shadow::exact::clip_convex_2d(scaled_poly, c, chart.hi(c), chart.ihi(c), false, scratch, side, chart.scale_interval());
+        shadow::exact::clip_convex_2d(unscaled_poly, c, prep.chart_min[c], true, scratch, side, bound);
+        shadow::exact::clip_convex_2d(unscaled_poly, c, prep.chart_max[c], false, scratch, side, bound);
+      }
+      ASSERT_EQ(scaled_poly.size(), unscaled_poly.size());
+      for (std::size_t a = 0; a < scaled_poly.size(); ++a) {
+        EXPECT_EQ(scaled_poly[a].x, unscaled_poly[a].x * chart.scale());
+        EXPECT_EQ(scaled_poly[a].y, unscaled_poly[a].y * chart.scale());
+        EXPECT_TRUE(intervals_hold(scaled_poly[a], unscaled_poly[a]));
+        for (int c = 0; c < 2; ++c) {
+          const EQ& u = c == 0 ? unscaled_poly[a].x : unscaled_poly[a].y;
+          if (u == EQ(prep.chart_min[c]) || u == EQ(prep.chart_max[c]))
+            EXPECT_TRUE((c == 0 ? scaled_poly[a].i.x : scaled_poly[a].i.y).is_point());
+        }
+      }
+      clipped += scaled_poly.size();
+    }
+    // Areas come back divided by K^2; points of the unscaled chart go in times K.
+    EQ area = EQ(3, 7) * chart.scale() * chart.scale();
+    chart.unscale_area(area);
+    EXPECT_EQ(area, EQ(3, 7));
+    QPoint2 p{EQ(5, 3), EQ(-2)};
+    chart.scale_point(p);
+    EXPECT_EQ(p.x, EQ(5, 3) * chart.scale());
+  }
+  EXPECT_GT(projections, 3000);
+  EXPECT_GT(crossings, 1000);
+  EXPECT_GT(clipped, 100u);
+}
+
+TEST(ScaledChart, WideScenesAndDirectionsKeepTheUnscaledRationals) {
+  const std::vector<glm::dvec3> receiver{{0, 0, 0}, {4, 0, 0}, {4, 3, 0}, {0, 3, 0}};
+  const shadow::core::FacePrep prep = shadow::exact::prepare_face(receiver);
+  shadow::Light light;
+  light.to_light = {0.3, -0.2, 0.9};
+  const glm::dvec3 y{1.25, 0.5, 2.0};
+  QPoint2 q, r;
+  shadow::exact::LeafProjector(receiver, prep, light).project(y, r);
+
+  shadow::exact::ScaledChart unscaled(receiver, prep, light, std::nullopt);  // a scene too wide
+  EXPECT_FALSE(unscaled.integer());
+  EXPECT_EQ(unscaled.scale(), 1);
+  unscaled.project(y, q);
+  EXPECT_EQ(q.x, r.x);
+  EXPECT_EQ(q.y, r.y);
+
+  light.to_light = {1e-300, -0.2, 0.9};  // a direction spanning a thousand bits
+  shadow::exact::ScaledChart wide(receiver, prep, light, -2);
+  EXPECT_FALSE(wide.integer());
+  shadow::exact::LeafProjector(receiver, prep, light).project(y, r);
+  wide.project(y, q);
+  EXPECT_EQ(q.x, r.x);
+
+  light.to_light = {0.3, -0.2, 0.9};
+  shadow::exact::ScaledChart integer(receiver, prep, light, -2);  // 1.25 = 5 2^-2
+  EXPECT_TRUE(integer.integer());
+  integer.project(y, q);
+  EXPECT_TRUE(is_integer(q.x));
+}
+
+/// A city with tiles, non-convex casters (an L-shaped slab over the ground, combs), faces that
+/// cross other receivers' planes (a leaning board) and several suns.
+shadow::Scene test_city(std::uint64_t seed) {
+  shadow::Scene scene = shadow::make_city(60, 40.0, seed);
+  std::vector<std::vector<glm::dvec3>> extra;
+  auto add = [&](std::vector<glm::dvec3> v) { extra.push_back(std::move(v)); };
+  // An L-shaped slab 6 m up, facing up and down.
+  std::vector<glm::dvec3> l_shape{{1, 1, 6}, {9, 1, 6}, {9, 3, 6}, {3.1, 3, 6}, {3.1, 8.7, 6}, {1, 8.7, 6}};
+  add(l_shape);
+  std::reverse(l_shape.begin(), l_shape.end());
+  add(l_shape);
+  // A comb of 20 teeth (non-convex, many convex pieces), 4.3 m up.
+  std::vector<glm::dvec3> comb;
+  for (int t = 0; t < 20; ++t) {
+    comb.push_back({-20 + t * 1.1, -15, 4.3});
+    comb.push_back({-20 + t * 1.1 + 0.55, -15, 4.3});
+    comb.push_back({-20 + t * 1.1 + 0.55, -12.7, 4.3});
+    comb.push_back({-20 + t * 1.1 + 1.1, -12.7, 4.3});
+  }
+  comb.push_back({2, -10.1, 4.3});
+  comb.push_back({-20, -10.1, 4.3});
+  add(comb);
+  // A board leaning through other faces' planes.
+  add({{-5.3, 7.1, 0.0}, {-1.2, 7.1, 0.0}, {-1.7, 9.9, 7.3}, {-5.8, 9.9, 7.3}});
+  shadow::add_mesh(scene, "extra", extra);
+  return scene;
+}
+
+std::vector<shadow::Light> suns() {
+  std::vector<shadow::Light> lights;
+  for (const glm::dvec3& d : {glm::dvec3{0.31, -0.52, 0.79}, glm::dvec3{-0.9, 0.13, 0.0871557},
+                              glm::dvec3{0.0, 0.0, 1.0}, glm::dvec3{0.1, 0.95, 0.3}}) {
+    shadow::Light light;
+    light.type = shadow::LightType::Directional;
+    light.to_light = d;
+    lights.push_back(light);
+  }
+  return lights;
+}
+
+TEST(ScaledChart, ScenesGiveTheSameBitsWithAndWithoutIntegerCharts) {
+  for (std::uint64_t seed : {3u, 17u}) {
+    shadow::Scene narrow = test_city(seed);
+    narrow.lights = suns();
+    shadow::Scene wide = narrow;
+    // Far from everything: a triangle with a coordinate 2^-150, so that the scene's coordinates
+    // span more than kChartSpanBits bits.
+    shadow::add_mesh(wide, "far", {shadow::Polygon3{{5000, 5000, std::ldexp(1.0, -150)}, {5001, 5000, 0}, {5000, 5001, 0}}});
+
+    shadow::ShadowOptions options;
+    options.polygons = false;
+    options.planes = false;
+    options.tile_casters = 40;  // the ground in tiles
+    const shadow::ShadowEngine narrow_engine(narrow, 2), wide_engine(wide, 2);
+    ASSERT_TRUE(shadow::detail::EngineAccess::prepared(narrow_engine).chart_least_bit.has_value());
+    ASSERT_FALSE(shadow::detail::EngineAccess::prepared(wide_engine).chart_least_bit.has_value());
+    const shadow::ShadowResult a = narrow_engine.compute(options);
+    const shadow::ShadowResult b = wide_engine.compute(options);
+    EXPECT_GT(a.stats.tiles, 0u);
+    std::size_t compared = 0, shadowed = 0;
+    for (const shadow::FaceLighting& la : a.lighting) {
+      const shadow::FaceLighting* lb = b.find(la.face_id, la.light_id);
+      ASSERT_NE(lb, nullptr);
+      EXPECT_EQ(la.lit_area, lb->lit_area) << "face " << la.face_id << " light " << la.light_id;
+      EXPECT_EQ(la.shadow_area, lb->shadow_area) << "face " << la.face_id << " light " << la.light_id;
+      EXPECT_EQ(la.lit_fraction, lb->lit_fraction) << "face " << la.face_id << " light " << la.light_id;
+      ++compared;
+      shadowed += la.faces_light && la.lit_area < la.area;
+    }
+    EXPECT_GT(shadowed, 100u);
+    // And the fragments route (Epeck polygons, Boolean operations) measures the same areas.
+    options.polygons = true;
+    const shadow::ShadowResult c = narrow_engine.compute(options);
+    for (const shadow::FaceLighting& la : a.lighting) {
+      const shadow::FaceLighting* lc = c.find(la.face_id, la.light_id);
+      ASSERT_NE(lc, nullptr);
+      EXPECT_EQ(la.lit_area, lc->lit_area) << "face " << la.face_id << " light " << la.light_id;
+    }
+    EXPECT_EQ(compared, a.lighting.size());
+  }
+}
+
+}  // namespace
