@@ -8,6 +8,7 @@
 #include <climits>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 
 namespace shadow::core {
 
@@ -56,5 +57,16 @@ struct BitSpan {
   /// Bits from the least to the highest, both included (0 when empty).
   [[nodiscard]] int width() const { return empty() ? 0 : top - least + 1; }
 };
+
+/// The widest span of the scene's coordinates (BitSpan::width) with the exact areas route's
+/// integer charts (exact/scaled_chart.hpp): its integers stay below 2^430.
+constexpr int kChartSpanBits = 100;
+
+/// The scene's least coordinate bit when integer charts can be used (its coordinates span at
+/// most kChartSpanBits), else nullopt (PreparedScene::chart_least_bit).
+inline std::optional<int> chart_least_bit(const BitSpan& scene) {
+  if (scene.empty() || scene.width() > kChartSpanBits) return std::nullopt;
+  return scene.least;
+}
 
 }  // namespace shadow::core

@@ -33,7 +33,6 @@
 #include "exact/exact_faces.hpp"
 #include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
-#include "exact/scaled_chart.hpp"
 #include "fast/fast_receiver.hpp"
 #include "planes/plane_shadows.hpp"
 
@@ -80,14 +79,14 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
   // Scenes built in code may not have been validated: NaN or huge coordinates would reach GMP
   // (SIGFPE) or the double culling. One pass over the vertices.
   shadow::detail::check_scene_numbers(scene);
-  threads = core::checked_threads(threads);
+  threads = core::resolve_threads(core::checked_threads(threads));
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
   impl_->prep.resize(n);
   impl_->face_area.assign(n, 0.0);
   // The bits every coordinate spans (integer charts, exact/scaled_chart.hpp), per thread.
-  std::vector<core::BitSpan> spans(core::resolve_threads(threads));
-  core::parallel_for(n, core::resolve_threads(threads), [&](unsigned thread, std::size_t f) {
+  std::vector<core::BitSpan> spans(threads);
+  core::parallel_for(n, threads, [&](unsigned thread, std::size_t f) {
     const Face& face = scene.faces[f];
     for (const glm::dvec3& v : face.vertices)
       for (int k = 0; k < 3; ++k) spans[thread].add(v[k]);
@@ -109,9 +108,9 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
   });
   core::BitSpan span;
   for (const core::BitSpan& s : spans) span.add(s);
-  impl_->chart_least_bit = exact::chart_least_bit(span);
-  impl_->cull = core::make_cull_scene(scene, impl_->prep, core::resolve_threads(threads));
-  impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, core::resolve_threads(threads));
+  impl_->chart_least_bit = core::chart_least_bit(span);
+  impl_->cull = core::make_cull_scene(scene, impl_->prep, threads);
+  impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, threads);
 }
 
 ShadowEngine::~ShadowEngine() = default;

@@ -79,7 +79,8 @@ class ExactReceiverJob {
     }
     out.faces_light = true;
     // Areas only, a box chart, a directional light, an exactly planar receiver: the casts are kept
-    // as plain rational points and united by their boundaries (no Epeck number, no arrangement).
+    // as plain rational points in the receiver's scaled chart (integers where they can be:
+    // exact/scaled_chart.hpp) and united by their boundaries (no Epeck number, no arrangement).
     q_mode_ = !polygons_ && fp_.chart_is_box && !point_light_ && fp_.exactly_planar;
     if (q_mode_) {
       w_.qshadows.clear();
@@ -343,22 +344,21 @@ class ExactReceiverJob {
           if (add_shadow_q(pts)) ++stats_.casting_pairs;
           return;
         }
-      }
-      if (!q_mode_) {  // (the same test, on lazy points: the rational one above has decided)
-      w_.poly2.clear();
-      bool inside = true;
-      for (int v : qp.chart_ring) {
-        w_.poly2.push_back(leaf_projector().project(qface.vertices[v]));
-        const Point2& p = w_.poly2.back();
-        for (int c = 0; c < 2 && inside; ++c)
-          inside = CGAL::compare(p[c], FT(fp_.chart_min[c])) != CGAL::SMALLER &&
-                   CGAL::compare(p[c], FT(fp_.chart_max[c])) != CGAL::LARGER;
-        if (!inside) break;
-      }
-      if (inside) {
-        if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
-        return;
-      }
+      } else {
+        w_.poly2.clear();
+        bool inside = true;
+        for (int v : qp.chart_ring) {
+          w_.poly2.push_back(leaf_projector().project(qface.vertices[v]));
+          const Point2& p = w_.poly2.back();
+          for (int c = 0; c < 2 && inside; ++c)
+            inside = CGAL::compare(p[c], FT(fp_.chart_min[c])) != CGAL::SMALLER &&
+                     CGAL::compare(p[c], FT(fp_.chart_max[c])) != CGAL::LARGER;
+          if (!inside) break;
+        }
+        if (inside) {
+          if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
+          return;
+        }
       }
     }
     bool cast = false;

@@ -44,7 +44,8 @@ struct ExactWorker {
   std::vector<Point2> poly2, scratch2;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
-  // The areas-only route's casts as rational points (exact/rational_points.hpp) and scratch.
+  // The areas-only route's casts as rational points of the scaled chart (exact/scaled_chart.hpp,
+  // exact/rational_points.hpp) and scratch.
   std::vector<QPoint2> qshadows, qpoly, qscratch;
   std::vector<std::size_t> qfirst, qorder, qchain;
   std::vector<IPoint2> qintervals;

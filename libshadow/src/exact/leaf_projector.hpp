@@ -141,7 +141,8 @@ class LeafProjector {
 
   Point2 chart(const glm::dvec3& y) const { return Point2(y[i_], y[j_]); }
 
-  // The same three as plain rational points (the areas-only route: exact/rational_points.hpp).
+  // The same three as plain rational points of the unscaled chart (the areas-only route's
+  // fallback, through ScaledChart: exact/scaled_chart.hpp).
   void project(const glm::dvec3& y, QPoint2& out) {
     assert(!point_ && "LeafProjector::project is the parallel projection (directional light)");
     plane_value(y, s_);
@@ -170,22 +171,6 @@ class LeafProjector {
     out.y = y[j_];
     out.i = {IA(y[i_]), IA(y[j_])};
   }
-  /// project_piece_parallel into rational points.
-  void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
-                              const std::vector<CGAL::Sign>& sign, std::vector<QPoint2>& out) {
-    assert(!point_ && "LeafProjector::project_piece_parallel needs a directional light");
-    out.clear();
-    const std::size_t m = piece.size();
-    for (std::size_t a = 0; a < m; ++a) {
-      const glm::dvec3& va = vertices[piece[a]];
-      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
-      if (sa == CGAL::POSITIVE) project(va, out.emplace_back());
-      if (sa == CGAL::ZERO) chart(va, out.emplace_back());
-      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
-        crossing(va, vertices[piece[(a + 1) % m]], out.emplace_back());
-    }
-  }
-
   /// Directional light only: the part of a convex piece in front of the receiver (exact signs
   /// of its plane given), projected in order. No pyramid is needed: the caller clips in 2D.
   void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,

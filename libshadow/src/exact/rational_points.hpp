@@ -3,7 +3,8 @@
 // its casts in these instead of lazy Epeck points. Every first exact() of a lazy number runs a
 // std::call_once, whose slow path ends in a futex system call; the areas-only route needs the
 // exact value of nearly every vertex, and those calls were a fifth of its time. Here the exact
-// values are the numbers themselves and the filter's intervals are made from them once.
+// values are the numbers themselves (mostly integers: the route works in a scaled chart,
+// exact/scaled_chart.hpp), and each point carries its filter intervals, made once.
 // Include only from src/exact/*.cpp or tests (CGAL).
 #pragma once
 
@@ -15,6 +16,7 @@
 #include <gmpxx.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <type_traits>
@@ -30,7 +32,8 @@ using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
 
 /// An interval around q: the value itself when it is a double (a dyadic numerator of at most 53
 /// bits), else the quotient of intervals around the numerator's and the denominator's leading
-/// bits (mpz_get_d_2exp truncates: within one ulp each), scaled back by their exponents. This
+/// bits (mpz_get_d_2exp truncates toward zero: one ulp each, on the far side from zero; none
+/// for a denominator that is a power of two), scaled back by their exponents. This
 /// reads only the top limbs; mpq_get_d divides the whole numbers. kSetRounding false: the
 /// caller holds a CGAL::Protect_FPU_rounding<true> (the rest is exact under any rounding mode:
 /// GMP's conversions truncate bit by bit, nextafter and ldexp into the normal range are exact).
@@ -57,8 +60,10 @@ inline IA interval_of(const EQ& q) {
   }
   constexpr double inf = std::numeric_limits<double>::infinity();
   CGAL::Protect_FPU_rounding<kSetRounding> guard;
-  const IA in(std::nextafter(n, -inf), std::nextafter(n, inf));
-  const IA id(d, std::nextafter(d, inf));
+  // Truncation is toward zero: |num| lies in [|n|, |n| + ulp) 2^en, one ulp on n's far side; a
+  // power of two (an integer's 1, a dyadic's 2^k) is exact.
+  const IA in = n > 0 ? IA(n, std::nextafter(n, inf)) : IA(std::nextafter(n, -inf), n);
+  const IA id = mpz_popcount(den) == 1 ? IA(d) : IA(d, std::nextafter(d, inf));
   const IA quotient = in / id;  // in (-2.1, 2.1), away from under- and overflow
   return IA(std::ldexp(quotient.inf(), static_cast<int>(shift)), std::ldexp(quotient.sup(), static_cast<int>(shift)));
 }
@@ -74,9 +79,12 @@ struct IPoint2 {
 /// and a coordinate that is a double unscaled (a point on the receiver's plane, a cut at a chart
 /// bound) keeps an interval that is that point, so that its ties (boxes' shared coordinates)
 /// are decided without GMP. Made from coordinates alone, the intervals are around them (K = 1).
+/// Invariant: an interval that is a point is the exact unscaled coordinate (the clip relies on
+/// it). Default-made, the intervals are the whole line (every filter then defers to the exact
+/// values) until set.
 struct QPoint2 {
   EQ x, y;
-  IPoint2 i;
+  IPoint2 i{IA::largest(), IA::largest()};
 
   QPoint2() = default;
   QPoint2(EQ x_, EQ y_) : x(std::move(x_)), y(std::move(y_)) { update_intervals(); }
@@ -88,6 +96,7 @@ struct QPoint2 {
 /// A point's intervals (QPoint2::i). kSetRounding: unused, kept for the callers' symmetry.
 template <bool kSetRounding = true>
 inline const IPoint2& interval_of(const QPoint2& p) {
+  assert(p.i.x.inf() <= p.i.x.sup() && p.i.y.inf() <= p.i.y.sup());
   return p.i;
 }
 
@@ -281,10 +290,11 @@ inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, const EQ& bound, c
   }
   const bool unscaled = scale.is_point() && scale.inf() == 1.0;
   auto make_point = [&](EQ&& other) {
-    IA iother = interval_of(other);
-    if (!unscaled) {
+    IA iother;
+    {
       CGAL::Protect_FPU_rounding<true> guard;
-      iother = iother / scale;
+      iother = interval_of<false>(other);
+      if (!unscaled) iother = iother / scale;
     }
     return c == 0 ? QPoint2{bound, std::move(other), {ibound, iother}}
                   : QPoint2{std::move(other), bound, {iother, ibound}};

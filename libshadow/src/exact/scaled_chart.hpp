@@ -5,28 +5,30 @@
 // Every coordinate of the scene is an integer times 2^e, e the least set bit of them all
 // (PreparedScene::chart_least_bit), and the light's direction d is an integer vector D times
 // 2^f. Let c be the receiver's corner, u and v its edges from c, Y = y 2^-e, C = c 2^-e, and
-// N = (u x v) 2^-2e (negated for a face wound the other way), O = -N.C, L = N.D, all integers.
-// A point y in front of the receiver goes along d to
+// N = (u x v) 2^-2e / g (negated for a face wound the other way; g the gcd of its components),
+// O = -N.C, L = N.D, all integers. A point y in front of the receiver goes along d to
 //
 //   x = y - s(y) d / (n.d),    s(y) = n.(y - c),
 //
-// and with S = N.Y + O (= s(y) 2^-3e) its chart coordinates i, j satisfy
+// and with S = N.Y + O (s(y) = g 2^3e S) its chart coordinates i, j satisfy
 //
 //   x_i K = Y_i L - S D_i,     K = L 2^-e    (L > 0: D's sign is chosen so),
 //
 // an integer. In the chart scaled by K every projected vertex is an integer, a point on the
 // receiver's plane is Y_i L, and a crossing of the plane is L (S_a B_i - S_b A_i) / (S_a - S_b):
 // none of the rationals of LeafProjector's unscaled route is made, whose normalisation by L's
-// odd part (gcds of numbers of a few hundred bits) was a third of the route's time. N is taken
-// primitive (divided by the gcd of its components: S, L and K scale with it, the chart does
-// not), which keeps the integers short: a ground's N is (0, 0, 1). The scaling is a similarity
+// odd part (gcds of numbers of a hundred bits and more) was a quarter of the route's time. N is
+// primitive (S, L and K scale with it, the chart does not), which keeps the integers short: a
+// ground's N is (0, 0, 1). The scaling is a similarity
 // with a positive factor, so every sign and comparison is the same as unscaled, and an area of
 // the scaled chart is the unscaled one times K^2: the receiver's shadow is divided once.
 //
-// Scenes whose coordinates span more than kChartSpanBits bits, and light directions spanning more
-// than kDirectionSpanBits, keep the unscaled route (K = 1, LeafProjector's rationals): the
-// integers would grow past what the doubles of the interval filters hold (below 2^430 here, so
-// that products of two stay below 2^860).
+// The points carry intervals around their unscaled coordinates (QPoint2), so the filters see the
+// same magnitudes as unscaled; the scaled values meet doubles in interval_of and in the cover
+// test's estimate (exact_receiver.cpp, note_cover_q), whose products of two must stay finite.
+// Scenes whose coordinates span more than core::kChartSpanBits bits, and light directions
+// spanning more than kDirectionSpanBits, keep the unscaled route (K = 1, LeafProjector's
+// rationals): with those bounds the integers stay below 2^430, and K within 2^+-600.
 #pragma once
 
 #include "core/dyadic.hpp"
@@ -37,23 +39,17 @@
 #include <gmp.h>
 #include <gmpxx.h>
 
-#include <cassert>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 namespace shadow::exact {
 
-/// The widest span of the scene's coordinates (core::BitSpan::width) with integer charts.
-constexpr int kChartSpanBits = 100;
-/// The widest span of a light direction's components with integer charts.
+/// The widest span of a light direction's components with integer charts (with
+/// core::kChartSpanBits for the scene's coordinates).
 constexpr int kDirectionSpanBits = 120;
 
-/// The scene's least coordinate bit when integer charts can be used (its coordinates span at
-/// most kChartSpanBits), else nullopt.
-inline std::optional<int> chart_least_bit(const core::BitSpan& scene) {
-  if (scene.empty() || scene.width() > kChartSpanBits) return std::nullopt;
-  return scene.least;
-}
+static_assert(sizeof(long) >= 8, "GMP's si functions here take the 53-bit mantissas of doubles");
 
 /// A receiver's chart scaled by K (see the top of this file) for the areas-only route under a
 /// directional light: projections of input points, the chart box's bounds, and the way back.
@@ -214,7 +210,9 @@ class ScaledChart {
       return;
     }
     const core::Dyadic q = core::dyadic(v);
-    assert(q.exponent >= e_ && "a coordinate below the scene's least bit");
+    // Every coordinate of the scene the engine prepared is a multiple of 2^e; one that is not
+    // (a scene changed after the engine was made) would shift by a negative amount.
+    if (q.exponent < e_) throw std::logic_error("libshadow: a coordinate below the scene's least bit (scene changed after ShadowEngine was made?)");
     mpz_set_si(out, static_cast<long>(q.mantissa));
     mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(q.exponent - e_));
   }
