@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// core::parallel_for on the library's pool of threads (core/thread_pool.cpp): every item once,
+// the same threads from call to call, a nested or concurrent call on threads of its own, errors
+// and progress as before, and a forked child that makes its own pool.
+#include "core/parallel.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using shadow::core::parallel_for;
+
+long kernel_thread_id() { return static_cast<long>(syscall(SYS_gettid)); }
+
+/// parallel_for over `count` items on `threads`: whether every item ran exactly once.
+bool every_item_once(std::size_t count, unsigned threads) {
+  std::vector<std::atomic<int>> runs(count);
+  parallel_for(count, threads, [&](unsigned, std::size_t i) { runs[i].fetch_add(1); });
+  for (const auto& r : runs)
+    if (r.load() != 1) return false;
+  return true;
+}
+
+TEST(Parallel, EveryItemOnce) {
+  for (unsigned threads : {1u, 2u, 3u, 8u, 16u})
+    for (std::size_t count : {std::size_t{0}, std::size_t{1}, std::size_t{5}, std::size_t{1000}})
+      EXPECT_TRUE(every_item_once(count, threads)) << threads << " threads, " << count << " items";
+}
+
+TEST(Parallel, TheSameThreadsFromCallToCall) {
+  // Kernel thread ids (not std::thread::id, which the C library may hand out again): threads
+  // started per call would show 4 new ids per call, 40 in all. The pool has at most as many
+  // threads as the most any call of this process asked for (16 in this file).
+  std::set<long> seen;
+  std::mutex mutex;
+  for (int call = 0; call < 10; ++call)
+    parallel_for(64, 4, [&](unsigned, std::size_t) {
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      std::lock_guard<std::mutex> lock(mutex);
+      seen.insert(kernel_thread_id());
+    });
+  EXPECT_LE(seen.size(), 16u);
+  EXPECT_EQ(seen.count(kernel_thread_id()), 0u);  // the caller only waits
+}
+
+TEST(Parallel, WorkerIdsAreDistinctAndBelowTheThreadCount) {
+  std::vector<std::set<long>> threads_of(6);
+  std::mutex mutex;
+  parallel_for(600, 6, [&](unsigned w, std::size_t) {
+    ASSERT_LT(w, 6u);
+    std::this_thread::sleep_for(std::chrono::microseconds(50));
+    std::lock_guard<std::mutex> lock(mutex);
+    threads_of[w].insert(kernel_thread_id());
+  });
+  // A worker id is one thread's at a time: two threads never share one id in a call.
+  for (const auto& ids : threads_of) EXPECT_LE(ids.size(), 1u);
+}
+
+TEST(Parallel, NestedAndConcurrentCallsRunOnThreadsOfTheirOwn) {
+  std::atomic<long> sum{0};
+  parallel_for(8, 4, [&](unsigned, std::size_t) {
+    // The pool is running this call: the inner one starts its own threads.
+    parallel_for(100, 3, [&](unsigned, std::size_t i) { sum.fetch_add(static_cast<long>(i)); });
+  });
+  EXPECT_EQ(sum.load(), 8 * 4950);
+
+  std::atomic<long> a{0}, b{0};
+  std::thread other([&] {
+    for (int k = 0; k < 20; ++k) parallel_for(500, 3, [&](unsigned, std::size_t i) { a.fetch_add(static_cast<long>(i)); });
+  });
+  for (int k = 0; k < 20; ++k) parallel_for(500, 3, [&](unsigned, std::size_t i) { b.fetch_add(static_cast<long>(i)); });
+  other.join();
+  EXPECT_EQ(a.load(), 20 * 124750);
+  EXPECT_EQ(b.load(), 20 * 124750);
+}
+
+TEST(Parallel, AnErrorStopsTheCallAndThePoolGoesOn) {
+  EXPECT_THROW(parallel_for(1000, 4,
+                            [&](unsigned, std::size_t i) {
+                              if (i == 17) throw std::runtime_error("item 17");
+                            }),
+               std::runtime_error);
+  EXPECT_TRUE(every_item_once(1000, 4));
+}
+
+TEST(Parallel, ProgressWhileItRunsAndAtTheEnd) {
+  std::vector<std::size_t> reports;
+  parallel_for(
+      40, 2, [&](unsigned, std::size_t) { std::this_thread::sleep_for(std::chrono::milliseconds(10)); },
+      [&](std::size_t done) { reports.push_back(done); });
+  ASSERT_GE(reports.size(), 2u);  // about 200 ms of work: at least one report before the end
+  EXPECT_EQ(reports.back(), 40u);
+  for (std::size_t k = 1; k < reports.size(); ++k) EXPECT_LE(reports[k - 1], reports[k]);
+}
+
+TEST(Parallel, AForkedChildMakesItsOwnPool) {
+  ASSERT_TRUE(every_item_once(100, 4));  // the parent's pool exists
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    // Only this thread exists here: the parent's pool threads do not. A pool that believed
+    // in them would wait forever.
+    const bool ok = every_item_once(1000, 4) && every_item_once(10, 3);
+    _exit(ok ? 0 : 1);
+  }
+  int status = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  pid_t done = 0;
+  while ((done = waitpid(child, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (done == 0) {
+    kill(child, SIGKILL);
+    waitpid(child, &status, 0);
+    FAIL() << "the forked child's parallel_for did not finish in 20 s";
+  }
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_TRUE(every_item_once(100, 4));  // and the parent's pool still works
+}
+
+}  // namespace
