@@ -114,31 +114,36 @@ inline bool is_integer(const EQ& q) { return mpz_cmp_ui(mpq_denref(q.get_mpq_t()
 inline bool is_integer(const QPoint2& p) { return is_integer(p.x) && is_integer(p.y); }
 inline mpz_srcptr num(const EQ& q) { return mpq_numref(q.get_mpq_t()); }
 
-/// cross(q - p, r - p) of integer points into `out` (z: scratch).
-inline void integer_cross(const QPoint2& p, const QPoint2& q, const QPoint2& r, mpz_class& out, mpz_class& z1,
-                          mpz_class& z2) {
-  mpz_sub(z1.get_mpz_t(), num(q.x), num(p.x));
-  mpz_sub(z2.get_mpz_t(), num(r.y), num(p.y));
-  mpz_mul(out.get_mpz_t(), z1.get_mpz_t(), z2.get_mpz_t());
-  mpz_sub(z1.get_mpz_t(), num(q.y), num(p.y));
-  mpz_sub(z2.get_mpz_t(), num(r.x), num(p.x));
-  mpz_submul(out.get_mpz_t(), z1.get_mpz_t(), z2.get_mpz_t());
-}
-
-/// orientation's exact step (out of line, so that the filter stays small enough to inline).
-[[gnu::noinline]] inline CGAL::Sign orientation_exact(const QPoint2& p, const QPoint2& q, const QPoint2& r, QScratch& s) {
-  if (is_integer(p) && is_integer(q) && is_integer(r)) {
-    integer_cross(p, q, r, s.za, s.zb, s.zc);
+/// Sign of (a1 - a0)(b1 - b0) + k (c1 - c0)(d1 - d0), k = 1 or -1, exactly: in integers when
+/// all eight are (GMP's rational steps would multiply by denominators of 1 and take gcds), else
+/// in rationals. The filtered predicates' exact step.
+[[gnu::noinline]] inline CGAL::Sign sign_of_products(const EQ& a1, const EQ& a0, const EQ& b1, const EQ& b0,
+                                                     const EQ& c1, const EQ& c0, const EQ& d1, const EQ& d0, int k,
+                                                     QScratch& s) {
+  if (is_integer(a1) && is_integer(a0) && is_integer(b1) && is_integer(b0) && is_integer(c1) && is_integer(c0) &&
+      is_integer(d1) && is_integer(d0)) {
+    mpz_sub(s.zb.get_mpz_t(), num(a1), num(a0));
+    mpz_sub(s.zc.get_mpz_t(), num(b1), num(b0));
+    mpz_mul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
+    mpz_sub(s.zb.get_mpz_t(), num(c1), num(c0));
+    mpz_sub(s.zc.get_mpz_t(), num(d1), num(d0));
+    if (k > 0)
+      mpz_addmul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
+    else
+      mpz_submul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
     return static_cast<CGAL::Sign>(sgn(s.za));
   }
-  s.a = q.x - p.x;
-  s.b = r.y - p.y;
+  s.a = a1 - a0;
+  s.b = b1 - b0;
   s.a *= s.b;
-  s.c = q.y - p.y;
-  s.d = r.x - p.x;
+  s.c = c1 - c0;
+  s.d = d1 - d0;
   s.c *= s.d;
-  const int c = cmp(s.a, s.c);
-  return c > 0 ? CGAL::POSITIVE : c < 0 ? CGAL::NEGATIVE : CGAL::ZERO;
+  if (k > 0)
+    s.a += s.c;
+  else
+    s.a -= s.c;
+  return static_cast<CGAL::Sign>(sgn(s.a));
 }
 
 /// Sign of cross(q - p, r - p): LEFT_TURN (positive) when p, q, r turn left. Filtered.
@@ -154,7 +159,7 @@ inline CGAL::Sign orientation(const QPoint2& p, const IPoint2& ip, const QPoint2
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (ir.y - ip.y) - (iq.y - ip.y) * (ir.x - ip.x));
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
-  return orientation_exact(p, q, r, s);
+  return sign_of_products(q.x, p.x, r.y, p.y, q.y, p.y, r.x, p.x, -1, s);
 }
 
 /// Sign of dot(q - p, s - r). Filtered (kSetRounding as for orientation).
@@ -166,23 +171,7 @@ inline CGAL::Sign dot_sign(const QPoint2& p, const IPoint2& ip, const QPoint2& q
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign((iq.x - ip.x) * (it.x - ir.x) + (iq.y - ip.y) * (it.y - ir.y));
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
-  if (is_integer(p) && is_integer(q) && is_integer(r) && is_integer(t)) {
-    mpz_sub(s.zb.get_mpz_t(), num(q.x), num(p.x));
-    mpz_sub(s.zc.get_mpz_t(), num(t.x), num(r.x));
-    mpz_mul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
-    mpz_sub(s.zb.get_mpz_t(), num(q.y), num(p.y));
-    mpz_sub(s.zc.get_mpz_t(), num(t.y), num(r.y));
-    mpz_addmul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
-    return static_cast<CGAL::Sign>(sgn(s.za));
-  }
-  s.a = q.x - p.x;
-  s.b = t.x - r.x;
-  s.a *= s.b;
-  s.c = q.y - p.y;
-  s.d = t.y - r.y;
-  s.c *= s.d;
-  s.a += s.c;
-  return static_cast<CGAL::Sign>(sgn(s.a));
+  return sign_of_products(q.x, p.x, t.x, r.x, q.y, p.y, t.y, r.y, 1, s);
 }
 
 /// Compares two rationals with their intervals.
