@@ -98,11 +98,37 @@ TEST(Parallel, AnErrorStopsTheCallAndThePoolGoesOn) {
 TEST(Parallel, ProgressWhileItRunsAndAtTheEnd) {
   std::vector<std::size_t> reports;
   parallel_for(
-      40, 2, [&](unsigned, std::size_t) { std::this_thread::sleep_for(std::chrono::milliseconds(10)); },
+      40, 2, [&](unsigned, std::size_t) { std::this_thread::sleep_for(std::chrono::milliseconds(20)); },
       [&](std::size_t done) { reports.push_back(done); });
-  ASSERT_GE(reports.size(), 2u);  // about 200 ms of work: at least one report before the end
+  ASSERT_GE(reports.size(), 2u);  // about 400 ms of work: reports before the end
   EXPECT_EQ(reports.back(), 40u);
   for (std::size_t k = 1; k < reports.size(); ++k) EXPECT_LE(reports[k - 1], reports[k]);
+}
+
+TEST(Parallel, AProgressReportThatThrowsOrComputesInTurn) {
+  // The error of a progress report stops the call, after every running item has returned.
+  std::atomic<int> running{0};
+  EXPECT_THROW(parallel_for(
+                   40, 2,
+                   [&](unsigned, std::size_t) {
+                     running.fetch_add(1);
+                     std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                     running.fetch_sub(1);
+                   },
+                   [&](std::size_t done) {
+                     if (done < 40) throw std::runtime_error("report");
+                   }),
+               std::runtime_error);
+  EXPECT_EQ(running.load(), 0);
+  EXPECT_TRUE(every_item_once(1000, 4));  // the pool goes on
+  // A report that runs a parallel_for of its own (a Python callback calling the library, say):
+  // it gets threads of its own while the pool runs the outer call.
+  std::atomic<long> inner{0};
+  parallel_for(
+      20, 2, [&](unsigned, std::size_t) { std::this_thread::sleep_for(std::chrono::milliseconds(20)); },
+      [&](std::size_t) { parallel_for(10, 3, [&](unsigned, std::size_t i) { inner.fetch_add(static_cast<long>(i)); }); });
+  EXPECT_GT(inner.load(), 0);
+  EXPECT_EQ(inner.load() % 45, 0);
 }
 
 TEST(Parallel, AForkedChildMakesItsOwnPool) {
@@ -112,8 +138,12 @@ TEST(Parallel, AForkedChildMakesItsOwnPool) {
   if (child == 0) {
     // Only this thread exists here: the parent's pool threads do not. A pool that believed
     // in them would wait forever.
-    const bool ok = every_item_once(1000, 4) && every_item_once(10, 3);
-    _exit(ok ? 0 : 1);
+    try {
+      const bool ok = every_item_once(1000, 4) && every_item_once(10, 3);
+      _exit(ok ? 0 : 1);
+    } catch (...) {
+      _exit(2);
+    }
   }
   int status = 0;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);

@@ -40,12 +40,11 @@ inline unsigned resolve_threads(unsigned requested) {
 }
 
 /// Runs task(w) for every w in [0, n) on the library's pool of threads and waits, calling
-/// `tick` (if any) about every 100 ms while it does; task must not throw. The pool's threads are
-/// started on first need and kept for the process (starting and joining 16 threads cost about
-/// 0.3-0.6 ms per call, several calls per light, a large share of an instant of a series on 16
-/// cores). False, having done nothing, when the pool is running another call's tasks (a nested
-/// or concurrent call) or cannot start a thread: the caller then starts threads of its own.
-/// core/thread_pool.cpp.
+/// `tick` (if any) about every 100 ms while it does; neither may throw. The pool's threads are
+/// started on first need and kept for the process (starting and joining 16 threads took 0.6 ms
+/// on the 2-core machine, about eight times per light). False, having done nothing, when the
+/// pool is running another call's tasks (a nested or concurrent call) or cannot start a thread:
+/// the caller then starts threads of its own. core/thread_pool.cpp.
 bool run_on_pool(unsigned n, const std::function<void(unsigned)>& task, const std::function<void()>& tick);
 
 /// Runs work(worker, item) for item in [0, count) on `threads` workers. The calling thread
