@@ -330,7 +330,6 @@ TEST(RationalPoints, IntervalsAtTheEndsOfTheDoubleRange) {
 TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {
   Generator g(31);
   shadow::exact::QScratch s;
-  std::vector<shadow::exact::IPoint2> ipts;
   std::vector<std::size_t> order, chain;
   std::vector<int> side;
   EQ bound, sum;
@@ -344,13 +343,13 @@ TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {
     std::vector<Point2> hull;
     CGAL::convex_hull_2(in.begin(), in.end(), std::back_inserter(hull), Kernel());
     std::vector<shadow::exact::QPoint2> q = rational(in), qhull;
-    shadow::exact::convex_hull(q, qhull, ipts, order, chain, s);
+    shadow::exact::convex_hull(q, qhull, order, chain, s);
     ASSERT_EQ(qhull.size(), hull.size()) << "round " << round;  // no collinear vertices either way
     if (hull.size() >= 3) {
       EXPECT_EQ(twice_area_of(qhull), CGAL::exact(shadow::exact::polygon_area(hull.begin(), hull.end())) * 2);
-      EXPECT_EQ(shadow::exact::area_sign(qhull, ipts, s, sum), CGAL::POSITIVE);
+      EXPECT_EQ(shadow::exact::area_sign(qhull, s, sum), CGAL::POSITIVE);
       std::vector<shadow::exact::QPoint2> reversed(qhull.rbegin(), qhull.rend());
-      EXPECT_EQ(shadow::exact::area_sign(reversed, ipts, s, sum), CGAL::NEGATIVE);
+      EXPECT_EQ(shadow::exact::area_sign(reversed, s, sum), CGAL::NEGATIVE);
     }
     // Clip both to the same box (bounds on the grid: vertices exactly on them).
     std::vector<Point2> lazy = hull, scratch;

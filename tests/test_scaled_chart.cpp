@@ -189,12 +189,11 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
         unscaled.project(points[a], unscaled_poly.emplace_back());
       }
       shadow::exact::QScratch qs;
-      std::vector<shadow::exact::IPoint2> ipts;
       std::vector<std::size_t> order, hull_chain;
       std::vector<QPoint2> hull;
-      shadow::exact::convex_hull(scaled_poly, hull, ipts, order, hull_chain, qs);
+      shadow::exact::convex_hull(scaled_poly, hull, order, hull_chain, qs);
       scaled_poly = hull;
-      shadow::exact::convex_hull(unscaled_poly, hull, ipts, order, hull_chain, qs);
+      shadow::exact::convex_hull(unscaled_poly, hull, order, hull_chain, qs);
       unscaled_poly = hull;
       ASSERT_EQ(scaled_poly.size(), unscaled_poly.size());
       for (int c = 0; c < 2; ++c) {

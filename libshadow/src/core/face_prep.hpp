@@ -39,21 +39,27 @@ inline double chart_box_area(const FacePrep& fp) {
   return (fp.chart_max[0] - fp.chart_min[0]) * (fp.chart_max[1] - fp.chart_min[1]);
 }
 
-/// Twice the signed area of a ring of `n` chart points, point(a) for a in [0, n) (an
-/// std::array<double, 2>), summed in doubles in ring order with every point taken about the
-/// chart box's lower corner: georeferenced charts (coordinates of 1e6) would otherwise cancel
-/// the products' leading digits away. A guide (how much of its box a face fills, whether a cast
-/// may be the whole box), not an exact value.
+/// Twice the signed area of a ring of `n` points, point(a) for a in [0, n) (an
+/// std::array<double, 2>), summed in doubles in ring order with every point taken about
+/// `corner`: georeferenced charts (coordinates of 1e6) would otherwise cancel the products'
+/// leading digits away. A guide, not an exact value.
 template <class ChartPoint>
-double twice_area_about_box_corner(const FacePrep& fp, std::size_t n, const ChartPoint& point) {
+double twice_area_about(const std::array<double, 2>& corner, std::size_t n, const ChartPoint& point) {
   double twice = 0;
   for (std::size_t a = 0; a < n; ++a) {
     const std::array<double, 2> p = point(a), q = point((a + 1) % n);
-    const double px = p[0] - fp.chart_min[0], py = p[1] - fp.chart_min[1];
-    const double qx = q[0] - fp.chart_min[0], qy = q[1] - fp.chart_min[1];
+    const double px = p[0] - corner[0], py = p[1] - corner[1];
+    const double qx = q[0] - corner[0], qy = q[1] - corner[1];
     twice += px * qy - qx * py;
   }
   return twice;
+}
+
+/// twice_area_about the chart box's lower corner, for a ring of chart points (how much of its
+/// box a face fills, whether a cast may be the whole box).
+template <class ChartPoint>
+double twice_area_about_box_corner(const FacePrep& fp, std::size_t n, const ChartPoint& point) {
+  return twice_area_about({fp.chart_min[0], fp.chart_min[1]}, n, point);
 }
 
 /// Makes a fragment's polygon of doubles (on a face whose chart drops axis k) fit the output

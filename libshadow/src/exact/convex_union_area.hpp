@@ -55,7 +55,7 @@ class ConvexUnionArea {
   bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
     bool convex_polygons = false;
     {
-      CGAL::Protect_FPU_rounding<true> guard;  // the loading's intervals and convexity tests
+      CGAL::Protect_FPU_rounding<true> guard;  // the loading's equality and convexity tests
       convex_polygons = load(points, first);
     }
     if (!convex_polygons) return false;
@@ -128,7 +128,7 @@ class ConvexUnionArea {
       const std::size_t start = pts_.size();
       for (std::size_t v = first[k]; v < first[k + 1]; ++v) {
         pts_.push_back(&points[v]);
-        ip_.push_back(interval_of<false>(points[v]));
+        ip_.push_back(points[v].i);
         if (pts_.size() > start + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
           pts_.pop_back();
           ip_.pop_back();
@@ -373,12 +373,7 @@ class ConvexUnionArea {
 
   void twice_polygon_area(const QPoint2* const* pts, std::size_t n) {
     if (std::all_of(pts, pts + n, [](const QPoint2* p) { return is_integer(*p); })) {
-      for (std::size_t a = 0; a < n; ++a) {
-        const QPoint2& p = *pts[a];
-        const QPoint2& q = *pts[(a + 1) % n];
-        mpz_addmul(integer_terms_.get_mpz_t(), num(p.x), num(q.y));
-        mpz_submul(integer_terms_.get_mpz_t(), num(p.y), num(q.x));
-      }
+      for (std::size_t a = 0; a < n; ++a) add_integer_cross(integer_terms_, *pts[a], *pts[(a + 1) % n]);
       return;
     }
     terms_.emplace_back(0);
@@ -398,8 +393,7 @@ class ConvexUnionArea {
     const QPoint2& s = *pts_[v];
     const QPoint2& s2 = *pts_[w];
     if (!measure && is_integer(s) && is_integer(s2)) {  // a whole edge of integer points
-      mpz_addmul(integer_terms_.get_mpz_t(), num(s.x), num(s2.y));
-      mpz_submul(integer_terms_.get_mpz_t(), num(s.y), num(s2.x));
+      add_integer_cross(integer_terms_, s, s2);
       return;
     }
     terms_.emplace_back(s.x * s2.y);

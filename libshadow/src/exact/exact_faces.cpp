@@ -292,45 +292,19 @@ PlanarIntegers planar_integers(const std::vector<glm::dvec3>& vertices, const co
   PlanarIntegers out;
   const int k = prep.axis, i = core::chart_i(k), j = core::chart_j(k);
   const auto [prev, corner, next] = prep.corner;
-  // c = M 2^low with M odd (c != 0).
-  auto odd_mantissa = [](double c, std::int64_t& M, long& low) {
-    int ex = 0;
-    const double m = std::frexp(c, &ex);  // c = m 2^ex, |m| in [0.5, 1)
-    M = static_cast<std::int64_t>(std::ldexp(m, 53));  // exact: |m 2^53| < 2^53
-    low = ex - 53;
-    while ((M & 1) == 0) {
-      M /= 2;
-      ++low;
-    }
-  };
-  long e = std::numeric_limits<long>::max();
+  core::BitSpan span;
   for (const glm::dvec3& v : vertices)
-    for (int a = 0; a < 3; ++a)
-      if (v[a] != 0) {
-        std::int64_t M = 0;
-        long low = 0;
-        odd_mantissa(v[a], M, low);
-        e = std::min(e, low);
-      }
+    for (int a = 0; a < 3; ++a) span.add(v[a]);
   const std::vector<int>& ring = prep.chart_ring;
   const std::size_t n = ring.size();
-  if (e == std::numeric_limits<long>::max() || n < 3) {  // every coordinate zero
+  if (span.empty() || n < 3) {  // every coordinate zero
     out.zero = true;
     return out;
   }
+  const long e = span.least;
   out.e = e;
-  // c / 2^e as an integer: M shifted left by low - e >= 0 (no double overflow for any exponent).
-  auto scaled = [&](double c, mpz_class& result) {
-    if (c == 0) {
-      result = 0;
-      return;
-    }
-    std::int64_t M = 0;
-    long low = 0;
-    odd_mantissa(c, M, low);
-    result = static_cast<double>(M);  // exact: |M| < 2^53 (and no 32-bit long in the way)
-    mpz_mul_2exp(result.get_mpz_t(), result.get_mpz_t(), static_cast<mp_bitcnt_t>(low - e));
-  };
+  // c / 2^e as an integer (no double overflow for any exponent).
+  auto scaled = [&](double c, mpz_class& result) { integer_of(c, e, result.get_mpz_t()); };
   std::vector<mpz_class> x(n), y(n);
   for (std::size_t a = 0; a < n; ++a) {
     scaled(vertices[static_cast<std::size_t>(ring[a])][i], x[a]);
@@ -360,14 +334,6 @@ PlanarIntegers planar_integers(const std::vector<glm::dvec3>& vertices, const co
   out.n[1] = u[2] * w[0] - u[0] * w[2];
   out.n[2] = u[0] * w[1] - u[1] * w[0];
   return out;
-}
-
-/// q times 2^shift (either sign).
-void scale_by_power_of_two(mpq_class& q, long shift) {
-  if (shift >= 0)
-    mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(shift));
-  else
-    mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-shift));
 }
 
 }  // namespace

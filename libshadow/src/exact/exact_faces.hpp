@@ -6,6 +6,7 @@
 // lazy values must not be shared between threads.
 #pragma once
 
+#include "core/dyadic.hpp"
 #include "core/face_prep.hpp"
 #include "core/tiles.hpp"
 #include "exact/kernel.hpp"
@@ -13,8 +14,11 @@
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
 
+#include <gmpxx.h>
+
 #include <array>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 namespace shadow::exact {
@@ -81,5 +85,28 @@ bool planar_face_exact_areas(const std::vector<glm::dvec3>& vertices, const core
 /// (docs/tiles.md). O(outline vertices).
 core::CellPlace place_cell(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
                            const std::array<double, 2>& lo, const std::array<double, 2>& hi);
+
+/// v 2^-e as an integer into `out`, for v a multiple of 2^e (every coordinate of a set is, for e
+/// the least set bit of them all: core::BitSpan::least); std::logic_error for one that is not.
+/// The integer views of planar_face_area and of the areas route's scaled charts.
+inline void integer_of(double v, long e, mpz_ptr out) {
+  static_assert(sizeof(long) >= 8, "GMP's si functions here take the 53-bit mantissas of doubles");
+  if (v == 0.0) {
+    mpz_set_ui(out, 0);
+    return;
+  }
+  const core::Dyadic q = core::dyadic(v);
+  if (q.exponent < e) throw std::logic_error("libshadow: a coordinate below the least bit of its set (scene changed after ShadowEngine was made?)");
+  mpz_set_si(out, static_cast<long>(q.mantissa));
+  mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(q.exponent - e));
+}
+
+/// q times 2^shift (either sign).
+inline void scale_by_power_of_two(mpq_class& q, long shift) {
+  if (shift >= 0)
+    mpq_mul_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(shift));
+  else
+    mpq_div_2exp(q.get_mpq_t(), q.get_mpq_t(), static_cast<mp_bitcnt_t>(-shift));
+}
 
 }  // namespace shadow::exact

@@ -249,11 +249,11 @@ class ExactReceiverJob {
         if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
           projector.crossing(cs.vertices[a], cs.vertices[b], pts.emplace_back());
       }
-      convex_hull(pts, w_.qscratch, w_.qintervals, w_.qorder, w_.qchain, w_.qs);
+      convex_hull(pts, w_.qscratch, w_.qorder, w_.qchain, w_.qs);
       pts.swap(w_.qscratch);
       clip_to_chart_box_q(pts);
       if (pts.size() < 3) return;
-      if (area_sign(pts, w_.qintervals, w_.qs, w_.qarea) != CGAL::POSITIVE) return;  // flat: edge-on solid
+      if (area_sign(pts, w_.qs, w_.qarea) != CGAL::POSITIVE) return;  // flat: edge-on solid
       w_.qshadows.insert(w_.qshadows.end(), pts.begin(), pts.end());
       w_.qfirst.push_back(w_.qshadows.size());
       ++stats_.casting_pairs;
@@ -442,7 +442,7 @@ class ExactReceiverJob {
   /// add_shadow for rational points (the areas-only route).
   bool add_shadow_q(std::vector<QPoint2>& poly) {
     if (poly.size() < 3) return false;
-    const CGAL::Sign orientation = area_sign(poly, w_.qintervals, w_.qs, w_.qarea);
+    const CGAL::Sign orientation = area_sign(poly, w_.qs, w_.qarea);
     if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
     if (orientation == CGAL::NEGATIVE) std::reverse(poly.begin(), poly.end());
     w_.qshadows.insert(w_.qshadows.end(), poly.begin(), poly.end());
@@ -457,13 +457,10 @@ class ExactReceiverJob {
   void note_cover_q(const std::vector<QPoint2>& poly) {
     if (tile_ || covered_ || poly.size() < 3) return;
     const ScaledChart& chart = scaled_chart();
-    const double x0 = chart.lo(0).get_d(), y0 = chart.lo(1).get_d();
-    double twice = 0;  // about the box's corner, as core::twice_area_about_box_corner
-    for (std::size_t a = 0; a < poly.size(); ++a) {
-      const QPoint2& p = poly[a];
-      const QPoint2& q = poly[(a + 1) % poly.size()];
-      twice += (p.x.get_d() - x0) * (q.y.get_d() - y0) - (q.x.get_d() - x0) * (p.y.get_d() - y0);
-    }
+    const double x0 = chart.lo(0).get_d(), y0 = chart.lo(1).get_d();  // the scaled box's corner
+    const double twice = core::twice_area_about({x0, y0}, poly.size(), [&](std::size_t a) {
+      return std::array<double, 2>{poly[a].x.get_d(), poly[a].y.get_d()};
+    });
     if (!near_box_area(twice, (chart.hi(0).get_d() - x0) * (chart.hi(1).get_d() - y0))) return;
     EQ exact_twice;
     twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);

@@ -48,7 +48,6 @@ struct ExactWorker {
   // exact/rational_points.hpp) and scratch.
   std::vector<QPoint2> qshadows, qpoly, qscratch;
   std::vector<std::size_t> qfirst, qorder, qchain;
-  std::vector<IPoint2> qintervals;
   std::vector<int> qside;
   QScratch qs;
   EQ qbound, qarea;

@@ -93,8 +93,7 @@ struct QPoint2 {
   void update_intervals() { i = {interval_of(x), interval_of(y)}; }
 };
 
-/// A point's intervals (QPoint2::i). kSetRounding: unused, kept for the callers' symmetry.
-template <bool kSetRounding = true>
+/// A point's intervals (QPoint2::i).
 inline const IPoint2& interval_of(const QPoint2& p) {
   assert(p.i.x.inf() <= p.i.x.sup() && p.i.y.inf() <= p.i.y.sup());
   return p.i;
@@ -113,6 +112,12 @@ struct QScratch {
 inline bool is_integer(const EQ& q) { return mpz_cmp_ui(mpq_denref(q.get_mpq_t()), 1) == 0; }
 inline bool is_integer(const QPoint2& p) { return is_integer(p.x) && is_integer(p.y); }
 inline mpz_srcptr num(const EQ& q) { return mpq_numref(q.get_mpq_t()); }
+
+/// acc += cross(p, q) for integer points p and q (a shoelace term).
+inline void add_integer_cross(mpz_class& acc, const QPoint2& p, const QPoint2& q) {
+  mpz_addmul(acc.get_mpz_t(), num(p.x), num(q.y));
+  mpz_submul(acc.get_mpz_t(), num(p.y), num(q.x));
+}
 
 /// Sign of (a1 - a0)(b1 - b0) + k (c1 - c0)(d1 - d0), k = 1 or -1, exactly: in integers when
 /// all eight are (GMP's rational steps would multiply by denominators of 1 and take gcds), else
@@ -188,12 +193,7 @@ inline void twice_polygon_area(const QPoint2* begin, const QPoint2* end, EQ& out
   const std::size_t n = static_cast<std::size_t>(end - begin);
   if (std::all_of(begin, end, [](const QPoint2& p) { return is_integer(p); })) {
     s.za = 0;
-    for (std::size_t a = 0; a < n; ++a) {
-      const QPoint2& p = begin[a];
-      const QPoint2& q = begin[(a + 1) % n];
-      mpz_addmul(s.za.get_mpz_t(), num(p.x), num(q.y));
-      mpz_submul(s.za.get_mpz_t(), num(p.y), num(q.x));
-    }
+    for (std::size_t a = 0; a < n; ++a) add_integer_cross(s.za, begin[a], begin[(a + 1) % n]);
     mpq_set_z(out.get_mpq_t(), s.za.get_mpz_t());
     return;
   }
@@ -209,16 +209,18 @@ inline void twice_polygon_area(const QPoint2* begin, const QPoint2* end, EQ& out
 
 /// Twice the signed area's sign of the polygon pts[0..n) (fan from the first vertex). Filtered;
 /// `sum` receives twice the area when the filter cannot decide.
-inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, std::vector<IPoint2>& ipts, QScratch& s, EQ& sum) {
+inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, QScratch& s, EQ& sum) {
   const std::size_t n = pts.size();
   if (n < 3) return CGAL::ZERO;
-  ipts.resize(n);
-  for (std::size_t a = 0; a < n; ++a) ipts[a] = interval_of(pts[a]);
   {
     CGAL::Protect_FPU_rounding<true> guard;
+    const IPoint2& i0 = pts[0].i;
     IA total(0);
-    for (std::size_t a = 1; a + 1 < n; ++a)
-      total += (ipts[a].x - ipts[0].x) * (ipts[a + 1].y - ipts[0].y) - (ipts[a].y - ipts[0].y) * (ipts[a + 1].x - ipts[0].x);
+    for (std::size_t a = 1; a + 1 < n; ++a) {
+      const IPoint2& ia = pts[a].i;
+      const IPoint2& ib = pts[a + 1].i;
+      total += (ia.x - i0.x) * (ib.y - i0.y) - (ia.y - i0.y) * (ib.x - i0.x);
+    }
     const CGAL::Uncertain<CGAL::Sign> sign = CGAL::sign(total);
     if (CGAL::is_certain(sign)) return CGAL::get_certain(sign);
   }
@@ -228,19 +230,17 @@ inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, std::vector<IPoint2
 
 /// The convex hull of `pts` (counter-clockwise, no collinear or repeated vertices) into `out`
 /// (Andrew's monotone chain with filtered predicates).
-inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, std::vector<IPoint2>& ipts,
-                        std::vector<std::size_t>& order, std::vector<std::size_t>& chain, QScratch& s) {
+inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, std::vector<std::size_t>& order,
+                        std::vector<std::size_t>& chain, QScratch& s) {
   const std::size_t n = pts.size();
   out.clear();
-  ipts.resize(n);
   CGAL::Protect_FPU_rounding<true> guard;  // once for every filter below (GMP needs no mode)
-  for (std::size_t a = 0; a < n; ++a) ipts[a] = interval_of<false>(pts[a]);
   order.resize(n);
   for (std::size_t a = 0; a < n; ++a) order[a] = a;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const int cx = compare(pts[a].x, ipts[a].x, pts[b].x, ipts[b].x);
+    const int cx = compare(pts[a].x, pts[a].i.x, pts[b].x, pts[b].i.x);
     if (cx != 0) return cx < 0;
-    return compare(pts[a].y, ipts[a].y, pts[b].y, ipts[b].y) < 0;
+    return compare(pts[a].y, pts[a].i.y, pts[b].y, pts[b].i.y) < 0;
   });
   if (n < 3) {
     for (std::size_t a : order) out.push_back(pts[a]);
@@ -248,7 +248,7 @@ inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, st
   }
   chain.clear();
   auto turn = [&](std::size_t a, std::size_t b, std::size_t c) {
-    return orientation<false>(pts[a], ipts[a], pts[b], ipts[b], pts[c], ipts[c], s);
+    return orientation<false>(pts[a], pts[a].i, pts[b], pts[b].i, pts[c], pts[c].i, s);
   };
   for (std::size_t k = 0; k < n; ++k) {  // lower hull
     while (chain.size() >= 2 && turn(chain[chain.size() - 2], chain.back(), order[k]) != CGAL::POSITIVE) chain.pop_back();

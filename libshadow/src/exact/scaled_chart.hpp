@@ -40,7 +40,6 @@
 #include <gmpxx.h>
 
 #include <optional>
-#include <stdexcept>
 #include <vector>
 
 namespace shadow::exact {
@@ -49,7 +48,6 @@ namespace shadow::exact {
 /// core::kChartSpanBits for the scene's coordinates).
 constexpr int kDirectionSpanBits = 120;
 
-static_assert(sizeof(long) >= 8, "GMP's si functions here take the 53-bit mantissas of doubles");
 
 /// A receiver's chart scaled by K (see the top of this file) for the areas-only route under a
 /// directional light: projections of input points, the chart box's bounds, and the way back.
@@ -96,8 +94,8 @@ class ScaledChart {
   /// An input point on the receiver's plane.
   void chart(const glm::dvec3& y, QPoint2& out) {
     if (!integer_) return rational_->chart(y, out);
-    integer_of(y[i_], a_[0].get_mpz_t());
-    integer_of(y[j_], a_[1].get_mpz_t());
+    exact::integer_of(y[i_], e_, a_[0].get_mpz_t());
+    exact::integer_of(y[j_], e_, a_[1].get_mpz_t());
     mpz_mul(mpq_numref(out.x.get_mpq_t()), a_[0].get_mpz_t(), l_.get_mpz_t());
     mpz_set_ui(mpq_denref(out.x.get_mpq_t()), 1);
     mpz_mul(mpq_numref(out.y.get_mpq_t()), a_[1].get_mpz_t(), l_.get_mpz_t());
@@ -160,9 +158,9 @@ class ScaledChart {
     const glm::dvec3& prev = receiver[prep.corner[0]];
     mpz_class u[3], v[3], corner[3];
     for (int k = 0; k < 3; ++k) {
-      integer_of(c[k], corner[k].get_mpz_t());
-      integer_of(next[k], u[k].get_mpz_t());
-      integer_of(prev[k], v[k].get_mpz_t());
+      exact::integer_of(c[k], e_, corner[k].get_mpz_t());
+      exact::integer_of(next[k], e_, u[k].get_mpz_t());
+      exact::integer_of(prev[k], e_, v[k].get_mpz_t());
       u[k] -= corner[k];
       v[k] -= corner[k];
     }
@@ -178,15 +176,7 @@ class ScaledChart {
     if (sgn(u[0]) == 0) return false;  // a degenerate receiver (q mode never sees one)
     for (mpz_class& x : n_) mpz_divexact(x.get_mpz_t(), x.get_mpz_t(), u[0].get_mpz_t());
     offset_ = -(n_[0] * corner[0] + n_[1] * corner[1] + n_[2] * corner[2]);
-    for (int k = 0; k < 3; ++k) {
-      if (d[k] == 0.0) {
-        d_[k] = 0;
-        continue;
-      }
-      const core::Dyadic q = core::dyadic(d[k]);
-      d_[k] = static_cast<long>(q.mantissa);
-      mpz_mul_2exp(d_[k].get_mpz_t(), d_[k].get_mpz_t(), static_cast<mp_bitcnt_t>(q.exponent - direction.least));
-    }
+    for (int k = 0; k < 3; ++k) exact::integer_of(d[k], direction.least, d_[k].get_mpz_t());
     l_ = n_[0] * d_[0] + n_[1] * d_[1] + n_[2] * d_[2];
     if (sgn(l_) == 0) return false;  // light along the plane: no receiver in q mode sees it so
     if (sgn(l_) < 0) {
@@ -196,32 +186,16 @@ class ScaledChart {
     // K within the doubles' range by far (its interval divides the points' ones).
     const long k_bits = static_cast<long>(mpz_sizeinbase(l_.get_mpz_t(), 2)) - e_;
     if (k_bits > 600 || k_bits < -600) return false;
-    mpz_set(mpq_numref(scale_.get_mpq_t()), l_.get_mpz_t());
-    mpz_set_ui(mpq_denref(scale_.get_mpq_t()), 1);
-    if (e_ < 0) mpq_mul_2exp(scale_.get_mpq_t(), scale_.get_mpq_t(), static_cast<mp_bitcnt_t>(-e_));
-    if (e_ > 0) mpq_div_2exp(scale_.get_mpq_t(), scale_.get_mpq_t(), static_cast<mp_bitcnt_t>(e_));
+    mpq_set_z(scale_.get_mpq_t(), l_.get_mpz_t());
+    scale_by_power_of_two(scale_, -e_);
     return true;
-  }
-
-  /// v 2^-e as an integer (every scene coordinate is a multiple of 2^e).
-  void integer_of(double v, mpz_ptr out) const {
-    if (v == 0.0) {
-      mpz_set_ui(out, 0);
-      return;
-    }
-    const core::Dyadic q = core::dyadic(v);
-    // Every coordinate of the scene the engine prepared is a multiple of 2^e; one that is not
-    // (a scene changed after the engine was made) would shift by a negative amount.
-    if (q.exponent < e_) throw std::logic_error("libshadow: a coordinate below the scene's least bit (scene changed after ShadowEngine was made?)");
-    mpz_set_si(out, static_cast<long>(q.mantissa));
-    mpz_mul_2exp(out, out, static_cast<mp_bitcnt_t>(q.exponent - e_));
   }
 
   /// S = N.Y + O for input point y into `out`, with Y in y_.
   void plane_value(const glm::dvec3& y, mpz_class& out) {
     out = offset_;
     for (int k = 0; k < 3; ++k) {
-      integer_of(y[k], y_[k].get_mpz_t());
+      exact::integer_of(y[k], e_, y_[k].get_mpz_t());
       mpz_addmul(out.get_mpz_t(), n_[k].get_mpz_t(), y_[k].get_mpz_t());
     }
   }
