@@ -48,7 +48,6 @@ namespace shadow::exact {
 /// core::kChartSpanBits for the scene's coordinates).
 constexpr int kDirectionSpanBits = 120;
 
-
 /// A receiver's chart scaled by K (see the top of this file) for the areas-only route under a
 /// directional light: projections of input points, the chart box's bounds, and the way back.
 class ScaledChart {
