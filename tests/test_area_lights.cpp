@@ -164,6 +164,49 @@ TEST(AreaLightRegions, FacesBehindTheLightAreUmbraAndACrossingLightLeavesNothing
   EXPECT_TRUE(testing::check_partition(scene, r)) << testing::check_partition(scene, r).message;
 }
 
+// A light shines forward only, from its centre as from the rest of it: a wall facing a panel that
+// hangs at z = 2 and shines down is umbra above the panel's plane, and lit_area (the centre's)
+// must say so too (it once reported the whole wall lit, with 10 m^2 of umbra).
+TEST(AreaLightRegions, AWallAboveADownwardPanelIsDarkAboveThePanelsPlane) {
+  for (const bool disk : {false, true}) {
+    Scene scene;
+    // a 10 x 3 m wall in y = 0, facing +y (counter-clockwise seen from +y)
+    add_mesh(scene, "wall", {{{-5, 0, 0}, {-5, 0, 3}, {5, 0, 3}, {5, 0, 0}}});
+    scene.lights.push_back(disk ? disk_light("disk", {0, 2, 2}, {0, 0, -1}, 1)
+                                : area_light("panel", {{-1, 1, 2}, {-1, 3, 2}, {1, 3, 2}, {1, 1, 2}}));
+    for (const bool polygons : {true, false}) {
+      const ShadowResult r = compute(scene, 2, polygons);
+      const FaceLighting* wall = r.find(0, 0);
+      ASSERT_NE(wall, nullptr);
+      EXPECT_EQ(wall->area, 30.0);
+      EXPECT_EQ(wall->umbra_area, 10.0) << (disk ? "disk" : "panel");
+      EXPECT_EQ(wall->shadow_area, 10.0) << (disk ? "disk" : "panel");
+      EXPECT_EQ(wall->lit_area, 20.0) << (disk ? "disk" : "panel");
+      EXPECT_EQ(wall->lit_fraction, 2.0 / 3.0);
+      EXPECT_EQ(r.stats.area_centre_behind, 1u);
+      if (polygons) EXPECT_TRUE(testing::check_partition(scene, r)) << testing::check_partition(scene, r).message;
+    }
+    // The fast path's centre is cut the same way (exactly, its bound then 0).
+    ShadowOptions fast;
+    fast.arithmetic = Arithmetic::Fast;
+    fast.polygons = false;
+    const ShadowResult f = compute_shadows(scene, fast);
+    EXPECT_EQ(f.find(0, 0)->lit_area, 20.0);
+    // A series of the light gives the same lit area as compute().
+    const ShadowEngine engine(scene, 2);
+    const SeriesResult series = engine.compute_series({scene.lights[0]});
+    EXPECT_EQ(series.lit_area[0], 20.0);
+    EXPECT_EQ(series.lit_fraction[0], 2.0 / 3.0);
+    // Wholly behind: a wall above the panel.
+    Scene high;
+    add_mesh(high, "wall", {{{-5, 0, 2.5}, {-5, 0, 5.5}, {5, 0, 5.5}, {5, 0, 2.5}}});
+    high.lights = scene.lights;
+    const ShadowResult above = compute(high, 1, false);
+    EXPECT_EQ(above.find(0, 0)->lit_area, 0.0);
+    EXPECT_EQ(above.find(0, 0)->umbra_area, 30.0);
+  }
+}
+
 // A face lying in the receiver's plane (the back face of a double-sided floor) casts nothing on
 // it (docs/algorithm.md section 2), under an area light and under the sun's disk alike.
 TEST(AreaLightRegions, ACoincidentBackFacingQuadLeavesTheReceiverFullyLit) {
@@ -333,6 +376,39 @@ TEST(AreaLightProperties, RegionsAgreeWithExactPointQueriesFromSampledLightPoint
     }
     check_regions_against_samples(scene, r, seed);
   }
+}
+
+// Lights among the geometry, facing any way, so that faces lie behind them or cross their plane:
+// the documented inequalities hold exactly (both sides are exact values rounded once, and
+// rounding keeps order), in the exact engine, and with the fast path's lit areas within bounds.
+TEST(AreaLightProperties, LitAndShadowAreasBoundTheRegionsForLightsFacingAnyWay) {
+  std::uint64_t behind = 0;
+  for (std::uint64_t seed = 11; seed <= 22; ++seed) {
+    Scene scene = random_scene(seed);
+    std::mt19937_64 rng(seed * 104729);
+    std::uniform_real_distribution<double> U(-1.0, 1.0);
+    const glm::dvec3 c(3 * U(rng), 3 * U(rng), 1.5 + U(rng));
+    const glm::dvec3 n = glm::normalize(glm::dvec3(U(rng), U(rng), U(rng)) + glm::dvec3(0, 0, 1e-3));
+    const glm::dvec3 a = 0.7 * glm::normalize(glm::cross(n, glm::dvec3(0.3, 0.5, 0.8)));
+    const glm::dvec3 b = glm::cross(n, a);  // a, b, n right-handed: a, b, -a, -b runs counter-clockwise seen from n
+    scene.lights.assign(1, seed % 2 ? disk_light("disk", c, n, 0.6)
+                                    : area_light("lum", {c + a, c + b, c - a, c - b}));
+    const ShadowResult r = compute(scene, 2, seed % 4 < 2);
+    behind += r.stats.area_centre_behind;
+    for (const FaceLighting& fl : r.lighting) {
+      EXPECT_LE(fl.fully_lit_area, fl.lit_area) << "seed " << seed << " face " << fl.face_id;
+      EXPECT_LE(fl.umbra_area, fl.shadow_area) << "seed " << seed << " face " << fl.face_id;
+    }
+    ShadowOptions fast;
+    fast.arithmetic = Arithmetic::Fast;
+    fast.polygons = false;
+    const ShadowResult f = compute_shadows(scene, fast);
+    ASSERT_EQ(f.lighting.size(), r.lighting.size());
+    for (std::size_t i = 0; i < f.lighting.size(); ++i)
+      EXPECT_LE(std::abs(f.lighting[i].lit_area - r.lighting[i].lit_area), f.lighting[i].lit_area_error_bound)
+          << "seed " << seed << " face " << f.lighting[i].face_id;
+  }
+  EXPECT_GT(behind, 20u);  // the scenes did put faces behind the lights
 }
 
 // The projection route and the separating-plane route compute the same not-fully-lit set: equal

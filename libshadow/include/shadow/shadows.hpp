@@ -163,10 +163,16 @@ struct ShadowStats {
   /// Extended lights: pairs whose face sees part of the light from behind its own plane (the
   /// light crosses it): nowhere fully lit, the umbra taken for the part of the light in front.
   std::uint64_t area_light_straddles = 0;
+  /// Area lights and disks: pairs where part of the face lies behind the light's plane, whose
+  /// lit_area (the centre's) was cut to the light's emitting side (docs/area-lights.md).
+  std::uint64_t area_centre_behind = 0;
   /// Extended lights: occluder pieces cast by projection from the light's vertices (the piece is
   /// nearer to the receiver's plane than the whole light) and by separating planes (the rest).
   std::uint64_t area_projection_pieces = 0;
   std::uint64_t area_plane_pieces = 0;
+  /// Fragment cells (triangles of a cell that rounding broke) left out because they collapse in
+  /// doubles; their exact area is in FaceLighting::dropped_area (docs/numeric-contract.md).
+  std::uint64_t dropped_cells = 0;
   /// Receivers split into tiles (ShadowOptions::tile_casters, fast_tile_casters), and the tiles
   /// they were split into. A split receiver counts once in `receivers` (and in `unshadowed` when
   /// no tile has a shadow); candidate and casting pairs are counted per tile.
@@ -193,8 +199,10 @@ struct ShadowStats {
     area_receivers += other.area_receivers;
     area_umbra_bounded += other.area_umbra_bounded;
     area_light_straddles += other.area_light_straddles;
+    area_centre_behind += other.area_centre_behind;
     area_projection_pieces += other.area_projection_pieces;
     area_plane_pieces += other.area_plane_pieces;
+    dropped_cells += other.dropped_cells;
     tiled_receivers += other.tiled_receivers;
     tiles += other.tiles;
     item_seconds += other.item_seconds;

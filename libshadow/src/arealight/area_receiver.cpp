@@ -92,6 +92,22 @@ void clip(std::vector<Point2>& poly, const HalfPlane& h, std::vector<Point2>& sc
                        scratch);
 }
 
+/// The half-plane <h, lift(u, v)> >= 0 of the chart of P (axis k): P's plane solved for x_k
+/// and put into h, cleared of the denominator n_k (whose sign it keeps).
+HalfPlane chart_half_plane(const ExactFace& P, int k, const H4& h) {
+  const int i = core::chart_i(k), j = core::chart_j(k);
+  const FT& nk = P.normal[k];
+  HalfPlane hp{h[i] * nk - h[k] * P.normal[i], h[j] * nk - h[k] * P.normal[j], h[3] * nk - h[k] * P.offset};
+  if (CGAL::is_negative(nk)) hp = {-hp.a, -hp.b, -hp.c};
+  return hp;
+}
+
+/// The chart box of a face as a counter-clockwise polygon.
+std::vector<Point2> chart_box(const core::FacePrep& fp) {
+  return {Point2(FT(fp.chart_min[0]), FT(fp.chart_min[1])), Point2(FT(fp.chart_max[0]), FT(fp.chart_min[1])),
+          Point2(FT(fp.chart_max[0]), FT(fp.chart_max[1])), Point2(FT(fp.chart_min[0]), FT(fp.chart_max[1]))};
+}
+
 bool has_area(const std::vector<Point2>& poly) {
   return poly.size() >= 3 && !CGAL::is_zero(exact::polygon_area(poly.begin(), poly.end()));
 }
@@ -115,8 +131,7 @@ class AreaReceiverJob {
     const int k = fp_.axis;
     receiver_ = {P.normal.x(), P.normal.y(), P.normal.z(), P.offset};
     nk_sign_ = CGAL::sign(P.normal[k]);
-    box_ = {Point2(FT(fp_.chart_min[0]), FT(fp_.chart_min[1])), Point2(FT(fp_.chart_max[0]), FT(fp_.chart_min[1])),
-            Point2(FT(fp_.chart_max[0]), FT(fp_.chart_max[1])), Point2(FT(fp_.chart_min[0]), FT(fp_.chart_max[1]))};
+    box_ = chart_box(fp_);
 
     // The light's vertices, and its convex pieces clipped to the front of P's plane.
     const bool finite = lp_.shape.finite;
@@ -189,13 +204,7 @@ class AreaReceiverJob {
  private:
   // ---- the chart ----------------------------------------------------------------------------
   /// The half-plane <h, lift(u, v)> >= 0 of P's chart.
-  HalfPlane chart_half_plane(const H4& h) const {
-    const int k = fp_.axis, i = core::chart_i(k), j = core::chart_j(k);
-    const FT& nk = P_->normal[k];
-    HalfPlane hp{h[i] * nk - h[k] * P_->normal[i], h[j] * nk - h[k] * P_->normal[j], h[3] * nk - h[k] * P_->offset};
-    if (nk_sign_ == CGAL::NEGATIVE) hp = {-hp.a, -hp.b, -hp.c};
-    return hp;
-  }
+  HalfPlane chart_half_plane(const H4& h) const { return arealight::chart_half_plane(*P_, fp_.axis, h); }
 
   /// Sutherland-Hodgman on homogeneous vertices: keeps f >= 0.
   static void clip_homogeneous(std::vector<H4>& poly, const H4& f) {
@@ -535,8 +544,7 @@ class AreaReceiverJob {
     fragment.region = region;
     fragment.area = exact::area_3d(CGAL::abs(cell_area), P_->area_scale_squared);
     for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-      const Point3 p = exact::lift(*v, *P_, fp_.axis);
-      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      fragment.polygon.push_back(exact::nearest_doubles(exact::lift(*v, *P_, fp_.axis)));
     }
     if (fp_.flipped == CGAL::is_positive(cell_area)) std::reverse(fragment.polygon.begin(), fragment.polygon.end());
     if (!core::clean_double_polygon(fragment.polygon, fp_.axis)) return false;
@@ -558,7 +566,10 @@ class AreaReceiverJob {
         exact::triangulate_region(PolygonWithHoles2(cell), triangles);
         for (const Polygon2& t : triangles) {
           const FT t_area = exact::polygon_area(t);
-          if (!write(t, t_area, region)) dropped_.push_back(CGAL::abs(t_area));
+          if (!write(t, t_area, region)) {
+            dropped_.push_back(CGAL::abs(t_area));
+            ++stats_.dropped_cells;
+          }
         }
       }
       if (item_.fragments.size() > written) ++fragment_id_;
@@ -650,6 +661,61 @@ exact::ReceiverResult compute_area_receiver(const core::PreparedScene& ctx, exac
     aw.exact->light = exact::make_exact_face(light.shape.polygon, light.prep);
   }
   return AreaReceiverJob(ctx, w, aw.exact->light, light, face_id, light_id, polygons, stats).run();
+}
+
+void restrict_centre_to_emitting_side(const core::PreparedScene& ctx, exact::ExactWorker& w, AreaWorker& aw,
+                                      const AreaLightPrep& light, std::size_t face_id, std::size_t light_id,
+                                      const Light& centre, ShadowStats& stats, FaceLighting& out) {
+  const core::FacePrep& fp = (*ctx.prep)[face_id];
+  if (!light.shape.finite || fp.degenerate) return;
+  if (!aw.exact) {
+    aw.exact = std::make_shared<AreaWorker::Exact>();
+    aw.exact->light = exact::make_exact_face(light.shape.polygon, light.prep);
+  }
+  // The plane the regions use (AreaReceiverJob's light_plane_): positive on the emitting side.
+  const ExactFace& L = aw.exact->light;
+  const H4 plane{L.normal.x(), L.normal.y(), L.normal.z(), L.offset};
+  const ExactFace& P = w.face(ctx, face_id);
+  bool front = false, back = false;
+  for (const Point3& v : P.vertices) {
+    const CGAL::Sign s = CGAL::sign(dot4(plane, homogeneous(v)));
+    front |= s == CGAL::POSITIVE;
+    back |= s == CGAL::NEGATIVE;
+  }
+  if (!back) return;  // nothing of the face behind the light: the centre's result stands
+  ++stats.area_centre_behind;
+  if (!front || (out.lit_area == 0.0 && out.lit_area_error_bound == 0.0)) {  // wholly behind, or dark anyway
+    out.lit_area = 0.0;
+    out.shadow_area = out.area;
+    out.lit_fraction = 0.0;
+    out.lit_area_error_bound = 0.0;
+    return;
+  }
+  // Straddling: the centre's exact lit region cut to the front of the light's plane.
+  const exact::ExactLight el = exact::to_exact_light(centre);
+  const int facing = CGAL::sign(exact::plane_at_light(P, el));
+  ShadowStats not_counted;  // the receiver was counted by the centre's own computation
+  exact::LitRegion region = exact::exact_lit_region(ctx, w, face_id, light_id, el, facing, centre, nullptr, not_counted);
+  FT lit_chart(0);
+  if (region.kind != exact::LitRegion::Kind::Dark) {
+    PolygonSet2 lit = region.kind == exact::LitRegion::Kind::Whole ? PolygonSet2(P.chart) : std::move(region.lit);
+    std::vector<Point2> in_front = chart_box(fp), scratch;
+    clip(in_front, chart_half_plane(P, fp.axis, plane), scratch);
+    if (has_area(in_front)) {
+      Polygon2 cut(in_front.begin(), in_front.end());
+      if (cut.is_clockwise_oriented()) cut.reverse_orientation();
+      lit.intersection(cut);
+      std::vector<PolygonWithHoles2> regions;
+      lit.polygons_with_holes(std::back_inserter(regions));
+      std::vector<FT> areas;
+      for (const PolygonWithHoles2& r : regions) areas.push_back(exact::region_area(r));
+      lit_chart = exact::balanced_sum(areas);
+    }
+  }
+  const auto [chart, scale] = w.exact_areas(ctx, face_id);
+  FT::Exact_type shadow = *chart - CGAL::exact(lit_chart), lit, scratch;
+  exact::measure_lit_and_shadow(*chart, *scale, shadow, lit, scratch, out);
+  out.lit_area_error_bound = 0.0;
 }
 
 }  // namespace shadow::arealight

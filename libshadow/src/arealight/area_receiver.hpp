@@ -57,4 +57,15 @@ exact::ReceiverResult compute_area_receiver(const core::PreparedScene& ctx, exac
                                             const AreaLightPrep& light, std::size_t face_id, std::size_t light_id,
                                             bool polygons, ShadowStats& stats);
 
+/// A finite extended light (area, disk) shines forward only: a point behind its plane receives
+/// nothing, from the centre as from the rest of it. `out` holds the receiver's areas under the
+/// light's centre as a point light (lit_area, shadow_area, lit_fraction, lit_area_error_bound);
+/// where part of the face lies behind the light's plane, they become those of the centre's lit
+/// region cut to the front of that plane (the same plane as the regions', so that
+/// umbra_area <= shadow_area and fully_lit_area <= lit_area hold), exact and rounded once (the
+/// fast path's bound is then 0). Sun disks and faces wholly in front are left as they are.
+void restrict_centre_to_emitting_side(const core::PreparedScene& ctx, exact::ExactWorker& w, AreaWorker& aw,
+                                      const AreaLightPrep& light, std::size_t face_id, std::size_t light_id,
+                                      const Light& centre, ShadowStats& stats, FaceLighting& out);
+
 }  // namespace shadow::arealight

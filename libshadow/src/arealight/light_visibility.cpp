@@ -864,6 +864,11 @@ void fill_light_fragment_visibility(const Scene& scene, const Light& light, std:
     for (std::size_t i = 0; i < f.polygon.size(); ++i, ++next) {
       f.visibility[i] = values[next].first;
       f.irradiance[i] = values[next].second;
+      // The exact vertex of a fully lit cell sees all of the light, an umbra cell's none of it;
+      // the written vertex is that point rounded to nearest, which may lie a rounding error
+      // outside the closed region (a visible fraction of 1e-16). The cell's own value stands.
+      if (f.region == LightRegion::FullyLit) f.visibility[i] = 1.0;
+      if (f.region == LightRegion::Umbra) f.visibility[i] = 0.0, f.irradiance[i] = 0.0;
     }
   }
 }

@@ -48,7 +48,21 @@ bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k) {
     magnitude += std::abs(ux * vy) + std::abs(uy * vx);
   }
   constexpr double eps = std::numeric_limits<double>::epsilon();
-  return std::abs(twice_area) > (static_cast<double>(polygon.size()) + 4) * eps * magnitude;
+  const double slack = (static_cast<double>(polygon.size()) + 4) * eps;
+  if (!(std::abs(twice_area) > slack * magnitude)) return false;
+  // The same area from absolute coordinates, as Newell's formula (the usual way to take a
+  // polygon's normal) computes it: far from the origin (georeferenced models at 4e6 m) a sliver
+  // narrower than an ulp of its coordinates passes the test above but cancels to a zero normal
+  // here. Such a cell is no polygon for its readers.
+  double newell = 0, newell_magnitude = 0;
+  for (std::size_t a = 0; a < polygon.size(); ++a) {
+    const glm::dvec3& u = polygon[a];
+    const glm::dvec3& v = polygon[(a + 1) % polygon.size()];
+    const double term = (u[i] - v[i]) * (u[j] + v[j]);
+    newell += term;
+    newell_magnitude += std::abs(term);
+  }
+  return std::abs(newell) > slack * newell_magnitude;
 }
 
 }  // namespace shadow::core

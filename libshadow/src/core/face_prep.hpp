@@ -67,7 +67,8 @@ double twice_area_about_box_corner(const FacePrep& fp, std::size_t n, const Char
 /// and says whether what remains is one simple polygon with at least 3 vertices and non-zero
 /// area, decided with exact predicates on the doubles in the chart (simple there implies simple
 /// in 3D; non-zero chart area implies non-zero 3D area), whose area computed in doubles (the
-/// shoelace relative to its first vertex) is certainly non-zero too. O(n log n). Defined in
+/// shoelace relative to its first vertex, and Newell's formula on the absolute coordinates) is
+/// certainly non-zero too. O(n log n). Defined in
 /// core/clean_polygon.cpp.
 bool clean_double_polygon(std::vector<glm::dvec3>& polygon, int k);
 

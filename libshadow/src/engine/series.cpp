@@ -10,6 +10,8 @@
 // (no ShadowResult per instant).
 #include "engine/engine_impl.hpp"
 
+#include "arealight/area_receiver.hpp"
+
 #include "core/lights.hpp"
 #include "core/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
@@ -182,6 +184,31 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     const double tile_seconds = std::chrono::duration<double>(Clock::now() - tiles_start).count();
     tile_share = round_seconds + tile_seconds > 0 ? tile_seconds / (round_seconds + tile_seconds) : 0.0;
     report_instants(first + count);
+  }
+  // Area lights and disks shine forward only: their centre's areas cut to the light's emitting
+  // side, as compute() does (docs/area-lights.md).
+  for (std::size_t i = 0; i < instants; ++i) {
+    const Light& light_in = lights_in[i];
+    if (light_in.type != LightType::Area && light_in.type != LightType::Disk) continue;
+    const core::PreparedScene ctx = impl.prepared();
+    const arealight::AreaLightPrep area = arealight::prepare_area_light(ctx, light_in, i);
+    std::vector<arealight::AreaWorker> area_workers(threads);
+    core::parallel_for(rows, threads, [&](unsigned wi, std::size_t r) {
+      const std::size_t at = result.at(r, i);
+      FaceLighting lighting;
+      lighting.face_id = result.faces[r];
+      lighting.light_id = i;
+      lighting.area = result.area[r];
+      lighting.lit_area = result.lit_area[at];
+      lighting.shadow_area = lighting.area - lighting.lit_area;
+      lighting.lit_fraction = result.lit_fraction[at];
+      lighting.lit_area_error_bound = result.lit_area_error_bound[at];
+      arealight::restrict_centre_to_emitting_side(ctx, workers[wi].exact, area_workers[wi], area, result.faces[r], i,
+                                                  lights[i], workers[wi].stats, lighting);
+      result.lit_area[at] = lighting.lit_area;
+      result.lit_fraction[at] = lighting.lit_fraction;
+      result.lit_area_error_bound[at] = lighting.lit_area_error_bound;
+    });
   }
   for (const Impl::Worker& w : workers) result.stats += w.stats;
   Impl::release_workers(workers);

@@ -133,6 +133,7 @@ void add_tile_counts(ShadowStats& total, const ShadowStats& tile) {
   total.casting_pairs += tile.casting_pairs;
   total.fast_exact_fallbacks += tile.fast_exact_fallbacks;
   total.fast_collapsed += tile.fast_collapsed;
+  total.dropped_cells += tile.dropped_cells;
 }
 
 }  // namespace
@@ -405,6 +406,9 @@ void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size
         item.lighting.lit_fraction = c.lit_fraction;
         item.lighting.faces_light = c.faces_light;
         item.lighting.lit_area_error_bound = c.lit_area_error_bound;
+        // The centre shines forward only, as the light does.
+        arealight::restrict_centre_to_emitting_side(ctx, w.exact, area_workers[wi], area, receivers[r], light_id,
+                                                    centre, w.stats, item.lighting);
         items[r] = std::move(item);
       },
       report);

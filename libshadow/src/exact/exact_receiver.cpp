@@ -41,8 +41,7 @@ Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t 
   if (prep.exactly_planar || ef == nullptr) {
     fragment.polygon = face.vertices;
   } else {
-    for (const Point3& p : ef->vertices)
-      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    for (const Point3& p : ef->vertices) fragment.polygon.push_back(nearest_doubles(p));
   }
   return fragment;
 }
@@ -605,8 +604,7 @@ class ExactReceiverJob {
     fragment.lit = lit;
     fragment.area = area_3d(CGAL::abs(cell_area), P.area_scale_squared);
     for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-      const Point3 p = lift(*v, P, fp_.axis);
-      fragment.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      fragment.polygon.push_back(nearest_doubles(lift(*v, P, fp_.axis)));
     }
     // The chart sees the face clockwise when flipped: restore the face's orientation.
     if (fp_.flipped == CGAL::is_positive(cell_area)) std::reverse(fragment.polygon.begin(), fragment.polygon.end());
@@ -631,7 +629,10 @@ class ExactReceiverJob {
         triangulate_region(PolygonWithHoles2(cell), triangles_);
         for (const Polygon2& t : triangles_) {
           const FT t_area = polygon_area(t);
-          if (!write(P, t, t_area, lit)) dropped_.push_back(CGAL::abs(t_area));
+          if (!write(P, t, t_area, lit)) {
+            dropped_.push_back(CGAL::abs(t_area));
+            ++stats_.dropped_cells;
+          }
         }
       }
       if (item_.fragments.size() > written) ++fragment_id_;  // ids stay consecutive

@@ -9,11 +9,14 @@
 #include <CGAL/Polygon_set_2.h>
 #include <CGAL/Polygon_with_holes_2.h>
 
+#include <glm/vec3.hpp>
+
 #include <gmp.h>
 #include <mpfr.h>
 
 #include <iterator>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace shadow::exact {
@@ -103,6 +106,21 @@ inline double round_to_double(const FT& value) {
   const double d = round_mpq_to_double(q);
   mpq_clear(q);
   return d;
+}
+
+/// The double nearest to an exact value (ties to even), as round_to_double, but without an exact
+/// evaluation when the interval filter already pins the value to one double. CGAL::to_double
+/// is not this: it returns the midpoint of the current interval, which depends on what was
+/// evaluated before (and so on the thread that computed it). Zero comes back as +0.
+inline double nearest_double(const FT& value) {
+  const std::pair<double, double> i = CGAL::to_interval(value);
+  if (i.first == i.second) return i.first + 0.0;
+  return round_to_double(value);
+}
+
+/// A point's coordinates, each the double nearest to the exact one (nearest_double).
+inline glm::dvec3 nearest_doubles(const Point3& p) {
+  return {nearest_double(p.x()), nearest_double(p.y()), nearest_double(p.z())};
 }
 
 /// sqrt(value) for an exact non-negative rational, rounded to double. The rational is first

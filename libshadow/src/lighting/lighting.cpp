@@ -37,8 +37,20 @@ glm::dvec3 direction_to_light(const Light& light, const glm::dvec3& point) {
   return unit_or_zero(light.position - point);
 }
 
+namespace {
+/// Whether `point` lies on the side an area light or disk shines to (strictly in front of the
+/// plane through its centre): behind it, nothing of the light arrives.
+bool on_emitting_side(const Light& light, const glm::dvec3& point, const glm::dvec3& centre) {
+  const glm::dvec3 front = light.type == LightType::Disk ? light.normal : geometry::newell_normal(light.polygon);
+  return glm::dot(front, point - centre) > 0.0;
+}
+}  // namespace
+
 double irradiance(const Light& light, const glm::dvec3& point, const glm::dvec3& normal) {
-  if (needs_centre(light)) return irradiance(centre_light(light), point, normal);
+  if (needs_centre(light)) {
+    const Light centre = centre_light(light);
+    return on_emitting_side(light, point, centre.position) ? irradiance(centre, point, normal) : 0.0;
+  }
   const glm::dvec3 l = direction_to_light(light, point);
   const double cosine = std::max(0.0, glm::dot(unit_or_zero(normal), l));
   if (light.type == LightType::Directional) return light.intensity * cosine;

@@ -319,9 +319,11 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
     stats["area_receivers"] = result.stats.area_receivers;
     stats["area_umbra_bounded"] = result.stats.area_umbra_bounded;
     stats["area_light_straddles"] = result.stats.area_light_straddles;
+    stats["area_centre_behind"] = result.stats.area_centre_behind;
     stats["area_projection_pieces"] = result.stats.area_projection_pieces;
     stats["area_plane_pieces"] = result.stats.area_plane_pieces;
   }
+  if (result.stats.dropped_cells > 0) stats["dropped_cells"] = result.stats.dropped_cells;  // additive key
   if (result.stats.tiled_receivers > 0) {  // receivers split into tiles only (additive keys)
     stats["tiled_receivers"] = result.stats.tiled_receivers;
     stats["tiles"] = result.stats.tiles;

@@ -728,13 +728,12 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
   // a std::call_once (and, in glibc, a futex wake system call), and areas, border edges and
   // cells built as lazy expressions were a third of a tile's time.
   const int i = P.i, j = P.j, k = P.k;
-  const exact::FT nk(P.n[k]), ni(P.n[i]), nj(P.n[j]), cc(P.c);
   const mpq_class scale_squared = (P.n[0] * P.n[0] + P.n[1] * P.n[1] + P.n[2] * P.n[2]) / (P.n[k] * P.n[k]);
   const bool flipped = scene.planes[P.plane_id].normal[k] < 0;  // the chart sees the plane clockwise
   // A plane normal to axis k (the ground): x_k is one number, -c / n_k, the same double as the
   // general expression gives (0 x_i and 0 x_j add exact zeros, intervals included).
   const bool level = sgn(P.n[i]) == 0 && sgn(P.n[j]) == 0;
-  const double level_k = level ? CGAL::to_double(-(cc + exact::FT(0) + exact::FT(0)) / nk) : 0.0;
+  const double level_k = level ? exact::round_mpq_to_double(mpq_class(-P.c / P.n[k]).get_mpq_t()) : 0.0;
   mpq_class chart_area = 0, twice;
   std::vector<exact::Polygon2> cells;
   for (std::size_t r = 0; r < regions.size(); ++r) {
@@ -780,12 +779,12 @@ void unite_tile(const Scene& scene, const Pair& P, const std::vector<Image>& ima
           polygon.push_back(x);
           continue;
         }
-        // The exact value is known (its approximation refined to the tightest interval): the
-        // double CGAL::to_double gives for it.
-        const auto& approx = CGAL::approx(*v);
-        x[i] = CGAL::to_double(approx.x());
-        x[j] = CGAL::to_double(approx.y());
-        x[k] = level ? level_k : CGAL::to_double(-(cc + ni * v->x() + nj * v->y()) / nk);
+        // Each coordinate the double nearest to its exact value (CGAL::to_double would give the
+        // midpoint of whatever interval the lazy number holds at that moment).
+        const auto& e = exact_of(*v);
+        x[i] = exact::round_mpq_to_double(e.x().get_mpq_t());
+        x[j] = exact::round_mpq_to_double(e.y().get_mpq_t());
+        x[k] = level ? level_k : exact::round_mpq_to_double(mpq_class(-(P.c + P.n[i] * e.x() + P.n[j] * e.y()) / P.n[k]).get_mpq_t());
         polygon.push_back(x);
       }
       if (flipped == (sgn(twice) > 0)) std::reverse(polygon.begin(), polygon.end());

@@ -261,8 +261,7 @@ class FaceOverlay {
     c.sun_hours = sun_hours;
     c.area = area_3d_mpq(cell_area);
     for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-      const Point3 p = lift(*v, P_, fp_.axis);
-      c.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      c.polygon.push_back(nearest_doubles(lift(*v, P_, fp_.axis)));
     }
     // The chart sees the face clockwise when flipped: restore the face's orientation.
     if (fp_.flipped == (sgn(cell_area) > 0)) std::reverse(c.polygon.begin(), c.polygon.end());

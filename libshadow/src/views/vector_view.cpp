@@ -143,8 +143,7 @@ class PieceWriter {
     piece.back = back_;
     piece.area = area_3d(CGAL::abs(cell_area), P_.area_scale_squared);
     for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-      const Point3 p = lift(*v, P_, fp_.axis);
-      piece.polygon.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      piece.polygon.push_back(nearest_doubles(lift(*v, P_, fp_.axis)));
     }
     // The chart sees the face clockwise when flipped: restore the face's orientation.
     if (fp_.flipped == CGAL::is_positive(cell_area)) std::reverse(piece.polygon.begin(), piece.polygon.end());
