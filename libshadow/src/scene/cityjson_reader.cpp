@@ -12,6 +12,8 @@
 #include "core/polygon_holes.hpp"
 #include "scene/obj_reader.hpp"
 
+#include <shadow/input_file.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -400,7 +402,7 @@ class Reader {
 }  // namespace
 
 Model read_cityjson(const std::filesystem::path& path, const std::string& display_name, const LoadOptions& options) {
-  const std::string text = detail::read_text_file(path, display_name, options.max_file_bytes);
+  const std::string text = read_input_file(path, display_name, options.max_file_bytes);
   try {
     return Reader(display_name, options).read(text);
   } catch (const nlohmann::json::exception& e) {

@@ -11,6 +11,8 @@
 #include "scene/idf_tokenizer.hpp"
 #include "scene/obj_reader.hpp"
 
+#include <shadow/input_file.hpp>
+
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
@@ -1190,7 +1192,7 @@ Model parse_energyplus(const std::string& text, const std::string& display_name,
 
 Model read_energyplus(const std::filesystem::path& file, const std::string& display_name,
                       const LoadOptions& options) {
-  const std::string text = detail::read_text_file(file, display_name, options.max_file_bytes);
+  const std::string text = read_input_file(file, display_name, options.max_file_bytes);
   bool epjson = lower(file.extension().string()) == ".epjson";
   if (!epjson) {
     const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");

@@ -10,6 +10,7 @@
 #include "scene/model_dispatch.hpp"
 #include "scene/obj_reader.hpp"
 
+#include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/sun.hpp>
 
@@ -609,7 +610,7 @@ class SceneReader {
       display = file.lexically_normal().string();
       std::string text;
       try {
-        text = detail::read_text_file(file, display, max_file_bytes_);
+        text = read_input_file(file, display, max_file_bytes_);
       } catch (const InputError& e) {
         // The file could not be opened: say which mesh of the scene wanted it.
         std::string problem = e.problem();
@@ -1097,7 +1098,7 @@ Scene parse_scene(const std::string& json_text, const fs::path& scene_file, cons
 }
 
 Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
-  std::string text = detail::read_text_file(scene_file, scene_file.string(), options.max_file_bytes);
+  std::string text = read_input_file(scene_file, scene_file.string(), options.max_file_bytes);
   const scene_readers::ModelFormat format = scene_readers::model_format(scene_file, text);
   if (format == scene_readers::ModelFormat::none) return parse_scene(text, scene_file, options);
   // A whole model as the scene: its meshes and faces, its sun if it implies one, no lights.
