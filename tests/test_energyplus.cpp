@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -496,10 +497,100 @@ TEST(EnergyPlus, EpJsonErrorsNameTheJsonPath) {
       {"m.epJSON: [\"BuildingSurface:Detailed\"][\"W\"].vertices[1].vertex_z_coordinate", "not a number: \"low\""}));
   EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus("{\"Zone\": ", "m.epJSON", true); },
                                {"m.epJSON", "malformed JSON"}));
-  // A number beyond a double is nlohmann's out_of_range (406), not a parse_error: still an InputError.
+  // A number beyond a double (nlohmann's out_of_range 406, not a parse_error): named at its path.
   EXPECT_TRUE(ThrowsInputError(
       [&] { parse_energyplus(R"({"Zone": {"Z": {"x_origin": 1e400}}})", "m.epJSON", true); },
-      {"m.epJSON", "malformed JSON"}));
+      {"m.epJSON: [\"Zone\"][\"Z\"].x_origin: number 1e400 is not finite"}));
+}
+
+/// The message of the InputError `action` throws ("" if none).
+std::string message_of(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(EnergyPlus, EpJsonObjectNamedTwiceIsAnErrorNotALostObject) {
+  // JSON keeps one value per key: the first "Fence" would vanish (a neighbour's shading gone,
+  // exit 0). The IDF reader refuses the same model; so does the epJSON one, at the class's path.
+  const std::string shading = R"({"vertices": [{"vertex_x_coordinate": 0, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0},
+      {"vertex_x_coordinate": 1, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0},
+      {"vertex_x_coordinate": 1, "vertex_y_coordinate": 0, "vertex_z_coordinate": 1}]})";
+  const std::string twice = "{\"Shading:Site:Detailed\": {\"Fence\": " + shading + ",\n \"Fence\": " + shading + "}}";
+  const std::string message = message_of([&] { parse_energyplus(twice, "m.epJSON", true); });
+  EXPECT_NE(message.find("m.epJSON: [\"Shading:Site:Detailed\"]: duplicate key \"Fence\""), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+  // The IDF twin: the same rule (a second surface of the same name), whatever the case.
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        idf(std::string(kHeader) + "Shading:Site:Detailed, Fence, , 3, 0,0,0, 1,0,0, 1,0,1;\n" +
+            "Shading:Site:Detailed, Fence, , 3, 0,0,0, 1,0,0, 1,0,1;\n");
+      },
+      {"line 5, Shading:Site:Detailed \"Fence\"", "a second surface named \"Fence\""}));
+  // Across classes and letter case, as in IDF: surface names are unique among all surfaces.
+  const std::string across = "{\"Shading:Site:Detailed\": {\"Fence\": " + shading +
+                             "}, \"Shading:Building:Detailed\": {\"FENCE\": " + shading + "}}";
+  EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus(across, "m.epJSON", true); },
+                               {"m.epJSON: [\"Shading:Building:Detailed\"][\"FENCE\"]",
+                                "a second surface named \"FENCE\"", "[\"Shading:Site:Detailed\"][\"Fence\"]"}));
+  // A class written twice would lose all the objects of its first block.
+  const std::string two_blocks = "{\"Shading:Site:Detailed\": {\"A\": " + shading +
+                                 "}, \"Shading:Site:Detailed\": {\"B\": " + shading + "}}";
+  EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus(two_blocks, "m.epJSON", true); },
+                               {"m.epJSON: top level: duplicate key \"Shading:Site:Detailed\""}));
+  // Two zones of one name in different case: the IDF reader's rule again.
+  EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus(R"({"Zone": {"Z1": {}, "z1": {}}})", "m.epJSON", true); },
+                               {"m.epJSON: [\"Zone\"][\"z1\"]", "a second Zone named \"z1\""}));
+}
+
+TEST(EnergyPlus, MessagesNamePlaceAndProblemInWords) {
+  // A syntax error: line and column, no JSON library's tag or byte offset.
+  std::string message = message_of([] { parse_energyplus("{\"Zone\": {\"Z\": {}},\n  \"Building\" 3}", "m.epJSON", true); });
+  EXPECT_NE(message.find("m.epJSON: line 2, column 14: malformed JSON: "), std::string::npos) << message;
+  EXPECT_EQ(message.find("json.exception"), std::string::npos) << message;
+  EXPECT_EQ(message.find("byte"), std::string::npos) << message;
+  // Bytes that are not UTF-8 are shown as \xHH, never echoed raw.
+  message = message_of([] { parse_energyplus("{\"Zone\": {\"Z\xff\xfe\": {}}}", "m.epJSON", true); });
+  EXPECT_NE(message.find("m.epJSON: line 1, column 13: malformed JSON: "), std::string::npos) << message;
+  EXPECT_NE(message.find("\\xff"), std::string::npos) << message;
+  EXPECT_TRUE(std::all_of(message.begin(), message.end(), [](char c) { return static_cast<unsigned char>(c) < 0x80; })) << message;
+  message = message_of([] {
+    idf(std::string(kHeader) +
+        "BuildingSurface:Detailed, W, Wall, C, Z\xe9, , Outdoors, , SunExposed, WindExposed, , 3, 0,0,1, 0,0,0, 1,0,0;\n");
+  });
+  EXPECT_NE(message.find("no Zone named \"Z\\xe9\""), std::string::npos) << message;
+  // A zone name given as a number is a mistake in epJSON (names are strings), not a missing name.
+  const std::string json = R"({"Zone": {"17": {}},
+    "BuildingSurface:Detailed": {"W": {"surface_type": "Wall", "zone_name": 17,
+      "outside_boundary_condition": "Outdoors", "vertices": [
+        {"vertex_x_coordinate": 0, "vertex_y_coordinate": 0, "vertex_z_coordinate": 1},
+        {"vertex_x_coordinate": 0, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0},
+        {"vertex_x_coordinate": 1, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0}]}}})";
+  EXPECT_TRUE(ThrowsInputError([&] { parse_energyplus(json, "m.epJSON", true); },
+                               {"m.epJSON: [\"BuildingSurface:Detailed\"][\"W\"].zone_name",
+                                "expected a name (a JSON string), got number 17"}));
+  // In an IDF every field is text: a zone may be called 17.
+  EXPECT_EQ(idf("Version, 24.1;\nZone, 17;\nBuildingSurface:Detailed, W, Wall, C, 17, , Outdoors, , SunExposed, "
+                "WindExposed, , 3, 0,0,1, 0,0,0, 1,0,0;\n")
+                .faces.size(),
+            1u);
+  // A version that is no version.
+  EXPECT_TRUE(ThrowsInputError([] { idf("Version, abc;\nZone, Z1;\n"); },
+                               {"m.idf: line 1, Version field \"Version Identifier\"",
+                                "expected an EnergyPlus version like 24.1 or 9.6, not \"abc\""}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] { parse_energyplus(R"({"Version": {"Version 1": {"version_identifier": "24.x"}}})", "m.epJSON", true); },
+      {"m.epJSON: [\"Version\"][\"Version 1\"].version_identifier", "expected an EnergyPlus version"}));
+  EXPECT_TRUE(ThrowsInputError(
+      [] { parse_energyplus(R"({"Version": {"Version 1": {"version_identifier": 24.1}}})", "m.epJSON", true); },
+      {"m.epJSON: [\"Version\"][\"Version 1\"].version_identifier", "got number 24.1"}));
+  // Versions as EnergyPlus writes them are read.
+  for (const char* version : {"9.4", "24.1.0", "23.2"})
+    EXPECT_NO_THROW(idf(std::string("Version, ") + version + ";\nZone, Z1;\nShading:Site:Detailed, S, , 3, 0,0,0, 1,0,0, 1,0,1;\n"))
+        << version;
 }
 
 TEST(EnergyPlus, ReadsOlderIdfVersionsWithoutSpaceName) {

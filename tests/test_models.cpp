@@ -325,6 +325,59 @@ TEST(CityJson, ErrorsNameTheJsonPath) {
             std::string::npos);
 }
 
+TEST(CityJson, MessagesNamePlaceAndProblemInWords) {
+  TempDir dir("messages");
+  const fs::path file = dir.path() / "m.city.json";
+  auto message = [&](const std::string& text) {
+    std::ofstream(file, std::ios::binary) << text;
+    return error_of([&] { shadow::load_scene(file); });
+  };
+  // A syntax error: line and column, the problem in words, none of the JSON library's tags.
+  std::string m = message("{\"type\": \"CityJSON\", \"version\": \"2.0\",\n \"vertices\": [[1, 2 3]]}");
+  EXPECT_NE(m.find("m.city.json: line 2, column 21: malformed JSON: "), std::string::npos) << m;
+  EXPECT_EQ(m.find("json.exception"), std::string::npos) << m;
+  // A number beyond a double: its JSON path.
+  Json doc = boxes_cityjson();
+  std::string text = doc.dump();
+  const std::string first_vertex = "\"vertices\":[[123,456,0]";
+  ASSERT_NE(text.find(first_vertex), std::string::npos) << text.substr(0, 200);
+  text.replace(text.find(first_vertex), first_vertex.size(), "\"vertices\":[[123,456,1e999]");
+  m = message(text);
+  EXPECT_NE(m.find("m.city.json: vertices[0][2]: number 1e999 is not finite"), std::string::npos) << m;
+  // Bytes that are not UTF-8: shown as \xHH, never raw.
+  m = message("{\"type\": \"CityJSON\", \"version\": \"2.0\xc3\x28\"}");
+  EXPECT_NE(m.find("m.city.json: line 1, column 38: malformed JSON: "), std::string::npos) << m;
+  EXPECT_NE(m.find("\\xc3"), std::string::npos) << m;
+  EXPECT_TRUE(std::all_of(m.begin(), m.end(), [](char c) { return static_cast<unsigned char>(c) < 0x80; })) << m;
+  // A city object written twice: JSON would keep one, a building would vanish.
+  text = doc.dump();
+  ASSERT_NE(text.find("\"B\":{"), std::string::npos);
+  text.replace(text.find("\"B\":{"), 5, "\"A\":{");
+  m = message(text);
+  EXPECT_NE(m.find("m.city.json: CityObjects: duplicate key \"A\""), std::string::npos) << m;
+  // A Solid's boundaries written as a MultiSurface's (one array too few): the nesting is named,
+  // not the semantic values that no longer line up with it.
+  doc = boxes_cityjson();
+  doc["CityObjects"]["A"]["geometry"][0]["boundaries"] = doc["CityObjects"]["A"]["geometry"][0]["boundaries"][0];
+  m = message(doc.dump());
+  EXPECT_NE(m.find("m.city.json: CityObjects[\"A\"].geometry[0].boundaries[0][0][0]: boundaries nested at the wrong "
+                   "depth: a Solid's vertex indices are 4 arrays deep (shells, surfaces, rings, vertex indices), but "
+                   "here number 0 is 3 deep"),
+            std::string::npos)
+      << m;
+  EXPECT_EQ(m.find("semantic"), std::string::npos) << m;
+  // And one array too many.
+  doc = boxes_cityjson();
+  doc["CityObjects"]["B"]["geometry"][0]["type"] = "MultiSurface";
+  doc["CityObjects"]["B"]["geometry"][0]["semantics"]["values"] = doc["CityObjects"]["B"]["geometry"][0]["semantics"]["values"][0];
+  m = message(doc.dump());
+  EXPECT_NE(m.find("CityObjects[\"B\"].geometry[0].boundaries[0][0][0]: boundaries nested at the wrong depth: a "
+                   "MultiSurface's vertex indices are 3 arrays deep (surfaces, rings, vertex indices), but here an "
+                   "array is 3 deep"),
+            std::string::npos)
+      << m;
+}
+
 // ---- placement -----------------------------------------------------------------------------------
 
 std::string unit_cube_polygons() {

@@ -1279,4 +1279,30 @@ TEST(ErrorText, ControlBytesAreEscapedAndLongTokensTruncated) {
   EXPECT_EQ(w.to_string(), "a\\x09b.obj: line\\x0a2: bell\\x07");
 }
 
+TEST(ErrorText, BytesThatAreNotUtf8AreEscapedAndUtf8IsKept) {
+  // A terminal (or Python's str) must not get stray bytes: they are shown as \xHH, like control
+  // bytes; well-formed UTF-8 (a name in Greek, an emoji) is kept as it is.
+  EXPECT_EQ(shadow::escape_control("caf\xc3\xa9 \xce\xb1 \xf0\x9f\x8c\x9e"), "caf\xc3\xa9 \xce\xb1 \xf0\x9f\x8c\x9e");
+  EXPECT_EQ(shadow::escape_control("a\xff" "b"), "a\\xff" "b");           // never in UTF-8
+  EXPECT_EQ(shadow::escape_control("\xc3" "("), "\\xc3(");                // a cut sequence
+  EXPECT_EQ(shadow::escape_control("\xc0\xaf"), "\\xc0\\xaf");            // an overlong '/'
+  EXPECT_EQ(shadow::escape_control("\xed\xa0\x80"), "\\xed\\xa0\\x80");   // a surrogate
+  EXPECT_EQ(shadow::escape_control("\xe2\x82"), "\\xe2\\x82");            // cut at the end
+  EXPECT_EQ(shadow::escape_control("\x80x"), "\\x80x");                   // a lone continuation byte
+  // In a scene file: the JSON reader names the place, and the line holds no raw byte.
+  const std::string scene = minimal_scene().substr(0, minimal_scene().size() - 1) + ", \"materials\": {\"m\xe9\": {}}}";
+  const std::string what = [&] {
+    try {
+      parse(scene);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  EXPECT_NE(what.find("inline.json: line 1, column "), std::string::npos) << what;
+  EXPECT_NE(what.find("malformed JSON"), std::string::npos) << what;
+  EXPECT_NE(what.find("\\xe9"), std::string::npos) << what;
+  EXPECT_TRUE(std::all_of(what.begin(), what.end(), [](char c) { return static_cast<unsigned char>(c) < 0x80; })) << what;
+}
+
 }  // namespace issue11

@@ -392,6 +392,33 @@ TEST(SunPeriod, OneInstantAtTheStartOfEachStep) {
   EXPECT_EQ(two[1].time, q.times[1]);
 }
 
+TEST(SunPeriod, PressureZeroIsTheAirlessGeometricPosition) {
+  // NREL's SPA takes pressures from 0 to 5000 millibars; 0 is the usual way to ask for the sun
+  // without refraction. A sun block may say so, and its suns are then the geometric ones.
+  shadow::SunPeriod p = june_day();
+  p.site.pressure = 0.0;
+  EXPECT_NO_THROW(shadow::check_sun_period(p, "scene.json"));
+  const std::vector<shadow::SunInstant> day = shadow::expand_sun_period(p);
+  ASSERT_EQ(day.size(), 24u);
+  std::size_t above = 0;
+  for (const shadow::SunInstant& instant : day) {
+    const std::int64_t days = instant.time / 86400;  // solar_position's Julian day (times after 1970)
+    const double jd = (static_cast<double>(days) + 2440587.5) + static_cast<double>(instant.time - days * 86400) / 86400.0;
+    const shadow::detail::SpaSteps steps = shadow::detail::spa(p.site, jd, p.delta_t);
+    EXPECT_EQ(steps.delta_e, 0.0);  // no refraction at all, above the horizon too
+    EXPECT_EQ(instant.position.zenith, 90.0 - steps.e0);
+    if (steps.e0 > 1) {
+      ++above;
+      // The same sun with air is lifted by refraction.
+      EXPECT_GT(shadow::solar_position(golden_site(), instant.time, 0.0, p.delta_t).elevation,
+                instant.position.elevation);
+    }
+  }
+  EXPECT_GE(above, 12u);  // Golden at midsummer: the test saw daytime suns
+  p.site.pressure = 5000.0;
+  EXPECT_NO_THROW(shadow::check_sun_period(p, "scene.json"));
+}
+
 void expect_error(const shadow::SunPeriod& p, const std::string& place, const std::string& words) {
   try {
     shadow::check_sun_period(p, "scene.json");
@@ -445,7 +472,9 @@ TEST(SunPeriod, ErrorsNameThePlace) {
   expect_error(p, "sun", "missing");
   p = june_day();
   p.site.pressure = -1;
-  expect_error(p, "sun.pressure", "millibars");
+  expect_error(p, "sun.pressure", "[0, 5000] millibars");
+  p.site.pressure = 5000.5;
+  expect_error(p, "sun.pressure", "[0, 5000] millibars");
 }
 
 TEST(SunPeriod, AddSunLightsAppendsTheSunsAboveTheHorizon) {

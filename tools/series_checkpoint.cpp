@@ -3,6 +3,7 @@
 #include "series_checkpoint.hpp"
 
 #include <shadow/error.hpp>
+#include <shadow/input_file.hpp>
 #include <shadow/output.hpp>
 #include <shadow/version.hpp>
 
@@ -355,16 +356,16 @@ Checkpoint Checkpoint::create(const fs::path& path, std::uint64_t digest, std::s
 
 Checkpoint::Contents Checkpoint::read(const fs::path& path, std::uint64_t digest, std::size_t rows,
                                       std::size_t instants) {
-  std::string bytes;
-  {
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (file == nullptr)
-      throw shadow::InputError({path.string(), ""}, std::string("cannot read the checkpoint: ") + std::strerror(errno));
-    char buffer[1 << 16];
-    std::size_t n;
-    while ((n = std::fread(buffer, 1, sizeof buffer, file)) > 0) bytes.append(buffer, n);
-    std::fclose(file);
-  }
+  // The rules of scene files: a regular file (a FIFO would block the read forever, a link to
+  // /dev/zero fill the memory), and no longer than a checkpoint of this run can be: its header
+  // and at most one record per instant, each with every row's columns.
+  constexpr std::uintmax_t kHeaderBytes = 4096, kRecordBytes = 256, kRowBytes = 3 * sizeof(double) + 1;
+  const std::uintmax_t per_instant = kRecordBytes + kRowBytes * static_cast<std::uintmax_t>(rows);
+  const std::uintmax_t limit = kHeaderBytes + per_instant * static_cast<std::uintmax_t>(instants);
+  const std::string bytes = shadow::read_input_file(
+      path, path.string(), limit,
+      "the most a checkpoint of this run can hold: " + std::to_string(rows) + " receiving faces x " +
+          std::to_string(instants) + " instants");
   const std::string place = "";
   auto refuse = [&](const std::string& why) {
     throw shadow::InputError({path.string(), place}, why + "; remove it (or run without --resume) to start afresh");

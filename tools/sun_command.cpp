@@ -70,8 +70,10 @@ void add_sun_options(CLI::App& sun, SunArgs& args) {
       ->required();
   sun.add_option("--elevation", args.elevation, "Metres above sea level (default 0)")
       ->check(shadow_cli::finite_in(-1000.0, 100000.0));
-  sun.add_option("--pressure", args.pressure, "Mean annual pressure in millibars, for refraction (default 1013.25)")
-      ->check(shadow_cli::positive_up_to(5000.0));
+  sun.add_option("--pressure", args.pressure,
+                 "Mean annual pressure in millibars, for refraction (default 1013.25; 0: no refraction, the "
+                 "geometric position)")
+      ->check(shadow_cli::finite_in(0.0, 5000.0));
   sun.add_option("--temperature", args.temperature,
                  "Mean annual temperature in degrees Celsius, for refraction (default 12)")
       ->check(shadow_cli::finite_in(-273.0, 1000.0));

@@ -164,3 +164,30 @@ def test_replace_sun_lights_returns_a_new_scene(source_dir):
     assert len(replaced.lights) == len(up) < len(scene.lights)  # shorter days
     assert replaced.sun.start == "2026-12-21"
     assert all(replaced.lights[i.light_id].name == libshadow.sun_light_name(i.time) for i in up)
+
+
+def test_pressure_zero_is_the_airless_position(cli):
+    """NREL's SPA takes 0 to 5000 millibars; 0 asks for the geometric sun, without refraction:
+    a SolarSite, a sun period (checked and expanded) and `shadow sun --pressure 0` agree."""
+    airless = libshadow.SolarSite(39.742476, -105.1786, 1830.14, pressure=0.0, temperature=11.0)
+    with_air = libshadow.SolarSite(**SPA_SITE)
+    time = "2003-10-17T12:30:30-07:00"
+    sun = libshadow.solar_position(airless, time, delta_t=67.0)
+    lifted = libshadow.solar_position(with_air, time, delta_t=67.0)
+    assert 0.01 < lifted.elevation - sun.elevation < 0.02  # 820 mbar lift it by about 0.0163 degrees
+    assert sun.azimuth == lifted.azimuth
+    out = json.loads(subprocess.run([cli, "sun", "--latitude", "39.742476", "--longitude", "-105.1786",
+                                     "--elevation", "1830.14", "--pressure", "0", "--temperature", "11",
+                                     "--delta-t", "67", "--time", time], check=True, capture_output=True,
+                                    text=True).stdout)
+    assert out["elevation"] == sun.elevation and out["azimuth"] == sun.azimuth
+    period = libshadow.SunPeriod(airless, utc_offset_hours=-7.0, start="2003-10-17", end="2003-10-17",
+                                 step_minutes=60)
+    libshadow.check_sun_period(period, "study.py")
+    noon = [i for i in libshadow.expand_sun_period(period)
+            if i.time == libshadow.parse_iso8601("2003-10-17T12:00:00-07:00")][0]
+    direct = libshadow.solar_position(airless, "2003-10-17T12:00:00-07:00")
+    assert noon.position.elevation == direct.elevation
+    square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    scene = libshadow.scene_from_data({"g": [square]}, sun=period)
+    assert scene.sun.site.pressure == 0.0 and len(scene.lights) > 0

@@ -43,6 +43,22 @@ assert abs(sum(c * c for c in j["to_light"]) - 1) < 1e-15, j
 PY
 then pass "sun_paper_example"; else fail "sun_paper_example" "$line"; fi
 
+# --pressure 0 (NREL's SPA takes 0 to 5000 mbar): the airless, geometric position. Refraction
+# (820 mbar) lifts the sun; a vanishing pressure lifts it by almost nothing, and 0 by nothing.
+spa_args=(--latitude 39.742476 --longitude -105.1786 --elevation 1830.14 --temperature 11 --delta-t 67
+          --time 2003-10-17T12:30:30-07:00)
+airless=$("$SHADOW" sun "${spa_args[@]}" --pressure 0 2>&1)
+thin=$("$SHADOW" sun "${spa_args[@]}" --pressure 1e-9 2>&1)
+if python3 - "$airless" "$thin" "$line" <<'PY'
+import json, sys
+airless, thin, air = (json.loads(x) for x in sys.argv[1:4])
+assert airless["elevation"] + airless["zenith"] == 90 or abs(airless["elevation"] + airless["zenith"] - 90) < 1e-12
+assert air["elevation"] - airless["elevation"] > 0.01, (air, airless)  # about 0.0163 degrees at 820 mbar
+assert 0 <= thin["elevation"] - airless["elevation"] < 1e-9, (thin, airless)
+assert airless["azimuth"] == air["azimuth"], (air, airless)  # refraction moves the elevation only
+PY
+then pass "sun_pressure_zero_is_geometric"; else fail "sun_pressure_zero_is_geometric" "$airless / $thin"; fi
+
 # --north-axis 90: the model's +y is east, so to_light is the true one turned 90 degrees
 # counter-clockwise: (x, y) -> (-y, x).
 a=$("$SHADOW" sun --latitude 48.85 --longitude 2.35 --time 2026-06-21T08:00:00Z)
@@ -138,6 +154,7 @@ expect_usage_error sun_latitude_nan "--latitude" sun --latitude nan --longitude 
 expect_usage_error sun_longitude "--longitude" sun --latitude 0 --longitude 180.5 --time 2026-06-21T12:00:00Z
 expect_usage_error sun_missing_time "--time" sun --latitude 0 --longitude 0
 expect_usage_error sun_pressure "--pressure" sun --latitude 0 --longitude 0 --time 2026-06-21T12:00:00Z --pressure -3
+expect_usage_error sun_pressure_high "--pressure" sun --latitude 0 --longitude 0 --time 2026-06-21T12:00:00Z --pressure 5001
 
 if "$SHADOW" --help | grep -q "sun" && "$SHADOW" sun --help | grep -q -- "--north-axis"; then
   pass "sun_in_help"

@@ -83,4 +83,30 @@ status=0
 [[ $status -eq 2 && $(wc -l <"$WORK/junk.err") -eq 1 ]] && grep -q "not a shadow series checkpoint" "$WORK/junk.err" &&
   pass "junk checkpoint refused" || fail "junk checkpoint" "exit $status: $(cat "$WORK/junk.err")"
 
+# A checkpoint that is no regular file gets the rules of scene files: a FIFO would block the read
+# forever and a link to /dev/zero would fill the memory; each is one line and exit 2, at once
+# (a time limit catches a read that blocks), and OUTDIR keeps no result.
+expect_refused_checkpoint() {
+  local name=$1 words=$2
+  local status=0
+  timeout 20 "$SHADOW" series "$SCENE" -o "$WORK/$name" "${ARGS[@]}" --resume 2>"$WORK/$name.err" || status=$?
+  if [[ $status -eq 2 && $(wc -l <"$WORK/$name.err") -eq 1 ]] &&
+     grep -q "^shadow: error: .*$name/series.checkpoint: .*$words" "$WORK/$name.err" && [[ ! -e "$WORK/$name/report.json" ]]; then
+    pass "checkpoint refused: $name"
+  else
+    fail "checkpoint refused: $name" "exit $status: $(head -c 300 "$WORK/$name.err")"
+  fi
+}
+mkdir -p "$WORK/fifo" && mkfifo "$WORK/fifo/series.checkpoint"
+expect_refused_checkpoint fifo "not a regular file"
+mkdir -p "$WORK/zero" && ln -s /dev/zero "$WORK/zero/series.checkpoint"
+expect_refused_checkpoint zero "not a regular file"
+mkdir -p "$WORK/dir/series.checkpoint"
+expect_refused_checkpoint dir "Is a directory"
+# A regular file longer than any checkpoint of this run can be (the example's whole checkpoint
+# holds a few kilobytes) is refused before it is read.
+mkdir -p "$WORK/big" && cp "$WORK/junk/series.checkpoint" "$WORK/big/series.checkpoint" &&
+  truncate -s 64M "$WORK/big/series.checkpoint"
+expect_refused_checkpoint big "larger than the limit of [0-9]* bytes (the most a checkpoint of this run can hold"
+
 cli_test_end

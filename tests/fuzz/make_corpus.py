@@ -225,3 +225,18 @@ write("fuzz_energyplus", "window_beyond_range.idf",
 # Found by fuzz_energyplus: a version number too large for an int overflowed (UB).
 write("fuzz_energyplus", "version_2400000001.idf",
       "Version, 2400000001;\nZone, Z;\nShading:Site:Detailed, S, , 3, 0,0,0, 1,0,0, 0,1,0;\n")
+# Issue 30: an object name written twice in one class (JSON keeps one: the first object was
+# lost without a word), a class written twice, a name given as a number, a number beyond a
+# double, bytes that are not UTF-8, a version that is no version number.
+SHADE = {"vertices": [{"vertex_x_coordinate": x, "vertex_y_coordinate": 0, "vertex_z_coordinate": z}
+                      for x, z in ((0, 0), (1, 0), (1, 1))]}
+write("fuzz_energyplus", "epjson_name_twice.epJSON",
+      '{"Shading:Site:Detailed": {"Fence": %s, "Fence": %s}}' % (json.dumps(SHADE), json.dumps(SHADE)))
+write("fuzz_energyplus", "epjson_class_twice.epJSON",
+      '{"Zone": {"A": {}}, "Zone": {"B": {}}, "Shading:Site:Detailed": {"S": %s}}' % json.dumps(SHADE))
+write("fuzz_energyplus", "epjson_zone_name_a_number.epJSON",
+      json.dumps({"Zone": {"17": {}}, "BuildingSurface:Detailed": {"W": dict(
+          SHADE, surface_type="Wall", zone_name=17, outside_boundary_condition="Outdoors")}}))
+write("fuzz_energyplus", "epjson_overflow.epJSON", '{"Zone": {"Z": {"x_origin": 1e999}}}')
+write("fuzz_energyplus", "epjson_not_utf8.epJSON", b'{"Zone": {"Z\xff\xfe": {}}}')
+write("fuzz_energyplus", "version_abc.idf", "Version, abc;\nZone, Z;\nShading:Site:Detailed, S, , 3, 0,0,0, 1,0,0, 0,1,0;\n")

@@ -8,9 +8,9 @@
 
 namespace shadow {
 
-/// `text` with control bytes (below 0x20, and 0x7F) written as `\xHH`: a NUL would cut a C
-/// string and a newline would break the one-line rule of error messages. Every InputError,
-/// OutputError and Warning text goes through it; the CLI uses it for its own messages.
+/// `text` with control bytes (below 0x20, 0x7F) and bytes that are not well-formed UTF-8 as `\xHH`:
+/// a NUL would cut a C string, a newline break the one-line rule, a stray byte reach a terminal
+/// raw. Every InputError, OutputError and Warning text goes through it; so do the CLI's own.
 std::string escape_control(const std::string& text);
 
 /// Where a piece of input came from: a file and a place inside it.
@@ -23,8 +23,8 @@ struct SourceLocation {
 };
 
 /// Bad user input. The message is one line: `FILE: PLACE: PROBLEM`. Control bytes in any of the
-/// three parts (a NUL from a binary file, a newline in a name) are shown as `\xHH`, in what()
-/// and in problem(), so the message is never cut short and stays on one line.
+/// three parts (a NUL from a binary file, a newline in a name, a byte not UTF-8) are shown as `\xHH`,
+/// in what() and in problem(), so the message is never cut short and stays on one line.
 ///
 /// Library code throws this (never aborts) for anything a user can get wrong:
 /// malformed JSON, missing mesh files, NaN coordinates, non-planar faces, ...

@@ -7,6 +7,7 @@
 #include <shadow/blinn.hpp>
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
+#include <shadow/input_file.hpp>
 #include <shadow/lighting.hpp>
 #include <shadow/output.hpp>
 #include <shadow/scene.hpp>

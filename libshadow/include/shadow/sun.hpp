@@ -28,7 +28,7 @@ struct SolarSite {
   double latitude = 0.0;      ///< degrees, north positive, in [-90, 90]
   double longitude = 0.0;     ///< degrees, east positive, in [-180, 180]
   double elevation = 0.0;     ///< metres above sea level
-  double pressure = 1013.25;  ///< mean annual local pressure in millibars, for refraction
+  double pressure = 1013.25;  ///< mean annual local pressure in millibars, for refraction; 0: none (geometric position)
   double temperature = 12.0;  ///< mean annual local temperature in degrees Celsius, for refraction
 };
 
@@ -145,7 +145,7 @@ std::optional<int> parse_utc_offset(std::string_view time_zone);
 inline constexpr std::size_t max_sun_instants = 1'000'000;
 
 /// Checks a sun period: latitude in [-90, 90], longitude in [-180, 180], elevation in
-/// [-1000, 100000] metres, pressure in (0, 5000] millibars, temperature in (-273.15, 1000] C, utc_offset in [-14, 14] and a whole number of minutes,
+/// [-1000, 100000] metres, pressure in [0, 5000] millibars (0: no refraction), temperature in (-273.15, 1000] C, utc_offset in [-14, 14] and a whole number of minutes,
 /// valid `start` <= `end` dates and a step dividing 1440 (or strictly increasing `times`, not
 /// both), at most max_sun_instants instants, finite north_axis and delta_t, min_elevation in
 /// [-90, 90].

@@ -10,7 +10,10 @@
 #include "scene/planarity.hpp"
 
 #include "core/polygon_holes.hpp"
+#include "scene/json_document.hpp"
 #include "scene/obj_reader.hpp"
+
+#include <shadow/input_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -27,32 +30,9 @@ namespace {
 
 using Json = nlohmann::ordered_json;  // keeps the file's order of city objects
 
-std::string json_quote(const std::string& s) {
-  return Json(s).dump(-1, ' ', false, Json::error_handler_t::replace);
-}
-
-std::string at(const std::string& path, std::size_t i) { return path + "[" + std::to_string(i) + "]"; }
-
-std::string type_of(const Json& v) {
-  if (v.is_object()) return "an object";
-  if (v.is_array()) return "an array";
-  if (v.is_string()) return "string " + json_quote(v.get<std::string>());
-  return std::string(v.type_name());
-}
-
-/// Line and column of byte `offset`, for JSON syntax errors.
-std::string line_column(const std::string& text, std::size_t offset) {
-  offset = std::min(offset, text.size());
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < offset; ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) {
-      ++column;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+/// City object ids always in brackets (`CityObjects["b1"]`), as Face::source spells them.
+std::string cityjson_member(const std::string& path, std::size_t depth, const std::string& key) {
+  return depth == 1 && path == "CityObjects" ? path + "[" + json_string(key) + "]" : member(path, key);
 }
 
 /// A level of detail as a number ("2.2" -> 2.2), for comparing; NaN if it is not one.
@@ -72,16 +52,10 @@ class Reader {
   Reader(std::string file, const LoadOptions& options) : file_(std::move(file)), options_(options) {}
 
   Model read(const std::string& text) {
-    Json doc;
-    try {
-      doc = Json::parse(text);
-    } catch (const Json::parse_error& e) {
-      std::string reason = e.what();
-      const std::size_t colon = reason.rfind(": ");
-      if (colon != std::string::npos) reason = reason.substr(colon + 2);
-      throw InputError({file_, line_column(text, e.byte == 0 ? 0 : e.byte - 1)}, "malformed JSON: " + reason);
-    }
-    if (!doc.is_object()) fail("", "a CityJSON file is a JSON object, got " + type_of(doc));
+    // Syntax errors at their line and column, numbers beyond a double and keys written twice
+    // (JSON would keep one of them: a city object lost) at their path.
+    const Json doc = parse_json_document<Json>(text, file_, cityjson_member);
+    if (!doc.is_object()) fail("", "a CityJSON file is a JSON object, got " + describe(doc));
     const Json* type = find(doc, "type");
     if (type == nullptr || !type->is_string() || *type != "CityJSON")
       fail("type", "expected \"CityJSON\" (this is not a CityJSON file)");
@@ -90,9 +64,9 @@ class Reader {
       fail("version", "missing or not a string (\"1.1\" or \"2.0\")");
     const std::string v = version->get<std::string>();
     if (v != "1.0" && v != "1.1" && v != "2.0" && v.rfind("1.1.", 0) != 0 && v.rfind("2.0.", 0) != 0)
-      fail("version", "CityJSON version " + json_quote(v) + " is not read (1.1 and 2.0 are; 1.0 too)");
+      fail("version", "CityJSON version " + json_string(v) + " is not read (1.1 and 2.0 are; 1.0 too)");
     if (!options_.cityjson_lod.empty() && std::isnan(lod_value(Json(options_.cityjson_lod))))
-      fail("", "the level of detail to read, " + json_quote(options_.cityjson_lod) +
+      fail("", "the level of detail to read, " + json_string(options_.cityjson_lod) +
                    ", is not one (a number like \"2\" or \"2.2\")");
     read_transform(doc);
     read_vertices(doc);
@@ -133,7 +107,7 @@ class Reader {
   }
 
   double number(const Json& v, const std::string& place) const {
-    if (!v.is_number()) fail(place, "expected a number, got " + type_of(v));
+    if (!v.is_number()) fail(place, "expected a number, got " + describe(v));
     const double x = v.get<double>();
     if (!std::isfinite(x)) fail(place, "number is not finite");
     return x;
@@ -142,16 +116,16 @@ class Reader {
   void read_transform(const Json& doc) {
     const Json* t = find(doc, "transform");
     if (t == nullptr) return;  // CityJSON 1.0 allowed vertices without one
-    if (!t->is_object()) fail("transform", "expected an object {\"scale\", \"translate\"}, got " + type_of(*t));
+    if (!t->is_object()) fail("transform", "expected an object {\"scale\", \"translate\"}, got " + describe(*t));
     for (const char* key : {"scale", "translate"}) {
       const Json* v = find(*t, key);
       const std::string place = std::string("transform.") + key;
       if (v == nullptr || !v->is_array() || v->size() != 3) fail(place, "expected 3 numbers");
       for (std::size_t i = 0; i < 3; ++i)
-        (std::string(key) == "scale" ? scale_ : translate_)[static_cast<int>(i)] = number((*v)[i], at(place, i));
+        (std::string(key) == "scale" ? scale_ : translate_)[static_cast<int>(i)] = number((*v)[i], element(place, i));
     }
     for (int i = 0; i < 3; ++i) {
-      if (!(scale_[i] != 0)) fail(at("transform.scale", static_cast<std::size_t>(i)), "the scale is zero");
+      if (!(scale_[i] != 0)) fail(element("transform.scale", static_cast<std::size_t>(i)), "the scale is zero");
       // Scale 10^-k and a translation on that grid: coordinate = (integer + T) / 10^k exactly rounded.
       for (int k = 0; k <= 9; ++k) {
         const double power = std::pow(10.0, k);
@@ -173,28 +147,28 @@ class Reader {
     vertices_.reserve(vertices->size());
     for (std::size_t i = 0; i < vertices->size(); ++i) {
       const Json& v = (*vertices)[i];
-      const std::string place = at("vertices", i);
-      if (!v.is_array() || v.size() != 3) fail(place, "expected 3 numbers [x, y, z], got " + type_of(v));
+      const std::string place = element("vertices", i);
+      if (!v.is_array() || v.size() != 3) fail(place, "expected 3 numbers [x, y, z], got " + describe(v));
       glm::dvec3 p;
       for (int c = 0; c < 3; ++c) {
-        const double raw = number(v[static_cast<std::size_t>(c)], at(place, static_cast<std::size_t>(c)));
+        const double raw = number(v[static_cast<std::size_t>(c)], element(place, static_cast<std::size_t>(c)));
         if (decimal_[c] > 0 && raw == std::nearbyint(raw) && std::fabs(raw + translate_units_[c]) < 0x1p53)
           p[c] = (raw + translate_units_[c]) / decimal_[c];
         else
           p[c] = std::fma(raw, scale_[c], translate_[c]);
         if (!std::isfinite(p[c]) || std::fabs(p[c]) > max_coordinate)
-          fail(at(place, static_cast<std::size_t>(c)), "the coordinate after the transform is out of range");
+          fail(element(place, static_cast<std::size_t>(c)), "the coordinate after the transform is out of range");
       }
       vertices_.push_back(p);
     }
   }
 
   void read_object(const std::string& id, const Json& object) {
-    const std::string path = "CityObjects[" + json_quote(id) + "]";
-    if (!object.is_object()) fail(path, "expected a city object, got " + type_of(object));
+    const std::string path = "CityObjects[" + json_string(id) + "]";
+    if (!object.is_object()) fail(path, "expected a city object, got " + describe(object));
     const Json* geometry = find(object, "geometry");
     if (geometry == nullptr) return;  // e.g. a Building whose geometry is in its BuildingParts
-    if (!geometry->is_array()) fail(path + ".geometry", "expected an array, got " + type_of(*geometry));
+    if (!geometry->is_array()) fail(path + ".geometry", "expected an array, got " + describe(*geometry));
     // The geometry to read: the chosen LoD, or the highest.
     std::size_t chosen = geometry->size();
     double best = -std::numeric_limits<double>::infinity();
@@ -203,8 +177,8 @@ class Reader {
     bool any_surface = false;
     for (std::size_t g = 0; g < geometry->size(); ++g) {
       const Json& geom = (*geometry)[g];
-      const std::string gpath = at(path + ".geometry", g);
-      if (!geom.is_object()) fail(gpath, "expected a geometry object, got " + type_of(geom));
+      const std::string gpath = element(path + ".geometry", g);
+      if (!geom.is_object()) fail(gpath, "expected a geometry object, got " + describe(geom));
       const Json* type = find(geom, "type");
       if (type == nullptr || !type->is_string()) fail(gpath + ".type", "missing or not a string");
       const std::string t = type->get<std::string>();
@@ -217,7 +191,7 @@ class Reader {
       any_surface = true;
       const Json* lod = find(geom, "lod");
       const double value = lod == nullptr ? 0.0 : lod_value(*lod);
-      if (lod != nullptr && std::isnan(value)) fail(gpath + ".lod", "expected a level of detail like \"2.2\", got " + type_of(*lod));
+      if (lod != nullptr && std::isnan(value)) fail(gpath + ".lod", "expected a level of detail like \"2.2\", got " + describe(*lod));
       if (want ? value == wanted && chosen == geometry->size() : value > best) {
         best = value;
         chosen = g;
@@ -231,7 +205,7 @@ class Reader {
     mesh.name = id;
     mesh.file = file_;
     mesh.first_face = model_.faces.size();
-    read_geometry(id, (*geometry)[chosen], at(path + ".geometry", chosen));
+    read_geometry(id, (*geometry)[chosen], element(path + ".geometry", chosen));
     mesh.face_count = model_.faces.size() - mesh.first_face;
     if (mesh.face_count == 0) return;
     for (std::size_t f = mesh.first_face; f < model_.faces.size(); ++f) model_.faces[f].mesh = model_.meshes.size();
@@ -241,7 +215,7 @@ class Reader {
   /// The semantic surface type of surface `value` (an index into `surfaces`), or "".
   std::string semantic(const Json* surfaces, const Json& value, const std::string& place) const {
     if (value.is_null() || surfaces == nullptr) return "";
-    if (!value.is_number_unsigned()) fail(place, "expected a semantic surface index or null, got " + type_of(value));
+    if (!value.is_number_unsigned()) fail(place, "expected a semantic surface index or null, got " + describe(value));
     const std::size_t i = value.get<std::size_t>();
     if (i >= surfaces->size())
       fail(place, "semantic surface index " + std::to_string(i) + " out of range (the geometry has " +
@@ -271,37 +245,68 @@ class Reader {
     std::size_t counter = 0;  // surfaces in boundaries order: the `n` of `<id>/<n>`
     // Depth of surfaces: MultiSurface/CompositeSurface 1, Solid 2, MultiSolid/CompositeSolid 3.
     const int depth = type == "Solid" ? 2 : (type == "MultiSolid" || type == "CompositeSolid") ? 3 : 1;
+    check_nesting(*boundaries, type, bpath, depth + 2);
     walk(id, *boundaries, values, surfaces, bpath, vpath, depth, counter);
+  }
+
+  /// Every vertex index of `boundaries` must sit `levels` arrays deep (a Solid's: shells,
+  /// surfaces, rings, indices). Checked before the semantic values are matched with the
+  /// boundaries, so that boundaries of another geometry type's depth are named as such.
+  void check_nesting(const Json& boundaries, const std::string& type, const std::string& bpath, int levels) const {
+    std::vector<std::size_t> trail;  // indices down to the first misplaced value
+    const Json* bad = misplaced(boundaries, 0, levels, trail);
+    if (bad == nullptr) return;
+    static const char* const names[] = {"solids", "shells", "surfaces", "rings", "vertex indices"};
+    std::string nesting, place = bpath;
+    for (int i = 5 - levels; i < 5; ++i) nesting += std::string(nesting.empty() ? "" : ", ") + names[i];
+    for (const std::size_t i : trail) place = element(place, i);
+    fail(place, "boundaries nested at the wrong depth: a " + type + "'s vertex indices are " +
+                    std::to_string(levels) + " arrays deep (" + nesting + "), but here " + describe(*bad) + " is " +
+                    std::to_string(trail.size()) + " deep");
+  }
+
+  /// The first value (in file order) at the wrong depth below `node`, which is `depth` arrays
+  /// deep: an array where a vertex index belongs, or anything else where an array belongs.
+  /// Recurses at most `levels` (<= 5) deep.
+  static const Json* misplaced(const Json& node, int depth, int levels, std::vector<std::size_t>& trail) {
+    if (depth == levels) return node.is_array() ? &node : nullptr;  // an index's value is ring()'s check
+    if (!node.is_array()) return &node;
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      trail.push_back(i);
+      if (const Json* bad = misplaced(node[i], depth + 1, levels, trail)) return bad;
+      trail.pop_back();
+    }
+    return nullptr;
   }
 
   /// Descends `depth` levels of arrays to the surfaces, with their semantic values alongside.
   void walk(const std::string& id, const Json& node, const Json* values, const Json* surfaces, const std::string& bpath,
             const std::string& vpath, int depth, std::size_t& counter) {
-    if (!node.is_array()) fail(bpath, "expected an array, got " + type_of(node));
+    if (!node.is_array()) fail(bpath, "expected an array, got " + describe(node));
     if (values != nullptr && (!values->is_array() || values->size() != node.size()))
       fail(vpath, "the semantic values do not match the boundaries (" + std::to_string(node.size()) + " expected)");
     for (std::size_t i = 0; i < node.size(); ++i) {
       const Json* v = values != nullptr ? &(*values)[i] : nullptr;
       if (depth > 1) {
-        walk(id, node[i], v != nullptr && !v->is_null() ? v : nullptr, surfaces, at(bpath, i), at(vpath, i), depth - 1,
+        walk(id, node[i], v != nullptr && !v->is_null() ? v : nullptr, surfaces, element(bpath, i), element(vpath, i), depth - 1,
              counter);
       } else {
-        const std::string kind = v != nullptr ? semantic(surfaces, *v, at(vpath, i)) : "";
-        read_surface(id, node[i], at(bpath, i), kind, counter++);
+        const std::string kind = v != nullptr ? semantic(surfaces, *v, element(vpath, i)) : "";
+        read_surface(id, node[i], element(bpath, i), kind, counter++);
       }
     }
   }
 
   std::vector<glm::dvec3> ring(const Json& r, const std::string& place) {
-    if (!r.is_array()) fail(place, "expected a ring (an array of vertex indices), got " + type_of(r));
+    if (!r.is_array()) fail(place, "expected a ring (an array of vertex indices), got " + describe(r));
     std::vector<glm::dvec3> out;
     out.reserve(r.size());
     for (std::size_t k = 0; k < r.size(); ++k) {
       const Json& i = r[k];
-      if (!i.is_number_unsigned()) fail(at(place, k), "expected a vertex index, got " + type_of(i));
+      if (!i.is_number_unsigned()) fail(element(place, k), "expected a vertex index, got " + describe(i));
       const std::size_t index = i.get<std::size_t>();
       if (index >= vertices_.size())
-        fail(at(place, k), "vertex index " + std::to_string(index) + " out of range (the file has " +
+        fail(element(place, k), "vertex index " + std::to_string(index) + " out of range (the file has " +
                                std::to_string(vertices_.size()) + " vertices)");
       const glm::dvec3& p = vertices_[index];
       out.push_back(p);
@@ -316,9 +321,9 @@ class Reader {
   void read_surface(const std::string& id, const Json& surface, const std::string& place, const std::string& kind,
                     std::size_t n) {
     if (!surface.is_array() || surface.empty())
-      fail(place, "expected a surface (an array of rings), got " + (surface.is_array() ? std::string("an empty array") : type_of(surface)));
+      fail(place, "expected a surface (an array of rings), got " + (surface.is_array() ? std::string("an empty array") : describe(surface)));
     const std::string name = id + "/" + std::to_string(n);
-    std::vector<glm::dvec3> outer = ring(surface[0], at(place, 0));
+    std::vector<glm::dvec3> outer = ring(surface[0], element(place, 0));
     // Fewer than 3 distinct corners: nothing to shade; real models have a few. Warn and skip.
     std::vector<glm::dvec3> distinct = outer;
     std::sort(distinct.begin(), distinct.end(), [](const glm::dvec3& a, const glm::dvec3& b) {
@@ -330,7 +335,7 @@ class Reader {
       return;
     }
     std::vector<std::vector<glm::dvec3>> holes;
-    for (std::size_t h = 1; h < surface.size(); ++h) holes.push_back(ring(surface[h], at(place, h)));
+    for (std::size_t h = 1; h < surface.size(); ++h) holes.push_back(ring(surface[h], element(place, h)));
     // Validation's own measure (scene/planarity.hpp): a surface kept whole passes validation.
     const detail::PlaneDeviation deviation = detail::plane_deviation(outer, options_.planarity_tolerance);
     const double off = deviation.worst, allowed = deviation.allowed;
@@ -339,7 +344,7 @@ class Reader {
       try {
         for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
       } catch (const core::PolygonHolesError& e) {
-        fail(at(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
+        fail(element(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
              std::string("surface is not planar (") + std::to_string(off) + " m off its plane) and cannot be "
              "split into triangles: " + e.what());
       }
@@ -358,7 +363,7 @@ class Reader {
       try {
         for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
       } catch (const core::PolygonHolesError& e) {
-        fail(at(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
+        fail(element(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
              std::string("an inner ring is off the surface's plane, and the surface cannot be split into "
                          "triangles: ") + e.what());
       }
@@ -370,7 +375,7 @@ class Reader {
       std::string problem = split.error;
       if (split.ring >= 0)  // "hole 0" is the surface's inner ring 1
         problem = "inner ring " + std::to_string(r) + problem.substr(problem.find(' ', 5));
-      fail(at(place, r), problem);
+      fail(element(place, r), problem);
     }
     for (const std::vector<glm::dvec3>& piece : split.pieces) add(piece, place, name, kind);
   }
@@ -400,11 +405,11 @@ class Reader {
 }  // namespace
 
 Model read_cityjson(const std::filesystem::path& path, const std::string& display_name, const LoadOptions& options) {
-  const std::string text = detail::read_text_file(path, display_name, options.max_file_bytes);
+  const std::string text = read_input_file(path, display_name, options.max_file_bytes);
   try {
     return Reader(display_name, options).read(text);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError({display_name, ""}, std::string("unexpected JSON content: ") + e.what());
+    throw InputError({display_name, ""}, "unexpected JSON content: " + json_exception_reason(e.what()));
   }
 }
 

@@ -9,7 +9,10 @@
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
 #include "scene/idf_tokenizer.hpp"
+#include "scene/json_document.hpp"
 #include "scene/obj_reader.hpp"
+
+#include <shadow/input_file.hpp>
 
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
@@ -347,9 +350,29 @@ std::optional<double> Reader::number(const Value& v) const {
   return x;
 }
 
-/// "9.6", "24.1.0" -> major * 100 + minor; anything else (or a major beyond 999) leaves
-/// `fallback`, the current field lists.
-int parse_version(const std::string& text, int fallback) {
+/// True for a version identifier as EnergyPlus writes one: "9.6", "24.1.0" (one to three
+/// whole numbers separated by dots).
+bool is_version_text(std::string_view text) {
+  int parts = 0;
+  for (std::size_t at = 0;;) {
+    const std::size_t start = at;
+    while (at < text.size() && text[at] >= '0' && text[at] <= '9') ++at;
+    if (at == start) return false;
+    ++parts;
+    if (at == text.size()) return parts <= 3;
+    if (text[at] != '.') return false;
+    ++at;
+  }
+}
+
+/// "9.6", "24.1.0" -> major * 100 + minor; a blank field or a major beyond 999 (no EnergyPlus
+/// version) leaves `fallback`, the current field lists. Text that is no version is an error at
+/// `place`: read with the wrong field lists, every surface would be misread.
+int parse_version(const std::string& text, int fallback, const std::string& file, const std::string& place) {
+  if (text.empty()) return fallback;  // left blank: the current field lists
+  if (!is_version_text(text))
+    throw InputError({file, place}, "expected an EnergyPlus version like 24.1 or 9.6, not " +
+                                        json_string(text));
   int major = 0, minor = 0;
   const char* end = text.data() + text.size();
   const auto [after_major, e1] = std::from_chars(text.data(), end, major);
@@ -361,12 +384,31 @@ int parse_version(const std::string& text, int fallback) {
   return major * 100 + minor;
 }
 
+/// epJSON keys whose values are names or choices (strings), not numbers: `17` there is a
+/// mistake, not a zone called "17" (an IDF has no types, and a name may be any text there).
+bool is_text_key(std::string_view key) {
+  static constexpr std::string_view choices[] = {
+      "surface_type", "outside_boundary_condition", "outside_boundary_condition_object", "sun_exposure",
+      "wind_exposure", "starting_vertex_position", "vertex_entry_direction", "coordinate_system",
+      "daylighting_reference_point_coordinate_system", "rectangular_surface_coordinate_system"};
+  const std::string_view suffix = "_name";
+  if (key.size() > suffix.size() && key.substr(key.size() - suffix.size()) == suffix) return true;
+  return std::find(std::begin(choices), std::end(choices), key) != std::end(choices);
+}
+
+/// How epJSON paths spell members: the class and the object name always in brackets
+/// (`["Zone"]["Z1"]`), fields as members (`.x_origin`).
+std::string epjson_member(const std::string& path, std::size_t depth, const std::string& key) {
+  return depth < 2 ? path + "[" + json_string(key) + "]" : member(path, key);
+}
+
 // IDF: objects come out of the tokenizer; the Version object picks the field lists first.
 void Reader::load_idf(const std::string& text) {
   const std::vector<IdfObject> idf = tokenize_idf(text, file_);
   for (const IdfObject& o : idf)
     if (same_text(o.fields[0].text, "Version") && o.fields.size() > 1) {
-      version_ = parse_version(o.fields[1].text, version_);
+      version_ = parse_version(o.fields[1].text, version_, file_,
+                               "line " + std::to_string(o.fields[1].line) + ", Version field \"Version Identifier\"");
     }
   specs_ = class_specs(version_);
   for (const IdfObject& o : idf) {
@@ -422,35 +464,35 @@ void Reader::load_idf(const std::string& text) {
 // epJSON: {"Class": {"object name": {"key": value, ...}}}.
 void Reader::load_epjson(const std::string& text) {
   // ordered_json: objects keep the file's order, as IDF objects do (face order follows it).
-  nlohmann::ordered_json root;
-  try {
-    root = nlohmann::ordered_json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    fail("byte " + std::to_string(e.byte), std::string("malformed JSON: ") + e.what());
-  } catch (const nlohmann::json::exception& e) {
-    // Not a parse_error: a number beyond a double (1e400) is nlohmann's out_of_range 406.
-    fail("", std::string("malformed JSON: ") + e.what());
-  }
-  if (!root.is_object()) fail("", "an epJSON file must hold a JSON object (class -> objects)");
+  // Syntax errors at their line and column, a number beyond a double at its path, and an object
+  // name written twice in one class (JSON would keep only one of the two objects) refused.
+  const nlohmann::ordered_json root = parse_json_document<nlohmann::ordered_json>(text, file_, epjson_member);
+  if (!root.is_object()) fail("", "an epJSON file must hold a JSON object (class -> objects), got " + describe(root));
   for (auto c = root.begin(); c != root.end(); ++c)
     if (same_text(c.key(), "Version") && c.value().is_object())
-      for (auto& [name, fields] : c.value().items())
-        if (fields.is_object() && fields.contains("version_identifier") && fields["version_identifier"].is_string())
-          version_ = parse_version(fields["version_identifier"].get<std::string>(), version_);
+      for (auto& [name, fields] : c.value().items()) {
+        if (!fields.is_object()) continue;
+        const auto identifier = fields.find("version_identifier");
+        if (identifier == fields.end()) continue;
+        const std::string place = "[" + json_string(c.key()) + "][" + json_string(name) + "].version_identifier";
+        if (!identifier->is_string())
+          fail(place, "expected an EnergyPlus version like \"24.1\" (a string), got " + describe(*identifier));
+        version_ = parse_version(identifier->get<std::string>(), version_, file_, place);
+      }
   specs_ = class_specs(version_);
-  auto quoted = [](const std::string& s) { return nlohmann::json(s).dump(); };
-  auto to_value = [&](const nlohmann::ordered_json* j, const std::string& place) {
+  auto to_value = [&](const nlohmann::ordered_json* j, const std::string& place, std::string_view key) {
     Value v;
     v.place = place;
     if (j == nullptr || j->is_null()) return v;
     if (j->is_number()) {
+      if (is_text_key(key)) fail(place, "expected a name (a JSON string), got " + describe(*j));
       v.present = true;
       v.json_number = j->get<double>();
     } else if (j->is_string()) {
       v.text = j->get<std::string>();
       v.present = !v.text.empty();
     } else {
-      fail(place, "expected a number or a string");
+      fail(place, "expected a number or a string, got " + describe(*j));
     }
     return v;
   };
@@ -462,10 +504,10 @@ void Reader::load_epjson(const std::string& text) {
       entry.first += c.value().is_object() ? c.value().size() : 1;
       continue;
     }
-    const std::string class_path = "[" + quoted(c.key()) + "]";
+    const std::string class_path = "[" + json_string(c.key()) + "]";
     if (!c.value().is_object()) fail(class_path, "expected an object of named " + std::string(spec->name) + " objects");
     for (auto o = c.value().begin(); o != c.value().end(); ++o) {
-      const std::string path = class_path + "[" + quoted(o.key()) + "]";
+      const std::string path = class_path + "[" + json_string(o.key()) + "]";
       if (!o.value().is_object()) fail(path, "expected an object of fields");
       const nlohmann::ordered_json& fields = o.value();
       Object obj;
@@ -483,7 +525,7 @@ void Reader::load_epjson(const std::string& text) {
           continue;
         }
         const auto it = fields.find(f.key);
-        obj.fields.push_back(to_value(it == fields.end() ? nullptr : &*it, path + "." + f.key));
+        obj.fields.push_back(to_value(it == fields.end() ? nullptr : &*it, path + "." + f.key, f.key));
       }
       const char* axes[3] = {"x", "y", "z"};
       if (spec->vertices == Vertices::List) {
@@ -498,7 +540,7 @@ void Reader::load_epjson(const std::string& text) {
             for (int a = 0; a < 3; ++a) {
               const std::string key = std::string("vertex_") + axes[a] + "_coordinate";
               const auto f = vertex.find(key);
-              out[a] = to_value(f == vertex.end() ? nullptr : &*f, vpath + "." + key);
+              out[a] = to_value(f == vertex.end() ? nullptr : &*f, vpath + "." + key, key);
             }
             obj.vertices.push_back(std::move(out));
           }
@@ -510,7 +552,7 @@ void Reader::load_epjson(const std::string& text) {
           for (int a = 0; a < 3; ++a) {
             const std::string key = "vertex_" + std::to_string(n) + "_" + axes[a] + "_coordinate";
             const auto f = fields.find(key);
-            out[a] = to_value(f == fields.end() ? nullptr : &*f, path + "." + key);
+            out[a] = to_value(f == fields.end() ? nullptr : &*f, path + "." + key, key);
             any = any || out[a].present;
           }
           if (any) obj.vertices.push_back(std::move(out));
@@ -1184,13 +1226,13 @@ Model parse_energyplus(const std::string& text, const std::string& display_name,
     return reader.read(bom ? text.substr(3) : text, epjson);
   } catch (const nlohmann::json::exception& e) {
     // A JSON type the reader did not expect somewhere: still one line naming the file.
-    throw InputError({display_name, ""}, std::string("unexpected JSON: ") + e.what());
+    throw InputError({display_name, ""}, "unexpected JSON: " + json_exception_reason(e.what()));
   }
 }
 
 Model read_energyplus(const std::filesystem::path& file, const std::string& display_name,
                       const LoadOptions& options) {
-  const std::string text = detail::read_text_file(file, display_name, options.max_file_bytes);
+  const std::string text = read_input_file(file, display_name, options.max_file_bytes);
   bool epjson = lower(file.extension().string()) == ".epjson";
   if (!epjson) {
     const std::size_t first = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 
 #include <glm/vec3.hpp>
@@ -180,10 +181,8 @@ void for_each_statement(const std::string& text, Statement&& statement) {
 
 }  // namespace
 
-namespace detail {
-
-std::string read_text_file(const std::filesystem::path& file, const std::string& display_name,
-                           std::uintmax_t max_bytes) {
+std::string read_input_file(const std::filesystem::path& file, const std::string& display_name,
+                            std::uintmax_t max_bytes, const std::string& limit_name) {
   // Regular files only (symlinks followed): a FIFO would block forever, /dev/zero never ends.
   // The file is opened without blocking and its type taken from the open descriptor, so a FIFO
   // swapped in after a check cannot block the open or the reads.
@@ -209,7 +208,7 @@ std::string read_text_file(const std::filesystem::path& file, const std::string&
   }
   auto too_big = [&] {
     return InputError({display_name, ""}, "file is larger than the limit of " + std::to_string(max_bytes) +
-                                              " bytes (LoadOptions::max_file_bytes)");
+                                              " bytes (" + limit_name + ")");
   };
   const auto size = static_cast<std::uintmax_t>(info.st_size);
   if (size > max_bytes) {
@@ -235,6 +234,8 @@ std::string read_text_file(const std::filesystem::path& file, const std::string&
   if (std::ferror(in.get())) throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
   return text;
 }
+
+namespace detail {
 
 std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj_text,
                                                           const std::string& display_name,
@@ -294,7 +295,7 @@ std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::
                                                          std::vector<std::size_t>* face_lines,
                                                          std::uintmax_t max_bytes,
                                                          std::vector<std::string>* face_groups) {
-  return parse_obj_with_lines(read_text_file(obj_file, display_name, max_bytes), display_name, face_lines,
+  return parse_obj_with_lines(read_input_file(obj_file, display_name, max_bytes), display_name, face_lines,
                               face_groups);
 }
 

@@ -28,9 +28,4 @@ std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::
                                                          std::uintmax_t max_bytes,
                                                          std::vector<std::string>* face_groups = nullptr);
 
-/// The whole file as text; InputError {display_name, ""} "cannot open: <reason>" if unreadable
-/// or not a regular file, "file is larger than ..." beyond `max_bytes`.
-std::string read_text_file(const std::filesystem::path& file, const std::string& display_name,
-                           std::uintmax_t max_bytes);
-
 }  // namespace shadow::detail

@@ -7,9 +7,11 @@
 // files are read (possibly slow), so a typo in a light is reported before a large OBJ is loaded.
 #include "core/lights.hpp"
 #include "core/polygon_holes.hpp"
+#include "scene/json_document.hpp"
 #include "scene/model_dispatch.hpp"
 #include "scene/obj_reader.hpp"
 
+#include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/sun.hpp>
 
@@ -34,42 +36,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
+using scene_readers::describe;
+using scene_readers::element;
+using scene_readers::member;
+using scene_readers::quote;
 
 // ---- small helpers for messages ----------------------------------------------------------------
-
-/// A user string in double quotes, control characters escaped, so errors stay on one line.
-std::string quote(const std::string& s) {
-  constexpr std::size_t kMax = 60;
-  std::string out = Json(s.size() > kMax ? s.substr(0, kMax) + "..." : s)
-                        .dump(-1, ' ', false, Json::error_handler_t::replace);
-  return out;
-}
-
-std::string member(const std::string& path, const std::string& key) {
-  // Keys that are not plain names (spaces, dots, escaped newlines) are quoted in brackets, so
-  // the path stays unambiguous and on one line.
-  const bool plain = !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '$';
-  });
-  if (!plain) return path + "[" + quote(key) + "]";
-  return path.empty() ? key : path + "." + key;
-}
-
-std::string element(const std::string& path, std::size_t index) {
-  return path + "[" + std::to_string(index) + "]";
-}
-
-/// "string \"abc\"", "null", "an object": what was found where something else belongs.
-std::string describe(const Json& value) {
-  switch (value.type()) {
-    case Json::value_t::object: return "an object";
-    case Json::value_t::array: return "an array";
-    case Json::value_t::null: return "null";
-    case Json::value_t::string: return "string " + quote(value.get_ref<const std::string&>());
-    case Json::value_t::boolean: return value.get<bool>() ? "true" : "false";
-    default: return std::string(value.type_name());
-  }
-}
 
 std::string format_number(double x) {
   char buffer[32];
@@ -105,138 +77,6 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
   }
   return match == nullptr ? std::string() : " (did you mean " + quote(*match) + "?)";
 }
-
-/// Line and column (1-based, column in characters) of byte `offset` of `text`.
-std::string line_column(const std::string& text, std::size_t offset) {
-  offset = std::min(offset, text.size());
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < offset; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c == '\n') {
-      ++line;
-      column = 1;
-    } else if ((c & 0xC0) != 0x80) {  // count UTF-8 characters, not continuation bytes
-      ++column;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
-/// nlohmann's message without its "[json.exception...] parse error at line 3, column 7: "
-/// prefix (the place is reported separately).
-std::string clean_reason(const std::string& what) {
-  std::string reason = what;
-  if (reason.rfind("[json.exception.", 0) == 0) {
-    const std::size_t close = reason.find("] ");
-    if (close != std::string::npos) reason.erase(0, close + 2);
-  }
-  if (reason.rfind("parse error", 0) == 0) {
-    const std::size_t colon = reason.find(": ");
-    if (colon != std::string::npos) reason.erase(0, colon + 2);
-  }
-  std::replace(reason.begin(), reason.end(), '\n', ' ');
-  std::replace(reason.begin(), reason.end(), '\r', ' ');
-  return reason;
-}
-
-// ---- JSON document with places -----------------------------------------------------------------
-
-/// Builds the JSON document like nlohmann::json::parse, but knows the JSON path of what it is
-/// reading. That lets it report duplicate keys (nlohmann silently keeps the last one) and
-/// numbers that overflow a double (1e999) at their JSON path, and syntax errors at their line
-/// and column.
-class DocumentBuilder : public nlohmann::json_sax<Json> {
- public:
-  DocumentBuilder(const std::string& text, std::string file) : text_(text), file_(std::move(file)) {}
-
-  Json take() { return std::move(root_); }
-
-  bool null() override { return add(Json(nullptr)); }
-  bool boolean(bool value) override { return add(Json(value)); }
-  bool number_integer(number_integer_t value) override { return add(Json(value)); }
-  bool number_unsigned(number_unsigned_t value) override { return add(Json(value)); }
-  bool number_float(number_float_t value, const string_t&) override { return add(Json(value)); }
-  bool string(string_t& value) override { return add(Json(std::move(value))); }
-  bool binary(binary_t& value) override { return add(Json::binary(std::move(value))); }
-
-  bool start_object(std::size_t) override {
-    frames_.push_back({insert(Json::object()), false, 0, {}});
-    return true;
-  }
-  bool key(string_t& key) override {
-    Frame& frame = frames_.back();
-    if (frame.value->contains(key))
-      throw InputError({file_, path(frames_.size() - 1)}, "duplicate key " + quote(key));
-    frame.key = key;
-    return true;
-  }
-  bool end_object() override {
-    frames_.pop_back();
-    element_done();
-    return true;
-  }
-  bool start_array(std::size_t) override {
-    frames_.push_back({insert(Json::array()), true, 0, {}});
-    return true;
-  }
-  bool end_array() override { return end_object(); }
-
-  bool parse_error(std::size_t position, const std::string& last_token,
-                   const nlohmann::detail::exception& error) override {
-    if (error.id == 406)  // number overflow: name the value, like any other non-finite number
-      throw InputError({file_, path(frames_.size())},
-                       "number " + last_token + " is not finite (it is beyond the range of a double)");
-    // `position` counts the characters read; the offending one is the last of them.
-    throw InputError({file_, line_column(text_, position == 0 ? 0 : position - 1)},
-                     "malformed JSON: " + clean_reason(error.what()));
-  }
-
- private:
-  struct Frame {
-    Json* value;
-    bool is_array;
-    std::size_t index;  // arrays: index of the element being read
-    std::string key;    // objects: key of the member being read
-  };
-
-  /// The JSON path of the value being read inside the first `depth` open containers.
-  std::string path(std::size_t depth) const {
-    std::string p;
-    for (std::size_t i = 0; i < depth; ++i)
-      p = frames_[i].is_array ? element(p, frames_[i].index) : member(p, frames_[i].key);
-    return p;
-  }
-
-  Json* insert(Json value) {
-    if (frames_.empty()) {
-      root_ = std::move(value);
-      return &root_;
-    }
-    Frame& frame = frames_.back();
-    if (frame.is_array) {
-      frame.value->push_back(std::move(value));
-      return &frame.value->back();
-    }
-    Json& slot = (*frame.value)[frame.key];
-    slot = std::move(value);
-    return &slot;
-  }
-
-  bool add(Json value) {
-    insert(std::move(value));
-    element_done();
-    return true;
-  }
-
-  void element_done() {
-    if (!frames_.empty() && frames_.back().is_array) ++frames_.back().index;
-  }
-
-  const std::string& text_;
-  std::string file_;
-  Json root_;
-  std::vector<Frame> frames_;
-};
 
 // ---- the scene reader --------------------------------------------------------------------------
 
@@ -303,10 +143,7 @@ class SceneReader {
       : scene_file_(scene_file), file_(scene_file.string()), max_file_bytes_(options.max_file_bytes), options_(options) {}
 
   Scene read(const std::string& text) {
-    DocumentBuilder builder(text, file_);
-    Json::sax_parse(text, &builder, nlohmann::detail::input_format_t::json, /*strict=*/true,
-                    /*ignore_comments=*/false);
-    const Json document = builder.take();
+    const Json document = scene_readers::parse_json_document<Json>(text, file_);
     if (!document.is_object())
       fail("", "a scene must be a JSON object with \"meshes\" and \"lights\", got " + describe(document));
 
@@ -609,7 +446,7 @@ class SceneReader {
       display = file.lexically_normal().string();
       std::string text;
       try {
-        text = detail::read_text_file(file, display, max_file_bytes_);
+        text = read_input_file(file, display, max_file_bytes_);
       } catch (const InputError& e) {
         // The file could not be opened: say which mesh of the scene wanted it.
         std::string problem = e.problem();
@@ -1090,14 +927,14 @@ Scene parse_scene(const std::string& json_text, const fs::path& scene_file, cons
     scene = SceneReader(scene_file, options).read(json_text);
   } catch (const nlohmann::json::exception& e) {
     // Not expected (values are type-checked before use); still an input error, never a crash.
-    throw InputError({scene_file.string(), ""}, clean_reason(e.what()));
+    throw InputError({scene_file.string(), ""}, scene_readers::json_exception_reason(e.what()));
   }
   validate_scene(scene, options);
   return scene;
 }
 
 Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
-  std::string text = detail::read_text_file(scene_file, scene_file.string(), options.max_file_bytes);
+  std::string text = read_input_file(scene_file, scene_file.string(), options.max_file_bytes);
   const scene_readers::ModelFormat format = scene_readers::model_format(scene_file, text);
   if (format == scene_readers::ModelFormat::none) return parse_scene(text, scene_file, options);
   // A whole model as the scene: its meshes and faces, its sun if it implies one, no lights.

@@ -248,8 +248,10 @@ void check_sun_period(const SunPeriod& p, const std::string& file, const std::st
     fail("elevation", "elevation must be in [-1000, 100000] metres above sea level, got " +
                           format_number(p.site.elevation));
   finite(p.site.pressure, "pressure");
-  if (!(p.site.pressure > 0) || p.site.pressure > 5000)
-    fail("pressure", "pressure must be in (0, 5000] millibars, got " + format_number(p.site.pressure));
+  // 0 is NREL SPA's lower end too: no air, no refraction, the geometric position.
+  if (!(p.site.pressure >= 0) || p.site.pressure > 5000)
+    fail("pressure", "pressure must be in [0, 5000] millibars (0: no refraction), got " +
+                         format_number(p.site.pressure));
   finite(p.site.temperature, "temperature");
   if (!(p.site.temperature > -273.15) || p.site.temperature > 1000)
     fail("temperature", "temperature must be in (-273.15, 1000] degrees Celsius, got " +
