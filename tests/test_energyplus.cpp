@@ -414,8 +414,10 @@ TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
   EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "3,0,2, 3,0,1, 5,0,1, 5,0,2")); },
                                {"m.idf: line 6, FenestrationSurface:Detailed \"Win\"",
                                 "not inside its base surface \"W\""}));
-  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "1,0.5,2, 1,0.5,1, 2,0.5,1, 2,0.5,2")); },
-                               {"line 6, FenestrationSurface:Detailed \"Win\"", "not in the plane of its base surface"}));
+  // Off the plane and not parallel to it: no window in a reveal either (those are below).
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "1,0.5,2, 1,0.5,1, 2,0.6,1, 2,0.6,2")); },
+                               {"line 6, FenestrationSurface:Detailed \"Win\"", "not in the plane of its base surface",
+                                "not parallel to it"}));
   EXPECT_TRUE(ThrowsInputError(
       [&] { idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "1.5,0,2, 1.5,0,1, 3,0,1, 3,0,2")); },
       {"FenestrationSurface:Detailed \"B\"", "overlaps \"A\""}));
@@ -439,6 +441,83 @@ TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
   const Model m = idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "2,0,2, 2,0,0, 4,0,0, 4,0,2"));
   const auto areas = area_by_name(m);
   EXPECT_EQ(areas.at("W"), 12.0 - 1.0 - 4.0);
+}
+
+// --- Windows in reveals -------------------------------------------------------------------------
+
+// A window w x h = 2 x 1 in the 4 x 3 south wall (outward normal -y), set back by d = 0.25
+// behind the wall's plane, as EnergyPlus's SolarShadingTest.idf sets its windows back.
+std::string set_back_window(double depth) {
+  const std::string y = std::to_string(depth);
+  return "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n  1," + y + ",2, 1," + y + ",1, 3," + y +
+         ",1, 3," + y + ",2;\n";
+}
+
+TEST(EnergyPlus, WindowSetBackFromItsWallSitsInAReveal) {
+  const Model m = idf(kWall + set_back_window(0.25));
+  // The wall loses the opening (cut in its own plane), the window keeps its depth, and the reveal's
+  // four sides (perimeter 6 x depth 0.25) are building shading named after the window.
+  const auto areas = area_by_name(m);
+  EXPECT_EQ(areas.at("W"), 12.0 - 2.0);
+  EXPECT_EQ(areas.at("Win"), 2.0);
+  double reveal = 0.0;
+  int sides = 0;
+  for (const Face& f : m.faces) {
+    if (f.name == "Win")
+      for (const dvec3& p : f.vertices) EXPECT_EQ(p.y, 0.25);
+    if (f.name == "W")
+      for (const dvec3& p : f.vertices) EXPECT_EQ(p.y, 0.0);
+    if (f.name.rfind("Win:Reveal:", 0) == 0) {
+      ++sides;
+      reveal += area(f.vertices);
+      EXPECT_EQ(f.kind, "Shading");
+      EXPECT_EQ(m.meshes[f.mesh].name, "Shading:Building");
+      EXPECT_FALSE(m.meshes[f.mesh].receiver);
+      EXPECT_NE(f.source.place.find("FenestrationSurface:Detailed \"Win\""), std::string::npos);
+    }
+  }
+  EXPECT_EQ(sides, 4);
+  EXPECT_EQ(areas.count("Win:Reveal:4"), 1u);
+  EXPECT_EQ(reveal, 6.0 * 0.25);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_NE(m.warnings[0].message.find("1 window or door (first \"Win\") set back from the plane of their base "
+                                       "surface by 0.25 m"),
+            std::string::npos)
+      << m.warnings[0].message;
+
+  // The reveal's shade, exactly: a sun with to_light (a, -1, c) reaches the window at depth d
+  // through the opening shifted by (d a, d c), so the lit part is (w - d|a|) x (h - d|c|) =
+  // (w - d |tan(azimuth difference)|) x (h - d tan(profile angle)).
+  for (const dvec3& to_light : {dvec3(0.5, -1.0, 1.0), dvec3(-1.5, -1.0, 0.5), dvec3(0.0, -1.0, 2.0)}) {
+    const Scene scene = scene_of(m, to_light);
+    const shadow::ShadowResult result = shadow::compute_shadows(scene);
+    std::map<std::string, double> lit;
+    for (const auto& l : result.lighting) lit[scene.faces[l.face_id].name] += l.lit_area;
+    const double expected = (2.0 - 0.25 * std::abs(to_light.x)) * (1.0 - 0.25 * std::abs(to_light.z));
+    EXPECT_EQ(lit.at("Win"), expected) << to_light.x << " " << to_light.z;
+    EXPECT_EQ(lit.at("W"), 10.0);  // nothing shades the wall; the reveal lies behind it
+  }
+}
+
+TEST(EnergyPlus, WindowProudOfItsWallTooDeepOrSkew) {
+  // In front of the wall (outside) by 0.1: put into the wall's plane, with a warning.
+  const Model proud = idf(kWall + set_back_window(-0.1));
+  for (const Face& f : proud.faces) {
+    EXPECT_EQ(f.name.find(":Reveal:"), std::string::npos);
+    if (f.name == "Win")
+      for (const dvec3& p : f.vertices) EXPECT_EQ(p.y, 0.0);
+  }
+  EXPECT_EQ(area_by_name(proud).at("W"), 10.0);
+  ASSERT_EQ(proud.warnings.size(), 1u);
+  EXPECT_NE(proud.warnings[0].message.find("in front of the plane of their base surface by 0.1 m: put into that plane"),
+            std::string::npos)
+      << proud.warnings[0].message;
+  // Deeper than any wall: an error that names the limit.
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + set_back_window(1.5)); },
+                               {"line 6, FenestrationSurface:Detailed \"Win\"",
+                                "not in the plane of its base surface \"W\": it lies 1.5 behind it, more than the "
+                                "deepest reveal read (1 m; docs/energyplus.md)"}));
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + set_back_window(-2.0)); }, {"lies 2 in front of it"}));
 }
 
 TEST(EnergyPlus, OverhangsAndFinsAreDrawnFromTheirWindow) {
