@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // EnergyPlus geometry in (IDF and epJSON): the example model both ways, coordinate systems,
 // windows cut out of their walls, the sun, and one-line errors with line and field.
+#include <shadow/energyplus.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 
 #include "scene/energyplus_reader.hpp"
+#include "scene/idf_tokenizer.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -415,8 +419,10 @@ TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
   EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "3,0,2, 3,0,1, 5,0,1, 5,0,2")); },
                                {"m.idf: line 6, FenestrationSurface:Detailed \"Win\"",
                                 "not inside its base surface \"W\""}));
-  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "1,0.5,2, 1,0.5,1, 2,0.5,1, 2,0.5,2")); },
-                               {"line 6, FenestrationSurface:Detailed \"Win\"", "not in the plane of its base surface"}));
+  // Off the plane and not parallel to it: no window in a reveal either (those are below).
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + window("Win", "1,0.5,2, 1,0.5,1, 2,0.6,1, 2,0.6,2")); },
+                               {"line 6, FenestrationSurface:Detailed \"Win\"", "not in the plane of its base surface",
+                                "not parallel to it"}));
   EXPECT_TRUE(ThrowsInputError(
       [&] { idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "1.5,0,2, 1.5,0,1, 3,0,1, 3,0,2")); },
       {"FenestrationSurface:Detailed \"B\"", "overlaps \"A\""}));
@@ -440,6 +446,182 @@ TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
   const Model m = idf(kWall + window("A", "1,0,2, 1,0,1, 2,0,1, 2,0,2") + window("B", "2,0,2, 2,0,0, 4,0,0, 4,0,2"));
   const auto areas = area_by_name(m);
   EXPECT_EQ(areas.at("W"), 12.0 - 1.0 - 4.0);
+}
+
+// --- Windows in reveals -------------------------------------------------------------------------
+
+// A window w x h = 2 x 1 in the 4 x 3 south wall (outward normal -y), set back by d = 0.25
+// behind the wall's plane, as EnergyPlus's SolarShadingTest.idf sets its windows back.
+std::string set_back_window(double depth) {
+  const std::string y = std::to_string(depth);
+  return "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n  1," + y + ",2, 1," + y + ",1, 3," + y +
+         ",1, 3," + y + ",2;\n";
+}
+
+TEST(EnergyPlus, WindowSetBackFromItsWallSitsInAReveal) {
+  const Model m = idf(kWall + set_back_window(0.25));
+  // The wall loses the opening (cut in its own plane), the window keeps its depth, and the reveal's
+  // four sides (perimeter 6 x depth 0.25) are building shading named after the window.
+  const auto areas = area_by_name(m);
+  EXPECT_EQ(areas.at("W"), 12.0 - 2.0);
+  EXPECT_EQ(areas.at("Win"), 2.0);
+  double reveal = 0.0;
+  int sides = 0;
+  for (const Face& f : m.faces) {
+    if (f.name == "Win")
+      for (const dvec3& p : f.vertices) EXPECT_EQ(p.y, 0.25);
+    if (f.name == "W")
+      for (const dvec3& p : f.vertices) EXPECT_EQ(p.y, 0.0);
+    if (f.name.rfind("Win:Reveal:", 0) == 0) {
+      ++sides;
+      reveal += area(f.vertices);
+      EXPECT_EQ(f.kind, "Shading");
+      EXPECT_EQ(m.meshes[f.mesh].name, "Shading:Building");
+      EXPECT_FALSE(m.meshes[f.mesh].receiver);
+      EXPECT_NE(f.source.place.find("FenestrationSurface:Detailed \"Win\""), std::string::npos);
+    }
+  }
+  EXPECT_EQ(sides, 4);
+  EXPECT_EQ(areas.count("Win:Reveal:4"), 1u);
+  EXPECT_EQ(reveal, 6.0 * 0.25);
+  ASSERT_EQ(m.warnings.size(), 1u);
+  EXPECT_NE(m.warnings[0].message.find("1 window or door (first \"Win\") set back from the plane of their base "
+                                       "surface by 0.25 m"),
+            std::string::npos)
+      << m.warnings[0].message;
+
+  // The reveal's shade, exactly: a sun with to_light (a, -1, c) reaches the window at depth d
+  // through the opening shifted by (d a, d c), so the lit part is (w - d|a|) x (h - d|c|) =
+  // (w - d |tan(azimuth difference)|) x (h - d tan(profile angle)).
+  for (const dvec3& to_light : {dvec3(0.5, -1.0, 1.0), dvec3(-1.5, -1.0, 0.5), dvec3(0.0, -1.0, 2.0)}) {
+    const Scene scene = scene_of(m, to_light);
+    const shadow::ShadowResult result = shadow::compute_shadows(scene);
+    std::map<std::string, double> lit;
+    for (const auto& l : result.lighting) lit[scene.faces[l.face_id].name] += l.lit_area;
+    const double expected = (2.0 - 0.25 * std::abs(to_light.x)) * (1.0 - 0.25 * std::abs(to_light.z));
+    EXPECT_EQ(lit.at("Win"), expected) << to_light.x << " " << to_light.z;
+    EXPECT_EQ(lit.at("W"), 10.0);  // nothing shades the wall; the reveal lies behind it
+  }
+}
+
+TEST(EnergyPlus, WindowProudOfItsWallTooDeepOrSkew) {
+  // In front of the wall (outside) by 0.1: put into the wall's plane, with a warning.
+  const Model proud = idf(kWall + set_back_window(-0.1));
+  for (const Face& f : proud.faces) {
+    EXPECT_EQ(f.name.find(":Reveal:"), std::string::npos);
+    if (f.name == "Win")
+      for (const dvec3& p : f.vertices) EXPECT_EQ(p.y, 0.0);
+  }
+  EXPECT_EQ(area_by_name(proud).at("W"), 10.0);
+  ASSERT_EQ(proud.warnings.size(), 1u);
+  EXPECT_NE(proud.warnings[0].message.find("in front of the plane of their base surface by 0.1 m: put into that plane"),
+            std::string::npos)
+      << proud.warnings[0].message;
+  // Deeper than any wall: an error that names the limit.
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + set_back_window(1.5)); },
+                               {"line 6, FenestrationSurface:Detailed \"Win\"",
+                                "not in the plane of its base surface \"W\": it lies 1.5 behind it, more than the "
+                                "deepest reveal read (1 m; docs/energyplus.md)"}));
+  EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + set_back_window(-2.0)); }, {"lies 2 in front of it"}));
+}
+
+// --- Results back into EnergyPlus ---------------------------------------------------------------
+
+/// A file in the test's own temporary directory.
+fs::path temp_file(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / ("libshadow_test_energyplus_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / name;
+  std::ofstream(file, std::ios::binary) << text;
+  return file;
+}
+
+std::vector<shadow::scene_readers::IdfObject> objects_of_class(const std::string& text, const std::string& cls) {
+  std::vector<shadow::scene_readers::IdfObject> out;
+  for (auto& o : shadow::scene_readers::tokenize_idf(text, "copy.idf"))
+    if (o.fields[0].text == cls) out.push_back(o);
+  return out;
+}
+
+TEST(EnergyPlus, ImportObjectsNameTheCsvAndImportedShading) {
+  const std::string objects = shadow::energyplus_import_objects("/runs/out/energyplus-shading.csv");
+  const auto calc = objects_of_class(objects, "ShadowCalculation");
+  ASSERT_EQ(calc.size(), 1u);
+  // EnergyPlus 9.6's field order: method, update frequency method, frequency, figures,
+  // clipping, pixels, sky diffuse, output external results.
+  std::vector<std::string> fields;
+  for (std::size_t i = 1; i < calc[0].fields.size(); ++i) fields.push_back(calc[0].fields[i].text);
+  EXPECT_EQ(fields, (std::vector<std::string>{"Imported", "Timestep", "1", "15000", "SutherlandHodgman", "512",
+                                              "SimpleSkyDiffuseModeling", "No"}));
+  const auto schedule = objects_of_class(objects, "Schedule:File:Shading");
+  ASSERT_EQ(schedule.size(), 1u);
+  ASSERT_EQ(schedule[0].fields.size(), 2u);
+  EXPECT_EQ(schedule[0].fields[1].text, "/runs/out/energyplus-shading.csv");
+  EXPECT_NE(objects.find("!- Shading Calculation Method"), std::string::npos);
+  // A path an IDF field cannot hold is refused, not written broken.
+  EXPECT_TRUE(ThrowsInputError([] { shadow::energyplus_import_objects("/runs/a,b/energyplus-shading.csv"); },
+                               {"cannot hold ','"}));
+}
+
+TEST(EnergyPlus, ModelCopyImportsTheCsvAndReReadsToTheSameFaces) {
+  const std::string model = std::string("Version, 9.6;\n") +
+                            "GlobalGeometryRules, UpperLeftCorner, Counterclockwise, Relative;\nZone, Z1;\n"
+                            "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+                            "  0, 0, 3,  0, 0, 0,  4, 0, 0,  4, 0, 3;\n"
+                            "ShadowCalculation,\n  PolygonClipping,  !- Shading Calculation Method\n"
+                            "  Periodic,         !- Shading Calculation Update Frequency Method\n"
+                            "  20;               !- Shading Calculation Update Frequency\n" +
+                            set_back_window(0.152) + "Output:Variable, *, Surface Outside Face Sunlit Fraction, Hourly;\n";
+  const fs::path file = temp_file("model.idf", model);
+  const shadow::EnergyPlusImportCopy copy = shadow::energyplus_model_importing_shading(file, "/runs/out/energyplus-shading.csv");
+  EXPECT_FALSE(copy.epjson);
+  EXPECT_EQ(copy.version, "9.6");
+  EXPECT_EQ(copy.replaced, 1);
+  // The model's own ShadowCalculation is gone, with its comments; the new pair took its place.
+  const auto calc = objects_of_class(copy.text, "ShadowCalculation");
+  ASSERT_EQ(calc.size(), 1u);
+  EXPECT_EQ(calc[0].fields[1].text, "Imported");
+  EXPECT_EQ(copy.text.find("PolygonClipping"), std::string::npos);
+  EXPECT_LT(copy.text.find("Schedule:File:Shading"), copy.text.find("FenestrationSurface:Detailed"));
+  EXPECT_NE(copy.text.find("Output:Variable, *, Surface Outside Face Sunlit Fraction, Hourly;"), std::string::npos);
+  // Everything else is the model, byte for byte: the same faces when read again.
+  const Model a = idf(model), b = idf(copy.text);
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  for (std::size_t f = 0; f < a.faces.size(); ++f) {
+    EXPECT_EQ(a.faces[f].name, b.faces[f].name);
+    EXPECT_EQ(a.faces[f].vertices, b.faces[f].vertices);
+  }
+  // Without one, the objects are added at the end; the copy of the copy replaces both.
+  const shadow::EnergyPlusImportCopy plain =
+      shadow::energyplus_model_importing_shading(temp_file("plain.idf", kWall), "/x/energyplus-shading.csv");
+  EXPECT_EQ(plain.replaced, 0);
+  EXPECT_EQ(plain.text.rfind(kWall, 0), 0u);
+  EXPECT_EQ(idf(plain.text).faces.size(), idf(kWall).faces.size());
+  const shadow::EnergyPlusImportCopy again =
+      shadow::energyplus_model_importing_shading(temp_file("again.idf", plain.text), "/y/energyplus-shading.csv");
+  EXPECT_EQ(again.replaced, 2);
+  EXPECT_EQ(objects_of_class(again.text, "ShadowCalculation").size(), 1u);
+  const auto schedule = objects_of_class(again.text, "Schedule:File:Shading");
+  ASSERT_EQ(schedule.size(), 1u);
+  EXPECT_EQ(schedule[0].fields[1].text, "/y/energyplus-shading.csv");
+}
+
+TEST(EnergyPlus, EpJsonModelCopyGetsEpJsonObjects) {
+  const fs::path source = kExample / "box-office.epJSON";
+  const shadow::EnergyPlusImportCopy copy = shadow::energyplus_model_importing_shading(source, "/o/energyplus-shading.csv");
+  EXPECT_TRUE(copy.epjson);
+  const Model a = read_energyplus(source, "a.epJSON", {});
+  const Model b = parse_energyplus(copy.text, "b.epJSON", true);
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  for (std::size_t f = 0; f < a.faces.size(); ++f) EXPECT_EQ(a.faces[f].vertices, b.faces[f].vertices);
+  EXPECT_NE(copy.text.find("\"shading_calculation_method\": \"Imported\""), std::string::npos);
+  EXPECT_NE(copy.text.find("\"file_name\": \"/o/energyplus-shading.csv\""), std::string::npos);
+  // Not a model: refused.
+  EXPECT_TRUE(ThrowsInputError(
+      [] { shadow::energyplus_model_importing_shading(kExample / "scene.json", "/o/energyplus-shading.csv"); },
+      {"not an EnergyPlus model"}));
+  EXPECT_TRUE(shadow::is_energyplus_model(source));
+  EXPECT_FALSE(shadow::is_energyplus_model(kExample / "scene.json"));
 }
 
 TEST(EnergyPlus, OverhangsAndFinsAreDrawnFromTheirWindow) {

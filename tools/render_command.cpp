@@ -144,6 +144,18 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--light", args.light, "SVG/PDF: the light whose shadows split the pieces (default: the first)")
       ->check(shadow_cli::integer_in(0, 1 << 30));
   render.add_flag("--edges", args.edges, "SVG/PDF: outline every piece");
+  // The loading options of `shadow compute` and `shadow series`: what they load, render draws.
+  render.add_option("--planarity-tolerance", args.planarity_tolerance,
+                    "Largest vertex distance from a face's plane, relative to the face's size")
+      ->default_val(1e-6)
+      ->check(shadow_cli::positive_up_to(1.0));
+  render.add_flag("--orient-outward", args.orient_outward,
+                  "Turn the closed parts of every mesh outward (as for `shadow compute`)");
+  render.add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
+}
+
+shadow::LoadOptions render_load_options(const RenderArgs& args) {
+  return shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads);
 }
 
 int run_render(const RenderArgs& args, int argc, char** argv) {
@@ -178,7 +190,7 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  shadow::Scene scene = shadow::load_scene(args.scene);
+  shadow::Scene scene = shadow::load_scene(args.scene, render_load_options(args));
   if (!args.quiet)
     for (const shadow::Warning& warning : scene.warnings)
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";

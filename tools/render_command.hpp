@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <shadow/scene_io.hpp>
+
 #include <string>
 #include <vector>
 
@@ -33,7 +35,14 @@ struct RenderArgs {
   bool quiet = false;
   int light = -1;      ///< SVG/PDF: the light that splits lit from shadowed (-1: the first, if any)
   bool edges = false;  ///< SVG/PDF: outline every piece
+  // Loading, as `shadow compute` and `shadow series` load (the same model gives the same faces).
+  double planarity_tolerance = 1e-6;
+  bool orient_outward = false;
+  std::string lod;  ///< CityJSON level of detail; empty: the highest per object
 };
+
+/// The load options of `shadow render` (PNG and vector views alike).
+shadow::LoadOptions render_load_options(const RenderArgs& args);
 
 /// Declares the options of `shadow render` on its subcommand.
 void add_render_options(CLI::App& render, RenderArgs& args);

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstring>
@@ -49,9 +50,13 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
   series->add_option("--every", args.every,
                      "Write one series/sun_NNNNN.vtp for every K-th instant above the horizon into series.pvd "
-                     "(1: all; 0: no series.pvd). sunlit.csv, energyplus-shading.csv and sun hours always use every instant")
-      ->default_val(1)
-      ->check(shadow_cli::integer_in(0, 1000000));
+                     "(1: all; 0: no series.pvd). Default: every instant for a period of up to 7 days; for a "
+                     "longer one (a year) at most 48 instants spread evenly over it (every K-th, K as small as "
+                     "that allows; the summary says which). sunlit.csv, energyplus-shading.csv and sun hours "
+                     "always use every instant")
+      ->default_str("1, or at most 48 files for a period over 7 days")
+      ->check(shadow_cli::integer_in(0, 1000000))
+      ->each([&args](const std::string&) { args.every_given = true; });
   series->add_flag("--fragments", args.fragments,
                    "Also write each instant's lit and shadowed polygons (series/fragments_NNNNN.vtp, fragments.pvd) "
                    "for the instants in series.pvd: one polygon computation per such instant, on top of the series");
@@ -82,6 +87,10 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                    "Compute only the instants that OUTDIR/series.checkpoint lacks (a checkpoint of another scene "
                    "or other options is refused); without a checkpoint, start from the first instant. Implies "
                    "--checkpoint. The outputs are byte for byte those of an uninterrupted run");
+  series->add_option("--write-idf", args.write_idf,
+                     "Also write FILE: a copy of the EnergyPlus model given as SCENE (IDF in, IDF out; epJSON "
+                     "in, epJSON out) with ShadowCalculation (Imported) and Schedule:File:Shading naming "
+                     "OUTDIR/energyplus-shading.csv in place of its own (docs/energyplus.md)");
   // A test hook (docs/cluster.md): interrupt deterministically, as a signal or a time limit would.
   series->add_option("--stop-after", args.stop_after,
                      "Testing: stop (exit 5) after the round in which N instants are in the checkpoint (rounds "
@@ -89,6 +98,13 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
       ->check(shadow_cli::integer_in(1, 1000000000))
       ->group("");
   return series;
+}
+
+std::size_t default_every(std::size_t instants, const std::vector<std::int64_t>& times) {
+  if (instants == 0 || times.size() < 2) return 1;
+  const double days = static_cast<double>(times.back() - times.front()) / 86400.0;
+  if (!(days > kLongSeriesDays)) return 1;
+  return std::max<std::size_t>(1, (instants + kDefaultInstantFiles - 1) / kDefaultInstantFiles);
 }
 
 namespace {
@@ -110,6 +126,64 @@ std::vector<std::string> mesh_names(const std::string& list) {
   return names;
 }
 
+/// major * 100 + minor of an EnergyPlus version identifier ("9.6", "24.1.0"); 0 if none.
+int version_number(const std::string& text) {
+  int major = 0, minor = 0;
+  if (std::sscanf(text.c_str(), "%d.%d", &major, &minor) < 1) return 0;
+  return major * 100 + minor;
+}
+
+/// What the run hands back to EnergyPlus: the objects that import energyplus-shading.csv
+/// (energyplus-objects.idf) and, with --write-idf, a copy of the model with them in place.
+struct EnergyPlusHandBack {
+  std::string csv;      ///< the CSV's absolute path, as Schedule:File:Shading names it
+  std::string objects;  ///< empty when the CSV cannot be named in an IDF field
+  std::string problem;  ///< why `objects` is empty
+  bool model = false;   ///< SCENE is an EnergyPlus model
+  std::optional<shadow::EnergyPlusImportCopy> copy;  ///< --write-idf
+};
+
+EnergyPlusHandBack prepare_hand_back(const SeriesArgs& args, const shadow::Scene& scene) {
+  EnergyPlusHandBack back;
+  back.csv = (fs::absolute(args.outdir) / "energyplus-shading.csv").lexically_normal().string();
+  back.model = shadow::is_energyplus_model(args.scene);
+  try {
+    back.objects = shadow::energyplus_import_objects(back.csv);
+  } catch (const shadow::InputError& e) {
+    back.problem = e.problem();
+    if (!args.write_idf.empty()) throw shadow::InputError({"", "--write-idf"}, "the CSV's path " + back.csv + ": " + e.problem());
+  }
+  if (args.write_idf.empty()) return back;
+  // Checked before computing: a model copy that cannot be made must not cost a year of suns.
+  const shadow::EnergyPlusSchedule schedule = shadow::energyplus_schedule(scene);
+  if (!schedule.written)
+    throw shadow::InputError({"", "--write-idf"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
+  std::error_code ec;
+  if (fs::equivalent(args.scene, args.write_idf, ec))
+    throw shadow::InputError({"", "--write-idf"}, args.write_idf + " is the model itself: name another file");
+  const fs::path parent = fs::absolute(args.write_idf).parent_path();
+  if (!fs::is_directory(parent, ec))
+    throw shadow::InputError({"", "--write-idf"}, "no directory " + parent.string() + " to write " + args.write_idf + " in");
+  back.copy = shadow::energyplus_model_importing_shading(args.scene, back.csv);
+  return back;
+}
+
+/// Writes `text` to `file` under a temporary name, then renames it into place.
+void write_file_atomically(const fs::path& file, const std::string& text) {
+  const fs::path temp = file.parent_path() / ("." + file.filename().string() + ".tmp-" + std::to_string(getpid()));
+  errno = 0;
+  std::FILE* out = std::fopen(temp.c_str(), "wb");
+  bool ok = out != nullptr && std::fwrite(text.data(), 1, text.size(), out) == text.size();
+  if (out != nullptr) ok = std::fclose(out) == 0 && ok;
+  std::error_code ec;
+  if (ok) fs::rename(temp, file, ec);
+  if (!ok || ec) {
+    const std::string why = ec ? ec.message() : std::string(errno != 0 ? std::strerror(errno) : "could not write the file");
+    fs::remove(temp, ec);
+    throw shadow::OutputError(file.string() + ": " + why);
+  }
+}
+
 std::string encode_u64s(const std::vector<std::uint64_t>& values) {
   return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(std::uint64_t));
 }
@@ -118,6 +192,41 @@ std::vector<std::uint64_t> decode_u64s(const std::string& bytes) {
   std::vector<std::uint64_t> values(bytes.size() / sizeof(std::uint64_t));
   if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(std::uint64_t));
   return values;
+}
+
+/// The summary's last words: what to do with energyplus-shading.csv.
+void print_hand_back(const EnergyPlusHandBack& back, const SeriesArgs& args, const std::vector<fs::path>& written) {
+  const bool csv = std::any_of(written.begin(), written.end(),
+                               [](const fs::path& p) { return p.filename() == "energyplus-shading.csv"; });
+  if (!csv) return;
+  if (back.objects.empty()) {
+    std::printf("  EnergyPlus: no energyplus-objects.idf (%s)\n", back.problem.c_str());
+    return;
+  }
+  if (back.copy) {
+    std::printf("  EnergyPlus: %s is the model with ShadowCalculation (Imported) and Schedule:File:Shading reading\n"
+                "    %s (%d object(s) of the model replaced); run EnergyPlus on it with the same weather file\n",
+                args.write_idf.c_str(), back.csv.c_str(), back.copy->replaced);
+    const int version = version_number(back.copy->version);
+    if (version > 0 && version < 906)
+      std::printf("  note: the model says Version %s; ShadowCalculation's fields are written in the order of "
+                  "EnergyPlus 9.6 and later\n", back.copy->version.c_str());
+    return;
+  }
+  if (!back.model) {
+    std::printf("  EnergyPlus: energyplus-objects.idf holds the objects that make a model read energyplus-shading.csv\n");
+    return;
+  }
+  // An EnergyPlus model in: say exactly what to add to it.
+  std::printf("  EnergyPlus: add these objects (also in energyplus-objects.idf) to the model, replacing its own\n"
+              "  ShadowCalculation, or run again with --write-idf FILE for a copy of the model with them in place:\n\n");
+  std::size_t begin = 0;
+  while (begin < back.objects.size()) {
+    const std::size_t end = std::min(back.objects.find('\n', begin), back.objects.size());
+    const std::string line = back.objects.substr(begin, end - begin);
+    std::printf(line.empty() ? "\n" : "    %s\n", line.c_str());
+    begin = end + 1;
+  }
 }
 
 int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
@@ -136,6 +245,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   shadow::SunSeries suns;
   std::vector<std::size_t> map_faces;
   std::optional<shadow::ShadowEngine> engine_holder;
+  EnergyPlusHandBack hand_back;
   on_every_rank(world, [&] {
     scene = shadow::load_scene(args.scene,
                                shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads));
@@ -177,6 +287,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     } catch (const shadow::InputError& e) {
       shadow_cli::rethrow_naming_scene(e, args.scene);
     }
+    hand_back = prepare_hand_back(args, scene);
   });
   const shadow::ShadowEngine& engine = *engine_holder;
 
@@ -365,7 +476,8 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   const auto computed = Clock::now();
 
   shadow::OutputDirectory::SeriesFiles files;
-  files.every = args.every;
+  files.every = args.every_given ? args.every : default_every(suns.lights.size(), suns.times);
+  files.energyplus_objects = hand_back.objects;
   if (args.fragments) {
     files.fragments = [&](std::size_t i) {
       shadow::ShadowOptions one;
@@ -426,6 +538,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       fs::remove(output->path() / "sun_hours.vtp", ignored);
     }
     written = output->write_series(scene, suns, series, files, &run);
+    if (hand_back.copy) write_file_atomically(args.write_idf, hand_back.copy->text);
     if (map) written.insert(written.end() - 1, output->path() / "sun_hours.vtp");  // report.json stays last
     // The outputs are complete: a checkpoint left now (this run's, or an older one) is stale.
     if (checkpoint) checkpoint->remove();
@@ -461,8 +574,13 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::printf("    %s\n", p.filename().c_str());
     }
     if (instant_files > 0) std::printf("    series/ (%zu files, one per instant shown in series.pvd)\n", instant_files);
+    if (!args.every_given && files.every > 1)
+      std::printf("  series.pvd shows %zu of the %zu instants above the horizon, one in %zu (by default at most %zu "
+                  "on a period over %g days; --every 1 shows them all, --every 0 none)\n",
+                  instant_files, suns.lights.size(), files.every, kDefaultInstantFiles, kLongSeriesDays);
     if (map)
       std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", map->cells.size(), map->faces.size());
+    print_hand_back(hand_back, args, written);
   }
   return 0;
 }

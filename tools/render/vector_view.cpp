@@ -205,7 +205,7 @@ ViewCamera vector_camera(const Scene& scene, const RenderArgs& args) {
 int run_vector_render(const RenderArgs& args) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  Scene scene = load_scene(args.scene);
+  Scene scene = load_scene(args.scene, render_load_options(args));
   if (!args.quiet)
     for (const Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
   const ViewCamera camera = vector_camera(scene, args);  // checked there, naming options or scene

@@ -77,6 +77,10 @@ class OutputDirectory {
     /// of the instant in the series, one instant at a time (only one result in memory); the
     /// fragments' light_id should be the instant's light in Scene::lights.
     std::function<ShadowResult(std::size_t instant)> fragments;
+    /// When not empty and `energyplus-shading.csv` is written: this text (IDF objects, see
+    /// energyplus_import_objects() in shadow/energyplus.hpp) as `energyplus-objects.idf` beside
+    /// it. Without it, or without the CSV, an older `energyplus-objects.idf` is removed.
+    std::string energyplus_objects;
   };
 
   /// write_series with the fragments of the instants shown (SeriesFiles::fragments).

@@ -5,6 +5,7 @@
 
 #include <shadow/area_lights.hpp>
 #include <shadow/blinn.hpp>
+#include <shadow/energyplus.hpp>
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
 #include <shadow/input_file.hpp>

@@ -34,7 +34,8 @@ namespace {
 namespace fs = std::filesystem;
 
 /// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
-const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "series.pvd", "fragments.pvd"};
+const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd",
+                                          "fragments.pvd"};
 
 /// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
 /// `fragments_NNNNN.vtp`.
@@ -259,7 +260,8 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   remove_stale_report(outdir / "report.json");
   // A sun series' files from an earlier `shadow series` into this OUTDIR would sit beside this
   // run's complete-looking set (an old energyplus-shading.csv ready to import): remove them.
-  for (const char* old : {"sunlit.csv", "energyplus-shading.csv", "series.pvd", "fragments.pvd", "sun_hours.vtp"}) {
+  for (const char* old : {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd", "fragments.pvd",
+                          "sun_hours.vtp"}) {
     std::error_code ignored;
     fs::remove(outdir / old, ignored);
   }
@@ -332,7 +334,16 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   if (energyplus.written) {
     const auto ep = staged.stage("energyplus-shading.csv");
     write_text(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
+  }
+  // How to use the CSV: the objects that make EnergyPlus import it, beside it.
+  if (energyplus.written && !files.energyplus_objects.empty()) {
+    const auto objects = staged.stage("energyplus-objects.idf");
+    write_text(objects, [&](std::ostream& out) { out << files.energyplus_objects; });
   } else {
+    std::error_code ignored;
+    fs::remove(outdir / "energyplus-objects.idf", ignored);
+  }
+  if (!energyplus.written) {
     // Not this run's (report.json says why): an older one must not pass for it.
     std::error_code ignored;
     fs::remove(outdir / "energyplus-shading.csv", ignored);

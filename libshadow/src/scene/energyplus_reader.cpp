@@ -3,6 +3,7 @@
 // IDD's order), each field knowing where it was written; the geometry is then built once for
 // both syntaxes, so an IDF and its epJSON twin give the same faces bit for bit.
 #include "scene/energyplus_reader.hpp"
+#include "scene/energyplus_reveals.hpp"
 
 #include "core/input_checks.hpp"
 #include "core/polygon_holes.hpp"
@@ -302,6 +303,16 @@ class Reader {
   void warn_transmittance(const Object& o);
   void check_names();
   void cut_and_emit(Model& model);
+  // Openings off their wall's plane (energyplus_reveals.hpp): checked, reveals added, reported.
+  void check_placement(const Surface& opening, const Surface& base, const OpeningPlacement& placement,
+                       double allowed);
+  void add_reveal(const Surface& opening, const OpeningPlacement& placement, std::vector<Face>& out);
+  void report_reveals();
+  struct RevealCount {
+    std::size_t openings = 0;
+    double shallowest = 0.0, deepest = 0.0;
+    const Surface* first = nullptr;
+  } set_back_, proud_;
   std::optional<SunPeriod> read_sun();
 
   std::string file_;
@@ -1024,21 +1035,18 @@ void Reader::cut_and_emit(Model& model) {
     const double diameter = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
     const double allowed = options_.planarity_tolerance * diameter;
     std::vector<std::vector<glm::dvec3>> openings;
+    std::vector<OpeningPlacement> placements;
     for (const std::size_t o : s.openings) {
       const Surface& opening = surfaces_[o];
-      for (const glm::dvec3& p : opening.vertices) {
-        const glm::dvec3 d = p - origin;
-        const double distance = std::abs(d.x * n.x + d.y * n.y + d.z * n.z);
-        if (distance > allowed)
-          fail(opening.object->place, "not in the plane of its base surface \"" + s.object->name + "\": vertex " +
-                                          detail::format_vec(p) + " is " + detail::format_number(distance) +
-                                          " off it");
-      }
+      // In the plane, or parallel to it and set back (a reveal) or proud: energyplus_reveals.
+      OpeningPlacement placement = place_opening(opening.vertices, origin, n, allowed);
+      check_placement(opening, s, placement, allowed);
       const glm::dvec3 on = geometry::newell_normal(opening.vertices, opening.vertices.front());
       if (on.x * n.x + on.y * n.y + on.z * n.z < 0)
         fail(opening.object->place, "faces the other way from its base surface \"" + s.object->name +
                                         "\" (its vertices run the other way round)");
-      openings.push_back(opening.vertices);
+      openings.push_back(placement.outline);
+      placements.push_back(std::move(placement));
     }
     // ... and inside it, without overlapping each other: exact predicates on the input doubles.
     const detail::OpeningsCut cut = detail::cut_openings(s.vertices, openings, allowed);
@@ -1067,8 +1075,17 @@ void Reader::cut_and_emit(Model& model) {
       if (!split.error.empty()) fail(s.object->place, "cutting its openings out: " + split.error);
       for (const auto& piece : split.pieces) face(s, piece);
     }
-    for (const std::size_t o : s.openings) face(surfaces_[o], surfaces_[o].vertices);
+    for (std::size_t k = 0; k < s.openings.size(); ++k) {
+      const Surface& opening = surfaces_[s.openings[k]];
+      const OpeningPlacement& placement = placements[k];
+      // A window in a reveal stays at its depth, and the reveal's sides shade it; one proud of
+      // its wall is put into the wall's plane (EnergyPlus gives it no projection either).
+      face(opening, placement.kind == OpeningPlacement::Proud ? placement.outline : opening.vertices);
+      if (placement.kind == OpeningPlacement::SetBack)
+        add_reveal(opening, placement, per_group[Surface::BuildingShading]);
+    }
   }
+  report_reveals();
   auto emit = [&](const std::string& name, std::vector<Face>& faces, bool receiver) {
     if (faces.empty()) return;
     Mesh mesh;
@@ -1087,6 +1104,70 @@ void Reader::cut_and_emit(Model& model) {
   emit("Shading:Building", per_group[Surface::BuildingShading], false);
   emit("Shading:Site", per_group[Surface::SiteShading], false);
   emit("Not exposed", per_group[Surface::NotExposed], false);
+}
+
+// An opening off its wall's plane: in a reveal (set back) or proud of the wall, both parallel to
+// it and at most kMaxRevealDepth away, is read (docs/energyplus.md); anything else is an error.
+void Reader::check_placement(const Surface& opening, const Surface& base, const OpeningPlacement& placement,
+                             double allowed) {
+  const std::string plane = "not in the plane of its base surface \"" + base.object->name + "\": ";
+  if (placement.kind == OpeningPlacement::Skew)
+    fail(opening.object->place, plane + "vertex " + detail::format_vec(placement.vertex) + " is " +
+                                    detail::format_number(placement.distance) +
+                                    " off it, and the opening is not parallel to it (its vertices' distances "
+                                    "differ by more than " + detail::format_number(allowed) +
+                                    "), so it is no window in a reveal either");
+  if (placement.kind == OpeningPlacement::TooDeep)
+    fail(opening.object->place, plane + "it lies " + detail::format_number(std::abs(placement.offset)) +
+                                    (placement.offset < 0 ? " behind" : " in front of") +
+                                    " it, more than the deepest reveal read (" +
+                                    detail::format_number(kMaxRevealDepth) + " m; docs/energyplus.md)");
+  if (placement.kind != OpeningPlacement::SetBack && placement.kind != OpeningPlacement::Proud) return;
+  RevealCount& count = placement.kind == OpeningPlacement::SetBack ? set_back_ : proud_;
+  const double depth = std::abs(placement.offset);
+  count.shallowest = count.openings == 0 ? depth : std::min(count.shallowest, depth);
+  count.deepest = count.openings == 0 ? depth : std::max(count.deepest, depth);
+  if (count.openings++ == 0) count.first = &opening;
+}
+
+// The reveal's sides of a set-back opening: building shading named after it, and counted.
+void Reader::add_reveal(const Surface& opening, const OpeningPlacement& placement, std::vector<Face>& out) {
+  const std::vector<std::vector<glm::dvec3>> sides = reveal_sides(opening.vertices, placement.outline);
+  for (std::size_t k = 0; k < sides.size(); ++k) {
+    Face f;
+    f.vertices = sides[k];
+    f.source = {file_, opening.object->place};
+    f.name = opening.name + ":Reveal:" + std::to_string(k + 1);
+    f.kind = "Shading";
+    if (surface_index_.count(lower(f.name)) != 0)
+      fail(opening.object->place, "its reveal's side would be named \"" + f.name +
+                                      "\", which another surface already is (" +
+                                      surfaces_[surface_index_.at(lower(f.name))].object->place + ")");
+    out.push_back(std::move(f));
+  }
+}
+
+// One warning for all set-back openings, one for all proud ones: a model has dozens of windows.
+void Reader::report_reveals() {
+  auto depths = [](const RevealCount& c) {
+    return c.shallowest == c.deepest ? detail::format_number(c.deepest) + " m"
+                                     : detail::format_number(c.shallowest) + " to " + detail::format_number(c.deepest) + " m";
+  };
+  auto openings = [](const RevealCount& c) {
+    return std::to_string(c.openings) + (c.openings == 1 ? " window or door" : " windows and doors") + " (first \"" +
+           c.first->name + "\")";
+  };
+  if (set_back_.openings > 0)
+    warnings_.push_back({{file_, set_back_.first->object->place},
+                         openings(set_back_) + " set back from the plane of their base surface by " + depths(set_back_) +
+                             ": read as openings in reveals of that depth; each reveal's sides (jambs, head, sill) "
+                             "are building shading named \"<opening>:Reveal:1\", \"<opening>:Reveal:2\", ... "
+                             "(docs/energyplus.md)"});
+  if (proud_.openings > 0)
+    warnings_.push_back({{file_, proud_.first->object->place},
+                         openings(proud_) + " in front of the plane of their base surface by " + depths(proud_) +
+                             ": put into that plane, as EnergyPlus gives an opening proud of its wall no reveal "
+                             "(docs/energyplus.md)"});
 }
 
 bool is_leap(int y) { return is_valid_date(y, 2, 29); }  // shadow/sun.hpp's calendar

@@ -25,14 +25,20 @@ std::vector<IdfObject> tokenize_idf(const std::string& text, const std::string& 
   std::size_t line = 1;
   std::size_t field_line = 0;  // line of the field's first non-blank character, 0 while none
   bool in_comment = false;
+  std::size_t at = 0;           // byte offset of the character being read
+  std::size_t field_begin = 0;  // offset of the field's first non-blank character (with field_line)
   auto finish_field = [&](std::size_t separator_line) {
     IdfField f{trimmed(field), field_line != 0 ? field_line : separator_line};
-    if (current.fields.empty()) current.line = f.line;
+    if (current.fields.empty()) {
+      current.line = f.line;
+      current.begin = field_line != 0 ? field_begin : at;
+    }
     current.fields.push_back(std::move(f));
     field.clear();
     field_line = 0;
   };
-  for (const char c : text) {
+  for (; at < text.size(); ++at) {
+    const char c = text[at];
     if (c == '\n') {
       ++line;
       in_comment = false;
@@ -47,13 +53,17 @@ std::vector<IdfObject> tokenize_idf(const std::string& text, const std::string& 
     if (c == ',' || c == ';') {
       finish_field(line);
       if (c == ';') {
+        current.end = at + 1;
         // A lone `;` (no class name) is no object: EnergyPlus skips empty statements too.
         if (!(current.fields.size() == 1 && current.fields[0].text.empty())) objects.push_back(std::move(current));
         current = IdfObject{};
       }
       continue;
     }
-    if (field_line == 0 && !is_blank(c)) field_line = line;
+    if (field_line == 0 && !is_blank(c)) {
+      field_line = line;
+      field_begin = at;
+    }
     field.push_back(c);
   }
   if (!current.fields.empty() || field_line != 0) {

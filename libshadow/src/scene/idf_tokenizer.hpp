@@ -18,6 +18,9 @@ struct IdfField {
 struct IdfObject {
   std::vector<IdfField> fields;
   std::size_t line = 0;  ///< line of the class name
+  /// Byte offsets in the text: the class name's first character, and one past the closing `;`
+  /// (so that a copy of the file can replace the object: energyplus_writer).
+  std::size_t begin = 0, end = 0;
 };
 
 /// Splits IDF text into objects. `!` starts a comment up to the end of the line; fields are
