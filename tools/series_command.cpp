@@ -278,11 +278,11 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     sigaction(SIGINT, &action, &previous_int);
     sigaction(SIGTERM, &action, &previous_term);
   }
-  // On a terminal one line rewritten in place; in a log (an MPI job's or a checkpointed batch
-  // job's stderr, which is no terminal) a line every 10 s at most.
+  // On a terminal one line rewritten in place; in a log (stderr sent to a file, an MPI job's
+  // or a batch job's output) a line now and then (ProgressLine: every 30 s at most).
   const bool terminal = isatty(STDERR_FILENO) != 0;
-  const bool log_lines = !terminal && (world.distributed() || checkpointing);
-  shadow_cli::ProgressLine progress(talk && (terminal || log_lines), "instants", resumed, log_lines);
+  const bool log_lines = !terminal;
+  shadow_cli::ProgressLine progress(talk, "instants", resumed, log_lines);
   std::size_t done_total = resumed;
   for (std::size_t taken = 0; taken < share;) {
     const std::size_t count = std::min<std::size_t>(chunk, share - taken);
@@ -392,7 +392,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     on_every_rank(world, [&] {
       shadow::SunHoursOptions map_options;
       map_options.threads = args.threads;
-      shadow_cli::ProgressLine map_progress(talk && (terminal || log_lines),
+      shadow_cli::ProgressLine map_progress(talk,
                                             world.distributed() ? "sun-hours map faces (rank 0's block)"
                                                                 : "sun-hours map faces",
                                             0, log_lines);
