@@ -34,7 +34,8 @@ using Clock = std::chrono::steady_clock;
 CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   CLI::App* series = app.add_subcommand(
       "series", "Compute every sun instant of the scene's `sun` block on every receiving face (areas only) and "
-                "write sunlit.csv, energyplus-shading.csv, series.pvd, faces.vtp (sun_hours) and report.json");
+                "write sunlit.csv, series.pvd, faces.vtp (sun_hours) and report.json; for an EnergyPlus model (or "
+                "with --energyplus-shading) also energyplus-shading.csv");
   series->footer(std::string(shadow_cli::exit_codes_help()) +
                  " Also 5: stopped by SIGINT or SIGTERM while keeping a checkpoint; --resume finishes the run. Across "
                  "machines: mpirun -np N shadow series ... (docs/cluster.md).");
@@ -55,6 +56,10 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_flag("--fragments", args.fragments,
                    "Also write each instant's lit and shadowed polygons (series/fragments_NNNNN.vtp, fragments.pvd) "
                    "for the instants in series.pvd: one polygon computation per such instant, on top of the series");
+  series->add_flag("--energyplus-shading", args.energyplus_shading,
+                   "Write energyplus-shading.csv (EnergyPlus's Schedule:File:Shading, surface names in upper case as "
+                   "EnergyPlus matches them) for any scene; without it only a scene read from an EnergyPlus model "
+                   "(IDF/epJSON, as SCENE or a mesh file) or with \"energyplus_shading\": true gets one (docs/series.md)");
   series->add_option("--sun-hours-map", args.sun_hours_map,
                      "Write sun_hours.vtp: the exact sun-hours map of these meshes' faces (comma-separated mesh "
                      "names; adds to the scene's `sun_hours_map`; docs/sun-hours-map.md)");
@@ -366,6 +371,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
 
   shadow::OutputDirectory::SeriesFiles files;
   files.every = args.every;
+  if (args.energyplus_shading) files.energyplus_shading = true;
   if (args.fragments) {
     files.fragments = [&](std::size_t i) {
       shadow::ShadowOptions one;
@@ -461,6 +467,18 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::printf("    %s\n", p.filename().c_str());
     }
     if (instant_files > 0) std::printf("    series/ (%zu files, one per instant shown in series.pvd)\n", instant_files);
+    // Say why there is no energyplus-shading.csv: unasked, or the period cannot be one.
+    const bool ep_written = std::any_of(written.begin(), written.end(),
+                                        [](const fs::path& p) { return p.filename() == "energyplus-shading.csv"; });
+    if (!ep_written) {
+      const bool wanted = args.energyplus_shading || shadow::energyplus_shading_wanted(scene);
+      if (wanted)
+        std::printf("  no energyplus-shading.csv: %s\n", shadow::energyplus_schedule(scene).reason.c_str());
+      else if (scene.energyplus_shading)
+        std::printf("  no energyplus-shading.csv (the scene's \"energyplus_shading\" is false)\n");
+      else
+        std::printf("  no energyplus-shading.csv (not an EnergyPlus model; --energyplus-shading writes one)\n");
+    }
     if (map)
       std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", map->cells.size(), map->faces.size());
   }

@@ -17,6 +17,7 @@ struct SeriesArgs {
   bool quiet = false;
   std::size_t every = 1;
   bool fragments = false;
+  bool energyplus_shading = false;  ///< --energyplus-shading: write it for any scene, not only an EnergyPlus model
   std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;
