@@ -52,6 +52,10 @@ struct Mesh {
   /// or LoadOptions::orient_outward for every mesh): a part whose faces disagree is made
   /// consistent, then a part with negative signed volume is reversed. Each change is a warning.
   bool orient_outward = false;
+  /// The model the mesh was read from: "energyplus" (an IDF or epJSON file) or "cityjson";
+  /// empty for OBJ files and inline polygons. A scene with an EnergyPlus mesh gets
+  /// energyplus-shading.csv from `shadow series` (docs/series.md).
+  std::string model;
 };
 
 /// Kinds of light. Directional and Point are points (at infinity or not) and cast hard shadows;
@@ -133,6 +137,10 @@ struct Scene {
   /// The scene file's `sun_hours_map`: indices into `meshes` of the meshes whose faces get the
   /// exact sun-hours map (sun_hours.hpp, `sun_hours.vtp`), in the order given; empty: no map.
   std::vector<std::size_t> sun_hours_map;
+  /// The scene file's `energyplus_shading`: whether `shadow series` writes
+  /// energyplus-shading.csv. Absent: it does when a mesh comes from an EnergyPlus model
+  /// (energyplus_shading_wanted(), series.hpp).
+  std::optional<bool> energyplus_shading;
   /// A point subtracted from every point written to the VTK files (faces, fragments, plane
   /// shadows, lights) and stated in report.json as `origin`: a city model at projected
   /// coordinates (1e5 to 1e7 m) then renders in ParaView without the jitter of float32
