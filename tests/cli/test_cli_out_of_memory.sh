@@ -113,4 +113,10 @@ else
 fi
 if ((completed == 1)); then pass "a large enough limit completes"; else fail "completion" "no limit completed"; fi
 
+if "$SHADOW" --help | grep -q "6 out of memory" && "$SHADOW" compute --help | grep -q "6 out of memory"; then
+  pass "help lists exit status 6"
+else
+  fail "help" "shadow --help or shadow compute --help lacks exit status 6"
+fi
+
 cli_test_end
