@@ -5,6 +5,7 @@
 #include "series_command.hpp"
 
 #include "cli_checks.hpp"
+#include "out_of_memory.hpp"
 #include "progress_line.hpp"
 #include "series_checkpoint.hpp"
 #include "world.hpp"
@@ -251,7 +252,9 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   std::vector<std::size_t> map_faces;
   std::optional<shadow::ShadowEngine> engine_holder;
   EnergyPlusHandBack hand_back;
+  using shadow_cli::Stage;
   on_every_rank(world, [&] {
+    shadow_cli::set_stage(Stage::Loading);
     scene = shadow::load_scene(args.scene,
                                shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads));
     if (!args.from.empty() || !args.to.empty() || args.step_minutes > 0) {
@@ -288,6 +291,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
         std::sort(map_faces.begin(), map_faces.end());
         map_faces.erase(std::unique(map_faces.begin(), map_faces.end()), map_faces.end());
       }
+      shadow_cli::set_stage(Stage::Preparing);
       engine_holder.emplace(scene, args.threads);
     } catch (const shadow::InputError& e) {
       shadow_cli::rethrow_naming_scene(e, args.scene);
@@ -328,6 +332,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   shadow::SeriesResult series;
   std::vector<std::uint64_t> todo;  // the instants this run computes, ascending
   std::size_t resumed = 0;
+  shadow_cli::set_stage(Stage::Computing);
   on_every_rank(world, [&] {
     if (!root) return;
     output.emplace(args.outdir);  // lock, clear leftovers, remove the old report
@@ -534,6 +539,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   }
 
   std::vector<fs::path> written;
+  shadow_cli::set_stage(Stage::Writing);
   on_every_rank(world, [&] {
     if (!root) return;
     if (map) {

@@ -114,8 +114,7 @@ inline void parallel_for(std::size_t count, unsigned threads,
           } catch (...) {  // no more threads to be had: the ones running finish the work
             std::lock_guard<std::mutex> lock(mutex);
             --running;
-            if (pool.empty()) throw;
-            break;
+            break;  // (none at all, e.g. no memory for a stack under a limit: this thread, below)
           }
         }
         std::unique_lock<std::mutex> lock(mutex);
@@ -131,6 +130,8 @@ inline void parallel_for(std::size_t count, unsigned threads,
         record(std::current_exception());
       }
       for (std::thread& t : pool) t.join();  // never leave a joinable thread behind
+      // Not one thread could be started: the results do not depend on the thread count.
+      if (pool.empty()) run(0);
     }
   }
   if (error) std::rethrow_exception(error);
