@@ -40,6 +40,8 @@ for arg in "$@"; do
 done
 if ((with_tests)); then
   packages+=(paraview clang-14 libclang-rt-14-dev)
+  # SeriesResult.to_pandas() (docs/python.md), tested by ctest python.
+  packages+=(python3-pandas)
 fi
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
