@@ -570,6 +570,9 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::printf("  %-24s sun hours %.6g\n", surfaces.surfaces[s].label.c_str(), surfaces.sun_hours[s]);
     if (shown < surfaces.surfaces.size())
       std::printf("  ... %zu more in report.json\n", surfaces.surfaces.size() - shown);
+    const shadow::ObjectSunHours objects = shadow::object_sun_hours(scene, series, suns.hours_per_instant);
+    std::printf("  sun hours of %zu objects (buildings, zones, meshes; area-weighted) in sun_hours_by_object.csv\n",
+                objects.objects.size());
     const std::size_t computed_now = instants - resumed;
     std::printf("  computed in %.3f s (%.1f ms per instant), written in %.3f s\n", seconds(computed - start),
                 computed_now == 0 ? 0.0 : 1000.0 * seconds(computed - start) / static_cast<double>(computed_now),

@@ -78,9 +78,14 @@ std::function<void(const Progress&)> wrap_progress(const py::object& callback) {
       delete o;
     });
   }
-  return [holder](const Progress& p) {
+  // The engine may report a value again (at its end, after a tick that saw it): the callback
+  // hears each (done, total) once, done never going back.
+  auto last = std::make_shared<std::optional<Progress>>();
+  return [holder, last](const Progress& p) {
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (*last && (*last)->total == p.total && p.done <= (*last)->done) return;
+    *last = p;
     if (holder) (*holder)(p.done, p.total);
   };
 }
@@ -197,7 +202,12 @@ py::dict stats_dict(const ShadowStats& s) {
 }  // namespace
 
 PYBIND11_MODULE(_libshadow, m) {
-  m.doc() = "libshadow's C++ core; import libshadow instead.";
+  m.doc() = "libshadow's C++ core (pybind11): its classes and functions are libshadow's, imported from\n"
+            "there (import libshadow; see help(libshadow) and docs/python.md).";
+  // Everything here is used as libshadow.X: while the classes and functions are made, the module
+  // goes by that name, so their __module__, reprs and the types in docstrings say `libshadow.`.
+  const py::object own_name = m.attr("__name__");
+  m.attr("__name__") = "libshadow";
   m.attr("__version__") = version();
 
   static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
@@ -222,6 +232,12 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("receiver", &Mesh::receiver)
       .def_readonly("material", &Mesh::material)
       .def_readonly("orient_outward", &Mesh::orient_outward)
+      .def_readonly("object_type", &Mesh::object_type,
+                    "the CityJSON city object's type ('Building', 'BuildingPart', ...), 'zone' for an EnergyPlus\n"
+                    "zone, '' otherwise")
+      .def_readonly("parent", &Mesh::parent,
+                    "CityJSON: the top-level city object this one is part of (named like meshes), or ''")
+      .def_readonly("parent_type", &Mesh::parent_type, "the CityJSON type of parent, or ''")
       .def("__repr__", [](const Mesh& x) {
         return "Mesh(name=" + py::repr(py::str(x.name)).cast<std::string>() + ", faces=" +
                std::to_string(x.face_count) + ", receiver=" + (x.receiver ? "True" : "False") + ")";
@@ -272,6 +288,20 @@ PYBIND11_MODULE(_libshadow, m) {
   py::class_<NamedSurface>(m, "NamedSurface", "Faces sharing a name, or one unnamed face (label face_<id>).")
       .def_readonly("label", &NamedSurface::label)
       .def_readonly("faces", &NamedSurface::faces);
+
+  py::class_<SceneObject>(m, "SceneObject",
+                          "An object of the scene, the unit of sun hours per object: a CityJSON top-level city object\n"
+                          "with its parts, an EnergyPlus zone, or any other mesh (Scene.objects()).")
+      .def_readonly("id", &SceneObject::id, "its name: a mesh name, or a CityJSON parent's name as a mesh would have it")
+      .def_readonly("type", &SceneObject::type, "the CityJSON type, 'zone' or 'mesh'")
+      .def_readonly("meshes", &SceneObject::meshes, "indices into Scene.meshes")
+      .def("__repr__", [](const SceneObject& x) {
+        return "SceneObject(id=" + py::repr(py::str(x.id)).cast<std::string>() + ", type=" +
+               py::repr(py::str(x.type)).cast<std::string>() + ", meshes=" + std::to_string(x.meshes.size()) + ")";
+      });
+
+  // Registered before the sun functions below name it (else their docstrings show `shadow::Scene`).
+  py::class_<Scene, ScenePtr> scene_class(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.");
 
   // ---- sun --------------------------------------------------------------------------------------
   py::class_<SolarSite>(m, "SolarSite", "Where the sun is seen from (degrees, metres, millibars, Celsius).")
@@ -385,7 +415,7 @@ PYBIND11_MODULE(_libshadow, m) {
         "A copy of the scene with the period's suns above min_elevation appended to its lights (and\n"
         "its sun and sun_instants set); the scene given is left as it was.");
 
-  py::class_<Scene, ScenePtr>(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.")
+  scene_class
       .def_property_readonly("source", [](const Scene& s) { return s.source.string(); })
       .def_readonly("meshes", &Scene::meshes)
       .def_readonly("lights", &Scene::lights)
@@ -442,6 +472,10 @@ PYBIND11_MODULE(_libshadow, m) {
       .def("face_label", [](const Scene& s, std::size_t i) { return face_label(s, i); }, py::arg("face_id"))
       .def("named_surfaces", [](const Scene& s, bool r) { return named_surfaces(s, r); },
            py::arg("receivers_only") = true)
+      .def("objects", [](const Scene& s, bool r, bool per_mesh) { return scene_objects(s, r, per_mesh); },
+           py::arg("receivers_only") = true, py::arg("per_mesh") = false,
+           "The scene's objects (SceneObject): CityJSON BuildingParts rolled up into their Building, an\n"
+           "EnergyPlus zone, any other mesh; per_mesh: every mesh its own.")
       .def("validate", [](Scene& s, double tolerance) {
         LoadOptions o;
         o.planarity_tolerance = tolerance;
@@ -624,6 +658,13 @@ PYBIND11_MODULE(_libshadow, m) {
       "tile_casters, fast_tile_casters: split a receiver with more candidate casters than this into tiles\n"
       "(exact: areas unchanged; fast: within the bounds; fragments cut at tile borders; 0: never).";
 
+  // Registered before ShadowEngine.compute_series names it (else its docstring would show the C++ type).
+  py::class_<Series, std::shared_ptr<Series>> series_class(
+      m, "SeriesResult",
+      "Lit areas of every receiving face under every light of a series: rows are faces (face_id),\n"
+      "columns instants. 2-D arrays lit_area, lit_fraction, faces_light, lit_area_error_bound;\n"
+      "to_pandas(values, by) as a DataFrame indexed by UTC time.");
+
   py::class_<Engine>(m, "ShadowEngine",
                      "Prepares a scene once (exact face data) and computes shadows for many lights.")
       .def(py::init([](const ScenePtr& scene, unsigned threads) {
@@ -718,10 +759,7 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("hours_per_instant", &hours_per_instant, py::arg("period"),
         "The hours each instant stands for: step_minutes / 60, or for explicit times the median gap.");
 
-  py::class_<Series, std::shared_ptr<Series>>(
-      m, "SeriesResult",
-      "Lit areas of every receiving face under every light of a series: rows are faces (face_id),\n"
-      "columns instants. 2-D arrays lit_area, lit_fraction, faces_light, lit_area_error_bound.")
+  series_class
       .def_property_readonly("scene", [](const Series& x) { return x.scene; })
       .def_property_readonly("face_id", [](const Series& x) {
         return column<std::uint64_t>(x.result.faces, [](std::size_t f) { return f; });
@@ -767,6 +805,31 @@ PYBIND11_MODULE(_libshadow, m) {
     d["lit_fraction"] = table<double>(s.lit_fraction, s.surfaces.size(), s.instants);
     d["sun_hours"] = column<double>(s.sun_hours, [](double a) { return a; });
     return d;
+  });
+  m.def("_object_sun_hours", [](const Series& x, double h, bool per_mesh) {
+    const ObjectSunHours o = object_sun_hours(*x.scene, x.result, h, per_mesh);
+    py::dict d;
+    std::vector<std::string> ids, types;
+    std::vector<std::vector<std::size_t>> meshes;
+    for (const SceneObject& object : o.objects) {
+      ids.push_back(object.id);
+      types.push_back(object.type);
+      meshes.push_back(object.meshes);
+    }
+    d["ids"] = ids;
+    d["types"] = types;
+    d["meshes"] = meshes;
+    d["faces"] = column<std::uint64_t>(o.faces, [](std::size_t n) { return n; });
+    d["area"] = column<double>(o.area, [](double a) { return a; });
+    d["sun_hours"] = column<double>(o.sun_hours, [](double a) { return a; });
+    d["sunlit_area_hours"] = column<double>(o.sunlit_area_hours, [](double a) { return a; });
+    return d;
+  });
+  m.def("_sun_hours_by_object_csv", [](const Series& x) {
+    const SunSeries suns = sun_series(*x.scene);
+    std::ostringstream out;
+    write_sun_hours_by_object_csv(out, object_sun_hours(*x.scene, x.result, suns.hours_per_instant));
+    return out.str();
   });
   m.def("sunlit_csv",
         [](const Series& x) {
@@ -924,4 +987,6 @@ PYBIND11_MODULE(_libshadow, m) {
         py::arg("scene"), py::arg("threads") = 0, py::arg("lights") = py::none(), py::arg("plane_window") = 0.0,
         "The exact shadows on the scene's planes (Blinn's projection), by plane then light: a list of\n"
         "PlaneShadow. Independent of the face engine.");
+
+  m.attr("__name__") = own_name;  // the import system's own name back (see the top)
 }

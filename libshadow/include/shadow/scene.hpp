@@ -56,6 +56,17 @@ struct Mesh {
   /// empty for OBJ files and inline polygons. A scene with an EnergyPlus mesh gets
   /// energyplus-shading.csv from `shadow series` (docs/series.md).
   std::string model;
+  /// What the mesh is in the model it was read from: a CityJSON city object's `type`
+  /// (`Building`, `BuildingPart`, `TINRelief`, ...) or `zone` for an EnergyPlus zone; empty for
+  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups.
+  std::string object_type;
+  /// CityJSON: the top-level city object this one is part of (a BuildingPart's Building: the
+  /// first of `parents`, followed up to an object without parents), named as meshes are
+  /// (`<scene mesh>/<id>` inside a scene file). Empty for a top-level object and every other
+  /// mesh. Results per object (scene_objects()) roll the mesh up into it.
+  std::string parent;
+  /// The CityJSON `type` of `parent` (`Building`); empty when `parent` is.
+  std::string parent_type;
 };
 
 /// Kinds of light. Directional and Point are points (at infinity or not) and cast hard shadows;
@@ -181,5 +192,26 @@ std::vector<NamedSurface> named_surfaces(const Scene& scene, bool receivers_only
 
 /// A face's label: its name, or `face_<id>` when it has none.
 std::string face_label(const Scene& scene, std::size_t face_id);
+
+/// An object of the model, the unit of results per object (sun_hours_by_object.csv): a
+/// CityJSON top-level city object with its parts (BuildingParts rolled up into their Building),
+/// an EnergyPlus zone, or any other mesh.
+struct SceneObject {
+  /// The object's name: its mesh's name (a CityJSON object's id, `<scene mesh>/<id>` inside a
+  /// scene file; a zone's name), or for a parent without geometry of its own, its name as a mesh
+  /// would have it (Mesh::parent).
+  std::string id;
+  /// The CityJSON type (`Building`, `TINRelief`, ...), `zone` for an EnergyPlus zone, `mesh`
+  /// for any other mesh.
+  std::string type;
+  std::vector<std::size_t> meshes;  ///< indices into Scene::meshes, ascending
+};
+
+/// The scene's objects in the order of their first mesh: each mesh belongs to its Mesh::parent
+/// when it has one (a parent without a mesh of its own is an object too), else it is an object
+/// of its own. With `per_mesh`, every mesh is an object of its own (type: its object_type, or
+/// `mesh`), parts not rolled up. With `receivers_only`, meshes that do not receive are left out
+/// (and an object with none left is dropped).
+std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only = true, bool per_mesh = false);
 
 }  // namespace shadow

@@ -35,7 +35,7 @@ namespace fs = std::filesystem;
 
 /// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
 const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd",
-                                          "fragments.pvd"};
+                                          "fragments.pvd", "sun_hours_by_object.csv"};
 
 /// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
 /// `fragments_NNNNN.vtp`.
@@ -315,6 +315,7 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   const SurfaceSeries surfaces = surface_series(scene, series, suns.hours_per_instant);
   const std::vector<double> hours = sun_hours(series, suns.hours_per_instant);
   const std::vector<double> bound = sun_hours_error_bound(series, suns.hours_per_instant);
+  const ObjectSunHours objects = object_sun_hours(scene, series, suns.hours_per_instant);
 
   StagedFiles staged(outdir);
   auto write_text = [](const StagedFiles::Target& target, const auto& write) {
@@ -350,6 +351,9 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
     std::error_code ignored;
     fs::remove(outdir / "energyplus-objects.idf", ignored);
   }
+  // Sun hours per building (CityJSON object, parts rolled up), EnergyPlus zone or mesh.
+  const auto by_object = staged.stage("sun_hours_by_object.csv");
+  write_text(by_object, [&](std::ostream& out) { write_sun_hours_by_object_csv(out, objects); });
   if (!energyplus.written) {
     // Not this run's (report.json says why): an older one must not pass for it.
     std::error_code ignored;
@@ -398,7 +402,8 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   detail::write_polydata(detail::make_series_faces(base, series, hours, bound), faces.temp, faces.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
   write_text(report, [&](std::ostream& out) {
-    detail::write_series_report_json(out, scene, suns, series, surfaces, hours, bound, energyplus, every, run);
+    detail::write_series_report_json(out, scene, suns, series, surfaces, objects, hours, bound, energyplus, every,
+                                     run);
   });
   // Files of an earlier series that this one does not have would look like part of it.
   const auto remove_others = [&] {
