@@ -81,7 +81,8 @@ void check_output_directory(const std::string& image) {
 void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
   render.add_option("-o,--output", args.image,
-                    "File to write: .png (a picture), .svg or .pdf (the exact vector view, docs/vector-views.md)")
+                    "File to write: .png (a picture), .svg or .pdf (the exact vector view, docs/vector-views.md); "
+                    "other extensions are refused, and the folder must exist")
       ->required();
   render.add_option("--width", args.width, "Image width in pixels")->default_val(800)->check(shadow_cli::integer_in(1, 16384));
   render.add_option("--height", args.height, "Image height in pixels")->default_val(600)->check(shadow_cli::integer_in(1, 16384));
