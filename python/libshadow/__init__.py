@@ -434,9 +434,20 @@ def solar_positions(site, times, north_axis=0.0, delta_t=69.0):
     }
 
 
+def _hours_weight(weight):
+    """hours_per_instant as given: a finite number >= 0 (a negative or NaN weight made negative or
+    NaN sun hours); TypeError for what is not a number."""
+    if isinstance(weight, (bool, _np.bool_)) or not isinstance(weight, (int, float, _np.integer, _np.floating)):
+        raise TypeError("hours_per_instant: expected a number of hours, got %s" % type(weight).__name__)
+    value = float(weight)
+    if not _math.isfinite(value) or value < 0:
+        raise ValueError("hours_per_instant must be a finite number of hours >= 0, got %r" % (value,))
+    return value
+
+
 def _series_weight(series, weight):
     if weight is not None:
-        return float(weight)
+        return _hours_weight(weight)
     scene = series.scene
     if scene.sun is None:
         raise ValueError("sun_hours: the scene has no sun block; pass hours_per_instant")
@@ -487,6 +498,10 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
 
     Returns (labels, hours): a list of face, surface or mesh labels and a float64 array. The
     result must hold every sun light (compute without ``lights=``)."""
+    if not isinstance(result, (ShadowResult, SeriesResult)):
+        raise TypeError("sun_hours: expected a ShadowResult or a SeriesResult, got %s" % type(result).__name__)
+    if not isinstance(by, str):
+        raise TypeError('sun_hours: by must be "face", "surface" or "mesh", got %s' % type(by).__name__)
     if isinstance(result, SeriesResult):
         weight = _series_weight(result, hours_per_instant)
         if by == "face":
@@ -504,6 +519,8 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
         raise ValueError("sun_hours: the scene has no sun block")
     if hours_per_instant is None:
         hours_per_instant = _libshadow.hours_per_instant(scene.sun)
+    else:
+        hours_per_instant = _hours_weight(hours_per_instant)
     sun_lights = _np.array(sorted(i.light_id for i in scene.sun_instants if i.light_id is not None), dtype=_np.uint64)
     face_id, light_id = result.face_id, result.light_id
     is_sun = _np.isin(light_id, sun_lights)
