@@ -87,8 +87,8 @@ constexpr const char* kLineEnd =
     " (the process may not use more memory: free some, raise its limit (ulimit -v), or use fewer --threads); "
     "no report.json was written";
 
-void print_out_of_memory() {
-  if (g_reported.exchange(true)) return;
+/// The line itself, by the one caller that claimed it.
+static void write_out_of_memory_line() {
   // Pieces written one after the other: nothing here may allocate.
   write_all(kLineStart);
   write_all(stage_words(g_stage.load(std::memory_order_relaxed)));
@@ -96,15 +96,21 @@ void print_out_of_memory() {
   write_all("\n");
 }
 
+void print_out_of_memory() {
+  if (!g_reported.exchange(true)) write_out_of_memory_line();
+}
+
 std::string out_of_memory_line() {
   return std::string(kLineStart) + stage_words(g_stage.load(std::memory_order_relaxed)) + kLineEnd;
 }
 
 void exit_out_of_memory() {
-  if (g_reported.load()) {
-    for (;;) ::pause();  // another thread prints the line and ends the process: let it finish
+  // One claim: a second thread out of memory at the same moment waits for the first one's line
+  // and exit instead of ending the process in the middle of it.
+  if (g_reported.exchange(true)) {
+    for (;;) ::pause();
   }
-  print_out_of_memory();
+  write_out_of_memory_line();
   ::_exit(kOutOfMemory);
 }
 

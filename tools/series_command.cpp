@@ -170,24 +170,10 @@ EnergyPlusHandBack prepare_hand_back(const SeriesArgs& args, const shadow::Scene
   const fs::path parent = fs::absolute(args.write_idf).parent_path();
   if (!fs::is_directory(parent, ec))
     throw shadow::InputError({"", "--write-idf"}, "no directory " + parent.string() + " to write " + args.write_idf + " in");
+  if (::access(parent.c_str(), W_OK | X_OK) != 0)
+    throw shadow::InputError({"", "--write-idf"}, "cannot write in " + parent.string() + ": " + std::strerror(errno));
   back.copy = shadow::energyplus_model_importing_shading(args.scene, back.csv);
   return back;
-}
-
-/// Writes `text` to `file` under a temporary name, then renames it into place.
-void write_file_atomically(const fs::path& file, const std::string& text) {
-  const fs::path temp = file.parent_path() / ("." + file.filename().string() + ".tmp-" + std::to_string(getpid()));
-  errno = 0;
-  std::FILE* out = std::fopen(temp.c_str(), "wb");
-  bool ok = out != nullptr && std::fwrite(text.data(), 1, text.size(), out) == text.size();
-  if (out != nullptr) ok = std::fclose(out) == 0 && ok;
-  std::error_code ec;
-  if (ok) fs::rename(temp, file, ec);
-  if (!ok || ec) {
-    const std::string why = ec ? ec.message() : std::string(errno != 0 ? std::strerror(errno) : "could not write the file");
-    fs::remove(temp, ec);
-    throw shadow::OutputError(file.string() + ": " + why);
-  }
 }
 
 std::string encode_u64s(const std::vector<std::uint64_t>& values) {
@@ -549,8 +535,10 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::error_code ignored;  // an earlier run's map is not this run's
       fs::remove(output->path() / "sun_hours.vtp", ignored);
     }
+    // The model's copy first: report.json, written last by write_series, marks a complete run.
+    if (hand_back.copy)
+      shadow::write_file_staged(args.write_idf, [&](std::ostream& out) { out << hand_back.copy->text; });
     written = output->write_series(scene, suns, series, files, &run);
-    if (hand_back.copy) write_file_atomically(args.write_idf, hand_back.copy->text);
     if (map) written.insert(written.end() - 1, output->path() / "sun_hours.vtp");  // report.json stays last
     // The outputs are complete: a checkpoint left now (this run's, or an older one) is stale.
     if (checkpoint) checkpoint->remove();
@@ -570,9 +558,8 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::printf("  %-24s sun hours %.6g\n", surfaces.surfaces[s].label.c_str(), surfaces.sun_hours[s]);
     if (shown < surfaces.surfaces.size())
       std::printf("  ... %zu more in report.json\n", surfaces.surfaces.size() - shown);
-    const shadow::ObjectSunHours objects = shadow::object_sun_hours(scene, series, suns.hours_per_instant);
     std::printf("  sun hours of %zu objects (buildings, zones, meshes; area-weighted) in sun_hours_by_object.csv\n",
-                objects.objects.size());
+                shadow::scene_objects(scene).size());
     const std::size_t computed_now = instants - resumed;
     std::printf("  computed in %.3f s (%.1f ms per instant), written in %.3f s\n", seconds(computed - start),
                 computed_now == 0 ? 0.0 : 1000.0 * seconds(computed - start) / static_cast<double>(computed_now),

@@ -268,11 +268,9 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   remove_stale_report(outdir / "report.json");
   // A sun series' files from an earlier `shadow series` into this OUTDIR would sit beside this
   // run's complete-looking set (an old energyplus-shading.csv ready to import): remove them.
-  for (const char* old : {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd", "fragments.pvd",
-                          "sun_hours.vtp"}) {
-    std::error_code ignored;
-    fs::remove(outdir / old, ignored);
-  }
+  std::error_code ignored;
+  for (const char* old : kSeriesOutputNames) fs::remove(outdir / old, ignored);
+  fs::remove(outdir / "sun_hours.vtp", ignored);
 
   // Each dataset is built just before it is written and freed right after: only one of them
   // is in memory at a time. Errors name the final file, which is what the user asked for.

@@ -252,14 +252,18 @@ class Reader {
   }
 
   /// The top-level object `id` is part of, following the first of `parents` up; "" when `id`
-  /// has no parents. A parent that is missing, or a loop, ends the walk where it is (counted).
+  /// has no parents. A missing parent ends the walk where it is, and a loop gives "" (counted).
   std::string top_level_parent(const std::string& id, const Json& object, const std::string& path) {
     std::string current = id, parent = first_parent(object, path);
     std::vector<std::string> seen{id};
     while (!parent.empty()) {
       const Json* next = city_object(parent);
-      if (next == nullptr || std::find(seen.begin(), seen.end(), parent) != seen.end()) {
+      const bool loop = next != nullptr && std::find(seen.begin(), seen.end(), parent) != seen.end();
+      if (next == nullptr || loop) {
         if (lost_parents_++ == 0) first_lost_parent_ = "CityObjects[" + json_string(current) + "].parents";
+        // A loop has no top: each object on it counts on its own (ending at `current` would
+        // give two objects of a loop each other's rows).
+        if (loop) return "";
         break;
       }
       seen.push_back(parent);

@@ -9,6 +9,7 @@
 #include <shadow/scene_io.hpp>
 
 #include "scene/idf_tokenizer.hpp"
+#include "scene/json_document.hpp"
 #include "scene/model_dispatch.hpp"
 #include "scene/obj_reader.hpp"
 
@@ -110,12 +111,8 @@ EnergyPlusImportCopy idf_copy(const std::string& text, const std::string& displa
 EnergyPlusImportCopy epjson_copy(const std::string& text, const std::string& display_name, const std::string& csv_file) {
   EnergyPlusImportCopy copy;
   copy.epjson = true;
-  nlohmann::ordered_json root;
-  try {
-    root = nlohmann::ordered_json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError({display_name, ""}, std::string("malformed JSON: ") + e.what());
-  }
+  // The readers' parser: places and problems in words, duplicate keys refused.
+  const nlohmann::ordered_json root = scene_readers::parse_json_document<nlohmann::ordered_json>(text, display_name);
   if (!root.is_object()) throw InputError({display_name, ""}, "an epJSON file must hold a JSON object (class -> objects)");
   nlohmann::ordered_json out = nlohmann::ordered_json::object();
   auto add_ours = [&] {
