@@ -5,6 +5,7 @@
 #include <shadow/energyplus.hpp>
 
 #include <shadow/error.hpp>
+#include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 
 #include "scene/idf_tokenizer.hpp"
@@ -152,7 +153,7 @@ EnergyPlusImportCopy epjson_copy(const std::string& text, const std::string& dis
 
 bool is_energyplus_model(const std::filesystem::path& file) {
   try {
-    const std::string text = detail::read_text_file(file, file.string(), LoadOptions{}.max_file_bytes);
+    const std::string text = read_input_file(file, file.string(), LoadOptions{}.max_file_bytes);
     return scene_readers::model_format(file, text) == scene_readers::ModelFormat::energyplus;
   } catch (const InputError&) {
     return false;
@@ -173,7 +174,7 @@ std::string energyplus_import_objects(const std::string& csv_file) {
 EnergyPlusImportCopy energyplus_model_importing_shading(const std::filesystem::path& model, const std::string& csv_file) {
   check_csv_name(csv_file);
   const std::string display_name = model.string();
-  const std::string text = detail::read_text_file(model, display_name, LoadOptions{}.max_file_bytes);
+  const std::string text = read_input_file(model, display_name, LoadOptions{}.max_file_bytes);
   if (scene_readers::model_format(model, text) != scene_readers::ModelFormat::energyplus)
     throw InputError({display_name, ""}, "not an EnergyPlus model (IDF or epJSON): --write-idf copies the model "
                                          "given as SCENE");
