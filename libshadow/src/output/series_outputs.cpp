@@ -201,7 +201,9 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
                      {"area", surfaces.area[i]},
                      {"sun_hours", surfaces.sun_hours[i]}});
   s["surfaces"] = named;
+  s["skipped_faces"] = scene.skipped_faces.size();  // --skip-invalid (additive key)
   report["series"] = s;
+  report["skipped_faces"] = skipped_faces_json(scene);
 
   Json faces = Json::array();
   for (std::size_t r = 0; r < series.faces.size(); ++r) {

@@ -2,6 +2,7 @@
 // Named surfaces: the unit of named results (faces sharing a name are added up).
 #include <shadow/scene.hpp>
 
+#include <algorithm>
 #include <unordered_map>
 
 namespace shadow {
@@ -28,6 +29,31 @@ std::vector<NamedSurface> named_surfaces(const Scene& scene, bool receivers_only
       surfaces[it->second].faces.push_back(f);
   }
   return surfaces;
+}
+
+std::vector<std::size_t> select_meshes(const Scene& scene, const std::string& name, const SourceLocation& where) {
+  std::vector<std::size_t> chosen;
+  // A mesh's own name first: a mesh whose name happens to begin with "type:" is still found.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    if (scene.meshes[m].name == name) return {m};
+  const std::string prefix = "type:";
+  if (name.rfind(prefix, 0) != 0) throw InputError(where, "no mesh is named \"" + name + "\"");
+  const std::string type = name.substr(prefix.size());
+  std::vector<std::string> present;  // the types of the scene's meshes, in order of appearance
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const std::string& t = scene.meshes[m].type;
+    if (t == type && !type.empty()) chosen.push_back(m);
+    if (!t.empty() && std::find(present.begin(), present.end(), t) == present.end()) present.push_back(t);
+  }
+  if (!chosen.empty()) return chosen;
+  std::string known;
+  for (const std::string& t : present) known += (known.empty() ? "" : ", ") + t;
+  const std::string asked = type.empty() ? "an empty type" : "the type \"" + type + "\"";
+  throw InputError(where, asked + " selects no mesh (" +
+                              (present.empty() ? std::string("the scene has no CityJSON city objects; type:<T> selects "
+                                                             "meshes by their CityJSON object type")
+                                               : "the CityJSON object types present: " + known) +
+                              ")");
 }
 
 }  // namespace shadow
