@@ -62,7 +62,8 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                    "for the instants in series.pvd: one polygon computation per such instant, on top of the series");
   series->add_option("--sun-hours-map", args.sun_hours_map,
                      "Write sun_hours.vtp: the exact sun-hours map of these meshes' faces (comma-separated mesh "
-                     "names; adds to the scene's `sun_hours_map`; docs/sun-hours-map.md)");
+                     "names, city/<id> or type:<CityJSON type> such as type:TINRelief; adds to the scene's "
+                     "`sun_hours_map`; docs/sun-hours-map.md)");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)

@@ -30,8 +30,9 @@ inline void add_face_identity(nlohmann::ordered_json& entry, const Scene& scene,
   entry["tilt"] = number(o.tilt);
 }
 
-/// report.json's `skipped_faces`: the faces left out by LoadOptions::skip_invalid, each with
-/// its name, mesh, source and the reason (the validation error it failed). They have no id.
+/// report.json's `skipped_faces` (written when there are any): the faces left out by
+/// LoadOptions::skip_invalid, each with its name, mesh, source and the reason (the validation
+/// error it failed). They have no id.
 inline nlohmann::ordered_json skipped_faces_json(const Scene& scene) {
   using Json = nlohmann::ordered_json;
   Json list = Json::array();

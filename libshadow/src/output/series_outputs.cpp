@@ -203,7 +203,7 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
   s["surfaces"] = named;
   s["skipped_faces"] = scene.skipped_faces.size();  // --skip-invalid (additive key)
   report["series"] = s;
-  report["skipped_faces"] = skipped_faces_json(scene);
+  if (!scene.skipped_faces.empty()) report["skipped_faces"] = skipped_faces_json(scene);  // as in compute's
 
   Json faces = Json::array();
   for (std::size_t r = 0; r < series.faces.size(); ++r) {
