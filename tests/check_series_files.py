@@ -19,7 +19,8 @@ CASES = {  # folder: (year, minutes per step, rows of energyplus-shading.csv)
     "2028-hourly": (2028, 60, 8784),
     "2026-15min": (2026, 15, 35040),
 }
-HEADER = ["court \"yard\"", "face_1"]
+HEADER = ["court \"yard\"", "face_1"]  # sunlit.csv: the names as given
+EP_HEADER = ["COURT \"YARD\"", "FACE_1"]  # energyplus-shading.csv: as EnergyPlus holds them, upper case
 
 
 def fail(message):
@@ -32,7 +33,7 @@ def check_case(folder, year, step, rows_expected):
     series = report["series"]
     with open(os.path.join(folder, "energyplus-shading.csv"), newline="") as f:
         rows = list(csv.reader(f))
-    if rows[0] != ["Surface Name"] + HEADER:
+    if rows[0] != ["Surface Name"] + EP_HEADER:
         fail(f"{folder}: energyplus header {rows[0]!r}")
     body = rows[1:]
     if len(body) != rows_expected:

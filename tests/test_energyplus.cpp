@@ -3,6 +3,7 @@
 // windows cut out of their walls, the sun, and one-line errors with line and field.
 #include <shadow/energyplus.hpp>
 #include <shadow/scene_io.hpp>
+#include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 
 #include "scene/energyplus_reader.hpp"
@@ -162,6 +163,31 @@ TEST(EnergyPlus, AsAMeshFileTheModelKeepsItsReceivers) {
   EXPECT_EQ(receiving, (std::vector<std::string>{"Wall-South", "Window-South", "Door-South", "Wall-East",
                                                  "Window-East", "Wall-North", "Wall-West", "Roof"}));
   EXPECT_EQ(scene.meshes.front().name, "office/Office");
+}
+
+TEST(EnergyPlus, RecognisedByContentUnderAnyNameAndMarkedAsEnergyPlus) {
+  // An IDF whose first object comes after 64 KiB of comments, and the epJSON, under names that
+  // do not say what they are: read as EnergyPlus models, their meshes marked so (which makes
+  // `shadow series` write energyplus-shading.csv).
+  std::ifstream idf_in(kExample / "box-office.idf"), json_in(kExample / "box-office.epJSON");
+  const std::string idf_text((std::istreambuf_iterator<char>(idf_in)), std::istreambuf_iterator<char>());
+  const std::string json_text((std::istreambuf_iterator<char>(json_in)), std::istreambuf_iterator<char>());
+  std::string comments;
+  while (comments.size() < 70000) comments += "! a long header, as model generators write them\n";
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-ep-content-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "model.txt") << comments << idf_text;
+  std::ofstream(dir / "model.json") << json_text;
+  for (const char* name : {"model.txt", "model.json"}) {
+    const Scene scene = shadow::load_scene(dir / name);
+    EXPECT_EQ(scene.faces.size(), shadow::load_scene(kExample / "box-office.idf").faces.size()) << name;
+    for (const shadow::Mesh& mesh : scene.meshes) EXPECT_EQ(mesh.model, "energyplus") << name;
+    EXPECT_TRUE(shadow::energyplus_shading_wanted(scene)) << name;
+  }
+  const Scene placed = shadow::load_scene(kExample / "scene.json");
+  EXPECT_EQ(placed.meshes.front().model, "energyplus");
+  EXPECT_TRUE(shadow::energyplus_shading_wanted(placed));
+  fs::remove_all(dir);
 }
 
 TEST(EnergyPlus, ExampleSunFromSiteLocationRunPeriodTimestepAndNorthAxis) {
@@ -657,7 +683,23 @@ TEST(EnergyPlus, UnterminatedObjectDuplicateNamesAndUnknownZone) {
         idf(std::string(kHeader) + "Shading:Site:Detailed, Fence, , 3, 0,0,0, 1,0,0, 1,0,1;\n" +
             "Shading:Building:Detailed, FENCE, , 3, 0,0,0, 1,0,0, 1,0,1;\n");
       },
-      {"line 5, Shading:Building:Detailed \"FENCE\"", "a second surface named \"FENCE\"", "line 4"}));
+      {"line 5, Shading:Building:Detailed \"FENCE\"", "a second surface named \"FENCE\"", "differs from \"Fence\"",
+       "line 4", "only by case", "EnergyPlus upper-cases names"}));
+  // The same in epJSON, where the two are different keys of one class.
+  EXPECT_TRUE(ThrowsInputError(
+      [] {
+        parse_energyplus(R"({"Shading:Site:Detailed": {
+            "wall1": {"number_of_vertices": 3, "vertices": [
+              {"vertex_x_coordinate": 0, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0},
+              {"vertex_x_coordinate": 1, "vertex_y_coordinate": 0, "vertex_z_coordinate": 0},
+              {"vertex_x_coordinate": 1, "vertex_y_coordinate": 0, "vertex_z_coordinate": 1}]},
+            "Wall1": {"number_of_vertices": 3, "vertices": [
+              {"vertex_x_coordinate": 0, "vertex_y_coordinate": 1, "vertex_z_coordinate": 0},
+              {"vertex_x_coordinate": 1, "vertex_y_coordinate": 1, "vertex_z_coordinate": 0},
+              {"vertex_x_coordinate": 1, "vertex_y_coordinate": 1, "vertex_z_coordinate": 1}]}}})",
+                         "m.epJSON", true);
+      },
+      {"m.epJSON", "\"Wall1\"", "\"wall1\"", "only by case"}));
   EXPECT_TRUE(ThrowsInputError(
       [] {
         idf("BuildingSurface:Detailed, W, Wall, C, Attic, , Outdoors, , SunExposed, WindExposed, , 3,\n"

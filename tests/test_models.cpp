@@ -223,6 +223,33 @@ TEST(CityJson, RecognisedByContentUnderAnyName) {
   EXPECT_EQ(plain.lights.size(), 1u);
 }
 
+TEST(CityJson, RecognisedByParsingWhenTypeComesAfter64KiB) {
+  // cjio writes "type" where its dictionary puts it: Delft's sample has it after 1.4 MB. No
+  // prefix may decide (read as OBJ it gave an empty result, as a scene `unknown key`).
+  TempDir dir("late-type");
+  Json doc = boxes_cityjson();
+  doc["CityObjects"]["A"]["attributes"] = {{"description", std::string(100000, 'x')}};
+  doc.erase("type");
+  std::string text = doc.dump();
+  text.pop_back();
+  text += R"(, "type": "CityJSON"})";
+  ASSERT_GT(text.find(R"("type": "CityJSON")"), std::size_t{65536});
+  dir.write("delft.json", text);
+  const shadow::Scene whole = shadow::load_scene(dir.path() / "delft.json");
+  ASSERT_EQ(whole.faces.size(), 12u);
+  EXPECT_EQ(whole.meshes[0].model, "cityjson");
+  const shadow::Scene scene = shadow::load_scene(dir.write("s.json", scene_with("delft.json")));
+  ASSERT_EQ(scene.faces.size(), 12u);
+  EXPECT_EQ(scene.meshes[1].name, "city/B");
+  EXPECT_EQ(scene.meshes[1].model, "cityjson");
+  // The same areas as the file named .city.json.
+  dir.write("boxes.city.json", boxes_cityjson().dump());
+  const shadow::Scene named = shadow::load_scene(dir.write("n.json", scene_with("boxes.city.json")));
+  const shadow::ShadowResult a = compute(scene), b = compute(named);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  for (std::size_t i = 0; i < a.lighting.size(); ++i) EXPECT_EQ(a.lighting[i].lit_area, b.lighting[i].lit_area);
+}
+
 TEST(CityJson, HighestLodByDefaultOrTheChosenOne) {
   TempDir dir("lod");
   Json doc = boxes_cityjson();

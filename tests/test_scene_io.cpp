@@ -462,22 +462,51 @@ TEST(SceneLoading, BadCameraValuesAreErrorsAtTheirJsonPath) {
                                {"inline.json", "camera.fov", "expected a vertical view angle in degrees, in [1, 170]"}));
 }
 
-TEST(SceneLoading, MeshWithoutFacesLoadsWithAWarning) {
+TEST(SceneLoading, InlineMeshWithoutFacesLoadsWithAWarning) {
   TempDir dir;
-  dir.write("empty.obj", "# nothing here\nv 0 0 0\n");
   const fs::path file = dir.write("scene.json", R"({"meshes": [
-      {"name": "nothing", "file": "empty.obj"},
       {"name": "none", "polygons": []},
       {"name": "wall", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]]}],
     "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})");
   const Scene scene = shadow::load_scene(file);
   ASSERT_EQ(scene.faces.size(), 1u);
   EXPECT_EQ(scene.meshes[0].face_count, 0u);
-  EXPECT_EQ(scene.meshes[2].first_face, 0u);
-  ASSERT_EQ(scene.warnings.size(), 2u);
+  EXPECT_EQ(scene.meshes[1].first_face, 0u);
+  ASSERT_EQ(scene.warnings.size(), 1u);
   EXPECT_EQ(scene.warnings[0].where.place, "meshes[0]");
   EXPECT_NE(scene.warnings[0].message.find("has no faces"), std::string::npos);
-  EXPECT_EQ(scene.warnings[1].where.place, "meshes[1]");
+}
+
+TEST(SceneLoading, MeshFileWithoutFacesIsAnError) {
+  // An OBJ file (or a file taken for one) with no face would give a silently empty result.
+  TempDir dir;
+  dir.write("empty.obj", "# nothing here\nv 0 0 0\n");
+  const std::string mesh = R"({"meshes": [{"name": "wall", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]]},
+      {"name": "nothing", "file": "FILE"}], "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})";
+  auto scene_naming = [&](const std::string& name) {
+    std::string text = mesh;
+    text.replace(text.find("FILE"), 4, name);
+    return dir.write("scene.json", text);
+  };
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::load_scene(scene_naming("empty.obj")); },
+                               {"scene.json: meshes[1].file", "empty.obj\" has no faces: no f statements"}));
+  // JSON that is no model is not read as OBJ either.
+  dir.write("points.json", R"({"points": [[0, 0, 0], [1, 0, 0]]})");
+  EXPECT_TRUE(ThrowsInputError([&] { shadow::load_scene(scene_naming("points.json")); },
+                               {"scene.json: meshes[1].file", "points.json\" is JSON but neither CityJSON",
+                                "nor EnergyPlus epJSON"}));
+}
+
+TEST(SceneLoading, EnergyPlusShadingKeyAndMeshModel) {
+  const Scene unasked = parse(minimal_scene());
+  EXPECT_FALSE(unasked.energyplus_shading.has_value());
+  EXPECT_EQ(unasked.meshes[0].model, "");
+  const Scene asked = parse(minimal_scene(R"({"name": "sun", "type": "directional", "to_light": [0, 0, 1]})",
+                                          R"(, "energyplus_shading": true)"));
+  EXPECT_EQ(asked.energyplus_shading, std::optional<bool>(true));
+  EXPECT_TRUE(ThrowsInputError([] { parse(minimal_scene(R"({"name": "sun", "type": "directional", "to_light": [0, 0, 1]})",
+                                                         R"(, "energyplus_shading": "yes")")); },
+                               {"inline.json: energyplus_shading", "expected true or false, got"}));
 }
 
 TEST(SceneLoading, IntegerAndFloatingPointCoordinatesAreBothNumbers) {

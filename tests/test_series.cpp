@@ -17,6 +17,7 @@
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -27,6 +28,8 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -409,14 +412,18 @@ void write_year(const fs::path& dir, int year, int step, std::size_t every) {
   const shadow::SeriesResult series = engine.compute_series(suns.lights, options);
   fs::remove_all(dir);
   shadow::OutputDirectory out(dir);
-  const std::vector<fs::path> written = out.write_series(scene, suns, series, every);
+  shadow::OutputDirectory::SeriesFiles files;
+  files.every = every;
+  files.energyplus_shading = true;  // no EnergyPlus model here: asked for
+  const std::vector<fs::path> written = out.write_series(scene, suns, series, files);
   ASSERT_FALSE(written.empty());
   EXPECT_EQ(written.back().filename(), "report.json");
 
   std::ifstream ep_file(dir / "energyplus-shading.csv");
   std::string line;
   std::getline(ep_file, line);
-  EXPECT_EQ(line, "Surface Name,\"court \"\"yard\"\"\",face_1");
+  // The names as EnergyPlus holds them: upper case.
+  EXPECT_EQ(line, "Surface Name,\"COURT \"\"YARD\"\"\",FACE_1");
   std::size_t rows = 0;
   std::string first, last;
   while (std::getline(ep_file, line)) {
@@ -510,7 +517,9 @@ TEST(SeriesFiles, APeriodAllBelowTheHorizonWritesEmptyRowsAndZeros) {
   fs::remove_all(dir);
   {
     shadow::OutputDirectory out(dir);
-    out.write_series(scene, suns, series, 1);
+    shadow::OutputDirectory::SeriesFiles files;
+    files.energyplus_shading = true;
+    out.write_series(scene, suns, series, files);
   }
   std::ifstream sunlit(dir / "sunlit.csv");
   const std::string text((std::istreambuf_iterator<char>(sunlit)), std::istreambuf_iterator<char>());
@@ -579,6 +588,93 @@ TEST(SeriesFiles, FragmentsOfTheInstantsShownAddUpToTheirLitAreas) {
   EXPECT_FALSE(fs::exists(dir / "series" / "fragments_00000.vtp"));
   EXPECT_TRUE(fs::exists(dir / "series" / "sun_00000.vtp"));
   fs::remove_all(dir);
+}
+
+/// A wall named in mixed case, as IDF files name surfaces, under a day of hourly suns.
+shadow::Scene mixed_case_scene() {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "zone", {{{0, 0, 0}, {4, 0, 0}, {4, 0, 3}, {0, 0, 3}}, shadow::rectangle_z(0, -5, 4, 0, 0)});
+  scene.faces[0].name = "Zn001:Wall001";
+  scene.faces[1].name = "Zn001:Flr001";
+  add_equinox_period(scene, 45.0, utc(2026, 3, 20), 24, 60, "2026-03-20", "2026-03-20");
+  return scene;
+}
+
+/// The files write_series leaves in `dir` for `scene` with `files`, and report.json's series.energyplus.
+std::pair<std::vector<std::string>, nlohmann::json> series_files(const shadow::Scene& scene, const fs::path& dir,
+                                                                 shadow::OutputDirectory::SeriesFiles files) {
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  const shadow::ShadowEngine engine(scene, 1);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  fs::remove_all(dir);
+  files.every = 0;
+  std::vector<std::string> names;
+  {
+    shadow::OutputDirectory out(dir);
+    for (const fs::path& p : out.write_series(scene, suns, series, files)) names.push_back(p.filename().string());
+  }
+  std::ifstream report_file(dir / "report.json");
+  return {names, nlohmann::json::parse(report_file)["series"]["energyplus"]};
+}
+
+TEST(SeriesFiles, EnergyPlusShadingOnlyForAnEnergyPlusModelOrWhenAsked) {
+  shadow::Scene scene = mixed_case_scene();
+  const fs::path dir = files_dir("energyplus-asked");
+  auto has = [](const std::vector<std::string>& names) {
+    return std::find(names.begin(), names.end(), "energyplus-shading.csv") != names.end();
+  };
+  // Not an EnergyPlus model, not asked: none, and report.json says why.
+  EXPECT_FALSE(shadow::energyplus_shading_wanted(scene));
+  auto [names, ep] = series_files(scene, dir, {});
+  EXPECT_FALSE(has(names));
+  EXPECT_FALSE(fs::exists(dir / "energyplus-shading.csv"));
+  EXPECT_EQ(ep["written"], false);
+  EXPECT_NE(ep["note"].get<std::string>().find("not asked for"), std::string::npos) << ep;
+  // Asked for by the caller (the CLI's --energyplus-shading).
+  shadow::OutputDirectory::SeriesFiles asked;
+  asked.energyplus_shading = true;
+  std::tie(names, ep) = series_files(scene, dir, asked);
+  EXPECT_TRUE(has(names));
+  EXPECT_EQ(ep["written"], true);
+  // By the scene file's key.
+  scene.energyplus_shading = true;
+  EXPECT_TRUE(shadow::energyplus_shading_wanted(scene));
+  EXPECT_TRUE(has(series_files(scene, dir, {}).first));
+  // A mesh read from an EnergyPlus model: written unasked, and the key can still say no.
+  scene.energyplus_shading.reset();
+  scene.meshes[0].model = "energyplus";
+  EXPECT_TRUE(shadow::energyplus_shading_wanted(scene));
+  EXPECT_TRUE(has(series_files(scene, dir, {}).first));
+  scene.energyplus_shading = false;
+  EXPECT_FALSE(has(series_files(scene, dir, {}).first));
+  EXPECT_FALSE(fs::exists(dir / "energyplus-shading.csv"));  // the earlier run's is gone
+  fs::remove_all(dir);
+}
+
+TEST(SeriesFiles, EnergyPlusShadingNamesSurfacesInUpperCaseAsEnergyPlusDoes) {
+  // EnergyPlus 9.6 upper-cases object names, then matches the header case-sensitively: a
+  // column "Zn001:Wall001" would shade nothing. sunlit.csv keeps the model's own names.
+  const shadow::Scene scene = mixed_case_scene();
+  EXPECT_EQ(shadow::energyplus_name("Zn001:Wall001 ä-b"), "ZN001:WALL001 ä-B");
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  const shadow::ShadowEngine engine(scene, 1);
+  const shadow::SeriesResult series = engine.compute_series(suns.lights);
+  const shadow::SurfaceSeries surfaces = shadow::surface_series(scene, series, suns.hours_per_instant);
+  std::ostringstream ep, sunlit;
+  ASSERT_TRUE(shadow::write_energyplus_shading_csv(ep, scene, suns, surfaces).written);
+  EXPECT_EQ(ep.str().substr(0, ep.str().find('\n')), "Surface Name,ZN001:WALL001,ZN001:FLR001");
+  shadow::write_sunlit_csv(sunlit, suns, surfaces);
+  EXPECT_EQ(sunlit.str().substr(0, sunlit.str().find("\r\n")), "time,Zn001:Wall001,Zn001:Flr001");
+}
+
+TEST(SeriesFiles, SurfacesThatDifferOnlyByCaseGiveNoEnergyPlusFile) {
+  // One column to EnergyPlus: no file rather than a silently ambiguous one.
+  shadow::Scene scene = mixed_case_scene();
+  scene.faces[1].name = "ZN001:wall001";
+  const shadow::EnergyPlusSchedule schedule = shadow::energyplus_schedule(scene);
+  EXPECT_FALSE(schedule.written);
+  EXPECT_NE(schedule.reason.find("\"Zn001:Wall001\" and \"ZN001:wall001\" differ only by case"), std::string::npos)
+      << schedule.reason;
 }
 
 TEST(SeriesFiles, NoSunBlockIsAnInputError) {

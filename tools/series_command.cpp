@@ -35,7 +35,8 @@ using Clock = std::chrono::steady_clock;
 CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   CLI::App* series = app.add_subcommand(
       "series", "Compute every sun instant of the scene's `sun` block on every receiving face (areas only) and "
-                "write sunlit.csv, energyplus-shading.csv, series.pvd, faces.vtp (sun_hours) and report.json");
+                "write sunlit.csv, series.pvd, faces.vtp (sun_hours) and report.json; for an EnergyPlus model (or "
+                "with --energyplus-shading) also energyplus-shading.csv");
   series->footer(std::string(shadow_cli::exit_codes_help()) +
                  " Also 5: stopped by SIGINT or SIGTERM while keeping a checkpoint; --resume finishes the run. Across "
                  "machines: mpirun -np N shadow series ... (docs/cluster.md).");
@@ -60,6 +61,10 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_flag("--fragments", args.fragments,
                    "Also write each instant's lit and shadowed polygons (series/fragments_NNNNN.vtp, fragments.pvd) "
                    "for the instants in series.pvd: one polygon computation per such instant, on top of the series");
+  series->add_flag("--energyplus-shading", args.energyplus_shading,
+                   "Write energyplus-shading.csv (EnergyPlus's Schedule:File:Shading, surface names in upper case as "
+                   "EnergyPlus matches them) for any scene; without it only a scene read from an EnergyPlus model "
+                   "(IDF/epJSON, as SCENE or a mesh file) or with \"energyplus_shading\": true gets one (docs/series.md)");
   series->add_option("--sun-hours-map", args.sun_hours_map,
                      "Write sun_hours.vtp: the exact sun-hours map of these meshes' faces (comma-separated mesh "
                      "names, city/<id> or type:<CityJSON type> such as type:TINRelief; adds to the scene's "
@@ -392,11 +397,11 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     sigaction(SIGINT, &action, &previous_int);
     sigaction(SIGTERM, &action, &previous_term);
   }
-  // On a terminal one line rewritten in place; in a log (an MPI job's or a checkpointed batch
-  // job's stderr, which is no terminal) a line every 10 s at most.
+  // On a terminal one line rewritten in place; in a log (stderr sent to a file, an MPI job's
+  // or a batch job's output) a line now and then (ProgressLine: every 30 s at most).
   const bool terminal = isatty(STDERR_FILENO) != 0;
-  const bool log_lines = !terminal && (world.distributed() || checkpointing);
-  shadow_cli::ProgressLine progress(talk && (terminal || log_lines), "instants", resumed, log_lines);
+  const bool log_lines = !terminal;
+  shadow_cli::ProgressLine progress(talk, "instants", resumed, log_lines);
   std::size_t done_total = resumed;
   for (std::size_t taken = 0; taken < share;) {
     const std::size_t count = std::min<std::size_t>(chunk, share - taken);
@@ -481,6 +486,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   shadow::OutputDirectory::SeriesFiles files;
   files.every = args.every_given ? args.every : default_every(suns.lights.size(), suns.times);
   files.energyplus_objects = hand_back.objects;
+  if (args.energyplus_shading) files.energyplus_shading = true;
   if (args.fragments) {
     files.fragments = [&](std::size_t i) {
       shadow::ShadowOptions one;
@@ -507,7 +513,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     on_every_rank(world, [&] {
       shadow::SunHoursOptions map_options;
       map_options.threads = args.threads;
-      shadow_cli::ProgressLine map_progress(talk && (terminal || log_lines),
+      shadow_cli::ProgressLine map_progress(talk,
                                             world.distributed() ? "sun-hours map faces (rank 0's block)"
                                                                 : "sun-hours map faces",
                                             0, log_lines);
@@ -584,6 +590,18 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::printf("  series.pvd shows %zu of the %zu instants above the horizon, one in %zu (by default at most %zu "
                   "on a period over %g days; --every 1 shows them all, --every 0 none)\n",
                   instant_files, suns.lights.size(), files.every, kDefaultInstantFiles, kLongSeriesDays);
+    // Say why there is no energyplus-shading.csv: unasked, or the period cannot be one.
+    const bool ep_written = std::any_of(written.begin(), written.end(),
+                                        [](const fs::path& p) { return p.filename() == "energyplus-shading.csv"; });
+    if (!ep_written) {
+      const bool wanted = args.energyplus_shading || shadow::energyplus_shading_wanted(scene);
+      if (wanted)
+        std::printf("  no energyplus-shading.csv: %s\n", shadow::energyplus_schedule(scene).reason.c_str());
+      else if (scene.energyplus_shading)
+        std::printf("  no energyplus-shading.csv (the scene's \"energyplus_shading\" is false)\n");
+      else
+        std::printf("  no energyplus-shading.csv (not an EnergyPlus model; --energyplus-shading writes one)\n");
+    }
     if (map)
       std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", map->cells.size(), map->faces.size());
     print_hand_back(hand_back, args, written);

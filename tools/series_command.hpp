@@ -20,6 +20,7 @@ struct SeriesArgs {
   std::size_t every = 1;
   bool every_given = false;  ///< --every given: else default_every() decides (long periods: a bounded number)
   bool fragments = false;
+  bool energyplus_shading = false;  ///< --energyplus-shading: write it for any scene, not only an EnergyPlus model
   std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;

@@ -117,7 +117,8 @@ int run_compute(const ComputeArgs& args) {
     for (const shadow::Warning& warning : scene.warnings)
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";
 
-  shadow_cli::ProgressLine progress(!args.quiet && isatty(STDERR_FILENO), "face-light pairs");
+  // On a terminal one line rewritten in place; in a log a line now and then (progress_line.hpp).
+  shadow_cli::ProgressLine progress(!args.quiet, "face-light pairs", 0, isatty(STDERR_FILENO) == 0);
   shadow::ShadowOptions options;
   options.threads = args.threads;
   options.polygons = !args.areas_only;

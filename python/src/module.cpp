@@ -811,21 +811,26 @@ PYBIND11_MODULE(_libshadow, m) {
         py::arg("series"),
         "energyplus-shading.csv for Schedule:File:Shading: (text or None, schedule dict with 'reason').");
   m.def("write_series",
-        [](const Series& x, const std::filesystem::path& outdir, std::size_t every) {
+        [](const Series& x, const std::filesystem::path& outdir, std::size_t every,
+           std::optional<bool> energyplus_shading) {
           std::vector<std::filesystem::path> paths;
           {
             py::gil_scoped_release release;
             const SunSeries suns = sun_series(*x.scene);
             OutputDirectory dir(outdir);
-            paths = dir.write_series(*x.scene, suns, x.result, every);
+            OutputDirectory::SeriesFiles files;
+            files.every = every;
+            files.energyplus_shading = energyplus_shading;
+            paths = dir.write_series(*x.scene, suns, x.result, files);
           }
           std::vector<std::string> out;
           for (const auto& p : paths) out.push_back(p.string());
           return out;
         },
-        py::arg("series"), py::arg("outdir"), py::arg("every") = 1,
-        "Writes the series files of `shadow series` (sunlit.csv, energyplus-shading.csv, series.pvd\n"
-        "every `every`-th instant, faces.vtp with sun_hours, report.json last). Needs the scene's suns.");
+        py::arg("series"), py::arg("outdir"), py::arg("every") = 1, py::arg("energyplus_shading") = py::none(),
+        "Writes the series files of `shadow series` (sunlit.csv, series.pvd every `every`-th instant,\n"
+        "faces.vtp with sun_hours, report.json last; energyplus-shading.csv for an EnergyPlus model, or\n"
+        "with energyplus_shading=True, as --energyplus-shading). Needs the scene's suns.");
 
   // ---- the exact sun-hours map (sun_hours.hpp) ----------------------------------------------------
   py::class_<SunHoursInstant>(m, "SunHoursInstant", "One instant of a sun path: a light and the hours it stands for.")

@@ -47,7 +47,8 @@ def test_series_equals_one_compute_per_sun(sun_scene):
 
 def test_series_files_equal_the_cli_s(cli, source_dir, tmp_path, sun_scene):
     scene_path = source_dir / "examples" / "sun" / "scene.json"
-    subprocess.run([cli, "series", "-q", str(scene_path), "-o", str(tmp_path / "cli"), "-t", "2"], check=True)
+    subprocess.run([cli, "series", "-q", str(scene_path), "-o", str(tmp_path / "cli"), "-t", "2",
+                    "--energyplus-shading"], check=True)
     series = libshadow.ShadowEngine(sun_scene).compute_series(threads=2)
     sunlit = libshadow.sunlit_csv(series)
     assert sunlit == (tmp_path / "cli" / "sunlit.csv").read_bytes().decode()
@@ -56,7 +57,11 @@ def test_series_files_equal_the_cli_s(cli, source_dir, tmp_path, sun_scene):
     text, schedule = libshadow.energyplus_shading_csv(series)
     assert schedule["written"] and schedule["rows"] == 8760 and schedule["rows_in_period"] == 24
     assert text == (tmp_path / "cli" / "energyplus-shading.csv").read_bytes().decode()
-    paths = libshadow.write_series(series, str(tmp_path / "py"), every=1)  # the CLI's --every
+    # The CLI's --every and --energyplus-shading (examples/sun is no EnergyPlus model).
+    paths = libshadow.write_series(series, str(tmp_path / "py"), every=1, energyplus_shading=True)
+    assert (tmp_path / "py" / "energyplus-shading.csv").exists()
+    libshadow.write_series(series, str(tmp_path / "unasked"))
+    assert not (tmp_path / "unasked" / "energyplus-shading.csv").exists()
     assert paths[-1].endswith("report.json")
     assert (tmp_path / "py" / "series.pvd").exists() and (tmp_path / "py" / "faces.vtp").exists()
     ours = json.loads((tmp_path / "py" / "report.json").read_text())

@@ -122,14 +122,14 @@ else
 fi
 
 # shadow series on an EnergyPlus model read whole: energyplus-shading.csv's header is exactly the
-# model's exterior surfaces (the zone's walls, their window and door, the roof: no floor, no
+# model's exterior surfaces, named as EnergyPlus holds them (upper case) (the zone's walls, their window and door, the roof: no floor, no
 # shading), and --from/--to/--step run its site over another period (one June day, hourly).
 idf="$EXAMPLES/energyplus/box-office.idf"
 out="$WORK/out-series-idf"
 status=0
 "$SHADOW" series "$idf" -o "$out" --from 2023-06-21 --to 2023-06-21 --step 60 --every 0 --quiet \
   2>"$WORK/series-idf.stderr" || status=$?
-expected_header="Surface Name,Wall-South,Window-South,Door-South,Wall-East,Window-East,Wall-North,Wall-West,Roof"
+expected_header="Surface Name,WALL-SOUTH,WINDOW-SOUTH,DOOR-SOUTH,WALL-EAST,WINDOW-EAST,WALL-NORTH,WALL-WEST,ROOF"
 if [[ $status -eq 0 && -f "$out/report.json" ]] &&
    [[ $(head -n 1 "$out/energyplus-shading.csv" | tr -d '\r') == "$expected_header" ]] &&
    [[ $(wc -l <"$out/energyplus-shading.csv") -eq 8761 ]]; then

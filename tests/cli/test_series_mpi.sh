@@ -25,7 +25,7 @@ if "$MPIEXEC" --version 2>&1 | grep -q "Open MPI\|OpenRTE"; then
 fi
 mpi() { "$MPIEXEC" "${MPI_FLAGS[@]}" "$@"; }
 
-ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments -t 1 -q)
+ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments --energyplus-shading -t 1 -q)
 
 # The reference: one process, no launcher, with an MPI environment under which MPI_Init fails
 # (no such point-to-point layer): it must not call it.

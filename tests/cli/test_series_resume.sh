@@ -17,7 +17,7 @@ SCENE=$2/sun/scene.json
 
 # Three June days in Berlin, hourly: 51 instants above the horizon, with the exact sun-hours map
 # of two meshes, every second instant's dataset and its fragments.
-ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments -t 1 -q)
+ARGS=(--from 2026-06-01 --to 2026-06-03 --sun-hours-map tower,ground --every 2 --fragments --energyplus-shading -t 1 -q)
 TALK=("${ARGS[@]:0:${#ARGS[@]}-1}")  # without -q: the resume note is printed
 
 "$SHADOW" series "$SCENE" -o "$WORK/whole" "${ARGS[@]}" || fail reference "exit $?"

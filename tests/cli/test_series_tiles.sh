@@ -17,7 +17,7 @@ SHADOW=$1
 SCENE=$2/sun/scene.json
 
 # Two June days in Berlin, hourly (34 instants above the horizon), every third instant's dataset.
-ARGS=(--from 2026-06-20 --to 2026-06-21 --every 3 -t 2 -q)
+ARGS=(--from 2026-06-20 --to 2026-06-21 --every 3 -t 2 -q --energyplus-shading)
 run() {  # run NAME ARGS...: one series into $WORK/NAME
   local name=$1
   shift

@@ -1,5 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Opens a `shadow compute` result in ParaView with sensible defaults.
+"""Opens a result of the `shadow` command line in ParaView with sensible defaults: any OUTDIR it
+writes (`shadow compute`, with point, directional or area lights; `shadow series`, with or
+without the sun-hours map; a sun-hours map alone).
 
 Left view: the fragments of one light, lit and shadowed in two colours (for an extended light,
 coloured by the visible fraction of the light at each point, 0 to 1, with a legend), with the
@@ -8,6 +10,11 @@ Right view: the input faces coloured by their lit fraction for that light, with 
 When OUTDIR holds `sun_hours.vtp` (the exact sun-hours map of `shadow series`), one more view
 colours it by `sun_hours` with a legend titled "sun hours", the other faces in grey around it;
 a directory with the map and no `report.json` gets that view alone.
+
+A `shadow series` result (report.json with `series`, no `lights`): the faces coloured by their
+`sun_hours` over the period (legend "sun hours"; faces that receive no light in grey), beside
+`series.pvd` as an animation coloured by `lit_fraction` (press Play; the screenshot shows the
+middle instant) when the run wrote it, and the sun-hours map when there is one.
 
 In the ParaView GUI: View > Python Shell > Run Script (edit OUTDIR below, or set the environment
 variable LIBSHADOW_RESULT), or start it as `paraview --script=tools/paraview/open_result.py`.
@@ -23,9 +30,9 @@ import math
 import os
 import sys
 
-from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView,
+from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView, GetAnimationScene,
                              GetColorTransferFunction, GetScalarBar, Glyph, Hide, ProgrammableSource,
-                             Render, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
+                             PVDReader, Render, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
 
 OUTDIR = os.environ.get("LIBSHADOW_RESULT", "out/default")
 
@@ -171,14 +178,15 @@ def nice_step(span, most=7):
     return 10 * step
 
 
-def style_sun_hours(shown, source, view):
-    """Colour the map by sun_hours from 0 to the period's total: one band per hour up to a day,
-    labels at round hours, the legend titled "sun hours"."""
+def style_sun_hours(shown, source, view, total=None):
+    """Colour the map by sun_hours from 0 to the period's total (`total`, else the map's
+    `total_hours`): one band per hour up to a day, labels at round hours, the legend titled
+    "sun hours"."""
     ColorBy(shown, ("CELLS", "sun_hours"))
     lut = GetColorTransferFunction("sun_hours")
     lut.ApplyPreset("Inferno (matplotlib)", True)
-    total = None
-    if "total_hours" in source.FieldData.keys():
+    lut.NanColor = [0.82, 0.82, 0.80]  # faces that receive no light (series faces.vtp)
+    if not total and "total_hours" in source.FieldData.keys():
         total = source.FieldData["total_hours"].GetRange()[0]
     if not total or total <= 0:
         total = builtins.max(source.CellData["sun_hours"].GetRange()[1], 1.0)
@@ -201,12 +209,12 @@ def style_sun_hours(shown, source, view):
     bar.AddRangeLabels = 1
 
 
-def show_sun_hours(outdir, view, read):
+def show_sun_hours(outdir, view, read, total=None):
     """sun_hours.vtp coloured by its hours; faces.vtp (when present) in grey for context, less
     the mapped faces (same face ids) so that the two do not fight for the same pixels."""
     sun_hours = read("sun_hours.vtp")
     shown = Show(sun_hours, view)
-    style_sun_hours(shown, sun_hours, view)
+    style_sun_hours(shown, sun_hours, view, total)
     if os.path.isfile(os.path.join(outdir, "faces.vtp")):
         faces = read("faces.vtp") if "faces.vtp" not in read.cache else read.cache["faces.vtp"]
         low, high = sun_hours.CellData["face_id"].GetRange()
@@ -354,6 +362,68 @@ def finish(args, layout, views, described=None):
         print("open_result: ok")
 
 
+def arrange(layout, views):
+    """One, two or three views side by side, equal widths."""
+    if len(views) == 3:
+        # Cells 1 | 5 | 6 of the layout's binary tree.
+        layout.SplitHorizontal(0, 1.0 / 3.0)
+        layout.SplitHorizontal(2, 0.5)
+        for cell, view in zip((1, 5, 6), views):
+            layout.AssignView(cell, view)
+    else:
+        for view in views:
+            AssignViewToLayout(view=view, layout=layout, hint=0)
+
+
+def open_series(args, outdir, report, read):
+    """A `shadow series` OUTDIR: faces by sun hours, series.pvd by lit fraction (an animation),
+    and the sun-hours map when the run made one."""
+    series = report["series"]
+    has_pvd = os.path.isfile(os.path.join(outdir, "series.pvd"))
+    has_map = os.path.isfile(os.path.join(outdir, "sun_hours.vtp"))
+    count = 1 + has_pvd + has_map
+    VIEW_ASPECT[0] = args.size[0] / count / args.size[1]
+    VIEW_WIDTH[0] = args.size[0] / count
+    # The most sun a face can get over the period: every instant above the horizon, fully lit.
+    total = series.get("above_horizon", 0) * series.get("hours_per_instant", 1.0)
+    layout = CreateLayout("libshadow series")
+    views = [CreateView("RenderView") for _ in range(count)]
+    arrange(layout, views)
+    for view in views:
+        white_view(view)
+
+    faces = read("faces.vtp")
+    bounds = model_bounds(faces)
+    style_sun_hours(Show(faces, views[0]), faces, views[0], total)
+    next_view = 1
+    if has_pvd:
+        # The instants as a ParaView time series: Play runs through the period.
+        instants = PVDReader(registrationName="series.pvd", FileName=os.path.join(outdir, "series.pvd"))
+        instants.UpdatePipelineInformation()
+        times = list(instants.TimestepValues) if instants.TimestepValues else []
+        animation = GetAnimationScene()
+        animation.UpdateAnimationUsingDataTimeSteps()
+        if times:
+            animation.AnimationTime = times[len(times) // 2]
+        view = views[next_view]
+        next_view += 1
+        shown = Show(instants, view)
+        ColorBy(shown, ("CELLS", "lit_fraction"))
+        fraction = GetColorTransferFunction("lit_fraction")
+        fraction.ApplyPreset("Inferno (matplotlib)", True)
+        fraction.RescaleTransferFunction(0.0, 1.0)
+        fraction.AutomaticRescaleRangeMode = "Never"
+        fraction.NanColor = [0.82, 0.82, 0.80]
+        shown.SetScalarBarVisibility(view, True)
+        style_bar(GetScalarBar(fraction, view), "lit fraction", digits=2, labels=[0.0, 0.25, 0.5, 0.75, 1.0])
+    if has_map:
+        show_sun_hours(outdir, views[next_view], read, total)
+    for view in views:
+        Render(view)  # ParaView resets the camera on a view's first render: get that done first
+        place_camera_above(view, bounds)
+    finish(args, layout, views, (bounds, []))
+
+
 def main():
     args = parse_arguments()
     outdir = os.path.abspath(args.outdir)
@@ -381,6 +451,13 @@ def main():
 
     with open(os.path.join(outdir, "report.json")) as f:
         report = json.load(f)
+    if "series" in report and "lights" not in report:
+        open_series(args, outdir, report, read)
+        return
+    if not 0 <= args.light < len(report["lights"]):
+        print("open_result: --light %d: the result has %d lights (0 to %d)" %
+              (args.light, len(report["lights"]), len(report["lights"]) - 1))
+        sys.exit(2)
     light_name = report["lights"][args.light]["name"]
 
     fragments = read("fragments.vtp")

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -60,8 +61,9 @@ class OutputDirectory {
   std::vector<std::filesystem::path> write(const Scene& scene, const ShadowResult& result,
                                            const RunInfo* run = nullptr);
 
-  /// Writes a sun series (docs/series.md): `sunlit.csv`, `energyplus-shading.csv` (when the
-  /// period maps onto EnergyPlus's time steps), `series/sun_NNNNN.vtp` and `series.pvd` (every
+  /// Writes a sun series (docs/series.md): `sunlit.csv`, `energyplus-shading.csv` (when
+  /// energyplus_shading_wanted(scene), series.hpp, and the period maps onto EnergyPlus's time
+  /// steps), `series/sun_NNNNN.vtp` and `series.pvd` (every
   /// `every`-th instant; none when `every` is 0), `faces.vtp` (with `sun_hours`) and
   /// `report.json` (last), under the same discipline as write().
   /// @throws OutputError
@@ -81,6 +83,10 @@ class OutputDirectory {
     /// energyplus_import_objects() in shadow/energyplus.hpp) as `energyplus-objects.idf` beside
     /// it. Without it, or without the CSV, an older `energyplus-objects.idf` is removed.
     std::string energyplus_objects;
+    /// Whether to write energyplus-shading.csv (when the period allows one): absent, as
+    /// energyplus_shading_wanted(scene) says (an EnergyPlus model, or the scene file's
+    /// `energyplus_shading`); true, also for a scene that is no EnergyPlus model; false, never.
+    std::optional<bool> energyplus_shading;
   };
 
   /// write_series with the fragments of the instants shown (SeriesFiles::fragments).

@@ -57,6 +57,10 @@ struct Mesh {
   /// `type:<T>` in `receivers`, `sun_hours_map` and `--sun-hours-map` selects by it
   /// (select_meshes()).
   std::string type;
+  /// The model the mesh was read from: "energyplus" (an IDF or epJSON file) or "cityjson";
+  /// empty for OBJ files and inline polygons. A scene with an EnergyPlus mesh gets
+  /// energyplus-shading.csv from `shadow series` (docs/series.md).
+  std::string model;
 };
 
 /// A face that failed validation and was left out of the scene (LoadOptions::skip_invalid):
@@ -147,6 +151,10 @@ struct Scene {
   /// The scene file's `sun_hours_map`: indices into `meshes` of the meshes whose faces get the
   /// exact sun-hours map (sun_hours.hpp, `sun_hours.vtp`), in the order given; empty: no map.
   std::vector<std::size_t> sun_hours_map;
+  /// The scene file's `energyplus_shading`: whether `shadow series` writes
+  /// energyplus-shading.csv. Absent: it does when a mesh comes from an EnergyPlus model
+  /// (energyplus_shading_wanted(), series.hpp).
+  std::optional<bool> energyplus_shading;
   /// A point subtracted from every point written to the VTK files (faces, fragments, plane
   /// shadows, lights) and stated in report.json as `origin`: a city model at projected
   /// coordinates (1e5 to 1e7 m) then renders in ParaView without the jitter of float32

@@ -82,10 +82,23 @@ struct EnergyPlusSchedule {
 };
 
 /// Whether and how `scene.sun` maps onto EnergyPlus's year of time steps: a period (not
-/// explicit times) whose step divides an hour, in one calendar year.
+/// explicit times) whose step divides an hour, in one calendar year, and receiving surfaces
+/// whose names stay distinct in upper case (EnergyPlus's own names: energyplus_name()).
 EnergyPlusSchedule energyplus_schedule(const Scene& scene);
 
-/// `energyplus-shading.csv` for Schedule:File:Shading: header `Surface Name,<surface>,...`,
+/// Whether a sun series of `scene` should write energyplus-shading.csv unasked: the scene
+/// file's `energyplus_shading` when given, else whether a mesh comes from an EnergyPlus model
+/// (Mesh::model "energyplus"). A CityJSON city or an OBJ scene gets none unless asked.
+bool energyplus_shading_wanted(const Scene& scene);
+
+/// A surface name as EnergyPlus holds it, and writes it in its own eplusshading.csv: upper
+/// case (ASCII letters; other bytes as they are). EnergyPlus 9.6 upper-cases every object name
+/// on input and matches a Schedule:File:Shading header against those names case-sensitively,
+/// so a header column in the IDF's mixed case would match nothing.
+std::string energyplus_name(const std::string& name);
+
+/// `energyplus-shading.csv` for Schedule:File:Shading: header `Surface Name,<SURFACE>,...`
+/// (names upper-cased by energyplus_name()),
 /// one row per time step of the whole year, stamped `MM/DD hh:mm` at the step's end (local
 /// standard time; the last is `12/31 24:00`); a row holds the lit fraction of the instant that
 /// starts its step, 0 at night and outside the period.

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <string>
 #include <system_error>
+#include <unordered_map>
 
 namespace shadow {
 namespace {
@@ -104,6 +105,19 @@ EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
     schedule.reason = "the period has no instants";
     return schedule;
   }
+  {
+    // EnergyPlus upper-cases names: two columns that differ only by case would be one surface
+    // to it, and it would read only one of them.
+    std::unordered_map<std::string, std::string> seen;
+    for (const NamedSurface& s : named_surfaces(scene)) {
+      const auto [it, inserted] = seen.emplace(energyplus_name(s.label), s.label);
+      if (!inserted) {
+        schedule.reason = "the surfaces \"" + it->second + "\" and \"" + s.label +
+                          "\" differ only by case: EnergyPlus upper-cases names, so they would be one column (rename one)";
+        return schedule;
+      }
+    }
+  }
   const std::int64_t offset = offset_seconds(period);
   schedule.year = static_cast<int>(civil(scene.sun_instants.front().time + offset).year);
   schedule.timesteps_per_hour = 60 / period.step_minutes;
@@ -129,6 +143,20 @@ EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
   return schedule;
 }
 
+bool energyplus_shading_wanted(const Scene& scene) {
+  if (scene.energyplus_shading) return *scene.energyplus_shading;
+  for (const Mesh& mesh : scene.meshes)
+    if (mesh.model == "energyplus") return true;
+  return false;
+}
+
+std::string energyplus_name(const std::string& name) {
+  std::string upper = name;
+  for (char& c : upper)
+    if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+  return upper;
+}
+
 EnergyPlusSchedule write_energyplus_shading_csv(std::ostream& out, const Scene& scene, const SunSeries& suns,
                                                 const SurfaceSeries& surfaces) {
   const EnergyPlusSchedule schedule = energyplus_schedule(scene);
@@ -146,7 +174,8 @@ EnergyPlusSchedule write_energyplus_shading_csv(std::ostream& out, const Scene& 
     if (row < static_cast<std::int64_t>(schedule.rows)) column[static_cast<std::size_t>(row)] = i;
   }
   out << "Surface Name";
-  for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(s.label);
+  // EnergyPlus's own spelling of the names (upper case), or its header match finds none.
+  for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(energyplus_name(s.label));
   out << '\n';
   char stamp[16];
   for (std::size_t row = 0; row < schedule.rows; ++row) {

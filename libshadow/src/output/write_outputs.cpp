@@ -330,7 +330,14 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   };
   const auto sunlit = staged.stage("sunlit.csv");
   write_text(sunlit, [&](std::ostream& out) { write_sunlit_csv(out, suns, surfaces); });
-  EnergyPlusSchedule energyplus = energyplus_schedule(scene);
+  EnergyPlusSchedule energyplus;
+  if (files.energyplus_shading.value_or(energyplus_shading_wanted(scene)))
+    energyplus = energyplus_schedule(scene);
+  else
+    energyplus.reason = files.energyplus_shading || scene.energyplus_shading
+                            ? "not asked for (energyplus_shading false)"
+                            : "not asked for: the scene has no EnergyPlus model (shadow series --energyplus-shading, or "
+                              "the scene key \"energyplus_shading\": true, writes it)";
   if (energyplus.written) {
     const auto ep = staged.stage("energyplus-shading.csv");
     write_text(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });

@@ -862,9 +862,17 @@ void Reader::read_surfaces() {
     const std::string key = lower(s.name);
     if (s.name.empty()) fail(s.object->place, "a surface needs a name");
     const auto [it, inserted] = surface_index_.emplace(key, surfaces_.size());
-    if (!inserted)
+    if (!inserted) {
+      const Surface& first = surfaces_[it->second];
+      if (first.name != s.name)
+        // EnergyPlus upper-cases names: "Wall1" and "WALL1" are one surface to it (and its
+        // shading file's column would shade only one of them).
+        fail(s.object->place, "a second surface named \"" + s.name + "\": its name differs from \"" + first.name +
+                                  "\" (at " + first.object->place + ") only by case, and EnergyPlus upper-cases names, "
+                                  "so the two are the same surface to it (rename one)");
       fail(s.object->place, "a second surface named \"" + s.name + "\" (EnergyPlus names ignore case; the first is at " +
-                                surfaces_[it->second].object->place + ")");
+                                first.object->place + ")");
+    }
     surfaces_.push_back(std::move(s));
   };
   auto boundary_group = [&](const Object& o) {

@@ -14,14 +14,18 @@ namespace shadow::scene_readers {
 enum class ModelFormat {
   none,        ///< not a model: a scene JSON or an OBJ file
   cityjson,    ///< CityJSON (`.city.json`, or JSON whose top-level "type" is "CityJSON")
-  energyplus,  ///< EnergyPlus IDF (`.idf`) or epJSON (`.epJSON`, or JSON with a "Version" object
-               ///< and EnergyPlus geometry objects)
+  energyplus,  ///< EnergyPlus IDF (`.idf`, or a line opening `Version,`, `Zone,`, ...) or epJSON
+               ///< (`.epJSON`, or JSON with a top-level "Version" and EnergyPlus geometry objects)
 };
 
 /// The model format of `file`. `.idf`, `.epjson` and `.city.json` (any case) decide by name;
-/// `.obj` is never a model; any other name is decided by the content (`text`: the whole file,
-/// or at least its first 64 KiB).
+/// `.obj` is never a model; any other name is decided by the content (`text`: the whole file).
+/// JSON is parsed for its top-level keys, never judged by a prefix: a CityJSON file may name
+/// its "type" after megabytes of city objects.
 ModelFormat model_format(const std::filesystem::path& file, const std::string& text);
+
+/// True when `text` is JSON by its first character (`{` or `[` after blanks and a byte order mark).
+bool is_json_text(const std::string& text);
 
 /// Reads a model of the given format (not `none`) with its reader.
 /// @throws InputError

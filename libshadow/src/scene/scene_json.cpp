@@ -79,6 +79,16 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
   return match == nullptr ? std::string() : " (did you mean " + quote(*match) + "?)";
 }
 
+/// Mesh::model for a model's format.
+std::string model_name(scene_readers::ModelFormat format) {
+  switch (format) {
+    case scene_readers::ModelFormat::cityjson: return "cityjson";
+    case scene_readers::ModelFormat::energyplus: return "energyplus";
+    case scene_readers::ModelFormat::none: break;
+  }
+  return "";
+}
+
 // ---- the scene reader --------------------------------------------------------------------------
 
 /// An inline polygon: its vertices, and the optional name, kind and holes of the object form.
@@ -149,7 +159,7 @@ class SceneReader {
       fail("", "a scene must be a JSON object with \"meshes\" and \"lights\", got " + describe(document));
 
     check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera", "sun",
-                              "sun_hours_map"});
+                              "sun_hours_map", "energyplus_shading"});
     const Json& meshes = require(document, "", "meshes", "the scene's meshes");
     // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
     const Json* sun = find(document, "sun");
@@ -169,6 +179,10 @@ class SceneReader {
     if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
     if (const Json* camera = find(document, "camera")) read_camera(*camera);
     if (const Json* map = find(document, "sun_hours_map")) read_sun_hours_map(*map);
+    if (const Json* ep = find(document, "energyplus_shading")) {
+      if (!ep->is_boolean()) fail("energyplus_shading", "expected true or false, got " + describe(*ep));
+      scene_.energyplus_shading = ep->get<bool>();
+    }
 
     for (std::size_t i = 0; i < pending_.size(); ++i) {
       const std::size_t first = scene_.meshes.size();
@@ -489,6 +503,7 @@ class SceneReader {
           Mesh& mesh = new_mesh(pending.name + "/" + part.name);
           mesh.receiver = pending.receiver && part.receiver;
           mesh.type = part.type;  // the CityJSON object type, for type:<T> selections
+          mesh.model = model_name(format);
           for (std::size_t f = part.first_face; f < part.first_face + part.face_count; ++f) {
             Face& face = model.faces.at(f);
             add_face(std::move(face.vertices), std::move(face.source), std::move(face.name), std::move(face.kind));
@@ -498,14 +513,21 @@ class SceneReader {
         finish_mesh(pending, first_mesh);
         return;
       }
+      if (scene_readers::is_json_text(text))
+        // Read as OBJ it would give no face and a silently empty result.
+        fail(member(pending.path, "file"),
+             quote(display) + " is JSON but neither CityJSON (a top-level \"type\": \"CityJSON\") nor EnergyPlus "
+                              "epJSON (a top-level \"Version\" and geometry such as \"BuildingSurface:Detailed\"): a "
+                              "mesh file is Wavefront OBJ, CityJSON or EnergyPlus IDF/epJSON");
       std::vector<std::size_t> lines;
       std::vector<std::string> groups;
       std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups);
       text.clear();
-      new_mesh(pending.name);
       if (polygons.empty())
-        scene_.warnings.push_back({{file_, pending.path}, "mesh " + quote(pending.name) + " has no faces (no f statements in " +
-                                                              quote(display) + ")"});
+        // An empty result would pass for a computed one: a mesh file with no face is an error.
+        fail(member(pending.path, "file"), quote(display) + " has no faces: no f statements (read as Wavefront OBJ; "
+                                                              "a CityJSON or EnergyPlus model is recognised by its content)");
+      new_mesh(pending.name);
       for (std::size_t j = 0; j < polygons.size(); ++j)
         add_face(std::move(polygons[j]), {display, "line " + std::to_string(lines[j])}, groups[j], "");
     } else {
@@ -994,6 +1016,7 @@ Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     Mesh& mesh = scene.meshes[m];
     if (mesh.file.empty()) mesh.file = scene_file.string();
+    mesh.model = model_name(format);
     for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f)
       scene.faces[f].mesh = m;
   }

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# tools/paraview/open_result.py opens what the `shadow` command line writes, one kind of OUTDIR
+# per call: the CLI makes it, the script opens it headless (pvpython), saves a screenshot and
+# describes its views; then the views must be the kind's (their colour bars by title), the model
+# framed and clear of the bars (check_layout.py), and the picture must show the colour maps.
+# Kinds:
+#   series        shadow series (series.pvd): faces by sun hours | instants by lit fraction
+#   series-map    shadow series --sun-hours-map: the same and the exact sun-hours map
+#   series-faces  shadow series --every 0 (no series.pvd): faces by sun hours alone
+#   area-light    shadow compute on an area light: fragments by visible part | faces by lit fraction
+# (`shadow compute` with a sun: paraview_opens_default_result; a sun's disk: paraview_visibility_view.)
+# Usage: test_open_output.sh SOURCE_DIR SHADOW_BINARY WORK_DIR KIND
+set -euo pipefail
+source_dir="$1" shadow="$2" work="$3" kind="$4"
+rm -rf "$work"
+mkdir -p "$work"
+sun=(series "$source_dir/examples/sun/scene.json" -o "$work/result" -t 2 -q)
+case "$kind" in
+  series) "$shadow" "${sun[@]}" --every 4; bars='["sun hours"], ["lit fraction"]' ;;
+  series-map) "$shadow" "${sun[@]}" --every 4 --sun-hours-map ground; bars='["sun hours"], ["lit fraction"], ["sun hours"]' ;;
+  series-faces) "$shadow" "${sun[@]}" --every 0; bars='["sun hours"]' ;;
+  area-light) "$shadow" compute "$source_dir/examples/area-light/scene.json" -o "$work/result" -t 2 -q
+              bars='["visible part"], ["lit fraction"]' ;;
+  *) echo "unknown kind $kind" >&2; exit 2 ;;
+esac
+log="$work/log.txt"
+status=0
+"$source_dir/tools/paraview/pvpython.sh" "$source_dir/tools/paraview/open_result.py" "$work/result" \
+  --screenshot "$work/view.png" --size 1200 500 --describe "$work/view.json" >"$log" 2>&1 || status=$?
+if [[ $status -eq 2 ]] && grep -q "^pvpython.sh: no pvpython" "$log"; then
+  cat "$log"
+  exit 77  # ctest SKIP_RETURN_CODE: this machine has no ParaView Python
+fi
+cat "$log"
+grep -q "^open_result: ok, wrote " "$log" || { echo "FAIL: open_result.py gave no verdict ($kind)"; exit 1; }
+/usr/bin/python3 - "$work/view.json" "$work/view.png" "[$bars]" <<'PY'
+import json
+import sys
+
+import vtk
+
+layout = json.load(open(sys.argv[1]))
+expected = json.loads(sys.argv[3])
+titles = [[bar["title"] for bar in view["bars"]] for view in layout["views"]]
+print(f"views and their colour bars: {titles}")
+assert titles == expected, f"expected {expected}"
+reader = vtk.vtkPNGReader()
+reader.SetFileName(sys.argv[2])
+reader.Update()
+image = reader.GetOutput()
+width, height, _ = image.GetDimensions()
+assert (width, height) == (1200, 500), (width, height)
+scalars = image.GetPointData().GetScalars()
+# Every view shows a colour map: warm (Inferno) or the lit/shadowed colours, over a good part of it.
+views = len(expected)
+for v in range(views):
+    coloured = total = 0
+    for y in range(0, height, 2):
+        for x in range(v * width // views, (v + 1) * width // views, 2):
+            r, g, b = (int(scalars.GetComponent(y * width + x, c)) for c in range(3))
+            total += 1
+            coloured += max(r, g, b) - min(r, g, b) > 40
+    share = coloured / total
+    print(f"view {v}: coloured pixels {100 * share:.1f}%")
+    assert share > 0.03, f"view {v} shows almost no colour map"
+PY
+/usr/bin/python3 "$source_dir/tests/paraview/check_layout.py" "$work/view.json" 0.3
+echo "test_open_output: ok ($kind)"
