@@ -40,6 +40,9 @@ for arg in "$@"; do
 done
 if ((with_tests)); then
   packages+=(paraview clang-14 libclang-rt-14-dev)
+  # SeriesResult.to_pandas() and `pip install .` (docs/python.md), tested by ctest python and
+  # python_pip.
+  packages+=(python3-pandas python3-pip python3-setuptools python3-wheel)
 fi
 # Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
 # (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh

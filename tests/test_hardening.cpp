@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shadow::test {
@@ -390,6 +391,41 @@ TEST(LargeFaces, CombWhoseShadowLeavesTheGroundIsCutToIt) {
         shadowed += f.area;
       }
     EXPECT_NEAR(shadowed, ground->shadow_area, 1e-9 * ground->area);
+  }
+}
+
+TEST(LargeFaces, CombUnderALampCastsItsScaledOutlineOnAndOffTheGround) {
+  // A point lamp 2 m up over a comb 1 m up: the comb's shadow is the comb scaled by 2 about the
+  // lamp's foot (1000, 5), area 4 x 5.5 x teeth. On a ground that holds it all, and on one whose
+  // edge x = 2000.5 is the image of x = 1500.25, in the gap between teeth 1500 and 1501 (then the
+  // spine up to 1500.25 and 1,500 teeth of 0.5 x 9). Dyadic numbers: the areas are exact in
+  // doubles. Areas only and with polygons (whose shadowed fragments add up to the same).
+  const std::size_t teeth = 2000;
+  const double whole = 4 * 5.5 * static_cast<double>(teeth), cut = 4 * (1500.25 + 1500 * 4.5);
+  for (const auto& [x1, expected] : {std::pair{3001.0, whole}, std::pair{2000.5, cut}}) {
+    Scene scene;
+    add_mesh(scene, "ground", {rectangle_z(-1001, -6, x1, 16, 0)});
+    add_mesh(scene, "comb", {comb_polygon(teeth, 1)});
+    scene.lights.push_back(point_light("lamp", {1000, 5, 2}));
+    validate_scene(scene);
+    for (bool polygons : {false, true}) {
+      ShadowOptions options;
+      options.threads = 2;
+      options.polygons = polygons;
+      const ShadowResult r = compute_shadows(scene, options);
+      const FaceLighting* ground = r.find(0, 0);
+      ASSERT_NE(ground, nullptr);
+      EXPECT_EQ(ground->shadow_area, expected) << "ground to x = " << x1 << (polygons ? ", polygons" : "");
+      EXPECT_EQ(ground->lit_area, ground->area - expected);
+      if (!polygons) continue;
+      double shadowed = 0;
+      for (const Fragment& f : r.fragments)
+        if (f.face_id == 0 && !f.lit) {
+          EXPECT_EQ(polygon_problem(f.polygon), "");
+          shadowed += f.area;
+        }
+      EXPECT_NEAR(shadowed, expected, 1e-9 * ground->area);
+    }
   }
 }
 

@@ -891,8 +891,8 @@ TEST(MeshTypes, ReceiversAndSunHoursMapsByCityJsonObjectType) {
   // The object types are the meshes' types.
   const shadow::Scene whole = shadow::load_scene(dir.path() / "typed.city.json");
   ASSERT_EQ(whole.meshes.size(), 3u);
-  EXPECT_EQ(whole.meshes[0].type, "Building");
-  EXPECT_EQ(whole.meshes[2].type, "TINRelief");
+  EXPECT_EQ(whole.meshes[0].object_type, "Building");
+  EXPECT_EQ(whole.meshes[2].object_type, "TINRelief");
   // receivers by type: the terrain receives, the buildings and the scene's ground do not.
   const shadow::Scene terrain = shadow::load_scene(dir.write("r.json", typed_scene(R"(, "receivers": ["type:TINRelief"])")));
   ASSERT_EQ(terrain.meshes.size(), 4u);
@@ -917,11 +917,11 @@ TEST(MeshTypes, ReceiversAndSunHoursMapsByCityJsonObjectType) {
             (std::vector<std::size_t>{6, 7, 8, 9, 10, 11, 12}));
   // An unknown type names the key or flag, the type and the types present.
   EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("u.json", typed_scene(R"(, "receivers": ["type:Bridge"])"))); })
-                .find("u.json: receivers[0]: the type \"Bridge\" selects no mesh (the CityJSON object types present: "
+                .find("u.json: receivers[0]: the type \"Bridge\" selects no mesh (the object types present: "
                       "Building, TINRelief)"),
             std::string::npos);
   EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("v.json", typed_scene(R"(, "sun_hours_map": ["type:building"])"))); })
-                .find("v.json: sun_hours_map[0]: the type \"building\" selects no mesh (the CityJSON object types "
+                .find("v.json: sun_hours_map[0]: the type \"building\" selects no mesh (the object types "
                       "present: Building, TINRelief)"),
             std::string::npos);
   EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(mapped, {"type:Road"}, "--sun-hours-map"); })
@@ -932,7 +932,7 @@ TEST(MeshTypes, ReceiversAndSunHoursMapsByCityJsonObjectType) {
       R"({"meshes": [{"name": "m", "polygons": [[[0,0,0],[1,0,0],[0,1,0]]]}], "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})",
       "plain.json");
   EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(plain, {"type:Building"}, "--sun-hours-map"); })
-                .find("the scene has no CityJSON city objects"),
+                .find("no mesh has an object type: type:<T> selects CityJSON city objects by their type"),
             std::string::npos);
   // A misspelt mesh name is still found before any model is read, with a suggestion.
   EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("w.json", typed_scene(R"(, "sun_hours_map": ["grund"])"))); })

@@ -917,4 +917,75 @@ TEST_F(OutputTest, StaleTemporariesOfDeadProcessesAreRemoved) {
   EXPECT_TRUE(fs::exists(root_ / live));
 }
 
+// ---- issue 30, item 10: one file staged like every output (shadow render's images) -------------
+
+/// Writes 64 KiB through write_file_staged under a file size limit of `limit` bytes (SIGXFSZ
+/// ignored: write() then fails with EFBIG where a full disk fails with ENOSPC). Returns the
+/// OutputError's message, or "" when nothing was thrown.
+std::string staged_write_under_limit(const fs::path& path, rlim_t limit) {
+  rlimit old_limit{};
+  if (getrlimit(RLIMIT_FSIZE, &old_limit) != 0) return "getrlimit failed";
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old_limit;
+  small.rlim_cur = limit;
+  if (setrlimit(RLIMIT_FSIZE, &small) != 0) return "setrlimit failed";
+  std::string message;
+  try {
+    shadow::write_file_staged(path, [](std::ostream& out) { out << std::string(65536, 'x'); });
+  } catch (const OutputError& e) {
+    message = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  return message;
+}
+
+TEST_F(OutputTest, AStagedFileIsWrittenWholeUnderItsNameWithNoTemporaryLeft) {
+  std::ofstream(root_ / "view.svg") << "old";
+  shadow::write_file_staged(root_ / "view.svg", [](std::ostream& out) { out << "<svg/>\n"; });
+  EXPECT_EQ(read_text(root_ / "view.svg"), "<svg/>\n");
+  EXPECT_EQ(directory_listing(root_), std::set<std::string>{"view.svg"});
+}
+
+TEST_F(OutputTest, AStagedFileOnAFullDiskIsAnOutputErrorAndTheOldFileStays) {
+  // The limit cuts the file inside the stream's last buffer or before it: either way the
+  // failure must come out (the PDF used to be left cut at 4,096 bytes with exit status 0).
+  for (const rlim_t limit : {rlim_t{0}, rlim_t{4096}, rlim_t{65535}}) {
+    std::ofstream(root_ / "view.pdf") << "old";
+    const std::string message = staged_write_under_limit(root_ / "view.pdf", limit);
+    EXPECT_EQ(message.find((root_ / "view.pdf").string() + ": "), 0u) << limit << ": " << message;
+    EXPECT_NE(message.find(std::strerror(EFBIG)), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_EQ(read_text(root_ / "view.pdf"), "old") << limit;
+    EXPECT_EQ(directory_listing(root_), std::set<std::string>{"view.pdf"}) << limit << ": a temporary was left";
+  }
+}
+
+TEST_F(OutputTest, AStagedFileWhoseWriterFailsLeavesNothing) {
+  // A stream error set by the writer, and an exception thrown by it.
+  EXPECT_THROW(shadow::write_file_staged(root_ / "a.png",
+                                         [](std::ostream& out) {
+                                           out << "half";
+                                           out.setstate(std::ios::badbit);
+                                         }),
+               OutputError);
+  EXPECT_THROW(shadow::write_file_staged(root_ / "b.png",
+                                         [](std::ostream& out) {
+                                           out << "half";
+                                           throw std::runtime_error("drawing failed");
+                                         }),
+               std::runtime_error);
+  EXPECT_TRUE(directory_listing(root_).empty());
+}
+
+TEST_F(OutputTest, AStagedFileInAMissingFolderIsAnOutputErrorNamingIt) {
+  try {
+    shadow::write_file_staged(root_ / "missing" / "view.svg", [](std::ostream& out) { out << "x"; });
+    FAIL() << "expected OutputError";
+  } catch (const OutputError& e) {
+    EXPECT_EQ(std::string(e.what()).find((root_ / "missing" / "view.svg").string() + ": "), 0u) << e.what();
+  }
+  EXPECT_TRUE(directory_listing(root_).empty());
+}
+
 }  // namespace

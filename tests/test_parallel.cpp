@@ -131,6 +131,74 @@ TEST(Parallel, AProgressReportThatThrowsOrComputesInTurn) {
   EXPECT_EQ(inner.load() % 45, 0);
 }
 
+// ---- stopping (issue 30, item 13: Ctrl-C within about a second) ---------------------------------
+
+TEST(Parallel, RunningItemsStopAtTheirNextCheckWhenTheProgressReportThrows) {
+  // Four items of 400 steps of 5 ms each: without a stop, 1,600 steps. The first report throws;
+  // the running items see it at their next check_stop() instead of finishing their 400 steps.
+  std::atomic<int> steps{0};
+  EXPECT_THROW(parallel_for(
+                   4, 2,
+                   [&](unsigned, std::size_t) {
+                     for (int k = 0; k < 400; ++k) {
+                       shadow::core::check_stop();
+                       std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                       steps.fetch_add(1);
+                     }
+                   },
+                   [&](std::size_t) { throw std::runtime_error("report"); }),
+               std::runtime_error);
+  EXPECT_LT(steps.load(), 400);
+  EXPECT_FALSE(shadow::core::stop_requested());  // nothing left behind on this thread
+  EXPECT_TRUE(every_item_once(1000, 4));
+}
+
+TEST(Parallel, ACallInsideAStoppedItemStopsToo) {
+  // The inner call runs on threads of its own (the pool runs the outer one); it must stop, and
+  // never hand the item a partial result as if it were complete.
+  std::atomic<int> inner_items{0};
+  std::atomic<int> partial_results{0};
+  try {
+    parallel_for(
+        2, 2,
+        [&](unsigned, std::size_t) {
+          parallel_for(400, 2, [&](unsigned, std::size_t) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            inner_items.fetch_add(1);
+          });
+          partial_results.fetch_add(1);  // reached only when the inner call did every item
+        },
+        [&](std::size_t) { throw std::runtime_error("report"); });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "report");  // the first error, not the inner Stopped
+  }
+  EXPECT_LT(inner_items.load(), 2 * 400);
+  EXPECT_EQ(partial_results.load(), 0);
+}
+
+TEST(Parallel, ATickScopeStopsCallsThatHaveNoProgressOfTheirOwn) {
+  std::atomic<int> items{0};
+  int ticks = 0;
+  {
+    shadow::core::TickScope scope([&] {
+      if (++ticks >= 1) throw std::runtime_error("tick");
+    });
+    EXPECT_THROW(parallel_for(200, 1,
+                              [&](unsigned, std::size_t) {
+                                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                                items.fetch_add(1);
+                              }),
+                 std::runtime_error);
+  }
+  EXPECT_GE(ticks, 1);
+  EXPECT_LT(items.load(), 200);
+  // Outside the scope: no tick, every item.
+  const int before = ticks;
+  EXPECT_TRUE(every_item_once(100, 2));
+  EXPECT_EQ(ticks, before);
+}
+
 TEST(Parallel, AForkedChildMakesItsOwnPool) {
   ASSERT_TRUE(every_item_once(100, 4));  // the parent's pool exists
   const pid_t child = fork();

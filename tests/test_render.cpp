@@ -262,7 +262,8 @@ TEST_F(RenderTest, TheAmbientModelShowsNoShadow) {
   EXPECT_EQ(brightness(image, -1.5, 0.0), brightness(image, 3.0, 0.0));
 }
 
-TEST(RenderFiles, AnUnwritablePngIsARenderErrorNamingTheFile) {
+TEST(RenderFiles, AnUnwritablePngIsAnOutputErrorNamingTheFile) {
+  // Written like every output (shadow::write_file_staged): an OutputError, exit status 3.
   sr::Image image;
   image.width = 2;
   image.height = 2;
@@ -270,7 +271,7 @@ TEST(RenderFiles, AnUnwritablePngIsARenderErrorNamingTheFile) {
   try {
     sr::write_png(image, "/nonexistent-dir/x.png");
     FAIL() << "no error";
-  } catch (const sr::RenderError& e) {
+  } catch (const shadow::OutputError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.png"), std::string::npos) << e.what();
   }
 }

@@ -351,6 +351,69 @@ TEST(Series, NamedSurfacesAddTheirFacesUp) {
   EXPECT_TRUE(ep.str().empty());
 }
 
+TEST(Series, SunHoursPerObjectRollPartsUpAreaWeighted) {
+  // Objects as a city model brings them: two parts of building "city/B" (which has no mesh of its
+  // own), a building "city/C" with its own mesh, a zone, a plain mesh, and a shading mesh that
+  // does not receive (and so is no object).
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "city/B-1", {shadow::rectangle_z(0, 0, 2, 1, 3.0)});                                // 2 m2
+  shadow::add_mesh(scene, "city/B-2", {shadow::rectangle_z(5, 0, 6, 1, 6.0), shadow::rectangle_z(7, 0, 8, 1, 6.0)});  // 2 x 1 m2
+  shadow::add_mesh(scene, "city/C", {shadow::rectangle_z(10, 0, 13, 1, 1.0)});                                 // 3 m2
+  shadow::add_mesh(scene, "Room", {shadow::rectangle_z(20, 0, 21, 1, 1.0)});
+  shadow::add_mesh(scene, "pole", {shadow::rectangle_z(30, 0, 31, 1, 1.0)});
+  shadow::add_mesh(scene, "Shading:Site", {shadow::rectangle_z(40, 0, 41, 1, 1.0)}, false);
+  scene.meshes[0].object_type = scene.meshes[1].object_type = "BuildingPart";
+  scene.meshes[0].parent = scene.meshes[1].parent = "city/B";
+  scene.meshes[0].parent_type = scene.meshes[1].parent_type = "Building";
+  scene.meshes[2].object_type = "Building";
+  scene.meshes[3].object_type = "zone";
+  const std::vector<shadow::SceneObject> objects = shadow::scene_objects(scene);
+  ASSERT_EQ(objects.size(), 4u);
+  EXPECT_EQ(objects[0].id, "city/B");
+  EXPECT_EQ(objects[0].type, "Building");
+  EXPECT_EQ(objects[0].meshes, (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(objects[1].id, "city/C");
+  EXPECT_EQ(objects[2].type, "zone");
+  EXPECT_EQ(objects[3].id, "pole");
+  EXPECT_EQ(objects[3].type, "mesh");
+  EXPECT_EQ(shadow::scene_objects(scene, false).size(), 5u);  // the shading mesh too
+  const std::vector<shadow::SceneObject> meshes = shadow::scene_objects(scene, true, true);
+  ASSERT_EQ(meshes.size(), 5u);
+  EXPECT_EQ(meshes[1].id, "city/B-2");
+  EXPECT_EQ(meshes[1].type, "BuildingPart");
+
+  // A series made by hand: 2 instants of 0.5 h; lit areas chosen so the sums are exact.
+  shadow::SeriesResult series;
+  series.faces = {0, 1, 2, 3, 4, 5};  // every receiving face (the shading mesh's face 6 is none)
+  series.instants = 2;
+  series.area = {2.0, 1.0, 1.0, 3.0, 1.0, 1.0};
+  series.lit_area = {2.0, 1.0,  0.5, 0.0,  1.0, 1.0,  3.0, 1.5,  0.25, 0.25,  1.0, 0.0};
+  series.lit_fraction = {1.0, 0.5, 0.5, 0.0, 1.0, 1.0, 1.0, 0.5, 0.25, 0.25, 1.0, 0.0};
+  series.faces_light.assign(12, 1);
+  series.lit_area_error_bound.assign(12, 0.0);
+  const shadow::ObjectSunHours hours = shadow::object_sun_hours(scene, series, 0.5);
+  ASSERT_EQ(hours.objects.size(), 4u);
+  EXPECT_EQ(hours.faces, (std::vector<std::size_t>{3, 1, 1, 1}));
+  EXPECT_EQ(hours.area, (std::vector<double>{4.0, 3.0, 1.0, 1.0}));
+  // city/B: (2 + 1 + 0.5 + 0 + 1 + 1) m2 x 0.5 h = 2.75 m2 h over 4 m2; the mean of its faces'
+  // sun hours (0.75, 0.25, 1) weighted by their areas (2, 1, 1) is the same 0.6875 h.
+  EXPECT_EQ(hours.sunlit_area_hours, (std::vector<double>{2.75, 2.25, 0.25, 0.5}));
+  EXPECT_EQ(hours.sun_hours, (std::vector<double>{0.6875, 0.75, 0.25, 0.5}));
+  const std::vector<double> face_hours = shadow::sun_hours(series, 0.5);
+  EXPECT_EQ((face_hours[0] * 2 + face_hours[1] + face_hours[2]) / 4, hours.sun_hours[0]);
+  const shadow::ObjectSunHours per_mesh = shadow::object_sun_hours(scene, series, 0.5, true);
+  EXPECT_EQ(per_mesh.sun_hours, (std::vector<double>{0.75, 0.625, 0.75, 0.25, 0.5}));
+
+  std::ostringstream csv;
+  shadow::write_sun_hours_by_object_csv(csv, hours);
+  EXPECT_EQ(csv.str(),
+            "object,type,faces,area,sun_hours,sunlit_area_hours\r\n"
+            "city/B,Building,3,4,0.6875,2.75\r\n"
+            "city/C,Building,1,3,0.75,2.25\r\n"
+            "Room,zone,1,1,0.25,0.25\r\n"
+            "pole,mesh,1,1,0.5,0.5\r\n");
+}
+
 TEST(Series, TimesAndCsvFields) {
   EXPECT_EQ(shadow::format_series_time(0), "1970-01-01T00:00:00Z");
   EXPECT_EQ(shadow::format_series_time(utc(2028, 2, 29, 23, 45)), "2028-02-29T23:45:00Z");

@@ -117,7 +117,8 @@ inline std::string one_line(std::string text) {
 inline const char* exit_codes_help() {
   return "Exit status: 0 success; 2 bad input or a usage error (one line on stderr naming the file, "
          "place and problem, or the option); 3 an output could not be written (including OUTDIR locked "
-         "by another running shadow); 4 internal error (a bug: please report it).";
+         "by another running shadow); 4 internal error (a bug: please report it); 5 `shadow series --checkpoint` "
+         "stopped by a signal (--resume finishes it); 6 out of memory (one line naming the stage; no report.json).";
 }
 
 /// The help of `--skip-invalid` (compute, series, render).

@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <chrono>
@@ -46,12 +47,42 @@ bool on_path(const std::string& program) {
 
 glm::dvec3 to_vec3(const std::vector<double>& v) { return {v[0], v[1], v[2]}; }
 
+/// `-o`'s extension must be one `shadow render` writes: anything else used to get PNG bytes
+/// under its name. A usage error, found before anything is loaded.
+void check_output_extension(const std::string& image) {
+  std::string ext = fs::path(image).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".png" || ext == ".svg" || ext == ".pdf") return;
+  throw shadow::InputError({"", "--output"},
+                           (ext.empty() ? "\"" + image + "\" has no extension"
+                                        : "unknown image type \"" + fs::path(image).extension().string() + "\"") +
+                               ": expected .png (a picture), .svg or .pdf (the exact vector view)");
+}
+
+/// The folder `-o` names must exist and take a new file before any work is done: a missing or
+/// read-only folder used to show only after the shadows and the picture were computed.
+void check_output_directory(const std::string& image) {
+  const fs::path path(image);
+  fs::path dir = path.parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  const fs::file_status status = fs::status(dir, ec);
+  if (!fs::exists(status))
+    throw shadow::OutputError(dir.string() + ": the output directory does not exist (create it first)");
+  if (!fs::is_directory(status)) throw shadow::OutputError(dir.string() + ": is not a directory");
+  if (access(dir.c_str(), W_OK | X_OK) != 0)
+    throw shadow::OutputError(dir.string() + ": cannot write into the output directory: " + std::strerror(errno));
+  if (fs::is_directory(fs::status(path, ec)))
+    throw shadow::OutputError(image + ": is a directory; cannot write the image there");
+}
+
 }  // namespace
 
 void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
   render.add_option("-o,--output", args.image,
-                    "File to write: .png (a picture), .svg or .pdf (the exact vector view, docs/vector-views.md)")
+                    "File to write: .png (a picture), .svg or .pdf (the exact vector view, docs/vector-views.md); "
+                    "other extensions are refused, and the folder must exist")
       ->required();
   render.add_option("--width", args.width, "Image width in pixels")->default_val(800)->check(shadow_cli::integer_in(1, 16384));
   render.add_option("--height", args.height, "Image height in pixels")->default_val(600)->check(shadow_cli::integer_in(1, 16384));
@@ -162,6 +193,8 @@ shadow::LoadOptions render_load_options(const RenderArgs& args) {
 
 int run_render(const RenderArgs& args, int argc, char** argv) {
   namespace sr = shadow::render;
+  check_output_extension(args.image);
+  check_output_directory(args.image);
   // The exact vector view needs no display: dispatched before looking for one.
   if (sr::is_vector_output(args.image)) return sr::run_vector_render(args);
   if (args.light >= 0 || args.edges)

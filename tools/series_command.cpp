@@ -5,6 +5,7 @@
 #include "series_command.hpp"
 
 #include "cli_checks.hpp"
+#include "out_of_memory.hpp"
 #include "progress_line.hpp"
 #include "series_checkpoint.hpp"
 #include "world.hpp"
@@ -253,7 +254,9 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   std::vector<std::size_t> map_faces;
   std::optional<shadow::ShadowEngine> engine_holder;
   EnergyPlusHandBack hand_back;
+  using shadow_cli::Stage;
   on_every_rank(world, [&] {
+    shadow_cli::set_stage(Stage::Loading);
     scene = shadow::load_scene(args.scene,
                                shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
                                                         args.skip_invalid));
@@ -291,6 +294,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
         std::sort(map_faces.begin(), map_faces.end());
         map_faces.erase(std::unique(map_faces.begin(), map_faces.end()), map_faces.end());
       }
+      shadow_cli::set_stage(Stage::Preparing);
       engine_holder.emplace(scene, args.threads);
     } catch (const shadow::InputError& e) {
       shadow_cli::rethrow_naming_scene(e, args.scene);
@@ -331,6 +335,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   shadow::SeriesResult series;
   std::vector<std::uint64_t> todo;  // the instants this run computes, ascending
   std::size_t resumed = 0;
+  shadow_cli::set_stage(Stage::Computing);
   on_every_rank(world, [&] {
     if (!root) return;
     output.emplace(args.outdir);  // lock, clear leftovers, remove the old report
@@ -537,6 +542,7 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   }
 
   std::vector<fs::path> written;
+  shadow_cli::set_stage(Stage::Writing);
   on_every_rank(world, [&] {
     if (!root) return;
     if (map) {
@@ -567,6 +573,9 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
       std::printf("  %-24s sun hours %.6g\n", surfaces.surfaces[s].label.c_str(), surfaces.sun_hours[s]);
     if (shown < surfaces.surfaces.size())
       std::printf("  ... %zu more in report.json\n", surfaces.surfaces.size() - shown);
+    const shadow::ObjectSunHours objects = shadow::object_sun_hours(scene, series, suns.hours_per_instant);
+    std::printf("  sun hours of %zu objects (buildings, zones, meshes; area-weighted) in sun_hours_by_object.csv\n",
+                objects.objects.size());
     const std::size_t computed_now = instants - resumed;
     std::printf("  computed in %.3f s (%.1f ms per instant), written in %.3f s\n", seconds(computed - start),
                 computed_now == 0 ? 0.0 : 1000.0 * seconds(computed - start) / static_cast<double>(computed_now),

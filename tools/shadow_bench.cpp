@@ -158,6 +158,58 @@ int run_comb(std::size_t teeth, bool polygons) {
   return ground && ground->shadow_area == 5.5 * n ? 0 : 1;
 }
 
+/// docs/benchmarks.md, "A comb under a lamp" (issue 30): a 20 x 20 m ground, the comb of `teeth`
+/// teeth scaled into the square [2, 18]^2 1 m above it, a sun and a point lamp at (10.25, 9.75,
+/// lamp_height) over it. The time of the whole run (validation, both lights) and of each light
+/// alone; the ground's shadow areas against the comb's area (the sun's shadow a translated copy,
+/// the lamp's scaled by h / (h - 1) when it stays on the ground).
+int run_comb_lamp(std::size_t teeth, bool polygons, unsigned threads, double lamp_height) {
+  std::vector<glm::dvec3> comb = shadow::comb_polygon(teeth, 1);
+  const double n = static_cast<double>(teeth);
+  for (glm::dvec3& v : comb) {
+    v.x = 2 + v.x * (16 / n);
+    v.y = 2 + v.y * 1.6;
+  }
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "ground", {shadow::rectangle_z(0, 0, 20, 20, 0)});
+  shadow::add_mesh(scene, "comb", {comb});
+  scene.lights.push_back(shadow::directional_light("sun", {0.1, 0.2, 1}));
+  scene.lights.push_back(shadow::point_light("lamp", {10.25, 9.75, lamp_height}));
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  shadow::validate_scene(scene);
+  shadow::ShadowOptions options;
+  options.threads = threads;
+  options.polygons = polygons;
+  options.planes = false;
+  const shadow::ShadowResult result = shadow::compute_shadows(scene, options);
+  const double total = std::chrono::duration<double>(Clock::now() - t0).count();
+  double alone[2];
+  for (std::size_t l = 0; l < 2; ++l) {
+    const auto t1 = Clock::now();
+    const shadow::ShadowEngine engine(scene, threads);
+    const shadow::ShadowResult one = engine.compute(scene.lights[l], l, options);
+    alone[l] = std::chrono::duration<double>(Clock::now() - t1).count();
+    const shadow::FaceLighting* a = one.find(0, l);
+    const shadow::FaceLighting* b = result.find(0, l);
+    if (!a || !b || a->lit_area != b->lit_area) return 1;
+  }
+  const double area = 5.5 * 16 * 1.6;  // the comb's: 5.5 n in its own units, scaled by 16 / n and 1.6
+  const double k = lamp_height / (lamp_height - 1);
+  const bool on_ground = 10.25 - 8.25 * k >= 0 && 10.25 + 7.75 * k <= 20 && 9.75 - 7.75 * k >= 0 && 9.75 + 8.25 * k <= 20;
+  const shadow::FaceLighting* sun = result.find(0, 0);
+  const shadow::FaceLighting* lamp = result.find(0, 1);
+  std::printf("comb of %zu vertices over a 20 x 20 m ground, sun and lamp at height %g, %s, %u threads: %.3f s "
+              "(sun alone %.3f s, lamp alone %.3f s); ground shadow %.17g (sun, %.17g expected), %.17g (lamp%s)\n",
+              comb.size(), lamp_height, polygons ? "polygons" : "areas only", threads, total, alone[0], alone[1],
+              sun ? sun->shadow_area : -1.0, area, lamp ? lamp->shadow_area : -1.0,
+              on_ground ? "" : ", partly off the ground");
+  if (!sun || std::abs(sun->shadow_area - area) > 1e-9 * area) return 1;
+  if (lamp && on_ground && std::abs(lamp->shadow_area - k * k * area) > 1e-9 * area)
+    return 1;
+  return lamp ? 0 : 1;
+}
+
 /// docs/benchmarks.md, "A year of suns": hourly suns of a year at `latitude`, of which `sample`
 /// spread over the year are computed with compute_series and (with `baseline`) the same
 /// instants one at a time with compute(light); the year is extrapolated from the cost per
@@ -679,6 +731,16 @@ int main(int argc, char** argv) {
       "comb", "One comb-shaped face (4 vertices a tooth) 1 m above a ground it shadows: large single faces");
   comb_cmd->add_option("--teeth", comb_teeth, "Teeth (the face has 4 x teeth + 3 vertices)")->check(CLI::PositiveNumber);
   comb_cmd->add_flag("--areas-only", comb_areas_only, "Compute areas only (no fragment polygons)");
+  bool comb_lamp = false;
+  unsigned comb_threads = 2;
+  double comb_lamp_height = 6;
+  comb_cmd->add_flag("--lamp", comb_lamp,
+                     "Issue 30's scene instead: a 20 x 20 m ground, the comb scaled into 16 x 16 m 1 m above "
+                     "it, a sun and a point lamp over it (--threads, --lamp-height)");
+  comb_cmd->add_option("--threads", comb_threads, "With --lamp: worker threads (default 2)");
+  comb_cmd->add_option("--lamp-height", comb_lamp_height,
+                       "With --lamp: the lamp's height (default 6: the shadow stays on the ground; 3: it leaves it)")
+      ->check(CLI::Range(1.5, 1e6));
   std::size_t sun_boxes = 10;
   std::vector<std::size_t> sun_instants{24, 96};
   unsigned sun_threads = 2;
@@ -787,7 +849,9 @@ int main(int argc, char** argv) {
   if (low_cmd->parsed()) return run_low_sun_bench(low_sizes, low_elevations, low_arithmetics, low_threads, low_label);
   if (planes_cmd->parsed()) return run_planes_bench(planes_sizes, planes_elevations, planes_threads, planes_repeat, planes_label);
   if (hard_cmd->parsed()) return bench::run_hard_cases(hard_threads, hard_csv, hard_quick);
-  if (comb_cmd->parsed()) return run_comb(comb_teeth, !comb_areas_only);
+  if (comb_cmd->parsed())
+    return comb_lamp ? run_comb_lamp(comb_teeth, !comb_areas_only, comb_threads, comb_lamp_height)
+                     : run_comb(comb_teeth, !comb_areas_only);
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_threads, sun_write);
   if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);

@@ -9,6 +9,7 @@
 #endif
 
 #include "cli_checks.hpp"
+#include "out_of_memory.hpp"
 #include "progress_line.hpp"
 #include "sun_command.hpp"
 #include "world.hpp"
@@ -24,6 +25,7 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 
 namespace {
@@ -31,7 +33,8 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Exit codes: 0 success, 2 bad input or usage error, 3 output failure (including an OUTDIR
-/// locked by another run), 4 internal error. README.md and `shadow --help` list them.
+/// locked by another run), 4 internal error, (5: `shadow series` stopped, series_command.cpp),
+/// 6 out of memory (out_of_memory.hpp). README.md and `shadow --help` list them.
 enum ExitCode { kOk = 0, kBadInput = 2, kOutputFailed = 3, kInternal = 4 };
 
 struct ComputeArgs {
@@ -100,6 +103,8 @@ int run_compute(const ComputeArgs& args) {
   run.scene = args.scene;
   run.started_utc = shadow::utc_now();
   run.planarity_tolerance = args.planarity_tolerance;
+  using shadow_cli::Stage;
+  shadow_cli::set_stage(Stage::Loading);
   shadow::Scene scene = shadow::load_scene(
       args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
                                             args.skip_invalid));
@@ -130,7 +135,12 @@ int run_compute(const ComputeArgs& args) {
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::ShadowResult result;
   try {
-    result = shadow::compute_shadows(scene, options);
+    // compute_shadows(scene, options) in its two steps, so that running out of memory names the step.
+    shadow_cli::set_stage(Stage::Preparing);
+    const shadow::ShadowEngine engine(scene, options.threads);
+    shadow_cli::set_stage(Stage::Computing);
+    result = engine.compute(options);
+    if (options.planes) result.plane_shadows = engine.compute_planes(options);
   } catch (const shadow::InputError& e) {
     progress.finish();
     // Errors about lights found while computing still name the scene file.
@@ -139,6 +149,7 @@ int run_compute(const ComputeArgs& args) {
   progress.finish();
   const auto computed = Clock::now();
 
+  shadow_cli::set_stage(Stage::Writing);
   const std::vector<fs::path> written = output.write(scene, result, &run);
   const auto finished = Clock::now();
 
@@ -189,6 +200,11 @@ int run_compute(const ComputeArgs& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Before anything allocates through GMP from a thread: GMP's failed allocations end the run
+  // with the out-of-memory line and exit 6 instead of GMP's message and SIGABRT.
+  shadow_cli::install_gmp_out_of_memory();
+  shadow_cli::install_new_out_of_memory();
+  shadow_cli::prepare_allocator_arenas();
   CLI::App app{"shadow: exact object-space shadows (libshadow " + std::string(shadow::version()) + ")"};
   app.set_version_flag("--version", std::string(shadow::version()));
   app.require_subcommand(1);
@@ -294,7 +310,10 @@ int main(int argc, char** argv) {
     if (*compute) return run_compute(args);
     if (*sun) return run_sun(sun_args);
 #ifdef LIBSHADOW_HAVE_RENDER
-    if (*render) return run_render(render_args, argc, argv);
+    if (*render) {
+      shadow_cli::set_stage(shadow_cli::Stage::Rendering);
+      return run_render(render_args, argc, argv);
+    }
   } catch (const shadow::render::RenderError& e) {
     std::cerr << "shadow: error: " << e.what() << "\n";
     return kOutputFailed;
@@ -305,7 +324,15 @@ int main(int argc, char** argv) {
   } catch (const shadow::OutputError& e) {
     std::cerr << "shadow: error: " << e.what() << "\n";
     return kOutputFailed;
+  } catch (const std::bad_alloc&) {
+    // Thrown by code itself (operator new's failures end the run in the new handler).
+    shadow_cli::print_out_of_memory();
+    return shadow_cli::kOutOfMemory;
   } catch (const std::exception& e) {
+    if (shadow_cli::is_thread_start_failure(e)) {
+      shadow_cli::print_out_of_memory();
+      return shadow_cli::kOutOfMemory;
+    }
     std::cerr << "shadow: internal error: " << e.what() << "\n";
     return kInternal;
   }

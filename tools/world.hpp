@@ -7,10 +7,13 @@
 // has, on machines without an MPI runtime configured and as root.
 #pragma once
 
+#include "out_of_memory.hpp"
+
 #include <shadow/error.hpp>
 #include <shadow/output.hpp>
 
 #include <cstdint>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -93,9 +96,12 @@ void on_every_rank(World& world, Part&& part) {
   } catch (const shadow::OutputError& e) {
     code = 3;
     message = std::string("shadow: error: ") + e.what();
+  } catch (const std::bad_alloc&) {
+    code = kOutOfMemory;
+    message = out_of_memory_line();
   } catch (const std::exception& e) {
-    code = 4;
-    message = std::string("shadow: internal error: ") + e.what();
+    code = is_thread_start_failure(e) ? kOutOfMemory : 4;
+    message = code == 4 ? std::string("shadow: internal error: ") + e.what() : out_of_memory_line();
   }
   world.agree(code, message);
 }

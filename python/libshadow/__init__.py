@@ -24,6 +24,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     Plane,
     PlaneShadow,
     Scene,
+    SceneObject,
     SeriesResult,
     ShadowEngine,
     ShadowResult,
@@ -72,6 +73,7 @@ __all__ = [
     "compute_sun_hours_map", "sun_hours_instants", "sun_hours_map_faces", "write_sun_hours_vtp",
     "SeriesResult", "SunSeries", "sun_series", "hours_per_instant", "sun_hours_error_bound", "surface_series",
     "sunlit_csv", "energyplus_shading_csv", "write_series",
+    "SceneObject", "object_sun_hours", "sun_hours_by_object_csv", "unique_face_labels", "site_timezone",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",
 ]
 
@@ -300,18 +302,118 @@ def _to_pandas(result):
     return pd.DataFrame(data)
 
 
-def _series_to_pandas(series, values="lit_fraction"):
-    """A SeriesResult as a DataFrame: one row per instant (indexed by UTC time for the scene's
-    suns), one column per face label; `values` is lit_fraction, lit_area or lit_area_error_bound."""
+def unique_face_labels(scene, face_ids):
+    """Unique column names for faces: each face's label (``scene.face_label``: its name, or
+    ``face_<id>``), and where several of the given faces share one (the pieces of one surface: a
+    wall cut around its window and door, a CityJSON surface with a hole) ``<label>#1``,
+    ``<label>#2``, ... in face order. A name that would still collide gets another ``#k``."""
+    labels = [scene.face_label(int(f)) for f in face_ids]
+    count = {}
+    for label in labels:
+        count[label] = count.get(label, 0) + 1
+    taken = {label for label in labels if count[label] == 1}
+    seen, out = {}, []
+    for label in labels:
+        if count[label] == 1:
+            out.append(label)
+            continue
+        k = seen.get(label, 0)
+        while True:
+            k += 1
+            name = "%s#%d" % (label, k)
+            if name not in taken:
+                break
+        seen[label] = k
+        taken.add(name)
+        out.append(name)
+    return out
+
+
+def site_timezone(scene):
+    """The fixed UTC offset of the scene's sun block (``utc_offset``, local standard time) as a
+    ``datetime.timezone``: ``series.to_pandas().tz_convert(libshadow.site_timezone(scene))`` shows
+    the UTC index in the site's local standard time. Raises ValueError when the scene has no sun."""
+    import datetime
+    period = scene.sun if isinstance(scene, Scene) else scene
+    if period is None:
+        raise ValueError("site_timezone: the scene has no sun block")
+    offset = datetime.timedelta(hours=period.utc_offset_hours)
+    minutes = int(round(period.utc_offset_hours * 60))
+    sign = "+" if minutes >= 0 else "-"
+    return datetime.timezone(offset, "UTC%s%02d:%02d" % (sign, abs(minutes) // 60, abs(minutes) % 60))
+
+
+def _row_groups(series, by):
+    """(labels, [row indices]) of a SeriesResult's rows grouped by mesh or by object."""
+    scene = series.scene
+    face_mesh = scene.face_mesh
+    row_mesh = face_mesh[series.face_id.astype(_np.int64)] if len(series.face_id) else _np.zeros(0, dtype=_np.int64)
+    objects = scene.objects(True, by == "mesh")
+    labels, rows = [], []
+    for o in objects:
+        r = _np.flatnonzero(_np.isin(row_mesh, o.meshes))
+        if len(r):
+            labels.append(o.id)
+            rows.append(r)
+    return labels, rows
+
+
+_SERIES_VALUES = ("lit_fraction", "lit_area", "lit_area_error_bound")
+_SERIES_BY = ("face", "surface", "object", "mesh")
+
+
+def _series_to_pandas(series, values="lit_fraction", by="face"):
+    """A SeriesResult as a DataFrame: one row per instant, indexed by UTC time (tz-aware, named
+    ``time``) for the scene's suns (by instant number otherwise); one column per
+
+    - ``by="face"``: receiving face, named by ``unique_face_labels`` (the face's label, with
+      ``#1``, ``#2``, ... for faces split from one surface);
+    - ``by="surface"``: named surface (sunlit.csv's columns; faces sharing a name add up);
+    - ``by="object"``: object (a CityJSON building with its parts, an EnergyPlus zone, any other
+      mesh: sun_hours_by_object.csv's rows);
+    - ``by="mesh"``: receiving mesh.
+
+    ``values``: ``lit_fraction`` (of a group: its lit area over its area; a surface's as in
+    sunlit.csv), ``lit_area`` (m2, summed over a group) or ``lit_area_error_bound`` (summed).
+    Local time: ``df.tz_convert(libshadow.site_timezone(series.scene))``."""
     try:
         import pandas as pd
     except ImportError as e:
         raise ImportError("to_pandas() needs pandas (Debian: python3-pandas)") from e
+    if values not in _SERIES_VALUES:
+        raise ValueError("to_pandas: values must be one of %s, got %r" % (", ".join(_SERIES_VALUES), values))
+    if by not in _SERIES_BY:
+        raise ValueError("to_pandas: by must be one of %s, got %r" % (", ".join(_SERIES_BY), by))
     scene = series.scene
-    data = getattr(series, values)
-    columns = [scene.face_label(int(f)) for f in series.face_id]
-    index = pd.to_datetime(series.times, unit="s", utc=True) if len(series.times) == series.instants else None
-    return pd.DataFrame(data.T, index=index, columns=columns)
+    if len(series.times) == series.instants:
+        index = pd.DatetimeIndex(pd.to_datetime(_np.asarray(series.times, dtype=_np.int64), unit="s", utc=True),
+                                 name="time")
+    else:
+        index = pd.RangeIndex(series.instants, name="instant")
+    if by == "face":
+        columns = unique_face_labels(scene, series.face_id)
+        return pd.DataFrame(getattr(series, values).T, index=index, columns=columns)
+    if by == "surface":
+        weight = _libshadow.hours_per_instant(scene.sun) if scene.sun is not None else 1.0
+        table = _libshadow._surface_series(series, weight)
+        labels = table["labels"]
+        if values == "lit_fraction":
+            return pd.DataFrame(table["lit_fraction"].T, index=index, columns=labels)
+        row_of = {int(f): r for r, f in enumerate(series.face_id)}
+        rows = [[row_of[f] for f in s.faces if f in row_of] for s in table["surfaces"]]
+    else:
+        labels, rows = _row_groups(series, by)
+    if values == "lit_fraction":
+        lit, area = series.lit_area, series.area
+        data = _np.zeros((len(rows), series.instants))
+        for i, r in enumerate(rows):
+            a = area[r].sum()
+            if a > 0:
+                data[i] = _np.minimum(1.0, lit[r].sum(axis=0) / a)
+    else:
+        table = getattr(series, values)
+        data = _np.array([table[r].sum(axis=0) for r in rows]).reshape(len(rows), series.instants)
+    return pd.DataFrame(data.T, index=index, columns=labels)
 
 
 ShadowResult.fragments = property(fragments, doc=Fragments.__doc__)
@@ -333,9 +435,20 @@ def solar_positions(site, times, north_axis=0.0, delta_t=69.0):
     }
 
 
+def _hours_weight(weight):
+    """hours_per_instant as given: a finite number >= 0 (a negative or NaN weight made negative or
+    NaN sun hours); TypeError for what is not a number."""
+    if isinstance(weight, (bool, _np.bool_)) or not isinstance(weight, (int, float, _np.integer, _np.floating)):
+        raise TypeError("hours_per_instant: expected a number of hours, got %s" % type(weight).__name__)
+    value = float(weight)
+    if not _math.isfinite(value) or value < 0:
+        raise ValueError("hours_per_instant must be a finite number of hours >= 0, got %r" % (value,))
+    return value
+
+
 def _series_weight(series, weight):
     if weight is not None:
-        return float(weight)
+        return _hours_weight(weight)
     scene = series.scene
     if scene.sun is None:
         raise ValueError("sun_hours: the scene has no sun block; pass hours_per_instant")
@@ -346,6 +459,20 @@ def surface_series(series, hours_per_instant=None):
     """A SeriesResult per named surface (faces sharing a name add up): a dict with ``labels``,
     ``surfaces`` (NamedSurface), ``area``, ``lit_fraction`` (surfaces x instants) and ``sun_hours``."""
     return _libshadow._surface_series(series, _series_weight(series, hours_per_instant))
+
+
+def object_sun_hours(series, hours_per_instant=None, per_mesh=False):
+    """Sun hours per object of a SeriesResult, as ``shadow series`` writes them to
+    sun_hours_by_object.csv (docs/series.md): a dict of ``ids``, ``types`` (the CityJSON type,
+    ``zone`` or ``mesh``), ``meshes`` (mesh indices per object), ``faces`` (receiving faces),
+    ``area`` (m2), ``sun_hours`` (area-weighted mean, h) and ``sunlit_area_hours`` (m2 h).
+    ``per_mesh=True``: one row per receiving mesh, parts not rolled up."""
+    return _libshadow._object_sun_hours(series, _series_weight(series, hours_per_instant), per_mesh)
+
+
+def sun_hours_by_object_csv(series):
+    """sun_hours_by_object.csv's text for a SeriesResult of the scene's suns (the CLI's file)."""
+    return _libshadow._sun_hours_by_object_csv(series)
 
 
 def sun_hours_error_bound(series, hours_per_instant=None):
@@ -365,10 +492,17 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
     (hour_area / area) together with the exact map of where on the face.
 
     ``by="mesh"`` gives one value per receiving mesh (area-weighted over its faces): one mesh per
-    facade gives sun hours per facade.
+    facade gives sun hours per facade. ``by="object"`` gives one per object (``Scene.objects()``:
+    a CityJSON building with its BuildingParts rolled up, an EnergyPlus zone, any other mesh),
+    area-weighted the same way: the numbers of ``shadow series``' sun_hours_by_object.csv
+    (``object_sun_hours`` gives the whole table).
 
     Returns (labels, hours): a list of face, surface or mesh labels and a float64 array. The
     result must hold every sun light (compute without ``lights=``)."""
+    if not isinstance(result, (ShadowResult, SeriesResult)):
+        raise TypeError("sun_hours: expected a ShadowResult or a SeriesResult, got %s" % type(result).__name__)
+    if not isinstance(by, str):
+        raise TypeError('sun_hours: by must be "face", "surface" or "mesh", got %s' % type(by).__name__)
     if isinstance(result, SeriesResult):
         weight = _series_weight(result, hours_per_instant)
         if by == "face":
@@ -377,12 +511,17 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
         if by == "surface":
             table = _libshadow._surface_series(result, weight)
             return table["labels"], table["sun_hours"]
-        raise ValueError('sun_hours of a SeriesResult: by must be "face" or "surface", got %r' % (by,))
+        if by in ("object", "mesh"):
+            table = _libshadow._object_sun_hours(result, weight, by == "mesh")
+            return table["ids"], table["sun_hours"]
+        raise ValueError('sun_hours of a SeriesResult: by must be "face", "surface", "object" or "mesh", got %r' % (by,))
     scene = result.scene
     if scene.sun is None:
         raise ValueError("sun_hours: the scene has no sun block")
     if hours_per_instant is None:
         hours_per_instant = _libshadow.hours_per_instant(scene.sun)
+    else:
+        hours_per_instant = _hours_weight(hours_per_instant)
     sun_lights = _np.array(sorted(i.light_id for i in scene.sun_instants if i.light_id is not None), dtype=_np.uint64)
     face_id, light_id = result.face_id, result.light_id
     is_sun = _np.isin(light_id, sun_lights)
@@ -399,13 +538,15 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
         with _np.errstate(invalid="ignore", divide="ignore"):
             hours = _np.where(area[faces] > 0, lit[faces] / area[faces], 0.0) * hours_per_instant
         return [scene.face_label(int(f)) for f in faces], hours
-    if by == "mesh":
-        groups = [(m.name, list(range(m.first_face, m.first_face + m.face_count)))
-                  for m in scene.meshes if m.receiver and m.face_count > 0]
+    if by in ("mesh", "object"):
+        meshes = scene.meshes
+        groups = [(o.id, [f for m in o.meshes for f in range(meshes[m].first_face, meshes[m].first_face + meshes[m].face_count)])
+                  for o in scene.objects(True, by == "mesh")]
+        groups = [(label, faces) for label, faces in groups if faces]
     elif by == "surface":
         groups = [(s.label, s.faces) for s in scene.named_surfaces(True)]
     else:
-        raise ValueError('sun_hours: by must be "face", "surface" or "mesh", got %r' % (by,))
+        raise ValueError('sun_hours: by must be "face", "surface", "object" or "mesh", got %r' % (by,))
     labels, hours = [], []
     for label, faces in groups:
         a = area[faces].sum()

@@ -14,10 +14,19 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <thread>
+#include <type_traits>
 #include <vector>
 
 namespace py = pybind11;
@@ -26,6 +35,123 @@ using namespace shadow;
 namespace {
 
 using ScenePtr = std::shared_ptr<Scene>;
+
+// ---- the GIL, Ctrl-C and the interpreter's exit ----------------------------------------------
+//
+// Long calls run with the GIL released. Two things must never happen then: a thread taking the
+// GIL back while the interpreter finalizes (CPython ends such a thread with pthread_exit, whose
+// forced unwinding through the library's catch (...) aborts the process: "FATAL: exception not
+// rethrown"), and a call that ignores Ctrl-C until it is done. So every released call is
+// counted; at exit (an atexit hook, which runs before finalization) the running calls are told
+// to stop through their progress callbacks, which then throw without taking the GIL, and the
+// hook waits for them; a call that ends after that never takes the GIL again but parks its
+// thread until the process is gone.
+
+std::mutex g_calls_mutex;
+std::condition_variable g_calls_done;
+std::size_t g_calls = 0;               ///< calls running with the GIL released
+std::atomic<bool> g_exiting{false};    ///< set by the atexit hook: stop, never take the GIL again
+
+bool interpreter_exiting() {
+  if (g_exiting.load()) return true;
+#if PY_VERSION_HEX >= 0x030D0000
+  return Py_IsFinalizing() != 0;
+#else
+  return _Py_IsFinalizing() != 0;
+#endif
+}
+
+/// The error a computation stops with when the interpreter exits (never seen by Python code).
+class InterpreterExiting : public std::runtime_error {
+ public:
+  InterpreterExiting() : std::runtime_error("the Python interpreter is exiting") {}
+};
+
+[[noreturn]] void park_forever() {
+  for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
+}
+
+/// Runs f() with the GIL released (called with it held), counted for the exit hook.
+template <class F>
+auto without_gil(F&& f) -> decltype(f()) {
+  using R = decltype(f());
+  if (interpreter_exiting()) throw std::runtime_error("the Python interpreter is exiting: no new computation");
+  {
+    std::lock_guard<std::mutex> lock(g_calls_mutex);
+    ++g_calls;
+  }
+  PyThreadState* state = PyEval_SaveThread();
+  std::exception_ptr error;
+  std::conditional_t<std::is_void_v<R>, bool, std::optional<R>> result{};
+  try {
+    if constexpr (std::is_void_v<R>) f();
+    else result.emplace(f());
+  } catch (...) {
+    error = std::current_exception();
+  }
+  {
+    std::lock_guard<std::mutex> lock(g_calls_mutex);
+    --g_calls;
+  }
+  g_calls_done.notify_all();
+  // Taking the GIL now would end this thread by force: leave it parked (the process is ending).
+  if (interpreter_exiting()) park_forever();
+  PyEval_RestoreThread(state);
+  if (error) std::rethrow_exception(error);
+  if constexpr (!std::is_void_v<R>) return std::move(*result);
+}
+
+/// The atexit hook: stop the running calls and wait for them (at most a while: one that does not
+/// stop in time is left to park when it ends).
+void stop_calls_at_exit() {
+  g_exiting.store(true);
+  py::gil_scoped_release release;
+  std::unique_lock<std::mutex> lock(g_calls_mutex);
+  g_calls_done.wait_for(lock, std::chrono::seconds(30), [] { return g_calls == 0; });
+}
+
+/// A scene argument that may not be None (a None shared_ptr would be dereferenced).
+const Scene& need_scene(const ScenePtr& scene, const char* what = "scene") {
+  if (!scene) throw py::type_error(std::string(what) + ": expected a libshadow.Scene, got None");
+  return *scene;
+}
+
+/// An index argument: any Python integer (numpy's too); a negative or too large one is an
+/// IndexError in words, anything else a TypeError.
+std::size_t index_arg(const py::handle& value, std::size_t size, const char* what, const char* owner, const char* noun) {
+  if (PyBool_Check(value.ptr()) || !PyIndex_Check(value.ptr()))
+    throw py::type_error(std::string(what) + ": expected an integer, got " +
+                         py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+  const py::int_ i = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+  if (!i) {  // an array, say
+    PyErr_Clear();
+    throw py::type_error(std::string(what) + ": expected one integer, got " +
+                         py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+  }
+  int overflow = 0;
+  const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (overflow == 0 && v >= 0 && static_cast<unsigned long long>(v) < size) return static_cast<std::size_t>(v);
+  throw py::index_error(std::string(what) + " " + py::str(py::handle(i)).cast<std::string>() + " is out of range (" +
+                        owner + " has " + std::to_string(size) + " " + noun + (size == 1 ? "" : "s") +
+                        (size == 0 ? "" : ": 0 to " + std::to_string(size - 1)) + ")");
+}
+
+/// A finite number of hours per instant, >= 0 (a negative or NaN weight made negative or NaN
+/// sun hours).
+double hours_arg(double hours) {
+  if (!std::isfinite(hours) || hours < 0)
+    throw py::value_error("hours_per_instant must be a finite number of hours >= 0, got " +
+                          py::repr(py::float_(hours)).cast<std::string>());
+  return hours;
+}
+
+/// A site checked as a scene's sun block checks it (latitude in [-90, 90], ...).
+void check_site(const SolarSite& site, const char* place) {
+  SunPeriod p;
+  p.site = site;
+  p.times = {0};
+  check_sun_period(p, "", place);
+}
 
 py::array_t<double> vec3_array(const glm::dvec3& v) {
   py::array_t<double> a(3);
@@ -66,21 +192,34 @@ Arithmetic parse_arithmetic(const std::string& name) {
 
 std::string arithmetic_name(Arithmetic a) { return a == Arithmetic::Fast ? "fast" : "exact"; }
 
-/// The engine's progress hook, run now and then by its reporting thread with the GIL taken: it
-/// raises a pending signal (Ctrl-C, a Jupyter kernel interrupt) as the Python exception, which
-/// stops the computation, then calls the user's callback, if any, whose exceptions stop it too.
+/// The engine's progress hook, run about every 100 ms by the thread that waits for the workers:
+/// it raises a pending signal (Ctrl-C, a Jupyter kernel interrupt) as the Python exception,
+/// which stops the computation, then calls the user's callback, if any, whose exceptions stop
+/// it too. The GIL is taken only for that, and never once the interpreter exits: then the hook
+/// stops the computation without it.
 std::function<void(const Progress&)> wrap_progress(const py::object& callback) {
   std::shared_ptr<py::object> holder;
   if (!callback.is_none()) {
-    // The last copy of the callback may be dropped on any thread: take the GIL to release it.
+    if (!PyCallable_Check(callback.ptr()))
+      throw py::type_error("progress: expected a callable(done, total) or None, got " +
+                           py::str(py::type::of(callback).attr("__name__")).cast<std::string>());
+    // The last copy of the callback may be dropped on any thread: take the GIL to release it
+    // (and leak it when the interpreter is going away).
     holder.reset(new py::object(callback), [](py::object* o) {
+      if (interpreter_exiting()) return;
       py::gil_scoped_acquire gil;
       delete o;
     });
   }
-  return [holder](const Progress& p) {
+  // The engine may report a value again (at its end, after a tick that saw it): the callback
+  // hears each (done, total) once, done never going back.
+  auto last = std::make_shared<std::optional<Progress>>();
+  return [holder, last](const Progress& p) {
+    if (interpreter_exiting()) throw InterpreterExiting();
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (*last && (*last)->total == p.total && p.done <= (*last)->done) return;
+    *last = p;
     if (holder) (*holder)(p.done, p.total);
   };
 }
@@ -89,6 +228,9 @@ ShadowOptions make_options(unsigned threads, bool polygons, const std::optional<
                            const std::string& arithmetic, bool planes, double plane_window,
                            const py::object& progress, std::size_t tile_casters = ShadowOptions{}.tile_casters,
                            std::size_t fast_tile_casters = ShadowOptions{}.fast_tile_casters) {
+  if (!std::isfinite(plane_window) || plane_window < 0 || plane_window > std::ldexp(1.0, 500))
+    throw py::value_error("plane_window must be a finite number from 0 to 2**500, got " +
+                          py::repr(py::float_(plane_window)).cast<std::string>());
   ShadowOptions o;
   o.tile_casters = tile_casters;
   o.fast_tile_casters = fast_tile_casters;
@@ -101,9 +243,6 @@ ShadowOptions make_options(unsigned threads, bool polygons, const std::optional<
   o.progress = wrap_progress(progress);
   return o;
 }
-
-/// The progress callback holds a Python object: it must be dropped with the GIL held.
-void drop_progress(ShadowOptions& o) { o.progress = nullptr; }
 
 /// A result with the scene it belongs to (write_outputs and face labels need the scene).
 struct Result {
@@ -148,14 +287,7 @@ std::shared_ptr<Result> run_compute(const ScenePtr& scene, ShadowOptions options
                                     const std::function<ShadowResult(const ShadowOptions&)>& compute) {
   auto out = std::make_shared<Result>();
   out->scene = scene;
-  try {
-    py::gil_scoped_release release;
-    out->result = compute(options);
-  } catch (...) {
-    drop_progress(options);
-    throw;
-  }
-  drop_progress(options);
+  out->result = without_gil([&] { return compute(options); });
   return out;
 }
 
@@ -177,7 +309,34 @@ UtcSeconds to_utc(const py::handle& t) {
     const long long seconds = delta.attr("seconds").cast<long long>();
     return static_cast<UtcSeconds>(days * 86400 + seconds);
   }
-  return t.cast<UtcSeconds>();
+  if (PyBool_Check(t.ptr()))
+    throw py::type_error("time: expected UTC seconds, an ISO 8601 string or an aware datetime, got a bool");
+  // float, numpy floating scalars and 0-d arrays: whole seconds, rounded down like fractions of
+  // an ISO 8601 time are dropped (toward the past).
+  if (PyFloat_Check(t.ptr()) || (py::hasattr(t, "dtype") && py::hasattr(t, "__float__") &&
+                                 py::str(t.attr("dtype").attr("kind")).cast<std::string>() == "f" &&
+                                 py::len(t.attr("shape")) == 0)) {
+    const double v = py::float_(py::reinterpret_borrow<py::object>(t)).cast<double>();
+    if (!std::isfinite(v) || std::abs(v) >= 9.2e18)
+      throw py::value_error("time: expected finite UTC seconds within 64 bits, got " +
+                            py::repr(py::float_(v)).cast<std::string>());
+    return static_cast<UtcSeconds>(std::floor(v));
+  }
+  if (PyIndex_Check(t.ptr())) {  // int, numpy integers (an array of them is refused below)
+    const py::int_ i = py::reinterpret_steal<py::int_>(PyNumber_Index(t.ptr()));
+    if (!i) {
+      PyErr_Clear();
+      throw py::type_error("time: expected one time, got " + py::str(py::type::of(t).attr("__name__")).cast<std::string>() +
+                           " (solar_positions takes many)");
+    }
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow != 0)
+      throw py::value_error("time: " + py::str(py::handle(i)).cast<std::string>() + " UTC seconds is out of range (64 bits)");
+    return static_cast<UtcSeconds>(v);
+  }
+  throw py::type_error("time: expected UTC seconds (int or float), an ISO 8601 string or an aware datetime, got " +
+                       py::str(py::type::of(t).attr("__name__")).cast<std::string>());
 }
 
 py::dict stats_dict(const ShadowStats& s) {
@@ -197,7 +356,12 @@ py::dict stats_dict(const ShadowStats& s) {
 }  // namespace
 
 PYBIND11_MODULE(_libshadow, m) {
-  m.doc() = "libshadow's C++ core; import libshadow instead.";
+  m.doc() = "libshadow's C++ core (pybind11): its classes and functions are libshadow's, imported from\n"
+            "there (import libshadow; see help(libshadow) and docs/python.md).";
+  // Everything here is used as libshadow.X: while the classes and functions are made, the module
+  // goes by that name, so their __module__, reprs and the types in docstrings say `libshadow.`.
+  const py::object own_name = m.attr("__name__");
+  m.attr("__name__") = "libshadow";
   m.attr("__version__") = version();
 
   static py::exception<InputError> input_error(m, "InputError", PyExc_ValueError);
@@ -210,8 +374,13 @@ PYBIND11_MODULE(_libshadow, m) {
       input_error(e.what());
     } catch (const OutputError& e) {
       output_error(e.what());
+    } catch (const py::reference_cast_error&) {
+      // None where a libshadow object is needed (pybind11's own text is empty).
+      PyErr_SetString(PyExc_TypeError, "an argument that must be a libshadow object was None");
     }
   });
+  // Stop computations still running in other threads before the interpreter finalizes.
+  py::module_::import("atexit").attr("register")(py::cpp_function(&stop_calls_at_exit));
 
   // ---- scene ------------------------------------------------------------------------------------
   py::class_<Mesh>(m, "Mesh", "A named group of consecutive faces.")
@@ -222,7 +391,12 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("receiver", &Mesh::receiver)
       .def_readonly("material", &Mesh::material)
       .def_readonly("orient_outward", &Mesh::orient_outward)
-      .def_readonly("type", &Mesh::type, "the CityJSON city object type ('Building', 'TINRelief', ...), '' otherwise")
+      .def_readonly("object_type", &Mesh::object_type,
+                    "the CityJSON city object's type ('Building', 'BuildingPart', ...), 'zone' for an EnergyPlus\n"
+                    "zone, '' otherwise")
+      .def_readonly("parent", &Mesh::parent,
+                    "CityJSON: the top-level city object this one is part of (named like meshes), or ''")
+      .def_readonly("parent_type", &Mesh::parent_type, "the CityJSON type of parent, or ''")
       .def("__repr__", [](const Mesh& x) {
         return "Mesh(name=" + py::repr(py::str(x.name)).cast<std::string>() + ", faces=" +
                std::to_string(x.face_count) + ", receiver=" + (x.receiver ? "True" : "False") + ")";
@@ -274,18 +448,47 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("label", &NamedSurface::label)
       .def_readonly("faces", &NamedSurface::faces);
 
+  py::class_<SceneObject>(m, "SceneObject",
+                          "An object of the scene, the unit of sun hours per object: a CityJSON top-level city object\n"
+                          "with its parts, an EnergyPlus zone, or any other mesh (Scene.objects()).")
+      .def_readonly("id", &SceneObject::id, "its name: a mesh name, or a CityJSON parent's name as a mesh would have it")
+      .def_readonly("type", &SceneObject::type, "the CityJSON type, 'zone' or 'mesh'")
+      .def_readonly("meshes", &SceneObject::meshes, "indices into Scene.meshes")
+      .def("__repr__", [](const SceneObject& x) {
+        return "SceneObject(id=" + py::repr(py::str(x.id)).cast<std::string>() + ", type=" +
+               py::repr(py::str(x.type)).cast<std::string>() + ", meshes=" + std::to_string(x.meshes.size()) + ")";
+      });
+
+  // Registered before the sun functions below name it (else their docstrings show `shadow::Scene`).
+  py::class_<Scene, ScenePtr> scene_class(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.");
+
   // ---- sun --------------------------------------------------------------------------------------
-  py::class_<SolarSite>(m, "SolarSite", "Where the sun is seen from (degrees, metres, millibars, Celsius).")
-      .def(py::init([](double latitude, double longitude, double elevation, double pressure, double temperature) {
-             return SolarSite{latitude, longitude, elevation, pressure, temperature};
-           }),
-           py::arg("latitude"), py::arg("longitude"), py::arg("elevation") = 0.0,
-           py::arg("pressure") = 1013.25, py::arg("temperature") = 12.0)
-      .def_readwrite("latitude", &SolarSite::latitude)
-      .def_readwrite("longitude", &SolarSite::longitude)
-      .def_readwrite("elevation", &SolarSite::elevation)
-      .def_readwrite("pressure", &SolarSite::pressure)
-      .def_readwrite("temperature", &SolarSite::temperature);
+  py::class_<SolarSite> solar_site(m, "SolarSite",
+                                   "Where the sun is seen from (degrees, metres, millibars, Celsius); checked\n"
+                                   "like a scene's sun block (latitude in [-90, 90], ...): ValueError otherwise.");
+  solar_site.def(py::init([](double latitude, double longitude, double elevation, double pressure, double temperature) {
+                   SolarSite site{latitude, longitude, elevation, pressure, temperature};
+                   check_site(site, "SolarSite");
+                   return site;
+                 }),
+                 py::arg("latitude"), py::arg("longitude"), py::arg("elevation") = 0.0,
+                 py::arg("pressure") = 1013.25, py::arg("temperature") = 12.0);
+  // Each field checked when set, the site left as it was when the value is refused.
+  auto site_field = [&solar_site](const char* name, double SolarSite::*field) {
+    solar_site.def_property(
+        name, [field](const SolarSite& s) { return s.*field; },
+        [field](SolarSite& s, double value) {
+          SolarSite changed = s;
+          changed.*field = value;
+          check_site(changed, "SolarSite");
+          s = changed;
+        });
+  };
+  site_field("latitude", &SolarSite::latitude);
+  site_field("longitude", &SolarSite::longitude);
+  site_field("elevation", &SolarSite::elevation);
+  site_field("pressure", &SolarSite::pressure);
+  site_field("temperature", &SolarSite::temperature);
 
   py::class_<SunPosition>(m, "SunPosition", "The sun seen from a site (topocentric, refraction included).")
       .def_readonly("zenith", &SunPosition::zenith)
@@ -339,11 +542,17 @@ PYBIND11_MODULE(_libshadow, m) {
 
   m.def("solar_position",
         [](const SolarSite& site, const py::object& time, double north_axis, double delta_t) {
-          return solar_position(site, to_utc(time), north_axis, delta_t);
+          SunPeriod p;  // checked as a sun block checks them: the site, north_axis, delta_t
+          p.site = site;
+          p.north_axis = north_axis;
+          p.delta_t = delta_t;
+          p.times = {to_utc(time)};
+          check_sun_period(p, "", "solar_position");
+          return solar_position(site, p.times.front(), north_axis, delta_t);
         },
         py::arg("site"), py::arg("time"), py::arg("north_axis") = 0.0, py::arg("delta_t") = 69.0,
-        "The sun seen from `site` at `time` (UTC seconds, an ISO 8601 string with Z or an offset, or an\n"
-        "aware datetime): NREL's SPA, topocentric, refraction included. north_axis only turns to_light\n"
+        "The sun seen from `site` at `time` (UTC seconds, int or float, rounded down; an ISO 8601 string\n"
+        "with Z or an offset; or an aware datetime): NREL's SPA, topocentric, refraction included. north_axis only turns to_light\n"
         "into model coordinates (EnergyPlus's Building North Axis).");
   m.def("sun_to_light", [](double e, double a, double n) { return vec3_array(sun_to_light(e, a, n)); },
         py::arg("elevation"), py::arg("azimuth"), py::arg("north_axis") = 0.0,
@@ -368,7 +577,7 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("sun_light_name", &sun_light_name, py::arg("time"));
   m.def("replace_sun_lights",
         [](const ScenePtr& scene, const SunPeriod& period) {
-          auto out = std::make_shared<Scene>(*scene);
+          auto out = std::make_shared<Scene>(need_scene(scene));
           replace_sun_lights(*out, period);
           return out;
         },
@@ -378,7 +587,7 @@ PYBIND11_MODULE(_libshadow, m) {
   // A copy, not the scene changed in place: an engine may be computing on the scene given.
   m.def("add_sun_lights",
         [](const ScenePtr& scene, const SunPeriod& period) {
-          auto out = std::make_shared<Scene>(*scene);
+          auto out = std::make_shared<Scene>(need_scene(scene));
           add_sun_lights(*out, period);
           return out;
         },
@@ -386,7 +595,7 @@ PYBIND11_MODULE(_libshadow, m) {
         "A copy of the scene with the period's suns above min_elevation appended to its lights (and\n"
         "its sun and sun_instants set); the scene given is left as it was.");
 
-  py::class_<Scene, ScenePtr>(m, "Scene", "A validated scene: meshes of planar faces, lights, planes.")
+  scene_class
       .def_property_readonly("source", [](const Scene& s) { return s.source.string(); })
       .def_readonly("meshes", &Scene::meshes)
       .def_readonly("lights", &Scene::lights)
@@ -417,9 +626,8 @@ PYBIND11_MODULE(_libshadow, m) {
         return vec3_array(*s.origin);
       }, "the point subtracted from the VTK files' points (CityJSON models), or None")
       .def_property_readonly("face_count", [](const Scene& s) { return s.faces.size(); })
-      .def("face_vertices", [](const Scene& s, std::size_t i) {
-        if (i >= s.faces.size()) throw py::index_error("face_id out of range");
-        return polygon_array(s.faces[i].vertices);
+      .def("face_vertices", [](const Scene& s, const py::object& face_id) {
+        return polygon_array(s.faces[index_arg(face_id, s.faces.size(), "face_id", "the scene", "face")].vertices);
       }, py::arg("face_id"), "The face's vertices, an (n, 3) float64 array.")
       .def_property_readonly("faces", [](const Scene& s) {
         py::list l;
@@ -452,9 +660,15 @@ PYBIND11_MODULE(_libshadow, m) {
         for (const Face& f : s.faces) n.push_back(f.source.to_string());
         return n;
       })
-      .def("face_label", [](const Scene& s, std::size_t i) { return face_label(s, i); }, py::arg("face_id"))
+      .def("face_label", [](const Scene& s, const py::object& face_id) {
+        return face_label(s, index_arg(face_id, s.faces.size(), "face_id", "the scene", "face"));
+      }, py::arg("face_id"), "The face's label: its name, or face_<id>. IndexError out of range.")
       .def("named_surfaces", [](const Scene& s, bool r) { return named_surfaces(s, r); },
            py::arg("receivers_only") = true)
+      .def("objects", [](const Scene& s, bool r, bool per_mesh) { return scene_objects(s, r, per_mesh); },
+           py::arg("receivers_only") = true, py::arg("per_mesh") = false,
+           "The scene's objects (SceneObject): CityJSON BuildingParts rolled up into their Building, an\n"
+           "EnergyPlus zone, any other mesh; per_mesh: every mesh its own.")
       .def("validate", [](Scene& s, double tolerance) {
         LoadOptions o;
         o.planarity_tolerance = tolerance;
@@ -484,8 +698,7 @@ PYBIND11_MODULE(_libshadow, m) {
           o.orient_outward = orient_outward;
           o.cityjson_lod = lod;
           o.skip_invalid = skip_invalid;
-          py::gil_scoped_release release;
-          return std::make_shared<Scene>(load_scene(path, o));
+          return without_gil([&] { return std::make_shared<Scene>(load_scene(path, o)); });
         },
         py::arg("path"), py::arg("planarity_tolerance") = 1e-6, py::arg("orient_outward") = false,
         py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false,
@@ -501,8 +714,7 @@ PYBIND11_MODULE(_libshadow, m) {
           o.orient_outward = orient_outward;
           o.cityjson_lod = lod;
           o.skip_invalid = skip_invalid;
-          py::gil_scoped_release release;
-          return std::make_shared<Scene>(parse_scene(text, name, o));
+          return without_gil([&] { return std::make_shared<Scene>(parse_scene(text, name, o)); });
         },
         py::arg("text"), py::arg("name") = "<string>", py::arg("planarity_tolerance") = 1e-6,
         py::arg("orient_outward") = false, py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false,
@@ -620,11 +832,8 @@ PYBIND11_MODULE(_libshadow, m) {
 
   m.def("write_outputs",
         [](const Result& r, const std::filesystem::path& outdir) {
-          std::vector<std::filesystem::path> paths;
-          {
-            py::gil_scoped_release release;
-            paths = write_outputs(outdir, *r.scene, r.result);
-          }
+          const std::vector<std::filesystem::path> paths =
+              without_gil([&] { return write_outputs(outdir, *r.scene, r.result); });
           std::vector<std::string> out;
           for (const auto& p : paths) out.push_back(p.string());
           return out;
@@ -641,13 +850,22 @@ PYBIND11_MODULE(_libshadow, m) {
       "tile_casters, fast_tile_casters: split a receiver with more candidate casters than this into tiles\n"
       "(exact: areas unchanged; fast: within the bounds; fragments cut at tile borders; 0: never).";
 
+  // Registered before ShadowEngine.compute_series names it (else its docstring would show the C++ type).
+  py::class_<Series, std::shared_ptr<Series>> series_class(
+      m, "SeriesResult",
+      "Lit areas of every receiving face under every light of a series: rows are faces (face_id),\n"
+      "columns instants. 2-D arrays lit_area, lit_fraction, faces_light, lit_area_error_bound;\n"
+      "to_pandas(values, by) as a DataFrame indexed by UTC time.");
+
   py::class_<Engine>(m, "ShadowEngine",
                      "Prepares a scene once (exact face data) and computes shadows for many lights.")
       .def(py::init([](const ScenePtr& scene, unsigned threads) {
+             need_scene(scene);
              auto e = std::make_unique<Engine>();
              e->scene = scene;
-             py::gil_scoped_release release;
-             e->engine = std::make_unique<ShadowEngine>(*scene, threads);
+             // Ctrl-C is seen while the scene is prepared (the progress hook checks signals).
+             const std::function<void(const Progress&)> progress = wrap_progress(py::none());
+             e->engine = without_gil([&] { return std::make_unique<ShadowEngine>(*scene, threads, progress); });
              return e;
            }),
            py::arg("scene"), py::arg("threads") = 0)
@@ -697,8 +915,7 @@ PYBIND11_MODULE(_libshadow, m) {
              o.progress = wrap_progress(progress);
              o.tile_casters = tile_casters;
              o.fast_tile_casters = fast_tile_casters;
-             py::gil_scoped_release release;
-             out->result = e.engine->compute_series(out->lights, o);
+             out->result = without_gil([&] { return e.engine->compute_series(out->lights, o); });
              return out;
            },
            py::arg("lights") = py::none(), py::arg("threads") = 0, py::arg("arithmetic") = "exact",
@@ -712,13 +929,11 @@ PYBIND11_MODULE(_libshadow, m) {
       .def("compute_planes",
            [](const Engine& e, std::optional<std::vector<std::size_t>> lights, double plane_window) {
              ShadowOptions o = make_options(0, true, lights, "exact", true, plane_window, py::none());
-             py::gil_scoped_release release;
-             return e.engine->compute_planes(o);
+             return without_gil([&] { return e.engine->compute_planes(o); });
            },
            py::arg("lights") = py::none(), py::arg("plane_window") = 0.0)
-      .def("face_area", [](const Engine& e, std::size_t i) {
-        if (i >= e.scene->faces.size()) throw py::index_error("face_id out of range");
-        return e.engine->face_area(i);
+      .def("face_area", [](const Engine& e, const py::object& face_id) {
+        return e.engine->face_area(index_arg(face_id, e.scene->faces.size(), "face_id", "the scene", "face"));
       }, py::arg("face_id"))
       .def_property_readonly("scene", [](const Engine& e) { return e.scene; });
 
@@ -735,10 +950,7 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("hours_per_instant", &hours_per_instant, py::arg("period"),
         "The hours each instant stands for: step_minutes / 60, or for explicit times the median gap.");
 
-  py::class_<Series, std::shared_ptr<Series>>(
-      m, "SeriesResult",
-      "Lit areas of every receiving face under every light of a series: rows are faces (face_id),\n"
-      "columns instants. 2-D arrays lit_area, lit_fraction, faces_light, lit_area_error_bound.")
+  series_class
       .def_property_readonly("scene", [](const Series& x) { return x.scene; })
       .def_property_readonly("face_id", [](const Series& x) {
         return column<std::uint64_t>(x.result.faces, [](std::size_t f) { return f; });
@@ -766,15 +978,15 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_property_readonly("arithmetic", [](const Series& x) { return arithmetic_name(x.result.arithmetic); });
 
   m.def("_series_sun_hours", [](const Series& x, double h) {
-    const std::vector<double> v = sun_hours(x.result, h);
+    const std::vector<double> v = sun_hours(x.result, hours_arg(h));
     return column<double>(v, [](double a) { return a; });
   });
   m.def("_series_sun_hours_error_bound", [](const Series& x, double h) {
-    const std::vector<double> v = sun_hours_error_bound(x.result, h);
+    const std::vector<double> v = sun_hours_error_bound(x.result, hours_arg(h));
     return column<double>(v, [](double a) { return a; });
   });
   m.def("_surface_series", [](const Series& x, double h) {
-    const SurfaceSeries s = surface_series(*x.scene, x.result, h);
+    const SurfaceSeries s = surface_series(*x.scene, x.result, hours_arg(h));
     py::dict d;
     std::vector<std::string> labels;
     for (const NamedSurface& n : s.surfaces) labels.push_back(n.label);
@@ -784,6 +996,31 @@ PYBIND11_MODULE(_libshadow, m) {
     d["lit_fraction"] = table<double>(s.lit_fraction, s.surfaces.size(), s.instants);
     d["sun_hours"] = column<double>(s.sun_hours, [](double a) { return a; });
     return d;
+  });
+  m.def("_object_sun_hours", [](const Series& x, double h, bool per_mesh) {
+    const ObjectSunHours o = object_sun_hours(*x.scene, x.result, h, per_mesh);
+    py::dict d;
+    std::vector<std::string> ids, types;
+    std::vector<std::vector<std::size_t>> meshes;
+    for (const SceneObject& object : o.objects) {
+      ids.push_back(object.id);
+      types.push_back(object.type);
+      meshes.push_back(object.meshes);
+    }
+    d["ids"] = ids;
+    d["types"] = types;
+    d["meshes"] = meshes;
+    d["faces"] = column<std::uint64_t>(o.faces, [](std::size_t n) { return n; });
+    d["area"] = column<double>(o.area, [](double a) { return a; });
+    d["sun_hours"] = column<double>(o.sun_hours, [](double a) { return a; });
+    d["sunlit_area_hours"] = column<double>(o.sunlit_area_hours, [](double a) { return a; });
+    return d;
+  });
+  m.def("_sun_hours_by_object_csv", [](const Series& x) {
+    const SunSeries suns = sun_series(*x.scene);
+    std::ostringstream out;
+    write_sun_hours_by_object_csv(out, object_sun_hours(*x.scene, x.result, suns.hours_per_instant));
+    return out.str();
   });
   m.def("sunlit_csv",
         [](const Series& x) {
@@ -813,16 +1050,14 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("write_series",
         [](const Series& x, const std::filesystem::path& outdir, std::size_t every,
            std::optional<bool> energyplus_shading) {
-          std::vector<std::filesystem::path> paths;
-          {
-            py::gil_scoped_release release;
+          const std::vector<std::filesystem::path> paths = without_gil([&] {
             const SunSeries suns = sun_series(*x.scene);
             OutputDirectory dir(outdir);
             OutputDirectory::SeriesFiles files;
             files.every = every;
             files.energyplus_shading = energyplus_shading;
-            paths = dir.write_series(*x.scene, suns, x.result, files);
-          }
+            return dir.write_series(*x.scene, suns, x.result, files);
+          });
           std::vector<std::string> out;
           for (const auto& p : paths) out.push_back(p.string());
           return out;
@@ -898,8 +1133,7 @@ PYBIND11_MODULE(_libshadow, m) {
           o.merge_equal = merge_equal;
           o.progress = wrap_progress(progress);
           auto out = std::make_shared<SunHoursMap>();
-          py::gil_scoped_release release;
-          *out = compute_sun_hours_map(*e.engine, f, i, o);
+          *out = without_gil([&] { return compute_sun_hours_map(*e.engine, f, i, o); });
           return out;
         },
         py::arg("engine"), py::arg("faces") = py::none(), py::arg("instants") = py::none(), py::arg("threads") = 0,
@@ -908,9 +1142,10 @@ PYBIND11_MODULE(_libshadow, m) {
         "(None: the scene's suns, sun_hours_instants). The GIL is released while it works.");
   m.def("write_sun_hours_vtp",
         [](const SunHoursMap& map, const std::filesystem::path& path, const ScenePtr& scene) {
-          py::gil_scoped_release release;
-          if (scene) write_sun_hours_vtp(path, map, *scene);
-          else write_sun_hours_vtp(path, map);
+          without_gil([&] {
+            if (scene) write_sun_hours_vtp(path, map, *scene);
+            else write_sun_hours_vtp(path, map);
+          });
         },
         py::arg("map"), py::arg("path"), py::arg("scene") = ScenePtr{},
         "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp); with the scene, points\n"
@@ -920,10 +1155,29 @@ PYBIND11_MODULE(_libshadow, m) {
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
            const std::string& arithmetic, bool planes, double plane_window, const py::object& progress,
            std::size_t tile_casters, std::size_t fast_tile_casters) {
+          need_scene(scene);
+          // compute_shadows in three steps, so that Ctrl-C is heard while the scene is prepared
+          // too (the engine's progress checks signals; the user's callback counts pairs only).
+          const std::function<void(const Progress&)> check = wrap_progress(py::none());
           return run_compute(scene,
                              make_options(threads, polygons, lights, arithmetic, planes, plane_window, progress,
                                           tile_casters, fast_tile_casters),
-                             [&](const ShadowOptions& o) { return compute_shadows(*scene, o); });
+                             [&](const ShadowOptions& o) {
+                               const ShadowEngine engine(*scene, o.threads, check);
+                               // As shadow::compute_shadows: the planes repeat the faces' last count.
+                               Progress last;
+                               ShadowOptions counted = o;
+                               counted.progress = [&](const Progress& p) {
+                                 last = p;
+                                 o.progress(p);
+                               };
+                               ShadowResult result = engine.compute(counted);
+                               if (o.planes) {
+                                 counted.progress = [&](const Progress&) { o.progress(last); };
+                                 result.plane_shadows = engine.compute_planes(counted);
+                               }
+                               return result;
+                             });
         },
         py::arg("scene"), py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),
         py::arg("arithmetic") = "exact", py::arg("planes") = true, py::arg("plane_window") = 0.0,
@@ -934,11 +1188,13 @@ PYBIND11_MODULE(_libshadow, m) {
         "tiles (exact: areas unchanged; fast: within the bounds; fragments cut at tile borders; 0: never).");
   m.def("compute_plane_shadows",
         [](const ScenePtr& scene, unsigned threads, std::optional<std::vector<std::size_t>> lights, double plane_window) {
+          need_scene(scene);
           ShadowOptions o = make_options(threads, true, lights, "exact", true, plane_window, py::none());
-          py::gil_scoped_release release;
-          return compute_plane_shadows(*scene, o);
+          return without_gil([&] { return compute_plane_shadows(*scene, o); });
         },
         py::arg("scene"), py::arg("threads") = 0, py::arg("lights") = py::none(), py::arg("plane_window") = 0.0,
         "The exact shadows on the scene's planes (Blinn's projection), by plane then light: a list of\n"
         "PlaneShadow. Independent of the face engine.");
+
+  m.attr("__name__") = own_name;  // the import system's own name back (see the top)
 }

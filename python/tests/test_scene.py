@@ -174,12 +174,12 @@ def test_skip_invalid_and_types(tmp_path):
             "vertices": [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1], [-5, -5, 0], [5, -5, 0], [0, 5, 0]]}
     (tmp_path / "c.city.json").write_text(json.dumps(city))
     whole = libshadow.load_scene(str(tmp_path / "c.city.json"))
-    assert [m.type for m in whole.meshes] == ["Building", "TINRelief"]
+    assert [m.object_type for m in whole.meshes] == ["Building", "TINRelief"]
     assert list(libshadow.sun_hours_map_faces(whole, ["type:TINRelief"])) == [1]
     typed = libshadow.scene_from_data([{"name": "city", "file": "c.city.json"}], lights=up, base_dir=str(tmp_path),
                                       receivers=["type:TINRelief"])
     assert [m.receiver for m in typed.meshes] == [False, True]
-    with pytest.raises(ValueError, match=r'receivers\[0\]: the type "Road" selects no mesh \(the CityJSON object '
+    with pytest.raises(ValueError, match=r'receivers\[0\]: the type "Road" selects no mesh \(the object '
                                          r'types present: Building, TINRelief\)'):
         libshadow.scene_from_data([{"name": "city", "file": "c.city.json"}], lights=up, base_dir=str(tmp_path),
                                   receivers=["type:Road"])

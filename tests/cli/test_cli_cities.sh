@@ -170,10 +170,10 @@ else
 fi
 run bad_type compute "$WORK/city/bad_type.json" -o "$WORK/out-bad-type" --skip-invalid
 expect_error unknown_type_in_receivers bad_type "$WORK/out-bad-type" 'bad_type.json: receivers[0]: the type "Bridge" selects no mesh' \
-  "the CityJSON object types present: Building, BuildingPart, TINRelief"
+  "the object types present: Building, BuildingPart, TINRelief"
 run bad_flag_type series "$WORK/city/scene.json" -o "$WORK/out-bad-flag" --skip-invalid --sun-hours-map type:Bridge
 expect_error unknown_type_in_sun_hours_map_flag bad_flag_type "$WORK/out-bad-flag" 'scene.json: --sun-hours-map: the type "Bridge" selects no mesh' \
-  "the CityJSON object types present: Building, BuildingPart, TINRelief"
+  "the object types present: Building, BuildingPart, TINRelief"
 
 # Every command that loads a scene takes the flag.
 for command in compute series render; do

@@ -37,7 +37,7 @@ for tiled in tiled1 tiled3 default; do
     continue
   fi
   differing=""
-  while read -r f; do cmp -s "$WORK/whole/$f" "$WORK/$tiled/$f" || differing+=" $f"; done <<<"$files"
+  while read -r f; do same_file "$WORK/whole" "$WORK/$tiled" "$f" || differing+=" $f"; done <<<"$files"
   [[ -z "$differing" ]] && pass "$tiled: $(echo "$files" | wc -l) files byte-identical to the untiled series" ||
     fail "$tiled: byte-identical" "differ:$differing"
 done

@@ -3,6 +3,8 @@
 
 #include "render/camera.hpp"
 
+#include <shadow/output.hpp>
+
 #include <vtkActor.h>
 #include <vtkActor2D.h>
 #include <vtkPolyDataMapper2D.h>
@@ -422,7 +424,7 @@ Image render_scene(const Scene& scene, const ShadowResult& result, const RenderO
   return image;
 }
 
-void write_png(const Image& image, const std::filesystem::path& path) {
+std::string encode_png(const Image& image) {
   vtkNew<vtkImageData> data;
   data->SetDimensions(image.width, image.height, 1);
   data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
@@ -431,18 +433,30 @@ void write_png(const Image& image, const std::filesystem::path& path) {
   for (int y = 0; y < image.height; ++y)
     std::memcpy(target + static_cast<std::size_t>(image.height - 1 - y) * row_bytes,
                 image.rgb.data() + static_cast<std::size_t>(y) * row_bytes, row_bytes);
+  // Into memory: libpng then never meets a failing file, whose errors it would print on stderr
+  // itself (besides ours); the file is written by write_file_staged, checked.
   vtkNew<vtkPNGWriter> writer;
   vtkNew<ErrorCollector> errors;
   writer->AddObserver(vtkCommand::ErrorEvent, errors);
-  writer->SetFileName(path.string().c_str());
+  writer->WriteToMemoryOn();
   writer->SetInputData(data);
   writer->Write();
-  if (writer->GetErrorCode() != 0 || !errors->message.empty()) {
+  vtkUnsignedCharArray* bytes = writer->GetResult();
+  if (writer->GetErrorCode() != 0 || !errors->message.empty() || bytes == nullptr ||
+      bytes->GetNumberOfValues() == 0) {
     std::string reason = errors->message;
     while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
     if (const std::size_t colon = reason.find("): "); colon != std::string::npos) reason.erase(0, colon + 3);
-    throw RenderError(path.string() + ": " + (reason.empty() ? "could not write the PNG file" : reason));
+    for (char& c : reason)
+      if (c == '\n' || c == '\r') c = ' ';
+    throw RenderError("could not encode the PNG image" + (reason.empty() ? std::string() : ": " + reason));
   }
+  return {reinterpret_cast<const char*>(bytes->GetPointer(0)), static_cast<std::size_t>(bytes->GetNumberOfValues())};
+}
+
+void write_png(const Image& image, const std::filesystem::path& path) {
+  const std::string png = encode_png(image);
+  write_file_staged(path, [&](std::ostream& out) { out.write(png.data(), static_cast<std::streamsize>(png.size())); });
 }
 
 }  // namespace shadow::render

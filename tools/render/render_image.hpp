@@ -79,7 +79,12 @@ Image render_mesh(const ColouredMesh& mesh, const RenderOptions& options, const 
 /// polygons for every light of `scene` on every face to be drawn. @throws RenderError
 Image render_scene(const Scene& scene, const ShadowResult& result, const RenderOptions& options);
 
-/// Writes a PNG file. @throws RenderError naming the file
+/// The bytes of a PNG file of `image`, encoded in memory. @throws RenderError
+std::string encode_png(const Image& image);
+
+/// Writes a PNG file under the rule of every output (shadow::write_file_staged: a temporary
+/// name, a checked close, a rename; nothing at `path` after a failure).
+/// @throws RenderError (encoding), shadow::OutputError naming the file (writing)
 void write_png(const Image& image, const std::filesystem::path& path);
 
 }  // namespace shadow::render

@@ -124,19 +124,24 @@ void write_svg(const Scene& scene, const VectorView& view, const std::filesystem
     out << "</g>\n";
   }
   out << "</svg>\n";
-  std::ofstream file(path, std::ios::binary);
-  file << out.str();
-  file.close();
-  if (!file) throw RenderError("cannot write " + path.string());
+  const std::string text = out.str();
+  write_file_staged(path, [&](std::ostream& file) { file.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
                const VectorStyle& style) {
 #ifdef LIBSHADOW_HAVE_CAIRO
-  cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), view.frame.width, view.frame.height);
+  // Into memory, then written like every other output (write_file_staged): cairo writing the
+  // file itself reported success on a full disk and left the cut file under its final name.
+  std::string pdf;
+  const cairo_write_func_t append = [](void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+  };
+  cairo_surface_t* surface = cairo_pdf_surface_create_for_stream(append, &pdf, view.frame.width, view.frame.height);
   auto fail = [&](cairo_status_t status) {
     cairo_surface_destroy(surface);
-    throw RenderError("cannot write " + path.string() + ": " + cairo_status_to_string(status));
+    throw RenderError("cannot draw " + path.string() + ": " + cairo_status_to_string(status));
   };
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) fail(cairo_surface_status(surface));
   cairo_pdf_surface_set_metadata(surface, CAIRO_PDF_METADATA_TITLE, style.title.c_str());
@@ -168,9 +173,10 @@ void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem
   const cairo_status_t drawn = cairo_status(cr);
   cairo_destroy(cr);
   if (drawn != CAIRO_STATUS_SUCCESS) fail(drawn);
-  cairo_surface_finish(surface);  // writes the file
+  cairo_surface_finish(surface);  // completes the document in `pdf`
   if (cairo_surface_status(surface) != CAIRO_STATUS_SUCCESS) fail(cairo_surface_status(surface));
   cairo_surface_destroy(surface);
+  write_file_staged(path, [&](std::ostream& file) { file.write(pdf.data(), static_cast<std::streamsize>(pdf.size())); });
 #else
   (void)scene;
   (void)view;

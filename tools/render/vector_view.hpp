@@ -32,12 +32,15 @@ glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPi
                         const VectorStyle& style);
 
 /// Writes the view as SVG: a <g> per face (data-face-id, data-mesh, data-back), a <path> per
-/// piece (data-lit), coordinates with 17 significant digits. @throws RenderError naming the file
+/// piece (data-lit), coordinates with 17 significant digits, staged like every output
+/// (shadow::write_file_staged). @throws shadow::OutputError naming the file
 void write_svg(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
                const VectorStyle& style);
 
-/// Writes the view as a one-page PDF through cairo, 1 pixel = 1 point. @throws RenderError
-/// naming the file, with cairo's own words, or when libshadow was built without cairo
+/// Writes the view as a one-page PDF through cairo (drawn in memory, then staged like every
+/// output: shadow::write_file_staged), 1 pixel = 1 point. @throws shadow::OutputError naming the
+/// file (writing), RenderError naming the file, with cairo's own words, or when libshadow was
+/// built without cairo
 void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem::path& path,
                const VectorStyle& style);
 

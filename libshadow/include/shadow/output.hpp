@@ -121,6 +121,15 @@ std::vector<std::filesystem::path> write_outputs(const std::filesystem::path& ou
                                                  const Scene& scene, const ShadowResult& result,
                                                  const RunInfo& run);
 
+/// Writes one file under the rule every output of write_outputs follows: `write` fills
+/// `.NAME.tmp-PID` beside `path`, the stream is closed and checked (a full disk, a quota or a
+/// file size limit shows up at the latest when the last buffer is flushed), and only a complete
+/// file is renamed onto `path`. On any failure, including an exception thrown by `write`, the
+/// temporary is removed and whatever was at `path` stays as it was. The directory must exist
+/// (`shadow render` checks it before drawing).
+/// @throws OutputError naming `path`, with the system's reason; whatever `write` throws
+void write_file_staged(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
 /// The report: libshadow_version, scene, lights[], faces[] (id, mesh, area, lights[] with
 /// light, lit_area, shadow_area, lit_fraction, faces_light), planes[] (name, plane, light,
 /// shadow_area, reaches_window, ...), summary, stats, warnings; and `run` (after `scene`):

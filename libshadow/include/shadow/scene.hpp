@@ -52,15 +52,22 @@ struct Mesh {
   /// or LoadOptions::orient_outward for every mesh): a part whose faces disagree is made
   /// consistent, then a part with negative signed volume is reversed. Each change is a warning.
   bool orient_outward = false;
-  /// The type of the model object this mesh was read from: a CityJSON city object's `type`
-  /// (`Building`, `BuildingPart`, `TINRelief`, `PlantCover`, ...); empty for other meshes.
-  /// `type:<T>` in `receivers`, `sun_hours_map` and `--sun-hours-map` selects by it
-  /// (select_meshes()).
-  std::string type;
   /// The model the mesh was read from: "energyplus" (an IDF or epJSON file) or "cityjson";
   /// empty for OBJ files and inline polygons. A scene with an EnergyPlus mesh gets
   /// energyplus-shading.csv from `shadow series` (docs/series.md).
   std::string model;
+  /// What the mesh is in the model it was read from: a CityJSON city object's `type`
+  /// (`Building`, `BuildingPart`, `TINRelief`, ...) or `zone` for an EnergyPlus zone; empty for
+  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups. `type:<T>` in
+  /// `receivers`, `sun_hours_map` and `--sun-hours-map` selects by it (select_meshes()).
+  std::string object_type;
+  /// CityJSON: the top-level city object this one is part of (a BuildingPart's Building: the
+  /// first of `parents`, followed up to an object without parents), named as meshes are
+  /// (`<scene mesh>/<id>` inside a scene file). Empty for a top-level object and every other
+  /// mesh. Results per object (scene_objects()) roll the mesh up into it.
+  std::string parent;
+  /// The CityJSON `type` of `parent` (`Building`); empty when `parent` is.
+  std::string parent_type;
 };
 
 /// A face that failed validation and was left out of the scene (LoadOptions::skip_invalid):
@@ -200,11 +207,33 @@ std::vector<NamedSurface> named_surfaces(const Scene& scene, bool receivers_only
 /// A face's label: its name, or `face_<id>` when it has none.
 std::string face_label(const Scene& scene, std::size_t face_id);
 
+/// An object of the model, the unit of results per object (sun_hours_by_object.csv): a
+/// CityJSON top-level city object with its parts (BuildingParts rolled up into their Building),
+/// an EnergyPlus zone, or any other mesh.
+struct SceneObject {
+  /// The object's name: its mesh's name (a CityJSON object's id, `<scene mesh>/<id>` inside a
+  /// scene file; a zone's name), or for a parent without geometry of its own, its name as a mesh
+  /// would have it (Mesh::parent).
+  std::string id;
+  /// The CityJSON type (`Building`, `TINRelief`, ...), `zone` for an EnergyPlus zone, `mesh`
+  /// for any other mesh.
+  std::string type;
+  std::vector<std::size_t> meshes;  ///< indices into Scene::meshes, ascending
+};
+
+/// The scene's objects in the order of their first mesh: each mesh belongs to its Mesh::parent
+/// when it has one (a parent without a mesh of its own is an object too), else it is an object
+/// of its own. With `per_mesh`, every mesh is an object of its own (type: its object_type, or
+/// `mesh`), parts not rolled up. With `receivers_only`, meshes that do not receive are left out
+/// (and an object with none left is dropped).
+std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only = true, bool per_mesh = false);
+
 /// The meshes (indices into Scene::meshes, ascending) that one name selects, as `receivers`,
 /// `sun_hours_map` and `--sun-hours-map` spell it: a mesh's name selects that mesh (a model's
 /// meshes are named `<scene mesh>/<id>` inside a scene file, `<id>` when the model is the
-/// scene); otherwise `type:<T>` selects every mesh whose Mesh::type is `T` (a CityJSON object
-/// type such as `type:Building` or `type:TINRelief`, compared as written).
+/// scene); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
+/// object type such as `type:Building` or `type:TINRelief`, or `type:zone` for EnergyPlus zones;
+/// compared as written).
 /// @throws InputError at `where` (the key or flag that gave the name: `receivers[2]`,
 /// `--sun-hours-map`) for a name no mesh has, or a type no mesh has (listing the types present).
 std::vector<std::size_t> select_meshes(const Scene& scene, const std::string& name, const SourceLocation& where);

@@ -60,6 +60,30 @@ struct SurfaceSeries {
 /// Aggregates `series` (computed on `scene`) per named surface.
 SurfaceSeries surface_series(const Scene& scene, const SeriesResult& series, double hours_per_instant);
 
+/// Sun hours per object (scene_objects(): a CityJSON top-level city object with its parts, an
+/// EnergyPlus zone, any other mesh): `sun_hours_by_object.csv` and report.json's
+/// `series.objects`. Over an object's receiving faces (the rows of the series in its meshes):
+/// sunlit_area_hours = sum over faces and instants of lit_area x hours_per_instant (m2 h), and
+/// sun_hours = sunlit_area_hours / area, the area-weighted mean of the faces' sun hours (0 for an
+/// object of zero area).
+struct ObjectSunHours {
+  std::vector<SceneObject> objects;        ///< objects with at least one receiving face, in scene order
+  std::vector<std::size_t> faces;          ///< per object: its receiving faces
+  std::vector<double> area;                ///< per object: the sum of their areas (m2)
+  std::vector<double> sun_hours;           ///< per object: the area-weighted mean sun hours (h)
+  std::vector<double> sunlit_area_hours;   ///< per object: sum of lit area x hours (m2 h)
+};
+
+/// Aggregates `series` (computed on `scene`) per object (scene_objects(scene, true, per_mesh):
+/// `per_mesh` gives one row per receiving mesh instead, parts not rolled up).
+ObjectSunHours object_sun_hours(const Scene& scene, const SeriesResult& series, double hours_per_instant,
+                                bool per_mesh = false);
+
+/// `sun_hours_by_object.csv`: header `object,type,faces,area,sun_hours,sunlit_area_hours`, one
+/// row per object in scene order; numbers in shortest round-trip form, names quoted as
+/// csv_field() does, CRLF line ends (RFC 4180).
+void write_sun_hours_by_object_csv(std::ostream& out, const ObjectSunHours& objects);
+
 /// `2026-06-21T12:00:00Z`: a UTC instant in ISO 8601 (proleptic Gregorian calendar).
 std::string format_series_time(UtcSeconds t);
 

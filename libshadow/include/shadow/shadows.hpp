@@ -52,7 +52,11 @@ struct ShadowOptions {
   /// scene light, or an unusable light (zero or non-finite direction, ...), is an InputError,
   /// for the faces and the planes alike.
   std::vector<std::size_t> lights;
-  /// Called now and then from one thread at a time (never concurrently). May be empty.
+  /// Called now and then from one thread at a time (never concurrently). May be empty. An
+  /// exception it throws stops the computation (running work items included, within about a
+  /// second) and comes out of the call. Done and total count face-light pairs. The plane shadows
+  /// count nothing but call it too, about every 100 ms: compute_shadows with the faces' last
+  /// count, ShadowEngine::compute_planes and compute_plane_shadows with 0 of 0.
   std::function<void(const Progress&)> progress;
   /// compute_shadows() also computes the shadows on the scene's planes (Blinn projection).
   bool planes = true;
@@ -296,10 +300,14 @@ struct EngineAccess;  // the library's own computations over a prepared engine (
 class ShadowEngine {
  public:
   /// Prepares the scene on `threads` threads (0: every hardware thread, at most 1024). The
-  /// scene must outlive the engine and stay unchanged.
+  /// scene must outlive the engine and stay unchanged. `progress`, when given, is called about
+  /// every 100 ms from the calling thread with `done` of `total` = 3 preparation stages (the
+  /// faces, the culling grid, the convex solids) and once at the end; an exception it throws
+  /// stops the preparation and comes out of the constructor (how Python's Ctrl-C stops it).
   /// @throws InputError for a non-finite or out-of-range coordinate (scene_io.hpp's
   /// max_coordinate) of a face or plane, named by the face's source, and for threads > 1024.
-  explicit ShadowEngine(const Scene& scene, unsigned threads = 0);
+  explicit ShadowEngine(const Scene& scene, unsigned threads = 0,
+                        const std::function<void(const Progress&)>& progress = {});
   ~ShadowEngine();
   ShadowEngine(ShadowEngine&&) noexcept;
   ShadowEngine& operator=(ShadowEngine&&) noexcept;

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace shadow::core {
@@ -39,6 +40,56 @@ inline unsigned resolve_threads(unsigned requested) {
   return hw == 0 ? 1 : hw;
 }
 
+/// Thrown inside an item of a parallel_for that was stopped (another item or its progress
+/// callback threw first; that first exception is the one parallel_for rethrows).
+class Stopped : public std::exception {
+ public:
+  [[nodiscard]] const char* what() const noexcept override { return "computation stopped"; }
+};
+
+namespace detail {
+/// The stop flags of the parallel_for calls a thread is working inside, innermost first.
+struct StopChain {
+  const std::atomic<bool>* flag = nullptr;
+  const StopChain* parent = nullptr;
+};
+inline thread_local const StopChain* stop_chain = nullptr;
+/// TickScope's callback on the thread that installed it.
+inline thread_local const std::function<void()>* ambient_tick = nullptr;
+}  // namespace detail
+
+/// Whether any parallel_for this thread is working inside was stopped.
+inline bool stop_requested() noexcept {
+  for (const detail::StopChain* c = detail::stop_chain; c != nullptr; c = c->parent)
+    if (c->flag->load(std::memory_order_relaxed)) return true;
+  return false;
+}
+
+/// Throws Stopped when stop_requested(): long items (a face's instants in the sun-hours map)
+/// call it between their steps, so that Ctrl-C reaches the caller within about a second
+/// instead of when every running item has finished.
+inline void check_stop() {
+  if (stop_requested()) throw Stopped();
+}
+
+/// While alive, every parallel_for called on this thread without a progress callback of its own
+/// calls `tick` about every 100 ms while it waits, and stops (rethrowing it) when `tick` throws:
+/// a stage made of several parallel_for calls with nothing to count (ShadowEngine's
+/// preparation) can be stopped from one callback. Only this thread's calls see it.
+class TickScope {
+ public:
+  explicit TickScope(std::function<void()> tick) : saved_(detail::ambient_tick), tick_(std::move(tick)) {
+    if (tick_) detail::ambient_tick = &tick_;
+  }
+  ~TickScope() { detail::ambient_tick = saved_; }
+  TickScope(const TickScope&) = delete;
+  TickScope& operator=(const TickScope&) = delete;
+
+ private:
+  const std::function<void()>* saved_;
+  std::function<void()> tick_;
+};
+
 /// Runs task(w) for every w in [0, n) on the library's pool of threads and waits, calling
 /// `tick` (if any) about every 100 ms while it does; neither may throw. The pool's threads are
 /// started on first need and kept for the process (starting and joining 16 threads took 0.6 ms
@@ -49,7 +100,9 @@ bool run_on_pool(unsigned n, const std::function<void(unsigned)>& task, const st
 
 /// Runs work(worker, item) for item in [0, count) on `threads` workers. The calling thread
 /// reports progress (items finished so far) every ~100 ms and at the end. The first exception
-/// thrown by any item stops the others and is rethrown here.
+/// thrown by any item or by `progress` stops the others and is rethrown here: no new item
+/// starts, and running items that call check_stop() end early. A parallel_for inside an item
+/// of a stopped one stops too (Stopped).
 inline void parallel_for(std::size_t count, unsigned threads,
                          const std::function<void(unsigned worker, std::size_t item)>& work,
                          const std::function<void(std::size_t done)>& progress = {}) {
@@ -66,10 +119,21 @@ inline void parallel_for(std::size_t count, unsigned threads,
     if (!error) error = e;
     failed = true;
   };
+  // This call's flag, chained to those of the calls the calling thread is working inside.
+  const detail::StopChain chain{&failed, detail::stop_chain};
   auto run = [&](unsigned worker) {
+    struct Enter {
+      const detail::StopChain* saved = detail::stop_chain;
+      explicit Enter(const detail::StopChain* c) { detail::stop_chain = c; }
+      ~Enter() { detail::stop_chain = saved; }
+    } enter(&chain);
     for (;;) {
       const std::size_t item = next.fetch_add(1, std::memory_order_relaxed);
       if (item >= count || failed.load(std::memory_order_relaxed)) break;
+      if (stop_requested()) {  // an enclosing call was stopped: so is this one (never a partial result)
+        record(std::make_exception_ptr(Stopped()));
+        break;
+      }
       try {
         work(worker, item);
       } catch (...) {
@@ -80,14 +144,25 @@ inline void parallel_for(std::size_t count, unsigned threads,
   };
 
   threads = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(count, 1))));
-  if (threads == 1 && !progress) {
+  const std::function<void()>* ambient = progress ? nullptr : detail::ambient_tick;
+  if (threads == 1 && !progress && ambient == nullptr) {
     run(0);
   } else {
     std::function<void()> tick;
-    if (progress)
+    if (progress || ambient != nullptr)
       tick = [&] {
         try {
-          progress(done.load());
+          if (progress) {
+            progress(done.load());
+          } else {
+            // Not again from a parallel_for that the tick itself runs on this thread.
+            struct Suspend {
+              const std::function<void()>* saved = detail::ambient_tick;
+              Suspend() { detail::ambient_tick = nullptr; }
+              ~Suspend() { detail::ambient_tick = saved; }
+            } suspend;
+            (*ambient)();
+          }
         } catch (...) {
           record(std::current_exception());
         }
@@ -114,8 +189,7 @@ inline void parallel_for(std::size_t count, unsigned threads,
           } catch (...) {  // no more threads to be had: the ones running finish the work
             std::lock_guard<std::mutex> lock(mutex);
             --running;
-            if (pool.empty()) throw;
-            break;
+            break;  // (none at all, e.g. no memory for a stack under a limit: this thread, below)
           }
         }
         std::unique_lock<std::mutex> lock(mutex);
@@ -131,6 +205,8 @@ inline void parallel_for(std::size_t count, unsigned threads,
         record(std::current_exception());
       }
       for (std::thread& t : pool) t.join();  // never leave a joinable thread behind
+      // Not one thread could be started: the results do not depend on the thread count.
+      if (pool.empty()) run(0);
     }
   }
   if (error) std::rethrow_exception(error);

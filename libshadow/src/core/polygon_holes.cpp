@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <new>
 #include <unordered_map>
 #include <utility>
 
@@ -293,6 +294,8 @@ std::vector<std::vector<glm::dvec3>> split(const std::vector<glm::dvec3>& outer_
   std::vector<std::vector<int>> pieces;
   try {
     pieces = convex_pieces_of(points, next, prev, !triangles);
+  } catch (const std::bad_alloc&) {
+    throw;  // out of memory is not a fault of the rings
   } catch (const std::exception&) {
     // Only reachable if the checks above missed an intersection of constraints.
     throw PolygonHolesError(-1, -1, "the rings intersect");

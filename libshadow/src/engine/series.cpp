@@ -311,4 +311,35 @@ SurfaceSeries surface_series(const Scene& scene, const SeriesResult& series, dou
   return out;
 }
 
+ObjectSunHours object_sun_hours(const Scene& scene, const SeriesResult& series, double hours, bool per_mesh) {
+  ObjectSunHours out;
+  std::vector<std::size_t> row_of(scene.faces.size(), SIZE_MAX);
+  for (std::size_t r = 0; r < series.faces.size(); ++r)
+    if (series.faces[r] < row_of.size()) row_of[series.faces[r]] = r;
+  for (SceneObject& object : scene_objects(scene, true, per_mesh)) {
+    std::size_t faces = 0;
+    double area = 0.0, lit = 0.0;
+    for (const std::size_t m : object.meshes) {
+      const Mesh& mesh = scene.meshes[m];
+      for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < row_of.size(); ++f) {
+        const std::size_t r = row_of[f];
+        if (r == SIZE_MAX) continue;  // not computed (the series was made for another scene)
+        ++faces;
+        area += series.area[r];
+        // Per face in time order, then over the faces: the order Python's sun_hours(by="mesh") sums in.
+        double face_lit = 0.0;
+        for (std::size_t i = 0; i < series.instants; ++i) face_lit += series.lit_area[series.at(r, i)];
+        lit += face_lit;
+      }
+    }
+    if (faces == 0) continue;
+    out.objects.push_back(std::move(object));
+    out.faces.push_back(faces);
+    out.area.push_back(area);
+    out.sun_hours.push_back(area > 0.0 ? lit / area * hours : 0.0);
+    out.sunlit_area_hours.push_back(lit * hours);
+  }
+  return out;
+}
+
 }  // namespace shadow

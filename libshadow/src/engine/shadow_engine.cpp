@@ -75,10 +75,17 @@ const FaceLighting* ShadowResult::find(std::size_t face_id, std::size_t light_id
 // ShadowEngine::Impl: engine/engine_impl.hpp (engine/series.cpp reads it too).
 
 
-ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::make_unique<Impl>()) {
+ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::function<void(const Progress&)>& progress)
+    : impl_(std::make_unique<Impl>()) {
   // Scenes built in code may not have been validated: NaN or huge coordinates would reach GMP
   // (SIGFPE) or the double culling. One pass over the vertices.
   shadow::detail::check_scene_numbers(scene);
+  // Three stages (faces, culling, convex solids), each of parallel_for calls that tick `progress`
+  // while they wait: an exception it throws (Ctrl-C in Python) stops the preparation.
+  constexpr std::size_t kStages = 3;
+  std::size_t stage = 0;
+  core::TickScope ticks(progress ? std::function<void()>([&] { progress(Progress{stage, kStages}); })
+                                 : std::function<void()>());
   threads = core::resolve_threads(core::checked_threads(threads));
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
@@ -109,8 +116,12 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads) : impl_(std::ma
   core::BitSpan span;
   for (const core::BitSpan& s : spans) span.add(s);
   impl_->chart_least_bit = core::chart_least_bit(span);
+  stage = 1;
   impl_->cull = core::make_cull_scene(scene, impl_->prep, threads);
+  stage = 2;
   impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, threads);
+  stage = kStages;
+  if (progress) progress(Progress{stage, kStages});
 }
 
 ShadowEngine::~ShadowEngine() = default;
@@ -120,6 +131,9 @@ ShadowEngine& ShadowEngine::operator=(ShadowEngine&&) noexcept = default;
 double ShadowEngine::face_area(std::size_t face_id) const { return impl_->face_area.at(face_id); }
 
 std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& options) const {
+  // Plane shadows count nothing: 0 of 0, about every 100 ms, so that the callback can stop them.
+  const core::TickScope ticks(options.progress ? std::function<void()>([&] { options.progress(Progress{0, 0}); })
+                                               : std::function<void()>());
   return planes::plane_shadows(*impl_->scene, impl_->prep, impl_->solids, impl_->solid_of, options);
 }
 
@@ -517,8 +531,24 @@ core::PreparedScene EngineAccess::prepared(const ShadowEngine& engine) {
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
   const ShadowEngine engine(scene, options.threads);
-  ShadowResult result = engine.compute(options);
-  if (options.planes) result.plane_shadows = engine.compute_planes(options);
+  if (!options.progress) {
+    ShadowResult result = engine.compute(options);
+    if (options.planes) result.plane_shadows = engine.compute_planes(options);
+    return result;
+  }
+  // The plane shadows count nothing: while they run, the faces' last count is reported again
+  // (about every 100 ms), so that the callback can still stop the call.
+  Progress last;
+  ShadowOptions counted = options;
+  counted.progress = [&](const Progress& p) {
+    last = p;
+    options.progress(p);
+  };
+  ShadowResult result = engine.compute(counted);
+  if (options.planes) {
+    counted.progress = [&](const Progress&) { options.progress(last); };
+    result.plane_shadows = engine.compute_planes(counted);
+  }
   return result;
 }
 

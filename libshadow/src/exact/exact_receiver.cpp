@@ -17,6 +17,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/convex_hull_2.h>
 
+#include <gmpxx.h>
+
 #include <algorithm>
 #include <array>
 #include <iterator>
@@ -317,8 +319,11 @@ class ExactReceiverJob {
       }
     }
     if (!any_front) return;  // nothing strictly in front of the receiver
-    if (leaves && !point_light_ && qp.convex_pieces.size() >= kWholeFaceFromPieces &&
-        std::all_of(w_.vertex_sign.begin(), w_.vertex_sign.end(), [](CGAL::Sign s) { return s == CGAL::POSITIVE; })) {
+    const bool wholly_in_front =
+        leaves && qp.convex_pieces.size() >= kWholeFaceFromPieces &&
+        std::all_of(w_.vertex_sign.begin(), w_.vertex_sign.end(), [](CGAL::Sign s) { return s == CGAL::POSITIVE; });
+    if (wholly_in_front && point_light_ && cast_whole_outline_from_point(qp, qface)) return;
+    if (wholly_in_front && !point_light_) {
       // A non-convex caster wholly in front under a directional light: its projection is an
       // affine image of the face, a simple polygon, so it can cast as one polygon instead of
       // one per convex piece (pieces share edges, which makes the union slow). Only when that
@@ -393,6 +398,118 @@ class ExactReceiverJob {
       cast |= add_shadow(w_.poly2);
     }
     if (cast) ++stats_.casting_pairs;
+  }
+
+  /// A point light's counterpart of the whole-outline cast above: a non-convex caster (exactly
+  /// planar, every vertex strictly in front of the receiver) whose every vertex also lies
+  /// strictly nearer the receiver's plane than the light, and projects inside the chart box,
+  /// casts its outline as one polygon. Then the face lies in the pyramid over the box (a convex
+  /// set holding its vertices), where no piece is clipped, and the central projection is a
+  /// projective map of the caster's plane defined on all of it: the image of its simple
+  /// outline is a simple polygon, the union of its pieces' images, vertex for vertex the same
+  /// exact points (LeafProjector::project_central is project_piece's formula). Cast piece by
+  /// piece, the pieces' shared edges made the union the cost (a 40,002-vertex comb under a
+  /// lamp: docs/benchmarks.md). False, having cast nothing, when the conditions do not hold.
+  bool cast_whole_outline_from_point(const core::FacePrep& qp, const Face& qface) {
+    LeafProjector& projector = leaf_projector();
+    w_.poly2.clear();
+    bool inside = true;
+    for (int v : qp.chart_ring) {
+      if (!projector.project_central(qface.vertices[v], w_.poly2.emplace_back())) return false;
+      const Point2& p = w_.poly2.back();
+      for (int c = 0; c < 2 && inside; ++c)
+        inside = CGAL::compare(p[c], FT(fp_.chart_min[c])) != CGAL::SMALLER &&
+                 CGAL::compare(p[c], FT(fp_.chart_max[c])) != CGAL::LARGER;
+    }
+    if (!inside) return cast_outline_cut_to_pyramid(qp, qface);
+    if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
+    return true;
+  }
+
+  /// cast_whole_outline_from_point's caster when its shadow leaves the chart box: the outline is
+  /// cut to the pyramid over the box in the caster's own chart (its input doubles, and the
+  /// pyramid's sides as lines there), and each part of it cast whole. A simple polygon cut by
+  /// a convex region is a set of simple polygons without holes (the complements of both are
+  /// connected), whose images are simple, inside the box, and together the union of the
+  /// clipped pieces' images: the same exact region. True when the caster is handled; false,
+  /// casting nothing, when its corner's normal has no component along its chart's axis.
+  bool cast_outline_cut_to_pyramid(const core::FacePrep& qp, const Face& qface) {
+    const int k = qp.axis, ci = core::chart_i(k), cj = core::chart_j(k);
+    const std::vector<glm::dvec3>& vs = qface.vertices;
+    // The caster's exact plane n . x + d = 0 from its convex corner; x_k = -(n_i u + n_j v + d) / n_k.
+    const glm::dvec3& c = vs[qp.corner[1]];
+    const glm::dvec3& next = vs[qp.corner[2]];
+    const glm::dvec3& prev = vs[qp.corner[0]];
+    mpq_class e[3], f[3], n[3];
+    for (int a = 0; a < 3; ++a) {
+      e[a] = mpq_class(next[a]) - mpq_class(c[a]);
+      f[a] = mpq_class(prev[a]) - mpq_class(c[a]);
+    }
+    n[0] = e[1] * f[2] - e[2] * f[1];
+    n[1] = e[2] * f[0] - e[0] * f[2];
+    n[2] = e[0] * f[1] - e[1] * f[0];
+    if (sgn(n[k]) == 0) return false;  // a chart that sees the plane edge-on (the pieces then)
+    const mpq_class d = -(n[0] * c.x + n[1] * c.y + n[2] * c.z);
+    // The pyramid's part of the caster's plane, in its chart: the outline's bounding box cut by
+    // each side a . x + b >= 0 with x_k substituted (a line A u + B v + C >= 0).
+    double lo[2] = {vs[qp.chart_ring[0]][ci], vs[qp.chart_ring[0]][cj]}, hi[2] = {lo[0], lo[1]};
+    for (int v : qp.chart_ring) {
+      lo[0] = std::min(lo[0], vs[v][ci]);
+      hi[0] = std::max(hi[0], vs[v][ci]);
+      lo[1] = std::min(lo[1], vs[v][cj]);
+      hi[1] = std::max(hi[1], vs[v][cj]);
+    }
+    std::vector<std::array<mpq_class, 2>> window{{mpq_class(lo[0]), mpq_class(lo[1])}, {mpq_class(hi[0]), mpq_class(lo[1])},
+                                                 {mpq_class(hi[0]), mpq_class(hi[1])}, {mpq_class(lo[0]), mpq_class(hi[1])}};
+    std::vector<std::array<mpq_class, 2>> cut;
+    std::vector<mpq_class> value;
+    for (const LeafProjector::Side& side : leaf_projector().pyramid_sides()) {
+      const mpq_class A = side.a[ci] - side.a[k] * n[ci] / n[k];
+      const mpq_class B = side.a[cj] - side.a[k] * n[cj] / n[k];
+      const mpq_class C = side.b - side.a[k] * d / n[k];
+      value.resize(window.size());
+      for (std::size_t a = 0; a < window.size(); ++a) value[a] = A * window[a][0] + B * window[a][1] + C;
+      auto side_of = [&](std::size_t a) { return sgn(value[a]); };
+      switch (geometry::clip_case(window.size(), side_of)) {
+        case geometry::ClipCase::Inside: continue;
+        case geometry::ClipCase::Empty: return true;  // nothing of the caster in the pyramid
+        case geometry::ClipCase::Cut: break;
+      }
+      geometry::clip_convex(window, side_of, [&](std::size_t a, std::size_t b) {
+        const mpq_class t = value[a] / (value[a] - value[b]);
+        return std::array<mpq_class, 2>{window[a][0] + t * (window[b][0] - window[a][0]),
+                                        window[a][1] + t * (window[b][1] - window[a][1])};
+      }, cut);
+      window.swap(cut);
+      if (window.size() < 3) return true;
+    }
+    Polygon2 clip;
+    for (const auto& p : window) clip.push_back(Point2(FT(p[0]), FT(p[1])));
+    if (CGAL::sign(polygon_area(clip)) == CGAL::ZERO) return true;  // the pyramid only grazes it
+    if (clip.orientation() == CGAL::CLOCKWISE) clip.reverse_orientation();
+    Polygon2 outline;
+    for (int v : qp.chart_ring) outline.push_back(Point2(vs[v][ci], vs[v][cj]));
+    if (outline.orientation() == CGAL::CLOCKWISE) outline.reverse_orientation();
+    PolygonSet2 parts(outline);
+    parts.intersection(clip);
+    std::vector<PolygonWithHoles2> inside;
+    parts.polygons_with_holes(std::back_inserter(inside));
+    LeafProjector& projector = leaf_projector();
+    bool cast = false;
+    mpq_class y[3];
+    for (const PolygonWithHoles2& part : inside) {
+      w_.poly2.clear();
+      for (auto v = part.outer_boundary().vertices_begin(); v != part.outer_boundary().vertices_end(); ++v) {
+        const auto& exact = CGAL::exact(*v);
+        y[ci] = exact.x();
+        y[cj] = exact.y();
+        y[k] = -(n[ci] * y[ci] + n[cj] * y[cj] + d) / n[k];
+        w_.poly2.push_back(projector.project_central(y));
+      }
+      cast |= add_shadow(w_.poly2);
+    }
+    if (cast) ++stats_.casting_pairs;
+    return true;
   }
 
   /// The lazy route (a lifted receiver or caster): the piece's front part, clipped to the

@@ -107,6 +107,44 @@ class LeafProjector {
     }
   }
 
+  /// Point light only: the central projection of an input point strictly between the
+  /// receiver's plane and the light's level (0 < s(y) < s(light), s the receiver's plane) into
+  /// `out`; false, `out` untouched, for any other point. The same exact values as project_piece
+  /// gives such a point (its formula, on the point itself: no clip cuts a point inside the
+  /// pyramid).
+  bool project_central(const glm::dvec3& y, Point2& out) {
+    assert(point_ && "LeafProjector::project_central is the central projection (point light)");
+    plane_value(y, s_);
+    if (sgn(s_) <= 0 || cmp(s_, light_side_) >= 0) return false;
+    t_ = light_side_ - s_;
+    x_ = (light_side_ * mpq_class(y[i_]) - s_ * light_[i_]) / t_;
+    z_ = (light_side_ * mpq_class(y[j_]) - s_ * light_[j_]) / t_;
+    out = Point2(FT(x_), FT(z_));
+    return true;
+  }
+
+  /// project_central for an exact point that the caller knows lies strictly between the
+  /// receiver's plane and the light's level (a point of a caster whose vertices all do).
+  Point2 project_central(const mpq_class (&y)[3]) {
+    assert(point_ && "LeafProjector::project_central is the central projection (point light)");
+    s_ = offset_;
+    for (int c = 0; c < 3; ++c) s_ += n_[c] * y[c];
+    t_ = light_side_ - s_;
+    x_ = (light_side_ * y[i_] - s_ * light_[i_]) / t_;
+    z_ = (light_side_ * y[j_] - s_ * light_[j_]) / t_;
+    return Point2(FT(x_), FT(z_));
+  }
+
+  /// A side of the pyramid over the chart box (point light): a . x + b >= 0 inside.
+  struct Side {
+    mpq_class a[3], b;
+  };
+  /// The pyramid's four sides (point light only).
+  [[nodiscard]] const std::array<Side, 4>& pyramid_sides() const {
+    assert(point_ && "LeafProjector::pyramid_sides needs a point light");
+    return sides_;
+  }
+
   /// The parallel projection of an input point in front of (or on) the receiver's plane.
   /// Directional lights only: the shift along the light is set for them alone (a point light's
   /// points go through project_piece's central projection).
@@ -202,10 +240,6 @@ class LeafProjector {
     mpq_class v[3];
     bool on_plane = false;  ///< on the receiver's plane: its own projection
   };
-  struct Side {
-    mpq_class a[3], b;
-  };
-
   /// Sutherland-Hodgman clip of poly_ to side(p) >= 0 (geometry/clip_convex.hpp); crossings
   /// only on strict sign changes.
   void clip(const Side& side) {

@@ -73,6 +73,14 @@ std::string csv_field(const std::string& text) {
   return out;
 }
 
+void write_sun_hours_by_object_csv(std::ostream& out, const ObjectSunHours& objects) {
+  out << "object,type,faces,area,sun_hours,sunlit_area_hours\r\n";
+  for (std::size_t i = 0; i < objects.objects.size(); ++i)
+    out << csv_field(objects.objects[i].id) << ',' << csv_field(objects.objects[i].type) << ',' << objects.faces[i]
+        << ',' << number(objects.area[i]) << ',' << number(objects.sun_hours[i]) << ','
+        << number(objects.sunlit_area_hours[i]) << "\r\n";
+}
+
 void write_sunlit_csv(std::ostream& out, const SunSeries& suns, const SurfaceSeries& surfaces) {
   out << "time";
   for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(s.label);

@@ -133,7 +133,7 @@ void write_pvd(const std::vector<std::pair<double, std::string>>& steps, const s
 
 void write_series_report_json(std::ostream& out, const Scene& scene, const SunSeries& suns,
                               const SeriesResult& series, const SurfaceSeries& surfaces,
-                              const std::vector<double>& sun_hours, const std::vector<double>& sun_hours_bound,
+                              const ObjectSunHours& objects, const std::vector<double>& sun_hours, const std::vector<double>& sun_hours_bound,
                               const EnergyPlusSchedule& energyplus, std::size_t every, const RunInfo* run) {
   const bool fast = series.arithmetic == Arithmetic::Fast;
   Json report;
@@ -202,6 +202,25 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
                      {"sun_hours", surfaces.sun_hours[i]}});
   s["surfaces"] = named;
   s["skipped_faces"] = scene.skipped_faces.size();  // --skip-invalid (additive key)
+  // Per building, zone or mesh (sun_hours_by_object.csv): additive, after the surfaces.
+  Json per_object = Json::array();
+  std::vector<const std::string*> object_of_mesh(scene.meshes.size(), nullptr);
+  for (std::size_t i = 0; i < objects.objects.size(); ++i) {
+    const SceneObject& o = objects.objects[i];
+    Json meshes = Json::array();
+    for (const std::size_t m : o.meshes) {
+      meshes.push_back(scene.meshes[m].name);
+      object_of_mesh[m] = &o.id;
+    }
+    per_object.push_back({{"id", o.id},
+                          {"type", o.type},
+                          {"meshes", meshes},
+                          {"face_count", objects.faces[i]},
+                          {"area", objects.area[i]},
+                          {"sun_hours", objects.sun_hours[i]},
+                          {"sunlit_area_hours", objects.sunlit_area_hours[i]}});
+  }
+  s["objects"] = per_object;
   report["series"] = s;
   if (!scene.skipped_faces.empty()) report["skipped_faces"] = skipped_faces_json(scene);  // as in compute's
 
@@ -213,6 +232,8 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
                   {"mesh", face.mesh < scene.meshes.size() ? scene.meshes[face.mesh].name : std::string()}};
     detail::add_face_identity(entry, scene, f);  // as in `shadow compute`'s report.json
     entry["label"] = face_label(scene, f);       // its column in sunlit.csv: the name or face_<id>
+    if (face.mesh < object_of_mesh.size() && object_of_mesh[face.mesh] != nullptr)
+      entry["object"] = *object_of_mesh[face.mesh];  // its row in sun_hours_by_object.csv
     entry["area"] = series.area[r];
     entry["sun_hours"] = sun_hours[r];
     if (fast) entry["sun_hours_error_bound"] = sun_hours_bound[r];

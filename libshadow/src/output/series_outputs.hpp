@@ -37,6 +37,7 @@ void write_pvd(const std::vector<std::pair<double, std::string>>& steps, const s
 /// report.json of a series.
 void write_series_report_json(std::ostream& out, const Scene& scene, const SunSeries& suns,
                               const SeriesResult& series, const SurfaceSeries& surfaces,
+                              const ObjectSunHours& objects,
                               const std::vector<double>& sun_hours, const std::vector<double>& sun_hours_bound,
                               const EnergyPlusSchedule& energyplus, std::size_t every, const RunInfo* run);
 

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <vector>
 #include <string>
@@ -35,7 +36,7 @@ namespace fs = std::filesystem;
 
 /// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
 const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd",
-                                          "fragments.pvd"};
+                                          "fragments.pvd", "sun_hours_by_object.csv"};
 
 /// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
 /// `fragments_NNNNN.vtp`.
@@ -174,20 +175,27 @@ void remove_stale_report(const fs::path& report) {
   if (ec) throw OutputError(report.string() + ": cannot remove the old report: " + ec.message());
 }
 
-void write_report_file(const fs::path& path, const fs::path& shown_as, const Scene& scene,
-                       const ShadowResult& result, const RunInfo* run) {
+/// Writes `target.temp` through `write` with a checked close: a stream error (a full disk, a
+/// quota, a file size limit) while writing or flushing becomes an OutputError naming the final
+/// file, which is what the user asked for, with the system's reason.
+void write_staged_stream(const StagedFiles::Target& target, const std::function<void(std::ostream&)>& write) {
   errno = 0;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (out) {
-    if (run != nullptr) write_report_json(out, scene, result, *run);
-    else write_report_json(out, scene, result);
-  }
-  if (out) out.close();
+  std::ofstream out(target.temp, std::ios::binary | std::ios::trunc);
+  if (out) write(out);
+  if (out) out.close();  // the last buffer reaches the file here: its failure counts too
   if (!out) {
     const int saved_errno = errno;
-    throw OutputError(shown_as.string() + ": " +
+    throw OutputError(target.final_path.string() + ": " +
                       (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
   }
+}
+
+void write_report_file(const StagedFiles::Target& target, const Scene& scene, const ShadowResult& result,
+                       const RunInfo* run) {
+  write_staged_stream(target, [&](std::ostream& out) {
+    if (run != nullptr) write_report_json(out, scene, result, *run);
+    else write_report_json(out, scene, result);
+  });
 }
 
 /// An exclusive flock on OUTDIR/.shadow.lock, released (and the file removed) on destruction.
@@ -293,7 +301,7 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
        {"lights", "lights.vtp"}},
       vtm.temp, vtm.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
-  write_report_file(report.temp, report.final_path, scene, result, run);
+  write_report_file(report, scene, result, run);
   return staged.commit();
 }
 
@@ -315,21 +323,11 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   const SurfaceSeries surfaces = surface_series(scene, series, suns.hours_per_instant);
   const std::vector<double> hours = sun_hours(series, suns.hours_per_instant);
   const std::vector<double> bound = sun_hours_error_bound(series, suns.hours_per_instant);
+  const ObjectSunHours objects = object_sun_hours(scene, series, suns.hours_per_instant);
 
   StagedFiles staged(outdir);
-  auto write_text = [](const StagedFiles::Target& target, const auto& write) {
-    errno = 0;
-    std::ofstream out(target.temp, std::ios::binary | std::ios::trunc);
-    if (out) write(out);
-    if (out) out.close();
-    if (!out) {
-      const int saved_errno = errno;
-      throw OutputError(target.final_path.string() + ": " +
-                        (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
-    }
-  };
   const auto sunlit = staged.stage("sunlit.csv");
-  write_text(sunlit, [&](std::ostream& out) { write_sunlit_csv(out, suns, surfaces); });
+  write_staged_stream(sunlit, [&](std::ostream& out) { write_sunlit_csv(out, suns, surfaces); });
   EnergyPlusSchedule energyplus;
   if (files.energyplus_shading.value_or(energyplus_shading_wanted(scene)))
     energyplus = energyplus_schedule(scene);
@@ -340,16 +338,19 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
                               "the scene key \"energyplus_shading\": true, writes it)";
   if (energyplus.written) {
     const auto ep = staged.stage("energyplus-shading.csv");
-    write_text(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
+    write_staged_stream(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
   }
   // How to use the CSV: the objects that make EnergyPlus import it, beside it.
   if (energyplus.written && !files.energyplus_objects.empty()) {
     const auto objects = staged.stage("energyplus-objects.idf");
-    write_text(objects, [&](std::ostream& out) { out << files.energyplus_objects; });
+    write_staged_stream(objects, [&](std::ostream& out) { out << files.energyplus_objects; });
   } else {
     std::error_code ignored;
     fs::remove(outdir / "energyplus-objects.idf", ignored);
   }
+  // Sun hours per building (CityJSON object, parts rolled up), EnergyPlus zone or mesh.
+  const auto by_object = staged.stage("sun_hours_by_object.csv");
+  write_staged_stream(by_object, [&](std::ostream& out) { write_sun_hours_by_object_csv(out, objects); });
   if (!energyplus.written) {
     // Not this run's (report.json says why): an older one must not pass for it.
     std::error_code ignored;
@@ -397,8 +398,9 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
   const auto faces = staged.stage("faces.vtp");
   detail::write_polydata(detail::make_series_faces(base, series, hours, bound), faces.temp, faces.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
-  write_text(report, [&](std::ostream& out) {
-    detail::write_series_report_json(out, scene, suns, series, surfaces, hours, bound, energyplus, every, run);
+  write_staged_stream(report, [&](std::ostream& out) {
+    detail::write_series_report_json(out, scene, suns, series, surfaces, objects, hours, bound, energyplus, every,
+                                     run);
   });
   // Files of an earlier series that this one does not have would look like part of it.
   const auto remove_others = [&] {
@@ -447,6 +449,14 @@ void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map, const Sce
   vtkSmartPointer<vtkPolyData> poly = detail::make_sun_hours_polydata(map);
   detail::shift_to_origin(poly, scene);  // like every other dataset of the run (Scene::origin)
   detail::write_polydata(poly, target.temp, target.final_path);
+  staged.commit();
+}
+
+void write_file_staged(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+  fs::path dir = path.parent_path();
+  if (dir.empty()) dir = ".";
+  StagedFiles staged(dir);
+  write_staged_stream(staged.stage(path.filename().string()), write);
   staged.commit();
 }
 

@@ -987,6 +987,9 @@ std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const
 }
 
 std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
+  // Nothing counted: 0 of 0, about every 100 ms, so that the callback can stop the call.
+  const core::TickScope ticks(options.progress ? std::function<void()>([&] { options.progress(Progress{0, 0}); })
+                                               : std::function<void()>());
   return planes::compute_plane_shadows(scene, options, planes::Tiling{});
 }
 

@@ -22,6 +22,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -72,7 +73,14 @@ class Reader {
     read_vertices(doc);
     const Json* objects = find(doc, "CityObjects");
     if (objects == nullptr || !objects->is_object()) fail("CityObjects", "missing or not an object");
+    objects_ = objects;
     for (const auto& [id, object] : objects->items()) read_object(id, object);
+    if (lost_parents_ > 0)
+      model_.warnings.push_back({{file_, first_lost_parent_},
+                                 std::to_string(lost_parents_) +
+                                     (lost_parents_ == 1 ? " city object names a parent" : " city objects name a parent (this is the first)") +
+                                     " that is not in CityObjects, or parents that lead back to it: its results per "
+                                     "object stop at the last parent found"});
     if (skipped_lod_ > 0)
       model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(skipped_lod_) +
                                                               " city objects have no geometry of LoD " +
@@ -203,15 +211,62 @@ class Reader {
     }
     Mesh mesh;
     mesh.name = id;
-    if (const Json* object_type = find(object, "type"); object_type != nullptr && object_type->is_string())
-      mesh.type = object_type->get<std::string>();  // Building, BuildingPart, TINRelief, ...
     mesh.file = file_;
+    mesh.object_type = object_type(object, path);
+    if (const std::string root = top_level_parent(id, object, path); !root.empty()) {
+      mesh.parent = root;
+      mesh.parent_type = object_type(*city_object(root), "CityObjects[" + json_string(root) + "]");
+    }
     mesh.first_face = model_.faces.size();
     read_geometry(id, (*geometry)[chosen], element(path + ".geometry", chosen));
     mesh.face_count = model_.faces.size() - mesh.first_face;
     if (mesh.face_count == 0) return;
     for (std::size_t f = mesh.first_face; f < model_.faces.size(); ++f) model_.faces[f].mesh = model_.meshes.size();
     model_.meshes.push_back(std::move(mesh));
+  }
+
+  /// A city object's `type` ("" when it has none).
+  std::string object_type(const Json& object, const std::string& path) const {
+    const Json* type = object.is_object() ? find(object, "type") : nullptr;
+    if (type == nullptr) return "";
+    if (!type->is_string()) fail(path + ".type", "expected the city object's type as a string, got " + describe(*type));
+    return type->get<std::string>();
+  }
+
+  /// The city object of that id, or null (looked up in an index: ordered_json finds by scanning).
+  const Json* city_object(const std::string& id) {
+    if (object_index_.empty())
+      for (const auto& [key, value] : objects_->items()) object_index_.emplace(key, &value);
+    const auto it = object_index_.find(id);
+    return it == object_index_.end() ? nullptr : it->second;
+  }
+
+  /// The first of an object's `parents` (checked), or "".
+  std::string first_parent(const Json& object, const std::string& path) const {
+    const Json* parents = object.is_object() ? find(object, "parents") : nullptr;
+    if (parents == nullptr) return "";
+    if (!parents->is_array()) fail(path + ".parents", "expected an array of city object ids, got " + describe(*parents));
+    if (parents->empty()) return "";
+    if (!(*parents)[0].is_string()) fail(element(path + ".parents", 0), "expected a city object id, got " + describe((*parents)[0]));
+    return (*parents)[0].get<std::string>();
+  }
+
+  /// The top-level object `id` is part of, following the first of `parents` up; "" when `id`
+  /// has no parents. A parent that is missing, or a loop, ends the walk where it is (counted).
+  std::string top_level_parent(const std::string& id, const Json& object, const std::string& path) {
+    std::string current = id, parent = first_parent(object, path);
+    std::vector<std::string> seen{id};
+    while (!parent.empty()) {
+      const Json* next = city_object(parent);
+      if (next == nullptr || std::find(seen.begin(), seen.end(), parent) != seen.end()) {
+        if (lost_parents_++ == 0) first_lost_parent_ = "CityObjects[" + json_string(current) + "].parents";
+        break;
+      }
+      seen.push_back(parent);
+      current = parent;
+      parent = first_parent(*next, "CityObjects[" + json_string(current) + "]");
+    }
+    return current == id ? "" : current;
   }
 
   /// The semantic surface type of surface `value` (an index into `surfaces`), or "".
@@ -412,6 +467,10 @@ class Reader {
   std::size_t skipped_lod_ = 0, instances_ = 0, triangulated_ = 0, degenerate_ = 0;
   std::string first_degenerate_;
   double worst_off_ = 0;
+  const Json* objects_ = nullptr;  // CityObjects
+  std::unordered_map<std::string, const Json*> object_index_;
+  std::size_t lost_parents_ = 0;
+  std::string first_lost_parent_;
 };
 
 }  // namespace

@@ -1094,10 +1094,11 @@ void Reader::cut_and_emit(Model& model) {
     }
   }
   report_reveals();
-  auto emit = [&](const std::string& name, std::vector<Face>& faces, bool receiver) {
+  auto emit = [&](const std::string& name, std::vector<Face>& faces, bool receiver, const char* type) {
     if (faces.empty()) return;
     Mesh mesh;
     mesh.name = name;
+    mesh.object_type = type;  // a zone's results add up per zone (sun_hours_by_object.csv)
     mesh.first_face = model.faces.size();
     mesh.face_count = faces.size();
     mesh.receiver = receiver;
@@ -1108,10 +1109,10 @@ void Reader::cut_and_emit(Model& model) {
     }
     model.meshes.push_back(std::move(mesh));
   };
-  for (std::size_t z = 0; z < zones_.size(); ++z) emit(zones_[z].name, per_zone[z], true);
-  emit("Shading:Building", per_group[Surface::BuildingShading], false);
-  emit("Shading:Site", per_group[Surface::SiteShading], false);
-  emit("Not exposed", per_group[Surface::NotExposed], false);
+  for (std::size_t z = 0; z < zones_.size(); ++z) emit(zones_[z].name, per_zone[z], true, "zone");
+  emit("Shading:Building", per_group[Surface::BuildingShading], false, "");
+  emit("Shading:Site", per_group[Surface::SiteShading], false, "");
+  emit("Not exposed", per_group[Surface::NotExposed], false, "");
 }
 
 // An opening off its wall's plane: in a reveal (set back) or proud of the wall, both parallel to

@@ -502,8 +502,13 @@ class SceneReader {
           // unexposed surfaces); `receivers` naming `<mesh>/<model mesh>` still makes one receive.
           Mesh& mesh = new_mesh(pending.name + "/" + part.name);
           mesh.receiver = pending.receiver && part.receiver;
-          mesh.type = part.type;  // the CityJSON object type, for type:<T> selections
           mesh.model = model_name(format);
+          // What the model says the mesh is; a CityJSON part's parent is named like the meshes.
+          mesh.object_type = part.object_type;
+          if (!part.parent.empty()) {
+            mesh.parent = pending.name + "/" + part.parent;
+            mesh.parent_type = part.parent_type;
+          }
           for (std::size_t f = part.first_face; f < part.first_face + part.face_count; ++f) {
             Face& face = model.faces.at(f);
             add_face(std::move(face.vertices), std::move(face.source), std::move(face.name), std::move(face.kind));

@@ -123,11 +123,13 @@ class FaceOverlay {
     out.face.instants_lit = lit_instants_;
     add_boundary(P_.chart, static_cast<long>(n_), curves_);
     Arrangement arr;
-    CGAL::insert(arr, curves_.begin(), curves_.end());
+    CGAL::insert(arr, curves_.begin(), curves_.end());  // one sweep: not stopped inside
     curves_.clear();
     curves_.shrink_to_fit();
+    core::check_stop();
     walk(arr);
     if (merge_) merge_equal(arr);
+    core::check_stop();
 
     // The integral of hours over the face, sum over instants of w_i x lit area_i: the same exact
     // rational as the sum over the overlay's faces of hours x area (the tests check the cells
@@ -137,6 +139,7 @@ class FaceOverlay {
     std::vector<Polygon2> cells;
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
       if (f->is_unbounded() || !inside_[f->data()]) continue;
+      core::check_stop();
       PolygonWithHoles2 region(ccb_polygon(f->outer_ccb()));
       for (auto h = f->inner_ccbs_begin(); h != f->inner_ccbs_end(); ++h) region.add_hole(ccb_polygon(*h));
       const double sun_hours = round_mpq(hours_at_[f->data()]);
@@ -348,6 +351,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
         const ExactFace& P = w.exact.face(ctx, f);
         FaceOverlay overlay(ctx, P, fp, f, hours, options.merge_equal);
         for (std::size_t i = 0; i < instants.size(); ++i) {
+          core::check_stop();  // a face's instants take long: Ctrl-C must not wait for all of them
           const ExactLight light = to_exact_light(instants[i].light);
           const int side = CGAL::sign(plane_at_light(P, light));
           const LitRegion region = exact_lit_region(ctx, w.exact, f, i, light, side, instants[i].light,
