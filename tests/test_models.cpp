@@ -6,6 +6,7 @@
 #include <shadow/output.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
+#include <shadow/sun_hours.hpp>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -686,6 +687,257 @@ TEST(Outputs, AzimuthFollowsTheSunsNorthAxis) {
   EXPECT_NEAR(Json::parse(turned.str())["faces"][0]["azimuth"].get<double>(), 120.0, 1e-9);
   EXPECT_EQ(Json::parse(turned.str())["faces"][0]["name"], "east");
   EXPECT_EQ(Json::parse(turned.str())["faces"][0]["source"], "placed.json: meshes[0].polygons[0]");
+}
+
+}  // namespace
+
+// ---- invalid faces skipped, receivers and maps chosen by CityJSON object type (issue 31, 7 and 9)
+
+namespace {
+
+/// The boxes of boxes_cityjson() and a BuildingPart "C": a MultiSurface whose surface 0 is a
+/// bow-tie (planar, its boundary crossing itself, as in Zürich's LoD2 sample) and whose surface 1
+/// is a good 2 m x 2 m quad; and a TINRelief "T": one ground quad.
+Json boxes_with_a_broken_part() {
+  Json doc = boxes_cityjson();
+  const std::size_t base = doc["vertices"].size();
+  for (const auto& v : std::vector<std::array<long long, 3>>{
+           {30000, 0, 0}, {32000, 2000, 0}, {32000, 0, 0}, {30000, 2000, 0},      // bow-tie: 0 1 2 3 crosses
+           {40000, 0, 0}, {42000, 0, 0}, {42000, 2000, 0}, {40000, 2000, 0},      // the good quad
+           {-5000, -5000, 0}, {60000, -5000, 0}, {60000, 20000, 0}, {-5000, 20000, 0}})  // the terrain
+    doc["vertices"].push_back({v[0], v[1], v[2]});
+  auto ring = [&](std::size_t a, std::size_t b, std::size_t c, std::size_t d) {
+    return Json::array({Json::array({base + a, base + b, base + c, base + d})});
+  };
+  doc["CityObjects"]["C"] = {{"type", "BuildingPart"},
+                             {"geometry", {{{"type", "MultiSurface"}, {"lod", "2"},
+                                            {"boundaries", Json::array({ring(0, 1, 2, 3), ring(4, 5, 6, 7)})}}}}};
+  doc["CityObjects"]["T"] = {{"type", "TINRelief"},
+                             {"geometry", {{{"type", "MultiSurface"}, {"lod", "1"},
+                                            {"boundaries", Json::array({ring(8, 9, 10, 11)})}}}}};
+  return doc;
+}
+
+shadow::LoadOptions skipping() {
+  shadow::LoadOptions options;
+  options.skip_invalid = true;
+  return options;
+}
+
+TEST(SkipInvalid, ASelfIntersectingCityJsonSurfaceStopsTheCityWithoutTheFlagAndIsSkippedWithIt) {
+  TempDir dir("skip_cityjson");
+  dir.write("broken.city.json", boxes_with_a_broken_part().dump());
+  const fs::path scene_file = dir.write("scene.json", scene_with("broken.city.json"));
+  // Without the flag: the first bad face stops the load, and the message says how to go on.
+  const std::string error = error_of([&] { shadow::load_scene(scene_file); });
+  EXPECT_NE(error.find("broken.city.json: CityObjects[\"C\"].geometry[0].boundaries[0]: face boundary intersects itself "
+                       "(--skip-invalid skips such faces"),
+            std::string::npos)
+      << error;
+  // With it: the bow-tie is left out, everything else is read, and face ids count the faces kept.
+  const shadow::Scene scene = shadow::load_scene(scene_file, skipping());
+  ASSERT_EQ(scene.faces.size(), 14u);  // 12 of the boxes, C's good quad, the terrain
+  ASSERT_EQ(scene.meshes.size(), 4u);
+  EXPECT_EQ(scene.meshes[2].name, "city/C");
+  EXPECT_EQ(scene.meshes[2].first_face, 12u);
+  EXPECT_EQ(scene.meshes[2].face_count, 1u);
+  EXPECT_EQ(scene.faces[12].name, "C/1");
+  EXPECT_EQ(scene.meshes[3].first_face, 13u);
+  EXPECT_EQ(scene.faces[13].name, "T/0");
+  ASSERT_EQ(scene.skipped_faces.size(), 1u);
+  const shadow::SkippedFace& skipped = scene.skipped_faces[0];
+  EXPECT_EQ(skipped.name, "C/0");
+  EXPECT_EQ(skipped.mesh, "city/C");
+  EXPECT_EQ(skipped.reason, "face boundary intersects itself");
+  EXPECT_EQ(skipped.source.to_string(), (dir.path() / "broken.city.json").lexically_normal().string() +
+                                            ": CityObjects[\"C\"].geometry[0].boundaries[0]");
+  std::size_t skip_warnings = 0;
+  for (const shadow::Warning& w : scene.warnings)
+    if (w.message.find("skipped (--skip-invalid)") != std::string::npos) {
+      ++skip_warnings;
+      EXPECT_NE(w.message.find("\"C/0\" (mesh \"city/C\") is invalid: face boundary intersects itself"), std::string::npos)
+          << w.message;
+    }
+  EXPECT_EQ(skip_warnings, 1u);
+  // The model read whole skips the same face; a second validation changes nothing.
+  shadow::Scene whole = shadow::load_scene(dir.path() / "broken.city.json", skipping());
+  EXPECT_EQ(whole.faces.size(), 14u);
+  ASSERT_EQ(whole.skipped_faces.size(), 1u);
+  EXPECT_EQ(whole.skipped_faces[0].mesh, "C");
+  const std::size_t warnings = whole.warnings.size();
+  shadow::validate_scene(whole);
+  EXPECT_EQ(whole.faces.size(), 14u);
+  EXPECT_EQ(whole.warnings.size(), warnings);
+  // report.json: the count in the summary and the face with its reason.
+  const shadow::ShadowResult result = compute(scene);
+  std::ostringstream report;
+  shadow::write_report_json(report, scene, result);
+  const Json json = Json::parse(report.str());
+  EXPECT_EQ(json["summary"]["skipped_faces"], 1);
+  ASSERT_EQ(json["skipped_faces"].size(), 1u);
+  EXPECT_EQ(json["skipped_faces"][0]["name"], "C/0");
+  EXPECT_EQ(json["skipped_faces"][0]["mesh"], "city/C");
+  EXPECT_EQ(json["skipped_faces"][0]["reason"], "face boundary intersects itself");
+  EXPECT_EQ(json["faces"].size(), 14u);
+  EXPECT_EQ(json["faces"][12]["name"], "C/1");
+  EXPECT_NEAR(json["faces"][12]["area"].get<double>(), 4.0, 1e-9);
+}
+
+TEST(SkipInvalid, ASelfIntersectingObjFaceStopsWithoutTheFlagAndIsSkippedWithIt) {
+  TempDir dir("skip_obj");
+  dir.write("m.obj", "o good\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"
+                     "o bowtie\nv 3 0 0\nv 4 1 0\nv 4 0 0\nv 3 1 0\nf 5 6 7 8\n"
+                     "o after\nv 6 0 0\nv 7 0 0\nv 6 1 0\nf 9 10 11\n");
+  const fs::path scene_file = dir.write(
+      "scene.json", R"({"meshes": [{"name": "m", "file": "m.obj"}, {"name": "q", "polygons": [[[0,0,1],[1,0,1],[0,1,1]]]}],
+                        "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})");
+  const std::string error = error_of([&] { shadow::load_scene(scene_file); });
+  EXPECT_NE(error.find("m.obj: line 12: face boundary intersects itself (--skip-invalid skips such faces"), std::string::npos)
+      << error;
+  const shadow::Scene scene = shadow::load_scene(scene_file, skipping());
+  ASSERT_EQ(scene.faces.size(), 3u);
+  EXPECT_EQ(scene.faces[1].name, "after");
+  EXPECT_EQ(scene.meshes[0].face_count, 2u);
+  EXPECT_EQ(scene.meshes[1].first_face, 2u);
+  ASSERT_EQ(scene.skipped_faces.size(), 1u);
+  EXPECT_EQ(scene.skipped_faces[0].name, "bowtie");
+  EXPECT_EQ(scene.skipped_faces[0].mesh, "m");
+  EXPECT_EQ(scene.skipped_faces[0].source.place, "line 12");
+  // The faces kept compute as they would alone: the lit triangle above has area 1/2.
+  const shadow::ShadowResult result = compute(scene);
+  ASSERT_EQ(result.lighting.size(), 3u);
+  EXPECT_EQ(result.lighting[2].face_id, 2u);
+  EXPECT_DOUBLE_EQ(result.lighting[2].lit_area, 0.5);
+}
+
+TEST(SkipInvalid, WarningsAreCappedAndEveryKindOfBadFaceIsSkipped) {
+  // 12 bow-ties, a non-planar quad and a face with 2 distinct vertices among good faces.
+  std::string polygons = R"([[0,0,0],[1,0,0],[1,1,0],[0,1,0]])";
+  for (int i = 0; i < 12; ++i) {
+    const std::string x = std::to_string(2 * i + 2), x1 = std::to_string(2 * i + 3);
+    polygons += ", [[" + x + ",0,0],[" + x1 + ",1,0],[" + x1 + ",0,0],[" + x + ",1,0]]";
+  }
+  polygons += R"(, [[0,5,0],[1,5,0],[1,6,0.5],[0,6,0]], [[0,8,0],[1,8,0],[1,8,0]], [[0,9,0],[1,9,0],[0,10,0]])";
+  const std::string text = R"({"meshes": [{"name": "m", "polygons": [)" + polygons +
+                           R"(]}], "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})";
+  const shadow::Scene scene = shadow::parse_scene(text, "many.json", skipping());
+  EXPECT_EQ(scene.faces.size(), 2u);
+  ASSERT_EQ(scene.skipped_faces.size(), 14u);
+  EXPECT_EQ(scene.skipped_faces[12].reason.rfind("face is not planar", 0), 0u) << scene.skipped_faces[12].reason;
+  EXPECT_EQ(scene.skipped_faces[13].reason, "face has 2 distinct vertices; at least 3 are needed");
+  EXPECT_EQ(scene.skipped_faces[13].source.place, "meshes[0].polygons[14]");
+  std::size_t one_by_one = 0, summary = 0;
+  for (const shadow::Warning& w : scene.warnings) {
+    one_by_one += w.message.rfind("skipped (--skip-invalid)", 0) == 0;
+    summary += w.message == "4 more invalid faces were skipped (14 in all; report.json lists each in skipped_faces)";
+  }
+  EXPECT_EQ(one_by_one, 10u);
+  EXPECT_EQ(summary, 1u);
+  // Not planar without the flag: the message names the flag too.
+  EXPECT_NE(error_of([&] { shadow::parse_scene(R"({"meshes": [{"name": "m", "polygons": [[[0,5,0],[1,5,0],[1,6,0.5],[0,6,0]]]}],
+                                                  "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})",
+                                               "p.json"); })
+                .find("face is not planar"),
+            std::string::npos);
+}
+
+TEST(SkipInvalid, ASurfaceTheCityJsonReaderCannotCutIsSkippedToo) {
+  // An inner ring outside its surface: the reader's error names the flag; with it the surface goes.
+  TempDir dir("skip_ring");
+  Json doc = boxes_cityjson();
+  Json& roof = doc["CityObjects"]["A"]["geometry"][0]["boundaries"][0][1];
+  const std::size_t base = doc["vertices"].size();
+  for (const auto& v : std::vector<std::array<long long, 3>>{{50000, 0, 4000}, {50000, 1000, 4000}, {51000, 1000, 4000}})
+    doc["vertices"].push_back({v[0], v[1], v[2]});
+  roof.push_back(Json::array({base, base + 1, base + 2}));
+  const fs::path file = dir.write("ring.city.json", doc.dump());
+  const std::string error = error_of([&] { shadow::load_scene(file); });
+  EXPECT_NE(error.find("boundaries[0][1][1]: inner ring 1"), std::string::npos) << error;
+  EXPECT_NE(error.find("(--skip-invalid skips such faces"), std::string::npos) << error;
+  const shadow::Scene scene = shadow::load_scene(file, skipping());
+  EXPECT_EQ(scene.faces.size(), 11u);
+  ASSERT_EQ(scene.skipped_faces.size(), 1u);
+  EXPECT_EQ(scene.skipped_faces[0].name, "A/1");
+  EXPECT_EQ(scene.skipped_faces[0].mesh, "A");
+  EXPECT_EQ(scene.faces[1].name, "A/2");
+  bool warned = false;
+  for (const shadow::Warning& w : scene.warnings) warned |= w.message.find("\"A/1\" (mesh \"A\") is invalid: inner ring 1") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(SkipInvalid, ASceneWithNoValidFaceLeftIsAnError) {
+  const std::string error = error_of([&] {
+    shadow::parse_scene(R"({"meshes": [{"name": "m", "polygons": [[[0,0,0],[1,1,0],[1,0,0],[0,1,0]]]}],
+                           "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})",
+                        "all.json", skipping());
+  });
+  EXPECT_NE(error.find("all.json: meshes[0].polygons[0]: every face of the scene is invalid (1 skipped with --skip-invalid)"),
+            std::string::npos)
+      << error;
+}
+
+std::string typed_scene(const std::string& extra) {
+  return R"({"meshes": [{"name": "city", "file": "typed.city.json"},
+                        {"name": "ground", "polygons": [[[-100,-100,0],[100,-100,0],[100,100,0],[-100,100,0]]]}],
+             "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 0.9]}])" +
+         extra + "}";
+}
+
+TEST(MeshTypes, ReceiversAndSunHoursMapsByCityJsonObjectType) {
+  TempDir dir("types");
+  Json doc = boxes_with_a_broken_part();
+  doc["CityObjects"].erase("C");  // only the boxes (Building) and the terrain (TINRelief)
+  dir.write("typed.city.json", doc.dump());
+  // The object types are the meshes' types.
+  const shadow::Scene whole = shadow::load_scene(dir.path() / "typed.city.json");
+  ASSERT_EQ(whole.meshes.size(), 3u);
+  EXPECT_EQ(whole.meshes[0].object_type, "Building");
+  EXPECT_EQ(whole.meshes[2].object_type, "TINRelief");
+  // receivers by type: the terrain receives, the buildings and the scene's ground do not.
+  const shadow::Scene terrain = shadow::load_scene(dir.write("r.json", typed_scene(R"(, "receivers": ["type:TINRelief"])")));
+  ASSERT_EQ(terrain.meshes.size(), 4u);
+  EXPECT_FALSE(terrain.meshes[0].receiver);
+  EXPECT_FALSE(terrain.meshes[1].receiver);
+  EXPECT_TRUE(terrain.meshes[2].receiver);
+  EXPECT_EQ(terrain.meshes[2].name, "city/T");
+  EXPECT_FALSE(terrain.meshes[3].receiver);
+  // sun_hours_map: by type, by `mesh/<id>` (as --sun-hours-map and receivers take them) and by a
+  // scene mesh's name, which is the scene mesh it became even after a model's many meshes.
+  const shadow::Scene mapped = shadow::load_scene(
+      dir.write("m.json", typed_scene(R"(, "sun_hours_map": ["type:Building", "city/T"])")));
+  EXPECT_EQ(mapped.sun_hours_map, (std::vector<std::size_t>{0, 1, 2}));
+  const shadow::Scene ground = shadow::load_scene(dir.write("g.json", typed_scene(R"(, "sun_hours_map": ["ground"])")));
+  ASSERT_EQ(ground.sun_hours_map.size(), 1u);
+  EXPECT_EQ(ground.meshes[ground.sun_hours_map[0]].name, "ground");
+  const shadow::Scene city = shadow::load_scene(dir.write("c.json", typed_scene(R"(, "sun_hours_map": ["city"])")));
+  EXPECT_EQ(city.sun_hours_map, (std::vector<std::size_t>{0, 1, 2}));
+  // The library's choice for --sun-hours-map (and Python's sun_hours_map_faces).
+  EXPECT_EQ(shadow::sun_hours_map_faces(mapped, {"type:TINRelief"}, "--sun-hours-map"), (std::vector<std::size_t>{12}));
+  EXPECT_EQ(shadow::sun_hours_map_faces(mapped, {"city/B", "type:TINRelief"}, "--sun-hours-map"),
+            (std::vector<std::size_t>{6, 7, 8, 9, 10, 11, 12}));
+  // An unknown type names the key or flag, the type and the types present.
+  EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("u.json", typed_scene(R"(, "receivers": ["type:Bridge"])"))); })
+                .find("u.json: receivers[0]: the type \"Bridge\" selects no mesh (the object types present: "
+                      "Building, TINRelief)"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("v.json", typed_scene(R"(, "sun_hours_map": ["type:building"])"))); })
+                .find("v.json: sun_hours_map[0]: the type \"building\" selects no mesh (the object types "
+                      "present: Building, TINRelief)"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(mapped, {"type:Road"}, "--sun-hours-map"); })
+                .find("--sun-hours-map: the type \"Road\" selects no mesh"),
+            std::string::npos);
+  // A scene without city objects says what type: selects.
+  const shadow::Scene plain = shadow::parse_scene(
+      R"({"meshes": [{"name": "m", "polygons": [[[0,0,0],[1,0,0],[0,1,0]]]}], "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})",
+      "plain.json");
+  EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(plain, {"type:Building"}, "--sun-hours-map"); })
+                .find("no mesh has an object type: type:<T> selects CityJSON city objects by their type"),
+            std::string::npos);
+  // A misspelt mesh name is still found before any model is read, with a suggestion.
+  EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("w.json", typed_scene(R"(, "sun_hours_map": ["grund"])"))); })
+                .find("w.json: sun_hours_map[0]: no mesh is named \"grund\" (did you mean \"ground\"?)"),
+            std::string::npos);
 }
 
 }  // namespace

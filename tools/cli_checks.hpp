@@ -121,11 +121,19 @@ inline const char* exit_codes_help() {
          "stopped by a signal (--resume finishes it); 6 out of memory (one line naming the stage; no report.json).";
 }
 
-/// The load options of `shadow compute` and `shadow series` (the same three flags, and
-/// `--threads` for validation's per-face checks).
+/// The help of `--skip-invalid` (compute, series, render).
+inline const char* skip_invalid_help() {
+  return "Leave out faces that fail validation (not planar, boundary intersecting itself, fewer than 3 "
+         "distinct vertices, ...) instead of stopping: one warning each (the first 10, then a count), all "
+         "listed in report.json (skipped_faces); face ids count the faces kept";
+}
+
+/// The load options of `shadow compute`, `shadow series` and `shadow render` (the same four
+/// flags, and `--threads` for validation's per-face checks).
 inline shadow::LoadOptions load_options(double planarity_tolerance, bool orient_outward, const std::string& lod,
-                                        unsigned threads = 0) {
+                                        unsigned threads = 0, bool skip_invalid = false) {
   shadow::LoadOptions options;
+  options.skip_invalid = skip_invalid;
   options.threads = threads;
   options.planarity_tolerance = planarity_tolerance;
   options.orient_outward = orient_outward;

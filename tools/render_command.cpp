@@ -183,10 +183,12 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_flag("--orient-outward", args.orient_outward,
                   "Turn the closed parts of every mesh outward (as for `shadow compute`)");
   render.add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
+  render.add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
 }
 
 shadow::LoadOptions render_load_options(const RenderArgs& args) {
-  return shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads);
+  return shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
+                                  args.skip_invalid);
 }
 
 int run_render(const RenderArgs& args, int argc, char** argv) {

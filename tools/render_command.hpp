@@ -38,6 +38,7 @@ struct RenderArgs {
   // Loading, as `shadow compute` and `shadow series` load (the same model gives the same faces).
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;
+  bool skip_invalid = false;  ///< --skip-invalid: leave out faces that fail validation
   std::string lod;  ///< CityJSON level of detail; empty: the highest per object
 };
 

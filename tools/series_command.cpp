@@ -68,7 +68,8 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                    "(IDF/epJSON, as SCENE or a mesh file) or with \"energyplus_shading\": true gets one (docs/series.md)");
   series->add_option("--sun-hours-map", args.sun_hours_map,
                      "Write sun_hours.vtp: the exact sun-hours map of these meshes' faces (comma-separated mesh "
-                     "names; adds to the scene's `sun_hours_map`; docs/sun-hours-map.md)");
+                     "names, city/<id> or type:<CityJSON type> such as type:TINRelief; adds to the scene's "
+                     "`sun_hours_map`; docs/sun-hours-map.md)");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
@@ -79,6 +80,7 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
       *series, args.tile_casters, args.fast_tile_casters,
       {" at an instant", "sun hours and lit fractions", "--fragments", "--fast", "lit fractions"});
   series->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
+  series->add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
   series->add_option("--from", args.from,
                      "First local date of the sun period (YYYY-MM-DD), replacing the scene's or the model's "
                      "(an EnergyPlus RunPeriod); its site stays");
@@ -242,7 +244,8 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
   on_every_rank(world, [&] {
     shadow_cli::set_stage(Stage::Loading);
     scene = shadow::load_scene(args.scene,
-                               shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads));
+                               shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
+                                                        args.skip_invalid));
     if (!args.from.empty() || !args.to.empty() || args.step_minutes > 0) {
       // Another period at the same site: an IDF's RunPeriod, or a scene's `sun` block, overridden.
       if (!scene.sun)
@@ -564,6 +567,9 @@ int run_series_in(shadow_cli::World& world, const SeriesArgs& args) {
     std::printf("  computed in %.3f s (%.1f ms per instant), written in %.3f s\n", seconds(computed - start),
                 computed_now == 0 ? 0.0 : 1000.0 * seconds(computed - start) / static_cast<double>(computed_now),
                 seconds(finished - computed));
+    if (args.skip_invalid || !scene.skipped_faces.empty())
+      std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n",
+                  scene.skipped_faces.size());
     if (world.distributed()) std::printf("  on %d MPI ranks\n", world.size());
     if (resumed > 0) std::printf("  resumed: %zu instants came from the checkpoint\n", resumed);
     std::size_t instant_files = 0;

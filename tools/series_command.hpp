@@ -24,6 +24,7 @@ struct SeriesArgs {
   std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;
+  bool skip_invalid = false;  ///< --skip-invalid: leave out faces that fail validation
   std::string lod;         ///< CityJSON level of detail; empty: the highest per object
   std::string from, to;    ///< --from/--to: override the sun period's dates (YYYY-MM-DD, local standard)
   int step_minutes = 0;    ///< --step: override its step in minutes (0: keep)

@@ -47,6 +47,7 @@ struct ComputeArgs {
   double plane_window = 0.0;
   std::string arithmetic = "exact";
   bool orient_outward = false;
+  bool skip_invalid = false;  // --skip-invalid: leave out faces that fail validation
   std::string lod;  // CityJSON level of detail; empty: the highest per object
   std::size_t tile_casters = shadow::ShadowOptions{}.tile_casters;
   std::size_t fast_tile_casters = shadow::ShadowOptions{}.fast_tile_casters;
@@ -105,7 +106,8 @@ int run_compute(const ComputeArgs& args) {
   using shadow_cli::Stage;
   shadow_cli::set_stage(Stage::Loading);
   shadow::Scene scene = shadow::load_scene(
-      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads));
+      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
+                                            args.skip_invalid));
   if (scene.lights.empty() && !scene.sun)
     // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
     throw shadow::InputError({args.scene, ""},
@@ -158,6 +160,9 @@ int run_compute(const ComputeArgs& args) {
     std::printf("shadow %s: %zu faces (%zu receiving), %zu lights, %zu fragments\n",
                 shadow::version(), scene.faces.size(), receivers, scene.lights.size(),
                 result.fragments.size());
+    if (args.skip_invalid || !scene.skipped_faces.empty())
+      std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n",
+                  scene.skipped_faces.size());
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
       double area = 0, lit = 0;
       for (const shadow::FaceLighting& fl : result.lighting)
@@ -238,6 +243,7 @@ int main(int argc, char** argv) {
   compute->add_option("--lod", args.lod,
                       "CityJSON level of detail to read (\"1\", \"2\", \"2.2\"; default: the highest of each "
                       "city object)");
+  compute->add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
 
   SeriesArgs series_args;
   CLI::App* series = add_series_command(app, series_args);

@@ -108,7 +108,7 @@ def _plain(value, place, problems):
 
 def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=None, sun=None,
                     camera=None, name="<python>", base_dir=None, planarity_tolerance=1e-6,
-                    sun_hours_map=None, orient_outward=False, cityjson_lod=""):
+                    sun_hours_map=None, orient_outward=False, cityjson_lod="", skip_invalid=False):
     """A validated Scene from Python data laid out like the scene file (docs/scene-format.md).
 
     meshes: a list of dicts ``{"name": ..., "polygons": ...}`` (or ``"file"``: an OBJ path, relative to
@@ -119,7 +119,8 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     or ``Light`` objects. planes: dicts ``{"name", "point", "normal", "window"}``. receivers: mesh
     names. materials, camera: as in the file. sun: the sun block as a dict (times may be aware
     datetimes) or a ``SunPeriod``. sun_hours_map: names of the meshes that get the exact
-    sun-hours map.
+    sun-hours map. receivers and sun_hours_map also take ``"<mesh>/<id>"`` and ``"type:<T>"`` (a
+    CityJSON object type). skip_invalid: leave out faces that fail validation (``Scene.skipped_faces``).
 
     The scene is read and validated by the same code as a scene file, so it is the same scene bit
     for bit, and errors are the CLI's: ``InputError`` naming ``name`` and the place (``meshes[0].polygons[2]``).
@@ -149,7 +150,7 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     # Mesh files are found relative to the directory of the name given to the parser; errors
     # name it as given (no directory unless base_dir asks for one).
     source = name if base_dir is None else _os.path.join(str(base_dir), name)
-    return parse_scene(text, source, planarity_tolerance, orient_outward, cityjson_lod)
+    return parse_scene(text, source, planarity_tolerance, orient_outward, cityjson_lod, skip_invalid)
 
 
 def _meshes_data(meshes):

@@ -606,6 +606,18 @@ PYBIND11_MODULE(_libshadow, m) {
         for (const Warning& x : s.warnings) w.push_back(x.to_string());
         return w;
       }, "non-fatal findings of loading and validation, one line each")
+      .def_property_readonly("skipped_faces", [](const Scene& s) {
+        py::list l;
+        for (const SkippedFace& x : s.skipped_faces) {
+          py::dict d;
+          d["name"] = x.name;
+          d["mesh"] = x.mesh;
+          d["source"] = x.source.to_string();
+          d["reason"] = x.reason;
+          l.append(d);
+        }
+        return l;
+      }, "the faces left out by skip_invalid=True (dicts: name, mesh, source, reason); they have no face_id")
       .def_readonly("sun", &Scene::sun)
       .def_readonly("sun_instants", &Scene::sun_instants)
       .def_readonly("sun_hours_map", &Scene::sun_hours_map, "indices of the meshes that get the sun-hours map")
@@ -679,29 +691,33 @@ PYBIND11_MODULE(_libshadow, m) {
         "The benchmark city (generators.hpp): `boxes` random boxes on a ground square of side `extent`,\n"
         "seeded; mesh 0 'ground', mesh 1 'buildings'. `lights` (Light objects) are its lights.");
   m.def("load_scene",
-        [](const std::filesystem::path& path, double tolerance, bool orient_outward, const std::string& lod) {
+        [](const std::filesystem::path& path, double tolerance, bool orient_outward, const std::string& lod,
+           bool skip_invalid) {
           LoadOptions o;
           o.planarity_tolerance = tolerance;
           o.orient_outward = orient_outward;
           o.cityjson_lod = lod;
+          o.skip_invalid = skip_invalid;
           return without_gil([&] { return std::make_shared<Scene>(load_scene(path, o)); });
         },
         py::arg("path"), py::arg("planarity_tolerance") = 1e-6, py::arg("orient_outward") = false,
-        py::arg("cityjson_lod") = "",
+        py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false,
         "Reads and validates a scene file and its meshes (OBJ, CityJSON, EnergyPlus). Raises InputError\n"
         "(a ValueError). orient_outward: turn every mesh's closed parts outward (--orient-outward);\n"
-        "cityjson_lod: the CityJSON level of detail ('' : the highest of each object).");
+        "cityjson_lod: the CityJSON level of detail ('' : the highest of each object);\n"
+        "skip_invalid: leave out faces that fail validation (--skip-invalid), listed in Scene.skipped_faces.");
   m.def("parse_scene",
         [](const std::string& text, const std::filesystem::path& name, double tolerance, bool orient_outward,
-           const std::string& lod) {
+           const std::string& lod, bool skip_invalid) {
           LoadOptions o;
           o.planarity_tolerance = tolerance;
           o.orient_outward = orient_outward;
           o.cityjson_lod = lod;
+          o.skip_invalid = skip_invalid;
           return without_gil([&] { return std::make_shared<Scene>(parse_scene(text, name, o)); });
         },
         py::arg("text"), py::arg("name") = "<string>", py::arg("planarity_tolerance") = 1e-6,
-        py::arg("orient_outward") = false, py::arg("cityjson_lod") = "",
+        py::arg("orient_outward") = false, py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false,
         "Parses and validates scene JSON text; `name` names it in errors and anchors mesh files.");
 
   // ---- results ----------------------------------------------------------------------------------

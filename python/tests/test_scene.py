@@ -149,3 +149,37 @@ def test_load_options(source_dir, tmp_path):
         # The same polygon, possibly starting at another vertex.
         assert any(np.array_equal(np.roll(a, k, axis=0), b) for k in range(len(a)))
     assert turned.warnings and all("\n" not in w for w in turned.warnings)
+
+
+def test_skip_invalid_and_types(tmp_path):
+    """skip_invalid=True leaves a bow-tie out (listed with its reason); without it the error names
+    the option. Meshes read from CityJSON carry their object type, which type:<T> selects."""
+    good = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    bowtie = [[3, 0, 0], [4, 1, 0], [4, 0, 0], [3, 1, 0]]
+    after = [[6, 0, 0], [7, 0, 0], [6, 1, 0]]
+    up = [{"name": "up", "type": "directional", "to_light": [0, 0, 1]}]
+    with pytest.raises(ValueError, match=r"intersects itself \(--skip-invalid skips such faces; skip_invalid=True"):
+        libshadow.scene_from_data({"m": [good, bowtie, after]}, lights=up)
+    scene = libshadow.scene_from_data({"m": [good, bowtie, after]}, lights=up, skip_invalid=True)
+    assert scene.face_count == 2
+    assert np.array_equal(scene.faces[1], np.array(after, dtype=np.float64))
+    assert scene.skipped_faces == [{"name": "", "mesh": "m", "source": "<python>: meshes[0].polygons[1]",
+                                    "reason": "face boundary intersects itself"}]
+    assert any("skipped (--skip-invalid)" in w for w in scene.warnings)
+    city = {"type": "CityJSON", "version": "2.0",
+            "CityObjects": {"b": {"type": "Building", "geometry": [{"type": "MultiSurface", "lod": "2",
+                                                                     "boundaries": [[[0, 1, 2, 3]]]}]},
+                            "t": {"type": "TINRelief", "geometry": [{"type": "MultiSurface", "lod": "1",
+                                                                      "boundaries": [[[4, 5, 6]]]}]}},
+            "vertices": [[0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1], [-5, -5, 0], [5, -5, 0], [0, 5, 0]]}
+    (tmp_path / "c.city.json").write_text(json.dumps(city))
+    whole = libshadow.load_scene(str(tmp_path / "c.city.json"))
+    assert [m.object_type for m in whole.meshes] == ["Building", "TINRelief"]
+    assert list(libshadow.sun_hours_map_faces(whole, ["type:TINRelief"])) == [1]
+    typed = libshadow.scene_from_data([{"name": "city", "file": "c.city.json"}], lights=up, base_dir=str(tmp_path),
+                                      receivers=["type:TINRelief"])
+    assert [m.receiver for m in typed.meshes] == [False, True]
+    with pytest.raises(ValueError, match=r'receivers\[0\]: the type "Road" selects no mesh \(the object '
+                                         r'types present: Building, TINRelief\)'):
+        libshadow.scene_from_data([{"name": "city", "file": "c.city.json"}], lights=up, base_dir=str(tmp_path),
+                                  receivers=["type:Road"])

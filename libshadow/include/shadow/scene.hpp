@@ -58,7 +58,8 @@ struct Mesh {
   std::string model;
   /// What the mesh is in the model it was read from: a CityJSON city object's `type`
   /// (`Building`, `BuildingPart`, `TINRelief`, ...) or `zone` for an EnergyPlus zone; empty for
-  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups.
+  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups. `type:<T>` in
+  /// `receivers`, `sun_hours_map` and `--sun-hours-map` selects by it (select_meshes()).
   std::string object_type;
   /// CityJSON: the top-level city object this one is part of (a BuildingPart's Building: the
   /// first of `parents`, followed up to an object without parents), named as meshes are
@@ -67,6 +68,15 @@ struct Mesh {
   std::string parent;
   /// The CityJSON `type` of `parent` (`Building`); empty when `parent` is.
   std::string parent_type;
+};
+
+/// A face that failed validation and was left out of the scene (LoadOptions::skip_invalid):
+/// it has no face_id; the faces after it are numbered as if it had never been there.
+struct SkippedFace {
+  std::string name;       ///< the face's name (Face::name), empty when unnamed
+  std::string mesh;       ///< the name of the mesh it belonged to
+  SourceLocation source;  ///< where it was defined (OBJ line or JSON path)
+  std::string reason;     ///< the validation error it failed, without the place
 };
 
 /// Kinds of light. Directional and Point are points (at infinity or not) and cast hard shadows;
@@ -158,6 +168,10 @@ struct Scene {
   /// rendering. The scene's coordinates, and everything computed from them, stay as read.
   /// Absent: points are written as they are. Set by the CityJSON reader (docs/cityjson.md).
   std::optional<glm::dvec3> origin;
+  /// The faces left out because they failed validation (LoadOptions::skip_invalid), in the
+  /// order they were found (model readers first, then validation in face order). Empty unless
+  /// the scene was loaded or validated with skip_invalid.
+  std::vector<SkippedFace> skipped_faces;
 
   /// True when face `face_id` belongs to a receiving mesh.
   [[nodiscard]] bool is_receiver(std::size_t face_id) const {
@@ -213,5 +227,15 @@ struct SceneObject {
 /// `mesh`), parts not rolled up. With `receivers_only`, meshes that do not receive are left out
 /// (and an object with none left is dropped).
 std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only = true, bool per_mesh = false);
+
+/// The meshes (indices into Scene::meshes, ascending) that one name selects, as `receivers`,
+/// `sun_hours_map` and `--sun-hours-map` spell it: a mesh's name selects that mesh (a model's
+/// meshes are named `<scene mesh>/<id>` inside a scene file, `<id>` when the model is the
+/// scene); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
+/// object type such as `type:Building` or `type:TINRelief`, or `type:zone` for EnergyPlus zones;
+/// compared as written).
+/// @throws InputError at `where` (the key or flag that gave the name: `receivers[2]`,
+/// `--sun-hours-map`) for a name no mesh has, or a type no mesh has (listing the types present).
+std::vector<std::size_t> select_meshes(const Scene& scene, const std::string& name, const SourceLocation& where);
 
 }  // namespace shadow

@@ -45,6 +45,17 @@ struct LoadOptions {
   /// InputError). The outcome does not depend on it: warnings come in face order, and the
   /// error reported is that of the first face (in face order) that has one.
   unsigned threads = 0;
+  /// Leave out the faces that fail validation instead of stopping (`--skip-invalid`): a face
+  /// with fewer than 3 distinct vertices, one beyond the planarity tolerance, one whose boundary
+  /// intersects itself, one with a coordinate that is not finite or beyond max_coordinate, and a
+  /// model surface the reader cannot make faces of (a CityJSON inner ring outside its surface, a
+  /// non-planar surface that cannot be split into triangles). Each is recorded in
+  /// Scene::skipped_faces with the reason, and warned about (the first 10 one by one, then one
+  /// line for the rest). Skipped faces are removed before faces are numbered: face ids count the
+  /// faces kept, so ids stay dense and every output agrees on them (a skipped face has none).
+  /// Zero-area faces are not invalid: they are kept, marked `degenerate`, as without the flag.
+  /// Without it the first invalid face is an InputError whose message names this option.
+  bool skip_invalid = false;
 };
 
 /// Reads a scene file and every mesh it references, and validates it.
@@ -73,8 +84,10 @@ std::vector<std::vector<glm::dvec3>> parse_obj(const std::string& obj_text,
 /// consecutive duplicate vertices, marks zero-area faces `degenerate` and adds a warning for
 /// each. It also warns (Scene::warnings) about a closed mesh whose faces point inward (negative
 /// signed volume) or whose faces are oriented inconsistently (an edge run the same way by both
-/// of its faces); open meshes are never warned about. Scenes built in code must call this
-/// before computing shadows; calling it twice is harmless.
+/// of its faces); open meshes are never warned about. With LoadOptions::skip_invalid, invalid
+/// faces are removed (Scene::skipped_faces, the faces after them renumbered, Mesh::first_face and
+/// face_count updated) instead of thrown. Scenes built in code must call this before computing
+/// shadows; calling it twice is harmless.
 /// @throws InputError naming the face's source.
 void validate_scene(Scene& scene, const LoadOptions& options = {});
 

@@ -88,8 +88,10 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
 /// @throws InputError for a mesh index out of range (possible only in scenes built in code).
 std::vector<std::size_t> sun_hours_map_faces(const Scene& scene);
 
-/// The faces of the meshes named in `mesh_names` (the CLI's `--sun-hours-map MESH[,MESH]`).
-/// @throws InputError naming `what` (e.g. "--sun-hours-map") for a name that is no mesh's.
+/// The faces of the meshes named in `mesh_names` (the CLI's `--sun-hours-map MESH[,MESH]`):
+/// mesh names, or `type:<T>` for every mesh of CityJSON object type T (select_meshes()).
+/// @throws InputError naming `what` (e.g. "--sun-hours-map") for a name that is no mesh's, or a
+/// type no mesh has (listing the types present).
 std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vector<std::string>& mesh_names,
                                              const std::string& what = "--sun-hours-map");
 

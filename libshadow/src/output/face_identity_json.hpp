@@ -30,4 +30,15 @@ inline void add_face_identity(nlohmann::ordered_json& entry, const Scene& scene,
   entry["tilt"] = number(o.tilt);
 }
 
+/// report.json's `skipped_faces` (written when there are any): the faces left out by
+/// LoadOptions::skip_invalid, each with its name, mesh, source and the reason (the validation
+/// error it failed). They have no id.
+inline nlohmann::ordered_json skipped_faces_json(const Scene& scene) {
+  using Json = nlohmann::ordered_json;
+  Json list = Json::array();
+  for (const SkippedFace& s : scene.skipped_faces)
+    list.push_back({{"name", s.name}, {"mesh", s.mesh}, {"source", s.source.to_string()}, {"reason", s.reason}});
+  return list;
+}
+
 }  // namespace shadow::detail

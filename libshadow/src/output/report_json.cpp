@@ -304,7 +304,10 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
                         {"per_light", per_light_json},
                         {"per_mesh", per_mesh_json}};
   summary["arithmetic"] = fast ? "fast" : "exact";
+  summary["skipped_faces"] = scene.skipped_faces.size();  // --skip-invalid (additive key)
   member("summary", dump(summary, 2));
+  // The list only when faces were skipped: the reports of other runs keep their keys.
+  if (!scene.skipped_faces.empty()) member("skipped_faces", dump(detail::skipped_faces_json(scene), 2));
 
   Json stats = {{"receivers", result.stats.receivers},
                       {"back_facing", result.stats.back_facing},

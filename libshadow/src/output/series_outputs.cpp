@@ -201,6 +201,7 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
                      {"area", surfaces.area[i]},
                      {"sun_hours", surfaces.sun_hours[i]}});
   s["surfaces"] = named;
+  s["skipped_faces"] = scene.skipped_faces.size();  // --skip-invalid (additive key)
   // Per building, zone or mesh (sun_hours_by_object.csv): additive, after the surfaces.
   Json per_object = Json::array();
   std::vector<const std::string*> object_of_mesh(scene.meshes.size(), nullptr);
@@ -221,6 +222,7 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
   }
   s["objects"] = per_object;
   report["series"] = s;
+  if (!scene.skipped_faces.empty()) report["skipped_faces"] = skipped_faces_json(scene);  // as in compute's
 
   Json faces = Json::array();
   for (std::size_t r = 0; r < series.faces.size(); ++r) {

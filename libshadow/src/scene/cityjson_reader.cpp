@@ -405,9 +405,10 @@ class Reader {
       try {
         for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
       } catch (const core::PolygonHolesError& e) {
-        fail(element(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
-             std::string("surface is not planar (") + std::to_string(off) + " m off its plane) and cannot be "
-             "split into triangles: " + e.what());
+        reject(id, name, element(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
+               std::string("surface is not planar (") + std::to_string(off) + " m off its plane) and cannot be "
+               "split into triangles: " + e.what());
+        return;
       }
       ++triangulated_;
       worst_off_ = std::max(worst_off_, off);
@@ -424,9 +425,10 @@ class Reader {
       try {
         for (std::vector<glm::dvec3>& t : core::triangulate_polygon_with_holes(outer, holes)) add(std::move(t), place, name, kind);
       } catch (const core::PolygonHolesError& e) {
-        fail(element(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
-             std::string("an inner ring is off the surface's plane, and the surface cannot be split into "
-                         "triangles: ") + e.what());
+        reject(id, name, element(place, e.ring < 0 ? 0 : static_cast<std::size_t>(e.ring) + 1),
+               std::string("an inner ring is off the surface's plane, and the surface cannot be split into "
+                           "triangles: ") + e.what());
+        return;
       }
       ++triangulated_;
       return;
@@ -436,9 +438,17 @@ class Reader {
       std::string problem = split.error;
       if (split.ring >= 0)  // "hole 0" is the surface's inner ring 1
         problem = "inner ring " + std::to_string(r) + problem.substr(problem.find(' ', 5));
-      fail(element(place, r), problem);
+      reject(id, name, element(place, r), problem);
+      return;
     }
     for (const std::vector<glm::dvec3>& piece : split.pieces) add(piece, place, name, kind);
+  }
+
+  /// A surface no face can be made of: left out with LoadOptions::skip_invalid (validation warns
+  /// about it with the faces it skips), else the error, which says how to skip it.
+  void reject(const std::string& id, const std::string& name, const std::string& place, const std::string& problem) {
+    if (!options_.skip_invalid) fail(place, problem + detail::skip_invalid_hint);
+    model_.skipped.push_back({name, id, {file_, place}, problem});
   }
 
   void add(std::vector<glm::dvec3> vertices, const std::string& place, const std::string& name, const std::string& kind) {

@@ -25,6 +25,10 @@ struct Model {
   /// A point near the model for the VTK outputs (Scene::origin): set by readers of models at
   /// projected coordinates (CityJSON); absent otherwise.
   std::optional<glm::dvec3> origin;
+  /// Surfaces the reader could not make faces of and left out (LoadOptions::skip_invalid; without
+  /// it they are an InputError). `mesh` is the model mesh's name; no warning is added for them
+  /// here: validation warns about every skipped face in one place.
+  std::vector<SkippedFace> skipped;
 };
 
 }  // namespace shadow::scene_readers

@@ -19,6 +19,10 @@ struct PlaneDeviation {
   double allowed = 0.0;
 };
 
+/// What the message of a face rejected by validation (or by a model reader, for a surface it
+/// cannot make faces of) ends with, so that the user learns how to go on without it.
+inline constexpr const char* skip_invalid_hint = " (--skip-invalid skips such faces; skip_invalid=True in Python)";
+
 /// Measures `vertices` (at least one) against `tolerance` (LoadOptions::planarity_tolerance).
 PlaneDeviation plane_deviation(const std::vector<glm::dvec3>& vertices, double tolerance);
 

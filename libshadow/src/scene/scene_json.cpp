@@ -10,6 +10,7 @@
 #include "scene/json_document.hpp"
 #include "scene/model_dispatch.hpp"
 #include "scene/obj_reader.hpp"
+#include "scene/planarity.hpp"
 
 #include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
@@ -183,8 +184,13 @@ class SceneReader {
       scene_.energyplus_shading = ep->get<bool>();
     }
 
-    for (std::size_t i = 0; i < pending_.size(); ++i) load_faces(std::move(pending_[i]));
+    for (std::size_t i = 0; i < pending_.size(); ++i) {
+      const std::size_t first = scene_.meshes.size();
+      load_faces(std::move(pending_[i]));
+      scene_meshes_of_.emplace_back(first, scene_.meshes.size());
+    }
     apply_model_receivers();
+    apply_sun_hours_map();
     if (scene_.origin) place_origin();
     scene_.source = scene_file_;
     return std::move(scene_);
@@ -474,6 +480,10 @@ class SceneReader {
         text.clear();
         scene_readers::Model model = scene_readers::read_model(format, file, display, options_);
         for (Warning& w : model.warnings) scene_.warnings.push_back(std::move(w));
+        for (SkippedFace& skipped : model.skipped) {  // surfaces the reader left out (skip_invalid)
+          skipped.mesh = pending.name + "/" + skipped.mesh;
+          scene_.skipped_faces.push_back(std::move(skipped));
+        }
         if (model.origin && !scene_.origin) scene_.origin = model.origin;
         if (model.sun && scene_.sun && model.sun->north_axis != scene_.sun->north_axis)
           // The scene's `sun` block places the suns; the model's axes may be turned from north
@@ -539,9 +549,13 @@ class SceneReader {
         // Holes: convex pieces of the polygon's own vertices, sharing its name.
         const core::PolygonHolesSplit split =
             core::split_polygon_with_holes_checked(polygon.vertices, polygon.holes, options_.planarity_tolerance);
-        if (!split.error.empty())
-          fail(split.ring < 0 ? member(path, "vertices") : element(member(path, "holes"), static_cast<std::size_t>(split.ring)),
-               split.error);
+        if (!split.error.empty()) {
+          const std::string at =
+              split.ring < 0 ? member(path, "vertices") : element(member(path, "holes"), static_cast<std::size_t>(split.ring));
+          if (!options_.skip_invalid) fail(at, split.error + detail::skip_invalid_hint);
+          scene_.skipped_faces.push_back({polygon.name, pending.name, {file_, at}, split.error});
+          continue;
+        }
         for (const std::vector<glm::dvec3>& piece : split.pieces) add_face(piece, {file_, path}, polygon.name, polygon.kind);
       }
     }
@@ -897,31 +911,43 @@ class SceneReader {
         pending_[static_cast<std::size_t>(it - mesh_names_.begin())].receiver = true;
         continue;
       }
-      // `<mesh>/<model mesh>`: one building of a model file; checked once the model is read.
-      const std::size_t slash = name.find('/');
-      const auto parent = slash == std::string::npos ? mesh_names_.end()
-                                                     : std::find(mesh_names_.begin(), mesh_names_.end(), name.substr(0, slash));
-      if (parent == mesh_names_.end() || pending_[static_cast<std::size_t>(parent - mesh_names_.begin())].file.empty())
-        fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
+      check_model_mesh_name(name, path);
       model_receivers_.push_back({path, name});
     }
   }
 
-  /// Receivers that name one mesh of a model (`city/B`): those meshes receive, the model's others
-  /// do not (unless the model's own name is listed too).
-  void apply_model_receivers() {
-    for (const auto& receiver : model_receivers_) {
-      const std::string& path = receiver.first;
-      const std::string& name = receiver.second;  // a structured binding cannot be captured in C++17
-      const auto it = std::find_if(scene_.meshes.begin(), scene_.meshes.end(), [&](const Mesh& m) { return m.name == name; });
-      if (it == scene_.meshes.end())
-        fail(path, "no mesh is named " + quote(name) + " (the model " + quote(name.substr(0, name.find('/'))) +
-                       " has no mesh " + quote(name.substr(name.find('/') + 1)) + ")");
-      it->receiver = true;
-    }
+  /// A name that is no scene mesh's may still be one a model file brings (checked once the model
+  /// is read): `<mesh>/<model mesh>` (one building of a model file) or `type:<T>` (every city
+  /// object of a CityJSON type). Anything else is an error now, before any mesh file is read.
+  void check_model_mesh_name(const std::string& name, const std::string& path) const {
+    if (name.rfind("type:", 0) == 0) return;
+    const std::size_t slash = name.find('/');
+    const auto parent = slash == std::string::npos ? mesh_names_.end()
+                                                   : std::find(mesh_names_.begin(), mesh_names_.end(), name.substr(0, slash));
+    if (parent == mesh_names_.end() || pending_[static_cast<std::size_t>(parent - mesh_names_.begin())].file.empty())
+      fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
   }
 
-  /// `sun_hours_map`: the meshes whose faces get the exact sun-hours map (shadow/sun_hours.hpp).
+  /// The scene meshes a name checked by check_model_mesh_name selects, now that the models are
+  /// read (`mesh/<id>`: that mesh; `type:<T>`: every mesh of the type, select_meshes).
+  std::vector<std::size_t> model_meshes(const std::string& name, const std::string& path) const {
+    const auto it = std::find_if(scene_.meshes.begin(), scene_.meshes.end(), [&](const Mesh& m) { return m.name == name; });
+    if (it != scene_.meshes.end()) return {static_cast<std::size_t>(it - scene_.meshes.begin())};
+    if (name.rfind("type:", 0) == 0) return select_meshes(scene_, name, {file_, path});
+    fail(path, "no mesh is named " + quote(name) + " (the model " + quote(name.substr(0, name.find('/'))) +
+                   " has no mesh " + quote(name.substr(name.find('/') + 1)) + ")");
+  }
+
+  /// Receivers that name meshes of a model (`city/B`, `type:Building`): those meshes receive,
+  /// the model's others do not (unless the model's own name is listed too).
+  void apply_model_receivers() {
+    for (const auto& receiver : model_receivers_)
+      for (std::size_t m : model_meshes(receiver.second, receiver.first)) scene_.meshes[m].receiver = true;
+  }
+
+  /// `sun_hours_map`: the meshes whose faces get the exact sun-hours map (shadow/sun_hours.hpp),
+  /// spelled as `receivers` are. Names are checked now; they become scene meshes once the mesh
+  /// files are read (apply_sun_hours_map).
   void read_sun_hours_map(const Json& map) {
     require_array(map, "sun_hours_map");
     for (std::size_t i = 0; i < map.size(); ++i) {
@@ -929,12 +955,26 @@ class SceneReader {
       const Json& m = map[i];
       if (!m.is_string()) fail(path, "expected a mesh name, got " + describe(m));
       const std::string& name = m.get_ref<const std::string&>();
+      if (std::find(mesh_names_.begin(), mesh_names_.end(), name) == mesh_names_.end()) check_model_mesh_name(name, path);
+      sun_hours_map_names_.push_back({path, name});
+    }
+  }
+
+  /// Scene::sun_hours_map from the names of `sun_hours_map`, in the order given: a mesh of the
+  /// scene file stands for every scene mesh it became (all of a model file's meshes).
+  void apply_sun_hours_map() {
+    for (const auto& [path, name] : sun_hours_map_names_) {
+      std::vector<std::size_t> chosen;
       const auto it = std::find(mesh_names_.begin(), mesh_names_.end(), name);
-      if (it == mesh_names_.end())
-        fail(path, "no mesh is named " + quote(name) + suggestion(name, mesh_names_));
-      const auto index = static_cast<std::size_t>(it - mesh_names_.begin());
-      if (std::find(scene_.sun_hours_map.begin(), scene_.sun_hours_map.end(), index) == scene_.sun_hours_map.end())
-        scene_.sun_hours_map.push_back(index);
+      if (it != mesh_names_.end()) {
+        const auto [first, end] = scene_meshes_of_[static_cast<std::size_t>(it - mesh_names_.begin())];
+        for (std::size_t m = first; m < end; ++m) chosen.push_back(m);
+      } else {
+        chosen = model_meshes(name, path);
+      }
+      for (std::size_t m : chosen)
+        if (std::find(scene_.sun_hours_map.begin(), scene_.sun_hours_map.end(), m) == scene_.sun_hours_map.end())
+          scene_.sun_hours_map.push_back(m);
     }
   }
 
@@ -946,6 +986,8 @@ class SceneReader {
   std::vector<std::string> mesh_names_;
   std::vector<PendingMesh> pending_;
   std::vector<std::pair<std::string, std::string>> model_receivers_;  // (JSON path, mesh name)
+  std::vector<std::pair<std::string, std::string>> sun_hours_map_names_;  // (JSON path, mesh name)
+  std::vector<std::pair<std::size_t, std::size_t>> scene_meshes_of_;  // per scene-file mesh: [first, end) of scene_.meshes
 };
 
 }  // namespace
@@ -974,6 +1016,7 @@ Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
   scene.meshes = std::move(model.meshes);
   scene.faces = std::move(model.faces);
   scene.warnings = std::move(model.warnings);
+  scene.skipped_faces = std::move(model.skipped);
   scene.origin = model.origin;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
     Mesh& mesh = scene.meshes[m];

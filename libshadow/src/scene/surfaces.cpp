@@ -3,6 +3,7 @@
 // unit of results per building, zone or mesh.
 #include <shadow/scene.hpp>
 
+#include <algorithm>
 #include <unordered_map>
 
 namespace shadow {
@@ -50,6 +51,31 @@ std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only, 
     object.meshes.push_back(m);
   }
   return objects;
+}
+
+std::vector<std::size_t> select_meshes(const Scene& scene, const std::string& name, const SourceLocation& where) {
+  std::vector<std::size_t> chosen;
+  // A mesh's own name first: a mesh whose name happens to begin with "type:" is still found.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    if (scene.meshes[m].name == name) return {m};
+  const std::string prefix = "type:";
+  if (name.rfind(prefix, 0) != 0) throw InputError(where, "no mesh is named \"" + name + "\"");
+  const std::string type = name.substr(prefix.size());
+  std::vector<std::string> present;  // the types of the scene's meshes, in order of appearance
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const std::string& t = scene.meshes[m].object_type;
+    if (t == type && !type.empty()) chosen.push_back(m);
+    if (!t.empty() && std::find(present.begin(), present.end(), t) == present.end()) present.push_back(t);
+  }
+  if (!chosen.empty()) return chosen;
+  std::string known;
+  for (const std::string& t : present) known += (known.empty() ? "" : ", ") + t;
+  const std::string asked = type.empty() ? "an empty type" : "the type \"" + type + "\"";
+  throw InputError(where, asked + " selects no mesh (" +
+                              (present.empty() ? std::string("no mesh has an object type: type:<T> selects CityJSON "
+                                                             "city objects by their type, EnergyPlus zones as type:zone")
+                                               : "the object types present: " + known) +
+                              ")");
 }
 
 }  // namespace shadow

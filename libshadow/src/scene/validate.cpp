@@ -119,8 +119,9 @@ void check_planarity(const std::vector<glm::dvec3>& vertices, double tolerance,
 
 using Classifier = detail::FaceShape (*)(const std::vector<glm::dvec3>&);
 
-void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options,
-                   std::vector<Warning>& warnings, Classifier classify = detail::classify_face_shape) {
+/// The checks of one face; an invalid face throws.
+void check_face(Scene& scene, std::size_t face_id, const LoadOptions& options, std::vector<Warning>& warnings,
+                Classifier classify) {
   Face& face = scene.faces[face_id];
   const SourceLocation where = face_location(scene, face_id);
   detail::check_face_numbers(scene, face_id);
@@ -143,18 +144,40 @@ void validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options
   }
 }
 
+/// Checks face `face_id`. An invalid face is an InputError whose message says how to skip it;
+/// with `options.skip_invalid` its problem is returned instead (empty: the face is kept).
+std::string validate_face(Scene& scene, std::size_t face_id, const LoadOptions& options,
+                          std::vector<Warning>& warnings, Classifier classify = detail::classify_face_shape) {
+  // A face of a mesh that does not exist is a scene built wrongly in code, not a bad face: never
+  // skipped (and the skipped face's record needs its mesh).
+  if (scene.faces[face_id].mesh >= scene.meshes.size()) detail::check_face_numbers(scene, face_id);
+  try {
+    check_face(scene, face_id, options, warnings, classify);
+  } catch (const InputError& e) {
+    if (!options.skip_invalid) throw InputError(e.where(), e.problem() + detail::skip_invalid_hint);
+    return e.problem();
+  }
+  return {};
+}
+
+/// A face found invalid with LoadOptions::skip_invalid: its id and the problem.
+using Rejected = std::vector<std::pair<std::size_t, std::string>>;
+
 /// validate_face for every face, on `threads` threads, with the serial loop's outcome: the
 /// warnings in face order, or the error of the first face (in face order) that has one. Each
 /// face's check reads the scene and changes only that face. Faces are handed out in chunks, each
 /// checked in order and stopped at its first error; faces after an error already found are
 /// skipped (only faces before the first error matter). (Unlike the serial loop, faces after
-/// the failing one may have been cleaned up too when the error is thrown.)
-void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, std::vector<Warning>& warnings) {
+/// the failing one may have been cleaned up too when the error is thrown.) With skip_invalid
+/// nothing is thrown for a bad face: `rejected` gets every invalid face, in face order.
+void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, std::vector<Warning>& warnings,
+                    Rejected& rejected) {
   const std::size_t n = scene.faces.size();
   constexpr std::size_t kChunk = 256;
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   struct ChunkOutcome {
     std::vector<Warning> warnings;
+    Rejected rejected;
     std::exception_ptr error;
   };
   std::vector<ChunkOutcome> outcome(chunks);
@@ -164,7 +187,8 @@ void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, 
     for (std::size_t f = begin; f < end; ++f) {
       if (f > first_error.load(std::memory_order_relaxed)) return;
       try {
-        validate_face(scene, f, options, o.warnings);
+        std::string problem = validate_face(scene, f, options, o.warnings);
+        if (!problem.empty()) o.rejected.emplace_back(f, std::move(problem));
       } catch (...) {
         o.error = std::current_exception();
         std::size_t seen = first_error.load();
@@ -177,7 +201,54 @@ void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, 
   for (ChunkOutcome& o : outcome) {
     if (o.error) std::rethrow_exception(o.error);
     for (Warning& w : o.warnings) warnings.push_back(std::move(w));
+    for (auto& r : o.rejected) rejected.push_back(std::move(r));
   }
+}
+
+/// Removes the rejected faces (ascending ids) from the scene, recording each in
+/// Scene::skipped_faces; the faces after them move down, and every mesh's first_face and
+/// face_count follow (a mesh may be left with none).
+void remove_rejected(Scene& scene, const Rejected& rejected) {
+  if (rejected.empty()) return;
+  std::vector<char> drop(scene.faces.size(), 0);
+  for (const auto& [f, problem] : rejected) {
+    const Face& face = scene.faces[f];
+    drop[f] = 1;
+    scene.skipped_faces.push_back({face.name, scene.meshes[face.mesh].name, face_location(scene, f), problem});
+  }
+  // New first_face of each mesh: the number of faces kept before its old first face.
+  std::vector<std::size_t> kept_before(scene.faces.size() + 1, 0);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) kept_before[f + 1] = kept_before[f] + (drop[f] ? 0 : 1);
+  for (Mesh& mesh : scene.meshes) {
+    const std::size_t begin = std::min(mesh.first_face, scene.faces.size());
+    const std::size_t end = std::min(mesh.first_face + mesh.face_count, scene.faces.size());
+    mesh.first_face = kept_before[begin];
+    mesh.face_count = kept_before[end] - kept_before[begin];
+  }
+  std::size_t out = 0;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (!drop[f]) {
+      if (out != f) scene.faces[out] = std::move(scene.faces[f]);
+      ++out;
+    }
+  scene.faces.resize(out);
+}
+
+/// One warning per skipped face, the first kMaxSkipWarnings of them, then one line for the rest
+/// (a broken city model may have thousands; report.json lists them all).
+void warn_skipped(const Scene& scene, std::vector<Warning>& warnings) {
+  constexpr std::size_t kMaxSkipWarnings = 10;
+  const std::vector<SkippedFace>& skipped = scene.skipped_faces;
+  for (std::size_t i = 0; i < skipped.size() && i < kMaxSkipWarnings; ++i) {
+    const SkippedFace& s = skipped[i];
+    const std::string what = s.name.empty() ? "face of mesh \"" + s.mesh + "\""
+                                            : "face \"" + s.name + "\" (mesh \"" + s.mesh + "\")";
+    warnings.push_back({s.source, "skipped (--skip-invalid): the " + what + " is invalid: " + s.reason});
+  }
+  if (skipped.size() > kMaxSkipWarnings)
+    warnings.push_back({{scene.source.string(), ""},
+                        std::to_string(skipped.size() - kMaxSkipWarnings) + " more invalid faces were skipped (" +
+                            std::to_string(skipped.size()) + " in all; report.json lists each in skipped_faces)"});
 }
 
 }  // namespace
@@ -680,12 +751,23 @@ void validate_scene_impl(Scene& scene, const LoadOptions& options, bool referenc
     throw InputError({"", "LoadOptions::threads"}, "must be 0 (every hardware thread) to " +
                                                        std::to_string(core::kMaxThreads) + ", got " +
                                                        std::to_string(options.threads));
+  Rejected rejected;
   if (reference) {
-    for (std::size_t f = 0; f < scene.faces.size(); ++f)
-      validate_face(scene, f, options, warnings, detail::classify_face_shape_exact);
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      std::string problem = validate_face(scene, f, options, warnings, detail::classify_face_shape_exact);
+      if (!problem.empty()) rejected.emplace_back(f, std::move(problem));
+    }
   } else {
-    validate_faces(scene, options, core::resolve_threads(options.threads), warnings);
+    validate_faces(scene, options, core::resolve_threads(options.threads), warnings, rejected);
   }
+  // Skipped faces leave before anything looks at meshes as wholes (orientation), and before any
+  // face_id is handed out: ids count the faces kept.
+  remove_rejected(scene, rejected);
+  if (!rejected.empty() && scene.faces.empty())  // nothing left to compute: not a result to write
+    throw InputError(scene.skipped_faces.front().source,
+                     "every face of the scene is invalid (" + std::to_string(scene.skipped_faces.size()) +
+                         " skipped with --skip-invalid); this one: " + scene.skipped_faces.front().reason);
+  warn_skipped(scene, warnings);
   check_orientations(scene, options, reference, core::resolve_threads(options.threads), warnings);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {

@@ -398,13 +398,9 @@ std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vect
                                              const std::string& what) {
   Scene chosen;
   chosen.meshes = scene.meshes;
-  for (std::size_t k = 0; k < mesh_names.size(); ++k) {
-    const auto it = std::find_if(scene.meshes.begin(), scene.meshes.end(),
-                                 [&](const Mesh& m) { return m.name == mesh_names[k]; });
-    if (it == scene.meshes.end())
-      throw InputError({"", what}, "no mesh is named \"" + mesh_names[k] + "\"");
-    chosen.sun_hours_map.push_back(static_cast<std::size_t>(it - scene.meshes.begin()));
-  }
+  // A mesh's name, or type:<T> for every mesh of a CityJSON object type (select_meshes).
+  for (std::size_t k = 0; k < mesh_names.size(); ++k)
+    for (std::size_t m : select_meshes(scene, mesh_names[k], {"", what})) chosen.sun_hours_map.push_back(m);
   return sun_hours_map_faces(chosen);
 }
 

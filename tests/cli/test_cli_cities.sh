@@ -1,0 +1,189 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# The urban researcher's journey on models of the shape real cities have (issue 31, items 7 and
+# 9): one self-intersecting surface stops a city without --skip-invalid (the error says how to
+# go on) and is skipped with it (a warning, a count in the summary and report.json); receivers
+# and sun-hours maps chosen by CityJSON object type (`type:TINRelief`) and by `mesh/<id>`.
+#
+# Usage: bash test_cli_cities.sh /path/to/shadow
+set -u
+
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin cli-cities 1 "SHADOW_BINARY" "$@"
+SHADOW=$1
+
+# run NAME ARGS...: runs shadow, keeping stdout, stderr and the status in $WORK/NAME.*.
+run() {
+  local name=$1
+  shift
+  local status=0
+  "$SHADOW" "$@" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+  echo "$status" >"$WORK/$name.status"
+}
+
+# expect_error NAME RUN OUTDIR PART... (after `run RUN`): exit 2, one line with every PART, no report.json.
+expect_error() {
+  local name=$1 ran=$2 out=$3
+  shift 3
+  local stderr status part
+  stderr=$(cat "$WORK/$ran.stderr")
+  status=$(cat "$WORK/$ran.status")
+  if [[ $status -ne 2 || $(wc -l <"$WORK/$ran.stderr") -ne 1 || $stderr != "shadow: error: "* || -e "$out/report.json" ]]; then
+    fail "$name" "status $status: $stderr"
+    return
+  fi
+  for part in "$@"; do
+    if [[ $stderr != *"$part"* ]]; then
+      fail "$name" "stderr lacks '$part': $stderr"
+      return
+    fi
+  done
+  pass "$name"
+}
+
+# check NAME PYTHON ARGS...: a Python check of files; pass when it exits 0.
+check() {
+  local name=$1 code=$2
+  shift 2
+  local output
+  if output=$(python3 -c "$code" "$@" 2>&1); then pass "$name"; else fail "$name" "$output"; fi
+}
+
+# ---- an OBJ with one self-intersecting face between good ones ----------------------------------
+mkdir -p "$WORK/obj"
+cat >"$WORK/obj/m.obj" <<'OBJ'
+o good
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+f 1 2 3 4
+o bowtie
+v 3 0 0
+v 4 1 0
+v 4 0 0
+v 3 1 0
+f 5 6 7 8
+o after
+v 6 0 0
+v 7 0 0
+v 6 1 0
+f 9 10 11
+OBJ
+echo '{"meshes": [{"name": "m", "file": "m.obj"}], "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]}' \
+  >"$WORK/obj/scene.json"
+run obj_bowtie compute "$WORK/obj/scene.json" -o "$WORK/out-obj"
+expect_error obj_bowtie_stops_and_names_the_flag obj_bowtie "$WORK/out-obj" "m.obj: line 12: face boundary intersects itself" \
+  "(--skip-invalid skips such faces"
+run obj_skip compute "$WORK/obj/scene.json" -o "$WORK/out-obj" --skip-invalid
+if [[ $(cat "$WORK/obj_skip.status") -eq 0 ]] &&
+   grep -q 'line 12: skipped (--skip-invalid): the face "bowtie" (mesh "m") is invalid: face boundary intersects itself' \
+     "$WORK/obj_skip.stderr" &&
+   grep -q '^  skipped: 1 invalid faces (--skip-invalid; report.json: skipped_faces)' "$WORK/obj_skip.stdout"; then
+  pass obj_skip_warns_and_counts
+else
+  fail obj_skip_warns_and_counts "$(cat "$WORK/obj_skip.stderr" "$WORK/obj_skip.stdout")"
+fi
+check obj_skip_report '
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["summary"]["skipped_faces"] == 1, r["summary"]
+s = r["skipped_faces"]
+assert len(s) == 1 and s[0]["name"] == "bowtie" and s[0]["mesh"] == "m", s
+assert s[0]["reason"] == "face boundary intersects itself" and s[0]["source"].endswith("m.obj: line 12"), s
+assert [f["id"] for f in r["faces"]] == [0, 1] and r["faces"][1]["name"] == "after", r["faces"]
+' "$WORK/out-obj/report.json"
+
+# ---- a CityJSON city: two buildings, a BuildingPart with a bow-tie surface, a terrain ----------
+mkdir -p "$WORK/city"
+cat >"$WORK/city/zurich-like.city.json" <<'CITY'
+{"type": "CityJSON", "version": "2.0",
+ "transform": {"scale": [0.001, 0.001, 0.001], "translate": [2683000, 1247000, 400]},
+ "CityObjects": {
+  "b1": {"type": "Building", "geometry": [{"type": "Solid", "lod": "2",
+    "boundaries": [[[[0,3,2,1]], [[4,5,6,7]], [[0,1,5,4]], [[1,2,6,5]], [[2,3,7,6]], [[3,0,4,7]]]]}]},
+  "p1": {"type": "BuildingPart", "geometry": [{"type": "MultiSurface", "lod": "2",
+    "boundaries": [[[8,9,10,11]], [[12,13,14,15]]]}]},
+  "t": {"type": "TINRelief", "geometry": [{"type": "MultiSurface", "lod": "1",
+    "boundaries": [[[16,17,18,19]]]}]}},
+ "vertices": [[0,0,0],[8000,0,0],[8000,6000,0],[0,6000,0],[0,0,9000],[8000,0,9000],[8000,6000,9000],[0,6000,9000],
+              [20000,0,0],[22000,2000,0],[22000,0,0],[20000,2000,0],
+              [30000,0,0],[32000,0,0],[32000,2000,0],[30000,2000,0],
+              [-20000,-20000,-1],[60000,-20000,-1],[60000,30000,-1],[-20000,30000,-1]]}
+CITY
+cat >"$WORK/city/scene.json" <<'SCENE'
+{"meshes": [{"name": "city", "file": "zurich-like.city.json"},
+            {"name": "ground", "polygons": [[[2682900, 1246900, 398], [2683100, 1246900, 398], [2683100, 1247100, 398], [2682900, 1247100, 398]]]}],
+ "sun": {"latitude": 47.37, "longitude": 8.54, "utc_offset": 1,
+         "times": ["2024-06-21T09:00:00", "2024-06-21T12:00:00", "2024-06-21T15:00:00"]}}
+SCENE
+run city_series series "$WORK/city/scene.json" -o "$WORK/out-city" --quiet
+expect_error city_bowtie_stops_and_names_the_flag city_series "$WORK/out-city" \
+  'zurich-like.city.json: CityObjects["p1"].geometry[0].boundaries[0]: face boundary intersects itself' \
+  "(--skip-invalid skips such faces"
+run city_skip series "$WORK/city/scene.json" -o "$WORK/out-city" --skip-invalid --sun-hours-map type:TINRelief
+if [[ $(cat "$WORK/city_skip.status") -eq 0 ]] &&
+   grep -q 'skipped (--skip-invalid): the face "p1/0" (mesh "city/p1") is invalid' "$WORK/city_skip.stderr" &&
+   grep -q '^  skipped: 1 invalid faces' "$WORK/city_skip.stdout" &&
+   grep -q '^  sun-hours map: [0-9]* cells on 1 faces (sun_hours.vtp)' "$WORK/city_skip.stdout"; then
+  pass city_skip_series_with_a_map_by_type
+else
+  fail city_skip_series_with_a_map_by_type "$(cat "$WORK/city_skip.stderr" "$WORK/city_skip.stdout")"
+fi
+check city_skip_series_report '
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r["series"]["skipped_faces"] == 1, r["series"]
+assert [s["name"] for s in r["skipped_faces"]] == ["p1/0"], r["skipped_faces"]
+names = [f["name"] for f in r["faces"]]
+assert "p1/1" in names and "p1/0" not in names, names
+' "$WORK/out-city/report.json"
+
+# type: in receivers, and the scene key sun_hours_map with mesh/<id> and a scene mesh after a model.
+python3 - "$WORK/city/scene.json" "$WORK/city" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+for name, extra in {"typed": {"receivers": ["type:TINRelief", "ground"], "sun_hours_map": ["city/t"]},
+                    "ground": {"sun_hours_map": ["ground"]},
+                    "bad_type": {"receivers": ["type:Bridge"]}}.items():
+    json.dump(dict(scene, **extra), open(f"{sys.argv[2]}/{name}.json", "w"))
+PY
+run city_typed series "$WORK/city/typed.json" -o "$WORK/out-typed" --skip-invalid
+if [[ $(cat "$WORK/city_typed.status") -eq 0 ]] &&
+   grep -q '^  sun-hours map: [0-9]* cells on 1 faces' "$WORK/city_typed.stdout"; then
+  pass scene_sun_hours_map_takes_mesh_slash_id
+else
+  fail scene_sun_hours_map_takes_mesh_slash_id "$(cat "$WORK/city_typed.stderr" "$WORK/city_typed.stdout")"
+fi
+check receivers_by_type '
+import json, sys
+r = json.load(open(sys.argv[1]))
+labels = sorted(f["label"] for f in r["faces"])
+assert labels == ["face_8", "t/0"], labels  # 6 box faces, p1/1 (p1/0 skipped), t/0, the ground
+' "$WORK/out-typed/report.json"
+# The scene's own mesh after a model's meshes: the map is on the ground, not on a city object.
+run city_ground series "$WORK/city/ground.json" -o "$WORK/out-ground" --skip-invalid
+if grep -q '^  sun-hours map: [0-9]* cells on 1 faces' "$WORK/city_ground.stdout"; then
+  pass scene_sun_hours_map_ground_is_one_face
+else
+  fail scene_sun_hours_map_ground_is_one_face "$(cat "$WORK/city_ground.stderr" "$WORK/city_ground.stdout")"
+fi
+run bad_type compute "$WORK/city/bad_type.json" -o "$WORK/out-bad-type" --skip-invalid
+expect_error unknown_type_in_receivers bad_type "$WORK/out-bad-type" 'bad_type.json: receivers[0]: the type "Bridge" selects no mesh' \
+  "the object types present: Building, BuildingPart, TINRelief"
+run bad_flag_type series "$WORK/city/scene.json" -o "$WORK/out-bad-flag" --skip-invalid --sun-hours-map type:Bridge
+expect_error unknown_type_in_sun_hours_map_flag bad_flag_type "$WORK/out-bad-flag" 'scene.json: --sun-hours-map: the type "Bridge" selects no mesh' \
+  "the object types present: Building, BuildingPart, TINRelief"
+
+# Every command that loads a scene takes the flag.
+for command in compute series render; do
+  if "$SHADOW" $command --help 2>/dev/null | grep -q -- '--skip-invalid'; then
+    pass "${command}_help_lists_skip_invalid"
+  elif [[ $command == render ]] && ! "$SHADOW" render --help >/dev/null 2>&1; then
+    pass "render_not_built"
+  else
+    fail "${command}_help_lists_skip_invalid" "no --skip-invalid in shadow $command --help"
+  fi
+done
+
+cli_test_end
