@@ -83,8 +83,23 @@ bool clip_to_plan(glm::dvec2& a, glm::dvec2& b, const Box& box) {
 }  // namespace
 
 std::optional<std::size_t> ground_mesh(const Scene& scene) {
+  // A city model's terrain is its ground (the largest, if it has several).
+  std::optional<std::size_t> terrain;
+  std::vector<double> plan(scene.meshes.size(), 0.0);
+  for (const Face& face : scene.faces)
+    if (face.mesh < plan.size()) plan[face.mesh] += 0.5 * std::abs(geometry::newell_normal(face.vertices).z);
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    if (named_like_ground(scene.meshes[m].name) && scene.meshes[m].face_count > 0) return m;
+    if (scene.meshes[m].object_type == "TINRelief" && scene.meshes[m].face_count > 0 &&
+        (!terrain || plan[m] > plan[*terrain]))
+      terrain = m;
+  if (terrain) return terrain;
+  // By name, for meshes whose model says nothing of what they are: an EnergyPlus
+  // Shading:Site group or a CityJSON object named "...site..." is not the ground.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    if (named_like_ground(scene.meshes[m].name) && scene.meshes[m].face_count > 0 &&
+        scene.meshes[m].object_type.empty() && scene.meshes[m].first_face < scene.faces.size() &&
+        scene.faces[scene.meshes[m].first_face].kind.empty())
+      return m;
 
   // By shape: faces all facing up, nothing below it, larger in plan than everything else.
   std::vector<Box> boxes(scene.meshes.size());
@@ -212,9 +227,10 @@ Camera frame_points(const Scene& scene, const std::vector<glm::dvec3>& points, d
   if (box.empty() || !(aspect > 0.0)) return camera;
   camera.target = 0.5 * (box.lo + box.hi);
   const double radius = std::max(0.5 * glm::length(box.hi - box.lo), 1e-9);
-  // From the side the first light's shadows fall to, looking back toward the light, turned
-  // 17 degrees and 40 degrees above the horizon: the shadows lie in front of what casts them,
-  // in full view (tools/render_result.py frames the same way).
+  // From 45 degrees above the horizon, on a side turned 70 degrees from the one the first
+  // light's shadows fall to: the camera sees both lit and shadowed walls and the shadows
+  // running across the picture in front of what casts them. (Straight from the shadow side, as
+  // before, every wall in view was a wall in shadow.)
   glm::dvec3 shadow_side(0.0, -1.0, 0.0);
   if (!scene.lights.empty()) {
     const Light& light = scene.lights.front();
@@ -228,8 +244,8 @@ Camera frame_points(const Scene& scene, const std::vector<glm::dvec3>& points, d
     const glm::dvec3 flat(-to_light.x, -to_light.y, 0.0);
     if (glm::length(flat) > 1e-9 * glm::length(to_light)) shadow_side = glm::normalize(flat);
   }
-  const double turn = 0.3;  // radians
-  const double elevation = 40.0 * M_PI / 180.0;
+  const double turn = 70.0 * M_PI / 180.0;
+  const double elevation = 45.0 * M_PI / 180.0;
   auto view_from = [&](double azimuth_turn) {
     const double t = turn + azimuth_turn;
     const glm::dvec3 side(shadow_side.x * std::cos(t) - shadow_side.y * std::sin(t),

@@ -58,7 +58,8 @@ struct Mesh {
   std::string model;
   /// What the mesh is in the model it was read from: a CityJSON city object's `type`
   /// (`Building`, `BuildingPart`, `TINRelief`, ...) or `zone` for an EnergyPlus zone; empty for
-  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups.
+  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups. Pictures colour
+  /// and label CityJSON faces by it (docs/render.md).
   std::string object_type;
   /// CityJSON: the top-level city object this one is part of (a BuildingPart's Building: the
   /// first of `parents`, followed up to an object without parents), named as meshes are
