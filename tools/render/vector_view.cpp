@@ -223,8 +223,9 @@ int run_vector_render(const RenderArgs& args) {
     throw InputError({args.scene, ""},
                      "the exact vector view of " + std::to_string(faces) + " faces is refused: it is bounded to " +
                          std::to_string(args.max_faces) +
-                         " faces (--max-faces), as its cost grows faster than the face count (a city of 30,000 "
-                         "faces took minutes); draw a PNG instead (-o view.png), or raise --max-faces");
+                         " faces (--max-faces), as its cost grows with the faces and with how many lie behind "
+                         "one another (a whole city took minutes); draw a PNG instead (-o view.png), or raise "
+                         "--max-faces");
   const ViewCamera camera = vector_camera(scene, args);  // checked there, naming options or scene
   VectorViewOptions options;
   options.threads = args.threads;

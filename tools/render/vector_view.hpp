@@ -53,7 +53,7 @@ ViewCamera vector_camera(const Scene& scene, const RenderArgs& args);
 
 /// Faces a vector view may have before `shadow render` refuses it (`--max-faces`): the exact
 /// view's cost grows faster than the face count (docs/vector-views.md).
-constexpr std::size_t kDefaultMaxVectorFaces = 5000;
+constexpr std::size_t kDefaultMaxVectorFaces = 20000;
 
 /// Runs `shadow render` for an .svg or .pdf output. @throws InputError, RenderError
 int run_vector_render(const RenderArgs& args);
