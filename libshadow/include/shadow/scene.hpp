@@ -58,8 +58,7 @@ struct Mesh {
   std::string model;
   /// What the mesh is in the model it was read from: a CityJSON city object's `type`
   /// (`Building`, `BuildingPart`, `TINRelief`, ...) or `zone` for an EnergyPlus zone; empty for
-  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups. Pictures colour
-  /// and label CityJSON faces by it (docs/render.md).
+  /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups.
   std::string object_type;
   /// CityJSON: the top-level city object this one is part of (a BuildingPart's Building: the
   /// first of `parents`, followed up to an object without parents), named as meshes are
