@@ -175,6 +175,12 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
   render.add_option("--light", args.light, "SVG/PDF: the light whose shadows split the pieces (default: the first)")
       ->check(shadow_cli::integer_in(0, 1 << 30));
   render.add_flag("--edges", args.edges, "SVG/PDF: outline every piece");
+  render.add_option("--max-faces", args.max_faces,
+                    "SVG/PDF: refuse a scene of more faces (the exact view's cost grows faster than the face "
+                    "count; a PNG has no such bound)")
+      ->default_val(shadow::render::kDefaultMaxVectorFaces)
+      ->check(shadow_cli::integer_in(1, 100'000'000))
+      ->each([&args](const std::string&) { args.max_faces_given = true; });
   // The loading options of `shadow compute` and `shadow series`: what they load, render draws.
   render.add_option("--planarity-tolerance", args.planarity_tolerance,
                     "Largest vertex distance from a face's plane, relative to the face's size")
@@ -197,8 +203,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   check_output_directory(args.image);
   // The exact vector view needs no display: dispatched before looking for one.
   if (sr::is_vector_output(args.image)) return sr::run_vector_render(args);
-  if (args.light >= 0 || args.edges)
-    throw shadow::InputError({"", args.light >= 0 ? "--light" : "--edges"},
+  if (args.light >= 0 || args.edges || args.max_faces_given)
+    throw shadow::InputError({"", args.light >= 0 ? "--light" : args.edges ? "--edges" : "--max-faces"},
                              "applies to the vector view only (-o VIEW.svg or VIEW.pdf), not to " + args.image);
   // Debian's VTK draws through X even off screen; without a display, start again under Xvfb.
   if (!sr::display_available()) {

@@ -35,6 +35,8 @@ struct RenderArgs {
   bool quiet = false;
   int light = -1;      ///< SVG/PDF: the light that splits lit from shadowed (-1: the first, if any)
   bool edges = false;  ///< SVG/PDF: outline every piece
+  std::size_t max_faces = 20000;  ///< SVG/PDF: refuse a view of more faces (its cost; docs/vector-views.md)
+  bool max_faces_given = false;
   // Loading, as `shadow compute` and `shadow series` load (the same model gives the same faces).
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;

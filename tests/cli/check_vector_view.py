@@ -121,6 +121,27 @@ def main():
     bad = run([shadow, "render", scene, "-o", os.path.join(work, "bad.png"), "--light", "0"])
     check(bad.returncode == 2 and "--light" in bad.stderr and bad.stderr.count("\n") == 1,
           f"--light with a PNG: {bad.returncode} {bad.stderr!r}")
+
+    # The vector view's cost bound: more faces than --max-faces is refused at once, in one line
+    # that names the count and suggests a PNG, and nothing is written; at the bound it is drawn.
+    faces = len(face_ids)  # at least the faces seen above
+    bounded = os.path.join(work, "bounded.svg")
+    if os.path.exists(bounded):
+        os.remove(bounded)
+    bad = run([shadow, "render", scene, "-o", bounded, "--max-faces", "10"])
+    check(bad.returncode == 2 and "--max-faces" in bad.stderr and "PNG" in bad.stderr
+          and "scene.json" in bad.stderr and bad.stderr.count("\n") == 1,
+          f"--max-faces 10: {bad.returncode} {bad.stderr!r}")
+    check(not os.path.exists(bounded), "--max-faces 10: an SVG was written")
+    count = re.search(r"of (\d+) faces", bad.stderr)
+    check(count is not None and int(count.group(1)) >= faces, f"--max-faces: no face count in {bad.stderr!r}")
+    if count is not None:
+        r = run([shadow, "render", scene, "-o", bounded, "--max-faces", count.group(1), "-q",
+                 "--width", str(width), "--height", str(height)])
+        check(r.returncode == 0 and os.path.exists(bounded), f"--max-faces at the count: {r.returncode} {r.stderr!r}")
+    bad = run([shadow, "render", scene, "-o", os.path.join(work, "bad.png"), "--max-faces", "10"])
+    check(bad.returncode == 2 and "--max-faces" in bad.stderr and bad.stderr.count("\n") == 1,
+          f"--max-faces with a PNG: {bad.returncode} {bad.stderr!r}")
     return 1 if failures else 0
 
 

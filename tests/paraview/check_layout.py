@@ -30,6 +30,17 @@ def main(path, min_share):
             problems.append(f"{name}: the model's box leaves the view")
         if max(x1 - x0, y1 - y0) < min_share:
             problems.append(f"{name}: the model spans only {100 * max(x1 - x0, y1 - y0):.0f}% of the view")
+        # A sun-hours view says what it shows (a title, clear of the model) and where north is.
+        if any(bar["title"] == "sun hours" for bar in view["bars"]):
+            title = view.get("title") or []
+            if not title or "sun hours" not in title[0]:
+                problems.append(f"{name}: a sun-hours view without a title naming it ({title})")
+            elif y1 > 1 - view.get("top_room", 0) + 0.02:
+                problems.append(f"{name}: the model (top {y1:.2f}) runs into the title's band")
+            if not view.get("north"):
+                problems.append(f"{name}: a sun-hours view without a north arrow")
+            if layout.get("series") and not any(" to " in line for line in title[1:]):
+                problems.append(f"{name}: a series' sun-hours view without its period ({title})")
         for bar in view["bars"]:
             if not bar["title"].strip():
                 problems.append(f"{name}: a colour bar without a title")

@@ -32,7 +32,7 @@ import sys
 
 from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView, GetAnimationScene,
                              GetColorTransferFunction, GetScalarBar, Glyph, Hide, ProgrammableSource,
-                             PVDReader, Render, SaveScreenshot, Show, Threshold, XMLPolyDataReader)
+                             PVDReader, Render, SaveScreenshot, Show, Text, Threshold, XMLPolyDataReader)
 
 OUTDIR = os.environ.get("LIBSHADOW_RESULT", "out/default")
 
@@ -63,6 +63,10 @@ VIEW_ASPECT = [1.6]  # width / height of each view, set by main from --size
 VIEW_WIDTH = [800]   # pixels
 LABEL_ROOM = 100     # pixels left of a bar for its labels
 TITLE_ROOM = 66      # pixels right of a bar's left edge: half a short title, centred on the bar
+TOP_ROOM = 0.12      # the part of a titled view's height kept clear of the model for its title
+TITLED = {}          # view -> its title's lines (add_title), for frame_model and describe
+NORTH = {}           # view -> the north arrow's direction (add_north_arrow), for describe
+IS_SERIES = [False]  # set by open_series, for describe
 
 
 def bar_position():
@@ -109,7 +113,7 @@ def model_bounds(source):
     return list(source.GetDataInformation().GetBounds())
 
 
-def reset_to(view, bounds, share=1.0):
+def reset_to(view, bounds, share=1.0, height_share=0.95):
     """Look at the centre of `bounds` from where the camera looks now, at the distance where
     their bounding sphere fits `share` of the view's width and 95% of its height (the view's
     own reset takes every visible thing, light glyphs included, and an aspect the offscreen
@@ -124,7 +128,7 @@ def reset_to(view, bounds, share=1.0):
     away = [c / length for c in away] if length > 0 else [0.0, -0.6, 0.8]
     half_v = math.radians(camera.GetViewAngle()) / 2
     half_h = math.atan(math.tan(half_v) * VIEW_ASPECT[0] * share)
-    half = builtins.min(math.atan(math.tan(half_v) * 0.95), half_h)
+    half = builtins.min(math.atan(math.tan(half_v) * height_share), half_h)
     distance = radius / math.sin(half)
     camera.SetFocalPoint(*centre)
     camera.SetPosition(*[c + distance * a for c, a in zip(centre, away)])
@@ -136,10 +140,13 @@ def frame_model(view, bounds):
     strip to the colour bar."""
     camera = view.GetActiveCamera()
     share = model_share()
-    reset_to(view, bounds, share)
+    # A titled view keeps its top band for the title: the model fits below it.
+    top = TOP_ROOM if view in TITLED else 0.0
+    reset_to(view, bounds, share, 0.95 - top)
     aspect = VIEW_ASPECT[0]
     distance = camera.GetDistance()
-    visible_width = 2 * distance * math.tan(math.radians(camera.GetViewAngle()) / 2) * aspect
+    visible_height = 2 * distance * math.tan(math.radians(camera.GetViewAngle()) / 2)
+    visible_width = visible_height * aspect
     shift = (0.5 - share / 2) * visible_width
     position, focal, up = camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp()
     view_dir = [f - p for f, p in zip(focal, position)]
@@ -147,8 +154,14 @@ def frame_model(view, bounds):
              view_dir[0] * up[1] - view_dir[1] * up[0]]
     norm = builtins.max(builtins.sum(c * c for c in right) ** 0.5, 1e-300)
     right = [c / norm for c in right]
-    camera.SetPosition(*[p + shift * r for p, r in zip(position, right)])
-    camera.SetFocalPoint(*[f + shift * r for f, r in zip(focal, right)])
+    # The screen's up: right x view direction, unit length.
+    screen_up = [right[1] * view_dir[2] - right[2] * view_dir[1], right[2] * view_dir[0] - right[0] * view_dir[2],
+                 right[0] * view_dir[1] - right[1] * view_dir[0]]
+    norm = builtins.max(builtins.sum(c * c for c in screen_up) ** 0.5, 1e-300)
+    lift = 0.5 * top * visible_height  # the camera up, so the model moves down below the title
+    move = [shift * r + lift * u / norm for r, u in zip(right, screen_up)]
+    camera.SetPosition(*[p + m for p, m in zip(position, move)])
+    camera.SetFocalPoint(*[f + m for f, m in zip(focal, move)])
 
 
 def place_camera(view, report, light, bounds):
@@ -230,6 +243,86 @@ def show_sun_hours(outdir, view, read, total=None):
     return sun_hours
 
 
+def period_of(series):
+    """The period of a series, as report.json states it (its first and last instants), short
+    enough for the title: lines "2026-06-21 03:00 to 18:00 (UTC)" and "16 instants"."""
+    first = str(series.get("first") or series.get("start") or "")
+    last = str(series.get("last") or series.get("end") or "")
+
+    def split(t):
+        date, _, time = t.partition("T")
+        zone = ""
+        for mark in ("Z", "+", "-"):
+            at = time.find(mark)
+            if at >= 0:
+                time, zone = time[:at], time[at:]
+                break
+        return date, time[:5], "UTC" if zone == "Z" else zone
+
+    lines = []
+    if first and last:
+        (d0, t0, z0), (d1, t1, z1) = split(first), split(last)
+        zone = " (%s)" % z0 if z0 and z0 == z1 else ""
+        if d0 == d1:
+            lines.append("%s %s to %s%s" % (d0, t0, t1, zone))
+        else:
+            lines.append("%s %s to %s %s%s" % (d0, t0, d1, t1, zone))
+    if series.get("instants"):
+        lines.append("%d instants" % series["instants"])
+    return lines or ["period not recorded"]
+
+
+def add_title(view, lines):
+    """A title, top left, in the band frame_model keeps clear of the model."""
+    TITLED[view] = list(lines)
+    text = Text(registrationName="title", Text="\n".join(lines))
+    shown = Show(text, view)
+    shown.WindowLocation = "Upper Left Corner"
+    shown.Justification = "Left"
+    shown.FontSize = 12
+    shown.Color = [0.1, 0.1, 0.1]
+    return text
+
+
+NORTH_SCRIPT = """
+import vtk
+points = vtk.vtkPoints()
+direction = vtk.vtkDoubleArray()
+direction.SetName("direction")
+direction.SetNumberOfComponents(3)
+verts = vtk.vtkCellArray()
+verts.InsertNextCell(1)
+verts.InsertCellPoint(points.InsertNextPoint(*{tail}))
+direction.InsertNextTuple3(*{north})
+output = self.GetPolyDataOutput()
+output.SetPoints(points)
+output.SetVerts(verts)
+output.GetPointData().AddArray(direction)
+"""
+
+
+def add_north_arrow(view, bounds, north_axis=0.0):
+    """A dark arrow on the ground at the model's south-west corner, pointing to true north (the
+    model's y axis turned by `north_axis` degrees, as docs/sun.md says), a fifth of the model's
+    size long."""
+    a = math.radians(north_axis or 0.0)
+    north = [-math.sin(a), math.cos(a), 0.0]
+    size = builtins.max(bounds[1] - bounds[0], bounds[3] - bounds[2], 1e-9)
+    tail = [bounds[0] + 0.05 * size, bounds[2] + 0.05 * size, bounds[4]]
+    source = ProgrammableSource(registrationName="north")
+    source.OutputDataSetType = "vtkPolyData"
+    source.Script = NORTH_SCRIPT.format(tail=repr(tail), north=repr(north))
+    arrow = Glyph(registrationName="north arrow", Input=source, GlyphType="Arrow")
+    arrow.OrientationArray = ["POINTS", "direction"]
+    arrow.ScaleArray = ["POINTS", "No scale array"]
+    arrow.ScaleFactor = 0.2 * size
+    shown = Show(arrow, view)
+    shown.ColorArrayName = ["POINTS", ""]
+    shown.DiffuseColor = [0.1, 0.1, 0.1]
+    NORTH[view] = north
+    return arrow
+
+
 def place_camera_above(view, bounds):
     """Above the model from the south-south-west, looking down at 50 degrees."""
     reset_to(view, bounds)
@@ -301,7 +394,7 @@ def light_glyphs(report, centre, radius):
 def describe(path, views, bounds, glyphs, size):
     """The model's box on screen, each colour bar and the light glyphs, as JSON (for tests)."""
     corners = [[bounds[i], bounds[2 + j], bounds[4 + k]] for i in (0, 1) for j in (0, 1) for k in (0, 1)]
-    out = {"bounds": bounds, "glyphs": glyphs, "views": []}
+    out = {"bounds": bounds, "glyphs": glyphs, "views": [], "series": IS_SERIES[0]}
     for name, view, (width, height) in views:
         camera = view.GetActiveCamera()
         matrix = camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1)
@@ -330,7 +423,9 @@ def describe(path, views, bounds, glyphs, size):
                          "range": [lut.RGBPoints[0], lut.RGBPoints[-4]] if len(lut.RGBPoints) >= 4 else [0, 0],
                          "thickness": bar.ScalarBarThickness, "orientation": str(bar.Orientation),
                          "view_size": [width, height]})
-        out["views"].append({"name": name, "model_box": [builtins.min(xs), builtins.max(xs), builtins.min(ys), builtins.max(ys)], "bars": bars})
+        out["views"].append({"name": name, "model_box": [builtins.min(xs), builtins.max(xs), builtins.min(ys), builtins.max(ys)], "bars": bars,
+                             "title": TITLED.get(view, []), "top_room": TOP_ROOM if view in TITLED else 0.0,
+                             "north": NORTH.get(view)})
     with open(path, "w") as f:
         json.dump(out, f, indent=1)
 
@@ -379,6 +474,7 @@ def open_series(args, outdir, report, read):
     """A `shadow series` OUTDIR: faces by sun hours, series.pvd by lit fraction (an animation),
     and the sun-hours map when the run made one."""
     series = report["series"]
+    IS_SERIES[0] = True
     has_pvd = os.path.isfile(os.path.join(outdir, "series.pvd"))
     has_map = os.path.isfile(os.path.join(outdir, "sun_hours.vtp"))
     count = 1 + has_pvd + has_map
@@ -395,6 +491,11 @@ def open_series(args, outdir, report, read):
     faces = read("faces.vtp")
     bounds = model_bounds(faces)
     style_sun_hours(Show(faces, views[0]), faces, views[0], total)
+    # What the colours are, over which period, and which way is north.
+    period = period_of(series)
+    north_axis = series.get("north_axis", 0.0)
+    add_title(views[0], ["sun hours per face"] + period)
+    add_north_arrow(views[0], bounds, north_axis)
     next_view = 1
     if has_pvd:
         # The instants as a ParaView time series: Play runs through the period.
@@ -418,6 +519,8 @@ def open_series(args, outdir, report, read):
         style_bar(GetScalarBar(fraction, view), "lit fraction", digits=2, labels=[0.0, 0.25, 0.5, 0.75, 1.0])
     if has_map:
         show_sun_hours(outdir, views[next_view], read, total)
+        add_title(views[next_view], ["sun hours (exact map)"] + period)
+        add_north_arrow(views[next_view], bounds, north_axis)
     for view in views:
         Render(view)  # ParaView resets the camera on a view's first render: get that done first
         place_camera_above(view, bounds)
@@ -444,6 +547,8 @@ def main():
         AssignViewToLayout(view=view, layout=layout, hint=0)
         white_view(view)
         sun_hours = show_sun_hours(outdir, view, read)
+        add_title(view, ["sun hours (exact map)", "period: see report.json"])
+        add_north_arrow(view, model_bounds(sun_hours))
         Render(view)
         place_camera_above(view, model_bounds(sun_hours))
         finish(args, layout, [view], (model_bounds(sun_hours), []))
@@ -557,6 +662,8 @@ def main():
         layout.AssignView(6, sun_view)
         white_view(sun_view)
         sun_hours = show_sun_hours(outdir, sun_view, read)
+        add_title(sun_view, ["sun hours (exact map)"])
+        add_north_arrow(sun_view, model_bounds(sun_hours))
         Render(sun_view)
         place_camera_above(sun_view, model_bounds(sun_hours))
         views.append(sun_view)

@@ -83,8 +83,23 @@ bool clip_to_plan(glm::dvec2& a, glm::dvec2& b, const Box& box) {
 }  // namespace
 
 std::optional<std::size_t> ground_mesh(const Scene& scene) {
+  // A city model's terrain is its ground (the largest, if it has several).
+  std::optional<std::size_t> terrain;
+  std::vector<double> plan(scene.meshes.size(), 0.0);
+  for (const Face& face : scene.faces)
+    if (face.mesh < plan.size()) plan[face.mesh] += 0.5 * std::abs(geometry::newell_normal(face.vertices).z);
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-    if (named_like_ground(scene.meshes[m].name) && scene.meshes[m].face_count > 0) return m;
+    if (scene.meshes[m].object_type == "TINRelief" && scene.meshes[m].face_count > 0 &&
+        (!terrain || plan[m] > plan[*terrain]))
+      terrain = m;
+  if (terrain) return terrain;
+  // By name, for meshes whose model says nothing of what they are: an EnergyPlus
+  // Shading:Site group or a CityJSON object named "...site..." is not the ground.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    if (named_like_ground(scene.meshes[m].name) && scene.meshes[m].face_count > 0 &&
+        scene.meshes[m].object_type.empty() && scene.meshes[m].first_face < scene.faces.size() &&
+        scene.faces[scene.meshes[m].first_face].kind.empty())
+      return m;
 
   // By shape: faces all facing up, nothing below it, larger in plan than everything else.
   std::vector<Box> boxes(scene.meshes.size());
@@ -124,14 +139,53 @@ std::vector<MeshRole> mesh_roles(const Scene& scene) {
   return roles;
 }
 
+std::vector<char> stray_meshes(const Scene& scene, std::optional<std::size_t> ground) {
+  std::vector<char> stray(scene.meshes.size(), 0);
+  std::vector<Box> boxes(scene.meshes.size());
+  for (const Face& face : scene.faces)
+    if (face.mesh < boxes.size() && (!ground || face.mesh != *ground))
+      for (const glm::dvec3& v : face.vertices) boxes[face.mesh].add(v);
+  std::vector<std::size_t> meshes;
+  for (std::size_t m = 0; m < boxes.size(); ++m)
+    if (!boxes[m].empty()) meshes.push_back(m);
+  if (meshes.size() < 10) return stray;
+  // The median of the meshes' centres in plan, and how far most of them lie from it.
+  auto median = [](std::vector<double> values, double q) {
+    const auto k = values.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(values.size() - 1));
+    std::nth_element(values.begin(), k, values.end());
+    return *k;
+  };
+  std::vector<double> xs, ys, sizes;
+  for (std::size_t m : meshes) {
+    xs.push_back(0.5 * (boxes[m].lo.x + boxes[m].hi.x));
+    ys.push_back(0.5 * (boxes[m].lo.y + boxes[m].hi.y));
+    sizes.push_back(glm::length(boxes[m].hi - boxes[m].lo));
+  }
+  const glm::dvec2 centre(median(xs, 0.5), median(ys, 0.5));
+  std::vector<double> distances;
+  for (std::size_t i = 0; i < meshes.size(); ++i) distances.push_back(glm::length(glm::dvec2(xs[i], ys[i]) - centre));
+  const double reach = 4.0 * std::max(median(distances, 0.8), median(sizes, 0.5));
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < meshes.size(); ++i) count += distances[i] > reach ? 1 : 0;
+  if (count == 0 || 10 * count > meshes.size()) return stray;  // a spread-out scene is framed whole
+  for (std::size_t i = 0; i < meshes.size(); ++i) stray[meshes[i]] = distances[i] > reach ? 1 : 0;
+  return stray;
+}
+
 std::vector<glm::dvec3> framed_points(const Scene& scene, Framing framing) {
   std::vector<glm::dvec3> points;
   const std::optional<std::size_t> ground = framing == Framing::Shadows ? ground_mesh(scene) : std::nullopt;
+  // A few meshes far from all the others (a city sample with one building 600 m away) would
+  // shrink the rest to a corner: the default framing leaves them out.
+  const std::vector<char> stray =
+      framing == Framing::Shadows ? stray_meshes(scene, ground) : std::vector<char>(scene.meshes.size(), 0);
+  auto framed = [&](const Face& face) { return face.mesh >= stray.size() || !stray[face.mesh]; };
   bool has_model = false;
   if (ground)
     for (const Face& face : scene.faces) has_model = has_model || face.mesh != *ground;
   if (!ground || !has_model) {
-    for (const Face& face : scene.faces) points.insert(points.end(), face.vertices.begin(), face.vertices.end());
+    for (const Face& face : scene.faces)
+      if (framed(face)) points.insert(points.end(), face.vertices.begin(), face.vertices.end());
     return points;
   }
 
@@ -145,7 +199,7 @@ std::vector<glm::dvec3> framed_points(const Scene& scene, Framing framing) {
         ground_box.add(v);
         ground_height += v.z;
         ++ground_vertices;
-      } else {
+      } else if (framed(face)) {
         points.push_back(v);
         model_box.add(v);
         mesh_boxes[face.mesh].add(v);
@@ -212,9 +266,10 @@ Camera frame_points(const Scene& scene, const std::vector<glm::dvec3>& points, d
   if (box.empty() || !(aspect > 0.0)) return camera;
   camera.target = 0.5 * (box.lo + box.hi);
   const double radius = std::max(0.5 * glm::length(box.hi - box.lo), 1e-9);
-  // From the side the first light's shadows fall to, looking back toward the light, turned
-  // 17 degrees and 40 degrees above the horizon: the shadows lie in front of what casts them,
-  // in full view (tools/render_result.py frames the same way).
+  // From 45 degrees above the horizon, on a side turned 70 degrees (40 to 90, below) from the
+  // one the first light's shadows fall to: the camera sees both lit and shadowed walls and the
+  // shadows running across the picture in front of what casts them. (Straight from the shadow
+  // side, as before, every wall in view was a wall in shadow.)
   glm::dvec3 shadow_side(0.0, -1.0, 0.0);
   if (!scene.lights.empty()) {
     const Light& light = scene.lights.front();
@@ -228,8 +283,8 @@ Camera frame_points(const Scene& scene, const std::vector<glm::dvec3>& points, d
     const glm::dvec3 flat(-to_light.x, -to_light.y, 0.0);
     if (glm::length(flat) > 1e-9 * glm::length(to_light)) shadow_side = glm::normalize(flat);
   }
-  const double turn = 0.3;  // radians
-  const double elevation = 40.0 * M_PI / 180.0;
+  const double turn = 70.0 * M_PI / 180.0;
+  const double elevation = 45.0 * M_PI / 180.0;
   auto view_from = [&](double azimuth_turn) {
     const double t = turn + azimuth_turn;
     const glm::dvec3 side(shadow_side.x * std::cos(t) - shadow_side.y * std::sin(t),
@@ -253,11 +308,36 @@ Camera frame_points(const Scene& scene, const std::vector<glm::dvec3>& points, d
     const glm::dvec3 n = geometry::newell_normal(face.vertices);
     total += std::abs(n.x) + std::abs(n.y);
   }
-  glm::dvec3 view = view_from(0.0);
+  // Of the sides 40 to 90 degrees from the shadow side (either way round), the one that sees
+  // most of the walls the first light lights: a camera looking square at the walls in shadow of
+  // a block laid out on a grid would show nothing lit but the roofs.
+  double chosen = 0.0;
+  if (!scene.lights.empty()) {
+    const Light& light = scene.lights.front();
+    const glm::dvec3 l = light.type == LightType::Directional ? light.to_light : light.position - camera.target;
+    auto lit_seen = [&](const glm::dvec3& v) {
+      double seen = 0.0;
+      for (const Face& face : scene.faces) {
+        const glm::dvec3 n = geometry::newell_normal(face.vertices);
+        if (glm::dot(n, l) > 0.0) seen += std::max(0.0, -(n.x * v.x + n.y * v.y));
+      }
+      return seen;
+    };
+    double most = lit_seen(view_from(0.0));
+    for (double degrees : {-10.0, 10.0, -20.0, 20.0, -30.0, -140.0, -130.0, -150.0, -120.0, -160.0, -110.0}) {
+      const double offset = degrees * M_PI / 180.0;
+      const double seen = lit_seen(view_from(offset));
+      if (seen > 1.05 * most + 1e-12 * total) {
+        most = seen;
+        chosen = offset;
+      }
+    }
+  }
+  glm::dvec3 view = view_from(chosen);
   double best = front_seen(view);
   if (best < -0.05 * total) {
     for (int k : {1, -1, 2, -2, 3, -3, 4}) {
-      const glm::dvec3 candidate = view_from(k * M_PI / 4.0);
+      const glm::dvec3 candidate = view_from(chosen + k * M_PI / 4.0);
       const double seen = front_seen(candidate);
       if (seen > best + 1e-9 * total) {
         best = seen;

@@ -50,9 +50,17 @@ std::optional<std::size_t> ground_mesh(const Scene& scene);
 /// The role of each mesh (one entry per scene mesh).
 std::vector<MeshRole> mesh_roles(const Scene& scene);
 
+/// The meshes the default framing leaves out (one entry per scene mesh, 1: left out): with ten
+/// or more meshes besides `ground`, those whose centre lies in plan more than four times farther
+/// from the median of the centres than 80% of them do (or than four median mesh sizes, when
+/// larger), when they are at most a tenth of the meshes. A real city sample can hold one
+/// building hundreds of metres from the others.
+std::vector<char> stray_meshes(const Scene& scene, std::optional<std::size_t> ground);
+
 /// The points the default camera frames: with Framing::Shadows and a ground, the vertices of
 /// every other mesh and their projections along each light onto the ground's plane (its mean
-/// height), clipped to the ground's extent in plan; otherwise every vertex.
+/// height), clipped to the ground's extent in plan; otherwise every vertex. With
+/// Framing::Shadows, the stray_meshes are left out.
 std::vector<glm::dvec3> framed_points(const Scene& scene, Framing framing);
 
 /// A camera that frames `points` from 40 degrees above the horizon, on the side the first

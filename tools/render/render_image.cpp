@@ -156,7 +156,11 @@ void add_decorations(vtkRenderer* renderer, const Decorations& d, const RenderOp
     const double row = 18 * unit, sw = 14 * unit, left = 10 * unit;
     const double lines = 1.0 + static_cast<double>(d.legend.size() + d.notes.size());  // a header, rows, notes
     const double top = options.height - 10 * unit;
-    const double width = 250 * unit;
+    // Wide enough for the longest line (about 0.6 em a character at 12 points).
+    std::size_t longest = 14;
+    for (const LegendEntry& e : d.legend) longest = std::max(longest, e.label.size() + 5);
+    for (const std::string& n : d.notes) longest = std::max(longest, n.size());
+    const double width = std::min(std::max(180.0, 7.0 * static_cast<double>(longest) + 10.0), 0.9 * options.width / unit) * unit;
     auto line_y = [&](std::size_t line) { return top - (static_cast<double>(line) + 1.0) * row; };  // its bottom
     shapes.polygon({{left - 4 * unit, top + 4 * unit}, {left - 4 * unit, top - lines * row - 4 * unit},
                     {left + width, top - lines * row - 4 * unit}, {left + width, top + 4 * unit}},
@@ -224,37 +228,22 @@ void add_decorations(vtkRenderer* renderer, const Decorations& d, const RenderOp
 Decorations make_decorations(const Scene& scene, const RenderOptions& options, double exposure) {
   Decorations d;
   if (options.legend) {
-    const std::vector<Material> materials = display_materials(scene, options.shade.palette);
-    const std::vector<MeshRole> roles = mesh_roles(scene);
-    // A group per distinct colour, named by its meshes.
-    std::vector<std::pair<const Material*, std::vector<std::string>>> groups;
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-      auto same = std::find_if(groups.begin(), groups.end(), [&](const auto& g) {
-        return g.first->color == materials[m].color && g.first->k_a == materials[m].k_a && g.first->k_d == materials[m].k_d;
-      });
-      if (same == groups.end()) {
-        groups.push_back({&materials[m], {}});
-        same = groups.end() - 1;
-      }
-      const std::string& name = scene.meshes[m].name;
-      same->second.push_back(roles[m] == MeshRole::Ground && name.find("ground") == std::string::npos ? name + " (ground)" : name);
-    }
+    // One row per colour: a type (windows, roofs, terrain, ...) or the meshes that share it.
+    const DisplayGroups groups = display_groups(scene, options.shade.palette);
+    std::vector<char> used(groups.groups.size(), 0);
+    for (std::size_t g : groups.face_group) used[g] = 1;
     auto srgb = [](const glm::dvec3& linear) {
       glm::dvec3 out;
       for (int i = 0; i < 3; ++i)
         out[i] = linear[i] <= 0.0031308 ? 12.92 * linear[i] : 1.055 * std::pow(linear[i], 1.0 / 2.4) - 0.055;
       return out;
     };
-    for (const auto& [material, names] : groups) {
+    for (std::size_t g = 0; g < groups.groups.size(); ++g) {
+      if (!used[g]) continue;
       if (d.legend.size() == 8) break;
+      const Material* material = &groups.groups[g].material;
       LegendEntry entry;
-      for (std::size_t i = 0; i < names.size(); ++i) {
-        if (i == 2) {
-          entry.label += " and " + std::to_string(names.size() - 2) + " more";
-          break;
-        }
-        entry.label += (i ? ", " : "") + names[i];
-      }
+      entry.label = groups.groups[g].label;
       // An upward surface, lit by every light at its strongest (diffuse, no highlight), and in
       // every light's shadow.
       double diffuse = 0.0;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <array>
+#include <cstdio>
 #include <map>
 #include <unordered_map>
 #include <utility>
@@ -99,11 +100,12 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
                          const ShadeOptions& options) {
   ColouredMesh mesh;
   const Camera& camera = options.camera;
-  // Material lookup once per face, not once per shaded point.
-  const std::vector<Material> materials = display_materials(scene, options.palette);
+  // Material lookup once per face, not once per shaded point: by the face's type or mesh.
+  const DisplayGroups groups = display_groups(scene, options.palette);
   auto colour_at = [&](const glm::dvec3& p, const glm::dvec3& normal, const OverlayCell& cell) {
     ShadingPoint point{p, normal, camera.eye};
-    return shade(point, materials[scene.faces[cell.face_id].mesh], scene.lights, cell.lit, options.lighting);
+    return shade(point, groups.groups[groups.face_group[cell.face_id]].material, scene.lights, cell.lit,
+                 options.lighting);
   };
 
   // Phong: the size of a pixel at distance 1, to refine the triangles to about a pixel.
@@ -286,16 +288,74 @@ glm::dvec3 expose(const glm::dvec3& linear, const Exposure& exposure, double sca
   return clamp01(c);
 }
 
+namespace {
+
+bool one_of(const std::string& s, std::initializer_list<const char*> names) {
+  for (const char* n : names)
+    if (s == n) return true;
+  return false;
+}
+
+bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+
+/// The scene material a mesh names, or null.
+const Material* named_material(const Scene& scene, std::size_t mesh) {
+  const std::string& name = scene.meshes[mesh].material;
+  if (name.empty()) return nullptr;
+  for (const Material& material : scene.materials)
+    if (material.name == name) return &material;
+  return nullptr;
+}
+
+/// True when every face of mesh `m` has a display type (and the mesh has faces).
+bool typed_mesh(const Scene& scene, std::size_t m) {
+  const Mesh& mesh = scene.meshes[m];
+  if (mesh.face_count == 0) return false;
+  for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f)
+    if (display_type(scene, f).empty()) return false;
+  return true;
+}
+
+}  // namespace
+
+std::string display_type(const Scene& scene, std::size_t face_id) {
+  const Face& face = scene.faces[face_id];
+  // What the surface is, when the model says it (EnergyPlus surface types, CityJSON semantics).
+  const std::string& k = face.kind;
+  if (one_of(k, {"Window", "GlassDoor", "TubularDaylightDome", "TubularDaylightDiffuser"})) return "windows (glass)";
+  if (k == "Door") return "doors";
+  if (k == "Shading") return "shading";
+  if (k == "Wall") return "walls";
+  if (k == "Roof" || k == "RoofSurface") return "roofs";
+  if (k == "Floor" || k == "Ceiling") return "floors, ceilings";
+  // Else what the city object is (CityJSON 1.0 to 2.0 types).
+  const std::string& t = face.mesh < scene.meshes.size() ? scene.meshes[face.mesh].object_type : std::string();
+  if (t.empty() || t == "zone") return "";  // an EnergyPlus zone: its faces' kinds say it all
+  if (starts_with(t, "Building")) return "buildings";
+  if (one_of(t, {"TINRelief", "LandUse"})) return "terrain";
+  if (one_of(t, {"PlantCover", "SolitaryVegetationObject"})) return "vegetation";
+  if (one_of(t, {"WaterBody", "Waterway"})) return "water";
+  if (one_of(t, {"Road", "Railway", "TransportSquare"})) return "roads";
+  if (starts_with(t, "Bridge")) return "bridges";
+  return "other city objects";
+}
+
 std::vector<Material> display_materials(const Scene& scene, const std::optional<Palette>& palette) {
   std::vector<Material> materials(scene.meshes.size());
   const std::vector<MeshRole> roles = mesh_roles(scene);
-  const bool any_building = std::find(roles.begin(), roles.end(), MeshRole::Building) != roles.end();
+  // Meshes whose every face has a type take their colours from display_groups and no turn of
+  // the rotating colours; with them in the scene, the first other mesh is not made to look
+  // like a building.
+  std::vector<char> typed(scene.meshes.size(), 0);
+  bool any_building = std::find(roles.begin(), roles.end(), MeshRole::Building) != roles.end();
+  if (palette)
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+      typed[m] = typed_mesh(scene, m) ? 1 : 0;
+      any_building = any_building || typed[m];
+    }
   std::size_t next_other = any_building ? 1 : 0;  // without buildings, the first other mesh looks like one
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-    const std::string& name = scene.meshes[m].material;
-    const auto named = std::find_if(scene.materials.begin(), scene.materials.end(),
-                                    [&](const Material& material) { return !name.empty() && material.name == name; });
-    if (named != scene.materials.end()) {
+    if (const Material* named = named_material(scene, m)) {
       materials[m] = *named;  // the scene's materials win
       continue;
     }
@@ -305,7 +365,9 @@ std::vector<Material> display_materials(const Scene& scene, const std::optional<
     material.k_d = palette->k_d;
     material.k_s = palette->k_s;
     material.shininess = palette->shininess;
-    if (roles[m] == MeshRole::Ground) {
+    if (typed[m]) {
+      material.color = palette->other;  // its faces are drawn by type (display_groups)
+    } else if (roles[m] == MeshRole::Ground) {
       material.color = palette->ground;
     } else if (roles[m] == MeshRole::Building) {
       material.color = palette->building;
@@ -316,6 +378,85 @@ std::vector<Material> display_materials(const Scene& scene, const std::optional<
     }
   }
   return materials;
+}
+
+DisplayGroups display_groups(const Scene& scene, const std::optional<Palette>& palette) {
+  DisplayGroups out;
+  out.face_group.assign(scene.faces.size(), 0);
+  const std::vector<Material> by_mesh = display_materials(scene, palette);
+  const std::vector<MeshRole> roles = mesh_roles(scene);
+  std::map<std::string, std::size_t> index;         // a group's key -> its index
+  std::vector<std::vector<std::string>> mesh_names;  // per group, for groups labelled by meshes
+  std::vector<std::size_t> last_mesh;                // per group, the last mesh named
+  auto group_of = [&](const std::string& key, const std::string& label, const Material& material) {
+    const auto [it, added] = index.try_emplace(key, out.groups.size());
+    if (added) {
+      out.groups.push_back({label, material});
+      mesh_names.emplace_back();
+      last_mesh.push_back(scene.meshes.size());
+    }
+    return it->second;
+  };
+  auto colour_key = [](const Material& m) {
+    char text[160];
+    std::snprintf(text, sizeof text, "colour %.17g %.17g %.17g %.17g %.17g", m.color.r, m.color.g, m.color.b, m.k_a, m.k_d);
+    return std::string(text);
+  };
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const std::size_t m = scene.faces[f].mesh;
+    if (m >= scene.meshes.size()) continue;
+    std::size_t g = 0;
+    const std::string type = palette && named_material(scene, m) == nullptr ? display_type(scene, f) : std::string();
+    if (!type.empty()) {
+      Material material;
+      material.name = type;
+      material.k_a = palette->k_a;
+      material.k_d = palette->k_d;
+      material.k_s = palette->k_s;
+      material.shininess = palette->shininess;
+      if (type == "windows (glass)") {
+        material.color = palette->glass;
+        material.k_s = palette->glass_k_s;
+        material.shininess = palette->glass_shininess;
+      } else if (type == "doors") material.color = palette->door;
+      else if (type == "shading") material.color = palette->shading;
+      else if (type == "walls" || type == "buildings") material.color = palette->building;
+      else if (type == "roofs") material.color = palette->roof;
+      else if (type == "floors, ceilings") material.color = palette->floor;
+      else if (type == "terrain") material.color = palette->ground;
+      else if (type == "vegetation") material.color = palette->vegetation;
+      else if (type == "water") material.color = palette->water;
+      else if (type == "roads") material.color = palette->road;
+      else if (type == "bridges") material.color = palette->bridge;
+      else material.color = palette->other;
+      g = group_of("type " + type, type, material);
+    } else {
+      // Labelled by the meshes that share the colour, as before types.
+      g = group_of(colour_key(by_mesh[m]), "", by_mesh[m]);
+      if (last_mesh[g] != m) {
+        const std::string& name = scene.meshes[m].name;
+        mesh_names[g].push_back(roles[m] == MeshRole::Ground && name.find("ground") == std::string::npos
+                                    ? name + " (ground)"
+                                    : name);
+        last_mesh[g] = m;
+      }
+    }
+    out.face_group[f] = g;
+  }
+  for (std::size_t g = 0; g < out.groups.size(); ++g) {
+    const std::vector<std::string>& names = mesh_names[g];
+    if (names.empty()) continue;
+    std::string label;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (i == 2) {
+        label += " and " + std::to_string(names.size() - 2) + " more";
+        break;
+      }
+      label += (i ? ", " : "") + names[i];
+    }
+    out.groups[g].label = label;
+  }
+  return out;
 }
 
 }  // namespace shadow::render

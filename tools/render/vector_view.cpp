@@ -80,8 +80,9 @@ bool is_vector_output(const std::string& path) {
 glm::dvec3 piece_colour(const Scene& scene, const VectorView& view, const ViewPiece& piece,
                         const VectorStyle& style) {
   const std::size_t mesh = scene.faces[piece.face_id].mesh;
-  const glm::dvec3 base = mesh < style.mesh_colours.size() ? style.mesh_colours[mesh]
-                                                           : scene.material_of(piece.face_id).color;
+  const glm::dvec3 base = piece.face_id < style.face_colours.size() ? style.face_colours[piece.face_id]
+                          : mesh < style.mesh_colours.size()        ? style.mesh_colours[mesh]
+                                                                    : scene.material_of(piece.face_id).color;
   // Lit: the material's colour a little darkened, so that white stays apart from the sky;
   // shadowed: a third of it. Without a light every piece is drawn as lit.
   const double scale = !view.light_id || piece.lit ? 0.8 : 0.18;
@@ -214,6 +215,17 @@ int run_vector_render(const RenderArgs& args) {
   Scene scene = load_scene(args.scene, render_load_options(args));
   if (!args.quiet)
     for (const Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+  // The exact view's cost grows faster than the face count (each face is clipped by the faces
+  // in front of it): bounded, so that a city asks for a PNG instead of running for minutes.
+  std::size_t faces = 0;
+  for (const Face& face : scene.faces) faces += face.degenerate ? 0 : 1;
+  if (faces > args.max_faces)
+    throw InputError({args.scene, ""},
+                     "the exact vector view of " + std::to_string(faces) + " faces is refused: it is bounded to " +
+                         std::to_string(args.max_faces) +
+                         " faces (--max-faces), as its cost grows with the faces and with how many lie behind "
+                         "one another (a whole city took minutes); draw a PNG instead (-o view.png), or raise "
+                         "--max-faces");
   const ViewCamera camera = vector_camera(scene, args);  // checked there, naming options or scene
   VectorViewOptions options;
   options.threads = args.threads;
@@ -234,10 +246,10 @@ int run_vector_render(const RenderArgs& args) {
   }
   VectorStyle style;
   style.edges = args.edges;
-  // The PNG's colours: each mesh's material, or the palette by role for meshes without one.
-  for (const Material& m : display_materials(scene, args.colours == "palette" ? std::optional<Palette>(Palette{})
-                                                                              : std::nullopt))
-    style.mesh_colours.push_back(m.color);
+  // The PNG's colours: each mesh's material, or the palette by type or role for faces without one.
+  const DisplayGroups groups =
+      display_groups(scene, args.colours == "palette" ? std::optional<Palette>(Palette{}) : std::nullopt);
+  for (const std::size_t g : groups.face_group) style.face_colours.push_back(groups.groups[g].material.color);
   style.title = std::filesystem::path(args.scene).filename().string();
   if (view.light_id) {
     const Light& light = scene.lights[*view.light_id];

@@ -21,6 +21,9 @@ struct VectorStyle {
   std::string title;   ///< the SVG's <title> and the PDF's title
   /// Linear RGB per scene mesh (the PNG's display_materials); empty: each face's material.
   std::vector<glm::dvec3> mesh_colours;
+  /// Linear RGB per scene face (the PNG's display_groups: by type); when set, it wins over
+  /// mesh_colours.
+  std::vector<glm::dvec3> face_colours;
 };
 
 /// Whether `path` names a vector output (".svg" or ".pdf", any case).
@@ -47,6 +50,10 @@ void write_pdf(const Scene& scene, const VectorView& view, const std::filesystem
 /// The camera of `shadow render` for a vector view: resolve_camera (render/camera.hpp), the
 /// PNG's own choice, at the image's size. @throws InputError naming the options or the scene
 ViewCamera vector_camera(const Scene& scene, const RenderArgs& args);
+
+/// Faces a vector view may have before `shadow render` refuses it (`--max-faces`): the exact
+/// view's cost grows faster than the face count (docs/vector-views.md).
+constexpr std::size_t kDefaultMaxVectorFaces = 20000;
 
 /// Runs `shadow render` for an .svg or .pdf output. @throws InputError, RenderError
 int run_vector_render(const RenderArgs& args);
