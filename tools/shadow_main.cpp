@@ -139,8 +139,7 @@ int run_compute(const ComputeArgs& args) {
     shadow_cli::set_stage(Stage::Preparing);
     const shadow::ShadowEngine engine(scene, options.threads);
     shadow_cli::set_stage(Stage::Computing);
-    result = engine.compute(options);
-    if (options.planes) result.plane_shadows = engine.compute_planes(options);
+    result = shadow::compute_shadows(engine, options);
   } catch (const shadow::InputError& e) {
     progress.finish();
     // Errors about lights found while computing still name the scene file.

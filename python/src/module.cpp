@@ -1163,20 +1163,7 @@ PYBIND11_MODULE(_libshadow, m) {
                              make_options(threads, polygons, lights, arithmetic, planes, plane_window, progress,
                                           tile_casters, fast_tile_casters),
                              [&](const ShadowOptions& o) {
-                               const ShadowEngine engine(*scene, o.threads, check);
-                               // As shadow::compute_shadows: the planes repeat the faces' last count.
-                               Progress last;
-                               ShadowOptions counted = o;
-                               counted.progress = [&](const Progress& p) {
-                                 last = p;
-                                 o.progress(p);
-                               };
-                               ShadowResult result = engine.compute(counted);
-                               if (o.planes) {
-                                 counted.progress = [&](const Progress&) { o.progress(last); };
-                                 result.plane_shadows = engine.compute_planes(counted);
-                               }
-                               return result;
+                               return shadow::compute_shadows(ShadowEngine(*scene, o.threads, check), o);
                              });
         },
         py::arg("scene"), py::arg("threads") = 0, py::arg("polygons") = true, py::arg("lights") = py::none(),

@@ -285,6 +285,15 @@ struct SeriesResult {
 /// @throws InputError if a light, face or option is unusable (zero direction, NaN, threads > 1024, ...).
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options = {});
 
+class ShadowEngine;
+
+/// compute_shadows on an engine prepared already (the faces, then with options.planes the
+/// planes; while the planes run, which count nothing, options.progress hears the faces' last
+/// count again, about every 100 ms, so that it can still stop the call). For callers that
+/// prepare the engine themselves (to report or interrupt the preparation).
+/// @throws InputError as compute_shadows.
+ShadowResult compute_shadows(const ShadowEngine& engine, const ShadowOptions& options);
+
 /// The exact shadows on the scene's planes for the selected lights (Blinn's projection: see
 /// blinn.hpp), ordered by plane then light. Independent of the per-face engine: the two are
 /// checked against each other in the tests. Checks coordinates and lights like compute_shadows.

@@ -530,7 +530,10 @@ core::PreparedScene EngineAccess::prepared(const ShadowEngine& engine) {
 }  // namespace detail
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
-  const ShadowEngine engine(scene, options.threads);
+  return compute_shadows(ShadowEngine(scene, options.threads), options);
+}
+
+ShadowResult compute_shadows(const ShadowEngine& engine, const ShadowOptions& options) {
   if (!options.progress) {
     ShadowResult result = engine.compute(options);
     if (options.planes) result.plane_shadows = engine.compute_planes(options);
