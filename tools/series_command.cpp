@@ -36,8 +36,9 @@ using Clock = std::chrono::steady_clock;
 CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   CLI::App* series = app.add_subcommand(
       "series", "Compute every sun instant of the scene's `sun` block on every receiving face (areas only) and "
-                "write sunlit.csv, series.pvd, faces.vtp (sun_hours) and report.json; for an EnergyPlus model (or "
-                "with --energyplus-shading) also energyplus-shading.csv");
+                "write sunlit.csv, sun_hours_by_object.csv (per building, zone or mesh), series.pvd, faces.vtp "
+                "(sun_hours) and report.json; for an EnergyPlus model (or with --energyplus-shading) also "
+                "energyplus-shading.csv and energyplus-objects.idf");
   series->footer(std::string(shadow_cli::exit_codes_help()) +
                  " Also 5: stopped by SIGINT or SIGTERM while keeping a checkpoint; --resume finishes the run. Across "
                  "machines: mpirun -np N shadow series ... (docs/cluster.md).");
