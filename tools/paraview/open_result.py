@@ -284,16 +284,18 @@ def add_title(view, lines):
     return text
 
 
-NORTH_SCRIPT = """
+# Arrows as glyphs: `glyphs` is a list of (position, direction) pairs (the lights, the north arrow).
+ARROWS_SCRIPT = """
 import vtk
 points = vtk.vtkPoints()
 direction = vtk.vtkDoubleArray()
 direction.SetName("direction")
 direction.SetNumberOfComponents(3)
 verts = vtk.vtkCellArray()
-verts.InsertNextCell(1)
-verts.InsertCellPoint(points.InsertNextPoint(*{tail}))
-direction.InsertNextTuple3(*{north})
+for position, toward in {glyphs}:
+    verts.InsertNextCell(1)
+    verts.InsertCellPoint(points.InsertNextPoint(*position))
+    direction.InsertNextTuple3(*toward)
 output = self.GetPolyDataOutput()
 output.SetPoints(points)
 output.SetVerts(verts)
@@ -311,7 +313,7 @@ def add_north_arrow(view, bounds, north_axis=0.0):
     tail = [bounds[0] + 0.05 * size, bounds[2] + 0.05 * size, bounds[4]]
     source = ProgrammableSource(registrationName="north")
     source.OutputDataSetType = "vtkPolyData"
-    source.Script = NORTH_SCRIPT.format(tail=repr(tail), north=repr(north))
+    source.Script = ARROWS_SCRIPT.format(glyphs=repr([(tail, north)]))
     arrow = Glyph(registrationName="north arrow", Input=source, GlyphType="Arrow")
     arrow.OrientationArray = ["POINTS", "direction"]
     arrow.ScaleArray = ["POINTS", "No scale array"]
@@ -334,22 +336,6 @@ def place_camera_above(view, bounds):
     frame_model(view, bounds)
 
 
-LIGHTS_SCRIPT = """
-import vtk
-points = vtk.vtkPoints()
-direction = vtk.vtkDoubleArray()
-direction.SetName("direction")
-direction.SetNumberOfComponents(3)
-verts = vtk.vtkCellArray()
-for position, toward in {glyphs}:
-    verts.InsertNextCell(1)
-    verts.InsertCellPoint(points.InsertNextPoint(*position))
-    direction.InsertNextTuple3(*toward)
-output = self.GetPolyDataOutput()
-output.SetPoints(points)
-output.SetVerts(verts)
-output.GetPointData().AddArray(direction)
-"""
 
 
 def is_extended(light):
@@ -631,7 +617,7 @@ def main():
     glyphs = light_glyphs(report, centre, radius)
     placed = ProgrammableSource(registrationName="lights (placed at the model)")
     placed.OutputDataSetType = "vtkPolyData"
-    placed.Script = LIGHTS_SCRIPT.format(glyphs=repr(glyphs))
+    placed.Script = ARROWS_SCRIPT.format(glyphs=repr(glyphs))
     arrows = Glyph(registrationName="lights", Input=placed, GlyphType="Arrow")
     arrows.OrientationArray = ["POINTS", "direction"]
     arrows.ScaleArray = ["POINTS", "No scale array"]
