@@ -3,7 +3,8 @@
 
 setuptools only packages: CMake configures and builds the library and the pybind11 module (the
 target libshadow_python, as `cmake --build` does), and the wheel takes the module
-(`_libshadow*.so`) with the shared library it links, `libshadow.so.N`, beside it; the module's
+(`_libshadow*.so`) with the shared libraries it links, `libshadow.so.N` (compute) and
+`libshadow_io.so.N` (file formats), beside it; the module's
 RPATH is set to $ORIGIN, so it loads that copy wherever it is installed. `__init__.py` comes from
 python/libshadow/.
 
@@ -39,18 +40,23 @@ def version():
 
 
 def linked_libshadow(module, build_dir):
-    """The libshadow.so.N that the built module loads (as the dynamic loader resolves it), or None
-    for a module linked with a static libshadow."""
+    """The libshadow shared libraries (libshadow.so.N, the compute component, and libshadow_io.so.N,
+    the file formats) that the built module loads, as the dynamic loader resolves them; empty for
+    a module linked with a static libshadow."""
     try:
         out = subprocess.run(["ldd", module], check=True, capture_output=True, text=True).stdout
+        found = []
         for line in out.splitlines():
-            match = re.match(r"\s*(libshadow\.so\.\d+)\s+=>\s+(\S+)", line)
+            match = re.match(r"\s*(libshadow(_io)?\.so\.\d+)\s+=>\s+(\S+)", line)
             if match:
-                return match.group(2)
-        return None
+                found.append(match.group(3))
+        return found
     except (OSError, subprocess.CalledProcessError):  # no ldd: where CMake puts shared libraries
-        found = sorted(glob.glob(os.path.join(build_dir, "lib", "libshadow.so.*")), key=len)
-        return found[0] if found else None
+        found = []
+        for name in ("libshadow.so.*", "libshadow_io.so.*"):
+            candidates = sorted(glob.glob(os.path.join(build_dir, "lib", name)), key=len)
+            found += candidates[:1]
+        return found
 
 
 class CMakeBuild(build_ext):
@@ -87,11 +93,12 @@ class CMakeBuild(build_ext):
                                   os.path.basename(expected), sys.executable))
         os.makedirs(os.path.dirname(expected), exist_ok=True)
         shutil.copyfile(modules[0], expected)
-        library = linked_libshadow(modules[0], build_dir)
-        if library is None:
+        libraries = linked_libshadow(modules[0], build_dir)
+        if not libraries:
             return  # a static libshadow: the module is self-contained
-        # Under its SONAME, dereferenced (a wheel holds no links), and found through $ORIGIN.
-        shutil.copyfile(library, os.path.join(os.path.dirname(expected), os.path.basename(library)))
+        # Under their SONAMEs, dereferenced (a wheel holds no links), and found through $ORIGIN.
+        for library in libraries:
+            shutil.copyfile(library, os.path.join(os.path.dirname(expected), os.path.basename(library)))
         with tempfile.TemporaryDirectory(prefix="libshadow-pip-") as scratch:
             script = os.path.join(scratch, "rpath.cmake")
             with open(script, "w", encoding="utf-8") as f:

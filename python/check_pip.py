@@ -2,7 +2,7 @@
 """ctest python_pip: `pip install .` works offline on Debian 12 (no scikit-build-core, no PyPI):
 pip --no-build-isolation --no-index --no-deps --target DIR builds a wheel with setuptools
 (setup.py), which takes the module from this CMake build tree (LIBSHADOW_BUILD_DIR, so nothing is
-compiled again) and bundles libshadow.so.N beside it, with the module's RPATH $ORIGIN. The installed package imports from DIR,
+compiled again) and bundles libshadow.so.N and libshadow_io.so.N beside it, with the module's RPATH $ORIGIN. The installed package imports from DIR,
 loads the bundled libshadow.so (not the build tree's), and computes the default scene.
 The packaging files are copied to a scratch source folder, so that pip's build leaves nothing in
 the repository.
@@ -27,7 +27,8 @@ subprocess.run([sys.executable, "-m", "pip", "install", "--no-build-isolation", 
 installed = sorted(os.listdir(os.path.join(target, "libshadow")))
 print("installed:", installed)
 assert "__init__.py" in installed and any(n.startswith("_libshadow") for n in installed), installed
-assert any(n.startswith("libshadow.so.") for n in installed), installed
+assert any(n.startswith("libshadow.so.") for n in installed), installed  # compute
+assert any(n.startswith("libshadow_io.so.") for n in installed), installed  # io
 module = [n for n in installed if n.startswith("_libshadow")][0]
 dynamic = subprocess.run(["readelf", "-d", os.path.join(target, "libshadow", module)], capture_output=True,
                          text=True).stdout
@@ -39,8 +40,9 @@ import os, sys, libshadow
 assert libshadow.__file__.startswith(sys.argv[1]), libshadow.__file__
 r = libshadow.compute_shadows(libshadow.load_scene(sys.argv[2]), polygons=False)
 assert len(r) > 0 and 0 <= r.lit_fraction.min() and r.lit_fraction.max() <= 1
-# The shared library the module loaded is the one pip put beside it.
-maps = [line.split()[-1] for line in open("/proc/self/maps") if "libshadow.so" in line]
+# The shared libraries the module loaded are the ones pip put beside it.
+maps = [line.split()[-1] for line in open("/proc/self/maps") if "libshadow.so" in line or "libshadow_io.so" in line]
+assert any("libshadow_io.so" in m for m in maps) and any("libshadow.so" in m for m in maps), sorted(set(maps))
 assert maps and all(m.startswith(os.path.realpath(sys.argv[1])) for m in maps), sorted(set(maps))
 print("pip-installed libshadow", libshadow.__version__, "loads", sorted(set(maps))[0])
 """

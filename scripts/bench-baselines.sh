@@ -12,6 +12,6 @@ bench=./build/release/bin/shadow-bench
 "$bench" compare --threads 2 --max-samples 9e8 --csv docs/bench-compare.csv --json docs/bench-compare.json \
   | tee /tmp/bench-compare.md
 "$bench" hard-cases --threads 2 --csv docs/bench-hard-cases.csv | tee /tmp/bench-hard-cases.md
-/usr/bin/python3 tools/plot_speed_error.py docs/bench-compare.csv docs/img/bench-speed-error \
+/usr/bin/python3 tools/bench/plot_speed_error.py docs/bench-compare.csv docs/img/bench-speed-error \
   | tee /tmp/bench-scaling.md
 echo "bench-baselines: tables in /tmp/bench-compare.md, /tmp/bench-hard-cases.md, /tmp/bench-scaling.md"

@@ -44,8 +44,8 @@ if ((with_tests)); then
   # python_pip.
   packages+=(python3-pandas python3-pip python3-setuptools python3-wheel)
 fi
-# Optional: plotting benchmarks (tools/plot_bench.py) and rendering results headless
-# (tools/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
+# Optional: plotting benchmarks (tools/bench/plot_bench.py) and rendering results headless
+# (tools/inspect/render_result.py). LIBSHADOW_WITH_EXTRAS=1 bash scripts/install-deps.sh
 if [[ "${LIBSHADOW_WITH_EXTRAS:-0}" == 1 ]]; then
   packages+=(python3-matplotlib python3-vtk9 xvfb xauth)
 fi

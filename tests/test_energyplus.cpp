@@ -2,12 +2,13 @@
 // EnergyPlus geometry in (IDF and epJSON): the example model both ways, coordinate systems,
 // windows cut out of their walls, the sun, and one-line errors with line and field.
 #include <shadow/energyplus.hpp>
+#include <shadow/series_files.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 
-#include "scene/energyplus_reader.hpp"
-#include "scene/idf_tokenizer.hpp"
+#include "readers/energyplus_reader.hpp"
+#include "readers/idf_tokenizer.hpp"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>

@@ -9,7 +9,7 @@
 #include "exact/exact_faces.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/point_hash.hpp"
-#include "scene/validate_reference.hpp"
+#include "validation/validate_reference.hpp"
 
 #include <shadow/generators.hpp>
 #include <shadow/scene_io.hpp>

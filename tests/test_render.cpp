@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `shadow render`'s pieces: the overlay of per-light fragments (no display needed) and the
 // pictures (need an X display: ctest runs this under xvfb-run).
-#include "render/camera.hpp"
-#include "render/render_image.hpp"
-#include "render/shaded_mesh.hpp"
+#include <shadow/render/camera.hpp>
+#include <shadow/render/render_image.hpp>
+#include <shadow/render/shaded_mesh.hpp>
 
 #include <shadow/shadow.hpp>
 
@@ -590,7 +590,7 @@ TEST_F(RenderTest, TheDefaultsReadWellOnASceneWithoutMaterials) {
   EXPECT_LT(ratio, 4.5);
 }
 
-// ---- the camera shared by the raster and vector views (tools/render/camera.hpp) --------------------
+// ---- the camera shared by the raster and vector views (shadow/render/camera.hpp) --------------------
 
 TEST(Camera, TheGroundIsFoundByNameOrByShape) {
   shadow::Scene scene = roof_scene(false);  // "ground" and "roof"

@@ -6,6 +6,7 @@
 // at an equinox (declination 0) the sun's direction at latitude phi and hour angle H is, in
 // east/north/up, (-sin H, -cos H sin phi, cos H cos phi); H = 15 deg per hour from solar noon.
 #include <shadow/shadow.hpp>
+#include <shadow/series_files.hpp>
 
 #include <gtest/gtest.h>
 
@@ -415,18 +416,18 @@ TEST(Series, SunHoursPerObjectRollPartsUpAreaWeighted) {
 }
 
 TEST(Series, TimesAndCsvFields) {
-  EXPECT_EQ(shadow::format_series_time(0), "1970-01-01T00:00:00Z");
-  EXPECT_EQ(shadow::format_series_time(utc(2028, 2, 29, 23, 45)), "2028-02-29T23:45:00Z");
-  EXPECT_EQ(shadow::format_series_time(utc(2026, 12, 31, 23, 59) + 59), "2026-12-31T23:59:59Z");
-  EXPECT_EQ(shadow::format_series_time(utc(1969, 12, 31, 12)), "1969-12-31T12:00:00Z");
-  EXPECT_EQ(shadow::format_series_time(utc(2100, 3, 1)), "2100-03-01T00:00:00Z");
+  EXPECT_EQ(shadow::format_iso8601_utc(0), "1970-01-01T00:00:00Z");
+  EXPECT_EQ(shadow::format_iso8601_utc(utc(2028, 2, 29, 23, 45)), "2028-02-29T23:45:00Z");
+  EXPECT_EQ(shadow::format_iso8601_utc(utc(2026, 12, 31, 23, 59) + 59), "2026-12-31T23:59:59Z");
+  EXPECT_EQ(shadow::format_iso8601_utc(utc(1969, 12, 31, 12)), "1969-12-31T12:00:00Z");
+  EXPECT_EQ(shadow::format_iso8601_utc(utc(2100, 3, 1)), "2100-03-01T00:00:00Z");
   for (shadow::UtcSeconds t = utc(1999, 1, 1); t < utc(2031, 1, 1); t += 86400 * 7 + 3601) {
     std::tm tm{};
     const std::time_t tt = static_cast<std::time_t>(t);
     gmtime_r(&tt, &tm);
     char expected[32];
     std::strftime(expected, sizeof expected, "%Y-%m-%dT%H:%M:%SZ", &tm);
-    ASSERT_EQ(shadow::format_series_time(t), expected);
+    ASSERT_EQ(shadow::format_iso8601_utc(t), expected);
   }
   EXPECT_EQ(shadow::csv_field("plain"), "plain");
   EXPECT_EQ(shadow::csv_field("a,b"), "\"a,b\"");

@@ -9,6 +9,7 @@
 
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
+#include <shadow/output.hpp>  // write_sun_hours_vtp
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/sun_hours.hpp>

@@ -4,6 +4,7 @@
 // scenes from Python data, adds to_pandas() and sun hours. Only the public API (shadow/*.hpp)
 // is used: the module is a client of the library like the CLI.
 #include <shadow/shadow.hpp>
+#include <shadow/series_files.hpp>
 #include <shadow/sun.hpp>
 #include <shadow/series.hpp>
 #include <shadow/sun_hours.hpp>

@@ -5,7 +5,7 @@
 // the replay runner) reports it.
 #include <shadow/scene_io.hpp>
 
-#include "scene/energyplus_reader.hpp"
+#include "readers/energyplus_reader.hpp"
 
 #include <cstddef>
 #include <cstdint>

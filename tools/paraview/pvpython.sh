@@ -5,7 +5,7 @@
 # Uses the system's pvpython when python3-paraview is installed; otherwise the copy that
 # scripts/setup-pvpython.sh unpacked beside libshadow's build dependencies (Debian 12's
 # python3-paraview conflicts with libvtk9-dev). Rendering is offscreen; without a DISPLAY the
-# script runs under a private virtual X server (tools/run-headless.sh: Debian's xvfb).
+# script runs under a private virtual X server (run-headless.sh beside this script, or one level up where installed: Debian's xvfb).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 prefix="${LIBSHADOW_PVPYTHON_PREFIX:-/opt/libshadow/python3-paraview}"
@@ -27,7 +27,7 @@ else
 fi
 
 if [[ -z "${DISPLAY:-}" ]]; then
-  # A private Xvfb (tools/run-headless.sh; installed one level up, in share/libshadow).
+  # A private Xvfb (run-headless.sh: installed one level up, in share/libshadow; beside it in the source tree).
   headless="$here/../run-headless.sh"
   [[ -x "$headless" ]] || headless="$here/run-headless.sh"
   command=("$headless" "${command[@]}")

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 /// @file shadow.hpp
-/// @brief Everything of libshadow's public API in one include.
+/// @brief Everything of libshadow's public API in one include: the compute component's headers
+/// (libshadow/compute/include) and the io component's (libshadow/io/include).
 #pragma once
 
 #include <shadow/area_lights.hpp>
@@ -10,11 +11,15 @@
 #include <shadow/generators.hpp>
 #include <shadow/input_file.hpp>
 #include <shadow/lighting.hpp>
+#include <shadow/material.hpp>
 #include <shadow/output.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/series.hpp>
+#include <shadow/series_files.hpp>
 #include <shadow/shadows.hpp>
+#include <shadow/sun.hpp>
 #include <shadow/sun_hours.hpp>
+#include <shadow/validation.hpp>
 #include <shadow/version.hpp>
 #include <shadow/view.hpp>

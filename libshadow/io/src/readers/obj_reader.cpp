@@ -1,0 +1,314 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Wavefront OBJ reading: only `v` and `f` matter for shadows; everything else is skipped.
+//
+// The whole file is read into memory and scanned line by line with std::from_chars, so a
+// million-line mesh parses in a fraction of a second.
+#include "readers/obj_reader.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <shadow/input_file.hpp>
+#include <shadow/scene_io.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+namespace shadow {
+
+
+namespace {
+
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+/// Splits a logical line into whitespace-separated tokens without copying.
+class Tokens {
+ public:
+  explicit Tokens(std::string_view line) : rest_(line) {}
+  /// The next token, or an empty view at the end.
+  std::string_view next() {
+    std::size_t i = 0;
+    while (i < rest_.size() && is_blank(rest_[i])) ++i;
+    std::size_t j = i;
+    while (j < rest_.size() && !is_blank(rest_[j])) ++j;
+    const std::string_view token = rest_.substr(i, j - i);
+    rest_.remove_prefix(j);
+    return token;
+  }
+
+ private:
+  std::string_view rest_;
+};
+
+/// What went wrong on one line; turned into an InputError with the file name by the caller.
+struct LineError {
+  std::string problem;
+};
+
+std::string quoted(std::string_view token) {
+  constexpr std::size_t kMax = 40;  // keep the error on one readable line
+  std::string out = "\"";
+  out.append(token.substr(0, kMax));
+  if (token.size() > kMax) out += "...";
+  out += '"';
+  return out;
+}
+
+/// A coordinate: the whole token must be a finite number.
+double parse_coordinate(std::string_view token, const char* axis) {
+  std::string_view digits = token;
+  // from_chars does not take a leading '+', which some exporters write.
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' && digits[1] != '+')
+    digits.remove_prefix(1);
+  double value = 0.0;
+  const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (ptr != digits.data() + digits.size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
+    throw LineError{std::string(axis) + " coordinate " + quoted(token) + " is not a number"};
+  if (ec == std::errc::result_out_of_range) {
+    // from_chars leaves the value unset; strtod tells overflow (inf) from underflow (tiny).
+    value = std::strtod(std::string(digits).c_str(), nullptr);
+  }
+  if (!std::isfinite(value))
+    throw LineError{std::string(axis) + " coordinate " + quoted(token) +
+                    " is not finite (NaN, infinity or beyond the range of a double)"};
+  return value;
+}
+
+/// An OBJ index (vertex, texture or normal part of a face reference).
+bool parse_index(std::string_view text, long long& index) {
+  if (!text.empty() && text[0] == '+') text.remove_prefix(1);
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+  if (ec == std::errc::result_out_of_range && ptr == text.data() + text.size()) {
+    index = text[0] == '-' ? -(1LL << 62) : (1LL << 62);  // surely out of range; reported as such
+    return true;
+  }
+  return !text.empty() && ec == std::errc() && ptr == text.data() + text.size();
+}
+
+/// Resolves one face reference (`v`, `v/t`, `v//n` or `v/t/n`) to a 0-based vertex index.
+std::size_t resolve_reference(std::string_view ref, std::size_t vertex_count) {
+  const std::size_t slash = ref.find('/');
+  const std::string_view vertex_part = ref.substr(0, slash);
+  long long index = 0;
+  if (!parse_index(vertex_part, index))
+    throw LineError{"face vertex reference " + quoted(ref) +
+                    " is malformed (expected v, v/t, v//n or v/t/n with integer indices)"};
+  if (slash != std::string_view::npos) {
+    // Texture and normal indices are not used, but a malformed reference is still an error.
+    const std::string_view rest = ref.substr(slash + 1);
+    const std::size_t slash2 = rest.find('/');
+    const std::string_view texture = rest.substr(0, slash2);
+    const std::string_view normal =
+        slash2 == std::string_view::npos ? std::string_view() : rest.substr(slash2 + 1);
+    long long ignored = 0;
+    const bool ok = (texture.empty() || parse_index(texture, ignored)) &&
+                    (normal.empty() || parse_index(normal, ignored)) &&
+                    !(slash2 != std::string_view::npos && normal.empty()) &&
+                    !(slash2 == std::string_view::npos && texture.empty());
+    if (!ok)
+      throw LineError{"face vertex reference " + quoted(ref) +
+                      " is malformed (expected v, v/t, v//n or v/t/n with integer indices)"};
+  }
+  const auto count = static_cast<long long>(vertex_count);
+  // Negative indices count back from the last vertex defined so far (-1 is the last one).
+  const long long resolved = index > 0 ? index - 1 : count + index;
+  if (index != 0 && resolved >= 0 && resolved < count) return static_cast<std::size_t>(resolved);
+  const std::string so_far = " (the file has " + std::to_string(vertex_count) +
+                             (vertex_count == 1 ? " vertex" : " vertices") + " so far)";
+  if (index == 0) throw LineError{"vertex index 0 is invalid: OBJ indices start at 1" + so_far};
+  throw LineError{"vertex index " + std::string(vertex_part) + " is out of range" + so_far};
+}
+
+/// Calls `statement(text, line_number)` for every logical line: comments stripped, backslash
+/// continuations joined, CR of CRLF endings removed. The line number is where it starts.
+template <typename Statement>
+void for_each_statement(const std::string& text, Statement&& statement) {
+  std::size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // skip a UTF-8 BOM
+  std::size_t line_number = 0;
+  std::string joined;  // only used for continued lines
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string::npos) end = text.size();
+    ++line_number;
+    const std::size_t first_line = line_number;
+    std::string_view line(text.data() + pos, end - pos);
+    pos = end + 1;
+    auto trim_cr = [](std::string_view l) {
+      while (!l.empty() && (l.back() == '\r' || l.back() == ' ' || l.back() == '\t')) l.remove_suffix(1);
+      return l;
+    };
+    line = trim_cr(line);
+    if (!line.empty() && line.back() == '\\') {
+      joined.assign(line.data(), line.size() - 1);
+      while (pos < text.size()) {
+        std::size_t next_end = text.find('\n', pos);
+        if (next_end == std::string::npos) next_end = text.size();
+        ++line_number;
+        std::string_view next = trim_cr(std::string_view(text.data() + pos, next_end - pos));
+        pos = next_end + 1;
+        const bool continues = !next.empty() && next.back() == '\\';
+        if (continues) next.remove_suffix(1);
+        joined += ' ';
+        joined.append(next.data(), next.size());
+        if (!continues) break;
+      }
+      line = joined;
+    }
+    const std::size_t hash = line.find('#');
+    if (hash != std::string_view::npos) line = line.substr(0, hash);
+    statement(line, first_line);
+  }
+}
+
+[[noreturn]] void throw_open_error(const std::string& display_name, const char* what, int error) {
+  throw InputError({display_name, ""}, std::string(what) + ": " + std::strerror(error));
+}
+
+
+}  // namespace
+
+std::string read_input_file(const std::filesystem::path& file, const std::string& display_name,
+                            std::uintmax_t max_bytes, const std::string& limit_name) {
+  // Regular files only (symlinks followed): a FIFO would block forever, /dev/zero never ends.
+  // The file is opened without blocking and its type taken from the open descriptor, so a FIFO
+  // swapped in after a check cannot block the open or the reads.
+  errno = 0;
+  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw_open_error(display_name, "cannot open", errno != 0 ? errno : ENOENT);
+  struct Closer {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  struct stat info {};
+  if (::fstat(fd, &info) != 0) {
+    const int error = errno;
+    ::close(fd);
+    throw_open_error(display_name, "cannot open", error);
+  }
+  if (S_ISDIR(info.st_mode)) {
+    ::close(fd);
+    throw_open_error(display_name, "cannot open", EISDIR);
+  }
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
+    throw InputError({display_name, ""}, "cannot open: not a regular file (a device, FIFO or socket)");
+  }
+  auto too_big = [&] {
+    return InputError({display_name, ""}, "file is larger than the limit of " + std::to_string(max_bytes) +
+                                              " bytes (" + limit_name + ")");
+  };
+  const auto size = static_cast<std::uintmax_t>(info.st_size);
+  if (size > max_bytes) {
+    ::close(fd);
+    throw too_big();
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
+  std::unique_ptr<std::FILE, Closer> in(::fdopen(fd, "rb"));
+  if (!in) {
+    const int error = errno;
+    ::close(fd);
+    throw_open_error(display_name, "cannot open", error != 0 ? error : EIO);
+  }
+  std::string text;
+  text.reserve(static_cast<std::size_t>(size));
+  char buffer[1 << 16];
+  std::size_t n = 0;
+  while ((n = std::fread(buffer, 1, sizeof buffer, in.get())) > 0) {
+    // The file may grow while it is read: the limit holds for what is read, not what was stat'ed.
+    if (text.size() + n > max_bytes) throw too_big();
+    text.append(buffer, n);
+  }
+  if (std::ferror(in.get())) throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
+  return text;
+}
+
+namespace detail {
+
+std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj_text,
+                                                          const std::string& display_name,
+                                                          std::vector<std::size_t>* face_lines,
+                                                          std::vector<std::string>* face_groups) {
+  std::vector<glm::dvec3> vertices;
+  std::string group;  // the latest `o` or `g` name: the name of the faces that follow
+  std::vector<std::vector<glm::dvec3>> faces;
+  std::vector<glm::dvec3> scratch;  // the face being read, reused
+  if (face_lines != nullptr) face_lines->clear();
+  if (face_groups != nullptr) face_groups->clear();
+  for_each_statement(obj_text, [&](std::string_view line, std::size_t line_number) {
+    try {
+      Tokens tokens(line);
+      const std::string_view keyword = tokens.next();
+      if (keyword == "v") {
+        glm::dvec3 v;
+        const char* axes[3] = {"x", "y", "z"};
+        for (int i = 0; i < 3; ++i) {
+          const std::string_view token = tokens.next();
+          if (token.empty())
+            throw LineError{"vertex has " + std::to_string(i) + " coordinates; 3 are needed (v x y z)"};
+          v[i] = parse_coordinate(token, axes[i]);
+        }
+        // An optional w, or the vertex colours some exporters append: not needed here.
+        vertices.push_back(v);
+      } else if (keyword == "f" || keyword == "fo") {  // `fo` is the old spelling of `f`
+        scratch.clear();
+        for (std::string_view ref = tokens.next(); !ref.empty(); ref = tokens.next())
+          scratch.push_back(vertices[resolve_reference(ref, vertices.size())]);
+        if (scratch.size() < 3)
+          throw LineError{"face has " + std::to_string(scratch.size()) +
+                          (scratch.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed"};
+        faces.emplace_back(scratch.begin(), scratch.end());  // one allocation of the right size
+        if (face_lines != nullptr) face_lines->push_back(line_number);
+        if (face_groups != nullptr) face_groups->push_back(group);
+      } else if (keyword == "o" || keyword == "g") {
+        // The rest of the line, names separated by single spaces (`g a b` belongs to groups a
+        // and b: its name is "a b"); `g` alone goes back to no name.
+        group.clear();
+        for (std::string_view name = tokens.next(); !name.empty(); name = tokens.next()) {
+          if (!group.empty()) group += ' ';
+          group.append(name.data(), name.size());
+        }
+      }
+      // vt, vn, vp, s, usemtl, mtllib, l, p, curves and unknown statements: not geometry
+      // that casts shadows, ignored.
+    } catch (const LineError& e) {
+      throw InputError({display_name, "line " + std::to_string(line_number)}, e.problem);
+    }
+  });
+  return faces;
+}
+
+std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::path& obj_file,
+                                                         const std::string& display_name,
+                                                         std::vector<std::size_t>* face_lines,
+                                                         std::uintmax_t max_bytes,
+                                                         std::vector<std::string>* face_groups) {
+  return parse_obj_with_lines(read_input_file(obj_file, display_name, max_bytes), display_name, face_lines,
+                              face_groups);
+}
+
+}  // namespace detail
+
+std::vector<std::vector<glm::dvec3>> read_obj(const std::filesystem::path& obj_file,
+                                             const std::string& display_name, std::uintmax_t max_bytes) {
+  return detail::read_obj_with_lines(obj_file, display_name, nullptr, max_bytes);
+}
+
+std::vector<std::vector<glm::dvec3>> parse_obj(const std::string& obj_text,
+                                              const std::string& display_name) {
+  return detail::parse_obj_with_lines(obj_text, display_name, nullptr);
+}
+
+}  // namespace shadow

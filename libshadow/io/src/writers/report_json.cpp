@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "writers/face_identity_json.hpp"
+#include "writers/names.hpp"
+
+#include <shadow/output.hpp>
+#include <shadow/sun.hpp>
+#include <shadow/version.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace shadow {
+namespace {
+
+// ordered_json keeps keys in the order written here, which reads better than alphabetical.
+using Json = nlohmann::ordered_json;
+
+Json vec3(const glm::dvec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+/// Neumaier's compensated sum: totals over millions of faces keep the digits of their parts.
+class Sum {
+ public:
+  void add(double x) {
+    const double t = sum_ + x;
+    compensation_ += std::abs(sum_) >= std::abs(x) ? (sum_ - t) + x : (x - t) + sum_;
+    sum_ = t;
+  }
+  [[nodiscard]] double value() const { return sum_ + compensation_; }
+
+ private:
+  double sum_ = 0.0;
+  double compensation_ = 0.0;
+};
+
+Json lights_json(const Scene& scene) {
+  Json lights = Json::array();
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& light = scene.lights[i];
+    Json entry = {{"id", i}, {"name", light.name}};
+    if (light.type == LightType::Directional) {
+      entry["type"] = "directional";
+      entry["to_light"] = vec3(light.to_light);
+      if (light.angular_diameter > 0) entry["angular_diameter"] = light.angular_diameter;
+    } else if (light.type == LightType::Area) {
+      entry["type"] = "area";
+      Json polygon = Json::array();
+      for (const glm::dvec3& v : light.polygon) polygon.push_back(vec3(v));
+      entry["polygon"] = std::move(polygon);
+    } else if (light.type == LightType::Disk) {
+      entry["type"] = "disk";
+      entry["position"] = vec3(light.position);
+      entry["normal"] = vec3(light.normal);
+      entry["radius"] = light.radius;
+    } else {
+      entry["type"] = "point";
+      entry["position"] = vec3(light.position);
+    }
+    entry["intensity"] = light.intensity;
+    entry["color"] = vec3(light.color);
+    lights.push_back(std::move(entry));
+  }
+  // A sun's light also says when it shines and where the sun stands (additive keys).
+  for (const SunInstant& instant : scene.sun_instants) {
+    if (instant.light_id >= lights.size()) continue;
+    Json& entry = lights[instant.light_id];
+    entry["time"] = format_iso8601_utc(instant.time);
+    entry["elevation"] = instant.position.elevation;
+    entry["azimuth"] = instant.position.azimuth;
+  }
+  return lights;
+}
+
+/// The scene's `sun` block as it was read, with the count of its instants above and below the
+/// horizon (below: at or under min_elevation, no light).
+Json sun_json(const Scene& scene) {
+  const SunPeriod& sun = *scene.sun;
+  Json j;
+  j["site"] = {{"latitude", sun.site.latitude},
+               {"longitude", sun.site.longitude},
+               {"elevation", sun.site.elevation},
+               {"pressure", sun.site.pressure},
+               {"temperature", sun.site.temperature}};
+  if (sun.times.empty()) {
+    j["period"] = {{"start", sun.start}, {"end", sun.end}, {"step_minutes", sun.step_minutes}};
+  } else {
+    Json times = Json::array();
+    for (const UtcSeconds t : sun.times) times.push_back(format_iso8601_utc(t));
+    j["times"] = std::move(times);
+  }
+  j["utc_offset"] = sun.utc_offset_hours;
+  if (!sun.time_zone.empty()) j["time_zone"] = sun.time_zone;
+  j["north_axis"] = sun.north_axis;
+  j["min_elevation"] = sun.min_elevation;
+  if (sun.angular_diameter > 0) j["angular_diameter"] = sun.angular_diameter;  // additive key
+  j["delta_t"] = sun.delta_t;
+  std::size_t above = 0;
+  for (const SunInstant& instant : scene.sun_instants) above += instant.light_id != SunInstant::none ? 1 : 0;
+  j["instants"] = scene.sun_instants.size();
+  j["above_horizon"] = above;
+  j["below_horizon"] = scene.sun_instants.size() - above;
+  return j;
+}
+
+/// One face's report entry from its FaceLighting entries (all for `face_id`).
+Json face_json(const Scene& scene, std::size_t face_id,
+               const std::vector<const FaceLighting*>& entries, bool fast) {
+  std::string mesh;
+  if (face_id < scene.faces.size() && scene.faces[face_id].mesh < scene.meshes.size())
+    mesh = scene.meshes[scene.faces[face_id].mesh].name;
+  Json lights = Json::array();
+  for (const FaceLighting* e : entries) {
+    lights.push_back({{"light", e->light_id},
+                      {"light_name", detail::light_display_name(scene, e->light_id)},
+                      {"lit_area", e->lit_area},
+                      {"shadow_area", e->shadow_area},
+                      {"lit_fraction", e->lit_fraction},
+                      {"faces_light", e->faces_light}});
+    // The fast path's certificate: |lit_area - exact lit area| <= this (additive key).
+    if (fast) lights.back()["lit_area_error_bound"] = e->lit_area_error_bound;
+    // Cells too thin to be written as double polygons (additive key, only when there are some).
+    if (e->dropped_area > 0) lights.back()["dropped_area"] = e->dropped_area;
+    // An extended light's exact regions (docs/area-lights.md; additive keys, extended lights only).
+    if (e->light_id < scene.lights.size() && scene.lights[e->light_id].is_extended()) {
+      lights.back()["fully_lit_area"] = e->fully_lit_area;
+      lights.back()["penumbra_area"] = e->penumbra_area;
+      lights.back()["umbra_area"] = e->umbra_area;
+    }
+  }
+  Json entry = {{"id", face_id}, {"mesh", mesh}};
+  // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
+  // where it was read, which way it faces.
+  detail::add_face_identity(entry, scene, face_id);
+  entry["area"] = entries.front()->area;
+  entry["lights"] = lights;
+  return entry;
+}
+
+/// Pretty-printed (indent > 0) or compact text. Names come from user files: bytes that are not
+/// UTF-8 are replaced rather than failing the whole report.
+std::string dump(const Json& value, int indent = -1) {
+  return value.dump(indent, ' ', false, Json::error_handler_t::replace);
+}
+
+/// `text` (a pretty-printed value) indented by `indent` more spaces after each newline.
+/// JSON strings never hold a raw newline, so this cannot touch their content.
+std::string indent_more(const std::string& text, std::size_t indent) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    out += c;
+    if (c == '\n') out.append(indent, ' ');
+  }
+  return out;
+}
+
+Json run_json(const Scene& scene, const ShadowResult& result, const RunInfo* run) {
+  Json j;
+  j["scene"] = run != nullptr && !run->scene.empty() ? run->scene : scene.source.string();
+  j["started_utc"] = run != nullptr && !run->started_utc.empty() ? Json(run->started_utc) : Json(nullptr);
+  j["libshadow_version"] = version();
+  j["arithmetic"] = result.arithmetic == Arithmetic::Fast ? "fast" : "exact";
+  if (run != nullptr) {
+    const ShadowOptions& o = run->options;
+    j["options"] = {{"threads", o.threads},
+                    {"polygons", o.polygons},
+                    {"planes", o.planes},
+                    {"plane_window", o.plane_window},
+                    {"lights", o.lights},
+                    {"arithmetic", o.arithmetic == Arithmetic::Fast ? "fast" : "exact"},
+                    {"planarity_tolerance", run->planarity_tolerance}};
+    // Additive keys, written only when not the defaults (earlier reports stay as they were).
+    const ShadowOptions defaults;
+    if (o.tile_casters != defaults.tile_casters) j["options"]["tile_casters"] = o.tile_casters;
+    if (o.fast_tile_casters != defaults.fast_tile_casters) j["options"]["fast_tile_casters"] = o.fast_tile_casters;
+  }
+  return j;
+}
+
+void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run);
+
+}  // namespace
+
+void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result) {
+  write_report(out, scene, result, nullptr);
+}
+
+void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult& result,
+                       const RunInfo& run) {
+  write_report(out, scene, result, &run);
+}
+
+namespace {
+
+void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run) {
+  // Entries by face then light, whatever order they came in (the engine already sorts them).
+  std::vector<const FaceLighting*> entries;
+  entries.reserve(result.lighting.size());
+  for (const FaceLighting& e : result.lighting) entries.push_back(&e);
+  auto by_face_light = [](const FaceLighting* a, const FaceLighting* b) {
+    return a->face_id != b->face_id ? a->face_id < b->face_id : a->light_id < b->light_id;
+  };
+  if (!std::is_sorted(entries.begin(), entries.end(), by_face_light))
+    std::stable_sort(entries.begin(), entries.end(), by_face_light);
+
+  struct LightTotals {
+    Sum area;
+    Sum lit_area;
+    Sum bound;
+  };
+  const bool fast = result.arithmetic == Arithmetic::Fast;
+  std::map<std::size_t, LightTotals> per_light;
+  std::map<std::pair<std::size_t, std::size_t>, LightTotals> per_mesh;  // (mesh, light)
+  Sum total_area;
+  std::size_t receiving_faces = 0;
+
+  // The same text nlohmann's dump(2) gives for the whole document, but written piece by piece:
+  // the faces array can be huge and is never held as one document.
+  auto member = [&out](const char* key, const std::string& value_text, bool last = false) {
+    out << "  " << dump(Json(key)) << ": " << indent_more(value_text, 2) << (last ? "\n" : ",\n");
+  };
+  out << "{\n";
+  member("libshadow_version", dump(Json(version())));
+  member("scene", dump(Json(scene.source.string())));
+  // The VTK files' points are relative to this (Scene::origin; models at projected coordinates).
+  if (scene.origin) member("origin", dump(vec3(*scene.origin)));
+  member("run", dump(run_json(scene, result, run), 2));
+  member("lights", dump(lights_json(scene), 2));
+  if (scene.sun) member("sun", dump(sun_json(scene), 2));
+
+  out << "  \"faces\": [";
+  std::vector<const FaceLighting*> group;
+  for (std::size_t i = 0; i < entries.size();) {
+    const std::size_t face_id = entries[i]->face_id;
+    group.clear();
+    for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
+      group.push_back(entries[i]);
+      LightTotals& totals = per_light[entries[i]->light_id];
+      totals.area.add(entries[i]->area);
+      totals.lit_area.add(entries[i]->lit_area);
+      totals.bound.add(entries[i]->lit_area_error_bound);
+      if (face_id < scene.faces.size()) {
+        LightTotals& m = per_mesh[{scene.faces[face_id].mesh, entries[i]->light_id}];
+        m.area.add(entries[i]->area);
+        m.lit_area.add(entries[i]->lit_area);
+      }
+    }
+    ++receiving_faces;
+    total_area.add(group.front()->area);
+    out << (receiving_faces == 1 ? "\n    " : ",\n    ")
+        << indent_more(dump(face_json(scene, face_id, group, fast), 2), 4);
+  }
+  out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
+
+  Json planes = Json::array();
+  for (const PlaneShadow& shadow : result.plane_shadows) {
+    const Plane& plane = scene.planes.at(shadow.plane_id);
+    planes.push_back({{"name", plane.name},
+                      {"plane", shadow.plane_id},
+                      {"light", shadow.light_id},
+                      {"light_name", detail::light_display_name(scene, shadow.light_id)},
+                      {"shadow_area", shadow.area},
+                      {"polygons", shadow.polygons.size()},
+                      {"window_half_size", shadow.window_half_size},
+                      {"reaches_window", shadow.reaches_window}});
+  }
+  member("planes", dump(planes, 2));
+
+  Json per_light_json = Json::array();
+  for (const auto& [light_id, totals] : per_light) {
+    const double area = totals.area.value();
+    const double lit = totals.lit_area.value();
+    per_light_json.push_back({{"light", light_id},
+                              {"light_name", detail::light_display_name(scene, light_id)},
+                              {"area", area},
+                              {"lit_area", lit},
+                              {"lit_fraction", area > 0.0 ? lit / area : 0.0}});
+    if (fast) per_light_json.back()["lit_area_error_bound"] = totals.bound.value() * (1 + 1e-12);
+  }
+  // Lit fractions per mesh and light: a building's or a city object's share of sun at a glance.
+  Json per_mesh_json = Json::array();
+  for (auto it = per_mesh.begin(); it != per_mesh.end();) {
+    const std::size_t mesh = it->first.first;
+    Json lights_of_mesh = Json::array();
+    double mesh_area = 0.0;
+    for (; it != per_mesh.end() && it->first.first == mesh; ++it) {
+      const double area = it->second.area.value(), lit = it->second.lit_area.value();
+      mesh_area = area;
+      lights_of_mesh.push_back({{"light", it->first.second}, {"lit_area", lit}, {"lit_fraction", area > 0.0 ? lit / area : 0.0}});
+    }
+    per_mesh_json.push_back({{"mesh", mesh < scene.meshes.size() ? scene.meshes[mesh].name : std::string()},
+                             {"area", mesh_area},
+                             {"lights", std::move(lights_of_mesh)}});
+  }
+  Json summary = {{"faces", scene.faces.size()},
+                        {"receiving_faces", receiving_faces},
+                        {"lights", scene.lights.size()},
+                        {"fragments", result.fragments.size()},
+                        {"total_area", total_area.value()},
+                        {"per_light", per_light_json},
+                        {"per_mesh", per_mesh_json}};
+  summary["arithmetic"] = fast ? "fast" : "exact";
+  summary["skipped_faces"] = scene.skipped_faces.size();  // --skip-invalid (additive key)
+  member("summary", dump(summary, 2));
+  // The list only when faces were skipped: the reports of other runs keep their keys.
+  if (!scene.skipped_faces.empty()) member("skipped_faces", dump(detail::skipped_faces_json(scene), 2));
+
+  Json stats = {{"receivers", result.stats.receivers},
+                      {"back_facing", result.stats.back_facing},
+                      {"candidate_pairs", result.stats.candidate_pairs},
+                      {"casting_pairs", result.stats.casting_pairs},
+                      {"unshadowed", result.stats.unshadowed}};
+  if (fast) {
+    stats["fast_exact_fallbacks"] = result.stats.fast_exact_fallbacks;
+    stats["fast_collapsed"] = result.stats.fast_collapsed;
+  }
+  if (result.stats.area_receivers > 0) {  // extended lights only (additive keys)
+    stats["area_receivers"] = result.stats.area_receivers;
+    stats["area_umbra_bounded"] = result.stats.area_umbra_bounded;
+    stats["area_light_straddles"] = result.stats.area_light_straddles;
+    stats["area_centre_behind"] = result.stats.area_centre_behind;
+    stats["area_projection_pieces"] = result.stats.area_projection_pieces;
+    stats["area_plane_pieces"] = result.stats.area_plane_pieces;
+  }
+  if (result.stats.dropped_cells > 0) stats["dropped_cells"] = result.stats.dropped_cells;  // additive key
+  if (result.stats.tiled_receivers > 0) {  // receivers split into tiles only (additive keys)
+    stats["tiled_receivers"] = result.stats.tiled_receivers;
+    stats["tiles"] = result.stats.tiles;
+  }
+  member("stats", dump(stats, 2));
+
+  Json warnings = Json::array();
+  for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
+  member("warnings", dump(warnings, 2), true);
+  out << "}\n";
+}
+
+}  // namespace
+
+}  // namespace shadow

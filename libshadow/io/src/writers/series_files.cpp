@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The text files of a sun series: sunlit.csv (per instant, UTC) and energyplus-shading.csv (per
+// time step of a whole year, local standard time, as EnergyPlus's Schedule:File:Shading reads
+// it). Conventions and their sources: docs/series.md.
+#include <shadow/error.hpp>
+#include <shadow/series_files.hpp>
+#include <shadow/series.hpp>
+#include <shadow/sun.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <system_error>
+#include <unordered_map>
+
+namespace shadow {
+namespace {
+
+constexpr std::int64_t kDay = 86400;
+
+// The calendar is shadow/sun.hpp's (days_from_civil, civil_from_days): one implementation.
+bool is_leap(std::int64_t y) { return is_valid_date(y, 2, 29); }
+
+/// Days from 1970-01-01 to January 1st of year y.
+std::int64_t days_to_year(std::int64_t y) { return days_from_civil(y, 1, 1); }
+
+struct Civil {
+  std::int64_t year;
+  int month;  // 1..12
+  int day;    // 1..31
+  int second_of_day;
+};
+
+/// The calendar date and time of `t` seconds since 1970-01-01T00:00:00 (no leap seconds).
+Civil civil(std::int64_t t) {
+  std::int64_t days = t / kDay;
+  std::int64_t rest = t % kDay;
+  if (rest < 0) {
+    rest += kDay;
+    --days;
+  }
+  const CivilDate date = civil_from_days(days);
+  return {date.year, date.month, date.day, static_cast<int>(rest)};
+}
+
+/// Shortest decimal form that reads back as the same double.
+std::string number(double value) {
+  char buffer[32];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  if (error != std::errc()) return "nan";
+  return std::string(buffer, end);
+}
+
+std::int64_t offset_seconds(const SunPeriod& period) {
+  return static_cast<std::int64_t>(std::llround(period.utc_offset_hours * 3600.0));
+}
+
+}  // namespace
+
+std::string format_series_time(UtcSeconds t) { return format_iso8601_utc(t); }
+
+std::string csv_field(const std::string& text) {
+  const bool quote = text.find_first_of(",\"\r\n") != std::string::npos ||
+                     (!text.empty() && (text.front() == ' ' || text.back() == ' '));
+  if (!quote) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  out += '"';
+  return out;
+}
+
+void write_sun_hours_by_object_csv(std::ostream& out, const ObjectSunHours& objects) {
+  out << "object,type,faces,area,sun_hours,sunlit_area_hours\r\n";
+  for (std::size_t i = 0; i < objects.objects.size(); ++i)
+    out << csv_field(objects.objects[i].id) << ',' << csv_field(objects.objects[i].type) << ',' << objects.faces[i]
+        << ',' << number(objects.area[i]) << ',' << number(objects.sun_hours[i]) << ','
+        << number(objects.sunlit_area_hours[i]) << "\r\n";
+}
+
+void write_sunlit_csv(std::ostream& out, const SunSeries& suns, const SurfaceSeries& surfaces) {
+  out << "time";
+  for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(s.label);
+  out << "\r\n";
+  for (std::size_t i = 0; i < surfaces.instants; ++i) {
+    out << (i < suns.times.size() ? format_series_time(suns.times[i]) : std::string());
+    for (std::size_t s = 0; s < surfaces.surfaces.size(); ++s)
+      out << ',' << number(surfaces.lit_fraction[s * surfaces.instants + i]);
+    out << "\r\n";
+  }
+}
+
+EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
+  EnergyPlusSchedule schedule;
+  if (!scene.sun) {
+    schedule.reason = "the scene has no sun block";
+    return schedule;
+  }
+  const SunPeriod& period = *scene.sun;
+  if (!period.times.empty()) {
+    schedule.reason = "the sun is given as explicit times, not a period of regular steps: EnergyPlus needs one value per time step";
+    return schedule;
+  }
+  if (period.step_minutes <= 0 || 60 % period.step_minutes != 0) {
+    schedule.reason = "step_minutes " + std::to_string(period.step_minutes) +
+                      " does not divide an hour: EnergyPlus's time steps are 60 / (1 to 60) minutes";
+    return schedule;
+  }
+  if (scene.sun_instants.empty()) {
+    schedule.reason = "the period has no instants";
+    return schedule;
+  }
+  {
+    // EnergyPlus upper-cases names: two columns that differ only by case would be one surface
+    // to it, and it would read only one of them.
+    std::unordered_map<std::string, std::string> seen;
+    for (const NamedSurface& s : named_surfaces(scene)) {
+      const auto [it, inserted] = seen.emplace(energyplus_name(s.label), s.label);
+      if (!inserted) {
+        schedule.reason = "the surfaces \"" + it->second + "\" and \"" + s.label +
+                          "\" differ only by case: EnergyPlus upper-cases names, so they would be one column (rename one)";
+        return schedule;
+      }
+    }
+  }
+  const std::int64_t offset = offset_seconds(period);
+  schedule.year = static_cast<int>(civil(scene.sun_instants.front().time + offset).year);
+  schedule.timesteps_per_hour = 60 / period.step_minutes;
+  const std::size_t days = is_leap(schedule.year) ? 366 : 365;
+  schedule.rows = days * 24 * static_cast<std::size_t>(schedule.timesteps_per_hour);
+  const std::int64_t year_start = days_to_year(schedule.year) * kDay;
+  const std::int64_t step = static_cast<std::int64_t>(period.step_minutes) * 60;
+  std::size_t outside = 0;
+  for (const SunInstant& instant : scene.sun_instants) {
+    const std::int64_t into = instant.time + offset - year_start;
+    if (into < 0 || into / step >= static_cast<std::int64_t>(schedule.rows))
+      ++outside;
+    else
+      ++schedule.rows_in_period;
+  }
+  schedule.written = true;
+  if (schedule.rows_in_period < schedule.rows)
+    schedule.reason = "the period covers " + std::to_string(schedule.rows_in_period) + " of the year's " +
+                      std::to_string(schedule.rows) + " time steps; the others are 0 (EnergyPlus reads a whole year)";
+  if (outside > 0)
+    schedule.reason += std::string(schedule.reason.empty() ? "" : "; ") + std::to_string(outside) +
+                       " instants after the year " + std::to_string(schedule.year) + " are left out";
+  return schedule;
+}
+
+bool energyplus_shading_wanted(const Scene& scene) {
+  if (scene.energyplus_shading) return *scene.energyplus_shading;
+  for (const Mesh& mesh : scene.meshes)
+    if (mesh.model == "energyplus") return true;
+  return false;
+}
+
+std::string energyplus_name(const std::string& name) {
+  std::string upper = name;
+  for (char& c : upper)
+    if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+  return upper;
+}
+
+EnergyPlusSchedule write_energyplus_shading_csv(std::ostream& out, const Scene& scene, const SunSeries& suns,
+                                                const SurfaceSeries& surfaces) {
+  const EnergyPlusSchedule schedule = energyplus_schedule(scene);
+  if (!schedule.written) return schedule;
+  const SunPeriod& period = *scene.sun;
+  const std::int64_t offset = offset_seconds(period);
+  const std::int64_t year_start = days_to_year(schedule.year) * kDay;
+  const std::int64_t step = static_cast<std::int64_t>(period.step_minutes) * 60;
+  // Which series column fills each row (rows without one are night or outside the period: 0).
+  std::vector<std::size_t> column(schedule.rows, SIZE_MAX);
+  for (std::size_t i = 0; i < suns.times.size() && i < surfaces.instants; ++i) {
+    const std::int64_t into = suns.times[i] + offset - year_start;
+    if (into < 0) continue;
+    const std::int64_t row = into / step;  // the step this instant starts (or lies in)
+    if (row < static_cast<std::int64_t>(schedule.rows)) column[static_cast<std::size_t>(row)] = i;
+  }
+  out << "Surface Name";
+  // EnergyPlus's own spelling of the names (upper case), or its header match finds none.
+  for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(energyplus_name(s.label));
+  out << '\n';
+  char stamp[16];
+  for (std::size_t row = 0; row < schedule.rows; ++row) {
+    // Stamped at the step's end, EnergyPlus's convention for a time step; midnight is 24:00 of
+    // the day that ends.
+    const std::int64_t end = year_start + static_cast<std::int64_t>(row + 1) * step;
+    const Civil day = civil(end - 1);
+    const int minute = static_cast<int>(((end - year_start) % kDay) / 60);
+    const int shown = minute == 0 ? 24 * 60 : minute;
+    std::snprintf(stamp, sizeof stamp, "%02d/%02d %02d:%02d", day.month, day.day, shown / 60, shown % 60);
+    out << stamp;
+    const std::size_t i = column[row];
+    for (std::size_t s = 0; s < surfaces.surfaces.size(); ++s)
+      out << ',' << (i == SIZE_MAX ? std::string("0") : number(surfaces.lit_fraction[s * surfaces.instants + i]));
+    out << '\n';
+  }
+  return schedule;
+}
+
+}  // namespace shadow

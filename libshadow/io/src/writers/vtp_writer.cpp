@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "writers/vtp_writer.hpp"
+
+#include "writers/vtk_errors.hpp"
+
+#include <shadow/output.hpp>
+
+#include <vtkCommand.h>
+#include <vtkErrorCode.h>
+#include <vtkExecutive.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cerrno>
+#include <cstring>
+#include <string>
+
+namespace shadow::detail {
+
+void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
+                    const std::filesystem::path& shown_as) {
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  // The writer reports the cause (when it knows one); its executive then adds a generic
+  // "returned failure" dump that says nothing useful: keep it off stderr, and out of the message.
+  vtkNew<VtkErrorCapture> errors;
+  vtkNew<VtkErrorCapture> pipeline_errors;
+  writer->AddObserver(vtkCommand::ErrorEvent, errors);
+  writer->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, pipeline_errors);
+  writer->SetFileName(path.string().c_str());
+  writer->SetInputData(data);
+  writer->SetDataModeToAppended();
+  writer->EncodeAppendedDataOff();  // raw binary: base64 would add a third to the size
+  writer->SetCompressorTypeToZLib();
+  writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
+  writer->SetIdTypeToInt64();
+
+  errno = 0;
+  const int ok = writer->Write();
+  const unsigned long code = writer->GetErrorCode();
+  if (ok == 1 && code == vtkErrorCode::NoError) return;
+
+  const int saved_errno = errno;
+  std::string reason = errors->reason();
+  // VTK quotes the file it opened: that is the temporary name, which means nothing to users.
+  const std::string quoted_path = " \"" + path.string() + "\"";
+  if (const std::size_t at = reason.find(quoted_path); at != std::string::npos)
+    reason.erase(at, quoted_path.size());
+  if (reason.empty() && code != vtkErrorCode::NoError)
+    reason = vtkErrorCode::GetStringFromErrorCode(code);
+  // VTK's codes below its own range are errno values, so the system's reason may be there already.
+  const std::string system_reason = saved_errno != 0 ? std::strerror(saved_errno) : "";
+  if (!system_reason.empty() && reason.find(system_reason) == std::string::npos)
+    reason += (reason.empty() ? "" : ": ") + system_reason;
+  if (reason.empty()) reason = "VTK could not write the file";
+  throw OutputError((shown_as.empty() ? path : shown_as).string() + ": " + reason);
+}
+
+}  // namespace shadow::detail

@@ -1,0 +1,474 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "writers/series_outputs.hpp"
+#include "writers/vtk_datasets.hpp"
+#include "writers/vtm_writer.hpp"
+#include "writers/vtp_writer.hpp"
+
+#include <shadow/error.hpp>
+#include <shadow/series_files.hpp>
+#include <shadow/output.hpp>
+#include <shadow/sun_hours.hpp>
+
+#include <vtkPolyData.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <vector>
+#include <string>
+#include <system_error>
+#include <utility>
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace shadow {
+
+OutputError::OutputError(const std::string& message) : std::runtime_error(escape_control(message)) {}
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
+const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd",
+                                          "fragments.pvd", "sun_hours_by_object.csv"};
+
+/// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
+/// `fragments_NNNNN.vtp`.
+bool is_series_instant_name(const std::string& name) {
+  for (const std::string prefix : {"sun_", "fragments_"}) {
+    const std::size_t n = prefix.size();
+    // `%05zu`: five digits, more from instant 100000 on.
+    if (name.size() >= n + 9 && name.rfind(prefix, 0) == 0 && name.compare(name.size() - 4, 4, ".vtp") == 0 &&
+        name.find_first_not_of("0123456789", n) == name.size() - 4)
+      return true;
+  }
+  return false;
+}
+
+long process_id() { return static_cast<long>(getpid()); }
+
+/// The files write() stages; their temporaries are `.NAME.tmp-PID`.
+const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
+                                    "scene.vtm", "report.json", "sun_hours.vtp"};
+
+/// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
+/// with SIGKILL cannot clean up after itself. Files of live processes are left alone.
+void remove_stale_temporaries(const fs::path& outdir, bool series_folder = false) {
+  std::error_code ec;
+  for (fs::directory_iterator it(outdir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::vector<std::string> outputs(std::begin(kOutputNames), std::end(kOutputNames));
+    outputs.insert(outputs.end(), std::begin(kSeriesOutputNames), std::end(kSeriesOutputNames));
+    if (series_folder) {
+      outputs.clear();
+      const std::size_t tmp = name.find(".tmp-");
+      if (name.size() > 1 && name[0] == '.' && tmp != std::string::npos && is_series_instant_name(name.substr(1, tmp - 1)))
+        outputs.push_back(name.substr(1, tmp - 1));
+    }
+    for (const std::string& output : outputs) {
+      const std::string prefix = "." + output + ".tmp-";
+      if (name.rfind(prefix, 0) != 0) continue;
+      const std::string digits = name.substr(prefix.size());
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) break;
+      char* stop = nullptr;
+      const long pid = std::strtol(digits.c_str(), &stop, 10);
+      if (pid <= 0) break;
+      // kill(pid, 0) checks existence without sending anything; ESRCH: no such process.
+      if (pid != process_id() && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+        std::error_code ignored;
+        fs::remove(it->path(), ignored);
+      }
+      break;
+    }
+  }
+}
+
+/// Output files written under temporary names. Whatever is not yet in place when this goes
+/// out of scope (an error, an exception) is removed, so no half-written file stays behind.
+class StagedFiles {
+ public:
+  explicit StagedFiles(fs::path dir) : dir_(std::move(dir)) {}
+  StagedFiles(const StagedFiles&) = delete;
+  StagedFiles& operator=(const StagedFiles&) = delete;
+  ~StagedFiles() {
+    for (const Entry& e : entries_) {
+      std::error_code ignored;
+      if (!e.placed) fs::remove(e.temp, ignored);
+    }
+  }
+
+  /// A file to write: `temp` (hidden, unique to this process) becomes `final_path` on commit.
+  struct Target {
+    fs::path temp;
+    fs::path final_path;
+  };
+
+  Target stage(const std::string& name) {
+    Entry e;
+    e.final_path = dir_ / name;
+    // A name in a subfolder (series/sun_00000.vtp) gets its temporary beside it.
+    e.temp = e.final_path.parent_path() / ("." + e.final_path.filename().string() + ".tmp-" + std::to_string(process_id()));
+    // Whatever is at that name now is not ours (a leftover of an earlier process with our pid, or
+    // a planted symbolic link that the writers would follow): remove the entry itself first.
+    std::error_code ignored;
+    fs::remove(e.temp, ignored);
+    entries_.push_back(e);
+    return {e.temp, e.final_path};
+  }
+
+  /// Renames every staged file into place, in staging order.
+  std::vector<fs::path> commit() {
+    std::vector<fs::path> placed;
+    for (Entry& e : entries_) {
+      std::error_code ec;
+      fs::rename(e.temp, e.final_path, ec);
+      if (ec) {
+        throw OutputError(e.final_path.string() + ": cannot move the finished file into place: " +
+                          ec.message());
+      }
+      e.placed = true;
+      placed.push_back(e.final_path);
+    }
+    return placed;
+  }
+
+ private:
+  struct Entry {
+    fs::path temp;
+    fs::path final_path;
+    bool placed = false;
+  };
+  fs::path dir_;
+  std::vector<Entry> entries_;
+};
+
+/// Creates `outdir` and its parents; an existing directory is fine.
+void make_output_directory(const fs::path& outdir) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(outdir, ec);
+  if (fs::exists(status)) {
+    if (!fs::is_directory(status))
+      throw OutputError(outdir.string() + ": exists and is not a directory");
+    return;
+  }
+  fs::create_directories(outdir, ec);
+  if (ec) {
+    throw OutputError(outdir.string() + ": cannot create the output directory: " + ec.message());
+  }
+}
+
+/// Removes a report.json of an earlier run before anything new is written, so that an
+/// interrupted run never leaves old results that look complete next to new files.
+void remove_stale_report(const fs::path& report) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(report, ec);
+  if (!fs::exists(status)) return;
+  if (fs::is_directory(status))
+    throw OutputError(report.string() + ": is a directory; cannot replace it with the report");
+  fs::remove(report, ec);
+  if (ec) throw OutputError(report.string() + ": cannot remove the old report: " + ec.message());
+}
+
+/// Writes `target.temp` through `write` with a checked close: a stream error (a full disk, a
+/// quota, a file size limit) while writing or flushing becomes an OutputError naming the final
+/// file, which is what the user asked for, with the system's reason.
+void write_staged_stream(const StagedFiles::Target& target, const std::function<void(std::ostream&)>& write) {
+  errno = 0;
+  std::ofstream out(target.temp, std::ios::binary | std::ios::trunc);
+  if (out) write(out);
+  if (out) out.close();  // the last buffer reaches the file here: its failure counts too
+  if (!out) {
+    const int saved_errno = errno;
+    throw OutputError(target.final_path.string() + ": " +
+                      (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
+  }
+}
+
+void write_report_file(const StagedFiles::Target& target, const Scene& scene, const ShadowResult& result,
+                       const RunInfo* run) {
+  write_staged_stream(target, [&](std::ostream& out) {
+    if (run != nullptr) write_report_json(out, scene, result, *run);
+    else write_report_json(out, scene, result);
+  });
+}
+
+/// An exclusive flock on OUTDIR/.shadow.lock, released (and the file removed) on destruction.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const fs::path& outdir) : path_(outdir / ".shadow.lock") {
+    // The file is removed on release, so the inode locked may have been unlinked by its holder
+    // between our open and our flock: then try again on the new file.
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);  // never through a planted link
+      if (fd_ < 0)
+        throw OutputError(path_.string() + ": cannot create the lock file: " + std::strerror(errno));
+      if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        const int error = errno;
+        ::close(fd_);
+        fd_ = -1;
+        if (error == EWOULDBLOCK)
+          throw OutputError(outdir.string() + ": another shadow process is writing to this directory (" +
+                            path_.filename().string() + " is locked); wait for it or choose another output");
+        throw OutputError(path_.string() + ": cannot lock: " + std::strerror(error));
+      }
+      struct stat held {}, now {};
+      if (::fstat(fd_, &held) == 0 && ::stat(path_.c_str(), &now) == 0 && held.st_ino == now.st_ino &&
+          held.st_dev == now.st_dev)
+        return;
+      ::close(fd_);
+      fd_ = -1;
+    }
+    throw OutputError(path_.string() + ": cannot lock: the lock file keeps changing");
+  }
+  ~DirectoryLock() {
+    if (fd_ < 0) return;
+    ::unlink(path_.c_str());  // while still locked: no one else can hold this inode now
+    ::close(fd_);
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  fs::path path_;
+  int fd_ = -1;
+};
+
+}  // namespace
+
+struct OutputDirectory::Impl {
+  fs::path outdir;
+  std::unique_ptr<DirectoryLock> lock;
+};
+
+OutputDirectory::OutputDirectory(const fs::path& outdir) : impl_(std::make_unique<Impl>()) {
+  impl_->outdir = outdir;
+  make_output_directory(outdir);
+  impl_->lock = std::make_unique<DirectoryLock>(outdir);
+  remove_stale_temporaries(outdir);
+  if (fs::is_directory(outdir / "series")) remove_stale_temporaries(outdir / "series", true);
+  // First, before any computing: a run killed from here on leaves no report.json, so nothing
+  // in the directory looks like a complete result.
+  remove_stale_report(outdir / "report.json");
+}
+
+OutputDirectory::~OutputDirectory() = default;
+
+const fs::path& OutputDirectory::path() const noexcept { return impl_->outdir; }
+
+std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowResult& result,
+                                             const RunInfo* run) {
+  const fs::path& outdir = impl_->outdir;
+  make_output_directory(outdir);  // it may have been removed while computing
+  remove_stale_report(outdir / "report.json");
+  // A sun series' files from an earlier `shadow series` into this OUTDIR would sit beside this
+  // run's complete-looking set (an old energyplus-shading.csv ready to import): remove them.
+  std::error_code ignored;
+  for (const char* old : kSeriesOutputNames) fs::remove(outdir / old, ignored);
+  fs::remove(outdir / "sun_hours.vtp", ignored);
+
+  // Each dataset is built just before it is written and freed right after: only one of them
+  // is in memory at a time. Errors name the final file, which is what the user asked for.
+  StagedFiles staged(outdir);
+  // Points relative to Scene::origin when it has one (report.json states it).
+  auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {
+    detail::shift_to_origin(poly, scene);
+    return poly;
+  };
+  // Fragments first: by far the largest file, so a full disk shows up before the others.
+  const auto fragments = staged.stage("fragments.vtp");
+  detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
+                         fragments.final_path);
+  const auto faces = staged.stage("faces.vtp");
+  detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path);
+  const auto plane_shadows = staged.stage("plane_shadows.vtp");
+  detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
+                         plane_shadows.final_path);
+  const auto lights = staged.stage("lights.vtp");
+  detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path);
+  const auto vtm = staged.stage("scene.vtm");
+  detail::write_vtm(
+      {{"faces", "faces.vtp"},
+       {"fragments", "fragments.vtp"},
+       {"plane_shadows", "plane_shadows.vtp"},
+       {"lights", "lights.vtp"}},
+      vtm.temp, vtm.final_path);
+  const auto report = staged.stage("report.json");  // staged last, so placed last
+  write_report_file(report, scene, result, run);
+  return staged.commit();
+}
+
+std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
+                                                    const SeriesResult& series, std::size_t every,
+                                                    const RunInfo* run) {
+  SeriesFiles files;
+  files.every = every;
+  return write_series(scene, suns, series, files, run);
+}
+
+std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
+                                                    const SeriesResult& series, const SeriesFiles& files,
+                                                    const RunInfo* run) {
+  const std::size_t every = files.every;
+  const fs::path& outdir = impl_->outdir;
+  make_output_directory(outdir);
+  remove_stale_report(outdir / "report.json");
+  const SurfaceSeries surfaces = surface_series(scene, series, suns.hours_per_instant);
+  const std::vector<double> hours = sun_hours(series, suns.hours_per_instant);
+  const std::vector<double> bound = sun_hours_error_bound(series, suns.hours_per_instant);
+  const ObjectSunHours objects = object_sun_hours(scene, series, suns.hours_per_instant);
+
+  StagedFiles staged(outdir);
+  const auto sunlit = staged.stage("sunlit.csv");
+  write_staged_stream(sunlit, [&](std::ostream& out) { write_sunlit_csv(out, suns, surfaces); });
+  EnergyPlusSchedule energyplus;
+  if (files.energyplus_shading.value_or(energyplus_shading_wanted(scene)))
+    energyplus = energyplus_schedule(scene);
+  else
+    energyplus.reason = files.energyplus_shading || scene.energyplus_shading
+                            ? "not asked for (energyplus_shading false)"
+                            : "not asked for: the scene has no EnergyPlus model (shadow series --energyplus-shading, or "
+                              "the scene key \"energyplus_shading\": true, writes it)";
+  if (energyplus.written) {
+    const auto ep = staged.stage("energyplus-shading.csv");
+    write_staged_stream(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
+  }
+  // How to use the CSV: the objects that make EnergyPlus import it, beside it.
+  if (energyplus.written && !files.energyplus_objects.empty()) {
+    const auto objects = staged.stage("energyplus-objects.idf");
+    write_staged_stream(objects, [&](std::ostream& out) { out << files.energyplus_objects; });
+  } else {
+    std::error_code ignored;
+    fs::remove(outdir / "energyplus-objects.idf", ignored);
+  }
+  // Sun hours per building (CityJSON object, parts rolled up), EnergyPlus zone or mesh.
+  const auto by_object = staged.stage("sun_hours_by_object.csv");
+  write_staged_stream(by_object, [&](std::ostream& out) { write_sun_hours_by_object_csv(out, objects); });
+  if (!energyplus.written) {
+    // Not this run's (report.json says why): an older one must not pass for it.
+    std::error_code ignored;
+    fs::remove(outdir / "energyplus-shading.csv", ignored);
+  }
+  // Points relative to Scene::origin when it has one, as in write() (report.json states it).
+  auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {
+    detail::shift_to_origin(poly, scene);
+    return poly;
+  };
+  // The instants' datasets share the base's points: shifting it shifts them all.
+  const vtkSmartPointer<vtkPolyData> base = shifted(detail::make_series_base(scene));
+  std::vector<std::string> instant_files;
+  if (every > 0) {
+    make_output_directory(outdir / "series");
+    std::vector<std::pair<double, std::string>> steps, fragment_steps;
+    for (std::size_t i = 0; i < series.instants; i += every) {
+      char name[64];  // room for any size_t
+      std::snprintf(name, sizeof name, "series/sun_%05zu.vtp", i);
+      const auto target = staged.stage(name);
+      detail::write_polydata(detail::make_series_instant(base, series, i), target.temp, target.final_path);
+      // ParaView's time: hours since the first instant (UTC seconds would lose its slider's digits).
+      const double t = i < suns.times.size() ? static_cast<double>(suns.times[i] - suns.times.front()) / 3600.0
+                                             : static_cast<double>(i);
+      steps.emplace_back(t, name);
+      instant_files.push_back(fs::path(name).filename().string());
+      if (files.fragments) {
+        // One instant's polygons at a time: a year of them would not fit in memory.
+        const ShadowResult result = files.fragments(i);
+        std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
+        const auto fragments = staged.stage(name);
+        detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
+                               fragments.final_path);
+        fragment_steps.emplace_back(t, name);
+        instant_files.push_back(fs::path(name).filename().string());
+      }
+    }
+    const auto pvd = staged.stage("series.pvd");
+    detail::write_pvd(steps, pvd.temp, pvd.final_path);
+    if (files.fragments) {
+      const auto fragments_pvd = staged.stage("fragments.pvd");
+      detail::write_pvd(fragment_steps, fragments_pvd.temp, fragments_pvd.final_path);
+    }
+  }
+  const auto faces = staged.stage("faces.vtp");
+  detail::write_polydata(detail::make_series_faces(base, series, hours, bound), faces.temp, faces.final_path);
+  const auto report = staged.stage("report.json");  // staged last, so placed last
+  write_staged_stream(report, [&](std::ostream& out) {
+    detail::write_series_report_json(out, scene, suns, series, surfaces, objects, hours, bound, energyplus, every,
+                                     run);
+  });
+  // Files of an earlier series that this one does not have would look like part of it.
+  const auto remove_others = [&] {
+    std::error_code ec;
+    for (fs::directory_iterator it(outdir / "series", ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (is_series_instant_name(name) &&
+          std::find(instant_files.begin(), instant_files.end(), name) == instant_files.end()) {
+        std::error_code ignored;
+        fs::remove(it->path(), ignored);
+      }
+    }
+  };
+  remove_others();
+  if (every == 0) {
+    std::error_code ignored;
+    fs::remove(outdir / "series.pvd", ignored);
+  }
+  if (every == 0 || !files.fragments) {
+    std::error_code ignored;
+    fs::remove(outdir / "fragments.pvd", ignored);
+  }
+  return staged.commit();
+}
+
+std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
+                                    const ShadowResult& result) {
+  return OutputDirectory(outdir).write(scene, result);
+}
+
+std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
+                                    const ShadowResult& result, const RunInfo& run) {
+  return OutputDirectory(outdir).write(scene, result, &run);
+}
+
+void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map) {
+  write_sun_hours_vtp(path, map, Scene{});
+}
+
+void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map, const Scene& scene) {
+  fs::path dir = path.parent_path();
+  if (dir.empty()) dir = ".";
+  make_output_directory(dir);
+  StagedFiles staged(dir);
+  const auto target = staged.stage(path.filename().string());
+  vtkSmartPointer<vtkPolyData> poly = detail::make_sun_hours_polydata(map);
+  detail::shift_to_origin(poly, scene);  // like every other dataset of the run (Scene::origin)
+  detail::write_polydata(poly, target.temp, target.final_path);
+  staged.commit();
+}
+
+void write_file_staged(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+  fs::path dir = path.parent_path();
+  if (dir.empty()) dir = ".";
+  StagedFiles staged(dir);
+  write_staged_stream(staged.stage(path.filename().string()), write);
+  staged.commit();
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+}  // namespace shadow

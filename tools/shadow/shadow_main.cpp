@@ -1,0 +1,339 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `shadow` command line: `shadow compute SCENE.json -o OUTDIR`, `shadow render SCENE.json -o PNG`,
+// `shadow sun --latitude LAT --longitude LON --time ISO8601` (tools/sun_command.cpp).
+#include <shadow/shadow.hpp>
+
+#ifdef LIBSHADOW_HAVE_RENDER
+#include <shadow/render/render_image.hpp>
+#include "render_command.hpp"
+#endif
+
+#include "cli_checks.hpp"
+#include "out_of_memory.hpp"
+#include "progress_line.hpp"
+#include "sun_command.hpp"
+#include "world.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include "series_command.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <new>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Exit codes: 0 success, 2 bad input or usage error, 3 output failure (including an OUTDIR
+/// locked by another run), 4 internal error, (5: `shadow series` stopped, series_command.cpp),
+/// 6 out of memory (out_of_memory.hpp). README.md and `shadow --help` list them.
+enum ExitCode { kOk = 0, kBadInput = 2, kOutputFailed = 3, kInternal = 4 };
+
+struct ComputeArgs {
+  std::string scene;
+  std::string outdir;
+  unsigned threads = 0;
+  bool quiet = false;
+  bool areas_only = false;
+  double planarity_tolerance = 1e-6;
+  double plane_window = 0.0;
+  std::string arithmetic = "exact";
+  bool orient_outward = false;
+  bool skip_invalid = false;  // --skip-invalid: leave out faces that fail validation
+  std::string lod;  // CityJSON level of detail; empty: the highest per object
+  std::size_t tile_casters = shadow::ShadowOptions{}.tile_casters;
+  std::size_t fast_tile_casters = shadow::ShadowOptions{}.fast_tile_casters;
+};
+
+
+/// The ParaView script that opens a result: installed beside the binary
+/// (`<prefix>/share/libshadow/paraview`), or in the source tree of a build-tree binary.
+fs::path paraview_script() {
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  const fs::path relative = fs::path("share") / "libshadow" / "paraview" / "open_result.py";
+  if (!error && fs::exists(exe.parent_path().parent_path() / relative, error))
+    return (exe.parent_path().parent_path() / relative).lexically_normal();
+  return fs::path(LIBSHADOW_SOURCE_DIR) / "tools" / "paraview" / "open_result.py";
+}
+
+/// Lit fractions per mesh (a building, a city object): the first meshes, each with its first
+/// lights; report.json's summary.per_mesh has them all.
+void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& result) {
+  constexpr std::size_t kMeshes = 20, kLights = 4;
+  std::vector<std::vector<double>> area(scene.meshes.size()), lit(scene.meshes.size());
+  for (const shadow::FaceLighting& fl : result.lighting) {
+    if (fl.face_id >= scene.faces.size() || fl.light_id >= scene.lights.size()) continue;
+    const std::size_t m = scene.faces[fl.face_id].mesh;
+    if (m >= scene.meshes.size()) continue;
+    if (area[m].empty()) {
+      area[m].assign(scene.lights.size(), 0.0);
+      lit[m].assign(scene.lights.size(), 0.0);
+    }
+    area[m][fl.light_id] += fl.area;
+    lit[m][fl.light_id] += fl.lit_area;
+  }
+  std::size_t shown = 0, with_results = 0;
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    if (area[m].empty()) continue;
+    if (++with_results > kMeshes) continue;
+    ++shown;
+    std::printf("  mesh %s lit", scene.meshes[m].name.c_str());
+    for (std::size_t l = 0; l < scene.lights.size() && l < kLights; ++l)
+      std::printf("%s %s %.2f%%", l == 0 ? "" : ",", scene.lights[l].name.c_str(),
+                  area[m][l] > 0 ? 100.0 * lit[m][l] / area[m][l] : 0.0);
+    std::printf("%s\n", scene.lights.size() > kLights ? ", ... (report.json: summary.per_mesh)" : "");
+  }
+  if (with_results > shown)
+    std::printf("  ... %zu more meshes (report.json: summary.per_mesh)\n", with_results - shown);
+}
+
+int run_compute(const ComputeArgs& args) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  shadow::RunInfo run;
+  run.scene = args.scene;
+  run.started_utc = shadow::utc_now();
+  run.planarity_tolerance = args.planarity_tolerance;
+  using shadow_cli::Stage;
+  shadow_cli::set_stage(Stage::Loading);
+  shadow::Scene scene = shadow::load_scene(
+      args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
+                                            args.skip_invalid));
+  if (scene.lights.empty() && !scene.sun)
+    // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
+    throw shadow::InputError({args.scene, ""},
+                             "the scene has no lights (a model file carries none unless it gives a site and period "
+                             "for the sun): write a scene JSON that names this file as a mesh \"file\" and add "
+                             "\"lights\" or a \"sun\" block (docs/scene-format.md)");
+  // Before computing: lock OUTDIR, clear what killed runs left, remove the old report.json (a
+  // run killed from here on leaves no report, so nothing looks complete). Bad input above
+  // leaves an earlier result alone.
+  shadow::OutputDirectory output(args.outdir);
+  if (!args.quiet)
+    for (const shadow::Warning& warning : scene.warnings)
+      std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+
+  // On a terminal one line rewritten in place; in a log a line now and then (progress_line.hpp).
+  shadow_cli::ProgressLine progress(!args.quiet, "face-light pairs", 0, isatty(STDERR_FILENO) == 0);
+  shadow::ShadowOptions options;
+  options.threads = args.threads;
+  options.polygons = !args.areas_only;
+  options.plane_window = args.plane_window;
+  if (args.arithmetic == "fast") options.arithmetic = shadow::Arithmetic::Fast;
+  options.tile_casters = args.tile_casters;
+  options.fast_tile_casters = args.fast_tile_casters;
+  run.options = options;  // without the progress callback, which is no part of the identity
+  options.progress = [&](const shadow::Progress& p) { progress.update(p); };
+  shadow::ShadowResult result;
+  try {
+    // compute_shadows(scene, options) in its two steps, so that running out of memory names the step.
+    shadow_cli::set_stage(Stage::Preparing);
+    const shadow::ShadowEngine engine(scene, options.threads);
+    shadow_cli::set_stage(Stage::Computing);
+    result = shadow::compute_shadows(engine, options);
+  } catch (const shadow::InputError& e) {
+    progress.finish();
+    // Errors about lights found while computing still name the scene file.
+    shadow_cli::rethrow_naming_scene(e, args.scene);
+  }
+  progress.finish();
+  const auto computed = Clock::now();
+
+  shadow_cli::set_stage(Stage::Writing);
+  const std::vector<fs::path> written = output.write(scene, result, &run);
+  const auto finished = Clock::now();
+
+  if (!args.quiet) {
+    auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
+    std::size_t receivers = 0;
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) receivers += scene.is_receiver(f) ? 1 : 0;
+    std::printf("shadow %s: %zu faces (%zu receiving), %zu lights, %zu fragments\n",
+                shadow::version(), scene.faces.size(), receivers, scene.lights.size(),
+                result.fragments.size());
+    if (args.skip_invalid || !scene.skipped_faces.empty())
+      std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n",
+                  scene.skipped_faces.size());
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+      double area = 0, lit = 0;
+      for (const shadow::FaceLighting& fl : result.lighting)
+        if (fl.light_id == l) {
+          area += fl.area;
+          lit += fl.lit_area;
+        }
+      std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
+                  lit, area, area > 0 ? 100.0 * lit / area : 0.0);
+    }
+    print_mesh_summary(scene, result);
+    if (options.arithmetic == shadow::Arithmetic::Fast)
+      std::printf("  arithmetic fast: lit areas within their bounds in report.json (%llu receivers computed exactly)\n",
+                  static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
+    for (const shadow::PlaneShadow& ps : result.plane_shadows)
+      std::printf("  plane %-8s light %-12s shadow area %.6g%s\n", scene.planes[ps.plane_id].name.c_str(),
+                  scene.lights[ps.light_id].name.c_str(), ps.area,
+                  ps.reaches_window ? " (reaches the window's edge: the shadow is longer)" : "");
+    std::printf("  computed in %.3f s, written in %.3f s\n", seconds(computed - start),
+                seconds(finished - computed));
+    std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
+    for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());
+    const fs::path result_dir = fs::absolute(args.outdir).lexically_normal();
+    std::printf("  open %s in ParaView, or with sensible defaults (docs/paraview.md):\n",
+                (result_dir / "scene.vtm").c_str());
+    const fs::path script = paraview_script();
+    std::printf("    LIBSHADOW_RESULT=%s paraview --script=%s\n", result_dir.c_str(), script.c_str());
+    std::printf("    %s %s %s --screenshot result.png   (headless)\n",
+                (script.parent_path() / "pvpython.sh").c_str(), script.c_str(),
+                result_dir.c_str());
+  }
+  return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Before anything allocates through GMP from a thread: GMP's failed allocations end the run
+  // with the out-of-memory line and exit 6 instead of GMP's message and SIGABRT.
+  shadow_cli::install_gmp_out_of_memory();
+  shadow_cli::install_new_out_of_memory();
+  shadow_cli::prepare_allocator_arenas();
+  CLI::App app{"shadow: exact object-space shadows (libshadow " + std::string(shadow::version()) + ")"};
+  app.set_version_flag("--version", std::string(shadow::version()));
+  app.require_subcommand(1);
+  app.footer(shadow_cli::exit_codes_help());
+
+  ComputeArgs args;
+  CLI::App* compute = app.add_subcommand(
+      "compute", "Compute every light's lit and shadowed polygons on every face and write them to OUTDIR");
+  compute->footer(shadow_cli::exit_codes_help());
+  compute->add_option("scene", args.scene, "Scene file (JSON; see docs/scene-format.md)")->required();
+  compute->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
+  compute->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
+      ->default_val(0)
+      ->check(shadow_cli::integer_in(0, 1024));
+  compute->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+  compute->add_flag("--areas-only", args.areas_only,
+                    "Compute lit areas only, no polygons: fragments.vtp then has no cells");
+  compute->add_option("--plane-window", args.plane_window,
+                      "Half side of the square window on each plane in which plane shadows are computed "
+                      "(default: ten scene diagonals)")
+      ->check(shadow_cli::finite_in(0.0, shadow::max_coordinate, "2^500 (about 3.27e150)"));
+  compute->add_option("--arithmetic", args.arithmetic,
+                      "exact (default), or fast: doubles and an integer grid, each face's lit area "
+                      "with an error bound in report.json (docs/numeric-contract.md)")
+      ->check(CLI::IsMember({"exact", "fast"}));
+  compute->add_flag_callback("--fast", [&args] { args.arithmetic = "fast"; }, "Same as --arithmetic fast");
+  compute->add_option("--planarity-tolerance", args.planarity_tolerance,
+                      "Largest vertex distance from a face's plane, relative to the face's size")
+      ->default_val(1e-6)
+      ->check(shadow_cli::positive_up_to(1.0));
+  compute->add_flag("--orient-outward", args.orient_outward,
+                    "Turn the closed parts of every mesh outward: make each part's faces consistent, then "
+                    "reverse a part whose faces point inward (each change is a warning)");
+  shadow_cli::add_tile_options<shadow::ShadowOptions>(*compute, args.tile_casters, args.fast_tile_casters,
+                                                      {"", "areas", "fragments", "--arithmetic fast", "areas"});
+  compute->add_option("--lod", args.lod,
+                      "CityJSON level of detail to read (\"1\", \"2\", \"2.2\"; default: the highest of each "
+                      "city object)");
+  compute->add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
+
+  SeriesArgs series_args;
+  CLI::App* series = add_series_command(app, series_args);
+
+#ifdef LIBSHADOW_HAVE_RENDER
+  RenderArgs render_args;
+  CLI::App* render = app.add_subcommand(
+      "render", "Compute the exact shadows and draw the scene lit by a lighting model to a PNG image "
+                "(see docs/lighting.md; needs an X display or xvfb-run)");
+  add_render_options(*render, render_args);
+  render->footer(shadow_cli::exit_codes_help());
+#endif
+
+  SunArgs sun_args;
+  CLI::App* sun = app.add_subcommand(
+      "sun", "Print the sun's position (NREL SPA, topocentric, refraction included) at a place and UTC "
+             "instant as one JSON line: time, elevation, azimuth (clockwise from north), zenith, to_light");
+  add_sun_options(*sun, sun_args);
+  sun->footer(shadow_cli::exit_codes_help());
+
+  // An unknown subcommand would only get CLI11's "A subcommand is required": name it.
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    bool found = true;
+    try {
+      app.get_subcommand(word);
+    } catch (const CLI::OptionNotFound&) {
+      found = false;
+    }
+    if (!found) {
+#ifdef LIBSHADOW_HAVE_RENDER
+      const char* known = "compute, series, render, sun";
+#else
+      const char* known = "compute, series, sun";
+#endif
+      std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
+                << "; see shadow --help)\n";
+      return kBadInput;
+    }
+    break;  // the subcommand's own arguments follow
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version: CLI11 prints them and exits 0.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    // Every usage error: one line, exit 2, like bad input.
+    std::cerr << "shadow: error: " << shadow_cli::one_line(e.what()) << " (see shadow --help)\n";
+    return kBadInput;
+  }
+
+  // Only `shadow series` shares its work between MPI ranks; N copies of another subcommand
+  // would each do all of it (and fight over OUTDIR's lock): say so once, from the first rank.
+  if (!*series && shadow_cli::launcher_size() > 1) {
+    if (shadow_cli::launcher_rank() == 0)
+      std::cerr << "shadow: error: started by an MPI launcher with " << shadow_cli::launcher_size()
+                << " processes: only `shadow series` runs across MPI ranks (docs/cluster.md); run this "
+                   "subcommand as one process\n";
+    return kBadInput;
+  }
+  try {
+    if (*series) return run_series(series_args);
+    if (*compute) return run_compute(args);
+    if (*sun) return run_sun(sun_args);
+#ifdef LIBSHADOW_HAVE_RENDER
+    if (*render) {
+      shadow_cli::set_stage(shadow_cli::Stage::Rendering);
+      return run_render(render_args, argc, argv);
+    }
+  } catch (const shadow::render::RenderError& e) {
+    std::cerr << "shadow: error: " << e.what() << "\n";
+    return kOutputFailed;
+#endif
+  } catch (const shadow::InputError& e) {
+    std::cerr << "shadow: error: " << e.what() << "\n";
+    return kBadInput;
+  } catch (const shadow::OutputError& e) {
+    std::cerr << "shadow: error: " << e.what() << "\n";
+    return kOutputFailed;
+  } catch (const std::bad_alloc&) {
+    // Thrown by code itself (operator new's failures end the run in the new handler).
+    shadow_cli::print_out_of_memory();
+    return shadow_cli::kOutOfMemory;
+  } catch (const std::exception& e) {
+    if (shadow_cli::is_thread_start_failure(e)) {
+      shadow_cli::print_out_of_memory();
+      return shadow_cli::kOutOfMemory;
+    }
+    std::cerr << "shadow: internal error: " << e.what() << "\n";
+    return kInternal;
+  }
+  return kOk;
+}
