@@ -3,7 +3,7 @@
 // exact cells rounded once) are triangulated and intersected with rational arithmetic (GMP), and
 // the resulting cells are rounded once. The double-precision overlay this replaces lost or
 // doubled pieces where rounding hid an ear or a clip went the wrong way: pinholes in the
-// picture (tests/test_render.cpp, EveryGroundPixelHasTheColourOfItsExactFragments).
+// picture (tests/render/test_render.cpp, EveryGroundPixelHasTheColourOfItsExactFragments).
 //
 // Every cell edge lies on the line of a fragment edge, whose two end points are doubles. A
 // vertex is kept as the intersection of two such lines, so its rationals stay a few hundred bits

@@ -3,6 +3,8 @@
 
 #include <shadow/render/camera.hpp>
 
+#include "writers/vtk_errors.hpp"  // io_internal: VTK errors as one line
+
 #include <shadow/output.hpp>
 
 #include <vtkActor.h>
@@ -64,16 +66,6 @@ vtkSmartPointer<vtkUnsignedCharArray> colour_array(const std::vector<glm::dvec3>
   }
   return array;
 }
-
-/// Collects VTK's error messages so that a failure becomes one RenderError line.
-class ErrorCollector : public vtkCommand {
- public:
-  static ErrorCollector* New() { return new ErrorCollector; }
-  void Execute(vtkObject*, unsigned long, void* call_data) override {
-    if (call_data != nullptr && message.empty()) message = static_cast<const char*>(call_data);
-  }
-  std::string message;
-};
 
 /// 2D shapes in pixels (origin bottom left), each filled polygon or line with its own colour.
 class Shapes {
@@ -370,14 +362,14 @@ Image render_mesh(const ColouredMesh& mesh, const RenderOptions& options, const 
   if (!decorations.legend.empty() || decorations.compass) add_decorations(renderer, decorations, options);
 
   vtkNew<vtkRenderWindow> window;
-  vtkNew<ErrorCollector> errors;
+  vtkNew<detail::VtkErrorCapture> errors;  // a failure becomes one RenderError line
   window->AddObserver(vtkCommand::ErrorEvent, errors);
   window->SetOffScreenRendering(1);
   window->SetMultiSamples(0);  // no multisampling: the same pixels on every run
   window->SetSize(options.width, options.height);
   window->AddRenderer(renderer);
   window->Render();
-  if (!errors->message.empty()) throw RenderError("VTK could not render: " + errors->message);
+  if (!errors->message().empty()) throw RenderError("VTK could not render: " + errors->message());
 
   vtkNew<vtkWindowToImageFilter> grab;
   grab->SetInput(window);
@@ -425,17 +417,15 @@ std::string encode_png(const Image& image) {
   // Into memory: libpng then never meets a failing file, whose errors it would print on stderr
   // itself (besides ours); the file is written by write_file_staged, checked.
   vtkNew<vtkPNGWriter> writer;
-  vtkNew<ErrorCollector> errors;
+  vtkNew<detail::VtkErrorCapture> errors;  // a failure becomes one RenderError line
   writer->AddObserver(vtkCommand::ErrorEvent, errors);
   writer->WriteToMemoryOn();
   writer->SetInputData(data);
   writer->Write();
   vtkUnsignedCharArray* bytes = writer->GetResult();
-  if (writer->GetErrorCode() != 0 || !errors->message.empty() || bytes == nullptr ||
+  if (writer->GetErrorCode() != 0 || !errors->message().empty() || bytes == nullptr ||
       bytes->GetNumberOfValues() == 0) {
-    std::string reason = errors->message;
-    while (!reason.empty() && (reason.back() == '\n' || reason.back() == ' ')) reason.pop_back();
-    if (const std::size_t colon = reason.find("): "); colon != std::string::npos) reason.erase(0, colon + 3);
+    std::string reason = errors->reason();
     for (char& c : reason)
       if (c == '\n' || c == '\r') c = ' ';
     throw RenderError("could not encode the PNG image" + (reason.empty() ? std::string() : ": " + reason));

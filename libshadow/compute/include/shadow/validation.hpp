@@ -16,7 +16,7 @@ namespace shadow {
 /// scale-free and only need to be finite and non-zero. Differences of two such values
 /// and products of two differences stay finite in doubles (2^1002 < DBL_MAX), which the
 /// library's floating-point culling and the fast path rely on; beyond it input is an
-/// InputError. Scenes scaled by 2^450 (tests/test_fast_path.cpp) are inside the range.
+/// InputError. Scenes scaled by 2^450 (tests/compute/test_fast_path.cpp) are inside the range.
 inline constexpr double max_coordinate = 0x1p500;
 
 /// How strictly face geometry is checked, and how much is read.

@@ -39,7 +39,7 @@ struct AreaLightPrep {
 /// @throws InputError when the light's polygon is degenerate in exact arithmetic.
 AreaLightPrep prepare_area_light(const core::PreparedScene& ctx, const Light& light, std::size_t light_id);
 
-/// Tests only (tests/test_area_lights.cpp): every occluder piece takes the separating-plane
+/// Tests only (tests/compute/test_area_lights.cpp): every occluder piece takes the separating-plane
 /// route, so that the two exact routes can be compared on the same scenes. Off by default; set
 /// it only while no computation runs.
 extern bool force_separating_planes;

@@ -162,7 +162,7 @@ void detail::check_light(const Light& light, const std::string& file, const std:
     if (!finite(light.to_light)) throw InputError({file, path + ".to_light"}, "direction is not finite");
     if (light.to_light == glm::dvec3(0.0)) throw InputError({file, path + ".to_light"}, "direction has zero length");
     // A direction's length does not matter (it is normalised safely for culling, exactly
-    // elsewhere): any finite non-zero vector is accepted (tests/test_hard_cases.cpp).
+    // elsewhere): any finite non-zero vector is accepted (tests/compute/test_hard_cases.cpp).
     if (!std::isfinite(light.angular_diameter) || light.angular_diameter < 0 ||
         light.angular_diameter > max_angular_diameter)
       throw InputError({file, path + ".angular_diameter"},

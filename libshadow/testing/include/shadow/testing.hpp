@@ -16,7 +16,7 @@
 /// coordinates. Every face counts, whether its mesh receives or not. `exact_lit_area` and
 /// `exact_shadow_area` are the engine's exact results (they call compute_shadows and
 /// compute_plane_shadows): they are the reference values, checked against closed forms and
-/// against the oracles in libshadow's own tests (tests/test_testing_kit.cpp).
+/// against the oracles in libshadow's own tests (tests/testing-kit/test_testing_kit.cpp).
 #pragma once
 
 #include <shadow/scene.hpp>
