@@ -7,8 +7,6 @@
 
 #include "exact/regions.hpp"
 
-#include <CGAL/convex_hull_2.h>
-
 #include <glm/geometric.hpp>
 
 #include <algorithm>
