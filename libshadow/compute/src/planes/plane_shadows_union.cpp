@@ -14,7 +14,7 @@
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
 
-#include <shadow/scene_io.hpp>
+#include <shadow/validation.hpp>
 #include <shadow/shadows.hpp>
 
 #include <CGAL/Interval_nt.h>

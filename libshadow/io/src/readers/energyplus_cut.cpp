@@ -2,16 +2,16 @@
 // The EnergyPlus reader's last step (scene/energyplus_steps.hpp): each base surface loses its
 // openings exactly and is split into hole-free pieces; openings set back in a reveal or proud of
 // their wall are checked, given their reveal's sides and reported.
-#include "scene/energyplus_steps.hpp"
-#include "scene/energyplus_reveals.hpp"
+#include "readers/energyplus_steps.hpp"
+#include "readers/energyplus_reveals.hpp"
 
 #include "core/input_checks.hpp"
 #include "core/polygon_holes.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
-#include "scene/idf_tokenizer.hpp"
-#include "scene/json_document.hpp"
-#include "scene/obj_reader.hpp"
+#include "readers/idf_tokenizer.hpp"
+#include "readers/json_document.hpp"
+#include "readers/obj_reader.hpp"
 
 #include <shadow/input_file.hpp>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The EnergyPlus reader's schemas (scene/energyplus_steps.hpp): for each geometry class read,
 // its fields in the IDD's order (IDF positions) with their epJSON keys, by EnergyPlus version.
-#include "scene/energyplus_steps.hpp"
+#include "readers/energyplus_steps.hpp"
 
 #include <string>
 #include <vector>

@@ -5,8 +5,8 @@
 // their walls (energyplus_cut.cpp). Internal to scene/.
 #pragma once
 
-#include "scene/energyplus_reader.hpp"
-#include "scene/energyplus_reveals.hpp"
+#include "readers/energyplus_reader.hpp"
+#include "readers/energyplus_reveals.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>

@@ -5,7 +5,7 @@
 // (`lights[1].to_light`), or the line and column for malformed JSON, or the OBJ file and line.
 // The JSON is read in two passes: first the whole document is checked (cheap), then the mesh
 // files are read (possibly slow), so a typo in a light is reported before a large OBJ is loaded.
-#include "scene/scene_json_reader.hpp"
+#include "readers/scene_json_reader.hpp"
 
 #include "core/lights.hpp"
 #include "core/polygon_holes.hpp"

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The scene reader's lights (scene/scene_json_reader.hpp): point, directional, area and sun
 // lights, and the `sun` entry that lights the scene by a place and dates.
-#include "scene/scene_json_reader.hpp"
+#include "readers/scene_json_reader.hpp"
 
 #include "core/lights.hpp"
 #include "core/polygon_holes.hpp"
-#include "scene/json_document.hpp"
-#include "scene/model_dispatch.hpp"
-#include "scene/obj_reader.hpp"
-#include "scene/planarity.hpp"
+#include "readers/json_document.hpp"
+#include "readers/model_dispatch.hpp"
+#include "readers/obj_reader.hpp"
+#include "validation/planarity.hpp"
 
 #include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>

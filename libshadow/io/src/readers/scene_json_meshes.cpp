@@ -2,14 +2,14 @@
 // The scene reader's meshes (scene/scene_json_reader.hpp): each mesh's entry checked in the
 // first pass, its faces read in the second (inline polygons, OBJ, CityJSON or EnergyPlus
 // files), placed by its transform and up axis, and reversed when the placement mirrors.
-#include "scene/scene_json_reader.hpp"
+#include "readers/scene_json_reader.hpp"
 
 #include "core/lights.hpp"
 #include "core/polygon_holes.hpp"
-#include "scene/json_document.hpp"
-#include "scene/model_dispatch.hpp"
-#include "scene/obj_reader.hpp"
-#include "scene/planarity.hpp"
+#include "readers/json_document.hpp"
+#include "readers/model_dispatch.hpp"
+#include "readers/obj_reader.hpp"
+#include "validation/planarity.hpp"
 
 #include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>

@@ -4,8 +4,8 @@
 // (scene_json_meshes.cpp), the lights and the sun (scene_json_lights.cpp). Internal to scene/.
 #pragma once
 
-#include "scene/json_document.hpp"
-#include "scene/model_dispatch.hpp"
+#include "readers/json_document.hpp"
+#include "readers/model_dispatch.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>
