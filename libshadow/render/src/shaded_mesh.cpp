@@ -96,6 +96,102 @@ bool parse_shading(const std::string& name, Shading& shading) {
   return false;
 }
 
+namespace {
+
+/// A triangle of a face's cells over shared vertex ids, and the cell it lies in.
+struct Tri {
+  std::array<std::size_t, 3> v;
+  std::size_t cell;
+};
+
+/// Phong's refinement of a face's triangles: longest-edge bisection (Rivara) of every edge longer
+/// than `pixels_per_edge` pixels seen from `eye`, an edge split at the same midpoint from both
+/// sides (`vertex` numbers the points, appending new ones to `points`), until none is too long,
+/// 64 rounds, or more than `max_triangles` triangles.
+template <class Vertex>
+void bisect_long_edges(std::vector<Tri>& tris, std::vector<glm::dvec3>& points, const Vertex& vertex,
+                       const glm::dvec3& eye, double pixels_per_edge, double pixel_at_unit_distance,
+                       std::size_t max_triangles) {
+  using Edge = std::pair<std::size_t, std::size_t>;  // ends in increasing order
+  auto key = [](std::size_t a, std::size_t b) { return a < b ? Edge{a, b} : Edge{b, a}; };
+  auto too_long = [&](std::size_t a, std::size_t b) {
+    const glm::dvec3 m = 0.5 * (points[a] + points[b]);
+    return glm::length(points[b] - points[a]) >
+           pixels_per_edge * pixel_at_unit_distance * glm::length(m - eye);
+  };
+  auto longest = [&](const Tri& t) {  // index i of the longest edge v[i] -> v[i + 1]
+    int best = 0;
+    double length = -1.0;
+    for (int i = 0; i < 3; ++i) {
+      const double l = glm::length(points[t.v[(i + 1) % 3]] - points[t.v[i]]);
+      if (l > length) {
+        length = l;
+        best = i;
+      }
+    }
+    return best;
+  };
+  std::unordered_map<Edge, std::size_t, EdgeHash> midpoint;
+  for (int round = 0; round < 64; ++round) {
+    std::unordered_map<Edge, bool, EdgeHash> marked;
+    marked.reserve(2 * tris.size());
+    for (const Tri& t : tris)
+      for (int i = 0; i < 3; ++i)
+        if (too_long(t.v[i], t.v[(i + 1) % 3])) marked[key(t.v[i], t.v[(i + 1) % 3])] = true;
+    if (marked.empty()) break;
+    // Closure: a triangle with a marked edge has its longest edge marked too.
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (const Tri& t : tris) {
+        bool any = false;
+        for (int i = 0; i < 3; ++i) any = any || marked.count(key(t.v[i], t.v[(i + 1) % 3])) > 0;
+        const int l = longest(t);
+        if (any && marked.emplace(key(t.v[l], t.v[(l + 1) % 3]), true).second) changed = true;
+      }
+    }
+    auto split_point = [&](std::size_t a, std::size_t b) {
+      const Edge e = key(a, b);
+      const auto found = midpoint.find(e);
+      if (found != midpoint.end()) return found->second;
+      // From the edge's ordered ends: the same bits whichever triangle asks.
+      const std::size_t m = vertex(0.5 * (points[e.first] + points[e.second]));
+      midpoint.emplace(e, m);
+      return m;
+    };
+    std::vector<Tri> next;
+    next.reserve(tris.size() * 2);
+    for (const Tri& t : tris) {
+      // Bisect the longest edge, then in each half the marked original edge, if any.
+      const int l = longest(t);
+      const std::size_t a = t.v[l], b = t.v[(l + 1) % 3], c = t.v[(l + 2) % 3];
+      if (!marked.count(key(a, b))) {
+        next.push_back(t);
+        continue;
+      }
+      const std::size_t m = split_point(a, b);
+      // Halves (a, m, c) and (m, b, c); their original edges are c-a and b-c.
+      if (marked.count(key(c, a))) {
+        const std::size_t q = split_point(c, a);
+        next.push_back({{a, m, q}, t.cell});
+        next.push_back({{m, c, q}, t.cell});
+      } else {
+        next.push_back({{a, m, c}, t.cell});
+      }
+      if (marked.count(key(b, c))) {
+        const std::size_t q = split_point(b, c);
+        next.push_back({{m, b, q}, t.cell});
+        next.push_back({{m, q, c}, t.cell});
+      } else {
+        next.push_back({{m, b, c}, t.cell});
+      }
+    }
+    tris.swap(next);
+    if (tris.size() > max_triangles) break;
+  }
+}
+
+}  // namespace
+
 ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cells,
                          const ShadeOptions& options) {
   ColouredMesh mesh;
@@ -168,10 +264,6 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
       if (added) points.push_back(p);
       return it->second;
     };
-    struct Tri {
-      std::array<std::size_t, 3> v;
-      std::size_t cell;
-    };
     std::vector<Tri> tris;
     for (std::size_t k = begin; k < end; ++k) {
       const OverlayCell& cell = cells[k];
@@ -181,84 +273,8 @@ ColouredMesh shade_cells(const Scene& scene, const std::vector<OverlayCell>& cel
         tris.push_back({{c, vertex(cell.polygon[i]), vertex(cell.polygon[(i + 1) % n])}, k});
     }
 
-    if (options.shading == Shading::Phong) {
-      using Edge = std::pair<std::size_t, std::size_t>;  // ends in increasing order
-      auto key = [](std::size_t a, std::size_t b) { return a < b ? Edge{a, b} : Edge{b, a}; };
-      auto too_long = [&](std::size_t a, std::size_t b) {
-        const glm::dvec3 m = 0.5 * (points[a] + points[b]);
-        return glm::length(points[b] - points[a]) >
-               pixels_per_edge * pixel_at_unit_distance * glm::length(m - camera.eye);
-      };
-      auto longest = [&](const Tri& t) {  // index i of the longest edge v[i] -> v[i + 1]
-        int best = 0;
-        double length = -1.0;
-        for (int i = 0; i < 3; ++i) {
-          const double l = glm::length(points[t.v[(i + 1) % 3]] - points[t.v[i]]);
-          if (l > length) {
-            length = l;
-            best = i;
-          }
-        }
-        return best;
-      };
-      std::unordered_map<Edge, std::size_t, EdgeHash> midpoint;
-      for (int round = 0; round < 64; ++round) {
-        std::unordered_map<Edge, bool, EdgeHash> marked;
-        marked.reserve(2 * tris.size());
-        for (const Tri& t : tris)
-          for (int i = 0; i < 3; ++i)
-            if (too_long(t.v[i], t.v[(i + 1) % 3])) marked[key(t.v[i], t.v[(i + 1) % 3])] = true;
-        if (marked.empty()) break;
-        // Closure: a triangle with a marked edge has its longest edge marked too.
-        for (bool changed = true; changed;) {
-          changed = false;
-          for (const Tri& t : tris) {
-            bool any = false;
-            for (int i = 0; i < 3; ++i) any = any || marked.count(key(t.v[i], t.v[(i + 1) % 3])) > 0;
-            const int l = longest(t);
-            if (any && marked.emplace(key(t.v[l], t.v[(l + 1) % 3]), true).second) changed = true;
-          }
-        }
-        auto split_point = [&](std::size_t a, std::size_t b) {
-          const Edge e = key(a, b);
-          const auto found = midpoint.find(e);
-          if (found != midpoint.end()) return found->second;
-          // From the edge's ordered ends: the same bits whichever triangle asks.
-          const std::size_t m = vertex(0.5 * (points[e.first] + points[e.second]));
-          midpoint.emplace(e, m);
-          return m;
-        };
-        std::vector<Tri> next;
-        next.reserve(tris.size() * 2);
-        for (const Tri& t : tris) {
-          // Bisect the longest edge, then in each half the marked original edge, if any.
-          const int l = longest(t);
-          const std::size_t a = t.v[l], b = t.v[(l + 1) % 3], c = t.v[(l + 2) % 3];
-          if (!marked.count(key(a, b))) {
-            next.push_back(t);
-            continue;
-          }
-          const std::size_t m = split_point(a, b);
-          // Halves (a, m, c) and (m, b, c); their original edges are c-a and b-c.
-          if (marked.count(key(c, a))) {
-            const std::size_t q = split_point(c, a);
-            next.push_back({{a, m, q}, t.cell});
-            next.push_back({{m, c, q}, t.cell});
-          } else {
-            next.push_back({{a, m, c}, t.cell});
-          }
-          if (marked.count(key(b, c))) {
-            const std::size_t q = split_point(b, c);
-            next.push_back({{m, b, q}, t.cell});
-            next.push_back({{m, q, c}, t.cell});
-          } else {
-            next.push_back({{m, b, c}, t.cell});
-          }
-        }
-        tris.swap(next);
-        if (tris.size() > options.max_triangles) break;
-      }
-    }
+    if (options.shading == Shading::Phong)
+      bisect_long_edges(tris, points, vertex, camera.eye, pixels_per_edge, pixel_at_unit_distance, options.max_triangles);
 
     // Colours at each (vertex, cell): a vertex on a shadow edge has one colour per side.
     std::unordered_map<std::pair<std::size_t, std::size_t>, std::size_t, EdgeHash> point_of;

@@ -42,6 +42,88 @@ void sort_by_v(EdgeUse* begin, EdgeUse* end) {
   }
 }
 
+/// Whether a face takes part in the search: exactly planar, not degenerate.
+bool takes_part(const core::FacePrep& p) { return !p.degenerate && p.exactly_planar; }
+
+/// Vertex ids by exact coordinates, numbered in order of first use: each corner's id (faces
+/// that take part, in face order) into corner_vertex, each id's position into vertex_position.
+void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep, std::vector<int>& corner_vertex,
+                     std::vector<glm::dvec3>& vertex_position) {
+  const std::size_t n = scene.faces.size();
+  const std::size_t corners = corner_vertex.size();
+  std::vector<PointKey> keys;
+    std::size_t size = 16;
+    while (size < 2 * corners) size *= 2;
+    const std::size_t mask = size - 1;
+    std::vector<int> table(size, -1);
+    std::size_t c = 0;
+    for (std::size_t f = 0; f < n; ++f) {
+      if (!takes_part(prep[f])) continue;
+      for (const glm::dvec3& v : scene.faces[f].vertices) {
+        const PointKey key = geometry::point_key(v);
+        std::size_t h = static_cast<std::size_t>(geometry::point_key_hash(key)) & mask;
+        while (table[h] >= 0 && keys[static_cast<std::size_t>(table[h])] != key) h = (h + 1) & mask;
+        if (table[h] < 0) {
+          table[h] = static_cast<int>(keys.size());
+          keys.push_back(key);
+          vertex_position.push_back(v);
+        }
+        corner_vertex[c++] = table[h];
+      }
+    }
+}
+
+/// Whether a part (its faces, `faces`) bounds a convex solid: every vertex of the part on or
+/// behind every face's plane (exact orientation). Then `solid` gets its vertices and edges;
+/// else it is left empty. `local` (vertex id -> local number, -1 for none) numbers the part's
+/// vertices, listed in `ids` for the caller to reset.
+template <class FaceVertex, class FaceSize>
+bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, const std::size_t* faces,
+               std::size_t face_count, const FaceVertex& face_vertex, const FaceSize& face_size,
+               const std::vector<glm::dvec3>& vertex_position, std::vector<int>& local, std::vector<int>& ids,
+               std::vector<std::pair<int, int>>& edges, core::ConvexSolid& solid) {
+  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  ids.clear();
+  for (std::size_t i = 0; i < face_count; ++i)
+    for (std::size_t a = 0, m = face_size(faces[i]); a < m; ++a) {
+      const int v = face_vertex(faces[i], a);
+      if (local[static_cast<std::size_t>(v)] < 0) {
+        local[static_cast<std::size_t>(v)] = static_cast<int>(ids.size());
+        ids.push_back(v);
+        solid.vertices.push_back(vertex_position[static_cast<std::size_t>(v)]);
+      }
+    }
+  bool convex = true;
+  auto p3 = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
+  for (std::size_t i = 0; i < face_count && convex; ++i) {
+    const std::vector<glm::dvec3>& fv = scene.faces[faces[i]].vertices;
+    const core::FacePrep& fp = prep[faces[i]];
+    const EK::Point_3 c0 = p3(fv[fp.corner[1]]), c1 = p3(fv[fp.corner[2]]), c2 = p3(fv[fp.corner[0]]);
+    const CGAL::Orientation front = fp.flipped ? CGAL::NEGATIVE : CGAL::POSITIVE;
+    for (const glm::dvec3& v : solid.vertices)
+      if (CGAL::orientation(c0, c1, c2, p3(v)) == front) {
+        convex = false;
+        break;
+      }
+  }
+  if (convex) {
+    edges.clear();
+    for (std::size_t i = 0; i < face_count; ++i)
+      for (std::size_t a = 0, m = face_size(faces[i]); a < m; ++a) {
+        const int u = local[static_cast<std::size_t>(face_vertex(faces[i], a))];
+        const int v = local[static_cast<std::size_t>(face_vertex(faces[i], (a + 1) % m))];
+        edges.emplace_back(std::min(u, v), std::max(u, v));
+      }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    solid.edges.reserve(edges.size());
+    for (const auto& [u, v] : edges) solid.edges.push_back({u, v});
+  } else {
+    solid = core::ConvexSolid{};
+  }
+  return convex;
+}
+
 }  // namespace
 
 // The same search as find_convex_solids_reference, step for step, with the same result:
@@ -57,13 +139,11 @@ void sort_by_v(EdgeUse* begin, EdgeUse* end) {
 //   local vertex numbers and a sorted vector for its edges (the reference: a map and a set).
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
                                             std::vector<int>& solid_of, unsigned threads) {
-  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
   const std::size_t n = scene.faces.size();
-  auto takes_part = [&](std::size_t f) { return !prep[f].degenerate && prep[f].exactly_planar; };
   std::vector<std::size_t> corner_start(n + 1, 0);
   std::size_t max_mesh = 0;
   for (std::size_t f = 0; f < n; ++f) {
-    corner_start[f + 1] = corner_start[f] + (takes_part(f) ? scene.faces[f].vertices.size() : 0);
+    corner_start[f + 1] = corner_start[f] + (takes_part(prep[f]) ? scene.faces[f].vertices.size() : 0);
     max_mesh = std::max(max_mesh, scene.faces[f].mesh);
   }
   const std::size_t corners = corner_start[n];
@@ -74,29 +154,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
 
   // Vertex ids by exact coordinates, numbered in order of first use.
   std::vector<int> corner_vertex(corners);
-  std::vector<PointKey> keys;
   std::vector<glm::dvec3> vertex_position;
-  {
-    std::size_t size = 16;
-    while (size < 2 * corners) size *= 2;
-    const std::size_t mask = size - 1;
-    std::vector<int> table(size, -1);
-    std::size_t c = 0;
-    for (std::size_t f = 0; f < n; ++f) {
-      if (!takes_part(f)) continue;
-      for (const glm::dvec3& v : scene.faces[f].vertices) {
-        const PointKey key = geometry::point_key(v);
-        std::size_t h = static_cast<std::size_t>(geometry::point_key_hash(key)) & mask;
-        while (table[h] >= 0 && keys[static_cast<std::size_t>(table[h])] != key) h = (h + 1) & mask;
-        if (table[h] < 0) {
-          table[h] = static_cast<int>(keys.size());
-          keys.push_back(key);
-          vertex_position.push_back(v);
-        }
-        corner_vertex[c++] = table[h];
-      }
-    }
-  }
+  number_vertices(scene, prep, corner_vertex, vertex_position);
   const std::size_t vertex_count = vertex_position.size();
   auto face_vertex = [&](std::size_t f, std::size_t a) { return corner_vertex[corner_start[f] + a]; };
   auto face_size = [&](std::size_t f) { return corner_start[f + 1] - corner_start[f]; };
@@ -197,45 +256,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
       const std::size_t* const faces = part_faces.data() + part_start[r];
       const std::size_t face_count = part_start[r + 1] - part_start[r];
       core::ConvexSolid& solid = found[item];
-      ids.clear();
-      for (std::size_t i = 0; i < face_count; ++i)
-        for (std::size_t a = 0, m = face_size(faces[i]); a < m; ++a) {
-          const int v = face_vertex(faces[i], a);
-          if (local[static_cast<std::size_t>(v)] < 0) {
-            local[static_cast<std::size_t>(v)] = static_cast<int>(ids.size());
-            ids.push_back(v);
-            solid.vertices.push_back(vertex_position[static_cast<std::size_t>(v)]);
-          }
-        }
-      bool convex = true;
-      auto p3 = [](const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); };
-      for (std::size_t i = 0; i < face_count && convex; ++i) {
-        const std::vector<glm::dvec3>& fv = scene.faces[faces[i]].vertices;
-        const core::FacePrep& fp = prep[faces[i]];
-        const EK::Point_3 c0 = p3(fv[fp.corner[1]]), c1 = p3(fv[fp.corner[2]]), c2 = p3(fv[fp.corner[0]]);
-        const CGAL::Orientation front = fp.flipped ? CGAL::NEGATIVE : CGAL::POSITIVE;
-        for (const glm::dvec3& v : solid.vertices)
-          if (CGAL::orientation(c0, c1, c2, p3(v)) == front) {
-            convex = false;
-            break;
-          }
-      }
-      if (convex) {
-        edges.clear();
-        for (std::size_t i = 0; i < face_count; ++i)
-          for (std::size_t a = 0, m = face_size(faces[i]); a < m; ++a) {
-            const int u = local[static_cast<std::size_t>(face_vertex(faces[i], a))];
-            const int v = local[static_cast<std::size_t>(face_vertex(faces[i], (a + 1) % m))];
-            edges.emplace_back(std::min(u, v), std::max(u, v));
-          }
-        std::sort(edges.begin(), edges.end());
-        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-        solid.edges.reserve(edges.size());
-        for (const auto& [u, v] : edges) solid.edges.push_back({u, v});
-        convex_part[item] = 1;
-      } else {
-        solid = core::ConvexSolid{};
-      }
+      convex_part[item] = test_part(scene, prep, faces, face_count, face_vertex, face_size, vertex_position, local, ids,
+                                    edges, solid) ? 1 : 0;
       for (int v : ids) local[static_cast<std::size_t>(v)] = -1;
     }
   });

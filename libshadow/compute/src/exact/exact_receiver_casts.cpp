@@ -1,0 +1,369 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact receiver job's casts (exact/exact_receiver_job.hpp): a convex solid's hull, a face
+// by the leaf or the lazy route, a whole outline, each clipped to the receiver's chart box and
+// kept as a shadow polygon for the union.
+#include "exact/exact_receiver_job.hpp"
+
+#include <CGAL/convex_hull_2.h>
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <optional>
+#include <utility>
+
+namespace shadow::exact::receiver_job {
+
+void ExactReceiverJob::clip_to_chart_box(std::vector<Point2>& poly) {
+  for (int c = 0; c < 2; ++c) {
+    clip_convex_2d(poly, c, fp_.chart_min[c], true, w_.scratch2);
+    clip_convex_2d(poly, c, fp_.chart_max[c], false, w_.scratch2);
+  }
+}
+
+void ExactReceiverJob::clip_to_chart_box_q(std::vector<QPoint2>& poly) {
+  const ScaledChart& chart = scaled_chart();
+  // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
+  bool inside = true;
+  for (std::size_t v = 0; v < poly.size() && inside; ++v) {
+    const IPoint2& i = poly[v].i;  // of the unscaled chart
+    inside = i.x.inf() >= fp_.chart_min[0] && i.x.sup() <= fp_.chart_max[0] && i.y.inf() >= fp_.chart_min[1] &&
+             i.y.sup() <= fp_.chart_max[1];
+  }
+  if (inside) return;
+  for (int c = 0; c < 2; ++c) {
+    clip_convex_2d(poly, c, chart.lo(c), chart.ilo(c), true, w_.qscratch, w_.qside, chart.scale_interval());
+    clip_convex_2d(poly, c, chart.hi(c), chart.ihi(c), false, w_.qscratch, w_.qside, chart.scale_interval());
+  }
+}
+
+void ExactReceiverJob::cast_convex_solid(int solid) {
+  w_.casters.mark_solid_done(solid);
+  const core::ConvexSolid& cs = (*ctx_.solids)[solid];
+  w_.vertex_sign.resize(cs.vertices.size());
+  bool any_front = false;
+  for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+    w_.vertex_sign[v] = input_side(cs.vertices[v]);
+    any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+  }
+  if (!any_front) return;
+  if (q_mode_) {
+    ScaledChart& projector = scaled_chart();
+    std::vector<QPoint2>& pts = w_.qpoly;
+    pts.clear();
+    for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+      if (w_.vertex_sign[v] == CGAL::POSITIVE) projector.project(cs.vertices[v], pts.emplace_back());
+      if (w_.vertex_sign[v] == CGAL::ZERO) projector.chart(cs.vertices[v], pts.emplace_back());
+    }
+    for (const auto& [a, b] : cs.edges) {
+      const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+        projector.crossing(cs.vertices[a], cs.vertices[b], pts.emplace_back());
+    }
+    convex_hull(pts, w_.qscratch, w_.qorder, w_.qchain, w_.qs);
+    pts.swap(w_.qscratch);
+    clip_to_chart_box_q(pts);
+    if (pts.size() < 3) return;
+    if (area_sign(pts, w_.qs, w_.qarea) != CGAL::POSITIVE) return;  // flat: edge-on solid
+    w_.qshadows.insert(w_.qshadows.end(), pts.begin(), pts.end());
+    w_.qfirst.push_back(w_.qshadows.size());
+    ++stats_.casting_pairs;
+    note_cover_q(pts);
+    return;
+  }
+  LeafProjector& projector = leaf_projector();
+  w_.poly2.clear();
+  for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+    if (w_.vertex_sign[v] == CGAL::POSITIVE) w_.poly2.push_back(projector.project(cs.vertices[v]));
+    if (w_.vertex_sign[v] == CGAL::ZERO) w_.poly2.push_back(projector.chart(cs.vertices[v]));
+  }
+  for (const auto& [a, b] : cs.edges) {
+    const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
+    if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+      w_.poly2.push_back(projector.crossing(cs.vertices[a], cs.vertices[b]));
+  }
+  w_.scratch2.clear();
+  CGAL::convex_hull_2(w_.poly2.begin(), w_.poly2.end(), std::back_inserter(w_.scratch2), Kernel());
+  w_.poly2.swap(w_.scratch2);
+  clip_to_chart_box(w_.poly2);
+  if (w_.poly2.size() < 3) return;
+  Polygon2 projected(w_.poly2.begin(), w_.poly2.end());
+  if (CGAL::sign(polygon_area(projected)) != CGAL::POSITIVE) return;  // flat: edge-on solid
+  note_cover(projected);
+  shadows_.push_back(std::move(projected));
+  ++stats_.casting_pairs;
+}
+
+void ExactReceiverJob::cast_face(std::size_t q) {
+  const core::FacePrep& qp = (*ctx_.prep)[q];
+  const Face& qface = ctx_.scene->faces[q];
+  w_.vertex_sign.resize(qface.vertices.size());
+  bool any_front = false;
+  if (point_light_) {
+    // A caster whose plane contains the light is edge-on to it and casts nothing; projecting
+    // it would divide by zero where it touches the light.
+    const bool edge_on =
+        qp.exactly_planar
+            ? CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
+                                epick(qface.vertices[qp.corner[0]]), epick(light_in_.position)) == CGAL::COPLANAR
+            : CGAL::is_zero(plane_at_light(w_.face(ctx_, q), light_));
+    if (edge_on) return;
+  }
+  // Two routes to the same exact polygons: exact leaves straight from the input doubles when
+  // both faces are exactly planar (the common case), lazy Epeck values for lifted faces.
+  const bool leaves = fp_.exactly_planar && qp.exactly_planar;
+  const ExactFace* Q = nullptr;
+  const ReceiverFrame* frame = nullptr;
+  if (leaves) {
+    for (std::size_t v = 0; v < qface.vertices.size(); ++v) {
+      w_.vertex_sign[v] = input_side(qface.vertices[v]);
+      any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+    }
+  } else {
+    Q = &w_.face(ctx_, q);
+    frame = &exact_frame();
+    for (std::size_t v = 0; v < Q->vertices.size(); ++v) {
+      w_.vertex_sign[v] = CGAL::sign(frame->front(Q->vertices[v]));
+      any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+    }
+  }
+  if (!any_front) return;  // nothing strictly in front of the receiver
+  const bool wholly_in_front =
+      leaves && qp.convex_pieces.size() >= kWholeFaceFromPieces &&
+      std::all_of(w_.vertex_sign.begin(), w_.vertex_sign.end(), [](CGAL::Sign s) { return s == CGAL::POSITIVE; });
+  if (wholly_in_front && point_light_ && cast_whole_outline_from_point(qp, qface)) return;
+  if (wholly_in_front && !point_light_) {
+    // A non-convex caster wholly in front under a directional light: its projection is an
+    // affine image of the face, a simple polygon, so it can cast as one polygon instead of
+    // one per convex piece (pieces share edges, which makes the union slow). Only when that
+    // polygon lies inside the chart box: cutting it to the box afterwards (an intersection
+    // of the union) cost more than the pieces on long combs.
+    if (q_mode_) {
+      ScaledChart& chart = scaled_chart();
+      std::vector<QPoint2>& pts = w_.qpoly;
+      pts.clear();
+      bool inside = true;
+      for (int v : qp.chart_ring) {
+        chart.project(qface.vertices[v], pts.emplace_back());
+        const QPoint2& p = pts.back();
+        for (int c = 0; c < 2 && inside; ++c) {
+          const EQ& x = c == 0 ? p.x : p.y;
+          const IA& ix = c == 0 ? p.i.x : p.i.y;
+          inside = compare(x, ix, chart.lo(c), chart.ilo(c)) >= 0 && compare(x, ix, chart.hi(c), chart.ihi(c)) <= 0;
+        }
+        if (!inside) break;
+      }
+      if (inside) {
+        if (add_shadow_q(pts)) ++stats_.casting_pairs;
+        return;
+      }
+    } else {
+      w_.poly2.clear();
+      bool inside = true;
+      for (int v : qp.chart_ring) {
+        w_.poly2.push_back(leaf_projector().project(qface.vertices[v]));
+        const Point2& p = w_.poly2.back();
+        for (int c = 0; c < 2 && inside; ++c)
+          inside = CGAL::compare(p[c], FT(fp_.chart_min[c])) != CGAL::SMALLER &&
+                   CGAL::compare(p[c], FT(fp_.chart_max[c])) != CGAL::LARGER;
+        if (!inside) break;
+      }
+      if (inside) {
+        if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
+        return;
+      }
+    }
+  }
+  bool cast = false;
+  for (const std::vector<int>& piece : qp.convex_pieces) {
+    w_.piece_sign.clear();
+    bool piece_front = false;
+    for (int v : piece) {
+      w_.piece_sign.push_back(w_.vertex_sign[v]);
+      piece_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+    }
+    if (!piece_front) continue;
+    if (q_mode_ && leaves) {
+      scaled_chart().project_piece_parallel(qface.vertices, piece, w_.piece_sign, w_.qpoly);
+      clip_to_chart_box_q(w_.qpoly);
+      cast |= add_shadow_q(w_.qpoly);
+      continue;
+    }
+    if (leaves)
+      leaf_projector().project_piece(qface.vertices, piece, w_.piece_sign, w_.poly2);
+    else
+      project_piece_lazy(*Q, piece, *frame);
+    if (!point_light_) clip_to_chart_box(w_.poly2);
+    if (q_mode_) {  // a lifted caster: its exact values as rational points, scaled
+      w_.qpoly.clear();
+      const ScaledChart& chart = scaled_chart();
+      for (const Point2& p : w_.poly2) {
+        const auto& e = CGAL::exact(p);
+        chart.scale_point(w_.qpoly.emplace_back(QPoint2{e.x(), e.y()}));
+      }
+      cast |= add_shadow_q(w_.qpoly);
+      continue;
+    }
+    cast |= add_shadow(w_.poly2);
+  }
+  if (cast) ++stats_.casting_pairs;
+}
+
+bool ExactReceiverJob::cast_whole_outline_from_point(const core::FacePrep& qp, const Face& qface) {
+  LeafProjector& projector = leaf_projector();
+  w_.poly2.clear();
+  bool inside = true;
+  for (int v : qp.chart_ring) {
+    if (!projector.project_central(qface.vertices[v], w_.poly2.emplace_back())) return false;
+    const Point2& p = w_.poly2.back();
+    for (int c = 0; c < 2 && inside; ++c)
+      inside = CGAL::compare(p[c], FT(fp_.chart_min[c])) != CGAL::SMALLER &&
+               CGAL::compare(p[c], FT(fp_.chart_max[c])) != CGAL::LARGER;
+  }
+  if (!inside) return cast_outline_cut_to_pyramid(qp, qface);
+  if (add_shadow(w_.poly2)) ++stats_.casting_pairs;
+  return true;
+}
+
+bool ExactReceiverJob::cast_outline_cut_to_pyramid(const core::FacePrep& qp, const Face& qface) {
+  const int k = qp.axis, ci = core::chart_i(k), cj = core::chart_j(k);
+  const std::vector<glm::dvec3>& vs = qface.vertices;
+  // The caster's exact plane n . x + d = 0 from its convex corner; x_k = -(n_i u + n_j v + d) / n_k.
+  const glm::dvec3& c = vs[qp.corner[1]];
+  const glm::dvec3& next = vs[qp.corner[2]];
+  const glm::dvec3& prev = vs[qp.corner[0]];
+  mpq_class e[3], f[3], n[3];
+  for (int a = 0; a < 3; ++a) {
+    e[a] = mpq_class(next[a]) - mpq_class(c[a]);
+    f[a] = mpq_class(prev[a]) - mpq_class(c[a]);
+  }
+  n[0] = e[1] * f[2] - e[2] * f[1];
+  n[1] = e[2] * f[0] - e[0] * f[2];
+  n[2] = e[0] * f[1] - e[1] * f[0];
+  if (sgn(n[k]) == 0) return false;  // a chart that sees the plane edge-on (the pieces then)
+  const mpq_class d = -(n[0] * c.x + n[1] * c.y + n[2] * c.z);
+  // The pyramid's part of the caster's plane, in its chart: the outline's bounding box cut by
+  // each side a . x + b >= 0 with x_k substituted (a line A u + B v + C >= 0).
+  double lo[2] = {vs[qp.chart_ring[0]][ci], vs[qp.chart_ring[0]][cj]}, hi[2] = {lo[0], lo[1]};
+  for (int v : qp.chart_ring) {
+    lo[0] = std::min(lo[0], vs[v][ci]);
+    hi[0] = std::max(hi[0], vs[v][ci]);
+    lo[1] = std::min(lo[1], vs[v][cj]);
+    hi[1] = std::max(hi[1], vs[v][cj]);
+  }
+  std::vector<std::array<mpq_class, 2>> window{{mpq_class(lo[0]), mpq_class(lo[1])}, {mpq_class(hi[0]), mpq_class(lo[1])},
+                                               {mpq_class(hi[0]), mpq_class(hi[1])}, {mpq_class(lo[0]), mpq_class(hi[1])}};
+  std::vector<std::array<mpq_class, 2>> cut;
+  std::vector<mpq_class> value;
+  for (const LeafProjector::Side& side : leaf_projector().pyramid_sides()) {
+    const mpq_class A = side.a[ci] - side.a[k] * n[ci] / n[k];
+    const mpq_class B = side.a[cj] - side.a[k] * n[cj] / n[k];
+    const mpq_class C = side.b - side.a[k] * d / n[k];
+    value.resize(window.size());
+    for (std::size_t a = 0; a < window.size(); ++a) value[a] = A * window[a][0] + B * window[a][1] + C;
+    auto side_of = [&](std::size_t a) { return sgn(value[a]); };
+    switch (geometry::clip_case(window.size(), side_of)) {
+      case geometry::ClipCase::Inside: continue;
+      case geometry::ClipCase::Empty: return true;  // nothing of the caster in the pyramid
+      case geometry::ClipCase::Cut: break;
+    }
+    geometry::clip_convex(window, side_of, [&](std::size_t a, std::size_t b) {
+      const mpq_class t = value[a] / (value[a] - value[b]);
+      return std::array<mpq_class, 2>{window[a][0] + t * (window[b][0] - window[a][0]),
+                                      window[a][1] + t * (window[b][1] - window[a][1])};
+    }, cut);
+    window.swap(cut);
+    if (window.size() < 3) return true;
+  }
+  Polygon2 clip;
+  for (const auto& p : window) clip.push_back(Point2(FT(p[0]), FT(p[1])));
+  if (CGAL::sign(polygon_area(clip)) == CGAL::ZERO) return true;  // the pyramid only grazes it
+  if (clip.orientation() == CGAL::CLOCKWISE) clip.reverse_orientation();
+  Polygon2 outline;
+  for (int v : qp.chart_ring) outline.push_back(Point2(vs[v][ci], vs[v][cj]));
+  if (outline.orientation() == CGAL::CLOCKWISE) outline.reverse_orientation();
+  PolygonSet2 parts(outline);
+  parts.intersection(clip);
+  std::vector<PolygonWithHoles2> inside;
+  parts.polygons_with_holes(std::back_inserter(inside));
+  LeafProjector& projector = leaf_projector();
+  bool cast = false;
+  mpq_class y[3];
+  for (const PolygonWithHoles2& part : inside) {
+    w_.poly2.clear();
+    for (auto v = part.outer_boundary().vertices_begin(); v != part.outer_boundary().vertices_end(); ++v) {
+      const auto& exact = CGAL::exact(*v);
+      y[ci] = exact.x();
+      y[cj] = exact.y();
+      y[k] = -(n[ci] * y[ci] + n[cj] * y[cj] + d) / n[k];
+      w_.poly2.push_back(projector.project_central(y));
+    }
+    cast |= add_shadow(w_.poly2);
+  }
+  if (cast) ++stats_.casting_pairs;
+  return true;
+}
+
+void ExactReceiverJob::project_piece_lazy(const ExactFace& Q, const std::vector<int>& piece, const ReceiverFrame& frame) {
+  w_.poly.clear();
+  for (int v : piece) w_.poly.push_back(Q.vertices[v]);
+  if (point_light_) {
+    // The pyramid over the chart box keeps the central projection finite.
+    clip_front(w_.poly, w_.piece_sign, frame.front, w_.scratch);
+    for (const Affine3& side : frame.sides) clip_convex(w_.poly, side, w_.scratch);
+    w_.poly2.clear();
+    for (const Point3& y : w_.poly) w_.poly2.push_back(project_to_chart(y, frame, light_));
+  } else {
+    project_front_part(w_.poly, w_.piece_sign, frame, light_, w_.poly2);
+  }
+}
+
+bool ExactReceiverJob::add_shadow(const std::vector<Point2>& poly) {
+  if (poly.size() < 3) return false;
+  Polygon2 projected(poly.begin(), poly.end());
+  const CGAL::Sign orientation = CGAL::sign(polygon_area(projected));
+  if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
+  if (orientation == CGAL::NEGATIVE) projected.reverse_orientation();
+  note_cover(projected);
+  shadows_.push_back(std::move(projected));
+  return true;
+}
+
+void ExactReceiverJob::note_cover(const Polygon2& shadow) {
+  if (polygons_ || !fp_.chart_is_box || tile_ || covered_) return;
+  const double twice = core::twice_area_about_box_corner(fp_, shadow.size(), [&](std::size_t a) {
+    const auto& p = shadow.vertex(a);
+    return std::array<double, 2>{CGAL::to_double(p.x()), CGAL::to_double(p.y())};
+  });
+  if (!near_box_area(twice) || !shadow.is_convex()) return;
+  covered_ = polygon_area(shadow) == w_.face(ctx_, face_id_).chart_area;
+}
+
+bool ExactReceiverJob::add_shadow_q(std::vector<QPoint2>& poly) {
+  if (poly.size() < 3) return false;
+  const CGAL::Sign orientation = area_sign(poly, w_.qs, w_.qarea);
+  if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
+  if (orientation == CGAL::NEGATIVE) std::reverse(poly.begin(), poly.end());
+  w_.qshadows.insert(w_.qshadows.end(), poly.begin(), poly.end());
+  w_.qfirst.push_back(w_.qshadows.size());
+  note_cover_q(poly);
+  return true;
+}
+
+void ExactReceiverJob::note_cover_q(const std::vector<QPoint2>& poly) {
+  if (tile_ || covered_ || poly.size() < 3) return;
+  const ScaledChart& chart = scaled_chart();
+  const double x0 = chart.lo(0).get_d(), y0 = chart.lo(1).get_d();  // the scaled box's corner
+  const double twice = core::twice_area_about({x0, y0}, poly.size(), [&](std::size_t a) {
+    return std::array<double, 2>{poly[a].x.get_d(), poly[a].y.get_d()};
+  });
+  if (!near_box_area(twice, (chart.hi(0).get_d() - x0) * (chart.hi(1).get_d() - y0))) return;
+  EQ exact_twice;
+  twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
+  const EQ exact_box = (chart.hi(0) - chart.lo(0)) * (chart.hi(1) - chart.lo(1));
+  covered_ = exact_twice == 2 * exact_box;
+}
+
+}  // namespace shadow::exact::receiver_job

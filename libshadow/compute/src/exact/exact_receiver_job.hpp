@@ -1,0 +1,209 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The exact engine's receiver job (exact_receiver.cpp), shared by the files of its steps: the
+// run, the union, the areas and the fragments (exact_receiver.cpp), the casts
+// (exact_receiver_casts.cpp). Internal to exact/.
+#pragma once
+
+#include "exact/exact_receiver.hpp"
+
+#include "exact/leaf_projector.hpp"
+#include "exact/scaled_chart.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <optional>
+#include <vector>
+
+namespace shadow::exact::receiver_job {
+
+using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+inline EK::Point_3 epick(const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z); }
+
+/// A non-convex caster of at least this many convex pieces, wholly in front of the receiver
+/// under a directional light and casting inside its chart box, casts its whole outline as one
+/// polygon (see cast_face).
+constexpr std::size_t kWholeFaceFromPieces = 16;
+
+class ExactReceiverJob {
+ public:
+  ExactReceiverJob(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+                   const ExactLight& light, const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
+                   ShadowStats& stats, const core::TileRequest& tiles = {})
+      : ctx_(ctx), w_(w), face_id_(face_id), light_id_(light_id), light_(light), light_in_(light_in),
+        grid_(grid), polygons_(polygons), emit_(polygons), stats_(stats), face_(ctx.scene->faces[face_id]),
+        fp_(tiles.tile ? *tiles.tile : (*ctx.prep)[face_id]), point_light_(light.is_point()),
+        tile_(tiles.tile != nullptr), split_above_(tiles.tile ? 0 : tiles.split_above) {}
+
+  ReceiverResult run(int facing);
+
+  /// run()'s steps up to the union, for the sun-hours map: the lit region itself. Constructed
+  /// with polygons = true, so that the shadow's union is kept as a set.
+  LitRegion lit_region(int facing);
+
+ private:
+  // ---- culling in doubles -------------------------------------------------------------------
+  const std::vector<std::size_t>& gather_casters() {
+    const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
+    const std::vector<std::size_t>& candidates =
+        w_.casters.gather(culler, *ctx_.prep, face_id_, grid_, tile_ ? ctx_.cull : nullptr, tile_ ? &fp_ : nullptr,
+                          ctx_.solid_of);
+    stats_.candidate_pairs += candidates.size();
+    return candidates;
+  }
+
+  /// The receiver's exact frame, built on first use: most receivers are decided by the
+  /// predicates alone (nothing strictly in front of them).
+  const ReceiverFrame& exact_frame() {
+    if (!frame_) {
+      const ExactFace& receiver = w_.face(ctx_, face_id_);
+      frame_ = make_frame(receiver, fp_, light_, plane_at_light(receiver, light_));
+    }
+    return *frame_;
+  }
+
+  LeafProjector& leaf_projector() {
+    if (!projector_) projector_.emplace(face_.vertices, fp_, light_in_);
+    return *projector_;
+  }
+
+  /// The areas-only route's chart, scaled so that projections are integers (q_mode_ only).
+  ScaledChart& scaled_chart() {
+    if (!scaled_chart_) scaled_chart_.emplace(face_.vertices, fp_, light_in_, ctx_.chart_least_bit);
+    return *scaled_chart_;
+  }
+
+  /// Sign of s (the receiver's plane) at an input vertex, by Epick's orientation predicate on
+  /// the doubles: exact, and cheap even when the answer is zero, which is common (faces that
+  /// share an edge with the receiver). Lazy Epeck arithmetic would evaluate every zero exactly.
+  /// Exactly planar receivers only.
+  CGAL::Sign input_side(const glm::dvec3& v) const {
+    CGAL::Sign sv = CGAL::orientation(corner0_, corner1_, corner2_, epick(v));
+    if (fp_.flipped) sv = CGAL::opposite(sv);
+    return sv;
+  }
+
+  /// Parallel projection is affine: a directional light's casts are clipped to the chart box in
+  /// 2D (a point light's are clipped to the pyramid over it before the projection).
+  void clip_to_chart_box(std::vector<Point2>& poly);
+
+  /// clip_to_chart_box for a cast in the scaled chart (the box's bounds scaled with it).
+  void clip_to_chart_box_q(std::vector<QPoint2>& poly);
+
+  // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
+  void cast_convex_solid(int solid);
+
+  // ---- a caster face, convex piece by convex piece ------------------------------------------
+  void cast_face(std::size_t q);
+
+  /// A point light's counterpart of the whole-outline cast above: a non-convex caster (exactly
+  /// planar, every vertex strictly in front of the receiver) whose every vertex also lies
+  /// strictly nearer the receiver's plane than the light, and projects inside the chart box,
+  /// casts its outline as one polygon. Then the face lies in the pyramid over the box (a convex
+  /// set holding its vertices), where no piece is clipped, and the central projection is a
+  /// projective map of the caster's plane defined on all of it: the image of its simple
+  /// outline is a simple polygon, the union of its pieces' images, vertex for vertex the same
+  /// exact points (LeafProjector::project_central is project_piece's formula). Cast piece by
+  /// piece, the pieces' shared edges made the union the cost (a 40,002-vertex comb under a
+  /// lamp: docs/benchmarks.md). False, having cast nothing, when the conditions do not hold.
+  bool cast_whole_outline_from_point(const core::FacePrep& qp, const Face& qface);
+
+  /// cast_whole_outline_from_point's caster when its shadow leaves the chart box: the outline is
+  /// cut to the pyramid over the box in the caster's own chart (its input doubles, and the
+  /// pyramid's sides as lines there), and each part of it cast whole. A simple polygon cut by
+  /// a convex region is a set of simple polygons without holes (the complements of both are
+  /// connected), whose images are simple, inside the box, and together the union of the
+  /// clipped pieces' images: the same exact region. True when the caster is handled; false,
+  /// casting nothing, when its corner's normal has no component along its chart's axis.
+  bool cast_outline_cut_to_pyramid(const core::FacePrep& qp, const Face& qface);
+
+  /// The lazy route (a lifted receiver or caster): the piece's front part, clipped to the
+  /// pyramid for a point light, projected into w_.poly2.
+  void project_piece_lazy(const ExactFace& Q, const std::vector<int>& piece, const ReceiverFrame& frame);
+
+  /// A projected piece as a counter-clockwise shadow polygon; false when it has no area (the
+  /// caster is edge-on to the light, or clipped away).
+  bool add_shadow(const std::vector<Point2>& poly);
+
+  /// Areas only, a box receiver (not a tile): a convex shadow inside the chart box (every cast
+  /// is clipped to it) whose area is the box's is the box, and the union is the box whatever
+  /// else casts (under a low sun many walls are wholly in shadow). Doubles first, so that only
+  /// a near match costs an exact comparison.
+  void note_cover(const Polygon2& shadow);
+
+  /// add_shadow for rational points (the areas-only route).
+  bool add_shadow_q(std::vector<QPoint2>& poly);
+
+  /// note_cover for a rational cast (counter-clockwise, in the scaled chart). Every cast is a
+  /// simple polygon inside the chart box (a convex piece or hull clipped to it, or a face's
+  /// affine image lying in it), and a simple polygon inside the box with the box's area is the box.
+  void note_cover_q(const std::vector<QPoint2>& poly);
+
+  /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
+  /// of twice the chart box's: only such a cast can be the whole box (note_cover, note_cover_q).
+  bool near_box_area(double twice) const { return near_box_area(twice, core::chart_box_area(fp_)); }
+  static bool near_box_area(double twice, double box) { return std::abs(0.5 * twice - box) <= 1e-9 * box; }
+
+  std::size_t shadow_count() const { return q_mode_ ? w_.qfirst.size() - 1 : shadows_.size(); }
+
+  // ---- unite, areas -------------------------------------------------------------------------
+  void unite_and_measure();
+
+  /// The areas from the shadow's exact area in the chart, in plain rationals (the same values
+  /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
+  void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
+  void measure(const EQ& shadow);
+
+  // ---- fragments ----------------------------------------------------------------------------
+  /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
+  /// outline in doubles is not a simple polygon of certainly non-zero area goes through emit()
+  /// like any other region: triangles, and dropped_area for those that collapse.
+  void emit_whole_face(bool lit);
+
+  /// A tile's chart box as a counter-clockwise polygon (its corners are exact doubles).
+  Polygon2 tile_polygon() const;
+
+  /// A tile's part of the face: its box, intersected with the face's outline unless the box
+  /// lies in the face (chart_is_box: a box face's tiles, and the inner cells of other faces).
+  PolygonSet2 tile_region(const ExactFace& P) const;
+
+  void emit_fragments(const ExactFace& P);
+
+  /// One cell as a fragment, if its vertices rounded to doubles still make one simple polygon
+  /// of non-zero area (the output contract); false, writing nothing, otherwise.
+  bool write(const ExactFace& P, const Polygon2& cell, const FT& cell_area, bool lit);
+
+  void emit(const ExactFace& P, const std::vector<PolygonWithHoles2>& regions, bool lit);
+
+  const ExactContext& ctx_;
+  ExactWorker& w_;
+  std::size_t face_id_, light_id_;
+  const ExactLight& light_;
+  const Light& light_in_;
+  const core::LightSpaceGrid* grid_;
+  bool polygons_;     ///< keep the shadow's union as a set (fragments or the lit region need it)
+  bool emit_;         ///< write fragments (compute_exact_receiver with polygons)
+  ShadowStats& stats_;
+  const Face& face_;
+  const core::FacePrep& fp_;
+  const bool point_light_;
+  const bool tile_;                 ///< computing one tile of the face (fp_ is the tile's)
+  const std::size_t split_above_;   ///< ask for tiles above this many candidates (0: never)
+  EK::Point_3 corner0_, corner1_, corner2_;  ///< the receiver's corner, for input_side
+  std::optional<ReceiverFrame> frame_;
+  std::optional<LeafProjector> projector_;
+  std::optional<ScaledChart> scaled_chart_;  ///< q_mode_ only
+  ReceiverResult item_;
+  std::vector<Polygon2> shadows_;
+  bool covered_ = false;  ///< a shadow fills the whole chart box (areas only; note_cover)
+  std::vector<PolygonWithHoles2> shadow_regions_;
+  std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
+  ConvexUnionArea::EQ twice_area_;                 ///< scratch for the union's area (areas only)
+  bool q_mode_ = false;                            ///< casts as rational points (see run())
+  FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
+  std::size_t fragment_id_ = 0;
+  std::vector<Polygon2> cells_, triangles_;
+  std::vector<FT> dropped_;  ///< exact chart areas of cells too thin to write
+};
+
+}  // namespace shadow::exact::receiver_job

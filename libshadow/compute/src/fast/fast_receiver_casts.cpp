@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The fast receiver job's casts (fast/receiver_job.hpp): each candidate caster, a convex
+// solid's hull or a face's convex pieces, projected in doubles onto the receiver's chart and put
+// on the grid, or charged to the bound when it collapses.
+#include "fast/receiver_job.hpp"
+
+#include "geometry/unit_vector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+namespace shadow::fast::receiver_job {
+namespace {
+
+/// Convex hull (counter-clockwise, Andrew's monotone chain) in doubles.
+void convex_hull(std::vector<glm::dvec2>& pts, std::vector<glm::dvec2>& hull) {
+  std::sort(pts.begin(), pts.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+    return a.x < b.x || (a.x == b.x && a.y < b.y);
+  });
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  hull.clear();
+  if (pts.size() < 3) {
+    hull = pts;
+    return;
+  }
+  auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+  };
+  hull.resize(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  hull.resize(k - 1);
+}
+
+}  // namespace
+
+void ReceiverJob::add_cast(Cast& c) {
+  if (c.poly.size() < 3) {
+    bound_.clipped_away(c.free_length, c.delta + 4 * kEps * rc_.magnitude);
+    not_finite_ |= !bound_.finite();
+    return;
+  }
+  for (const glm::dvec2& p : c.poly) not_finite_ |= !std::isfinite(p.x) || !std::isfinite(p.y);
+  not_finite_ |= !std::isfinite(c.delta);
+  if (not_finite_) return;
+  CL::Path path;
+  path.reserve(c.poly.size());
+  for (const glm::dvec2& p : c.poly) {
+    const CL::IntPoint ip = grid_.point(p);
+    if (path.empty() || !(path.back() == ip)) path.push_back(ip);
+  }
+  while (path.size() > 1 && path.front() == path.back()) path.pop_back();
+  const double r = rho_ + c.delta + 4 * kEps * rc_.magnitude;
+  const double n_vertices = static_cast<double>(c.poly.size());
+  const double length = perimeter(c.poly);
+  bound_.cast_polygon(c.free_length, length, n_vertices, c.delta, r);
+  const Int128 a2 = path.size() >= 3 ? area2(path) : 0;
+  if (a2 == 0) {  // collapsed on the grid: its true area is within the bound just added
+    double twice_area = 0;  // edge-on casters have no area in doubles either: not counted
+    for (std::size_t a = 0; a < c.poly.size(); ++a) {
+      const glm::dvec2& p = c.poly[a];
+      const glm::dvec2& q = c.poly[(a + 1) % c.poly.size()];
+      twice_area += p.x * q.y - q.x * p.y;
+    }
+    if (twice_area != 0) ++local_.fast_collapsed;
+    return;
+  }
+  if (a2 < 0) std::reverse(path.begin(), path.end());
+  // Areas only on a box receiver: a convex cast that fills the whole chart box (on the grid,
+  // the box is [-kHalf, kHalf]^2) is the shadow; no later caster can change that, and its own
+  // rounding is in the bound already (a low sun shadows many walls wholly).
+  const Int128 box2 = 2 * static_cast<Int128>(2 * kHalf) * (2 * kHalf);
+  if (!polygons_ && fp_.chart_is_box && (a2 == box2 || a2 == -box2) && is_convex_ccw(path)) covered_ = true;
+  casts_.push_back(std::move(path));
+  cast_length_ += length + 2 * n_vertices * rho_;
+}
+
+bool ReceiverJob::cast_all(const std::vector<std::size_t>& candidates) {
+  const int own_solid = (*ctx_.solid_of)[face_id_];
+  for (std::size_t q : candidates) {
+    const int solid = (*ctx_.solid_of)[q];
+    if (solid >= 0 && (solid == own_solid || w_.casters.solid_done(solid))) continue;
+    if (solid >= 0 && !rc_.point && rc_.exact_sides) {
+      if (!cast_convex_solid(solid)) return false;
+      if (covered_) break;
+      continue;
+    }
+    if (!cast_face(q)) return false;
+    if (covered_) break;  // the whole box is in shadow: the other casters cannot add to it
+  }
+  return true;
+}
+
+bool ReceiverJob::cast_convex_solid(int solid) {
+  w_.casters.mark_solid_done(solid);
+  const core::ConvexSolid& cs = (*ctx_.solids)[solid];
+  vsign_.resize(cs.vertices.size());
+  bool any_front = false;
+  for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+    vsign_[a] = rc_.side(cs.vertices[a]);
+    any_front |= vsign_[a] == CGAL::POSITIVE;
+  }
+  if (!any_front) return true;
+  points_.clear();
+  for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+    if (vsign_[a] == CGAL::POSITIVE) points_.push_back(fr_.project(cs.vertices[a]));
+    if (vsign_[a] == CGAL::ZERO) points_.push_back(fr_.chart(cs.vertices[a]));
+  }
+  double cross_delta = 0;
+  for (const auto& [a, b] : cs.edges) {
+    const CGAL::Sign sa = vsign_[a], sb = vsign_[b];
+    if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
+      glm::dvec3 x;
+      if (!fr_.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
+      points_.push_back(fr_.chart(x));
+    }
+  }
+  convex_hull(points_, hull_);
+  cast_.poly = hull_;
+  // The hull of points each within delta of the exact ones is within delta of the exact hull.
+  cast_.delta = std::max(parallel_delta_, cross_delta);
+  if (cast_.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver
+    bound_.flat_solid(perimeter(cast_.poly), cast_.delta + 4 * kEps * rc_.magnitude);
+    return true;
+  }
+  cast_.free_length = perimeter(cast_.poly);
+  if (!fr_.clip_to_box(cast_)) return false;
+  const std::size_t before = casts_.size();
+  add_cast(cast_);
+  if (not_finite_) return false;
+  if (casts_.size() > before) ++local_.casting_pairs;
+  return true;
+}
+
+bool ReceiverJob::cast_face(std::size_t q) {
+  const core::FacePrep& qp = prep_[q];
+  const Face& qface = scene_.faces[q];
+  const core::CullFace& cq = cull_.faces[q];
+  if (rc_.point) {
+    if (qp.exactly_planar) {
+      if (CGAL::orientation(epick(qface.vertices[qp.corner[1]]), epick(qface.vertices[qp.corner[2]]),
+                            epick(qface.vertices[qp.corner[0]]), epick(light_.position)) == CGAL::COPLANAR)
+        return true;  // edge-on to the light: casts nothing
+    } else {
+      // A lifted caster nearly edge-on to the light: leave the receiver to the exact engine.
+      const glm::dvec3 l = light_.position - cull_.origin;
+      if (std::abs(glm::dot(cq.normal, l) + cq.offset) <=
+          (1e-9 + cq.normal_error) * (glm::length(l) + cull_.diameter) + cq.slack)
+        return false;
+    }
+  }
+  // A lifted caster's vertices are up to `slack` from where the exact engine puts them.
+  const double slack = qp.exactly_planar ? 0.0 : cq.slack;
+  vsign_.resize(qface.vertices.size());
+  unsure_.resize(qface.vertices.size());
+  bool any_front = false, any_unsure = false;
+  for (std::size_t a = 0; a < qface.vertices.size(); ++a) {
+    bool u = false;
+    vsign_[a] = rc_.side(qface.vertices[a], qp.exactly_planar, slack, u);
+    unsure_[a] = u;
+    any_front |= vsign_[a] == CGAL::POSITIVE;
+    any_unsure |= u;
+  }
+  if (!any_front && !any_unsure) return true;
+  // A vertex of unsure side, taken as on the plane, is within (its s error) / sin(angle between
+  // the planes) of where the exact clip puts the boundary.
+  double unsure_shift = 0;
+  if (any_unsure) {
+    const double sine = glm::length(glm::cross(rc_.normal, cq.normal));
+    unsure_shift = 2 * (rc_.s_error + slack) / sine;
+    if (!(unsure_shift <= max_delta_)) unsure_shift = std::numeric_limits<double>::infinity();
+  }
+  bool cast_any = false;
+  for (const std::vector<int>& piece : qp.convex_pieces) {
+    psign_.clear();
+    bool piece_front = false, piece_unsure = false;
+    for (int a : piece) {
+      psign_.push_back(vsign_[a]);
+      piece_front |= vsign_[a] == CGAL::POSITIVE;
+      piece_unsure |= unsure_[a] != 0;
+    }
+    const double position = slack + (piece_unsure ? unsure_shift : 0.0);
+    // Points within s_error + slack of the plane project to within this of their chart points.
+    const double grow = rc_.point ? 2 * (1 + glm::length(rc_.light_rel) / rc_.light_side) : 1 + glm::length(rc_.shift);
+    if (!piece_front) {
+      if (!piece_unsure) continue;
+      if (!cast_nearly_coplanar(qface, piece, position, grow, slack)) return false;
+      continue;
+    }
+    if (!std::isfinite(position)) return false;  // nearly coplanar and partly in front: exact
+    fr_.set_piece_error(position, rc_.s_error + slack);
+    const bool ok = rc_.point ? fr_.project_central(qface.vertices, piece, psign_, cast_)
+                              : fr_.project_parallel(qface.vertices, piece, psign_, cast_);
+    fr_.set_piece_error(0, 0);
+    if (!ok) return false;
+    const std::size_t before = casts_.size();
+    add_cast(cast_);
+    if (not_finite_) return false;
+    cast_any |= casts_.size() > before;
+  }
+  if (cast_any) ++local_.casting_pairs;
+  return true;
+}
+
+bool ReceiverJob::cast_nearly_coplanar(const Face& qface, const std::vector<int>& piece, double position, double grow,
+                          double slack) {
+  points_.clear();
+  for (int a : piece) points_.push_back(fr_.chart(qface.vertices[a]));
+  if (std::isfinite(position)) {  // the exact front part is at most a sliver along the plane
+    bound_.unsure_sliver(perimeter(points_), (position + rc_.s_error) * grow + 4 * kEps * rc_.magnitude);
+    return true;
+  }
+  // Its exact shadow lies somewhere inside its own chart footprint.
+  cast_.poly = points_;
+  cast_.delta = (rc_.s_error + slack) * grow;
+  cast_.free_length = perimeter(cast_.poly);
+  for (int c = 0; c < 2 && cast_.poly.size() >= 3; ++c) {
+    clip_axis(cast_.poly, c, rc_.lo[c], true, hull_);
+    clip_axis(cast_.poly, c, rc_.hi[c], false, hull_);
+  }
+  const std::size_t before = casts_.size();
+  // A footprint may cast anything from nothing to itself: it never counts as filling the box.
+  const bool covered_before = covered_;
+  add_cast(cast_);
+  covered_ = covered_before;
+  if (not_finite_) return false;
+  if (casts_.size() > before) {
+    maybe_.push_back(std::move(casts_.back()));
+    casts_.pop_back();
+  }
+  return true;
+}
+
+}  // namespace shadow::fast::receiver_job
