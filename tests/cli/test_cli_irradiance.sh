@@ -5,12 +5,13 @@
 # elevation), its isotropic sky diffuse against the day's DHI, the energy check, --hourly, and
 # bad input (one line, exit 2, nothing written).
 #
-# Usage: bash test_cli_irradiance.sh /path/to/shadow
+# Usage: bash test_cli_irradiance.sh /path/to/shadow /path/to/examples
 set -u
 
 source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
-cli_test_begin cli-irradiance 1 "SHADOW_BINARY" "$@"
+cli_test_begin cli-irradiance 2 "SHADOW_BINARY EXAMPLES_DIR" "$@"
 SHADOW=$1
+EXAMPLES=$2
 
 # 21 June at 48 N 2 E, UTC+1, sea level: DNI 600 and DHI 100 Wh/m2 from hour 6 to hour 19,
 # global horizontal missing (9999: the library derives it), albedo 0.3.
@@ -170,6 +171,22 @@ for h, (row, sun) in enumerate(zip(rows, suns), start=1):
         assert abs(float(row[name]) - mine) < 1e-9, (h, name, row[name], mine)
 PY
 then pass "open_panel_against_perez"; else fail "open_panel_against_perez" "see above"; fi
+
+# An EnergyPlus model: energyplus-diffuse-shading.csv, one ratio in [0, 1] per surface, names as
+# EnergyPlus holds them (upper case); the overhang-shaded south wall below 1.
+if "$SHADOW" irradiance "$EXAMPLES/energyplus/box-office.idf" --weather "$WORK/day.epw" -o "$WORK/out-idf" -q &&
+   python3 - "$WORK/out-idf" <<'PY'
+import csv, json, sys
+rows = list(csv.reader(open(sys.argv[1] + "/energyplus-diffuse-shading.csv", newline="")))
+assert rows[0] == ["Surface Name", "Diffuse Shading Ratio"], rows[0]
+ratios = {name: float(value) for name, value in rows[1:]}
+assert all(0.0 <= r <= 1.0 for r in ratios.values()), ratios
+assert all(name == name.upper() for name in ratios), ratios
+assert ratios["WALL-SOUTH"] < 1.0, ratios
+report = json.load(open(sys.argv[1] + "/report.json"))
+assert len(ratios) == len(report["surfaces"]), (len(ratios), len(report["surfaces"]))
+PY
+then pass "energyplus_diffuse_shading"; else fail "energyplus_diffuse_shading" "see above"; fi
 
 # expect_error NAME PART ARGS...: exit 2, one line on stderr containing PART, no report.json.
 expect_error() {
