@@ -49,6 +49,7 @@ COMPUTE = {
     "sun": {"geometry"},
     "lighting": {"geometry"},
     "common": set(),
+    "irradiance": {"geometry"},
 }
 ALLOWED = {
     "compute": COMPUTE,

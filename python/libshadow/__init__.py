@@ -25,6 +25,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     PlaneShadow,
     Scene,
     SceneObject,
+    Weather,
     SeriesResult,
     ShadowEngine,
     ShadowResult,
@@ -50,6 +51,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     parse_iso8601,
     parse_scene,
     parse_utc_offset,
+    read_epw,
     replace_sun_lights,
     solar_position,
     sun_hours_instants,
@@ -75,6 +77,7 @@ __all__ = [
     "sunlit_csv", "energyplus_shading_csv", "write_series",
     "SceneObject", "object_sun_hours", "sun_hours_by_object_csv", "unique_face_labels", "site_timezone",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",
+    "Weather", "read_epw", "irradiance", "IrradianceResult",
 ]
 
 
@@ -553,3 +556,33 @@ def sun_hours(result, hours_per_instant=None, by="surface"):
         labels.append(label)
         hours.append(lit[faces].sum() / a * hours_per_instant if a > 0 else 0.0)
     return labels, _np.array(hours, dtype=float)
+
+
+# ---- irradiation over a weather year (docs/irradiance.md) -----------------------------------------
+
+class IrradianceResult(dict):
+    """What ``irradiance()`` returns: a dict of numpy arrays per receiving face (``face_id``,
+    ``area``, ``sky_view_factor``, ``ground_view_factor``, ``direct``, ``sky_diffuse``,
+    ``ground_reflected``, ``total`` in kWh/m2, ``monthly_total`` faces x 12, ...), with
+    ``to_pandas()``."""
+
+    def to_pandas(self):
+        """One row per receiving face (index ``face_id``): the per-face columns and the twelve
+        monthly totals (``jan`` .. ``dec``, kWh/m2)."""
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the machine
+            raise ImportError("to_pandas() needs pandas (Debian: python3-pandas)") from e
+        columns = ("area", "sky_view_factor", "ground_view_factor", "direct", "sky_diffuse", "ground_reflected", "total")
+        data = {c: self[c] for c in columns}
+        months = ("jan", "feb", "mar", "apr", "may", "jun", "jul", "aug", "sep", "oct", "nov", "dec")
+        for m, name in enumerate(months):
+            data[name] = self["monthly_total"][:, m]
+        return pd.DataFrame(data, index=pd.Index(self["face_id"], name="face_id"))
+
+
+def irradiance(scene, weather, *args, **kwargs):
+    return IrradianceResult(_libshadow.irradiance(scene, weather, *args, **kwargs))
+
+
+irradiance.__doc__ = _libshadow.irradiance.__doc__

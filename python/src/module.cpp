@@ -356,6 +356,8 @@ py::dict stats_dict(const ShadowStats& s) {
 
 }  // namespace
 
+void bind_irradiance(py::module_& m);  // irradiance_module.cpp
+
 PYBIND11_MODULE(_libshadow, m) {
   m.doc() = "libshadow's C++ core (pybind11): its classes and functions are libshadow's, imported from\n"
             "there (import libshadow; see help(libshadow) and docs/python.md).";
@@ -1183,6 +1185,8 @@ PYBIND11_MODULE(_libshadow, m) {
         py::arg("scene"), py::arg("threads") = 0, py::arg("lights") = py::none(), py::arg("plane_window") = 0.0,
         "The exact shadows on the scene's planes (Blinn's projection), by plane then light: a list of\n"
         "PlaneShadow. Independent of the face engine.");
+
+  bind_irradiance(m);  // Weather, read_epw, irradiance (irradiance_module.cpp)
 
   m.attr("__name__") = own_name;  // the import system's own name back (see the top)
 }

@@ -17,6 +17,7 @@
 #include <CLI/CLI.hpp>
 
 #include "series_command.hpp"
+#include "irradiance_command.hpp"
 
 #include <unistd.h>
 
@@ -256,6 +257,9 @@ int main(int argc, char** argv) {
   render->footer(shadow_cli::exit_codes_help());
 #endif
 
+  IrradianceArgs irradiance_args;
+  CLI::App* irradiance = add_irradiance_command(app, irradiance_args);
+
   SunArgs sun_args;
   CLI::App* sun = app.add_subcommand(
       "sun", "Print the sun's position (NREL SPA, topocentric, refraction included) at a place and UTC "
@@ -275,9 +279,9 @@ int main(int argc, char** argv) {
     }
     if (!found) {
 #ifdef LIBSHADOW_HAVE_RENDER
-      const char* known = "compute, series, render, sun";
+      const char* known = "compute, series, irradiance, render, sun";
 #else
-      const char* known = "compute, series, sun";
+      const char* known = "compute, series, irradiance, sun";
 #endif
       std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
                 << "; see shadow --help)\n";
@@ -308,6 +312,7 @@ int main(int argc, char** argv) {
     if (*series) return run_series(series_args);
     if (*compute) return run_compute(args);
     if (*sun) return run_sun(sun_args);
+    if (*irradiance) return run_irradiance(irradiance_args);
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) {
       shadow_cli::set_stage(shadow_cli::Stage::Rendering);

@@ -7,9 +7,12 @@
 #include <shadow/area_lights.hpp>
 #include <shadow/blinn.hpp>
 #include <shadow/energyplus.hpp>
+#include <shadow/epw.hpp>
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
 #include <shadow/input_file.hpp>
+#include <shadow/irradiance.hpp>
+#include <shadow/irradiance_output.hpp>
 #include <shadow/lighting.hpp>
 #include <shadow/material.hpp>
 #include <shadow/output.hpp>
@@ -23,3 +26,4 @@
 #include <shadow/validation.hpp>
 #include <shadow/version.hpp>
 #include <shadow/view.hpp>
+#include <shadow/weather.hpp>

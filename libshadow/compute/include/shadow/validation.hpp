@@ -55,6 +55,9 @@ struct LoadOptions {
   /// Zero-area faces are not invalid: they are kept, marked `degenerate`, as without the flag.
   /// Without it the first invalid face is an InputError whose message names this option.
   bool skip_invalid = false;
+  /// A scene file must have `lights` (at least one) unless it has a `sun` block. False: `lights`
+  /// may be absent or empty (`shadow irradiance`, whose suns come from a weather file).
+  bool require_lights = true;
 };
 
 /// Checks every face's geometry: finite coordinates within max_coordinate, planarity within tolerance, a simple

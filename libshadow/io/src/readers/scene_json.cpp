@@ -94,13 +94,14 @@ Scene SceneReader::read(const std::string& text) {
   const Json& meshes = require(document, "", "meshes", "the scene's meshes");
   // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
   const Json* sun = find(document, "sun");
-  const Json* lights = sun != nullptr ? find(document, "lights")
-                                      : &require(document, "", "lights", "the scene's lights");
+  const bool lights_optional = sun != nullptr || !options_.require_lights;
+  const Json* lights = lights_optional ? find(document, "lights")
+                                       : &require(document, "", "lights", "the scene's lights");
 
   // Materials first: meshes name them.
   if (const Json* materials = find(document, "materials")) read_materials(*materials);
   pending_ = read_meshes(meshes);
-  if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/sun != nullptr);
+  if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/lights_optional);
   if (sun != nullptr) {
     // The suns' lights come after the scene's own; expanding is cheap next to loading meshes.
     scene_.source = scene_file_;

@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file irradiance.hpp
+/// @brief Solar irradiation over a weather year on every receiving face: direct from the sun
+/// through each face's exact sunlit fraction, sky diffuse (isotropic or Perez 1990) through
+/// each face's exact view of the sky patches, and ground-reflected. See docs/irradiance.md.
+///
+/// Conventions: a weather record covers the hour that ends at its stamp (EPW); the sun of the
+/// record is the sun at the middle of that hour (start + 30 min, UTC), from solar_position()
+/// (NREL SPA) at the weather file's site. Irradiance in W/m2 is the hour's mean, so the hour's
+/// irradiation in Wh/m2 is the same number; totals are in kWh/m2.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/shadows.hpp>
+#include <shadow/sun_hours.hpp>
+#include <shadow/weather.hpp>
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace shadow {
+
+/// The sky's diffuse radiance distribution.
+enum class SkyModel {
+  Isotropic,  ///< uniform sky: a face gets DHI x its sky view factor
+  Perez       ///< Perez et al. 1990, all-sites coefficients: isotropic, circumsolar and horizon band
+};
+
+/// One patch of the sky hemisphere, seen as a directional light at its centre.
+struct SkyPatch {
+  double altitude = 0.0;     ///< degrees above the horizon of the patch's centre
+  double azimuth = 0.0;      ///< degrees clockwise from true north of its centre
+  double solid_angle = 0.0;  ///< steradians
+  bool horizon = false;      ///< in the lowest band of Tregenza's sky (altitude < 12 degrees)
+  glm::dvec3 to_patch{0.0, 0.0, 1.0};  ///< unit vector toward the centre, model coordinates
+};
+
+/// Tregenza's 145 patches (`count` 145) or Reinhart's subdivisions of them (577: each patch
+/// cut 2 x 2; 2305: 4 x 4): 7m bands of height 90 / (7m + 0.5) degrees with m x (30, 30, 24,
+/// 24, 18, 12, 6) patches, and a polar cap. Solid angles add up to 2 pi.
+/// @throws InputError for another count (place `sky_patches`)
+std::vector<SkyPatch> sky_patches(int count, double north_axis_degrees = 0.0);
+
+/// Kasten and Young's (1989) relative optical air mass at a zenith angle in degrees: finite up
+/// to 90 degrees, NaN beyond.
+double relative_airmass(double zenith_degrees);
+
+/// Extraterrestrial normal irradiance (W/m2) on day `day_of_year` (1..366): 1366.1 W/m2 times
+/// Spencer's (1971) eccentricity correction.
+double extraterrestrial_normal(int day_of_year);
+
+/// Perez 1990's brightness coefficients for one hour.
+struct PerezSky {
+  double f1 = 0.0;      ///< circumsolar brightening (>= 0)
+  double f2 = 0.0;      ///< horizon brightening (may be negative)
+  int bin = 0;          ///< clearness bin 1..8 (0: no diffuse, or the sun below the horizon)
+  double epsilon = 0.0; ///< sky clearness
+  double delta = 0.0;   ///< sky brightness
+};
+
+/// F1 and F2 of Perez et al. 1990 (all-sites composite coefficients) from the diffuse
+/// horizontal and direct normal irradiance (W/m2), the sun's zenith (degrees), the
+/// extraterrestrial normal irradiance and the relative air mass. bin 0 (F1 = F2 = 0, the sky
+/// isotropic) when dhi <= 0 or the zenith is not below 90 degrees.
+PerezSky perez_sky(double dhi, double dni, double zenith_degrees, double dni_extra, double airmass);
+
+/// The parts of Perez's sky diffuse irradiance on an unobstructed plane of tilt `tilt_degrees`
+/// whose normal makes `cos_incidence` with the sun (W/m2).
+struct PerezParts {
+  double isotropic = 0.0;    ///< dhi (1 - F1) (1 + cos tilt) / 2
+  double circumsolar = 0.0;  ///< dhi F1 max(0, cos incidence) / max(cos 85 deg, cos zenith)
+  double horizon = 0.0;      ///< dhi F2 sin tilt
+  /// max(0, isotropic + circumsolar + horizon): pvlib's `perez` on the same inputs.
+  [[nodiscard]] double total() const;
+};
+PerezParts perez_diffuse(double tilt_degrees, double cos_incidence, double zenith_degrees, double dhi,
+                         const PerezSky& sky);
+
+/// Options of compute_irradiance.
+struct IrradianceOptions {
+  SkyModel sky = SkyModel::Perez;
+  int sky_patches = 145;  ///< 145, 577 or 2305
+  /// Ground reflectance; NaN: the weather file's mean albedo when it has one, else 0.2.
+  double ground_reflectance = std::numeric_limits<double>::quiet_NaN();
+  std::size_t first_record = 0;  ///< the period: weather records [first_record, end_record)
+  std::size_t end_record = std::numeric_limits<std::size_t>::max();
+  double north_axis = 0.0;  ///< degrees clockwise from true north to the model's +y
+  double delta_t = 69.0;    ///< TT - UT1 (s) for the SPA
+  /// The series computations (threads, exact or fast, tiles); its progress is not used.
+  SeriesOptions series;
+  /// Called from the calling thread: stage ("sky patches" then "sun") and its progress.
+  std::function<void(const std::string& stage, const Progress&)> progress;
+};
+
+/// The sky of one hour of the period, shared by every face.
+struct IrradianceHour {
+  std::size_t record = 0;           ///< index of the weather record
+  std::size_t sun = none;           ///< column of `IrradianceResult::sun`, or none (night, no light)
+  double dni = 0.0, dhi = 0.0, ghi = 0.0;  ///< W/m2 (0 where the file says missing)
+  double zenith = 90.0;             ///< the sun's zenith at mid-hour (degrees)
+  glm::dvec3 to_sun{0.0, 0.0, 1.0}; ///< unit vector toward the sun, model coordinates
+  PerezSky perez;                   ///< F1 = F2 = 0 for the isotropic sky
+  bool missing = false;             ///< DNI or DHI missing in the file: the hour counts 0
+  static constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+};
+
+/// A face's irradiance in one hour (W/m2, the hour's mean).
+struct FaceIrradiance {
+  double direct = 0.0;
+  double sky_diffuse = 0.0;
+  double ground_reflected = 0.0;
+  double direct_unshaded = 0.0;       ///< DNI max(0, cos incidence): the face alone in the world
+  double sky_diffuse_unshaded = 0.0;  ///< the same sky on the face without obstructions
+  [[nodiscard]] double total() const { return direct + sky_diffuse + ground_reflected; }
+};
+
+/// Irradiation of every receiving face over the period.
+struct IrradianceResult {
+  std::vector<std::size_t> faces;      ///< receiving faces, ascending: the rows
+  std::vector<double> area;            ///< per row: exact area rounded once (m2)
+  std::vector<glm::dvec3> normal;      ///< per row: unit normal (Newell)
+  std::vector<double> sky_view_factor; ///< per row: the form factor to the visible sky
+  std::vector<double> horizon_view;    ///< per row: visible share of the horizon band (0..1)
+  /// per row: (1 - cos tilt) / 2, the ground unobstructed; 0 for a CityJSON GroundSurface (it
+  /// rests on the ground)
+  std::vector<double> ground_view;
+  /// Per row, kWh/m2 over the period: direct, sky diffuse, ground-reflected, their total, and
+  /// the unshaded sky diffuse (for EnergyPlus's diffuse shading ratio).
+  std::vector<double> direct, sky_diffuse, ground_reflected, total, sky_diffuse_unshaded, direct_unshaded;
+  /// Per row, the fast path's bounds (0 when exact): on |direct - exact direct| (kWh/m2), the sum
+  /// over hours of DNI cos(incidence) x lit_area_error_bound / area; and on |sky_view_factor -
+  /// exact|, the patches' bounds weighted as the view factor weighs their lit fractions.
+  std::vector<double> direct_error_bound, sky_view_factor_error_bound;
+  /// Per row and month (row * 12 + month - 1), kWh/m2: the same four components.
+  std::vector<double> monthly_direct, monthly_sky_diffuse, monthly_ground_reflected, monthly_total;
+  std::vector<IrradianceHour> hours;  ///< the period's hours in time order
+  std::vector<Light> sun_lights;      ///< the suns of the hours with a sun (columns of `sun`)
+  SeriesResult sun;                   ///< their exact (or fast) lit fractions
+  std::vector<SkyPatch> patches;
+  SeriesResult sky;                   ///< the patches' lit fractions
+  SkyModel sky_model = SkyModel::Perez;
+  double ground_reflectance = 0.2;
+  std::size_t missing_hours = 0;  ///< hours of the period with DNI or DHI missing (counted as 0)
+  double seconds_sky = 0.0, seconds_sun = 0.0, seconds_sums = 0.0;  ///< time per stage
+  /// Energy conservation over every face and hour (W/m2): the largest excess of shaded over
+  /// unshaded direct and sky diffuse (<= 0 up to rounding), and the smallest component (>= 0).
+  double max_direct_excess = 0.0, max_diffuse_excess = 0.0, min_component = 0.0;
+  /// The month (1..12) of each hour (hours[h]).
+  [[nodiscard]] int month_of(std::size_t h, const Weather& weather) const { return weather.month[hours[h].record]; }
+};
+
+/// The irradiance of row `row` in hour `h` of `result` (W/m2).
+FaceIrradiance face_irradiance(const IrradianceResult& result, std::size_t row, std::size_t h);
+
+/// Irradiation over `weather`'s records in the options' period on every receiving face of the
+/// engine's scene: the sky patches once (one series of lights), the sun of every hour with
+/// diffuse or direct light and the sun above the horizon (one series), then the sums.
+/// @throws InputError for a bad option (sky_patches, ground_reflectance outside [0, 1], an
+/// empty period)
+IrradianceResult compute_irradiance(const ShadowEngine& engine, const Scene& scene, const Weather& weather,
+                                    const IrradianceOptions& options = {});
+
+/// The direct irradiation map (`shadow irradiance --map`): the exact sun-hours map of `faces`
+/// (receiving faces of `result`; others are left out) in which each hour's sun weighs
+/// DNI x cos(incidence) / 1000, so that each cell's `sun_hours` is its direct irradiation in
+/// kWh/m2 over the period: every face cut along the exact boundaries of the beam's shadows of
+/// every hour. Faces are mapped in groups of equal normal (the weights depend on it); cells come
+/// ordered by face id, region ids numbered across the groups. Over a face, the area-weighted mean
+/// of its cells equals result.direct of its row up to rounding.
+/// @throws InputError as compute_sun_hours_map
+SunHoursMap irradiation_map(const ShadowEngine& engine, const IrradianceResult& result,
+                            const std::vector<std::size_t>& faces, const SunHoursOptions& options = {});
+
+}  // namespace shadow

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/// @file irradiance_output.hpp
+/// @brief The files of `shadow irradiance` (docs/irradiance.md): report.json, irradiation.csv,
+/// irradiance_hourly.csv, faces.vtp and energyplus-diffuse-shading.csv.
+#pragma once
+
+#include <shadow/irradiance.hpp>
+#include <shadow/scene.hpp>
+#include <shadow/weather.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace shadow {
+
+/// What report.json says about the run.
+struct IrradianceRunInfo {
+  std::string scene;    ///< the scene file as given
+  std::string weather;  ///< the weather file as given
+  std::string from, to; ///< the period as given (empty: the whole file)
+  unsigned threads = 0;
+  double seconds_total = 0.0;  ///< loading to writing
+  std::string started_utc;
+};
+
+/// Which files to write besides report.json, irradiation.csv and faces.vtp.
+struct IrradianceFiles {
+  bool hourly = false;      ///< irradiance_hourly.csv
+  bool energyplus = false;  ///< energyplus-diffuse-shading.csv
+  /// irradiation_map.vtp when set: irradiation_map()'s cells with cell arrays
+  /// `irradiation_direct_kwh_m2` (the cell's own), `irradiation_sky_diffuse_kwh_m2`,
+  /// `irradiation_ground_reflected_kwh_m2` (its face's), `irradiation_total_kwh_m2` (their sum,
+  /// active), `face_id`, `region_id`, `area`.
+  const SunHoursMap* map = nullptr;
+};
+
+/// Results per named surface, object or mesh: area-weighted means of the faces' (kWh/m2).
+struct IrradianceGroup {
+  std::string name;
+  std::string type;                 ///< objects: their type; surfaces and meshes: empty
+  std::vector<std::size_t> rows;    ///< rows of the result
+  double area = 0.0;
+  double sky_view_factor = 0.0;
+  double direct = 0.0, sky_diffuse = 0.0, ground_reflected = 0.0, total = 0.0;
+  double sky_diffuse_unshaded = 0.0;
+  std::vector<double> monthly_total;  ///< 12 months
+};
+
+/// The result per named surface (named_surfaces()), per object (scene_objects()) or per mesh.
+enum class IrradianceGrouping { Surface, Object, Mesh };
+std::vector<IrradianceGroup> irradiance_groups(const Scene& scene, const IrradianceResult& result,
+                                               IrradianceGrouping grouping);
+
+/// Writes the files into `outdir` (created if missing): each under a temporary name first,
+/// moved into place when all are complete, report.json last (an older report.json is removed
+/// before anything is written). Returns the files written.
+/// @throws OutputError
+std::vector<std::filesystem::path> write_irradiance_outputs(const std::filesystem::path& outdir, const Scene& scene,
+                                                            const Weather& weather, const IrradianceResult& result,
+                                                            const IrradianceRunInfo& run, const IrradianceFiles& files);
+
+}  // namespace shadow

@@ -1,0 +1,59 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Weather files and irradiation from Python (docs/irradiance.md): read_epw's arrays, and
+# irradiance() on an open roof against the weather file's own numbers.
+import math
+
+import numpy as np
+import pytest
+
+import libshadow
+
+
+def _epw(path, dni=600, dhi=100):
+    lines = ["LOCATION,Testtown,XX,FRA,test,000001,48.0,2.0,1.0,0.0", "DESIGN CONDITIONS,0",
+             "TYPICAL/EXTREME PERIODS,0", "GROUND TEMPERATURES,0", "HOLIDAYS/DAYLIGHT SAVINGS,No,0,0,0",
+             "COMMENTS 1,written by test_irradiance.py", "COMMENTS 2,", "DATA PERIODS,1,1,Data,Monday, 6/21,6/21"]
+    for h in range(1, 25):
+        day = 6 <= h <= 19
+        lines.append(f"2021,6,21,{h},60,x,15,10,70,100000,0,0,300,9999,{dni if day else 0},{dhi if day else 0},"
+                     "0,0,0,0,180,2,5,5,20,77777,9,999999999,10,0.1,0,88,999,0,0")
+    path.write_text("\n".join(lines) + "\n")
+    return str(path)
+
+
+def test_read_epw(tmp_path):
+    w = libshadow.read_epw(_epw(tmp_path / "day.epw"))
+    assert len(w) == 24 and w.city == "Testtown" and w.latitude == 48.0 and w.time_zone_hours == 1.0
+    assert list(w.hour[:3]) == [1, 2, 3]
+    assert np.isnan(w.global_horizontal).all()  # 9999: missing
+    assert w.direct_normal[12] == 600.0 and w.diffuse_horizontal[0] == 0.0
+    assert libshadow.format_iso8601_utc(int(w.start_utc[0])) == "2021-06-20T23:00:00Z"
+    with pytest.raises(libshadow.InputError, match="line 1"):
+        bad = tmp_path / "bad.epw"
+        bad.write_text("nothing\n")
+        libshadow.read_epw(str(bad))
+
+
+def test_irradiance_open_roof(tmp_path):
+    w = libshadow.read_epw(_epw(tmp_path / "day.epw"))
+    scene = libshadow.scene_from_data([{"name": "roof", "polygons": [[[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]]]}],
+                                      lights=[{"name": "up", "type": "directional", "to_light": [0, 0, 1]}])
+    r = libshadow.irradiance(scene, w, sky="isotropic", threads=1, hourly=True)
+    assert list(r["face_id"]) == [0]
+    assert r["sky_view_factor"][0] == 1.0
+    assert r["sky_diffuse"][0] == pytest.approx(14 * 100 / 1000, abs=1e-12)  # the day's DHI
+    assert r["ground_reflected"][0] == 0.0 and r["ground_reflectance"] == 0.2
+    assert r["total"][0] == pytest.approx(r["direct"][0] + r["sky_diffuse"][0], abs=1e-12)
+    assert r["monthly_total"].shape == (1, 12) and r["monthly_total"][0, 5] == pytest.approx(r["total"][0])
+    hourly = r["hourly"]
+    assert hourly["direct"].shape == (1, 24)
+    assert hourly["direct"].sum() / 1000 == pytest.approx(r["direct"][0], abs=1e-12)
+    # The direct part at noon's mid-hour: DNI x sin(elevation) of the SPA's sun then.
+    site = libshadow.SolarSite(latitude=48.0, longitude=2.0, elevation=0.0)
+    sun = libshadow.solar_position(site, int(w.start_utc[12]) + 1800)
+    assert hourly["direct"][0, 12] == pytest.approx(600 * math.sin(math.radians(sun.elevation)), abs=1e-9)
+    with pytest.raises(libshadow.InputError):
+        libshadow.irradiance(scene, w, sky_patches=100)
+    pd = pytest.importorskip("pandas")
+    frame = r.to_pandas()
+    assert list(frame.index) == [0] and frame.loc[0, "total"] == r["total"][0] and frame.loc[0, "jun"] == r["monthly_total"][0, 5]

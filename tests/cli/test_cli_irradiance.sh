@@ -1,0 +1,215 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: GPL-3.0-or-later
+# `shadow irradiance` (docs/irradiance.md) on a weather day written here: the files, an open
+# horizontal roof's direct irradiation against `shadow sun` at every mid-hour (DNI x sin
+# elevation), its isotropic sky diffuse against the day's DHI, the energy check, --hourly, and
+# bad input (one line, exit 2, nothing written).
+#
+# Usage: bash test_cli_irradiance.sh /path/to/shadow /path/to/examples
+set -u
+
+source "$(dirname "${BASH_SOURCE[0]}")/harness.sh"
+cli_test_begin cli-irradiance 2 "SHADOW_BINARY EXAMPLES_DIR" "$@"
+SHADOW=$1
+EXAMPLES=$2
+
+# 21 June at 48 N 2 E, UTC+1, sea level: DNI 600 and DHI 100 Wh/m2 from hour 6 to hour 19,
+# global horizontal missing (9999: the library derives it), albedo 0.3.
+python3 - "$WORK/day.epw" <<'PY'
+import sys
+lines = ["LOCATION,Testtown,XX,FRA,test,000001,48.0,2.0,1.0,0.0", "DESIGN CONDITIONS,0",
+         "TYPICAL/EXTREME PERIODS,0", "GROUND TEMPERATURES,0", "HOLIDAYS/DAYLIGHT SAVINGS,No,0,0,0",
+         "COMMENTS 1,written by test_cli_irradiance.sh", "COMMENTS 2,", "DATA PERIODS,1,1,Data,Monday, 6/21,6/21"]
+for h in range(1, 25):
+    day = 6 <= h <= 19
+    dni, dhi = (600, 100) if day else (0, 0)
+    lines.append(f"2021,6,21,{h},60,x,15,10,70,100000,0,0,300,9999,{dni},{dhi},0,0,0,0,180,2,5,5,20,77777,9,"
+                 f"999999999,10,0.1,0,88,0.3,0,0")
+open(sys.argv[1], "w").write("\r\n".join(lines) + "\r\n")
+PY
+cat >"$WORK/scene.json" <<'JSON'
+{"meshes": [
+  {"name": "roof", "polygons": [{"name": "open roof", "vertices": [[0, 0, 30], [4, 0, 30], [4, 4, 30], [0, 4, 30]]}]},
+  {"name": "tower", "polygons": [
+    {"name": "tower top", "vertices": [[10, 0, 20], [14, 0, 20], [14, 4, 20], [10, 4, 20]]},
+    {"name": "tower west", "vertices": [[10, 4, 0], [10, 0, 0], [10, 0, 20], [10, 4, 20]]}]},
+  {"name": "yard", "polygons": [{"name": "yard", "vertices": [[4, 0, 0], [10, 0, 0], [10, 4, 0], [4, 4, 0]]}]},
+  {"name": "panel", "polygons": [{"name": "open tilted", "vertices": [[1000, 0, 27.42884956125384], [1004, 0, 27.42884956125384],
+    [1004, 3.064177772475912, 30], [1000, 3.064177772475912, 30]]}]}
+]}
+JSON
+
+for sky in perez isotropic; do
+  if "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/day.epw" -o "$WORK/out-$sky" --sky "$sky" -t 2 \
+       --hourly >"$WORK/$sky.stdout" 2>"$WORK/$sky.stderr" &&
+     [[ -f $WORK/out-$sky/report.json && -f $WORK/out-$sky/irradiation.csv && -f $WORK/out-$sky/faces.vtp &&
+        -f $WORK/out-$sky/irradiance_hourly.csv && ! -f $WORK/out-$sky/energyplus-diffuse-shading.csv ]]; then
+    pass "runs_$sky"
+  else
+    fail "runs_$sky" "$(cat "$WORK/$sky.stderr")"
+  fi
+done
+
+# The open roof (30 m up, above everything else) gets: its direct part: sum over the hours of DNI x sin(elevation at mid-hour), the sun
+# from `shadow sun` (the same SPA, standard pressure at sea level, 12 C).
+expected_direct=0
+for h in $(seq 6 19); do
+  t=$(printf '2021-06-21T%02d:30:00+01:00' $((h - 1)))
+  e=$("$SHADOW" sun --latitude 48 --longitude 2 --elevation 0 --time "$t" |
+      python3 -c 'import json,sys; print(json.load(sys.stdin)["elevation"])')
+  expected_direct=$(python3 -c "import math; e=$e; print($expected_direct + (600*math.sin(math.radians(e)) if e > 0 else 0))")
+done
+if python3 - "$WORK" "$expected_direct" <<'PY'
+import csv, json, math, sys
+work, expected_direct = sys.argv[1], float(sys.argv[2]) / 1000
+for sky in ("perez", "isotropic"):
+    r = json.load(open(f"{work}/out-{sky}/report.json"))
+    assert r["kind"] == "irradiance" and r["run"]["sky"] == sky, r["run"]
+    assert abs(r["run"]["ground_reflectance"] - 0.3) < 1e-12, r["run"]  # the file's mean albedo
+    assert r["energy_check"]["ok"], r["energy_check"]
+    faces = {f["label"]: f for f in r["faces"]}
+    roof = faces["open roof"]
+    a = roof["annual_irradiation_kwh_m2"]
+    assert roof["sky_view_factor"] == 1.0, roof
+    assert abs(a["direct"] - expected_direct) < 1e-9, (a, expected_direct)
+    assert a["ground_reflected"] == 0.0, a
+    assert abs(a["total"] - a["direct"] - a["sky_diffuse"] - a["ground_reflected"]) < 1e-12, a
+    if sky == "isotropic":
+        assert abs(a["sky_diffuse"] - 14 * 100 / 1000) < 1e-12, a  # the day's DHI, all of the sky seen
+    # The tower's west wall looks over the yard and the roof: half the sky at most, and the
+    # yard beside the tower sees less sky than the open roof.
+    assert faces["tower west"]["sky_view_factor"] <= 0.5 + 1e-12, faces["tower west"]
+    assert faces["yard"]["sky_view_factor"] < 1.0, faces["yard"]
+    assert abs(sum(roof["monthly_irradiation_kwh_m2"]["total"]) - a["total"]) < 1e-12
+    assert [s["name"] for s in r["surfaces"]] == ["open roof", "tower top", "tower west", "yard", "open tilted"], r["surfaces"]
+    rows = list(csv.DictReader(open(f"{work}/out-{sky}/irradiation.csv", newline="")))
+    assert [row["surface"] for row in rows] == ["open roof", "tower top", "tower west", "yard", "open tilted"], rows
+    assert abs(float(rows[0]["total_kwh_m2"]) - a["total"]) < 1e-12 and abs(float(rows[0]["jun_kwh_m2"]) - a["total"]) < 1e-12
+    hourly = list(csv.DictReader(open(f"{work}/out-{sky}/irradiance_hourly.csv", newline="")))
+    assert len(hourly) == 24 * 5, len(hourly)
+    roof_hours = [row for row in hourly if row["surface"] == "open roof"]
+    assert roof_hours[0]["hour_start_utc"] == "2021-06-20T23:00:00Z", roof_hours[0]
+    assert abs(sum(float(row["total_w_m2"]) for row in roof_hours) / 1000 - a["total"]) < 1e-9
+PY
+then pass "roof_against_shadow_sun"; else fail "roof_against_shadow_sun" "see above"; fi
+
+# --map: the yard and the tower cut along the beam's shadows, every cell's direct part adding up
+# to its face's (area-weighted) in report.json.
+# The cells are read with VTK's Python module (python3-vtk9): the first python3 that has it.
+vtk_python=""
+for candidate in python3 /usr/bin/python3; do
+  if "$candidate" -c "import vtkmodules.vtkIOXML" 2>/dev/null; then vtk_python=$candidate; break; fi
+done
+if [[ -z $vtk_python ]]; then
+  echo "skip map_adds_up: no python3 with VTK's module"
+elif "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/day.epw" -o "$WORK/out-map" --map yard,tower -q &&
+   "$vtk_python" - "$WORK/out-map" <<'PY'
+import json, sys
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+r = json.load(open(sys.argv[1] + "/report.json"))
+reader = vtkXMLPolyDataReader()
+reader.SetFileName(sys.argv[1] + "/irradiation_map.vtp")
+reader.Update()
+cd = reader.GetOutput().GetCellData()
+direct = vtk_to_numpy(cd.GetArray("irradiation_direct_kwh_m2"))
+area = vtk_to_numpy(cd.GetArray("area"))
+face = vtk_to_numpy(cd.GetArray("face_id"))
+assert cd.GetArray("irradiation_total_kwh_m2") is not None
+faces = {f["face"]: f for f in r["faces"]}
+assert sorted(set(face.tolist())) == [1, 2, 3], sorted(set(face.tolist()))
+for f in set(face.tolist()):
+    mean = (direct[face == f] * area[face == f]).sum() / area[face == f].sum()
+    assert abs(mean - faces[f]["annual_irradiation_kwh_m2"]["direct"]) < 1e-9, (f, mean, faces[f])
+PY
+then pass "map_adds_up"; else fail "map_adds_up" "see above"; fi
+
+# The open panel (tilt 40 degrees, facing south, far from the rest), hour by hour against Perez
+# et al. 1990 written again here in Python from the paper (all-sites coefficients, Kasten-Young
+# air mass, Spencer's extraterrestrial irradiance), with the sun of `shadow sun` at mid-hour.
+suns=""
+for h in $(seq 1 24); do
+  t=$(printf '2021-06-21T%02d:30:00+01:00' $((h - 1)))
+  suns+=$("$SHADOW" sun --latitude 48 --longitude 2 --elevation 0 --time "$t")$'\n'
+done
+if python3 - "$WORK" "$suns" <<'PY'
+import csv, json, math, sys
+work, suns = sys.argv[1], [json.loads(line) for line in sys.argv[2].splitlines() if line]
+F = [(-0.008, 0.588, -0.062, -0.060, 0.072, -0.022), (0.130, 0.683, -0.151, -0.019, 0.066, -0.029),
+     (0.330, 0.487, -0.221, 0.055, -0.064, -0.026), (0.568, 0.187, -0.295, 0.109, -0.152, -0.014),
+     (0.873, -0.392, -0.362, 0.226, -0.462, 0.001), (1.132, -1.237, -0.412, 0.288, -0.823, 0.056),
+     (1.060, -1.600, -0.359, 0.264, -1.127, 0.131), (0.678, -0.327, -0.250, 0.156, -1.377, 0.251)]
+EDGES = [1.065, 1.23, 1.5, 1.95, 2.8, 4.5, 6.2]
+rad = math.radians
+tilt, surface_azimuth = 40.0, 180.0
+b = 2 * math.pi * (172 - 1) / 365  # 21 June 2021: day 172
+i0 = 1366.1 * (1.00011 + 0.034221 * math.cos(b) + 0.00128 * math.sin(b) + 0.000719 * math.cos(2 * b) + 0.000077 * math.sin(2 * b))
+rows = [row for row in csv.DictReader(open(f"{work}/out-perez/irradiance_hourly.csv", newline="")) if row["surface"] == "open tilted"]
+assert len(rows) == 24
+for h, (row, sun) in enumerate(zip(rows, suns), start=1):
+    dni, dhi = (600.0, 100.0) if 6 <= h <= 19 else (0.0, 0.0)
+    zen, az = sun["zenith"], sun["azimuth"]
+    if sun["elevation"] <= 0:
+        dni = 0.0
+    cos_aoi = math.cos(rad(zen)) * math.cos(rad(tilt)) + math.sin(rad(zen)) * math.sin(rad(tilt)) * math.cos(rad(az - surface_azimuth))
+    direct = dni * max(0.0, cos_aoi)
+    if dhi > 0 and zen < 90:
+        z = rad(zen)
+        am = 1 / (math.cos(z) + 0.50572 * (96.07995 - zen) ** -1.6364)
+        eps = ((dhi + dni) / dhi + 1.041 * z ** 3) / (1 + 1.041 * z ** 3)
+        f = F[sum(eps >= e for e in EDGES)]
+        delta = dhi * am / i0
+        f1 = max(0.0, f[0] + f[1] * delta + f[2] * z)
+        f2 = f[3] + f[4] * delta + f[5] * z
+        sky = max(0.0, dhi * ((1 - f1) * (1 + math.cos(rad(tilt))) / 2 + f1 * max(0.0, cos_aoi) / max(math.cos(rad(85)), math.cos(z))
+                              + f2 * math.sin(rad(tilt))))
+    else:
+        sky = dhi * (1 + math.cos(rad(tilt))) / 2
+    ghi = dni * max(0.0, math.cos(rad(zen))) + dhi
+    ground = 0.3 * ghi * (1 - math.cos(rad(tilt))) / 2
+    for name, mine in (("direct_w_m2", direct), ("sky_diffuse_w_m2", sky), ("ground_reflected_w_m2", ground)):
+        assert abs(float(row[name]) - mine) < 1e-9, (h, name, row[name], mine)
+PY
+then pass "open_panel_against_perez"; else fail "open_panel_against_perez" "see above"; fi
+
+# An EnergyPlus model: energyplus-diffuse-shading.csv, one ratio in [0, 1] per surface, names as
+# EnergyPlus holds them (upper case); the overhang-shaded south wall below 1.
+if "$SHADOW" irradiance "$EXAMPLES/energyplus/box-office.idf" --weather "$WORK/day.epw" -o "$WORK/out-idf" -q &&
+   python3 - "$WORK/out-idf" <<'PY'
+import csv, json, sys
+rows = list(csv.reader(open(sys.argv[1] + "/energyplus-diffuse-shading.csv", newline="")))
+assert rows[0] == ["Surface Name", "Diffuse Shading Ratio"], rows[0]
+ratios = {name: float(value) for name, value in rows[1:]}
+assert all(0.0 <= r <= 1.0 for r in ratios.values()), ratios
+assert all(name == name.upper() for name in ratios), ratios
+assert ratios["WALL-SOUTH"] < 1.0, ratios
+report = json.load(open(sys.argv[1] + "/report.json"))
+assert len(ratios) == len(report["surfaces"]), (len(ratios), len(report["surfaces"]))
+PY
+then pass "energyplus_diffuse_shading"; else fail "energyplus_diffuse_shading" "see above"; fi
+
+# expect_error NAME PART ARGS...: exit 2, one line on stderr containing PART, no report.json.
+expect_error() {
+  local name=$1 part=$2
+  shift 2
+  local status=0
+  "$SHADOW" irradiance "$@" -o "$WORK/out-$name" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+  if [[ $status -eq 2 && $(wc -l <"$WORK/$name.stderr") -eq 1 && $(cat "$WORK/$name.stderr") == *"$part"* &&
+        ! -e $WORK/out-$name/report.json ]]; then
+    pass "$name"
+  else
+    fail "$name" "status $status: $(cat "$WORK/$name.stderr")"
+  fi
+}
+sed 's/^2021,6,21,12,60,x,15,10,70,100000,0,0,300,9999,600,/2021,6,21,12,60,x,15,10,70,100000,0,0,300,9999,6O0,/' \
+  "$WORK/day.epw" >"$WORK/bad.epw"
+expect_error bad_epw "bad.epw: line 20, field 15 (direct normal radiation): '6O0' is not a number" \
+  "$WORK/scene.json" --weather "$WORK/bad.epw"
+expect_error no_epw "missing.epw: cannot open the weather file" "$WORK/scene.json" --weather "$WORK/missing.epw"
+expect_error bad_patches "--sky-patches" "$WORK/scene.json" --weather "$WORK/day.epw" --sky-patches 100
+expect_error bad_reflectance "--ground-reflectance" "$WORK/scene.json" --weather "$WORK/day.epw" --ground-reflectance 2
+expect_error bad_period "before it starts" "$WORK/scene.json" --weather "$WORK/day.epw" --from 07-01 --to 06-01
+expect_error empty_period "no record of the weather file" "$WORK/scene.json" --weather "$WORK/day.epw" --from 07-01
+
+expect_error bad_map "--map" "$WORK/scene.json" --weather "$WORK/day.epw" --map nothing
+cli_test_end

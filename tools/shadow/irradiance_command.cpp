@@ -1,0 +1,216 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// `shadow irradiance SCENE --weather FILE.epw -o OUTDIR`: the irradiation of every receiving face
+// over a weather year, direct, sky diffuse and ground-reflected (docs/irradiance.md).
+#include "irradiance_command.hpp"
+
+#include "cli_checks.hpp"
+#include "out_of_memory.hpp"
+#include "progress_line.hpp"
+
+#include <shadow/shadow.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// A month and day from `MM-DD` or `YYYY-MM-DD` (the year is not used: weather years are typical).
+std::pair<int, int> month_day(const std::string& text, const char* flag) {
+  int year = 0, month = 0, day = 0;
+  char tail = 0;
+  const bool with_year = std::sscanf(text.c_str(), "%d-%d-%d%c", &year, &month, &day, &tail) == 3;
+  const bool without = !with_year && std::sscanf(text.c_str(), "%d-%d%c", &month, &day, &tail) == 2;
+  if ((!with_year && !without) || !shadow::is_valid_date(2024, month, day))
+    throw shadow::InputError({"", flag}, "'" + text + "' is not a date: write MM-DD or YYYY-MM-DD");
+  return {month, day};
+}
+
+/// The records [first, end) of the period --from..--to (inclusive dates) in the weather file.
+std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, const IrradianceArgs& args) {
+  std::size_t first = 0, end = w.hours();
+  if (args.from.empty() && args.to.empty()) return {first, end};
+  const auto key = [&](std::size_t r) { return w.month[r] * 100 + w.day[r]; };
+  const int from = args.from.empty() ? 0 : month_day(args.from, "--from").first * 100 + month_day(args.from, "--from").second;
+  const int to = args.to.empty() ? 9999 : month_day(args.to, "--to").first * 100 + month_day(args.to, "--to").second;
+  if (from > to) throw shadow::InputError({"", "--from"}, "the period ends (--to " + args.to + ") before it starts");
+  while (first < w.hours() && key(first) < from) ++first;
+  end = first;
+  while (end < w.hours() && key(end) >= from && key(end) <= to) ++end;
+  if (first == end)
+    throw shadow::InputError({args.weather, ""}, "no record of the weather file falls between --from and --to");
+  return {first, end};
+}
+
+}  // namespace
+
+CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "irradiance", "Solar irradiation of every receiving face over a weather year (EPW): direct through each "
+                    "face's exact sunlit fraction, sky diffuse (Perez or isotropic) through its exact view of the "
+                    "sky patches, ground-reflected; writes report.json, irradiation.csv, faces.vtp (docs/irradiance.md)");
+  cmd->footer(shadow_cli::exit_codes_help());
+  cmd->add_option("scene", args.scene, "Scene file (JSON) or model (IDF, epJSON, CityJSON)")->required();
+  cmd->add_option("--weather", args.weather, "EnergyPlus weather file (.epw): site, time zone and hourly irradiation")
+      ->required();
+  cmd->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
+  cmd->add_option("--sky", args.sky, "Sky diffuse model")->check(CLI::IsMember({"perez", "isotropic"}))->default_val("perez");
+  cmd->add_option("--sky-patches", args.sky_patches, "Sky patches: 145 (Tregenza), 577 or 2305 (Reinhart)")
+      ->check(CLI::IsMember({145, 577, 2305}))
+      ->default_val(145);
+  cmd->add_option("--ground-reflectance", args.ground_reflectance,
+                  "Ground reflectance in [0, 1] (default: the weather file's mean albedo, else 0.2)")
+      ->check(shadow_cli::finite_in(0.0, 1.0));
+  cmd->add_option("--from", args.from, "First day of the period (MM-DD or YYYY-MM-DD; the year is not used)");
+  cmd->add_option("--to", args.to, "Last day of the period, inclusive");
+  cmd->add_flag("--fast", args.fast, "The fast path for the sunlit fractions (doubles; docs/numeric-contract.md)");
+  cmd->add_option("--map", args.map,
+                  "Write irradiation_map.vtp: these meshes' faces (comma-separated mesh names, or type:<CityJSON "
+                  "type>) cut along the exact shadow boundaries of every hour's beam, each cell with its direct "
+                  "kWh/m2 plus its face's diffuse and reflected parts (exact sun-hours maps weighted by DNI cos)");
+  cmd->add_flag("--hourly", args.hourly, "Also write irradiance_hourly.csv (W/m2 per named surface and hour)");
+  cmd->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+  cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
+      ->default_val(0)
+      ->check(shadow_cli::integer_in(0, 1024));
+  cmd->add_option("--planarity-tolerance", args.planarity_tolerance,
+                  "Largest vertex distance from a face's plane, relative to the face's size")
+      ->default_val(1e-6)
+      ->check(shadow_cli::positive_up_to(1.0));
+  cmd->add_flag("--orient-outward", args.orient_outward, "Turn the closed parts of every mesh outward");
+  cmd->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
+  cmd->add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
+  return cmd;
+}
+
+int run_irradiance(const IrradianceArgs& args) {
+  const auto start = Clock::now();
+  const bool talk = !args.quiet;
+  shadow::IrradianceRunInfo run;
+  run.scene = args.scene;
+  run.weather = args.weather;
+  run.from = args.from;
+  run.to = args.to;
+  run.threads = args.threads;
+  run.started_utc = shadow::utc_now();
+
+  using shadow_cli::Stage;
+  shadow_cli::set_stage(Stage::Loading);
+  const shadow::Weather weather = shadow::read_epw(args.weather);
+  const auto [first, end] = period_records(weather, args);
+  shadow::LoadOptions load = shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod,
+                                                      args.threads, args.skip_invalid);
+  load.require_lights = false;  // the suns come from the weather file
+  shadow::Scene scene = shadow::load_scene(args.scene, load);
+  std::vector<std::size_t> map_faces;
+  if (!args.map.empty()) {
+    std::vector<std::string> names;
+    std::size_t begin = 0;
+    while (begin <= args.map.size()) {
+      const std::size_t comma = std::min(args.map.find(',', begin), args.map.size());
+      names.push_back(args.map.substr(begin, comma - begin));
+      begin = comma + 1;
+    }
+    map_faces = shadow::sun_hours_map_faces(scene, names, "--map");
+  }
+  if (talk)
+    for (const shadow::Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+
+  shadow::IrradianceOptions options;
+  options.sky = args.sky == "isotropic" ? shadow::SkyModel::Isotropic : shadow::SkyModel::Perez;
+  options.sky_patches = args.sky_patches;
+  if (args.ground_reflectance >= 0.0) options.ground_reflectance = args.ground_reflectance;
+  options.first_record = first;
+  options.end_record = end;
+  // The model's north: a scene's `sun` block (or an EnergyPlus Building's north axis) turns it.
+  if (scene.sun) {
+    options.north_axis = scene.sun->north_axis;
+    options.delta_t = scene.sun->delta_t;
+    const shadow::SolarSite& site = scene.sun->site;
+    if (talk && (std::abs(site.latitude - weather.location.latitude) > 0.5 ||
+                 std::abs(site.longitude - weather.location.longitude) > 0.5))
+      std::fprintf(stderr,
+                   "shadow: warning: %s: the scene's sun block is at %.2f N %.2f E, the weather file at %.2f N %.2f E: "
+                   "the weather file's site is used\n",
+                   args.scene.c_str(), site.latitude, site.longitude, weather.location.latitude,
+                   weather.location.longitude);
+  }
+  options.series.threads = args.threads;
+  options.series.arithmetic = args.fast ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
+  const bool log_lines = isatty(STDERR_FILENO) == 0;
+  std::optional<shadow_cli::ProgressLine> progress;
+  std::string stage;
+  options.progress = [&](const std::string& what, const shadow::Progress& p) {
+    if (what != stage) {
+      if (progress) progress->finish();
+      progress.emplace(talk, what == "sun" ? "sun instants" : what, 0, log_lines);
+      stage = what;
+    }
+    progress->update(p);
+  };
+
+  std::optional<shadow::ShadowEngine> engine;
+  shadow::IrradianceResult result;
+  std::optional<shadow::SunHoursMap> map;
+  try {
+    shadow_cli::set_stage(Stage::Preparing);
+    engine.emplace(scene, args.threads);
+    shadow_cli::set_stage(Stage::Computing);
+    result = shadow::compute_irradiance(*engine, scene, weather, options);
+    if (!map_faces.empty()) {
+      shadow::SunHoursOptions map_options;
+      map_options.threads = args.threads;
+      map_options.progress = [&](const shadow::Progress& p) { options.progress("irradiation map", p); };
+      map.emplace(shadow::irradiation_map(*engine, result, map_faces, map_options));
+    }
+  } catch (const shadow::InputError& e) {
+    shadow_cli::rethrow_naming_scene(e, args.scene);
+  }
+  if (progress) progress->finish();
+  const auto computed = Clock::now();
+
+  shadow_cli::set_stage(Stage::Writing);
+  shadow::IrradianceFiles files;
+  files.hourly = args.hourly;
+  files.energyplus = shadow::energyplus_shading_wanted(scene);
+  if (map) files.map = &*map;
+  run.seconds_total = std::chrono::duration<double>(computed - start).count();
+  const std::vector<fs::path> written = shadow::write_irradiance_outputs(args.outdir, scene, weather, result, run, files);
+  if (!talk) return 0;
+
+  std::printf("shadow irradiance: %zu receiving faces, %zu hours of %s (%s, %.2f N %.2f E), %zu suns, %zu sky patches, "
+              "%s sky, ground reflectance %.3g\n",
+              result.faces.size(), result.hours.size(), args.weather.c_str(), weather.location.city.c_str(),
+              weather.location.latitude, weather.location.longitude, result.sun_lights.size(), result.patches.size(),
+              args.sky.c_str(), result.ground_reflectance);
+  if (result.missing_hours > 0)
+    std::printf("  %zu hours with missing irradiation in the weather file counted as 0\n", result.missing_hours);
+  const std::vector<shadow::IrradianceGroup> surfaces =
+      shadow::irradiance_groups(scene, result, shadow::IrradianceGrouping::Surface);
+  const std::size_t shown = std::min<std::size_t>(surfaces.size(), 10);
+  for (std::size_t s = 0; s < shown; ++s)
+    std::printf("  %-24s %.6g kWh/m2 (direct %.4g, sky %.4g, ground %.4g), sky view %.3f\n", surfaces[s].name.c_str(),
+                surfaces[s].total, surfaces[s].direct, surfaces[s].sky_diffuse, surfaces[s].ground_reflected,
+                surfaces[s].sky_view_factor);
+  if (surfaces.size() > shown) std::printf("  ... %zu more in irradiation.csv\n", surfaces.size() - shown);
+  std::printf("  computed in %.3f s: sky patches %.3f s, sun %.3f s, sums %.3f s; energy check %s\n",
+              std::chrono::duration<double>(computed - start).count(), result.seconds_sky, result.seconds_sun,
+              result.seconds_sums,
+              result.max_direct_excess <= 1e-9 && result.max_diffuse_excess <= 1e-6 && result.min_component >= 0.0
+                  ? "ok"
+                  : "FAILED (report.json: energy_check)");
+  if (map) std::printf("  irradiation map: %zu cells on %zu faces (irradiation_map.vtp)\n", map->cells.size(), map->faces.size());
+  std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
+  for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());
+  return 0;
+}
