@@ -14,7 +14,8 @@ never includes render's. Inside compute, the stages:
     validation -> exact (face shape only), core, geometry;  lighting, sun -> geometry
 
 and in io:  writers -> readers -> compute's validation, exact (face shape only), core, geometry, sun;
-writers also -> lighting. render -> compute's geometry, io's writers/vtk_errors.hpp.
+writers also -> lighting; jobs (the series job) -> nothing internal but itself. render -> compute's
+geometry, io's writers/vtk_errors.hpp.
 
 Reads every #include under libshadow/ and fails, listing each offending line, when a folder
 includes one that the tables below do not allow (a folder may always include itself), when a
@@ -56,6 +57,7 @@ ALLOWED = {
     "io": {
         "readers": {"validation", "exact", "core", "geometry", "sun"},
         "writers": {"readers", "lighting", "core", "geometry"},
+        "jobs": set(),  # the series job: public headers only
     },
     "render": {"": {"geometry", "writers"}},
     "baselines": {"": {"core", "geometry"}},

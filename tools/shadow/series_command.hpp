@@ -18,7 +18,7 @@ struct SeriesArgs {
   bool fast = false;
   bool quiet = false;
   std::size_t every = 1;
-  bool every_given = false;  ///< --every given: else default_every() decides (long periods: a bounded number)
+  bool every_given = false;  ///< --every given: else shadow::default_series_every() decides (long periods: a bounded number)
   bool fragments = false;
   bool energyplus_shading = false;  ///< --energyplus-shading: write it for any scene, not only an EnergyPlus model
   std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
@@ -36,16 +36,6 @@ struct SeriesArgs {
   std::size_t fast_tile_casters = shadow::SeriesOptions{}.fast_tile_casters;
   std::string write_idf;  ///< --write-idf FILE: a copy of the EnergyPlus model that imports the CSV
 };
-
-/// Periods longer than this many days get a bounded number of per-instant files by default.
-inline constexpr double kLongSeriesDays = 7.0;
-/// At most this many per-instant files by default on a long period (more with --every K).
-inline constexpr std::size_t kDefaultInstantFiles = 48;
-
-/// The default of --every for a series (instants above the horizon and their UTC times): 1 (every
-/// instant) for a period of up to kLongSeriesDays; else the smallest K that writes at most
-/// kDefaultInstantFiles files, spread evenly over the period.
-std::size_t default_every(std::size_t instants, const std::vector<std::int64_t>& times);
 
 /// Declares the subcommand `series` and its options on `app`.
 CLI::App* add_series_command(CLI::App& app, SeriesArgs& args);

@@ -2,6 +2,10 @@
 // shadow_cli::World: one process, or the ranks of an MPI job (world.hpp, docs/cluster.md).
 #include "world.hpp"
 
+#include "out_of_memory.hpp"
+
+#include <shadow/error.hpp>
+
 #ifdef LIBSHADOW_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -10,6 +14,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 #include <thread>
 
 namespace shadow_cli {
@@ -120,6 +125,34 @@ World::~World() {
 #ifdef LIBSHADOW_HAVE_MPI
   if (mpi_) MPI_Finalize();
 #endif
+}
+
+void World::agree(std::exception_ptr error) {
+  if (!error) {
+    agree(0, std::string());
+    return;
+  }
+  if (!mpi_ || size_ == 1) std::rethrow_exception(error);
+  int code = 0;
+  std::string message;
+  try {
+    std::rethrow_exception(error);
+  } catch (const RunStopped&) {
+    throw;  // already agreed by every rank
+  } catch (const shadow::InputError& e) {
+    code = 2;
+    message = std::string("shadow: error: ") + e.what();
+  } catch (const shadow::OutputError& e) {
+    code = 3;
+    message = std::string("shadow: error: ") + e.what();
+  } catch (const std::bad_alloc&) {
+    code = kOutOfMemory;
+    message = out_of_memory_line();
+  } catch (const std::exception& e) {
+    code = is_thread_start_failure(e) ? kOutOfMemory : 4;
+    message = code == 4 ? std::string("shadow: internal error: ") + e.what() : out_of_memory_line();
+  }
+  agree(code, message);
 }
 
 void World::agree(int code, const std::string& message) {

@@ -7,13 +7,9 @@
 // has, on machines without an MPI runtime configured and as root.
 #pragma once
 
-#include "out_of_memory.hpp"
-
-#include <shadow/error.hpp>
-#include <shadow/output.hpp>
+#include <shadow/series_job.hpp>
 
 #include <cstdint>
-#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -36,9 +32,10 @@ bool launched_by_mpi_launcher();
 long launcher_size();
 long launcher_rank();
 
-/// The ranks of the run. Without MPI (not built with it, or not launched under a launcher)
-/// it is one rank and every collective is a no-op.
-class World {
+/// The ranks of the run, as the library's series job sees them (shadow::SeriesWorld). Without
+/// MPI (not built with it, or not launched under a launcher) it is one rank and every
+/// collective is a no-op.
+class World final : public shadow::SeriesWorld {
  public:
   /// Joins the MPI job when launched under a launcher (MPI_Init), else a world of one.
   /// @throws RunStopped (exit 2) when launched under a launcher with several ranks but built
@@ -48,62 +45,31 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  [[nodiscard]] int rank() const { return rank_; }
-  [[nodiscard]] int size() const { return size_; }
-  [[nodiscard]] bool root() const { return rank_ == 0; }
-  [[nodiscard]] bool distributed() const { return size_ > 1; }
+  [[nodiscard]] int rank() const override { return rank_; }
+  [[nodiscard]] int size() const override { return size_; }
 
-  /// Collective: each rank says whether its part went well (code 0) or not (an exit status and
-  /// the line to print). When any failed, throws RunStopped on every rank with the lowest
-  /// failing rank's code and message (so one message is printed, by rank 0).
-  void agree(int code, const std::string& message);
+  /// Collective: each rank hands in how its part ended; when any failed, throws RunStopped on
+  /// every rank with the lowest failing rank's exit status and line (printed once, by rank 0):
+  /// an InputError is exit 2, an OutputError 3, running out of memory kOutOfMemory, anything
+  /// else 4. On a world of one the error itself is rethrown, exactly as without MPI.
+  void agree(std::exception_ptr error) override;
 
   /// Collective: the largest of the ranks' values (e.g. "stop now" flags).
-  std::uint64_t max(std::uint64_t value);
+  std::uint64_t max(std::uint64_t value) override;
 
   /// Collective: rank 0 gets every rank's bytes (index = rank); the others get an empty vector.
   /// Any size (sent in pieces below MPI's int counts).
-  std::vector<std::string> gather(const std::string& bytes);
+  std::vector<std::string> gather(const std::string& bytes) override;
 
   /// Collective: rank 0's `bytes` on every rank.
-  void broadcast(std::string& bytes);
+  void broadcast(std::string& bytes) override;
 
  private:
+  /// agree() once the error is an exit status and a line (code 0: this rank went well).
+  void agree(int code, const std::string& message);
   int rank_ = 0;
   int size_ = 1;
   bool mpi_ = false;
 };
-
-/// Runs `part` on this rank; on a distributed world every rank then agrees on the outcome
-/// (World::agree): an InputError on any rank (exit 2), OutputError (3) or other exception (4)
-/// stops every rank with that rank's message. On a world of one, exceptions pass through
-/// unchanged, exactly as without MPI.
-template <typename Part>
-void on_every_rank(World& world, Part&& part) {
-  if (!world.distributed()) {
-    part();
-    return;
-  }
-  int code = 0;
-  std::string message;
-  try {
-    part();
-  } catch (const RunStopped&) {
-    throw;  // already agreed by every rank
-  } catch (const shadow::InputError& e) {
-    code = 2;
-    message = std::string("shadow: error: ") + e.what();
-  } catch (const shadow::OutputError& e) {
-    code = 3;
-    message = std::string("shadow: error: ") + e.what();
-  } catch (const std::bad_alloc&) {
-    code = kOutOfMemory;
-    message = out_of_memory_line();
-  } catch (const std::exception& e) {
-    code = is_thread_start_failure(e) ? kOutOfMemory : 4;
-    message = code == 4 ? std::string("shadow: internal error: ") + e.what() : out_of_memory_line();
-  }
-  world.agree(code, message);
-}
 
 }  // namespace shadow_cli

@@ -20,6 +20,7 @@
 #include <shadow/scene_io.hpp>
 #include <shadow/series.hpp>
 #include <shadow/series_files.hpp>
+#include <shadow/series_job.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/sun.hpp>
 #include <shadow/sun_hours.hpp>

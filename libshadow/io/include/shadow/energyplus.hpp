@@ -27,6 +27,9 @@ struct EnergyPlusImportCopy {
   std::string text;     ///< the model, in its own syntax (IDF text or epJSON)
   bool epjson = false;  ///< the model (and so `text`) is epJSON
   std::string version;  ///< the model's Version (its version identifier), empty when it has none
+  /// `version` as major * 100 + minor (9.6 -> 906), as the reader picks its field lists; 0 when
+  /// there is none or it is no version identifier.
+  int version_code = 0;
   /// How many ShadowCalculation and Schedule:File:Shading objects of the model were replaced.
   int replaced = 0;
 };

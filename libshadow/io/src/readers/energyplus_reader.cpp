@@ -78,23 +78,16 @@ bool is_version_text(std::string_view text) {
   }
 }
 
-/// "9.6", "24.1.0" -> major * 100 + minor; a blank field or a major beyond 999 (no EnergyPlus
-/// version) leaves `fallback`, the current field lists. Text that is no version is an error at
-/// `place`: read with the wrong field lists, every surface would be misread.
+/// "9.6", "24.1.0" -> major * 100 + minor (energyplus_version_code); a blank field or a major
+/// beyond 999 (no EnergyPlus version) leaves `fallback`, the current field lists. Text that is no
+/// version is an error at `place`: read with the wrong field lists, every surface would be misread.
 int parse_version(const std::string& text, int fallback, const std::string& file, const std::string& place) {
   if (text.empty()) return fallback;  // left blank: the current field lists
   if (!is_version_text(text))
     throw InputError({file, place}, "expected an EnergyPlus version like 24.1 or 9.6, not " +
                                         json_string(text));
-  int major = 0, minor = 0;
-  const char* end = text.data() + text.size();
-  const auto [after_major, e1] = std::from_chars(text.data(), end, major);
-  if (e1 != std::errc() || major < 1 || major > 999) return fallback;
-  if (after_major < end && *after_major == '.') {
-    const auto [after_minor, e2] = std::from_chars(after_major + 1, end, minor);
-    if (e2 != std::errc() || minor < 0 || minor > 99) minor = 0;
-  }
-  return major * 100 + minor;
+  const int code = energyplus_version_code(text);
+  return code == 0 ? fallback : code;
 }
 
 /// epJSON keys whose values are names or choices (strings), not numbers: `17` there is a
@@ -475,6 +468,19 @@ Model read_energyplus(const std::filesystem::path& file, const std::string& disp
     epjson = first != std::string::npos && text[first] == '{';
   }
   return parse_energyplus(text, display_name, epjson, options);
+}
+
+int energyplus_version_code(std::string_view text) {
+  if (!is_version_text(text)) return 0;
+  int major = 0, minor = 0;
+  const char* end = text.data() + text.size();
+  const auto [after_major, e1] = std::from_chars(text.data(), end, major);
+  if (e1 != std::errc() || major < 1 || major > 999) return 0;
+  if (after_major < end && *after_major == '.') {
+    const auto [after_minor, e2] = std::from_chars(after_major + 1, end, minor);
+    if (e2 != std::errc() || minor < 0 || minor > 99) minor = 0;
+  }
+  return major * 100 + minor;
 }
 
 }  // namespace shadow::scene_readers

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace shadow::scene_readers {
 
@@ -28,5 +29,9 @@ Model parse_energyplus(const std::string& text, const std::string& display_name,
 
 /// True when `file`'s name ends in `.idf` or `.epJSON` (any case).
 bool is_energyplus_file_name(const std::filesystem::path& file);
+
+/// An EnergyPlus version identifier ("9.6", "24.1.0") as major * 100 + minor (9.6 -> 906); 0 for
+/// text that is no version (blank, not one to three whole numbers, a major beyond 999).
+int energyplus_version_code(std::string_view text);
 
 }  // namespace shadow::scene_readers

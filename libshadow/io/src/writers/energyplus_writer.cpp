@@ -8,6 +8,7 @@
 #include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 
+#include "readers/energyplus_reader.hpp"
 #include "readers/idf_tokenizer.hpp"
 #include "readers/json_document.hpp"
 #include "readers/model_dispatch.hpp"
@@ -180,9 +181,11 @@ EnergyPlusImportCopy energyplus_model_importing_shading(const std::filesystem::p
   std::string ext = model.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   const bool epjson = ext == ".epjson" || (first != std::string::npos && text[first] == '{');
-  if (epjson) return epjson_copy(bom ? text.substr(3) : text, display_name, csv_file);
   // The byte order mark stays where it was: the copy is the file, changed in two objects only.
-  return idf_copy(text, display_name, csv_file);
+  EnergyPlusImportCopy copy = epjson ? epjson_copy(bom ? text.substr(3) : text, display_name, csv_file)
+                                     : idf_copy(text, display_name, csv_file);
+  copy.version_code = scene_readers::energyplus_version_code(copy.version);
+  return copy;
 }
 
 }  // namespace shadow

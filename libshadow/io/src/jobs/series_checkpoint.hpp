@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace shadow_cli {
+namespace shadow::jobs {
 
 /// The columns of some instants of a series: what compute_series gave for them.
 struct SeriesColumns {
@@ -101,4 +101,4 @@ class Checkpoint {
   std::FILE* file_ = nullptr;
 };
 
-}  // namespace shadow_cli
+}  // namespace shadow::jobs

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Series columns as raw bytes: MPI messages and OUTDIR/series.checkpoint (series_checkpoint.hpp).
-#include "series_checkpoint.hpp"
+#include "jobs/series_checkpoint.hpp"
 
 #include <shadow/error.hpp>
 #include <shadow/input_file.hpp>
@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <type_traits>
 
-namespace shadow_cli {
+namespace shadow::jobs {
 namespace {
 
 namespace fs = std::filesystem;
@@ -461,4 +461,4 @@ void Checkpoint::remove() {
   fs::remove(path_, ignored);
 }
 
-}  // namespace shadow_cli
+}  // namespace shadow::jobs

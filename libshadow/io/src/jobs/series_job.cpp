@@ -1,0 +1,485 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// SeriesJob: `shadow series` as a library unit (shadow/series_job.hpp, docs/series.md,
+// docs/cluster.md). Every rank reads the scene and prepares its engine; rank 0 owns the output
+// directory, the checkpoint and the whole table; the instants still missing are dealt round
+// robin to the ranks and computed in rounds, after each of which rank 0 gathers the columns.
+#include "jobs/series_checkpoint.hpp"
+
+#include <shadow/energyplus.hpp>
+#include <shadow/error.hpp>
+#include <shadow/series_job.hpp>
+#include <shadow/version.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+namespace shadow {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+static_assert(std::atomic<int>::is_always_lock_free, "the stop flag is set from a signal handler");
+
+/// Runs `part` on this rank; on a distributed world every rank then agrees on the outcome, so
+/// that an error on any rank stops them all. On a world of one, exceptions pass unchanged.
+template <typename Part>
+void on_every_rank(SeriesWorld& world, Part&& part) {
+  if (!world.distributed()) {
+    part();
+    return;
+  }
+  std::exception_ptr error;
+  try {
+    part();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  world.agree(error);
+}
+
+/// An InputError without a file names the scene file.
+[[noreturn]] void rethrow_naming_scene(const InputError& e, const fs::path& scene) {
+  if (!e.where().file.empty()) throw;
+  throw InputError({scene.string(), e.where().place}, e.problem());
+}
+
+std::string encode_u64s(const std::vector<std::uint64_t>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(std::uint64_t));
+}
+
+std::vector<std::uint64_t> decode_u64s(const std::string& bytes) {
+  std::vector<std::uint64_t> values(bytes.size() / sizeof(std::uint64_t));
+  if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(std::uint64_t));
+  return values;
+}
+
+/// Another period at the scene's site (an IDF's RunPeriod, or the scene's `sun` block, replaced).
+void replace_period(Scene& scene, const SeriesJobOptions& options) {
+  const std::string file = options.scene.string();
+  if (!scene.sun)
+    throw InputError({file, "sun"}, "--from/--to/--step need a sun: the scene has no `sun` block "
+                                    "(and the model no Site:Location)");
+  SunPeriod period = *scene.sun;
+  if (!period.times.empty() && (options.from.empty() || options.to.empty()))
+    throw InputError({file, "sun.times"},
+                     "the sun is given by explicit times: give both --from and --to to replace them by a period");
+  period.times.clear();
+  if (!options.from.empty()) period.start = options.from;
+  if (!options.to.empty()) period.end = options.to;
+  if (options.step_minutes > 0) period.step_minutes = options.step_minutes;
+  try {
+    replace_sun_lights(scene, period);
+  } catch (const InputError& e) {
+    // The period's keys came from the options: name them as the command line does.
+    const std::string& place = e.where().place;
+    const std::string flag = place == "sun.start" ? "--from" : place == "sun.end" ? "--to"
+                           : place == "sun.step_minutes" ? "--step" : place;
+    throw InputError({flag == place ? e.where().file : std::string(), flag}, e.problem());
+  }
+}
+
+/// The objects handed back to EnergyPlus; with write_idf the model's copy, checked before any
+/// computing (a copy that cannot be made must not cost a year of suns).
+SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, const Scene& scene) {
+  SeriesEnergyPlusHandBack back;
+  back.csv = (fs::absolute(options.output) / "energyplus-shading.csv").lexically_normal().string();
+  back.model = is_energyplus_model(options.scene);
+  const std::string idf = options.write_idf.string();
+  try {
+    back.objects = energyplus_import_objects(back.csv);
+  } catch (const InputError& e) {
+    back.problem = e.problem();
+    if (!idf.empty()) throw InputError({"", "--write-idf"}, "the CSV's path " + back.csv + ": " + e.problem());
+  }
+  if (idf.empty()) return back;
+  const EnergyPlusSchedule schedule = energyplus_schedule(scene);
+  if (!schedule.written)
+    throw InputError({"", "--write-idf"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
+  std::error_code ec;
+  if (fs::equivalent(options.scene, options.write_idf, ec))
+    throw InputError({"", "--write-idf"}, idf + " is the model itself: name another file");
+  const fs::path parent = fs::absolute(options.write_idf).parent_path();
+  if (!fs::is_directory(parent, ec))
+    throw InputError({"", "--write-idf"}, "no directory " + parent.string() + " to write " + idf + " in");
+  if (::access(parent.c_str(), W_OK | X_OK) != 0)
+    throw InputError({"", "--write-idf"}, "cannot write in " + parent.string() + ": " + std::strerror(errno));
+  back.copy = energyplus_model_importing_shading(options.scene, back.csv);
+  return back;
+}
+
+}  // namespace
+
+SeriesJobStopped::SeriesJobStopped(std::size_t done_in, std::size_t total_in, int signal_in,
+                                   std::filesystem::path checkpoint_in)
+    : std::runtime_error("series job stopped after " + std::to_string(done_in) + " of " + std::to_string(total_in) +
+                         " instants"),
+      done(done_in), total(total_in), signal(signal_in), checkpoint(std::move(checkpoint_in)) {}
+
+std::size_t default_series_every(std::size_t instants, const std::vector<std::int64_t>& times) {
+  if (instants == 0 || times.size() < 2) return 1;
+  const double days = static_cast<double>(times.back() - times.front()) / 86400.0;
+  if (!(days > kSeriesLongPeriodDays)) return 1;
+  return std::max<std::size_t>(1, (instants + kSeriesDefaultInstantFiles - 1) / kSeriesDefaultInstantFiles);
+}
+
+struct SeriesJob::State {
+  Clock::time_point start = Clock::now();
+  RunInfo run;
+  Scene scene;
+  SunSeries suns;
+  std::vector<std::size_t> map_faces;
+  std::optional<ShadowEngine> engine;
+  SeriesEnergyPlusHandBack hand_back;
+  SeriesOptions series_options;
+  std::size_t instants = 0;
+  std::uint64_t digest = 0;
+  bool checkpointing = false;
+  // Rank 0 only: the directory, the checkpoint and the whole table.
+  std::optional<OutputDirectory> output;
+  std::optional<jobs::Checkpoint> checkpoint;
+  SeriesResult series;
+  std::vector<std::uint64_t> todo;  ///< the instants this run computes, ascending (every rank)
+  std::size_t resumed = 0;
+  std::optional<SunHoursMap> map;
+  std::vector<fs::path> written;
+  std::size_t every = 1;
+  Clock::time_point computed, finished;
+};
+
+SeriesJob::SeriesJob(SeriesJobOptions options, SeriesWorld& world)
+    : options_(std::move(options)), world_(world), state_(std::make_unique<State>()) {}
+
+SeriesJob::~SeriesJob() = default;
+
+SeriesJobResult SeriesJob::run() {
+  State& s = *state_;
+  s.start = Clock::now();
+  s.run.scene = options_.scene.string();
+  s.run.started_utc = utc_now();
+  s.run.planarity_tolerance = options_.load.planarity_tolerance;
+  s.checkpointing = options_.checkpoint || options_.resume || options_.stop_after > 0;
+  on_every_rank(world_, [&] { load(); });
+  check_same_scene();
+  if (options_.stage) options_.stage(SeriesJobStage::Computing);
+  on_every_rank(world_, [&] {
+    if (!world_.root()) return;
+    open_output();
+    resume_or_start();
+  });
+  share_instants();
+  compute_instants();
+  s.computed = Clock::now();
+  compute_map();
+  write_outputs();
+  s.finished = Clock::now();
+
+  SeriesJobResult result;
+  result.ranks = world_.size();
+  if (!world_.root()) return result;
+  s.engine.reset();  // it points into the scene, which moves out
+  result.scene = std::move(s.scene);
+  result.suns = std::move(s.suns);
+  result.series = std::move(s.series);
+  result.map = std::move(s.map);
+  result.written = std::move(s.written);
+  result.every = s.every;
+  result.resumed = s.resumed;
+  result.compute_seconds = std::chrono::duration<double>(s.computed - s.start).count();
+  result.write_seconds = std::chrono::duration<double>(s.finished - s.computed).count();
+  result.energyplus = std::move(s.hand_back);
+  return result;
+}
+
+void SeriesJob::load() {
+  // Every rank reads the scene (the files must be visible on every node) and prepares its engine.
+  State& s = *state_;
+  if (options_.stage) options_.stage(SeriesJobStage::Loading);
+  s.scene = load_scene(options_.scene, options_.load);
+  if (!options_.from.empty() || !options_.to.empty() || options_.step_minutes > 0) replace_period(s.scene, options_);
+  try {
+    s.suns = sun_series(s.scene);
+    // The exact sun-hours map (docs/sun-hours-map.md) on the scene's `sun_hours_map` meshes and
+    // the options': a wrong name is found before any computing.
+    s.map_faces = sun_hours_map_faces(s.scene);
+    if (!options_.sun_hours_map.empty()) {
+      for (std::size_t f : sun_hours_map_faces(s.scene, options_.sun_hours_map, "--sun-hours-map"))
+        s.map_faces.push_back(f);
+      std::sort(s.map_faces.begin(), s.map_faces.end());
+      s.map_faces.erase(std::unique(s.map_faces.begin(), s.map_faces.end()), s.map_faces.end());
+    }
+    if (options_.stage) options_.stage(SeriesJobStage::Preparing);
+    s.engine.emplace(s.scene, options_.threads);
+  } catch (const InputError& e) {
+    rethrow_naming_scene(e, options_.scene);
+  }
+  s.hand_back = prepare_hand_back(options_, s.scene);
+
+  s.series_options.threads = options_.threads;
+  s.series_options.arithmetic = options_.arithmetic;
+  s.series_options.tile_casters = options_.tile_casters;
+  s.series_options.fast_tile_casters = options_.fast_tile_casters;
+  s.run.options.threads = options_.threads;
+  s.run.options.polygons = false;
+  s.run.options.planes = false;
+  s.run.options.arithmetic = options_.arithmetic;
+  s.run.options.tile_casters = options_.tile_casters;  // report.json names them when not the defaults
+  s.run.options.fast_tile_casters = options_.fast_tile_casters;
+  s.instants = s.suns.lights.size();
+  s.digest = jobs::series_digest(s.scene, s.suns, s.series_options);
+}
+
+void SeriesJob::check_same_scene() {
+  // Every rank must have read the same scene: its digest is rank 0's.
+  if (!world_.distributed()) return;
+  const std::uint64_t digest = state_->digest;
+  std::string theirs = encode_u64s({digest});
+  world_.broadcast(theirs);
+  on_every_rank(world_, [&] {
+    if (decode_u64s(theirs) != std::vector<std::uint64_t>{digest})
+      throw InputError({options_.scene.string(), ""}, "this rank read another scene or period than rank 0 (digest " +
+                                                          std::to_string(digest) +
+                                                          "): every node must see the same files");
+  });
+}
+
+void SeriesJob::open_output() {
+  State& s = *state_;
+  s.output.emplace(options_.output);  // lock, clear leftovers, remove the old report
+  if (options_.notice)
+    for (const Warning& warning : s.scene.warnings) options_.notice("warning: " + warning.to_string());
+  // The table's rows (the receiving faces) and their areas, as compute_series makes them.
+  s.series = s.engine->compute_series({}, s.series_options);
+  s.series.instants = s.instants;
+  const std::size_t cells = s.series.faces.size() * s.instants;
+  s.series.lit_area.assign(cells, 0.0);
+  s.series.lit_fraction.assign(cells, 0.0);
+  s.series.faces_light.assign(cells, 0);
+  s.series.lit_area_error_bound.assign(cells, 0.0);
+}
+
+void SeriesJob::resume_or_start() {
+  State& s = *state_;
+  std::vector<bool> done(s.instants, false);
+  const fs::path file = jobs::Checkpoint::file(s.output->path());
+  std::error_code ec;
+  if (options_.resume && fs::exists(file, ec)) {
+    jobs::Checkpoint::Contents contents = jobs::Checkpoint::read(file, s.digest, s.series.faces.size(), s.instants);
+    for (const jobs::SeriesColumns& c : contents.records) {
+      jobs::place_columns(c, s.series);
+      for (std::uint64_t i : c.instants) {
+        if (!done[i]) ++s.resumed;
+        done[i] = true;
+      }
+    }
+    if (!contents.started_utc.empty()) s.run.started_utc = contents.started_utc;  // the run's start
+    s.checkpoint.emplace(jobs::Checkpoint::reopen(file, contents.valid_bytes));
+    if (options_.notice)
+      options_.notice("resuming from " + file.string() + ": " + std::to_string(s.resumed) + " of " +
+                      std::to_string(s.instants) + " instants done" +
+                      (contents.torn ? " (an unfinished last record was dropped)" : ""));
+  } else if (s.checkpointing) {
+    if (options_.resume && options_.notice)
+      options_.notice("no checkpoint in " + s.output->path().string() + ": starting from the first instant");
+    s.checkpoint.emplace(jobs::Checkpoint::create(file, s.digest, s.series.faces.size(), s.instants, s.run.started_utc));
+  }
+  for (std::size_t i = 0; i < s.instants; ++i)
+    if (!done[i]) s.todo.push_back(i);
+}
+
+void SeriesJob::share_instants() {
+  if (!world_.distributed()) return;
+  std::string bytes = encode_u64s(state_->todo);
+  world_.broadcast(bytes);
+  state_->todo = decode_u64s(bytes);
+}
+
+void SeriesJob::compute_instants() {
+  State& s = *state_;
+  const auto size = static_cast<std::size_t>(world_.size());
+  const bool root = world_.root();
+  // Round robin over the missing instants: rank r takes todo[r], todo[r + size], ... (neighbouring
+  // instants cost about the same, so every rank gets a like share of the work).
+  std::vector<std::uint64_t> mine;
+  for (std::size_t k = static_cast<std::size_t>(world_.rank()); k < s.todo.size(); k += size) mine.push_back(s.todo[k]);
+  const std::size_t share = (s.todo.size() + size - 1) / size;
+  // Rounds: after each, rank 0 gathers the columns (and appends them to the checkpoint). One
+  // round of everything for a single process that keeps no checkpoint; else a few instants per
+  // thread to start with, then rounds of about a minute (sized below).
+  const unsigned threads = options_.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options_.threads;
+  std::uint64_t chunk = (!s.checkpointing && !world_.distributed()) ? share : std::max<std::uint64_t>(8, 4 * threads);
+  chunk = world_.max(root ? chunk : 0);  // rank 0's choice
+  const bool report = root && options_.progress;
+  if (report) options_.progress({SeriesJobProgress::Part::Instants, s.resumed, s.instants, s.resumed, false});
+  std::size_t done_total = s.resumed;
+  for (std::size_t taken = 0; taken < share;) {
+    const std::size_t count = std::min<std::size_t>(chunk, share - taken);
+    const auto round_start = Clock::now();
+    std::vector<std::uint64_t> part_instants;
+    for (std::size_t k = taken; k < taken + count && k < mine.size(); ++k) part_instants.push_back(mine[k]);
+    const std::size_t round_total = std::min(s.todo.size() - done_total + s.resumed, count * size);
+    std::string bytes;
+    on_every_rank(world_, [&] { bytes = compute_round(part_instants, done_total, round_total); });
+    if (world_.distributed()) place_round(bytes);
+    taken += count;
+    done_total += round_total;
+    if (report) options_.progress({SeriesJobProgress::Part::Instants, done_total, s.instants, s.resumed, false});
+    stop_if_asked(done_total, taken < share);
+    // Rounds of about a minute: each costs a little (fresh workers in compute_series, a gather,
+    // a checkpoint record), and an interruption loses at most the one in progress. Grown from
+    // rank 0's measured time per instant, at most eightfold at a time.
+    const double seconds = std::chrono::duration<double>(Clock::now() - round_start).count();
+    if (chunk < share && count > 0 && options_.stop_after == 0) {  // stop_after: fixed rounds, a fixed stop
+      const double per_instant = seconds / static_cast<double>(count);
+      const double wanted = per_instant > 0 ? 60.0 / per_instant : 8.0 * static_cast<double>(chunk);
+      chunk = std::max<std::uint64_t>(chunk, static_cast<std::uint64_t>(std::min(wanted, 8.0 * static_cast<double>(chunk))));
+    }
+    chunk = world_.max(root ? chunk : 0);
+  }
+  if (report) options_.progress({SeriesJobProgress::Part::Instants, done_total, s.instants, s.resumed, true});
+}
+
+std::string SeriesJob::compute_round(const std::vector<std::uint64_t>& instants, std::size_t done_before,
+                                     std::size_t round_total) {
+  State& s = *state_;
+  const auto size = static_cast<std::size_t>(world_.size());
+  std::vector<Light> lights;
+  for (std::uint64_t i : instants) lights.push_back(s.suns.lights[i]);
+  SeriesOptions round = s.series_options;
+  // Rank 0 shows the whole job's progress, its own share standing for every rank's.
+  if (world_.root() && options_.progress)
+    round.progress = [&](const Progress& p) {
+      options_.progress({SeriesJobProgress::Part::Instants, done_before + std::min(p.done * size, round_total),
+                         s.instants, s.resumed, false});
+    };
+  SeriesResult part;
+  try {
+    part = s.engine->compute_series(lights, round);
+  } catch (const InputError& e) {
+    rethrow_naming_scene(e, options_.scene);
+  }
+  if (world_.root() && !world_.distributed() && !s.checkpoint && instants.size() == s.instants) {
+    s.series = std::move(part);  // the whole series in one call: nothing to copy
+    return {};
+  }
+  jobs::SeriesColumns columns = jobs::columns_of(part, instants);
+  part = SeriesResult{};
+  if (world_.distributed()) return jobs::encode_columns(columns);
+  jobs::place_columns(columns, s.series);
+  if (s.checkpoint) s.checkpoint->append(columns);
+  return {};
+}
+
+void SeriesJob::place_round(const std::string& bytes) {
+  State& s = *state_;
+  std::vector<std::string> parts = world_.gather(bytes);
+  on_every_rank(world_, [&] {
+    if (!world_.root()) return;
+    for (const std::string& p : parts) {
+      const jobs::SeriesColumns columns = jobs::decode_columns(p);
+      jobs::place_columns(columns, s.series);
+      if (s.checkpoint) s.checkpoint->append(columns);
+    }
+  });
+}
+
+void SeriesJob::stop_if_asked(std::size_t done, bool more) {
+  // Stop here (the checkpoint holds every instant so far) on a stop request to any rank, or when
+  // stop_after's count is reached.
+  const State& s = *state_;
+  const bool stop_after = options_.stop_after > 0 && done >= options_.stop_after && more;
+  const int mine = options_.stop != nullptr ? options_.stop->load() : 0;
+  const std::uint64_t signal = world_.max(static_cast<std::uint64_t>(std::max(mine, 0)));
+  if (!s.checkpointing || !(stop_after || (signal != 0 && more))) return;
+  if (world_.root() && options_.progress)
+    options_.progress({SeriesJobProgress::Part::Instants, done, s.instants, s.resumed, true});
+  throw SeriesJobStopped(done, s.instants, static_cast<int>(signal), jobs::Checkpoint::file(options_.output));
+}
+
+void SeriesJob::compute_map() {
+  // The map, by faces: each face's overlay needs every instant's lit region on that face only,
+  // so rank r takes a contiguous block of the ascending face list and rank 0 concatenates the
+  // blocks (region ids shifted), which is what one call on every face gives.
+  State& s = *state_;
+  if (options_.stage) options_.stage(SeriesJobStage::Mapping);
+  if (s.map_faces.empty()) return;
+  const std::size_t n = s.map_faces.size(), size = static_cast<std::size_t>(world_.size()),
+                    r = static_cast<std::size_t>(world_.rank());
+  const std::vector<std::size_t> block(s.map_faces.begin() + static_cast<std::ptrdiff_t>(r * n / size),
+                                       s.map_faces.begin() + static_cast<std::ptrdiff_t>((r + 1) * n / size));
+  std::string bytes;
+  on_every_rank(world_, [&] {
+    SunHoursOptions map_options;
+    map_options.threads = options_.threads;
+    const bool report = world_.root() && options_.progress;
+    if (report) {
+      options_.progress({SeriesJobProgress::Part::MapFaces, 0, block.size(), 0, false});
+      map_options.progress = [&](const Progress& p) {
+        options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
+      };
+    }
+    SunHoursMap part = compute_sun_hours_map(*s.engine, block, sun_hours_instants(s.scene), map_options);
+    if (report) options_.progress({SeriesJobProgress::Part::MapFaces, block.size(), block.size(), 0, true});
+    if (world_.distributed())
+      bytes = jobs::encode_map(part);
+    else
+      s.map = std::move(part);
+  });
+  if (!world_.distributed()) return;
+  std::vector<std::string> parts = world_.gather(bytes);
+  on_every_rank(world_, [&] {
+    if (!world_.root()) return;
+    std::vector<SunHoursMap> maps;
+    for (const std::string& p : parts) maps.push_back(jobs::decode_map(p));
+    s.map = jobs::merge_maps(maps);
+  });
+}
+
+void SeriesJob::write_outputs() {
+  State& s = *state_;
+  OutputDirectory::SeriesFiles files;
+  s.every = options_.every ? *options_.every : default_series_every(s.suns.lights.size(), s.suns.times);
+  files.every = s.every;
+  files.energyplus_objects = s.hand_back.objects;
+  files.energyplus_shading = options_.energyplus_shading;
+  if (options_.fragments) {
+    files.fragments = [&](std::size_t i) {
+      ShadowOptions one;
+      one.threads = options_.threads;
+      one.planes = false;
+      one.arithmetic = options_.arithmetic;
+      one.tile_casters = options_.tile_casters;  // fragments cut at the same tile borders as compute's
+      one.fast_tile_casters = options_.fast_tile_casters;
+      // The instant's own light in the scene, so that fragments carry its light_id (and irradiance).
+      const std::size_t light_id = s.scene.sun_instants[s.suns.instants[i]].light_id;
+      return s.engine->compute(s.scene.lights[light_id], light_id, one);
+    };
+  }
+  if (options_.stage) options_.stage(SeriesJobStage::Writing);
+  on_every_rank(world_, [&] {
+    if (!world_.root()) return;
+    const fs::path& dir = s.output->path();
+    if (s.map) {
+      write_sun_hours_vtp(dir / "sun_hours.vtp", *s.map, s.scene);  // before report.json, written last
+    } else {
+      std::error_code ignored;  // an earlier run's map is not this run's
+      fs::remove(dir / "sun_hours.vtp", ignored);
+    }
+    // The model's copy first: report.json, written last by write_series, marks a complete run.
+    if (s.hand_back.copy)
+      write_file_staged(options_.write_idf, [&](std::ostream& out) { out << s.hand_back.copy->text; });
+    s.written = s.output->write_series(s.scene, s.suns, s.series, files, &s.run);
+    if (s.map) s.written.insert(s.written.end() - 1, dir / "sun_hours.vtp");  // report.json stays last
+    // The outputs are complete: a checkpoint left now (this run's, or an older one) is stale.
+    if (s.checkpoint) s.checkpoint->remove();
+    std::error_code ignored;
+    fs::remove(jobs::Checkpoint::file(dir), ignored);
+  });
+}
+
+}  // namespace shadow

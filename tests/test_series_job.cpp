@@ -1,0 +1,388 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// shadow::SeriesJob (shadow/series_job.hpp): the `shadow series` job as a library unit. Its table
+// against the engine's own compute_series, a stop on the stop flag then a resume (the same
+// files as one uninterrupted run), the output directory's lock, two ranks of a world made of
+// threads against one rank (the same files), checkpoints and ranks of another scene refused,
+// and the progress reports.
+#include <shadow/series_job.hpp>
+#include <shadow/shadow.hpp>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A fresh directory for one test.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-series-job-" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// The sun example (a tower, a block and a house on a ground, Berlin) over two June days, one
+/// sun per hour (34 instants above the horizon), written into `dir`; `tower_height` changes the
+/// scene but not its shape (faces, instants); `map` asks for the house's sun-hours map.
+fs::path write_scene(const fs::path& dir, double tower_height = 30, bool map = false) {
+  std::ifstream in(fs::path(LIBSHADOW_EXAMPLES_DIR) / "sun" / "scene.json");
+  nlohmann::json scene = nlohmann::json::parse(in);
+  scene["sun"]["end"] = "2026-06-22";
+  for (auto& polygon : scene["meshes"][1]["polygons"])
+    for (auto& vertex : polygon)
+      if (vertex[2].get<double>() > 0) vertex[2] = tower_height;
+  if (map) scene["sun_hours_map"] = {"house"};
+  const fs::path file = dir / "scene.json";
+  std::ofstream(file) << scene.dump(1);
+  return file;
+}
+
+shadow::SeriesJobOptions job_options(const fs::path& scene, const fs::path& output) {
+  shadow::SeriesJobOptions options;
+  options.scene = scene;
+  options.output = output;
+  options.threads = 1;
+  return options;
+}
+
+shadow::SeriesJobResult run_job(shadow::SeriesJobOptions options) {
+  shadow::SingleProcessWorld world;
+  shadow::SeriesJob job(std::move(options), world);
+  return job.run();
+}
+
+/// Every file under `dir` (relative path -> bytes); report.json without its start time.
+std::map<std::string, std::string> files_of(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    std::ifstream in(e.path(), std::ios::binary);
+    std::stringstream bytes;
+    bytes << in.rdbuf();
+    std::string text = bytes.str();
+    if (e.path().filename() == "report.json")
+      text = std::regex_replace(text, std::regex("\"started_utc\": \"[^\"]*\""), "\"started_utc\": \"\"");
+    files[fs::relative(e.path(), dir).string()] = text;
+  }
+  return files;
+}
+
+void expect_same_files(const fs::path& a, const fs::path& b) {
+  const auto fa = files_of(a), fb = files_of(b);
+  ASSERT_FALSE(fa.empty());
+  for (const auto& [name, bytes] : fa) {
+    ASSERT_TRUE(fb.count(name)) << name << " missing in " << b;
+    EXPECT_TRUE(fb.at(name) == bytes) << name << " differs between " << a << " and " << b;
+  }
+  EXPECT_EQ(fa.size(), fb.size());
+}
+
+/// The ranks of a world made of threads meet here: each hands in its slot, and once every rank
+/// has, each gets all of them (index = rank).
+class Rendezvous {
+ public:
+  struct Slot {
+    std::string bytes;
+    std::exception_ptr error;
+  };
+  explicit Rendezvous(int ranks) : ranks_(ranks) {}
+
+  std::vector<Slot> exchange(int rank, Slot mine) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return !draining_; });  // the previous exchange is still read
+    if (arrived_ == 0) slots_.assign(static_cast<std::size_t>(ranks_), Slot{});
+    slots_[static_cast<std::size_t>(rank)] = std::move(mine);
+    if (++arrived_ == ranks_) {
+      draining_ = true;
+      left_ = ranks_;
+      ++generation_;
+      changed_.notify_all();
+    } else {
+      const std::size_t generation = generation_;
+      changed_.wait(lock, [&] { return generation_ != generation; });
+    }
+    std::vector<Slot> all = slots_;
+    if (--left_ == 0) {
+      draining_ = false;
+      arrived_ = 0;
+      changed_.notify_all();
+    }
+    return all;
+  }
+
+ private:
+  int ranks_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<Slot> slots_;
+  int arrived_ = 0, left_ = 0;
+  bool draining_ = false;
+  std::size_t generation_ = 0;
+};
+
+/// One rank of a world whose ranks are threads of this process.
+class ThreadWorld final : public shadow::SeriesWorld {
+ public:
+  ThreadWorld(Rendezvous& meeting, int rank, int size) : meeting_(meeting), rank_(rank), size_(size) {}
+  [[nodiscard]] int rank() const override { return rank_; }
+  [[nodiscard]] int size() const override { return size_; }
+  void agree(std::exception_ptr error) override {
+    for (const Rendezvous::Slot& slot : meeting_.exchange(rank_, {"", error}))
+      if (slot.error) std::rethrow_exception(slot.error);  // the lowest failing rank's
+  }
+  std::uint64_t max(std::uint64_t value) override {
+    std::uint64_t out = 0;
+    for (const Rendezvous::Slot& slot : meeting_.exchange(rank_, {std::to_string(value), nullptr}))
+      out = std::max<std::uint64_t>(out, std::stoull(slot.bytes));
+    return out;
+  }
+  std::vector<std::string> gather(const std::string& bytes) override {
+    std::vector<std::string> out;
+    for (Rendezvous::Slot& slot : meeting_.exchange(rank_, {bytes, nullptr})) out.push_back(std::move(slot.bytes));
+    if (rank_ != 0) out.clear();
+    return out;
+  }
+  void broadcast(std::string& bytes) override { bytes = meeting_.exchange(rank_, {bytes, nullptr})[0].bytes; }
+
+ private:
+  Rendezvous& meeting_;
+  int rank_, size_;
+};
+
+/// Runs the job on `ranks` threads, rank r with options[r]; each rank's result or error.
+struct RankOutcome {
+  std::optional<shadow::SeriesJobResult> result;
+  std::exception_ptr error;
+};
+std::vector<RankOutcome> run_ranks(const std::vector<shadow::SeriesJobOptions>& options) {
+  const int ranks = static_cast<int>(options.size());
+  Rendezvous meeting(ranks);
+  std::vector<RankOutcome> outcomes(options.size());
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r)
+    threads.emplace_back([&, r] {
+      ThreadWorld world(meeting, r, ranks);
+      try {
+        shadow::SeriesJob job(options[static_cast<std::size_t>(r)], world);
+        outcomes[static_cast<std::size_t>(r)].result = job.run();
+      } catch (...) {
+        outcomes[static_cast<std::size_t>(r)].error = std::current_exception();
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  return outcomes;
+}
+
+TEST(SeriesJob, TableIsTheEnginesSeries) {
+  const fs::path dir = scratch("table");
+  const fs::path scene_file = write_scene(dir);
+  const shadow::SeriesJobResult result = run_job(job_options(scene_file, dir / "out"));
+
+  // Independently: the scene's suns through the engine in one call.
+  const shadow::Scene scene = shadow::load_scene(scene_file);
+  const shadow::SunSeries suns = shadow::sun_series(scene);
+  shadow::SeriesOptions options;
+  options.threads = 1;
+  const shadow::SeriesResult expected = shadow::ShadowEngine(scene, 1).compute_series(suns.lights, options);
+  ASSERT_EQ(result.suns.lights.size(), 34u);
+  EXPECT_EQ(result.series.faces, expected.faces);
+  EXPECT_EQ(result.series.lit_area, expected.lit_area);
+  EXPECT_EQ(result.series.lit_fraction, expected.lit_fraction);
+  EXPECT_EQ(result.resumed, 0u);
+  EXPECT_EQ(result.every, 1u);  // two days: every instant in series.pvd
+  ASSERT_FALSE(result.written.empty());
+  EXPECT_EQ(result.written.back().filename(), "report.json");  // last: marks a complete run
+  EXPECT_TRUE(fs::exists(dir / "out" / "sunlit.csv"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "series.checkpoint"));
+}
+
+TEST(SeriesJob, StoppedThenResumedWritesTheUninterruptedFiles) {
+  const fs::path dir = scratch("resume");
+  const fs::path scene_file = write_scene(dir);
+  run_job(job_options(scene_file, dir / "whole"));
+
+  // Stopped by the flag (as the CLI's signal handler sets it) during the first round.
+  std::atomic<int> stop{0};
+  shadow::SeriesJobOptions options = job_options(scene_file, dir / "parts");
+  options.checkpoint = true;
+  options.stop = &stop;
+  options.progress = [&](const shadow::SeriesJobProgress& p) {
+    if (p.done > 0) stop = 15;
+  };
+  std::size_t stopped_at = 0;
+  try {
+    run_job(options);
+    FAIL() << "the job did not stop";
+  } catch (const shadow::SeriesJobStopped& stopped) {
+    stopped_at = stopped.done;
+    EXPECT_EQ(stopped.signal, 15);
+    EXPECT_EQ(stopped.total, 34u);
+    EXPECT_EQ(stopped.checkpoint, dir / "parts" / "series.checkpoint");
+  }
+  EXPECT_EQ(stopped_at, 8u);  // the first round: 4 instants per thread, at least 8
+  EXPECT_TRUE(fs::exists(dir / "parts" / "series.checkpoint"));
+  EXPECT_FALSE(fs::exists(dir / "parts" / "report.json"));  // incomplete
+
+  options.progress = nullptr;
+  stop = 0;
+  options.checkpoint = false;
+  options.resume = true;
+  std::vector<std::string> notices;
+  options.notice = [&](const std::string& line) { notices.push_back(line); };
+  const shadow::SeriesJobResult resumed = run_job(options);
+  EXPECT_EQ(resumed.resumed, stopped_at);
+  ASSERT_EQ(notices.size(), 1u);
+  EXPECT_NE(notices[0].find("resuming from"), std::string::npos) << notices[0];
+  EXPECT_NE(notices[0].find("8 of 34 instants done"), std::string::npos) << notices[0];
+  EXPECT_FALSE(fs::exists(dir / "parts" / "series.checkpoint"));
+  expect_same_files(dir / "whole", dir / "parts");
+}
+
+TEST(SeriesJob, SecondJobOnTheSameDirectoryIsRefused) {
+  const fs::path dir = scratch("lock");
+  const fs::path scene_file = write_scene(dir);
+  shadow::SeriesJobOptions first = job_options(scene_file, dir / "out");
+  std::string refused;
+  bool tried = false;
+  // While the first job computes (it holds the directory), a second one starts on it.
+  first.progress = [&](const shadow::SeriesJobProgress&) {
+    if (tried) return;
+    tried = true;
+    try {
+      run_job(job_options(scene_file, dir / "out"));
+    } catch (const shadow::OutputError& e) {
+      refused = e.what();
+    }
+  };
+  const shadow::SeriesJobResult result = run_job(first);
+  EXPECT_TRUE(tried);
+  EXPECT_NE(refused.find("another shadow process is writing to this directory"), std::string::npos) << refused;
+  EXPECT_EQ(result.series.instants, 34u);  // the first job finished undisturbed
+  EXPECT_TRUE(fs::exists(dir / "out" / "report.json"));
+  // Once the first job is done, the directory is free again.
+  EXPECT_NO_THROW(run_job(job_options(scene_file, dir / "out")));
+}
+
+TEST(SeriesJob, TwoRanksWriteWhatOneRankWrites) {
+  const fs::path dir = scratch("ranks");
+  const fs::path scene_file = write_scene(dir, 30, true);
+  shadow::SeriesJobOptions one = job_options(scene_file, dir / "one");
+  one.fragments = true;
+  const shadow::SeriesJobResult single = run_job(one);
+  ASSERT_TRUE(single.map);
+  ASSERT_FALSE(single.map->cells.empty());
+
+  std::vector<shadow::SeriesJobOptions> options(2, job_options(scene_file, dir / "two"));
+  std::vector<std::size_t> reports(2, 0);
+  for (std::size_t r = 0; r < 2; ++r) {
+    options[r].fragments = true;
+    options[r].checkpoint = true;  // rounds of 8, gathered after each
+    options[r].progress = [&reports, r](const shadow::SeriesJobProgress&) { ++reports[r]; };
+  }
+  const std::vector<RankOutcome> outcomes = run_ranks(options);
+  for (const RankOutcome& o : outcomes) {
+    if (o.error) std::rethrow_exception(o.error);
+    ASSERT_TRUE(o.result);
+    EXPECT_EQ(o.result->ranks, 2);
+  }
+  EXPECT_GT(reports[0], 0u);
+  EXPECT_EQ(reports[1], 0u);  // rank 0 reports for all
+  const shadow::SeriesJobResult& root = *outcomes[0].result;
+  EXPECT_EQ(root.series.lit_area, single.series.lit_area);
+  EXPECT_TRUE(outcomes[1].result->written.empty());  // rank 0 writes
+  ASSERT_TRUE(root.map);
+  EXPECT_EQ(root.map->regions, single.map->regions);
+  expect_same_files(dir / "one", dir / "two");
+}
+
+TEST(SeriesJob, CheckpointOfAnotherSceneIsRefused) {
+  const fs::path dir = scratch("digest");
+  const fs::path scene_file = write_scene(dir);
+  shadow::SeriesJobOptions options = job_options(scene_file, dir / "out");
+  options.stop_after = 8;
+  EXPECT_THROW(run_job(options), shadow::SeriesJobStopped);
+  // The same shape (faces, instants), another tower: the checkpoint's digest does not match.
+  const fs::path other = write_scene(dir / "..", 31);
+  options = job_options(other, dir / "out");
+  options.resume = true;
+  try {
+    run_job(options);
+    FAIL() << "a checkpoint of another scene was used";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(e.problem().find("another scene or other options"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where().file, (dir / "out" / "series.checkpoint").string());
+  }
+  EXPECT_TRUE(fs::exists(dir / "out" / "series.checkpoint"));  // kept: the right scene may resume it
+  options = job_options(scene_file, dir / "out");
+  options.resume = true;
+  EXPECT_EQ(run_job(options).resumed, 8u);
+}
+
+TEST(SeriesJob, RankThatReadAnotherSceneStopsEveryRank) {
+  const fs::path dir = scratch("ranks-digest");
+  std::vector<shadow::SeriesJobOptions> options{job_options(write_scene(dir), dir / "out"),
+                                                job_options(write_scene(dir / "..", 31), dir / "out")};
+  const std::vector<RankOutcome> outcomes = run_ranks(options);
+  for (const RankOutcome& o : outcomes) {
+    ASSERT_TRUE(o.error);
+    try {
+      std::rethrow_exception(o.error);
+    } catch (const shadow::InputError& e) {
+      EXPECT_NE(e.problem().find("another scene or period than rank 0"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "out" / "report.json"));
+}
+
+TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
+  const fs::path dir = scratch("progress");
+  shadow::SeriesJobOptions options = job_options(write_scene(dir, 30, true), dir / "out");
+  options.checkpoint = true;
+  std::vector<shadow::SeriesJobProgress> instants, faces;
+  std::vector<shadow::SeriesJobStage> stages;
+  options.progress = [&](const shadow::SeriesJobProgress& p) {
+    (p.part == shadow::SeriesJobProgress::Part::Instants ? instants : faces).push_back(p);
+  };
+  options.stage = [&](shadow::SeriesJobStage s) { stages.push_back(s); };
+  const shadow::SeriesJobResult result = run_job(options);
+  ASSERT_GE(instants.size(), 3u);
+  EXPECT_EQ(instants.front().done, 0u);  // the start
+  EXPECT_FALSE(instants.front().finished);
+  for (std::size_t i = 1; i < instants.size(); ++i) {
+    EXPECT_GE(instants[i].done, instants[i - 1].done);
+    EXPECT_EQ(instants[i].total, 34u);
+  }
+  EXPECT_TRUE(instants.back().finished);
+  EXPECT_EQ(instants.back().done, 34u);
+  ASSERT_GE(faces.size(), 2u);
+  EXPECT_TRUE(faces.back().finished);
+  EXPECT_EQ(faces.back().done, result.map->faces.size());
+  using S = shadow::SeriesJobStage;
+  EXPECT_EQ(stages, (std::vector<S>{S::Loading, S::Preparing, S::Computing, S::Mapping, S::Writing}));
+}
+
+TEST(SeriesJob, DefaultEveryBoundsTheFilesOfLongPeriods) {
+  std::vector<std::int64_t> week{0, 7 * 86400}, year{0, 365 * 86400};
+  EXPECT_EQ(shadow::default_series_every(100, week), 1u);  // up to 7 days: every instant
+  EXPECT_EQ(shadow::default_series_every(4400, year), 92u);  // ceil(4400 / 48)
+  EXPECT_EQ(shadow::default_series_every(40, year), 1u);
+}
+
+}  // namespace
