@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Internal: what ShadowEngine prepares once per scene, shared by engine/shadow_engine.cpp
-// (one light at a time) and engine/series.cpp (many suns together).
+// (one light at a time) and engine/series.cpp (many suns together), and the scheduler both run
+// their work items with (engine/rounds.cpp).
 #pragma once
 
 #include "core/culling.hpp"
@@ -107,12 +108,51 @@ struct ShadowEngine::Impl {
     Item* out = nullptr;
   };
 
+  /// One work item of a round: receiver `face` under one light (`grid`: its light-space grid,
+  /// or nullptr), reported as `light_id`; `light_slot` picks the worker's exact light.
+  struct WorkItem {
+    std::size_t face = 0;
+    std::size_t light_id = 0;
+    const Light* light = nullptr;
+    const core::LightSpaceGrid* grid = nullptr;
+    std::size_t light_slot = 0;
+  };
+
+  /// A worker's exact form of the light of a slot (made on first need by compute_item).
+  using ExactLightSlot = std::function<std::optional<exact::ExactLight>&(unsigned worker, std::size_t slot)>;
+
+  /// How compute_rounds reports (either may be empty): `first(items_done)` during the first
+  /// round (the items that asked for tiles not counted), `tiles(done, total, split_items)` in
+  /// tiles during the tile round.
+  struct RoundProgress {
+    std::function<void(std::size_t)> first;
+    std::function<void(std::size_t, std::size_t, std::size_t)> tiles;
+  };
+
+  /// What compute_rounds did: the items split into tiles and the time of each round.
+  struct RoundsDone {
+    std::size_t split = 0;
+    double first_seconds = 0;
+    double tile_seconds = 0;
+  };
+
+  /// The engine's scheduler, for compute() (one light, item = receiver) and compute_series() (a
+  /// batch of instants, item = (instant, receiver)): the `count` items (describe(i)) whole, in
+  /// runs of engine_detail::kRun on every worker; then those with more candidates than
+  /// mode.split_above, by tiles (compute_splits). `finish(i, item)` takes item i's result: on the
+  /// worker's thread for a whole item, on this thread in ascending i after the tile round for a
+  /// split one. The results do not depend on the thread count.
+  RoundsDone compute_rounds(std::size_t count, const std::function<WorkItem(std::size_t)>& describe,
+                            const ItemMode& mode, std::vector<Worker>& workers, const ExactLightSlot& exact_light,
+                            const std::function<void(std::size_t, Item&)>& finish,
+                            const RoundProgress& progress) const;
+
   /// Computes the split receivers by tiles, every tile of every receiver one work item, and
   /// merges each receiver's tiles into its item: exact areas summed exactly and rounded once (the
   /// same bits as whole), fast ones summed with their bounds. `exact_light(worker, slot)` is that
   /// worker's exact light for a slot; `progress(done, total)` counts tiles.
   void compute_splits(std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<Worker>& workers,
-                      const std::function<std::optional<exact::ExactLight>&(unsigned, std::size_t)>& exact_light,
+                      const ExactLightSlot& exact_light,
                       const std::function<void(std::size_t, std::size_t)>& progress) const;
 
   void compute_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
@@ -220,6 +260,19 @@ class BlockTimer {
   Clock::time_point start_, item_start_;
   Clock::duration longest_{0};
 };
+
+/// Appends `fragments` (ids local to one item or tile) to `out` with their ids shifted by
+/// `next_id`, which then grows by the ids they used: an item's tiles in order, or a result's
+/// items in order, numbered as one.
+inline void append_renumbered(std::vector<Fragment>& fragments, std::vector<Fragment>& out, std::size_t& next_id) {
+  std::size_t used = 0;
+  for (Fragment& fragment : fragments) {
+    used = std::max(used, fragment.fragment_id + 1);
+    fragment.fragment_id += next_id;
+    out.push_back(std::move(fragment));
+  }
+  next_id += used;
+}
 
 /// The exact form of a light: a point (w = 1) or a direction at infinity (w = 0).
 using exact::to_exact_light;  // exact/lazy_geometry.hpp

@@ -7,7 +7,8 @@
 // built on first use) serves every instant instead of being made afresh per call, and the work
 // is handed out over the (instant, receiver) pairs of a batch of instants, so that no thread
 // waits at the end of each instant for the slowest receiver, and the table is filled in place
-// (no ShadowResult per instant).
+// (no ShadowResult per instant). The items run on the engine's one scheduler (engine/rounds.cpp),
+// as compute()'s receivers do.
 #include "engine/engine_impl.hpp"
 
 #include "arealight/area_receiver.hpp"
@@ -20,13 +21,9 @@
 #include <shadow/series.hpp>
 
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <mutex>
 #include <optional>
-#include <tuple>
 #include <string>
 
 namespace shadow {
@@ -82,12 +79,6 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     result.faces_light[at] = lighting.faces_light ? 1 : 0;
     result.lit_area_error_bound[at] = lighting.lit_area_error_bound;
   };
-  struct Pending {
-    std::size_t k, r;  // instant in the batch, row
-    Impl::Item item;   // its split_candidates, then the merged result
-  };
-  std::vector<Pending> pending;
-  std::mutex split_mutex;
   // Progress in instants, moving through both rounds of a batch: a fraction of the batch is done,
   // the first round standing for (1 - tile_share) of it and the tile round for the rest.
   // tile_share is the tile round's share of the previous batch's time (neighbouring instants
@@ -95,7 +86,6 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   // counts as one item that is done when its tiles are, as compute() counts receivers.
   engine_detail::ForwardProgress report_instants(options.progress, 0, instants);
   double tile_share = 0.0;
-  using Clock = std::chrono::steady_clock;
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
@@ -109,80 +99,39 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     auto report_fraction = [&](double fraction) {
       report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));
     };
-    engine_detail::FirstRound first_round(rows * count);
     double round_fraction = 0;  // of the batch, at the first round's end
-    // Items in runs of engine_detail::kRun consecutive ones, as compute() hands out receivers.
-    std::function<void(std::size_t)> report_runs;
-    if (report_instants)
-      report_runs = [&](std::size_t runs) {
-        round_fraction =
-            (1 - tile_share) * static_cast<double>(first_round.done(runs)) / static_cast<double>(first_round.items);
+    Impl::RoundProgress progress;
+    if (report_instants) {
+      progress.first = [&](std::size_t done) {
+        round_fraction = (1 - tile_share) * static_cast<double>(done) / static_cast<double>(rows * count);
         report_fraction(round_fraction);
       };
-    const auto round_start = Clock::now();
-    core::parallel_for_blocks(
-        rows * count, engine_detail::kRun, threads,
-        [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
-          Impl::Worker& w = workers[wi];
-          engine_detail::BlockTimer timer;
-          for (std::size_t item = begin; item < end; ++item) {
-            // Instant-major, as compute() runs a light: one light's grid stays in cache while its
-            // receivers are taken (receiver-major measured no faster, docs/benchmarks.md).
-            const std::size_t k = item / rows;
-            const std::size_t r = item % rows;
-            const std::size_t instant = first + k;
-            const std::size_t f = result.faces[r];
-            const Light& light_in = lights[instant];
-            const core::LightSpaceGrid* grid = grids[k] ? &*grids[k] : nullptr;
-            // Trimmed as in compute() (compute_item): above 4,096 faces a worker rebuilds exact
-            // faces it had built for an earlier instant. Measured side by side without the trim
-            // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38%
-            // higher at 2,500 boxes.
-            Impl::Item out = impl.compute_item(w, exact_lights[wi][k], f, instant, light_in, grid, mode, nullptr, w.stats);
-            timer.item_done();
-            if (out.split_candidates > 0) {  // tiled after the batch's other items
-              std::lock_guard<std::mutex> lock(split_mutex);
-              pending.push_back({k, r, std::move(out)});
-              first_round.split.fetch_add(1);
-              continue;
-            }
-            write_row(r, instant, out.lighting);
-          }
-          timer.finish(w.stats);
-        },
-        report_runs);
-    if (pending.empty()) {
-      tile_share = 0.0;
-      report_instants(first + count);
-      continue;
-    }
-    const auto tiles_start = Clock::now();
-    // Receivers with more candidates than the tile threshold (a large city's ground): their
-    // tiles are the work items of a second round, as in compute().
-    std::sort(pending.begin(), pending.end(),
-              [](const Pending& a, const Pending& b) { return std::tie(a.k, a.r) < std::tie(b.k, b.r); });
-    std::vector<Impl::SplitReceiver> splits;
-    for (Pending& p : pending) {
-      const std::size_t k = p.k;
-      splits.push_back({result.faces[p.r], first + k, &lights[first + k], grids[k] ? &*grids[k] : nullptr, k, &p.item});
-    }
-    // The tile round: the rest of the batch, in proportion to the tiles done.
-    std::function<void(std::size_t, std::size_t)> report_tiles;
-    if (report_instants)
-      report_tiles = [&](std::size_t done, std::size_t total) {
+      // The tile round: the rest of the batch, in proportion to the tiles done.
+      progress.tiles = [&](std::size_t done, std::size_t total, std::size_t) {
         report_fraction(total == 0 ? 1.0
                                    : round_fraction + (1 - round_fraction) * static_cast<double>(done) /
                                                           static_cast<double>(total));
       };
-    impl.compute_splits(
-        splits, mode, workers,
+    }
+    // Instant-major items, as compute() runs a light: one light's grid stays in cache while its
+    // receivers are taken (receiver-major measured no faster, docs/benchmarks.md). Whole faces
+    // are trimmed as in compute() (compute_item): above 4,096 faces a worker rebuilds exact
+    // faces it had built for an earlier instant. Measured side by side without the trim
+    // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38% higher at
+    // 2,500 boxes.
+    const Impl::RoundsDone done = impl.compute_rounds(
+        rows * count,
+        [&](std::size_t item) {
+          const std::size_t k = item / rows;
+          return Impl::WorkItem{result.faces[item % rows], first + k, &lights[first + k],
+                                grids[k] ? &*grids[k] : nullptr, k};
+        },
+        mode, workers,
         [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; },
-        report_tiles);
-    for (const Pending& p : pending) write_row(p.r, first + p.k, p.item.lighting);
-    pending.clear();
-    const double round_seconds = std::chrono::duration<double>(tiles_start - round_start).count();
-    const double tile_seconds = std::chrono::duration<double>(Clock::now() - tiles_start).count();
-    tile_share = round_seconds + tile_seconds > 0 ? tile_seconds / (round_seconds + tile_seconds) : 0.0;
+        [&](std::size_t item, const Impl::Item& out) { write_row(item % rows, first + item / rows, out.lighting); },
+        progress);
+    const double seconds = done.first_seconds + done.tile_seconds;
+    tile_share = done.split > 0 && seconds > 0 ? done.tile_seconds / seconds : 0.0;
     report_instants(first + count);
   }
   // Area lights and disks shine forward only: their centre's areas cut to the light's emitting

@@ -42,13 +42,11 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <ctime>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -169,50 +167,23 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   // Progress in receivers done: a receiver split into tiles counts when its tiles are done
   // (in proportion during the tile round).
   engine_detail::ForwardProgress report_receivers(options.progress, progress_base, progress_total);
-  engine_detail::FirstRound first_round(receivers.size());
-
+  RoundProgress progress;
+  if (report_receivers) {
+    progress.first = [&](std::size_t done) { report_receivers(done); };
+    progress.tiles = [&](std::size_t done, std::size_t total, std::size_t split) {
+      report_receivers(receivers.size() - split + (total == 0 ? split : done * split / total));
+    };
+  }
   std::vector<std::optional<ExactLight>> lights(threads);
   ItemMode mode;
   mode.fast = options.arithmetic == Arithmetic::Fast;
   mode.polygons = options.polygons;
   mode.split_above = mode.fast ? options.fast_tile_casters : options.tile_casters;
   const core::LightSpaceGrid* grid_ptr = grid ? &*grid : nullptr;
-
-  std::vector<std::size_t> split;  // receivers (indices into `receivers`) that asked for tiles
-  std::mutex split_mutex;
-  // Runs of kRun consecutive receivers are taken at a time (engine_detail::kRun).
-  std::function<void(std::size_t)> report_runs;
-  if (report_receivers) report_runs = [&](std::size_t runs) { report_receivers(first_round.done(runs)); };
-  core::parallel_for_blocks(
-      receivers.size(), engine_detail::kRun, threads,
-      [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
-        Worker& w = workers[wi];
-        engine_detail::BlockTimer timer;
-        for (std::size_t r = begin; r < end; ++r) {
-          items[r] = compute_item(w, lights[wi], receivers[r], light_id, light_in, grid_ptr, mode, nullptr, w.stats);
-          if (items[r].split_candidates > 0) {
-            first_round.split.fetch_add(1);
-            std::lock_guard<std::mutex> lock(split_mutex);
-            split.push_back(r);
-          }
-          timer.item_done();
-        }
-        timer.finish(w.stats);
-      },
-      report_runs);
-  if (split.empty()) return;
-
-  std::sort(split.begin(), split.end());
-  std::vector<SplitReceiver> splits;
-  for (std::size_t r : split) splits.push_back({receivers[r], light_id, &light_in, grid_ptr, 0, &items[r]});
-  std::function<void(std::size_t, std::size_t)> report_tiles;
-  if (report_receivers)
-    report_tiles = [&](std::size_t done, std::size_t total) {
-      const std::size_t whole_receivers = receivers.size() - split.size();
-      report_receivers(whole_receivers + (total == 0 ? split.size() : done * split.size() / total));
-    };
-  compute_splits(splits, mode, workers, [&](unsigned wi, std::size_t) -> std::optional<ExactLight>& { return lights[wi]; },
-                 report_tiles);
+  compute_rounds(
+      receivers.size(), [&](std::size_t r) { return WorkItem{receivers[r], light_id, &light_in, grid_ptr, 0}; }, mode,
+      workers, [&](unsigned wi, std::size_t) -> std::optional<ExactLight>& { return lights[wi]; },
+      [&](std::size_t r, Item& item) { items[r] = std::move(item); }, progress);
 }
 
 ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light,
@@ -249,7 +220,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::option
 
 void ShadowEngine::Impl::compute_splits(
     std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<Worker>& workers,
-    const std::function<std::optional<exact::ExactLight>&(unsigned, std::size_t)>& exact_light,
+    const ExactLightSlot& exact_light,
     const std::function<void(std::size_t, std::size_t)>& progress) const {
   using namespace exact;
   const unsigned threads = static_cast<unsigned>(workers.size());
@@ -344,13 +315,7 @@ void ShadowEngine::Impl::compute_splits(
     std::size_t next_id = 0;
     double dropped = 0;
     for (std::size_t t = t0; t < t1; ++t) {
-      std::size_t used = 0;
-      for (Fragment& fragment : tile_items[t].fragments) {
-        used = std::max(used, fragment.fragment_id + 1);
-        fragment.fragment_id += next_id;
-        item.fragments.push_back(std::move(fragment));
-      }
-      next_id += used;
+      engine_detail::append_renumbered(tile_items[t].fragments, item.fragments, next_id);
       dropped += tile_items[t].lighting.dropped_area;
     }
     out.dropped_area = dropped;
@@ -447,13 +412,7 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<ItemTable>& per_light,
     for (std::size_t li = 0; li < lights; ++li) {
       Item& item = per_light[li][r];
       if (item.fragments.empty()) continue;
-      std::size_t used = 0;
-      for (Fragment& fragment : item.fragments) {
-        used = std::max(used, fragment.fragment_id + 1);
-        fragment.fragment_id += next_fragment_id;
-        result.fragments.push_back(std::move(fragment));
-      }
-      next_fragment_id += used;
+      engine_detail::append_renumbered(item.fragments, result.fragments, next_fragment_id);
       item.fragments.clear();
       item.fragments.shrink_to_fit();
     }
