@@ -30,9 +30,23 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// This process's scratch directories, removed when the tests end.
+fs::path scratch_root() {
+  return fs::temp_directory_path() / ("libshadow-series-job-" + std::to_string(::getpid()));
+}
+
+class RemoveScratch : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ignored;
+    fs::remove_all(scratch_root(), ignored);
+  }
+};
+const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
+
 /// A fresh directory for one test.
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("libshadow-series-job-" + std::to_string(::getpid())) / name;
+  const fs::path dir = scratch_root() / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
