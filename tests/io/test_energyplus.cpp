@@ -603,6 +603,7 @@ TEST(EnergyPlus, ModelCopyImportsTheCsvAndReReadsToTheSameFaces) {
   const shadow::EnergyPlusImportCopy copy = shadow::energyplus_model_importing_shading(file, "/runs/out/energyplus-shading.csv");
   EXPECT_FALSE(copy.epjson);
   EXPECT_EQ(copy.version, "9.6");
+  EXPECT_EQ(copy.version_code, 906);  // as the reader picks its field lists
   EXPECT_EQ(copy.replaced, 1);
   // The model's own ShadowCalculation is gone, with its comments; the new pair took its place.
   const auto calc = objects_of_class(copy.text, "ShadowCalculation");
@@ -631,6 +632,19 @@ TEST(EnergyPlus, ModelCopyImportsTheCsvAndReReadsToTheSameFaces) {
   const auto schedule = objects_of_class(again.text, "Schedule:File:Shading");
   ASSERT_EQ(schedule.size(), 1u);
   EXPECT_EQ(schedule[0].fields[1].text, "/y/energyplus-shading.csv");
+}
+
+// One reading of a version identifier for the reader's field lists and the copy's version_code.
+TEST(EnergyPlus, VersionCodeIsMajorTimesHundredPlusMinor) {
+  using shadow::scene_readers::energyplus_version_code;
+  EXPECT_EQ(energyplus_version_code("9.6"), 906);
+  EXPECT_EQ(energyplus_version_code("24.1.0"), 2401);
+  EXPECT_EQ(energyplus_version_code("9"), 900);
+  EXPECT_EQ(energyplus_version_code("8.150"), 800);  // a minor beyond 99 is no minor
+  EXPECT_EQ(energyplus_version_code(""), 0);
+  EXPECT_EQ(energyplus_version_code("v9.6"), 0);
+  EXPECT_EQ(energyplus_version_code("1000.1"), 0);
+  EXPECT_EQ(energyplus_version_code("9.6.0.1"), 0);
 }
 
 TEST(EnergyPlus, EpJsonModelCopyGetsEpJsonObjects) {
