@@ -83,6 +83,7 @@ struct SeriesJobProgress {
   std::size_t total = 0;
   std::size_t base = 0;    ///< done before this run (instants from the checkpoint)
   bool finished = false;   ///< the part ended (or stops): a progress line may be erased
+  // Each part's first report has nothing done in this run yet (done == base): it starts.
 };
 
 /// Thrown on every rank when the job stops on request (SeriesJobOptions::stop, stop_after) after
@@ -139,7 +140,8 @@ struct SeriesJobOptions {
   /// read on every rank after every round. Lock-free, so a signal handler may store to it.
   const std::atomic<int>* stop = nullptr;
   std::function<void(const SeriesJobProgress&)> progress;  ///< rank 0 only
-  /// One line for the user (a scene's warning, resuming from a checkpoint), rank 0 only.
+  /// One line for the user (a scene's warning as "warning: ...", resuming from a checkpoint),
+  /// without a program's prefix; rank 0 only.
   std::function<void(const std::string&)> notice;
   std::function<void(SeriesJobStage)> stage;  ///< every rank, at each stage's start
 };
@@ -177,7 +179,7 @@ class SeriesJob {
   SeriesJob(const SeriesJob&) = delete;
   SeriesJob& operator=(const SeriesJob&) = delete;
 
-  /// Runs the job to its end. On a distributed world an error on any rank stops every rank
+  /// Runs the job to its end (once per SeriesJob). On a distributed world an error on any rank stops every rank
   /// (SeriesWorld::agree); on one process errors pass through unchanged.
   /// @throws InputError (the scene, the period, a checkpoint of another run), OutputError (the
   /// directory: locked by another job, not writable), SeriesJobStopped
