@@ -35,12 +35,7 @@ SCANNED = ("libshadow", "tools")
 # Allowed longer: a path suffix ("tools/x.cpp" matches any path ending in /tools/x.cpp, so the key
 # survives folder moves) for a whole file, or "path suffix:function name" for one function,
 # mapped to the reason. Keep it short; each entry is a debt with its reason.
-EXCEPTIONS = {
-    "series_command.cpp:run_series_in":
-        "shadow series's job; issue 34 moves it into the library as a testable unit (remove then)",
-    "engine/series.cpp:ShadowEngine::compute_series":
-        "the series' copy of the engine's scheduler; issue 34 makes one scheduler (remove then)",
-}
+EXCEPTIONS = {}  # none left: issue 34 moved run_series_in into the library and made one scheduler
 
 SOURCE_SUFFIXES = (".hpp", ".cpp", ".h", ".hh", ".cc", ".cxx", ".hxx", ".inl", ".ipp", ".tpp")
 
