@@ -471,7 +471,7 @@ Model read_energyplus(const std::filesystem::path& file, const std::string& disp
 }
 
 int energyplus_version_code(std::string_view text) {
-  if (!is_version_text(text)) return 0;
+  if (!energyplus::is_version_text(text)) return 0;
   int major = 0, minor = 0;
   const char* end = text.data() + text.size();
   const auto [after_major, e1] = std::from_chars(text.data(), end, major);
