@@ -188,6 +188,42 @@ assert len(ratios) == len(report["surfaces"]), (len(ratios), len(report["surface
 PY
 then pass "energyplus_diffuse_shading"; else fail "energyplus_diffuse_shading" "see above"; fi
 
+# shadow render --irradiation (docs/render.md): a PNG of the scene coloured by each face's total;
+# the picture's colours against the values are tested in tests/render/test_value_picture.cpp.
+# Refused: the vector view, a report of another scene, a file that is not an irradiance report.
+if "$SHADOW" render --help >/dev/null 2>&1 && { [[ -n ${DISPLAY:-} ]] || command -v xvfb-run >/dev/null; }; then
+  if "$SHADOW" render "$WORK/scene.json" --irradiation "$WORK/out-perez" -o "$WORK/irradiation.png" --width 320 \
+       --height 240 >"$WORK/render.stdout" 2>"$WORK/render.stderr" &&
+     [[ $(head -c 8 "$WORK/irradiation.png" | od -An -c | tr -d ' ') == '211PNG\r\n032\n' ]] &&
+     grep -q "coloured by total irradiation" "$WORK/render.stdout"; then
+    pass "render_irradiation_png"
+  else
+    fail "render_irradiation_png" "$(cat "$WORK/render.stderr")"
+  fi
+  echo '{"meshes": [{"name": "other", "polygons": [{"name": "lone", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0]]}]}]}' \
+    >"$WORK/other.json"
+  render_refused() {
+    local name=$1 part=$2 image=$3
+    shift 3
+    local status=0
+    "$SHADOW" render "$@" -o "$WORK/$image" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+    if [[ $status -eq 2 && $(wc -l <"$WORK/$name.stderr") -eq 1 && $(cat "$WORK/$name.stderr") == *"$part"* &&
+          ! -e $WORK/$image ]]; then
+      pass "$name"
+    else
+      fail "$name" "status $status: $(cat "$WORK/$name.stderr")"
+    fi
+  }
+  render_refused render_irradiation_vector "--irradiation: draws a PNG picture" view.svg \
+    "$WORK/scene.json" --irradiation "$WORK/out-perez"
+  render_refused render_irradiation_other_scene "faces[0].label: \"open roof\" is face 0 of the result" other.png \
+    "$WORK/other.json" --irradiation "$WORK/out-perez/report.json"
+  render_refused render_irradiation_not_a_report "day.epw: not JSON" notjson.png \
+    "$WORK/scene.json" --irradiation "$WORK/day.epw"
+else
+  echo "skip render_irradiation: no shadow render or no display"
+fi
+
 # expect_error NAME PART ARGS...: exit 2, one line on stderr containing PART, no report.json.
 expect_error() {
   local name=$1 part=$2
