@@ -224,6 +224,31 @@ else
   echo "skip render_irradiation: no shadow render or no display"
 fi
 
+# OUTDIR is held for the whole run (as for shadow series): a second run into it while the lock is
+# taken (here by flock(1) on the same lock file, as a running shadow takes it) is refused at once
+# with one line and exit 3 (an output could not be written), the earlier result untouched; the
+# lock file is gone after a run.
+if command -v flock >/dev/null 2>&1; then
+  out="$WORK/out-perez"
+  before=$(md5sum <"$out/report.json")
+  status=0
+  flock "$out/.shadow.lock" "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/day.epw" -o "$out" \
+    >"$WORK/locked.stdout" 2>"$WORK/locked.stderr" || status=$?
+  if [[ $status -eq 3 && $(wc -l <"$WORK/locked.stderr") -eq 1 ]] && grep -q "another shadow process" "$WORK/locked.stderr" &&
+     [[ $(md5sum <"$out/report.json") == "$before" && ! -s $WORK/locked.stdout ]]; then
+    pass "locked_outdir_is_refused"
+  else
+    fail "locked_outdir_is_refused" "status $status: $(cat "$WORK/locked.stderr")"
+  fi
+  if [[ ! -e $WORK/out-isotropic/.shadow.lock && ! -e $WORK/out-map/.shadow.lock ]]; then
+    pass "lock_file_removed_after_a_run"
+  else
+    fail "lock_file_removed_after_a_run" "a .shadow.lock was left behind"
+  fi
+else
+  echo "skip locked_outdir_is_refused: no flock(1)"
+fi
+
 # expect_error NAME PART ARGS...: exit 2, one line on stderr containing PART, no report.json.
 expect_error() {
   local name=$1 part=$2
