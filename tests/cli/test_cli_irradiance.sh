@@ -224,6 +224,16 @@ else
   echo "skip render_irradiation: no shadow render or no display"
 fi
 
+# examples/irradiance (the scene of docs/irradiance.md's picture; no weather ships with it) runs
+# under the day written here, and its roofs receive more than its north walls.
+if "$SHADOW" irradiance "$EXAMPLES/irradiance/scene.json" --weather "$WORK/day.epw" -o "$WORK/out-example" -q -t 2 &&
+   python3 - "$WORK/out-example/report.json" <<'PY'
+import json, sys
+s = {g["name"]: g["annual_irradiation_kwh_m2"]["total"] for g in json.load(open(sys.argv[1]))["surfaces"]}
+assert s["tower roof"] > s["tower north"] and s["low roof"] > s["low north"], s
+PY
+then pass "example_scene_runs"; else fail "example_scene_runs" "see above"; fi
+
 # OUTDIR is held for the whole run (as for shadow series): a second run into it while the lock is
 # taken (here by flock(1) on the same lock file, as a running shadow takes it) is refused at once
 # with one line and exit 3 (an output could not be written), the earlier result untouched; the
