@@ -16,6 +16,11 @@ A `shadow series` result (report.json with `series`, no `lights`): the faces col
 `series.pvd` as an animation coloured by `lit_fraction` (press Play; the screenshot shows the
 middle instant) when the run wrote it, and the sun-hours map when there is one.
 
+A `shadow irradiance` result (report.json with kind "irradiance", or irradiation.csv or
+irradiation_map.vtp beside faces.vtp): the faces coloured by their total irradiation over the
+period (`irradiation_total_kwh_m2`, legend "kWh/m²"; faces that receive nothing in grey), beside
+irradiation_map.vtp on the same scale when the run wrote one (`--map`).
+
 In the ParaView GUI: View > Python Shell > Run Script (edit OUTDIR below, or set the environment
 variable LIBSHADOW_RESULT), or start it as `paraview --script=tools/paraview/open_result.py`.
 Headless, to save a PNG:
@@ -390,12 +395,16 @@ def describe(path, views, bounds, glyphs, size):
             xs.append(0.5 * (h[0] / h[3] + 1))
             ys.append(0.5 * (h[1] / h[3] + 1))
         bars = []
+        seen = set()  # several representations may share one colour map, hence one bar
         for rep in view.Representations:
             try:
                 if not rep.Visibility or not rep.ColorArrayName or not rep.ColorArrayName[1]:
                     continue
             except AttributeError:
                 continue
+            if rep.ColorArrayName[1] in seen:
+                continue
+            seen.add(rep.ColorArrayName[1])
             lut = GetColorTransferFunction(rep.ColorArrayName[1])
             bar = GetScalarBar(lut, view)
             if not bar.Visibility:
@@ -513,6 +522,104 @@ def open_series(args, outdir, report, read):
     finish(args, layout, views, (bounds, []))
 
 
+IRRADIATION = "irradiation_total_kwh_m2"
+IRRADIATION_TITLE = "kWh/m\u00b2"  # the legend: total irradiation over the run's period
+
+
+def irradiation_top(sources):
+    """The top of the legend: the largest total over the datasets, rounded up to a label step."""
+    top = 0.0
+    for source in sources:
+        low, high = source.CellData[IRRADIATION].GetRange()
+        if high == high:  # NaN (no face receives) leaves the range at 0
+            top = builtins.max(top, high)
+    if top <= 0:
+        return 1.0, 1.0
+    step = nice_step(top)
+    return step * math.ceil(top / step - 1e-9), step
+
+
+def style_irradiation(shown, view, top, step, bar=True):
+    """Colour by the total irradiation from 0 to `top` kWh/m2 (Inferno; faces that receive no
+    light, NaN in faces.vtp, in grey), the legend titled with the unit, labels at round values."""
+    ColorBy(shown, ("CELLS", IRRADIATION))
+    lut = GetColorTransferFunction(IRRADIATION)
+    lut.ApplyPreset("Inferno (matplotlib)", True)
+    lut.NanColor = [0.82, 0.82, 0.80]
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(0.0, top)
+    if not bar:
+        return  # context around the map: the map's bar already reads the scale
+    shown.SetScalarBarVisibility(view, True)
+    digits = 0 if step >= 1 else builtins.min(3, int(math.ceil(-math.log10(step))))
+    style_bar(GetScalarBar(lut, view), IRRADIATION_TITLE, digits=digits,
+              labels=[k * step for k in range(int(top / step + 1e-9) + 1)])
+
+
+def irradiance_period(run):
+    """The period of an irradiance run, from report.json's `run`: "FROM to TO (N hours)" and the sky."""
+    period = run.get("period", {})
+    lines = []
+    if period.get("from") or period.get("to"):
+        lines.append("%s to %s" % (period.get("from") or "start", period.get("to") or "end"))
+    if period.get("hours") is not None:
+        lines.append("%d hours of weather, %s sky" % (period["hours"], run.get("sky", "?")))
+    return lines or ["period: see report.json"]
+
+
+def is_irradiance(outdir, report):
+    """An OUTDIR of `shadow irradiance`: its report says so (kind), or its files do (faces.vtp with
+    irradiation arrays beside irradiation.csv, or irradiation_map.vtp) when the report is missing."""
+    if report is not None:
+        return report.get("kind") == "irradiance"
+    return (os.path.isfile(os.path.join(outdir, "irradiation_map.vtp")) or
+            os.path.isfile(os.path.join(outdir, "irradiation.csv")))
+
+
+def open_irradiance(args, outdir, report, read):
+    """A `shadow irradiance` OUTDIR: the faces coloured by their total irradiation over the
+    period (kWh/m2), and the irradiation map (cells cut along the beam's shadows) when the run
+    wrote one, both on one scale."""
+    run = (report or {}).get("run", {})
+    has_faces = os.path.isfile(os.path.join(outdir, "faces.vtp"))
+    has_map = os.path.isfile(os.path.join(outdir, "irradiation_map.vtp"))
+    sources = ([("faces.vtp", "total irradiation per face")] if has_faces else []) + \
+              ([("irradiation_map.vtp", "total irradiation (map)")] if has_map else [])
+    if not sources:
+        print("open_result: %s: an irradiance result without faces.vtp or irradiation_map.vtp" % outdir)
+        sys.exit(2)
+    count = len(sources)
+    VIEW_ASPECT[0] = args.size[0] / count / args.size[1]
+    VIEW_WIDTH[0] = args.size[0] / count
+    layout = CreateLayout("libshadow irradiance")
+    views = [CreateView("RenderView") for _ in range(count)]
+    arrange(layout, views)
+    readers = [read(name) for name, _ in sources]
+    top, step = irradiation_top(readers)
+    bounds = model_bounds(readers[0])
+    period = irradiance_period(run)
+    for view, reader, (name, title) in zip(views, readers, sources):
+        white_view(view)
+        style_irradiation(Show(reader, view), view, top, step)
+        if name == "irradiation_map.vtp" and has_faces:
+            # The faces the map does not cover, on the same scale (their own value), around it.
+            low, high = reader.CellData["face_id"].GetRange()
+            for method, value in (("Below Lower Threshold", low - 0.5), ("Above Upper Threshold", high + 0.5)):
+                others = Threshold(registrationName="faces around the map (%s)" % method.split()[0].lower(),
+                                   Input=readers[0])
+                others.Scalars = ["CELLS", "face_id"]
+                others.ThresholdMethod = method
+                others.LowerThreshold = value
+                others.UpperThreshold = value
+                style_irradiation(Show(others, view), view, top, step, bar=False)
+        add_title(view, [title] + period)
+        add_north_arrow(view, bounds, run.get("north_axis", 0.0))
+    for view in views:
+        Render(view)  # ParaView resets the camera on a view's first render: get that done first
+        place_camera_above(view, bounds)
+    finish(args, layout, views, (bounds, []))
+
+
 def main():
     args = parse_arguments()
     outdir = os.path.abspath(args.outdir)
@@ -540,8 +647,16 @@ def main():
         finish(args, layout, [view], (model_bounds(sun_hours), []))
         return
 
-    with open(os.path.join(outdir, "report.json")) as f:
-        report = json.load(f)
+    report = None
+    if os.path.isfile(os.path.join(outdir, "report.json")):
+        with open(os.path.join(outdir, "report.json")) as f:
+            report = json.load(f)
+    if is_irradiance(outdir, report):
+        open_irradiance(args, outdir, report, read)
+        return
+    if report is None:
+        print("open_result: %s: no report.json" % outdir)
+        sys.exit(2)
     if "series" in report and "lights" not in report:
         open_series(args, outdir, report, read)
         return

@@ -159,6 +159,11 @@ int run_irradiance(const IrradianceArgs& args) {
     progress->update(p);
   };
 
+  // OUTDIR held for the whole run, as `shadow series` holds it (shadow::OutputDirectory): a second
+  // run into it is refused at once (OutputError, exit 3) instead of mixing files; the lock is
+  // taken once the inputs are read and checked, before any computing, and freed at the end.
+  const shadow::OutputDirectory output(args.outdir);
+
   std::optional<shadow::ShadowEngine> engine;
   shadow::IrradianceResult result;
   std::optional<shadow::SunHoursMap> map;

@@ -5,8 +5,10 @@
 #include "cli_checks.hpp"
 
 #include <shadow/render/render_image.hpp>
+#include <shadow/render/value_picture.hpp>
 #include <shadow/render/vector_drawing.hpp>
 
+#include <shadow/irradiance_output.hpp>
 #include <shadow/shadow.hpp>
 
 #include <unistd.h>
@@ -74,6 +76,26 @@ void check_output_directory(const std::string& image) {
     throw shadow::OutputError(dir.string() + ": cannot write into the output directory: " + std::strerror(errno));
   if (fs::is_directory(fs::status(path, ec)))
     throw shadow::OutputError(image + ": is a directory; cannot write the image there");
+}
+
+/// `--irradiation`: the faces coloured by the result's totals (no shadows to compute: they are
+/// in the values), the legend always drawn.
+int render_irradiation(const RenderArgs& args, const shadow::Scene& scene, const shadow::render::RenderOptions& options) {
+  namespace sr = shadow::render;
+  const shadow::IrradiationReport report = shadow::read_irradiation_report(args.irradiation);
+  const std::vector<double> values = shadow::face_irradiation(scene, report);
+  sr::RenderOptions adjusted = options;
+  adjusted.legend = true;
+  const sr::Image image = sr::render_face_values(scene, values, adjusted, "total irradiation, kWh/m\u00b2");
+  sr::write_png(image, args.image);
+  if (!args.quiet) {
+    const sr::ValueScale scale = sr::value_scale(values);
+    std::printf("shadow %s: %zu faces coloured by total irradiation from %s (%zu faces with a value; scale 0 to %g "
+                "kWh/m2), %dx%d: %s\n",
+                shadow::version(), scene.faces.size(), report.file.string().c_str(), report.faces.size(), scale.top,
+                args.width, args.height, args.image.c_str());
+  }
+  return 0;
 }
 
 }  // namespace
@@ -157,6 +179,10 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
                     "Values above 0.8: soft (run smoothly toward white) or clip (cut at 1)")
       ->default_val("soft")
       ->check(CLI::IsMember({"soft", "clip"}));
+  render.add_option("--irradiation", args.irradiation,
+                    "PNG: colour each face by its total irradiation (kWh/m2) from this `shadow irradiance` "
+                    "OUTDIR or its report.json, with a legend of the scale, instead of lighting it "
+                    "(SCENE must be the scene of that run)");
   render.add_flag("--legend", args.legend, "Draw a legend: each mesh group's colour lit and in shadow, and the lights");
   render.add_option("--compass", args.compass,
                     "Draw a compass (north, and the suns' directions on the ground): on, off, or auto (on when "
@@ -165,9 +191,10 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   render.add_option("--frame", args.frame,
                     "What the default camera frames: shadows (the meshes but the ground, and their shadows "
-                    "on it) or scene (every vertex, the whole ground included)")
+                    "on it) or scene (every vertex, the whole ground included; the default with --irradiation)")
       ->default_val("shadows")
-      ->check(CLI::IsMember({"shadows", "scene"}));
+      ->check(CLI::IsMember({"shadows", "scene"}))
+      ->each([&args](const std::string&) { args.frame_given = true; });
   render.add_option("-t,--threads", args.threads, "Worker threads for the shadows (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
@@ -201,6 +228,8 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   namespace sr = shadow::render;
   check_output_extension(args.image);
   check_output_directory(args.image);
+  if (!args.irradiation.empty() && sr::is_vector_output(args.image))
+    throw shadow::InputError({"", "--irradiation"}, "draws a PNG picture, not the vector view " + args.image);
   // The exact vector view needs no display: dispatched before looking for one.
   if (sr::is_vector_output(args.image)) return sr::run_vector_render(args);
   if (args.light >= 0 || args.edges || args.max_faces_given)
@@ -231,7 +260,10 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
 
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  shadow::Scene scene = shadow::load_scene(args.scene, render_load_options(args));
+  shadow::LoadOptions load = render_load_options(args);
+  // The scene of an irradiance run may leave its lights out: the suns came from the weather.
+  if (!args.irradiation.empty()) load.require_lights = false;
+  shadow::Scene scene = shadow::load_scene(args.scene, load);
   if (!args.quiet)
     for (const shadow::Warning& warning : scene.warnings)
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";
@@ -254,19 +286,23 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.exposure.automatic = args.exposure == "auto";
   if (args.exposure != "auto") options.shade.exposure.scale = std::strtod(args.exposure.c_str(), nullptr);
   options.shade.exposure.soft_shoulder = args.tone == "soft";
-  options.legend = args.legend;
+  options.legend = args.legend || !args.irradiation.empty();  // --irradiation: its scale always
   options.compass = args.compass == "on" || (args.compass == "auto" && scene.sun.has_value());
   sr::CameraRequest request;
   if (!args.eye.empty()) request.eye = to_vec3(args.eye);
   if (!args.target.empty()) request.target = to_vec3(args.target);
   if (!args.up.empty()) request.up = to_vec3(args.up);
   if (args.fov_given) request.fov_degrees = args.fov;
-  request.framing = args.frame == "scene" ? sr::Framing::Scene : sr::Framing::Shadows;
+  // An irradiation picture is about every face, the ground's too: the whole scene unless told.
+  const bool whole = args.frame == "scene" || (!args.irradiation.empty() && !args.frame_given);
+  request.framing = whole ? sr::Framing::Scene : sr::Framing::Shadows;
   request.scene_file = args.scene;
   // Room for the corner marks: the framing keeps clear of them.
   if (options.legend || options.compass) request.margin = 0.12;
   // the default framing, then the scene's "camera", then the options
   options.shade.camera = sr::resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
+
+  if (!args.irradiation.empty()) return render_irradiation(args, scene, options);
 
   shadow::ShadowOptions shadow_options;
   shadow_options.threads = args.threads;

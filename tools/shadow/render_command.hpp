@@ -32,6 +32,10 @@ struct RenderArgs {
   std::string exposure = "auto";
   std::string tone = "soft";
   bool legend = false;
+  /// --irradiation: a `shadow irradiance` OUTDIR (or its report.json) whose per-face totals
+  /// colour the picture instead of the lighting (docs/render.md); empty: a shaded picture.
+  std::string irradiation;
+  bool frame_given = false;  ///< --frame was given (--irradiation frames the whole scene otherwise)
   std::string compass = "auto";
   unsigned threads = 0;
   bool quiet = false;

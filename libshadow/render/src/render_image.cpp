@@ -149,7 +149,7 @@ void add_decorations(vtkRenderer* renderer, const Decorations& d, const RenderOp
     const double lines = 1.0 + static_cast<double>(d.legend.size() + d.notes.size());  // a header, rows, notes
     const double top = options.height - 10 * unit;
     // Wide enough for the longest line (about 0.6 em a character at 12 points).
-    std::size_t longest = 14;
+    std::size_t longest = std::max<std::size_t>(14, d.header.size());
     for (const LegendEntry& e : d.legend) longest = std::max(longest, e.label.size() + 5);
     for (const std::string& n : d.notes) longest = std::max(longest, n.size());
     const double width = std::min(std::max(180.0, 7.0 * static_cast<double>(longest) + 10.0), 0.9 * options.width / unit) * unit;
@@ -175,7 +175,7 @@ void add_decorations(vtkRenderer* renderer, const Decorations& d, const RenderOp
       actor->GetTextProperty()->SetBold(bold);
       actor->GetTextProperty()->SetFontFamilyToArial();
     };
-    text("lit, in shadow", left, line_y(0) + 2 * unit, true);
+    text(d.header, left, line_y(0) + 2 * unit, true);
     for (std::size_t i = 0; i < d.legend.size(); ++i) text(d.legend[i].label, left + 2 * sw + 10 * unit, line_y(i + 1) + 2 * unit, false);
     for (std::size_t i = 0; i < d.notes.size(); ++i) text(d.notes[i], left, line_y(d.legend.size() + 1 + i) + 2 * unit, false);
 #endif

@@ -60,4 +60,30 @@ std::vector<std::filesystem::path> write_irradiance_outputs(const std::filesyste
                                                             const Weather& weather, const IrradianceResult& result,
                                                             const IrradianceRunInfo& run, const IrradianceFiles& files);
 
+/// One face's total irradiation read back from a `shadow irradiance` result.
+struct FaceIrradiation {
+  std::size_t face = 0;      ///< face_id in the scene the result was computed on
+  std::string label;         ///< face_label() of that face, as the report wrote it
+  double total_kwh_m2 = 0.0;  ///< annual_irradiation_kwh_m2.total: over the run's period
+};
+
+/// What read_irradiation_report takes from report.json (the parts a picture needs).
+struct IrradiationReport {
+  std::filesystem::path file;  ///< the report.json read
+  std::string scene;           ///< run.scene: the scene file the run read
+  std::string sky;             ///< run.sky
+  std::size_t hours = 0;       ///< run.period.hours
+  std::vector<FaceIrradiation> faces;
+};
+
+/// Reads the report.json of a `shadow irradiance` result: `path` is the OUTDIR or the report
+/// itself. @throws InputError naming the file, the place and the problem (not found, not JSON,
+/// not an irradiance report, a face without a finite total).
+IrradiationReport read_irradiation_report(const std::filesystem::path& path);
+
+/// Each scene face's total irradiation (kWh/m2) from `report`, NaN for faces it does not list.
+/// @throws InputError when the report does not fit `scene` (a face id out of range, or a label
+/// that is not the scene face's: the result was computed on another scene).
+std::vector<double> face_irradiation(const Scene& scene, const IrradiationReport& report);
+
 }  // namespace shadow

@@ -59,6 +59,7 @@ struct LegendEntry {
 /// What is drawn over the picture (render_scene makes it from the scene and the options).
 struct Decorations {
   std::vector<LegendEntry> legend;  ///< empty: no legend
+  std::string header = "lit, in shadow";  ///< the legend's first line, over its rows
   std::vector<std::string> notes;   ///< lines under the legend's rows (the lights)
   bool compass = false;
   glm::dvec3 anchor{0.0};           ///< a point on the ground the compass directions start from
