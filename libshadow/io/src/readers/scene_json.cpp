@@ -163,13 +163,15 @@ class SceneReader {
     const Json& meshes = require(document, "", "meshes", "the scene's meshes");
     // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
     const Json* sun = find(document, "sun");
-    const Json* lights = sun != nullptr ? find(document, "lights")
-                                        : &require(document, "", "lights", "the scene's lights");
-
-    // Materials first: meshes name them.
+    // Materials first: meshes name them. A scene with an emitting material (radiosity) has a
+    // source without lights: `lights` may be left out (or be empty) too.
     if (const Json* materials = find(document, "materials")) read_materials(*materials);
+    bool emits = false;
+    for (const Material& m : scene_.materials) emits = emits || m.emittance > 0.0;
+    const Json* lights = sun != nullptr || emits ? find(document, "lights")
+                                                 : &require(document, "", "lights", "the scene's lights");
     pending_ = read_meshes(meshes);
-    if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/sun != nullptr);
+    if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/sun != nullptr || emits);
     if (sun != nullptr) {
       // The suns' lights come after the scene's own; expanding is cheap next to loading meshes.
       scene_.source = scene_file_;
@@ -616,6 +618,38 @@ class SceneReader {
     return color;
   }
 
+  /// `reflectance` (one number or [r, g, b], each in [0, 1)) and `emittance` (W/m^2, >= 0).
+  void read_radiosity_terms(const Json& m, const std::string& path, Material& material) const {
+    if (const Json* value = find(m, "reflectance")) {
+      const std::string place = member(path, "reflectance");
+      auto check = [&](double r, const std::string& where) {
+        if (!(r >= 0.0 && r < 1.0))
+          fail(where, "reflectance must be in [0, 1) (1 would reflect all and never converge), got " +
+                          format_number(r));
+      };
+      if (value->is_array()) {
+        if (value->size() != 3)
+          fail(place, "expected one number or 3 numbers [r, g, b], got " + std::to_string(value->size()) +
+                          (value->size() == 1 ? " element" : " elements"));
+        const glm::dvec3 rgb = get_vec3(*value, place);
+        for (int c = 0; c < 3; ++c) check(rgb[c], element(place, static_cast<std::size_t>(c)));
+        material.reflectance_rgb = rgb;
+        material.reflectance = (rgb.x + rgb.y + rgb.z) / 3.0;
+      } else {
+        const double r = get_number(*value, place);
+        check(r, place);
+        material.reflectance = r;
+        material.reflectance_rgb = glm::dvec3(r);
+      }
+    }
+    if (const Json* value = find(m, "emittance")) {
+      const std::string place = member(path, "emittance");
+      const double e = get_number(*value, place);
+      if (!(e >= 0.0)) fail(place, "emittance must be >= 0 (W/m^2), got " + format_number(e));
+      material.emittance = e;
+    }
+  }
+
   void read_materials(const Json& materials) {
     require_array(materials, "materials");
     std::map<std::string, std::size_t> seen;
@@ -623,7 +657,8 @@ class SceneReader {
       const std::string path = element("materials", i);
       const Json& m = materials[i];
       require_object(m, path, "a material");
-      check_keys(m, path, {"name", "k_a", "k_d", "k_s", "shininess", "color", "specular_color"});
+      check_keys(m, path, {"name", "k_a", "k_d", "k_s", "shininess", "color", "specular_color", "reflectance",
+                           "emittance"});
       Material material;
       material.name = get_name(m, path, "each material needs a unique name");
       if (const auto [it, inserted] = seen.emplace(material.name, i); !inserted)
@@ -642,6 +677,7 @@ class SceneReader {
       if (const Json* color = find(m, "color")) material.color = get_color(*color, member(path, "color"));
       if (const Json* color = find(m, "specular_color"))
         material.specular_color = get_color(*color, member(path, "specular_color"));
+      read_radiosity_terms(m, path, material);
       scene_.materials.push_back(std::move(material));
     }
   }
