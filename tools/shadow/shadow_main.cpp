@@ -16,6 +16,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "radiosity_command.hpp"
 #include "series_command.hpp"
 
 #include <unistd.h>
@@ -256,6 +257,9 @@ int main(int argc, char** argv) {
   render->footer(shadow_cli::exit_codes_help());
 #endif
 
+  RadiosityArgs radiosity_args;
+  CLI::App* radiosity = add_radiosity_command(app, radiosity_args);
+
   SunArgs sun_args;
   CLI::App* sun = app.add_subcommand(
       "sun", "Print the sun's position (NREL SPA, topocentric, refraction included) at a place and UTC "
@@ -275,9 +279,9 @@ int main(int argc, char** argv) {
     }
     if (!found) {
 #ifdef LIBSHADOW_HAVE_RENDER
-      const char* known = "compute, series, render, sun";
+      const char* known = "compute, series, radiosity, render, sun";
 #else
-      const char* known = "compute, series, sun";
+      const char* known = "compute, series, radiosity, sun";
 #endif
       std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
                 << "; see shadow --help)\n";
@@ -308,6 +312,7 @@ int main(int argc, char** argv) {
     if (*series) return run_series(series_args);
     if (*compute) return run_compute(args);
     if (*sun) return run_sun(sun_args);
+    if (*radiosity) return run_radiosity(radiosity_args);
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) {
       shadow_cli::set_stage(shadow_cli::Stage::Rendering);

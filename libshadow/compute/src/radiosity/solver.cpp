@@ -126,13 +126,17 @@ std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Frag
                                       const std::vector<Element>& elements, const radiosity::ShooterView& view,
                                       unsigned threads) {
   std::vector<double> direct(elements.size(), 0.0);
-  std::vector<SurfacePoint> centroids;
-  for (const Element& e : elements) centroids.push_back({e.face, e.centroid});
+  // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
+  // points of the degree-2 triangle rule, each exact.
+  std::vector<SurfacePoint> points;
+  for (const Element& e : elements)
+    for (int c = 0; c < 3; ++c)
+      points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     const Light& light = scene.lights[l];
     if (light.is_extended()) {
-      const std::vector<double> h = light_irradiance(scene, light, centroids, threads);
-      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += h[i];
+      const std::vector<double> h = light_irradiance(scene, light, points, threads);
+      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
       continue;
     }
     std::vector<std::vector<std::size_t>> lit(scene.faces.size());
