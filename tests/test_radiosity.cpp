@@ -191,11 +191,13 @@ TEST(Radiosity, FurnaceIsEOverOneMinusRhoEverywhereForTwoMeshings) {
     const double expected = e / (1 - rho);
     double worst = 0;
     for (const shadow::RadiosityElement& el : r.elements) worst = std::max(worst, std::abs(el.radiosity - expected) / expected);
-    EXPECT_LE(worst, std::max(0.02, 3 * r.error_estimate)) << "max area " << max_area << ", error estimate " << r.error_estimate;
+    // Measured: 7e-6 and 4e-5 (docs/radiosity.md); the estimate is conservative (about 1%).
+    EXPECT_LE(worst, 1e-3) << "max area " << max_area;
+    EXPECT_LE(worst, r.error_estimate) << "max area " << max_area;
     EXPECT_LE(r.balance_residual, 1e-9);
     // A closed room loses nothing but the quadrature error.
-    EXPECT_LE(std::abs(r.escaped_power), 0.02 * (r.emitted_power + r.direct_power));
-    for (const shadow::FaceRadiosity& f : r.faces) EXPECT_NEAR(f.radiosity, expected, 0.02 * expected);
+    EXPECT_LE(std::abs(r.escaped_power), 1e-3 * (r.emitted_power + r.direct_power));
+    for (const shadow::FaceRadiosity& f : r.faces) EXPECT_NEAR(f.radiosity, expected, 1e-3 * expected);
     std::cout << "furnace max area " << max_area << ": " << r.elements.size() << " elements, " << r.shots
               << " shots, worst " << worst << ", error estimate " << r.error_estimate << "\n";
   }
