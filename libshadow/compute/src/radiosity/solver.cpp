@@ -157,6 +157,53 @@ std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Frag
   return direct;
 }
 
+/// The form factor from each element (its quadrature points) to patch `s`, and the quadrature
+/// change that estimates its error: beyond 6 R (R: the sum of their circumradii) the element's
+/// centroid; within, the 3-point rule (degree 2); within 2 R, where the point form factor varies
+/// fast (logarithmically along a shared edge), a 4 x 4 collapsed Gauss rule. The change from the
+/// rule below is the estimate. Elements on the patch's face get 0 (a plane does not see itself).
+void receive_factors(radiosity::ShooterView& view, const std::vector<Element>& elements, const Patch& s,
+                     unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
+  std::vector<double> gauss_nodes, gauss_weights;
+  radiosity::gauss_legendre01(4, gauss_nodes, gauss_weights);
+  std::vector<std::vector<glm::dvec3>> pieces;
+  if (s.count > 1)
+    for (std::size_t i = s.first; i < s.first + s.count; ++i)
+      pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
+  view.set_shooter(s.face, {s.triangle[0], s.triangle[1], s.triangle[2]}, std::move(pieces));
+  factor.assign(elements.size(), 0.0);
+  quad.assign(elements.size(), 0.0);
+  core::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
+    const Element& e = elements[i];
+    if (e.face == s.face) return;
+    const double gap = glm::length(e.centroid - s.centroid);
+    const double reach = e.radius + s.radius;
+    double f = view.evaluate(worker, {e.face, e.centroid});
+    if (gap < 6.0 * reach) {
+      double f3 = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const glm::dvec3 p = (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0;
+        f3 += view.evaluate(worker, {e.face, p}) / 3.0;
+      }
+      quad[i] = std::abs(f3 - f);
+      f = f3;
+    }
+    if (gap < 2.0 * reach) {
+      const radiosity::Triangle& t = e.triangle;
+      double f16 = 0.0;
+      for (std::size_t a = 0; a < gauss_nodes.size(); ++a)
+        for (std::size_t b = 0; b < gauss_nodes.size(); ++b) {
+          const double u = gauss_nodes[a], v = gauss_nodes[b];
+          const glm::dvec3 p = t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]);
+          f16 += 2.0 * u * gauss_weights[a] * gauss_weights[b] * view.evaluate(worker, {e.face, p});
+        }
+      quad[i] = std::abs(f16 - f);
+      f = f16;
+    }
+    factor[i] = f;
+  });
+}
+
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
@@ -194,9 +241,13 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
 
   // Shooting: the patch with the most unshot power sends it to every element's receiving points
   // (more of them near the shooter, below).
-  std::vector<double> received(n, 0.0), difference(n, 0.0);
-  std::vector<double> gauss_nodes, gauss_weights;
-  radiosity::gauss_legendre01(4, gauss_nodes, gauss_weights);
+  std::vector<double> received(n, 0.0), difference(n, 0.0), factor, quad(n, 0.0);
+  // A patch shoots many times (every time its elements have gathered enough again): its form
+  // factors are kept, within a memory budget, so that each (patch, element) pair is computed once.
+  constexpr std::size_t kCacheBytes = std::size_t(512) << 20;
+  std::vector<std::vector<double>> cache_f(patches.size());
+  std::vector<std::vector<float>> cache_d(patches.size());
+  std::size_t cache_bytes = 0;
   double unshot_power = power_in, escaped = 0.0, quadrature = 0.0, shot_total = 0.0;
   auto last = std::chrono::steady_clock::now();
   auto report = [&](bool force) {
@@ -220,45 +271,21 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     if (!(best > 0.0)) break;
     const Patch& s = patches[k];
     const double db = best / s.area;
-    std::vector<std::vector<glm::dvec3>> pieces;
-    if (s.count > 1)
-      for (std::size_t i = s.first; i < s.first + s.count; ++i)
-        pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
-    view.set_shooter(s.face, {s.triangle[0], s.triangle[1], s.triangle[2]}, std::move(pieces));
-    core::parallel_for(n, threads, [&](unsigned worker, std::size_t i) {
-      received[i] = difference[i] = 0.0;
-      const Element& e = elements[i];
-      if (e.face == s.face) return;
-      // The receiving element's quadrature by its distance from the shooter (R: the sum of their
-      // circumradii): beyond 6 R its centroid; within, the 3-point rule (degree 2); within 2 R,
-      // where the point form factor varies fast (logarithmically along a shared edge), a 4 x 4
-      // collapsed Gauss rule. The change from the rule below is the error estimate.
-      const double gap = glm::length(e.centroid - s.centroid);
-      const double reach = e.radius + s.radius;
-      double f = view.evaluate(worker, {e.face, e.centroid});
-      if (gap < 6.0 * reach) {
-        double f3 = 0.0;
-        for (int c = 0; c < 3; ++c) {
-          const glm::dvec3 p = (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0;
-          f3 += view.evaluate(worker, {e.face, p}) / 3.0;
-        }
-        difference[i] = std::abs(f3 - f);
-        f = f3;
+    if (cache_f[k].empty()) {
+      receive_factors(view, elements, s, threads, factor, quad);
+      if (cache_bytes + n * (sizeof(double) + sizeof(float)) <= kCacheBytes) {
+        cache_f[k] = factor;
+        cache_d[k].assign(quad.begin(), quad.end());
+        cache_bytes += n * (sizeof(double) + sizeof(float));
       }
-      if (gap < 2.0 * reach) {
-        const radiosity::Triangle& t = e.triangle;
-        double f16 = 0.0;
-        for (std::size_t a = 0; a < gauss_nodes.size(); ++a)
-          for (std::size_t b2 = 0; b2 < gauss_nodes.size(); ++b2) {
-            const double u = gauss_nodes[a], v = gauss_nodes[b2];
-            const glm::dvec3 p = t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]);
-            f16 += 2.0 * u * gauss_weights[a] * gauss_weights[b2] * view.evaluate(worker, {e.face, p});
-          }
-        difference[i] = std::abs(f16 - f);
-        f = f16;
-      }
-      received[i] = db * f;
-    });
+    } else {
+      factor = cache_f[k];
+      for (std::size_t i = 0; i < n; ++i) quad[i] = cache_d[k][i];
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      received[i] = db * factor[i];
+      difference[i] = quad[i];
+    }
     for (std::size_t i = s.first; i < s.first + s.count; ++i) unshot[i] = 0.0;
     double got = 0.0, diff = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
