@@ -204,6 +204,50 @@ void receive_factors(radiosity::ShooterView& view, const std::vector<Element>& e
   });
 }
 
+/// Power totals of a solution (W).
+struct Totals {
+  double absorbed = 0.0, emitted = 0.0, direct = 0.0;
+};
+
+/// The result's elements and per-face means from the solver's arrays; returns the totals.
+Totals fill_arrays(const Scene& scene, const std::vector<Element>& elements, const std::vector<double>& direct,
+                   const std::vector<double>& rho, const std::vector<double>& emit, const std::vector<double>& b,
+                   const std::vector<double>& h, RadiosityResult& result) {
+  const std::size_t n = elements.size();
+  result.elements.resize(n);
+  result.faces.resize(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) result.faces[f].face_id = f;
+  Totals t;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Element& e = elements[i];
+    RadiosityElement& out = result.elements[i];
+    out.face_id = e.face;
+    out.polygon = {e.triangle[0], e.triangle[1], e.triangle[2]};
+    out.area = e.area;
+    out.radiosity = b[i];
+    out.irradiance = h[i];
+    out.direct_irradiance = direct[i];
+    out.reflectance = rho[i];
+    out.emittance = emit[i];
+    FaceRadiosity& face = result.faces[e.face];
+    face.area += e.area;
+    face.radiosity += b[i] * e.area;
+    face.irradiance += h[i] * e.area;
+    face.direct_irradiance += direct[i] * e.area;
+    ++face.elements;
+    t.absorbed += (1.0 - rho[i]) * h[i] * e.area;
+    t.emitted += emit[i] * e.area;
+    t.direct += direct[i] * e.area;
+  }
+  for (FaceRadiosity& face : result.faces)
+    if (face.area > 0) {
+      face.radiosity /= face.area;
+      face.irradiance /= face.area;
+      face.direct_irradiance /= face.area;
+    }
+  return t;
+}
+
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
@@ -307,37 +351,8 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   }
   report(true);
 
-  result.elements.resize(n);
-  result.faces.resize(scene.faces.size());
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) result.faces[f].face_id = f;
-  double absorbed = 0.0, emitted = 0.0, direct_power = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Element& e = elements[i];
-    RadiosityElement& out = result.elements[i];
-    out.face_id = e.face;
-    out.polygon = {e.triangle[0], e.triangle[1], e.triangle[2]};
-    out.area = e.area;
-    out.radiosity = b[i];
-    out.irradiance = h[i];
-    out.direct_irradiance = direct[i];
-    out.reflectance = rho[i];
-    out.emittance = emit[i];
-    FaceRadiosity& face = result.faces[e.face];
-    face.area += e.area;
-    face.radiosity += b[i] * e.area;
-    face.irradiance += h[i] * e.area;
-    face.direct_irradiance += direct[i] * e.area;
-    ++face.elements;
-    absorbed += (1.0 - rho[i]) * h[i] * e.area;
-    emitted += emit[i] * e.area;
-    direct_power += direct[i] * e.area;
-  }
-  for (FaceRadiosity& face : result.faces)
-    if (face.area > 0) {
-      face.radiosity /= face.area;
-      face.irradiance /= face.area;
-      face.direct_irradiance /= face.area;
-    }
+  const Totals totals = fill_arrays(scene, elements, direct, rho, emit, b, h, result);
+  const double absorbed = totals.absorbed, emitted = totals.emitted, direct_power = totals.direct;
   result.patches = patches.size();
   result.exact_evaluations = view.exact_evaluations();
   result.emitted_power = emitted;
