@@ -43,6 +43,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     compute_sun_hours_map,
     energyplus_shading_csv,
     expand_sun_period,
+    form_factor,
     format_iso8601_utc,
     hours_per_instant,
     load_scene,
@@ -50,6 +51,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     parse_iso8601,
     parse_scene,
     parse_utc_offset,
+    radiosity,
     replace_sun_lights,
     solar_position,
     sun_hours_instants,
@@ -74,7 +76,7 @@ __all__ = [
     "SeriesResult", "SunSeries", "sun_series", "hours_per_instant", "sun_hours_error_bound", "surface_series",
     "sunlit_csv", "energyplus_shading_csv", "write_series",
     "SceneObject", "object_sun_hours", "sun_hours_by_object_csv", "unique_face_labels", "site_timezone",
-    "scene_from_data", "scene_to_dict", "fragments", "__version__",
+    "scene_from_data", "scene_to_dict", "fragments", "__version__", "form_factor", "radiosity",
 ]
 
 
