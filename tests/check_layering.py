@@ -11,6 +11,7 @@ compute never includes VTK, nlohmann_json, or a header of io, render, baselines 
 never includes render's. Inside compute, the stages:
 
     sunmap, views -> engine -> planes, arealight, fast -> exact -> core -> geometry
+    radiosity -> arealight, core, geometry  (form factors through the extended-light machinery)
     validation -> exact (face shape only), core, geometry;  lighting, sun -> geometry
 
 and in io:  writers -> readers -> compute's validation, exact (face shape only), core, geometry, sun;
@@ -40,6 +41,7 @@ COMPUTE = {
     "arealight": {"exact", "core", "geometry"},
     "sunmap": {"engine", "exact", "core", "geometry"},
     "views": {"engine", "exact", "core", "geometry"},
+    "radiosity": {"arealight", "core", "geometry"},
     "planes": {"exact", "core", "geometry"},
     "exact": {"core", "geometry"},
     "fast": {"core", "geometry"},

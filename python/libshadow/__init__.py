@@ -44,6 +44,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     compute_sun_hours_map,
     energyplus_shading_csv,
     expand_sun_period,
+    form_factor,
     format_iso8601_utc,
     hours_per_instant,
     load_scene,
@@ -52,6 +53,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     parse_scene,
     parse_utc_offset,
     read_epw,
+    radiosity,
     replace_sun_lights,
     solar_position,
     sun_hours_instants,
@@ -77,7 +79,7 @@ __all__ = [
     "sunlit_csv", "energyplus_shading_csv", "write_series",
     "SceneObject", "object_sun_hours", "sun_hours_by_object_csv", "unique_face_labels", "site_timezone",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",
-    "Weather", "read_epw", "irradiance", "IrradianceResult",
+    "Weather", "read_epw", "irradiance", "IrradianceResult", "form_factor", "radiosity",
 ]
 
 

@@ -6,6 +6,7 @@
 #include <shadow/shadow.hpp>
 #include <shadow/series_files.hpp>
 #include <shadow/sun.hpp>
+#include <shadow/radiosity.hpp>
 #include <shadow/series.hpp>
 #include <shadow/sun_hours.hpp>
 
@@ -445,7 +446,10 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("k_s", &Material::k_s)
       .def_readonly("shininess", &Material::shininess)
       .def_property_readonly("color", [](const Material& x) { return vec3_array(x.color); })
-      .def_property_readonly("specular_color", [](const Material& x) { return vec3_array(x.specular_color); });
+      .def_property_readonly("specular_color", [](const Material& x) { return vec3_array(x.specular_color); })
+      .def_readonly("reflectance", &Material::reflectance)
+      .def_property_readonly("reflectance_rgb", [](const Material& x) { return vec3_array(x.reflectance_rgb); })
+      .def_readonly("emittance", &Material::emittance);
 
   py::class_<NamedSurface>(m, "NamedSurface", "Faces sharing a name, or one unnamed face (label face_<id>).")
       .def_readonly("label", &NamedSurface::label)
@@ -1154,6 +1158,71 @@ PYBIND11_MODULE(_libshadow, m) {
         "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp); with the scene, points\n"
         "are shifted by its origin like the scene's other VTK files.");
 
+  // Radiosity (docs/radiosity.md).
+  m.def("form_factor",
+        [](const ScenePtr& scene, std::size_t from_face, std::size_t to_face, double tolerance, int max_order,
+           unsigned threads) {
+          need_scene(scene);
+          FormFactorOptions o;
+          o.tolerance = tolerance;
+          o.max_order = max_order;
+          o.threads = threads;
+          const FormFactor f = without_gil([&] { return shadow::form_factor(*scene, from_face, to_face, o); });
+          py::dict d;
+          d["value"] = f.value;
+          d["error"] = f.error;
+          d["order"] = f.order;
+          d["evaluations"] = f.evaluations;
+          return d;
+        },
+        py::arg("scene"), py::arg("from_face"), py::arg("to_face"), py::arg("tolerance") = 1e-4,
+        py::arg("max_order") = 32, py::arg("threads") = 0,
+        "The form factor from face from_face to face to_face with exact visibility (the fraction of the "
+        "diffuse power leaving from_face that reaches to_face directly): a dict with value, error (the "
+        "quadrature's last change), order and evaluations.");
+  m.def("radiosity",
+        [](const ScenePtr& scene, double max_element_area, double tolerance, double patch_area, unsigned threads) {
+          need_scene(scene);
+          RadiosityOptions o;
+          o.max_element_area = max_element_area;
+          o.tolerance = tolerance;
+          o.patch_area = patch_area;
+          o.threads = threads;
+          const RadiosityResult r = without_gil([&] { return solve_radiosity(*scene, o); });
+          py::dict elements, faces, d;
+          elements["face_id"] = column<std::int64_t>(r.elements, [](const RadiosityElement& e) { return e.face_id; });
+          elements["area"] = column<double>(r.elements, [](const RadiosityElement& e) { return e.area; });
+          elements["radiosity"] = column<double>(r.elements, [](const RadiosityElement& e) { return e.radiosity; });
+          elements["irradiance"] = column<double>(r.elements, [](const RadiosityElement& e) { return e.irradiance; });
+          elements["direct_irradiance"] =
+              column<double>(r.elements, [](const RadiosityElement& e) { return e.direct_irradiance; });
+          std::vector<glm::dvec3> corners;
+          for (const RadiosityElement& e : r.elements) corners.insert(corners.end(), e.polygon.begin(), e.polygon.end());
+          elements["triangles"] = polygon_array(corners).reshape({static_cast<py::ssize_t>(r.elements.size()),
+                                                                  py::ssize_t{3}, py::ssize_t{3}});
+          faces["area"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.area; });
+          faces["radiosity"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.radiosity; });
+          faces["irradiance"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.irradiance; });
+          faces["direct_irradiance"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.direct_irradiance; });
+          d["elements"] = elements;
+          d["faces"] = faces;
+          d["shots"] = r.shots;
+          d["converged"] = r.converged;
+          d["unshot_fraction"] = r.unshot_fraction;
+          d["error_estimate"] = r.error_estimate;
+          d["emitted_power"] = r.emitted_power;
+          d["direct_power"] = r.direct_power;
+          d["absorbed_power"] = r.absorbed_power;
+          d["escaped_power"] = r.escaped_power;
+          d["unshot_power"] = r.unshot_power;
+          d["balance_residual"] = r.balance_residual;
+          return d;
+        },
+        py::arg("scene"), py::arg("max_element_area") = 0.0, py::arg("tolerance") = 1e-3, py::arg("patch_area") = 0.0,
+        py::arg("threads") = 0,
+        "Progressive radiosity with exact visibility (docs/radiosity.md): a dict with elements (face_id, "
+        "area, radiosity, irradiance, direct_irradiance, triangles), faces (area-weighted means), shots, "
+        "converged, unshot_fraction, error_estimate and the energy balance in W.");
   m.def("compute_shadows",
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
            const std::string& arithmetic, bool planes, double plane_window, const py::object& progress,

@@ -1016,6 +1016,38 @@ TEST(SceneMaterials, BadMaterialsNameThePlaceAndTheProblem) {
                                {"inline.json", "materials[0]", "unknown key \"kd\""}));
 }
 
+TEST(SceneMaterials, ReflectanceAndEmittanceForRadiosity) {
+  const Scene scene = parse(scene_with_materials(
+      R"([{"name": "white", "reflectance": 0.75, "emittance": 12.5},
+          {"name": "red", "reflectance": [0.6, 0.3, 0.0]}, {"name": "plain"}])",
+      R"("white")"));
+  ASSERT_EQ(scene.materials.size(), 3u);
+  EXPECT_EQ(scene.materials[0].reflectance, 0.75);
+  EXPECT_EQ(scene.materials[0].reflectance_rgb, dvec3(0.75));
+  EXPECT_EQ(scene.materials[0].emittance, 12.5);
+  EXPECT_DOUBLE_EQ(scene.materials[1].reflectance, 0.3);
+  EXPECT_EQ(scene.materials[1].reflectance_rgb, dvec3(0.6, 0.3, 0.0));
+  EXPECT_EQ(scene.materials[1].emittance, 0.0);
+  // Not given: black and dark, so that scenes written before radiosity mean what they meant.
+  EXPECT_EQ(scene.materials[2].reflectance, 0.0);
+  EXPECT_EQ(scene.materials[2].emittance, 0.0);
+}
+
+TEST(SceneMaterials, BadReflectanceOrEmittanceNamesThePlace) {
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "reflectance": 1}])")); },
+                               {"inline.json", "materials[0].reflectance", "must be in [0, 1)"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "reflectance": -0.1}])")); },
+                               {"inline.json", "materials[0].reflectance", "must be in [0, 1)"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "reflectance": [0.2, 1.5, 0]}])")); },
+                               {"inline.json", "materials[0].reflectance[1]", "must be in [0, 1)"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "reflectance": [0.2, 0.5]}])")); },
+                               {"inline.json", "materials[0].reflectance", "3 numbers"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "reflectance": "grey"}])")); },
+                               {"inline.json", "materials[0].reflectance", "expected a number"}));
+  EXPECT_TRUE(ThrowsInputError([] { parse(scene_with_materials(R"([{"name": "a", "emittance": -3}])")); },
+                               {"inline.json", "materials[0].emittance", "emittance must be >= 0"}));
+}
+
 // ================================================================================================
 // Issue 11: orientation warnings, the coordinate range, hostile files, escaped control bytes,
 // and the library's own checks on scenes that were never validated

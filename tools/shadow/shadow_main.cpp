@@ -16,6 +16,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "radiosity_command.hpp"
 #include "series_command.hpp"
 #include "irradiance_command.hpp"
 
@@ -259,6 +260,8 @@ int main(int argc, char** argv) {
 
   IrradianceArgs irradiance_args;
   CLI::App* irradiance = add_irradiance_command(app, irradiance_args);
+  RadiosityArgs radiosity_args;
+  CLI::App* radiosity = add_radiosity_command(app, radiosity_args);
 
   SunArgs sun_args;
   CLI::App* sun = app.add_subcommand(
@@ -279,9 +282,9 @@ int main(int argc, char** argv) {
     }
     if (!found) {
 #ifdef LIBSHADOW_HAVE_RENDER
-      const char* known = "compute, series, irradiance, render, sun";
+      const char* known = "compute, series, irradiance, radiosity, render, sun";
 #else
-      const char* known = "compute, series, irradiance, sun";
+      const char* known = "compute, series, irradiance, radiosity, sun";
 #endif
       std::cerr << "shadow: error: unknown subcommand \"" << shadow_cli::one_line(word) << "\" (known: " << known
                 << "; see shadow --help)\n";
@@ -313,6 +316,7 @@ int main(int argc, char** argv) {
     if (*compute) return run_compute(args);
     if (*sun) return run_sun(sun_args);
     if (*irradiance) return run_irradiance(irradiance_args);
+    if (*radiosity) return run_radiosity(radiosity_args);
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) {
       shadow_cli::set_stage(shadow_cli::Stage::Rendering);

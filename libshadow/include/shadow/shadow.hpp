@@ -16,6 +16,8 @@
 #include <shadow/lighting.hpp>
 #include <shadow/material.hpp>
 #include <shadow/output.hpp>
+#include <shadow/radiosity.hpp>
+#include <shadow/radiosity_output.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/series.hpp>

@@ -22,6 +22,15 @@ struct Material {
   double shininess = 32.0;                  ///< Phong exponent p (>= 0): larger is glossier
   glm::dvec3 color{1.0, 1.0, 1.0};          ///< ambient and diffuse colour (M_D)
   glm::dvec3 specular_color{1.0, 1.0, 1.0}; ///< highlight colour (M_S): white for most non-metals
+  /// Diffuse (Lambertian) reflectance for radiosity (radiosity.hpp): the fraction of the incident
+  /// irradiance that the surface reflects, in [0, 1). 0 (the default): the surface absorbs all.
+  /// Given as RGB in the scene file, it is the mean of reflectance_rgb.
+  double reflectance = 0.0;
+  /// The reflectance per colour channel, for pictures; (r, r, r) when given as one number.
+  glm::dvec3 reflectance_rgb{0.0, 0.0, 0.0};
+  /// Radiant exitance emitted by the surface's front (W/m^2, >= 0): an emitting face is a
+  /// source of radiosity (a luminous ceiling panel). 0 by default.
+  double emittance = 0.0;
 };
 
 }  // namespace shadow

@@ -276,11 +276,41 @@ using namespace arealight;
 
 namespace detail {
 
+struct LightQuery::Impl {
+  const Scene& scene;
+  SceneFaces faces;
+  std::vector<Worker> workers;
+  Light light;
+  LightPlan plan;
+  std::optional<Evaluator> evaluator;
+  Impl(const Scene& s, unsigned n) : scene(s), faces(prepare_scene(s)), workers(std::max(1u, n)) {}
+};
+
+LightQuery::LightQuery(const Scene& scene, unsigned workers) : impl_(std::make_unique<Impl>(scene, workers)) {}
+LightQuery::~LightQuery() = default;
+
+void LightQuery::set_light(const Light& light, bool irradiance) {
+  Impl& q = *impl_;
+  q.evaluator.reset();
+  q.plan = plan_light(light);
+  q.light = light;
+  for (Worker& w : q.workers) w.target.reset();  // the exact faces stay: they do not depend on the light
+  q.evaluator.emplace(q.scene, q.light, q.plan, q.faces, irradiance);
+}
+
+std::pair<double, double> LightQuery::evaluate(unsigned worker, const SurfacePoint& point,
+                                               const glm::dvec3& toward) const {
+  const PointResult r = impl_->evaluator->evaluate(impl_->workers[worker], point, toward);
+  return {r.visibility, r.irradiance};
+}
+
+unsigned LightQuery::workers() const { return static_cast<unsigned>(impl_->workers.size()); }
+
 std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& scene, const Light& light,
                                                                    const std::vector<SurfacePoint>& points,
                                                                    unsigned threads, bool irradiance,
                                                                    const std::vector<glm::dvec3>& toward) {
-  const LightPlan plan = plan_light(light);
+  plan_light(light);  // an unusable light is an error before the points are
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (points[i].face_id >= scene.faces.size())
       throw InputError({"", "points[" + std::to_string(i) + "].face_id"},
@@ -291,13 +321,11 @@ std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& 
   }
   std::vector<std::pair<double, double>> out(points.size(), {0.0, 0.0});
   if (points.empty()) return out;
-  const SceneFaces faces = prepare_scene(scene);
-  const Evaluator evaluator(scene, light, plan, faces, irradiance);
   const unsigned n = core::resolve_threads(core::checked_threads(threads));
-  std::vector<Worker> workers(std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(points.size()))));
-  core::parallel_for(points.size(), static_cast<unsigned>(workers.size()), [&](unsigned wi, std::size_t i) {
-    const PointResult r = evaluator.evaluate(workers[wi], points[i], i < toward.size() ? toward[i] : glm::dvec3(0.0));
-    out[i] = {r.visibility, r.irradiance};
+  LightQuery query(scene, std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(points.size()))));
+  query.set_light(light, irradiance);
+  core::parallel_for(points.size(), query.workers(), [&](unsigned wi, std::size_t i) {
+    out[i] = query.evaluate(wi, points[i], i < toward.size() ? toward[i] : glm::dvec3(0.0));
   });
   return out;
 }

@@ -3,6 +3,7 @@
 // (arealight/light_visibility_steps.hpp): the faces that can hide the light culled and cast
 // centrally from the point onto the light's plane, their exact union, and its measure on the
 // light's polygon or circle (see light_visibility.cpp).
+#include "arealight/light_visibility.hpp"
 #include "arealight/light_visibility_steps.hpp"
 
 #include "exact/regions.hpp"
@@ -74,25 +75,6 @@ struct CircleMeasure {
     return sum;
   }
 };
-
-// ---- Lambert's contour integral ----------------------------------------------------------
-
-/// Sum over the edges of a closed 3D polygon (relative to the point x) of
-/// angle(r_a, r_b) (r_a x r_b) / |r_a x r_b| . n: twice the integral of cos cos' / r^2 over the
-/// polygon with a sign set by its orientation (Lambert's formula for the form factor).
-double lambert_contour(const std::vector<glm::dvec3>& r, const glm::dvec3& n) {
-  double sum = 0.0;
-  for (std::size_t a = 0; a < r.size(); ++a) {
-    const glm::dvec3& p = r[a];
-    const glm::dvec3& q = r[(a + 1) % r.size()];
-    const glm::dvec3 cross = glm::cross(p, q);
-    const double len = glm::length(cross);
-    if (!(len > 0.0)) continue;
-    const double gamma = std::atan2(len, glm::dot(p, q));
-    sum += gamma * glm::dot(cross, n) / len;
-  }
-  return sum;
-}
 
 glm::dvec3 to_dvec(const Point3& p) { return {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())}; }
 
@@ -447,7 +429,7 @@ double Evaluator::contour_irradiance(const Target& t, const PolygonSet2& visible
   auto add = [&](const Polygon2& boundary) {
     std::vector<glm::dvec3> r;
     for (auto v = boundary.vertices_begin(); v != boundary.vertices_end(); ++v) r.push_back(to_dvec(from_uv(t, *v)) - x);
-    sum += lambert_contour(r, n);
+    sum += shadow::detail::lambert_contour(r, n);
   };
   for (const PolygonWithHoles2& region : regions) {
     add(region.outer_boundary());
@@ -459,3 +441,19 @@ double Evaluator::contour_irradiance(const Target& t, const PolygonSet2& visible
 }
 
 }  // namespace shadow::arealight
+
+// ---- Lambert's contour integral ----------------------------------------------------------
+
+double shadow::detail::lambert_contour(const std::vector<glm::dvec3>& r, const glm::dvec3& n) {
+  double sum = 0.0;
+  for (std::size_t a = 0; a < r.size(); ++a) {
+    const glm::dvec3& p = r[a];
+    const glm::dvec3& q = r[(a + 1) % r.size()];
+    const glm::dvec3 cross = glm::cross(p, q);
+    const double len = glm::length(cross);
+    if (!(len > 0.0)) continue;
+    const double gamma = std::atan2(len, glm::dot(p, q));
+    sum += gamma * glm::dot(cross, n) / len;
+  }
+  return sum;
+}

@@ -94,12 +94,14 @@ Scene SceneReader::read(const std::string& text) {
   const Json& meshes = require(document, "", "meshes", "the scene's meshes");
   // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
   const Json* sun = find(document, "sun");
-  const bool lights_optional = sun != nullptr || !options_.require_lights;
+  // Materials first: meshes name them. A scene with an emitting material (radiosity) has a
+  // source without lights: `lights` may be left out (or be empty) too.
+  if (const Json* materials = find(document, "materials")) read_materials(*materials);
+  bool emits = false;
+  for (const Material& m : scene_.materials) emits = emits || m.emittance > 0.0;
+  const bool lights_optional = sun != nullptr || emits || !options_.require_lights;
   const Json* lights = lights_optional ? find(document, "lights")
                                        : &require(document, "", "lights", "the scene's lights");
-
-  // Materials first: meshes name them.
-  if (const Json* materials = find(document, "materials")) read_materials(*materials);
   pending_ = read_meshes(meshes);
   if (lights != nullptr) read_lights(*lights, /*may_be_empty=*/lights_optional);
   if (sun != nullptr) {
@@ -174,6 +176,38 @@ glm::dvec3 SceneReader::get_color(const Json& value, const std::string& path) co
   return color;
 }
 
+/// `reflectance` (one number or [r, g, b], each in [0, 1)) and `emittance` (W/m^2, >= 0).
+void SceneReader::read_radiosity_terms(const Json& m, const std::string& path, Material& material) const {
+  if (const Json* value = find(m, "reflectance")) {
+    const std::string place = member(path, "reflectance");
+    auto check = [&](double r, const std::string& where) {
+      if (!(r >= 0.0 && r < 1.0))
+        fail(where, "reflectance must be in [0, 1) (1 would reflect all and never converge), got " +
+                        format_number(r));
+    };
+    if (value->is_array()) {
+      if (value->size() != 3)
+        fail(place, "expected one number or 3 numbers [r, g, b], got " + std::to_string(value->size()) +
+                        (value->size() == 1 ? " element" : " elements"));
+      const glm::dvec3 rgb = get_vec3(*value, place);
+      for (int c = 0; c < 3; ++c) check(rgb[c], element(place, static_cast<std::size_t>(c)));
+      material.reflectance_rgb = rgb;
+      material.reflectance = (rgb.x + rgb.y + rgb.z) / 3.0;
+    } else {
+      const double r = get_number(*value, place);
+      check(r, place);
+      material.reflectance = r;
+      material.reflectance_rgb = glm::dvec3(r);
+    }
+  }
+  if (const Json* value = find(m, "emittance")) {
+    const std::string place = member(path, "emittance");
+    const double e = get_number(*value, place);
+    if (!(e >= 0.0)) fail(place, "emittance must be >= 0 (W/m^2), got " + format_number(e));
+    material.emittance = e;
+  }
+}
+
 void SceneReader::read_materials(const Json& materials) {
   require_array(materials, "materials");
   std::map<std::string, std::size_t> seen;
@@ -181,7 +215,8 @@ void SceneReader::read_materials(const Json& materials) {
     const std::string path = element("materials", i);
     const Json& m = materials[i];
     require_object(m, path, "a material");
-    check_keys(m, path, {"name", "k_a", "k_d", "k_s", "shininess", "color", "specular_color"});
+    check_keys(m, path, {"name", "k_a", "k_d", "k_s", "shininess", "color", "specular_color", "reflectance",
+                         "emittance"});
     Material material;
     material.name = get_name(m, path, "each material needs a unique name");
     if (const auto [it, inserted] = seen.emplace(material.name, i); !inserted)
@@ -200,6 +235,7 @@ void SceneReader::read_materials(const Json& materials) {
     if (const Json* color = find(m, "color")) material.color = get_color(*color, member(path, "color"));
     if (const Json* color = find(m, "specular_color"))
       material.specular_color = get_color(*color, member(path, "specular_color"));
+    read_radiosity_terms(m, path, material);
     scene_.materials.push_back(std::move(material));
   }
 }

@@ -139,6 +139,7 @@ class SceneReader {
   /// A colour: 3 numbers in [0, 1].
   glm::dvec3 get_color(const Json& value, const std::string& path) const;
 
+  void read_radiosity_terms(const Json& m, const std::string& path, Material& material) const;
   void read_materials(const Json& materials);
 
   // -- lights --

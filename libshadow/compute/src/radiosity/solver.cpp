@@ -1,0 +1,373 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Progressive refinement (shooting) radiosity on elements cut from the exact lit and shadowed
+// fragments of the direct light (docs/radiosity.md).
+#include <shadow/radiosity.hpp>
+
+#include "core/parallel.hpp"
+#include "radiosity/shooter_view.hpp"
+#include "radiosity/triangles.hpp"
+
+#include <shadow/area_lights.hpp>
+#include <shadow/error.hpp>
+#include <shadow/lighting.hpp>
+#include <shadow/shadows.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace shadow {
+namespace {
+
+/// An element while solving: a triangle with its receiving points.
+struct Element {
+  std::size_t face = 0;
+  radiosity::Triangle triangle;
+  double area = 0.0;
+  glm::dvec3 centroid{0.0};
+  double radius = 0.0;  // largest distance from the centroid to a vertex
+  std::size_t fragment = SIZE_MAX;  // index into the first light's fragments, or none
+  std::size_t patch = 0;            // the patch (a coarser triangle) that holds it
+};
+
+/// A patch: the triangle that shoots for the elements it holds (Cohen et al.'s substructuring:
+/// shooters coarse, receivers fine).
+struct Patch {
+  std::size_t face = 0;
+  radiosity::Triangle triangle;
+  double area = 0.0;
+  glm::dvec3 centroid{0.0};
+  double radius = 0.0;
+  std::size_t first = 0, count = 0;  // its elements
+};
+
+void check_options(const RadiosityOptions& o) {
+  if (!(o.max_element_area >= 0.0) || !std::isfinite(o.max_element_area))
+    throw InputError({"", "max_element_area"}, "max_element_area must be a finite number >= 0 (m^2)");
+  if (!(o.patch_area >= 0.0) || !std::isfinite(o.patch_area))
+    throw InputError({"", "patch_area"}, "patch_area must be a finite number >= 0 (m^2)");
+  if (!(o.tolerance > 0.0) || !(o.tolerance < 1.0))
+    throw InputError({"", "tolerance"}, "tolerance must be in (0, 1): the unshot fraction to stop at");
+  core::checked_threads(o.threads);
+}
+
+void add_element(std::vector<Element>& out, std::size_t face, const radiosity::Triangle& t, std::size_t fragment,
+                 std::size_t patch) {
+  Element e;
+  e.patch = patch;
+  e.face = face;
+  e.triangle = t;
+  e.area = radiosity::triangle_area(t);
+  e.centroid = (t[0] + t[1] + t[2]) / 3.0;
+  for (const glm::dvec3& v : t) e.radius = std::max(e.radius, glm::length(v - e.centroid));
+  e.fragment = fragment;
+  if (e.area > 0.0) out.push_back(e);
+}
+
+/// The patches and their elements: each face's fragments under the first light (its whole
+/// polygon where it has none), triangulated, refined to patch_area (the patches), each refined
+/// to max_area (its elements, consecutive).
+void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
+                   std::vector<Patch>& patches, std::vector<Element>& elements) {
+  std::vector<std::vector<std::size_t>> by_face(scene.faces.size());
+  for (std::size_t i = 0; i < fragments.size(); ++i)
+    if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
+  std::vector<radiosity::Triangle> coarse, fine;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const Face& face = scene.faces[f];
+    if (face.degenerate || face.vertices.size() < 3) continue;
+    auto add_polygon = [&](const std::vector<glm::dvec3>& polygon, std::size_t fragment) {
+      for (const radiosity::Triangle& t : radiosity::triangulate(polygon)) {
+        coarse.clear();
+        radiosity::refine(t, patch_area, coarse);
+        for (const radiosity::Triangle& c : coarse) {
+          Patch p;
+          p.face = f;
+          p.triangle = c;
+          p.area = radiosity::triangle_area(c);
+          p.centroid = (c[0] + c[1] + c[2]) / 3.0;
+          for (const glm::dvec3& v : c) p.radius = std::max(p.radius, glm::length(v - p.centroid));
+          p.first = elements.size();
+          fine.clear();
+          radiosity::refine(c, max_area, fine);
+          for (const radiosity::Triangle& e : fine) add_element(elements, f, e, fragment, patches.size());
+          p.count = elements.size() - p.first;
+          if (p.count > 0) patches.push_back(p);
+        }
+      }
+    };
+    if (by_face[f].empty()) add_polygon(face.vertices, SIZE_MAX);
+    for (std::size_t i : by_face[f]) add_polygon(fragments[i].polygon, i);
+  }
+}
+
+/// Whether `p` (on the plane of `polygon`) lies inside it (even-odd rule in the dominant chart).
+bool inside(const std::vector<glm::dvec3>& polygon, const glm::dvec3& p) {
+  const glm::dvec3 n = radiosity::newell_normal(polygon);
+  int k = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(n[a]) > std::abs(n[k])) k = a;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  bool in = false;
+  for (std::size_t a = 0, b = polygon.size() - 1; a < polygon.size(); b = a++) {
+    const glm::dvec3 &u = polygon[a], &v = polygon[b];
+    if ((u[j] > p[j]) != (v[j] > p[j]) && p[i] < (v[i] - u[i]) * (p[j] - u[j]) / (v[j] - u[j]) + u[i]) in = !in;
+  }
+  return in;
+}
+
+/// Each element's direct irradiance from the scene's lights, with exact shadows: the fragment's
+/// lit flag for the first light, a lit fragment of the same face holding the centroid for the
+/// others (hard lights), light_irradiance at the centroid for extended lights.
+std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
+                                      const std::vector<Element>& elements, const radiosity::ShooterView& view,
+                                      unsigned threads) {
+  std::vector<double> direct(elements.size(), 0.0);
+  // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
+  // points of the degree-2 triangle rule, each exact.
+  std::vector<SurfacePoint> points;
+  for (const Element& e : elements)
+    for (int c = 0; c < 3; ++c)
+      points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const Light& light = scene.lights[l];
+    if (light.is_extended()) {
+      const std::vector<double> h = light_irradiance(scene, light, points, threads);
+      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
+      continue;
+    }
+    std::vector<std::vector<std::size_t>> lit(scene.faces.size());
+    if (l > 0)
+      for (std::size_t i = 0; i < fragments.size(); ++i)
+        if (fragments[i].light_id == l && fragments[i].lit) lit[fragments[i].face_id].push_back(i);
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      const Element& e = elements[i];
+      bool is_lit = false;
+      if (l == 0) {
+        is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
+      } else {
+        for (std::size_t k : lit[e.face]) is_lit = is_lit || inside(fragments[k].polygon, e.centroid);
+      }
+      if (is_lit) direct[i] += irradiance(light, e.centroid, view.normal(e.face));
+    }
+  }
+  return direct;
+}
+
+/// The form factor from each element (its quadrature points) to patch `s`, and the quadrature
+/// change that estimates its error: beyond 6 R (R: the sum of their circumradii) the element's
+/// centroid; within, the 3-point rule (degree 2); within 2 R, where the point form factor varies
+/// fast (logarithmically along a shared edge), a 4 x 4 collapsed Gauss rule. The change from the
+/// rule below is the estimate. Elements on the patch's face get 0 (a plane does not see itself).
+void receive_factors(radiosity::ShooterView& view, const std::vector<Element>& elements, const Patch& s,
+                     unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
+  std::vector<double> gauss_nodes, gauss_weights;
+  radiosity::gauss_legendre01(4, gauss_nodes, gauss_weights);
+  std::vector<std::vector<glm::dvec3>> pieces;
+  if (s.count > 1)
+    for (std::size_t i = s.first; i < s.first + s.count; ++i)
+      pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
+  view.set_shooter(s.face, {s.triangle[0], s.triangle[1], s.triangle[2]}, std::move(pieces));
+  factor.assign(elements.size(), 0.0);
+  quad.assign(elements.size(), 0.0);
+  core::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
+    const Element& e = elements[i];
+    if (e.face == s.face) return;
+    const double gap = glm::length(e.centroid - s.centroid);
+    const double reach = e.radius + s.radius;
+    double f = view.evaluate(worker, {e.face, e.centroid});
+    if (gap < 6.0 * reach) {
+      double f3 = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const glm::dvec3 p = (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0;
+        f3 += view.evaluate(worker, {e.face, p}) / 3.0;
+      }
+      quad[i] = std::abs(f3 - f);
+      f = f3;
+    }
+    if (gap < 2.0 * reach) {
+      const radiosity::Triangle& t = e.triangle;
+      double f16 = 0.0;
+      for (std::size_t a = 0; a < gauss_nodes.size(); ++a)
+        for (std::size_t b = 0; b < gauss_nodes.size(); ++b) {
+          const double u = gauss_nodes[a], v = gauss_nodes[b];
+          const glm::dvec3 p = t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]);
+          f16 += 2.0 * u * gauss_weights[a] * gauss_weights[b] * view.evaluate(worker, {e.face, p});
+        }
+      quad[i] = std::abs(f16 - f);
+      f = f16;
+    }
+    factor[i] = f;
+  });
+}
+
+/// Power totals of a solution (W).
+struct Totals {
+  double absorbed = 0.0, emitted = 0.0, direct = 0.0;
+};
+
+/// The result's elements and per-face means from the solver's arrays; returns the totals.
+Totals fill_arrays(const Scene& scene, const std::vector<Element>& elements, const std::vector<double>& direct,
+                   const std::vector<double>& rho, const std::vector<double>& emit, const std::vector<double>& b,
+                   const std::vector<double>& h, RadiosityResult& result) {
+  const std::size_t n = elements.size();
+  result.elements.resize(n);
+  result.faces.resize(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) result.faces[f].face_id = f;
+  Totals t;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Element& e = elements[i];
+    RadiosityElement& out = result.elements[i];
+    out.face_id = e.face;
+    out.polygon = {e.triangle[0], e.triangle[1], e.triangle[2]};
+    out.area = e.area;
+    out.radiosity = b[i];
+    out.irradiance = h[i];
+    out.direct_irradiance = direct[i];
+    out.reflectance = rho[i];
+    out.emittance = emit[i];
+    FaceRadiosity& face = result.faces[e.face];
+    face.area += e.area;
+    face.radiosity += b[i] * e.area;
+    face.irradiance += h[i] * e.area;
+    face.direct_irradiance += direct[i] * e.area;
+    ++face.elements;
+    t.absorbed += (1.0 - rho[i]) * h[i] * e.area;
+    t.emitted += emit[i] * e.area;
+    t.direct += direct[i] * e.area;
+  }
+  for (FaceRadiosity& face : result.faces)
+    if (face.area > 0) {
+      face.radiosity /= face.area;
+      face.irradiance /= face.area;
+      face.direct_irradiance /= face.area;
+    }
+  return t;
+}
+
+}  // namespace
+
+RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
+  check_options(options);
+  const unsigned threads = core::resolve_threads(options.threads);
+  std::vector<Fragment> fragments;
+  if (!scene.lights.empty()) {
+    ShadowOptions so;
+    so.threads = options.threads;
+    so.planes = false;
+    so.polygons = true;
+    fragments = compute_shadows(scene, so).fragments;
+  }
+  std::vector<Patch> patches;
+  std::vector<Element> elements;
+  const double patch_area = options.patch_area > 0 ? options.patch_area : 16.0 * options.max_element_area;
+  make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
+  const std::size_t n = elements.size();
+  radiosity::ShooterView view(scene, threads);
+  const std::vector<double> direct = direct_irradiance(scene, fragments, elements, view, options.threads);
+
+  std::vector<double> rho(n), emit(n), b(n), unshot(n), h(n);
+  RadiosityResult result;
+  double power_in = 0.0, reflectance_area = 0.0, area = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Material& m = scene.material_of(elements[i].face);
+    rho[i] = m.reflectance;
+    emit[i] = m.emittance;
+    h[i] = direct[i];
+    b[i] = unshot[i] = emit[i] + rho[i] * direct[i];
+    power_in += unshot[i] * elements[i].area;
+    reflectance_area += rho[i] * elements[i].area;
+    area += elements[i].area;
+  }
+
+  // Shooting: the patch with the most unshot power sends it to every element's receiving points
+  // (more of them near the shooter, below).
+  std::vector<double> received(n, 0.0), difference(n, 0.0), factor, quad(n, 0.0);
+  // A patch shoots many times (every time its elements have gathered enough again): its form
+  // factors are kept, within a memory budget, so that each (patch, element) pair is computed once.
+  constexpr std::size_t kCacheBytes = std::size_t(512) << 20;
+  std::vector<std::vector<double>> cache_f(patches.size());
+  std::vector<std::vector<float>> cache_d(patches.size());
+  std::size_t cache_bytes = 0;
+  double unshot_power = power_in, escaped = 0.0, quadrature = 0.0, shot_total = 0.0;
+  auto last = std::chrono::steady_clock::now();
+  auto report = [&](bool force) {
+    if (!options.progress) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!force && now - last < std::chrono::milliseconds(500)) return;
+    last = now;
+    options.progress({result.shots, power_in > 0 ? unshot_power / power_in : 0.0});
+  };
+  while (power_in > 0.0 && unshot_power > options.tolerance * power_in &&
+         (options.max_shots == 0 || result.shots < options.max_shots)) {
+    // The patch with the most unshot power shoots its elements' mean unshot radiosity.
+    std::size_t k = 0;
+    double best = -1.0;
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+      double power = 0.0;
+      for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i)
+        power += unshot[i] * elements[i].area;
+      if (power > best) best = power, k = p;
+    }
+    if (!(best > 0.0)) break;
+    const Patch& s = patches[k];
+    const double db = best / s.area;
+    if (cache_f[k].empty()) {
+      receive_factors(view, elements, s, threads, factor, quad);
+      if (cache_bytes + n * (sizeof(double) + sizeof(float)) <= kCacheBytes) {
+        cache_f[k] = factor;
+        cache_d[k].assign(quad.begin(), quad.end());
+        cache_bytes += n * (sizeof(double) + sizeof(float));
+      }
+    } else {
+      factor = cache_f[k];
+      for (std::size_t i = 0; i < n; ++i) quad[i] = cache_d[k][i];
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      received[i] = db * factor[i];
+      difference[i] = quad[i];
+    }
+    for (std::size_t i = s.first; i < s.first + s.count; ++i) unshot[i] = 0.0;
+    double got = 0.0, diff = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (received[i] == 0.0) continue;
+      h[i] += received[i];
+      b[i] += rho[i] * received[i];
+      unshot[i] += rho[i] * received[i];
+      got += received[i] * elements[i].area;
+      diff += db * difference[i] * elements[i].area;
+    }
+    const double shot = best;
+    shot_total += shot;
+    escaped += shot - got;
+    quadrature += diff;
+    ++result.shots;
+    unshot_power = 0.0;
+    for (std::size_t i = 0; i < n; ++i) unshot_power += unshot[i] * elements[i].area;
+    report(false);
+  }
+  report(true);
+
+  const Totals totals = fill_arrays(scene, elements, direct, rho, emit, b, h, result);
+  const double absorbed = totals.absorbed, emitted = totals.emitted, direct_power = totals.direct;
+  result.patches = patches.size();
+  result.exact_evaluations = view.exact_evaluations();
+  result.emitted_power = emitted;
+  result.direct_power = direct_power;
+  result.absorbed_power = absorbed;
+  result.escaped_power = escaped;
+  result.unshot_power = unshot_power;
+  result.unshot_fraction = power_in > 0 ? unshot_power / power_in : 0.0;
+  result.converged = result.unshot_fraction <= options.tolerance;
+  const double in = emitted + direct_power;
+  result.balance_residual = in > 0 ? std::abs(in - absorbed - escaped - unshot_power) / in : 0.0;
+  const double mean_rho = area > 0 ? reflectance_area / area : 0.0;
+  result.error_estimate =
+      result.unshot_fraction / (1.0 - mean_rho) + (shot_total > 0 ? quadrature / shot_total : 0.0);
+  return result;
+}
+
+}  // namespace shadow

@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Internal: triangles of planar polygons for radiosity's elements and quadrature (doubles).
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <vector>
+
+namespace shadow::radiosity {
+
+using Triangle = std::array<glm::dvec3, 3>;
+
+/// Newell's normal of a polygon (length twice its area for a planar one).
+glm::dvec3 newell_normal(const std::vector<glm::dvec3>& polygon);
+
+double triangle_area(const Triangle& t);
+
+/// The triangles of a simple planar polygon (ear clipping in its dominant chart), each with the
+/// polygon's orientation; triangles of zero area are left out.
+std::vector<Triangle> triangulate(const std::vector<glm::dvec3>& polygon);
+
+/// Appends `t` split by longest-edge bisection until no piece has more area than `max_area`
+/// (`max_area` <= 0: `t` itself).
+void refine(const Triangle& t, double max_area, std::vector<Triangle>& out);
+
+/// Gauss-Legendre nodes and weights on [0, 1] with `order` points.
+void gauss_legendre01(int order, std::vector<double>& nodes, std::vector<double>& weights);
+
+}  // namespace shadow::radiosity

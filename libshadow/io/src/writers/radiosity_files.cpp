@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The files of a radiosity solution (docs/radiosity.md): radiosity.vtp and report.json.
+#include <shadow/radiosity_output.hpp>
+
+#include "writers/face_identity_json.hpp"
+#include "writers/vtk_datasets.hpp"
+#include "writers/vtp_writer.hpp"
+
+#include <shadow/output.hpp>
+#include <shadow/version.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt64Array.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <string>
+#include <system_error>
+
+namespace shadow {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+
+vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const RadiosityResult& result) {
+  const std::size_t n = result.elements.size();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  auto array = [n](const char* name) {
+    auto a = vtkSmartPointer<vtkDoubleArray>::New();
+    a->SetName(name);
+    a->SetNumberOfValues(static_cast<vtkIdType>(n));
+    return a;
+  };
+  auto radiosity = array("radiosity"), irradiance = array("irradiance"), direct = array("direct_irradiance"),
+       reflectance = array("reflectance"), emittance = array("emittance");
+  auto face_id = vtkSmartPointer<vtkTypeInt64Array>::New();
+  face_id->SetName("face_id");
+  face_id->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto element_id = vtkSmartPointer<vtkTypeInt64Array>::New();
+  element_id->SetName("element_id");
+  element_id->SetNumberOfValues(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const RadiosityElement& e = result.elements[i];
+    cells->InsertNextCell(static_cast<vtkIdType>(e.polygon.size()));
+    for (const glm::dvec3& v : e.polygon) cells->InsertCellPoint(points->InsertNextPoint(v.x, v.y, v.z));
+    const auto c = static_cast<vtkIdType>(i);
+    radiosity->SetValue(c, e.radiosity);
+    irradiance->SetValue(c, e.irradiance);
+    direct->SetValue(c, e.direct_irradiance);
+    reflectance->SetValue(c, e.reflectance);
+    emittance->SetValue(c, e.emittance);
+    face_id->SetValue(c, static_cast<vtkTypeInt64>(e.face_id));
+    element_id->SetValue(c, static_cast<vtkTypeInt64>(i));
+  }
+  poly->SetPoints(points);
+  poly->SetPolys(cells);
+  for (vtkDataArray* a : {static_cast<vtkDataArray*>(radiosity), static_cast<vtkDataArray*>(irradiance),
+                          static_cast<vtkDataArray*>(direct), static_cast<vtkDataArray*>(reflectance),
+                          static_cast<vtkDataArray*>(emittance), static_cast<vtkDataArray*>(face_id),
+                          static_cast<vtkDataArray*>(element_id)})
+    poly->GetCellData()->AddArray(a);
+  poly->GetCellData()->SetActiveScalars("radiosity");
+  return poly;
+}
+
+}  // namespace
+
+void write_radiosity_report_json(std::ostream& out, const Scene& scene, const RadiosityResult& result,
+                                 const RadiosityRunInfo& run) {
+  Json doc;
+  doc["libshadow_version"] = version();
+  doc["scene"] = run.scene;
+  Json options;
+  options["max_element_area"] = run.options.max_element_area;
+  options["tolerance"] = run.options.tolerance;
+  options["max_shots"] = run.options.max_shots;
+  options["threads"] = run.options.threads;
+  doc["run"] = {{"started_utc", run.started_utc.empty() ? Json(nullptr) : Json(run.started_utc)},
+                {"libshadow_version", version()},
+                {"options", options}};
+  Json balance;
+  balance["emitted_W"] = number(result.emitted_power);
+  balance["direct_W"] = number(result.direct_power);
+  balance["absorbed_W"] = number(result.absorbed_power);
+  balance["escaped_W"] = number(result.escaped_power);
+  balance["unshot_W"] = number(result.unshot_power);
+  balance["residual"] = number(result.balance_residual);
+  Json summary;
+  summary["elements"] = result.elements.size();
+  summary["patches"] = result.patches;
+  summary["shots"] = result.shots;
+  summary["exact_evaluations"] = result.exact_evaluations;
+  summary["converged"] = result.converged;
+  summary["unshot_fraction"] = number(result.unshot_fraction);
+  summary["error_estimate"] = number(result.error_estimate);
+  summary["seconds"] = number(run.seconds);
+  summary["balance"] = balance;
+  doc["summary"] = summary;
+  Json faces = Json::array();
+  for (const FaceRadiosity& f : result.faces) {
+    Json entry;
+    entry["id"] = f.face_id;
+    const std::size_t mesh = f.face_id < scene.faces.size() ? scene.faces[f.face_id].mesh : 0;
+    entry["mesh"] = mesh < scene.meshes.size() ? scene.meshes[mesh].name : std::string();
+    detail::add_face_identity(entry, scene, f.face_id);
+    const Material& m = scene.material_of(f.face_id);
+    entry["material"] = m.name;
+    entry["reflectance"] = m.reflectance;
+    entry["emittance"] = m.emittance;
+    entry["area"] = number(f.area);
+    entry["elements"] = f.elements;
+    entry["radiosity"] = number(f.radiosity);
+    entry["irradiance"] = number(f.irradiance);
+    entry["direct_irradiance"] = number(f.direct_irradiance);
+    faces.push_back(std::move(entry));
+  }
+  doc["faces"] = std::move(faces);
+  out << doc.dump(2) << "\n";
+}
+
+std::vector<fs::path> write_radiosity_outputs(const fs::path& outdir, const Scene& scene,
+                                              const RadiosityResult& result, const RadiosityRunInfo& run) {
+  std::vector<fs::path> written;
+  const fs::path vtp = outdir / "radiosity.vtp";
+  const fs::path temp = outdir / (".radiosity.vtp.tmp-" + std::to_string(::getpid()));
+  try {
+    vtkSmartPointer<vtkPolyData> poly = make_radiosity_polydata(result);
+    detail::shift_to_origin(poly, scene);  // like every other dataset of a run (Scene::origin)
+    detail::write_polydata(poly, temp, vtp);
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw;
+  }
+  std::error_code ec;
+  fs::rename(temp, vtp, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw OutputError("cannot write " + vtp.string() + ": " + ec.message());
+  }
+  written.push_back(vtp);
+  // report.json last: its presence says the set is complete.
+  const fs::path report = outdir / "report.json";
+  write_file_staged(report, [&](std::ostream& out) { write_radiosity_report_json(out, scene, result, run); });
+  written.push_back(report);
+  return written;
+}
+
+}  // namespace shadow

@@ -1,0 +1,45 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""libshadow.form_factor and libshadow.radiosity (docs/radiosity.md)."""
+import math
+
+import libshadow
+
+
+def _squares(*extra):
+    floor = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
+    ceiling = [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]
+    return libshadow.scene_from_data(meshes=[{"name": "m", "polygons": [floor, ceiling, *extra]}],
+                                     lights=[{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}])
+
+
+def test_form_factor_of_parallel_squares_is_howells():
+    f = libshadow.form_factor(_squares(), 0, 1, tolerance=1e-6, threads=1)
+    assert abs(f["value"] - 0.1998249) < 1e-6
+    assert f["error"] < 1e-6
+
+
+def test_radiosity_furnace():
+    room = [
+        [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]], [[1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 0]],
+        [[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]], [[0, 1, 0], [1, 1, 0], [1, 1, 1], [0, 1, 1]],
+        [[1, 0, 0], [1, 0, 1], [1, 1, 1], [1, 1, 0]], [[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]],
+    ]
+    # Fronts inward: flip those whose normal points away from the centre.
+    def inward(p):
+        n = [0.0, 0.0, 0.0]
+        for i in range(len(p)):
+            a, b = p[i], p[(i + 1) % len(p)]
+            n[0] += (a[1] - b[1]) * (a[2] + b[2])
+            n[1] += (a[2] - b[2]) * (a[0] + b[0])
+            n[2] += (a[0] - b[0]) * (a[1] + b[1])
+        return p if sum(n[k] * (0.5 - p[0][k]) for k in range(3)) > 0 else p[::-1]
+    scene = libshadow.scene_from_data(
+        meshes=[{"name": "room", "material": "grey", "polygons": [inward(p) for p in room]}],
+        materials=[{"name": "grey", "reflectance": 0.5, "emittance": 4}])
+    r = libshadow.radiosity(scene, max_element_area=0.25, tolerance=1e-5, threads=2)
+    assert r["converged"]
+    assert all(abs(b - 8.0) < 8e-3 for b in r["elements"]["radiosity"])
+    assert r["elements"]["triangles"].shape == (len(r["elements"]["radiosity"]), 3, 3)
+    assert math.isclose(r["emitted_power"] + r["direct_power"],
+                        r["absorbed_power"] + r["escaped_power"] + r["unshot_power"], rel_tol=1e-9)
+    assert scene.materials[0].reflectance == 0.5 and scene.materials[0].emittance == 4

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `shadow radiosity` subcommand: global illumination by radiosity (docs/radiosity.md).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+struct RadiosityArgs {
+  std::string scene;
+  std::string outdir;
+  double max_element_area = 0.0;
+  double tolerance = 1e-3;
+  unsigned threads = 0;
+  bool quiet = false;
+  double planarity_tolerance = 1e-6;
+};
+
+/// Declares `shadow radiosity` and its options on `app`.
+CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args);
+
+/// Loads the scene, solves, writes radiosity.vtp and report.json and prints a summary; returns
+/// the exit status. Bad input throws shadow::InputError (naming the scene file).
+int run_radiosity(const RadiosityArgs& args);
