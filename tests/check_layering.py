@@ -11,6 +11,7 @@ compute never includes VTK, nlohmann_json, or a header of io, render, baselines 
 never includes render's. Inside compute, the stages:
 
     sunmap, views -> engine -> planes, arealight, fast -> exact -> core -> geometry
+    every folder -> runtime (the scheduler and its threads), common (errors, numbers in messages)
     radiosity -> arealight, core, geometry  (form factors through the extended-light machinery)
     validation -> exact (face shape only), core, geometry;  lighting, sun -> geometry
 
@@ -47,6 +48,7 @@ COMPUTE = {
     "fast": {"core", "geometry"},
     "core": {"geometry"},
     "geometry": set(),
+    "runtime": set(),
     "validation": {"exact", "core", "geometry"},
     "scene": {"core", "geometry"},
     "sun": {"geometry"},
@@ -65,6 +67,11 @@ ALLOWED = {
     "baselines": {"": {"core", "geometry"}},
     "testing": {"": set()},
 }
+
+# The thread runtime (runtime/: the scheduler, its pool of threads, the library's pthread_once) and
+# common/ (errors, numbers in messages) are below every stage: any folder of any component may
+# include them, and they include no other folder.
+BASE_FOLDERS = {"runtime", "common"}
 
 # Narrower than a whole folder: (folder, included folder) -> the only headers of it allowed.
 # Validation and the readers need exact predicates for a face's shape and nothing else of the
@@ -152,7 +159,7 @@ def check_component_sources(lib, repo, component, table, other_public):
             if own is None:
                 problems.append(f"{where}: a file directly in libshadow/{component}/src (put it in a folder)")
                 continue
-            if target_folder == own:
+            if target_folder == own or (target_folder in BASE_FOLDERS and own not in BASE_FOLDERS):
                 continue
             allowed = table.get(own, set())
             if target_folder not in allowed:

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// core::parallel_for on the library's pool of threads (core/thread_pool.cpp): every item once,
+// runtime::parallel_for on the library's pool of threads (runtime/thread_pool.cpp): every item once,
 // the same threads from call to call, a nested or concurrent call on threads of its own, errors
 // and progress as before, and a forked child that makes its own pool.
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@
 
 namespace {
 
-using shadow::core::parallel_for;
+using shadow::runtime::parallel_for;
 
 long kernel_thread_id() { return static_cast<long>(syscall(SYS_gettid)); }
 
@@ -141,7 +141,7 @@ TEST(Parallel, RunningItemsStopAtTheirNextCheckWhenTheProgressReportThrows) {
                    4, 2,
                    [&](unsigned, std::size_t) {
                      for (int k = 0; k < 400; ++k) {
-                       shadow::core::check_stop();
+                       shadow::runtime::check_stop();
                        std::this_thread::sleep_for(std::chrono::milliseconds(5));
                        steps.fetch_add(1);
                      }
@@ -149,7 +149,7 @@ TEST(Parallel, RunningItemsStopAtTheirNextCheckWhenTheProgressReportThrows) {
                    [&](std::size_t) { throw std::runtime_error("report"); }),
                std::runtime_error);
   EXPECT_LT(steps.load(), 400);
-  EXPECT_FALSE(shadow::core::stop_requested());  // nothing left behind on this thread
+  EXPECT_FALSE(shadow::runtime::stop_requested());  // nothing left behind on this thread
   EXPECT_TRUE(every_item_once(1000, 4));
 }
 
@@ -181,7 +181,7 @@ TEST(Parallel, ATickScopeStopsCallsThatHaveNoProgressOfTheirOwn) {
   std::atomic<int> items{0};
   int ticks = 0;
   {
-    shadow::core::TickScope scope([&] {
+    shadow::runtime::TickScope scope([&] {
       if (++ticks >= 1) throw std::runtime_error("tick");
     });
     EXPECT_THROW(parallel_for(200, 1,

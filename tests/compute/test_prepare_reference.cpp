@@ -4,7 +4,7 @@
 // (all lazy exact), validate_scene (per-face checks in parallel) against validate_scene_reference
 // (serial), and find_convex_solids against find_convex_solids_reference. Each pair must agree
 // exactly: same classes, same scene changes, warnings and first error, same solids in the same order.
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/face_shape.hpp"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The library's pthread_once (libshadow/compute/src/core/quiet_once.cpp), which its own std::call_once
+// The library's pthread_once (libshadow/compute/src/runtime/quiet_once.cpp), which its own std::call_once
 // calls reach through the linker's --wrap: runs the routine exactly once, makes late callers
 // wait for it, runs it again after an exception, and shares glibc's "done" value both ways.
 #include <gtest/gtest.h>

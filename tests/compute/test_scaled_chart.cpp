@@ -316,8 +316,8 @@ TEST(ScaledChart, ScenesGiveTheSameBitsWithAndWithoutIntegerCharts) {
     options.planes = false;
     options.tile_casters = 40;  // the ground in tiles
     const shadow::ShadowEngine narrow_engine(narrow, 2), wide_engine(wide, 2);
-    ASSERT_TRUE(shadow::detail::EngineAccess::prepared(narrow_engine).chart_least_bit.has_value());
-    ASSERT_FALSE(shadow::detail::EngineAccess::prepared(wide_engine).chart_least_bit.has_value());
+    ASSERT_TRUE(shadow::engine::prepared_scene(narrow_engine).chart_least_bit.has_value());
+    ASSERT_FALSE(shadow::engine::prepared_scene(wide_engine).chart_least_bit.has_value());
     const shadow::ShadowResult a = narrow_engine.compute(options);
     const shadow::ShadowResult b = wide_engine.compute(options);
     EXPECT_GT(a.stats.tiles, 0u);

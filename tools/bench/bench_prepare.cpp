@@ -3,7 +3,7 @@
 #include "bench_prepare.hpp"
 
 #include "core/face_prep.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "exact/convex_solids.hpp"
 #include "validation/validate_reference.hpp"
 
@@ -74,7 +74,7 @@ int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigne
     // Faces prepared as the engine prepares them.
     if (new_only) shadow::validate_scene(reference);
     std::vector<shadow::core::FacePrep> prep(reference.faces.size());
-    shadow::core::parallel_for(prep.size(), shadow::core::resolve_threads(0), [&](unsigned, std::size_t f) {
+    shadow::runtime::parallel_for(prep.size(), shadow::runtime::resolve_threads(0), [&](unsigned, std::size_t f) {
       const shadow::Face& face = reference.faces[f];
       if (face.degenerate || face.vertices.size() < 3)
         prep[f].degenerate = true;

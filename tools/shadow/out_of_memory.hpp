@@ -13,7 +13,7 @@
 //   unwind was tried: CGAL's Boolean operations are not exception safe, and a Polygon_set_2
 //   left by a bad_alloc in the middle of a join crashed in its destructor (SIGSEGV) on the way.
 // - A thread cannot be started (no memory for its stack): the library's own threads fall back
-//   to fewer (core/parallel.hpp); elsewhere (VTK's TBB threads while writing) the exception
+//   to fewer (runtime/parallel.hpp); elsewhere (VTK's TBB threads while writing) the exception
 //   reaches main(), which prints the line (is_thread_start_failure).
 //
 // The library itself installs nothing: GMP's functions are process-wide, and a program that

@@ -2,7 +2,7 @@
 // Depth maps from a light: the z-buffer algorithm (Catmull) run from the light.
 #include "depth_map.hpp"
 
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -91,7 +91,7 @@ void rasterise(DepthMap& map, bool perspective, int row_begin, int row_end) {
 
 void rasterise_all(std::vector<DepthMap>& maps, bool perspective, unsigned threads) {
   // Bands of rows per thread: no two threads write the same texel, no locks.
-  core::parallel_for(threads, threads, [&](unsigned, std::size_t t) {
+  runtime::parallel_for(threads, threads, [&](unsigned, std::size_t t) {
     for (DepthMap& map : maps) {
       const int R = map.resolution;
       const int begin = static_cast<int>(static_cast<long long>(R) * static_cast<long long>(t) / threads);

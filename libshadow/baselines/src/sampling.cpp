@@ -4,7 +4,7 @@
 #include "geometry/bounding_box.hpp"
 #include "geometry/newell_normal.hpp"
 #include "core/lights.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "geometry/unit_vector.hpp"
 
 #include <shadow/error.hpp>
@@ -146,7 +146,7 @@ std::vector<std::size_t> selected_lights(const Scene& scene, const std::vector<s
   return out;
 }
 
-unsigned thread_count(unsigned requested) { return core::resolve_threads(requested); }
+unsigned thread_count(unsigned requested) { return runtime::resolve_threads(requested); }
 
 bool faces_light(const FaceFrame& frame, const ShiftedLight& light) {
   if (!frame.ok) return false;
@@ -246,13 +246,13 @@ void run_sampling(const std::vector<SampleJob>& jobs, unsigned threads, std::uin
     s[k] = 0;
     l[k] = 0;
   }
-  // The one scheduler (core/parallel.hpp): tasks handed out dynamically; per worker a test and
+  // The one scheduler (runtime/parallel.hpp): tasks handed out dynamically; per worker a test and
   // a row buffer, made before the run so that no item allocates them.
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(tasks.size(), 1))));
   std::vector<BatchTest> tests;
   for (unsigned t = 0; t < workers; ++t) tests.push_back(make_test(t));
   std::vector<std::vector<double>> row_buffers(workers);
-  core::parallel_for(tasks.size(), workers, [&](unsigned t, std::size_t k) {
+  runtime::parallel_for(tasks.size(), workers, [&](unsigned t, std::size_t k) {
     const BatchTest& test = tests[t];
     std::vector<double>& row_xs = row_buffers[t];
     glm::dvec3 batch[kBatch];

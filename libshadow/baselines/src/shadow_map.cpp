@@ -3,7 +3,7 @@
 // with bias for every sample point of every receiving face.
 #include "depth_map.hpp"
 #include "sampling.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 
 #include <shadow/baselines.hpp>
 #include <shadow/error.hpp>

@@ -6,7 +6,7 @@
 #include "embree_scene.hpp"
 #include "sampling.hpp"
 #include "core/lights.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "geometry/newell_normal.hpp"
 #include "geometry/unit_vector.hpp"
 
@@ -166,7 +166,7 @@ SoftResult map_visibility(const Scene& scene, const Light& light, const std::vec
   std::atomic<std::uint64_t> lookups{0};
   const double cb = options.constant_bias, sb = options.slope_bias, sb_max = options.max_slope_bias;
   const std::size_t items = (points.size() + kBlock - 1) / kBlock;
-  core::parallel_for(items, std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(1, items)))),
+  runtime::parallel_for(items, std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(1, items)))),
                      [&](unsigned, std::size_t item) {
     std::uint64_t reads = 0;
     for (std::size_t i = item * kBlock; i < std::min(points.size(), (item + 1) * kBlock); ++i) {
@@ -319,7 +319,7 @@ SoftResult ray_visibility(const Scene& scene, const Light& light, const std::vec
   const std::size_t items = (points.size() + kBlock - 1) / kBlock;
   const unsigned workers = std::max(1u, std::min<unsigned>(threads, static_cast<unsigned>(std::max<std::size_t>(1, items))));
   std::vector<std::vector<RTCRay>> buffers(workers, std::vector<RTCRay>(kBatch));
-  core::parallel_for(items, workers, [&](unsigned worker, std::size_t item) {
+  runtime::parallel_for(items, workers, [&](unsigned worker, std::size_t item) {
     std::vector<RTCRay>& rays = buffers[worker];
     std::uint64_t count = 0;
     RTCIntersectContext context;

@@ -41,31 +41,19 @@ enum class Arithmetic {
   Fast,
 };
 
-/// Options for computing shadows on faces.
-struct ShadowOptions {
+/// How the engine runs, the same for one light (ShadowOptions) and for a series of lights
+/// (SeriesOptions).
+struct EngineOptions {
   /// Worker threads; 0 means every hardware thread. Results do not depend on it. At most 1024:
   /// more is an InputError (not clamped: a huge number is a mistake worth hearing about).
   unsigned threads = 0;
-  /// Produce the 3D lit/shadow polygons. When false only areas are computed (cheaper).
-  bool polygons = true;
-  /// Indices of the scene lights to compute; empty means every light. An index that is not a
-  /// scene light, or an unusable light (zero or non-finite direction, ...), is an InputError,
-  /// for the faces and the planes alike.
-  std::vector<std::size_t> lights;
-  /// Called now and then from one thread at a time (never concurrently). May be empty. An
-  /// exception it throws stops the computation (running work items included, within about a
-  /// second) and comes out of the call. Done and total count face-light pairs. The plane shadows
-  /// count nothing but call it too, about every 100 ms: compute_shadows with the faces' last
-  /// count, ShadowEngine::compute_planes and compute_plane_shadows with 0 of 0.
-  std::function<void(const Progress&)> progress;
-  /// compute_shadows() also computes the shadows on the scene's planes (Blinn projection).
-  bool planes = true;
-  /// Half the side of the square window, centred under the scene, in which plane shadows are
-  /// computed (a point light at the height of some geometry casts shadows without end).
-  /// 0 means ten times the diagonal of the scene's bounding box. A plane's own `window` wins.
-  double plane_window = 0.0;
   /// Exact (default) or the fast path with error bounds. Plane shadows are always exact.
   Arithmetic arithmetic = Arithmetic::Exact;
+  /// Called now and then from one thread at a time (never concurrently). May be empty. An
+  /// exception it throws stops the computation (running work items included, within about a
+  /// second) and comes out of the call. What `done` and `total` count is said by each call:
+  /// face-light pairs (ShadowOptions), instants (SeriesOptions).
+  std::function<void(const Progress&)> progress;
   /// Tiles (docs/tiles.md): a receiver that faces the light, is an axis-aligned rectangle in its
   /// chart (a city's ground, most walls and roofs) and has more candidate casters than this is
   /// split into square tiles of its chart, each a separate work item that sees only the casters
@@ -76,6 +64,24 @@ struct ShadowOptions {
   /// The same for Arithmetic::Fast, whose receivers are cheaper. Tiles have their own grids: the
   /// fast areas of a split receiver change within their bounds. 0: never split.
   std::size_t fast_tile_casters = 20000;
+};
+
+/// Options for computing shadows on faces. `progress` (EngineOptions) counts face-light pairs;
+/// the plane shadows count nothing but call it too, about every 100 ms: compute_shadows with the
+/// faces' last count, ShadowEngine::compute_planes and compute_plane_shadows with 0 of 0.
+struct ShadowOptions : EngineOptions {
+  /// Produce the 3D lit/shadow polygons. When false only areas are computed (cheaper).
+  bool polygons = true;
+  /// Indices of the scene lights to compute; empty means every light. An index that is not a
+  /// scene light, or an unusable light (zero or non-finite direction, ...), is an InputError,
+  /// for the faces and the planes alike.
+  std::vector<std::size_t> lights;
+  /// compute_shadows() also computes the shadows on the scene's planes (Blinn projection).
+  bool planes = true;
+  /// Half the side of the square window, centred under the scene, in which plane shadows are
+  /// computed (a point light at the height of some geometry casts shadows without end).
+  /// 0 means ten times the diagonal of the scene's bounding box. A plane's own `window` wins.
+  double plane_window = 0.0;
 };
 
 /// Where a cell of a face lies with respect to an extended light (Light::is_extended): it sees
@@ -238,24 +244,12 @@ struct ShadowResult {
 };
 
 /// Options for a series of lights computed together (ShadowEngine::compute_series): the many
-/// suns of a day or a year. Areas only: no polygons, no plane shadows.
-struct SeriesOptions {
-  /// Worker threads; 0 means every hardware thread; at most 1024 (InputError above). Results do
-  /// not depend on it.
-  unsigned threads = 0;
-  /// Exact (default) or the fast path, exactly as ShadowOptions::arithmetic.
-  Arithmetic arithmetic = Arithmetic::Exact;
-  /// Called now and then from one thread at a time: `done` of `total` instants (lights) finished,
-  /// never decreasing, ending at `total`. Within a batch of instants it moves through both rounds
-  /// (the receivers, then the tiles of split receivers), in proportion to the time the previous
-  /// batch spent in each (docs/tiles.md).
-  std::function<void(const Progress&)> progress;
-  /// Tiles, exactly as ShadowOptions::tile_casters and fast_tile_casters: a receiver with more
-  /// candidate casters at an instant is split into tiles that are separate work items (exact
-  /// areas unchanged to the last bit; fast ones within their bounds). 0: never split.
-  std::size_t tile_casters = 4000;
-  std::size_t fast_tile_casters = 20000;
-};
+/// suns of a day or a year. Areas only: no polygons, no plane shadows. `progress`
+/// (EngineOptions) counts instants (lights) finished, never decreasing, ending at `total`; within
+/// a batch of instants it moves through both rounds (the receivers, then the tiles of split
+/// receivers), in proportion to the time the previous batch spent in each (docs/tiles.md).
+/// Tiles work exactly as for ShadowOptions.
+struct SeriesOptions : EngineOptions {};
 
 /// Lit areas of every receiving face under every light of a series: a faces x instants table.
 /// Entry (row, instant) is what `compute(lights[instant], id, {polygons = false})` reports for
@@ -299,10 +293,6 @@ ShadowResult compute_shadows(const ShadowEngine& engine, const ShadowOptions& op
 /// checked against each other in the tests. Checks coordinates and lights like compute_shadows.
 /// @throws InputError
 std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options = {});
-
-namespace detail {
-struct EngineAccess;  // the library's own computations over a prepared engine (sun_hours.hpp)
-}  // namespace detail
 
 /// Reusable engine over one scene: exact face data (planes, charts, convex pieces, bounding
 /// boxes) is prepared once and reused for every light, e.g. many sun positions over a day.
@@ -349,9 +339,12 @@ class ShadowEngine {
   /// Exact area of a face, rounded once (0 for degenerate faces).
   [[nodiscard]] double face_area(std::size_t face_id) const;
 
- private:
-  friend struct detail::EngineAccess;
+  /// What the engine prepared, for the library's own computations over it (the sun-hours map,
+  /// vector views, irradiance); an incomplete type outside the library.
   struct Impl;
+  [[nodiscard]] const Impl& impl() const noexcept { return *impl_; }
+
+ private:
   std::unique_ptr<Impl> impl_;
 };
 

@@ -11,7 +11,7 @@
 #include "arealight/light_visibility.hpp"
 #include "arealight/light_visibility_steps.hpp"
 #include "core/face_prep.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "exact/exact_faces.hpp"
 #include "exact/kernel.hpp"
 #include "exact/regions.hpp"
@@ -279,7 +279,7 @@ namespace detail {
 struct LightQuery::Impl {
   const Scene& scene;
   SceneFaces faces;
-  std::vector<Worker> workers;
+  std::vector<PointWorker> workers;
   Light light;
   LightPlan plan;
   std::optional<Evaluator> evaluator;
@@ -294,7 +294,7 @@ void LightQuery::set_light(const Light& light, bool irradiance) {
   q.evaluator.reset();
   q.plan = plan_light(light);
   q.light = light;
-  for (Worker& w : q.workers) w.target.reset();  // the exact faces stay: they do not depend on the light
+  for (PointWorker& w : q.workers) w.target.reset();  // the exact faces stay: they do not depend on the light
   q.evaluator.emplace(q.scene, q.light, q.plan, q.faces, irradiance);
 }
 
@@ -321,10 +321,10 @@ std::vector<std::pair<double, double>> light_visibility_irradiance(const Scene& 
   }
   std::vector<std::pair<double, double>> out(points.size(), {0.0, 0.0});
   if (points.empty()) return out;
-  const unsigned n = core::resolve_threads(core::checked_threads(threads));
+  const unsigned n = runtime::resolve_threads(runtime::checked_threads(threads));
   LightQuery query(scene, std::max(1u, std::min<unsigned>(n, static_cast<unsigned>(points.size()))));
   query.set_light(light, irradiance);
-  core::parallel_for(points.size(), query.workers(), [&](unsigned wi, std::size_t i) {
+  runtime::parallel_for(points.size(), query.workers(), [&](unsigned wi, std::size_t i) {
     out[i] = query.evaluate(wi, points[i], i < toward.size() ? toward[i] : glm::dvec3(0.0));
   });
   return out;

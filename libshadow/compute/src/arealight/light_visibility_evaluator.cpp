@@ -80,7 +80,7 @@ glm::dvec3 to_dvec(const Point3& p) { return {CGAL::to_double(p.x()), CGAL::to_d
 
 }  // namespace
 
-PointResult Evaluator::evaluate(Worker& w, const SurfacePoint& sp, const glm::dvec3& toward) const {
+PointResult Evaluator::evaluate(PointWorker& w, const SurfacePoint& sp, const glm::dvec3& toward) const {
   PointResult none;
   const std::size_t f = sp.face_id;
   if (faces_.prep[f].degenerate) return none;
@@ -147,7 +147,7 @@ PointResult Evaluator::evaluate(Worker& w, const SurfacePoint& sp, const glm::dv
   return measure_circle(t, hidden, sp.position, receiver);
 }
 
-void Evaluator::cast_hidden(Worker& w, const SurfacePoint& sp, const Target& t, const Point3& x, const FT& h, bool has_toward,
+void Evaluator::cast_hidden(PointWorker& w, const SurfacePoint& sp, const Target& t, const Point3& x, const FT& h, bool has_toward,
                  const Vector3& d, const Point3& o, const Point3& pu, const Point3& pv,
                  std::vector<Polygon2>& hidden) const {
   const std::size_t f = sp.face_id;
@@ -323,7 +323,7 @@ PointResult Evaluator::measure_circle(const Target& t, const std::vector<Polygon
   return result;
 }
 
-bool Evaluator::near_contact(Worker& w, const SurfacePoint& sp, double eps) const {
+bool Evaluator::near_contact(PointWorker& w, const SurfacePoint& sp, double eps) const {
   const glm::dvec3& p = sp.position;
   const Point3 x = to_exact(p);
   for (std::size_t o = 0; o < scene_.faces.size(); ++o) {

@@ -91,7 +91,7 @@ struct SceneFaces {
 SceneFaces prepare_scene(const Scene& scene);
 
 /// One thread's exact state.
-struct Worker {
+struct PointWorker {
   std::optional<Target> target;
   std::vector<std::unique_ptr<ExactFace>> faces;
   const ExactFace& face(const Scene& scene, const SceneFaces& sf, std::size_t f) {
@@ -119,14 +119,14 @@ class Evaluator {
 
   /// `toward`: zero, or a direction along the point's face: the value is then the limit from
   /// that side (faces through the point hide what they hide from points just beside it).
-  PointResult evaluate(Worker& w, const SurfacePoint& sp, const glm::dvec3& toward) const;
+  PointResult evaluate(PointWorker& w, const SurfacePoint& sp, const glm::dvec3& toward) const;
 
  private:
   /// The light's parts hidden from x, as polygons in (u, v): every face that can stand between
   /// x and the light (culled by boxes, then exactly by the pyramid from x over the light),
   /// clipped to that pyramid and projected centrally from x onto the light's plane; a face
   /// through x adds the wedge it hides on the side `d` (add_contact).
-  void cast_hidden(Worker& w, const SurfacePoint& sp, const Target& t, const Point3& x, const FT& h, bool has_toward,
+  void cast_hidden(PointWorker& w, const SurfacePoint& sp, const Target& t, const Point3& x, const FT& h, bool has_toward,
                    const Vector3& d, const Point3& o, const Point3& pu, const Point3& pv,
                    std::vector<Polygon2>& hidden) const;
 
@@ -142,7 +142,7 @@ class Evaluator {
 
   /// Whether a face other than the point's own passes within `eps` of it without passing
   /// exactly through it.
-  bool near_contact(Worker& w, const SurfacePoint& sp, double eps) const;
+  bool near_contact(PointWorker& w, const SurfacePoint& sp, double eps) const;
 
   /// Face `face` passes through x. Seen from x + e d (e -> 0+), its part near x hides the light
   /// points y with y - x in the cone spanned by the face's tangent cone at x and -d: for each

@@ -3,7 +3,7 @@
 
 #include "geometry/bounding_box.hpp"
 #include "geometry/newell_normal.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 
 #include <glm/common.hpp>
 
@@ -82,7 +82,7 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep,
   }
   cull.vertices.resize(vertex_count);
   // Blocks of faces as work items: one face is a few hundred nanoseconds.
-  parallel_for_blocks(n, 4096, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(n, 4096, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) describe_face(scene, prep, f, cull);
   });
   return cull;

@@ -7,7 +7,7 @@
 #include "geometry/box_sides.hpp"
 #include "geometry/unit_vector.hpp"
 #include "core/face_prep.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 
 #include <shadow/scene.hpp>
 
@@ -76,7 +76,7 @@ class LightSpaceGrid {
     const std::size_t blocks = (n + kBlock - 1) / kBlock;
     std::vector<Box> block_box(blocks);
     std::vector<char> block_any(blocks, 0);
-    parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f) {
         if (prep[f].degenerate) continue;
         boxes_[f] = box_of(scene, scene.faces[f]);

@@ -9,14 +9,14 @@
 
 #include <glm/vec3.hpp>
 
+#include "common/format.hpp"  // format_number
+
 #include <cstddef>
 #include <string>
 #include <vector>
 
 namespace shadow::detail {
 
-/// `x` printed with %g (error messages).
-std::string format_number(double x);
 /// `(x, y, z)`, each with format_number.
 std::string format_vec(const glm::dvec3& v);
 /// All three components finite.

@@ -8,12 +8,10 @@
 
 #include <shadow/shadows.hpp>
 
-namespace shadow::detail {
+namespace shadow::engine {
 
-struct EngineAccess {
-  /// The engine's prepared faces, areas, culling data and convex solids (valid while the
-  /// engine lives).
-  static core::PreparedScene prepared(const ShadowEngine& engine);
-};
+/// The engine's prepared faces, areas, culling data and convex solids (valid while the engine
+/// lives).
+core::PreparedScene prepared_scene(const ShadowEngine& engine);
 
-}  // namespace shadow::detail
+}  // namespace shadow::engine

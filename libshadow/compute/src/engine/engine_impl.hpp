@@ -7,7 +7,7 @@
 #include "core/culling.hpp"
 #include "core/convex_solid.hpp"
 #include "core/face_prep.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "core/prepared_scene.hpp"
 #include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
@@ -42,20 +42,20 @@ struct ShadowEngine::Impl {
   }
 
   /// Per-thread state: the exact engine's and the fast path's, and the counts of both.
-  struct Worker {
+  struct ThreadState {
     exact::ExactWorker exact;  // Epeck objects are never shared between threads
-    fast::Worker fast;         // Arithmetic::Fast: the fast path's scratch state
+    fast::FastWorker fast;         // Arithmetic::Fast: the fast path's scratch state
     ShadowStats stats;
   };
 
   /// `threads` workers sized for this scene, each sized on its own thread (per-face stamps and
   /// caches: on a million faces and 16 threads, sizing them one after another was a serial
   /// tenth of a second and more).
-  std::vector<Worker> make_workers(unsigned threads, bool fast) const;
+  std::vector<ThreadState> make_workers(unsigned threads, bool fast) const;
 
   /// Frees the workers' caches (exact faces with their lazy numbers), each on its own thread: on
   /// 16 threads, freeing them one worker after another at the end was a serial tail.
-  static void release_workers(std::vector<Worker>& workers);
+  static void release_workers(std::vector<ThreadState>& workers);
 
   /// Result for one receiving face under one light (fragment_id local to the item).
   using Item = exact::ReceiverResult;
@@ -67,7 +67,7 @@ struct ShadowEngine::Impl {
     ItemTable() = default;
     ItemTable(std::size_t count, unsigned threads) : size_(count) {
       blocks_.resize((count + kBlock - 1) / kBlock);
-      core::parallel_for_blocks(count, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+      runtime::parallel_for_blocks(count, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
         blocks_[b].resize(end - begin);
       });
     }
@@ -93,7 +93,7 @@ struct ShadowEngine::Impl {
   /// tile of it (`tile`: the tile's FacePrep; nullptr for the whole face). A whole receiver with
   /// more candidates than mode.split_above is not computed: the item only says how many
   /// (split_candidates). `exact_light`: this worker's exact form of the light, made on first need.
-  Item compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light, std::size_t f, std::size_t light_id,
+  Item compute_item(ThreadState& w, std::optional<exact::ExactLight>& exact_light, std::size_t f, std::size_t light_id,
                     const Light& light_in, const core::LightSpaceGrid* grid, const ItemMode& mode,
                     const core::FacePrep* tile, ShadowStats& stats) const;
 
@@ -143,7 +143,7 @@ struct ShadowEngine::Impl {
   /// worker's thread for a whole item, on this thread in ascending i after the tile round for a
   /// split one. The results do not depend on the thread count.
   RoundsDone compute_rounds(std::size_t count, const std::function<WorkItem(std::size_t)>& describe,
-                            const ItemMode& mode, std::vector<Worker>& workers, const ExactLightSlot& exact_light,
+                            const ItemMode& mode, std::vector<ThreadState>& workers, const ExactLightSlot& exact_light,
                             const std::function<void(std::size_t, Item&)>& finish,
                             const RoundProgress& progress) const;
 
@@ -151,18 +151,18 @@ struct ShadowEngine::Impl {
   /// merges each receiver's tiles into its item: exact areas summed exactly and rounded once (the
   /// same bits as whole), fast ones summed with their bounds. `exact_light(worker, slot)` is that
   /// worker's exact light for a slot; `progress(done, total)` counts tiles.
-  void compute_splits(std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<Worker>& workers,
+  void compute_splits(std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<ThreadState>& workers,
                       const ExactLightSlot& exact_light,
                       const std::function<void(std::size_t, std::size_t)>& progress) const;
 
   void compute_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
-                     std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
+                     std::vector<ThreadState>& workers, const std::vector<std::size_t>& receivers,
                      ItemTable& items, std::size_t progress_base, std::size_t progress_total) const;
 
   /// compute_light for an extended light (Light::is_extended): the centre's lit areas, then the
   /// exact fully-lit, penumbra and umbra regions (arealight/).
   void compute_extended_light(const Light& light, std::size_t light_id, const ShadowOptions& options,
-                              std::vector<Worker>& workers, const std::vector<std::size_t>& receivers,
+                              std::vector<ThreadState>& workers, const std::vector<std::size_t>& receivers,
                               ItemTable& items, std::size_t progress_base, std::size_t progress_total) const;
 
   /// Computes `lights` (reported as `light_ids`) on every receiving face.
@@ -170,7 +170,7 @@ struct ShadowEngine::Impl {
                    const ShadowOptions& options) const;
 
   static ShadowResult assemble(std::vector<ItemTable>& per_light,
-                               const std::vector<Worker>& workers);
+                               const std::vector<ThreadState>& workers);
 };
 
 namespace engine_detail {

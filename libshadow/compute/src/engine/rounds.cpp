@@ -16,7 +16,7 @@ namespace shadow {
 
 ShadowEngine::Impl::RoundsDone ShadowEngine::Impl::compute_rounds(
     std::size_t count, const std::function<WorkItem(std::size_t)>& describe, const ItemMode& mode,
-    std::vector<Worker>& workers, const ExactLightSlot& exact_light,
+    std::vector<ThreadState>& workers, const ExactLightSlot& exact_light,
     const std::function<void(std::size_t, Item&)>& finish, const RoundProgress& progress) const {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
@@ -29,10 +29,10 @@ ShadowEngine::Impl::RoundsDone ShadowEngine::Impl::compute_rounds(
   engine_detail::FirstRound first_round(count);
   std::function<void(std::size_t)> report_runs;
   if (progress.first) report_runs = [&](std::size_t runs) { progress.first(first_round.done(runs)); };
-  core::parallel_for_blocks(
+  runtime::parallel_for_blocks(
       count, engine_detail::kRun, static_cast<unsigned>(workers.size()),
       [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
-        Worker& w = workers[wi];
+        ThreadState& w = workers[wi];
         engine_detail::BlockTimer timer;
         for (std::size_t i = begin; i < end; ++i) {
           const WorkItem work = describe(i);

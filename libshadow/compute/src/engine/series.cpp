@@ -14,7 +14,7 @@
 #include "arealight/area_receiver.hpp"
 
 #include "core/lights.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
 
 #include <shadow/error.hpp>
@@ -38,7 +38,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   std::vector<Light> lights;
   lights.reserve(lights_in.size());
   for (const Light& light : lights_in) lights.push_back(shadow::detail::centre_light(light));
-  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
+  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
   const bool fast = options.arithmetic == Arithmetic::Fast;
 
   SeriesResult result;
@@ -59,7 +59,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     return result;
   }
 
-  std::vector<Impl::Worker> workers = impl.make_workers(threads, fast);
+  std::vector<Impl::ThreadState> workers = impl.make_workers(threads, fast);
   // A batch of instants at a time: their light-space grids are built together, then every
   // (receiver, instant) pair of the batch is one work item. A few instants per thread keep the
   // threads busy to the batch's end without holding a grid per instant of the year.
@@ -89,7 +89,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
-    core::parallel_for(count, threads, [&](unsigned, std::size_t k) {
+    runtime::parallel_for(count, threads, [&](unsigned, std::size_t k) {
       grids[k].reset();
       const Light& light = lights[first + k];
       if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
@@ -142,7 +142,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     const core::PreparedScene ctx = impl.prepared();
     const arealight::AreaLightPrep area = arealight::prepare_area_light(ctx, light_in, i);
     std::vector<arealight::AreaWorker> area_workers(threads);
-    core::parallel_for(rows, threads, [&](unsigned wi, std::size_t r) {
+    runtime::parallel_for(rows, threads, [&](unsigned wi, std::size_t r) {
       const std::size_t at = result.at(r, i);
       FaceLighting lighting;
       lighting.face_id = result.faces[r];
@@ -159,7 +159,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       result.lit_area_error_bound[at] = lighting.lit_area_error_bound;
     });
   }
-  for (const Impl::Worker& w : workers) result.stats += w.stats;
+  for (const Impl::ThreadState& w : workers) result.stats += w.stats;
   Impl::release_workers(workers);
   report_instants(instants);
   return result;

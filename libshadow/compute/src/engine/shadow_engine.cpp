@@ -26,7 +26,7 @@
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
 #include "arealight/light_visibility.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "core/tiles.hpp"
 #include "engine/engine_access.hpp"
 #include "exact/convex_solids.hpp"
@@ -82,16 +82,16 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::func
   // while they wait: an exception it throws (Ctrl-C in Python) stops the preparation.
   constexpr std::size_t kStages = 3;
   std::size_t stage = 0;
-  core::TickScope ticks(progress ? std::function<void()>([&] { progress(Progress{stage, kStages}); })
+  runtime::TickScope ticks(progress ? std::function<void()>([&] { progress(Progress{stage, kStages}); })
                                  : std::function<void()>());
-  threads = core::resolve_threads(core::checked_threads(threads));
+  threads = runtime::resolve_threads(runtime::checked_threads(threads));
   impl_->scene = &scene;
   const std::size_t n = scene.faces.size();
   impl_->prep.resize(n);
   impl_->face_area.assign(n, 0.0);
   // The bits every coordinate spans (integer charts, exact/scaled_chart.hpp), per thread.
   std::vector<core::BitSpan> spans(threads);
-  core::parallel_for(n, threads, [&](unsigned thread, std::size_t f) {
+  runtime::parallel_for(n, threads, [&](unsigned thread, std::size_t f) {
     const Face& face = scene.faces[f];
     for (const glm::dvec3& v : face.vertices)
       for (int k = 0; k < 3; ++k) spans[thread].add(v[k]);
@@ -130,7 +130,7 @@ double ShadowEngine::face_area(std::size_t face_id) const { return impl_->face_a
 
 std::vector<PlaneShadow> ShadowEngine::compute_planes(const ShadowOptions& options) const {
   // Plane shadows count nothing: 0 of 0, about every 100 ms, so that the callback can stop them.
-  const core::TickScope ticks(options.progress ? std::function<void()>([&] { options.progress(Progress{0, 0}); })
+  const runtime::TickScope ticks(options.progress ? std::function<void()>([&] { options.progress(Progress{0, 0}); })
                                                : std::function<void()>());
   return planes::plane_shadows(*impl_->scene, impl_->prep, impl_->solids, impl_->solid_of, options);
 }
@@ -151,7 +151,7 @@ void add_tile_counts(ShadowStats& total, const ShadowStats& tile) {
 }  // namespace
 
 void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_id,
-                                       const ShadowOptions& options, std::vector<Worker>& workers,
+                                       const ShadowOptions& options, std::vector<ThreadState>& workers,
                                        const std::vector<std::size_t>& receivers,
                                        ItemTable& items, std::size_t progress_base,
                                        std::size_t progress_total) const {
@@ -186,7 +186,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
       [&](std::size_t r, Item& item) { items[r] = std::move(item); }, progress);
 }
 
-ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::optional<exact::ExactLight>& exact_light,
+ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(ThreadState& w, std::optional<exact::ExactLight>& exact_light,
                                                           std::size_t f, std::size_t light_id, const Light& light_in,
                                                           const core::LightSpaceGrid* grid, const ItemMode& mode,
                                                           const core::FacePrep* tile, ShadowStats& stats) const {
@@ -219,7 +219,7 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(Worker& w, std::option
 }
 
 void ShadowEngine::Impl::compute_splits(
-    std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<Worker>& workers,
+    std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<ThreadState>& workers,
     const ExactLightSlot& exact_light,
     const std::function<void(std::size_t, std::size_t)>& progress) const {
   using namespace exact;
@@ -240,7 +240,7 @@ void ShadowEngine::Impl::compute_splits(
   // predicate per cell and outline edge), then in split order: the tiles do not depend on the
   // thread count.
   std::vector<std::vector<core::FacePrep>> cells(splits.size());
-  core::parallel_for(splits.size(), threads, [&](unsigned, std::size_t s) {
+  runtime::parallel_for(splits.size(), threads, [&](unsigned, std::size_t s) {
     const std::size_t f = splits[s].face;
     // A face that is not its own chart box: cells are placed against its outline, exactly, and
     // cut for its candidates spread over the face, not over its box (the cells outside it are
@@ -264,10 +264,10 @@ void ShadowEngine::Impl::compute_splits(
   std::vector<ShadowStats> tile_stats(tiles.size());
   std::function<void(std::size_t)> report_tiles;
   if (progress) report_tiles = [&](std::size_t done) { progress(done, tiles.size()); };
-  core::parallel_for(
+  runtime::parallel_for(
       tiles.size(), threads,
       [&](unsigned wi, std::size_t t) {
-        Worker& w = workers[wi];
+        ThreadState& w = workers[wi];
         const SplitReceiver& sr = splits[tiles[t].s];
         const double t0 = engine_detail::thread_cpu_seconds();
         tile_items[t] = compute_item(w, exact_light(wi, sr.light_slot), sr.face, sr.light_id, *sr.light, sr.grid, mode,
@@ -277,8 +277,8 @@ void ShadowEngine::Impl::compute_splits(
       report_tiles);
 
   // Merge each split receiver's tiles into its item (on this thread only).
-  const exact::ExactContext exact_context = prepared();
-  Worker& w0 = workers[0];
+  const core::PreparedScene exact_context = prepared();
+  ThreadState& w0 = workers[0];
   for (std::size_t s = 0; s < splits.size(); ++s) {
     const SplitReceiver& sr = splits[s];
     const std::size_t f = sr.face;
@@ -355,7 +355,7 @@ void ShadowEngine::Impl::compute_splits(
 }
 
 void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size_t light_id,
-                                                const ShadowOptions& options, std::vector<Worker>& workers,
+                                                const ShadowOptions& options, std::vector<ThreadState>& workers,
                                                 const std::vector<std::size_t>& receivers, ItemTable& items,
                                                 std::size_t progress_base, std::size_t progress_total) const {
   // lit_area, shadow_area, lit_fraction, faces_light and the fast path's bound are the light's
@@ -373,10 +373,10 @@ void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size
   std::function<void(std::size_t)> report;
   if (options.progress)
     report = [&](std::size_t done) { options.progress(Progress{progress_base + done, progress_total}); };
-  core::parallel_for(
+  runtime::parallel_for(
       receivers.size(), static_cast<unsigned>(workers.size()),
       [&](unsigned wi, std::size_t r) {
-        Worker& w = workers[wi];
+        ThreadState& w = workers[wi];
         Item item = arealight::compute_area_receiver(ctx, w.exact, area_workers[wi], area, receivers[r], light_id,
                                                      options.polygons, w.stats);
         const FaceLighting& c = centre_items[r].lighting;
@@ -394,13 +394,13 @@ void ShadowEngine::Impl::compute_extended_light(const Light& light_in, std::size
 }
 
 ShadowResult ShadowEngine::Impl::assemble(std::vector<ItemTable>& per_light,
-                                          const std::vector<Worker>& workers) {
+                                          const std::vector<ThreadState>& workers) {
   ShadowResult result;
   const std::size_t lights = per_light.size();
   const std::size_t receivers = lights ? per_light[0].size() : 0;
   // The lighting rows (receiver-major, then light) copied by blocks on every worker's thread.
   result.lighting.resize(lights * receivers);
-  core::parallel_for_blocks(receivers, 4096, static_cast<unsigned>(std::max<std::size_t>(1, workers.size())),
+  runtime::parallel_for_blocks(receivers, 4096, static_cast<unsigned>(std::max<std::size_t>(1, workers.size())),
                             [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
                               for (std::size_t r = begin; r < end; ++r)
                                 for (std::size_t li = 0; li < lights; ++li)
@@ -417,25 +417,25 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<ItemTable>& per_light,
       item.fragments.shrink_to_fit();
     }
   }
-  for (const Worker& w : workers) {
+  for (const ThreadState& w : workers) {
     result.stats += w.stats;
   }
   return result;
 }
 
-std::vector<ShadowEngine::Impl::Worker> ShadowEngine::Impl::make_workers(unsigned threads, bool fast) const {
-  std::vector<Worker> workers(threads);
-  core::parallel_for(workers.size(), threads, [&](unsigned, std::size_t i) {
+std::vector<ShadowEngine::Impl::ThreadState> ShadowEngine::Impl::make_workers(unsigned threads, bool fast) const {
+  std::vector<ThreadState> workers(threads);
+  runtime::parallel_for(workers.size(), threads, [&](unsigned, std::size_t i) {
     workers[i].exact.reset(scene->faces.size(), solids.size());
     if (fast) workers[i].fast.casters.reset(scene->faces.size(), solids.size());
   });
   return workers;
 }
 
-void ShadowEngine::Impl::release_workers(std::vector<Worker>& workers) {
-  core::parallel_for(workers.size(), static_cast<unsigned>(workers.size()), [&](unsigned, std::size_t i) {
+void ShadowEngine::Impl::release_workers(std::vector<ThreadState>& workers) {
+  runtime::parallel_for(workers.size(), static_cast<unsigned>(workers.size()), [&](unsigned, std::size_t i) {
     workers[i].exact = exact::ExactWorker{};
-    workers[i].fast = fast::Worker{};
+    workers[i].fast = fast::FastWorker{};
   });
 }
 
@@ -445,7 +445,7 @@ ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
   std::vector<std::size_t> receivers;
   for (std::size_t f = 0; f < scene->faces.size(); ++f)
     if (scene->is_receiver(f)) receivers.push_back(f);
-  std::vector<Worker> workers = make_workers(core::resolve_threads(core::checked_threads(options.threads)),
+  std::vector<ThreadState> workers = make_workers(runtime::resolve_threads(runtime::checked_threads(options.threads)),
                                              options.arithmetic == Arithmetic::Fast);
   std::vector<ItemTable> per_light;
   for (std::size_t li = 0; li < lights.size(); ++li)
@@ -480,13 +480,7 @@ ShadowResult ShadowEngine::compute(const Light& light, std::size_t light_id,
   return impl_->run({&light}, {light_id}, options);
 }
 
-namespace detail {
-
-core::PreparedScene EngineAccess::prepared(const ShadowEngine& engine) {
-  return engine.impl_->prepared();
-}
-
-}  // namespace detail
+core::PreparedScene engine::prepared_scene(const ShadowEngine& engine) { return engine.impl().prepared(); }
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
   return compute_shadows(ShadowEngine(scene, options.threads), options);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "exact/convex_solids.hpp"
 
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "geometry/point_hash.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -242,10 +242,10 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
 
   std::vector<core::ConvexSolid> found(candidates.size());
   std::vector<char> convex_part(candidates.size(), 0);
-  const unsigned workers = std::max(1u, core::resolve_threads(threads));
+  const unsigned workers = std::max(1u, runtime::resolve_threads(threads));
   std::vector<std::vector<int>> local_of(workers);  // per worker: vertex id -> local number, or -1
   constexpr std::size_t kChunk = 64;
-  core::parallel_for_blocks(candidates.size(), kChunk, workers, [&](unsigned worker, std::size_t, std::size_t begin,
+  runtime::parallel_for_blocks(candidates.size(), kChunk, workers, [&](unsigned worker, std::size_t, std::size_t begin,
                                                                      std::size_t end) {
     std::vector<int>& local = local_of[worker];
     if (local.empty()) local.assign(vertex_count, -1);

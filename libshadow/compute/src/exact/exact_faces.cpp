@@ -91,9 +91,8 @@ std::vector<int> drop_collinear(const std::vector<int>& ring, const std::vector<
 
 /// Convex pieces of a simple polygon (indices into `chart`, counter-clockwise, no collinear
 /// vertices) that tile it, by Hertel-Mehlhorn over a constrained Delaunay triangulation
-/// (core::convex_pieces, shared with polygons with holes). (CGAL's approx_convex_partition_2
-/// took 30 s for a comb of 8,000 vertices: its non-Delaunay constrained triangulation is
-/// quadratic there.)
+/// (core::convex_pieces, shared with polygons with holes), not CGAL's approx_convex_partition_2,
+/// whose non-Delaunay constrained triangulation is quadratic on combs (docs/benchmarks.md).
 template <class K>
 std::vector<std::vector<int>> convex_partition(const std::vector<int>& ring, const std::vector<typename K::Point_2>& chart) {
   const std::size_t n = ring.size();

@@ -291,14 +291,14 @@ void ExactReceiverJob::emit(const ExactFace& P, const std::vector<PolygonWithHol
 
 using receiver_job::ExactReceiverJob;
 
-ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
+ReceiverResult compute_exact_receiver(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                                       ShadowStats& stats, const core::TileRequest& tiles) {
   return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats, tiles).run(facing);
 }
 
-LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+LitRegion exact_lit_region(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
                            const ExactLight& light, int facing, const Light& light_in,
                            const core::LightSpaceGrid* grid, ShadowStats& stats) {
   return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, true, stats).lit_region(facing);

@@ -29,7 +29,6 @@
 namespace shadow::exact {
 
 /// What the computation reads from the prepared engine (all shared, read-only).
-using ExactContext = core::PreparedScene;
 
 /// How many exact faces a worker keeps (ExactWorker::trim between work items): a receiver's
 /// face and its lazy-route casters are made again when needed after a trim, which a light's
@@ -61,7 +60,7 @@ struct ExactWorker {
   /// Face f's exact chart area and area scale (ExactFace::chart_area, ::area_scale_squared):
   /// for an exactly planar face from plain integers (planar_face_exact_areas), without making
   /// its lazy ExactFace.
-  std::pair<const EQ*, const EQ*> exact_areas(const ExactContext& ctx, std::size_t f) {
+  std::pair<const EQ*, const EQ*> exact_areas(const core::PreparedScene& ctx, std::size_t f) {
     auto [it, inserted] = areas_q.try_emplace(f);
     if (inserted) {
       const core::FacePrep& prep = (*ctx.prep)[f];
@@ -86,7 +85,7 @@ struct ExactWorker {
     casters.reset(face_count, solid_count);
   }
   /// This thread's exact view of face f (made on first use).
-  const ExactFace& face(const ExactContext& ctx, std::size_t f) {
+  const ExactFace& face(const core::PreparedScene& ctx, std::size_t f) {
     if (!faces[f]) {
       faces[f] = std::make_unique<ExactFace>(make_exact_face((*ctx.scene).faces[f].vertices, (*ctx.prep)[f]));
       built.push_back(f);
@@ -94,7 +93,7 @@ struct ExactWorker {
     return *faces[f];
   }
   /// Frees every exact face made so far when there are more than `cap` of them: the cache
-  /// otherwise grows to one ExactFace (about 0.45 KiB with its lazy numbers, measured) per face
+  /// otherwise grows to one ExactFace (with its lazy numbers; docs/benchmarks.md) per face
   /// and thread.
   /// Only between work items: it invalidates the references face() handed out.
   void trim(std::size_t cap) {
@@ -137,13 +136,13 @@ struct LitRegion {
 
 /// The lit region of receiver `face_id` under `light`: the same steps (casters, projection,
 /// union) as compute_exact_receiver, stopping at the exact region instead of fragments.
-LitRegion exact_lit_region(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+LitRegion exact_lit_region(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
                            const ExactLight& light, int facing, const Light& light_in,
                            const core::LightSpaceGrid* grid, ShadowStats& stats);
 
 /// Computes receiver `face_id` under `light` (exact form of `light_in`), whose plane has sign
 /// `facing` at the light (> 0: lit side). Adds to `stats`.
-ReceiverResult compute_exact_receiver(const ExactContext& ctx, ExactWorker& w, std::size_t face_id,
+ReceiverResult compute_exact_receiver(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
                                       std::size_t light_id, const ExactLight& light, int facing,
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                                       ShadowStats& stats, const core::TileRequest& tiles = {});

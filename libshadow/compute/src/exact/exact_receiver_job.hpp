@@ -27,7 +27,7 @@ constexpr std::size_t kWholeFaceFromPieces = 16;
 
 class ExactReceiverJob {
  public:
-  ExactReceiverJob(const ExactContext& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
+  ExactReceiverJob(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
                    const ExactLight& light, const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                    ShadowStats& stats, const core::TileRequest& tiles = {})
       : ctx_(ctx), w_(w), face_id_(face_id), light_id_(light_id), light_(light), light_in_(light_in),
@@ -175,7 +175,7 @@ class ExactReceiverJob {
 
   void emit(const ExactFace& P, const std::vector<PolygonWithHoles2>& regions, bool lit);
 
-  const ExactContext& ctx_;
+  const core::PreparedScene& ctx_;
   ExactWorker& w_;
   std::size_t face_id_, light_id_;
   const ExactLight& light_;

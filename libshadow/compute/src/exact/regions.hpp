@@ -113,8 +113,7 @@ inline std::vector<Polygon2> merge_into_convex(const std::vector<Polygon2>& tria
 /// Triangles (counter-clockwise) tiling a region with holes: a constrained Delaunay
 /// triangulation of its boundaries, faces at odd nesting depth. CGAL's
 /// Polygon_triangulation_decomposition_2 uses a constrained triangulation that is not Delaunay,
-/// whose constraint insertion is quadratic on combs (70% of 19 s for a ground around the shadow
-/// of a 32,000-vertex comb). The vertices are inserted in spatial order (CGAL's spatial_sort: a
+/// whose constraint insertion is quadratic on combs (docs/benchmarks.md). The vertices are inserted in spatial order (CGAL's spatial_sort: a
 /// Hilbert order over rounds of a deterministic shuffle), then the boundaries' edges as
 /// constraints: inserted along the boundaries instead, a long comb-like boundary (the shadows
 /// of a low sun) made each insertion flip many edges (80% of the plane shadow's time spent in

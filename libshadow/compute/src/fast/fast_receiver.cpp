@@ -256,14 +256,7 @@ EngineStripUnion& engine_strip_union() {
   return state;
 }
 
-bool compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
-                      const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
-                      FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats) {
-  return ReceiverJob(ctx, w, face_id, light_id, light, grid_index, polygons, out, fragments, stats, {}).run_job() ==
-         Outcome::Done;
-}
-
-Outcome compute_receiver(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id,
+Outcome compute_receiver(const core::PreparedScene& ctx, FastWorker& w, std::size_t face_id, std::size_t light_id,
                          const Light& light, const core::LightSpaceGrid* grid_index, bool polygons,
                          FaceLighting& out, std::vector<Fragment>& fragments, ShadowStats& stats,
                          const core::TileRequest& tiles, std::size_t& split_candidates) {

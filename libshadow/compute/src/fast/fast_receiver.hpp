@@ -20,35 +20,28 @@
 namespace shadow::fast {
 
 /// What the computation reads from the prepared engine (all shared, read-only).
-using Context = core::PreparedScene;
 
 /// Per-thread scratch state.
-struct Worker {
+struct FastWorker {
   core::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
 };
 
-/// Computes receiver `face_id` under `light`. Returns false when the receiver must be computed
-/// exactly instead (see docs/numeric-contract.md, "The fast path"): `stats` is then untouched,
-/// and `out` and `fragments` may hold partial results that the caller discards. On success fills
-/// `out` (with lit_area_error_bound), appends the fragments (fragment_id local to the receiver,
-/// from 0) when `polygons`, and adds to `stats`.
-bool compute_receiver(const Context& context, Worker& worker, std::size_t face_id,
-                      std::size_t light_id, const Light& light, const core::LightSpaceGrid* grid,
-                      bool polygons, FaceLighting& out, std::vector<Fragment>& fragments,
-                      ShadowStats& stats);
-
 /// What compute_receiver did with a receiver (or tile).
 enum class Outcome {
-  Done,   ///< computed: `out`, `fragments` and `stats` filled as above
-  Exact,  ///< ill-conditioned in doubles: compute it exactly instead (as `false` above)
+  Done,   ///< computed: `out`, `fragments` and `stats` filled as below
+  Exact,  ///< ill-conditioned in doubles: compute it exactly instead
   Split,  ///< too many casters (core::TileRequest::split_above): split it into tiles; nothing filled
 };
 
-/// compute_receiver with tiles: computes `tiles.tile` of the face when set (its chart box
+/// Computes receiver `face_id` under `light` (see docs/numeric-contract.md, "The fast path"). On
+/// Outcome::Done fills `out` (with lit_area_error_bound), appends the fragments (fragment_id
+/// local to the receiver, from 0) when `polygons`, and adds to `stats`; on Outcome::Exact `stats`
+/// is untouched, and `out` and `fragments` may hold partial results that the caller discards.
+/// With tiles: computes `tiles.tile` of the face when set (its chart box
 /// replaces the face's; fragments and areas are the tile's, `out.shadow_area` its shadow), or
 /// asks for tiles (Outcome::Split, `split_candidates` set) when the face has more candidate
 /// casters than `tiles.split_above`.
-Outcome compute_receiver(const Context& context, Worker& worker, std::size_t face_id, std::size_t light_id,
+Outcome compute_receiver(const core::PreparedScene& context, FastWorker& worker, std::size_t face_id, std::size_t light_id,
                          const Light& light, const core::LightSpaceGrid* grid, bool polygons, FaceLighting& out,
                          std::vector<Fragment>& fragments, ShadowStats& stats, const core::TileRequest& tiles,
                          std::size_t& split_candidates);

@@ -303,7 +303,7 @@ struct Grid {
 /// order). Every step that returns false sends the receiver to the exact engine.
 class ReceiverJob {
  public:
-  ReceiverJob(const Context& ctx, Worker& w, std::size_t face_id, std::size_t light_id, const Light& light,
+  ReceiverJob(const core::PreparedScene& ctx, FastWorker& w, std::size_t face_id, std::size_t light_id, const Light& light,
               const core::LightSpaceGrid* grid_index, bool polygons, FaceLighting& out,
               std::vector<Fragment>& fragments, ShadowStats& stats, const core::TileRequest& tiles)
       : ctx_(ctx), w_(w), scene_(*ctx.scene), prep_(*ctx.prep), cull_(*ctx.cull), face_id_(face_id),
@@ -394,8 +394,8 @@ class ReceiverJob {
   bool emit(const CL::PolyTree& tree, bool lit);
 
   // Inputs.
-  const Context& ctx_;
-  Worker& w_;
+  const core::PreparedScene& ctx_;
+  FastWorker& w_;
   const Scene& scene_;
   const std::vector<core::FacePrep>& prep_;
   const core::CullScene& cull_;

@@ -26,7 +26,7 @@
 #include "core/culling.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "planes/plane_shadows.hpp"
 #include "exact/regions.hpp"
 #include "core/input_checks.hpp"
@@ -74,7 +74,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
                                        const std::vector<core::ConvexSolid>& solids, const std::vector<int>& solid_of,
                                        const ShadowOptions& options, const Tiling& tiling) {
   const std::vector<std::size_t> light_ids = shadow::detail::resolve_lights(scene, options.lights);
-  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
+  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
   if (!(options.plane_window >= 0 && options.plane_window <= max_coordinate))
     throw InputError({"", "ShadowOptions::plane_window"},
                      "must be in [0, 2^500 (about 3.27e150)], got " + shadow::detail::format_number(options.plane_window));
@@ -117,7 +117,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
   const std::size_t chunks = (units.size() + kUnitsPerItem - 1) / kUnitsPerItem;
   std::vector<std::vector<Image>> chunk_images(pair_count * chunks);
   std::vector<char> chunk_reaches(pair_count * chunks, 0);
-  core::parallel_for(pair_count * chunks, threads, [&](unsigned, std::size_t item) {
+  runtime::parallel_for(pair_count * chunks, threads, [&](unsigned, std::size_t item) {
     const Pair& P = pairs[item / chunks];
     if (!P.casts) return;
     const std::size_t first = (item % chunks) * kUnitsPerItem;
@@ -170,7 +170,7 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
   });
   std::vector<std::vector<TileResult>> tiles(pair_count);
   for (std::size_t a = 0; a < pair_count; ++a) tiles[a].resize(grids[a].tiles());
-  core::parallel_for(tile_items.size(), threads, [&](unsigned, std::size_t item) {
+  runtime::parallel_for(tile_items.size(), threads, [&](unsigned, std::size_t item) {
     const auto [a, t] = tile_items[item];
     unite_tile(scene, pairs[a], images[a], grids[a], members[a][t], t, tiles[a][t]);
   });
@@ -184,9 +184,9 @@ std::vector<PlaneShadow> plane_shadows(const Scene& scene, const std::vector<cor
 std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const ShadowOptions& options,
                                                        const Tiling& tiling) {
   shadow::detail::check_scene_numbers(scene);  // the scene may never have been validated
-  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
+  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
   std::vector<core::FacePrep> prep(scene.faces.size());
-  core::parallel_for(scene.faces.size(), threads, [&](unsigned, std::size_t f) {
+  runtime::parallel_for(scene.faces.size(), threads, [&](unsigned, std::size_t f) {
     if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {
       prep[f].degenerate = true;
       return;
@@ -200,7 +200,7 @@ std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const
 
 std::vector<PlaneShadow> compute_plane_shadows(const Scene& scene, const ShadowOptions& options) {
   // Nothing counted: 0 of 0, about every 100 ms, so that the callback can stop the call.
-  const core::TickScope ticks(options.progress ? std::function<void()>([&] { options.progress(Progress{0, 0}); })
+  const runtime::TickScope ticks(options.progress ? std::function<void()>([&] { options.progress(Progress{0, 0}); })
                                                : std::function<void()>());
   return planes::compute_plane_shadows(scene, options, planes::Tiling{});
 }

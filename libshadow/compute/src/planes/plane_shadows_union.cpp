@@ -9,7 +9,7 @@
 #include "core/culling.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "exact/regions.hpp"
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"

@@ -3,7 +3,7 @@
 // the source face (Lambert's contour over its visible part) integrated over the receiving face.
 #include <shadow/radiosity.hpp>
 
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "radiosity/shooter_view.hpp"
 #include "radiosity/triangles.hpp"
 
@@ -57,7 +57,7 @@ FormFactor form_factor(const Scene& scene, std::size_t from_face, std::size_t to
   for (const radiosity::Triangle& t : source) from_area += radiosity::triangle_area(t);
   const std::vector<radiosity::Triangle> receiver = radiosity::triangulate(scene.faces[to_face].vertices);
 
-  const unsigned n = core::resolve_threads(core::checked_threads(options.threads));
+  const unsigned n = runtime::resolve_threads(runtime::checked_threads(options.threads));
   radiosity::ShooterView view(scene, n);
   view.set_shooter(from_face, scene.faces[from_face].vertices);
   double previous = 0.0;
@@ -78,7 +78,7 @@ FormFactor form_factor(const Scene& scene, std::size_t from_face, std::size_t to
         }
     }
     std::vector<double> f(points.size(), 0.0);
-    core::parallel_for(points.size(), n, [&](unsigned worker, std::size_t i) { f[i] = view.evaluate(worker, points[i]); });
+    runtime::parallel_for(points.size(), n, [&](unsigned worker, std::size_t i) { f[i] = view.evaluate(worker, points[i]); });
     double sum = 0.0;
     for (std::size_t i = 0; i < f.size(); ++i) sum += w[i] * f[i];
     const double value = sum / from_area;

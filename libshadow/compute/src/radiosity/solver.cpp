@@ -3,7 +3,7 @@
 // fragments of the direct light (docs/radiosity.md).
 #include <shadow/radiosity.hpp>
 
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "radiosity/shooter_view.hpp"
 #include "radiosity/triangles.hpp"
 
@@ -51,7 +51,7 @@ void check_options(const RadiosityOptions& o) {
     throw InputError({"", "patch_area"}, "patch_area must be a finite number >= 0 (m^2)");
   if (!(o.tolerance > 0.0) || !(o.tolerance < 1.0))
     throw InputError({"", "tolerance"}, "tolerance must be in (0, 1): the unshot fraction to stop at");
-  core::checked_threads(o.threads);
+  runtime::checked_threads(o.threads);
 }
 
 void add_element(std::vector<Element>& out, std::size_t face, const radiosity::Triangle& t, std::size_t fragment,
@@ -173,7 +173,7 @@ void receive_factors(radiosity::ShooterView& view, const std::vector<Element>& e
   view.set_shooter(s.face, {s.triangle[0], s.triangle[1], s.triangle[2]}, std::move(pieces));
   factor.assign(elements.size(), 0.0);
   quad.assign(elements.size(), 0.0);
-  core::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
+  runtime::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
     const Element& e = elements[i];
     if (e.face == s.face) return;
     const double gap = glm::length(e.centroid - s.centroid);
@@ -252,7 +252,7 @@ Totals fill_arrays(const Scene& scene, const std::vector<Element>& elements, con
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
   check_options(options);
-  const unsigned threads = core::resolve_threads(options.threads);
+  const unsigned threads = runtime::resolve_threads(options.threads);
   std::vector<Fragment> fragments;
   if (!scene.lights.empty()) {
     ShadowOptions so;

@@ -2,6 +2,7 @@
 // The sun's position in model coordinates, ISO 8601 times (days-from-civil arithmetic: no
 // timegm, no TZ environment, so thread-safe and portable), and sun periods expanded into
 // instants and directional lights.
+#include "common/format.hpp"
 #include "sun/spa.hpp"
 
 #include <shadow/error.hpp>
@@ -15,6 +16,9 @@
 #include <string>
 
 namespace shadow {
+
+using detail::format_number;  // common/format.hpp
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -70,12 +74,6 @@ std::optional<int> read_offset(std::string_view s, std::size_t pos) {
   }
   if (pos != s.size() || hours > 23 || minutes > 59) return std::nullopt;
   return sign * (hours * 60 + minutes);
-}
-
-std::string format_number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", x);
-  return buffer;
 }
 
 }  // namespace

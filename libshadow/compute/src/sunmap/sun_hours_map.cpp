@@ -19,7 +19,7 @@
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
 #include "core/lights.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "core/prepared_scene.hpp"
 #include "engine/engine_access.hpp"
 #include "exact/exact_faces.hpp"
@@ -126,10 +126,10 @@ class FaceOverlay {
     CGAL::insert(arr, curves_.begin(), curves_.end());  // one sweep: not stopped inside
     curves_.clear();
     curves_.shrink_to_fit();
-    core::check_stop();
+    runtime::check_stop();
     walk(arr);
     if (merge_) merge_equal(arr);
-    core::check_stop();
+    runtime::check_stop();
 
     // The integral of hours over the face, sum over instants of w_i x lit area_i: the same exact
     // rational as the sum over the overlay's faces of hours x area (the tests check the cells
@@ -139,7 +139,7 @@ class FaceOverlay {
     std::vector<Polygon2> cells;
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
       if (f->is_unbounded() || !inside_[f->data()]) continue;
-      core::check_stop();
+      runtime::check_stop();
       PolygonWithHoles2 region(ccb_polygon(f->outer_ccb()));
       for (auto h = f->inner_ccbs_begin(); h != f->inner_ccbs_end(); ++h) region.add_hole(ccb_polygon(*h));
       const double sun_hours = round_mpq(hours_at_[f->data()]);
@@ -295,9 +295,9 @@ class FaceOverlay {
 
 SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
                                   const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options) {
-  const core::PreparedScene ctx = shadow::detail::EngineAccess::prepared(engine);
+  const core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
   const Scene& scene = *ctx.scene;
-  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
+  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
   std::vector<double> hours(instants.size());
   for (std::size_t i = 0; i < instants.size(); ++i) {
     const std::string path = "instants[" + std::to_string(i) + "]";
@@ -337,7 +337,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
   std::function<void(std::size_t)> report;
   if (options.progress) report = [&](std::size_t) { options.progress(Progress{done.load(), total}); };
 
-  core::parallel_for(
+  runtime::parallel_for(
       faces.size(), threads,
       [&](unsigned wi, std::size_t k) {
         Worker& w = workers[wi];
@@ -351,7 +351,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
         const ExactFace& P = w.exact.face(ctx, f);
         FaceOverlay overlay(ctx, P, fp, f, hours, options.merge_equal);
         for (std::size_t i = 0; i < instants.size(); ++i) {
-          core::check_stop();  // a face's instants take long: Ctrl-C must not wait for all of them
+          runtime::check_stop();  // a face's instants take long: Ctrl-C must not wait for all of them
           const ExactLight light = to_exact_light(instants[i].light);
           const int side = CGAL::sign(plane_at_light(P, light));
           const LitRegion region = exact_lit_region(ctx, w.exact, f, i, light, side, instants[i].light,

@@ -4,7 +4,7 @@
 // turned outward on request.
 #include "validation/mesh_orientation.hpp"
 
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "geometry/point_hash.hpp"
 
 #include <algorithm>
@@ -73,7 +73,7 @@ void scatter_by_shard(std::size_t n, unsigned threads, const ShardOf& shard_of, 
   constexpr std::size_t kBlock = std::size_t{1} << 16;
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::size_t> at(blocks * kShards, 0);
-  core::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
     std::size_t* count = &at[b * kShards];
     for (std::size_t i = begin; i < end; ++i) ++count[shard_of(i)];
   });
@@ -89,7 +89,7 @@ void scatter_by_shard(std::size_t n, unsigned threads, const ShardOf& shard_of, 
   }
   start[kShards] = next;
   out.resize(n);
-  core::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
     std::size_t* place = &at[b * kShards];
     for (std::size_t i = begin; i < end; ++i) out[place[shard_of(i)]++] = make(i);
   });
@@ -132,7 +132,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
   std::vector<std::uint32_t> face_of(corners);
   for (std::size_t i = 0; i < faces.size(); ++i) offset[i + 1] = offset[i] + scene.faces[faces[i]].vertices.size();
   constexpr std::size_t kFaceBlock = 4096;
-  core::parallel_for_blocks(faces.size(), kFaceBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(faces.size(), kFaceBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i)
       std::fill(face_of.begin() + static_cast<std::ptrdiff_t>(offset[i]), face_of.begin() + static_cast<std::ptrdiff_t>(offset[i + 1]),
                 static_cast<std::uint32_t>(i));
@@ -149,7 +149,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
   std::vector<std::size_t> start;
   {
     std::vector<std::uint64_t> hash(corners);
-    core::parallel_for_blocks(corners, std::size_t{1} << 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    runtime::parallel_for_blocks(corners, std::size_t{1} << 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t c = begin; c < end; ++c) hash[c] = point_hash(point(c));
     });
     scatter_by_shard(
@@ -160,7 +160,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
   // Vertex numbers: within a shard by first use (number_by_first_use), then offset by the shards before it.
   std::vector<std::uint32_t> local(corners);  // by shard order: the corner's number in its shard
   std::vector<std::size_t> distinct(kShards + 1, 0);
-  core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+  runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const Corner* c = by_shard.data() + start[s];
     distinct[s] = number_by_first_use(
         start[s + 1] - start[s], [&](std::size_t i) { return c[i].hash; },
@@ -173,7 +173,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
     base += n;
   }
   std::vector<std::uint32_t> vertex(corners);  // by corner: its point's number
-  core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+  runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const auto shift = static_cast<std::uint32_t>(distinct[s]);
     for (std::size_t k = start[s]; k < start[s + 1]; ++k) vertex[by_shard[k].corner] = local[k] + shift;
   });
@@ -195,7 +195,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
   // Within a shard, the uses of one edge made adjacent: each key's group numbered by first use
   // (number_by_first_use), then the uses placed group after group.
   std::vector<EdgeUse> grouped(corners);
-  core::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+  runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const std::size_t n = start[s + 1] - start[s];
     const EdgeUse* u = uses.data() + start[s];
     std::vector<std::uint32_t> group(n);  // each use's group
@@ -443,7 +443,7 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   std::vector<PartOutcome> outcome(closed.size());
   // A part's search touches only its own faces, reset before it starts: one array for all.
   std::vector<int> flip(orient ? n : 0, -1);
-  core::parallel_for_blocks(closed.size(), 64, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(closed.size(), 64, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     std::vector<std::size_t> queue;
     for (std::size_t p = begin; p < end; ++p) {
       const std::size_t r = closed[p];
@@ -503,7 +503,7 @@ void check_orientations(Scene& scene, const LoadOptions& options, bool reference
   if (reference) {
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) check_orientation(scene, m, orient(m), per_mesh[m], true, 1);
   } else {
-    core::parallel_for_blocks(scene.meshes.size(), 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    runtime::parallel_for_blocks(scene.meshes.size(), 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t m = begin; m < end; ++m)
         if (scene.meshes[m].face_count < kLargeMesh) check_orientation(scene, m, orient(m), per_mesh[m], false, 1);
     });

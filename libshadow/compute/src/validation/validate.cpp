@@ -9,7 +9,7 @@
 
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "exact/face_shape.hpp"
 #include "geometry/newell_normal.hpp"
 #include "geometry/point_hash.hpp"
@@ -183,7 +183,7 @@ void validate_faces(Scene& scene, const LoadOptions& options, unsigned threads, 
   };
   std::vector<ChunkOutcome> outcome(chunks);
   std::atomic<std::size_t> first_error{n};
-  core::parallel_for_blocks(n, kChunk, threads, [&](unsigned, std::size_t c, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(n, kChunk, threads, [&](unsigned, std::size_t c, std::size_t begin, std::size_t end) {
     ChunkOutcome& o = outcome[c];
     for (std::size_t f = begin; f < end; ++f) {
       if (f > first_error.load(std::memory_order_relaxed)) return;
@@ -266,9 +266,9 @@ void validate_scene_impl(Scene& scene, const LoadOptions& options, bool referenc
     detail::check_light(scene.lights[i], scene.source.string(), "lights[" + std::to_string(i) + "]");
   for (std::size_t i = 0; i < scene.planes.size(); ++i) detail::check_plane(scene, i);
   std::vector<Warning> warnings;
-  if (options.threads > core::kMaxThreads)
+  if (options.threads > runtime::kMaxThreads)
     throw InputError({"", "LoadOptions::threads"}, "must be 0 (every hardware thread) to " +
-                                                       std::to_string(core::kMaxThreads) + ", got " +
+                                                       std::to_string(runtime::kMaxThreads) + ", got " +
                                                        std::to_string(options.threads));
   Rejected rejected;
   if (reference) {
@@ -277,7 +277,7 @@ void validate_scene_impl(Scene& scene, const LoadOptions& options, bool referenc
       if (!problem.empty()) rejected.emplace_back(f, std::move(problem));
     }
   } else {
-    validate_faces(scene, options, core::resolve_threads(options.threads), warnings, rejected);
+    validate_faces(scene, options, runtime::resolve_threads(options.threads), warnings, rejected);
   }
   // Skipped faces leave before anything looks at meshes as wholes (orientation), and before any
   // face_id is handed out: ids count the faces kept.
@@ -287,7 +287,7 @@ void validate_scene_impl(Scene& scene, const LoadOptions& options, bool referenc
                      "every face of the scene is invalid (" + std::to_string(scene.skipped_faces.size()) +
                          " skipped with --skip-invalid); this one: " + scene.skipped_faces.front().reason);
   warn_skipped(scene, warnings);
-  validation::check_orientations(scene, options, reference, core::resolve_threads(options.threads), warnings);
+  validation::check_orientations(scene, options, reference, runtime::resolve_threads(options.threads), warnings);
   // Validating twice (load_scene, then the caller) must not repeat warnings.
   for (Warning& w : warnings) {
     const bool known = std::any_of(scene.warnings.begin(), scene.warnings.end(), [&](const Warning& old) {
@@ -308,7 +308,7 @@ void detail::validate_scene_reference(Scene& scene, const LoadOptions& options) 
 std::vector<Warning> detail::check_mesh_orientation(Scene& scene, const LoadOptions& options, bool reference) {
   std::vector<Warning> warnings;
   validation::check_orientations(scene, options, reference,
-                                    core::resolve_threads(core::checked_threads(options.threads)), warnings);
+                                    runtime::resolve_threads(runtime::checked_threads(options.threads)), warnings);
   return warnings;
 }
 

@@ -17,7 +17,7 @@
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
 #include "core/lights.hpp"
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 #include "core/prepared_scene.hpp"
 #include "engine/engine_access.hpp"
 #include "exact/exact_faces.hpp"
@@ -203,12 +203,12 @@ glm::dvec2 project_to_image(const ViewFrame& frame, const glm::dvec3& point, dou
 }
 
 VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& camera, const VectorViewOptions& options) {
-  const core::PreparedScene ctx = shadow::detail::EngineAccess::prepared(engine);
+  const core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
   const Scene& scene = *ctx.scene;
   VectorView view;
   view.frame = make_view_frame(camera);
   const ViewFrame& frame = view.frame;
-  const unsigned threads = core::resolve_threads(core::checked_threads(options.threads));
+  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
 
   const Light* light = nullptr;
   Light centre;  // an extended light's centre, a point or directional light
@@ -261,7 +261,7 @@ VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& cam
   for (std::size_t f = 0; f < n; ++f)
     if (eye_side[f] < 0) std::reverse(seen.faces[f].vertices.begin(), seen.faces[f].vertices.end());
   const ShadowEngine seen_engine(seen, threads);
-  core::PreparedScene seen_ctx = shadow::detail::EngineAccess::prepared(seen_engine);
+  core::PreparedScene seen_ctx = shadow::engine::prepared_scene(seen_engine);
   // No convex solid of the turned scene keeps its faces from hiding each other: a face's own
   // solid is skipped as a caster (right for a front lit from outside), but a solid's back faces
   // are hidden by its own front faces.
@@ -287,7 +287,7 @@ VectorView compute_vector_view(const ShadowEngine& engine, const ViewCamera& cam
   }
   std::vector<std::vector<ViewPiece>> per_face(n);
   std::vector<double> dropped(n, 0.0);
-  core::parallel_for(
+  runtime::parallel_for(
       n, threads,
       [&](unsigned wi, std::size_t f) {
         if (eye_side[f] == 0 || (*ctx.prep)[f].degenerate || hidden_by_own_solid(f)) return;

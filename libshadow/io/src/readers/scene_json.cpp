@@ -37,11 +37,6 @@ namespace scene_json {
 
 // ---- small helpers for messages ----------------------------------------------------------------
 
-std::string format_number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.17g", x);
-  return buffer;
-}
 
 namespace {
 

@@ -4,6 +4,7 @@
 // (scene_json_meshes.cpp), the lights and the sun (scene_json_lights.cpp). Internal to scene/.
 #pragma once
 
+#include "common/format.hpp"
 #include "readers/json_document.hpp"
 #include "readers/model_dispatch.hpp"
 
@@ -29,8 +30,8 @@ using scene_readers::element;
 using scene_readers::member;
 using scene_readers::quote;
 
-/// A number as messages write it.
-std::string format_number(double x);
+/// A number as messages write it (common/format.hpp: the shortest form that reads back exactly).
+using detail::format_number;
 
 /// " (did you mean \"position\"?)" for a near miss, else "".
 std::string suggestion(const std::string& given, const std::vector<std::string>& known);

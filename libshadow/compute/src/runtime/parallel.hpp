@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-namespace shadow::core {
+namespace shadow::runtime {
 
 /// ShadowOptions::threads (and ShadowEngine's `threads`) above this is an InputError: a typo
 /// such as 99999999 would otherwise try to start that many threads and workers.
@@ -92,10 +92,10 @@ class TickScope {
 
 /// Runs task(w) for every w in [0, n) on the library's pool of threads and waits, calling
 /// `tick` (if any) about every 100 ms while it does; neither may throw. The pool's threads are
-/// started on first need and kept for the process (starting and joining 16 threads took 0.6 ms
-/// on the 2-core machine, about eight times per light). False, having done nothing, when the
+/// started on first need and kept for the process (starting and joining them on every call,
+/// about eight calls per light, was a serial cost: docs/benchmarks.md). False, having done nothing, when the
 /// pool is running another call's tasks (a nested or concurrent call) or cannot start a thread:
-/// the caller then starts threads of its own. core/thread_pool.cpp.
+/// the caller then starts threads of its own. runtime/thread_pool.cpp.
 bool run_on_pool(unsigned n, const std::function<void(unsigned)>& task, const std::function<void()>& tick);
 
 /// Runs work(worker, item) for item in [0, count) on `threads` workers. The calling thread
@@ -226,4 +226,4 @@ inline void parallel_for_blocks(std::size_t count, std::size_t block, unsigned t
       progress);
 }
 
-}  // namespace shadow::core
+}  // namespace shadow::runtime

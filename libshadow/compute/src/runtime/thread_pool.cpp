@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The library's pool of worker threads (core::run_on_pool, used by core::parallel_for).
+// The library's pool of worker threads (runtime::run_on_pool, used by runtime::parallel_for).
 //
-// parallel_for used to start its threads and join them on every call: about eight calls per
-// light (the workers, the item table, the light-space grid, the receivers, the tile cells, the
-// tiles, the result rows, their release), and starting and joining 16 threads took 0.6 ms on
-// the 2-core machine, serial, in the calling thread. The pool's threads are started once, on
-// first need, and wait for the next call's tasks.
+// parallel_for is called about eight times per light (the workers, the item table, the
+// light-space grid, the receivers, the tile cells, the tiles, the result rows, their release);
+// starting and joining threads on every call is a serial cost in the calling thread
+// (docs/benchmarks.md). The pool's threads are started once, on first need, and wait for the
+// next call's tasks.
 //
 // - One call at a time: a call made while another is running (from inside a task or a progress
 //   report, or from another thread) gets false and its caller starts threads of its own.
@@ -16,7 +16,7 @@
 //   default floating-point environment (round to nearest, which CGAL's filters expect).
 // - fork(): the child has only the forking thread, so it drops the parent's pool (its locks
 //   possibly held by threads that no longer exist) and starts its own on first need.
-#include "core/parallel.hpp"
+#include "runtime/parallel.hpp"
 
 #include <pthread.h>
 #include <signal.h>
@@ -32,7 +32,7 @@
 #include <thread>
 #include <vector>
 
-namespace shadow::core {
+namespace shadow::runtime {
 namespace {
 
 class ThreadPool {
@@ -150,4 +150,4 @@ bool run_on_pool(unsigned n, const std::function<void(unsigned)>& task, const st
   return pool().run(n, task, tick);
 }
 
-}  // namespace shadow::core
+}  // namespace shadow::runtime
