@@ -41,11 +41,14 @@ std::vector<shadow::SunHoursInstant> sun_day(std::size_t count, double declinati
   for (std::size_t k = 0; k < count; ++k) {
     const double hour = 6.0 + (static_cast<double>(k) + 0.5) * step;  // solar time, mid-step
     const double h = (hour - 12.0) * 15.0 * pi / 180.0;                // hour angle
-    const double sin_e = std::sin(latitude) * std::sin(decl) + std::cos(latitude) * std::cos(decl) * std::cos(h);
+    const double sin_e = declination_deg == 0 ? std::cos(latitude) * std::cos(h)
+                                              : std::sin(latitude) * std::sin(decl) + std::cos(latitude) * std::cos(decl) * std::cos(h);
     const double e = std::asin(sin_e);
     if (e * 180.0 / pi < 2.0) continue;
     // Azimuth clockwise from north: east in the morning, south at noon, west in the evening.
-    const double cos_a = (std::sin(decl) - sin_e * std::sin(latitude)) / (std::cos(e) * std::cos(latitude));
+    // At the equinox the formula the earlier tables used, bit for bit (the same suns).
+    const double cos_a = declination_deg == 0 ? -std::sin(latitude) * std::cos(h) / std::cos(e)
+                                              : (std::sin(decl) - sin_e * std::sin(latitude)) / (std::cos(e) * std::cos(latitude));
     double a = std::acos(std::max(-1.0, std::min(1.0, cos_a))) * 180.0 / pi;
     if (h > 0) a = 360.0 - a;
     out.push_back({shadow::directional_light(prefix + std::to_string(k), shadow::sun_direction(e * 180.0 / pi, a)), step});
@@ -62,6 +65,12 @@ std::vector<shadow::SunHoursInstant> sun_days(std::size_t count, std::size_t day
     for (shadow::SunHoursInstant& i : sun_day(count, declination, "d" + std::to_string(d) + "t")) out.push_back(std::move(i));
   }
   return out;
+}
+
+std::string fixed(double value, int digits = 3) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
 }
 
 double peak_mib() {
@@ -97,6 +106,23 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
       auto start = std::chrono::steady_clock::now();
       for (std::size_t i = 0; i < instants.size(); ++i) (void)engine.compute(instants[i].light, i, options);
       const double engine_s = seconds_since(start);
+      // The threshold map alone first (full = false), so that the peak after it is its own.
+      std::string levels_row, levels_summary;
+      if (!opt.levels.empty()) {
+        shadow::SunHoursOptions level_options;
+        level_options.threads = threads;
+        level_options.strip_edges = opt.strip_edges;
+        level_options.levels = opt.levels;
+        level_options.full = false;
+        start = std::chrono::steady_clock::now();
+        const shadow::SunHoursMap levels = shadow::compute_sun_hours_map(engine, *faces, instants, level_options);
+        const double levels_s = seconds_since(start);
+        levels_row = "| " + std::to_string(boxes) + " | " + std::to_string(scene.faces.size()) + " | " +
+                     std::to_string(instants.size()) + " | " + label + ", levels only | | " + fixed(levels_s) + " | " +
+                     std::to_string(levels.level_regions) + " | - | " + std::to_string(levels.level_cells.size()) +
+                     " | | " + fixed(peak_mib(), 0) + " |\n";
+        levels_summary = shadow::sun_hours_levels_summary(levels, "    ");
+      }
       shadow::SunHoursOptions map_options;
       map_options.threads = threads;
       map_options.strip_edges = opt.strip_edges;
@@ -117,21 +143,8 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
                   instants.size(), label.c_str(), engine_s, map_s, regions(map), unmerged.c_str(), map.cells.size(), most,
                   map_peak);
       std::fflush(stdout);
-      if (!opt.levels.empty()) {
-        // The threshold map alone (full = false): its cells, and the share of the area at each level.
-        shadow::SunHoursOptions level_options;
-        level_options.threads = threads;
-        level_options.strip_edges = opt.strip_edges;
-        level_options.levels = opt.levels;
-        level_options.full = false;
-        start = std::chrono::steady_clock::now();
-        const shadow::SunHoursMap levels = shadow::compute_sun_hours_map(engine, *faces, instants, level_options);
-        const double levels_s = seconds_since(start);
-        std::printf("|  |  | %zu | %s, levels | | %.3f | %zu | | %zu | | %.0f |\n", instants.size(), label.c_str(), levels_s,
-                    levels.level_regions, levels.level_cells.size(), peak_mib());
-        std::printf("%s", shadow::sun_hours_levels_summary(levels, "    ").c_str());
-        std::fflush(stdout);
-      }
+      if (!levels_row.empty()) std::printf("%s%s", levels_row.c_str(), levels_summary.c_str());
+      std::fflush(stdout);
       if (!opt.write_dir.empty() && label == "ground" && count == instant_counts.front()) {
         std::filesystem::create_directories(opt.write_dir);
         shadow::ShadowOptions noon;

@@ -23,6 +23,7 @@
 #include <CGAL/Arrangement_2.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <deque>
 #include <utility>
@@ -99,7 +100,7 @@ class StripOverlay {
     core::check_stop();
     walk(arr, strip);
     StripMap out;
-    out.level_area.assign(r_.levels.size() + 1, mpq_class(0));
+    out.level_area.resize(r_.levels.size() + 1);
     if (r_.full) {
       if (r_.merge) merge(arr, [&](long a, long b) { return hours_at_[a] == hours_at_[b]; });
       emit_all(arr, out, false);
@@ -210,7 +211,7 @@ class StripOverlay {
       for (auto h = f->inner_ccbs_begin(); h != f->inner_ccbs_end(); ++h) region.add_hole(ccb_polygon(*h));
       const std::size_t level = levels ? level_[f->data()] : 0;
       const double value = !levels ? round_mpq(hours_at_[f->data()]) : level == 0 ? 0.0 : round_mpq(r_.levels[level - 1]);
-      mpq_class& area = levels ? out.level_area[level] : out.hour_area[hours_at_[f->data()]];
+      std::vector<mpq_class>& area = levels ? out.level_area[level] : out.hour_area[hours_at_[f->data()]];
       cells.clear();
       append_simple_cells(region, cells);
       const std::size_t before = dest.size();
@@ -224,9 +225,10 @@ class StripOverlay {
 
   /// One simple cell as a SunHoursCell when its rounded polygon is clean, else its triangles
   /// (those that collapse are counted in dropped_area), as the exact engine writes fragments.
-  void emit(Polygon2& cell, double value, std::vector<SunHoursCell>& dest, mpq_class& area, bool count_dropped) {
+  void emit(Polygon2& cell, double value, std::vector<SunHoursCell>& dest, std::vector<mpq_class>& area,
+            bool count_dropped) {
     const mpq_class cell_area = exact_area(cell);
-    area += abs(cell_area);
+    area.push_back(abs(cell_area));
     if (write(cell, cell_area, value, dest)) return;
     if (sgn(cell_area) < 0) cell.reverse_orientation();
     std::vector<Polygon2> triangles;
@@ -304,6 +306,64 @@ double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale) {
   if (sgn(chart_area) == 0) return 0.0;
   const mpq_class squared = chart_area * chart_area * scale;
   return exact::sqrt_mpq_to_double(squared.get_mpq_t());
+}
+
+double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, const mpq_class& scale) {
+  std::size_t count = 0;
+  long top = LONG_MIN;  // the largest term's binary exponent
+  for (const std::vector<mpq_class>* part : parts)
+    for (const mpq_class& t : *part) {
+      if (sgn(t) == 0) continue;
+      ++count;
+      long e = 0;
+      mpf_class approx(t, 64);
+      mpf_get_d_2exp(&e, approx.get_mpf_t());
+      top = std::max(top, e);
+    }
+  if (count == 0) return 0.0;
+  // Fixed point with `shift` bits: each term truncated loses < 2^-shift, so the total lies in
+  // [S, S + count] x 2^-shift, a bracket about 2^-60 of the total's last bit wide (the terms are
+  // non-negative, so the total is at least the largest term).
+  long bits = 0;
+  while ((std::size_t{1} << bits) < count) ++bits;
+  const long shift = 53 + 60 + bits - top;
+  mpz_class sum(0), term;
+  for (const std::vector<mpq_class>* part : parts)
+    for (const mpq_class& t : *part) {
+      if (shift >= 0) {
+        mpz_mul_2exp(term.get_mpz_t(), t.get_num_mpz_t(), static_cast<mp_bitcnt_t>(shift));
+        mpz_fdiv_q(term.get_mpz_t(), term.get_mpz_t(), t.get_den_mpz_t());
+      } else {
+        mpz_mul_2exp(term.get_mpz_t(), t.get_den_mpz_t(), static_cast<mp_bitcnt_t>(-shift));
+        mpz_fdiv_q(term.get_mpz_t(), t.get_num_mpz_t(), term.get_mpz_t());
+      }
+      sum += term;
+    }
+  mpz_class unit(1);
+  mpq_class lo, hi;
+  if (shift >= 0) {
+    mpz_mul_2exp(unit.get_mpz_t(), unit.get_mpz_t(), static_cast<mp_bitcnt_t>(shift));
+    lo = mpq_class(sum, unit);
+    hi = mpq_class(sum + count, unit);
+  } else {
+    mpz_mul_2exp(unit.get_mpz_t(), unit.get_mpz_t(), static_cast<mp_bitcnt_t>(-shift));
+    lo = mpq_class(sum * unit);
+    hi = mpq_class((sum + count) * unit);
+  }
+  lo.canonicalize();
+  hi.canonicalize();
+  const double a = area_3d_mpq(lo, scale), b = area_3d_mpq(hi, scale);
+  if (a == b) return a;
+  // Too close to a tie to tell: the exact sum, pairwise (balanced) to keep the operands small.
+  std::vector<mpq_class> terms;
+  for (const std::vector<mpq_class>* part : parts) terms.insert(terms.end(), part->begin(), part->end());
+  while (terms.size() > 1) {
+    std::vector<mpq_class> next;
+    for (std::size_t k = 0; k + 1 < terms.size(); k += 2) next.push_back(terms[k] + terms[k + 1]);
+    if (terms.size() % 2 == 1) next.push_back(terms.back());
+    terms.swap(next);
+  }
+  return area_3d_mpq(terms.front(), scale);
 }
 
 std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart, std::size_t strip_edges) {

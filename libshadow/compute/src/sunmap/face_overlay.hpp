@@ -56,8 +56,10 @@ struct StripMap {
   std::size_t regions = 0;
   std::vector<SunHoursCell> level_cells;  ///< the threshold map's cells (sun_hours = the level reached)
   std::size_t level_regions = 0;
-  std::map<mpq_class, mpq_class> hour_area;  ///< exact chart area per exact hours (full map only)
-  std::vector<mpq_class> level_area;         ///< exact chart area per level index (0: below every level)
+  /// The exact chart areas of the cells, per exact hours (full map only): summed once per face
+  /// by area_3d_of_sum (adding them one by one was most of the run time: unrelated denominators).
+  std::map<mpq_class, std::vector<mpq_class>> hour_area;
+  std::vector<std::vector<mpq_class>> level_area;  ///< the same per level index (0: below every level)
   mpq_class dropped{0};                      ///< chart area of cells too thin to write
 };
 
@@ -79,6 +81,12 @@ StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, c
 
 /// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
 void add_boundary(const exact::Polygon2& polygon, long instant, std::vector<Curve>& curves);
+
+/// area_3d (as area_3d_mpq) of the exact sum of the non-negative chart areas in `parts`, rounded
+/// once. The terms are first summed in fixed point, far below the total's last bit, which brackets
+/// the sum; when both ends of the bracket round alike that is the exact sum's rounding, else (a
+/// sum within about 2^-60 of its last bit from a tie) the terms are summed exactly.
+double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, const mpq_class& scale);
 
 /// area_3d of an exact rational chart area under (3D / chart area)^2 = `scale`, rounded as
 /// area_3d rounds.

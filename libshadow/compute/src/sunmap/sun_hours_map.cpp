@@ -102,8 +102,8 @@ struct FaceMap {
 
 FaceMap assemble(std::vector<sunmap::StripMap>& strips, SunHoursFace face, const mpq_class& scale, std::size_t levels) {
   FaceMap out;
-  std::map<mpq_class, mpq_class> hour_area;
-  std::vector<mpq_class> level_area(levels + 1, mpq_class(0));
+  std::map<mpq_class, std::vector<const std::vector<mpq_class>*>> hour_area;
+  std::vector<std::vector<const std::vector<mpq_class>*>> level_area(levels + 1);
   mpq_class dropped(0);
   for (sunmap::StripMap& s : strips) {
     for (SunHoursCell& c : s.cells) {
@@ -111,27 +111,29 @@ FaceMap assemble(std::vector<sunmap::StripMap>& strips, SunHoursFace face, const
       out.cells.push_back(std::move(c));
     }
     out.regions += s.regions;
+    s.cells = {};
     for (SunHoursCell& c : s.level_cells) {
       c.region_id += out.level_regions;
       out.level_cells.push_back(std::move(c));
     }
     out.level_regions += s.level_regions;
-    for (const auto& [hours, area] : s.hour_area) hour_area[hours] += area;
-    for (std::size_t k = 0; k < s.level_area.size() && k <= levels; ++k) level_area[k] += s.level_area[k];
+    s.level_cells = {};
+    for (const auto& [hours, areas] : s.hour_area) hour_area[hours].push_back(&areas);
+    for (std::size_t k = 0; k < s.level_area.size() && k <= levels; ++k) level_area[k].push_back(&s.level_area[k]);
     dropped += s.dropped;
-    s = sunmap::StripMap{};
   }
   face.dropped_area = sunmap::area_3d_mpq(dropped, scale);
-  for (const auto& [hours, area] : hour_area)
-    face.areas.push_back({exact::round_mpq_to_double(hours.get_mpq_t()), sunmap::area_3d_mpq(area, scale)});
-  // At least level k: the areas of the levels k and above, summed exactly.
-  mpq_class at_least(0);
+  for (const auto& [hours, parts] : hour_area)
+    face.areas.push_back({exact::round_mpq_to_double(hours.get_mpq_t()), sunmap::area_3d_of_sum(parts, scale)});
+  // At least level k: the cells of the levels k and above, summed exactly.
+  std::vector<const std::vector<mpq_class>*> at_least;
   face.level_areas.assign(levels, 0.0);
   for (std::size_t k = levels; k >= 1; --k) {
-    at_least += level_area[k];
-    face.level_areas[k - 1] = sunmap::area_3d_mpq(at_least, scale);
+    at_least.insert(at_least.end(), level_area[k].begin(), level_area[k].end());
+    face.level_areas[k - 1] = sunmap::area_3d_of_sum(at_least, scale);
   }
   out.face = std::move(face);
+  strips.clear();
   return out;
 }
 
