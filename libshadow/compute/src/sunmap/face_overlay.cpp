@@ -20,6 +20,7 @@
 #include "exact/regions.hpp"
 
 #include <CGAL/Arr_extended_dcel.h>
+#include <CGAL/Arr_observer.h>
 #include <CGAL/Arrangement_2.h>
 
 #include <algorithm>
@@ -77,6 +78,158 @@ class StripOverlay {
   }
 
   StripMap run(const std::vector<std::size_t>& which, const Strip& strip) {
+    std::vector<Curve> curves = gather(which, strip);
+    Arrangement arr;
+    CGAL::insert(arr, curves.begin(), curves.end());  // one sweep: not stopped inside
+    curves.clear();
+    curves.shrink_to_fit();
+    core::check_stop();
+    walk(arr, strip);
+    StripMap out;
+    out.level_area.resize(r_.levels.size() + 1);
+    if (r_.full) {
+      if (r_.merge) merge(arr, [&](long a, long b) { return hours_at_[a] == hours_at_[b]; });
+      emit_all(arr, out, false);
+    }
+    if (!r_.levels.empty()) {
+      level_.resize(hours_at_.size());
+      for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
+      merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
+      emit_all(arr, out, true);
+    }
+    out.dropped = dropped_;
+    return out;
+  }
+
+  /// The threshold map alone, instant by instant: each instant's boundaries are inserted into
+  /// the arrangement so far, the faces inside its lit region gain its hours, and then every edge
+  /// between faces that can no longer be told apart is removed: equal hours, or both decided
+  /// (the level reached now is the level reached even if every instant still to come lit them)
+  /// at the same level. The arrangement holds the boundaries between undecided cells and the
+  /// level boundaries, not every instant's.
+  StripMap run_levels(const std::vector<std::size_t>& which, const Strip& strip) {
+    std::vector<Curve> curves = gather(which, strip);
+    std::vector<Curve> fixed;  // the chart's outline and the frame
+    std::map<std::size_t, std::vector<Curve>> by_instant;
+    for (Curve& c : curves) {
+      const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
+      (i >= n_ ? fixed : by_instant[i]).push_back(std::move(c));
+    }
+    curves.clear();
+    curves.shrink_to_fit();
+    Arrangement arr;
+    CGAL::insert(arr, fixed.begin(), fixed.end());
+    walk(arr, strip);  // inside counts, and the base hours inside the chart
+    mpq_class remaining(0);
+    for (const auto& [i, unused] : by_instant) remaining += (*r_.hours)[i];
+    SplitObserver observer(arr);
+    for (auto& [i, instant_curves] : by_instant) {
+      core::check_stop();
+      CGAL::insert(arr, instant_curves.begin(), instant_curves.end());
+      instant_curves = {};
+      compact(arr);
+      add_instant(arr, strip, i);
+      remaining -= (*r_.hours)[i];
+      key_.resize(hours_at_.size());
+      for (std::size_t v = 0; v < hours_at_.size(); ++v) {
+        const std::size_t now = level_of(hours_at_[v]);
+        key_[v] = now == level_of(hours_at_[v] + remaining) ? static_cast<long>(now) : -1;  // -1: undecided
+      }
+      merge(arr, [&](long a, long b) {
+        if (inside_[a] <= 0) return true;  // both outside the chart
+        return key_[a] == key_[b] && (key_[a] >= 0 || hours_at_[a] == hours_at_[b]);
+      });
+    }
+    StripMap out;
+    out.level_area.resize(r_.levels.size() + 1);
+    level_.resize(hours_at_.size());
+    for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
+    merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
+    emit_all(arr, out, true);
+    out.dropped = dropped_;
+    return out;
+  }
+
+ private:
+  /// Copies a face's data (its value index) to the face split from it.
+  class SplitObserver : public CGAL::Arr_observer<Arrangement> {
+   public:
+    explicit SplitObserver(Arrangement& arr) : CGAL::Arr_observer<Arrangement>(arr) {}
+    void after_split_face(Arrangement::Face_handle f, Arrangement::Face_handle new_f, bool) override {
+      new_f->set_data(f->data());
+    }
+  };
+
+  std::size_t level_of(const mpq_class& hours) const {
+    std::size_t level = 0;
+    while (level < r_.levels.size() && r_.levels[level] <= hours) ++level;
+    return level;
+  }
+
+  /// One value per face again (faces split from one share its value until then).
+  void compact(Arrangement& arr) {
+    std::vector<mpq_class> hours;
+    std::vector<int> inside;
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
+      hours.push_back(hours_at_[f->data()]);
+      inside.push_back(inside_[f->data()]);
+      f->set_data(static_cast<long>(hours.size() - 1));
+    }
+    hours_at_.swap(hours);
+    inside_.swap(inside);
+  }
+
+  /// Adds instant i's hours to the faces inside its lit region: a walk from a face outside it
+  /// (the unbounded face, or a strip's seed below the chart) that flips at the edges carrying i.
+  void add_instant(Arrangement& arr, const Strip& strip, std::size_t i) {
+    std::vector<signed char> in(hours_at_.size(), -1);
+    const Arrangement::Face_handle start = strip.whole ? arr.unbounded_face() : seed_face(arr, strip);
+    in[static_cast<std::size_t>(arr.unbounded_face()->data())] = 0;
+    in[static_cast<std::size_t>(start->data())] = 0;
+    std::deque<Arrangement::Face_handle> queue{start};
+    const long want = static_cast<long>(i + 1);
+    auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
+      auto h = first;
+      do {
+        const Arrangement::Face_handle to = h->twin()->face();
+        if (in[static_cast<std::size_t>(to->data())] < 0) {
+          signed char value = in[static_cast<std::size_t>(from->data())];
+          for (long tag : h->curve().data()) {
+            if (std::labs(tag) != want) continue;
+            const bool from_in_region = (h->direction() == CGAL::ARR_LEFT_TO_RIGHT) == (tag > 0);
+            value = from_in_region ? 0 : 1;
+          }
+          in[static_cast<std::size_t>(to->data())] = value;
+          queue.push_back(to);
+        }
+      } while (++h != first);
+    };
+    while (!queue.empty()) {
+      const Arrangement::Face_handle f = queue.front();
+      queue.pop_front();
+      for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
+      for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
+    }
+    const mpq_class w((*r_.hours)[i]);
+    for (std::size_t v = 0; v < in.size(); ++v)
+      if (in[v] == 1 && inside_[v] > 0) hours_at_[v] += w;
+  }
+
+  /// The face of a strip's arrangement above the frame's bottom (below the chart).
+  static Arrangement::Face_handle seed_face(Arrangement& arr, const Strip& strip) {
+    const FT ylo(strip.ylo);
+    const Arrangement::Face_handle unbounded = arr.unbounded_face();
+    for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end(); ++c) {
+      auto h = *c;
+      do {
+        if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) return h->twin()->face();
+      } while (++h != *c);
+    }
+    return unbounded;  // unreachable: every strip has its frame
+  }
+
+  /// The curves `which` of the face, clipped to the strip, with its frame.
+  std::vector<Curve> gather(const std::vector<std::size_t>& which, const Strip& strip) {
     std::vector<Curve> curves;
     curves.reserve(which.size() + 4);
     if (strip.whole) {
@@ -93,32 +246,9 @@ class StripOverlay {
       frame.push_back(Point2(strip.x0, strip.yhi));
       add_boundary(frame, static_cast<long>(n_ + 1), curves);
     }
-    Arrangement arr;
-    CGAL::insert(arr, curves.begin(), curves.end());  // one sweep: not stopped inside
-    curves.clear();
-    curves.shrink_to_fit();
-    core::check_stop();
-    walk(arr, strip);
-    StripMap out;
-    out.level_area.resize(r_.levels.size() + 1);
-    if (r_.full) {
-      if (r_.merge) merge(arr, [&](long a, long b) { return hours_at_[a] == hours_at_[b]; });
-      emit_all(arr, out, false);
-    }
-    if (!r_.levels.empty()) {
-      level_.resize(hours_at_.size());
-      for (std::size_t v = 0; v < hours_at_.size(); ++v) {
-        level_[v] = 0;
-        while (level_[v] < r_.levels.size() && r_.levels[level_[v]] <= hours_at_[v]) ++level_[v];
-      }
-      merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
-      emit_all(arr, out, true);
-    }
-    out.dropped = dropped_;
-    return out;
+    return curves;
   }
 
- private:
   /// Gives every face of `arr` its hours (data: an index into hours_at_ and inside_). From the
   /// unbounded face for a whole face; inside a strip from the face above the frame's bottom.
   /// Crossing halfedge h from h's face into its twin's leaves the regions on h's left and
@@ -278,6 +408,7 @@ class StripOverlay {
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
   std::vector<std::size_t> level_;   ///< per walked face: levels reached
+  std::vector<long> key_;            ///< run_levels: the decided level, or -1
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
 
@@ -419,6 +550,7 @@ std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, con
 StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
                        const Strip& strip) {
   StripOverlay overlay(request, b);
+  if (!request.full && !request.levels.empty()) return overlay.run_levels(which, strip);
   return overlay.run(which, strip);
 }
 
