@@ -95,6 +95,7 @@ struct SunHoursBench {
   std::string receivers = "ground,all";  ///< which receivers: ground, all (comma-separated)
   bool unmerged = true;              ///< also time the map without merging (the "regions unmerged" column)
   std::vector<double> levels;        ///< --levels: also the threshold map (its own rows)
+  bool full = true;                  ///< false (--levels-only): the threshold map alone
   std::size_t strip_edges = shadow::SunHoursOptions{}.strip_edges;  ///< --strip-edges
   std::size_t days = 1;              ///< --days: the same day's suns repeated (a period of equal days)
 };

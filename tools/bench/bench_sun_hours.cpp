@@ -123,6 +123,11 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
                      " | | " + fixed(peak_mib(), 0) + " |\n";
         levels_summary = shadow::sun_hours_levels_summary(levels, "    ");
       }
+      if (!opt.full) {
+        std::printf("%s%s", levels_row.c_str(), levels_summary.c_str());
+        std::fflush(stdout);
+        continue;
+      }
       shadow::SunHoursOptions map_options;
       map_options.threads = threads;
       map_options.strip_edges = opt.strip_edges;
