@@ -10,6 +10,7 @@
 
 #include <shadow/error.hpp>
 #include <shadow/generators.hpp>
+#include <shadow/output.hpp>
 #include <shadow/scene_io.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/sun_hours.hpp>

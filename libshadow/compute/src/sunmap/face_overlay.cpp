@@ -123,13 +123,25 @@ class StripOverlay {
     mpq_class remaining(0);
     for (const auto& [i, unused] : by_instant) remaining += (*r_.hours)[i];
     SplitObserver observer(arr);
-    for (auto& [i, instant_curves] : by_instant) {
+    // A few instants per insertion: each insertion sweeps the arrangement so far, so batches
+    // cut those sweeps, and merging after every few instants still keeps the arrangement small.
+    constexpr std::size_t batch = 8;
+    for (auto next = by_instant.begin(); next != by_instant.end();) {
       core::check_stop();
-      CGAL::insert(arr, instant_curves.begin(), instant_curves.end());
-      instant_curves = {};
+      std::vector<Curve> batch_curves;
+      std::vector<std::size_t> batch_instants;
+      for (; next != by_instant.end() && batch_instants.size() < batch; ++next) {
+        batch_instants.push_back(next->first);
+        for (Curve& c : next->second) batch_curves.push_back(std::move(c));
+        next->second = {};
+      }
+      CGAL::insert(arr, batch_curves.begin(), batch_curves.end());
+      batch_curves = {};
       compact(arr);
-      add_instant(arr, strip, i);
-      remaining -= (*r_.hours)[i];
+      for (std::size_t i : batch_instants) {
+        add_instant(arr, strip, i);
+        remaining -= (*r_.hours)[i];
+      }
       key_.resize(hours_at_.size());
       for (std::size_t v = 0; v < hours_at_.size(); ++v) {
         const std::size_t now = level_of(hours_at_[v]);
