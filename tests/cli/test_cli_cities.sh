@@ -175,6 +175,32 @@ run bad_flag_type series "$WORK/city/scene.json" -o "$WORK/out-bad-flag" --skip-
 expect_error unknown_type_in_sun_hours_map_flag bad_flag_type "$WORK/out-bad-flag" 'scene.json: --sun-hours-map: the type "Bridge" selects no mesh' \
   "the object types present: Building, BuildingPart, TINRelief"
 
+# The threshold map: --sun-hours-levels writes sun_hours_levels.vtp, the levels' exact areas in
+# report.json and the summary; bad levels, and levels without a map, stop before computing.
+run city_levels series "$WORK/city/scene.json" -o "$WORK/out-levels" --skip-invalid --sun-hours-map type:TINRelief \
+  --sun-hours-levels 4,2
+if [[ $(cat "$WORK/city_levels.status") -eq 0 && -s "$WORK/out-levels/sun_hours_levels.vtp" ]] &&
+   grep -q '^  at least 2 h of sun: area [0-9.e+]* of [0-9.e+]* ([0-9.]*%)' "$WORK/city_levels.stdout" &&
+   grep -q '^  threshold map: [0-9]* cells (sun_hours_levels.vtp)' "$WORK/city_levels.stdout"; then
+  pass series_sun_hours_levels_written
+else
+  fail series_sun_hours_levels_written "$(cat "$WORK/city_levels.stderr" "$WORK/city_levels.stdout")"
+fi
+check series_sun_hours_levels_report '
+import json, sys
+m = json.load(open(sys.argv[1]))["sun_hours_map"]
+assert [l["hours"] for l in m["levels"]] == [2, 4], m
+assert m["levels_file"] == "sun_hours_levels.vtp" and m["faces"] == 1, m
+a2, a4 = m["levels"][0]["area"], m["levels"][1]["area"]
+assert 0 <= a4 <= a2 <= m["area"] * (1 + 1e-12), m
+assert abs(m["levels"][0]["fraction"] - a2 / m["area"]) < 1e-12, m
+' "$WORK/out-levels/report.json"
+run bad_levels series "$WORK/city/scene.json" -o "$WORK/out-bad-levels" --skip-invalid --sun-hours-map type:TINRelief \
+  --sun-hours-levels 2,x
+expect_error bad_sun_hours_level bad_levels "$WORK/out-bad-levels" '--sun-hours-levels item 2: expected a number of hours, got "x"'
+run levels_without_map series "$WORK/city/scene.json" -o "$WORK/out-levels-no-map" --skip-invalid --sun-hours-levels 2
+expect_error sun_hours_levels_need_a_map levels_without_map "$WORK/out-levels-no-map" '--sun-hours-levels: needs a sun-hours map'
+
 # Every command that loads a scene takes the flag.
 for command in compute series render; do
   if "$SHADOW" $command --help 2>/dev/null | grep -q -- '--skip-invalid'; then

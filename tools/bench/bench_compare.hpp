@@ -5,6 +5,7 @@
 #include <shadow/baselines.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
+#include <shadow/sun_hours.hpp>
 
 #include <cstdint>
 #include <functional>
@@ -87,10 +88,22 @@ std::vector<std::pair<std::string, shadow::Scene>> hard_case_scenes();
 int run_golden(const std::string& source_dir, const std::string& output_path, const std::string& check_path,
                const std::string& write_dir, bool quick, unsigned threads);
 
+/// Options of `shadow-bench sun-hours` beyond the city and the instants.
+struct SunHoursBench {
+  unsigned threads = 2;
+  std::string write_dir;             ///< --write DIR
+  std::string receivers = "ground,all";  ///< which receivers: ground, all (comma-separated)
+  bool unmerged = true;              ///< also time the map without merging (the "regions unmerged" column)
+  std::vector<double> levels;        ///< --levels: also the threshold map (its own rows)
+  bool full = true;                  ///< false (--levels-only): the threshold map alone
+  std::size_t strip_edges = shadow::SunHoursOptions{}.strip_edges;  ///< --strip-edges
+  std::size_t days = 1;              ///< --days: the same day's suns repeated (a period of equal days)
+};
+
 /// `shadow-bench sun-hours` (bench_sun_hours.cpp): the exact sun-hours map of a city of `boxes`
-/// boxes over an equinox day split into each of `instants`, timed against the per-instant
-/// engine; `write_dir` non-empty: also writes the ground's map there (sun_hours.vtp) and the city.
-int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instants, unsigned threads,
-                  const std::string& write_dir);
+/// boxes over `days` days from the March equinox, each split into each of `instants`, timed
+/// against the per-instant engine; with levels also the threshold map; `write_dir` non-empty:
+/// also writes the ground's map there (sun_hours.vtp) and the city.
+int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instants, const SunHoursBench& options);
 
 }  // namespace bench

@@ -69,6 +69,9 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                      "Write sun_hours.vtp: the exact sun-hours map of these meshes' faces (comma-separated mesh "
                      "names, city/<id> or type:<CityJSON type> such as type:TINRelief; adds to the scene's "
                      "`sun_hours_map`; docs/sun-hours-map.md)");
+  series->add_option("--sun-hours-levels", args.sun_hours_levels,
+                     "With the sun-hours map: also write sun_hours_levels.vtp, the exact regions getting at least "
+                     "each of these hours (comma-separated, e.g. 2,4,6), and their areas to report.json");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
@@ -174,6 +177,7 @@ shadow::SeriesJobOptions job_options(const SeriesArgs& args) {
   o.fragments = args.fragments;
   if (args.energyplus_shading) o.energyplus_shading = true;
   if (!args.sun_hours_map.empty()) o.sun_hours_map = mesh_names(args.sun_hours_map);
+  if (!args.sun_hours_levels.empty()) o.sun_hours_levels = shadow::parse_sun_hours_levels(args.sun_hours_levels);
   o.checkpoint = args.checkpoint;
   o.resume = args.resume;
   o.stop_after = args.stop_after;
@@ -300,6 +304,7 @@ void print_summary(const shadow::SeriesJobResult& r, const SeriesArgs& args) {
                 shadow::kSeriesLongPeriodDays);
   print_no_energyplus(r, args);
   if (r.map) std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", r.map->cells.size(), r.map->faces.size());
+  if (r.map) std::printf("%s", shadow::sun_hours_levels_summary(*r.map, "  ").c_str());
   print_hand_back(r.energyplus, args, r.written);
 }
 

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace shadow {
@@ -41,6 +42,12 @@ struct SunHoursCell {
   double area = 0.0;                ///< exact area of this cell, rounded once
 };
 
+/// The area of a face's part that gets exactly `sun_hours` hours (SunHoursFace::areas).
+struct SunHoursArea {
+  double sun_hours = 0.0;  ///< rounded once from the exact sum, as SunHoursCell::sun_hours
+  double area = 0.0;       ///< the exact area of every cell with these hours, rounded once
+};
+
 /// Sun hours on one receiving face.
 struct SunHoursFace {
   std::size_t face_id = 0;
@@ -52,6 +59,13 @@ struct SunHoursFace {
   /// few ulps wide; see Fragment and FaceLighting::dropped_area).
   double dropped_area = 0.0;
   std::size_t instants_lit = 0;  ///< instants under which some part of the face is lit
+  /// The full map's area per distinct hours, ascending by hours (empty when
+  /// SunHoursOptions::full is false). Exact: the sum of the cells' exact areas, rounded once, so
+  /// two ways of cutting the face into cells give bit-equal areas.
+  std::vector<SunHoursArea> areas;
+  /// Per SunHoursMap::levels: the exact area of the part of the face that gets at least that
+  /// many hours, rounded once (empty without levels).
+  std::vector<double> level_areas;
 };
 
 /// The map over every chosen face.
@@ -63,7 +77,28 @@ struct SunHoursMap {
   /// thin to write still takes its id). A map of more faces computed in parts is their
   /// concatenation in face order, each part's region ids shifted by the earlier parts' `regions`.
   std::size_t regions = 0;
+
+  /// The threshold map's levels (SunHoursOptions::levels, ascending, repeats dropped).
+  std::vector<double> levels;
+  /// The threshold map: cells of the regions that reach the same level, `sun_hours` being the
+  /// highest level reached (0 below the lowest), merged where they touch; ordered by face_id,
+  /// then region_id (numbered apart from `cells`' regions). Its size follows the level
+  /// boundaries, not the number of instants. Empty without levels.
+  std::vector<SunHoursCell> level_cells;
+  std::size_t level_regions = 0;  ///< region ids used by level_cells
 };
+
+/// The area of the map's faces that gets at least levels[k] hours: the sum over faces of
+/// SunHoursFace::level_areas[k] (one value per level).
+std::vector<double> sun_hours_level_areas(const SunHoursMap& map);
+
+/// The area of the map's faces (the sum of SunHoursFace::area).
+double sun_hours_map_area(const SunHoursMap& map);
+
+/// Lines for a summary, each starting with `indent`: per level, the area that gets at least
+/// that many hours and its share of the map's area ("at least 2 h: 812.5 m2 of 1200 m2
+/// (67.7%)"), the threshold map's cell count; empty without levels.
+std::string sun_hours_levels_summary(const SunHoursMap& map, const std::string& indent = "");
 
 /// Options of compute_sun_hours_map.
 struct SunHoursOptions {
@@ -75,14 +110,34 @@ struct SunHoursOptions {
   /// Merge touching cells of equal hours into one region (fewer cells). When false every face
   /// of the arrangement is its own region.
   bool merge_equal = true;
+  /// The threshold map's levels in hours (finite, >= 0, any order): for each, the exact region
+  /// that gets at least that many hours (SunHoursMap::level_cells, SunHoursFace::level_areas).
+  std::vector<double> levels;
+  /// Compute the full map's cells (SunHoursMap::cells, SunHoursFace::areas); false with levels:
+  /// only the threshold map.
+  bool full = true;
+  /// A face whose instants' boundaries hold more than this many segments is cut into vertical
+  /// strips of its chart of about this many, overlaid apart and in parallel (a region crossing a
+  /// strip's side is written as one region per strip; hours and areas do not change); 0: never.
+  std::size_t strip_edges = 6000;
 };
 
 /// The exact sun-hours map on `faces` (face ids, any order, duplicates ignored) of the engine's
 /// scene under `instants`, reusing the engine's prepared faces. Degenerate faces get no cells.
 /// @throws InputError for a face id out of range, an unusable light (zero or non-finite
-/// direction, ...) or hours that are negative or not finite, naming `instants[i]`.
+/// direction, ...) or hours that are negative or not finite, naming `instants[i]`, or a level
+/// that is negative or not finite, naming `levels[k]`.
 SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces,
                                   const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options = {});
+
+/// Adds the threshold map of `levels` to `map` (a full map of the same faces and instants, for
+/// instance one put together from parts computed apart): computes it with full = false and
+/// moves its levels, level cells and per-face level areas into `map`.
+/// @throws InputError as compute_sun_hours_map; std::invalid_argument when `map`'s faces are
+/// not `faces`' (sorted, repeats dropped).
+void add_sun_hours_levels(SunHoursMap& map, const ShadowEngine& engine, const std::vector<std::size_t>& faces,
+                          const std::vector<SunHoursInstant>& instants, const std::vector<double>& levels,
+                          unsigned threads = 0);
 
 /// The faces of the scene's `sun_hours_map` meshes (Scene::sun_hours_map), ascending.
 /// @throws InputError for a mesh index out of range (possible only in scenes built in code).
@@ -100,5 +155,10 @@ std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vect
 /// median gap between them, the same rule as the series' sun hours.
 /// Empty when the scene has no `sun` block.
 std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene);
+
+/// Parses a comma-separated list of levels in hours (the CLI's `--sun-hours-levels 2,4,6`).
+/// @throws InputError naming `what` for an empty item, a non-number, or a value negative or
+/// not finite.
+std::vector<double> parse_sun_hours_levels(const std::string& text, const std::string& what = "--sun-hours-levels");
 
 }  // namespace shadow

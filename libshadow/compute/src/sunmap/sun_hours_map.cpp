@@ -1,21 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The exact sun-hours map (shadow/sun_hours.hpp, docs/sun-hours-map.md).
 //
-// Per receiving face, on one thread: the lit region of every instant, exactly as the exact
-// engine computes it (exact/exact_receiver: casters, projection, one union, the chart minus
-// it), is cut into directed boundary segments, the region on each segment's left. All of them,
-// and the face's chart outline, go into one CGAL arrangement of the chart whose curves carry
-// (instant, side) data, merged where boundaries of several instants overlap. A walk over the
-// faces of the arrangement from the unbounded one then gives every face its hours: crossing an
-// edge into instant i's region adds w_i, out of it subtracts w_i. Hours are summed as exact
-// rationals (the weights are doubles), so equal sets of instants give equal hours, and the cost
-// is the arrangement's size. Edges with equal hours on both sides are removed (touching cells
-// of equal hours merge), and every remaining face is written like a fragment: simple cells
-// (exact/regions.hpp), lifted to the face's plane, rounded once.
-//
+// Per receiving face: the lit region of every instant, exactly as the exact engine computes it
+// (exact/exact_receiver: casters, projection, one union, the chart minus it), is cut into
+// directed boundary segments, the region on each segment's left (face-instant pairs in parallel).
 // Instants under which the face is wholly lit add their weight to the whole chart (no curves);
-// wholly dark ones add nothing. So the arrangement holds only the instants whose shadow
-// boundary crosses the face.
+// wholly dark ones add nothing. A face whose boundaries are many is then cut into vertical strips
+// of its chart, each overlaid in its own arrangement (sunmap/face_overlay.hpp: face-strip pairs
+// in parallel), so that no arrangement holds every boundary of a large ground and one face's map
+// uses every thread. The strips' cells are concatenated in strip order.
 #include "core/culling.hpp"
 #include "core/face_prep.hpp"
 #include "core/lights.hpp"
@@ -26,23 +19,22 @@
 #include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
+#include "sunmap/face_overlay.hpp"
 
 #include <shadow/series.hpp>
 
 #include <shadow/error.hpp>
 #include <shadow/sun_hours.hpp>
 
-#include <CGAL/Arr_consolidated_curve_data_traits_2.h>
-#include <CGAL/Arr_extended_dcel.h>
-#include <CGAL/Arr_segment_traits_2.h>
-#include <CGAL/Arrangement_2.h>
-
 #include <gmpxx.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <deque>
+#include <cstdio>
+#include <stdexcept>
+#include <exception>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -51,253 +43,17 @@ namespace shadow {
 namespace {
 
 using namespace exact;
+using sunmap::Curve;
 
-using SegmentTraits = CGAL::Arr_segment_traits_2<Kernel>;
-// A curve's data: +(i + 1) when instant i's lit region lies on the left of the segment run from
-// its lexicographically smaller end to the larger, -(i + 1) when it lies on the right. Instant
-// index `n` (the number of instants) stands for the face's chart outline.
-using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, long>;
-using Dcel = CGAL::Arr_face_extended_dcel<Traits, long>;  // face data: index into the walk's values
-using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
-
-
-double round_mpq(const mpq_class& q) { return exact::round_mpq_to_double(q.get_mpq_t()); }
-
-/// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
-void add_boundary(const Polygon2& polygon, long instant, std::vector<Traits::Curve_2>& curves) {
-  const std::size_t n = polygon.size();
-  for (std::size_t a = 0; a < n; ++a) {
-    const Point2& p = polygon[a];
-    const Point2& q = polygon[(a + 1) % n];
-    if (p == q) continue;
-    const long tag = CGAL::compare_xy(p, q) == CGAL::SMALLER ? instant + 1 : -(instant + 1);
-    curves.emplace_back(Kernel::Segment_2(p, q), tag);
-  }
-}
-
-template <class Circulator>
-Polygon2 ccb_polygon(Circulator first) {
-  Polygon2 polygon;
-  auto h = first;
-  do {
-    polygon.push_back(h->source()->point());
-  } while (++h != first);
-  return polygon;
-}
-
-/// One face's part of the map (region ids local to the face, from 0).
-struct FaceMap {
-  std::vector<SunHoursCell> cells;
-  SunHoursFace face;
-  std::size_t regions = 0;
+/// What one instant leaves on one face.
+struct InstantPart {
+  LitRegion::Kind kind = LitRegion::Kind::Dark;
+  std::vector<Curve> curves;  ///< Partial: the lit region's boundary, tagged with the instant
+  FT lit_area{0};             ///< the lit region's exact chart area
 };
 
-class FaceOverlay {
- public:
-  FaceOverlay(const core::PreparedScene& ctx, const ExactFace& P, const core::FacePrep& fp, std::size_t face_id,
-              const std::vector<double>& hours, bool merge)
-      : ctx_(ctx), P_(P), fp_(fp), face_id_(face_id), hours_(hours), merge_(merge), n_(hours.size()) {
-    exact_to_mpq(P.area_scale_squared, scale_.get_mpq_t());
-  }
-
-  /// An instant lights the whole face.
-  void add_whole(std::size_t i) {
-    base_ += mpq_class(hours_[i]);
-    add_lit_area(i, P_.chart_area);
-  }
-  /// An instant lights part of the face: `lit` (in the chart), of exact area `lit_area`.
-  void add_partial(std::size_t i, const PolygonSet2& lit, const FT& lit_area) {
-    add_lit_area(i, lit_area);
-    regions_.clear();
-    lit.polygons_with_holes(std::back_inserter(regions_));
-    for (const PolygonWithHoles2& r : regions_) {
-      add_boundary(r.outer_boundary(), static_cast<long>(i), curves_);  // counter-clockwise
-      for (auto h = r.holes_begin(); h != r.holes_end(); ++h) add_boundary(*h, static_cast<long>(i), curves_);  // clockwise
-    }
-  }
-
-  FaceMap finish() {
-    FaceMap out;
-    out.face.face_id = face_id_;
-    out.face.area = (*ctx_.face_area)[face_id_];
-    out.face.instants_lit = lit_instants_;
-    add_boundary(P_.chart, static_cast<long>(n_), curves_);
-    Arrangement arr;
-    CGAL::insert(arr, curves_.begin(), curves_.end());  // one sweep: not stopped inside
-    curves_.clear();
-    curves_.shrink_to_fit();
-    runtime::check_stop();
-    walk(arr);
-    if (merge_) merge_equal(arr);
-    runtime::check_stop();
-
-    // The integral of hours over the face, sum over instants of w_i x lit area_i: the same exact
-    // rational as the sum over the overlay's faces of hours x area (the tests check the cells
-    // against it), and far cheaper: n terms whose areas the lit regions already evaluated,
-    // instead of thousands of cell areas with unrelated denominators.
-    out.face.hour_area = area_3d(balanced_sum(hour_area_terms_), P_.area_scale_squared);
-    std::vector<Polygon2> cells;
-    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
-      if (f->is_unbounded() || !inside_[f->data()]) continue;
-      runtime::check_stop();
-      PolygonWithHoles2 region(ccb_polygon(f->outer_ccb()));
-      for (auto h = f->inner_ccbs_begin(); h != f->inner_ccbs_end(); ++h) region.add_hole(ccb_polygon(*h));
-      const double sun_hours = round_mpq(hours_at_[f->data()]);
-      cells.clear();
-      append_simple_cells(region, cells);
-      const std::size_t before = out.cells.size();
-      for (Polygon2& cell : cells) emit(cell, sun_hours, out);
-      if (out.cells.size() > before) {
-        for (std::size_t c = before; c < out.cells.size(); ++c) out.cells[c].region_id = out.regions;
-        ++out.regions;
-      }
-    }
-    out.face.dropped_area = area_3d_mpq(dropped_);
-    return out;
-  }
-
- private:
-  void add_lit_area(std::size_t i, const FT& lit_area) {
-    ++lit_instants_;
-    if (hours_[i] != 0 && !CGAL::is_zero(lit_area)) hour_area_terms_.push_back(FT(hours_[i]) * lit_area);
-  }
-
-  /// Gives every face of `arr` its hours, walking from the unbounded face: crossing halfedge h
-  /// from h's face into its twin's leaves the regions on h's left and enters those on its right.
-  void walk(Arrangement& arr) {
-    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(-1);
-    const Arrangement::Face_handle unbounded = arr.unbounded_face();
-    unbounded->set_data(0);
-    hours_at_.assign(1, mpq_class(0));
-    inside_.assign(1, 0);
-    std::deque<Arrangement::Face_handle> queue{unbounded};
-    auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
-      auto h = first;
-      do {
-        const Arrangement::Face_handle to = h->twin()->face();
-        if (to->data() < 0) {
-          mpq_class value = hours_at_[from->data()];
-          int inside = inside_[from->data()];
-          const bool left_to_right = h->direction() == CGAL::ARR_LEFT_TO_RIGHT;
-          for (long tag : h->curve().data()) {
-            const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
-            // `from` lies on h's left; the region lies on the left of the left-to-right run
-            // when tag > 0.
-            const bool from_in_region = left_to_right == (tag > 0);
-            const int step = from_in_region ? -1 : 1;
-            if (i == n_) {
-              inside += step;
-              value += step > 0 ? base_ : mpq_class(-base_);
-            } else {
-              value += step > 0 ? mpq_class(hours_[i]) : mpq_class(-hours_[i]);
-            }
-          }
-          to->set_data(static_cast<long>(hours_at_.size()));
-          hours_at_.push_back(std::move(value));
-          inside_.push_back(inside);
-          queue.push_back(to);
-        }
-      } while (++h != first);
-    };
-    while (!queue.empty()) {
-      const Arrangement::Face_handle f = queue.front();
-      queue.pop_front();
-      for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
-      for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
-    }
-  }
-
-  /// Removes every edge with equal (inside, hours) on both sides: touching cells of equal
-  /// hours become one face. No antenna is left, since every remaining edge separates faces
-  /// of different hours.
-  void merge_equal(Arrangement& arr) {
-    std::vector<Arrangement::Halfedge_handle> removable;
-    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
-      const long a = e->face()->data(), b = e->twin()->face()->data();
-      if (a == b || (inside_[a] == inside_[b] && hours_at_[a] == hours_at_[b])) removable.push_back(e);
-    }
-    for (Arrangement::Halfedge_handle e : removable) arr.remove_edge(e);
-  }
-
-  /// One simple cell as a SunHoursCell when its rounded polygon is clean, else its triangles
-  /// (those that collapse are counted in dropped_area), as the exact engine writes fragments.
-  void emit(Polygon2& cell, double sun_hours, FaceMap& out) {
-    const mpq_class cell_area = exact_area(cell);
-    if (write(cell, cell_area, sun_hours, out)) return;
-    if (sgn(cell_area) < 0) cell.reverse_orientation();
-    std::vector<Polygon2> triangles;
-    triangulate_region(PolygonWithHoles2(cell), triangles);
-    for (const Polygon2& t : triangles) {
-      const mpq_class t_area = exact_area(t);
-      if (!write(t, t_area, sun_hours, out)) dropped_ += abs(t_area);
-    }
-  }
-
-  /// The exact signed chart area of a cell: the shoelace on its vertices' exact rational
-  /// coordinates. The same value as polygon_area, with half the rational operations and no lazy
-  /// DAG per term: the cells' exact areas were half the map's run time.
-  static mpq_class exact_area(const Polygon2& cell) {
-    const std::size_t n = cell.size();
-    mpq_class twice(0), term;
-    for (std::size_t a = 0; a < n; ++a) {
-      const auto& p = CGAL::exact(cell[a]);
-      const auto& q = CGAL::exact(cell[(a + 1) % n]);
-      term = p.x() * q.y();
-      twice += term;
-      term = q.x() * p.y();
-      twice -= term;
-    }
-    return twice / 2;
-  }
-
-  /// area_3d for an exact rational chart area: sqrt(chart_area^2 x scale), the rational rounded
-  /// to 256 bits before the root as sqrt_to_double does, so the result is area_3d's bit for bit.
-  double area_3d_mpq(const mpq_class& chart_area) const {
-    if (sgn(chart_area) == 0) return 0.0;
-    const mpq_class squared = chart_area * chart_area * scale_;
-    return exact::sqrt_mpq_to_double(squared.get_mpq_t());
-  }
-
-  bool write(const Polygon2& cell, const mpq_class& cell_area, double sun_hours, FaceMap& out) {
-    SunHoursCell c;
-    c.face_id = face_id_;
-    c.sun_hours = sun_hours;
-    c.area = area_3d_mpq(cell_area);
-    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-      c.polygon.push_back(nearest_doubles(lift(*v, P_, fp_.axis)));
-    }
-    // The chart sees the face clockwise when flipped: restore the face's orientation.
-    if (fp_.flipped == (sgn(cell_area) > 0)) std::reverse(c.polygon.begin(), c.polygon.end());
-    if (!core::clean_double_polygon(c.polygon, fp_.axis)) return false;
-    out.cells.push_back(std::move(c));
-    return true;
-  }
-
-  const core::PreparedScene& ctx_;
-  const ExactFace& P_;
-  const core::FacePrep& fp_;
-  std::size_t face_id_;
-  const std::vector<double>& hours_;
-  bool merge_;
-  std::size_t n_;
-  mpq_class base_{0};  ///< the hours of the instants that light the whole face
-  mpq_class scale_;    ///< (3D area / chart area)^2, exact
-  std::size_t lit_instants_ = 0;
-  std::vector<Traits::Curve_2> curves_;
-  std::vector<PolygonWithHoles2> regions_;
-  std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
-  std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
-  mpq_class dropped_{0};  ///< exact chart area of the cells too thin to write
-  std::vector<FT> hour_area_terms_;  ///< w_i x lit chart area_i
-};
-
-}  // namespace
-
-SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
-                                  const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options) {
-  const core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
-  const Scene& scene = *ctx.scene;
-  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
+/// The instants' weights, their lights and weights checked.
+std::vector<double> checked_hours(const std::vector<SunHoursInstant>& instants) {
   std::vector<double> hours(instants.size());
   for (std::size_t i = 0; i < instants.size(); ++i) {
     const std::string path = "instants[" + std::to_string(i) + "]";
@@ -307,6 +63,11 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
       throw InputError({"", path + ".hours"}, "hours must be finite and >= 0, got " + std::to_string(w));
     hours[i] = w;
   }
+  return hours;
+}
+
+/// The face ids checked, ascending, repeats dropped.
+std::vector<std::size_t> checked_faces(const Scene& scene, const std::vector<std::size_t>& faces_in) {
   std::vector<std::size_t> faces;
   for (std::size_t k = 0; k < faces_in.size(); ++k) {
     if (faces_in[k] >= scene.faces.size())
@@ -317,8 +78,91 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
   }
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+/// Checks and sorts the levels: ascending, repeats dropped.
+std::vector<double> checked_levels(const std::vector<double>& levels) {
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    if (!std::isfinite(levels[k]) || levels[k] < 0)
+      throw InputError({"", "levels[" + std::to_string(k) + "]"},
+                       "a level must be finite and >= 0 hours, got " + std::to_string(levels[k]));
+  std::vector<double> out = levels;
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// One face's part of the map, its strips' parts concatenated (region ids local to the face).
+struct FaceMap {
+  std::vector<SunHoursCell> cells, level_cells;
+  std::size_t regions = 0, level_regions = 0;
+  SunHoursFace face;
+};
+
+FaceMap assemble(std::vector<sunmap::StripMap>& strips, SunHoursFace face, const mpq_class& scale, std::size_t levels) {
+  FaceMap out;
+  std::map<mpq_class, std::vector<const std::vector<mpq_class>*>> hour_area;
+  std::vector<std::vector<const std::vector<mpq_class>*>> level_area(levels + 1);
+  mpq_class dropped(0);
+  for (sunmap::StripMap& s : strips) {
+    for (SunHoursCell& c : s.cells) {
+      c.region_id += out.regions;
+      out.cells.push_back(std::move(c));
+    }
+    out.regions += s.regions;
+    s.cells = {};
+    for (SunHoursCell& c : s.level_cells) {
+      c.region_id += out.level_regions;
+      out.level_cells.push_back(std::move(c));
+    }
+    out.level_regions += s.level_regions;
+    s.level_cells = {};
+    for (const auto& [hours, areas] : s.hour_area) hour_area[hours].push_back(&areas);
+    for (std::size_t k = 0; k < s.level_area.size() && k <= levels; ++k) level_area[k].push_back(&s.level_area[k]);
+    dropped += s.dropped;
+  }
+  face.dropped_area = sunmap::area_3d_mpq(dropped, scale);
+  for (const auto& [hours, parts] : hour_area)
+    face.areas.push_back({exact::round_mpq_to_double(hours.get_mpq_t()), sunmap::area_3d_of_sum(parts, scale)});
+  // At least level k: the cells of the levels k and above, summed exactly.
+  std::vector<const std::vector<mpq_class>*> at_least;
+  face.level_areas.assign(levels, 0.0);
+  for (std::size_t k = levels; k >= 1; --k) {
+    at_least.insert(at_least.end(), level_area[k].begin(), level_area[k].end());
+    face.level_areas[k - 1] = sunmap::area_3d_of_sum(at_least, scale);
+  }
+  out.face = std::move(face);
+  strips.clear();
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> sun_hours_level_areas(const SunHoursMap& map) {
+  std::vector<double> out(map.levels.size(), 0.0);
+  for (const SunHoursFace& f : map.faces)
+    for (std::size_t k = 0; k < f.level_areas.size() && k < out.size(); ++k) out[k] += f.level_areas[k];
+  return out;
+}
+
+double sun_hours_map_area(const SunHoursMap& map) {
+  double area = 0.0;
+  for (const SunHoursFace& f : map.faces) area += f.area;
+  return area;
+}
+
+SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
+                                  const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options) {
+  const core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
+  const Scene& scene = *ctx.scene;
+  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
+  const std::vector<double> hours = checked_hours(instants);
+  const std::vector<std::size_t> faces = checked_faces(scene, faces_in);
 
   SunHoursMap map;
+  map.levels = checked_levels(options.levels);
+  const bool full = options.full || map.levels.empty();
   for (double w : hours) map.total_hours += w;  // informative; cells are summed exactly
   // The culling grid of each directional light, built once and shared read-only by the threads.
   std::vector<std::optional<core::LightSpaceGrid>> grids(instants.size());
@@ -331,51 +175,182 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
   };
   std::vector<Worker> workers(threads);
   for (Worker& w : workers) w.exact.reset(scene.faces.size(), ctx.solids->size());
-  std::vector<FaceMap> per_face(faces.size());
+  const std::size_t n = instants.size();
   std::atomic<std::size_t> done{0};
-  const std::size_t total = faces.size() * (instants.size() + 1);
+  std::atomic<std::size_t> total{faces.size() * (n + 1)};
   std::function<void(std::size_t)> report;
-  if (options.progress) report = [&](std::size_t) { options.progress(Progress{done.load(), total}); };
+  if (options.progress) report = [&](std::size_t) { options.progress(Progress{done.load(), total.load()}); };
 
+  // 1. The lit regions, face-instant pairs in parallel (one large ground uses every thread).
+  std::vector<InstantPart> parts(faces.size() * n);
   runtime::parallel_for(
-      faces.size(), threads,
-      [&](unsigned wi, std::size_t k) {
+      parts.size(), threads,
+      [&](unsigned wi, std::size_t job) {
+        runtime::check_stop();
         Worker& w = workers[wi];
-        const std::size_t f = faces[k];
-        const core::FacePrep& fp = (*ctx.prep)[f];
-        if (fp.degenerate) {
-          per_face[k].face.face_id = f;
-          done += instants.size() + 1;
+        const std::size_t k = job / n, i = job % n, f = faces[k];
+        if ((*ctx.prep)[f].degenerate) {
+          ++done;
           return;
         }
         const ExactFace& P = w.exact.face(ctx, f);
-        FaceOverlay overlay(ctx, P, fp, f, hours, options.merge_equal);
-        for (std::size_t i = 0; i < instants.size(); ++i) {
-          runtime::check_stop();  // a face's instants take long: Ctrl-C must not wait for all of them
-          const ExactLight light = to_exact_light(instants[i].light);
-          const int side = CGAL::sign(plane_at_light(P, light));
-          const LitRegion region = exact_lit_region(ctx, w.exact, f, i, light, side, instants[i].light,
-                                                    grids[i] ? &*grids[i] : nullptr, w.stats);
-          if (region.kind == LitRegion::Kind::Whole) overlay.add_whole(i);
-          if (region.kind == LitRegion::Kind::Partial) overlay.add_partial(i, region.lit, region.lit_chart_area);
-          ++done;
+        const ExactLight light = to_exact_light(instants[i].light);
+        const int side = CGAL::sign(plane_at_light(P, light));
+        LitRegion region = exact_lit_region(ctx, w.exact, f, i, light, side, instants[i].light,
+                                            grids[i] ? &*grids[i] : nullptr, w.stats);
+        InstantPart& part = parts[job];
+        part.kind = region.kind;
+        part.lit_area = region.lit_chart_area;
+        if (region.kind == LitRegion::Kind::Partial) {
+          std::vector<PolygonWithHoles2> regions;
+          region.lit.polygons_with_holes(std::back_inserter(regions));
+          for (const PolygonWithHoles2& r : regions) {
+            sunmap::add_boundary(r.outer_boundary(), static_cast<long>(i), part.curves);  // counter-clockwise
+            for (auto h = r.holes_begin(); h != r.holes_end(); ++h)
+              sunmap::add_boundary(*h, static_cast<long>(i), part.curves);  // clockwise
+          }
         }
-        per_face[k] = overlay.finish();
+        ++done;
+      },
+      report);
+  grids.clear();
+
+  // 2. Per face: its boundaries, its strips; then face-strip pairs in parallel.
+  std::vector<sunmap::FaceBoundaries> bounds(faces.size());
+  std::vector<std::vector<sunmap::Strip>> strips(faces.size());
+  std::vector<std::vector<std::vector<std::size_t>>> buckets(faces.size());
+  std::vector<SunHoursFace> face_info(faces.size());
+  std::vector<mpq_class> scales(faces.size());
+  std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face index, strip)
+  std::vector<sunmap::OverlayRequest> requests(faces.size());
+  std::vector<mpq_class> level_q;
+  for (double h : map.levels) level_q.emplace_back(h);
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const std::size_t f = faces[k];
+    SunHoursFace& info = face_info[k];
+    info.face_id = f;
+    info.area = (*ctx.face_area)[f];
+    info.level_areas.assign(map.levels.size(), 0.0);
+    const core::FacePrep& fp = (*ctx.prep)[f];
+    if (fp.degenerate) continue;
+    const ExactFace& P = workers[0].exact.face(ctx, f);
+    exact_to_mpq(P.area_scale_squared, scales[k].get_mpq_t());
+    sunmap::FaceBoundaries& b = bounds[k];
+    std::vector<FT> hour_area_terms;
+    for (std::size_t i = 0; i < n; ++i) {
+      InstantPart& part = parts[k * n + i];
+      if (part.kind == LitRegion::Kind::Dark) continue;
+      ++info.instants_lit;
+      if (hours[i] != 0 && !CGAL::is_zero(part.lit_area)) hour_area_terms.push_back(FT(hours[i]) * part.lit_area);
+      if (part.kind == LitRegion::Kind::Whole) b.base += mpq_class(hours[i]);
+      for (Curve& c : part.curves) b.curves.push_back(std::move(c));
+      part = InstantPart{};
+    }
+    // The integral of hours over the face, sum over instants of w_i x lit area_i: the same exact
+    // rational as the sum over the overlay's faces of hours x area (the tests check the cells
+    // against it), and far cheaper: n terms whose areas the lit regions already evaluated,
+    // instead of thousands of cell areas with unrelated denominators.
+    info.hour_area = area_3d(balanced_sum(hour_area_terms), P.area_scale_squared);
+    sunmap::add_boundary(P.chart, static_cast<long>(n), b.curves);
+    strips[k] = sunmap::choose_strips(b, P.chart, options.strip_edges);
+    buckets[k] = sunmap::bucket_curves(b, strips[k]);
+    requests[k] = sunmap::OverlayRequest{&P, &fp, f, &hours, options.merge_equal, full, level_q};
+    for (std::size_t s = 0; s < strips[k].size(); ++s) jobs.emplace_back(k, s);
+  }
+  parts.clear();
+  parts.shrink_to_fit();
+  total = faces.size() * n + jobs.size();
+  std::vector<std::vector<sunmap::StripMap>> strip_maps(faces.size());
+  for (std::size_t k = 0; k < faces.size(); ++k) strip_maps[k].resize(strips[k].size());
+  runtime::parallel_for(
+      jobs.size(), threads,
+      [&](unsigned, std::size_t j) {
+        runtime::check_stop();
+        const auto [k, s] = jobs[j];
+        strip_maps[k][s] = sunmap::overlay_strip(requests[k], bounds[k], buckets[k][s], strips[k][s]);
+        buckets[k][s] = {};
         ++done;
       },
       report);
 
-  std::size_t next_region = 0;
-  for (FaceMap& fm : per_face) {
+  // 3. The faces in order, region ids shifted by the earlier faces'.
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    FaceMap fm = assemble(strip_maps[k], face_info[k], scales[k], map.levels.size());
+    if (!full) fm.face.areas.clear();
     for (SunHoursCell& c : fm.cells) {
-      c.region_id += next_region;
+      c.region_id += map.regions;
       map.cells.push_back(std::move(c));
     }
-    next_region += fm.regions;
-    map.faces.push_back(fm.face);
+    map.regions += fm.regions;
+    for (SunHoursCell& c : fm.level_cells) {
+      c.region_id += map.level_regions;
+      map.level_cells.push_back(std::move(c));
+    }
+    map.level_regions += fm.level_regions;
+    map.faces.push_back(std::move(fm.face));
   }
-  map.regions = next_region;
   return map;
+}
+
+void add_sun_hours_levels(SunHoursMap& map, const ShadowEngine& engine, const std::vector<std::size_t>& faces,
+                          const std::vector<SunHoursInstant>& instants, const std::vector<double>& levels,
+                          unsigned threads) {
+  SunHoursOptions options;
+  options.threads = threads;
+  options.levels = levels;
+  options.full = false;
+  SunHoursMap with = compute_sun_hours_map(engine, faces, instants, options);
+  if (with.faces.size() != map.faces.size())
+    throw std::invalid_argument("add_sun_hours_levels: the map has other faces than those given");
+  for (std::size_t k = 0; k < map.faces.size(); ++k) {
+    if (with.faces[k].face_id != map.faces[k].face_id)
+      throw std::invalid_argument("add_sun_hours_levels: the map has other faces than those given");
+    map.faces[k].level_areas = std::move(with.faces[k].level_areas);
+  }
+  map.levels = std::move(with.levels);
+  map.level_cells = std::move(with.level_cells);
+  map.level_regions = with.level_regions;
+}
+
+std::string sun_hours_levels_summary(const SunHoursMap& map, const std::string& indent) {
+  if (map.levels.empty()) return {};
+  const double area = sun_hours_map_area(map);
+  const std::vector<double> at_least = sun_hours_level_areas(map);
+  std::string out;
+  char line[256];
+  for (std::size_t k = 0; k < map.levels.size(); ++k) {
+    std::snprintf(line, sizeof line, "%sat least %g h of sun: area %.6g of %.6g (%.1f%%)\n", indent.c_str(), map.levels[k],
+                  at_least[k], area, area > 0 ? 100.0 * at_least[k] / area : 0.0);
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "%sthreshold map: %zu cells (sun_hours_levels.vtp)\n", indent.c_str(), map.level_cells.size());
+  out += line;
+  return out;
+}
+
+std::vector<double> parse_sun_hours_levels(const std::string& text, const std::string& what) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::string where = what + " item " + std::to_string(out.size() + 1);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used == 0 || item.find_first_not_of(" \t", used) != std::string::npos)
+      throw InputError({"", where}, "expected a number of hours, got \"" + item + "\"");
+    if (!std::isfinite(value) || value < 0)
+      throw InputError({"", where}, "a level must be finite and >= 0 hours, got \"" + item + "\"");
+    out.push_back(value);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
 }
 
 std::vector<std::size_t> sun_hours_map_faces(const Scene& scene) {

@@ -34,6 +34,9 @@ struct RunInfo {
   std::string started_utc;      ///< start time, ISO 8601 UTC (`2026-11-23T13:40:00Z`); see utc_now()
   ShadowOptions options;        ///< threads, polygons, planes, plane_window, arithmetic, lights
   double planarity_tolerance = 1e-6;  ///< LoadOptions::planarity_tolerance of the run
+  /// A series' sun-hours map (shadow/sun_hours.hpp), when the run made one: report.json gets a
+  /// `sun_hours_map` section (its size and, with levels, the exact area at each level).
+  const SunHoursMap* sun_hours_map = nullptr;
 };
 
 /// The current time as ISO 8601 UTC, to the second: `2026-11-23T13:40:00Z`.
@@ -158,5 +161,14 @@ void write_sun_hours_vtp(const std::filesystem::path& path, const SunHoursMap& m
 /// Scene::origin when it has one (a CityJSON model at projected coordinates; field data `origin`).
 /// @throws OutputError
 void write_sun_hours_vtp(const std::filesystem::path& path, const SunHoursMap& map, const Scene& scene);
+
+/// Writes the threshold map (SunHoursMap::level_cells) as VTK XML PolyData to `path` (normally
+/// OUTDIR/sun_hours_levels.vtp), points shifted like write_sun_hours_vtp(path, map, scene): one
+/// polygon cell per level cell, cell arrays `level` (Float64, the highest level reached, 0 below
+/// the lowest; the active scalars), `face_id`, `region_id`, `area` (Float64); field data
+/// `levels`, `level_areas` (the map's area at each level), `area` (the faces' area) and
+/// `total_hours`. Written under a temporary name and renamed into place, like every output file.
+/// @throws OutputError
+void write_sun_hours_levels_vtp(const std::filesystem::path& path, const SunHoursMap& map, const Scene& scene);
 
 }  // namespace shadow

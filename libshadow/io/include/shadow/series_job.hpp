@@ -128,6 +128,10 @@ struct SeriesJobOptions {
   /// Meshes that get the sun-hours map besides the scene's `sun_hours_map` (mesh names,
   /// city/<id> or type:<CityJSON type>).
   std::vector<std::string> sun_hours_map;
+  /// The threshold map's levels in hours (`--sun-hours-levels`, parse_sun_hours_levels): with
+  /// the map, also sun_hours_levels.vtp and the levels' exact areas in report.json; an
+  /// InputError naming `--sun-hours-levels` when there is no map.
+  std::vector<double> sun_hours_levels;
   bool checkpoint = false;  ///< keep OUTDIR/series.checkpoint as the run goes
   bool resume = false;      ///< start from OUTDIR/series.checkpoint (implies checkpoint)
   /// Testing: stop (SeriesJobStopped) after the round in which this many instants are in the

@@ -213,6 +213,9 @@ void SeriesJob::load() {
       std::sort(s.map_faces.begin(), s.map_faces.end());
       s.map_faces.erase(std::unique(s.map_faces.begin(), s.map_faces.end()), s.map_faces.end());
     }
+    if (!options_.sun_hours_levels.empty() && s.map_faces.empty())
+      throw InputError({"", "--sun-hours-levels"},
+                       "needs a sun-hours map: --sun-hours-map MESH or the scene's \"sun_hours_map\"");
     if (options_.stage) options_.stage(SeriesJobStage::Preparing);
     s.engine.emplace(s.scene, options_.threads);
   } catch (const InputError& e) {
@@ -416,6 +419,7 @@ void SeriesJob::compute_map() {
   on_every_rank(world_, [&] {
     SunHoursOptions map_options;
     map_options.threads = options_.threads;
+    if (!world_.distributed()) map_options.levels = options_.sun_hours_levels;  // else rank 0 adds them below
     const bool report = world_.root() && options_.progress;
     if (report) {
       options_.progress({SeriesJobProgress::Part::MapFaces, 0, block.size(), 0, false});
@@ -437,6 +441,9 @@ void SeriesJob::compute_map() {
     std::vector<SunHoursMap> maps;
     for (const std::string& p : parts) maps.push_back(jobs::decode_map(p));
     s.map = jobs::merge_maps(maps);
+    if (!options_.sun_hours_levels.empty())
+      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, sun_hours_instants(s.scene), options_.sun_hours_levels,
+                           options_.threads);
   });
 }
 
@@ -466,6 +473,8 @@ void SeriesJob::write_outputs() {
     const fs::path& dir = s.output->path();
     if (s.map) {
       write_sun_hours_vtp(dir / "sun_hours.vtp", *s.map, s.scene);  // before report.json, written last
+      if (!s.map->levels.empty()) write_sun_hours_levels_vtp(dir / "sun_hours_levels.vtp", *s.map, s.scene);
+      s.run.sun_hours_map = &*s.map;  // report.json's sun_hours_map (the levels' exact areas)
     } else {
       std::error_code ignored;  // an earlier run's map is not this run's
       fs::remove(dir / "sun_hours.vtp", ignored);
@@ -475,6 +484,7 @@ void SeriesJob::write_outputs() {
       write_file_staged(options_.write_idf, [&](std::ostream& out) { out << s.hand_back.copy->text; });
     s.written = s.output->write_series(s.scene, s.suns, s.series, files, &s.run);
     if (s.map) s.written.insert(s.written.end() - 1, dir / "sun_hours.vtp");  // report.json stays last
+    if (s.map && !s.map->levels.empty()) s.written.insert(s.written.end() - 1, dir / "sun_hours_levels.vtp");
     // The outputs are complete: a checkpoint left now (this run's, or an older one) is stale.
     if (s.checkpoint) s.checkpoint->remove();
     std::error_code ignored;

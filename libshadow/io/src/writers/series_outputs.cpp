@@ -6,6 +6,7 @@
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtm_writer.hpp"
 
+#include <shadow/sun_hours.hpp>
 #include <shadow/version.hpp>
 
 #include <nlohmann/json.hpp>
@@ -131,6 +132,30 @@ void write_pvd(const std::vector<std::pair<double, std::string>>& steps, const s
   }
 }
 
+namespace {
+
+/// report.json's `sun_hours_map` (additive): the map's size and, for the threshold map, the
+/// exact area that gets at least each level's hours, and its share of the mapped area.
+Json sun_hours_map_json(const SunHoursMap& map) {
+  const double area = sun_hours_map_area(map);
+  Json j = {{"file", "sun_hours.vtp"},  {"faces", map.faces.size()},     {"cells", map.cells.size()},
+            {"regions", map.regions}, {"total_hours", map.total_hours}, {"area", area}};
+  if (!map.levels.empty()) {
+    const std::vector<double> at_least = sun_hours_level_areas(map);
+    Json levels = Json::array();
+    for (std::size_t k = 0; k < map.levels.size(); ++k)
+      levels.push_back({{"hours", map.levels[k]},
+                        {"area", at_least[k]},
+                        {"fraction", area > 0 ? at_least[k] / area : 0.0}});
+    j["levels"] = levels;
+    j["levels_file"] = "sun_hours_levels.vtp";
+    j["level_cells"] = map.level_cells.size();
+  }
+  return j;
+}
+
+}  // namespace
+
 void write_series_report_json(std::ostream& out, const Scene& scene, const SunSeries& suns,
                               const SeriesResult& series, const SurfaceSeries& surfaces,
                               const ObjectSunHours& objects, const std::vector<double>& sun_hours, const std::vector<double>& sun_hours_bound,
@@ -222,6 +247,7 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
   }
   s["objects"] = per_object;
   report["series"] = s;
+  if (run != nullptr && run->sun_hours_map != nullptr) report["sun_hours_map"] = sun_hours_map_json(*run->sun_hours_map);
   if (!scene.skipped_faces.empty()) report["skipped_faces"] = skipped_faces_json(scene);  // as in compute's
 
   Json faces = Json::array();

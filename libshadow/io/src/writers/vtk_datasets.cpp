@@ -376,14 +376,15 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
   return poly;
 }
 
-vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map) {
-  const std::vector<SunHoursCell>& cells = map.cells;
+vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map, bool levels) {
+  const std::vector<SunHoursCell>& cells = levels ? map.level_cells : map.cells;
   const std::size_t n = cells.size();
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   fill_polygons(
       poly, n, [&](std::size_t c) { return cells[c].polygon.size(); },
       [&](std::size_t c, std::size_t i) -> const glm::dvec3& { return cells[c].polygon[i]; });
-  auto sun_hours = make_array<vtkDoubleArray>("sun_hours", n);
+  const char* value_name = levels ? "level" : "sun_hours";
+  auto sun_hours = make_array<vtkDoubleArray>(value_name, n);
   auto face_id = make_array<vtkTypeInt64Array>("face_id", n);
   auto region_id = make_array<vtkTypeInt64Array>("region_id", n);
   auto area = make_array<vtkDoubleArray>("area", n);
@@ -399,11 +400,26 @@ vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map) {
   cd->AddArray(face_id);
   cd->AddArray(region_id);
   cd->AddArray(area);
-  cd->SetActiveScalars("sun_hours");  // what ParaView colours by when the file is opened
+  cd->SetActiveScalars(value_name);  // what ParaView colours by when the file is opened
   // The period's total, so that a legend can span 0..total even where no cell gets every hour.
   auto total = make_array<vtkDoubleArray>("total_hours", 1);
   total->SetValue(0, map.total_hours);
   poly->GetFieldData()->AddArray(total);
+  if (levels) {
+    // The levels and the exact area reaching each: the planning answer without summing cells.
+    const std::vector<double> at_least = sun_hours_level_areas(map);
+    auto level_values = make_array<vtkDoubleArray>("levels", map.levels.size());
+    auto level_areas = make_array<vtkDoubleArray>("level_areas", map.levels.size());
+    for (std::size_t k = 0; k < map.levels.size(); ++k) {
+      level_values->SetValue(static_cast<vtkIdType>(k), map.levels[k]);
+      level_areas->SetValue(static_cast<vtkIdType>(k), at_least[k]);
+    }
+    auto whole = make_array<vtkDoubleArray>("area", 1);
+    whole->SetValue(0, sun_hours_map_area(map));
+    poly->GetFieldData()->AddArray(level_values);
+    poly->GetFieldData()->AddArray(level_areas);
+    poly->GetFieldData()->AddArray(whole);
+  }
   return poly;
 }
 

@@ -32,7 +32,7 @@ vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
 
 /// sun_hours.vtp: one polygon cell per SunHoursCell; cell arrays sun_hours (active scalars),
 /// face_id, region_id, area; field data total_hours.
-vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map);
+vtkSmartPointer<vtkPolyData> make_sun_hours_polydata(const SunHoursMap& map, bool levels = false);
 /// Subtracts Scene::origin from every point of `poly` and records it as the field array `origin`
 /// (nothing when the scene has no origin): a model at projected coordinates renders in ParaView
 /// without float32 jitter, and the origin tells where it really is.

@@ -59,7 +59,7 @@ long process_id() { return static_cast<long>(getpid()); }
 
 /// The files write() stages; their temporaries are `.NAME.tmp-PID`.
 const char* const kOutputNames[] = {"fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp",
-                                    "scene.vtm", "report.json", "sun_hours.vtp"};
+                                    "scene.vtm", "report.json", "sun_hours.vtp", "sun_hours_levels.vtp"};
 
 /// Removes `.NAME.tmp-PID` files of our outputs whose process no longer exists: a run killed
 /// with SIGKILL cannot clean up after itself. Files of live processes are left alone.
@@ -275,6 +275,7 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   std::error_code ignored;
   for (const char* old : kSeriesOutputNames) fs::remove(outdir / old, ignored);
   fs::remove(outdir / "sun_hours.vtp", ignored);
+  fs::remove(outdir / "sun_hours_levels.vtp", ignored);
 
   // Each dataset is built just before it is written and freed right after: only one of them
   // is in memory at a time. Errors name the final file, which is what the user asked for.
@@ -442,16 +443,28 @@ void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map) {
   write_sun_hours_vtp(path, map, Scene{});
 }
 
-void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map, const Scene& scene) {
+namespace {
+
+void write_map_vtp(const fs::path& path, const SunHoursMap& map, const Scene& scene, bool levels) {
   fs::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
   make_output_directory(dir);
   StagedFiles staged(dir);
   const auto target = staged.stage(path.filename().string());
-  vtkSmartPointer<vtkPolyData> poly = detail::make_sun_hours_polydata(map);
+  vtkSmartPointer<vtkPolyData> poly = detail::make_sun_hours_polydata(map, levels);
   detail::shift_to_origin(poly, scene);  // like every other dataset of the run (Scene::origin)
   detail::write_polydata(poly, target.temp, target.final_path);
   staged.commit();
+}
+
+}  // namespace
+
+void write_sun_hours_vtp(const fs::path& path, const SunHoursMap& map, const Scene& scene) {
+  write_map_vtp(path, map, scene, false);
+}
+
+void write_sun_hours_levels_vtp(const fs::path& path, const SunHoursMap& map, const Scene& scene) {
+  write_map_vtp(path, map, scene, true);
 }
 
 void write_file_staged(const fs::path& path, const std::function<void(std::ostream&)>& write) {

@@ -1,0 +1,569 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One strip of one face's sun-hours overlay (face_overlay.hpp).
+//
+// The curves that enter the strip, clipped to its sides x0 <= x <= x1, and the strip's frame (a
+// rectangle reaching below and above the chart) go into one CGAL arrangement whose curves carry
+// (instant, side) data, merged where boundaries of several instants overlap. A breadth-first
+// walk gives every face its hours: crossing an edge into instant i's region adds w_i, out of it
+// subtracts w_i; it starts from the face along the frame's bottom, which lies below the chart
+// (0 hours, outside), and never crosses the frame, so the strip needs nothing from its
+// neighbours. A face that is not cut (one whole strip) walks from the unbounded face instead, as
+// the map always did. Hours are exact rationals, so equal sets of instants give equal hours
+// whatever path reached them. Edges with equal hours on both sides are removed (touching cells of
+// equal hours merge), then, for the threshold map, edges with the same level on both sides; every
+// remaining face is written like a fragment: simple cells (exact/regions.hpp), lifted to the
+// face's plane, rounded once.
+#include "sunmap/face_overlay.hpp"
+
+#include "runtime/parallel.hpp"
+#include "exact/lazy_geometry.hpp"
+#include "exact/regions.hpp"
+
+#include <CGAL/Arr_extended_dcel.h>
+#include <CGAL/Arr_observer.h>
+#include <CGAL/Arrangement_2.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <deque>
+#include <utility>
+
+namespace shadow::sunmap {
+namespace {
+
+using namespace exact;
+
+using Dcel = CGAL::Arr_face_extended_dcel<Traits, long>;  // face data: index into the walk's values
+using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
+
+double round_mpq(const mpq_class& q) { return exact::round_mpq_to_double(q.get_mpq_t()); }
+
+template <class Circulator>
+Polygon2 ccb_polygon(Circulator first) {
+  Polygon2 polygon;
+  auto h = first;
+  do {
+    polygon.push_back(h->source()->point());
+  } while (++h != first);
+  return polygon;
+}
+
+/// The point of segment pq (p.x < q.x) at x.
+Point2 at_x(const Point2& p, const Point2& q, const FT& x) {
+  return Point2(x, p.y() + (q.y() - p.y()) * (x - p.x()) / (q.x() - p.x()));
+}
+
+/// `c` clipped to the strip x0 <= x <= x1; false when nothing of it enters the strip's inside.
+bool clip(const Curve& c, const FT& x0, const FT& x1, Curve& out) {
+  // Segments run from their lexicographically smaller end, so source().x() <= target().x().
+  Point2 p = c.source(), q = c.target();
+  if (CGAL::compare_xy(p, q) == CGAL::LARGER) std::swap(p, q);
+  if (q.x() <= x0 || p.x() >= x1) {
+    // Outside, or touching a side at one point, or lying on a side: the walk never crosses
+    // the sides, so such a segment changes nothing inside.
+    return false;
+  }
+  const Point2 a = p.x() < x0 ? at_x(p, q, x0) : p;
+  const Point2 b = q.x() > x1 ? at_x(p, q, x1) : q;
+  out = Curve(Kernel::Segment_2(a, b), c.data());
+  return true;
+}
+
+class StripOverlay {
+ public:
+  StripOverlay(const OverlayRequest& r, const FaceBoundaries& b)
+      : r_(r), b_(b), n_(r.hours->size()) {
+    exact_to_mpq(r.face->area_scale_squared, scale_.get_mpq_t());
+  }
+
+  StripMap run(const std::vector<std::size_t>& which, const Strip& strip) {
+    std::vector<Curve> curves = gather(which, strip);
+    Arrangement arr;
+    CGAL::insert(arr, curves.begin(), curves.end());  // one sweep: not stopped inside
+    curves.clear();
+    curves.shrink_to_fit();
+    runtime::check_stop();
+    walk(arr, strip);
+    StripMap out;
+    out.level_area.resize(r_.levels.size() + 1);
+    if (r_.full) {
+      if (r_.merge) merge(arr, [&](long a, long b) { return hours_at_[a] == hours_at_[b]; });
+      emit_all(arr, out, false);
+    }
+    if (!r_.levels.empty()) {
+      level_.resize(hours_at_.size());
+      for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
+      merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
+      emit_all(arr, out, true);
+    }
+    out.dropped = dropped_;
+    return out;
+  }
+
+  /// The threshold map alone, instant by instant: each instant's boundaries are inserted into
+  /// the arrangement so far, the faces inside its lit region gain its hours, and then every edge
+  /// between faces that can no longer be told apart is removed: equal hours, or both decided
+  /// (the level reached now is the level reached even if every instant still to come lit them)
+  /// at the same level. The arrangement holds the boundaries between undecided cells and the
+  /// level boundaries, not every instant's.
+  StripMap run_levels(const std::vector<std::size_t>& which, const Strip& strip) {
+    std::vector<Curve> curves = gather(which, strip);
+    std::vector<Curve> fixed;  // the chart's outline and the frame
+    std::map<std::size_t, std::vector<Curve>> by_instant;
+    for (Curve& c : curves) {
+      const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
+      (i >= n_ ? fixed : by_instant[i]).push_back(std::move(c));
+    }
+    curves.clear();
+    curves.shrink_to_fit();
+    Arrangement arr;
+    CGAL::insert(arr, fixed.begin(), fixed.end());
+    walk(arr, strip);  // inside counts, and the base hours inside the chart
+    mpq_class remaining(0);
+    for (const auto& [i, unused] : by_instant) remaining += (*r_.hours)[i];
+    SplitObserver observer(arr);
+    // A few instants per insertion: each insertion sweeps the arrangement so far, so batches
+    // cut those sweeps, and merging after every few instants still keeps the arrangement small.
+    constexpr std::size_t batch = 8;
+    for (auto next = by_instant.begin(); next != by_instant.end();) {
+      runtime::check_stop();
+      std::vector<Curve> batch_curves;
+      std::vector<std::size_t> batch_instants;
+      for (; next != by_instant.end() && batch_instants.size() < batch; ++next) {
+        batch_instants.push_back(next->first);
+        for (Curve& c : next->second) batch_curves.push_back(std::move(c));
+        next->second = {};
+      }
+      CGAL::insert(arr, batch_curves.begin(), batch_curves.end());
+      batch_curves = {};
+      compact(arr);
+      for (std::size_t i : batch_instants) {
+        add_instant(arr, strip, i);
+        remaining -= (*r_.hours)[i];
+      }
+      key_.resize(hours_at_.size());
+      for (std::size_t v = 0; v < hours_at_.size(); ++v) {
+        const std::size_t now = level_of(hours_at_[v]);
+        key_[v] = now == level_of(hours_at_[v] + remaining) ? static_cast<long>(now) : -1;  // -1: undecided
+      }
+      merge(arr, [&](long a, long b) {
+        if (inside_[a] <= 0) return true;  // both outside the chart
+        return key_[a] == key_[b] && (key_[a] >= 0 || hours_at_[a] == hours_at_[b]);
+      });
+    }
+    StripMap out;
+    out.level_area.resize(r_.levels.size() + 1);
+    level_.resize(hours_at_.size());
+    for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
+    merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
+    emit_all(arr, out, true);
+    out.dropped = dropped_;
+    return out;
+  }
+
+ private:
+  /// Copies a face's data (its value index) to the face split from it.
+  class SplitObserver : public CGAL::Arr_observer<Arrangement> {
+   public:
+    explicit SplitObserver(Arrangement& arr) : CGAL::Arr_observer<Arrangement>(arr) {}
+    void after_split_face(Arrangement::Face_handle f, Arrangement::Face_handle new_f, bool) override {
+      new_f->set_data(f->data());
+    }
+  };
+
+  std::size_t level_of(const mpq_class& hours) const {
+    std::size_t level = 0;
+    while (level < r_.levels.size() && r_.levels[level] <= hours) ++level;
+    return level;
+  }
+
+  /// One value per face again (faces split from one share its value until then).
+  void compact(Arrangement& arr) {
+    std::vector<mpq_class> hours;
+    std::vector<int> inside;
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
+      hours.push_back(hours_at_[f->data()]);
+      inside.push_back(inside_[f->data()]);
+      f->set_data(static_cast<long>(hours.size() - 1));
+    }
+    hours_at_.swap(hours);
+    inside_.swap(inside);
+  }
+
+  /// Adds instant i's hours to the faces inside its lit region: a walk from a face outside it
+  /// (the unbounded face, or a strip's seed below the chart) that flips at the edges carrying i.
+  void add_instant(Arrangement& arr, const Strip& strip, std::size_t i) {
+    std::vector<signed char> in(hours_at_.size(), -1);
+    const Arrangement::Face_handle start = strip.whole ? arr.unbounded_face() : seed_face(arr, strip);
+    in[static_cast<std::size_t>(arr.unbounded_face()->data())] = 0;
+    in[static_cast<std::size_t>(start->data())] = 0;
+    std::deque<Arrangement::Face_handle> queue{start};
+    const long want = static_cast<long>(i + 1);
+    auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
+      auto h = first;
+      do {
+        const Arrangement::Face_handle to = h->twin()->face();
+        if (in[static_cast<std::size_t>(to->data())] < 0) {
+          signed char value = in[static_cast<std::size_t>(from->data())];
+          for (long tag : h->curve().data()) {
+            if (std::labs(tag) != want) continue;
+            const bool from_in_region = (h->direction() == CGAL::ARR_LEFT_TO_RIGHT) == (tag > 0);
+            value = from_in_region ? 0 : 1;
+          }
+          in[static_cast<std::size_t>(to->data())] = value;
+          queue.push_back(to);
+        }
+      } while (++h != first);
+    };
+    while (!queue.empty()) {
+      const Arrangement::Face_handle f = queue.front();
+      queue.pop_front();
+      for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
+      for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
+    }
+    const mpq_class w((*r_.hours)[i]);
+    for (std::size_t v = 0; v < in.size(); ++v)
+      if (in[v] == 1 && inside_[v] > 0) hours_at_[v] += w;
+  }
+
+  /// The face of a strip's arrangement above the frame's bottom (below the chart).
+  static Arrangement::Face_handle seed_face(Arrangement& arr, const Strip& strip) {
+    const FT ylo(strip.ylo);
+    const Arrangement::Face_handle unbounded = arr.unbounded_face();
+    for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end(); ++c) {
+      auto h = *c;
+      do {
+        if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) return h->twin()->face();
+      } while (++h != *c);
+    }
+    return unbounded;  // unreachable: every strip has its frame
+  }
+
+  /// The curves `which` of the face, clipped to the strip, with its frame.
+  std::vector<Curve> gather(const std::vector<std::size_t>& which, const Strip& strip) {
+    std::vector<Curve> curves;
+    curves.reserve(which.size() + 4);
+    if (strip.whole) {
+      for (std::size_t c : which) curves.push_back(b_.curves[c]);
+    } else {
+      const FT x0(strip.x0), x1(strip.x1);
+      Curve clipped;
+      for (std::size_t c : which)
+        if (clip(b_.curves[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
+      Polygon2 frame;
+      frame.push_back(Point2(strip.x0, strip.ylo));
+      frame.push_back(Point2(strip.x1, strip.ylo));
+      frame.push_back(Point2(strip.x1, strip.yhi));
+      frame.push_back(Point2(strip.x0, strip.yhi));
+      add_boundary(frame, static_cast<long>(n_ + 1), curves);
+    }
+    return curves;
+  }
+
+  /// Gives every face of `arr` its hours (data: an index into hours_at_ and inside_). From the
+  /// unbounded face for a whole face; inside a strip from the face above the frame's bottom.
+  /// Crossing halfedge h from h's face into its twin's leaves the regions on h's left and
+  /// enters those on its right.
+  void walk(Arrangement& arr, const Strip& strip) {
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(-1);
+    const Arrangement::Face_handle unbounded = arr.unbounded_face();
+    unbounded->set_data(0);
+    hours_at_.assign(1, mpq_class(0));
+    // Outside a strip's frame nothing is known: -1 never equals an inside count, so frame
+    // edges are never merged away.
+    inside_.assign(1, strip.whole ? 0 : -1);
+    std::deque<Arrangement::Face_handle> queue;
+    if (strip.whole) {
+      queue.push_back(unbounded);
+    } else {
+      const FT ylo(strip.ylo);
+      for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end() && queue.empty(); ++c) {
+        auto h = *c;
+        do {
+          if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) {
+            const Arrangement::Face_handle seed = h->twin()->face();  // below the chart: 0 hours, outside
+            seed->set_data(1);
+            hours_at_.push_back(mpq_class(0));
+            inside_.push_back(0);
+            queue.push_back(seed);
+            break;
+          }
+        } while (++h != *c);
+      }
+    }
+    auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
+      auto h = first;
+      do {
+        const Arrangement::Face_handle to = h->twin()->face();
+        if (to->data() < 0) {
+          mpq_class value = hours_at_[from->data()];
+          int inside = inside_[from->data()];
+          const bool left_to_right = h->direction() == CGAL::ARR_LEFT_TO_RIGHT;
+          for (long tag : h->curve().data()) {
+            const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
+            if (i > n_) continue;  // a frame (a strip's faces never reach one across it)
+            // `from` lies on h's left; the region lies on the left of the left-to-right run
+            // when tag > 0.
+            const bool from_in_region = left_to_right == (tag > 0);
+            const int step = from_in_region ? -1 : 1;
+            if (i == n_) {
+              inside += step;
+              value += step > 0 ? b_.base : mpq_class(-b_.base);
+            } else {
+              value += step > 0 ? mpq_class((*r_.hours)[i]) : mpq_class(-(*r_.hours)[i]);
+            }
+          }
+          to->set_data(static_cast<long>(hours_at_.size()));
+          hours_at_.push_back(std::move(value));
+          inside_.push_back(inside);
+          queue.push_back(to);
+        }
+      } while (++h != first);
+    };
+    while (!queue.empty()) {
+      const Arrangement::Face_handle f = queue.front();
+      queue.pop_front();
+      for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
+      for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
+    }
+  }
+
+  /// Removes every edge with equal inside counts and equal(a, b) keys on both sides: touching
+  /// cells become one face. No antenna is left, since every remaining edge separates faces of
+  /// different keys.
+  template <class Equal>
+  void merge(Arrangement& arr, Equal equal) {
+    std::vector<Arrangement::Halfedge_handle> removable;
+    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
+      const long a = e->face()->data(), b = e->twin()->face()->data();
+      if (a == b || (inside_[a] == inside_[b] && equal(a, b))) removable.push_back(e);
+    }
+    for (Arrangement::Halfedge_handle e : removable) arr.remove_edge(e);
+  }
+
+  void emit_all(Arrangement& arr, StripMap& out, bool levels) {
+    std::vector<Polygon2> cells;
+    std::vector<SunHoursCell>& dest = levels ? out.level_cells : out.cells;
+    std::size_t& regions = levels ? out.level_regions : out.regions;
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
+      if (f->is_unbounded() || inside_[f->data()] <= 0) continue;
+      runtime::check_stop();
+      PolygonWithHoles2 region(ccb_polygon(f->outer_ccb()));
+      for (auto h = f->inner_ccbs_begin(); h != f->inner_ccbs_end(); ++h) region.add_hole(ccb_polygon(*h));
+      const std::size_t level = levels ? level_[f->data()] : 0;
+      const double value = !levels ? round_mpq(hours_at_[f->data()]) : level == 0 ? 0.0 : round_mpq(r_.levels[level - 1]);
+      std::vector<mpq_class>& area = levels ? out.level_area[level] : out.hour_area[hours_at_[f->data()]];
+      cells.clear();
+      append_simple_cells(region, cells);
+      const std::size_t before = dest.size();
+      for (Polygon2& cell : cells) emit(cell, value, dest, area, !levels);
+      if (dest.size() > before) {
+        for (std::size_t c = before; c < dest.size(); ++c) dest[c].region_id = regions;
+        ++regions;
+      }
+    }
+  }
+
+  /// One simple cell as a SunHoursCell when its rounded polygon is clean, else its triangles
+  /// (those that collapse are counted in dropped_area), as the exact engine writes fragments.
+  void emit(Polygon2& cell, double value, std::vector<SunHoursCell>& dest, std::vector<mpq_class>& area,
+            bool count_dropped) {
+    const mpq_class cell_area = exact_area(cell);
+    area.push_back(abs(cell_area));
+    if (write(cell, cell_area, value, dest)) return;
+    if (sgn(cell_area) < 0) cell.reverse_orientation();
+    std::vector<Polygon2> triangles;
+    triangulate_region(PolygonWithHoles2(cell), triangles);
+    for (const Polygon2& t : triangles) {
+      const mpq_class t_area = exact_area(t);
+      if (!write(t, t_area, value, dest) && count_dropped) dropped_ += abs(t_area);
+    }
+  }
+
+  /// The exact signed chart area of a cell: the shoelace on its vertices' exact rational
+  /// coordinates. The same value as polygon_area, with half the rational operations and no lazy
+  /// DAG per term: the cells' exact areas were half the map's run time.
+  static mpq_class exact_area(const Polygon2& cell) {
+    const std::size_t n = cell.size();
+    mpq_class twice(0), term;
+    for (std::size_t a = 0; a < n; ++a) {
+      const auto& p = CGAL::exact(cell[a]);
+      const auto& q = CGAL::exact(cell[(a + 1) % n]);
+      term = p.x() * q.y();
+      twice += term;
+      term = q.x() * p.y();
+      twice -= term;
+    }
+    return twice / 2;
+  }
+
+  bool write(const Polygon2& cell, const mpq_class& cell_area, double value, std::vector<SunHoursCell>& dest) {
+    SunHoursCell c;
+    c.face_id = r_.face_id;
+    c.sun_hours = value;
+    c.area = area_3d_mpq(cell_area, scale_);
+    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
+      c.polygon.push_back(nearest_doubles(lift(*v, *r_.face, r_.prep->axis)));
+    }
+    // The chart sees the face clockwise when flipped: restore the face's orientation.
+    if (r_.prep->flipped == (sgn(cell_area) > 0)) std::reverse(c.polygon.begin(), c.polygon.end());
+    if (!core::clean_double_polygon(c.polygon, r_.prep->axis)) return false;
+    dest.push_back(std::move(c));
+    return true;
+  }
+
+  const OverlayRequest& r_;
+  const FaceBoundaries& b_;
+  std::size_t n_;
+  mpq_class scale_;  ///< (3D area / chart area)^2, exact
+  std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
+  std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
+  std::vector<std::size_t> level_;   ///< per walked face: levels reached
+  std::vector<long> key_;            ///< run_levels: the decided level, or -1
+  mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
+};
+
+/// Interval bounds of a curve's x range.
+std::pair<double, double> x_range(const Curve& c) {
+  const auto a = CGAL::to_interval(c.source().x()), b = CGAL::to_interval(c.target().x());
+  return {std::min(a.first, b.first), std::max(a.second, b.second)};
+}
+
+}  // namespace
+
+void add_boundary(const Polygon2& polygon, long instant, std::vector<Curve>& curves) {
+  const std::size_t n = polygon.size();
+  for (std::size_t a = 0; a < n; ++a) {
+    const Point2& p = polygon[a];
+    const Point2& q = polygon[(a + 1) % n];
+    if (p == q) continue;
+    const long tag = CGAL::compare_xy(p, q) == CGAL::SMALLER ? instant + 1 : -(instant + 1);
+    curves.emplace_back(Kernel::Segment_2(p, q), tag);
+  }
+}
+
+double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale) {
+  // sqrt(chart_area^2 x scale), the rational rounded to 256 bits before the root as
+  // sqrt_to_double does, so the result is area_3d's bit for bit.
+  if (sgn(chart_area) == 0) return 0.0;
+  const mpq_class squared = chart_area * chart_area * scale;
+  return exact::sqrt_mpq_to_double(squared.get_mpq_t());
+}
+
+double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, const mpq_class& scale) {
+  std::size_t count = 0;
+  long top = LONG_MIN;  // the largest term's binary exponent
+  for (const std::vector<mpq_class>* part : parts)
+    for (const mpq_class& t : *part) {
+      if (sgn(t) == 0) continue;
+      ++count;
+      long e = 0;
+      mpf_class approx(t, 64);
+      mpf_get_d_2exp(&e, approx.get_mpf_t());
+      top = std::max(top, e);
+    }
+  if (count == 0) return 0.0;
+  // Fixed point with `shift` bits: each term truncated loses < 2^-shift, so the total lies in
+  // [S, S + count] x 2^-shift, a bracket about 2^-60 of the total's last bit wide (the terms are
+  // non-negative, so the total is at least the largest term).
+  long bits = 0;
+  while ((std::size_t{1} << bits) < count) ++bits;
+  const long shift = 53 + 60 + bits - top;
+  mpz_class sum(0), term;
+  for (const std::vector<mpq_class>* part : parts)
+    for (const mpq_class& t : *part) {
+      if (shift >= 0) {
+        mpz_mul_2exp(term.get_mpz_t(), t.get_num_mpz_t(), static_cast<mp_bitcnt_t>(shift));
+        mpz_fdiv_q(term.get_mpz_t(), term.get_mpz_t(), t.get_den_mpz_t());
+      } else {
+        mpz_mul_2exp(term.get_mpz_t(), t.get_den_mpz_t(), static_cast<mp_bitcnt_t>(-shift));
+        mpz_fdiv_q(term.get_mpz_t(), t.get_num_mpz_t(), term.get_mpz_t());
+      }
+      sum += term;
+    }
+  mpz_class unit(1);
+  mpq_class lo, hi;
+  if (shift >= 0) {
+    mpz_mul_2exp(unit.get_mpz_t(), unit.get_mpz_t(), static_cast<mp_bitcnt_t>(shift));
+    lo = mpq_class(sum, unit);
+    hi = mpq_class(sum + count, unit);
+  } else {
+    mpz_mul_2exp(unit.get_mpz_t(), unit.get_mpz_t(), static_cast<mp_bitcnt_t>(-shift));
+    lo = mpq_class(sum * unit);
+    hi = mpq_class((sum + count) * unit);
+  }
+  lo.canonicalize();
+  hi.canonicalize();
+  const double a = area_3d_mpq(lo, scale), b = area_3d_mpq(hi, scale);
+  if (a == b) return a;
+  // Too close to a tie to tell: the exact sum, pairwise (balanced) to keep the operands small.
+  std::vector<mpq_class> terms;
+  for (const std::vector<mpq_class>* part : parts) terms.insert(terms.end(), part->begin(), part->end());
+  while (terms.size() > 1) {
+    std::vector<mpq_class> next;
+    for (std::size_t k = 0; k + 1 < terms.size(); k += 2) next.push_back(terms[k] + terms[k + 1]);
+    if (terms.size() % 2 == 1) next.push_back(terms.back());
+    terms.swap(next);
+  }
+  return area_3d_mpq(terms.front(), scale);
+}
+
+std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart, std::size_t strip_edges) {
+  const std::size_t count = b.curves.size();
+  if (strip_edges == 0 || count <= strip_edges) return {Strip{}};
+  double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
+  for (auto v = chart.vertices_begin(); v != chart.vertices_end(); ++v) {
+    const auto x = CGAL::to_interval(v->x()), y = CGAL::to_interval(v->y());
+    xmin = std::min(xmin, x.first), xmax = std::max(xmax, x.second);
+    ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
+  }
+  // Sides at quantiles of the segments' middles, strictly inside the chart's x range; the
+  // outer sides and the bottom and top a unit beyond it (every lit region lies in the chart).
+  std::vector<double> mids(count);
+  for (std::size_t c = 0; c < count; ++c) {
+    const auto [lo, hi] = x_range(b.curves[c]);
+    mids[c] = 0.5 * (lo + hi);
+  }
+  const std::size_t k = std::min<std::size_t>((count + strip_edges - 1) / strip_edges, 4096);
+  std::vector<double> sides{std::floor(xmin) - 1.0};
+  for (std::size_t s = 1; s < k; ++s) {
+    auto nth = mids.begin() + static_cast<std::ptrdiff_t>(s * count / k);
+    std::nth_element(mids.begin(), nth, mids.end());
+    const double x = *nth;
+    if (x > sides.back() && x > xmin && x < xmax) sides.push_back(x);
+  }
+  sides.push_back(std::ceil(xmax) + 1.0);
+  std::vector<Strip> strips;
+  for (std::size_t s = 0; s + 1 < sides.size(); ++s)
+    strips.push_back(Strip{false, sides[s], sides[s + 1], std::floor(ymin) - 1.0, std::ceil(ymax) + 1.0});
+  return strips;
+}
+
+std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, const std::vector<Strip>& strips) {
+  std::vector<std::vector<std::size_t>> out(strips.size());
+  if (strips.size() == 1 && strips[0].whole) {
+    out[0].resize(b.curves.size());
+    for (std::size_t c = 0; c < b.curves.size(); ++c) out[0][c] = c;
+    return out;
+  }
+  std::vector<double> lefts(strips.size());
+  for (std::size_t s = 0; s < strips.size(); ++s) lefts[s] = strips[s].x0;
+  for (std::size_t c = 0; c < b.curves.size(); ++c) {
+    const auto [lo, hi] = x_range(b.curves[c]);
+    // The strips whose [x0, x1] meets [lo, hi]: from the last whose x0 <= lo on.
+    auto first = std::upper_bound(lefts.begin(), lefts.end(), lo);
+    std::size_t s = first == lefts.begin() ? 0 : static_cast<std::size_t>(first - lefts.begin()) - 1;
+    for (; s < strips.size() && strips[s].x0 <= hi; ++s) out[s].push_back(c);
+  }
+  return out;
+}
+
+StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
+                       const Strip& strip) {
+  StripOverlay overlay(request, b);
+  if (!request.full && !request.levels.empty()) return overlay.run_levels(which, strip);
+  return overlay.run(which, strip);
+}
+
+}  // namespace shadow::sunmap

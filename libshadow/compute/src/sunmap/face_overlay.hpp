@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One receiving face's overlay of lit regions (the sun-hours map, docs/sun-hours-map.md), cut
+// into vertical strips of its chart that are overlaid independently (in parallel, each in its
+// own small arrangement) so that neither time nor memory is held by one arrangement of every
+// boundary of every instant.
+#pragma once
+
+#include "core/face_prep.hpp"
+#include "exact/exact_faces.hpp"
+#include "exact/kernel.hpp"
+
+#include <shadow/sun_hours.hpp>
+
+#include <CGAL/Arr_consolidated_curve_data_traits_2.h>
+#include <CGAL/Arr_segment_traits_2.h>
+
+#include <gmpxx.h>
+
+#include <cstddef>
+#include <map>
+#include <vector>
+
+namespace shadow::sunmap {
+
+using SegmentTraits = CGAL::Arr_segment_traits_2<exact::Kernel>;
+// A curve's data: +(i + 1) when instant i's lit region lies on the left of the segment run from
+// its lexicographically smaller end to the larger, -(i + 1) when it lies on the right. Instant
+// index `n` (the number of instants) stands for the face's chart outline, n + 1 for a strip's
+// frame (which changes nothing when crossed, and is never crossed).
+using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, long>;
+using Curve = Traits::Curve_2;
+
+/// Every boundary of one face, gathered over the instants.
+struct FaceBoundaries {
+  std::vector<Curve> curves;  ///< the partial instants' boundaries and the chart's outline
+  mpq_class base{0};          ///< the hours of the instants that light the whole face
+};
+
+/// A vertical strip x0 <= x <= x1 of a face's chart; `whole`: the whole plane (no frame).
+struct Strip {
+  bool whole = true;
+  double x0 = 0, x1 = 0;    ///< the strip's sides (exact doubles)
+  double ylo = 0, yhi = 0;  ///< below and above the whole chart: the frame's bottom and top
+};
+
+/// Splits a face whose boundaries hold more than `strip_edges` segments into strips of about
+/// that many (0: never), at quantiles of the segments' x; else one whole strip.
+std::vector<Strip> choose_strips(const FaceBoundaries& b, const exact::Polygon2& chart, std::size_t strip_edges);
+
+/// The indices of the curves of `b` that may enter each strip (by interval bounds: a superset).
+std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, const std::vector<Strip>& strips);
+
+/// What one strip of one face contributes.
+struct StripMap {
+  std::vector<SunHoursCell> cells;        ///< the full map's cells (region ids local, from 0)
+  std::size_t regions = 0;
+  std::vector<SunHoursCell> level_cells;  ///< the threshold map's cells (sun_hours = the level reached)
+  std::size_t level_regions = 0;
+  /// The exact chart areas of the cells, per exact hours (full map only): summed once per face
+  /// by area_3d_of_sum (adding them one by one was most of the run time: unrelated denominators).
+  std::map<mpq_class, std::vector<mpq_class>> hour_area;
+  std::vector<std::vector<mpq_class>> level_area;  ///< the same per level index (0: below every level)
+  mpq_class dropped{0};                      ///< chart area of cells too thin to write
+};
+
+/// How a strip is overlaid.
+struct OverlayRequest {
+  const exact::ExactFace* face = nullptr;
+  const core::FacePrep* prep = nullptr;
+  std::size_t face_id = 0;
+  const std::vector<double>* hours = nullptr;  ///< the instants' weights
+  bool merge = true;                           ///< merge touching cells of equal hours
+  bool full = true;                            ///< emit the full map's cells
+  std::vector<mpq_class> levels;               ///< ascending thresholds; empty: no threshold map
+};
+
+/// Overlays the curves `which` of `b` inside `strip`: the cells of the chart in the strip, with
+/// hours summed exactly along a walk from a face of known hours (outside the chart: 0).
+StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
+                       const Strip& strip);
+
+/// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
+void add_boundary(const exact::Polygon2& polygon, long instant, std::vector<Curve>& curves);
+
+/// area_3d (as area_3d_mpq) of the exact sum of the non-negative chart areas in `parts`, rounded
+/// once. The terms are first summed in fixed point, far below the total's last bit, which brackets
+/// the sum; when both ends of the bracket round alike that is the exact sum's rounding, else (a
+/// sum within about 2^-60 of its last bit from a tie) the terms are summed exactly.
+double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, const mpq_class& scale);
+
+/// area_3d of an exact rational chart area under (3D / chart area)^2 = `scale`, rounded as
+/// area_3d rounds.
+double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale);
+
+}  // namespace shadow::sunmap

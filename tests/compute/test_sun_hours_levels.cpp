@@ -1,0 +1,325 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The sun-hours map cut into strips, and the threshold map (SunHoursOptions::strip_edges and
+// levels, shadow/sun_hours.hpp): areas worked out by hand (a box under three suns), strips
+// against the single arrangement (exact areas per hours, bit for bit, on a city and on seeded
+// random scenes), the threshold map's level areas against the full map's areas, its cells against
+// an independent ray caster, its file, and its levels parsed from the command line's text.
+#include "support/polygon_tools.hpp"
+#include "support/ray_caster.hpp"
+#include "support/scene_builders.hpp"
+
+#include <shadow/error.hpp>
+#include <shadow/generators.hpp>
+#include <shadow/output.hpp>
+#include <shadow/scene_io.hpp>
+#include <shadow/shadows.hpp>
+#include <shadow/sun_hours.hpp>
+
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace shadow {
+namespace {
+
+std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh) {
+  std::vector<std::size_t> faces;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (scene.faces[f].mesh == mesh) faces.push_back(f);
+  return faces;
+}
+
+std::vector<std::size_t> all_faces(const Scene& scene) {
+  std::vector<std::size_t> faces(scene.faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) faces[f] = f;
+  return faces;
+}
+
+/// A 2 x 2 x 2 box on a 20 x 20 ground.
+Scene box_scene() {
+  Scene scene;
+  add_mesh(scene, "ground", {rectangle_z(-10, -10, 10, 10, 0)});
+  add_mesh(scene, "box", box_faces({0, 0, 0}, {2, 2, 2}));
+  validate_scene(scene);
+  return scene;
+}
+
+// Three suns: from +x at 45 degrees (1 h; shadow [-2, 0] x [0, 2]), from +y at 45 degrees (2 h;
+// shadow [0, 2] x [-2, 0]), from +x at tan e = 2 (0.5 h; shadow [-1, 0] x [0, 2]). By hand: the
+// footprint 0 h (4); [-1, 0] x [0, 2]: the second sun only, 2 h (2); [-2, -1] x [0, 2]: 2.5 h
+// (2); [0, 2] x [-2, 0]: 1.5 h (4); the rest 3.5 h (400 - 12 = 388). Exact in binary.
+const std::vector<SunHoursInstant>& box_suns() {
+  static const std::vector<SunHoursInstant> suns{{directional_light("a", {1, 0, 1}), 1.0},
+                                                 {directional_light("b", {0, 1, 1}), 2.0},
+                                                 {directional_light("c", {1, 0, 2}), 0.5}};
+  return suns;
+}
+
+void expect_box_areas(const SunHoursMap& map) {
+  ASSERT_EQ(map.faces.size(), 1u);
+  const std::vector<SunHoursArea>& areas = map.faces[0].areas;
+  ASSERT_EQ(areas.size(), 5u);
+  const double hours[] = {0, 1.5, 2, 2.5, 3.5}, area[] = {4, 4, 2, 2, 388};
+  for (std::size_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(areas[k].sun_hours, hours[k]);
+    EXPECT_EQ(areas[k].area, area[k]) << hours[k] << " h";
+  }
+}
+
+TEST(SunHoursLevels, BoxUnderThreeSunsHasTheAreasWorkedOutByHand) {
+  const Scene scene = box_scene();
+  const ShadowEngine engine(scene, 2);
+  SunHoursOptions options;
+  options.threads = 2;
+  options.levels = {3, 1.5, 2, 0, 3.5, 2, 4};  // any order, repeats dropped
+  for (const std::size_t strip_edges : {std::size_t{0}, std::size_t{4}}) {
+    options.strip_edges = strip_edges;  // one arrangement, then strips of about 4 segments
+    const SunHoursMap map = compute_sun_hours_map(engine, faces_of_mesh(scene, 0), box_suns(), options);
+    expect_box_areas(map);
+    ASSERT_EQ(map.levels, (std::vector<double>{0, 1.5, 2, 3, 3.5, 4}));
+    const std::vector<double> want{400 - 4 + 4, 396, 392, 388, 388, 0};
+    EXPECT_EQ(map.faces[0].level_areas[0], 400.0);
+    for (std::size_t k = 1; k < want.size(); ++k) EXPECT_EQ(map.faces[0].level_areas[k], want[k]) << map.levels[k] << " h";
+    EXPECT_EQ(sun_hours_level_areas(map)[2], 392.0);
+    EXPECT_EQ(sun_hours_map_area(map), 400.0);
+    // Level cells: the footprint (below 1.5: level 0), the 1.5 h square, the 2 h and 2.5 h
+    // strips (one level-2 region), the rest (level 3.5).
+    std::map<double, double> by_level;
+    for (const SunHoursCell& c : map.level_cells) by_level[c.sun_hours] += c.area;
+    ASSERT_EQ(by_level.size(), 4u);
+    EXPECT_NEAR(by_level[0], 4, 1e-12);
+    EXPECT_NEAR(by_level[1.5], 4, 1e-12);
+    EXPECT_NEAR(by_level[2], 4, 1e-12);
+    EXPECT_NEAR(by_level[3.5], 388, 1e-10);
+    if (strip_edges == 0) EXPECT_EQ(map.level_regions, 4u);
+    EXPECT_LE(map.level_regions, map.regions);
+  }
+}
+
+/// Exact areas per hours, face by face.
+void expect_same_areas(const SunHoursMap& a, const SunHoursMap& b) {
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  for (std::size_t k = 0; k < a.faces.size(); ++k) {
+    const SunHoursFace &fa = a.faces[k], &fb = b.faces[k];
+    EXPECT_EQ(fa.face_id, fb.face_id);
+    EXPECT_EQ(fa.hour_area, fb.hour_area);
+    EXPECT_EQ(fa.level_areas, fb.level_areas) << "face " << fa.face_id;
+    ASSERT_EQ(fa.areas.size(), fb.areas.size()) << "face " << fa.face_id;
+    for (std::size_t h = 0; h < fa.areas.size(); ++h) {
+      EXPECT_EQ(fa.areas[h].sun_hours, fb.areas[h].sun_hours) << "face " << fa.face_id;
+      EXPECT_EQ(fa.areas[h].area, fb.areas[h].area) << "face " << fa.face_id << ", " << fa.areas[h].sun_hours << " h";
+    }
+  }
+}
+
+/// The threshold map against the full map: the area at level h is the full map's area with at
+/// least h hours (exactly when one hours value reaches h; else to the rounding of the terms).
+void expect_levels_match_full(const SunHoursMap& map) {
+  for (const SunHoursFace& f : map.faces) {
+    for (std::size_t k = 0; k < map.levels.size(); ++k) {
+      double sum = 0;
+      std::size_t terms = 0;
+      for (const SunHoursArea& a : f.areas)
+        if (a.sun_hours >= map.levels[k]) sum += a.area, ++terms;
+      if (terms <= 1)
+        EXPECT_EQ(f.level_areas[k], sum) << "face " << f.face_id << " level " << map.levels[k];
+      else
+        EXPECT_NEAR(f.level_areas[k], sum, 1e-14 * static_cast<double>(terms) * f.area);
+    }
+  }
+}
+
+/// Random points inside the threshold map's cells reach the cell's level and not the next
+/// (rays against every instant, as test_sun_hours_map does for the full map).
+int expect_level_points(const Scene& scene, const SunHoursMap& map, const std::vector<SunHoursInstant>& instants,
+                        std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  int decided = 0;
+  for (const SunHoursCell& cell : map.level_cells) {
+    for (const glm::dvec3& p : test::sample_interior(cell.polygon, 3, 1e-6 * std::max(1.0, std::sqrt(cell.area)), rng)) {
+      double hours = 0.0;
+      bool sure = true;
+      for (const SunHoursInstant& instant : instants) {
+        const test::RayVerdict v = test::cast_shadow_ray(scene, cell.face_id, p, instant.light, 1e-7);
+        if (v == test::RayVerdict::Unsure) sure = false;
+        if (v == test::RayVerdict::Lit) hours += instant.hours;
+      }
+      if (!sure) continue;
+      ++decided;
+      double level = 0;
+      for (double h : map.levels)
+        if (hours >= h - 1e-9) level = h;
+      EXPECT_EQ(level, cell.sun_hours) << "face " << cell.face_id << ": " << hours << " h";
+    }
+  }
+  return decided;
+}
+
+TEST(SunHoursLevels, StripsGiveTheSingleArrangementsAreasOnACity) {
+  Scene scene = make_city(10, 60, 11);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < 8; ++k)
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(15 + 8 * k, 80 + 28 * k)),
+                        0.25 * (k + 1)});
+  const ShadowEngine engine(scene, 2);
+  SunHoursOptions options;
+  options.threads = 2;
+  options.levels = {1, 2.5, 4, 6};
+  options.strip_edges = 0;  // the map as it was: one arrangement per face
+  const SunHoursMap one = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  for (const std::size_t strip_edges : {std::size_t{40}, std::size_t{300}}) {
+    options.strip_edges = strip_edges;
+    const SunHoursMap strips = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+    expect_same_areas(one, strips);
+    EXPECT_GT(strips.regions, one.regions);  // the ground's regions are cut at the strips' sides
+  }
+  expect_levels_match_full(one);
+  EXPECT_GT(expect_level_points(scene, one, instants, 5), 100);
+  // Only the threshold map (instant by instant, merging decided cells on the way): the same
+  // exact level areas, the same regions' areas per level, no full cells; with strips and without.
+  options.strip_edges = 40;
+  const SunHoursMap with_full = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  EXPECT_GT(expect_level_points(scene, with_full, instants, 6), 100);
+  options.full = false;
+  for (const std::size_t strip_edges : {std::size_t{0}, std::size_t{40}}) {
+    options.strip_edges = strip_edges;
+    const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+    EXPECT_TRUE(only.cells.empty());
+    for (std::size_t k = 0; k < only.faces.size(); ++k)
+      EXPECT_EQ(only.faces[k].level_areas, with_full.faces[k].level_areas) << "face " << only.faces[k].face_id;
+    std::map<std::pair<std::size_t, double>, double> a, b;  // (face, level): area of its cells
+    for (const SunHoursCell& c : only.level_cells) a[{c.face_id, c.sun_hours}] += c.area;
+    for (const SunHoursCell& c : with_full.level_cells) b[{c.face_id, c.sun_hours}] += c.area;
+    ASSERT_EQ(a.size(), b.size());
+    for (const auto& [key, area] : a) EXPECT_NEAR(area, b[key], 1e-9 * (1 + area));
+    EXPECT_GT(expect_level_points(scene, only, instants, 7), 100);
+  }
+  // add_sun_hours_levels (how the CLI adds levels to a map gathered from several processes).
+  options.levels.clear();
+  options.full = true;
+  SunHoursMap added = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  add_sun_hours_levels(added, engine, all_faces(scene), instants, {1, 2.5, 4, 6}, 2);
+  EXPECT_FALSE(added.level_cells.empty());
+  EXPECT_EQ(added.levels, one.levels);
+  for (std::size_t k = 0; k < added.faces.size(); ++k) EXPECT_EQ(added.faces[k].level_areas, one.faces[k].level_areas);
+}
+
+// Seeded random scenes (boxes, floating and tilted polygons, a point or directional light) under
+// that light and four random suns of random weights: strips of a few segments give the single
+// arrangement's exact areas per hours and per level, bit for bit.
+RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) {
+  const auto seed = *rc::gen::inRange<std::uint64_t>(0, 1u << 30);
+  Scene scene = test::random_scene(seed);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants{{scene.lights.at(0), 1.0}};
+  for (int k = 0; k < 4; ++k) {
+    const double elevation = *rc::gen::inRange(8, 85);
+    const double azimuth = *rc::gen::inRange(0, 360);
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(elevation, azimuth)),
+                        0.25 * *rc::gen::inRange(1, 12)});
+  }
+  const ShadowEngine engine(scene, 1);
+  SunHoursOptions options;
+  options.threads = 1;
+  options.levels = {0.5, 1.25, 2, 3.5};
+  options.strip_edges = 0;
+  const SunHoursMap one = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.strip_edges = *rc::gen::inRange<std::size_t>(2, 12);
+  const SunHoursMap strips = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.full = false;
+  const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  RC_ASSERT(one.faces.size() == strips.faces.size());
+  RC_ASSERT(only.faces.size() == one.faces.size());
+  for (std::size_t k = 0; k < one.faces.size(); ++k) RC_ASSERT(only.faces[k].level_areas == one.faces[k].level_areas);
+  for (std::size_t k = 0; k < one.faces.size(); ++k) {
+    const SunHoursFace &a = one.faces[k], &b = strips.faces[k];
+    RC_ASSERT(a.level_areas == b.level_areas);
+    RC_ASSERT(a.areas.size() == b.areas.size());
+    for (std::size_t h = 0; h < a.areas.size(); ++h) {
+      RC_ASSERT(a.areas[h].sun_hours == b.areas[h].sun_hours);
+      RC_ASSERT(a.areas[h].area == b.areas[h].area);
+    }
+    // The level areas against the full map's.
+    for (std::size_t l = 0; l < one.levels.size(); ++l) {
+      double sum = 0;
+      for (const SunHoursArea& x : a.areas)
+        if (x.sun_hours >= one.levels[l]) sum += x.area;
+      RC_ASSERT(std::abs(a.level_areas[l] - sum) <= 1e-13 * (1.0 + a.area));
+    }
+  }
+}
+
+TEST(SunHoursLevels, WritesTheThresholdMapVtp) {
+  const Scene scene = box_scene();
+  const ShadowEngine engine(scene, 1);
+  SunHoursOptions options;
+  options.threads = 1;
+  options.levels = {2, 3};
+  options.full = false;
+  const SunHoursMap map = compute_sun_hours_map(engine, faces_of_mesh(scene, 0), box_suns(), options);
+  EXPECT_TRUE(map.cells.empty());
+  EXPECT_TRUE(map.faces[0].areas.empty());
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "sun_hours_levels_test";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path file = dir / "sun_hours_levels.vtp";
+  write_sun_hours_levels_vtp(file, map, scene);
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.string().c_str());
+  reader->Update();
+  vtkPolyData* poly = reader->GetOutput();
+  ASSERT_EQ(poly->GetNumberOfCells(), static_cast<vtkIdType>(map.level_cells.size()));
+  vtkDataArray* level = poly->GetCellData()->GetArray("level");
+  ASSERT_NE(level, nullptr);
+  double at_least_two = 0;
+  for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c) {
+    EXPECT_EQ(level->GetTuple1(c), map.level_cells[static_cast<std::size_t>(c)].sun_hours);
+    if (level->GetTuple1(c) >= 2) at_least_two += poly->GetCellData()->GetArray("area")->GetTuple1(c);
+  }
+  EXPECT_NEAR(at_least_two, 392, 1e-10);
+  vtkDataArray* areas = poly->GetFieldData()->GetArray("level_areas");
+  ASSERT_NE(areas, nullptr);
+  EXPECT_EQ(areas->GetTuple1(0), 392.0);
+  EXPECT_EQ(areas->GetTuple1(1), 388.0);
+  EXPECT_EQ(poly->GetFieldData()->GetArray("levels")->GetTuple1(1), 3.0);
+  EXPECT_EQ(poly->GetFieldData()->GetArray("area")->GetTuple1(0), 400.0);
+  const std::string summary = sun_hours_levels_summary(map, "  ");
+  EXPECT_NE(summary.find("at least 2 h of sun: area 392 of 400 (98.0%)"), std::string::npos) << summary;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SunHoursLevels, LevelsAreParsedAndChecked) {
+  EXPECT_EQ(parse_sun_hours_levels("2,4,6"), (std::vector<double>{2, 4, 6}));
+  EXPECT_EQ(parse_sun_hours_levels("1.5"), (std::vector<double>{1.5}));
+  for (const char* bad : {"", "2,,4", "two", "2,-1", "nan", "inf", "2h", ","}) {
+    try {
+      (void)parse_sun_hours_levels(bad);
+      ADD_FAILURE() << "accepted \"" << bad << "\"";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--sun-hours-levels"), std::string::npos) << e.what();
+    }
+  }
+  const Scene scene = box_scene();
+  const ShadowEngine engine(scene, 1);
+  SunHoursOptions options;
+  options.levels = {2, -1};
+  EXPECT_THROW((void)compute_sun_hours_map(engine, {0}, box_suns(), options), InputError);
+}
+
+}  // namespace
+}  // namespace shadow
