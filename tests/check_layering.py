@@ -143,11 +143,12 @@ def check_component_sources(lib, repo, component, table, other_public):
         own = "" if flat else (parts[0] if len(parts) > 1 else None)
         for number, kind, target in includes(path):
             where = f"{os.path.relpath(path, repo)}:{number}: #include {kind}{target}{'>' if kind == '<' else kind}"
+            if component == "compute" and FORBIDDEN_COMPUTE.match(target):
+                problems.append(f"{where}: compute may not include VTK, nlohmann_json, cairo or Embree "
+                                f"(file formats belong to io)")
+                continue
             if kind == "<":
-                if component == "compute" and FORBIDDEN_COMPUTE.match(target):
-                    problems.append(f"{where}: compute may not include VTK, nlohmann_json, cairo or Embree "
-                                    f"(file formats belong to io)")
-                elif target in other_public:
+                if target in other_public:
                     problems.append(f"{where}: {component} may not include {other_public[target]}'s header")
                 continue
             target_folder = target.split("/")[0] if "/" in target else None
@@ -225,13 +226,13 @@ def self_test():
     import tempfile
 
     def problems(files):
-        root = tempfile.mkdtemp(prefix="check-layering-")
-        for rel, text in files.items():
-            path = os.path.join(root, rel)
-            os.makedirs(os.path.dirname(path), exist_ok=True)
-            with open(path, "w", encoding="utf-8") as f:
-                f.write(text)
-        return check_tree(root)
+        with tempfile.TemporaryDirectory(prefix="check-layering-") as root:
+            for rel, text in files.items():
+                path = os.path.join(root, rel)
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                with open(path, "w", encoding="utf-8") as f:
+                    f.write(text)
+            return check_tree(root)
 
     clean = {
         "libshadow/include/shadow/shadow.hpp": "#include <shadow/scene.hpp>\n#include <shadow/output.hpp>\n",
@@ -258,6 +259,7 @@ def self_test():
         "compute includes a reader": (C + "core/x.cpp", '#include "readers/scene_json.hpp"\n', "may not include readers/"),
         "compute includes VTK": (C + "core/x.cpp", "#include <vtkPolyData.h>\n", "compute may not include VTK"),
         "compute includes nlohmann": (C + "sun/x.cpp", "#include <nlohmann/json.hpp>\n", "compute may not include VTK"),
+        "compute includes nlohmann by quotes": (C + "sun/x.cpp", '#include "nlohmann/json.hpp"\n', "compute may not include VTK"),
         "compute includes an io header": (C + "engine/x.cpp", "#include <shadow/output.hpp>\n", "may not include io's header"),
         "compute public header includes io": ("libshadow/compute/include/shadow/x.hpp", "#include <shadow/output.hpp>\n",
                                               "may not include io's header"),

@@ -355,8 +355,10 @@ def self_test():
     expect("a test macro body is a function", names(
         "TEST(Suite, Name) {\n  EXPECT_EQ(1, 1);\n}\n"), [(1, 3, "TEST")])
 
+    scratch = tempfile.TemporaryDirectory(prefix="check-sizes-")  # removed when the self-test ends
+
     def tree(files):
-        root = tempfile.mkdtemp(prefix="check-sizes-")
+        root = tempfile.mkdtemp(dir=scratch.name)
         for rel, text in files.items():
             path = os.path.join(root, rel)
             os.makedirs(os.path.dirname(path), exist_ok=True)

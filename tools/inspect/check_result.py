@@ -5,7 +5,7 @@ every file opens, points are Float64, scene.vtm has its named blocks, the fragme
 plane shadows add up to what report.json says, and the fragments' irradiance is I max(0, n.l)
 (/ r^2 for point lights) where lit and 0 in shadow, recomputed from faces.vtp and lights.vtp.
 
-    /usr/bin/python3 tools/check_result.py OUTDIR      # prints "check_result: ok" or the problems
+    /usr/bin/python3 tools/inspect/check_result.py OUTDIR      # prints "check_result: ok" or the problems
 """
 import json
 import math

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Runs a command with a private virtual X server: tools/run-headless.sh COMMAND [ARGS...]
+# Runs a command with a private virtual X server: tools/paraview/run-headless.sh COMMAND [ARGS...]
 #
 # For VTK and ParaView rendering on a machine without a display (Debian's VTK 9.1 needs X even
 # off screen). Unlike `xvfb-run -a`, which picks a display number from lock files and races

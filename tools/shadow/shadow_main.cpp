@@ -252,8 +252,9 @@ int main(int argc, char** argv) {
 #ifdef LIBSHADOW_HAVE_RENDER
   RenderArgs render_args;
   CLI::App* render = app.add_subcommand(
-      "render", "Compute the exact shadows and draw the scene lit by a lighting model to a PNG image "
-                "(see docs/lighting.md; needs an X display or xvfb-run)");
+      "render", "Draw the scene: lit by a lighting model with its exact shadows to a PNG image (needs an X "
+                "display or xvfb-run; docs/lighting.md), its exact vector view to an .svg or .pdf "
+                "(docs/vector-views.md), or its faces coloured by an irradiance result (--irradiation)");
   add_render_options(*render, render_args);
   render->footer(shadow_cli::exit_codes_help());
 #endif

@@ -39,6 +39,19 @@ using Arrangement = CGAL::Arrangement_2<Traits, Dcel>;
 
 double round_mpq(const mpq_class& q) { return exact::round_mpq_to_double(q.get_mpq_t()); }
 
+/// A breadth-first walk over an arrangement's faces from those in `queue`: `visit_ccb(face,
+/// ccb)` is called on every boundary (outer and inner) of each face taken from the queue, and
+/// pushes the neighbours it reaches first.
+template <class VisitCcb>
+void walk_faces(std::deque<Arrangement::Face_handle>& queue, VisitCcb&& visit_ccb) {
+  while (!queue.empty()) {
+    const Arrangement::Face_handle f = queue.front();
+    queue.pop_front();
+    for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
+    for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
+  }
+}
+
 template <class Circulator>
 Polygon2 ccb_polygon(Circulator first) {
   Polygon2 polygon;
@@ -216,12 +229,7 @@ class StripOverlay {
         }
       } while (++h != first);
     };
-    while (!queue.empty()) {
-      const Arrangement::Face_handle f = queue.front();
-      queue.pop_front();
-      for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
-      for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
-    }
+    walk_faces(queue, visit_ccb);
     const mpq_class w((*r_.hours)[i]);
     for (std::size_t v = 0; v < in.size(); ++v)
       if (in[v] == 1 && inside_[v] > 0) hours_at_[v] += w;
@@ -321,12 +329,7 @@ class StripOverlay {
         }
       } while (++h != first);
     };
-    while (!queue.empty()) {
-      const Arrangement::Face_handle f = queue.front();
-      queue.pop_front();
-      for (auto c = f->outer_ccbs_begin(); c != f->outer_ccbs_end(); ++c) visit_ccb(f, *c);
-      for (auto c = f->inner_ccbs_begin(); c != f->inner_ccbs_end(); ++c) visit_ccb(f, *c);
-    }
+    walk_faces(queue, visit_ccb);
   }
 
   /// Removes every edge with equal inside counts and equal(a, b) keys on both sides: touching

@@ -59,7 +59,6 @@ std::int64_t offset_seconds(const SunPeriod& period) {
 
 }  // namespace
 
-std::string format_series_time(UtcSeconds t) { return format_iso8601_utc(t); }
 
 std::string csv_field(const std::string& text) {
   const bool quote = text.find_first_of(",\"\r\n") != std::string::npos ||
@@ -87,7 +86,7 @@ void write_sunlit_csv(std::ostream& out, const SunSeries& suns, const SurfaceSer
   for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(s.label);
   out << "\r\n";
   for (std::size_t i = 0; i < surfaces.instants; ++i) {
-    out << (i < suns.times.size() ? format_series_time(suns.times[i]) : std::string());
+    out << (i < suns.times.size() ? format_iso8601_utc(suns.times[i]) : std::string());
     for (std::size_t s = 0; s < surfaces.surfaces.size(); ++s)
       out << ',' << number(surfaces.lit_fraction[s * surfaces.instants + i]);
     out << "\r\n";
