@@ -37,12 +37,7 @@
 namespace shadow {
 namespace {
 
-std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh) {
-  std::vector<std::size_t> faces;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    if (scene.faces[f].mesh == mesh) faces.push_back(f);
-  return faces;
-}
+using test::faces_of_mesh;  // support/scene_builders.hpp
 
 std::vector<std::size_t> all_faces(const Scene& scene) {
   std::vector<std::size_t> faces(scene.faces.size());

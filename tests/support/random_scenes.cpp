@@ -73,4 +73,11 @@ Scene transformed(const Scene& scene, double scale, glm::dvec3 axis, double angl
   return out;
 }
 
+std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh) {
+  std::vector<std::size_t> faces;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (scene.faces[f].mesh == mesh) faces.push_back(f);
+  return faces;
+}
+
 }  // namespace shadow::test

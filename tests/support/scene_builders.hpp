@@ -7,6 +7,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,5 +22,8 @@ Scene random_scene(std::uint64_t seed);
 
 /// Applies p -> scale * R p + t to every face, light and plane (directions are rotated).
 Scene transformed(const Scene& scene, double scale, glm::dvec3 axis, double angle_rad, glm::dvec3 t);
+
+/// The ids of the faces of mesh `mesh`, ascending.
+std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh);
 
 }  // namespace shadow::test

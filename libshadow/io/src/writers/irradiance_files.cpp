@@ -2,6 +2,7 @@
 // The files of `shadow irradiance` (shadow/irradiance_output.hpp, docs/irradiance.md).
 #include <shadow/irradiance_output.hpp>
 
+#include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtp_writer.hpp"
 
@@ -17,12 +18,7 @@
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
 
-#include <unistd.h>
-
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -34,70 +30,6 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 const char* const kMonths[12] = {"jan", "feb", "mar", "apr", "may", "jun", "jul", "aug", "sep", "oct", "nov", "dec"};
-
-/// Files under temporary names, moved into place by commit(); the rest removed on the way out.
-class Staging {
- public:
-  explicit Staging(fs::path dir) : dir_(std::move(dir)) {}
-  Staging(const Staging&) = delete;
-  Staging& operator=(const Staging&) = delete;
-  ~Staging() {
-    for (const auto& [temp, final_path] : entries_) {
-      std::error_code ignored;
-      if (!placed_) fs::remove(temp, ignored);
-    }
-  }
-  fs::path stage(const std::string& name) {
-    const fs::path temp = dir_ / ("." + name + ".tmp-" + std::to_string(::getpid()));
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    entries_.emplace_back(temp, dir_ / name);
-    return temp;
-  }
-  /// Writes a staged text file through `write`, with a checked close.
-  void write(const std::string& name, const std::function<void(std::ostream&)>& write) {
-    const fs::path temp = stage(name);
-    errno = 0;
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (out) write(out);
-    if (out) out.close();
-    if (!out) {
-      const int saved = errno;
-      throw OutputError((dir_ / name).string() + ": " + (saved != 0 ? std::strerror(saved) : "could not write the file"));
-    }
-  }
-  std::vector<fs::path> commit() {
-    std::vector<fs::path> placed;
-    for (const auto& [temp, final_path] : entries_) {
-      std::error_code ec;
-      fs::rename(temp, final_path, ec);
-      if (ec) throw OutputError(final_path.string() + ": cannot move the finished file into place: " + ec.message());
-      placed.push_back(final_path);
-    }
-    placed_ = true;
-    return placed;
-  }
-
- private:
-  fs::path dir_;
-  std::vector<std::pair<fs::path, fs::path>> entries_;
-  bool placed_ = false;
-};
-
-void prepare_directory(const fs::path& outdir) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(outdir, ec);
-  if (fs::exists(status) && !fs::is_directory(status)) throw OutputError(outdir.string() + ": exists and is not a directory");
-  if (!fs::exists(status)) {
-    fs::create_directories(outdir, ec);
-    if (ec) throw OutputError(outdir.string() + ": cannot create the output directory: " + ec.message());
-  }
-  const fs::path report = outdir / "report.json";
-  if (fs::exists(fs::symlink_status(report, ec))) {
-    fs::remove(report, ec);
-    if (ec) throw OutputError(report.string() + ": cannot remove the old report: " + ec.message());
-  }
-}
 
 /// A number as JSON: null when not finite.
 Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
@@ -359,21 +291,27 @@ std::vector<IrradianceGroup> irradiance_groups(const Scene& scene, const Irradia
 std::vector<fs::path> write_irradiance_outputs(const fs::path& outdir, const Scene& scene, const Weather& weather,
                                                const IrradianceResult& result, const IrradianceRunInfo& run,
                                                const IrradianceFiles& files) {
-  prepare_directory(outdir);
-  Staging staging(outdir);
+  detail::make_output_directory(outdir);
+  detail::remove_stale_report(outdir / "report.json");
+  detail::StagedFiles staging(outdir);
+  const auto write = [&](const std::string& name, const std::function<void(std::ostream&)>& text) {
+    detail::write_staged_stream(staging.stage(name), text);
+  };
   const std::vector<IrradianceGroup> surfaces = irradiance_groups(scene, result, IrradianceGrouping::Surface);
-  staging.write("irradiation.csv", [&](std::ostream& out) { write_irradiation_csv(out, surfaces); });
+  write("irradiation.csv", [&](std::ostream& out) { write_irradiation_csv(out, surfaces); });
   if (files.hourly)
-    staging.write("irradiance_hourly.csv", [&](std::ostream& out) { write_hourly_csv(out, weather, result, surfaces); });
+    write("irradiance_hourly.csv", [&](std::ostream& out) { write_hourly_csv(out, weather, result, surfaces); });
   if (files.energyplus)
-    staging.write("energyplus-diffuse-shading.csv", [&](std::ostream& out) { write_energyplus_csv(out, surfaces); });
+    write("energyplus-diffuse-shading.csv", [&](std::ostream& out) { write_energyplus_csv(out, surfaces); });
   vtkSmartPointer<vtkPolyData> faces = faces_polydata(scene, result);
   detail::shift_to_origin(faces, scene);  // like every other dataset (Scene::origin)
-  detail::write_polydata(faces, staging.stage("faces.vtp"), outdir / "faces.vtp");
-  if (files.map != nullptr)
-    detail::write_polydata(map_polydata(scene, result, *files.map), staging.stage("irradiation_map.vtp"),
-                           outdir / "irradiation_map.vtp");
-  staging.write("report.json", [&](std::ostream& out) { out << report_json(scene, weather, result, run).dump(2) << "\n"; });
+  const auto faces_file = staging.stage("faces.vtp");
+  detail::write_polydata(faces, faces_file.temp, faces_file.final_path);
+  if (files.map != nullptr) {
+    const auto map_file = staging.stage("irradiation_map.vtp");
+    detail::write_polydata(map_polydata(scene, result, *files.map), map_file.temp, map_file.final_path);
+  }
+  write("report.json", [&](std::ostream& out) { out << report_json(scene, weather, result, run).dump(2) << "\n"; });
   return staging.commit();
 }
 

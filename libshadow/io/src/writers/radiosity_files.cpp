@@ -3,6 +3,7 @@
 #include <shadow/radiosity_output.hpp>
 
 #include "writers/face_identity_json.hpp"
+#include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtp_writer.hpp"
 
@@ -18,8 +19,6 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkTypeInt64Array.h>
-
-#include <unistd.h>
 
 #include <cmath>
 #include <string>
@@ -134,30 +133,15 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
 
 std::vector<fs::path> write_radiosity_outputs(const fs::path& outdir, const Scene& scene,
                                               const RadiosityResult& result, const RadiosityRunInfo& run) {
-  std::vector<fs::path> written;
-  const fs::path vtp = outdir / "radiosity.vtp";
-  const fs::path temp = outdir / (".radiosity.vtp.tmp-" + std::to_string(::getpid()));
-  try {
-    vtkSmartPointer<vtkPolyData> poly = make_radiosity_polydata(result);
-    detail::shift_to_origin(poly, scene);  // like every other dataset of a run (Scene::origin)
-    detail::write_polydata(poly, temp, vtp);
-  } catch (...) {
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    throw;
-  }
-  std::error_code ec;
-  fs::rename(temp, vtp, ec);
-  if (ec) {
-    fs::remove(temp, ec);
-    throw OutputError("cannot write " + vtp.string() + ": " + ec.message());
-  }
-  written.push_back(vtp);
-  // report.json last: its presence says the set is complete.
-  const fs::path report = outdir / "report.json";
-  write_file_staged(report, [&](std::ostream& out) { write_radiosity_report_json(out, scene, result, run); });
-  written.push_back(report);
-  return written;
+  detail::StagedFiles staging(outdir);
+  const auto vtp = staging.stage("radiosity.vtp");
+  vtkSmartPointer<vtkPolyData> poly = make_radiosity_polydata(result);
+  detail::shift_to_origin(poly, scene);  // like every other dataset of a run (Scene::origin)
+  detail::write_polydata(poly, vtp.temp, vtp.final_path);
+  // report.json staged last, so placed last: its presence says the set is complete.
+  detail::write_staged_stream(staging.stage("report.json"),
+                              [&](std::ostream& out) { write_radiosity_report_json(out, scene, result, run); });
+  return staging.commit();
 }
 
 }  // namespace shadow

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "writers/series_outputs.hpp"
+#include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtm_writer.hpp"
 #include "writers/vtp_writer.hpp"
@@ -37,6 +38,10 @@ OutputError::OutputError(const std::string& message) : std::runtime_error(escape
 namespace {
 
 namespace fs = std::filesystem;
+using detail::StagedFiles;
+using detail::write_staged_stream;
+using detail::make_output_directory;
+using detail::remove_stale_report;
 
 /// The files write_series() stages at OUTDIR's top level besides faces.vtp and report.json.
 const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd",
@@ -90,107 +95,6 @@ void remove_stale_temporaries(const fs::path& outdir, bool series_folder = false
       }
       break;
     }
-  }
-}
-
-/// Output files written under temporary names. Whatever is not yet in place when this goes
-/// out of scope (an error, an exception) is removed, so no half-written file stays behind.
-class StagedFiles {
- public:
-  explicit StagedFiles(fs::path dir) : dir_(std::move(dir)) {}
-  StagedFiles(const StagedFiles&) = delete;
-  StagedFiles& operator=(const StagedFiles&) = delete;
-  ~StagedFiles() {
-    for (const Entry& e : entries_) {
-      std::error_code ignored;
-      if (!e.placed) fs::remove(e.temp, ignored);
-    }
-  }
-
-  /// A file to write: `temp` (hidden, unique to this process) becomes `final_path` on commit.
-  struct Target {
-    fs::path temp;
-    fs::path final_path;
-  };
-
-  Target stage(const std::string& name) {
-    Entry e;
-    e.final_path = dir_ / name;
-    // A name in a subfolder (series/sun_00000.vtp) gets its temporary beside it.
-    e.temp = e.final_path.parent_path() / ("." + e.final_path.filename().string() + ".tmp-" + std::to_string(process_id()));
-    // Whatever is at that name now is not ours (a leftover of an earlier process with our pid, or
-    // a planted symbolic link that the writers would follow): remove the entry itself first.
-    std::error_code ignored;
-    fs::remove(e.temp, ignored);
-    entries_.push_back(e);
-    return {e.temp, e.final_path};
-  }
-
-  /// Renames every staged file into place, in staging order.
-  std::vector<fs::path> commit() {
-    std::vector<fs::path> placed;
-    for (Entry& e : entries_) {
-      std::error_code ec;
-      fs::rename(e.temp, e.final_path, ec);
-      if (ec) {
-        throw OutputError(e.final_path.string() + ": cannot move the finished file into place: " +
-                          ec.message());
-      }
-      e.placed = true;
-      placed.push_back(e.final_path);
-    }
-    return placed;
-  }
-
- private:
-  struct Entry {
-    fs::path temp;
-    fs::path final_path;
-    bool placed = false;
-  };
-  fs::path dir_;
-  std::vector<Entry> entries_;
-};
-
-/// Creates `outdir` and its parents; an existing directory is fine.
-void make_output_directory(const fs::path& outdir) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(outdir, ec);
-  if (fs::exists(status)) {
-    if (!fs::is_directory(status))
-      throw OutputError(outdir.string() + ": exists and is not a directory");
-    return;
-  }
-  fs::create_directories(outdir, ec);
-  if (ec) {
-    throw OutputError(outdir.string() + ": cannot create the output directory: " + ec.message());
-  }
-}
-
-/// Removes a report.json of an earlier run before anything new is written, so that an
-/// interrupted run never leaves old results that look complete next to new files.
-void remove_stale_report(const fs::path& report) {
-  std::error_code ec;
-  const fs::file_status status = fs::symlink_status(report, ec);
-  if (!fs::exists(status)) return;
-  if (fs::is_directory(status))
-    throw OutputError(report.string() + ": is a directory; cannot replace it with the report");
-  fs::remove(report, ec);
-  if (ec) throw OutputError(report.string() + ": cannot remove the old report: " + ec.message());
-}
-
-/// Writes `target.temp` through `write` with a checked close: a stream error (a full disk, a
-/// quota, a file size limit) while writing or flushing becomes an OutputError naming the final
-/// file, which is what the user asked for, with the system's reason.
-void write_staged_stream(const StagedFiles::Target& target, const std::function<void(std::ostream&)>& write) {
-  errno = 0;
-  std::ofstream out(target.temp, std::ios::binary | std::ios::trunc);
-  if (out) write(out);
-  if (out) out.close();  // the last buffer reaches the file here: its failure counts too
-  if (!out) {
-    const int saved_errno = errno;
-    throw OutputError(target.final_path.string() + ": " +
-                      (saved_errno != 0 ? std::strerror(saved_errno) : "could not write the file"));
   }
 }
 
