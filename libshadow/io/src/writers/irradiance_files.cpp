@@ -2,6 +2,7 @@
 // The files of `shadow irradiance` (shadow/irradiance_output.hpp, docs/irradiance.md).
 #include <shadow/irradiance_output.hpp>
 
+#include "writers/series_outputs.hpp"
 #include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtp_writer.hpp"
@@ -16,7 +17,6 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkPolyData.h>
-#include <vtkStringArray.h>
 
 #include <cmath>
 #include <functional>
@@ -184,13 +184,9 @@ void write_energyplus_csv(std::ostream& out, const std::vector<IrradianceGroup>&
 }
 
 vtkSmartPointer<vtkPolyData> faces_polydata(const Scene& scene, const IrradianceResult& r) {
-  vtkSmartPointer<vtkPolyData> poly = detail::make_faces_polydata(scene, ShadowResult{});
+  // faces.vtp of a series: the faces with their `label` (the CSV columns' names).
+  vtkSmartPointer<vtkPolyData> poly = detail::make_series_base(scene);
   const auto n = static_cast<vtkIdType>(scene.faces.size());
-  auto label = vtkSmartPointer<vtkStringArray>::New();
-  label->SetName("label");
-  label->SetNumberOfValues(n);
-  for (vtkIdType c = 0; c < n; ++c) label->SetValue(c, face_label(scene, static_cast<std::size_t>(c)));
-  poly->GetCellData()->AddArray(label);
   const std::pair<const char*, const std::vector<double>*> arrays[] = {
       {"irradiation_direct_kwh_m2", &r.direct},
       {"irradiation_sky_diffuse_kwh_m2", &r.sky_diffuse},
