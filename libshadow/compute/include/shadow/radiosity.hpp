@@ -78,6 +78,10 @@ struct RadiosityOptions {
   /// reflected part of the direct light).
   double tolerance = 1e-3;
   std::size_t max_shots = 0;  ///< 0: no limit other than the tolerance
+  /// Visibility between elements: false (the default) cuts the shadows of the faces in the shaft
+  /// between receiver and shooter out of the shooter in doubles (about 1e-9 of its size);
+  /// true takes CGAL's exact machinery point by point (slow; for checking the default).
+  bool exact_visibility = false;
   unsigned threads = 0;       ///< 0: every hardware thread; at most 1024
   /// Called about every 0.5 s and at the end, from the calling thread. May be empty; what it
   /// throws stops the solution and comes out of the call.

@@ -4,8 +4,10 @@
 #include <shadow/radiosity.hpp>
 
 #include "runtime/parallel.hpp"
+#include "radiosity/shaft.hpp"
 #include "radiosity/shooter_view.hpp"
 #include "radiosity/triangles.hpp"
+#include "radiosity/visible_part.hpp"
 
 #include <shadow/area_lights.hpp>
 #include <shadow/error.hpp>
@@ -16,6 +18,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <string>
 
@@ -123,7 +126,7 @@ bool inside(const std::vector<glm::dvec3>& polygon, const glm::dvec3& p) {
 /// lit flag for the first light, a lit fragment of the same face holding the centroid for the
 /// others (hard lights), light_irradiance at the centroid for extended lights.
 std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
-                                      const std::vector<Element>& elements, const radiosity::ShooterView& view,
+                                      const std::vector<Element>& elements, const std::vector<glm::dvec3>& normals,
                                       unsigned threads) {
   std::vector<double> direct(elements.size(), 0.0);
   // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
@@ -151,58 +154,135 @@ std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Frag
       } else {
         for (std::size_t k : lit[e.face]) is_lit = is_lit || inside(fragments[k].polygon, e.centroid);
       }
-      if (is_lit) direct[i] += irradiance(light, e.centroid, view.normal(e.face));
+      if (is_lit) direct[i] += irradiance(light, e.centroid, normals[e.face]);
     }
   }
   return direct;
 }
 
-/// The form factor from each element (its quadrature points) to patch `s`, and the quadrature
-/// change that estimates its error: beyond 6 R (R: the sum of their circumradii) the element's
-/// centroid; within, the 3-point rule (degree 2); within 2 R, where the point form factor varies
-/// fast (logarithmically along a shared edge), a 4 x 4 collapsed Gauss rule. The change from the
-/// rule below is the estimate. Elements on the patch's face get 0 (a plane does not see itself).
-void receive_factors(radiosity::ShooterView& view, const std::vector<Element>& elements, const Patch& s,
-                     unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
-  std::vector<double> gauss_nodes, gauss_weights;
-  radiosity::gauss_legendre01(4, gauss_nodes, gauss_weights);
-  std::vector<std::vector<glm::dvec3>> pieces;
-  if (s.count > 1)
-    for (std::size_t i = s.first; i < s.first + s.count; ++i)
-      pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
-  view.set_shooter(s.face, {s.triangle[0], s.triangle[1], s.triangle[2]}, std::move(pieces));
-  factor.assign(elements.size(), 0.0);
-  quad.assign(elements.size(), 0.0);
-  runtime::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
-    const Element& e = elements[i];
-    if (e.face == s.face) return;
-    const double gap = glm::length(e.centroid - s.centroid);
-    const double reach = e.radius + s.radius;
-    double f = view.evaluate(worker, {e.face, e.centroid});
-    if (gap < 6.0 * reach) {
-      double f3 = 0.0;
-      for (int c = 0; c < 3; ++c) {
-        const glm::dvec3 p = (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0;
-        f3 += view.evaluate(worker, {e.face, p}) / 3.0;
+/// The receiving rule of an element at distance `gap` from a shooter (R: the sum of their
+/// circumradii): beyond 6 R the centroid; within, the 3-point rule (degree 2); within 2 R, where
+/// the point form factor varies fast (logarithmically along a shared edge), a 4 x 4 collapsed
+/// Gauss rule. Returns the estimate and sets `change` to its difference from the rule below.
+template <class PointFactor>
+double integrate_over_element(const Element& e, double gap, double reach, const PointFactor& at, double& change) {
+  static const std::pair<std::vector<double>, std::vector<double>> gauss = [] {
+    std::pair<std::vector<double>, std::vector<double>> g;
+    radiosity::gauss_legendre01(4, g.first, g.second);
+    return g;
+  }();
+  change = 0.0;
+  double f = at(e.centroid);
+  if (gap < 6.0 * reach) {
+    double f3 = 0.0;
+    for (int c = 0; c < 3; ++c)
+      f3 += at((4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0) / 3.0;
+    change = std::abs(f3 - f);
+    f = f3;
+  }
+  if (gap < 2.0 * reach) {
+    const radiosity::Triangle& t = e.triangle;
+    double f16 = 0.0;
+    for (std::size_t a = 0; a < gauss.first.size(); ++a)
+      for (std::size_t b = 0; b < gauss.first.size(); ++b) {
+        const double u = gauss.first[a], v = gauss.first[b];
+        f16 += 2.0 * u * gauss.second[a] * gauss.second[b] * at(t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]));
       }
-      quad[i] = std::abs(f3 - f);
-      f = f3;
-    }
-    if (gap < 2.0 * reach) {
-      const radiosity::Triangle& t = e.triangle;
-      double f16 = 0.0;
-      for (std::size_t a = 0; a < gauss_nodes.size(); ++a)
-        for (std::size_t b = 0; b < gauss_nodes.size(); ++b) {
-          const double u = gauss_nodes[a], v = gauss_nodes[b];
-          const glm::dvec3 p = t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]);
-          f16 += 2.0 * u * gauss_weights[a] * gauss_weights[b] * view.evaluate(worker, {e.face, p});
-        }
-      quad[i] = std::abs(f16 - f);
-      f = f16;
-    }
-    factor[i] = f;
-  });
+    change = std::abs(f16 - f);
+    f = f16;
+  }
+  return f;
 }
+
+/// Where the form factors come from: visibility in doubles through shaft culling (the default),
+/// or the exact machinery point by point (RadiosityOptions::exact_visibility, for checking).
+class Receivers {
+ public:
+  Receivers(const Scene& scene, unsigned threads, bool exact)
+      : exact_(exact), culler_(scene), workers_(std::max(1u, threads)) {
+    if (exact) view_ = std::make_unique<radiosity::ShooterView>(scene, threads);
+    normals_.assign(scene.faces.size(), glm::dvec3(0.0));
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      const glm::dvec3 n = radiosity::newell_normal(scene.faces[f].vertices);
+      if (!scene.faces[f].degenerate && glm::length(n) > 0.0) normals_[f] = glm::normalize(n);
+    }
+  }
+
+  std::size_t exact_evaluations() const { return view_ ? view_->exact_evaluations() : 0; }
+  const std::vector<glm::dvec3>& normals() const { return normals_; }
+
+  /// The form factor from each element to patch `s` and the quadrature change that estimates
+  /// its error. Elements on the patch's face get 0 (a plane does not see itself).
+  void receive(const std::vector<Patch>& patches, const std::vector<Element>& elements, const Patch& s,
+               unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
+    const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
+    factor.assign(elements.size(), 0.0);
+    quad.assign(elements.size(), 0.0);
+    if (exact_) {
+      std::vector<std::vector<glm::dvec3>> pieces;
+      if (s.count > 1)
+        for (std::size_t i = s.first; i < s.first + s.count; ++i)
+          pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
+      view_->set_shooter(s.face, source, std::move(pieces));
+    }
+    if (exact_) {
+      runtime::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
+        const Element& e = elements[i];
+        if (e.face == s.face || !faces_each_other(e.triangle, e.face, s.triangle, s.face)) return;
+        const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
+        factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
+          return view_->evaluate(worker, {e.face, p});
+        }, quad[i]);
+      });
+      return;
+    }
+    // One shaft per receiving patch serves all its elements (each element's shaft lies inside it).
+    const radiosity::SourceChart chart(source);
+    runtime::parallel_for(patches.size(), threads, [&](unsigned worker, std::size_t r) {
+      const Patch& receiver = patches[r];
+      if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return;
+      Worker& w = workers_[worker];
+      culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
+                         s.face, w.shaft, w.faces);
+      w.occluders.clear();
+      for (std::size_t f : w.faces) w.occluders.push_back(&culler_.vertices(f));
+      const glm::dvec3& nr = normals_[receiver.face];
+      for (std::size_t i = receiver.first; i < receiver.first + receiver.count; ++i) {
+        const Element& e = elements[i];
+        if (!faces_each_other(e.triangle, e.face, s.triangle, s.face)) continue;
+        const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
+        factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
+          return w.occluders.empty() ? chart.unoccluded(p, nr, w.visible)
+                                     : chart.form_factor(p, nr, w.occluders, w.visible);
+        }, quad[i]);
+      }
+    });
+  }
+
+ private:
+  struct Worker {
+    radiosity::VisibleScratch visible;
+    radiosity::ShaftCuller::Scratch shaft;
+    std::vector<std::size_t> faces;
+    std::vector<const std::vector<glm::dvec3>*> occluders;
+  };
+
+  /// Some of the receiver in front of the shooter and some of the shooter in front of the receiver.
+  bool faces_each_other(const radiosity::Triangle& r, std::size_t r_face, const radiosity::Triangle& s,
+                        std::size_t s_face) const {
+    const glm::dvec3 &nr = normals_[r_face], &ns = normals_[s_face];
+    bool a = false, b = false;
+    for (const glm::dvec3& v : r) a = a || glm::dot(ns, v - s[0]) > 0.0;
+    for (const glm::dvec3& v : s) b = b || glm::dot(nr, v - r[0]) > 0.0;
+    return a && b;
+  }
+
+  bool exact_;
+  radiosity::ShaftCuller culler_;
+  std::unique_ptr<radiosity::ShooterView> view_;
+  std::vector<glm::dvec3> normals_;
+  std::vector<Worker> workers_;
+};
 
 /// Power totals of a solution (W).
 struct Totals {
@@ -266,8 +346,8 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   const double patch_area = options.patch_area > 0 ? options.patch_area : 16.0 * options.max_element_area;
   make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
   const std::size_t n = elements.size();
-  radiosity::ShooterView view(scene, threads);
-  const std::vector<double> direct = direct_irradiance(scene, fragments, elements, view, options.threads);
+  Receivers receivers(scene, threads, options.exact_visibility);
+  const std::vector<double> direct = direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
 
   std::vector<double> rho(n), emit(n), b(n), unshot(n), h(n);
   RadiosityResult result;
@@ -316,7 +396,7 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     const Patch& s = patches[k];
     const double db = best / s.area;
     if (cache_f[k].empty()) {
-      receive_factors(view, elements, s, threads, factor, quad);
+      receivers.receive(patches, elements, s, threads, factor, quad);
       if (cache_bytes + n * (sizeof(double) + sizeof(float)) <= kCacheBytes) {
         cache_f[k] = factor;
         cache_d[k].assign(quad.begin(), quad.end());
@@ -354,7 +434,7 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   const Totals totals = fill_arrays(scene, elements, direct, rho, emit, b, h, result);
   const double absorbed = totals.absorbed, emitted = totals.emitted, direct_power = totals.direct;
   result.patches = patches.size();
-  result.exact_evaluations = view.exact_evaluations();
+  result.exact_evaluations = receivers.exact_evaluations();
   result.emitted_power = emitted;
   result.direct_power = direct_power;
   result.absorbed_power = absorbed;
