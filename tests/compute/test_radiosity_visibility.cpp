@@ -88,8 +88,14 @@ TEST(RadiosityVisibility, ShaftKeepsFacesBetweenAndDropsOthers) {
   const shadow::radiosity::ShaftCuller culler(scene);
   shadow::radiosity::ShaftCuller::Scratch scratch;
   std::vector<std::size_t> found;
-  culler.candidates(kFloor, 0, kSource, 1, scratch, found);
+  EXPECT_FALSE(culler.candidates(kFloor, 0, kSource, 1, scratch, found));
   EXPECT_EQ(found, std::vector<std::size_t>{2});
+  // A plate wider than both, between them, hides everything.
+  const Polygon3 lid = {{-1, -1, 1}, {3, -1, 1}, {3, 3, 1}, {-1, 3, 1}};
+  const Scene covered = scene_of({kFloor, kSource, lid, aside});
+  const shadow::radiosity::ShaftCuller covered_culler(covered);
+  EXPECT_TRUE(covered_culler.candidates(kFloor, 0, kSource, 1, scratch, found));
+  EXPECT_TRUE(found.empty());
 }
 
 TEST(RadiosityVisibility, SolverInDoublesMatchesTheExactRoute) {

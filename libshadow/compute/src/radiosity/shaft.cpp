@@ -15,24 +15,81 @@ ShaftCuller::ShaftCuller(const Scene& scene) : scene_(scene) {
   constexpr double inf = std::numeric_limits<double>::infinity();
   boxes_.assign(scene.faces.size(), {inf, inf, inf, -inf, -inf, -inf});
   normals_.assign(scene.faces.size(), glm::dvec3(0.0));
+  convex_.assign(scene.faces.size(), 0);
+  std::array<double, 4> all = {inf, inf, -inf, -inf};
+  std::size_t usable = 0;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
     if (face.degenerate || face.vertices.size() < 3) continue;
     const glm::dvec3 n = newell_normal(face.vertices);
     if (!(glm::length(n) > 0.0)) continue;
     normals_[f] = glm::normalize(n);
-    for (const glm::dvec3& v : face.vertices)
-      for (int k = 0; k < 3; ++k) boxes_[f][k] = std::min(boxes_[f][k], v[k]), boxes_[f][k + 3] = std::max(boxes_[f][k + 3], v[k]);
-    by_x_.push_back(f);
-    widest_x_ = std::max(widest_x_, boxes_[f][3] - boxes_[f][0]);
+    const std::vector<glm::dvec3>& v = face.vertices;
+    bool convex = true;
+    for (std::size_t a = 0; a < v.size() && convex; ++a)
+      convex = glm::dot(glm::cross(v[(a + 1) % v.size()] - v[a], v[(a + 2) % v.size()] - v[(a + 1) % v.size()]),
+                        normals_[f]) > 0;
+    convex_[f] = convex ? 1 : 0;
+    for (const glm::dvec3& p : v)
+      for (int k = 0; k < 3; ++k) boxes_[f][k] = std::min(boxes_[f][k], p[k]), boxes_[f][k + 3] = std::max(boxes_[f][k + 3], p[k]);
+    all = {std::min(all[0], boxes_[f][0]), std::min(all[1], boxes_[f][1]), std::max(all[2], boxes_[f][3]),
+           std::max(all[3], boxes_[f][4])};
+    ++usable;
   }
-  std::sort(by_x_.begin(), by_x_.end(), [&](std::size_t p, std::size_t q) { return boxes_[p][0] < boxes_[q][0]; });
-  for (std::size_t f : by_x_) lower_x_.push_back(boxes_[f][0]);
+  if (usable == 0) return;
+  // About one face per cell, at most 512 cells a side.
+  const double w = std::max(all[2] - all[0], 1e-300), h = std::max(all[3] - all[1], 1e-300);
+  cell_ = std::max(std::sqrt(w * h / static_cast<double>(usable)), std::max(w, h) / 512.0);
+  grid_x0_ = all[0];
+  grid_y0_ = all[1];
+  grid_nx_ = std::min<std::size_t>(512, static_cast<std::size_t>(w / cell_) + 1);
+  grid_ny_ = std::min<std::size_t>(512, static_cast<std::size_t>(h / cell_) + 1);
+  cells_.assign(grid_nx_ * grid_ny_, {});
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    if (normals_[f] == glm::dvec3(0.0)) continue;
+    const std::size_t i0 = cell_x(boxes_[f][0]), i1 = cell_x(boxes_[f][3]);
+    const std::size_t j0 = cell_y(boxes_[f][1]), j1 = cell_y(boxes_[f][4]);
+    for (std::size_t j = j0; j <= j1; ++j)
+      for (std::size_t i = i0; i <= i1; ++i) cells_[j * grid_nx_ + i].push_back(f);
+  }
 }
 
-void ShaftCuller::candidates(const std::vector<glm::dvec3>& a, std::size_t a_face, const std::vector<glm::dvec3>& b,
+std::size_t ShaftCuller::cell_x(double x) const {
+  const double c = std::floor((x - grid_x0_) / cell_);
+  return c <= 0 ? 0 : std::min(grid_nx_ - 1, static_cast<std::size_t>(c));
+}
+
+std::size_t ShaftCuller::cell_y(double y) const {
+  const double c = std::floor((y - grid_y0_) / cell_);
+  return c <= 0 ? 0 : std::min(grid_ny_ - 1, static_cast<std::size_t>(c));
+}
+
+bool ShaftCuller::hides_all(std::size_t f, const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) const {
+  if (!convex_[f]) return false;
+  const std::vector<glm::dvec3>& v = scene_.faces[f].vertices;
+  const glm::dvec3& n = normals_[f];
+  for (const glm::dvec3& x : a)
+    for (const glm::dvec3& y : b) {
+      const double sx = glm::dot(n, x - v[0]), sy = glm::dot(n, y - v[0]);
+      if (!((sx > 0 && sy < 0) || (sx < 0 && sy > 0))) return false;
+      const double t = sx / (sx - sy);
+      if (!(t > 1e-9 && t < 1 - 1e-9)) return false;
+      const glm::dvec3 q = x + t * (y - x);
+      const double margin = 1e-9 * (glm::length(y - x) + glm::length(q - v[0]));
+      for (std::size_t e = 0; e < v.size(); ++e) {
+        const glm::dvec3 edge = v[(e + 1) % v.size()] - v[e];
+        if (!(glm::dot(glm::cross(edge, q - v[e]), n) > margin * glm::length(edge))) return false;
+      }
+    }
+  return true;
+}
+
+bool ShaftCuller::candidates(const std::vector<glm::dvec3>& a, std::size_t a_face, const std::vector<glm::dvec3>& b,
                              std::size_t b_face, Scratch& s, std::vector<std::size_t>& out) const {
   out.clear();
+  if (cells_.empty()) return false;
+  if (s.seen.size() != scene_.faces.size()) s.seen.assign(scene_.faces.size(), 0), s.query = 0;
+  if (++s.query == 0) std::fill(s.seen.begin(), s.seen.end(), 0), s.query = 1;
   s.points.assign(a.begin(), a.end());
   s.points.insert(s.points.end(), b.begin(), b.end());
   const std::size_t m = s.points.size();
@@ -61,14 +118,32 @@ void ShaftCuller::candidates(const std::vector<glm::dvec3>& a, std::size_t a_fac
         if (above) n = -n;
         s.planes.push_back({n.x, n.y, n.z, glm::dot(n, s.points[i])});
       }
-  auto first = std::lower_bound(lower_x_.begin(), lower_x_.end(), box[0] - widest_x_ - tol) - lower_x_.begin();
-  for (std::size_t r = static_cast<std::size_t>(first); r < by_x_.size() && lower_x_[r] <= box[3] + tol; ++r) {
-    const std::size_t f = by_x_[r];
-    if (f == a_face || f == b_face) continue;
+  const std::size_t i0 = cell_x(box[0] - tol), i1 = cell_x(box[3] + tol);
+  const std::size_t j0 = cell_y(box[1] - tol), j1 = cell_y(box[4] + tol);
+  for (std::size_t j = j0; j <= j1; ++j)
+    for (std::size_t i = i0; i <= i1; ++i)
+      for (std::size_t f : cells_[j * grid_nx_ + i]) {
+        if (s.seen[f] == s.query) continue;
+        s.seen[f] = s.query;
+        if (f == a_face || f == b_face) continue;
+        if (consider(f, box, tol, s)) {
+          if (hides_all(f, a, b)) {
+            out.clear();
+            return true;
+          }
+          out.push_back(f);
+        }
+      }
+  // A fixed order whatever the grid's: the candidates' shadows are cut in this order.
+  std::sort(out.begin(), out.end());
+  return false;
+}
+
+bool ShaftCuller::consider(std::size_t f, const std::array<double, 6>& box, double tol, const Scratch& s) const {
     const std::array<double, 6>& fb = boxes_[f];
-    if (fb[3] < box[0] - tol || fb[4] < box[1] - tol || fb[5] < box[2] - tol || fb[1] > box[4] + tol ||
-        fb[2] > box[5] + tol)
-      continue;
+    if (fb[3] < box[0] - tol || fb[4] < box[1] - tol || fb[5] < box[2] - tol || fb[0] > box[3] + tol ||
+        fb[1] > box[4] + tol || fb[2] > box[5] + tol)
+      return false;
     const std::vector<glm::dvec3>& v = scene_.faces[f].vertices;
     // Both polygons on one side of the face's plane (or on it): it cannot stand between.
     const glm::dvec3& n = normals_[f];
@@ -77,7 +152,7 @@ void ShaftCuller::candidates(const std::vector<glm::dvec3>& a, std::size_t a_fac
       const double d = glm::dot(n, p - v[0]);
       lo = std::min(lo, d), hi = std::max(hi, d);
     }
-    if (lo >= -tol || hi <= tol) continue;
+    if (lo >= -tol || hi <= tol) return false;
     // Every vertex on the outside of (or on) one facet: it misses the open hull.
     bool outside = false;
     for (const std::array<double, 4>& pl : s.planes) {
@@ -88,8 +163,7 @@ void ShaftCuller::candidates(const std::vector<glm::dvec3>& a, std::size_t a_fac
         break;
       }
     }
-    if (!outside) out.push_back(f);
-  }
+    return !outside;
 }
 
 }  // namespace shadow::radiosity

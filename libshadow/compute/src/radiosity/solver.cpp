@@ -242,8 +242,9 @@ class Receivers {
       const Patch& receiver = patches[r];
       if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return;
       Worker& w = workers_[worker];
-      culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
-                         s.face, w.shaft, w.faces);
+      if (culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
+                             s.face, w.shaft, w.faces))
+        return;  // one face hides the shooter from all of the receiving patch
       w.occluders.clear();
       for (std::size_t f : w.faces) w.occluders.push_back(&culler_.vertices(f));
       const glm::dvec3& nr = normals_[receiver.face];

@@ -127,29 +127,39 @@ double SourceChart::form_factor(const glm::dvec3& x, const glm::dvec3& nr,
   const glm::dvec2 c0 = lo_ - pad, c1 = hi_ + pad;
   const glm::dvec3 corners[4] = {origin_ + c0.x * u_ + c0.y * v_, origin_ + c1.x * u_ + c0.y * v_,
                                  origin_ + c1.x * u_ + c1.y * v_, origin_ + c0.x * u_ + c1.y * v_};
-  glm::dvec3 sides[4];
+  // The half-spaces an occluder's part must lie in to hide anything: in front of x, in front of
+  // the source's plane, nearer to it than x, and inside the pyramid's four sides.
+  glm::dvec3 normals[7] = {nr, normal_, -normal_};
+  glm::dvec3 points[7] = {x, origin_, x};
   for (int k = 0; k < 4; ++k) {
     // Counter-clockwise seen from the front (from x): the inward side is to the left.
-    sides[k] = glm::cross(corners[(k + 1) % 4] - x, corners[k] - x);
+    normals[3 + k] = glm::cross(corners[(k + 1) % 4] - x, corners[k] - x);
+    points[3 + k] = x;
   }
   std::size_t shadows = 0;
   for (const std::vector<glm::dvec3>* occluder : occluders) {
-    // Only the part of the occluder in front of x and strictly between x and the source's plane
-    // can meet a segment from x to the source; it is projected from x onto that plane.
-    clip_half_space(*occluder, nr, x, s.clipped);
-    if (s.clipped.size() < 3) continue;
-    clip_half_space(s.clipped, normal_, origin_, s.next);
-    if (s.next.size() < 3) continue;
-    clip_half_space(s.next, -normal_, x, s.clipped);
-    bool gone = s.clipped.size() < 3;
-    for (int k = 0; k < 4 && !gone; ++k) {
-      clip_half_space(s.clipped, sides[k], x, s.next);
-      s.clipped.swap(s.next);
-      gone = s.clipped.size() < 3;
+    // Only that part can meet a segment from x to the source; it is projected from x onto the
+    // source's plane. Most occluders are wholly in or wholly out of most half-spaces: those
+    // are decided without clipping.
+    const std::vector<glm::dvec3>* poly = occluder;
+    bool gone = false;
+    for (int k = 0; k < 7 && !gone; ++k) {
+      bool any_in = false, any_out = false;
+      for (const glm::dvec3& y : *poly) {
+        const double d = glm::dot(normals[k], y - points[k]);
+        any_in = any_in || d > 0;
+        any_out = any_out || !(d > 0);
+      }
+      if (!any_in) gone = true;
+      if (gone || !any_out) continue;
+      std::vector<glm::dvec3>& out = poly == &s.clipped ? s.next : s.clipped;
+      clip_half_space(*poly, normals[k], points[k], out);
+      poly = &out;
+      gone = out.size() < 3;
     }
     if (gone) continue;
     s.flat.clear();
-    for (const glm::dvec3& y : s.clipped) {
+    for (const glm::dvec3& y : *poly) {
       const double hy = glm::dot(normal_, y - origin_);
       if (!(height - hy > 0.0)) continue;
       s.flat.push_back(to_chart(x + (height / (height - hy)) * (y - x)));
