@@ -1204,6 +1204,12 @@ PYBIND11_MODULE(_libshadow, m) {
           faces["radiosity"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.radiosity; });
           faces["irradiance"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.irradiance; });
           faces["direct_irradiance"] = column<double>(r.faces, [](const FaceRadiosity& f) { return f.direct_irradiance; });
+          std::vector<glm::dvec3> element_rgb, face_rgb;
+          for (const RadiosityElement& e : r.elements) element_rgb.push_back(e.radiosity_rgb);
+          for (const FaceRadiosity& f : r.faces) face_rgb.push_back(f.radiosity_rgb);
+          elements["radiosity_rgb"] = polygon_array(element_rgb);  // (n, 3): red, green, blue
+          faces["radiosity_rgb"] = polygon_array(face_rgb);
+          d["colour"] = r.colour;
           d["elements"] = elements;
           d["faces"] = faces;
           d["shots"] = r.shots;

@@ -245,6 +245,86 @@ TEST(Radiosity, DirectSunAndOneBounceBalance) {
               1e-9 * r.direct_power);
 }
 
+TEST(Radiosity, ColourFurnaceIsEOverOneMinusRhoPerChannel) {
+  // Each channel is its own furnace: B_c = E / (1 - rho_c); the scalar solution uses the mean.
+  Scene scene = furnace(10.0, 0.6);
+  scene.materials[0].reflectance_rgb = {0.3, 0.6, 0.9};
+  shadow::RadiosityOptions options;
+  options.max_element_area = 0.5;
+  options.tolerance = 1e-5;
+  options.threads = 2;
+  const shadow::RadiosityResult r = shadow::solve_radiosity(scene, options);
+  ASSERT_TRUE(r.colour);
+  EXPECT_LE(r.channel_unshot_fraction, 1e-5);
+  for (const shadow::FaceRadiosity& f : r.faces) {
+    EXPECT_NEAR(f.radiosity, 25.0, 1e-3 * 25.0);
+    EXPECT_NEAR(f.radiosity_rgb.x, 10.0 / 0.7, 1e-3 * 10.0 / 0.7);
+    EXPECT_NEAR(f.radiosity_rgb.y, 25.0, 1e-3 * 25.0);
+    EXPECT_NEAR(f.radiosity_rgb.z, 100.0, 2e-3 * 100.0);  // rho 0.9 amplifies the quadrature error
+  }
+  // Without colour the channels are the scalar solution.
+  const shadow::RadiosityResult grey = shadow::solve_radiosity(furnace(10.0, 0.6), options);
+  EXPECT_FALSE(grey.colour);
+  for (const shadow::RadiosityElement& e : grey.elements) EXPECT_EQ(e.radiosity_rgb, dvec3(e.radiosity));
+}
+
+TEST(Radiosity, ColourBleedsFromARedWall) {
+  // A white floor beside a red wall under a sun: the floor near the wall is redder than green.
+  Scene scene;
+  shadow::Material white, red;
+  white.name = "white";
+  white.reflectance = 0.7;
+  white.reflectance_rgb = {0.7, 0.7, 0.7};
+  red.name = "red";
+  red.reflectance_rgb = {0.8, 0.1, 0.1};
+  red.reflectance = (0.8 + 0.1 + 0.1) / 3;
+  scene.materials = {white, red};
+  shadow::add_mesh(scene, "floor", {shadow::rectangle_z(0, 0, 4, 4, 0)});
+  shadow::add_mesh(scene, "wall", {{{0, 0, 0}, {0, 4, 0}, {0, 4, 3}, {0, 0, 3}}});  // front +x
+  scene.meshes[0].material = "white";
+  scene.meshes[1].material = "red";
+  shadow::Light sun;
+  sun.name = "sun";
+  sun.type = shadow::LightType::Directional;
+  sun.to_light = {1, 0.2, 1};  // on the wall and the floor
+  sun.intensity = 500;
+  scene.lights.push_back(sun);
+  shadow::validate_scene(scene);
+  shadow::RadiosityOptions options;
+  options.max_element_area = 0.5;
+  options.tolerance = 1e-4;
+  options.threads = 2;
+  const shadow::RadiosityResult r = shadow::solve_radiosity(scene, options);
+  ASSERT_TRUE(r.colour);
+  const shadow::FaceRadiosity& floor = r.faces[0];
+  EXPECT_GT(floor.irradiance_rgb.x, floor.irradiance_rgb.y);
+  EXPECT_DOUBLE_EQ(floor.irradiance_rgb.y, floor.irradiance_rgb.z);
+  // The red channel's floor irradiance exceeds the green one by what the wall reflects more.
+  EXPECT_GT(floor.irradiance_rgb.x - floor.irradiance_rgb.y, 1.0);
+}
+
+TEST(Radiosity, FaceIrradianceFromOutsideIsLinear) {
+  // A closed room whose faces receive H0 from outside and reflect rho: H = H0 / (1 - rho).
+  Scene scene = furnace(0.0, 0.5);
+  shadow::RadiosityOptions options;
+  options.max_element_area = 0.5;
+  options.tolerance = 1e-5;
+  options.threads = 2;
+  options.face_irradiance.assign(scene.faces.size(), 100.0);
+  const shadow::RadiosityResult r = shadow::solve_radiosity(scene, options);
+  for (const shadow::FaceRadiosity& f : r.faces) {
+    EXPECT_DOUBLE_EQ(f.direct_irradiance, 100.0);
+    EXPECT_NEAR(f.irradiance, 200.0, 1e-3 * 200.0);
+  }
+  // Twice the source, twice the answer (the same shots in the same order).
+  for (double& h : options.face_irradiance) h *= 2;
+  const shadow::RadiosityResult twice = shadow::solve_radiosity(scene, options);
+  for (std::size_t f = 0; f < r.faces.size(); ++f)
+    EXPECT_NEAR(twice.faces[f].irradiance, 2 * r.faces[f].irradiance, 1e-12 * r.faces[f].irradiance);
+  options.face_irradiance.pop_back();
+  EXPECT_THROW(shadow::solve_radiosity(scene, options), shadow::InputError);
+}
+
 TEST(Radiosity, BadOptionsAreInputErrors) {
   const Scene scene = furnace(1, 0.5);
   shadow::RadiosityOptions options;

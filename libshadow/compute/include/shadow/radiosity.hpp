@@ -82,6 +82,11 @@ struct RadiosityOptions {
   /// between receiver and shooter out of the shooter in doubles (about 1e-9 of its size);
   /// true takes CGAL's exact machinery point by point (slow; for checking the default).
   bool exact_visibility = false;
+  /// When not empty (one value per scene face, W/m^2 or any unit of irradiance): each face's
+  /// incident irradiance from outside the scene, taking the place of the scene's lights (which
+  /// are then ignored). The solution is linear in it: irradiation summed over a period gives the
+  /// period's reflected irradiation (shadow irradiance --reflections).
+  std::vector<double> face_irradiance;
   unsigned threads = 0;       ///< 0: every hardware thread; at most 1024
   /// Called about every 0.5 s and at the end, from the calling thread. May be empty; what it
   /// throws stops the solution and comes out of the call.
@@ -98,6 +103,11 @@ struct RadiosityElement {
   double direct_irradiance = 0.0;  ///< the scene's lights' share of H, with exact shadows
   double reflectance = 0.0;
   double emittance = 0.0;
+  /// Red, green and blue radiosity and irradiance (each channel solved with that channel's
+  /// reflectance, Material::reflectance_rgb; all three equal the scalar values when no material
+  /// is coloured). Sources are white: emittance and the lights are the same in every channel.
+  glm::dvec3 radiosity_rgb{0.0};
+  glm::dvec3 irradiance_rgb{0.0};
 };
 
 /// Area-weighted means over one face.
@@ -108,6 +118,8 @@ struct FaceRadiosity {
   double irradiance = 0.0;
   double direct_irradiance = 0.0;
   std::size_t elements = 0;
+  glm::dvec3 radiosity_rgb{0.0};   ///< area-weighted mean of the elements' radiosity_rgb
+  glm::dvec3 irradiance_rgb{0.0};  ///< area-weighted mean of the elements' irradiance_rgb
 };
 
 /// The solution and its balance: emitted + direct = absorbed + escaped + unshot (W), where
@@ -116,8 +128,10 @@ struct FaceRadiosity {
 struct RadiosityResult {
   std::vector<RadiosityElement> elements;
   std::vector<FaceRadiosity> faces;  ///< one per scene face, by face_id
-  std::size_t shots = 0;
+  std::size_t shots = 0;              ///< shots of the scalar (mean reflectance) solution
   std::size_t patches = 0;            ///< shooters (see RadiosityOptions::patch_area)
+  bool colour = false;                ///< some material has an RGB reflectance: channels solved
+  double channel_unshot_fraction = 0.0;  ///< the largest unshot fraction of the three channels
   std::size_t exact_evaluations = 0;  ///< point form factors that took the exact visibility route
   bool converged = false;      ///< unshot_fraction <= tolerance
   double emitted_power = 0.0;  ///< sum of E A

@@ -17,9 +17,11 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
-#include <memory>
 #include <cmath>
+#include <functional>
+#include <memory>
 #include <string>
 
 namespace shadow {
@@ -329,13 +331,131 @@ Totals fill_arrays(const Scene& scene, const std::vector<Element>& elements, con
   return t;
 }
 
+/// One channel's shooting state: what is left of the light to shoot, and the totals so far.
+struct Channel {
+  std::vector<double> rho, b, h, unshot;
+  double power_in = 0.0, unshot_power = 0.0, escaped = 0.0, quadrature = 0.0, shot_total = 0.0;
+  std::size_t shots = 0;
+};
+
+/// The form factors of each patch to every element, computed when the patch first shoots and
+/// kept within a memory budget: a patch shoots many times (every time its elements have gathered
+/// enough again), and the colour channels shoot the same patches.
+class FactorCache {
+ public:
+  FactorCache(Receivers& receivers, const std::vector<Patch>& patches, const std::vector<Element>& elements,
+              unsigned threads)
+      : receivers_(receivers), patches_(patches), elements_(elements), threads_(threads),
+        factor_(patches.size()), quad_(patches.size()) {}
+
+  /// Patch k's row: the form factor from each element to it and its quadrature change.
+  void row(std::size_t k, std::vector<double>& factor, std::vector<double>& quad) {
+    if (!factor_[k].empty()) {
+      factor = factor_[k];
+      quad.assign(quad_[k].begin(), quad_[k].end());
+      return;
+    }
+    receivers_.receive(patches_, elements_, patches_[k], threads_, factor, quad);
+    const std::size_t bytes = elements_.size() * (sizeof(double) + sizeof(float));
+    if (bytes_ + bytes <= kBudget) {
+      factor_[k] = factor;
+      quad_[k].assign(quad.begin(), quad.end());
+      bytes_ += bytes;
+    }
+  }
+
+ private:
+  static constexpr std::size_t kBudget = std::size_t(512) << 20;
+  Receivers& receivers_;
+  const std::vector<Patch>& patches_;
+  const std::vector<Element>& elements_;
+  unsigned threads_;
+  std::vector<std::vector<double>> factor_;
+  std::vector<std::vector<float>> quad_;
+  std::size_t bytes_ = 0;
+};
+
+/// A channel whose elements reflect `rho` and start from their emittance and direct light.
+Channel start_channel(const std::vector<Element>& elements, const std::vector<double>& rho,
+                      const std::vector<double>& emit, const std::vector<double>& direct) {
+  Channel c;
+  const std::size_t n = elements.size();
+  c.rho = rho;
+  c.b.resize(n);
+  c.unshot.resize(n);
+  c.h = direct;
+  for (std::size_t i = 0; i < n; ++i) {
+    c.b[i] = c.unshot[i] = emit[i] + rho[i] * direct[i];
+    c.power_in += c.unshot[i] * elements[i].area;
+  }
+  c.unshot_power = c.power_in;
+  return c;
+}
+
+/// Shoots until the unshot power is at most the tolerance of the power put in: the patch with
+/// the most unshot power sends its elements' mean unshot radiosity to every element.
+void shoot(Channel& c, const std::vector<Patch>& patches, const std::vector<Element>& elements, FactorCache& cache,
+           const RadiosityOptions& options, const std::function<void(const Channel&, bool)>& report) {
+  const std::size_t n = elements.size();
+  std::vector<double> factor, quad;
+  while (c.power_in > 0.0 && c.unshot_power > options.tolerance * c.power_in &&
+         (options.max_shots == 0 || c.shots < options.max_shots)) {
+    std::size_t k = 0;
+    double best = -1.0;
+    for (std::size_t p = 0; p < patches.size(); ++p) {
+      double power = 0.0;
+      for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i)
+        power += c.unshot[i] * elements[i].area;
+      if (power > best) best = power, k = p;
+    }
+    if (!(best > 0.0)) break;
+    const Patch& s = patches[k];
+    const double db = best / s.area;
+    cache.row(k, factor, quad);
+    for (std::size_t i = s.first; i < s.first + s.count; ++i) c.unshot[i] = 0.0;
+    double got = 0.0, diff = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double received = db * factor[i];
+      if (received == 0.0) continue;
+      c.h[i] += received;
+      c.b[i] += c.rho[i] * received;
+      c.unshot[i] += c.rho[i] * received;
+      got += received * elements[i].area;
+      diff += db * quad[i] * elements[i].area;
+    }
+    c.shot_total += best;
+    c.escaped += best - got;
+    c.quadrature += diff;
+    ++c.shots;
+    c.unshot_power = 0.0;
+    for (std::size_t i = 0; i < n; ++i) c.unshot_power += c.unshot[i] * elements[i].area;
+    if (report) report(c, false);
+  }
+  if (report) report(c, true);
+}
+
+/// Channel k (0, 1, 2: red, green, blue) of a material's reflectance: its RGB value where one
+/// was given, its scalar reflectance otherwise.
+double channel_reflectance(const Material& m, int k) {
+  return m.reflectance_rgb == glm::dvec3(0.0) ? m.reflectance : m.reflectance_rgb[k];
+}
+
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
   check_options(options);
+  if (!options.face_irradiance.empty()) {
+    if (options.face_irradiance.size() != scene.faces.size())
+      throw InputError({"", "face_irradiance"}, "face_irradiance has " + std::to_string(options.face_irradiance.size()) +
+                                                    " values for " + std::to_string(scene.faces.size()) + " faces");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      if (!(options.face_irradiance[f] >= 0.0) || !std::isfinite(options.face_irradiance[f]))
+        throw InputError({"", "face_irradiance"}, "face_irradiance of face " + std::to_string(f) +
+                                                      " must be a finite number >= 0");
+  }
   const unsigned threads = runtime::resolve_threads(options.threads);
   std::vector<Fragment> fragments;
-  if (!scene.lights.empty()) {
+  if (!scene.lights.empty() && options.face_irradiance.empty()) {
     ShadowOptions so;
     so.threads = options.threads;
     so.planes = false;
@@ -348,106 +468,81 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
   const std::size_t n = elements.size();
   Receivers receivers(scene, threads, options.exact_visibility);
-  const std::vector<double> direct = direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+  std::vector<double> direct;
+  if (options.face_irradiance.empty()) {
+    direct = direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+  } else {
+    direct.resize(n);
+    for (std::size_t i = 0; i < n; ++i) direct[i] = options.face_irradiance[elements[i].face];
+  }
 
-  std::vector<double> rho(n), emit(n), b(n), unshot(n), h(n);
-  RadiosityResult result;
-  double power_in = 0.0, reflectance_area = 0.0, area = 0.0;
+  std::vector<double> rho(n), emit(n);
+  double reflectance_area = 0.0, area = 0.0;
+  bool colour = false;
   for (std::size_t i = 0; i < n; ++i) {
     const Material& m = scene.material_of(elements[i].face);
     rho[i] = m.reflectance;
     emit[i] = m.emittance;
-    h[i] = direct[i];
-    b[i] = unshot[i] = emit[i] + rho[i] * direct[i];
-    power_in += unshot[i] * elements[i].area;
     reflectance_area += rho[i] * elements[i].area;
     area += elements[i].area;
+    for (int k = 0; k < 3; ++k) colour = colour || channel_reflectance(m, k) != m.reflectance;
   }
-
-  // Shooting: the patch with the most unshot power sends it to every element's receiving points
-  // (more of them near the shooter, below).
-  std::vector<double> received(n, 0.0), difference(n, 0.0), factor, quad(n, 0.0);
-  // A patch shoots many times (every time its elements have gathered enough again): its form
-  // factors are kept, within a memory budget, so that each (patch, element) pair is computed once.
-  constexpr std::size_t kCacheBytes = std::size_t(512) << 20;
-  std::vector<std::vector<double>> cache_f(patches.size());
-  std::vector<std::vector<float>> cache_d(patches.size());
-  std::size_t cache_bytes = 0;
-  double unshot_power = power_in, escaped = 0.0, quadrature = 0.0, shot_total = 0.0;
+  RadiosityResult result;
   auto last = std::chrono::steady_clock::now();
-  auto report = [&](bool force) {
+  const auto report = [&](const Channel& c, bool force) {
     if (!options.progress) return;
     const auto now = std::chrono::steady_clock::now();
     if (!force && now - last < std::chrono::milliseconds(500)) return;
     last = now;
-    options.progress({result.shots, power_in > 0 ? unshot_power / power_in : 0.0});
+    options.progress({c.shots, c.power_in > 0 ? c.unshot_power / c.power_in : 0.0});
   };
-  while (power_in > 0.0 && unshot_power > options.tolerance * power_in &&
-         (options.max_shots == 0 || result.shots < options.max_shots)) {
-    // The patch with the most unshot power shoots its elements' mean unshot radiosity.
-    std::size_t k = 0;
-    double best = -1.0;
-    for (std::size_t p = 0; p < patches.size(); ++p) {
-      double power = 0.0;
-      for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i)
-        power += unshot[i] * elements[i].area;
-      if (power > best) best = power, k = p;
+  FactorCache cache(receivers, patches, elements, threads);
+  Channel mean = start_channel(elements, rho, emit, direct);
+  shoot(mean, patches, elements, cache, options, report);
+  // Colour: the same shooting per channel with that channel's reflectance; the form factors
+  // come from the cache.
+  std::array<Channel, 3> rgb;
+  if (colour)
+    for (int k = 0; k < 3; ++k) {
+      std::vector<double> rho_k(n);
+      for (std::size_t i = 0; i < n; ++i) rho_k[i] = channel_reflectance(scene.material_of(elements[i].face), k);
+      rgb[static_cast<std::size_t>(k)] = start_channel(elements, rho_k, emit, direct);
+      shoot(rgb[static_cast<std::size_t>(k)], patches, elements, cache, options, {});
     }
-    if (!(best > 0.0)) break;
-    const Patch& s = patches[k];
-    const double db = best / s.area;
-    if (cache_f[k].empty()) {
-      receivers.receive(patches, elements, s, threads, factor, quad);
-      if (cache_bytes + n * (sizeof(double) + sizeof(float)) <= kCacheBytes) {
-        cache_f[k] = factor;
-        cache_d[k].assign(quad.begin(), quad.end());
-        cache_bytes += n * (sizeof(double) + sizeof(float));
-      }
-    } else {
-      factor = cache_f[k];
-      for (std::size_t i = 0; i < n; ++i) quad[i] = cache_d[k][i];
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      received[i] = db * factor[i];
-      difference[i] = quad[i];
-    }
-    for (std::size_t i = s.first; i < s.first + s.count; ++i) unshot[i] = 0.0;
-    double got = 0.0, diff = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (received[i] == 0.0) continue;
-      h[i] += received[i];
-      b[i] += rho[i] * received[i];
-      unshot[i] += rho[i] * received[i];
-      got += received[i] * elements[i].area;
-      diff += db * difference[i] * elements[i].area;
-    }
-    const double shot = best;
-    shot_total += shot;
-    escaped += shot - got;
-    quadrature += diff;
-    ++result.shots;
-    unshot_power = 0.0;
-    for (std::size_t i = 0; i < n; ++i) unshot_power += unshot[i] * elements[i].area;
-    report(false);
-  }
-  report(true);
 
-  const Totals totals = fill_arrays(scene, elements, direct, rho, emit, b, h, result);
+  result.shots = mean.shots;
+  const Totals totals = fill_arrays(scene, elements, direct, rho, emit, mean.b, mean.h, result);
+  for (std::size_t i = 0; i < n; ++i) {
+    RadiosityElement& e = result.elements[i];
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t c = static_cast<std::size_t>(k);
+      e.radiosity_rgb[k] = colour ? rgb[c].b[i] : mean.b[i];
+      e.irradiance_rgb[k] = colour ? rgb[c].h[i] : mean.h[i];
+    }
+    FaceRadiosity& face = result.faces[e.face_id];
+    face.radiosity_rgb += e.radiosity_rgb * (e.area / face.area);
+    face.irradiance_rgb += e.irradiance_rgb * (e.area / face.area);
+  }
+  result.colour = colour;
+  if (colour) {
+    for (const Channel& c : rgb) result.channel_unshot_fraction = std::max(result.channel_unshot_fraction,
+                                                                            c.power_in > 0 ? c.unshot_power / c.power_in : 0.0);
+  }
   const double absorbed = totals.absorbed, emitted = totals.emitted, direct_power = totals.direct;
   result.patches = patches.size();
   result.exact_evaluations = receivers.exact_evaluations();
   result.emitted_power = emitted;
   result.direct_power = direct_power;
   result.absorbed_power = absorbed;
-  result.escaped_power = escaped;
-  result.unshot_power = unshot_power;
-  result.unshot_fraction = power_in > 0 ? unshot_power / power_in : 0.0;
+  result.escaped_power = mean.escaped;
+  result.unshot_power = mean.unshot_power;
+  result.unshot_fraction = mean.power_in > 0 ? mean.unshot_power / mean.power_in : 0.0;
   result.converged = result.unshot_fraction <= options.tolerance;
   const double in = emitted + direct_power;
-  result.balance_residual = in > 0 ? std::abs(in - absorbed - escaped - unshot_power) / in : 0.0;
+  result.balance_residual = in > 0 ? std::abs(in - absorbed - mean.escaped - mean.unshot_power) / in : 0.0;
   const double mean_rho = area > 0 ? reflectance_area / area : 0.0;
   result.error_estimate =
-      result.unshot_fraction / (1.0 - mean_rho) + (shot_total > 0 ? quadrature / shot_total : 0.0);
+      result.unshot_fraction / (1.0 - mean_rho) + (mean.shot_total > 0 ? mean.quadrature / mean.shot_total : 0.0);
   return result;
 }
 

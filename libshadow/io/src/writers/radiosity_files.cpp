@@ -49,6 +49,14 @@ vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const RadiosityResult& resu
   auto face_id = vtkSmartPointer<vtkTypeInt64Array>::New();
   face_id->SetName("face_id");
   face_id->SetNumberOfValues(static_cast<vtkIdType>(n));
+  auto rgb_array = [n](const char* name) {
+    auto a = vtkSmartPointer<vtkDoubleArray>::New();
+    a->SetName(name);
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    return a;
+  };
+  auto radiosity_rgb = rgb_array("radiosity_rgb"), irradiance_rgb = rgb_array("irradiance_rgb");
   auto element_id = vtkSmartPointer<vtkTypeInt64Array>::New();
   element_id->SetName("element_id");
   element_id->SetNumberOfValues(static_cast<vtkIdType>(n));
@@ -64,13 +72,16 @@ vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const RadiosityResult& resu
     emittance->SetValue(c, e.emittance);
     face_id->SetValue(c, static_cast<vtkTypeInt64>(e.face_id));
     element_id->SetValue(c, static_cast<vtkTypeInt64>(i));
+    radiosity_rgb->SetTuple3(c, e.radiosity_rgb.x, e.radiosity_rgb.y, e.radiosity_rgb.z);
+    irradiance_rgb->SetTuple3(c, e.irradiance_rgb.x, e.irradiance_rgb.y, e.irradiance_rgb.z);
   }
   poly->SetPoints(points);
   poly->SetPolys(cells);
   for (vtkDataArray* a : {static_cast<vtkDataArray*>(radiosity), static_cast<vtkDataArray*>(irradiance),
                           static_cast<vtkDataArray*>(direct), static_cast<vtkDataArray*>(reflectance),
                           static_cast<vtkDataArray*>(emittance), static_cast<vtkDataArray*>(face_id),
-                          static_cast<vtkDataArray*>(element_id)})
+                          static_cast<vtkDataArray*>(element_id), static_cast<vtkDataArray*>(radiosity_rgb),
+                          static_cast<vtkDataArray*>(irradiance_rgb)})
     poly->GetCellData()->AddArray(a);
   poly->GetCellData()->SetActiveScalars("radiosity");
   return poly;
@@ -106,6 +117,8 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   summary["converged"] = result.converged;
   summary["unshot_fraction"] = number(result.unshot_fraction);
   summary["error_estimate"] = number(result.error_estimate);
+  summary["colour"] = result.colour;
+  summary["channel_unshot_fraction"] = number(result.channel_unshot_fraction);
   summary["seconds"] = number(run.seconds);
   summary["balance"] = balance;
   doc["summary"] = summary;
@@ -125,6 +138,8 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
     entry["radiosity"] = number(f.radiosity);
     entry["irradiance"] = number(f.irradiance);
     entry["direct_irradiance"] = number(f.direct_irradiance);
+    entry["radiosity_rgb"] = {number(f.radiosity_rgb.x), number(f.radiosity_rgb.y), number(f.radiosity_rgb.z)};
+    entry["irradiance_rgb"] = {number(f.irradiance_rgb.x), number(f.irradiance_rgb.y), number(f.irradiance_rgb.z)};
     faces.push_back(std::move(entry));
   }
   doc["faces"] = std::move(faces);
