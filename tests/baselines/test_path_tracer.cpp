@@ -2,9 +2,11 @@
 // The diffuse path tracer (path_trace_faces, path_trace_points) against analytic answers: the
 // furnace (a closed box that emits E and reflects rho everywhere has H = E / (1 - rho)),
 // Howell's parallel unit squares (F = 0.1998249) through an emitting face and through an area
-// light, the exact sums of a fixed number of bounces, hard lights; and its determinism.
+// light, the exact sums of a fixed number of bounces, hard lights, radiosity in a closed room with an
+// emitting floor (an independent method); and its determinism.
 #include <shadow/baselines.hpp>
 #include <shadow/generators.hpp>
+#include <shadow/radiosity.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/validation.hpp>
 
@@ -127,6 +129,44 @@ TEST(PathTracer, AreaLightOverFloorGivesPiLTimesTheFormFactorByNextEvents) {
   EXPECT_NEAR(floor.irradiance, expected, 4 * floor.standard_error);
   EXPECT_LT(floor.standard_error, 0.01 * expected);
   EXPECT_EQ(floor.irradiance, floor.direct_irradiance);  // nothing else to see
+}
+
+TEST(PathTracer, AgreesWithRadiosityInARoomWithAnEmittingFloor) {
+  // The closed 2 x 1 x 1.5 room, its floor emitting 10 W/m^2 (rho 0.3), the rest white (0.7):
+  // no occluder, so radiosity's form factors are exact up to their quadrature, and its stated
+  // error bounds the rest.
+  Scene scene;
+  shadow::Material lamp, white;
+  lamp.name = "lamp";
+  lamp.emittance = 10.0;
+  lamp.reflectance = 0.3;
+  white.name = "white";
+  white.reflectance = 0.7;
+  scene.materials = {lamp, white};
+  std::vector<shadow::Polygon3> floor, walls;
+  for (const shadow::Polygon3& f : shadow::room_faces({0, 0, 0}, {2, 1, 1.5}))
+    (f[0].z == 0 && f[1].z == 0 && f[2].z == 0 ? floor : walls).push_back(f);
+  ASSERT_EQ(floor.size(), 1u);
+  shadow::add_mesh(scene, "floor", floor);
+  shadow::add_mesh(scene, "walls", walls);
+  scene.meshes[0].material = "lamp";
+  scene.meshes[1].material = "white";
+  shadow::validate_scene(scene);
+  shadow::RadiosityOptions ro;
+  ro.max_element_area = 0.25;
+  ro.patch_area = 0.25;
+  ro.tolerance = 1e-4;
+  ro.threads = 2;
+  const shadow::RadiosityResult rad = shadow::solve_radiosity(scene, ro);
+  ASSERT_TRUE(rad.converged);
+  const shadow::PathTracerResult pt = shadow::path_trace_faces(scene, options_of(20000));
+  ASSERT_EQ(pt.estimates.size(), 6u);
+  for (const shadow::IrradianceEstimate& est : pt.estimates) {
+    const double h = rad.faces[est.face_id].irradiance;
+    EXPECT_GT(h, 1.0);
+    EXPECT_LT(est.standard_error, 0.02 * h);
+    EXPECT_NEAR(est.irradiance, h, 4 * est.standard_error + rad.error_estimate * h) << "face " << est.face_id;
+  }
 }
 
 TEST(PathTracer, HardLightsAtPointsAreExactAndShadowed) {
