@@ -215,6 +215,26 @@ TEST(PathTracer, DeterministicForASeedAndAnyThreadCount) {
   EXPECT_TRUE(differs);  // another seed, other paths
 }
 
+TEST(PathTracer, SameResultOnAnyThreadCountInACityWhoseBvhIsBuiltInParallel) {
+  // 2,000 boxes: 12,001 faces, enough for Embree to build its BVH on several threads.
+  Scene scene = shadow::make_city(2000, 700, 2026);
+  shadow::Material grey;
+  grey.name = "grey";
+  grey.reflectance = 0.5;
+  scene.materials.push_back(grey);
+  for (shadow::Mesh& m : scene.meshes) m.material = "grey";
+  scene.lights.push_back(shadow::directional_light("sun", {1, 0.5, 1}));
+  shadow::validate_scene(scene);
+  const shadow::PathTracerResult a = shadow::path_trace_faces(scene, options_of(4, 1));
+  const shadow::PathTracerResult b = shadow::path_trace_faces(scene, options_of(4, 2));
+  ASSERT_EQ(a.estimates.size(), b.estimates.size());
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < a.estimates.size(); ++i)
+    same += a.estimates[i].irradiance == b.estimates[i].irradiance ? 1 : 0;
+  EXPECT_EQ(same, a.estimates.size());
+  EXPECT_EQ(a.rays, b.rays);
+}
+
 TEST(PathTracer, RejectsBadOptionsAndFaces) {
   const Scene scene = furnace(10.0, 0.6);
   shadow::PathTracerOptions o = options_of(0);
