@@ -74,6 +74,7 @@ Run radiosity_run(const shadow::Scene& scene, double element_area, const Radiosi
   shadow::RadiosityOptions ro;
   ro.max_element_area = element_area;
   ro.tolerance = o.tolerance;
+  ro.patch_area = o.patch_area;
   ro.threads = o.threads;
   const auto t0 = std::chrono::steady_clock::now();
   const double c0 = cpu_seconds();
@@ -82,8 +83,9 @@ Run radiosity_run(const shadow::Scene& scene, double element_area, const Radiosi
   run.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.cpu = cpu_seconds() - c0;
   run.method = "radiosity";
-  char text[96];
-  std::snprintf(text, sizeof text, "element <= %g m^2", element_area);
+  char text[128];
+  if (o.patch_area > 0) std::snprintf(text, sizeof text, "element <= %g m^2, patch <= %g m^2", element_area, o.patch_area);
+  else std::snprintf(text, sizeof text, "element <= %g m^2", element_area);
   run.setting = text;
   run.size = std::to_string(r.elements.size()) + " elements";
   run.h.assign(scene.faces.size(), 0.0);
@@ -92,8 +94,8 @@ Run radiosity_run(const shadow::Scene& scene, double element_area, const Radiosi
     run.h[f.face_id] = f.irradiance;
     run.direct[f.face_id] = f.direct_irradiance;
   }
-  std::snprintf(text, sizeof text, "%zu shots, unshot %.2g%%, error estimate %.2g", r.shots, 100 * r.unshot_fraction,
-                r.error_estimate);
+  std::snprintf(text, sizeof text, "%zu patches, %zu shots, unshot %.2g%%, error estimate %.2g", r.patches, r.shots,
+                100 * r.unshot_fraction, r.error_estimate);
   run.note = text;
   return run;
 }
@@ -124,7 +126,7 @@ Run tracer_run(const shadow::Scene& scene, std::uint64_t samples, const Radiosit
     run.h[e.face_id] = e.irradiance;
     run.se[e.face_id] = e.standard_error;
   }
-  char text[96];
+  char text[128];
   std::snprintf(text, sizeof text, "%.3g Mrays", 1e-6 * static_cast<double>(r.rays));
   run.note = text;
   return run;
@@ -207,19 +209,23 @@ CLI::App* add_radiosity_compare_command(CLI::App& app, RadiosityCompareOptions& 
   cmd->add_option("--element-areas", o.element_areas, "Radiosity runs: max element area (m^2) of each")
       ->delimiter(',')->check(CLI::NonNegativeNumber);
   cmd->add_option("--tolerance", o.tolerance, "Radiosity: unshot fraction to stop at")->check(CLI::PositiveNumber);
+  cmd->add_option("--patch-area", o.patch_area, "Radiosity: largest shooting patch (m^2); 0: 16 elements")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--samples", o.samples, "Path-tracer runs: paths per face of each")->delimiter(',')->check(CLI::PositiveNumber);
   cmd->add_option("--reference-samples", o.reference_samples, "Paths per face of the reference")->check(CLI::PositiveNumber);
   cmd->add_option("--seed", o.seed, "Seed of the tracer runs (the reference uses seed + 1)");
   cmd->add_option("--threads", o.threads, "Threads for every method")->check(CLI::PositiveNumber);
   cmd->add_option("--csv", o.csv_path, "Write one row per run and face to this file");
+  cmd->add_flag("--no-radiosity", o.no_radiosity, "Only the path-tracer runs against the reference");
   cmd->add_flag("--quick", o.quick, "Smoke run: element sizes, path counts and reference replaced by 4 m^2, 16 and 64 paths, 4,096");
   return cmd;
 }
 
 int run_radiosity_compare(const RadiosityCompareOptions& options) {
   RadiosityCompareOptions o = options;
+  if (o.no_radiosity) o.element_areas.clear();
   if (o.quick) {
-    o.element_areas = {4.0};
+    if (!o.no_radiosity) o.element_areas = {4.0};
     o.samples = {16, 64};
     o.reference_samples = std::min<std::uint64_t>(o.reference_samples, 4096);
   }
