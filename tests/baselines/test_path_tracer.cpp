@@ -169,6 +169,38 @@ TEST(PathTracer, AgreesWithRadiosityInARoomWithAnEmittingFloor) {
   }
 }
 
+TEST(PathTracer, DiskLightAndSunDiskByNextEvents) {
+  // A black floor; a disk of radius R = 0.5 facing down at height h = 1 over the origin, radiance
+  // 2: H = pi L R^2 / (h^2 + R^2) under its centre. The sun's disk (1 degree, 30 degrees from the
+  // zenith, nothing in the way): H = I cos(30 degrees) on every ray, no variance.
+  Scene scene;
+  shadow::add_mesh(scene, "floor", {{{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}}});
+  shadow::Light disk;
+  disk.name = "disk";
+  disk.type = shadow::LightType::Disk;
+  disk.position = {0, 0, 1};
+  disk.normal = {0, 0, -1};
+  disk.radius = 0.5;
+  disk.intensity = 2.0;
+  scene.lights.push_back(disk);
+  shadow::validate_scene(scene);
+  const shadow::PathTracerResult r = shadow::path_trace_points(scene, {{0, {0, 0, 0}}}, options_of(100000));
+  const double expected = kPi * 2.0 * 0.25 / 1.25;
+  EXPECT_LT(r.estimates[0].standard_error, 0.01 * expected);
+  EXPECT_NEAR(r.estimates[0].irradiance, expected, 4 * r.estimates[0].standard_error);
+
+  Scene sunny;
+  shadow::add_mesh(sunny, "floor", {{{-5, -5, 0}, {5, -5, 0}, {5, 5, 0}, {-5, 5, 0}}});
+  shadow::Light sun = shadow::directional_light("sun", {std::sin(kPi / 6), 0, std::cos(kPi / 6)});
+  sun.angular_diameter = 1.0;
+  sun.intensity = 4.0;
+  sunny.lights.push_back(sun);
+  shadow::validate_scene(sunny);
+  const shadow::PathTracerResult s = shadow::path_trace_faces(sunny, options_of(64));
+  EXPECT_NEAR(s.estimates[0].irradiance, 4.0 * std::cos(kPi / 6), 1e-12);
+  EXPECT_LT(s.estimates[0].standard_error, 1e-9);
+}
+
 TEST(PathTracer, HardLightsAtPointsAreExactAndShadowed) {
   // Floor z = 0 (face 0) with a black square [0.4, 1.6]^2 at height 1 (face 1, facing down); the
   // default material reflects nothing, so H is the lights' alone.
