@@ -83,6 +83,7 @@ FaceSampler face_sampler(const FaceFrame& fr) {
 }
 
 glm::dvec3 point_on(const FaceSampler& s, double u1, double u2, double u3) {
+  if (s.triangles.empty()) return glm::dvec3(0.0);  // not reached: a face with a frame has area
   const auto t = static_cast<std::size_t>(std::upper_bound(s.cumulative.begin(), s.cumulative.end(), u1) -
                                           s.cumulative.begin());
   const auto& tr = s.triangles[std::min(t, s.triangles.size() - 1)];
