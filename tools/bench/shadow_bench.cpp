@@ -9,6 +9,7 @@
 #include "bench_soft.hpp"
 #include "bench_light_visibility.hpp"
 #include "bench_prepare.hpp"
+#include "bench_radiosity.hpp"
 
 #include "bench_city.hpp"
 #include <shadow/shadow.hpp>
@@ -313,8 +314,11 @@ int main(int argc, char** argv) {
   city_cmd->add_option("--boxes", city_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
   city_cmd->add_option("--diameter", city_diameter, "The sun's angular diameter (degrees)")->check(CLI::PositiveNumber);
   city_cmd->add_option("--threads", city_threads, "Threads")->check(CLI::PositiveNumber);
+  bench::RadiosityCompareOptions radiosity;
+  CLI::App* radiosity_cmd = bench::add_radiosity_compare_command(app, radiosity);
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
+  if (radiosity_cmd->parsed()) return bench::run_radiosity_compare(radiosity);
   if (compare_cmd->parsed()) return bench::run_compare(compare);
   if (soft_cmd->parsed()) return bench::run_soft(soft);
   if (tiles_cmd->parsed())

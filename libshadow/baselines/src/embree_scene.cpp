@@ -38,8 +38,10 @@ void build_embree_scene(const Scene& scene, const Setup& setup, unsigned threads
         max_coordinate = std::max(max_coordinate, std::abs(q[a]));
       }
     }
-    for (const auto& t : triangulate(fr.polygon))
+    for (const auto& t : triangulate(fr.polygon)) {
       for (std::uint32_t i : t) indices.push_back(base + i);
+      es.triangle_face.push_back(static_cast<std::uint32_t>(f));
+    }
   }
   es.max_coordinate = max_coordinate;
   const std::string config = "threads=" + std::to_string(threads);

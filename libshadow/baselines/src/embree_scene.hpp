@@ -10,6 +10,9 @@
 
 #include <glm/vec3.hpp>
 
+#include <cstdint>
+#include <vector>
+
 namespace shadow::baselines_detail {
 
 /// Owns an Embree device and scene.
@@ -18,6 +21,8 @@ struct EmbreeScene {
   RTCScene scene = nullptr;
   /// The largest absolute shifted coordinate (rays must start a few float ulps of it off a face).
   double max_coordinate = 0;
+  /// The face of each Embree triangle (primID), for the rays that need to know what they hit.
+  std::vector<std::uint32_t> triangle_face;
   EmbreeScene() = default;
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

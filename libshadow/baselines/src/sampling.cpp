@@ -358,5 +358,28 @@ void finish(Setup& setup, const std::vector<std::uint64_t>& samples, const std::
   }
 }
 
+namespace {
+bool finite_point(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+/// Shift and face frames (no lights), as the other baselines have them.
+Setup frames_setup(const Scene& scene, bool recentre) {
+  Setup s;
+  s.shift = recentre ? scene_centre(scene) : glm::dvec3(0.0);
+  s.frames.resize(scene.faces.size());
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    if (!scene.faces[f].degenerate) s.frames[f] = face_frame(scene.faces[f].vertices, s.shift);
+  return s;
+}
+
+void check_points(const Scene& scene, const std::vector<SurfacePoint>& points, const char* place) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].face_id >= scene.faces.size())
+      throw InputError({"", place}, "point " + std::to_string(i) + " names face " + std::to_string(points[i].face_id) +
+                                        ", which does not exist");
+    if (!finite_point(points[i].position)) throw InputError({"", place}, "point " + std::to_string(i) + " is not finite");
+  }
+}
+
 }  // namespace baselines_detail
 }  // namespace shadow

@@ -96,4 +96,12 @@ Setup make_setup(const Scene& scene, const std::vector<std::size_t>& wanted_ligh
 void finish(Setup& setup, const std::vector<std::uint64_t>& samples, const std::vector<std::uint64_t>& lit);
 
 
+/// Shift and face frames (no lights): the start of the baselines that take points or faces
+/// rather than (face, light) pairs (the soft-shadow methods, the path tracer).
+Setup frames_setup(const Scene& scene, bool recentre);
+
+/// @throws InputError (place `place`) for a point whose face does not exist or whose position is
+/// not finite.
+void check_points(const Scene& scene, const std::vector<SurfacePoint>& points, const char* place);
+
 }  // namespace shadow::baselines_detail

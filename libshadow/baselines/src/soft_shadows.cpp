@@ -4,6 +4,7 @@
 // k stratified rays per point to the light on Embree.
 #include "depth_map.hpp"
 #include "embree_scene.hpp"
+#include "light_sampling.hpp"
 #include "sampling.hpp"
 #include "core/lights.hpp"
 #include "runtime/parallel.hpp"
@@ -28,107 +29,6 @@ namespace shadow {
 using namespace baselines_detail;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-/// An extended light in the shifted frame, checked.
-struct ExtendedLight {
-  LightType type = LightType::Area;
-  bool sun = false;              ///< directional with angular_diameter > 0
-  glm::dvec3 centre{0.0};        ///< area: centroid; disk: centre (shifted)
-  glm::dvec3 normal{0.0};        ///< area, disk: unit normal of the front
-  glm::dvec3 to_light{0.0};      ///< sun: unit direction to its centre
-  glm::dvec3 e1{0.0}, e2{0.0};   ///< disk, sun: unit axes across the normal / direction
-  double size = 0;               ///< area: sqrt(area); disk: diameter; sun: angular diameter (radians)
-  double radius = 0;             ///< disk
-  double cos_half = 1;           ///< sun: cos(angular_diameter / 2)
-  std::vector<std::array<glm::dvec3, 3>> triangles;  ///< area light (shifted)
-  std::vector<double> cumulative;  ///< area: cumulative area shares, ending at 1
-
-  [[nodiscard]] ShiftedLight centre_light() const {
-    ShiftedLight l;
-    l.point = !sun;
-    l.position = centre;
-    l.to_light = to_light;
-    return l;
-  }
-  /// A point that does not see the front of an area or disk light sees none of it.
-  [[nodiscard]] bool behind(const glm::dvec3& p) const { return !sun && !(glm::dot(normal, p - centre) > 0); }
-};
-
-void basis(const glm::dvec3& n, glm::dvec3& e1, glm::dvec3& e2) {
-  const glm::dvec3 helper = std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
-  e1 = glm::normalize(glm::cross(helper, n));
-  e2 = glm::cross(n, e1);
-}
-
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-ExtendedLight extended_light(const Scene& scene, const Light& light, const glm::dvec3& shift) {
-  const SourceLocation where{scene.source.string(), "light \"" + light.name + "\""};
-  if (!light.is_extended()) throw InputError(where, "soft shadows need an extended light (area, disk, or a sun with angular_diameter)");
-  // The one check of lights (core/lights.hpp): the engine and the reader reject the same ones.
-  detail::check_light(light, scene.source.string(), where.place);
-  ExtendedLight e;
-  e.type = light.type;
-  if (light.type == LightType::Area) {
-    const glm::dvec3 n = geometry::newell_normal(light.polygon, light.polygon[0]);
-    const double len = glm::length(n);
-    if (!(len > 0) || !std::isfinite(len)) throw InputError(where, "an area light's polygon has no area");
-    e.normal = n / len;
-    const FaceFrame fr = face_frame(light.polygon, shift);
-    if (!fr.ok) throw InputError(where, "an area light's polygon has no area");
-    double total = 0;
-    glm::dvec3 weighted(0.0);
-    for (const auto& t : triangulate(fr.polygon)) {
-      std::array<glm::dvec3, 3> tri;
-      for (int c = 0; c < 3; ++c) tri[static_cast<std::size_t>(c)] = light.polygon[t[static_cast<std::size_t>(c)]] - shift;
-      const double a = 0.5 * glm::length(glm::cross(tri[1] - tri[0], tri[2] - tri[0]));
-      if (!(a > 0)) continue;
-      e.triangles.push_back(tri);
-      total += a;
-      e.cumulative.push_back(total);
-      weighted += a * (tri[0] + tri[1] + tri[2]) / 3.0;
-    }
-    if (!(total > 0)) throw InputError(where, "an area light's polygon has no area");
-    for (double& c : e.cumulative) c /= total;
-    e.cumulative.back() = 1.0;
-    e.centre = weighted / total;
-    e.size = std::sqrt(total);
-  } else if (light.type == LightType::Disk) {
-    e.normal = geometry::unit(light.normal);
-    basis(e.normal, e.e1, e.e2);
-    e.centre = light.position - shift;
-    e.radius = light.radius;
-    e.size = 2 * light.radius;
-  } else {
-    e.sun = true;
-    e.to_light = geometry::unit(light.to_light);  // scaled first: tiny or huge vectors too
-    basis(e.to_light, e.e1, e.e2);
-    e.size = light.angular_diameter * kPi / 180.0;
-    e.cos_half = std::cos(0.5 * e.size);
-  }
-  return e;
-}
-
-/// Shift and face frames (no lights), as the other baselines have them.
-Setup frames_setup(const Scene& scene, bool recentre) {
-  Setup s;
-  s.shift = recentre ? scene_centre(scene) : glm::dvec3(0.0);
-  s.frames.resize(scene.faces.size());
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    if (!scene.faces[f].degenerate) s.frames[f] = face_frame(scene.faces[f].vertices, s.shift);
-  return s;
-}
-
-void check_points(const Scene& scene, const std::vector<SurfacePoint>& points, const char* place) {
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (points[i].face_id >= scene.faces.size())
-      throw InputError({"", place}, "point " + std::to_string(i) + " names face " + std::to_string(points[i].face_id) +
-                                        ", which does not exist");
-    if (!finite(points[i].position)) throw InputError({"", place}, "point " + std::to_string(i) + " is not finite");
-  }
-}
 
 constexpr std::size_t kBlock = 64;  // points per work item
 
@@ -345,36 +245,9 @@ SoftResult ray_visibility(const Scene& scene, const Light& light, const std::vec
           glm::dvec3 d;
           float tfar = std::numeric_limits<float>::infinity();
           if (ext.sun) {
-            const double z = 1.0 - u1 * (1.0 - ext.cos_half);
-            const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-            const double phi = 2.0 * kPi * u2;
-            d = z * ext.to_light + s * (std::cos(phi) * ext.e1 + std::sin(phi) * ext.e2);
+            d = ext.sun_direction(u1, u2);
           } else {
-            glm::dvec3 target;
-            if (ext.type == LightType::Area) {
-              const auto t = static_cast<std::size_t>(
-                  std::upper_bound(ext.cumulative.begin(), ext.cumulative.end(), u1) - ext.cumulative.begin());
-              const std::size_t k = std::min(t, ext.triangles.size() - 1);
-              const double lo = k == 0 ? 0.0 : ext.cumulative[k - 1];
-              const double w = std::clamp((u1 - lo) / (ext.cumulative[k] - lo), 0.0, 1.0);
-              const double s = std::sqrt(w);
-              const auto& tr = ext.triangles[k];
-              target = tr[0] + s * (tr[1] - tr[0]) + s * u2 * (tr[2] - tr[1]);
-            } else {
-              // Concentric map of the square onto the disk (equal areas, strata stay compact).
-              const double x = 2 * u1 - 1, y = 2 * u2 - 1;
-              double r = 0, phi = 0;
-              if (x != 0 || y != 0) {
-                if (std::abs(x) > std::abs(y)) {
-                  r = x;
-                  phi = 0.25 * kPi * (y / x);
-                } else {
-                  r = y;
-                  phi = 0.5 * kPi - 0.25 * kPi * (x / y);
-                }
-              }
-              target = ext.centre + ext.radius * r * (std::cos(phi) * ext.e1 + std::sin(phi) * ext.e2);
-            }
+            const glm::dvec3 target = ext.surface_point(u1, u2);
             d = target - o;
             const double len = glm::length(d);
             if (!(len > offset)) continue;

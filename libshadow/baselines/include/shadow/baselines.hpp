@@ -33,6 +33,10 @@
 /// given points on faces, the quantity light_visibility (area_lights.hpp) computes exactly;
 /// face_sample_points and soft_face_estimates turn them into per-face region estimates.
 ///
+/// Global illumination: a diffuse Monte Carlo path tracer on the same Embree scene
+/// (path_trace_faces, path_trace_points), the baseline of the radiosity solver (radiosity.hpp):
+/// per-face or per-point irradiance with a standard error, deterministic for a seed.
+///
 /// Link `libshadow::baselines` (a separate library: the core does not depend on Embree).
 #pragma once
 
@@ -220,5 +224,74 @@ SoftResult ray_visibility(const Scene& scene, const Light& light, const std::vec
 /// true when any point sees some of the light.
 std::vector<FaceLighting> soft_face_estimates(const FacePoints& samples, const std::vector<double>& visibility,
                                               std::size_t light_id, double tolerance = 1e-9);
+
+// ---- Global illumination: a diffuse Monte Carlo path tracer ----------------------------------
+
+/// Options of the path tracer (path_trace_faces, path_trace_points; docs/radiosity.md, "Against a
+/// path tracer").
+struct PathTracerOptions {
+  std::uint64_t samples = 1024;  ///< paths per face (path_trace_faces) or per point
+  std::uint64_t seed = 1;        ///< the random streams: one per (face or point, path index)
+  /// The most reflections a path follows: light that reached the point after more reflections
+  /// than this is left out, so the estimate is low by it. 0: no limit, paths end by Russian
+  /// roulette alone (unbiased).
+  unsigned max_bounces = 0;
+  /// After a reflection off a surface of reflectance rho the path goes on with probability rho
+  /// and keeps its weight (unbiased). Off: it always goes on, its weight times rho, and
+  /// max_bounces must be above 0.
+  bool russian_roulette = true;
+  double offset = 1e-4;   ///< start of each ray off its face (scene units), as ray sampling
+  unsigned threads = 0;   ///< 0: every hardware thread; the result does not depend on it
+  bool recentre = true;   ///< subtract the scene's centre before going to float32
+};
+
+/// One estimate: a face's area-weighted mean, or the value at one point.
+struct IrradianceEstimate {
+  std::size_t face_id = 0;
+  double area = 0.0;               ///< the face's area (Newell's formula); 0 for a point
+  double irradiance = 0.0;         ///< H (W/m^2) on the front: the lights' and the other faces'
+  double standard_error = 0.0;     ///< of `irradiance`: the paths' standard deviation / sqrt(paths)
+  double direct_irradiance = 0.0;  ///< the lights' share of H (next-event estimation at the start)
+  double direct_standard_error = 0.0;
+  double radiosity = 0.0;          ///< B = E + rho H, the face's emittance and reflectance
+  std::uint64_t paths = 0;         ///< 0 for a degenerate face (no estimate)
+};
+
+/// What the path tracer computed.
+struct PathTracerResult {
+  std::vector<IrradianceEstimate> estimates;  ///< one per face asked for, or per point, in order
+  std::uint64_t paths = 0;        ///< paths traced
+  std::uint64_t rays = 0;         ///< rays traced: path segments and shadow rays
+  unsigned max_bounces = 0;       ///< as run (0: no limit)
+  bool russian_roulette = true;   ///< as run
+  double prepare_seconds = 0.0;   ///< BVH build
+  double compute_seconds = 0.0;   ///< the paths
+};
+
+/// Diffuse global illumination by path tracing, on the Embree scene of ray_sampling_lighting,
+/// with the meaning of solve_radiosity (shadow/radiosity.hpp): every face is Lambertian with its
+/// material's `reflectance` rho and `emittance` E, light leaves and arrives on a face's front
+/// only (a back is black and opaque), lights do not occlude. The irradiance at a point x is
+///   H(x) = D(x) + E(y) + rho(y) H(y)   (y: the front hit along a cosine-distributed direction; 0 on a miss or a back)
+/// where D is the direct irradiance of the scene's lights by next-event estimation, one shadow
+/// ray per light and vertex: a point light I cos / r^2, a directional light I cos, an area or disk
+/// light of radiance L = intensity by one point uniform on its area (L A cos cos' / r^2, front
+/// only), the sun's disk by one direction uniform in its solid angle (intensity times cos to its
+/// centre when the ray is free), as light_irradiance defines them. Emitting faces are found by the
+/// paths (no next-event estimation for them). Each path has its own random stream from (seed,
+/// face or point index, path index), and sums are made in fixed blocks of paths, so the result
+/// is the same bit for bit for any thread count.
+///
+/// path_trace_faces: `samples` paths per face, each from its own point uniform on the face (by
+/// area), so `irradiance` is the face's area-weighted mean H. All non-degenerate faces, or
+/// those of `faces` in the order given. The scene must have been validated.
+/// @throws InputError for bad options, a face out of range, an unusable light, or when Embree fails.
+PathTracerResult path_trace_faces(const Scene& scene, const PathTracerOptions& options = {},
+                                  const std::vector<std::size_t>& faces = {});
+
+/// `samples` paths from each of `points` (on its face's front), estimates in the order of points.
+/// @throws InputError as path_trace_faces, or for a point that is not finite.
+PathTracerResult path_trace_points(const Scene& scene, const std::vector<SurfacePoint>& points,
+                                   const PathTracerOptions& options = {});
 
 }  // namespace shadow
