@@ -4,6 +4,7 @@
 #include <shadow/radiosity.hpp>
 
 #include "runtime/parallel.hpp"
+#include "radiosity/contacts.hpp"
 #include "radiosity/shaft.hpp"
 #include "radiosity/shooter_view.hpp"
 #include "radiosity/triangles.hpp"
@@ -80,12 +81,19 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
   std::vector<std::vector<std::size_t>> by_face(scene.faces.size());
   for (std::size_t i = 0; i < fragments.size(); ++i)
     if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
-  std::vector<radiosity::Triangle> coarse, fine;
+  // Cut along where other faces meet each face: a floor element under a box's wall would
+  // average the lit floor with the closed-off part beneath the box.
+  const std::vector<std::vector<radiosity::Segment>> contacts = radiosity::contact_segments(scene);
+  std::vector<radiosity::Triangle> coarse, fine, cut;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
     if (face.degenerate || face.vertices.size() < 3) continue;
+    const glm::dvec3 n = radiosity::newell_normal(face.vertices);
     auto add_polygon = [&](const std::vector<glm::dvec3>& polygon, std::size_t fragment) {
-      for (const radiosity::Triangle& t : radiosity::triangulate(polygon)) {
+      cut.clear();
+      for (const radiosity::Triangle& t : radiosity::triangulate(polygon))
+        radiosity::cut_along(t, glm::normalize(n), contacts[f], cut);
+      for (const radiosity::Triangle& t : cut) {
         coarse.clear();
         radiosity::refine(t, patch_area, coarse);
         for (const radiosity::Triangle& c : coarse) {
