@@ -325,6 +325,41 @@ TEST(Radiosity, FaceIrradianceFromOutsideIsLinear) {
   EXPECT_THROW(shadow::solve_radiosity(scene, options), shadow::InputError);
 }
 
+TEST(Radiosity, FloorElementsStopAtTheWallsOfABoxStandingOnIt) {
+  // No floor element may reach under the box: it would average the room's light with the dark
+  // beneath and shoot into the box.
+  Scene scene;
+  shadow::Material grey;
+  grey.name = "grey";
+  grey.reflectance = 0.5;
+  grey.emittance = 1.0;
+  scene.materials.push_back(grey);
+  shadow::add_mesh(scene, "floor", {shadow::rectangle_z(0, 0, 4, 4, 0)});
+  shadow::add_mesh(scene, "box", shadow::box_faces({1.3, 1.1, 0}, {2.2, 2.9, 1}));
+  scene.meshes[0].material = scene.meshes[1].material = "grey";
+  shadow::validate_scene(scene);
+  shadow::RadiosityOptions options;
+  options.max_element_area = 1.0;
+  options.tolerance = 1e-2;
+  options.threads = 1;
+  const shadow::RadiosityResult r = shadow::solve_radiosity(scene, options);
+  std::size_t under = 0;
+  for (const shadow::RadiosityElement& e : r.elements) {
+    if (e.face_id != 0) continue;
+    int inside = 0, outside = 0;
+    for (const dvec3& v : e.polygon) {
+      const bool in = v.x > 1.3 + 1e-9 && v.x < 2.2 - 1e-9 && v.y > 1.1 + 1e-9 && v.y < 2.9 - 1e-9;
+      const bool out = v.x < 1.3 - 1e-9 || v.x > 2.2 + 1e-9 || v.y < 1.1 - 1e-9 || v.y > 2.9 + 1e-9;
+      inside += in ? 1 : 0;
+      outside += out ? 1 : 0;
+    }
+    EXPECT_FALSE(inside > 0 && outside > 0) << "a floor element straddles the box's wall";
+    const dvec3 c = (e.polygon[0] + e.polygon[1] + e.polygon[2]) / 3.0;
+    under += c.x > 1.3 && c.x < 2.2 && c.y > 1.1 && c.y < 2.9 ? 1 : 0;
+  }
+  EXPECT_GT(under, 0u);
+}
+
 TEST(Radiosity, BadOptionsAreInputErrors) {
   const Scene scene = furnace(1, 0.5);
   shadow::RadiosityOptions options;
