@@ -10,6 +10,7 @@
 /// irradiation in Wh/m2 is the same number; totals are in kWh/m2.
 #pragma once
 
+#include <shadow/radiosity.hpp>
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/sun_hours.hpp>
@@ -150,6 +151,14 @@ struct IrradianceResult {
   /// Energy conservation over every face and hour (W/m2): the largest excess of shaded over
   /// unshaded direct and sky diffuse (<= 0 up to rounding), and the smallest component (>= 0).
   double max_direct_excess = 0.0, max_diffuse_excess = 0.0, min_component = 0.0;
+  /// Per row, kWh/m2 over the period: what the scene's own faces reflect onto the face (empty
+  /// unless add_scene_reflections ran; it is then part of `total`, not of the monthly totals).
+  std::vector<double> scene_reflected;
+  /// The radiosity solution behind scene_reflected.
+  struct Reflections {
+    std::size_t elements = 0, shots = 0;
+    double unshot_fraction = 0.0, error_estimate = 0.0, default_reflectance = 0.0, seconds = 0.0;
+  } reflections;
   /// The month (1..12) of each hour (hours[h]).
   [[nodiscard]] int month_of(std::size_t h, const Weather& weather) const { return weather.month[hours[h].record]; }
 };
@@ -164,6 +173,25 @@ FaceIrradiance face_irradiance(const IrradianceResult& result, std::size_t row, 
 /// empty period)
 IrradianceResult compute_irradiance(const ShadowEngine& engine, const Scene& scene, const Weather& weather,
                                     const IrradianceOptions& options = {});
+
+/// Options of add_scene_reflections.
+struct ReflectionOptions {
+  /// The reflectance of faces whose material gives none (no reflectance, colour or emittance).
+  double default_reflectance = 0.2;
+  double max_element_area = 0.0;  ///< radiosity elements (m^2); 0: the faces' triangles
+  double tolerance = 1e-3;        ///< the unshot fraction to stop at
+  unsigned threads = 0;
+  std::function<void(const RadiosityProgress&)> progress;
+};
+
+/// The scene's own reflections over the period (`shadow irradiance --reflections`): one
+/// radiosity solution (shadow/radiosity.hpp) whose sources are each receiving face's total
+/// irradiation over the period, its faces reflecting their material's reflectance (or the
+/// default). Radiosity is linear in its sources, so the solution's incident minus source on each
+/// face is the period's reflected irradiation: it goes into result.scene_reflected and is added
+/// to result.total. Faces that are not receivers have no source (their irradiation is unknown).
+/// @throws InputError for a default reflectance outside [0, 1)
+void add_scene_reflections(const Scene& scene, IrradianceResult& result, const ReflectionOptions& options = {});
 
 /// The direct irradiation map (`shadow irradiance --map`): the exact sun-hours map of `faces`
 /// (receiving faces of `result`; others are left out) in which each hour's sun weighs
