@@ -426,6 +426,10 @@ TEST(Irradiance, GroundFacesAreTheGround) {
       EXPECT_EQ(r.ground_view[row_of(r, roof)], 0.0);
       EXPECT_EQ(r.ground_view[row_of(r, ground_face)], 0.0);
       EXPECT_EQ(r.on_ground[row_of(r, ground_face)], as_ground ? 1 : 0);
+      // The box's bottom rests on the ground plane: no ground view when the plane is the ground
+      // (the rule has a ground to compare with); without a ground mesh it looks down onto the
+      // open ground (the coplanar plane casts nothing on it).
+      EXPECT_EQ(r.ground_view[row_of(r, roof + 1)], as_ground ? 0.0 : 1.0);
       if (as_ground) {
         // Nothing but the ground below the wall: exactly the open wall's half.
         EXPECT_NEAR(r.ground_view[wall], 0.5, 1e-15) << count;

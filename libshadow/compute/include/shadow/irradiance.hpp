@@ -145,7 +145,9 @@ struct IrradianceResult {
   /// sees no face or a ground face (ground_faces()) in its direction, scaled so that an
   /// unobstructed face gets exactly (1 - cos tilt) / 2 (0 for a roof, 0.5 for a wall). A ground
   /// face itself gets (1 - cos tilt) / 2 (what lies below its horizon is taken as more ground),
-  /// a face of kind GroundSurface 0 (it rests on the ground).
+  /// a face of kind GroundSurface 0 (it rests on the ground), and so does a face looking straight
+  /// down that lies no higher than the lowest point of the ground faces (a box's bottom on the
+  /// ground plane).
   std::vector<double> ground_view;
   /// per row: 1 when the face is ground (ground_faces()).
   std::vector<unsigned char> on_ground;

@@ -12,6 +12,8 @@
 #include <algorithm>
 #include <stdexcept>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <string>
 
 namespace shadow {
@@ -80,6 +82,20 @@ void ground_views(IrradianceResult& r, const ShadowEngine& engine, const Scene& 
     r.ground = open_engine.compute_series(lights, series);
   }
 
+  // The lowest point of the ground faces: a face looking straight down that lies no higher
+  // rests on the ground (a generated box's bottom on its ground plane) and sees none of it.
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < ground.size(); ++f)
+    if (ground[f] != 0)
+      for (const glm::dvec3& v : scene.faces[f].vertices) lowest = std::min(lowest, v.z);
+  const auto rests_on_ground = [&](std::size_t row) {
+    if (!(r.normal[row].z < -1.0 + 1e-12) || !std::isfinite(lowest)) return false;
+    const double tolerance = 1e-9 * (1.0 + std::abs(lowest));
+    for (const glm::dvec3& v : scene.faces[r.faces[row]].vertices)
+      if (v.z > lowest + tolerance) return false;
+    return true;
+  };
+
   r.ground_view.assign(rows, 0.0);
   r.ground_view_factor_error_bound.assign(rows, 0.0);
   const bool fast = r.ground.arithmetic == Arithmetic::Fast;
@@ -92,6 +108,7 @@ void ground_views(IrradianceResult& r, const ShadowEngine& engine, const Scene& 
       r.ground_view[row] = scene.faces[face].kind == "GroundSurface" ? 0.0 : unobstructed;
       continue;
     }
+    if (rests_on_ground(row)) continue;
     while (g < r.ground.faces.size() && r.ground.faces[g] < face) ++g;
     if (g == r.ground.faces.size() || r.ground.faces[g] != face)
       throw std::logic_error("ground view: face " + std::to_string(face) + " has no row in the ground series");
