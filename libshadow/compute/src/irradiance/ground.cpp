@@ -3,17 +3,15 @@
 // ground, and each face's view of the ground through the scene's obstructions (docs/irradiance.md).
 #include <shadow/irradiance.hpp>
 
-#include <shadow/error.hpp>
-
 #include "irradiance/ground_view.hpp"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <stdexcept>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 namespace shadow {
