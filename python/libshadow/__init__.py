@@ -53,6 +53,8 @@ from ._libshadow import (  # noqa: F401  (the public API)
     parse_scene,
     parse_utc_offset,
     read_epw,
+    read_tmy3,
+    read_weather,
     radiosity,
     replace_sun_lights,
     solar_position,
@@ -79,7 +81,7 @@ __all__ = [
     "sunlit_csv", "energyplus_shading_csv", "write_series",
     "SceneObject", "object_sun_hours", "sun_hours_by_object_csv", "unique_face_labels", "site_timezone",
     "scene_from_data", "scene_to_dict", "fragments", "__version__",
-    "Weather", "read_epw", "irradiance", "IrradianceResult", "form_factor", "radiosity",
+    "Weather", "read_epw", "read_tmy3", "read_weather", "irradiance", "IrradianceResult", "form_factor", "radiosity",
 ]
 
 

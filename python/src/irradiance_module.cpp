@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Python bindings of weather files and irradiation (docs/irradiance.md, docs/python.md):
-// libshadow.read_epw(path) and libshadow.irradiance(scene, weather, ...), results as numpy arrays.
+// libshadow.read_epw(path), read_tmy3(path), read_weather(path) and libshadow.irradiance(scene, weather, ...), results as numpy arrays.
 #include <shadow/irradiance.hpp>
 #include <shadow/shadows.hpp>
 #include <shadow/epw.hpp>
@@ -10,6 +10,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -88,13 +89,30 @@ void bind_irradiance(py::module_& m) {
 
   m.def("read_epw", &shadow::read_epw, py::arg("path"),
         "Reads an EnergyPlus EPW weather file. Raises InputError naming the file, line and field.");
+  m.def("read_tmy3", &shadow::read_tmy3, py::arg("path"),
+        "Reads an NREL TMY3 CSV weather file (site line, column names, hourly records). Raises InputError naming\n"
+        "the file, line and field.");
+  m.def("read_weather", &shadow::read_weather, py::arg("path"),
+        "Reads a weather file: TMY3 when the name ends in .csv, else EPW.");
 
   m.def(
       "irradiance",
       [](const std::shared_ptr<shadow::Scene>& scene, const shadow::Weather& weather, const std::string& sky,
          int sky_patches, std::optional<double> ground_reflectance, std::size_t first_record,
-         std::optional<std::size_t> end_record, bool fast, unsigned threads, bool with_hourly) {
+         std::optional<std::size_t> end_record, bool fast, unsigned threads, bool with_hourly,
+         const std::optional<std::vector<std::string>>& ground) {
         if (!scene) throw shadow::InputError({"", "scene"}, "no scene");
+        // ground=[names]: these meshes are the ground instead of the scene's (a copy of the scene).
+        std::shared_ptr<const shadow::Scene> used = scene;
+        if (ground) {
+          auto copy = std::make_shared<shadow::Scene>(*scene);
+          copy->ground.emplace();
+          for (const std::string& name : *ground)
+            for (std::size_t m : shadow::select_meshes(*copy, name, {"", "ground"}))
+              if (std::find(copy->ground->begin(), copy->ground->end(), m) == copy->ground->end())
+                copy->ground->push_back(m);
+          used = copy;
+        }
         if (sky != "perez" && sky != "isotropic")
           throw shadow::InputError({"", "sky"}, "'" + sky + "': use 'perez' or 'isotropic'");
         shadow::IrradianceOptions options;
@@ -106,13 +124,14 @@ void bind_irradiance(py::module_& m) {
         if (scene->sun) options.north_axis = scene->sun->north_axis;
         options.series.threads = threads;
         options.series.arithmetic = fast ? shadow::Arithmetic::Fast : shadow::Arithmetic::Exact;
-        const shadow::ShadowEngine engine(*scene, threads);
-        const shadow::IrradianceResult r = shadow::compute_irradiance(engine, *scene, weather, options);
+        const shadow::ShadowEngine engine(*used, threads);
+        const shadow::IrradianceResult r = shadow::compute_irradiance(engine, *used, weather, options);
         py::dict d;
         d["face_id"] = array_of_sizes(r.faces);
         d["area"] = array_of(r.area);
         d["sky_view_factor"] = array_of(r.sky_view_factor);
         d["ground_view_factor"] = array_of(r.ground_view);
+        d["ground"] = array_of(std::vector<int>(r.on_ground.begin(), r.on_ground.end()));
         d["direct"] = array_of(r.direct);
         d["sky_diffuse"] = array_of(r.sky_diffuse);
         d["ground_reflected"] = array_of(r.ground_reflected);
@@ -129,9 +148,10 @@ void bind_irradiance(py::module_& m) {
       },
       py::arg("scene"), py::arg("weather"), py::arg("sky") = "perez", py::arg("sky_patches") = 145,
       py::arg("ground_reflectance") = py::none(), py::arg("first_record") = 0, py::arg("end_record") = py::none(),
-      py::arg("fast") = false, py::arg("threads") = 0, py::arg("hourly") = false,
+      py::arg("fast") = false, py::arg("threads") = 0, py::arg("hourly") = false, py::arg("ground") = py::none(),
       "Irradiation of every receiving face over weather records [first_record, end_record) (docs/irradiance.md):\n"
-      "a dict of numpy arrays per receiving face (face_id, area, sky_view_factor, direct, sky_diffuse,\n"
-      "ground_reflected, total in kWh/m2; monthly_total faces x 12), and with hourly=True the hourly W/m2\n"
-      "components (faces x hours). Holds the GIL while it computes.");
+      "a dict of numpy arrays per receiving face (face_id, area, sky_view_factor, ground_view_factor, ground\n"
+      "(1 for ground faces), direct, sky_diffuse, ground_reflected, total in kWh/m2; monthly_total faces x 12),\n"
+      "and with hourly=True the hourly W/m2 components (faces x hours). ground: mesh names (or type:<T>) that\n"
+      "are the ground instead of the scene's. Holds the GIL while it computes.");
 }

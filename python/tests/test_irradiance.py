@@ -57,3 +57,50 @@ def test_irradiance_open_roof(tmp_path):
     pd = pytest.importorskip("pandas")
     frame = r.to_pandas()
     assert list(frame.index) == [0] and frame.loc[0, "total"] == r["total"][0] and frame.loc[0, "jun"] == r["monthly_total"][0, 5]
+
+
+def _tmy3(path):
+    lines = ['1,"Testtown, test",XX,1.0,48.0,2.0,0.0',
+             "Date (MM/DD/YYYY),Time (HH:MM),GHI (W/m^2),DNI (W/m^2),DHI (W/m^2),Alb (unitless)"]
+    for h in range(1, 25):
+        day = 6 <= h <= 19
+        lines.append(f"06/21/2021,{h:02d}:00,-9900,{600 if day else 0},{100 if day else 0},0.25")
+    path.write_text("\n".join(lines) + "\n")
+    return str(path)
+
+
+def test_read_tmy3_matches_epw(tmp_path):
+    t = libshadow.read_weather(_tmy3(tmp_path / "day.csv"))
+    e = libshadow.read_epw(_epw(tmp_path / "day.epw"))
+    assert t.city == "Testtown, test" and len(t) == 24
+    assert (t.start_utc == e.start_utc).all() and (t.direct_normal == e.direct_normal).all()
+    assert np.isnan(t.global_horizontal).all() and (t.albedo == 0.25).all()
+    assert libshadow.read_tmy3(str(tmp_path / "day.csv")).latitude == 48.0
+    with pytest.raises(libshadow.InputError, match="line 2: no column named 'Date"):
+        bad = tmp_path / "bad.csv"
+        bad.write_text("1,Site,XX,0,10,20,5\nwhen,GHI (W/m^2)\n")
+        libshadow.read_weather(str(bad))
+
+
+def test_ground_view_of_a_wall_on_the_ground(tmp_path):
+    # A wall standing on a ground face 200 m wide: the mesh named "ground" is the ground, so the
+    # wall sees half the world below it as ground (sky + ground = 1); marking another mesh as the
+    # ground instead (ground=[...]) leaves the ground face hiding it all.
+    w = libshadow.read_epw(_epw(tmp_path / "day.epw"))
+    scene = libshadow.scene_from_data(
+        [{"name": "ground", "polygons": [[[-100, -100, 0], [100, -100, 0], [100, 100, 0], [-100, 100, 0]]]},
+         {"name": "wall", "polygons": [[[0, 0, 0], [4, 0, 0], [4, 0, 3], [0, 0, 3]]]}],
+        lights=[{"name": "up", "type": "directional", "to_light": [0, 0, 1]}])
+    r = libshadow.irradiance(scene, w, threads=1, ground_reflectance=0.2)
+    assert list(r["face_id"]) == [0, 1] and list(r["ground"]) == [1, 0]
+    assert r["ground_view_factor"][0] == 0.0
+    assert r["ground_view_factor"][1] == pytest.approx(0.5, abs=1e-15)
+    assert r["sky_view_factor"][1] + r["ground_view_factor"][1] == pytest.approx(1.0, abs=1e-15)
+    assert r["ground_reflected"][1] > 0.0
+    other = libshadow.irradiance(scene, w, threads=1, ground_reflectance=0.2, ground=["wall"])
+    assert list(other["ground"]) == [0, 1]
+    assert other["ground_view_factor"][0] == 0.0  # ground faces: (1 - cos tilt) / 2, 0 when flat
+    none = libshadow.irradiance(scene, w, threads=1, ground_reflectance=0.2, ground=[])
+    assert none["ground_view_factor"][1] == 0.0 and none["ground_reflected"][1] == 0.0
+    with pytest.raises(libshadow.InputError, match="ground"):
+        libshadow.irradiance(scene, w, ground=["street"])

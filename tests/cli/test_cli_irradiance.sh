@@ -283,4 +283,74 @@ expect_error bad_period "before it starts" "$WORK/scene.json" --weather "$WORK/d
 expect_error empty_period "no record of the weather file" "$WORK/scene.json" --weather "$WORK/day.epw" --from 07-01
 
 expect_error bad_map "--map" "$WORK/scene.json" --weather "$WORK/day.epw" --map nothing
+expect_error bad_ground "--ground" "$WORK/scene.json" --weather "$WORK/day.epw" --ground nothing
+
+# The same day as a TMY3 CSV file (site line, column names, hour-ending records; the missing
+# global horizontal as -9900): the same irradiation on every face as from the EPW file.
+python3 - "$WORK/day.epw" "$WORK/day.csv" <<'PY'
+import sys
+rows = [l.split(",") for l in open(sys.argv[1]).read().splitlines()[8:]]
+out = ['1,"Testtown, test",XX,1.0,48.0,2.0,0.0',
+       "Date (MM/DD/YYYY),Time (HH:MM),ETR (W/m^2),ETRN (W/m^2),GHI (W/m^2),GHI source,GHI uncert (%),"
+       "DNI (W/m^2),DNI source,DNI uncert (%),DHI (W/m^2),DHI source,DHI uncert (%),Dry-bulb (C),Alb (unitless)"]
+for r in rows:
+    ghi = "-9900" if r[13] == "9999" else r[13]
+    out.append(f"{int(r[1]):02d}/{int(r[2]):02d}/{r[0]},{int(r[3]):02d}:00,0,0,{ghi},1,8,{r[14]},1,8,{r[15]},1,8,{r[6]},{r[32]}")
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+PY
+if "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/day.csv" -o "$WORK/out-tmy3" -q -t 2 &&
+   python3 - "$WORK/out-tmy3/report.json" "$WORK/out-perez/report.json" <<'PY'
+import json, sys
+t, e = (json.load(open(p)) for p in sys.argv[1:3])
+assert t["run"]["ground_reflectance"] == e["run"]["ground_reflectance"], t["run"]
+assert t["run"]["period"]["hours"] == 24 and t["run"]["location"]["city"] == "Testtown, test", t["run"]
+for a, b in zip(t["faces"], e["faces"]):
+    assert a["face"] == b["face"]
+    for k, v in a["annual_irradiation_kwh_m2"].items():
+        assert abs(v - b["annual_irradiation_kwh_m2"][k]) <= 1e-12 * (1 + abs(v)), (a["label"], k, v, b)
+PY
+then pass "tmy3_same_as_epw"; else fail "tmy3_same_as_epw" "see above"; fi
+sed 's#^06/21/2021,13:00,0,0,-9900,1,8,600,#06/21/2021,13:00,0,0,-9900,1,8,6O0,#' "$WORK/day.csv" >"$WORK/bad.csv"
+expect_error bad_tmy3 "bad.csv: line 15, field 8 (DNI (W/m^2)): '6O0' is not a number" \
+  "$WORK/scene.json" --weather "$WORK/bad.csv"
+
+# The ground's view: the tower's west wall looks down onto the yard (a scene face, 6 m wide), which
+# hides part of the ground; with --ground yard the yard is the ground and the wall sees half the
+# world below it as ground, exactly as an open wall; the roof sees none. faces.vtp carries it.
+if "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/day.epw" -o "$WORK/out-ground" -q -t 2 --ground yard &&
+   python3 - "$WORK/out-ground/report.json" "$WORK/out-perez/report.json" <<'PY'
+import json, sys
+g, d = (json.load(open(p)) for p in sys.argv[1:3])
+fg = {f["label"]: f for f in g["faces"]}
+fd = {f["label"]: f for f in d["faces"]}
+assert g["run"]["ground_meshes"] == ["yard"] and d["run"]["ground_meshes"] == [], (g["run"], d["run"])
+assert abs(fg["tower west"]["ground_view_factor"] - 0.5) < 1e-12, fg["tower west"]
+assert 0.0 < fd["tower west"]["ground_view_factor"] < 0.45, fd["tower west"]
+assert fg["yard"]["ground"] and not fd["yard"]["ground"]
+for f in (fg, fd):
+    assert f["open roof"]["ground_view_factor"] == 0.0 and f["open roof"]["annual_irradiation_kwh_m2"]["ground_reflected"] == 0.0
+    assert abs(f["open roof"]["sky_view_factor"] + f["open roof"]["ground_view_factor"] - 1.0) < 1e-12
+    t = f["open tilted"]
+    assert abs(t["sky_view_factor"] + t["ground_view_factor"] - 1.0) < 1e-12, t
+west = {s["name"]: s for s in g["surfaces"]}["tower west"]
+assert abs(west["ground_view_factor"] - 0.5) < 1e-12, west
+ratio = fd["tower west"]["annual_irradiation_kwh_m2"]["ground_reflected"] / fg["tower west"]["annual_irradiation_kwh_m2"]["ground_reflected"]
+assert abs(ratio - fd["tower west"]["ground_view_factor"] / 0.5) < 1e-12, ratio
+PY
+then pass "ground_view"; else fail "ground_view" "see above"; fi
+if [[ -n $vtk_python ]]; then
+  if "$vtk_python" - "$WORK/out-ground" <<'PY'
+import json, sys
+from vtkmodules.vtkIOXML import vtkXMLPolyDataReader
+from vtkmodules.util.numpy_support import vtk_to_numpy
+r = json.load(open(sys.argv[1] + "/report.json"))
+reader = vtkXMLPolyDataReader()
+reader.SetFileName(sys.argv[1] + "/faces.vtp")
+reader.Update()
+g = vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("ground_view_factor"))
+for f in r["faces"]:
+    assert abs(g[f["face"]] - f["ground_view_factor"]) < 1e-12, (f, g)
+PY
+  then pass "faces_vtp_ground_view"; else fail "faces_vtp_ground_view" "see above"; fi
+fi
 cli_test_end

@@ -12,6 +12,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/vec3.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -133,6 +135,12 @@ TEST(Irradiance, UnobstructedFacesSeeTheirHemisphere) {
       EXPECT_NEAR(r.sky_diffuse[row], r.sky_diffuse_unshaded[row], 1e-9);
       EXPECT_NEAR(r.total[row], r.direct[row] + r.sky_diffuse[row] + r.ground_reflected[row], 1e-9);
     }
+    // The ground views of the open faces: exactly (1 - cos tilt) / 2, so that sky and ground add
+    // up to 1; the horizontal face sees no ground (no ground patch is in front of it).
+    EXPECT_EQ(r.ground_view[0], 0.0);
+    EXPECT_NEAR(r.ground_view[1], 0.5, 1e-15);
+    EXPECT_NEAR(r.ground_view[2], 0.25, 1e-15);
+    for (std::size_t row = 0; row < 3; ++row) EXPECT_NEAR(r.sky_view_factor[row] + r.ground_view[row], 1.0, 1e-15);
     // The horizontal face: ground view 0; its diffuse is Perez's on a flat plane.
     EXPECT_EQ(r.ground_reflected[0], 0.0);
     // The ground reflectance defaults to 0.2 (the file's albedo is missing): the wall sees half
@@ -151,7 +159,7 @@ struct Canyon {
   std::size_t floor = 0, west_wall = 0, east_wall = 0;
 };
 
-Canyon canyon(double h, double w) {
+Canyon canyon(double h, double w, bool with_floor = true) {
   Canyon c;
   const double half = 30.0 * w, mid = 0.5 * w;
   const double ys[] = {-half, -mid, mid, half};
@@ -165,7 +173,7 @@ Canyon canyon(double h, double w) {
       c.east_wall = east_first + 5;
     }
   }
-  c.floor = shadow::add_mesh(c.scene, "floor", {shadow::rectangle_z(0.0, -mid, w, mid, 0.0)});
+  if (with_floor) c.floor = shadow::add_mesh(c.scene, "floor", {shadow::rectangle_z(0.0, -mid, w, mid, 0.0)});
   shadow::validate_scene(c.scene);
   return c;
 }
@@ -323,6 +331,9 @@ TEST(Irradiance, FastWithinItsBounds) {
     EXPECT_LE(std::abs(fast.sky_view_factor[row] - exact.sky_view_factor[row]),
               fast.sky_view_factor_error_bound[row] + 1e-12)
         << row;
+    EXPECT_EQ(exact.ground_view_factor_error_bound[row], 0.0);
+    EXPECT_LE(std::abs(fast.ground_view[row] - exact.ground_view[row]), fast.ground_view_factor_error_bound[row] + 1e-12)
+        << row;
   }
 }
 
@@ -344,6 +355,153 @@ TEST(Irradiance, GroundSurfacesSeeNoGround) {
   EXPECT_NEAR(r.ground_reflected[0], 0.25 * ghi / 1000.0, 1e-12);
   EXPECT_EQ(r.sky_view_factor[0], 0.0);
   EXPECT_EQ(r.total[1], 0.0);
+}
+
+// The ground patches are the sky's mirrored below the horizon; their cos-weighted sum over the
+// patches in front of a face converges to the face's view of the open ground, (1 - cos tilt) / 2,
+// as the patches grow finer (the reported value is scaled to it exactly).
+TEST(GroundPatches, MirrorTheSkyAndConverge) {
+  for (int count : {145, 577, 2305}) {
+    const std::vector<shadow::SkyPatch> sky = shadow::sky_patches(count, 20.0);
+    const std::vector<shadow::SkyPatch> ground = shadow::ground_patches(count, 20.0);
+    ASSERT_EQ(ground.size(), sky.size());
+    double solid = 0.0;
+    for (std::size_t p = 0; p < ground.size(); ++p) {
+      EXPECT_EQ(ground[p].altitude, -sky[p].altitude);
+      EXPECT_EQ(ground[p].to_patch.x, sky[p].to_patch.x);
+      EXPECT_EQ(ground[p].to_patch.y, sky[p].to_patch.y);
+      EXPECT_EQ(ground[p].to_patch.z, -sky[p].to_patch.z);
+      EXPECT_LT(ground[p].to_patch.z, 0.0);
+      solid += ground[p].solid_angle;
+    }
+    EXPECT_NEAR(solid, 2.0 * kPi, 1e-12);
+  }
+  for (double tilt : {30.0, 60.0, 90.0, 120.0, 150.0}) {
+    const glm::dvec3 n(0.0, -sind(tilt), cosd(tilt));  // facing south
+    double previous = 1.0;
+    for (int count : {145, 577, 2305}) {
+      double sum = 0.0;
+      for (const shadow::SkyPatch& p : shadow::ground_patches(count)) {
+        const double c = n.x * p.to_patch.x + n.y * p.to_patch.y + n.z * p.to_patch.z;
+        if (c > 0.0) sum += c * p.solid_angle / kPi;
+      }
+      const double error = std::abs(sum - 0.5 * (1.0 - cosd(tilt)));
+      std::printf("ground patches, tilt %3.0f, %4d patches: %.6f (exact %.6f)\n", tilt, count, sum,
+                  0.5 * (1.0 - cosd(tilt)));
+      EXPECT_LT(error, 0.012) << tilt << " " << count;
+      EXPECT_LT(error, previous + 1e-4) << tilt << " " << count;
+      previous = error;
+    }
+    EXPECT_LT(previous, 1.5e-3) << tilt;
+  }
+}
+
+// A box on a ground plane that is a face of the scene: the ground face is the ground, so a wall
+// sees half the world below it as ground; the same ground not marked as ground (an explicit empty
+// `ground`) hides it all; a roof sees no ground; the ground face itself sees none (it is flat).
+TEST(Irradiance, GroundFacesAreTheGround) {
+  shadow::Scene scene;
+  const std::size_t ground_face = shadow::add_mesh(scene, "ground", {shadow::rectangle_z(-1000, -1000, 1000, 1000, 0)});
+  const std::size_t box = shadow::add_mesh(scene, "box", shadow::box_faces({0, 0, 0}, {4, 4, 3}));
+  const std::size_t roof = box, south = box + 2;  // box_faces order: top, bottom, south, north, east, west
+  shadow::validate_scene(scene);
+  const std::vector<unsigned char> marked = shadow::ground_faces(scene);
+  EXPECT_EQ(marked[ground_face], 1);
+  EXPECT_EQ(marked[south], 0);
+  const shadow::Weather w = weather(1);
+  double ghi = 0.0;
+  for (int count : {145, 577}) {
+    for (bool as_ground : {true, false}) {
+      shadow::Scene s = scene;
+      if (!as_ground) s.ground.emplace();  // the scene names no ground mesh
+      const shadow::ShadowEngine engine(s, 1);
+      shadow::IrradianceOptions options;
+      options.sky_patches = count;
+      options.series.threads = 1;
+      options.ground_reflectance = 0.2;
+      const shadow::IrradianceResult r = shadow::compute_irradiance(engine, s, w, options);
+      ghi = 0.0;
+      for (const shadow::IrradianceHour& h : r.hours) ghi += h.ghi;
+      const std::size_t wall = row_of(r, south);
+      EXPECT_EQ(r.ground_view[row_of(r, roof)], 0.0);
+      EXPECT_EQ(r.ground_view[row_of(r, ground_face)], 0.0);
+      EXPECT_EQ(r.on_ground[row_of(r, ground_face)], as_ground ? 1 : 0);
+      // The box's bottom rests on the ground plane: no ground view when the plane is the ground
+      // (the rule has a ground to compare with); without a ground mesh it looks down onto the
+      // open ground (the coplanar plane casts nothing on it).
+      EXPECT_EQ(r.ground_view[row_of(r, roof + 1)], as_ground ? 0.0 : 1.0);
+      if (as_ground) {
+        // Nothing but the ground below the wall: exactly the open wall's half.
+        EXPECT_NEAR(r.ground_view[wall], 0.5, 1e-15) << count;
+        EXPECT_NEAR(r.ground_reflected[wall], 0.2 * ghi * 0.5 / 1000.0, 1e-12);
+      } else {
+        // The plane (2 km wide) catches every downward ray of the 3 m wall: no ground is seen,
+        // only a scene face, whose reflection is the scene's own (not computed here).
+        EXPECT_EQ(r.ground_view[wall], 0.0) << count;
+        EXPECT_EQ(r.ground_reflected[wall], 0.0);
+      }
+    }
+  }
+}
+
+// Johnson and Watson's canyon, below the horizon: a wall of an infinite canyon of aspect ratio
+// x = H/W sees the street (the ground) with the form factor of two perpendicular strips sharing an
+// edge (crossed strings), (H + W - sqrt(H^2 + W^2)) / (2 H) = (1 + x - sqrt(1 + x^2)) / (2 x), the
+// rest below its horizon being the opposite wall. The street marked as ground, or no street face
+// at all (the open ground plane), give the same; by the canyon's symmetry about mid-height it is
+// also the wall's sky view factor, patch for patch. The floor, flat, sees no ground.
+TEST(Irradiance, UrbanCanyonWallsSeeTheStreet) {
+  for (double aspect : {0.5, 1.0, 2.0}) {
+    const double exact = 0.5 * (1.0 + aspect - std::sqrt(1.0 + aspect * aspect)) / aspect;
+    for (bool with_floor : {true, false}) {
+      Canyon c = canyon(10.0 * aspect, 10.0, with_floor);
+      if (with_floor) c.scene.ground = std::vector<std::size_t>{c.scene.meshes.size() - 1};  // the floor
+      const shadow::ShadowEngine engine(c.scene, 2);
+      for (int patches : {145, 577, 2305}) {
+        if (!with_floor && patches == 2305) continue;  // the same rays as with the floor
+        shadow::IrradianceOptions options;
+        options.sky_patches = patches;
+        options.series.threads = 2;
+        const shadow::IrradianceResult r = shadow::compute_irradiance(engine, c.scene, weather(1), options);
+        const double west = r.ground_view[row_of(r, c.west_wall)];
+        const double east = r.ground_view[row_of(r, c.east_wall)];
+        std::printf("canyon H/W %.1f, %4d patches, %s: wall ground view %.5f %.5f (exact %.5f)\n", aspect, patches,
+                    with_floor ? "street as ground" : "no street face", west, east, exact);
+        const double tolerance = patches == 145 ? 0.01 : patches == 577 ? 0.003 : 0.001;
+        EXPECT_NEAR(west, exact, tolerance * exact) << patches;
+        EXPECT_NEAR(east, exact, tolerance * exact) << patches;
+        EXPECT_NEAR(west, r.sky_view_factor[row_of(r, c.west_wall)], 1e-12) << patches;
+        if (with_floor) {
+          EXPECT_EQ(r.ground_view[row_of(r, c.floor)], 0.0);
+          EXPECT_EQ(r.on_ground[row_of(r, c.floor)], 1);
+        }
+      }
+    }
+  }
+}
+
+// The scene file's `ground` names the ground meshes, spelt as `receivers`; an unknown name is an
+// error at its place; without the key the default rule holds (a mesh named `ground`).
+TEST(Irradiance, SceneFileNamesTheGround) {
+  const std::string meshes = R"("meshes": [{"name": "street", "polygons": [[[0,0,0],[9,0,0],[9,9,0],[0,9,0]]]},
+                                           {"name": "ground", "polygons": [[[20,0,0],[29,0,0],[29,9,0],[20,9,0]]]}])";
+  shadow::LoadOptions options;
+  options.require_lights = false;
+  const shadow::Scene named = shadow::parse_scene("{" + meshes + R"(, "ground": ["street"]})", "s.json", options);
+  ASSERT_TRUE(named.ground.has_value());
+  EXPECT_EQ(*named.ground, std::vector<std::size_t>{0});
+  EXPECT_EQ(shadow::ground_faces(named), (std::vector<unsigned char>{1, 0}));
+  const shadow::Scene plain = shadow::parse_scene("{" + meshes + "}", "s.json", options);
+  EXPECT_FALSE(plain.ground.has_value());
+  EXPECT_EQ(shadow::ground_faces(plain), (std::vector<unsigned char>{0, 1}));
+  const shadow::Scene none = shadow::parse_scene("{" + meshes + R"(, "ground": []})", "s.json", options);
+  EXPECT_EQ(shadow::ground_faces(none), (std::vector<unsigned char>{0, 0}));
+  try {
+    (void)shadow::parse_scene("{" + meshes + R"(, "ground": ["road"]})", "s.json", options);
+    ADD_FAILURE() << "no error";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ground[0]"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Irradiance, OptionsAreChecked) {

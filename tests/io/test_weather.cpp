@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The EPW reader (shadow/weather.hpp): the header, the hour-ending convention, leap years,
-// missing values and one error naming file, line and field for a bad file.
+// The weather readers (shadow/epw.hpp): EPW's header, the hour-ending convention, leap years,
+// missing values and one error naming file, line and field for a bad file; TMY3 CSV files read
+// into the same records as the EPW file of the same hours.
 #include <shadow/error.hpp>
 #include <shadow/sun.hpp>
 #include <shadow/epw.hpp>
@@ -9,6 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -147,6 +151,139 @@ TEST(Weather, ErrorsNameFileLineAndField) {
                                   "one has 4 records per hour)");
   EXPECT_EQ(error_of(kHeader), "test.epw: line 8: no hourly records after the 8 header lines");
   EXPECT_THROW(shadow::read_epw("/nonexistent/weather.epw"), shadow::InputError);
+}
+
+// TMY3: the site line (the name quoted, with a comma), the column names, hourly records.
+const char* kTmy3Header =
+    "722780,\"PHOENIX, SKY HARBOR INTL AP\",AZ,-7.0,33.450,-111.983,337\n"
+    "Date (MM/DD/YYYY),Time (HH:MM),ETR (W/m^2),ETRN (W/m^2),GHI (W/m^2),GHI source,GHI uncert (%),"
+    "DNI (W/m^2),DNI source,DNI uncert (%),DHI (W/m^2),DHI source,DHI uncert (%),Dry-bulb (C),Dry-bulb source,"
+    "Alb (unitless),Alb source\n";
+
+std::string tmy3_record(int year, int month, int day, int hour, const std::string& ghi, const std::string& dni,
+                        const std::string& dhi, const std::string& albedo = "0.25") {
+  char line[256];
+  std::snprintf(line, sizeof line, "%02d/%02d/%04d,%02d:00,0,0,%s,1,8,%s,1,8,%s,1,8,21.5,A,%s,F\n", month, day, year, hour,
+                ghi.c_str(), dni.c_str(), dhi.c_str(), albedo.c_str());
+  return line;
+}
+
+shadow::Weather parse_tmy3(const std::string& text) {
+  std::istringstream in(text);
+  return shadow::parse_tmy3(in, "test.csv");
+}
+
+std::string tmy3_error(const std::string& text) {
+  try {
+    parse_tmy3(text);
+  } catch (const shadow::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+// Two days of TMY3 records (years mixed, as typical years are) against an EPW file of the same
+// hours: the same records, the same instants.
+TEST(Tmy3, ReadsTheSameRecordsAsEpw) {
+  std::string tmy3 = kTmy3Header, epw = kHeader;
+  epw.replace(epw.find("49.5,8.5,1.0,96.0"), 17, "33.450,-111.983,-7.0,337");
+  for (int d = 0; d < 2; ++d)
+    for (int h = 1; h <= 24; ++h) {
+      const int year = d == 0 ? 1991 : 2004;  // typical months mix years
+      const std::string ghi = std::to_string(10 * h), dni = std::to_string(20 * h), dhi = std::to_string(5 * h);
+      tmy3 += tmy3_record(year, 6, 20 + d, h, ghi, dni, dhi);
+      epw += record(year, 6, 20 + d, h, ghi, dni, dhi);
+    }
+  const shadow::Weather t = parse_tmy3(tmy3);
+  const shadow::Weather e = parse(epw);
+  EXPECT_EQ(t.location.city, "PHOENIX, SKY HARBOR INTL AP");
+  EXPECT_EQ(t.location.region, "AZ");
+  EXPECT_EQ(t.location.wmo, "722780");
+  EXPECT_EQ(t.location.source, "TMY3");
+  EXPECT_EQ(t.location.latitude, 33.45);
+  EXPECT_EQ(t.location.longitude, -111.983);
+  EXPECT_EQ(t.location.time_zone_hours, -7.0);
+  EXPECT_EQ(t.location.elevation, 337.0);
+  ASSERT_EQ(t.hours(), 48u);
+  EXPECT_EQ(t.year, 1991);
+  EXPECT_EQ(t.start_utc, e.start_utc);
+  EXPECT_EQ(t.month, e.month);
+  EXPECT_EQ(t.day, e.day);
+  EXPECT_EQ(t.hour, e.hour);
+  EXPECT_EQ(t.record_year, e.record_year);
+  EXPECT_EQ(t.global_horizontal, e.global_horizontal);
+  EXPECT_EQ(t.direct_normal, e.direct_normal);
+  EXPECT_EQ(t.diffuse_horizontal, e.diffuse_horizontal);
+  EXPECT_EQ(t.albedo, e.albedo);
+  EXPECT_EQ(t.dry_bulb[0], 21.5);
+  // Hour 01:00 of 20 June covers 00:00-01:00 local standard time (UTC-7): 07:00 UTC.
+  EXPECT_EQ(shadow::format_iso8601_utc(t.start_utc[0]), "1991-06-20T07:00:00Z");
+  EXPECT_EQ(shadow::format_iso8601_utc(t.start_utc[47] + 3600), "1991-06-22T07:00:00Z");
+}
+
+TEST(Tmy3, MissingValuesCrlfAndOptionalColumns) {
+  std::string text = kTmy3Header;
+  text += tmy3_record(2001, 3, 1, 1, "-9900", "", "5", "-9900");
+  text += tmy3_record(2001, 3, 1, 2, "7", "8", "9", "1.5");
+  for (std::size_t at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 2)) text.replace(at, 1, "\r\n");
+  const shadow::Weather w = parse_tmy3(text);
+  ASSERT_EQ(w.hours(), 2u);
+  EXPECT_TRUE(std::isnan(w.global_horizontal[0]));
+  EXPECT_TRUE(std::isnan(w.direct_normal[0]));
+  EXPECT_EQ(w.diffuse_horizontal[0], 5.0);
+  EXPECT_TRUE(std::isnan(w.albedo[0]));
+  EXPECT_TRUE(std::isnan(w.albedo[1]));  // 1.5 is no reflectance
+  EXPECT_EQ(w.direct_normal[1], 8.0);
+  // Without the dry bulb and albedo columns: NaN.
+  const std::string bare = "1,Site,XX,0,10,20,5\nDate (MM/DD/YYYY),Time (HH:MM),GHI (W/m^2),DNI (W/m^2),DHI (W/m^2)\n"
+                           "01/01/2010,01:00,0,0,0\n01/01/2010,02:00,0,0,0\n";
+  const shadow::Weather b = parse_tmy3(bare);
+  ASSERT_EQ(b.hours(), 2u);
+  EXPECT_TRUE(std::isnan(b.albedo[1]));
+  EXPECT_TRUE(std::isnan(b.dry_bulb[1]));
+  EXPECT_TRUE(std::isnan(b.mean_albedo()));
+}
+
+TEST(Tmy3, ErrorsNameFileLineAndField) {
+  std::string bad = std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "1", "2x0", "3");
+  EXPECT_EQ(tmy3_error(bad), "test.csv: line 3, field 8 (DNI (W/m^2)): '2x0' is not a number");
+  EXPECT_EQ(tmy3_error(std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "-5", "0", "0")),
+            "test.csv: line 3, field 5 (GHI (W/m^2)): negative irradiation -5");
+  EXPECT_EQ(tmy3_error(std::string(kTmy3Header) + "6-1-2001,01:00,0,0,0,1,8,0,1,8,0,1,8,20,A,0.2,F\n"),
+            "test.csv: line 3, field 1 (Date (MM/DD/YYYY)): '6-1-2001' is not a date MM/DD/YYYY");
+  EXPECT_EQ(tmy3_error(std::string(kTmy3Header) + "06/01/2001,01:30,0,0,0,1,8,0,1,8,0,1,8,20,A,0.2,F\n"),
+            "test.csv: line 3, field 2 (Time (HH:MM)): '01:30' is not an hour 01:00..24:00 (the hour ending the record)");
+  EXPECT_EQ(tmy3_error(std::string(kTmy3Header) + tmy3_record(2001, 4, 31, 1, "0", "0", "0")),
+            "test.csv: line 3, field 1 (Date (MM/DD/YYYY)): 4/31 is not a date in 2001");
+  EXPECT_EQ(tmy3_error(std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "0", "0", "0") +
+                       tmy3_record(2001, 6, 1, 3, "0", "0", "0")),
+            "test.csv: line 4, field 2 (Time (HH:MM)): records must follow hour by hour: the previous record was 6/1 "
+            "hour 1");
+  std::string no_dni = kTmy3Header;
+  no_dni.replace(no_dni.find("DNI (W/m^2)"), 11, "DNI");
+  EXPECT_EQ(tmy3_error(no_dni), "test.csv: line 2: no column named 'DNI (W/m^2)' (the second line of a TMY3 file names "
+                                "the columns)");
+  EXPECT_EQ(tmy3_error("722780,Site,AZ,-7.0,33.4\n"),
+            "test.csv: line 1: the first line of a TMY3 file is the site: USAF,name,state,time zone,latitude,longitude,"
+            "elevation (it has 5 fields, 7 are needed)");
+  EXPECT_EQ(tmy3_error("1,Site,XX,0,95,20,5\n"), "test.csv: line 1, field 5 (latitude): not in [-90, 90]");
+  EXPECT_EQ(tmy3_error(kTmy3Header), "test.csv: line 2: no hourly records after the 2 header lines");
+  EXPECT_EQ(tmy3_error(std::string(kTmy3Header) + "06/01/2001,01:00,0,0,0\n"),
+            "test.csv: line 3, field 8 (DNI (W/m^2)): the line has only 5 fields");
+}
+
+// read_weather: a name ending in .csv is TMY3, any other EPW.
+TEST(Tmy3, ReadWeatherChoosesByName) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "libshadow_test_tmy3";
+  std::filesystem::create_directories(dir);
+  const std::string csv = (dir / "site.CSV").string(), epw = (dir / "site.epw").string();
+  std::ofstream(csv) << kTmy3Header << tmy3_record(2001, 6, 1, 1, "0", "0", "0");
+  std::ofstream(epw) << kHeader << record(2001, 6, 1, 1, "0", "0", "0");
+  EXPECT_EQ(shadow::read_weather(csv).location.source, "TMY3");
+  EXPECT_EQ(shadow::read_weather(epw).location.source, "Test");
+  EXPECT_EQ(shadow::read_tmy3(csv).hours(), 1u);
+  EXPECT_THROW(shadow::read_weather((dir / "missing.csv").string()), shadow::InputError);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

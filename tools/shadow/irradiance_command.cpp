@@ -25,6 +25,18 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+/// The comma-separated names of --map and --ground.
+std::vector<std::string> split_names(const std::string& list) {
+  std::vector<std::string> names;
+  std::size_t begin = 0;
+  while (begin <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', begin), list.size());
+    names.push_back(list.substr(begin, comma - begin));
+    begin = comma + 1;
+  }
+  return names;
+}
+
 /// A month and day from `MM-DD` or `YYYY-MM-DD` (the year is not used: weather years are typical).
 std::pair<int, int> month_day(const std::string& text, const char* flag) {
   int year = 0, month = 0, day = 0;
@@ -56,12 +68,13 @@ std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, con
 
 CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
   CLI::App* cmd = app.add_subcommand(
-      "irradiance", "Solar irradiation of every receiving face over a weather year (EPW): direct through each "
+      "irradiance", "Solar irradiation of every receiving face over a weather year (EPW or TMY3): direct through each "
                     "face's exact sunlit fraction, sky diffuse (Perez or isotropic) through its exact view of the "
-                    "sky patches, ground-reflected; writes report.json, irradiation.csv, faces.vtp (docs/irradiance.md)");
+                    "sky patches, ground-reflected through its exact view of the ground patches; writes report.json, irradiation.csv, faces.vtp (docs/irradiance.md)");
   cmd->footer(shadow_cli::exit_codes_help());
   cmd->add_option("scene", args.scene, "Scene file (JSON) or model (IDF, epJSON, CityJSON)")->required();
-  cmd->add_option("--weather", args.weather, "EnergyPlus weather file (.epw): site, time zone and hourly irradiation")
+  cmd->add_option("--weather", args.weather, "Weather file: EnergyPlus EPW, or NREL TMY3 CSV (a name ending in .csv): site, time zone and hourly "
+                  "irradiation")
       ->required();
   cmd->add_option("-o,--output", args.outdir, "Output directory (created if missing)")->required();
   cmd->add_option("--sky", args.sky, "Sky diffuse model")->check(CLI::IsMember({"perez", "isotropic"}))->default_val("perez");
@@ -78,6 +91,10 @@ CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
                   "Write irradiation_map.vtp: these meshes' faces (comma-separated mesh names, or type:<CityJSON "
                   "type>) cut along the exact shadow boundaries of every hour's beam, each cell with its direct "
                   "kWh/m2 plus its face's diffuse and reflected parts (exact sun-hours maps weighted by DNI cos)");
+  cmd->add_option("--ground", args.ground,
+                  "The meshes that are the ground (comma-separated mesh names, or type:<CityJSON type>), instead of "
+                  "the scene's `ground` or the default (meshes named ground, CityJSON terrain and land): below the "
+                  "horizon a face sees the ground where it sees one of them or no face at all");
   cmd->add_flag("--hourly", args.hourly, "Also write irradiance_hourly.csv (W/m2 per named surface and hour)");
   cmd->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
@@ -106,7 +123,7 @@ int run_irradiance(const IrradianceArgs& args) {
 
   using shadow_cli::Stage;
   shadow_cli::set_stage(Stage::Loading);
-  const shadow::Weather weather = shadow::read_epw(args.weather);
+  const shadow::Weather weather = shadow::read_weather(args.weather);
   const auto [first, end] = period_records(weather, args);
   shadow::LoadOptions load = shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod,
                                                       args.threads, args.skip_invalid);
@@ -114,14 +131,13 @@ int run_irradiance(const IrradianceArgs& args) {
   shadow::Scene scene = shadow::load_scene(args.scene, load);
   std::vector<std::size_t> map_faces;
   if (!args.map.empty()) {
-    std::vector<std::string> names;
-    std::size_t begin = 0;
-    while (begin <= args.map.size()) {
-      const std::size_t comma = std::min(args.map.find(',', begin), args.map.size());
-      names.push_back(args.map.substr(begin, comma - begin));
-      begin = comma + 1;
-    }
-    map_faces = shadow::sun_hours_map_faces(scene, names, "--map");
+    map_faces = shadow::sun_hours_map_faces(scene, split_names(args.map), "--map");
+  }
+  if (!args.ground.empty()) {
+    scene.ground.emplace();
+    for (const std::string& name : split_names(args.ground))
+      for (std::size_t m : shadow::select_meshes(scene, name, {args.scene, "--ground"}))
+        if (std::find(scene.ground->begin(), scene.ground->end(), m) == scene.ground->end()) scene.ground->push_back(m);
   }
   if (talk)
     for (const shadow::Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
@@ -204,12 +220,13 @@ int run_irradiance(const IrradianceArgs& args) {
       shadow::irradiance_groups(scene, result, shadow::IrradianceGrouping::Surface);
   const std::size_t shown = std::min<std::size_t>(surfaces.size(), 10);
   for (std::size_t s = 0; s < shown; ++s)
-    std::printf("  %-24s %.6g kWh/m2 (direct %.4g, sky %.4g, ground %.4g), sky view %.3f\n", surfaces[s].name.c_str(),
-                surfaces[s].total, surfaces[s].direct, surfaces[s].sky_diffuse, surfaces[s].ground_reflected,
-                surfaces[s].sky_view_factor);
+    std::printf("  %-24s %.6g kWh/m2 (direct %.4g, sky %.4g, ground %.4g), sky view %.3f, ground view %.3f\n",
+                surfaces[s].name.c_str(), surfaces[s].total, surfaces[s].direct, surfaces[s].sky_diffuse,
+                surfaces[s].ground_reflected, surfaces[s].sky_view_factor, surfaces[s].ground_view_factor);
   if (surfaces.size() > shown) std::printf("  ... %zu more in irradiation.csv\n", surfaces.size() - shown);
-  std::printf("  computed in %.3f s: sky patches %.3f s, sun %.3f s, sums %.3f s; energy check %s\n",
-              std::chrono::duration<double>(computed - start).count(), result.seconds_sky, result.seconds_sun,
+  std::printf("  computed in %.3f s: sky patches %.3f s, ground patches %.3f s, sun %.3f s, sums %.3f s; energy check %s\n",
+              std::chrono::duration<double>(computed - start).count(), result.seconds_sky, result.seconds_ground,
+              result.seconds_sun,
               result.seconds_sums,
               result.max_direct_excess <= 1e-9 && result.max_diffuse_excess <= 1e-6 && result.min_component >= 0.0
                   ? "ok"

@@ -23,6 +23,7 @@ struct IrradianceArgs {
   bool skip_invalid = false;
   std::string lod;
   std::string map;  ///< --map MESH[,MESH]: meshes that get irradiation_map.vtp
+  std::string ground;  ///< --ground MESH[,MESH]: the meshes that are the ground (Scene::ground)
 };
 
 /// Declares the subcommand `irradiance` and its options on `app`.

@@ -47,6 +47,20 @@ struct SkyPatch {
 /// @throws InputError for another count (place `sky_patches`)
 std::vector<SkyPatch> sky_patches(int count, double north_axis_degrees = 0.0);
 
+/// The patches of the ground: sky_patches(count) mirrored below the horizon (altitudes and the
+/// z of `to_patch` negated, the polar cap at the nadir). Each is a directional light pointing up
+/// from below; a face's exact lit fraction under it is the share of the face that sees no face
+/// in that direction. `horizon` marks the band just below the horizon.
+/// @throws InputError for another count than 145, 577 or 2305 (place `sky_patches`)
+std::vector<SkyPatch> ground_patches(int count, double north_axis_degrees = 0.0);
+
+/// Which faces are the ground (per face id, 1 or 0): the faces of the meshes of Scene::ground
+/// when the scene names them, else of the meshes named `ground` and of CityJSON city objects of
+/// type TINRelief, LandUse, Road, Railway or TransportSquare; and always every face of kind
+/// `GroundSurface` (a CityJSON building's ground plate rests on the ground). Below the horizon,
+/// a face that sees a ground face (or no face at all) sees the ground; any other face hides it.
+std::vector<unsigned char> ground_faces(const Scene& scene);
+
 /// Kasten and Young's (1989) relative optical air mass at a zenith angle in degrees: finite up
 /// to 90 degrees, NaN beyond.
 double relative_airmass(double zenith_degrees);
@@ -127,9 +141,17 @@ struct IrradianceResult {
   std::vector<glm::dvec3> normal;      ///< per row: unit normal (Newell)
   std::vector<double> sky_view_factor; ///< per row: the form factor to the visible sky
   std::vector<double> horizon_view;    ///< per row: visible share of the horizon band (0..1)
-  /// per row: (1 - cos tilt) / 2, the ground unobstructed; 0 for a CityJSON GroundSurface (it
-  /// rests on the ground)
+  /// per row: the form factor to the visible ground (`ground_view_factor`): the ground patches
+  /// in front of the face, each weighted by cos x solid angle and by the share of the face that
+  /// sees no face or a ground face (ground_faces()) in its direction, scaled so that an
+  /// unobstructed face gets exactly (1 - cos tilt) / 2 (0 for a roof, 0.5 for a wall). A ground
+  /// face itself gets (1 - cos tilt) / 2 (what lies below its horizon is taken as more ground),
+  /// a face of kind GroundSurface 0 (it rests on the ground), and so does a face looking straight
+  /// down that lies no higher than the lowest point of the ground faces (a box's bottom on the
+  /// ground plane).
   std::vector<double> ground_view;
+  /// per row: 1 when the face is ground (ground_faces()).
+  std::vector<unsigned char> on_ground;
   /// Per row, kWh/m2 over the period: direct, sky diffuse, ground-reflected, their total, and
   /// the unshaded sky diffuse (for EnergyPlus's diffuse shading ratio).
   std::vector<double> direct, sky_diffuse, ground_reflected, total, sky_diffuse_unshaded, direct_unshaded;
@@ -137,6 +159,8 @@ struct IrradianceResult {
   /// over hours of DNI cos(incidence) x lit_area_error_bound / area; and on |sky_view_factor -
   /// exact|, the patches' bounds weighted as the view factor weighs their lit fractions.
   std::vector<double> direct_error_bound, sky_view_factor_error_bound;
+  /// per row, the fast path's bound on |ground_view - exact| (0 when exact), as for the sky.
+  std::vector<double> ground_view_factor_error_bound;
   /// Per row and month (row * 12 + month - 1), kWh/m2: the same four components.
   std::vector<double> monthly_direct, monthly_sky_diffuse, monthly_ground_reflected, monthly_total;
   std::vector<IrradianceHour> hours;  ///< the period's hours in time order
@@ -144,10 +168,15 @@ struct IrradianceResult {
   SeriesResult sun;                   ///< their exact (or fast) lit fractions
   std::vector<SkyPatch> patches;
   SeriesResult sky;                   ///< the patches' lit fractions
+  std::vector<SkyPatch> ground_patches;  ///< ground_patches(): the sky's patches mirrored
+  /// The ground patches' lit fractions with the ground faces casting no shadow (a second engine
+  /// on the scene without them when it has any): its rows are the receiving faces that are not
+  /// ground (a subset of `faces`, ascending).
+  SeriesResult ground;
   SkyModel sky_model = SkyModel::Perez;
   double ground_reflectance = 0.2;
   std::size_t missing_hours = 0;  ///< hours of the period with DNI or DHI missing (counted as 0)
-  double seconds_sky = 0.0, seconds_sun = 0.0, seconds_sums = 0.0;  ///< time per stage
+  double seconds_sky = 0.0, seconds_ground = 0.0, seconds_sun = 0.0, seconds_sums = 0.0;  ///< time per stage
   /// Energy conservation over every face and hour (W/m2): the largest excess of shaded over
   /// unshaded direct and sky diffuse (<= 0 up to rounding), and the smallest component (>= 0).
   double max_direct_excess = 0.0, max_diffuse_excess = 0.0, min_component = 0.0;
@@ -167,7 +196,8 @@ struct IrradianceResult {
 FaceIrradiance face_irradiance(const IrradianceResult& result, std::size_t row, std::size_t h);
 
 /// Irradiation over `weather`'s records in the options' period on every receiving face of the
-/// engine's scene: the sky patches once (one series of lights), the sun of every hour with
+/// engine's scene: the sky patches once (one series of lights), the ground patches once (one
+/// more series, on a second engine without the ground faces when the scene has any), the sun of every hour with
 /// diffuse or direct light and the sun above the horizon (one series), then the sums.
 /// @throws InputError for a bad option (sky_patches, ground_reflectance outside [0, 1], an
 /// empty period)

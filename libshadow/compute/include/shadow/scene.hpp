@@ -162,6 +162,11 @@ struct Scene {
   /// energyplus-shading.csv. Absent: it does when a mesh comes from an EnergyPlus model
   /// (energyplus_shading_wanted(), series.hpp).
   std::optional<bool> energyplus_shading;
+  /// The scene file's `ground`: indices into `meshes` of the meshes that are the ground, for
+  /// `shadow irradiance` (what a face sees of them below the horizon reflects the ground
+  /// reflectance; ground_faces() in irradiance.hpp). Absent: the default rule of ground_faces()
+  /// (meshes named `ground`, CityJSON terrain and land); an empty list: no mesh is the ground.
+  std::optional<std::vector<std::size_t>> ground;
   /// A point subtracted from every point written to the VTK files (faces, fragments, plane
   /// shadows, lights) and stated in report.json as `origin`: a city model at projected
   /// coordinates (1e5 to 1e7 m) then renders in ParaView without the jitter of float32

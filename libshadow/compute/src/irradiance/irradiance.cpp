@@ -8,6 +8,7 @@
 #include <shadow/error.hpp>
 
 #include "geometry/newell_normal.hpp"
+#include "irradiance/ground_view.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -60,7 +61,6 @@ void view_factors(IrradianceResult& r) {
   const std::size_t rows = r.faces.size();
   r.sky_view_factor.assign(rows, 0.0);
   r.horizon_view.assign(rows, 0.0);
-  r.ground_view.assign(rows, 0.0);
   r.sky_view_factor_error_bound.assign(rows, 0.0);
   const bool fast = r.sky.arithmetic == Arithmetic::Fast;
   for (std::size_t row = 0; row < rows; ++row) {
@@ -82,7 +82,6 @@ void view_factors(IrradianceResult& r) {
     r.sky_view_factor[row] = open > 0.0 ? 0.5 * (1.0 + cos_tilt) * (seen / open) : 0.0;
     r.horizon_view[row] = horizon_open > 0.0 ? horizon_seen / horizon_open : 0.0;
     r.sky_view_factor_error_bound[row] = open > 0.0 ? 0.5 * (1.0 + cos_tilt) * (bound / open) : 0.0;
-    r.ground_view[row] = 0.5 * (1.0 - cos_tilt);
   }
 }
 
@@ -233,10 +232,12 @@ IrradianceResult compute_irradiance(const ShadowEngine& engine, const Scene& sce
   r.area = r.sky.area;
   r.normal = row_normals(scene, r.faces);
   view_factors(r);
-  // A CityJSON GroundSurface rests on the ground: it sees none of it (nor sky nor sun, facing down).
-  for (std::size_t row = 0; row < r.faces.size(); ++row)
-    if (scene.faces[r.faces[row]].kind == "GroundSurface") r.ground_view[row] = 0.0;
   r.seconds_sky = seconds_since(start);
+
+  start = Clock::now();
+  r.ground_patches = ground_patches(options.sky_patches, options.north_axis);
+  irradiance_detail::ground_views(r, engine, scene, with_progress(options, "ground patches"));
+  r.seconds_ground = seconds_since(start);
 
   start = Clock::now();
   sky_of_hours(r, weather, options, first, end);

@@ -42,6 +42,7 @@ struct IrradianceGroup {
   std::vector<std::size_t> rows;    ///< rows of the result
   double area = 0.0;
   double sky_view_factor = 0.0;
+  double ground_view_factor = 0.0;  ///< area-weighted, as sky_view_factor
   double direct = 0.0, sky_diffuse = 0.0, ground_reflected = 0.0, total = 0.0;
   double sky_diffuse_unshaded = 0.0;
   std::vector<double> monthly_total;  ///< 12 months

@@ -6,6 +6,8 @@
 
 #include <shadow/error.hpp>
 
+#include "readers/weather_records.hpp"
+
 #include <cerrno>
 #include <cstring>
 #include <cmath>
@@ -21,71 +23,17 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-/// The fields of one CSV line (EPW has no quoting in its records; header comments may hold
-/// commas, but only LOCATION, HOLIDAYS and DATA PERIODS are read by field).
-std::vector<std::string> split_fields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', begin);
-    fields.push_back(line.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
-    if (comma == std::string::npos) break;
-    begin = comma + 1;
-  }
-  return fields;
+using weather_detail::LineReader;
+using weather_detail::split_fields;
+using weather_detail::trim;
+
+/// An irradiation field: >= 9999 (or blank) is missing; negative is an error.
+double irradiation(const LineReader& r, const std::vector<std::string>& fields, std::size_t index, const char* what) {
+  const double value = r.number(fields, index, what, true);
+  if (std::isnan(value) || value >= 9999.0) return kNaN;
+  if (value < 0.0) r.fail(index + 1, what, "negative irradiation " + trim(fields[index]));
+  return value;
 }
-
-std::string trim(const std::string& text) {
-  const std::size_t a = text.find_first_not_of(" \t");
-  if (a == std::string::npos) return {};
-  const std::size_t b = text.find_last_not_of(" \t");
-  return text.substr(a, b - a + 1);
-}
-
-struct LineReader {
-  const std::string& file;
-  std::size_t line = 0;
-
-  [[noreturn]] void fail(std::size_t field, const std::string& what, const std::string& problem) const {
-    std::string place = "line " + std::to_string(line);
-    if (field > 0) place += ", field " + std::to_string(field) + " (" + what + ")";
-    throw InputError({file, place}, problem);
-  }
-
-  /// Field `index` (0-based) of `fields` as a number; NaN when blank and `blank_ok`.
-  double number(const std::vector<std::string>& fields, std::size_t index, const char* what,
-                bool blank_ok = false) const {
-    if (index >= fields.size())
-      fail(index + 1, what, "the line has only " + std::to_string(fields.size()) + " fields");
-    const std::string text = trim(fields[index]);
-    if (text.empty()) {
-      if (blank_ok) return kNaN;
-      fail(index + 1, what, "blank, a number is needed");
-    }
-    char* end = nullptr;
-    errno = 0;
-    const double value = std::strtod(text.c_str(), &end);
-    if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
-      fail(index + 1, what, "'" + text + "' is not a number");
-    return value;
-  }
-
-  int integer(const std::vector<std::string>& fields, std::size_t index, const char* what, int low, int high) const {
-    const double value = number(fields, index, what);
-    if (value != std::floor(value) || value < low || value > high)
-      fail(index + 1, what, "'" + trim(fields[index]) + "' is not a whole number in [" + std::to_string(low) + ", " +
-                                std::to_string(high) + "]");
-    return static_cast<int>(value);
-  }
-
-  /// An irradiation field: >= 9999 (or blank) is missing; negative is an error.
-  double irradiation(const std::vector<std::string>& fields, std::size_t index, const char* what) const {
-    const double value = number(fields, index, what, true);
-    if (std::isnan(value) || value >= 9999.0) return kNaN;
-    if (value < 0.0) fail(index + 1, what, "negative irradiation " + trim(fields[index]));
-    return value;
-  }
-};
 
 void read_location(const std::vector<std::string>& f, const LineReader& r, WeatherLocation& loc) {
   if (f.empty() || trim(f[0]) != "LOCATION") r.fail(0, "", "the first line of an EPW file is LOCATION,...");
@@ -117,43 +65,12 @@ void read_record(const std::vector<std::string>& f, const LineReader& r, Weather
   w.hour.push_back(hour);
   w.dry_bulb.push_back(r.number(f, 6, "dry bulb temperature", true));
   if (w.dry_bulb.back() >= 99.9) w.dry_bulb.back() = kNaN;
-  w.global_horizontal.push_back(r.irradiation(f, 13, "global horizontal radiation"));
-  w.direct_normal.push_back(r.irradiation(f, 14, "direct normal radiation"));
-  w.diffuse_horizontal.push_back(r.irradiation(f, 15, "diffuse horizontal radiation"));
+  w.global_horizontal.push_back(irradiation(r, f, 13, "global horizontal radiation"));
+  w.direct_normal.push_back(irradiation(r, f, 14, "direct normal radiation"));
+  w.diffuse_horizontal.push_back(irradiation(r, f, 15, "diffuse horizontal radiation"));
   double albedo = f.size() > 32 ? r.number(f, 32, "albedo", true) : kNaN;
   if (!(albedo >= 0.0 && albedo <= 1.0)) albedo = kNaN;  // 999: missing; other values unusable
   w.albedo.push_back(albedo);
-}
-
-/// Places the records in time: consecutive hours from the first (a year's end wraps to the
-/// next year's first hour), in Weather::year.
-void place_records(Weather& w, const std::vector<std::size_t>& lines) {
-  if (w.hours() == 0) throw InputError({w.source, "line " + std::to_string(lines.empty() ? 8 : lines.back())},
-                                       "no hourly records after the 8 header lines");
-  bool has_feb29 = false;
-  for (std::size_t i = 0; i < w.hours(); ++i) has_feb29 |= (w.month[i] == 2 && w.day[i] == 29);
-  w.year = w.record_year[0];
-  if (has_feb29 && !is_valid_date(w.year, 2, 29)) w.year = 2024;
-  const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
-  std::int64_t year = w.year;
-  std::int64_t expected = 0;  // local seconds of the next record's start
-  w.start_utc.resize(w.hours());
-  for (std::size_t i = 0; i < w.hours(); ++i) {
-    if (i > 0 && w.month[i] == 1 && w.day[i] == 1 && w.hour[i] == 1 && !(w.month[i - 1] == 1 && w.day[i - 1] == 1))
-      ++year;  // Dec 31 hour 24 -> Jan 1 hour 1
-    const std::string place = "line " + std::to_string(lines[i]);
-    if (!is_valid_date(year, w.month[i], w.day[i]))
-      throw InputError({w.source, place + ", field 3 (day)"},
-                       std::to_string(w.month[i]) + "/" + std::to_string(w.day[i]) + " is not a date in " +
-                           std::to_string(year));
-    const std::int64_t local = days_from_civil(year, w.month[i], w.day[i]) * 86400 + (w.hour[i] - 1) * 3600;
-    if (i > 0 && local != expected)
-      throw InputError({w.source, place + ", field 4 (hour)"},
-                       "records must follow hour by hour: the previous record was " + std::to_string(w.month[i - 1]) +
-                           "/" + std::to_string(w.day[i - 1]) + " hour " + std::to_string(w.hour[i - 1]));
-    w.start_utc[i] = local - offset;
-    expected = local + 3600;
-  }
 }
 
 }  // namespace
@@ -185,7 +102,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
     }
   }
   if (r.line == 0) throw InputError({name, ""}, "empty file: not an EPW weather file");
-  place_records(w, record_lines);
+  weather_detail::place_records(w, record_lines, 8);
   return w;
 }
 

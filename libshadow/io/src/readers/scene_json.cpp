@@ -85,7 +85,7 @@ Scene SceneReader::read(const std::string& text) {
     fail("", "a scene must be a JSON object with \"meshes\" and \"lights\", got " + describe(document));
 
   check_keys(document, "", {"meshes", "lights", "planes", "receivers", "materials", "camera", "sun",
-                            "sun_hours_map", "energyplus_shading"});
+                            "sun_hours_map", "energyplus_shading", "ground"});
   const Json& meshes = require(document, "", "meshes", "the scene's meshes");
   // With a `sun` block the suns are the lights: `lights` may be left out (or be empty).
   const Json* sun = find(document, "sun");
@@ -107,7 +107,9 @@ Scene SceneReader::read(const std::string& text) {
   if (const Json* planes = find(document, "planes")) read_planes(*planes);
   if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
   if (const Json* camera = find(document, "camera")) read_camera(*camera);
-  if (const Json* map = find(document, "sun_hours_map")) read_sun_hours_map(*map);
+  if (const Json* map = find(document, "sun_hours_map")) read_mesh_list(*map, "sun_hours_map", sun_hours_map_names_);
+  const Json* ground = find(document, "ground");
+  if (ground != nullptr) read_mesh_list(*ground, "ground", ground_names_);
   if (const Json* ep = find(document, "energyplus_shading")) {
     if (!ep->is_boolean()) fail("energyplus_shading", "expected true or false, got " + describe(*ep));
     scene_.energyplus_shading = ep->get<bool>();
@@ -119,7 +121,11 @@ Scene SceneReader::read(const std::string& text) {
     scene_meshes_of_.emplace_back(first, scene_.meshes.size());
   }
   apply_model_receivers();
-  apply_sun_hours_map();
+  apply_mesh_list(sun_hours_map_names_, scene_.sun_hours_map);
+  if (ground != nullptr) {
+    scene_.ground.emplace();
+    apply_mesh_list(ground_names_, *scene_.ground);
+  }
   if (scene_.origin) place_origin();
   scene_.source = scene_file_;
   return std::move(scene_);
@@ -334,20 +340,22 @@ void SceneReader::apply_model_receivers() {
     for (std::size_t m : model_meshes(receiver.second, receiver.first)) scene_.meshes[m].receiver = true;
 }
 
-void SceneReader::read_sun_hours_map(const Json& map) {
-  require_array(map, "sun_hours_map");
-  for (std::size_t i = 0; i < map.size(); ++i) {
-    const std::string path = element("sun_hours_map", i);
-    const Json& m = map[i];
+void SceneReader::read_mesh_list(const Json& list, const char* key,
+                                 std::vector<std::pair<std::string, std::string>>& names) {
+  require_array(list, key);
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = element(key, i);
+    const Json& m = list[i];
     if (!m.is_string()) fail(path, "expected a mesh name, got " + describe(m));
     const std::string& name = m.get_ref<const std::string&>();
     if (std::find(mesh_names_.begin(), mesh_names_.end(), name) == mesh_names_.end()) check_model_mesh_name(name, path);
-    sun_hours_map_names_.push_back({path, name});
+    names.push_back({path, name});
   }
 }
 
-void SceneReader::apply_sun_hours_map() {
-  for (const auto& [path, name] : sun_hours_map_names_) {
+void SceneReader::apply_mesh_list(const std::vector<std::pair<std::string, std::string>>& names,
+                                  std::vector<std::size_t>& meshes) const {
+  for (const auto& [path, name] : names) {
     std::vector<std::size_t> chosen;
     const auto it = std::find(mesh_names_.begin(), mesh_names_.end(), name);
     if (it != mesh_names_.end()) {
@@ -357,8 +365,7 @@ void SceneReader::apply_sun_hours_map() {
       chosen = model_meshes(name, path);
     }
     for (std::size_t m : chosen)
-      if (std::find(scene_.sun_hours_map.begin(), scene_.sun_hours_map.end(), m) == scene_.sun_hours_map.end())
-        scene_.sun_hours_map.push_back(m);
+      if (std::find(meshes.begin(), meshes.end(), m) == meshes.end()) meshes.push_back(m);
   }
 }
 

@@ -177,14 +177,15 @@ class SceneReader {
   /// the model's others do not (unless the model's own name is listed too).
   void apply_model_receivers();
 
-  /// `sun_hours_map`: the meshes whose faces get the exact sun-hours map (shadow/sun_hours.hpp),
-  /// spelled as `receivers` are. Names are checked now; they become scene meshes once the mesh
-  /// files are read (apply_sun_hours_map).
-  void read_sun_hours_map(const Json& map);
+  /// A list of mesh names under `key` (`sun_hours_map`, `ground`), spelled as `receivers` are.
+  /// Names are checked now; they become scene meshes once the mesh files are read
+  /// (apply_mesh_list), stored as (JSON path, name) in `names`.
+  void read_mesh_list(const Json& list, const char* key, std::vector<std::pair<std::string, std::string>>& names);
 
-  /// Scene::sun_hours_map from the names of `sun_hours_map`, in the order given: a mesh of the
-  /// scene file stands for every scene mesh it became (all of a model file's meshes).
-  void apply_sun_hours_map();
+  /// The scene meshes of `names` (read_mesh_list) appended to `meshes` in the order given, each
+  /// once: a mesh of the scene file stands for every scene mesh it became (all of a model
+  /// file's meshes).
+  void apply_mesh_list(const std::vector<std::pair<std::string, std::string>>& names, std::vector<std::size_t>& meshes) const;
 
   fs::path scene_file_;
   std::string file_;
@@ -195,6 +196,7 @@ class SceneReader {
   std::vector<PendingMesh> pending_;
   std::vector<std::pair<std::string, std::string>> model_receivers_;  // (JSON path, mesh name)
   std::vector<std::pair<std::string, std::string>> sun_hours_map_names_;  // (JSON path, mesh name)
+  std::vector<std::pair<std::string, std::string>> ground_names_;  // (JSON path, mesh name)
   std::vector<std::pair<std::size_t, std::size_t>> scene_meshes_of_;  // per scene-file mesh: [first, end) of scene_.meshes
 };
 

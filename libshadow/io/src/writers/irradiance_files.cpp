@@ -52,6 +52,7 @@ Json group_json(const IrradianceGroup& g) {
   j["faces"] = g.rows.size();
   j["area"] = number(g.area);
   j["sky_view_factor"] = number(g.sky_view_factor);
+  j["ground_view_factor"] = number(g.ground_view_factor);
   j["annual_irradiation_kwh_m2"] = components(g.direct, g.sky_diffuse, g.ground_reflected, g.total);
   j["monthly_total_kwh_m2"] = g.monthly_total;
   return j;
@@ -59,7 +60,7 @@ Json group_json(const IrradianceGroup& g) {
 
 std::string sky_name(SkyModel sky) { return sky == SkyModel::Perez ? "perez" : "isotropic"; }
 
-Json run_json(const Weather& weather, const IrradianceResult& r, const IrradianceRunInfo& run) {
+Json run_json(const Scene& scene, const Weather& weather, const IrradianceResult& r, const IrradianceRunInfo& run) {
   Json j;
   j["scene"] = run.scene;
   j["weather"] = run.weather;
@@ -79,13 +80,24 @@ Json run_json(const Weather& weather, const IrradianceResult& r, const Irradianc
   j["period"] = period;
   j["sky"] = sky_name(r.sky_model);
   j["sky_patches"] = r.patches.size();
+  j["ground_patches"] = r.ground_patches.size();
+  Json ground_meshes = Json::array();  // the meshes that are the ground (ground_faces())
+  const std::vector<unsigned char> ground = ground_faces(scene);
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    bool all = mesh.face_count > 0;
+    for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count; ++f) all = all && ground[f] != 0;
+    if (all) ground_meshes.push_back(mesh.name);
+  }
+  j["ground_meshes"] = ground_meshes;
   j["ground_reflectance"] = r.ground_reflectance;
   j["arithmetic"] = r.sky.arithmetic == Arithmetic::Fast ? "fast" : "exact";
   j["threads"] = run.threads;
   j["conventions"] =
       "each weather record covers the hour ending at its stamp (local standard time); the sun is the SPA's at "
-      "mid-hour; irradiation in kWh/m2 over the period; ground seen unobstructed, (1 - cos tilt) / 2";
-  j["seconds"] = {{"sky_patches", r.seconds_sky}, {"sun", r.seconds_sun}, {"sums", r.seconds_sums},
+      "mid-hour; irradiation in kWh/m2 over the period; the ground is what a face sees below the horizon that is no face "
+      "or a ground face (ground_meshes, faces of kind GroundSurface), through the ground patches";
+  j["seconds"] = {{"sky_patches", r.seconds_sky}, {"ground_patches", r.seconds_ground}, {"sun", r.seconds_sun}, {"sums", r.seconds_sums},
                   {"total", run.seconds_total}};
   j["started_utc"] = run.started_utc;
   return j;
@@ -95,7 +107,7 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
   Json j;
   j["libshadow_version"] = version();
   j["kind"] = "irradiance";
-  j["run"] = run_json(weather, r, run);
+  j["run"] = run_json(scene, weather, r, run);
   j["energy_check"] = {{"max_direct_excess_w_m2", r.max_direct_excess},
                        {"max_sky_diffuse_excess_w_m2", r.max_diffuse_excess},
                        {"min_component_w_m2", r.min_component},
@@ -110,10 +122,12 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
     f["normal"] = {r.normal[row].x, r.normal[row].y, r.normal[row].z};
     f["sky_view_factor"] = number(r.sky_view_factor[row]);
     f["ground_view_factor"] = number(r.ground_view[row]);
+    f["ground"] = r.on_ground[row] != 0;
     f["annual_irradiation_kwh_m2"] = components(r.direct[row], r.sky_diffuse[row], r.ground_reflected[row], r.total[row]);
     if (r.sun.arithmetic == Arithmetic::Fast || r.sky.arithmetic == Arithmetic::Fast) {
       f["direct_error_bound_kwh_m2"] = number(r.direct_error_bound[row]);
       f["sky_view_factor_error_bound"] = number(r.sky_view_factor_error_bound[row]);
+      f["ground_view_factor_error_bound"] = number(r.ground_view_factor_error_bound[row]);
     }
     f["monthly_irradiation_kwh_m2"] = {{"direct", months(r.monthly_direct, row)},
                                        {"sky_diffuse", months(r.monthly_sky_diffuse, row)},
@@ -192,7 +206,8 @@ vtkSmartPointer<vtkPolyData> faces_polydata(const Scene& scene, const Irradiance
       {"irradiation_sky_diffuse_kwh_m2", &r.sky_diffuse},
       {"irradiation_ground_reflected_kwh_m2", &r.ground_reflected},
       {"irradiation_total_kwh_m2", &r.total},
-      {"sky_view_factor", &r.sky_view_factor}};
+      {"sky_view_factor", &r.sky_view_factor},
+      {"ground_view_factor", &r.ground_view}};
   for (const auto& [name, values] : arrays) {
     auto a = vtkSmartPointer<vtkDoubleArray>::New();
     a->SetName(name);
@@ -268,6 +283,7 @@ std::vector<IrradianceGroup> irradiance_groups(const Scene& scene, const Irradia
       const double a = r.area[row];
       g.area += a;
       g.sky_view_factor += r.sky_view_factor[row] * a;
+      g.ground_view_factor += r.ground_view[row] * a;
       g.direct += r.direct[row] * a;
       g.sky_diffuse += r.sky_diffuse[row] * a;
       g.ground_reflected += r.ground_reflected[row] * a;
@@ -276,7 +292,7 @@ std::vector<IrradianceGroup> irradiance_groups(const Scene& scene, const Irradia
       for (std::size_t m = 0; m < 12; ++m) g.monthly_total[m] += r.monthly_total[row * 12 + m] * a;
     }
     if (g.area > 0.0) {
-      for (double* v : {&g.sky_view_factor, &g.direct, &g.sky_diffuse, &g.ground_reflected, &g.total, &g.sky_diffuse_unshaded})
+      for (double* v : {&g.sky_view_factor, &g.ground_view_factor, &g.direct, &g.sky_diffuse, &g.ground_reflected, &g.total, &g.sky_diffuse_unshaded})
         *v /= g.area;
       for (double& m : g.monthly_total) m /= g.area;
     }

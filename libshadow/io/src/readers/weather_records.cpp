@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What the weather readers share (readers/weather_records.hpp): CSV fields, numbers with errors
+// naming the file, line and field, and the records placed in time.
+#include "readers/weather_records.hpp"
+
+#include <shadow/error.hpp>
+#include <shadow/sun.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace shadow::weather_detail {
+
+std::vector<std::string> split_fields(const std::string& line, bool quotes) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quotes && c == '"') {
+      if (quoted && i + 1 < line.size() && line[i + 1] == '"') {
+        fields.back() += '"';
+        ++i;
+      } else {
+        quoted = !quoted;
+      }
+    } else if (c == ',' && !quoted) {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+std::string trim(const std::string& text) {
+  const std::size_t a = text.find_first_not_of(" \t");
+  if (a == std::string::npos) return {};
+  const std::size_t b = text.find_last_not_of(" \t");
+  return text.substr(a, b - a + 1);
+}
+
+void LineReader::fail(std::size_t field, const std::string& what, const std::string& problem) const {
+  std::string place = "line " + std::to_string(line);
+  if (field > 0) place += ", field " + std::to_string(field) + " (" + what + ")";
+  throw InputError({file, place}, problem);
+}
+
+double LineReader::number(const std::vector<std::string>& fields, std::size_t index, const std::string& what,
+                          bool blank_ok) const {
+  if (index >= fields.size()) fail(index + 1, what, "the line has only " + std::to_string(fields.size()) + " fields");
+  const std::string text = trim(fields[index]);
+  if (text.empty()) {
+    if (blank_ok) return std::numeric_limits<double>::quiet_NaN();
+    fail(index + 1, what, "blank, a number is needed");
+  }
+  char* end = nullptr;
+  errno = 0;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(value))
+    fail(index + 1, what, "'" + text + "' is not a number");
+  return value;
+}
+
+int LineReader::integer(const std::vector<std::string>& fields, std::size_t index, const std::string& what, int low,
+                        int high) const {
+  const double value = number(fields, index, what);
+  if (value != std::floor(value) || value < low || value > high)
+    fail(index + 1, what, "'" + trim(fields[index]) + "' is not a whole number in [" + std::to_string(low) + ", " +
+                              std::to_string(high) + "]");
+  return static_cast<int>(value);
+}
+
+/// Places the records in time: consecutive hours from the first (a year's end wraps to the
+/// next year's first hour), in Weather::year.
+void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_t header_lines,
+                   const RecordFields& fields) {
+  if (w.hours() == 0) throw InputError({w.source, "line " + std::to_string(lines.empty() ? header_lines : lines.back())},
+                                       "no hourly records after the " + std::to_string(header_lines) + " header lines");
+  bool has_feb29 = false;
+  for (std::size_t i = 0; i < w.hours(); ++i) has_feb29 |= (w.month[i] == 2 && w.day[i] == 29);
+  w.year = w.record_year[0];
+  if (has_feb29 && !is_valid_date(w.year, 2, 29)) w.year = 2024;
+  const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
+  std::int64_t year = w.year;
+  std::int64_t expected = 0;  // local seconds of the next record's start
+  w.start_utc.resize(w.hours());
+  for (std::size_t i = 0; i < w.hours(); ++i) {
+    if (i > 0 && w.month[i] == 1 && w.day[i] == 1 && w.hour[i] == 1 && !(w.month[i - 1] == 1 && w.day[i - 1] == 1))
+      ++year;  // Dec 31 hour 24 -> Jan 1 hour 1
+    const std::string place = "line " + std::to_string(lines[i]);
+    if (!is_valid_date(year, w.month[i], w.day[i]))
+      throw InputError({w.source, place + ", field " + std::to_string(fields.day_field) + " (" + fields.day_name + ")"},
+                       std::to_string(w.month[i]) + "/" + std::to_string(w.day[i]) + " is not a date in " +
+                           std::to_string(year));
+    const std::int64_t local = days_from_civil(year, w.month[i], w.day[i]) * 86400 + (w.hour[i] - 1) * 3600;
+    if (i > 0 && local != expected)
+      throw InputError({w.source, place + ", field " + std::to_string(fields.hour_field) + " (" + fields.hour_name + ")"},
+                       "records must follow hour by hour: the previous record was " + std::to_string(w.month[i - 1]) +
+                           "/" + std::to_string(w.day[i - 1]) + " hour " + std::to_string(w.hour[i - 1]));
+    w.start_utc[i] = local - offset;
+    expected = local + 3600;
+  }
+}
+
+}  // namespace shadow::weather_detail

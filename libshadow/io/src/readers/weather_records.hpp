@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// What the weather readers share (epw_reader.cpp, tmy3_reader.cpp): fields of a CSV line, numbers
+// with errors that name the file, line and field, and the records placed in time.
+#pragma once
+
+#include <shadow/weather.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace shadow::weather_detail {
+
+/// The fields of one CSV line. With `quotes`, a field in double quotes may hold commas (and ""
+/// for a quote); EPW records have no quoting and are split at every comma.
+std::vector<std::string> split_fields(const std::string& line, bool quotes = false);
+
+/// `text` without leading and trailing blanks and tabs.
+std::string trim(const std::string& text);
+
+/// Numbers of the current line, with errors `FILE: line L, field F (WHAT): PROBLEM`.
+struct LineReader {
+  const std::string& file;
+  std::size_t line = 0;
+
+  /// Throws InputError; `field` is 1-based (0: the line only).
+  [[noreturn]] void fail(std::size_t field, const std::string& what, const std::string& problem) const;
+
+  /// Field `index` (0-based) of `fields` as a number; NaN when blank and `blank_ok`.
+  double number(const std::vector<std::string>& fields, std::size_t index, const std::string& what,
+                bool blank_ok = false) const;
+
+  /// A whole number in [low, high].
+  int integer(const std::vector<std::string>& fields, std::size_t index, const std::string& what, int low, int high) const;
+};
+
+/// Where the readers name the date and the hour of a record in errors: the 1-based field and its
+/// name (EPW: 3 `day` and 4 `hour`).
+struct RecordFields {
+  std::size_t day_field = 3;
+  const char* day_name = "day";
+  std::size_t hour_field = 4;
+  const char* hour_name = "hour";
+};
+
+/// Places the records in time (Weather::year, start_utc): consecutive hours from the first (a
+/// year's end wraps to the next year's first hour). `lines` are the records' line numbers.
+/// @throws InputError naming the record's line and field for a date that does not exist or a
+/// record out of order, or for no record at all (at `header_lines`).
+void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_t header_lines,
+                   const RecordFields& fields = {});
+
+}  // namespace shadow::weather_detail
