@@ -95,6 +95,9 @@ CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
                   "The meshes that are the ground (comma-separated mesh names, or type:<CityJSON type>), instead of "
                   "the scene's `ground` or the default (meshes named ground, CityJSON terrain and land): below the "
                   "horizon a face sees the ground where it sees one of them or no face at all");
+  cmd->add_flag("--reflections", args.reflections,
+                "Add what the scene's own faces reflect (radiosity on the period's irradiation; each face's material "
+                "reflectance, else the ground reflectance; the period's total only; docs/irradiance.md)");
   cmd->add_flag("--hourly", args.hourly, "Also write irradiance_hourly.csv (W/m2 per named surface and hour)");
   cmd->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
@@ -188,6 +191,17 @@ int run_irradiance(const IrradianceArgs& args) {
     engine.emplace(scene, args.threads);
     shadow_cli::set_stage(Stage::Computing);
     result = shadow::compute_irradiance(*engine, scene, weather, options);
+    if (args.reflections) {
+      shadow::ReflectionOptions reflections;
+      reflections.default_reflectance = result.ground_reflectance;
+      reflections.threads = args.threads;
+      reflections.progress = [&](const shadow::RadiosityProgress& p) {
+        // Progress as the share of the power shot, in thousandths.
+        const double shot = std::clamp(1.0 - p.unshot_fraction, 0.0, 1.0);
+        options.progress("reflections", {static_cast<std::size_t>(1000.0 * shot), 1000});
+      };
+      shadow::add_scene_reflections(scene, result, reflections);
+    }
     if (!map_faces.empty()) {
       shadow::SunHoursOptions map_options;
       map_options.threads = args.threads;
@@ -231,6 +245,10 @@ int run_irradiance(const IrradianceArgs& args) {
               result.max_direct_excess <= 1e-9 && result.max_diffuse_excess <= 1e-6 && result.min_component >= 0.0
                   ? "ok"
                   : "FAILED (report.json: energy_check)");
+  if (!result.scene_reflected.empty())
+    std::printf("  reflections: %zu radiosity elements, %zu shots, unshot %.3g%%, in %.3f s (in the totals above)\n",
+                result.reflections.elements, result.reflections.shots, 100.0 * result.reflections.unshot_fraction,
+                result.reflections.seconds);
   if (map) std::printf("  irradiation map: %zu cells on %zu faces (irradiation_map.vtp)\n", map->cells.size(), map->faces.size());
   std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
   for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());

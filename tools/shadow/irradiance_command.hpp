@@ -16,6 +16,7 @@ struct IrradianceArgs {
   std::string from, to;              ///< MM-DD or YYYY-MM-DD (the year is not used)
   bool fast = false;
   bool hourly = false;
+  bool reflections = false;  // --reflections: the scene's own reflections (radiosity)
   bool quiet = false;
   unsigned threads = 0;
   double planarity_tolerance = 1e-6;

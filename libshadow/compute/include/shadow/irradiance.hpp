@@ -217,7 +217,8 @@ struct ReflectionOptions {
 /// The scene's own reflections over the period (`shadow irradiance --reflections`): one
 /// radiosity solution (shadow/radiosity.hpp) whose sources are each receiving face's total
 /// irradiation over the period, its faces reflecting their material's reflectance (or the
-/// default). Radiosity is linear in its sources, so the solution's incident minus source on each
+/// default); ground faces (ground_faces()) reflect nothing there, their reflection being the
+/// ground-reflected component already. Radiosity is linear in its sources, so the solution's incident minus source on each
 /// face is the period's reflected irradiation: it goes into result.scene_reflected and is added
 /// to result.total. Faces that are not receivers have no source (their irradiation is unknown).
 /// @throws InputError for a default reflectance outside [0, 1)

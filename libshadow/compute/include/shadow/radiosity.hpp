@@ -87,6 +87,9 @@ struct RadiosityOptions {
   /// are then ignored). The solution is linear in it: irradiation summed over a period gives the
   /// period's reflected irradiation (shadow irradiance --reflections).
   std::vector<double> face_irradiance;
+  /// When not empty (one value per scene face, each in [0, 1)): each face's reflectance in place
+  /// of its material's (no colour then).
+  std::vector<double> face_reflectance;
   unsigned threads = 0;       ///< 0: every hardware thread; at most 1024
   /// Called about every 0.5 s and at the end, from the calling thread. May be empty; what it
   /// throws stops the solution and comes out of the call.

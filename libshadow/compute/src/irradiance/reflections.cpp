@@ -17,28 +17,24 @@ void add_scene_reflections(const Scene& scene, IrradianceResult& result, const R
   if (!(options.default_reflectance >= 0.0) || !(options.default_reflectance < 1.0))
     throw InputError({"", "default_reflectance"}, "the reflectance of faces without one must be in [0, 1)");
   const auto start = std::chrono::steady_clock::now();
-  // Faces whose material gives no reflectance reflect the default; the rest keep theirs.
-  Scene reflecting = scene;
-  Material fallback;
-  fallback.name = "libshadow default reflectance";
-  fallback.reflectance = options.default_reflectance;
-  reflecting.materials.push_back(fallback);
-  for (Mesh& mesh : reflecting.meshes) {
-    const Material* m = nullptr;
-    for (const Material& candidate : scene.materials)
-      if (candidate.name == mesh.material) m = &candidate;
-    if (m == nullptr || (m->reflectance == 0.0 && m->reflectance_rgb == glm::dvec3(0.0) && m->emittance == 0.0))
-      mesh.material = fallback.name;
+  // Faces whose material gives no reflectance reflect the default; ground faces reflect nothing
+  // here: their reflection is the ground-reflected component already (the ground's albedo).
+  RadiosityOptions ro;
+  const std::vector<unsigned char> ground = ground_faces(scene);
+  ro.face_reflectance.assign(scene.faces.size(), 0.0);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const Material& m = scene.material_of(f);
+    const bool has = m.reflectance > 0.0 || m.reflectance_rgb != glm::dvec3(0.0) || m.emittance > 0.0;
+    ro.face_reflectance[f] = ground[f] != 0 ? 0.0 : has ? m.reflectance : options.default_reflectance;
   }
   // The sources: each receiving face's irradiation over the period (kWh/m2); other faces none.
-  RadiosityOptions ro;
   ro.face_irradiance.assign(scene.faces.size(), 0.0);
   for (std::size_t row = 0; row < result.faces.size(); ++row) ro.face_irradiance[result.faces[row]] = result.total[row];
   ro.max_element_area = options.max_element_area;
   ro.tolerance = options.tolerance;
   ro.threads = options.threads;
   ro.progress = options.progress;
-  const RadiosityResult solution = solve_radiosity(reflecting, ro);
+  const RadiosityResult solution = solve_radiosity(scene, ro);
   result.scene_reflected.assign(result.faces.size(), 0.0);
   for (std::size_t row = 0; row < result.faces.size(); ++row) {
     const FaceRadiosity& f = solution.faces[result.faces[row]];

@@ -461,6 +461,14 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
         throw InputError({"", "face_irradiance"}, "face_irradiance of face " + std::to_string(f) +
                                                       " must be a finite number >= 0");
   }
+  if (!options.face_reflectance.empty()) {
+    if (options.face_reflectance.size() != scene.faces.size())
+      throw InputError({"", "face_reflectance"}, "face_reflectance has " + std::to_string(options.face_reflectance.size()) +
+                                                     " values for " + std::to_string(scene.faces.size()) + " faces");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      if (!(options.face_reflectance[f] >= 0.0 && options.face_reflectance[f] < 1.0))
+        throw InputError({"", "face_reflectance"}, "face_reflectance of face " + std::to_string(f) + " must be in [0, 1)");
+  }
   const unsigned threads = runtime::resolve_threads(options.threads);
   std::vector<Fragment> fragments;
   if (!scene.lights.empty() && options.face_irradiance.empty()) {
@@ -489,11 +497,12 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   bool colour = false;
   for (std::size_t i = 0; i < n; ++i) {
     const Material& m = scene.material_of(elements[i].face);
-    rho[i] = m.reflectance;
+    const bool given = !options.face_reflectance.empty();
+    rho[i] = given ? options.face_reflectance[elements[i].face] : m.reflectance;
     emit[i] = m.emittance;
     reflectance_area += rho[i] * elements[i].area;
     area += elements[i].area;
-    for (int k = 0; k < 3; ++k) colour = colour || channel_reflectance(m, k) != m.reflectance;
+    for (int k = 0; k < 3 && !given; ++k) colour = colour || channel_reflectance(m, k) != m.reflectance;
   }
   RadiosityResult result;
   auto last = std::chrono::steady_clock::now();

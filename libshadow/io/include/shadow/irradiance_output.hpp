@@ -9,6 +9,7 @@
 #include <shadow/weather.hpp>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,8 @@ struct IrradianceGroup {
   double sky_view_factor = 0.0;
   double ground_view_factor = 0.0;  ///< area-weighted, as sky_view_factor
   double direct = 0.0, sky_diffuse = 0.0, ground_reflected = 0.0, total = 0.0;
+  /// What the scene's faces reflect onto the group (kWh/m2; NaN unless --reflections ran).
+  double scene_reflected = std::numeric_limits<double>::quiet_NaN();
   double sky_diffuse_unshaded = 0.0;
   std::vector<double> monthly_total;  ///< 12 months
 };

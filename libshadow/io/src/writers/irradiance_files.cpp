@@ -34,9 +34,13 @@ const char* const kMonths[12] = {"jan", "feb", "mar", "apr", "may", "jun", "jul"
 /// A number as JSON: null when not finite.
 Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
 
-Json components(double direct, double diffuse, double reflected, double total) {
-  return Json{{"direct", number(direct)}, {"sky_diffuse", number(diffuse)}, {"ground_reflected", number(reflected)},
-              {"total", number(total)}};
+/// The period's components; `scene` (what the scene's faces reflect) only when computed (not NaN).
+Json components(double direct, double diffuse, double reflected, double total,
+                double scene = std::numeric_limits<double>::quiet_NaN()) {
+  Json j{{"direct", number(direct)}, {"sky_diffuse", number(diffuse)}, {"ground_reflected", number(reflected)}};
+  if (!std::isnan(scene)) j["scene_reflected"] = number(scene);
+  j["total"] = number(total);
+  return j;
 }
 
 Json months(const std::vector<double>& values, std::size_t row) {
@@ -53,7 +57,7 @@ Json group_json(const IrradianceGroup& g) {
   j["area"] = number(g.area);
   j["sky_view_factor"] = number(g.sky_view_factor);
   j["ground_view_factor"] = number(g.ground_view_factor);
-  j["annual_irradiation_kwh_m2"] = components(g.direct, g.sky_diffuse, g.ground_reflected, g.total);
+  j["annual_irradiation_kwh_m2"] = components(g.direct, g.sky_diffuse, g.ground_reflected, g.total, g.scene_reflected);
   j["monthly_total_kwh_m2"] = g.monthly_total;
   return j;
 }
@@ -108,6 +112,15 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
   j["libshadow_version"] = version();
   j["kind"] = "irradiance";
   j["run"] = run_json(scene, weather, r, run);
+  if (!r.scene_reflected.empty())
+    j["reflections"] = {{"elements", r.reflections.elements},
+                        {"shots", r.reflections.shots},
+                        {"unshot_fraction", number(r.reflections.unshot_fraction)},
+                        {"error_estimate", number(r.reflections.error_estimate)},
+                        {"default_reflectance", r.reflections.default_reflectance},
+                        {"seconds", number(r.reflections.seconds)},
+                        {"note", "one radiosity solution on the period's irradiation of every receiving face; "
+                                 "part of annual total, not of the monthly totals"}};
   j["energy_check"] = {{"max_direct_excess_w_m2", r.max_direct_excess},
                        {"max_sky_diffuse_excess_w_m2", r.max_diffuse_excess},
                        {"min_component_w_m2", r.min_component},
@@ -123,7 +136,9 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
     f["sky_view_factor"] = number(r.sky_view_factor[row]);
     f["ground_view_factor"] = number(r.ground_view[row]);
     f["ground"] = r.on_ground[row] != 0;
-    f["annual_irradiation_kwh_m2"] = components(r.direct[row], r.sky_diffuse[row], r.ground_reflected[row], r.total[row]);
+    f["annual_irradiation_kwh_m2"] =
+        components(r.direct[row], r.sky_diffuse[row], r.ground_reflected[row], r.total[row],
+                   r.scene_reflected.empty() ? std::numeric_limits<double>::quiet_NaN() : r.scene_reflected[row]);
     if (r.sun.arithmetic == Arithmetic::Fast || r.sky.arithmetic == Arithmetic::Fast) {
       f["direct_error_bound_kwh_m2"] = number(r.direct_error_bound[row]);
       f["sky_view_factor_error_bound"] = number(r.sky_view_factor_error_bound[row]);
@@ -208,7 +223,9 @@ vtkSmartPointer<vtkPolyData> faces_polydata(const Scene& scene, const Irradiance
       {"irradiation_total_kwh_m2", &r.total},
       {"sky_view_factor", &r.sky_view_factor},
       {"ground_view_factor", &r.ground_view}};
-  for (const auto& [name, values] : arrays) {
+  std::vector<std::pair<const char*, const std::vector<double>*>> all(std::begin(arrays), std::end(arrays));
+  if (!r.scene_reflected.empty()) all.emplace_back("irradiation_scene_reflected_kwh_m2", &r.scene_reflected);
+  for (const auto& [name, values] : all) {
     auto a = vtkSmartPointer<vtkDoubleArray>::New();
     a->SetName(name);
     a->SetNumberOfTuples(n);
@@ -279,6 +296,7 @@ std::vector<IrradianceGroup> irradiance_groups(const Scene& scene, const Irradia
   }
   for (IrradianceGroup& g : groups) {
     g.monthly_total.assign(12, 0.0);
+    if (!r.scene_reflected.empty()) g.scene_reflected = 0.0;
     for (std::size_t row : g.rows) {
       const double a = r.area[row];
       g.area += a;
@@ -288,12 +306,15 @@ std::vector<IrradianceGroup> irradiance_groups(const Scene& scene, const Irradia
       g.sky_diffuse += r.sky_diffuse[row] * a;
       g.ground_reflected += r.ground_reflected[row] * a;
       g.total += r.total[row] * a;
+      if (!r.scene_reflected.empty()) g.scene_reflected += r.scene_reflected[row] * a;
       g.sky_diffuse_unshaded += r.sky_diffuse_unshaded[row] * a;
       for (std::size_t m = 0; m < 12; ++m) g.monthly_total[m] += r.monthly_total[row * 12 + m] * a;
     }
     if (g.area > 0.0) {
-      for (double* v : {&g.sky_view_factor, &g.ground_view_factor, &g.direct, &g.sky_diffuse, &g.ground_reflected, &g.total, &g.sky_diffuse_unshaded})
+      for (double* v : {&g.sky_view_factor, &g.ground_view_factor, &g.direct, &g.sky_diffuse, &g.ground_reflected,
+                        &g.total, &g.sky_diffuse_unshaded})
         *v /= g.area;
+      if (!r.scene_reflected.empty()) g.scene_reflected /= g.area;
       for (double& m : g.monthly_total) m /= g.area;
     }
   }
