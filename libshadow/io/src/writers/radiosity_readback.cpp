@@ -12,6 +12,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkExecutive.h>
 #include <vtkFieldData.h>
 #include <vtkIdList.h>
 #include <vtkNew.h>
@@ -96,6 +97,7 @@ vtkSmartPointer<vtkPolyData> read_vtp(const fs::path& path) {
   reader->AddObserver(vtkCommand::WarningEvent, errors);
   reader->SetReaderErrorObserver(errors);
   reader->SetParserErrorObserver(errors);
+  reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);  // "returned failure for request"
   reader->SetFileName(file.c_str());
   reader->Update();
   if (!errors->message().empty() || reader->GetOutput() == nullptr)
