@@ -163,7 +163,12 @@ TEST_F(RadiosityFiles, AResultOfAnotherSceneIsRefused) {
   shadow::Scene other = scene_;
   other.faces[1].name = "door";
   std::string e = error_of(dir_, &other);
-  EXPECT_NE(e.find("faces[1]: face 1 is \"wall\"/\"wall\" in the result but \"wall\"/\"door\" in the scene"),
+  EXPECT_NE(e.find("faces[1].name: face 1 is named \"wall\" in the result but \"door\" in the scene"), std::string::npos)
+      << e;
+  other.faces[1].name = "wall";
+  other.meshes[1].name = "door";
+  e = error_of(dir_, &other);
+  EXPECT_NE(e.find("faces[1].mesh: face 1 is of mesh \"wall\" in the result but of mesh \"door\" in the scene"),
             std::string::npos)
       << e;
   other.faces.pop_back();

@@ -196,10 +196,14 @@ void check_radiosity_files(const Scene& scene, const RadiosityFiles& files) {
                            " faces): the result was computed on another scene");
     const Face& face = scene.faces[f.id];
     const std::string mesh = face.mesh < scene.meshes.size() ? scene.meshes[face.mesh].name : std::string();
-    if (f.name != face.name || f.mesh != mesh)
-      throw InputError({files.report.string(), place},
-                       "face " + std::to_string(f.id) + " is \"" + f.mesh + "\"/\"" + f.name + "\" in the result but \"" +
-                           mesh + "\"/\"" + face.name + "\" in the scene: the result was computed on another scene");
+    if (f.mesh != mesh)
+      throw InputError({files.report.string(), place + ".mesh"},
+                       "face " + std::to_string(f.id) + " is of mesh \"" + f.mesh + "\" in the result but of mesh \"" +
+                           mesh + "\" in the scene: the result was computed on another scene");
+    if (f.name != face.name)
+      throw InputError({files.report.string(), place + ".name"},
+                       "face " + std::to_string(f.id) + " is named \"" + f.name + "\" in the result but \"" + face.name +
+                           "\" in the scene: the result was computed on another scene");
   }
 }
 
