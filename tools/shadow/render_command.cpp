@@ -187,7 +187,8 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember({"palette", "white"}));
   render.add_option("--exposure", args.exposure,
                     "auto (scale down so that lit surfaces are not clipped: the 99th percentile of the "
-                    "brightest channel at 0.85) or a factor for the colours (1: the models' values)")
+                    "brightest channel at 0.85; --radiosity-mode colour: up or down) or a factor for the colours "
+                    "(1: the models' values; --radiosity-mode colour: per W/m2)")
       ->default_val("auto")
       ->check([](const std::string& text) -> std::string {
         if (text == "auto") return {};
@@ -226,7 +227,7 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   render.add_option("--frame", args.frame,
                     "What the default camera frames: shadows (the meshes but the ground, and their shadows "
-                    "on it) or scene (every vertex, the whole ground included; the default with --irradiation)")
+                    "on it) or scene (every vertex, the whole ground included; the default with --irradiation and --radiosity)")
       ->default_val("shadows")
       ->check(CLI::IsMember({"shadows", "scene"}))
       ->each([&args](const std::string&) { args.frame_given = true; });
