@@ -178,7 +178,10 @@ TEST_F(RadiosityFiles, AResultOfAnotherSceneIsRefused) {
 
 TEST_F(RadiosityFiles, AMissingResultNamesWhatToGive) {
   std::string e = error_of(dir_ / "nothing-here");
-  EXPECT_NE(e.find("nothing-here: expected the OUTDIR of `shadow radiosity`"), std::string::npos) << e;
+  EXPECT_NE(e.find("nothing-here: not found: give the OUTDIR of `shadow radiosity`"), std::string::npos) << e;
+  std::ofstream(dir_ / "picture.png") << "not a result";
+  e = error_of(dir_ / "picture.png");
+  EXPECT_NE(e.find("picture.png: expected the OUTDIR of `shadow radiosity`"), std::string::npos) << e;
   fs::remove(dir_ / "radiosity.vtp");
   e = error_of(dir_);
   EXPECT_NE(e.find("radiosity.vtp: missing beside report.json"), std::string::npos) << e;

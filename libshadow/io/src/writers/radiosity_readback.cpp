@@ -111,6 +111,8 @@ vtkSmartPointer<vtkPolyData> read_vtp(const fs::path& path) {
 RadiosityFiles read_radiosity_files(const fs::path& path) {
   RadiosityFiles files;
   std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw InputError({path.string(), ""}, "not found: give the OUTDIR of `shadow radiosity`, its radiosity.vtp or its report.json");
   const fs::path dir = fs::is_directory(path, ec) ? path : path.parent_path();
   if (!fs::is_directory(path, ec) && path.filename() != "radiosity.vtp" && path.filename() != "report.json")
     throw InputError({path.string(), ""}, "expected the OUTDIR of `shadow radiosity`, its radiosity.vtp or its report.json");
