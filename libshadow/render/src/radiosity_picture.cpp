@@ -14,15 +14,6 @@
 namespace shadow::render {
 namespace {
 
-glm::dvec3 srgb_from_linear(const glm::dvec3& c) {
-  glm::dvec3 out;
-  for (int i = 0; i < 3; ++i) {
-    const double x = std::clamp(c[i], 0.0, 1.0);
-    out[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
-  }
-  return out;
-}
-
 /// Colour mode's legend: each material's wall colour (its RGB reflectance, as displayed) and
 /// what the colours mean.
 void add_colour_legend(const Scene& scene, const RadiosityFiles& files, double exposure, Decorations& d) {

@@ -18,6 +18,15 @@ double linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055)
 
 glm::dvec3 linear_from_srgb(const glm::dvec3& srgb) { return {linear(srgb.r), linear(srgb.g), linear(srgb.b)}; }
 
+glm::dvec3 srgb_from_linear(const glm::dvec3& linear) {
+  glm::dvec3 out;
+  for (int i = 0; i < 3; ++i) {
+    const double x = std::clamp(linear[i], 0.0, 1.0);
+    out[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+  }
+  return out;
+}
+
 ValueScale value_scale(const std::vector<double>& values) {
   double most = 0.0;
   for (double v : values)

@@ -33,6 +33,9 @@ glm::dvec3 value_colour(double t);
 /// encodes it back).
 glm::dvec3 linear_from_srgb(const glm::dvec3& srgb);
 
+/// Linear RGB (clamped to [0, 1]) as displayed (sRGB, 0-1): what a legend swatch takes.
+glm::dvec3 srgb_from_linear(const glm::dvec3& linear);
+
 /// Faces without a value (NaN: they do not receive), as displayed (sRGB): a light grey.
 inline constexpr double kNoValueGrey = 0.80;
 
