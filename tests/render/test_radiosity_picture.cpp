@@ -94,6 +94,50 @@ TEST(RadiosityMesh, FlatKeepsEachElementsValueAndSmoothAveragesSharedVerticesByA
   EXPECT_LT(point_at(smooth, {1, 0, 0}, glm::dvec3(100.0)), 8u);  // face 1's own: not averaged across faces
 }
 
+TEST(RadiosityMesh, ANeighboursVertexOnAnElementsEdgeBecomesOneOfItsVerticesSoThatNoCrackIsLeft) {
+  // A's long edge (2,0)-(0,2) has B1's and B2's shared vertex (1,1) inside it: a T-junction.
+  shadow::RadiosityFiles files;
+  auto add = [&](std::vector<glm::dvec3> p, double b) {
+    shadow::RadiosityElement e;
+    e.polygon = std::move(p);
+    e.area = 0.5 * glm::length(glm::cross(e.polygon[1] - e.polygon[0], e.polygon[2] - e.polygon[0]));
+    e.radiosity = b;
+    files.elements.push_back(e);
+    files.reflectance_rgb.emplace_back(0.5);
+  };
+  add({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}}, 3.0);
+  add({{2, 0, 0}, {2, 2, 0}, {1, 1, 0}}, 6.0);
+  add({{1, 1, 0}, {2, 2, 0}, {0, 2, 0}}, 9.0);
+  const std::vector<glm::dvec3> b = sr::radiosity_element_values(files, sr::RadiosityMode::Radiosity);
+  for (bool smooth : {false, true}) {
+    const sr::ColouredMesh mesh = sr::radiosity_value_mesh(files, b, smooth);
+    const std::size_t triangles = mesh.triangles.size() / 3;
+    double area = 0.0;
+    for (std::size_t t = 0; t < triangles; ++t) {
+      const glm::dvec3 p[3] = {mesh.points[mesh.triangles[3 * t]], mesh.points[mesh.triangles[3 * t + 1]],
+                               mesh.points[mesh.triangles[3 * t + 2]]};
+      area += 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+      // Conforming: no point of the mesh lies strictly inside an edge of a triangle.
+      for (int k = 0; k < 3; ++k) {
+        const glm::dvec3 a = p[k], d = p[(k + 1) % 3] - a;
+        for (const glm::dvec3& q : mesh.points) {
+          const double s = glm::dot(q - a, d) / glm::dot(d, d);
+          EXPECT_FALSE(s > 1e-9 && s < 1 - 1e-9 && glm::length(q - (a + s * d)) < 1e-12)
+              << "smooth " << smooth << ": (" << q.x << ", " << q.y << ") inside an edge of triangle " << t;
+        }
+      }
+    }
+    EXPECT_NEAR(area, 4.0, 1e-12) << "smooth " << smooth;  // A 2, B1 1, B2 1: covered once
+    EXPECT_EQ(triangles, 4u + 1u + 1u);  // A: a fan of 4 from its centroid
+    if (smooth) {
+      // (1,1) is a corner of B1 and B2 only: (6 + 9) / 2; A's centroid the mean of its corners:
+      // (0,0) 3, (2,0) (3 x 2 + 6 x 1) / 3 = 4, (0,2) (3 x 2 + 9 x 1) / 3 = 5.
+      EXPECT_LT(point_at(mesh, {1, 1, 0}, glm::dvec3(7.5)), mesh.points.size());
+      EXPECT_LT(point_at(mesh, {2.0 / 3.0, 2.0 / 3.0, 0}, glm::dvec3(4.0)), mesh.points.size());
+    }
+  }
+}
+
 TEST(RadiosityExposure, PutsThe99thPercentileOfTheBrightestChannelAt085) {
   std::vector<glm::dvec3> colours;
   for (int i = 1; i <= 101; ++i) colours.emplace_back(0.1 * i, 0.0, 0.5);  // r: 0.1 ... 10.1

@@ -5,6 +5,8 @@
 
 #include <shadow/error.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -56,39 +58,92 @@ std::vector<glm::dvec3> radiosity_element_values(const RadiosityFiles& files, Ra
   return values;
 }
 
+namespace {
+
+/// `polygon` with the vertices of `others` that lie inside its edges inserted, in order along
+/// them: where the refinement left a T-junction (a neighbour's vertex on this element's edge),
+/// the two sides then meet vertex to vertex and the rasteriser leaves no crack between them.
+std::vector<glm::dvec3> conforming_outline(const std::vector<glm::dvec3>& polygon, const std::vector<glm::dvec3>& others) {
+  std::vector<glm::dvec3> out;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const glm::dvec3 a = polygon[k], d = polygon[(k + 1) % polygon.size()] - a;
+    out.push_back(a);
+    const double dd = glm::dot(d, d);
+    if (!(dd > 0.0)) continue;
+    std::vector<std::pair<double, glm::dvec3>> on;
+    for (const glm::dvec3& p : others) {
+      const double t = glm::dot(p - a, d) / dd;
+      // Inside the edge, off it by at most 1e-9 of its length (bisection midpoints are rounded).
+      if (t > 1e-9 && t < 1.0 - 1e-9 && glm::length(p - (a + t * d)) <= 1e-9 * std::sqrt(dd)) on.emplace_back(t, p);
+    }
+    std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (const auto& [t, p] : on) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
 ColouredMesh radiosity_value_mesh(const RadiosityFiles& files, const std::vector<glm::dvec3>& values, bool smooth) {
   ColouredMesh mesh;
-  // Smooth: one point per (face, vertex), the sums of area x value and of area over the
-  // elements that have it. The solver's elements of one face meet at bit-equal vertices.
+  // Each face's distinct vertices (bit-equal ones once: the solver's elements of one face share
+  // theirs) and, smooth, one point each with the sums of area x value and of area over the
+  // elements that have it as a corner.
   std::map<std::tuple<std::size_t, double, double, double>, std::size_t> shared;
+  std::map<std::size_t, std::vector<glm::dvec3>> face_vertices;
   std::vector<double> weight;
   for (std::size_t i = 0; i < files.elements.size(); ++i) {
     const RadiosityElement& e = files.elements[i];
-    std::vector<std::size_t> ids;
     for (const glm::dvec3& v : e.polygon) {
-      if (!smooth) {
-        ids.push_back(mesh.points.size());
-        mesh.points.push_back(v);
-        continue;
-      }
-      const auto [it, added] = shared.try_emplace({e.face_id, v.x, v.y, v.z}, mesh.points.size());
+      const auto [it, added] = shared.try_emplace({e.face_id, v.x, v.y, v.z}, shared.size());
       if (added) {
-        mesh.points.push_back(v);
-        mesh.point_colours.emplace_back(0.0);
-        weight.push_back(0.0);
+        face_vertices[e.face_id].push_back(v);
+        if (smooth) {
+          mesh.points.push_back(v);
+          mesh.point_colours.emplace_back(0.0);
+          weight.push_back(0.0);
+        }
       }
+      if (!smooth) continue;
       // A degenerate element still counts, a little, so that no vertex is left without a value.
       const double w = std::max(e.area, 1e-300);
       mesh.point_colours[it->second] += w * values[i];
       weight[it->second] += w;
-      ids.push_back(it->second);
-    }
-    for (std::size_t k = 1; k + 1 < ids.size(); ++k) {  // elements are triangles (convex): a fan
-      mesh.triangles.insert(mesh.triangles.end(), {ids[0], ids[k], ids[k + 1]});
-      if (!smooth) mesh.triangle_colours.push_back(values[i]);
     }
   }
   for (std::size_t p = 0; p < mesh.point_colours.size(); ++p) mesh.point_colours[p] /= weight[p];
+  auto point_id = [&](std::size_t face, const glm::dvec3& v) -> std::size_t {
+    if (smooth) return shared.at({face, v.x, v.y, v.z});
+    mesh.points.push_back(v);
+    return mesh.points.size() - 1;
+  };
+  for (std::size_t i = 0; i < files.elements.size(); ++i) {
+    const RadiosityElement& e = files.elements[i];
+    const std::vector<glm::dvec3> outline = conforming_outline(e.polygon, face_vertices[e.face_id]);
+    std::vector<std::size_t> ids;
+    for (const glm::dvec3& v : outline) ids.push_back(point_id(e.face_id, v));
+    if (outline.size() == e.polygon.size()) {
+      for (std::size_t k = 1; k + 1 < ids.size(); ++k) {  // elements are triangles (convex): a fan
+        mesh.triangles.insert(mesh.triangles.end(), {ids[0], ids[k], ids[k + 1]});
+        if (!smooth) mesh.triangle_colours.push_back(values[i]);
+      }
+      continue;
+    }
+    // T-junctions on its edges: a fan from its centroid, whose smooth value is the mean of its
+    // corners' (what Gouraud interpolation gives there).
+    glm::dvec3 centroid(0.0), value(0.0);
+    for (const glm::dvec3& v : e.polygon) {
+      centroid += v / static_cast<double>(e.polygon.size());
+      if (smooth) value += mesh.point_colours[point_id(e.face_id, v)] / static_cast<double>(e.polygon.size());
+    }
+    const std::size_t c = mesh.points.size();
+    mesh.points.push_back(centroid);
+    if (smooth) mesh.point_colours.push_back(value);
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      mesh.triangles.insert(mesh.triangles.end(), {c, ids[k], ids[(k + 1) % ids.size()]});
+      if (!smooth) mesh.triangle_colours.push_back(values[i]);
+    }
+  }
   return mesh;
 }
 
