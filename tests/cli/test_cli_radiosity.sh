@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # `shadow radiosity` (docs/radiosity.md): the furnace (a closed room whose faces all emit E and
 # reflect rho has radiosity E / (1 - rho) everywhere) through the CLI, radiosity.vtp's arrays,
-# report.json's balance, and bad input (one line naming file and place, exit 2, no report).
+# report.json's balance, and bad input (one line naming file and place, exit 2, no report);
+# `shadow render --radiosity` on a small room and its refusals.
 #
 # Usage: bash test_cli_radiosity.sh /path/to/shadow
 set -u
@@ -63,5 +64,95 @@ fi
 status=0
 "$SHADOW" radiosity "$WORK/furnace.json" -o "$WORK/out-bad" --max-element-area -1 >/dev/null 2>"$WORK/bad2.stderr" || status=$?
 [[ $status -eq 2 && $(wc -l <"$WORK/bad2.stderr") -eq 1 ]] && pass bad_area || fail bad_area "status $status"
+
+# shadow render --radiosity (docs/radiosity.md, "Pictures"): a small Cornell-like room (the
+# example without its boxes, about 0.1 s to solve), drawn by radiosity and in colour; the PNG's
+# size, its many colours, the red wall's pixels red; and the refusals (one line, exit 2).
+if "$SHADOW" render --help >/dev/null 2>&1 && { [[ -n ${DISPLAY:-} ]] || command -v xvfb-run >/dev/null; }; then
+  cat >"$WORK/room.json" <<'JSON'
+{"materials": [{"name": "white", "reflectance": [0.75, 0.75, 0.75]},
+               {"name": "red", "reflectance": [0.63, 0.06, 0.04]},
+               {"name": "green", "reflectance": [0.15, 0.48, 0.09]}],
+ "meshes": [
+  {"name": "floor", "material": "white", "polygons": [[[0, 0, 0], [5, 0, 0], [5, 5, 0], [0, 5, 0]]]},
+  {"name": "ceiling", "material": "white", "polygons": [[[0, 0, 5], [0, 5, 5], [5, 5, 5], [5, 0, 5]]]},
+  {"name": "back", "material": "white", "polygons": [[[0, 5, 0], [5, 5, 0], [5, 5, 5], [0, 5, 5]]]},
+  {"name": "front", "material": "white", "polygons": [[[0, 0, 0], [0, 0, 5], [5, 0, 5], [5, 0, 0]]]},
+  {"name": "left", "material": "red", "polygons": [[[0, 0, 0], [0, 5, 0], [0, 5, 5], [0, 0, 5]]]},
+  {"name": "right", "material": "green", "polygons": [[[5, 0, 0], [5, 0, 5], [5, 5, 5], [5, 5, 0]]]}],
+ "lights": [{"name": "lamp", "type": "area", "intensity": 100,
+             "polygon": [[2, 2, 4.99], [2, 3, 4.99], [3, 3, 4.99], [3, 2, 4.99]]}]}
+JSON
+  "$SHADOW" radiosity "$WORK/room.json" -o "$WORK/room" --max-element-area 4 --tolerance 0.05 -t 2 -q ||
+    fail room_radiosity "shadow radiosity failed on the room"
+  camera=(--eye 2.5,-9,3 --target 2.5,2.5,2.5 --fov 40 --width 400 --height 300)
+  for mode in radiosity colour; do
+    if "$SHADOW" render "$WORK/room.json" --radiosity "$WORK/room" --radiosity-mode $mode --smooth "${camera[@]}" \
+         -o "$WORK/room-$mode.png" >"$WORK/render-$mode.stdout" 2>"$WORK/render-$mode.stderr" &&
+       grep -q "elements of .*radiosity.vtp coloured by $mode (smooth)" "$WORK/render-$mode.stdout"; then
+      pass "render_radiosity_$mode"
+    else
+      fail "render_radiosity_$mode" "$(cat "$WORK/render-$mode.stderr" "$WORK/render-$mode.stdout")"
+    fi
+  done
+  # The PNGs read back: 400 x 300, many colours; in colour the red wall (x = 0) is red where the
+  # camera sees its middle (the projection written here: eye (2.5, -9, 3), 40 degrees).
+  if /usr/bin/python3 - "$WORK/room-radiosity.png" "$WORK/room-colour.png" <<'PY'
+import math, sys
+import vtk
+def pixels(path):
+    r = vtk.vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    image = r.GetOutput()
+    w, h, _ = image.GetDimensions()
+    s = image.GetPointData().GetScalars()
+    assert (w, h) == (400, 300), (path, w, h)
+    return w, h, lambda x, y: tuple(int(s.GetComponent((h - 1 - y) * w + x, c)) for c in range(3))
+def project(p, w, h, eye=(2.5, -9.0, 3.0), target=(2.5, 2.5, 2.5), fov=40.0):
+    sub = lambda a, b: [a[i] - b[i] for i in range(3)]
+    dot = lambda a, b: sum(a[i] * b[i] for i in range(3))
+    cross = lambda a, b: [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    unit = lambda a: [c / math.sqrt(dot(a, a)) for c in a]
+    f = unit(sub(target, eye)); r = unit(cross(f, [0, 0, 1])); u = cross(r, f)
+    o = sub(p, eye); d = dot(o, f); t = math.tan(math.radians(fov) / 2)
+    return int(0.5 * (dot(o, r) / (d * t * w / h) + 1) * w), int((1 - 0.5 * (dot(o, u) / (d * t) + 1)) * h)
+for path in sys.argv[1:]:
+    w, h, at = pixels(path)
+    colours = {at(x, y) for x in range(0, w, 4) for y in range(0, h, 4)}
+    assert len(colours) > 30, (path, len(colours))
+w, h, at = pixels(sys.argv[2])
+red = at(*project((0.0, 3.0, 2.5), w, h))
+green = at(*project((5.0, 3.0, 2.5), w, h))
+assert red[0] > red[1] + 80 and red[0] > red[2] + 80, red
+assert green[1] > green[0] + 50 and green[1] > green[2] + 50, green
+print("red wall", red, "green wall", green)
+PY
+  then pass render_radiosity_png; else fail render_radiosity_png "the pictures' size or colours"; fi
+  render_refused() {  # NAME MESSAGE IMAGE ARGS...: one line naming the problem, exit 2, no image
+    local name=$1 message=$2 image=$3 status=0
+    shift 3
+    "$SHADOW" render "$@" -o "$WORK/$image" >"$WORK/$name.stdout" 2>"$WORK/$name.stderr" || status=$?
+    if [[ $status -eq 2 && $(wc -l <"$WORK/$name.stderr") -eq 1 && $(cat "$WORK/$name.stderr") == *"$message"* &&
+          ! -e "$WORK/$image" ]]; then
+      pass "$name"
+    else
+      fail "$name" "status $status: $(cat "$WORK/$name.stderr")"
+    fi
+  }
+  mkdir -p "$WORK/empty" "$WORK/out-kind"
+  echo '{"kind": "irradiance", "faces": []}' >"$WORK/out-kind/report.json"
+  render_refused render_radiosity_no_result "empty/radiosity.vtp: not found: give the OUTDIR of \`shadow radiosity\`" \
+    none.png "$WORK/room.json" --radiosity "$WORK/empty"
+  render_refused render_radiosity_other_kind "report.json: kind: not the report of \`shadow radiosity\`" \
+    kind.png "$WORK/room.json" --radiosity "$WORK/out-kind"
+  render_refused render_radiosity_other_scene "faces[0].mesh: face 0 is of mesh \"floor\" in the result but of mesh \"room\"" \
+    other.png "$WORK/furnace.json" -q --radiosity "$WORK/room"
+  render_refused render_radiosity_vector "--radiosity: draws a PNG picture" view.svg "$WORK/room.json" \
+    --radiosity "$WORK/room"
+  render_refused render_smooth_alone "--smooth: applies to a radiosity picture only" alone.png "$WORK/room.json" --smooth
+else
+  echo "skip render_radiosity: no shadow render or no display"
+fi
 
 cli_test_end

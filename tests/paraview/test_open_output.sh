@@ -12,6 +12,7 @@
 #   irradiance    shadow irradiance on a block and its ground under a weather day written here:
 #                 faces by total irradiation (legend "kWh/m²")
 #   irradiance-map  the same with --map ground: faces | the irradiation map, on one scale
+#   radiosity     shadow radiosity on a small red-and-green room: elements by radiosity (legend "W/m²")
 # (`shadow compute` with a sun: paraview_opens_default_result; a sun's disk: paraview_visibility_view.)
 # Usage: test_open_output.sh SOURCE_DIR SHADOW_BINARY WORK_DIR KIND
 set -euo pipefail
@@ -55,6 +56,16 @@ case "$kind" in
     bars='["kWh/m\u00b2"]'
     if [[ $kind == irradiance-map ]]; then map=(--map ground); bars='["kWh/m\u00b2"], ["kWh/m\u00b2"]'; fi
     "$shadow" irradiance "$work/scene.json" --weather "$work/day.epw" -o "$work/result" -t 2 -q "${map[@]}" ;;
+  radiosity)
+    # examples/cornell_room.json without its boxes: about 0.1 s to solve.
+    /usr/bin/python3 - "$source_dir/examples/cornell_room.json" "$work/room.json" <<'PY'
+import json, sys
+scene = json.load(open(sys.argv[1]))
+scene["meshes"] = [m for m in scene["meshes"] if "box" not in m["name"]]
+json.dump(scene, open(sys.argv[2], "w"))
+PY
+    "$shadow" radiosity "$work/room.json" -o "$work/result" --max-element-area 4 --tolerance 0.05 -t 2 -q
+    bars='["W/m\u00b2"]' ;;
   area-light) "$shadow" compute "$source_dir/examples/area-light/scene.json" -o "$work/result" -t 2 -q
               bars='["visible part"], ["lit fraction"]' ;;
   *) echo "unknown kind $kind" >&2; exit 2 ;;

@@ -21,6 +21,10 @@ irradiation_map.vtp beside faces.vtp): the faces coloured by their total irradia
 period (`irradiation_total_kwh_m2`, legend "kWh/m²"; faces that receive nothing in grey), beside
 irradiation_map.vtp on the same scale when the run wrote one (`--map`).
 
+A `shadow radiosity` result (report.json with kind "radiosity", radiosity.vtp): the elements
+coloured by their radiosity (legend "W/m²"), backs culled so that a room shows its inside
+(open_radiosity.py, beside this script).
+
 In the ParaView GUI: View > Python Shell > Run Script (edit OUTDIR below, or set the environment
 variable LIBSHADOW_RESULT), or start it as `paraview --script=tools/paraview/open_result.py`.
 Headless, to save a PNG:
@@ -34,6 +38,7 @@ import json
 import math
 import os
 import sys
+import types
 
 from paraview.simple import (AssignViewToLayout, ColorBy, CreateLayout, CreateView, GetAnimationScene,
                              GetColorTransferFunction, GetScalarBar, Glyph, Hide, ProgrammableSource,
@@ -622,6 +627,11 @@ def open_irradiance(args, outdir, report, read):
 
 def main():
     args = parse_arguments()
+    try:  # open_radiosity.py beside this script (the GUI's Run Script does not put it on the path)
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    except NameError:
+        pass
+    import open_radiosity
     outdir = os.path.abspath(args.outdir)
 
     def read(name):
@@ -651,6 +661,9 @@ def main():
     if os.path.isfile(os.path.join(outdir, "report.json")):
         with open(os.path.join(outdir, "report.json")) as f:
             report = json.load(f)
+    if open_radiosity.is_radiosity(outdir, report):
+        open_radiosity.open_radiosity(args, outdir, report, read, types.SimpleNamespace(**globals()))
+        return
     if is_irradiance(outdir, report):
         open_irradiance(args, outdir, report, read)
         return

@@ -4,11 +4,13 @@
 
 #include "cli_checks.hpp"
 
+#include <shadow/render/radiosity_picture.hpp>
 #include <shadow/render/render_image.hpp>
 #include <shadow/render/value_picture.hpp>
 #include <shadow/render/vector_drawing.hpp>
 
 #include <shadow/irradiance_output.hpp>
+#include <shadow/radiosity_output.hpp>
 #include <shadow/shadow.hpp>
 
 #include <unistd.h>
@@ -98,6 +100,26 @@ int render_irradiation(const RenderArgs& args, const shadow::Scene& scene, const
   return 0;
 }
 
+/// `--radiosity`: the elements of a `shadow radiosity` result, by value with the scale's legend
+/// or in colour, flat or smooth; no shadows to compute (they are in the values).
+int render_radiosity(const RenderArgs& args, const shadow::Scene& scene, const shadow::render::RenderOptions& options) {
+  namespace sr = shadow::render;
+  const shadow::RadiosityFiles files = shadow::read_radiosity_files(args.radiosity);
+  shadow::check_radiosity_files(scene, files);
+  sr::RadiosityPictureOptions picture;
+  picture.mode = sr::parse_radiosity_mode(args.radiosity_mode);
+  picture.smooth = args.smooth;
+  const sr::Image image = sr::render_radiosity(scene, files, options, picture);
+  sr::write_png(image, args.image);
+  if (!args.quiet) {
+    std::printf("shadow %s: %zu elements of %s coloured by %s (%s)", shadow::version(), files.elements.size(),
+                files.vtp.string().c_str(), args.radiosity_mode.c_str(), args.smooth ? "smooth" : "flat");
+    if (picture.mode == sr::RadiosityMode::Colour) std::printf(", exposure %.3g per W/m2", image.exposure);
+    std::printf(", %dx%d: %s\n", args.width, args.height, args.image.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 void add_render_options(CLI::App& render, RenderArgs& args) {
@@ -165,7 +187,8 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember({"palette", "white"}));
   render.add_option("--exposure", args.exposure,
                     "auto (scale down so that lit surfaces are not clipped: the 99th percentile of the "
-                    "brightest channel at 0.85) or a factor for the colours (1: the models' values)")
+                    "brightest channel at 0.85; --radiosity-mode colour: up or down) or a factor for the colours "
+                    "(1: the models' values; --radiosity-mode colour: per W/m2)")
       ->default_val("auto")
       ->check([](const std::string& text) -> std::string {
         if (text == "auto") return {};
@@ -183,6 +206,19 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
                     "PNG: colour each face by its total irradiation (kWh/m2) from this `shadow irradiance` "
                     "OUTDIR or its report.json, with a legend of the scale, instead of lighting it "
                     "(SCENE must be the scene of that run)");
+  render.add_option("--radiosity", args.radiosity,
+                    "PNG: draw the elements of this `shadow radiosity` OUTDIR (or its radiosity.vtp or report.json) "
+                    "coloured by their values, fronts only, instead of lighting the scene (SCENE must be the scene of "
+                    "that run; docs/radiosity.md)");
+  render.add_option("--radiosity-mode", args.radiosity_mode,
+                    "--radiosity: radiosity or irradiance (W/m2 on a scale, with its legend), or colour (each "
+                    "element's emittance + RGB reflectance x irradiance, through --exposure)")
+      ->default_val("radiosity")
+      ->check(CLI::IsMember({"radiosity", "irradiance", "colour", "color"}))
+      ->each([&args](const std::string&) { args.radiosity_mode_given = true; });
+  render.add_flag("--smooth", args.smooth,
+                  "--radiosity: average the element values at the vertices they share on a face and interpolate "
+                  "(Gouraud); without it each element is flat");
   render.add_flag("--legend", args.legend, "Draw a legend: each mesh group's colour lit and in shadow, and the lights");
   render.add_option("--compass", args.compass,
                     "Draw a compass (north, and the suns' directions on the ground): on, off, or auto (on when "
@@ -191,7 +227,7 @@ void add_render_options(CLI::App& render, RenderArgs& args) {
       ->check(CLI::IsMember({"auto", "on", "off"}));
   render.add_option("--frame", args.frame,
                     "What the default camera frames: shadows (the meshes but the ground, and their shadows "
-                    "on it) or scene (every vertex, the whole ground included; the default with --irradiation)")
+                    "on it) or scene (every vertex, the whole ground included; the default with --irradiation and --radiosity)")
       ->default_val("shadows")
       ->check(CLI::IsMember({"shadows", "scene"}))
       ->each([&args](const std::string&) { args.frame_given = true; });
@@ -230,6 +266,13 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   check_output_directory(args.image);
   if (!args.irradiation.empty() && sr::is_vector_output(args.image))
     throw shadow::InputError({"", "--irradiation"}, "draws a PNG picture, not the vector view " + args.image);
+  if (!args.radiosity.empty() && sr::is_vector_output(args.image))
+    throw shadow::InputError({"", "--radiosity"}, "draws a PNG picture, not the vector view " + args.image);
+  if (!args.radiosity.empty() && !args.irradiation.empty())
+    throw shadow::InputError({"", "--radiosity"}, "draws one result: give --radiosity or --irradiation, not both");
+  if (args.radiosity.empty() && (args.smooth || args.radiosity_mode_given))
+    throw shadow::InputError({"", args.smooth ? "--smooth" : "--radiosity-mode"},
+                             "applies to a radiosity picture only (--radiosity OUTDIR)");
   // The exact vector view needs no display: dispatched before looking for one.
   if (sr::is_vector_output(args.image)) return sr::run_vector_render(args);
   if (args.light >= 0 || args.edges || args.max_faces_given)
@@ -261,8 +304,10 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   shadow::LoadOptions load = render_load_options(args);
-  // The scene of an irradiance run may leave its lights out: the suns came from the weather.
-  if (!args.irradiation.empty()) load.require_lights = false;
+  // The scene of an irradiance run may leave its lights out: the suns came from the weather; a
+  // radiosity run's light may all come from emitting faces.
+  const bool values = !args.irradiation.empty() || !args.radiosity.empty();
+  if (values) load.require_lights = false;
   shadow::Scene scene = shadow::load_scene(args.scene, load);
   if (!args.quiet)
     for (const shadow::Warning& warning : scene.warnings)
@@ -286,15 +331,18 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.exposure.automatic = args.exposure == "auto";
   if (args.exposure != "auto") options.shade.exposure.scale = std::strtod(args.exposure.c_str(), nullptr);
   options.shade.exposure.soft_shoulder = args.tone == "soft";
-  options.legend = args.legend || !args.irradiation.empty();  // --irradiation: its scale always
+  // --irradiation and --radiosity by value: their scale always
+  options.legend = args.legend || !args.irradiation.empty() ||
+                   (!args.radiosity.empty() && args.radiosity_mode != "colour" && args.radiosity_mode != "color");
   options.compass = args.compass == "on" || (args.compass == "auto" && scene.sun.has_value());
   sr::CameraRequest request;
   if (!args.eye.empty()) request.eye = to_vec3(args.eye);
   if (!args.target.empty()) request.target = to_vec3(args.target);
   if (!args.up.empty()) request.up = to_vec3(args.up);
   if (args.fov_given) request.fov_degrees = args.fov;
-  // An irradiation picture is about every face, the ground's too: the whole scene unless told.
-  const bool whole = args.frame == "scene" || (!args.irradiation.empty() && !args.frame_given);
+  // An irradiation or radiosity picture is about every face, the ground's too: the whole scene
+  // unless told.
+  const bool whole = args.frame == "scene" || (values && !args.frame_given);
   request.framing = whole ? sr::Framing::Scene : sr::Framing::Shadows;
   request.scene_file = args.scene;
   // Room for the corner marks: the framing keeps clear of them.
@@ -303,6 +351,7 @@ int run_render(const RenderArgs& args, int argc, char** argv) {
   options.shade.camera = sr::resolve_camera(scene, request, static_cast<double>(args.width) / args.height);
 
   if (!args.irradiation.empty()) return render_irradiation(args, scene, options);
+  if (!args.radiosity.empty()) return render_radiosity(args, scene, options);
 
   shadow::ShadowOptions shadow_options;
   shadow_options.threads = args.threads;

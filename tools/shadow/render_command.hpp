@@ -35,7 +35,13 @@ struct RenderArgs {
   /// --irradiation: a `shadow irradiance` OUTDIR (or its report.json) whose per-face totals
   /// colour the picture instead of the lighting (docs/render.md); empty: a shaded picture.
   std::string irradiation;
-  bool frame_given = false;  ///< --frame was given (--irradiation frames the whole scene otherwise)
+  /// --radiosity: a `shadow radiosity` OUTDIR (or its radiosity.vtp or report.json) whose
+  /// elements are drawn (docs/radiosity.md, "Pictures"); empty: not a radiosity picture.
+  std::string radiosity;
+  std::string radiosity_mode = "radiosity";  ///< radiosity, irradiance or colour
+  bool radiosity_mode_given = false;
+  bool smooth = false;  ///< --smooth: element values averaged at shared vertices (Gouraud)
+  bool frame_given = false;  ///< --frame was given (--irradiation, --radiosity frame the whole scene otherwise)
   std::string compass = "auto";
   unsigned threads = 0;
   bool quiet = false;

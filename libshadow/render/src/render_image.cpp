@@ -346,6 +346,7 @@ Image render_mesh(const ColouredMesh& mesh, const RenderOptions& options, const 
   actor->GetProperty()->SetAmbient(1.0);
   actor->GetProperty()->SetDiffuse(0.0);
   actor->GetProperty()->SetSpecular(0.0);
+  if (options.cull_back_faces) actor->GetProperty()->BackfaceCullingOn();
 
   vtkNew<vtkRenderer> renderer;
   renderer->AddActor(actor);

@@ -14,9 +14,18 @@ namespace {
 /// sRGB (0-1) to linear: the mesh holds linear colours, which render_mesh encodes back.
 double linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
-glm::dvec3 linear(const glm::dvec3& srgb) { return {linear(srgb.r), linear(srgb.g), linear(srgb.b)}; }
-
 }  // namespace
+
+glm::dvec3 linear_from_srgb(const glm::dvec3& srgb) { return {linear(srgb.r), linear(srgb.g), linear(srgb.b)}; }
+
+glm::dvec3 srgb_from_linear(const glm::dvec3& linear) {
+  glm::dvec3 out;
+  for (int i = 0; i < 3; ++i) {
+    const double x = std::clamp(linear[i], 0.0, 1.0);
+    out[i] = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+  }
+  return out;
+}
 
 ValueScale value_scale(const std::vector<double>& values) {
   double most = 0.0;
@@ -65,7 +74,7 @@ ColouredMesh colour_faces_by_value(const Scene& scene, const std::vector<double>
   for (const OverlayCell& cell : overlay_fragments(one_light, whole)) {
     const double v = cell.face_id < values.size() ? values[cell.face_id] : std::nan("");
     const glm::dvec3 colour =
-        linear(std::isfinite(v) ? value_colour(v / scale.top) : glm::dvec3(kNoValueGrey, kNoValueGrey, kNoValueGrey * 0.98));
+        linear_from_srgb(std::isfinite(v) ? value_colour(v / scale.top) : glm::dvec3(kNoValueGrey, kNoValueGrey, kNoValueGrey * 0.98));
     const std::size_t first = mesh.points.size();
     mesh.points.insert(mesh.points.end(), cell.polygon.begin(), cell.polygon.end());
     for (std::size_t k = 1; k + 1 < cell.polygon.size(); ++k) {  // convex: a fan
@@ -76,10 +85,8 @@ ColouredMesh colour_faces_by_value(const Scene& scene, const std::vector<double>
   return mesh;
 }
 
-Image render_face_values(const Scene& scene, const std::vector<double>& values, const RenderOptions& options,
-                         const std::string& title) {
-  const ValueScale scale = value_scale(values);
-  const ColouredMesh mesh = colour_faces_by_value(scene, values, scale);
+Decorations value_decorations(const Scene& scene, const ValueScale& scale, const RenderOptions& options,
+                              const std::string& title) {
   Decorations d;
   d.header = title;
   const int labels = static_cast<int>(std::lround(scale.top / scale.step));
@@ -91,10 +98,6 @@ Image render_face_values(const Scene& scene, const std::vector<double>& values, 
     entry.lit = entry.shadow = value_colour(k * scale.step / scale.top);
     d.legend.push_back(entry);
   }
-  bool any_missing = false;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    any_missing = any_missing || (!scene.faces[f].degenerate && !(f < values.size() && std::isfinite(values[f])));
-  if (any_missing) d.notes.push_back("grey: faces without a value");
   if (options.compass) {
     RenderOptions compass_only = options;
     compass_only.legend = false;
@@ -105,6 +108,18 @@ Image render_face_values(const Scene& scene, const std::vector<double>& values, 
     d.anchor = c.anchor;
     d.north = c.north;
   }
+  return d;
+}
+
+Image render_face_values(const Scene& scene, const std::vector<double>& values, const RenderOptions& options,
+                         const std::string& title) {
+  const ValueScale scale = value_scale(values);
+  const ColouredMesh mesh = colour_faces_by_value(scene, values, scale);
+  Decorations d = value_decorations(scene, scale, options, title);
+  bool any_missing = false;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f)
+    any_missing = any_missing || (!scene.faces[f].degenerate && !(f < values.size() && std::isfinite(values[f])));
+  if (any_missing) d.notes.push_back("grey: faces without a value");
   Image image = render_mesh(mesh, options, d);
   return image;
 }

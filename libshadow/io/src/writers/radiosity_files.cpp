@@ -32,7 +32,7 @@ using Json = nlohmann::ordered_json;
 
 Json number(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
 
-vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const RadiosityResult& result) {
+vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const Scene& scene, const RadiosityResult& result) {
   const std::size_t n = result.elements.size();
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   auto points = vtkSmartPointer<vtkPoints>::New();
@@ -60,6 +60,12 @@ vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const RadiosityResult& resu
   auto element_id = vtkSmartPointer<vtkTypeInt64Array>::New();
   element_id->SetName("element_id");
   element_id->SetNumberOfValues(static_cast<vtkIdType>(n));
+  // The material's RGB reflectance, for pictures (shadow render --radiosity --radiosity-mode colour):
+  // the solution is one channel, the wall's colour is the scene's.
+  auto reflectance_rgb = vtkSmartPointer<vtkDoubleArray>::New();
+  reflectance_rgb->SetName("reflectance_rgb");
+  reflectance_rgb->SetNumberOfComponents(3);
+  reflectance_rgb->SetNumberOfTuples(static_cast<vtkIdType>(n));
   for (std::size_t i = 0; i < n; ++i) {
     const RadiosityElement& e = result.elements[i];
     cells->InsertNextCell(static_cast<vtkIdType>(e.polygon.size()));
@@ -74,14 +80,18 @@ vtkSmartPointer<vtkPolyData> make_radiosity_polydata(const RadiosityResult& resu
     element_id->SetValue(c, static_cast<vtkTypeInt64>(i));
     radiosity_rgb->SetTuple3(c, e.radiosity_rgb.x, e.radiosity_rgb.y, e.radiosity_rgb.z);
     irradiance_rgb->SetTuple3(c, e.irradiance_rgb.x, e.irradiance_rgb.y, e.irradiance_rgb.z);
+    // A material given one reflectance (or built in code without a colour) is grey.
+    glm::dvec3 rgb = e.face_id < scene.faces.size() ? scene.material_of(e.face_id).reflectance_rgb : glm::dvec3(0.0);
+    if (rgb == glm::dvec3(0.0)) rgb = glm::dvec3(e.reflectance);
+    reflectance_rgb->SetTuple3(c, rgb.r, rgb.g, rgb.b);
   }
   poly->SetPoints(points);
   poly->SetPolys(cells);
   for (vtkDataArray* a : {static_cast<vtkDataArray*>(radiosity), static_cast<vtkDataArray*>(irradiance),
                           static_cast<vtkDataArray*>(direct), static_cast<vtkDataArray*>(reflectance),
                           static_cast<vtkDataArray*>(emittance), static_cast<vtkDataArray*>(face_id),
-                          static_cast<vtkDataArray*>(element_id), static_cast<vtkDataArray*>(radiosity_rgb),
-                          static_cast<vtkDataArray*>(irradiance_rgb)})
+                          static_cast<vtkDataArray*>(element_id), static_cast<vtkDataArray*>(reflectance_rgb),
+                          static_cast<vtkDataArray*>(radiosity_rgb), static_cast<vtkDataArray*>(irradiance_rgb)})
     poly->GetCellData()->AddArray(a);
   poly->GetCellData()->SetActiveScalars("radiosity");
   return poly;
@@ -93,6 +103,7 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
                                  const RadiosityRunInfo& run) {
   Json doc;
   doc["libshadow_version"] = version();
+  doc["kind"] = "radiosity";  // what wrote it, as `shadow irradiance` says "irradiance"
   doc["scene"] = run.scene;
   Json options;
   options["max_element_area"] = run.options.max_element_area;
@@ -150,7 +161,7 @@ std::vector<fs::path> write_radiosity_outputs(const fs::path& outdir, const Scen
                                               const RadiosityResult& result, const RadiosityRunInfo& run) {
   detail::StagedFiles staging(outdir);
   const auto vtp = staging.stage("radiosity.vtp");
-  vtkSmartPointer<vtkPolyData> poly = make_radiosity_polydata(result);
+  vtkSmartPointer<vtkPolyData> poly = make_radiosity_polydata(scene, result);
   detail::shift_to_origin(poly, scene);  // like every other dataset of a run (Scene::origin)
   detail::write_polydata(poly, vtp.temp, vtp.final_path);
   // report.json staged last, so placed last: its presence says the set is complete.

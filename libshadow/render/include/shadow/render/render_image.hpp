@@ -47,6 +47,10 @@ struct RenderOptions {
   /// render_scene: a compass in the bottom right corner: north (the scene's sun block's
   /// north_axis, or +y) and the directions of the directional lights (suns) on the ground.
   bool compass = false;
+  /// render_mesh: draw the triangles from their front only (counter-clockwise on screen), as a
+  /// radiosity result, whose elements leave light from the front, is seen: the walls of a room
+  /// seen from outside vanish and show the room inside.
+  bool cull_back_faces = false;
 };
 
 /// One row of the legend: a label and its colours lit and in shadow (displayed, sRGB 0-1).

@@ -29,12 +29,24 @@ ValueScale value_scale(const std::vector<double>& values);
 /// dark violet through red and orange to a pale yellow, its luminance increasing throughout.
 glm::dvec3 value_colour(double t);
 
+/// An sRGB colour (0-1, as displayed) as linear RGB, what a ColouredMesh holds (render_mesh
+/// encodes it back).
+glm::dvec3 linear_from_srgb(const glm::dvec3& srgb);
+
+/// Linear RGB (clamped to [0, 1]) as displayed (sRGB, 0-1): what a legend swatch takes.
+glm::dvec3 srgb_from_linear(const glm::dvec3& linear);
+
 /// Faces without a value (NaN: they do not receive), as displayed (sRGB): a light grey.
 inline constexpr double kNoValueGrey = 0.80;
 
 /// The scene's faces, each flat in the colour of its value (`values`, one per scene face, NaN
 /// for none) on `scale`; degenerate faces are left out.
 ColouredMesh colour_faces_by_value(const Scene& scene, const std::vector<double>& values, const ValueScale& scale);
+
+/// The legend of `scale` headed `title` (a row per label, the largest first) and, when
+/// `options.compass`, the compass (north from the scene's sun block, no suns).
+Decorations value_decorations(const Scene& scene, const ValueScale& scale, const RenderOptions& options,
+                              const std::string& title);
 
 /// The picture: the coloured faces seen by `options.shade.camera`, a legend in the top left
 /// corner headed `title` (a row per label of the scale, the largest first), and a compass when
