@@ -35,6 +35,7 @@ shadow::RadiosityFiles three_and_one() {
     el.area = 0.5 * glm::length(n);
     el.radiosity = b;
     el.irradiance = h;
+    el.irradiance_rgb = glm::dvec3(h);
     el.emittance = e;
     files.elements.push_back(el);
     files.reflectance_rgb.push_back(rgb);
@@ -68,6 +69,10 @@ TEST(RadiosityValues, ColourIsEmittancePlusTheWallColourTimesTheIrradiance) {
   EXPECT_EQ(c[2], glm::dvec3(0.0));
   EXPECT_EQ(sr::parse_radiosity_mode("color"), sr::RadiosityMode::Colour);
   EXPECT_THROW(sr::parse_radiosity_mode("grey"), shadow::InputError);
+  // A colour solution: each channel's reflectance times that channel's irradiance.
+  shadow::RadiosityFiles coloured = three_and_one();
+  coloured.elements[0].irradiance_rgb = {10.0, 20.0, 40.0};
+  EXPECT_EQ(sr::radiosity_element_values(coloured, sr::RadiosityMode::Colour)[0], glm::dvec3(5.0, 5.0, 5.0));
 }
 
 TEST(RadiosityMesh, FlatKeepsEachElementsValueAndSmoothAveragesSharedVerticesByArea) {

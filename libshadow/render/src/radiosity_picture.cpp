@@ -52,7 +52,9 @@ std::vector<glm::dvec3> radiosity_element_values(const RadiosityFiles& files, Ra
     switch (mode) {
       case RadiosityMode::Radiosity: values[i] = glm::dvec3(e.radiosity); break;
       case RadiosityMode::Irradiance: values[i] = glm::dvec3(e.irradiance); break;
-      case RadiosityMode::Colour: values[i] = glm::dvec3(e.emittance) + files.reflectance_rgb[i] * e.irradiance; break;
+      // Each channel's irradiance (the solver's colour channels: colour bleeding) times the
+      // channel's reflectance, plus the emittance (white).
+      case RadiosityMode::Colour: values[i] = glm::dvec3(e.emittance) + files.reflectance_rgb[i] * e.irradiance_rgb; break;
     }
   }
   return values;

@@ -45,7 +45,8 @@ struct RadiosityFiles {
   std::filesystem::path report;  ///< the report.json beside it; empty when there is none
   /// One per cell of radiosity.vtp, in its order: polygon (in the scene's coordinates: the
   /// file's `origin` added back), face_id, radiosity, irradiance, direct_irradiance,
-  /// reflectance, emittance; area computed from the polygon.
+  /// reflectance, emittance, radiosity_rgb and irradiance_rgb (the scalar value on every channel
+  /// for a file without them); area computed from the polygon.
   std::vector<RadiosityElement> elements;
   /// Per element, the material's RGB reflectance (the file's `reflectance_rgb`; a result
   /// written before that array existed gives the scalar reflectance on every channel).

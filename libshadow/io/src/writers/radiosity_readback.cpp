@@ -142,6 +142,14 @@ RadiosityFiles read_radiosity_files(const fs::path& path) {
   vtkDataArray* rgb = poly->GetCellData()->GetArray("reflectance_rgb") != nullptr
                           ? cell_array(poly, "reflectance_rgb", 3, file)
                           : nullptr;
+  // Colour solutions (radiosity.vtp from a colour-solving libshadow) carry each channel's
+  // irradiance; older files have one, the same for every channel.
+  vtkDataArray* irradiance_rgb = poly->GetCellData()->GetArray("irradiance_rgb") != nullptr
+                                     ? cell_array(poly, "irradiance_rgb", 3, file)
+                                     : nullptr;
+  vtkDataArray* radiosity_rgb = poly->GetCellData()->GetArray("radiosity_rgb") != nullptr
+                                    ? cell_array(poly, "radiosity_rgb", 3, file)
+                                    : nullptr;
   // The writer shifted the points by the scene's origin (a city far from 0): add it back.
   glm::dvec3 origin(0.0);
   if (vtkDataArray* o = poly->GetFieldData()->GetArray("origin"); o != nullptr && o->GetNumberOfComponents() == 3 &&
@@ -174,6 +182,10 @@ RadiosityFiles read_radiosity_files(const fs::path& path) {
     e.direct_irradiance = finite_value(direct, c, 0, file);
     e.reflectance = finite_value(reflectance, c, 0, file);
     e.emittance = finite_value(emittance, c, 0, file);
+    for (int k = 0; k < 3; ++k) {
+      e.irradiance_rgb[k] = irradiance_rgb != nullptr ? finite_value(irradiance_rgb, c, k, file) : e.irradiance;
+      e.radiosity_rgb[k] = radiosity_rgb != nullptr ? finite_value(radiosity_rgb, c, k, file) : e.radiosity;
+    }
     glm::dvec3& colour = files.reflectance_rgb[static_cast<std::size_t>(c)];
     if (rgb != nullptr)
       for (int k = 0; k < 3; ++k) colour[k] = finite_value(rgb, c, k, file);
