@@ -27,6 +27,10 @@ CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args) {
                   "Refine the elements (triangles of the fragments) until none is larger than this, in m^2 "
                   "(0, the default: the fragments' triangles as they are)")
       ->check(shadow_cli::finite_in(0.0, 1e300));
+  cmd->add_option("--patch-area", args.patch_area,
+                  "Shooting patches (each the mean of the elements it holds) up to this area, in m^2 "
+                  "(0, the default: 16 times --max-element-area)")
+      ->check(shadow_cli::finite_in(0.0, 1e300));
   cmd->add_option("--tolerance", args.tolerance,
                   "Stop when the unshot power is at most this fraction of the power put in (default 0.001)")
       ->check(shadow_cli::finite_in(1e-12, 0.999999));
@@ -48,6 +52,7 @@ int run_radiosity(const RadiosityArgs& args) {
       std::cerr << "shadow: warning: " << warning.to_string() << "\n";
   shadow::RadiosityOptions options;
   options.max_element_area = args.max_element_area;
+  options.patch_area = args.patch_area;
   options.tolerance = args.tolerance;
   options.threads = args.threads;
   const bool terminal = isatty(STDERR_FILENO) != 0;

@@ -10,6 +10,7 @@ struct RadiosityArgs {
   std::string scene;
   std::string outdir;
   double max_element_area = 0.0;
+  double patch_area = 0.0;  // --patch-area: shooting patches (0: 16 elements)
   double tolerance = 1e-3;
   unsigned threads = 0;
   bool quiet = false;

@@ -107,6 +107,7 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   doc["scene"] = run.scene;
   Json options;
   options["max_element_area"] = run.options.max_element_area;
+  options["patch_area"] = run.options.patch_area;
   options["tolerance"] = run.options.tolerance;
   options["max_shots"] = run.options.max_shots;
   options["threads"] = run.options.threads;
