@@ -172,6 +172,29 @@ for h, (row, sun) in enumerate(zip(rows, suns), start=1):
 PY
 then pass "open_panel_against_perez"; else fail "open_panel_against_perez" "see above"; fi
 
+# --reflections: the scene's own reflections over the period; everything else as without them,
+# the total their sum, the surfaces' values area-weighted, the open roof nothing more.
+if "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/day.epw" -o "$WORK/out-refl" --reflections -q &&
+   python3 - "$WORK/out-perez" "$WORK/out-refl" <<'PY'
+import json, sys
+plain = json.load(open(sys.argv[1] + "/report.json"))
+refl = json.load(open(sys.argv[2] + "/report.json"))
+assert refl["reflections"]["shots"] > 0 and refl["reflections"]["unshot_fraction"] <= 1e-3, refl["reflections"]
+some = 0
+for a, b in zip(plain["faces"], refl["faces"]):
+    pa, pb = a["annual_irradiation_kwh_m2"], b["annual_irradiation_kwh_m2"]
+    assert "scene_reflected" not in pa
+    for k in ("direct", "sky_diffuse", "ground_reflected"):
+        assert pa[k] == pb[k], (b["label"], k)
+    assert pb["scene_reflected"] >= 0.0
+    assert abs(pb["total"] - (pa["total"] + pb["scene_reflected"])) <= 1e-9 * pb["total"], b["label"]
+    some += pb["scene_reflected"] > 0.01
+assert some > 0, "no face receives reflected light"
+for s in refl["surfaces"]:
+    assert "scene_reflected" in s["annual_irradiation_kwh_m2"], s["name"]
+PY
+then pass "reflections"; else fail "reflections" "see above"; fi
+
 # An EnergyPlus model: energyplus-diffuse-shading.csv, one ratio in [0, 1] per surface, names as
 # EnergyPlus holds them (upper case); the overhang-shaded south wall below 1.
 if "$SHADOW" irradiance "$EXAMPLES/energyplus/box-office.idf" --weather "$WORK/day.epw" -o "$WORK/out-idf" -q &&
