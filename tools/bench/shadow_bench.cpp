@@ -301,6 +301,16 @@ int main(int argc, char** argv) {
   prepare_cmd->add_option("--repeat", prepare_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
   bool prepare_new_only = false;
   prepare_cmd->add_flag("--new-only", prepare_new_only, "Leave the reference implementations out (for profiling)");
+  std::size_t write_boxes = 166667;
+  double write_elevation = 40;
+  bool write_ground = false;
+  std::string write_dir;
+  CLI::App* write_cmd = app.add_subcommand(
+      "write-city", "Write the benchmark city as scene.json and OBJ files, to time `shadow compute` as a whole");
+  write_cmd->add_option("--boxes", write_boxes, "Boxes (extent 500 sqrt(boxes / 1000) m, as low-sun)")->check(CLI::PositiveNumber);
+  write_cmd->add_option("--elevation", write_elevation, "Sun elevation (degrees), azimuth 135");
+  write_cmd->add_flag("--ground-only", write_ground, "Only the ground receives");
+  write_cmd->add_option("--output", write_dir, "Folder to write")->required();
   LowSunArgs low;
   CLI::App* low_cmd = add_low_command(app, low);
   TilesArgs tiles;
@@ -329,6 +339,7 @@ int main(int argc, char** argv) {
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_opt);
   if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
+  if (write_cmd->parsed()) return bench::write_city(write_boxes, write_elevation, write_ground, write_dir);
   if (prepare_cmd->parsed()) return bench::run_prepare(prepare_sizes, prepare_threads, prepare_repeat, prepare_new_only);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);

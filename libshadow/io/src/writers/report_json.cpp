@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "runtime/parallel.hpp"
 #include "writers/face_identity_json.hpp"
 #include "writers/names.hpp"
 
@@ -146,15 +147,22 @@ std::string dump(const Json& value, int indent = -1) {
   return value.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
-/// `text` (a pretty-printed value) indented by `indent` more spaces after each newline.
-/// JSON strings never hold a raw newline, so this cannot touch their content.
+/// Appends `text` (a pretty-printed value) to `out`, indented by `indent` more spaces after each
+/// newline. JSON strings never hold a raw newline, so this cannot touch their content.
+void append_indented(std::string& out, const std::string& text, std::size_t indent) {
+  std::size_t from = 0;
+  for (std::size_t nl = text.find('\n'); nl != std::string::npos; nl = text.find('\n', from)) {
+    out.append(text, from, nl + 1 - from);
+    out.append(indent, ' ');
+    from = nl + 1;
+  }
+  out.append(text, from, std::string::npos);
+}
+
 std::string indent_more(const std::string& text, std::size_t indent) {
   std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    out += c;
-    if (c == '\n') out.append(indent, ' ');
-  }
+  out.reserve(text.size() + text.size() / 8);
+  append_indented(out, text, indent);
   return out;
 }
 
@@ -232,13 +240,12 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   member("lights", dump(lights_json(scene), 2));
   if (scene.sun) member("sun", dump(sun_json(scene), 2));
 
-  out << "  \"faces\": [";
-  std::vector<const FaceLighting*> group;
+  // The faces' totals in face order, on one thread (the sums' bits follow their order)...
+  std::vector<std::size_t> group_start;  // each face's first entry, then entries.size()
   for (std::size_t i = 0; i < entries.size();) {
     const std::size_t face_id = entries[i]->face_id;
-    group.clear();
+    group_start.push_back(i);
     for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
-      group.push_back(entries[i]);
       LightTotals& totals = per_light[entries[i]->light_id];
       totals.area.add(entries[i]->area);
       totals.lit_area.add(entries[i]->lit_area);
@@ -249,10 +256,33 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
         m.lit_area.add(entries[i]->lit_area);
       }
     }
-    ++receiving_faces;
-    total_area.add(group.front()->area);
-    out << (receiving_faces == 1 ? "\n    " : ",\n    ")
-        << indent_more(dump(face_json(scene, face_id, group, fast), 2), 4);
+    total_area.add(entries[group_start.back()]->area);
+  }
+  receiving_faces = group_start.size();
+  group_start.push_back(entries.size());
+  // ... and their text on every thread (a million faces: most of the report's time), a window
+  // of blocks at a time so that the text held stays small, written in face order: the same bytes
+  // whatever the thread count.
+  out << "  \"faces\": [";
+  const unsigned threads = runtime::resolve_threads(run != nullptr ? run->options.threads : 0);
+  constexpr std::size_t kFacesPerBlock = 1024;
+  const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
+  std::vector<std::string> block_text(std::min<std::size_t>(blocks, std::size_t{4} * threads));
+  for (std::size_t first = 0; first < blocks; first += block_text.size()) {
+    const std::size_t count = std::min(block_text.size(), blocks - first);
+    runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(threads, count)), [&](unsigned, std::size_t k) {
+      std::string& text = block_text[k];
+      text.clear();
+      std::vector<const FaceLighting*> group;
+      const std::size_t end = std::min(receiving_faces, (first + k + 1) * kFacesPerBlock);
+      for (std::size_t g = (first + k) * kFacesPerBlock; g < end; ++g) {
+        group.assign(entries.begin() + static_cast<std::ptrdiff_t>(group_start[g]),
+                     entries.begin() + static_cast<std::ptrdiff_t>(group_start[g + 1]));
+        text += g == 0 ? "\n    " : ",\n    ";
+        append_indented(text, dump(face_json(scene, group.front()->face_id, group, fast), 2), 4);
+      }
+    });
+    for (std::size_t k = 0; k < count; ++k) out << block_text[k];
   }
   out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
 
