@@ -130,6 +130,9 @@ TEST(ReportThreads, TheSameBytesAtOneTwoAndFourThreadsAndEqualToOneDocumentsDump
     EXPECT_EQ(document["faces"][4]["id"], 5);  // face 3 receives nothing
     EXPECT_TRUE(document["faces"][4]["azimuth"].is_null());  // face 5 has no area
     EXPECT_EQ(document["faces"][0]["lights"].size(), 3u);
+    // Whole numbers stay doubles in the text, as nlohmann writes them.
+    EXPECT_NE(one.find("\"tilt\": 90.0,\n"), std::string::npos);
+    EXPECT_NE(one.find("\"area\": 6.0,\n"), std::string::npos);
     EXPECT_EQ(document["faces"][0]["lights"][2].count("umbra_area"), 1u);
     EXPECT_EQ(document["faces"][0]["lights"][0].count("lit_area_error_bound"), fast ? 1u : 0u);
   }
