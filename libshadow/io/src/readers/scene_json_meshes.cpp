@@ -331,7 +331,7 @@ void SceneReader::load_faces(PendingMesh pending) {
                             "mesh file is Wavefront OBJ, CityJSON or EnergyPlus IDF/epJSON");
     std::vector<std::size_t> lines;
     std::vector<std::string> groups;
-    std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups);
+    std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups, options_.threads);
     text.clear();
     if (polygons.empty())
       // An empty result would pass for a computed one: a mesh file with no face is an error.
