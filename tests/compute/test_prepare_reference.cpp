@@ -512,3 +512,40 @@ RC_GTEST_PROP(FindConvexSolids, SameAsTheReferenceOnHardCases, ()) {
 }
 
 }  // namespace
+
+// The vertex numbering of the convex-solid search on several threads (shards by hash, first
+// corners numbered by a prefix sum): the same ids, in order of first use, as one thread.
+TEST(FindConvexSolids, VertexIdsAreTheSameOnEveryThreadCount) {
+  shadow::Scene city = shadow::make_city(2000, 500, 7);
+  // Some corners at z = -0.0 (box bottoms): the same vertices as at +0.0 in the walls.
+  std::size_t negative_zeros = 0;
+  for (shadow::Face& face : city.faces)
+    if (face.vertices.size() == 4 && face.vertices[0].z == 0 && face.vertices[2].z == 0 && negative_zeros < 50) {
+      face.vertices[0].z = -0.0;
+      ++negative_zeros;
+    }
+  ASSERT_EQ(negative_zeros, 50u);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  std::size_t corners = 0;
+  for (std::size_t f = 0; f < prep.size(); ++f) {
+    prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+    if (!prep[f].degenerate && prep[f].exactly_planar) corners += city.faces[f].vertices.size();
+  }
+  ASSERT_GE(corners, shadow::exact::kParallelNumberingCorners);
+  std::vector<int> one(corners), many(corners);
+  std::vector<glm::dvec3> one_position, many_position;
+  shadow::exact::number_vertices(city, prep, one, one_position, 1);
+  // Ids in order of first use: each corner's id is at most one more than every id before it.
+  int next = 0;
+  for (int id : one) {
+    ASSERT_LE(id, next);
+    if (id == next) ++next;
+  }
+  EXPECT_EQ(static_cast<std::size_t>(next), one_position.size());
+  EXPECT_EQ(one_position.size(), 4 + 8 * 2000u);  // the ground's corners and every box's 8
+  for (unsigned threads : {2u, 3u, 8u}) {
+    shadow::exact::number_vertices(city, prep, many, many_position, threads);
+    EXPECT_EQ(many, one) << threads << " threads";
+    EXPECT_EQ(many_position, one_position) << threads << " threads";
+  }
+}
