@@ -288,6 +288,36 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
 
 namespace {
 
+/// The faces array's entries, `group_start` giving each face's first entry (then
+/// entries.size()): made on every thread (a million faces: most of the report's time), a window
+/// of blocks at a time so that the text held stays small, and written in face order: the same
+/// bytes whatever the thread count.
+void write_face_entries(std::ostream& out, const Scene& scene, const std::vector<const FaceLighting*>& entries,
+                        const std::vector<std::size_t>& group_start, bool fast, unsigned requested_threads) {
+  const std::size_t receiving_faces = group_start.size() - 1;
+  const unsigned threads = runtime::resolve_threads(requested_threads);
+  const EntryNames names(scene, scene.lights.size());
+  constexpr std::size_t kFacesPerBlock = 1024;
+  const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
+  std::vector<std::string> block_text(std::min<std::size_t>(blocks, std::size_t{4} * threads));
+  for (std::size_t first = 0; first < blocks; first += block_text.size()) {
+    const std::size_t count = std::min(block_text.size(), blocks - first);
+    runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(threads, count)), [&](unsigned, std::size_t k) {
+      std::string& text = block_text[k];
+      text.clear();
+      std::vector<const FaceLighting*> group;
+      const std::size_t end = std::min(receiving_faces, (first + k + 1) * kFacesPerBlock);
+      for (std::size_t g = (first + k) * kFacesPerBlock; g < end; ++g) {
+        group.assign(entries.begin() + static_cast<std::ptrdiff_t>(group_start[g]),
+                     entries.begin() + static_cast<std::ptrdiff_t>(group_start[g + 1]));
+        text += g == 0 ? "\n    " : ",\n    ";
+        append_face_entry(text, scene, names, group.front()->face_id, group, fast);
+      }
+    });
+    for (std::size_t k = 0; k < count; ++k) out << block_text[k];
+  }
+}
+
 void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run) {
   // Entries by face then light, whatever order they came in (the engine already sorts them).
   std::vector<const FaceLighting*> entries;
@@ -344,31 +374,9 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   }
   receiving_faces = group_start.size();
   group_start.push_back(entries.size());
-  // ... and their text on every thread (a million faces: most of the report's time), a window
-  // of blocks at a time so that the text held stays small, written in face order: the same bytes
-  // whatever the thread count.
+  // ... and their text on every thread.
   out << "  \"faces\": [";
-  const unsigned threads = runtime::resolve_threads(run != nullptr ? run->options.threads : 0);
-  const EntryNames names(scene, scene.lights.size());
-  constexpr std::size_t kFacesPerBlock = 1024;
-  const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
-  std::vector<std::string> block_text(std::min<std::size_t>(blocks, std::size_t{4} * threads));
-  for (std::size_t first = 0; first < blocks; first += block_text.size()) {
-    const std::size_t count = std::min(block_text.size(), blocks - first);
-    runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(threads, count)), [&](unsigned, std::size_t k) {
-      std::string& text = block_text[k];
-      text.clear();
-      std::vector<const FaceLighting*> group;
-      const std::size_t end = std::min(receiving_faces, (first + k + 1) * kFacesPerBlock);
-      for (std::size_t g = (first + k) * kFacesPerBlock; g < end; ++g) {
-        group.assign(entries.begin() + static_cast<std::ptrdiff_t>(group_start[g]),
-                     entries.begin() + static_cast<std::ptrdiff_t>(group_start[g + 1]));
-        text += g == 0 ? "\n    " : ",\n    ";
-        append_face_entry(text, scene, names, group.front()->face_id, group, fast);
-      }
-    });
-    for (std::size_t k = 0; k < count; ++k) out << block_text[k];
-  }
+  write_face_entries(out, scene, entries, group_start, fast, run != nullptr ? run->options.threads : 0);
   out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
 
   Json planes = Json::array();
