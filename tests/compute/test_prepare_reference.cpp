@@ -4,6 +4,7 @@
 // (all lazy exact), validate_scene (per-face checks in parallel) against validate_scene_reference
 // (serial), and find_convex_solids against find_convex_solids_reference. Each pair must agree
 // exactly: same classes, same scene changes, warnings and first error, same solids in the same order.
+#include "core/culling.hpp"
 #include "runtime/parallel.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -548,4 +550,34 @@ TEST(FindConvexSolids, VertexIdsAreTheSameOnEveryThreadCount) {
     EXPECT_EQ(many, one) << threads << " threads";
     EXPECT_EQ(many_position, one_position) << threads << " threads";
   }
+}
+
+// The scene's frame (the culling's origin and diameter) by blocks of faces on several threads:
+// the same bits as one pass, a tie between +0.0 and -0.0 included (the first one met wins).
+TEST(SceneFrame, TheSameBitsOnEveryThreadCount) {
+  shadow::Scene scene;
+  std::mt19937 rng(35);
+  std::uniform_real_distribution<double> coordinate(0.0, 100.0);
+  for (std::size_t f = 0; f < 50000; ++f) {
+    shadow::Face face;
+    const double x = coordinate(rng), y = coordinate(rng);
+    face.vertices = {{x, y, 0.0}, {x + 1, y, 0.0}, {x, y + 1, 0.0}};
+    scene.faces.push_back(face);
+  }
+  // Every z is 0: -0.0 in the first face, +0.0 elsewhere; the smallest x is 0, -0.0 met first
+  // in a later block of faces.
+  for (glm::dvec3& v : scene.faces[0].vertices) v.z = -0.0;
+  scene.faces[20000].vertices[0] = {-0.0, 5.0, 0.0};
+  scene.faces[30000].vertices[0] = {0.0, 5.0, 0.0};
+  scene.faces[40000].vertices[1] = {-0.0, 6.0, 0.0};
+  auto bits = [](const shadow::core::SceneFrame& frame) {
+    std::array<unsigned char, 4 * sizeof(double)> out{};
+    const double values[4] = {frame.centre.x, frame.centre.y, frame.centre.z, frame.diagonal};
+    std::memcpy(out.data(), values, sizeof values);
+    return out;
+  };
+  const auto one = bits(shadow::core::scene_frame(scene, 1));
+  for (unsigned threads : {2u, 3u, 8u}) EXPECT_EQ(bits(shadow::core::scene_frame(scene, threads)), one) << threads;
+  // The first z met is -0.0: both ends of the box in z, hence the centre's z, are -0.0.
+  EXPECT_TRUE(std::signbit(shadow::core::scene_frame(scene, 4).centre.z));
 }

@@ -419,7 +419,9 @@ struct SceneFrame {
   glm::dvec3 centre{0.0};
   double diagonal = 1.0;
 };
-SceneFrame scene_frame(const Scene& scene);
+/// With `threads` > 1 the box is found by blocks of faces on that many threads, merged in order:
+/// the same box (every coordinate, -0.0 as one thread finds it) for any count.
+SceneFrame scene_frame(const Scene& scene, unsigned threads = 1);
 
 /// The faces in a local frame (scene centre subtracted), with unit normals; the faces divided
 /// among `threads` threads (0 counts as 1; the result does not depend on it).
