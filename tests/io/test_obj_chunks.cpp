@@ -6,9 +6,14 @@
 #include "readers/obj_reader.hpp"
 
 #include <shadow/error.hpp>
+#include <shadow/scene_io.hpp>
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -132,4 +137,36 @@ TEST(ObjChunks, AContinuedLineIsReadOnOneThreadWithTheSameResult) {
   text += "f 1 2 3\n";
   expect_same(text, "continued lines");
   EXPECT_EQ(parse(text, 4, 64).lines, std::vector<std::size_t>{201});
+}
+
+TEST(ObjChunks, ASceneLoadsTheSameFacesOnOneAndFourThreads) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("libshadow-test_obj_chunks-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  // A large file: one generated text again and again (its positive references are to earlier
+  // vertices and its negative ones relative, so every copy is valid), a group before each.
+  std::string one = make_obj(1, 400, false);
+  if (one.rfind("\xEF\xBB\xBF", 0) == 0) one.erase(0, 3);
+  std::string obj;
+  for (int copy = 0; obj.size() < (1u << 20); ++copy) obj += "g copy" + std::to_string(copy) + "\n" + one;
+  std::ofstream(dir / "mesh.obj") << obj;
+  std::ofstream(dir / "scene.json")
+      << R"({"meshes": [{"name": "m", "file": "mesh.obj", "transform": [[1,0,0,5],[0,0,-1,0],[0,1,0,0.25],[0,0,0,1]]}],)"
+      << R"( "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})";
+  shadow::LoadOptions options;
+  options.skip_invalid = true;  // random faces: some are not planar
+  options.threads = 1;
+  const shadow::Scene a = shadow::load_scene(dir / "scene.json", options);
+  options.threads = 4;
+  const shadow::Scene b = shadow::load_scene(dir / "scene.json", options);
+  ASSERT_EQ(a.faces.size(), b.faces.size());
+  ASSERT_GT(a.faces.size() + a.skipped_faces.size(), 1000u);
+  for (std::size_t f = 0; f < a.faces.size(); ++f) {
+    ASSERT_EQ(a.faces[f].vertices, b.faces[f].vertices) << f;
+    ASSERT_EQ(a.faces[f].source.to_string(), b.faces[f].source.to_string()) << f;
+    ASSERT_EQ(a.faces[f].name, b.faces[f].name) << f;
+    ASSERT_EQ(a.faces[f].mesh, b.faces[f].mesh) << f;
+  }
+  ASSERT_EQ(a.skipped_faces.size(), b.skipped_faces.size());
+  fs::remove_all(dir);
 }

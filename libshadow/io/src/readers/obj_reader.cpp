@@ -301,7 +301,7 @@ void resolve_face(const ObjChunk& chunk, const ObjChunk::RawFace& face, std::siz
 bool parse_obj_in_chunks(const std::string& text, const std::string& display_name, std::vector<std::size_t>* face_lines,
                          std::vector<std::string>* face_groups, unsigned threads, std::size_t min_chunk_bytes,
                          std::vector<std::vector<glm::dvec3>>& faces) {
-  threads = runtime::resolve_threads(threads);
+  threads = std::min(runtime::resolve_threads(threads), runtime::kMaxThreads);  // (validation rejects more)
   min_chunk_bytes = std::max<std::size_t>(min_chunk_bytes, 1);
   if (threads < 2 || text.size() < 2 * min_chunk_bytes || text.find('\\') != std::string::npos) return false;
   // Parts that start at a line: a few per thread, so that uneven ones even out.
