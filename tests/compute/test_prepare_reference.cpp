@@ -581,3 +581,33 @@ TEST(SceneFrame, TheSameBitsOnEveryThreadCount) {
   // The first z met is -0.0: both ends of the box in z, hence the centre's z, are -0.0.
   EXPECT_TRUE(std::signbit(shadow::core::scene_frame(scene, 4).centre.z));
 }
+
+// The light-space grid's cells filled on several threads (items in ranges, counted per range and
+// cell): every query visits the same faces in the same order as with one thread.
+TEST(LightSpaceGrid, TheSameQueriesOnEveryThreadCount) {
+  const shadow::Scene city = shadow::make_city(12000, 1700, 11);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+  std::vector<int> solid_of;
+  const auto solids = shadow::exact::find_convex_solids(city, prep, solid_of, 2);
+  ASSERT_EQ(solids.size(), 12000u);
+  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 2);
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087)}) {
+    auto visits = [&](unsigned threads, const std::vector<int>* of) {
+      const shadow::core::LightSpaceGrid grid(cull, prep, to_light, of, threads);
+      std::vector<std::size_t> out;
+      for (std::size_t f = 0; f < city.faces.size(); f += 7) {
+        out.push_back(grid.count(f));
+        grid.query(f, [&](std::size_t g) { out.push_back(g); });
+        out.push_back(SIZE_MAX);
+      }
+      return out;
+    };
+    const std::vector<int>* none = nullptr;
+    for (const std::vector<int>* of : {none, static_cast<const std::vector<int>*>(&solid_of)}) {
+      const std::vector<std::size_t> one = visits(1, of);
+      EXPECT_GT(one.size(), 3 * city.faces.size() / 7);
+      for (unsigned threads : {2u, 3u, 8u}) EXPECT_EQ(visits(threads, of), one) << threads << " threads";
+    }
+  }
+}
