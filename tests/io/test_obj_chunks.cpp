@@ -14,6 +14,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -169,4 +170,17 @@ TEST(ObjChunks, ASceneLoadsTheSameFacesOnOneAndFourThreads) {
   }
   ASSERT_EQ(a.skipped_faces.size(), b.skipped_faces.size());
   fs::remove_all(dir);
+}
+
+TEST(ObjChunks, TheFuzzCorpusGivesTheSameOutcomeAsOneThread) {
+  namespace fs = std::filesystem;
+  const fs::path corpus = fs::path(LIBSHADOW_TEST_DATA) / ".." / "fuzz" / "corpus" / "fuzz_obj";
+  std::size_t files = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(corpus)) {
+    std::ifstream in(entry.path(), std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    expect_same(text, entry.path().filename().string());
+    ++files;
+  }
+  EXPECT_GE(files, 10u);
 }
