@@ -4,6 +4,7 @@
 // (all lazy exact), validate_scene (per-face checks in parallel) against validate_scene_reference
 // (serial), and find_convex_solids against find_convex_solids_reference. Each pair must agree
 // exactly: same classes, same scene changes, warnings and first error, same solids in the same order.
+#include "core/culling.hpp"
 #include "runtime/parallel.hpp"
 #include "exact/convex_solids.hpp"
 #include "exact/exact_faces.hpp"
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <string>
@@ -512,3 +514,100 @@ RC_GTEST_PROP(FindConvexSolids, SameAsTheReferenceOnHardCases, ()) {
 }
 
 }  // namespace
+
+// The vertex numbering of the convex-solid search on several threads (shards by hash, first
+// corners numbered by a prefix sum): the same ids, in order of first use, as one thread.
+TEST(FindConvexSolids, VertexIdsAreTheSameOnEveryThreadCount) {
+  shadow::Scene city = shadow::make_city(2000, 500, 7);
+  // Some corners at z = -0.0 (box bottoms): the same vertices as at +0.0 in the walls.
+  std::size_t negative_zeros = 0;
+  for (shadow::Face& face : city.faces)
+    if (face.vertices.size() == 4 && face.vertices[0].z == 0 && face.vertices[2].z == 0 && negative_zeros < 50) {
+      face.vertices[0].z = -0.0;
+      ++negative_zeros;
+    }
+  ASSERT_EQ(negative_zeros, 50u);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  std::size_t corners = 0;
+  for (std::size_t f = 0; f < prep.size(); ++f) {
+    prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+    if (!prep[f].degenerate && prep[f].exactly_planar) corners += city.faces[f].vertices.size();
+  }
+  ASSERT_GE(corners, shadow::exact::kParallelNumberingCorners);
+  std::vector<int> one(corners), many(corners);
+  std::vector<glm::dvec3> one_position, many_position;
+  shadow::exact::number_vertices(city, prep, one, one_position, 1);
+  // Ids in order of first use: each corner's id is at most one more than every id before it.
+  int next = 0;
+  for (int id : one) {
+    ASSERT_LE(id, next);
+    if (id == next) ++next;
+  }
+  EXPECT_EQ(static_cast<std::size_t>(next), one_position.size());
+  EXPECT_EQ(one_position.size(), 4 + 8 * 2000u);  // the ground's corners and every box's 8
+  for (unsigned threads : {2u, 3u, 8u}) {
+    shadow::exact::number_vertices(city, prep, many, many_position, threads);
+    EXPECT_EQ(many, one) << threads << " threads";
+    EXPECT_EQ(many_position, one_position) << threads << " threads";
+  }
+}
+
+// The scene's frame (the culling's origin and diameter) by blocks of faces on several threads:
+// the same bits as one pass, a tie between +0.0 and -0.0 included (the first one met wins).
+TEST(SceneFrame, TheSameBitsOnEveryThreadCount) {
+  shadow::Scene scene;
+  std::mt19937 rng(35);
+  std::uniform_real_distribution<double> coordinate(0.0, 100.0);
+  for (std::size_t f = 0; f < 50000; ++f) {
+    shadow::Face face;
+    const double x = coordinate(rng), y = coordinate(rng);
+    face.vertices = {{x, y, 0.0}, {x + 1, y, 0.0}, {x, y + 1, 0.0}};
+    scene.faces.push_back(face);
+  }
+  // Every z is 0: -0.0 in the first face, +0.0 elsewhere; the smallest x is 0, -0.0 met first
+  // in a later block of faces.
+  for (glm::dvec3& v : scene.faces[0].vertices) v.z = -0.0;
+  scene.faces[20000].vertices[0] = {-0.0, 5.0, 0.0};
+  scene.faces[30000].vertices[0] = {0.0, 5.0, 0.0};
+  scene.faces[40000].vertices[1] = {-0.0, 6.0, 0.0};
+  auto bits = [](const shadow::core::SceneFrame& frame) {
+    std::array<unsigned char, 4 * sizeof(double)> out{};
+    const double values[4] = {frame.centre.x, frame.centre.y, frame.centre.z, frame.diagonal};
+    std::memcpy(out.data(), values, sizeof values);
+    return out;
+  };
+  const auto one = bits(shadow::core::scene_frame(scene, 1));
+  for (unsigned threads : {2u, 3u, 8u}) EXPECT_EQ(bits(shadow::core::scene_frame(scene, threads)), one) << threads;
+  // The first z met is -0.0: both ends of the box in z, hence the centre's z, are -0.0.
+  EXPECT_TRUE(std::signbit(shadow::core::scene_frame(scene, 4).centre.z));
+}
+
+// The light-space grid's cells filled on several threads (items in ranges, counted per range and
+// cell): every query visits the same faces in the same order as with one thread.
+TEST(LightSpaceGrid, TheSameQueriesOnEveryThreadCount) {
+  const shadow::Scene city = shadow::make_city(12000, 1700, 11);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+  std::vector<int> solid_of;
+  const auto solids = shadow::exact::find_convex_solids(city, prep, solid_of, 2);
+  ASSERT_EQ(solids.size(), 12000u);
+  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 2);
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087)}) {
+    auto visits = [&](unsigned threads, const std::vector<int>* of) {
+      const shadow::core::LightSpaceGrid grid(cull, prep, to_light, of, threads);
+      std::vector<std::size_t> out;
+      for (std::size_t f = 0; f < city.faces.size(); f += 7) {
+        out.push_back(grid.count(f));
+        grid.query(f, [&](std::size_t g) { out.push_back(g); });
+        out.push_back(SIZE_MAX);
+      }
+      return out;
+    };
+    const std::vector<int>* none = nullptr;
+    for (const std::vector<int>* of : {none, static_cast<const std::vector<int>*>(&solid_of)}) {
+      const std::vector<std::size_t> one = visits(1, of);
+      EXPECT_GT(one.size(), 3 * city.faces.size() / 7);
+      for (unsigned threads : {2u, 3u, 8u}) EXPECT_EQ(visits(threads, of), one) << threads << " threads";
+    }
+  }
+}

@@ -11,10 +11,14 @@
 #include <shadow/scene_io.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <map>
 #include <string>
 
 // exact/exact_faces.hpp declares it but brings in CGAL's kernel; the bench needs only this.
@@ -54,7 +58,55 @@ bool same_solids(const std::vector<shadow::core::ConvexSolid>& a, const std::vec
   return true;
 }
 
+/// Writes the faces of `mesh` as a Wavefront OBJ file, corners shared where their coordinates
+/// are the same (a box's 8 corners), 17 significant digits so that they read back exactly.
+void write_obj(const shadow::Scene& scene, std::size_t mesh, const std::filesystem::path& path) {
+  std::ofstream out(path);
+  out.precision(17);
+  std::map<std::array<double, 3>, std::size_t> index;
+  std::string faces;
+  const shadow::Mesh& m = scene.meshes[mesh];
+  for (std::size_t f = m.first_face; f < m.first_face + m.face_count; ++f) {
+    faces += 'f';
+    for (const glm::dvec3& v : scene.faces[f].vertices) {
+      const auto [it, added] = index.try_emplace({v.x, v.y, v.z}, index.size() + 1);
+      if (added) out << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+      faces += ' ' + std::to_string(it->second);
+    }
+    faces += '\n';
+    if (faces.size() > (1u << 20)) {
+      // Flushed in blocks: the faces come after every vertex they name, and a block's
+      // vertices were all written before it.
+      out << faces;
+      faces.clear();
+    }
+  }
+  out << faces;
+}
+
 }  // namespace
+
+int write_city(std::size_t boxes, double elevation, bool ground_only, const std::string& dir) {
+  const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
+  const shadow::Scene city = shadow::make_city(boxes, extent, 2026);
+  std::filesystem::create_directories(dir);
+  for (std::size_t m = 0; m < city.meshes.size(); ++m)
+    write_obj(city, m, std::filesystem::path(dir) / (city.meshes[m].name + ".obj"));
+  const glm::dvec3 to_light = shadow::sun_direction(elevation, 135.0);
+  std::ofstream scene(std::filesystem::path(dir) / "scene.json");
+  scene.precision(17);
+  scene << "{\n  \"meshes\": [";
+  for (std::size_t m = 0; m < city.meshes.size(); ++m)
+    scene << (m ? ", " : "") << "{\"name\": \"" << city.meshes[m].name << "\", \"file\": \"" << city.meshes[m].name
+          << ".obj\"}";
+  scene << "],\n  \"lights\": [{\"name\": \"sun\", \"type\": \"directional\", \"to_light\": [" << to_light.x
+        << ", " << to_light.y << ", " << to_light.z << "]}]";
+  if (ground_only) scene << ",\n  \"receivers\": [\"ground\"]";
+  scene << "\n}\n";
+  std::printf("%s: %zu boxes, %zu faces, sun at %g deg%s\n", dir.c_str(), boxes, city.faces.size(), elevation,
+              ground_only ? ", the ground receives" : "");
+  return scene.good() ? 0 : 1;
+}
 
 int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigned>& threads, int repeat, bool new_only) {
   bool all_same = true;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace bench {
@@ -15,5 +16,11 @@ namespace bench {
 /// runs each; checks that each pair's outcomes are identical. Prints a table; 1 on a difference.
 /// `new_only`: leave the references out (to profile the new code alone; nothing is compared).
 int run_prepare(const std::vector<std::size_t>& sizes, const std::vector<unsigned>& threads, int repeat, bool new_only);
+
+/// Writes the same city (a `sun` at `elevation`, azimuth 135) as `DIR/scene.json` with its
+/// meshes in `DIR/ground.obj` and `DIR/buildings.obj`, for timing `shadow compute` as a whole
+/// process (load, validation, preparation, compute, files). `ground_only`: only the ground
+/// receives (`"receivers": ["ground"]`).
+int write_city(std::size_t boxes, double elevation, bool ground_only, const std::string& dir);
 
 }  // namespace bench

@@ -197,6 +197,23 @@ int run_default(const std::vector<std::size_t>& sizes, const std::vector<unsigne
 
 using namespace bench;
 
+struct WriteCityArgs {
+  std::size_t boxes = 166667;
+  double elevation = 40;
+  bool ground_only = false;
+  std::string dir;
+};
+
+CLI::App* add_write_city_command(CLI::App& app, WriteCityArgs& a) {
+  CLI::App* cmd = app.add_subcommand(
+      "write-city", "Write the benchmark city as scene.json and OBJ files, to time `shadow compute` as a whole");
+  cmd->add_option("--boxes", a.boxes, "Boxes (extent 500 sqrt(boxes / 1000) m, as low-sun)")->check(CLI::PositiveNumber);
+  cmd->add_option("--elevation", a.elevation, "Sun elevation (degrees), azimuth 135");
+  cmd->add_flag("--ground-only", a.ground_only, "Only the ground receives");
+  cmd->add_option("--output", a.dir, "Folder to write")->required();
+  return cmd;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"shadow-bench: time libshadow's exact engine on generated cities and rooms"};
   std::vector<std::size_t> sizes{100, 1000, 10000};
@@ -302,6 +319,8 @@ int main(int argc, char** argv) {
   prepare_cmd->add_option("--repeat", prepare_repeat, "Runs per row; the fastest is kept")->check(CLI::PositiveNumber);
   bool prepare_new_only = false;
   prepare_cmd->add_flag("--new-only", prepare_new_only, "Leave the reference implementations out (for profiling)");
+  WriteCityArgs write_city;
+  CLI::App* write_cmd = add_write_city_command(app, write_city);
   LowSunArgs low;
   CLI::App* low_cmd = add_low_command(app, low);
   TilesArgs tiles;
@@ -333,6 +352,8 @@ int main(int argc, char** argv) {
   if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_opt);
   if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
+  if (write_cmd->parsed())
+    return bench::write_city(write_city.boxes, write_city.elevation, write_city.ground_only, write_city.dir);
   if (prepare_cmd->parsed()) return bench::run_prepare(prepare_sizes, prepare_threads, prepare_repeat, prepare_new_only);
   if (golden_cmd->parsed())
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);

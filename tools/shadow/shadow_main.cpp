@@ -110,6 +110,7 @@ int run_compute(const ComputeArgs& args) {
   shadow::Scene scene = shadow::load_scene(
       args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
                                             args.skip_invalid));
+  const auto loaded = Clock::now();
   if (scene.lights.empty() && !scene.sun)
     // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
     throw shadow::InputError({args.scene, ""},
@@ -136,10 +137,12 @@ int run_compute(const ComputeArgs& args) {
   run.options = options;  // without the progress callback, which is no part of the identity
   options.progress = [&](const shadow::Progress& p) { progress.update(p); };
   shadow::ShadowResult result;
+  Clock::time_point prepared;
   try {
     // compute_shadows(scene, options) in its two steps, so that running out of memory names the step.
     shadow_cli::set_stage(Stage::Preparing);
     const shadow::ShadowEngine engine(scene, options.threads);
+    prepared = Clock::now();
     shadow_cli::set_stage(Stage::Computing);
     result = shadow::compute_shadows(engine, options);
   } catch (const shadow::InputError& e) {
@@ -182,8 +185,10 @@ int run_compute(const ComputeArgs& args) {
       std::printf("  plane %-8s light %-12s shadow area %.6g%s\n", scene.planes[ps.plane_id].name.c_str(),
                   scene.lights[ps.light_id].name.c_str(), ps.area,
                   ps.reaches_window ? " (reaches the window's edge: the shadow is longer)" : "");
-    std::printf("  computed in %.3f s, written in %.3f s\n", seconds(computed - start),
-                seconds(finished - computed));
+    // The stages' wall times, so that a slow run says where its time went.
+    std::printf("  computed in %.3f s (read and validated %.3f s, prepared %.3f s, shadows %.3f s), written in %.3f s\n",
+                seconds(computed - start), seconds(loaded - start), seconds(prepared - loaded),
+                seconds(computed - prepared), seconds(finished - computed));
     std::printf("  output: %s\n", fs::absolute(args.outdir).lexically_normal().c_str());
     for (const fs::path& p : written) std::printf("    %s\n", p.filename().c_str());
     const fs::path result_dir = fs::absolute(args.outdir).lexically_normal();

@@ -40,9 +40,10 @@ struct LoadOptions {
   /// `lod` as written); empty: the highest level of each city object. A city object without
   /// geometry at the chosen level is left out with a warning.
   std::string cityjson_lod;
-  /// Threads for validation's per-face checks (0: every hardware thread; at most 1024, else an
-  /// InputError). The outcome does not depend on it: warnings come in face order, and the
-  /// error reported is that of the first face (in face order) that has one.
+  /// Threads for validation's per-face checks, and for reading a large OBJ file in parts and
+  /// making its faces (0: every hardware thread; at most 1024, else an InputError). The outcome
+  /// does not depend on it: faces come in file order, warnings in face order, and the error
+  /// reported is that of the first face (in face order, or the first line of a file) that has one.
   unsigned threads = 0;
   /// Leave out the faces that fail validation instead of stopping (`--skip-invalid`): a face
   /// with fewer than 3 distinct vertices, one beyond the planarity tolerance, one whose boundary

@@ -8,12 +8,32 @@
 #include <glm/common.hpp>
 
 #include <algorithm>
+#include <vector>
 
 namespace shadow::core {
 
-SceneFrame scene_frame(const Scene& scene) {
+SceneFrame scene_frame(const Scene& scene, unsigned threads) {
   if (scene.faces.empty()) return {};
-  const geometry::BoundingBox box = geometry::faces_bounding_box(scene.faces);
+  constexpr std::size_t kBlock = 16384;
+  const std::size_t n = scene.faces.size();
+  if (threads <= 1 || n <= kBlock) {
+    const geometry::BoundingBox box = geometry::faces_bounding_box(scene.faces);
+    return {box.centre(), std::max(box.diagonal(), 1e-300)};
+  }
+  // Each block's box, then the blocks' in order: min and max keep the first of equal values
+  // (+0.0 or -0.0), so this is the box one pass over the faces finds.
+  std::vector<geometry::BoundingBox> blocks((n + kBlock - 1) / kBlock);
+  runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f)
+      for (const glm::dvec3& v : scene.faces[f].vertices) blocks[b].add(v);
+  });
+  geometry::BoundingBox box;
+  for (const geometry::BoundingBox& block : blocks)
+    if (block.any) {
+      box.lo = glm::min(box.lo, block.lo);
+      box.hi = glm::max(box.hi, block.hi);
+      box.any = true;
+    }
   return {box.centre(), std::max(box.diagonal(), 1e-300)};
 }
 
@@ -69,7 +89,7 @@ void describe_face(const Scene& scene, const std::vector<FacePrep>& prep, std::s
 
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep, unsigned threads) {
   CullScene cull;
-  const SceneFrame frame = scene_frame(scene);
+  const SceneFrame frame = scene_frame(scene, runtime::resolve_threads(threads == 0 ? 1 : threads));
   cull.origin = frame.centre;
   cull.diameter = frame.diagonal;
   const std::size_t n = scene.faces.size();

@@ -135,21 +135,7 @@ class LightSpaceGrid {
         item_seen[i] = 1;
       }
     }
-    // Compressed rows: count, prefix sum, fill.
-    start_.assign(static_cast<std::size_t>(nu_) * nv_ + 1, 0);
-    for (std::size_t i = 0; i < items; ++i) for_cells(item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
-    home_.assign(static_cast<std::size_t>(nu_) * nv_, 0);
-    for (std::size_t f = 0; f < n; ++f)
-      if (!prep[f].degenerate) ++home_[cell_of(boxes_[f][0], boxes_[f][1])];
-    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-    entries_.resize(start_.back());
-    entry_boxes_.resize(start_.back());
-    std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < items; ++i)
-      for_cells(item_box[i], [&](std::size_t c) {
-        entry_boxes_[fill[c]] = item_box[i];
-        entries_[fill[c]++] = static_cast<std::uint32_t>(i);
-      });
+    fill_cells(prep, item_box, threads);
   }
 
   /// Calls visit(face) once for every face whose light-space box overlaps `face`'s.
@@ -240,6 +226,67 @@ class LightSpaceGrid {
     const int cv = std::clamp(static_cast<int>(std::floor((v - origin_[1]) / cell_v_)), 0, nv_ - 1);
     return static_cast<std::size_t>(cv) * nu_ + cu;
   }
+  /// The cells' compressed rows of items (`start_`, `entries_`, `entry_boxes_`: each cell's items
+  /// in increasing order) and `home_`. From kParallelCellItems items on, on `threads` threads: the
+  /// items in as many ranges, counted per range and cell, each range's place in a cell after the
+  /// ranges before it, so that every row is the one a single pass fills.
+  static constexpr std::size_t kParallelCellItems = 4096;
+  void fill_cells(const std::vector<FacePrep>& prep, const std::vector<Box>& item_box, unsigned threads) {
+    const std::size_t items = item_box.size(), n = boxes_.size(), cells = static_cast<std::size_t>(nu_) * nv_;
+    // At most 2^24 counters a table (ranges x cells): 64 MiB for both.
+    const std::size_t ranges = std::clamp<std::size_t>(
+        std::min<std::size_t>(items / kParallelCellItems, (std::size_t{1} << 24) / std::max<std::size_t>(cells, 1)), 1,
+        std::max(threads, 1u));
+    if (ranges == 1) {  // one pass: count, prefix sum, fill
+      start_.assign(cells + 1, 0);
+      for (std::size_t i = 0; i < items; ++i) for_cells(item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
+      home_.assign(cells, 0);
+      for (std::size_t f = 0; f < n; ++f)
+        if (!prep[f].degenerate) ++home_[cell_of(boxes_[f][0], boxes_[f][1])];
+      for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+      entries_.resize(start_.back());
+      entry_boxes_.resize(start_.back());
+      std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+      for (std::size_t i = 0; i < items; ++i)
+        for_cells(item_box[i], [&](std::size_t c) {
+          entry_boxes_[fill[c]] = item_box[i];
+          entries_[fill[c]++] = static_cast<std::uint32_t>(i);
+        });
+      return;
+    }
+    auto range_begin = [&](std::size_t r, std::size_t count) { return count * r / ranges; };
+    // count[r][c]: range r's items in cell c (then: where range r's next item of cell c goes).
+    std::vector<std::vector<std::uint32_t>> count(ranges, std::vector<std::uint32_t>(cells, 0));
+    std::vector<std::vector<std::uint32_t>> home(ranges, std::vector<std::uint32_t>(cells, 0));
+    runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
+      for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
+        for_cells(item_box[i], [&](std::size_t c) { ++count[r][c]; });
+      for (std::size_t f = range_begin(r, n); f < range_begin(r + 1, n); ++f)
+        if (!prep[f].degenerate) ++home[r][cell_of(boxes_[f][0], boxes_[f][1])];
+    });
+    start_.assign(cells + 1, 0);
+    home_.assign(cells, 0);
+    for (std::size_t c = 0; c < cells; ++c) {
+      std::uint32_t at = start_[c];
+      for (std::size_t r = 0; r < ranges; ++r) {
+        const std::uint32_t k = count[r][c];
+        count[r][c] = at;
+        at += k;
+        home_[c] += home[r][c];
+      }
+      start_[c + 1] = at;
+    }
+    entries_.resize(start_.back());
+    entry_boxes_.resize(start_.back());
+    runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
+      for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
+        for_cells(item_box[i], [&](std::size_t c) {
+          entry_boxes_[count[r][c]] = item_box[i];
+          entries_[count[r][c]++] = static_cast<std::uint32_t>(i);
+        });
+    });
+  }
+
   template <class Visit>
   void for_cells(const Box& b, Visit&& visit) const {
     const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
@@ -419,7 +466,9 @@ struct SceneFrame {
   glm::dvec3 centre{0.0};
   double diagonal = 1.0;
 };
-SceneFrame scene_frame(const Scene& scene);
+/// With `threads` > 1 the box is found by blocks of faces on that many threads, merged in order:
+/// the same box (every coordinate, -0.0 as one thread finds it) for any count.
+SceneFrame scene_frame(const Scene& scene, unsigned threads = 1);
 
 /// The faces in a local frame (scene centre subtracted), with unit normals; the faces divided
 /// among `threads` threads (0 counts as 1; the result does not depend on it).

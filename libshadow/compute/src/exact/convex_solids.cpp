@@ -45,13 +45,16 @@ void sort_by_v(EdgeUse* begin, EdgeUse* end) {
 /// Whether a face takes part in the search: exactly planar, not degenerate.
 bool takes_part(const core::FacePrep& p) { return !p.degenerate && p.exactly_planar; }
 
-/// Vertex ids by exact coordinates, numbered in order of first use: each corner's id (faces
-/// that take part, in face order) into corner_vertex, each id's position into vertex_position.
+}  // namespace
+
 void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep, std::vector<int>& corner_vertex,
-                     std::vector<glm::dvec3>& vertex_position) {
+                     std::vector<glm::dvec3>& vertex_position, unsigned threads) {
   const std::size_t n = scene.faces.size();
   const std::size_t corners = corner_vertex.size();
-  std::vector<PointKey> keys;
+  vertex_position.clear();
+  threads = std::max(1u, runtime::resolve_threads(threads));
+  if (threads == 1 || corners < kParallelNumberingCorners) {
+    std::vector<PointKey> keys;
     std::size_t size = 16;
     while (size < 2 * corners) size *= 2;
     const std::size_t mask = size - 1;
@@ -71,7 +74,97 @@ void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep
         corner_vertex[c++] = table[h];
       }
     }
+    return;
+  }
+  // On every thread, the same ids: each corner's position and hash (by blocks of faces); the
+  // corners in shards by hash, each shard in corner order; per shard, each corner's first corner
+  // with its coordinates; the first corners numbered in corner order (a prefix sum), which is
+  // the order of first use.
+  constexpr std::size_t kFaceBlock = 4096;
+  std::vector<std::size_t> face_corner(n + 1, 0);
+  for (std::size_t f = 0; f < n; ++f)
+    face_corner[f + 1] = face_corner[f] + (takes_part(prep[f]) ? scene.faces[f].vertices.size() : 0);
+  std::vector<glm::dvec3> position(corners);
+  std::vector<std::uint64_t> hash(corners);
+  runtime::parallel_for_blocks(n, kFaceBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      if (!takes_part(prep[f])) continue;
+      std::size_t c = face_corner[f];
+      for (const glm::dvec3& v : scene.faces[f].vertices) {
+        position[c] = v;
+        hash[c++] = geometry::point_key_hash(geometry::point_key(v));
+      }
+    }
+  });
+  constexpr unsigned kShardBits = 8;
+  constexpr std::size_t kShards = std::size_t{1} << kShardBits;
+  constexpr std::size_t kCornerBlock = 1 << 16;
+  const std::size_t blocks = (corners + kCornerBlock - 1) / kCornerBlock;
+  auto shard_of = [&](std::size_t c) { return static_cast<std::size_t>(hash[c] >> (64 - kShardBits)); };
+  // count[b * kShards + s]: block b's corners in shard s; then their place in the shard lists.
+  std::vector<std::size_t> count(blocks * kShards, 0);
+  runtime::parallel_for_blocks(corners, kCornerBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) ++count[b * kShards + shard_of(c)];
+  });
+  std::vector<std::size_t> shard_start(kShards + 1, 0);
+  {
+    std::size_t at = 0;
+    for (std::size_t s = 0; s < kShards; ++s) {
+      shard_start[s] = at;
+      for (std::size_t b = 0; b < blocks; ++b) {
+        const std::size_t k = count[b * kShards + s];
+        count[b * kShards + s] = at;
+        at += k;
+      }
+    }
+    shard_start[kShards] = at;
+  }
+  std::vector<std::uint32_t> in_shard(corners);
+  runtime::parallel_for_blocks(corners, kCornerBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) in_shard[count[b * kShards + shard_of(c)]++] = static_cast<std::uint32_t>(c);
+  });
+  // first[c]: the first corner with c's coordinates.
+  std::vector<std::uint32_t> first(corners);
+  runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
+    const std::size_t begin = shard_start[s], end = shard_start[s + 1];
+    std::size_t size = 16;
+    while (size < 2 * (end - begin)) size *= 2;
+    const std::size_t mask = size - 1;
+    std::vector<std::uint32_t> table(size, UINT32_MAX);  // a first corner, or empty
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t c = in_shard[i];
+      const PointKey key = geometry::point_key(position[c]);
+      std::size_t h = static_cast<std::size_t>(hash[c]) & mask;
+      while (table[h] != UINT32_MAX && geometry::point_key(position[table[h]]) != key) h = (h + 1) & mask;
+      if (table[h] == UINT32_MAX) table[h] = c;
+      first[c] = table[h];
+    }
+  });
+  // Ids of first corners in corner order: per block, then the blocks' offsets.
+  std::vector<std::size_t> firsts(blocks + 1, 0);
+  runtime::parallel_for_blocks(corners, kCornerBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t k = 0;
+    for (std::size_t c = begin; c < end; ++c) k += first[c] == c ? 1 : 0;
+    firsts[b + 1] = k;
+  });
+  for (std::size_t b = 0; b < blocks; ++b) firsts[b + 1] += firsts[b];
+  vertex_position.resize(firsts[blocks]);
+  runtime::parallel_for_blocks(corners, kCornerBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t id = firsts[b];
+    for (std::size_t c = begin; c < end; ++c)
+      if (first[c] == c) {
+        vertex_position[id] = position[c];
+        corner_vertex[c] = static_cast<int>(id++);
+      }
+  });
+  // Every other corner takes its first corner's id (set above, in any block).
+  runtime::parallel_for_blocks(corners, kCornerBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
+      if (first[c] != c) corner_vertex[c] = corner_vertex[first[c]];
+  });
 }
+
+namespace {
 
 /// Whether a part (its faces, `faces`) bounds a convex solid: every vertex of the part on or
 /// behind every face's plane (exact orientation). Then `solid` gets its vertices and edges;
@@ -155,7 +248,7 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   // Vertex ids by exact coordinates, numbered in order of first use.
   std::vector<int> corner_vertex(corners);
   std::vector<glm::dvec3> vertex_position;
-  number_vertices(scene, prep, corner_vertex, vertex_position);
+  number_vertices(scene, prep, corner_vertex, vertex_position, threads);
   const std::size_t vertex_count = vertex_position.size();
   auto face_vertex = [&](std::size_t f, std::size_t a) { return corner_vertex[corner_start[f] + a]; };
   auto face_size = [&](std::size_t f) { return corner_start[f + 1] - corner_start[f]; };

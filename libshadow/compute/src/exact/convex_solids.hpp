@@ -8,6 +8,7 @@
 
 #include <shadow/scene.hpp>
 
+#include <cstddef>
 #include <vector>
 
 namespace shadow::exact {
@@ -20,6 +21,17 @@ namespace shadow::exact {
 /// work runs on `threads` threads (0: every hardware thread), with the same result for any count.
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
                                             std::vector<int>& solid_of, unsigned threads = 0);
+
+/// Below this many corners number_vertices runs on one thread.
+inline constexpr std::size_t kParallelNumberingCorners = 4096;
+
+/// The vertices of the faces that take part in the search (exactly planar, not degenerate), by
+/// exact coordinates (-0.0 as 0.0), numbered in order of first use: `corner_vertex` (sized to
+/// their corners) gets each corner's id, faces in order; `vertex_position` each id's position.
+/// On `threads` threads (0: every hardware thread) from kParallelNumberingCorners corners on,
+/// with the same ids for any count.
+void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep, std::vector<int>& corner_vertex,
+                     std::vector<glm::dvec3>& vertex_position, unsigned threads);
 
 /// The previous implementation (ordered maps, one thread), kept as the reference that tests
 /// and shadow-bench compare find_convex_solids with: the same solids in the same order.

@@ -9,11 +9,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "runtime/parallel.hpp"
+
 #include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -23,6 +26,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -99,10 +103,11 @@ bool parse_index(std::string_view text, long long& index) {
   return !text.empty() && ec == std::errc() && ptr == text.data() + text.size();
 }
 
-/// Resolves one face reference (`v`, `v/t`, `v//n` or `v/t/n`) to a 0-based vertex index.
-std::size_t resolve_reference(std::string_view ref, std::size_t vertex_count) {
+/// The vertex index of one face reference (`v`, `v/t`, `v//n` or `v/t/n`), its syntax checked;
+/// `vertex_part` is set to the text of the vertex index.
+long long parse_reference(std::string_view ref, std::string_view& vertex_part) {
   const std::size_t slash = ref.find('/');
-  const std::string_view vertex_part = ref.substr(0, slash);
+  vertex_part = ref.substr(0, slash);
   long long index = 0;
   if (!parse_index(vertex_part, index))
     throw LineError{"face vertex reference " + quoted(ref) +
@@ -123,6 +128,11 @@ std::size_t resolve_reference(std::string_view ref, std::size_t vertex_count) {
       throw LineError{"face vertex reference " + quoted(ref) +
                       " is malformed (expected v, v/t, v//n or v/t/n with integer indices)"};
   }
+  return index;
+}
+
+/// `index` (written as `vertex_part`) as a 0-based vertex index, `vertex_count` vertices read so far.
+std::size_t resolve_index(long long index, std::string_view vertex_part, std::size_t vertex_count) {
   const auto count = static_cast<long long>(vertex_count);
   // Negative indices count back from the last vertex defined so far (-1 is the last one).
   const long long resolved = index > 0 ? index - 1 : count + index;
@@ -133,11 +143,24 @@ std::size_t resolve_reference(std::string_view ref, std::size_t vertex_count) {
   throw LineError{"vertex index " + std::string(vertex_part) + " is out of range" + so_far};
 }
 
+/// Resolves one face reference to a 0-based vertex index.
+std::size_t resolve_reference(std::string_view ref, std::size_t vertex_count) {
+  std::string_view vertex_part;
+  const long long index = parse_reference(ref, vertex_part);
+  return resolve_index(index, vertex_part, vertex_count);
+}
+
+/// The problem of a face with `n` references (fewer than 3).
+LineError too_few_vertices(std::size_t n) {
+  return LineError{"face has " + std::to_string(n) + (n == 1 ? " vertex" : " vertices") + "; at least 3 are needed"};
+}
+
 /// Calls `statement(text, line_number)` for every logical line: comments stripped, backslash
 /// continuations joined, CR of CRLF endings removed. The line number is where it starts.
+/// `text` may be a part of a file that starts at a line (`at_file_start` false: no BOM there).
 template <typename Statement>
-void for_each_statement(const std::string& text, Statement&& statement) {
-  std::size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // skip a UTF-8 BOM
+void for_each_statement(std::string_view text, Statement&& statement, bool at_file_start = true) {
+  std::size_t pos = at_file_start && text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // skip a UTF-8 BOM
   std::size_t line_number = 0;
   std::string joined;  // only used for continued lines
   while (pos < text.size()) {
@@ -172,6 +195,183 @@ void for_each_statement(const std::string& text, Statement&& statement) {
     if (hash != std::string_view::npos) line = line.substr(0, hash);
     statement(line, first_line);
   }
+}
+
+/// One part of an OBJ text read on its own thread (parse_obj_in_chunks): its vertices in order
+/// and its faces as vertex indices, resolved once every earlier part's vertex count is known.
+/// Lines are numbered from 1 within the part.
+struct ObjChunk {
+  struct RawFace {
+    std::size_t line = 0;
+    std::string_view text;        ///< the statement, to find a bad reference's text again
+    std::size_t refs_begin = 0, refs_end = 0;
+    std::size_t vertices_before = 0;  ///< the part's vertices read before it
+    long group = -1;              ///< index into `groups`; -1: the group the part starts with
+  };
+  std::string_view text;
+  std::vector<glm::dvec3> vertices;
+  std::vector<long long> refs;
+  std::vector<RawFace> faces;
+  std::vector<std::string> groups;  ///< the `o`/`g` names set in this part, in order
+  // The part's first error, if any: its line and problem; `face_refs` set when a face's
+  // reference was malformed, with the references before it (resolved first, as one thread does).
+  std::size_t error_line = 0;
+  std::string error;
+  std::optional<RawFace> error_face;
+};
+
+struct ChunkStop {};
+
+void parse_chunk(ObjChunk& chunk, bool at_file_start) {
+  long group = -1;
+  try {
+    for_each_statement(
+        chunk.text,
+        [&](std::string_view line, std::size_t line_number) {
+          ObjChunk::RawFace face;
+          try {
+            Tokens tokens(line);
+            const std::string_view keyword = tokens.next();
+            if (keyword == "v") {
+              glm::dvec3 v;
+              const char* axes[3] = {"x", "y", "z"};
+              for (int i = 0; i < 3; ++i) {
+                const std::string_view token = tokens.next();
+                if (token.empty())
+                  throw LineError{"vertex has " + std::to_string(i) + " coordinates; 3 are needed (v x y z)"};
+                v[i] = parse_coordinate(token, axes[i]);
+              }
+              chunk.vertices.push_back(v);
+            } else if (keyword == "f" || keyword == "fo") {
+              face = {line_number, line, chunk.refs.size(), chunk.refs.size(), chunk.vertices.size(), group};
+              std::string_view part;
+              for (std::string_view ref = tokens.next(); !ref.empty(); ref = tokens.next()) {
+                chunk.refs.push_back(parse_reference(ref, part));
+                face.refs_end = chunk.refs.size();
+              }
+              chunk.faces.push_back(face);
+            } else if (keyword == "o" || keyword == "g") {
+              std::string name;
+              for (std::string_view n = tokens.next(); !n.empty(); n = tokens.next()) {
+                if (!name.empty()) name += ' ';
+                name.append(n.data(), n.size());
+              }
+              chunk.groups.push_back(std::move(name));
+              group = static_cast<long>(chunk.groups.size()) - 1;
+            }
+          } catch (const LineError& e) {
+            chunk.error_line = line_number;
+            chunk.error = e.problem;
+            if (face.line == line_number) chunk.error_face = face;  // a face's reference was malformed
+            throw ChunkStop{};
+          }
+        },
+        at_file_start);
+  } catch (const ChunkStop&) {
+  }
+}
+
+/// Resolves `face`'s references with `before` vertices read before its part; the LineError of
+/// the first bad one (as resolve_reference throws it), or of too few references.
+void resolve_face(const ObjChunk& chunk, const ObjChunk::RawFace& face, std::size_t before, bool count_checked,
+                  const std::vector<glm::dvec3>& vertices, std::vector<glm::dvec3>* out) {
+  const std::size_t so_far = before + face.vertices_before;
+  for (std::size_t r = face.refs_begin; r < face.refs_end; ++r) {
+    const long long index = chunk.refs[r];
+    const long long count = static_cast<long long>(so_far);
+    const long long resolved = index > 0 ? index - 1 : count + index;
+    if (index != 0 && resolved >= 0 && resolved < count) {
+      if (out != nullptr) out->push_back(vertices[static_cast<std::size_t>(resolved)]);
+      continue;
+    }
+    // The error path: the reference's text again, for the message.
+    Tokens tokens(face.text);
+    tokens.next();
+    std::string_view ref;
+    for (std::size_t k = face.refs_begin; k <= r; ++k) ref = tokens.next();
+    std::string_view part;
+    parse_reference(ref, part);
+    resolve_index(index, part, so_far);  // throws
+  }
+  if (count_checked && face.refs_end - face.refs_begin < 3) throw too_few_vertices(face.refs_end - face.refs_begin);
+}
+
+/// parse_obj_with_lines on `threads` threads, when the text is large enough and has no continued
+/// line (those can join lines across a cut); false: read it on one thread instead.
+bool parse_obj_in_chunks(const std::string& text, const std::string& display_name, std::vector<std::size_t>* face_lines,
+                         std::vector<std::string>* face_groups, unsigned threads, std::size_t min_chunk_bytes,
+                         std::vector<std::vector<glm::dvec3>>& faces) {
+  threads = std::min(runtime::resolve_threads(threads), runtime::kMaxThreads);  // (validation rejects more)
+  min_chunk_bytes = std::max<std::size_t>(min_chunk_bytes, 1);
+  if (threads < 2 || text.size() < 2 * min_chunk_bytes || text.find('\\') != std::string::npos) return false;
+  // Parts that start at a line: a few per thread, so that uneven ones even out.
+  const std::size_t parts = std::min<std::size_t>(std::size_t{4} * threads, text.size() / min_chunk_bytes);
+  std::vector<ObjChunk> chunks;
+  for (std::size_t begin = 0, k = 1; begin < text.size(); ++k) {
+    std::size_t end = k >= parts ? text.size() : std::max(begin + 1, text.size() * k / parts);
+    end = end >= text.size() ? text.size() : text.find('\n', end - 1);
+    end = end == std::string::npos ? text.size() : end + 1;
+    chunks.emplace_back().text = std::string_view(text).substr(begin, end - begin);
+    begin = end;
+  }
+  const std::size_t n = chunks.size();
+  if (n == 0 || n > text.size()) return false;  // (never: the text is not empty)
+  std::vector<std::size_t> newlines(n, 0);
+  runtime::parallel_for(n, threads, [&](unsigned, std::size_t k) {
+    parse_chunk(chunks[k], k == 0);
+    newlines[k] = static_cast<std::size_t>(std::count(chunks[k].text.begin(), chunks[k].text.end(), '\n'));
+  });
+  // Where each part starts: its first line, its first vertex and face, the group in force.
+  std::vector<std::size_t> line0(n, 0), vertex0(n, 0), face0(n + 1, 0);
+  std::vector<std::string> group0(n);
+  for (std::size_t k = 1; k < n; ++k) {
+    line0[k] = line0[k - 1] + newlines[k - 1];
+    vertex0[k] = vertex0[k - 1] + chunks[k - 1].vertices.size();
+    group0[k] = chunks[k - 1].groups.empty() ? group0[k - 1] : chunks[k - 1].groups.back();
+  }
+  for (std::size_t k = 0; k < n; ++k) face0[k + 1] = face0[k] + chunks[k].faces.size();
+  std::vector<glm::dvec3> vertices(vertex0.back() + chunks.back().vertices.size());
+  runtime::parallel_for(n, threads, [&](unsigned, std::size_t k) {
+    std::copy(chunks[k].vertices.begin(), chunks[k].vertices.end(), vertices.begin() + static_cast<std::ptrdiff_t>(vertex0[k]));
+  });
+  faces.assign(face0[n], {});
+  if (face_lines != nullptr) face_lines->assign(face0[n], 0);
+  if (face_groups != nullptr) face_groups->assign(face0[n], {});
+  // Every part's faces; the first error of the file is the first part's that has one: a bad
+  // reference comes before the part's own error (its faces precede that line).
+  std::vector<std::optional<LineError>> failed(n);
+  std::vector<std::size_t> failed_line(n, 0);
+  runtime::parallel_for(n, threads, [&](unsigned, std::size_t k) {
+    const ObjChunk& chunk = chunks[k];
+    for (std::size_t i = 0; i < chunk.faces.size(); ++i) {
+      const ObjChunk::RawFace& face = chunk.faces[i];
+      std::vector<glm::dvec3>& out = faces[face0[k] + i];
+      out.reserve(face.refs_end - face.refs_begin);
+      try {
+        resolve_face(chunk, face, vertex0[k], true, vertices, &out);
+      } catch (const LineError& e) {
+        failed[k] = e;
+        failed_line[k] = face.line;
+        return;
+      }
+      if (face_lines != nullptr) (*face_lines)[face0[k] + i] = line0[k] + face.line;
+      if (face_groups != nullptr)
+        (*face_groups)[face0[k] + i] = face.group < 0 ? group0[k] : chunk.groups[static_cast<std::size_t>(face.group)];
+    }
+    if (chunk.error.empty()) return;
+    failed_line[k] = chunk.error_line;
+    failed[k] = LineError{chunk.error};
+    if (chunk.error_face) {
+      try {
+        resolve_face(chunk, *chunk.error_face, vertex0[k], false, vertices, nullptr);
+      } catch (const LineError& e) {
+        failed[k] = e;
+      }
+    }
+  });
+  for (std::size_t k = 0; k < n; ++k)
+    if (failed[k]) throw InputError({display_name, "line " + std::to_string(line0[k] + failed_line[k])}, failed[k]->problem);
+  return true;
 }
 
 [[noreturn]] void throw_open_error(const std::string& display_name, const char* what, int error) {
@@ -240,7 +440,11 @@ namespace detail {
 std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj_text,
                                                           const std::string& display_name,
                                                           std::vector<std::size_t>* face_lines,
-                                                          std::vector<std::string>* face_groups) {
+                                                          std::vector<std::string>* face_groups, unsigned threads,
+                                                          std::size_t min_chunk_bytes) {
+  if (std::vector<std::vector<glm::dvec3>> faces;
+      parse_obj_in_chunks(obj_text, display_name, face_lines, face_groups, threads, min_chunk_bytes, faces))
+    return faces;
   std::vector<glm::dvec3> vertices;
   std::string group;  // the latest `o` or `g` name: the name of the faces that follow
   std::vector<std::vector<glm::dvec3>> faces;
@@ -266,9 +470,7 @@ std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj
         scratch.clear();
         for (std::string_view ref = tokens.next(); !ref.empty(); ref = tokens.next())
           scratch.push_back(vertices[resolve_reference(ref, vertices.size())]);
-        if (scratch.size() < 3)
-          throw LineError{"face has " + std::to_string(scratch.size()) +
-                          (scratch.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed"};
+        if (scratch.size() < 3) throw too_few_vertices(scratch.size());
         faces.emplace_back(scratch.begin(), scratch.end());  // one allocation of the right size
         if (face_lines != nullptr) face_lines->push_back(line_number);
         if (face_groups != nullptr) face_groups->push_back(group);

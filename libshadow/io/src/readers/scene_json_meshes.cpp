@@ -9,6 +9,7 @@
 #include "readers/json_document.hpp"
 #include "readers/model_dispatch.hpp"
 #include "readers/obj_reader.hpp"
+#include "runtime/parallel.hpp"
 #include "validation/planarity.hpp"
 
 #include <shadow/input_file.hpp>
@@ -331,15 +332,28 @@ void SceneReader::load_faces(PendingMesh pending) {
                             "mesh file is Wavefront OBJ, CityJSON or EnergyPlus IDF/epJSON");
     std::vector<std::size_t> lines;
     std::vector<std::string> groups;
-    std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups);
+    std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups, options_.threads);
     text.clear();
     if (polygons.empty())
       // An empty result would pass for a computed one: a mesh file with no face is an error.
       fail(member(pending.path, "file"), quote(display) + " has no faces: no f statements (read as Wavefront OBJ; "
                                                             "a CityJSON or EnergyPlus model is recognised by its content)");
     new_mesh(pending.name);
-    for (std::size_t j = 0; j < polygons.size(); ++j)
-      add_face(std::move(polygons[j]), {display, "line " + std::to_string(lines[j])}, groups[j], "");
+    // The faces made on every thread (a million-face file: placing vertices, a source and a
+    // name each), in file order.
+    const std::size_t first = scene_.faces.size(), mesh = scene_.meshes.size() - 1;
+    scene_.faces.resize(first + polygons.size());
+    const unsigned threads = std::min(runtime::resolve_threads(options_.threads), runtime::kMaxThreads);
+    runtime::parallel_for_blocks(polygons.size(), 4096, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j) {
+        Face& face = scene_.faces[first + j];
+        face.vertices = std::move(polygons[j]);
+        for (glm::dvec3& v : face.vertices) v = place(pending, v);
+        face.mesh = mesh;
+        face.source = {display, "line " + std::to_string(lines[j])};
+        face.name = std::move(groups[j]);
+      }
+    });
   } else {
     new_mesh(pending.name);
     if (pending.polygons.empty())

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "runtime/parallel.hpp"
 #include "writers/face_identity_json.hpp"
 #include "writers/names.hpp"
 
@@ -106,38 +107,122 @@ Json sun_json(const Scene& scene) {
   return j;
 }
 
-/// One face's report entry from its FaceLighting entries (all for `face_id`).
-Json face_json(const Scene& scene, std::size_t face_id,
-               const std::vector<const FaceLighting*>& entries, bool fast) {
-  std::string mesh;
-  if (face_id < scene.faces.size() && scene.faces[face_id].mesh < scene.meshes.size())
-    mesh = scene.meshes[scene.faces[face_id].mesh].name;
-  Json lights = Json::array();
-  for (const FaceLighting* e : entries) {
-    lights.push_back({{"light", e->light_id},
-                      {"light_name", detail::light_display_name(scene, e->light_id)},
-                      {"lit_area", e->lit_area},
-                      {"shadow_area", e->shadow_area},
-                      {"lit_fraction", e->lit_fraction},
-                      {"faces_light", e->faces_light}});
-    // The fast path's certificate: |lit_area - exact lit area| <= this (additive key).
-    if (fast) lights.back()["lit_area_error_bound"] = e->lit_area_error_bound;
-    // Cells too thin to be written as double polygons (additive key, only when there are some).
-    if (e->dropped_area > 0) lights.back()["dropped_area"] = e->dropped_area;
-    // An extended light's exact regions (docs/area-lights.md; additive keys, extended lights only).
-    if (e->light_id < scene.lights.size() && scene.lights[e->light_id].is_extended()) {
-      lights.back()["fully_lit_area"] = e->fully_lit_area;
-      lights.back()["penumbra_area"] = e->penumbra_area;
-      lights.back()["umbra_area"] = e->umbra_area;
+/// A number as nlohmann's serializer writes it (its shortest round-trip form, `null` when not
+/// finite), appended without building a value.
+void append_number(std::string& out, double x) {
+  if (!std::isfinite(x)) {
+    out += "null";
+    return;
+  }
+  char buffer[64];
+  char* end = nlohmann::detail::to_chars(buffer, buffer + sizeof buffer, x);
+  out.append(buffer, static_cast<std::size_t>(end - buffer));
+}
+
+/// A JSON string as nlohmann writes it (escapes, bytes that are not UTF-8 replaced): printable
+/// ASCII without quote or backslash is copied as is, anything else goes through nlohmann.
+void append_string(std::string& out, const std::string& text) {
+  const bool plain = std::all_of(text.begin(), text.end(), [](char c) {
+    return c >= 0x20 && c < 0x7f && c != '"' && c != '\\';
+  });
+  if (plain) {
+    out += '"';
+    out += text;
+    out += '"';
+  } else {
+    out += Json(text).dump(-1, ' ', false, Json::error_handler_t::replace);
+  }
+}
+
+/// What face entries share: each light's and mesh's name as JSON text, made once.
+struct EntryNames {
+  std::vector<std::string> lights;  ///< by light id; ids past the scene's are made when met
+  std::vector<std::string> meshes;  ///< by mesh id
+  EntryNames(const Scene& scene, std::size_t light_ids) {
+    for (std::size_t l = 0; l < light_ids; ++l) {
+      lights.emplace_back();
+      append_string(lights.back(), detail::light_display_name(scene, l));
+    }
+    for (const Mesh& mesh : scene.meshes) {
+      meshes.emplace_back();
+      append_string(meshes.back(), mesh.name);
     }
   }
-  Json entry = {{"id", face_id}, {"mesh", mesh}};
-  // Identity and orientation (docs/scene-format.md, "Named faces"): which surface this is,
-  // where it was read, which way it faces.
-  detail::add_face_identity(entry, scene, face_id);
-  entry["area"] = entries.front()->area;
-  entry["lights"] = lights;
-  return entry;
+};
+
+/// Appends face `face_id`'s report entry from its FaceLighting entries (all for `face_id`), as
+/// the faces array holds it (4 spaces in, 2 more a level): the text nlohmann's dump(2) gives for
+/// the whole document, written directly (a million faces' entries built as values and dumped
+/// took most of a report's time). Keys in this order; those after `faces_light` are additive.
+void append_face_entry(std::string& out, const Scene& scene, const EntryNames& names, std::size_t face_id,
+                       const std::vector<const FaceLighting*>& entries, bool fast) {
+  auto member = [&out](const char* indent_and_key) { out += indent_and_key; };
+  out += "{\n      \"id\": ";
+  out += std::to_string(face_id);
+  member(",\n      \"mesh\": ");
+  const std::size_t mesh = face_id < scene.faces.size() ? scene.faces[face_id].mesh : scene.meshes.size();
+  out += mesh < names.meshes.size() ? names.meshes[mesh] : std::string("\"\"");
+  if (face_id < scene.faces.size()) {
+    const Face& face = scene.faces[face_id];
+    const detail::FaceOrientation o = detail::face_orientation(face, detail::north_axis_of(scene));
+    member(",\n      \"name\": ");
+    append_string(out, face.name);
+    member(",\n      \"source\": ");
+    append_string(out, face.source.to_string());
+    if (!face.kind.empty()) {
+      member(",\n      \"kind\": ");
+      append_string(out, face.kind);
+    }
+    member(",\n      \"normal\": [\n        ");
+    append_number(out, o.normal.x);
+    out += ",\n        ";
+    append_number(out, o.normal.y);
+    out += ",\n        ";
+    append_number(out, o.normal.z);
+    member("\n      ],\n      \"azimuth\": ");
+    append_number(out, o.azimuth);
+    member(",\n      \"tilt\": ");
+    append_number(out, o.tilt);
+  }
+  member(",\n      \"area\": ");
+  append_number(out, entries.front()->area);
+  member(",\n      \"lights\": [");
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const FaceLighting& e = *entries[i];
+    out += i == 0 ? "\n        {\n          \"light\": " : ",\n        {\n          \"light\": ";
+    out += std::to_string(e.light_id);
+    member(",\n          \"light_name\": ");
+    if (e.light_id < names.lights.size()) out += names.lights[e.light_id];
+    else append_string(out, detail::light_display_name(scene, e.light_id));
+    member(",\n          \"lit_area\": ");
+    append_number(out, e.lit_area);
+    member(",\n          \"shadow_area\": ");
+    append_number(out, e.shadow_area);
+    member(",\n          \"lit_fraction\": ");
+    append_number(out, e.lit_fraction);
+    member(e.faces_light ? ",\n          \"faces_light\": true" : ",\n          \"faces_light\": false");
+    // The fast path's certificate: |lit_area - exact lit area| <= this.
+    if (fast) {
+      member(",\n          \"lit_area_error_bound\": ");
+      append_number(out, e.lit_area_error_bound);
+    }
+    // Cells too thin to be written as double polygons (only when there are some).
+    if (e.dropped_area > 0) {
+      member(",\n          \"dropped_area\": ");
+      append_number(out, e.dropped_area);
+    }
+    // An extended light's exact regions (docs/area-lights.md).
+    if (e.light_id < scene.lights.size() && scene.lights[e.light_id].is_extended()) {
+      member(",\n          \"fully_lit_area\": ");
+      append_number(out, e.fully_lit_area);
+      member(",\n          \"penumbra_area\": ");
+      append_number(out, e.penumbra_area);
+      member(",\n          \"umbra_area\": ");
+      append_number(out, e.umbra_area);
+    }
+    out += "\n        }";
+  }
+  out += "\n      ]\n    }";
 }
 
 /// Pretty-printed (indent > 0) or compact text. Names come from user files: bytes that are not
@@ -146,15 +231,22 @@ std::string dump(const Json& value, int indent = -1) {
   return value.dump(indent, ' ', false, Json::error_handler_t::replace);
 }
 
-/// `text` (a pretty-printed value) indented by `indent` more spaces after each newline.
-/// JSON strings never hold a raw newline, so this cannot touch their content.
+/// Appends `text` (a pretty-printed value) to `out`, indented by `indent` more spaces after each
+/// newline. JSON strings never hold a raw newline, so this cannot touch their content.
+void append_indented(std::string& out, const std::string& text, std::size_t indent) {
+  std::size_t from = 0;
+  for (std::size_t nl = text.find('\n'); nl != std::string::npos; nl = text.find('\n', from)) {
+    out.append(text, from, nl + 1 - from);
+    out.append(indent, ' ');
+    from = nl + 1;
+  }
+  out.append(text, from, std::string::npos);
+}
+
 std::string indent_more(const std::string& text, std::size_t indent) {
   std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    out += c;
-    if (c == '\n') out.append(indent, ' ');
-  }
+  out.reserve(text.size() + text.size() / 8);
+  append_indented(out, text, indent);
   return out;
 }
 
@@ -196,6 +288,36 @@ void write_report_json(std::ostream& out, const Scene& scene, const ShadowResult
 
 namespace {
 
+/// The faces array's entries, `group_start` giving each face's first entry (then
+/// entries.size()): made on every thread (a million faces: most of the report's time), a window
+/// of blocks at a time so that the text held stays small, and written in face order: the same
+/// bytes whatever the thread count.
+void write_face_entries(std::ostream& out, const Scene& scene, const std::vector<const FaceLighting*>& entries,
+                        const std::vector<std::size_t>& group_start, bool fast, unsigned requested_threads) {
+  const std::size_t receiving_faces = group_start.size() - 1;
+  const unsigned threads = runtime::resolve_threads(requested_threads);
+  const EntryNames names(scene, scene.lights.size());
+  constexpr std::size_t kFacesPerBlock = 1024;
+  const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
+  std::vector<std::string> block_text(std::min<std::size_t>(blocks, std::size_t{4} * threads));
+  for (std::size_t first = 0; first < blocks; first += block_text.size()) {
+    const std::size_t count = std::min(block_text.size(), blocks - first);
+    runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(threads, count)), [&](unsigned, std::size_t k) {
+      std::string& text = block_text[k];
+      text.clear();
+      std::vector<const FaceLighting*> group;
+      const std::size_t end = std::min(receiving_faces, (first + k + 1) * kFacesPerBlock);
+      for (std::size_t g = (first + k) * kFacesPerBlock; g < end; ++g) {
+        group.assign(entries.begin() + static_cast<std::ptrdiff_t>(group_start[g]),
+                     entries.begin() + static_cast<std::ptrdiff_t>(group_start[g + 1]));
+        text += g == 0 ? "\n    " : ",\n    ";
+        append_face_entry(text, scene, names, group.front()->face_id, group, fast);
+      }
+    });
+    for (std::size_t k = 0; k < count; ++k) out << block_text[k];
+  }
+}
+
 void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run) {
   // Entries by face then light, whatever order they came in (the engine already sorts them).
   std::vector<const FaceLighting*> entries;
@@ -232,13 +354,12 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   member("lights", dump(lights_json(scene), 2));
   if (scene.sun) member("sun", dump(sun_json(scene), 2));
 
-  out << "  \"faces\": [";
-  std::vector<const FaceLighting*> group;
+  // The faces' totals in face order, on one thread (the sums' bits follow their order)...
+  std::vector<std::size_t> group_start;  // each face's first entry, then entries.size()
   for (std::size_t i = 0; i < entries.size();) {
     const std::size_t face_id = entries[i]->face_id;
-    group.clear();
+    group_start.push_back(i);
     for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
-      group.push_back(entries[i]);
       LightTotals& totals = per_light[entries[i]->light_id];
       totals.area.add(entries[i]->area);
       totals.lit_area.add(entries[i]->lit_area);
@@ -249,11 +370,13 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
         m.lit_area.add(entries[i]->lit_area);
       }
     }
-    ++receiving_faces;
-    total_area.add(group.front()->area);
-    out << (receiving_faces == 1 ? "\n    " : ",\n    ")
-        << indent_more(dump(face_json(scene, face_id, group, fast), 2), 4);
+    total_area.add(entries[group_start.back()]->area);
   }
+  receiving_faces = group_start.size();
+  group_start.push_back(entries.size());
+  // ... and their text on every thread.
+  out << "  \"faces\": [";
+  write_face_entries(out, scene, entries, group_start, fast, run != nullptr ? run->options.threads : 0);
   out << (receiving_faces == 0 ? "],\n" : "\n  ],\n");
 
   Json planes = Json::array();

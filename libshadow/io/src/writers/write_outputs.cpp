@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
+#include "runtime/parallel.hpp"
 #include "writers/series_outputs.hpp"
 #include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
@@ -16,6 +17,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <ctime>
 #include <algorithm>
 #include <cstdio>
@@ -191,24 +193,46 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   };
   // Fragments first: by far the largest file, so a full disk shows up before the others.
   const auto fragments = staged.stage("fragments.vtp");
-  detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
-                         fragments.final_path);
   const auto faces = staged.stage("faces.vtp");
-  detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path);
   const auto plane_shadows = staged.stage("plane_shadows.vtp");
-  detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
-                         plane_shadows.final_path);
   const auto lights = staged.stage("lights.vtp");
-  detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path);
   const auto vtm = staged.stage("scene.vtm");
-  detail::write_vtm(
-      {{"faces", "faces.vtp"},
-       {"fragments", "fragments.vtp"},
-       {"plane_shadows", "plane_shadows.vtp"},
-       {"lights", "lights.vtp"}},
-      vtm.temp, vtm.final_path);
   const auto report = staged.stage("report.json");  // staged last, so placed last
-  write_report_file(report, scene, result, run);
+  auto write_vtk = [&] {
+    detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
+                           fragments.final_path);
+    detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path);
+    detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
+                           plane_shadows.final_path);
+    detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path);
+    detail::write_vtm(
+        {{"faces", "faces.vtp"},
+         {"fragments", "fragments.vtp"},
+         {"plane_shadows", "plane_shadows.vtp"},
+         {"lights", "lights.vtp"}},
+        vtm.temp, vtm.final_path);
+  };
+  const unsigned threads = runtime::resolve_threads(run != nullptr ? run->options.threads : 0);
+  if (threads == 1) {
+    write_vtk();
+    write_report_file(report, scene, result, run);
+    return staged.commit();
+  }
+  // The VTK files (compressed on one thread: a million faces' faces.vtp takes seconds) on one
+  // thread while report.json is made on the others. Only this one thread touches VTK. Either
+  // may fail: the VTK files' error is reported first, as when they were written first; every
+  // temporary is removed by `staged` either way.
+  std::exception_ptr errors[2];
+  runtime::parallel_for(2, 2, [&](unsigned, std::size_t task) {
+    try {
+      if (task == 0) write_vtk();
+      else write_report_file(report, scene, result, run);
+    } catch (...) {
+      errors[task] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
   return staged.commit();
 }
 
