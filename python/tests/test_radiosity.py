@@ -43,3 +43,15 @@ def test_radiosity_furnace():
     assert math.isclose(r["emitted_power"] + r["direct_power"],
                         r["absorbed_power"] + r["escaped_power"] + r["unshot_power"], rel_tol=1e-9)
     assert scene.materials[0].reflectance == 0.5 and scene.materials[0].emittance == 4
+    # Grey: every channel is the scalar solution.
+    assert not r["colour"]
+    assert r["elements"]["radiosity_rgb"].shape == (len(r["elements"]["radiosity"]), 3)
+    assert all(abs(row[1] - b) < 1e-12 for row, b in zip(r["elements"]["radiosity_rgb"], r["elements"]["radiosity"]))
+    # In colour each channel is its own furnace: B_c = E / (1 - rho_c).
+    coloured = libshadow.scene_from_data(
+        meshes=[{"name": "room", "material": "tinted", "polygons": [inward(p) for p in room]}],
+        materials=[{"name": "tinted", "reflectance": [0.25, 0.5, 0.75], "emittance": 4}])
+    c = libshadow.radiosity(coloured, max_element_area=0.25, tolerance=1e-5, threads=2)
+    assert c["colour"]
+    for k, rho in enumerate((0.25, 0.5, 0.75)):
+        assert all(abs(row[k] - 4 / (1 - rho)) < 2e-3 * 4 / (1 - rho) for row in c["faces"]["radiosity_rgb"])
