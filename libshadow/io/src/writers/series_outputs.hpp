@@ -16,6 +16,23 @@ class vtkPolyData;
 
 namespace shadow::detail {
 
+/// One instant's values for every row of a series: element r of each array is at [r * stride].
+/// (stride = SeriesResult::instants for a column of the row-major table, 1 for a column of
+/// instant-major columns.)
+struct SeriesColumn {
+  const double* lit_area = nullptr;
+  const double* lit_fraction = nullptr;
+  const unsigned char* faces_light = nullptr;
+  const double* lit_area_error_bound = nullptr;
+  std::size_t stride = 1;
+};
+
+/// Instant `instant` of a whole table.
+SeriesColumn column_of_table(const SeriesResult& series, std::size_t instant);
+
+/// A sun series' per-instant file name in OUTDIR/series/: `sun_NNNNN.vtp` or `fragments_NNNNN.vtp`.
+bool is_series_instant_name(const std::string& name);
+
 /// Every face (geometry, face_id, mesh, receiver, area), the base of the series datasets.
 vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene);
 
@@ -23,6 +40,9 @@ vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene);
 /// `faces_light` (and `lit_area_error_bound` for the fast path); NaN on faces not computed.
 vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& series,
                                                  std::size_t instant);
+/// The same for one column (`shape`: the rows and the arithmetic; its cells are not read).
+vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& shape,
+                                                 const SeriesColumn& column);
 
 /// faces.vtp of a series: the base with `sun_hours` (and `sun_hours_error_bound`, fast path).
 vtkSmartPointer<vtkPolyData> make_series_faces(vtkPolyData* base, const SeriesResult& series,
