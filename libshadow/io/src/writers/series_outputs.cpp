@@ -60,11 +60,6 @@ vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene) {
   return poly;
 }
 
-SeriesColumn column_of_table(const SeriesResult& series, std::size_t instant) {
-  return {series.lit_area.data() + instant, series.lit_fraction.data() + instant, series.faces_light.data() + instant,
-          series.lit_area_error_bound.data() + instant, series.instants};
-}
-
 bool is_series_instant_name(const std::string& name) {
   for (const std::string prefix : {"sun_", "fragments_"}) {
     const std::size_t n = prefix.size();
@@ -77,7 +72,7 @@ bool is_series_instant_name(const std::string& name) {
 }
 
 vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& series, std::size_t instant) {
-  return make_series_instant(base, series, column_of_table(series, instant));
+  return make_series_instant(base, series, SeriesColumn::of(series, instant));
 }
 
 vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& shape, const SeriesColumn& column) {

@@ -16,20 +16,6 @@ class vtkPolyData;
 
 namespace shadow::detail {
 
-/// One instant's values for every row of a series: element r of each array is at [r * stride].
-/// (stride = SeriesResult::instants for a column of the row-major table, 1 for a column of
-/// instant-major columns.)
-struct SeriesColumn {
-  const double* lit_area = nullptr;
-  const double* lit_fraction = nullptr;
-  const unsigned char* faces_light = nullptr;
-  const double* lit_area_error_bound = nullptr;
-  std::size_t stride = 1;
-};
-
-/// Instant `instant` of a whole table.
-SeriesColumn column_of_table(const SeriesResult& series, std::size_t instant);
-
 /// A sun series' per-instant file name in OUTDIR/series/: `sun_NNNNN.vtp` or `fragments_NNNNN.vtp`.
 bool is_series_instant_name(const std::string& name);
 

@@ -59,6 +59,8 @@ class SeriesStream {
   /// @returns the paths in the order placed
   /// @throws OutputError
   std::vector<std::filesystem::path> finish(const RunInfo* run);
+  /// The named surfaces with their areas and (after finish) sun hours; no lit_fraction.
+  [[nodiscard]] const SurfaceSeries& surfaces() const { return surfaces_; }
 
  private:
   struct Owned;

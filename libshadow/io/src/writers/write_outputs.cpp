@@ -215,10 +215,26 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
                                                     const RunInfo* run) {
   // The whole table through the stream that a series job feeds as its instants complete: one
   // writer, so the files are the same whichever way the series came.
-  detail::SeriesStream stream(impl_->outdir, scene, suns, series, files);
-  for (std::size_t i = 0; i < series.instants; ++i) stream.add(i, detail::column_of_table(series, i));
+  SeriesFileStream stream = stream_series(scene, suns, series, files);
+  for (std::size_t i = 0; i < series.instants; ++i) stream.add(i, SeriesColumn::of(series, i));
   return stream.finish(run);
 }
+
+SeriesFileStream OutputDirectory::stream_series(const Scene& scene, const SunSeries& suns, const SeriesResult& shape,
+                                                const SeriesFiles& files) {
+  return SeriesFileStream(std::make_unique<detail::SeriesStream>(impl_->outdir, scene, suns, shape, files));
+}
+
+SeriesFileStream::SeriesFileStream(std::unique_ptr<detail::SeriesStream> impl) : impl_(std::move(impl)) {}
+SeriesFileStream::SeriesFileStream(SeriesFileStream&&) noexcept = default;
+SeriesFileStream& SeriesFileStream::operator=(SeriesFileStream&&) noexcept = default;
+SeriesFileStream::~SeriesFileStream() = default;
+
+void SeriesFileStream::add(std::size_t instant, const SeriesColumn& column) { impl_->add(instant, column); }
+void SeriesFileStream::add_stats(const ShadowStats& stats) { impl_->add_stats(stats); }
+std::size_t SeriesFileStream::written() const { return impl_->written(); }
+std::vector<fs::path> SeriesFileStream::finish(const RunInfo* run) { return impl_->finish(run); }
+const SurfaceSeries& SeriesFileStream::surfaces() const { return impl_->surfaces(); }
 
 std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
                                     const ShadowResult& result) {
