@@ -162,6 +162,7 @@ std::vector<std::string> mesh_names(const std::string& list) {
 
 shadow::SeriesJobOptions job_options(const SeriesArgs& args) {
   shadow::SeriesJobOptions o;
+  o.keep_table = false;  // the files are streamed: memory does not grow with the instants
   o.scene = args.scene;
   o.output = args.outdir;
   o.load = shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
@@ -278,7 +279,7 @@ void print_no_energyplus(const shadow::SeriesJobResult& r, const SeriesArgs& arg
 }
 
 void print_summary(const shadow::SeriesJobResult& r, const SeriesArgs& args) {
-  const shadow::SurfaceSeries surfaces = shadow::surface_series(r.scene, r.series, r.suns.hours_per_instant);
+  const shadow::SurfaceSeries& surfaces = r.surfaces;  // the job's sums: it keeps no table (keep_table false)
   std::printf("shadow %s series: %zu instants, %zu above the horizon, %zu receiving faces, %zu named surfaces (%s)\n",
               shadow::version(), r.suns.all_instants, r.suns.lights.size(), r.series.faces.size(),
               surfaces.surfaces.size(), args.fast ? "fast" : "exact");

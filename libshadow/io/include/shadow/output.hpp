@@ -42,6 +42,62 @@ struct RunInfo {
 /// The current time as ISO 8601 UTC, to the second: `2026-11-23T13:40:00Z`.
 std::string utc_now();
 
+namespace detail {
+class SeriesStream;
+}
+
+/// One instant's values for every row of a series (SeriesResult::faces): element r of each
+/// array is at [r * stride]; stride is SeriesResult::instants for a column of the row-major
+/// table, 1 for arrays that hold one instant's rows side by side.
+struct SeriesColumn {
+  const double* lit_area = nullptr;
+  const double* lit_fraction = nullptr;
+  const unsigned char* faces_light = nullptr;
+  const double* lit_area_error_bound = nullptr;
+  std::size_t stride = 1;
+  /// Column `instant` of `series`' table (which must outlive the view).
+  static SeriesColumn of(const SeriesResult& series, std::size_t instant) {
+    return {series.lit_area.data() + instant, series.lit_fraction.data() + instant, series.faces_light.data() + instant,
+            series.lit_area_error_bound.data() + instant, series.instants};
+  }
+};
+
+/// The files of a sun series written as its instants complete (OutputDirectory::stream_series,
+/// docs/series.md "Streaming"): each instant's rows of sunlit.csv and energyplus-shading.csv and
+/// its dataset as it arrives, running sums for sun hours and the objects. Memory stays a few
+/// numbers per face and surface whatever the number of instants; the files are byte for byte
+/// those of write_series() on the whole table. Until finish() the files are temporaries: an
+/// exception, a stop, or a stream dropped unfinished leaves nothing that looks complete.
+class SeriesFileStream {
+ public:
+  /// @private (made by OutputDirectory::stream_series)
+  explicit SeriesFileStream(std::unique_ptr<detail::SeriesStream> impl);
+  SeriesFileStream(SeriesFileStream&&) noexcept;
+  SeriesFileStream& operator=(SeriesFileStream&&) noexcept;
+  ~SeriesFileStream();
+
+  /// Instant `instant`'s column (0 <= instant < the shape's instants, each once, in any order:
+  /// an instant that comes before its turn is copied and waits for the ones before it).
+  /// @throws OutputError, std::logic_error for an instant out of range or given twice, and
+  /// whatever SeriesFiles::fragments throws
+  void add(std::size_t instant, const SeriesColumn& column);
+  /// Adds the counters of some instants (report.json's `stats`).
+  void add_stats(const ShadowStats& stats);
+  /// The instants written so far: every one below this index.
+  [[nodiscard]] std::size_t written() const;
+  /// Writes the summaries (sun_hours_by_object.csv, the .pvd files, faces.vtp, report.json with
+  /// `run` when given) and puts every file in place, report.json last.
+  /// @returns the paths in the order placed
+  /// @throws OutputError, std::logic_error when an instant is missing
+  std::vector<std::filesystem::path> finish(const RunInfo* run = nullptr);
+  /// After finish(): the named surfaces, their areas and sun hours, as surface_series() gives
+  /// them on the whole table (its per-instant `lit_fraction` left empty).
+  [[nodiscard]] const SurfaceSeries& surfaces() const;
+
+ private:
+  std::unique_ptr<detail::SeriesStream> impl_;
+};
+
 /// An output directory held by one writer for the length of a run (POSIX).
 ///
 /// Opening it, at the start of a run and before any computing: creates the directory (and its
@@ -99,6 +155,14 @@ class OutputDirectory {
   std::vector<std::filesystem::path> write_series(const Scene& scene, const SunSeries& suns,
                                                   const SeriesResult& series, const SeriesFiles& files,
                                                   const RunInfo* run = nullptr);
+
+  /// The files of write_series(), written as the instants are added to the stream instead of
+  /// from a whole table. `shape` gives the rows (faces), their areas, the number of instants,
+  /// the arithmetic and the stats so far (its per-cell arrays are not read). `scene`, `suns` and
+  /// this directory must outlive the stream.
+  /// @throws OutputError
+  SeriesFileStream stream_series(const Scene& scene, const SunSeries& suns, const SeriesResult& shape,
+                                 const SeriesFiles& files);
 
   [[nodiscard]] const std::filesystem::path& path() const noexcept;
 

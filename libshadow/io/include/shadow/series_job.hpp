@@ -132,6 +132,16 @@ struct SeriesJobOptions {
   /// the map, also sun_hours_levels.vtp and the levels' exact areas in report.json; an
   /// InputError naming `--sun-hours-levels` when there is no map.
   std::vector<double> sun_hours_levels;
+  /// Keep every instant's table in memory for SeriesJobResult::series (faces x instants x 25
+  /// bytes). The files never need it: they are written as the instants complete (docs/series.md,
+  /// "Streaming"). `shadow series` sets it false, so that its memory does not grow with the
+  /// number of instants; then SeriesJobResult::series has the rows, their areas, the number of
+  /// instants and the stats, and empty per-cell arrays.
+  bool keep_table = true;
+  /// At most this many cells (receiving faces x instants) of the table per round: what a round
+  /// holds in memory (about 25 bytes a cell; on rank 0, every rank's share) before its instants
+  /// go to the files. The default, 2^21, is about 52 MB; fewer cells, more rounds.
+  std::size_t round_cells = std::size_t{1} << 21;
   bool checkpoint = false;  ///< keep OUTDIR/series.checkpoint as the run goes
   bool resume = false;      ///< start from OUTDIR/series.checkpoint (implies checkpoint)
   /// Testing: stop (SeriesJobStopped) after the round in which this many instants are in the
@@ -164,7 +174,10 @@ struct SeriesEnergyPlusHandBack {
 struct SeriesJobResult {
   Scene scene;
   SunSeries suns;
-  SeriesResult series;                 ///< every instant's table
+  SeriesResult series;                 ///< every instant's table (SeriesJobOptions::keep_table)
+  /// The named surfaces with their areas and sun hours (surface_series() on the whole table,
+  /// without its per-instant lit_fraction): what the summary shows, also without the table.
+  SurfaceSeries surfaces;
   std::optional<SunHoursMap> map;      ///< when any face asked for the map
   std::vector<std::filesystem::path> written;  ///< the files written, report.json last
   std::size_t every = 1;               ///< SeriesFiles::every used
@@ -191,6 +204,8 @@ class SeriesJob {
 
  private:
   struct State;
+  void run_steps();
+  OutputDirectory::SeriesFiles series_files();
   void load();
   void check_same_scene();
   void open_output();

@@ -3,15 +3,16 @@
 #include "jobs/series_checkpoint.hpp"
 
 #include <shadow/error.hpp>
-#include <shadow/input_file.hpp>
 #include <shadow/output.hpp>
 #include <shadow/version.hpp>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <type_traits>
 
@@ -140,6 +141,51 @@ void write_durably(std::FILE* file, const std::string& bytes, const fs::path& pa
   if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size() || std::fflush(file) != 0 ||
       ::fsync(::fileno(file)) != 0)
     throw shadow::OutputError(path.string() + ": " + errno_text(errno));
+}
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+/// A regular file opened for reading, and its size.
+struct OpenedFile {
+  std::unique_ptr<std::FILE, FileCloser> in;
+  std::uintmax_t size = 0;
+};
+
+/// Opens `path` under the rules of read_input_file (shadow/input_file.hpp): a regular file (the
+/// type taken from the open descriptor, opened without blocking), at most `limit` bytes.
+/// @throws shadow::InputError naming the file
+OpenedFile open_checked(const fs::path& path, std::uintmax_t limit, const std::string& limit_name) {
+  const std::string name = path.string();
+  errno = 0;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw shadow::InputError({name, ""}, std::string("cannot open: ") + std::strerror(errno != 0 ? errno : ENOENT));
+  struct stat info {};
+  if (::fstat(fd, &info) != 0 || S_ISDIR(info.st_mode)) {
+    const int error = S_ISDIR(info.st_mode) ? EISDIR : errno;
+    ::close(fd);
+    throw shadow::InputError({name, ""}, std::string("cannot open: ") + std::strerror(error));
+  }
+  if (!S_ISREG(info.st_mode)) {
+    ::close(fd);
+    throw shadow::InputError({name, ""}, "cannot open: not a regular file (a device, FIFO or socket)");
+  }
+  OpenedFile file;
+  file.size = static_cast<std::uintmax_t>(info.st_size);
+  if (file.size > limit) {
+    ::close(fd);
+    throw shadow::InputError({name, ""}, "file is larger than the limit of " + std::to_string(limit) + " bytes (" +
+                                             limit_name + ")");
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
+  file.in.reset(::fdopen(fd, "rb"));
+  if (!file.in) {
+    const int error = errno;
+    ::close(fd);
+    throw shadow::InputError({name, ""}, std::string("cannot open: ") + std::strerror(error != 0 ? error : EIO));
+  }
+  return file;
 }
 
 }  // namespace
@@ -356,26 +402,51 @@ Checkpoint Checkpoint::create(const fs::path& path, std::uint64_t digest, std::s
 
 Checkpoint::Contents Checkpoint::read(const fs::path& path, std::uint64_t digest, std::size_t rows,
                                       std::size_t instants) {
+  Contents out;
+  Contents read = Checkpoint::read(path, digest, rows, instants,
+                                   [&](const SeriesColumns& c) { out.records.push_back(c); });
+  read.records = std::move(out.records);
+  return read;
+}
+
+Checkpoint::Contents Checkpoint::read(const fs::path& path, std::uint64_t digest, std::size_t rows, std::size_t instants,
+                                      const std::function<void(const SeriesColumns&)>& record) {
   // The rules of scene files: a regular file (a FIFO would block the read forever, a link to
   // /dev/zero fill the memory), and no longer than a checkpoint of this run can be: its header
-  // and at most one record per instant, each with every row's columns.
+  // and at most one record per instant, each with every row's columns. Read record by record:
+  // only one is in memory at a time.
   constexpr std::uintmax_t kHeaderBytes = 4096, kRecordBytes = 256, kRowBytes = 3 * sizeof(double) + 1;
   const std::uintmax_t per_instant = kRecordBytes + kRowBytes * static_cast<std::uintmax_t>(rows);
   const std::uintmax_t limit = kHeaderBytes + per_instant * static_cast<std::uintmax_t>(instants);
-  const std::string bytes = shadow::read_input_file(
-      path, path.string(), limit,
-      "the most a checkpoint of this run can hold: " + std::to_string(rows) + " receiving faces x " +
-          std::to_string(instants) + " instants");
+  OpenedFile file = open_checked(path, limit,
+                                 "the most a checkpoint of this run can hold: " + std::to_string(rows) +
+                                     " receiving faces x " + std::to_string(instants) + " instants");
+  const std::uintmax_t size = file.size;
   const std::string place = "";
   auto refuse = [&](const std::string& why) {
     throw shadow::InputError({path.string(), place}, why + "; remove it (or run without --resume) to start afresh");
   };
+  // Up to `n` more bytes (fewer at the file's end).
+  auto take = [&](std::size_t n) {
+    std::string bytes(n, '\0');
+    const std::size_t got = n == 0 ? 0 : std::fread(bytes.data(), 1, n, file.in.get());
+    bytes.resize(got);
+    return bytes;
+  };
   Contents out;
-  std::size_t at = 0;
+  std::uint64_t at = 0;
   try {
-    if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    // The header: the fixed fields, then the start time's text and the checksum.
+    constexpr std::size_t kFixed = sizeof kMagic + 4 + 3 * 8 + 8;
+    std::string head = take(kFixed);
+    if (head.size() < sizeof kMagic || std::memcmp(head.data(), kMagic, sizeof kMagic) != 0)
       refuse("not a shadow series checkpoint");
-    Reader r(bytes);
+    if (head.size() < kFixed) refuse("its header is truncated");
+    std::uint64_t text_length;
+    std::memcpy(&text_length, head.data() + kFixed - 8, 8);
+    if (text_length > kHeaderBytes) refuse("its header is damaged");
+    head += take(static_cast<std::size_t>(text_length) + 8);
+    Reader r(head);
     for (std::size_t i = 0; i < sizeof kMagic; ++i) r.get<char>();
     if (r.get<std::uint32_t>() != kFormat) refuse("a checkpoint of another format version");
     const auto their_digest = r.get<std::uint64_t>();
@@ -384,7 +455,7 @@ Checkpoint::Contents Checkpoint::read(const fs::path& path, std::uint64_t digest
     out.started_utc = r.text();
     at = sizeof kMagic + 4 + 3 * 8 + 8 + out.started_utc.size();
     Fnv check;
-    check.bytes(bytes.data(), at);
+    check.bytes(head.data(), at);
     if (r.get<std::uint64_t>() != check.h) refuse("its header is damaged");
     at += 8;
     if (their_digest != digest || their_rows != rows || their_instants != instants)
@@ -397,32 +468,39 @@ Checkpoint::Contents Checkpoint::read(const fs::path& path, std::uint64_t digest
     refuse("its header is truncated");
   }
   // Records until the first that is incomplete or fails its checksum: a kill mid-write.
-  while (at < bytes.size()) {
-    if (bytes.size() - at < 4 + 8) break;
+  while (at < size) {
+    if (size - at < 4 + 8) break;
+    const std::string frame = take(12);
+    if (frame.size() < 12) break;
     std::uint32_t tag;
     std::uint64_t length;
-    std::memcpy(&tag, bytes.data() + at, 4);
-    std::memcpy(&length, bytes.data() + at + 4, 8);
-    if (tag != kRecord || length > bytes.size() - at - 12 || bytes.size() - at - 12 - length < 8) break;
-    const std::string payload = bytes.substr(at + 12, length);
+    std::memcpy(&tag, frame.data(), 4);
+    std::memcpy(&length, frame.data() + 4, 8);
+    if (tag != kRecord || length > size - at - 12 || size - at - 12 - length < 8) break;
+    const std::string payload = take(static_cast<std::size_t>(length));
+    const std::string tail = take(8);
+    if (payload.size() != length || tail.size() != 8) break;
     std::uint64_t sum;
-    std::memcpy(&sum, bytes.data() + at + 12 + length, 8);
+    std::memcpy(&sum, tail.data(), 8);
     Fnv check;
     check.bytes(payload.data(), payload.size());
     if (check.h != sum) break;
     try {
-      SeriesColumns c = decode_columns(payload);
+      const SeriesColumns c = decode_columns(payload);
       bool fits = c.rows == rows;
       for (std::uint64_t i : c.instants) fits = fits && i < instants;
       if (!fits) break;
-      out.records.push_back(std::move(c));
-    } catch (const std::runtime_error&) {
+      record(c);
+    } catch (const std::runtime_error& e) {
+      if (dynamic_cast<const shadow::InputError*>(&e) != nullptr ||
+          dynamic_cast<const shadow::OutputError*>(&e) != nullptr)
+        throw;  // not the record's fault: the consumer's
       break;
     }
     at += 12 + length + 8;
   }
   out.valid_bytes = at;
-  out.torn = at < bytes.size();
+  out.torn = at < size;
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,11 @@ class Checkpoint {
   /// @throws shadow::InputError naming the file when it is not a checkpoint, or was written for
   /// another scene, other options or another version (digest or shape differ)
   static Contents read(const std::filesystem::path& path, std::uint64_t digest, std::size_t rows, std::size_t instants);
+  /// The same, handing each good record to `record` as it is read (Contents::records stays
+  /// empty): one record in memory at a time. An InputError or OutputError that `record` throws
+  /// passes through.
+  static Contents read(const std::filesystem::path& path, std::uint64_t digest, std::size_t rows, std::size_t instants,
+                       const std::function<void(const SeriesColumns&)>& record);
 
   /// Opens the checkpoint at `path` to append after its first `valid_bytes` (cutting a torn tail).
   /// @throws shadow::OutputError

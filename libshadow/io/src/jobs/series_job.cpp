@@ -59,6 +59,26 @@ std::vector<std::uint64_t> decode_u64s(const std::string& bytes) {
   return values;
 }
 
+/// Hands `columns` on: to the files (each instant once, in any order: the stream orders them),
+/// to the whole table when it is kept, and their counters to the table's stats.
+void take_columns(const jobs::SeriesColumns& columns, SeriesFileStream& stream, SeriesResult& table, bool keep_table,
+                  std::vector<bool>& seen) {
+  const std::size_t rows = columns.rows;
+  for (std::size_t k = 0; k < columns.instants.size(); ++k) {
+    const std::uint64_t i = columns.instants[k];
+    if (i >= seen.size() || seen[i]) continue;  // a checkpoint may hold an instant twice: the same bits
+    seen[i] = true;
+    const std::size_t at = k * rows;
+    stream.add(i, SeriesColumn{columns.lit_area.data() + at, columns.lit_fraction.data() + at,
+                               columns.faces_light.data() + at, columns.lit_area_error_bound.data() + at, 1});
+  }
+  stream.add_stats(columns.stats);
+  if (keep_table)
+    jobs::place_columns(columns, table);  // adds the stats too
+  else
+    table.stats += columns.stats;
+}
+
 /// Another period at the scene's site (an IDF's RunPeriod, or the scene's `sun` block, replaced).
 void replace_period(Scene& scene, const SeriesJobOptions& options) {
   const std::string file = options.scene.string();
@@ -140,10 +160,14 @@ struct SeriesJob::State {
   std::size_t instants = 0;
   std::uint64_t digest = 0;
   bool checkpointing = false;
-  // Rank 0 only: the directory, the checkpoint and the whole table.
+  // Rank 0 only: the directory, the checkpoint, the files as they are written, and the table's
+  // rows (the whole table with keep_table).
   std::optional<OutputDirectory> output;
   std::optional<jobs::Checkpoint> checkpoint;
+  std::optional<SeriesFileStream> stream;
+  std::vector<bool> streamed;  ///< per instant: handed to the stream
   SeriesResult series;
+  SurfaceSeries surfaces;
   std::vector<std::uint64_t> todo;  ///< the instants this run computes, ascending (every rank)
   std::size_t resumed = 0;
   std::optional<SunHoursMap> map;
@@ -164,6 +188,33 @@ SeriesJobResult SeriesJob::run() {
   s.run.started_utc = utc_now();
   s.run.planarity_tolerance = options_.load.planarity_tolerance;
   s.checkpointing = options_.checkpoint || options_.resume || options_.stop_after > 0;
+  try {
+    run_steps();
+  } catch (...) {
+    s.stream.reset();  // its temporaries go now: nothing half-written stays behind
+    throw;
+  }
+
+  SeriesJobResult result;
+  result.ranks = world_.size();
+  if (!world_.root()) return result;
+  s.engine.reset();  // it points into the scene, which moves out
+  result.scene = std::move(s.scene);
+  result.suns = std::move(s.suns);
+  result.series = std::move(s.series);
+  result.surfaces = std::move(s.surfaces);
+  result.map = std::move(s.map);
+  result.written = std::move(s.written);
+  result.every = s.every;
+  result.resumed = s.resumed;
+  result.compute_seconds = std::chrono::duration<double>(s.computed - s.start).count();
+  result.write_seconds = std::chrono::duration<double>(s.finished - s.computed).count();
+  result.energyplus = std::move(s.hand_back);
+  return result;
+}
+
+void SeriesJob::run_steps() {
+  State& s = *state_;
   on_every_rank(world_, [&] { load(); });
   check_same_scene();
   if (options_.stage) options_.stage(SeriesJobStage::Computing);
@@ -178,22 +229,6 @@ SeriesJobResult SeriesJob::run() {
   compute_map();
   write_outputs();
   s.finished = Clock::now();
-
-  SeriesJobResult result;
-  result.ranks = world_.size();
-  if (!world_.root()) return result;
-  s.engine.reset();  // it points into the scene, which moves out
-  result.scene = std::move(s.scene);
-  result.suns = std::move(s.suns);
-  result.series = std::move(s.series);
-  result.map = std::move(s.map);
-  result.written = std::move(s.written);
-  result.every = s.every;
-  result.resumed = s.resumed;
-  result.compute_seconds = std::chrono::duration<double>(s.computed - s.start).count();
-  result.write_seconds = std::chrono::duration<double>(s.finished - s.computed).count();
-  result.energyplus = std::move(s.hand_back);
-  return result;
 }
 
 void SeriesJob::load() {
@@ -259,11 +294,40 @@ void SeriesJob::open_output() {
   // The table's rows (the receiving faces) and their areas, as compute_series makes them.
   s.series = s.engine->compute_series({}, s.series_options);
   s.series.instants = s.instants;
-  const std::size_t cells = s.series.faces.size() * s.instants;
-  s.series.lit_area.assign(cells, 0.0);
-  s.series.lit_fraction.assign(cells, 0.0);
-  s.series.faces_light.assign(cells, 0);
-  s.series.lit_area_error_bound.assign(cells, 0.0);
+  if (options_.keep_table) {
+    const std::size_t cells = s.series.faces.size() * s.instants;
+    s.series.lit_area.assign(cells, 0.0);
+    s.series.lit_fraction.assign(cells, 0.0);
+    s.series.faces_light.assign(cells, 0);
+    s.series.lit_area_error_bound.assign(cells, 0.0);
+  }
+  // The files are written as the instants complete, in order; until the end they are temporaries.
+  s.stream.emplace(s.output->stream_series(s.scene, s.suns, s.series, series_files()));
+  s.streamed.assign(s.instants, false);
+}
+
+OutputDirectory::SeriesFiles SeriesJob::series_files() {
+  State& s = *state_;
+  OutputDirectory::SeriesFiles files;
+  s.every = options_.every ? *options_.every : default_series_every(s.suns.lights.size(), s.suns.times);
+  files.every = s.every;
+  files.energyplus_objects = s.hand_back.objects;
+  files.energyplus_shading = options_.energyplus_shading;
+  if (options_.fragments) {
+    files.fragments = [this](std::size_t i) {
+      const State& st = *state_;
+      ShadowOptions one;
+      one.threads = options_.threads;
+      one.planes = false;
+      one.arithmetic = options_.arithmetic;
+      one.tile_casters = options_.tile_casters;  // fragments cut at the same tile borders as compute's
+      one.fast_tile_casters = options_.fast_tile_casters;
+      // The instant's own light in the scene, so that fragments carry its light_id (and irradiance).
+      const std::size_t light_id = st.scene.sun_instants[st.suns.instants[i]].light_id;
+      return st.engine->compute(st.scene.lights[light_id], light_id, one);
+    };
+  }
+  return files;
 }
 
 void SeriesJob::resume_or_start() {
@@ -272,14 +336,15 @@ void SeriesJob::resume_or_start() {
   const fs::path file = jobs::Checkpoint::file(s.output->path());
   std::error_code ec;
   if (options_.resume && fs::exists(file, ec)) {
-    jobs::Checkpoint::Contents contents = jobs::Checkpoint::read(file, s.digest, s.series.faces.size(), s.instants);
-    for (const jobs::SeriesColumns& c : contents.records) {
-      jobs::place_columns(c, s.series);
-      for (std::uint64_t i : c.instants) {
-        if (!done[i]) ++s.resumed;
-        done[i] = true;
-      }
-    }
+    // Record by record into the files (the checkpoint is not held whole in memory).
+    const jobs::Checkpoint::Contents contents =
+        jobs::Checkpoint::read(file, s.digest, s.series.faces.size(), s.instants, [&](const jobs::SeriesColumns& c) {
+          take_columns(c, *s.stream, s.series, options_.keep_table, s.streamed);
+          for (std::uint64_t i : c.instants) {
+            if (!done[i]) ++s.resumed;
+            done[i] = true;
+          }
+        });
     if (!contents.started_utc.empty()) s.run.started_utc = contents.started_utc;  // the run's start
     s.checkpoint.emplace(jobs::Checkpoint::reopen(file, contents.valid_bytes));
     if (options_.notice)
@@ -316,6 +381,12 @@ void SeriesJob::compute_instants() {
   // thread to start with, then rounds of about a minute (sized below).
   const unsigned threads = options_.threads == 0 ? std::max(1u, std::thread::hardware_concurrency()) : options_.threads;
   std::uint64_t chunk = (!s.checkpointing && !world_.distributed()) ? share : std::max<std::uint64_t>(8, 4 * threads);
+  // Whatever the length of the series, a round holds at most round_cells of the table (on rank 0
+  // every rank's columns at once): its instants go to the files and are dropped, so the memory
+  // of a series does not grow with its length (docs/series.md, "Streaming").
+  const std::uint64_t rows = root ? std::max<std::size_t>(1, s.series.faces.size()) : 1;
+  const std::uint64_t cap = std::max<std::uint64_t>(1, options_.round_cells / (rows * size));
+  chunk = std::min(chunk, cap);
   chunk = world_.max(root ? chunk : 0);  // rank 0's choice
   const bool report = root && options_.progress;
   if (report) options_.progress({SeriesJobProgress::Part::Instants, s.resumed, s.instants, s.resumed, false});
@@ -341,6 +412,7 @@ void SeriesJob::compute_instants() {
       const double per_instant = seconds / static_cast<double>(count);
       const double wanted = per_instant > 0 ? 60.0 / per_instant : 8.0 * static_cast<double>(chunk);
       chunk = std::max<std::uint64_t>(chunk, static_cast<std::uint64_t>(std::min(wanted, 8.0 * static_cast<double>(chunk))));
+      chunk = std::min(chunk, cap);
     }
     chunk = world_.max(root ? chunk : 0);
   }
@@ -366,15 +438,19 @@ std::string SeriesJob::compute_round(const std::vector<std::uint64_t>& instants,
   } catch (const InputError& e) {
     rethrow_naming_scene(e, options_.scene);
   }
-  if (world_.root() && !world_.distributed() && !s.checkpoint && instants.size() == s.instants) {
-    s.series = std::move(part);  // the whole series in one call: nothing to copy
-    return {};
+  if (world_.distributed()) return jobs::encode_columns(jobs::columns_of(part, instants));
+  // One process: the round straight into the files (after the checkpoint has it, so that a
+  // failure while writing loses nothing computed).
+  if (s.checkpoint) s.checkpoint->append(jobs::columns_of(part, instants));
+  if (options_.keep_table)
+    jobs::place_columns(jobs::columns_of(part, instants), s.series);  // adds the stats too
+  else
+    s.series.stats += part.stats;
+  for (std::size_t k = 0; k < instants.size(); ++k) {
+    s.streamed[instants[k]] = true;
+    s.stream->add(instants[k], SeriesColumn::of(part, k));
   }
-  jobs::SeriesColumns columns = jobs::columns_of(part, instants);
-  part = SeriesResult{};
-  if (world_.distributed()) return jobs::encode_columns(columns);
-  jobs::place_columns(columns, s.series);
-  if (s.checkpoint) s.checkpoint->append(columns);
+  s.stream->add_stats(part.stats);
   return {};
 }
 
@@ -385,8 +461,8 @@ void SeriesJob::place_round(const std::string& bytes) {
     if (!world_.root()) return;
     for (const std::string& p : parts) {
       const jobs::SeriesColumns columns = jobs::decode_columns(p);
-      jobs::place_columns(columns, s.series);
       if (s.checkpoint) s.checkpoint->append(columns);
+      take_columns(columns, *s.stream, s.series, options_.keep_table, s.streamed);
     }
   });
 }
@@ -449,24 +525,6 @@ void SeriesJob::compute_map() {
 
 void SeriesJob::write_outputs() {
   State& s = *state_;
-  OutputDirectory::SeriesFiles files;
-  s.every = options_.every ? *options_.every : default_series_every(s.suns.lights.size(), s.suns.times);
-  files.every = s.every;
-  files.energyplus_objects = s.hand_back.objects;
-  files.energyplus_shading = options_.energyplus_shading;
-  if (options_.fragments) {
-    files.fragments = [&](std::size_t i) {
-      ShadowOptions one;
-      one.threads = options_.threads;
-      one.planes = false;
-      one.arithmetic = options_.arithmetic;
-      one.tile_casters = options_.tile_casters;  // fragments cut at the same tile borders as compute's
-      one.fast_tile_casters = options_.fast_tile_casters;
-      // The instant's own light in the scene, so that fragments carry its light_id (and irradiance).
-      const std::size_t light_id = s.scene.sun_instants[s.suns.instants[i]].light_id;
-      return s.engine->compute(s.scene.lights[light_id], light_id, one);
-    };
-  }
   if (options_.stage) options_.stage(SeriesJobStage::Writing);
   on_every_rank(world_, [&] {
     if (!world_.root()) return;
@@ -482,7 +540,9 @@ void SeriesJob::write_outputs() {
     // The model's copy first: report.json, written last by write_series, marks a complete run.
     if (s.hand_back.copy)
       write_file_staged(options_.write_idf, [&](std::ostream& out) { out << s.hand_back.copy->text; });
-    s.written = s.output->write_series(s.scene, s.suns, s.series, files, &s.run);
+    s.written = s.stream->finish(&s.run);  // the summaries, then every file into place
+    s.surfaces = s.stream->surfaces();
+    s.stream.reset();
     if (s.map) s.written.insert(s.written.end() - 1, dir / "sun_hours.vtp");  // report.json stays last
     if (s.map && !s.map->levels.empty()) s.written.insert(s.written.end() - 1, dir / "sun_hours_levels.vtp");
     // The outputs are complete: a checkpoint left now (this run's, or an older one) is stale.

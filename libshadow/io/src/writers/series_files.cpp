@@ -2,6 +2,8 @@
 // The text files of a sun series: sunlit.csv (per instant, UTC) and energyplus-shading.csv (per
 // time step of a whole year, local standard time, as EnergyPlus's Schedule:File:Shading reads
 // it). Conventions and their sources: docs/series.md.
+#include "writers/series_rows.hpp"
+
 #include <shadow/error.hpp>
 #include <shadow/series_files.hpp>
 #include <shadow/series.hpp>
@@ -82,16 +84,29 @@ void write_sun_hours_by_object_csv(std::ostream& out, const ObjectSunHours& obje
 }
 
 void write_sunlit_csv(std::ostream& out, const SunSeries& suns, const SurfaceSeries& surfaces) {
-  out << "time";
-  for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(s.label);
-  out << "\r\n";
+  detail::write_sunlit_header(out, surfaces.surfaces);
+  std::vector<double> fractions(surfaces.surfaces.size());
   for (std::size_t i = 0; i < surfaces.instants; ++i) {
-    out << (i < suns.times.size() ? format_iso8601_utc(suns.times[i]) : std::string());
-    for (std::size_t s = 0; s < surfaces.surfaces.size(); ++s)
-      out << ',' << number(surfaces.lit_fraction[s * surfaces.instants + i]);
-    out << "\r\n";
+    for (std::size_t s = 0; s < fractions.size(); ++s) fractions[s] = surfaces.lit_fraction[s * surfaces.instants + i];
+    detail::write_sunlit_row(out, suns, i, fractions);
   }
 }
+
+namespace detail {
+
+void write_sunlit_header(std::ostream& out, const std::vector<NamedSurface>& surfaces) {
+  out << "time";
+  for (const NamedSurface& s : surfaces) out << ',' << csv_field(s.label);
+  out << "\r\n";
+}
+
+void write_sunlit_row(std::ostream& out, const SunSeries& suns, std::size_t i, const std::vector<double>& fractions) {
+  out << (i < suns.times.size() ? format_iso8601_utc(suns.times[i]) : std::string());
+  for (const double f : fractions) out << ',' << number(f);
+  out << "\r\n";
+}
+
+}  // namespace detail
 
 EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
   EnergyPlusSchedule schedule;
@@ -169,38 +184,82 @@ EnergyPlusSchedule write_energyplus_shading_csv(std::ostream& out, const Scene& 
                                                 const SurfaceSeries& surfaces) {
   const EnergyPlusSchedule schedule = energyplus_schedule(scene);
   if (!schedule.written) return schedule;
+  detail::EnergyPlusRows rows(scene, suns, surfaces.instants, surfaces.surfaces.size(), schedule);
+  rows.header(out, surfaces.surfaces);
+  std::vector<double> fractions(surfaces.surfaces.size());
+  for (std::size_t i = 0; i < surfaces.instants; ++i) {
+    for (std::size_t s = 0; s < fractions.size(); ++s) fractions[s] = surfaces.lit_fraction[s * surfaces.instants + i];
+    rows.instant(out, i, fractions);
+  }
+  return rows.finish(out);
+}
+
+namespace detail {
+
+EnergyPlusRows::EnergyPlusRows(const Scene& scene, const SunSeries& suns, std::size_t instants,
+                               std::size_t surfaces, EnergyPlusSchedule schedule)
+    : schedule_(std::move(schedule)), surfaces_(surfaces) {
   const SunPeriod& period = *scene.sun;
   const std::int64_t offset = offset_seconds(period);
-  const std::int64_t year_start = days_to_year(schedule.year) * kDay;
-  const std::int64_t step = static_cast<std::int64_t>(period.step_minutes) * 60;
+  year_start_ = days_to_year(schedule_.year) * kDay;
+  step_ = static_cast<std::int64_t>(period.step_minutes) * 60;
   // Which series column fills each row (rows without one are night or outside the period: 0).
-  std::vector<std::size_t> column(schedule.rows, SIZE_MAX);
-  for (std::size_t i = 0; i < suns.times.size() && i < surfaces.instants; ++i) {
-    const std::int64_t into = suns.times[i] + offset - year_start;
+  column_.assign(schedule_.rows, SIZE_MAX);
+  for (std::size_t i = 0; i < suns.times.size() && i < instants; ++i) {
+    const std::int64_t into = suns.times[i] + offset - year_start_;
     if (into < 0) continue;
-    const std::int64_t row = into / step;  // the step this instant starts (or lies in)
-    if (row < static_cast<std::int64_t>(schedule.rows)) column[static_cast<std::size_t>(row)] = i;
+    const std::int64_t row = into / step_;  // the step this instant starts (or lies in)
+    if (row < static_cast<std::int64_t>(schedule_.rows)) column_[static_cast<std::size_t>(row)] = i;
   }
+  fills_.assign(instants, false);
+  for (const std::size_t i : column_)
+    if (i != SIZE_MAX) fills_[i] = true;
+}
+
+void EnergyPlusRows::header(std::ostream& out, const std::vector<NamedSurface>& surfaces) const {
   out << "Surface Name";
   // EnergyPlus's own spelling of the names (upper case), or its header match finds none.
-  for (const NamedSurface& s : surfaces.surfaces) out << ',' << csv_field(energyplus_name(s.label));
+  for (const NamedSurface& s : surfaces) out << ',' << csv_field(energyplus_name(s.label));
   out << '\n';
+}
+
+void EnergyPlusRows::instant(std::ostream& out, std::size_t i, const std::vector<double>& fractions) {
+  // Only an instant that fills a row is kept (a later instant in the same step replaces it, as
+  // column_ says); it waits until the rows before its own are written.
+  if (i >= fills_.size() || !fills_[i]) return;
+  waiting_[i] = fractions;
+  write_ready(out);
+}
+
+void EnergyPlusRows::write_ready(std::ostream& out) {
   char stamp[16];
-  for (std::size_t row = 0; row < schedule.rows; ++row) {
+  for (; next_row_ < schedule_.rows; ++next_row_) {
+    const std::size_t i = column_[next_row_];
+    const auto found = i == SIZE_MAX ? waiting_.end() : waiting_.find(i);
+    if (i != SIZE_MAX && found == waiting_.end()) return;  // its instant has not come yet
     // Stamped at the step's end, EnergyPlus's convention for a time step; midnight is 24:00 of
     // the day that ends.
-    const std::int64_t end = year_start + static_cast<std::int64_t>(row + 1) * step;
+    const std::int64_t end = year_start_ + static_cast<std::int64_t>(next_row_ + 1) * step_;
     const Civil day = civil(end - 1);
-    const int minute = static_cast<int>(((end - year_start) % kDay) / 60);
+    const int minute = static_cast<int>(((end - year_start_) % kDay) / 60);
     const int shown = minute == 0 ? 24 * 60 : minute;
     std::snprintf(stamp, sizeof stamp, "%02d/%02d %02d:%02d", day.month, day.day, shown / 60, shown % 60);
     out << stamp;
-    const std::size_t i = column[row];
-    for (std::size_t s = 0; s < surfaces.surfaces.size(); ++s)
-      out << ',' << (i == SIZE_MAX ? std::string("0") : number(surfaces.lit_fraction[s * surfaces.instants + i]));
+    if (i == SIZE_MAX) {
+      for (std::size_t s = 0; s < surfaces_; ++s) out << ",0";
+    } else {
+      for (const double f : found->second) out << ',' << number(f);
+      waiting_.erase(found);
+    }
     out << '\n';
   }
-  return schedule;
 }
+
+const EnergyPlusSchedule& EnergyPlusRows::finish(std::ostream& out) {
+  write_ready(out);
+  return schedule_;
+}
+
+}  // namespace detail
 
 }  // namespace shadow

@@ -60,7 +60,22 @@ vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene) {
   return poly;
 }
 
+bool is_series_instant_name(const std::string& name) {
+  for (const std::string prefix : {"sun_", "fragments_"}) {
+    const std::size_t n = prefix.size();
+    // `%05zu`: five digits, more from instant 100000 on.
+    if (name.size() >= n + 9 && name.rfind(prefix, 0) == 0 && name.compare(name.size() - 4, 4, ".vtp") == 0 &&
+        name.find_first_not_of("0123456789", n) == name.size() - 4)
+      return true;
+  }
+  return false;
+}
+
 vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& series, std::size_t instant) {
+  return make_series_instant(base, series, SeriesColumn::of(series, instant));
+}
+
+vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& shape, const SeriesColumn& column) {
   vtkSmartPointer<vtkPolyData> poly = share(base);
   const vtkIdType n = poly->GetNumberOfCells();
   auto fraction = double_array("lit_fraction", n);
@@ -69,16 +84,16 @@ vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const Series
   facing->SetName("faces_light");
   facing->SetNumberOfTuples(n);
   facing->Fill(0);
-  const bool fast = series.arithmetic == Arithmetic::Fast;
+  const bool fast = shape.arithmetic == Arithmetic::Fast;
   vtkSmartPointer<vtkDoubleArray> bound = fast ? double_array("lit_area_error_bound", n) : nullptr;
-  for (std::size_t r = 0; r < series.faces.size(); ++r) {
-    const auto cell = static_cast<vtkIdType>(series.faces[r]);
+  for (std::size_t r = 0; r < shape.faces.size(); ++r) {
+    const auto cell = static_cast<vtkIdType>(shape.faces[r]);
     if (cell >= n) continue;
-    const std::size_t at = series.at(r, instant);
-    fraction->SetValue(cell, series.lit_fraction[at]);
-    lit->SetValue(cell, series.lit_area[at]);
-    facing->SetValue(cell, series.faces_light[at]);
-    if (bound) bound->SetValue(cell, series.lit_area_error_bound[at]);
+    const std::size_t at = r * column.stride;
+    fraction->SetValue(cell, column.lit_fraction[at]);
+    lit->SetValue(cell, column.lit_area[at]);
+    facing->SetValue(cell, column.faces_light[at]);
+    if (bound) bound->SetValue(cell, column.lit_area_error_bound[at]);
   }
   vtkCellData* cd = poly->GetCellData();
   cd->AddArray(fraction);

@@ -16,6 +16,9 @@ class vtkPolyData;
 
 namespace shadow::detail {
 
+/// A sun series' per-instant file name in OUTDIR/series/: `sun_NNNNN.vtp` or `fragments_NNNNN.vtp`.
+bool is_series_instant_name(const std::string& name);
+
 /// Every face (geometry, face_id, mesh, receiver, area), the base of the series datasets.
 vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene);
 
@@ -23,6 +26,9 @@ vtkSmartPointer<vtkPolyData> make_series_base(const Scene& scene);
 /// `faces_light` (and `lit_area_error_bound` for the fast path); NaN on faces not computed.
 vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& series,
                                                  std::size_t instant);
+/// The same for one column (`shape`: the rows and the arithmetic; its cells are not read).
+vtkSmartPointer<vtkPolyData> make_series_instant(vtkPolyData* base, const SeriesResult& shape,
+                                                 const SeriesColumn& column);
 
 /// faces.vtp of a series: the base with `sun_hours` (and `sun_hours_error_bound`, fast path).
 vtkSmartPointer<vtkPolyData> make_series_faces(vtkPolyData* base, const SeriesResult& series,

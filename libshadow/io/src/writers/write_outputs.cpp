@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "runtime/parallel.hpp"
 #include "writers/series_outputs.hpp"
+#include "writers/series_stream.hpp"
 #include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtm_writer.hpp"
@@ -49,18 +50,7 @@ using detail::remove_stale_report;
 const char* const kSeriesOutputNames[] = {"sunlit.csv", "energyplus-shading.csv", "energyplus-objects.idf", "series.pvd",
                                           "fragments.pvd", "sun_hours_by_object.csv"};
 
-/// A sun series' per-instant files live in OUTDIR/series/: `sun_NNNNN.vtp` and
-/// `fragments_NNNNN.vtp`.
-bool is_series_instant_name(const std::string& name) {
-  for (const std::string prefix : {"sun_", "fragments_"}) {
-    const std::size_t n = prefix.size();
-    // `%05zu`: five digits, more from instant 100000 on.
-    if (name.size() >= n + 9 && name.rfind(prefix, 0) == 0 && name.compare(name.size() - 4, 4, ".vtp") == 0 &&
-        name.find_first_not_of("0123456789", n) == name.size() - 4)
-      return true;
-  }
-  return false;
-}
+using detail::is_series_instant_name;
 
 long process_id() { return static_cast<long>(getpid()); }
 
@@ -247,115 +237,28 @@ std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const Su
 std::vector<fs::path> OutputDirectory::write_series(const Scene& scene, const SunSeries& suns,
                                                     const SeriesResult& series, const SeriesFiles& files,
                                                     const RunInfo* run) {
-  const std::size_t every = files.every;
-  const fs::path& outdir = impl_->outdir;
-  make_output_directory(outdir);
-  remove_stale_report(outdir / "report.json");
-  const SurfaceSeries surfaces = surface_series(scene, series, suns.hours_per_instant);
-  const std::vector<double> hours = sun_hours(series, suns.hours_per_instant);
-  const std::vector<double> bound = sun_hours_error_bound(series, suns.hours_per_instant);
-  const ObjectSunHours objects = object_sun_hours(scene, series, suns.hours_per_instant);
-
-  StagedFiles staged(outdir);
-  const auto sunlit = staged.stage("sunlit.csv");
-  write_staged_stream(sunlit, [&](std::ostream& out) { write_sunlit_csv(out, suns, surfaces); });
-  EnergyPlusSchedule energyplus;
-  if (files.energyplus_shading.value_or(energyplus_shading_wanted(scene)))
-    energyplus = energyplus_schedule(scene);
-  else
-    energyplus.reason = files.energyplus_shading || scene.energyplus_shading
-                            ? "not asked for (energyplus_shading false)"
-                            : "not asked for: the scene has no EnergyPlus model (shadow series --energyplus-shading, or "
-                              "the scene key \"energyplus_shading\": true, writes it)";
-  if (energyplus.written) {
-    const auto ep = staged.stage("energyplus-shading.csv");
-    write_staged_stream(ep, [&](std::ostream& out) { energyplus = write_energyplus_shading_csv(out, scene, suns, surfaces); });
-  }
-  // How to use the CSV: the objects that make EnergyPlus import it, beside it.
-  if (energyplus.written && !files.energyplus_objects.empty()) {
-    const auto objects = staged.stage("energyplus-objects.idf");
-    write_staged_stream(objects, [&](std::ostream& out) { out << files.energyplus_objects; });
-  } else {
-    std::error_code ignored;
-    fs::remove(outdir / "energyplus-objects.idf", ignored);
-  }
-  // Sun hours per building (CityJSON object, parts rolled up), EnergyPlus zone or mesh.
-  const auto by_object = staged.stage("sun_hours_by_object.csv");
-  write_staged_stream(by_object, [&](std::ostream& out) { write_sun_hours_by_object_csv(out, objects); });
-  if (!energyplus.written) {
-    // Not this run's (report.json says why): an older one must not pass for it.
-    std::error_code ignored;
-    fs::remove(outdir / "energyplus-shading.csv", ignored);
-  }
-  // Points relative to Scene::origin when it has one, as in write() (report.json states it).
-  auto shifted = [&scene](vtkSmartPointer<vtkPolyData> poly) {
-    detail::shift_to_origin(poly, scene);
-    return poly;
-  };
-  // The instants' datasets share the base's points: shifting it shifts them all.
-  const vtkSmartPointer<vtkPolyData> base = shifted(detail::make_series_base(scene));
-  std::vector<std::string> instant_files;
-  if (every > 0) {
-    make_output_directory(outdir / "series");
-    std::vector<std::pair<double, std::string>> steps, fragment_steps;
-    for (std::size_t i = 0; i < series.instants; i += every) {
-      char name[64];  // room for any size_t
-      std::snprintf(name, sizeof name, "series/sun_%05zu.vtp", i);
-      const auto target = staged.stage(name);
-      detail::write_polydata(detail::make_series_instant(base, series, i), target.temp, target.final_path);
-      // ParaView's time: hours since the first instant (UTC seconds would lose its slider's digits).
-      const double t = i < suns.times.size() ? static_cast<double>(suns.times[i] - suns.times.front()) / 3600.0
-                                             : static_cast<double>(i);
-      steps.emplace_back(t, name);
-      instant_files.push_back(fs::path(name).filename().string());
-      if (files.fragments) {
-        // One instant's polygons at a time: a year of them would not fit in memory.
-        const ShadowResult result = files.fragments(i);
-        std::snprintf(name, sizeof name, "series/fragments_%05zu.vtp", i);
-        const auto fragments = staged.stage(name);
-        detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
-                               fragments.final_path);
-        fragment_steps.emplace_back(t, name);
-        instant_files.push_back(fs::path(name).filename().string());
-      }
-    }
-    const auto pvd = staged.stage("series.pvd");
-    detail::write_pvd(steps, pvd.temp, pvd.final_path);
-    if (files.fragments) {
-      const auto fragments_pvd = staged.stage("fragments.pvd");
-      detail::write_pvd(fragment_steps, fragments_pvd.temp, fragments_pvd.final_path);
-    }
-  }
-  const auto faces = staged.stage("faces.vtp");
-  detail::write_polydata(detail::make_series_faces(base, series, hours, bound), faces.temp, faces.final_path);
-  const auto report = staged.stage("report.json");  // staged last, so placed last
-  write_staged_stream(report, [&](std::ostream& out) {
-    detail::write_series_report_json(out, scene, suns, series, surfaces, objects, hours, bound, energyplus, every,
-                                     run);
-  });
-  // Files of an earlier series that this one does not have would look like part of it.
-  const auto remove_others = [&] {
-    std::error_code ec;
-    for (fs::directory_iterator it(outdir / "series", ec), end; !ec && it != end; it.increment(ec)) {
-      const std::string name = it->path().filename().string();
-      if (is_series_instant_name(name) &&
-          std::find(instant_files.begin(), instant_files.end(), name) == instant_files.end()) {
-        std::error_code ignored;
-        fs::remove(it->path(), ignored);
-      }
-    }
-  };
-  remove_others();
-  if (every == 0) {
-    std::error_code ignored;
-    fs::remove(outdir / "series.pvd", ignored);
-  }
-  if (every == 0 || !files.fragments) {
-    std::error_code ignored;
-    fs::remove(outdir / "fragments.pvd", ignored);
-  }
-  return staged.commit();
+  // The whole table through the stream that a series job feeds as its instants complete: one
+  // writer, so the files are the same whichever way the series came.
+  SeriesFileStream stream = stream_series(scene, suns, series, files);
+  for (std::size_t i = 0; i < series.instants; ++i) stream.add(i, SeriesColumn::of(series, i));
+  return stream.finish(run);
 }
+
+SeriesFileStream OutputDirectory::stream_series(const Scene& scene, const SunSeries& suns, const SeriesResult& shape,
+                                                const SeriesFiles& files) {
+  return SeriesFileStream(std::make_unique<detail::SeriesStream>(impl_->outdir, scene, suns, shape, files));
+}
+
+SeriesFileStream::SeriesFileStream(std::unique_ptr<detail::SeriesStream> impl) : impl_(std::move(impl)) {}
+SeriesFileStream::SeriesFileStream(SeriesFileStream&&) noexcept = default;
+SeriesFileStream& SeriesFileStream::operator=(SeriesFileStream&&) noexcept = default;
+SeriesFileStream::~SeriesFileStream() = default;
+
+void SeriesFileStream::add(std::size_t instant, const SeriesColumn& column) { impl_->add(instant, column); }
+void SeriesFileStream::add_stats(const ShadowStats& stats) { impl_->add_stats(stats); }
+std::size_t SeriesFileStream::written() const { return impl_->written(); }
+std::vector<fs::path> SeriesFileStream::finish(const RunInfo* run) { return impl_->finish(run); }
+const SurfaceSeries& SeriesFileStream::surfaces() const { return impl_->surfaces(); }
 
 std::vector<fs::path> write_outputs(const fs::path& outdir, const Scene& scene,
                                     const ShadowResult& result) {
