@@ -91,11 +91,11 @@ std::vector<shadow::Light> city_suns() {
 
 /// With `tile_casters` > 0 both thresholds are set to it (small enough to split the city's
 /// ground and some walls), in the series and in compute() alike.
-void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t tile_casters = 0) {
+void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t tile_casters = 0,
+                                  const std::vector<shadow::Light>& lights = city_suns()) {
   shadow::Scene scene = shadow::make_city(25, 60.0, 7);
   shadow::validate_scene(scene);
   const shadow::ShadowEngine engine(scene, 2);
-  const std::vector<shadow::Light> lights = city_suns();
   shadow::SeriesOptions options;
   options.threads = 2;
   options.arithmetic = arithmetic;
@@ -174,6 +174,28 @@ TEST(Series, EqualsOneLightComputeBitForBitExact) { expect_series_equals_compute
 
 TEST(Series, EqualsOneLightComputeBitForBitFast) {
   expect_series_equals_compute(shadow::Arithmetic::Fast);
+}
+
+// compute_series takes the instants in the order of their suns' directions (neighbouring suns in
+// one batch, each receiver under them one after another): suns of five days, hour by hour, and a
+// lamp among them, whose batches are not the input's; every value lands in its own instant's
+// column, bit for bit as compute(light) gives it.
+std::vector<shadow::Light> days_of_suns() {
+  std::vector<shadow::Light> lights;
+  for (int day = 0; day < 5; ++day)
+    for (double hour = 8; hour <= 16; hour += 2) {
+      // The equinox path tilted a little more each day: neighbours are the same hour a day apart.
+      const glm::dvec3 d = equinox_sun(48.0 - 3.0 * day, hour);
+      lights.push_back(shadow::directional_light("s", d));
+      if (day == 2 && hour == 12) lights.push_back(shadow::point_light("lamp", {30.0, 30.0, 80.0}));
+    }
+  return lights;
+}
+TEST(Series, InstantsInSunOrderLandInTheirColumnsExact) {
+  expect_series_equals_compute(shadow::Arithmetic::Exact, 0, days_of_suns());
+}
+TEST(Series, InstantsInSunOrderLandInTheirColumnsFast) {
+  expect_series_equals_compute(shadow::Arithmetic::Fast, 0, days_of_suns());
 }
 
 // Receivers above the tile threshold are split in the series as in compute(): the same bits

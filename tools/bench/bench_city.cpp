@@ -97,7 +97,8 @@ int run_comb_lamp(std::size_t teeth, bool polygons, unsigned threads, double lam
 }
 
 int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsigned threads,
-                     double latitude, const std::string& arithmetic, bool ground, const std::string& sun_path) {
+                     double latitude, const std::string& arithmetic, bool ground, const std::string& sun_path,
+                     std::size_t runs) {
   using Clock = std::chrono::steady_clock;
   const double pi = 3.14159265358979323846;
   const double phi = latitude * pi / 180.0;
@@ -124,8 +125,14 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
     }
   }
   sample = std::min(sample, year.size());
+  // `runs` runs of consecutive hourly suns spread evenly over the year (the same hour on
+  // neighbouring days: what a whole year's series has), or every instant alone.
+  runs = runs == 0 ? sample : std::min(runs, sample);
   std::vector<shadow::Light> lights;
-  for (std::size_t i = 0; i < sample; ++i) lights.push_back(year[i * year.size() / sample]);
+  for (std::size_t r = 0; r < runs; ++r) {
+    const std::size_t length = (r + 1) * sample / runs - r * sample / runs;
+    for (std::size_t i = 0; i < length; ++i) lights.push_back(year[(r * year.size() / runs + i) % year.size()]);
+  }
   const double extent = 500.0 * std::sqrt(static_cast<double>(boxes) / 1000.0);
   shadow::Scene scene = shadow::make_city(boxes, extent, 2026);
   scene.meshes[0].receiver = ground;  // mesh 0 is the ground (one face)
@@ -134,9 +141,9 @@ int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsig
   const shadow::ShadowEngine engine(scene, threads);
   const double prepare = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("city of %zu boxes (%zu faces%s), latitude %.1f, sun path %s: %zu hourly suns above the horizon in a year; "
-              "sample of %zu, %u threads, preparation %.3f s\n",
+              "sample of %zu in %zu run%s, %u threads, preparation %.3f s\n",
               boxes, scene.faces.size(), ground ? "" : ", ground not receiving", latitude, sun_path.c_str(), year.size(),
-              sample, threads, prepare);
+              sample, runs, runs == 1 ? "" : "s", threads, prepare);
   // CPU time too: on a shared machine the wall clock measures the other processes as much as
   // this one; CPU seconds / threads is what an otherwise idle machine would take.
   const auto cpu_now = [] {
@@ -547,6 +554,8 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& a) {
   cmd->add_flag("--no-ground", a.no_ground, "The ground casts but does not receive (how much of the time is its one union)");
   cmd->add_option("--sun-path", a.sun_path, "spa (the library's solar position, clock time) or solar-time (a simple model)")
       ->check(CLI::IsMember({"spa", "solar-time"}));
+  cmd->add_option("--runs", a.runs,
+                  "The sample as this many runs of consecutive instants spread over the year (default: every instant alone)");
   return cmd;
 }
 

@@ -22,6 +22,7 @@ struct SeriesArgs {
   std::string arithmetic = "both";
   bool no_ground = false;
   std::string sun_path = "spa";
+  std::size_t runs = 0;  ///< the sample as this many runs of consecutive instants (0: every instant alone)
 };
 
 /// `shadow-bench planes`'s options (defaults as the command's help shows them).
@@ -90,7 +91,8 @@ int run_comb_lamp(std::size_t teeth, bool polygons, unsigned threads, double lam
 /// edge-on walls stay on the fast path; those grazed by 1e-17 go to the exact engine), which no
 /// clock-time series does.
 int run_series_bench(std::size_t boxes, std::size_t sample, bool baseline, unsigned threads,
-                     double latitude, const std::string& arithmetic, bool ground, const std::string& sun_path);
+                     double latitude, const std::string& arithmetic, bool ground, const std::string& sun_path,
+                     std::size_t runs = 0);
 
 /// docs/benchmarks.md, "Plane shadows": the city's shadow on its ground plane (Blinn).
 int run_planes_bench(const std::vector<std::size_t>& sizes, const std::vector<double>& elevations,

@@ -359,7 +359,7 @@ int main(int argc, char** argv) {
     return bench::run_golden(LIBSHADOW_SOURCE_DIR, golden_output, golden_check, golden_dir, golden_quick, golden_threads);
   if (series_cmd->parsed())
     return run_series_bench(series.boxes, series.sample, series.baseline, series.threads, series.latitude,
-                            series.arithmetic, !series.no_ground, series.sun_path);
+                            series.arithmetic, !series.no_ground, series.sun_path, series.runs);
 
   return run_default(sizes, threads, csv_path, areas_only, quick, repeat);
 }
