@@ -192,8 +192,11 @@ TEST(SunHoursLevels, StripsGiveTheSingleArrangementsAreasOnACity) {
   const SunHoursMap with_full = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   EXPECT_GT(expect_level_points(scene, with_full, instants, 6), 100);
   options.full = false;
-  for (const std::size_t strip_edges : {std::size_t{0}, std::size_t{40}}) {
+  // Rounds of about 8 segments (many rounds, decided cells merged between them) and of 1,000
+  // (one or two): the same areas.
+  for (const auto [strip_edges, round_edges] : {std::pair<std::size_t, std::size_t>{0, 8}, {40, 1000}, {0, 1000}}) {
     options.strip_edges = strip_edges;
+    options.level_round_edges = round_edges;
     const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
     EXPECT_TRUE(only.cells.empty());
     for (std::size_t k = 0; k < only.faces.size(); ++k)
@@ -238,6 +241,7 @@ RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) 
   options.strip_edges = *rc::gen::inRange<std::size_t>(2, 12);
   const SunHoursMap strips = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   options.full = false;
+  options.level_round_edges = *rc::gen::inRange<std::size_t>(1, 40);  // from one instant per round up
   const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   RC_ASSERT(one.faces.size() == strips.faces.size());
   RC_ASSERT(only.faces.size() == one.faces.size());

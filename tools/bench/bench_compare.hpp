@@ -97,6 +97,7 @@ struct SunHoursBench {
   std::vector<double> levels;        ///< --levels: also the threshold map (its own rows)
   bool full = true;                  ///< false (--levels-only): the threshold map alone
   std::size_t strip_edges = shadow::SunHoursOptions{}.strip_edges;  ///< --strip-edges
+  std::size_t level_round_edges = shadow::SunHoursOptions{}.level_round_edges;  ///< --level-round-edges
   std::size_t days = 1;              ///< --days: the same day's suns repeated (a period of equal days)
 };
 

@@ -112,6 +112,7 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
         shadow::SunHoursOptions level_options;
         level_options.threads = threads;
         level_options.strip_edges = opt.strip_edges;
+        level_options.level_round_edges = opt.level_round_edges;
         level_options.levels = opt.levels;
         level_options.full = false;
         start = std::chrono::steady_clock::now();

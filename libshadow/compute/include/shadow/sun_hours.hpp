@@ -73,6 +73,9 @@ struct SunHoursMap {
   std::vector<SunHoursCell> cells;  ///< ordered by face_id, then region_id
   std::vector<SunHoursFace> faces;  ///< one per chosen face, by face_id
   double total_hours = 0.0;         ///< the sum of the instants' hours
+  /// Whether `cells` and SunHoursFace::areas hold the full map (false: the threshold map was
+  /// computed alone, SunHoursOptions::full false with levels).
+  bool full = true;
   /// Region ids used: every cell's region_id is below it (a region whose cells were all too
   /// thin to write still takes its id). A map of more faces computed in parts is their
   /// concatenation in face order, each part's region ids shifted by the earlier parts' `regions`.
@@ -120,6 +123,12 @@ struct SunHoursOptions {
   /// strips of its chart of about this many, overlaid apart and in parallel (a region crossing a
   /// strip's side is written as one region per strip; hours and areas do not change); 0: never.
   std::size_t strip_edges = 6000;
+  /// The threshold map alone (`full` false): the instants' boundaries are overlaid in rounds,
+  /// each keeping only the level boundaries and those of cells still undecided; the first round
+  /// takes this many segments, later ones as many as keep each round's arrangement at about
+  /// four times the boundaries kept (at least four times this). Smaller rounds hold less at
+  /// once, larger ones sweep less often; the results are the same.
+  std::size_t level_round_edges = 1000;
 };
 
 /// The exact sun-hours map on `faces` (face ids, any order, duplicates ignored) of the engine's

@@ -20,7 +20,6 @@
 #include "exact/regions.hpp"
 
 #include <CGAL/Arr_extended_dcel.h>
-#include <CGAL/Arr_observer.h>
 #include <CGAL/Arrangement_2.h>
 
 #include <algorithm>
@@ -114,138 +113,134 @@ class StripOverlay {
     return out;
   }
 
-  /// The threshold map alone, instant by instant: each instant's boundaries are inserted into
-  /// the arrangement so far, the faces inside its lit region gain its hours, and then every edge
-  /// between faces that can no longer be told apart is removed: equal hours, or both decided
-  /// (the level reached now is the level reached even if every instant still to come lit them)
-  /// at the same level. The arrangement holds the boundaries between undecided cells and the
-  /// level boundaries, not every instant's.
+  /// The threshold map alone, in rounds of instants. Each round sweeps one fresh arrangement of
+  /// the boundaries kept from the round before and the round's instants' boundaries, walks it
+  /// once for every face's hours, and replaces each hours value that can no longer change its
+  /// level (the level now is the level even if every instant still to come lit it) by the
+  /// smallest value of that level: touching faces of equal values then stay alike to the end,
+  /// and only the edges between different values (and the chart's outline and the strip's
+  /// frame) go on to the next round, each carrying the jump of value across it. The arrangement
+  /// so holds the boundaries between undecided cells and the level boundaries, not every
+  /// instant's; a round takes at least as many new segments as were kept, so that the sweeps
+  /// cost about the input's size in all. No edge is removed from a large arrangement (CGAL walks
+  /// a face's boundary to remove an edge of it: removing many from one large region is slow).
   StripMap run_levels(const std::vector<std::size_t>& which, const Strip& strip) {
-    std::vector<Curve> curves = gather(which, strip);
-    std::vector<Curve> fixed;  // the chart's outline and the frame
-    std::map<std::size_t, std::vector<Curve>> by_instant;
-    for (Curve& c : curves) {
+    // X-monotone curves throughout: a kept edge is its arrangement curve, which keeps the
+    // supporting line of the segment it was cut from, so that later intersections are computed
+    // from the input's lines and not from lines through earlier intersections (whose exact
+    // numbers, and lazy expression trees, would grow round after round).
+    std::vector<XCurve> kept;
+    std::map<std::size_t, std::vector<XCurve>> by_instant;
+    for (const Curve& c : gather(which, strip)) {
       const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
-      (i >= n_ ? fixed : by_instant[i]).push_back(std::move(c));
+      (i >= n_ ? kept : by_instant[i]).emplace_back(c, Traits::Data_container(c.data()));  // outline, frame first
     }
-    curves.clear();
-    curves.shrink_to_fit();
-    Arrangement arr;
-    CGAL::insert(arr, fixed.begin(), fixed.end());
-    walk(arr, strip);  // inside counts, and the base hours inside the chart
     mpq_class remaining(0);
     for (const auto& [i, unused] : by_instant) remaining += (*r_.hours)[i];
-    SplitObserver observer(arr);
-    // A few instants per insertion: each insertion sweeps the arrangement so far, so batches
-    // cut those sweeps, and merging after every few instants still keeps the arrangement small.
-    constexpr std::size_t batch = 8;
-    for (auto next = by_instant.begin(); next != by_instant.end();) {
+    Arrangement arr;
+    outline_base_ = true;  // the first walk adds the hours of the instants lighting the whole face
+    auto next = by_instant.begin();
+    // The new segments of a round: they cross one another (shadows of one caster at neighbouring
+    // instants), so the arrangement grows faster than they do. Each round aims its arrangement at
+    // about four times the edges kept (at least four times round_edges), scaling the next
+    // round's share by the edges each new segment brought this time, at most doubling it.
+    const std::size_t least = std::max<std::size_t>(r_.round_edges, 1);
+    double want = static_cast<double>(least);
+    while (true) {
       runtime::check_stop();
-      std::vector<Curve> batch_curves;
-      std::vector<std::size_t> batch_instants;
-      for (; next != by_instant.end() && batch_instants.size() < batch; ++next) {
-        batch_instants.push_back(next->first);
-        for (Curve& c : next->second) batch_curves.push_back(std::move(c));
+      const std::size_t kept_in = kept.size();
+      std::vector<XCurve> round = std::move(kept);
+      kept = {};
+      std::size_t added = 0;
+      while (next != by_instant.end() && (added == 0 || static_cast<double>(added) < want)) {
+        added += next->second.size();
+        remaining -= (*r_.hours)[next->first];
+        for (XCurve& c : next->second) round.push_back(std::move(c));
         next->second = {};
+        ++next;
       }
-      CGAL::insert(arr, batch_curves.begin(), batch_curves.end());
-      batch_curves = {};
-      compact(arr);
-      for (std::size_t i : batch_instants) {
-        add_instant(arr, strip, i);
-        remaining -= (*r_.hours)[i];
-      }
-      key_.resize(hours_at_.size());
-      for (std::size_t v = 0; v < hours_at_.size(); ++v) {
-        const std::size_t now = level_of(hours_at_[v]);
-        key_[v] = now == level_of(hours_at_[v] + remaining) ? static_cast<long>(now) : -1;  // -1: undecided
-      }
-      merge(arr, [&](long a, long b) {
-        if (inside_[a] <= 0) return true;  // both outside the chart
-        return key_[a] == key_[b] && (key_[a] >= 0 || hours_at_[a] == hours_at_[b]);
-      });
+      arr.clear();
+      CGAL::insert(arr, round.begin(), round.end());  // one sweep of a fresh arrangement
+      round = {};
+      walk(arr, strip);
+      outline_base_ = false;  // from now on the kept edges' jumps hold the base
+      settle(remaining);
+      kept = kept_curves(arr);
+      if (next == by_instant.end()) break;
+      const double edges = static_cast<double>(arr.number_of_edges());
+      const double per_new = std::max(1.0, (edges - static_cast<double>(kept_in)) / static_cast<double>(std::max<std::size_t>(added, 1)));
+      const double target = 4.0 * static_cast<double>(std::max(kept.size(), least));
+      const double aim = std::max(1.0, (target - static_cast<double>(kept.size())) / per_new);
+      want = std::min(std::max(aim, want / 4), 2 * want);
     }
+    // Every value is now a level's smallest (nothing remains to come), so the kept edges are the
+    // level boundaries: one last sweep of them alone gives the level regions.
+    arr.clear();
+    CGAL::insert(arr, kept.begin(), kept.end());
+    kept = {};
+    walk(arr, strip);
     StripMap out;
     out.level_area.resize(r_.levels.size() + 1);
     level_.resize(hours_at_.size());
     for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
-    merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
     emit_all(arr, out, true);
     out.dropped = dropped_;
     return out;
   }
 
  private:
-  /// Copies a face's data (its value index) to the face split from it.
-  class SplitObserver : public CGAL::Arr_observer<Arrangement> {
-   public:
-    explicit SplitObserver(Arrangement& arr) : CGAL::Arr_observer<Arrangement>(arr) {}
-    void after_split_face(Arrangement::Face_handle f, Arrangement::Face_handle new_f, bool) override {
-      new_f->set_data(f->data());
-    }
-  };
-
   std::size_t level_of(const mpq_class& hours) const {
     std::size_t level = 0;
     while (level < r_.levels.size() && r_.levels[level] <= hours) ++level;
     return level;
   }
 
-  /// One value per face again (faces split from one share its value until then).
-  void compact(Arrangement& arr) {
-    std::vector<mpq_class> hours;
-    std::vector<int> inside;
-    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
-      hours.push_back(hours_at_[f->data()]);
-      inside.push_back(inside_[f->data()]);
-      f->set_data(static_cast<long>(hours.size() - 1));
+  /// Replaces every value that is decided, whatever the `remaining` hours to come add, by the
+  /// smallest value of its level (0 below the lowest): it keeps its level under any later
+  /// additions, since level l's smallest value plus `remaining` stays below level l + 1 when the
+  /// value did. Faces outside the chart are 0.
+  void settle(const mpq_class& remaining) {
+    for (std::size_t v = 0; v < hours_at_.size(); ++v) {
+      if (inside_[v] <= 0) {
+        hours_at_[v] = 0;
+        continue;
+      }
+      const std::size_t now = level_of(hours_at_[v]);
+      if (now != level_of(hours_at_[v] + remaining)) continue;  // undecided: kept exactly
+      hours_at_[v] = now == 0 ? mpq_class(0) : r_.levels[now - 1];
     }
-    hours_at_.swap(hours);
-    inside_.swap(inside);
   }
 
-  /// Adds instant i's hours to the faces inside its lit region: a walk from a face outside it
-  /// (the unbounded face, or a strip's seed below the chart) that flips at the edges carrying i.
-  void add_instant(Arrangement& arr, const Strip& strip, std::size_t i) {
-    std::vector<signed char> in(hours_at_.size(), -1);
-    const Arrangement::Face_handle start = strip.whole ? arr.unbounded_face() : seed_face(arr, strip);
-    in[static_cast<std::size_t>(arr.unbounded_face()->data())] = 0;
-    in[static_cast<std::size_t>(start->data())] = 0;
-    std::deque<Arrangement::Face_handle> queue{start};
-    const long want = static_cast<long>(i + 1);
-    auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
-      auto h = first;
-      do {
-        const Arrangement::Face_handle to = h->twin()->face();
-        if (in[static_cast<std::size_t>(to->data())] < 0) {
-          signed char value = in[static_cast<std::size_t>(from->data())];
-          for (long tag : h->curve().data()) {
-            if (std::labs(tag) != want) continue;
-            const bool from_in_region = (h->direction() == CGAL::ARR_LEFT_TO_RIGHT) == (tag > 0);
-            value = from_in_region ? 0 : 1;
-          }
-          in[static_cast<std::size_t>(to->data())] = value;
-          queue.push_back(to);
-        }
-      } while (++h != first);
-    };
-    walk_faces(queue, visit_ccb);
-    const mpq_class w((*r_.hours)[i]);
-    for (std::size_t v = 0; v < in.size(); ++v)
-      if (in[v] == 1 && inside_[v] > 0) hours_at_[v] += w;
-  }
-
-  /// The face of a strip's arrangement above the frame's bottom (below the chart).
-  static Arrangement::Face_handle seed_face(Arrangement& arr, const Strip& strip) {
-    const FT ylo(strip.ylo);
-    const Arrangement::Face_handle unbounded = arr.unbounded_face();
-    for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end(); ++c) {
-      auto h = *c;
-      do {
-        if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) return h->twin()->face();
-      } while (++h != *c);
+  /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
+  /// as curves for the next round: the outline's and frame's tags as they are, and a jump tag
+  /// (n + 3 + k for jumps_[k]) for a change of value across the edge.
+  std::vector<XCurve> kept_curves(const Arrangement& arr) {
+    std::vector<XCurve> out;
+    std::vector<mpq_class> jumps;
+    std::map<mpq_class, long> index;
+    for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
+      Arrangement::Halfedge_const_handle h = e;
+      if (h->direction() != CGAL::ARR_LEFT_TO_RIGHT) h = h->twin();
+      const long a = h->face()->data(), b = h->twin()->face()->data();  // left, right
+      const bool jump = hours_at_[a] != hours_at_[b];
+      if (inside_[a] == inside_[b] && !jump) continue;
+      Traits::Data_container data;
+      for (long tag : h->curve().data()) {
+        const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
+        if (i == n_ || i == n_ + 1) data.insert(tag);  // the outline, the frame
+      }
+      if (jump) {
+        // Like an instant's region of weight left - right on the left: crossing to the right
+        // adds right - left.
+        mpq_class d = hours_at_[a] - hours_at_[b];
+        auto [it, added] = index.emplace(d, static_cast<long>(jumps.size()));
+        if (added) jumps.push_back(std::move(d));
+        data.insert(static_cast<long>(n_ + 3) + it->second);
+      }
+      out.emplace_back(h->curve(), data);  // the arrangement's curve: its supporting line kept
     }
-    return unbounded;  // unreachable: every strip has its frame
+    jumps_.swap(jumps);
+    return out;
   }
 
   /// The curves `which` of the face, clipped to the strip, with its frame.
@@ -310,14 +305,17 @@ class StripOverlay {
           const bool left_to_right = h->direction() == CGAL::ARR_LEFT_TO_RIGHT;
           for (long tag : h->curve().data()) {
             const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
-            if (i > n_) continue;  // a frame (a strip's faces never reach one across it)
+            if (i == n_ + 1) continue;  // a frame (a strip's faces never reach one across it)
             // `from` lies on h's left; the region lies on the left of the left-to-right run
             // when tag > 0.
             const bool from_in_region = left_to_right == (tag > 0);
             const int step = from_in_region ? -1 : 1;
             if (i == n_) {
               inside += step;
-              value += step > 0 ? b_.base : mpq_class(-b_.base);
+              if (outline_base_) value += step > 0 ? b_.base : mpq_class(-b_.base);
+            } else if (i > n_) {  // run_levels: a kept edge's jump (tags are positive)
+              const mpq_class& jump = jumps_[i - n_ - 2];
+              value += step > 0 ? jump : mpq_class(-jump);
             } else {
               value += step > 0 ? mpq_class((*r_.hours)[i]) : mpq_class(-(*r_.hours)[i]);
             }
@@ -423,7 +421,8 @@ class StripOverlay {
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
   std::vector<std::size_t> level_;   ///< per walked face: levels reached
-  std::vector<long> key_;            ///< run_levels: the decided level, or -1
+  std::vector<mpq_class> jumps_;     ///< run_levels: the kept edges' jumps of value (tags n + 3 + k)
+  bool outline_base_ = true;         ///< crossing the chart's outline adds the base hours
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
 

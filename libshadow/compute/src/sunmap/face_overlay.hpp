@@ -29,6 +29,7 @@ using SegmentTraits = CGAL::Arr_segment_traits_2<exact::Kernel>;
 // frame (which changes nothing when crossed, and is never crossed).
 using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, long>;
 using Curve = Traits::Curve_2;
+using XCurve = Traits::X_monotone_curve_2;  ///< a segment with every tag of the curves overlapping it
 
 /// Every boundary of one face, gathered over the instants.
 struct FaceBoundaries {
@@ -72,6 +73,7 @@ struct OverlayRequest {
   bool merge = true;                           ///< merge touching cells of equal hours
   bool full = true;                            ///< emit the full map's cells
   std::vector<mpq_class> levels;               ///< ascending thresholds; empty: no threshold map
+  std::size_t round_edges = 1000;              ///< the threshold map alone: the first round's new segments
 };
 
 /// Overlays the curves `which` of `b` inside `strip`: the cells of the chart in the strip, with

@@ -163,6 +163,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
   SunHoursMap map;
   map.levels = checked_levels(options.levels);
   const bool full = options.full || map.levels.empty();
+  map.full = full;
   for (double w : hours) map.total_hours += w;  // informative; cells are summed exactly
   // The culling grid of each directional light, built once and shared read-only by the threads.
   std::vector<std::optional<core::LightSpaceGrid>> grids(instants.size());
@@ -254,7 +255,7 @@ SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<
     sunmap::add_boundary(P.chart, static_cast<long>(n), b.curves);
     strips[k] = sunmap::choose_strips(b, P.chart, options.strip_edges);
     buckets[k] = sunmap::bucket_curves(b, strips[k]);
-    requests[k] = sunmap::OverlayRequest{&P, &fp, f, &hours, options.merge_equal, full, level_q};
+    requests[k] = sunmap::OverlayRequest{&P, &fp, f, &hours, options.merge_equal, full, level_q, options.level_round_edges};
     for (std::size_t s = 0; s < strips[k].size(); ++s) jobs.emplace_back(k, s);
   }
   parts.clear();
