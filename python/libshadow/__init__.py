@@ -66,6 +66,7 @@ from ._libshadow import (  # noqa: F401  (the public API)
     sunlit_csv,
     write_outputs,
     write_series,
+    write_sun_hours_levels_vtp,
     write_sun_hours_vtp,
 )
 from . import _libshadow
@@ -77,6 +78,7 @@ __all__ = [
     "load_scene", "make_city", "parse_iso8601", "parse_scene", "parse_utc_offset", "replace_sun_lights", "solar_position",
     "solar_positions", "sun_hours", "sun_light_name", "sun_to_light", "write_outputs",
     "compute_sun_hours_map", "sun_hours_instants", "sun_hours_map_faces", "write_sun_hours_vtp",
+    "write_sun_hours_levels_vtp",
     "SeriesResult", "SunSeries", "sun_series", "hours_per_instant", "sun_hours_error_bound", "surface_series",
     "sunlit_csv", "energyplus_shading_csv", "write_series",
     "SceneObject", "object_sun_hours", "sun_hours_by_object_csv", "unique_face_labels", "site_timezone",

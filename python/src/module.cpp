@@ -1119,6 +1119,38 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_property_readonly("instants_lit", [](const SunHoursMap& x) {
         return column<std::uint64_t>(x.faces, [](const SunHoursFace& f) { return f.instants_lit; });
       })
+      .def_readonly("full", &SunHoursMap::full, "False when the threshold map was computed alone (no cells)")
+      // The threshold map (levels=...): the levels, each level's exact area (summed over the
+      // faces, and per face) and the level regions' cells.
+      .def_property_readonly("levels", [](const SunHoursMap& x) { return column<double>(x.levels, [](double h) { return h; }); })
+      .def_property_readonly("level_areas", [](const SunHoursMap& x) {
+        const std::vector<double> a = sun_hours_level_areas(x);
+        return column<double>(a, [](double v) { return v; });
+      })
+      .def_property_readonly("face_level_areas", [](const SunHoursMap& x) {
+        py::array_t<double> out({x.faces.size(), x.levels.size()});
+        auto view = out.mutable_unchecked<2>();
+        for (std::size_t f = 0; f < x.faces.size(); ++f)
+          for (std::size_t k = 0; k < x.levels.size(); ++k) view(f, k) = x.faces[f].level_areas.at(k);
+        return out;
+      })
+      .def_property_readonly("level_cell_face_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.level_cells, [](const SunHoursCell& c) { return c.face_id; });
+      })
+      .def_property_readonly("level", [](const SunHoursMap& x) {
+        return column<double>(x.level_cells, [](const SunHoursCell& c) { return c.sun_hours; });
+      })
+      .def_property_readonly("level_region_id", [](const SunHoursMap& x) {
+        return column<std::uint64_t>(x.level_cells, [](const SunHoursCell& c) { return c.region_id; });
+      })
+      .def_property_readonly("level_cell_area", [](const SunHoursMap& x) {
+        return column<double>(x.level_cells, [](const SunHoursCell& c) { return c.area; });
+      })
+      .def_property_readonly("level_cell_polygons", [](const SunHoursMap& x) {
+        py::list l;
+        for (const SunHoursCell& c : x.level_cells) l.append(polygon_array(c.polygon));
+        return l;
+      })
       .def("__len__", [](const SunHoursMap& x) { return x.cells.size(); });
 
   m.def("sun_hours_instants", [](const Scene& s) { return sun_hours_instants(s); }, py::arg("scene"),
@@ -1132,21 +1164,29 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("compute_sun_hours_map",
         [](const Engine& e, std::optional<std::vector<std::size_t>> faces,
            std::optional<std::vector<SunHoursInstant>> instants, unsigned threads, bool merge_equal,
-           const py::object& progress) {
+           const py::object& progress, std::optional<std::vector<double>> levels, bool levels_only) {
           const std::vector<std::size_t> f = faces ? *faces : sun_hours_map_faces(*e.scene);
           const std::vector<SunHoursInstant> i = instants ? *instants : sun_hours_instants(*e.scene);
+          if (levels_only && (!levels || levels->empty()))
+            throw InputError({"", "levels_only"}, "needs levels, e.g. levels=[2, 4, 6]");
           SunHoursOptions o;
           o.threads = threads;
           o.merge_equal = merge_equal;
+          if (levels) o.levels = *levels;
+          o.full = !levels_only;
           o.progress = wrap_progress(progress);
           auto out = std::make_shared<SunHoursMap>();
           *out = without_gil([&] { return compute_sun_hours_map(*e.engine, f, i, o); });
           return out;
         },
         py::arg("engine"), py::arg("faces") = py::none(), py::arg("instants") = py::none(), py::arg("threads") = 0,
-        py::arg("merge_equal") = true, py::arg("progress") = py::none(),
+        py::arg("merge_equal") = true, py::arg("progress") = py::none(), py::arg("levels") = py::none(),
+        py::arg("levels_only") = false,
         "The exact sun-hours map on `faces` (None: the scene's sun_hours_map meshes) under `instants`\n"
-        "(None: the scene's suns, sun_hours_instants). The GIL is released while it works.");
+        "(None: the scene's suns, sun_hours_instants). With `levels` (hours, e.g. [2, 4, 6]) also the\n"
+        "threshold map: the exact regions getting at least each level (levels, level_areas,\n"
+        "face_level_areas, level_* cell arrays); `levels_only=True` computes it alone (no full map's\n"
+        "cells: its memory follows the level boundaries). The GIL is released while it works.");
   m.def("write_sun_hours_vtp",
         [](const SunHoursMap& map, const std::filesystem::path& path, const ScenePtr& scene) {
           without_gil([&] {
@@ -1157,6 +1197,13 @@ PYBIND11_MODULE(_libshadow, m) {
         py::arg("map"), py::arg("path"), py::arg("scene") = ScenePtr{},
         "Writes the map as VTK XML PolyData (normally OUTDIR/sun_hours.vtp); with the scene, points\n"
         "are shifted by its origin like the scene's other VTK files.");
+  m.def("write_sun_hours_levels_vtp",
+        [](const SunHoursMap& map, const std::filesystem::path& path, const ScenePtr& scene) {
+          without_gil([&] { write_sun_hours_levels_vtp(path, map, scene ? *scene : Scene{}); });
+        },
+        py::arg("map"), py::arg("path"), py::arg("scene") = ScenePtr{},
+        "Writes the threshold map (a map computed with levels) as VTK XML PolyData (normally\n"
+        "OUTDIR/sun_hours_levels.vtp); with the scene, points shifted by its origin.");
 
   // Radiosity (docs/radiosity.md).
   m.def("form_factor",

@@ -191,3 +191,34 @@ def test_pressure_zero_is_the_airless_position(cli):
     square = [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]
     scene = libshadow.scene_from_data({"g": [square]}, sun=period)
     assert scene.sun.site.pressure == 0.0 and len(scene.lights) > 0
+
+
+def test_sun_hours_levels_alone_match_the_full_map(source_dir, tmp_path):
+    """levels=[...] gives the threshold map: each level's exact area equals the full map's cells
+    with at least that many hours; levels_only=True computes it alone with the same areas, bit
+    for bit, and no full cells; it is written as sun_hours_levels.vtp."""
+    document = json.loads((source_dir / "examples" / "sun" / "scene.json").read_text())
+    scene = libshadow.scene_from_data(document["meshes"], sun=document["sun"], sun_hours_map=["ground"])
+    engine = libshadow.ShadowEngine(scene)
+    levels = [6, 2, 4]
+    full = libshadow.compute_sun_hours_map(engine, levels=levels, threads=1)
+    alone = libshadow.compute_sun_hours_map(engine, levels=levels, levels_only=True, threads=1)
+    assert full.full and not alone.full
+    assert full.levels.tolist() == [2, 4, 6] and alone.levels.tolist() == [2, 4, 6]
+    assert len(alone) == 0 and len(full) > 0
+    assert alone.level_areas.tolist() == full.level_areas.tolist()  # bit for bit
+    assert alone.face_level_areas.shape == (len(alone.face_id), 3)
+    assert alone.face_level_areas.sum(axis=0).tolist() == pytest.approx(alone.level_areas.tolist(), rel=1e-15)
+    for k, h in enumerate(full.levels):
+        at_least = full.cell_area[full.sun_hours >= h].sum()
+        assert full.level_areas[k] == pytest.approx(at_least, rel=1e-12)
+        cells = alone.level_cell_area[alone.level >= h].sum() + alone.dropped_area.sum()
+        assert alone.level_areas[k] == pytest.approx(cells, rel=1e-9, abs=1e-9)
+    assert 0 < alone.level_areas[2] <= alone.level_areas[1] <= alone.level_areas[0] <= alone.area.sum()
+    assert len(alone.level_cell_polygons) == len(alone.level) == len(alone.level_region_id) == len(alone.level_cell_face_id)
+    libshadow.write_sun_hours_levels_vtp(alone, str(tmp_path / "sun_hours_levels.vtp"), scene)
+    assert (tmp_path / "sun_hours_levels.vtp").stat().st_size > 0
+    with pytest.raises(libshadow.InputError):
+        libshadow.compute_sun_hours_map(engine, levels_only=True)
+    with pytest.raises(libshadow.InputError):
+        libshadow.compute_sun_hours_map(engine, levels=[-1])

@@ -195,6 +195,32 @@ a2, a4 = m["levels"][0]["area"], m["levels"][1]["area"]
 assert 0 <= a4 <= a2 <= m["area"] * (1 + 1e-12), m
 assert abs(m["levels"][0]["fraction"] - a2 / m["area"]) < 1e-12, m
 ' "$WORK/out-levels/report.json"
+# --sun-hours-levels-only: the threshold map alone, into a copy of the full run's OUTDIR: no
+# sun_hours.vtp (the full run's is removed), the same exact level areas to the last bit.
+cp -r "$WORK/out-levels" "$WORK/out-levels-only"
+run city_levels_only series "$WORK/city/scene.json" -o "$WORK/out-levels-only" --skip-invalid \
+  --sun-hours-map type:TINRelief --sun-hours-levels 4,2 --sun-hours-levels-only
+if [[ $(cat "$WORK/city_levels_only.status") -eq 0 && -s "$WORK/out-levels-only/sun_hours_levels.vtp" &&
+      ! -e "$WORK/out-levels-only/sun_hours.vtp" ]] &&
+   grep -q '^  sun-hours map: threshold map alone on 1 faces' "$WORK/city_levels_only.stdout" &&
+   grep -q '^  threshold map: [0-9]* cells (sun_hours_levels.vtp)' "$WORK/city_levels_only.stdout"; then
+  pass series_sun_hours_levels_only_written
+else
+  fail series_sun_hours_levels_only_written "$(cat "$WORK/city_levels_only.stderr" "$WORK/city_levels_only.stdout")"
+fi
+check series_sun_hours_levels_only_areas_match '
+import json, sys
+full = json.load(open(sys.argv[1]))["sun_hours_map"]
+only = json.load(open(sys.argv[2]))["sun_hours_map"]
+assert full["full"] is True and full["file"] == "sun_hours.vtp", full
+assert only["full"] is False and only["file"] is None and only["cells"] == 0, only
+assert only["levels"] == full["levels"], (only["levels"], full["levels"])
+assert only["area"] == full["area"] and only["total_hours"] == full["total_hours"], only
+' "$WORK/out-levels/report.json" "$WORK/out-levels-only/report.json"
+run levels_only_without_levels series "$WORK/city/scene.json" -o "$WORK/out-levels-only-bad" --skip-invalid \
+  --sun-hours-map type:TINRelief --sun-hours-levels-only
+expect_error sun_hours_levels_only_needs_levels levels_only_without_levels "$WORK/out-levels-only-bad" \
+  '--sun-hours-levels-only: needs levels'
 run bad_levels series "$WORK/city/scene.json" -o "$WORK/out-bad-levels" --skip-invalid --sun-hours-map type:TINRelief \
   --sun-hours-levels 2,x
 expect_error bad_sun_hours_level bad_levels "$WORK/out-bad-levels" '--sun-hours-levels item 2: expected a number of hours, got "x"'

@@ -72,6 +72,9 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_option("--sun-hours-levels", args.sun_hours_levels,
                      "With the sun-hours map: also write sun_hours_levels.vtp, the exact regions getting at least "
                      "each of these hours (comma-separated, e.g. 2,4,6), and their areas to report.json");
+  series->add_flag("--sun-hours-levels-only", args.sun_hours_levels_only,
+                   "With --sun-hours-levels: compute the threshold map alone, not the full map (no sun_hours.vtp): "
+                   "its memory follows the level boundaries instead of growing with the number of instants");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
@@ -179,6 +182,7 @@ shadow::SeriesJobOptions job_options(const SeriesArgs& args) {
   if (args.energyplus_shading) o.energyplus_shading = true;
   if (!args.sun_hours_map.empty()) o.sun_hours_map = mesh_names(args.sun_hours_map);
   if (!args.sun_hours_levels.empty()) o.sun_hours_levels = shadow::parse_sun_hours_levels(args.sun_hours_levels);
+  o.sun_hours_levels_only = args.sun_hours_levels_only;
   o.checkpoint = args.checkpoint;
   o.resume = args.resume;
   o.stop_after = args.stop_after;
@@ -304,7 +308,9 @@ void print_summary(const shadow::SeriesJobResult& r, const SeriesArgs& args) {
                 instant_files, r.suns.lights.size(), r.every, shadow::kSeriesDefaultInstantFiles,
                 shadow::kSeriesLongPeriodDays);
   print_no_energyplus(r, args);
-  if (r.map) std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", r.map->cells.size(), r.map->faces.size());
+  if (r.map && r.map->full)
+    std::printf("  sun-hours map: %zu cells on %zu faces (sun_hours.vtp)\n", r.map->cells.size(), r.map->faces.size());
+  if (r.map && !r.map->full) std::printf("  sun-hours map: threshold map alone on %zu faces\n", r.map->faces.size());
   if (r.map) std::printf("%s", shadow::sun_hours_levels_summary(*r.map, "  ").c_str());
   print_hand_back(r.energyplus, args, r.written);
 }

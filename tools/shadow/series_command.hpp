@@ -23,6 +23,7 @@ struct SeriesArgs {
   bool energyplus_shading = false;  ///< --energyplus-shading: write it for any scene, not only an EnergyPlus model
   std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
   std::string sun_hours_levels;  ///< --sun-hours-levels H[,H]: the threshold map's levels in hours
+  bool sun_hours_levels_only = false;  ///< --sun-hours-levels-only: the threshold map alone
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;
   bool skip_invalid = false;  ///< --skip-invalid: leave out faces that fail validation

@@ -132,6 +132,10 @@ struct SeriesJobOptions {
   /// the map, also sun_hours_levels.vtp and the levels' exact areas in report.json; an
   /// InputError naming `--sun-hours-levels` when there is no map.
   std::vector<double> sun_hours_levels;
+  /// With levels (`--sun-hours-levels-only`): compute the threshold map alone
+  /// (SunHoursOptions::full = false), whose memory follows the level boundaries instead of
+  /// growing with the instants; no sun_hours.vtp. An InputError naming the flag without levels.
+  bool sun_hours_levels_only = false;
   /// Keep every instant's table in memory for SeriesJobResult::series (faces x instants x 25
   /// bytes). The files never need it: they are written as the instants complete (docs/series.md,
   /// "Streaming"). `shadow series` sets it false, so that its memory does not grow with the

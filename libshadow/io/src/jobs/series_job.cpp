@@ -248,6 +248,8 @@ void SeriesJob::load() {
       std::sort(s.map_faces.begin(), s.map_faces.end());
       s.map_faces.erase(std::unique(s.map_faces.begin(), s.map_faces.end()), s.map_faces.end());
     }
+    if (options_.sun_hours_levels_only && options_.sun_hours_levels.empty())
+      throw InputError({"", "--sun-hours-levels-only"}, "needs levels: --sun-hours-levels H[,H]");
     if (!options_.sun_hours_levels.empty() && s.map_faces.empty())
       throw InputError({"", "--sun-hours-levels"},
                        "needs a sun-hours map: --sun-hours-map MESH or the scene's \"sun_hours_map\"");
@@ -491,6 +493,22 @@ void SeriesJob::compute_map() {
                     r = static_cast<std::size_t>(world_.rank());
   const std::vector<std::size_t> block(s.map_faces.begin() + static_cast<std::ptrdiff_t>(r * n / size),
                                        s.map_faces.begin() + static_cast<std::ptrdiff_t>((r + 1) * n / size));
+  if (options_.sun_hours_levels_only) {
+    // The threshold map alone, on rank 0 (it is not gathered from blocks as the full map is).
+    on_every_rank(world_, [&] {
+      if (!world_.root()) return;
+      SunHoursOptions map_options;
+      map_options.threads = options_.threads;
+      map_options.levels = options_.sun_hours_levels;
+      map_options.full = false;
+      if (options_.progress)
+        map_options.progress = [&](const Progress& p) {
+          options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
+        };
+      s.map = compute_sun_hours_map(*s.engine, s.map_faces, sun_hours_instants(s.scene), map_options);
+    });
+    return;
+  }
   std::string bytes;
   on_every_rank(world_, [&] {
     SunHoursOptions map_options;
@@ -529,12 +547,13 @@ void SeriesJob::write_outputs() {
   on_every_rank(world_, [&] {
     if (!world_.root()) return;
     const fs::path& dir = s.output->path();
+    std::error_code ignored;
+    if (s.map && !s.map->full) fs::remove(dir / "sun_hours.vtp", ignored);  // the threshold map alone
     if (s.map) {
-      write_sun_hours_vtp(dir / "sun_hours.vtp", *s.map, s.scene);  // before report.json, written last
+      if (s.map->full) write_sun_hours_vtp(dir / "sun_hours.vtp", *s.map, s.scene);  // before report.json, written last
       if (!s.map->levels.empty()) write_sun_hours_levels_vtp(dir / "sun_hours_levels.vtp", *s.map, s.scene);
       s.run.sun_hours_map = &*s.map;  // report.json's sun_hours_map (the levels' exact areas)
-    } else {
-      std::error_code ignored;  // an earlier run's map is not this run's
+    } else {  // an earlier run's map is not this run's
       fs::remove(dir / "sun_hours.vtp", ignored);
     }
     // The model's copy first: report.json, written last by write_series, marks a complete run.
@@ -543,11 +562,10 @@ void SeriesJob::write_outputs() {
     s.written = s.stream->finish(&s.run);  // the summaries, then every file into place
     s.surfaces = s.stream->surfaces();
     s.stream.reset();
-    if (s.map) s.written.insert(s.written.end() - 1, dir / "sun_hours.vtp");  // report.json stays last
+    if (s.map && s.map->full) s.written.insert(s.written.end() - 1, dir / "sun_hours.vtp");  // report.json stays last
     if (s.map && !s.map->levels.empty()) s.written.insert(s.written.end() - 1, dir / "sun_hours_levels.vtp");
     // The outputs are complete: a checkpoint left now (this run's, or an older one) is stale.
     if (s.checkpoint) s.checkpoint->remove();
-    std::error_code ignored;
     fs::remove(jobs::Checkpoint::file(dir), ignored);
   });
 }

@@ -154,7 +154,8 @@ namespace {
 Json sun_hours_map_json(const SunHoursMap& map) {
   const double area = sun_hours_map_area(map);
   Json j = {{"file", "sun_hours.vtp"},  {"faces", map.faces.size()},     {"cells", map.cells.size()},
-            {"regions", map.regions}, {"total_hours", map.total_hours}, {"area", area}};
+            {"regions", map.regions}, {"total_hours", map.total_hours}, {"area", area}, {"full", map.full}};
+  if (!map.full) j["file"] = nullptr;  // the threshold map alone: no sun_hours.vtp
   if (!map.levels.empty()) {
     const std::vector<double> at_least = sun_hours_level_areas(map);
     Json levels = Json::array();
