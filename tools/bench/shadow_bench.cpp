@@ -285,8 +285,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   sun_cmd->add_option("--levels", sun_opt.levels, "Also time the threshold map of these levels (hours)")->delimiter(',');
   sun_cmd->add_option("--strip-edges", sun_opt.strip_edges, "SunHoursOptions::strip_edges (0: one arrangement per face)");
-  sun_cmd->add_option("--level-round-edges", sun_opt.level_round_edges,
-                      "SunHoursOptions::level_round_edges (the threshold map alone: segments per round)");
+  sun_cmd->add_option("--level-round-edges", sun_opt.level_round_edges, "SunHoursOptions::level_round_edges");
   sun_cmd->add_flag("!--no-unmerged", sun_opt.unmerged, "Leave out the unmerged run (its column shows -)");
   sun_cmd->add_flag("!--levels-only", sun_opt.full, "With --levels: the threshold map alone, not the full map");
   PlanesArgs planes;
