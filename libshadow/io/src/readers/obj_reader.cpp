@@ -92,6 +92,18 @@ double parse_coordinate(std::string_view token, const char* axis) {
   return value;
 }
 
+/// The x, y and z of a `v` statement (after the keyword).
+glm::dvec3 parse_vertex(Tokens& tokens) {
+  glm::dvec3 v;
+  const char* axes[3] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i) {
+    const std::string_view token = tokens.next();
+    if (token.empty()) throw LineError{"vertex has " + std::to_string(i) + " coordinates; 3 are needed (v x y z)"};
+    v[i] = parse_coordinate(token, axes[i]);
+  }
+  return v;
+}
+
 /// An OBJ index (vertex, texture or normal part of a face reference).
 bool parse_index(std::string_view text, long long& index) {
   if (!text.empty() && text[0] == '+') text.remove_prefix(1);
@@ -233,15 +245,7 @@ void parse_chunk(ObjChunk& chunk, bool at_file_start) {
             Tokens tokens(line);
             const std::string_view keyword = tokens.next();
             if (keyword == "v") {
-              glm::dvec3 v;
-              const char* axes[3] = {"x", "y", "z"};
-              for (int i = 0; i < 3; ++i) {
-                const std::string_view token = tokens.next();
-                if (token.empty())
-                  throw LineError{"vertex has " + std::to_string(i) + " coordinates; 3 are needed (v x y z)"};
-                v[i] = parse_coordinate(token, axes[i]);
-              }
-              chunk.vertices.push_back(v);
+              chunk.vertices.push_back(parse_vertex(tokens));
             } else if (keyword == "f" || keyword == "fo") {
               face = {line_number, line, chunk.refs.size(), chunk.refs.size(), chunk.vertices.size(), group};
               std::string_view part;
@@ -456,14 +460,7 @@ std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj
       Tokens tokens(line);
       const std::string_view keyword = tokens.next();
       if (keyword == "v") {
-        glm::dvec3 v;
-        const char* axes[3] = {"x", "y", "z"};
-        for (int i = 0; i < 3; ++i) {
-          const std::string_view token = tokens.next();
-          if (token.empty())
-            throw LineError{"vertex has " + std::to_string(i) + " coordinates; 3 are needed (v x y z)"};
-          v[i] = parse_coordinate(token, axes[i]);
-        }
+        const glm::dvec3 v = parse_vertex(tokens);
         // An optional w, or the vertex colours some exporters append: not needed here.
         vertices.push_back(v);
       } else if (keyword == "f" || keyword == "fo") {  // `fo` is the old spelling of `f`
