@@ -4,11 +4,8 @@
 #include <shadow/radiosity.hpp>
 
 #include "runtime/parallel.hpp"
-#include "radiosity/contacts.hpp"
-#include "radiosity/shaft.hpp"
-#include "radiosity/shooter_view.hpp"
-#include "radiosity/triangles.hpp"
-#include "radiosity/visible_part.hpp"
+#include "radiosity/elements.hpp"
+#include "radiosity/receivers.hpp"
 
 #include <shadow/area_lights.hpp>
 #include <shadow/error.hpp>
@@ -28,27 +25,9 @@
 namespace shadow {
 namespace {
 
-/// An element while solving: a triangle with its receiving points.
-struct Element {
-  std::size_t face = 0;
-  radiosity::Triangle triangle;
-  double area = 0.0;
-  glm::dvec3 centroid{0.0};
-  double radius = 0.0;  // largest distance from the centroid to a vertex
-  std::size_t fragment = SIZE_MAX;  // index into the first light's fragments, or none
-  std::size_t patch = 0;            // the patch (a coarser triangle) that holds it
-};
-
-/// A patch: the triangle that shoots for the elements it holds (Cohen et al.'s substructuring:
-/// shooters coarse, receivers fine).
-struct Patch {
-  std::size_t face = 0;
-  radiosity::Triangle triangle;
-  double area = 0.0;
-  glm::dvec3 centroid{0.0};
-  double radius = 0.0;
-  std::size_t first = 0, count = 0;  // its elements
-};
+using radiosity::Element;
+using radiosity::Patch;
+using radiosity::Receivers;
 
 void check_options(const RadiosityOptions& o) {
   if (!(o.max_element_area >= 0.0) || !std::isfinite(o.max_element_area))
@@ -59,241 +38,6 @@ void check_options(const RadiosityOptions& o) {
     throw InputError({"", "tolerance"}, "tolerance must be in (0, 1): the unshot fraction to stop at");
   runtime::checked_threads(o.threads);
 }
-
-void add_element(std::vector<Element>& out, std::size_t face, const radiosity::Triangle& t, std::size_t fragment,
-                 std::size_t patch) {
-  Element e;
-  e.patch = patch;
-  e.face = face;
-  e.triangle = t;
-  e.area = radiosity::triangle_area(t);
-  e.centroid = (t[0] + t[1] + t[2]) / 3.0;
-  for (const glm::dvec3& v : t) e.radius = std::max(e.radius, glm::length(v - e.centroid));
-  e.fragment = fragment;
-  if (e.area > 0.0) out.push_back(e);
-}
-
-/// The patches and their elements: each face's fragments under the first light (its whole
-/// polygon where it has none), triangulated, refined to patch_area (the patches), each refined
-/// to max_area (its elements, consecutive).
-void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
-                   std::vector<Patch>& patches, std::vector<Element>& elements) {
-  std::vector<std::vector<std::size_t>> by_face(scene.faces.size());
-  for (std::size_t i = 0; i < fragments.size(); ++i)
-    if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
-  // Cut along where other faces meet each face: a floor element under a box's wall would
-  // average the lit floor with the closed-off part beneath the box.
-  const std::vector<std::vector<radiosity::Segment>> contacts = radiosity::contact_segments(scene);
-  std::vector<radiosity::Triangle> coarse, fine, cut;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    const Face& face = scene.faces[f];
-    if (face.degenerate || face.vertices.size() < 3) continue;
-    const glm::dvec3 n = radiosity::newell_normal(face.vertices);
-    auto add_polygon = [&](const std::vector<glm::dvec3>& polygon, std::size_t fragment) {
-      cut.clear();
-      for (const radiosity::Triangle& t : radiosity::triangulate(polygon))
-        radiosity::cut_along(t, glm::normalize(n), contacts[f], cut);
-      for (const radiosity::Triangle& t : cut) {
-        coarse.clear();
-        radiosity::refine(t, patch_area, coarse);
-        for (const radiosity::Triangle& c : coarse) {
-          Patch p;
-          p.face = f;
-          p.triangle = c;
-          p.area = radiosity::triangle_area(c);
-          p.centroid = (c[0] + c[1] + c[2]) / 3.0;
-          for (const glm::dvec3& v : c) p.radius = std::max(p.radius, glm::length(v - p.centroid));
-          p.first = elements.size();
-          fine.clear();
-          radiosity::refine(c, max_area, fine);
-          for (const radiosity::Triangle& e : fine) add_element(elements, f, e, fragment, patches.size());
-          p.count = elements.size() - p.first;
-          if (p.count > 0) patches.push_back(p);
-        }
-      }
-    };
-    if (by_face[f].empty()) add_polygon(face.vertices, SIZE_MAX);
-    for (std::size_t i : by_face[f]) add_polygon(fragments[i].polygon, i);
-  }
-}
-
-/// Whether `p` (on the plane of `polygon`) lies inside it (even-odd rule in the dominant chart).
-bool inside(const std::vector<glm::dvec3>& polygon, const glm::dvec3& p) {
-  const glm::dvec3 n = radiosity::newell_normal(polygon);
-  int k = 0;
-  for (int a = 1; a < 3; ++a)
-    if (std::abs(n[a]) > std::abs(n[k])) k = a;
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  bool in = false;
-  for (std::size_t a = 0, b = polygon.size() - 1; a < polygon.size(); b = a++) {
-    const glm::dvec3 &u = polygon[a], &v = polygon[b];
-    if ((u[j] > p[j]) != (v[j] > p[j]) && p[i] < (v[i] - u[i]) * (p[j] - u[j]) / (v[j] - u[j]) + u[i]) in = !in;
-  }
-  return in;
-}
-
-/// Each element's direct irradiance from the scene's lights, with exact shadows: the fragment's
-/// lit flag for the first light, a lit fragment of the same face holding the centroid for the
-/// others (hard lights), light_irradiance at the centroid for extended lights.
-std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
-                                      const std::vector<Element>& elements, const std::vector<glm::dvec3>& normals,
-                                      unsigned threads) {
-  std::vector<double> direct(elements.size(), 0.0);
-  // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
-  // points of the degree-2 triangle rule, each exact.
-  std::vector<SurfacePoint> points;
-  for (const Element& e : elements)
-    for (int c = 0; c < 3; ++c)
-      points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
-  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-    const Light& light = scene.lights[l];
-    if (light.is_extended()) {
-      const std::vector<double> h = light_irradiance(scene, light, points, threads);
-      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
-      continue;
-    }
-    std::vector<std::vector<std::size_t>> lit(scene.faces.size());
-    if (l > 0)
-      for (std::size_t i = 0; i < fragments.size(); ++i)
-        if (fragments[i].light_id == l && fragments[i].lit) lit[fragments[i].face_id].push_back(i);
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      const Element& e = elements[i];
-      bool is_lit = false;
-      if (l == 0) {
-        is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
-      } else {
-        for (std::size_t k : lit[e.face]) is_lit = is_lit || inside(fragments[k].polygon, e.centroid);
-      }
-      if (is_lit) direct[i] += irradiance(light, e.centroid, normals[e.face]);
-    }
-  }
-  return direct;
-}
-
-/// The receiving rule of an element at distance `gap` from a shooter (R: the sum of their
-/// circumradii): beyond 6 R the centroid; within, the 3-point rule (degree 2); within 2 R, where
-/// the point form factor varies fast (logarithmically along a shared edge), a 4 x 4 collapsed
-/// Gauss rule. Returns the estimate and sets `change` to its difference from the rule below.
-template <class PointFactor>
-double integrate_over_element(const Element& e, double gap, double reach, const PointFactor& at, double& change) {
-  static const std::pair<std::vector<double>, std::vector<double>> gauss = [] {
-    std::pair<std::vector<double>, std::vector<double>> g;
-    radiosity::gauss_legendre01(4, g.first, g.second);
-    return g;
-  }();
-  change = 0.0;
-  double f = at(e.centroid);
-  if (gap < 6.0 * reach) {
-    double f3 = 0.0;
-    for (int c = 0; c < 3; ++c)
-      f3 += at((4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0) / 3.0;
-    change = std::abs(f3 - f);
-    f = f3;
-  }
-  if (gap < 2.0 * reach) {
-    const radiosity::Triangle& t = e.triangle;
-    double f16 = 0.0;
-    for (std::size_t a = 0; a < gauss.first.size(); ++a)
-      for (std::size_t b = 0; b < gauss.first.size(); ++b) {
-        const double u = gauss.first[a], v = gauss.first[b];
-        f16 += 2.0 * u * gauss.second[a] * gauss.second[b] * at(t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]));
-      }
-    change = std::abs(f16 - f);
-    f = f16;
-  }
-  return f;
-}
-
-/// Where the form factors come from: visibility in doubles through shaft culling (the default),
-/// or the exact machinery point by point (RadiosityOptions::exact_visibility, for checking).
-class Receivers {
- public:
-  Receivers(const Scene& scene, unsigned threads, bool exact)
-      : exact_(exact), culler_(scene), workers_(std::max(1u, threads)) {
-    if (exact) view_ = std::make_unique<radiosity::ShooterView>(scene, threads);
-    normals_.assign(scene.faces.size(), glm::dvec3(0.0));
-    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-      const glm::dvec3 n = radiosity::newell_normal(scene.faces[f].vertices);
-      if (!scene.faces[f].degenerate && glm::length(n) > 0.0) normals_[f] = glm::normalize(n);
-    }
-  }
-
-  std::size_t exact_evaluations() const { return view_ ? view_->exact_evaluations() : 0; }
-  const std::vector<glm::dvec3>& normals() const { return normals_; }
-
-  /// The form factor from each element to patch `s` and the quadrature change that estimates
-  /// its error. Elements on the patch's face get 0 (a plane does not see itself).
-  void receive(const std::vector<Patch>& patches, const std::vector<Element>& elements, const Patch& s,
-               unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
-    const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
-    factor.assign(elements.size(), 0.0);
-    quad.assign(elements.size(), 0.0);
-    if (exact_) {
-      std::vector<std::vector<glm::dvec3>> pieces;
-      if (s.count > 1)
-        for (std::size_t i = s.first; i < s.first + s.count; ++i)
-          pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
-      view_->set_shooter(s.face, source, std::move(pieces));
-    }
-    if (exact_) {
-      runtime::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
-        const Element& e = elements[i];
-        if (e.face == s.face || !faces_each_other(e.triangle, e.face, s.triangle, s.face)) return;
-        const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
-        factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
-          return view_->evaluate(worker, {e.face, p});
-        }, quad[i]);
-      });
-      return;
-    }
-    // One shaft per receiving patch serves all its elements (each element's shaft lies inside it).
-    const radiosity::SourceChart chart(source);
-    runtime::parallel_for(patches.size(), threads, [&](unsigned worker, std::size_t r) {
-      const Patch& receiver = patches[r];
-      if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return;
-      Worker& w = workers_[worker];
-      if (culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
-                             s.face, w.shaft, w.faces))
-        return;  // one face hides the shooter from all of the receiving patch
-      w.occluders.clear();
-      for (std::size_t f : w.faces) w.occluders.push_back(&culler_.vertices(f));
-      const glm::dvec3& nr = normals_[receiver.face];
-      for (std::size_t i = receiver.first; i < receiver.first + receiver.count; ++i) {
-        const Element& e = elements[i];
-        if (!faces_each_other(e.triangle, e.face, s.triangle, s.face)) continue;
-        const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
-        factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
-          return w.occluders.empty() ? chart.unoccluded(p, nr, w.visible)
-                                     : chart.form_factor(p, nr, w.occluders, w.visible);
-        }, quad[i]);
-      }
-    });
-  }
-
- private:
-  struct Worker {
-    radiosity::VisibleScratch visible;
-    radiosity::ShaftCuller::Scratch shaft;
-    std::vector<std::size_t> faces;
-    std::vector<const std::vector<glm::dvec3>*> occluders;
-  };
-
-  /// Some of the receiver in front of the shooter and some of the shooter in front of the receiver.
-  bool faces_each_other(const radiosity::Triangle& r, std::size_t r_face, const radiosity::Triangle& s,
-                        std::size_t s_face) const {
-    const glm::dvec3 &nr = normals_[r_face], &ns = normals_[s_face];
-    bool a = false, b = false;
-    for (const glm::dvec3& v : r) a = a || glm::dot(ns, v - s[0]) > 0.0;
-    for (const glm::dvec3& v : s) b = b || glm::dot(nr, v - r[0]) > 0.0;
-    return a && b;
-  }
-
-  bool exact_;
-  radiosity::ShaftCuller culler_;
-  std::unique_ptr<radiosity::ShooterView> view_;
-  std::vector<glm::dvec3> normals_;
-  std::vector<Worker> workers_;
-};
 
 /// Power totals of a solution (W).
 struct Totals {
@@ -481,12 +225,12 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   std::vector<Patch> patches;
   std::vector<Element> elements;
   const double patch_area = options.patch_area > 0 ? options.patch_area : 16.0 * options.max_element_area;
-  make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
+  radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
   const std::size_t n = elements.size();
   Receivers receivers(scene, threads, options.exact_visibility);
   std::vector<double> direct;
   if (options.face_irradiance.empty()) {
-    direct = direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+    direct = radiosity::direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
   } else {
     direct.resize(n);
     for (std::size_t i = 0; i < n; ++i) direct[i] = options.face_irradiance[elements[i].face];

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "radiosity/elements.hpp"
+
+#include "radiosity/contacts.hpp"
+
+#include <shadow/area_lights.hpp>
+#include <shadow/lighting.hpp>
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace shadow::radiosity {
+namespace {
+
+void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t, std::size_t fragment,
+                 std::size_t patch) {
+  Element e;
+  e.patch = patch;
+  e.face = face;
+  e.triangle = t;
+  e.area = triangle_area(t);
+  e.centroid = (t[0] + t[1] + t[2]) / 3.0;
+  for (const glm::dvec3& v : t) e.radius = std::max(e.radius, glm::length(v - e.centroid));
+  e.fragment = fragment;
+  if (e.area > 0.0) out.push_back(e);
+}
+
+/// Whether `p` (on the plane of `polygon`) lies inside it (even-odd rule in the dominant chart).
+bool inside(const std::vector<glm::dvec3>& polygon, const glm::dvec3& p) {
+  const glm::dvec3 n = newell_normal(polygon);
+  int k = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(n[a]) > std::abs(n[k])) k = a;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  bool in = false;
+  for (std::size_t a = 0, b = polygon.size() - 1; a < polygon.size(); b = a++) {
+    const glm::dvec3 &u = polygon[a], &v = polygon[b];
+    if ((u[j] > p[j]) != (v[j] > p[j]) && p[i] < (v[i] - u[i]) * (p[j] - u[j]) / (v[j] - u[j]) + u[i]) in = !in;
+  }
+  return in;
+}
+
+}  // namespace
+
+void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
+                   std::vector<Patch>& patches, std::vector<Element>& elements) {
+  std::vector<std::vector<std::size_t>> by_face(scene.faces.size());
+  for (std::size_t i = 0; i < fragments.size(); ++i)
+    if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
+  // Cut along where other faces meet each face: a floor element under a box's wall would
+  // average the lit floor with the closed-off part beneath the box.
+  const std::vector<std::vector<Segment>> contacts = contact_segments(scene);
+  std::vector<Triangle> coarse, fine, cut;
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const Face& face = scene.faces[f];
+    if (face.degenerate || face.vertices.size() < 3) continue;
+    const glm::dvec3 n = newell_normal(face.vertices);
+    auto add_polygon = [&](const std::vector<glm::dvec3>& polygon, std::size_t fragment) {
+      cut.clear();
+      for (const Triangle& t : triangulate(polygon))
+        cut_along(t, glm::normalize(n), contacts[f], cut);
+      for (const Triangle& t : cut) {
+        coarse.clear();
+        refine(t, patch_area, coarse);
+        for (const Triangle& c : coarse) {
+          Patch p;
+          p.face = f;
+          p.triangle = c;
+          p.area = triangle_area(c);
+          p.centroid = (c[0] + c[1] + c[2]) / 3.0;
+          for (const glm::dvec3& v : c) p.radius = std::max(p.radius, glm::length(v - p.centroid));
+          p.first = elements.size();
+          fine.clear();
+          refine(c, max_area, fine);
+          for (const Triangle& e : fine) add_element(elements, f, e, fragment, patches.size());
+          p.count = elements.size() - p.first;
+          if (p.count > 0) patches.push_back(p);
+        }
+      }
+    };
+    if (by_face[f].empty()) add_polygon(face.vertices, SIZE_MAX);
+    for (std::size_t i : by_face[f]) add_polygon(fragments[i].polygon, i);
+  }
+}
+
+std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
+                                      const std::vector<Element>& elements, const std::vector<glm::dvec3>& normals,
+                                      unsigned threads) {
+  std::vector<double> direct(elements.size(), 0.0);
+  // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
+  // points of the degree-2 triangle rule, each exact.
+  std::vector<SurfacePoint> points;
+  for (const Element& e : elements)
+    for (int c = 0; c < 3; ++c)
+      points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const Light& light = scene.lights[l];
+    if (light.is_extended()) {
+      const std::vector<double> h = light_irradiance(scene, light, points, threads);
+      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
+      continue;
+    }
+    std::vector<std::vector<std::size_t>> lit(scene.faces.size());
+    if (l > 0)
+      for (std::size_t i = 0; i < fragments.size(); ++i)
+        if (fragments[i].light_id == l && fragments[i].lit) lit[fragments[i].face_id].push_back(i);
+    for (std::size_t i = 0; i < elements.size(); ++i) {
+      const Element& e = elements[i];
+      bool is_lit = false;
+      if (l == 0) {
+        is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
+      } else {
+        for (std::size_t k : lit[e.face]) is_lit = is_lit || inside(fragments[k].polygon, e.centroid);
+      }
+      if (is_lit) direct[i] += irradiance(light, e.centroid, normals[e.face]);
+    }
+  }
+  return direct;
+}
+
+
+}  // namespace shadow::radiosity
