@@ -27,25 +27,10 @@ void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t,
   if (e.area > 0.0) out.push_back(e);
 }
 
-/// Whether `p` (on the plane of `polygon`) lies inside it (even-odd rule in the dominant chart).
-bool inside(const std::vector<glm::dvec3>& polygon, const glm::dvec3& p) {
-  const glm::dvec3 n = newell_normal(polygon);
-  int k = 0;
-  for (int a = 1; a < 3; ++a)
-    if (std::abs(n[a]) > std::abs(n[k])) k = a;
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  bool in = false;
-  for (std::size_t a = 0, b = polygon.size() - 1; a < polygon.size(); b = a++) {
-    const glm::dvec3 &u = polygon[a], &v = polygon[b];
-    if ((u[j] > p[j]) != (v[j] > p[j]) && p[i] < (v[i] - u[i]) * (p[j] - u[j]) / (v[j] - u[j]) + u[i]) in = !in;
-  }
-  return in;
-}
-
 }  // namespace
 
 void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
-                   std::vector<Patch>& patches, std::vector<Element>& elements) {
+                   double max_patch_edge, std::vector<Patch>& patches, std::vector<Element>& elements) {
   std::vector<std::vector<std::size_t>> by_face(scene.faces.size());
   for (std::size_t i = 0; i < fragments.size(); ++i)
     if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
@@ -63,7 +48,7 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
         cut_along(t, glm::normalize(n), contacts[f], cut);
       for (const Triangle& t : cut) {
         coarse.clear();
-        refine(t, patch_area, coarse);
+        refine(t, patch_area, coarse, max_patch_edge);
         for (const Triangle& c : coarse) {
           Patch p;
           p.face = f;
@@ -112,7 +97,8 @@ std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Frag
       if (l == 0) {
         is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
       } else {
-        for (std::size_t k : lit[e.face]) is_lit = is_lit || inside(fragments[k].polygon, e.centroid);
+        for (std::size_t k : lit[e.face])
+          is_lit = is_lit || inside_polygon(fragments[k].polygon, newell_normal(fragments[k].polygon), e.centroid);
       }
       if (is_lit) direct[i] += irradiance(light, e.centroid, normals[e.face]);
     }

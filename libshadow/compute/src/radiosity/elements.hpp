@@ -41,9 +41,10 @@ struct Patch {
 
 /// The patches and their elements: each face's fragments under the first light (its whole
 /// polygon where it has none), cut where other faces meet the face, triangulated, refined to
-/// patch_area (the patches), each refined to max_area (its elements, consecutive).
+/// patch_area and, when max_patch_edge > 0, until no edge is longer (the patches), each refined
+/// to max_area (its elements, consecutive).
 void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
-                   std::vector<Patch>& patches, std::vector<Element>& elements);
+                   double max_patch_edge, std::vector<Patch>& patches, std::vector<Element>& elements);
 
 /// Each element's direct irradiance from the scene's lights, with exact shadows: the fragment's
 /// lit flag for the first light, a lit fragment of the same face holding the centroid for the

@@ -12,11 +12,12 @@ namespace shadow::radiosity {
 namespace {
 
 /// The receiving rule of an element at distance `gap` from a shooter (R: the sum of their
-/// circumradii): beyond 6 R the centroid; within, the 3-point rule (degree 2); within 2 R, where
-/// the point form factor varies fast (logarithmically along a shared edge), a 4 x 4 collapsed
-/// Gauss rule. Returns the estimate and sets `change` to its difference from the rule below.
+/// circumradii): beyond 6 R the centroid; within, the 3-point rule (degree 2); within `close` R
+/// (2 for shooting), where the point form factor varies fast (logarithmically along a shared
+/// edge), a 4 x 4 collapsed Gauss rule. Returns the estimate and sets `change` to its difference from the rule below.
 template <class PointFactor>
-double integrate_over_element(const Element& e, double gap, double reach, const PointFactor& at, double& change) {
+double integrate_over_element(const Element& e, double gap, double reach, const PointFactor& at, double& change,
+                              double close) {
   static const std::pair<std::vector<double>, std::vector<double>> gauss = [] {
     std::pair<std::vector<double>, std::vector<double>> g;
     gauss_legendre01(4, g.first, g.second);
@@ -31,7 +32,7 @@ double integrate_over_element(const Element& e, double gap, double reach, const 
     change = std::abs(f3 - f);
     f = f3;
   }
-  if (gap < 2.0 * reach) {
+  if (gap < close * reach) {
     const Triangle& t = e.triangle;
     double f16 = 0.0;
     for (std::size_t a = 0; a < gauss.first.size(); ++a)
@@ -74,27 +75,28 @@ void Receivers::receive(const std::vector<Patch>& patches, const std::vector<Ele
       const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
       factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
         return view_->evaluate(worker, {e.face, p});
-      }, quad[i]);
+      }, quad[i], 2.0);
     });
     return;
   }
   // One shaft per receiving patch serves all its elements (each element's shaft lies inside it).
   const SourceChart chart(source);
   runtime::parallel_for(patches.size(), threads, [&](unsigned worker, std::size_t r) {
-    receive_patch(workers_[worker], chart, elements, patches[r], s, &factor[patches[r].first], &quad[patches[r].first]);
+    receive_patch(workers_[worker], chart, elements, patches[r], s, &factor[patches[r].first], &quad[patches[r].first],
+                  2.0);
   });
 }
 
 bool Receivers::receive_pair(unsigned worker, const std::vector<Element>& elements, const Patch& r, const Patch& s,
-                             std::vector<double>& factor, std::vector<double>& quad) {
+                             double close, std::vector<double>& factor, std::vector<double>& quad) {
   factor.assign(r.count, 0.0);
   quad.assign(r.count, 0.0);
   const SourceChart chart({s.triangle[0], s.triangle[1], s.triangle[2]});
-  return receive_patch(workers_[worker], chart, elements, r, s, factor.data(), quad.data());
+  return receive_patch(workers_[worker], chart, elements, r, s, factor.data(), quad.data(), close);
 }
 
 bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::vector<Element>& elements,
-                              const Patch& receiver, const Patch& s, double* factor, double* quad) {
+                              const Patch& receiver, const Patch& s, double* factor, double* quad, double close) {
   if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return false;
   const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
   if (culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
@@ -110,7 +112,7 @@ bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::ve
     const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
     factor[k] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
       return w.occluders.empty() ? chart.unoccluded(p, nr, w.visible) : chart.form_factor(p, nr, w.occluders, w.visible);
-    }, quad[k]);
+    }, quad[k], close);
     any = any || factor[k] > 0.0;
   }
   return any;

@@ -32,10 +32,11 @@ class Receivers {
                unsigned threads, std::vector<double>& factor, std::vector<double>& quad);
 
   /// The same for the elements of one receiving patch `r` only (visibility in doubles whatever
-  /// the constructor's `exact`): factor[i] and quad[i] for element r.first + i. Returns false
-  /// (and zeros) when nothing of `s` is seen from `r`.
+  /// the constructor's `exact`): factor[i] and quad[i] for element r.first + i. An element
+  /// takes the 16-point rule within `close` times the sum of its and s's radii (receive(): 2).
+  /// Returns false (and zeros) when nothing of `s` is seen from `r`.
   bool receive_pair(unsigned worker, const std::vector<Element>& elements, const Patch& r, const Patch& s,
-                    std::vector<double>& factor, std::vector<double>& quad);
+                    double close, std::vector<double>& factor, std::vector<double>& quad);
 
   /// Some of triangle r in front of triangle s's face and some of s in front of r's face.
   bool faces_each_other(const Triangle& r, std::size_t r_face, const Triangle& s, std::size_t s_face) const;
@@ -49,7 +50,7 @@ class Receivers {
   };
   /// Patch r's elements' factors to the source in `chart` (patch s), in worker w's storage.
   bool receive_patch(Worker& w, const SourceChart& chart, const std::vector<Element>& elements, const Patch& r,
-                     const Patch& s, double* factor, double* quad);
+                     const Patch& s, double* factor, double* quad, double close);
 
   bool exact_;
   ShaftCuller culler_;

@@ -36,6 +36,15 @@ class ShaftCuller {
   bool candidates(const std::vector<glm::dvec3>& a, std::size_t a_face, const std::vector<glm::dvec3>& b,
                   std::size_t b_face, Scratch& scratch, std::vector<std::size_t>& out) const;
 
+  /// Whether some face other than `p_face` and `q_face` crosses the open segment from p to q
+  /// well inside (its plane crossed strictly between the two, 1e-9 of the length away from
+  /// either, at a point inside the face): a ray test for the visibility of far links, walking
+  /// the grid's cells along the segment.
+  bool blocked(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& scratch) const;
+
+  /// The unit front normal of face f (zero for a degenerate face).
+  const glm::dvec3& normal(std::size_t f) const { return normals_[f]; }
+
   const std::vector<glm::dvec3>& vertices(std::size_t f) const { return scene_.faces[f].vertices; }
 
  private:

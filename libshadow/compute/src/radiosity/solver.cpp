@@ -5,6 +5,7 @@
 
 #include "runtime/parallel.hpp"
 #include "radiosity/elements.hpp"
+#include "radiosity/hierarchy.hpp"
 #include "radiosity/receivers.hpp"
 
 #include <shadow/area_lights.hpp>
@@ -29,14 +30,48 @@ using radiosity::Element;
 using radiosity::Patch;
 using radiosity::Receivers;
 
-void check_options(const RadiosityOptions& o) {
+/// RadiosityMethod::automatic takes the hierarchy above this many patches: below it, shooting
+/// is as fast and needs no approximation of far links (docs/radiosity.md).
+constexpr std::size_t kAutoHierarchical = 4000;
+
+/// Twice the square root of the median face area: the hierarchical method's longest patch edge.
+double typical_patch_edge(const Scene& scene) {
+  std::vector<double> areas;
+  for (const Face& face : scene.faces)
+    if (!face.degenerate && face.vertices.size() >= 3) areas.push_back(0.5 * glm::length(radiosity::newell_normal(face.vertices)));
+  if (areas.empty()) return 0.0;
+  std::nth_element(areas.begin(), areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2), areas.end());
+  return 2.0 * std::sqrt(areas[areas.size() / 2]);
+}
+
+void check_options(const RadiosityOptions& o, const Scene& scene) {
   if (!(o.max_element_area >= 0.0) || !std::isfinite(o.max_element_area))
     throw InputError({"", "max_element_area"}, "max_element_area must be a finite number >= 0 (m^2)");
   if (!(o.patch_area >= 0.0) || !std::isfinite(o.patch_area))
     throw InputError({"", "patch_area"}, "patch_area must be a finite number >= 0 (m^2)");
   if (!(o.tolerance > 0.0) || !(o.tolerance < 1.0))
     throw InputError({"", "tolerance"}, "tolerance must be in (0, 1): the unshot fraction to stop at");
+  if (!(o.link_separation > 0.0) || !(o.link_separation < 1.0))
+    throw InputError({"", "link_separation"}, "link_separation must be in (0, 1)");
+  if (o.link_rays < 1 || o.link_rays > 1024) throw InputError({"", "link_rays"}, "link_rays must be in [1, 1024]");
   runtime::checked_threads(o.threads);
+  if (!o.face_irradiance.empty()) {
+    if (o.face_irradiance.size() != scene.faces.size())
+      throw InputError({"", "face_irradiance"}, "face_irradiance has " + std::to_string(o.face_irradiance.size()) +
+                                                    " values for " + std::to_string(scene.faces.size()) + " faces");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      if (!(o.face_irradiance[f] >= 0.0) || !std::isfinite(o.face_irradiance[f]))
+        throw InputError({"", "face_irradiance"}, "face_irradiance of face " + std::to_string(f) +
+                                                      " must be a finite number >= 0");
+  }
+  if (!o.face_reflectance.empty()) {
+    if (o.face_reflectance.size() != scene.faces.size())
+      throw InputError({"", "face_reflectance"}, "face_reflectance has " + std::to_string(o.face_reflectance.size()) +
+                                                     " values for " + std::to_string(scene.faces.size()) + " faces");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      if (!(o.face_reflectance[f] >= 0.0 && o.face_reflectance[f] < 1.0))
+        throw InputError({"", "face_reflectance"}, "face_reflectance of face " + std::to_string(f) + " must be in [0, 1)");
+  }
 }
 
 /// Power totals of a solution (W).
@@ -186,6 +221,35 @@ void shoot(Channel& c, const std::vector<Patch>& patches, const std::vector<Elem
   if (report) report(c, true);
 }
 
+/// Gathers (Jacobi) until the power that the last step added is at most the tolerance of the
+/// power put in. Each step's balance is exact: with b the radiosities before it and h, b' after,
+/// emitted + direct = absorbed (h) + escaped (what b sent that no element received) + unshot
+/// (b' - b, what the next step will send).
+void iterate(Channel& c, const radiosity::Hierarchy& hierarchy, const std::vector<Element>& elements,
+             const std::vector<double>& emit, const std::vector<double>& direct, const RadiosityOptions& options,
+             const std::function<void(const Channel&, bool)>& report) {
+  const std::size_t n = elements.size();
+  std::vector<double> h;
+  const std::size_t limit = options.max_shots > 0 ? options.max_shots : 10000;
+  while (c.power_in > 0.0 && c.unshot_power > options.tolerance * c.power_in && c.shots < limit) {
+    hierarchy.gather(c.b, direct, h);
+    double leaving = 0.0, received = 0.0, unshot = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double a = elements[i].area, b = emit[i] + c.rho[i] * h[i];
+      leaving += c.b[i] * a;
+      received += (h[i] - direct[i]) * a;
+      unshot += (b - c.b[i]) * a;
+      c.b[i] = b;
+    }
+    c.h.swap(h);
+    c.escaped = leaving - received;
+    c.unshot_power = unshot;
+    ++c.shots;
+    if (report) report(c, false);
+  }
+  if (report) report(c, true);
+}
+
 /// Channel k (0, 1, 2: red, green, blue) of a material's reflectance: its RGB value where one
 /// was given, its scalar reflectance otherwise.
 double channel_reflectance(const Material& m, int k) {
@@ -195,24 +259,7 @@ double channel_reflectance(const Material& m, int k) {
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
-  check_options(options);
-  if (!options.face_irradiance.empty()) {
-    if (options.face_irradiance.size() != scene.faces.size())
-      throw InputError({"", "face_irradiance"}, "face_irradiance has " + std::to_string(options.face_irradiance.size()) +
-                                                    " values for " + std::to_string(scene.faces.size()) + " faces");
-    for (std::size_t f = 0; f < scene.faces.size(); ++f)
-      if (!(options.face_irradiance[f] >= 0.0) || !std::isfinite(options.face_irradiance[f]))
-        throw InputError({"", "face_irradiance"}, "face_irradiance of face " + std::to_string(f) +
-                                                      " must be a finite number >= 0");
-  }
-  if (!options.face_reflectance.empty()) {
-    if (options.face_reflectance.size() != scene.faces.size())
-      throw InputError({"", "face_reflectance"}, "face_reflectance has " + std::to_string(options.face_reflectance.size()) +
-                                                     " values for " + std::to_string(scene.faces.size()) + " faces");
-    for (std::size_t f = 0; f < scene.faces.size(); ++f)
-      if (!(options.face_reflectance[f] >= 0.0 && options.face_reflectance[f] < 1.0))
-        throw InputError({"", "face_reflectance"}, "face_reflectance of face " + std::to_string(f) + " must be in [0, 1)");
-  }
+  check_options(options, scene);
   const unsigned threads = runtime::resolve_threads(options.threads);
   std::vector<Fragment> fragments;
   if (!scene.lights.empty() && options.face_irradiance.empty()) {
@@ -225,7 +272,19 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   std::vector<Patch> patches;
   std::vector<Element> elements;
   const double patch_area = options.patch_area > 0 ? options.patch_area : 16.0 * options.max_element_area;
-  radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
+  radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, 0.0, patches, elements);
+  const bool hierarchical =
+      options.method == RadiosityMethod::hierarchical ||
+      (options.method == RadiosityMethod::automatic && !options.exact_visibility && patches.size() > kAutoHierarchical);
+  if (hierarchical) {
+    // The hierarchy links groups by their radius: long slivers (a ground's triangles between the
+    // holes of its lit part) would be near everything. Patches no longer than twice the typical
+    // face's side keep the near links about constant per patch.
+    patches.clear();
+    elements.clear();
+    radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, typical_patch_edge(scene), patches,
+                             elements);
+  }
   const std::size_t n = elements.size();
   Receivers receivers(scene, threads, options.exact_visibility);
   std::vector<double> direct;
@@ -255,23 +314,52 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     const auto now = std::chrono::steady_clock::now();
     if (!force && now - last < std::chrono::milliseconds(500)) return;
     last = now;
-    options.progress({c.shots, c.power_in > 0 ? c.unshot_power / c.power_in : 0.0});
+    options.progress({c.shots, c.power_in > 0 ? c.unshot_power / c.power_in : 0.0, 1.0, hierarchical});
   };
-  FactorCache cache(receivers, patches, elements, threads);
+  std::unique_ptr<radiosity::Hierarchy> hierarchy;
+  std::unique_ptr<FactorCache> cache;
+  if (hierarchical) {
+    radiosity::HierarchyOptions ho;
+    ho.separation = options.link_separation;
+    ho.rays = options.link_rays;
+    ho.threads = threads;
+    if (options.progress)
+      ho.progress = [&](double done) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last < std::chrono::milliseconds(500)) return;
+        last = now;
+        options.progress({0, 1.0, done, true});
+      };
+    hierarchy = std::make_unique<radiosity::Hierarchy>(patches, elements, receivers, ho);
+  } else {
+    cache = std::make_unique<FactorCache>(receivers, patches, elements, threads);
+  }
+  // Colour: the same solution per channel with that channel's reflectance; the form factors
+  // (the cache's rows, or the hierarchy's links) are shared.
+  const auto solve = [&](Channel& c, const std::function<void(const Channel&, bool)>& progress) {
+    if (hierarchy)
+      iterate(c, *hierarchy, elements, emit, direct, options, progress);
+    else
+      shoot(c, patches, elements, *cache, options, progress);
+  };
   Channel mean = start_channel(elements, rho, emit, direct);
-  shoot(mean, patches, elements, cache, options, report);
-  // Colour: the same shooting per channel with that channel's reflectance; the form factors
-  // come from the cache.
+  solve(mean, report);
   std::array<Channel, 3> rgb;
   if (colour)
     for (int k = 0; k < 3; ++k) {
       std::vector<double> rho_k(n);
       for (std::size_t i = 0; i < n; ++i) rho_k[i] = channel_reflectance(scene.material_of(elements[i].face), k);
       rgb[static_cast<std::size_t>(k)] = start_channel(elements, rho_k, emit, direct);
-      shoot(rgb[static_cast<std::size_t>(k)], patches, elements, cache, options, {});
+      solve(rgb[static_cast<std::size_t>(k)], {});
     }
+  if (hierarchy) {
+    result.hierarchical = true;
+    result.iterations = mean.shots;
+    result.near_links = hierarchy->near_links();
+    result.far_links = hierarchy->far_links();
+  }
 
-  result.shots = mean.shots;
+  result.shots = hierarchy ? 0 : mean.shots;
   const Totals totals = fill_arrays(scene, elements, direct, rho, emit, mean.b, mean.h, result);
   for (std::size_t i = 0; i < n; ++i) {
     RadiosityElement& e = result.elements[i];
@@ -302,8 +390,9 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   const double in = emitted + direct_power;
   result.balance_residual = in > 0 ? std::abs(in - absorbed - mean.escaped - mean.unshot_power) / in : 0.0;
   const double mean_rho = area > 0 ? reflectance_area / area : 0.0;
-  result.error_estimate =
-      result.unshot_fraction / (1.0 - mean_rho) + (mean.shot_total > 0 ? mean.quadrature / mean.shot_total : 0.0);
+  result.error_estimate = result.unshot_fraction / (1.0 - mean_rho) +
+                          (hierarchy ? hierarchy->link_error(mean.b)
+                                     : (mean.shot_total > 0 ? mean.quadrature / mean.shot_total : 0.0));
   return result;
 }
 

@@ -111,6 +111,11 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   options["tolerance"] = run.options.tolerance;
   options["max_shots"] = run.options.max_shots;
   options["threads"] = run.options.threads;
+  options["method"] = run.options.method == RadiosityMethod::shooting       ? "shooting"
+                      : run.options.method == RadiosityMethod::hierarchical ? "hierarchical"
+                                                                            : "auto";
+  options["link_separation"] = run.options.link_separation;
+  options["link_rays"] = run.options.link_rays;
   doc["run"] = {{"started_utc", run.started_utc.empty() ? Json(nullptr) : Json(run.started_utc)},
                 {"libshadow_version", version()},
                 {"options", options}};
@@ -126,6 +131,10 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   summary["patches"] = result.patches;
   summary["shots"] = result.shots;
   summary["exact_evaluations"] = result.exact_evaluations;
+  summary["method"] = result.hierarchical ? "hierarchical" : "shooting";
+  summary["iterations"] = result.iterations;
+  summary["near_links"] = result.near_links;
+  summary["far_links"] = result.far_links;
   summary["converged"] = result.converged;
   summary["unshot_fraction"] = number(result.unshot_fraction);
   summary["error_estimate"] = number(result.error_estimate);
