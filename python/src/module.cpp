@@ -1264,6 +1264,16 @@ PYBIND11_MODULE(_libshadow, m) {
           for (const FaceRadiosity& f : r.faces) face_rgb.push_back(f.radiosity_rgb);
           elements["radiosity_rgb"] = polygon_array(element_rgb);  // (n, 3): red, green, blue
           faces["radiosity_rgb"] = polygon_array(face_rgb);
+          // (faces, lights): each light's share of the direct irradiance, W/m2.
+          const py::ssize_t nl = static_cast<py::ssize_t>(scene->lights.size());
+          py::array_t<double> by_light({static_cast<py::ssize_t>(r.faces.size()), nl});
+          auto cells = by_light.mutable_unchecked<2>();
+          for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
+            for (py::ssize_t l = 0; l < nl; ++l) {
+              const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].direct_irradiance_by_light;
+              cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
+            }
+          faces["direct_irradiance_by_light"] = by_light;
           d["colour"] = r.colour;
           d["elements"] = elements;
           d["faces"] = faces;

@@ -74,6 +74,10 @@ def test_hierarchical_radiosity_agrees_with_shooting():
     hierarchical = libshadow.radiosity(scene, max_element_area=1.0, tolerance=1e-4, threads=2, method="hierarchical",
                                        link_separation=0.25)
     assert shooting["method"] == "shooting" and hierarchical["method"] == "hierarchical"
+    # One light: its share is all of the direct irradiance.
+    by_light = shooting["faces"]["direct_irradiance_by_light"]
+    assert by_light.shape == (6, 1)
+    assert all(abs(by_light[f][0] - shooting["faces"]["direct_irradiance"][f]) < 1e-12 for f in range(6))
     assert hierarchical["near_links"] > 0 and hierarchical["iterations"] > 0
     # Face 1, the roof, sees nothing above it; the four walls see the floor.
     assert shooting["faces"]["irradiance"][1] == shooting["faces"]["direct_irradiance"][1]

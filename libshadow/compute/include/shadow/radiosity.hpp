@@ -149,6 +149,9 @@ struct FaceRadiosity {
   std::size_t elements = 0;
   glm::dvec3 radiosity_rgb{0.0};   ///< area-weighted mean of the elements' radiosity_rgb
   glm::dvec3 irradiance_rgb{0.0};  ///< area-weighted mean of the elements' irradiance_rgb
+  /// One per scene light (Scene::lights order): its share of direct_irradiance (empty when the
+  /// sources came from RadiosityOptions::face_irradiance).
+  std::vector<double> direct_irradiance_by_light;
 };
 
 /// The solution and its balance: emitted + direct = absorbed + escaped + unshot (W), where

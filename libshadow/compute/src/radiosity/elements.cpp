@@ -44,8 +44,13 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
     const glm::dvec3 n = newell_normal(face.vertices);
     auto add_polygon = [&](const std::vector<glm::dvec3>& polygon, std::size_t fragment) {
       cut.clear();
-      for (const Triangle& t : triangulate(polygon))
-        cut_along(t, glm::normalize(n), contacts[f], cut);
+      for (const Triangle& t : triangulate(polygon)) {
+        // With an edge limit, shorten first: a whole ground cut along every box standing on it
+        // would be sliced into strips across the city (half a million elements for 1,024 boxes).
+        coarse.clear();
+        refine(t, 0.0, coarse, max_patch_edge);
+        for (const Triangle& piece : coarse) cut_along(piece, glm::normalize(n), contacts[f], cut);
+      }
       for (const Triangle& t : cut) {
         coarse.clear();
         refine(t, patch_area, coarse, max_patch_edge);
@@ -70,10 +75,10 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
   }
 }
 
-std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
-                                      const std::vector<Element>& elements, const std::vector<glm::dvec3>& normals,
-                                      unsigned threads) {
-  std::vector<double> direct(elements.size(), 0.0);
+std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
+                                                   const std::vector<Element>& elements,
+                                                   const std::vector<glm::dvec3>& normals, unsigned threads) {
+  std::vector<std::vector<double>> by_light(scene.lights.size(), std::vector<double>(elements.size(), 0.0));
   // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
   // points of the degree-2 triangle rule, each exact.
   std::vector<SurfacePoint> points;
@@ -82,9 +87,10 @@ std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Frag
       points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     const Light& light = scene.lights[l];
+    std::vector<double>& direct = by_light[l];
     if (light.is_extended()) {
       const std::vector<double> h = light_irradiance(scene, light, points, threads);
-      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
+      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] = (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
       continue;
     }
     std::vector<std::vector<std::size_t>> lit(scene.faces.size());
@@ -100,10 +106,10 @@ std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Frag
         for (std::size_t k : lit[e.face])
           is_lit = is_lit || inside_polygon(fragments[k].polygon, newell_normal(fragments[k].polygon), e.centroid);
       }
-      if (is_lit) direct[i] += irradiance(light, e.centroid, normals[e.face]);
+      if (is_lit) direct[i] = irradiance(light, e.centroid, normals[e.face]);
     }
   }
-  return direct;
+  return by_light;
 }
 
 

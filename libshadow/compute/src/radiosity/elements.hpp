@@ -46,11 +46,12 @@ struct Patch {
 void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
                    double max_patch_edge, std::vector<Patch>& patches, std::vector<Element>& elements);
 
-/// Each element's direct irradiance from the scene's lights, with exact shadows: the fragment's
-/// lit flag for the first light, a lit fragment of the same face holding the centroid for the
-/// others (hard lights), the mean of three interior points for extended lights.
-std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
-                                      const std::vector<Element>& elements, const std::vector<glm::dvec3>& normals,
-                                      unsigned threads);
+/// Each element's direct irradiance from each of the scene's lights (one array per light), with
+/// exact shadows: the fragment's lit flag for the first light, a lit fragment of the same face
+/// holding the centroid for the others (hard lights), the mean of three interior points for
+/// extended lights.
+std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
+                                                   const std::vector<Element>& elements,
+                                                   const std::vector<glm::dvec3>& normals, unsigned threads);
 
 }  // namespace shadow::radiosity

@@ -38,14 +38,14 @@ glm::dvec3 point_in(const Triangle& t, double u, double v) {
 }  // namespace
 
 Hierarchy::Hierarchy(const std::vector<Patch>& patches, const std::vector<Element>& elements, Receivers& receivers,
-                     const HierarchyOptions& options)
+                     const std::vector<char>& can_emit, const HierarchyOptions& options)
     : patches_(patches), elements_(elements), receivers_(receivers), options_(options) {
   const std::size_t n = patches.size();
   if (n == 0) return;
   order_.resize(n);
   std::iota(order_.begin(), order_.end(), 0u);
   nodes_.reserve(2 * n);
-  build(0, static_cast<std::uint32_t>(n));
+  build(0, static_cast<std::uint32_t>(n), can_emit);
   leaf_of_patch_.assign(n, -1);
   // Parts bottom-up: a leaf's one face; a node's the merge of its children's, by face id.
   std::vector<std::vector<Part>> parts(nodes_.size());
@@ -137,7 +137,7 @@ Hierarchy::Hierarchy(const std::vector<Patch>& patches, const std::vector<Elemen
   for (std::size_t k = 0; k < nodes_.size(); ++k) far_begin_[k + 1] += far_begin_[k];
 }
 
-std::int32_t Hierarchy::build(std::uint32_t first, std::uint32_t count) {
+std::int32_t Hierarchy::build(std::uint32_t first, std::uint32_t count, const std::vector<char>& can_emit) {
   const std::size_t index = nodes_.size();
   nodes_.emplace_back();
   Node node;
@@ -150,6 +150,7 @@ std::int32_t Hierarchy::build(std::uint32_t first, std::uint32_t count) {
     clo = glm::min(clo, p.centroid), chi = glm::max(chi, p.centroid);
     weighted += p.area * p.centroid;
     node.area += p.area;
+    node.emits = node.emits || can_emit[order_[k]] != 0;
   }
   node.lo = lo;
   node.hi = hi;
@@ -167,8 +168,8 @@ std::int32_t Hierarchy::build(std::uint32_t first, std::uint32_t count) {
                        const double ca = patches_[a].centroid[axis], cb = patches_[b].centroid[axis];
                        return ca < cb || (ca == cb && a < b);
                      });
-    node.left = build(first, half);
-    node.right = build(first + half, count - half);
+    node.left = build(first, half, can_emit);
+    node.right = build(first + half, count - half, can_emit);
   }
   nodes_[index] = node;
   return static_cast<std::int32_t>(index);
@@ -195,6 +196,7 @@ void Hierarchy::link(std::vector<std::pair<std::uint32_t, std::uint32_t>>& near,
     const auto [r, s] = stack.back();
     stack.pop_back();
     const Node &R = nodes_[r], &S = nodes_[s];
+    if (!S.emits) continue;  // nothing ever leaves S
     if (r == s) {
       if (R.left < 0) continue;  // a patch does not see itself
       const auto a = static_cast<std::uint32_t>(R.left), b = static_cast<std::uint32_t>(R.right);

@@ -36,8 +36,10 @@ struct HierarchyOptions {
 /// the kernel at their centroids per pair of faces, and the visibility from rays between them.
 class Hierarchy {
  public:
+  /// `can_emit[p]`: whether patch p can ever leave light (some emittance or reflectance); links
+  /// from groups that cannot are not made (a black ground sends nothing).
   Hierarchy(const std::vector<Patch>& patches, const std::vector<Element>& elements, Receivers& receivers,
-            const HierarchyOptions& options);
+            const std::vector<char>& can_emit, const HierarchyOptions& options);
 
   /// h[i] = direct[i] + the irradiance element i receives from every element's radiosity `b`
   /// (one Jacobi step of the radiosity equation). Deterministic at any thread count.
@@ -62,6 +64,7 @@ class Hierarchy {
     std::uint32_t first = 0, count = 0;            // its patches: order_[first, first + count)
     std::int32_t left = -1, right = -1;            // children (a leaf: one patch)
     std::uint32_t parts_first = 0, parts_count = 0;  // its faces: parts_[...], by face id
+    bool emits = false;                              // some patch of it can leave light
   };
   struct Part {
     std::size_t face = 0;
@@ -81,7 +84,7 @@ class Hierarchy {
     double sampling_error = 0.0;             // standard error of `visible` (relative to the transfer)
   };
 
-  std::int32_t build(std::uint32_t first, std::uint32_t count);
+  std::int32_t build(std::uint32_t first, std::uint32_t count, const std::vector<char>& can_emit);
   void link(std::vector<std::pair<std::uint32_t, std::uint32_t>>& near,
             std::vector<std::pair<std::uint32_t, std::uint32_t>>& far) const;
   bool hidden_by_plane(const Node& a, const Node& b) const;

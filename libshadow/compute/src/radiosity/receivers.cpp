@@ -51,11 +51,6 @@ double integrate_over_element(const Element& e, double gap, double reach, const 
 Receivers::Receivers(const Scene& scene, unsigned threads, bool exact)
     : exact_(exact), culler_(scene), workers_(std::max(1u, threads)) {
   if (exact) view_ = std::make_unique<ShooterView>(scene, threads);
-  normals_.assign(scene.faces.size(), glm::dvec3(0.0));
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    const glm::dvec3 n = newell_normal(scene.faces[f].vertices);
-    if (!scene.faces[f].degenerate && glm::length(n) > 0.0) normals_[f] = glm::normalize(n);
-  }
 }
 
 void Receivers::receive(const std::vector<Patch>& patches, const std::vector<Element>& elements, const Patch& s,
@@ -104,7 +99,7 @@ bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::ve
     return false;  // one face hides the shooter from all of the receiving patch
   w.occluders.clear();
   for (std::size_t f : w.faces) w.occluders.push_back(&culler_.vertices(f));
-  const glm::dvec3& nr = normals_[receiver.face];
+  const glm::dvec3& nr = normals()[receiver.face];
   bool any = false;
   for (std::size_t k = 0; k < receiver.count; ++k) {
     const Element& e = elements[receiver.first + k];
@@ -119,7 +114,7 @@ bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::ve
 }
 
 bool Receivers::faces_each_other(const Triangle& r, std::size_t r_face, const Triangle& s, std::size_t s_face) const {
-  const glm::dvec3 &nr = normals_[r_face], &ns = normals_[s_face];
+  const glm::dvec3 &nr = normals()[r_face], &ns = normals()[s_face];
   bool a = false, b = false;
   for (const glm::dvec3& v : r) a = a || glm::dot(ns, v - s[0]) > 0.0;
   for (const glm::dvec3& v : s) b = b || glm::dot(nr, v - r[0]) > 0.0;

@@ -23,7 +23,7 @@ class Receivers {
 
   std::size_t exact_evaluations() const { return view_ ? view_->exact_evaluations() : 0; }
   /// Unit front normals per face (zero for a degenerate face).
-  const std::vector<glm::dvec3>& normals() const { return normals_; }
+  const std::vector<glm::dvec3>& normals() const { return culler_.normals(); }
   const ShaftCuller& culler() const { return culler_; }
 
   /// The form factor from each element to patch `s` and the quadrature change that estimates
@@ -55,7 +55,6 @@ class Receivers {
   bool exact_;
   ShaftCuller culler_;
   std::unique_ptr<ShooterView> view_;
-  std::vector<glm::dvec3> normals_;
   std::vector<Worker> workers_;
 };
 

@@ -42,8 +42,8 @@ class ShaftCuller {
   /// the grid's cells along the segment.
   bool blocked(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& scratch) const;
 
-  /// The unit front normal of face f (zero for a degenerate face).
-  const glm::dvec3& normal(std::size_t f) const { return normals_[f]; }
+  /// The unit front normals of the faces (zero for a degenerate face).
+  const std::vector<glm::dvec3>& normals() const { return normals_; }
 
   const std::vector<glm::dvec3>& vertices(std::size_t f) const { return scene_.faces[f].vertices; }
 

@@ -74,6 +74,18 @@ void check_options(const RadiosityOptions& o, const Scene& scene) {
   }
 }
 
+/// Each face's area-weighted mean of each light's direct irradiance.
+void fill_light_means(const std::vector<Element>& elements, const std::vector<std::vector<double>>& by_light,
+                      RadiosityResult& result) {
+  for (FaceRadiosity& face : result.faces) face.direct_irradiance_by_light.assign(by_light.size(), 0.0);
+  for (std::size_t l = 0; l < by_light.size(); ++l)
+    for (std::size_t i = 0; i < elements.size(); ++i)
+      result.faces[elements[i].face].direct_irradiance_by_light[l] += by_light[l][i] * elements[i].area;
+  for (FaceRadiosity& face : result.faces)
+    if (face.area > 0)
+      for (double& h : face.direct_irradiance_by_light) h /= face.area;
+}
+
 /// Power totals of a solution (W).
 struct Totals {
   double absorbed = 0.0, emitted = 0.0, direct = 0.0;
@@ -287,9 +299,12 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   }
   const std::size_t n = elements.size();
   Receivers receivers(scene, threads, options.exact_visibility);
-  std::vector<double> direct;
+  std::vector<double> direct(n, 0.0);
+  std::vector<std::vector<double>> direct_by_light;
   if (options.face_irradiance.empty()) {
-    direct = radiosity::direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+    direct_by_light = radiosity::direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+    for (const std::vector<double>& light : direct_by_light)
+      for (std::size_t i = 0; i < n; ++i) direct[i] += light[i];
   } else {
     direct.resize(n);
     for (std::size_t i = 0; i < n; ++i) direct[i] = options.face_irradiance[elements[i].face];
@@ -330,7 +345,14 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
         last = now;
         options.progress({0, 1.0, done, true});
       };
-    hierarchy = std::make_unique<radiosity::Hierarchy>(patches, elements, receivers, ho);
+    std::vector<char> can_emit(patches.size(), 0);
+    for (std::size_t p = 0; p < patches.size(); ++p)
+      for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i) {
+        const Material& m = scene.material_of(elements[i].face);
+        const double most = std::max({rho[i], m.reflectance_rgb.x, m.reflectance_rgb.y, m.reflectance_rgb.z});
+        if (emit[i] > 0.0 || (most > 0.0 && (options.face_reflectance.empty() || rho[i] > 0.0))) can_emit[p] = 1;
+      }
+    hierarchy = std::make_unique<radiosity::Hierarchy>(patches, elements, receivers, can_emit, ho);
   } else {
     cache = std::make_unique<FactorCache>(receivers, patches, elements, threads);
   }
@@ -361,6 +383,7 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
 
   result.shots = hierarchy ? 0 : mean.shots;
   const Totals totals = fill_arrays(scene, elements, direct, rho, emit, mean.b, mean.h, result);
+  fill_light_means(elements, direct_by_light, result);
   for (std::size_t i = 0; i < n; ++i) {
     RadiosityElement& e = result.elements[i];
     for (int k = 0; k < 3; ++k) {
