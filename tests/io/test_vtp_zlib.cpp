@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <vtkBitArray.h>
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
@@ -255,16 +256,20 @@ std::size_t expect_vtk_bytes(const std::function<vtkSmartPointer<vtkPolyData>()>
   for (const unsigned threads : {1u, 2u, 4u}) {
     const fs::path path = dir / ("threads" + std::to_string(threads) + ".vtp");
     ZLibBlockStats stats;
-    shadow::detail::write_polydata(make(), path, {}, threads, &stats);
+    shadow::detail::VtpWriteOptions options;
+    options.threads = threads;
+    options.stats = &stats;
+    shadow::detail::write_polydata(make(), path, {}, options);
     EXPECT_TRUE(read_bytes(path) == reference) << label << ", " << threads << " threads";
     if (threads == 1) {
-      EXPECT_EQ(stats.prepared, 0u) << label;
+      EXPECT_EQ(stats.foreseen, 0u) << label;
       EXPECT_EQ(stats.served, 0u) << label;
       blocks = stats.direct;
     } else {
       EXPECT_EQ(stats.direct, 0u) << label << ", " << threads << " threads: blocks not foreseen";
-      EXPECT_EQ(stats.served, stats.prepared) << label << ", " << threads << " threads";
+      EXPECT_EQ(stats.served, stats.foreseen) << label << ", " << threads << " threads";
       EXPECT_EQ(stats.served, blocks) << label << ", " << threads << " threads";
+      EXPECT_EQ(stats.windows, blocks == 0 ? 0u : 1u) << label << ": one window of 32 MiB";
       // (A dataset without points has no Points element: the reader refuses it.)
       if (auto poly = make(); poly->GetPoints() != nullptr) expect_reads_back(poly, path);
     }
@@ -331,10 +336,13 @@ TEST(VtpZlib, ArraysTheWriterCopiesAreCompressedWhenAskedWithTheSameBytes) {
   const fs::path dir = temp_dir();
   const std::string reference = vtk_bytes(make(), dir / "vtk.vtp");
   ZLibBlockStats stats;
-  shadow::detail::write_polydata(make(), dir / "two.vtp", {}, 2, &stats);
+  shadow::detail::VtpWriteOptions options;
+  options.threads = 2;
+  options.stats = &stats;
+  shadow::detail::write_polydata(make(), dir / "two.vtp", {}, options);
   EXPECT_TRUE(read_bytes(dir / "two.vtp") == reference);
   EXPECT_EQ(stats.direct, 3u);  // bits: 375 bytes, one block; soa: 48,000 bytes, two blocks
-  EXPECT_EQ(stats.served, stats.prepared);
+  EXPECT_EQ(stats.served, stats.foreseen);
   EXPECT_EQ(stats.served + stats.direct, expected_blocks(make()));
   fs::remove_all(dir);
 }
@@ -374,4 +382,89 @@ TEST(VtpZlib, FacesOfAResultGiveVtksBytes) {
   return shadow::detail::make_faces_polydata(scene, result);
   };
   EXPECT_EQ(expect_vtk_bytes(make, "faces"), expected_blocks(make()));
+}
+
+TEST(VtpZlib, SmallWindowsInTheWritersOrderGiveVtksBytes) {
+  // Windows of three blocks: compressed in the order the writer asks for them, each window
+  // holds three blocks of 32 KiB or more shorter ones (never a block asked out of order).
+  const auto make = maker(12000, 1000, 1000, 7, true);
+  const fs::path dir = temp_dir();
+  const std::string reference = vtk_bytes(make(), dir / "vtk.vtp");
+  for (const unsigned threads : {2u, 3u}) {
+    ZLibBlockStats stats;
+    shadow::detail::VtpWriteOptions options;
+    options.threads = threads;
+    options.window_bytes = 3 * 32768;
+    options.stats = &stats;
+    shadow::detail::write_polydata(make(), dir / "windows.vtp", {}, options);
+    EXPECT_TRUE(read_bytes(dir / "windows.vtp") == reference) << threads << " threads";
+    EXPECT_EQ(stats.direct, 0u);
+    EXPECT_EQ(stats.served, stats.foreseen);
+    EXPECT_LE(stats.windows, (stats.foreseen + 2) / 3);
+    EXPECT_GT(stats.windows, stats.foreseen / 6);
+  }
+  fs::remove_all(dir);
+}
+
+/// vtkZLibDataCompressor as it is when zlib runs out of memory: every block fails.
+class FailingZLib : public vtkZLibDataCompressor {
+ public:
+  static FailingZLib* New() {
+    auto* compressor = new FailingZLib;
+    compressor->InitializeObjectBase();
+    return compressor;
+  }
+
+ protected:
+  size_t CompressBuffer(unsigned char const*, size_t, unsigned char*, size_t) override { return 0; }
+};
+
+TEST(VtpZlibDeathTest, VtksWriterCrashesWhenZlibFails) {
+  // Why a failed block must never reach the writer: VTK 9.1's vtkXMLWriter uses the array
+  // vtkDataCompressor::Compress returns without looking, and that is null when zlib failed.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const fs::path dir = temp_dir();
+  EXPECT_DEATH(
+      {
+        vtkNew<vtkXMLPolyDataWriter> writer;
+        writer->SetFileName((dir / "crash.vtp").string().c_str());
+        writer->SetInputData(make_polydata(10, 0, 0, 9, false));
+        writer->SetDataModeToAppended();
+        writer->EncodeAppendedDataOff();
+        vtkNew<FailingZLib> failing;
+        vtkNew<vtkCallbackCommand> quiet;  // the compressor's error message kept off stderr
+        failing->AddObserver(vtkCommand::ErrorEvent, quiet);
+        writer->SetCompressor(failing);
+        writer->Write();
+      },
+      "");
+  fs::remove_all(dir);
+}
+
+TEST(VtpZlib, ZlibOutOfMemoryIsBadAllocNeverACrash) {
+  // zlib out of memory on the threads (the first block of the first and of a later window), on
+  // a block already compressed ahead, and on the writer's thread (one thread: VTK 9.1 would
+  // dereference the null array vtkZLibDataCompressor gives then). Each time std::bad_alloc
+  // after the writer has finished, and a file that is not VTK's.
+  const auto make = maker(12000, 0, 0, 8, false);
+  const fs::path dir = temp_dir();
+  const std::string reference = vtk_bytes(make(), dir / "vtk.vtp");
+  struct Case {
+    unsigned threads;
+    std::size_t block;
+  };
+  for (const Case c : {Case{2, 0}, Case{2, 9}, Case{2, 10}, Case{1, 5}, Case{4, 30}}) {
+    ZLibBlockStats stats;
+    shadow::detail::VtpWriteOptions options;
+    options.threads = c.threads;
+    options.window_bytes = 3 * 32768;
+    options.fail_at_block = c.block;
+    options.stats = &stats;
+    const fs::path path = dir / "failed.vtp";
+    EXPECT_THROW(shadow::detail::write_polydata(make(), path, {}, options), std::bad_alloc)
+        << c.threads << " threads, block " << c.block;
+    EXPECT_FALSE(read_bytes(path) == reference);
+    EXPECT_EQ(stats.served + stats.direct, c.block) << "the blocks before the failed one";
+  }
+  fs::remove_all(dir);
 }

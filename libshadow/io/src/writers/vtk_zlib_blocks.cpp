@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <new>
 #include <utility>
 
@@ -113,17 +114,19 @@ void PrecompressedZLib::add_copied(std::vector<unsigned char> bytes, std::size_t
   }
 }
 
-void PrecompressedZLib::prepare(vtkPolyData* data, std::size_t block_size, unsigned threads) {
+void PrecompressedZLib::prepare(vtkPolyData* data, std::size_t block_size, unsigned threads,
+                                std::size_t window_bytes) {
   in_place_.clear();
   copied_.clear();
   next_copied_ = 0;
   blocks_.clear();
   buffers_.clear();
   stats_ = {};
+  threads_ = std::max(1u, threads);
+  window_bytes_ = std::max<std::size_t>(1, window_bytes);
 
   // The arrays in the order the writer writes them: field data, then the piece's point data,
-  // cell data, points and the four cell arrays (connectivity, offsets). Only the order of the
-  // copied blocks matters: the others are found by their address.
+  // cell data, points and the four cell arrays (connectivity, offsets).
   auto add_arrays = [&](vtkFieldData* arrays) {
     if (arrays == nullptr) return;
     for (int i = 0; i < arrays->GetNumberOfArrays(); ++i) {
@@ -143,41 +146,90 @@ void PrecompressedZLib::prepare(vtkPolyData* data, std::size_t block_size, unsig
     add_in_place(cells->GetConnectivityArray(), block_size);
     add_copied(end_offsets(cells), block_size - block_size % sizeof(std::int64_t));
   }
+  stats_.foreseen = blocks_.size();
+  enabled_ = !blocks_.empty();
+  checked_ = false;
+}
 
+void PrecompressedZLib::rethrow_failure() const {
+  if (failure_) std::rethrow_exception(failure_);
+}
+
+PrecompressedZLib::Block* PrecompressedZLib::find(const unsigned char* bytes, std::size_t size) {
+  if (auto found = in_place_.find(bytes); found != in_place_.end()) {
+    Block& block = blocks_[found->second];
+    return block.size == size && !block.served ? &block : nullptr;
+  }
+  if (next_copied_ < copied_.size()) {
+    Block& expected = blocks_[copied_[next_copied_]];
+    if (expected.size == size && !expected.served && std::memcmp(expected.bytes, bytes, size) == 0) {
+      ++next_copied_;
+      return &expected;
+    }
+  }
+  return nullptr;
+}
+
+bool PrecompressedZLib::same_as_vtk(const Block& block) {
+  if (block.zlib.empty()) return true;  // nothing to compare: that block goes to VTK anyway
+  std::vector<unsigned char> own(GetMaximumCompressionSpace(block.size));
+  const std::size_t size = vtkZLibDataCompressor::CompressBuffer(block.bytes, block.size, own.data(), own.size());
+  return size == block.zlib.size() && std::equal(block.zlib.begin(), block.zlib.end(), own.begin());
+}
+
+void PrecompressedZLib::compress_window(std::size_t first, bool fail_first) {
+  // This block and the next ones not yet compressed, in the writer's order, up to the window.
+  std::vector<std::size_t> window;
+  std::size_t bytes = 0;
+  for (std::size_t b = first; b < blocks_.size() && (window.empty() || bytes < window_bytes_); ++b) {
+    if (blocks_[b].compressed || blocks_[b].served) continue;
+    window.push_back(b);
+    bytes += blocks_[b].size;
+  }
   const int level = GetCompressionLevel();
-  runtime::parallel_for(blocks_.size(), threads, [&](unsigned, std::size_t b) {
-    blocks_[b].zlib = deflate_block(blocks_[b].bytes, blocks_[b].size, level);
+  runtime::parallel_for(window.size(), threads_, [&](unsigned, std::size_t k) {
+    Block& block = blocks_[window[k]];
+    if (fail_first && k == 0) throw std::bad_alloc();
+    block.zlib = deflate_block(block.bytes, block.size, level);
   });
-  for (const Block& block : blocks_) stats_.prepared += block.zlib.empty() ? 0 : 1;
-
-  // The same zlib as VTK's, at the same level? One block compressed by vtkZLibDataCompressor
-  // itself says so; if it differs, every block is left to it (the files' bytes come first).
-  auto first = std::find_if(blocks_.begin(), blocks_.end(), [](const Block& b) { return !b.zlib.empty(); });
-  if (first != blocks_.end()) {
-    std::vector<unsigned char> own(GetMaximumCompressionSpace(first->size));
-    const std::size_t size = vtkZLibDataCompressor::CompressBuffer(first->bytes, first->size, own.data(), own.size());
-    if (size != first->zlib.size() || !std::equal(own.begin(), own.begin() + static_cast<std::ptrdiff_t>(size), first->zlib.begin())) {
-      for (Block& block : blocks_) block.zlib = {};
-      stats_.prepared = 0;
+  for (const std::size_t b : window) blocks_[b].compressed = true;
+  ++stats_.windows;
+  // The same zlib as VTK's, at the same level? The first block compressed by
+  // vtkZLibDataCompressor itself says so; if not, every block is left to it.
+  if (!checked_) {
+    checked_ = true;
+    if (!same_as_vtk(blocks_[first])) {
+      enabled_ = false;
+      for (const std::size_t b : window) std::vector<unsigned char>().swap(blocks_[b].zlib);
     }
   }
 }
 
+size_t PrecompressedZLib::failed(std::exception_ptr failure, unsigned char* compressed) {
+  if (!failure_) failure_ = std::move(failure);
+  enabled_ = false;
+  in_place_.clear();
+  copied_.clear();
+  blocks_.clear();  // what was compressed ahead goes back now
+  compressed[0] = 0;
+  return 1;
+}
+
 size_t PrecompressedZLib::CompressBuffer(unsigned char const* uncompressed, size_t uncompressed_size,
                                          unsigned char* compressed, size_t space) {
-  Block* block = nullptr;
-  if (auto found = in_place_.find(uncompressed); found != in_place_.end()) {
-    block = &blocks_[found->second];
-  } else if (next_copied_ < copied_.size()) {
-    Block& expected = blocks_[copied_[next_copied_]];
-    if (expected.size == uncompressed_size &&
-        std::memcmp(expected.bytes, uncompressed, uncompressed_size) == 0) {
-      block = &expected;
-      ++next_copied_;
+  const bool fail = calls_++ == fail_at_call_;
+  if (failure_) return failed(nullptr, compressed);  // the file is lost already: end it soon
+  Block* block = enabled_ ? find(uncompressed, uncompressed_size) : nullptr;
+  if (block != nullptr && !block->compressed) {
+    try {
+      compress_window(static_cast<std::size_t>(block - blocks_.data()), fail);
+    } catch (...) {
+      return failed(std::current_exception(), compressed);
     }
+  } else if (fail) {
+    return failed(std::make_exception_ptr(std::bad_alloc()), compressed);
   }
-  if (block != nullptr && block->size == uncompressed_size && !block->served && !block->zlib.empty() &&
-      block->zlib.size() <= space) {
+  if (enabled_ && block != nullptr && !block->zlib.empty() && block->zlib.size() <= space) {
     std::memcpy(compressed, block->zlib.data(), block->zlib.size());
     const std::size_t size = block->zlib.size();
     block->served = true;
@@ -186,7 +238,10 @@ size_t PrecompressedZLib::CompressBuffer(unsigned char const* uncompressed, size
     return size;
   }
   ++stats_.direct;
-  return vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
+  // vtkZLibDataCompressor fails only when zlib runs out of memory (the space is always enough).
+  const std::size_t size = vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
+  if (size == 0) return failed(std::make_exception_ptr(std::bad_alloc()), compressed);
+  return size;
 }
 
 }  // namespace shadow::detail

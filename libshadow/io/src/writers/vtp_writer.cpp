@@ -19,8 +19,10 @@
 
 namespace shadow::detail {
 
+static_assert(VtpWriteOptions{}.window_bytes == PrecompressedZLib::kWindowBytes);
+
 void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
-                    const std::filesystem::path& shown_as, unsigned threads, ZLibBlockStats* stats) {
+                    const std::filesystem::path& shown_as, const VtpWriteOptions& options) {
   vtkNew<vtkXMLPolyDataWriter> writer;
   // The writer reports the cause (when it knows one); its executive then adds a generic
   // "returned failure" dump that says nothing useful: keep it off stderr, and out of the message.
@@ -35,18 +37,22 @@ void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
   writer->SetCompressorTypeToZLib();
   writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
   writer->SetIdTypeToInt64();
-  // The same compressor (class name and level), its blocks compressed on every thread first.
+  // The same compressor (class name and level), its blocks compressed on every thread as the
+  // writer comes to them; a failed block never reaches the writer (vtk_zlib_blocks.hpp).
   vtkNew<PrecompressedZLib> compressor;
   vtkNew<VtkErrorCapture> compressor_errors;  // zlib's failures, told by the writer's error
   compressor->AddObserver(vtkCommand::ErrorEvent, compressor_errors);
   compressor->SetCompressionLevel(writer->GetCompressor()->GetCompressionLevel());
   writer->SetCompressor(compressor);
-  if (threads > 1) compressor->prepare(data, static_cast<std::size_t>(writer->GetBlockSize()), threads);
+  if (options.threads > 1)
+    compressor->prepare(data, static_cast<std::size_t>(writer->GetBlockSize()), options.threads, options.window_bytes);
+  compressor->fail_for_test(options.fail_at_block);
 
   errno = 0;
   const int ok = writer->Write();
   const unsigned long code = writer->GetErrorCode();
-  if (stats != nullptr) *stats = compressor->stats();
+  if (options.stats != nullptr) *options.stats = compressor->stats();
+  compressor->rethrow_failure();  // zlib out of memory: std::bad_alloc, the file unfinished
   if (ok == 1 && code == vtkErrorCode::NoError) return;
 
   const int saved_errno = errno;

@@ -190,13 +190,13 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   // The zlib blocks of each .vtp compressed on every thread (same bytes: vtk_zlib_blocks.hpp).
   const unsigned threads = runtime::resolve_threads(run != nullptr ? run->options.threads : 0);
   auto write_vtk = [&] {
+    const detail::VtpWriteOptions vtp{threads};
     detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
-                           fragments.final_path, threads);
-    detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path,
-                           threads);
+                           fragments.final_path, vtp);
+    detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path, vtp);
     detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
-                           plane_shadows.final_path, threads);
-    detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path, threads);
+                           plane_shadows.final_path, vtp);
+    detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path, vtp);
     detail::write_vtm(
         {{"faces", "faces.vtp"},
          {"fragments", "fragments.vtp"},
