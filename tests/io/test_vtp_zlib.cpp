@@ -384,6 +384,48 @@ TEST(VtpZlib, FacesOfAResultGiveVtksBytes) {
   EXPECT_EQ(expect_vtk_bytes(make, "faces"), expected_blocks(make()));
 }
 
+TEST(VtpZlib, FacesMadeOnSeveralThreadsAreTheSameDataset) {
+  // 10,000 faces (three ranges of 4,096) of different shapes, names, kinds, sources and meshes,
+  // one of them unknown: the dataset made on 2 and 4 threads, written on as many, is VTK's file
+  // of the dataset made on one.
+  shadow::Scene scene;
+  scene.meshes = {shadow::Mesh{"blocks", "blocks.obj", 0, 0, true}, shadow::Mesh{"trees", "", 0, 0, false}};
+  for (std::size_t f = 0; f < 10000; ++f) {
+    shadow::Face face;
+    const double x = 3.0 * static_cast<double>(f) + 1.0 / 3.0;
+    face.vertices = {{x, 0.1, 0.0}, {x + 2.0, 0.1 * static_cast<double>(f % 7), 0.5}, {x + 2.0, 0.1, 3.0}};
+    if (f % 4 == 1) face.vertices.push_back({x, 0.1, 3.0 + static_cast<double>(f % 3)});
+    face.source = {"blocks.obj", "line " + std::to_string(f + 1)};
+    if (f % 5 == 0) face.name = "wall " + std::to_string(f / 5);
+    if (f % 3 == 0) face.kind = "WallSurface";
+    face.mesh = f % 11 == 0 ? 1 : f % 13 == 0 ? 5 : 0;
+    scene.faces.push_back(face);
+  }
+  shadow::Light sun;
+  sun.name = "sun";
+  sun.to_light = {0.4, 0.3, 0.85};
+  scene.lights.push_back(sun);
+  shadow::ShadowResult result;
+  for (std::size_t f = 0; f < scene.faces.size(); f += 2) {
+    shadow::FaceLighting e;
+    e.face_id = f;
+    e.area = 1.0 + static_cast<double>(f);
+    e.lit_area = e.area / 3.0;
+    e.lit_fraction = 1.0 / 3.0;
+    result.lighting.push_back(e);
+  }
+  const fs::path dir = temp_dir();
+  const std::string reference = vtk_bytes(shadow::detail::make_faces_polydata(scene, result, 1), dir / "vtk.vtp");
+  for (const unsigned threads : {2u, 4u}) {
+    shadow::detail::VtpWriteOptions options;
+    options.threads = threads;
+    shadow::detail::write_polydata(shadow::detail::make_faces_polydata(scene, result, threads), dir / "faces.vtp", {},
+                                   options);
+    EXPECT_TRUE(read_bytes(dir / "faces.vtp") == reference) << threads << " threads";
+  }
+  fs::remove_all(dir);
+}
+
 TEST(VtpZlib, SmallWindowsInTheWritersOrderGiveVtksBytes) {
   // Windows of three blocks: compressed in the order the writer asks for them, each window
   // holds three blocks of 32 KiB or more shorter ones (never a block asked out of order).

@@ -193,7 +193,7 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
     const detail::VtpWriteOptions vtp{threads};
     detail::write_polydata(shifted(detail::make_fragments_polydata(scene, result)), fragments.temp,
                            fragments.final_path, vtp);
-    detail::write_polydata(shifted(detail::make_faces_polydata(scene, result)), faces.temp, faces.final_path, vtp);
+    detail::write_polydata(shifted(detail::make_faces_polydata(scene, result, threads)), faces.temp, faces.final_path, vtp);
     detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
                            plane_shadows.final_path, vtp);
     detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path, vtp);
