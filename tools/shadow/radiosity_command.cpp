@@ -42,7 +42,7 @@ CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args) {
   cmd->add_option("--link-separation", args.link_separation,
                   "Hierarchical: link two groups of patches as a whole when their radii add up to at most this "
                   "times their distance (default 0.4; smaller is closer to shooting and slower)")
-      ->check(shadow_cli::finite_in(1e-3, 0.999));
+      ->check(shadow_cli::finite_in(0.1, 0.999));
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));

@@ -76,9 +76,10 @@ enum class RadiosityMethod {
   /// cost grows as patches x elements.
   shooting,
   /// Hierarchical radiosity with clusters: near pairs of patches linked patch to element as in
-  /// shooting, groups of patches far apart relative to their size linked as a whole (one factor
-  /// per pair of faces, visibility from rays between them), then gathering iterations (Jacobi).
-  /// The links grow about linearly with the scene.
+  /// shooting, groups of patches far apart relative to their size linked as a whole (the kernel
+  /// at the two groups' centroids, with each face's own cosine; visibility from rays between
+  /// them), then gathering iterations (Jacobi). The links grow about linearly with the scene.
+  /// Not with exact_visibility (an InputError).
   hierarchical,
 };
 
@@ -95,7 +96,9 @@ struct RadiosityOptions {
   /// Stop when the unshot power is at most this fraction of the power put in (emitted plus the
   /// reflected part of the direct light).
   double tolerance = 1e-3;
-  std::size_t max_shots = 0;  ///< 0: no limit other than the tolerance
+  /// Shooting: the most shots (0: no limit other than the tolerance). Hierarchical: the most
+  /// gathering iterations (0: 10,000).
+  std::size_t max_shots = 0;
   /// Visibility between elements: false (the default) cuts the shadows of the faces in the shaft
   /// between receiver and shooter out of the shooter in doubles (about 1e-9 of its size);
   /// true takes CGAL's exact machinery point by point (slow; for checking the default).
@@ -114,7 +117,7 @@ struct RadiosityOptions {
   std::function<void(const RadiosityProgress&)> progress;
   RadiosityMethod method = RadiosityMethod::automatic;
   /// Hierarchical: two groups of patches are linked as a whole when the sum of their radii is
-  /// at most this times the distance between their centroids (in (0, 1); smaller: more links,
+  /// at most this times the distance between their centroids (in [0.1, 1); smaller: more links,
   /// closer to shooting's answer). The kernel's relative error on such a link is of the order
   /// of its square.
   double link_separation = 0.4;
@@ -167,7 +170,7 @@ struct RadiosityResult {
   std::size_t exact_evaluations = 0;  ///< point form factors that took the exact visibility route
   bool hierarchical = false;          ///< solved by RadiosityMethod::hierarchical
   std::size_t iterations = 0;         ///< hierarchical: gathering iterations of the scalar solution
-  std::size_t near_links = 0;         ///< hierarchical: patch-to-element links
+  std::size_t near_links = 0;         ///< hierarchical: pairs of patches linked element by element
   std::size_t far_links = 0;          ///< hierarchical: links between groups (visible ones)
   bool converged = false;      ///< unshot_fraction <= tolerance
   double emitted_power = 0.0;  ///< sum of E A

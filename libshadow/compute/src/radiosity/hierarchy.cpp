@@ -77,6 +77,20 @@ Hierarchy::Hierarchy(const std::vector<Patch>& patches, const std::vector<Elemen
     parts_.insert(parts_.end(), parts[k].begin(), parts[k].end());
   }
 
+  const unsigned threads = std::max(1u, options_.threads);
+  enclosed_.assign(n, 0);
+  {
+    const std::vector<glm::dvec3>& normals = receivers_.normals();
+    const double reach = 4.0 * (nodes_[0].radius + 1.0);
+    std::vector<ShaftCuller::Scratch> scratch(threads);
+    runtime::parallel_for(n, threads, [&](unsigned worker, std::size_t p) {
+      const Patch& patch = patches_[p];
+      const glm::dvec3& normal = normals[patch.face];
+      const std::size_t hit =
+          receivers_.culler().first_hit(patch.centroid, patch.face, patch.centroid + reach * normal, scratch[worker]);
+      enclosed_[p] = hit != SIZE_MAX && glm::dot(normals[hit], normal) > 0.0 ? 1 : 0;
+    });
+  }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> near_pairs, far_pairs;
   link(near_pairs, far_pairs);
   const std::size_t total = near_pairs.size() + far_pairs.size();
@@ -88,7 +102,6 @@ Hierarchy::Hierarchy(const std::vector<Patch>& patches, const std::vector<Elemen
   // doubles), in blocks so that the pairs' scratch stays small.
   std::sort(near_pairs.begin(), near_pairs.end());
   near_begin_.assign(n + 1, 0);
-  const unsigned threads = std::max(1u, options_.threads);
   constexpr std::size_t kBlock = std::size_t(1) << 16;
   std::vector<std::vector<double>> factors(std::min(kBlock, near_pairs.size()));
   std::vector<double> quadrature(factors.size());
@@ -229,6 +242,10 @@ void Hierarchy::make_far_link(FarLink& link, std::uint64_t seed, ShaftCuller::Sc
   const Node &R = nodes_[link.receiver], &S = nodes_[link.source];
   const glm::dvec3 between = R.centroid - S.centroid;
   const double d2 = glm::dot(between, between);
+  if (!(d2 > 0.0)) {  // only for groups of no size at one point
+    link.visible = 0.0;
+    return;
+  }
   link.direction = between / std::sqrt(d2);
   link.inverse_square = 1.0 / d2;
   // The rays join points of patches chosen by their area facing the other group.
@@ -238,7 +255,7 @@ void Hierarchy::make_far_link(FarLink& link, std::uint64_t seed, ShaftCuller::Sc
     double sum = 0.0;
     for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
       const Patch& p = patches_[order_[k]];
-      sum += p.area * std::max(0.0, sign * glm::dot(normals[p.face], link.direction));
+      if (!enclosed_[order_[k]]) sum += p.area * std::max(0.0, sign * glm::dot(normals[p.face], link.direction));
       cumulative.push_back(sum);
     }
     return sum;
@@ -260,25 +277,29 @@ void Hierarchy::make_far_link(FarLink& link, std::uint64_t seed, ShaftCuller::Sc
   for (int k = 0; k < rays; ++k) {
     // Stratified in the choice of patches: ray k takes the k-th slice of each group's weight.
     const Patch& pr = pick(R, cr, wr, (k + random.next()) / rays);
-    const Patch& ps = pick(S, cs, ws, (((k * 5 + 3) % rays) + random.next()) / rays);
+    const Patch& ps = pick(S, cs, ws, ((rays - 1 - k) + random.next()) / rays);
     const glm::dvec3 x = point_in(pr.triangle, random.next(), random.next());
     const glm::dvec3 y = point_in(ps.triangle, random.next(), random.next());
     const glm::dvec3 xy = y - x;
     const double l2 = glm::dot(xy, xy);
+    // The patches were drawn by area times their cosine to the link's direction: each ray's
+    // kernel over those cosines weighs the pairs as drawing by area alone would.
+    const double drawn = -glm::dot(normals[pr.face], link.direction) * glm::dot(normals[ps.face], link.direction);
     const double kernel =
-        l2 > 0 ? std::max(0.0, glm::dot(normals[pr.face], xy)) * std::max(0.0, -glm::dot(normals[ps.face], xy)) / (l2 * l2)
-               : 0.0;
+        l2 > 0 && drawn > 0
+            ? std::max(0.0, glm::dot(normals[pr.face], xy)) * std::max(0.0, -glm::dot(normals[ps.face], xy)) /
+                  (l2 * l2 * drawn)
+            : 0.0;
     const bool clear = !receivers_.culler().blocked(x, pr.face, y, ps.face, scratch);
     weighted += kernel;
     if (clear) seen += kernel, ++unblocked;
   }
   link.visible = weighted > 0.0 ? seen / weighted : static_cast<double>(unblocked) / rays;
-  const double angle = (R.radius + S.radius) / std::sqrt(d2);
   const double v = link.visible;
-  // The centroid kernel's relative error is about (r_R^2 + r_S^2) / d^2, at most angle^2 / 2
-  // for equal radii; the rays' standard error that of a proportion (with one ray's worth added,
-  // so that all-clear or all-blocked samples do not claim certainty).
-  link.kernel_error = 0.5 * angle * angle;
+  // The centroid kernel's relative error is about (r_R^2 + r_S^2) / d^2 (between angle^2 / 2
+  // and angle^2); the rays' standard error that of a proportion (with one ray's worth added, so
+  // that all-clear or all-blocked samples do not claim certainty).
+  link.kernel_error = (R.radius * R.radius + S.radius * S.radius) / d2;
   link.sampling_error = std::sqrt((v * (1.0 - v) + 1.0 / rays) / rays);
 }
 
@@ -360,7 +381,7 @@ void Hierarchy::gather(const std::vector<double>& b, const std::vector<double>& 
   h.assign(direct.begin(), direct.end());
   runtime::parallel_for(n, threads, [&](unsigned, std::size_t p) {
     const Patch& patch = patches_[p];
-    const double far = irradiance[nodes_[static_cast<std::size_t>(leaf_of_patch_[p])].parts_first];
+    const double far = enclosed_[p] ? 0.0 : irradiance[nodes_[static_cast<std::size_t>(leaf_of_patch_[p])].parts_first];
     for (std::size_t i = patch.first; i < patch.first + patch.count; ++i) h[i] += far;
     for (std::size_t l = near_begin_[p]; l < near_begin_[p + 1]; ++l) {
       const NearLink& link = near_[l];

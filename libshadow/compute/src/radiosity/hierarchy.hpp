@@ -104,6 +104,10 @@ class Hierarchy {
   std::vector<Node> nodes_;           // parents before children; nodes_[0] the root
   std::vector<Part> parts_;
   std::vector<std::int32_t> leaf_of_patch_;
+  /// Per patch: it faces the inside of a closed solid (a ground patch under a box standing on
+  /// it: the first face along its normal is seen from behind). Far links neither reach nor
+  /// sample it: what a group receives belongs to its open patches.
+  std::vector<char> enclosed_;
   std::vector<NearLink> near_;  // by receiver
   std::vector<double> near_factors_;
   std::vector<FarLink> far_;  // by receiver

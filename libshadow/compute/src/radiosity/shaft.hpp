@@ -42,6 +42,10 @@ class ShaftCuller {
   /// the grid's cells along the segment.
   bool blocked(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& scratch) const;
 
+  /// The face that the segment from p to q crosses nearest to p (as blocked() counts crossings,
+  /// face `p_face` left out), or SIZE_MAX when none.
+  std::size_t first_hit(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, Scratch& scratch) const;
+
   /// The unit front normals of the faces (zero for a degenerate face).
   const std::vector<glm::dvec3>& normals() const { return normals_; }
 
@@ -52,6 +56,13 @@ class ShaftCuller {
   /// it, away from its edges by 1e-9 of the lengths (then it crosses every segment between the
   /// two convex polygons: the crossings are convex combinations of those).
   bool hides_all(std::size_t f, const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) const;
+
+  /// Walks the grid's cells along the segment from p to q, calling visit(f, t) for each face f
+  /// (not p_face or q_face) that it crosses well inside at parameter t, and visit(SIZE_MAX, t)
+  /// before entering the next cell (t: where it starts); a true return ends the walk.
+  template <class Visit>
+  void walk(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& scratch,
+            const Visit& visit) const;
 
   /// Whether face f may meet the open hull (box `box`, facets in `s.planes`).
   bool consider(std::size_t f, const std::array<double, 6>& box, double tol, const Scratch& s) const;

@@ -51,8 +51,12 @@ void check_options(const RadiosityOptions& o, const Scene& scene) {
     throw InputError({"", "patch_area"}, "patch_area must be a finite number >= 0 (m^2)");
   if (!(o.tolerance > 0.0) || !(o.tolerance < 1.0))
     throw InputError({"", "tolerance"}, "tolerance must be in (0, 1): the unshot fraction to stop at");
-  if (!(o.link_separation > 0.0) || !(o.link_separation < 1.0))
-    throw InputError({"", "link_separation"}, "link_separation must be in (0, 1)");
+  // Below 0.1 almost every pair of patches is near: the links grow as their square.
+  if (!(o.link_separation >= 0.1) || !(o.link_separation < 1.0))
+    throw InputError({"", "link_separation"}, "link_separation must be in [0.1, 1)");
+  if (o.method == RadiosityMethod::hierarchical && o.exact_visibility)
+    throw InputError({"", "exact_visibility"}, "exact_visibility is for the shooting method (it checks the "
+                                               "visibility in doubles); the hierarchical method takes rays for far links");
   if (o.link_rays < 1 || o.link_rays > 1024) throw InputError({"", "link_rays"}, "link_rays must be in [1, 1024]");
   runtime::checked_threads(o.threads);
   if (!o.face_irradiance.empty()) {
