@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Radiosity (issue 32): form factors against Howell's catalogue, reciprocity, closed boxes, an
 // occluder against Monte Carlo with exact ray tests; the solver's furnace test and energy balance.
+#include "support/scene_builders.hpp"
+
 #include <shadow/generators.hpp>
 #include <shadow/radiosity.hpp>
 #include <shadow/scene.hpp>
@@ -162,18 +164,7 @@ TEST(FormFactor, BadFacesAreInputErrors) {
 // ---- the solver ------------------------------------------------------------------------------
 
 /// A closed room whose inner faces all emit `e` and reflect `rho`.
-Scene furnace(double e, double rho) {
-  Scene scene;
-  shadow::Material m;
-  m.name = "grey";
-  m.emittance = e;
-  m.reflectance = rho;
-  scene.materials.push_back(m);
-  shadow::add_mesh(scene, "room", shadow::room_faces({0, 0, 0}, {2, 1, 1.5}));
-  scene.meshes[0].material = "grey";
-  shadow::validate_scene(scene);
-  return scene;
-}
+Scene furnace(double e, double rho) { return shadow::test::furnace_room(e, rho); }
 
 TEST(Radiosity, FurnaceIsEOverOneMinusRhoEverywhereForTwoMeshings) {
   const double e = 10.0, rho = 0.6;

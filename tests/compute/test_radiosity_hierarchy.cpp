@@ -5,6 +5,8 @@
 #include "radiosity/shaft.hpp"
 
 #include <shadow/error.hpp>
+#include "support/scene_builders.hpp"
+
 #include <shadow/generators.hpp>
 #include <shadow/radiosity.hpp>
 #include <shadow/scene.hpp>
@@ -26,18 +28,7 @@ using glm::dvec3;
 using shadow::Scene;
 
 /// A closed room whose inner faces all emit `e` and reflect `rho`.
-Scene furnace(double e, double rho) {
-  Scene scene;
-  shadow::Material m;
-  m.name = "grey";
-  m.emittance = e;
-  m.reflectance = rho;
-  scene.materials.push_back(m);
-  shadow::add_mesh(scene, "room", shadow::room_faces({0, 0, 0}, {2, 1, 1.5}));
-  scene.meshes[0].material = "grey";
-  shadow::validate_scene(scene);
-  return scene;
-}
+Scene furnace(double e, double rho) { return shadow::test::furnace_room(e, rho); }
 
 /// `side` x `side` boxes of seeded sizes on a ground, one sun: ground reflectance 0.2, walls 0.3
 /// (the scene of tools/bench/radiosity_city.py, smaller).
