@@ -2,6 +2,7 @@
 #include "radiosity/elements.hpp"
 
 #include "radiosity/contacts.hpp"
+#include "runtime/parallel.hpp"
 
 #include <shadow/area_lights.hpp>
 #include <shadow/lighting.hpp>
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace shadow::radiosity {
 namespace {
@@ -93,21 +95,42 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
       for (std::size_t i = 0; i < elements.size(); ++i) direct[i] = (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
       continue;
     }
-    std::vector<std::vector<std::size_t>> lit(scene.faces.size());
+    // The lit fragments of this light per face, with their normals and boxes (a ground under a
+    // city has thousands: each element tries only those whose box holds its centroid).
+    struct Lit {
+      std::size_t fragment;
+      glm::dvec3 normal, lo, hi;
+    };
+    std::vector<std::vector<Lit>> lit(scene.faces.size());
     if (l > 0)
       for (std::size_t i = 0; i < fragments.size(); ++i)
-        if (fragments[i].light_id == l && fragments[i].lit) lit[fragments[i].face_id].push_back(i);
-    for (std::size_t i = 0; i < elements.size(); ++i) {
+        if (fragments[i].light_id == l && fragments[i].lit && fragments[i].face_id < scene.faces.size()) {
+          Lit entry{i, newell_normal(fragments[i].polygon), glm::dvec3(std::numeric_limits<double>::infinity()),
+                    glm::dvec3(-std::numeric_limits<double>::infinity())};
+          for (const glm::dvec3& v : fragments[i].polygon) entry.lo = glm::min(entry.lo, v), entry.hi = glm::max(entry.hi, v);
+          // Widened: a centroid on the plane of a wall may round off it by an ulp or so.
+          const glm::dvec3 pad(1e-9 * (glm::length(entry.hi - entry.lo) + glm::length(entry.hi) + glm::length(entry.lo)));
+          entry.lo -= pad;
+          entry.hi += pad;
+          lit[fragments[i].face_id].push_back(entry);
+        }
+    runtime::parallel_for(elements.size(), runtime::resolve_threads(threads), [&](unsigned, std::size_t i) {
       const Element& e = elements[i];
       bool is_lit = false;
       if (l == 0) {
         is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
       } else {
-        for (std::size_t k : lit[e.face])
-          is_lit = is_lit || inside_polygon(fragments[k].polygon, newell_normal(fragments[k].polygon), e.centroid);
+        const glm::dvec3& p = e.centroid;
+        for (const Lit& k : lit[e.face]) {
+          if (p.x < k.lo.x || p.y < k.lo.y || p.z < k.lo.z || p.x > k.hi.x || p.y > k.hi.y || p.z > k.hi.z) continue;
+          if (inside_polygon(fragments[k.fragment].polygon, k.normal, p)) {
+            is_lit = true;
+            break;
+          }
+        }
       }
       if (is_lit) direct[i] = irradiance(light, e.centroid, normals[e.face]);
-    }
+    });
   }
   return by_light;
 }

@@ -288,7 +288,9 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   std::vector<Patch> patches;
   std::vector<Element> elements;
   const double patch_area = options.patch_area > 0 ? options.patch_area : 16.0 * options.max_element_area;
-  radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, 0.0, patches, elements);
+  // Shooting's patches first (unless the hierarchy was asked for): their count decides `auto`.
+  if (options.method != RadiosityMethod::hierarchical)
+    radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, 0.0, patches, elements);
   const bool hierarchical =
       options.method == RadiosityMethod::hierarchical ||
       (options.method == RadiosityMethod::automatic && !options.exact_visibility && patches.size() > kAutoHierarchical);
