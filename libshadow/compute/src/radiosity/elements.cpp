@@ -83,14 +83,15 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
   std::vector<std::vector<double>> by_light(scene.lights.size(), std::vector<double>(elements.size(), 0.0));
   // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
   // points of the degree-2 triangle rule, each exact.
-  std::vector<SurfacePoint> points;
-  for (const Element& e : elements)
-    for (int c = 0; c < 3; ++c)
-      points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
+  std::vector<SurfacePoint> points;  // made when the first extended light needs them
   for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     const Light& light = scene.lights[l];
     std::vector<double>& direct = by_light[l];
     if (light.is_extended()) {
+      if (points.empty())
+        for (const Element& e : elements)
+          for (int c = 0; c < 3; ++c)
+            points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
       const std::vector<double> h = light_irradiance(scene, light, points, threads);
       for (std::size_t i = 0; i < elements.size(); ++i) direct[i] = (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
       continue;

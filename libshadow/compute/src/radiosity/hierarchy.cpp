@@ -326,13 +326,18 @@ void Hierarchy::part_powers(const std::vector<double>& patch_b, std::vector<doub
       power[node.parts_first] = patch_b[p] * patches_[p].area;
       continue;
     }
-    for (const std::int32_t child : {node.left, node.right}) {
-      const Node& c = nodes_[static_cast<std::size_t>(child)];
-      std::size_t i = node.parts_first;
-      for (std::size_t j = c.parts_first; j < c.parts_first + c.parts_count; ++j) {
-        while (parts_[i].face != parts_[j].face) ++i;  // the child's faces are among the node's
-        power[i] += power[j];
-      }
+    for_each_child_part(node, [&](std::size_t mine, std::size_t childs) { power[mine] += power[childs]; });
+  }
+}
+
+template <class Pair>
+void Hierarchy::for_each_child_part(const Node& node, const Pair& pair) const {
+  for (const std::int32_t child : {node.left, node.right}) {
+    const Node& c = nodes_[static_cast<std::size_t>(child)];
+    std::size_t i = node.parts_first;
+    for (std::size_t j = c.parts_first; j < c.parts_first + c.parts_count; ++j) {
+      while (parts_[i].face != parts_[j].face) ++i;  // the child's faces are among the node's, in order
+      pair(i, j);
     }
   }
 }
@@ -369,14 +374,7 @@ void Hierarchy::gather(const std::vector<double>& b, const std::vector<double>& 
   for (std::size_t k = 0; k < nodes_.size(); ++k) {
     const Node& node = nodes_[k];
     if (node.left < 0) continue;
-    for (const std::int32_t child : {node.left, node.right}) {
-      const Node& c = nodes_[static_cast<std::size_t>(child)];
-      std::size_t i = node.parts_first;
-      for (std::size_t j = c.parts_first; j < c.parts_first + c.parts_count; ++j) {
-        while (parts_[i].face != parts_[j].face) ++i;
-        irradiance[j] += irradiance[i];
-      }
-    }
+    for_each_child_part(node, [&](std::size_t mine, std::size_t childs) { irradiance[childs] += irradiance[mine]; });
   }
   h.assign(direct.begin(), direct.end());
   runtime::parallel_for(n, threads, [&](unsigned, std::size_t p) {

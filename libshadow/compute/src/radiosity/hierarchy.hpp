@@ -89,6 +89,10 @@ class Hierarchy {
             std::vector<std::pair<std::uint32_t, std::uint32_t>>& far) const;
   bool hidden_by_plane(const Node& a, const Node& b) const;
   void make_far_link(FarLink& link, std::uint64_t seed, ShaftCuller::Scratch& scratch) const;
+  /// pair(i, j) for every part j of each child of `node` (an inner node) and its own part i of
+  /// the same face: the walk that sums powers up the tree and pushes irradiance down it.
+  template <class Pair>
+  void for_each_child_part(const Node& node, const Pair& pair) const;
   /// Power leaving each node's faces (W), per part, from the patches' mean radiosity.
   void part_powers(const std::vector<double>& patch_b, std::vector<double>& power) const;
   /// A far link's irradiance on a receiving face per unit of its cosine (W/m^2).

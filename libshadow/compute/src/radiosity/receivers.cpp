@@ -77,7 +77,9 @@ void Receivers::receive(const std::vector<Patch>& patches, const std::vector<Ele
   // One shaft per receiving patch serves all its elements (each element's shaft lies inside it).
   const SourceChart chart(source);
   runtime::parallel_for(patches.size(), threads, [&](unsigned worker, std::size_t r) {
-    receive_patch(workers_[worker], chart, elements, patches[r], s, &factor[patches[r].first], &quad[patches[r].first],
+    const Patch& receiver = patches[r];
+    if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return;
+    receive_patch(workers_[worker], chart, source, elements, receiver, s, &factor[receiver.first], &quad[receiver.first],
                   2.0);
   });
 }
@@ -86,14 +88,15 @@ bool Receivers::receive_pair(unsigned worker, const std::vector<Element>& elemen
                              double close, std::vector<double>& factor, std::vector<double>& quad) {
   factor.assign(r.count, 0.0);
   quad.assign(r.count, 0.0);
-  const SourceChart chart({s.triangle[0], s.triangle[1], s.triangle[2]});
-  return receive_patch(workers_[worker], chart, elements, r, s, factor.data(), quad.data(), close);
+  if (r.face == s.face || !faces_each_other(r.triangle, r.face, s.triangle, s.face)) return false;
+  const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
+  const SourceChart chart(source);
+  return receive_patch(workers_[worker], chart, source, elements, r, s, factor.data(), quad.data(), close);
 }
 
-bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::vector<Element>& elements,
-                              const Patch& receiver, const Patch& s, double* factor, double* quad, double close) {
-  if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return false;
-  const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
+bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::vector<glm::dvec3>& source,
+                              const std::vector<Element>& elements, const Patch& receiver, const Patch& s,
+                              double* factor, double* quad, double close) {
   if (culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
                          s.face, w.shaft, w.faces))
     return false;  // one face hides the shooter from all of the receiving patch

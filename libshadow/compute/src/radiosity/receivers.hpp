@@ -48,9 +48,11 @@ class Receivers {
     std::vector<std::size_t> faces;
     std::vector<const std::vector<glm::dvec3>*> occluders;
   };
-  /// Patch r's elements' factors to the source in `chart` (patch s), in worker w's storage.
-  bool receive_patch(Worker& w, const SourceChart& chart, const std::vector<Element>& elements, const Patch& r,
-                     const Patch& s, double* factor, double* quad, double close);
+  /// Patch r's elements' factors to the source in `chart` (patch s, whose corners are `source`),
+  /// in worker w's storage; the caller has checked that r and s face each other.
+  bool receive_patch(Worker& w, const SourceChart& chart, const std::vector<glm::dvec3>& source,
+                     const std::vector<Element>& elements, const Patch& r, const Patch& s, double* factor,
+                     double* quad, double close);
 
   bool exact_;
   ShaftCuller culler_;
