@@ -1229,9 +1229,11 @@ PYBIND11_MODULE(_libshadow, m) {
         "quadrature's last change), order and evaluations.");
   m.def("radiosity",
         [](const ScenePtr& scene, double max_element_area, double tolerance, double patch_area, unsigned threads,
-           const std::string& method, double link_separation) {
+           const std::string& method, double link_separation, double refine_tolerance, int refine_passes) {
           need_scene(scene);
           RadiosityOptions o;
+          o.refine_tolerance = refine_tolerance;
+          o.refine_passes = refine_passes;
           o.max_element_area = max_element_area;
           o.tolerance = tolerance;
           o.patch_area = patch_area;
@@ -1291,15 +1293,21 @@ PYBIND11_MODULE(_libshadow, m) {
           d["escaped_power"] = r.escaped_power;
           d["unshot_power"] = r.unshot_power;
           d["balance_residual"] = r.balance_residual;
+          d["refine_passes"] = r.refine_passes;
+          d["initial_elements"] = r.initial_elements;
+          d["discretization_error"] = r.discretization_error;
           return d;
         },
         py::arg("scene"), py::arg("max_element_area") = 0.0, py::arg("tolerance") = 1e-3, py::arg("patch_area") = 0.0,
         py::arg("threads") = 0, py::arg("method") = "auto", py::arg("link_separation") = 0.4,
+        py::arg("refine_tolerance") = 0.0, py::arg("refine_passes") = 3,
         "Radiosity with exact visibility (docs/radiosity.md): method 'auto' (hierarchical above 4,000 "
         "patches), 'shooting' (progressive refinement) or 'hierarchical' (links between groups far apart; "
         "link_separation in (0, 1)). A dict with elements (face_id, area, radiosity, irradiance, "
         "direct_irradiance, triangles), faces (area-weighted means), shots, method, iterations, near_links, "
-        "far_links, converged, unshot_fraction, error_estimate and the energy balance in W.");
+        "far_links, converged, unshot_fraction, error_estimate and the energy balance in W. refine_tolerance > 0 "
+        "(shooting): elements split where the irradiance varies across them until the element field's estimated "
+        "relative error (discretization_error) is at most it, in at most refine_passes rounds.");
   m.def("compute_shadows",
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
            const std::string& arithmetic, bool planes, double plane_window, const py::object& progress,

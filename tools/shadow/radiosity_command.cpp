@@ -43,6 +43,14 @@ CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args) {
                   "Hierarchical: link two groups of patches as a whole when their radii add up to at most this "
                   "times their distance (default 0.4; smaller is closer to shooting and slower)")
       ->check(shadow_cli::finite_in(0.1, 0.999));
+  cmd->add_option("--refine-tolerance", args.refine_tolerance,
+                  "Adaptive refinement (shooting): split the elements across which the irradiance varies most "
+                  "and solve again, until the element field's estimated relative error is at most this "
+                  "(e.g. 0.02; 0, the default: no adaptive refinement)")
+      ->check(shadow_cli::finite_in(0.0, 0.999));
+  cmd->add_option("--refine-passes", args.refine_passes,
+                  "Adaptive refinement: at most this many rounds of splitting in four (1 to 8, default 3)")
+      ->check(shadow_cli::integer_in(1, 8));
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
@@ -68,6 +76,8 @@ int run_radiosity(const RadiosityArgs& args) {
                    : args.method == "hierarchical" ? shadow::RadiosityMethod::hierarchical
                                                    : shadow::RadiosityMethod::automatic;
   options.link_separation = args.link_separation;
+  options.refine_tolerance = args.refine_tolerance;
+  options.refine_passes = args.refine_passes;
   const bool terminal = isatty(STDERR_FILENO) != 0;
   auto last_line = Clock::now();
   bool shown = false;
@@ -111,6 +121,10 @@ int run_radiosity(const RadiosityArgs& args) {
       std::printf("radiosity: %zu elements in %zu patches on %zu faces, %zu shots in %.2f s%s\n",
                   result.elements.size(), result.patches, scene.faces.size(), result.shots, run.seconds,
                   result.converged ? "" : " (not converged)");
+    if (options.refine_tolerance > 0)
+      std::printf("  adaptive refinement: %zu -> %zu elements in %zu passes, estimated element field error %.3g%%\n",
+                  result.initial_elements, result.elements.size(), result.refine_passes,
+                  100.0 * result.discretization_error);
     std::printf("  unshot %.4g%% of the power put in, error estimate %.3g%%\n", 100.0 * result.unshot_fraction,
                 100.0 * result.error_estimate);
     std::printf("  balance (W): emitted %.6g + direct %.6g = absorbed %.6g + escaped %.6g + unshot %.6g "

@@ -14,6 +14,8 @@ struct RadiosityArgs {
   double tolerance = 1e-3;
   std::string method = "auto";  // --method auto|shooting|hierarchical
   double link_separation = 0.4;
+  double refine_tolerance = 0.0;
+  int refine_passes = 3;
   unsigned threads = 0;
   bool quiet = false;
   double planarity_tolerance = 1e-6;

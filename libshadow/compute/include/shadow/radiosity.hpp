@@ -123,6 +123,16 @@ struct RadiosityOptions {
   double link_separation = 0.4;
   /// Hierarchical: rays per link between groups for its visibility (1 to 1024).
   int link_rays = 8;
+  /// Adaptive refinement (shooting only; docs/radiosity.md, "Adaptive refinement"): 0 (the
+  /// default) leaves the elements as made. Otherwise, after a solution, each element's error of
+  /// holding one value is estimated from the irradiance's gradient across it (the spread of the
+  /// degree-2 rule's three points, summed over the direct light and every shot); while the
+  /// estimated relative error of the element field, sqrt(sum of the integrals of (H - H_element)^2
+  /// over sum of H^2 A), is above this, the elements with the largest errors are split in four
+  /// and the scene solved again. In (0, 1).
+  double refine_tolerance = 0.0;
+  /// Adaptive refinement: the most rounds of splitting (1 to 8); no element is split more often.
+  int refine_passes = 3;
 };
 
 /// One element: a triangle of one face.
@@ -172,6 +182,12 @@ struct RadiosityResult {
   std::size_t iterations = 0;         ///< hierarchical: gathering iterations of the scalar solution
   std::size_t near_links = 0;         ///< hierarchical: pairs of patches linked element by element
   std::size_t far_links = 0;          ///< hierarchical: links between groups (visible ones)
+  /// Adaptive refinement: the rounds of splitting done, the elements before the first, and the
+  /// final elements' estimated relative error of the element field (RadiosityOptions::
+  /// refine_tolerance; 0 without refinement).
+  std::size_t refine_passes = 0;
+  std::size_t initial_elements = 0;
+  double discretization_error = 0.0;
   bool converged = false;      ///< unshot_fraction <= tolerance
   double emitted_power = 0.0;  ///< sum of E A
   double direct_power = 0.0;   ///< sum of H_direct A

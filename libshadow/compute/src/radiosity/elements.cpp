@@ -14,10 +14,7 @@
 #include <limits>
 
 namespace shadow::radiosity {
-namespace {
-
-void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t, std::size_t fragment,
-                 std::size_t patch) {
+Element make_element(std::size_t face, const Triangle& t, std::size_t fragment, std::size_t patch) {
   Element e;
   e.patch = patch;
   e.face = face;
@@ -26,6 +23,14 @@ void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t,
   e.centroid = (t[0] + t[1] + t[2]) / 3.0;
   for (const glm::dvec3& v : t) e.radius = std::max(e.radius, glm::length(v - e.centroid));
   e.fragment = fragment;
+  return e;
+}
+
+namespace {
+
+void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t, std::size_t fragment,
+                 std::size_t patch) {
+  Element e = make_element(face, t, fragment, patch);
   if (e.area > 0.0) out.push_back(e);
 }
 
@@ -79,8 +84,19 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
 
 std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
                                                    const std::vector<Element>& elements,
-                                                   const std::vector<glm::dvec3>& normals, unsigned threads) {
+                                                   const std::vector<glm::dvec3>& normals, unsigned threads,
+                                                   std::vector<double>* spread) {
   std::vector<std::vector<double>> by_light(scene.lights.size(), std::vector<double>(elements.size(), 0.0));
+  if (spread) spread->assign(2 * elements.size(), 0.0);
+  // The spread of three values at the interior points (4 a + b + c) / 6 added to element i's.
+  const auto add_spread = [&](std::size_t i, double h0, double h1, double h2) {
+    const double mean = (h0 + h1 + h2) / 3.0;
+    (*spread)[2 * i] += h0 - mean;
+    (*spread)[2 * i + 1] += h1 - mean;
+  };
+  const auto interior = [](const Element& e, int c) {
+    return (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0;
+  };
   // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
   // points of the degree-2 triangle rule, each exact.
   std::vector<SurfacePoint> points;  // made when the first extended light needs them
@@ -90,10 +106,12 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
     if (light.is_extended()) {
       if (points.empty())
         for (const Element& e : elements)
-          for (int c = 0; c < 3; ++c)
-            points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
+          for (int c = 0; c < 3; ++c) points.push_back({e.face, interior(e, c)});
       const std::vector<double> h = light_irradiance(scene, light, points, threads);
-      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] = (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
+      for (std::size_t i = 0; i < elements.size(); ++i) {
+        direct[i] = (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
+        if (spread) add_spread(i, h[3 * i], h[3 * i + 1], h[3 * i + 2]);
+      }
       continue;
     }
     // The lit fragments of this light per face, with their normals and boxes (a ground under a
@@ -115,22 +133,27 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
           entry.hi += pad;
           lit[fragments[i].face_id].push_back(entry);
         }
+    const auto lit_at = [&](std::size_t face, const glm::dvec3& p) {
+      for (const Lit& k : lit[face]) {
+        if (p.x < k.lo.x || p.y < k.lo.y || p.z < k.lo.z || p.x > k.hi.x || p.y > k.hi.y || p.z > k.hi.z) continue;
+        if (inside_polygon(fragments[k.fragment].polygon, k.normal, p)) return true;
+      }
+      return false;
+    };
     runtime::parallel_for(elements.size(), runtime::resolve_threads(threads), [&](unsigned, std::size_t i) {
       const Element& e = elements[i];
-      bool is_lit = false;
-      if (l == 0) {
-        is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
-      } else {
-        const glm::dvec3& p = e.centroid;
-        for (const Lit& k : lit[e.face]) {
-          if (p.x < k.lo.x || p.y < k.lo.y || p.z < k.lo.z || p.x > k.hi.x || p.y > k.hi.y || p.z > k.hi.z) continue;
-          if (inside_polygon(fragments[k.fragment].polygon, k.normal, p)) {
-            is_lit = true;
-            break;
-          }
-        }
-      }
+      const bool first = l == 0;
+      const bool is_lit = first ? e.fragment != SIZE_MAX && fragments[e.fragment].lit : lit_at(e.face, e.centroid);
       if (is_lit) direct[i] = irradiance(light, e.centroid, normals[e.face]);
+      if (!spread) return;
+      // The first light's fragments bound the elements (lit or not throughout); a later light's
+      // shadow may cross one: its interior points are tested one by one.
+      double h[3];
+      for (int c = 0; c < 3; ++c) {
+        const glm::dvec3 p = interior(e, c);
+        h[c] = (first ? is_lit : lit_at(e.face, p)) ? irradiance(light, p, normals[e.face]) : 0.0;
+      }
+      add_spread(i, h[0], h[1], h[2]);
     });
   }
   return by_light;

@@ -26,7 +26,11 @@ struct Element {
   double radius = 0.0;  // largest distance from the centroid to a vertex
   std::size_t fragment = SIZE_MAX;  // index into the first light's fragments, or none
   std::size_t patch = 0;            // the patch (a coarser triangle) that holds it
+  int depth = 0;                    // times adaptive refinement split it (refinement.hpp)
 };
+
+/// An element of `face` on triangle `t` (its area, centroid and radius from the triangle).
+Element make_element(std::size_t face, const Triangle& t, std::size_t fragment, std::size_t patch);
 
 /// A patch: the triangle that shoots for the elements it holds (Cohen et al.'s substructuring:
 /// shooters coarse, receivers fine).
@@ -49,9 +53,12 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
 /// Each element's direct irradiance from each of the scene's lights (one array per light), with
 /// exact shadows: the fragment's lit flag for the first light, a lit fragment of the same face
 /// holding the centroid for the others (hard lights), the mean of three interior points for
-/// extended lights.
+/// extended lights. With `spread`: the direct irradiance's spread over each element, two values
+/// per element (at the first two interior points of the degree-2 rule, less the three points'
+/// mean), for adaptive refinement.
 std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
                                                    const std::vector<Element>& elements,
-                                                   const std::vector<glm::dvec3>& normals, unsigned threads);
+                                                   const std::vector<glm::dvec3>& normals, unsigned threads,
+                                                   std::vector<double>* spread = nullptr);
 
 }  // namespace shadow::radiosity

@@ -15,9 +15,11 @@ namespace {
 /// circumradii): beyond 6 R the centroid; within, the 3-point rule (degree 2); within `close` R
 /// (2 for shooting), where the point form factor varies fast (logarithmically along a shared
 /// edge), a 4 x 4 collapsed Gauss rule. Returns the estimate and sets `change` to its difference from the rule below.
+/// With `spread` (two values): the first two interior points' differences from the three's mean
+/// (the third's is minus their sum), the element's gradient seen at half its size; 0 beyond 6 R.
 template <class PointFactor>
 double integrate_over_element(const Element& e, double gap, double reach, const PointFactor& at, double& change,
-                              double close) {
+                              double close, float* spread = nullptr) {
   static const std::pair<std::vector<double>, std::vector<double>> gauss = [] {
     std::pair<std::vector<double>, std::vector<double>> g;
     gauss_legendre01(4, g.first, g.second);
@@ -25,12 +27,14 @@ double integrate_over_element(const Element& e, double gap, double reach, const 
   }();
   change = 0.0;
   double f = at(e.centroid);
+  if (spread) spread[0] = spread[1] = 0.0f;
   if (gap < 6.0 * reach) {
-    double f3 = 0.0;
-    for (int c = 0; c < 3; ++c)
-      f3 += at((4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0) / 3.0;
+    double point[3];
+    for (int c = 0; c < 3; ++c) point[c] = at((4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0);
+    const double f3 = (point[0] + point[1] + point[2]) / 3.0;
     change = std::abs(f3 - f);
     f = f3;
+    if (spread) spread[0] = static_cast<float>(point[0] - f3), spread[1] = static_cast<float>(point[1] - f3);
   }
   if (gap < close * reach) {
     const Triangle& t = e.triangle;
@@ -54,10 +58,13 @@ Receivers::Receivers(const Scene& scene, unsigned threads, bool exact)
 }
 
 void Receivers::receive(const std::vector<Patch>& patches, const std::vector<Element>& elements, const Patch& s,
-                        unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
+                        unsigned threads, std::vector<double>& factor, std::vector<double>& quad,
+                        std::vector<float>* spread, const std::vector<char>* only) {
   const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
   factor.assign(elements.size(), 0.0);
   quad.assign(elements.size(), 0.0);
+  if (spread) spread->assign(2 * elements.size(), 0.0f);
+  float* spread_at = spread ? spread->data() : nullptr;
   if (exact_) {
     std::vector<std::vector<glm::dvec3>> pieces;
     if (s.count > 1)
@@ -66,11 +73,12 @@ void Receivers::receive(const std::vector<Patch>& patches, const std::vector<Ele
     view_->set_shooter(s.face, source, std::move(pieces));
     runtime::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
       const Element& e = elements[i];
+      if (only && !(*only)[i]) return;
       if (e.face == s.face || !faces_each_other(e.triangle, e.face, s.triangle, s.face)) return;
       const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
       factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
         return view_->evaluate(worker, {e.face, p});
-      }, quad[i], 2.0);
+      }, quad[i], 2.0, spread_at ? spread_at + 2 * i : nullptr);
     });
     return;
   }
@@ -79,8 +87,10 @@ void Receivers::receive(const std::vector<Patch>& patches, const std::vector<Ele
   runtime::parallel_for(patches.size(), threads, [&](unsigned worker, std::size_t r) {
     const Patch& receiver = patches[r];
     if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return;
+    const char* wanted = only ? only->data() + receiver.first : nullptr;
+    if (wanted && std::find(wanted, wanted + receiver.count, 1) == wanted + receiver.count) return;
     receive_patch(workers_[worker], chart, source, elements, receiver, s, &factor[receiver.first], &quad[receiver.first],
-                  2.0);
+                  2.0, spread_at ? spread_at + 2 * receiver.first : nullptr, wanted);
   });
 }
 
@@ -96,7 +106,7 @@ bool Receivers::receive_pair(unsigned worker, const std::vector<Element>& elemen
 
 bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::vector<glm::dvec3>& source,
                               const std::vector<Element>& elements, const Patch& receiver, const Patch& s,
-                              double* factor, double* quad, double close) {
+                              double* factor, double* quad, double close, float* spread, const char* only) {
   if (culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
                          s.face, w.shaft, w.faces))
     return false;  // one face hides the shooter from all of the receiving patch
@@ -106,11 +116,11 @@ bool Receivers::receive_patch(Worker& w, const SourceChart& chart, const std::ve
   bool any = false;
   for (std::size_t k = 0; k < receiver.count; ++k) {
     const Element& e = elements[receiver.first + k];
-    if (!faces_each_other(e.triangle, e.face, s.triangle, s.face)) continue;
+    if ((only && !only[k]) || !faces_each_other(e.triangle, e.face, s.triangle, s.face)) continue;
     const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
     factor[k] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
       return w.occluders.empty() ? chart.unoccluded(p, nr, w.visible) : chart.form_factor(p, nr, w.occluders, w.visible);
-    }, quad[k], close);
+    }, quad[k], close, spread ? spread + 2 * k : nullptr);
     any = any || factor[k] > 0.0;
   }
   return any;

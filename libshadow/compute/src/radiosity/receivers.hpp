@@ -27,9 +27,13 @@ class Receivers {
   const ShaftCuller& culler() const { return culler_; }
 
   /// The form factor from each element to patch `s` and the quadrature change that estimates
-  /// its error. Elements on the patch's face get 0 (a plane does not see itself).
+  /// its error. Elements on the patch's face get 0 (a plane does not see itself). With `spread`
+  /// (2 per element): the factor's spread over each element (integrate_over_element), which
+  /// adaptive refinement sums into the irradiance's gradient. With `only` (one flag per element):
+  /// the flagged elements alone (the others left 0: refinement's new elements).
   void receive(const std::vector<Patch>& patches, const std::vector<Element>& elements, const Patch& s,
-               unsigned threads, std::vector<double>& factor, std::vector<double>& quad);
+               unsigned threads, std::vector<double>& factor, std::vector<double>& quad,
+               std::vector<float>* spread = nullptr, const std::vector<char>* only = nullptr);
 
   /// The same for the elements of one receiving patch `r` only (visibility in doubles whatever
   /// the constructor's `exact`): factor[i] and quad[i] for element r.first + i. An element
@@ -52,7 +56,7 @@ class Receivers {
   /// in worker w's storage; the caller has checked that r and s face each other.
   bool receive_patch(Worker& w, const SourceChart& chart, const std::vector<glm::dvec3>& source,
                      const std::vector<Element>& elements, const Patch& r, const Patch& s, double* factor,
-                     double* quad, double close);
+                     double* quad, double close, float* spread = nullptr, const char* only = nullptr);
 
   bool exact_;
   ShaftCuller culler_;

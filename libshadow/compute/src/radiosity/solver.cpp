@@ -7,6 +7,7 @@
 #include "radiosity/elements.hpp"
 #include "radiosity/hierarchy.hpp"
 #include "radiosity/receivers.hpp"
+#include "radiosity/refinement.hpp"
 
 #include <shadow/area_lights.hpp>
 #include <shadow/error.hpp>
@@ -58,6 +59,14 @@ void check_options(const RadiosityOptions& o, const Scene& scene) {
     throw InputError({"", "exact_visibility"}, "exact_visibility is for the shooting method (it checks the "
                                                "visibility in doubles); the hierarchical method takes rays for far links");
   if (o.link_rays < 1 || o.link_rays > 1024) throw InputError({"", "link_rays"}, "link_rays must be in [1, 1024]");
+  if (!(o.refine_tolerance >= 0.0) || !(o.refine_tolerance < 1.0))
+    throw InputError({"", "refine_tolerance"}, "refine_tolerance must be in [0, 1): the relative error of the "
+                                               "element field to refine to (0: no adaptive refinement)");
+  if (o.refine_passes < 1 || o.refine_passes > 8)
+    throw InputError({"", "refine_passes"}, "refine_passes must be in [1, 8]");
+  if (o.refine_tolerance > 0.0 && o.method == RadiosityMethod::hierarchical)
+    throw InputError({"", "refine_tolerance"}, "adaptive refinement is for the shooting method (the hierarchy's far "
+                                               "links carry no gradient)");
   runtime::checked_threads(o.threads);
   if (!o.face_irradiance.empty()) {
     if (o.face_irradiance.size() != scene.faces.size())
@@ -137,6 +146,9 @@ Totals fill_arrays(const Scene& scene, const std::vector<Element>& elements, con
 /// One channel's shooting state: what is left of the light to shoot, and the totals so far.
 struct Channel {
   std::vector<double> rho, b, h, unshot;
+  /// With adaptive refinement: H's spread over each element (two per element, refinement.hpp),
+  /// the direct light's and every shot's summed.
+  std::vector<double> spread;
   double power_in = 0.0, unshot_power = 0.0, escaped = 0.0, quadrature = 0.0, shot_total = 0.0;
   std::size_t shots = 0;
 };
@@ -151,19 +163,52 @@ class FactorCache {
       : receivers_(receivers), patches_(patches), elements_(elements), threads_(threads),
         factor_(patches.size()), quad_(patches.size()) {}
 
-  /// Patch k's row: the form factor from each element to it and its quadrature change.
-  void row(std::size_t k, std::vector<double>& factor, std::vector<double>& quad) {
-    if (!factor_[k].empty()) {
+  /// Patch k's row: the form factor from each element to it and its quadrature change (and,
+  /// with `spread`, the factor's spread over each element: two values per element).
+  void row(std::size_t k, std::vector<double>& factor, std::vector<double>& quad, std::vector<float>* spread) {
+    if (!factor_[k].empty() && (!spread || !spread_[k].empty())) {
+      if (stale_[k]) fill_new(k);
       factor = factor_[k];
       quad.assign(quad_[k].begin(), quad_[k].end());
+      if (spread) *spread = spread_[k];
       return;
     }
-    receivers_.receive(patches_, elements_, patches_[k], threads_, factor, quad);
-    const std::size_t bytes = elements_.size() * (sizeof(double) + sizeof(float));
-    if (bytes_ + bytes <= kBudget) {
+    receivers_.receive(patches_, elements_, patches_[k], threads_, factor, quad, spread);
+    const std::size_t bytes = elements_.size() * (sizeof(double) + sizeof(float) + (spread ? 2 * sizeof(float) : 0));
+    if (factor_[k].empty() && bytes_ + bytes <= kBudget) {
       factor_[k] = factor;
       quad_[k].assign(quad.begin(), quad.end());
+      if (spread) spread_[k] = *spread;
+      stale_[k] = 0;
       bytes_ += bytes;
+    }
+  }
+
+  /// After adaptive refinement split elements (`origin`: refinement.hpp's split_elements): the
+  /// rows kept are carried over to the new elements, the pieces' entries computed when a row is
+  /// next asked for (the elements kept whole keep theirs: the same triangles, the same patches).
+  void remap(const std::vector<std::size_t>& origin) {
+    fresh_.assign(origin.size(), 0);
+    for (std::size_t i = 0; i < origin.size(); ++i) fresh_[i] = origin[i] == SIZE_MAX;
+    bytes_ = 0;
+    for (std::size_t k = 0; k < factor_.size(); ++k) {
+      if (factor_[k].empty()) continue;
+      const std::size_t bytes = origin.size() * (sizeof(double) + sizeof(float) + (spread_[k].empty() ? 0 : 2 * sizeof(float)));
+      if (bytes_ + bytes > kBudget) {  // over the budget now that rows are longer: computed again when asked
+        factor_[k] = {}, quad_[k] = {}, spread_[k] = {};
+        continue;
+      }
+      bytes_ += bytes;
+      std::vector<double> factor(origin.size(), 0.0);
+      std::vector<float> quad(origin.size(), 0.0f), spread(spread_[k].empty() ? 0 : 2 * origin.size(), 0.0f);
+      for (std::size_t i = 0; i < origin.size(); ++i) {
+        if (origin[i] == SIZE_MAX) continue;
+        factor[i] = factor_[k][origin[i]];
+        quad[i] = quad_[k][origin[i]];
+        if (!spread.empty()) spread[2 * i] = spread_[k][2 * origin[i]], spread[2 * i + 1] = spread_[k][2 * origin[i] + 1];
+      }
+      factor_[k].swap(factor), quad_[k].swap(quad), spread_[k].swap(spread);
+      stale_[k] = 1;
     }
   }
 
@@ -174,7 +219,24 @@ class FactorCache {
   const std::vector<Element>& elements_;
   unsigned threads_;
   std::vector<std::vector<double>> factor_;
-  std::vector<std::vector<float>> quad_;
+  /// Row k's entries for the new elements (fresh_) computed and put in.
+  void fill_new(std::size_t k) {
+    std::vector<double> factor, quad;
+    std::vector<float> spread;
+    const bool with_spread = !spread_[k].empty();
+    receivers_.receive(patches_, elements_, patches_[k], threads_, factor, quad, with_spread ? &spread : nullptr,
+                       &fresh_);
+    for (std::size_t i = 0; i < fresh_.size(); ++i) {
+      if (!fresh_[i]) continue;
+      factor_[k][i] = factor[i];
+      quad_[k][i] = static_cast<float>(quad[i]);
+      if (with_spread) spread_[k][2 * i] = spread[2 * i], spread_[k][2 * i + 1] = spread[2 * i + 1];
+    }
+    stale_[k] = 0;
+  }
+
+  std::vector<std::vector<float>> quad_, spread_ = std::vector<std::vector<float>>(patches_.size());
+  std::vector<char> stale_ = std::vector<char>(patches_.size(), 0), fresh_;
   std::size_t bytes_ = 0;
 };
 
@@ -201,6 +263,8 @@ void shoot(Channel& c, const std::vector<Patch>& patches, const std::vector<Elem
            const RadiosityOptions& options, const std::function<void(const Channel&, bool)>& report) {
   const std::size_t n = elements.size();
   std::vector<double> factor, quad;
+  std::vector<float> spread;
+  const bool with_spread = !c.spread.empty();
   while (c.power_in > 0.0 && c.unshot_power > options.tolerance * c.power_in &&
          (options.max_shots == 0 || c.shots < options.max_shots)) {
     std::size_t k = 0;
@@ -214,7 +278,7 @@ void shoot(Channel& c, const std::vector<Patch>& patches, const std::vector<Elem
     if (!(best > 0.0)) break;
     const Patch& s = patches[k];
     const double db = best / s.area;
-    cache.row(k, factor, quad);
+    cache.row(k, factor, quad, with_spread ? &spread : nullptr);
     for (std::size_t i = s.first; i < s.first + s.count; ++i) c.unshot[i] = 0.0;
     double got = 0.0, diff = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -225,6 +289,7 @@ void shoot(Channel& c, const std::vector<Patch>& patches, const std::vector<Elem
       c.unshot[i] += c.rho[i] * received;
       got += received * elements[i].area;
       diff += db * quad[i] * elements[i].area;
+      if (with_spread) c.spread[2 * i] += db * spread[2 * i], c.spread[2 * i + 1] += db * spread[2 * i + 1];
     }
     c.shot_total += best;
     c.escaped += best - got;
@@ -272,6 +337,126 @@ double channel_reflectance(const Material& m, int k) {
   return m.reflectance_rgb == glm::dvec3(0.0) ? m.reflectance : m.reflectance_rgb[k];
 }
 
+/// Each element's direct irradiance: in all, per light, and (refining) its spread over the element.
+struct DirectLight {
+  std::vector<double> total, spread;
+  std::vector<std::vector<double>> by_light;
+};
+
+DirectLight light_elements(const Scene& scene, const RadiosityOptions& options, const std::vector<Fragment>& fragments,
+                           const std::vector<Element>& elements, const Receivers& receivers, bool spread) {
+  DirectLight d;
+  const std::size_t n = elements.size();
+  d.total.assign(n, 0.0);
+  if (options.face_irradiance.empty()) {
+    d.by_light = radiosity::direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads,
+                                              spread ? &d.spread : nullptr);
+    for (const std::vector<double>& light : d.by_light)
+      for (std::size_t i = 0; i < n; ++i) d.total[i] += light[i];
+  } else {
+    // One value per face: no spread within a face.
+    for (std::size_t i = 0; i < n; ++i) d.total[i] = options.face_irradiance[elements[i].face];
+  }
+  if (spread) d.spread.resize(2 * n, 0.0);
+  return d;
+}
+
+/// light_elements() after adaptive refinement: the elements kept whole (`origin`, refinement.hpp)
+/// keep `before`'s values, the pieces' are computed.
+DirectLight relight(const Scene& scene, const RadiosityOptions& options, const std::vector<Fragment>& fragments,
+                    const std::vector<Element>& elements, const Receivers& receivers, const DirectLight& before,
+                    const std::vector<std::size_t>& origin) {
+  std::vector<Element> pieces;
+  for (std::size_t i = 0; i < elements.size(); ++i)
+    if (origin[i] == SIZE_MAX) pieces.push_back(elements[i]);
+  const DirectLight part = light_elements(scene, options, fragments, pieces, receivers, !before.spread.empty());
+  DirectLight d;
+  const std::size_t n = elements.size();
+  d.total.resize(n);
+  d.spread.resize(before.spread.empty() ? 0 : 2 * n);
+  d.by_light.assign(before.by_light.size(), std::vector<double>(n));
+  for (std::size_t i = 0, k = 0; i < n; ++i) {
+    const bool kept = origin[i] != SIZE_MAX;
+    const std::size_t j = kept ? origin[i] : k++;
+    const DirectLight& from = kept ? before : part;
+    d.total[i] = from.total[j];
+    if (!d.spread.empty()) d.spread[2 * i] = from.spread[2 * j], d.spread[2 * i + 1] = from.spread[2 * j + 1];
+    for (std::size_t l = 0; l < d.by_light.size(); ++l) d.by_light[l][i] = from.by_light[l][j];
+  }
+  return d;
+}
+
+/// Each element's reflectance and emittance, their mean reflectance, and whether any material
+/// is coloured.
+struct Surfaces {
+  std::vector<double> rho, emit;
+  double mean_rho = 0.0;
+  bool colour = false;
+};
+
+Surfaces surfaces_of(const Scene& scene, const RadiosityOptions& options, const std::vector<Element>& elements) {
+  Surfaces s;
+  const std::size_t n = elements.size();
+  s.rho.resize(n);
+  s.emit.resize(n);
+  double reflectance_area = 0.0, area = 0.0;
+  const bool given = !options.face_reflectance.empty();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Material& m = scene.material_of(elements[i].face);
+    s.rho[i] = given ? options.face_reflectance[elements[i].face] : m.reflectance;
+    s.emit[i] = m.emittance;
+    reflectance_area += s.rho[i] * elements[i].area;
+    area += elements[i].area;
+    for (int k = 0; k < 3 && !given; ++k) s.colour = s.colour || channel_reflectance(m, k) != m.reflectance;
+  }
+  s.mean_rho = area > 0 ? reflectance_area / area : 0.0;
+  return s;
+}
+
+/// The hierarchy's links over `patches` (groups that cannot emit link nothing).
+std::unique_ptr<radiosity::Hierarchy> make_hierarchy(const Scene& scene, const RadiosityOptions& options,
+                                                     const std::vector<Patch>& patches,
+                                                     const std::vector<Element>& elements, const Surfaces& surfaces,
+                                                     Receivers& receivers, unsigned threads,
+                                                     std::function<void(double)> progress) {
+  radiosity::HierarchyOptions ho;
+  ho.separation = options.link_separation;
+  ho.rays = options.link_rays;
+  ho.threads = threads;
+  ho.progress = std::move(progress);
+  std::vector<char> can_emit(patches.size(), 0);
+  for (std::size_t p = 0; p < patches.size(); ++p)
+    for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i) {
+      const Material& m = scene.material_of(elements[i].face);
+      const double rho = surfaces.rho[i];
+      const double most = std::max({rho, m.reflectance_rgb.x, m.reflectance_rgb.y, m.reflectance_rgb.z});
+      if (surfaces.emit[i] > 0.0 || (most > 0.0 && (options.face_reflectance.empty() || rho > 0.0))) can_emit[p] = 1;
+    }
+  return std::make_unique<radiosity::Hierarchy>(patches, elements, receivers, can_emit, ho);
+}
+
+/// The estimated relative error of the element field from the solution's spread (refinement.hpp);
+/// splits the elements with the largest errors when it is above the tolerance and returns whether
+/// it did.
+bool refine_once(const RadiosityOptions& options, int pass, std::vector<Patch>& patches,
+                 std::vector<Element>& elements, const Channel& solution, RadiosityResult& result,
+                 std::vector<std::size_t>& origin) {
+  const std::vector<double> errors = radiosity::element_errors(elements, solution.spread);
+  double error = 0.0, norm = 0.0;
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    error += errors[i];
+    norm += solution.h[i] * solution.h[i] * elements[i].area;
+  }
+  result.discretization_error = norm > 0 ? std::sqrt(error / norm) : 0.0;
+  const double target = options.refine_tolerance * options.refine_tolerance * norm;
+  if (error <= target || pass >= options.refine_passes) return false;
+  const std::vector<char> marked = radiosity::mark_for_split(elements, errors, target, options.refine_passes);
+  if (std::find(marked.begin(), marked.end(), 1) == marked.end()) return false;
+  radiosity::split_elements(patches, elements, marked, origin);
+  result.refine_passes = static_cast<std::size_t>(pass) + 1;
+  return true;
+}
+
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
@@ -291,9 +476,14 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   // Shooting's patches first (unless the hierarchy was asked for): their count decides `auto`.
   if (options.method != RadiosityMethod::hierarchical)
     radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, 0.0, patches, elements);
+  const bool refining = options.refine_tolerance > 0.0;
   const bool hierarchical =
       options.method == RadiosityMethod::hierarchical ||
       (options.method == RadiosityMethod::automatic && !options.exact_visibility && patches.size() > kAutoHierarchical);
+  if (hierarchical && refining)
+    throw InputError({"", "refine_tolerance"}, std::to_string(patches.size()) +
+                                                   " patches take the hierarchical method, which has no adaptive "
+                                                   "refinement; choose the shooting method to refine (slow at this size)");
   if (hierarchical) {
     // The hierarchy links groups by their radius: long slivers (a ground's triangles between the
     // holes of its lit part) would be near everything. Patches no longer than twice the typical
@@ -303,32 +493,9 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, typical_patch_edge(scene), patches,
                              elements);
   }
-  const std::size_t n = elements.size();
   Receivers receivers(scene, threads, options.exact_visibility);
-  std::vector<double> direct(n, 0.0);
-  std::vector<std::vector<double>> direct_by_light;
-  if (options.face_irradiance.empty()) {
-    direct_by_light = radiosity::direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
-    for (const std::vector<double>& light : direct_by_light)
-      for (std::size_t i = 0; i < n; ++i) direct[i] += light[i];
-  } else {
-    direct.resize(n);
-    for (std::size_t i = 0; i < n; ++i) direct[i] = options.face_irradiance[elements[i].face];
-  }
-
-  std::vector<double> rho(n), emit(n);
-  double reflectance_area = 0.0, area = 0.0;
-  bool colour = false;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Material& m = scene.material_of(elements[i].face);
-    const bool given = !options.face_reflectance.empty();
-    rho[i] = given ? options.face_reflectance[elements[i].face] : m.reflectance;
-    emit[i] = m.emittance;
-    reflectance_area += rho[i] * elements[i].area;
-    area += elements[i].area;
-    for (int k = 0; k < 3 && !given; ++k) colour = colour || channel_reflectance(m, k) != m.reflectance;
-  }
   RadiosityResult result;
+  result.initial_elements = elements.size();
   auto last = std::chrono::steady_clock::now();
   const auto report = [&](const Channel& c, bool force) {
     if (!options.progress) return;
@@ -337,47 +504,50 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     last = now;
     options.progress({c.shots, c.power_in > 0 ? c.unshot_power / c.power_in : 0.0, 1.0, hierarchical});
   };
+  const auto links_progress = [&](double done) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last < std::chrono::milliseconds(500)) return;
+    last = now;
+    options.progress({0, 1.0, done, true});
+  };
   std::unique_ptr<radiosity::Hierarchy> hierarchy;
   std::unique_ptr<FactorCache> cache;
-  if (hierarchical) {
-    radiosity::HierarchyOptions ho;
-    ho.separation = options.link_separation;
-    ho.rays = options.link_rays;
-    ho.threads = threads;
-    if (options.progress)
-      ho.progress = [&](double done) {
-        const auto now = std::chrono::steady_clock::now();
-        if (now - last < std::chrono::milliseconds(500)) return;
-        last = now;
-        options.progress({0, 1.0, done, true});
-      };
-    std::vector<char> can_emit(patches.size(), 0);
-    for (std::size_t p = 0; p < patches.size(); ++p)
-      for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i) {
-        const Material& m = scene.material_of(elements[i].face);
-        const double most = std::max({rho[i], m.reflectance_rgb.x, m.reflectance_rgb.y, m.reflectance_rgb.z});
-        if (emit[i] > 0.0 || (most > 0.0 && (options.face_reflectance.empty() || rho[i] > 0.0))) can_emit[p] = 1;
-      }
-    hierarchy = std::make_unique<radiosity::Hierarchy>(patches, elements, receivers, can_emit, ho);
-  } else {
-    cache = std::make_unique<FactorCache>(receivers, patches, elements, threads);
-  }
+  DirectLight direct;
+  Surfaces surfaces;
+  Channel mean;
   // Colour: the same solution per channel with that channel's reflectance; the form factors
   // (the cache's rows, or the hierarchy's links) are shared.
   const auto solve = [&](Channel& c, const std::function<void(const Channel&, bool)>& progress) {
     if (hierarchy)
-      iterate(c, *hierarchy, elements, emit, direct, options, progress);
+      iterate(c, *hierarchy, elements, surfaces.emit, direct.total, options, progress);
     else
       shoot(c, patches, elements, *cache, options, progress);
   };
-  Channel mean = start_channel(elements, rho, emit, direct);
-  solve(mean, report);
+  if (hierarchical)
+    hierarchy = make_hierarchy(scene, options, patches, elements, surfaces_of(scene, options, elements), receivers,
+                               threads, options.progress ? std::function<void(double)>(links_progress) : nullptr);
+  else
+    cache = std::make_unique<FactorCache>(receivers, patches, elements, threads);
+  // Adaptive refinement solves again on the split elements, from the start: the form factors of
+  // the elements kept whole come from the cache, only the pieces' are computed.
+  std::vector<std::size_t> origin;
+  for (int pass = 0;; ++pass) {
+    direct = pass == 0 ? light_elements(scene, options, fragments, elements, receivers, refining)
+                       : relight(scene, options, fragments, elements, receivers, direct, origin);
+    surfaces = surfaces_of(scene, options, elements);
+    mean = start_channel(elements, surfaces.rho, surfaces.emit, direct.total);
+    mean.spread = direct.spread;
+    solve(mean, report);
+    if (!refining || !refine_once(options, pass, patches, elements, mean, result, origin)) break;
+    cache->remap(origin);
+  }
+  const std::size_t n = elements.size();
   std::array<Channel, 3> rgb;
-  if (colour)
+  if (surfaces.colour)
     for (int k = 0; k < 3; ++k) {
       std::vector<double> rho_k(n);
       for (std::size_t i = 0; i < n; ++i) rho_k[i] = channel_reflectance(scene.material_of(elements[i].face), k);
-      rgb[static_cast<std::size_t>(k)] = start_channel(elements, rho_k, emit, direct);
+      rgb[static_cast<std::size_t>(k)] = start_channel(elements, rho_k, surfaces.emit, direct.total);
       solve(rgb[static_cast<std::size_t>(k)], {});
     }
   if (hierarchy) {
@@ -388,8 +558,9 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   }
 
   result.shots = hierarchy ? 0 : mean.shots;
-  const Totals totals = fill_arrays(scene, elements, direct, rho, emit, mean.b, mean.h, result);
-  fill_light_means(elements, direct_by_light, result);
+  const Totals totals = fill_arrays(scene, elements, direct.total, surfaces.rho, surfaces.emit, mean.b, mean.h, result);
+  fill_light_means(elements, direct.by_light, result);
+  const bool colour = surfaces.colour;
   for (std::size_t i = 0; i < n; ++i) {
     RadiosityElement& e = result.elements[i];
     for (int k = 0; k < 3; ++k) {
@@ -418,8 +589,7 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   result.converged = result.unshot_fraction <= options.tolerance;
   const double in = emitted + direct_power;
   result.balance_residual = in > 0 ? std::abs(in - absorbed - mean.escaped - mean.unshot_power) / in : 0.0;
-  const double mean_rho = area > 0 ? reflectance_area / area : 0.0;
-  result.error_estimate = result.unshot_fraction / (1.0 - mean_rho) +
+  result.error_estimate = result.unshot_fraction / (1.0 - surfaces.mean_rho) +
                           (hierarchy ? hierarchy->link_error(mean.b)
                                      : (mean.shot_total > 0 ? mean.quadrature / mean.shot_total : 0.0));
   return result;

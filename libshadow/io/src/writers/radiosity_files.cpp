@@ -117,6 +117,8 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
                                                                             : "auto";
   options["link_separation"] = run.options.link_separation;
   options["link_rays"] = run.options.link_rays;
+  options["refine_tolerance"] = run.options.refine_tolerance;
+  options["refine_passes"] = run.options.refine_passes;
   doc["run"] = {{"started_utc", run.started_utc.empty() ? Json(nullptr) : Json(run.started_utc)},
                 {"libshadow_version", version()},
                 {"options", options}};
@@ -136,6 +138,11 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   summary["iterations"] = result.iterations;
   summary["near_links"] = result.near_links;
   summary["far_links"] = result.far_links;
+  summary["initial_elements"] = result.initial_elements;
+  summary["refine_passes"] = result.refine_passes;
+  // Estimated only when refining (the spread is summed then): null otherwise.
+  summary["discretization_error"] =
+      run.options.refine_tolerance > 0 ? number(result.discretization_error) : Json(nullptr);
   summary["converged"] = result.converged;
   summary["unshot_fraction"] = number(result.unshot_fraction);
   summary["error_estimate"] = number(result.error_estimate);
