@@ -91,3 +91,35 @@ def test_hierarchical_radiosity_agrees_with_shooting():
         assert "method" in str(e)
     else:
         raise AssertionError("an unknown method must be a ValueError")
+
+
+def test_radiosity_adaptive_refinement():
+    # The box on its floor: refinement splits where the reflected light rises into the corners
+    # until the element field's estimated error meets the tolerance.
+    box = [
+        [[0, 0, 2], [2, 0, 2], [2, 2, 2], [0, 2, 2]], [[0, 0, 0], [2, 0, 0], [2, 0, 2], [0, 0, 2]],
+        [[2, 0, 0], [2, 2, 0], [2, 2, 2], [2, 0, 2]], [[2, 2, 0], [0, 2, 0], [0, 2, 2], [2, 2, 2]],
+        [[0, 2, 0], [0, 0, 0], [0, 0, 2], [0, 2, 2]],
+    ]
+    scene = libshadow.scene_from_data(
+        meshes=[{"name": "floor", "material": "m", "polygons": [[[-3, -3, 0], [5, -3, 0], [5, 5, 0], [-3, 5, 0]]]},
+                {"name": "box", "material": "m", "polygons": box}],
+        materials=[{"name": "m", "reflectance": 0.5}],
+        lights=[{"name": "sun", "type": "directional", "to_light": [0.4, 0.3, 0.85], "intensity": 1000}])
+    plain = libshadow.radiosity(scene, max_element_area=0.5, patch_area=2.0, tolerance=1e-4, threads=2,
+                                method="shooting")
+    refined = libshadow.radiosity(scene, max_element_area=0.5, patch_area=2.0, tolerance=1e-4, threads=2,
+                                  method="shooting", refine_tolerance=0.005, refine_passes=4)
+    assert plain["refine_passes"] == 0 and plain["discretization_error"] == 0
+    assert refined["initial_elements"] == len(plain["elements"]["area"]) == 238
+    assert refined["refine_passes"] >= 1 and 0 < refined["discretization_error"] <= 0.005
+    assert len(refined["elements"]["area"]) > 2 * 238
+    # The same faces, the same total area, the same power in.
+    assert abs(refined["elements"]["area"].sum() - plain["elements"]["area"].sum()) < 1e-9
+    assert abs(refined["direct_power"] - plain["direct_power"]) < 1e-9 * plain["direct_power"]
+    try:
+        libshadow.radiosity(scene, refine_tolerance=1.5)
+    except Exception as e:  # InputError
+        assert "refine_tolerance" in str(e)
+    else:
+        raise AssertionError("refine_tolerance 1.5 must be refused")

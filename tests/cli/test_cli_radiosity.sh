@@ -72,6 +72,41 @@ PY
 then pass hierarchical; else fail hierarchical "$(cat "$WORK/run-h.stdout")"; fi
 grep -q "hierarchical: .* near and .* far links" "$WORK/run-h.stdout" && pass hierarchical_summary ||
   fail hierarchical_summary "$(cat "$WORK/run-h.stdout")"
+# Adaptive refinement: a box on a sunlit floor, split where the reflected light rises into the
+# corners; report.json says how far, the summary line too; refused with the hierarchical method.
+cat >"$WORK/box.json" <<'JSON'
+{"materials": [{"name": "m", "reflectance": 0.5}],
+ "meshes": [{"name": "floor", "material": "m", "polygons": [[[-3,-3,0],[5,-3,0],[5,5,0],[-3,5,0]]]},
+            {"name": "box", "material": "m", "polygons": [
+   [[0,0,2],[2,0,2],[2,2,2],[0,2,2]], [[0,0,0],[2,0,0],[2,0,2],[0,0,2]], [[2,0,0],[2,2,0],[2,2,2],[2,0,2]],
+   [[2,2,0],[0,2,0],[0,2,2],[2,2,2]], [[0,2,0],[0,0,0],[0,0,2],[0,2,2]]]}],
+ "lights": [{"name": "sun", "type": "directional", "to_light": [0.4, 0.3, 0.85], "intensity": 1000}]}
+JSON
+"$SHADOW" radiosity "$WORK/box.json" -o "$WORK/out-r" --max-element-area 0.5 --patch-area 2 --tolerance 1e-4 \
+  --refine-tolerance 0.005 --refine-passes 4 -t 2 >"$WORK/run-r.stdout" 2>"$WORK/run-r.stderr"
+if python3 - "$WORK/out-r/report.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+s = r["summary"]
+assert s["initial_elements"] == 238 and s["elements"] > 2 * 238 and 1 <= s["refine_passes"] <= 4, s
+assert 0 < s["discretization_error"] <= 0.005, s
+assert r["run"]["options"]["refine_tolerance"] == 0.005 and r["run"]["options"]["refine_passes"] == 4, r["run"]
+assert sum(f["elements"] for f in r["faces"]) == s["elements"]
+PY
+then pass refine; else fail refine "$(cat "$WORK/run-r.stderr" "$WORK/run-r.stdout")"; fi
+grep -q "adaptive refinement: 238 -> .* elements in .* passes" "$WORK/run-r.stdout" && pass refine_summary ||
+  fail refine_summary "$(cat "$WORK/run-r.stdout")"
+python3 -c 'import json, sys; assert json.load(open(sys.argv[1]))["summary"]["discretization_error"] is None' \
+  "$WORK/out/report.json" && pass refine_off_null || fail refine_off_null "discretization_error without refinement"
+"$SHADOW" radiosity "$WORK/box.json" -o "$WORK/out-rh" --method hierarchical --refine-tolerance 0.01 \
+  >/dev/null 2>"$WORK/run-rh.stderr"
+status=$?
+if [[ $status -eq 2 && $(wc -l <"$WORK/run-rh.stderr") -eq 1 ]] && grep -q "refine_tolerance" "$WORK/run-rh.stderr" &&
+   [[ ! -e "$WORK/out-rh/report.json" ]]; then
+  pass refine_hierarchical_refused
+else
+  fail refine_hierarchical_refused "status $status: $(cat "$WORK/run-rh.stderr")"
+fi
 
 # A reflectance of 1: one line naming the file and the place, exit 2, nothing written.
 sed 's/"reflectance": 0.6/"reflectance": 1/' "$WORK/furnace.json" >"$WORK/bad.json"
