@@ -1229,9 +1229,10 @@ PYBIND11_MODULE(_libshadow, m) {
         "quadrature's last change), order and evaluations.");
   m.def("radiosity",
         [](const ScenePtr& scene, double max_element_area, double tolerance, double patch_area, unsigned threads,
-           const std::string& method, double link_separation, double refine_tolerance, int refine_passes) {
+           const std::string& method, double link_separation, double refine_tolerance, int refine_passes, bool per_light) {
           need_scene(scene);
           RadiosityOptions o;
+          o.per_light = per_light;
           o.refine_tolerance = refine_tolerance;
           o.refine_passes = refine_passes;
           o.max_element_area = max_element_area;
@@ -1276,6 +1277,15 @@ PYBIND11_MODULE(_libshadow, m) {
               cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
             }
           faces["direct_irradiance_by_light"] = by_light;
+          // (faces, lights): each light's share of the irradiance, direct and reflected, W/m2.
+          py::array_t<double> all_by_light({static_cast<py::ssize_t>(r.faces.size()), nl});
+          auto all_cells = all_by_light.mutable_unchecked<2>();
+          for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
+            for (py::ssize_t l = 0; l < nl; ++l) {
+              const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].irradiance_by_light;
+              all_cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
+            }
+          faces["irradiance_by_light"] = all_by_light;
           d["colour"] = r.colour;
           d["elements"] = elements;
           d["faces"] = faces;
@@ -1300,11 +1310,12 @@ PYBIND11_MODULE(_libshadow, m) {
         },
         py::arg("scene"), py::arg("max_element_area") = 0.0, py::arg("tolerance") = 1e-3, py::arg("patch_area") = 0.0,
         py::arg("threads") = 0, py::arg("method") = "auto", py::arg("link_separation") = 0.4,
-        py::arg("refine_tolerance") = 0.0, py::arg("refine_passes") = 3,
+        py::arg("refine_tolerance") = 0.0, py::arg("refine_passes") = 3, py::arg("per_light") = true,
         "Radiosity with exact visibility (docs/radiosity.md): method 'auto' (hierarchical above 4,000 "
         "patches), 'shooting' (progressive refinement) or 'hierarchical' (links between groups far apart; "
         "link_separation in (0, 1)). A dict with elements (face_id, area, radiosity, irradiance, "
-        "direct_irradiance, triangles), faces (area-weighted means), shots, method, iterations, near_links, "
+        "direct_irradiance, triangles), faces (area-weighted means; direct_irradiance_by_light and "
+        "irradiance_by_light, each light's share, direct and direct plus reflected), shots, method, iterations, near_links, "
         "far_links, converged, unshot_fraction, error_estimate and the energy balance in W. refine_tolerance > 0 "
         "(shooting): elements split where the irradiance varies across them until the element field's estimated "
         "relative error (discretization_error) is at most it, in at most refine_passes rounds.");

@@ -259,6 +259,11 @@ TEST(Radiosity, DirectIrradianceByLightAddsUpAndMatchesEachLightAlone) {
   west_only.lights.erase(west_only.lights.begin());
   const shadow::RadiosityResult sun = shadow::solve_radiosity(sun_only, options);
   const shadow::RadiosityResult west = shadow::solve_radiosity(west_only, options);
+  // The west light alone on the elements of `both` (cut along the sun's shadows): the sun kept
+  // first, dark.
+  Scene dark_sun = scene;
+  dark_sun.lights[0].intensity = 0;
+  const shadow::RadiosityResult west_same_mesh = shadow::solve_radiosity(dark_sun, options);
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const shadow::FaceRadiosity& face = both.faces[f];
     ASSERT_EQ(face.direct_irradiance_by_light.size(), 2u);
@@ -271,8 +276,24 @@ TEST(Radiosity, DirectIrradianceByLightAddsUpAndMatchesEachLightAlone) {
     EXPECT_NEAR(face.direct_irradiance_by_light[1], west.faces[f].direct_irradiance,
                 0.05 * west.faces[f].direct_irradiance + 1e-9)
         << f;
+    // Each light's share of all the irradiance, reflected light included: they add up to it (each
+    // solution stops with up to 1e-3 of its power unshot), and the first light's is what the sun
+    // alone gives on the same elements.
+    ASSERT_EQ(face.irradiance_by_light.size(), 2u);
+    const double reflected = face.irradiance - face.direct_irradiance;
+    EXPECT_NEAR(face.irradiance_by_light[0] + face.irradiance_by_light[1], face.irradiance, 0.01 * reflected + 1e-9) << f;
+    EXPECT_NEAR(face.irradiance_by_light[0], sun.faces[f].irradiance, 0.01 * reflected + 1e-9) << f;
+    EXPECT_NEAR(face.irradiance_by_light[1], west_same_mesh.faces[f].irradiance, 0.01 * reflected + 1e-9) << f;
+    EXPECT_GE(face.irradiance_by_light[1], face.direct_irradiance_by_light[1]);
+    // One light alone: its share is all of it, without another solution.
+    ASSERT_EQ(sun.faces[f].irradiance_by_light.size(), 1u);
+    EXPECT_EQ(sun.faces[f].irradiance_by_light[0], sun.faces[f].irradiance);
   }
   EXPECT_GT(both.faces[0].direct_irradiance_by_light[1], 0.0);
+  // The walls get reflected light of the west light from the ground.
+  EXPECT_GT(both.faces[3].irradiance_by_light[1], both.faces[3].direct_irradiance_by_light[1]);
+  options.per_light = false;
+  EXPECT_TRUE(shadow::solve_radiosity(scene, options).faces[0].irradiance_by_light.empty());
 }
 
 TEST(Radiosity, ColourFurnaceIsEOverOneMinusRhoPerChannel) {

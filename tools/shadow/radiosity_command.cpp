@@ -51,6 +51,9 @@ CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args) {
   cmd->add_option("--refine-passes", args.refine_passes,
                   "Adaptive refinement: at most this many rounds of splitting in four (1 to 8, default 3)")
       ->check(shadow_cli::integer_in(1, 8));
+  cmd->add_flag("--no-per-light", args.no_per_light,
+                "Skip each light's share of the reflected light (report.json irradiance_by_light: one more "
+                "solution per light when the scene has more than one source)");
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
@@ -78,6 +81,7 @@ int run_radiosity(const RadiosityArgs& args) {
   options.link_separation = args.link_separation;
   options.refine_tolerance = args.refine_tolerance;
   options.refine_passes = args.refine_passes;
+  options.per_light = !args.no_per_light;
   const bool terminal = isatty(STDERR_FILENO) != 0;
   auto last_line = Clock::now();
   bool shown = false;

@@ -16,6 +16,7 @@ struct RadiosityArgs {
   double link_separation = 0.4;
   double refine_tolerance = 0.0;
   int refine_passes = 3;
+  bool no_per_light = false;  // --no-per-light
   unsigned threads = 0;
   bool quiet = false;
   double planarity_tolerance = 1e-6;

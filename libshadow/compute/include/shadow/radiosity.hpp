@@ -133,6 +133,10 @@ struct RadiosityOptions {
   double refine_tolerance = 0.0;
   /// Adaptive refinement: the most rounds of splitting (1 to 8); no element is split more often.
   int refine_passes = 3;
+  /// Each light's share of each face's irradiance, direct and reflected
+  /// (FaceRadiosity::irradiance_by_light): one more solution per light (the form factors shared)
+  /// unless one light is the only source. Not for face_irradiance.
+  bool per_light = true;
 };
 
 /// One element: a triangle of one face.
@@ -165,6 +169,10 @@ struct FaceRadiosity {
   /// One per scene light (Scene::lights order): its share of direct_irradiance (empty when the
   /// sources came from RadiosityOptions::face_irradiance).
   std::vector<double> direct_irradiance_by_light;
+  /// One per scene light: its share of `irradiance`, direct and reflected (the solution with that
+  /// light as the only source; they add up to `irradiance` less the emitting faces' share, within
+  /// the solutions' tolerance). Empty without RadiosityOptions::per_light or with face_irradiance.
+  std::vector<double> irradiance_by_light;
 };
 
 /// The solution and its balance: emitted + direct = absorbed + escaped + unshot (W), where

@@ -87,16 +87,22 @@ void check_options(const RadiosityOptions& o, const Scene& scene) {
   }
 }
 
-/// Each face's area-weighted mean of each light's direct irradiance.
-void fill_light_means(const std::vector<Element>& elements, const std::vector<std::vector<double>>& by_light,
-                      RadiosityResult& result) {
-  for (FaceRadiosity& face : result.faces) face.direct_irradiance_by_light.assign(by_light.size(), 0.0);
-  for (std::size_t l = 0; l < by_light.size(); ++l)
-    for (std::size_t i = 0; i < elements.size(); ++i)
-      result.faces[elements[i].face].direct_irradiance_by_light[l] += by_light[l][i] * elements[i].area;
-  for (FaceRadiosity& face : result.faces)
-    if (face.area > 0)
-      for (double& h : face.direct_irradiance_by_light) h /= face.area;
+/// Each face's area-weighted mean of each light's direct irradiance (`direct`) and, when
+/// `irradiance` is not empty, of each light's irradiance (direct and reflected).
+void fill_light_means(const std::vector<Element>& elements, const std::vector<std::vector<double>>& direct,
+                      const std::vector<std::vector<double>>& irradiance, RadiosityResult& result) {
+  const auto face_means = [&](const std::vector<std::vector<double>>& by_light,
+                              std::vector<double> FaceRadiosity::*field) {
+    for (FaceRadiosity& face : result.faces) (face.*field).assign(by_light.size(), 0.0);
+    for (std::size_t l = 0; l < by_light.size(); ++l)
+      for (std::size_t i = 0; i < elements.size(); ++i)
+        (result.faces[elements[i].face].*field)[l] += by_light[l][i] * elements[i].area;
+    for (FaceRadiosity& face : result.faces)
+      if (face.area > 0)
+        for (double& h : face.*field) h /= face.area;
+  };
+  face_means(direct, &FaceRadiosity::direct_irradiance_by_light);
+  face_means(irradiance, &FaceRadiosity::irradiance_by_light);
 }
 
 /// Power totals of a solution (W).
@@ -457,6 +463,24 @@ bool refine_once(const RadiosityOptions& options, int pass, std::vector<Patch>& 
   return true;
 }
 
+/// Each light's irradiance per element, direct and reflected: the equation is linear in its
+/// sources, so one more solution per light with that light alone (none when one light is the only
+/// source: `solution`'s). `solve(channel, emittance, direct light)` solves a channel.
+std::vector<std::vector<double>> light_shares(
+    const std::vector<Element>& elements, const DirectLight& direct, const Surfaces& surfaces, const Channel& solution,
+    const std::function<void(Channel&, const std::vector<double>&, const std::vector<double>&)>& solve) {
+  std::vector<std::vector<double>> shares;
+  const bool emitters = std::any_of(surfaces.emit.begin(), surfaces.emit.end(), [](double e) { return e > 0.0; });
+  if (direct.by_light.size() == 1 && !emitters) return {solution.h};
+  const std::vector<double> none(elements.size(), 0.0);
+  for (const std::vector<double>& light : direct.by_light) {
+    Channel alone = start_channel(elements, surfaces.rho, none, light);
+    solve(alone, none, light);
+    shares.push_back(std::move(alone.h));
+  }
+  return shares;
+}
+
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
@@ -517,11 +541,15 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   Channel mean;
   // Colour: the same solution per channel with that channel's reflectance; the form factors
   // (the cache's rows, or the hierarchy's links) are shared.
-  const auto solve = [&](Channel& c, const std::function<void(const Channel&, bool)>& progress) {
+  const auto solve_for = [&](Channel& c, const std::vector<double>& emit, const std::vector<double>& light,
+                             const std::function<void(const Channel&, bool)>& progress) {
     if (hierarchy)
-      iterate(c, *hierarchy, elements, surfaces.emit, direct.total, options, progress);
+      iterate(c, *hierarchy, elements, emit, light, options, progress);
     else
       shoot(c, patches, elements, *cache, options, progress);
+  };
+  const auto solve = [&](Channel& c, const std::function<void(const Channel&, bool)>& progress) {
+    solve_for(c, surfaces.emit, direct.total, progress);
   };
   if (hierarchical)
     hierarchy = make_hierarchy(scene, options, patches, elements, surfaces_of(scene, options, elements), receivers,
@@ -550,6 +578,12 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
       rgb[static_cast<std::size_t>(k)] = start_channel(elements, rho_k, surfaces.emit, direct.total);
       solve(rgb[static_cast<std::size_t>(k)], {});
     }
+  const std::vector<std::vector<double>> light_h =
+      options.per_light ? light_shares(elements, direct, surfaces, mean, [&](Channel& c, const std::vector<double>& e,
+                                                                             const std::vector<double>& light) {
+        solve_for(c, e, light, {});
+      })
+                        : std::vector<std::vector<double>>();
   if (hierarchy) {
     result.hierarchical = true;
     result.iterations = mean.shots;
@@ -559,7 +593,7 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
 
   result.shots = hierarchy ? 0 : mean.shots;
   const Totals totals = fill_arrays(scene, elements, direct.total, surfaces.rho, surfaces.emit, mean.b, mean.h, result);
-  fill_light_means(elements, direct.by_light, result);
+  fill_light_means(elements, direct.by_light, light_h, result);
   const bool colour = surfaces.colour;
   for (std::size_t i = 0; i < n; ++i) {
     RadiosityElement& e = result.elements[i];

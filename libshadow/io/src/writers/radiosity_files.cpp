@@ -119,6 +119,7 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   options["link_rays"] = run.options.link_rays;
   options["refine_tolerance"] = run.options.refine_tolerance;
   options["refine_passes"] = run.options.refine_passes;
+  options["per_light"] = run.options.per_light;
   doc["run"] = {{"started_utc", run.started_utc.empty() ? Json(nullptr) : Json(run.started_utc)},
                 {"libshadow_version", version()},
                 {"options", options}};
@@ -170,6 +171,9 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
     Json by_light = Json::array();
     for (double h : f.direct_irradiance_by_light) by_light.push_back(number(h));
     entry["direct_irradiance_by_light"] = std::move(by_light);
+    Json all_by_light = Json::array();  // empty when not computed (options.per_light false)
+    for (double h : f.irradiance_by_light) all_by_light.push_back(number(h));
+    entry["irradiance_by_light"] = std::move(all_by_light);
     entry["radiosity_rgb"] = {number(f.radiosity_rgb.x), number(f.radiosity_rgb.y), number(f.radiosity_rgb.z)};
     entry["irradiance_rgb"] = {number(f.irradiance_rgb.x), number(f.irradiance_rgb.y), number(f.irradiance_rgb.z)};
     faces.push_back(std::move(entry));
