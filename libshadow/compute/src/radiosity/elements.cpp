@@ -10,8 +10,11 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <utility>
 
 namespace shadow::radiosity {
 Element make_element(std::size_t face, const Triangle& t, std::size_t fragment, std::size_t patch) {
@@ -28,6 +31,37 @@ Element make_element(std::size_t face, const Triangle& t, std::size_t fragment, 
 
 namespace {
 
+/// The later lights whose shadow boundaries cut the elements too (the first light's fragments
+/// make them): enough for a sun and a few lamps; a scene of many suns (a `sun` block) is not cut
+/// into pieces by every one.
+constexpr std::size_t kCuttingLights = 8;
+
+/// Appends to `cuts[f]` the shadow boundaries of the hard lights 1 to kCuttingLights - 1 on each
+/// face f: their lit fragments' edges, less those that two lit fragments share.
+void add_shadow_boundaries(const Scene& scene, const std::vector<Fragment>& fragments,
+                           std::vector<std::vector<Segment>>& cuts) {
+  std::map<std::pair<std::size_t, std::size_t>, std::vector<Segment>> edges;  // (face, light)
+  for (const Fragment& fragment : fragments) {
+    const std::size_t l = fragment.light_id;
+    if (l == 0 || l >= std::min(kCuttingLights, scene.lights.size()) || scene.lights[l].is_extended() ||
+        !fragment.lit || fragment.face_id >= scene.faces.size())
+      continue;
+    std::vector<Segment>& list = edges[{fragment.face_id, l}];
+    const std::vector<glm::dvec3>& p = fragment.polygon;
+    for (std::size_t i = 0; i < p.size(); ++i) list.push_back({p[i], p[(i + 1) % p.size()]});
+  }
+  for (auto& [key, list] : edges) {
+    // An edge between two lit pieces is met once each way: neither is a boundary.
+    std::map<std::array<double, 6>, int> count;
+    const auto key_of = [](const glm::dvec3& a, const glm::dvec3& b) {
+      return std::array<double, 6>{a.x, a.y, a.z, b.x, b.y, b.z};
+    };
+    for (const Segment& s : list) ++count[key_of(s.a, s.b)];
+    for (const Segment& s : list)
+      if (count.count(key_of(s.b, s.a)) == 0) cuts[key.first].push_back(s);
+  }
+}
+
 void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t, std::size_t fragment,
                  std::size_t patch) {
   Element e = make_element(face, t, fragment, patch);
@@ -43,7 +77,10 @@ void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, d
     if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
   // Cut along where other faces meet each face: a floor element under a box's wall would
   // average the lit floor with the closed-off part beneath the box.
-  const std::vector<std::vector<Segment>> contacts = contact_segments(scene);
+  std::vector<std::vector<Segment>> contacts = contact_segments(scene);
+  // And along the other lights' shadow boundaries: a patch across one would shoot the light of
+  // its lit part from its shadowed part too (a wall beside the shadow then gets twice its share).
+  add_shadow_boundaries(scene, fragments, contacts);
   std::vector<Triangle> coarse, fine, cut;
   for (std::size_t f = 0; f < scene.faces.size(); ++f) {
     const Face& face = scene.faces[f];
