@@ -1278,10 +1278,12 @@ PYBIND11_MODULE(_libshadow, m) {
             }
           faces["direct_irradiance_by_light"] = by_light;
           // (faces, lights): each light's share of the irradiance, direct and reflected, W/m2.
-          py::array_t<double> all_by_light({static_cast<py::ssize_t>(r.faces.size()), nl});
+          // (faces, 0) when not computed (per_light off, or more than 8 lights).
+          const bool shares = !r.faces.empty() && !r.faces.front().irradiance_by_light.empty();
+          py::array_t<double> all_by_light({static_cast<py::ssize_t>(r.faces.size()), shares ? nl : py::ssize_t{0}});
           auto all_cells = all_by_light.mutable_unchecked<2>();
           for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
-            for (py::ssize_t l = 0; l < nl; ++l) {
+            for (py::ssize_t l = 0; l < (shares ? nl : 0); ++l) {
               const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].irradiance_by_light;
               all_cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
             }
@@ -1305,7 +1307,7 @@ PYBIND11_MODULE(_libshadow, m) {
           d["balance_residual"] = r.balance_residual;
           d["refine_passes"] = r.refine_passes;
           d["initial_elements"] = r.initial_elements;
-          d["discretization_error"] = r.discretization_error;
+          d["discretization_error"] = refine_tolerance > 0 ? py::object(py::float_(r.discretization_error)) : py::none();
           return d;
         },
         py::arg("scene"), py::arg("max_element_area") = 0.0, py::arg("tolerance") = 1e-3, py::arg("patch_area") = 0.0,

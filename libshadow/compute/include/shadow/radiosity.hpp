@@ -134,8 +134,9 @@ struct RadiosityOptions {
   /// Adaptive refinement: the most rounds of splitting (1 to 8); no element is split more often.
   int refine_passes = 3;
   /// Each light's share of each face's irradiance, direct and reflected
-  /// (FaceRadiosity::irradiance_by_light): one more solution per light (the form factors shared)
-  /// unless one light is the only source. Not for face_irradiance.
+  /// (FaceRadiosity::irradiance_by_light), for scenes of at most 8 lights: one more solution per
+  /// light (the form factors shared) unless one light is the only source. Not for
+  /// face_irradiance.
   bool per_light = true;
 };
 
@@ -171,7 +172,8 @@ struct FaceRadiosity {
   std::vector<double> direct_irradiance_by_light;
   /// One per scene light: its share of `irradiance`, direct and reflected (the solution with that
   /// light as the only source; they add up to `irradiance` less the emitting faces' share, within
-  /// the solutions' tolerance). Empty without RadiosityOptions::per_light or with face_irradiance.
+  /// the solutions' tolerance). Empty without RadiosityOptions::per_light, with face_irradiance,
+  /// or for a scene of more than 8 lights.
   std::vector<double> irradiance_by_light;
 };
 

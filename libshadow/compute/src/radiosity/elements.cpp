@@ -31,25 +31,28 @@ Element make_element(std::size_t face, const Triangle& t, std::size_t fragment, 
 
 namespace {
 
-/// The later lights whose shadow boundaries cut the elements too (the first light's fragments
-/// make them): enough for a sun and a few lamps; a scene of many suns (a `sun` block) is not cut
-/// into pieces by every one.
-constexpr std::size_t kCuttingLights = 8;
+/// The most segments of later lights' shadow boundaries that cut one face: each cuts every
+/// triangle its line crosses (cut_along), so a face under a city's shadows from several lights
+/// would be sliced into strips; beyond this the face keeps the first light's mesh alone.
+constexpr std::size_t kMostBoundarySegments = 4096;
 
-/// Appends to `cuts[f]` the shadow boundaries of the hard lights 1 to kCuttingLights - 1 on each
-/// face f: their lit fragments' edges, less those that two lit fragments share.
+/// Appends to `cuts[f]` the shadow boundaries of the later hard lights on each face f (scenes of
+/// at most kFewLights lights): their lit fragments' edges, less those that two lit fragments
+/// share.
 void add_shadow_boundaries(const Scene& scene, const std::vector<Fragment>& fragments,
                            std::vector<std::vector<Segment>>& cuts) {
+  if (scene.lights.size() > kFewLights) return;
   std::map<std::pair<std::size_t, std::size_t>, std::vector<Segment>> edges;  // (face, light)
   for (const Fragment& fragment : fragments) {
     const std::size_t l = fragment.light_id;
-    if (l == 0 || l >= std::min(kCuttingLights, scene.lights.size()) || scene.lights[l].is_extended() ||
-        !fragment.lit || fragment.face_id >= scene.faces.size())
+    if (l == 0 || l >= scene.lights.size() || scene.lights[l].is_extended() || !fragment.lit ||
+        fragment.face_id >= scene.faces.size())
       continue;
     std::vector<Segment>& list = edges[{fragment.face_id, l}];
     const std::vector<glm::dvec3>& p = fragment.polygon;
     for (std::size_t i = 0; i < p.size(); ++i) list.push_back({p[i], p[(i + 1) % p.size()]});
   }
+  std::vector<std::vector<Segment>> boundaries(cuts.size());
   for (auto& [key, list] : edges) {
     // An edge between two lit pieces is met once each way: neither is a boundary.
     std::map<std::array<double, 6>, int> count;
@@ -58,8 +61,11 @@ void add_shadow_boundaries(const Scene& scene, const std::vector<Fragment>& frag
     };
     for (const Segment& s : list) ++count[key_of(s.a, s.b)];
     for (const Segment& s : list)
-      if (count.count(key_of(s.b, s.a)) == 0) cuts[key.first].push_back(s);
+      if (count.count(key_of(s.b, s.a)) == 0) boundaries[key.first].push_back(s);
   }
+  for (std::size_t f = 0; f < cuts.size(); ++f)
+    if (boundaries[f].size() <= kMostBoundarySegments)
+      cuts[f].insert(cuts[f].end(), boundaries[f].begin(), boundaries[f].end());
 }
 
 void add_element(std::vector<Element>& out, std::size_t face, const Triangle& t, std::size_t fragment,

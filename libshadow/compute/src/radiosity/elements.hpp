@@ -17,6 +17,11 @@
 
 namespace shadow::radiosity {
 
+/// Scenes of at most this many lights are meshed along every hard light's shadow boundaries
+/// (more: along the first light's only) and get each light's share of the irradiance
+/// (RadiosityOptions::per_light): a sun and a few lamps, not a `sun` block of many instants.
+constexpr std::size_t kFewLights = 8;
+
 /// An element while solving: a triangle with its receiving points.
 struct Element {
   std::size_t face = 0;

@@ -199,6 +199,11 @@ class FactorCache {
     bytes_ = 0;
     for (std::size_t k = 0; k < factor_.size(); ++k) {
       if (factor_[k].empty()) continue;
+      if (stale_[k]) {  // not asked for since the last split: its pieces' entries were never made
+        factor_[k] = {}, quad_[k] = {}, spread_[k] = {};
+        stale_[k] = 0;
+        continue;
+      }
       const std::size_t bytes = origin.size() * (sizeof(double) + sizeof(float) + (spread_[k].empty() ? 0 : 2 * sizeof(float)));
       if (bytes_ + bytes > kBudget) {  // over the budget now that rows are longer: computed again when asked
         factor_[k] = {}, quad_[k] = {}, spread_[k] = {};
@@ -579,7 +584,7 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
       solve(rgb[static_cast<std::size_t>(k)], {});
     }
   const std::vector<std::vector<double>> light_h =
-      options.per_light ? light_shares(elements, direct, surfaces, mean, [&](Channel& c, const std::vector<double>& e,
+      options.per_light && scene.lights.size() <= radiosity::kFewLights ? light_shares(elements, direct, surfaces, mean, [&](Channel& c, const std::vector<double>& e,
                                                                              const std::vector<double>& light) {
         solve_for(c, e, light, {});
       })
