@@ -53,6 +53,13 @@ class ConvexUnionArea {
   /// counter-clockwise with positive area) into `out`. False (and `out` unchanged) when some
   /// polygon is not convex: the caller unites them with a Boolean operation instead.
   bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
+    return twice_area(points.data(), first, out);
+  }
+  bool twice_area(const QPointList& points, const std::vector<std::size_t>& first, EQ& out) {
+    return twice_area(points.data(), first, out);
+  }
+  /// The same for the points points[first[k], first[k + 1]).
+  bool twice_area(const QPoint2* points, const std::vector<std::size_t>& first, EQ& out) {
     bool convex_polygons = false;
     {
       CGAL::Protect_FPU_rounding<true> guard;  // the loading's equality and convexity tests
@@ -116,7 +123,7 @@ class ConvexUnionArea {
     return compare(pts_[a]->y, p.y, pts_[b]->y, q.y) == 0;
   }
 
-  bool load(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first) {
+  bool load(const QPoint2* points, const std::vector<std::size_t>& first) {
     pts_.clear();
     ip_.clear();
     nxt_.clear();

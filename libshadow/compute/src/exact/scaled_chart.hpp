@@ -116,8 +116,9 @@ class ScaledChart {
 
   /// The part of a convex piece in front of the receiver (exact signs of its plane given),
   /// projected in order (LeafProjector::project_piece_parallel's steps).
+  template <class Points>  // std::vector<QPoint2> or QPointList
   void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
-                              const std::vector<CGAL::Sign>& sign, std::vector<QPoint2>& out) {
+                              const std::vector<CGAL::Sign>& sign, Points& out) {
     out.clear();
     const std::size_t m = piece.size();
     for (std::size_t a = 0; a < m; ++a) {
