@@ -359,11 +359,14 @@ bool ExactReceiverJob::add_shadow_q(QPointList& poly) {
 void ExactReceiverJob::note_cover_q(const QPointList& poly) {
   if (tile_ || covered_ || poly.size() < 3) return;
   const ScaledChart& chart = scaled_chart();
-  const double x0 = chart.lo(0).get_d(), y0 = chart.lo(1).get_d();  // the scaled box's corner
-  const double twice = core::twice_area_about({x0, y0}, poly.size(), [&](std::size_t a) {
-    return std::array<double, 2>{poly[a].x.get_d(), poly[a].y.get_d()};
+  // The estimate from the points' intervals (of the unscaled chart, a few ulps wide): converting
+  // the rationals to doubles divided every cut's numerator by its denominator. Only a cast that
+  // passes it is measured exactly, so the estimate decides time, never the result.
+  const double twice = core::twice_area_about_box_corner(fp_, poly.size(), [&](std::size_t a) {
+    const IPoint2& i = poly[a].i;
+    return std::array<double, 2>{0.5 * (i.x.inf() + i.x.sup()), 0.5 * (i.y.inf() + i.y.sup())};
   });
-  if (!near_box_area(twice, (chart.hi(0).get_d() - x0) * (chart.hi(1).get_d() - y0))) return;
+  if (!near_box_area(twice)) return;
   EQ exact_twice;
   twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
   const EQ exact_box = (chart.hi(0) - chart.lo(0)) * (chart.hi(1) - chart.lo(1));
