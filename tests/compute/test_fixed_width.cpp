@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The fixed-width steps of the integer charts (exact/fixed_width.hpp, internal) against GMP:
-// conversions both ways, the gcd, projections, plane values and plane crossings on random
-// operands of every size up to the bounds (rapidcheck, seeded in tests/CMakeLists.txt) and on
-// extreme ones (zero, one, the largest accepted, the smallest refused); and the fallback: an
-// operand past a bound is refused (the caller then takes GMP), never wrapped.
+// conversions both ways, the gcd, projections, plane values, plane crossings and the chart
+// box's cuts on random operands of every size up to the bounds (rapidcheck, seeded in
+// tests/CMakeLists.txt) and on extreme ones (zero, one, the largest accepted, the smallest
+// refused); and the fallback: an operand past a bound is refused (the caller then takes GMP),
+// never wrapped.
 #include "exact/fixed_width.hpp"
 
 #include <gmpxx.h>
@@ -169,6 +170,49 @@ TEST(FixedWidth, CrossingRefusesWhatWouldOverflow) {
   EXPECT_FALSE(fx::crossing(i128{1} << 63, 1, -1, 1, 2, n.get_mpz_t(), d.get_mpz_t()));
   // Just inside: operands of 62 and 63 bits (125 together) are accepted and exact.
   expect_crossing(3, (i128{1} << 62) - 1, -1, 1, (i128{1} << 63) - 1);
+}
+
+/// The cut's fraction as GMP makes it: (ao (bc - m) + bo (m - ac)) / (bc - ac), canonicalised.
+mpq_class gmp_cut(i128 ao, i128 bo, i128 ac, i128 bc, i128 m) {
+  const mpz_class n = to_mpz(ao) * (to_mpz(bc) - to_mpz(m)) + to_mpz(bo) * (to_mpz(m) - to_mpz(ac));
+  mpq_class q(n, to_mpz(bc) - to_mpz(ac));
+  q.canonicalize();
+  return q;
+}
+
+bool cut_is_gmps(i128 ao, i128 bo, i128 ac, i128 bc, i128 m) {
+  mpq_class got(5, 7);
+  mpz_class t = 3;
+  if (!fx::cut(ao, bo, ac, bc, m, mpq_numref(got.get_mpq_t()), mpq_denref(got.get_mpq_t()), t.get_mpz_t())) return false;
+  const mpq_class want = gmp_cut(ao, bo, ac, bc, m);
+  return mpz_class(got.get_num()) == mpz_class(want.get_num()) && mpz_class(got.get_den()) == mpz_class(want.get_den());
+}
+
+RC_GTEST_PROP(FixedWidth, CutIsGmpsCanonicalFraction, ()) {
+  // Operands of every size up to the bound, with a shared factor now and then (both gcds).
+  const i128 factor = *rc::gen::element<i128>(1, 2, 12, 1 << 20, 999983);
+  const int bits = *rc::gen::inRange(1, 105);
+  const i128 ao = *integer_of_at_most(125), bo = *integer_of_at_most(125);
+  const i128 ac = *integer_of_at_most(bits) * factor, bc = *integer_of_at_most(bits) * factor;
+  const i128 m = *integer_of_at_most(bits) * factor;
+  RC_PRE(ac != bc);
+  RC_ASSERT(cut_is_gmps(ao, bo, ac, bc, m));
+}
+
+TEST(FixedWidth, CutAtTheEdges) {
+  const i128 top = (i128{1} << 125) - 1;  // the largest accepted operand
+  EXPECT_TRUE(cut_is_gmps(0, 0, 0, 1, 0));
+  EXPECT_TRUE(cut_is_gmps(3, 3, -1, 1, 0));           // along a line x = 3
+  EXPECT_TRUE(cut_is_gmps(0, 10, 0, 4, 2));           // halfway: 5 / 1
+  EXPECT_TRUE(cut_is_gmps(1, 2, 0, 3, 1));            // 4 / 3
+  EXPECT_TRUE(cut_is_gmps(top, -top, -top, top, 0));  // the widest differences, 2^126 - 2
+  EXPECT_TRUE(cut_is_gmps(-top, top, top, -top, 1));  // the other way round
+  EXPECT_TRUE(cut_is_gmps(top, top - 1, 1, top, top - 7));
+  mpq_class q;
+  mpz_class t;
+  // An operand of 126 bits: refused (the caller's GMP path takes it), never wrapped.
+  EXPECT_FALSE(fx::cut(i128{1} << 125, 0, 0, 1, 0, mpq_numref(q.get_mpq_t()), mpq_denref(q.get_mpq_t()), t.get_mpz_t()));
+  EXPECT_FALSE(fx::cut(0, 0, -(i128{1} << 125), 1, 0, mpq_numref(q.get_mpq_t()), mpq_denref(q.get_mpq_t()), t.get_mpz_t()));
 }
 
 }  // namespace

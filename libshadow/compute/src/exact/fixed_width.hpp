@@ -16,11 +16,12 @@
 #include <gmp.h>
 
 #include <cstdint>
+#include <initializer_list>
 
 namespace shadow::exact::fixed {
 
-using i128 = __int128;
-using u128 = unsigned __int128;
+__extension__ typedef __int128 i128;  // (__extension__: -Wpedantic knows no __int128)
+__extension__ typedef unsigned __int128 u128;
 
 /// Bits of |v| (0 for 0): v < 2^bits.
 inline int bit_width(u128 v) {
@@ -129,6 +130,36 @@ inline bool crossing(i128 l, i128 sa, i128 sb, i128 a, i128 b, mpz_ptr num, mpz_
   set_mpz(num, p);
   mpz_mul_si(num, num, static_cast<long>(l1));  // |l1| < 2^63
   set_mpz(den, static_cast<i128>(q1 / g2));
+  return true;
+}
+
+/// The canonical fraction (ao (bc - m) + bo (m - ac)) / (bc - ac) (the other coordinate where
+/// edge a-b crosses the bound m: rational_points.hpp's clip_convex_2d, bc != ac), into num and
+/// den, when every operand is below 2^125 (so each difference is below 2^126). Written
+/// ao + x y / q with x = bo - ao, y = m - ac, q = bc - ac: gcd(ao q + x y, q) = gcd(x y, q) =
+/// g1 g2 with g1 = gcd(x, q) and g2 = gcd(y, q / g1), so the lowest terms come from two
+/// fixed-width gcds, and only the numerator's products (up to 252 bits) are made in GMP
+/// (`t` is scratch).
+inline bool cut(i128 ao, i128 bo, i128 ac, i128 bc, i128 m, mpz_ptr num, mpz_ptr den, mpz_ptr t) {
+  for (i128 v : {ao, bo, ac, bc, m})
+    if (bit_width(v) > 125) return false;
+  i128 x = bo - ao, y = m - ac, q = bc - ac;
+  if (q < 0) {
+    q = -q;
+    x = -x;
+  }
+  const u128 g1 = gcd(magnitude(x), static_cast<u128>(q));
+  x /= static_cast<i128>(g1);
+  const u128 q1 = static_cast<u128>(q) / g1;
+  const u128 g2 = gcd(magnitude(y), q1);
+  y /= static_cast<i128>(g2);
+  const auto q2 = static_cast<i128>(q1 / g2);
+  set_mpz(num, x);
+  set_mpz(t, y);
+  mpz_mul(num, num, t);  // x y / (g1 g2)
+  set_mpz(den, q2);
+  set_mpz(t, ao);
+  mpz_addmul(num, t, den);  // + ao q / (g1 g2)
   return true;
 }
 

@@ -8,6 +8,7 @@
 // Include only from src/exact/*.cpp or tests (CGAL).
 #pragma once
 
+#include "exact/fixed_width.hpp"
 #include "exact/kernel.hpp"
 #include "geometry/clip_convex.hpp"
 
@@ -380,7 +381,7 @@ void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool
     const QPoint2& pb = poly[b];
     QPoint2& out = scratch.emplace_back();
     EQ& other = c == 0 ? out.y : out.x;
-    (c == 0 ? out.x : out.y) = bound;
+    EQ& at = c == 0 ? out.x : out.y;  // bound, set last: its limbs are fixed::cut's scratch first
     IA& iother = c == 0 ? out.i.y : out.i.x;
     (c == 0 ? out.i.x : out.i.y) = ibound;
     const EQ& ac = c == 0 ? pa.x : pa.y;
@@ -393,9 +394,17 @@ void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool
       // Both ends at one exact double (an edge along the other bound): so is the cut, exactly.
       other = ao;
       iother = iao;
+      at = bound;
       return;
     }
-    if (integer_bound && is_integer(pa) && is_integer(pb)) {
+    fixed::i128 fao, fbo, fac, fbc, fm;
+    if (integer_bound && is_integer(pa) && is_integer(pb) && fixed::to_i128(num(ao), fao) &&
+        fixed::to_i128(num(bo), fbo) && fixed::to_i128(num(ac), fac) && fixed::to_i128(num(bc), fbc) &&
+        fixed::to_i128(num(bound), fm) &&
+        fixed::cut(fao, fbo, fac, fbc, fm, mpq_numref(other.get_mpq_t()), mpq_denref(other.get_mpq_t()),
+                   mpq_numref(at.get_mpq_t()))) {
+      // the canonical fraction in fixed width (exact/fixed_width.hpp), else GMP's below
+    } else if (integer_bound && is_integer(pa) && is_integer(pb)) {
       // (ao (bc - m) + bo (m - ac)) / (bc - ac), one normalisation
       mpz_ptr on = mpq_numref(other.get_mpq_t());
       mpz_ptr od = mpq_denref(other.get_mpq_t());
@@ -411,6 +420,7 @@ void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool
       other /= bc - ac;
       other += ao;
     }
+    at = bound;
     CGAL::Protect_FPU_rounding<true> guard;
     iother = interval_of<false>(other);
     if (!unscaled) iother = iother / scale;
