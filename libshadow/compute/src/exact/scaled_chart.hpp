@@ -74,6 +74,9 @@ class ScaledChart {
   [[nodiscard]] bool integer() const { return integer_; }
   /// K.
   [[nodiscard]] const EQ& scale() const { return scale_; }
+  /// Points made so far in fixed width and by GMP (the fallback) in an integer chart (tests).
+  [[nodiscard]] std::size_t fixed_steps() const { return fixed_steps_; }
+  [[nodiscard]] std::size_t gmp_steps() const { return gmp_steps_; }
   /// An interval around K (clip_convex_2d's `scale`).
   [[nodiscard]] const IA& scale_interval() const { return iscale_; }
   /// The chart box's bounds in coordinate c, scaled, and their intervals (unscaled: the bounds).
@@ -85,7 +88,11 @@ class ScaledChart {
   /// The parallel projection of an input point in front of (or on) the receiver's plane.
   void project(const glm::dvec3& y, QPoint2& out) {
     if (!integer_) return rational_->project(y, out);
-    if (small_ && project_small(y, out)) return set_intervals(out);
+    if (small_ && project_small(y, out)) {
+      ++fixed_steps_;
+      return set_intervals(out);
+    }
+    ++gmp_steps_;
     plane_value(y, s_);  // also sets y_
     set_integer(out.x, y_[i_], s_, d_[i_]);
     set_integer(out.y, y_[j_], s_, d_[j_]);
@@ -96,9 +103,11 @@ class ScaledChart {
   void chart(const glm::dvec3& y, QPoint2& out) {
     if (!integer_) return rational_->chart(y, out);
     if (small_ && chart_small(y, out)) {
+      ++fixed_steps_;
       out.i = {IA(y[i_]), IA(y[j_])};  // exactly
       return;
     }
+    ++gmp_steps_;
     exact::integer_of(y[i_], e_, a_[0].get_mpz_t());
     exact::integer_of(y[j_], e_, a_[1].get_mpz_t());
     mpz_mul(mpq_numref(out.x.get_mpq_t()), a_[0].get_mpz_t(), l_.get_mpz_t());
@@ -111,7 +120,11 @@ class ScaledChart {
   /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
   void crossing(const glm::dvec3& a, const glm::dvec3& b, QPoint2& out) {
     if (!integer_) return rational_->crossing(a, b, out);
-    if (small_ && crossing_small(a, b, out)) return set_intervals(out);
+    if (small_ && crossing_small(a, b, out)) {
+      ++fixed_steps_;
+      return set_intervals(out);
+    }
+    ++gmp_steps_;
     plane_value(a, s_);
     for (int k = 0; k < 3; ++k) mpz_swap(a_[k].get_mpz_t(), y_[k].get_mpz_t());  // a_ = A
     plane_value(b, t_);                                                      // y_ = B
@@ -296,6 +309,7 @@ class ScaledChart {
   int e_ = 0, i_ = 0, j_ = 0;
   mpz_class n_[3], offset_, d_[3], l_;
   bool small_ = false;                          ///< N, O, L, D in fixed width too (below)
+  std::size_t fixed_steps_ = 0, gmp_steps_ = 0;  ///< fixed_steps(), gmp_steps()
   fixed::i128 sn_[3] = {}, so_ = 0, sl_ = 0, sd_[3] = {};
   EQ scale_;
   IA iscale_;
