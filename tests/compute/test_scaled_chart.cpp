@@ -3,7 +3,8 @@
 // internal), where a directional light's projections are integers. Checked here two ways:
 //  - point by point, against the unscaled rationals of LeafProjector: every projection, plane
 //    point and crossing is exactly K times them (seeded receivers, directions and points with
-//    coordinates from 1e-9 to 1e6), and the chart box's bounds are too;
+//    coordinates from 1e-9 to 1e6), and the chart box's bounds are too; the points are made both
+//    in fixed width and by the GMP fallback (exact/fixed_width.hpp), and counted;
 //  - whole scenes, against the unscaled route: a scene whose coordinates span too many bits for
 //    integer charts (one far triangle with a tiny coordinate) must give the other faces the same
 //    areas, bit for bit, as the scene without it, which uses them. Tiles, convex solids,
@@ -102,6 +103,7 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   std::uniform_int_distribution<int> magnitude(-30, 20);  // coordinates 1e-9 .. 1e6
   int crossings = 0, projections = 0, coarse_rounds = 0;
+  std::size_t fixed_steps = 0, gmp_steps = 0;  // both of ScaledChart's ways (exact/fixed_width.hpp)
   std::size_t clipped = 0;
   for (int round = 0; round < 300; ++round) {
     const double scale = std::ldexp(1.0, magnitude(rng));
@@ -215,6 +217,8 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
       }
       clipped += scaled_poly.size();
     }
+    fixed_steps += chart.fixed_steps();
+    gmp_steps += chart.gmp_steps();
     // Areas come back divided by K^2; points of the unscaled chart go in times K.
     EQ area = EQ(3, 7) * chart.scale() * chart.scale();
     chart.unscale_area(area);
@@ -227,6 +231,10 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
   EXPECT_GT(crossings, 1000);
   EXPECT_GT(clipped, 100u);
   EXPECT_GT(coarse_rounds, 50);
+  // Coordinates from 1e-9 to 1e6 take the GMP fallback (integers past 2^126), coarse ones the
+  // fixed-width steps: both were checked above against the unscaled rationals.
+  EXPECT_GT(fixed_steps, 1000u);
+  EXPECT_GT(gmp_steps, 1000u);
 }
 
 TEST(ScaledChart, WideScenesAndDirectionsKeepTheUnscaledRationals) {

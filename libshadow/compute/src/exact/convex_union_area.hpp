@@ -53,6 +53,13 @@ class ConvexUnionArea {
   /// counter-clockwise with positive area) into `out`. False (and `out` unchanged) when some
   /// polygon is not convex: the caller unites them with a Boolean operation instead.
   bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
+    return twice_area(points.data(), first, out);
+  }
+  bool twice_area(const QPointList& points, const std::vector<std::size_t>& first, EQ& out) {
+    return twice_area(points.data(), first, out);
+  }
+  /// The same for the points points[first[k], first[k + 1]).
+  bool twice_area(const QPoint2* points, const std::vector<std::size_t>& first, EQ& out) {
     bool convex_polygons = false;
     {
       CGAL::Protect_FPU_rounding<true> guard;  // the loading's equality and convexity tests
@@ -116,7 +123,7 @@ class ConvexUnionArea {
     return compare(pts_[a]->y, p.y, pts_[b]->y, q.y) == 0;
   }
 
-  bool load(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first) {
+  bool load(const QPoint2* points, const std::vector<std::size_t>& first) {
     pts_.clear();
     ip_.clear();
     nxt_.clear();
@@ -310,26 +317,33 @@ class ConvexUnionArea {
     return p;
   }
 
-  /// The exact value of a parameter (on the current edge).
-  const EQ& exact_value(Param& p) {
-    if (p.kind == 0) return zero_;
-    if (p.kind == 1) return one_;
+  /// A parameter as a fraction n / d with d > 0, not normalised: it is compared and subtracted,
+  /// and only the edge's uncovered measure is normalised (once), so no gcd is taken per
+  /// parameter (mpq_canonicalize's gcds were most of the union's GMP time).
+  struct Fraction {
+    mpz_class n, d;
+  };
+
+  /// The exact value of a parameter (on the current edge), made once and kept in exact_.
+  const Fraction& fraction(Param& p) {
+    if (p.kind == 0) return zero_f_;
+    if (p.kind == 1) return one_f_;
     if (p.cache >= 0) return exact_[static_cast<std::size_t>(p.cache)];
     if (exact_used_ == exact_.size()) exact_.emplace_back();
-    EQ& t = exact_[exact_used_];
+    Fraction& t = exact_[exact_used_];
     p.cache = static_cast<int>(exact_used_++);
     const QPoint2& s = *pts_[cur_v_];
     const QPoint2& s2 = *pts_[cur_w_];
     const QPoint2& u = *pts_[p.f];
     const QPoint2& u2 = *pts_[nxt_[p.f]];
     ++counts_.exact_params;
+    mpz_ptr tn = t.n.get_mpz_t();
+    mpz_ptr td = t.d.get_mpz_t();
     if (is_integer(s) && is_integer(s2) && is_integer(u) && is_integer(u2)) {
-      // cross(u2 - u, u - s) / cross(u2 - u, s2 - s), normalised once
+      // cross(u2 - u, u - s) / cross(u2 - u, s2 - s)
       mpz_class& fx = scratch_.za;
       mpz_class& fy = scratch_.zb;
       mpz_class& z = scratch_.zc;
-      mpz_ptr tn = mpq_numref(t.get_mpq_t());
-      mpz_ptr td = mpq_denref(t.get_mpq_t());
       mpz_sub(fx.get_mpz_t(), num(u2.x), num(u.x));
       mpz_sub(fy.get_mpz_t(), num(u2.y), num(u.y));
       mpz_sub(z.get_mpz_t(), num(u.y), num(s.y));
@@ -340,22 +354,44 @@ class ConvexUnionArea {
       mpz_mul(td, fx.get_mpz_t(), z.get_mpz_t());
       mpz_sub(z.get_mpz_t(), num(s2.x), num(s.x));
       mpz_submul(td, fy.get_mpz_t(), z.get_mpz_t());
-      mpq_canonicalize(t.get_mpq_t());
-      return t;
+    } else {
+      // The same with every difference a fraction (n / e, e > 0): N1 / D1 = cross(f, u - s) and
+      // N2 / D2 = cross(f, s2 - s) share f's denominators, so t = N1 e_dx e_dy / (N2 e_ux e_uy).
+      mpz_ptr f[12];
+      for (int k = 0; k < 12; ++k) f[k] = f_[k].get_mpz_t();
+      enum { nfx, efx, nfy, efy, nux, eux, nuy, euy, ndx, edx, ndy, edy };
+      difference_fraction(u2.x, u.x, f[nfx], f[efx]);
+      difference_fraction(u2.y, u.y, f[nfy], f[efy]);
+      difference_fraction(u.x, s.x, f[nux], f[eux]);
+      difference_fraction(u.y, s.y, f[nuy], f[euy]);
+      difference_fraction(s2.x, s.x, f[ndx], f[edx]);
+      difference_fraction(s2.y, s.y, f[ndy], f[edy]);
+      mpz_ptr z = g_.get_mpz_t();
+      // N1 = nfx nuy efy eux - nfy nux efx euy, times e_dx e_dy
+      mpz_mul(tn, f[nfx], f[nuy]);
+      mpz_mul(tn, tn, f[efy]);
+      mpz_mul(tn, tn, f[eux]);
+      mpz_mul(z, f[nfy], f[nux]);
+      mpz_mul(z, z, f[efx]);
+      mpz_mul(z, z, f[euy]);
+      mpz_sub(tn, tn, z);
+      mpz_mul(tn, tn, f[edx]);
+      mpz_mul(tn, tn, f[edy]);
+      // N2 = nfx ndy efy edx - nfy ndx efx edy, times e_ux e_uy
+      mpz_mul(td, f[nfx], f[ndy]);
+      mpz_mul(td, td, f[efy]);
+      mpz_mul(td, td, f[edx]);
+      mpz_mul(z, f[nfy], f[ndx]);
+      mpz_mul(z, z, f[efx]);
+      mpz_mul(z, z, f[edy]);
+      mpz_sub(td, td, z);
+      mpz_mul(td, td, f[eux]);
+      mpz_mul(td, td, f[euy]);
     }
-    fx_ = u2.x - u.x;
-    fy_ = u2.y - u.y;
-    dx_ = s2.x - s.x;
-    dy_ = s2.y - s.y;
-    ux_ = u.x - s.x;
-    uy_ = u.y - s.y;
-    t = fx_ * uy_;
-    den_ = fy_ * ux_;
-    t -= den_;
-    den_ = fx_ * dy_;
-    dx_ *= fy_;
-    den_ -= dx_;
-    t /= den_;
+    if (mpz_sgn(td) < 0) {
+      mpz_neg(tn, tn);
+      mpz_neg(td, td);
+    }
     return t;
   }
 
@@ -368,7 +404,11 @@ class ConvexUnionArea {
     if (p.f == q.f) return false;
     const CGAL::Uncertain<bool> r = p.approx < q.approx;  // comparisons only: no rounding
     if (CGAL::is_certain(r)) return CGAL::get_certain(r);
-    return exact_value(p) < exact_value(q);
+    const Fraction& a = fraction(p);
+    const Fraction& b = fraction(q);
+    mpz_mul(scratch_.za.get_mpz_t(), a.n.get_mpz_t(), b.d.get_mpz_t());
+    mpz_mul(scratch_.zb.get_mpz_t(), b.n.get_mpz_t(), a.d.get_mpz_t());
+    return mpz_cmp(scratch_.za.get_mpz_t(), scratch_.zb.get_mpz_t()) < 0;
   }
 
   void twice_polygon_area(const QPoint2* const* pts, std::size_t n) {
@@ -406,7 +446,12 @@ class ConvexUnionArea {
   void uncovered_measure(std::size_t v, std::size_t w) {
     for (std::size_t a = 1; a < covers_.size(); ++a)  // insertion sort by lower end (few)
       for (std::size_t b = a; b > 0 && less(covers_[b].lo, covers_[b - 1].lo); --b) std::swap(covers_[b], covers_[b - 1]);
-    covered_ = 0;
+    // The covered measure as a fraction cn / cd (cd > 0), normalised once at the end.
+    mpz_ptr cn = mpq_numref(measure_.get_mpq_t());
+    mpz_ptr cd = mpq_denref(measure_.get_mpq_t());
+    mpz_set_ui(cn, 0);
+    mpz_set_ui(cd, 1);
+    mpz_ptr z = g_.get_mpz_t();
     std::size_t a = 0;
     while (a < covers_.size()) {
       Param lo = covers_[a].lo, hi = covers_[a].hi;
@@ -417,13 +462,22 @@ class ConvexUnionArea {
         if (less(hi, covers_[b].hi)) hi = covers_[b].hi;
         ++b;
       }
-      piece_ = exact_value(hi);
-      piece_ -= exact_value(lo);
-      covered_ += piece_;
+      const Fraction& h = fraction(hi);
+      const Fraction& l = fraction(lo);
+      // cn / cd += h - l = (hn ld - ln hd) / (hd ld)
+      mpz_mul(z, h.n.get_mpz_t(), l.d.get_mpz_t());
+      mpz_submul(z, l.n.get_mpz_t(), h.d.get_mpz_t());
+      mpz_mul(z, z, cd);
+      mpz_mul(cn, cn, h.d.get_mpz_t());
+      mpz_mul(cn, cn, l.d.get_mpz_t());
+      mpz_add(cn, cn, z);
+      mpz_mul(cd, cd, h.d.get_mpz_t());
+      mpz_mul(cd, cd, l.d.get_mpz_t());
       a = b;
     }
-    measure_ = one_;
-    measure_ -= covered_;
+    // measure = 1 - covered = (cd - cn) / cd, normalised: the same rational as before.
+    mpz_sub(cn, cd, cn);
+    mpq_canonicalize(measure_.get_mpq_t());
     if (sgn(measure_) != 0) add_cross(v, w, &measure_);
   }
 
@@ -442,12 +496,14 @@ class ConvexUnionArea {
   std::vector<Box> box_;
   std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
   std::vector<Cover> covers_;
-  std::deque<EQ> exact_;  ///< exact parameters of the current edge (references stay valid)
+  std::deque<Fraction> exact_;  ///< exact parameters of the current edge (references stay valid)
   std::vector<EQ> terms_;
   std::vector<QPoint2> copy_;
   std::vector<std::size_t> copy_first_;
   std::size_t exact_used_ = 0, cur_v_ = 0, cur_w_ = 0;
-  EQ zero_{0}, one_{1}, fx_, fy_, dx_, dy_, ux_, uy_, den_, piece_, covered_, measure_;
+  EQ measure_;
+  Fraction zero_f_{0, 1}, one_f_{1, 1};
+  mpz_class f_[12], g_;  ///< fraction()'s and uncovered_measure()'s scratch
   mpz_class integer_terms_;  ///< terms of whole edges of integer points, summed as integers
   QScratch scratch_;
   Counts counts_;

@@ -45,7 +45,7 @@ struct ExactWorker {
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
   // The areas-only route's casts as rational points of the scaled chart (exact/scaled_chart.hpp,
   // exact/rational_points.hpp) and scratch.
-  std::vector<QPoint2> qshadows, qpoly, qscratch;
+  QPointList qshadows, qpoly, qscratch;  // slots kept between casts (their limbs reused)
   std::vector<std::size_t> qfirst, qorder, qchain;
   std::vector<int> qside;
   QScratch qs;

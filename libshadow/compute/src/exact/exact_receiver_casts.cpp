@@ -23,7 +23,7 @@ void ExactReceiverJob::clip_to_chart_box(std::vector<Point2>& poly) {
   }
 }
 
-void ExactReceiverJob::clip_to_chart_box_q(std::vector<QPoint2>& poly) {
+void ExactReceiverJob::clip_to_chart_box_q(QPointList& poly) {
   const ScaledChart& chart = scaled_chart();
   // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
   bool inside = true;
@@ -51,7 +51,7 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
   if (!any_front) return;
   if (q_mode_) {
     ScaledChart& projector = scaled_chart();
-    std::vector<QPoint2>& pts = w_.qpoly;
+    QPointList& pts = w_.qpoly;
     pts.clear();
     for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
       if (w_.vertex_sign[v] == CGAL::POSITIVE) projector.project(cs.vertices[v], pts.emplace_back());
@@ -67,10 +67,10 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
     clip_to_chart_box_q(pts);
     if (pts.size() < 3) return;
     if (area_sign(pts, w_.qs, w_.qarea) != CGAL::POSITIVE) return;  // flat: edge-on solid
-    w_.qshadows.insert(w_.qshadows.end(), pts.begin(), pts.end());
+    note_cover_q(pts);
+    for (QPoint2& p : pts) w_.qshadows.push_back_swap(p);  // pts is scratch from here on
     w_.qfirst.push_back(w_.qshadows.size());
     ++stats_.casting_pairs;
-    note_cover_q(pts);
     return;
   }
   LeafProjector& projector = leaf_projector();
@@ -142,7 +142,7 @@ void ExactReceiverJob::cast_face(std::size_t q) {
     // of the union) cost more than the pieces on long combs.
     if (q_mode_) {
       ScaledChart& chart = scaled_chart();
-      std::vector<QPoint2>& pts = w_.qpoly;
+      QPointList& pts = w_.qpoly;
       pts.clear();
       bool inside = true;
       for (int v : qp.chart_ring) {
@@ -201,7 +201,11 @@ void ExactReceiverJob::cast_face(std::size_t q) {
       const ScaledChart& chart = scaled_chart();
       for (const Point2& p : w_.poly2) {
         const auto& e = CGAL::exact(p);
-        chart.scale_point(w_.qpoly.emplace_back(QPoint2{e.x(), e.y()}));
+        QPoint2& q = w_.qpoly.emplace_back();
+        q.x = e.x();
+        q.y = e.y();
+        q.update_intervals();  // of the unscaled chart, as QPoint2{x, y} makes them
+        chart.scale_point(q);
       }
       cast |= add_shadow_q(w_.qpoly);
       continue;
@@ -341,25 +345,28 @@ void ExactReceiverJob::note_cover(const Polygon2& shadow) {
   covered_ = polygon_area(shadow) == w_.face(ctx_, face_id_).chart_area;
 }
 
-bool ExactReceiverJob::add_shadow_q(std::vector<QPoint2>& poly) {
+bool ExactReceiverJob::add_shadow_q(QPointList& poly) {
   if (poly.size() < 3) return false;
   const CGAL::Sign orientation = area_sign(poly, w_.qs, w_.qarea);
   if (orientation == CGAL::ZERO) return false;  // the caster is edge-on to the light
   if (orientation == CGAL::NEGATIVE) std::reverse(poly.begin(), poly.end());
-  w_.qshadows.insert(w_.qshadows.end(), poly.begin(), poly.end());
-  w_.qfirst.push_back(w_.qshadows.size());
   note_cover_q(poly);
+  for (QPoint2& p : poly) w_.qshadows.push_back_swap(p);  // poly is scratch from here on
+  w_.qfirst.push_back(w_.qshadows.size());
   return true;
 }
 
-void ExactReceiverJob::note_cover_q(const std::vector<QPoint2>& poly) {
+void ExactReceiverJob::note_cover_q(const QPointList& poly) {
   if (tile_ || covered_ || poly.size() < 3) return;
   const ScaledChart& chart = scaled_chart();
-  const double x0 = chart.lo(0).get_d(), y0 = chart.lo(1).get_d();  // the scaled box's corner
-  const double twice = core::twice_area_about({x0, y0}, poly.size(), [&](std::size_t a) {
-    return std::array<double, 2>{poly[a].x.get_d(), poly[a].y.get_d()};
+  // The estimate from the points' intervals (of the unscaled chart, a few ulps wide): converting
+  // the rationals to doubles divided every cut's numerator by its denominator. Only a cast that
+  // passes it is measured exactly, so the estimate decides time, never the result.
+  const double twice = core::twice_area_about_box_corner(fp_, poly.size(), [&](std::size_t a) {
+    const IPoint2& i = poly[a].i;
+    return std::array<double, 2>{0.5 * (i.x.inf() + i.x.sup()), 0.5 * (i.y.inf() + i.y.sup())};
   });
-  if (!near_box_area(twice, (chart.hi(0).get_d() - x0) * (chart.hi(1).get_d() - y0))) return;
+  if (!near_box_area(twice)) return;
   EQ exact_twice;
   twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
   const EQ exact_box = (chart.hi(0) - chart.lo(0)) * (chart.hi(1) - chart.lo(1));

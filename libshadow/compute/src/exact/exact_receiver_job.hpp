@@ -88,7 +88,7 @@ class ExactReceiverJob {
   void clip_to_chart_box(std::vector<Point2>& poly);
 
   /// clip_to_chart_box for a cast in the scaled chart (the box's bounds scaled with it).
-  void clip_to_chart_box_q(std::vector<QPoint2>& poly);
+  void clip_to_chart_box_q(QPointList& poly);
 
   // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
   void cast_convex_solid(int solid);
@@ -132,12 +132,12 @@ class ExactReceiverJob {
   void note_cover(const Polygon2& shadow);
 
   /// add_shadow for rational points (the areas-only route).
-  bool add_shadow_q(std::vector<QPoint2>& poly);
+  bool add_shadow_q(QPointList& poly);
 
   /// note_cover for a rational cast (counter-clockwise, in the scaled chart). Every cast is a
   /// simple polygon inside the chart box (a convex piece or hull clipped to it, or a face's
   /// affine image lying in it), and a simple polygon inside the box with the box's area is the box.
-  void note_cover_q(const std::vector<QPoint2>& poly);
+  void note_cover_q(const QPointList& poly);
 
   /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
   /// of twice the chart box's: only such a cast can be the whole box (note_cover, note_cover_q).

@@ -8,6 +8,7 @@
 // Include only from src/exact/*.cpp or tests (CGAL).
 #pragma once
 
+#include "exact/fixed_width.hpp"
 #include "exact/kernel.hpp"
 #include "geometry/clip_convex.hpp"
 
@@ -93,6 +94,63 @@ struct QPoint2 {
   void update_intervals() { i = {interval_of(x), interval_of(y)}; }
 };
 
+/// Swaps two points without allocating: std::swap moves through a temporary, and a moved-from
+/// mpq_class is made again with mpq_init, which allocates its denominator (found by ADL:
+/// std::reverse and std::iter_swap use it).
+inline void swap(QPoint2& a, QPoint2& b) noexcept {
+  mpq_swap(a.x.get_mpq_t(), b.x.get_mpq_t());
+  mpq_swap(a.y.get_mpq_t(), b.y.get_mpq_t());
+  std::swap(a.i, b.i);
+}
+
+/// A list of points whose slots outlive clear(): the next point written into a slot reuses its
+/// GMP limbs. A std::vector<QPoint2> frees four limb arrays per point on clear() and allocates
+/// them again when the next cast is projected, copied or clipped; the areas route does that
+/// for every vertex of every cast, and the allocator was a sixth of its time (docs/benchmarks.md,
+/// "Eighth look"). The subset of std::vector's interface the route uses.
+class QPointList {
+ public:
+  [[nodiscard]] std::size_t size() const { return n_; }
+  [[nodiscard]] bool empty() const { return n_ == 0; }
+  void clear() { n_ = 0; }
+  /// A new last point: a slot with stale coordinates (the caller sets both) and intervals that
+  /// are the whole line, as a default-made QPoint2's.
+  QPoint2& emplace_back() {
+    if (n_ == slots_.size()) slots_.emplace_back();
+    QPoint2& p = slots_[n_++];
+    p.i = {IA::largest(), IA::largest()};
+    return p;
+  }
+  /// Appends a copy of p (into the slot's limbs: no allocation once they are large enough).
+  void push_back(const QPoint2& p) {
+    QPoint2& slot = emplace_back();
+    slot.x = p.x;
+    slot.y = p.y;
+    slot.i = p.i;
+  }
+  /// Appends p by swapping it in (p is left with the slot's stale values).
+  void push_back_swap(QPoint2& p) { exact::swap(emplace_back(), p); }
+  void pop_back() { --n_; }
+  [[nodiscard]] QPoint2& back() { return slots_[n_ - 1]; }
+  [[nodiscard]] const QPoint2& back() const { return slots_[n_ - 1]; }
+  [[nodiscard]] QPoint2& operator[](std::size_t k) { return slots_[k]; }
+  [[nodiscard]] const QPoint2& operator[](std::size_t k) const { return slots_[k]; }
+  [[nodiscard]] QPoint2* data() { return slots_.data(); }
+  [[nodiscard]] const QPoint2* data() const { return slots_.data(); }
+  [[nodiscard]] QPoint2* begin() { return slots_.data(); }
+  [[nodiscard]] QPoint2* end() { return slots_.data() + n_; }
+  [[nodiscard]] const QPoint2* begin() const { return slots_.data(); }
+  [[nodiscard]] const QPoint2* end() const { return slots_.data() + n_; }
+  void swap(QPointList& other) noexcept {
+    slots_.swap(other.slots_);
+    std::swap(n_, other.n_);
+  }
+
+ private:
+  std::vector<QPoint2> slots_;
+  std::size_t n_ = 0;
+};
+
 /// A point's intervals (QPoint2::i).
 inline const IPoint2& interval_of(const QPoint2& p) {
   assert(p.i.x.inf() <= p.i.x.sup() && p.i.y.inf() <= p.i.y.sup());
@@ -119,6 +177,15 @@ inline void add_integer_cross(mpz_class& acc, const QPoint2& p, const QPoint2& q
   mpz_submul(acc.get_mpz_t(), num(p.y), num(q.x));
 }
 
+/// x1 - x0 as the fraction n / e with e > 0, not normalised (no gcd).
+inline void difference_fraction(const EQ& x1, const EQ& x0, mpz_ptr n, mpz_ptr e) {
+  const mpz_srcptr n1 = mpq_numref(x1.get_mpq_t()), e1 = mpq_denref(x1.get_mpq_t());
+  const mpz_srcptr n0 = mpq_numref(x0.get_mpq_t()), e0 = mpq_denref(x0.get_mpq_t());
+  mpz_mul(n, n1, e0);
+  mpz_submul(n, n0, e1);
+  mpz_mul(e, e0, e1);
+}
+
 /// Sign of (a1 - a0)(b1 - b0) + k (c1 - c0)(d1 - d0), k = 1 or -1, exactly: in integers when
 /// all eight are (GMP's rational steps would multiply by denominators of 1 and take gcds), else
 /// in rationals. The filtered predicates' exact step.
@@ -138,17 +205,35 @@ inline void add_integer_cross(mpz_class& acc, const QPoint2& p, const QPoint2& q
       mpz_submul(s.za.get_mpz_t(), s.zb.get_mpz_t(), s.zc.get_mpz_t());
     return static_cast<CGAL::Sign>(sgn(s.za));
   }
-  s.a = a1 - a0;
-  s.b = b1 - b0;
-  s.a *= s.b;
-  s.c = c1 - c0;
-  s.d = d1 - d0;
-  s.c *= s.d;
+  // Rationals: x1 - x0 = (n1 e0 - n0 e1) / (e0 e1) with positive denominators e, so the sign is
+  // that of nA nB eC eD + k nC nD eA eB, in integers: no gcd (GMP's rational steps take one
+  // after every sum and product, and only the sign is wanted).
+  mpz_ptr na = mpq_numref(s.a.get_mpq_t()), ea = mpq_denref(s.a.get_mpq_t());
+  mpz_ptr nb = mpq_numref(s.b.get_mpq_t()), eb = mpq_denref(s.b.get_mpq_t());
+  mpz_ptr nc = mpq_numref(s.c.get_mpq_t()), ec = mpq_denref(s.c.get_mpq_t());
+  mpz_ptr nd = mpq_numref(s.d.get_mpq_t()), ed = mpq_denref(s.d.get_mpq_t());
+  difference_fraction(a1, a0, na, ea);
+  difference_fraction(b1, b0, nb, eb);
+  difference_fraction(c1, c0, nc, ec);
+  difference_fraction(d1, d0, nd, ed);
+  mpz_mul(na, na, nb);  // nA nB
+  mpz_mul(na, na, ec);
+  mpz_mul(na, na, ed);
+  mpz_mul(nc, nc, nd);  // nC nD
+  mpz_mul(nc, nc, ea);
+  mpz_mul(nc, nc, eb);
   if (k > 0)
-    s.a += s.c;
+    mpz_add(na, na, nc);
   else
-    s.a -= s.c;
-  return static_cast<CGAL::Sign>(sgn(s.a));
+    mpz_sub(na, na, nc);
+  const int result = mpz_sgn(na);
+  // The scratch rationals now hold non-canonical values: leave them canonical (zero) for the
+  // next user of QScratch, which may read them as rationals.
+  mpq_set_ui(s.a.get_mpq_t(), 0, 1);
+  mpq_set_ui(s.b.get_mpq_t(), 0, 1);
+  mpq_set_ui(s.c.get_mpq_t(), 0, 1);
+  mpq_set_ui(s.d.get_mpq_t(), 0, 1);
+  return static_cast<CGAL::Sign>(result);
 }
 
 /// Sign of cross(q - p, r - p): LEFT_TURN (positive) when p, q, r turn left. Filtered.
@@ -209,7 +294,8 @@ inline void twice_polygon_area(const QPoint2* begin, const QPoint2* end, EQ& out
 
 /// Twice the signed area's sign of the polygon pts[0..n) (fan from the first vertex). Filtered;
 /// `sum` receives twice the area when the filter cannot decide.
-inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, QScratch& s, EQ& sum) {
+template <class Points>  // std::vector<QPoint2> or QPointList
+CGAL::Sign area_sign(const Points& pts, QScratch& s, EQ& sum) {
   const std::size_t n = pts.size();
   if (n < 3) return CGAL::ZERO;
   {
@@ -229,9 +315,10 @@ inline CGAL::Sign area_sign(const std::vector<QPoint2>& pts, QScratch& s, EQ& su
 }
 
 /// The convex hull of `pts` (counter-clockwise, no collinear or repeated vertices) into `out`
-/// (Andrew's monotone chain with filtered predicates).
-inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, std::vector<std::size_t>& order,
-                        std::vector<std::size_t>& chain, QScratch& s) {
+/// (Andrew's monotone chain with filtered predicates; `Points`: std::vector<QPoint2> or QPointList).
+template <class Points>
+void convex_hull(Points& pts, Points& out, std::vector<std::size_t>& order, std::vector<std::size_t>& chain,
+                 QScratch& s) {
   const std::size_t n = pts.size();
   out.clear();
   CGAL::Protect_FPU_rounding<true> guard;  // once for every filter below (GMP needs no mode)
@@ -266,9 +353,12 @@ inline void convex_hull(std::vector<QPoint2>& pts, std::vector<QPoint2>& out, st
 /// Sutherland-Hodgman clip of a convex polygon to x_c >= m (keep_greater) or x_c <= m, with m
 /// given exactly and as an interval (both as the points are: scaled and unscaled, QPoint2); the
 /// crossings get m exactly in coordinate c. `scale`: an interval around the chart's scale K
-/// (1 unscaled), for the crossings' other intervals.
-inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, const EQ& bound, const IA& ibound, bool keep_greater,
-                           std::vector<QPoint2>& scratch, std::vector<int>& in, const IA& scale) {
+/// (1 unscaled), for the crossings' other intervals. `Points`: std::vector<QPoint2> or
+/// QPointList (whose slots keep their limbs: the kept vertices and the cuts are written into
+/// `scratch`'s slots, not made anew).
+template <class Points>
+void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool keep_greater, Points& scratch,
+                    std::vector<int>& in, const IA& scale) {
   if (poly.empty()) return;
   const std::size_t n = poly.size();
   in.resize(n);
@@ -277,27 +367,23 @@ inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, const EQ& bound, c
     const int r = compare(v, c == 0 ? poly[a].i.x : poly[a].i.y, bound, ibound);
     in[a] = keep_greater ? r : -r;
   }
-  const bool unscaled = scale.is_point() && scale.inf() == 1.0;
-  auto make_point = [&](EQ&& other) {
-    IA iother;
-    {
-      CGAL::Protect_FPU_rounding<true> guard;
-      iother = interval_of<false>(other);
-      if (!unscaled) iother = iother / scale;
-    }
-    return c == 0 ? QPoint2{bound, std::move(other), {ibound, iother}}
-                  : QPoint2{std::move(other), bound, {iother, ibound}};
-  };
   auto side = [&](std::size_t a) { return in[a]; };
   switch (geometry::clip_case(n, side)) {
     case geometry::ClipCase::Inside: return;
     case geometry::ClipCase::Empty: poly.clear(); return;
     case geometry::ClipCase::Cut: break;
   }
+  const bool unscaled = scale.is_point() && scale.inf() == 1.0;
   const bool integer_bound = is_integer(bound);
-  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+  // The cut of edge a-b: bound in coordinate c, `other` (in the new slot) in the other one.
+  auto cut = [&](std::size_t a, std::size_t b) {
     const QPoint2& pa = poly[a];
     const QPoint2& pb = poly[b];
+    QPoint2& out = scratch.emplace_back();
+    EQ& other = c == 0 ? out.y : out.x;
+    EQ& at = c == 0 ? out.x : out.y;  // bound, set last: its limbs are fixed::cut's scratch first
+    IA& iother = c == 0 ? out.i.y : out.i.x;
+    (c == 0 ? out.i.x : out.i.y) = ibound;
     const EQ& ac = c == 0 ? pa.x : pa.y;
     const EQ& ao = c == 0 ? pa.y : pa.x;
     const EQ& bc = c == 0 ? pb.x : pb.y;
@@ -306,10 +392,19 @@ inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, const EQ& bound, c
     const IA& ibo = c == 0 ? pb.i.y : pb.i.x;
     if (iao.is_point() && ibo.is_point() && iao.inf() == ibo.inf()) {
       // Both ends at one exact double (an edge along the other bound): so is the cut, exactly.
-      return c == 0 ? QPoint2{bound, ao, {ibound, iao}} : QPoint2{ao, bound, {iao, ibound}};
+      other = ao;
+      iother = iao;
+      at = bound;
+      return;
     }
-    EQ other;
-    if (integer_bound && is_integer(pa) && is_integer(pb)) {
+    fixed::i128 fao, fbo, fac, fbc, fm;
+    if (integer_bound && is_integer(pa) && is_integer(pb) && fixed::to_i128(num(ao), fao) &&
+        fixed::to_i128(num(bo), fbo) && fixed::to_i128(num(ac), fac) && fixed::to_i128(num(bc), fbc) &&
+        fixed::to_i128(num(bound), fm) &&
+        fixed::cut(fao, fbo, fac, fbc, fm, mpq_numref(other.get_mpq_t()), mpq_denref(other.get_mpq_t()),
+                   mpq_numref(at.get_mpq_t()))) {
+      // the canonical fraction in fixed width (exact/fixed_width.hpp), else GMP's below
+    } else if (integer_bound && is_integer(pa) && is_integer(pb)) {
       // (ao (bc - m) + bo (m - ac)) / (bc - ac), one normalisation
       mpz_ptr on = mpq_numref(other.get_mpq_t());
       mpz_ptr od = mpq_denref(other.get_mpq_t());
@@ -319,21 +414,32 @@ inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, const EQ& bound, c
       mpz_addmul(on, num(bo), od);
       mpz_sub(od, num(bc), num(ac));
       mpq_canonicalize(other.get_mpq_t());
-      return make_point(std::move(other));
+    } else {
+      other = bo - ao;
+      other *= bound - ac;
+      other /= bc - ac;
+      other += ao;
     }
-    other = bo - ao;
-    other *= bound - ac;
-    other /= bc - ac;
-    other += ao;
-    return make_point(std::move(other));
-  }, scratch);
+    at = bound;
+    CGAL::Protect_FPU_rounding<true> guard;
+    iother = interval_of<false>(other);
+    if (!unscaled) iother = iother / scale;
+  };
+  // geometry::clip_convex's walk, writing into scratch's slots.
+  scratch.clear();
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::size_t b = (a + 1) % n;
+    const int sa = side(a), sb = side(b);
+    if (sa >= 0) scratch.push_back(poly[a]);
+    if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) cut(a, b);
+  }
   poly.swap(scratch);
 }
 
 /// The same for a bound m given as a double (the same values as clip_convex_2d's for Epeck
 /// points); `bound` is scratch.
-inline void clip_convex_2d(std::vector<QPoint2>& poly, int c, double m, bool keep_greater, std::vector<QPoint2>& scratch,
-                           std::vector<int>& in, EQ& bound) {
+template <class Points>
+void clip_convex_2d(Points& poly, int c, double m, bool keep_greater, Points& scratch, std::vector<int>& in, EQ& bound) {
   if (poly.empty()) return;
   bound = m;
   clip_convex_2d(poly, c, bound, IA(m), keep_greater, scratch, in, IA(1));

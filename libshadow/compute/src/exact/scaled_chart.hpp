@@ -33,6 +33,7 @@
 
 #include "core/dyadic.hpp"
 #include "core/face_prep.hpp"
+#include "exact/fixed_width.hpp"
 #include "exact/leaf_projector.hpp"
 #include "exact/rational_points.hpp"
 
@@ -73,6 +74,9 @@ class ScaledChart {
   [[nodiscard]] bool integer() const { return integer_; }
   /// K.
   [[nodiscard]] const EQ& scale() const { return scale_; }
+  /// Points made so far in fixed width and by GMP (the fallback) in an integer chart (tests).
+  [[nodiscard]] std::size_t fixed_steps() const { return fixed_steps_; }
+  [[nodiscard]] std::size_t gmp_steps() const { return gmp_steps_; }
   /// An interval around K (clip_convex_2d's `scale`).
   [[nodiscard]] const IA& scale_interval() const { return iscale_; }
   /// The chart box's bounds in coordinate c, scaled, and their intervals (unscaled: the bounds).
@@ -84,6 +88,11 @@ class ScaledChart {
   /// The parallel projection of an input point in front of (or on) the receiver's plane.
   void project(const glm::dvec3& y, QPoint2& out) {
     if (!integer_) return rational_->project(y, out);
+    if (small_ && project_small(y, out)) {
+      ++fixed_steps_;
+      return set_intervals(out);
+    }
+    ++gmp_steps_;
     plane_value(y, s_);  // also sets y_
     set_integer(out.x, y_[i_], s_, d_[i_]);
     set_integer(out.y, y_[j_], s_, d_[j_]);
@@ -93,6 +102,12 @@ class ScaledChart {
   /// An input point on the receiver's plane.
   void chart(const glm::dvec3& y, QPoint2& out) {
     if (!integer_) return rational_->chart(y, out);
+    if (small_ && chart_small(y, out)) {
+      ++fixed_steps_;
+      out.i = {IA(y[i_]), IA(y[j_])};  // exactly
+      return;
+    }
+    ++gmp_steps_;
     exact::integer_of(y[i_], e_, a_[0].get_mpz_t());
     exact::integer_of(y[j_], e_, a_[1].get_mpz_t());
     mpz_mul(mpq_numref(out.x.get_mpq_t()), a_[0].get_mpz_t(), l_.get_mpz_t());
@@ -105,6 +120,11 @@ class ScaledChart {
   /// Where segment a-b crosses the receiver's plane (s(a), s(b) of strictly opposite signs).
   void crossing(const glm::dvec3& a, const glm::dvec3& b, QPoint2& out) {
     if (!integer_) return rational_->crossing(a, b, out);
+    if (small_ && crossing_small(a, b, out)) {
+      ++fixed_steps_;
+      return set_intervals(out);
+    }
+    ++gmp_steps_;
     plane_value(a, s_);
     for (int k = 0; k < 3; ++k) mpz_swap(a_[k].get_mpz_t(), y_[k].get_mpz_t());  // a_ = A
     plane_value(b, t_);                                                      // y_ = B
@@ -116,8 +136,9 @@ class ScaledChart {
 
   /// The part of a convex piece in front of the receiver (exact signs of its plane given),
   /// projected in order (LeafProjector::project_piece_parallel's steps).
+  template <class Points>  // std::vector<QPoint2> or QPointList
   void project_piece_parallel(const std::vector<glm::dvec3>& vertices, const std::vector<int>& piece,
-                              const std::vector<CGAL::Sign>& sign, std::vector<QPoint2>& out) {
+                              const std::vector<CGAL::Sign>& sign, Points& out) {
     out.clear();
     const std::size_t m = piece.size();
     for (std::size_t a = 0; a < m; ++a) {
@@ -187,7 +208,61 @@ class ScaledChart {
     if (k_bits > 600 || k_bits < -600) return false;
     mpq_set_z(scale_.get_mpq_t(), l_.get_mpz_t());
     scale_by_power_of_two(scale_, -e_);
+    // The fixed-width steps need N, O, L and D below 2^126 (each step then checks its own
+    // products: exact/fixed_width.hpp).
+    small_ = fixed::to_i128(offset_.get_mpz_t(), so_) && fixed::to_i128(l_.get_mpz_t(), sl_);
+    for (int k = 0; k < 3 && small_; ++k)
+      small_ = fixed::to_i128(n_[k].get_mpz_t(), sn_[k]) && fixed::to_i128(d_[k].get_mpz_t(), sd_[k]);
     return true;
+  }
+
+  /// v 2^-e_ as an __int128 (integer_of's value) when it is below 2^126 and v a multiple of 2^e_.
+  bool small_integer_of(double v, fixed::i128& out) const {
+    if (v == 0.0) {
+      out = 0;
+      return true;
+    }
+    const core::Dyadic q = core::dyadic(v);
+    const int shift = q.exponent - e_;
+    if (shift < 0 || shift > 126 - 53) return false;  // (below the least bit: integer_of throws)
+    out = static_cast<fixed::i128>(q.mantissa) * (fixed::i128{1} << shift);
+    return true;
+  }
+
+  /// Y and S = N.Y + O of an input point in fixed width.
+  bool small_plane_value(const glm::dvec3& y, fixed::i128 (&yi)[3], fixed::i128& s) const {
+    for (int k = 0; k < 3; ++k)
+      if (!small_integer_of(y[k], yi[k])) return false;
+    return fixed::plane_value(sn_, so_, yi, s);
+  }
+
+  /// project(), chart() and crossing() in fixed width; false (out untouched or to be set again)
+  /// where a bound does not hold.
+  bool project_small(const glm::dvec3& y, QPoint2& out) const {
+    fixed::i128 yi[3], s, x0, x1;
+    if (!small_plane_value(y, yi, s)) return false;
+    if (!fixed::projection(yi[i_], sl_, s, sd_[i_], x0) || !fixed::projection(yi[j_], sl_, s, sd_[j_], x1)) return false;
+    set_small(out.x, x0);
+    set_small(out.y, x1);
+    return true;
+  }
+  bool chart_small(const glm::dvec3& y, QPoint2& out) const {
+    fixed::i128 a, b, x0, x1;
+    if (!small_integer_of(y[i_], a) || !small_integer_of(y[j_], b)) return false;
+    if (!fixed::projection(a, sl_, 0, 0, x0) || !fixed::projection(b, sl_, 0, 0, x1)) return false;
+    set_small(out.x, x0);
+    set_small(out.y, x1);
+    return true;
+  }
+  bool crossing_small(const glm::dvec3& a, const glm::dvec3& b, QPoint2& out) const {
+    fixed::i128 ai[3], bi[3], sa, sb;
+    if (!small_plane_value(a, ai, sa) || !small_plane_value(b, bi, sb)) return false;
+    return fixed::crossing(sl_, sa, sb, ai[i_], bi[i_], mpq_numref(out.x.get_mpq_t()), mpq_denref(out.x.get_mpq_t())) &&
+           fixed::crossing(sl_, sa, sb, ai[j_], bi[j_], mpq_numref(out.y.get_mpq_t()), mpq_denref(out.y.get_mpq_t()));
+  }
+  static void set_small(EQ& out, fixed::i128 v) {
+    fixed::set_mpz(mpq_numref(out.get_mpq_t()), v);
+    mpz_set_ui(mpq_denref(out.get_mpq_t()), 1);
   }
 
   /// S = N.Y + O for input point y into `out`, with Y in y_.
@@ -233,6 +308,9 @@ class ScaledChart {
   std::optional<LeafProjector> rational_;  ///< the unscaled route (integer_ false)
   int e_ = 0, i_ = 0, j_ = 0;
   mpz_class n_[3], offset_, d_[3], l_;
+  bool small_ = false;                          ///< N, O, L, D in fixed width too (below)
+  std::size_t fixed_steps_ = 0, gmp_steps_ = 0;  ///< fixed_steps(), gmp_steps()
+  fixed::i128 sn_[3] = {}, so_ = 0, sl_ = 0, sd_[3] = {};
   EQ scale_;
   IA iscale_;
   EQ lo_[2], hi_[2];
