@@ -82,103 +82,91 @@ bool clip(const Curve& c, const FT& x0, const FT& x1, Curve& out) {
   return true;
 }
 
+}  // namespace
+
 class StripOverlay {
  public:
-  StripOverlay(const OverlayRequest& r, const FaceBoundaries& b)
-      : r_(r), b_(b), n_(r.hours->size()) {
+  StripOverlay(const OverlayRequest& r, const Strip& strip) : r_(r), strip_(strip), n_(r.hours->size()) {
     exact_to_mpq(r.face->area_scale_squared, scale_.get_mpq_t());
   }
 
-  StripMap run(const std::vector<std::size_t>& which, const Strip& strip) {
-    std::vector<Curve> curves = gather(which, strip);
+  /// The full map (and its levels when asked): every curve `which` of `b` in one sweep.
+  StripMap run(const FaceBoundaries& b, const std::vector<std::size_t>& which) {
+    std::vector<Curve> curves = gather(b.curves, which, true);
     Arrangement arr;
     CGAL::insert(arr, curves.begin(), curves.end());  // one sweep: not stopped inside
     curves.clear();
     curves.shrink_to_fit();
     runtime::check_stop();
-    walk(arr, strip);
+    outline_add_ = b.base;  // crossing the outline into the chart adds the whole-face instants
+    walk(arr);
     StripMap out;
     out.level_area.resize(r_.levels.size() + 1);
     if (r_.full) {
-      if (r_.merge) merge(arr, [&](long a, long b) { return hours_at_[a] == hours_at_[b]; });
+      if (r_.merge) merge(arr, [&](long a, long c) { return hours_at_[a] == hours_at_[c]; });
       emit_all(arr, out, false);
     }
     if (!r_.levels.empty()) {
       level_.resize(hours_at_.size());
       for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
-      merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
+      merge(arr, [&](long a, long c) { return level_[a] == level_[c]; });
       emit_all(arr, out, true);
     }
     out.dropped = dropped_;
     return out;
   }
 
-  /// The threshold map alone, in rounds of instants. Each round sweeps one fresh arrangement of
-  /// the boundaries kept from the round before and the round's instants' boundaries, walks it
-  /// once for every face's hours, and replaces each hours value that can no longer change its
-  /// level (the level now is the level even if every instant still to come lit it) by the
-  /// smallest value of that level: touching faces of equal values then stay alike to the end,
-  /// and only the edges between different values (and the chart's outline and the strip's
-  /// frame) go on to the next round, each carrying the jump of value across it. The arrangement
-  /// so holds the boundaries between undecided cells and the level boundaries, not every
-  /// instant's; a round takes at least as many new segments as were kept, so that the sweeps
-  /// cost about the input's size in all. No edge is removed from a large arrangement (CGAL walks
-  /// a face's boundary to remove an edge of it: removing many from one large region is slow).
-  StripMap run_levels(const std::vector<std::size_t>& which, const Strip& strip) {
-    // X-monotone curves throughout: a kept edge is its arrangement curve, which keeps the
-    // supporting line of the segment it was cut from, so that later intersections are computed
-    // from the input's lines and not from lines through earlier intersections (whose exact
-    // numbers, and lazy expression trees, would grow round after round).
-    std::vector<XCurve> kept;
-    std::map<std::size_t, std::vector<XCurve>> by_instant;
-    for (const Curve& c : gather(which, strip)) {
+  // The threshold map alone, in rounds of instants (LevelRounds). Each round sweeps one fresh
+  // arrangement of the boundaries kept from the round before and the round's instants'
+  // boundaries, walks it once for every face's hours, and replaces each hours value that can no
+  // longer change its level (the level now is the level even if every instant still to come lit
+  // it) by the smallest value of that level: touching faces of equal values then stay alike to
+  // the end, and only the edges between different values (and the chart's outline and the
+  // strip's frame) go on to the next round, each carrying the jump of value across it. The
+  // arrangement so holds the boundaries between undecided cells and the level boundaries, not
+  // every instant's. No edge is removed from a large arrangement (CGAL walks a face's boundary to
+  // remove an edge of it: removing many from one large region is slow). X-monotone curves
+  // throughout: a kept edge is its arrangement curve, which keeps the supporting line of the
+  // segment it was cut from, so that later intersections are computed from the input's lines and
+  // not from lines through earlier intersections (whose exact numbers would grow round after
+  // round). Instants arrive in time order, a batch at a time (feed), and are swept as soon as
+  // they fill a round: only the instants not yet swept are held.
+
+  /// The outline's curves `which` (and the strip's frame): the first round's kept edges.
+  void begin(const std::vector<Curve>& outline, const std::vector<std::size_t>& which) {
+    for (const Curve& c : gather(outline, which, true)) kept_.emplace_back(c, Traits::Data_container(c.data()));
+    least_ = std::max<std::size_t>(r_.round_edges, 1);
+    want_ = static_cast<double>(least_);
+  }
+
+  void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
+            const mpq_class& unfed) {
+    for (const Curve& c : gather(curves, which, false)) {
       const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
-      (i >= n_ ? kept : by_instant[i]).emplace_back(c, Traits::Data_container(c.data()));  // outline, frame first
-    }
-    mpq_class remaining(0);
-    for (const auto& [i, unused] : by_instant) remaining += (*r_.hours)[i];
-    Arrangement arr;
-    outline_base_ = true;  // the first walk adds the hours of the instants lighting the whole face
-    auto next = by_instant.begin();
-    // The new segments of a round: they cross one another (shadows of one caster at neighbouring
-    // instants), so the arrangement grows faster than they do. Each round aims its arrangement at
-    // about four times the edges kept (at least four times round_edges), scaling the next
-    // round's share by the edges each new segment brought this time, at most doubling it.
-    const std::size_t least = std::max<std::size_t>(r_.round_edges, 1);
-    double want = static_cast<double>(least);
-    while (true) {
-      runtime::check_stop();
-      const std::size_t kept_in = kept.size();
-      std::vector<XCurve> round = std::move(kept);
-      kept = {};
-      std::size_t added = 0;
-      while (next != by_instant.end() && (added == 0 || static_cast<double>(added) < want)) {
-        added += next->second.size();
-        remaining -= (*r_.hours)[next->first];
-        for (XCurve& c : next->second) round.push_back(std::move(c));
-        next->second = {};
-        ++next;
+      if (pending_.empty() || pending_.back().first != i) {
+        pending_.emplace_back(i, std::vector<XCurve>{});
+        pending_hours_ += (*r_.hours)[i];
       }
-      arr.clear();
-      CGAL::insert(arr, round.begin(), round.end());  // one sweep of a fresh arrangement
-      round = {};
-      walk(arr, strip);
-      outline_base_ = false;  // from now on the kept edges' jumps hold the base
-      settle(remaining);
-      kept = kept_curves(arr);
-      if (next == by_instant.end()) break;
-      const double edges = static_cast<double>(arr.number_of_edges());
-      const double per_new = std::max(1.0, (edges - static_cast<double>(kept_in)) / static_cast<double>(std::max<std::size_t>(added, 1)));
-      const double target = 4.0 * static_cast<double>(std::max(kept.size(), least));
-      const double aim = std::max(1.0, (target - static_cast<double>(kept.size())) / per_new);
-      want = std::min(std::max(aim, want / 4), 2 * want);
+      pending_.back().second.emplace_back(c, Traits::Data_container(c.data()));
+      ++pending_segments_;
     }
+    base_pending_ += whole;
+    unfed_ = unfed;
+    // A round takes instants until it holds `want_` new segments: sweep those that are here.
+    while (!pending_.empty() && static_cast<double>(pending_segments_) >= want_) round();
+  }
+
+  StripMap finish() {
+    unfed_ = 0;
+    while (!pending_.empty()) round();
+    if (rounds_ == 0 || sgn(base_pending_) != 0) round();  // whole-face hours still to add
     // Every value is now a level's smallest (nothing remains to come), so the kept edges are the
     // level boundaries: one last sweep of them alone gives the level regions.
-    arr.clear();
-    CGAL::insert(arr, kept.begin(), kept.end());
-    kept = {};
-    walk(arr, strip);
+    Arrangement arr;
+    CGAL::insert(arr, kept_.begin(), kept_.end());
+    kept_ = {};
+    outline_add_ = 0;
+    walk(arr);
     StripMap out;
     out.level_area.resize(r_.levels.size() + 1);
     level_.resize(hours_at_.size());
@@ -189,6 +177,43 @@ class StripOverlay {
   }
 
  private:
+  /// One round: the kept edges and the next instants' boundaries, swept, walked and settled.
+  void round() {
+    runtime::check_stop();
+    const std::size_t kept_in = kept_.size();
+    std::vector<XCurve> curves = std::move(kept_);
+    kept_ = {};
+    std::size_t added = 0;
+    while (!pending_.empty() && (added == 0 || static_cast<double>(added) < want_)) {
+      auto& [i, more] = pending_.front();
+      added += more.size();
+      pending_segments_ -= more.size();
+      pending_hours_ -= (*r_.hours)[i];
+      for (XCurve& c : more) curves.push_back(std::move(c));
+      pending_.pop_front();
+    }
+    Arrangement arr;
+    CGAL::insert(arr, curves.begin(), curves.end());  // one sweep of a fresh arrangement
+    curves = {};
+    outline_add_ = base_pending_;  // the whole-face hours fed since the last walk
+    base_pending_ = 0;
+    walk(arr);
+    outline_add_ = 0;
+    settle(unfed_ + pending_hours_);
+    kept_ = kept_curves(arr);
+    ++rounds_;
+    // The new segments of a round cross one another (shadows of one caster at neighbouring
+    // instants), so the arrangement grows faster than they do. Each round aims its arrangement
+    // at about four times the edges kept (at least four times round_edges), scaling the next
+    // round's share by the edges each new segment brought this time, at most doubling it.
+    const double edges = static_cast<double>(arr.number_of_edges());
+    const double per_new =
+        std::max(1.0, (edges - static_cast<double>(kept_in)) / static_cast<double>(std::max<std::size_t>(added, 1)));
+    const double target = 4.0 * static_cast<double>(std::max(kept_.size(), least_));
+    const double aim = std::max(1.0, (target - static_cast<double>(kept_.size())) / per_new);
+    want_ = std::min(std::max(aim, want_ / 4), 2 * want_);
+  }
+
   std::size_t level_of(const mpq_class& hours) const {
     std::size_t level = 0;
     while (level < r_.levels.size() && r_.levels[level] <= hours) ++level;
@@ -243,23 +268,24 @@ class StripOverlay {
     return out;
   }
 
-  /// The curves `which` of the face, clipped to the strip, with its frame.
-  std::vector<Curve> gather(const std::vector<std::size_t>& which, const Strip& strip) {
+  /// The curves `which` of `all`, clipped to the strip, with its frame when `frame`.
+  std::vector<Curve> gather(const std::vector<Curve>& all, const std::vector<std::size_t>& which, bool frame) const {
     std::vector<Curve> curves;
     curves.reserve(which.size() + 4);
-    if (strip.whole) {
-      for (std::size_t c : which) curves.push_back(b_.curves[c]);
+    if (strip_.whole) {
+      for (std::size_t c : which) curves.push_back(all[c]);
     } else {
-      const FT x0(strip.x0), x1(strip.x1);
+      const FT x0(strip_.x0), x1(strip_.x1);
       Curve clipped;
       for (std::size_t c : which)
-        if (clip(b_.curves[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
-      Polygon2 frame;
-      frame.push_back(Point2(strip.x0, strip.ylo));
-      frame.push_back(Point2(strip.x1, strip.ylo));
-      frame.push_back(Point2(strip.x1, strip.yhi));
-      frame.push_back(Point2(strip.x0, strip.yhi));
-      add_boundary(frame, static_cast<long>(n_ + 1), curves);
+        if (clip(all[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
+      if (!frame) return curves;
+      Polygon2 rectangle;
+      rectangle.push_back(Point2(strip_.x0, strip_.ylo));
+      rectangle.push_back(Point2(strip_.x1, strip_.ylo));
+      rectangle.push_back(Point2(strip_.x1, strip_.yhi));
+      rectangle.push_back(Point2(strip_.x0, strip_.yhi));
+      add_boundary(rectangle, static_cast<long>(n_ + 1), curves);
     }
     return curves;
   }
@@ -268,7 +294,8 @@ class StripOverlay {
   /// unbounded face for a whole face; inside a strip from the face above the frame's bottom.
   /// Crossing halfedge h from h's face into its twin's leaves the regions on h's left and
   /// enters those on its right.
-  void walk(Arrangement& arr, const Strip& strip) {
+  void walk(Arrangement& arr) {
+    const Strip& strip = strip_;
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(-1);
     const Arrangement::Face_handle unbounded = arr.unbounded_face();
     unbounded->set_data(0);
@@ -312,7 +339,7 @@ class StripOverlay {
             const int step = from_in_region ? -1 : 1;
             if (i == n_) {
               inside += step;
-              if (outline_base_) value += step > 0 ? b_.base : mpq_class(-b_.base);
+              if (sgn(outline_add_) != 0) value += step > 0 ? outline_add_ : mpq_class(-outline_add_);
             } else if (i > n_) {  // run_levels: a kept edge's jump (tags are positive)
               const mpq_class& jump = jumps_[i - n_ - 2];
               value += step > 0 ? jump : mpq_class(-jump);
@@ -415,16 +442,27 @@ class StripOverlay {
   }
 
   const OverlayRequest& r_;
-  const FaceBoundaries& b_;
+  Strip strip_;
   std::size_t n_;
   mpq_class scale_;  ///< (3D area / chart area)^2, exact
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
   std::vector<std::size_t> level_;   ///< per walked face: levels reached
   std::vector<mpq_class> jumps_;     ///< run_levels: the kept edges' jumps of value (tags n + 3 + k)
-  bool outline_base_ = true;         ///< crossing the chart's outline adds the base hours
+  mpq_class outline_add_{0};         ///< the hours crossing the chart's outline inward adds
+  // The threshold map alone (LevelRounds): the edges kept from the last round, the instants fed
+  // and not yet swept (in time order: instant, its curves in the strip), their segments and
+  // hours, the whole-face hours fed since the last walk, the hours of the instants still to be fed.
+  std::vector<XCurve> kept_;
+  std::deque<std::pair<std::size_t, std::vector<XCurve>>> pending_;
+  std::size_t pending_segments_ = 0;
+  mpq_class pending_hours_{0}, base_pending_{0}, unfed_{0};
+  std::size_t least_ = 1, rounds_ = 0;
+  double want_ = 1;  ///< the new segments the next round takes (at least)
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
+
+namespace {
 
 /// Interval bounds of a curve's x range.
 std::pair<double, double> x_range(const Curve& c) {
@@ -511,9 +549,10 @@ double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, c
   return area_3d_mpq(terms.front(), scale);
 }
 
-std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart, std::size_t strip_edges) {
-  const std::size_t count = b.curves.size();
-  if (strip_edges == 0 || count <= strip_edges) return {Strip{}};
+std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t expected, const Polygon2& chart,
+                                 std::size_t strip_edges) {
+  const std::size_t count = curves.size();
+  if (strip_edges == 0 || expected <= strip_edges || count == 0) return {Strip{}};
   double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
   for (auto v = chart.vertices_begin(); v != chart.vertices_end(); ++v) {
     const auto x = CGAL::to_interval(v->x()), y = CGAL::to_interval(v->y());
@@ -524,10 +563,10 @@ std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart,
   // outer sides and the bottom and top a unit beyond it (every lit region lies in the chart).
   std::vector<double> mids(count);
   for (std::size_t c = 0; c < count; ++c) {
-    const auto [lo, hi] = x_range(b.curves[c]);
+    const auto [lo, hi] = x_range(curves[c]);
     mids[c] = 0.5 * (lo + hi);
   }
-  const std::size_t k = std::min<std::size_t>((count + strip_edges - 1) / strip_edges, 4096);
+  const std::size_t k = std::min<std::size_t>((expected + strip_edges - 1) / strip_edges, 4096);
   std::vector<double> sides{std::floor(xmin) - 1.0};
   for (std::size_t s = 1; s < k; ++s) {
     auto nth = mids.begin() + static_cast<std::ptrdiff_t>(s * count / k);
@@ -542,17 +581,17 @@ std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart,
   return strips;
 }
 
-std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, const std::vector<Strip>& strips) {
+std::vector<std::vector<std::size_t>> bucket_curves(const std::vector<Curve>& curves, const std::vector<Strip>& strips) {
   std::vector<std::vector<std::size_t>> out(strips.size());
   if (strips.size() == 1 && strips[0].whole) {
-    out[0].resize(b.curves.size());
-    for (std::size_t c = 0; c < b.curves.size(); ++c) out[0][c] = c;
+    out[0].resize(curves.size());
+    for (std::size_t c = 0; c < curves.size(); ++c) out[0][c] = c;
     return out;
   }
   std::vector<double> lefts(strips.size());
   for (std::size_t s = 0; s < strips.size(); ++s) lefts[s] = strips[s].x0;
-  for (std::size_t c = 0; c < b.curves.size(); ++c) {
-    const auto [lo, hi] = x_range(b.curves[c]);
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto [lo, hi] = x_range(curves[c]);
     // The strips whose [x0, x1] meets [lo, hi]: from the last whose x0 <= lo on.
     auto first = std::upper_bound(lefts.begin(), lefts.end(), lo);
     std::size_t s = first == lefts.begin() ? 0 : static_cast<std::size_t>(first - lefts.begin()) - 1;
@@ -563,9 +602,29 @@ std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, con
 
 StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
                        const Strip& strip) {
-  StripOverlay overlay(request, b);
-  if (!request.full && !request.levels.empty()) return overlay.run_levels(which, strip);
-  return overlay.run(which, strip);
+  StripOverlay overlay(request, strip);
+  return overlay.run(b, which);
+}
+
+LevelRounds::LevelRounds(const OverlayRequest& request, const Strip& strip, const std::vector<Curve>& outline,
+                         const std::vector<std::size_t>& which)
+    : impl_(std::make_unique<StripOverlay>(request, strip)) {
+  impl_->begin(outline, which);
+}
+
+LevelRounds::~LevelRounds() = default;
+LevelRounds::LevelRounds(LevelRounds&&) noexcept = default;
+LevelRounds& LevelRounds::operator=(LevelRounds&&) noexcept = default;
+
+void LevelRounds::feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
+                       const mpq_class& unfed) {
+  impl_->feed(curves, which, whole, unfed);
+}
+
+StripMap LevelRounds::finish() {
+  StripMap out = impl_->finish();
+  impl_.reset();  // the kept edges and the walk's values go now, not with the face's other strips
+  return out;
 }
 
 }  // namespace shadow::sunmap
