@@ -126,15 +126,16 @@ struct SunHoursOptions {
   /// The threshold map alone (`full` false): the instants' boundaries are overlaid in rounds,
   /// each keeping only the level boundaries and those of cells still undecided; the first round
   /// takes this many segments, later ones as many as keep each round's arrangement at about
-  /// four times the boundaries kept (at least four times this). Smaller rounds hold less at
+  /// twice the boundaries kept (at least twice this). Smaller rounds hold less at
   /// once, larger ones sweep less often; the results are the same.
   std::size_t level_round_edges = 1000;
   /// The instants' lit regions are computed this many instants at a time (on every face, in
   /// parallel) and handed on before the next are computed; 0: all at once. The threshold map
   /// alone feeds them to its rounds and drops them, so that it never holds every instant's
-  /// boundaries (its strips are chosen from the first batch that cuts a face); the full map
-  /// gathers them all whatever this is (each strip is one sweep of them), and only the culling
-  /// grids are per batch. Exact areas do not depend on it; the threshold map's cells may.
+  /// boundaries (a face's strips are chosen from the first 16 instants that cut it); the full
+  /// map gathers them all whatever this is (each strip is one sweep of them), and only the
+  /// culling grids are per batch. Exact areas do not depend on it; the threshold map's cells may
+  /// (which cells are decided in a round depends on the hours still to be fed).
   std::size_t instant_batch = 16;
 };
 

@@ -203,14 +203,20 @@ class StripOverlay {
     kept_ = kept_curves(arr);
     ++rounds_;
     // The new segments of a round cross one another (shadows of one caster at neighbouring
-    // instants), so the arrangement grows faster than they do. Each round aims its arrangement
-    // at about four times the edges kept (at least four times round_edges), scaling the next
-    // round's share by the edges each new segment brought this time, at most doubling it.
+    // instants), so the arrangement grows faster than they do, up to about the square of their
+    // number. Each round aims its arrangement at about twice the edges kept (at least twice
+    // round_edges): the next share a is the smaller of what a linear guess (a x the edges each
+    // new segment brought this time) and a quadratic one (a^2 x those edges / this round's new
+    // segments) allow, at most twice the last share and at least a quarter of it. (Aiming at four
+    // times with the linear guess alone, the second round of a day's suns on a 40-box ground
+    // held 57,000-85,000 edges where about 30,000 were aimed at, and two such on two threads
+    // made the peak: docs/benchmarks.md.)
     const double edges = static_cast<double>(arr.number_of_edges());
-    const double per_new =
-        std::max(1.0, (edges - static_cast<double>(kept_in)) / static_cast<double>(std::max<std::size_t>(added, 1)));
-    const double target = 4.0 * static_cast<double>(std::max(kept_.size(), least_));
-    const double aim = std::max(1.0, (target - static_cast<double>(kept_.size())) / per_new);
+    const double new_in = static_cast<double>(std::max<std::size_t>(added, 1));
+    const double per_new = std::max(1.0, (edges - static_cast<double>(kept_in)) / new_in);
+    const double target = 2.0 * static_cast<double>(std::max(kept_.size(), least_));
+    const double room = std::max(1.0, target - static_cast<double>(kept_.size()));
+    const double aim = std::max(1.0, std::min(room / per_new, std::sqrt(room * new_in / per_new)));
     want_ = std::min(std::max(aim, want_ / 4), 2 * want_);
   }
 

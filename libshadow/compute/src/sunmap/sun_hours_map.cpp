@@ -232,6 +232,8 @@ class MapBuilder {
     else {
       rounds_.resize(count);
       whole_pending_.assign(count, mpq_class(0));
+      sample_.resize(count);
+      sampled_.assign(count, 0);
     }
     for (std::size_t k = 0; k < count; ++k) {
       const std::size_t f = faces_[k];
@@ -316,18 +318,27 @@ class MapBuilder {
     }
     parts_ = {};
     if (full_) return;
-    // Faces whose strips are not chosen yet choose them from the first batch that cuts them,
-    // sized by what the instants from here on would bring at this batch's rate.
+    // A face's strips are chosen from its first 16 instants that cut it (or every instant, if
+    // fewer; their boundaries are held until then), sized by those instants' segments: rounds
+    // bound each strip's arrangement, but its kept edges (about a day's boundaries, undecided or
+    // on a level's border) want strips too. A smaller sample misjudged them (the first few suns
+    // of a day, low, cut a ground little), and sizing by every instant to come would give each
+    // of ever more strips a round's worth of instants not yet swept: memory linear in them.
     std::vector<std::tuple<std::size_t, std::size_t, std::vector<std::size_t>>> jobs;  // face, strip, curves
+    const bool last = first + count == n_;
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       if ((*ctx_.prep)[faces_[k]].degenerate) continue;
       if (rounds_[k].empty()) {
-        if (curves[k].empty()) {
-          whole_pending_[k] += whole[k];
-          continue;
-        }
-        start_rounds(k, curves[k], curves[k].size() * (n_ - first) / count);
-        whole[k] += whole_pending_[k];
+        whole_pending_[k] += whole[k];
+        whole[k] = 0;
+        if (sample_[k].empty() && curves[k].empty()) continue;  // not cut yet
+        sampled_[k] += count;
+        for (Curve& c : curves[k]) sample_[k].push_back(std::move(c));
+        if (sampled_[k] < 16 && !last) continue;
+        curves[k] = std::move(sample_[k]);
+        sample_[k] = {};
+        start_rounds(k, curves[k], curves[k].size());
+        whole[k] = whole_pending_[k];
         whole_pending_[k] = 0;
       }
       std::vector<std::vector<std::size_t>> which = sunmap::bucket_curves(curves[k], strips_[k]);
@@ -434,6 +445,8 @@ class MapBuilder {
   std::vector<std::vector<sunmap::Strip>> strips_;           ///< the threshold map alone: per face
   std::vector<std::vector<sunmap::LevelRounds>> rounds_;     ///< per face and strip
   std::vector<mpq_class> whole_pending_;  ///< per face: whole-face hours before its strips exist
+  std::vector<std::vector<Curve>> sample_;  ///< per face: boundaries held until its strips are chosen
+  std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
 };
 
 }  // namespace
