@@ -202,6 +202,10 @@ class StripOverlay {
     settle(unfed_ + pending_hours_);
     kept_ = kept_curves(arr);
     ++rounds_;
+    // Every strip of every face is held between feeds: keep only what the next round needs
+    // (the kept edges and their jumps), not the walk's values of every face of this arrangement.
+    hours_at_ = {};
+    inside_ = {};
     // The new segments of a round cross one another (shadows of one caster at neighbouring
     // instants), so the arrangement grows faster than they do, up to about the square of their
     // number. Each round aims its arrangement at about twice the edges kept (at least twice
