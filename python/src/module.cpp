@@ -1228,13 +1228,21 @@ PYBIND11_MODULE(_libshadow, m) {
         "diffuse power leaving from_face that reaches to_face directly): a dict with value, error (the "
         "quadrature's last change), order and evaluations.");
   m.def("radiosity",
-        [](const ScenePtr& scene, double max_element_area, double tolerance, double patch_area, unsigned threads) {
+        [](const ScenePtr& scene, double max_element_area, double tolerance, double patch_area, unsigned threads,
+           const std::string& method, double link_separation) {
           need_scene(scene);
           RadiosityOptions o;
           o.max_element_area = max_element_area;
           o.tolerance = tolerance;
           o.patch_area = patch_area;
           o.threads = threads;
+          if (method == "shooting")
+            o.method = RadiosityMethod::shooting;
+          else if (method == "hierarchical")
+            o.method = RadiosityMethod::hierarchical;
+          else if (method != "auto")
+            throw py::value_error("method must be 'auto', 'shooting' or 'hierarchical', not '" + method + "'");
+          o.link_separation = link_separation;
           const RadiosityResult r = without_gil([&] { return solve_radiosity(*scene, o); });
           py::dict elements, faces, d;
           elements["face_id"] = column<std::int64_t>(r.elements, [](const RadiosityElement& e) { return e.face_id; });
@@ -1256,10 +1264,24 @@ PYBIND11_MODULE(_libshadow, m) {
           for (const FaceRadiosity& f : r.faces) face_rgb.push_back(f.radiosity_rgb);
           elements["radiosity_rgb"] = polygon_array(element_rgb);  // (n, 3): red, green, blue
           faces["radiosity_rgb"] = polygon_array(face_rgb);
+          // (faces, lights): each light's share of the direct irradiance, W/m2.
+          const py::ssize_t nl = static_cast<py::ssize_t>(scene->lights.size());
+          py::array_t<double> by_light({static_cast<py::ssize_t>(r.faces.size()), nl});
+          auto cells = by_light.mutable_unchecked<2>();
+          for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
+            for (py::ssize_t l = 0; l < nl; ++l) {
+              const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].direct_irradiance_by_light;
+              cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
+            }
+          faces["direct_irradiance_by_light"] = by_light;
           d["colour"] = r.colour;
           d["elements"] = elements;
           d["faces"] = faces;
           d["shots"] = r.shots;
+          d["method"] = r.hierarchical ? "hierarchical" : "shooting";
+          d["iterations"] = r.iterations;
+          d["near_links"] = r.near_links;
+          d["far_links"] = r.far_links;
           d["converged"] = r.converged;
           d["unshot_fraction"] = r.unshot_fraction;
           d["error_estimate"] = r.error_estimate;
@@ -1272,10 +1294,12 @@ PYBIND11_MODULE(_libshadow, m) {
           return d;
         },
         py::arg("scene"), py::arg("max_element_area") = 0.0, py::arg("tolerance") = 1e-3, py::arg("patch_area") = 0.0,
-        py::arg("threads") = 0,
-        "Progressive radiosity with exact visibility (docs/radiosity.md): a dict with elements (face_id, "
-        "area, radiosity, irradiance, direct_irradiance, triangles), faces (area-weighted means), shots, "
-        "converged, unshot_fraction, error_estimate and the energy balance in W.");
+        py::arg("threads") = 0, py::arg("method") = "auto", py::arg("link_separation") = 0.4,
+        "Radiosity with exact visibility (docs/radiosity.md): method 'auto' (hierarchical above 4,000 "
+        "patches), 'shooting' (progressive refinement) or 'hierarchical' (links between groups far apart; "
+        "link_separation in (0, 1)). A dict with elements (face_id, area, radiosity, irradiance, "
+        "direct_irradiance, triangles), faces (area-weighted means), shots, method, iterations, near_links, "
+        "far_links, converged, unshot_fraction, error_estimate and the energy balance in W.");
   m.def("compute_shadows",
         [](const ScenePtr& scene, unsigned threads, bool polygons, std::optional<std::vector<std::size_t>> lights,
            const std::string& arithmetic, bool planes, double plane_window, const py::object& progress,

@@ -55,3 +55,39 @@ def test_radiosity_furnace():
     assert c["colour"]
     for k, rho in enumerate((0.25, 0.5, 0.75)):
         assert all(abs(row[k] - 4 / (1 - rho)) < 2e-3 * 4 / (1 - rho) for row in c["faces"]["radiosity_rgb"])
+
+
+def test_hierarchical_radiosity_agrees_with_shooting():
+    # A floor under the sun and a box on it: the box's faces get the floor's reflected light.
+    floor = [[-10, -10, 0], [10, -10, 0], [10, 10, 0], [-10, 10, 0]]
+    box = [
+        [[-1, -1, 3], [1, -1, 3], [1, 1, 3], [-1, 1, 3]], [[-1, -1, 0], [1, -1, 0], [1, -1, 3], [-1, -1, 3]],
+        [[-1, 1, 0], [-1, 1, 3], [1, 1, 3], [1, 1, 0]], [[1, -1, 0], [1, 1, 0], [1, 1, 3], [1, -1, 3]],
+        [[-1, -1, 0], [-1, -1, 3], [-1, 1, 3], [-1, 1, 0]],
+    ]
+    scene = libshadow.scene_from_data(
+        meshes=[{"name": "floor", "material": "ground", "polygons": [floor]},
+                {"name": "box", "material": "walls", "polygons": box}],
+        materials=[{"name": "ground", "reflectance": 0.2}, {"name": "walls", "reflectance": 0.3}],
+        lights=[{"name": "sun", "type": "directional", "to_light": [0.4, -0.6, 0.8], "intensity": 800}])
+    shooting = libshadow.radiosity(scene, max_element_area=1.0, tolerance=1e-4, threads=2, method="shooting")
+    hierarchical = libshadow.radiosity(scene, max_element_area=1.0, tolerance=1e-4, threads=2, method="hierarchical",
+                                       link_separation=0.25)
+    assert shooting["method"] == "shooting" and hierarchical["method"] == "hierarchical"
+    # One light: its share is all of the direct irradiance.
+    by_light = shooting["faces"]["direct_irradiance_by_light"]
+    assert by_light.shape == (6, 1)
+    assert all(abs(by_light[f][0] - shooting["faces"]["direct_irradiance"][f]) < 1e-12 for f in range(6))
+    assert hierarchical["near_links"] > 0 and hierarchical["iterations"] > 0
+    # Face 1, the roof, sees nothing above it; the four walls see the floor.
+    assert shooting["faces"]["irradiance"][1] == shooting["faces"]["direct_irradiance"][1]
+    for face in range(2, 6):
+        a = shooting["faces"]["irradiance"][face] - shooting["faces"]["direct_irradiance"][face]
+        b = hierarchical["faces"]["irradiance"][face] - hierarchical["faces"]["direct_irradiance"][face]
+        assert a > 0 and abs(a - b) < 0.03 * a, (face, a, b)
+    try:
+        libshadow.radiosity(scene, method="fast")
+    except ValueError as e:
+        assert "method" in str(e)
+    else:
+        raise AssertionError("an unknown method must be a ValueError")

@@ -5,6 +5,8 @@
 // light, the exact sums of a fixed number of bounces, hard lights, radiosity in a closed room with an
 // emitting floor (an independent method); and its determinism.
 #include <shadow/baselines.hpp>
+#include "support/scene_builders.hpp"
+
 #include <shadow/generators.hpp>
 #include <shadow/radiosity.hpp>
 #include <shadow/scene.hpp>
@@ -24,18 +26,7 @@ constexpr double kPi = 3.14159265358979323846;
 /// F between two directly opposed parallel unit squares 1 apart (closed form; Howell 0.19982).
 constexpr double kParallelSquares = 0.19982489569838;
 
-Scene furnace(double e, double rho) {
-  Scene scene;
-  shadow::Material m;
-  m.name = "grey";
-  m.emittance = e;
-  m.reflectance = rho;
-  scene.materials.push_back(m);
-  shadow::add_mesh(scene, "room", shadow::room_faces({0, 0, 0}, {2, 1, 1.5}));
-  scene.meshes[0].material = "grey";
-  shadow::validate_scene(scene);
-  return scene;
-}
+Scene furnace(double e, double rho) { return shadow::test::furnace_room(e, rho); }
 
 /// A black unit floor [0, 1]^2 facing up (face 0) under a unit square at height 1 facing down
 /// (face 1), which emits `e` (reflectance 0).

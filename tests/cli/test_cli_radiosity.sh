@@ -49,6 +49,29 @@ else
   fail vtp_arrays "radiosity.vtp lacks an array"
 fi
 grep -q "balance (W): emitted" "$WORK/run.stdout" && pass summary || fail summary "$(cat "$WORK/run.stdout")"
+# scene.vtm opens the elements and the lights in one step.
+if grep -q 'name="radiosity" file="radiosity.vtp"' "$WORK/out/scene.vtm" &&
+   grep -q 'name="lights" file="lights.vtp"' "$WORK/out/scene.vtm" && [[ -s "$WORK/out/lights.vtp" ]]; then
+  pass scene_vtm
+else
+  fail scene_vtm "$(cat "$WORK/out/scene.vtm" 2>&1)"
+fi
+# The hierarchical method on the same room: the same furnace within its error, its keys.
+"$SHADOW" radiosity "$WORK/furnace.json" -o "$WORK/out-h" --method hierarchical --max-element-area 0.05 \
+  --tolerance 1e-4 -t 2 >"$WORK/run-h.stdout" 2>&1
+if python3 - "$WORK/out-h/report.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+s = r["summary"]
+assert s["method"] == "hierarchical" and s["iterations"] > 0 and s["near_links"] > 0, s
+assert r["run"]["options"]["method"] == "hierarchical", r["run"]
+for f in r["faces"]:
+    assert abs(f["radiosity"] - 25.0) < 0.03 * 25.0, f
+    assert f["direct_irradiance_by_light"] == [], f
+PY
+then pass hierarchical; else fail hierarchical "$(cat "$WORK/run-h.stdout")"; fi
+grep -q "hierarchical: .* near and .* far links" "$WORK/run-h.stdout" && pass hierarchical_summary ||
+  fail hierarchical_summary "$(cat "$WORK/run-h.stdout")"
 
 # A reflectance of 1: one line naming the file and the place, exit 2, nothing written.
 sed 's/"reflectance": 0.6/"reflectance": 1/' "$WORK/furnace.json" >"$WORK/bad.json"

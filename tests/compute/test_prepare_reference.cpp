@@ -611,3 +611,35 @@ TEST(LightSpaceGrid, TheSameQueriesOnEveryThreadCount) {
     }
   }
 }
+
+// A query reports every face whose light-space box overlaps the receiver's, each once: an item
+// met in several cells is taken in one cell both cover (the first of each range), which the
+// query always visits. Low and high suns, with and without convex solids as items, against
+// every face tested by the box test alone.
+TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
+  const shadow::Scene city = shadow::make_city(300, 400, 5);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+  std::vector<int> solid_of;
+  shadow::exact::find_convex_solids(city, prep, solid_of, 1);
+  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 1);
+  const std::vector<int>* none = nullptr;
+  std::size_t reported = 0;
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087), glm::dvec3(-0.2, 0.1, 1.0),
+                                    glm::dvec3(0.95, 0.1, 0.05)})
+    for (const std::vector<int>* of : {none, static_cast<const std::vector<int>*>(&solid_of)}) {
+      const shadow::core::LightSpaceGrid grid(cull, prep, to_light, of, 1);
+      for (std::size_t f = 0; f < city.faces.size(); f += 3) {
+        if (prep[f].degenerate) continue;
+        std::vector<std::size_t> got;
+        grid.query(f, [&](std::size_t g) { got.push_back(g); });
+        std::sort(got.begin(), got.end());
+        std::vector<std::size_t> want;
+        for (std::size_t g = 0; g < city.faces.size(); ++g)
+          if (!prep[g].degenerate && grid.reports(f, g)) want.push_back(g);
+        ASSERT_EQ(got, want) << "face " << f;  // sorted equal: each reported exactly once
+        reported += got.size();
+      }
+    }
+  EXPECT_GT(reported, 8 * city.faces.size());  // the queries meet many faces, not a handful
+}

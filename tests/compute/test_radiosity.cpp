@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Radiosity (issue 32): form factors against Howell's catalogue, reciprocity, closed boxes, an
 // occluder against Monte Carlo with exact ray tests; the solver's furnace test and energy balance.
+#include "support/scene_builders.hpp"
+
 #include <shadow/generators.hpp>
 #include <shadow/radiosity.hpp>
 #include <shadow/scene.hpp>
@@ -162,18 +164,7 @@ TEST(FormFactor, BadFacesAreInputErrors) {
 // ---- the solver ------------------------------------------------------------------------------
 
 /// A closed room whose inner faces all emit `e` and reflect `rho`.
-Scene furnace(double e, double rho) {
-  Scene scene;
-  shadow::Material m;
-  m.name = "grey";
-  m.emittance = e;
-  m.reflectance = rho;
-  scene.materials.push_back(m);
-  shadow::add_mesh(scene, "room", shadow::room_faces({0, 0, 0}, {2, 1, 1.5}));
-  scene.meshes[0].material = "grey";
-  shadow::validate_scene(scene);
-  return scene;
-}
+Scene furnace(double e, double rho) { return shadow::test::furnace_room(e, rho); }
 
 TEST(Radiosity, FurnaceIsEOverOneMinusRhoEverywhereForTwoMeshings) {
   const double e = 10.0, rho = 0.6;
@@ -243,6 +234,45 @@ TEST(Radiosity, DirectSunAndOneBounceBalance) {
   EXPECT_GT(r.escaped_power, 0.0);
   EXPECT_NEAR(r.emitted_power + r.direct_power, r.absorbed_power + r.escaped_power + r.unshot_power,
               1e-9 * r.direct_power);
+}
+
+TEST(Radiosity, DirectIrradianceByLightAddsUpAndMatchesEachLightAlone) {
+  Scene scene;
+  shadow::Material grey;
+  grey.name = "grey";
+  grey.reflectance = 0.3;
+  scene.materials = {grey};
+  shadow::add_mesh(scene, "ground", {shadow::rectangle_z(-5, -5, 5, 5, 0)});
+  shadow::add_mesh(scene, "box", shadow::box_faces({-1, -1, 0}, {1, 1, 2}));
+  scene.meshes[0].material = scene.meshes[1].material = "grey";
+  scene.lights = {shadow::directional_light("sun", {0.3, -0.5, 1}), shadow::directional_light("west", {-1, 0.2, 0.6})};
+  scene.lights[0].intensity = 800;
+  scene.lights[1].intensity = 300;
+  shadow::validate_scene(scene);
+  shadow::RadiosityOptions options;
+  options.max_element_area = 1.0;
+  options.tolerance = 1e-3;
+  options.threads = 2;
+  const shadow::RadiosityResult both = shadow::solve_radiosity(scene, options);
+  Scene sun_only = scene, west_only = scene;
+  sun_only.lights.pop_back();
+  west_only.lights.erase(west_only.lights.begin());
+  const shadow::RadiosityResult sun = shadow::solve_radiosity(sun_only, options);
+  const shadow::RadiosityResult west = shadow::solve_radiosity(west_only, options);
+  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+    const shadow::FaceRadiosity& face = both.faces[f];
+    ASSERT_EQ(face.direct_irradiance_by_light.size(), 2u);
+    EXPECT_NEAR(face.direct_irradiance_by_light[0] + face.direct_irradiance_by_light[1], face.direct_irradiance,
+                1e-12 * (1 + face.direct_irradiance));
+    // The first light's fragments make the elements in both runs: its share is the same.
+    EXPECT_NEAR(face.direct_irradiance_by_light[0], sun.faces[f].direct_irradiance, 1e-9 * (1 + face.direct_irradiance));
+    // The second light's shadow boundary cuts elements of the first's meshing (classified by their
+    // centroid): the same within the elements along it.
+    EXPECT_NEAR(face.direct_irradiance_by_light[1], west.faces[f].direct_irradiance,
+                0.05 * west.faces[f].direct_irradiance + 1e-9)
+        << f;
+  }
+  EXPECT_GT(both.faces[0].direct_irradiance_by_light[1], 0.0);
 }
 
 TEST(Radiosity, ColourFurnaceIsEOverOneMinusRhoPerChannel) {

@@ -4,6 +4,8 @@
 // files as one uninterrupted run), the output directory's lock, two ranks of a world made of
 // threads against one rank (the same files), checkpoints and ranks of another scene refused,
 // and the progress reports.
+#include "support/series_job_files.hpp"
+
 #include <shadow/series_job.hpp>
 #include <shadow/shadow.hpp>
 
@@ -20,7 +22,6 @@
 #include <map>
 #include <mutex>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -74,38 +75,6 @@ shadow::SeriesJobOptions job_options(const fs::path& scene, const fs::path& outp
   options.output = output;
   options.threads = 1;
   return options;
-}
-
-shadow::SeriesJobResult run_job(shadow::SeriesJobOptions options) {
-  shadow::SingleProcessWorld world;
-  shadow::SeriesJob job(std::move(options), world);
-  return job.run();
-}
-
-/// Every file under `dir` (relative path -> bytes); report.json without its start time.
-std::map<std::string, std::string> files_of(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    std::ifstream in(e.path(), std::ios::binary);
-    std::stringstream bytes;
-    bytes << in.rdbuf();
-    std::string text = bytes.str();
-    if (e.path().filename() == "report.json")
-      text = std::regex_replace(text, std::regex("\"started_utc\": \"[^\"]*\""), "\"started_utc\": \"\"");
-    files[fs::relative(e.path(), dir).string()] = text;
-  }
-  return files;
-}
-
-void expect_same_files(const fs::path& a, const fs::path& b) {
-  const auto fa = files_of(a), fb = files_of(b);
-  ASSERT_FALSE(fa.empty());
-  for (const auto& [name, bytes] : fa) {
-    ASSERT_TRUE(fb.count(name)) << name << " missing in " << b;
-    EXPECT_TRUE(fb.at(name) == bytes) << name << " differs between " << a << " and " << b;
-  }
-  EXPECT_EQ(fa.size(), fb.size());
 }
 
 /// The ranks of a world made of threads meet here: each hands in its slot, and once every rank
@@ -207,7 +176,7 @@ std::vector<RankOutcome> run_ranks(const std::vector<shadow::SeriesJobOptions>& 
 TEST(SeriesJob, TableIsTheEnginesSeries) {
   const fs::path dir = scratch("table");
   const fs::path scene_file = write_scene(dir);
-  const shadow::SeriesJobResult result = run_job(job_options(scene_file, dir / "out"));
+  const shadow::SeriesJobResult result = shadow::test::run_series_job(job_options(scene_file, dir / "out"));
 
   // Independently: the scene's suns through the engine in one call.
   const shadow::Scene scene = shadow::load_scene(scene_file);
@@ -230,7 +199,7 @@ TEST(SeriesJob, TableIsTheEnginesSeries) {
 TEST(SeriesJob, StoppedThenResumedWritesTheUninterruptedFiles) {
   const fs::path dir = scratch("resume");
   const fs::path scene_file = write_scene(dir);
-  run_job(job_options(scene_file, dir / "whole"));
+  shadow::test::run_series_job(job_options(scene_file, dir / "whole"));
 
   // Stopped by the flag (as the CLI's signal handler sets it) during the first round.
   std::atomic<int> stop{0};
@@ -242,7 +211,7 @@ TEST(SeriesJob, StoppedThenResumedWritesTheUninterruptedFiles) {
   };
   std::size_t stopped_at = 0;
   try {
-    run_job(options);
+    shadow::test::run_series_job(options);
     FAIL() << "the job did not stop";
   } catch (const shadow::SeriesJobStopped& stopped) {
     stopped_at = stopped.done;
@@ -260,13 +229,13 @@ TEST(SeriesJob, StoppedThenResumedWritesTheUninterruptedFiles) {
   options.resume = true;
   std::vector<std::string> notices;
   options.notice = [&](const std::string& line) { notices.push_back(line); };
-  const shadow::SeriesJobResult resumed = run_job(options);
+  const shadow::SeriesJobResult resumed = shadow::test::run_series_job(options);
   EXPECT_EQ(resumed.resumed, stopped_at);
   ASSERT_EQ(notices.size(), 1u);
   EXPECT_NE(notices[0].find("resuming from"), std::string::npos) << notices[0];
   EXPECT_NE(notices[0].find("8 of 34 instants done"), std::string::npos) << notices[0];
   EXPECT_FALSE(fs::exists(dir / "parts" / "series.checkpoint"));
-  expect_same_files(dir / "whole", dir / "parts");
+  shadow::test::expect_same_files(dir / "whole", dir / "parts", 1);
 }
 
 TEST(SeriesJob, SecondJobOnTheSameDirectoryIsRefused) {
@@ -280,18 +249,18 @@ TEST(SeriesJob, SecondJobOnTheSameDirectoryIsRefused) {
     if (tried) return;
     tried = true;
     try {
-      run_job(job_options(scene_file, dir / "out"));
+      shadow::test::run_series_job(job_options(scene_file, dir / "out"));
     } catch (const shadow::OutputError& e) {
       refused = e.what();
     }
   };
-  const shadow::SeriesJobResult result = run_job(first);
+  const shadow::SeriesJobResult result = shadow::test::run_series_job(first);
   EXPECT_TRUE(tried);
   EXPECT_NE(refused.find("another shadow process is writing to this directory"), std::string::npos) << refused;
   EXPECT_EQ(result.series.instants, 34u);  // the first job finished undisturbed
   EXPECT_TRUE(fs::exists(dir / "out" / "report.json"));
   // Once the first job is done, the directory is free again.
-  EXPECT_NO_THROW(run_job(job_options(scene_file, dir / "out")));
+  EXPECT_NO_THROW(shadow::test::run_series_job(job_options(scene_file, dir / "out")));
 }
 
 TEST(SeriesJob, TwoRanksWriteWhatOneRankWrites) {
@@ -299,7 +268,7 @@ TEST(SeriesJob, TwoRanksWriteWhatOneRankWrites) {
   const fs::path scene_file = write_scene(dir, 30, true);
   shadow::SeriesJobOptions one = job_options(scene_file, dir / "one");
   one.fragments = true;
-  const shadow::SeriesJobResult single = run_job(one);
+  const shadow::SeriesJobResult single = shadow::test::run_series_job(one);
   ASSERT_TRUE(single.map);
   ASSERT_FALSE(single.map->cells.empty());
 
@@ -323,7 +292,7 @@ TEST(SeriesJob, TwoRanksWriteWhatOneRankWrites) {
   EXPECT_TRUE(outcomes[1].result->written.empty());  // rank 0 writes
   ASSERT_TRUE(root.map);
   EXPECT_EQ(root.map->regions, single.map->regions);
-  expect_same_files(dir / "one", dir / "two");
+  shadow::test::expect_same_files(dir / "one", dir / "two", 1);
 }
 
 TEST(SeriesJob, CheckpointOfAnotherSceneIsRefused) {
@@ -331,13 +300,13 @@ TEST(SeriesJob, CheckpointOfAnotherSceneIsRefused) {
   const fs::path scene_file = write_scene(dir);
   shadow::SeriesJobOptions options = job_options(scene_file, dir / "out");
   options.stop_after = 8;
-  EXPECT_THROW(run_job(options), shadow::SeriesJobStopped);
+  EXPECT_THROW(shadow::test::run_series_job(options), shadow::SeriesJobStopped);
   // The same shape (faces, instants), another tower: the checkpoint's digest does not match.
   const fs::path other = write_scene(dir / "..", 31);
   options = job_options(other, dir / "out");
   options.resume = true;
   try {
-    run_job(options);
+    shadow::test::run_series_job(options);
     FAIL() << "a checkpoint of another scene was used";
   } catch (const shadow::InputError& e) {
     EXPECT_NE(e.problem().find("another scene or other options"), std::string::npos) << e.what();
@@ -346,7 +315,7 @@ TEST(SeriesJob, CheckpointOfAnotherSceneIsRefused) {
   EXPECT_TRUE(fs::exists(dir / "out" / "series.checkpoint"));  // kept: the right scene may resume it
   options = job_options(scene_file, dir / "out");
   options.resume = true;
-  EXPECT_EQ(run_job(options).resumed, 8u);
+  EXPECT_EQ(shadow::test::run_series_job(options).resumed, 8u);
 }
 
 TEST(SeriesJob, RankThatReadAnotherSceneStopsEveryRank) {
@@ -375,7 +344,7 @@ TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
     (p.part == shadow::SeriesJobProgress::Part::Instants ? instants : faces).push_back(p);
   };
   options.stage = [&](shadow::SeriesJobStage s) { stages.push_back(s); };
-  const shadow::SeriesJobResult result = run_job(options);
+  const shadow::SeriesJobResult result = shadow::test::run_series_job(options);
   ASSERT_GE(instants.size(), 3u);
   EXPECT_EQ(instants.front().done, 0u);  // the start
   EXPECT_FALSE(instants.front().finished);

@@ -4,6 +4,8 @@
 // written at once gives; its summaries are the whole-table functions' (sun_hours,
 // surface_series, object_sun_hours) bit for bit; a stream fed in any order writes the same
 // files; a job stopped mid-stream leaves no temporaries and resumes to the same files.
+#include "support/series_job_files.hpp"
+
 #include <shadow/series_job.hpp>
 #include <shadow/shadow.hpp>
 
@@ -18,7 +20,6 @@
 #include <fstream>
 #include <map>
 #include <random>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -67,41 +68,11 @@ shadow::SeriesJobOptions job_options(const fs::path& scene, const fs::path& outp
   return options;
 }
 
-shadow::SeriesJobResult run_job(shadow::SeriesJobOptions options) {
-  shadow::SingleProcessWorld world;
-  shadow::SeriesJob job(std::move(options), world);
-  return job.run();
-}
-
 std::string read_file(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   std::stringstream bytes;
   bytes << in.rdbuf();
   return bytes.str();
-}
-
-/// Every file under `dir` (relative path -> bytes); report.json without its start time, and
-/// without energyplus-objects.idf, which names the directory.
-std::map<std::string, std::string> files_of(const fs::path& dir) {
-  std::map<std::string, std::string> files;
-  for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file() || e.path().filename() == "energyplus-objects.idf") continue;
-    std::string text = read_file(e.path());
-    if (e.path().filename() == "report.json")
-      text = std::regex_replace(text, std::regex("\"started_utc\": \"[^\"]*\""), "\"started_utc\": \"\"");
-    files[fs::relative(e.path(), dir).string()] = text;
-  }
-  return files;
-}
-
-void expect_same_files(const fs::path& a, const fs::path& b) {
-  const auto fa = files_of(a), fb = files_of(b);
-  ASSERT_GT(fa.size(), 15u);  // the CSVs, the instants' datasets, faces.vtp, ...
-  for (const auto& [name, bytes] : fa) {
-    ASSERT_TRUE(fb.count(name)) << name << " missing in " << b;
-    EXPECT_TRUE(fb.at(name) == bytes) << name << " differs between " << a << " and " << b;
-  }
-  EXPECT_EQ(fa.size(), fb.size());
 }
 
 /// The whole table of the scene's suns, one compute_series call, and its files written at once.
@@ -137,7 +108,7 @@ TEST(SeriesStream, JobInRoundsWithoutTheTableWritesTheWholeTablesFiles) {
   options.round_cells = 3 * w.table.faces.size();  // rounds of 3 instants: 12 of them
   std::size_t reports = 0;
   options.progress = [&](const shadow::SeriesJobProgress&) { ++reports; };
-  const shadow::SeriesJobResult result = run_job(options);
+  const shadow::SeriesJobResult result = shadow::test::run_series_job(options);
   EXPECT_GE(reports, 12u);
   EXPECT_TRUE(result.series.lit_area.empty());  // no table kept
   EXPECT_EQ(result.series.faces, w.table.faces);
@@ -146,17 +117,17 @@ TEST(SeriesStream, JobInRoundsWithoutTheTableWritesTheWholeTablesFiles) {
   // report.json's run differs (a job names its scene and options): compare it apart.
   fs::remove(dir / "whole" / "report.json");
   fs::rename(dir / "streamed" / "report.json", dir / "streamed.report.json");
-  expect_same_files(dir / "whole", dir / "streamed");
+  shadow::test::expect_same_files(dir / "whole", dir / "streamed", 16, {"energyplus-objects.idf"});
 
   // The same job keeping the table: the same files, and the table is the whole one.
   options.output = dir / "kept";
   options.keep_table = true;
-  const shadow::SeriesJobResult kept = run_job(options);
+  const shadow::SeriesJobResult kept = shadow::test::run_series_job(options);
   EXPECT_EQ(kept.series.lit_area, w.table.lit_area);
   EXPECT_EQ(kept.series.lit_fraction, w.table.lit_fraction);
   EXPECT_EQ(read_file(dir / "kept" / "report.json").size(), read_file(dir / "streamed.report.json").size());
   fs::remove(dir / "kept" / "report.json");
-  expect_same_files(dir / "streamed", dir / "kept");
+  shadow::test::expect_same_files(dir / "streamed", dir / "kept", 16, {"energyplus-objects.idf"});
 }
 
 TEST(SeriesStream, SummariesAreTheWholeTableFunctionsBitForBit) {
@@ -168,7 +139,7 @@ TEST(SeriesStream, SummariesAreTheWholeTableFunctionsBitForBit) {
   options.to = "2026-06-22";
   options.keep_table = false;
   options.round_cells = 64;  // rounds of a few instants
-  const shadow::SeriesJobResult result = run_job(options);
+  const shadow::SeriesJobResult result = shadow::test::run_series_job(options);
   Whole w;
   w.scene = result.scene;
   w.suns = result.suns;
@@ -243,7 +214,7 @@ TEST(SeriesStream, InstantsInAnyOrderWriteTheSameFiles) {
     EXPECT_EQ(stream.surfaces().sun_hours, sums.sun_hours);
     EXPECT_EQ(stream.surfaces().area, sums.area);
   }  // the directory's lock goes
-  expect_same_files(dir / "in-order", dir / "shuffled");
+  shadow::test::expect_same_files(dir / "in-order", dir / "shuffled", 16, {"energyplus-objects.idf"});
 
   // An instant missing: no file is put in place, and no temporary stays behind.
   shadow::OutputDirectory gap(dir / "gap");
@@ -263,14 +234,14 @@ TEST(SeriesStream, StoppedMidStreamLeavesNoTemporariesAndResumesToTheSameFiles) 
   const std::size_t rows = whole_table(scene_file).table.faces.size();
   shadow::SeriesJobOptions whole = job_options(scene_file, dir / "whole");
   whole.keep_table = false;
-  run_job(whole);
+  shadow::test::run_series_job(whole);
 
   shadow::SeriesJobOptions options = job_options(scene_file, dir / "parts");
   options.keep_table = false;
   options.round_cells = 3 * rows;  // rounds of 3
   options.stop_after = 7;          // stops after the third round: 9 instants streamed
   try {
-    run_job(options);
+    shadow::test::run_series_job(options);
     FAIL() << "the job did not stop";
   } catch (const shadow::SeriesJobStopped& stopped) {
     EXPECT_EQ(stopped.done, 9u);
@@ -283,10 +254,10 @@ TEST(SeriesStream, StoppedMidStreamLeavesNoTemporariesAndResumesToTheSameFiles) 
   options.stop_after = 0;
   options.resume = true;
   options.round_cells = 4 * rows;  // other rounds on resuming: the same files
-  const shadow::SeriesJobResult resumed = run_job(options);
+  const shadow::SeriesJobResult resumed = shadow::test::run_series_job(options);
   EXPECT_EQ(resumed.resumed, 9u);
   EXPECT_FALSE(fs::exists(dir / "parts" / "series.checkpoint"));
-  expect_same_files(dir / "whole", dir / "parts");
+  shadow::test::expect_same_files(dir / "whole", dir / "parts", 16, {"energyplus-objects.idf"});
 }
 
 }  // namespace

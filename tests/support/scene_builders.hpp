@@ -23,6 +23,10 @@ Scene random_scene(std::uint64_t seed);
 /// Applies p -> scale * R p + t to every face, light and plane (directions are rotated).
 Scene transformed(const Scene& scene, double scale, glm::dvec3 axis, double angle_rad, glm::dvec3 t);
 
+/// A closed 2 x 1 x 1.5 room (fronts inward) whose faces all emit `e` and reflect `rho`: the
+/// radiosity furnace, B = E / (1 - rho) everywhere.
+Scene furnace_room(double e, double rho);
+
 /// The ids of the faces of mesh `mesh`, ascending.
 std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh);
 

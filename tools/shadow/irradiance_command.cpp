@@ -196,9 +196,11 @@ int run_irradiance(const IrradianceArgs& args) {
       reflections.default_reflectance = result.ground_reflectance;
       reflections.threads = args.threads;
       reflections.progress = [&](const shadow::RadiosityProgress& p) {
-        // Progress as the share of the power shot, in thousandths.
+        // Progress as the share of the power shot, in thousandths; a hierarchical solution spends
+        // most of its time on its links first.
         const double shot = std::clamp(1.0 - p.unshot_fraction, 0.0, 1.0);
-        options.progress("reflections", {static_cast<std::size_t>(1000.0 * shot), 1000});
+        const double done = !p.shots_are_iterations ? shot : p.links_fraction < 1.0 ? 0.9 * p.links_fraction : 0.9 + 0.1 * shot;
+        options.progress("reflections", {static_cast<std::size_t>(1000.0 * done), 1000});
       };
       shadow::add_scene_reflections(scene, result, reflections);
     }
@@ -245,7 +247,13 @@ int run_irradiance(const IrradianceArgs& args) {
               result.max_direct_excess <= 1e-9 && result.max_diffuse_excess <= 1e-6 && result.min_component >= 0.0
                   ? "ok"
                   : "FAILED (report.json: energy_check)");
-  if (!result.scene_reflected.empty())
+  if (!result.scene_reflected.empty() && result.reflections.hierarchical)
+    std::printf("  reflections: %zu radiosity elements, hierarchical (%zu near and %zu far links, %zu iterations), "
+                "unshot %.3g%%, error estimate %.3g%%, in %.3f s (in the totals above)\n",
+                result.reflections.elements, result.reflections.near_links, result.reflections.far_links,
+                result.reflections.iterations, 100.0 * result.reflections.unshot_fraction,
+                100.0 * result.reflections.error_estimate, result.reflections.seconds);
+  else if (!result.scene_reflected.empty())
     std::printf("  reflections: %zu radiosity elements, %zu shots, unshot %.3g%%, in %.3f s (in the totals above)\n",
                 result.reflections.elements, result.reflections.shots, 100.0 * result.reflections.unshot_fraction,
                 result.reflections.seconds);

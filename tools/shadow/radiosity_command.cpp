@@ -34,6 +34,15 @@ CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args) {
   cmd->add_option("--tolerance", args.tolerance,
                   "Stop when the unshot power is at most this fraction of the power put in (default 0.001)")
       ->check(shadow_cli::finite_in(1e-12, 0.999999));
+  cmd->add_option("--method", args.method,
+                  "auto (the default: hierarchical above 4,000 patches), shooting (progressive refinement: "
+                  "every patch shoots to every element) or hierarchical (links between groups of patches far "
+                  "apart, gathering iterations; for cities)")
+      ->check(CLI::IsMember({"auto", "shooting", "hierarchical"}));
+  cmd->add_option("--link-separation", args.link_separation,
+                  "Hierarchical: link two groups of patches as a whole when their radii add up to at most this "
+                  "times their distance (default 0.4; smaller is closer to shooting and slower)")
+      ->check(shadow_cli::finite_in(0.1, 0.999));
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
@@ -55,6 +64,10 @@ int run_radiosity(const RadiosityArgs& args) {
   options.patch_area = args.patch_area;
   options.tolerance = args.tolerance;
   options.threads = args.threads;
+  options.method = args.method == "shooting"       ? shadow::RadiosityMethod::shooting
+                   : args.method == "hierarchical" ? shadow::RadiosityMethod::hierarchical
+                                                   : shadow::RadiosityMethod::automatic;
+  options.link_separation = args.link_separation;
   const bool terminal = isatty(STDERR_FILENO) != 0;
   auto last_line = Clock::now();
   bool shown = false;
@@ -63,8 +76,13 @@ int run_radiosity(const RadiosityArgs& args) {
     const auto now = Clock::now();
     if (now - last_line < std::chrono::seconds(terminal ? 0 : 5)) return;
     last_line = now;
-    std::fprintf(stderr, terminal ? "\r\033[Kshadow: radiosity %zu shots, unshot %.3g%%" : "shadow: radiosity %zu shots, unshot %.3g%%\n",
-                 p.shots, 100.0 * p.unshot_fraction);
+    if (p.links_fraction < 1.0)
+      std::fprintf(stderr, terminal ? "\r\033[Kshadow: radiosity links %.0f%%" : "shadow: radiosity links %.0f%%\n",
+                   100.0 * p.links_fraction);
+    else
+      std::fprintf(stderr,
+                   terminal ? "\r\033[Kshadow: radiosity %zu %s, unshot %.3g%%" : "shadow: radiosity %zu %s, unshot %.3g%%\n",
+                   p.shots, p.shots_are_iterations ? "iterations" : "shots", 100.0 * p.unshot_fraction);
     std::fflush(stderr);
     shown = terminal;
   };
@@ -84,9 +102,15 @@ int run_radiosity(const RadiosityArgs& args) {
   run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   shadow::write_radiosity_outputs(output.path(), scene, result, run);
   if (!args.quiet) {
-    std::printf("radiosity: %zu elements in %zu patches on %zu faces, %zu shots in %.2f s%s\n",
-                result.elements.size(), result.patches, scene.faces.size(), result.shots, run.seconds,
-                result.converged ? "" : " (not converged)");
+    if (result.hierarchical)
+      std::printf("radiosity: %zu elements in %zu patches on %zu faces, hierarchical: %zu near and %zu far links, "
+                  "%zu iterations in %.2f s%s\n",
+                  result.elements.size(), result.patches, scene.faces.size(), result.near_links, result.far_links,
+                  result.iterations, run.seconds, result.converged ? "" : " (not converged)");
+    else
+      std::printf("radiosity: %zu elements in %zu patches on %zu faces, %zu shots in %.2f s%s\n",
+                  result.elements.size(), result.patches, scene.faces.size(), result.shots, run.seconds,
+                  result.converged ? "" : " (not converged)");
     std::printf("  unshot %.4g%% of the power put in, error estimate %.3g%%\n", 100.0 * result.unshot_fraction,
                 100.0 * result.error_estimate);
     std::printf("  balance (W): emitted %.6g + direct %.6g = absorbed %.6g + escaped %.6g + unshot %.6g "

@@ -12,6 +12,8 @@ struct RadiosityArgs {
   double max_element_area = 0.0;
   double patch_area = 0.0;  // --patch-area: shooting patches (0: 16 elements)
   double tolerance = 1e-3;
+  std::string method = "auto";  // --method auto|shooting|hierarchical
+  double link_separation = 0.4;
   unsigned threads = 0;
   bool quiet = false;
   double planarity_tolerance = 1e-6;

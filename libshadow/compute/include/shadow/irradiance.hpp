@@ -187,6 +187,8 @@ struct IrradianceResult {
   struct Reflections {
     std::size_t elements = 0, shots = 0;
     double unshot_fraction = 0.0, error_estimate = 0.0, default_reflectance = 0.0, seconds = 0.0;
+    bool hierarchical = false;  ///< solved by hierarchical radiosity (large scenes; shots are then 0)
+    std::size_t iterations = 0, near_links = 0, far_links = 0;  ///< the hierarchical solution's
   } reflections;
   /// The month (1..12) of each hour (hours[h]).
   [[nodiscard]] int month_of(std::size_t h, const Weather& weather) const { return weather.month[hours[h].record]; }

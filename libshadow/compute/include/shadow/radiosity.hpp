@@ -60,8 +60,27 @@ FormFactor form_factor(const Scene& scene, std::size_t from_face, std::size_t to
 
 /// Progress of a radiosity solution.
 struct RadiosityProgress {
-  std::size_t shots = 0;         ///< elements shot so far
+  std::size_t shots = 0;         ///< patches shot so far (shooting) or gathering iterations (hierarchical)
   double unshot_fraction = 1.0;  ///< unshot power over the power put in
+  /// The hierarchical method's share of its links computed (0 to 1; 1 once it iterates, and
+  /// always 1 for shooting).
+  double links_fraction = 1.0;
+  bool shots_are_iterations = false;  ///< `shots` counts gathering iterations (hierarchical)
+};
+
+/// How the radiosity equation is solved (docs/radiosity.md).
+enum class RadiosityMethod {
+  /// Hierarchical above 4,000 patches (unless exact_visibility is asked for), shooting below.
+  automatic,
+  /// Progressive refinement: the patch with the most unshot power shoots to every element; the
+  /// cost grows as patches x elements.
+  shooting,
+  /// Hierarchical radiosity with clusters: near pairs of patches linked patch to element as in
+  /// shooting, groups of patches far apart relative to their size linked as a whole (the kernel
+  /// at the two groups' centroids, with each face's own cosine; visibility from rays between
+  /// them), then gathering iterations (Jacobi). The links grow about linearly with the scene.
+  /// Not with exact_visibility (an InputError).
+  hierarchical,
 };
 
 /// Options of solve_radiosity().
@@ -77,7 +96,9 @@ struct RadiosityOptions {
   /// Stop when the unshot power is at most this fraction of the power put in (emitted plus the
   /// reflected part of the direct light).
   double tolerance = 1e-3;
-  std::size_t max_shots = 0;  ///< 0: no limit other than the tolerance
+  /// Shooting: the most shots (0: no limit other than the tolerance). Hierarchical: the most
+  /// gathering iterations (0: 10,000).
+  std::size_t max_shots = 0;
   /// Visibility between elements: false (the default) cuts the shadows of the faces in the shaft
   /// between receiver and shooter out of the shooter in doubles (about 1e-9 of its size);
   /// true takes CGAL's exact machinery point by point (slow; for checking the default).
@@ -94,6 +115,14 @@ struct RadiosityOptions {
   /// Called about every 0.5 s and at the end, from the calling thread. May be empty; what it
   /// throws stops the solution and comes out of the call.
   std::function<void(const RadiosityProgress&)> progress;
+  RadiosityMethod method = RadiosityMethod::automatic;
+  /// Hierarchical: two groups of patches are linked as a whole when the sum of their radii is
+  /// at most this times the distance between their centroids (in [0.1, 1); smaller: more links,
+  /// closer to shooting's answer). The kernel's relative error on such a link is of the order
+  /// of its square.
+  double link_separation = 0.4;
+  /// Hierarchical: rays per link between groups for its visibility (1 to 1024).
+  int link_rays = 8;
 };
 
 /// One element: a triangle of one face.
@@ -123,6 +152,9 @@ struct FaceRadiosity {
   std::size_t elements = 0;
   glm::dvec3 radiosity_rgb{0.0};   ///< area-weighted mean of the elements' radiosity_rgb
   glm::dvec3 irradiance_rgb{0.0};  ///< area-weighted mean of the elements' irradiance_rgb
+  /// One per scene light (Scene::lights order): its share of direct_irradiance (empty when the
+  /// sources came from RadiosityOptions::face_irradiance).
+  std::vector<double> direct_irradiance_by_light;
 };
 
 /// The solution and its balance: emitted + direct = absorbed + escaped + unshot (W), where
@@ -136,6 +168,10 @@ struct RadiosityResult {
   bool colour = false;                ///< some material has an RGB reflectance: channels solved
   double channel_unshot_fraction = 0.0;  ///< the largest unshot fraction of the three channels
   std::size_t exact_evaluations = 0;  ///< point form factors that took the exact visibility route
+  bool hierarchical = false;          ///< solved by RadiosityMethod::hierarchical
+  std::size_t iterations = 0;         ///< hierarchical: gathering iterations of the scalar solution
+  std::size_t near_links = 0;         ///< hierarchical: pairs of patches linked element by element
+  std::size_t far_links = 0;          ///< hierarchical: links between groups (visible ones)
   bool converged = false;      ///< unshot_fraction <= tolerance
   double emitted_power = 0.0;  ///< sum of E A
   double direct_power = 0.0;   ///< sum of H_direct A
@@ -148,7 +184,8 @@ struct RadiosityResult {
   /// Estimate of the relative error of the radiosities: the unshot fraction (what is missing,
   /// at most, as a share of what was put in, amplified by the reflections still to come:
   /// unshot / (1 - mean reflectance)) plus the form factors' quadrature error (the change between
-  /// one and three receiver points on the elements near each shooter, relative to the power shot).
+  /// one and three receiver points on the elements near each shooter, relative to the power shot;
+  /// hierarchical: the far links' kernel and visibility errors weighted by the power they carry).
   double error_estimate = 0.0;
 };
 

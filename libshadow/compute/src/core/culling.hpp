@@ -144,6 +144,14 @@ class LightSpaceGrid {
     query_box(boxes_[face], visit);
   }
 
+  /// Whether query(receiver) reports face q (a face the grid holds): their light-space boxes
+  /// overlap by the margin, the test query() makes of each face of an item it meets.
+  [[nodiscard]] bool reports(std::size_t receiver, std::size_t q) const {
+    const Box& b = boxes_[receiver];
+    const Box& fb = boxes_[q];
+    return fb[0] <= b[2] + margin_ && b[0] <= fb[2] + margin_ && fb[1] <= b[3] + margin_ && b[1] <= fb[3] + margin_;
+  }
+
   /// About how many faces query(face) visits, in O(cells): the faces whose light-space box has
   /// its lower corner in a cell that `face`'s box touches (each face counted once).
   [[nodiscard]] std::size_t count(std::size_t face) const {
@@ -172,9 +180,9 @@ class LightSpaceGrid {
  private:
   template <class Visit>
   void query_box(const std::array<double, 4>& b, Visit&& visit) const {
-    // Each overlapping face is reported once, in the cell that holds the lower corner of the two
-    // boxes' intersection (a cell both boxes cover), instead of once per shared cell: most faces
-    // span several cells, and their repeats were most of a query's visits.
+    // Each overlapping face is reported once, in one cell both boxes cover (below), instead of
+    // once per shared cell: most faces span several cells, and their repeats were most of a
+    // query's visits.
     const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
     const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
     const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
@@ -187,12 +195,14 @@ class LightSpaceGrid {
           const Box& o = entry_boxes_[e];
           if (!(o[0] <= b[2] + margin_ && b[0] <= o[2] + margin_ && o[1] <= b[3] + margin_ && b[1] <= o[3] + margin_))
             continue;
-          // An item is taken only in the cell of the intersection's lower corner: that corner is
-          // at least b's lower edge and at most both boxes' upper edges (plus the margin), so the
-          // query visits that cell and the item is registered in it.
-          const int cu = cell_index(std::max(o[0], b[0]), origin_[0], cell_u_, nu_);
-          const int cv = cell_index(std::max(o[1], b[1]), origin_[1], cell_v_, nv_);
-          if (cu != u || cv != v) continue;
+          // An item is taken only in the first cell (lowest u, lowest v) that both the query
+          // and the item cover: the item is registered in cells [iu, ...] x [iv, ...] and the
+          // query visits [u0, u1] x [v0, v1]; with the boxes overlapping by the margin, iu <= u1
+          // and u0 <= the item's last cell (and so for v), so that cell is visited and holds
+          // the item. Integers only: no floor and division per entry, as a corner's cell took.
+          const std::uint32_t first = entry_first_[e];
+          if (std::max(u0, static_cast<int>(first & 0xffff)) != u || std::max(v0, static_cast<int>(first >> 16)) != v)
+            continue;
           // The item's faces whose own boxes overlap.
           for (std::uint32_t k = item_start_[entries_[e]]; k < item_start_[entries_[e] + 1]; ++k) {
             const std::uint32_t f = item_faces_[k];
@@ -246,12 +256,16 @@ class LightSpaceGrid {
       for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
       entries_.resize(start_.back());
       entry_boxes_.resize(start_.back());
+      entry_first_.resize(start_.back());
       std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-      for (std::size_t i = 0; i < items; ++i)
+      for (std::size_t i = 0; i < items; ++i) {
+        const std::uint32_t first = first_cell(item_box[i]);
         for_cells(item_box[i], [&](std::size_t c) {
           entry_boxes_[fill[c]] = item_box[i];
+          entry_first_[fill[c]] = first;
           entries_[fill[c]++] = static_cast<std::uint32_t>(i);
         });
+      }
       return;
     }
     auto range_begin = [&](std::size_t r, std::size_t count) { return count * r / ranges; };
@@ -278,13 +292,24 @@ class LightSpaceGrid {
     }
     entries_.resize(start_.back());
     entry_boxes_.resize(start_.back());
+    entry_first_.resize(start_.back());
     runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
-      for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
+      for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i) {
+        const std::uint32_t first = first_cell(item_box[i]);
         for_cells(item_box[i], [&](std::size_t c) {
           entry_boxes_[count[r][c]] = item_box[i];
+          entry_first_[count[r][c]] = first;
           entries_[count[r][c]++] = static_cast<std::uint32_t>(i);
         });
+      }
     });
+  }
+
+  /// The first cell for_cells(b) visits, as u | v << 16 (nu_, nv_ <= 2048).
+  std::uint32_t first_cell(const Box& b) const {
+    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
+    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
+    return static_cast<std::uint32_t>(u0) | static_cast<std::uint32_t>(v0) << 16;
   }
 
   template <class Visit>
@@ -305,6 +330,7 @@ class LightSpaceGrid {
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> entries_;  ///< items, by cell
   std::vector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
+  std::vector<std::uint32_t> entry_first_;  ///< the items' first cells (first_cell), in entries_' order
   std::vector<std::uint32_t> item_start_, item_faces_;  ///< each item's faces (compressed rows)
   std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
 };

@@ -46,6 +46,10 @@ void add_scene_reflections(const Scene& scene, IrradianceResult& result, const R
   result.reflections.shots = solution.shots;
   result.reflections.unshot_fraction = solution.unshot_fraction;
   result.reflections.error_estimate = solution.error_estimate;
+  result.reflections.hierarchical = solution.hierarchical;
+  result.reflections.iterations = solution.iterations;
+  result.reflections.near_links = solution.near_links;
+  result.reflections.far_links = solution.far_links;
   result.reflections.default_reflectance = options.default_reflectance;
   result.reflections.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

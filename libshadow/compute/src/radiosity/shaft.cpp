@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace shadow::radiosity {
@@ -137,6 +138,80 @@ bool ShaftCuller::candidates(const std::vector<glm::dvec3>& a, std::size_t a_fac
   // A fixed order whatever the grid's: the candidates' shadows are cut in this order.
   std::sort(out.begin(), out.end());
   return false;
+}
+
+template <class Visit>
+void ShaftCuller::walk(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& s,
+                       const Visit& visit) const {
+  if (cells_.empty()) return;
+  if (s.seen.size() != scene_.faces.size()) s.seen.assign(scene_.faces.size(), 0), s.query = 0;
+  if (++s.query == 0) std::fill(s.seen.begin(), s.seen.end(), 0), s.query = 1;
+  const glm::dvec3 d = q - p;
+  const double eps = 1e-9 * glm::length(d);
+  const std::array<double, 6> box = {std::min(p.x, q.x), std::min(p.y, q.y), std::min(p.z, q.z),
+                                     std::max(p.x, q.x), std::max(p.y, q.y), std::max(p.z, q.z)};
+  // The parameter in (0, 1) where the segment crosses face f well inside, or -1.
+  auto crossing = [&](std::size_t f) {
+    const std::array<double, 6>& fb = boxes_[f];
+    if (fb[3] < box[0] || fb[4] < box[1] || fb[5] < box[2] || fb[0] > box[3] || fb[1] > box[4] || fb[2] > box[5])
+      return -1.0;
+    const std::vector<glm::dvec3>& v = scene_.faces[f].vertices;
+    const glm::dvec3& n = normals_[f];
+    const double sp = glm::dot(n, p - v[0]), sq = glm::dot(n, q - v[0]);
+    if (!((sp > eps && sq < -eps) || (sp < -eps && sq > eps))) return -1.0;
+    const double t = sp / (sp - sq);
+    return inside_polygon(v, n, p + t * d) ? t : -1.0;
+  };
+  // Amanatides and Woo's walk over the cells the segment's plan passes through.
+  std::size_t i = cell_x(p.x), j = cell_y(p.y);
+  const std::size_t iq = cell_x(q.x), jq = cell_y(q.y);
+  const int step_i = d.x > 0 ? 1 : -1, step_j = d.y > 0 ? 1 : -1;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const double delta_i = d.x != 0 ? cell_ / std::abs(d.x) : inf, delta_j = d.y != 0 ? cell_ / std::abs(d.y) : inf;
+  double next_i = d.x != 0 ? (grid_x0_ + (static_cast<double>(i) + (d.x > 0 ? 1 : 0)) * cell_ - p.x) / d.x : inf;
+  double next_j = d.y != 0 ? (grid_y0_ + (static_cast<double>(j) + (d.y > 0 ? 1 : 0)) * cell_ - p.y) / d.y : inf;
+  for (;;) {
+    for (std::size_t f : cells_[j * grid_nx_ + i]) {
+      if (s.seen[f] == s.query) continue;
+      s.seen[f] = s.query;
+      if (f == p_face || f == q_face) continue;
+      const double t = crossing(f);
+      if (t >= 0.0 && visit(f, t)) return;
+    }
+    // Every step moves towards q's cell, so the walk ends there whatever the rounding; `visit`
+    // may stop it once the cells left start beyond what it has found (their entry parameter).
+    if (!visit(SIZE_MAX, std::min(next_i, next_j))) {
+      if (i != iq && (j == jq || next_i < next_j)) {
+        i = static_cast<std::size_t>(static_cast<long long>(i) + step_i);
+        next_i += delta_i;
+        continue;
+      }
+      if (j != jq) {
+        j = static_cast<std::size_t>(static_cast<long long>(j) + step_j);
+        next_j += delta_j;
+        continue;
+      }
+    }
+    return;
+  }
+}
+
+bool ShaftCuller::blocked(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face,
+                          Scratch& s) const {
+  bool hit = false;
+  walk(p, p_face, q, q_face, s, [&](std::size_t f, double) { return f != SIZE_MAX && (hit = true); });
+  return hit;
+}
+
+std::size_t ShaftCuller::first_hit(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, Scratch& s) const {
+  std::size_t best = SIZE_MAX;
+  double best_t = std::numeric_limits<double>::infinity();
+  walk(p, p_face, q, SIZE_MAX, s, [&](std::size_t f, double t) {
+    if (f == SIZE_MAX) return t > best_t;  // the next cell starts beyond the nearest crossing
+    if (t < best_t || (t == best_t && f < best)) best_t = t, best = f;
+    return false;
+  });
+  return best;
 }
 
 bool ShaftCuller::consider(std::size_t f, const std::array<double, 6>& box, double tol, const Scratch& s) const {

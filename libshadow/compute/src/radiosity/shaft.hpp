@@ -36,6 +36,19 @@ class ShaftCuller {
   bool candidates(const std::vector<glm::dvec3>& a, std::size_t a_face, const std::vector<glm::dvec3>& b,
                   std::size_t b_face, Scratch& scratch, std::vector<std::size_t>& out) const;
 
+  /// Whether some face other than `p_face` and `q_face` crosses the open segment from p to q
+  /// well inside (its plane crossed strictly between the two, 1e-9 of the length away from
+  /// either, at a point inside the face): a ray test for the visibility of far links, walking
+  /// the grid's cells along the segment.
+  bool blocked(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& scratch) const;
+
+  /// The face that the segment from p to q crosses nearest to p (as blocked() counts crossings,
+  /// face `p_face` left out), or SIZE_MAX when none.
+  std::size_t first_hit(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, Scratch& scratch) const;
+
+  /// The unit front normals of the faces (zero for a degenerate face).
+  const std::vector<glm::dvec3>& normals() const { return normals_; }
+
   const std::vector<glm::dvec3>& vertices(std::size_t f) const { return scene_.faces[f].vertices; }
 
  private:
@@ -43,6 +56,13 @@ class ShaftCuller {
   /// it, away from its edges by 1e-9 of the lengths (then it crosses every segment between the
   /// two convex polygons: the crossings are convex combinations of those).
   bool hides_all(std::size_t f, const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) const;
+
+  /// Walks the grid's cells along the segment from p to q, calling visit(f, t) for each face f
+  /// (not p_face or q_face) that it crosses well inside at parameter t, and visit(SIZE_MAX, t)
+  /// before entering the next cell (t: where it starts); a true return ends the walk.
+  template <class Visit>
+  void walk(const glm::dvec3& p, std::size_t p_face, const glm::dvec3& q, std::size_t q_face, Scratch& scratch,
+            const Visit& visit) const;
 
   /// Whether face f may meet the open hull (box `box`, facets in `s.planes`).
   bool consider(std::size_t f, const std::array<double, 6>& box, double tol, const Scratch& s) const;

@@ -4,11 +4,9 @@
 #include <shadow/radiosity.hpp>
 
 #include "runtime/parallel.hpp"
-#include "radiosity/contacts.hpp"
-#include "radiosity/shaft.hpp"
-#include "radiosity/shooter_view.hpp"
-#include "radiosity/triangles.hpp"
-#include "radiosity/visible_part.hpp"
+#include "radiosity/elements.hpp"
+#include "radiosity/hierarchy.hpp"
+#include "radiosity/receivers.hpp"
 
 #include <shadow/area_lights.hpp>
 #include <shadow/error.hpp>
@@ -28,272 +26,69 @@
 namespace shadow {
 namespace {
 
-/// An element while solving: a triangle with its receiving points.
-struct Element {
-  std::size_t face = 0;
-  radiosity::Triangle triangle;
-  double area = 0.0;
-  glm::dvec3 centroid{0.0};
-  double radius = 0.0;  // largest distance from the centroid to a vertex
-  std::size_t fragment = SIZE_MAX;  // index into the first light's fragments, or none
-  std::size_t patch = 0;            // the patch (a coarser triangle) that holds it
-};
+using radiosity::Element;
+using radiosity::Patch;
+using radiosity::Receivers;
 
-/// A patch: the triangle that shoots for the elements it holds (Cohen et al.'s substructuring:
-/// shooters coarse, receivers fine).
-struct Patch {
-  std::size_t face = 0;
-  radiosity::Triangle triangle;
-  double area = 0.0;
-  glm::dvec3 centroid{0.0};
-  double radius = 0.0;
-  std::size_t first = 0, count = 0;  // its elements
-};
+/// RadiosityMethod::automatic takes the hierarchy above this many patches: below it, shooting
+/// is as fast and needs no approximation of far links (docs/radiosity.md).
+constexpr std::size_t kAutoHierarchical = 4000;
 
-void check_options(const RadiosityOptions& o) {
+/// Twice the square root of the median face area: the hierarchical method's longest patch edge.
+double typical_patch_edge(const Scene& scene) {
+  std::vector<double> areas;
+  for (const Face& face : scene.faces)
+    if (!face.degenerate && face.vertices.size() >= 3) areas.push_back(0.5 * glm::length(radiosity::newell_normal(face.vertices)));
+  if (areas.empty()) return 0.0;
+  std::nth_element(areas.begin(), areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2), areas.end());
+  return 2.0 * std::sqrt(areas[areas.size() / 2]);
+}
+
+void check_options(const RadiosityOptions& o, const Scene& scene) {
   if (!(o.max_element_area >= 0.0) || !std::isfinite(o.max_element_area))
     throw InputError({"", "max_element_area"}, "max_element_area must be a finite number >= 0 (m^2)");
   if (!(o.patch_area >= 0.0) || !std::isfinite(o.patch_area))
     throw InputError({"", "patch_area"}, "patch_area must be a finite number >= 0 (m^2)");
   if (!(o.tolerance > 0.0) || !(o.tolerance < 1.0))
     throw InputError({"", "tolerance"}, "tolerance must be in (0, 1): the unshot fraction to stop at");
+  // Below 0.1 almost every pair of patches is near: the links grow as their square.
+  if (!(o.link_separation >= 0.1) || !(o.link_separation < 1.0))
+    throw InputError({"", "link_separation"}, "link_separation must be in [0.1, 1)");
+  if (o.method == RadiosityMethod::hierarchical && o.exact_visibility)
+    throw InputError({"", "exact_visibility"}, "exact_visibility is for the shooting method (it checks the "
+                                               "visibility in doubles); the hierarchical method takes rays for far links");
+  if (o.link_rays < 1 || o.link_rays > 1024) throw InputError({"", "link_rays"}, "link_rays must be in [1, 1024]");
   runtime::checked_threads(o.threads);
-}
-
-void add_element(std::vector<Element>& out, std::size_t face, const radiosity::Triangle& t, std::size_t fragment,
-                 std::size_t patch) {
-  Element e;
-  e.patch = patch;
-  e.face = face;
-  e.triangle = t;
-  e.area = radiosity::triangle_area(t);
-  e.centroid = (t[0] + t[1] + t[2]) / 3.0;
-  for (const glm::dvec3& v : t) e.radius = std::max(e.radius, glm::length(v - e.centroid));
-  e.fragment = fragment;
-  if (e.area > 0.0) out.push_back(e);
-}
-
-/// The patches and their elements: each face's fragments under the first light (its whole
-/// polygon where it has none), triangulated, refined to patch_area (the patches), each refined
-/// to max_area (its elements, consecutive).
-void make_elements(const Scene& scene, const std::vector<Fragment>& fragments, double max_area, double patch_area,
-                   std::vector<Patch>& patches, std::vector<Element>& elements) {
-  std::vector<std::vector<std::size_t>> by_face(scene.faces.size());
-  for (std::size_t i = 0; i < fragments.size(); ++i)
-    if (fragments[i].light_id == 0 && fragments[i].face_id < scene.faces.size()) by_face[fragments[i].face_id].push_back(i);
-  // Cut along where other faces meet each face: a floor element under a box's wall would
-  // average the lit floor with the closed-off part beneath the box.
-  const std::vector<std::vector<radiosity::Segment>> contacts = radiosity::contact_segments(scene);
-  std::vector<radiosity::Triangle> coarse, fine, cut;
-  for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-    const Face& face = scene.faces[f];
-    if (face.degenerate || face.vertices.size() < 3) continue;
-    const glm::dvec3 n = radiosity::newell_normal(face.vertices);
-    auto add_polygon = [&](const std::vector<glm::dvec3>& polygon, std::size_t fragment) {
-      cut.clear();
-      for (const radiosity::Triangle& t : radiosity::triangulate(polygon))
-        radiosity::cut_along(t, glm::normalize(n), contacts[f], cut);
-      for (const radiosity::Triangle& t : cut) {
-        coarse.clear();
-        radiosity::refine(t, patch_area, coarse);
-        for (const radiosity::Triangle& c : coarse) {
-          Patch p;
-          p.face = f;
-          p.triangle = c;
-          p.area = radiosity::triangle_area(c);
-          p.centroid = (c[0] + c[1] + c[2]) / 3.0;
-          for (const glm::dvec3& v : c) p.radius = std::max(p.radius, glm::length(v - p.centroid));
-          p.first = elements.size();
-          fine.clear();
-          radiosity::refine(c, max_area, fine);
-          for (const radiosity::Triangle& e : fine) add_element(elements, f, e, fragment, patches.size());
-          p.count = elements.size() - p.first;
-          if (p.count > 0) patches.push_back(p);
-        }
-      }
-    };
-    if (by_face[f].empty()) add_polygon(face.vertices, SIZE_MAX);
-    for (std::size_t i : by_face[f]) add_polygon(fragments[i].polygon, i);
+  if (!o.face_irradiance.empty()) {
+    if (o.face_irradiance.size() != scene.faces.size())
+      throw InputError({"", "face_irradiance"}, "face_irradiance has " + std::to_string(o.face_irradiance.size()) +
+                                                    " values for " + std::to_string(scene.faces.size()) + " faces");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      if (!(o.face_irradiance[f] >= 0.0) || !std::isfinite(o.face_irradiance[f]))
+        throw InputError({"", "face_irradiance"}, "face_irradiance of face " + std::to_string(f) +
+                                                      " must be a finite number >= 0");
+  }
+  if (!o.face_reflectance.empty()) {
+    if (o.face_reflectance.size() != scene.faces.size())
+      throw InputError({"", "face_reflectance"}, "face_reflectance has " + std::to_string(o.face_reflectance.size()) +
+                                                     " values for " + std::to_string(scene.faces.size()) + " faces");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+      if (!(o.face_reflectance[f] >= 0.0 && o.face_reflectance[f] < 1.0))
+        throw InputError({"", "face_reflectance"}, "face_reflectance of face " + std::to_string(f) + " must be in [0, 1)");
   }
 }
 
-/// Whether `p` (on the plane of `polygon`) lies inside it (even-odd rule in the dominant chart).
-bool inside(const std::vector<glm::dvec3>& polygon, const glm::dvec3& p) {
-  const glm::dvec3 n = radiosity::newell_normal(polygon);
-  int k = 0;
-  for (int a = 1; a < 3; ++a)
-    if (std::abs(n[a]) > std::abs(n[k])) k = a;
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  bool in = false;
-  for (std::size_t a = 0, b = polygon.size() - 1; a < polygon.size(); b = a++) {
-    const glm::dvec3 &u = polygon[a], &v = polygon[b];
-    if ((u[j] > p[j]) != (v[j] > p[j]) && p[i] < (v[i] - u[i]) * (p[j] - u[j]) / (v[j] - u[j]) + u[i]) in = !in;
-  }
-  return in;
+/// Each face's area-weighted mean of each light's direct irradiance.
+void fill_light_means(const std::vector<Element>& elements, const std::vector<std::vector<double>>& by_light,
+                      RadiosityResult& result) {
+  for (FaceRadiosity& face : result.faces) face.direct_irradiance_by_light.assign(by_light.size(), 0.0);
+  for (std::size_t l = 0; l < by_light.size(); ++l)
+    for (std::size_t i = 0; i < elements.size(); ++i)
+      result.faces[elements[i].face].direct_irradiance_by_light[l] += by_light[l][i] * elements[i].area;
+  for (FaceRadiosity& face : result.faces)
+    if (face.area > 0)
+      for (double& h : face.direct_irradiance_by_light) h /= face.area;
 }
-
-/// Each element's direct irradiance from the scene's lights, with exact shadows: the fragment's
-/// lit flag for the first light, a lit fragment of the same face holding the centroid for the
-/// others (hard lights), light_irradiance at the centroid for extended lights.
-std::vector<double> direct_irradiance(const Scene& scene, const std::vector<Fragment>& fragments,
-                                      const std::vector<Element>& elements, const std::vector<glm::dvec3>& normals,
-                                      unsigned threads) {
-  std::vector<double> direct(elements.size(), 0.0);
-  // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
-  // points of the degree-2 triangle rule, each exact.
-  std::vector<SurfacePoint> points;
-  for (const Element& e : elements)
-    for (int c = 0; c < 3; ++c)
-      points.push_back({e.face, (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0});
-  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-    const Light& light = scene.lights[l];
-    if (light.is_extended()) {
-      const std::vector<double> h = light_irradiance(scene, light, points, threads);
-      for (std::size_t i = 0; i < elements.size(); ++i) direct[i] += (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
-      continue;
-    }
-    std::vector<std::vector<std::size_t>> lit(scene.faces.size());
-    if (l > 0)
-      for (std::size_t i = 0; i < fragments.size(); ++i)
-        if (fragments[i].light_id == l && fragments[i].lit) lit[fragments[i].face_id].push_back(i);
-    for (std::size_t i = 0; i < elements.size(); ++i) {
-      const Element& e = elements[i];
-      bool is_lit = false;
-      if (l == 0) {
-        is_lit = e.fragment != SIZE_MAX && fragments[e.fragment].lit;
-      } else {
-        for (std::size_t k : lit[e.face]) is_lit = is_lit || inside(fragments[k].polygon, e.centroid);
-      }
-      if (is_lit) direct[i] += irradiance(light, e.centroid, normals[e.face]);
-    }
-  }
-  return direct;
-}
-
-/// The receiving rule of an element at distance `gap` from a shooter (R: the sum of their
-/// circumradii): beyond 6 R the centroid; within, the 3-point rule (degree 2); within 2 R, where
-/// the point form factor varies fast (logarithmically along a shared edge), a 4 x 4 collapsed
-/// Gauss rule. Returns the estimate and sets `change` to its difference from the rule below.
-template <class PointFactor>
-double integrate_over_element(const Element& e, double gap, double reach, const PointFactor& at, double& change) {
-  static const std::pair<std::vector<double>, std::vector<double>> gauss = [] {
-    std::pair<std::vector<double>, std::vector<double>> g;
-    radiosity::gauss_legendre01(4, g.first, g.second);
-    return g;
-  }();
-  change = 0.0;
-  double f = at(e.centroid);
-  if (gap < 6.0 * reach) {
-    double f3 = 0.0;
-    for (int c = 0; c < 3; ++c)
-      f3 += at((4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0) / 3.0;
-    change = std::abs(f3 - f);
-    f = f3;
-  }
-  if (gap < 2.0 * reach) {
-    const radiosity::Triangle& t = e.triangle;
-    double f16 = 0.0;
-    for (std::size_t a = 0; a < gauss.first.size(); ++a)
-      for (std::size_t b = 0; b < gauss.first.size(); ++b) {
-        const double u = gauss.first[a], v = gauss.first[b];
-        f16 += 2.0 * u * gauss.second[a] * gauss.second[b] * at(t[0] + u * (t[1] - t[0]) + u * v * (t[2] - t[1]));
-      }
-    change = std::abs(f16 - f);
-    f = f16;
-  }
-  return f;
-}
-
-/// Where the form factors come from: visibility in doubles through shaft culling (the default),
-/// or the exact machinery point by point (RadiosityOptions::exact_visibility, for checking).
-class Receivers {
- public:
-  Receivers(const Scene& scene, unsigned threads, bool exact)
-      : exact_(exact), culler_(scene), workers_(std::max(1u, threads)) {
-    if (exact) view_ = std::make_unique<radiosity::ShooterView>(scene, threads);
-    normals_.assign(scene.faces.size(), glm::dvec3(0.0));
-    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-      const glm::dvec3 n = radiosity::newell_normal(scene.faces[f].vertices);
-      if (!scene.faces[f].degenerate && glm::length(n) > 0.0) normals_[f] = glm::normalize(n);
-    }
-  }
-
-  std::size_t exact_evaluations() const { return view_ ? view_->exact_evaluations() : 0; }
-  const std::vector<glm::dvec3>& normals() const { return normals_; }
-
-  /// The form factor from each element to patch `s` and the quadrature change that estimates
-  /// its error. Elements on the patch's face get 0 (a plane does not see itself).
-  void receive(const std::vector<Patch>& patches, const std::vector<Element>& elements, const Patch& s,
-               unsigned threads, std::vector<double>& factor, std::vector<double>& quad) {
-    const std::vector<glm::dvec3> source = {s.triangle[0], s.triangle[1], s.triangle[2]};
-    factor.assign(elements.size(), 0.0);
-    quad.assign(elements.size(), 0.0);
-    if (exact_) {
-      std::vector<std::vector<glm::dvec3>> pieces;
-      if (s.count > 1)
-        for (std::size_t i = s.first; i < s.first + s.count; ++i)
-          pieces.push_back({elements[i].triangle[0], elements[i].triangle[1], elements[i].triangle[2]});
-      view_->set_shooter(s.face, source, std::move(pieces));
-    }
-    if (exact_) {
-      runtime::parallel_for(elements.size(), threads, [&](unsigned worker, std::size_t i) {
-        const Element& e = elements[i];
-        if (e.face == s.face || !faces_each_other(e.triangle, e.face, s.triangle, s.face)) return;
-        const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
-        factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
-          return view_->evaluate(worker, {e.face, p});
-        }, quad[i]);
-      });
-      return;
-    }
-    // One shaft per receiving patch serves all its elements (each element's shaft lies inside it).
-    const radiosity::SourceChart chart(source);
-    runtime::parallel_for(patches.size(), threads, [&](unsigned worker, std::size_t r) {
-      const Patch& receiver = patches[r];
-      if (receiver.face == s.face || !faces_each_other(receiver.triangle, receiver.face, s.triangle, s.face)) return;
-      Worker& w = workers_[worker];
-      if (culler_.candidates({receiver.triangle[0], receiver.triangle[1], receiver.triangle[2]}, receiver.face, source,
-                             s.face, w.shaft, w.faces))
-        return;  // one face hides the shooter from all of the receiving patch
-      w.occluders.clear();
-      for (std::size_t f : w.faces) w.occluders.push_back(&culler_.vertices(f));
-      const glm::dvec3& nr = normals_[receiver.face];
-      for (std::size_t i = receiver.first; i < receiver.first + receiver.count; ++i) {
-        const Element& e = elements[i];
-        if (!faces_each_other(e.triangle, e.face, s.triangle, s.face)) continue;
-        const double gap = glm::length(e.centroid - s.centroid), reach = e.radius + s.radius;
-        factor[i] = integrate_over_element(e, gap, reach, [&](const glm::dvec3& p) {
-          return w.occluders.empty() ? chart.unoccluded(p, nr, w.visible)
-                                     : chart.form_factor(p, nr, w.occluders, w.visible);
-        }, quad[i]);
-      }
-    });
-  }
-
- private:
-  struct Worker {
-    radiosity::VisibleScratch visible;
-    radiosity::ShaftCuller::Scratch shaft;
-    std::vector<std::size_t> faces;
-    std::vector<const std::vector<glm::dvec3>*> occluders;
-  };
-
-  /// Some of the receiver in front of the shooter and some of the shooter in front of the receiver.
-  bool faces_each_other(const radiosity::Triangle& r, std::size_t r_face, const radiosity::Triangle& s,
-                        std::size_t s_face) const {
-    const glm::dvec3 &nr = normals_[r_face], &ns = normals_[s_face];
-    bool a = false, b = false;
-    for (const glm::dvec3& v : r) a = a || glm::dot(ns, v - s[0]) > 0.0;
-    for (const glm::dvec3& v : s) b = b || glm::dot(nr, v - r[0]) > 0.0;
-    return a && b;
-  }
-
-  bool exact_;
-  radiosity::ShaftCuller culler_;
-  std::unique_ptr<radiosity::ShooterView> view_;
-  std::vector<glm::dvec3> normals_;
-  std::vector<Worker> workers_;
-};
 
 /// Power totals of a solution (W).
 struct Totals {
@@ -442,6 +237,35 @@ void shoot(Channel& c, const std::vector<Patch>& patches, const std::vector<Elem
   if (report) report(c, true);
 }
 
+/// Gathers (Jacobi) until the power that the last step added is at most the tolerance of the
+/// power put in. Each step's balance is exact: with b the radiosities before it and h, b' after,
+/// emitted + direct = absorbed (h) + escaped (what b sent that no element received) + unshot
+/// (b' - b, what the next step will send).
+void iterate(Channel& c, const radiosity::Hierarchy& hierarchy, const std::vector<Element>& elements,
+             const std::vector<double>& emit, const std::vector<double>& direct, const RadiosityOptions& options,
+             const std::function<void(const Channel&, bool)>& report) {
+  const std::size_t n = elements.size();
+  std::vector<double> h;
+  const std::size_t limit = options.max_shots > 0 ? options.max_shots : 10000;
+  while (c.power_in > 0.0 && c.unshot_power > options.tolerance * c.power_in && c.shots < limit) {
+    hierarchy.gather(c.b, direct, h);
+    double leaving = 0.0, received = 0.0, unshot = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double a = elements[i].area, b = emit[i] + c.rho[i] * h[i];
+      leaving += c.b[i] * a;
+      received += (h[i] - direct[i]) * a;
+      unshot += (b - c.b[i]) * a;
+      c.b[i] = b;
+    }
+    c.h.swap(h);
+    c.escaped = leaving - received;
+    c.unshot_power = unshot;
+    ++c.shots;
+    if (report) report(c, false);
+  }
+  if (report) report(c, true);
+}
+
 /// Channel k (0, 1, 2: red, green, blue) of a material's reflectance: its RGB value where one
 /// was given, its scalar reflectance otherwise.
 double channel_reflectance(const Material& m, int k) {
@@ -451,24 +275,7 @@ double channel_reflectance(const Material& m, int k) {
 }  // namespace
 
 RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& options) {
-  check_options(options);
-  if (!options.face_irradiance.empty()) {
-    if (options.face_irradiance.size() != scene.faces.size())
-      throw InputError({"", "face_irradiance"}, "face_irradiance has " + std::to_string(options.face_irradiance.size()) +
-                                                    " values for " + std::to_string(scene.faces.size()) + " faces");
-    for (std::size_t f = 0; f < scene.faces.size(); ++f)
-      if (!(options.face_irradiance[f] >= 0.0) || !std::isfinite(options.face_irradiance[f]))
-        throw InputError({"", "face_irradiance"}, "face_irradiance of face " + std::to_string(f) +
-                                                      " must be a finite number >= 0");
-  }
-  if (!options.face_reflectance.empty()) {
-    if (options.face_reflectance.size() != scene.faces.size())
-      throw InputError({"", "face_reflectance"}, "face_reflectance has " + std::to_string(options.face_reflectance.size()) +
-                                                     " values for " + std::to_string(scene.faces.size()) + " faces");
-    for (std::size_t f = 0; f < scene.faces.size(); ++f)
-      if (!(options.face_reflectance[f] >= 0.0 && options.face_reflectance[f] < 1.0))
-        throw InputError({"", "face_reflectance"}, "face_reflectance of face " + std::to_string(f) + " must be in [0, 1)");
-  }
+  check_options(options, scene);
   const unsigned threads = runtime::resolve_threads(options.threads);
   std::vector<Fragment> fragments;
   if (!scene.lights.empty() && options.face_irradiance.empty()) {
@@ -481,12 +288,29 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   std::vector<Patch> patches;
   std::vector<Element> elements;
   const double patch_area = options.patch_area > 0 ? options.patch_area : 16.0 * options.max_element_area;
-  make_elements(scene, fragments, options.max_element_area, patch_area, patches, elements);
+  // Shooting's patches first (unless the hierarchy was asked for): their count decides `auto`.
+  if (options.method != RadiosityMethod::hierarchical)
+    radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, 0.0, patches, elements);
+  const bool hierarchical =
+      options.method == RadiosityMethod::hierarchical ||
+      (options.method == RadiosityMethod::automatic && !options.exact_visibility && patches.size() > kAutoHierarchical);
+  if (hierarchical) {
+    // The hierarchy links groups by their radius: long slivers (a ground's triangles between the
+    // holes of its lit part) would be near everything. Patches no longer than twice the typical
+    // face's side keep the near links about constant per patch.
+    patches.clear();
+    elements.clear();
+    radiosity::make_elements(scene, fragments, options.max_element_area, patch_area, typical_patch_edge(scene), patches,
+                             elements);
+  }
   const std::size_t n = elements.size();
   Receivers receivers(scene, threads, options.exact_visibility);
-  std::vector<double> direct;
+  std::vector<double> direct(n, 0.0);
+  std::vector<std::vector<double>> direct_by_light;
   if (options.face_irradiance.empty()) {
-    direct = direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+    direct_by_light = radiosity::direct_irradiance(scene, fragments, elements, receivers.normals(), options.threads);
+    for (const std::vector<double>& light : direct_by_light)
+      for (std::size_t i = 0; i < n; ++i) direct[i] += light[i];
   } else {
     direct.resize(n);
     for (std::size_t i = 0; i < n; ++i) direct[i] = options.face_irradiance[elements[i].face];
@@ -511,24 +335,61 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     const auto now = std::chrono::steady_clock::now();
     if (!force && now - last < std::chrono::milliseconds(500)) return;
     last = now;
-    options.progress({c.shots, c.power_in > 0 ? c.unshot_power / c.power_in : 0.0});
+    options.progress({c.shots, c.power_in > 0 ? c.unshot_power / c.power_in : 0.0, 1.0, hierarchical});
   };
-  FactorCache cache(receivers, patches, elements, threads);
+  std::unique_ptr<radiosity::Hierarchy> hierarchy;
+  std::unique_ptr<FactorCache> cache;
+  if (hierarchical) {
+    radiosity::HierarchyOptions ho;
+    ho.separation = options.link_separation;
+    ho.rays = options.link_rays;
+    ho.threads = threads;
+    if (options.progress)
+      ho.progress = [&](double done) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last < std::chrono::milliseconds(500)) return;
+        last = now;
+        options.progress({0, 1.0, done, true});
+      };
+    std::vector<char> can_emit(patches.size(), 0);
+    for (std::size_t p = 0; p < patches.size(); ++p)
+      for (std::size_t i = patches[p].first; i < patches[p].first + patches[p].count; ++i) {
+        const Material& m = scene.material_of(elements[i].face);
+        const double most = std::max({rho[i], m.reflectance_rgb.x, m.reflectance_rgb.y, m.reflectance_rgb.z});
+        if (emit[i] > 0.0 || (most > 0.0 && (options.face_reflectance.empty() || rho[i] > 0.0))) can_emit[p] = 1;
+      }
+    hierarchy = std::make_unique<radiosity::Hierarchy>(patches, elements, receivers, can_emit, ho);
+  } else {
+    cache = std::make_unique<FactorCache>(receivers, patches, elements, threads);
+  }
+  // Colour: the same solution per channel with that channel's reflectance; the form factors
+  // (the cache's rows, or the hierarchy's links) are shared.
+  const auto solve = [&](Channel& c, const std::function<void(const Channel&, bool)>& progress) {
+    if (hierarchy)
+      iterate(c, *hierarchy, elements, emit, direct, options, progress);
+    else
+      shoot(c, patches, elements, *cache, options, progress);
+  };
   Channel mean = start_channel(elements, rho, emit, direct);
-  shoot(mean, patches, elements, cache, options, report);
-  // Colour: the same shooting per channel with that channel's reflectance; the form factors
-  // come from the cache.
+  solve(mean, report);
   std::array<Channel, 3> rgb;
   if (colour)
     for (int k = 0; k < 3; ++k) {
       std::vector<double> rho_k(n);
       for (std::size_t i = 0; i < n; ++i) rho_k[i] = channel_reflectance(scene.material_of(elements[i].face), k);
       rgb[static_cast<std::size_t>(k)] = start_channel(elements, rho_k, emit, direct);
-      shoot(rgb[static_cast<std::size_t>(k)], patches, elements, cache, options, {});
+      solve(rgb[static_cast<std::size_t>(k)], {});
     }
+  if (hierarchy) {
+    result.hierarchical = true;
+    result.iterations = mean.shots;
+    result.near_links = hierarchy->near_links();
+    result.far_links = hierarchy->far_links();
+  }
 
-  result.shots = mean.shots;
+  result.shots = hierarchy ? 0 : mean.shots;
   const Totals totals = fill_arrays(scene, elements, direct, rho, emit, mean.b, mean.h, result);
+  fill_light_means(elements, direct_by_light, result);
   for (std::size_t i = 0; i < n; ++i) {
     RadiosityElement& e = result.elements[i];
     for (int k = 0; k < 3; ++k) {
@@ -558,8 +419,9 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   const double in = emitted + direct_power;
   result.balance_residual = in > 0 ? std::abs(in - absorbed - mean.escaped - mean.unshot_power) / in : 0.0;
   const double mean_rho = area > 0 ? reflectance_area / area : 0.0;
-  result.error_estimate =
-      result.unshot_fraction / (1.0 - mean_rho) + (mean.shot_total > 0 ? mean.quadrature / mean.shot_total : 0.0);
+  result.error_estimate = result.unshot_fraction / (1.0 - mean_rho) +
+                          (hierarchy ? hierarchy->link_error(mean.b)
+                                     : (mean.shot_total > 0 ? mean.quadrature / mean.shot_total : 0.0));
   return result;
 }
 

@@ -17,6 +17,19 @@ glm::dvec3 newell_normal(const std::vector<glm::dvec3>& polygon) {
   return n;
 }
 
+bool inside_polygon(const std::vector<glm::dvec3>& polygon, const glm::dvec3& normal, const glm::dvec3& p) {
+  int k = 0;
+  for (int a = 1; a < 3; ++a)
+    if (std::abs(normal[a]) > std::abs(normal[k])) k = a;
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  bool in = false;
+  for (std::size_t a = 0, b = polygon.size() - 1; a < polygon.size(); b = a++) {
+    const glm::dvec3 &u = polygon[a], &v = polygon[b];
+    if ((u[j] > p[j]) != (v[j] > p[j]) && p[i] < (v[i] - u[i]) * (p[j] - u[j]) / (v[j] - u[j]) + u[i]) in = !in;
+  }
+  return in;
+}
+
 double triangle_area(const Triangle& t) { return 0.5 * glm::length(glm::cross(t[1] - t[0], t[2] - t[0])); }
 
 namespace {
@@ -81,11 +94,7 @@ std::vector<Triangle> triangulate(const std::vector<glm::dvec3>& polygon) {
   return out;
 }
 
-void refine(const Triangle& t, double max_area, std::vector<Triangle>& out) {
-  if (!(max_area > 0) || triangle_area(t) <= max_area) {
-    out.push_back(t);
-    return;
-  }
+void refine(const Triangle& t, double max_area, std::vector<Triangle>& out, double max_edge) {
   // The longest edge (i, i + 1) is halved; the two halves keep the orientation.
   int i = 0;
   double best = -1;
@@ -93,12 +102,18 @@ void refine(const Triangle& t, double max_area, std::vector<Triangle>& out) {
     const double len = glm::length(t[(e + 1) % 3] - t[e]);
     if (len > best) best = len, i = e;
   }
+  const bool small_enough = !(max_area > 0) || triangle_area(t) <= max_area;
+  const bool short_enough = !(max_edge > 0) || best <= max_edge;
+  if (small_enough && short_enough) {
+    out.push_back(t);
+    return;
+  }
   const glm::dvec3& a = t[i];
   const glm::dvec3& b = t[(i + 1) % 3];
   const glm::dvec3& c = t[(i + 2) % 3];
   const glm::dvec3 m = 0.5 * (a + b);
-  refine({a, m, c}, max_area, out);
-  refine({m, b, c}, max_area, out);
+  refine({a, m, c}, max_area, out, max_edge);
+  refine({m, b, c}, max_area, out, max_edge);
 }
 
 void gauss_legendre01(int order, std::vector<double>& nodes, std::vector<double>& weights) {

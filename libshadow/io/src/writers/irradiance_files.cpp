@@ -115,6 +115,10 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
   if (!r.scene_reflected.empty())
     j["reflections"] = {{"elements", r.reflections.elements},
                         {"shots", r.reflections.shots},
+                        {"method", r.reflections.hierarchical ? "hierarchical" : "shooting"},
+                        {"iterations", r.reflections.iterations},
+                        {"near_links", r.reflections.near_links},
+                        {"far_links", r.reflections.far_links},
                         {"unshot_fraction", number(r.reflections.unshot_fraction)},
                         {"error_estimate", number(r.reflections.error_estimate)},
                         {"default_reflectance", r.reflections.default_reflectance},

@@ -5,6 +5,7 @@
 #include "writers/face_identity_json.hpp"
 #include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
+#include "writers/vtm_writer.hpp"
 #include "writers/vtp_writer.hpp"
 
 #include <shadow/output.hpp>
@@ -111,6 +112,11 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   options["tolerance"] = run.options.tolerance;
   options["max_shots"] = run.options.max_shots;
   options["threads"] = run.options.threads;
+  options["method"] = run.options.method == RadiosityMethod::shooting       ? "shooting"
+                      : run.options.method == RadiosityMethod::hierarchical ? "hierarchical"
+                                                                            : "auto";
+  options["link_separation"] = run.options.link_separation;
+  options["link_rays"] = run.options.link_rays;
   doc["run"] = {{"started_utc", run.started_utc.empty() ? Json(nullptr) : Json(run.started_utc)},
                 {"libshadow_version", version()},
                 {"options", options}};
@@ -126,6 +132,10 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
   summary["patches"] = result.patches;
   summary["shots"] = result.shots;
   summary["exact_evaluations"] = result.exact_evaluations;
+  summary["method"] = result.hierarchical ? "hierarchical" : "shooting";
+  summary["iterations"] = result.iterations;
+  summary["near_links"] = result.near_links;
+  summary["far_links"] = result.far_links;
   summary["converged"] = result.converged;
   summary["unshot_fraction"] = number(result.unshot_fraction);
   summary["error_estimate"] = number(result.error_estimate);
@@ -150,6 +160,9 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
     entry["radiosity"] = number(f.radiosity);
     entry["irradiance"] = number(f.irradiance);
     entry["direct_irradiance"] = number(f.direct_irradiance);
+    Json by_light = Json::array();
+    for (double h : f.direct_irradiance_by_light) by_light.push_back(number(h));
+    entry["direct_irradiance_by_light"] = std::move(by_light);
     entry["radiosity_rgb"] = {number(f.radiosity_rgb.x), number(f.radiosity_rgb.y), number(f.radiosity_rgb.z)};
     entry["irradiance_rgb"] = {number(f.irradiance_rgb.x), number(f.irradiance_rgb.y), number(f.irradiance_rgb.z)};
     faces.push_back(std::move(entry));
@@ -162,9 +175,16 @@ std::vector<fs::path> write_radiosity_outputs(const fs::path& outdir, const Scen
                                               const RadiosityResult& result, const RadiosityRunInfo& run) {
   detail::StagedFiles staging(outdir);
   const auto vtp = staging.stage("radiosity.vtp");
+  const auto lights = staging.stage("lights.vtp");
+  const auto vtm = staging.stage("scene.vtm");
   vtkSmartPointer<vtkPolyData> poly = make_radiosity_polydata(scene, result);
   detail::shift_to_origin(poly, scene);  // like every other dataset of a run (Scene::origin)
   detail::write_polydata(poly, vtp.temp, vtp.final_path);
+  poly = detail::make_lights_polydata(scene);
+  detail::shift_to_origin(poly, scene);
+  detail::write_polydata(poly, lights.temp, lights.final_path);
+  // The whole result in ParaView in one step, as `shadow compute`'s scene.vtm.
+  detail::write_vtm({{"radiosity", "radiosity.vtp"}, {"lights", "lights.vtp"}}, vtm.temp, vtm.final_path);
   // report.json staged last, so placed last: its presence says the set is complete.
   detail::write_staged_stream(staging.stage("report.json"),
                               [&](std::ostream& out) { write_radiosity_report_json(out, scene, result, run); });

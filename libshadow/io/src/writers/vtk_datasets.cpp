@@ -2,6 +2,7 @@
 #include "writers/vtk_datasets.hpp"
 
 #include "core/lights.hpp"
+#include "runtime/parallel.hpp"
 #include "geometry/unit_vector.hpp"
 #include "lighting/fragment_irradiance.hpp"
 #include "writers/face_orientation.hpp"
@@ -35,37 +36,60 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+/// Cells per item when a dataset is filled on several threads.
+constexpr std::size_t kCellsPerItem = 4096;
+
+/// Runs fill(begin, end) over [0, count) in ranges of kCellsPerItem on `threads` threads (each
+/// cell written by one range only, so the result does not depend on the thread count).
+template <typename Fill>
+void for_cell_ranges(std::size_t count, unsigned threads, const Fill& fill) {
+  const std::size_t items = (count + kCellsPerItem - 1) / kCellsPerItem;
+  if (threads <= 1 || items <= 1) {
+    fill(std::size_t{0}, count);
+    return;
+  }
+  runtime::parallel_for(items, threads, [&](unsigned, std::size_t item) {
+    fill(item * kCellsPerItem, std::min(count, (item + 1) * kCellsPerItem));
+  });
+}
+
 /// Polygons given as (vertex count, vertex at) packed into Float64 points and one cell array.
 /// Points are not shared between cells: the fragments of neighbouring faces rarely share
-/// vertices exactly, and merging would cost a hash map as large as the output.
+/// vertices exactly, and merging would cost a hash map as large as the output. The offsets are
+/// summed first; the points and connectivity are then filled on `threads` threads.
 template <typename CountFn, typename VertexFn>
-void fill_polygons(vtkPolyData* poly, std::size_t cell_count, CountFn count, VertexFn vertex) {
+void fill_polygons(vtkPolyData* poly, std::size_t cell_count, CountFn count, VertexFn vertex,
+                   unsigned threads = 1) {
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfValues(static_cast<vtkIdType>(cell_count) + 1);
+  vtkIdType* offset = offsets->GetPointer(0);
   vtkIdType point_count = 0;
-  for (std::size_t c = 0; c < cell_count; ++c) point_count += static_cast<vtkIdType>(count(c));
+  for (std::size_t c = 0; c < cell_count; ++c) {
+    offset[c] = point_count;
+    point_count += static_cast<vtkIdType>(count(c));
+  }
+  offset[cell_count] = point_count;
 
   vtkNew<vtkDoubleArray> coords;
   coords->SetNumberOfComponents(3);
   coords->SetNumberOfTuples(point_count);
-  vtkNew<vtkIdTypeArray> offsets;
-  offsets->SetNumberOfValues(static_cast<vtkIdType>(cell_count) + 1);
   vtkNew<vtkIdTypeArray> connectivity;
   connectivity->SetNumberOfValues(point_count);
-
   double* xyz = coords->GetPointer(0);
-  vtkIdType next = 0;
-  for (std::size_t c = 0; c < cell_count; ++c) {
-    offsets->SetValue(static_cast<vtkIdType>(c), next);
-    const std::size_t n = count(c);
-    for (std::size_t i = 0; i < n; ++i) {
-      const glm::dvec3& p = vertex(c, i);
-      xyz[3 * next + 0] = p.x;
-      xyz[3 * next + 1] = p.y;
-      xyz[3 * next + 2] = p.z;
-      connectivity->SetValue(next, next);
-      ++next;
+  vtkIdType* ids = connectivity->GetPointer(0);
+  for_cell_ranges(cell_count, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) {
+      vtkIdType next = offset[c];
+      const std::size_t n = static_cast<std::size_t>(offset[c + 1] - offset[c]);
+      for (std::size_t i = 0; i < n; ++i, ++next) {
+        const glm::dvec3& p = vertex(c, i);
+        xyz[3 * next + 0] = p.x;
+        xyz[3 * next + 1] = p.y;
+        xyz[3 * next + 2] = p.z;
+        ids[next] = next;
+      }
     }
-  }
-  offsets->SetValue(static_cast<vtkIdType>(cell_count), next);
+  });
 
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
@@ -225,14 +249,15 @@ vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& res
   return poly;
 }
 
-vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result) {
+vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result, unsigned threads) {
   const std::size_t n = scene.faces.size();
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   fill_polygons(
       poly, n, [&](std::size_t c) { return scene.faces[c].vertices.size(); },
       [&](std::size_t c, std::size_t i) -> const glm::dvec3& {
         return scene.faces[c].vertices[i];
-      });
+      },
+      threads);
 
   auto face_id = make_array<vtkTypeInt64Array>("face_id", n);
   auto mesh_id = make_array<vtkTypeInt32Array>("mesh_id", n);
@@ -255,22 +280,39 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
   auto azimuth = make_array<vtkDoubleArray>("azimuth", n);
   auto tilt = make_array<vtkDoubleArray>("tilt", n);
   const double north_axis = north_axis_of(scene);
-  for (std::size_t c = 0; c < n; ++c) {
-    const Face& face = scene.faces[c];
-    const auto cell = static_cast<vtkIdType>(c);
-    const bool known_mesh = face.mesh < scene.meshes.size();
-    const FaceOrientation o = face_orientation(face, north_axis);
-    name->SetValue(cell, face.name);
-    kind->SetValue(cell, face.kind);
-    source->SetValue(cell, face.source.to_string());
-    normal->SetTuple3(cell, o.normal.x, o.normal.y, o.normal.z);
-    azimuth->SetValue(cell, o.azimuth);
-    tilt->SetValue(cell, o.tilt);
-    face_id->SetValue(cell, static_cast<vtkTypeInt64>(c));
-    mesh_id->SetValue(cell, static_cast<vtkTypeInt32>(face.mesh));
-    mesh->SetValue(cell, known_mesh ? scene.meshes[face.mesh].name : std::string());
-    receiver->SetValue(cell, known_mesh && scene.meshes[face.mesh].receiver ? 1 : 0);
-  }
+  // Each face's values written through the arrays' memory, faces in ranges on every thread.
+  vtkStdString* face_names = n > 0 ? name->GetPointer(0) : nullptr;
+  vtkStdString* kinds = n > 0 ? kind->GetPointer(0) : nullptr;
+  vtkStdString* sources = n > 0 ? source->GetPointer(0) : nullptr;
+  vtkStdString* meshes = n > 0 ? mesh->GetPointer(0) : nullptr;
+  double* normals = normal->GetPointer(0);
+  double* azimuths = azimuth->GetPointer(0);
+  double* tilts = tilt->GetPointer(0);
+  vtkTypeInt64* face_ids = face_id->GetPointer(0);
+  vtkTypeInt32* mesh_ids = mesh_id->GetPointer(0);
+  vtkTypeInt32* receivers = receiver->GetPointer(0);
+  for_cell_ranges(n, threads, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) {
+      const Face& face = scene.faces[c];
+      const bool known_mesh = face.mesh < scene.meshes.size();
+      const FaceOrientation o = face_orientation(face, north_axis);
+      face_names[c] = face.name;
+      kinds[c] = face.kind;
+      sources[c] = face.source.to_string();
+      normals[3 * c + 0] = o.normal.x;
+      normals[3 * c + 1] = o.normal.y;
+      normals[3 * c + 2] = o.normal.z;
+      azimuths[c] = o.azimuth;
+      tilts[c] = o.tilt;
+      face_ids[c] = static_cast<vtkTypeInt64>(c);
+      mesh_ids[c] = static_cast<vtkTypeInt32>(face.mesh);
+      meshes[c] = known_mesh ? scene.meshes[face.mesh].name : std::string();
+      receivers[c] = known_mesh && scene.meshes[face.mesh].receiver ? 1 : 0;
+    }
+  });
+  for (vtkAbstractArray* array : {static_cast<vtkAbstractArray*>(name), static_cast<vtkAbstractArray*>(kind),
+                                  static_cast<vtkAbstractArray*>(source), static_cast<vtkAbstractArray*>(mesh)})
+    array->DataChanged();  // written through their memory: as SetValue would have told them
 
   // One lit_fraction_/lit_area_ pair per light with results, NaN where the pair was not computed.
   const std::vector<std::size_t> light_ids = lights_with_results(result);

@@ -20,8 +20,9 @@ vtkSmartPointer<vtkPolyData> make_fragments_polydata(const Scene& scene, const S
 /// Every input face; cell arrays face_id, mesh_id, mesh, receiver, area, the face's identity
 /// (strings name, kind, source) and orientation (normal, 3 components; azimuth, tilt in degrees)
 /// and, per light with results, lit_fraction_<name> and lit_area_<name> (NaN where nothing was
-/// computed).
-vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result);
+/// computed). The faces are filled on `threads` threads (the same dataset for any count).
+vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const ShadowResult& result,
+                                                 unsigned threads = 1);
 
 /// plane_shadows.vtp: one polygon cell per plane-shadow polygon; cell arrays plane_id, light_id,
 /// region_id, area.

@@ -2,6 +2,7 @@
 #include "writers/vtp_writer.hpp"
 
 #include "writers/vtk_errors.hpp"
+#include "writers/vtk_zlib_blocks.hpp"
 
 #include <shadow/output.hpp>
 
@@ -18,8 +19,10 @@
 
 namespace shadow::detail {
 
+static_assert(VtpWriteOptions{}.window_bytes == PrecompressedZLib::kWindowBytes);
+
 void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
-                    const std::filesystem::path& shown_as) {
+                    const std::filesystem::path& shown_as, const VtpWriteOptions& options) {
   vtkNew<vtkXMLPolyDataWriter> writer;
   // The writer reports the cause (when it knows one); its executive then adds a generic
   // "returned failure" dump that says nothing useful: keep it off stderr, and out of the message.
@@ -34,14 +37,27 @@ void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
   writer->SetCompressorTypeToZLib();
   writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
   writer->SetIdTypeToInt64();
+  // The same compressor (class name and level), its blocks compressed on every thread as the
+  // writer comes to them; a failed block never reaches the writer (vtk_zlib_blocks.hpp).
+  vtkNew<PrecompressedZLib> compressor;
+  vtkNew<VtkErrorCapture> compressor_errors;  // zlib's failures, told by the writer's error
+  compressor->AddObserver(vtkCommand::ErrorEvent, compressor_errors);
+  compressor->SetCompressionLevel(writer->GetCompressor()->GetCompressionLevel());
+  writer->SetCompressor(compressor);
+  if (options.threads > 1)
+    compressor->prepare(data, static_cast<std::size_t>(writer->GetBlockSize()), options.threads, options.window_bytes);
+  compressor->fail_for_test(options.fail_at_block);
 
   errno = 0;
   const int ok = writer->Write();
   const unsigned long code = writer->GetErrorCode();
+  if (options.stats != nullptr) *options.stats = compressor->stats();
+  compressor->rethrow_failure();  // zlib out of memory: std::bad_alloc, the file unfinished
   if (ok == 1 && code == vtkErrorCode::NoError) return;
 
   const int saved_errno = errno;
   std::string reason = errors->reason();
+  if (reason.empty()) reason = compressor_errors->reason();
   // VTK quotes the file it opened: that is the temporary name, which means nothing to users.
   const std::string quoted_path = " \"" + path.string() + "\"";
   if (const std::size_t at = reason.find(quoted_path); at != std::string::npos)

@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "writers/vtk_zlib_blocks.hpp"
+
+#include "runtime/parallel.hpp"
+
+#include <vtkAbstractArray.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStringArray.h>
+#include <vtkType.h>
+#include <vtk_zlib.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <utility>
+
+namespace shadow::detail {
+namespace {
+
+/// The string array's values as vtkXMLWriter puts them in its blocks: each value's bytes and a
+/// terminating zero, one after the other (a value may run on into the next block).
+std::vector<unsigned char> packed_strings(vtkStringArray* strings) {
+  const vtkIdType count = strings->GetNumberOfValues();
+  std::size_t total = 0;
+  for (vtkIdType i = 0; i < count; ++i) total += strings->GetValue(i).size() + 1;
+  std::vector<unsigned char> bytes;
+  bytes.reserve(total);
+  for (vtkIdType i = 0; i < count; ++i) {
+    const std::string& value = strings->GetValue(i);
+    bytes.insert(bytes.end(), value.begin(), value.end());
+    bytes.push_back(0);
+  }
+  return bytes;
+}
+
+/// The file's "offsets" of a cell array: where each cell ends in the connectivity (the cell
+/// array's own offsets without their leading zero), as 64-bit integers.
+std::vector<unsigned char> end_offsets(vtkCellArray* cells) {
+  const vtkIdType cell_count = cells->GetNumberOfCells();
+  vtkDataArray* offsets = cells->GetOffsetsArray();
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(cell_count) * sizeof(std::int64_t));
+  if (offsets->HasStandardMemoryLayout() && offsets->GetDataTypeSize() == sizeof(std::int64_t) &&
+      (offsets->GetDataType() == VTK_ID_TYPE || offsets->GetDataType() == VTK_TYPE_INT64)) {
+    std::memcpy(bytes.data(), static_cast<const unsigned char*>(offsets->GetVoidPointer(0)) + sizeof(std::int64_t),
+                bytes.size());
+    return bytes;
+  }
+  for (vtkIdType c = 0; c < cell_count; ++c) {
+    const auto end = static_cast<std::int64_t>(offsets->GetTuple1(c + 1));
+    std::memcpy(bytes.data() + static_cast<std::size_t>(c) * sizeof end, &end, sizeof end);
+  }
+  return bytes;
+}
+
+/// zlib's compress2 at `level`, as vtkZLibDataCompressor calls it; empty when zlib fails for
+/// another reason than memory (the writer then compresses the block itself and reports it).
+std::vector<unsigned char> deflate_block(const unsigned char* bytes, std::size_t size, int level) {
+  std::vector<unsigned char> out(compressBound(static_cast<uLong>(size)));
+  uLongf out_size = static_cast<uLongf>(out.size());
+  const int status = compress2(out.data(), &out_size, bytes, static_cast<uLong>(size), level);
+  if (status == Z_MEM_ERROR) throw std::bad_alloc();
+  if (status != Z_OK) return {};
+  out.resize(out_size);
+  out.shrink_to_fit();
+  return out;
+}
+
+}  // namespace
+
+PrecompressedZLib* PrecompressedZLib::New() {
+  auto* compressor = new PrecompressedZLib;
+  compressor->InitializeObjectBase();
+  return compressor;
+}
+
+void PrecompressedZLib::add_in_place(vtkAbstractArray* array, std::size_t block_size) {
+  // The writer reads arrays with the standard layout (an array of structures) in place, block
+  // by block; anything else (bit arrays, other layouts) it copies, and compresses itself here.
+  auto* data = vtkDataArray::SafeDownCast(array);
+  if (data == nullptr || data->GetDataType() == VTK_BIT || !data->HasStandardMemoryLayout()) return;
+  const std::size_t word = static_cast<std::size_t>(data->GetDataTypeSize());
+  const std::size_t words = static_cast<std::size_t>(data->GetNumberOfTuples()) *
+                            static_cast<std::size_t>(data->GetNumberOfComponents());
+  const std::size_t block_words = word == 0 ? 0 : block_size / word;
+  if (block_words == 0 || words == 0) return;
+  const auto* bytes = static_cast<const unsigned char*>(data->GetVoidPointer(0));
+  for (std::size_t at = 0; at < words; at += block_words) {
+    Block block;
+    block.bytes = bytes + at * word;
+    block.size = std::min(block_words, words - at) * word;
+    in_place_.emplace(block.bytes, blocks_.size());
+    blocks_.push_back(std::move(block));
+  }
+}
+
+void PrecompressedZLib::add_copied(std::vector<unsigned char> bytes, std::size_t block_size) {
+  if (bytes.empty() || block_size == 0) return;
+  buffers_.push_back(std::move(bytes));
+  const std::vector<unsigned char>& kept = buffers_.back();  // moved: its bytes stay where they are
+  for (std::size_t at = 0; at < kept.size(); at += block_size) {
+    Block block;
+    block.bytes = kept.data() + at;
+    block.size = std::min(block_size, kept.size() - at);
+    copied_.push_back(blocks_.size());
+    blocks_.push_back(std::move(block));
+  }
+}
+
+void PrecompressedZLib::prepare(vtkPolyData* data, std::size_t block_size, unsigned threads,
+                                std::size_t window_bytes) {
+  in_place_.clear();
+  copied_.clear();
+  next_copied_ = 0;
+  blocks_.clear();
+  buffers_.clear();
+  stats_ = {};
+  threads_ = std::max(1u, threads);
+  window_bytes_ = std::max<std::size_t>(1, window_bytes);
+
+  // The arrays in the order the writer writes them: field data, then the piece's point data,
+  // cell data, points and the four cell arrays (connectivity, offsets).
+  auto add_arrays = [&](vtkFieldData* arrays) {
+    if (arrays == nullptr) return;
+    for (int i = 0; i < arrays->GetNumberOfArrays(); ++i) {
+      vtkAbstractArray* array = arrays->GetAbstractArray(i);
+      if (auto* strings = vtkStringArray::SafeDownCast(array))
+        add_copied(packed_strings(strings), block_size);
+      else
+        add_in_place(array, block_size);
+    }
+  };
+  add_arrays(data->GetFieldData());
+  add_arrays(data->GetPointData());
+  add_arrays(data->GetCellData());
+  if (data->GetPoints() != nullptr) add_in_place(data->GetPoints()->GetData(), block_size);
+  for (vtkCellArray* cells : {data->GetVerts(), data->GetLines(), data->GetStrips(), data->GetPolys()}) {
+    if (cells == nullptr || cells->GetNumberOfCells() == 0) continue;
+    add_in_place(cells->GetConnectivityArray(), block_size);
+    add_copied(end_offsets(cells), block_size - block_size % sizeof(std::int64_t));
+  }
+  stats_.foreseen = blocks_.size();
+  enabled_ = !blocks_.empty();
+  checked_ = false;
+}
+
+void PrecompressedZLib::rethrow_failure() const {
+  if (failure_) std::rethrow_exception(failure_);
+}
+
+PrecompressedZLib::Block* PrecompressedZLib::find(const unsigned char* bytes, std::size_t size) {
+  if (auto found = in_place_.find(bytes); found != in_place_.end()) {
+    Block& block = blocks_[found->second];
+    return block.size == size && !block.served ? &block : nullptr;
+  }
+  if (next_copied_ < copied_.size()) {
+    Block& expected = blocks_[copied_[next_copied_]];
+    if (expected.size == size && !expected.served && std::memcmp(expected.bytes, bytes, size) == 0) {
+      ++next_copied_;
+      return &expected;
+    }
+  }
+  return nullptr;
+}
+
+bool PrecompressedZLib::same_as_vtk(const Block& block) {
+  if (block.zlib.empty()) return true;  // nothing to compare: that block goes to VTK anyway
+  std::vector<unsigned char> own(GetMaximumCompressionSpace(block.size));
+  const std::size_t size = vtkZLibDataCompressor::CompressBuffer(block.bytes, block.size, own.data(), own.size());
+  return size == block.zlib.size() && std::equal(block.zlib.begin(), block.zlib.end(), own.begin());
+}
+
+void PrecompressedZLib::compress_window(std::size_t first, bool fail_first) {
+  // This block and the next ones not yet compressed, in the writer's order, up to the window.
+  std::vector<std::size_t> window;
+  std::size_t bytes = 0;
+  for (std::size_t b = first; b < blocks_.size() && (window.empty() || bytes < window_bytes_); ++b) {
+    if (blocks_[b].compressed || blocks_[b].served) continue;
+    window.push_back(b);
+    bytes += blocks_[b].size;
+  }
+  const int level = GetCompressionLevel();
+  runtime::parallel_for(window.size(), threads_, [&](unsigned, std::size_t k) {
+    Block& block = blocks_[window[k]];
+    if (fail_first && k == 0) throw std::bad_alloc();
+    block.zlib = deflate_block(block.bytes, block.size, level);
+  });
+  for (const std::size_t b : window) blocks_[b].compressed = true;
+  ++stats_.windows;
+  // The same zlib as VTK's, at the same level? The first block compressed by
+  // vtkZLibDataCompressor itself says so; if not, every block is left to it.
+  if (!checked_) {
+    checked_ = true;
+    if (!same_as_vtk(blocks_[first])) {
+      enabled_ = false;
+      for (const std::size_t b : window) std::vector<unsigned char>().swap(blocks_[b].zlib);
+    }
+  }
+}
+
+size_t PrecompressedZLib::failed(std::exception_ptr failure, unsigned char* compressed) {
+  if (!failure_) failure_ = std::move(failure);
+  enabled_ = false;
+  in_place_.clear();
+  copied_.clear();
+  blocks_.clear();  // what was compressed ahead goes back now
+  compressed[0] = 0;
+  return 1;
+}
+
+size_t PrecompressedZLib::CompressBuffer(unsigned char const* uncompressed, size_t uncompressed_size,
+                                         unsigned char* compressed, size_t space) {
+  const bool fail = calls_++ == fail_at_call_;
+  if (failure_) return failed(nullptr, compressed);  // the file is lost already: end it soon
+  Block* block = enabled_ ? find(uncompressed, uncompressed_size) : nullptr;
+  if (block != nullptr && !block->compressed) {
+    try {
+      compress_window(static_cast<std::size_t>(block - blocks_.data()), fail);
+    } catch (...) {
+      return failed(std::current_exception(), compressed);
+    }
+  } else if (fail) {
+    return failed(std::make_exception_ptr(std::bad_alloc()), compressed);
+  }
+  if (enabled_ && block != nullptr && !block->zlib.empty() && block->zlib.size() <= space) {
+    std::memcpy(compressed, block->zlib.data(), block->zlib.size());
+    const std::size_t size = block->zlib.size();
+    block->served = true;
+    std::vector<unsigned char>().swap(block->zlib);  // written: its memory goes back now
+    ++stats_.served;
+    return size;
+  }
+  ++stats_.direct;
+  // vtkZLibDataCompressor fails only when zlib runs out of memory (the space is always enough).
+  const std::size_t size = vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
+  if (size == 0) return failed(std::make_exception_ptr(std::bad_alloc()), compressed);
+  return size;
+}
+
+}  // namespace shadow::detail
