@@ -4,8 +4,8 @@
 // against the single arrangement (exact areas per hours, bit for bit, on a city and on seeded
 // random scenes), the threshold map's level areas against the full map's areas, its cells against
 // an independent ray caster, its file, and its levels parsed from the command line's text. The
-// instants streamed a batch at a time (SunHoursOptions::instant_batch) against all at once: the
-// same exact areas, bit for bit, at 1 and 2 threads.
+// instants computed a batch at a time (SunHoursOptions::instant_batch), gathered or streamed
+// (stream_levels), against all at once: the same exact areas, bit for bit, at 1 and 2 threads.
 #include "support/polygon_tools.hpp"
 #include "support/ray_caster.hpp"
 #include "support/scene_builders.hpp"
@@ -255,6 +255,7 @@ RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) 
   options.level_round_edges = *rc::gen::inRange<std::size_t>(1, 40);  // from one instant per round up
   const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   options.instant_batch = *rc::gen::inRange<std::size_t>(1, 5);  // streamed: 1 to 4 instants at a time
+  options.stream_levels = true;
   const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   RC_ASSERT(one.faces.size() == strips.faces.size());
   RC_ASSERT(only.faces.size() == one.faces.size());
@@ -302,10 +303,11 @@ void expect_same_exact_areas(const SunHoursMap& a, const SunHoursMap& b, const s
 
 // A city under 16 suns sweeping from east to west, low to high to low, of unequal weights: walls
 // dark under the first suns and cut by later ones, roofs lit whole. The instants' lit regions
-// computed all at once (instant_batch 0: the map as it was) and streamed 1, 3 and 7 at a time:
-// the threshold map alone has the same exact level areas, integral and lit instants, face by
-// face, at 1 and 2 threads, with strips and without, small rounds and large; its cells cover
-// each level with the same area; the full map is the same cell for cell.
+// computed all at once (instant_batch 0) and 1, 3 and 7 at a time, gathered (the default: the
+// same cells, bit for bit) and streamed (stream_levels): the threshold map alone has the same
+// exact level areas, integral and lit instants, face by face, at 1 and 2 threads, with strips
+// and without, small rounds and large; its cells cover each level with the same area; the full
+// map is the same cell for cell.
 TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
   Scene scene = make_city(10, 60, 11);
   validate_scene(scene);
@@ -330,9 +332,24 @@ TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
       for (const SunHoursCell& c : all.level_cells) want[{c.face_id, c.sun_hours}] += c.area;
       for (const std::size_t batch : {std::size_t{1}, std::size_t{3}, std::size_t{7}}) {
         options.instant_batch = batch;
-        const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+        // Gathered (the default): the batches' boundaries held until the last, then the rounds
+        // of all at once, so the same cells, bit for bit.
+        options.stream_levels = false;
+        const SunHoursMap gathered = compute_sun_hours_map(engine, all_faces(scene), instants, options);
         const std::string what = std::to_string(threads) + " threads, strips " + std::to_string(strip_edges) +
                                  ", rounds " + std::to_string(round_edges) + ", batch " + std::to_string(batch);
+        expect_same_exact_areas(all, gathered, what + ", gathered");
+        ASSERT_EQ(all.level_cells.size(), gathered.level_cells.size()) << what;
+        for (std::size_t c = 0; c < all.level_cells.size(); ++c) {
+          EXPECT_EQ(all.level_cells[c].polygon, gathered.level_cells[c].polygon) << what;
+          EXPECT_EQ(all.level_cells[c].area, gathered.level_cells[c].area) << what;
+          EXPECT_EQ(all.level_cells[c].sun_hours, gathered.level_cells[c].sun_hours) << what;
+          EXPECT_EQ(all.level_cells[c].region_id, gathered.level_cells[c].region_id) << what;
+        }
+        // Streamed: the same exact areas; the cells cover each level with the same area.
+        options.stream_levels = true;
+        const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+        options.stream_levels = false;
         expect_same_exact_areas(all, streamed, what);
         std::map<std::pair<std::size_t, double>, double> got;
         for (const SunHoursCell& c : streamed.level_cells) got[{c.face_id, c.sun_hours}] += c.area;

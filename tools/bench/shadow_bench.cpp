@@ -236,6 +236,8 @@ CLI::App* add_sun_hours_command(CLI::App& app, SunHoursArgs& a) {
   sun_cmd->add_option("--strip-edges", a.opt.strip_edges, "SunHoursOptions::strip_edges (0: one arrangement per face)");
   sun_cmd->add_option("--level-round-edges", a.opt.level_round_edges, "SunHoursOptions::level_round_edges");
   sun_cmd->add_option("--instant-batch", a.opt.instant_batch, "SunHoursOptions::instant_batch (0: every instant at once)");
+  sun_cmd->add_flag("--stream-levels", a.opt.stream_levels,
+                    "SunHoursOptions::stream_levels: the threshold map alone fed each batch as it comes");
   sun_cmd->add_flag("--no-engine", a.opt.skip_engine, "Leave out the per-instant engine run (the peak is then the map's)");
   sun_cmd->add_flag("!--no-unmerged", a.opt.unmerged, "Leave out the unmerged run (its column shows -)");
   sun_cmd->add_flag("!--levels-only", a.opt.full, "With --levels: the threshold map alone, not the full map");

@@ -15,6 +15,8 @@
 // face's plane, rounded once.
 #include "sunmap/face_overlay.hpp"
 
+#include "sunmap/lit_tiles.hpp"
+
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
@@ -23,6 +25,7 @@
 #include <CGAL/Arrangement_2.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <climits>
 #include <cmath>
 #include <deque>
@@ -137,10 +140,12 @@ class StripOverlay {
     for (const Curve& c : gather(outline, which, true)) kept_.emplace_back(c, Traits::Data_container(c.data()));
     least_ = std::max<std::size_t>(r_.round_edges, 1);
     want_ = static_cast<double>(least_);
+    begin_tiles();
   }
 
   void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
-            const mpq_class& unfed) {
+            const mpq_class& unfed, std::size_t fed_end) {
+    fed_end_ = fed_end;
     for (const Curve& c : gather(curves, which, false)) {
       const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
       if (pending_.empty() || pending_.back().first != i) {
@@ -196,10 +201,12 @@ class StripOverlay {
     CGAL::insert(arr, curves.begin(), curves.end());  // one sweep of a fresh arrangement
     curves = {};
     outline_add_ = base_pending_;  // the whole-face hours fed since the last walk
+    whole_walked_ += base_pending_;
     base_pending_ = 0;
     walk(arr);
     outline_add_ = 0;
-    settle(unfed_ + pending_hours_);
+    account_tiles(pending_.empty() ? fed_end_ : pending_.front().first);
+    settle(arr, unfed_ + pending_hours_);
     kept_ = kept_curves(arr);
     ++rounds_;
     // Every strip of every face is held between feeds: keep only what the next round needs
@@ -230,20 +237,81 @@ class StripOverlay {
     return level;
   }
 
-  /// Replaces every value that is decided, whatever the `remaining` hours to come add, by the
-  /// smallest value of its level (0 below the lowest): it keeps its level under any later
-  /// additions, since level l's smallest value plus `remaining` stays below level l + 1 when the
-  /// value did. Faces outside the chart are 0.
-  void settle(const mpq_class& remaining) {
-    for (std::size_t v = 0; v < hours_at_.size(); ++v) {
+  /// Replaces every value that is decided, whatever the hours still to come add, by the smallest
+  /// value of its level (0 below the lowest): it keeps its level under any later additions, since
+  /// level l's smallest value plus what may come stays below level l + 1 when the value did. What
+  /// may come is `remaining` (every instant not yet walked), or, with tiles, for a face the hours
+  /// not yet walked of the instants lighting the whole face, plus the most that the instants not
+  /// yet walked may bring to one tile under the face's bounding box (tiles_bound). Faces outside
+  /// the chart are 0.
+  void settle(const Arrangement& arr, const mpq_class& remaining) {
+    mpq_class bound;
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
+      const auto v = static_cast<std::size_t>(f->data());
       if (inside_[v] <= 0) {
         hours_at_[v] = 0;
         continue;
       }
       const std::size_t now = level_of(hours_at_[v]);
-      if (now != level_of(hours_at_[v] + remaining)) continue;  // undecided: kept exactly
+      if (now != level_of(hours_at_[v] + remaining)) {
+        if (remaining_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
+        tiles_bound(f, bound);
+        if (bound >= remaining || now != level_of(hours_at_[v] + bound)) continue;
+      }
       hours_at_[v] = now == 0 ? mpq_class(0) : r_.levels[now - 1];
     }
+  }
+
+  /// The tiles under the strip (columns tc0_ to tc1_) and, per tile, the hours of the instants
+  /// that may light it (lit_tiles.hpp), all of them: none is walked yet.
+  void begin_tiles() {
+    if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
+    const TileGrid& g = r_.tiles->grid;
+    tc0_ = strip_.whole ? 0 : g.column(strip_.x0);
+    tc1_ = strip_.whole ? g.n - 1 : g.column(strip_.x1);
+    remaining_.assign((tc1_ - tc0_ + 1) * g.n, 0);
+    accounted_ = 0;
+    account_tiles(n_, true);
+    whole_total_ = r_.tiles->whole;
+    for (double w : *r_.hours) most_weight_ = std::max(most_weight_, w);
+  }
+
+  /// Instants accounted_ to `end` (exclusive) leave (or, `add`, enter) the tiles' remaining hours.
+  void account_tiles(std::size_t end, bool add = false) {
+    if (remaining_.empty()) return;
+    const TileGrid& g = r_.tiles->grid;
+    for (std::size_t i = accounted_; i < end; ++i) {
+      if ((*r_.hours)[i] == 0) continue;
+      for (std::size_t c = tc0_; c <= tc1_; ++c)
+        for (std::size_t r = 0; r < g.n; ++r) {
+          if (!r_.tiles->lit(i, r * g.n + c)) continue;
+          std::uint32_t& slot = remaining_[(c - tc0_) * g.n + r];
+          if (add) ++slot;
+          else --slot;
+        }
+    }
+    if (!add) accounted_ = std::max(accounted_, end);
+  }
+
+  /// The most that the instants not yet walked may add to face `f`: the whole-face hours not yet
+  /// walked and the largest remaining hours of a tile meeting f's bounding box.
+  void tiles_bound(Arrangement::Face_const_handle f, mpq_class& bound) const {
+    const TileGrid& g = r_.tiles->grid;
+    double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
+    auto h = f->outer_ccb();
+    const auto first = h;
+    do {
+      const auto x = CGAL::to_interval(h->target()->point().x()), y = CGAL::to_interval(h->target()->point().y());
+      xmin = std::min(xmin, x.first), xmax = std::max(xmax, x.second);
+      ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
+    } while (++h != first);
+    const std::size_t c0 = std::max(tc0_, g.column(xmin)), c1 = std::min(tc1_, g.column(xmax));
+    const std::size_t r0 = g.row(ymin), r1 = g.row(ymax);
+    std::uint32_t most = 0;
+    for (std::size_t c = c0; c <= c1; ++c)
+      for (std::size_t r = r0; r <= r1; ++r) most = std::max(most, remaining_[(c - tc0_) * g.n + r]);
+    bound = whole_total_ - whole_walked_;
+    if (most != 0) bound += mpq_class(most_weight_) * most;
   }
 
   /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
@@ -469,6 +537,13 @@ class StripOverlay {
   mpq_class pending_hours_{0}, base_pending_{0}, unfed_{0};
   std::size_t least_ = 1, rounds_ = 0;
   double want_ = 1;  ///< the new segments the next round takes (at least)
+  // With tiles (OverlayRequest::tiles): the strip's tile columns, per tile (column-major from
+  // tc0_) the hours of the instants from accounted_ on that may light it, the instants fed so far,
+  // and the whole-face hours in all and walked so far.
+  std::size_t tc0_ = 0, tc1_ = 0, accounted_ = 0, fed_end_ = 0;
+  std::vector<std::uint32_t> remaining_;
+  double most_weight_ = 0;  ///< the largest instant's hours: a tile's bound is its count times it
+  mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
 
@@ -627,8 +702,8 @@ LevelRounds::LevelRounds(LevelRounds&&) noexcept = default;
 LevelRounds& LevelRounds::operator=(LevelRounds&&) noexcept = default;
 
 void LevelRounds::feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
-                       const mpq_class& unfed) {
-  impl_->feed(curves, which, whole, unfed);
+                       const mpq_class& unfed, std::size_t fed_end) {
+  impl_->feed(curves, which, whole, unfed, fed_end);
 }
 
 StripMap LevelRounds::finish() {

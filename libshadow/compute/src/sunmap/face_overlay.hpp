@@ -68,6 +68,8 @@ struct StripMap {
   mpq_class dropped{0};                      ///< chart area of cells too thin to write
 };
 
+struct FaceTiles;  // lit_tiles.hpp
+
 /// How a strip is overlaid.
 struct OverlayRequest {
   const exact::ExactFace* face = nullptr;
@@ -78,6 +80,9 @@ struct OverlayRequest {
   bool full = true;                            ///< emit the full map's cells
   std::vector<mpq_class> levels;               ///< ascending thresholds; empty: no threshold map
   std::size_t round_edges = 1000;              ///< the threshold map alone: the first round's new segments
+  /// The threshold map alone: where each instant may light the face (lit_tiles.hpp), to bound
+  /// per cell the sun still to come; null: every cell is bounded by every instant still to come.
+  const FaceTiles* tiles = nullptr;
 };
 
 /// Overlays the curves `which` of `b` inside `strip` in one arrangement (the full map, and its
@@ -104,10 +109,11 @@ class LevelRounds {
 
   /// Feeds the next instants: the curves `which` of `curves` (their boundaries on the face, in
   /// time order, each tagged with its instant), `whole` the hours of those lighting the whole
-  /// face, `unfed` the hours of every instant still to be fed (a bound on what may still come).
+  /// face, `unfed` the hours of every instant still to be fed (a bound on what may still come),
+  /// `fed_end` the number of instants fed so far (this feed included; they come in time order).
   /// Sweeps every round that these instants fill.
   void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
-            const mpq_class& unfed);
+            const mpq_class& unfed, std::size_t fed_end);
 
   /// After the last feed: the rounds left and the level regions.
   StripMap finish();

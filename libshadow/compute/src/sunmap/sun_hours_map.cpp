@@ -20,6 +20,7 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
 #include "sunmap/face_overlay.hpp"
+#include "sunmap/lit_tiles.hpp"
 
 #include <shadow/series.hpp>
 
@@ -157,10 +158,10 @@ namespace {
 
 /// The map of `faces` under `instants`: the lit regions of a batch of instants at a time (every
 /// face-instant pair of the batch in parallel), then handed on before the next batch is computed.
-/// The full map gathers each face's boundaries (its strips' one sweep needs them all); the
-/// threshold map alone feeds them to its strips' rounds (sunmap::LevelRounds) and drops them, so
-/// that it holds the boundaries of the instants not yet swept and the level boundaries, not
-/// every instant's.
+/// The full map gathers each face's boundaries (its strips' one sweep needs them all); so does
+/// the threshold map alone, whose strips then run their rounds (sunmap::LevelRounds) one job per
+/// strip, settling cells by the face's tiles (sunmap::FaceTiles); with stream_levels it feeds
+/// each batch to its strips' rounds instead and drops it.
 class MapBuilder {
  public:
   MapBuilder(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
@@ -230,6 +231,9 @@ class MapBuilder {
     outline_.resize(count);
     if (full_) bounds_.resize(count);
     else {
+      tiles_.resize(count);
+      strip_maps_.resize(count);
+      finished_.assign(count, 0);
       rounds_.resize(count);
       whole_pending_.assign(count, mpq_class(0));
       sample_.resize(count);
@@ -334,9 +338,10 @@ class MapBuilder {
         if (sample_[k].empty() && curves[k].empty()) continue;  // not cut yet
         sampled_[k] += count;
         for (Curve& c : curves[k]) sample_[k].push_back(std::move(c));
-        if (sampled_[k] < 16 && !last) continue;
+        if ((!options_.stream_levels || sampled_[k] < 16) && !last) continue;  // gathering
         curves[k] = std::move(sample_[k]);
         sample_[k] = {};
+        if (!options_.stream_levels) make_tiles(k, curves[k], whole_pending_[k]);
         start_rounds(k, curves[k], curves[k].size());
         whole[k] = whole_pending_[k];
         whole_pending_[k] = 0;
@@ -344,11 +349,43 @@ class MapBuilder {
       std::vector<std::vector<std::size_t>> which = sunmap::bucket_curves(curves[k], strips_[k]);
       for (std::size_t s = 0; s < which.size(); ++s) jobs.emplace_back(k, s, std::move(which[s]));
     }
+    // After the last batch each strip is finished in the same job (its level regions written and
+    // its arrangement freed), one strip after another per thread.
+    for (const auto& job : jobs)
+      if (last) finished_[std::get<0>(job)] = 1;
     runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
       runtime::check_stop();
       const auto& [k, s, which] = jobs[j];
-      rounds_[k][s].feed(curves[k], which, whole[k], unfed);
+      rounds_[k][s].feed(curves[k], which, whole[k], unfed, first + count);
+      if (!last) return;
+      strip_maps_[k][s] = rounds_[k][s].finish();
+      ++done_;
     });
+  }
+
+  /// Face k's tiles (sunmap::FaceTiles) from every instant's boundaries on it (`curves`, in time
+  /// order, each instant's together) and the hours of those lighting it whole: its rounds then
+  /// settle a cell by the instants not yet swept that may light the tiles under it.
+  void make_tiles(std::size_t k, const std::vector<Curve>& curves, const mpq_class& whole) {
+    std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting the face: [begin, end)
+    for (std::size_t c = 0; c < curves.size(); ++c)
+      if (c == 0 || std::labs(curves[c].data()) != std::labs(curves[c - 1].data()))
+        runs.emplace_back(c, c + 1);
+      else
+        runs.back().second = c + 1;
+    std::size_t most = 0;
+    for (const auto& [b, e] : runs) most = std::max(most, e - b);
+    sunmap::FaceTiles& t = tiles_[k];
+    t.grid = sunmap::tile_grid(requests_[k].face->chart, most);
+    if (t.grid.n == 0) return;
+    t.whole = whole;
+    t.masks.assign(t.grid.words() * n_, 0);
+    runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
+      const auto [b, e] = runs[r];
+      const std::size_t i = static_cast<std::size_t>(std::labs(curves[b].data()) - 1);
+      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + i * t.grid.words());
+    });
+    requests_[k].tiles = &t;
   }
 
   /// The strips of face k (from `sample`, the boundaries of its first instants that cut it, and
@@ -363,6 +400,7 @@ class MapBuilder {
     const std::vector<std::vector<std::size_t>> which = sunmap::bucket_curves(outline_[k], strips_[k]);
     for (std::size_t s = 0; s < strips_[k].size(); ++s)
       rounds_[k].emplace_back(requests_[k], strips_[k][s], outline_[k], which[s]);
+    strip_maps_[k].resize(rounds_[k].size());
   }
 
   /// 3. The full map: per face its outline and strips, then face-strip pairs in parallel.
@@ -399,27 +437,29 @@ class MapBuilder {
   /// parallel. A face no instant cut gets its strips (one, unless its outline is long) now.
   std::vector<std::vector<sunmap::StripMap>> finish_levels() {
     std::vector<std::pair<std::size_t, std::size_t>> jobs;
+    std::size_t strips = 0;
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       if ((*ctx_.prep)[faces_[k]].degenerate) continue;
       if (rounds_[k].empty()) {
         start_rounds(k, {}, 0);
-        for (std::size_t s = 0; s < rounds_[k].size(); ++s) rounds_[k][s].feed({}, {}, whole_pending_[k], mpq_class(0));
+        for (std::size_t s = 0; s < rounds_[k].size(); ++s)
+          rounds_[k][s].feed({}, {}, whole_pending_[k], mpq_class(0), n_);
       }
+      strips += rounds_[k].size();
+      if (finished_[k]) continue;
       for (std::size_t s = 0; s < rounds_[k].size(); ++s) jobs.emplace_back(k, s);
     }
-    total_ = faces_.size() * n_ + jobs.size();
-    std::vector<std::vector<sunmap::StripMap>> strip_maps(faces_.size());
-    for (std::size_t k = 0; k < faces_.size(); ++k) strip_maps[k].resize(rounds_[k].size());
+    total_ = faces_.size() * n_ + strips;
     runtime::parallel_for(
         jobs.size(), threads_,
         [&](unsigned, std::size_t j) {
           runtime::check_stop();
           const auto [k, s] = jobs[j];
-          strip_maps[k][s] = rounds_[k][s].finish();
+          strip_maps_[k][s] = rounds_[k][s].finish();
           ++done_;
         },
         report_);
-    return strip_maps;
+    return std::move(strip_maps_);
   }
 
   core::PreparedScene ctx_;
@@ -447,6 +487,9 @@ class MapBuilder {
   std::vector<mpq_class> whole_pending_;  ///< per face: whole-face hours before its strips exist
   std::vector<std::vector<Curve>> sample_;  ///< per face: boundaries held until its strips are chosen
   std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
+  std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
+  std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
+  std::vector<char> finished_;              ///< per face: its strips finished with the last batch
 };
 
 }  // namespace
