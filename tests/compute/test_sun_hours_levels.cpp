@@ -3,7 +3,9 @@
 // levels, shadow/sun_hours.hpp): areas worked out by hand (a box under three suns), strips
 // against the single arrangement (exact areas per hours, bit for bit, on a city and on seeded
 // random scenes), the threshold map's level areas against the full map's areas, its cells against
-// an independent ray caster, its file, and its levels parsed from the command line's text.
+// an independent ray caster, its file, and its levels parsed from the command line's text. The
+// instants computed a batch at a time (SunHoursOptions::instant_batch), gathered or streamed
+// (stream_levels), against all at once: the same exact areas, bit for bit, at 1 and 2 threads.
 #include "support/polygon_tools.hpp"
 #include "support/ray_caster.hpp"
 #include "support/scene_builders.hpp"
@@ -103,6 +105,15 @@ TEST(SunHoursLevels, BoxUnderThreeSunsHasTheAreasWorkedOutByHand) {
     EXPECT_NEAR(by_level[3.5], 388, 1e-10);
     if (strip_edges == 0) EXPECT_EQ(map.level_regions, 4u);
     EXPECT_LE(map.level_regions, map.regions);
+  }
+  // The threshold map alone, the suns fed one, two and all at a time: the same areas by hand.
+  options.full = false;
+  for (const std::size_t batch : {std::size_t{1}, std::size_t{2}, std::size_t{0}}) {
+    options.instant_batch = batch;
+    const SunHoursMap only = compute_sun_hours_map(engine, faces_of_mesh(scene, 0), box_suns(), options);
+    EXPECT_EQ(only.faces[0].level_areas, (std::vector<double>{400, 396, 392, 388, 388, 0})) << "batch " << batch;
+    EXPECT_EQ(only.faces[0].hour_area, 4 * 1.5 + 2 * 2 + 2 * 2.5 + 388 * 3.5) << "batch " << batch;
+    EXPECT_EQ(only.faces[0].instants_lit, 3u);
   }
 }
 
@@ -243,9 +254,17 @@ RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) 
   options.full = false;
   options.level_round_edges = *rc::gen::inRange<std::size_t>(1, 40);  // from one instant per round up
   const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.instant_batch = *rc::gen::inRange<std::size_t>(1, 5);  // streamed: 1 to 4 instants at a time
+  options.stream_levels = true;
+  const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   RC_ASSERT(one.faces.size() == strips.faces.size());
   RC_ASSERT(only.faces.size() == one.faces.size());
-  for (std::size_t k = 0; k < one.faces.size(); ++k) RC_ASSERT(only.faces[k].level_areas == one.faces[k].level_areas);
+  RC_ASSERT(streamed.faces.size() == one.faces.size());
+  for (std::size_t k = 0; k < one.faces.size(); ++k) {
+    RC_ASSERT(only.faces[k].level_areas == one.faces[k].level_areas);
+    RC_ASSERT(streamed.faces[k].level_areas == one.faces[k].level_areas);
+    RC_ASSERT(streamed.faces[k].hour_area == one.faces[k].hour_area);
+  }
   for (std::size_t k = 0; k < one.faces.size(); ++k) {
     const SunHoursFace &a = one.faces[k], &b = strips.faces[k];
     RC_ASSERT(a.level_areas == b.level_areas);
@@ -261,6 +280,100 @@ RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) 
         if (x.sun_hours >= one.levels[l]) sum += x.area;
       RC_ASSERT(std::abs(a.level_areas[l] - sum) <= 1e-13 * (1.0 + a.area));
     }
+  }
+}
+
+/// Every exact area of two maps, bit for bit (the areas per hours only where both have them).
+void expect_same_exact_areas(const SunHoursMap& a, const SunHoursMap& b, const std::string& what) {
+  ASSERT_EQ(a.faces.size(), b.faces.size()) << what;
+  for (std::size_t k = 0; k < a.faces.size(); ++k) {
+    const SunHoursFace &fa = a.faces[k], &fb = b.faces[k];
+    EXPECT_EQ(fa.face_id, fb.face_id) << what;
+    EXPECT_EQ(fa.area, fb.area) << what;
+    EXPECT_EQ(fa.hour_area, fb.hour_area) << what << ", face " << fa.face_id;
+    EXPECT_EQ(fa.instants_lit, fb.instants_lit) << what << ", face " << fa.face_id;
+    EXPECT_EQ(fa.level_areas, fb.level_areas) << what << ", face " << fa.face_id;
+    EXPECT_EQ(fa.areas.size(), fb.areas.size()) << what << ", face " << fa.face_id;
+    for (std::size_t h = 0; h < std::min(fa.areas.size(), fb.areas.size()); ++h) {
+      EXPECT_EQ(fa.areas[h].sun_hours, fb.areas[h].sun_hours) << what << ", face " << fa.face_id;
+      EXPECT_EQ(fa.areas[h].area, fb.areas[h].area) << what << ", face " << fa.face_id;
+    }
+  }
+}
+
+// A city under 16 suns sweeping from east to west, low to high to low, of unequal weights: walls
+// dark under the first suns and cut by later ones, roofs lit whole. The instants' lit regions
+// computed all at once (instant_batch 0) and 1, 3 and 7 at a time, gathered (the default: the
+// same cells, bit for bit) and streamed (stream_levels): the threshold map alone has the same
+// exact level areas, integral and lit instants, face by face, at 1 and 2 threads, with strips
+// and without, small rounds and large; its cells cover each level with the same area; the full
+// map is the same cell for cell.
+TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
+  Scene scene = make_city(10, 60, 11);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < 16; ++k) {
+    const double t = (k + 0.5) / 16.0;
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(4 + 50 * std::sin(3.14159 * t), 75 + 210 * t)),
+                        0.25 * (1 + k % 3)});
+  }
+  for (const unsigned threads : {1u, 2u}) {
+    const ShadowEngine engine(scene, threads);
+    SunHoursOptions options;
+    options.threads = threads;
+    options.levels = {1, 2.5, 4, 6};
+    options.full = false;
+    for (const auto [strip_edges, round_edges] : {std::pair<std::size_t, std::size_t>{0, 8}, {40, 1000}}) {
+      options.strip_edges = strip_edges;
+      options.level_round_edges = round_edges;
+      options.instant_batch = 0;
+      const SunHoursMap all = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+      std::map<std::pair<std::size_t, double>, double> want;  // (face, level): area of its cells
+      for (const SunHoursCell& c : all.level_cells) want[{c.face_id, c.sun_hours}] += c.area;
+      for (const std::size_t batch : {std::size_t{1}, std::size_t{3}, std::size_t{7}}) {
+        options.instant_batch = batch;
+        // Gathered (the default): the batches' boundaries held until the last, then the rounds
+        // of all at once, so the same cells, bit for bit.
+        options.stream_levels = false;
+        const SunHoursMap gathered = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+        const std::string what = std::to_string(threads) + " threads, strips " + std::to_string(strip_edges) +
+                                 ", rounds " + std::to_string(round_edges) + ", batch " + std::to_string(batch);
+        expect_same_exact_areas(all, gathered, what + ", gathered");
+        ASSERT_EQ(all.level_cells.size(), gathered.level_cells.size()) << what;
+        for (std::size_t c = 0; c < all.level_cells.size(); ++c) {
+          EXPECT_EQ(all.level_cells[c].polygon, gathered.level_cells[c].polygon) << what;
+          EXPECT_EQ(all.level_cells[c].area, gathered.level_cells[c].area) << what;
+          EXPECT_EQ(all.level_cells[c].sun_hours, gathered.level_cells[c].sun_hours) << what;
+          EXPECT_EQ(all.level_cells[c].region_id, gathered.level_cells[c].region_id) << what;
+        }
+        // Streamed: the same exact areas; the cells cover each level with the same area.
+        options.stream_levels = true;
+        const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+        options.stream_levels = false;
+        expect_same_exact_areas(all, streamed, what);
+        std::map<std::pair<std::size_t, double>, double> got;
+        for (const SunHoursCell& c : streamed.level_cells) got[{c.face_id, c.sun_hours}] += c.area;
+        ASSERT_EQ(got.size(), want.size()) << what;
+        for (const auto& [key, area] : got) EXPECT_NEAR(area, want[key], 1e-9 * (1 + area)) << what;
+        if (threads == 2 && batch == 3 && strip_edges == 40) EXPECT_GT(expect_level_points(scene, streamed, instants, 9), 100);
+      }
+    }
+    // The full map gathers every boundary whatever the batch: the same cells, bit for bit.
+    options.full = true;
+    options.strip_edges = 40;
+    options.instant_batch = 0;
+    const SunHoursMap all = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+    options.instant_batch = 3;
+    const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+    expect_same_exact_areas(all, streamed, "full map");
+    ASSERT_EQ(all.cells.size(), streamed.cells.size());
+    for (std::size_t c = 0; c < all.cells.size(); ++c) {
+      EXPECT_EQ(all.cells[c].polygon, streamed.cells[c].polygon);
+      EXPECT_EQ(all.cells[c].area, streamed.cells[c].area);
+      EXPECT_EQ(all.cells[c].sun_hours, streamed.cells[c].sun_hours);
+      EXPECT_EQ(all.cells[c].region_id, streamed.cells[c].region_id);
+    }
+    EXPECT_EQ(all.level_cells.size(), streamed.level_cells.size());
   }
 }
 

@@ -99,6 +99,9 @@ struct SunHoursBench {
   std::size_t strip_edges = shadow::SunHoursOptions{}.strip_edges;  ///< --strip-edges
   std::size_t level_round_edges = shadow::SunHoursOptions{}.level_round_edges;  ///< --level-round-edges
   std::size_t days = 1;              ///< --days: the same day's suns repeated (a period of equal days)
+  std::size_t instant_batch = shadow::SunHoursOptions{}.instant_batch;  ///< --instant-batch
+  bool stream_levels = false;                                            ///< --stream-levels
+  bool skip_engine = false;          ///< --no-engine: leave out the per-instant engine run (its column shows -)
 };
 
 /// `shadow-bench sun-hours` (bench_sun_hours.cpp): the exact sun-hours map of a city of `boxes`

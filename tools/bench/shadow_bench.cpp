@@ -214,6 +214,36 @@ CLI::App* add_write_city_command(CLI::App& app, WriteCityArgs& a) {
   return cmd;
 }
 
+struct SunHoursArgs {
+  std::size_t boxes = 10;
+  std::vector<std::size_t> instants{24, 96};
+  bench::SunHoursBench opt;
+};
+
+CLI::App* add_sun_hours_command(CLI::App& app, SunHoursArgs& a) {
+  CLI::App* sun_cmd = app.add_subcommand(
+      "sun-hours", "The exact sun-hours map of a generated city over an equinox day, against the per-instant engine");
+  sun_cmd->add_option("--boxes", a.boxes, "Boxes in the city")->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--instants", a.instants, "Instants over the day (12 h of daylight split evenly)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--threads", a.opt.threads, "Threads")->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--write", a.opt.write_dir, "Write the ground's map (first instant count) as DIR/sun_hours.vtp, and the city");
+  sun_cmd->add_option("--receivers", a.opt.receivers, "ground, all, or ground,all (default)");
+  sun_cmd->add_option("--days", a.opt.days, "Days from the March equinox on, each split into the instants")
+      ->check(CLI::PositiveNumber);
+  sun_cmd->add_option("--levels", a.opt.levels, "Also time the threshold map of these levels (hours)")->delimiter(',');
+  sun_cmd->add_option("--strip-edges", a.opt.strip_edges, "SunHoursOptions::strip_edges (0: one arrangement per face)");
+  sun_cmd->add_option("--level-round-edges", a.opt.level_round_edges, "SunHoursOptions::level_round_edges");
+  sun_cmd->add_option("--instant-batch", a.opt.instant_batch, "SunHoursOptions::instant_batch (0: every instant at once)");
+  sun_cmd->add_flag("--stream-levels", a.opt.stream_levels,
+                    "SunHoursOptions::stream_levels: the threshold map alone fed each batch as it comes");
+  sun_cmd->add_flag("--no-engine", a.opt.skip_engine, "Leave out the per-instant engine run (the peak is then the map's)");
+  sun_cmd->add_flag("!--no-unmerged", a.opt.unmerged, "Leave out the unmerged run (its column shows -)");
+  sun_cmd->add_flag("!--levels-only", a.opt.full, "With --levels: the threshold map alone, not the full map");
+  return sun_cmd;
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"shadow-bench: time libshadow's exact engine on generated cities and rooms"};
   std::vector<std::size_t> sizes{100, 1000, 10000};
@@ -269,25 +299,8 @@ int main(int argc, char** argv) {
   CLI::App* series_cmd = add_series_command(app, series);
   CombArgs comb;
   CLI::App* comb_cmd = add_comb_command(app, comb);
-  std::size_t sun_boxes = 10;
-  std::vector<std::size_t> sun_instants{24, 96};
-  bench::SunHoursBench sun_opt;
-  CLI::App* sun_cmd = app.add_subcommand(
-      "sun-hours", "The exact sun-hours map of a generated city over an equinox day, against the per-instant engine");
-  sun_cmd->add_option("--boxes", sun_boxes, "Boxes in the city")->check(CLI::PositiveNumber);
-  sun_cmd->add_option("--instants", sun_instants, "Instants over the day (12 h of daylight split evenly)")
-      ->delimiter(',')
-      ->check(CLI::PositiveNumber);
-  sun_cmd->add_option("--threads", sun_opt.threads, "Threads")->check(CLI::PositiveNumber);
-  sun_cmd->add_option("--write", sun_opt.write_dir, "Write the ground's map (first instant count) as DIR/sun_hours.vtp, and the city");
-  sun_cmd->add_option("--receivers", sun_opt.receivers, "ground, all, or ground,all (default)");
-  sun_cmd->add_option("--days", sun_opt.days, "Days from the March equinox on, each split into the instants")
-      ->check(CLI::PositiveNumber);
-  sun_cmd->add_option("--levels", sun_opt.levels, "Also time the threshold map of these levels (hours)")->delimiter(',');
-  sun_cmd->add_option("--strip-edges", sun_opt.strip_edges, "SunHoursOptions::strip_edges (0: one arrangement per face)");
-  sun_cmd->add_option("--level-round-edges", sun_opt.level_round_edges, "SunHoursOptions::level_round_edges");
-  sun_cmd->add_flag("!--no-unmerged", sun_opt.unmerged, "Leave out the unmerged run (its column shows -)");
-  sun_cmd->add_flag("!--levels-only", sun_opt.full, "With --levels: the threshold map alone, not the full map");
+  SunHoursArgs sun;
+  CLI::App* sun_cmd = add_sun_hours_command(app, sun);
   PlanesArgs planes;
   CLI::App* planes_cmd = add_planes_command(app, planes);
   bench::SoftOptions soft;
@@ -350,7 +363,7 @@ int main(int argc, char** argv) {
   if (comb_cmd->parsed())
     return comb.lamp ? run_comb_lamp(comb.teeth, !comb.areas_only, comb.threads, comb.lamp_height)
                      : run_comb(comb.teeth, !comb.areas_only);
-  if (sun_cmd->parsed()) return bench::run_sun_hours(sun_boxes, sun_instants, sun_opt);
+  if (sun_cmd->parsed()) return bench::run_sun_hours(sun.boxes, sun.instants, sun.opt);
   if (city_cmd->parsed()) return bench::run_area_city(city_boxes, city_diameter, city_threads);
   if (vis_cmd->parsed()) return bench::run_light_visibility(vis_boxes, vis_points, vis_threads);
   if (write_cmd->parsed())

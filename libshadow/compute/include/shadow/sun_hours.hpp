@@ -126,9 +126,24 @@ struct SunHoursOptions {
   /// The threshold map alone (`full` false): the instants' boundaries are overlaid in rounds,
   /// each keeping only the level boundaries and those of cells still undecided; the first round
   /// takes this many segments, later ones as many as keep each round's arrangement at about
-  /// four times the boundaries kept (at least four times this). Smaller rounds hold less at
+  /// twice the boundaries kept (at least twice this). Smaller rounds hold less at
   /// once, larger ones sweep less often; the results are the same.
   std::size_t level_round_edges = 1000;
+  /// The instants' lit regions are computed this many instants at a time (on every face, in
+  /// parallel) and handed on before the next are computed; 0: all at once. Both maps gather
+  /// every instant's boundaries on the faces (the full map's strips are one sweep of them; the
+  /// threshold map alone's strips then run their rounds one strip after another per thread),
+  /// unless `stream_levels`; only the culling grids are per batch. Exact areas do not depend on
+  /// it.
+  std::size_t instant_batch = 16;
+  /// The threshold map alone (`full` false): feed each batch of instants to the strips' rounds
+  /// as it comes and drop it, instead of gathering every instant's boundaries first (a face's
+  /// strips are then chosen from the first 16 instants that cut it). It never holds every
+  /// instant's boundaries, but it holds every strip's undecided cells at once, and those are
+  /// about as large over the periods measured (docs/sun-hours-map.md, "Streamed instants"):
+  /// more memory and time than gathering there. Exact areas do not depend on it; the cells may
+  /// (which cells are decided in a round depends on the hours still to be fed).
+  bool stream_levels = false;
 };
 
 /// The exact sun-hours map on `faces` (face ids, any order, duplicates ignored) of the engine's

@@ -15,6 +15,8 @@
 // face's plane, rounded once.
 #include "sunmap/face_overlay.hpp"
 
+#include "sunmap/lit_tiles.hpp"
+
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
@@ -23,6 +25,7 @@
 #include <CGAL/Arrangement_2.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <climits>
 #include <cmath>
 #include <deque>
@@ -82,103 +85,93 @@ bool clip(const Curve& c, const FT& x0, const FT& x1, Curve& out) {
   return true;
 }
 
+}  // namespace
+
 class StripOverlay {
  public:
-  StripOverlay(const OverlayRequest& r, const FaceBoundaries& b)
-      : r_(r), b_(b), n_(r.hours->size()) {
+  StripOverlay(const OverlayRequest& r, const Strip& strip) : r_(r), strip_(strip), n_(r.hours->size()) {
     exact_to_mpq(r.face->area_scale_squared, scale_.get_mpq_t());
   }
 
-  StripMap run(const std::vector<std::size_t>& which, const Strip& strip) {
-    std::vector<Curve> curves = gather(which, strip);
+  /// The full map (and its levels when asked): every curve `which` of `b` in one sweep.
+  StripMap run(const FaceBoundaries& b, const std::vector<std::size_t>& which) {
+    std::vector<Curve> curves = gather(b.curves, which, true);
     Arrangement arr;
     CGAL::insert(arr, curves.begin(), curves.end());  // one sweep: not stopped inside
     curves.clear();
     curves.shrink_to_fit();
     runtime::check_stop();
-    walk(arr, strip);
+    outline_add_ = b.base;  // crossing the outline into the chart adds the whole-face instants
+    walk(arr);
     StripMap out;
     out.level_area.resize(r_.levels.size() + 1);
     if (r_.full) {
-      if (r_.merge) merge(arr, [&](long a, long b) { return hours_at_[a] == hours_at_[b]; });
+      if (r_.merge) merge(arr, [&](long a, long c) { return hours_at_[a] == hours_at_[c]; });
       emit_all(arr, out, false);
     }
     if (!r_.levels.empty()) {
       level_.resize(hours_at_.size());
       for (std::size_t v = 0; v < hours_at_.size(); ++v) level_[v] = level_of(hours_at_[v]);
-      merge(arr, [&](long a, long b) { return level_[a] == level_[b]; });
+      merge(arr, [&](long a, long c) { return level_[a] == level_[c]; });
       emit_all(arr, out, true);
     }
     out.dropped = dropped_;
     return out;
   }
 
-  /// The threshold map alone, in rounds of instants. Each round sweeps one fresh arrangement of
-  /// the boundaries kept from the round before and the round's instants' boundaries, walks it
-  /// once for every face's hours, and replaces each hours value that can no longer change its
-  /// level (the level now is the level even if every instant still to come lit it) by the
-  /// smallest value of that level: touching faces of equal values then stay alike to the end,
-  /// and only the edges between different values (and the chart's outline and the strip's
-  /// frame) go on to the next round, each carrying the jump of value across it. The arrangement
-  /// so holds the boundaries between undecided cells and the level boundaries, not every
-  /// instant's; a round takes at least as many new segments as were kept, so that the sweeps
-  /// cost about the input's size in all. No edge is removed from a large arrangement (CGAL walks
-  /// a face's boundary to remove an edge of it: removing many from one large region is slow).
-  StripMap run_levels(const std::vector<std::size_t>& which, const Strip& strip) {
-    // X-monotone curves throughout: a kept edge is its arrangement curve, which keeps the
-    // supporting line of the segment it was cut from, so that later intersections are computed
-    // from the input's lines and not from lines through earlier intersections (whose exact
-    // numbers, and lazy expression trees, would grow round after round).
-    std::vector<XCurve> kept;
-    std::map<std::size_t, std::vector<XCurve>> by_instant;
-    for (const Curve& c : gather(which, strip)) {
+  // The threshold map alone, in rounds of instants (LevelRounds). Each round sweeps one fresh
+  // arrangement of the boundaries kept from the round before and the round's instants'
+  // boundaries, walks it once for every face's hours, and replaces each hours value that can no
+  // longer change its level (the level now is the level even if every instant still to come lit
+  // it) by the smallest value of that level: touching faces of equal values then stay alike to
+  // the end, and only the edges between different values (and the chart's outline and the
+  // strip's frame) go on to the next round, each carrying the jump of value across it. The
+  // arrangement so holds the boundaries between undecided cells and the level boundaries, not
+  // every instant's. No edge is removed from a large arrangement (CGAL walks a face's boundary to
+  // remove an edge of it: removing many from one large region is slow). X-monotone curves
+  // throughout: a kept edge is its arrangement curve, which keeps the supporting line of the
+  // segment it was cut from, so that later intersections are computed from the input's lines and
+  // not from lines through earlier intersections (whose exact numbers would grow round after
+  // round). Instants arrive in time order, a batch at a time (feed), and are swept as soon as
+  // they fill a round: only the instants not yet swept are held.
+
+  /// The outline's curves `which` (and the strip's frame): the first round's kept edges.
+  void begin(const std::vector<Curve>& outline, const std::vector<std::size_t>& which) {
+    for (const Curve& c : gather(outline, which, true)) kept_.emplace_back(c, Traits::Data_container(c.data()));
+    least_ = std::max<std::size_t>(r_.round_edges, 1);
+    want_ = static_cast<double>(least_);
+    begin_tiles();
+  }
+
+  void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
+            const mpq_class& unfed, std::size_t fed_end) {
+    fed_end_ = fed_end;
+    for (const Curve& c : gather(curves, which, false)) {
       const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
-      (i >= n_ ? kept : by_instant[i]).emplace_back(c, Traits::Data_container(c.data()));  // outline, frame first
-    }
-    mpq_class remaining(0);
-    for (const auto& [i, unused] : by_instant) remaining += (*r_.hours)[i];
-    Arrangement arr;
-    outline_base_ = true;  // the first walk adds the hours of the instants lighting the whole face
-    auto next = by_instant.begin();
-    // The new segments of a round: they cross one another (shadows of one caster at neighbouring
-    // instants), so the arrangement grows faster than they do. Each round aims its arrangement at
-    // about four times the edges kept (at least four times round_edges), scaling the next
-    // round's share by the edges each new segment brought this time, at most doubling it.
-    const std::size_t least = std::max<std::size_t>(r_.round_edges, 1);
-    double want = static_cast<double>(least);
-    while (true) {
-      runtime::check_stop();
-      const std::size_t kept_in = kept.size();
-      std::vector<XCurve> round = std::move(kept);
-      kept = {};
-      std::size_t added = 0;
-      while (next != by_instant.end() && (added == 0 || static_cast<double>(added) < want)) {
-        added += next->second.size();
-        remaining -= (*r_.hours)[next->first];
-        for (XCurve& c : next->second) round.push_back(std::move(c));
-        next->second = {};
-        ++next;
+      if (pending_.empty() || pending_.back().first != i) {
+        pending_.emplace_back(i, std::vector<XCurve>{});
+        pending_hours_ += (*r_.hours)[i];
       }
-      arr.clear();
-      CGAL::insert(arr, round.begin(), round.end());  // one sweep of a fresh arrangement
-      round = {};
-      walk(arr, strip);
-      outline_base_ = false;  // from now on the kept edges' jumps hold the base
-      settle(remaining);
-      kept = kept_curves(arr);
-      if (next == by_instant.end()) break;
-      const double edges = static_cast<double>(arr.number_of_edges());
-      const double per_new = std::max(1.0, (edges - static_cast<double>(kept_in)) / static_cast<double>(std::max<std::size_t>(added, 1)));
-      const double target = 4.0 * static_cast<double>(std::max(kept.size(), least));
-      const double aim = std::max(1.0, (target - static_cast<double>(kept.size())) / per_new);
-      want = std::min(std::max(aim, want / 4), 2 * want);
+      pending_.back().second.emplace_back(c, Traits::Data_container(c.data()));
+      ++pending_segments_;
     }
+    base_pending_ += whole;
+    unfed_ = unfed;
+    // A round takes instants until it holds `want_` new segments: sweep those that are here.
+    while (!pending_.empty() && static_cast<double>(pending_segments_) >= want_) round();
+  }
+
+  StripMap finish() {
+    unfed_ = 0;
+    while (!pending_.empty()) round();
+    if (rounds_ == 0 || sgn(base_pending_) != 0) round();  // whole-face hours still to add
     // Every value is now a level's smallest (nothing remains to come), so the kept edges are the
     // level boundaries: one last sweep of them alone gives the level regions.
-    arr.clear();
-    CGAL::insert(arr, kept.begin(), kept.end());
-    kept = {};
-    walk(arr, strip);
+    Arrangement arr;
+    CGAL::insert(arr, kept_.begin(), kept_.end());
+    kept_ = {};
+    outline_add_ = 0;
+    walk(arr);
     StripMap out;
     out.level_area.resize(r_.levels.size() + 1);
     level_.resize(hours_at_.size());
@@ -189,26 +182,136 @@ class StripOverlay {
   }
 
  private:
+  /// One round: the kept edges and the next instants' boundaries, swept, walked and settled.
+  void round() {
+    runtime::check_stop();
+    const std::size_t kept_in = kept_.size();
+    std::vector<XCurve> curves = std::move(kept_);
+    kept_ = {};
+    std::size_t added = 0;
+    while (!pending_.empty() && (added == 0 || static_cast<double>(added) < want_)) {
+      auto& [i, more] = pending_.front();
+      added += more.size();
+      pending_segments_ -= more.size();
+      pending_hours_ -= (*r_.hours)[i];
+      for (XCurve& c : more) curves.push_back(std::move(c));
+      pending_.pop_front();
+    }
+    Arrangement arr;
+    CGAL::insert(arr, curves.begin(), curves.end());  // one sweep of a fresh arrangement
+    curves = {};
+    outline_add_ = base_pending_;  // the whole-face hours fed since the last walk
+    whole_walked_ += base_pending_;
+    base_pending_ = 0;
+    walk(arr);
+    outline_add_ = 0;
+    account_tiles(pending_.empty() ? fed_end_ : pending_.front().first);
+    settle(arr, unfed_ + pending_hours_);
+    kept_ = kept_curves(arr);
+    ++rounds_;
+    // Every strip of every face is held between feeds: keep only what the next round needs
+    // (the kept edges and their jumps), not the walk's values of every face of this arrangement.
+    hours_at_ = {};
+    inside_ = {};
+    // The new segments of a round cross one another (shadows of one caster at neighbouring
+    // instants), so the arrangement grows faster than they do, up to about the square of their
+    // number. Each round aims its arrangement at about twice the edges kept (at least twice
+    // round_edges): the next share a is the smaller of what a linear guess (a x the edges each
+    // new segment brought this time) and a quadratic one (a^2 x those edges / this round's new
+    // segments) allow, at most twice the last share and at least a quarter of it. (Aiming at four
+    // times with the linear guess alone, the second round of a day's suns on a 40-box ground
+    // held 57,000-85,000 edges where about 30,000 were aimed at, and two such on two threads
+    // made the peak: docs/benchmarks.md.)
+    const double edges = static_cast<double>(arr.number_of_edges());
+    const double new_in = static_cast<double>(std::max<std::size_t>(added, 1));
+    const double per_new = std::max(1.0, (edges - static_cast<double>(kept_in)) / new_in);
+    const double target = 2.0 * static_cast<double>(std::max(kept_.size(), least_));
+    const double room = std::max(1.0, target - static_cast<double>(kept_.size()));
+    const double aim = std::max(1.0, std::min(room / per_new, std::sqrt(room * new_in / per_new)));
+    want_ = std::min(std::max(aim, want_ / 4), 2 * want_);
+  }
+
   std::size_t level_of(const mpq_class& hours) const {
     std::size_t level = 0;
     while (level < r_.levels.size() && r_.levels[level] <= hours) ++level;
     return level;
   }
 
-  /// Replaces every value that is decided, whatever the `remaining` hours to come add, by the
-  /// smallest value of its level (0 below the lowest): it keeps its level under any later
-  /// additions, since level l's smallest value plus `remaining` stays below level l + 1 when the
-  /// value did. Faces outside the chart are 0.
-  void settle(const mpq_class& remaining) {
-    for (std::size_t v = 0; v < hours_at_.size(); ++v) {
+  /// Replaces every value that is decided, whatever the hours still to come add, by the smallest
+  /// value of its level (0 below the lowest): it keeps its level under any later additions, since
+  /// level l's smallest value plus what may come stays below level l + 1 when the value did. What
+  /// may come is `remaining` (every instant not yet walked), or, with tiles, for a face the hours
+  /// not yet walked of the instants lighting the whole face, plus the most that the instants not
+  /// yet walked may bring to one tile under the face's bounding box (tiles_bound). Faces outside
+  /// the chart are 0.
+  void settle(const Arrangement& arr, const mpq_class& remaining) {
+    mpq_class bound;
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
+      const auto v = static_cast<std::size_t>(f->data());
       if (inside_[v] <= 0) {
         hours_at_[v] = 0;
         continue;
       }
       const std::size_t now = level_of(hours_at_[v]);
-      if (now != level_of(hours_at_[v] + remaining)) continue;  // undecided: kept exactly
+      if (now != level_of(hours_at_[v] + remaining)) {
+        if (remaining_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
+        tiles_bound(f, bound);
+        if (bound >= remaining || now != level_of(hours_at_[v] + bound)) continue;
+      }
       hours_at_[v] = now == 0 ? mpq_class(0) : r_.levels[now - 1];
     }
+  }
+
+  /// The tiles under the strip (columns tc0_ to tc1_) and, per tile, the hours of the instants
+  /// that may light it (lit_tiles.hpp), all of them: none is walked yet.
+  void begin_tiles() {
+    if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
+    const TileGrid& g = r_.tiles->grid;
+    tc0_ = strip_.whole ? 0 : g.column(strip_.x0);
+    tc1_ = strip_.whole ? g.n - 1 : g.column(strip_.x1);
+    remaining_.assign((tc1_ - tc0_ + 1) * g.n, 0);
+    accounted_ = 0;
+    account_tiles(n_, true);
+    whole_total_ = r_.tiles->whole;
+    for (double w : *r_.hours) most_weight_ = std::max(most_weight_, w);
+  }
+
+  /// Instants accounted_ to `end` (exclusive) leave (or, `add`, enter) the tiles' remaining hours.
+  void account_tiles(std::size_t end, bool add = false) {
+    if (remaining_.empty()) return;
+    const TileGrid& g = r_.tiles->grid;
+    for (std::size_t i = accounted_; i < end; ++i) {
+      if ((*r_.hours)[i] == 0) continue;
+      for (std::size_t c = tc0_; c <= tc1_; ++c)
+        for (std::size_t r = 0; r < g.n; ++r) {
+          if (!r_.tiles->lit(i, r * g.n + c)) continue;
+          std::uint32_t& slot = remaining_[(c - tc0_) * g.n + r];
+          if (add) ++slot;
+          else --slot;
+        }
+    }
+    if (!add) accounted_ = std::max(accounted_, end);
+  }
+
+  /// The most that the instants not yet walked may add to face `f`: the whole-face hours not yet
+  /// walked and the largest remaining hours of a tile meeting f's bounding box.
+  void tiles_bound(Arrangement::Face_const_handle f, mpq_class& bound) const {
+    const TileGrid& g = r_.tiles->grid;
+    double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
+    auto h = f->outer_ccb();
+    const auto first = h;
+    do {
+      const auto x = CGAL::to_interval(h->target()->point().x()), y = CGAL::to_interval(h->target()->point().y());
+      xmin = std::min(xmin, x.first), xmax = std::max(xmax, x.second);
+      ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
+    } while (++h != first);
+    const std::size_t c0 = std::max(tc0_, g.column(xmin)), c1 = std::min(tc1_, g.column(xmax));
+    const std::size_t r0 = g.row(ymin), r1 = g.row(ymax);
+    std::uint32_t most = 0;
+    for (std::size_t c = c0; c <= c1; ++c)
+      for (std::size_t r = r0; r <= r1; ++r) most = std::max(most, remaining_[(c - tc0_) * g.n + r]);
+    bound = whole_total_ - whole_walked_;
+    if (most != 0) bound += mpq_class(most_weight_) * most;
   }
 
   /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
@@ -243,23 +346,24 @@ class StripOverlay {
     return out;
   }
 
-  /// The curves `which` of the face, clipped to the strip, with its frame.
-  std::vector<Curve> gather(const std::vector<std::size_t>& which, const Strip& strip) {
+  /// The curves `which` of `all`, clipped to the strip, with its frame when `frame`.
+  std::vector<Curve> gather(const std::vector<Curve>& all, const std::vector<std::size_t>& which, bool frame) const {
     std::vector<Curve> curves;
     curves.reserve(which.size() + 4);
-    if (strip.whole) {
-      for (std::size_t c : which) curves.push_back(b_.curves[c]);
+    if (strip_.whole) {
+      for (std::size_t c : which) curves.push_back(all[c]);
     } else {
-      const FT x0(strip.x0), x1(strip.x1);
+      const FT x0(strip_.x0), x1(strip_.x1);
       Curve clipped;
       for (std::size_t c : which)
-        if (clip(b_.curves[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
-      Polygon2 frame;
-      frame.push_back(Point2(strip.x0, strip.ylo));
-      frame.push_back(Point2(strip.x1, strip.ylo));
-      frame.push_back(Point2(strip.x1, strip.yhi));
-      frame.push_back(Point2(strip.x0, strip.yhi));
-      add_boundary(frame, static_cast<long>(n_ + 1), curves);
+        if (clip(all[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
+      if (!frame) return curves;
+      Polygon2 rectangle;
+      rectangle.push_back(Point2(strip_.x0, strip_.ylo));
+      rectangle.push_back(Point2(strip_.x1, strip_.ylo));
+      rectangle.push_back(Point2(strip_.x1, strip_.yhi));
+      rectangle.push_back(Point2(strip_.x0, strip_.yhi));
+      add_boundary(rectangle, static_cast<long>(n_ + 1), curves);
     }
     return curves;
   }
@@ -268,7 +372,8 @@ class StripOverlay {
   /// unbounded face for a whole face; inside a strip from the face above the frame's bottom.
   /// Crossing halfedge h from h's face into its twin's leaves the regions on h's left and
   /// enters those on its right.
-  void walk(Arrangement& arr, const Strip& strip) {
+  void walk(Arrangement& arr) {
+    const Strip& strip = strip_;
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(-1);
     const Arrangement::Face_handle unbounded = arr.unbounded_face();
     unbounded->set_data(0);
@@ -312,7 +417,7 @@ class StripOverlay {
             const int step = from_in_region ? -1 : 1;
             if (i == n_) {
               inside += step;
-              if (outline_base_) value += step > 0 ? b_.base : mpq_class(-b_.base);
+              if (sgn(outline_add_) != 0) value += step > 0 ? outline_add_ : mpq_class(-outline_add_);
             } else if (i > n_) {  // run_levels: a kept edge's jump (tags are positive)
               const mpq_class& jump = jumps_[i - n_ - 2];
               value += step > 0 ? jump : mpq_class(-jump);
@@ -415,16 +520,34 @@ class StripOverlay {
   }
 
   const OverlayRequest& r_;
-  const FaceBoundaries& b_;
+  Strip strip_;
   std::size_t n_;
   mpq_class scale_;  ///< (3D area / chart area)^2, exact
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
   std::vector<std::size_t> level_;   ///< per walked face: levels reached
   std::vector<mpq_class> jumps_;     ///< run_levels: the kept edges' jumps of value (tags n + 3 + k)
-  bool outline_base_ = true;         ///< crossing the chart's outline adds the base hours
+  mpq_class outline_add_{0};         ///< the hours crossing the chart's outline inward adds
+  // The threshold map alone (LevelRounds): the edges kept from the last round, the instants fed
+  // and not yet swept (in time order: instant, its curves in the strip), their segments and
+  // hours, the whole-face hours fed since the last walk, the hours of the instants still to be fed.
+  std::vector<XCurve> kept_;
+  std::deque<std::pair<std::size_t, std::vector<XCurve>>> pending_;
+  std::size_t pending_segments_ = 0;
+  mpq_class pending_hours_{0}, base_pending_{0}, unfed_{0};
+  std::size_t least_ = 1, rounds_ = 0;
+  double want_ = 1;  ///< the new segments the next round takes (at least)
+  // With tiles (OverlayRequest::tiles): the strip's tile columns, per tile (column-major from
+  // tc0_) the hours of the instants from accounted_ on that may light it, the instants fed so far,
+  // and the whole-face hours in all and walked so far.
+  std::size_t tc0_ = 0, tc1_ = 0, accounted_ = 0, fed_end_ = 0;
+  std::vector<std::uint32_t> remaining_;
+  double most_weight_ = 0;  ///< the largest instant's hours: a tile's bound is its count times it
+  mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
+
+namespace {
 
 /// Interval bounds of a curve's x range.
 std::pair<double, double> x_range(const Curve& c) {
@@ -511,9 +634,10 @@ double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, c
   return area_3d_mpq(terms.front(), scale);
 }
 
-std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart, std::size_t strip_edges) {
-  const std::size_t count = b.curves.size();
-  if (strip_edges == 0 || count <= strip_edges) return {Strip{}};
+std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t expected, const Polygon2& chart,
+                                 std::size_t strip_edges) {
+  const std::size_t count = curves.size();
+  if (strip_edges == 0 || expected <= strip_edges || count == 0) return {Strip{}};
   double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
   for (auto v = chart.vertices_begin(); v != chart.vertices_end(); ++v) {
     const auto x = CGAL::to_interval(v->x()), y = CGAL::to_interval(v->y());
@@ -524,10 +648,10 @@ std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart,
   // outer sides and the bottom and top a unit beyond it (every lit region lies in the chart).
   std::vector<double> mids(count);
   for (std::size_t c = 0; c < count; ++c) {
-    const auto [lo, hi] = x_range(b.curves[c]);
+    const auto [lo, hi] = x_range(curves[c]);
     mids[c] = 0.5 * (lo + hi);
   }
-  const std::size_t k = std::min<std::size_t>((count + strip_edges - 1) / strip_edges, 4096);
+  const std::size_t k = std::min<std::size_t>((expected + strip_edges - 1) / strip_edges, 4096);
   std::vector<double> sides{std::floor(xmin) - 1.0};
   for (std::size_t s = 1; s < k; ++s) {
     auto nth = mids.begin() + static_cast<std::ptrdiff_t>(s * count / k);
@@ -542,17 +666,17 @@ std::vector<Strip> choose_strips(const FaceBoundaries& b, const Polygon2& chart,
   return strips;
 }
 
-std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, const std::vector<Strip>& strips) {
+std::vector<std::vector<std::size_t>> bucket_curves(const std::vector<Curve>& curves, const std::vector<Strip>& strips) {
   std::vector<std::vector<std::size_t>> out(strips.size());
   if (strips.size() == 1 && strips[0].whole) {
-    out[0].resize(b.curves.size());
-    for (std::size_t c = 0; c < b.curves.size(); ++c) out[0][c] = c;
+    out[0].resize(curves.size());
+    for (std::size_t c = 0; c < curves.size(); ++c) out[0][c] = c;
     return out;
   }
   std::vector<double> lefts(strips.size());
   for (std::size_t s = 0; s < strips.size(); ++s) lefts[s] = strips[s].x0;
-  for (std::size_t c = 0; c < b.curves.size(); ++c) {
-    const auto [lo, hi] = x_range(b.curves[c]);
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto [lo, hi] = x_range(curves[c]);
     // The strips whose [x0, x1] meets [lo, hi]: from the last whose x0 <= lo on.
     auto first = std::upper_bound(lefts.begin(), lefts.end(), lo);
     std::size_t s = first == lefts.begin() ? 0 : static_cast<std::size_t>(first - lefts.begin()) - 1;
@@ -563,9 +687,29 @@ std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, con
 
 StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
                        const Strip& strip) {
-  StripOverlay overlay(request, b);
-  if (!request.full && !request.levels.empty()) return overlay.run_levels(which, strip);
-  return overlay.run(which, strip);
+  StripOverlay overlay(request, strip);
+  return overlay.run(b, which);
+}
+
+LevelRounds::LevelRounds(const OverlayRequest& request, const Strip& strip, const std::vector<Curve>& outline,
+                         const std::vector<std::size_t>& which)
+    : impl_(std::make_unique<StripOverlay>(request, strip)) {
+  impl_->begin(outline, which);
+}
+
+LevelRounds::~LevelRounds() = default;
+LevelRounds::LevelRounds(LevelRounds&&) noexcept = default;
+LevelRounds& LevelRounds::operator=(LevelRounds&&) noexcept = default;
+
+void LevelRounds::feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
+                       const mpq_class& unfed, std::size_t fed_end) {
+  impl_->feed(curves, which, whole, unfed, fed_end);
+}
+
+StripMap LevelRounds::finish() {
+  StripMap out = impl_->finish();
+  impl_.reset();  // the kept edges and the walk's values go now, not with the face's other strips
+  return out;
 }
 
 }  // namespace shadow::sunmap

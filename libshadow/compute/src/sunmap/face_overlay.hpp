@@ -18,6 +18,7 @@
 
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <vector>
 
 namespace shadow::sunmap {
@@ -45,11 +46,14 @@ struct Strip {
 };
 
 /// Splits a face whose boundaries hold more than `strip_edges` segments into strips of about
-/// that many (0: never), at quantiles of the segments' x; else one whole strip.
-std::vector<Strip> choose_strips(const FaceBoundaries& b, const exact::Polygon2& chart, std::size_t strip_edges);
+/// that many (0: never), at quantiles of the x of the segments `curves`; else one whole strip.
+/// `expected`: the number of segments to size the strips by (curves.size() when every instant's
+/// boundaries are there; more when they are a sample, the first instants of a stream).
+std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t expected, const exact::Polygon2& chart,
+                                 std::size_t strip_edges);
 
-/// The indices of the curves of `b` that may enter each strip (by interval bounds: a superset).
-std::vector<std::vector<std::size_t>> bucket_curves(const FaceBoundaries& b, const std::vector<Strip>& strips);
+/// The indices of `curves` that may enter each strip (by interval bounds: a superset).
+std::vector<std::vector<std::size_t>> bucket_curves(const std::vector<Curve>& curves, const std::vector<Strip>& strips);
 
 /// What one strip of one face contributes.
 struct StripMap {
@@ -64,6 +68,8 @@ struct StripMap {
   mpq_class dropped{0};                      ///< chart area of cells too thin to write
 };
 
+struct FaceTiles;  // lit_tiles.hpp
+
 /// How a strip is overlaid.
 struct OverlayRequest {
   const exact::ExactFace* face = nullptr;
@@ -74,12 +80,47 @@ struct OverlayRequest {
   bool full = true;                            ///< emit the full map's cells
   std::vector<mpq_class> levels;               ///< ascending thresholds; empty: no threshold map
   std::size_t round_edges = 1000;              ///< the threshold map alone: the first round's new segments
+  /// The threshold map alone: where each instant may light the face (lit_tiles.hpp), to bound
+  /// per cell the sun still to come; null: every cell is bounded by every instant still to come.
+  const FaceTiles* tiles = nullptr;
 };
 
-/// Overlays the curves `which` of `b` inside `strip`: the cells of the chart in the strip, with
-/// hours summed exactly along a walk from a face of known hours (outside the chart: 0).
+/// Overlays the curves `which` of `b` inside `strip` in one arrangement (the full map, and its
+/// levels when asked): the cells of the chart in the strip, with hours summed exactly along a walk
+/// from a face of known hours (outside the chart: 0).
 StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
                        const Strip& strip);
+
+class StripOverlay;
+
+/// The threshold map alone of one strip (OverlayRequest::full false, with levels), fed the
+/// instants' boundaries in time order as they are computed, in rounds (docs/sun-hours-map.md,
+/// step 7): it holds the boundaries kept so far and the instants not yet swept, never every
+/// instant's. Fed everything at once it sweeps the same rounds as it would have then.
+class LevelRounds {
+ public:
+  /// `outline`: the face's chart outline (tagged with the number of instants); `which`: those of
+  /// its curves that may enter `strip` (bucket_curves). `request` must outlive this.
+  LevelRounds(const OverlayRequest& request, const Strip& strip, const std::vector<Curve>& outline,
+              const std::vector<std::size_t>& which);
+  ~LevelRounds();
+  LevelRounds(LevelRounds&&) noexcept;
+  LevelRounds& operator=(LevelRounds&&) noexcept;
+
+  /// Feeds the next instants: the curves `which` of `curves` (their boundaries on the face, in
+  /// time order, each tagged with its instant), `whole` the hours of those lighting the whole
+  /// face, `unfed` the hours of every instant still to be fed (a bound on what may still come),
+  /// `fed_end` the number of instants fed so far (this feed included; they come in time order).
+  /// Sweeps every round that these instants fill.
+  void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
+            const mpq_class& unfed, std::size_t fed_end);
+
+  /// After the last feed: the rounds left and the level regions.
+  StripMap finish();
+
+ private:
+  std::unique_ptr<StripOverlay> impl_;
+};
 
 /// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
 void add_boundary(const exact::Polygon2& polygon, long instant, std::vector<Curve>& curves);

@@ -20,6 +20,7 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/regions.hpp"
 #include "sunmap/face_overlay.hpp"
+#include "sunmap/lit_tiles.hpp"
 
 #include <shadow/series.hpp>
 
@@ -37,6 +38,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 namespace shadow {
@@ -49,7 +51,7 @@ using sunmap::Curve;
 struct InstantPart {
   LitRegion::Kind kind = LitRegion::Kind::Dark;
   std::vector<Curve> curves;  ///< Partial: the lit region's boundary, tagged with the instant
-  FT lit_area{0};             ///< the lit region's exact chart area
+  mpq_class lit_area{0};      ///< the lit region's exact chart area (no lazy DAG kept)
 };
 
 /// The instants' weights, their lights and weights checked.
@@ -152,145 +154,349 @@ double sun_hours_map_area(const SunHoursMap& map) {
   return area;
 }
 
-SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
-                                  const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options) {
-  const core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
-  const Scene& scene = *ctx.scene;
-  const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
-  const std::vector<double> hours = checked_hours(instants);
-  const std::vector<std::size_t> faces = checked_faces(scene, faces_in);
+namespace {
 
-  SunHoursMap map;
-  map.levels = checked_levels(options.levels);
-  const bool full = options.full || map.levels.empty();
-  map.full = full;
-  for (double w : hours) map.total_hours += w;  // informative; cells are summed exactly
-  // The culling grid of each directional light, built once and shared read-only by the threads.
-  std::vector<std::optional<core::LightSpaceGrid>> grids(instants.size());
-  for (std::size_t i = 0; i < instants.size(); ++i)
-    if (instants[i].light.type == LightType::Directional) grids[i].emplace(*ctx.cull, *ctx.prep, instants[i].light.to_light);
+/// The map of `faces` under `instants`: the lit regions of a batch of instants at a time (every
+/// face-instant pair of the batch in parallel), then handed on before the next batch is computed.
+/// The full map gathers each face's boundaries (its strips' one sweep needs them all); so does
+/// the threshold map alone, whose strips then run their rounds (sunmap::LevelRounds) one job per
+/// strip, settling cells by the face's tiles (sunmap::FaceTiles); with stream_levels it feeds
+/// each batch to its strips' rounds instead and drops it.
+class MapBuilder {
+ public:
+  MapBuilder(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
+             const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options)
+      : ctx_(shadow::engine::prepared_scene(engine)),
+        instants_(instants),
+        options_(options),
+        threads_(runtime::resolve_threads(runtime::checked_threads(options.threads))),
+        hours_(checked_hours(instants)),
+        faces_(checked_faces(*ctx_.scene, faces_in)),
+        n_(instants.size()) {
+    map_.levels = checked_levels(options.levels);
+    full_ = options.full || map_.levels.empty();
+    map_.full = full_;
+    for (double w : hours_) map_.total_hours += w;  // informative; cells are summed exactly
+    for (double h : map_.levels) level_q_.emplace_back(h);
+    workers_ = std::vector<Worker>(threads_);
+    for (Worker& w : workers_) w.exact.reset(ctx_.scene->faces.size(), ctx_.solids->size());
+    total_ = faces_.size() * (n_ + 1);
+    if (options.progress) report_ = [this](std::size_t) { options_.progress(Progress{done_.load(), total_.load()}); };
+    prepare_faces();
+  }
 
+  SunHoursMap build() {
+    const std::size_t batch = options_.instant_batch == 0 ? std::max<std::size_t>(n_, 1) : options_.instant_batch;
+    // unfed[b]: the hours of the instants from b on (exact), a bound on what is still to come.
+    std::vector<mpq_class> unfed(n_ + 1, mpq_class(0));
+    for (std::size_t i = n_; i-- > 0;) unfed[i] = unfed[i + 1] + mpq_class(hours_[i]);
+    for (std::size_t first = 0; first < n_; first += batch) {
+      const std::size_t count = std::min(batch, n_ - first);
+      lit_batch(first, count);
+      take_batch(first, count, unfed[first + count]);
+    }
+    std::vector<std::vector<sunmap::StripMap>> strip_maps = full_ ? overlay_full() : finish_levels();
+    // The faces in order, region ids shifted by the earlier faces'.
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      face_info_[k].hour_area = sunmap::area_3d_mpq(hour_area_[k], scales_[k]);
+      FaceMap fm = assemble(strip_maps[k], face_info_[k], scales_[k], map_.levels.size());
+      if (!full_) fm.face.areas.clear();
+      for (SunHoursCell& c : fm.cells) {
+        c.region_id += map_.regions;
+        map_.cells.push_back(std::move(c));
+      }
+      map_.regions += fm.regions;
+      for (SunHoursCell& c : fm.level_cells) {
+        c.region_id += map_.level_regions;
+        map_.level_cells.push_back(std::move(c));
+      }
+      map_.level_regions += fm.level_regions;
+      map_.faces.push_back(std::move(fm.face));
+    }
+    return std::move(map_);
+  }
+
+ private:
   struct Worker {
     ExactWorker exact;
     ShadowStats stats;
   };
-  std::vector<Worker> workers(threads);
-  for (Worker& w : workers) w.exact.reset(scene.faces.size(), ctx.solids->size());
-  const std::size_t n = instants.size();
-  std::atomic<std::size_t> done{0};
-  std::atomic<std::size_t> total{faces.size() * (n + 1)};
-  std::function<void(std::size_t)> report;
-  if (options.progress) report = [&](std::size_t) { options.progress(Progress{done.load(), total.load()}); };
 
-  // 1. The lit regions, face-instant pairs in parallel (one large ground uses every thread).
-  std::vector<InstantPart> parts(faces.size() * n);
-  runtime::parallel_for(
-      parts.size(), threads,
-      [&](unsigned wi, std::size_t job) {
-        runtime::check_stop();
-        Worker& w = workers[wi];
-        const std::size_t k = job / n, i = job % n, f = faces[k];
-        if ((*ctx.prep)[f].degenerate) {
-          ++done;
-          return;
-        }
-        const ExactFace& P = w.exact.face(ctx, f);
-        const ExactLight light = to_exact_light(instants[i].light);
-        const int side = CGAL::sign(plane_at_light(P, light));
-        LitRegion region = exact_lit_region(ctx, w.exact, f, i, light, side, instants[i].light,
-                                            grids[i] ? &*grids[i] : nullptr, w.stats);
-        InstantPart& part = parts[job];
-        part.kind = region.kind;
-        part.lit_area = region.lit_chart_area;
-        if (region.kind == LitRegion::Kind::Partial) {
-          std::vector<PolygonWithHoles2> regions;
-          region.lit.polygons_with_holes(std::back_inserter(regions));
-          for (const PolygonWithHoles2& r : regions) {
-            sunmap::add_boundary(r.outer_boundary(), static_cast<long>(i), part.curves);  // counter-clockwise
-            for (auto h = r.holes_begin(); h != r.holes_end(); ++h)
-              sunmap::add_boundary(*h, static_cast<long>(i), part.curves);  // clockwise
+  void prepare_faces() {
+    const std::size_t count = faces_.size();
+    face_info_.resize(count);
+    scales_.resize(count);
+    hour_area_.assign(count, mpq_class(0));
+    requests_.resize(count);
+    outline_.resize(count);
+    if (full_) bounds_.resize(count);
+    else {
+      tiles_.resize(count);
+      strip_maps_.resize(count);
+      finished_.assign(count, 0);
+      rounds_.resize(count);
+      whole_pending_.assign(count, mpq_class(0));
+      sample_.resize(count);
+      sampled_.assign(count, 0);
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t f = faces_[k];
+      SunHoursFace& info = face_info_[k];
+      info.face_id = f;
+      info.area = (*ctx_.face_area)[f];
+      info.level_areas.assign(map_.levels.size(), 0.0);
+      const core::FacePrep& fp = (*ctx_.prep)[f];
+      if (fp.degenerate) continue;
+      const ExactFace& P = workers_[0].exact.face(ctx_, f);
+      exact_to_mpq(P.area_scale_squared, scales_[k].get_mpq_t());
+      sunmap::add_boundary(P.chart, static_cast<long>(n_), outline_[k]);
+      requests_[k] = sunmap::OverlayRequest{&P,      &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
+                                            options_.level_round_edges};
+    }
+  }
+
+  /// 1. The lit regions of instants [first, first + count) on every face, face-instant pairs in
+  /// parallel (one large ground uses every thread), into parts_ (face-major).
+  void lit_batch(std::size_t first, std::size_t count) {
+    // The culling grid of each directional light of the batch, shared read-only by the threads.
+    std::vector<std::optional<core::LightSpaceGrid>> grids(count);
+    for (std::size_t j = 0; j < count; ++j)
+      if (instants_[first + j].light.type == LightType::Directional)
+        grids[j].emplace(*ctx_.cull, *ctx_.prep, instants_[first + j].light.to_light);
+    parts_.assign(faces_.size() * count, InstantPart{});
+    runtime::parallel_for(
+        parts_.size(), threads_,
+        [&](unsigned wi, std::size_t job) {
+          runtime::check_stop();
+          Worker& w = workers_[wi];
+          const std::size_t k = job / count, j = job % count, i = first + j, f = faces_[k];
+          if ((*ctx_.prep)[f].degenerate) {
+            ++done_;
+            return;
           }
-        }
-        ++done;
-      },
-      report);
-  grids.clear();
-
-  // 2. Per face: its boundaries, its strips; then face-strip pairs in parallel.
-  std::vector<sunmap::FaceBoundaries> bounds(faces.size());
-  std::vector<std::vector<sunmap::Strip>> strips(faces.size());
-  std::vector<std::vector<std::vector<std::size_t>>> buckets(faces.size());
-  std::vector<SunHoursFace> face_info(faces.size());
-  std::vector<mpq_class> scales(faces.size());
-  std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face index, strip)
-  std::vector<sunmap::OverlayRequest> requests(faces.size());
-  std::vector<mpq_class> level_q;
-  for (double h : map.levels) level_q.emplace_back(h);
-  for (std::size_t k = 0; k < faces.size(); ++k) {
-    const std::size_t f = faces[k];
-    SunHoursFace& info = face_info[k];
-    info.face_id = f;
-    info.area = (*ctx.face_area)[f];
-    info.level_areas.assign(map.levels.size(), 0.0);
-    const core::FacePrep& fp = (*ctx.prep)[f];
-    if (fp.degenerate) continue;
-    const ExactFace& P = workers[0].exact.face(ctx, f);
-    exact_to_mpq(P.area_scale_squared, scales[k].get_mpq_t());
-    sunmap::FaceBoundaries& b = bounds[k];
-    std::vector<FT> hour_area_terms;
-    for (std::size_t i = 0; i < n; ++i) {
-      InstantPart& part = parts[k * n + i];
-      if (part.kind == LitRegion::Kind::Dark) continue;
-      ++info.instants_lit;
-      if (hours[i] != 0 && !CGAL::is_zero(part.lit_area)) hour_area_terms.push_back(FT(hours[i]) * part.lit_area);
-      if (part.kind == LitRegion::Kind::Whole) b.base += mpq_class(hours[i]);
-      for (Curve& c : part.curves) b.curves.push_back(std::move(c));
-      part = InstantPart{};
-    }
-    // The integral of hours over the face, sum over instants of w_i x lit area_i: the same exact
-    // rational as the sum over the overlay's faces of hours x area (the tests check the cells
-    // against it), and far cheaper: n terms whose areas the lit regions already evaluated,
-    // instead of thousands of cell areas with unrelated denominators.
-    info.hour_area = area_3d(balanced_sum(hour_area_terms), P.area_scale_squared);
-    sunmap::add_boundary(P.chart, static_cast<long>(n), b.curves);
-    strips[k] = sunmap::choose_strips(b, P.chart, options.strip_edges);
-    buckets[k] = sunmap::bucket_curves(b, strips[k]);
-    requests[k] = sunmap::OverlayRequest{&P, &fp, f, &hours, options.merge_equal, full, level_q, options.level_round_edges};
-    for (std::size_t s = 0; s < strips[k].size(); ++s) jobs.emplace_back(k, s);
+          const ExactFace& P = w.exact.face(ctx_, f);
+          const ExactLight light = to_exact_light(instants_[i].light);
+          const int side = CGAL::sign(plane_at_light(P, light));
+          LitRegion region = exact_lit_region(ctx_, w.exact, f, i, light, side, instants_[i].light,
+                                              grids[j] ? &*grids[j] : nullptr, w.stats);
+          InstantPart& part = parts_[job];
+          part.kind = region.kind;
+          exact_to_mpq(region.lit_chart_area, part.lit_area.get_mpq_t());
+          if (region.kind == LitRegion::Kind::Partial) {
+            std::vector<PolygonWithHoles2> regions;
+            region.lit.polygons_with_holes(std::back_inserter(regions));
+            for (const PolygonWithHoles2& r : regions) {
+              sunmap::add_boundary(r.outer_boundary(), static_cast<long>(i), part.curves);  // counter-clockwise
+              for (auto h = r.holes_begin(); h != r.holes_end(); ++h)
+                sunmap::add_boundary(*h, static_cast<long>(i), part.curves);  // clockwise
+            }
+          }
+          ++done_;
+        },
+        report_);
   }
-  parts.clear();
-  parts.shrink_to_fit();
-  total = faces.size() * n + jobs.size();
-  std::vector<std::vector<sunmap::StripMap>> strip_maps(faces.size());
-  for (std::size_t k = 0; k < faces.size(); ++k) strip_maps[k].resize(strips[k].size());
-  runtime::parallel_for(
-      jobs.size(), threads,
-      [&](unsigned, std::size_t j) {
-        runtime::check_stop();
-        const auto [k, s] = jobs[j];
-        strip_maps[k][s] = sunmap::overlay_strip(requests[k], bounds[k], buckets[k][s], strips[k][s]);
-        buckets[k][s] = {};
-        ++done;
-      },
-      report);
 
-  // 3. The faces in order, region ids shifted by the earlier faces'.
-  for (std::size_t k = 0; k < faces.size(); ++k) {
-    FaceMap fm = assemble(strip_maps[k], face_info[k], scales[k], map.levels.size());
-    if (!full) fm.face.areas.clear();
-    for (SunHoursCell& c : fm.cells) {
-      c.region_id += map.regions;
-      map.cells.push_back(std::move(c));
+  /// 2. The batch's parts, face by face: the integral's terms and the instants lit; the
+  /// boundaries gathered (full map) or fed to the face's strips (threshold map alone).
+  void take_batch(std::size_t first, std::size_t count, const mpq_class& unfed) {
+    std::vector<std::vector<Curve>> curves(faces_.size());
+    std::vector<mpq_class> whole(faces_.size(), mpq_class(0));
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      if ((*ctx_.prep)[faces_[k]].degenerate) continue;
+      for (std::size_t j = 0; j < count; ++j) {
+        InstantPart& part = parts_[k * count + j];
+        const std::size_t i = first + j;
+        if (part.kind == LitRegion::Kind::Dark) continue;
+        ++face_info_[k].instants_lit;
+        // The integral of hours over the face, sum over instants of w_i x lit area_i: the same
+        // exact rational as the sum over the overlay's faces of hours x area (the tests check
+        // the cells against it), and far cheaper than thousands of cell areas with unrelated
+        // denominators.
+        if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
+        if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
+        std::vector<Curve>& into = full_ ? bounds_[k].curves : curves[k];
+        for (Curve& c : part.curves) into.push_back(std::move(c));
+        part = InstantPart{};
+      }
+      if (full_) bounds_[k].base += whole[k];
     }
-    map.regions += fm.regions;
-    for (SunHoursCell& c : fm.level_cells) {
-      c.region_id += map.level_regions;
-      map.level_cells.push_back(std::move(c));
+    parts_ = {};
+    if (full_) return;
+    // A face's strips are chosen from its first 16 instants that cut it (or every instant, if
+    // fewer; their boundaries are held until then), sized by those instants' segments: rounds
+    // bound each strip's arrangement, but its kept edges (about a day's boundaries, undecided or
+    // on a level's border) want strips too. A smaller sample misjudged them (the first few suns
+    // of a day, low, cut a ground little), and sizing by every instant to come would give each
+    // of ever more strips a round's worth of instants not yet swept: memory linear in them.
+    std::vector<std::tuple<std::size_t, std::size_t, std::vector<std::size_t>>> jobs;  // face, strip, curves
+    const bool last = first + count == n_;
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      if ((*ctx_.prep)[faces_[k]].degenerate) continue;
+      if (rounds_[k].empty()) {
+        whole_pending_[k] += whole[k];
+        whole[k] = 0;
+        if (sample_[k].empty() && curves[k].empty()) continue;  // not cut yet
+        sampled_[k] += count;
+        for (Curve& c : curves[k]) sample_[k].push_back(std::move(c));
+        if ((!options_.stream_levels || sampled_[k] < 16) && !last) continue;  // gathering
+        curves[k] = std::move(sample_[k]);
+        sample_[k] = {};
+        if (!options_.stream_levels) make_tiles(k, curves[k], whole_pending_[k]);
+        start_rounds(k, curves[k], curves[k].size());
+        whole[k] = whole_pending_[k];
+        whole_pending_[k] = 0;
+      }
+      std::vector<std::vector<std::size_t>> which = sunmap::bucket_curves(curves[k], strips_[k]);
+      for (std::size_t s = 0; s < which.size(); ++s) jobs.emplace_back(k, s, std::move(which[s]));
     }
-    map.level_regions += fm.level_regions;
-    map.faces.push_back(std::move(fm.face));
+    // After the last batch each strip is finished in the same job (its level regions written and
+    // its arrangement freed), one strip after another per thread.
+    for (const auto& job : jobs)
+      if (last) finished_[std::get<0>(job)] = 1;
+    runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
+      runtime::check_stop();
+      const auto& [k, s, which] = jobs[j];
+      rounds_[k][s].feed(curves[k], which, whole[k], unfed, first + count);
+      if (!last) return;
+      strip_maps_[k][s] = rounds_[k][s].finish();
+      ++done_;
+    });
   }
-  return map;
+
+  /// Face k's tiles (sunmap::FaceTiles) from every instant's boundaries on it (`curves`, in time
+  /// order, each instant's together) and the hours of those lighting it whole: its rounds then
+  /// settle a cell by the instants not yet swept that may light the tiles under it.
+  void make_tiles(std::size_t k, const std::vector<Curve>& curves, const mpq_class& whole) {
+    std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting the face: [begin, end)
+    for (std::size_t c = 0; c < curves.size(); ++c)
+      if (c == 0 || std::labs(curves[c].data()) != std::labs(curves[c - 1].data()))
+        runs.emplace_back(c, c + 1);
+      else
+        runs.back().second = c + 1;
+    std::size_t most = 0;
+    for (const auto& [b, e] : runs) most = std::max(most, e - b);
+    sunmap::FaceTiles& t = tiles_[k];
+    t.grid = sunmap::tile_grid(requests_[k].face->chart, most);
+    if (t.grid.n == 0) return;
+    t.whole = whole;
+    t.masks.assign(t.grid.words() * n_, 0);
+    runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
+      const auto [b, e] = runs[r];
+      const std::size_t i = static_cast<std::size_t>(std::labs(curves[b].data()) - 1);
+      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + i * t.grid.words());
+    });
+    requests_[k].tiles = &t;
+  }
+
+  /// The strips of face k (from `sample`, the boundaries of its first instants that cut it, and
+  /// its outline, sized by `expected` boundary segments) and their rounds, each starting from the
+  /// outline.
+  void start_rounds(std::size_t k, const std::vector<Curve>& sample, std::size_t expected) {
+    std::vector<Curve> with_outline = sample;
+    with_outline.insert(with_outline.end(), outline_[k].begin(), outline_[k].end());
+    if (strips_.size() < faces_.size()) strips_.resize(faces_.size());
+    strips_[k] = sunmap::choose_strips(with_outline, expected + outline_[k].size(), requests_[k].face->chart,
+                                       options_.strip_edges);
+    const std::vector<std::vector<std::size_t>> which = sunmap::bucket_curves(outline_[k], strips_[k]);
+    for (std::size_t s = 0; s < strips_[k].size(); ++s)
+      rounds_[k].emplace_back(requests_[k], strips_[k][s], outline_[k], which[s]);
+    strip_maps_[k].resize(rounds_[k].size());
+  }
+
+  /// 3. The full map: per face its outline and strips, then face-strip pairs in parallel.
+  std::vector<std::vector<sunmap::StripMap>> overlay_full() {
+    std::vector<std::vector<sunmap::Strip>> strips(faces_.size());
+    std::vector<std::vector<std::vector<std::size_t>>> buckets(faces_.size());
+    std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face index, strip)
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      if ((*ctx_.prep)[faces_[k]].degenerate) continue;
+      sunmap::FaceBoundaries& b = bounds_[k];
+      for (Curve& c : outline_[k]) b.curves.push_back(std::move(c));
+      outline_[k] = {};
+      strips[k] = sunmap::choose_strips(b.curves, b.curves.size(), requests_[k].face->chart, options_.strip_edges);
+      buckets[k] = sunmap::bucket_curves(b.curves, strips[k]);
+      for (std::size_t s = 0; s < strips[k].size(); ++s) jobs.emplace_back(k, s);
+    }
+    total_ = faces_.size() * n_ + jobs.size();
+    std::vector<std::vector<sunmap::StripMap>> strip_maps(faces_.size());
+    for (std::size_t k = 0; k < faces_.size(); ++k) strip_maps[k].resize(strips[k].size());
+    runtime::parallel_for(
+        jobs.size(), threads_,
+        [&](unsigned, std::size_t j) {
+          runtime::check_stop();
+          const auto [k, s] = jobs[j];
+          strip_maps[k][s] = sunmap::overlay_strip(requests_[k], bounds_[k], buckets[k][s], strips[k][s]);
+          buckets[k][s] = {};
+          ++done_;
+        },
+        report_);
+    return strip_maps;
+  }
+
+  /// 3. The threshold map alone: the rounds left and the level regions, face-strip pairs in
+  /// parallel. A face no instant cut gets its strips (one, unless its outline is long) now.
+  std::vector<std::vector<sunmap::StripMap>> finish_levels() {
+    std::vector<std::pair<std::size_t, std::size_t>> jobs;
+    std::size_t strips = 0;
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      if ((*ctx_.prep)[faces_[k]].degenerate) continue;
+      if (rounds_[k].empty()) {
+        start_rounds(k, {}, 0);
+        for (std::size_t s = 0; s < rounds_[k].size(); ++s)
+          rounds_[k][s].feed({}, {}, whole_pending_[k], mpq_class(0), n_);
+      }
+      strips += rounds_[k].size();
+      if (finished_[k]) continue;
+      for (std::size_t s = 0; s < rounds_[k].size(); ++s) jobs.emplace_back(k, s);
+    }
+    total_ = faces_.size() * n_ + strips;
+    runtime::parallel_for(
+        jobs.size(), threads_,
+        [&](unsigned, std::size_t j) {
+          runtime::check_stop();
+          const auto [k, s] = jobs[j];
+          strip_maps_[k][s] = rounds_[k][s].finish();
+          ++done_;
+        },
+        report_);
+    return std::move(strip_maps_);
+  }
+
+  core::PreparedScene ctx_;
+  const std::vector<SunHoursInstant>& instants_;
+  const SunHoursOptions& options_;
+  unsigned threads_;
+  std::vector<double> hours_;
+  std::vector<std::size_t> faces_;
+  std::size_t n_;
+  SunHoursMap map_;
+  bool full_ = true;
+  std::vector<mpq_class> level_q_;
+  std::vector<Worker> workers_;
+  std::atomic<std::size_t> done_{0}, total_{0};
+  std::function<void(std::size_t)> report_;
+  std::vector<InstantPart> parts_;          ///< the batch's lit regions, face-major
+  std::vector<SunHoursFace> face_info_;     ///< per face
+  std::vector<mpq_class> scales_;           ///< per face: (3D / chart area)^2
+  std::vector<mpq_class> hour_area_;        ///< per face: sum over instants of w_i x lit chart area
+  std::vector<sunmap::OverlayRequest> requests_;
+  std::vector<std::vector<Curve>> outline_;  ///< per face: its chart's outline (tag n)
+  std::vector<sunmap::FaceBoundaries> bounds_;  ///< the full map: per face, every boundary
+  std::vector<std::vector<sunmap::Strip>> strips_;           ///< the threshold map alone: per face
+  std::vector<std::vector<sunmap::LevelRounds>> rounds_;     ///< per face and strip
+  std::vector<mpq_class> whole_pending_;  ///< per face: whole-face hours before its strips exist
+  std::vector<std::vector<Curve>> sample_;  ///< per face: boundaries held until its strips are chosen
+  std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
+  std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
+  std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
+  std::vector<char> finished_;              ///< per face: its strips finished with the last batch
+};
+
+}  // namespace
+
+SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces,
+                                  const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options) {
+  return MapBuilder(engine, faces, instants, options).build();
 }
 
 void add_sun_hours_levels(SunHoursMap& map, const ShadowEngine& engine, const std::vector<std::size_t>& faces,

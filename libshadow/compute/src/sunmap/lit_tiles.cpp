@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The tiles an instant may light on a face (lit_tiles.hpp), in doubles but never missing one: a
+// tile that a boundary passes through is marked with its neighbours, so rounding cannot miss it,
+// and every other tile lies wholly inside or wholly outside the region, which the crossings of
+// its row's centre line tell (the rounded boundary differs from the exact one only within a
+// marked tile).
+#include "sunmap/lit_tiles.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace shadow::sunmap {
+
+std::size_t TileGrid::column(double x) const {
+  const double c = std::floor((x - x0) / dx);
+  return c <= 0 ? 0 : c >= static_cast<double>(n - 1) ? n - 1 : static_cast<std::size_t>(c);
+}
+
+std::size_t TileGrid::row(double y) const {
+  const double r = std::floor((y - y0) / dy);
+  return r <= 0 ? 0 : r >= static_cast<double>(n - 1) ? n - 1 : static_cast<std::size_t>(r);
+}
+
+TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments) {
+  TileGrid g;
+  if (segments < 16 || chart.size() < 3) return g;
+  double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
+  for (auto v = chart.vertices_begin(); v != chart.vertices_end(); ++v) {
+    const auto x = CGAL::to_interval(v->x()), y = CGAL::to_interval(v->y());
+    xmin = std::min(xmin, x.first), xmax = std::max(xmax, x.second);
+    ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
+  }
+  if (!(xmax > xmin) || !(ymax > ymin)) return g;
+  // About twice the square root of the segments per side: a tile then holds a few segments'
+  // worth of boundary, fine enough to tell a building's shade from the open ground beside it.
+  const double side = std::ceil(2.0 * std::sqrt(static_cast<double>(segments)));
+  g.n = static_cast<std::size_t>(std::min(64.0, side));
+  g.x0 = xmin;
+  g.y0 = ymin;
+  g.dx = (xmax - xmin) / static_cast<double>(g.n);
+  g.dy = (ymax - ymin) / static_cast<double>(g.n);
+  return g;
+}
+
+void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, std::uint64_t* mask) {
+  const std::size_t count = static_cast<std::size_t>(last - first);
+  const std::size_t n = g.n;
+  if (n == 0) return;
+  std::fill(mask, mask + g.words(), std::uint64_t{0});
+  std::vector<char> boundary(n * n, 0);
+  auto set = [&](std::size_t t) { mask[t / 64] |= std::uint64_t{1} << (t % 64); };
+  // The boundary's tiles: points at most half a tile apart along each segment, each marking its
+  // tile and the eight around it. Every point of the segment lies within a quarter tile of one,
+  // so every tile the segment passes through is marked.
+  const double h = std::min(g.dx, g.dy);
+  std::vector<double> xa(count), ya(count), xb(count), yb(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const Curve& curve = first[k];
+    xa[k] = CGAL::to_double(curve.source().x()), ya[k] = CGAL::to_double(curve.source().y());
+    xb[k] = CGAL::to_double(curve.target().x()), yb[k] = CGAL::to_double(curve.target().y());
+    const double length = std::hypot(xb[k] - xa[k], yb[k] - ya[k]);
+    const std::size_t steps = static_cast<std::size_t>(std::ceil(2.0 * length / h)) + 1;
+    for (std::size_t s = 0; s <= steps; ++s) {
+      const double u = static_cast<double>(s) / static_cast<double>(steps);
+      const std::size_t c = g.column(xa[k] + u * (xb[k] - xa[k])), r = g.row(ya[k] + u * (yb[k] - ya[k]));
+      for (std::size_t rr = r == 0 ? 0 : r - 1; rr <= std::min(n - 1, r + 1); ++rr)
+        for (std::size_t cc = c == 0 ? 0 : c - 1; cc <= std::min(n - 1, c + 1); ++cc) boundary[rr * n + cc] = 1;
+    }
+  }
+  // The other tiles: inside when an odd number of boundary crossings of the row's centre line lie
+  // left of the tile's centre (each crossing counted once: half-open in y).
+  std::vector<double> xs;
+  for (std::size_t r = 0; r < n; ++r) {
+    const double yc = g.y0 + (static_cast<double>(r) + 0.5) * g.dy;
+    xs.clear();
+    for (std::size_t k = 0; k < count; ++k)
+      if ((ya[k] > yc) != (yb[k] > yc)) xs.push_back(xa[k] + (yc - ya[k]) * (xb[k] - xa[k]) / (yb[k] - ya[k]));
+    std::sort(xs.begin(), xs.end());
+    for (std::size_t c = 0; c < n; ++c) {
+      const std::size_t t = r * n + c;
+      if (boundary[t]) {
+        set(t);
+        continue;
+      }
+      const double xc = g.x0 + (static_cast<double>(c) + 0.5) * g.dx;
+      const auto left = std::lower_bound(xs.begin(), xs.end(), xc) - xs.begin();
+      if (left % 2 == 1) set(t);
+    }
+  }
+}
+
+}  // namespace shadow::sunmap

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Where on a face each instant may light it, coarsely: a grid of tiles over the face's chart and,
+// per instant, the tiles its lit region may meet (a superset: every tile a boundary passes
+// through, and every tile inside the region). The threshold map alone uses it to bound the sun a
+// cell can still get by the instants still to come that may light the tiles under the cell, not
+// by every instant still to come (docs/sun-hours-map.md, step 7), so that cells in shade are
+// settled long before the end of a long period.
+#pragma once
+
+#include "sunmap/face_overlay.hpp"
+
+#include <gmpxx.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shadow::sunmap {
+
+/// A grid of n x n tiles over a chart's bounding box; n 0: no grid (the face's bound is global).
+struct TileGrid {
+  double x0 = 0, y0 = 0, dx = 1, dy = 1;
+  std::size_t n = 0;
+  std::size_t words() const { return (n * n + 63) / 64; }
+  /// The tile column of x and row of y, clamped to the grid.
+  std::size_t column(double x) const;
+  std::size_t row(double y) const;
+};
+
+/// The grid for a face whose instants' boundaries hold about `segments` segments: finer for
+/// more (up to 64 x 64), none below 16.
+TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments);
+
+/// Sets in `mask` (grid.words() words, cleared first) the tiles the region bounded by the curves
+/// [first, last) (an instant's lit region's whole boundary on the face) may meet: those the
+/// boundary passes through (with a tile's margin, so that rounding to doubles cannot miss one)
+/// and those whose centre lies inside it.
+void mark_lit_tiles(const TileGrid& grid, const Curve* first, const Curve* last, std::uint64_t* mask);
+
+/// What the threshold map alone knows in advance of one face: its grid, per instant the tiles it
+/// may light (instant i's words at i x grid.words(); all clear when it does not cut the face), and
+/// the hours of the instants that light it whole.
+struct FaceTiles {
+  TileGrid grid;
+  std::vector<std::uint64_t> masks;
+  mpq_class whole{0};
+  bool lit(std::size_t instant, std::size_t tile) const {
+    return (masks[instant * grid.words() + tile / 64] >> (tile % 64)) & 1U;
+  }
+};
+
+}  // namespace shadow::sunmap

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The tiles an instant may light on a face (sunmap/lit_tiles.hpp), which the threshold map alone
+// uses to settle cells early: they must never miss a lit point (a missed one would settle a cell
+// too soon and change the exact level areas). A square worked out by hand, then seeded random
+// regions with holes against the exact point-in-region test on a lattice finer than the tiles.
+#include "sunmap/lit_tiles.hpp"
+
+#include <gtest/gtest.h>
+
+#include <CGAL/Boolean_set_operations_2.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace shadow::sunmap {
+namespace {
+
+using exact::Point2;
+using exact::Polygon2;
+
+Polygon2 rectangle(double x0, double y0, double x1, double y1) {
+  Polygon2 p;
+  p.push_back(Point2(x0, y0));
+  p.push_back(Point2(x1, y0));
+  p.push_back(Point2(x1, y1));
+  p.push_back(Point2(x0, y1));
+  return p;
+}
+
+bool marked(const std::vector<std::uint64_t>& mask, std::size_t tile) { return (mask[tile / 64] >> (tile % 64)) & 1U; }
+
+TileGrid unit_grid(std::size_t n) {
+  TileGrid g;
+  g.n = n;
+  return g;  // tiles [c, c + 1] x [r, r + 1]
+}
+
+// The region [2, 5] x [2, 5] on a 10 x 10 grid of unit tiles: its inside tiles and the tiles
+// along its sides with their neighbours are marked; tiles two away from it are not.
+TEST(LitTiles, SquareByHand) {
+  const TileGrid g = unit_grid(10);
+  std::vector<Curve> curves;
+  add_boundary(rectangle(2, 2, 5, 5), 0, curves);
+  std::vector<std::uint64_t> mask(g.words(), ~std::uint64_t{0});
+  mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data());
+  for (std::size_t r = 2; r < 5; ++r)
+    for (std::size_t c = 2; c < 5; ++c) EXPECT_TRUE(marked(mask, r * 10 + c)) << r << " " << c;
+  for (std::size_t r = 0; r < 10; ++r)
+    for (std::size_t c = 0; c < 10; ++c) {
+      const bool far = r >= 7 || c >= 7 || r == 0 || c == 0;
+      if (far) EXPECT_FALSE(marked(mask, r * 10 + c)) << r << " " << c;
+    }
+  // The grid's helpers clamp to it.
+  EXPECT_EQ(g.column(-3.0), 0u);
+  EXPECT_EQ(g.column(42.0), 9u);
+  EXPECT_EQ(g.row(4.5), 4u);
+}
+
+// Seeded random regions: a rectangle minus a smaller one (a hole) and a second rectangle apart,
+// on grids of 7 to 40 tiles a side over [0, 20]^2. Every lattice point of step 0.1 inside the
+// region or on its boundary (exact test) lies in a marked tile, and not every tile is marked.
+TEST(LitTiles, NeverMissALitPoint) {
+  std::mt19937 rng(20261129);
+  std::uniform_real_distribution<double> u(0.0, 20.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    TileGrid g;
+    g.n = 7 + static_cast<std::size_t>(trial) % 34;
+    g.dx = g.dy = 20.0 / static_cast<double>(g.n);
+    const double ax = u(rng) * 0.5, ay = u(rng) * 0.5, aw = 2 + u(rng) * 0.4, ah = 2 + u(rng) * 0.4;
+    exact::PolygonWithHoles2 ring(rectangle(ax, ay, ax + aw, ay + ah));
+    Polygon2 hole = rectangle(ax + 0.3 * aw, ay + 0.3 * ah, ax + 0.6 * aw, ay + 0.7 * ah);
+    hole.reverse_orientation();  // clockwise, as the lit regions' holes
+    ring.add_hole(hole);
+    const Polygon2 second = rectangle(12 + u(rng) * 0.2, 12 + u(rng) * 0.2, 16 + u(rng) * 0.2, 14 + u(rng) * 0.2);
+    std::vector<Curve> curves;
+    add_boundary(ring.outer_boundary(), 3, curves);
+    add_boundary(*ring.holes_begin(), 3, curves);
+    add_boundary(second, 3, curves);
+    std::vector<std::uint64_t> mask(g.words(), 0);
+    mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data());
+    std::size_t count = 0;
+    for (std::size_t t = 0; t < g.n * g.n; ++t) count += marked(mask, t) ? 1 : 0;
+    EXPECT_LT(count, g.n * g.n) << trial;
+    for (int i = 0; i <= 200; ++i)
+      for (int j = 0; j <= 200; ++j) {
+        const Point2 p(0.1 * i, 0.1 * j);
+        const bool in_ring = ring.outer_boundary().bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE &&
+                             ring.holes_begin()->bounded_side(p) != CGAL::ON_BOUNDED_SIDE;
+        const bool in = in_ring || second.bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE;
+        if (!in) continue;
+        const std::size_t t = g.row(0.1 * j) * g.n + g.column(0.1 * i);
+        ASSERT_TRUE(marked(mask, t)) << "trial " << trial << " point " << 0.1 * i << ", " << 0.1 * j;
+      }
+  }
+}
+
+}  // namespace
+}  // namespace shadow::sunmap
