@@ -137,9 +137,6 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
     (*spread)[2 * i] += h0 - mean;
     (*spread)[2 * i + 1] += h1 - mean;
   };
-  const auto interior = [](const Element& e, int c) {
-    return (4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0;
-  };
   // An extended light's irradiance varies across a penumbra cell: the mean of the three interior
   // points of the degree-2 triangle rule, each exact.
   std::vector<SurfacePoint> points;  // made when the first extended light needs them
@@ -149,7 +146,7 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
     if (light.is_extended()) {
       if (points.empty())
         for (const Element& e : elements)
-          for (int c = 0; c < 3; ++c) points.push_back({e.face, interior(e, c)});
+          for (int c = 0; c < 3; ++c) points.push_back({e.face, interior_point(e.triangle, c)});
       const std::vector<double> h = light_irradiance(scene, light, points, threads);
       for (std::size_t i = 0; i < elements.size(); ++i) {
         direct[i] = (h[3 * i] + h[3 * i + 1] + h[3 * i + 2]) / 3.0;
@@ -193,7 +190,7 @@ std::vector<std::vector<double>> direct_irradiance(const Scene& scene, const std
       // shadow may cross one: its interior points are tested one by one.
       double h[3];
       for (int c = 0; c < 3; ++c) {
-        const glm::dvec3 p = interior(e, c);
+        const glm::dvec3 p = interior_point(e.triangle, c);
         h[c] = (first ? is_lit : lit_at(e.face, p)) ? irradiance(light, p, normals[e.face]) : 0.0;
       }
       add_spread(i, h[0], h[1], h[2]);

@@ -30,7 +30,7 @@ double integrate_over_element(const Element& e, double gap, double reach, const 
   if (spread) spread[0] = spread[1] = 0.0f;
   if (gap < 6.0 * reach) {
     double point[3];
-    for (int c = 0; c < 3; ++c) point[c] = at((4.0 * e.triangle[c] + e.triangle[(c + 1) % 3] + e.triangle[(c + 2) % 3]) / 6.0);
+    for (int c = 0; c < 3; ++c) point[c] = at(interior_point(e.triangle, c));
     const double f3 = (point[0] + point[1] + point[2]) / 3.0;
     change = std::abs(f3 - f);
     f = f3;

@@ -541,8 +541,8 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
   };
   std::unique_ptr<radiosity::Hierarchy> hierarchy;
   std::unique_ptr<FactorCache> cache;
-  DirectLight direct;
-  Surfaces surfaces;
+  DirectLight direct = light_elements(scene, options, fragments, elements, receivers, refining);
+  Surfaces surfaces = surfaces_of(scene, options, elements);
   Channel mean;
   // Colour: the same solution per channel with that channel's reflectance; the form factors
   // (the cache's rows, or the hierarchy's links) are shared.
@@ -557,22 +557,21 @@ RadiosityResult solve_radiosity(const Scene& scene, const RadiosityOptions& opti
     solve_for(c, surfaces.emit, direct.total, progress);
   };
   if (hierarchical)
-    hierarchy = make_hierarchy(scene, options, patches, elements, surfaces_of(scene, options, elements), receivers,
-                               threads, options.progress ? std::function<void(double)>(links_progress) : nullptr);
+    hierarchy = make_hierarchy(scene, options, patches, elements, surfaces, receivers, threads,
+                               options.progress ? std::function<void(double)>(links_progress) : nullptr);
   else
     cache = std::make_unique<FactorCache>(receivers, patches, elements, threads);
   // Adaptive refinement solves again on the split elements, from the start: the form factors of
   // the elements kept whole come from the cache, only the pieces' are computed.
   std::vector<std::size_t> origin;
   for (int pass = 0;; ++pass) {
-    direct = pass == 0 ? light_elements(scene, options, fragments, elements, receivers, refining)
-                       : relight(scene, options, fragments, elements, receivers, direct, origin);
-    surfaces = surfaces_of(scene, options, elements);
     mean = start_channel(elements, surfaces.rho, surfaces.emit, direct.total);
     mean.spread = direct.spread;
     solve(mean, report);
     if (!refining || !refine_once(options, pass, patches, elements, mean, result, origin)) break;
     cache->remap(origin);
+    direct = relight(scene, options, fragments, elements, receivers, direct, origin);
+    surfaces = surfaces_of(scene, options, elements);
   }
   const std::size_t n = elements.size();
   std::array<Channel, 3> rgb;

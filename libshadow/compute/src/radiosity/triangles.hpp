@@ -16,6 +16,12 @@ glm::dvec3 newell_normal(const std::vector<glm::dvec3>& polygon);
 
 double triangle_area(const Triangle& t);
 
+/// Interior point c (0, 1, 2) of the degree-2 triangle rule, (4 t[c] + t[c+1] + t[c+2]) / 6:
+/// halfway from the centroid to corner c.
+inline glm::dvec3 interior_point(const Triangle& t, int c) {
+  return (4.0 * t[c] + t[(c + 1) % 3] + t[(c + 2) % 3]) / 6.0;
+}
+
 /// Whether `p` (on the plane of `polygon`, whose normal is `normal`, any length) lies inside it:
 /// the even-odd rule in the chart that drops the normal's largest axis.
 bool inside_polygon(const std::vector<glm::dvec3>& polygon, const glm::dvec3& normal, const glm::dvec3& p);
