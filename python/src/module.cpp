@@ -1267,27 +1267,24 @@ PYBIND11_MODULE(_libshadow, m) {
           for (const FaceRadiosity& f : r.faces) face_rgb.push_back(f.radiosity_rgb);
           elements["radiosity_rgb"] = polygon_array(element_rgb);  // (n, 3): red, green, blue
           faces["radiosity_rgb"] = polygon_array(face_rgb);
-          // (faces, lights): each light's share of the direct irradiance, W/m2.
+          // (faces, columns): one of FaceRadiosity's per-light arrays, 0 past its end.
+          const auto by_light_array = [&](std::vector<double> FaceRadiosity::*field, py::ssize_t columns) {
+            py::array_t<double> out({static_cast<py::ssize_t>(r.faces.size()), columns});
+            auto cells = out.mutable_unchecked<2>();
+            for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
+              for (py::ssize_t l = 0; l < columns; ++l) {
+                const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].*field;
+                cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
+              }
+            return out;
+          };
           const py::ssize_t nl = static_cast<py::ssize_t>(scene->lights.size());
-          py::array_t<double> by_light({static_cast<py::ssize_t>(r.faces.size()), nl});
-          auto cells = by_light.mutable_unchecked<2>();
-          for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
-            for (py::ssize_t l = 0; l < nl; ++l) {
-              const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].direct_irradiance_by_light;
-              cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
-            }
-          faces["direct_irradiance_by_light"] = by_light;
-          // (faces, lights): each light's share of the irradiance, direct and reflected, W/m2.
+          // Each light's share of the direct irradiance, W/m2, (faces, lights).
+          faces["direct_irradiance_by_light"] = by_light_array(&FaceRadiosity::direct_irradiance_by_light, nl);
+          // Each light's share of the irradiance, direct and reflected, W/m2: (faces, lights), or
           // (faces, 0) when not computed (per_light off, or more than 8 lights).
           const bool shares = !r.faces.empty() && !r.faces.front().irradiance_by_light.empty();
-          py::array_t<double> all_by_light({static_cast<py::ssize_t>(r.faces.size()), shares ? nl : py::ssize_t{0}});
-          auto all_cells = all_by_light.mutable_unchecked<2>();
-          for (py::ssize_t f = 0; f < static_cast<py::ssize_t>(r.faces.size()); ++f)
-            for (py::ssize_t l = 0; l < (shares ? nl : 0); ++l) {
-              const std::vector<double>& v = r.faces[static_cast<std::size_t>(f)].irradiance_by_light;
-              all_cells(f, l) = static_cast<std::size_t>(l) < v.size() ? v[static_cast<std::size_t>(l)] : 0.0;
-            }
-          faces["irradiance_by_light"] = all_by_light;
+          faces["irradiance_by_light"] = by_light_array(&FaceRadiosity::irradiance_by_light, shares ? nl : 0);
           d["colour"] = r.colour;
           d["elements"] = elements;
           d["faces"] = faces;
