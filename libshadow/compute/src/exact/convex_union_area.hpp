@@ -367,26 +367,21 @@ class ConvexUnionArea {
       difference_fraction(s2.x, s.x, f[ndx], f[edx]);
       difference_fraction(s2.y, s.y, f[ndy], f[edy]);
       mpz_ptr z = g_.get_mpz_t();
-      // N1 = nfx nuy efy eux - nfy nux efx euy, times e_dx e_dy
-      mpz_mul(tn, f[nfx], f[nuy]);
-      mpz_mul(tn, tn, f[efy]);
-      mpz_mul(tn, tn, f[eux]);
-      mpz_mul(z, f[nfy], f[nux]);
-      mpz_mul(z, z, f[efx]);
-      mpz_mul(z, z, f[euy]);
-      mpz_sub(tn, tn, z);
-      mpz_mul(tn, tn, f[edx]);
-      mpz_mul(tn, tn, f[edy]);
-      // N2 = nfx ndy efy edx - nfy ndx efx edy, times e_ux e_uy
-      mpz_mul(td, f[nfx], f[ndy]);
-      mpz_mul(td, td, f[efy]);
-      mpz_mul(td, td, f[edx]);
-      mpz_mul(z, f[nfy], f[ndx]);
-      mpz_mul(z, z, f[efx]);
-      mpz_mul(z, z, f[edy]);
-      mpz_sub(td, td, z);
-      mpz_mul(td, td, f[eux]);
-      mpz_mul(td, td, f[euy]);
+      // cross(f, v) over a common denominator, nfx nvy efy evx - nfy nvx efx evy, times m1 m2.
+      const auto cross_with_f = [&](mpz_ptr out, mpz_srcptr nvx, mpz_srcptr evx, mpz_srcptr nvy, mpz_srcptr evy,
+                                    mpz_srcptr m1, mpz_srcptr m2) {
+        mpz_mul(out, f[nfx], nvy);
+        mpz_mul(out, out, f[efy]);
+        mpz_mul(out, out, evx);
+        mpz_mul(z, f[nfy], nvx);
+        mpz_mul(z, z, f[efx]);
+        mpz_mul(z, z, evy);
+        mpz_sub(out, out, z);
+        mpz_mul(out, out, m1);
+        mpz_mul(out, out, m2);
+      };
+      cross_with_f(tn, f[nux], f[eux], f[nuy], f[euy], f[edx], f[edy]);  // N1, times e_dx e_dy
+      cross_with_f(td, f[ndx], f[edx], f[ndy], f[edy], f[eux], f[euy]);  // N2, times e_ux e_uy
     }
     if (mpz_sgn(td) < 0) {
       mpz_neg(tn, tn);
