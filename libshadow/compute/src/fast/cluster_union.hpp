@@ -17,7 +17,11 @@
 // integer parts are exact sums (twice the area, in __int128): their order does not matter.
 #pragma once
 
+#include "fast/cluster_scratch.hpp"
+
 #include <polyclipping/clipper.hpp>
+
+#include <type_traits>
 
 #include <algorithm>
 #include <cstddef>
@@ -31,6 +35,7 @@
 namespace shadow::fast {
 
 __extension__ typedef __int128 ClusterInt128;
+static_assert(std::is_same_v<ClipperLib::cInt, long long>, "GridBox (fast/cluster_scratch.hpp) holds cInt");
 
 /// Twice the signed area of a grid polygon, exactly.
 inline ClusterInt128 twice_area(const ClipperLib::Path& path) {
@@ -71,11 +76,6 @@ inline bool is_convex_ccw(const ClipperLib::Path& path) {
   if (last_sign != 0 && first_sign != 0 && last_sign != first_sign) ++changes;  // around the end
   return changes <= 2 && twice_area(path) > 0;
 }
-
-/// A grid polygon's bounding box.
-struct GridBox {
-  ClipperLib::cInt x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
 
 inline GridBox grid_box(const ClipperLib::Path& path) {
   if (path.empty()) return {};
@@ -135,20 +135,15 @@ struct BoundaryArea {
 /// product exactly. (ax, ay), any non-zero direction (the shadows' in grid units), only speeds up the search for
 /// overlapping pairs: long thin shadows along it have wide boxes but narrow extents across it.
 /// `boxes`: the bounding box of every polygon (grid_box).
+/// `scratch`: vectors reused from call to call (the caller's worker keeps them: most receivers'
+/// clusters are small and many, and allocating for each, or finding a thread-local scratch
+/// through the dynamic linker's TLS look-up, was a visible share of the measure).
 inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, const std::vector<GridBox>& boxes,
-                                         const std::vector<std::size_t>& members, double ax = 0, double ay = 1) {
+                                         const std::vector<std::size_t>& members, double ax, double ay,
+                                         ClusterScratch& scratch) {
   namespace CL = ClipperLib;
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   const std::size_t m = members.size();
-  // Scratch kept per thread: most receivers' clusters are small and many, and allocating for
-  // each was a visible share of the measure.
-  struct Scratch {
-    std::vector<GridBox> box;
-    std::vector<std::pair<double, double>> across, covered;
-    std::vector<std::vector<std::size_t>> near;
-    std::vector<std::size_t> order, open;
-  };
-  static thread_local Scratch scratch;
   std::vector<GridBox>& box = scratch.box;
   box.resize(m);
   GridBox all{};
@@ -182,7 +177,7 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   std::vector<std::vector<std::size_t>>& near = scratch.near;
   if (near.size() < m) near.resize(m);
   for (std::size_t a = 0; a < m; ++a) near[a].clear();
-  for_overlapping_boxes(box, true, scratch.order, scratch.open, [&](std::size_t p, std::size_t o) {
+  for_overlapping_boxes(box, true, scratch.near_order, scratch.near_open, [&](std::size_t p, std::size_t o) {
     if (apart(across[p], across[o])) return;
     near[p].push_back(o);
     near[o].push_back(p);
@@ -231,8 +226,14 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
             if (A < 0 || !(gx * dx + gy * dy > 0 && j < i)) empty = true;
             continue;  // collinear, same way, lower index: this side's boundary, counted there
           }
-          const double t = -static_cast<double>(A) / static_cast<double>(B);
           computed = true;
+          // Both ends of the edge inside h >= 0 (A >= 0 and A + B >= 0): t = -A / B is at most 0
+          // (B > 0) or at least 1 (B < 0), and lo >= 0, hi <= 1 already, so it changes neither
+          // (rounding is monotonic, and 0 and 1 are doubles). Most of a cluster's edge pairs are
+          // such; their division was the measure's most expensive instruction. (A + B is taken
+          // only where B < 0 <= A: opposite signs, no overflow.)
+          if (A >= 0 && (B > 0 || A + B >= 0)) continue;
+          const double t = -static_cast<double>(A) / static_cast<double>(B);
           if (B > 0) lo = std::max(lo, t);
           else hi = std::min(hi, t);
           if (!(lo < hi)) empty = true;
@@ -293,33 +294,41 @@ struct ClusteredArea {
 /// bounding boxes overlap with positive area, transitively. A convex singleton is its shoelace
 /// area; a cluster of convex polygons is measured by its boundary (boundary_union_area2); any
 /// other cluster goes through one Clipper union.
+/// `scratch`: the caller's reusable vectors (a fast-path worker's), or none (allocated here).
 inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, double ax = 0, double ay = 1,
-                                          ClusterUnionCounts* counts = nullptr) {
+                                          ClusterUnionCounts* counts = nullptr, ClusterScratch* scratch = nullptr) {
   namespace CL = ClipperLib;
+  ClusterScratch local;
+  ClusterScratch& s = scratch ? *scratch : local;
   const std::size_t n = polygons.size();
-  std::vector<GridBox> box(n);
+  std::vector<GridBox>& box = s.boxes;
+  box.resize(n);
   for (std::size_t p = 0; p < n; ++p) box[p] = grid_box(polygons[p]);
   // Union-find over the pairs whose boxes overlap with positive area (touching adds no area).
-  std::vector<std::size_t> parent(n);
+  std::vector<std::size_t>& parent = s.parent;
+  parent.resize(n);
   std::iota(parent.begin(), parent.end(), std::size_t{0});
   auto find = [&](std::size_t a) {
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  std::vector<std::size_t> order, open;
-  for_overlapping_boxes(box, false, order, open, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); });
+  for_overlapping_boxes(box, false, s.order, s.open, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); });
   // Members of each cluster, in input order.
-  std::vector<std::size_t> first(n, n), next(n, n), last(n, n);
+  std::vector<std::size_t>&first = s.first, &next = s.next, &last = s.last;
+  first.assign(n, n);
+  next.assign(n, n);
+  last.assign(n, n);
   for (std::size_t p = 0; p < n; ++p) {
     const std::size_t r = find(p);
     if (first[r] == n) first[r] = p;
     else next[last[r]] = p;
     last[r] = p;
   }
-  std::vector<char> convex(n);
+  std::vector<char>& convex = s.convex;
+  convex.resize(n);
   for (std::size_t p = 0; p < n; ++p) convex[p] = is_convex_ccw(polygons[p]) ? 1 : 0;
   ClusteredArea out;
-  std::vector<std::size_t> members;
+  std::vector<std::size_t>& members = s.members;
   CL::Paths cluster, united;
   for (std::size_t r = 0; r < n; ++r) {
     if (first[r] == n) continue;
@@ -335,7 +344,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
       continue;
     }
     if (all_convex) {
-      const BoundaryArea b = boundary_union_area2(polygons, box, members, ax, ay);
+      const BoundaryArea b = boundary_union_area2(polygons, box, members, ax, ay, s);
       out.boundary.twice_area += b.twice_area;
       out.boundary.error += b.error + 2 * std::numeric_limits<double>::epsilon() * std::abs(out.boundary.twice_area);
       if (counts) ++counts->boundaries;

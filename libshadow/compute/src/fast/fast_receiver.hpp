@@ -10,6 +10,7 @@
 #include "core/face_prep.hpp"
 #include "core/prepared_scene.hpp"
 #include "core/tiles.hpp"
+#include "fast/cluster_scratch.hpp"
 
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
@@ -24,6 +25,7 @@ namespace shadow::fast {
 /// Per-thread scratch state.
 struct FastWorker {
   core::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
+  ClusterScratch cluster;          ///< the clustered union's vectors (fast/cluster_union.hpp)
 };
 
 /// What compute_receiver did with a receiver (or tile).

@@ -159,7 +159,7 @@ bool ReceiverJob::unite() {
       // convex casts are measured by their boundary, without rounding intersection points:
       // their arithmetic bound replaces the union's rounding term.
       const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
-      const ClusteredArea area = clustered_union_area(*casts, along.x * grid_.scale[0], along.y * grid_.scale[1]);
+      const ClusteredArea area = clustered_union_area(*casts, along.x * grid_.scale[0], along.y * grid_.scale[1], nullptr, &w_.cluster);
       if (area.clipper) bound_.union_rounding(cast_length_, rho_);
       bound_.boundary_arithmetic(0.5 * area.boundary.error * grid_.step[0] * grid_.step[1]);
       shadow2 = area.exact2;
