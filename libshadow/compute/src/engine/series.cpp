@@ -61,49 +61,97 @@ std::vector<std::size_t> by_direction(const std::vector<Light>& lights) {
   return order;
 }
 
-/// The table while it is computed: batch by batch, each batch's values in one block of `rows` x
-/// (its instant count) cells, a receiver's values for the batch's instants side by side. A batch
-/// so writes one compact block instead of a few cells in every row of the row-major table.
-/// Measured on the 2-core benchmark machine (a virtual machine), writing every row of a table of
-/// tens of MB once per batch had doubled the fast path's time on one thread: a page not touched for
-/// a fraction of a second costs microseconds to write again there; anywhere, it is a cache and
-/// TLB miss per cell. The rows are put together once, at the end (to_row_major).
-struct BatchBlocks {
-  std::size_t rows = 0, instants = 0, batch = 1;
-  std::vector<double> lit_area, lit_fraction, lit_area_error_bound;
-  std::vector<unsigned char> faces_light;
-
-  BatchBlocks(std::size_t rows_, std::size_t instants_, std::size_t batch_)
-      : rows(rows_), instants(instants_), batch(batch_), lit_area(rows_ * instants_), lit_fraction(rows_ * instants_),
-        lit_area_error_bound(rows_ * instants_), faces_light(rows_ * instants_) {}
-  /// Cell of row r at `position`, the position in the computing order (instant order[position]).
-  [[nodiscard]] std::size_t at(std::size_t r, std::size_t position) const {
-    const std::size_t first = position - position % batch, width = std::min(batch, instants - first);
-    return first * rows + r * width + (position - first);
-  }
-  /// Into `result`'s row-major arrays, each position to its instant order[position]: rows in
-  /// groups, so that a group's rows of every block are read while the group's rows are written.
-  void to_row_major(SeriesResult& result, const std::vector<std::size_t>& order, unsigned threads) const {
+/// The table while it is computed. Batches of neighbouring suns (receiver by receiver) write
+/// into a stage of a few batches, one compact block per batch (a receiver's values for the
+/// batch side by side); a full stage goes into the row-major table as one contiguous run per
+/// row, its columns in the computing order (column p holds instant order[p]); at the end each
+/// row is put in the lights' order. Writing a few cells into every row of the table once per
+/// batch had been a third of the fast path's time on the 2-core benchmark machine (a virtual
+/// machine, where a 4 KiB page not touched for ~100 ms costs microseconds to touch again;
+/// anywhere, a cache and TLB miss per cell): docs/benchmarks.md, "Ninth look". The stage holds
+/// at most 64 instants (and no more than the table): memory beyond the table's stays small.
+class StagedTable {
+ public:
+  StagedTable(SeriesResult& result, std::size_t rows, std::size_t instants, std::size_t batch)
+      : result_(result), rows_(rows), instants_(instants), batch_(batch),
+        length_(std::min(instants, batch * std::max<std::size_t>(1, 64 / batch))) {
     result.lit_area.assign(rows * instants, 0.0);
     result.lit_fraction.assign(rows * instants, 0.0);
     result.lit_area_error_bound.assign(rows * instants, 0.0);
     result.faces_light.assign(rows * instants, 0);
-    runtime::parallel_for_blocks(rows, 64, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t first = 0; first < instants; first += batch) {
-        const std::size_t width = std::min(batch, instants - first);
-        for (std::size_t r = begin; r < end; ++r) {
-          const std::size_t from = first * rows + r * width, row = r * instants;
-          for (std::size_t j = 0; j < width; ++j) {
-            const std::size_t to = row + order[first + j];
-            result.lit_area[to] = lit_area[from + j];
-            result.lit_fraction[to] = lit_fraction[from + j];
-            result.lit_area_error_bound[to] = lit_area_error_bound[from + j];
-            result.faces_light[to] = faces_light[from + j];
-          }
-        }
-      }
+    lit_area_.resize(rows * length_);
+    lit_fraction_.resize(rows * length_);
+    bound_.resize(rows * length_);
+    faces_light_.resize(rows * length_);
+  }
+
+  /// Before the batch starting at `position` (a multiple of the batch size): the stage before
+  /// it goes into the table when the batch starts a new one.
+  void begin_batch(std::size_t position, unsigned threads) {
+    if (position >= first_ + length_) {
+      flush(threads);
+      first_ = position - position % length_;
+    }
+  }
+
+  void write(std::size_t r, std::size_t position, const FaceLighting& lighting) {
+    const std::size_t at = cell(r, position);
+    lit_area_[at] = lighting.lit_area;
+    lit_fraction_[at] = lighting.lit_fraction;
+    faces_light_[at] = lighting.faces_light ? 1 : 0;
+    bound_[at] = lighting.lit_area_error_bound;
+  }
+
+  /// The last stage into the table, then every row from the computing order to the lights'.
+  void finish(const std::vector<std::size_t>& order, unsigned threads) {
+    flush(threads);
+    bool identity = true;
+    for (std::size_t p = 0; p < order.size() && identity; ++p) identity = order[p] == p;
+    if (identity) return;
+    std::vector<std::vector<double>> scratch(threads, std::vector<double>(instants_));
+    std::vector<std::vector<unsigned char>> scratch_flags(threads, std::vector<unsigned char>(instants_));
+    auto permute = [&](auto* row, auto& tmp) {
+      for (std::size_t p = 0; p < instants_; ++p) tmp[order[p]] = row[p];
+      std::copy(tmp.begin(), tmp.end(), row);
+    };
+    runtime::parallel_for(rows_, threads, [&](unsigned wi, std::size_t r) {
+      const std::size_t at = result_.at(r, 0);
+      permute(result_.lit_area.data() + at, scratch[wi]);
+      permute(result_.lit_fraction.data() + at, scratch[wi]);
+      permute(result_.lit_area_error_bound.data() + at, scratch[wi]);
+      permute(result_.faces_light.data() + at, scratch_flags[wi]);
     });
   }
+
+ private:
+  /// The stage's cell of row r at `position` (in the current stage).
+  [[nodiscard]] std::size_t cell(std::size_t r, std::size_t position) const {
+    const std::size_t batch_first = position - position % batch_;
+    const std::size_t width = std::min(batch_, instants_ - batch_first);
+    return (batch_first - first_) * rows_ + r * width + (position - batch_first);
+  }
+
+  /// The stage's positions [first_, first_ + length_) into every row, rows in groups of 64.
+  void flush(unsigned threads) {
+    const std::size_t end = std::min(first_ + length_, instants_);
+    runtime::parallel_for_blocks(rows_, 64, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t stop) {
+      for (std::size_t r = begin; r < stop; ++r)
+        for (std::size_t b = first_; b < end; b += batch_) {
+          const std::size_t width = std::min(batch_, instants_ - b);
+          const std::size_t from = (b - first_) * rows_ + r * width, to = result_.at(r, b);
+          std::copy_n(lit_area_.data() + from, width, result_.lit_area.data() + to);
+          std::copy_n(lit_fraction_.data() + from, width, result_.lit_fraction.data() + to);
+          std::copy_n(bound_.data() + from, width, result_.lit_area_error_bound.data() + to);
+          std::copy_n(faces_light_.data() + from, width, result_.faces_light.data() + to);
+        }
+    });
+  }
+
+  SeriesResult& result_;
+  std::size_t rows_, instants_, batch_, length_;
+  std::size_t first_ = 0;  ///< the stage's first position
+  std::vector<double> lit_area_, lit_fraction_, bound_;
+  std::vector<unsigned char> faces_light_;
 };
 
 }  // namespace
@@ -151,14 +199,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   mode.fast = fast;
   mode.polygons = false;
   mode.split_above = fast ? options.fast_tile_casters : options.tile_casters;
-  BatchBlocks blocks(rows, instants, batch);
-  auto write_row = [&](std::size_t r, std::size_t position, const FaceLighting& lighting) {
-    const std::size_t at = blocks.at(r, position);
-    blocks.lit_area[at] = lighting.lit_area;
-    blocks.lit_fraction[at] = lighting.lit_fraction;
-    blocks.faces_light[at] = lighting.faces_light ? 1 : 0;
-    blocks.lit_area_error_bound[at] = lighting.lit_area_error_bound;
-  };
+  StagedTable table(result, rows, instants, batch);
   // Progress in instants, moving through both rounds of a batch: a fraction of the batch is done,
   // the first round standing for (1 - tile_share) of it and the tile round for the rest.
   // tile_share is the tile round's share of the previous batch's time (neighbouring instants
@@ -169,6 +210,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
+    table.begin_batch(first, threads);
     runtime::parallel_for(count, threads, [&](unsigned, std::size_t k) {
       grids[k].reset();
       const Light& light = lights[order[first + k]];
@@ -207,14 +249,13 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
         },
         mode, workers,
         [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; },
-        [&](std::size_t item, const Impl::Item& out) { write_row(item / count, first + item % count, out.lighting); },
+        [&](std::size_t item, const Impl::Item& out) { table.write(item / count, first + item % count, out.lighting); },
         progress);
     const double seconds = done.first_seconds + done.tile_seconds;
     tile_share = done.split > 0 && seconds > 0 ? done.tile_seconds / seconds : 0.0;
     report_instants(first + count);
   }
-  blocks.to_row_major(result, order, threads);
-  blocks = BatchBlocks(0, 0, 1);  // freed before the area lights' pass and the return
+  table.finish(order, threads);
   // Area lights and disks shine forward only: their centre's areas cut to the light's emitting
   // side, as compute() does (docs/area-lights.md).
   for (std::size_t i = 0; i < instants; ++i) {
