@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -156,6 +157,27 @@ TEST(ClusterUnion, RandomConvexClustersAgreeWithAFineClipperUnion) {
     EXPECT_LT(error_of(a), 1e-9 * (1 + fine)) << "round " << round;
   }
   EXPECT_GT(boundaries, 200u);  // the boundary measure was reached
+}
+
+// The fast path's workers keep one ClusterScratch for every union they measure (no allocation,
+// no thread-local look-up per receiver): a scratch reused across clusters of every size, large
+// after small and small after large, gives the same bits as a fresh one each time.
+TEST(ClusterUnion, AReusedScratchGivesTheSameBitsAsAFreshOne) {
+  std::mt19937 rng(20261129);
+  shadow::fast::ClusterScratch reused;
+  std::size_t boundaries = 0;
+  for (int round = 0; round < 200; ++round) {
+    const std::size_t count = 1 + static_cast<std::size_t>((round * 7) % 30);
+    const CL::Paths polygons = random_convex(rng, count, round % 3 ? 40 : 400);
+    ClusterUnionCounts counts;
+    const ClusteredArea fresh = shadow::fast::clustered_union_area(polygons, 1, 0.25, &counts);
+    const ClusteredArea again = shadow::fast::clustered_union_area(polygons, 1, 0.25, nullptr, &reused);
+    boundaries += counts.boundaries;
+    EXPECT_TRUE(fresh.exact2 == again.exact2) << "round " << round;
+    EXPECT_EQ(std::memcmp(&fresh.boundary.twice_area, &again.boundary.twice_area, sizeof(double)), 0) << "round " << round;
+    EXPECT_EQ(std::memcmp(&fresh.boundary.error, &again.boundary.error, sizeof(double)), 0) << "round " << round;
+  }
+  EXPECT_GT(boundaries, 100u);
 }
 
 // Near the grid's limits (coordinates up to 2^30, as on a receiver's grid): the interval ends are

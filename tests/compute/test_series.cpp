@@ -198,6 +198,48 @@ TEST(Series, InstantsInSunOrderLandInTheirColumnsFast) {
   expect_series_equals_compute(shadow::Arithmetic::Fast, 0, days_of_suns());
 }
 
+// Many instants: compute_series stages the batches' values (engine/series.cpp, StagedTable: at
+// most 64 instants a stage, or one batch when a batch is larger) and puts each row in the
+// lights' order at the end. 150 suns against one-light compute, bit for bit, at 1 thread (batches
+// of 8: two full stages, a partial one, a partial last batch), 3 (batches of 12, stages of 60)
+// and 20 (batches of 80, larger than a stage: one batch a stage, a partial last batch).
+TEST(Series, ManyInstantsThroughTheStagesLandInTheirColumns) {
+  shadow::Scene scene = shadow::make_city(25, 60.0, 7);
+  shadow::validate_scene(scene);
+  const shadow::ShadowEngine engine(scene, 2);
+  std::vector<shadow::Light> lights;
+  for (int day = 0; day < 30; ++day)
+    for (double hour = 8; hour <= 16; hour += 2)
+      lights.push_back(shadow::directional_light("s", equinox_sun(48.0 - 0.2 * day, hour)));
+  ASSERT_EQ(lights.size(), 150u);
+  shadow::ShadowOptions one;
+  one.threads = 2;
+  one.polygons = false;
+  one.arithmetic = shadow::Arithmetic::Fast;
+  std::vector<shadow::ShadowResult> expected;
+  for (std::size_t i = 0; i < lights.size(); ++i) expected.push_back(engine.compute(lights[i], i, one));
+  for (unsigned threads : {1u, 3u, 20u}) {
+    shadow::SeriesOptions options;
+    options.threads = threads;
+    options.arithmetic = shadow::Arithmetic::Fast;
+    const shadow::SeriesResult series = engine.compute_series(lights, options);
+    ASSERT_EQ(series.instants, lights.size());
+    ASSERT_EQ(series.lit_area.size(), series.faces.size() * lights.size());
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < lights.size(); ++i)
+      for (std::size_t r = 0; r < series.faces.size(); ++r) {
+        const shadow::FaceLighting& fl = expected[i].lighting[r];
+        const std::size_t at = series.at(r, i);
+        const bool same = std::memcmp(&fl.lit_area, &series.lit_area[at], sizeof(double)) == 0 &&
+                          std::memcmp(&fl.lit_fraction, &series.lit_fraction[at], sizeof(double)) == 0 &&
+                          std::memcmp(&fl.lit_area_error_bound, &series.lit_area_error_bound[at], sizeof(double)) == 0 &&
+                          fl.faces_light == (series.faces_light[at] != 0);
+        differing += same ? 0 : 1;
+      }
+    EXPECT_EQ(differing, 0u) << threads << " threads";
+  }
+}
+
 // Receivers above the tile threshold are split in the series as in compute(): the same bits
 // (exact: also the same as untiled).
 TEST(Series, TiledReceiversEqualOneLightComputeExact) { expect_series_equals_compute(shadow::Arithmetic::Exact, 6); }

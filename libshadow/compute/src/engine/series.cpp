@@ -69,7 +69,8 @@ std::vector<std::size_t> by_direction(const std::vector<Light>& lights) {
 /// batch had been a third of the fast path's time on the 2-core benchmark machine (a virtual
 /// machine, where a 4 KiB page not touched for ~100 ms costs microseconds to touch again;
 /// anywhere, a cache and TLB miss per cell): docs/benchmarks.md, "Ninth look". The stage holds
-/// at most 64 instants (and no more than the table): memory beyond the table's stays small.
+/// 64 instants, or one batch where a batch is larger (4 per thread beyond 16 threads), and no
+/// more than the table: memory beyond the table's stays small.
 class StagedTable {
  public:
   StagedTable(SeriesResult& result, std::size_t rows, std::size_t instants, std::size_t batch)

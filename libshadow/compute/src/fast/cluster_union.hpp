@@ -21,8 +21,6 @@
 
 #include <polyclipping/clipper.hpp>
 
-#include <type_traits>
-
 #include <algorithm>
 #include <cstddef>
 #include <cmath>
@@ -30,6 +28,7 @@
 #include <limits>
 #include <utility>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 namespace shadow::fast {
