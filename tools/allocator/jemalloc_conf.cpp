@@ -9,7 +9,7 @@
 // prepared faces, the light-space grids and a series' table every few hundred milliseconds; on
 // the 2-core benchmark machine (a virtual machine) a 4 KiB page not touched for ~100 ms then
 // costs 3-8 microseconds to read or write again, a 2 MiB page nothing measurable
-// (docs/benchmarks.md, "Huge pages"). Measured there side by side: a sample of the year's suns
+// (docs/benchmarks.md, "Ninth look"). Measured there side by side: a sample of the year's suns
 // on the 1,000-box city 20% less time (fast) and 13% (exact); a million faces the same wall
 // time (the shadows 12% faster, reading 0.7 s slower: huge pages are zeroed whole) and 5% more
 // peak memory.
