@@ -192,24 +192,23 @@ class LightSpaceGrid {
     // not patterns, so every branch was a likely misprediction; those were most of a query's
     // time (perf: the samples on the branches after the comparisons).
     const double b2 = b[2] + margin_, b3 = b[3] + margin_;
-    auto overlaps = [&](const Box& o) {
-      return static_cast<bool>(static_cast<int>(o[0] <= b2) & static_cast<int>(b[0] <= o[2] + margin_) &
-                               static_cast<int>(o[1] <= b3) & static_cast<int>(b[1] <= o[3] + margin_));
+    auto overlaps = [&](const Box& o) -> int {
+      return int{o[0] <= b2} & int{b[0] <= o[2] + margin_} & int{o[1] <= b3} & int{b[1] <= o[3] + margin_};
     };
     for (int v = v0; v <= v1; ++v)
       for (int u = u0; u <= u1; ++u) {
         const std::size_t c = static_cast<std::size_t>(v) * nu_ + u;
         for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
-          // The entry's own copy of its item's box: read in cell order, no jump per entry.
           // An item is taken only in the first cell (lowest u, lowest v) that both the query
           // and the item cover: the item is registered in cells [iu, ...] x [iv, ...] and the
           // query visits [u0, u1] x [v0, v1]; with the boxes overlapping by the margin, iu <= u1
           // and u0 <= the item's last cell (and so for v), so that cell is visited and holds
           // the item. Integers only: no floor and division per entry, as a corner's cell took.
           const std::uint32_t first = entry_first_[e];
-          const bool home = (static_cast<int>(std::max(u0, static_cast<int>(first & 0xffff)) == u) &
-                             static_cast<int>(std::max(v0, static_cast<int>(first >> 16)) == v)) != 0;
-          if (!(static_cast<int>(overlaps(entry_boxes_[e])) & static_cast<int>(home))) continue;
+          const int home = int{std::max(u0, static_cast<int>(first & 0xffff)) == u} &
+                           int{std::max(v0, static_cast<int>(first >> 16)) == v};
+          // The entry's own copy of its item's box: read in cell order, no jump per entry.
+          if (!(overlaps(entry_boxes_[e]) & home)) continue;
           // The item's faces whose own boxes overlap.
           for (std::uint32_t k = item_start_[entries_[e]]; k < item_start_[entries_[e] + 1]; ++k) {
             const std::uint32_t f = item_faces_[k];

@@ -28,6 +28,7 @@
 #include <limits>
 #include <utility>
 #include <numeric>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -297,8 +298,8 @@ struct ClusteredArea {
 inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, double ax = 0, double ay = 1,
                                           ClusterUnionCounts* counts = nullptr, ClusterScratch* scratch = nullptr) {
   namespace CL = ClipperLib;
-  ClusterScratch local;
-  ClusterScratch& s = scratch ? *scratch : local;
+  std::optional<ClusterScratch> local;  // only when the caller keeps none
+  ClusterScratch& s = scratch ? *scratch : local.emplace();
   const std::size_t n = polygons.size();
   std::vector<GridBox>& box = s.boxes;
   box.resize(n);
