@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -87,6 +88,48 @@ TEST(FaceArea, MixedExponentsInOneFace) {
   const std::vector<glm::dvec3> right{{tiny, 0, 0}, {tiny + std::ldexp(1.0, 500), 0, 0}, {tiny, 1, 0}};
   EXPECT_TRUE(same_area(right));
   EXPECT_GT(compared, 200);
+}
+
+// Faces square to an axis whose exact area lies halfway between two doubles: the area is |T|
+// 2^(2e-1) for an integer T (planar_face_area's fixed-width route rounds T once), so it must round
+// to even as the lazy exact face's root does. Also beside the subnormal range, where scaling a
+// rounded T would round twice.
+TEST(FaceArea, HalfwayAreasRoundToEven) {
+  // 3 x b = 2^54 + 2, halfway between 2^54 and 2^54 + 4: to 2^54. 5 x c = 2^54 + 6: to 2^54 + 8.
+  const double b = static_cast<double>(((std::uint64_t{1} << 54) + 2) / 3);
+  const double c = static_cast<double>(((std::uint64_t{1} << 54) + 6) / 5);
+  ASSERT_EQ(3 * static_cast<std::uint64_t>(b), (std::uint64_t{1} << 54) + 2);
+  ASSERT_EQ(5 * static_cast<std::uint64_t>(c), (std::uint64_t{1} << 54) + 6);
+  struct Case {
+    double width, height, area;
+  };
+  for (const Case& k : {Case{3, b, std::ldexp(1.0, 54)}, Case{5, c, std::ldexp(1.0, 54) + 8}}) {
+    for (int axis = 0; axis < 3; ++axis)
+      for (int shift : {0, -30, 20}) {
+        // The rectangle in the plane x_axis = 7, at an offset, scaled by 2^shift (area by 2^(2 shift)).
+        auto at = [&](double u, double v) {
+          glm::dvec3 p(0.0);
+          p[axis] = std::ldexp(7.0, shift);
+          p[(axis + 1) % 3] = std::ldexp(u + 1024, shift);
+          p[(axis + 2) % 3] = std::ldexp(v, shift);
+          return p;
+        };
+        const std::vector<glm::dvec3> rect{at(0, 0), at(k.width, 0), at(k.width, k.height), at(0, k.height)};
+        const shadow::core::FacePrep prep = prepare_face(rect);
+        ASSERT_TRUE(prep.exactly_planar);
+        EXPECT_EQ(planar_face_area(rect, prep).value(), std::ldexp(k.area, 2 * shift))
+            << "axis " << axis << " shift " << shift;
+        EXPECT_TRUE(same_area(rect));
+      }
+  }
+  // Areas at and below the least normal double: 2^-1073, 3 x 2^-1074, 2^-1075 (halfway to 0).
+  for (const auto& [leg, other] : {std::pair{std::ldexp(1.0, -536), std::ldexp(1.0, -536)},
+                                   std::pair{std::ldexp(3.0, -537), std::ldexp(1.0, -537)},
+                                   std::pair{std::ldexp(1.0, -537), std::ldexp(1.0, -538)},
+                                   std::pair{std::ldexp(1.0, -511), std::ldexp(1.0, -511)}}) {
+    const std::vector<glm::dvec3> rect{{0, 0, 1}, {leg, 0, 1}, {leg, other, 1}, {0, other, 1}};
+    EXPECT_TRUE(same_area(rect)) << leg << " x " << other;
+  }
 }
 
 // The exact areas of a face that has none (the engine falls back to the lazy exact face).

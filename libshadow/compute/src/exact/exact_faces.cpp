@@ -3,6 +3,7 @@
 #include "exact/exact_faces.hpp"
 
 #include "exact/face_shape.hpp"
+#include "exact/fixed_width.hpp"
 #include "core/polygon_holes.hpp"
 #include "geometry/newell_normal.hpp"
 
@@ -335,20 +336,102 @@ PlanarIntegers planar_integers(const std::vector<glm::dvec3>& vertices, const co
   return out;
 }
 
+/// PlanarIntegers in __int128, for a face whose coordinates span at most kFixedSpanBits bits (a
+/// city in metres with millimetre doubles: about 60): every scaled coordinate is below 2^61,
+/// every difference below 2^62 and every product below 2^124. False where a face spans more or
+/// its shoelace sum would leave the type (then planar_integers, in GMP: the same integers).
+struct PlanarFixed {
+  fixed::i128 twice_area = 0, n[3] = {0, 0, 0};
+  long e = 0;
+  bool zero = false;
+};
+constexpr int kFixedSpanBits = 61;
+
+bool planar_integers_fixed(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep, PlanarFixed& out) {
+  using fixed::i128;
+  const int k = prep.axis, i = core::chart_i(k), j = core::chart_j(k);
+  core::BitSpan span;
+  for (const glm::dvec3& v : vertices)
+    for (int a = 0; a < 3; ++a) span.add(v[a]);
+  const std::vector<int>& ring = prep.chart_ring;
+  const std::size_t n = ring.size();
+  if (span.empty() || n < 3) {
+    out.zero = true;
+    return true;
+  }
+  if (span.width() > kFixedSpanBits) return false;
+  out.e = span.least;
+  // c / 2^e, exact: c's mantissa shifted by at most kFixedSpanBits - 1 (c is a multiple of 2^e).
+  auto scaled = [&](double c) -> i128 {
+    if (c == 0.0) return 0;
+    const core::Dyadic d = core::dyadic(c);
+    return static_cast<i128>(d.mantissa) * (i128{1} << (d.exponent - out.e));
+  };
+  const glm::dvec3& first = vertices[static_cast<std::size_t>(ring[0])];
+  const i128 x0 = scaled(first[i]), y0 = scaled(first[j]);
+  i128 dx1 = scaled(vertices[static_cast<std::size_t>(ring[1])][i]) - x0;
+  i128 dy1 = scaled(vertices[static_cast<std::size_t>(ring[1])][j]) - y0;
+  for (std::size_t a = 1; a + 1 < n; ++a) {  // the shoelace about the first vertex
+    const glm::dvec3& v = vertices[static_cast<std::size_t>(ring[a + 1])];
+    const i128 dx2 = scaled(v[i]) - x0, dy2 = scaled(v[j]) - y0;
+    if (__builtin_add_overflow(out.twice_area, dx1 * dy2 - dx2 * dy1, &out.twice_area)) return false;
+    dx1 = dx2;
+    dy1 = dy2;
+  }
+  if (out.twice_area == 0) {
+    out.zero = true;
+    return true;
+  }
+  const auto [prev, corner, next] = prep.corner;
+  i128 u[3], w[3];
+  for (int a = 0; a < 3; ++a) {
+    const i128 p = scaled(vertices[static_cast<std::size_t>(corner)][a]);
+    u[a] = scaled(vertices[static_cast<std::size_t>(next)][a]) - p;
+    w[a] = scaled(vertices[static_cast<std::size_t>(prev)][a]) - p;
+  }
+  out.n[0] = u[1] * w[2] - u[2] * w[1];
+  out.n[1] = u[2] * w[0] - u[0] * w[2];
+  out.n[2] = u[0] * w[1] - u[1] * w[0];
+  return true;
+}
+
+/// The face area from its plane integers T (twice_area), N (n) and e:
+///   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2),
+/// the rational whose root area_3d rounds (the same value, so the same rounding).
+double planar_area_from(const mpz_class& t, const mpz_class (&n)[3], long e, int axis) {
+  mpq_class q(t * t * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 4 * n[axis] * n[axis]);
+  q.canonicalize();
+  scale_by_power_of_two(q, 4 * e);
+  return sqrt_mpq_to_double(q.get_mpq_t());
+}
+
 }  // namespace
 
 std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
-  //   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2)
-  // with T = twice_area and N = n of PlanarIntegers: the rational area_3d takes the root of (the
-  // same value, so the same rounding).
+  const int k = prep.axis;
+  PlanarFixed f;
+  if (planar_integers_fixed(vertices, prep, f)) {
+    if (f.zero) return 0.0;
+    if (f.n[k] == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
+    if (f.n[core::chart_i(k)] == 0 && f.n[core::chart_j(k)] == 0) {
+      // A face square to axis k (walls, roofs and grounds of most cities): the root is |T|
+      // 2^(2e-1) exactly, so its rounding is that of the integer |T| (the conversion rounds to
+      // nearest, ties to even, as mpfr_get_d), scaled exactly while the result stays normal.
+      const double m = static_cast<double>(fixed::magnitude(f.twice_area));
+      int exponent = 0;
+      std::frexp(m, &exponent);
+      const long scale = 2 * f.e - 1;
+      if (exponent + scale > -1021 && exponent + scale < 1024) return std::ldexp(m, static_cast<int>(scale));
+    }
+    mpz_class t, n[3];
+    fixed::set_mpz(t.get_mpz_t(), f.twice_area);
+    for (int a = 0; a < 3; ++a) fixed::set_mpz(n[a].get_mpz_t(), f.n[a]);
+    return planar_area_from(t, n, f.e, k);
+  }
   const PlanarIntegers z = planar_integers(vertices, prep);
   if (z.zero) return 0.0;
-  const mpz_class& nk = z.n[prep.axis];
-  if (nk == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
-  mpq_class q(z.twice_area * z.twice_area * (z.n[0] * z.n[0] + z.n[1] * z.n[1] + z.n[2] * z.n[2]), 4 * nk * nk);
-  q.canonicalize();
-  scale_by_power_of_two(q, 4 * z.e);
-  return sqrt_mpq_to_double(q.get_mpq_t());
+  if (z.n[k] == 0) return std::nullopt;
+  return planar_area_from(z.twice_area, z.n, z.e, k);
 }
 
 bool planar_face_exact_areas(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
