@@ -436,6 +436,23 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
 
 bool planar_face_exact_areas(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
                              FT::Exact_type& chart_area, FT::Exact_type& area_scale_squared) {
+  const int k = prep.axis;
+  PlanarFixed f;
+  if (planar_integers_fixed(vertices, prep, f)) {
+    if (f.zero || f.n[k] == 0) return false;
+    mpq_set_ui(chart_area.get_mpq_t(), 0, 1);
+    fixed::set_mpz(mpq_numref(chart_area.get_mpq_t()), f.twice_area);  // over 1: canonical
+    scale_by_power_of_two(chart_area, 2 * f.e - 1);
+    if (f.n[core::chart_i(k)] == 0 && f.n[core::chart_j(k)] == 0) {
+      area_scale_squared = 1;  // |N|^2 / N_k^2 of a face square to axis k
+    } else {
+      mpz_class n[3];
+      for (int a = 0; a < 3; ++a) fixed::set_mpz(n[a].get_mpz_t(), f.n[a]);
+      area_scale_squared = mpq_class(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], n[k] * n[k]);
+      area_scale_squared.canonicalize();
+    }
+    return true;
+  }
   const PlanarIntegers z = planar_integers(vertices, prep);
   if (z.zero) return false;  // (prepare_face calls such a face degenerate)
   const mpz_class& nk = z.n[prep.axis];
