@@ -122,13 +122,18 @@ TEST(FaceArea, HalfwayAreasRoundToEven) {
         EXPECT_TRUE(same_area(rect));
       }
   }
-  // Areas at and below the least normal double: 2^-1073, 3 x 2^-1074, 2^-1075 (halfway to 0).
+  // Areas below, at and just above the least normal double (2^-1072, 3 x 2^-1074, 2^-1075
+  // halfway to 0, 2^-1022, 2^-1020), in the plane z = 0 so that the coordinates span a few bits
+  // and take the fixed-width route: its exact scaling of |T| where the area is normal, the MPFR
+  // root below.
   for (const auto& [leg, other] : {std::pair{std::ldexp(1.0, -536), std::ldexp(1.0, -536)},
                                    std::pair{std::ldexp(3.0, -537), std::ldexp(1.0, -537)},
                                    std::pair{std::ldexp(1.0, -537), std::ldexp(1.0, -538)},
-                                   std::pair{std::ldexp(1.0, -511), std::ldexp(1.0, -511)}}) {
-    const std::vector<glm::dvec3> rect{{0, 0, 1}, {leg, 0, 1}, {leg, other, 1}, {0, other, 1}};
+                                   std::pair{std::ldexp(1.0, -511), std::ldexp(1.0, -511)},
+                                   std::pair{std::ldexp(1.0, -510), std::ldexp(1.0, -510)}}) {
+    const std::vector<glm::dvec3> rect{{0, 0, 0}, {leg, 0, 0}, {leg, other, 0}, {0, other, 0}};
     EXPECT_TRUE(same_area(rect)) << leg << " x " << other;
+    EXPECT_EQ(planar_face_area(rect, prepare_face(rect)).value(), leg * other) << leg << " x " << other;
   }
 }
 

@@ -9,12 +9,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <regex>
 #include <sstream>
+#include <streambuf>
 #include <string>
 #include <vector>
 
@@ -135,6 +137,53 @@ TEST(ReportThreads, TheSameBytesAtOneTwoAndFourThreadsAndEqualToOneDocumentsDump
     EXPECT_NE(one.find("\"area\": 6.0,\n"), std::string::npos);
     EXPECT_EQ(document["faces"][0]["lights"][2].count("umbra_area"), 1u);
     EXPECT_EQ(document["faces"][0]["lights"][0].count("lit_area_error_bound"), fast ? 1u : 0u);
+  }
+}
+
+// Beyond one window of blocks at four threads too (a window is 4 x (threads - 1) blocks of 1,024
+// faces from two threads on): the hand-over from the writer thread to the next window.
+TEST(ReportThreads, SeveralWindowsAtThreeAndFourThreads) {
+  const Scene scene = make_scene(16000);  // 13,714 receiving faces: 14 blocks
+  const ShadowResult result = make_result(scene, true);
+  const std::string one = report_text(scene, result, 1);
+  EXPECT_EQ(report_text(scene, result, 3), one);
+  EXPECT_EQ(report_text(scene, result, 4), one);
+}
+
+/// A stream buffer that takes `room` bytes, then fails every write.
+class FullStreamBuffer : public std::streambuf {
+ public:
+  explicit FullStreamBuffer(std::size_t room) : room_(room) {}
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (room_ == 0) return traits_type::eof();
+    --room_;
+    return traits_type::not_eof(c);
+  }
+  std::streamsize xsputn(const char*, std::streamsize n) override {
+    const auto taken = static_cast<std::streamsize>(std::min<std::size_t>(room_, static_cast<std::size_t>(n)));
+    room_ -= static_cast<std::size_t>(taken);
+    return taken;
+  }
+
+ private:
+  std::size_t room_;
+};
+
+// A caller's stream that throws on failure (exceptions() set) throws to the caller at every
+// thread count, also when the face entries are written by the writer thread (it used to end the
+// program there: an exception leaving a std::thread calls std::terminate).
+TEST(ReportThreads, AFailingStreamThatThrowsThrowsToTheCaller) {
+  const Scene scene = make_scene(5000);
+  const ShadowResult result = make_result(scene, false);
+  for (const unsigned threads : {1u, 2u, 4u}) {
+    FullStreamBuffer buffer(100000);  // past the header, within the face entries
+    std::ostream out(&buffer);
+    out.exceptions(std::ios::badbit | std::ios::failbit);
+    shadow::RunInfo run;
+    run.options.threads = threads;
+    EXPECT_THROW(shadow::write_report_json(out, scene, result, run), std::ios_base::failure) << threads << " threads";
   }
 }
 

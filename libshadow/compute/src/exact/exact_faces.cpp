@@ -415,8 +415,10 @@ std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, 
     if (f.n[k] == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
     if (f.n[core::chart_i(k)] == 0 && f.n[core::chart_j(k)] == 0) {
       // A face square to axis k (walls, roofs and grounds of most cities): the root is |T|
-      // 2^(2e-1) exactly, so its rounding is that of the integer |T| (the conversion rounds to
-      // nearest, ties to even, as mpfr_get_d), scaled exactly while the result stays normal.
+      // 2^(2e-1) exactly, so its rounding is that of the integer |T| (the conversion rounds in
+      // the current mode: to nearest, ties to even, as mpfr_get_d, outside CGAL's protected
+      // rounding scopes, where this is never called), scaled exactly while the result stays
+      // normal; the MPFR root of the same rational otherwise.
       const double m = static_cast<double>(fixed::magnitude(f.twice_area));
       int exponent = 0;
       std::frexp(m, &exponent);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Fixed-width integer steps of the areas route's integer charts (exact/scaled_chart.hpp), with
-// GMP as the fallback. Include only from src/exact/*.cpp or tests.
+// Fixed-width integer steps of the areas route's integer charts (exact/scaled_chart.hpp) and of
+// the planar face areas (exact_faces.cpp), with GMP as the fallback. Include only from
+// src/exact/*.cpp or tests.
 //
 // A scaled chart's projection is Y_k L - S D_k and its plane crossing L (S_a B_k - S_b A_k) /
 // (S_a - S_b), all integers (the top of scaled_chart.hpp). Their sizes are bounded by the

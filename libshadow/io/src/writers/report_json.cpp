@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <map>
 #include <string>
 #include <thread>
@@ -293,7 +294,8 @@ namespace {
 /// entries.size()): made on every thread (a million faces: most of the report's time), a window
 /// of blocks at a time so that the text held stays small, and written in face order: the same
 /// bytes whatever the thread count. From two threads on, one thread writes a window while the
-/// others make the next (writing 500 MB of text took about as long as making it on one thread).
+/// others make the next (a million faces' 560 MB of text took about as long to write as to make
+/// on one thread): two windows of text are held then.
 void write_face_entries(std::ostream& out, const Scene& scene, const std::vector<const FaceLighting*>& entries,
                         const std::vector<std::size_t>& group_start, bool fast, unsigned requested_threads) {
   const std::size_t receiving_faces = group_start.size() - 1;
@@ -328,23 +330,34 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
   }
   // `written` goes to the writer thread, which alone touches `out` until it is joined: before
   // the next hand-over, and before an exception from making leaves (a joinable std::thread may
-  // not be destroyed). An ostream sets its state instead of throwing; the caller checks it.
+  // not be destroyed). A stream whose exceptions() are set throws on that thread: caught there
+  // and rethrown here after the join, as it would have come from a write on this thread.
   std::thread writer;
+  std::exception_ptr write_error;
   struct JoinOnExit {
     std::thread& thread;
     ~JoinOnExit() {
       if (thread.joinable()) thread.join();
     }
   } join_on_exit{writer};
+  auto finish_writing = [&] {
+    if (writer.joinable()) writer.join();
+    if (write_error) std::rethrow_exception(write_error);
+  };
   for (std::size_t first = 0; first < blocks; first += window) {
     const std::size_t count = std::min(window, blocks - first);
     make(first, count);
-    if (writer.joinable()) writer.join();
+    finish_writing();
     made.swap(written);
-    writer = std::thread([&out, &written, count] {
-      for (std::size_t k = 0; k < count; ++k) out << written[k];
+    writer = std::thread([&out, &written, &write_error, count] {
+      try {
+        for (std::size_t k = 0; k < count; ++k) out << written[k];
+      } catch (...) {
+        write_error = std::current_exception();
+      }
     });
   }
+  finish_writing();
 }
 
 void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run) {
