@@ -395,14 +395,17 @@ bool planar_integers_fixed(const std::vector<glm::dvec3>& vertices, const core::
   return true;
 }
 
-/// The face area from its plane integers T (twice_area), N (n) and e:
-///   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2),
-/// the rational whose root area_3d rounds (the same value, so the same rounding).
-double planar_area_from(const mpz_class& t, const mpz_class (&n)[3], long e, int axis) {
-  mpq_class q(t * t * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), 4 * n[axis] * n[axis]);
-  q.canonicalize();
-  scale_by_power_of_two(q, 4 * e);
-  return sqrt_mpq_to_double(q.get_mpq_t());
+/// The face's plane integers in GMP: the __int128 route's converted where it applied (`fits`),
+/// else planar_integers'. The same integers either way.
+PlanarIntegers gmp_integers(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
+                            const PlanarFixed& f, bool fits) {
+  if (!fits) return planar_integers(vertices, prep);
+  PlanarIntegers z;
+  z.e = f.e;
+  z.zero = f.zero;
+  fixed::set_mpz(z.twice_area.get_mpz_t(), f.twice_area);
+  for (int a = 0; a < 3; ++a) fixed::set_mpz(z.n[a].get_mpz_t(), f.n[a]);
+  return z;
 }
 
 }  // namespace
@@ -410,60 +413,50 @@ double planar_area_from(const mpz_class& t, const mpz_class (&n)[3], long e, int
 std::optional<double> planar_face_area(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep) {
   const int k = prep.axis;
   PlanarFixed f;
-  if (planar_integers_fixed(vertices, prep, f)) {
-    if (f.zero) return 0.0;
-    if (f.n[k] == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
-    if (f.n[core::chart_i(k)] == 0 && f.n[core::chart_j(k)] == 0) {
-      // A face square to axis k (walls, roofs and grounds of most cities): the root is |T|
-      // 2^(2e-1) exactly, so its rounding is that of the integer |T| (the conversion rounds in
-      // the current mode: to nearest, ties to even, as mpfr_get_d, outside CGAL's protected
-      // rounding scopes, where this is never called), scaled exactly while the result stays
-      // normal; the MPFR root of the same rational otherwise.
-      const double m = static_cast<double>(fixed::magnitude(f.twice_area));
-      int exponent = 0;
-      std::frexp(m, &exponent);
-      const long scale = 2 * f.e - 1;
-      if (exponent + scale > -1021 && exponent + scale < 1024) return std::ldexp(m, static_cast<int>(scale));
-    }
-    mpz_class t, n[3];
-    fixed::set_mpz(t.get_mpz_t(), f.twice_area);
-    for (int a = 0; a < 3; ++a) fixed::set_mpz(n[a].get_mpz_t(), f.n[a]);
-    return planar_area_from(t, n, f.e, k);
+  const bool fits = planar_integers_fixed(vertices, prep, f);
+  if (fits && !f.zero && f.n[k] != 0 && f.n[core::chart_i(k)] == 0 && f.n[core::chart_j(k)] == 0) {
+    // A face square to axis k (walls, roofs and grounds of most cities): the root below is |T|
+    // 2^(2e-1) exactly, so its rounding is that of the integer |T| (the conversion rounds in the
+    // current mode: to nearest, ties to even, as mpfr_get_d, outside CGAL's protected rounding
+    // scopes, where this is never called), scaled exactly while the result stays normal; the
+    // MPFR root of the same rational otherwise.
+    const double m = static_cast<double>(fixed::magnitude(f.twice_area));
+    int exponent = 0;
+    std::frexp(m, &exponent);
+    const long scale = 2 * f.e - 1;
+    if (exponent + scale > -1021 && exponent + scale < 1024) return std::ldexp(m, static_cast<int>(scale));
   }
-  const PlanarIntegers z = planar_integers(vertices, prep);
+  //   (chart area)^2 |n|^2 / n_k^2 = T^2 |N|^2 2^(4e) / (4 N_k^2)
+  // with T = twice_area and N = n of PlanarIntegers: the rational area_3d takes the root of (the
+  // same value, so the same rounding).
+  const PlanarIntegers z = gmp_integers(vertices, prep, f, fits);
   if (z.zero) return 0.0;
-  if (z.n[k] == 0) return std::nullopt;
-  return planar_area_from(z.twice_area, z.n, z.e, k);
+  const mpz_class& nk = z.n[k];
+  if (nk == 0) return std::nullopt;  // (not for prepare_face's corner: a strict turn in the chart)
+  mpq_class q(z.twice_area * z.twice_area * (z.n[0] * z.n[0] + z.n[1] * z.n[1] + z.n[2] * z.n[2]), 4 * nk * nk);
+  q.canonicalize();
+  scale_by_power_of_two(q, 4 * z.e);
+  return sqrt_mpq_to_double(q.get_mpq_t());
 }
 
 bool planar_face_exact_areas(const std::vector<glm::dvec3>& vertices, const core::FacePrep& prep,
                              FT::Exact_type& chart_area, FT::Exact_type& area_scale_squared) {
   const int k = prep.axis;
   PlanarFixed f;
-  if (planar_integers_fixed(vertices, prep, f)) {
-    if (f.zero || f.n[k] == 0) return false;
-    mpq_set_ui(chart_area.get_mpq_t(), 0, 1);
-    fixed::set_mpz(mpq_numref(chart_area.get_mpq_t()), f.twice_area);  // over 1: canonical
-    scale_by_power_of_two(chart_area, 2 * f.e - 1);
-    if (f.n[core::chart_i(k)] == 0 && f.n[core::chart_j(k)] == 0) {
-      area_scale_squared = 1;  // |N|^2 / N_k^2 of a face square to axis k
-    } else {
-      mpz_class n[3];
-      for (int a = 0; a < 3; ++a) fixed::set_mpz(n[a].get_mpz_t(), f.n[a]);
-      area_scale_squared = mpq_class(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], n[k] * n[k]);
-      area_scale_squared.canonicalize();
-    }
-    return true;
-  }
-  const PlanarIntegers z = planar_integers(vertices, prep);
+  const bool fits = planar_integers_fixed(vertices, prep, f);
+  const PlanarIntegers z = gmp_integers(vertices, prep, f, fits);
   if (z.zero) return false;  // (prepare_face calls such a face degenerate)
-  const mpz_class& nk = z.n[prep.axis];
+  const mpz_class& nk = z.n[k];
   if (nk == 0) return false;
   chart_area = z.twice_area;
   scale_by_power_of_two(chart_area, 2 * z.e - 1);
-  // n = N 2^(2e): the power cancels in |n|^2 / n_k^2.
-  area_scale_squared = mpq_class(z.n[0] * z.n[0] + z.n[1] * z.n[1] + z.n[2] * z.n[2], nk * nk);
-  area_scale_squared.canonicalize();
+  // n = N 2^(2e): the power cancels in |n|^2 / n_k^2, which is 1 for a face square to axis k.
+  if (z.n[core::chart_i(k)] == 0 && z.n[core::chart_j(k)] == 0) {
+    area_scale_squared = 1;
+  } else {
+    area_scale_squared = mpq_class(z.n[0] * z.n[0] + z.n[1] * z.n[1] + z.n[2] * z.n[2], nk * nk);
+    area_scale_squared.canonicalize();
+  }
   return true;
 }
 
