@@ -295,7 +295,7 @@ namespace {
 /// of blocks at a time so that the text held stays small, and written in face order: the same
 /// bytes whatever the thread count. From two threads on, one thread writes a window while the
 /// others make the next (a million faces' 560 MB of text took about as long to write as to make
-/// on one thread): two windows of text are held then.
+/// on one thread); two windows of text are held, the one made and the one written.
 void write_face_entries(std::ostream& out, const Scene& scene, const std::vector<const FaceLighting*>& entries,
                         const std::vector<std::size_t>& group_start, bool fast, unsigned requested_threads) {
   const std::size_t receiving_faces = group_start.size() - 1;
@@ -320,18 +320,11 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
       }
     });
   };
-  if (threads == 1) {
-    for (std::size_t first = 0; first < blocks; first += window) {
-      const std::size_t count = std::min(window, blocks - first);
-      make(first, count);
-      for (std::size_t k = 0; k < count; ++k) out << made[k];
-    }
-    return;
-  }
-  // `written` goes to the writer thread, which alone touches `out` until it is joined: before
-  // the next hand-over, and before an exception from making leaves (a joinable std::thread may
-  // not be destroyed). A stream whose exceptions() are set throws on that thread: caught there
-  // and rethrown here after the join, as it would have come from a write on this thread.
+  // From two threads on, `written` goes to the writer thread, which alone touches `out` until it
+  // is joined: before the next hand-over, and before an exception from making leaves (a joinable
+  // std::thread may not be destroyed). On one thread this thread writes. A stream whose
+  // exceptions() are set throws while writing: caught there and rethrown after the join, as it
+  // would have come from a write on this thread.
   std::thread writer;
   std::exception_ptr write_error;
   struct JoinOnExit {
@@ -349,13 +342,17 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
     make(first, count);
     finish_writing();
     made.swap(written);
-    writer = std::thread([&out, &written, &write_error, count] {
+    auto write = [&out, &written, &write_error, count] {
       try {
         for (std::size_t k = 0; k < count; ++k) out << written[k];
       } catch (...) {
         write_error = std::current_exception();
       }
-    });
+    };
+    if (threads == 1)
+      write();
+    else
+      writer = std::thread(write);
   }
   finish_writing();
 }
