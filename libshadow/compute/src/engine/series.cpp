@@ -26,6 +26,8 @@
 #include <glm/geometric.hpp>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 namespace shadow {
@@ -76,14 +78,10 @@ class StagedTable {
   StagedTable(SeriesResult& result, std::size_t rows, std::size_t instants, std::size_t batch)
       : result_(result), rows_(rows), instants_(instants), batch_(batch),
         length_(std::min(instants, batch * std::max<std::size_t>(1, 64 / batch))) {
-    result.lit_area.assign(rows * instants, 0.0);
-    result.lit_fraction.assign(rows * instants, 0.0);
-    result.lit_area_error_bound.assign(rows * instants, 0.0);
-    result.faces_light.assign(rows * instants, 0);
-    lit_area_.resize(rows * length_);
-    lit_fraction_.resize(rows * length_);
-    bound_.resize(rows * length_);
-    faces_light_.resize(rows * length_);
+    each_array([&](auto& stage, auto& table) {
+      table.assign(rows * instants, 0);
+      stage.resize(rows * length_);
+    });
   }
 
   /// Before the batch starting at `position` (a multiple of the batch size): the stage before
@@ -109,18 +107,16 @@ class StagedTable {
     bool identity = true;
     for (std::size_t p = 0; p < order.size() && identity; ++p) identity = order[p] == p;
     if (identity) return;
-    std::vector<std::vector<double>> scratch(threads, std::vector<double>(instants_));
-    std::vector<std::vector<unsigned char>> scratch_flags(threads, std::vector<unsigned char>(instants_));
-    auto permute = [&](auto* row, auto& tmp) {
-      for (std::size_t p = 0; p < instants_; ++p) tmp[order[p]] = row[p];
-      std::copy(tmp.begin(), tmp.end(), row);
-    };
+    // Per thread, a row of each element type in the computing order.
+    std::vector<std::tuple<std::vector<double>, std::vector<unsigned char>>> scratch(threads);
     runtime::parallel_for(rows_, threads, [&](unsigned wi, std::size_t r) {
-      const std::size_t at = result_.at(r, 0);
-      permute(result_.lit_area.data() + at, scratch[wi]);
-      permute(result_.lit_fraction.data() + at, scratch[wi]);
-      permute(result_.lit_area_error_bound.data() + at, scratch[wi]);
-      permute(result_.faces_light.data() + at, scratch_flags[wi]);
+      each_array([&](auto&, auto& table) {
+        using Row = std::decay_t<decltype(table)>;
+        auto* const row = table.data() + result_.at(r, 0);
+        Row& computed = std::get<Row>(scratch[wi]);
+        computed.assign(row, row + instants_);
+        for (std::size_t p = 0; p < instants_; ++p) row[order[p]] = computed[p];
+      });
     });
   }
 
@@ -140,12 +136,18 @@ class StagedTable {
         for (std::size_t b = first_; b < end; b += batch_) {
           const std::size_t width = std::min(batch_, instants_ - b);
           const std::size_t from = (b - first_) * rows_ + r * width, to = result_.at(r, b);
-          std::copy_n(lit_area_.data() + from, width, result_.lit_area.data() + to);
-          std::copy_n(lit_fraction_.data() + from, width, result_.lit_fraction.data() + to);
-          std::copy_n(bound_.data() + from, width, result_.lit_area_error_bound.data() + to);
-          std::copy_n(faces_light_.data() + from, width, result_.faces_light.data() + to);
+          each_array([&](auto& stage, auto& table) { std::copy_n(stage.data() + from, width, table.data() + to); });
         }
     });
+  }
+
+  /// f(stage, table) for each of the four results: the stage's array and the table's.
+  template <class F>
+  void each_array(F&& f) {
+    f(lit_area_, result_.lit_area);
+    f(lit_fraction_, result_.lit_fraction);
+    f(bound_, result_.lit_area_error_bound);
+    f(faces_light_, result_.faces_light);
   }
 
   SeriesResult& result_;
