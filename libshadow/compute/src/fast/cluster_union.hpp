@@ -18,6 +18,7 @@
 #pragma once
 
 #include "fast/cluster_scratch.hpp"
+#include "geometry/cyclic_index.hpp"
 
 #include <polyclipping/clipper.hpp>
 
@@ -43,7 +44,7 @@ inline ClusterInt128 twice_area(const ClipperLib::Path& path) {
   const std::size_t n = path.size();
   for (std::size_t a = 0; a < n; ++a) {
     const ClipperLib::IntPoint& p = path[a];
-    const ClipperLib::IntPoint& q = path[(a + 1) % n];
+    const ClipperLib::IntPoint& q = path[geometry::cyclic_next(a, n)];
     sum += static_cast<ClusterInt128>(p.X) * q.Y - static_cast<ClusterInt128>(q.X) * p.Y;
   }
   return sum;
@@ -60,8 +61,8 @@ inline bool is_convex_ccw(const ClipperLib::Path& path) {
   int changes = 0, last_sign = 0, first_sign = 0;
   for (std::size_t a = 0; a < n; ++a) {
     const ClipperLib::IntPoint& p = path[a];
-    const ClipperLib::IntPoint& q = path[(a + 1) % n];
-    const ClipperLib::IntPoint& r = path[(a + 2) % n];
+    const ClipperLib::IntPoint& q = path[geometry::cyclic_next(a, n)];
+    const ClipperLib::IntPoint& r = path[geometry::cyclic_next(geometry::cyclic_next(a, n), n)];
     const ClusterInt128 ux = q.X - p.X, uy = q.Y - p.Y, vx = r.X - q.X, vy = r.Y - q.Y;
     const ClusterInt128 cross = ux * vy - uy * vx;
     if (cross < 0) return false;
@@ -194,7 +195,7 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
     const std::size_t i = members[a];
     for (std::size_t k = 0; k < P.size(); ++k) {
       const CL::IntPoint& s = P[k];
-      const CL::IntPoint& e = P[(k + 1) % P.size()];
+      const CL::IntPoint& e = P[geometry::cyclic_next(k, P.size())];
       // Grid coordinates are within 2^30 of 0: differences below 2^31, products below 2^62, and
       // the difference of two products below 2^63, so 64-bit integers hold every value exactly.
       const std::int64_t dx = e.X - s.X, dy = e.Y - s.Y;
@@ -216,7 +217,7 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
         bool empty = false, computed = false;
         for (std::size_t f = 0; f < Q.size() && !empty; ++f) {
           const CL::IntPoint& q0 = Q[f];
-          const CL::IntPoint& q1 = Q[(f + 1) % Q.size()];
+          const CL::IntPoint& q1 = Q[geometry::cyclic_next(f, Q.size())];
           const std::int64_t gx = q1.X - q0.X, gy = q1.Y - q0.Y;
           // h(p) = cross(g, p - q0): positive inside (counter-clockwise); h(s + t d) = A + t B.
           const std::int64_t A = gx * (s.Y - q0.Y) - gy * (s.X - q0.X);

@@ -68,7 +68,7 @@ void ReceiverJob::add_cast(Cast& c) {
     double twice_area = 0;  // edge-on casters have no area in doubles either: not counted
     for (std::size_t a = 0; a < c.poly.size(); ++a) {
       const glm::dvec2& p = c.poly[a];
-      const glm::dvec2& q = c.poly[(a + 1) % c.poly.size()];
+      const glm::dvec2& q = c.poly[geometry::cyclic_next(a, c.poly.size())];
       twice_area += p.x * q.y - q.x * p.y;
     }
     if (twice_area != 0) ++local_.fast_collapsed;

@@ -121,7 +121,7 @@ void ReceiverJob::set_up_receiver() {
   for (const glm::dvec2& p : outline_) receiver_.push_back(grid_.point(p));
   for (std::size_t a = 0; a < outline_.size(); ++a) {
     const glm::dvec2& p = outline_[a];
-    const glm::dvec2& q = outline_[(a + 1) % outline_.size()];
+    const glm::dvec2& q = outline_[geometry::cyclic_next(a, outline_.size())];
     receiver_length_ += std::hypot(q.x - p.x, q.y - p.y);
   }
 }

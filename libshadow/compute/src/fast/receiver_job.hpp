@@ -9,6 +9,7 @@
 #include "fast/cluster_union.hpp"
 #include "fast/error_bound.hpp"
 #include "geometry/clip_convex.hpp"
+#include "geometry/cyclic_index.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
@@ -42,7 +43,7 @@ inline Int128 area2(const CL::Path& path) { return twice_area(path); }
 
 inline double perimeter(const std::vector<glm::dvec2>& poly) {
   double length = 0;
-  for (std::size_t a = 0; a < poly.size(); ++a) length += glm::length(poly[(a + 1) % poly.size()] - poly[a]);
+  for (std::size_t a = 0; a < poly.size(); ++a) length += glm::length(poly[geometry::cyclic_next(a, poly.size())] - poly[a]);
   return length;
 }
 
@@ -150,12 +151,12 @@ class FastReceiver {
     const std::size_t m = piece.size();
     for (std::size_t a = 0; a < m; ++a) {
       const glm::dvec3& va = v[piece[a]];
-      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      const CGAL::Sign sa = sign[a], sb = sign[geometry::cyclic_next(a, m)];
       if (sa == CGAL::POSITIVE) cast.poly.push_back(project(va));
       if (sa == CGAL::ZERO) cast.poly.push_back(chart(va));
       if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
         glm::dvec3 x;
-        if (!crossing(va, v[piece[(a + 1) % m]], x, cast.delta)) return false;
+        if (!crossing(va, v[piece[geometry::cyclic_next(a, m)]], x, cast.delta)) return false;
         cast.poly.push_back(chart(x));
       }
     }
@@ -173,7 +174,7 @@ class FastReceiver {
     const double L = rc_.light_side;
     for (std::size_t a = 0; a < m; ++a) {
       const glm::dvec3& va = v[piece[a]];
-      const CGAL::Sign sa = sign[a], sb = sign[(a + 1) % m];
+      const CGAL::Sign sa = sign[a], sb = sign[geometry::cyclic_next(a, m)];
       if (sa == CGAL::POSITIVE) hom_.push_back(homogeneous(va - rc_.corner));
       if (sa == CGAL::ZERO) {
         const glm::dvec3 y = va - rc_.corner;
@@ -181,7 +182,7 @@ class FastReceiver {
       }
       if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
         glm::dvec3 x;
-        if (!crossing(va, v[piece[(a + 1) % m]], x, cross_delta)) return false;
+        if (!crossing(va, v[piece[geometry::cyclic_next(a, m)]], x, cross_delta)) return false;
         const glm::dvec3 y = x - rc_.corner;
         hom_.push_back({L * y[rc_.i], L * y[rc_.j], L});
       }

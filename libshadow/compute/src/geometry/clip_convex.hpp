@@ -19,6 +19,8 @@
 // are part of the golden check.
 #pragma once
 
+#include "geometry/cyclic_index.hpp"
+
 #include <cstddef>
 #include <vector>
 
@@ -53,7 +55,7 @@ void clip_convex(const std::vector<Point>& poly, SideOf&& side, Cross&& cross, s
   out.clear();
   const std::size_t n = poly.size();
   for (std::size_t a = 0; a < n; ++a) {
-    const std::size_t b = (a + 1) % n;
+    const std::size_t b = cyclic_next(a, n);
     const int sa = side(a), sb = side(b);
     if (sa >= 0) out.push_back(poly[a]);
     if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) out.push_back(cross(a, b));
