@@ -95,15 +95,11 @@ class LightSpaceGrid {
     origin_ = {all[0] - margin_, all[1] - margin_};
     const double width = std::max(all[2] - all[0], 0.0) + 2 * margin_;
     const double height = std::max(all[3] - all[1], 0.0) + 2 * margin_;
-    // About one cell per four faces: a query then touches a handful of cells. (One cell per face
-    // was 7% slower on the year's suns over the 1,000-box city, 16 per face 2.4 times slower: a
-    // large receiver, the ground, is an entry in every cell it covers, and a query pays per cell.)
+    // The counting cells (count(), home_): about one per four faces, square. count() decides
+    // which receivers are cut into tiles, so their layout stays as it was measured.
     const double cells_wanted = std::max<double>(1.0, 0.25 * static_cast<double>(n));
-    cell_ = std::max(std::sqrt(width * height / cells_wanted), 1e-300);
-    nu_ = static_cast<int>(std::clamp(std::ceil(width / cell_), 1.0, 2048.0));
-    nv_ = static_cast<int>(std::clamp(std::ceil(height / cell_), 1.0, 2048.0));
-    cell_u_ = width / nu_;
-    cell_v_ = height / nv_;
+    const double square = std::max(std::sqrt(width * height / cells_wanted), 1e-300);
+    counting_ = CellLayout(origin_, width, height, square, square);
     // Items: a convex solid's faces together, every other face alone (faces in increasing order).
     std::vector<std::uint32_t> item_of(n, 0), item_of_solid;
     std::size_t items = 0;
@@ -135,6 +131,29 @@ class LightSpaceGrid {
         item_seen[i] = 1;
       }
     }
+    // The query cells: as large as a typical item across each axis (the median of the items'
+    // extents), and never smaller than the counting cells. A query of a box w x h over cells
+    // cu x cv visits about (w + cu)(h + cv)(cu + w')(cv + h') / (cu cv) entries for items of w' x
+    // h', least near cu = sqrt(w w'): about an item's size, the queries being items' faces. A low
+    // sun flattens the light-space box, so square cells of a fourth of the faces came out a
+    // quarter of a building wide, and each building was an entry in some twenty of them. At most
+    // 16 counting cells merge into one, so that a few large items do not make one cell of all.
+    double cu = square, cv = square;
+    if (!item_box.empty()) {
+      std::vector<double> extent(item_box.size());
+      for (int axis = 0; axis < 2; ++axis) {
+        for (std::size_t i = 0; i < item_box.size(); ++i) extent[i] = item_box[i][2 + axis] - item_box[i][axis];
+        std::nth_element(extent.begin(), extent.begin() + static_cast<std::ptrdiff_t>(extent.size() / 2), extent.end());
+        const double median = extent[extent.size() / 2];
+        (axis == 0 ? cu : cv) = std::clamp(median, square, 16 * square);
+      }
+      if (cu * cv > 16 * square * square) {  // both axes at their largest: shrink to 16 cells' area
+        const double f = std::sqrt(16 * square * square / (cu * cv));
+        cu = std::max(cu * f, square);
+        cv = std::max(cv * f, square);
+      }
+    }
+    cells_ = CellLayout(origin_, width, height, cu, cv);
     fill_cells(prep, item_box, threads);
   }
 
@@ -156,7 +175,7 @@ class LightSpaceGrid {
   /// its lower corner in a cell that `face`'s box touches (each face counted once).
   [[nodiscard]] std::size_t count(std::size_t face) const {
     std::size_t n = 0;
-    for_cells(boxes_[face], [&](std::size_t c) { n += home_[c]; });
+    for_cells(counting_, boxes_[face], [&](std::size_t c) { n += home_[c]; });
     return n;
   }
 
@@ -183,10 +202,8 @@ class LightSpaceGrid {
     // Each overlapping face is reported once, in one cell both boxes cover (below), instead of
     // once per shared cell: most faces span several cells, and their repeats were most of a
     // query's visits.
-    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
-    const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
-    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
-    const int v1 = cell_index(b[3] + margin_, origin_[1], cell_v_, nv_);
+    const int u0 = cells_.index_u(b[0] - margin_), u1 = cells_.index_u(b[2] + margin_);
+    const int v0 = cells_.index_v(b[1] - margin_), v1 = cells_.index_v(b[3] + margin_);
     // The overlap tests are the same comparisons of the same sums as ever, combined with `&`
     // instead of `&&`: one branch per entry or face instead of four. Their outcomes are data,
     // not patterns, so every branch was a likely misprediction; those were most of a query's
@@ -197,7 +214,7 @@ class LightSpaceGrid {
     };
     for (int v = v0; v <= v1; ++v)
       for (int u = u0; u <= u1; ++u) {
-        const std::size_t c = static_cast<std::size_t>(v) * nu_ + u;
+        const std::size_t c = static_cast<std::size_t>(v) * cells_.nu + u;
         for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
           // An item is taken only in the first cell (lowest u, lowest v) that both the query
           // and the item cover: the item is registered in cells [iu, ...] x [iv, ...] and the
@@ -235,28 +252,46 @@ class LightSpaceGrid {
     }
     return {b[0] - face.slack, b[1] - face.slack, b[2] + face.slack, b[3] + face.slack};
   }
-  std::size_t cell_of(double u, double v) const {
-    const int cu = std::clamp(static_cast<int>(std::floor((u - origin_[0]) / cell_u_)), 0, nu_ - 1);
-    const int cv = std::clamp(static_cast<int>(std::floor((v - origin_[1]) / cell_v_)), 0, nv_ - 1);
-    return static_cast<std::size_t>(cv) * nu_ + cu;
-  }
+  /// A division of the light-space box into nu x nv cells of about the sizes asked for.
+  struct CellLayout {
+    CellLayout() = default;
+    CellLayout(std::array<double, 2> from, double width, double height, double size_u, double size_v)
+        : origin(from),
+          nu(static_cast<int>(std::clamp(std::ceil(width / size_u), 1.0, 2048.0))),
+          nv(static_cast<int>(std::clamp(std::ceil(height / size_v), 1.0, 2048.0))) {
+      cell_u = width / nu;
+      cell_v = height / nv;
+    }
+    [[nodiscard]] int index_u(double u) const { return cell_index(u, origin[0], cell_u, nu); }
+    [[nodiscard]] int index_v(double v) const { return cell_index(v, origin[1], cell_v, nv); }
+    [[nodiscard]] std::size_t count() const { return static_cast<std::size_t>(nu) * nv; }
+    /// The cell of a point (a box's lower corner).
+    [[nodiscard]] std::size_t cell_of(double u, double v) const {
+      const int cu = std::clamp(static_cast<int>(std::floor((u - origin[0]) / cell_u)), 0, nu - 1);
+      const int cv = std::clamp(static_cast<int>(std::floor((v - origin[1]) / cell_v)), 0, nv - 1);
+      return static_cast<std::size_t>(cv) * nu + cu;
+    }
+    std::array<double, 2> origin{0, 0};
+    double cell_u = 1, cell_v = 1;
+    int nu = 1, nv = 1;
+  };
   /// The cells' compressed rows of items (`start_`, `entries_`, `entry_boxes_`: each cell's items
   /// in increasing order) and `home_`. From kParallelCellItems items on, on `threads` threads: the
   /// items in as many ranges, counted per range and cell, each range's place in a cell after the
   /// ranges before it, so that every row is the one a single pass fills.
   static constexpr std::size_t kParallelCellItems = 4096;
   void fill_cells(const std::vector<FacePrep>& prep, const std::vector<Box>& item_box, unsigned threads) {
-    const std::size_t items = item_box.size(), n = boxes_.size(), cells = static_cast<std::size_t>(nu_) * nv_;
+    const std::size_t items = item_box.size(), n = boxes_.size(), cells = cells_.count(), counted = counting_.count();
     // At most 2^24 counters a table (ranges x cells): 64 MiB for both.
     const std::size_t ranges = std::clamp<std::size_t>(
-        std::min<std::size_t>(items / kParallelCellItems, (std::size_t{1} << 24) / std::max<std::size_t>(cells, 1)), 1,
+        std::min<std::size_t>(items / kParallelCellItems, (std::size_t{1} << 24) / std::max<std::size_t>(std::max(cells, counted), 1)), 1,
         std::max(threads, 1u));
     if (ranges == 1) {  // one pass: count, prefix sum, fill
       start_.assign(cells + 1, 0);
-      for (std::size_t i = 0; i < items; ++i) for_cells(item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
-      home_.assign(cells, 0);
+      for (std::size_t i = 0; i < items; ++i) for_cells(cells_, item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
+      home_.assign(counted, 0);
       for (std::size_t f = 0; f < n; ++f)
-        if (!prep[f].degenerate) ++home_[cell_of(boxes_[f][0], boxes_[f][1])];
+        if (!prep[f].degenerate) ++home_[counting_.cell_of(boxes_[f][0], boxes_[f][1])];
       for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
       entries_.resize(start_.back());
       entry_boxes_.resize(start_.back());
@@ -264,7 +299,7 @@ class LightSpaceGrid {
       std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
       for (std::size_t i = 0; i < items; ++i) {
         const std::uint32_t first = first_cell(item_box[i]);
-        for_cells(item_box[i], [&](std::size_t c) {
+        for_cells(cells_, item_box[i], [&](std::size_t c) {
           entry_boxes_[fill[c]] = item_box[i];
           entry_first_[fill[c]] = first;
           entries_[fill[c]++] = static_cast<std::uint32_t>(i);
@@ -275,32 +310,33 @@ class LightSpaceGrid {
     auto range_begin = [&](std::size_t r, std::size_t count) { return count * r / ranges; };
     // count[r][c]: range r's items in cell c (then: where range r's next item of cell c goes).
     std::vector<std::vector<std::uint32_t>> count(ranges, std::vector<std::uint32_t>(cells, 0));
-    std::vector<std::vector<std::uint32_t>> home(ranges, std::vector<std::uint32_t>(cells, 0));
+    std::vector<std::vector<std::uint32_t>> home(ranges, std::vector<std::uint32_t>(counted, 0));
     runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
       for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
-        for_cells(item_box[i], [&](std::size_t c) { ++count[r][c]; });
+        for_cells(cells_, item_box[i], [&](std::size_t c) { ++count[r][c]; });
       for (std::size_t f = range_begin(r, n); f < range_begin(r + 1, n); ++f)
-        if (!prep[f].degenerate) ++home[r][cell_of(boxes_[f][0], boxes_[f][1])];
+        if (!prep[f].degenerate) ++home[r][counting_.cell_of(boxes_[f][0], boxes_[f][1])];
     });
     start_.assign(cells + 1, 0);
-    home_.assign(cells, 0);
     for (std::size_t c = 0; c < cells; ++c) {
       std::uint32_t at = start_[c];
       for (std::size_t r = 0; r < ranges; ++r) {
         const std::uint32_t k = count[r][c];
         count[r][c] = at;
         at += k;
-        home_[c] += home[r][c];
       }
       start_[c + 1] = at;
     }
+    home_.assign(counted, 0);
+    for (std::size_t c = 0; c < counted; ++c)
+      for (std::size_t r = 0; r < ranges; ++r) home_[c] += home[r][c];
     entries_.resize(start_.back());
     entry_boxes_.resize(start_.back());
     entry_first_.resize(start_.back());
     runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
       for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i) {
         const std::uint32_t first = first_cell(item_box[i]);
-        for_cells(item_box[i], [&](std::size_t c) {
+        for_cells(cells_, item_box[i], [&](std::size_t c) {
           entry_boxes_[count[r][c]] = item_box[i];
           entry_first_[count[r][c]] = first;
           entries_[count[r][c]++] = static_cast<std::uint32_t>(i);
@@ -309,28 +345,26 @@ class LightSpaceGrid {
     });
   }
 
-  /// The first cell for_cells(b) visits, as u | v << 16 (nu_, nv_ <= 2048).
+  /// The first cell for_cells(b) visits, as u | v << 16 (nu, nv <= 2048).
   std::uint32_t first_cell(const Box& b) const {
-    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
-    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
-    return static_cast<std::uint32_t>(u0) | static_cast<std::uint32_t>(v0) << 16;
+    return static_cast<std::uint32_t>(cells_.index_u(b[0] - margin_)) |
+           static_cast<std::uint32_t>(cells_.index_v(b[1] - margin_)) << 16;
   }
 
   template <class Visit>
-  void for_cells(const Box& b, Visit&& visit) const {
-    const int u0 = cell_index(b[0] - margin_, origin_[0], cell_u_, nu_);
-    const int u1 = cell_index(b[2] + margin_, origin_[0], cell_u_, nu_);
-    const int v0 = cell_index(b[1] - margin_, origin_[1], cell_v_, nv_);
-    const int v1 = cell_index(b[3] + margin_, origin_[1], cell_v_, nv_);
+  void for_cells(const CellLayout& layout, const Box& b, Visit&& visit) const {
+    const int u0 = layout.index_u(b[0] - margin_), u1 = layout.index_u(b[2] + margin_);
+    const int v0 = layout.index_v(b[1] - margin_), v1 = layout.index_v(b[3] + margin_);
     for (int v = v0; v <= v1; ++v)
-      for (int u = u0; u <= u1; ++u) visit(static_cast<std::size_t>(v) * nu_ + u);
+      for (int u = u0; u <= u1; ++u) visit(static_cast<std::size_t>(v) * layout.nu + u);
   }
 
   glm::dvec3 u_{0.0}, v_{0.0};
   std::vector<Box> boxes_;
   std::array<double, 2> origin_{0, 0};
-  double margin_ = 0, cell_ = 1, cell_u_ = 1, cell_v_ = 1;
-  int nu_ = 1, nv_ = 1;
+  double margin_ = 0;
+  CellLayout counting_;  ///< home_'s cells, for count()
+  CellLayout cells_;     ///< the entries' cells, for queries
   std::vector<std::uint32_t> start_;
   std::vector<std::uint32_t> entries_;  ///< items, by cell
   std::vector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
