@@ -454,9 +454,8 @@ class ReceiverCuller {
 /// engine and the fast path, so that both consider the same casters in the same order.
 class CasterCandidates {
  public:
-  /// Sizes the stamps for a scene of `faces` faces and `solids` convex solids.
-  void reset(std::size_t faces, std::size_t solids) {
-    seen_.assign(faces, 0);
+  /// Sizes the stamps for a scene of `solids` convex solids.
+  void reset(std::size_t solids) {
     solid_seen_.assign(solids, 0);
     stamp_ = 0;
   }
@@ -474,16 +473,16 @@ class CasterCandidates {
                                          const std::vector<int>* solid_of = nullptr) {
     faces_.clear();
     if (++stamp_ == 0) {  // stamps wrapped: reset
-      std::fill(seen_.begin(), seen_.end(), 0);
       std::fill(solid_seen_.begin(), solid_seen_.end(), 0);
       stamp_ = 1;
     }
     // The grid holds no degenerate face: its visits skip the look-up in `prep` (a cache miss per
     // visit on a large struct, a sizeable share of the query).
     const int own_solid = solid_of ? (*solid_of)[receiver] : -1;
+    // The grid reports each face once (LightSpaceGrid.QueriesReportEveryOverlappingFaceOnce), as
+    // does the loop over every face: no stamp per face.
     auto consider = [&](std::size_t q) {
-      if (q == receiver || seen_[q] == stamp_) return;
-      seen_[q] = stamp_;
+      if (q == receiver) return;
       if (own_solid >= 0 && (*solid_of)[q] == own_solid) return;
       if (culler.may_cast(q)) faces_.push_back(q);
     };
@@ -519,7 +518,7 @@ class CasterCandidates {
   void mark_solid_done(int s) { solid_seen_[static_cast<std::size_t>(s)] = stamp_; }
 
  private:
-  std::vector<std::uint32_t> seen_, solid_seen_;
+  std::vector<std::uint32_t> solid_seen_;
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> faces_;
   std::vector<glm::dvec3> corners_;

@@ -427,7 +427,7 @@ std::vector<ShadowEngine::Impl::ThreadState> ShadowEngine::Impl::make_workers(un
   std::vector<ThreadState> workers(threads);
   runtime::parallel_for(workers.size(), threads, [&](unsigned, std::size_t i) {
     workers[i].exact.reset(scene->faces.size(), solids.size());
-    if (fast) workers[i].fast.casters.reset(scene->faces.size(), solids.size());
+    if (fast) workers[i].fast.casters.reset(solids.size());
   });
   return workers;
 }

@@ -82,7 +82,7 @@ struct ExactWorker {
     faces.resize(face_count);
     built.clear();
     areas_q.clear();
-    casters.reset(face_count, solid_count);
+    casters.reset(solid_count);
   }
   /// This thread's exact view of face f (made on first use).
   const ExactFace& face(const core::PreparedScene& ctx, std::size_t f) {
