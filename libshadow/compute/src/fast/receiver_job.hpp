@@ -261,9 +261,18 @@ class FastReceiver {
   }
 
   bool clip_to_box(Cast& cast) {
+    // A side that every vertex is inside of (the same comparison as clip_axis's) would keep the
+    // polygon as it is: that clip is skipped. The lower clip of an axis leaves its upper test as
+    // it was (its new vertices lie on the lower bound), but the new vertices' other coordinate
+    // is rounded, so the second axis is tested on the polygon as clipped.
     for (int c = 0; c < 2 && cast.poly.size() >= 3; ++c) {
-      clip_axis(cast.poly, c, rc_.lo[c], true, scratch_);
-      clip_axis(cast.poly, c, rc_.hi[c], false, scratch_);
+      bool above_lo = true, below_hi = true;
+      for (const glm::dvec2& p : cast.poly) {
+        above_lo = above_lo && p[c] >= rc_.lo[c];
+        below_hi = below_hi && p[c] <= rc_.hi[c];
+      }
+      if (!above_lo) clip_axis(cast.poly, c, rc_.lo[c], true, scratch_);
+      if (!below_hi) clip_axis(cast.poly, c, rc_.hi[c], false, scratch_);
     }
     for (glm::dvec2& p : cast.poly)
       p = glm::clamp(p, glm::dvec2(rc_.lo[0], rc_.lo[1]), glm::dvec2(rc_.hi[0], rc_.hi[1]));
