@@ -5,6 +5,7 @@
 // scaled up 2^20 times (its rounding then negligible), each within the bound the function
 // returns; clusters, singletons and the Clipper fallback for polygons that are not convex; and,
 // inside the engine, areas-only fast results within their bounds of the exact engine. Seeded.
+#include "fast/box_clip.hpp"
 #include "fast/cluster_union.hpp"
 
 #include <shadow/shadow.hpp>
@@ -233,6 +234,74 @@ TEST(ClusterUnion, EngineFastAreasOnlyWithinBounds) {
     shadowed += e.shadow_area > 0 && e.lit_area > 0 ? 1 : 0;
   }
   EXPECT_GT(shadowed, 100u);
+}
+
+// The box clip that skips sides (fast/box_clip.hpp) gives the same doubles, vertex for vertex,
+// as clip_axis at all four sides: polygons inside, across, outside and on the bounds, some
+// clipped away by the first axis, with crossings whose rounded other coordinate may land just
+// outside that axis' bounds.
+TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
+  std::mt19937_64 random(20261130);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::size_t skipped = 0, clipped = 0, emptied = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    const std::array<double, 2> lo{unit(random) * 3 - 1.5, unit(random) * 3 - 1.5};
+    const std::array<double, 2> hi{lo[0] + 0.1 + unit(random) * 2, lo[1] + 0.1 + unit(random) * 2};
+    // A convex polygon about a centre near the box (a third of them small and inside it), some
+    // vertices moved exactly onto a bound.
+    const bool small = trial % 3 == 0;
+    const glm::dvec2 centre = small ? glm::dvec2{lo[0] + (0.3 + 0.4 * unit(random)) * (hi[0] - lo[0]),
+                                                 lo[1] + (0.3 + 0.4 * unit(random)) * (hi[1] - lo[1])}
+                                    : glm::dvec2{lo[0] - 1 + unit(random) * (hi[0] - lo[0] + 2),
+                                                 lo[1] - 1 + unit(random) * (hi[1] - lo[1] + 2)};
+    const double rx = small ? 0.25 * (hi[0] - lo[0]) * unit(random) : 0.05 + unit(random) * 2.5;
+    const double ry = small ? 0.25 * (hi[1] - lo[1]) * unit(random) : 0.05 + unit(random) * 2.5;
+    const double turn = unit(random) * 6.283;
+    const int n = 3 + static_cast<int>(unit(random) * 9);
+    std::vector<double> angles(static_cast<std::size_t>(n));
+    for (double& a : angles) a = unit(random) * 6.283;
+    std::sort(angles.begin(), angles.end());
+    std::vector<glm::dvec2> poly;
+    for (double a : angles) {
+      glm::dvec2 p{centre.x + rx * std::cos(a + turn), centre.y + ry * std::sin(a)};
+      const double snap = unit(random);
+      if (snap < 0.08) p.x = lo[0];
+      else if (snap < 0.16) p.x = hi[0];
+      else if (snap < 0.24) p.y = lo[1];
+      else if (snap < 0.32) p.y = hi[1];
+      poly.push_back(p);
+    }
+    std::vector<glm::dvec2> want = poly, got = poly, scratch;
+    for (int c = 0; c < 2 && want.size() >= 3; ++c) {
+      shadow::fast::clip_axis(want, c, lo[c], true, scratch);
+      if (c == 0 && want.size() < 3) ++emptied;  // the loop ends before the second axis
+      shadow::fast::clip_axis(want, c, hi[c], false, scratch);
+    }
+    shadow::fast::clip_to_box_sides(got, lo, hi, scratch);
+    ASSERT_EQ(got.size(), want.size()) << "trial " << trial;
+    for (std::size_t v = 0; v < got.size(); ++v) {
+      ASSERT_EQ(std::memcmp(&got[v], &want[v], sizeof(glm::dvec2)), 0) << "trial " << trial << " vertex " << v;
+    }
+    (want == poly ? skipped : clipped) += 1;
+  }
+  // A crossing whose other coordinate rounds past that axis' bound: from (-1, -1) to (0, 1.2e-16)
+  // at x = 0, y = -1 + (1.2e-16 + 1) = 2.2e-16 > 1.2e-16. Every vertex was inside y <= 1.2e-16
+  // before the clip in x, not after: the second axis has to be tested on the clipped polygon.
+  {
+    const std::array<double, 2> lo{0.0, -2.0}, hi{2.0, 1.2e-16};
+    std::vector<glm::dvec2> want{{-1.0, -1.0}, {0.0, 1.2e-16}, {1.0, -1.5}}, got = want, scratch;
+    for (int c = 0; c < 2; ++c) {
+      shadow::fast::clip_axis(want, c, lo[c], true, scratch);
+      shadow::fast::clip_axis(want, c, hi[c], false, scratch);
+    }
+    shadow::fast::clip_to_box_sides(got, lo, hi, scratch);
+    ASSERT_EQ(got.size(), want.size());
+    for (std::size_t v = 0; v < got.size(); ++v) EXPECT_EQ(std::memcmp(&got[v], &want[v], sizeof(glm::dvec2)), 0) << v;
+    for (const glm::dvec2& p : got) EXPECT_LE(p.y, hi[1]);
+  }
+  EXPECT_GT(skipped, 1000u);  // wholly inside: nothing to clip
+  EXPECT_GT(clipped, 5000u);
+  EXPECT_GT(emptied, 100u);
 }
 
 }  // namespace

@@ -51,8 +51,10 @@ struct DoubleAffine {
   [[nodiscard]] double operator()(const glm::dvec3& p) const { return glm::dot(a, p) + b; }
 };
 
-/// Uniform grid over the faces' bounding boxes in light space (the plane orthogonal to a
-/// directional light): faces whose boxes do not overlap cannot shadow each other.
+/// A grid over the faces' bounding boxes in light space (the plane orthogonal to a directional
+/// light): faces whose boxes do not overlap cannot shadow each other. Two uniform divisions of
+/// the same box: the query cells, sized like the items, hold the items; the counting cells,
+/// square, hold each face's count for count().
 class LightSpaceGrid {
  public:
   /// With `solid_of` (the convex solid of each face, -1 for none), the faces of one convex solid
@@ -147,10 +149,10 @@ class LightSpaceGrid {
         const double median = extent[extent.size() / 2];
         (axis == 0 ? cu : cv) = std::clamp(median, square, 16 * square);
       }
-      if (cu * cv > 16 * square * square) {  // both axes at their largest: shrink to 16 cells' area
+      if (cu * cv > 16 * square * square) {  // larger than 16 counting cells: shrink to that area
         const double f = std::sqrt(16 * square * square / (cu * cv));
-        cu = std::max(cu * f, square);
-        cv = std::max(cv * f, square);
+        cu *= f;  // (each stays at least `square`: the other is at most 16 square)
+        cv *= f;
       }
     }
     cells_ = CellLayout(origin_, width, height, cu, cv);
@@ -171,8 +173,10 @@ class LightSpaceGrid {
     return fb[0] <= b[2] + margin_ && b[0] <= fb[2] + margin_ && fb[1] <= b[3] + margin_ && b[1] <= fb[3] + margin_;
   }
 
-  /// About how many faces query(face) visits, in O(cells): the faces whose light-space box has
-  /// its lower corner in a cell that `face`'s box touches (each face counted once).
+  /// About how many faces query(face) meets, in O(cells): the faces whose light-space box has its
+  /// lower corner in a counting cell that `face`'s box touches (each face counted once). The
+  /// counting cells are the grid's first layout (square, one per four faces), kept when the query
+  /// cells were sized like the items: this count decides which receivers are cut into tiles.
   [[nodiscard]] std::size_t count(std::size_t face) const {
     std::size_t n = 0;
     for_cells(counting_, boxes_[face], [&](std::size_t c) { n += home_[c]; });
@@ -264,7 +268,7 @@ class LightSpaceGrid {
     }
     [[nodiscard]] int index_u(double u) const { return cell_index(u, origin[0], cell_u, nu); }
     [[nodiscard]] int index_v(double v) const { return cell_index(v, origin[1], cell_v, nv); }
-    [[nodiscard]] std::size_t count() const { return static_cast<std::size_t>(nu) * nv; }
+    [[nodiscard]] std::size_t cells() const { return static_cast<std::size_t>(nu) * nv; }
     /// The cell of a point (a box's lower corner).
     [[nodiscard]] std::size_t cell_of(double u, double v) const {
       const int cu = std::clamp(static_cast<int>(std::floor((u - origin[0]) / cell_u)), 0, nu - 1);
@@ -281,15 +285,18 @@ class LightSpaceGrid {
   /// ranges before it, so that every row is the one a single pass fills.
   static constexpr std::size_t kParallelCellItems = 4096;
   void fill_cells(const std::vector<FacePrep>& prep, const std::vector<Box>& item_box, unsigned threads) {
-    const std::size_t items = item_box.size(), n = boxes_.size(), cells = cells_.count(), counted = counting_.count();
-    // At most 2^24 counters a table (ranges x cells): 64 MiB for both.
+    const std::size_t items = item_box.size(), n = boxes_.size(), cells = cells_.cells(),
+                      counting_cells = counting_.cells();
+    // At most 2^24 counters a table (ranges x cells): 64 MiB a table.
     const std::size_t ranges = std::clamp<std::size_t>(
-        std::min<std::size_t>(items / kParallelCellItems, (std::size_t{1} << 24) / std::max<std::size_t>(std::max(cells, counted), 1)), 1,
+        std::min<std::size_t>(items / kParallelCellItems,
+                              (std::size_t{1} << 24) / std::max<std::size_t>(std::max(cells, counting_cells), 1)),
+        1,
         std::max(threads, 1u));
     if (ranges == 1) {  // one pass: count, prefix sum, fill
       start_.assign(cells + 1, 0);
       for (std::size_t i = 0; i < items; ++i) for_cells(cells_, item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
-      home_.assign(counted, 0);
+      home_.assign(counting_cells, 0);
       for (std::size_t f = 0; f < n; ++f)
         if (!prep[f].degenerate) ++home_[counting_.cell_of(boxes_[f][0], boxes_[f][1])];
       for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
@@ -310,7 +317,7 @@ class LightSpaceGrid {
     auto range_begin = [&](std::size_t r, std::size_t count) { return count * r / ranges; };
     // count[r][c]: range r's items in cell c (then: where range r's next item of cell c goes).
     std::vector<std::vector<std::uint32_t>> count(ranges, std::vector<std::uint32_t>(cells, 0));
-    std::vector<std::vector<std::uint32_t>> home(ranges, std::vector<std::uint32_t>(counted, 0));
+    std::vector<std::vector<std::uint32_t>> home(ranges, std::vector<std::uint32_t>(counting_cells, 0));
     runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
       for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
         for_cells(cells_, item_box[i], [&](std::size_t c) { ++count[r][c]; });
@@ -327,8 +334,8 @@ class LightSpaceGrid {
       }
       start_[c + 1] = at;
     }
-    home_.assign(counted, 0);
-    for (std::size_t c = 0; c < counted; ++c)
+    home_.assign(counting_cells, 0);
+    for (std::size_t c = 0; c < counting_cells; ++c)
       for (std::size_t r = 0; r < ranges; ++r) home_[c] += home[r][c];
     entries_.resize(start_.back());
     entry_boxes_.resize(start_.back());
@@ -450,7 +457,8 @@ class ReceiverCuller {
 };
 
 /// The casters one receiver has to consider, as found by its ReceiverCuller. One per thread,
-/// reused for every receiver: stamps instead of clearing per-face flags. Shared by the exact
+/// reused for every receiver: a stamp per convex solid (cast once per receiver) instead of
+/// clearing per-solid flags. Shared by the exact
 /// engine and the fast path, so that both consider the same casters in the same order.
 class CasterCandidates {
  public:

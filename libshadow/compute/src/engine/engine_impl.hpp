@@ -48,8 +48,8 @@ struct ShadowEngine::Impl {
     ShadowStats stats;
   };
 
-  /// `threads` workers sized for this scene, each sized on its own thread (per-face stamps and
-  /// caches: on a million faces and 16 threads, sizing them one after another was a serial
+  /// `threads` workers sized for this scene, each sized on its own thread (per-solid stamps and
+  /// per-face caches: on a million faces and 16 threads, sizing them one after another was a serial
   /// tenth of a second and more).
   std::vector<ThreadState> make_workers(unsigned threads, bool fast) const;
 

@@ -223,10 +223,7 @@ bool ReceiverJob::cast_nearly_coplanar(const Face& qface, const std::vector<int>
   cast_.poly = points_;
   cast_.delta = (rc_.s_error + slack) * grow;
   cast_.free_length = perimeter(cast_.poly);
-  for (int c = 0; c < 2 && cast_.poly.size() >= 3; ++c) {
-    clip_axis(cast_.poly, c, rc_.lo[c], true, hull_);
-    clip_axis(cast_.poly, c, rc_.hi[c], false, hull_);
-  }
+  clip_to_box_sides(cast_.poly, rc_.lo, rc_.hi, hull_);
   const std::size_t before = casts_.size();
   // A footprint may cast anything from nothing to itself: it never counts as filling the box.
   const bool covered_before = covered_;

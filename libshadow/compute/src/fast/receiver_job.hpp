@@ -6,6 +6,7 @@
 
 #include "fast/fast_receiver.hpp"
 
+#include "fast/box_clip.hpp"
 #include "fast/cluster_union.hpp"
 #include "fast/error_bound.hpp"
 #include "geometry/clip_convex.hpp"
@@ -45,25 +46,6 @@ inline double perimeter(const std::vector<glm::dvec2>& poly) {
   double length = 0;
   for (std::size_t a = 0; a < poly.size(); ++a) length += glm::length(poly[geometry::cyclic_next(a, poly.size())] - poly[a]);
   return length;
-}
-
-/// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper)
-/// (geometry/clip_convex.hpp). Crossing points get the bound exactly in coordinate c. In doubles a
-/// vertex is inside or outside (side +1 or -1), never on the boundary: as before the one walk.
-inline void clip_axis(std::vector<glm::dvec2>& poly, int c, double bound, bool lower, std::vector<glm::dvec2>& scratch) {
-  auto side = [&](std::size_t a) {
-    const glm::dvec2& p = poly[a];
-    return (lower ? p[c] >= bound : p[c] <= bound) ? 1 : -1;
-  };
-  geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
-    const glm::dvec2& p = poly[a];
-    const glm::dvec2& q = poly[b];
-    const double t = std::clamp((bound - p[c]) / (q[c] - p[c]), 0.0, 1.0);
-    glm::dvec2 x = p + t * (q - p);
-    x[c] = bound;
-    return x;
-  }, scratch);
-  poly.swap(scratch);
 }
 
 /// Homogeneous chart point (X, Z, w) of a central projection; the chart point is (X, Z) / w.
@@ -261,19 +243,7 @@ class FastReceiver {
   }
 
   bool clip_to_box(Cast& cast) {
-    // A side that every vertex is inside of (the same comparison as clip_axis's) would keep the
-    // polygon as it is: that clip is skipped. The lower clip of an axis leaves its upper test as
-    // it was (its new vertices lie on the lower bound), but the new vertices' other coordinate
-    // is rounded, so the second axis is tested on the polygon as clipped.
-    for (int c = 0; c < 2 && cast.poly.size() >= 3; ++c) {
-      bool above_lo = true, below_hi = true;
-      for (const glm::dvec2& p : cast.poly) {
-        above_lo = above_lo && p[c] >= rc_.lo[c];
-        below_hi = below_hi && p[c] <= rc_.hi[c];
-      }
-      if (!above_lo) clip_axis(cast.poly, c, rc_.lo[c], true, scratch_);
-      if (!below_hi) clip_axis(cast.poly, c, rc_.hi[c], false, scratch_);
-    }
+    clip_to_box_sides(cast.poly, rc_.lo, rc_.hi, scratch_);
     for (glm::dvec2& p : cast.poly)
       p = glm::clamp(p, glm::dvec2(rc_.lo[0], rc_.lo[1]), glm::dvec2(rc_.hi[0], rc_.hi[1]));
     return cast.delta <= max_delta_;
