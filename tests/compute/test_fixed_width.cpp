@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The fixed-width steps of the integer charts (exact/fixed_width.hpp, internal) against GMP:
 // conversions both ways, the gcd, projections, plane values, plane crossings and the chart
-// box's cuts on random operands of every size up to the bounds (rapidcheck, seeded in
+// box's cuts, the intervals of fixed-width integers (exact/rational_points.hpp's
+// interval_of_integer against interval_of of the same GMP rational), on random operands of every size up to the bounds (rapidcheck, seeded in
 // tests/CMakeLists.txt) and on extreme ones (zero, one, the largest accepted, the smallest
 // refused); and the fallback: an operand past a bound is refused (the caller then takes GMP),
 // never wrapped.
 #include "exact/fixed_width.hpp"
+#include "exact/rational_points.hpp"
 
 #include <gmpxx.h>
 #include <gtest/gtest.h>
@@ -68,6 +70,34 @@ TEST(FixedWidth, ConversionsAtTheEdges) {
   EXPECT_EQ(fx::bit_width(i128{-1}), 1);
   EXPECT_EQ(fx::bit_width(top), 126);
   EXPECT_EQ(fx::bit_width(u128{1} << 127), 128);
+}
+
+/// interval_of_integer(v) is interval_of of v as a GMP rational, endpoint for endpoint.
+void expect_interval_of_integer_is_gmps(i128 v) {
+  const mpq_class q(to_mpz(v));
+  const shadow::exact::IA want = shadow::exact::interval_of(q);
+  const shadow::exact::IA got = shadow::exact::interval_of_integer(v);
+  EXPECT_EQ(got.inf(), want.inf()) << static_cast<double>(v);
+  EXPECT_EQ(got.sup(), want.sup()) << static_cast<double>(v);
+  EXPECT_LE(got.inf(), static_cast<long double>(v));
+}
+
+TEST(FixedWidth, IntervalOfAnIntegerAtTheEdges) {
+  const i128 p53 = i128{1} << 53;
+  for (i128 v : {i128{0}, i128{1}, p53 - 1, p53, p53 + 1, 2 * p53 - 1, 2 * p53 + 1, i128{INT64_MAX},
+                 (i128{1} << 126) - 1, (i128{1} << 126) + 12345, static_cast<i128>((u128{1} << 127) - 1)}) {
+    expect_interval_of_integer_is_gmps(v);
+    expect_interval_of_integer_is_gmps(-v);
+  }
+}
+
+RC_GTEST_PROP(FixedWidth, IntervalOfAnIntegerIsGmps, ()) {
+  const i128 v = *integer_of_at_most(127);
+  const mpq_class q(to_mpz(v));
+  const shadow::exact::IA want = shadow::exact::interval_of(q);
+  const shadow::exact::IA got = shadow::exact::interval_of_integer(v);
+  RC_ASSERT(got.inf() == want.inf());
+  RC_ASSERT(got.sup() == want.sup());
 }
 
 TEST(FixedWidth, GcdAtTheEdges) {

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -67,6 +68,20 @@ inline IA interval_of(const EQ& q) {
   const IA id = mpz_popcount(den) == 1 ? IA(d) : IA(d, std::nextafter(d, inf));
   const IA quotient = in / id;  // in (-2.1, 2.1), away from under- and overflow
   return IA(std::ldexp(quotient.inf(), static_cast<int>(shift)), std::ldexp(quotient.sup(), static_cast<int>(shift)));
+}
+
+/// interval_of of the integer v, from its fixed-width value: the same interval (v itself below
+/// 2^53; else its top 53 bits truncated toward zero, T, and [T, T + ulp] on the far side from
+/// zero, as mpz_get_d_2exp's truncation gives), without GMP's conversions. Exact under any
+/// rounding mode (53-bit integers and powers of two).
+inline IA interval_of_integer(fixed::i128 v) {
+  if (v == 0) return IA(0.0);
+  const fixed::u128 m = fixed::magnitude(v);
+  const int drop = fixed::bit_width(m) - 53;
+  if (drop <= 0) return IA(static_cast<double>(v));
+  const double t = static_cast<double>(static_cast<std::uint64_t>(m >> drop));
+  const double lo = std::ldexp(t, drop), hi = std::ldexp(t + 1, drop);
+  return v > 0 ? IA(lo, hi) : IA(-hi, -lo);
 }
 
 /// A point's intervals.

@@ -88,9 +88,9 @@ class ScaledChart {
   /// The parallel projection of an input point in front of (or on) the receiver's plane.
   void project(const glm::dvec3& y, QPoint2& out) {
     if (!integer_) return rational_->project(y, out);
-    if (small_ && project_small(y, out)) {
+    if (small_ && project_small(y, out)) {  // (its intervals from the fixed-width integers)
       ++fixed_steps_;
-      return set_intervals(out);
+      return;
     }
     ++gmp_steps_;
     plane_value(y, s_);  // also sets y_
@@ -244,6 +244,8 @@ class ScaledChart {
     if (!fixed::projection(yi[i_], sl_, s, sd_[i_], x0) || !fixed::projection(yi[j_], sl_, s, sd_[j_], x1)) return false;
     set_small(out.x, x0);
     set_small(out.y, x1);
+    CGAL::Protect_FPU_rounding<true> guard;  // set_intervals' intervals, read off x0 and x1
+    out.i = {interval_of_integer(x0) / iscale_, interval_of_integer(x1) / iscale_};
     return true;
   }
   bool chart_small(const glm::dvec3& y, QPoint2& out) const {
