@@ -304,4 +304,45 @@ TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
   EXPECT_GT(emptied, 100u);
 }
 
+// The sweep for overlapping boxes finds the same pairs along x and along y (boundary_union_area2
+// sweeps along the boxes' shorter axis), touching boxes only when closed. (Open, a box of zero
+// width at another's lower edge in the sweep's axis counts as overlapping it; every polygon the
+// fast path measures has positive width and height, so open sweeps are checked on such boxes.)
+TEST(ClusterUnion, OverlappingBoxesAlongEitherAxisAreTheSamePairs) {
+  std::mt19937_64 random(7);
+  std::uniform_int_distribution<CL::cInt> corner(0, 60), size(0, 25);
+  const bool positive[2] = {false, true};
+  for (int trial = 0; trial < 200; ++trial) {
+    std::vector<shadow::fast::GridBox> boxes(1 + trial % 40);
+    for (shadow::fast::GridBox& b : boxes) {
+      b.x0 = corner(random);
+      b.y0 = corner(random);
+      const CL::cInt least = positive[trial % 2] ? 1 : 0;
+      b.x1 = b.x0 + std::max(least, size(random)) * (trial % 3 == 0 ? 4 : 1);  // some long along x
+      b.y1 = b.y0 + std::max(least, size(random));
+    }
+    for (bool closed : {false, true}) {
+      if (!closed && !positive[trial % 2]) continue;
+      std::vector<std::pair<std::size_t, std::size_t>> by_x, by_y, brute;
+      std::vector<std::size_t> order, open;
+      auto add = [](std::vector<std::pair<std::size_t, std::size_t>>& to) {
+        return [&to](std::size_t p, std::size_t o) { to.emplace_back(std::min(p, o), std::max(p, o)); };
+      };
+      shadow::fast::for_overlapping_boxes(boxes, closed, order, open, add(by_x));
+      shadow::fast::for_overlapping_boxes(boxes, closed, order, open, add(by_y), true);
+      for (std::size_t a = 0; a < boxes.size(); ++a)
+        for (std::size_t b = a + 1; b < boxes.size(); ++b) {
+          const shadow::fast::GridBox &p = boxes[a], &q = boxes[b];
+          const bool meet = closed ? p.x0 <= q.x1 && q.x0 <= p.x1 && p.y0 <= q.y1 && q.y0 <= p.y1
+                                   : p.x0 < q.x1 && q.x0 < p.x1 && p.y0 < q.y1 && q.y0 < p.y1;
+          if (meet) brute.emplace_back(a, b);
+        }
+      std::sort(by_x.begin(), by_x.end());
+      std::sort(by_y.begin(), by_y.end());
+      ASSERT_EQ(by_x, brute) << "trial " << trial;
+      ASSERT_EQ(by_y, brute) << "trial " << trial;
+    }
+  }
+}
+
 }  // namespace

@@ -90,16 +90,24 @@ inline GridBox grid_box(const ClipperLib::Path& path) {
   return b;
 }
 
-/// Calls pair(a, b) for every two of `boxes` that overlap, by a sweep in x (each box against the
-/// boxes still open at its left edge): with positive area, or with `closed` touching too.
-/// `order` and `open` are scratch.
+/// Calls pair(a, b) for every two of `boxes` that overlap, by a sweep in x, or in y with
+/// `along_y` (each box against the boxes still open at its lower edge in the sweep's axis): with
+/// positive area (for boxes of positive width and height; a box of zero width at another's lower
+/// edge in the sweep's axis is reported too), or with `closed` touching too. The pairs are then
+/// the same either way, in another order; a sweep across long boxes keeps fewer open. `order`
+/// and `open` are scratch.
 template <class Pair>
 void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, std::vector<std::size_t>& order,
-                           std::vector<std::size_t>& open, Pair&& pair) {
+                           std::vector<std::size_t>& open, Pair&& pair, bool along_y = false) {
+  // (lo, hi) along the sweep, (lo, hi) across it.
+  auto lo = [&](const GridBox& b) { return along_y ? b.y0 : b.x0; };
+  auto hi = [&](const GridBox& b) { return along_y ? b.y1 : b.x1; };
+  auto lo_across = [&](const GridBox& b) { return along_y ? b.x0 : b.y0; };
+  auto hi_across = [&](const GridBox& b) { return along_y ? b.x1 : b.y1; };
   order.resize(boxes.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return boxes[a].x0 != boxes[b].x0 ? boxes[a].x0 < boxes[b].x0 : a < b;
+    return lo(boxes[a]) != lo(boxes[b]) ? lo(boxes[a]) < lo(boxes[b]) : a < b;
   });
   open.clear();
   for (std::size_t p : order) {
@@ -107,9 +115,11 @@ void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, std::
     std::size_t kept = 0;
     for (std::size_t o : open) {
       const GridBox& c = boxes[o];
-      if (closed ? c.x1 < b.x0 : c.x1 <= b.x0) continue;  // ended before this one starts
+      if (closed ? hi(c) < lo(b) : hi(c) <= lo(b)) continue;  // ended before this one starts
       open[kept++] = o;
-      if (closed ? c.y1 >= b.y0 && b.y1 >= c.y0 : c.y1 > b.y0 && b.y1 > c.y0) pair(p, o);
+      if (closed ? hi_across(c) >= lo_across(b) && hi_across(b) >= lo_across(c)
+                 : hi_across(c) > lo_across(b) && hi_across(b) > lo_across(c))
+        pair(p, o);
     }
     open.resize(kept);
     open.push_back(p);
@@ -174,15 +184,23 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
     across[a] = {lo - margin, hi + margin};
     all = a == 0 ? b : GridBox{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
   }
-  // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters).
+  // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters),
+  // swept along the axis the boxes are shorter in (a low sun's shadows are long: swept along
+  // them, most of a large cluster stays open). The lists' order does not matter below: each
+  // edge's covered intervals are sorted by value before they are measured.
   std::vector<std::vector<std::size_t>>& near = scratch.near;
   if (near.size() < m) near.resize(m);
   for (std::size_t a = 0; a < m; ++a) near[a].clear();
+  double extent_x = 0, extent_y = 0;
+  for (const GridBox& b : box) {
+    extent_x += static_cast<double>(b.x1 - b.x0);
+    extent_y += static_cast<double>(b.y1 - b.y0);
+  }
   for_overlapping_boxes(box, true, scratch.near_order, scratch.near_open, [&](std::size_t p, std::size_t o) {
     if (apart(across[p], across[o])) return;
     near[p].push_back(o);
     near[o].push_back(p);
-  });
+  }, extent_y < extent_x);
   // Local coordinates about the cluster's centre keep cross(s, d) small (the area is the same:
   // the uncovered pieces close up into the union's boundary).
   const CL::cInt cx = all.x0 / 2 + all.x1 / 2, cy = all.y0 / 2 + all.y1 / 2;
