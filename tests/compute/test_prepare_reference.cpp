@@ -639,6 +639,17 @@ TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
           if (!prep[g].degenerate && grid.reports(f, g)) want.push_back(g);
         ASSERT_EQ(got, want) << "face " << f;  // sorted equal: each reported exactly once
         reported += got.size();
+        // A part of the face (a tile: here its first vertices, in the cull scene's local frame):
+        // each face once (the candidates' gather keeps no stamp), and only faces of the whole
+        // face's query.
+        const shadow::core::CullFace& cf = cull.faces[f];
+        std::vector<glm::dvec3> part(cull.vertices.begin() + static_cast<std::ptrdiff_t>(cf.first),
+                                     cull.vertices.begin() + static_cast<std::ptrdiff_t>(cf.first + std::min<std::size_t>(cf.count, 2)));
+        std::vector<std::size_t> in_part;
+        grid.query_part(f, part, 0.5, [&](std::size_t g) { in_part.push_back(g); });
+        std::sort(in_part.begin(), in_part.end());
+        EXPECT_TRUE(std::adjacent_find(in_part.begin(), in_part.end()) == in_part.end()) << "face " << f;
+        EXPECT_TRUE(std::includes(got.begin(), got.end(), in_part.begin(), in_part.end())) << "face " << f;
       }
     }
   EXPECT_GT(reported, 8 * city.faces.size());  // the queries meet many faces, not a handful
