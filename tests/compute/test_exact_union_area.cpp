@@ -17,6 +17,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <CGAL/convex_hull_2.h>
 
 #include <cstdint>
@@ -396,6 +398,27 @@ TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
   scene.lights.push_back(shadow::directional_light("noon", shadow::sun_direction(60, 185)));
   scene.lights.push_back(shadow::directional_light("oblique", {0.3, -0.7, 0.5}));
   scene.lights.push_back(shadow::point_light("lamp", {15, -20, 40}));
+  shadow::validate_scene(scene);
+  expect_areas_route_equals_join_route(scene, 0);
+  expect_areas_route_equals_join_route(scene, 40);  // the ground in tiles
+}
+
+// A city turned 30 degrees about the vertical: its roofs and its ground are rectangles whose
+// charts are not their bounding boxes (the walls' still are), so the casts on them are clipped
+// to the convex chart and united from their boundaries, not joined; an L-shaped forecourt (a
+// chart that is not convex) stays with the join. Every area as the polygons route gives it.
+TEST(ExactUnionAreaInTheEngine, TurnedCityOnConvexChartsEqualsTheJoin) {
+  shadow::Scene scene = shadow::make_city(40, 100, 5);
+  const double c = std::cos(0.5235987755982988), s = std::sin(0.5235987755982988);
+  for (shadow::Face& face : scene.faces)
+    for (glm::dvec3& v : face.vertices) v = {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
+  shadow::add_mesh(scene, "forecourt",
+                   {shadow::Polygon3{{-30, -30, 0.5}, {-5, -30, 0.5}, {-5, -20, 0.5}, {-20, -20, 0.5}, {-20, 5, 0.5}, {-30, 5, 0.5}}});
+  shadow::add_mesh(scene, "pavilion", shadow::box_faces({-28, -28, 0.5}, {-24, -24, 6}));
+  scene.lights.push_back(shadow::directional_light("low sun", shadow::sun_direction(15, 120)));
+  scene.lights.push_back(shadow::directional_light("noon", shadow::sun_direction(55, 190)));
+  scene.lights.push_back(shadow::directional_light("west", shadow::sun_direction(25, 250)));
+  scene.lights.push_back(shadow::point_light("lamp", {10, -15, 35}));
   shadow::validate_scene(scene);
   expect_areas_route_equals_join_route(scene, 0);
   expect_areas_route_equals_join_route(scene, 40);  // the ground in tiles

@@ -175,6 +175,7 @@ void ExactReceiverJob::unite_and_measure() {
       return;
     }
   }
+  if (!polygons_ && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_chart()) return;
   shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
   PolygonSet2& shadow_set_ = *shadow_set_storage_;
   if (shadows_.size() == 1 && fp_.chart_is_box) {
@@ -189,6 +190,32 @@ void ExactReceiverJob::unite_and_measure() {
   std::vector<FT> region_areas;
   for (const PolygonWithHoles2& r : shadow_regions_) region_areas.push_back(region_area(r));
   measure(balanced_sum(region_areas));
+}
+
+bool ExactReceiverJob::measure_in_convex_chart() {
+  // Areas only, a face whose chart is not its bounding box (a real model's walls are not
+  // axis-aligned): area((union of the casts) n chart), which the join and the intersection
+  // below make with arrangements (CGAL's Boolean operations were most of such a face's time),
+  // as the union of the casts clipped exactly to the chart, measured from its boundary
+  // (ConvexUnionArea): the same exact rational. A chart or a cast that is not convex, or a
+  // clipped cast the union cannot take (flat), leaves it to the join.
+  const ExactFace& P = w_.face(ctx_, face_id_);
+  if (!P.chart.is_convex()) return false;
+  w_.window_casts.clear();
+  for (const Polygon2& cast : shadows_) {
+    if (!cast.is_convex()) return false;
+    w_.poly2.assign(cast.vertices_begin(), cast.vertices_end());
+    clip_convex_to_window(w_.poly2, P.chart, w_.scratch2);
+    if (w_.poly2.size() >= 3) w_.window_casts.emplace_back(w_.poly2.begin(), w_.poly2.end());
+  }
+  if (w_.window_casts.empty()) {
+    twice_area_ = 0;
+  } else {
+    if (!w_.union_area.twice_area(w_.window_casts, twice_area_)) return false;
+    twice_area_ /= 2;
+  }
+  measure(twice_area_);
+  return true;
 }
 
 void ExactReceiverJob::measure(const EQ& shadow) {

@@ -41,6 +41,7 @@ struct ExactWorker {
   core::CasterCandidates casters;
   std::vector<Point3> poly, scratch;
   std::vector<Point2> poly2, scratch2;
+  std::vector<Polygon2> window_casts;  ///< areas only, a chart that is not a box: casts clipped to it
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
   // The areas-only route's casts as rational points of the scaled chart (exact/scaled_chart.hpp,

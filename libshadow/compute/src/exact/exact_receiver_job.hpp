@@ -153,6 +153,7 @@ class ExactReceiverJob {
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
   void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
   void measure(const EQ& shadow);
+  bool measure_in_convex_chart();  ///< unite_and_measure's areas-only route for a convex chart
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose

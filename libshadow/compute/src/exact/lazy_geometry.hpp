@@ -116,6 +116,33 @@ inline void clip_convex_2d(std::vector<Point2>& poly, int c, double m, bool keep
   poly.swap(scratch);
 }
 
+/// Sutherland-Hodgman clip of a convex 2D polygon to the convex counter-clockwise polygon
+/// `window` (each edge's left side, closed), exact: Epeck's orientations decide the sides, and a
+/// crossing is the edge's point at the exact parameter where it meets the window edge's line.
+/// Vertices on a window edge are kept; the result may repeat a point (no area is lost or added).
+inline void clip_convex_to_window(std::vector<Point2>& poly, const Polygon2& window, std::vector<Point2>& scratch) {
+  for (auto e = window.edges_begin(); e != window.edges_end() && !poly.empty(); ++e) {
+    const Point2& p = e->source();
+    const Point2& q = e->target();
+    const std::size_t n = poly.size();
+    std::vector<int> in(n);
+    for (std::size_t a = 0; a < n; ++a) in[a] = static_cast<int>(CGAL::orientation(p, q, poly[a]));  // +1 left
+    auto side = [&](std::size_t a) { return in[a]; };
+    switch (geometry::clip_case(n, side)) {
+      case geometry::ClipCase::Inside: continue;
+      case geometry::ClipCase::Empty: poly.clear(); continue;
+      case geometry::ClipCase::Cut: break;
+    }
+    const FT ex = q.x() - p.x(), ey = q.y() - p.y();
+    auto s = [&](const Point2& u) { return ex * (u.y() - p.y()) - ey * (u.x() - p.x()); };
+    geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
+      const FT sa = s(poly[a]), sb = s(poly[b]);
+      return poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]);
+    }, scratch);
+    poly.swap(scratch);
+  }
+}
+
 /// The set of half-spaces a caster is clipped to for one receiver, and the projection.
 struct ReceiverFrame {
   int axis = 2;
