@@ -193,12 +193,13 @@ void ExactReceiverJob::unite_and_measure() {
 }
 
 bool ExactReceiverJob::measure_in_convex_chart() {
-  // Areas only, a face whose chart is not its bounding box (a real model's walls are not
-  // axis-aligned): area((union of the casts) n chart), which the join and the intersection
-  // below make with arrangements (CGAL's Boolean operations were most of such a face's time),
-  // as the union of the casts clipped exactly to the chart, measured from its boundary
-  // (ConvexUnionArea): the same exact rational. A chart or a cast that is not convex, or a
-  // clipped cast the union cannot take (flat), leaves it to the join.
+  // Areas only, a face whose chart is not its bounding box (a turned roof or ground, a gable, a
+  // wall not exactly vertical: most of a real model's): area((union of the casts) n chart),
+  // which the join and the intersection below make with arrangements (CGAL's Boolean
+  // operations were most of such a face's time), as the union of the casts clipped exactly to
+  // the chart, measured from its boundary (ConvexUnionArea): the same exact rational. A chart
+  // or a cast that is not convex leaves it to the join (as would a flat cast, which the union
+  // refuses; clipping a convex cast of positive area never makes one).
   const ExactFace& P = w_.face(ctx_, face_id_);
   if (!P.chart.is_convex()) return false;
   w_.window_casts.clear();

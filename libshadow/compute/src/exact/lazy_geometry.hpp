@@ -48,8 +48,9 @@ inline FT plane_at_light(const ExactFace& face, const ExactLight& light) {
 /// Sutherland-Hodgman clip of a convex polygon of any exact point type P to value(p) >= 0, for
 /// an affine `value` (geometry/clip_convex.hpp). Vertices with value exactly 0 are kept;
 /// crossings, lerp(a, b, t) = a + t (b - a) at t = value(a) / (value(a) - value(b)), are made
-/// only where the value changes sign strictly, so no duplicates arise. The one exact half-space
-/// clip: 3D planes, chart half-planes and homogeneous points all go through it.
+/// only where the value changes sign strictly, so no duplicates arise. The exact half-space clip
+/// of 3D planes, chart half-planes and homogeneous points (clip_convex_to_window below cuts by a
+/// polygon's edges, deciding sides with Epeck's orientation predicate instead of a value's sign).
 template <class P, class Value, class Lerp>
 void clip_by_value(std::vector<P>& poly, Value&& value_of, Lerp&& lerp, std::vector<P>& scratch) {
   if (poly.empty()) return;
