@@ -50,7 +50,8 @@ inline FT plane_at_light(const ExactFace& face, const ExactLight& light) {
 /// crossings, lerp(a, b, t) = a + t (b - a) at t = value(a) / (value(a) - value(b)), are made
 /// only where the value changes sign strictly, so no duplicates arise. The exact half-space clip
 /// of 3D planes, chart half-planes and homogeneous points (clip_convex_to_window below cuts by a
-/// polygon's edges, deciding sides with Epeck's orientation predicate instead of a value's sign).
+/// polygon's edges, deciding sides with Epeck's orientation predicate instead of a value's sign,
+/// and clip_by_signs makes its crossings).
 template <class P, class Value, class Lerp>
 void clip_by_value(std::vector<P>& poly, Value&& value_of, Lerp&& lerp, std::vector<P>& scratch) {
   if (poly.empty()) return;
@@ -78,16 +79,24 @@ inline void clip_convex(std::vector<Point3>& poly, const Affine3& f, std::vector
   clip_by_value(poly, f, [](const Point3& a, const Point3& b, const FT& t) { return a + t * (b - a); }, scratch);
 }
 
-/// Clip of a convex polygon to the front of the receiver's plane (s >= 0) when the exact signs of
-/// s at its vertices are already known; s is evaluated (lazily) only on edges that cross.
-inline void clip_front(std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign, const Affine3& s,
-                std::vector<Point3>& scratch) {
+/// Sutherland-Hodgman clip of a convex polygon to s >= 0 for an affine s whose exact signs at the
+/// vertices are already known (`sign`, any type convertible to -1, 0, +1): s is evaluated (lazily)
+/// only on the edges that cross, at t = s(a) / (s(a) - s(b)).
+template <class P, class Signs, class S>
+void clip_by_signs(std::vector<P>& poly, const Signs& sign, S&& s, std::vector<P>& scratch) {
   geometry::clip_convex(poly, [&](std::size_t a) { return static_cast<int>(sign[a]); },
                         [&](std::size_t a, std::size_t b) {
                           const FT sa = s(poly[a]), sb = s(poly[b]);
                           return poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]);
                         }, scratch);
   poly.swap(scratch);
+}
+
+/// Clip of a convex polygon to the front of the receiver's plane (s >= 0) when the exact signs of
+/// s at its vertices are already known.
+inline void clip_front(std::vector<Point3>& poly, const std::vector<CGAL::Sign>& sign, const Affine3& s,
+                std::vector<Point3>& scratch) {
+  clip_by_signs(poly, sign, s, scratch);
 }
 
 /// Sutherland-Hodgman clip of a convex 2D polygon to x_c >= m (keep_greater) or x_c <= m; the
@@ -118,29 +127,24 @@ inline void clip_convex_2d(std::vector<Point2>& poly, int c, double m, bool keep
 }
 
 /// Sutherland-Hodgman clip of a convex 2D polygon to the convex counter-clockwise polygon
-/// `window` (each edge's left side, closed), exact: Epeck's orientations decide the sides, and a
-/// crossing is the edge's point at the exact parameter where it meets the window edge's line.
-/// Vertices on a window edge are kept; the result may repeat a point (no area is lost or added).
+/// `window` (each edge's left side, closed), exact: Epeck's orientation predicate decides the
+/// sides (filtered: no lazy number per vertex, as clip_by_value's value would make), and
+/// clip_by_signs makes the crossings. Vertices on a window edge are kept; the result may repeat
+/// a point (no area is lost or added).
 inline void clip_convex_to_window(std::vector<Point2>& poly, const Polygon2& window, std::vector<Point2>& scratch) {
+  std::vector<int> in;
   for (auto e = window.edges_begin(); e != window.edges_end() && !poly.empty(); ++e) {
     const Point2& p = e->source();
     const Point2& q = e->target();
-    const std::size_t n = poly.size();
-    std::vector<int> in(n);
-    for (std::size_t a = 0; a < n; ++a) in[a] = static_cast<int>(CGAL::orientation(p, q, poly[a]));  // +1 left
-    auto side = [&](std::size_t a) { return in[a]; };
-    switch (geometry::clip_case(n, side)) {
+    in.resize(poly.size());
+    for (std::size_t a = 0; a < poly.size(); ++a) in[a] = static_cast<int>(CGAL::orientation(p, q, poly[a]));  // +1 left
+    switch (geometry::clip_case(poly.size(), [&](std::size_t a) { return in[a]; })) {
       case geometry::ClipCase::Inside: continue;
       case geometry::ClipCase::Empty: poly.clear(); continue;
       case geometry::ClipCase::Cut: break;
     }
     const FT ex = q.x() - p.x(), ey = q.y() - p.y();
-    auto s = [&](const Point2& u) { return ex * (u.y() - p.y()) - ey * (u.x() - p.x()); };
-    geometry::clip_convex(poly, side, [&](std::size_t a, std::size_t b) {
-      const FT sa = s(poly[a]), sb = s(poly[b]);
-      return poly[a] + (sa / (sa - sb)) * (poly[b] - poly[a]);
-    }, scratch);
-    poly.swap(scratch);
+    clip_by_signs(poly, in, [&](const Point2& u) { return ex * (u.y() - p.y()) - ey * (u.x() - p.x()); }, scratch);
   }
 }
 
