@@ -405,10 +405,14 @@ TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
 
 // A city turned 30 degrees about the vertical: its roofs and its ground are rectangles whose
 // charts are not their bounding boxes (the walls' still are), so the casts on them are clipped
-// to the convex chart and united from their boundaries, not joined; an L-shaped forecourt (a
-// chart that is not convex) stays with the join. Every area as the polygons route gives it.
+// to the convex chart and united from their boundaries, not joined; on the L-shaped forecourt
+// and the turned L-shaped terrace among the buildings (charts that are not convex) the casts
+// are clipped to each convex piece and the pieces' areas added. Every area as the polygons
+// route gives it.
 TEST(ExactUnionAreaInTheEngine, TurnedCityOnConvexChartsEqualsTheJoin) {
   shadow::Scene scene = shadow::make_city(40, 100, 5);
+  shadow::add_mesh(scene, "terrace",
+                   {shadow::Polygon3{{-12, -12, 0.25}, {12, -12, 0.25}, {12, -2, 0.25}, {-2, -2, 0.25}, {-2, 12, 0.25}, {-12, 12, 0.25}}});
   const double c = std::cos(0.5235987755982988), s = std::sin(0.5235987755982988);
   for (shadow::Face& face : scene.faces)
     for (glm::dvec3& v : face.vertices) v = {c * v.x - s * v.y, s * v.x + c * v.y, v.z};

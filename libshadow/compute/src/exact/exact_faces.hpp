@@ -32,6 +32,10 @@ struct ExactFace {
   FT offset;                     ///< plane: normal . p + offset = 0
   std::vector<Point3> vertices;  ///< on the plane (lifted along the chart axis if not planar)
   Polygon2 chart;                ///< counter-clockwise chart polygon (chart_ring)
+  /// The chart's convex pieces (prep.convex_pieces, counter-clockwise) with their bounding
+  /// boxes, when the chart is not convex; empty for a convex chart (one piece: the chart).
+  std::vector<Polygon2> chart_pieces;
+  std::vector<CGAL::Bbox_2> chart_piece_boxes;
   FT chart_area;                 ///< exact area of `chart`
   FT area_scale_squared;         ///< (3D area / chart area)^2 = |n|^2 / n_k^2
 };

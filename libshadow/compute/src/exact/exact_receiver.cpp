@@ -175,7 +175,7 @@ void ExactReceiverJob::unite_and_measure() {
       return;
     }
   }
-  if (!polygons_ && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_chart()) return;
+  if (!polygons_ && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_pieces()) return;
   shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
   PolygonSet2& shadow_set_ = *shadow_set_storage_;
   if (shadows_.size() == 1 && fp_.chart_is_box) {
@@ -192,31 +192,60 @@ void ExactReceiverJob::unite_and_measure() {
   measure(balanced_sum(region_areas));
 }
 
-bool ExactReceiverJob::measure_in_convex_chart() {
-  // Areas only, a face whose chart is not its bounding box (a turned roof or ground, a gable, a
-  // wall not exactly vertical: most of a real model's): area((union of the casts) n chart),
-  // which the join and the intersection below make with arrangements (CGAL's Boolean
-  // operations were most of such a face's time), as the union of the casts clipped exactly to
-  // the chart, measured from its boundary (ConvexUnionArea): the same exact rational. A chart
-  // or a cast that is not convex leaves it to the join (as would a flat cast, which the union
-  // refuses; clipping a convex cast of positive area never makes one).
+bool ExactReceiverJob::measure_in_convex_pieces() {
+  // Areas only, a face whose chart is not its bounding box (a turned roof or ground, a gable, an
+  // L-shaped footprint, a wall not exactly vertical: most of a real model's): area((union of the
+  // casts) n chart), which the join and the intersection below make with arrangements (CGAL's
+  // Boolean operations were most of such a face's time), as the union of the casts clipped
+  // exactly to the chart, measured from its boundary (ConvexUnionArea): the same exact rational.
+  // A chart that is not convex is the sum over its convex pieces (they tile it: their interiors
+  // are disjoint, their union is the chart), each with the casts clipped to it. A cast that is
+  // not convex leaves it to the join (as would a flat cast, which the union refuses; clipping a
+  // convex cast of positive area never makes one).
   const ExactFace& P = w_.face(ctx_, face_id_);
-  if (!P.chart.is_convex()) return false;
-  w_.window_casts.clear();
+  w_.cast_boxes.clear();
   for (const Polygon2& cast : shadows_) {
     if (!cast.is_convex()) return false;
-    w_.poly2.assign(cast.vertices_begin(), cast.vertices_end());
-    clip_convex_to_window(w_.poly2, P.chart, w_.scratch2);
-    if (w_.poly2.size() >= 3) w_.window_casts.emplace_back(w_.poly2.begin(), w_.poly2.end());
+    w_.cast_boxes.push_back(cast.bbox());
   }
-  if (w_.window_casts.empty()) {
-    twice_area_ = 0;
+  if (P.chart_pieces.empty()) {
+    if (!twice_area_in_window(P.chart, P.chart.bbox(), twice_area_)) return false;
   } else {
-    if (!w_.union_area.twice_area(w_.window_casts, twice_area_)) return false;
-    twice_area_ /= 2;
+    twice_area_ = 0;
+    for (std::size_t k = 0; k < P.chart_pieces.size(); ++k) {
+      if (!twice_area_in_window(P.chart_pieces[k], P.chart_piece_boxes[k], w_.piece_twice_area)) return false;
+      twice_area_ += w_.piece_twice_area;
+    }
   }
+  twice_area_ /= 2;
   measure(twice_area_);
   return true;
+}
+
+bool ExactReceiverJob::twice_area_in_window(const Polygon2& window, const CGAL::Bbox_2& box, EQ& out) {
+  w_.window_points.clear();
+  w_.window_first.assign(1, 0);
+  for (std::size_t c = 0; c < shadows_.size(); ++c) {
+    // Boxes of interval approximations hold the exact ones: apart, the cast misses the window.
+    if (!CGAL::do_overlap(w_.cast_boxes[c], box)) continue;
+    const Polygon2& cast = shadows_[c];
+    w_.poly2.assign(cast.vertices_begin(), cast.vertices_end());
+    clip_convex_to_window(w_.poly2, window, w_.scratch2);
+    if (w_.poly2.size() < 3) continue;
+    for (const Point2& p : w_.poly2) {
+      const auto& e = CGAL::exact(p);
+      QPoint2& q = w_.window_points.emplace_back();
+      q.x = e.x();
+      q.y = e.y();
+      q.update_intervals();
+    }
+    w_.window_first.push_back(w_.window_points.size());
+  }
+  if (w_.window_first.size() == 1) {
+    out = 0;
+    return true;
+  }
+  return w_.union_area.twice_area(w_.window_points, w_.window_first, out);
 }
 
 void ExactReceiverJob::measure(const EQ& shadow) {

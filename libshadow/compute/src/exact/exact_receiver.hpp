@@ -41,7 +41,13 @@ struct ExactWorker {
   core::CasterCandidates casters;
   std::vector<Point3> poly, scratch;
   std::vector<Point2> poly2, scratch2;
-  std::vector<Polygon2> window_casts;  ///< areas only, a chart that is not a box: casts clipped to it
+  // Areas only, a chart that is not a box: the casts clipped to the chart or to one of its
+  // convex pieces, as rational points (window_points[window_first[k], window_first[k + 1])),
+  // and the casts' bounding boxes.
+  QPointList window_points;
+  std::vector<std::size_t> window_first;
+  std::vector<CGAL::Bbox_2> cast_boxes;
+  EQ piece_twice_area;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
   // The areas-only route's casts as rational points of the scaled chart (exact/scaled_chart.hpp,

@@ -153,7 +153,10 @@ class ExactReceiverJob {
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
   void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
   void measure(const EQ& shadow);
-  bool measure_in_convex_chart();  ///< unite_and_measure's areas-only route for a convex chart
+  bool measure_in_convex_pieces();  ///< unite_and_measure's areas-only route for a chart not a box
+  /// Twice the area of the union of the casts (shadows_, their boxes in w_.cast_boxes) clipped
+  /// to a convex counter-clockwise window with bounding box `box`; false where the union refuses.
+  bool twice_area_in_window(const Polygon2& window, const CGAL::Bbox_2& box, EQ& out);
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
