@@ -372,6 +372,48 @@ TEST(RationalPoints, HullClipAndAreaSignMatchEpeck) {
   }
 }
 
+// The clip to a convex window on rational points (a chart's convex piece: measure_in_scaled_pieces)
+// against the lazy Epeck clip (measure_in_convex_pieces) point for point, and both against
+// CGAL's intersection's area: integer corners (the integer cut), grid rationals, lazy points,
+// straight-on vertices on either side, windows sharing edges and corners with the polygon.
+TEST(RationalPoints, WindowClipMatchesEpeckAndTheIntersection) {
+  Generator g(47);
+  shadow::exact::QScratch s;
+  std::vector<int> side;
+  std::size_t cut = 0, emptied = 0;
+  for (int round = 0; round < 600; ++round) {
+    const int denominator = round % 3 == 0 ? 1 : g.uniform(1, 3);
+    Polygon2 polygon = g.hull(denominator, 4, g.uniform(3, 8));
+    if (round % 5 == 1) polygon = Generator::lazy(polygon);
+    const Polygon2 window = round % 7 == 2 ? polygon : g.hull(g.uniform(1, 2), 4, g.uniform(3, 7));
+    std::vector<Point2> lazy(polygon.vertices_begin(), polygon.vertices_end()), scratch;
+    shadow::exact::clip_convex_to_window(lazy, window, scratch);
+    std::vector<Point2> in(polygon.vertices_begin(), polygon.vertices_end());
+    std::vector<Point2> corners(window.vertices_begin(), window.vertices_end());
+    std::vector<shadow::exact::QPoint2> rat = rational(in), qwindow = rational(corners), qscratch;
+    shadow::exact::clip_convex_to_window(rat, qwindow, qscratch, side, shadow::exact::IA(1), s);
+    ASSERT_EQ(rat.size(), lazy.size()) << "round " << round;
+    for (std::size_t v = 0; v < rat.size(); ++v) {
+      EXPECT_EQ(rat[v].x, CGAL::exact(lazy[v].x())) << "round " << round;
+      EXPECT_EQ(rat[v].y, CGAL::exact(lazy[v].y())) << "round " << round;
+      EXPECT_TRUE(rat[v].i.x.inf() <= CGAL::to_double(lazy[v].x()) && CGAL::to_double(lazy[v].x()) <= rat[v].i.x.sup());
+    }
+    PolygonSet2 meet(polygon);
+    meet.intersection(window);
+    std::vector<PolygonWithHoles2> regions;
+    meet.polygons_with_holes(std::back_inserter(regions));
+    std::vector<FT> areas;
+    for (const PolygonWithHoles2& r : regions) areas.push_back(shadow::exact::region_area(r));
+    const EQ expected = CGAL::exact(shadow::exact::balanced_sum(areas));
+    const EQ got = rat.size() >= 3 ? twice_area_of(rat) / 2 : EQ(0);
+    EXPECT_EQ(got, expected) << "round " << round;
+    cut += rat.size() >= 3 && expected != CGAL::exact(shadow::exact::polygon_area(polygon));
+    emptied += rat.empty();
+  }
+  EXPECT_GT(cut, 200u);  // the cuts themselves, not only polygons wholly inside or outside
+  EXPECT_GT(emptied, 20u);
+}
+
 /// The engine with areas only (the route without a Boolean operation) against the engine with
 /// polygons (PolygonSet2::join, then the regions' areas): the same doubles, bit for bit.
 void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_t tile_casters) {

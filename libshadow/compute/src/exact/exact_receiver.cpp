@@ -58,10 +58,11 @@ ReceiverResult ExactReceiverJob::run(int facing) {
     return std::move(item_);
   }
   out.faces_light = true;
-  // Areas only, a box chart, a directional light, an exactly planar receiver: the casts are kept
-  // as plain rational points in the receiver's scaled chart (integers where they can be:
-  // exact/scaled_chart.hpp) and united by their boundaries (no Epeck number, no arrangement).
-  q_mode_ = !polygons_ && fp_.chart_is_box && !point_light_ && fp_.exactly_planar;
+  // Areas only, a directional light, an exactly planar receiver: the casts are kept as plain
+  // rational points in the receiver's scaled chart (integers where they can be:
+  // exact/scaled_chart.hpp) and united by their boundaries (no Epeck number, no arrangement);
+  // a chart that is not its box clips them to its convex pieces first (measure_in_scaled_pieces).
+  q_mode_ = !polygons_ && !point_light_ && fp_.exactly_planar;
   if (q_mode_) {
     w_.qshadows.clear();
     w_.qfirst.assign(1, 0);
@@ -144,20 +145,22 @@ void ExactReceiverJob::unite_and_measure() {
   if (q_mode_) {
     // Areas of the scaled chart (scaled_chart()), divided by K^2 before measuring.
     const ScaledChart& chart = scaled_chart();
-    if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
+    if (!fp_.chart_is_box) {
+      if (!q_outline_cast_ && measure_in_scaled_pieces()) return;
+    } else if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
       twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
       twice_area_ /= 2;
       chart.unscale_area(twice_area_);
       measure(twice_area_);
       return;
-    }
-    if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
+    } else if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
       twice_area_ /= 2;
       chart.unscale_area(twice_area_);
       measure(twice_area_);
       return;
     }
-    // A non-convex cast: the Boolean union of all of them, as Epeck polygons (of the chart).
+    // A non-convex cast (or a flat one clipped to a piece, which the union refuses): the Boolean
+    // union of all of them, as Epeck polygons (of the chart).
     for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
       Polygon2 polygon;
       for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v)
@@ -246,6 +249,53 @@ bool ExactReceiverJob::twice_area_in_window(const Polygon2& window, const CGAL::
     return true;
   }
   return w_.union_area.twice_area(w_.window_points, w_.window_first, out);
+}
+
+bool ExactReceiverJob::measure_in_scaled_pieces() {
+  // measure_in_convex_pieces for the casts as rational points of the scaled chart: each convex
+  // piece of the face (the chart itself when it is convex) made a window of the scaled chart
+  // from the receiver's own vertices (ScaledChart::chart), the casts clipped to it exactly
+  // (clip_convex_to_window on rational points) and united; the pieces' areas added.
+  ScaledChart& chart = scaled_chart();
+  const core::FacePrep& face_prep = (*ctx_.prep)[face_id_];  // a tile's fp_ is its box
+  w_.cast_boxes.clear();
+  for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+    const IPoint2& i0 = w_.qshadows[w_.qfirst[k]].i;
+    CGAL::Bbox_2 box(i0.x.inf(), i0.y.inf(), i0.x.sup(), i0.y.sup());
+    for (std::size_t v = w_.qfirst[k] + 1; v < w_.qfirst[k + 1]; ++v) {
+      const IPoint2& i = w_.qshadows[v].i;
+      box += CGAL::Bbox_2(i.x.inf(), i.y.inf(), i.x.sup(), i.y.sup());
+    }
+    w_.cast_boxes.push_back(box);
+  }
+  twice_area_ = 0;
+  for (const std::vector<int>& piece : face_prep.convex_pieces) {
+    w_.qwindow.clear();
+    CGAL::Bbox_2 box;
+    for (int v : piece) {
+      QPoint2& p = w_.qwindow.emplace_back();
+      chart.chart(face_.vertices[v], p);  // its intervals are the input doubles, exactly
+      box += CGAL::Bbox_2(p.i.x.inf(), p.i.y.inf(), p.i.x.sup(), p.i.y.sup());
+    }
+    w_.window_points.clear();
+    w_.window_first.assign(1, 0);
+    for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+      if (!CGAL::do_overlap(w_.cast_boxes[k], box)) continue;  // (boxes around the exact points)
+      w_.qpoly.clear();
+      for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v) w_.qpoly.push_back(w_.qshadows[v]);
+      clip_convex_to_window(w_.qpoly, w_.qwindow, w_.qscratch, w_.qside, chart.scale_interval(), w_.qs);
+      if (w_.qpoly.size() < 3) continue;
+      for (QPoint2& p : w_.qpoly) w_.window_points.push_back_swap(p);
+      w_.window_first.push_back(w_.window_points.size());
+    }
+    if (w_.window_first.size() == 1) continue;  // no cast reaches this piece
+    if (!w_.union_area.twice_area(w_.window_points, w_.window_first, w_.piece_twice_area)) return false;
+    twice_area_ += w_.piece_twice_area;
+  }
+  twice_area_ /= 2;
+  chart.unscale_area(twice_area_);
+  measure(twice_area_);
+  return true;
 }
 
 void ExactReceiverJob::measure(const EQ& shadow) {

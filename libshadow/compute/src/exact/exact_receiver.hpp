@@ -44,7 +44,7 @@ struct ExactWorker {
   // Areas only, a chart that is not a box: the casts clipped to the chart or to one of its
   // convex pieces, as rational points (window_points[window_first[k], window_first[k + 1])),
   // and the casts' bounding boxes.
-  QPointList window_points;
+  QPointList window_points, qwindow;
   std::vector<std::size_t> window_first;
   std::vector<CGAL::Bbox_2> cast_boxes;
   EQ piece_twice_area;

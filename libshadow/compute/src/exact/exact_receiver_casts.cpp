@@ -156,7 +156,10 @@ void ExactReceiverJob::cast_face(std::size_t q) {
         if (!inside) break;
       }
       if (inside) {
-        if (add_shadow_q(pts)) ++stats_.casting_pairs;
+        if (add_shadow_q(pts)) {
+          ++stats_.casting_pairs;
+          q_outline_cast_ = true;  // not convex: no clip to a non-box chart's pieces
+        }
         return;
       }
     } else {

@@ -136,7 +136,8 @@ class ExactReceiverJob {
 
   /// note_cover for a rational cast (counter-clockwise, in the scaled chart). Every cast is a
   /// simple polygon inside the chart box (a convex piece or hull clipped to it, or a face's
-  /// affine image lying in it), and a simple polygon inside the box with the box's area is the box.
+  /// affine image lying in it), and a simple polygon inside the box with the box's area is the
+  /// box, which holds the chart (a chart that is not its box too: the shadow is then the chart).
   void note_cover_q(const QPointList& poly);
 
   /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
@@ -157,6 +158,9 @@ class ExactReceiverJob {
   /// Twice the area of the union of the casts (shadows_, their boxes in w_.cast_boxes) clipped
   /// to a convex counter-clockwise window with bounding box `box`; false where the union refuses.
   bool twice_area_in_window(const Polygon2& window, const CGAL::Bbox_2& box, EQ& out);
+  /// measure_in_convex_pieces for q_mode_'s rational casts (the scaled chart's pieces); false
+  /// where the union refuses a clipped cast (flat), the casts left in w_.qshadows.
+  bool measure_in_scaled_pieces();
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
@@ -204,6 +208,7 @@ class ExactReceiverJob {
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
   ConvexUnionArea::EQ twice_area_;                 ///< scratch for the union's area (areas only)
   bool q_mode_ = false;                            ///< casts as rational points (see run())
+  bool q_outline_cast_ = false;  ///< q_mode_: a non-convex caster cast its whole outline (cast_face)
   FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
   std::vector<Polygon2> cells_, triangles_;

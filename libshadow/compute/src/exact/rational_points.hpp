@@ -176,7 +176,7 @@ inline const IPoint2& interval_of(const QPoint2& p) {
 /// integer paths.
 struct QScratch {
   EQ a, b, c, d;
-  mpz_class za, zb, zc;
+  mpz_class za, zb, zc, zd, ze, zf;
 };
 
 /// Whether q is an integer. The areas route's points mostly are (exact/scaled_chart.hpp), and
@@ -449,6 +449,94 @@ void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool
     if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) cut(a, b);
   }
   poly.swap(scratch);
+}
+
+/// Where edge a-b crosses the line through p and q (a and b strictly on opposite sides), into
+/// `out`: with s(u) = cross(q - p, u - p), the point (s(a) b - s(b) a) / (s(a) - s(b)). In
+/// integers with one normalisation per coordinate when all four points are integers (a scaled
+/// chart's projections and receiver vertices), else in rationals; the same canonical values.
+/// The intervals as clip_convex_2d's cuts get them (`scale` around K, of the unscaled chart).
+inline void cut_by_line(const QPoint2& p, const QPoint2& q, const QPoint2& a, const QPoint2& b, QPoint2& out,
+                        const IA& scale, QScratch& s) {
+  if (is_integer(p) && is_integer(q) && is_integer(a) && is_integer(b)) {
+    mpz_sub(s.zd.get_mpz_t(), num(q.x), num(p.x));  // dx
+    mpz_sub(s.ze.get_mpz_t(), num(q.y), num(p.y));  // dy
+    auto side = [&](const QPoint2& u, mpz_class& to) {  // s(u) = dx (u.y - p.y) - dy (u.x - p.x)
+      mpz_sub(s.zf.get_mpz_t(), num(u.y), num(p.y));
+      mpz_mul(to.get_mpz_t(), s.zd.get_mpz_t(), s.zf.get_mpz_t());
+      mpz_sub(s.zf.get_mpz_t(), num(u.x), num(p.x));
+      mpz_submul(to.get_mpz_t(), s.ze.get_mpz_t(), s.zf.get_mpz_t());
+    };
+    side(a, s.za);
+    side(b, s.zb);
+    mpz_sub(s.zc.get_mpz_t(), s.za.get_mpz_t(), s.zb.get_mpz_t());  // s(a) - s(b), not zero
+    auto coordinate = [&](const EQ& ac, const EQ& bc, EQ& to) {
+      mpz_ptr n = mpq_numref(to.get_mpq_t());
+      mpz_mul(n, s.za.get_mpz_t(), num(bc));
+      mpz_submul(n, s.zb.get_mpz_t(), num(ac));
+      mpz_set(mpq_denref(to.get_mpq_t()), s.zc.get_mpz_t());
+      mpq_canonicalize(to.get_mpq_t());
+    };
+    coordinate(a.x, b.x, out.x);
+    coordinate(a.y, b.y, out.y);
+  } else {
+    auto side = [&](const QPoint2& u, EQ& to) {
+      s.c = u.y - p.y;
+      s.d = q.x - p.x;
+      to = s.c * s.d;
+      s.c = u.x - p.x;
+      s.d = q.y - p.y;
+      s.c *= s.d;
+      to -= s.c;
+    };
+    side(a, s.a);
+    side(b, s.b);
+    s.b = s.a - s.b;
+    s.a /= s.b;  // t = s(a) / (s(a) - s(b))
+    out.x = b.x - a.x;
+    out.x *= s.a;
+    out.x += a.x;
+    out.y = b.y - a.y;
+    out.y *= s.a;
+    out.y += a.y;
+  }
+  CGAL::Protect_FPU_rounding<true> guard;
+  out.i = {interval_of<false>(out.x), interval_of<false>(out.y)};
+  if (!(scale.is_point() && scale.inf() == 1.0)) out.i = {out.i.x / scale, out.i.y / scale};
+}
+
+/// Sutherland-Hodgman clip of a convex polygon to the convex counter-clockwise polygon `window`
+/// (each edge's closed left side), both in one chart (scaled or not, `scale` around its K): the
+/// rational points' counterpart of lazy_geometry.hpp's clip_convex_to_window, the same exact
+/// points. Sides by the filtered orientation; vertices on a window edge are kept.
+template <class Points>
+void clip_convex_to_window(Points& poly, const Points& window, Points& scratch, std::vector<int>& in,
+                           const IA& scale, QScratch& s) {
+  const std::size_t m = window.size();
+  for (std::size_t e = 0; e < m && !poly.empty(); ++e) {
+    const QPoint2& p = window[e];
+    const QPoint2& q = window[e + 1 == m ? 0 : e + 1];
+    const std::size_t n = poly.size();
+    in.resize(n);
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      for (std::size_t a = 0; a < n; ++a) in[a] = static_cast<int>(orientation<false>(p, p.i, q, q.i, poly[a], poly[a].i, s));
+    }
+    auto side = [&](std::size_t a) { return in[a]; };
+    switch (geometry::clip_case(n, side)) {
+      case geometry::ClipCase::Inside: continue;
+      case geometry::ClipCase::Empty: poly.clear(); continue;
+      case geometry::ClipCase::Cut: break;
+    }
+    scratch.clear();
+    for (std::size_t a = 0; a < n; ++a) {
+      const std::size_t b = a + 1 == n ? 0 : a + 1;
+      const int sa = in[a], sb = in[b];
+      if (sa >= 0) scratch.push_back(poly[a]);
+      if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) cut_by_line(p, q, poly[a], poly[b], scratch.emplace_back(), scale, s);
+    }
+    poly.swap(scratch);
+  }
 }
 
 /// The same for a bound m given as a double (the same values as clip_convex_2d's for Epeck
