@@ -176,7 +176,7 @@ inline const IPoint2& interval_of(const QPoint2& p) {
 /// integer paths.
 struct QScratch {
   EQ a, b, c, d;
-  mpz_class za, zb, zc, zd, ze, zf;
+  mpz_class za, zb, zc, zd, ze, zf, zg, zh;
 };
 
 /// Whether q is an integer. The areas route's points mostly are (exact/scaled_chart.hpp), and
@@ -185,6 +185,7 @@ struct QScratch {
 inline bool is_integer(const EQ& q) { return mpz_cmp_ui(mpq_denref(q.get_mpq_t()), 1) == 0; }
 inline bool is_integer(const QPoint2& p) { return is_integer(p.x) && is_integer(p.y); }
 inline mpz_srcptr num(const EQ& q) { return mpq_numref(q.get_mpq_t()); }
+inline mpz_srcptr den(const EQ& q) { return mpq_denref(q.get_mpq_t()); }
 
 /// acc += cross(p, q) for integer points p and q (a shoelace term).
 inline void add_integer_cross(mpz_class& acc, const QPoint2& p, const QPoint2& q) {
@@ -430,10 +431,28 @@ void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool
       mpz_sub(od, num(bc), num(ac));
       mpq_canonicalize(other.get_mpq_t());
     } else {
-      other = bo - ao;
-      other *= bound - ac;
-      other /= bc - ac;
-      other += ao;
+      // Fraction-free, one normalisation: with x = X / x' for each of ac, bc, ao, bo and m,
+      // other = (Ao bo' ac' (Bc m' - M bc') + Bo ao' bc' (M ac' - Ac m')) / ((Bc ac' - Ac bc') ao' bo' m').
+      mpz_ptr on = mpq_numref(other.get_mpq_t());
+      mpz_ptr od = mpq_denref(other.get_mpq_t());
+      mpz_ptr t = mpq_numref(at.get_mpq_t());  // scratch: at is set to the bound below
+      mpz_mul(on, num(bc), den(bound));  // Bc m' - M bc'
+      mpz_submul(on, num(bound), den(bc));
+      mpz_mul(on, on, num(ao));
+      mpz_mul(on, on, den(bo));
+      mpz_mul(on, on, den(ac));
+      mpz_mul(t, num(bound), den(ac));  // M ac' - Ac m'
+      mpz_submul(t, num(ac), den(bound));
+      mpz_mul(t, t, num(bo));
+      mpz_mul(t, t, den(ao));
+      mpz_mul(t, t, den(bc));
+      mpz_add(on, on, t);
+      mpz_mul(od, num(bc), den(ac));  // Bc ac' - Ac bc'
+      mpz_submul(od, num(ac), den(bc));
+      mpz_mul(od, od, den(ao));
+      mpz_mul(od, od, den(bo));
+      mpz_mul(od, od, den(bound));
+      mpq_canonicalize(other.get_mpq_t());
     }
     at = bound;
     CGAL::Protect_FPU_rounding<true> guard;
@@ -453,28 +472,46 @@ void clip_convex_2d(Points& poly, int c, const EQ& bound, const IA& ibound, bool
 
 /// Where edge a-b crosses the line through p and q (a and b strictly on opposite sides), into
 /// `out`: with s(u) = cross(q - p, u - p), the point (s(a) b - s(b) a) / (s(a) - s(b)). In
-/// integers with one normalisation per coordinate when all four points are integers (a scaled
-/// chart's projections and receiver vertices), else in rationals; the same canonical values.
+/// integers with one normalisation per coordinate when the window's corners are integers (a
+/// scaled chart's receiver vertices), else in rationals; the same canonical values.
 /// The intervals as clip_convex_2d's cuts get them (`scale` around K, of the unscaled chart).
 inline void cut_by_line(const QPoint2& p, const QPoint2& q, const QPoint2& a, const QPoint2& b, QPoint2& out,
                         const IA& scale, QScratch& s) {
-  if (is_integer(p) && is_integer(q) && is_integer(a) && is_integer(b)) {
+  if (is_integer(p) && is_integer(q)) {
+    // Fraction-free: with a = (A_x / a_x, A_y / a_y) (and b alike) and integer p, q,
+    // s(a) = S_a / (a_x a_y), S_a = dx (A_y - p_y a_y) a_x - dy (A_x - p_x a_x) a_y; with
+    // U = S_a b_x b_y and V = S_b a_x a_y, x = (U B_x a_x - V A_x b_x) / ((U - V) a_x b_x) and y
+    // alike: one normalisation per coordinate (GMP's rational steps take a gcd after each).
+    // Integer points make every denominator 1.
     mpz_sub(s.zd.get_mpz_t(), num(q.x), num(p.x));  // dx
     mpz_sub(s.ze.get_mpz_t(), num(q.y), num(p.y));  // dy
-    auto side = [&](const QPoint2& u, mpz_class& to) {  // s(u) = dx (u.y - p.y) - dy (u.x - p.x)
-      mpz_sub(s.zf.get_mpz_t(), num(u.y), num(p.y));
+    auto side = [&](const QPoint2& u, mpz_class& to) {
+      mpz_mul(s.zf.get_mpz_t(), num(p.y), den(u.y));
+      mpz_sub(s.zf.get_mpz_t(), num(u.y), s.zf.get_mpz_t());
       mpz_mul(to.get_mpz_t(), s.zd.get_mpz_t(), s.zf.get_mpz_t());
-      mpz_sub(s.zf.get_mpz_t(), num(u.x), num(p.x));
+      mpz_mul(to.get_mpz_t(), to.get_mpz_t(), den(u.x));
+      mpz_mul(s.zf.get_mpz_t(), num(p.x), den(u.x));
+      mpz_sub(s.zf.get_mpz_t(), num(u.x), s.zf.get_mpz_t());
+      mpz_mul(s.zf.get_mpz_t(), s.zf.get_mpz_t(), den(u.y));
       mpz_submul(to.get_mpz_t(), s.ze.get_mpz_t(), s.zf.get_mpz_t());
     };
     side(a, s.za);
     side(b, s.zb);
-    mpz_sub(s.zc.get_mpz_t(), s.za.get_mpz_t(), s.zb.get_mpz_t());  // s(a) - s(b), not zero
+    mpz_mul(s.za.get_mpz_t(), s.za.get_mpz_t(), den(b.x));  // U
+    mpz_mul(s.za.get_mpz_t(), s.za.get_mpz_t(), den(b.y));
+    mpz_mul(s.zb.get_mpz_t(), s.zb.get_mpz_t(), den(a.x));  // V
+    mpz_mul(s.zb.get_mpz_t(), s.zb.get_mpz_t(), den(a.y));
+    mpz_sub(s.zc.get_mpz_t(), s.za.get_mpz_t(), s.zb.get_mpz_t());  // U - V, not zero
     auto coordinate = [&](const EQ& ac, const EQ& bc, EQ& to) {
       mpz_ptr n = mpq_numref(to.get_mpq_t());
+      mpz_ptr d = mpq_denref(to.get_mpq_t());
       mpz_mul(n, s.za.get_mpz_t(), num(bc));
-      mpz_submul(n, s.zb.get_mpz_t(), num(ac));
-      mpz_set(mpq_denref(to.get_mpq_t()), s.zc.get_mpz_t());
+      mpz_mul(n, n, den(ac));
+      mpz_mul(s.zf.get_mpz_t(), s.zb.get_mpz_t(), num(ac));
+      mpz_mul(s.zf.get_mpz_t(), s.zf.get_mpz_t(), den(bc));
+      mpz_sub(n, n, s.zf.get_mpz_t());
+      mpz_mul(d, s.zc.get_mpz_t(), den(ac));
+      mpz_mul(d, d, den(bc));
       mpq_canonicalize(to.get_mpq_t());
     };
     coordinate(a.x, b.x, out.x);
