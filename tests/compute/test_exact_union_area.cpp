@@ -396,7 +396,24 @@ TEST(RationalPoints, WindowClipMatchesEpeckAndTheIntersection) {
     for (std::size_t v = 0; v < rat.size(); ++v) {
       EXPECT_EQ(rat[v].x, CGAL::exact(lazy[v].x())) << "round " << round;
       EXPECT_EQ(rat[v].y, CGAL::exact(lazy[v].y())) << "round " << round;
-      EXPECT_TRUE(rat[v].i.x.inf() <= CGAL::to_double(lazy[v].x()) && CGAL::to_double(lazy[v].x()) <= rat[v].i.x.sup());
+      const double x = CGAL::to_double(lazy[v].x()), y = CGAL::to_double(lazy[v].y());
+      EXPECT_TRUE(rat[v].i.x.inf() <= x && x <= rat[v].i.x.sup() && rat[v].i.y.inf() <= y && y <= rat[v].i.y.sup());
+    }
+    // The same in a chart scaled by K = 3 (the intervals stay around the unscaled points).
+    std::vector<shadow::exact::QPoint2> scaled = rational(in), swindow = rational(corners);
+    for (std::vector<shadow::exact::QPoint2>* points : {&scaled, &swindow})
+      for (shadow::exact::QPoint2& p : *points) {
+        p.x *= 3;
+        p.y *= 3;
+      }
+    shadow::exact::clip_convex_to_window(scaled, swindow, qscratch, side, shadow::exact::IA(3), s);
+    ASSERT_EQ(scaled.size(), lazy.size()) << "round " << round;
+    for (std::size_t v = 0; v < scaled.size(); ++v) {
+      EXPECT_EQ(scaled[v].x, 3 * CGAL::exact(lazy[v].x())) << "round " << round;
+      EXPECT_EQ(scaled[v].y, 3 * CGAL::exact(lazy[v].y())) << "round " << round;
+      const double x = CGAL::to_double(lazy[v].x()), y = CGAL::to_double(lazy[v].y());
+      EXPECT_TRUE(scaled[v].i.x.inf() <= x && x <= scaled[v].i.x.sup() && scaled[v].i.y.inf() <= y &&
+                  y <= scaled[v].i.y.sup());
     }
     PolygonSet2 meet(polygon);
     meet.intersection(window);
@@ -447,14 +464,19 @@ TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
 
 // A city turned 30 degrees about the vertical: its roofs and its ground are rectangles whose
 // charts are not their bounding boxes (the walls' still are), so the casts on them are clipped
-// to the convex chart and united from their boundaries, not joined; on the L-shaped forecourt
-// and the turned L-shaped terrace among the buildings (charts that are not convex) the casts
-// are clipped to each convex piece and the pieces' areas added. Every area as the polygons
-// route gives it.
-TEST(ExactUnionAreaInTheEngine, TurnedCityOnConvexChartsEqualsTheJoin) {
+// to the convex chart and united from their boundaries, not joined; on the L-shaped forecourt,
+// the turned L-shaped terrace among the buildings and a turned L-shaped yard that is not
+// exactly planar (charts that are not convex) the casts are clipped to each convex piece and
+// the pieces' areas added. Every area as the polygons route gives it.
+TEST(ExactUnionAreaInTheEngine, TurnedCityOnTurnedAndLShapedChartsEqualsTheJoin) {
   shadow::Scene scene = shadow::make_city(40, 100, 5);
   shadow::add_mesh(scene, "terrace",
                    {shadow::Polygon3{{-12, -12, 0.25}, {12, -12, 0.25}, {12, -2, 0.25}, {-2, -2, 0.25}, {-2, 12, 0.25}, {-12, 12, 0.25}}});
+  // Not exactly planar (one corner 1e-9 high, within the planarity tolerance): the lazy route's
+  // pieces (measure_in_convex_pieces), not the rational points'.
+  const std::size_t yard = scene.faces.size();
+  shadow::add_mesh(scene, "yard",
+                   {shadow::Polygon3{{40, 40, 0.3}, {64, 40, 0.3}, {64, 50, 0.3 + 1e-9}, {50, 50, 0.3}, {50, 64, 0.3}, {40, 64, 0.3}}});
   const double c = std::cos(0.5235987755982988), s = std::sin(0.5235987755982988);
   for (shadow::Face& face : scene.faces)
     for (glm::dvec3& v : face.vertices) v = {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
@@ -468,6 +490,17 @@ TEST(ExactUnionAreaInTheEngine, TurnedCityOnConvexChartsEqualsTheJoin) {
   shadow::validate_scene(scene);
   expect_areas_route_equals_join_route(scene, 0);
   expect_areas_route_equals_join_route(scene, 40);  // the ground in tiles
+  expect_areas_route_equals_join_route(scene, 6);   // the L-shaped faces in tiles too
+  // The yard is partly in shadow under some sun (its pieces' route was exercised).
+  shadow::ShadowOptions areas;
+  areas.polygons = false;
+  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
+  int partly = 0;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const shadow::FaceLighting* f = a.find(yard, l);
+    partly += f != nullptr && f->lit_area > 0 && f->shadow_area > 0;
+  }
+  EXPECT_GE(partly, 1);
 }
 
 TEST(ExactUnionAreaInTheEngine, NonConvexCastFallsBackToTheJoin) {

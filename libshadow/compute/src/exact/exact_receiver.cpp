@@ -159,8 +159,8 @@ void ExactReceiverJob::unite_and_measure() {
       measure(twice_area_);
       return;
     }
-    // A non-convex cast (or a flat one clipped to a piece, which the union refuses): the Boolean
-    // union of all of them, as Epeck polygons (of the chart).
+    // A non-convex cast (the whole-outline route): the Boolean union of all of them, as Epeck
+    // polygons (of the chart); measure_in_convex_pieces refuses them too, so the join.
     for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
       Polygon2 polygon;
       for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v)
@@ -257,7 +257,7 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
   // from the receiver's own vertices (ScaledChart::chart), the casts clipped to it exactly
   // (clip_convex_to_window on rational points) and united; the pieces' areas added.
   ScaledChart& chart = scaled_chart();
-  const core::FacePrep& face_prep = (*ctx_.prep)[face_id_];  // a tile's fp_ is its box
+  const core::FacePrep& face_prep = (*ctx_.prep)[face_id_];  // (a tile's fp_ differs in its box only)
   w_.cast_boxes.clear();
   for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
     const IPoint2& i0 = w_.qshadows[w_.qfirst[k]].i;

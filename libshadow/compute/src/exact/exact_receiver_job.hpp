@@ -158,8 +158,9 @@ class ExactReceiverJob {
   /// Twice the area of the union of the casts (shadows_, their boxes in w_.cast_boxes) clipped
   /// to a convex counter-clockwise window with bounding box `box`; false where the union refuses.
   bool twice_area_in_window(const Polygon2& window, const CGAL::Bbox_2& box, EQ& out);
-  /// measure_in_convex_pieces for q_mode_'s rational casts (the scaled chart's pieces); false
-  /// where the union refuses a clipped cast (flat), the casts left in w_.qshadows.
+  /// measure_in_convex_pieces for q_mode_'s rational casts (the scaled chart's pieces); false,
+  /// the casts left in w_.qshadows, where the union refuses a clipped cast (a guard: clipping a
+  /// convex cast of positive area to a convex piece never makes a flat one).
   bool measure_in_scaled_pieces();
 
   // ---- fragments ----------------------------------------------------------------------------

@@ -176,7 +176,7 @@ inline const IPoint2& interval_of(const QPoint2& p) {
 /// integer paths.
 struct QScratch {
   EQ a, b, c, d;
-  mpz_class za, zb, zc, zd, ze, zf, zg, zh;
+  mpz_class za, zb, zc, zd, ze, zf;
 };
 
 /// Whether q is an integer. The areas route's points mostly are (exact/scaled_chart.hpp), and
