@@ -9,6 +9,7 @@
 // helpers of the areas-only route (exact/rational_points.hpp) against their Epeck counterparts:
 // hull, clip to a box, intervals, area signs.
 #include "exact/convex_union_area.hpp"
+#include "exact/exact_faces.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "exact/rational_points.hpp"
 #include "exact/regions.hpp"
@@ -501,6 +502,44 @@ TEST(ExactUnionAreaInTheEngine, TurnedCityOnTurnedAndLShapedChartsEqualsTheJoin)
     partly += f != nullptr && f->lit_area > 0 && f->shadow_area > 0;
   }
   EXPECT_GE(partly, 1);
+}
+
+// Comb-shaped receivers (turned, so that neither is a box) with few and with many convex pieces
+// (12 teeth: within kMaxChartPiecesToClip, clipped piece by piece; 60 teeth: beyond it, the
+// join), under boxes whose shadows span several teeth: every area as the polygons route gives it.
+TEST(ExactUnionAreaInTheEngine, CombReceiversUnderBoxesEqualTheJoin) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "small comb", {shadow::comb_polygon(12, 0)});
+  shadow::Polygon3 big = shadow::comb_polygon(60, 0);
+  for (glm::dvec3& v : big) v.y += 12;
+  shadow::add_mesh(scene, "big comb", {big});
+  std::vector<shadow::Polygon3> boxes;
+  for (int k = 0; k < 12; ++k) {
+    const double x = 1.3 + 4.7 * k, y = k % 2 == 0 ? 3.1 : 15.4;
+    const std::vector<shadow::Polygon3> b = shadow::box_faces({x, y, 0.5}, {x + 1.1, y + 0.9, 2.5 + (k % 3)});
+    boxes.insert(boxes.end(), b.begin(), b.end());
+  }
+  shadow::add_mesh(scene, "boxes", boxes);
+  const double c = std::cos(0.4), s = std::sin(0.4);
+  for (shadow::Face& face : scene.faces)
+    for (glm::dvec3& v : face.vertices) v = {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
+  scene.lights.push_back(shadow::directional_light("sun", shadow::sun_direction(35, 150)));
+  scene.lights.push_back(shadow::directional_light("low", shadow::sun_direction(12, 250)));
+  shadow::validate_scene(scene);
+  EXPECT_LE(shadow::exact::prepare_face(scene.faces[0].vertices).convex_pieces.size(), shadow::exact::kMaxChartPiecesToClip);
+  EXPECT_GT(shadow::exact::prepare_face(scene.faces[1].vertices).convex_pieces.size(), shadow::exact::kMaxChartPiecesToClip);
+  shadow::ShadowOptions areas, polygons;
+  areas.polygons = false;
+  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
+  const shadow::ShadowResult b = shadow::compute_shadows(scene, polygons);
+  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+  int partly = 0;
+  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
+    EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area) << "face " << a.lighting[r].face_id;
+    EXPECT_EQ(a.lighting[r].lit_fraction, b.lighting[r].lit_fraction) << "face " << a.lighting[r].face_id;
+    partly += a.lighting[r].face_id < 2 && a.lighting[r].lit_area > 0 && a.lighting[r].shadow_area > 0;
+  }
+  EXPECT_EQ(partly, 4);  // both combs partly shadowed under both suns
 }
 
 TEST(ExactUnionAreaInTheEngine, NonConvexCastFallsBackToTheJoin) {

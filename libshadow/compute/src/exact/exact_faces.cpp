@@ -233,7 +233,7 @@ ExactFace make_exact_face(const std::vector<glm::dvec3>& vertices, const core::F
     for (Point3& p : face.vertices) p = lift(to_chart(p, k), face, k);
   }
   for (int v : prep.chart_ring) face.chart.push_back(to_chart(face.vertices[v], k));
-  if (prep.convex_pieces.size() > 1) {
+  if (prep.convex_pieces.size() > 1 && prep.convex_pieces.size() <= kMaxChartPiecesToClip) {
     for (const std::vector<int>& piece : prep.convex_pieces) {
       Polygon2& polygon = face.chart_pieces.emplace_back();
       for (int v : piece) polygon.push_back(to_chart(face.vertices[v], k));

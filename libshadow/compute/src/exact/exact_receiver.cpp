@@ -61,8 +61,10 @@ ReceiverResult ExactReceiverJob::run(int facing) {
   // Areas only, a directional light, an exactly planar receiver: the casts are kept as plain
   // rational points in the receiver's scaled chart (integers where they can be:
   // exact/scaled_chart.hpp) and united by their boundaries (no Epeck number, no arrangement);
-  // a chart that is not its box clips them to its convex pieces first (measure_in_scaled_pieces).
-  q_mode_ = !polygons_ && !point_light_ && fp_.exactly_planar;
+  // a chart that is not its box clips them to its convex pieces first (measure_in_scaled_pieces),
+  // unless it has more than kMaxChartPiecesToClip of them (the join then).
+  q_mode_ = !polygons_ && !point_light_ && fp_.exactly_planar &&
+            (fp_.chart_is_box || fp_.convex_pieces.size() <= kMaxChartPiecesToClip);
   if (q_mode_) {
     w_.qshadows.clear();
     w_.qfirst.assign(1, 0);
@@ -205,6 +207,7 @@ bool ExactReceiverJob::measure_in_convex_pieces() {
   // are disjoint, their union is the chart), each with the casts clipped to it. A cast that is
   // not convex leaves it to the join (as would a flat cast, which the union refuses; clipping a
   // convex cast of positive area never makes one).
+  if (fp_.convex_pieces.size() > kMaxChartPiecesToClip) return false;  // (a comb: the join)
   const ExactFace& P = w_.face(ctx_, face_id_);
   w_.cast_boxes.clear();
   for (const Polygon2& cast : shadows_) {
