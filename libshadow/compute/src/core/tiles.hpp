@@ -112,8 +112,9 @@ inline std::vector<FacePrep> make_tiles(const FacePrep& fp, std::size_t candidat
       tiles.push_back(std::move(tile));
     }
   // Crossing cells of a face that is not a box cost several times an inner one (the shadow is
-  // intersected with the outline: on the exact path a Boolean operation instead of the
-  // boundary's area), so each is cut once more into quarters, when the cap allows all of them.
+  // intersected with the outline: on the fast path and with polygons a Boolean operation; exact
+  // and areas only, the casts clipped to each convex piece), so each is cut once more into
+  // quarters, when the cap allows all of them.
   if (!fp.chart_is_box && place && crossing > 0 && tiles.size() + 3 * crossing <= max_tiles) {
     std::vector<FacePrep> cut;
     for (FacePrep& tile : tiles) {

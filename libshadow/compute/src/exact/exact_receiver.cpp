@@ -260,7 +260,6 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
   // from the receiver's own vertices (ScaledChart::chart), the casts clipped to it exactly
   // (clip_convex_to_window on rational points) and united; the pieces' areas added.
   ScaledChart& chart = scaled_chart();
-  const core::FacePrep& face_prep = (*ctx_.prep)[face_id_];  // (a tile's fp_ differs in its box only)
   w_.cast_boxes.clear();
   for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
     const IPoint2& i0 = w_.qshadows[w_.qfirst[k]].i;
@@ -272,7 +271,7 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
     w_.cast_boxes.push_back(box);
   }
   twice_area_ = 0;
-  for (const std::vector<int>& piece : face_prep.convex_pieces) {
+  for (const std::vector<int>& piece : fp_.convex_pieces) {  // (a tile's fp_: the face's, its box aside)
     w_.qwindow.clear();
     CGAL::Bbox_2 box;
     for (int v : piece) {
