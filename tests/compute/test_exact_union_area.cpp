@@ -7,9 +7,13 @@
 // edges, collinear vertices, triangles, slivers, points on coarse rational grids (many exact
 // ties) and points made by lazy arithmetic (as clipping makes them). Also the rational-point
 // helpers of the areas-only route (exact/rational_points.hpp) against their Epeck counterparts:
-// hull, clip to a box, intervals, area signs.
+// hull, clip to a box, intervals, area signs. And a lit region's canonical boundary
+// (exact/boundary_chain.hpp) from the union's uncovered pieces against the join's region.
+#include "engine/engine_access.hpp"
+#include "exact/boundary_chain.hpp"
 #include "exact/convex_union_area.hpp"
 #include "exact/exact_faces.hpp"
+#include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "exact/rational_points.hpp"
 #include "exact/regions.hpp"
@@ -24,7 +28,9 @@
 
 #include <cstdint>
 #include <iterator>
+#include <optional>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace {
@@ -566,6 +572,187 @@ TEST(ExactUnionAreaInTheEngine, NonConvexCastFallsBackToTheJoin) {
   const shadow::FaceLighting* ground = a.find(0, 0);
   ASSERT_NE(ground, nullptr);
   EXPECT_GT(ground->shadow_area, 5.5 * 20);  // the comb's shadow and the boxes'
+}
+
+
+// ---- a lit region's boundary without a Boolean operation (exact_lit_boundary) -----------------
+
+using shadow::exact::BoundaryChain;
+
+/// Twice the signed area enclosed by canonical segments (each counted on its region's side).
+EQ twice_area_of_segments(const std::vector<BoundaryChain::Segment>& segments) {
+  EQ sum(0);
+  for (const BoundaryChain::Segment& s : segments) {
+    const EQ cross = s.from.x * s.to.y - s.from.y * s.to.x;
+    if (s.left) sum += cross;
+    else sum -= cross;
+  }
+  return sum;
+}
+
+BoundaryChain::Point pt(int x, int y) { return {EQ(x), EQ(y)}; }
+
+TEST(BoundaryChain, CanonicalFormIgnoresSplitsOrderAndCancellingStretches) {
+  // The unit-by-two rectangle [0, 2] x [0, 1] minus nothing, described three ways.
+  BoundaryChain a, b, c;
+  std::vector<BoundaryChain::Segment> ca, cb, cc;
+  a.add(pt(0, 0), pt(2, 0));
+  a.add(pt(2, 0), pt(2, 1));
+  a.add(pt(2, 1), pt(0, 1));
+  a.add(pt(0, 1), pt(0, 0));
+  // Two unit squares side by side (their shared side both ways), one side split, reordered.
+  b.add(pt(1, 1), pt(0, 1));
+  b.add(pt(1, 0), pt(2, 0));
+  b.add(pt(0, 0), pt(1, 0));
+  b.add(pt(1, 0), pt(1, 1));
+  b.add(pt(2, 1), pt(1, 1));
+  b.add(pt(0, 1), pt(0, 0));
+  b.add(pt(1, 1), pt(1, 0));
+  b.add(pt(2, 0), pt(2, 1));
+  // The rectangle, then a square inside removed and put back (its boundary both ways).
+  c.add(pt(0, 0), pt(2, 0));
+  c.add(pt(2, 0), pt(2, 1));
+  c.add(pt(2, 1), pt(0, 1));
+  c.add(pt(0, 1), pt(0, 0));
+  c.add({EQ(1, 4), EQ(1, 4)}, {EQ(1, 4), EQ(3, 4)});
+  c.add({EQ(1, 4), EQ(3, 4)}, {EQ(3, 4), EQ(3, 4)});
+  c.add({EQ(3, 4), EQ(1, 4)}, {EQ(3, 4), EQ(3, 4)});
+  c.add({EQ(3, 4), EQ(1, 4)}, {EQ(1, 4), EQ(1, 4)});
+  c.add({EQ(3, 4), EQ(3, 4)}, {EQ(3, 4), EQ(1, 4)});
+  c.add({EQ(1, 4), EQ(1, 4)}, {EQ(3, 4), EQ(1, 4)});
+  c.add({EQ(3, 4), EQ(3, 4)}, {EQ(1, 4), EQ(3, 4)});
+  c.add({EQ(1, 4), EQ(3, 4)}, {EQ(1, 4), EQ(1, 4)});
+  ASSERT_TRUE(a.canonical(ca));
+  ASSERT_TRUE(b.canonical(cb));
+  ASSERT_TRUE(c.canonical(cc));
+  ASSERT_EQ(ca.size(), 4u);
+  for (const auto* other : {&cb, &cc}) {
+    ASSERT_EQ(other->size(), ca.size());
+    for (std::size_t k = 0; k < ca.size(); ++k) {
+      EXPECT_EQ((*other)[k].from.x, ca[k].from.x);
+      EXPECT_EQ((*other)[k].from.y, ca[k].from.y);
+      EXPECT_EQ((*other)[k].to.x, ca[k].to.x);
+      EXPECT_EQ((*other)[k].to.y, ca[k].to.y);
+      EXPECT_EQ((*other)[k].left, ca[k].left);
+    }
+  }
+  EXPECT_EQ(twice_area_of_segments(ca), EQ(4));
+  // Lines in order (non-vertical by slope, then intercept; vertical last), stretches along them.
+  EXPECT_EQ(ca[0].from.y, EQ(0));
+  EXPECT_TRUE(ca[0].left);   // the bottom, run left to right, region above: on its left
+  EXPECT_FALSE(ca[1].left);  // the top: region below
+  EXPECT_EQ(ca[2].from.x, EQ(0));
+  EXPECT_FALSE(ca[2].left);  // x = 0 run upwards: the region on its right
+  // A stretch counted twice the same way is not a region's boundary.
+  BoundaryChain d;
+  d.add(pt(0, 0), pt(2, 0));
+  d.add(pt(1, 0), pt(3, 0));
+  std::vector<BoundaryChain::Segment> cd;
+  EXPECT_FALSE(d.canonical(cd));
+  // Two triangles touching at a point on a line, their regions on either side of it.
+  BoundaryChain e;
+  e.add(pt(0, 0), pt(1, 0));
+  e.add(pt(1, 0), pt(0, 1));
+  e.add(pt(0, 1), pt(0, 0));
+  e.add(pt(1, 0), pt(2, -1));
+  e.add(pt(2, -1), pt(2, 0));
+  e.add(pt(2, 0), pt(1, 0));
+  std::vector<BoundaryChain::Segment> ce;
+  ASSERT_TRUE(e.canonical(ce));
+  EXPECT_EQ(twice_area_of_segments(ce), EQ(2));
+}
+
+/// Every receiver and light of `scene`: the boundary route's canonical boundary is the join's,
+/// segment for segment, and both enclose the lit area. `by_chain`: the pairs the boundary route
+/// (not the join) answered with a partly lit region.
+void expect_lit_boundaries_equal_the_join(const shadow::Scene& scene, std::size_t& by_chain) {
+  const shadow::ShadowEngine engine(scene, 1);
+  const shadow::core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
+  shadow::exact::ExactWorker w;
+  w.reset(scene.faces.size(), ctx.solids->size());
+  shadow::ShadowStats stats;
+  by_chain = 0;
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+    const shadow::Light& light_in = scene.lights[l];
+    const shadow::exact::ExactLight light = shadow::exact::to_exact_light(light_in);
+    std::optional<shadow::core::LightSpaceGrid> grid;
+    if (light_in.type == shadow::LightType::Directional) grid.emplace(*ctx.cull, *ctx.prep, light_in.to_light);
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+      if ((*ctx.prep)[f].degenerate) continue;
+      const shadow::exact::ExactFace& P = w.face(ctx, f);
+      const int side = CGAL::sign(shadow::exact::plane_at_light(P, light));
+      const shadow::core::LightSpaceGrid* g = grid ? &*grid : nullptr;
+      const shadow::exact::LitBoundary a = shadow::exact::exact_lit_boundary(ctx, w, f, l, light, side, light_in, g, stats);
+      const shadow::exact::LitBoundary b =
+          shadow::exact::exact_lit_boundary(ctx, w, f, l, light, side, light_in, g, stats, true);
+      const std::string where = "face " + std::to_string(f) + ", light " + std::to_string(l);
+      EXPECT_EQ(a.kind, b.kind) << where;
+      EXPECT_EQ(CGAL::exact(a.lit_chart_area), CGAL::exact(b.lit_chart_area)) << where;
+      EXPECT_EQ(a.lighting.lit_area, b.lighting.lit_area) << where;
+      EXPECT_EQ(a.lighting.shadow_area, b.lighting.shadow_area) << where;
+      if (a.kind == shadow::exact::LitRegion::Kind::Partial && !a.via_join) ++by_chain;
+      ASSERT_EQ(a.segments.size(), b.segments.size()) << where;
+      EQ twice(0);
+      for (std::size_t k = 0; k < a.segments.size(); ++k) {
+        const shadow::exact::BoundarySegment &sa = a.segments[k], &sb = b.segments[k];
+        ASSERT_TRUE(sa.from == sb.from && sa.to == sb.to && sa.left == sb.left) << where << ", segment " << k;
+        ASSERT_EQ(CGAL::compare_xy(sa.from, sa.to), CGAL::SMALLER) << where;
+        const EQ cross = CGAL::exact(sa.from.x() * sa.to.y() - sa.from.y() * sa.to.x());
+        twice += sa.left ? cross : EQ(-cross);
+      }
+      if (a.kind == shadow::exact::LitRegion::Kind::Partial)
+        EXPECT_EQ(twice, 2 * CGAL::exact(a.lit_chart_area)) << where;
+    }
+  }
+}
+
+// The turned city of TurnedCityOnTurnedAndLShapedChartsEqualsTheJoin (box charts, turned
+// convex charts, L-shaped charts clipped piece by piece, a yard not exactly planar: the join),
+// a comb within and one beyond kMaxChartPiecesToClip, a caster cast whole as one non-convex
+// polygon (the join), under suns and a lamp (the join).
+TEST(LitBoundary, FromTheUnionsPiecesEqualsTheJoinsCanonicalBoundary) {
+  // A turned city (its ground and roofs have charts that are not boxes, its walls box charts).
+  shadow::Scene scene = shadow::make_city(24, 60, 5);
+  const double c = std::cos(0.5235987755982988), s = std::sin(0.5235987755982988);
+  for (shadow::Face& face : scene.faces)
+    for (glm::dvec3& v : face.vertices) v = {c * v.x - s * v.y, s * v.x + c * v.y, v.z};
+  // L-shaped charts (pieces), one of them not exactly planar (the lazy route: the join).
+  shadow::add_mesh(scene, "terrace",
+                   {shadow::Polygon3{{-12, -12, 0.25}, {12, -12, 0.25}, {12, -2, 0.25}, {-2, -2, 0.25}, {-2, 12, 0.25}, {-12, 12, 0.25}}});
+  shadow::add_mesh(scene, "yard",
+                   {shadow::Polygon3{{30, 30, 0.3}, {54, 30, 0.3}, {54, 40, 0.3 + 1e-9}, {40, 40, 0.3}, {40, 54, 0.3}, {30, 54, 0.3}}});
+  // Combs within and beyond kMaxChartPiecesToClip (the join), and a comb cast whole as one
+  // non-convex polygon (the join), over boxes.
+  shadow::Polygon3 comb = shadow::comb_polygon(12, 0);
+  for (glm::dvec3& v : comb) v += glm::dvec3(-40, 20, 0.2);
+  shadow::add_mesh(scene, "small comb", {comb});
+  shadow::Polygon3 big = shadow::comb_polygon(60, 0);
+  for (glm::dvec3& v : big) v += glm::dvec3(-40, -40, 0.2);
+  shadow::add_mesh(scene, "big comb", {big});
+  shadow::Polygon3 hanging = shadow::comb_polygon(20, 2);
+  for (glm::dvec3& v : hanging) v += glm::dvec3(-38, 21, 3);
+  shadow::add_mesh(scene, "hanging comb", {hanging}, false);
+  std::vector<shadow::Polygon3> boxes;
+  for (int k = 0; k < 8; ++k) {
+    const double x = -38.7 + 4.7 * k, y = k % 2 == 0 ? 23.1 : -36.6;
+    const std::vector<shadow::Polygon3> b = shadow::box_faces({x, y, 0.2}, {x + 1.1, y + 0.9, 2.5 + (k % 3)});
+    boxes.insert(boxes.end(), b.begin(), b.end());
+  }
+  shadow::add_mesh(scene, "boxes", boxes);
+  scene.lights.push_back(shadow::directional_light("low sun", shadow::sun_direction(15, 120)));
+  scene.lights.push_back(shadow::directional_light("noon", shadow::sun_direction(55, 190)));
+  scene.lights.push_back(shadow::directional_light("west", shadow::sun_direction(25, 250)));
+  scene.lights.push_back(shadow::point_light("lamp", {10, -15, 35}));
+  shadow::validate_scene(scene);
+  std::size_t by_chain = 0;
+  expect_lit_boundaries_equal_the_join(scene, by_chain);
+  EXPECT_GT(by_chain, 100u);
+  // A city not turned: box charts throughout (the ground's casts cut by its box).
+  shadow::Scene plain = shadow::make_city(16, 40, 9);
+  plain.lights = scene.lights;
+  shadow::validate_scene(plain);
+  expect_lit_boundaries_equal_the_join(plain, by_chain);
+  EXPECT_GT(by_chain, 50u);  // box charts throughout
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 // evaluated here.
 #pragma once
 
+#include "exact/boundary_chain.hpp"
 #include "exact/kernel.hpp"
 #include "exact/rational_points.hpp"
 
@@ -55,17 +56,23 @@ class ConvexUnionArea {
   bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
     return twice_area(points.data(), first, out);
   }
-  bool twice_area(const QPointList& points, const std::vector<std::size_t>& first, EQ& out) {
-    return twice_area(points.data(), first, out);
+  bool twice_area(const QPointList& points, const std::vector<std::size_t>& first, EQ& out,
+                  BoundaryChain* boundary = nullptr) {
+    return twice_area(points.data(), first, out, boundary);
   }
-  /// The same for the points points[first[k], first[k + 1]).
-  bool twice_area(const QPoint2* points, const std::vector<std::size_t>& first, EQ& out) {
+  /// The same for the points points[first[k], first[k + 1]). `boundary`, when given, also gets
+  /// the union's boundary reversed (every uncovered piece of every edge, run backwards: the
+  /// chain of the union's complement), whatever it held before: a window minus the union when
+  /// the caller put the window's boundary in it first. Nothing is added when false is returned.
+  bool twice_area(const QPoint2* points, const std::vector<std::size_t>& first, EQ& out,
+                  BoundaryChain* boundary = nullptr) {
     bool convex_polygons = false;
     {
       CGAL::Protect_FPU_rounding<true> guard;  // the loading's equality and convexity tests
       convex_polygons = load(points, first);
     }
     if (!convex_polygons) return false;
+    boundary_ = boundary;
     find_pairs();
     terms_.clear();
     integer_terms_ = 0;
@@ -75,6 +82,7 @@ class ConvexUnionArea {
       CGAL::Protect_FPU_rounding<true> guard;
       for (std::size_t i = 0; i + 1 < first_.size(); ++i) measure_polygon(i);
     }
+    boundary_ = nullptr;
     out = sum_terms();
     return true;
   }
@@ -235,6 +243,8 @@ class ConvexUnionArea {
   void measure_polygon(std::size_t i) {
     if (nstart_[i] == nstart_[i + 1]) {  // alone: its own area
       twice_polygon_area(pts_.data() + first_[i], first_[i + 1] - first_[i]);
+      if (boundary_)
+        for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) add_reversed(*pts_[v], *pts_[nxt_[v]]);
       return;
     }
     for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) {
@@ -257,6 +267,7 @@ class ConvexUnionArea {
       if (full) continue;
       if (covers_.empty()) {
         add_cross(v, w, nullptr);
+        if (boundary_) add_reversed(*pts_[v], *pts_[w]);
         continue;
       }
       ++counts_.edges_partial;
@@ -447,6 +458,7 @@ class ConvexUnionArea {
     mpz_set_ui(cn, 0);
     mpz_set_ui(cd, 1);
     mpz_ptr z = g_.get_mpz_t();
+    merged_.clear();
     std::size_t a = 0;
     while (a < covers_.size()) {
       Param lo = covers_[a].lo, hi = covers_[a].hi;
@@ -459,6 +471,7 @@ class ConvexUnionArea {
       }
       const Fraction& h = fraction(hi);
       const Fraction& l = fraction(lo);
+      if (boundary_) merged_.push_back(Cover{lo, hi});  // (their exact values made: cached)
       // cn / cd += h - l = (hn ld - ln hd) / (hd ld)
       mpz_mul(z, h.n.get_mpz_t(), l.d.get_mpz_t());
       mpz_submul(z, l.n.get_mpz_t(), h.d.get_mpz_t());
@@ -474,7 +487,50 @@ class ConvexUnionArea {
     mpz_sub(cn, cd, cn);
     mpq_canonicalize(measure_.get_mpq_t());
     if (sgn(measure_) != 0) add_cross(v, w, &measure_);
+    if (boundary_) add_uncovered_pieces();
   }
+
+  /// The current edge's uncovered pieces, between the merged covers (merged_), reversed into
+  /// the boundary chain. A piece of no length (a cover from t = 0, touching covers) is left out.
+  void add_uncovered_pieces() {
+    Param prev;  // t = 0
+    for (Cover& c : merged_) {
+      if (less(prev, c.lo)) add_piece(prev, c.lo);
+      prev = c.hi;
+    }
+    Param end;
+    end.kind = 1;
+    if (less(prev, end)) add_piece(prev, end);
+  }
+
+  void add_piece(Param& from, Param& to) {
+    point_at(from, piece_a_);
+    point_at(to, piece_b_);
+    boundary_->add(piece_b_.x, piece_b_.y, piece_a_.x, piece_a_.y);
+  }
+
+  /// s + t (s2 - s) on the current edge s -> s2, exactly.
+  void point_at(Param& p, BoundaryChain::Point& out) {
+    const QPoint2& s = *pts_[cur_v_];
+    const QPoint2& s2 = *pts_[cur_w_];
+    if (p.kind != 2) {
+      out.x = p.kind == 0 ? s.x : s2.x;
+      out.y = p.kind == 0 ? s.y : s2.y;
+      return;
+    }
+    const Fraction& t = fraction(p);
+    mpq_set_num(tq_.get_mpq_t(), t.n.get_mpz_t());
+    mpq_set_den(tq_.get_mpq_t(), t.d.get_mpz_t());
+    mpq_canonicalize(tq_.get_mpq_t());
+    out.x = s2.x - s.x;
+    out.x *= tq_;
+    out.x += s.x;
+    out.y = s2.y - s.y;
+    out.y *= tq_;
+    out.y += s.y;
+  }
+
+  void add_reversed(const QPoint2& s, const QPoint2& s2) { boundary_->add(s2.x, s2.y, s.x, s.y); }
 
   EQ sum_terms() {
     EQ total(integer_terms_);
@@ -491,6 +547,10 @@ class ConvexUnionArea {
   std::vector<Box> box_;
   std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
   std::vector<Cover> covers_;
+  std::vector<Cover> merged_;  ///< the current edge's covers merged (boundary_ only)
+  BoundaryChain* boundary_ = nullptr;
+  BoundaryChain::Point piece_a_, piece_b_;
+  EQ tq_;
   std::deque<Fraction> exact_;  ///< exact parameters of the current edge (references stay valid)
   std::vector<EQ> terms_;
   std::vector<QPoint2> copy_;

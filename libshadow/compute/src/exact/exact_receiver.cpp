@@ -17,7 +17,9 @@
 #include <algorithm>
 #include <array>
 #include <iterator>
+#include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 namespace shadow::exact {
@@ -38,6 +40,65 @@ Fragment whole_face_fragment(const Face& face, std::size_t face_id, std::size_t 
     for (const Point3& p : ef->vertices) fragment.polygon.push_back(nearest_doubles(p));
   }
   return fragment;
+}
+
+/// Canonical segments as Epeck segments, each distinct point made once and shared by the
+/// segments that end at it (the sun-hours map holds every instant's boundaries: a point per
+/// segment end cost it a tenth more memory), its coordinates divided by `scale` when given.
+void to_boundary_segments(const std::vector<BoundaryChain::Segment>& in, const EQ* scale,
+                          std::vector<BoundarySegment>& out) {
+  const std::size_t n = 2 * in.size();
+  const auto end = [&](std::size_t k) -> const BoundaryChain::Point& {
+    return k % 2 == 0 ? in[k / 2].from : in[k / 2].to;
+  };
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  const auto cmp = [](const EQ& a, const EQ& b) { return mpq_cmp(a.get_mpq_t(), b.get_mpq_t()); };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const int x = cmp(end(a).x, end(b).x);
+    if (x != 0) return x < 0;
+    const int y = cmp(end(a).y, end(b).y);
+    return y != 0 ? y < 0 : a < b;
+  });
+  std::vector<Point2> points(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const BoundaryChain::Point& p = end(order[k]);
+    if (k > 0 && cmp(p.x, end(order[k - 1]).x) == 0 && cmp(p.y, end(order[k - 1]).y) == 0) {
+      points[order[k]] = points[order[k - 1]];
+    } else if (scale) {  // (a leaf holding its exact point, not a node over two numbers)
+      points[order[k]] = Point2(Kernel::Exact_kernel::Point_2(EQ(p.x / *scale), EQ(p.y / *scale)));
+    } else {
+      points[order[k]] = Point2(Kernel::Exact_kernel::Point_2(p.x, p.y));
+    }
+  }
+  out.clear();
+  out.reserve(in.size());
+  for (std::size_t s = 0; s < in.size(); ++s) out.push_back({points[2 * s], points[2 * s + 1], in[s].left});
+}
+
+/// The canonical boundary (BoundaryChain) of the regions `regions` (outer boundaries
+/// counter-clockwise, holes clockwise: the region on the left of each) into `out`.
+void canonical_boundary(const std::vector<PolygonWithHoles2>& regions, BoundaryChain& chain,
+                        std::vector<BoundarySegment>& out) {
+  chain.clear();
+  const auto add_ring = [&](const Polygon2& ring) {
+    // (By vertex, not by edge: an edge iterator's segment is a temporary, and exact() of its
+    // ends would refer into it.)
+    const std::size_t n = ring.size();
+    for (std::size_t v = 0; v < n; ++v) {
+      const auto& a = CGAL::exact(ring[static_cast<std::ptrdiff_t>(v)]);
+      const auto& b = CGAL::exact(ring[static_cast<std::ptrdiff_t>(v + 1 == n ? 0 : v + 1)]);
+      chain.add(a.x(), a.y(), b.x(), b.y());
+    }
+  };
+  for (const PolygonWithHoles2& r : regions) {
+    add_ring(r.outer_boundary());
+    for (auto h = r.holes_begin(); h != r.holes_end(); ++h) add_ring(*h);
+  }
+  std::vector<BoundaryChain::Segment> segments;
+  if (!chain.canonical(segments))  // a Boolean operation's result is a region: never
+    throw std::logic_error("exact_lit_boundary: a lit region's boundary is not a region's");
+  to_boundary_segments(segments, nullptr, out);
 }
 
 }  // namespace
@@ -138,6 +199,78 @@ LitRegion ExactReceiverJob::lit_region(int facing) {
   return region;
 }
 
+bool ExactReceiverJob::unite_into_chain() {
+  if (!fp_.chart_is_box) {
+    chain_ready_ = measure_in_scaled_pieces();
+    return chain_ready_;
+  }
+  ScaledChart& chart = scaled_chart();
+  BoundaryChain& chain = w_.chain;
+  chain.clear();
+  const EQ &x0 = chart.lo(0), &y0 = chart.lo(1), &x1 = chart.hi(0), &y1 = chart.hi(1);
+  chain.add(x0, y0, x1, y0);  // the chart (its box), counter-clockwise
+  chain.add(x1, y0, x1, y1);
+  chain.add(x1, y1, x0, y1);
+  chain.add(x0, y1, x0, y0);
+  if (!w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_, &chain)) return false;
+  twice_area_ /= 2;
+  chart.unscale_area(twice_area_);
+  measure(twice_area_);
+  chain_ready_ = true;
+  return true;
+}
+
+void ExactReceiverJob::boundary_from_set(LitBoundary& out) {
+  const ExactFace& P = w_.face(ctx_, face_id_);
+  PolygonSet2 lit(P.chart);
+  lit.difference(*shadow_set_storage_);
+  if (lit.is_empty()) {
+    out.kind = LitRegion::Kind::Dark;
+    return;
+  }
+  std::vector<PolygonWithHoles2> regions;
+  lit.polygons_with_holes(std::back_inserter(regions));
+  out.kind = LitRegion::Kind::Partial;
+  out.via_join = true;
+  canonical_boundary(regions, w_.chain, out.segments);
+}
+
+LitBoundary ExactReceiverJob::lit_boundary(int facing) {
+  LitBoundary out;
+  emit_ = false;
+  boundary_ = true;
+  const ReceiverResult r = run(facing);
+  out.lighting = r.lighting;
+  if (!r.lighting.faces_light || fp_.degenerate) return out;  // attached shadow: dark
+  if (shadow_count() == 0) {  // nothing in front
+    out.kind = LitRegion::Kind::Whole;
+    out.lit_chart_area = FT(*w_.exact_areas(ctx_, face_id_).first);
+    return out;
+  }
+  if (covered_) return out;  // one cast is the chart box: dark, no lit area
+  out.lit_chart_area = lit_chart_area_;
+  if (chain_ready_) {
+    std::vector<BoundaryChain::Segment>& segments = w_.chain_segments;
+    const bool region = w_.chain.canonical(segments);
+    if (region && segments.empty() == CGAL::is_zero(lit_chart_area_)) {
+      if (segments.empty()) return out;  // dark
+      out.kind = LitRegion::Kind::Partial;
+      const ScaledChart& chart = scaled_chart();
+      to_boundary_segments(segments, chart.integer() ? &chart.scale() : nullptr, out.segments);
+      return out;
+    }
+    // Not a region's boundary, or not the measured area's: never seen; the join decides.
+    shadows_.clear();
+    q_casts_to_shadows();
+    unite_by_join();
+    out.lighting = item_.lighting;
+    out.lit_chart_area = lit_chart_area_;
+  }
+  if (!shadow_set_storage_) return out;  // (the areas said dark without a set: none here)
+  boundary_from_set(out);
+  return out;
+}
+
 void ExactReceiverJob::unite_and_measure() {
   if (covered_) {  // the box itself (note_cover): the same exact values as its union would give
     twice_area_ = *w_.exact_areas(ctx_, face_id_).first;  // (the chart's area, not twice)
@@ -147,7 +280,9 @@ void ExactReceiverJob::unite_and_measure() {
   if (q_mode_) {
     // Areas of the scaled chart (scaled_chart()), divided by K^2 before measuring.
     const ScaledChart& chart = scaled_chart();
-    if (!fp_.chart_is_box) {
+    if (boundary_) {
+      if (!q_outline_cast_ && unite_into_chain()) return;
+    } else if (!fp_.chart_is_box) {
       if (!q_outline_cast_ && measure_in_scaled_pieces()) return;
     } else if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
       twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
@@ -163,13 +298,8 @@ void ExactReceiverJob::unite_and_measure() {
     }
     // A non-convex cast (the whole-outline route): the Boolean union of all of them, as Epeck
     // polygons (of the chart); measure_in_convex_pieces refuses them too, so the join.
-    for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
-      Polygon2 polygon;
-      for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v)
-        polygon.push_back(Point2(FT(w_.qshadows[v].x / chart.scale()), FT(w_.qshadows[v].y / chart.scale())));
-      shadows_.push_back(std::move(polygon));
-    }
-  } else if (!polygons_ && fp_.chart_is_box && shadows_.size() > 1) {
+    q_casts_to_shadows();
+  } else if (!keep_set() && fp_.chart_is_box && shadows_.size() > 1) {
     // Areas only, casts already inside the chart box: the union's area from the casts'
     // boundaries (exact/convex_union_area.hpp), the same exact rational as the join's regions
     // give, without an arrangement. Not for a non-convex cast (the whole-face route of
@@ -180,13 +310,27 @@ void ExactReceiverJob::unite_and_measure() {
       return;
     }
   }
-  if (!polygons_ && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_pieces()) return;
+  if (!keep_set() && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_pieces()) return;
+  unite_by_join();
+}
+
+void ExactReceiverJob::q_casts_to_shadows() {
+  const ScaledChart& chart = scaled_chart();
+  for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+    Polygon2 polygon;
+    for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v)
+      polygon.push_back(Point2(FT(w_.qshadows[v].x / chart.scale()), FT(w_.qshadows[v].y / chart.scale())));
+    shadows_.push_back(std::move(polygon));
+  }
+}
+
+void ExactReceiverJob::unite_by_join() {
   shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
   PolygonSet2& shadow_set_ = *shadow_set_storage_;
   if (shadows_.size() == 1 && fp_.chart_is_box) {
     // One convex caster already clipped to a rectangular receiver: it is the shadow.
     shadow_regions_.emplace_back(shadows_.front());
-    if (polygons_) shadow_set_.insert(shadows_.front());
+    if (keep_set()) shadow_set_.insert(shadows_.front());
   } else {
     shadow_set_.join(shadows_.begin(), shadows_.end());  // one aggregated union
     if (!fp_.chart_is_box) shadow_set_.intersection(w_.face(ctx_, face_id_).chart);
@@ -271,6 +415,8 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
     w_.cast_boxes.push_back(box);
   }
   twice_area_ = 0;
+  BoundaryChain* chain = boundary_ ? &w_.chain : nullptr;
+  if (chain) chain->clear();
   for (const std::vector<int>& piece : fp_.convex_pieces) {  // (a tile's fp_: the face's, its box aside)
     w_.qwindow.clear();
     CGAL::Bbox_2 box;
@@ -278,6 +424,13 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
       QPoint2& p = w_.qwindow.emplace_back();
       chart.chart(face_.vertices[v], p);  // its intervals are the input doubles, exactly
       box += CGAL::Bbox_2(p.i.x.inf(), p.i.y.inf(), p.i.x.sup(), p.i.y.sup());
+    }
+    if (chain) {  // the piece's boundary (counter-clockwise); the pieces' shared sides cancel
+      for (std::size_t v = 0; v < w_.qwindow.size(); ++v) {
+        const QPoint2& a = w_.qwindow[v];
+        const QPoint2& b = w_.qwindow[v + 1 == w_.qwindow.size() ? 0 : v + 1];
+        chain->add(a.x, a.y, b.x, b.y);
+      }
     }
     w_.window_points.clear();
     w_.window_first.assign(1, 0);
@@ -291,7 +444,7 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
       w_.window_first.push_back(w_.window_points.size());
     }
     if (w_.window_first.size() == 1) continue;  // no cast reaches this piece
-    if (!w_.union_area.twice_area(w_.window_points, w_.window_first, w_.piece_twice_area)) return false;
+    if (!w_.union_area.twice_area(w_.window_points, w_.window_first, w_.piece_twice_area, chain)) return false;
     twice_area_ += w_.piece_twice_area;
   }
   twice_area_ /= 2;
@@ -304,7 +457,7 @@ void ExactReceiverJob::measure(const EQ& shadow) {
   if (tile_) item_.tile_shadow_chart_area = shadow;
   const auto [chart, scale] = w_.exact_areas(ctx_, face_id_);
   measure_lit_and_shadow(*chart, *scale, shadow, w_.qarea, w_.qbound, item_.lighting);
-  if (polygons_) lit_chart_area_ = FT(w_.qarea);  // lit_region's
+  if (keep_set()) lit_chart_area_ = FT(w_.qarea);  // lit_region's, lit_boundary's
 }
 
 void ExactReceiverJob::emit_whole_face(bool lit) {
@@ -405,6 +558,25 @@ ReceiverResult compute_exact_receiver(const core::PreparedScene& ctx, ExactWorke
                                       const Light& light_in, const core::LightSpaceGrid* grid, bool polygons,
                                       ShadowStats& stats, const core::TileRequest& tiles) {
   return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats, tiles).run(facing);
+}
+
+LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
+                               std::size_t light_id, const ExactLight& light, int facing, const Light& light_in,
+                               const core::LightSpaceGrid* grid, ShadowStats& stats, bool via_join) {
+  if (!via_join)
+    return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, false, stats).lit_boundary(facing);
+  // The join's region (lit_region's steps), its boundary made canonical.
+  LitRegion region = exact_lit_region(ctx, w, face_id, light_id, light, facing, light_in, grid, stats);
+  LitBoundary out;
+  out.kind = region.kind;
+  out.lit_chart_area = region.lit_chart_area;
+  out.lighting = region.lighting;
+  out.via_join = true;
+  if (region.kind != LitRegion::Kind::Partial) return out;
+  std::vector<PolygonWithHoles2> regions;
+  region.lit.polygons_with_holes(std::back_inserter(regions));
+  receiver_job::canonical_boundary(regions, w.chain, out.segments);
+  return out;
 }
 
 LitRegion exact_lit_region(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,

@@ -50,6 +50,8 @@ struct ExactWorker {
   EQ piece_twice_area;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
+  BoundaryChain chain;         ///< exact_lit_boundary: the lit region's boundary as a chain
+  std::vector<BoundaryChain::Segment> chain_segments;  ///< and its canonical form
   // The areas-only route's casts as rational points of the scaled chart (exact/scaled_chart.hpp,
   // exact/rational_points.hpp) and scratch.
   QPointList qshadows, qpoly, qscratch;  // slots kept between casts (their limbs reused)
@@ -132,6 +134,12 @@ struct ReceiverResult {
   bool tile_exact = false;
 };
 
+/// One segment of a lit region's canonical boundary (LitBoundary).
+struct BoundarySegment {
+  Point2 from, to;  ///< from lexicographically before to
+  bool left = true;  ///< the region lies on the left of from -> to (else on its right)
+};
+
 /// The lit part of a receiver under one light, exact, in the receiver's chart (ExactFace::chart).
 struct LitRegion {
   enum class Kind { Dark, Whole, Partial };
@@ -146,6 +154,29 @@ struct LitRegion {
 LitRegion exact_lit_region(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id, std::size_t light_id,
                            const ExactLight& light, int facing, const Light& light_in,
                            const core::LightSpaceGrid* grid, ShadowStats& stats);
+
+/// A lit region's boundary in the receiver's chart, in canonical form (exact/boundary_chain.hpp):
+/// the same segments, in the same order, for the same region, however it was computed.
+struct LitBoundary {
+  LitRegion::Kind kind = LitRegion::Kind::Dark;  ///< as LitRegion's
+  FT lit_chart_area{0};                         ///< as LitRegion's
+  FaceLighting lighting;                        ///< as LitRegion's
+  /// Partial only: the lit region's boundary, every segment from its lexicographically smaller
+  /// end, the region on its left when `left`.
+  std::vector<BoundarySegment> segments;
+  bool via_join = false;  ///< the boundary came from CGAL's Boolean operations (tests, stats)
+};
+
+/// exact_lit_region's region as its canonical boundary. Areas-only steps where they apply (an
+/// exactly planar receiver under a directional light, a chart of at most kMaxChartPiecesToClip
+/// convex pieces, convex casts): the casts as rational points of the scaled chart, the lit
+/// region's boundary taken from the boundary-measure union's uncovered pieces (the window's
+/// boundary minus the union's, exact/boundary_chain.hpp), with no Boolean operation; otherwise,
+/// or when `via_join` (tests), the chart minus CGAL's join of the casts, its boundary made
+/// canonical the same way.
+LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
+                               std::size_t light_id, const ExactLight& light, int facing, const Light& light_in,
+                               const core::LightSpaceGrid* grid, ShadowStats& stats, bool via_join = false);
 
 /// Computes receiver `face_id` under `light` (exact form of `light_in`), whose plane has sign
 /// `facing` at the light (> 0: lit side). Adds to `stats`.

@@ -41,6 +41,11 @@ class ExactReceiverJob {
   /// with polygons = true, so that the shadow's union is kept as a set.
   LitRegion lit_region(int facing);
 
+  /// run()'s steps for exact_lit_boundary (constructed with polygons = false): the lit region's
+  /// canonical boundary, from the boundary-measure union where q_mode_ applies, else from the
+  /// join.
+  LitBoundary lit_boundary(int facing);
+
  private:
   // ---- culling in doubles -------------------------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
@@ -150,6 +155,25 @@ class ExactReceiverJob {
   // ---- unite, areas -------------------------------------------------------------------------
   void unite_and_measure();
 
+  /// Whether the shadow's union is wanted as a set (fragments, the lit region) or as a chain
+  /// (the lit boundary): not the areas-only shortcuts that give an area alone.
+  bool keep_set() const { return polygons_ || boundary_; }
+
+  /// q_mode_'s casts as Epeck polygons of the chart, into shadows_ (for the join).
+  void q_casts_to_shadows();
+
+  /// The union of shadows_ by CGAL's join (intersected with the chart unless it is its box),
+  /// its regions and their area measured.
+  void unite_by_join();
+
+  /// lit_boundary's union in q_mode_: the chart box (or each convex piece) minus the union of
+  /// the casts, as a chain in w_.chain (of the scaled chart), and the areas measured; false,
+  /// nothing measured, where the union refuses a cast.
+  bool unite_into_chain();
+
+  /// The canonical boundary of the chart minus shadow_set_storage_ into `out` (its kind too).
+  void boundary_from_set(LitBoundary& out);
+
   /// The areas from the shadow's exact area in the chart, in plain rationals (the same values
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
   void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
@@ -191,6 +215,8 @@ class ExactReceiverJob {
   const Light& light_in_;
   const core::LightSpaceGrid* grid_;
   bool polygons_;     ///< keep the shadow's union as a set (fragments or the lit region need it)
+  bool boundary_ = false;     ///< lit_boundary: the union wanted as a chain (see keep_set())
+  bool chain_ready_ = false;  ///< w_.chain holds the lit region's boundary (unite_into_chain)
   bool emit_;         ///< write fragments (compute_exact_receiver with polygons)
   ShadowStats& stats_;
   const Face& face_;

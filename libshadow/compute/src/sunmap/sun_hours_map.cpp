@@ -277,20 +277,16 @@ class MapBuilder {
           const ExactFace& P = w.exact.face(ctx_, f);
           const ExactLight light = to_exact_light(instants_[i].light);
           const int side = CGAL::sign(plane_at_light(P, light));
-          LitRegion region = exact_lit_region(ctx_, w.exact, f, i, light, side, instants_[i].light,
-                                              grids[j] ? &*grids[j] : nullptr, w.stats);
+          // The lit region's canonical boundary: the same segments whichever route made it.
+          const LitBoundary region = exact_lit_boundary(ctx_, w.exact, f, i, light, side, instants_[i].light,
+                                                        grids[j] ? &*grids[j] : nullptr, w.stats);
           InstantPart& part = parts_[job];
           part.kind = region.kind;
           exact_to_mpq(region.lit_chart_area, part.lit_area.get_mpq_t());
-          if (region.kind == LitRegion::Kind::Partial) {
-            std::vector<PolygonWithHoles2> regions;
-            region.lit.polygons_with_holes(std::back_inserter(regions));
-            for (const PolygonWithHoles2& r : regions) {
-              sunmap::add_boundary(r.outer_boundary(), static_cast<long>(i), part.curves);  // counter-clockwise
-              for (auto h = r.holes_begin(); h != r.holes_end(); ++h)
-                sunmap::add_boundary(*h, static_cast<long>(i), part.curves);  // clockwise
-            }
-          }
+          const long tag = static_cast<long>(i) + 1;  // (face_overlay.hpp: the lit side)
+          part.curves.reserve(region.segments.size());
+          for (const BoundarySegment& s : region.segments)
+            part.curves.emplace_back(Kernel::Segment_2(s.from, s.to), s.left ? tag : -tag);
           ++done_;
         },
         report_);
