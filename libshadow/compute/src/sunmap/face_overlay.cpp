@@ -29,6 +29,7 @@
 #include <climits>
 #include <cmath>
 #include <deque>
+#include <unordered_map>
 #include <utility>
 
 namespace shadow::sunmap {
@@ -469,6 +470,17 @@ class StripOverlay {
         ++regions;
       }
     }
+    rounded_.clear();
+  }
+
+  /// A cell vertex lifted onto the face and rounded to doubles, once per point of the
+  /// arrangement: a vertex is a corner of several cells, and the lift's exact evaluation and
+  /// rounding were a fifth of a week's map on a real model. Keyed by the point's
+  /// representation, which the entry holds (so no other point can take its address).
+  const glm::dvec3& rounded(const Point2& p) {
+    auto [it, fresh] = rounded_.try_emplace(p.id());
+    if (fresh) it->second = {p, nearest_doubles(lift(p, *r_.face, r_.prep->axis))};
+    return it->second.second;
   }
 
   /// One simple cell as a SunHoursCell when its rounded polygon is clean, else its triangles
@@ -509,9 +521,7 @@ class StripOverlay {
     c.face_id = r_.face_id;
     c.sun_hours = value;
     c.area = area_3d_mpq(cell_area, scale_);
-    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) {
-      c.polygon.push_back(nearest_doubles(lift(*v, *r_.face, r_.prep->axis)));
-    }
+    for (auto v = cell.vertices_begin(); v != cell.vertices_end(); ++v) c.polygon.push_back(rounded(*v));
     // The chart sees the face clockwise when flipped: restore the face's orientation.
     if (r_.prep->flipped == (sgn(cell_area) > 0)) std::reverse(c.polygon.begin(), c.polygon.end());
     if (!core::clean_double_polygon(c.polygon, r_.prep->axis)) return false;
@@ -520,6 +530,7 @@ class StripOverlay {
   }
 
   const OverlayRequest& r_;
+  std::unordered_map<CGAL::Handle::Id_type, std::pair<Point2, glm::dvec3>> rounded_;  ///< emit_all's (rounded())
   Strip strip_;
   std::size_t n_;
   mpq_class scale_;  ///< (3D area / chart area)^2, exact
