@@ -4,7 +4,11 @@
 // engine and the fast path, areas only and with polygons. Aborts when an invariant breaks:
 //   0 <= lit_area <= area, lit_area + shadow_area == area within rounding,
 //   the fragments of each (face, light) cover the face (areas sum to it within 1e-9 relative),
-//   and the fast lit area lies within its lit_area_error_bound (+ rounding) of the exact one.
+//   and the fast lit area lies within its lit_area_error_bound (+ rounding) of the exact one;
+//   the exact sun-hours map under the light as one instant of one hour (its cells cut from each
+//   lit region's boundary, exact_lit_boundary) gives every face's 1-hour cells exactly the lit
+//   area and its 0-hour cells exactly the shadow area, as the engine measured them (both exact,
+//   rounded once: bit for bit).
 #include <shadow/shadow.hpp>
 
 #include <cmath>
@@ -93,6 +97,35 @@ void check_result(const char* run, const shadow::ShadowResult& r, bool polygons)
   }
 }
 
+/// The sun-hours map of every face under the scene's light as one instant of one hour against
+/// the engine's exact areas: the cells of 1 hour are the lit region, those of 0 hours the rest.
+void check_sun_hours_map(const shadow::Scene& scene, const shadow::ShadowResult& exact) {
+  const shadow::ShadowEngine engine(scene, 1);
+  std::vector<std::size_t> faces(scene.faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f) faces[f] = f;
+  shadow::SunHoursOptions options;
+  options.threads = 1;
+  const shadow::SunHoursMap map = shadow::compute_sun_hours_map(engine, faces, {{scene.lights[0], 1.0}}, options);
+  for (const shadow::FaceLighting& l : exact.lighting) {
+    if (l.area == 0) continue;
+    const shadow::SunHoursFace* face = nullptr;
+    for (const shadow::SunHoursFace& m : map.faces)
+      if (m.face_id == l.face_id) face = &m;
+    if (face == nullptr) violation(where("sun-hours map", l) + ": face missing from the map");
+    double lit = 0, dark = 0;
+    for (const shadow::SunHoursArea& a : face->areas) {
+      if (a.sun_hours == 1.0) lit = a.area;
+      else if (a.sun_hours == 0.0) dark = a.area;
+      else violation(where("sun-hours map", l) + ": hours other than 0 and 1");
+    }
+    if (lit != l.lit_area || face->hour_area != l.lit_area)
+      violation(where("sun-hours map", l) + ": 1-hour cells " + std::to_string(lit) + ", integral " +
+                std::to_string(face->hour_area) + ", not the lit area");
+    if (dark != l.shadow_area)
+      violation(where("sun-hours map", l) + ": 0-hour cells " + std::to_string(dark) + ", not the shadow area");
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -167,6 +200,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   std::to_string(e.lit_area));
     }
   }
+  check_sun_hours_map(scene, results[0][0]);
   if (verbose)
     std::fprintf(stderr, "fuzz_engine: checked %zu faces, %zu fragments\n", scene.faces.size(),
                  results[0][1].fragments.size());
