@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // A region's boundary as a chain of oriented segments, and its canonical form (docs/algorithm.md,
-// "A lit region's boundary without a Boolean operation"). Include only from src/exact/*.cpp or
-// tests (GMP rationals).
+// "The union's area without a Boolean operation"). Internal to the library (GMP rationals).
 //
 // A bounded region R of the plane with a polygonal boundary is described, as far as any sum over
 // it goes, by its boundary as a 1-chain: segments run with R on their left, where a stretch run
@@ -37,6 +36,12 @@ class BoundaryChain {
     Point from, to;
     bool left = true;
   };
+
+  /// The sign of a - b.
+  static int compare(const EQ& a, const EQ& b) {
+    const int r = mpq_cmp(a.get_mpq_t(), b.get_mpq_t());
+    return (r > 0) - (r < 0);
+  }
 
   void clear() { used_ = 0; }
   [[nodiscard]] std::size_t size() const { return used_; }
@@ -102,10 +107,7 @@ class BoundaryChain {
     int delta;
   };
 
-  static int cmp(const EQ& a, const EQ& b) {
-    const int r = mpq_cmp(a.get_mpq_t(), b.get_mpq_t());
-    return (r > 0) - (r < 0);
-  }
+  static int cmp(const EQ& a, const EQ& b) { return compare(a, b); }
   static int compare_lines(const Item& a, const Item& b) {
     if (a.vertical != b.vertical) return a.vertical ? 1 : -1;
     const int m = cmp(a.m, b.m);

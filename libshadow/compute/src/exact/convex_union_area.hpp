@@ -53,8 +53,9 @@ class ConvexUnionArea {
   /// Twice the exact area of the union of the polygons points[first[k], first[k + 1]) (each
   /// counter-clockwise with positive area) into `out`. False (and `out` unchanged) when some
   /// polygon is not convex: the caller unites them with a Boolean operation instead.
-  bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out) {
-    return twice_area(points.data(), first, out);
+  bool twice_area(const std::vector<QPoint2>& points, const std::vector<std::size_t>& first, EQ& out,
+                  BoundaryChain* boundary = nullptr) {
+    return twice_area(points.data(), first, out, boundary);
   }
   bool twice_area(const QPointList& points, const std::vector<std::size_t>& first, EQ& out,
                   BoundaryChain* boundary = nullptr) {

@@ -53,7 +53,7 @@ void to_boundary_segments(const std::vector<BoundaryChain::Segment>& in, const E
   };
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), std::size_t{0});
-  const auto cmp = [](const EQ& a, const EQ& b) { return mpq_cmp(a.get_mpq_t(), b.get_mpq_t()); };
+  const auto cmp = BoundaryChain::compare;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     const int x = cmp(end(a).x, end(b).x);
     if (x != 0) return x < 0;
@@ -86,8 +86,8 @@ void canonical_boundary(const std::vector<PolygonWithHoles2>& regions, BoundaryC
     // ends would refer into it.)
     const std::size_t n = ring.size();
     for (std::size_t v = 0; v < n; ++v) {
-      const auto& a = CGAL::exact(ring[static_cast<std::ptrdiff_t>(v)]);
-      const auto& b = CGAL::exact(ring[static_cast<std::ptrdiff_t>(v + 1 == n ? 0 : v + 1)]);
+      const auto& a = CGAL::exact(ring[v]);
+      const auto& b = CGAL::exact(ring[v + 1 == n ? 0 : v + 1]);
       chain.add(a.x(), a.y(), b.x(), b.y());
     }
   };
@@ -251,24 +251,49 @@ LitBoundary ExactReceiverJob::lit_boundary(int facing) {
   out.lit_chart_area = lit_chart_area_;
   if (chain_ready_) {
     std::vector<BoundaryChain::Segment>& segments = w_.chain_segments;
-    const bool region = w_.chain.canonical(segments);
-    if (region && segments.empty() == CGAL::is_zero(lit_chart_area_)) {
+    const ScaledChart& chart = scaled_chart();
+    if (w_.chain.canonical(segments) && encloses_lit_area(segments, chart)) {
       if (segments.empty()) return out;  // dark
       out.kind = LitRegion::Kind::Partial;
-      const ScaledChart& chart = scaled_chart();
       to_boundary_segments(segments, chart.integer() ? &chart.scale() : nullptr, out.segments);
       return out;
     }
-    // Not a region's boundary, or not the measured area's: never seen; the join decides.
+    // Not a region's boundary, or not around the measured lit area: never seen; the join
+    // decides. (item_ was moved out by run(), but FaceLighting is trivially copyable, and
+    // unite_by_join's measure() writes every area of it again.)
     shadows_.clear();
     q_casts_to_shadows();
     unite_by_join();
     out.lighting = item_.lighting;
     out.lit_chart_area = lit_chart_area_;
   }
-  if (!shadow_set_storage_) return out;  // (the areas said dark without a set: none here)
+  if (!shadow_set_storage_)  // every route that reaches here made the set
+    throw std::logic_error("exact_lit_boundary: no shadow set and no boundary");
   boundary_from_set(out);
   return out;
+}
+
+bool ExactReceiverJob::encloses_lit_area(const std::vector<BoundaryChain::Segment>& segments,
+                                         const ScaledChart& chart) {
+  // Twice the area the canonical segments enclose (each on its region's side), in the scaled
+  // chart, against twice the lit area measured by the union (unscaled) times K^2.
+  EQ& twice = w_.qs.a;
+  EQ& term = w_.qs.b;
+  twice = 0;
+  for (const BoundaryChain::Segment& sg : segments) {
+    term = sg.from.x * sg.to.y;
+    w_.qs.c = sg.from.y * sg.to.x;
+    term -= w_.qs.c;
+    if (sg.left) twice += term;
+    else twice -= term;
+  }
+  term = CGAL::exact(lit_chart_area_);
+  term *= 2;
+  if (chart.integer()) {
+    term *= chart.scale();
+    term *= chart.scale();
+  }
+  return twice == term;
 }
 
 void ExactReceiverJob::unite_and_measure() {
@@ -299,7 +324,7 @@ void ExactReceiverJob::unite_and_measure() {
     // A non-convex cast (the whole-outline route): the Boolean union of all of them, as Epeck
     // polygons (of the chart); measure_in_convex_pieces refuses them too, so the join.
     q_casts_to_shadows();
-  } else if (!keep_set() && fp_.chart_is_box && shadows_.size() > 1) {
+  } else if (!wants_region() && fp_.chart_is_box && shadows_.size() > 1) {
     // Areas only, casts already inside the chart box: the union's area from the casts'
     // boundaries (exact/convex_union_area.hpp), the same exact rational as the join's regions
     // give, without an arrangement. Not for a non-convex cast (the whole-face route of
@@ -310,7 +335,7 @@ void ExactReceiverJob::unite_and_measure() {
       return;
     }
   }
-  if (!keep_set() && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_pieces()) return;
+  if (!wants_region() && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_pieces()) return;
   unite_by_join();
 }
 
@@ -330,7 +355,7 @@ void ExactReceiverJob::unite_by_join() {
   if (shadows_.size() == 1 && fp_.chart_is_box) {
     // One convex caster already clipped to a rectangular receiver: it is the shadow.
     shadow_regions_.emplace_back(shadows_.front());
-    if (keep_set()) shadow_set_.insert(shadows_.front());
+    if (wants_region()) shadow_set_.insert(shadows_.front());
   } else {
     shadow_set_.join(shadows_.begin(), shadows_.end());  // one aggregated union
     if (!fp_.chart_is_box) shadow_set_.intersection(w_.face(ctx_, face_id_).chart);
@@ -457,7 +482,7 @@ void ExactReceiverJob::measure(const EQ& shadow) {
   if (tile_) item_.tile_shadow_chart_area = shadow;
   const auto [chart, scale] = w_.exact_areas(ctx_, face_id_);
   measure_lit_and_shadow(*chart, *scale, shadow, w_.qarea, w_.qbound, item_.lighting);
-  if (keep_set()) lit_chart_area_ = FT(w_.qarea);  // lit_region's, lit_boundary's
+  if (wants_region()) lit_chart_area_ = FT(w_.qarea);  // lit_region's, lit_boundary's
 }
 
 void ExactReceiverJob::emit_whole_face(bool lit) {

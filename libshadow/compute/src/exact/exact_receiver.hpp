@@ -164,7 +164,7 @@ struct LitBoundary {
   /// Partial only: the lit region's boundary, every segment from its lexicographically smaller
   /// end, the region on its left when `left`.
   std::vector<BoundarySegment> segments;
-  bool via_join = false;  ///< the boundary came from CGAL's Boolean operations (tests, stats)
+  bool via_join = false;  ///< a partly lit region whose boundary came from CGAL's join (tests)
 };
 
 /// exact_lit_region's region as its canonical boundary. Areas-only steps where they apply (an

@@ -155,9 +155,9 @@ class ExactReceiverJob {
   // ---- unite, areas -------------------------------------------------------------------------
   void unite_and_measure();
 
-  /// Whether the shadow's union is wanted as a set (fragments, the lit region) or as a chain
+  /// Whether the shadow's region is wanted, as a set (fragments, the lit region) or as a chain
   /// (the lit boundary): not the areas-only shortcuts that give an area alone.
-  bool keep_set() const { return polygons_ || boundary_; }
+  bool wants_region() const { return polygons_ || boundary_; }
 
   /// q_mode_'s casts as Epeck polygons of the chart, into shadows_ (for the join).
   void q_casts_to_shadows();
@@ -173,6 +173,10 @@ class ExactReceiverJob {
 
   /// The canonical boundary of the chart minus shadow_set_storage_ into `out` (its kind too).
   void boundary_from_set(LitBoundary& out);
+
+  /// Whether canonical segments of the scaled chart enclose exactly the lit area measured
+  /// (lit_chart_area_): lit_boundary's check of the chain before it is used.
+  bool encloses_lit_area(const std::vector<BoundaryChain::Segment>& segments, const ScaledChart& chart);
 
   /// The areas from the shadow's exact area in the chart, in plain rationals (the same values
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
@@ -215,7 +219,7 @@ class ExactReceiverJob {
   const Light& light_in_;
   const core::LightSpaceGrid* grid_;
   bool polygons_;     ///< keep the shadow's union as a set (fragments or the lit region need it)
-  bool boundary_ = false;     ///< lit_boundary: the union wanted as a chain (see keep_set())
+  bool boundary_ = false;     ///< lit_boundary: the union wanted as a chain (see wants_region())
   bool chain_ready_ = false;  ///< w_.chain holds the lit region's boundary (unite_into_chain)
   bool emit_;         ///< write fragments (compute_exact_receiver with polygons)
   ShadowStats& stats_;

@@ -478,9 +478,10 @@ class StripOverlay {
   /// rounding were a fifth of a week's map on a real model. Keyed by the point's
   /// representation, which the entry holds (so no other point can take its address).
   const glm::dvec3& rounded(const Point2& p) {
-    auto [it, fresh] = rounded_.try_emplace(p.id());
-    if (fresh) it->second = {p, nearest_doubles(lift(p, *r_.face, r_.prep->axis))};
-    return it->second.second;
+    const auto it = rounded_.find(p.id());
+    if (it != rounded_.end()) return it->second.second;
+    const glm::dvec3 v = nearest_doubles(lift(p, *r_.face, r_.prep->axis));  // (before the entry: may throw)
+    return rounded_.emplace(p.id(), std::make_pair(p, v)).first->second.second;
   }
 
   /// One simple cell as a SunHoursCell when its rounded polygon is clean, else its triangles
@@ -508,9 +509,9 @@ class StripOverlay {
     const std::size_t n = cell.size();
     mpq_class twice(0), term;
     for (std::size_t a = 0; a < n; ++a) {
-      const auto& p = CGAL::exact(cell[static_cast<std::ptrdiff_t>(a)]);
-      const auto& next = CGAL::exact(cell[static_cast<std::ptrdiff_t>(a + 1 == n ? 0 : a + 1)]);
-      const auto& prev = CGAL::exact(cell[static_cast<std::ptrdiff_t>(a == 0 ? n - 1 : a - 1)]);
+      const auto& p = CGAL::exact(cell[a]);
+      const auto& next = CGAL::exact(cell[a + 1 == n ? 0 : a + 1]);
+      const auto& prev = CGAL::exact(cell[a == 0 ? n - 1 : a - 1]);
       term = next.y() - prev.y();
       term *= p.x();
       twice += term;
