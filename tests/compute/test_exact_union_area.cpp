@@ -665,9 +665,11 @@ TEST(BoundaryChain, CanonicalFormIgnoresSplitsOrderAndCancellingStretches) {
 /// Every receiver and light of `scene`: the boundary route's canonical boundary is the join's,
 /// segment for segment, and both enclose the lit area. `by_chain`: the pairs the boundary route
 /// (not the join) answered with a partly lit region.
-void expect_lit_boundaries_equal_the_join(const shadow::Scene& scene, std::size_t& by_chain) {
+void expect_lit_boundaries_equal_the_join(const shadow::Scene& scene, std::size_t& by_chain,
+                                          bool integer_charts = true) {
   const shadow::ShadowEngine engine(scene, 1);
   const shadow::core::PreparedScene ctx = shadow::engine::prepared_scene(engine);
+  EXPECT_EQ(ctx.chart_least_bit.has_value(), integer_charts);
   shadow::exact::ExactWorker w;
   w.reset(scene.faces.size(), ctx.solids->size());
   shadow::ShadowStats stats;
@@ -753,6 +755,12 @@ TEST(LitBoundary, FromTheUnionsPiecesEqualsTheJoinsCanonicalBoundary) {
   shadow::validate_scene(plain);
   expect_lit_boundaries_equal_the_join(plain, by_chain);
   EXPECT_GT(by_chain, 50u);  // box charts throughout
+  // The same city with a far triangle that has a coordinate 2^-150: the scene spans too many
+  // bits for integer charts, so the route works in the unscaled rationals (K = 1).
+  shadow::add_mesh(plain, "far", {shadow::Polygon3{{5000, 5000, std::ldexp(1.0, -150)}, {5001, 5000, 0}, {5000, 5001, 0}}});
+  shadow::validate_scene(plain);
+  expect_lit_boundaries_equal_the_join(plain, by_chain, false);
+  EXPECT_GT(by_chain, 50u);
 }
 
 }  // namespace
