@@ -44,12 +44,11 @@ class BoundaryChain {
   }
 
   void clear() { used_ = 0; }
-  [[nodiscard]] std::size_t size() const { return used_; }
 
   /// Adds the segment a -> b with the region on its left (nothing when a == b).
   void add(const EQ& ax, const EQ& ay, const EQ& bx, const EQ& by) {
-    const int cx = cmp(ax, bx);
-    const int order = cx != 0 ? cx : cmp(ay, by);
+    const int cx = compare(ax, bx);
+    const int order = cx != 0 ? cx : compare(ay, by);
     if (order == 0) return;
     if (used_ == items_.size()) items_.emplace_back();
     Item& it = items_[used_++];
@@ -107,11 +106,10 @@ class BoundaryChain {
     int delta;
   };
 
-  static int cmp(const EQ& a, const EQ& b) { return compare(a, b); }
   static int compare_lines(const Item& a, const Item& b) {
     if (a.vertical != b.vertical) return a.vertical ? 1 : -1;
-    const int m = cmp(a.m, b.m);
-    return m != 0 ? m : cmp(a.c, b.c);
+    const int m = compare(a.m, b.m);
+    return m != 0 ? m : compare(a.c, b.c);
   }
 
   /// The stretches of one line (items order_[g, h)): events sorted along it, net multiplicity
@@ -124,7 +122,7 @@ class BoundaryChain {
       events_.push_back({&it.hi, it.vertical ? &it.hi.y : &it.hi.x, -it.sign});
     }
     std::sort(events_.begin(), events_.end(),
-              [](const Event& a, const Event& b) { return cmp(*a.param, *b.param) < 0; });
+              [](const Event& a, const Event& b) { return compare(*a.param, *b.param) < 0; });
     int sum = 0;
     const Point* start = nullptr;
     std::size_t e = 0;
@@ -132,7 +130,7 @@ class BoundaryChain {
       const Point* here = events_[e].at;
       int next = sum;
       std::size_t f = e;
-      for (; f < events_.size() && cmp(*events_[f].param, *events_[e].param) == 0; ++f) next += events_[f].delta;
+      for (; f < events_.size() && compare(*events_[f].param, *events_[e].param) == 0; ++f) next += events_[f].delta;
       if (next != sum) {
         if (sum != 0) out.push_back(Segment{*start, *here, sum > 0});
         if (next < -1 || next > 1) return false;

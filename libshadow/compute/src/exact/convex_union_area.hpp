@@ -507,7 +507,7 @@ class ConvexUnionArea {
   void add_piece(Param& from, Param& to) {
     point_at(from, piece_a_);
     point_at(to, piece_b_);
-    boundary_->add(piece_b_.x, piece_b_.y, piece_a_.x, piece_a_.y);
+    boundary_->add(piece_b_, piece_a_);
   }
 
   /// s + t (s2 - s) on the current edge s -> s2, exactly.

@@ -76,10 +76,10 @@ void to_boundary_segments(const std::vector<BoundaryChain::Segment>& in, const E
   for (std::size_t s = 0; s < in.size(); ++s) out.push_back({points[2 * s], points[2 * s + 1], in[s].left});
 }
 
-/// The canonical boundary (BoundaryChain) of the regions `regions` (outer boundaries
-/// counter-clockwise, holes clockwise: the region on the left of each) into `out`.
-void canonical_boundary(const std::vector<PolygonWithHoles2>& regions, BoundaryChain& chain,
-                        std::vector<BoundarySegment>& out) {
+/// The canonical boundary (BoundaryChain) of the region `set` into `out`.
+void canonical_boundary(const PolygonSet2& set, BoundaryChain& chain, std::vector<BoundarySegment>& out) {
+  std::vector<PolygonWithHoles2> regions;  // outer boundaries counter-clockwise, holes clockwise
+  set.polygons_with_holes(std::back_inserter(regions));
   chain.clear();
   const auto add_ring = [&](const Polygon2& ring) {
     // (By vertex, not by edge: an edge iterator's segment is a temporary, and exact() of its
@@ -193,10 +193,15 @@ LitRegion ExactReceiverJob::lit_region(int facing) {
     return region;
   }
   region.lit_chart_area = lit_chart_area_;
-  region.lit = PolygonSet2(P.chart);
-  region.lit.difference(*shadow_set_storage_);
+  region.lit = chart_minus_shadow();
   region.kind = region.lit.is_empty() ? LitRegion::Kind::Dark : LitRegion::Kind::Partial;
   return region;
+}
+
+PolygonSet2 ExactReceiverJob::chart_minus_shadow() {
+  PolygonSet2 lit(w_.face(ctx_, face_id_).chart);
+  lit.difference(*shadow_set_storage_);
+  return lit;
 }
 
 bool ExactReceiverJob::unite_into_chain() {
@@ -221,18 +226,14 @@ bool ExactReceiverJob::unite_into_chain() {
 }
 
 void ExactReceiverJob::boundary_from_set(LitBoundary& out) {
-  const ExactFace& P = w_.face(ctx_, face_id_);
-  PolygonSet2 lit(P.chart);
-  lit.difference(*shadow_set_storage_);
+  const PolygonSet2 lit = chart_minus_shadow();
   if (lit.is_empty()) {
     out.kind = LitRegion::Kind::Dark;
     return;
   }
-  std::vector<PolygonWithHoles2> regions;
-  lit.polygons_with_holes(std::back_inserter(regions));
   out.kind = LitRegion::Kind::Partial;
   out.via_join = true;
-  canonical_boundary(regions, w_.chain, out.segments);
+  canonical_boundary(lit, w_.chain, out.segments);
 }
 
 LitBoundary ExactReceiverJob::lit_boundary(int facing) {
@@ -598,9 +599,7 @@ LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, s
   out.lighting = region.lighting;
   out.via_join = true;
   if (region.kind != LitRegion::Kind::Partial) return out;
-  std::vector<PolygonWithHoles2> regions;
-  region.lit.polygons_with_holes(std::back_inserter(regions));
-  receiver_job::canonical_boundary(regions, w.chain, out.segments);
+  receiver_job::canonical_boundary(region.lit, w.chain, out.segments);
   return out;
 }
 

@@ -171,6 +171,9 @@ class ExactReceiverJob {
   /// nothing measured, where the union refuses a cast.
   bool unite_into_chain();
 
+  /// The chart minus shadow_set_storage_ (lit_region's region, boundary_from_set's).
+  PolygonSet2 chart_minus_shadow();
+
   /// The canonical boundary of the chart minus shadow_set_storage_ into `out` (its kind too).
   void boundary_from_set(LitBoundary& out);
 

@@ -594,6 +594,10 @@ void add_boundary(const Polygon2& polygon, long instant, std::vector<Curve>& cur
   }
 }
 
+void add_segment(const Point2& from, const Point2& to, bool left, long instant, std::vector<Curve>& curves) {
+  curves.emplace_back(Kernel::Segment_2(from, to), left ? instant + 1 : -(instant + 1));
+}
+
 double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale) {
   // sqrt(chart_area^2 x scale), the rational rounded to 256 bits before the root as
   // sqrt_to_double does, so the result is area_3d's bit for bit.

@@ -125,6 +125,11 @@ class LevelRounds {
 /// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
 void add_boundary(const exact::Polygon2& polygon, long instant, std::vector<Curve>& curves);
 
+/// Adds segment from -> to (from lexicographically before to: a canonical boundary's,
+/// exact::BoundarySegment) as a curve tagged with `instant`, the region on its left when `left`.
+void add_segment(const exact::Point2& from, const exact::Point2& to, bool left, long instant,
+                 std::vector<Curve>& curves);
+
 /// area_3d (as area_3d_mpq) of the exact sum of the non-negative chart areas in `parts`, rounded
 /// once. The terms are first summed in fixed point, far below the total's last bit, which brackets
 /// the sum; when both ends of the bracket round alike that is the exact sum's rounding, else (a

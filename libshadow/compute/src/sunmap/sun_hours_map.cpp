@@ -283,10 +283,9 @@ class MapBuilder {
           InstantPart& part = parts_[job];
           part.kind = region.kind;
           exact_to_mpq(region.lit_chart_area, part.lit_area.get_mpq_t());
-          const long tag = static_cast<long>(i) + 1;  // (face_overlay.hpp: the lit side)
           part.curves.reserve(region.segments.size());
           for (const BoundarySegment& s : region.segments)
-            part.curves.emplace_back(Kernel::Segment_2(s.from, s.to), s.left ? tag : -tag);
+            sunmap::add_segment(s.from, s.to, s.left, static_cast<long>(i), part.curves);
           ++done_;
         },
         report_);
