@@ -260,6 +260,59 @@ TEST(FastPath, GeoreferencedCoordinatesNear1e6) {
   expect_within_bounds(odd, "1e6 + 0.3");
 }
 
+/// A real city model's terrain, as a CityJSON file gives it: a triangulated surface whose heights
+/// are millimetres in georeferenced metres (doubles that are not short dyadics), under buildings
+/// and a tree crown made of triangles too.
+Scene triangulated_terrain_scene(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> millimetres(0, 400);
+  const double x0 = 84616.468, y0 = 447422.999;  // Delft's RD coordinates (EPSG:7415)
+  constexpr int n = 14;
+  constexpr double cell = 2.0;
+  std::vector<std::vector<glm::dvec3>> p(n + 1, std::vector<glm::dvec3>(n + 1));
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) p[i][j] = {x0 + cell * i, y0 + cell * j, 0.001 * millimetres(rng) - 0.452};
+  std::vector<Polygon3> terrain;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      terrain.push_back({p[i][j], p[i + 1][j], p[i + 1][j + 1]});
+      terrain.push_back({p[i][j], p[i + 1][j + 1], p[i][j + 1]});
+    }
+  Scene scene;
+  add_mesh(scene, "terrain", terrain);
+  add_mesh(scene, "block", box_faces({x0 + 9.001, y0 + 11.003, -0.5}, {x0 + 15.5, y0 + 17.25, 6.452}));
+  // A tree crown: a hexagonal prism from 2 m to 7 m, walls and top as triangles.
+  std::vector<Polygon3> tree;
+  const glm::dvec3 c{x0 + 20.5, y0 + 8.25, 0};
+  for (int k = 0; k < 6; ++k) {
+    const double a0 = k * 3.14159265358979 / 3, a1 = (k + 1) * 3.14159265358979 / 3;
+    const glm::dvec3 u0{c.x + 2.5 * std::cos(a0), c.y + 2.5 * std::sin(a0), 2.0};
+    const glm::dvec3 u1{c.x + 2.5 * std::cos(a1), c.y + 2.5 * std::sin(a1), 2.0};
+    const glm::dvec3 t0{u0.x, u0.y, 7.0}, t1{u1.x, u1.y, 7.0};
+    tree.push_back({u0, u1, t1});
+    tree.push_back({u0, t1, t0});
+    tree.push_back({{c.x, c.y, 7.0}, t0, t1});
+  }
+  add_mesh(scene, "tree", tree);
+  scene.lights.push_back(directional_light("low sun", sun_direction(8, 100)));
+  scene.lights.push_back(directional_light("afternoon", sun_direction(35, 215)));
+  scene.lights.push_back(directional_light("high sun", sun_direction(62, 170)));
+  validate_scene(scene);
+  return scene;
+}
+
+TEST(FastPath, TriangulatedGeoreferencedTerrainStaysWithinItsBounds) {
+  // Areas only, each triangle's casts are clipped to it exactly and measured by their boundary
+  // (fast/window_clip.hpp), or the triangle is wholly inside one cast; with polygons, Clipper's
+  // intersection. Both within their bounds of the exact engine.
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const Scene scene = triangulated_terrain_scene(seed);
+    const std::string label = "terrain seed " + std::to_string(seed);
+    expect_fast_route_ran(expect_within_bounds(scene, label + " areas", false), 0.1, label);
+    if (seed == 1) expect_fast_route_ran(expect_within_bounds(scene, label + " polygons", true), 0.1, label);
+  }
+}
+
 TEST(FastPath, PointLightOnAndJustAboveTheReceiversPlane) {
   // A lamp exactly in the ground's plane (the ground is edge-on to it: attached shadow), and
   // 1e-9 m above it (the light's side of the plane is too close to call in doubles: exact).

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The clustered union's scratch (fast/cluster_union.hpp), kept by each fast-path worker so that
-// a receiver's union allocates nothing. No Clipper types: the engine includes this through
+// The clustered union's scratch (fast/cluster_union.hpp) and the window clip's
+// (fast/window_clip.hpp), kept by each fast-path worker so that a receiver's union allocates
+// nothing. No Clipper types: the engine includes this through
 // fast_receiver.hpp.
 #pragma once
 
@@ -9,6 +10,27 @@
 #include <vector>
 
 namespace shadow::fast {
+
+__extension__ typedef __int128 WindowInt128;
+
+/// The line a x + b y + c = 0 through two grid points, positive on the left of p -> q
+/// (fast/window_clip.hpp's bounds: |a|, |b| < 2^31, |c| < 2^62).
+struct GridLine {
+  WindowInt128 a = 0, b = 0, c = 0;
+};
+
+/// A point of the exact clip: (X / W, Y / W), W > 0; W = 1 for grid points.
+struct WindowPoint {
+  WindowInt128 x = 0, y = 0, w = 1;
+};
+
+/// Vectors reused from one clip to the next (a fast-path worker's).
+struct WindowClipScratch {
+  std::vector<WindowPoint> points, next_points;
+  std::vector<GridLine> lines, next_lines;  ///< lines[k]: the edge from points[k] to points[k + 1]
+  std::vector<GridLine> window;             ///< the window's edges' lines
+  std::vector<int> side;
+};
 
 /// A grid polygon's bounding box (in ClipperLib::cInt, which is `long long`).
 struct GridBox {

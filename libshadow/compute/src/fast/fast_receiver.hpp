@@ -26,6 +26,7 @@ namespace shadow::fast {
 struct FastWorker {
   core::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
   ClusterScratch cluster;          ///< the clustered union's vectors (fast/cluster_union.hpp)
+  WindowClipScratch window;        ///< the clip to a convex receiver's vectors (fast/window_clip.hpp)
 };
 
 /// What compute_receiver did with a receiver (or tile).

@@ -80,6 +80,10 @@ void ReceiverJob::add_cast(Cast& c) {
   // rounding is in the bound already (a low sun shadows many walls wholly).
   const Int128 box2 = 2 * static_cast<Int128>(2 * kHalf) * (2 * kHalf);
   if (!polygons_ && fp_.chart_is_box && (a2 == box2 || a2 == -box2) && is_convex_ccw(path)) covered_ = true;
+  // Likewise a convex outline that is not a box inside a convex cast (a terrain's triangle in a
+  // building's shadow): the shadow is the whole outline.
+  if (!polygons_ && !fp_.chart_is_box && convex_window() && is_convex_ccw(path) && convex_contains(path, window_))
+    covered_ = true;
   casts_.push_back(std::move(path));
   cast_length_ += length + 2 * n_vertices * rho_;
 }
@@ -95,7 +99,7 @@ bool ReceiverJob::cast_all(const std::vector<std::size_t>& candidates) {
       continue;
     }
     if (!cast_face(q)) return false;
-    if (covered_) break;  // the whole box is in shadow: the other casters cannot add to it
+    if (covered_) break;  // the whole receiver is in shadow: the other casters cannot add to it
   }
   return true;
 }

@@ -126,6 +126,43 @@ void ReceiverJob::set_up_receiver() {
   }
 }
 
+bool ReceiverJob::convex_window() {
+  if (window_convex_ >= 0) return window_convex_ != 0;
+  set_up_receiver();
+  window_.clear();
+  for (const CL::IntPoint& p : receiver_)
+    if (window_.empty() || !(window_.back() == p)) window_.push_back(p);
+  while (window_.size() > 1 && window_.front() == window_.back()) window_.pop_back();
+  if (window_.size() >= 3 && area2(window_) < 0) std::reverse(window_.begin(), window_.end());
+  window_convex_ = window_.size() >= 3 && is_convex_ccw(window_) ? 1 : 0;
+  return window_convex_ != 0;
+}
+
+bool ReceiverJob::clip_casts_to_window() {
+  if (!convex_window()) return false;
+  for (const CL::Path& c : casts_)
+    if (!is_convex_ccw(c)) return false;
+  set_window(window_, w_.window);
+  windowed_.resize(casts_.size());
+  std::size_t kept = 0;
+  windowed_length_ = 0;
+  for (const CL::Path& c : casts_) {
+    CL::Path& out = windowed_[kept];
+    clip_to_window(c, w_.window, out);
+    if (out.empty()) continue;
+    ++kept;
+    for (std::size_t a = 0; a < out.size(); ++a) {
+      const CL::IntPoint& p = out[a];
+      const CL::IntPoint& q = out[geometry::cyclic_next(a, out.size())];
+      windowed_length_ += std::hypot(static_cast<double>(q.X - p.X) * grid_.step[0],
+                                     static_cast<double>(q.Y - p.Y) * grid_.step[1]) + 2 * rho_;
+    }
+  }
+  windowed_.resize(kept);
+  windowed_length_ *= 1 + 1e-9;
+  return true;
+}
+
 bool ReceiverJob::unite() {
   set_up_receiver();
   const double receiver_length = receiver_length_;
@@ -133,7 +170,9 @@ bool ReceiverJob::unite() {
   Int128 shadow2 = 0, gap2 = 0;
   double boundary2 = 0;  // twice the area of the clusters measured by their boundary (grid units)
   if (covered_) {
-    shadow2 = 2 * static_cast<Int128>(2 * kHalf) * (2 * kHalf);
+    // The box, or a convex outline inside one cast (add_cast): the receiver's outline rounding
+    // and the cast's are in the bound already.
+    shadow2 = fp_.chart_is_box ? 2 * static_cast<Int128>(2 * kHalf) * (2 * kHalf) : area2(window_);
   } else try {
     // Many casts (a ground under a low sun): united in strips first (fast/strip_union.hpp),
     // and that union stands for the casts below (one more level of rounding), or, when it is
@@ -154,29 +193,37 @@ bool ReceiverJob::unite() {
       levels = strip_levels + (strips_only ? 0 : 1);
     }
     const bool clustered = !strips_only && fp_.chart_is_box && !polygons_ && maybe_.empty();
-    if (clustered) {
+    // A convex receiver that is not its box (a terrain's triangle), areas only: the casts
+    // clipped to it one by one, exactly, and then measured as a box's. The clip rounds each
+    // crossing of a cast's edge with the outline once: its clipped casts, each inside its own
+    // cast, move by under rho (the union's rounding term over the casts' length).
+    const bool windowed = !clustered && !strips_only && casts == &casts_ && !fp_.chart_is_box && !polygons_ &&
+                          maybe_.empty() && clip_casts_to_window();
+    if (clustered || windowed) {
       // Areas only: the union's area cluster by cluster (fast/cluster_union.hpp). Clusters of
       // convex casts are measured by their boundary, without rounding intersection points:
       // their arithmetic bound replaces the union's rounding term.
       const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
-      const ClusteredArea area = clustered_union_area(*casts, along.x * grid_.scale[0], along.y * grid_.scale[1], nullptr, &w_.cluster);
-      if (area.clipper) bound_.union_rounding(cast_length_, rho_);
+      const ClusteredArea area = clustered_union_area(windowed ? windowed_ : *casts, along.x * grid_.scale[0],
+                                                      along.y * grid_.scale[1], nullptr, &w_.cluster);
+      if (windowed) bound_.union_rounding(cast_length_, rho_);
+      if (area.clipper) bound_.union_rounding(windowed ? windowed_length_ : cast_length_, rho_);
       bound_.boundary_arithmetic(0.5 * area.boundary.error * grid_.step[0] * grid_.step[1]);
       shadow2 = area.exact2;
       boundary2 = area.boundary.twice_area;
     }
     // (A box receiver's edges meet the casts only at their vertices, already grid points.)
-    if (!clustered)
+    if (!clustered && !windowed)
       bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
     CL::Clipper clipper;
     clipper.StrictlySimple(false);
-    if (!strips_only && !clustered) clipper.AddPaths(*casts, CL::ptSubject, true);
+    if (!strips_only && !clustered && !windowed) clipper.AddPaths(*casts, CL::ptSubject, true);
     // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
     const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
-    if (!fp_.chart_is_box && !strips_only) clipper.AddPath(receiver_, CL::ptClip, true);
+    if (!fp_.chart_is_box && !strips_only && !windowed) clipper.AddPath(receiver_, CL::ptClip, true);
     if (strips_only) {
       for (const CL::Path& p : united) shadow2 += area2(p);  // holes come out negative
-    } else if (clustered) {
+    } else if (clustered || windowed) {
       // (measured above)
     } else if (polygons_) {
       clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);

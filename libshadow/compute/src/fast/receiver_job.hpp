@@ -9,6 +9,7 @@
 #include "fast/box_clip.hpp"
 #include "fast/cluster_union.hpp"
 #include "fast/error_bound.hpp"
+#include "fast/window_clip.hpp"
 #include "geometry/clip_convex.hpp"
 #include "geometry/cyclic_index.hpp"
 
@@ -367,6 +368,13 @@ class ReceiverJob {
   void set_up_receiver();
 
   bool unite();
+  /// Areas only on a convex receiver that is not its chart box: every cast (each convex) clipped
+  /// exactly to the receiver's grid outline (fast/window_clip.hpp) into windowed_, with their
+  /// total length in the chart (windowed_length_: perimeters plus 2 rho per vertex). False, with
+  /// nothing done, when the outline or some cast is not convex on the grid.
+  bool clip_casts_to_window();
+  /// Whether the receiver's grid outline is convex (window_, counter-clockwise; set up once).
+  bool convex_window();
 
   // ---- fragments: the union's cells on the receiver's plane ---------------------------------
   bool emit_fragments();
@@ -400,7 +408,7 @@ class ReceiverJob {
   double rho_ = 0;
   // The casts and the bound.
   CL::Paths casts_, maybe_;  // maybe_: footprints of nearly coplanar casters
-  bool covered_ = false;      // a cast fills the whole box (areas only): the shadow is the box
+  bool covered_ = false;      // a cast covers the whole box or convex outline (areas only): the shadow is it
   LitAreaBound bound_;
   double cast_length_ = 0;  // total perimeter of the grid polygons given to Clipper
   bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine
@@ -414,6 +422,10 @@ class ReceiverJob {
   bool receiver_ready_ = false;                    // receiver_ and the two below set up
   double receiver_length_ = 0, receiver_rho_ = 0;  // see set_up_receiver
   std::vector<glm::dvec2> outline_;
+  CL::Path window_;            // receiver_ counter-clockwise, for clip_casts_to_window
+  int window_convex_ = -1;     // convex_window(): -1 not known yet
+  CL::Paths windowed_;         // the casts clipped to it
+  double windowed_length_ = 0;
   CL::PolyTree shadow_tree_, lit_tree_;
   std::vector<CL::Paths> regions_;
   CL::Paths cells_;
