@@ -9,12 +9,15 @@
 #include "fast/cluster_union.hpp"
 #include "fast/window_clip.hpp"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/convex_hull_2.h>
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
@@ -155,27 +158,16 @@ long nearest(const mpq_class& v) {
   return q.get_si();
 }
 
-CL::Path convex_hull(std::vector<CL::IntPoint> pts) {
-  std::sort(pts.begin(), pts.end(), [](const CL::IntPoint& a, const CL::IntPoint& b) {
-    return a.X < b.X || (a.X == b.X && a.Y < b.Y);
-  });
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  if (pts.size() < 3) return {};
-  auto cross = [](const CL::IntPoint& o, const CL::IntPoint& a, const CL::IntPoint& b) {
-    return static_cast<__int128>(a.X - o.X) * (b.Y - o.Y) - static_cast<__int128>(a.Y - o.Y) * (b.X - o.X);
-  };
-  CL::Path hull(2 * pts.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
-    hull[k++] = pts[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull.size() >= 3 ? hull : CL::Path{};
+/// The convex hull of grid points, counter-clockwise without collinear points (CGAL's, whose
+/// predicates are exact on these doubles: every coordinate is below 2^30); empty when flat.
+CL::Path convex_hull(const std::vector<CL::IntPoint>& pts) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<K::Point_2> in, hull;
+  for (const CL::IntPoint& p : pts) in.emplace_back(static_cast<double>(p.X), static_cast<double>(p.Y));
+  CGAL::convex_hull_2(in.begin(), in.end(), std::back_inserter(hull));
+  CL::Path out;
+  for (const K::Point_2& p : hull) out.push_back({static_cast<CL::cInt>(p.x()), static_cast<CL::cInt>(p.y())});
+  return out.size() >= 3 ? out : CL::Path{};
 }
 
 TEST(WindowClip, SeededPolygonsAgainstRationalClip) {
