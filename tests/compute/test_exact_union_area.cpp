@@ -438,6 +438,75 @@ TEST(RationalPoints, WindowClipMatchesEpeckAndTheIntersection) {
   EXPECT_GT(emptied, 20u);
 }
 
+/// The union's area inside a convex window without clipping (twice_area_in_window) against
+/// the casts clipped to the window and united (twice_area), and against CGAL's join
+/// intersected with the window: the same exact rational; and the boundary chain of the window
+/// minus the union (window's boundary first) the same canonical segments both ways. Seeded
+/// degenerate scenes: windows that are one of the polygons, a cell of the same grid, or a hull.
+TEST(ExactUnionArea, InAWindowEqualsTheClippedUnion) {
+  Generator g(2026113);
+  std::size_t partial = 0;
+  for (int round = 0; round < 500; ++round) {
+    const std::vector<Polygon2> polygons = g.scene(g.uniform(1, 9));
+    Polygon2 window;
+    switch (round % 4) {
+      case 0: window = polygons[static_cast<std::size_t>(g.uniform(0, static_cast<int>(polygons.size()) - 1))]; break;
+      case 1: window = g.cell(4); break;
+      case 2: window = Generator::lazy(g.hull(1, 5, g.uniform(3, 6))); break;
+      default: window = g.hull(g.uniform(1, 3), 5, g.uniform(3, 7)); break;
+    }
+    std::vector<Point2> corners(window.vertices_begin(), window.vertices_end());
+    const std::vector<shadow::exact::QPoint2> qwindow = rational(corners);
+    std::vector<shadow::exact::QPoint2> all, clipped, poly, scratch;
+    std::vector<std::size_t> all_first{0}, clipped_first{0};
+    shadow::exact::QScratch qs;
+    std::vector<int> side;
+    for (const Polygon2& p : polygons) {
+      std::vector<Point2> in(p.vertices_begin(), p.vertices_end());
+      poly = rational(in);
+      all.insert(all.end(), poly.begin(), poly.end());
+      all_first.push_back(all.size());
+      shadow::exact::clip_convex_to_window(poly, qwindow, scratch, side, shadow::exact::IA(1), qs);
+      if (poly.size() < 3) continue;
+      clipped.insert(clipped.end(), poly.begin(), poly.end());
+      clipped_first.push_back(clipped.size());
+    }
+    ConvexUnionArea u;
+    shadow::exact::BoundaryChain in_window, by_clip;
+    for (shadow::exact::BoundaryChain* chain : {&in_window, &by_clip})
+      for (std::size_t v = 0; v < qwindow.size(); ++v) {
+        const auto& a = qwindow[v];
+        const auto& b = qwindow[(v + 1) % qwindow.size()];
+        chain->add(a.x, a.y, b.x, b.y);
+      }
+    EQ got, expected(0);
+    ASSERT_TRUE(u.twice_area_in_window(all.data(), all_first, qwindow.data(), qwindow.size(), got, &in_window))
+        << "round " << round;
+    if (clipped_first.size() > 1) ASSERT_TRUE(u.twice_area(clipped, clipped_first, expected, &by_clip)) << "round " << round;
+    EXPECT_EQ(got, expected) << "round " << round;
+    // CGAL: (join of the polygons) n window.
+    PolygonSet2 joined;
+    joined.join(polygons.begin(), polygons.end());
+    joined.intersection(window);
+    std::vector<PolygonWithHoles2> regions;
+    joined.polygons_with_holes(std::back_inserter(regions));
+    std::vector<FT> areas;
+    for (const PolygonWithHoles2& r : regions) areas.push_back(shadow::exact::region_area(r));
+    EXPECT_EQ(got, 2 * CGAL::exact(shadow::exact::balanced_sum(areas))) << "round " << round;
+    std::vector<shadow::exact::BoundaryChain::Segment> a, b;
+    ASSERT_TRUE(in_window.canonical(a)) << "round " << round;
+    ASSERT_TRUE(by_clip.canonical(b)) << "round " << round;
+    ASSERT_EQ(a.size(), b.size()) << "round " << round;
+    for (std::size_t k = 0; k < a.size(); ++k)
+      EXPECT_TRUE(a[k].from.x == b[k].from.x && a[k].from.y == b[k].from.y && a[k].to.x == b[k].to.x &&
+                  a[k].to.y == b[k].to.y && a[k].left == b[k].left)
+          << "round " << round << " segment " << k;
+    const EQ window_twice = twice_area_of(qwindow);
+    partial += got != 0 && got != window_twice;
+  }
+  EXPECT_GT(partial, 150u);
+}
+
 /// The engine with areas only (the route without a Boolean operation) against the engine with
 /// polygons (PolygonSet2::join, then the regions' areas): the same doubles, bit for bit.
 void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_t tile_casters) {

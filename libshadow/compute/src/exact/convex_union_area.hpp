@@ -88,6 +88,40 @@ class ConvexUnionArea {
     return true;
   }
 
+  /// Twice the exact area of (the union of the polygons) n W, W the convex counter-clockwise
+  /// polygon window[0, m), without clipping a polygon to W: a polygon edge counts the part of it
+  /// inside W that no other polygon covers (a stretch along an edge of W going the same way is
+  /// inside), a window edge the part that the interior of some polygon covers (so a stretch that
+  /// a polygon's edge shares with W's, going the same way, counts once, as the polygon's).
+  /// `boundary`: as twice_area's, the boundary of (union) n W reversed. False (nothing added)
+  /// when some polygon or the window is not convex.
+  bool twice_area_in_window(const QPoint2* points, const std::vector<std::size_t>& first, const QPoint2* window,
+                            std::size_t m, EQ& out, BoundaryChain* boundary = nullptr) {
+    bool convex_polygons = false;
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      convex_polygons = load(points, first) && load_window(window, m);
+    }
+    if (!convex_polygons) {
+      window_ = false;
+      return false;
+    }
+    boundary_ = boundary;
+    find_pairs();
+    terms_.clear();
+    integer_terms_ = 0;
+    {
+      CGAL::Protect_FPU_rounding<true> guard;
+      for (std::size_t i = 0; i + 1 < first_.size(); ++i)
+        if (meet(box_[i], window_box_)) measure_polygon(i);  // (a polygon apart adds nothing)
+      for (std::size_t v = win_first_; v < pts_.size(); ++v) measure_window_edge(v);
+    }
+    boundary_ = nullptr;
+    window_ = false;
+    out = sum_terms();
+    return true;
+  }
+
   /// The same for Epeck polygons (their exact values are copied first).
   bool twice_area(const std::vector<Polygon2>& polygons, EQ& out) {
     copy_.clear();
@@ -169,6 +203,35 @@ class ConvexUnionArea {
     return true;
   }
 
+  /// Appends the window's vertices after the polygons' (repeats dropped; not a polygon of
+  /// first_ or box_), with its box; false when it is not convex.
+  bool load_window(const QPoint2* window, std::size_t m) {
+    win_first_ = pts_.size();
+    for (std::size_t v = 0; v < m; ++v) {
+      pts_.push_back(&window[v]);
+      ip_.push_back(window[v].i);
+      if (pts_.size() > win_first_ + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
+        pts_.pop_back();
+        ip_.pop_back();
+      }
+    }
+    while (pts_.size() - win_first_ > 1 && equal(pts_.size() - 1, win_first_)) {
+      pts_.pop_back();
+      ip_.pop_back();
+    }
+    if (!convex(win_first_, pts_.size())) return false;
+    window_box_ = Box{ip_[win_first_].x.inf(), ip_[win_first_].y.inf(), ip_[win_first_].x.sup(), ip_[win_first_].y.sup()};
+    for (std::size_t v = win_first_; v < pts_.size(); ++v) {
+      nxt_.push_back(v + 1 == pts_.size() ? win_first_ : v + 1);
+      window_box_.x0 = std::min(window_box_.x0, ip_[v].x.inf());
+      window_box_.y0 = std::min(window_box_.y0, ip_[v].y.inf());
+      window_box_.x1 = std::max(window_box_.x1, ip_[v].x.sup());
+      window_box_.y1 = std::max(window_box_.y1, ip_[v].y.sup());
+    }
+    window_ = true;
+    return true;
+  }
+
   /// Only under one of twice_area's rounding guards (every caller is: load and the sweep).
   CGAL::Sign turn(std::size_t a, std::size_t b, std::size_t c) {
     return orientation<false>(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
@@ -242,7 +305,7 @@ class ConvexUnionArea {
 
   // ---- one polygon's edges ----------------------------------------------------------------------
   void measure_polygon(std::size_t i) {
-    if (nstart_[i] == nstart_[i + 1]) {  // alone: its own area
+    if (nstart_[i] == nstart_[i + 1] && !window_) {  // alone: its own area
       twice_polygon_area(pts_.data() + first_[i], first_[i + 1] - first_[i]);
       if (boundary_)
         for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) add_reversed(*pts_[v], *pts_[nxt_[v]]);
@@ -257,6 +320,20 @@ class ConvexUnionArea {
       exact_used_ = 0;  // parameters are per edge
       cur_v_ = v;
       cur_w_ = w;
+      if (window_) {  // the parts outside the window count as covered
+        Cover inside;
+        const int in = window_interval(inside);
+        if (in == 0) continue;
+        if (in == 2) {
+          if (inside.lo.kind == 2) covers_.push_back(Cover{Param{}, inside.lo});
+          if (inside.hi.kind == 2) {
+            Cover after{inside.hi, Param{}};
+            after.hi.kind = 1;
+            after.hi.approx = IA(1);
+            covers_.push_back(after);
+          }
+        }
+      }
       for (std::size_t k = nstart_[i]; k < nstart_[i + 1] && !full; ++k) {
         const std::size_t j = nlist_[k];
         if (!meet(eb, box_[j])) continue;
@@ -274,6 +351,66 @@ class ConvexUnionArea {
       ++counts_.edges_partial;
       uncovered_measure(v, w);
     }
+  }
+
+  /// The part of the current (polygon) edge inside the window: 0 none (up to points), 1 all of
+  /// it, 2 the interval from `c.lo` to `c.hi` (either may be an end of the edge). A stretch on a
+  /// window edge's line going the same way is inside, the other way outside.
+  int window_interval(Cover& c) {
+    const std::size_t v = cur_v_, w = cur_w_;
+    c.lo = Param{};
+    c.hi = Param{};
+    c.hi.kind = 1;
+    c.hi.approx = IA(1);
+    for (std::size_t f = win_first_; f < pts_.size(); ++f) {
+      const std::size_t f2 = nxt_[f];
+      const CGAL::Sign a = turn(f, f2, v), b = turn(f, f2, w);
+      if (a != CGAL::NEGATIVE && b != CGAL::NEGATIVE) {
+        if (a != CGAL::ZERO || b != CGAL::ZERO) continue;
+        // On the edge's line: inside when going the same way.
+        if (dot_sign<false>(*pts_[v], ip_[v], *pts_[w], ip_[w], *pts_[f], ip_[f], *pts_[f2], ip_[f2], scratch_) ==
+            CGAL::POSITIVE)
+          continue;
+        return 0;
+      }
+      if (a != CGAL::POSITIVE && b != CGAL::POSITIVE) return 0;  // outside but for an end
+      if (a == CGAL::POSITIVE) {  // inside for t < tau
+        Param p = crossing(f);
+        if (c.hi.kind == 1 || less(p, c.hi)) c.hi = p;
+      } else {  // inside for t > tau
+        Param p = crossing(f);
+        if (c.lo.kind == 0 || less(c.lo, p)) c.lo = p;
+      }
+    }
+    if (c.lo.kind == 0 && c.hi.kind == 1) return 1;
+    if (c.lo.kind == 2 && c.hi.kind == 2 && !less(c.lo, c.hi)) return 0;
+    return 2;
+  }
+
+  /// A window edge: the part that the polygons' interiors cover (the union's boundary along the
+  /// window), reversed into the boundary chain.
+  void measure_window_edge(std::size_t v) {
+    const std::size_t w = nxt_[v];
+    const Box eb{std::min(ip_[v].x.inf(), ip_[w].x.inf()), std::min(ip_[v].y.inf(), ip_[w].y.inf()),
+                 std::max(ip_[v].x.sup(), ip_[w].x.sup()), std::max(ip_[v].y.sup(), ip_[w].y.sup())};
+    covers_.clear();
+    exact_used_ = 0;
+    cur_v_ = v;
+    cur_w_ = w;
+    for (std::size_t j = 0; j + 1 < first_.size(); ++j) {
+      if (!meet(eb, box_[j])) continue;
+      Cover c;
+      if (!cover_by(0, j, c)) continue;  // (i = 0: a collinear edge going the same way does not cover)
+      if (c.lo.kind == 0 && c.hi.kind == 1) {
+        add_cross(v, w, nullptr);
+        if (boundary_) add_reversed(*pts_[v], *pts_[w]);
+        return;
+      }
+      covers_.push_back(c);
+    }
+    if (covers_.empty()) return;
+    ++counts_.edges_partial;
+    uncovered_measure(v, w, true);
   }
 
   /// The open interval of t that P_j covers on the current edge of P_i; false when it is empty.
@@ -449,8 +586,9 @@ class ConvexUnionArea {
     if (measure) terms_.back() *= *measure;
   }
 
-  /// The edge's uncovered measure from covers_ (sorted by lower end, merged), times cross(s, d).
-  void uncovered_measure(std::size_t v, std::size_t w) {
+  /// The edge's uncovered measure from covers_ (sorted by lower end, merged), times cross(s, d);
+  /// with `covered_part`, the covered measure instead (a window edge), its pieces to the chain.
+  void uncovered_measure(std::size_t v, std::size_t w, bool covered_part = false) {
     for (std::size_t a = 1; a < covers_.size(); ++a)  // insertion sort by lower end (few)
       for (std::size_t b = a; b > 0 && less(covers_[b].lo, covers_[b - 1].lo); --b) std::swap(covers_[b], covers_[b - 1]);
     // The covered measure as a fraction cn / cd (cd > 0), normalised once at the end.
@@ -485,10 +623,13 @@ class ConvexUnionArea {
       a = b;
     }
     // measure = 1 - covered = (cd - cn) / cd, normalised: the same rational as before.
-    mpz_sub(cn, cd, cn);
+    if (!covered_part) mpz_sub(cn, cd, cn);
     mpq_canonicalize(measure_.get_mpq_t());
     if (sgn(measure_) != 0) add_cross(v, w, &measure_);
-    if (boundary_) add_uncovered_pieces();
+    if (!boundary_) return;
+    if (!covered_part) return add_uncovered_pieces();
+    for (Cover& c : merged_)
+      if (less(c.lo, c.hi)) add_piece(c.lo, c.hi);
   }
 
   /// The current edge's uncovered pieces, between the merged covers (merged_), reversed into
@@ -550,6 +691,9 @@ class ConvexUnionArea {
   std::vector<Cover> covers_;
   std::vector<Cover> merged_;  ///< the current edge's covers merged (boundary_ only)
   BoundaryChain* boundary_ = nullptr;
+  bool window_ = false;         ///< twice_area_in_window: the window's vertices from win_first_
+  std::size_t win_first_ = 0;
+  Box window_box_{0, 0, 0, 0};
   BoundaryChain::Point piece_a_, piece_b_;
   EQ tq_;
   std::deque<Fraction> exact_;  ///< exact parameters of the current edge (references stay valid)

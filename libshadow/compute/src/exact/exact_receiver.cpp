@@ -243,7 +243,10 @@ LitBoundary ExactReceiverJob::lit_boundary(int facing) {
   const ReceiverResult r = run(facing);
   out.lighting = r.lighting;
   if (!r.lighting.faces_light || fp_.degenerate) return out;  // attached shadow: dark
-  if (shadow_count() == 0) {  // nothing in front
+  // Nothing in front, or casts of no area on the chart (a chart that is not its box keeps the
+  // casts that only reach its box: measured in its pieces, they shade nothing): wholly lit,
+  // whichever route measured it.
+  if (shadow_count() == 0 || (!covered_ && CGAL::exact(lit_chart_area_) == *w_.exact_areas(ctx_, face_id_).first)) {
     out.kind = LitRegion::Kind::Whole;
     out.lit_chart_area = FT(*w_.exact_areas(ctx_, face_id_).first);
     return out;
@@ -458,19 +461,26 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
         chain->add(a.x, a.y, b.x, b.y);
       }
     }
-    w_.window_points.clear();
-    w_.window_first.assign(1, 0);
-    for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
-      if (!CGAL::do_overlap(w_.cast_boxes[k], box)) continue;  // (boxes around the exact points)
-      w_.qpoly.clear();
-      for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v) w_.qpoly.push_back(w_.qshadows[v]);
-      clip_convex_to_window(w_.qpoly, w_.qwindow, w_.qscratch, w_.qside, chart.scale_interval(), w_.qs);
-      if (w_.qpoly.size() < 3) continue;
-      for (QPoint2& p : w_.qpoly) w_.window_points.push_back_swap(p);
-      w_.window_first.push_back(w_.window_points.size());
+    // The casts that reach the piece, measured inside it as a window (no clip: its crossings'
+    // rationals, and their gcds, were most of a georeferenced model's time). One piece (a
+    // convex chart): all the casts as they are.
+    const QPoint2* casts = w_.qshadows.data();
+    const std::vector<std::size_t>* first = &w_.qfirst;
+    if (fp_.convex_pieces.size() > 1) {
+      w_.window_points.clear();
+      w_.window_first.assign(1, 0);
+      for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+        if (!CGAL::do_overlap(w_.cast_boxes[k], box)) continue;  // (boxes around the exact points)
+        for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v) w_.window_points.push_back(w_.qshadows[v]);
+        w_.window_first.push_back(w_.window_points.size());
+      }
+      casts = w_.window_points.data();
+      first = &w_.window_first;
     }
-    if (w_.window_first.size() == 1) continue;  // no cast reaches this piece
-    if (!w_.union_area.twice_area(w_.window_points, w_.window_first, w_.piece_twice_area, chain)) return false;
+    if (first->size() == 1) continue;  // no cast reaches this piece
+    if (!w_.union_area.twice_area_in_window(casts, *first, w_.qwindow.data(), w_.qwindow.size(), w_.piece_twice_area,
+                                            chain))
+      return false;
     twice_area_ += w_.piece_twice_area;
   }
   twice_area_ /= 2;
@@ -599,6 +609,11 @@ LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, s
   out.lighting = region.lighting;
   out.via_join = true;
   if (region.kind != LitRegion::Kind::Partial) return out;
+  // A lit region that is the whole chart (casts of no area on it) is Whole, as lit_boundary says.
+  if (CGAL::exact(region.lit_chart_area) == *w.exact_areas(ctx, face_id).first) {
+    out.kind = LitRegion::Kind::Whole;
+    return out;
+  }
   receiver_job::canonical_boundary(region.lit, w.chain, out.segments);
   return out;
 }

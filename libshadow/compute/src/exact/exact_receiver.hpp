@@ -45,6 +45,7 @@ struct ExactWorker {
   // convex pieces, as rational points (window_points[window_first[k], window_first[k + 1])),
   // and the casts' bounding boxes.
   QPointList window_points, qwindow;
+  QPointList qcorners;  ///< the current job's chart corners, scaled (note_cover_of_chart_q)
   std::vector<std::size_t> window_first;
   std::vector<CGAL::Bbox_2> cast_boxes;
   EQ piece_twice_area;

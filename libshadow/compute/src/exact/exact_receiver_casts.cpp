@@ -24,6 +24,10 @@ void ExactReceiverJob::clip_to_chart_box(std::vector<Point2>& poly) {
 }
 
 void ExactReceiverJob::clip_to_chart_box_q(QPointList& poly) {
+  // A face's chart that is not its box is measured in its convex pieces, each a window for the
+  // casts as they are (measure_in_scaled_pieces): a clip to the box first would only make
+  // rationals. A tile's box is its region's edge: clipped to it.
+  if (!boxed_casts()) return;
   const ScaledChart& chart = scaled_chart();
   // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
   bool inside = true;
@@ -361,6 +365,7 @@ bool ExactReceiverJob::add_shadow_q(QPointList& poly) {
 
 void ExactReceiverJob::note_cover_q(const QPointList& poly) {
   if (tile_ || covered_ || poly.size() < 3) return;
+  if (!boxed_casts()) return note_cover_of_chart_q(poly);
   const ScaledChart& chart = scaled_chart();
   // The estimate from the points' intervals (of the unscaled chart, a few ulps wide): converting
   // the rationals to doubles divided every cut's numerator by its denominator. Only a cast that
@@ -374,6 +379,36 @@ void ExactReceiverJob::note_cover_q(const QPointList& poly) {
   twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
   const EQ exact_box = (chart.hi(0) - chart.lo(0)) * (chart.hi(1) - chart.lo(1));
   covered_ = exact_twice == 2 * exact_box;
+}
+
+void ExactReceiverJob::note_cover_of_chart_q(const QPointList& poly) {
+  // A convex cast (counter-clockwise) that holds every vertex of the chart holds the chart (its
+  // convex hull): the shadow is the whole face, as for a box. Only a cast whose box holds the
+  // chart's box can (decided on the intervals first); the chart's corners in the scaled chart
+  // are made once per job.
+  double x0 = poly[0].i.x.inf(), x1 = poly[0].i.x.sup(), y0 = poly[0].i.y.inf(), y1 = poly[0].i.y.sup();
+  for (const QPoint2& p : poly) {
+    x0 = std::min(x0, p.i.x.inf());
+    x1 = std::max(x1, p.i.x.sup());
+    y0 = std::min(y0, p.i.y.inf());
+    y1 = std::max(y1, p.i.y.sup());
+  }
+  if (x0 > fp_.chart_min[0] || x1 < fp_.chart_max[0] || y0 > fp_.chart_min[1] || y1 < fp_.chart_max[1]) return;
+  if (!chart_corners_ready_) {
+    w_.qcorners.clear();
+    for (int v : fp_.chart_ring) scaled_chart().chart(face_.vertices[v], w_.qcorners.emplace_back());
+    chart_corners_ready_ = true;
+  }
+  CGAL::Protect_FPU_rounding<true> guard;
+  for (std::size_t a = 0; a < poly.size(); ++a) {
+    const QPoint2& p = poly[a];
+    const QPoint2& q = poly[a + 1 == poly.size() ? 0 : a + 1];
+    for (std::size_t c = 0; c < w_.qcorners.size(); ++c) {
+      const QPoint2& r = w_.qcorners[c];
+      if (orientation<false>(p, p.i, q, q.i, r, r.i, w_.qs) == CGAL::NEGATIVE) return;
+    }
+  }
+  covered_ = true;
 }
 
 }  // namespace shadow::exact::receiver_job

@@ -94,6 +94,9 @@ class ExactReceiverJob {
 
   /// clip_to_chart_box for a cast in the scaled chart (the box's bounds scaled with it).
   void clip_to_chart_box_q(QPointList& poly);
+  /// Whether the rational casts are clipped to the chart box (clip_to_chart_box_q): for a box
+  /// chart or a tile; a face's chart that is not its box measures them in its convex pieces.
+  [[nodiscard]] bool boxed_casts() const { return fp_.chart_is_box || tile_; }
 
   // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
   void cast_convex_solid(int solid);
@@ -144,6 +147,9 @@ class ExactReceiverJob {
   /// affine image lying in it), and a simple polygon inside the box with the box's area is the
   /// box, which holds the chart (a chart that is not its box too: the shadow is then the chart).
   void note_cover_q(const QPointList& poly);
+  /// note_cover_q for casts not clipped to the box (!boxed_casts()): the cast holds every
+  /// vertex of the chart.
+  void note_cover_of_chart_q(const QPointList& poly);
 
   /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
   /// of twice the chart box's: only such a cast can be the whole box (note_cover, note_cover_q).
@@ -242,6 +248,7 @@ class ExactReceiverJob {
   std::optional<PolygonSet2> shadow_set_storage_;  ///< the shadow's union (unite_and_measure)
   ConvexUnionArea::EQ twice_area_;                 ///< scratch for the union's area (areas only)
   bool q_mode_ = false;                            ///< casts as rational points (see run())
+  bool chart_corners_ready_ = false;  ///< w_.qcorners holds this job's chart corners
   bool q_outline_cast_ = false;  ///< q_mode_: a non-convex caster cast its whole outline (cast_face)
   FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
