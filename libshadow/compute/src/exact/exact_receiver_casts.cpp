@@ -26,8 +26,22 @@ void ExactReceiverJob::clip_to_chart_box(std::vector<Point2>& poly) {
 void ExactReceiverJob::clip_to_chart_box_q(QPointList& poly) {
   // A face's chart that is not its box is measured in its convex pieces, each a window for the
   // casts as they are (measure_in_scaled_pieces): a clip to the box first would only make
-  // rationals. A tile's box is its region's edge: clipped to it.
-  if (!boxed_casts()) return;
+  // rationals (and their gcds: most of a georeferenced model's time). A tile's box is its
+  // region's edge: clipped to it.
+  if (!boxed_casts()) {
+    // Not clipped, but a cast wholly on or beyond a side of the box is dropped, as its clip
+    // would be (decided on the intervals: the rest reach the box or nearly so).
+    bool left = true, right = true, below = true, above = true;
+    for (std::size_t v = 0; v < poly.size(); ++v) {
+      const IPoint2& i = poly[v].i;  // of the unscaled chart
+      left = left && i.x.sup() <= fp_.chart_min[0];
+      right = right && i.x.inf() >= fp_.chart_max[0];
+      below = below && i.y.sup() <= fp_.chart_min[1];
+      above = above && i.y.inf() >= fp_.chart_max[1];
+    }
+    if (left || right || below || above) poly.clear();
+    return;
+  }
   const ScaledChart& chart = scaled_chart();
   // Most casts lie inside the box (the ground's): decided on the intervals, nothing to clip.
   bool inside = true;
