@@ -209,19 +209,36 @@ bool ExactReceiverJob::unite_into_chain() {
     chain_ready_ = measure_in_scaled_pieces();
     return chain_ready_;
   }
-  ScaledChart& chart = scaled_chart();
   BoundaryChain& chain = w_.chain;
   chain.clear();
+  const ScaledChart& chart = scaled_chart();
   const EQ &x0 = chart.lo(0), &y0 = chart.lo(1), &x1 = chart.hi(0), &y1 = chart.hi(1);
   chain.add(x0, y0, x1, y0);  // the chart (its box), counter-clockwise
   chain.add(x1, y0, x1, y1);
   chain.add(x1, y1, x0, y1);
   chain.add(x0, y1, x0, y0);
-  if (!w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_, &chain)) return false;
+  chain_ready_ = measure_in_box_window(&chain);
+  return chain_ready_;
+}
+
+bool ExactReceiverJob::measure_in_box_window(BoundaryChain* chain) {
+  // The chart box, counter-clockwise, as the window the casts (not clipped to it) are measured
+  // in: the same exact rational as their clips to the box united, without the clips' crossings.
+  const ScaledChart& chart = scaled_chart();
+  w_.qwindow.clear();
+  for (int corner = 0; corner < 4; ++corner) {
+    const int cx = corner == 1 || corner == 2 ? 1 : 0, cy = corner >= 2 ? 1 : 0;
+    QPoint2& p = w_.qwindow.emplace_back();
+    p.x = cx ? chart.hi(0) : chart.lo(0);
+    p.y = cy ? chart.hi(1) : chart.lo(1);
+    p.i = {cx ? chart.ihi(0) : chart.ilo(0), cy ? chart.ihi(1) : chart.ilo(1)};  // (of the unscaled chart)
+  }
+  if (!w_.union_area.twice_area_in_window(w_.qshadows.data(), w_.qfirst, w_.qwindow.data(), w_.qwindow.size(),
+                                          twice_area_, chain))
+    return false;
   twice_area_ /= 2;
   chart.unscale_area(twice_area_);
   measure(twice_area_);
-  chain_ready_ = true;
   return true;
 }
 
@@ -313,7 +330,9 @@ void ExactReceiverJob::unite_and_measure() {
       if (!q_outline_cast_ && unite_into_chain()) return;
     } else if (!fp_.chart_is_box) {
       if (!q_outline_cast_ && measure_in_scaled_pieces()) return;
-    } else if (w_.qfirst.size() == 2) {  // one cast (simple) inside the box: it is the shadow
+    } else if (!boxed_casts()) {  // a box chart (not a tile): the casts measured inside the box
+      if (!q_outline_cast_ && measure_in_box_window(nullptr)) return;
+    } else if (w_.qfirst.size() == 2) {  // one cast (simple) inside a tile's box: it is the shadow
       twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
       twice_area_ /= 2;
       chart.unscale_area(twice_area_);
@@ -356,13 +375,15 @@ void ExactReceiverJob::q_casts_to_shadows() {
 void ExactReceiverJob::unite_by_join() {
   shadow_set_storage_.emplace();  // only here: an empty Polygon_set_2 still allocates
   PolygonSet2& shadow_set_ = *shadow_set_storage_;
-  if (shadows_.size() == 1 && fp_.chart_is_box) {
+  // The areas route's rational casts are clipped to a tile's box only (boxed_casts()).
+  const bool inside_chart = fp_.chart_is_box && (!q_mode_ || boxed_casts());
+  if (shadows_.size() == 1 && inside_chart) {
     // One convex caster already clipped to a rectangular receiver: it is the shadow.
     shadow_regions_.emplace_back(shadows_.front());
     if (wants_region()) shadow_set_.insert(shadows_.front());
   } else {
     shadow_set_.join(shadows_.begin(), shadows_.end());  // one aggregated union
-    if (!fp_.chart_is_box) shadow_set_.intersection(w_.face(ctx_, face_id_).chart);
+    if (!inside_chart) shadow_set_.intersection(w_.face(ctx_, face_id_).chart);
     shadow_set_.polygons_with_holes(std::back_inserter(shadow_regions_));
   }
   std::vector<FT> region_areas;
@@ -430,8 +451,9 @@ bool ExactReceiverJob::twice_area_in_window(const Polygon2& window, const CGAL::
 bool ExactReceiverJob::measure_in_scaled_pieces() {
   // measure_in_convex_pieces for the casts as rational points of the scaled chart: each convex
   // piece of the face (the chart itself when it is convex) made a window of the scaled chart
-  // from the receiver's own vertices (ScaledChart::chart), the casts clipped to it exactly
-  // (clip_convex_to_window on rational points) and united; the pieces' areas added.
+  // from the receiver's own vertices (ScaledChart::chart), the union of the casts that reach
+  // it measured inside it (ConvexUnionArea::twice_area_in_window: no cast is clipped); the
+  // pieces' areas added.
   ScaledChart& chart = scaled_chart();
   w_.cast_boxes.clear();
   for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {

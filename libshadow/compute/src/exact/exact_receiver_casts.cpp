@@ -24,22 +24,14 @@ void ExactReceiverJob::clip_to_chart_box(std::vector<Point2>& poly) {
 }
 
 void ExactReceiverJob::clip_to_chart_box_q(QPointList& poly) {
-  // A face's chart that is not its box is measured in its convex pieces, each a window for the
-  // casts as they are (measure_in_scaled_pieces): a clip to the box first would only make
-  // rationals (and their gcds: most of a georeferenced model's time). A tile's box is its
-  // region's edge: clipped to it.
+  // A face's casts are measured inside its box or its convex pieces as windows
+  // (measure_in_box_window, measure_in_scaled_pieces): a clip would only make rationals (and
+  // their gcds: most of a georeferenced model's time). A tile's box is its region's edge:
+  // clipped to it.
   if (!boxed_casts()) {
-    // Not clipped, but a cast wholly on or beyond a side of the box is dropped, as its clip
-    // would be (decided on the intervals: the rest reach the box or nearly so).
-    bool left = true, right = true, below = true, above = true;
-    for (std::size_t v = 0; v < poly.size(); ++v) {
-      const IPoint2& i = poly[v].i;  // of the unscaled chart
-      left = left && i.x.sup() <= fp_.chart_min[0];
-      right = right && i.x.inf() >= fp_.chart_max[0];
-      below = below && i.y.sup() <= fp_.chart_min[1];
-      above = above && i.y.inf() >= fp_.chart_max[1];
-    }
-    if (left || right || below || above) poly.clear();
+    // Not clipped, but dropped when its clip would leave no area (the same casts counted and
+    // the same receivers unshadowed as with the clip).
+    if (!reaches_chart_box(poly)) poly.clear();
     return;
   }
   const ScaledChart& chart = scaled_chart();
@@ -55,6 +47,48 @@ void ExactReceiverJob::clip_to_chart_box_q(QPointList& poly) {
     clip_convex_2d(poly, c, chart.lo(c), chart.ilo(c), true, w_.qscratch, w_.qside, chart.scale_interval());
     clip_convex_2d(poly, c, chart.hi(c), chart.ihi(c), false, w_.qscratch, w_.qside, chart.scale_interval());
   }
+}
+
+bool ExactReceiverJob::reaches_chart_box(const QPointList& poly) {
+  // Two convex polygons whose interiors do not meet are separated by the line of a side of one
+  // of them: a side of the box (every vertex of the cast on or beyond it), or an edge of the
+  // cast (every corner of the box on or beyond its line). Intervals first, exact when they
+  // cannot tell; a vertex strictly inside the box settles it at once.
+  if (poly.size() < 3) return false;
+  const ScaledChart& chart = scaled_chart();
+  bool beyond[4] = {true, true, true, true};
+  for (std::size_t v = 0; v < poly.size(); ++v) {
+    const QPoint2& p = poly[v];
+    const int x0 = compare(p.x, p.i.x, chart.lo(0), chart.ilo(0)), x1 = compare(p.x, p.i.x, chart.hi(0), chart.ihi(0));
+    const int y0 = compare(p.y, p.i.y, chart.lo(1), chart.ilo(1)), y1 = compare(p.y, p.i.y, chart.hi(1), chart.ihi(1));
+    if (x0 > 0 && x1 < 0 && y0 > 0 && y1 < 0) return true;
+    beyond[0] = beyond[0] && x0 <= 0;
+    beyond[1] = beyond[1] && x1 >= 0;
+    beyond[2] = beyond[2] && y0 <= 0;
+    beyond[3] = beyond[3] && y1 >= 0;
+  }
+  if (beyond[0] || beyond[1] || beyond[2] || beyond[3]) return false;
+  const CGAL::Sign turn = area_sign(poly, w_.qs, w_.qarea);
+  if (turn == CGAL::ZERO) return false;  // flat: no area anywhere
+  QPoint2 corners[4];
+  for (int c = 0; c < 4; ++c) {
+    const int cx = c == 1 || c == 2 ? 1 : 0, cy = c >= 2 ? 1 : 0;
+    corners[c].x = cx ? chart.hi(0) : chart.lo(0);
+    corners[c].y = cy ? chart.hi(1) : chart.lo(1);
+    corners[c].i = {cx ? chart.ihi(0) : chart.ilo(0), cy ? chart.ihi(1) : chart.ilo(1)};
+  }
+  CGAL::Protect_FPU_rounding<true> guard;
+  for (std::size_t a = 0; a < poly.size(); ++a) {
+    const QPoint2& p = poly[a];
+    const QPoint2& q = poly[a + 1 == poly.size() ? 0 : a + 1];
+    bool separates = true;
+    for (int c = 0; c < 4 && separates; ++c) {
+      const CGAL::Sign side = orientation<false>(p, p.i, q, q.i, corners[c], corners[c].i, w_.qs);
+      separates = side == CGAL::ZERO || side != turn;  // on the line, or outside the cast
+    }
+    if (separates) return false;
+  }
+  return true;
 }
 
 void ExactReceiverJob::cast_convex_solid(int solid) {
@@ -378,21 +412,9 @@ bool ExactReceiverJob::add_shadow_q(QPointList& poly) {
 }
 
 void ExactReceiverJob::note_cover_q(const QPointList& poly) {
+  // (A tile's shadow is its own: never the face's.)
   if (tile_ || covered_ || poly.size() < 3) return;
-  if (!boxed_casts()) return note_cover_of_chart_q(poly);
-  const ScaledChart& chart = scaled_chart();
-  // The estimate from the points' intervals (of the unscaled chart, a few ulps wide): converting
-  // the rationals to doubles divided every cut's numerator by its denominator. Only a cast that
-  // passes it is measured exactly, so the estimate decides time, never the result.
-  const double twice = core::twice_area_about_box_corner(fp_, poly.size(), [&](std::size_t a) {
-    const IPoint2& i = poly[a].i;
-    return std::array<double, 2>{0.5 * (i.x.inf() + i.x.sup()), 0.5 * (i.y.inf() + i.y.sup())};
-  });
-  if (!near_box_area(twice)) return;
-  EQ exact_twice;
-  twice_polygon_area(poly.data(), poly.data() + poly.size(), exact_twice, w_.qs);
-  const EQ exact_box = (chart.hi(0) - chart.lo(0)) * (chart.hi(1) - chart.lo(1));
-  covered_ = exact_twice == 2 * exact_box;
+  note_cover_of_chart_q(poly);
 }
 
 void ExactReceiverJob::note_cover_of_chart_q(const QPointList& poly) {

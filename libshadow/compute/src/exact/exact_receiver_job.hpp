@@ -94,9 +94,13 @@ class ExactReceiverJob {
 
   /// clip_to_chart_box for a cast in the scaled chart (the box's bounds scaled with it).
   void clip_to_chart_box_q(QPointList& poly);
-  /// Whether the rational casts are clipped to the chart box (clip_to_chart_box_q): for a box
-  /// chart or a tile; a face's chart that is not its box measures them in its convex pieces.
-  [[nodiscard]] bool boxed_casts() const { return fp_.chart_is_box || tile_; }
+  /// Whether a convex rational cast and the chart box share interior points (the clip to the
+  /// box would leave an area): exactly.
+  bool reaches_chart_box(const QPointList& poly);
+  /// Whether the rational casts are clipped to the chart box (clip_to_chart_box_q): for a tile
+  /// only; a face's chart measures them inside its box (a box chart, measure_in_box_window) or
+  /// its convex pieces (measure_in_scaled_pieces) as windows.
+  [[nodiscard]] bool boxed_casts() const { return tile_; }
 
   // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
   void cast_convex_solid(int solid);
@@ -142,13 +146,12 @@ class ExactReceiverJob {
   /// add_shadow for rational points (the areas-only route).
   bool add_shadow_q(QPointList& poly);
 
-  /// note_cover for a rational cast (counter-clockwise, in the scaled chart). Every cast is a
-  /// simple polygon inside the chart box (a convex piece or hull clipped to it, or a face's
-  /// affine image lying in it), and a simple polygon inside the box with the box's area is the
-  /// box, which holds the chart (a chart that is not its box too: the shadow is then the chart).
+  /// note_cover for a rational cast (counter-clockwise, in the scaled chart), not for a tile:
+  /// note_cover_of_chart_q.
   void note_cover_q(const QPointList& poly);
-  /// note_cover_q for casts not clipped to the box (!boxed_casts()): the cast holds every
-  /// vertex of the chart.
+  /// Whether the cast (simple, counter-clockwise, not clipped) holds the chart: every vertex of
+  /// the chart on the left of or on every edge of the cast (then the chart is in the cast's
+  /// kernel, the cast itself when convex); the shadow is then the whole face.
   void note_cover_of_chart_q(const QPointList& poly);
 
   /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
@@ -199,6 +202,10 @@ class ExactReceiverJob {
   /// the casts left in w_.qshadows, where the union refuses a clipped cast (a guard: clipping a
   /// convex cast of positive area to a convex piece never makes a flat one).
   bool measure_in_scaled_pieces();
+  /// The areas-only union of the rational casts inside the chart box (a box chart, not a tile)
+  /// as a window, measured (and, with `chain`, its boundary reversed into it); false when some
+  /// cast is not convex.
+  bool measure_in_box_window(BoundaryChain* chain);
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose

@@ -545,7 +545,9 @@ inline void cut_by_line(const QPoint2& p, const QPoint2& q, const QPoint2& a, co
 /// Sutherland-Hodgman clip of a convex polygon to the convex counter-clockwise polygon `window`
 /// (each edge's closed left side), both in one chart (scaled or not, `scale` around its K): the
 /// rational points' counterpart of lazy_geometry.hpp's clip_convex_to_window, the same exact
-/// points. Sides by the filtered orientation; vertices on a window edge are kept.
+/// points. Sides by the filtered orientation; vertices on a window edge are kept. (The engine
+/// measures casts in a window without clipping them, ConvexUnionArea::twice_area_in_window; the
+/// tests check that measure against this clip followed by the plain union.)
 template <class Points>
 void clip_convex_to_window(Points& poly, const Points& window, Points& scratch, std::vector<int>& in,
                            const IA& scale, QScratch& s) {
