@@ -175,30 +175,38 @@ class ConvexUnionArea {
     counts_ = Counts{};
     counts_.polygons = first.empty() ? 0 : first.size() - 1;
     for (std::size_t k = 0; k + 1 < first.size(); ++k) {
-      const std::size_t start = pts_.size();
-      for (std::size_t v = first[k]; v < first[k + 1]; ++v) {
-        pts_.push_back(&points[v]);
-        ip_.push_back(points[v].i);
-        if (pts_.size() > start + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
-          pts_.pop_back();
-          ip_.pop_back();
-        }
-      }
-      while (pts_.size() - start > 1 && equal(pts_.size() - 1, start)) {
+      Box b{};
+      if (!append_ring(points + first[k], first[k + 1] - first[k], b)) return false;
+      first_.push_back(pts_.size());
+      box_.push_back(b);
+    }
+    return true;
+  }
+
+  /// Appends a polygon's n vertices (repeats dropped) with their next vertices, and sets its
+  /// box; false when it is not convex.
+  bool append_ring(const QPoint2* points, std::size_t n, Box& b) {
+    const std::size_t start = pts_.size();
+    for (std::size_t v = 0; v < n; ++v) {
+      pts_.push_back(&points[v]);
+      ip_.push_back(points[v].i);
+      if (pts_.size() > start + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
         pts_.pop_back();
         ip_.pop_back();
       }
-      if (!convex(start, pts_.size())) return false;
-      first_.push_back(pts_.size());
-      Box b{ip_[start].x.inf(), ip_[start].y.inf(), ip_[start].x.sup(), ip_[start].y.sup()};
-      for (std::size_t v = start; v < pts_.size(); ++v) {
-        nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
-        b.x0 = std::min(b.x0, ip_[v].x.inf());
-        b.y0 = std::min(b.y0, ip_[v].y.inf());
-        b.x1 = std::max(b.x1, ip_[v].x.sup());
-        b.y1 = std::max(b.y1, ip_[v].y.sup());
-      }
-      box_.push_back(b);
+    }
+    while (pts_.size() - start > 1 && equal(pts_.size() - 1, start)) {
+      pts_.pop_back();
+      ip_.pop_back();
+    }
+    if (!convex(start, pts_.size())) return false;
+    b = Box{ip_[start].x.inf(), ip_[start].y.inf(), ip_[start].x.sup(), ip_[start].y.sup()};
+    for (std::size_t v = start; v < pts_.size(); ++v) {
+      nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
+      b.x0 = std::min(b.x0, ip_[v].x.inf());
+      b.y0 = std::min(b.y0, ip_[v].y.inf());
+      b.x1 = std::max(b.x1, ip_[v].x.sup());
+      b.y1 = std::max(b.y1, ip_[v].y.sup());
     }
     return true;
   }
@@ -207,27 +215,7 @@ class ConvexUnionArea {
   /// first_ or box_), with its box; false when it is not convex.
   bool load_window(const QPoint2* window, std::size_t m) {
     win_first_ = pts_.size();
-    for (std::size_t v = 0; v < m; ++v) {
-      pts_.push_back(&window[v]);
-      ip_.push_back(window[v].i);
-      if (pts_.size() > win_first_ + 1 && equal(pts_.size() - 1, pts_.size() - 2)) {
-        pts_.pop_back();
-        ip_.pop_back();
-      }
-    }
-    while (pts_.size() - win_first_ > 1 && equal(pts_.size() - 1, win_first_)) {
-      pts_.pop_back();
-      ip_.pop_back();
-    }
-    if (!convex(win_first_, pts_.size())) return false;
-    window_box_ = Box{ip_[win_first_].x.inf(), ip_[win_first_].y.inf(), ip_[win_first_].x.sup(), ip_[win_first_].y.sup()};
-    for (std::size_t v = win_first_; v < pts_.size(); ++v) {
-      nxt_.push_back(v + 1 == pts_.size() ? win_first_ : v + 1);
-      window_box_.x0 = std::min(window_box_.x0, ip_[v].x.inf());
-      window_box_.y0 = std::min(window_box_.y0, ip_[v].y.inf());
-      window_box_.x1 = std::max(window_box_.x1, ip_[v].x.sup());
-      window_box_.y1 = std::max(window_box_.y1, ip_[v].y.sup());
-    }
+    if (!append_ring(window, m, window_box_)) return false;
     window_ = true;
     return true;
   }
