@@ -121,9 +121,10 @@ ReceiverResult ExactReceiverJob::run(int facing) {
   out.faces_light = true;
   // Areas only, a directional light, an exactly planar receiver: the casts are kept as plain
   // rational points in the receiver's scaled chart (integers where they can be:
-  // exact/scaled_chart.hpp) and united by their boundaries (no Epeck number, no arrangement);
-  // a chart that is not its box clips them to its convex pieces first (measure_in_scaled_pieces),
-  // unless it has more than kMaxChartPiecesToClip of them (the join then).
+  // exact/scaled_chart.hpp) and united by their boundaries (no Epeck number, no arrangement),
+  // inside the chart box or each convex piece of a chart that is not its box as a window
+  // (measure_in_box_window, measure_in_scaled_pieces), unless the chart has more than
+  // kMaxChartPiecesToClip pieces (the join then).
   q_mode_ = !polygons_ && !point_light_ && fp_.exactly_planar &&
             (fp_.chart_is_box || fp_.convex_pieces.size() <= kMaxChartPiecesToClip);
   if (q_mode_) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The exact receiver job's casts (exact/exact_receiver_job.hpp): a convex solid's hull, a face
-// by the leaf or the lazy route, a whole outline, each clipped to the receiver's chart box and
-// kept as a shadow polygon for the union.
+// by the leaf or the lazy route, a whole outline, each kept as a shadow polygon for the union:
+// clipped to the receiver's chart box (Epeck casts, and a tile's rational ones), or, as the
+// areas-only route's rational casts, kept whole when they reach the box (reaches_chart_box).
 #include "exact/exact_receiver_job.hpp"
 
 #include <CGAL/convex_hull_2.h>

@@ -149,13 +149,13 @@ class ExactReceiverJob {
   /// note_cover for a rational cast (counter-clockwise, in the scaled chart), not for a tile:
   /// note_cover_of_chart_q.
   void note_cover_q(const QPointList& poly);
-  /// Whether the cast (simple, counter-clockwise, not clipped) holds the chart: every vertex of
-  /// the chart on the left of or on every edge of the cast (then the chart is in the cast's
-  /// kernel, the cast itself when convex); the shadow is then the whole face.
+  /// Sets covered_ when the cast (simple, counter-clockwise, not clipped) holds the chart: every
+  /// vertex of the chart on the left of or on every edge of the cast (then the chart is in the
+  /// cast's kernel, the cast itself when convex); the shadow is then the whole face.
   void note_cover_of_chart_q(const QPointList& poly);
 
   /// Whether twice a cast's area in doubles (about the box's corner) is within a relative 1e-9
-  /// of twice the chart box's: only such a cast can be the whole box (note_cover, note_cover_q).
+  /// of twice the chart box's: only such a cast can be the whole box (note_cover).
   bool near_box_area(double twice) const { return near_box_area(twice, core::chart_box_area(fp_)); }
   static bool near_box_area(double twice, double box) { return std::abs(0.5 * twice - box) <= 1e-9 * box; }
 
@@ -198,9 +198,9 @@ class ExactReceiverJob {
   /// Twice the area of the union of the casts (shadows_, their boxes in w_.cast_boxes) clipped
   /// to a convex counter-clockwise window with bounding box `box`; false where the union refuses.
   bool twice_area_in_window(const Polygon2& window, const CGAL::Bbox_2& box, EQ& out);
-  /// measure_in_convex_pieces for q_mode_'s rational casts (the scaled chart's pieces); false,
-  /// the casts left in w_.qshadows, where the union refuses a clipped cast (a guard: clipping a
-  /// convex cast of positive area to a convex piece never makes a flat one).
+  /// measure_in_convex_pieces for q_mode_'s rational casts (the scaled chart's pieces, each a
+  /// window the casts are measured in, not clipped to); false, the casts left in w_.qshadows,
+  /// where the union refuses a cast or a piece that is not convex.
   bool measure_in_scaled_pieces();
   /// The areas-only union of the rational casts inside the chart box (a box chart, not a tile)
   /// as a window, measured (and, with `chain`, its boundary reversed into it); false when some

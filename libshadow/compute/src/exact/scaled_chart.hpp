@@ -24,8 +24,8 @@
 // the scaled chart is the unscaled one times K^2: the receiver's shadow is divided once.
 //
 // The points carry intervals around their unscaled coordinates (QPoint2), so the filters see the
-// same magnitudes as unscaled; the scaled values meet doubles in interval_of and in the cover
-// test's estimate (exact_receiver.cpp, note_cover_q), whose products of two must stay finite.
+// same magnitudes as unscaled; the scaled values meet doubles in interval_of, whose results
+// must stay finite.
 // Scenes whose coordinates span more than core::kChartSpanBits bits, and light directions
 // spanning more than kDirectionSpanBits, keep the unscaled route (K = 1, LeafProjector's
 // rationals): with those bounds the integers stay below 2^430, and K within 2^+-600.
