@@ -226,16 +226,8 @@ bool ExactReceiverJob::measure_in_box_window(BoundaryChain* chain) {
   // The chart box, counter-clockwise, as the window the casts (not clipped to it) are measured
   // in: the same exact rational as their clips to the box united, without the clips' crossings.
   const ScaledChart& chart = scaled_chart();
-  w_.qwindow.clear();
-  for (int corner = 0; corner < 4; ++corner) {
-    const int cx = corner == 1 || corner == 2 ? 1 : 0, cy = corner >= 2 ? 1 : 0;
-    QPoint2& p = w_.qwindow.emplace_back();
-    p.x = cx ? chart.hi(0) : chart.lo(0);
-    p.y = cy ? chart.hi(1) : chart.lo(1);
-    p.i = {cx ? chart.ihi(0) : chart.ilo(0), cy ? chart.ihi(1) : chart.ilo(1)};  // (of the unscaled chart)
-  }
-  if (!w_.union_area.twice_area_in_window(w_.qshadows.data(), w_.qfirst, w_.qwindow.data(), w_.qwindow.size(),
-                                          twice_area_, chain))
+  const QPointList& box = box_corners();
+  if (!w_.union_area.twice_area_in_window(w_.qshadows.data(), w_.qfirst, box.data(), box.size(), twice_area_, chain))
     return false;
   twice_area_ /= 2;
   chart.unscale_area(twice_area_);
@@ -261,10 +253,7 @@ LitBoundary ExactReceiverJob::lit_boundary(int facing) {
   const ReceiverResult r = run(facing);
   out.lighting = r.lighting;
   if (!r.lighting.faces_light || fp_.degenerate) return out;  // attached shadow: dark
-  // Nothing in front, or casts of no area on the chart (a chart that is not its box keeps the
-  // casts that only reach its box: measured in its pieces, they shade nothing): wholly lit,
-  // whichever route measured it.
-  if (shadow_count() == 0 || (!covered_ && CGAL::exact(lit_chart_area_) == *w_.exact_areas(ctx_, face_id_).first)) {
+  if (shadow_count() == 0) {  // nothing in front
     out.kind = LitRegion::Kind::Whole;
     out.lit_chart_area = FT(*w_.exact_areas(ctx_, face_id_).first);
     return out;
@@ -456,8 +445,8 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
   // it measured inside it (ConvexUnionArea::twice_area_in_window: no cast is clipped); the
   // pieces' areas added.
   ScaledChart& chart = scaled_chart();
-  w_.cast_boxes.clear();
-  for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+  w_.cast_boxes.clear();  // (to pick the casts that reach each piece: several pieces only)
+  for (std::size_t k = 0; fp_.convex_pieces.size() > 1 && k + 1 < w_.qfirst.size(); ++k) {
     const IPoint2& i0 = w_.qshadows[w_.qfirst[k]].i;
     CGAL::Bbox_2 box(i0.x.inf(), i0.y.inf(), i0.x.sup(), i0.y.sup());
     for (std::size_t v = w_.qfirst[k] + 1; v < w_.qfirst[k + 1]; ++v) {
@@ -619,12 +608,12 @@ ReceiverResult compute_exact_receiver(const core::PreparedScene& ctx, ExactWorke
   return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, polygons, stats, tiles).run(facing);
 }
 
-LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
-                               std::size_t light_id, const ExactLight& light, int facing, const Light& light_in,
-                               const core::LightSpaceGrid* grid, ShadowStats& stats, bool via_join) {
-  if (!via_join)
-    return ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, false, stats).lit_boundary(facing);
-  // The join's region (lit_region's steps), its boundary made canonical.
+namespace {
+
+/// exact_lit_boundary's route through the join (lit_region's steps), its boundary made canonical.
+LitBoundary join_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
+                              std::size_t light_id, const ExactLight& light, int facing, const Light& light_in,
+                              const core::LightSpaceGrid* grid, ShadowStats& stats) {
   LitRegion region = exact_lit_region(ctx, w, face_id, light_id, light, facing, light_in, grid, stats);
   LitBoundary out;
   out.kind = region.kind;
@@ -632,12 +621,24 @@ LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, s
   out.lighting = region.lighting;
   out.via_join = true;
   if (region.kind != LitRegion::Kind::Partial) return out;
-  // A lit region that is the whole chart (casts of no area on it) is Whole, as lit_boundary says.
-  if (CGAL::exact(region.lit_chart_area) == *w.exact_areas(ctx, face_id).first) {
-    out.kind = LitRegion::Kind::Whole;
-    return out;
-  }
   receiver_job::canonical_boundary(region.lit, w.chain, out.segments);
+  return out;
+}
+
+}  // namespace
+
+LitBoundary exact_lit_boundary(const core::PreparedScene& ctx, ExactWorker& w, std::size_t face_id,
+                               std::size_t light_id, const ExactLight& light, int facing, const Light& light_in,
+                               const core::LightSpaceGrid* grid, ShadowStats& stats, bool via_join) {
+  LitBoundary out = via_join ? join_lit_boundary(ctx, w, face_id, light_id, light, facing, light_in, grid, stats)
+                             : ExactReceiverJob(ctx, w, face_id, light_id, light, light_in, grid, false, stats)
+                                   .lit_boundary(facing);
+  // A lit region that is the whole chart (casts that reach the chart's box but have no area on
+  // the chart) is Whole, whichever route measured it.
+  if (out.kind == LitRegion::Kind::Partial && CGAL::exact(out.lit_chart_area) == *w.exact_areas(ctx, face_id).first) {
+    out.kind = LitRegion::Kind::Whole;
+    out.segments.clear();
+  }
   return out;
 }
 

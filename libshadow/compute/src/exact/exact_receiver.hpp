@@ -46,6 +46,7 @@ struct ExactWorker {
   // and the casts' bounding boxes.
   QPointList window_points, qwindow;
   QPointList qcorners;  ///< the current job's chart corners, scaled (note_cover_of_chart_q)
+  QPointList qbox;      ///< the current job's chart box corners, scaled (box_corners)
   std::vector<std::size_t> window_first;
   std::vector<CGAL::Bbox_2> cast_boxes;
   EQ piece_twice_area;

@@ -71,25 +71,35 @@ bool ExactReceiverJob::reaches_chart_box(const QPointList& poly) {
   if (beyond[0] || beyond[1] || beyond[2] || beyond[3]) return false;
   const CGAL::Sign turn = area_sign(poly, w_.qs, w_.qarea);
   if (turn == CGAL::ZERO) return false;  // flat: no area anywhere
-  QPoint2 corners[4];
-  for (int c = 0; c < 4; ++c) {
-    const int cx = c == 1 || c == 2 ? 1 : 0, cy = c >= 2 ? 1 : 0;
-    corners[c].x = cx ? chart.hi(0) : chart.lo(0);
-    corners[c].y = cy ? chart.hi(1) : chart.lo(1);
-    corners[c].i = {cx ? chart.ihi(0) : chart.ilo(0), cy ? chart.ihi(1) : chart.ilo(1)};
-  }
+  const QPointList& corners = box_corners();
   CGAL::Protect_FPU_rounding<true> guard;
   for (std::size_t a = 0; a < poly.size(); ++a) {
     const QPoint2& p = poly[a];
     const QPoint2& q = poly[a + 1 == poly.size() ? 0 : a + 1];
     bool separates = true;
-    for (int c = 0; c < 4 && separates; ++c) {
+    for (std::size_t c = 0; c < corners.size() && separates; ++c) {
       const CGAL::Sign side = orientation<false>(p, p.i, q, q.i, corners[c], corners[c].i, w_.qs);
       separates = side == CGAL::ZERO || side != turn;  // on the line, or outside the cast
     }
     if (separates) return false;
   }
   return true;
+}
+
+const QPointList& ExactReceiverJob::box_corners() {
+  if (!box_corners_ready_) {
+    const ScaledChart& chart = scaled_chart();
+    w_.qbox.clear();
+    for (int c = 0; c < 4; ++c) {  // counter-clockwise from (lo, lo)
+      const int cx = c == 1 || c == 2 ? 1 : 0, cy = c >= 2 ? 1 : 0;
+      QPoint2& p = w_.qbox.emplace_back();
+      p.x = cx ? chart.hi(0) : chart.lo(0);
+      p.y = cy ? chart.hi(1) : chart.lo(1);
+      p.i = {cx ? chart.ihi(0) : chart.ilo(0), cy ? chart.ihi(1) : chart.ilo(1)};  // (of the unscaled chart)
+    }
+    box_corners_ready_ = true;
+  }
+  return w_.qbox;
 }
 
 void ExactReceiverJob::cast_convex_solid(int solid) {

@@ -97,6 +97,8 @@ class ExactReceiverJob {
   /// Whether a convex rational cast and the chart box share interior points (the clip to the
   /// box would leave an area): exactly.
   bool reaches_chart_box(const QPointList& poly);
+  /// The chart box's corners in the scaled chart, counter-clockwise, made once per job.
+  const QPointList& box_corners();
   /// Whether the rational casts are clipped to the chart box (clip_to_chart_box_q): for a tile
   /// only; a face's chart measures them inside its box (a box chart, measure_in_box_window) or
   /// its convex pieces (measure_in_scaled_pieces) as windows.
@@ -256,6 +258,7 @@ class ExactReceiverJob {
   ConvexUnionArea::EQ twice_area_;                 ///< scratch for the union's area (areas only)
   bool q_mode_ = false;                            ///< casts as rational points (see run())
   bool chart_corners_ready_ = false;  ///< w_.qcorners holds this job's chart corners
+  bool box_corners_ready_ = false;    ///< w_.qbox holds this job's chart box corners
   bool q_outline_cast_ = false;  ///< q_mode_: a non-convex caster cast its whole outline (cast_face)
   FT lit_chart_area_{0};                            ///< its complement's exact area (unite_and_measure)
   std::size_t fragment_id_ = 0;
