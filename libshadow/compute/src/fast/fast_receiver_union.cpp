@@ -145,22 +145,24 @@ bool ReceiverJob::clip_casts_to_window() {
   set_window(window_, w_.window);
   windowed_.resize(casts_.size());
   std::size_t kept = 0;
-  windowed_length_ = 0;
   for (const CL::Path& c : casts_) {
-    CL::Path& out = windowed_[kept];
-    clip_to_window(c, w_.window, out);
-    if (out.empty()) continue;
-    ++kept;
-    for (std::size_t a = 0; a < out.size(); ++a) {
-      const CL::IntPoint& p = out[a];
-      const CL::IntPoint& q = out[geometry::cyclic_next(a, out.size())];
-      windowed_length_ += std::hypot(static_cast<double>(q.X - p.X) * grid_.step[0],
-                                     static_cast<double>(q.Y - p.Y) * grid_.step[1]) + 2 * rho_;
-    }
+    clip_to_window(c, w_.window, windowed_[kept]);
+    if (!windowed_[kept].empty()) ++kept;
   }
   windowed_.resize(kept);
-  windowed_length_ *= 1 + 1e-9;
   return true;
+}
+
+double ReceiverJob::windowed_length() const {
+  double length = 0;
+  for (const CL::Path& path : windowed_)
+    for (std::size_t a = 0; a < path.size(); ++a) {
+      const CL::IntPoint& p = path[a];
+      const CL::IntPoint& q = path[geometry::cyclic_next(a, path.size())];
+      length += std::hypot(static_cast<double>(q.X - p.X) * grid_.step[0],
+                           static_cast<double>(q.Y - p.Y) * grid_.step[1]) + 2 * rho_;
+    }
+  return length * (1 + 1e-9);
 }
 
 bool ReceiverJob::unite() {
@@ -207,7 +209,7 @@ bool ReceiverJob::unite() {
       const ClusteredArea area = clustered_union_area(windowed ? windowed_ : *casts, along.x * grid_.scale[0],
                                                       along.y * grid_.scale[1], nullptr, &w_.cluster);
       if (windowed) bound_.union_rounding(cast_length_, rho_);
-      if (area.clipper) bound_.union_rounding(windowed ? windowed_length_ : cast_length_, rho_);
+      if (area.clipper) bound_.union_rounding(windowed ? windowed_length() : cast_length_, rho_);
       bound_.boundary_arithmetic(0.5 * area.boundary.error * grid_.step[0] * grid_.step[1]);
       shadow2 = area.exact2;
       boundary2 = area.boundary.twice_area;

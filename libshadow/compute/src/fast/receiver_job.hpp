@@ -369,10 +369,12 @@ class ReceiverJob {
 
   bool unite();
   /// Areas only on a convex receiver that is not its chart box: every cast (each convex) clipped
-  /// exactly to the receiver's grid outline (fast/window_clip.hpp) into windowed_, with their
-  /// total length in the chart (windowed_length_: perimeters plus 2 rho per vertex). False, with
+  /// exactly to the receiver's grid outline (fast/window_clip.hpp) into windowed_. False, with
   /// nothing done, when the outline or some cast is not convex on the grid.
   bool clip_casts_to_window();
+  /// The clipped casts' total length in the chart (perimeters plus 2 rho per vertex), for the
+  /// bound when a cluster of them goes through Clipper.
+  [[nodiscard]] double windowed_length() const;
   /// Whether the receiver's grid outline is convex (window_, counter-clockwise; set up once).
   bool convex_window();
 
@@ -425,7 +427,6 @@ class ReceiverJob {
   CL::Path window_;            // receiver_ counter-clockwise, for clip_casts_to_window
   int window_convex_ = -1;     // convex_window(): -1 not known yet
   CL::Paths windowed_;         // the casts clipped to it
-  double windowed_length_ = 0;
   CL::PolyTree shadow_tree_, lit_tree_;
   std::vector<CL::Paths> regions_;
   CL::Paths cells_;
