@@ -26,6 +26,7 @@
 
 #include <CGAL/convex_hull_2.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <iterator>
 #include <optional>
@@ -505,6 +506,106 @@ TEST(ExactUnionArea, InAWindowEqualsTheClippedUnion) {
     partial += got != 0 && got != window_twice;
   }
   EXPECT_GT(partial, 150u);
+}
+
+/// A triangulated patch's casts share edges run both ways: ConvexUnionArea merges such
+/// neighbours into convex polygons (merge_shared_edges) before it measures. Seeded jittered grids
+/// split along random diagonals (some neighbours merge, some would not be convex), shuffled,
+/// with loose triangles over them and, in half the rounds, a window: the same exact area as
+/// CGAL's join (n window), and the same canonical boundary as the join's regions.
+TEST(ExactUnionArea, TrianglesSharingEdgesMergeIntoTheSameUnion) {
+  std::mt19937 rng(20261130);
+  auto uniform = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  std::size_t merged = 0, rounds_merged = 0;
+  for (int round = 0; round < 60; ++round) {
+    const int k = uniform(3, 8), spacing = 40;
+    std::vector<std::vector<Point2>> grid(static_cast<std::size_t>(k + 1));
+    for (int i = 0; i <= k; ++i)
+      for (int j = 0; j <= k; ++j)  // jitter under a quarter of the spacing: every triangle counter-clockwise
+        grid[static_cast<std::size_t>(i)].emplace_back(FT(i * spacing + uniform(-9, 9)) / 7, FT(j * spacing + uniform(-9, 9)) / 7);
+    std::vector<Polygon2> polygons;
+    auto at = [&](int i, int j) { return grid[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]; };
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) {
+        if (uniform(0, 9) == 0) continue;  // a gap
+        const Point2 a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+        const Point2 t1[3] = {a, b, c}, t2[3] = {a, c, d}, t3[3] = {a, b, d}, t4[3] = {b, c, d};
+        if (uniform(0, 1) == 0) {
+          polygons.emplace_back(t1, t1 + 3);
+          polygons.emplace_back(t2, t2 + 3);
+        } else {
+          polygons.emplace_back(t3, t3 + 3);
+          polygons.emplace_back(t4, t4 + 3);
+        }
+      }
+    for (int extra = uniform(0, 4); extra > 0; --extra) {  // loose triangles across the patch
+      const int x = uniform(0, k * spacing), y = uniform(0, k * spacing);
+      const Point2 t[3] = {Point2(FT(x) / 7, FT(y) / 7), Point2(FT(x + uniform(10, 90)) / 7, FT(y) / 7),
+                           Point2(FT(x) / 7, FT(y + uniform(10, 90)) / 7)};
+      polygons.emplace_back(t, t + 3);
+    }
+    std::shuffle(polygons.begin(), polygons.end(), rng);
+    std::vector<shadow::exact::QPoint2> all;
+    std::vector<std::size_t> first{0};
+    for (const Polygon2& p : polygons) {
+      const std::vector<Point2> in(p.vertices_begin(), p.vertices_end());
+      const std::vector<shadow::exact::QPoint2> q = rational(in);
+      all.insert(all.end(), q.begin(), q.end());
+      first.push_back(all.size());
+    }
+    PolygonSet2 joined;
+    joined.join(polygons.begin(), polygons.end());
+    const bool windowed = round % 2 == 1;
+    const Polygon2 window = box(FT(spacing) / 21, FT(spacing) / 14, FT(k * spacing * 2) / 21, FT(k * spacing * 3) / 28);
+    ConvexUnionArea u;
+    shadow::exact::BoundaryChain chain, reference;
+    EQ got;
+    if (windowed) {
+      const std::vector<Point2> corners(window.vertices_begin(), window.vertices_end());
+      const std::vector<shadow::exact::QPoint2> qwindow = rational(corners);
+      for (shadow::exact::BoundaryChain* c : {&chain, &reference})
+        for (std::size_t v = 0; v < qwindow.size(); ++v) {
+          const auto& a = qwindow[v];
+          const auto& b = qwindow[(v + 1) % qwindow.size()];
+          c->add(a.x, a.y, b.x, b.y);
+        }
+      ASSERT_TRUE(u.twice_area_in_window(all.data(), first, qwindow.data(), qwindow.size(), got, &chain));
+      joined.intersection(window);
+    } else {
+      ASSERT_TRUE(u.twice_area(all, first, got, &chain));
+    }
+    std::vector<PolygonWithHoles2> regions;
+    joined.polygons_with_holes(std::back_inserter(regions));
+    std::vector<FT> areas;
+    auto add_reversed = [&](const Polygon2& ring) {  // the union's boundary run backwards, as the chain gets it
+      for (auto v = ring.vertices_begin(); v != ring.vertices_end(); ++v) {
+        const Point2 from = *v, to = std::next(v) == ring.vertices_end() ? *ring.vertices_begin() : *std::next(v);
+        reference.add(EQ(CGAL::exact(to.x())), EQ(CGAL::exact(to.y())), EQ(CGAL::exact(from.x())), EQ(CGAL::exact(from.y())));
+      }
+    };
+    for (const PolygonWithHoles2& r : regions) {
+      areas.push_back(shadow::exact::region_area(r));
+      add_reversed(r.outer_boundary());
+      for (auto h = r.holes_begin(); h != r.holes_end(); ++h) add_reversed(*h);
+    }
+    EXPECT_EQ(got, 2 * CGAL::exact(shadow::exact::balanced_sum(areas))) << "round " << round;
+    std::vector<shadow::exact::BoundaryChain::Segment> a, b;
+    ASSERT_TRUE(chain.canonical(a)) << "round " << round;
+    ASSERT_TRUE(reference.canonical(b)) << "round " << round;
+    ASSERT_EQ(a.size(), b.size()) << "round " << round;
+    for (std::size_t s = 0; s < a.size(); ++s)
+      EXPECT_TRUE(a[s].from.x == b[s].from.x && a[s].from.y == b[s].from.y && a[s].to.x == b[s].to.x &&
+                  a[s].to.y == b[s].to.y && a[s].left == b[s].left)
+          << "round " << round << " segment " << s;
+    if (polygons.size() > ConvexUnionArea::kMergeFrom) {
+      merged += u.counts().merged;
+      rounds_merged += u.counts().merged > 0;
+      // Every polygon kept or merged: a grid of k x k cells (but gaps) leaves far fewer.
+      EXPECT_LT(u.counts().merged, polygons.size()) << "round " << round;
+    }
+  }
+  EXPECT_GT(rounds_merged, 40u);
+  EXPECT_GT(merged, 1000u);
 }
 
 /// The engine with areas only (the route without a Boolean operation) against the engine with

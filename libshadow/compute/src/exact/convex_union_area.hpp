@@ -26,6 +26,7 @@
 #include "exact/boundary_chain.hpp"
 #include "exact/kernel.hpp"
 #include "exact/rational_points.hpp"
+#include "exact/shared_edge_merge.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -48,6 +49,7 @@ class ConvexUnionArea {
     std::size_t pairs = 0;          ///< polygon pairs whose bounding boxes meet
     std::size_t edges_partial = 0;  ///< edges partly covered (those need exact parameters)
     std::size_t exact_params = 0;   ///< parameters t made exactly
+    std::size_t merged = 0;         ///< polygons merged into a neighbour along a shared edge
   };
 
   /// Twice the exact area of the union of the polygons points[first[k], first[k + 1]) (each
@@ -138,6 +140,10 @@ class ConvexUnionArea {
 
   [[nodiscard]] const Counts& counts() const { return counts_; }
 
+  /// From this many polygons on, those sharing an edge run both ways are merged where convex
+  /// (merge_shared_edges); below it the hashing would cost more than it saves.
+  static constexpr std::size_t kMergeFrom = 16;
+
  private:
   struct Box {
     double x0, y0, x1, y1;
@@ -180,7 +186,34 @@ class ConvexUnionArea {
       first_.push_back(pts_.size());
       box_.push_back(b);
     }
+    if (first_.size() > kMergeFrom) merge_shared_edges();
     return true;
+  }
+
+  // ---- polygons sharing an edge run both ways, united where convex (exact/shared_edge_merge.hpp)
+  void merge_shared_edges() {
+    CGAL::Protect_FPU_rounding<true> guard;  // turn()'s filters
+    const std::size_t merges = merge_.run(pts_, ip_, nxt_, first_,
+                                          [&](std::size_t a, std::size_t b) { return equal(a, b); },
+                                          [&](std::size_t p, std::size_t q, std::size_t r) {
+                                            const CGAL::Sign o = turn(p, q, r);
+                                            if (o != CGAL::ZERO) return o == CGAL::POSITIVE;
+                                            return dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q],
+                                                                   *pts_[r], ip_[r], scratch_) == CGAL::POSITIVE;
+                                          });
+    if (merges == 0) return;
+    counts_.merged = merges;
+    box_.clear();
+    for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
+      Box b{ip_[first_[i]].x.inf(), ip_[first_[i]].y.inf(), ip_[first_[i]].x.sup(), ip_[first_[i]].y.sup()};
+      for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) {
+        b.x0 = std::min(b.x0, ip_[v].x.inf());
+        b.y0 = std::min(b.y0, ip_[v].y.inf());
+        b.x1 = std::max(b.x1, ip_[v].x.sup());
+        b.y1 = std::max(b.y1, ip_[v].y.sup());
+      }
+      box_.push_back(b);
+    }
   }
 
   /// Appends a polygon's n vertices (repeats dropped) with their next vertices, and sets its
@@ -676,6 +709,7 @@ class ConvexUnionArea {
   std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
   std::vector<Box> box_;
   std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
+  SharedEdgeMerge merge_;
   std::vector<Cover> covers_;
   std::vector<Cover> merged_;  ///< the current edge's covers merged (boundary_ only)
   BoundaryChain* boundary_ = nullptr;
