@@ -454,6 +454,68 @@ TEST(FindConvexSolids, SharedEdgesAcrossMeshesAndOpenParts) {
   for (unsigned threads : {1u, 3u}) expect_same_solids(scene, threads);
 }
 
+/// An L-shaped prism (not convex) in triangles, fronts outward: its walls, its roof at z = h
+/// and, with `floor`, its floor at z = 0; without `roof` its top is open.
+std::vector<Polygon> l_prism(glm::dvec3 at, double h, bool floor, bool roof) {
+  const double x[6] = {0, 2, 2, 1, 1, 0}, y[6] = {0, 0, 1, 1, 2, 2};  // counter-clockwise from above
+  auto p = [&](int i, double z) { return at + glm::dvec3(x[i] * 3, y[i] * 3, z); };
+  std::vector<Polygon> faces;
+  for (int i = 0; i < 6; ++i) {
+    const int j = (i + 1) % 6;
+    faces.push_back({p(i, 0), p(j, 0), p(j, h)});
+    faces.push_back({p(i, 0), p(j, h), p(i, h)});
+  }
+  const int fan[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
+  for (const auto& t : fan) {
+    if (roof) faces.push_back({p(t[0], h), p(t[1], h), p(t[2], h)});
+    if (floor) faces.push_back({p(t[0], 0), p(t[2], 0), p(t[1], 0)});
+  }
+  return faces;
+}
+
+std::vector<signed char> closed_outward_of(const shadow::Scene& scene, unsigned threads) {
+  std::vector<shadow::core::FacePrep> prep(scene.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(scene.faces[f].vertices);
+  std::vector<int> of;
+  std::vector<signed char> outward;
+  shadow::exact::find_convex_solids(scene, prep, of, threads, &outward);
+  return outward;
+}
+
+TEST(FindConvexSolids, ClosedSolidsThatAreNotConvexAreToldWithTheirOrientation) {
+  std::vector<Polygon> closed = l_prism({0, 0, 0}, 4, true, true), inward = closed, no_floor = l_prism({0, 0, 0}, 4, false, true),
+                       no_roof = l_prism({0, 0, 0}, 4, true, false), pierced = closed, sloped = l_prism({0, 0, 0}, 4, false, true);
+  for (Polygon& f : inward) std::reverse(f.begin(), f.end());
+  // A roof corner pushed below the floor: still every edge used twice, but the surface crosses
+  // itself.
+  for (Polygon& f : pierced)
+    for (glm::dvec3& v : f)
+      if (v == glm::dvec3(6, 3, 4)) v = glm::dvec3(6, 3, -2);
+  // A border that is not horizontal: one bottom corner lifted.
+  for (Polygon& f : sloped)
+    for (glm::dvec3& v : f)
+      if (v == glm::dvec3(0, 0, 0)) v = glm::dvec3(0, 0, 0.5);
+  struct Case {
+    const char* name;
+    const std::vector<Polygon>* faces;
+    signed char expected;
+  };
+  const Case cases[] = {{"closed", &closed, 1},        {"inward", &inward, -1},  {"no floor", &no_floor, 2},
+                        {"no roof", &no_roof, 0},      {"pierced", &pierced, 0}, {"sloped border", &sloped, 0}};
+  for (const Case& c : cases) {
+    shadow::Scene scene;
+    shadow::add_mesh(scene, c.name, *c.faces);
+    shadow::add_mesh(scene, "box", shadow::box_faces({10, 10, 0}, {12, 13, 5}));  // convex: a solid, not told
+    shadow::add_mesh(scene, "ground", {{{-20, -20, 0}, {40, -20, 0}, {40, 40, 0}, {-20, 40, 0}}});
+    for (unsigned threads : {1u, 2u}) {
+      const std::vector<signed char> outward = closed_outward_of(scene, threads);
+      ASSERT_EQ(outward.size(), scene.faces.size());
+      for (std::size_t f = 0; f < c.faces->size(); ++f) EXPECT_EQ(outward[f], c.expected) << c.name << " face " << f;
+      for (std::size_t f = c.faces->size(); f < scene.faces.size(); ++f) EXPECT_EQ(outward[f], 0) << c.name << " face " << f;
+    }
+  }
+}
+
 TEST(PointHash, NegativeZeroIsZeroAndOtherBitsDiffer) {
   using namespace shadow::geometry;
   const glm::dvec3 zero(0.0, 2.5, 0.0), negative(-0.0, 2.5, -0.0);

@@ -41,6 +41,13 @@ struct CullScene {
   double diameter = 1.0;
   std::vector<glm::dvec3> vertices;  ///< local frame
   std::vector<CullFace> faces;
+  /// Per face, when some face is on a closed solid that is not convex (else empty): +1 when its
+  /// normal points out of the solid, -1 when into it, +2 and -2 the same on a solid closed by
+  /// horizontal caps facing down (walls and roofs without a floor: valid under a light above
+  /// the horizon only), 0 when it is on none (exact::find_convex_solids' closed_outward). Under
+  /// a directional light the solid's faces turned away from it cast nothing that its faces
+  /// turned to it do not (ReceiverCuller).
+  std::vector<signed char> closed_outward;
 };
 
 /// An affine function on local-frame points with the margin below which its sign is unsure.
@@ -397,6 +404,11 @@ class ReceiverCuller {
     } else {
       lxyz = geometry::unit(light.to_light);
       lw = 0.0;
+      if (!cull.closed_outward.empty()) {
+        closed_outward_ = cull.closed_outward.data();
+        to_light_ = lxyz;
+        above_caps_ = lxyz.z > 16 * std::numeric_limits<double>::epsilon();  // the unit vector's rounding
+      }
     }
     const double light_side = glm::dot(cp.normal, lxyz) + cp.offset * lw;
     const double scale = D + (lw != 0.0 ? glm::length(lxyz) : 0.0);
@@ -435,7 +447,11 @@ class ReceiverCuller {
     for (std::size_t t = 0; t < tests_.size(); ++t) length_[t] = glm::length(tests_[t].a);  // once, not per caster
   }
 
-  /// False when face q is certainly outside the receiver's slab, prism or pyramid.
+  /// False when face q is certainly outside the receiver's slab, prism or pyramid, or, under a
+  /// directional light, a face of a closed solid certainly turned away from the light: a ray
+  /// that enters an embedded closed solid leaves it again nearer the light, through a face
+  /// turned to it (docs/algorithm.md, "Closed solids cast through the faces facing the light"),
+  /// so dropping such a caster changes no shadow.
   [[nodiscard]] bool may_cast(std::size_t q) const {
     const CullFace& cq = cull_->faces[q];
     for (std::size_t t = 0; t < count_; ++t) {
@@ -446,11 +462,24 @@ class ReceiverCuller {
         all_out = f(cull_->vertices[a]) < -tolerance;
       if (all_out) return false;
     }
-    return true;
+    if (!closed_outward_) return true;
+    const signed char outward = closed_outward_[q];
+    return outward == 0 || ((outward == 2 || outward == -2) && !above_caps_) || !turned_away(cq, outward > 0 ? 1 : -1);
   }
 
  private:
+  /// Whether the outward normal (`outward` times the face's) certainly points away from the
+  /// light: the normal's direction is known within normal_error, and the two unit vectors'
+  /// rounding and dot product are within 16 eps.
+  [[nodiscard]] bool turned_away(const CullFace& cq, signed char outward) const {
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    return static_cast<double>(outward) * glm::dot(cq.normal, to_light_) < -(cq.normal_error + 16 * eps);
+  }
+
   const CullScene* cull_;
+  const signed char* closed_outward_ = nullptr;  ///< CullScene::closed_outward under a directional light
+  glm::dvec3 to_light_{0.0};
+  bool above_caps_ = false;  ///< the light is certainly above every horizontal plane (to_light.z > 0)
   std::array<DoubleAffine, 5> tests_;
   std::array<double, 5> length_{};  ///< |tests_[t].a|
   std::size_t count_ = 1;

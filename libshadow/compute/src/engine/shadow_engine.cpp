@@ -117,7 +117,9 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::func
   stage = 1;
   impl_->cull = core::make_cull_scene(scene, impl_->prep, threads);
   stage = 2;
-  impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, threads);
+  impl_->solids = exact::find_convex_solids(scene, impl_->prep, impl_->solid_of, threads, &impl_->cull.closed_outward);
+  std::vector<signed char>& outward = impl_->cull.closed_outward;
+  if (std::all_of(outward.begin(), outward.end(), [](signed char o) { return o == 0; })) outward = {};  // no look-up per caster
   stage = kStages;
   if (progress) progress(Progress{stage, kStages});
 }

@@ -5,6 +5,12 @@
 #include "geometry/point_hash.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_2_algorithms.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/boost/graph/Euler_operations.h>
 
 #include <algorithm>
 #include <climits>
@@ -217,6 +223,87 @@ bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, cons
   return convex;
 }
 
+/// Whether a part that is not convex, its faces joined along edges used twice in opposite
+/// directions, bounds a solid, and which way its faces' vertex order turns: +1 outward, -1
+/// inward, 0 when it is not shown to be a solid. Its border (edges used once), if any, must be
+/// loops each in one horizontal plane (a building's walls and roof without its floor): each is
+/// closed by a cap, a face that only a light below its plane could see from outside; such a
+/// part gives +2 or -2, valid under a light above every cap, and 0 when some cap faces up from
+/// the solid. Shown with CGAL's exact predicates on a surface mesh of the part and its caps:
+/// every face added (a manifold surface), closed, triangulated where a face is not a triangle,
+/// no two triangles meeting but at their shared edges and vertices (a degenerate triangle counts
+/// as meeting itself), and then oriented. An embedded closed surface bounds its inside once, so
+/// a ray from any point outside or inside it that crosses it going in leaves it again before
+/// the light: why the faces turned away from the light may be dropped (and the caps, turned
+/// away from a light above them, were never there to cast).
+template <class FaceVertex, class FaceSize>
+int closed_part_orientation(const std::size_t* faces, std::size_t face_count, const FaceVertex& face_vertex,
+                            const FaceSize& face_size, const std::vector<glm::dvec3>& vertex_position,
+                            std::vector<int>& local, std::vector<int>& ids) {
+  using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Mesh = CGAL::Surface_mesh<EK::Point_3>;
+  namespace PMP = CGAL::Polygon_mesh_processing;
+  Mesh mesh;
+  ids.clear();
+  int result = 0;
+  try {
+    std::vector<Mesh::Vertex_index> loop;
+    bool added = true;
+    bool triangles = true;
+    for (std::size_t i = 0; i < face_count && added; ++i) {
+      loop.clear();
+      const std::size_t m = face_size(faces[i]);
+      triangles = triangles && m == 3;
+      for (std::size_t a = 0; a < m; ++a) {
+        const int v = face_vertex(faces[i], a);
+        int& l = local[static_cast<std::size_t>(v)];
+        if (l < 0) {
+          const glm::dvec3& p = vertex_position[static_cast<std::size_t>(v)];
+          l = static_cast<int>(mesh.add_vertex(EK::Point_3(p.x, p.y, p.z)));
+          ids.push_back(v);
+        }
+        loop.push_back(Mesh::Vertex_index(static_cast<Mesh::size_type>(l)));
+      }
+      added = mesh.add_face(loop) != Mesh::null_face();
+    }
+    if (!added) return 0;
+    // The caps: every border loop horizontal, filled by a face; which way each faces is read
+    // after the orientation is known (a cap's vertices run clockwise seen from above when
+    // its outward side faces down).
+    std::vector<std::vector<EK::Point_2>> caps;
+    std::vector<char> seen(mesh.number_of_halfedges(), 0);
+    for (Mesh::Halfedge_index h : mesh.halfedges()) {
+      if (!mesh.is_border(h) || seen[h.idx()]) continue;
+      std::vector<EK::Point_2>& cap = caps.emplace_back();
+      const double z = mesh.point(mesh.source(h)).z();
+      Mesh::Halfedge_index g = h;
+      do {
+        seen[g.idx()] = 1;
+        const EK::Point_3& p = mesh.point(mesh.source(g));
+        if (p.z() != z) return 0;  // not horizontal
+        cap.emplace_back(p.x(), p.y());
+        g = mesh.next(g);
+      } while (g != h);
+    }
+    for (Mesh::Halfedge_index h : mesh.halfedges())
+      if (mesh.is_border(h)) CGAL::Euler::fill_hole(h, mesh);
+    if (!CGAL::is_closed(mesh) || (!(triangles && caps.empty()) && !PMP::triangulate_faces(mesh)) ||
+        PMP::does_self_intersect(mesh))
+      return 0;
+    const int orientation = PMP::is_outward_oriented(mesh) ? 1 : -1;
+    // A cap's vertex order (its border halfedges' sources) is its face's; outward it must face
+    // down: clockwise from above when the order is outward, counter-clockwise when inward.
+    for (const std::vector<EK::Point_2>& cap : caps) {
+      const CGAL::Orientation turn = CGAL::orientation_2(cap.begin(), cap.end(), EK());
+      if (turn != (orientation > 0 ? CGAL::CLOCKWISE : CGAL::COUNTERCLOCKWISE)) return 0;
+    }
+    result = caps.empty() ? orientation : 2 * orientation;
+  } catch (...) {  // a precondition CGAL checks on a surface it cannot take: not shown
+    result = 0;
+  }
+  return result;
+}
+
 }  // namespace
 
 // The same search as find_convex_solids_reference, step for step, with the same result:
@@ -231,8 +318,10 @@ bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, cons
 //   shared) tested and assembled on its own thread, with a scratch array per thread for its
 //   local vertex numbers and a sorted vector for its edges (the reference: a map and a set).
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
-                                            std::vector<int>& solid_of, unsigned threads) {
+                                            std::vector<int>& solid_of, unsigned threads,
+                                            std::vector<signed char>* closed_outward) {
   const std::size_t n = scene.faces.size();
+  if (closed_outward) closed_outward->assign(n, 0);
   std::vector<std::size_t> corner_start(n + 1, 0);
   std::size_t max_mesh = 0;
   for (std::size_t f = 0; f < n; ++f) {
@@ -275,12 +364,14 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     while (parent[f] != f) f = parent[f] = parent[parent[f]];
     return f;
   };
-  std::vector<char> open(n, 0);  // touches an edge that is not shared exactly twice, oppositely
+  std::vector<char> open(n, 0);  // touches an edge that is not shared exactly twice, oppositely (bits 1, 2: below)
   auto edge_group = [&](const EdgeUse* first, const EdgeUse* last) {
     if (last - first == 2 && first[0].forward != first[1].forward) {
       parent[find(static_cast<std::size_t>(first[0].face))] = find(static_cast<std::size_t>(first[1].face));
     } else {
-      for (const EdgeUse* e = first; e != last; ++e) open[static_cast<std::size_t>(e->face)] = 1;
+      // 1: an edge of the part's border (used once); 2: used more often, or twice the same way.
+      const char kind = last - first == 1 ? 1 : 2;
+      for (const EdgeUse* e = first; e != last; ++e) open[static_cast<std::size_t>(e->face)] |= kind;
     }
   };
   auto mesh_of = [](const EdgeUse& e) { return e.mesh; };
@@ -331,10 +422,12 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   }
   std::vector<std::size_t> candidates;
   for (std::size_t r = 0; r < n; ++r)
-    if (part_start[r + 1] - part_start[r] >= 4 && !part_open[r]) candidates.push_back(r);
+    if (part_start[r + 1] - part_start[r] >= 4 && (!part_open[r] || (closed_outward && part_open[r] == 1)))
+      candidates.push_back(r);  // closed, or (for closed_outward alone) open along a border only
 
   std::vector<core::ConvexSolid> found(candidates.size());
   std::vector<char> convex_part(candidates.size(), 0);
+  std::vector<signed char> orientation(candidates.size(), 0);  // closed parts that are not convex
   const unsigned workers = std::max(1u, runtime::resolve_threads(threads));
   std::vector<std::vector<int>> local_of(workers);  // per worker: vertex id -> local number, or -1
   constexpr std::size_t kChunk = 64;
@@ -349,14 +442,25 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
       const std::size_t* const faces = part_faces.data() + part_start[r];
       const std::size_t face_count = part_start[r + 1] - part_start[r];
       core::ConvexSolid& solid = found[item];
-      convex_part[item] = test_part(scene, prep, faces, face_count, face_vertex, face_size, vertex_position, local, ids,
-                                    edges, solid) ? 1 : 0;
+      if (part_open[r] == 0) {  // closed: convex? (a part with a border is never a convex solid)
+        convex_part[item] = test_part(scene, prep, faces, face_count, face_vertex, face_size, vertex_position, local,
+                                      ids, edges, solid) ? 1 : 0;
+        for (int v : ids) local[static_cast<std::size_t>(v)] = -1;
+      }
+      if (convex_part[item] || !closed_outward) continue;
+      orientation[item] = static_cast<signed char>(
+          closed_part_orientation(faces, face_count, face_vertex, face_size, vertex_position, local, ids));
       for (int v : ids) local[static_cast<std::size_t>(v)] = -1;
     }
   });
   std::vector<core::ConvexSolid> solids;
   for (std::size_t item = 0; item < candidates.size(); ++item) {
-    if (!convex_part[item]) continue;
+    if (!convex_part[item]) {
+      if (orientation[item] != 0)
+        for (std::size_t i = part_start[candidates[item]]; i < part_start[candidates[item] + 1]; ++i)
+          (*closed_outward)[part_faces[i]] = orientation[item];
+      continue;
+    }
     const std::size_t r = candidates[item];
     for (std::size_t i = part_start[r]; i < part_start[r + 1]; ++i) solid_of[part_faces[i]] = static_cast<int>(solids.size());
     solids.push_back(std::move(found[item]));

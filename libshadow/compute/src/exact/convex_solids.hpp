@@ -19,8 +19,17 @@ namespace shadow::exact {
 /// planar faces take part. `solid_of[f]` receives the solid of face f, or -1.
 /// The solids come in the order of their union-find roots (see convex_solids.cpp); the per-solid
 /// work runs on `threads` threads (0: every hardware thread), with the same result for any count.
+///
+/// With `closed_outward`, the closed parts that are not convex are also told (sized to the
+/// faces): +1 for a face of a closed, embedded solid whose vertex order turns its normal
+/// outward, -1 when it turns it inward, 0 otherwise (see closed_part_orientation: a part of
+/// exactly planar faces, every edge used twice in opposite directions, a manifold surface that
+/// does not intersect itself, decided with exact predicates). Under a directional light such a
+/// solid's faces turned away from the light add nothing to its shadow (docs/algorithm.md,
+/// "Closed solids cast through the faces facing the light").
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
-                                            std::vector<int>& solid_of, unsigned threads = 0);
+                                            std::vector<int>& solid_of, unsigned threads = 0,
+                                            std::vector<signed char>* closed_outward = nullptr);
 
 /// Below this many corners number_vertices runs on one thread.
 inline constexpr std::size_t kParallelNumberingCorners = 4096;
