@@ -495,13 +495,32 @@ TEST(FindConvexSolids, ClosedSolidsThatAreNotConvexAreToldWithTheirOrientation) 
   for (Polygon& f : sloped)
     for (glm::dvec3& v : f)
       if (v == glm::dvec3(0, 0, 0)) v = glm::dvec3(0, 0, 0.5);
+  // A pyramid with a narrower pyramidal hollow under it, the two meeting only at the apex (a
+  // pinched vertex), closed by a ring of four trapezoids at z = 0; faces interleaved so that a
+  // surface mesh takes both fans. Not shown to be a solid: 0.
+  std::vector<Polygon> pinched;
+  {
+    const glm::dvec3 apex(0, 0, 6);
+    const glm::dvec3 outer[4] = {{-4, -4, 0}, {4, -4, 0}, {4, 4, 0}, {-4, 4, 0}};
+    const glm::dvec3 inner[4] = {{-2, -2, 0}, {2, -2, 0}, {2, 2, 0}, {-2, 2, 0}};
+    for (int i = 0; i < 4; ++i) {
+      const int j = (i + 1) % 4;
+      pinched.push_back({outer[i], outer[j], apex});  // outward
+      pinched.push_back({inner[j], inner[i], apex});  // the hollow's walls, facing into it
+    }
+    for (int i = 0; i < 4; ++i) {
+      const int j = (i + 1) % 4;
+      pinched.push_back({outer[j], outer[i], inner[i], inner[j]});  // the ring, facing down
+    }
+  }
   struct Case {
     const char* name;
     const std::vector<Polygon>* faces;
     signed char expected;
   };
   const Case cases[] = {{"closed", &closed, 1},        {"inward", &inward, -1},  {"no floor", &no_floor, 2},
-                        {"no roof", &no_roof, 0},      {"pierced", &pierced, 0}, {"sloped border", &sloped, 0}};
+                        {"no roof", &no_roof, 0},      {"pierced", &pierced, 0}, {"sloped border", &sloped, 0},
+                        {"pinched", &pinched, 0}};
   for (const Case& c : cases) {
     shadow::Scene scene;
     shadow::add_mesh(scene, c.name, *c.faces);

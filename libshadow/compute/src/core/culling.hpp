@@ -404,7 +404,7 @@ class ReceiverCuller {
     } else {
       lxyz = geometry::unit(light.to_light);
       lw = 0.0;
-      if (!cull.closed_outward.empty()) {
+      if (!cull.closed_outward.empty() && light.type == LightType::Directional) {  // (never a lamp: it may be inside)
         closed_outward_ = cull.closed_outward.data();
         to_light_ = lxyz;
         above_caps_ = lxyz.z > 16 * std::numeric_limits<double>::epsilon();  // the unit vector's rounding

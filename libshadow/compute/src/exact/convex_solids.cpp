@@ -230,9 +230,11 @@ bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, cons
 /// closed by a cap, a face that only a light below its plane could see from outside; such a
 /// part gives +2 or -2, valid under a light above every cap, and 0 when some cap faces up from
 /// the solid. Shown with CGAL's exact predicates on a surface mesh of the part and its caps:
-/// every face added (a manifold surface), closed, triangulated where a face is not a triangle,
+/// every face added and a valid mesh (a manifold surface: no pinched vertex), closed,
+/// triangulated where a face is not a triangle,
 /// no two triangles meeting but at their shared edges and vertices (a degenerate triangle counts
-/// as meeting itself), and then oriented. An embedded closed surface bounds its inside once, so
+/// as meeting itself; the triangulation itself projects with an approximate normal, and a fold it
+/// might make is such a meeting), and then oriented. An embedded closed surface bounds its inside once, so
 /// a ray from any point outside or inside it that crosses it going in leaves it again before
 /// the light: why the faces turned away from the light may be dropped (and the caps, turned
 /// away from a light above them, were never there to cast).
@@ -287,8 +289,12 @@ int closed_part_orientation(const std::size_t* faces, std::size_t face_count, co
     }
     for (Mesh::Halfedge_index h : mesh.halfedges())
       if (mesh.is_border(h)) CGAL::Euler::fill_hole(h, mesh);
+    // add_face refuses an edge taken twice or a vertex already surrounded, but two fans of faces
+    // meeting at one vertex (a pinch) can both be built: is_valid_polygon_mesh counts each
+    // vertex's halfedges and rejects it (is_outward_oriented, which reads one fan of the highest
+    // vertex, could then read the wrong one).
     if (!CGAL::is_closed(mesh) || (!(triangles && caps.empty()) && !PMP::triangulate_faces(mesh)) ||
-        PMP::does_self_intersect(mesh))
+        !CGAL::is_valid_polygon_mesh(mesh) || PMP::does_self_intersect(mesh))
       return 0;
     const int orientation = PMP::is_outward_oriented(mesh) ? 1 : -1;
     // A cap's vertex order (its border halfedges' sources) is its face's; outward it must face

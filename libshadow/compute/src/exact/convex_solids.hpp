@@ -20,13 +20,16 @@ namespace shadow::exact {
 /// The solids come in the order of their union-find roots (see convex_solids.cpp); the per-solid
 /// work runs on `threads` threads (0: every hardware thread), with the same result for any count.
 ///
-/// With `closed_outward`, the closed parts that are not convex are also told (sized to the
-/// faces): +1 for a face of a closed, embedded solid whose vertex order turns its normal
-/// outward, -1 when it turns it inward, 0 otherwise (see closed_part_orientation: a part of
-/// exactly planar faces, every edge used twice in opposite directions, a manifold surface that
-/// does not intersect itself, decided with exact predicates). Under a directional light such a
-/// solid's faces turned away from the light add nothing to its shadow (docs/algorithm.md,
-/// "Closed solids cast through the faces facing the light").
+/// With `closed_outward`, the parts that close up but are not convex are also told (sized to
+/// the faces): +1 for a face of a closed, embedded solid whose vertex order turns its normal
+/// outward, -1 when it turns it inward; +2 and -2 the same for a part open only along border
+/// loops that each lie in one horizontal plane (walls and roof without a floor), closed by caps
+/// facing down from the solid, so valid only under a light above the horizon; 0 otherwise (see
+/// closed_part_orientation: exactly planar faces, every other edge used twice in opposite
+/// directions, a valid manifold surface mesh that does not intersect itself, decided with exact
+/// predicates). Under a directional light such a solid's faces turned away from the light add
+/// nothing to its shadow (docs/algorithm.md, "Closed solids cast through the faces facing the
+/// light").
 std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std::vector<core::FacePrep>& prep,
                                             std::vector<int>& solid_of, unsigned threads = 0,
                                             std::vector<signed char>* closed_outward = nullptr);
