@@ -26,7 +26,7 @@
 #include "exact/boundary_chain.hpp"
 #include "exact/kernel.hpp"
 #include "exact/rational_points.hpp"
-#include "exact/shared_edge_merge.hpp"
+#include "geometry/shared_edge_merge.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -190,19 +190,32 @@ class ConvexUnionArea {
     return true;
   }
 
-  // ---- polygons sharing an edge run both ways, united where convex (exact/shared_edge_merge.hpp)
+  // ---- polygons sharing an edge run both ways, united where convex (geometry/shared_edge_merge.hpp)
   void merge_shared_edges() {
     CGAL::Protect_FPU_rounding<true> guard;  // turn()'s filters
-    const std::size_t merges = merge_.run(pts_, ip_, nxt_, first_,
-                                          [&](std::size_t a, std::size_t b) { return equal(a, b); },
-                                          [&](std::size_t p, std::size_t q, std::size_t r) {
-                                            const CGAL::Sign o = turn(p, q, r);
-                                            if (o != CGAL::ZERO) return o == CGAL::POSITIVE;
-                                            return dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q],
-                                                                   *pts_[r], ip_[r], scratch_) == CGAL::POSITIVE;
-                                          });
+    using geometry::SharedEdgeMerge;
+    const auto point_hash = [&](std::size_t v) { return SharedEdgeMerge::point_hash(ip_[v].x.inf(), ip_[v].y.inf()); };
+    const std::size_t merges = merge_.run(
+        nxt_, first_,
+        [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
+        [&](std::size_t a, std::size_t b) { return equal(a, b); },
+        [&](std::size_t p, std::size_t q, std::size_t r) {
+          const CGAL::Sign o = turn(p, q, r);
+          if (o != CGAL::ZERO) return o == CGAL::POSITIVE;
+          return dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) ==
+                 CGAL::POSITIVE;
+        });
     if (merges == 0) return;
     counts_.merged = merges;
+    // The points in the merged polygons' order (equal intervals hash equal points alike).
+    merged_pts_.clear();
+    merged_ip_.clear();
+    for (std::size_t v : merge_.order()) {
+      merged_pts_.push_back(pts_[v]);
+      merged_ip_.push_back(ip_[v]);
+    }
+    pts_.swap(merged_pts_);
+    ip_.swap(merged_ip_);
     box_.clear();
     for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
       Box b{ip_[first_[i]].x.inf(), ip_[first_[i]].y.inf(), ip_[first_[i]].x.sup(), ip_[first_[i]].y.sup()};
@@ -709,7 +722,9 @@ class ConvexUnionArea {
   std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
   std::vector<Box> box_;
   std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
-  SharedEdgeMerge merge_;
+  geometry::SharedEdgeMerge merge_;
+  std::vector<const QPoint2*> merged_pts_;  ///< merge_shared_edges' scratch
+  std::vector<IPoint2> merged_ip_;
   std::vector<Cover> covers_;
   std::vector<Cover> merged_;  ///< the current edge's covers merged (boundary_ only)
   BoundaryChain* boundary_ = nullptr;

@@ -5,6 +5,8 @@
 // fast_receiver.hpp.
 #pragma once
 
+#include "geometry/shared_edge_merge.hpp"
+
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -49,6 +51,10 @@ struct ClusterScratch {
   std::vector<std::pair<double, double>> across, covered;
   std::vector<std::vector<std::size_t>> near;
   std::vector<std::size_t> near_order, near_open;
+  // merge_shared_edges: a cluster's slots and the merge's own scratch; the merged polygons' boxes.
+  std::vector<std::size_t> merge_next, merge_first;
+  geometry::SharedEdgeMerge merge;
+  std::vector<GridBox> merged_boxes;
 };
 
 }  // namespace shadow::fast

@@ -19,6 +19,7 @@
 
 #include "fast/cluster_scratch.hpp"
 #include "geometry/cyclic_index.hpp"
+#include "geometry/shared_edge_merge.hpp"
 
 #include <polyclipping/clipper.hpp>
 
@@ -301,6 +302,47 @@ struct ClusterUnionCounts {
   std::size_t unions = 0;      ///< Clipper unions run (a cluster with a polygon that is not convex)
 };
 
+/// From this many convex polygons on, a cluster's polygons that share an edge run both ways are
+/// first merged where convex (merge_shared_edges).
+inline constexpr std::size_t kMergeClusterFrom = 16;
+
+/// The convex polygons `members` of `polygons` with those that share an edge run both ways
+/// united where the result is convex (geometry/shared_edge_merge.hpp: the casts of neighbouring
+/// faces of one mesh on either side of their edge), into `out`; false (out unchanged) when none
+/// merged. The same point set, so the same exact union: only fewer edges to measure.
+inline bool merge_shared_edges(const ClipperLib::Paths& polygons, const std::vector<std::size_t>& members,
+                               ClusterScratch& s, ClipperLib::Paths& out) {
+  std::vector<ClipperLib::IntPoint> points;
+  s.merge_first.assign(1, 0);
+  s.merge_next.clear();
+  for (std::size_t m : members) {
+    const std::size_t begin = points.size();
+    points.insert(points.end(), polygons[m].begin(), polygons[m].end());
+    for (std::size_t k = begin; k < points.size(); ++k) s.merge_next.push_back(k + 1 == points.size() ? begin : k + 1);
+    s.merge_first.push_back(points.size());
+  }
+  using geometry::SharedEdgeMerge;
+  const auto point_hash = [&](std::size_t v) {
+    return SharedEdgeMerge::point_hash(static_cast<double>(points[v].X), static_cast<double>(points[v].Y));
+  };
+  const std::size_t merges = s.merge.run(
+      s.merge_next, s.merge_first,
+      [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
+      [&](std::size_t a, std::size_t b) { return points[a].X == points[b].X && points[a].Y == points[b].Y; },
+      [&](std::size_t p, std::size_t q, std::size_t r) {
+        const ClusterInt128 ux = points[q].X - points[p].X, uy = points[q].Y - points[p].Y;
+        const ClusterInt128 vx = points[r].X - points[q].X, vy = points[r].Y - points[q].Y;
+        const ClusterInt128 cross = ux * vy - uy * vx;
+        return cross > 0 || (cross == 0 && ux * vx + uy * vy > 0);
+      });
+  if (merges == 0) return false;
+  out.assign(s.merge_first.size() - 1, ClipperLib::Path{});
+  const std::vector<std::size_t>& order = s.merge.order();
+  for (std::size_t i = 0; i + 1 < s.merge_first.size(); ++i)
+    for (std::size_t k = s.merge_first[i]; k < s.merge_first[i + 1]; ++k) out[i].push_back(points[order[k]]);
+  return true;
+}
+
 /// The area of a union of grid polygons, cluster by cluster.
 struct ClusteredArea {
   ClusterInt128 exact2 = 0;   ///< twice the area of the singletons and the Clipper clusters, exactly
@@ -348,7 +390,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   for (std::size_t p = 0; p < n; ++p) convex[p] = is_convex_ccw(polygons[p]) ? 1 : 0;
   ClusteredArea out;
   std::vector<std::size_t>& members = s.members;
-  CL::Paths cluster, united;
+  CL::Paths cluster, united, merged;
   for (std::size_t r = 0; r < n; ++r) {
     if (first[r] == n) continue;
     members.clear();
@@ -363,7 +405,17 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
       continue;
     }
     if (all_convex) {
-      const BoundaryArea b = boundary_union_area2(polygons, box, members, ax, ay, s);
+      const CL::Paths* measured = &polygons;
+      const std::vector<GridBox>* boxes = &box;
+      if (members.size() >= kMergeClusterFrom && merge_shared_edges(polygons, members, s, merged)) {
+        measured = &merged;
+        s.merged_boxes.resize(merged.size());
+        for (std::size_t p = 0; p < merged.size(); ++p) s.merged_boxes[p] = grid_box(merged[p]);
+        boxes = &s.merged_boxes;
+        members.resize(merged.size());
+        std::iota(members.begin(), members.end(), std::size_t{0});
+      }
+      const BoundaryArea b = boundary_union_area2(*measured, *boxes, members, ax, ay, s);
       out.boundary.twice_area += b.twice_area;
       out.boundary.error += b.error + 2 * std::numeric_limits<double>::epsilon() * std::abs(out.boundary.twice_area);
       if (counts) ++counts->boundaries;

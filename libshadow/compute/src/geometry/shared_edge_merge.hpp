@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Convex polygons that share an edge run both ways, united where the result is convex: the step
-// before ConvexUnionArea measures a union (docs/algorithm.md, "Neighbouring casts merged").
-// Include only from src/exact/*.cpp or tests (GMP points).
+// before ConvexUnionArea (exact) and the fast path's boundary measure take a union
+// (docs/algorithm.md, "Neighbouring casts merged"). It sees only vertex slots: the caller tells
+// it how to hash an edge, whether two slots are the same point and how a turn goes.
 //
 // The casts of two faces of one mesh that meet along an edge and lie on either side of it meet
 // along that edge's cast, run one way by each. Their union is one convex polygon when the turns
@@ -11,29 +12,29 @@
 // on a road merges into a few large pieces.
 #pragma once
 
-#include "exact/rational_points.hpp"
-
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
 #include <vector>
 
-namespace shadow::exact {
+namespace shadow::geometry {
 
 /// Merges polygons along shared edges; keeps its scratch between calls (one per thread).
 class SharedEdgeMerge {
  public:
-  /// The polygons first[i]..first[i + 1] of `pts` (their points), `ip` (intervals) and `nxt` (each
-  /// vertex's next around its polygon), counter-clockwise and convex: every pair that shares an
-  /// edge run both ways is united where both turns where they meet pass `left_or_straight(p, q,
-  /// r)` (to the left, or straight on and not back), repeatedly, and the arrays are rewritten
-  /// with the merged polygons (in the order of their union-find roots). `equal(a, b)`: vertices
-  /// a and b are the same point (exactly). Returns the number of merges (0: nothing rewritten).
-  template <class Equal, class LeftOrStraight>
-  std::size_t run(std::vector<const QPoint2*>& pts, std::vector<IPoint2>& ip, std::vector<std::size_t>& nxt,
-                  std::vector<std::size_t>& first, Equal&& equal, LeftOrStraight&& left_or_straight) {
-    const std::size_t n = pts.size(), polygons = first.size() - 1;
+  /// The polygons of slots first[i]..first[i + 1] (`nxt`: each slot's next around its
+  /// polygon), counter-clockwise and convex: every pair that shares an edge run both ways is
+  /// united where both turns where they meet pass `left_or_straight(p, q, r)` (to the left, or
+  /// straight on and not back), repeatedly. `edge_hash(a, b)`: a hash of the edge from slot a's
+  /// point to slot b's, equal for equal points; `equal(a, b)`: slots a and b are the same point.
+  /// Returns the number of merges; when some, `nxt` and `first` describe the merged polygons
+  /// over new slots k whose old slot is order()[k] (polygons in the order of their union-find
+  /// roots): the caller permutes its points the same way.
+  template <class EdgeHash, class Equal, class LeftOrStraight>
+  std::size_t run(std::vector<std::size_t>& nxt, std::vector<std::size_t>& first, EdgeHash&& edge_hash, Equal&& equal,
+                  LeftOrStraight&& left_or_straight) {
+    const std::size_t n = nxt.size(), polygons = first.size() - 1;
     prv_.resize(n);
     owner_.resize(n);
     moved_.resize(n);
@@ -53,7 +54,7 @@ class SharedEdgeMerge {
     table_.assign(size, kEmpty);
     hashes_.resize(n);
     for (std::size_t v = 0; v < n; ++v) {
-      hashes_[v] = edge_hash(ip[v], ip[nxt[v]]);
+      hashes_[v] = edge_hash(v, nxt[v]);
       std::size_t h = hashes_[v] & mask;
       while (table_[h] != kEmpty) h = (h + 1) & mask;
       table_[h] = v;
@@ -66,8 +67,9 @@ class SharedEdgeMerge {
       work_.pop_back();
       if (moved_[a] != a) continue;  // dropped by a merge
       const std::size_t b = nxt[a];
+      if (equal(a, b)) continue;  // a repeated point: no edge
       // The edge b -> a in another polygon: a hashed slot whose carrier now runs from b to a.
-      const std::uint64_t want = edge_hash(ip[b], ip[a]);
+      const std::uint64_t want = edge_hash(b, a);
       std::size_t bj = kEmpty;
       for (std::size_t h = want & mask; table_[h] != kEmpty; h = (h + 1) & mask) {
         if (hashes_[table_[h]] != want) continue;
@@ -92,12 +94,37 @@ class SharedEdgeMerge {
       work_.push_back(a);  // their new edges may meet others
       work_.push_back(bj);
     }
-    if (merges > 0) compact(pts, ip, nxt, first);
+    if (merges > 0) compact(nxt, first);
     return merges;
+  }
+
+  /// After a run with merges: the old slot of each new slot.
+  [[nodiscard]] const std::vector<std::size_t>& order() const { return order_; }
+
+  /// A hash of a point's two coordinates' bits (for edge_hash). Every bit is mixed into the low
+  /// ones the table uses: a double holding an integer (a grid point, a scaled chart's bound) has
+  /// its low mantissa bits all zero.
+  static std::uint64_t point_hash(double x, double y) {
+    std::uint64_t a, b;
+    std::memcpy(&a, &x, sizeof a);
+    std::memcpy(&b, &y, sizeof b);
+    return mix(a ^ mix(b));
+  }
+  /// An edge's hash from its ends' point hashes (not symmetric: the edge b -> a hashes apart).
+  static std::uint64_t edge_hash_of(std::uint64_t from, std::uint64_t to) {
+    return mix(from * 0x9E3779B97F4A7C15ull + to);
   }
 
  private:
   static constexpr std::size_t kEmpty = static_cast<std::size_t>(-1);
+
+  /// SplitMix64's finaliser: every input bit reaches every output bit.
+  static std::uint64_t mix(std::uint64_t z) {
+    z += 0x9E3779B97F4A7C15ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
 
   std::size_t root(std::size_t i) {
     while (root_[i] != i) i = root_[i] = root_[root_[i]];
@@ -110,53 +137,34 @@ class SharedEdgeMerge {
     return s;
   }
 
-  static std::uint64_t point_hash(const IPoint2& p) {
-    std::uint64_t a, b;
-    const double x = p.x.inf(), y = p.y.inf();
-    std::memcpy(&a, &x, sizeof a);
-    std::memcpy(&b, &y, sizeof b);
-    return (a * 0x9E3779B97F4A7C15ull) ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
-  }
-  static std::uint64_t edge_hash(const IPoint2& from, const IPoint2& to) {
-    return (point_hash(from) * 0xBF58476D1CE4E5B9ull) ^ (point_hash(to) + 0x94D049BB133111EBull);
-  }
-
   /// The merged polygons written back in the order of their roots. A root's own slots may all
   /// have been dropped (each merge drops one slot of either side): each starts from any live slot.
-  void compact(std::vector<const QPoint2*>& pts, std::vector<IPoint2>& ip, std::vector<std::size_t>& nxt,
-               std::vector<std::size_t>& first) {
-    const std::size_t n = pts.size(), polygons = first.size() - 1;
+  void compact(std::vector<std::size_t>& nxt, std::vector<std::size_t>& first) {
+    const std::size_t n = nxt.size(), polygons = first.size() - 1;
     std::vector<std::size_t>& start_of = work_;
     start_of.assign(polygons, kEmpty);
     for (std::size_t v = 0; v < n; ++v)
       if (moved_[v] == v && start_of[root(owner_[v])] == kEmpty) start_of[root(owner_[v])] = v;
-    old_pts_.assign(pts.begin(), pts.end());
-    old_ip_.assign(ip.begin(), ip.end());
-    old_nxt_.assign(nxt.begin(), nxt.end());
-    pts.clear();
-    ip.clear();
-    nxt.clear();
+    order_.clear();
     first.assign(1, 0);
     for (std::size_t i = 0; i < polygons; ++i) {
       const std::size_t start = start_of[i];
       if (start == kEmpty) continue;  // not a root
-      const std::size_t begin = pts.size();
       std::size_t v = start;
       do {
-        pts.push_back(old_pts_[v]);
-        ip.push_back(old_ip_[v]);
-        v = old_nxt_[v];
+        order_.push_back(v);
+        v = nxt[v];
       } while (v != start);
-      for (std::size_t k = begin; k < pts.size(); ++k) nxt.push_back(k + 1 == pts.size() ? begin : k + 1);
-      first.push_back(pts.size());
+      first.push_back(order_.size());
     }
+    nxt.resize(order_.size());
+    for (std::size_t i = 0; i + 1 < first.size(); ++i)
+      for (std::size_t k = first[i]; k < first[i + 1]; ++k) nxt[k] = k + 1 == first[i + 1] ? first[i] : k + 1;
   }
 
   std::vector<std::size_t> prv_, owner_, moved_, root_, table_, work_;
   std::vector<std::uint64_t> hashes_;
-  std::vector<const QPoint2*> old_pts_;
-  std::vector<IPoint2> old_ip_;
-  std::vector<std::size_t> old_nxt_;
+  std::vector<std::size_t> order_;
 };
 
-}  // namespace shadow::exact
+}  // namespace shadow::geometry
