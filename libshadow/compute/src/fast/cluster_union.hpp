@@ -356,8 +356,11 @@ struct ClusteredArea {
 /// area; a cluster of convex polygons is measured by its boundary (boundary_union_area2); any
 /// other cluster goes through one Clipper union.
 /// `scratch`: the caller's reusable vectors (a fast-path worker's), or none (allocated here).
+/// `merge_shared`: merge a large cluster's casts along shared edges first (false when the
+/// caller knows none share one: the hulls of convex solids).
 inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, double ax = 0, double ay = 1,
-                                          ClusterUnionCounts* counts = nullptr, ClusterScratch* scratch = nullptr) {
+                                          ClusterUnionCounts* counts = nullptr, ClusterScratch* scratch = nullptr,
+                                          bool merge_shared = true) {
   namespace CL = ClipperLib;
   std::optional<ClusterScratch> local;  // only when the caller keeps none
   ClusterScratch& s = scratch ? *scratch : local.emplace();
@@ -407,7 +410,8 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     if (all_convex) {
       const CL::Paths* measured = &polygons;
       const std::vector<GridBox>* boxes = &box;
-      if (members.size() >= kMergeClusterFrom && merge_shared_edges(polygons, members, s, merged)) {
+      if (merge_shared && members.size() >= kMergeClusterFrom &&
+          fast::merge_shared_edges(polygons, members, s, merged)) {
         measured = &merged;
         s.merged_boxes.resize(merged.size());
         for (std::size_t p = 0; p < merged.size(); ++p) s.merged_boxes[p] = grid_box(merged[p]);

@@ -210,6 +210,7 @@ bool ReceiverJob::cast_face(std::size_t q) {
     add_cast(cast_);
     if (not_finite_) return false;
     cast_any |= casts_.size() > before;
+    face_casts_ += casts_.size() - before;
   }
   if (cast_any) ++local_.casting_pairs;
   return true;

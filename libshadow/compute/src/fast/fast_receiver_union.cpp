@@ -207,7 +207,8 @@ bool ReceiverJob::unite() {
       // their arithmetic bound replaces the union's rounding term.
       const glm::dvec2 along = rc_.point ? glm::dvec2(0, 1) : rc_.shift;
       const ClusteredArea area = clustered_union_area(windowed ? windowed_ : *casts, along.x * grid_.scale[0],
-                                                      along.y * grid_.scale[1], nullptr, &w_.cluster);
+                                                      along.y * grid_.scale[1], nullptr, &w_.cluster,
+                                                      /*merge_shared=*/face_casts_ >= 2);
       if (windowed) bound_.union_rounding(cast_length_, rho_);
       if (area.clipper) bound_.union_rounding(windowed ? windowed_length() : cast_length_, rho_);
       bound_.boundary_arithmetic(0.5 * area.boundary.error * grid_.step[0] * grid_.step[1]);
