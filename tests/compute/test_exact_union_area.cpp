@@ -17,6 +17,7 @@
 #include "exact/lazy_geometry.hpp"
 #include "exact/rational_points.hpp"
 #include "exact/regions.hpp"
+#include "support/scene_builders.hpp"
 
 #include <shadow/shadow.hpp>
 
@@ -634,22 +635,7 @@ void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_
 /// face a mesh of its own (no solid found) gives the same exact areas, bit for bit, with more
 /// candidates.
 TEST(ExactUnionAreaInTheEngine, ClosedSolidsCastThroughTheirFacesTurnedToTheLight) {
-  auto l_prism = [](glm::dvec3 at, double h, bool floor) {
-    const double x[6] = {0, 2, 2, 1, 1, 0}, y[6] = {0, 0, 1, 1, 2, 2};
-    auto p = [&](int i, double z) { return at + glm::dvec3(x[i] * 3, y[i] * 3, z); };
-    std::vector<shadow::Polygon3> faces;
-    for (int i = 0; i < 6; ++i) {
-      const int j = (i + 1) % 6;
-      faces.push_back({p(i, 0), p(j, 0), p(j, h)});
-      faces.push_back({p(i, 0), p(j, h), p(i, h)});
-    }
-    const int fan[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
-    for (const auto& t : fan) {
-      faces.push_back({p(t[0], h), p(t[1], h), p(t[2], h)});
-      if (floor) faces.push_back({p(t[0], 0), p(t[2], 0), p(t[1], 0)});
-    }
-    return faces;
-  };
+  const auto l_prism = [](glm::dvec3 at, double h, bool floor) { return shadow::test::l_prism_triangles(at, h, floor); };
   shadow::Scene solids, apart;
   std::vector<std::vector<shadow::Polygon3>> meshes;
   meshes.push_back({{{-30, -30, 0}, {40, -30, 0}, {40, 40, 0}, {-30, 40, 0}}});

@@ -11,6 +11,7 @@
 #include "exact/face_shape.hpp"
 #include "geometry/point_hash.hpp"
 #include "validation/validate_reference.hpp"
+#include "support/scene_builders.hpp"
 
 #include <shadow/generators.hpp>
 #include <shadow/scene_io.hpp>
@@ -454,25 +455,6 @@ TEST(FindConvexSolids, SharedEdgesAcrossMeshesAndOpenParts) {
   for (unsigned threads : {1u, 3u}) expect_same_solids(scene, threads);
 }
 
-/// An L-shaped prism (not convex) in triangles, fronts outward: its walls, its roof at z = h
-/// and, with `floor`, its floor at z = 0; without `roof` its top is open.
-std::vector<Polygon> l_prism(glm::dvec3 at, double h, bool floor, bool roof) {
-  const double x[6] = {0, 2, 2, 1, 1, 0}, y[6] = {0, 0, 1, 1, 2, 2};  // counter-clockwise from above
-  auto p = [&](int i, double z) { return at + glm::dvec3(x[i] * 3, y[i] * 3, z); };
-  std::vector<Polygon> faces;
-  for (int i = 0; i < 6; ++i) {
-    const int j = (i + 1) % 6;
-    faces.push_back({p(i, 0), p(j, 0), p(j, h)});
-    faces.push_back({p(i, 0), p(j, h), p(i, h)});
-  }
-  const int fan[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};
-  for (const auto& t : fan) {
-    if (roof) faces.push_back({p(t[0], h), p(t[1], h), p(t[2], h)});
-    if (floor) faces.push_back({p(t[0], 0), p(t[2], 0), p(t[1], 0)});
-  }
-  return faces;
-}
-
 std::vector<signed char> closed_outward_of(const shadow::Scene& scene, unsigned threads) {
   std::vector<shadow::core::FacePrep> prep(scene.faces.size());
   for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(scene.faces[f].vertices);
@@ -483,8 +465,11 @@ std::vector<signed char> closed_outward_of(const shadow::Scene& scene, unsigned 
 }
 
 TEST(FindConvexSolids, ClosedSolidsThatAreNotConvexAreToldWithTheirOrientation) {
-  std::vector<Polygon> closed = l_prism({0, 0, 0}, 4, true, true), inward = closed, no_floor = l_prism({0, 0, 0}, 4, false, true),
-                       no_roof = l_prism({0, 0, 0}, 4, true, false), pierced = closed, sloped = l_prism({0, 0, 0}, 4, false, true);
+  using shadow::test::l_prism_triangles;
+  std::vector<Polygon> closed = l_prism_triangles({0, 0, 0}, 4, true, true), inward = closed,
+                       no_floor = l_prism_triangles({0, 0, 0}, 4, false, true),
+                       no_roof = l_prism_triangles({0, 0, 0}, 4, true, false), pierced = closed,
+                       sloped = l_prism_triangles({0, 0, 0}, 4, false, true);
   for (Polygon& f : inward) std::reverse(f.begin(), f.end());
   // A roof corner pushed below the floor: still every edge used twice, but the surface crosses
   // itself.

@@ -80,4 +80,21 @@ std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh) {
   return faces;
 }
 
+std::vector<Polygon3> l_prism_triangles(glm::dvec3 at, double height, bool floor, bool roof) {
+  const double x[6] = {0, 2, 2, 1, 1, 0}, y[6] = {0, 0, 1, 1, 2, 2};  // counter-clockwise from above
+  auto p = [&](int i, double z) { return at + glm::dvec3(x[i] * 3, y[i] * 3, z); };
+  std::vector<Polygon3> faces;
+  for (int i = 0; i < 6; ++i) {
+    const int j = (i + 1) % 6;
+    faces.push_back({p(i, 0), p(j, 0), p(j, height)});
+    faces.push_back({p(i, 0), p(j, height), p(i, height)});
+  }
+  const int fan[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}};  // the L from its corner (0, 0)
+  for (const auto& t : fan) {
+    if (roof) faces.push_back({p(t[0], height), p(t[1], height), p(t[2], height)});
+    if (floor) faces.push_back({p(t[0], 0), p(t[2], 0), p(t[1], 0)});
+  }
+  return faces;
+}
+
 }  // namespace shadow::test

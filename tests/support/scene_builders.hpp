@@ -27,6 +27,10 @@ Scene transformed(const Scene& scene, double scale, glm::dvec3 axis, double angl
 /// radiosity furnace, B = E / (1 - rho) everywhere.
 Scene furnace_room(double e, double rho);
 
+/// An L-shaped prism (not convex: an L of arms 6 x 3 at `at`) in triangles, fronts outward: its
+/// walls, with `roof` its roof at z = at.z + height, with `floor` its floor at z = at.z.
+std::vector<Polygon3> l_prism_triangles(glm::dvec3 at, double height, bool floor, bool roof = true);
+
 /// The ids of the faces of mesh `mesh`, ascending.
 std::vector<std::size_t> faces_of_mesh(const Scene& scene, std::size_t mesh);
 
