@@ -40,6 +40,29 @@ double perimeter(const CL::Paths& paths) {
   return length;
 }
 
+/// Clipper's union of `polygons` scaled by 2^shift, its area in the polygons' units.
+double clipper_union_area(const CL::Paths& polygons, int shift) {
+  CL::Paths scaled = polygons;
+  for (CL::Path& p : scaled)
+    for (CL::IntPoint& q : p) q = {q.X << shift, q.Y << shift};
+  CL::Clipper clipper;
+  clipper.AddPaths(scaled, CL::ptSubject, true);
+  CL::Paths united;
+  clipper.Execute(CL::ctUnion, united, CL::pftNonZero, CL::pftNonZero);
+  double twice = 0;
+  for (const CL::Path& p : united) twice += static_cast<double>(shadow::fast::twice_area(p));
+  return 0.5 * std::ldexp(twice, -2 * shift);
+}
+
+/// The reference for a union's area: Clipper's at 2^20 times the scale, whose every rounded point
+/// moves by under sqrt(2)/2 scaled units, so its area is within `error` (2 x that x the perimeter,
+/// + pi r^2) of the exact union's, 2^-20 of a unit.
+double fine_union_area(const CL::Paths& polygons, double& error) {
+  constexpr double kScale = 1 << 20;
+  error = (2 * 0.71 * perimeter(polygons) * kScale + 4) / (kScale * kScale);
+  return clipper_union_area(polygons, 20);
+}
+
 TEST(ClusterUnion, AnalyticCasesWithSharedAndCollinearEdges) {
   struct Case {
     std::string name;
@@ -138,22 +161,8 @@ TEST(ClusterUnion, RandomConvexClustersAgreeWithAFineClipperUnion) {
     const ClusteredArea a = shadow::fast::clustered_union_area(polygons, 1, static_cast<double>(round % 7), &counts);
     boundaries += counts.boundaries;
     EXPECT_FALSE(a.clipper);
-    // Clipper on the same polygons scaled by 2^20: every point it rounds moves by under
-    // sqrt(2)/2 scaled units, so its area is within 2 x that x the perimeter (+ pi r^2) of the
-    // exact union's, 2^-20 of a unit here.
-    constexpr double kScale = 1 << 20;
-    CL::Paths scaled = polygons;
-    const double length = perimeter(polygons);
-    for (CL::Path& p : scaled)
-      for (CL::IntPoint& q : p) q = {q.X << 20, q.Y << 20};
-    CL::Clipper clipper;
-    clipper.AddPaths(scaled, CL::ptSubject, true);
-    CL::Paths united;
-    clipper.Execute(CL::ctUnion, united, CL::pftNonZero, CL::pftNonZero);
-    double fine = 0;
-    for (const CL::Path& p : united) fine += static_cast<double>(shadow::fast::twice_area(p));
-    fine = 0.5 * fine / (kScale * kScale);
-    const double clipper_error = (2 * 0.71 * length * kScale + 4) / (kScale * kScale);
+    double clipper_error = 0;
+    const double fine = fine_union_area(polygons, clipper_error);
     EXPECT_NEAR(area_of(a), fine, error_of(a) + clipper_error + 1e-9 * fine) << "round " << round;
     EXPECT_LT(error_of(a), 1e-9 * (1 + fine)) << "round " << round;
   }
@@ -181,6 +190,56 @@ TEST(ClusterUnion, AReusedScratchGivesTheSameBitsAsAFreshOne) {
   EXPECT_GT(boundaries, 100u);
 }
 
+// Triangulated patches (the casts of a triangulated terrain's faces) share edges run both ways:
+// a cluster of 16 convex polygons or more is first merged along them where the result is convex
+// (merge_shared_edges). Seeded jittered grids split along random diagonals, with gaps (so some
+// merges would turn right and are refused), loose triangles over them, shuffled: with and without
+// the merge, the area is within its bound of Clipper's union of the polygons scaled by 2^20 (as
+// above), and the merge ran.
+TEST(ClusterUnion, TrianglesSharingEdgesMergeWithinTheBound) {
+  std::mt19937 rng(20261130);
+  auto uniform = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  std::size_t merged_clusters = 0;
+  shadow::fast::ClusterScratch scratch;
+  for (int round = 0; round < 80; ++round) {
+    const int k = uniform(3, 9), spacing = round % 2 ? 40 : 4000;
+    std::vector<std::vector<CL::IntPoint>> grid(static_cast<std::size_t>(k + 1));
+    for (int i = 0; i <= k; ++i)
+      for (int j = 0; j <= k; ++j)  // jitter under a quarter of the spacing: every triangle counter-clockwise
+        grid[static_cast<std::size_t>(i)].push_back(
+            {i * spacing + uniform(-spacing / 5, spacing / 5), j * spacing + uniform(-spacing / 5, spacing / 5)});
+    auto at = [&](int i, int j) { return grid[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]; };
+    CL::Paths polygons;
+    for (int i = 0; i < k; ++i)
+      for (int j = 0; j < k; ++j) {
+        if (round % 4 != 0 && uniform(0, 6) == 0) continue;  // a gap
+        const CL::IntPoint a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+        if (uniform(0, 1) == 0) {
+          polygons.push_back({a, b, c});
+          polygons.push_back({a, c, d});
+        } else {
+          polygons.push_back({a, b, d});
+          polygons.push_back({b, c, d});
+        }
+      }
+    for (int extra = uniform(0, 3); extra > 0; --extra) {  // loose triangles across the patch
+      const CL::cInt x = uniform(0, k * spacing), y = uniform(0, k * spacing), w = uniform(1, 2 * spacing);
+      polygons.push_back({{x, y}, {x + w, y}, {x, y + uniform(1, 2 * spacing)}});
+    }
+    std::shuffle(polygons.begin(), polygons.end(), rng);
+    double clipper_error = 0;
+    const double fine = fine_union_area(polygons, clipper_error);
+    for (const bool merge : {true, false}) {
+      ClusterUnionCounts counts;
+      const ClusteredArea got = shadow::fast::clustered_union_area(polygons, 0.6, 0.8, &counts, &scratch, merge);
+      EXPECT_NEAR(area_of(got), fine, error_of(got) + clipper_error + 1e-9 * fine) << "round " << round << " merge " << merge;
+      if (merge) merged_clusters += counts.merged;
+      else EXPECT_EQ(counts.merged, 0u) << "round " << round;
+    }
+  }
+  EXPECT_GT(merged_clusters, 40u);
+}
+
 // Near the grid's limits (coordinates up to 2^30, as on a receiver's grid): the interval ends are
 // rounded there, and the bound the measure returns must cover it. Against Clipper's union of the
 // same polygons, whose own rounding moves its boundary by under one grid step.
@@ -195,13 +254,7 @@ TEST(ClusterUnion, LargeCoordinatesStayWithinTheReturnedBound) {
     ClusterUnionCounts counts;
     const ClusteredArea a = shadow::fast::clustered_union_area(polygons, 1, 0.5, &counts);
     boundaries += counts.boundaries;
-    CL::Clipper clipper;
-    clipper.AddPaths(polygons, CL::ptSubject, true);
-    CL::Paths united;
-    clipper.Execute(CL::ctUnion, united, CL::pftNonZero, CL::pftNonZero);
-    double clipped = 0;
-    for (const CL::Path& p : united) clipped += static_cast<double>(shadow::fast::twice_area(p));
-    clipped *= 0.5;
+    const double clipped = clipper_union_area(polygons, 0);
     const double clipper_error = 2 * 1.42 * perimeter(polygons) + 3.15 * 1.42 * 1.42;
     EXPECT_NEAR(area_of(a), clipped, error_of(a) + clipper_error + 1e-15 * clipped) << "round " << round;
     EXPECT_LT(error_of(a), 1e-12 * clipped + 1e6) << "round " << round;

@@ -445,6 +445,18 @@ TEST(RationalPoints, WindowClipMatchesEpeckAndTheIntersection) {
 /// intersected with the window: the same exact rational; and the boundary chain of the window
 /// minus the union (window's boundary first) the same canonical segments both ways. Seeded
 /// degenerate scenes: windows that are one of the polygons, a cell of the same grid, or a hull.
+/// Whether two chains have the same canonical form, segment for segment (a failure names `what`).
+void expect_same_canonical(shadow::exact::BoundaryChain& x, shadow::exact::BoundaryChain& y, const std::string& what) {
+  std::vector<shadow::exact::BoundaryChain::Segment> a, b;
+  ASSERT_TRUE(x.canonical(a)) << what;
+  ASSERT_TRUE(y.canonical(b)) << what;
+  ASSERT_EQ(a.size(), b.size()) << what;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    EXPECT_TRUE(a[k].from.x == b[k].from.x && a[k].from.y == b[k].from.y && a[k].to.x == b[k].to.x &&
+                a[k].to.y == b[k].to.y && a[k].left == b[k].left)
+        << what << " segment " << k;
+}
+
 TEST(ExactUnionArea, InAWindowEqualsTheClippedUnion) {
   Generator g(2026113);
   std::size_t partial = 0;
@@ -495,14 +507,7 @@ TEST(ExactUnionArea, InAWindowEqualsTheClippedUnion) {
     std::vector<FT> areas;
     for (const PolygonWithHoles2& r : regions) areas.push_back(shadow::exact::region_area(r));
     EXPECT_EQ(got, 2 * CGAL::exact(shadow::exact::balanced_sum(areas))) << "round " << round;
-    std::vector<shadow::exact::BoundaryChain::Segment> a, b;
-    ASSERT_TRUE(in_window.canonical(a)) << "round " << round;
-    ASSERT_TRUE(by_clip.canonical(b)) << "round " << round;
-    ASSERT_EQ(a.size(), b.size()) << "round " << round;
-    for (std::size_t k = 0; k < a.size(); ++k)
-      EXPECT_TRUE(a[k].from.x == b[k].from.x && a[k].from.y == b[k].from.y && a[k].to.x == b[k].to.x &&
-                  a[k].to.y == b[k].to.y && a[k].left == b[k].left)
-          << "round " << round << " segment " << k;
+    expect_same_canonical(in_window, by_clip, "round " + std::to_string(round));
     const EQ window_twice = twice_area_of(qwindow);
     partial += got != 0 && got != window_twice;
   }
@@ -590,14 +595,7 @@ TEST(ExactUnionArea, TrianglesSharingEdgesMergeIntoTheSameUnion) {
       for (auto h = r.holes_begin(); h != r.holes_end(); ++h) add_reversed(*h);
     }
     EXPECT_EQ(got, 2 * CGAL::exact(shadow::exact::balanced_sum(areas))) << "round " << round;
-    std::vector<shadow::exact::BoundaryChain::Segment> a, b;
-    ASSERT_TRUE(chain.canonical(a)) << "round " << round;
-    ASSERT_TRUE(reference.canonical(b)) << "round " << round;
-    ASSERT_EQ(a.size(), b.size()) << "round " << round;
-    for (std::size_t s = 0; s < a.size(); ++s)
-      EXPECT_TRUE(a[s].from.x == b[s].from.x && a[s].from.y == b[s].from.y && a[s].to.x == b[s].to.x &&
-                  a[s].to.y == b[s].to.y && a[s].left == b[s].left)
-          << "round " << round << " segment " << s;
+    expect_same_canonical(chain, reference, "round " + std::to_string(round));
     if (polygons.size() >= ConvexUnionArea::kMergeFrom) {
       merged += u.counts().merged;
       rounds_merged += u.counts().merged > 0;
@@ -611,21 +609,27 @@ TEST(ExactUnionArea, TrianglesSharingEdgesMergeIntoTheSameUnion) {
 
 /// The engine with areas only (the route without a Boolean operation) against the engine with
 /// polygons (PolygonSet2::join, then the regions' areas): the same doubles, bit for bit.
-void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_t tile_casters) {
-  shadow::ShadowOptions areas, polygons;
-  areas.threads = polygons.threads = 2;
-  areas.polygons = false;
-  areas.tile_casters = polygons.tile_casters = tile_casters;
-  const shadow::ShadowResult a = shadow::compute_shadows(scene, areas);
-  const shadow::ShadowResult b = shadow::compute_shadows(scene, polygons);
-  ASSERT_EQ(a.lighting.size(), b.lighting.size());
+/// Every face's lit and shadow areas and lit fraction the same doubles in `a` and `b`; returns the
+/// number of partly shadowed receivers (where a union was measured).
+std::size_t expect_same_lighting(const shadow::ShadowResult& a, const shadow::ShadowResult& b) {
+  EXPECT_EQ(a.lighting.size(), b.lighting.size());
   std::size_t shadowed = 0;
-  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
+  for (std::size_t r = 0; r < a.lighting.size() && r < b.lighting.size(); ++r) {
     EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area) << "face " << a.lighting[r].face_id;
     EXPECT_EQ(a.lighting[r].shadow_area, b.lighting[r].shadow_area) << "face " << a.lighting[r].face_id;
     EXPECT_EQ(a.lighting[r].lit_fraction, b.lighting[r].lit_fraction) << "face " << a.lighting[r].face_id;
     shadowed += a.lighting[r].faces_light && a.lighting[r].shadow_area > 0 && a.lighting[r].lit_area > 0;
   }
+  return shadowed;
+}
+
+void expect_areas_route_equals_join_route(const shadow::Scene& scene, std::size_t tile_casters) {
+  shadow::ShadowOptions areas, polygons;
+  areas.threads = polygons.threads = 2;
+  areas.polygons = false;
+  areas.tile_casters = polygons.tile_casters = tile_casters;
+  const std::size_t shadowed =
+      expect_same_lighting(shadow::compute_shadows(scene, areas), shadow::compute_shadows(scene, polygons));
   EXPECT_GT(shadowed, 10u);  // partly shadowed receivers: the unions were exercised
 }
 
@@ -663,13 +667,7 @@ TEST(ExactUnionAreaInTheEngine, ClosedSolidsCastThroughTheirFacesTurnedToTheLigh
   options.polygons = false;
   const shadow::ShadowResult a = shadow::compute_shadows(solids, options);
   const shadow::ShadowResult b = shadow::compute_shadows(apart, options);
-  ASSERT_EQ(a.lighting.size(), b.lighting.size());
-  std::size_t shadowed = 0;
-  for (std::size_t r = 0; r < a.lighting.size(); ++r) {
-    EXPECT_EQ(a.lighting[r].lit_area, b.lighting[r].lit_area) << "face " << a.lighting[r].face_id;
-    EXPECT_EQ(a.lighting[r].shadow_area, b.lighting[r].shadow_area) << "face " << a.lighting[r].face_id;
-    shadowed += a.lighting[r].faces_light && a.lighting[r].shadow_area > 0 && a.lighting[r].lit_area > 0;
-  }
+  const std::size_t shadowed = expect_same_lighting(a, b);
   EXPECT_GT(shadowed, 40u);
   EXPECT_LT(a.stats.candidate_pairs, b.stats.candidate_pairs * 3 / 4);  // the faces turned away were dropped
 }

@@ -371,12 +371,12 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
     return f;
   };
   std::vector<char> open(n, 0);  // touches an edge that is not shared exactly twice, oppositely (bits 1, 2: below)
-  auto edge_group = [&](const EdgeUse* first, const EdgeUse* last) {
+  auto edge_group = [&](std::size_t u, const EdgeUse* first, const EdgeUse* last) {
     if (last - first == 2 && first[0].forward != first[1].forward) {
       parent[find(static_cast<std::size_t>(first[0].face))] = find(static_cast<std::size_t>(first[1].face));
     } else {
-      // 1: an edge of the part's border (used once); 2: used more often, or twice the same way.
-      const char kind = last - first == 1 ? 1 : 2;
+      // 1: a horizontal border edge (used once), as a cap's; 2: any other (a sloping border: no mesh built).
+      const char kind = last - first == 1 && vertex_position[u].z == vertex_position[static_cast<std::size_t>(first->v)].z ? 1 : 2;
       for (const EdgeUse* e = first; e != last; ++e) open[static_cast<std::size_t>(e->face)] |= kind;
     }
   };
@@ -394,7 +394,7 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
         ++b;
       }
       if (one_mesh) {
-        edge_group(a, b);
+        edge_group(u, a, b);
       } else {  // the edge in several meshes: one group per mesh, each in face order
         split.assign(a, b);
         std::stable_sort(split.begin(), split.end(),
@@ -402,7 +402,7 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
         for (std::size_t s = 0; s < split.size();) {
           std::size_t t = s + 1;
           while (t < split.size() && mesh_of(split[t]) == mesh_of(split[s])) ++t;
-          edge_group(split.data() + s, split.data() + t);
+          edge_group(u, split.data() + s, split.data() + t);
           s = t;
         }
       }

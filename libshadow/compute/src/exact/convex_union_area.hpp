@@ -207,7 +207,7 @@ class ConvexUnionArea {
         });
     if (merges == 0) return;
     counts_.merged = merges;
-    // The points in the merged polygons' order (equal intervals hash equal points alike).
+    // The points in the merged polygons' order.
     merged_pts_.clear();
     merged_ip_.clear();
     for (std::size_t v : merge_.order()) {

@@ -51,7 +51,9 @@ struct ClusterScratch {
   std::vector<std::pair<double, double>> across, covered;
   std::vector<std::vector<std::size_t>> near;
   std::vector<std::size_t> near_order, near_open;
-  // merge_shared_edges: a cluster's slots and the merge's own scratch; the merged polygons' boxes.
+  // merge_shared_edges: a cluster's points and slots and the merge's own scratch; the merged
+  // polygons' boxes.
+  std::vector<long long> merge_x, merge_y;
   std::vector<std::size_t> merge_next, merge_first;
   geometry::SharedEdgeMerge merge;
   std::vector<GridBox> merged_boxes;

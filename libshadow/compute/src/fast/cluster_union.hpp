@@ -300,6 +300,7 @@ struct ClusterUnionCounts {
   std::size_t singletons = 0;  ///< convex polygons measured without a union
   std::size_t boundaries = 0;  ///< clusters of convex polygons measured by their boundary
   std::size_t unions = 0;      ///< Clipper unions run (a cluster with a polygon that is not convex)
+  std::size_t merged = 0;      ///< clusters whose polygons merge_shared_edges united (some of them)
 };
 
 /// From this many convex polygons on, a cluster's polygons that share an edge run both ways are
@@ -312,34 +313,41 @@ inline constexpr std::size_t kMergeClusterFrom = 16;
 /// merged. The same point set, so the same exact union: only fewer edges to measure.
 inline bool merge_shared_edges(const ClipperLib::Paths& polygons, const std::vector<std::size_t>& members,
                                ClusterScratch& s, ClipperLib::Paths& out) {
-  std::vector<ClipperLib::IntPoint> points;
+  std::vector<long long>&xs = s.merge_x, &ys = s.merge_y;
+  xs.clear();
+  ys.clear();
   s.merge_first.assign(1, 0);
   s.merge_next.clear();
   for (std::size_t m : members) {
-    const std::size_t begin = points.size();
-    points.insert(points.end(), polygons[m].begin(), polygons[m].end());
-    for (std::size_t k = begin; k < points.size(); ++k) s.merge_next.push_back(k + 1 == points.size() ? begin : k + 1);
-    s.merge_first.push_back(points.size());
+    const std::size_t begin = xs.size();
+    for (const ClipperLib::IntPoint& p : polygons[m]) {
+      xs.push_back(p.X);
+      ys.push_back(p.Y);
+    }
+    for (std::size_t k = begin; k < xs.size(); ++k) s.merge_next.push_back(k + 1 == xs.size() ? begin : k + 1);
+    s.merge_first.push_back(xs.size());
   }
   using geometry::SharedEdgeMerge;
   const auto point_hash = [&](std::size_t v) {
-    return SharedEdgeMerge::point_hash(static_cast<double>(points[v].X), static_cast<double>(points[v].Y));
+    return SharedEdgeMerge::point_hash(static_cast<double>(xs[v]), static_cast<double>(ys[v]));
   };
   const std::size_t merges = s.merge.run(
       s.merge_next, s.merge_first,
       [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
-      [&](std::size_t a, std::size_t b) { return points[a].X == points[b].X && points[a].Y == points[b].Y; },
-      [&](std::size_t p, std::size_t q, std::size_t r) {
-        const ClusterInt128 ux = points[q].X - points[p].X, uy = points[q].Y - points[p].Y;
-        const ClusterInt128 vx = points[r].X - points[q].X, vy = points[r].Y - points[q].Y;
+      [&](std::size_t a, std::size_t b) { return xs[a] == xs[b] && ys[a] == ys[b]; },
+      [&](std::size_t p, std::size_t q, std::size_t r) {  // |coordinates| < 2^31: products in 128 bits
+        const ClusterInt128 ux = xs[q] - xs[p], uy = ys[q] - ys[p], vx = xs[r] - xs[q], vy = ys[r] - ys[q];
         const ClusterInt128 cross = ux * vy - uy * vx;
         return cross > 0 || (cross == 0 && ux * vx + uy * vy > 0);
       });
   if (merges == 0) return false;
-  out.assign(s.merge_first.size() - 1, ClipperLib::Path{});
+  const std::size_t count = s.merge_first.size() - 1;
+  out.resize(count);
   const std::vector<std::size_t>& order = s.merge.order();
-  for (std::size_t i = 0; i + 1 < s.merge_first.size(); ++i)
-    for (std::size_t k = s.merge_first[i]; k < s.merge_first[i + 1]; ++k) out[i].push_back(points[order[k]]);
+  for (std::size_t i = 0; i < count; ++i) {
+    out[i].clear();
+    for (std::size_t k = s.merge_first[i]; k < s.merge_first[i + 1]; ++k) out[i].push_back({xs[order[k]], ys[order[k]]});
+  }
   return true;
 }
 
@@ -357,7 +365,7 @@ struct ClusteredArea {
 /// other cluster goes through one Clipper union.
 /// `scratch`: the caller's reusable vectors (a fast-path worker's), or none (allocated here).
 /// `merge_shared`: merge a large cluster's casts along shared edges first (false when the
-/// caller knows none share one: the hulls of convex solids).
+/// caller expects none to: convex solids' hulls rarely share an edge, single faces' casts do).
 inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, double ax = 0, double ay = 1,
                                           ClusterUnionCounts* counts = nullptr, ClusterScratch* scratch = nullptr,
                                           bool merge_shared = true) {
@@ -412,6 +420,11 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
       const std::vector<GridBox>* boxes = &box;
       if (merge_shared && members.size() >= kMergeClusterFrom &&
           fast::merge_shared_edges(polygons, members, s, merged)) {
+        if (counts) ++counts->merged;
+        if (merged.size() == 1) {  // one convex polygon: its shoelace area, exactly
+          out.exact2 += twice_area(merged[0]);
+          continue;
+        }
         measured = &merged;
         s.merged_boxes.resize(merged.size());
         for (std::size_t p = 0; p < merged.size(); ++p) s.merged_boxes[p] = grid_box(merged[p]);

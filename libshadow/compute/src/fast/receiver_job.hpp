@@ -411,7 +411,7 @@ class ReceiverJob {
   // The casts and the bound.
   CL::Paths casts_, maybe_;  // maybe_: footprints of nearly coplanar casters
   bool covered_ = false;      // a cast covers the whole box or convex outline (areas only): the shadow is it
-  std::size_t face_casts_ = 0;  // casts added by cast_face: only those share edges (a solid casts one hull)
+  std::size_t face_casts_ = 0;  // casts added by cast_face: those share edges (solids' hulls rarely do)
   LitAreaBound bound_;
   double cast_length_ = 0;  // total perimeter of the grid polygons given to Clipper
   bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine

@@ -46,8 +46,8 @@ class SharedEdgeMerge {
       }
     root_.resize(polygons);
     std::iota(root_.begin(), root_.end(), std::size_t{0});
-    // Every edge hashed by its ends' intervals (equal points have equal intervals; a rare
-    // collision is told apart by `equal`), under the slot that carried it then.
+    // Every edge hashed by edge_hash (a collision is told apart by `equal`), under the slot
+    // that carried it then.
     std::size_t size = 16;
     while (size < 2 * n) size *= 2;
     const std::size_t mask = size - 1;
