@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Random scenes for property tests and similarity transforms (builders: shadow/generators.hpp).
+// Scenes for tests: random ones for property tests, similarity transforms, a furnace room, an
+// L-shaped prism (more builders: shadow/generators.hpp).
 #pragma once
 
 #include <shadow/generators.hpp>
