@@ -12,6 +12,8 @@
 // on a road merges into a few large pieces.
 #pragma once
 
+#include "geometry/point_hash.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -108,23 +110,16 @@ class SharedEdgeMerge {
     std::uint64_t a, b;
     std::memcpy(&a, &x, sizeof a);
     std::memcpy(&b, &y, sizeof b);
-    return mix(a ^ mix(b));
+    return mix64(a ^ mix64(b + 0x9E3779B97F4A7C15ull));
   }
   /// An edge's hash from its ends' point hashes (not symmetric: the edge b -> a hashes apart).
   static std::uint64_t edge_hash_of(std::uint64_t from, std::uint64_t to) {
-    return mix(from * 0x9E3779B97F4A7C15ull + to);
+    return mix64(from * 0x9E3779B97F4A7C15ull + to);
   }
 
  private:
   static constexpr std::size_t kEmpty = static_cast<std::size_t>(-1);
 
-  /// SplitMix64's finaliser: every input bit reaches every output bit.
-  static std::uint64_t mix(std::uint64_t z) {
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
 
   std::size_t root(std::size_t i) {
     while (root_[i] != i) i = root_[i] = root_[root_[i]];
