@@ -727,6 +727,41 @@ TEST(ExactUnionAreaInTheEngine, TurnedCityOnTurnedAndLShapedChartsEqualsTheJoin)
 // Comb-shaped receivers (turned, so that neither is a box) with few and with many convex pieces
 // (12 teeth: within kMaxChartPiecesToClip, clipped piece by piece; 60 teeth: beyond it, the
 // join), under boxes whose shadows span several teeth: every area as the polygons route gives it.
+/// A triangulated terrain (a TIN of gently jittered heights) under low suns: each triangle
+/// receives the casts of its neighbours, which share edges run both ways and are merged before
+/// the union is measured (geometry/shared_edge_merge.hpp), with an L-shaped building and a
+/// capped one (closed solids) on it. The areas-only route equals the polygons route (the join,
+/// which merges nothing) bit for bit.
+TEST(ExactUnionAreaInTheEngine, TriangulatedTerrainWithMergedCastsEqualsTheJoin) {
+  std::mt19937 rng(2026113023);
+  std::uniform_real_distribution<double> height(0.0, 0.75);
+  constexpr int kCells = 14;
+  std::vector<std::vector<double>> z(kCells + 1, std::vector<double>(kCells + 1));
+  for (auto& row : z)
+    for (double& h : row) h = std::round(height(rng) * 64) / 64;  // dyadic: exactly planar triangles
+  std::vector<shadow::Polygon3> terrain;
+  auto p = [&](int i, int j) { return glm::dvec3(2.0 * i, 2.0 * j, z[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)]); };
+  for (int i = 0; i < kCells; ++i)
+    for (int j = 0; j < kCells; ++j) {
+      if ((i + 2 * j) % 3 == 0) {
+        terrain.push_back({p(i, j), p(i + 1, j), p(i + 1, j + 1)});
+        terrain.push_back({p(i, j), p(i + 1, j + 1), p(i, j + 1)});
+      } else {
+        terrain.push_back({p(i, j), p(i + 1, j), p(i, j + 1)});
+        terrain.push_back({p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)});
+      }
+    }
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "terrain", terrain);
+  shadow::add_mesh(scene, "building", shadow::test::l_prism_triangles({8, 9, 0.75}, 6, true));
+  shadow::add_mesh(scene, "capped", shadow::test::l_prism_triangles({17, 6, 0.75}, 4, false));
+  scene.lights.push_back(shadow::directional_light("low", shadow::sun_direction(4, 200)));
+  scene.lights.push_back(shadow::directional_light("grazing", shadow::sun_direction(2, 75)));
+  scene.lights.push_back(shadow::directional_light("afternoon", shadow::sun_direction(14, 250)));
+  shadow::validate_scene(scene);
+  expect_areas_route_equals_join_route(scene, 0);
+}
+
 TEST(ExactUnionAreaInTheEngine, CombReceiversUnderBoxesEqualTheJoin) {
   shadow::Scene scene;
   shadow::add_mesh(scene, "small comb", {shadow::comb_polygon(12, 0)});
