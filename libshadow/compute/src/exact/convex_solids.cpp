@@ -231,13 +231,13 @@ bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, cons
 /// part gives +2 or -2, valid under a light above every cap, and 0 when some cap faces up from
 /// the solid. Shown with CGAL's exact predicates on a surface mesh of the part and its caps:
 /// every face added and a valid mesh (a manifold surface: no pinched vertex), closed,
-/// triangulated where a face is not a triangle,
-/// no two triangles meeting but at their shared edges and vertices (a degenerate triangle counts
-/// as meeting itself; the triangulation itself projects with an approximate normal, and a fold it
-/// might make is such a meeting), and then oriented. An embedded closed surface bounds its inside once, so
-/// a ray from any point outside or inside it that crosses it going in leaves it again before
-/// the light: why the faces turned away from the light may be dropped (and the caps, turned
-/// away from a light above them, were never there to cast).
+/// triangulated where a face is not a triangle, no two triangles meeting but at their shared
+/// edges and vertices (a degenerate triangle counts as meeting itself; the triangulation
+/// projects with an approximate normal, and a fold it might make is such a meeting), and then
+/// oriented. An embedded closed surface bounds its inside once, so a ray from any point outside
+/// or inside it that crosses it going in leaves it again before the light: why the faces
+/// turned away from the light may be dropped (and the caps, turned away from a light above
+/// them, were never there to cast).
 template <class FaceVertex, class FaceSize>
 int closed_part_orientation(const std::size_t* faces, std::size_t face_count, const FaceVertex& face_vertex,
                             const FaceSize& face_size, const std::vector<glm::dvec3>& vertex_position,

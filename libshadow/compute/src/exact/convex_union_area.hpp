@@ -199,12 +199,7 @@ class ConvexUnionArea {
         nxt_, first_,
         [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
         [&](std::size_t a, std::size_t b) { return equal(a, b); },
-        [&](std::size_t p, std::size_t q, std::size_t r) {
-          const CGAL::Sign o = turn(p, q, r);
-          if (o != CGAL::ZERO) return o == CGAL::POSITIVE;
-          return dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) ==
-                 CGAL::POSITIVE;
-        });
+        [&](std::size_t p, std::size_t q, std::size_t r) { return left_or_straight(p, q, r); });
     if (merges == 0) return;
     counts_.merged = merges;
     // The points in the merged polygons' order.
@@ -217,16 +212,19 @@ class ConvexUnionArea {
     pts_.swap(merged_pts_);
     ip_.swap(merged_ip_);
     box_.clear();
-    for (std::size_t i = 0; i + 1 < first_.size(); ++i) {
-      Box b{ip_[first_[i]].x.inf(), ip_[first_[i]].y.inf(), ip_[first_[i]].x.sup(), ip_[first_[i]].y.sup()};
-      for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) {
-        b.x0 = std::min(b.x0, ip_[v].x.inf());
-        b.y0 = std::min(b.y0, ip_[v].y.inf());
-        b.x1 = std::max(b.x1, ip_[v].x.sup());
-        b.y1 = std::max(b.y1, ip_[v].y.sup());
-      }
-      box_.push_back(b);
+    for (std::size_t i = 0; i + 1 < first_.size(); ++i) box_.push_back(ring_box(first_[i], first_[i + 1]));
+  }
+
+  /// The bounding box of vertices [begin, end) (their intervals).
+  Box ring_box(std::size_t begin, std::size_t end) const {
+    Box b{ip_[begin].x.inf(), ip_[begin].y.inf(), ip_[begin].x.sup(), ip_[begin].y.sup()};
+    for (std::size_t v = begin + 1; v < end; ++v) {
+      b.x0 = std::min(b.x0, ip_[v].x.inf());
+      b.y0 = std::min(b.y0, ip_[v].y.inf());
+      b.x1 = std::max(b.x1, ip_[v].x.sup());
+      b.y1 = std::max(b.y1, ip_[v].y.sup());
     }
+    return b;
   }
 
   /// Appends a polygon's n vertices (repeats dropped) with their next vertices, and sets its
@@ -246,14 +244,8 @@ class ConvexUnionArea {
       ip_.pop_back();
     }
     if (!convex(start, pts_.size())) return false;
-    b = Box{ip_[start].x.inf(), ip_[start].y.inf(), ip_[start].x.sup(), ip_[start].y.sup()};
-    for (std::size_t v = start; v < pts_.size(); ++v) {
-      nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
-      b.x0 = std::min(b.x0, ip_[v].x.inf());
-      b.y0 = std::min(b.y0, ip_[v].y.inf());
-      b.x1 = std::max(b.x1, ip_[v].x.sup());
-      b.y1 = std::max(b.y1, ip_[v].y.sup());
-    }
+    for (std::size_t v = start; v < pts_.size(); ++v) nxt_.push_back(v + 1 == pts_.size() ? start : v + 1);
+    b = ring_box(start, pts_.size());
     return true;
   }
 
@@ -271,6 +263,15 @@ class ConvexUnionArea {
     return orientation<false>(*pts_[a], ip_[a], *pts_[b], ip_[b], *pts_[c], ip_[c], scratch_);
   }
 
+  /// Whether p -> q -> r turns to the left or goes straight on (not back): convexity and the
+  /// merge's junctions. Under a rounding guard, as turn.
+  bool left_or_straight(std::size_t p, std::size_t q, std::size_t r) {
+    const CGAL::Sign o = turn(p, q, r);
+    if (o != CGAL::ZERO) return o == CGAL::POSITIVE;
+    return dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) ==
+           CGAL::POSITIVE;
+  }
+
   /// Whether vertices [a, b) (no two consecutive equal) make a convex polygon that winds once:
   /// every turn to the left or straight on, and the sign of dx changes at most twice around it
   /// (a pentagram turns left everywhere but winds twice). Exact predicates.
@@ -280,11 +281,7 @@ class ConvexUnionArea {
     int changes = 0, last = 0, first = 0;
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t p = a + k, q = a + (k + 1) % n, r = a + (k + 2) % n;
-      const CGAL::Sign o = turn(p, q, r);
-      if (o == CGAL::NEGATIVE) return false;
-      if (o == CGAL::ZERO && dot_sign<false>(*pts_[p], ip_[p], *pts_[q], ip_[q], *pts_[q], ip_[q], *pts_[r], ip_[r], scratch_) !=
-                                 CGAL::POSITIVE)
-        return false;  // a spike back
+      if (!left_or_straight(p, q, r)) return false;  // a right turn, or a spike back
       const int sign = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);
       if (sign != 0) {
         if (first == 0) first = sign;

@@ -51,6 +51,13 @@ inline ClusterInt128 twice_area(const ClipperLib::Path& path) {
   return sum;
 }
 
+/// Whether the turn from direction (ux, uy) to (vx, vy) is to the left or straight on (not back,
+/// and neither is zero): exact for grid coordinates (|coordinates| < 2^31, products in 128 bits).
+inline bool left_or_straight(ClusterInt128 ux, ClusterInt128 uy, ClusterInt128 vx, ClusterInt128 vy) {
+  const ClusterInt128 cross = ux * vy - uy * vx;
+  return cross > 0 || (cross == 0 && ux * vx + uy * vy > 0);
+}
+
 /// Whether a grid polygon is convex and counter-clockwise with positive area, so that its
 /// non-zero-fill region is its shoelace area. Every turn is to the left (or straight on, going
 /// the same way), and the x direction changes sign at most twice around it: each full turn of
@@ -65,9 +72,7 @@ inline bool is_convex_ccw(const ClipperLib::Path& path) {
     const ClipperLib::IntPoint& q = path[geometry::cyclic_next(a, n)];
     const ClipperLib::IntPoint& r = path[geometry::cyclic_next(geometry::cyclic_next(a, n), n)];
     const ClusterInt128 ux = q.X - p.X, uy = q.Y - p.Y, vx = r.X - q.X, vy = r.Y - q.Y;
-    const ClusterInt128 cross = ux * vy - uy * vx;
-    if (cross < 0) return false;
-    if (cross == 0 && ux * vx + uy * vy <= 0) return false;  // a spike back, or a repeated point
+    if (!left_or_straight(ux, uy, vx, vy)) return false;  // a right turn, a spike back, or a repeated point
     const int sign = ux > 0 ? 1 : ux < 0 ? -1 : 0;
     if (sign != 0) {
       if (first_sign == 0) first_sign = sign;
@@ -335,10 +340,8 @@ inline bool merge_shared_edges(const ClipperLib::Paths& polygons, const std::vec
       s.merge_next, s.merge_first,
       [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
       [&](std::size_t a, std::size_t b) { return xs[a] == xs[b] && ys[a] == ys[b]; },
-      [&](std::size_t p, std::size_t q, std::size_t r) {  // |coordinates| < 2^31: products in 128 bits
-        const ClusterInt128 ux = xs[q] - xs[p], uy = ys[q] - ys[p], vx = xs[r] - xs[q], vy = ys[r] - ys[q];
-        const ClusterInt128 cross = ux * vy - uy * vx;
-        return cross > 0 || (cross == 0 && ux * vx + uy * vy > 0);
+      [&](std::size_t p, std::size_t q, std::size_t r) {
+        return left_or_straight(xs[q] - xs[p], ys[q] - ys[p], xs[r] - xs[q], ys[r] - ys[q]);
       });
   if (merges == 0) return false;
   const std::size_t count = s.merge_first.size() - 1;
