@@ -600,8 +600,8 @@ TEST(FindConvexSolids, VertexIdsAreTheSameOnEveryThreadCount) {
     if (!prep[f].degenerate && prep[f].exactly_planar) corners += city.faces[f].vertices.size();
   }
   ASSERT_GE(corners, shadow::exact::kParallelNumberingCorners);
-  std::vector<int> one(corners), many(corners);
-  std::vector<glm::dvec3> one_position, many_position;
+  shadow::runtime::UninitVector<int> one(corners), many(corners);
+  shadow::runtime::UninitVector<glm::dvec3> one_position, many_position;
   shadow::exact::number_vertices(city, prep, one, one_position, 1);
   // Ids in order of first use: each corner's id is at most one more than every id before it.
   int next = 0;

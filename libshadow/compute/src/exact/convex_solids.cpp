@@ -53,8 +53,9 @@ bool takes_part(const core::FacePrep& p) { return !p.degenerate && p.exactly_pla
 
 }  // namespace
 
-void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep, std::vector<int>& corner_vertex,
-                     std::vector<glm::dvec3>& vertex_position, unsigned threads) {
+void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep,
+                     runtime::UninitVector<int>& corner_vertex, runtime::UninitVector<glm::dvec3>& vertex_position,
+                     unsigned threads) {
   const std::size_t n = scene.faces.size();
   const std::size_t corners = corner_vertex.size();
   vertex_position.clear();
@@ -90,8 +91,10 @@ void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep
   std::vector<std::size_t> face_corner(n + 1, 0);
   for (std::size_t f = 0; f < n; ++f)
     face_corner[f + 1] = face_corner[f] + (takes_part(prep[f]) ? scene.faces[f].vertices.size() : 0);
-  std::vector<glm::dvec3> position(corners);
-  std::vector<std::uint64_t> hash(corners);
+  // The arrays by corner are written in full by the parallel loops (UninitVector: their pages
+  // first touched there, not zeroed here beforehand).
+  runtime::UninitVector<glm::dvec3> position(corners);
+  runtime::UninitVector<std::uint64_t> hash(corners);
   runtime::parallel_for_blocks(n, kFaceBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       if (!takes_part(prep[f])) continue;
@@ -125,12 +128,12 @@ void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep
     }
     shard_start[kShards] = at;
   }
-  std::vector<std::uint32_t> in_shard(corners);
+  runtime::UninitVector<std::uint32_t> in_shard(corners);
   runtime::parallel_for_blocks(corners, kCornerBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
     for (std::size_t c = begin; c < end; ++c) in_shard[count[b * kShards + shard_of(c)]++] = static_cast<std::uint32_t>(c);
   });
   // first[c]: the first corner with c's coordinates.
-  std::vector<std::uint32_t> first(corners);
+  runtime::UninitVector<std::uint32_t> first(corners);
   runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const std::size_t begin = shard_start[s], end = shard_start[s + 1];
     std::size_t size = 16;
@@ -179,7 +182,7 @@ namespace {
 template <class FaceVertex, class FaceSize>
 bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, const std::size_t* faces,
                std::size_t face_count, const FaceVertex& face_vertex, const FaceSize& face_size,
-               const std::vector<glm::dvec3>& vertex_position, std::vector<int>& local, std::vector<int>& ids,
+               const runtime::UninitVector<glm::dvec3>& vertex_position, std::vector<int>& local, std::vector<int>& ids,
                std::vector<std::pair<int, int>>& edges, core::ConvexSolid& solid) {
   using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
   ids.clear();
@@ -240,7 +243,7 @@ bool test_part(const Scene& scene, const std::vector<core::FacePrep>& prep, cons
 /// them, were never there to cast).
 template <class FaceVertex, class FaceSize>
 int closed_part_orientation(const std::size_t* faces, std::size_t face_count, const FaceVertex& face_vertex,
-                            const FaceSize& face_size, const std::vector<glm::dvec3>& vertex_position,
+                            const FaceSize& face_size, const runtime::UninitVector<glm::dvec3>& vertex_position,
                             std::vector<int>& local, std::vector<int>& ids) {
   using EK = CGAL::Exact_predicates_inexact_constructions_kernel;
   using Mesh = CGAL::Surface_mesh<EK::Point_3>;
@@ -341,8 +344,8 @@ std::vector<core::ConvexSolid> find_convex_solids(const Scene& scene, const std:
   solid_of.assign(n, -1);
 
   // Vertex ids by exact coordinates, numbered in order of first use.
-  std::vector<int> corner_vertex(corners);
-  std::vector<glm::dvec3> vertex_position;
+  runtime::UninitVector<int> corner_vertex(corners);  // (every corner's id written by number_vertices)
+  runtime::UninitVector<glm::dvec3> vertex_position;
   number_vertices(scene, prep, corner_vertex, vertex_position, threads);
   const std::size_t vertex_count = vertex_position.size();
   auto face_vertex = [&](std::size_t f, std::size_t a) { return corner_vertex[corner_start[f] + a]; };

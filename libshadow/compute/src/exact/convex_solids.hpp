@@ -5,6 +5,7 @@
 
 #include "core/convex_solid.hpp"
 #include "core/face_prep.hpp"
+#include "runtime/uninit_vector.hpp"
 
 #include <shadow/scene.hpp>
 
@@ -42,8 +43,9 @@ inline constexpr std::size_t kParallelNumberingCorners = 4096;
 /// their corners) gets each corner's id, faces in order; `vertex_position` each id's position.
 /// On `threads` threads (0: every hardware thread) from kParallelNumberingCorners corners on,
 /// with the same ids for any count.
-void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep, std::vector<int>& corner_vertex,
-                     std::vector<glm::dvec3>& vertex_position, unsigned threads);
+void number_vertices(const Scene& scene, const std::vector<core::FacePrep>& prep,
+                     runtime::UninitVector<int>& corner_vertex, runtime::UninitVector<glm::dvec3>& vertex_position,
+                     unsigned threads);
 
 /// The previous implementation (ordered maps, one thread), kept as the reference that tests
 /// and shadow-bench compare find_convex_solids with: the same solids in the same order.

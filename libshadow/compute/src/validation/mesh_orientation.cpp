@@ -5,6 +5,7 @@
 #include "validation/mesh_orientation.hpp"
 
 #include "runtime/parallel.hpp"
+#include "runtime/uninit_vector.hpp"
 #include "geometry/point_hash.hpp"
 
 #include <algorithm>
@@ -68,8 +69,8 @@ constexpr std::size_t kShards = 256;
 /// out[start[s], start[s + 1]). Reading the inputs in order and writing each shard's items one
 /// after the other keeps the memory traffic sequential.
 template <class T, class ShardOf, class Make>
-void scatter_by_shard(std::size_t n, unsigned threads, const ShardOf& shard_of, const Make& make, std::vector<T>& out,
-                      std::vector<std::size_t>& start) {
+void scatter_by_shard(std::size_t n, unsigned threads, const ShardOf& shard_of, const Make& make,
+                      runtime::UninitVector<T>& out, std::vector<std::size_t>& start) {
   constexpr std::size_t kBlock = std::size_t{1} << 16;
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::size_t> at(blocks * kShards, 0);
@@ -126,10 +127,12 @@ using geometry::point_hash;  // -0.0 hashed as 0.0, as == compares them
 /// edge keyed by its two end points' numbers, the uses scattered into shards by their key's hash
 /// and grouped in each shard (a table of its keys). Neither the order of the groups nor the
 /// order within a group is the serial sort's; the part search below does not depend on them.
-std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std::size_t>& faces, std::size_t corners,
-                                       unsigned threads) {
+runtime::UninitVector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std::size_t>& faces,
+                                                 std::size_t corners, unsigned threads) {
+  // Every array sized by the corners is written in full by a parallel loop: UninitVector, so
+  // that their pages are first touched there and not zeroed on this thread beforehand.
   std::vector<std::size_t> offset(faces.size() + 1, 0);  // each face's first corner
-  std::vector<std::uint32_t> face_of(corners);
+  runtime::UninitVector<std::uint32_t> face_of(corners);
   for (std::size_t i = 0; i < faces.size(); ++i) offset[i + 1] = offset[i] + scene.faces[faces[i]].vertices.size();
   constexpr std::size_t kFaceBlock = 4096;
   runtime::parallel_for_blocks(faces.size(), kFaceBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
@@ -145,10 +148,10 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
     glm::dvec3 p;
     std::uint32_t corner, hash;  // the hash's low bits: the slot in the shard's table
   };
-  std::vector<Corner> by_shard;
+  runtime::UninitVector<Corner> by_shard;
   std::vector<std::size_t> start;
   {
-    std::vector<std::uint64_t> hash(corners);
+    runtime::UninitVector<std::uint64_t> hash(corners);
     runtime::parallel_for_blocks(corners, std::size_t{1} << 16, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t c = begin; c < end; ++c) hash[c] = point_hash(point(c));
     });
@@ -158,7 +161,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
         by_shard, start);
   }
   // Vertex numbers: within a shard by first use (number_by_first_use), then offset by the shards before it.
-  std::vector<std::uint32_t> local(corners);  // by shard order: the corner's number in its shard
+  runtime::UninitVector<std::uint32_t> local(corners);  // by shard order: the corner's number in its shard
   std::vector<std::size_t> distinct(kShards + 1, 0);
   runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const Corner* c = by_shard.data() + start[s];
@@ -172,7 +175,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
     distinct[s] = base;
     base += n;
   }
-  std::vector<std::uint32_t> vertex(corners);  // by corner: its point's number
+  runtime::UninitVector<std::uint32_t> vertex(corners);  // by corner: its point's number
   runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const auto shift = static_cast<std::uint32_t>(distinct[s]);
     for (std::size_t k = start[s]; k < start[s + 1]; ++k) vertex[by_shard[k].corner] = local[k] + shift;
@@ -186,7 +189,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
     const bool forward = p < q;
     return EdgeUse{forward ? (p << 32 | q) : (q << 32 | p), static_cast<std::uint32_t>(i), forward};
   };
-  std::vector<EdgeUse> uses;
+  runtime::UninitVector<EdgeUse> uses;
   scatter_by_shard(
       corners, threads, [&](std::size_t c) { return static_cast<std::size_t>(mix64(use(c).key) >> 56); }, use, uses,
       start);
@@ -194,7 +197,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
   face_of = {};
   // Within a shard, the uses of one edge made adjacent: each key's group numbered by first use
   // (number_by_first_use), then the uses placed group after group.
-  std::vector<EdgeUse> grouped(corners);
+  runtime::UninitVector<EdgeUse> grouped(corners);
   runtime::parallel_for(kShards, threads, [&](unsigned, std::size_t s) {
     const std::size_t n = start[s + 1] - start[s];
     const EdgeUse* u = uses.data() + start[s];
@@ -217,7 +220,7 @@ std::vector<EdgeUse> grouped_edge_uses(const Scene& scene, const std::vector<std
 
 /// The uses of the edges of `faces`, sorted by their end points' coordinates, one thread: the
 /// serial reference (validate_scene_reference) of grouped_edge_uses. Keys are the group numbers.
-std::vector<EdgeUse> sorted_edge_uses(const Scene& scene, const std::vector<std::size_t>& faces) {
+runtime::UninitVector<EdgeUse> sorted_edge_uses(const Scene& scene, const std::vector<std::size_t>& faces) {
   struct CoordinateUse {
     EdgeKey key;
     bool forward;
@@ -234,7 +237,7 @@ std::vector<EdgeUse> sorted_edge_uses(const Scene& scene, const std::vector<std:
     }
   }
   std::sort(uses.begin(), uses.end(), [](const CoordinateUse& x, const CoordinateUse& y) { return x.key < y.key; });
-  std::vector<EdgeUse> edges;
+  runtime::UninitVector<EdgeUse> edges;
   edges.reserve(uses.size());
   std::uint64_t group = 0;
   for (std::size_t i = 0; i < uses.size(); ++i) {
@@ -373,7 +376,7 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   // cost more than the sort) and beyond 2^32 corners (vertex numbers and face indices would not
   // fit); else the parallel grouping.
   const bool grouped = !reference && faces.size() >= kLargeMesh && corners < (std::size_t{1} << 32);
-  const std::vector<EdgeUse> edges =
+  const runtime::UninitVector<EdgeUse> edges =
       grouped ? grouped_edge_uses(scene, faces, corners, threads) : sorted_edge_uses(scene, faces);
   const std::size_t n = faces.size();
   std::vector<std::size_t> parent(n);
