@@ -293,14 +293,16 @@ namespace {
 /// The faces array's entries, `group_start` giving each face's first entry (then
 /// entries.size()): made on every thread (a million faces: most of the report's time), a window
 /// of blocks at a time so that the text held stays small, and written in face order: the same
-/// bytes whatever the thread count. From two threads on, one thread writes a window while the
-/// others make the next (a million faces' 560 MB of text took about as long to write as to make
-/// on one thread); two windows of text are held, the one made and the one written.
+/// bytes whatever the thread count. From two threads on, a writer thread writes a window while
+/// every thread of the run makes the next; two windows of text are held, the one made and the
+/// one written. (The writer was once one of the run's threads, leaving a single maker on two:
+/// a million faces' 560 MB of text took 0.5 s to make while the writer, mostly the kernel's
+/// copy into the page cache, sat nearly idle.)
 void write_face_entries(std::ostream& out, const Scene& scene, const std::vector<const FaceLighting*>& entries,
                         const std::vector<std::size_t>& group_start, bool fast, unsigned requested_threads) {
   const std::size_t receiving_faces = group_start.size() - 1;
   const unsigned threads = runtime::resolve_threads(requested_threads);
-  const unsigned makers = threads > 1 ? threads - 1 : 1;
+  const unsigned makers = threads;
   const EntryNames names(scene, scene.lights.size());
   constexpr std::size_t kFacesPerBlock = 1024;
   const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
