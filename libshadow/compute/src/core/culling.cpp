@@ -39,12 +39,15 @@ SceneFrame scene_frame(const Scene& scene, unsigned threads) {
 
 namespace {
 
-/// Face f of `cull` (its `first` and `count` already set): its vertices in the local frame, its
-/// unit normal with an error bound, its plane offset and, for a face that is not exactly planar,
-/// its slack.
-void describe_face(const Scene& scene, const std::vector<FacePrep>& prep, std::size_t f, CullScene& cull) {
+/// Face f of `cull`, its vertices starting at `first` in cull.vertices: every field of it set (its
+/// range, its unit normal with an error bound, its plane offset and, for a face that is not
+/// exactly planar, its slack) and its vertices written in the local frame.
+void describe_face(const Scene& scene, const std::vector<FacePrep>& prep, std::size_t f, std::size_t first,
+                   CullScene& cull) {
   CullFace& cf = cull.faces[f];
   const std::vector<glm::dvec3>& vertices = scene.faces[f].vertices;
+  // A degenerate face (or one whose normal is lost) keeps these: no normal, direction unknown.
+  cf = CullFace{first, vertices.size(), glm::dvec3(0.0), 2.0, 0.0, 0.0};
   for (std::size_t a = 0; a < cf.count; ++a) cull.vertices[cf.first + a] = vertices[a] - cull.origin;
   // Newell's normal relative to the face's own first vertex: relative to the scene's centre a
   // small face far from it would lose its normal's direction to cancellation. `bound` sums the
@@ -93,17 +96,26 @@ CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep,
   cull.origin = frame.centre;
   cull.diameter = frame.diagonal;
   const std::size_t n = scene.faces.size();
+  // Blocks of faces as work items (one face is a few hundred nanoseconds): each block's vertex
+  // count, the blocks' first vertices, then every face described (every field of it and of its
+  // vertices written) on the thread of its block.
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::size_t> block_first(blocks + 1, 0);
+  runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t count = 0;
+    for (std::size_t f = begin; f < end; ++f) count += scene.faces[f].vertices.size();
+    block_first[b + 1] = count;
+  });
+  for (std::size_t b = 0; b < blocks; ++b) block_first[b + 1] += block_first[b];
   cull.faces.resize(n);
-  std::size_t vertex_count = 0;
-  for (std::size_t f = 0; f < n; ++f) {
-    cull.faces[f].first = vertex_count;
-    cull.faces[f].count = scene.faces[f].vertices.size();
-    vertex_count += cull.faces[f].count;
-  }
-  cull.vertices.resize(vertex_count);
-  // Blocks of faces as work items: one face is a few hundred nanoseconds.
-  runtime::parallel_for_blocks(n, 4096, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t f = begin; f < end; ++f) describe_face(scene, prep, f, cull);
+  cull.vertices.resize(block_first[blocks]);
+  runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t first = block_first[b];
+    for (std::size_t f = begin; f < end; ++f) {
+      describe_face(scene, prep, f, first, cull);
+      first += scene.faces[f].vertices.size();
+    }
   });
   return cull;
 }

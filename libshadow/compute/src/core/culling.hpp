@@ -8,6 +8,7 @@
 #include "geometry/unit_vector.hpp"
 #include "core/face_prep.hpp"
 #include "runtime/parallel.hpp"
+#include "runtime/uninit_vector.hpp"
 
 #include <shadow/scene.hpp>
 
@@ -23,24 +24,28 @@
 
 namespace shadow::core {
 
-/// A face in a local frame (scene centre subtracted) with a unit normal, for culling.
+/// A face in a local frame (scene centre subtracted) with a unit normal, for culling. Plain
+/// data without defaults: make_cull_scene sets every field of every face on the thread of its
+/// block, so that a million faces' 64 MB are not first written (zeroed) on one thread before.
 struct CullFace {
-  std::size_t first = 0, count = 0;  ///< range in CullScene::vertices
-  glm::dvec3 normal{0.0};            ///< unit normal (front side)
+  std::size_t first, count;  ///< range in CullScene::vertices
+  glm::dvec3 normal;         ///< unit normal (front side); 0 for a degenerate face
   /// Rigorous bound on |normal - the exact unit Newell normal| (up to 2: direction unknown).
   /// Large for thin faces, whose rounded edge vectors lose the normal's direction.
-  double normal_error = 2.0;
-  double offset = 0.0;               ///< plane: normal . p + offset = 0 (local frame)
+  double normal_error;
+  double offset;  ///< plane: normal . p + offset = 0 (local frame)
   /// How far the exact engine may move a vertex of this face: faces that are planar only within
   /// tolerance are lifted onto their exact plane; culling must allow for it. 0 if exactly planar.
-  double slack = 0.0;
+  double slack;
 };
 
 struct CullScene {
   glm::dvec3 origin{0.0};
   double diameter = 1.0;
-  std::vector<glm::dvec3> vertices;  ///< local frame
-  std::vector<CullFace> faces;
+  /// The faces' vertices in the local frame, and the faces. Filled on every thread by
+  /// make_cull_scene (UninitVector: their pages first touched there).
+  runtime::UninitVector<glm::dvec3> vertices;
+  runtime::UninitVector<CullFace> faces;
   /// Per face, when some face is on a closed solid that is not convex (else empty): +1 when its
   /// normal points out of the solid, -1 when into it, +2 and -2 the same on a solid closed by
   /// horizontal caps facing down (walls and roofs without a floor: valid under a light above
@@ -78,7 +83,8 @@ class LightSpaceGrid {
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
     const std::size_t n = scene.faces.size();
-    boxes_.assign(n, Box{});
+    boxes_.clear();
+    boxes_.resize(n);  // uninitialised: each written below, on the thread of its block
     // Boxes by blocks of faces; each block's union, then the blocks' (min and max: exact, so
     // the same box in any order).
     constexpr std::size_t kBlock = 8192;
@@ -87,7 +93,10 @@ class LightSpaceGrid {
     std::vector<char> block_any(blocks, 0);
     runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f) {
-        if (prep[f].degenerate) continue;
+        if (prep[f].degenerate) {
+          boxes_[f] = Box{};
+          continue;
+        }
         boxes_[f] = box_of(scene, scene.faces[f]);
         block_box[b] = block_any[b] ? merge(block_box[b], boxes_[f]) : boxes_[f];
         block_any[b] = 1;
@@ -374,15 +383,18 @@ class LightSpaceGrid {
   }
 
   glm::dvec3 u_{0.0}, v_{0.0};
-  std::vector<Box> boxes_;
+  // The arrays by face and by entry are filled on every thread: UninitVector, so that their pages
+  // are first touched there rather than zeroed on the calling thread before (a million faces:
+  // some 70 MB).
+  runtime::UninitVector<Box> boxes_;
   std::array<double, 2> origin_{0, 0};
   double margin_ = 0;
   CellLayout counting_;  ///< home_'s cells, for count()
   CellLayout cells_;     ///< the entries' cells, for queries
   std::vector<std::uint32_t> start_;
-  std::vector<std::uint32_t> entries_;  ///< items, by cell
-  std::vector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
-  std::vector<std::uint32_t> entry_first_;  ///< the items' first cells (first_cell), in entries_' order
+  runtime::UninitVector<std::uint32_t> entries_;  ///< items, by cell
+  runtime::UninitVector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
+  runtime::UninitVector<std::uint32_t> entry_first_;  ///< the items' first cells (first_cell), in entries_' order
   std::vector<std::uint32_t> item_start_, item_faces_;  ///< each item's faces (compressed rows)
   std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
 };
