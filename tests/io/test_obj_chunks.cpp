@@ -6,6 +6,7 @@
 #include "readers/obj_reader.hpp"
 
 #include <shadow/error.hpp>
+#include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
 
 #include <gtest/gtest.h>
@@ -183,4 +184,52 @@ TEST(ObjChunks, TheFuzzCorpusGivesTheSameOutcomeAsOneThread) {
     ++files;
   }
   EXPECT_GE(files, 10u);
+}
+
+// A mesh file's bytes are read in parts of 8 MiB on every thread (detail::read_input_bytes): the
+// same bytes as read_input_file at 1, 2 and 3 threads, for sizes at, below and above the parts'
+// bounds; the same errors and the same size limit.
+TEST(ObjChunks, AFileReadInPartsOnEveryThreadHasTheSameBytes) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("libshadow_read_parts_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  constexpr std::size_t kPart = std::size_t{8} << 20;
+  std::mt19937 rng(8);
+  for (const std::size_t size : {std::size_t{0}, std::size_t{1}, kPart - 1, kPart, kPart + 1, 2 * kPart + 12345}) {
+    std::string bytes(size, '\0');
+    for (char& c : bytes) c = static_cast<char>(rng());
+    const fs::path file = dir / "bytes.bin";
+    std::ofstream(file, std::ios::binary) << bytes;
+    ASSERT_EQ(shadow::read_input_file(file, "bytes.bin", size), bytes);
+    for (unsigned threads : {1u, 2u, 3u}) {
+      const shadow::runtime::UninitVector<char> read =
+          shadow::detail::read_input_bytes(file, "bytes.bin", size, "the test's limit", threads);
+      ASSERT_EQ(std::string(read.begin(), read.end()), bytes) << size << " bytes, " << threads << " threads";
+    }
+    if (size > 0) {
+      try {
+        (void)shadow::detail::read_input_bytes(file, "bytes.bin", size - 1, "the test's limit", 2);
+        FAIL() << "a file above the limit was read";
+      } catch (const shadow::InputError& e) {
+        EXPECT_EQ(std::string(e.what()), "bytes.bin: file is larger than the limit of " + std::to_string(size - 1) +
+                                             " bytes (the test's limit)");
+      }
+    }
+  }
+  for (const fs::path& bad : {dir / "missing.obj", dir}) {
+    std::string expected, got;
+    try {
+      (void)shadow::read_input_file(bad, "bad.obj", 100);
+    } catch (const shadow::InputError& e) {
+      expected = e.what();
+    }
+    try {
+      (void)shadow::detail::read_input_bytes(bad, "bad.obj", 100, "LoadOptions::max_file_bytes", 2);
+    } catch (const shadow::InputError& e) {
+      got = e.what();
+    }
+    EXPECT_FALSE(expected.empty());
+    EXPECT_EQ(got, expected);
+  }
+  fs::remove_all(dir);
 }

@@ -91,7 +91,7 @@ bool has_energyplus_geometry(const std::set<std::string>& keys) {
 }
 
 /// Case-insensitive: does `line` (leading blanks skipped) start with `word` followed by blanks and a comma?
-bool starts_idf_object(const std::string& text, std::size_t begin, std::size_t end, const char* word) {
+bool starts_idf_object(std::string_view text, std::size_t begin, std::size_t end, const char* word) {
   while (begin < end && (text[begin] == ' ' || text[begin] == '\t')) ++begin;
   for (const char* c = word; *c != '\0'; ++c, ++begin)
     if (begin >= end || std::tolower(static_cast<unsigned char>(text[begin])) != *c) return false;
@@ -101,7 +101,7 @@ bool starts_idf_object(const std::string& text, std::size_t begin, std::size_t e
 
 /// IDF by content, over the whole text: a line that opens an EnergyPlus object that every
 /// geometric model has. OBJ statements are a keyword and blanks, never a word and a comma.
-bool looks_like_idf(const std::string& text) {
+bool looks_like_idf(std::string_view text) {
   std::size_t begin = 0;
   while (begin < text.size()) {
     std::size_t end = text.find('\n', begin);
@@ -117,14 +117,14 @@ bool TopLevel::energyplus() const { return keys.count("Version") != 0 && has_ene
 
 }  // namespace
 
-bool is_json_text(const std::string& text) {
+bool is_json_text(std::string_view text) {
   std::size_t start = 0;
   if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) start = 3;  // a UTF-8 byte order mark
   start = text.find_first_not_of(" \t\r\n", start);
   return start != std::string::npos && (text[start] == '{' || text[start] == '[');
 }
 
-ModelFormat model_format(const std::filesystem::path& file, const std::string& text) {
+ModelFormat model_format(const std::filesystem::path& file, std::string_view text) {
   const std::string name = lower(file.filename().string());
   if (ends_with(name, ".idf") || ends_with(name, ".epjson")) return ModelFormat::energyplus;
   if (ends_with(name, ".city.json")) return ModelFormat::cityjson;

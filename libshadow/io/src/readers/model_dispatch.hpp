@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace shadow::scene_readers {
 
@@ -22,10 +23,10 @@ enum class ModelFormat {
 /// `.obj` is never a model; any other name is decided by the content (`text`: the whole file).
 /// JSON is parsed for its top-level keys, never judged by a prefix: a CityJSON file may name
 /// its "type" after megabytes of city objects.
-ModelFormat model_format(const std::filesystem::path& file, const std::string& text);
+ModelFormat model_format(const std::filesystem::path& file, std::string_view text);
 
 /// True when `text` is JSON by its first character (`{` or `[` after blanks and a byte order mark).
-bool is_json_text(const std::string& text);
+bool is_json_text(std::string_view text);
 
 /// Reads a model of the given format (not `none`) with its reader.
 /// @throws InputError

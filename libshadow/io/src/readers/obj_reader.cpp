@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "runtime/parallel.hpp"
+#include "runtime/uninit_vector.hpp"
 
 #include <shadow/input_file.hpp>
 #include <shadow/scene_io.hpp>
@@ -278,7 +279,7 @@ void parse_chunk(ObjChunk& chunk, bool at_file_start) {
 /// Resolves `face`'s references with `before` vertices read before its part; the LineError of
 /// the first bad one (as resolve_reference throws it), or of too few references.
 void resolve_face(const ObjChunk& chunk, const ObjChunk::RawFace& face, std::size_t before, bool count_checked,
-                  const std::vector<glm::dvec3>& vertices, std::vector<glm::dvec3>* out) {
+                  const runtime::UninitVector<glm::dvec3>& vertices, std::vector<glm::dvec3>* out) {
   const std::size_t so_far = before + face.vertices_before;
   for (std::size_t r = face.refs_begin; r < face.refs_end; ++r) {
     const long long index = chunk.refs[r];
@@ -302,20 +303,20 @@ void resolve_face(const ObjChunk& chunk, const ObjChunk::RawFace& face, std::siz
 
 /// parse_obj_with_lines on `threads` threads, when the text is large enough and has no continued
 /// line (those can join lines across a cut); false: read it on one thread instead.
-bool parse_obj_in_chunks(const std::string& text, const std::string& display_name, std::vector<std::size_t>* face_lines,
+bool parse_obj_in_chunks(std::string_view text, const std::string& display_name, std::vector<std::size_t>* face_lines,
                          std::vector<std::string>* face_groups, unsigned threads, std::size_t min_chunk_bytes,
                          std::vector<std::vector<glm::dvec3>>& faces) {
   threads = std::min(runtime::resolve_threads(threads), runtime::kMaxThreads);  // (validation rejects more)
   min_chunk_bytes = std::max<std::size_t>(min_chunk_bytes, 1);
-  if (threads < 2 || text.size() < 2 * min_chunk_bytes || text.find('\\') != std::string::npos) return false;
+  if (threads < 2 || text.size() < 2 * min_chunk_bytes || text.find('\\') != std::string_view::npos) return false;
   // Parts that start at a line: a few per thread, so that uneven ones even out.
   const std::size_t parts = std::min<std::size_t>(std::size_t{4} * threads, text.size() / min_chunk_bytes);
   std::vector<ObjChunk> chunks;
   for (std::size_t begin = 0, k = 1; begin < text.size(); ++k) {
     std::size_t end = k >= parts ? text.size() : std::max(begin + 1, text.size() * k / parts);
     end = end >= text.size() ? text.size() : text.find('\n', end - 1);
-    end = end == std::string::npos ? text.size() : end + 1;
-    chunks.emplace_back().text = std::string_view(text).substr(begin, end - begin);
+    end = end == std::string_view::npos ? text.size() : end + 1;
+    chunks.emplace_back().text = text.substr(begin, end - begin);
     begin = end;
   }
   const std::size_t n = chunks.size();
@@ -334,7 +335,8 @@ bool parse_obj_in_chunks(const std::string& text, const std::string& display_nam
     group0[k] = chunks[k - 1].groups.empty() ? group0[k - 1] : chunks[k - 1].groups.back();
   }
   for (std::size_t k = 0; k < n; ++k) face0[k + 1] = face0[k] + chunks[k].faces.size();
-  std::vector<glm::dvec3> vertices(vertex0.back() + chunks.back().vertices.size());
+  // Written in full by the parts' copies below (uninitialised: first touched there, not zeroed here).
+  runtime::UninitVector<glm::dvec3> vertices(vertex0.back() + chunks.back().vertices.size());
   runtime::parallel_for(n, threads, [&](unsigned, std::size_t k) {
     std::copy(chunks[k].vertices.begin(), chunks[k].vertices.end(), vertices.begin() + static_cast<std::ptrdiff_t>(vertex0[k]));
   });
@@ -385,63 +387,81 @@ bool parse_obj_in_chunks(const std::string& text, const std::string& display_nam
 
 }  // namespace
 
-std::string read_input_file(const std::filesystem::path& file, const std::string& display_name,
-                            std::uintmax_t max_bytes, const std::string& limit_name) {
+namespace {
+
+/// A user's file opened under read_input_file's rules: a regular file of at most `max_bytes`
+/// bytes when stat'ed. Owns the descriptor until taken.
+struct OpenedInput {
+  int fd = -1;
+  std::uintmax_t size = 0;
+  OpenedInput() = default;
+  OpenedInput(const OpenedInput&) = delete;
+  OpenedInput& operator=(const OpenedInput&) = delete;
+  ~OpenedInput() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+InputError too_big_error(const std::string& display_name, std::uintmax_t max_bytes, const std::string& limit_name) {
+  return InputError({display_name, ""}, "file is larger than the limit of " + std::to_string(max_bytes) + " bytes (" +
+                                            limit_name + ")");
+}
+
+void open_input(const std::filesystem::path& file, const std::string& display_name, std::uintmax_t max_bytes,
+                const std::string& limit_name, OpenedInput& opened) {
   // Regular files only (symlinks followed): a FIFO would block forever, /dev/zero never ends.
   // The file is opened without blocking and its type taken from the open descriptor, so a FIFO
   // swapped in after a check cannot block the open or the reads.
   errno = 0;
-  const int fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) throw_open_error(display_name, "cannot open", errno != 0 ? errno : ENOENT);
-  struct Closer {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
+  opened.fd = ::open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (opened.fd < 0) throw_open_error(display_name, "cannot open", errno != 0 ? errno : ENOENT);
   struct stat info {};
-  if (::fstat(fd, &info) != 0) {
-    const int error = errno;
-    ::close(fd);
-    throw_open_error(display_name, "cannot open", error);
-  }
-  if (S_ISDIR(info.st_mode)) {
-    ::close(fd);
-    throw_open_error(display_name, "cannot open", EISDIR);
-  }
-  if (!S_ISREG(info.st_mode)) {
-    ::close(fd);
+  if (::fstat(opened.fd, &info) != 0) throw_open_error(display_name, "cannot open", errno);
+  if (S_ISDIR(info.st_mode)) throw_open_error(display_name, "cannot open", EISDIR);
+  if (!S_ISREG(info.st_mode))
     throw InputError({display_name, ""}, "cannot open: not a regular file (a device, FIFO or socket)");
+  opened.size = static_cast<std::uintmax_t>(info.st_size);
+  if (opened.size > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
+  ::fcntl(opened.fd, F_SETFL, ::fcntl(opened.fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
+}
+
+/// Reads up to `count` bytes at `offset` into `to`, as many as there are: fewer only at the
+/// file's end. Throws "cannot read" on an error.
+std::size_t read_at(int fd, char* to, std::size_t count, std::uintmax_t offset, const std::string& display_name) {
+  std::size_t done = 0;
+  while (done < count) {
+    const ssize_t n = ::pread(fd, to + done, count - done, static_cast<off_t>(offset + done));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
+    }
+    if (n == 0) break;
+    done += static_cast<std::size_t>(n);
   }
-  auto too_big = [&] {
-    return InputError({display_name, ""}, "file is larger than the limit of " + std::to_string(max_bytes) +
-                                              " bytes (" + limit_name + ")");
-  };
-  const auto size = static_cast<std::uintmax_t>(info.st_size);
-  if (size > max_bytes) {
-    ::close(fd);
-    throw too_big();
-  }
-  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
-  std::unique_ptr<std::FILE, Closer> in(::fdopen(fd, "rb"));
-  if (!in) {
-    const int error = errno;
-    ::close(fd);
-    throw_open_error(display_name, "cannot open", error != 0 ? error : EIO);
-  }
+  return done;
+}
+
+}  // namespace
+
+std::string read_input_file(const std::filesystem::path& file, const std::string& display_name,
+                            std::uintmax_t max_bytes, const std::string& limit_name) {
+  OpenedInput opened;
+  open_input(file, display_name, max_bytes, limit_name, opened);
   std::string text;
-  text.reserve(static_cast<std::size_t>(size));
+  text.reserve(static_cast<std::size_t>(opened.size));
   char buffer[1 << 16];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, in.get())) > 0) {
+  std::uintmax_t offset = 0;
+  for (std::size_t n = 0; (n = read_at(opened.fd, buffer, sizeof buffer, offset, display_name)) > 0; offset += n) {
     // The file may grow while it is read: the limit holds for what is read, not what was stat'ed.
-    if (text.size() + n > max_bytes) throw too_big();
+    if (text.size() + n > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
     text.append(buffer, n);
   }
-  if (std::ferror(in.get())) throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
   return text;
 }
 
 namespace detail {
 
-std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj_text,
+std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(std::string_view obj_text,
                                                           const std::string& display_name,
                                                           std::vector<std::size_t>* face_lines,
                                                           std::vector<std::string>* face_groups, unsigned threads,
@@ -487,6 +507,40 @@ std::vector<std::vector<glm::dvec3>> parse_obj_with_lines(const std::string& obj
     }
   });
   return faces;
+}
+
+runtime::UninitVector<char> read_input_bytes(const std::filesystem::path& file, const std::string& display_name,
+                                             std::uintmax_t max_bytes, const std::string& limit_name, unsigned threads) {
+  OpenedInput opened;
+  open_input(file, display_name, max_bytes, limit_name, opened);
+  const auto size = static_cast<std::size_t>(opened.size);
+  runtime::UninitVector<char> bytes(size);
+  // The stat'ed size in parts of kPart bytes, each read on the thread that takes it.
+  constexpr std::size_t kPart = std::size_t{8} << 20;
+  const std::size_t parts = (size + kPart - 1) / kPart;
+  std::vector<std::size_t> got(parts, 0);
+  threads = std::min(runtime::resolve_threads(threads), runtime::kMaxThreads);
+  runtime::parallel_for(parts, static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(parts, 1))),
+                        [&](unsigned, std::size_t k) {
+                          const std::size_t begin = k * kPart, count = std::min(kPart, size - begin);
+                          got[k] = read_at(opened.fd, bytes.data() + begin, count, begin, display_name);
+                        });
+  // A file that shrank while it was read: what its parts still held, up to the first short one.
+  std::size_t have = 0;
+  for (std::size_t k = 0; k < parts; ++k) {
+    have += got[k];
+    if (got[k] < std::min(kPart, size - k * kPart)) {
+      bytes.resize(have);
+      return bytes;
+    }
+  }
+  // A file that grew: the rest, as read_input_file reads it (the limit holds for what is read).
+  char buffer[1 << 16];
+  for (std::size_t n = 0; (n = read_at(opened.fd, buffer, sizeof buffer, have, display_name)) > 0; have += n) {
+    if (have + n > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
+    bytes.insert(bytes.end(), buffer, buffer + n);
+  }
+  return bytes;
 }
 
 std::vector<std::vector<glm::dvec3>> read_obj_with_lines(const std::filesystem::path& obj_file,

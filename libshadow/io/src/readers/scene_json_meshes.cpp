@@ -27,6 +27,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -270,9 +271,9 @@ void SceneReader::load_faces(PendingMesh pending) {
     const fs::path file = scene_file_.parent_path() / fs::path(pending.file);
     // Errors name the mesh file as the user would find it: relative to the scene's directory.
     display = file.lexically_normal().string();
-    std::string text;
+    runtime::UninitVector<char> bytes;  // the file, read on every thread
     try {
-      text = read_input_file(file, display, max_file_bytes_);
+      bytes = detail::read_input_bytes(file, display, max_file_bytes_, "LoadOptions::max_file_bytes", options_.threads);
     } catch (const InputError& e) {
       // The file could not be opened: say which mesh of the scene wanted it.
       std::string problem = e.problem();
@@ -281,9 +282,10 @@ void SceneReader::load_faces(PendingMesh pending) {
       else problem = quote(display) + ": " + problem;
       fail(member(pending.path, "file"), problem);
     }
+    const std::string_view text(bytes.data(), bytes.size());
     const scene_readers::ModelFormat format = scene_readers::model_format(file, text);
     if (format != scene_readers::ModelFormat::none) {
-      text.clear();
+      bytes = {};  // (`text` is not read again)
       scene_readers::Model model = scene_readers::read_model(format, file, display, options_);
       for (Warning& w : model.warnings) scene_.warnings.push_back(std::move(w));
       for (SkippedFace& skipped : model.skipped) {  // surfaces the reader left out (skip_invalid)
@@ -333,7 +335,7 @@ void SceneReader::load_faces(PendingMesh pending) {
     std::vector<std::size_t> lines;
     std::vector<std::string> groups;
     std::vector<std::vector<glm::dvec3>> polygons = detail::parse_obj_with_lines(text, display, &lines, &groups, options_.threads);
-    text.clear();
+    bytes = {};
     if (polygons.empty())
       // An empty result would pass for a computed one: a mesh file with no face is an error.
       fail(member(pending.path, "file"), quote(display) + " has no faces: no f statements (read as Wavefront OBJ; "
