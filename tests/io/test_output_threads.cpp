@@ -140,10 +140,10 @@ TEST(ReportThreads, TheSameBytesAtOneTwoAndFourThreadsAndEqualToOneDocumentsDump
   }
 }
 
-// Beyond one window of blocks at four threads too (a window is 4 x (threads - 1) blocks of 1,024
-// faces from two threads on): the hand-over from the writer thread to the next window.
+// Beyond one window of blocks at four threads too (a window is 4 x threads blocks of 1,024 faces;
+// a writer thread writes one while the threads make the next): the hand-over to the next window.
 TEST(ReportThreads, SeveralWindowsAtThreeAndFourThreads) {
-  const Scene scene = make_scene(16000);  // 13,714 receiving faces: 14 blocks
+  const Scene scene = make_scene(40000);  // 34,286 receiving faces: 34 blocks, three windows at 3 and 4
   const ShadowResult result = make_result(scene, true);
   const std::string one = report_text(scene, result, 1);
   EXPECT_EQ(report_text(scene, result, 3), one);

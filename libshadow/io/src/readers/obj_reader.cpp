@@ -390,7 +390,7 @@ bool parse_obj_in_chunks(std::string_view text, const std::string& display_name,
 namespace {
 
 /// A user's file opened under read_input_file's rules: a regular file of at most `max_bytes`
-/// bytes when stat'ed. Owns the descriptor until taken.
+/// bytes when stat'ed. Closes its descriptor when it goes.
 struct OpenedInput {
   int fd = -1;
   std::uintmax_t size = 0;
@@ -425,8 +425,36 @@ void open_input(const std::filesystem::path& file, const std::string& display_na
   ::fcntl(opened.fd, F_SETFL, ::fcntl(opened.fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
 }
 
-/// Reads up to `count` bytes at `offset` into `to`, as many as there are: fewer only at the
-/// file's end. Throws "cannot read" on an error.
+/// Reads up to `count` bytes from the file's position into `to`, as many as there are: fewer
+/// only at the file's end. Throws "cannot read" on an error.
+std::size_t read_next(int fd, char* to, std::size_t count, const std::string& display_name) {
+  std::size_t done = 0;
+  while (done < count) {
+    const ssize_t n = ::read(fd, to + done, count - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
+    }
+    if (n == 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  return done;
+}
+
+/// Appends the rest of the file (from its position) to `out`, the limit holding for what is read.
+template <class Bytes>
+void read_rest(int fd, Bytes& out, const std::string& display_name, std::uintmax_t max_bytes,
+               const std::string& limit_name) {
+  char buffer[1 << 16];
+  for (std::size_t n = 0; (n = read_next(fd, buffer, sizeof buffer, display_name)) > 0;) {
+    // The file may grow while it is read: the limit holds for what is read, not what was stat'ed.
+    if (out.size() + n > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
+    out.insert(out.end(), buffer, buffer + n);
+  }
+}
+
+/// The same as read_next at `offset`, with pread (the file's position unchanged): for reading
+/// parts of one file on several threads.
 std::size_t read_at(int fd, char* to, std::size_t count, std::uintmax_t offset, const std::string& display_name) {
   std::size_t done = 0;
   while (done < count) {
@@ -449,13 +477,7 @@ std::string read_input_file(const std::filesystem::path& file, const std::string
   open_input(file, display_name, max_bytes, limit_name, opened);
   std::string text;
   text.reserve(static_cast<std::size_t>(opened.size));
-  char buffer[1 << 16];
-  std::uintmax_t offset = 0;
-  for (std::size_t n = 0; (n = read_at(opened.fd, buffer, sizeof buffer, offset, display_name)) > 0; offset += n) {
-    // The file may grow while it is read: the limit holds for what is read, not what was stat'ed.
-    if (text.size() + n > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
-    text.append(buffer, n);
-  }
+  read_rest(opened.fd, text, display_name, max_bytes, limit_name);
   return text;
 }
 
@@ -513,18 +535,29 @@ runtime::UninitVector<char> read_input_bytes(const std::filesystem::path& file, 
                                              std::uintmax_t max_bytes, const std::string& limit_name, unsigned threads) {
   OpenedInput opened;
   open_input(file, display_name, max_bytes, limit_name, opened);
+  runtime::UninitVector<char> bytes;
+  // A regular file that cannot be read at an offset (some FUSE and proc files): from start to end
+  // on this thread, as read_input_file reads.
+  char probe = 0;
+  if (::pread(opened.fd, &probe, 0, 0) < 0 && errno == ESPIPE) {
+    bytes.reserve(static_cast<std::size_t>(opened.size));
+    read_rest(opened.fd, bytes, display_name, max_bytes, limit_name);
+    return bytes;
+  }
   const auto size = static_cast<std::size_t>(opened.size);
-  runtime::UninitVector<char> bytes(size);
-  // The stat'ed size in parts of kPart bytes, each read on the thread that takes it.
+  bytes.resize(size);
+  // The stat'ed size in parts of kPart bytes, each read on the thread that takes it (at most
+  // kReaders at once: more concurrent reads gain nothing from a disk).
   constexpr std::size_t kPart = std::size_t{8} << 20;
+  constexpr unsigned kReaders = 8;
   const std::size_t parts = (size + kPart - 1) / kPart;
   std::vector<std::size_t> got(parts, 0);
-  threads = std::min(runtime::resolve_threads(threads), runtime::kMaxThreads);
-  runtime::parallel_for(parts, static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(parts, 1))),
-                        [&](unsigned, std::size_t k) {
-                          const std::size_t begin = k * kPart, count = std::min(kPart, size - begin);
-                          got[k] = read_at(opened.fd, bytes.data() + begin, count, begin, display_name);
-                        });
+  const unsigned readers = static_cast<unsigned>(
+      std::min<std::size_t>({runtime::resolve_threads(threads), kReaders, std::max<std::size_t>(parts, 1)}));
+  runtime::parallel_for(parts, readers, [&](unsigned, std::size_t k) {
+    const std::size_t begin = k * kPart, count = std::min(kPart, size - begin);
+    got[k] = read_at(opened.fd, bytes.data() + begin, count, begin, display_name);
+  });
   // A file that shrank while it was read: what its parts still held, up to the first short one.
   std::size_t have = 0;
   for (std::size_t k = 0; k < parts; ++k) {
@@ -534,12 +567,10 @@ runtime::UninitVector<char> read_input_bytes(const std::filesystem::path& file, 
       return bytes;
     }
   }
-  // A file that grew: the rest, as read_input_file reads it (the limit holds for what is read).
-  char buffer[1 << 16];
-  for (std::size_t n = 0; (n = read_at(opened.fd, buffer, sizeof buffer, have, display_name)) > 0; have += n) {
-    if (have + n > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
-    bytes.insert(bytes.end(), buffer, buffer + n);
-  }
+  // A file that grew: the rest, as read_input_file reads it.
+  if (::lseek(opened.fd, static_cast<off_t>(have), SEEK_SET) < 0)
+    throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
+  read_rest(opened.fd, bytes, display_name, max_bytes, limit_name);
   return bytes;
 }
 
