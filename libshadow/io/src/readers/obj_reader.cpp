@@ -425,12 +425,14 @@ void open_input(const std::filesystem::path& file, const std::string& display_na
   ::fcntl(opened.fd, F_SETFL, ::fcntl(opened.fd, F_GETFL) & ~O_NONBLOCK);  // a regular file: reads never block anyway
 }
 
-/// Reads up to `count` bytes from the file's position into `to`, as many as there are: fewer
-/// only at the file's end. Throws "cannot read" on an error.
-std::size_t read_next(int fd, char* to, std::size_t count, const std::string& display_name) {
+/// Reads up to `count` bytes into `to` from the file's position (offset < 0: read(2)) or at
+/// `offset` (pread(2), the position unchanged: for parts of one file on several threads), as
+/// many as there are: fewer only at the file's end. Throws "cannot read" on an error.
+std::size_t read_bytes(int fd, char* to, std::size_t count, const std::string& display_name, off_t offset = -1) {
   std::size_t done = 0;
   while (done < count) {
-    const ssize_t n = ::read(fd, to + done, count - done);
+    const ssize_t n = offset < 0 ? ::read(fd, to + done, count - done)
+                                 : ::pread(fd, to + done, count - done, offset + static_cast<off_t>(done));
     if (n < 0) {
       if (errno == EINTR) continue;
       throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
@@ -446,27 +448,11 @@ template <class Bytes>
 void read_rest(int fd, Bytes& out, const std::string& display_name, std::uintmax_t max_bytes,
                const std::string& limit_name) {
   char buffer[1 << 16];
-  for (std::size_t n = 0; (n = read_next(fd, buffer, sizeof buffer, display_name)) > 0;) {
+  for (std::size_t n = 0; (n = read_bytes(fd, buffer, sizeof buffer, display_name)) > 0;) {
     // The file may grow while it is read: the limit holds for what is read, not what was stat'ed.
     if (out.size() + n > max_bytes) throw too_big_error(display_name, max_bytes, limit_name);
     out.insert(out.end(), buffer, buffer + n);
   }
-}
-
-/// The same as read_next at `offset`, with pread (the file's position unchanged): for reading
-/// parts of one file on several threads.
-std::size_t read_at(int fd, char* to, std::size_t count, std::uintmax_t offset, const std::string& display_name) {
-  std::size_t done = 0;
-  while (done < count) {
-    const ssize_t n = ::pread(fd, to + done, count - done, static_cast<off_t>(offset + done));
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw_open_error(display_name, "cannot read", errno != 0 ? errno : EIO);
-    }
-    if (n == 0) break;
-    done += static_cast<std::size_t>(n);
-  }
-  return done;
 }
 
 }  // namespace
@@ -556,7 +542,7 @@ runtime::UninitVector<char> read_input_bytes(const std::filesystem::path& file, 
       std::min<std::size_t>({runtime::resolve_threads(threads), kReaders, std::max<std::size_t>(parts, 1)}));
   runtime::parallel_for(parts, readers, [&](unsigned, std::size_t k) {
     const std::size_t begin = k * kPart, count = std::min(kPart, size - begin);
-    got[k] = read_at(opened.fd, bytes.data() + begin, count, begin, display_name);
+    got[k] = read_bytes(opened.fd, bytes.data() + begin, count, display_name, static_cast<off_t>(begin));
   });
   // A file that shrank while it was read: what its parts still held, up to the first short one.
   std::size_t have = 0;
