@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <set>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -719,4 +720,43 @@ TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
       }
     }
   EXPECT_GT(reported, 8 * city.faces.size());  // the queries meet many faces, not a handful
+}
+
+// With one_face_per_solid (a caller that casts every convex solid as one hull at its first face
+// in the list), the candidates are the full list less each solid's faces after its first: the
+// solid's first listed face is its lowest that passes culling, as in the full list, so the hull
+// is cast at the same place and every result is the same. A grid whose solids are not items
+// (its faces visited in cell order) keeps the full list.
+TEST(CasterCandidates, OneFacePerSolidKeepsEachSolidsLowestFaceThatPasses) {
+  const shadow::Scene city = shadow::make_city(300, 400, 5);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+  std::vector<int> solid_of;
+  const auto solids = shadow::exact::find_convex_solids(city, prep, solid_of, 1);
+  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 1);
+  shadow::core::CasterCandidates candidates;
+  candidates.reset(solids.size());
+  std::size_t dropped = 0;
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087), glm::dvec3(-0.2, 0.1, 1.0)}) {
+    shadow::Light sun;
+    sun.type = shadow::LightType::Directional;
+    sun.to_light = to_light;
+    const shadow::core::LightSpaceGrid with_solids(cull, prep, to_light, &solid_of, 1);
+    const shadow::core::LightSpaceGrid faces_alone(cull, prep, to_light, nullptr, 1);
+    for (std::size_t f = 0; f < city.faces.size(); f += 2) {
+      if (prep[f].degenerate) continue;
+      const shadow::core::ReceiverCuller culler(cull, prep[f], f, sun);
+      for (const shadow::core::LightSpaceGrid* grid : {&with_solids, &faces_alone, static_cast<const shadow::core::LightSpaceGrid*>(nullptr)}) {
+        const std::vector<std::size_t> all = candidates.gather(culler, prep, f, grid, nullptr, nullptr, &solid_of, false);
+        std::vector<std::size_t> want;
+        std::set<int> listed;
+        for (std::size_t q : all)
+          if (solid_of[q] < 0 || grid == &faces_alone || listed.insert(solid_of[q]).second) want.push_back(q);
+        const std::vector<std::size_t> one = candidates.gather(culler, prep, f, grid, nullptr, nullptr, &solid_of, true);
+        ASSERT_EQ(one, want) << "face " << f;
+        dropped += all.size() - one.size();
+      }
+    }
+  }
+  EXPECT_GT(dropped, 1000u);  // solids met with several faces that pass: the case exists
 }

@@ -77,7 +77,8 @@ class LightSpaceGrid {
   /// The faces' light-space boxes are computed on `threads` threads (0 counts as 1; the grid does
   /// not depend on it).
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light,
-                 const std::vector<int>* solid_of = nullptr, unsigned threads = 1) {
+                 const std::vector<int>* solid_of = nullptr, unsigned threads = 1)
+      : solids_together_(solid_of != nullptr) {
     const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
@@ -174,6 +175,10 @@ class LightSpaceGrid {
     cells_ = CellLayout(origin_, width, height, cu, cv);
     fill_cells(prep, item_box, threads);
   }
+
+  /// Whether a convex solid's faces are one item (the grid was given `solid_of`): a query then
+  /// visits them one after another, in increasing order.
+  [[nodiscard]] bool solids_together() const { return solids_together_; }
 
   /// Calls visit(face) once for every face whose light-space box overlaps `face`'s.
   template <class Visit>
@@ -382,6 +387,7 @@ class LightSpaceGrid {
       for (int u = u0; u <= u1; ++u) visit(static_cast<std::size_t>(v) * layout.nu + u);
   }
 
+  bool solids_together_ = false;
   glm::dvec3 u_{0.0}, v_{0.0};
   // The arrays by face and by entry are filled on every thread: UninitVector, so that their pages
   // are first touched there rather than zeroed on the calling thread before (a million faces:
@@ -506,6 +512,7 @@ class CasterCandidates {
   /// Sizes the stamps for a scene of `solids` convex solids.
   void reset(std::size_t solids) {
     solid_seen_.assign(solids, 0);
+    solid_listed_.assign(solids, 0);
     stamp_ = 0;
   }
 
@@ -516,15 +523,23 @@ class CasterCandidates {
   /// With `solid_of` (the convex solid of each face, -1 for none), the other faces of the
   /// receiver's own convex solid are left out too: a face of a closed convex solid that faces the
   /// light is never shadowed by its own solid, and both engines skip those casters anyway.
+  ///
+  /// With `one_face_per_solid` (the caller casts every convex solid as one hull, at its first
+  /// face in the list, and skips its other faces), a solid's faces after the first that passes
+  /// are neither tested nor listed: that first one is its lowest that passes (the grid, when its
+  /// solids are items, and the loop over every face both visit a solid's faces in increasing
+  /// order), so the hull is cast at the same place in the list and every result is the same.
   const std::vector<std::size_t>& gather(const ReceiverCuller& culler, const std::vector<FacePrep>& prep,
                                          std::size_t receiver, const LightSpaceGrid* grid,
                                          const CullScene* tile_scene = nullptr, const FacePrep* tile = nullptr,
-                                         const std::vector<int>* solid_of = nullptr) {
+                                         const std::vector<int>* solid_of = nullptr, bool one_face_per_solid = false) {
     faces_.clear();
     if (++stamp_ == 0) {  // stamps wrapped: reset
       std::fill(solid_seen_.begin(), solid_seen_.end(), 0);
+      std::fill(solid_listed_.begin(), solid_listed_.end(), 0);
       stamp_ = 1;
     }
+    const bool one_face = one_face_per_solid && solid_of != nullptr && (grid == nullptr || grid->solids_together());
     // The grid holds no degenerate face: its visits skip the look-up in `prep` (a cache miss per
     // visit on a large struct, a sizeable share of the query).
     const int own_solid = solid_of ? (*solid_of)[receiver] : -1;
@@ -532,8 +547,12 @@ class CasterCandidates {
     // does the loop over every face: no stamp per face.
     auto consider = [&](std::size_t q) {
       if (q == receiver) return;
-      if (own_solid >= 0 && (*solid_of)[q] == own_solid) return;
-      if (culler.may_cast(q)) faces_.push_back(q);
+      const int solid = solid_of ? (*solid_of)[q] : -1;
+      if (solid >= 0 && solid == own_solid) return;
+      if (one_face && solid >= 0 && solid_listed_[static_cast<std::size_t>(solid)] == stamp_) return;
+      if (!culler.may_cast(q)) return;
+      faces_.push_back(q);
+      if (one_face && solid >= 0) solid_listed_[static_cast<std::size_t>(solid)] = stamp_;
     };
     if (grid && tile && tile_scene) {
       // A tile: the light-space box of its corners on the receiver's plane (local frame).
@@ -568,6 +587,7 @@ class CasterCandidates {
 
  private:
   std::vector<std::uint32_t> solid_seen_;
+  std::vector<std::uint32_t> solid_listed_;  ///< per convex solid: stamp_ once a face of it is listed
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> faces_;
   std::vector<glm::dvec3> corners_;

@@ -52,7 +52,7 @@ class ExactReceiverJob {
     const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
     const std::vector<std::size_t>& candidates =
         w_.casters.gather(culler, *ctx_.prep, face_id_, grid_, tile_ ? ctx_.cull : nullptr, tile_ ? &fp_ : nullptr,
-                          ctx_.solid_of);
+                          ctx_.solid_of, /*one_face_per_solid=*/!point_light_ && fp_.exactly_planar);  // as run() casts
     stats_.candidate_pairs += candidates.size();
     return candidates;
   }

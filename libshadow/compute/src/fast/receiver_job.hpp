@@ -328,7 +328,7 @@ class ReceiverJob {
     const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
     const std::vector<std::size_t>& candidates =
         w_.casters.gather(culler, prep_, face_id_, grid_index_, tile_ ? &cull_ : nullptr, tile_ ? &fp_ : nullptr,
-                          ctx_.solid_of);
+                          ctx_.solid_of, /*one_face_per_solid=*/!rc_.point && rc_.exact_sides);  // as cast_all casts
     local_.candidate_pairs += candidates.size();
     return candidates;
   }
