@@ -726,7 +726,7 @@ TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
 // in the list), the candidates are the full list less each solid's faces after its first: the
 // solid's first listed face is its lowest that passes culling, as in the full list, so the hull
 // is cast at the same place and every result is the same. A grid whose solids are not items
-// (its faces visited in cell order) keeps the full list.
+// (its faces visited in cell order), and no grid, keep the full list.
 TEST(CasterCandidates, OneFacePerSolidKeepsEachSolidsLowestFaceThatPasses) {
   const shadow::Scene city = shadow::make_city(300, 400, 5);
   std::vector<shadow::core::FacePrep> prep(city.faces.size());
@@ -751,7 +751,7 @@ TEST(CasterCandidates, OneFacePerSolidKeepsEachSolidsLowestFaceThatPasses) {
         std::vector<std::size_t> want;
         std::set<int> listed;
         for (std::size_t q : all)
-          if (solid_of[q] < 0 || grid == &faces_alone || listed.insert(solid_of[q]).second) want.push_back(q);
+          if (solid_of[q] < 0 || grid != &with_solids || listed.insert(solid_of[q]).second) want.push_back(q);
         const std::vector<std::size_t> one = candidates.gather(culler, prep, f, grid, nullptr, nullptr, &solid_of, true);
         ASSERT_EQ(one, want) << "face " << f;
         dropped += all.size() - one.size();

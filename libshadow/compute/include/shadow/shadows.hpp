@@ -157,8 +157,8 @@ struct ShadowStats {
   std::uint64_t receivers = 0;          ///< face-light pairs considered
   std::uint64_t back_facing = 0;        ///< pairs in attached shadow (no clipping needed)
   /// Occluder-receiver pairs after culling in doubles (boxes, the receiver's slab and prism). A
-  /// convex solid cast as one hull (a directional light on an exactly planar receiver) counts
-  /// once, as in casting_pairs; under a point light each of its faces that passes counts.
+  /// convex solid that the engine casts as one hull (a directional light on an exactly planar
+  /// receiver) counts once, as in casting_pairs; otherwise each of its faces that passes counts.
   std::uint64_t candidate_pairs = 0;
   std::uint64_t casting_pairs = 0;      ///< pairs whose exact projection was non-empty
   std::uint64_t unshadowed = 0;         ///< front-facing receivers with nothing in front (no clipping)

@@ -78,7 +78,7 @@ class LightSpaceGrid {
   /// not depend on it).
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light,
                  const std::vector<int>* solid_of = nullptr, unsigned threads = 1)
-      : solids_together_(solid_of != nullptr) {
+      : solid_items_(solid_of) {
     const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
     u_ = glm::normalize(glm::cross(d, helper));
@@ -176,9 +176,10 @@ class LightSpaceGrid {
     fill_cells(prep, item_box, threads);
   }
 
-  /// Whether a convex solid's faces are one item (the grid was given `solid_of`): a query then
-  /// visits them one after another, in increasing order.
-  [[nodiscard]] bool solids_together() const { return solids_together_; }
+  /// The `solid_of` whose convex solids are items (null: every face its own item): a query visits
+  /// the faces of each of those solids one after another, in increasing order. Only compared,
+  /// never read.
+  [[nodiscard]] const std::vector<int>* solid_items() const { return solid_items_; }
 
   /// Calls visit(face) once for every face whose light-space box overlaps `face`'s.
   template <class Visit>
@@ -387,7 +388,7 @@ class LightSpaceGrid {
       for (int u = u0; u <= u1; ++u) visit(static_cast<std::size_t>(v) * layout.nu + u);
   }
 
-  bool solids_together_ = false;
+  const std::vector<int>* solid_items_ = nullptr;
   glm::dvec3 u_{0.0}, v_{0.0};
   // The arrays by face and by entry are filled on every thread: UninitVector, so that their pages
   // are first touched there rather than zeroed on the calling thread before (a million faces:
@@ -525,10 +526,11 @@ class CasterCandidates {
   /// light is never shadowed by its own solid, and both engines skip those casters anyway.
   ///
   /// With `one_face_per_solid` (the caller casts every convex solid as one hull, at its first
-  /// face in the list, and skips its other faces), a solid's faces after the first that passes
-  /// are neither tested nor listed: that first one is its lowest that passes (the grid, when its
-  /// solids are items, and the loop over every face both visit a solid's faces in increasing
-  /// order), so the hull is cast at the same place in the list and every result is the same.
+  /// face in the list, and skips its other faces) and a grid whose items are the solids of this
+  /// `solid_of`, a solid's faces after the first that passes are neither tested nor listed: that
+  /// first one is its lowest that passes (the grid visits an item's faces one after another, in
+  /// increasing order), so the hull is cast at the same place in the list and every result is
+  /// the same. Without such a grid the list is the full one (its size may decide a split).
   const std::vector<std::size_t>& gather(const ReceiverCuller& culler, const std::vector<FacePrep>& prep,
                                          std::size_t receiver, const LightSpaceGrid* grid,
                                          const CullScene* tile_scene = nullptr, const FacePrep* tile = nullptr,
@@ -539,7 +541,7 @@ class CasterCandidates {
       std::fill(solid_listed_.begin(), solid_listed_.end(), 0);
       stamp_ = 1;
     }
-    const bool one_face = one_face_per_solid && solid_of != nullptr && (grid == nullptr || grid->solids_together());
+    const bool one_face = one_face_per_solid && solid_of != nullptr && grid != nullptr && grid->solid_items() == solid_of;
     // The grid holds no degenerate face: its visits skip the look-up in `prep` (a cache miss per
     // visit on a large struct, a sizeable share of the query).
     const int own_solid = solid_of ? (*solid_of)[receiver] : -1;
@@ -547,7 +549,7 @@ class CasterCandidates {
     // does the loop over every face: no stamp per face.
     auto consider = [&](std::size_t q) {
       if (q == receiver) return;
-      const int solid = solid_of ? (*solid_of)[q] : -1;
+      const int solid = one_face || own_solid >= 0 ? (*solid_of)[q] : -1;
       if (solid >= 0 && solid == own_solid) return;
       if (one_face && solid >= 0 && solid_listed_[static_cast<std::size_t>(solid)] == stamp_) return;
       if (!culler.may_cast(q)) return;
