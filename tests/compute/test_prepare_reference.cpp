@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <set>
+#include <tuple>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -649,16 +650,27 @@ TEST(SceneFrame, TheSameBitsOnEveryThreadCount) {
   EXPECT_TRUE(std::signbit(shadow::core::scene_frame(scene, 4).centre.z));
 }
 
+/// A generated city prepared for culling as the engine prepares it: faces, convex solids, cull scene.
+struct CullingCity {
+  CullingCity(std::size_t boxes, double side, unsigned seed, unsigned threads)
+      : city(shadow::make_city(boxes, side, seed)), prep(city.faces.size()) {
+    for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+    solids = shadow::exact::find_convex_solids(city, prep, solid_of, threads);
+    cull = shadow::core::make_cull_scene(city, prep, threads);
+  }
+  shadow::Scene city;
+  std::vector<shadow::core::FacePrep> prep;
+  std::vector<int> solid_of;
+  std::vector<shadow::core::ConvexSolid> solids;
+  shadow::core::CullScene cull;
+};
+
 // The light-space grid's cells filled on several threads (items in ranges, counted per range and
 // cell): every query visits the same faces in the same order as with one thread.
 TEST(LightSpaceGrid, TheSameQueriesOnEveryThreadCount) {
-  const shadow::Scene city = shadow::make_city(12000, 1700, 11);
-  std::vector<shadow::core::FacePrep> prep(city.faces.size());
-  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
-  std::vector<int> solid_of;
-  const auto solids = shadow::exact::find_convex_solids(city, prep, solid_of, 2);
+  const CullingCity c(12000, 1700, 11, 2);
+  const auto& [city, prep, solid_of, solids, cull] = std::tie(c.city, c.prep, c.solid_of, c.solids, c.cull);
   ASSERT_EQ(solids.size(), 12000u);
-  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 2);
   for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087)}) {
     auto visits = [&](unsigned threads, const std::vector<int>* of) {
       const shadow::core::LightSpaceGrid grid(cull, prep, to_light, of, threads);
@@ -728,12 +740,8 @@ TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
 // is cast at the same place and every result is the same. A grid whose solids are not items
 // (its faces visited in cell order), and no grid, keep the full list.
 TEST(CasterCandidates, OneFacePerSolidKeepsEachSolidsLowestFaceThatPasses) {
-  const shadow::Scene city = shadow::make_city(300, 400, 5);
-  std::vector<shadow::core::FacePrep> prep(city.faces.size());
-  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
-  std::vector<int> solid_of;
-  const auto solids = shadow::exact::find_convex_solids(city, prep, solid_of, 1);
-  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 1);
+  const CullingCity c(300, 400, 5, 1);
+  const auto& [city, prep, solid_of, solids, cull] = std::tie(c.city, c.prep, c.solid_of, c.solids, c.cull);
   shadow::core::CasterCandidates candidates;
   candidates.reset(solids.size());
   std::size_t dropped = 0;
