@@ -84,7 +84,6 @@ class LightSpaceGrid {
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
     const std::size_t n = scene.faces.size();
-    boxes_.clear();
     boxes_.resize(n);  // uninitialised: each written below, on the thread of its block
     // Boxes by blocks of faces; each block's union, then the blocks' (min and max: exact, so
     // the same box in any order).

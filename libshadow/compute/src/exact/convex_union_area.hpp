@@ -193,11 +193,9 @@ class ConvexUnionArea {
   // ---- polygons sharing an edge run both ways, united where convex (geometry/shared_edge_merge.hpp)
   void merge_shared_edges() {
     CGAL::Protect_FPU_rounding<true> guard;  // turn()'s filters
-    using geometry::SharedEdgeMerge;
-    const auto point_hash = [&](std::size_t v) { return SharedEdgeMerge::point_hash(ip_[v].x.inf(), ip_[v].y.inf()); };
     const std::size_t merges = merge_.run(
         nxt_, first_,
-        [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
+        [&](std::size_t v) { return geometry::SharedEdgeMerge::point_hash(ip_[v].x.inf(), ip_[v].y.inf()); },
         [&](std::size_t a, std::size_t b) { return equal(a, b); },
         [&](std::size_t p, std::size_t q, std::size_t r) { return left_or_straight(p, q, r); });
     if (merges == 0) return;

@@ -332,13 +332,11 @@ inline bool merge_shared_edges(const ClipperLib::Paths& polygons, const std::vec
     for (std::size_t k = begin; k < xs.size(); ++k) s.merge_next.push_back(k + 1 == xs.size() ? begin : k + 1);
     s.merge_first.push_back(xs.size());
   }
-  using geometry::SharedEdgeMerge;
-  const auto point_hash = [&](std::size_t v) {
-    return SharedEdgeMerge::point_hash(static_cast<double>(xs[v]), static_cast<double>(ys[v]));
-  };
   const std::size_t merges = s.merge.run(
       s.merge_next, s.merge_first,
-      [&](std::size_t a, std::size_t b) { return SharedEdgeMerge::edge_hash_of(point_hash(a), point_hash(b)); },
+      [&](std::size_t v) {
+        return geometry::SharedEdgeMerge::point_hash(static_cast<double>(xs[v]), static_cast<double>(ys[v]));
+      },
       [&](std::size_t a, std::size_t b) { return xs[a] == xs[b] && ys[a] == ys[b]; },
       [&](std::size_t p, std::size_t q, std::size_t r) {
         return left_or_straight(xs[q] - xs[p], ys[q] - ys[p], xs[r] - xs[q], ys[r] - ys[q]);

@@ -28,13 +28,13 @@ class SharedEdgeMerge {
   /// The polygons of slots first[i]..first[i + 1] (`nxt`: each slot's next around its
   /// polygon), counter-clockwise and convex: every pair that shares an edge run both ways is
   /// united where both turns where they meet pass `left_or_straight(p, q, r)` (to the left, or
-  /// straight on and not back), repeatedly. `edge_hash(a, b)`: a hash of the edge from slot a's
-  /// point to slot b's, equal for equal points; `equal(a, b)`: slots a and b are the same point.
+  /// straight on and not back), repeatedly. `point_hash(v)`: a hash of slot v's point, equal for
+  /// equal points (point_hash(x, y) below); `equal(a, b)`: slots a and b are the same point.
   /// Returns the number of merges; when some, `nxt` and `first` describe the merged polygons
   /// over new slots k whose old slot is order()[k] (polygons in the order of their union-find
   /// roots): the caller permutes its points the same way.
-  template <class EdgeHash, class Equal, class LeftOrStraight>
-  std::size_t run(std::vector<std::size_t>& nxt, std::vector<std::size_t>& first, EdgeHash&& edge_hash, Equal&& equal,
+  template <class PointHash, class Equal, class LeftOrStraight>
+  std::size_t run(std::vector<std::size_t>& nxt, std::vector<std::size_t>& first, PointHash&& point_hash, Equal&& equal,
                   LeftOrStraight&& left_or_straight) {
     const std::size_t n = nxt.size(), polygons = first.size() - 1;
     prv_.resize(n);
@@ -48,8 +48,11 @@ class SharedEdgeMerge {
       }
     root_.resize(polygons);
     std::iota(root_.begin(), root_.end(), std::size_t{0});
-    // Every edge hashed by edge_hash (a collision is told apart by `equal`), under the slot
-    // that carried it then.
+    // Every edge hashed by its ends' point hashes (a collision is told apart by `equal`), under
+    // the slot that carried it then.
+    point_hashes_.resize(n);
+    for (std::size_t v = 0; v < n; ++v) point_hashes_[v] = point_hash(v);
+    const auto edge_hash = [&](std::size_t a, std::size_t b) { return edge_hash_of(point_hashes_[a], point_hashes_[b]); };
     std::size_t size = 16;
     while (size < 2 * n) size *= 2;
     const std::size_t mask = size - 1;
@@ -103,7 +106,7 @@ class SharedEdgeMerge {
   /// After a run with merges: the old slot of each new slot.
   [[nodiscard]] const std::vector<std::size_t>& order() const { return order_; }
 
-  /// A hash of a point's two coordinates' bits (for edge_hash). Every bit is mixed into the low
+  /// A hash of a point's two coordinates' bits (for run's point_hash). Every bit is mixed into the low
   /// ones the table uses: a double holding an integer (a grid point, a scaled chart's bound) has
   /// its low mantissa bits all zero.
   static std::uint64_t point_hash(double x, double y) {
@@ -112,14 +115,14 @@ class SharedEdgeMerge {
     std::memcpy(&b, &y, sizeof b);
     return mix64(a ^ mix64(b + 0x9E3779B97F4A7C15ull));
   }
-  /// An edge's hash from its ends' point hashes (not symmetric: the edge b -> a hashes apart).
-  static std::uint64_t edge_hash_of(std::uint64_t from, std::uint64_t to) {
-    return mix64(from * 0x9E3779B97F4A7C15ull + to);
-  }
 
  private:
   static constexpr std::size_t kEmpty = static_cast<std::size_t>(-1);
 
+  /// An edge's hash from its ends' point hashes (not symmetric: the edge b -> a hashes apart).
+  static std::uint64_t edge_hash_of(std::uint64_t from, std::uint64_t to) {
+    return mix64(from * 0x9E3779B97F4A7C15ull + to);
+  }
 
   std::size_t root(std::size_t i) {
     while (root_[i] != i) i = root_[i] = root_[root_[i]];
@@ -158,7 +161,7 @@ class SharedEdgeMerge {
   }
 
   std::vector<std::size_t> prv_, owner_, moved_, root_, table_, work_;
-  std::vector<std::uint64_t> hashes_;
+  std::vector<std::uint64_t> point_hashes_, hashes_;
   std::vector<std::size_t> order_;
 };
 

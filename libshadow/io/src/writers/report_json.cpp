@@ -302,14 +302,13 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
                         const std::vector<std::size_t>& group_start, bool fast, unsigned requested_threads) {
   const std::size_t receiving_faces = group_start.size() - 1;
   const unsigned threads = runtime::resolve_threads(requested_threads);
-  const unsigned makers = threads;
   const EntryNames names(scene, scene.lights.size());
   constexpr std::size_t kFacesPerBlock = 1024;
   const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
-  const std::size_t window = std::min<std::size_t>(blocks, std::size_t{4} * makers);
+  const std::size_t window = std::min<std::size_t>(blocks, std::size_t{4} * threads);
   std::vector<std::string> made(window), written(window);
   auto make = [&](std::size_t first, std::size_t count) {
-    runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(makers, count)), [&](unsigned, std::size_t k) {
+    runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(threads, count)), [&](unsigned, std::size_t k) {
       std::string& text = made[k];
       text.clear();
       std::vector<const FaceLighting*> group;
