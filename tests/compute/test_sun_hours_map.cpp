@@ -351,6 +351,83 @@ TEST(SunHoursMap, BlocksOfFacesConcatenateToTheWholeMap) {
   }
 }
 
+// SunHoursOptions::series_table: the map's pass gives its faces' series entries bit for bit as
+// compute_series (exact) does, whatever route a pair takes there (the ground cut into tiles, a
+// point light, faces turned away, a zero-area face), for the full map and the threshold map
+// alone; compute_series with those faces given leaves their rows 0 and every other row as it
+// was. How `shadow series` computes the map's faces once (SeriesJob).
+TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
+  Scene scene = make_city(12, 60, 7);
+  add_mesh(scene, "sliver", {{{5, 5, 0.5}, {6, 6, 0.5}, {7, 7, 0.5}}});  // collinear: zero area
+  validate_scene(scene);
+  const std::size_t sliver = scene.faces.size() - 1;
+  ASSERT_TRUE(scene.faces[sliver].degenerate);
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < 5; ++k)
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(12 + 11 * k, 70 + 50 * k)), 0.5});
+  instants.push_back({point_light("lamp", {30, 30, 40}), 1.0});
+  std::vector<Light> lights;
+  for (const SunHoursInstant& instant : instants) lights.push_back(instant.light);
+  const ShadowEngine engine(scene, 2);
+  std::vector<std::size_t> faces{sliver, 0};  // any order, a repeat: the table's rows are sorted
+  for (std::size_t f = 1; f < scene.faces.size(); f += 3) faces.push_back(f);
+  faces.push_back(0);
+  std::vector<std::size_t> rows = faces;
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+
+  SeriesOptions series_options;
+  series_options.threads = 2;
+  series_options.tile_casters = 6;  // the ground in tiles: the map's pass never cuts it
+  const SeriesResult series = engine.compute_series(lights, series_options);
+  ASSERT_GT(series.stats.tiled_receivers, 0u);
+  std::vector<std::size_t> row_of(scene.faces.size(), SIZE_MAX);
+  for (std::size_t r = 0; r < series.faces.size(); ++r) row_of[series.faces[r]] = r;
+
+  for (const bool full : {true, false}) {
+    SeriesResult table;
+    SunHoursOptions options;
+    options.threads = 2;
+    options.full = full;
+    options.levels = {1.0};
+    options.series_table = &table;
+    compute_sun_hours_map(engine, faces, instants, options);
+    ASSERT_EQ(table.faces, rows);
+    ASSERT_EQ(table.instants, instants.size());
+    int partial = 0, turned_away = 0;
+    for (std::size_t m = 0; m < rows.size(); ++m) {
+      const std::size_t r = row_of[rows[m]];
+      ASSERT_NE(r, SIZE_MAX);
+      EXPECT_EQ(table.area[m], series.area[r]);
+      for (std::size_t i = 0; i < instants.size(); ++i) {
+        const std::size_t a = table.at(m, i), b = series.at(r, i);
+        EXPECT_EQ(table.lit_area[a], series.lit_area[b]) << "face " << rows[m] << " instant " << i;
+        EXPECT_EQ(table.lit_fraction[a], series.lit_fraction[b]) << "face " << rows[m] << " instant " << i;
+        EXPECT_EQ(table.faces_light[a], series.faces_light[b]) << "face " << rows[m] << " instant " << i;
+        EXPECT_EQ(table.lit_area_error_bound[a], 0.0);
+        partial += table.lit_fraction[a] > 0 && table.lit_fraction[a] < 1;
+        turned_away += table.faces_light[a] == 0;
+      }
+    }
+    EXPECT_GT(partial, 10);
+    EXPECT_GT(turned_away, 20);
+    EXPECT_EQ(table.stats.receivers, rows.size() * instants.size());
+  }
+
+  series_options.given_faces = faces;
+  const SeriesResult rest = engine.compute_series(lights, series_options);
+  ASSERT_EQ(rest.faces, series.faces);
+  for (std::size_t r = 0; r < series.faces.size(); ++r) {
+    const bool given = std::binary_search(rows.begin(), rows.end(), series.faces[r]);
+    for (std::size_t i = 0; i < instants.size(); ++i) {
+      const std::size_t at = series.at(r, i);
+      EXPECT_EQ(rest.lit_area[at], given ? 0.0 : series.lit_area[at]);
+      EXPECT_EQ(rest.lit_fraction[at], given ? 0.0 : series.lit_fraction[at]);
+      EXPECT_EQ(rest.faces_light[at], given ? 0 : series.faces_light[at]);
+    }
+  }
+}
+
 TEST(SunHoursMap, PointLightsAndBackFacingFacesWork) {
   const Scene scene = pole_scene();
   const ShadowEngine engine(scene, 1);

@@ -361,6 +361,38 @@ TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
   EXPECT_EQ(stages, (std::vector<S>{S::Loading, S::Preparing, S::Computing, S::Mapping, S::Writing}));
 }
 
+// On one process without a checkpoint the exact map runs first and its pass computes its faces'
+// lit areas for the series too (SunHoursOptions::series_table): every file as in the order a
+// checkpointed run keeps (the instants, then the map), the table the engine's series; only
+// report.json's counters, which count the pass that ran, may differ.
+TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
+  const fs::path dir = scratch("shared_map");
+  const fs::path scene_file = write_scene(dir, 30, true);
+  for (const bool levels_only : {false, true}) {
+    const std::string tag = levels_only ? "levels" : "full";
+    std::vector<shadow::SeriesJobProgress::Part> parts;
+    shadow::SeriesJobOptions options = job_options(scene_file, dir / (tag + "_shared"));
+    options.sun_hours_levels = {2, 5};
+    options.sun_hours_levels_only = levels_only;
+    options.progress = [&](const shadow::SeriesJobProgress& p) { parts.push_back(p.part); };
+    const shadow::SeriesJobResult shared = shadow::test::run_series_job(options);
+    ASSERT_FALSE(parts.empty());
+    EXPECT_EQ(parts.front(), shadow::SeriesJobProgress::Part::MapFaces) << tag;  // the map came first
+    options.progress = nullptr;
+    options.output = dir / (tag + "_apart");
+    options.checkpoint = true;
+    const shadow::SeriesJobResult apart = shadow::test::run_series_job(options);
+    shadow::test::expect_same_files(dir / (tag + "_shared"), dir / (tag + "_apart"), 5, {"report.json"});
+    EXPECT_EQ(shared.series.lit_area, apart.series.lit_area) << tag;
+    EXPECT_EQ(shared.series.lit_fraction, apart.series.lit_fraction) << tag;
+    EXPECT_EQ(shared.series.faces_light, apart.series.faces_light) << tag;
+    EXPECT_EQ(shared.series.stats.receivers, apart.series.stats.receivers) << tag;
+    ASSERT_TRUE(shared.map && apart.map);
+    EXPECT_EQ(shadow::sun_hours_level_areas(*shared.map), shadow::sun_hours_level_areas(*apart.map)) << tag;
+    EXPECT_GT(shared.map_seconds, 0.0);
+  }
+}
+
 TEST(SeriesJob, DefaultEveryBoundsTheFilesOfLongPeriods) {
   std::vector<std::int64_t> week{0, 7 * 86400}, year{0, 365 * 86400};
   EXPECT_EQ(shadow::default_series_every(100, week), 1u);  // up to 7 days: every instant

@@ -294,9 +294,10 @@ void print_summary(const shadow::SeriesJobResult& r, const SeriesArgs& args) {
   std::printf("  sun hours of %zu objects (buildings, zones, meshes; area-weighted) in sun_hours_by_object.csv\n",
               shadow::scene_objects(r.scene).size());
   const std::size_t computed_now = r.suns.lights.size() - r.resumed;
-  std::printf("  computed in %.3f s (%.1f ms per instant), written in %.3f s\n", r.compute_seconds,
-              computed_now == 0 ? 0.0 : 1000.0 * r.compute_seconds / static_cast<double>(computed_now),
-              r.write_seconds);
+  std::printf("  computed in %.3f s (%.1f ms per instant), ", r.compute_seconds,
+              computed_now == 0 ? 0.0 : 1000.0 * r.compute_seconds / static_cast<double>(computed_now));
+  if (r.map) std::printf("sun-hours map in %.3f s, ", r.map_seconds);
+  std::printf("written in %.3f s\n", r.write_seconds);
   if (args.skip_invalid || !r.scene.skipped_faces.empty())
     std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n", r.scene.skipped_faces.size());
   if (r.ranks > 1) std::printf("  on %d MPI ranks\n", r.ranks);

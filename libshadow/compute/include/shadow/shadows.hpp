@@ -252,7 +252,12 @@ struct ShadowResult {
 /// a batch of instants it moves through both rounds (the receivers, then the tiles of split
 /// receivers), in proportion to the time the previous batch spent in each (docs/tiles.md).
 /// Tiles work exactly as for ShadowOptions.
-struct SeriesOptions : EngineOptions {};
+struct SeriesOptions : EngineOptions {
+  /// Receiving faces whose rows another pass fills (SunHoursOptions::series_table): they stay
+  /// rows of the table, in place, but are not computed and their entries are left 0 for the
+  /// caller to write. Any order; ids that are not receiving faces are ignored.
+  std::vector<std::size_t> given_faces;
+};
 
 /// Lit areas of every receiving face under every light of a series: a faces x instants table.
 /// Entry (row, instant) is what `compute(lights[instant], id, {polygons = false})` reports for

@@ -186,6 +186,15 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     return result;
   }
 
+  // The rows computed here: every receiver but the given ones (their entries stay 0).
+  std::vector<char> given(scene.faces.size(), 0);
+  for (std::size_t f : options.given_faces)
+    if (f < given.size()) given[f] = 1;
+  std::vector<std::size_t> computed_rows;
+  for (std::size_t r = 0; r < rows; ++r)
+    if (!given[result.faces[r]]) computed_rows.push_back(r);
+  const std::size_t computed = computed_rows.size();
+
   std::vector<Impl::ThreadState> workers = impl.make_workers(threads, fast);
   // A batch of instants at a time: their light-space grids are built together, then every
   // (receiver, instant) pair of the batch is one work item. A few instants per thread keep the
@@ -217,7 +226,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     runtime::parallel_for(count, threads, [&](unsigned, std::size_t k) {
       grids[k].reset();
       const Light& light = lights[order[first + k]];
-      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
+      if (light.type == LightType::Directional && computed > 0) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 
@@ -228,7 +237,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     Impl::RoundProgress progress;
     if (report_instants) {
       progress.first = [&](std::size_t done) {
-        round_fraction = (1 - tile_share) * static_cast<double>(done) / static_cast<double>(rows * count);
+        round_fraction = (1 - tile_share) * static_cast<double>(done) / static_cast<double>(std::max<std::size_t>(1, computed * count));
         report_fraction(round_fraction);
       };
       // The tile round: the rest of the batch, in proportion to the tiles done.
@@ -245,14 +254,17 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38% higher at
     // 2,500 boxes.
     const Impl::RoundsDone done = impl.compute_rounds(
-        rows * count,
+        computed * count,
         [&](std::size_t item) {
           const std::size_t k = item % count, instant = order[first + k];
-          return Impl::WorkItem{result.faces[item / count], instant, &lights[instant], grids[k] ? &*grids[k] : nullptr, k};
+          return Impl::WorkItem{result.faces[computed_rows[item / count]], instant, &lights[instant],
+                                grids[k] ? &*grids[k] : nullptr, k};
         },
         mode, workers,
         [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; },
-        [&](std::size_t item, const Impl::Item& out) { table.write(item / count, first + item % count, out.lighting); },
+        [&](std::size_t item, const Impl::Item& out) {
+          table.write(computed_rows[item / count], first + item % count, out.lighting);
+        },
         progress);
     const double seconds = done.first_seconds + done.tile_seconds;
     tile_share = done.split > 0 && seconds > 0 ? done.tile_seconds / seconds : 0.0;
@@ -267,8 +279,8 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     const core::PreparedScene ctx = impl.prepared();
     const arealight::AreaLightPrep area = arealight::prepare_area_light(ctx, light_in, i);
     std::vector<arealight::AreaWorker> area_workers(threads);
-    runtime::parallel_for(rows, threads, [&](unsigned wi, std::size_t r) {
-      const std::size_t at = result.at(r, i);
+    runtime::parallel_for(computed, threads, [&](unsigned wi, std::size_t c) {
+      const std::size_t r = computed_rows[c], at = result.at(r, i);
       FaceLighting lighting;
       lighting.face_id = result.faces[r];
       lighting.light_id = i;

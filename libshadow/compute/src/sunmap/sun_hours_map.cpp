@@ -183,6 +183,7 @@ class MapBuilder {
     total_ = faces_.size() * (n_ + 1);
     if (options.progress) report_ = [this](std::size_t) { options_.progress(Progress{done_.load(), total_.load()}); };
     prepare_faces();
+    if (options.series_table) start_table(*options.series_table);
   }
 
   SunHoursMap build() {
@@ -195,6 +196,8 @@ class MapBuilder {
       lit_batch(first, count);
       take_batch(first, count, unfed[first + count]);
     }
+    if (table_)
+      for (const Worker& w : workers_) table_->stats += w.stats;  // the lit pass's counters alone
     std::vector<std::vector<sunmap::StripMap>> strip_maps = full_ ? overlay_full() : finish_levels();
     // The faces in order, region ids shifted by the earlier faces'.
     for (std::size_t k = 0; k < faces_.size(); ++k) {
@@ -221,6 +224,21 @@ class MapBuilder {
     ExactWorker exact;
     ShadowStats stats;
   };
+
+  /// The series table of the map's faces (SunHoursOptions::series_table): compute_series'
+  /// shape, its entries written by lit_batch. A degenerate face keeps compute's zeros.
+  void start_table(SeriesResult& table) {
+    table_ = &table;
+    table = SeriesResult{};
+    table.faces = faces_;
+    table.instants = n_;
+    for (std::size_t f : faces_) table.area.push_back((*ctx_.face_area)[f]);
+    const std::size_t cells = faces_.size() * n_;
+    table.lit_area.assign(cells, 0.0);
+    table.lit_fraction.assign(cells, 0.0);
+    table.faces_light.assign(cells, 0);
+    table.lit_area_error_bound.assign(cells, 0.0);
+  }
 
   void prepare_faces() {
     const std::size_t count = faces_.size();
@@ -262,7 +280,7 @@ class MapBuilder {
     std::vector<std::optional<core::LightSpaceGrid>> grids(count);
     for (std::size_t j = 0; j < count; ++j)
       if (instants_[first + j].light.type == LightType::Directional)
-        grids[j].emplace(*ctx_.cull, *ctx_.prep, instants_[first + j].light.to_light);
+        grids[j].emplace(*ctx_.cull, *ctx_.prep, instants_[first + j].light.to_light, ctx_.solid_of);
     parts_.assign(faces_.size() * count, InstantPart{});
     runtime::parallel_for(
         parts_.size(), threads_,
@@ -270,7 +288,8 @@ class MapBuilder {
           runtime::check_stop();
           Worker& w = workers_[wi];
           const std::size_t k = job / count, j = job % count, i = first + j, f = faces_[k];
-          if ((*ctx_.prep)[f].degenerate) {
+          if ((*ctx_.prep)[f].degenerate) {  // no lit region; the table keeps compute's zeros
+            if (table_) ++w.stats.receivers;   // and counts the pair as compute does
             ++done_;
             return;
           }
@@ -280,6 +299,12 @@ class MapBuilder {
           // The lit region's canonical boundary: the same segments whichever route made it.
           const LitBoundary region = exact_lit_boundary(ctx_, w.exact, f, i, light, side, instants_[i].light,
                                                         grids[j] ? &*grids[j] : nullptr, w.stats);
+          if (table_) {  // the engine's FaceLighting: what compute_series writes for the pair
+            const std::size_t at = table_->at(k, i);
+            table_->lit_area[at] = region.lighting.lit_area;
+            table_->lit_fraction[at] = region.lighting.lit_fraction;
+            table_->faces_light[at] = region.lighting.faces_light ? 1 : 0;
+          }
           InstantPart& part = parts_[job];
           part.kind = region.kind;
           exact_to_mpq(region.lit_chart_area, part.lit_area.get_mpq_t());
@@ -485,6 +510,7 @@ class MapBuilder {
   std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
   std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
   std::vector<char> finished_;              ///< per face: its strips finished with the last batch
+  SeriesResult* table_ = nullptr;           ///< SunHoursOptions::series_table, when asked for
 };
 
 }  // namespace

@@ -70,6 +70,8 @@ class SingleProcessWorld final : public SeriesWorld {
 };
 
 /// What a series job is doing (for an out-of-memory message, say).
+/// Mapping is the sun-hours map, after Computing's rounds; on one process without a checkpoint,
+/// where the exact map's pass computes its faces' lit areas for the series too, before them.
 enum class SeriesJobStage { Loading, Preparing, Computing, Mapping, Writing };
 
 /// Progress of a series job, on rank 0 only.
@@ -186,7 +188,8 @@ struct SeriesJobResult {
   std::vector<std::filesystem::path> written;  ///< the files written, report.json last
   std::size_t every = 1;               ///< SeriesFiles::every used
   std::size_t resumed = 0;             ///< instants that came from the checkpoint
-  double compute_seconds = 0;          ///< from the start to the end of the computation
+  double compute_seconds = 0;          ///< from the start to the end of the instants' computation, the map's aside
+  double map_seconds = 0;              ///< the sun-hours map (with its faces' lit areas when it shared its pass)
   double write_seconds = 0;            ///< writing the files
   int ranks = 1;
   SeriesEnergyPlusHandBack energyplus;
@@ -221,6 +224,7 @@ class SeriesJob {
   void place_round(const std::string& bytes);
   void stop_if_asked(std::size_t done, bool more);
   void compute_map();
+  void take_map_rows();
   void write_outputs();
 
   SeriesJobOptions options_;

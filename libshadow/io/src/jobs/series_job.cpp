@@ -79,6 +79,20 @@ void take_columns(const jobs::SeriesColumns& columns, SeriesFileStream& stream, 
     table.stats += columns.stats;
 }
 
+/// The rows of the series' faces that the sun-hours map's pass computed (State::map_rows: row in
+/// `part`, row in `table`), written into `part`, the columns of `instants`, from `table`.
+void fill_given_rows(SeriesResult& part, const std::vector<std::uint64_t>& instants, const SeriesResult& table,
+                     const std::vector<std::pair<std::size_t, std::size_t>>& rows) {
+  for (std::size_t k = 0; k < instants.size(); ++k)
+    for (const auto& [r, m] : rows) {
+      const std::size_t at = part.at(r, k), from = table.at(m, instants[k]);
+      part.lit_area[at] = table.lit_area[from];
+      part.lit_fraction[at] = table.lit_fraction[from];
+      part.faces_light[at] = table.faces_light[from];
+      part.lit_area_error_bound[at] = table.lit_area_error_bound[from];
+    }
+}
+
 /// Another period at the scene's site (an IDF's RunPeriod, or the scene's `sun` block, replaced).
 void replace_period(Scene& scene, const SeriesJobOptions& options) {
   const std::string file = options.scene.string();
@@ -171,9 +185,15 @@ struct SeriesJob::State {
   std::vector<std::uint64_t> todo;  ///< the instants this run computes, ascending (every rank)
   std::size_t resumed = 0;
   std::optional<SunHoursMap> map;
+  /// With the map sharing its pass (SeriesJob::shares_map_pass): its faces' series table, and
+  /// per series row of a map face (row, row in map_table).
+  std::optional<SeriesResult> map_table;
+  std::vector<std::pair<std::size_t, std::size_t>> map_rows;
   std::vector<fs::path> written;
   std::size_t every = 1;
   Clock::time_point computed, finished;
+  double map_seconds = 0;
+  bool map_first = false;  ///< the map ran before the instants, sharing its pass
 };
 
 SeriesJob::SeriesJob(SeriesJobOptions options, SeriesWorld& world)
@@ -207,8 +227,11 @@ SeriesJobResult SeriesJob::run() {
   result.written = std::move(s.written);
   result.every = s.every;
   result.resumed = s.resumed;
-  result.compute_seconds = std::chrono::duration<double>(s.computed - s.start).count();
-  result.write_seconds = std::chrono::duration<double>(s.finished - s.computed).count();
+  // The map's time is its own: before the instants when it shared its pass, else after them.
+  const bool shared = s.map_first;
+  result.map_seconds = s.map_seconds;
+  result.compute_seconds = std::chrono::duration<double>(s.computed - s.start).count() - (shared ? s.map_seconds : 0);
+  result.write_seconds = std::chrono::duration<double>(s.finished - s.computed).count() - (shared ? 0 : s.map_seconds);
   result.energyplus = std::move(s.hand_back);
   return result;
 }
@@ -224,9 +247,25 @@ void SeriesJob::run_steps() {
     resume_or_start();
   });
   share_instants();
+  // The exact map's pass computes its faces' lit areas too: on one process without a checkpoint
+  // it runs first and the instants' rounds leave those faces to it (a checkpointed run keeps
+  // its order, so that a stop loses no map work; ranks compute the map by blocks of faces).
+  const bool share = !s.map_faces.empty() && options_.arithmetic == Arithmetic::Exact && !world_.distributed() &&
+                     !s.checkpointing && sun_hours_instants(s.scene).size() == s.instants;
+  const auto map = [&] {
+    const auto start = Clock::now();
+    compute_map();
+    s.map_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  };
+  s.map_first = share;
+  if (share) {
+    s.map_table.emplace();
+    map();
+  }
   compute_instants();
+  s.map_table.reset();
   s.computed = Clock::now();
-  compute_map();
+  if (!share) map();
   write_outputs();
   s.finished = Clock::now();
 }
@@ -440,6 +479,7 @@ std::string SeriesJob::compute_round(const std::vector<std::uint64_t>& instants,
   } catch (const InputError& e) {
     rethrow_naming_scene(e, options_.scene);
   }
+  if (s.map_table) fill_given_rows(part, instants, *s.map_table, s.map_rows);
   if (world_.distributed()) return jobs::encode_columns(jobs::columns_of(part, instants));
   // One process: the round straight into the files (after the checkpoint has it, so that a
   // failure while writing loses nothing computed).
@@ -489,6 +529,7 @@ void SeriesJob::compute_map() {
   State& s = *state_;
   if (options_.stage) options_.stage(SeriesJobStage::Mapping);
   if (s.map_faces.empty()) return;
+
   const std::size_t n = s.map_faces.size(), size = static_cast<std::size_t>(world_.size()),
                     r = static_cast<std::size_t>(world_.rank());
   const std::vector<std::size_t> block(s.map_faces.begin() + static_cast<std::ptrdiff_t>(r * n / size),
@@ -505,8 +546,10 @@ void SeriesJob::compute_map() {
         map_options.progress = [&](const Progress& p) {
           options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
         };
+      map_options.series_table = s.map_table ? &*s.map_table : nullptr;
       s.map = compute_sun_hours_map(*s.engine, s.map_faces, sun_hours_instants(s.scene), map_options);
     });
+    take_map_rows();
     return;
   }
   std::string bytes;
@@ -521,6 +564,7 @@ void SeriesJob::compute_map() {
         options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
       };
     }
+    map_options.series_table = s.map_table ? &*s.map_table : nullptr;  // (one process only)
     SunHoursMap part = compute_sun_hours_map(*s.engine, block, sun_hours_instants(s.scene), map_options);
     if (report) options_.progress({SeriesJobProgress::Part::MapFaces, block.size(), block.size(), 0, true});
     if (world_.distributed())
@@ -528,7 +572,10 @@ void SeriesJob::compute_map() {
     else
       s.map = std::move(part);
   });
-  if (!world_.distributed()) return;
+  if (!world_.distributed()) {
+    take_map_rows();
+    return;
+  }
   std::vector<std::string> parts = world_.gather(bytes);
   on_every_rank(world_, [&] {
     if (!world_.root()) return;
@@ -539,6 +586,21 @@ void SeriesJob::compute_map() {
       add_sun_hours_levels(*s.map, *s.engine, s.map_faces, sun_hours_instants(s.scene), options_.sun_hours_levels,
                            options_.threads);
   });
+}
+
+void SeriesJob::take_map_rows() {
+  // The map's pass computed its faces' rows: the rounds skip them and copy them from its table.
+  State& s = *state_;
+  if (!s.map_table) return;
+  const SeriesResult& table = *s.map_table;
+  s.map_rows.clear();
+  for (std::size_t r = 0, m = 0; r < s.series.faces.size(); ++r) {
+    while (m < table.faces.size() && table.faces[m] < s.series.faces[r]) ++m;
+    if (m < table.faces.size() && table.faces[m] == s.series.faces[r]) s.map_rows.emplace_back(r, m);
+  }
+  for (const auto& [r, m] : s.map_rows) s.series_options.given_faces.push_back(s.series.faces[r]);
+  s.series.stats += table.stats;  // the pass's counters for those rows, once
+  s.stream->add_stats(table.stats);
 }
 
 void SeriesJob::write_outputs() {
