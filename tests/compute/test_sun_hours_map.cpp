@@ -354,13 +354,17 @@ TEST(SunHoursMap, BlocksOfFacesConcatenateToTheWholeMap) {
 // SunHoursOptions::series_table: the map's pass gives its faces' series entries bit for bit as
 // compute_series (exact) does, whatever route a pair takes there (the ground cut into tiles, a
 // point light, faces turned away, a zero-area face), for the full map and the threshold map
-// alone; compute_series with those faces given leaves their rows 0 and every other row as it
-// was. How `shadow series` computes the map's faces once (SeriesJob).
+// alone, over several batches of instants; a mapped face that is no receiver is no row and
+// counts nothing; compute_series with those faces given leaves their rows 0 and every other
+// row as it was. How `shadow series` computes the map's faces once (SeriesJob).
 TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
   Scene scene = make_city(12, 60, 7);
   add_mesh(scene, "sliver", {{{5, 5, 0.5}, {6, 6, 0.5}, {7, 7, 0.5}}});  // collinear: zero area
+  add_mesh(scene, "screen", {rectangle_z(10, 10, 14, 14, 3)});
+  scene.meshes.back().receiver = false;  // casts, receives nothing
   validate_scene(scene);
-  const std::size_t sliver = scene.faces.size() - 1;
+  const std::size_t sliver = scene.faces.size() - 2;
+  ASSERT_EQ(scene.meshes[scene.faces.back().mesh].name, "screen");
   ASSERT_TRUE(scene.faces[sliver].degenerate);
   std::vector<SunHoursInstant> instants;
   for (int k = 0; k < 5; ++k)
@@ -369,12 +373,13 @@ TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
   std::vector<Light> lights;
   for (const SunHoursInstant& instant : instants) lights.push_back(instant.light);
   const ShadowEngine engine(scene, 2);
-  std::vector<std::size_t> faces{sliver, 0};  // any order, a repeat: the table's rows are sorted
-  for (std::size_t f = 1; f < scene.faces.size(); f += 3) faces.push_back(f);
+  std::vector<std::size_t> faces{sliver, 0, scene.faces.size() - 1};  // any order, a repeat
+  for (std::size_t f = 1; f + 2 < scene.faces.size(); f += 3) faces.push_back(f);
   faces.push_back(0);
-  std::vector<std::size_t> rows = faces;
+  std::vector<std::size_t> rows = faces;  // the receiving ones, sorted
   std::sort(rows.begin(), rows.end());
   rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  rows.pop_back();  // the screen's face
 
   SeriesOptions series_options;
   series_options.threads = 2;
@@ -390,6 +395,7 @@ TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
     options.threads = 2;
     options.full = full;
     options.levels = {1.0};
+    options.instant_batch = 4;  // two batches
     options.series_table = &table;
     compute_sun_hours_map(engine, faces, instants, options);
     ASSERT_EQ(table.faces, rows);

@@ -361,31 +361,54 @@ TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
   EXPECT_EQ(stages, (std::vector<S>{S::Loading, S::Preparing, S::Computing, S::Mapping, S::Writing}));
 }
 
-// On one process without a checkpoint the exact map runs first and its pass computes its faces'
-// lit areas for the series too (SunHoursOptions::series_table): every file as in the order a
-// checkpointed run keeps (the instants, then the map), the table the engine's series; only
-// report.json's counters, which count the pass that ran, may differ.
+// In an exact series on one process without a checkpoint the map runs first and its pass
+// computes its receiving faces' lit areas for the series too (SunHoursOptions::series_table):
+// every file as in the order a checkpointed run keeps (the instants, then the map), report.json
+// but for its counters (which count the pass that ran); the rows' pairs counted once; a mapped
+// mesh that is no receiver is no row. Also with the table not kept (as `shadow series` runs).
 TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
   const fs::path dir = scratch("shared_map");
   const fs::path scene_file = write_scene(dir, 30, true);
+  {  // the block mapped too; the house mapped but not a receiver
+    nlohmann::json scene = nlohmann::json::parse(std::ifstream(scene_file));
+    scene["sun_hours_map"] = {"house", "block"};
+    scene["receivers"] = {"ground", "tower", "block"};
+    std::ofstream(scene_file) << scene.dump(1);
+  }
+  auto report_without_counters = [](const fs::path& out) {
+    nlohmann::json report = nlohmann::json::parse(std::ifstream(out / "report.json"));
+    report.erase("stats");
+    report["run"].erase("started_utc");
+    return report;
+  };
   for (const bool levels_only : {false, true}) {
     const std::string tag = levels_only ? "levels" : "full";
     std::vector<shadow::SeriesJobProgress::Part> parts;
+    std::vector<shadow::SeriesJobStage> stages;
     shadow::SeriesJobOptions options = job_options(scene_file, dir / (tag + "_shared"));
     options.sun_hours_levels = {2, 5};
     options.sun_hours_levels_only = levels_only;
+    options.keep_table = !levels_only;
     options.progress = [&](const shadow::SeriesJobProgress& p) { parts.push_back(p.part); };
+    options.stage = [&](shadow::SeriesJobStage stage) { stages.push_back(stage); };
     const shadow::SeriesJobResult shared = shadow::test::run_series_job(options);
     ASSERT_FALSE(parts.empty());
     EXPECT_EQ(parts.front(), shadow::SeriesJobProgress::Part::MapFaces) << tag;  // the map came first
+    using S = shadow::SeriesJobStage;
+    EXPECT_EQ(stages, (std::vector<S>{S::Loading, S::Preparing, S::Computing, S::Mapping, S::Computing, S::Writing}));
     options.progress = nullptr;
+    options.stage = nullptr;
     options.output = dir / (tag + "_apart");
     options.checkpoint = true;
     const shadow::SeriesJobResult apart = shadow::test::run_series_job(options);
     shadow::test::expect_same_files(dir / (tag + "_shared"), dir / (tag + "_apart"), 5, {"report.json"});
+    EXPECT_EQ(report_without_counters(dir / (tag + "_shared")), report_without_counters(dir / (tag + "_apart"))) << tag;
     EXPECT_EQ(shared.series.lit_area, apart.series.lit_area) << tag;
     EXPECT_EQ(shared.series.lit_fraction, apart.series.lit_fraction) << tag;
     EXPECT_EQ(shared.series.faces_light, apart.series.faces_light) << tag;
+    // Every row's pairs counted once: neither twice (the rounds and the map's pass) nor the
+    // house's (mapped, no row).
+    EXPECT_EQ(shared.series.stats.receivers, shared.series.faces.size() * 34) << tag;
     EXPECT_EQ(shared.series.stats.receivers, apart.series.stats.receivers) << tag;
     ASSERT_TRUE(shared.map && apart.map);
     EXPECT_EQ(shadow::sun_hours_level_areas(*shared.map), shadow::sun_hours_level_areas(*apart.map)) << tag;

@@ -262,7 +262,7 @@ struct SeriesOptions : EngineOptions {
 /// Lit areas of every receiving face under every light of a series: a faces x instants table.
 /// Entry (row, instant) is what `compute(lights[instant], id, {polygons = false})` reports for
 /// face `faces[row]`, bit for bit, with the same tile thresholds (SeriesOptions::tile_casters,
-/// fast_tile_casters; exact tiles change no bit).
+/// fast_tile_casters; exact tiles change no bit); 0 in the rows of SeriesOptions::given_faces.
 struct SeriesResult {
   std::vector<std::size_t> faces;  ///< the receiving faces, ascending: the rows
   std::size_t instants = 0;        ///< the columns: one per light, in the order given

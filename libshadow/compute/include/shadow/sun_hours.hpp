@@ -144,12 +144,14 @@ struct SunHoursOptions {
   /// more memory and time than gathering there. Exact areas do not depend on it; the cells may
   /// (which cells are decided in a round depends on the hours still to be fed).
   bool stream_levels = false;
-  /// When set, also filled with the series table of the map's faces (sorted, repeats dropped:
-  /// the rows) under the instants' lights (the columns): every lit area, lit fraction and facing
-  /// bit for bit what ShadowEngine::compute_series with Arithmetic::Exact reports for those faces
-  /// and lights, taken from the same exact pass that makes the lit regions (each face-instant
-  /// pair is computed once for the map and the table: `shadow series` leaves the map's faces out
-  /// of its own pass). Its stats are that pass's counters; lit_area_error_bound is 0.
+  /// When set, also filled with the series table of the map's receiving faces (Scene::
+  /// is_receiver; ascending: the rows) under the instants' lights (the columns): for directional
+  /// and point lights every lit area, lit fraction and facing bit for bit what
+  /// ShadowEngine::compute_series with Arithmetic::Exact reports for those faces and lights,
+  /// taken from the same exact pass that makes the lit regions (each face-instant pair is
+  /// computed once for the map and the table: `shadow series` leaves those faces out of its own
+  /// pass). Its stats are that pass's counters for the rows; lit_area_error_bound is 0. Its
+  /// memory is rows x instants x 25 bytes for the whole call.
   SeriesResult* series_table = nullptr;
 };
 

@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <stdexcept>
 #include <exception>
@@ -197,7 +198,7 @@ class MapBuilder {
       take_batch(first, count, unfed[first + count]);
     }
     if (table_)
-      for (const Worker& w : workers_) table_->stats += w.stats;  // the lit pass's counters alone
+      for (const Worker& w : workers_) table_->stats += w.stats;  // the rows' pairs in the lit pass
     std::vector<std::vector<sunmap::StripMap>> strip_maps = full_ ? overlay_full() : finish_levels();
     // The faces in order, region ids shifted by the earlier faces'.
     for (std::size_t k = 0; k < faces_.size(); ++k) {
@@ -222,18 +223,25 @@ class MapBuilder {
  private:
   struct Worker {
     ExactWorker exact;
-    ShadowStats stats;
+    ShadowStats stats;        ///< the table's rows' pairs (SunHoursOptions::series_table)
+    ShadowStats other_stats;  ///< the other faces' pairs (not receiving faces)
   };
 
-  /// The series table of the map's faces (SunHoursOptions::series_table): compute_series'
-  /// shape, its entries written by lit_batch. A degenerate face keeps compute's zeros.
+  /// The series table of the map's receiving faces (SunHoursOptions::series_table):
+  /// compute_series' shape, its entries written by lit_batch. A degenerate face keeps
+  /// compute's zeros.
   void start_table(SeriesResult& table) {
     table_ = &table;
     table = SeriesResult{};
-    table.faces = faces_;
     table.instants = n_;
-    for (std::size_t f : faces_) table.area.push_back((*ctx_.face_area)[f]);
-    const std::size_t cells = faces_.size() * n_;
+    table_row_.assign(faces_.size(), SIZE_MAX);
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      if (!ctx_.scene->is_receiver(faces_[k])) continue;
+      table_row_[k] = table.faces.size();
+      table.faces.push_back(faces_[k]);
+      table.area.push_back((*ctx_.face_area)[faces_[k]]);
+    }
+    const std::size_t cells = table.faces.size() * n_;
     table.lit_area.assign(cells, 0.0);
     table.lit_fraction.assign(cells, 0.0);
     table.faces_light.assign(cells, 0);
@@ -277,10 +285,12 @@ class MapBuilder {
   /// parallel (one large ground uses every thread), into parts_ (face-major).
   void lit_batch(std::size_t first, std::size_t count) {
     // The culling grid of each directional light of the batch, shared read-only by the threads.
+    // Built one per thread at a time, as compute_series builds a batch's.
     std::vector<std::optional<core::LightSpaceGrid>> grids(count);
-    for (std::size_t j = 0; j < count; ++j)
+    runtime::parallel_for(count, threads_, [&](unsigned, std::size_t j) {
       if (instants_[first + j].light.type == LightType::Directional)
         grids[j].emplace(*ctx_.cull, *ctx_.prep, instants_[first + j].light.to_light, ctx_.solid_of);
+    });
     parts_.assign(faces_.size() * count, InstantPart{});
     runtime::parallel_for(
         parts_.size(), threads_,
@@ -288,8 +298,10 @@ class MapBuilder {
           runtime::check_stop();
           Worker& w = workers_[wi];
           const std::size_t k = job / count, j = job % count, i = first + j, f = faces_[k];
+          const std::size_t row = table_ ? table_row_[k] : SIZE_MAX;
+          ShadowStats& stats = row != SIZE_MAX ? w.stats : w.other_stats;
           if ((*ctx_.prep)[f].degenerate) {  // no lit region; the table keeps compute's zeros
-            if (table_) ++w.stats.receivers;   // and counts the pair as compute does
+            ++stats.receivers;               // and counts the pair as compute does
             ++done_;
             return;
           }
@@ -298,9 +310,9 @@ class MapBuilder {
           const int side = CGAL::sign(plane_at_light(P, light));
           // The lit region's canonical boundary: the same segments whichever route made it.
           const LitBoundary region = exact_lit_boundary(ctx_, w.exact, f, i, light, side, instants_[i].light,
-                                                        grids[j] ? &*grids[j] : nullptr, w.stats);
-          if (table_) {  // the engine's FaceLighting: what compute_series writes for the pair
-            const std::size_t at = table_->at(k, i);
+                                                        grids[j] ? &*grids[j] : nullptr, stats);
+          if (row != SIZE_MAX) {  // the engine's FaceLighting: what compute_series writes for the pair
+            const std::size_t at = table_->at(row, i);
             table_->lit_area[at] = region.lighting.lit_area;
             table_->lit_fraction[at] = region.lighting.lit_fraction;
             table_->faces_light[at] = region.lighting.faces_light ? 1 : 0;
@@ -511,6 +523,7 @@ class MapBuilder {
   std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
   std::vector<char> finished_;              ///< per face: its strips finished with the last batch
   SeriesResult* table_ = nullptr;           ///< SunHoursOptions::series_table, when asked for
+  std::vector<std::size_t> table_row_;      ///< per face: its row in table_ (SIZE_MAX: not a receiver)
 };
 
 }  // namespace

@@ -70,8 +70,9 @@ class SingleProcessWorld final : public SeriesWorld {
 };
 
 /// What a series job is doing (for an out-of-memory message, say).
-/// Mapping is the sun-hours map, after Computing's rounds; on one process without a checkpoint,
-/// where the exact map's pass computes its faces' lit areas for the series too, before them.
+/// Mapping is the sun-hours map, after Computing's rounds; in an exact series on one process
+/// without a checkpoint, where the map's pass computes its faces' lit areas for the series too,
+/// before them (Computing, Mapping, Computing again, Writing).
 enum class SeriesJobStage { Loading, Preparing, Computing, Mapping, Writing };
 
 /// Progress of a series job, on rank 0 only.

@@ -93,6 +93,14 @@ void fill_given_rows(SeriesResult& part, const std::vector<std::uint64_t>& insta
     }
 }
 
+/// The sun-hours map's instants: the series' suns, each weighing the period's step (the order of
+/// the series' columns by construction, so that the map's pass can give their rows).
+std::vector<SunHoursInstant> map_instants(const SunSeries& suns) {
+  std::vector<SunHoursInstant> out;
+  for (const Light& light : suns.lights) out.push_back({light, suns.hours_per_instant});
+  return out;
+}
+
 /// Another period at the scene's site (an IDF's RunPeriod, or the scene's `sun` block, replaced).
 void replace_period(Scene& scene, const SeriesJobOptions& options) {
   const std::string file = options.scene.string();
@@ -185,8 +193,8 @@ struct SeriesJob::State {
   std::vector<std::uint64_t> todo;  ///< the instants this run computes, ascending (every rank)
   std::size_t resumed = 0;
   std::optional<SunHoursMap> map;
-  /// With the map sharing its pass (SeriesJob::shares_map_pass): its faces' series table, and
-  /// per series row of a map face (row, row in map_table).
+  /// With the map sharing its pass (run_steps): its receiving faces' series table, and per
+  /// series row of a map face (row, row in map_table).
   std::optional<SeriesResult> map_table;
   std::vector<std::pair<std::size_t, std::size_t>> map_rows;
   std::vector<fs::path> written;
@@ -247,11 +255,15 @@ void SeriesJob::run_steps() {
     resume_or_start();
   });
   share_instants();
-  // The exact map's pass computes its faces' lit areas too: on one process without a checkpoint
-  // it runs first and the instants' rounds leave those faces to it (a checkpointed run keeps
-  // its order, so that a stop loses no map work; ranks compute the map by blocks of faces).
-  const bool share = !s.map_faces.empty() && options_.arithmetic == Arithmetic::Exact && !world_.distributed() &&
-                     !s.checkpointing && sun_hours_instants(s.scene).size() == s.instants;
+  // The map's exact pass computes its faces' lit areas too: in an exact series on one process
+  // without a checkpoint it runs first and the instants' rounds leave those faces to it (a
+  // checkpointed run keeps its order, so that a stop loses no map work; ranks compute the map by
+  // blocks of faces). Its table of those rows is held through the rounds: at most round_cells
+  // entries, as one round's, so that the series' memory stays bounded (docs/series.md).
+  std::size_t shared_rows = 0;
+  for (std::size_t f : s.map_faces) shared_rows += s.scene.is_receiver(f) ? 1 : 0;
+  const bool share = shared_rows > 0 && options_.arithmetic == Arithmetic::Exact && !world_.distributed() &&
+                     !s.checkpointing && shared_rows * s.instants <= options_.round_cells;
   const auto map = [&] {
     const auto start = Clock::now();
     compute_map();
@@ -261,6 +273,7 @@ void SeriesJob::run_steps() {
   if (share) {
     s.map_table.emplace();
     map();
+    if (options_.stage) options_.stage(SeriesJobStage::Computing);  // the instants' rounds
   }
   compute_instants();
   s.map_table.reset();
@@ -547,7 +560,7 @@ void SeriesJob::compute_map() {
           options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
         };
       map_options.series_table = s.map_table ? &*s.map_table : nullptr;
-      s.map = compute_sun_hours_map(*s.engine, s.map_faces, sun_hours_instants(s.scene), map_options);
+      s.map = compute_sun_hours_map(*s.engine, s.map_faces, map_instants(s.suns), map_options);
     });
     take_map_rows();
     return;
@@ -565,7 +578,7 @@ void SeriesJob::compute_map() {
       };
     }
     map_options.series_table = s.map_table ? &*s.map_table : nullptr;  // (one process only)
-    SunHoursMap part = compute_sun_hours_map(*s.engine, block, sun_hours_instants(s.scene), map_options);
+    SunHoursMap part = compute_sun_hours_map(*s.engine, block, map_instants(s.suns), map_options);
     if (report) options_.progress({SeriesJobProgress::Part::MapFaces, block.size(), block.size(), 0, true});
     if (world_.distributed())
       bytes = jobs::encode_map(part);
@@ -583,7 +596,7 @@ void SeriesJob::compute_map() {
     for (const std::string& p : parts) maps.push_back(jobs::decode_map(p));
     s.map = jobs::merge_maps(maps);
     if (!options_.sun_hours_levels.empty())
-      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, sun_hours_instants(s.scene), options_.sun_hours_levels,
+      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, map_instants(s.suns), options_.sun_hours_levels,
                            options_.threads);
   });
 }
