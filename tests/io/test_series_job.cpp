@@ -338,6 +338,7 @@ TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
   const fs::path dir = scratch("progress");
   shadow::SeriesJobOptions options = job_options(write_scene(dir, 30, true), dir / "out");
   options.checkpoint = true;
+  options.share_map_pass = false;  // the map after the instants (the shared order: below)
   std::vector<shadow::SeriesJobProgress> instants, faces;
   std::vector<shadow::SeriesJobStage> stages;
   options.progress = [&](const shadow::SeriesJobProgress& p) {
@@ -361,11 +362,12 @@ TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
   EXPECT_EQ(stages, (std::vector<S>{S::Loading, S::Preparing, S::Computing, S::Mapping, S::Writing}));
 }
 
-// In an exact series on one process without a checkpoint the map runs first and its pass
-// computes its receiving faces' lit areas for the series too (SunHoursOptions::series_table):
-// every file as in the order a checkpointed run keeps (the instants, then the map), report.json
-// but for its counters (which count the pass that ran); the rows' pairs counted once; a mapped
-// mesh that is no receiver is no row. Also with the table not kept (as `shadow series` runs).
+// In an exact series on one process the map runs first and its pass computes its receiving
+// faces' lit areas for the series too (SunHoursOptions::series_table): every file as in the
+// other order (share_map_pass = false: the instants, then the map), report.json but for its
+// counters (which count the pass that ran); the rows' pairs counted once; a mapped mesh that is
+// no receiver is no row. Also with the table not kept (as `shadow series` runs), and stopped in
+// the rounds and resumed from the checkpoint.
 TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
   const fs::path dir = scratch("shared_map");
   const fs::path scene_file = write_scene(dir, 30, true);
@@ -399,7 +401,7 @@ TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
     options.progress = nullptr;
     options.stage = nullptr;
     options.output = dir / (tag + "_apart");
-    options.checkpoint = true;
+    options.share_map_pass = false;
     const shadow::SeriesJobResult apart = shadow::test::run_series_job(options);
     shadow::test::expect_same_files(dir / (tag + "_shared"), dir / (tag + "_apart"), 5, {"report.json"});
     EXPECT_EQ(report_without_counters(dir / (tag + "_shared")), report_without_counters(dir / (tag + "_apart"))) << tag;
@@ -413,6 +415,19 @@ TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
     ASSERT_TRUE(shared.map && apart.map);
     EXPECT_EQ(shadow::sun_hours_level_areas(*shared.map), shadow::sun_hours_level_areas(*apart.map)) << tag;
     EXPECT_GT(shared.map_seconds, 0.0);
+
+    // Shared and checkpointed: stopped after the first round, then resumed (the map again).
+    options.output = dir / (tag + "_resumed");
+    options.share_map_pass = true;
+    options.stop_after = 8;
+    EXPECT_THROW(shadow::test::run_series_job(options), shadow::SeriesJobStopped) << tag;
+    options.stop_after = 0;
+    options.resume = true;
+    const shadow::SeriesJobResult resumed = shadow::test::run_series_job(options);
+    EXPECT_EQ(resumed.resumed, 8u) << tag;
+    shadow::test::expect_same_files(dir / (tag + "_shared"), dir / (tag + "_resumed"), 5, {"report.json"});
+    EXPECT_EQ(report_without_counters(dir / (tag + "_shared")), report_without_counters(dir / (tag + "_resumed")))
+        << tag;
   }
 }
 

@@ -70,9 +70,9 @@ class SingleProcessWorld final : public SeriesWorld {
 };
 
 /// What a series job is doing (for an out-of-memory message, say).
-/// Mapping is the sun-hours map, after Computing's rounds; in an exact series on one process
-/// without a checkpoint, where the map's pass computes its faces' lit areas for the series too,
-/// before them (Computing, Mapping, Computing again, Writing).
+/// Mapping is the sun-hours map, after Computing's rounds; where its pass computes its faces'
+/// lit areas for the series too (SeriesJobOptions::share_map_pass), before them (Computing,
+/// Mapping, Computing again, Writing).
 enum class SeriesJobStage { Loading, Preparing, Computing, Mapping, Writing };
 
 /// Progress of a series job, on rank 0 only.
@@ -139,6 +139,12 @@ struct SeriesJobOptions {
   /// (SunHoursOptions::full = false), whose memory follows the level boundaries instead of
   /// growing with the instants; no sun_hours.vtp. An InputError naming the flag without levels.
   bool sun_hours_levels_only = false;
+  /// In an exact series on one process, compute the map first and take its receiving faces'
+  /// rows of the table from its pass (SunHoursOptions::series_table), while those rows x the
+  /// instants are at most round_cells: each such face-instant pair is computed once. False
+  /// computes the map after the instants, as MPI ranks always do: the same files (report.json's
+  /// counters aside), and a stop during the rounds loses no map work.
+  bool share_map_pass = true;
   /// Keep every instant's table in memory for SeriesJobResult::series (faces x instants x 25
   /// bytes). The files never need it: they are written as the instants complete (docs/series.md,
   /// "Streaming"). `shadow series` sets it false, so that its memory does not grow with the
