@@ -432,6 +432,14 @@ TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
       EXPECT_EQ(rest.faces_light[at], given ? 0 : series.faces_light[at]);
     }
   }
+  // Every row given: the table's shape, nothing computed.
+  series_options.given_faces = series.faces;
+  const SeriesResult none = engine.compute_series(lights, series_options);
+  EXPECT_EQ(none.faces, series.faces);
+  EXPECT_EQ(none.area, series.area);
+  EXPECT_EQ(none.lit_area, std::vector<double>(series.lit_area.size(), 0.0));
+  EXPECT_EQ(none.faces_light, std::vector<unsigned char>(series.faces_light.size(), 0));
+  EXPECT_EQ(none.stats.receivers, 0u);
 }
 
 TEST(SunHoursMap, PointLightsAndBackFacingFacesWork) {

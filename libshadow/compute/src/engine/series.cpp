@@ -194,6 +194,15 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   for (std::size_t r = 0; r < rows; ++r)
     if (!given[result.faces[r]]) computed_rows.push_back(r);
   const std::size_t computed = computed_rows.size();
+  if (computed == 0) {  // every row given: no worker, grid or batch
+    const std::size_t cells = rows * instants;
+    result.lit_area.assign(cells, 0.0);
+    result.lit_fraction.assign(cells, 0.0);
+    result.faces_light.assign(cells, 0);
+    result.lit_area_error_bound.assign(cells, 0.0);
+    if (options.progress) options.progress(Progress{instants, instants});
+    return result;
+  }
 
   std::vector<Impl::ThreadState> workers = impl.make_workers(threads, fast);
   // A batch of instants at a time: their light-space grids are built together, then every
@@ -226,7 +235,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     runtime::parallel_for(count, threads, [&](unsigned, std::size_t k) {
       grids[k].reset();
       const Light& light = lights[order[first + k]];
-      if (light.type == LightType::Directional && computed > 0) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
+      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 
