@@ -37,6 +37,7 @@
 #include <stdexcept>
 #include <exception>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -451,7 +452,13 @@ class MapBuilder {
     }
     total_ = faces_.size() * n_ + jobs.size();
     std::vector<std::vector<sunmap::StripMap>> strip_maps(faces_.size());
-    for (std::size_t k = 0; k < faces_.size(); ++k) strip_maps[k].resize(strips[k].size());
+    // Per face: its strips not overlaid yet. The last one frees the face's boundaries, so that
+    // they go as the cells come (a triangulated city's were most of the map's memory).
+    std::unique_ptr<std::atomic<std::size_t>[]> strips_left(new std::atomic<std::size_t>[faces_.size()]);
+    for (std::size_t k = 0; k < faces_.size(); ++k) {
+      strip_maps[k].resize(strips[k].size());
+      strips_left[k].store(strips[k].size());
+    }
     runtime::parallel_for(
         jobs.size(), threads_,
         [&](unsigned, std::size_t j) {
@@ -459,6 +466,7 @@ class MapBuilder {
           const auto [k, s] = jobs[j];
           strip_maps[k][s] = sunmap::overlay_strip(requests_[k], bounds_[k], buckets[k][s], strips[k][s]);
           buckets[k][s] = {};
+          if (strips_left[k].fetch_sub(1) == 1) bounds_[k] = {};
           ++done_;
         },
         report_);
