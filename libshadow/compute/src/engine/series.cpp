@@ -157,6 +157,19 @@ class StagedTable {
   std::vector<unsigned char> faces_light_;
 };
 
+/// The rows compute_series computes: every receiver (`rows`, face ids) but the given ones,
+/// whose entries stay 0 (SeriesOptions::given_faces).
+std::vector<std::size_t> rows_to_compute(const std::vector<std::size_t>& rows, const std::vector<std::size_t>& given_faces,
+                                         std::size_t face_count) {
+  std::vector<char> given(face_count, 0);
+  for (std::size_t f : given_faces)
+    if (f < face_count) given[f] = 1;
+  std::vector<std::size_t> out;
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    if (!given[rows[r]]) out.push_back(r);
+  return out;
+}
+
 }  // namespace
 
 SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, const SeriesOptions& options) const {
@@ -186,13 +199,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     return result;
   }
 
-  // The rows computed here: every receiver but the given ones (their entries stay 0).
-  std::vector<char> given(scene.faces.size(), 0);
-  for (std::size_t f : options.given_faces)
-    if (f < given.size()) given[f] = 1;
-  std::vector<std::size_t> computed_rows;
-  for (std::size_t r = 0; r < rows; ++r)
-    if (!given[result.faces[r]]) computed_rows.push_back(r);
+  const std::vector<std::size_t> computed_rows = rows_to_compute(result.faces, options.given_faces, scene.faces.size());
   const std::size_t computed = computed_rows.size();
   if (computed == 0) {  // every row given: no worker, grid or batch
     const std::size_t cells = rows * instants;
