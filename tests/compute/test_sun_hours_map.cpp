@@ -423,6 +423,7 @@ TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
   series_options.given_faces = faces;
   const SeriesResult rest = engine.compute_series(lights, series_options);
   ASSERT_EQ(rest.faces, series.faces);
+  EXPECT_EQ(rest.stats.receivers + rows.size() * instants.size(), series.stats.receivers);  // the rest's pairs only
   for (std::size_t r = 0; r < series.faces.size(); ++r) {
     const bool given = std::binary_search(rows.begin(), rows.end(), series.faces[r]);
     for (std::size_t i = 0; i < instants.size(); ++i) {
@@ -437,7 +438,10 @@ TEST(SunHoursMap, SeriesTableIsComputeSeriesBitForBit) {
   const SeriesResult none = engine.compute_series(lights, series_options);
   EXPECT_EQ(none.faces, series.faces);
   EXPECT_EQ(none.area, series.area);
+  EXPECT_EQ(none.instants, instants.size());
   EXPECT_EQ(none.lit_area, std::vector<double>(series.lit_area.size(), 0.0));
+  EXPECT_EQ(none.lit_fraction, std::vector<double>(series.lit_area.size(), 0.0));
+  EXPECT_EQ(none.lit_area_error_bound, std::vector<double>(series.lit_area.size(), 0.0));
   EXPECT_EQ(none.faces_light, std::vector<unsigned char>(series.faces_light.size(), 0));
   EXPECT_EQ(none.stats.receivers, 0u);
 }

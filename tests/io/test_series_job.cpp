@@ -337,8 +337,7 @@ TEST(SeriesJob, RankThatReadAnotherSceneStopsEveryRank) {
 TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
   const fs::path dir = scratch("progress");
   shadow::SeriesJobOptions options = job_options(write_scene(dir, 30, true), dir / "out");
-  options.checkpoint = true;
-  options.share_map_pass = false;  // the map after the instants (the shared order: below)
+  options.checkpoint = true;  // the map after the instants (the shared order: below)
   std::vector<shadow::SeriesJobProgress> instants, faces;
   std::vector<shadow::SeriesJobStage> stages;
   options.progress = [&](const shadow::SeriesJobProgress& p) {
@@ -366,8 +365,8 @@ TEST(SeriesJob, ReportsProgressOfInstantsAndMapFaces) {
 // faces' lit areas for the series too (SunHoursOptions::series_table): every file as in the
 // other order (share_map_pass = false: the instants, then the map), report.json but for its
 // counters (which count the pass that ran); the rows' pairs counted once; a mapped mesh that is
-// no receiver is no row. Also with the table not kept (as `shadow series` runs), and stopped in
-// the rounds and resumed from the checkpoint.
+// no receiver is no row. Also with the table not kept (as `shadow series` runs); a checkpointed
+// run (never shared) stopped in the rounds and resumed writes the same files.
 TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
   const fs::path dir = scratch("shared_map");
   const fs::path scene_file = write_scene(dir, 30, true);
@@ -416,15 +415,22 @@ TEST(SeriesJob, MapThatSharesItsPassWritesTheSameFiles) {
     EXPECT_EQ(shadow::sun_hours_level_areas(*shared.map), shadow::sun_hours_level_areas(*apart.map)) << tag;
     EXPECT_GT(shared.map_seconds, 0.0);
 
-    // Shared and checkpointed: stopped after the first round, then resumed (the map again).
+    // Checkpointed: the map after the instants (each record holds every row's values and
+    // counters), stopped after the first round, then resumed: the shared run's files.
     options.output = dir / (tag + "_resumed");
     options.share_map_pass = true;
     options.stop_after = 8;
+    parts.clear();
+    options.progress = [&](const shadow::SeriesJobProgress& p) { parts.push_back(p.part); };
     EXPECT_THROW(shadow::test::run_series_job(options), shadow::SeriesJobStopped) << tag;
+    ASSERT_FALSE(parts.empty());
+    EXPECT_EQ(parts.front(), shadow::SeriesJobProgress::Part::Instants) << tag;  // not shared
+    options.progress = nullptr;
     options.stop_after = 0;
     options.resume = true;
     const shadow::SeriesJobResult resumed = shadow::test::run_series_job(options);
     EXPECT_EQ(resumed.resumed, 8u) << tag;
+    EXPECT_EQ(resumed.series.stats.receivers, resumed.series.faces.size() * 34) << tag;
     shadow::test::expect_same_files(dir / (tag + "_shared"), dir / (tag + "_resumed"), 5, {"report.json"});
     EXPECT_EQ(report_without_counters(dir / (tag + "_shared")), report_without_counters(dir / (tag + "_resumed")))
         << tag;

@@ -220,7 +220,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   // (the same hour on neighbouring days), not neighbouring hours.
   const std::vector<std::size_t> order = by_direction(lights);
   std::vector<std::optional<core::LightSpaceGrid>> grids(batch);
-  // Epeck numbers are reference-counted without locks: each worker makes its own exact lights.
+  // Each worker makes its own exact lights: no Epeck number's count is shared between threads.
   std::vector<std::vector<std::optional<exact::ExactLight>>> exact_lights(threads);
 
   Impl::ItemMode mode;

@@ -71,8 +71,8 @@ class SingleProcessWorld final : public SeriesWorld {
 
 /// What a series job is doing (for an out-of-memory message, say).
 /// Mapping is the sun-hours map, after Computing's rounds; where its pass computes its faces'
-/// lit areas for the series too (SeriesJobOptions::share_map_pass), before them (Computing,
-/// Mapping, Computing again, Writing).
+/// lit areas for the series too (SeriesJobOptions::share_map_pass: never with a checkpoint),
+/// before them (Computing, Mapping, Computing again, Writing).
 enum class SeriesJobStage { Loading, Preparing, Computing, Mapping, Writing };
 
 /// Progress of a series job, on rank 0 only.
@@ -139,11 +139,12 @@ struct SeriesJobOptions {
   /// (SunHoursOptions::full = false), whose memory follows the level boundaries instead of
   /// growing with the instants; no sun_hours.vtp. An InputError naming the flag without levels.
   bool sun_hours_levels_only = false;
-  /// In an exact series on one process, compute the map first and take its receiving faces'
-  /// rows of the table from its pass (SunHoursOptions::series_table), while those rows x the
-  /// instants are at most round_cells: each such face-instant pair is computed once. False
-  /// computes the map after the instants, as MPI ranks always do: the same files (report.json's
-  /// counters aside), and a stop during the rounds loses no map work.
+  /// In an exact series on one process without a checkpoint, compute the map first and take its
+  /// receiving faces' rows of the table from its pass (SunHoursOptions::series_table), while
+  /// those rows x the instants are at most round_cells (that table is then held besides each
+  /// round's): each such face-instant pair is computed once. False computes the map after the
+  /// instants, as checkpointed runs and MPI ranks always do: the same files, report.json's
+  /// counters aside (they count the pass that ran).
   bool share_map_pass = true;
   /// Keep every instant's table in memory for SeriesJobResult::series (faces x instants x 25
   /// bytes). The files never need it: they are written as the instants complete (docs/series.md,
@@ -153,7 +154,8 @@ struct SeriesJobOptions {
   bool keep_table = true;
   /// At most this many cells (receiving faces x instants) of the table per round: what a round
   /// holds in memory (about 25 bytes a cell; on rank 0, every rank's share) before its instants
-  /// go to the files. The default, 2^21, is about 52 MB; fewer cells, more rounds.
+  /// go to the files. The default, 2^21, is about 52 MB; fewer cells, more rounds. A map that
+  /// shares its pass (share_map_pass) holds at most as many cells again through the rounds.
   std::size_t round_cells = std::size_t{1} << 21;
   bool checkpoint = false;  ///< keep OUTDIR/series.checkpoint as the run goes
   bool resume = false;      ///< start from OUTDIR/series.checkpoint (implies checkpoint)

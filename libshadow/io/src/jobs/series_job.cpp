@@ -256,15 +256,17 @@ void SeriesJob::run_steps() {
   });
   share_instants();
   // The map's exact pass computes its faces' lit areas too: in an exact series on one process
-  // it runs first and the instants' rounds leave those faces to it (share_map_pass; ranks
-  // compute the map by blocks of faces, after the instants). Its table of those rows is held
-  // through the rounds: at most round_cells entries, as one round's, so that the series' memory
-  // stays bounded (docs/series.md). A checkpointed run that stops in the rounds computes the map
-  // again when resumed.
+  // without a checkpoint it runs first and the instants' rounds leave those faces to it
+  // (share_map_pass). Its table of those rows is held through the rounds: at most round_cells
+  // entries, as one round's, so that the series' memory stays bounded (docs/series.md). A
+  // checkpointed run keeps the map after the instants: its records then hold every row's values
+  // and counters whatever later resumes them (one process or ranks), a stop loses no map work,
+  // and a resume does not compute the map before it can go on; ranks compute the map by blocks
+  // of faces, after the instants.
   std::size_t shared_rows = 0;
   for (std::size_t f : s.map_faces) shared_rows += s.scene.is_receiver(f) ? 1 : 0;
   const bool share = options_.share_map_pass && shared_rows > 0 && options_.arithmetic == Arithmetic::Exact &&
-                     !world_.distributed() && shared_rows * s.instants <= options_.round_cells;
+                     !world_.distributed() && !s.checkpointing && shared_rows * s.instants <= options_.round_cells;
   const auto map = [&] {
     const auto start = Clock::now();
     compute_map();
