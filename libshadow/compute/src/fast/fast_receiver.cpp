@@ -157,7 +157,8 @@ bool ReceiverJob::push_whole_face(bool lit) {
       clipper.StrictlySimple(false);
       clipper.AddPath(receiver_, CL::ptSubject, true);
       clipper.Execute(CL::ctUnion, lit_tree_, CL::pftNonZero, CL::pftNonZero);
-      return emit(lit_tree_, lit);
+      Int128 cells2 = 0;
+      return emit(lit_tree_, lit, cells2);
     } catch (const CL::clipperException&) {
       return false;
     }

@@ -379,9 +379,12 @@ class ReceiverJob {
   bool convex_window();
 
   // ---- fragments: the union's cells on the receiver's plane ---------------------------------
+  /// The lit and shadow cells, or false (the exact engine) when they do not partition the
+  /// receiver as the union measured it, within the bound.
   bool emit_fragments();
 
-  bool emit(const CL::PolyTree& tree, bool lit);
+  /// The tree's regions as cells; their twice areas (grid units) added to `cells2`.
+  bool emit(const CL::PolyTree& tree, bool lit, Int128& cells2);
 
   // Inputs.
   const core::PreparedScene& ctx_;
@@ -429,6 +432,7 @@ class ReceiverJob {
   int window_convex_ = -1;     // convex_window(): -1 not known yet
   CL::Paths windowed_;         // the casts clipped to it
   CL::PolyTree shadow_tree_, lit_tree_;
+  Int128 shadow_tree2_ = 0;  // twice shadow_tree_'s area (holes negative), grid units
   std::vector<CL::Paths> regions_;
   CL::Paths cells_;
   std::size_t fragment_id_ = 0;
