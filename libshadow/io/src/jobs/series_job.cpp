@@ -236,10 +236,11 @@ SeriesJobResult SeriesJob::run() {
   result.every = s.every;
   result.resumed = s.resumed;
   // The map's time is its own: before the instants when it shared its pass, else after them.
-  const bool shared = s.map_first;
   result.map_seconds = s.map_seconds;
-  result.compute_seconds = std::chrono::duration<double>(s.computed - s.start).count() - (shared ? s.map_seconds : 0);
-  result.write_seconds = std::chrono::duration<double>(s.finished - s.computed).count() - (shared ? 0 : s.map_seconds);
+  result.compute_seconds =
+      std::chrono::duration<double>(s.computed - s.start).count() - (s.map_first ? s.map_seconds : 0);
+  result.write_seconds =
+      std::chrono::duration<double>(s.finished - s.computed).count() - (s.map_first ? 0 : s.map_seconds);
   result.energyplus = std::move(s.hand_back);
   return result;
 }
@@ -545,7 +546,6 @@ void SeriesJob::compute_map() {
   State& s = *state_;
   if (options_.stage) options_.stage(SeriesJobStage::Mapping);
   if (s.map_faces.empty()) return;
-
   const std::size_t n = s.map_faces.size(), size = static_cast<std::size_t>(world_.size()),
                     r = static_cast<std::size_t>(world_.rank());
   const std::vector<std::size_t> block(s.map_faces.begin() + static_cast<std::ptrdiff_t>(r * n / size),
