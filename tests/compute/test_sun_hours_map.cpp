@@ -575,6 +575,26 @@ TEST(SunHoursMap, SceneKeyAndMeshNamesChooseFaces) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(SunHoursMap, InstantsOfTheSceneAndOfItsSeriesAreTheSame) {
+  // A day at 90-minute steps (the night's instants have no light) and a lamp before the suns.
+  const Scene scene = parse_scene(R"({
+    "meshes": [{"name": "m", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]]}],
+    "lights": [{"name": "lamp", "type": "point", "position": [0, 0, 5]}],
+    "sun": {"latitude": 52.5, "longitude": 13.4, "start": "2026-03-21", "end": "2026-03-21", "step_minutes": 90}
+  })", "scene.json");
+  const std::vector<SunHoursInstant> of_scene = sun_hours_instants(scene);
+  const std::vector<SunHoursInstant> of_series = sun_hours_instants(sun_series(scene));
+  ASSERT_GT(of_scene.size(), 4u);
+  ASSERT_LT(of_scene.size(), scene.sun_instants.size());
+  ASSERT_EQ(of_series.size(), of_scene.size());
+  for (std::size_t i = 0; i < of_scene.size(); ++i) {
+    EXPECT_EQ(of_series[i].light.name, of_scene[i].light.name);
+    EXPECT_EQ(of_series[i].light.to_light, of_scene[i].light.to_light);
+    EXPECT_EQ(of_series[i].hours, 1.5);
+    EXPECT_EQ(of_scene[i].hours, 1.5);
+  }
+}
+
 TEST(SunHoursMap, WritesSunHoursVtp) {
   const Scene scene = pole_scene();
   const ShadowEngine engine(scene, 1);

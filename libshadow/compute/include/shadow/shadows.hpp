@@ -278,6 +278,15 @@ struct SeriesResult {
 
   /// Index of (row, instant) in the row-major arrays.
   [[nodiscard]] std::size_t at(std::size_t row, std::size_t instant) const { return row * instants + instant; }
+
+  /// Sizes the four row-major arrays to faces.size() x instants entries, every one 0.
+  void zero_entries() {
+    const std::size_t cells = faces.size() * instants;
+    lit_area.assign(cells, 0.0);
+    lit_fraction.assign(cells, 0.0);
+    faces_light.assign(cells, 0);
+    lit_area_error_bound.assign(cells, 0.0);
+  }
 };
 
 /// One call: every selected light on every receiving face, and (options.planes) on every plane.

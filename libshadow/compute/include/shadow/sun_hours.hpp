@@ -11,6 +11,7 @@
 #pragma once
 
 #include <shadow/scene.hpp>
+#include <shadow/series.hpp>
 #include <shadow/shadows.hpp>
 
 #include <glm/vec3.hpp>
@@ -188,6 +189,10 @@ std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vect
 /// median gap between them, the same rule as the series' sun hours.
 /// Empty when the scene has no `sun` block.
 std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene);
+
+/// The instants of a series (sun_series()), each weighing its hours_per_instant, in the
+/// series' order: a map whose columns are the series' (SunHoursOptions::series_table).
+std::vector<SunHoursInstant> sun_hours_instants(const SunSeries& suns);
 
 /// Parses a comma-separated list of levels in hours (the CLI's `--sun-hours-levels 2,4,6`).
 /// @throws InputError naming `what` for an empty item, a non-number, or a value negative or

@@ -78,10 +78,8 @@ class StagedTable {
   StagedTable(SeriesResult& result, std::size_t rows, std::size_t instants, std::size_t batch)
       : result_(result), rows_(rows), instants_(instants), batch_(batch),
         length_(std::min(instants, batch * std::max<std::size_t>(1, 64 / batch))) {
-    each_array([&](auto& stage, auto& table) {
-      table.assign(rows * instants, 0);
-      stage.resize(rows * length_);
-    });
+    result.zero_entries();  // (rows x instants: the result's rows and columns)
+    each_array([&](auto& stage, auto&) { stage.resize(rows * length_); });
   }
 
   /// Before the batch starting at `position` (a multiple of the batch size): the stage before
@@ -202,11 +200,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   const std::vector<std::size_t> computed_rows = rows_to_compute(result.faces, options.given_faces, scene.faces.size());
   const std::size_t computed = computed_rows.size();
   if (computed == 0) {  // every row given: no worker, grid or batch
-    const std::size_t cells = rows * instants;
-    result.lit_area.assign(cells, 0.0);
-    result.lit_fraction.assign(cells, 0.0);
-    result.faces_light.assign(cells, 0);
-    result.lit_area_error_bound.assign(cells, 0.0);
+    result.zero_entries();
     if (options.progress) options.progress(Progress{instants, instants});
     return result;
   }

@@ -287,8 +287,10 @@ bool ReceiverJob::emit_fragments() {
   // different topologies (a cast's vertex on another cast's edge, on the grid), a region was
   // both lit and shadow and the fragments covered more than the face (fuzz_engine): the exact
   // engine then.
-  const Int128 receiver2 = area2(receiver_) < 0 ? -area2(receiver_) : area2(receiver_);
-  const double tolerance2 = (1e-9 * out_.area + out_.lit_area_error_bound) / (0.5 * cell_);
+  // The relative slack is of this receiver's own outline (a tile's, not its face's).
+  const Int128 outline2 = area2(receiver_);
+  const Int128 receiver2 = outline2 < 0 ? -outline2 : outline2;
+  const double tolerance2 = 1e-9 * static_cast<double>(receiver2) + out_.lit_area_error_bound / (0.5 * cell_);
   const auto off = [](Int128 a, Int128 b) { return std::abs(static_cast<double>(a - b)); };
   return off(shadow2, shadow_tree2_) <= tolerance2 && off(lit2, receiver2 - shadow_tree2_) <= tolerance2;
 }

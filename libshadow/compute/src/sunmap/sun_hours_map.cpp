@@ -242,11 +242,7 @@ class MapBuilder {
       table.faces.push_back(faces_[k]);
       table.area.push_back((*ctx_.face_area)[faces_[k]]);
     }
-    const std::size_t cells = table.faces.size() * n_;
-    table.lit_area.assign(cells, 0.0);
-    table.lit_fraction.assign(cells, 0.0);
-    table.faces_light.assign(cells, 0);
-    table.lit_area_error_bound.assign(cells, 0.0);
+    table.zero_entries();
   }
 
   void prepare_faces() {
@@ -636,6 +632,13 @@ std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene) {
     if (instant.light_id == SunInstant::none || instant.light_id >= scene.lights.size()) continue;
     out.push_back({scene.lights[instant.light_id], step_hours});
   }
+  return out;
+}
+
+std::vector<SunHoursInstant> sun_hours_instants(const SunSeries& suns) {
+  std::vector<SunHoursInstant> out;
+  out.reserve(suns.lights.size());
+  for (const Light& light : suns.lights) out.push_back({light, suns.hours_per_instant});
   return out;
 }
 

@@ -93,14 +93,6 @@ void fill_given_rows(SeriesResult& part, const std::vector<std::uint64_t>& insta
     }
 }
 
-/// The sun-hours map's instants: the series' suns, each weighing the period's step (the order of
-/// the series' columns by construction, so that the map's pass can give their rows).
-std::vector<SunHoursInstant> map_instants(const SunSeries& suns) {
-  std::vector<SunHoursInstant> out;
-  for (const Light& light : suns.lights) out.push_back({light, suns.hours_per_instant});
-  return out;
-}
-
 /// Another period at the scene's site (an IDF's RunPeriod, or the scene's `sun` block, replaced).
 void replace_period(Scene& scene, const SeriesJobOptions& options) {
   const std::string file = options.scene.string();
@@ -352,13 +344,7 @@ void SeriesJob::open_output() {
   // The table's rows (the receiving faces) and their areas, as compute_series makes them.
   s.series = s.engine->compute_series({}, s.series_options);
   s.series.instants = s.instants;
-  if (options_.keep_table) {
-    const std::size_t cells = s.series.faces.size() * s.instants;
-    s.series.lit_area.assign(cells, 0.0);
-    s.series.lit_fraction.assign(cells, 0.0);
-    s.series.faces_light.assign(cells, 0);
-    s.series.lit_area_error_bound.assign(cells, 0.0);
-  }
+  if (options_.keep_table) s.series.zero_entries();
   // The files are written as the instants complete, in order; until the end they are temporaries.
   s.stream.emplace(s.output->stream_series(s.scene, s.suns, s.series, series_files()));
   s.streamed.assign(s.instants, false);
@@ -563,7 +549,7 @@ void SeriesJob::compute_map() {
           options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
         };
       map_options.series_table = s.map_table ? &*s.map_table : nullptr;
-      s.map = compute_sun_hours_map(*s.engine, s.map_faces, map_instants(s.suns), map_options);
+      s.map = compute_sun_hours_map(*s.engine, s.map_faces, sun_hours_instants(s.suns), map_options);
     });
     take_map_rows();
     return;
@@ -581,7 +567,7 @@ void SeriesJob::compute_map() {
       };
     }
     map_options.series_table = s.map_table ? &*s.map_table : nullptr;  // (one process only)
-    SunHoursMap part = compute_sun_hours_map(*s.engine, block, map_instants(s.suns), map_options);
+    SunHoursMap part = compute_sun_hours_map(*s.engine, block, sun_hours_instants(s.suns), map_options);
     if (report) options_.progress({SeriesJobProgress::Part::MapFaces, block.size(), block.size(), 0, true});
     if (world_.distributed())
       bytes = jobs::encode_map(part);
@@ -599,7 +585,7 @@ void SeriesJob::compute_map() {
     for (const std::string& p : parts) maps.push_back(jobs::decode_map(p));
     s.map = jobs::merge_maps(maps);
     if (!options_.sun_hours_levels.empty())
-      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, map_instants(s.suns), options_.sun_hours_levels,
+      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, sun_hours_instants(s.suns), options_.sun_hours_levels,
                            options_.threads);
   });
 }
