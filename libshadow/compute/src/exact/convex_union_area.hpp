@@ -651,10 +651,26 @@ class ConvexUnionArea {
       mpz_mul(cd, cd, l.d.get_mpz_t());
       a = b;
     }
-    // measure = 1 - covered = (cd - cn) / cd, normalised: the same rational as before.
+    // measure = 1 - covered = (cd - cn) / cd.
     if (!covered_part) mpz_sub(cn, cd, cn);
-    mpq_canonicalize(measure_.get_mpq_t());
-    if (sgn(measure_) != 0) add_cross(v, w, &measure_);
+    if (mpz_sgn(cn) != 0) {
+      const QPoint2& s = *pts_[v];
+      const QPoint2& s2 = *pts_[w];
+      if (is_integer(s) && is_integer(s2)) {
+        // cross(s, s2) cn / cd made canonical once (normalising the measure first and then
+        // multiplying by the cross, as below, takes two gcds).
+        terms_.emplace_back();
+        mpq_ptr term = terms_.back().get_mpq_t();
+        mpz_mul(z, num(s.x), num(s2.y));
+        mpz_submul(z, num(s.y), num(s2.x));
+        mpz_mul(mpq_numref(term), z, cn);
+        mpz_set(mpq_denref(term), cd);
+        mpq_canonicalize(term);
+      } else {
+        mpq_canonicalize(measure_.get_mpq_t());
+        add_cross(v, w, &measure_);
+      }
+    }
     if (!boundary_) return;
     if (!covered_part) return add_uncovered_pieces();
     for (Cover& c : merged_)
