@@ -104,6 +104,7 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
   std::uniform_int_distribution<int> magnitude(-30, 20);  // coordinates 1e-9 .. 1e6
   int crossings = 0, projections = 0, coarse_rounds = 0;
   std::size_t fixed_steps = 0, gmp_steps = 0;  // both of ScaledChart's ways (exact/fixed_width.hpp)
+  int fixed_setups = 0, gmp_setups = 0;        // the same for the chart's N, O, D, L and K
   std::size_t clipped = 0;
   for (int round = 0; round < 300; ++round) {
     const double scale = std::ldexp(1.0, magnitude(rng));
@@ -218,6 +219,7 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
       clipped += scaled_poly.size();
     }
     fixed_steps += chart.fixed_steps();
+    ++(chart.fixed_setup() ? fixed_setups : gmp_setups);
     gmp_steps += chart.gmp_steps();
     // Areas come back divided by K^2; points of the unscaled chart go in times K.
     EQ area = EQ(3, 7) * chart.scale() * chart.scale();
@@ -235,6 +237,8 @@ TEST(ScaledChart, IsTheUnscaledChartTimesK) {
   // fixed-width steps: both were checked above against the unscaled rationals.
   EXPECT_GT(fixed_steps, 1000u);
   EXPECT_GT(gmp_steps, 1000u);
+  EXPECT_GT(fixed_setups, 50);
+  EXPECT_GT(gmp_setups, 50);
 }
 
 TEST(ScaledChart, WideScenesAndDirectionsKeepTheUnscaledRationals) {

@@ -77,6 +77,8 @@ class ScaledChart {
   /// Points made so far in fixed width and by GMP (the fallback) in an integer chart (tests).
   [[nodiscard]] std::size_t fixed_steps() const { return fixed_steps_; }
   [[nodiscard]] std::size_t gmp_steps() const { return gmp_steps_; }
+  /// Whether the integer chart's N, O, D and L were made in fixed width (tests).
+  [[nodiscard]] bool fixed_setup() const { return fixed_setup_; }
   /// An interval around K (clip_convex_2d's `scale`).
   [[nodiscard]] const IA& scale_interval() const { return iscale_; }
   /// The chart box's bounds in coordinate c, scaled, and their intervals (unscaled: the bounds).
@@ -173,6 +175,9 @@ class ScaledChart {
     e_ = e;
     i_ = core::chart_i(prep.axis);
     j_ = core::chart_j(prep.axis);
+    const int fixed_width = make_integer_fixed(receiver, prep, d, direction.least);
+    fixed_setup_ = fixed_width >= 0;
+    if (fixed_width >= 0) return fixed_width == 1;
     const glm::dvec3& c = receiver[prep.corner[1]];
     const glm::dvec3& next = receiver[prep.corner[2]];
     const glm::dvec3& prev = receiver[prep.corner[0]];
@@ -216,18 +221,85 @@ class ScaledChart {
     return true;
   }
 
-  /// v 2^-e_ as an __int128 (integer_of's value) when it is below 2^126 and v a multiple of 2^e_.
-  bool small_integer_of(double v, fixed::i128& out) const {
+  /// make_integer's N, O, D, L, K and fixed-width copies made in __int128 (the same integers
+  /// as its GMP steps: a chart's setup was a twentieth of the exact series' time in them):
+  /// 1 made, 0 no integer chart (as make_integer's false), -1 some value would not fit (the
+  /// GMP steps then). e_, i_ and j_ are set.
+  int make_integer_fixed(const std::vector<glm::dvec3>& receiver, const core::FacePrep& prep, const glm::dvec3& d,
+                         int direction_least) {
+    using fixed::i128;
+    const auto sub = [](i128 a, i128 b, i128& r) { return !__builtin_sub_overflow(a, b, &r); };
+    const auto add = [](i128 a, i128 b, i128& r) { return !__builtin_add_overflow(a, b, &r); };
+    const auto mul = [](i128 a, i128 b, i128& r) { return !__builtin_mul_overflow(a, b, &r); };
+    const auto cross = [&](i128 a, i128 b, i128 c, i128 f, i128& r) {  // a b - c f
+      i128 x = 0, y = 0;
+      return mul(a, b, x) && mul(c, f, y) && sub(x, y, r);
+    };
+    const glm::dvec3& cp = receiver[prep.corner[1]];
+    const glm::dvec3& next = receiver[prep.corner[2]];
+    const glm::dvec3& prev = receiver[prep.corner[0]];
+    i128 c[3], u[3], v[3], n[3], dd[3];
+    for (int k = 0; k < 3; ++k) {
+      if (!small_integer_at(cp[k], e_, c[k]) || !small_integer_at(next[k], e_, u[k]) ||
+          !small_integer_at(prev[k], e_, v[k]) || !sub(u[k], c[k], u[k]) || !sub(v[k], c[k], v[k]))
+        return -1;
+    }
+    if (!cross(u[1], v[2], u[2], v[1], n[0]) || !cross(u[2], v[0], u[0], v[2], n[1]) ||
+        !cross(u[0], v[1], u[1], v[0], n[2]))
+      return -1;
+    for (i128& x : n) {
+      if (fixed::bit_width(x) > 126) return -1;
+      if (prep.flipped) x = -x;
+    }
+    const fixed::u128 g = fixed::gcd(fixed::gcd(fixed::magnitude(n[0]), fixed::magnitude(n[1])), fixed::magnitude(n[2]));
+    if (g == 0) return 0;  // a degenerate receiver
+    for (i128& x : n) x /= static_cast<i128>(g);
+    i128 offset = 0, l = 0;
+    for (int k = 0; k < 3; ++k) {
+      i128 t = 0;
+      if (!mul(n[k], c[k], t) || !sub(offset, t, offset)) return -1;
+      if (!small_integer_at(d[k], direction_least, dd[k]) || !mul(n[k], dd[k], t) || !add(l, t, l)) return -1;
+    }
+    if (fixed::bit_width(offset) > 126 || fixed::bit_width(l) > 126) return -1;
+    if (l == 0) return 0;  // light along the plane
+    if (l < 0) {
+      l = -l;
+      for (i128& x : dd) x = -x;
+    }
+    const long k_bits = static_cast<long>(fixed::bit_width(l)) - e_;
+    if (k_bits > 600 || k_bits < -600) return 0;
+    for (int k = 0; k < 3; ++k) {
+      fixed::set_mpz(n_[k].get_mpz_t(), n[k]);
+      fixed::set_mpz(d_[k].get_mpz_t(), dd[k]);
+      sn_[k] = n[k];
+      sd_[k] = dd[k];
+    }
+    fixed::set_mpz(offset_.get_mpz_t(), offset);
+    fixed::set_mpz(l_.get_mpz_t(), l);
+    so_ = offset;
+    sl_ = l;
+    small_ = true;  // (every value below 2^126, as fixed::to_i128 asks)
+    mpq_set_z(scale_.get_mpq_t(), l_.get_mpz_t());
+    scale_by_power_of_two(scale_, -e_);
+    return 1;
+  }
+
+  /// v 2^-least as an __int128 (integer_of's value) when it is below 2^126 and v a multiple of
+  /// 2^least.
+  static bool small_integer_at(double v, int least, fixed::i128& out) {
     if (v == 0.0) {
       out = 0;
       return true;
     }
     const core::Dyadic q = core::dyadic(v);
-    const int shift = q.exponent - e_;
+    const int shift = q.exponent - least;
     if (shift < 0 || shift > 126 - 53) return false;  // (below the least bit: integer_of throws)
     out = static_cast<fixed::i128>(q.mantissa) * (fixed::i128{1} << shift);
     return true;
   }
+
+  /// v 2^-e_ as an __int128 (integer_of's value) when it is below 2^126 and v a multiple of 2^e_.
+  bool small_integer_of(double v, fixed::i128& out) const { return small_integer_at(v, e_, out); }
 
   /// Y and S = N.Y + O of an input point in fixed width.
   bool small_plane_value(const glm::dvec3& y, fixed::i128 (&yi)[3], fixed::i128& s) const {
@@ -302,8 +374,15 @@ class ScaledChart {
 
   /// m K for a chart coordinate m.
   void scaled(double m, EQ& out) const {
-    out = m;
-    if (integer_) out *= scale_;
+    if (!integer_ || m == 0.0) {
+      out = m;
+      return;
+    }
+    // m = mantissa 2^exponent, K = L 2^-e: one product and a shift (no gcd: only twos cancel).
+    const core::Dyadic q = core::dyadic(m);
+    mpz_mul_si(mpq_numref(out.get_mpq_t()), l_.get_mpz_t(), static_cast<long>(q.mantissa));
+    mpz_set_ui(mpq_denref(out.get_mpq_t()), 1);
+    scale_by_power_of_two(out, static_cast<long>(q.exponent) - e_);
   }
 
   bool integer_ = false;
@@ -311,6 +390,7 @@ class ScaledChart {
   int e_ = 0, i_ = 0, j_ = 0;
   mpz_class n_[3], offset_, d_[3], l_;
   bool small_ = false;                          ///< N, O, L, D in fixed width too (below)
+  bool fixed_setup_ = false;                    ///< fixed_setup()
   std::size_t fixed_steps_ = 0, gmp_steps_ = 0;  ///< fixed_steps(), gmp_steps()
   fixed::i128 sn_[3] = {}, so_ = 0, sl_ = 0, sd_[3] = {};
   EQ scale_;
