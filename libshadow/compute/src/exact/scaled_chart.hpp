@@ -77,7 +77,8 @@ class ScaledChart {
   /// Points made so far in fixed width and by GMP (the fallback) in an integer chart (tests).
   [[nodiscard]] std::size_t fixed_steps() const { return fixed_steps_; }
   [[nodiscard]] std::size_t gmp_steps() const { return gmp_steps_; }
-  /// Whether the integer chart's N, O, D and L were made in fixed width (tests).
+  /// Whether make_integer decided in fixed width (tests): with integer(), N, O, D and L were
+  /// made there; without it, that there is no integer chart was found there.
   [[nodiscard]] bool fixed_setup() const { return fixed_setup_; }
   /// An interval around K (clip_convex_2d's `scale`).
   [[nodiscard]] const IA& scale_interval() const { return iscale_; }
