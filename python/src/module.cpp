@@ -1155,6 +1155,8 @@ PYBIND11_MODULE(_libshadow, m) {
 
   m.def("sun_hours_instants", [](const Scene& s) { return sun_hours_instants(s); }, py::arg("scene"),
         "The scene's suns above the horizon, each weighing the period's step (step_minutes / 60 hours).");
+  m.def("sun_hours_instants", [](const SunSeries& s) { return sun_hours_instants(s); }, py::arg("series"),
+        "A series' suns (sun_series), each weighing its hours_per_instant, in the series' order.");
   m.def("sun_hours_map_faces",
         [](const Scene& s, const std::optional<std::vector<std::string>>& meshes) {
           return meshes ? sun_hours_map_faces(s, *meshes, "meshes") : sun_hours_map_faces(s);

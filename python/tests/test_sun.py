@@ -134,6 +134,9 @@ def test_sun_hours_map_agrees_with_the_per_instant_results(source_dir, tmp_path)
     assert calls
     instants = libshadow.sun_hours_instants(scene)
     assert hours_map.total_hours == pytest.approx(sum(i.hours for i in instants))
+    of_series = libshadow.sun_hours_instants(libshadow.sun_series(scene))
+    assert [i.hours for i in of_series] == [i.hours for i in instants]
+    assert [i.light.name for i in of_series] == [i.light.name for i in instants]
     assert hours_map.face_id.tolist() == faces
     labels, hours = libshadow.sun_hours(engine.compute(polygons=False), by="face")
     per_face = dict(zip(labels, hours))
