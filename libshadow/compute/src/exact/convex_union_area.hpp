@@ -661,8 +661,8 @@ class ConvexUnionArea {
         // multiplying by the cross, as below, takes two gcds).
         terms_.emplace_back();
         mpq_ptr term = terms_.back().get_mpq_t();
-        mpz_mul(z, num(s.x), num(s2.y));
-        mpz_submul(z, num(s.y), num(s2.x));
+        g_ = 0;
+        add_integer_cross(g_, s, s2);  // (z is g_)
         mpz_mul(mpq_numref(term), z, cn);
         mpz_set(mpq_denref(term), cd);
         mpq_canonicalize(term);

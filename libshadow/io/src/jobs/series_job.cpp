@@ -532,6 +532,7 @@ void SeriesJob::compute_map() {
   State& s = *state_;
   if (options_.stage) options_.stage(SeriesJobStage::Mapping);
   if (s.map_faces.empty()) return;
+  const std::vector<SunHoursInstant> instants = sun_hours_instants(s.suns);  // the series' columns
   const std::size_t n = s.map_faces.size(), size = static_cast<std::size_t>(world_.size()),
                     r = static_cast<std::size_t>(world_.rank());
   const std::vector<std::size_t> block(s.map_faces.begin() + static_cast<std::ptrdiff_t>(r * n / size),
@@ -549,7 +550,7 @@ void SeriesJob::compute_map() {
           options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
         };
       map_options.series_table = s.map_table ? &*s.map_table : nullptr;
-      s.map = compute_sun_hours_map(*s.engine, s.map_faces, sun_hours_instants(s.suns), map_options);
+      s.map = compute_sun_hours_map(*s.engine, s.map_faces, instants, map_options);
     });
     take_map_rows();
     return;
@@ -567,7 +568,7 @@ void SeriesJob::compute_map() {
       };
     }
     map_options.series_table = s.map_table ? &*s.map_table : nullptr;  // (one process only)
-    SunHoursMap part = compute_sun_hours_map(*s.engine, block, sun_hours_instants(s.suns), map_options);
+    SunHoursMap part = compute_sun_hours_map(*s.engine, block, instants, map_options);
     if (report) options_.progress({SeriesJobProgress::Part::MapFaces, block.size(), block.size(), 0, true});
     if (world_.distributed())
       bytes = jobs::encode_map(part);
@@ -585,7 +586,7 @@ void SeriesJob::compute_map() {
     for (const std::string& p : parts) maps.push_back(jobs::decode_map(p));
     s.map = jobs::merge_maps(maps);
     if (!options_.sun_hours_levels.empty())
-      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, sun_hours_instants(s.suns), options_.sun_hours_levels,
+      add_sun_hours_levels(*s.map, *s.engine, s.map_faces, instants, options_.sun_hours_levels,
                            options_.threads);
   });
 }
