@@ -252,6 +252,13 @@ bool ReceiverJob::set_up_projection() {
 
 using receiver_job::ReceiverJob;
 
+void ReceiverScratchDelete::operator()(receiver_job::ReceiverScratch* scratch) const noexcept { delete scratch; }
+
+receiver_job::ReceiverScratch& FastWorker::receiver_scratch() {
+  if (!receiver) receiver.reset(new receiver_job::ReceiverScratch);
+  return *receiver;
+}
+
 EngineStripUnion& engine_strip_union() {
   static EngineStripUnion state;
   return state;

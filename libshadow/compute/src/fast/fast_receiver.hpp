@@ -16,17 +16,30 @@
 #include <shadow/shadows.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace shadow::fast {
 
 /// What the computation reads from the prepared engine (all shared, read-only).
 
+namespace receiver_job {
+struct ReceiverScratch;  // fast/receiver_job.hpp (Clipper's types)
+}
+/// Deletes a receiver_job::ReceiverScratch (defined where that type is complete).
+struct ReceiverScratchDelete {
+  void operator()(receiver_job::ReceiverScratch* scratch) const noexcept;
+};
+
 /// Per-thread scratch state.
 struct FastWorker {
   core::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
   ClusterScratch cluster;          ///< the clustered union's vectors (fast/cluster_union.hpp)
   WindowClipScratch window;        ///< the clip to a convex receiver's vectors (fast/window_clip.hpp)
+  /// The receiver job's vectors (casts, hulls, clips), made on first use.
+  std::unique_ptr<receiver_job::ReceiverScratch, ReceiverScratchDelete> receiver;
+  /// The receiver job's vectors, made on first use.
+  receiver_job::ReceiverScratch& receiver_scratch();
 };
 
 /// What compute_receiver did with a receiver (or tile).

@@ -52,7 +52,7 @@ void ReceiverJob::add_cast(Cast& c) {
   for (const glm::dvec2& p : c.poly) not_finite_ |= !std::isfinite(p.x) || !std::isfinite(p.y);
   not_finite_ |= !std::isfinite(c.delta);
   if (not_finite_) return;
-  CL::Path path;
+  CL::Path path = s_.take_path();
   path.reserve(c.poly.size());
   for (const glm::dvec2& p : c.poly) {
     const CL::IntPoint ip = grid_.point(p);
@@ -129,7 +129,7 @@ bool ReceiverJob::cast_convex_solid(int solid) {
     }
   }
   convex_hull(points_, hull_);
-  cast_.poly = hull_;
+  cast_.poly.swap(hull_);  // (hull_ is scratch: convex_hull empties it first)
   // The hull of points each within delta of the exact ones is within delta of the exact hull.
   cast_.delta = std::max(parallel_delta_, cross_delta);
   if (cast_.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver

@@ -121,9 +121,16 @@ struct Cast {
 };
 
 
+/// FastReceiver's vectors (part of ReceiverScratch: kept by the worker).
+struct FastReceiverScratch {
+  std::vector<glm::dvec2> box_clip;
+  std::vector<Hom> hom, hom_clip;
+};
+
 class FastReceiver {
  public:
-  explicit FastReceiver(const Receiver& rc) : rc_(rc) {}
+  FastReceiver(const Receiver& rc, FastReceiverScratch& scratch)
+      : rc_(rc), scratch_(scratch.box_clip), hom_(scratch.hom), scratch_hom_(scratch.hom_clip) {}
 
   /// Directional light: the front part of a convex piece (exact signs), projected, clipped to
   /// the box. False: ill-conditioned (handed to the exact engine).
@@ -253,8 +260,8 @@ class FastReceiver {
  private:
   const Receiver& rc_;
   double base_delta_ = 0, max_delta_ = 0, position_error_ = 0, s_extra_ = 0;
-  std::vector<glm::dvec2> scratch_;
-  std::vector<Hom> hom_, scratch_hom_;
+  std::vector<glm::dvec2>& scratch_;
+  std::vector<Hom>&hom_, &scratch_hom_;
 };
 
 /// The integer grid over the receiver's chart box: its corners are grid points.
@@ -280,6 +287,59 @@ struct Grid {
   double rounding() const { return 0.5 * std::hypot(step[0], step[1]) * (1 + 8 * kEps); }
 };
 
+/// The receiver job's vectors, kept by the worker (FastWorker::receiver) from one receiver to the
+/// next: each job used to allocate its casts, hull points and clip buffers anew, and grow them
+/// by copies, for a few casts a receiver. Their contents mean nothing between jobs: reset()
+/// empties them, keeping their capacity (the casts' paths too, through `spare`).
+struct ReceiverScratch {
+  CL::Paths casts, maybe, windowed, cells;
+  std::vector<CL::Path> spare;  ///< emptied paths with their capacity, for the next casts
+  std::vector<CGAL::Sign> vsign, psign;
+  std::vector<char> unsure;
+  std::vector<glm::dvec2> points, hull, outline;
+  Cast cast;
+  CL::Path receiver, window;
+  CL::PolyTree shadow_tree, lit_tree;
+  std::vector<CL::Paths> regions;
+  FastReceiverScratch projection;
+
+  /// Empties every vector for a new job; the casts' paths go to `spare`.
+  void reset() {
+    recycle(casts);
+    recycle(maybe);
+    recycle(windowed);
+    recycle(cells);
+    vsign.clear();
+    psign.clear();
+    unsure.clear();
+    points.clear();
+    hull.clear();
+    outline.clear();
+    cast.poly.clear();
+    cast.delta = 0;
+    cast.free_length = 0;
+    receiver.clear();
+    window.clear();
+    shadow_tree.Clear();
+    lit_tree.Clear();
+    regions.clear();
+  }
+  /// An empty path, with the capacity of one used before when there is one.
+  CL::Path take_path() {
+    if (spare.empty()) return {};
+    CL::Path path = std::move(spare.back());
+    spare.pop_back();
+    path.clear();
+    return path;
+  }
+
+ private:
+  void recycle(CL::Paths& paths) {
+    for (CL::Path& path : paths) spare.push_back(std::move(path));
+    paths.clear();
+  }
+};
+
 /// One receiver under one light on the fast path, in named steps (compute_receiver runs them in
 /// order). Every step that returns false sends the receiver to the exact engine.
 class ReceiverJob {
@@ -290,7 +350,13 @@ class ReceiverJob {
       : ctx_(ctx), w_(w), scene_(*ctx.scene), prep_(*ctx.prep), cull_(*ctx.cull), face_id_(face_id),
         light_id_(light_id), light_(light), grid_index_(grid_index), polygons_(polygons), face_(scene_.faces[face_id]),
         fp_(tiles.tile ? *tiles.tile : prep_[face_id]), tile_(tiles.tile != nullptr),
-        split_above_(tiles.tile ? 0 : tiles.split_above), out_(out), fragments_(fragments), stats_(stats), fr_(rc_) {}
+        split_above_(tiles.tile ? 0 : tiles.split_above), out_(out), fragments_(fragments), stats_(stats),
+        s_(w.receiver_scratch()), fr_(rc_, s_.projection), casts_(s_.casts), maybe_(s_.maybe), vsign_(s_.vsign),
+        psign_(s_.psign), unsure_(s_.unsure), points_(s_.points), hull_(s_.hull), cast_(s_.cast),
+        receiver_(s_.receiver), outline_(s_.outline), window_(s_.window), windowed_(s_.windowed),
+        shadow_tree_(s_.shadow_tree), lit_tree_(s_.lit_tree), regions_(s_.regions), cells_(s_.cells) {
+    s_.reset();
+  }
 
   /// Set by run() when it returned Outcome::Split.
   std::size_t split_candidates = 0;
@@ -405,6 +471,9 @@ class ReceiverJob {
   std::vector<Fragment>& fragments_;
   ShadowStats& stats_;
   ShadowStats local_;
+  // The worker's vectors (ReceiverScratch), emptied for this job; the members below that are
+  // references name parts of it.
+  ReceiverScratch& s_;
   // The receiver's frame and the projection.
   Receiver rc_;
   FastReceiver fr_;  // holds a reference to rc_
@@ -412,7 +481,7 @@ class ReceiverJob {
   Grid grid_;
   double rho_ = 0;
   // The casts and the bound.
-  CL::Paths casts_, maybe_;  // maybe_: footprints of nearly coplanar casters
+  CL::Paths&casts_, &maybe_;  // maybe_: footprints of nearly coplanar casters
   bool covered_ = false;      // a cast covers the whole box or convex outline (areas only): the shadow is it
   std::size_t face_casts_ = 0;  // casts added by cast_face: those share edges (solids' hulls rarely do)
   LitAreaBound bound_;
@@ -420,21 +489,21 @@ class ReceiverJob {
   bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine
   double scale_ = 0, cell_ = 0;
   // Scratch.
-  std::vector<CGAL::Sign> vsign_, psign_;
-  std::vector<char> unsure_;
-  std::vector<glm::dvec2> points_, hull_;
-  Cast cast_;
-  CL::Path receiver_;
+  std::vector<CGAL::Sign>&vsign_, &psign_;
+  std::vector<char>& unsure_;
+  std::vector<glm::dvec2>&points_, &hull_;
+  Cast& cast_;
+  CL::Path& receiver_;
   bool receiver_ready_ = false;                    // receiver_ and the two below set up
   double receiver_length_ = 0, receiver_rho_ = 0;  // see set_up_receiver
-  std::vector<glm::dvec2> outline_;
-  CL::Path window_;            // receiver_ counter-clockwise, for clip_casts_to_window
+  std::vector<glm::dvec2>& outline_;
+  CL::Path& window_;           // receiver_ counter-clockwise, for clip_casts_to_window
   int window_convex_ = -1;     // convex_window(): -1 not known yet
-  CL::Paths windowed_;         // the casts clipped to it
-  CL::PolyTree shadow_tree_, lit_tree_;
+  CL::Paths& windowed_;        // the casts clipped to it
+  CL::PolyTree&shadow_tree_, &lit_tree_;
   Int128 shadow_tree2_ = 0;  // twice shadow_tree_'s area (holes negative), grid units
-  std::vector<CL::Paths> regions_;
-  CL::Paths cells_;
+  std::vector<CL::Paths>& regions_;
+  CL::Paths& cells_;
   std::size_t fragment_id_ = 0;
 };
 
