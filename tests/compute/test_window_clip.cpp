@@ -7,6 +7,7 @@
 // rounded to the nearest grid point (repeats dropped), and convex_contains must agree with the
 // rationals. Seeded; no timing.
 #include "fast/cluster_union.hpp"
+#include "fast/receiver_job.hpp"
 #include "fast/window_clip.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -72,6 +73,21 @@ TEST(WindowClip, RoundsHalvesUp) {
   EXPECT_EQ(round_quotient(-4, 3), -1);
   EXPECT_EQ(round_quotient(0, 7), 0);
   EXPECT_EQ(round_quotient(-7, 7), -1);
+}
+
+// The fast grid's rounding (receiver_job::Grid::round_half_up) is std::llround on its range,
+// without the library call: the halves, the doubles next to them, the range's ends, random values.
+TEST(FastGrid, RoundHalfUpIsLlround) {
+  using shadow::fast::receiver_job::Grid;
+  std::vector<double> values{0.0, 0.5, 1.0, 1.5, 2.5, 2147483647.5, 2147483648.0, 1073741823.5, 4503599627370496.0};
+  for (double v : std::vector<double>(values)) {
+    values.push_back(std::nextafter(v, 0.0));
+    values.push_back(std::nextafter(v, 1e300));
+  }
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> any(0.0, 2147483648.0), small(0.0, 4.0);
+  for (int k = 0; k < 100000; ++k) values.push_back(k % 2 ? any(rng) : small(rng));
+  for (double v : values) ASSERT_EQ(Grid::round_half_up(v), std::llround(v)) << v;
 }
 
 TEST(WindowClip, AnalyticCases) {

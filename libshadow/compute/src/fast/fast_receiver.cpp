@@ -42,6 +42,18 @@ bool ReceiverJob::run() {
   out_.area = (*ctx_.face_area)[face_id_];
   ++local_.receivers;
   if (fp_.degenerate) return commit();
+  if (light_.type == LightType::Directional && !polygons_ && !tile_) {
+    // Certainly turned away from the sun by the culling normal, whose direction is known within
+    // normal_error (the exact engine's Newell normal, as decide_facing's): the attached shadow,
+    // without the receiver's frame. Half of a city's faces look away from each sun; where this
+    // cannot tell, decide_facing does.
+    const core::CullFace& cf = cull_.faces[face_id_];
+    if (glm::dot(cf.normal, geometry::unit(light_.to_light)) < -(cf.normal_error + 16 * kEps)) {
+      ++local_.back_facing;
+      out_.shadow_area = out_.area;
+      return commit();
+    }
+  }
   if (!set_up_frame()) return false;
   int facing = 0;
   if (!decide_facing(facing)) return false;

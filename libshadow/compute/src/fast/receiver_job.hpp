@@ -276,7 +276,14 @@ struct Grid {
   }
   CL::cInt to_int(double x, int c) const {
     const double g = std::clamp((x - lo[c]) * scale[c], 0.0, static_cast<double>(2 * kHalf));
-    return static_cast<CL::cInt>(std::llround(g)) - kHalf;
+    return round_half_up(g) - kHalf;
+  }
+  /// std::llround for 0 <= g <= 2^31 (halves away from zero, that is up), without its library
+  /// call: g - trunc(g) is exact there. (Anything else, NaN included, goes to llround.)
+  static CL::cInt round_half_up(double g) {
+    if (!(g >= 0 && g <= 2147483648.0)) return static_cast<CL::cInt>(std::llround(g));
+    const CL::cInt whole = static_cast<CL::cInt>(g);
+    return whole + (g - static_cast<double>(whole) >= 0.5 ? 1 : 0);
   }
   CL::IntPoint point(const glm::dvec2& p) const { return {to_int(p.x, 0), to_int(p.y, 1)}; }
   glm::dvec2 chart(const CL::IntPoint& p) const {
