@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <set>
+#include <stdexcept>
 #include <tuple>
 #include <cmath>
 #include <cstring>
@@ -767,4 +768,63 @@ TEST(CasterCandidates, OneFacePerSolidKeepsEachSolidsLowestFaceThatPasses) {
     }
   }
   EXPECT_GT(dropped, 1000u);  // solids met with several faces that pass: the case exists
+}
+
+// An item of the grid (a convex solid, or a face alone) whose local box the culler rules out
+// whole (ReceiverCuller::may_cast_any) is skipped before its faces are read. Sound: no face whose
+// box it rules out passes may_cast. And the candidates are the same with the items' boxes and
+// without, for solids and faces alone, under a high, a low and a grazing sun.
+TEST(CasterCandidates, ItemsRuledOutWholeChangeNoCandidate) {
+  const CullingCity c(300, 400, 5, 1);
+  const auto& [city, prep, solid_of, solids, cull] = std::tie(c.city, c.prep, c.solid_of, c.solids, c.cull);
+  const std::vector<shadow::core::LocalBounds> faces = shadow::core::face_bounds(cull, 2);
+  const std::vector<shadow::core::LocalBounds> solid_items =
+      shadow::core::LightSpaceGrid::item_bounds(cull, prep, &solid_of, 2);
+  const std::vector<shadow::core::LocalBounds> face_items = shadow::core::LightSpaceGrid::item_bounds(cull, prep, nullptr, 1);
+  ASSERT_EQ(solid_items.size(), solids.size() + 1);  // the boxes and the ground
+  shadow::core::CasterCandidates candidates;
+  candidates.reset(solids.size());
+  std::size_t ruled_out = 0, skipped = 0, compared = 0;
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087), glm::dvec3(-0.2, 0.1, 1.0),
+                                    glm::dvec3(1.0, 0.3, 1e-9)}) {
+    shadow::Light sun;
+    sun.type = shadow::LightType::Directional;
+    sun.to_light = to_light;
+    const shadow::core::LightSpaceGrid plain(cull, prep, to_light, &solid_of, 1);
+    const shadow::core::LightSpaceGrid with_bounds(cull, prep, to_light, &solid_of, 1, &solid_items);
+    const shadow::core::LightSpaceGrid alone_plain(cull, prep, to_light, nullptr, 1);
+    const shadow::core::LightSpaceGrid alone_bounds(cull, prep, to_light, nullptr, 1, &face_items);
+    for (std::size_t f = 0; f < city.faces.size(); f += 3) {
+      if (prep[f].degenerate) continue;
+      const shadow::core::ReceiverCuller culler(cull, prep[f], f, sun);
+      for (std::size_t q = 0; q < city.faces.size(); ++q) {
+        if (culler.may_cast_any(faces[q])) continue;
+        ++ruled_out;
+        ASSERT_FALSE(culler.may_cast(q)) << "receiver " << f << ", face " << q;
+      }
+      for (const bool one_face : {false, true}) {
+        const std::vector<std::size_t> want = candidates.gather(culler, prep, f, &plain, nullptr, nullptr, &solid_of, one_face);
+        ASSERT_EQ(candidates.gather(culler, prep, f, &with_bounds, nullptr, nullptr, &solid_of, one_face), want) << f;
+        const std::vector<std::size_t> alone = candidates.gather(culler, prep, f, &alone_plain, nullptr, nullptr, &solid_of, one_face);
+        ASSERT_EQ(candidates.gather(culler, prep, f, &alone_bounds, nullptr, nullptr, &solid_of, one_face), alone) << f;
+        ++compared;
+      }
+      with_bounds.query(f, [](std::size_t) {}, [&](const shadow::core::LocalBounds& b) {
+        const bool keep = culler.may_cast_any(b);
+        skipped += keep ? 0 : 1;
+        return keep;
+      });
+    }
+  }
+  EXPECT_GT(compared, 1000u);
+  EXPECT_GT(ruled_out, 10000u);  // the case exists: faces behind a receiver's plane or beside its prism
+  EXPECT_GT(skipped, 100u);      // and whole items in the cells a query visits
+}
+
+// A grid refuses item boxes made for another scene or other solids (their count differs).
+TEST(LightSpaceGrid, RefusesItemBoundsOfAnotherScene) {
+  const CullingCity c(30, 100, 3, 1);
+  const std::vector<shadow::core::LocalBounds> faces_alone = shadow::core::LightSpaceGrid::item_bounds(c.cull, c.prep, nullptr, 1);
+  EXPECT_THROW(shadow::core::LightSpaceGrid(c.cull, c.prep, glm::dvec3(0.3, 0.2, 1.0), &c.solid_of, 1, &faces_alone),
+               std::logic_error);
 }

@@ -90,6 +90,24 @@ void describe_face(const Scene& scene, const std::vector<FacePrep>& prep, std::s
 
 }  // namespace
 
+std::vector<LocalBounds> face_bounds(const CullScene& scene, unsigned threads) {
+  std::vector<LocalBounds> bounds(scene.faces.size());
+  runtime::parallel_for_blocks(bounds.size(), 8192, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      const CullFace& cf = scene.faces[f];
+      LocalBounds& b = bounds[f];
+      b.slack = cf.slack;
+      if (cf.count == 0) continue;
+      b.lo = b.hi = scene.vertices[cf.first];
+      for (std::size_t k = cf.first + 1; k < cf.first + cf.count; ++k) {
+        b.lo = glm::min(b.lo, scene.vertices[k]);
+        b.hi = glm::max(b.hi, scene.vertices[k]);
+      }
+    }
+  });
+  return bounds;
+}
+
 CullScene make_cull_scene(const Scene& scene, const std::vector<FacePrep>& prep, unsigned threads) {
   CullScene cull;
   const SceneFrame frame = scene_frame(scene, runtime::resolve_threads(threads == 0 ? 1 : threads));

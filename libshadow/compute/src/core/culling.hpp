@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 namespace shadow::core {
@@ -55,6 +56,17 @@ struct CullScene {
   std::vector<signed char> closed_outward;
 };
 
+/// A box in the local frame (CullScene's) around some faces' vertices, with the largest of their
+/// slacks: what ReceiverCuller::may_cast_any needs to rule out every one of those faces at once.
+struct LocalBounds {
+  glm::dvec3 lo{0.0}, hi{0.0};
+  double slack = 0;
+};
+
+/// Each face's LocalBounds (a degenerate face's too: it is never asked for), on `threads`
+/// threads. They do not depend on the light: a series makes them once for all its suns.
+std::vector<LocalBounds> face_bounds(const CullScene& scene, unsigned threads = 1);
+
 /// An affine function on local-frame points with the margin below which its sign is unsure.
 struct DoubleAffine {
   glm::dvec3 a{0.0};
@@ -76,8 +88,13 @@ class LightSpaceGrid {
   ///
   /// The faces' light-space boxes are computed on `threads` threads (0 counts as 1; the grid does
   /// not depend on it).
+  ///
+  /// With `item_bounds` (item_bounds() of the same scene, preparation and solids, which no light
+  /// changes: a series makes them once for all its suns' grids), query() with an item test
+  /// skips the items that test rules out whole. The grid keeps a pointer to them.
   LightSpaceGrid(const CullScene& scene, const std::vector<FacePrep>& prep, glm::dvec3 to_light,
-                 const std::vector<int>* solid_of = nullptr, unsigned threads = 1)
+                 const std::vector<int>* solid_of = nullptr, unsigned threads = 1,
+                 const std::vector<LocalBounds>* item_bounds = nullptr)
       : solid_items_(solid_of) {
     const glm::dvec3 d = geometry::unit(to_light);
     const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
@@ -119,19 +136,11 @@ class LightSpaceGrid {
     const double square = std::max(std::sqrt(width * height / cells_wanted), 1e-300);
     counting_ = CellLayout(origin_, width, height, square, square);
     // Items: a convex solid's faces together, every other face alone (faces in increasing order).
-    std::vector<std::uint32_t> item_of(n, 0), item_of_solid;
-    std::size_t items = 0;
-    for (std::size_t f = 0; f < n; ++f) {
-      if (prep[f].degenerate) continue;
-      const int s = solid_of ? (*solid_of)[f] : -1;
-      if (s >= 0) {
-        if (item_of_solid.size() <= static_cast<std::size_t>(s)) item_of_solid.resize(static_cast<std::size_t>(s) + 1, UINT32_MAX);
-        if (item_of_solid[static_cast<std::size_t>(s)] == UINT32_MAX) item_of_solid[static_cast<std::size_t>(s)] = static_cast<std::uint32_t>(items++);
-        item_of[f] = item_of_solid[static_cast<std::size_t>(s)];
-      } else {
-        item_of[f] = static_cast<std::uint32_t>(items++);
-      }
-    }
+    std::vector<std::uint32_t> item_of;
+    const std::size_t items = number_items(prep, solid_of, item_of);
+    if (item_bounds && item_bounds->size() != items)
+      throw std::logic_error("LightSpaceGrid: item bounds made for another scene or solids");
+    item_bounds_ = item_bounds;
     item_start_.assign(items + 1, 0);
     for (std::size_t f = 0; f < n; ++f)
       if (!prep[f].degenerate) ++item_start_[item_of[f] + 1];
@@ -175,6 +184,30 @@ class LightSpaceGrid {
     fill_cells(prep, item_box, threads);
   }
 
+  /// Each item's local box (the box of its faces' vertices, their largest slack), in the grid's
+  /// item order, for the constructor's `item_bounds`.
+  static std::vector<LocalBounds> item_bounds(const CullScene& scene, const std::vector<FacePrep>& prep,
+                                              const std::vector<int>* solid_of, unsigned threads = 1) {
+    const std::vector<LocalBounds> faces = face_bounds(scene, threads);
+    std::vector<std::uint32_t> item_of;
+    std::vector<LocalBounds> items(number_items(prep, solid_of, item_of));
+    std::vector<char> seen(items.size(), 0);
+    for (std::size_t f = 0; f < prep.size(); ++f) {
+      if (prep[f].degenerate) continue;
+      LocalBounds& b = items[item_of[f]];
+      const LocalBounds& o = faces[f];
+      if (!seen[item_of[f]]) {
+        b = o;
+        seen[item_of[f]] = 1;
+        continue;
+      }
+      b.lo = glm::min(b.lo, o.lo);  // (min and max: exact, in any order)
+      b.hi = glm::max(b.hi, o.hi);
+      b.slack = std::max(b.slack, o.slack);
+    }
+    return items;
+  }
+
   /// The `solid_of` whose convex solids are items (null: every face its own item): a query visits
   /// the faces of each of those solids one after another, in increasing order. Only compared,
   /// never read.
@@ -183,7 +216,16 @@ class LightSpaceGrid {
   /// Calls visit(face) once for every face whose light-space box overlaps `face`'s.
   template <class Visit>
   void query(std::size_t face, Visit&& visit) const {
-    query_box(boxes_[face], visit);
+    query_box(boxes_[face], visit, [](const LocalBounds&) { return true; });
+  }
+
+  /// The same, but an item (a convex solid, or a face alone) for which keep_item(its local
+  /// bounds) is false is skipped whole, its faces neither tested nor visited: keep_item must
+  /// return false only where `visit` would drop every one of its faces anyway. Without bounds
+  /// (the constructor's `bounds`) every item is kept.
+  template <class Visit, class KeepItem>
+  void query(std::size_t face, Visit&& visit, KeepItem&& keep_item) const {
+    query_box(boxes_[face], visit, keep_item);
   }
 
   /// Whether query(receiver) reports face q (a face the grid holds): their light-space boxes
@@ -208,6 +250,12 @@ class LightSpaceGrid {
   /// widened by `slack` on every side, intersected with `face`'s own box.
   template <class Visit>
   void query_part(std::size_t face, const std::vector<glm::dvec3>& points, double slack, Visit&& visit) const {
+    query_part(face, points, slack, visit, [](const LocalBounds&) { return true; });
+  }
+  /// query_part with an item test, as query's.
+  template <class Visit, class KeepItem>
+  void query_part(std::size_t face, const std::vector<glm::dvec3>& points, double slack, Visit&& visit,
+                  KeepItem&& keep_item) const {
     Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
           std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
     for (const glm::dvec3& p : points) {
@@ -218,12 +266,13 @@ class LightSpaceGrid {
     b = {std::max(b[0] - slack, f[0]), std::max(b[1] - slack, f[1]), std::min(b[2] + slack, f[2]),
          std::min(b[3] + slack, f[3])};
     if (!(b[0] <= b[2]) || !(b[1] <= b[3])) b = f;  // (rounding: fall back to the whole face)
-    query_box(b, visit);
+    query_box(b, visit, keep_item);
   }
 
  private:
-  template <class Visit>
-  void query_box(const std::array<double, 4>& b, Visit&& visit) const {
+  template <class Visit, class KeepItem>
+  void query_box(const std::array<double, 4>& b, Visit&& visit, KeepItem&& keep_item) const {
+    const LocalBounds* item_bounds = item_bounds_ ? item_bounds_->data() : nullptr;
     // Each overlapping face is reported once, in one cell both boxes cover (below), instead of
     // once per shared cell: most faces span several cells, and their repeats were most of a
     // query's visits.
@@ -251,13 +300,40 @@ class LightSpaceGrid {
                            int{std::max(v0, static_cast<int>(first >> 16)) == v};
           // The entry's own copy of its item's box: read in cell order, no jump per entry.
           if (!(overlaps(entry_boxes_[e]) & home)) continue;
+          // An item the caller rules out whole (a solid behind the receiver's plane): none of
+          // its faces' boxes and vertices are read (a cache miss each).
+          const std::uint32_t item = entries_[e];
+          if (item_bounds && !keep_item(item_bounds[item])) continue;
           // The item's faces whose own boxes overlap.
-          for (std::uint32_t k = item_start_[entries_[e]]; k < item_start_[entries_[e] + 1]; ++k) {
+          for (std::uint32_t k = item_start_[item]; k < item_start_[item + 1]; ++k) {
             const std::uint32_t f = item_faces_[k];
             if (overlaps(boxes_[f])) visit(f);
           }
         }
       }
+  }
+
+  /// The grid's items: a convex solid's faces together (by `solid_of`), every other face alone,
+  /// numbered in the order of their first faces; degenerate faces are in none. Fills item_of
+  /// (per face) and returns the number of items.
+  static std::size_t number_items(const std::vector<FacePrep>& prep, const std::vector<int>* solid_of,
+                                  std::vector<std::uint32_t>& item_of) {
+    const std::size_t n = prep.size();
+    item_of.assign(n, 0);
+    std::vector<std::uint32_t> item_of_solid;
+    std::size_t items = 0;
+    for (std::size_t f = 0; f < n; ++f) {
+      if (prep[f].degenerate) continue;
+      const int s = solid_of ? (*solid_of)[f] : -1;
+      if (s >= 0) {
+        if (item_of_solid.size() <= static_cast<std::size_t>(s)) item_of_solid.resize(static_cast<std::size_t>(s) + 1, UINT32_MAX);
+        if (item_of_solid[static_cast<std::size_t>(s)] == UINT32_MAX) item_of_solid[static_cast<std::size_t>(s)] = static_cast<std::uint32_t>(items++);
+        item_of[f] = item_of_solid[static_cast<std::size_t>(s)];
+      } else {
+        item_of[f] = static_cast<std::uint32_t>(items++);
+      }
+    }
+    return items;
   }
 
   static int cell_index(double x, double origin, double size, int count) {
@@ -402,6 +478,7 @@ class LightSpaceGrid {
   runtime::UninitVector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
   runtime::UninitVector<std::uint32_t> entry_first_;  ///< the items' first cells (first_cell), in entries_' order
   std::vector<std::uint32_t> item_start_, item_faces_;  ///< each item's faces (compressed rows)
+  const std::vector<LocalBounds>* item_bounds_ = nullptr;  ///< each item's local box (the constructor's)
   std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
 };
 
@@ -470,6 +547,26 @@ class ReceiverCuller {
   /// that enters an embedded closed solid leaves it again nearer the light, through a face
   /// turned to it (docs/algorithm.md, "Closed solids cast through the faces facing the light"),
   /// so dropping such a caster changes no shadow.
+  /// False when may_cast is certainly false for every face whose vertices lie in `b` (with a
+  /// slack of at most b.slack): for one of the tests, the box lies wholly outside it, with room
+  /// for may_cast's own rounding. Its maximum over the box and may_cast's value at any vertex in
+  /// it are each within 4 eps of their exact values relative to the same sum of magnitudes
+  /// (three products and the constant), so a gap of 32 eps of that sum covers both.
+  [[nodiscard]] bool may_cast_any(const LocalBounds& b) const {
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    for (std::size_t t = 0; t < count_; ++t) {
+      const DoubleAffine& f = tests_[t];
+      double most = f.b, magnitude = std::abs(f.b);
+      for (int c = 0; c < 3; ++c) {
+        const double low = f.a[c] * b.lo[c], high = f.a[c] * b.hi[c];
+        most += std::max(low, high);
+        magnitude += std::max(std::abs(low), std::abs(high));
+      }
+      if (most + 32 * eps * magnitude < -(f.tolerance + length_[t] * b.slack)) return false;
+    }
+    return true;
+  }
+
   [[nodiscard]] bool may_cast(std::size_t q) const {
     const CullFace& cq = cull_->faces[q];
     for (std::size_t t = 0; t < count_; ++t) {
@@ -555,6 +652,8 @@ class CasterCandidates {
       faces_.push_back(q);
       if (one_face && solid >= 0) solid_listed_[static_cast<std::size_t>(solid)] = stamp_;
     };
+    // An item of the grid (a convex solid, or a face alone) that the culler rules out whole.
+    auto keep_item = [&](const LocalBounds& b) { return culler.may_cast_any(b); };
     if (grid && tile && tile_scene) {
       // A tile: the light-space box of its corners on the receiver's plane (local frame).
       const CullFace& cf = tile_scene->faces[receiver];
@@ -570,9 +669,9 @@ class CasterCandidates {
       // The culling plane is within the normal's error (over the scene's diameter) and the
       // slack of the exact one.
       const double slack = (cf.normal_error + 1e-9) * tile_scene->diameter * 4 + 4 * cf.slack;
-      grid->query_part(receiver, corners_, std::isfinite(slack) ? slack : 0.0, consider);
+      grid->query_part(receiver, corners_, std::isfinite(slack) ? slack : 0.0, consider, keep_item);
     } else if (grid) {
-      grid->query(receiver, consider);
+      grid->query(receiver, consider, keep_item);
     } else {
       for (std::size_t q = 0; q < prep.size(); ++q)
         if (!prep[q].degenerate) consider(q);

@@ -214,6 +214,10 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   // (the same hour on neighbouring days), not neighbouring hours.
   const std::vector<std::size_t> order = by_direction(lights);
   std::vector<std::optional<core::LightSpaceGrid>> grids(batch);
+  // The grid items' local boxes, once for every sun: items (convex solids) that a receiver's
+  // culling tests rule out whole are skipped before their faces are read.
+  const std::vector<core::LocalBounds> item_bounds =
+      core::LightSpaceGrid::item_bounds(impl.cull, impl.prep, &impl.solid_of, threads);
   // Each worker makes its own exact lights: no Epeck number's count is shared between threads.
   std::vector<std::vector<std::optional<exact::ExactLight>>> exact_lights(threads);
 
@@ -236,7 +240,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     runtime::parallel_for(count, threads, [&](unsigned, std::size_t k) {
       grids[k].reset();
       const Light& light = lights[order[first + k]];
-      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of);
+      if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of, 1, &item_bounds);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
 
