@@ -99,6 +99,24 @@ TEST(ClusterUnion, AnalyticCasesWithSharedAndCollinearEdges) {
   EXPECT_EQ(apart.boundary.error, 0.0);
 }
 
+// An edge that lies wholly in another polygon, decided in integers alone, has no uncovered part
+// and no rounding: it adds nothing to the area or to the bound, however many polygons cover it.
+// (Its other intervals are not computed: most edges of a crowded cluster are such.)
+TEST(ClusterUnion, EdgesInsideAnotherPolygonAddNothingToTheBound) {
+  const CL::Path outer = rect(0, 0, 10, 10);
+  const ClusteredArea one = shadow::fast::clustered_union_area({outer, rect(2, 2, 4, 4)}, 0, 1);
+  const ClusteredArea three =
+      shadow::fast::clustered_union_area({outer, rect(2, 2, 4, 4), rect(5, 5, 9, 8), rect(3, 3, 8, 7)}, 0, 1);
+  EXPECT_EQ(area_of(one), 100.0);
+  EXPECT_EQ(area_of(three), 100.0);
+  EXPECT_GT(one.boundary.error, 0.0);  // the outer square's edges, measured
+  EXPECT_EQ(three.boundary.error, one.boundary.error);
+  // Along the outer square's sides, the same way, after it: inside by the rule for shared lines.
+  const ClusteredArea along = shadow::fast::clustered_union_area({outer, rect(0, 0, 10, 3), rect(4, 0, 6, 9)}, 0, 1);
+  EXPECT_EQ(area_of(along), 100.0);
+  EXPECT_LT(error_of(along), 1e-9);
+}
+
 TEST(ClusterUnion, PolygonsThatAreNotConvexGoThroughClipper) {
   const CL::Path pentagram = {{0, 100}, {59, -81}, {-95, 31}, {95, 31}, {-59, -81}};
   EXPECT_FALSE(shadow::fast::is_convex_ccw(pentagram));

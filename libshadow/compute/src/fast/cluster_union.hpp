@@ -132,6 +132,21 @@ void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, std::
   }
 }
 
+/// The measure of a union of intervals (sorted here), in doubles: the runs of overlapping ones,
+/// each its end minus its start, summed in order.
+inline double union_measure(std::vector<std::pair<double, double>>& intervals) {
+  std::sort(intervals.begin(), intervals.end());
+  double measure = 0, run_lo = intervals[0].first, run_hi = intervals[0].second;
+  for (std::size_t c = 1; c < intervals.size(); ++c) {
+    if (intervals[c].first > run_hi) {
+      measure += run_hi - run_lo;
+      run_lo = intervals[c].first;
+    }
+    run_hi = std::max(run_hi, intervals[c].second);
+  }
+  return measure + (run_hi - run_lo);
+}
+
 /// The area of one cluster of convex counter-clockwise polygons from its boundary, without a
 /// union: area(P_1 u ... u P_n) = 1/2 sum over the edges e = (s, s + d) of every P_i of
 /// cross(s, d) L_e, where L_e is the measure of the parameters t in [0, 1] at which s + t d is
@@ -193,7 +208,8 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters),
   // swept along the axis the boxes are shorter in (a low sun's shadows are long: swept along
   // them, most of a large cluster stays open). The lists' order does not matter below: each
-  // edge's covered intervals are sorted by value before they are measured.
+  // edge's covered intervals are sorted by value before they are measured, and an edge found
+  // inside one polygon adds nothing whichever polygon that is.
   std::vector<std::vector<std::size_t>>& near = scratch.near;
   if (near.size() < m) near.resize(m);
   for (std::size_t a = 0; a < m; ++a) near[a].clear();
@@ -232,13 +248,14 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
       const std::pair<double, double> edge_across{std::min(ts, te) - margin, std::max(ts, te) + margin};
       covered.clear();
       std::size_t reached = 0;  // intervals with a computed end, kept or not (rounding may drop one)
+      bool inside = false;      // the whole edge lies in one polygon, decided in integers alone
       for (std::size_t b : near[a]) {
         const GridBox& q = box[b];
         if (q.x1 < ex0 || ex1 < q.x0 || q.y1 < ey0 || ey1 < q.y0 || apart(edge_across, across[b])) continue;
         const CL::Path& Q = polygons[members[b]];
         const std::size_t j = members[b];
         double lo = 0, hi = 1;
-        bool empty = false, computed = false;
+        bool empty = false, computed = false, divided = false;
         for (std::size_t f = 0; f < Q.size() && !empty; ++f) {
           const CL::IntPoint& q0 = Q[f];
           const CL::IntPoint& q1 = Q[geometry::cyclic_next(f, Q.size())];
@@ -258,28 +275,26 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
           // such; their division was the measure's most expensive instruction. (A + B is taken
           // only where B < 0 <= A: opposite signs, no overflow.)
           if (A >= 0 && (B > 0 || A + B >= 0)) continue;
+          divided = true;
           const double t = -static_cast<double>(A) / static_cast<double>(B);
           if (B > 0) lo = std::max(lo, t);
           else hi = std::min(hi, t);
           if (!(lo < hi)) empty = true;
         }
+        if (!empty && !divided) {
+          // Every test was an integer one and none cut the edge: it lies in this polygon (its
+          // boundary along it counted on the other side, by the rule above), so its uncovered
+          // measure is exactly 0, whatever the other polygons do. Most edges of a crowded
+          // cluster (a ground under long shadows) are such, and their other intervals and sort
+          // were most of the measure.
+          inside = true;
+          break;
+        }
         reached += computed ? 1 : 0;
         if (!empty) covered.emplace_back(lo, hi);
       }
-      double uncovered = 1;
-      if (!covered.empty()) {
-        std::sort(covered.begin(), covered.end());
-        double measure = 0, run_lo = covered[0].first, run_hi = covered[0].second;
-        for (std::size_t c = 1; c < covered.size(); ++c) {
-          if (covered[c].first > run_hi) {
-            measure += run_hi - run_lo;
-            run_lo = covered[c].first;
-          }
-          run_hi = std::max(run_hi, covered[c].second);
-        }
-        measure += run_hi - run_lo;
-        uncovered = std::max(0.0, 1 - measure);
-      }
+      if (inside) continue;  // no term and no rounding: nothing to add, to the area or the bound
+      const double uncovered = covered.empty() ? 1.0 : std::max(0.0, 1 - union_measure(covered));
       const double c = static_cast<double>(cross_sd);
       // Each interval end is within 4 eps of its exact value (two conversions and a division,
       // |t| <= 1 where it counts), so each interval's measure within 8 eps, plus the roundings
