@@ -110,7 +110,7 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   vsign_.resize(cs.vertices.size());
   bool any_front = false;
   for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
-    vsign_[a] = rc_.side(cs.vertices[a]);
+    vsign_[a] = rc_.scene_side(cs.vertices[a]);
     any_front |= vsign_[a] == CGAL::POSITIVE;
   }
   if (!any_front) return true;

@@ -100,11 +100,21 @@ struct Receiver {
     const CGAL::Sign sv = CGAL::orientation(c0, c1, c2, epick(y));
     return flipped ? CGAL::opposite(sv) : sv;
   }
+  /// side(y) for a scene point y (|y - corner| within scene_reach) of an exactly planar
+  /// receiver: s in doubles where it is beyond twice its error bound (s_error, which already
+  /// holds a factor of 2 over the normal's direction error and the roundings), the exact
+  /// predicate only where it is not. The same sign, without the predicate for most vertices.
+  [[nodiscard]] CGAL::Sign scene_side(const glm::dvec3& y) const {
+    const double value = s(y);
+    if (value > 2 * s_error) return CGAL::POSITIVE;
+    if (value < -2 * s_error) return CGAL::NEGATIVE;
+    return side(y);
+  }
   /// The side of a caster vertex that the exact engine would see, or `unsure` when doubles cannot
   /// tell (|s| within the error, plus `slack`: how far the exact engine lifts that vertex).
   [[nodiscard]] CGAL::Sign side(const glm::dvec3& y, bool caster_planar, double slack, bool& unsure) const {
     unsure = false;
-    if (exact_sides && caster_planar) return side(y);
+    if (exact_sides && caster_planar) return scene_side(y);
     const double value = s(y), tolerance = s_error + slack;
     if (value > tolerance) return CGAL::POSITIVE;
     if (value < -tolerance) return CGAL::NEGATIVE;
