@@ -361,6 +361,31 @@ TEST(FastPath, TriangulatedGeoreferencedTerrainStaysWithinItsBounds) {
   }
 }
 
+// Each fast worker keeps its receiver jobs' vectors (casts, window clips, cells) from one
+// receiver to the next: on one thread every receiver follows the last on the same worker, on
+// two each worker sees another sequence. No value may depend on that, on the routes that use
+// those vectors: the window clip (areas only on a terrain's triangles) and the cells (polygons).
+TEST(FastPath, AWorkersReusedVectorsChangeNoValue) {
+  const Scene scene = triangulated_terrain_scene(2);
+  for (const bool polygons : {false, true}) {
+    ShadowOptions one = with(Arithmetic::Fast, polygons), two = one;
+    one.threads = 1;
+    two.threads = 2;
+    const ShadowResult a = compute_shadows(scene, one), b = compute_shadows(scene, two);
+    ASSERT_EQ(a.lighting.size(), b.lighting.size());
+    for (std::size_t k = 0; k < a.lighting.size(); ++k) {
+      EXPECT_EQ(a.lighting[k].lit_area, b.lighting[k].lit_area) << k;
+      EXPECT_EQ(a.lighting[k].lit_area_error_bound, b.lighting[k].lit_area_error_bound) << k;
+    }
+    ASSERT_EQ(a.fragments.size(), b.fragments.size());
+    for (std::size_t k = 0; k < a.fragments.size(); ++k) {
+      EXPECT_EQ(a.fragments[k].area, b.fragments[k].area) << k;
+      EXPECT_EQ(a.fragments[k].polygon.size(), b.fragments[k].polygon.size()) << k;
+    }
+    expect_fast_route_ran(a, 0.1, polygons ? "terrain, polygons" : "terrain, areas only");
+  }
+}
+
 TEST(FastPath, PointLightOnAndJustAboveTheReceiversPlane) {
   // A lamp exactly in the ground's plane (the ground is edge-on to it: attached shadow), and
   // 1e-9 m above it (the light's side of the plane is too close to call in doubles: exact).

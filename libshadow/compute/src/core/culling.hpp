@@ -221,8 +221,8 @@ class LightSpaceGrid {
 
   /// The same, but an item (a convex solid, or a face alone) for which keep_item(its local
   /// bounds) is false is skipped whole, its faces neither tested nor visited: keep_item must
-  /// return false only where `visit` would drop every one of its faces anyway. Without bounds
-  /// (the constructor's `bounds`) every item is kept.
+  /// return false only where `visit` would drop every one of its faces anyway. Without item
+  /// bounds (the constructor's `item_bounds`) every item is kept.
   template <class Visit, class KeepItem>
   void query(std::size_t face, Visit&& visit, KeepItem&& keep_item) const {
     query_box(boxes_[face], visit, keep_item);
@@ -542,11 +542,6 @@ class ReceiverCuller {
     for (std::size_t t = 0; t < tests_.size(); ++t) length_[t] = glm::length(tests_[t].a);  // once, not per caster
   }
 
-  /// False when face q is certainly outside the receiver's slab, prism or pyramid, or, under a
-  /// directional light, a face of a closed solid certainly turned away from the light: a ray
-  /// that enters an embedded closed solid leaves it again nearer the light, through a face
-  /// turned to it (docs/algorithm.md, "Closed solids cast through the faces facing the light"),
-  /// so dropping such a caster changes no shadow.
   /// False when may_cast is certainly false for every face whose vertices lie in `b` (with a
   /// slack of at most b.slack): for one of the tests, the box lies wholly outside it, with room
   /// for may_cast's own rounding. Its maximum over the box and may_cast's value at any vertex in
@@ -567,6 +562,11 @@ class ReceiverCuller {
     return true;
   }
 
+  /// False when face q is certainly outside the receiver's slab, prism or pyramid, or, under a
+  /// directional light, a face of a closed solid certainly turned away from the light: a ray
+  /// that enters an embedded closed solid leaves it again nearer the light, through a face
+  /// turned to it (docs/algorithm.md, "Closed solids cast through the faces facing the light"),
+  /// so dropping such a caster changes no shadow.
   [[nodiscard]] bool may_cast(std::size_t q) const {
     const CullFace& cq = cull_->faces[q];
     for (std::size_t t = 0; t < count_; ++t) {

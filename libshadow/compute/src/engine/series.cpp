@@ -213,11 +213,12 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   // The instants in the order of their suns' directions, so that a batch holds neighbouring suns
   // (the same hour on neighbouring days), not neighbouring hours.
   const std::vector<std::size_t> order = by_direction(lights);
-  std::vector<std::optional<core::LightSpaceGrid>> grids(batch);
   // The grid items' local boxes, once for every sun: items (convex solids) that a receiver's
-  // culling tests rule out whole are skipped before their faces are read.
+  // culling tests rule out whole are skipped before their faces are read. (Declared before the
+  // grids, which keep a pointer to them.)
   const std::vector<core::LocalBounds> item_bounds =
       core::LightSpaceGrid::item_bounds(impl.cull, impl.prep, &impl.solid_of, threads);
+  std::vector<std::optional<core::LightSpaceGrid>> grids(batch);
   // Each worker makes its own exact lights: no Epeck number's count is shared between threads.
   std::vector<std::vector<std::optional<exact::ExactLight>>> exact_lights(threads);
 

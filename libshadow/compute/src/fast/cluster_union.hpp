@@ -132,8 +132,8 @@ void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, std::
   }
 }
 
-/// The measure of a union of intervals (sorted here), in doubles: the runs of overlapping ones,
-/// each its end minus its start, summed in order.
+/// The measure of a union of intervals (sorted here; at least one), in doubles: the runs of
+/// overlapping ones, each its end minus its start, summed in order.
 inline double union_measure(std::vector<std::pair<double, double>>& intervals) {
   std::sort(intervals.begin(), intervals.end());
   double measure = 0, run_lo = intervals[0].first, run_hi = intervals[0].second;
@@ -282,11 +282,11 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
           if (!(lo < hi)) empty = true;
         }
         if (!empty && !divided) {
-          // Every test was an integer one and none cut the edge: it lies in this polygon (its
-          // boundary along it counted on the other side, by the rule above), so its uncovered
-          // measure is exactly 0, whatever the other polygons do. Most edges of a crowded
-          // cluster (a ground under long shadows) are such, and their other intervals and sort
-          // were most of the measure.
+          // Every test was an integer one and none cut the edge: it lies in this polygon (where
+          // it runs along the polygon's boundary, the same way, the polygon comes first: the
+          // rule for shared lines above), so its uncovered measure is exactly 0, whatever the
+          // other polygons do. Most edges of a crowded cluster (a ground under long shadows) are
+          // such, and their other intervals and sort were most of the measure.
           inside = true;
           break;
         }
@@ -300,7 +300,8 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
       // |t| <= 1 where it counts), so each interval's measure within 8 eps, plus the roundings
       // of the measure's sums (under 2 eps an interval) and of the product and c's conversion.
       // Charged for every interval that got a computed end, also one that rounding emptied, and
-      // also when the edge came out wholly covered (a real gap of a few ulps may have closed).
+      // also when the edge came out wholly covered (a real gap of a few ulps may have closed),
+      // except on an edge found inside one polygon by the integer tests alone (skipped above).
       out.error += std::abs(c) * (12 * kEps * static_cast<double>(reached) + 4 * kEps);
       if (uncovered == 0) continue;
       const double term = c * uncovered;

@@ -43,10 +43,14 @@ bool ReceiverJob::run() {
   ++local_.receivers;
   if (fp_.degenerate) return commit();
   if (light_.type == LightType::Directional && !polygons_ && !tile_) {
-    // Certainly turned away from the sun by the culling normal, whose direction is known within
-    // normal_error (the exact engine's Newell normal, as decide_facing's): the attached shadow,
-    // without the receiver's frame. Half of a city's faces look away from each sun; where this
-    // cannot tell, decide_facing does.
+    // Certainly turned away from the sun by the culling normal: the Newell normal of the face's
+    // vertices, its direction known within normal_error. For an exactly planar face that is the
+    // plane's normal with the face's orientation, whose sign at the light decide_facing and the
+    // exact engine take from a corner's determinant (FacePrep::corner keeps the orientation);
+    // for a lifted face it is the exact engine's plane itself. So the attached shadow, without
+    // the receiver's frame. Half of a city's faces look away from each sun; where this cannot
+    // tell, decide_facing does. (Such a face no longer counts as a fallback when its frame
+    // would have been ill-conditioned: the exact engine gave the same attached shadow.)
     const core::CullFace& cf = cull_.faces[face_id_];
     if (glm::dot(cf.normal, geometry::unit(light_.to_light)) < -(cf.normal_error + 16 * kEps)) {
       ++local_.back_facing;

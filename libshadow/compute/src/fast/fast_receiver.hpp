@@ -36,9 +36,9 @@ struct FastWorker {
   core::CasterCandidates casters;  ///< the same candidate casters as the exact engine's
   ClusterScratch cluster;          ///< the clustered union's vectors (fast/cluster_union.hpp)
   WindowClipScratch window;        ///< the clip to a convex receiver's vectors (fast/window_clip.hpp)
-  /// The receiver job's vectors (casts, hulls, clips), made on first use.
+  /// The receiver job's vectors (casts, hulls, clips): receiver_scratch() makes them on first use.
   std::unique_ptr<receiver_job::ReceiverScratch, ReceiverScratchDelete> receiver;
-  /// The receiver job's vectors, made on first use.
+  /// The receiver job's vectors (`receiver`), made on first use.
   receiver_job::ReceiverScratch& receiver_scratch();
 };
 

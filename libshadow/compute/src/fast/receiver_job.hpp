@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -101,10 +102,14 @@ struct Receiver {
     return flipped ? CGAL::opposite(sv) : sv;
   }
   /// side(y) for a scene point y (|y - corner| within scene_reach) of an exactly planar
-  /// receiver: s in doubles where it is beyond twice its error bound (s_error, which already
-  /// holds a factor of 2 over the normal's direction error and the roundings), the exact
-  /// predicate only where it is not. The same sign, without the predicate for most vertices.
+  /// receiver (exact_sides: s_error is then the frame's bound, not a lifted plane's): s in
+  /// doubles where it is beyond twice its error bound, the exact predicate only where it is
+  /// not. The same sign, without the predicate for most vertices. s_error already holds a
+  /// factor of 2 over the normal's direction error and the roundings; the second factor is
+  /// room for a direction bound derived by hand (set_up_frame), at the cost of sending a few
+  /// more vertices near the plane to the predicate.
   [[nodiscard]] CGAL::Sign scene_side(const glm::dvec3& y) const {
+    assert(exact_sides);
     const double value = s(y);
     if (value > 2 * s_error) return CGAL::POSITIVE;
     if (value < -2 * s_error) return CGAL::NEGATIVE;
@@ -307,7 +312,9 @@ struct Grid {
 /// The receiver job's vectors, kept by the worker (FastWorker::receiver) from one receiver to the
 /// next: each job used to allocate its casts, hull points and clip buffers anew, and grow them
 /// by copies, for a few casts a receiver. Their contents mean nothing between jobs: reset()
-/// empties them, keeping their capacity (the casts' paths too, through `spare`).
+/// empties them, keeping their capacity. The casts' paths go to `spare`, from which add_cast
+/// takes its next ones, so that `spare` never holds more paths than one job's casts; the window
+/// clip's and the cells' paths are dropped instead (nothing takes them back).
 struct ReceiverScratch {
   CL::Paths casts, maybe, windowed, cells;
   std::vector<CL::Path> spare;  ///< emptied paths with their capacity, for the next casts
@@ -320,12 +327,12 @@ struct ReceiverScratch {
   std::vector<CL::Paths> regions;
   FastReceiverScratch projection;
 
-  /// Empties every vector for a new job; the casts' paths go to `spare`.
+  /// Empties every vector for a new job (`spare` aside); the casts' paths go to `spare`.
   void reset() {
     recycle(casts);
     recycle(maybe);
-    recycle(windowed);
-    recycle(cells);
+    windowed.clear();
+    cells.clear();
     vsign.clear();
     psign.clear();
     unsure.clear();
@@ -340,6 +347,9 @@ struct ReceiverScratch {
     shadow_tree.Clear();
     lit_tree.Clear();
     regions.clear();
+    projection.box_clip.clear();
+    projection.hom.clear();
+    projection.hom_clip.clear();
   }
   /// An empty path, with the capacity of one used before when there is one.
   CL::Path take_path() {
