@@ -114,10 +114,12 @@ bool ReceiverJob::cast_convex_solid(int solid) {
     any_front |= vsign_[a] == CGAL::POSITIVE;
   }
   if (!any_front) return true;
-  points_.clear();
+  // Written in place (at most one point per vertex and per edge), not pushed one call each.
+  points_.resize(cs.vertices.size() + cs.edges.size());
+  std::size_t count = 0;
   for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
-    if (vsign_[a] == CGAL::POSITIVE) points_.push_back(fr_.project(cs.vertices[a]));
-    if (vsign_[a] == CGAL::ZERO) points_.push_back(fr_.chart(cs.vertices[a]));
+    if (vsign_[a] == CGAL::POSITIVE) points_[count++] = fr_.project(cs.vertices[a]);
+    if (vsign_[a] == CGAL::ZERO) points_[count++] = fr_.chart(cs.vertices[a]);
   }
   double cross_delta = 0;
   for (const auto& [a, b] : cs.edges) {
@@ -125,9 +127,10 @@ bool ReceiverJob::cast_convex_solid(int solid) {
     if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
       glm::dvec3 x;
       if (!fr_.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
-      points_.push_back(fr_.chart(x));
+      points_[count++] = fr_.chart(x);
     }
   }
+  points_.resize(count);
   convex_hull(points_, hull_);
   cast_.poly.swap(hull_);  // (hull_ is scratch: convex_hull empties it first)
   // The hull of points each within delta of the exact ones is within delta of the exact hull.

@@ -22,6 +22,8 @@
 #include "geometry/cyclic_index.hpp"
 
 #include <cstddef>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace shadow::geometry {
@@ -52,14 +54,25 @@ ClipCase clip_case(std::size_t n, SideOf&& side) {
 /// `out` is cleared first and receives the clipped polygon (it may then be swapped in).
 template <class Point, class SideOf, class Cross>
 void clip_convex(const std::vector<Point>& poly, SideOf&& side, Cross&& cross, std::vector<Point>& out) {
-  out.clear();
   const std::size_t n = poly.size();
+  // Plain points (the fast path's doubles) are written in place instead of by a push_back call
+  // per vertex (an out-of-line call the compiler kept). Each vertex gives at most two (itself
+  // and a crossing), so 2n is room for any polygon, convex or made a little less so by rounding.
+  constexpr bool in_place = std::is_trivially_copyable_v<Point> && std::is_default_constructible_v<Point>;
+  std::size_t m = 0;
+  if constexpr (in_place) out.resize(2 * n);
+  else out.clear();
+  auto put = [&](auto&& p) {
+    if constexpr (in_place) out[m++] = p;
+    else out.push_back(std::forward<decltype(p)>(p));
+  };
   for (std::size_t a = 0; a < n; ++a) {
     const std::size_t b = cyclic_next(a, n);
     const int sa = side(a), sb = side(b);
-    if (sa >= 0) out.push_back(poly[a]);
-    if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) out.push_back(cross(a, b));
+    if (sa >= 0) put(poly[a]);
+    if ((sa > 0 && sb < 0) || (sa < 0 && sb > 0)) put(cross(a, b));
   }
+  if constexpr (in_place) out.resize(m);
 }
 
 }  // namespace shadow::geometry
