@@ -40,6 +40,15 @@ struct CullFace {
   double slack;
 };
 
+/// Whether the face's normal, times `outward` (+1 its front, -1 its back), certainly points away
+/// from `to_light` (a unit vector): the normal's direction is known within normal_error, and the
+/// two unit vectors' rounding and dot product are within 16 eps. (False for a degenerate face,
+/// whose error is 2.)
+inline bool certainly_turned_away(const CullFace& face, const glm::dvec3& to_light, double outward = 1.0) {
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  return outward * glm::dot(face.normal, to_light) < -(face.normal_error + 16 * eps);
+}
+
 struct CullScene {
   glm::dvec3 origin{0.0};
   double diameter = 1.0;
@@ -579,17 +588,10 @@ class ReceiverCuller {
     }
     if (!closed_outward_) return true;
     const signed char outward = closed_outward_[q];
-    return outward == 0 || ((outward == 2 || outward == -2) && !above_caps_) || !turned_away(cq, outward > 0 ? 1 : -1);
+    return outward == 0 || ((outward == 2 || outward == -2) && !above_caps_) || !certainly_turned_away(cq, to_light_, outward > 0 ? 1.0 : -1.0);
   }
 
  private:
-  /// Whether the outward normal (`outward` times the face's) certainly points away from the
-  /// light: the normal's direction is known within normal_error, and the two unit vectors'
-  /// rounding and dot product are within 16 eps.
-  [[nodiscard]] bool turned_away(const CullFace& cq, signed char outward) const {
-    constexpr double eps = std::numeric_limits<double>::epsilon();
-    return static_cast<double>(outward) * glm::dot(cq.normal, to_light_) < -(cq.normal_error + 16 * eps);
-  }
 
   const CullScene* cull_;
   const signed char* closed_outward_ = nullptr;  ///< CullScene::closed_outward under a directional light

@@ -51,8 +51,7 @@ bool ReceiverJob::run() {
     // the receiver's frame. Half of a city's faces look away from each sun; where this cannot
     // tell, decide_facing does. (Such a face no longer counts as a fallback when its frame
     // would have been ill-conditioned: the exact engine gave the same attached shadow.)
-    const core::CullFace& cf = cull_.faces[face_id_];
-    if (glm::dot(cf.normal, geometry::unit(light_.to_light)) < -(cf.normal_error + 16 * kEps)) {
+    if (core::certainly_turned_away(cull_.faces[face_id_], geometry::unit(light_.to_light))) {
       ++local_.back_facing;
       out_.shadow_area = out_.area;
       return commit();
