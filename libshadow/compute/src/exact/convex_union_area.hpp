@@ -330,6 +330,8 @@ class ConvexUnionArea {
       nlist_[fill_[pair_a_[k]]++] = pair_b_[k];
       nlist_[fill_[pair_b_[k]]++] = pair_a_[k];
     }
+    separator_.resize(nlist_.size());
+    for (std::size_t k = 0; k < nlist_.size(); ++k) separator_[k] = first_[nlist_[k]];
   }
 
   // ---- one polygon's edges ----------------------------------------------------------------------
@@ -340,6 +342,8 @@ class ConvexUnionArea {
         for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) add_reversed(*pts_[v], *pts_[nxt_[v]]);
       return;
     }
+    constexpr std::size_t kNone = ~std::size_t{0};
+    std::size_t coverer = kNone;  // the nlist_ entry that covered an earlier edge whole
     for (std::size_t v = first_[i]; v < first_[i + 1]; ++v) {
       const std::size_t w = nxt_[v];
       const Box eb{std::min(ip_[v].x.inf(), ip_[w].x.inf()), std::min(ip_[v].y.inf(), ip_[w].y.inf()),
@@ -363,14 +367,35 @@ class ConvexUnionArea {
           }
         }
       }
-      for (std::size_t k = nstart_[i]; k < nstart_[i + 1] && !full; ++k) {
+      // The neighbours that may cover the edge whole first: an edge covered whole (a third of
+      // them) was tested against seven other neighbours on average before the one that covers
+      // it. First the neighbour that covered the polygon's last edge whole, then those whose
+      // boxes hold the edge's box (a box that does not can hardly hold the edge), then the
+      // rest. Whether an edge is covered whole, and the union of the covers, do not depend on
+      // the order (equal ends from different neighbours are the same values).
+      const auto holds = [&](const Box& c) { return c.x0 <= eb.x0 && c.y0 <= eb.y0 && eb.x1 <= c.x1 && eb.y1 <= c.y1; };
+      const auto test = [&](std::size_t k) {
         const std::size_t j = nlist_[k];
-        if (!meet(eb, box_[j])) continue;
+        if (!meet(eb, box_[j])) return;
         Cover c;
-        if (!cover_by(i, j, c)) continue;
-        if (c.lo.kind == 0 && c.hi.kind == 1) full = true;
-        else covers_.push_back(c);
-      }
+        if (!cover_by(i, j, c, separator_[k])) return;
+        if (c.lo.kind == 0 && c.hi.kind == 1) {
+          full = true;
+          coverer = k;
+        } else {
+          covers_.push_back(c);
+        }
+      };
+      const std::size_t first_tested = coverer;
+      if (first_tested != kNone) test(first_tested);
+      bool any_held = false;
+      for (std::size_t k = nstart_[i]; k < nstart_[i + 1] && !full; ++k)
+        if (k != first_tested && holds(box_[nlist_[k]])) {
+          any_held = true;
+          test(k);
+        }
+      for (std::size_t k = nstart_[i]; k < nstart_[i + 1] && !full; ++k)
+        if (k != first_tested && !(any_held && holds(box_[nlist_[k]]))) test(k);
       if (full) continue;
       if (covers_.empty()) {
         add_cross(v, w, nullptr);
@@ -429,7 +454,8 @@ class ConvexUnionArea {
     for (std::size_t j = 0; j + 1 < first_.size(); ++j) {
       if (!meet(eb, box_[j])) continue;
       Cover c;
-      if (!cover_by(0, j, c)) continue;  // (i = 0: a collinear edge going the same way does not cover)
+      std::size_t from = first_[j];
+      if (!cover_by(0, j, c, from)) continue;  // (i = 0: a collinear edge going the same way does not cover)
       if (c.lo.kind == 0 && c.hi.kind == 1) {
         add_cross(v, w, nullptr);
         if (boundary_) add_reversed(*pts_[v], *pts_[w]);
@@ -443,14 +469,19 @@ class ConvexUnionArea {
   }
 
   /// The open interval of t that P_j covers on the current edge of P_i; false when it is empty.
-  bool cover_by(std::size_t i, std::size_t j, Cover& c) {
+  /// `from`: the edge of P_j to test first, and on false the edge that separated P_j from the
+  /// current edge. Consecutive edges of P_i are mostly kept apart from P_j by the same edge of
+  /// it, so starting there ends most empty calls at the first edge tested (three quarters of the
+  /// calls are empty). The result does not depend on the order: empty when some edge separates,
+  /// else the largest lower and the smallest upper bound (equal candidates are the same value).
+  bool cover_by(std::size_t i, std::size_t j, Cover& c, std::size_t& from) {
     const std::size_t v = cur_v_, w = cur_w_;
     c.lo = Param{};
     c.lo.kind = 0;
     c.hi = Param{};
     c.hi.kind = 1;
     c.hi.approx = IA(1);
-    for (std::size_t f = first_[j]; f < first_[j + 1]; ++f) {
+    for (std::size_t n = first_[j + 1] - first_[j], f = from; n > 0; --n, f = nxt_[f]) {
       const std::size_t f2 = nxt_[f];
       const CGAL::Sign a = turn(f, f2, v), b = turn(f, f2, w);
       if (a == CGAL::POSITIVE && b == CGAL::POSITIVE) continue;
@@ -460,6 +491,7 @@ class ConvexUnionArea {
         if (a == CGAL::ZERO && b == CGAL::ZERO && j < i &&
             dot_sign<false>(*pts_[v], ip_[v], *pts_[w], ip_[w], *pts_[f], ip_[f], *pts_[f2], ip_[f2], scratch_) == CGAL::POSITIVE)
           continue;
+        from = f;
         return false;
       }
       if (a == CGAL::POSITIVE) {  // t < tau (tau = 1 when b is zero: no constraint in (0, 1))
@@ -733,6 +765,7 @@ class ConvexUnionArea {
   std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
   std::vector<Box> box_;
   std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
+  std::vector<std::size_t> separator_;  ///< per nlist_ entry: the neighbour's edge cover_by tests first
   geometry::SharedEdgeMerge merge_;
   std::vector<const QPoint2*> merged_pts_;  ///< merge_shared_edges' scratch
   std::vector<IPoint2> merged_ip_;
