@@ -283,6 +283,83 @@ void measure_lit_and_shadow(const FT::Exact_type& chart_area, const FT::Exact_ty
   out.lit_fraction = round_mpq_to_double(scratch.get_mpq_t());
 }
 
+EnclosedMeasure::EnclosedMeasure() {
+  for (mpfr_ptr x : {s_lo_, s_hi_, l_lo_, l_hi_, t_lo_, t_hi_}) mpfr_init2(x, kBits);
+}
+
+EnclosedMeasure::~EnclosedMeasure() {
+  for (mpfr_ptr x : {s_lo_, s_hi_, l_lo_, l_hi_, t_lo_, t_hi_}) mpfr_clear(x);
+}
+
+void EnclosedMeasure::swap(EnclosedMeasure& other) noexcept {
+  mpfr_swap(s_lo_, other.s_lo_);
+  mpfr_swap(s_hi_, other.s_hi_);
+  mpfr_swap(l_lo_, other.l_lo_);
+  mpfr_swap(l_hi_, other.l_hi_);
+  mpfr_swap(t_lo_, other.t_lo_);
+  mpfr_swap(t_hi_, other.t_hi_);
+}
+
+bool EnclosedMeasure::measure(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                              const FT::Exact_type& twice_lo, std::size_t slack, int slack_bits,
+                              const FT::Exact_type* scale, FaceLighting& out) {
+  if (sgn(chart_area) <= 0 || sgn(area_scale_squared) <= 0 || (scale && sgn(*scale) <= 0)) return false;
+  // The shadow's chart area in [s_lo, s_hi]: every step rounded outward (down for the lower
+  // end, up for the upper; all values positive, so dividing keeps the directions).
+  mpfr_set_q(s_lo_, twice_lo.get_mpq_t(), MPFR_RNDD);
+  mpfr_set_q(s_hi_, twice_lo.get_mpq_t(), MPFR_RNDU);
+  if (slack > 0) {
+    mpfr_set_ui_2exp(t_hi_, static_cast<unsigned long>(slack), -slack_bits, MPFR_RNDU);
+    mpfr_add(s_hi_, s_hi_, t_hi_, MPFR_RNDU);
+  }
+  mpfr_div_2ui(s_lo_, s_lo_, 1, MPFR_RNDD);  // (exact)
+  mpfr_div_2ui(s_hi_, s_hi_, 1, MPFR_RNDU);
+  if (mpfr_sgn(s_lo_) <= 0) return false;
+  if (scale) {
+    for (int twice = 0; twice < 2; ++twice) {
+      mpfr_div_q(s_lo_, s_lo_, scale->get_mpq_t(), MPFR_RNDD);
+      mpfr_div_q(s_hi_, s_hi_, scale->get_mpq_t(), MPFR_RNDU);
+    }
+  }
+  // The lit part, chart - shadow, in [l_lo, l_hi]: (s_hi - chart) rounded up, negated, is
+  // (chart - s_hi) rounded down.
+  mpfr_sub_q(l_lo_, s_hi_, chart_area.get_mpq_t(), MPFR_RNDU);
+  mpfr_neg(l_lo_, l_lo_, MPFR_RNDN);  // (exact)
+  mpfr_sub_q(l_hi_, s_lo_, chart_area.get_mpq_t(), MPFR_RNDD);
+  mpfr_neg(l_hi_, l_hi_, MPFR_RNDN);
+  if (mpfr_sgn(l_lo_) <= 0) return false;
+  double lit_area = 0, shadow_area = 0;
+  if (!pinned_area(l_lo_, l_hi_, area_scale_squared, lit_area)) return false;
+  if (!pinned_area(s_lo_, s_hi_, area_scale_squared, shadow_area)) return false;
+  mpfr_div_q(t_lo_, l_lo_, chart_area.get_mpq_t(), MPFR_RNDD);
+  mpfr_div_q(t_hi_, l_hi_, chart_area.get_mpq_t(), MPFR_RNDU);
+  const double lit_fraction = mpfr_get_d(t_lo_, MPFR_RNDN);
+  if (lit_fraction != mpfr_get_d(t_hi_, MPFR_RNDN)) return false;
+  out.lit_area = lit_area;
+  out.shadow_area = shadow_area;
+  out.lit_fraction = lit_fraction;
+  return true;
+}
+
+bool EnclosedMeasure::pinned_area(mpfr_srcptr lo, mpfr_srcptr hi, const FT::Exact_type& area_scale_squared,
+                                  double& out) {
+  // Rounding to nearest is monotone: where both ends of [lo, hi] round to one double, so does
+  // every value between them.
+  if (mpq_cmp_ui(area_scale_squared.get_mpq_t(), 1, 1) == 0) {  // |A|, no root (area_3d_exact)
+    out = mpfr_get_d(lo, MPFR_RNDN);
+    return out == mpfr_get_d(hi, MPFR_RNDN);
+  }
+  // sqrt(A^2 s), A > 0: increasing in A.
+  mpfr_sqr(t_lo_, lo, MPFR_RNDD);
+  mpfr_mul_q(t_lo_, t_lo_, area_scale_squared.get_mpq_t(), MPFR_RNDD);
+  mpfr_sqrt(t_lo_, t_lo_, MPFR_RNDD);
+  mpfr_sqr(t_hi_, hi, MPFR_RNDU);
+  mpfr_mul_q(t_hi_, t_hi_, area_scale_squared.get_mpq_t(), MPFR_RNDU);
+  mpfr_sqrt(t_hi_, t_hi_, MPFR_RNDU);
+  out = mpfr_get_d(t_lo_, MPFR_RNDN);
+  return out == mpfr_get_d(t_hi_, MPFR_RNDN);
+}
+
 namespace {
 
 /// An exactly planar face in plain integers: with 2^e the least power of two of its nonzero

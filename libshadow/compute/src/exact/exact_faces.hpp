@@ -79,6 +79,40 @@ void measure_lit_and_shadow(const FT::Exact_type& chart_area, const FT::Exact_ty
                             const FT::Exact_type& shadow_chart_area, FT::Exact_type& lit,
                             FT::Exact_type& scratch, FaceLighting& out);
 
+/// measure_lit_and_shadow for a shadow whose chart area is known to lie in an enclosure: from
+/// twice_lo / 2 to (twice_lo + slack 2^-slack_bits) / 2, each divided by scale^2 where `scale`
+/// is given (a scaled chart's K). Each of the three doubles is taken where the enclosure pins
+/// it: the value rounded once from both ends (every step rounded outward, at kBits bits) is the
+/// same double, so the exact value rounds to it too. True then, with the doubles
+/// measure_lit_and_shadow gives for the exact shadow (bit for bit, but for values closer than
+/// 2^-200 to a rounding boundary, which sqrt_mpq_to_double may round either way and these round
+/// correctly). False, `out` unchanged, where some double is not pinned, or the shadow or the lit
+/// part is not positive throughout: the caller then measures the exact shadow. Holds its MPFR
+/// numbers (one per worker).
+class EnclosedMeasure {
+ public:
+  static constexpr long kBits = 192;
+  EnclosedMeasure();
+  ~EnclosedMeasure();
+  EnclosedMeasure(const EnclosedMeasure&) = delete;
+  EnclosedMeasure& operator=(const EnclosedMeasure&) = delete;
+  EnclosedMeasure(EnclosedMeasure&& other) noexcept : EnclosedMeasure() { swap(other); }
+  EnclosedMeasure& operator=(EnclosedMeasure&& other) noexcept {
+    swap(other);
+    return *this;
+  }
+  void swap(EnclosedMeasure& other) noexcept;
+
+  bool measure(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+               const FT::Exact_type& twice_lo, std::size_t slack, int slack_bits, const FT::Exact_type* scale,
+               FaceLighting& out);
+
+ private:
+  /// area_3d_exact of a value in [lo, hi] (lo > 0), when both ends give the same double.
+  bool pinned_area(mpfr_srcptr lo, mpfr_srcptr hi, const FT::Exact_type& area_scale_squared, double& out);
+  mpfr_t s_lo_, s_hi_, l_lo_, l_hi_, t_lo_, t_hi_;
+};
+
 /// The 3D area of an exactly planar face (prep.exactly_planar), rounded once: the same double as
 /// area_3d(make_exact_face(...).chart_area, ...area_scale_squared), computed in plain integers
 /// from the input doubles (all scaled by one power of two) instead of lazy exact numbers; nullopt

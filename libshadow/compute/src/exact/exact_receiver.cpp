@@ -227,6 +227,25 @@ bool ExactReceiverJob::measure_in_box_window(BoundaryChain* chain) {
   // in: the same exact rational as their clips to the box united, without the clips' crossings.
   const ScaledChart& chart = scaled_chart();
   const QPointList& box = box_corners();
+  if (!chain && !tile_ && !wants_region()) {
+    // Only the rounded doubles are wanted (no tile's sum, no region): the union's area enclosed
+    // (no gcd per partly covered edge), measured exactly only where the enclosure leaves a
+    // double undecided (exact_faces.hpp, EnclosedMeasure).
+    ConvexUnionArea::Enclosure& e = w_.enclosure;
+    if (!w_.union_area.twice_area_in_window_enclosed(w_.qshadows.data(), w_.qfirst, box.data(), box.size(), e))
+      return false;
+    if (e.slack == 0) {  // every term exact (a box the casts cover whole, among others): the area
+      twice_area_ = e.lo;
+      twice_area_ /= 2;
+      chart.unscale_area(twice_area_);
+      measure(twice_area_);
+      return true;
+    }
+    const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
+    if (w_.enclosed_measure.measure(*chart_area, *scale, e.lo, e.slack, ConvexUnionArea::kEnclosureBits,
+                                    chart.integer() ? &chart.scale() : nullptr, item_.lighting))
+      return true;
+  }
   if (!w_.union_area.twice_area_in_window(w_.qshadows.data(), w_.qfirst, box.data(), box.size(), twice_area_, chain))
     return false;
   twice_area_ /= 2;

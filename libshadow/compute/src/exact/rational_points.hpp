@@ -202,6 +202,67 @@ inline void difference_fraction(const EQ& x1, const EQ& x0, mpz_ptr n, mpz_ptr e
   mpz_mul(e, e0, e1);
 }
 
+/// crossing_parameter's integers, kept by the caller (their limbs reused).
+struct ParameterScratch {
+  mpz_class f[12], z;
+};
+
+/// Where the line through u and u2 crosses the line through s and s2, as the parameter of
+/// s + t (s2 - s): t = cross(u2 - u, u - s) / cross(u2 - u, s2 - s) = tn / td with td > 0, not
+/// normalised (no gcd: the caller compares and subtracts such fractions, and normalises only
+/// what it keeps). In integers when the four points are (the scaled charts' points), else over
+/// the differences' denominators. The lines must not be parallel (td != 0).
+inline void crossing_parameter(const QPoint2& s, const QPoint2& s2, const QPoint2& u, const QPoint2& u2, mpz_ptr tn,
+                               mpz_ptr td, QScratch& scratch, ParameterScratch& ps) {
+  if (is_integer(s) && is_integer(s2) && is_integer(u) && is_integer(u2)) {
+    mpz_ptr fx = scratch.za.get_mpz_t();
+    mpz_ptr fy = scratch.zb.get_mpz_t();
+    mpz_ptr z = scratch.zc.get_mpz_t();
+    mpz_sub(fx, num(u2.x), num(u.x));
+    mpz_sub(fy, num(u2.y), num(u.y));
+    mpz_sub(z, num(u.y), num(s.y));
+    mpz_mul(tn, fx, z);
+    mpz_sub(z, num(u.x), num(s.x));
+    mpz_submul(tn, fy, z);
+    mpz_sub(z, num(s2.y), num(s.y));
+    mpz_mul(td, fx, z);
+    mpz_sub(z, num(s2.x), num(s.x));
+    mpz_submul(td, fy, z);
+  } else {
+    // The same with every difference a fraction (n / e, e > 0): N1 / D1 = cross(f, u - s) and
+    // N2 / D2 = cross(f, s2 - s) share f's denominators, so t = N1 e_dx e_dy / (N2 e_ux e_uy).
+    mpz_ptr f[12];
+    for (int k = 0; k < 12; ++k) f[k] = ps.f[k].get_mpz_t();
+    enum { nfx, efx, nfy, efy, nux, eux, nuy, euy, ndx, edx, ndy, edy };
+    difference_fraction(u2.x, u.x, f[nfx], f[efx]);
+    difference_fraction(u2.y, u.y, f[nfy], f[efy]);
+    difference_fraction(u.x, s.x, f[nux], f[eux]);
+    difference_fraction(u.y, s.y, f[nuy], f[euy]);
+    difference_fraction(s2.x, s.x, f[ndx], f[edx]);
+    difference_fraction(s2.y, s.y, f[ndy], f[edy]);
+    mpz_ptr z = ps.z.get_mpz_t();
+    // cross(f, v) over a common denominator, nfx nvy efy evx - nfy nvx efx evy, times m1 m2.
+    const auto cross_with_f = [&](mpz_ptr out, mpz_srcptr nvx, mpz_srcptr evx, mpz_srcptr nvy, mpz_srcptr evy,
+                                  mpz_srcptr m1, mpz_srcptr m2) {
+      mpz_mul(out, f[nfx], nvy);
+      mpz_mul(out, out, f[efy]);
+      mpz_mul(out, out, evx);
+      mpz_mul(z, f[nfy], nvx);
+      mpz_mul(z, z, f[efx]);
+      mpz_mul(z, z, evy);
+      mpz_sub(out, out, z);
+      mpz_mul(out, out, m1);
+      mpz_mul(out, out, m2);
+    };
+    cross_with_f(tn, f[nux], f[eux], f[nuy], f[euy], f[edx], f[edy]);  // N1, times e_dx e_dy
+    cross_with_f(td, f[ndx], f[edx], f[ndy], f[edy], f[eux], f[euy]);  // N2, times e_ux e_uy
+  }
+  if (mpz_sgn(td) < 0) {
+    mpz_neg(tn, tn);
+    mpz_neg(td, td);
+  }
+}
+
 /// Sign of (a1 - a0)(b1 - b0) + k (c1 - c0)(d1 - d0), k = 1 or -1, exactly: in integers when
 /// all eight are (GMP's rational steps would multiply by denominators of 1 and take gcds), else
 /// in rationals. The filtered predicates' exact step.
