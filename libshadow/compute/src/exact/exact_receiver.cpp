@@ -474,46 +474,83 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
     }
     w_.cast_boxes.push_back(box);
   }
-  twice_area_ = 0;
   BoundaryChain* chain = boundary_ ? &w_.chain : nullptr;
-  if (chain) chain->clear();
-  for (const std::vector<int>& piece : fp_.convex_pieces) {  // (a tile's fp_: the face's, its box aside)
-    w_.qwindow.clear();
-    CGAL::Bbox_2 box;
-    for (int v : piece) {
-      QPoint2& p = w_.qwindow.emplace_back();
-      chart.chart(face_.vertices[v], p);  // its intervals are the input doubles, exactly
-      box += CGAL::Bbox_2(p.i.x.inf(), p.i.y.inf(), p.i.x.sup(), p.i.y.sup());
-    }
-    if (chain) {  // the piece's boundary (counter-clockwise); the pieces' shared sides cancel
-      for (std::size_t v = 0; v < w_.qwindow.size(); ++v) {
-        const QPoint2& a = w_.qwindow[v];
-        const QPoint2& b = w_.qwindow[v + 1 == w_.qwindow.size() ? 0 : v + 1];
-        chain->add(a.x, a.y, b.x, b.y);
+  // Each piece as a window of the scaled chart, and the casts that reach it: calls
+  // measure_piece(casts, first) for every piece some cast reaches; false when it does.
+  const auto for_each_piece = [&](const auto& measure_piece) {
+    for (const std::vector<int>& piece : fp_.convex_pieces) {  // (a tile's fp_: the face's, its box aside)
+      w_.qwindow.clear();
+      CGAL::Bbox_2 box;
+      for (int v : piece) {
+        QPoint2& p = w_.qwindow.emplace_back();
+        chart.chart(face_.vertices[v], p);  // its intervals are the input doubles, exactly
+        box += CGAL::Bbox_2(p.i.x.inf(), p.i.y.inf(), p.i.x.sup(), p.i.y.sup());
       }
-    }
-    // The casts that reach the piece, measured inside it as a window (no clip: its crossings'
-    // rationals, and their gcds, were most of a georeferenced model's time). One piece (a
-    // convex chart): all the casts as they are.
-    const QPoint2* casts = w_.qshadows.data();
-    const std::vector<std::size_t>* first = &w_.qfirst;
-    if (fp_.convex_pieces.size() > 1) {
-      w_.window_points.clear();
-      w_.window_first.assign(1, 0);
-      for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
-        if (!CGAL::do_overlap(w_.cast_boxes[k], box)) continue;  // (boxes around the exact points)
-        for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v) w_.window_points.push_back(w_.qshadows[v]);
-        w_.window_first.push_back(w_.window_points.size());
+      if (chain) {  // the piece's boundary (counter-clockwise); the pieces' shared sides cancel
+        for (std::size_t v = 0; v < w_.qwindow.size(); ++v) {
+          const QPoint2& a = w_.qwindow[v];
+          const QPoint2& b = w_.qwindow[v + 1 == w_.qwindow.size() ? 0 : v + 1];
+          chain->add(a.x, a.y, b.x, b.y);
+        }
       }
-      casts = w_.window_points.data();
-      first = &w_.window_first;
+      // The casts that reach the piece, measured inside it as a window (no clip: its crossings'
+      // rationals, and their gcds, were most of a georeferenced model's time). One piece (a
+      // convex chart): all the casts as they are.
+      const QPoint2* casts = w_.qshadows.data();
+      const std::vector<std::size_t>* first = &w_.qfirst;
+      if (fp_.convex_pieces.size() > 1) {
+        w_.window_points.clear();
+        w_.window_first.assign(1, 0);
+        for (std::size_t k = 0; k + 1 < w_.qfirst.size(); ++k) {
+          if (!CGAL::do_overlap(w_.cast_boxes[k], box)) continue;  // (boxes around the exact points)
+          for (std::size_t v = w_.qfirst[k]; v < w_.qfirst[k + 1]; ++v) w_.window_points.push_back(w_.qshadows[v]);
+          w_.window_first.push_back(w_.window_points.size());
+        }
+        casts = w_.window_points.data();
+        first = &w_.window_first;
+      }
+      if (first->size() == 1) continue;  // no cast reaches this piece
+      if (!measure_piece(casts, *first)) return false;
     }
-    if (first->size() == 1) continue;  // no cast reaches this piece
-    if (!w_.union_area.twice_area_in_window(casts, *first, w_.qwindow.data(), w_.qwindow.size(), w_.piece_twice_area,
-                                            chain))
+    return true;
+  };
+  if (!chain && !tile_ && !wants_region()) {
+    // Only the rounded doubles are wanted: the pieces' union areas enclosed and added
+    // (measure_in_box_window), the exact route below only where they leave a double undecided.
+    ConvexUnionArea::Enclosure& e = w_.enclosure;
+    EQ& lo = w_.piece_twice_area_lo;
+    lo = 0;
+    std::size_t slack = 0;
+    if (!for_each_piece([&](const QPoint2* casts, const std::vector<std::size_t>& first) {
+          if (!w_.union_area.twice_area_in_window_enclosed(casts, first, w_.qwindow.data(), w_.qwindow.size(), e))
+            return false;
+          lo += e.lo;
+          slack += e.slack;
+          return true;
+        }))
       return false;
-    twice_area_ += w_.piece_twice_area;
+    if (slack == 0) {  // every term exact: the area
+      twice_area_ = lo;
+      twice_area_ /= 2;
+      chart.unscale_area(twice_area_);
+      measure(twice_area_);
+      return true;
+    }
+    const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
+    if (w_.enclosed_measure.measure(*chart_area, *scale, lo, slack, ConvexUnionArea::kEnclosureBits,
+                                    chart.integer() ? &chart.scale() : nullptr, item_.lighting))
+      return true;
   }
+  twice_area_ = 0;
+  if (chain) chain->clear();
+  if (!for_each_piece([&](const QPoint2* casts, const std::vector<std::size_t>& first) {
+        if (!w_.union_area.twice_area_in_window(casts, first, w_.qwindow.data(), w_.qwindow.size(),
+                                                w_.piece_twice_area, chain))
+          return false;
+        twice_area_ += w_.piece_twice_area;
+        return true;
+      }))
+    return false;
   twice_area_ /= 2;
   chart.unscale_area(twice_area_);
   measure(twice_area_);

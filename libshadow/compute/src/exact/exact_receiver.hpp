@@ -49,7 +49,7 @@ struct ExactWorker {
   QPointList qbox;      ///< the current job's chart box corners, scaled (box_corners)
   std::vector<std::size_t> window_first;
   std::vector<CGAL::Bbox_2> cast_boxes;
-  EQ piece_twice_area;
+  EQ piece_twice_area, piece_twice_area_lo;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
   ConvexUnionArea::Enclosure enclosure;  ///< areas only: the union's area enclosed (measure_in_box_window)
