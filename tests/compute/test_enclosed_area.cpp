@@ -139,6 +139,32 @@ TEST(EnclosedMeasure, PinsTheDoublesTheExactShadowRoundsTo) {
   EXPECT_GT(pinned, 1990u);  // undecided only next to a rounding boundary
 }
 
+/// A tiled face's tiles' enclosures added (EnclosedMeasure::measure_between): an exact shadow
+/// anywhere in [lo, lo + width] pins the same doubles as the exact one, or none.
+TEST(EnclosedMeasure, BetweenPinsTheDoublesOfAnyShadowInside) {
+  std::mt19937_64 rng(11);
+  shadow::exact::EnclosedMeasure m;
+  std::size_t pinned = 0;
+  for (int round = 0; round < 1000; ++round) {
+    const EQ chart_area(mpz_class(rng() >> 8) * (rng() >> 8) + 1, mpz_class(rng() >> 20) + 1);
+    const EQ shadow = chart_area * EQ(static_cast<unsigned long>(rng() % 1000 + 1), 1003);
+    const EQ scale_squared = round % 2 == 0 ? EQ(1) : EQ(static_cast<unsigned long>(rng() % 1000 + 2), 997);
+    const EQ width = EQ(static_cast<unsigned long>(rng() % 50 + 1)) * two_to_minus(140);
+    const EQ lo = shadow - width * EQ(static_cast<unsigned long>(rng() % 3), 2);  // lo <= shadow <= lo + width
+    shadow::FaceLighting exact, between;
+    EQ lit, scratch;
+    shadow::exact::measure_lit_and_shadow(chart_area, scale_squared, shadow, lit, scratch, exact);
+    if (!m.measure_between(chart_area, scale_squared, lo, width, between)) continue;
+    ++pinned;
+    EXPECT_EQ(between.lit_area, exact.lit_area) << "round " << round;
+    EXPECT_EQ(between.shadow_area, exact.shadow_area) << "round " << round;
+    EXPECT_EQ(between.lit_fraction, exact.lit_fraction) << "round " << round;
+  }
+  EXPECT_GT(pinned, 990u);
+  shadow::FaceLighting out;
+  EXPECT_FALSE(m.measure_between(EQ(1), EQ(1), EQ(1) - two_to_minus(150), two_to_minus(140), out));  // lit may be 0
+}
+
 /// Where the enclosure cannot decide, it says so and writes nothing: a lit part that may be
 /// zero (a chart covered whole), an enclosure wider than a double's spacing, and a lit area
 /// exactly halfway between two doubles (1 - 2^-54) with the enclosure around it.

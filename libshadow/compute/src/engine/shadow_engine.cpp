@@ -220,6 +220,33 @@ ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(ThreadState& w, std::o
                                        mode.polygons, stats, exact_tiles);
 }
 
+namespace {
+
+/// A tiled face's exact measure from its n tiles (compute_splits): their exact shadowed chart
+/// areas summed, then rounded once as for the whole face (exact_receiver.cpp,
+/// unite_and_measure): the same bits. Where some tile's shadow is enclosed instead
+/// (ExactReceiverJob::measure_tile_enclosed), the enclosures added pin the doubles
+/// (EnclosedMeasure::measure_between); false where they do not, `out` unchanged.
+template <class TileItem>
+bool measure_exact_tiles(const TileItem* tiles, std::size_t n, const exact::EQ& chart, const exact::EQ& scale,
+                         exact::EnclosedMeasure& enclosed_measure, FaceLighting& out) {
+  exact::EQ shadow_chart(0), width(0);
+  bool enclosed = false;
+  for (std::size_t t = 0; t < n; ++t) {
+    if (tiles[t].tile_shadow_chart_area) shadow_chart += *tiles[t].tile_shadow_chart_area;
+    if (tiles[t].tile_shadow_width) {
+      width += *tiles[t].tile_shadow_width;
+      enclosed = true;
+    }
+  }
+  if (enclosed) return enclosed_measure.measure_between(chart, scale, shadow_chart, width, out);
+  exact::EQ lit, scratch;
+  exact::measure_lit_and_shadow(chart, scale, shadow_chart, lit, scratch, out);
+  return true;
+}
+
+}  // namespace
+
 void ShadowEngine::Impl::compute_splits(
     std::vector<SplitReceiver>& splits, const ItemMode& mode, std::vector<ThreadState>& workers,
     const ExactLightSlot& exact_light,
@@ -322,19 +349,20 @@ void ShadowEngine::Impl::compute_splits(
     }
     out.dropped_area = dropped;
     if (!fast || exact_tiles) {
-      // Exact: the tiles' exact shadowed chart areas summed, then rounded once as for the whole
-      // face (exact_receiver.cpp, unite_and_measure): the same bits.
-      FT::Exact_type shadow_chart(0);
-      for (std::size_t t = t0; t < t1; ++t)
-        if (tile_items[t].tile_shadow_chart_area) shadow_chart += *tile_items[t].tile_shadow_chart_area;
       if (unshadowed) {
         out.lit_area = out.area;
         out.lit_fraction = 1.0;
         continue;
       }
       const auto [chart, scale] = w0.exact.exact_areas(exact_context, f);
-      FT::Exact_type lit, scratch;
-      measure_lit_and_shadow(*chart, *scale, shadow_chart, lit, scratch, out);
+      if (measure_exact_tiles(tile_items.data() + t0, t1 - t0, *chart, *scale, w0.exact.enclosed_measure, out)) continue;
+      // Not pinned (next to a rounding boundary): the face computed whole, exactly, its counts
+      // left out (the tiles' are in).
+      ItemMode whole_mode = mode;
+      whole_mode.split_above = 0;
+      ShadowStats again;
+      item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, whole_mode, nullptr,
+                          again);
       continue;
     }
     // Fast: each tile's shadow is within its bound of the exact one (a tile that fell back to

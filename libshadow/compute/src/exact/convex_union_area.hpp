@@ -124,11 +124,9 @@ class ConvexUnionArea {
     return true;
   }
 
-  /// Where only doubles rounded from the area are wanted (exact_faces.hpp,
-  /// measure_lit_and_shadow_enclosed), the exact sum is not needed: the partly covered edges of
-  /// integer points, whose terms are fractions with large denominators, are each divided out to
-  /// kEnclosureBits binary places instead (rounded down, counting those not exact), and no gcd
-  /// is taken. Made exact, those terms' gcds and their sum were a fifth of the exact year.
+  /// Where only doubles rounded from the area are wanted (exact_faces.hpp, EnclosedMeasure), the
+  /// partly covered edges of integer points (fractions of large denominators) are each divided
+  /// out to kEnclosureBits binary places (rounded down, counting those not exact): no gcd.
   static constexpr int kEnclosureBits = 128;
 
   /// Twice the area, enclosed: lo <= twice the area <= lo + slack 2^-kEnclosureBits.
@@ -137,23 +135,15 @@ class ConvexUnionArea {
     std::size_t slack = 0;
   };
 
-  /// twice_area_in_window, enclosed (no boundary). False (nothing set) as twice_area_in_window.
+  /// twice_area_in_window and twice_area, enclosed (no boundary); false (nothing set) as they.
   bool twice_area_in_window_enclosed(const QPoint2* points, const std::vector<std::size_t>& first,
                                      const QPoint2* window, std::size_t m, Enclosure& out) {
-    enclose_ = true;
-    slack_ = 0;
-    enclosed_ = 0;
-    const bool done = twice_area_in_window(points, first, window, m, out.lo, nullptr);
-    enclose_ = false;
-    if (!done) return false;
-    if (slack_ > 0 || sgn(enclosed_) != 0) {  // lo += enclosed 2^-k
-      mpq_set_z(scratch_.a.get_mpq_t(), enclosed_.get_mpz_t());
-      mpq_div_2exp(scratch_.a.get_mpq_t(), scratch_.a.get_mpq_t(), kEnclosureBits);
-      out.lo += scratch_.a;
-      scratch_.a = 0;
-    }
-    out.slack = slack_;
-    return true;
+    start_enclosure();
+    return finish_enclosure(twice_area_in_window(points, first, window, m, out.lo, nullptr), out);
+  }
+  bool twice_area_enclosed(const QPointList& points, const std::vector<std::size_t>& first, Enclosure& out) {
+    start_enclosure();
+    return finish_enclosure(twice_area(points.data(), first, out.lo, nullptr), out);
   }
 
   /// The same for Epeck polygons (their exact values are copied first).
@@ -195,6 +185,26 @@ class ConvexUnionArea {
   struct Cover {
     Param lo, hi;
   };
+
+  /// The enclosed calls' start, and their end: lo (the exact terms' sum) += the enclosed terms'
+  /// floors 2^-k.
+  void start_enclosure() {
+    enclose_ = true;
+    slack_ = 0;
+    enclosed_ = 0;
+  }
+  bool finish_enclosure(bool done, Enclosure& out) {
+    enclose_ = false;
+    if (!done) return false;
+    if (slack_ > 0 || sgn(enclosed_) != 0) {
+      mpq_set_z(scratch_.a.get_mpq_t(), enclosed_.get_mpz_t());
+      mpq_div_2exp(scratch_.a.get_mpq_t(), scratch_.a.get_mpq_t(), kEnclosureBits);
+      out.lo += scratch_.a;
+      scratch_.a = 0;
+    }
+    out.slack = slack_;
+    return true;
+  }
 
   // ---- loading: vertices without repeats, convexity checked exactly -----------------------------
   bool equal(std::size_t a, std::size_t b) const {

@@ -321,6 +321,23 @@ bool EnclosedMeasure::measure(const FT::Exact_type& chart_area, const FT::Exact_
       mpfr_div_q(s_hi_, s_hi_, scale->get_mpq_t(), MPFR_RNDU);
     }
   }
+  return pin(chart_area, area_scale_squared, out);
+}
+
+bool EnclosedMeasure::measure_between(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                                      const FT::Exact_type& shadow_lo, const FT::Exact_type& width,
+                                      FaceLighting& out) {
+  if (sgn(chart_area) <= 0 || sgn(area_scale_squared) <= 0 || sgn(width) < 0) return false;
+  mpfr_set_q(s_lo_, shadow_lo.get_mpq_t(), MPFR_RNDD);
+  mpfr_set_q(s_hi_, shadow_lo.get_mpq_t(), MPFR_RNDU);
+  mpfr_set_q(t_hi_, width.get_mpq_t(), MPFR_RNDU);
+  mpfr_add(s_hi_, s_hi_, t_hi_, MPFR_RNDU);
+  if (mpfr_sgn(s_lo_) <= 0) return false;
+  return pin(chart_area, area_scale_squared, out);
+}
+
+bool EnclosedMeasure::pin(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                          FaceLighting& out) {
   // The lit part, chart - shadow, in [l_lo, l_hi]: (s_hi - chart) rounded up, negated, is
   // (chart - s_hi) rounded down.
   mpfr_sub_q(l_lo_, s_hi_, chart_area.get_mpq_t(), MPFR_RNDU);

@@ -107,7 +107,14 @@ class EnclosedMeasure {
                const FT::Exact_type& twice_lo, std::size_t slack, int slack_bits, const FT::Exact_type* scale,
                FaceLighting& out);
 
+  /// The same for a shadow chart area from shadow_lo to shadow_lo + width (width >= 0): a tiled
+  /// face's tiles' enclosures (or exact areas) added.
+  bool measure_between(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared,
+                       const FT::Exact_type& shadow_lo, const FT::Exact_type& width, FaceLighting& out);
+
  private:
+  /// The doubles from the shadow's enclosure [s_lo_, s_hi_] (set by the callers).
+  bool pin(const FT::Exact_type& chart_area, const FT::Exact_type& area_scale_squared, FaceLighting& out);
   /// area_3d_exact of a value in [lo, hi] (lo > 0), when both ends give the same double.
   bool pinned_area(mpfr_srcptr lo, mpfr_srcptr hi, const FT::Exact_type& area_scale_squared, double& out);
   mpfr_t s_lo_, s_hi_, l_lo_, l_hi_, t_lo_, t_hi_;

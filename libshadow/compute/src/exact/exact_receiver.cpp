@@ -347,6 +347,8 @@ void ExactReceiverJob::unite_and_measure() {
       chart.unscale_area(twice_area_);
       measure(twice_area_);
       return;
+    } else if (!wants_region() && measure_tile_enclosed()) {
+      return;
     } else if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
       twice_area_ /= 2;
       chart.unscale_area(twice_area_);
@@ -369,6 +371,40 @@ void ExactReceiverJob::unite_and_measure() {
   }
   if (!wants_region() && !fp_.chart_is_box && !shadows_.empty() && measure_in_convex_pieces()) return;
   unite_by_join();
+}
+
+bool ExactReceiverJob::measure_tile_enclosed() {
+  // A tile's casts (clipped to its box), areas only: the union's area enclosed, and the
+  // enclosure unscaled into the item for the engine's sum (ReceiverResult::tile_shadow_width).
+  // The tile's own doubles are pinned too: the fast path's merge reads a tile that fell back to
+  // this engine by its shadow_area. False (the exact sum then) where they are not.
+  ConvexUnionArea::Enclosure& e = w_.enclosure;
+  if (!w_.union_area.twice_area_enclosed(w_.qshadows, w_.qfirst, e)) return false;
+  const ScaledChart& chart = scaled_chart();
+  twice_area_ = e.lo;
+  twice_area_ /= 2;
+  chart.unscale_area(twice_area_);
+  if (e.slack == 0) {  // every term exact: the area
+    measure(twice_area_);
+    return true;
+  }
+  // A tile its casts may cover whole is measured exactly: the engine's sum of the tiles of a
+  // face covered whole is then exact, and its lit part, zero, decided (an enclosure of it is not).
+  const QPointList& box = box_corners();
+  twice_polygon_area(box.data(), box.data() + box.size(), w_.qbound, w_.qs);
+  w_.qarea = w_.qbound - e.lo;  // (box - lo) 2^k against the slack: can the union be the box?
+  mpq_mul_2exp(w_.qarea.get_mpq_t(), w_.qarea.get_mpq_t(), ConvexUnionArea::kEnclosureBits);
+  if (w_.qarea <= static_cast<unsigned long>(e.slack)) return false;
+  const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
+  if (!w_.enclosed_measure.measure(*chart_area, *scale, e.lo, e.slack, ConvexUnionArea::kEnclosureBits,
+                                   chart.integer() ? &chart.scale() : nullptr, item_.lighting))
+    return false;
+  item_.tile_shadow_chart_area = twice_area_;
+  EQ width(static_cast<unsigned long>(e.slack));
+  mpq_div_2exp(width.get_mpq_t(), width.get_mpq_t(), ConvexUnionArea::kEnclosureBits + 1);  // (twice the area)
+  chart.unscale_area(width);
+  item_.tile_shadow_width = std::move(width);
+  return true;
 }
 
 void ExactReceiverJob::q_casts_to_shadows() {

@@ -132,6 +132,11 @@ struct ReceiverResult {
   /// (Empty for zero and for whole receivers: a million items each with a GMP rational were
   /// a serial cost of their own.)
   std::optional<FT::Exact_type> tile_shadow_chart_area;
+  /// Instead, areas only: the tile's exact shadowed area lies in [tile_shadow_chart_area,
+  /// + tile_shadow_width] (ConvexUnionArea's enclosure, unscaled); the engine adds the tiles'
+  /// and pins the face's doubles from the sum (EnclosedMeasure::measure_between), or computes the
+  /// face whole where they are not pinned. Empty: tile_shadow_chart_area is exact.
+  std::optional<FT::Exact_type> tile_shadow_width;
   bool tile_unshadowed = false;
   /// A tile computed by the exact engine (tile_shadow_chart_area is then its shadow); false for
   /// a tile of the fast path, whatever its bound (a fast bound of 0 does not make it exact).

@@ -208,6 +208,7 @@ class ExactReceiverJob {
   /// as a window, measured (and, with `chain`, its boundary reversed into it); false when some
   /// cast is not convex.
   bool measure_in_box_window(BoundaryChain* chain);
+  bool measure_tile_enclosed();  ///< unite_and_measure's areas-only route for a tile's casts (several)
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
