@@ -65,7 +65,9 @@ class Polygons {
 TEST(EnclosedUnionArea, HoldsTheExactArea) {
   Polygons g(20261201);
   const EQ huge = EQ(mpz_class(1) << 100) + 12345;  // (not a power of two: odd integers)
-  std::size_t with_slack = 0, covered_whole = 0, rounds = 0;
+  std::size_t with_slack = 0, covered_whole = 0, rounds = 0, refused = 0;
+  ConvexUnionArea u;  // one object throughout: nothing of a call may be left for the next
+  const std::vector<QPoint2> spike{{EQ(0), EQ(0)}, {EQ(4), EQ(0)}, {EQ(2), EQ(0)}, {EQ(2), EQ(3)}};  // not convex
   for (int round = 0; round < 600; ++round) {
     const EQ& scale = round % 2 == 0 ? EQ(1) : huge;
     std::vector<QPoint2> all;
@@ -82,11 +84,18 @@ TEST(EnclosedUnionArea, HoldsTheExactArea) {
     std::vector<QPoint2> window;
     for (const auto& [x, y] : {std::pair{x0, y0}, {x0 + w, y0}, {x0 + w, y0 + w}, {x0, y0 + w}})
       window.emplace_back(EQ(x) * scale, EQ(y) * scale);
-    ConvexUnionArea u;
     EQ exact;
     if (!u.twice_area_in_window(all.data(), first, window.data(), window.size(), exact)) continue;  // rounded not convex
     ++rounds;
     ConvexUnionArea::Enclosure e;
+    if (round % 7 == 0) {  // a refused enclosed call first (a spike among the casts)
+      std::vector<QPoint2> with_spike = all;
+      std::vector<std::size_t> spike_first = first;
+      with_spike.insert(with_spike.end(), spike.begin(), spike.end());
+      spike_first.push_back(with_spike.size());
+      EXPECT_FALSE(u.twice_area_in_window_enclosed(with_spike.data(), spike_first, window.data(), window.size(), e));
+      ++refused;
+    }
     ASSERT_TRUE(u.twice_area_in_window_enclosed(all.data(), first, window.data(), window.size(), e)) << "round " << round;
     const EQ hi = e.lo + EQ(static_cast<unsigned long>(e.slack)) * two_to_minus(ConvexUnionArea::kEnclosureBits);
     EXPECT_LE(e.lo, exact) << "round " << round;
@@ -98,7 +107,19 @@ TEST(EnclosedUnionArea, HoldsTheExactArea) {
     EQ again;
     ASSERT_TRUE(u.twice_area_in_window(all.data(), first, window.data(), window.size(), again));
     EXPECT_EQ(again, exact) << "round " << round;
+    // Without a window (a tile's casts, already clipped): the same bounds on the plain union.
+    shadow::exact::QPointList listed;
+    for (const QPoint2& p : all) listed.push_back(p);
+    EQ plain;
+    ASSERT_TRUE(u.twice_area(listed, first, plain));
+    ConvexUnionArea::Enclosure f;
+    ASSERT_TRUE(u.twice_area_enclosed(listed, first, f));
+    EXPECT_LE(f.lo, plain) << "round " << round;
+    EXPECT_LE(plain, f.lo + EQ(static_cast<unsigned long>(f.slack)) * two_to_minus(ConvexUnionArea::kEnclosureBits))
+        << "round " << round;
+    if (f.slack == 0) EXPECT_EQ(f.lo, plain) << "round " << round;
   }
+  EXPECT_GT(refused, 50u);
   EXPECT_GT(rounds, 400u);
   EXPECT_GT(with_slack, 150u);   // partly covered edges, divided out
   EXPECT_GT(covered_whole, 20u);  // windows covered whole: exact lo
@@ -163,6 +184,12 @@ TEST(EnclosedMeasure, BetweenPinsTheDoublesOfAnyShadowInside) {
   EXPECT_GT(pinned, 990u);
   shadow::FaceLighting out;
   EXPECT_FALSE(m.measure_between(EQ(1), EQ(1), EQ(1) - two_to_minus(150), two_to_minus(140), out));  // lit may be 0
+  EXPECT_FALSE(m.measure_between(EQ(1), EQ(1), EQ(0), two_to_minus(140), out));   // a shadow that may be 0
+  EXPECT_FALSE(m.measure_between(EQ(-1), EQ(1), EQ(1, 4), EQ(0), out));           // no positive chart
+  EXPECT_TRUE(m.measure_between(EQ(1), EQ(1), EQ(1, 4), EQ(0), out));             // exact: width 0
+  EXPECT_EQ(out.lit_area, 0.75);
+  EXPECT_EQ(out.shadow_area, 0.25);
+  EXPECT_EQ(out.lit_fraction, 0.75);
 }
 
 /// Where the enclosure cannot decide, it says so and writes nothing: a lit part that may be

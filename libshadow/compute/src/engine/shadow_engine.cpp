@@ -356,10 +356,12 @@ void ShadowEngine::Impl::compute_splits(
       }
       const auto [chart, scale] = w0.exact.exact_areas(exact_context, f);
       if (measure_exact_tiles(tile_items.data() + t0, t1 - t0, *chart, *scale, w0.exact.enclosed_measure, out)) continue;
-      // Not pinned (next to a rounding boundary): the face computed whole, exactly, its counts
-      // left out (the tiles' are in).
+      // Not pinned (next to a rounding boundary): the face computed whole, exactly (by the exact
+      // engine also on the fast path, whose tiles all fell back to it here), its counts left out
+      // (the tiles' are in).
       ItemMode whole_mode = mode;
       whole_mode.split_above = 0;
+      whole_mode.fast = false;
       ShadowStats again;
       item = compute_item(w0, exact_light(0, sr.light_slot), f, sr.light_id, *sr.light, sr.grid, whole_mode, nullptr,
                           again);

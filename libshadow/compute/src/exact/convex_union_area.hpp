@@ -126,23 +126,23 @@ class ConvexUnionArea {
 
   /// Where only doubles rounded from the area are wanted (exact_faces.hpp, EnclosedMeasure), the
   /// partly covered edges of integer points (fractions of large denominators) are each divided
-  /// out to kEnclosureBits binary places (rounded down, counting those not exact): no gcd.
+  /// out to kEnclosureBits binary places (rounded down, counting those not exact): no gcd. Twice
+  /// the area is then enclosed: lo <= twice the area <= lo + slack 2^-kEnclosureBits.
   static constexpr int kEnclosureBits = 128;
-
-  /// Twice the area, enclosed: lo <= twice the area <= lo + slack 2^-kEnclosureBits.
   struct Enclosure {
     EQ lo;
     std::size_t slack = 0;
   };
+  static_assert(sizeof(unsigned long) >= sizeof(std::size_t), "slacks pass through unsigned long (GMP, MPFR)");
 
   /// twice_area_in_window and twice_area, enclosed (no boundary); false (nothing set) as they.
   bool twice_area_in_window_enclosed(const QPoint2* points, const std::vector<std::size_t>& first,
                                      const QPoint2* window, std::size_t m, Enclosure& out) {
-    start_enclosure();
+    const EnclosedCall call(*this);
     return finish_enclosure(twice_area_in_window(points, first, window, m, out.lo, nullptr), out);
   }
   bool twice_area_enclosed(const QPointList& points, const std::vector<std::size_t>& first, Enclosure& out) {
-    start_enclosure();
+    const EnclosedCall call(*this);
     return finish_enclosure(twice_area(points.data(), first, out.lo, nullptr), out);
   }
 
@@ -186,15 +186,18 @@ class ConvexUnionArea {
     Param lo, hi;
   };
 
-  /// The enclosed calls' start, and their end: lo (the exact terms' sum) += the enclosed terms'
-  /// floors 2^-k.
-  void start_enclosure() {
-    enclose_ = true;
-    slack_ = 0;
-    enclosed_ = 0;
-  }
+  /// An enclosed call's mode, left on the way out even by an exception (an exact call after it
+  /// must not enclose); and its end: lo (the exact terms' sum) += the enclosed terms' floors 2^-k.
+  struct EnclosedCall {
+    explicit EnclosedCall(ConvexUnionArea& u) : u_(u) {
+      u_.enclose_ = true;
+      u_.slack_ = 0;
+      u_.enclosed_ = 0;
+    }
+    ~EnclosedCall() { u_.enclose_ = false; }
+    ConvexUnionArea& u_;  // (a reference member: neither copied nor assigned)
+  };
   bool finish_enclosure(bool done, Enclosure& out) {
-    enclose_ = false;
     if (!done) return false;
     if (slack_ > 0 || sgn(enclosed_) != 0) {
       mpq_set_z(scratch_.a.get_mpq_t(), enclosed_.get_mpz_t());
@@ -409,12 +412,9 @@ class ConvexUnionArea {
           }
         }
       }
-      // The neighbours that may cover the edge whole first: an edge covered whole (a third of
-      // them) was tested against seven other neighbours on average before the one that covers
-      // it. First the neighbour that covered the polygon's last edge whole, then those whose
-      // boxes hold the edge's box (a box that does not can hardly hold the edge), then the
-      // rest. Whether an edge is covered whole, and the union of the covers, do not depend on
-      // the order (equal ends from different neighbours are the same values).
+      // First the neighbour that covered the last edge whole, then those whose boxes hold the
+      // edge's box, then the rest (a third of the edges are covered whole by one neighbour).
+      // The outcome does not depend on the order (equal ends are the same values).
       const auto holds = [&](const Box& c) { return c.x0 <= eb.x0 && c.y0 <= eb.y0 && eb.x1 <= c.x1 && eb.y1 <= c.y1; };
       const auto test = [&](std::size_t k) {
         const std::size_t j = nlist_[k];
@@ -511,8 +511,8 @@ class ConvexUnionArea {
   }
 
   /// The open interval of t that P_j covers on the current edge of P_i; false when it is empty.
-  /// `from`: the edge of P_j to test first, and on false the edge that separated P_j from the
-  /// current edge. Consecutive edges of P_i are mostly kept apart from P_j by the same edge of
+  /// `from`: the edge of P_j to test first, and the edge that separated P_j from the current
+  /// edge where one did (not where the bounds met empty). Consecutive edges of P_i are mostly kept apart from P_j by the same edge of
   /// it, so starting there ends most empty calls at the first edge tested (three quarters of the
   /// calls are empty). The result does not depend on the order: empty when some edge separates,
   /// else the largest lower and the smallest upper bound (equal candidates are the same value).
@@ -682,8 +682,7 @@ class ConvexUnionArea {
       const QPoint2& s = *pts_[v];
       const QPoint2& s2 = *pts_[w];
       if (is_integer(s) && is_integer(s2) && enclose_) {
-        // floor(cross(s, s2) cn 2^k / cd) to the enclosed sum, and one unit of slack unless the
-        // division is exact: the term lies in [q, q + 1) 2^-k.
+        // floor(cross(s, s2) cn 2^k / cd) summed, a unit of slack unless exact: in [q, q + 1) 2^-k.
         g_ = 0;
         add_integer_cross(g_, s, s2);  // (z is g_)
         mpz_mul(z, z, cn);

@@ -11,6 +11,10 @@
 #include "core/tiles.hpp"
 #include "exact/kernel.hpp"
 
+#include <mpfr.h>
+
+#include <cstddef>
+
 #include <shadow/scene.hpp>
 #include <shadow/shadows.hpp>
 
