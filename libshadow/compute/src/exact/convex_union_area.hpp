@@ -512,9 +512,9 @@ class ConvexUnionArea {
 
   /// The open interval of t that P_j covers on the current edge of P_i; false when it is empty.
   /// `from`: the edge of P_j to test first, and the edge that separated P_j from the current
-  /// edge where one did (not where the bounds met empty). Consecutive edges of P_i are mostly kept apart from P_j by the same edge of
-  /// it, so starting there ends most empty calls at the first edge tested (three quarters of the
-  /// calls are empty). The result does not depend on the order: empty when some edge separates,
+  /// edge where one did (not where the bounds met empty). Consecutive edges of P_i are mostly
+  /// kept apart from P_j by the same edge of it, so starting there ends most empty calls (three
+  /// quarters of them) at the first edge tested. The result does not depend on the order: empty when some edge separates,
   /// else the largest lower and the smallest upper bound (equal candidates are the same value).
   bool cover_by(std::size_t i, std::size_t j, Cover& c, std::size_t& from) {
     const std::size_t v = cur_v_, w = cur_w_;

@@ -234,17 +234,7 @@ bool ExactReceiverJob::measure_in_box_window(BoundaryChain* chain) {
     ConvexUnionArea::Enclosure& e = w_.enclosure;
     if (!w_.union_area.twice_area_in_window_enclosed(w_.qshadows.data(), w_.qfirst, box.data(), box.size(), e))
       return false;
-    if (e.slack == 0) {  // every term exact (a box the casts cover whole, among others): the area
-      twice_area_ = e.lo;
-      twice_area_ /= 2;
-      chart.unscale_area(twice_area_);
-      measure(twice_area_);
-      return true;
-    }
-    const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
-    if (w_.enclosed_measure.measure(*chart_area, *scale, e.lo, e.slack, ConvexUnionArea::kEnclosureBits,
-                                    chart.integer() ? &chart.scale() : nullptr, item_.lighting))
-      return true;
+    if (measure_enclosed(e.lo, e.slack)) return true;
   }
   if (!w_.union_area.twice_area_in_window(w_.qshadows.data(), w_.qfirst, box.data(), box.size(), twice_area_, chain))
     return false;
@@ -373,6 +363,20 @@ void ExactReceiverJob::unite_and_measure() {
   unite_by_join();
 }
 
+bool ExactReceiverJob::measure_enclosed(const EQ& twice_lo, std::size_t slack) {
+  const ScaledChart& chart = scaled_chart();
+  if (slack == 0) {  // every term exact: the area itself
+    twice_area_ = twice_lo;
+    twice_area_ /= 2;
+    chart.unscale_area(twice_area_);
+    measure(twice_area_);
+    return true;
+  }
+  const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
+  return w_.enclosed_measure.measure(*chart_area, *scale, twice_lo, slack, ConvexUnionArea::kEnclosureBits,
+                                     chart.integer() ? &chart.scale() : nullptr, item_.lighting);
+}
+
 bool ExactReceiverJob::measure_tile_enclosed() {
   // A tile's casts (clipped to its box), areas only: the union's area enclosed, and the
   // enclosure unscaled into the item for the engine's sum (ReceiverResult::tile_shadow_width).
@@ -380,25 +384,21 @@ bool ExactReceiverJob::measure_tile_enclosed() {
   // this engine by its shadow_area. False (the exact sum then) where they are not.
   ConvexUnionArea::Enclosure& e = w_.enclosure;
   if (!w_.union_area.twice_area_enclosed(w_.qshadows, w_.qfirst, e)) return false;
+  if (e.slack > 0) {
+    // A tile its casts may cover whole is measured exactly: the engine's sum of the tiles of a
+    // face covered whole is then exact, and its lit part, zero, decided (an enclosure of it is not).
+    const QPointList& box = box_corners();
+    twice_polygon_area(box.data(), box.data() + box.size(), w_.qbound, w_.qs);
+    w_.qarea = w_.qbound - e.lo;  // (box - lo) 2^k against the slack: can the union be the box?
+    mpq_mul_2exp(w_.qarea.get_mpq_t(), w_.qarea.get_mpq_t(), ConvexUnionArea::kEnclosureBits);
+    if (w_.qarea <= static_cast<unsigned long>(e.slack)) return false;
+  }
+  if (!measure_enclosed(e.lo, e.slack)) return false;
+  if (e.slack == 0) return true;  // measured as the exact area (measure(): the tile's sum too)
   const ScaledChart& chart = scaled_chart();
   twice_area_ = e.lo;
   twice_area_ /= 2;
   chart.unscale_area(twice_area_);
-  if (e.slack == 0) {  // every term exact: the area
-    measure(twice_area_);
-    return true;
-  }
-  // A tile its casts may cover whole is measured exactly: the engine's sum of the tiles of a
-  // face covered whole is then exact, and its lit part, zero, decided (an enclosure of it is not).
-  const QPointList& box = box_corners();
-  twice_polygon_area(box.data(), box.data() + box.size(), w_.qbound, w_.qs);
-  w_.qarea = w_.qbound - e.lo;  // (box - lo) 2^k against the slack: can the union be the box?
-  mpq_mul_2exp(w_.qarea.get_mpq_t(), w_.qarea.get_mpq_t(), ConvexUnionArea::kEnclosureBits);
-  if (w_.qarea <= static_cast<unsigned long>(e.slack)) return false;
-  const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
-  if (!w_.enclosed_measure.measure(*chart_area, *scale, e.lo, e.slack, ConvexUnionArea::kEnclosureBits,
-                                   chart.integer() ? &chart.scale() : nullptr, item_.lighting))
-    return false;
   item_.tile_shadow_chart_area = twice_area_;
   EQ width(static_cast<unsigned long>(e.slack));
   mpq_div_2exp(width.get_mpq_t(), width.get_mpq_t(), ConvexUnionArea::kEnclosureBits + 1);  // (twice the area)
@@ -565,17 +565,7 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
           return true;
         }))
       return false;
-    if (slack == 0) {  // every term exact: the area
-      twice_area_ = lo;
-      twice_area_ /= 2;
-      chart.unscale_area(twice_area_);
-      measure(twice_area_);
-      return true;
-    }
-    const auto [chart_area, scale] = w_.exact_areas(ctx_, face_id_);
-    if (w_.enclosed_measure.measure(*chart_area, *scale, lo, slack, ConvexUnionArea::kEnclosureBits,
-                                    chart.integer() ? &chart.scale() : nullptr, item_.lighting))
-      return true;
+    if (measure_enclosed(lo, slack)) return true;
   }
   twice_area_ = 0;
   if (chain) chain->clear();

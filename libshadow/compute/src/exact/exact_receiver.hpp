@@ -52,7 +52,7 @@ struct ExactWorker {
   EQ piece_twice_area, piece_twice_area_lo;
   std::vector<CGAL::Sign> vertex_sign, piece_sign;
   ConvexUnionArea union_area;  ///< areas only: the union's exact area without a Boolean operation
-  ConvexUnionArea::Enclosure enclosure;  ///< areas only: the union's area enclosed (measure_in_box_window)
+  ConvexUnionArea::Enclosure enclosure;  ///< areas only: the union's area enclosed (measure_enclosed's callers)
   EnclosedMeasure enclosed_measure;      ///< and the doubles it pins
   BoundaryChain chain;         ///< exact_lit_boundary: the lit region's boundary as a chain
   std::vector<BoundaryChain::Segment> chain_segments;  ///< and its canonical form

@@ -209,6 +209,10 @@ class ExactReceiverJob {
   /// cast is not convex.
   bool measure_in_box_window(BoundaryChain* chain);
   bool measure_tile_enclosed();  ///< unite_and_measure's areas-only route for a tile's casts (several)
+  /// The doubles from twice the union's area (scaled chart) in [twice_lo, + slack 2^-k]: measure()
+  /// of the exact area where there is no slack, else pinned (EnclosedMeasure); false, nothing
+  /// set, where they are not.
+  bool measure_enclosed(const EQ& twice_lo, std::size_t slack);
 
   // ---- fragments ----------------------------------------------------------------------------
   /// The face's outline as one fragment (wholly lit or wholly in shadow). A sliver face whose
