@@ -68,6 +68,47 @@ TEST(Parallel, WorkerIdsAreDistinctAndBelowTheThreadCount) {
   for (const auto& ids : threads_of) EXPECT_LE(ids.size(), 1u);
 }
 
+TEST(Parallel, EachWorkerLeavesOnceOnItsOwnThreadAfterItsLastItem) {
+  // What the engine's SpanTimer relies on: a worker's `leaving` runs on the thread that ran its
+  // items (the per-thread CPU clock is read there), once, after every item of that worker.
+  for (unsigned threads : {1u, 3u}) {
+    std::vector<std::set<long>> item_threads(threads), leave_threads(threads);
+    std::vector<int> items_after_leaving(threads, 0), leaves(threads, 0);
+    std::vector<char> left(threads, 0);
+    std::mutex mutex;
+    std::size_t items = 0;
+    parallel_for(
+        300, threads,
+        [&](unsigned w, std::size_t) {
+          std::this_thread::sleep_for(std::chrono::microseconds(20));
+          std::lock_guard<std::mutex> lock(mutex);
+          item_threads[w].insert(kernel_thread_id());
+          items_after_leaving[w] += left[w];
+          ++items;
+        },
+        {},
+        [&](unsigned w) {
+          std::lock_guard<std::mutex> lock(mutex);
+          leave_threads[w].insert(kernel_thread_id());
+          left[w] = 1;
+          ++leaves[w];
+        });
+    EXPECT_EQ(items, 300u);
+    for (unsigned w = 0; w < threads; ++w) {
+      EXPECT_EQ(items_after_leaving[w], 0) << w;
+      EXPECT_LE(leaves[w], 1) << w;
+      if (!item_threads[w].empty()) {
+        EXPECT_EQ(leaves[w], 1) << w;
+        EXPECT_EQ(leave_threads[w], item_threads[w]) << w;
+      }
+    }
+  }
+  // What `leaving` throws stops the call as an item's error does.
+  EXPECT_THROW(parallel_for(10, 2, [](unsigned, std::size_t) {}, {},
+                            [](unsigned) { throw std::runtime_error("leaving"); }),
+               std::runtime_error);
+}
+
 TEST(Parallel, NestedAndConcurrentCallsRunOnThreadsOfTheirOwn) {
   std::atomic<long> sum{0};
   parallel_for(8, 4, [&](unsigned, std::size_t) {

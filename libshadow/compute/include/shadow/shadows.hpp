@@ -193,10 +193,10 @@ struct ShadowStats {
   std::uint64_t tiles = 0;
   /// CPU time (per-thread clock) of the work items: whole receivers, tiles, and the culling of
   /// a receiver that was then split. Summed; `longest_item_seconds` is the largest single one
-  /// (operator+= takes the maximum). Receivers are taken in runs of 16 and their CPU time read
-  /// per run (the per-thread clock is a system call, a quarter of a small item's cost): a
-  /// receiver's own time is its steady-clock time scaled by its run's CPU / wall ratio; tiles
-  /// are timed one by one. They vary from run to run, unlike the counts.
+  /// (operator+= takes the maximum). Receivers are taken in runs of 16, and a thread's CPU time is
+  /// read when it takes its first run and when it takes no more (the per-thread clock is a
+  /// system call, a quarter of a small item's cost): a receiver's own time is its steady-clock
+  /// time scaled by that thread's CPU / wall ratio; tiles are timed one by one. They vary from run to run, unlike the counts.
   double item_seconds = 0;
   double longest_item_seconds = 0;
 

@@ -191,7 +191,7 @@ inline void count_item(ShadowStats& stats, double seconds) {
 
 /// Work items are handed out in runs of kRun consecutive ones: neighbouring receivers (a box's
 /// six faces) share their casters, whose exact faces and caster lists the worker then still has,
-/// and the thread's CPU clock is read once per run (BlockTimer).
+/// and the thread's CPU clock is read once per parallel call (SpanTimer).
 inline constexpr std::size_t kRun = 16;
 
 /// Progress that never goes back: `base + done` of `total` handed to `callback` (none when it is
@@ -229,34 +229,50 @@ struct FirstRound {
   std::atomic<std::size_t> split{0};
 };
 
-/// Times the work items of one block that a thread takes at once (a run of receivers): the
-/// thread's CPU clock is read at the block's ends only, since reading it is a system call
-/// (about 0.5 us on the 2-core machine, a quarter of a fast receiver's whole item: timing every
-/// item made the fast path at a 40 degree sun 1.35 times slower); each item is timed on the
-/// steady clock (no system call), and the longest one's CPU time is its steady time scaled by
-/// the block's CPU / wall ratio (at most 1: a preempted thread's item is not counted longer).
-class BlockTimer {
+/// Times the work items a thread takes in one parallel call, block after block (runs of
+/// receivers): the thread's CPU clock is read when its first block starts and when it leaves the
+/// call (`leave`, from parallel_for's `leaving`), since reading it is a system call (about
+/// 0.5 us on the 2-core machine, a quarter of a fast receiver's whole item: timing every item
+/// made the fast path at a 40 degree sun 1.35 times slower, and reading it at every block's
+/// ends was still 2-3% of a fast year). Each item is timed on the steady clock (no system call),
+/// and the longest one's CPU time is its steady time scaled by the thread's CPU / wall ratio
+/// over the call (at most 1: a preempted thread's item is not counted longer). One per worker,
+/// used by that worker's thread only.
+class alignas(64) SpanTimer {
  public:
-  BlockTimer() : cpu_start_(thread_cpu_seconds()), start_(Clock::now()), item_start_(start_) {}
+  /// A block starts: the span opens on the first (the CPU clock read), and an item's time
+  /// starts at the block, not at the end of the worker's last one.
+  void block_started() {
+    item_start_ = Clock::now();
+    if (open_) return;
+    open_ = true;
+    cpu_start_ = thread_cpu_seconds();
+    start_ = item_start_;
+  }
   /// An item of the block ends (the next starts).
   void item_done() {
     const Clock::time_point now = Clock::now();
     longest_ = std::max(longest_, now - item_start_);
     item_start_ = now;
   }
-  /// Adds the block's CPU time and its longest item to `stats`.
-  void finish(ShadowStats& stats) const {
+  /// The worker takes no more blocks: adds the span's CPU time and its longest item to `stats`
+  /// (nothing when it took none), and closes it.
+  void leave(ShadowStats& stats) {
+    if (!open_) return;
     const double cpu = thread_cpu_seconds() - cpu_start_;
     const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
     const double ratio = wall > cpu && wall > 0 ? cpu / wall : 1.0;
     stats.item_seconds += cpu;
     stats.longest_item_seconds =
         std::max(stats.longest_item_seconds, std::min(cpu, std::chrono::duration<double>(longest_).count() * ratio));
+    open_ = false;
+    longest_ = Clock::duration{0};
   }
 
  private:
   using Clock = std::chrono::steady_clock;
-  double cpu_start_;
+  bool open_ = false;
+  double cpu_start_ = 0;
   Clock::time_point start_, item_start_;
   Clock::duration longest_{0};
 };

@@ -29,11 +29,13 @@ ShadowEngine::Impl::RoundsDone ShadowEngine::Impl::compute_rounds(
   engine_detail::FirstRound first_round(count);
   std::function<void(std::size_t)> report_runs;
   if (progress.first) report_runs = [&](std::size_t runs) { progress.first(first_round.done(runs)); };
+  std::vector<engine_detail::SpanTimer> timers(workers.size());
   runtime::parallel_for_blocks(
       count, engine_detail::kRun, static_cast<unsigned>(workers.size()),
       [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
         ThreadState& w = workers[wi];
-        engine_detail::BlockTimer timer;
+        engine_detail::SpanTimer& timer = timers[wi];
+        timer.block_started();
         for (std::size_t i = begin; i < end; ++i) {
           const WorkItem work = describe(i);
           Item out = compute_item(w, exact_light(wi, work.light_slot), work.face, work.light_id, *work.light, work.grid,
@@ -47,9 +49,8 @@ ShadowEngine::Impl::RoundsDone ShadowEngine::Impl::compute_rounds(
           }
           finish(i, out);
         }
-        timer.finish(w.stats);
       },
-      report_runs);
+      report_runs, [&](unsigned wi) { timers[wi].leave(workers[wi].stats); });
   RoundsDone done;
   done.split = pending.size();
   const auto tiles_start = Clock::now();

@@ -102,10 +102,13 @@ bool run_on_pool(unsigned n, const std::function<void(unsigned)>& task, const st
 /// reports progress (items finished so far) every ~100 ms and at the end. The first exception
 /// thrown by any item or by `progress` stops the others and is rethrown here: no new item
 /// starts, and running items that call check_stop() end early. A parallel_for inside an item
-/// of a stopped one stops too (Stopped).
+/// of a stopped one stops too (Stopped). `leaving(worker)`, when given, runs on each worker's
+/// own thread once it takes no more items (after its last, or at once when there was none for
+/// it), like an item: what it throws stops the call.
 inline void parallel_for(std::size_t count, unsigned threads,
                          const std::function<void(unsigned worker, std::size_t item)>& work,
-                         const std::function<void(std::size_t done)>& progress = {}) {
+                         const std::function<void(std::size_t done)>& progress = {},
+                         const std::function<void(unsigned worker)>& leaving = {}) {
   std::atomic<std::size_t> next{0};
   std::atomic<std::size_t> done{0};
   std::atomic<bool> failed{false};
@@ -140,6 +143,13 @@ inline void parallel_for(std::size_t count, unsigned threads,
         record(std::current_exception());
       }
       done.fetch_add(1, std::memory_order_relaxed);
+    }
+    if (leaving) {
+      try {
+        leaving(worker);
+      } catch (...) {
+        record(std::current_exception());
+      }
     }
   };
 
@@ -216,14 +226,15 @@ inline void parallel_for(std::size_t count, unsigned threads,
 /// parallel_for over the indices [0, count) in blocks of `block` consecutive ones, each block
 /// one work item: work(worker, b, begin, end) for block b = [begin, end) (the last may be
 /// shorter). For items too small to be handed out one by one, or whose neighbours share data.
-/// `progress` counts blocks.
+/// `progress` counts blocks; `leaving` as parallel_for's.
 inline void parallel_for_blocks(std::size_t count, std::size_t block, unsigned threads,
                                 const std::function<void(unsigned, std::size_t, std::size_t, std::size_t)>& work,
-                                const std::function<void(std::size_t done)>& progress = {}) {
+                                const std::function<void(std::size_t done)>& progress = {},
+                                const std::function<void(unsigned worker)>& leaving = {}) {
   parallel_for(
       (count + block - 1) / block, threads,
       [&](unsigned worker, std::size_t b) { work(worker, b, b * block, std::min(count, (b + 1) * block)); },
-      progress);
+      progress, leaving);
 }
 
 }  // namespace shadow::runtime
