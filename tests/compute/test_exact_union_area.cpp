@@ -335,6 +335,13 @@ TEST(RationalPoints, IntervalsAtTheEndsOfTheDoubleRange) {
     check(sign * (power(-1022) + power(-1074)), true);      // a normal double, 53 bits
     check(sign * power(-1030), false);                      // a subnormal: left to the slow path
     check(sign * (power(53) - 1) / 2, true);                 // 53 bits over a power of two
+    // Quotients far up and down the range (the scaled quotient's branch: shifts of 899 and
+    // -900, at its ends), tight around their value.
+    for (const EQ& q : {EQ(sign * power(900) / 3), EQ(sign * power(-899) / 3)}) {
+      check(q, false);
+      const shadow::exact::IA i = shadow::exact::interval_of(q);
+      EXPECT_LE(i.sup() - i.inf(), 1e-15 * std::fabs(q.get_d())) << q;
+    }
   }
 }
 

@@ -20,6 +20,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 #include <vector>
@@ -32,13 +33,23 @@ static_assert(std::is_same_v<EQ, mpq_class>, "rational_points.hpp expects Epeck 
 
 using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
 
+/// 2^e for e in [-1022, 1023] (a normal double), made from its bits: a product with it is
+/// ldexp's exact result wherever that is normal, without ldexp's library call (a projection's
+/// point takes two conversions: a per-cent of the exact path).
+inline double power_of_two(int e) {
+  const std::uint64_t bits = static_cast<std::uint64_t>(1023 + e) << 52;
+  double p;
+  std::memcpy(&p, &bits, sizeof p);
+  return p;
+}
+
 /// An interval around q: the value itself when it is a double (a dyadic numerator of at most 53
 /// bits), else the quotient of intervals around the numerator's and the denominator's leading
 /// bits (mpz_get_d_2exp truncates toward zero: one ulp each, on the far side from zero; none
 /// for a denominator that is a power of two), scaled back by their exponents. This
 /// reads only the top limbs; mpq_get_d divides the whole numbers. kSetRounding false: the
 /// caller holds a CGAL::Protect_FPU_rounding<true> (the rest is exact under any rounding mode:
-/// GMP's conversions truncate bit by bit, nextafter and ldexp into the normal range are exact).
+/// GMP's conversions truncate bit by bit, nextafter and products by powers of two into the normal range are exact).
 template <bool kSetRounding = true>
 inline IA interval_of(const EQ& q) {
   const mpq_srcptr r = q.get_mpq_t();
@@ -49,10 +60,10 @@ inline IA interval_of(const EQ& q) {
   const double d = mpz_get_d_2exp(&ed, den);
   if (mpz_popcount(den) == 1 && mpz_sizeinbase(num, 2) <= 53) {
     // q = n 2^x exactly (den = 2^(ed - 1)), a double when it is in the normal range: with |n| in
-    // [0.5, 1) that is x in [-1021, 1024]. Decided on x, not on ldexp's result: a value just
-    // below the least normal double would round up to it in ldexp and pass for exact.
+    // [0.5, 1) that is x in [-1021, 1024]. Decided on x, not on the product: a value just
+    // below the least normal double would round up to it and pass for exact.
     const long x = en - ed + 1;
-    if (x >= -1021 && x <= 1024) return IA(std::ldexp(n, static_cast<int>(x)));  // exactly
+    if (x >= -1021 && x <= 1024) return IA((2 * n) * power_of_two(static_cast<int>(x - 1)));  // exactly
   }
   const long shift = en - ed;
   if (shift > 900 || shift < -900) {  // out of a safe exponent range: the slow, exact way
@@ -67,7 +78,8 @@ inline IA interval_of(const EQ& q) {
   const IA in = n > 0 ? IA(n, std::nextafter(n, inf)) : IA(std::nextafter(n, -inf), n);
   const IA id = mpz_popcount(den) == 1 ? IA(d) : IA(d, std::nextafter(d, inf));
   const IA quotient = in / id;  // in (-2.1, 2.1), away from under- and overflow
-  return IA(std::ldexp(quotient.inf(), static_cast<int>(shift)), std::ldexp(quotient.sup(), static_cast<int>(shift)));
+  const double scale = power_of_two(static_cast<int>(shift));  // |shift| <= 900: products stay normal
+  return IA(quotient.inf() * scale, quotient.sup() * scale);
 }
 
 /// interval_of of the integer v, from its fixed-width value: the same interval (v itself below
@@ -80,7 +92,8 @@ inline IA interval_of_integer(fixed::i128 v) {
   const int drop = fixed::bit_width(m) - 53;
   if (drop <= 0) return IA(static_cast<double>(v));
   const double t = static_cast<double>(static_cast<std::uint64_t>(m >> drop));
-  const double lo = std::ldexp(t, drop), hi = std::ldexp(t + 1, drop);
+  const double scale = power_of_two(drop);  // drop in [1, 75]: t and t + 1 (at most 2^53) scale exactly
+  const double lo = t * scale, hi = (t + 1) * scale;
   return v > 0 ? IA(lo, hi) : IA(-hi, -lo);
 }
 
