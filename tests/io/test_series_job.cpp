@@ -13,10 +13,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <condition_variable>
 #include <fstream>
 #include <map>
@@ -236,6 +240,41 @@ TEST(SeriesJob, StoppedThenResumedWritesTheUninterruptedFiles) {
   EXPECT_NE(notices[0].find("8 of 34 instants done"), std::string::npos) << notices[0];
   EXPECT_FALSE(fs::exists(dir / "parts" / "series.checkpoint"));
   shadow::test::expect_same_files(dir / "whole", dir / "parts", 1);
+}
+
+TEST(SeriesJob, AFullDiskWhileARoundIsWrittenBehindIsOneOutputErrorAndLeavesNoOutputs) {
+  // Rounds of one instant: each round's files are written while the next computes, so the
+  // write fails on the writer's thread, and its error must stop the job as an in-line write's
+  // did. A file size limit stands in for a full disk (SIGXFSZ ignored: write() fails instead).
+  const fs::path dir = scratch("full");
+  const fs::path scene_file = write_scene(dir);
+  shadow::SeriesJobOptions options = job_options(scene_file, dir / "out");
+  options.keep_table = false;
+  options.round_cells = 1;  // one instant a round
+  rlimit old_limit{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old_limit;
+  small.rlim_cur = 4096;  // past the headers, within a few instants' rows
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  std::string message;
+  try {
+    shadow::test::run_series_job(options);
+  } catch (const shadow::OutputError& e) {
+    message = e.what();
+  }
+  setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+  ASSERT_FALSE(message.empty()) << "expected an OutputError";
+  EXPECT_EQ(message.find((dir / "out").string()), 0u) << message;
+  EXPECT_NE(message.find(std::strerror(EFBIG)), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(dir / "out" / "report.json"));
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir / "out"))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "left behind: " << e.path();
+  // The same job with room writes every file.
+  options.output = dir / "room";
+  EXPECT_NO_THROW(shadow::test::run_series_job(options));
+  EXPECT_TRUE(fs::exists(dir / "room" / "report.json"));
 }
 
 TEST(SeriesJob, SecondJobOnTheSameDirectoryIsRefused) {

@@ -105,7 +105,9 @@ TEST(SeriesStream, JobInRoundsWithoutTheTableWritesTheWholeTablesFiles) {
   }
   shadow::SeriesJobOptions options = job_options(scene_file, dir / "streamed");
   options.keep_table = false;
-  options.round_cells = 3 * w.table.faces.size();  // rounds of 3 instants: 12 of them
+  // Rounds of 3 instants, 12 of them (one process: a round is written while the next computes,
+  // so a round takes half of round_cells).
+  options.round_cells = 6 * w.table.faces.size();
   std::size_t reports = 0;
   options.progress = [&](const shadow::SeriesJobProgress&) { ++reports; };
   const shadow::SeriesJobResult result = shadow::test::run_series_job(options);
@@ -238,7 +240,7 @@ TEST(SeriesStream, StoppedMidStreamLeavesNoTemporariesAndResumesToTheSameFiles) 
 
   shadow::SeriesJobOptions options = job_options(scene_file, dir / "parts");
   options.keep_table = false;
-  options.round_cells = 3 * rows;  // rounds of 3
+  options.round_cells = 6 * rows;  // rounds of 3 (a round takes half: the next computes while it is written)
   options.stop_after = 7;          // stops after the third round: 9 instants streamed
   try {
     shadow::test::run_series_job(options);
@@ -253,7 +255,7 @@ TEST(SeriesStream, StoppedMidStreamLeavesNoTemporariesAndResumesToTheSameFiles) 
   }
   options.stop_after = 0;
   options.resume = true;
-  options.round_cells = 4 * rows;  // other rounds on resuming: the same files
+  options.round_cells = 8 * rows;  // other rounds (of 4) on resuming: the same files
   const shadow::SeriesJobResult resumed = shadow::test::run_series_job(options);
   EXPECT_EQ(resumed.resumed, 9u);
   EXPECT_FALSE(fs::exists(dir / "parts" / "series.checkpoint"));
