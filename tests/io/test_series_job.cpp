@@ -242,39 +242,58 @@ TEST(SeriesJob, StoppedThenResumedWritesTheUninterruptedFiles) {
   shadow::test::expect_same_files(dir / "whole", dir / "parts", 1);
 }
 
-TEST(SeriesJob, AFullDiskWhileARoundIsWrittenBehindIsOneOutputErrorAndLeavesNoOutputs) {
-  // Rounds of one instant: each round's files are written while the next computes, so the
-  // write fails on the writer's thread, and its error must stop the job as an in-line write's
-  // did. A file size limit stands in for a full disk (SIGXFSZ ignored: write() fails instead).
-  const fs::path dir = scratch("full");
-  const fs::path scene_file = write_scene(dir);
-  shadow::SeriesJobOptions options = job_options(scene_file, dir / "out");
-  options.keep_table = false;
-  options.round_cells = 1;  // one instant a round
-  rlimit old_limit{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old_limit), 0);
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit small = old_limit;
-  small.rlim_cur = 4096;  // past the headers, within a few instants' rows
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
-  std::string message;
+/// The message of the OutputError that `options` fails with while files may grow to `bytes` at
+/// most (SIGXFSZ ignored, so that write() fails instead: a full disk), "" when it does not.
+std::string output_error_with_small_files(const shadow::SeriesJobOptions& options, rlim_t bytes) {
+  // The limit and the ignored signal, undone on every way out (an unexpected exception too).
+  struct SmallFiles {
+    rlimit old_limit{};
+    void (*old_handler)(int) = SIG_DFL;
+    bool set = false;
+    explicit SmallFiles(rlim_t limit) {
+      if (getrlimit(RLIMIT_FSIZE, &old_limit) != 0) return;
+      old_handler = std::signal(SIGXFSZ, SIG_IGN);
+      rlimit small = old_limit;
+      small.rlim_cur = limit;
+      set = setrlimit(RLIMIT_FSIZE, &small) == 0;
+    }
+    ~SmallFiles() {
+      setrlimit(RLIMIT_FSIZE, &old_limit);
+      std::signal(SIGXFSZ, old_handler);
+    }
+  } small(bytes);
+  if (!small.set) return "setrlimit failed";
   try {
     shadow::test::run_series_job(options);
   } catch (const shadow::OutputError& e) {
-    message = e.what();
+    return e.what();
   }
-  setrlimit(RLIMIT_FSIZE, &old_limit);
-  std::signal(SIGXFSZ, old_handler);
-  ASSERT_FALSE(message.empty()) << "expected an OutputError";
-  EXPECT_EQ(message.find((dir / "out").string()), 0u) << message;
-  EXPECT_NE(message.find(std::strerror(EFBIG)), std::string::npos) << message;
-  EXPECT_FALSE(fs::exists(dir / "out" / "report.json"));
-  for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir / "out"))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "left behind: " << e.path();
-  // The same job with room writes every file.
-  options.output = dir / "room";
-  EXPECT_NO_THROW(shadow::test::run_series_job(options));
-  EXPECT_TRUE(fs::exists(dir / "room" / "report.json"));
+  return "";
+}
+
+TEST(SeriesJob, AFullDiskWhileARoundIsWrittenBehindIsOneOutputErrorAndLeavesNoOutputs) {
+  // Each round's files are written while the next computes, so the write fails on the writer's
+  // thread, and its error must stop the job as an in-line write's did: found when a round is to
+  // start (rounds of one instant), or after the last round (one round of every instant).
+  const fs::path dir = scratch("full");
+  const fs::path scene_file = write_scene(dir);
+  for (const std::size_t round_cells : {std::size_t{1}, std::size_t{1} << 21}) {
+    const fs::path out = dir / ("out-" + std::to_string(round_cells));
+    shadow::SeriesJobOptions options = job_options(scene_file, out);
+    options.keep_table = false;
+    options.round_cells = round_cells;
+    const std::string message = output_error_with_small_files(options, 4096);  // past the headers
+    ASSERT_FALSE(message.empty()) << "expected an OutputError";
+    EXPECT_EQ(message.find(out.string()), 0u) << message;
+    EXPECT_NE(message.find(std::strerror(EFBIG)), std::string::npos) << message;
+    EXPECT_FALSE(fs::exists(out / "report.json"));
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(out))
+      EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << "left behind: " << e.path();
+    // The same job with room writes every file.
+    options.output = dir / ("room-" + std::to_string(round_cells));
+    EXPECT_NO_THROW(shadow::test::run_series_job(options));
+    EXPECT_TRUE(fs::exists(options.output / "report.json"));
+  }
 }
 
 TEST(SeriesJob, SecondJobOnTheSameDirectoryIsRefused) {

@@ -191,7 +191,7 @@ inline void count_item(ShadowStats& stats, double seconds) {
 
 /// Work items are handed out in runs of kRun consecutive ones: neighbouring receivers (a box's
 /// six faces) share their casters, whose exact faces and caster lists the worker then still has,
-/// and the thread's CPU clock is read once per parallel call (SpanTimer).
+/// and the thread's CPU clock is read twice per worker and parallel call (SpanTimer).
 inline constexpr std::size_t kRun = 16;
 
 /// Progress that never goes back: `base + done` of `total` handed to `callback` (none when it is

@@ -37,6 +37,7 @@ using IA = CGAL::Interval_nt<false>;  ///< only under CGAL::Protect_FPU_rounding
 /// ldexp's exact result wherever that is normal, without ldexp's library call (a projection's
 /// point takes two conversions: a per-cent of the exact path).
 inline double power_of_two(int e) {
+  assert(e >= -1022 && e <= 1023);
   const std::uint64_t bits = static_cast<std::uint64_t>(1023 + e) << 52;
   double p;
   std::memcpy(&p, &bits, sizeof p);

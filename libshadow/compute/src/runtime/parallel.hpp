@@ -104,7 +104,8 @@ bool run_on_pool(unsigned n, const std::function<void(unsigned)>& task, const st
 /// starts, and running items that call check_stop() end early. A parallel_for inside an item
 /// of a stopped one stops too (Stopped). `leaving(worker)`, when given, runs on each worker's
 /// own thread once it takes no more items (after its last, or at once when there was none for
-/// it), like an item: what it throws stops the call.
+/// it), like an item: what it throws stops the call. A worker whose thread could not be started
+/// (the threads' own fallback) takes no item and does not leave.
 inline void parallel_for(std::size_t count, unsigned threads,
                          const std::function<void(unsigned worker, std::size_t item)>& work,
                          const std::function<void(std::size_t done)>& progress = {},

@@ -10,15 +10,18 @@
 #include <shadow/series_job.hpp>
 #include <shadow/version.hpp>
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <exception>
 #include <functional>
 #include <memory>
+#include <new>
 #include <system_error>
 #include <thread>
 
@@ -76,24 +79,37 @@ class RoundWriter {
   ~RoundWriter() { wait_quietly(); }
 
   /// Runs `write` once the round before has been written (rethrowing that one's error), on a new
-  /// thread, or on this one when no thread can be started.
+  /// thread, or on this one when no thread can be started. The thread starts with every signal
+  /// blocked, as the pool's do: a Ctrl-C stays the main thread's.
   void start(std::function<void()> write) {
     wait();
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, &old);
+    bool started = false;
     try {
       thread_ = std::thread([this, write] {
         try {
           write();
         } catch (...) {
           error_ = std::current_exception();
+          failed_.store(true);
         }
       });
+      started = true;
     } catch (const std::system_error&) {
-      write();
+    } catch (const std::bad_alloc&) {
     }
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    if (!started) write();
   }
+  /// Whether the round being written has failed already (its error then comes from wait()): the
+  /// job need not compute another round first.
+  [[nodiscard]] bool failed() const { return failed_.load(); }
   /// Waits for the round being written and rethrows what it threw.
   void wait() {
     if (thread_.joinable()) thread_.join();
+    failed_.store(false);
     if (error_) {
       const std::exception_ptr e = error_;
       error_ = nullptr;
@@ -103,12 +119,14 @@ class RoundWriter {
   /// The same, dropping its error (the job is failing already).
   void wait_quietly() noexcept {
     if (thread_.joinable()) thread_.join();
+    failed_.store(false);
     error_ = nullptr;
   }
 
  private:
   std::thread thread_;
   std::exception_ptr error_;
+  std::atomic<bool> failed_{false};
 };
 
 /// Hands `columns` on: to the files (each instant once, in any order: the stream orders them),
@@ -495,6 +513,7 @@ void SeriesJob::compute_instants() {
   std::size_t done_total = s.resumed;
   for (std::size_t taken = 0; taken < share;) {
     const std::size_t count = std::min<std::size_t>(chunk, share - taken);
+    if (s.writer.failed()) s.writer.wait();  // the round written behind failed: its error now
     const auto round_start = Clock::now();
     std::vector<std::uint64_t> part_instants;
     for (std::size_t k = taken; k < taken + count && k < mine.size(); ++k) part_instants.push_back(mine[k]);
@@ -549,8 +568,9 @@ std::string SeriesJob::compute_round(const std::vector<std::uint64_t>& instants,
   }
   if (s.map_table) fill_given_rows(part, instants, *s.map_table, s.map_rows);
   if (world_.distributed()) return jobs::encode_columns(jobs::columns_of(part, instants));
-  // One process: the round straight into the files (after the checkpoint has it, so that a
-  // failure while writing loses nothing computed).
+  // One process: the round into the files, written behind while the next round computes
+  // (writes_behind) or here, after the checkpoint has it, so that a failure while writing loses
+  // nothing computed.
   if (s.checkpoint) s.checkpoint->append(jobs::columns_of(part, instants));
   if (options_.keep_table)
     jobs::place_columns(jobs::columns_of(part, instants), s.series);  // adds the stats too
