@@ -225,7 +225,6 @@ bool ExactReceiverJob::unite_into_chain() {
 bool ExactReceiverJob::measure_in_box_window(BoundaryChain* chain) {
   // The chart box, counter-clockwise, as the window the casts (not clipped to it) are measured
   // in: the same exact rational as their clips to the box united, without the clips' crossings.
-  const ScaledChart& chart = scaled_chart();
   const QPointList& box = box_corners();
   if (!chain && !tile_ && !wants_region()) {
     // Only the rounded doubles are wanted (no tile's sum, no region): the union's area enclosed
@@ -238,8 +237,7 @@ bool ExactReceiverJob::measure_in_box_window(BoundaryChain* chain) {
   }
   if (!w_.union_area.twice_area_in_window(w_.qshadows.data(), w_.qfirst, box.data(), box.size(), twice_area_, chain))
     return false;
-  twice_area_ /= 2;
-  chart.unscale_area(twice_area_);
+  unscale_twice_area(twice_area_);
   measure(twice_area_);
   return true;
 }
@@ -324,7 +322,6 @@ void ExactReceiverJob::unite_and_measure() {
   }
   if (q_mode_) {
     // Areas of the scaled chart (scaled_chart()), divided by K^2 before measuring.
-    const ScaledChart& chart = scaled_chart();
     if (boundary_) {
       if (!q_outline_cast_ && unite_into_chain()) return;
     } else if (!fp_.chart_is_box) {
@@ -333,15 +330,13 @@ void ExactReceiverJob::unite_and_measure() {
       if (!q_outline_cast_ && measure_in_box_window(nullptr)) return;
     } else if (w_.qfirst.size() == 2) {  // one cast (simple) inside a tile's box: it is the shadow
       twice_polygon_area(w_.qshadows.data(), w_.qshadows.data() + w_.qshadows.size(), twice_area_, w_.qs);
-      twice_area_ /= 2;
-      chart.unscale_area(twice_area_);
+      unscale_twice_area(twice_area_);
       measure(twice_area_);
       return;
     } else if (!wants_region() && measure_tile_enclosed()) {
       return;
     } else if (w_.union_area.twice_area(w_.qshadows, w_.qfirst, twice_area_)) {
-      twice_area_ /= 2;
-      chart.unscale_area(twice_area_);
+      unscale_twice_area(twice_area_);
       measure(twice_area_);
       return;
     }
@@ -367,8 +362,7 @@ bool ExactReceiverJob::measure_enclosed(const EQ& twice_lo, std::size_t slack) {
   const ScaledChart& chart = scaled_chart();
   if (slack == 0) {  // every term exact: the area itself
     twice_area_ = twice_lo;
-    twice_area_ /= 2;
-    chart.unscale_area(twice_area_);
+    unscale_twice_area(twice_area_);
     measure(twice_area_);
     return true;
   }
@@ -395,14 +389,12 @@ bool ExactReceiverJob::measure_tile_enclosed() {
   }
   if (!measure_enclosed(e.lo, e.slack)) return false;
   if (e.slack == 0) return true;  // measured as the exact area (measure(): the tile's sum too)
-  const ScaledChart& chart = scaled_chart();
   twice_area_ = e.lo;
-  twice_area_ /= 2;
-  chart.unscale_area(twice_area_);
+  unscale_twice_area(twice_area_);
   item_.tile_shadow_chart_area = twice_area_;
   EQ width(static_cast<unsigned long>(e.slack));
-  mpq_div_2exp(width.get_mpq_t(), width.get_mpq_t(), ConvexUnionArea::kEnclosureBits + 1);  // (twice the area)
-  chart.unscale_area(width);
+  mpq_div_2exp(width.get_mpq_t(), width.get_mpq_t(), ConvexUnionArea::kEnclosureBits);
+  unscale_twice_area(width);
   item_.tile_shadow_width = std::move(width);
   return true;
 }
@@ -577,8 +569,7 @@ bool ExactReceiverJob::measure_in_scaled_pieces() {
         return true;
       }))
     return false;
-  twice_area_ /= 2;
-  chart.unscale_area(twice_area_);
+  unscale_twice_area(twice_area_);
   measure(twice_area_);
   return true;
 }

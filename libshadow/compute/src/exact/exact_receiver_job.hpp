@@ -196,6 +196,11 @@ class ExactReceiverJob {
   /// as area_3d and round_to_double give through lazy numbers, without building their DAGs).
   void measure(const FT& shadow_chart_area) { measure(CGAL::exact(shadow_chart_area)); }
   void measure(const EQ& shadow);
+  /// Twice an area of the scaled chart, in place, made the chart's area (halved, unscaled).
+  void unscale_twice_area(EQ& twice) {
+    twice /= 2;
+    scaled_chart().unscale_area(twice);
+  }
   bool measure_in_convex_pieces();  ///< unite_and_measure's areas-only route for a chart not a box
   /// Twice the area of the union of the casts (shadows_, their boxes in w_.cast_boxes) clipped
   /// to a convex counter-clockwise window with bounding box `box`; false where the union refuses.
