@@ -355,7 +355,8 @@ void ShadowEngine::Impl::compute_splits(
         continue;
       }
       const auto [chart, scale] = w0.exact.exact_areas(exact_context, f);
-      if (measure_exact_tiles(tile_items.data() + t0, t1 - t0, *chart, *scale, w0.exact.enclosed_measure, out)) continue;
+      if (measure_exact_tiles(tile_items.data() + t0, t1 - t0, *chart, *scale, w0.exact.enclosed_measure, out))
+        continue;
       // Not pinned (next to a rounding boundary): the face computed whole, exactly (by the exact
       // engine also on the fast path, whose tiles all fell back to it here), its counts left out
       // (the tiles' are in).

@@ -514,8 +514,9 @@ class ConvexUnionArea {
   /// `from`: the edge of P_j to test first, and the edge that separated P_j from the current
   /// edge where one did (not where the bounds met empty). Consecutive edges of P_i are mostly
   /// kept apart from P_j by the same edge of it, so starting there ends most empty calls (three
-  /// quarters of them) at the first edge tested. The result does not depend on the order: empty when some edge separates,
-  /// else the largest lower and the smallest upper bound (equal candidates are the same value).
+  /// quarters of them) at the first edge tested. The result does not depend on the order: empty
+  /// when some edge separates, else the largest lower and the smallest upper bound (equal
+  /// candidates are the same value).
   bool cover_by(std::size_t i, std::size_t j, Cover& c, std::size_t& from) {
     const std::size_t v = cur_v_, w = cur_w_;
     c.lo = Param{};

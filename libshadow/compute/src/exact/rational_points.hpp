@@ -50,7 +50,8 @@ inline double power_of_two(int e) {
 /// for a denominator that is a power of two), scaled back by their exponents. This
 /// reads only the top limbs; mpq_get_d divides the whole numbers. kSetRounding false: the
 /// caller holds a CGAL::Protect_FPU_rounding<true> (the rest is exact under any rounding mode:
-/// GMP's conversions truncate bit by bit, nextafter and products by powers of two into the normal range are exact).
+/// GMP's conversions truncate bit by bit; nextafter, and products by powers of two into the
+/// normal range, are exact).
 template <bool kSetRounding = true>
 inline IA interval_of(const EQ& q) {
   const mpq_srcptr r = q.get_mpq_t();

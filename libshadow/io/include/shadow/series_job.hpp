@@ -157,8 +157,8 @@ struct SeriesJobOptions {
   /// go to the files. The default, 2^21, is about 52 MB; fewer cells, more rounds. On one
   /// process without per-instant fragments a round's instants are written while the next round
   /// computes: each round then takes half as many cells, so that the two held at once stay
-  /// within this. A map that
-  /// shares its pass (share_map_pass) holds at most as many cells again through the rounds.
+  /// within this. A map that shares its pass (share_map_pass) holds at most as many cells again
+  /// through the rounds.
   std::size_t round_cells = std::size_t{1} << 21;
   bool checkpoint = false;  ///< keep OUTDIR/series.checkpoint as the run goes
   bool resume = false;      ///< start from OUTDIR/series.checkpoint (implies checkpoint)

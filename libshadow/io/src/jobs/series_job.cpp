@@ -505,7 +505,8 @@ void SeriesJob::compute_instants() {
   const std::uint64_t rows = root ? std::max<std::size_t>(1, s.series.faces.size()) : 1;
   // One process writes a round while the next computes (writes_behind): two rounds' tables are
   // then held at once, so each holds half as many cells.
-  const std::uint64_t cap = std::max<std::uint64_t>(1, options_.round_cells / (rows * size) / (writes_behind() ? 2 : 1));
+  const std::uint64_t halves = writes_behind() ? 2 : 1;
+  const std::uint64_t cap = std::max<std::uint64_t>(1, options_.round_cells / (rows * size) / halves);
   chunk = std::min(chunk, cap);
   chunk = world_.max(root ? chunk : 0);  // rank 0's choice
   const bool report = root && options_.progress;
