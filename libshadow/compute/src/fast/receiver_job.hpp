@@ -440,6 +440,20 @@ class ReceiverJob {
   /// light, exactly planar receiver).
   bool cast_convex_solid(int solid);
 
+  /// Whether every point lies beyond one side of the receiver's chart box by more than
+  /// `margin` (false where a point is not finite: the caller then goes on and finds it).
+  [[nodiscard]] bool beyond_chart_box(const std::vector<glm::dvec2>& points, double margin) const {
+    if (points.empty()) return false;
+    glm::dvec2 lo = points[0], hi = points[0];
+    for (const glm::dvec2& p : points) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    return hi.x + margin < rc_.lo[0] || rc_.hi[0] < lo.x - margin || hi.y + margin < rc_.lo[1] ||
+           rc_.hi[1] < lo.y - margin;
+  }
+
   /// A caster face, convex piece by convex piece: projected in front of the receiver (parallel
   /// or central projection), or, for pieces nowhere clearly in front, a sliver in the bound or a
   /// nearly coplanar footprint.
