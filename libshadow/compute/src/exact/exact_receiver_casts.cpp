@@ -106,14 +106,20 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
   w_.casters.mark_solid_done(solid);
   const core::ConvexSolid& cs = (*ctx_.solids)[solid];
   w_.vertex_sign.resize(cs.vertices.size());
-  bool any_front = false;
+  bool any_front = false, any_behind = false;
   for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
     w_.vertex_sign[v] = input_side(cs.vertices[v]);
     any_front |= w_.vertex_sign[v] == CGAL::POSITIVE;
+    any_behind |= w_.vertex_sign[v] == CGAL::NEGATIVE;
   }
   if (!any_front) return;
   if (q_mode_) {
     ScaledChart& projector = scaled_chart();
+    // A solid across the receiver's plane passed the culler on its whole: the part behind may
+    // lie in the prism over the chart box while the front part's shadow misses the box (about a
+    // fifth of the solids cast on an instant of the year). Its clip would be empty: no exact
+    // points, crossings or hull for it.
+    if (any_behind && projector.misses_box(cs.vertices, w_.vertex_sign, cs.edges)) return;
     QPointList& pts = w_.qpoly;
     pts.clear();
     for (std::size_t v = 0; v < cs.vertices.size(); ++v) {

@@ -40,6 +40,8 @@
 #include <gmp.h>
 #include <gmpxx.h>
 
+#include <algorithm>
+#include <array>
 #include <optional>
 #include <vector>
 
@@ -68,6 +70,7 @@ class ScaledChart {
       ilo_[c] = IA(prep.chart_min[c]);  // intervals are of the unscaled chart (QPoint2)
       ihi_[c] = IA(prep.chart_max[c]);
     }
+    if (integer_ && small_) box_fixed_ = box_bounds_fixed(prep);
   }
 
   /// Whether projections are integers (false: the unscaled rationals, K = 1).
@@ -135,6 +138,55 @@ class ScaledChart {
     set_crossing(out.x, i_);
     set_crossing(out.y, j_);
     set_intervals(out);
+  }
+
+  /// Whether the front part of a convex solid (its vertices, their exact sides of the receiver's
+  /// plane, its edges) certainly projects wholly beyond one side of the chart box, so that its
+  /// hull clipped to the box is empty: decided exactly, in fixed width (false where a value does
+  /// not fit, or the chart is not an integer one). Front vertices are projected; a crossing of
+  /// the plane lies between its edge's ends' own chart coordinates (a convex combination of
+  /// them), so those ends stand for it, as a point on the plane stands for itself.
+  bool misses_box(const std::vector<glm::dvec3>& vertices, const std::vector<CGAL::Sign>& sign,
+                  const std::vector<std::array<int, 2>>& edges) const {
+    if (!box_fixed_) return false;
+    fixed::i128 lo[2] = {0, 0}, hi[2] = {0, 0};
+    bool any = false;
+    const auto add = [&](fixed::i128 x0, fixed::i128 x1) {
+      if (!any) {
+        lo[0] = hi[0] = x0;
+        lo[1] = hi[1] = x1;
+        any = true;
+        return;
+      }
+      lo[0] = std::min(lo[0], x0);
+      hi[0] = std::max(hi[0], x0);
+      lo[1] = std::min(lo[1], x1);
+      hi[1] = std::max(hi[1], x1);
+    };
+    const auto on_plane = [&](const glm::dvec3& y) {  // the point's own chart coordinates, scaled
+      fixed::i128 a, b, x0, x1;
+      if (!small_integer_of(y[i_], a) || !small_integer_of(y[j_], b)) return false;
+      if (!fixed::projection(a, sl_, 0, 0, x0) || !fixed::projection(b, sl_, 0, 0, x1)) return false;
+      add(x0, x1);
+      return true;
+    };
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+      if (sign[v] == CGAL::POSITIVE) {
+        fixed::i128 yi[3], s, x0, x1;
+        if (!small_plane_value(vertices[v], yi, s) || !fixed::projection(yi[i_], sl_, s, sd_[i_], x0) ||
+            !fixed::projection(yi[j_], sl_, s, sd_[j_], x1))
+          return false;
+        add(x0, x1);
+      } else if (sign[v] == CGAL::ZERO && !on_plane(vertices[v])) {
+        return false;
+      }
+    }
+    for (const auto& [a, b] : edges) {
+      const CGAL::Sign sa = sign[a], sb = sign[b];
+      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+        if (!on_plane(vertices[a]) || !on_plane(vertices[b])) return false;
+    }
+    return any && (hi[0] < box_lo_[0] || box_hi_[0] < lo[0] || hi[1] < box_lo_[1] || box_hi_[1] < lo[1]);
   }
 
   /// The part of a convex piece in front of the receiver (exact signs of its plane given),
@@ -285,6 +337,17 @@ class ScaledChart {
     return 1;
   }
 
+  /// The chart box's bounds scaled (lo_, hi_) in fixed width for misses_box; false where they
+  /// do not fit.
+  bool box_bounds_fixed(const core::FacePrep& prep) {
+    for (int c = 0; c < 2; ++c) {
+      fixed::i128 a, b;
+      if (!small_integer_of(prep.chart_min[c], a) || !small_integer_of(prep.chart_max[c], b)) return false;
+      if (!fixed::projection(a, sl_, 0, 0, box_lo_[c]) || !fixed::projection(b, sl_, 0, 0, box_hi_[c])) return false;
+    }
+    return true;
+  }
+
   /// v 2^-least as an __int128 (integer_of's value) when it is below 2^126 and v a multiple of
   /// 2^least.
   static bool small_integer_at(double v, int least, fixed::i128& out) {
@@ -394,6 +457,8 @@ class ScaledChart {
   bool fixed_setup_ = false;                    ///< fixed_setup()
   std::size_t fixed_steps_ = 0, gmp_steps_ = 0;  ///< fixed_steps(), gmp_steps()
   fixed::i128 sn_[3] = {}, so_ = 0, sl_ = 0, sd_[3] = {};
+  bool box_fixed_ = false;                      ///< box_lo_ and box_hi_ made (box_bounds_fixed)
+  fixed::i128 box_lo_[2] = {}, box_hi_[2] = {};  ///< lo_ and hi_ in fixed width
   EQ scale_;
   IA iscale_;
   EQ lo_[2], hi_[2];
