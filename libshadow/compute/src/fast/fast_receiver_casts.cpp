@@ -14,27 +14,28 @@
 namespace shadow::fast::receiver_job {
 namespace {
 
-/// Convex hull (counter-clockwise, Andrew's monotone chain) in doubles.
-void convex_hull(std::vector<glm::dvec2>& pts, std::vector<glm::dvec2>& hull) {
-  std::sort(pts.begin(), pts.end(), [](const glm::dvec2& a, const glm::dvec2& b) {
+/// Convex hull (counter-clockwise, Andrew's monotone chain) in doubles of pts[0, n) (reordered).
+void convex_hull(std::vector<glm::dvec2>& pts, std::size_t n, std::vector<glm::dvec2>& hull) {
+  const auto end = pts.begin() + static_cast<std::ptrdiff_t>(n);
+  std::sort(pts.begin(), end, [](const glm::dvec2& a, const glm::dvec2& b) {
     return a.x < b.x || (a.x == b.x && a.y < b.y);
   });
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  n = static_cast<std::size_t>(std::unique(pts.begin(), end) - pts.begin());
   hull.clear();
-  if (pts.size() < 3) {
-    hull = pts;
+  if (n < 3) {
+    hull.assign(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(n));
     return;
   }
   auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
     return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
   };
-  hull.resize(2 * pts.size());
+  hull.resize(2 * n);
   std::size_t k = 0;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
     hull[k++] = pts[i];
   }
-  for (std::size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+  for (std::size_t i = n - 1, t = k + 1; i > 0; --i) {
     while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
     hull[k++] = pts[i - 1];
   }
@@ -114,8 +115,9 @@ bool ReceiverJob::cast_convex_solid(int solid) {
     any_front |= vsign_[a] == CGAL::POSITIVE;
   }
   if (!any_front) return true;
-  // Written in place (at most one point per vertex and per edge), not pushed one call each.
-  points_.resize(cs.vertices.size() + cs.edges.size());
+  // Written in place (at most one point per vertex and per edge), not pushed one call each; the
+  // scratch only grows (resizing it to each solid's count zero-filled it again every time).
+  if (points_.size() < cs.vertices.size() + cs.edges.size()) points_.resize(cs.vertices.size() + cs.edges.size());
   std::size_t count = 0;
   for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
     if (vsign_[a] == CGAL::POSITIVE) points_[count++] = fr_.project(cs.vertices[a]);
@@ -130,7 +132,6 @@ bool ReceiverJob::cast_convex_solid(int solid) {
       points_[count++] = fr_.chart(x);
     }
   }
-  points_.resize(count);
   // The hull of points each within delta of the exact ones is within delta of the exact hull.
   const double delta = std::max(parallel_delta_, cross_delta);
   // Front parts that land wholly beyond a side of the chart box, farther than their points'
@@ -138,8 +139,8 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   // box too. The culler passed them on the whole solid, whose part behind the receiver's plane
   // may lie in the prism over the box (a fifth of the solids cast on a fast instant). No hull and
   // no clip for them.
-  if (beyond_chart_box(points_, delta + 4 * kEps * rc_.magnitude)) return true;
-  convex_hull(points_, hull_);
+  if (beyond_chart_box(points_, count, delta + 4 * kEps * rc_.magnitude)) return true;
+  convex_hull(points_, count, hull_);
   cast_.poly.swap(hull_);  // (hull_ is scratch: convex_hull empties it first)
   cast_.delta = delta;
   if (cast_.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver

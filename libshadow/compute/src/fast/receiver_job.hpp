@@ -440,12 +440,13 @@ class ReceiverJob {
   /// light, exactly planar receiver).
   bool cast_convex_solid(int solid);
 
-  /// Whether every point lies beyond one side of the receiver's chart box by more than
-  /// `margin` (false where a point is not finite: the caller then goes on and finds it).
-  [[nodiscard]] bool beyond_chart_box(const std::vector<glm::dvec2>& points, double margin) const {
-    if (points.empty()) return false;
+  /// Whether every point of points[0, n) lies beyond one side of the receiver's chart box by
+  /// more than `margin` (false where a point is not finite: the caller then goes on and finds it).
+  [[nodiscard]] bool beyond_chart_box(const std::vector<glm::dvec2>& points, std::size_t n, double margin) const {
+    if (n == 0) return false;
     glm::dvec2 lo = points[0], hi = points[0];
-    for (const glm::dvec2& p : points) {
+    for (std::size_t a = 0; a < n; ++a) {
+      const glm::dvec2& p = points[a];
       if (!std::isfinite(p.x) || !std::isfinite(p.y)) return false;
       lo = glm::min(lo, p);
       hi = glm::max(hi, p);
