@@ -18,11 +18,15 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <ctime>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
 
 namespace shadow {
 
@@ -229,21 +233,34 @@ struct FirstRound {
   std::atomic<std::size_t> split{0};
 };
 
+/// A cheap tick count for timing one work item: the time-stamp counter where there is one (a few
+/// nanoseconds; the steady clock through the vDSO was 1.5% of a fast year, read once per item
+/// of some 2 us), else the steady clock in nanoseconds. Only differences over one span of one
+/// thread are used, scaled to seconds by that span's steady time.
+inline std::uint64_t item_ticks() {
+#if defined(__x86_64__) || defined(__i386__)
+  return __rdtsc();
+#else
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+#endif
+}
+
 /// Times the work items a thread takes in one parallel call, block after block (runs of
 /// receivers): the thread's CPU clock is read when its first block starts and when it leaves the
 /// call (`leave`, from parallel_for's `leaving`), since reading it is a system call (about
 /// 0.5 us on the 2-core machine, a quarter of a fast receiver's whole item: timing every item
 /// made the fast path at a 40 degree sun 1.35 times slower, and reading it at every block's
-/// ends was still 2-3% of a fast year). Each item is timed on the steady clock (no system call),
-/// and the longest one's CPU time is its steady time scaled by the thread's CPU / wall ratio
-/// over the call (at most 1: a preempted thread's item is not counted longer). One per worker,
-/// used by that worker's thread only.
+/// ends was still 2-3% of a fast year). Each item is timed in item_ticks, and the longest one's
+/// CPU time is its share of the span's ticks times the span's CPU time (at most the whole: a
+/// preempted thread's item is not counted longer than the thread ran). One per worker, used by
+/// that worker's thread only.
 class alignas(64) SpanTimer {
  public:
   /// A block starts: the span opens on the first (the CPU clock read), and an item's time
   /// starts at the block, not at the end of the worker's last one.
   void block_started() {
-    item_start_ = Clock::now();
+    item_start_ = item_ticks();
     if (open_) return;
     open_ = true;
     cpu_start_ = thread_cpu_seconds();
@@ -251,30 +268,28 @@ class alignas(64) SpanTimer {
   }
   /// An item of the block ends (the next starts).
   void item_done() {
-    const Clock::time_point now = Clock::now();
-    longest_ = std::max(longest_, now - item_start_);
-    item_start_ = now;
+    const std::uint64_t now = item_ticks();
+    if (now > item_start_) longest_ = std::max(longest_, now - item_start_);  // (a counter read on
+    item_start_ = now;                                                          // another core may lag)
   }
   /// The worker takes no more blocks: adds the span's CPU time and its longest item to `stats`
   /// (nothing when it took none), and closes it.
   void leave(ShadowStats& stats) {
     if (!open_) return;
     const double cpu = thread_cpu_seconds() - cpu_start_;
-    const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
-    const double ratio = wall > cpu && wall > 0 ? cpu / wall : 1.0;
+    const std::uint64_t now = item_ticks();
+    const double span = now > start_ ? static_cast<double>(now - start_) : 0.0;
+    const double share = span > 0 ? std::min(1.0, static_cast<double>(longest_) / span) : 1.0;
     stats.item_seconds += cpu;
-    stats.longest_item_seconds =
-        std::max(stats.longest_item_seconds, std::min(cpu, std::chrono::duration<double>(longest_).count() * ratio));
+    stats.longest_item_seconds = std::max(stats.longest_item_seconds, share * cpu);
     open_ = false;
-    longest_ = Clock::duration{0};
+    longest_ = 0;
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   bool open_ = false;
   double cpu_start_ = 0;
-  Clock::time_point start_, item_start_;
-  Clock::duration longest_{0};
+  std::uint64_t start_ = 0, item_start_ = 0, longest_ = 0;
 };
 
 /// Appends `fragments` (ids local to one item or tile) to `out` with their ids shifted by
