@@ -149,44 +149,39 @@ class ScaledChart {
   bool misses_box(const std::vector<glm::dvec3>& vertices, const std::vector<CGAL::Sign>& sign,
                   const std::vector<std::array<int, 2>>& edges) const {
     if (!box_fixed_) return false;
-    fixed::i128 lo[2] = {0, 0}, hi[2] = {0, 0};
+    // The sides that every point so far lies strictly beyond (bits: x below, x above, y below,
+    // y above); the test ends as soon as none is left. The points on the plane (no plane value
+    // to make) come first: most solids that reach the box show it there.
+    unsigned beyond = 15;
     bool any = false;
     const auto add = [&](fixed::i128 x0, fixed::i128 x1) {
-      if (!any) {
-        lo[0] = hi[0] = x0;
-        lo[1] = hi[1] = x1;
-        any = true;
-        return;
-      }
-      lo[0] = std::min(lo[0], x0);
-      hi[0] = std::max(hi[0], x0);
-      lo[1] = std::min(lo[1], x1);
-      hi[1] = std::max(hi[1], x1);
+      any = true;
+      beyond &= (x0 < box_lo_[0] ? 1u : 0u) | (box_hi_[0] < x0 ? 2u : 0u) | (x1 < box_lo_[1] ? 4u : 0u) |
+                (box_hi_[1] < x1 ? 8u : 0u);
+      return beyond != 0;
     };
     const auto on_plane = [&](const glm::dvec3& y) {  // the point's own chart coordinates, scaled
       fixed::i128 a, b, x0, x1;
       if (!small_integer_of(y[i_], a) || !small_integer_of(y[j_], b)) return false;
       if (!fixed::projection(a, sl_, 0, 0, x0) || !fixed::projection(b, sl_, 0, 0, x1)) return false;
-      add(x0, x1);
-      return true;
+      return add(x0, x1);
     };
-    for (std::size_t v = 0; v < vertices.size(); ++v) {
-      if (sign[v] == CGAL::POSITIVE) {
-        fixed::i128 yi[3], s, x0, x1;
-        if (!small_plane_value(vertices[v], yi, s) || !fixed::projection(yi[i_], sl_, s, sd_[i_], x0) ||
-            !fixed::projection(yi[j_], sl_, s, sd_[j_], x1))
-          return false;
-        add(x0, x1);
-      } else if (sign[v] == CGAL::ZERO && !on_plane(vertices[v])) {
-        return false;
-      }
-    }
     for (const auto& [a, b] : edges) {
       const CGAL::Sign sa = sign[a], sb = sign[b];
       if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
         if (!on_plane(vertices[a]) || !on_plane(vertices[b])) return false;
     }
-    return any && (hi[0] < box_lo_[0] || box_hi_[0] < lo[0] || hi[1] < box_lo_[1] || box_hi_[1] < lo[1]);
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+      if (sign[v] == CGAL::POSITIVE) {
+        fixed::i128 yi[3], s, x0, x1;
+        if (!small_plane_value(vertices[v], yi, s) || !fixed::projection(yi[i_], sl_, s, sd_[i_], x0) ||
+            !fixed::projection(yi[j_], sl_, s, sd_[j_], x1) || !add(x0, x1))
+          return false;
+      } else if (sign[v] == CGAL::ZERO && !on_plane(vertices[v])) {
+        return false;
+      }
+    }
+    return any;
   }
 
   /// The part of a convex piece in front of the receiver (exact signs of its plane given),
