@@ -254,7 +254,7 @@ TEST(ScaledChart, MissesTheBoxOnlyWhereTheFrontPartLiesBeyondASide) {
   std::mt19937_64 rng(31);
   std::uniform_int_distribution<int> coordinate(-64, 64);
   std::uniform_int_distribution<int> direction(-9, 9);
-  int misses = 0, across = 0, kept_beyond = 0;
+  int misses = 0, misses_across = 0, across = 0, kept_beyond = 0;
   for (int round = 0; round < 4000; ++round) {
     const double step = std::ldexp(1.0, round % 20 - 4);
     auto point = [&](int reach) {
@@ -293,7 +293,8 @@ TEST(ScaledChart, MissesTheBoxOnlyWhereTheFrontPartLiesBeyondASide) {
       if (sign[a] == CGAL::ZERO) unscaled.chart(solid[a], part.emplace_back());
     }
     for (const auto& [a, b] : edges)
-      if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) || (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE))
+      if ((sign[a] == CGAL::POSITIVE && sign[b] == CGAL::NEGATIVE) ||
+          (sign[a] == CGAL::NEGATIVE && sign[b] == CGAL::POSITIVE))
         unscaled.crossing(solid[a], solid[b], part.emplace_back());
     auto all_beyond = [&](int c, bool low) {
       const EQ bound(low ? prep.chart_min[c] : prep.chart_max[c]);
@@ -306,12 +307,14 @@ TEST(ScaledChart, MissesTheBoxOnlyWhereTheFrontPartLiesBeyondASide) {
     if (chart.misses_box(solid, sign, edges)) {
       EXPECT_TRUE(beyond) << "round " << round;
       ++misses;
+      misses_across += behind ? 1 : 0;  // the engine's only case: crossings bounded by their ends
     } else if (beyond && !behind) {
       ++kept_beyond;  // (a conservative test may keep some; wholly in front it decides exactly)
     }
   }
   EXPECT_GT(across, 1000);
   EXPECT_GT(misses, 40);
+  EXPECT_GT(misses_across, 10);
   // In front of the plane the points are the projections themselves: nothing beyond is kept.
   EXPECT_EQ(kept_beyond, 0);
 }

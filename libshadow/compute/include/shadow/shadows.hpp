@@ -195,8 +195,9 @@ struct ShadowStats {
   /// a receiver that was then split. Summed; `longest_item_seconds` is the largest single one
   /// (operator+= takes the maximum). Receivers are taken in runs of 16, and a thread's CPU time is
   /// read when it takes its first run and when it takes no more (the per-thread clock is a
-  /// system call, a quarter of a small item's cost): a receiver's own time is its steady-clock
-  /// time scaled by that thread's CPU / wall ratio; tiles are timed one by one. They vary from
+  /// system call, a quarter of a small item's cost): a receiver's own time is its share of the
+  /// thread's time-stamp counter ticks over the call times that CPU time (its wall time scaled by
+  /// the thread's CPU / wall ratio); tiles are timed one by one. They vary from
   /// run to run, unlike the counts.
   double item_seconds = 0;
   double longest_item_seconds = 0;

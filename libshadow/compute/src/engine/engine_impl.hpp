@@ -235,14 +235,14 @@ struct FirstRound {
 
 /// A cheap tick count for timing one work item: the time-stamp counter where there is one (a few
 /// nanoseconds; the steady clock through the vDSO was 1.5% of a fast year, read once per item
-/// of some 2 us), else the steady clock in nanoseconds. Only differences over one span of one
-/// thread are used, scaled to seconds by that span's steady time.
+/// of some 2 us), else the steady clock in nanoseconds. Only ratios of differences within one
+/// span of one thread are used (an item's ticks over the span's), so the rate does not matter.
 inline std::uint64_t item_ticks() {
 #if defined(__x86_64__) || defined(__i386__)
   return __rdtsc();
 #else
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+  const auto since = std::chrono::steady_clock::now().time_since_epoch();
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(since).count());
 #endif
 }
 
@@ -269,8 +269,9 @@ class alignas(64) SpanTimer {
   /// An item of the block ends (the next starts).
   void item_done() {
     const std::uint64_t now = item_ticks();
-    if (now > item_start_) longest_ = std::max(longest_, now - item_start_);  // (a counter read on
-    item_start_ = now;                                                          // another core may lag)
+    // (After a move to another core the counter may read lower: that item is not counted.)
+    if (now > item_start_) longest_ = std::max(longest_, now - item_start_);
+    item_start_ = now;
   }
   /// The worker takes no more blocks: adds the span's CPU time and its longest item to `stats`
   /// (nothing when it took none), and closes it.
@@ -279,7 +280,9 @@ class alignas(64) SpanTimer {
     const double cpu = thread_cpu_seconds() - cpu_start_;
     const std::uint64_t now = item_ticks();
     const double span = now > start_ ? static_cast<double>(now - start_) : 0.0;
-    const double share = span > 0 ? std::min(1.0, static_cast<double>(longest_) / span) : 1.0;
+    // A span that reads as empty (a counter behind the start's, on another core) reports no
+    // longest item rather than the whole span.
+    const double share = span > 0 ? std::min(1.0, static_cast<double>(longest_) / span) : 0.0;
     stats.item_seconds += cpu;
     stats.longest_item_seconds = std::max(stats.longest_item_seconds, share * cpu);
     open_ = false;

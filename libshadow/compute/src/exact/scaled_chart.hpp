@@ -145,14 +145,16 @@ class ScaledChart {
   /// hull clipped to the box is empty: decided exactly, in fixed width (false where a value does
   /// not fit, or the chart is not an integer one). Front vertices are projected; a crossing of
   /// the plane lies between its edge's ends' own chart coordinates (a convex combination of
-  /// them), so those ends stand for it, as a point on the plane stands for itself.
+  /// them), so those ends stand for it, as a point on the plane stands for itself. A chart box
+  /// whose bounds are not multiples of the scene's least bit (some tiles) is never decided here.
   bool misses_box(const std::vector<glm::dvec3>& vertices, const std::vector<CGAL::Sign>& sign,
                   const std::vector<std::array<int, 2>>& edges) const {
     if (!box_fixed_) return false;
     // The sides that every point so far lies strictly beyond (bits: x below, x above, y below,
-    // y above); the test ends as soon as none is left. The points on the plane (no plane value
-    // to make) come first: most solids that reach the box show it there.
-    unsigned beyond = 15;
+    // y above); the test ends as soon as none is left. The crossing edges' ends come first (their
+    // own chart coordinates need no plane value): most solids that reach the box show it there.
+    constexpr unsigned kEverySide = 15;
+    unsigned beyond = kEverySide;
     bool any = false;
     const auto add = [&](fixed::i128 x0, fixed::i128 x1) {
       any = true;
@@ -160,7 +162,8 @@ class ScaledChart {
                 (box_hi_[1] < x1 ? 8u : 0u);
       return beyond != 0;
     };
-    const auto on_plane = [&](const glm::dvec3& y) {  // the point's own chart coordinates, scaled
+    // A point's own chart coordinates, scaled (its place if it lies on the plane).
+    const auto own_chart_point = [&](const glm::dvec3& y) {
       fixed::i128 a, b, x0, x1;
       if (!small_integer_of(y[i_], a) || !small_integer_of(y[j_], b)) return false;
       if (!fixed::projection(a, sl_, 0, 0, x0) || !fixed::projection(b, sl_, 0, 0, x1)) return false;
@@ -169,7 +172,7 @@ class ScaledChart {
     for (const auto& [a, b] : edges) {
       const CGAL::Sign sa = sign[a], sb = sign[b];
       if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
-        if (!on_plane(vertices[a]) || !on_plane(vertices[b])) return false;
+        if (!own_chart_point(vertices[a]) || !own_chart_point(vertices[b])) return false;
     }
     for (std::size_t v = 0; v < vertices.size(); ++v) {
       if (sign[v] == CGAL::POSITIVE) {
@@ -177,7 +180,7 @@ class ScaledChart {
         if (!small_plane_value(vertices[v], yi, s) || !fixed::projection(yi[i_], sl_, s, sd_[i_], x0) ||
             !fixed::projection(yi[j_], sl_, s, sd_[j_], x1) || !add(x0, x1))
           return false;
-      } else if (sign[v] == CGAL::ZERO && !on_plane(vertices[v])) {
+      } else if (sign[v] == CGAL::ZERO && !own_chart_point(vertices[v])) {
         return false;
       }
     }

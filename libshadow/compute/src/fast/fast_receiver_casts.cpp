@@ -116,7 +116,7 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   }
   if (!any_front) return true;
   // Written in place (at most one point per vertex and per edge), not pushed one call each; the
-  // scratch only grows (resizing it to each solid's count zero-filled it again every time).
+  // scratch is not shrunk here (resizing it to each solid's count zero-filled it every time).
   if (points_.size() < cs.vertices.size() + cs.edges.size()) points_.resize(cs.vertices.size() + cs.edges.size());
   std::size_t count = 0;
   for (std::size_t a = 0; a < cs.vertices.size(); ++a) {

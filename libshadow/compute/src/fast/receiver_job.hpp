@@ -441,7 +441,8 @@ class ReceiverJob {
   bool cast_convex_solid(int solid);
 
   /// Whether every point of points[0, n) lies beyond one side of the receiver's chart box by
-  /// more than `margin` (false where a point is not finite: the caller then goes on and finds it).
+  /// more than `margin`. False where a point is not finite: the cast then goes on as before this
+  /// test, and add_cast's finiteness check sends the receiver to the exact engine.
   [[nodiscard]] bool beyond_chart_box(const std::vector<glm::dvec2>& points, std::size_t n, double margin) const {
     if (n == 0) return false;
     glm::dvec2 lo = points[0], hi = points[0];
