@@ -162,12 +162,9 @@ class ScaledChart {
                 (box_hi_[1] < x1 ? 8u : 0u);
       return beyond != 0;
     };
-    // A point's own chart coordinates, scaled (its place if it lies on the plane).
     const auto own_chart_point = [&](const glm::dvec3& y) {
-      fixed::i128 a, b, x0, x1;
-      if (!small_integer_of(y[i_], a) || !small_integer_of(y[j_], b)) return false;
-      if (!fixed::projection(a, sl_, 0, 0, x0) || !fixed::projection(b, sl_, 0, 0, x1)) return false;
-      return add(x0, x1);
+      fixed::i128 x0, x1;
+      return own_chart_fixed(y, x0, x1) && add(x0, x1);
     };
     for (const auto& [a, b] : edges) {
       const CGAL::Sign sa = sign[a], sb = sign[b];
@@ -176,10 +173,8 @@ class ScaledChart {
     }
     for (std::size_t v = 0; v < vertices.size(); ++v) {
       if (sign[v] == CGAL::POSITIVE) {
-        fixed::i128 yi[3], s, x0, x1;
-        if (!small_plane_value(vertices[v], yi, s) || !fixed::projection(yi[i_], sl_, s, sd_[i_], x0) ||
-            !fixed::projection(yi[j_], sl_, s, sd_[j_], x1) || !add(x0, x1))
-          return false;
+        fixed::i128 x0, x1;
+        if (!projected_fixed(vertices[v], x0, x1) || !add(x0, x1)) return false;
       } else if (sign[v] == CGAL::ZERO && !own_chart_point(vertices[v])) {
         return false;
       }
@@ -338,11 +333,9 @@ class ScaledChart {
   /// The chart box's bounds scaled (lo_, hi_) in fixed width for misses_box; false where they
   /// do not fit.
   bool box_bounds_fixed(const core::FacePrep& prep) {
-    for (int c = 0; c < 2; ++c) {
-      fixed::i128 a, b;
-      if (!small_integer_of(prep.chart_min[c], a) || !small_integer_of(prep.chart_max[c], b)) return false;
-      if (!fixed::projection(a, sl_, 0, 0, box_lo_[c]) || !fixed::projection(b, sl_, 0, 0, box_hi_[c])) return false;
-    }
+    for (int c = 0; c < 2; ++c)
+      if (!own_coordinate_fixed(prep.chart_min[c], box_lo_[c]) || !own_coordinate_fixed(prep.chart_max[c], box_hi_[c]))
+        return false;
     return true;
   }
 
@@ -372,10 +365,26 @@ class ScaledChart {
 
   /// project(), chart() and crossing() in fixed width; false (out untouched or to be set again)
   /// where a bound does not hold.
+  /// The scaled chart coordinates of an input point's projection (Y_k L - S D_k), in fixed width.
+  bool projected_fixed(const glm::dvec3& y, fixed::i128& x0, fixed::i128& x1) const {
+    fixed::i128 yi[3], s;
+    return small_plane_value(y, yi, s) && fixed::projection(yi[i_], sl_, s, sd_[i_], x0) &&
+           fixed::projection(yi[j_], sl_, s, sd_[j_], x1);
+  }
+  /// The scaled chart coordinates of an input point itself (Y_k L: its place if it lies on the
+  /// plane), in fixed width.
+  bool own_chart_fixed(const glm::dvec3& y, fixed::i128& x0, fixed::i128& x1) const {
+    return own_coordinate_fixed(y[i_], x0) && own_coordinate_fixed(y[j_], x1);
+  }
+  /// One chart coordinate m scaled (m 2^-e L), in fixed width.
+  bool own_coordinate_fixed(double m, fixed::i128& out) const {
+    fixed::i128 a;
+    return small_integer_of(m, a) && fixed::projection(a, sl_, 0, 0, out);
+  }
+
   bool project_small(const glm::dvec3& y, QPoint2& out) const {
-    fixed::i128 yi[3], s, x0, x1;
-    if (!small_plane_value(y, yi, s)) return false;
-    if (!fixed::projection(yi[i_], sl_, s, sd_[i_], x0) || !fixed::projection(yi[j_], sl_, s, sd_[j_], x1)) return false;
+    fixed::i128 x0, x1;
+    if (!projected_fixed(y, x0, x1)) return false;
     set_small(out.x, x0);
     set_small(out.y, x1);
     CGAL::Protect_FPU_rounding<true> guard;  // set_intervals' intervals, read off x0 and x1
@@ -383,9 +392,8 @@ class ScaledChart {
     return true;
   }
   bool chart_small(const glm::dvec3& y, QPoint2& out) const {
-    fixed::i128 a, b, x0, x1;
-    if (!small_integer_of(y[i_], a) || !small_integer_of(y[j_], b)) return false;
-    if (!fixed::projection(a, sl_, 0, 0, x0) || !fixed::projection(b, sl_, 0, 0, x1)) return false;
+    fixed::i128 x0, x1;
+    if (!own_chart_fixed(y, x0, x1)) return false;
     set_small(out.x, x0);
     set_small(out.y, x1);
     return true;
