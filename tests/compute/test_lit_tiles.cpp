@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The tiles an instant may light on a face (sunmap/lit_tiles.hpp), which the threshold map alone
-// uses to settle cells early: they must never miss a lit point (a missed one would settle a cell
-// too soon and change the exact level areas). A square worked out by hand, then seeded random
-// regions with holes against the exact point-in-region test on a lattice finer than the tiles.
+// uses to settle cells early: they must never miss a lit point, and the tiles said to be lit whole
+// must hold no unlit point (either mistake would settle a cell too soon and change the exact level
+// areas). A square worked out by hand, then seeded random regions with holes against the exact
+// point-in-region test on a lattice finer than the tiles.
 #include "sunmap/lit_tiles.hpp"
 
 #include <gtest/gtest.h>
 
 #include <CGAL/Boolean_set_operations_2.h>
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -37,19 +39,21 @@ TileGrid unit_grid(std::size_t n) {
 }
 
 // The region [2, 5] x [2, 5] on a 10 x 10 grid of unit tiles: its inside tiles and the tiles
-// along its sides with their neighbours are marked; tiles two away from it are not.
+// touching its sides are marked; tiles two away from it are not. Lit whole: only the middle tile
+// [3, 4] x [3, 4] (the others inside touch a side).
 TEST(LitTiles, SquareByHand) {
   const TileGrid g = unit_grid(10);
   std::vector<Curve> curves;
   add_boundary(rectangle(2, 2, 5, 5), 0, curves);
-  std::vector<std::uint64_t> mask(g.words(), ~std::uint64_t{0});
-  mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data());
+  std::vector<std::uint64_t> mask(g.words(), ~std::uint64_t{0}), whole(g.words(), ~std::uint64_t{0});
+  mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data(), whole.data());
   for (std::size_t r = 2; r < 5; ++r)
     for (std::size_t c = 2; c < 5; ++c) EXPECT_TRUE(marked(mask, r * 10 + c)) << r << " " << c;
   for (std::size_t r = 0; r < 10; ++r)
     for (std::size_t c = 0; c < 10; ++c) {
       const bool far = r >= 7 || c >= 7 || r == 0 || c == 0;
       if (far) EXPECT_FALSE(marked(mask, r * 10 + c)) << r << " " << c;
+      EXPECT_EQ(marked(whole, r * 10 + c), r == 3 && c == 3) << r << " " << c;
     }
   // The grid's helpers clamp to it.
   EXPECT_EQ(g.column(-3.0), 0u);
@@ -77,22 +81,51 @@ TEST(LitTiles, NeverMissALitPoint) {
     add_boundary(ring.outer_boundary(), 3, curves);
     add_boundary(*ring.holes_begin(), 3, curves);
     add_boundary(second, 3, curves);
-    std::vector<std::uint64_t> mask(g.words(), 0);
-    mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data());
-    std::size_t count = 0;
-    for (std::size_t t = 0; t < g.n * g.n; ++t) count += marked(mask, t) ? 1 : 0;
+    std::vector<std::uint64_t> mask(g.words(), 0), whole(g.words(), 0);
+    mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data(), whole.data());
+    std::size_t count = 0, whole_count = 0;
+    for (std::size_t t = 0; t < g.n * g.n; ++t) {
+      count += marked(mask, t) ? 1 : 0;
+      whole_count += marked(whole, t) ? 1 : 0;
+      if (marked(whole, t)) EXPECT_TRUE(marked(mask, t)) << trial << " tile " << t;
+    }
     EXPECT_LT(count, g.n * g.n) << trial;
+    if (g.n >= 24) EXPECT_GT(whole_count, 0u) << trial;  // the 4 x 2 rectangle holds a tile at least
     for (int i = 0; i <= 200; ++i)
       for (int j = 0; j <= 200; ++j) {
         const Point2 p(0.1 * i, 0.1 * j);
         const bool in_ring = ring.outer_boundary().bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE &&
                              ring.holes_begin()->bounded_side(p) != CGAL::ON_BOUNDED_SIDE;
         const bool in = in_ring || second.bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE;
-        if (!in) continue;
+        // Lit whole: every tile the point lies in (closed tiles: up to four on their corners).
+        if (!in) {
+          const double x = 0.1 * i / g.dx, y = 0.1 * j / g.dy;
+          for (double cx : {std::floor(x), std::ceil(x) - 1})
+            for (double cy : {std::floor(y), std::ceil(y) - 1}) {
+              if (cx < 0 || cy < 0 || cx >= static_cast<double>(g.n) || cy >= static_cast<double>(g.n)) continue;
+              const std::size_t t = static_cast<std::size_t>(cy) * g.n + static_cast<std::size_t>(cx);
+              ASSERT_FALSE(marked(whole, t)) << "trial " << trial << " unlit point " << 0.1 * i << ", " << 0.1 * j;
+            }
+          continue;
+        }
         const std::size_t t = g.row(0.1 * j) * g.n + g.column(0.1 * i);
         ASSERT_TRUE(marked(mask, t)) << "trial " << trial << " point " << 0.1 * i << ", " << 0.1 * j;
       }
   }
+}
+
+// The grid's size: none for few segments, finer for more, at most 256 a side, and coarser where
+// the masks of many instants would pass kMaxTileBits.
+TEST(LitTiles, GridSize) {
+  const Polygon2 chart = rectangle(0, 0, 100, 50);
+  EXPECT_EQ(tile_grid(chart, 10, 24).n, 0u);
+  EXPECT_EQ(tile_grid(chart, 100, 24).n, 80u);
+  EXPECT_EQ(tile_grid(chart, 10000, 24).n, 256u);
+  const TileGrid year = tile_grid(chart, 10000, 4400);
+  EXPECT_LT(year.n, 256u);
+  EXPECT_LE(2.0 * static_cast<double>(year.n * year.n) * 4400.0, kMaxTileBits);
+  EXPECT_DOUBLE_EQ(year.dx, 100.0 / static_cast<double>(year.n));
+  EXPECT_DOUBLE_EQ(year.dy, 50.0 / static_cast<double>(year.n));
 }
 
 }  // namespace

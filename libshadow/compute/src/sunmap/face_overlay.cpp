@@ -244,40 +244,51 @@ class StripOverlay {
   /// may come is `remaining` (every instant not yet walked), or, with tiles, for a face the hours
   /// not yet walked of the instants lighting the whole face, plus the most that the instants not
   /// yet walked may bring to one tile under the face's bounding box (tiles_bound). Faces outside
-  /// the chart are 0.
+  /// the chart are 0. With tiles, a value also is decided at the top level when what surely comes
+  /// (the whole-face hours not yet walked, and the least that the instants lighting a tile whole
+  /// bring to one tile under the face) takes it there: it gets the top level's smallest value,
+  /// which stays at the top level under any addition, as the face's hours do.
   void settle(const Arrangement& arr, const mpq_class& remaining) {
-    mpq_class bound;
+    mpq_class most, least;
+    const std::size_t top = r_.levels.size();
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
       const auto v = static_cast<std::size_t>(f->data());
       if (inside_[v] <= 0) {
         hours_at_[v] = 0;
         continue;
       }
-      const std::size_t now = level_of(hours_at_[v]);
+      std::size_t now = level_of(hours_at_[v]);
       if (now != level_of(hours_at_[v] + remaining)) {
         if (remaining_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
-        tiles_bound(f, bound);
-        if (bound >= remaining || now != level_of(hours_at_[v] + bound)) continue;
+        tiles_bound(f, most, least);
+        if (level_of(hours_at_[v] + least) == top)
+          now = top;  // surely reaches the top level
+        else if (most >= remaining || now != level_of(hours_at_[v] + most))
+          continue;  // undecided
       }
       hours_at_[v] = now == 0 ? mpq_class(0) : r_.levels[now - 1];
     }
   }
 
-  /// The tiles under the strip (columns tc0_ to tc1_) and, per tile, the hours of the instants
-  /// that may light it (lit_tiles.hpp), all of them: none is walked yet.
+  /// The tiles under the strip (columns tc0_ to tc1_) and, per tile, the instants that may light
+  /// it and those that light it whole (lit_tiles.hpp), all of them: none is walked yet.
   void begin_tiles() {
     if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
     const TileGrid& g = r_.tiles->grid;
     tc0_ = strip_.whole ? 0 : g.column(strip_.x0);
     tc1_ = strip_.whole ? g.n - 1 : g.column(strip_.x1);
     remaining_.assign((tc1_ - tc0_ + 1) * g.n, 0);
+    sure_.assign(remaining_.size(), 0);
     accounted_ = 0;
     account_tiles(n_, true);
     whole_total_ = r_.tiles->whole;
-    for (double w : *r_.hours) most_weight_ = std::max(most_weight_, w);
+    for (double w : *r_.hours) {
+      most_weight_ = std::max(most_weight_, w);
+      if (w > 0 && (least_weight_ == 0 || w < least_weight_)) least_weight_ = w;
+    }
   }
 
-  /// Instants accounted_ to `end` (exclusive) leave (or, `add`, enter) the tiles' remaining hours.
+  /// Instants accounted_ to `end` (exclusive) leave (or, `add`, enter) the tiles' counts.
   void account_tiles(std::size_t end, bool add = false) {
     if (remaining_.empty()) return;
     const TileGrid& g = r_.tiles->grid;
@@ -285,18 +296,20 @@ class StripOverlay {
       if ((*r_.hours)[i] == 0) continue;
       for (std::size_t c = tc0_; c <= tc1_; ++c)
         for (std::size_t r = 0; r < g.n; ++r) {
-          if (!r_.tiles->lit(i, r * g.n + c)) continue;
-          std::uint32_t& slot = remaining_[(c - tc0_) * g.n + r];
-          if (add) ++slot;
-          else --slot;
+          const std::size_t tile = r * g.n + c, at = (c - tc0_) * g.n + r;
+          if (!r_.tiles->lit(i, tile)) continue;
+          remaining_[at] += add ? 1 : -1;
+          if (r_.tiles->lit_whole(i, tile)) sure_[at] += add ? 1 : -1;
         }
     }
     if (!add) accounted_ = std::max(accounted_, end);
   }
 
-  /// The most that the instants not yet walked may add to face `f`: the whole-face hours not yet
-  /// walked and the largest remaining hours of a tile meeting f's bounding box.
-  void tiles_bound(Arrangement::Face_const_handle f, mpq_class& bound) const {
+  /// Bounds on what the instants not yet walked add to face `f`: at most `most` (the whole-face
+  /// hours not yet walked and the largest count of those that may light a tile meeting f's
+  /// bounding box, times the largest weight), at least `least` (the same whole-face hours and the
+  /// smallest count of those lighting such a tile whole, times the smallest positive weight).
+  void tiles_bound(Arrangement::Face_const_handle f, mpq_class& most, mpq_class& least) const {
     const TileGrid& g = r_.tiles->grid;
     double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
     auto h = f->outer_ccb();
@@ -308,11 +321,17 @@ class StripOverlay {
     } while (++h != first);
     const std::size_t c0 = std::max(tc0_, g.column(xmin)), c1 = std::min(tc1_, g.column(xmax));
     const std::size_t r0 = g.row(ymin), r1 = g.row(ymax);
-    std::uint32_t most = 0;
+    std::uint32_t up = 0, down = UINT32_MAX;
     for (std::size_t c = c0; c <= c1; ++c)
-      for (std::size_t r = r0; r <= r1; ++r) most = std::max(most, remaining_[(c - tc0_) * g.n + r]);
-    bound = whole_total_ - whole_walked_;
-    if (most != 0) bound += mpq_class(most_weight_) * most;
+      for (std::size_t r = r0; r <= r1; ++r) {
+        const std::size_t at = (c - tc0_) * g.n + r;
+        up = std::max(up, remaining_[at]);
+        down = std::min(down, sure_[at]);
+      }
+    most = whole_total_ - whole_walked_;
+    least = most;
+    if (up != 0) most += mpq_class(most_weight_) * up;
+    if (down != 0 && down != UINT32_MAX) least += mpq_class(least_weight_) * down;
   }
 
   /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
@@ -564,11 +583,12 @@ class StripOverlay {
   std::size_t least_ = 1, rounds_ = 0;
   double want_ = 1;  ///< the new segments the next round takes (at least)
   // With tiles (OverlayRequest::tiles): the strip's tile columns, per tile (column-major from
-  // tc0_) the hours of the instants from accounted_ on that may light it, the instants fed so far,
-  // and the whole-face hours in all and walked so far.
+  // tc0_) the number of instants from accounted_ on that may light it and of those that light it
+  // whole, the instants fed so far, and the whole-face hours in all and walked so far.
   std::size_t tc0_ = 0, tc1_ = 0, accounted_ = 0, fed_end_ = 0;
-  std::vector<std::uint32_t> remaining_;
-  double most_weight_ = 0;  ///< the largest instant's hours: a tile's bound is its count times it
+  std::vector<std::uint32_t> remaining_, sure_;
+  double most_weight_ = 0;   ///< the largest instant's hours: a tile's upper bound is its count times it
+  double least_weight_ = 0;  ///< the smallest positive one: a tile's lower bound is its count times it
   mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };

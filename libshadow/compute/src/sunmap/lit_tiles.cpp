@@ -3,7 +3,7 @@
 // tile that a boundary passes through is marked with its neighbours, so rounding cannot miss it,
 // and every other tile lies wholly inside or wholly outside the region, which the crossings of
 // its row's centre line tell (the rounded boundary differs from the exact one only within a
-// marked tile).
+// marked tile). The same unmarked tiles found inside are the ones the region surely covers whole.
 #include "sunmap/lit_tiles.hpp"
 
 #include <algorithm>
@@ -21,7 +21,7 @@ std::size_t TileGrid::row(double y) const {
   return r <= 0 ? 0 : r >= static_cast<double>(n - 1) ? n - 1 : static_cast<std::size_t>(r);
 }
 
-TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments) {
+TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants) {
   TileGrid g;
   if (segments < 16 || chart.size() < 3) return g;
   double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
@@ -31,10 +31,15 @@ TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments) {
     ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
   }
   if (!(xmax > xmin) || !(ymax > ymin)) return g;
-  // About twice the square root of the segments per side: a tile then holds a few segments'
-  // worth of boundary, fine enough to tell a building's shade from the open ground beside it.
-  const double side = std::ceil(2.0 * std::sqrt(static_cast<double>(segments)));
-  g.n = static_cast<std::size_t>(std::min(64.0, side));
+  // About eight times the square root of the segments per side: a tile then holds a fraction
+  // of a segment's worth of boundary. The cells that stay undecided longest lie near buildings,
+  // in fans of shadow edges from their corners; twice the root (tried first, the tiles then
+  // marked with their eight neighbours) left nearly every such cell under a tile some boundary
+  // passed near at every instant, so that the tiles decided almost nothing.
+  const double by_bits = std::sqrt(kMaxTileBits / (2.0 * static_cast<double>(std::max<std::size_t>(instants, 1))));
+  const double side = std::min({std::ceil(8.0 * std::sqrt(static_cast<double>(segments))), 256.0, std::floor(by_bits)});
+  if (side < 4) return g;
+  g.n = static_cast<std::size_t>(side);
   g.x0 = xmin;
   g.y0 = ymin;
   g.dx = (xmax - xmin) / static_cast<double>(g.n);
@@ -42,29 +47,35 @@ TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments) {
   return g;
 }
 
-void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, std::uint64_t* mask) {
+void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, std::uint64_t* mask,
+                    std::uint64_t* whole) {
   const std::size_t count = static_cast<std::size_t>(last - first);
   const std::size_t n = g.n;
   if (n == 0) return;
   std::fill(mask, mask + g.words(), std::uint64_t{0});
+  if (whole) std::fill(whole, whole + g.words(), std::uint64_t{0});
   std::vector<char> boundary(n * n, 0);
   auto set = [&](std::size_t t) { mask[t / 64] |= std::uint64_t{1} << (t % 64); };
-  // The boundary's tiles: points at most half a tile apart along each segment, each marking its
-  // tile and the eight around it. Every point of the segment lies within a quarter tile of one,
-  // so every tile the segment passes through is marked.
+  // The boundary's tiles: points at most a quarter tile apart along each segment, each marking
+  // every tile that meets the square of half a quarter tile (and a rounding margin) around it.
+  // Every point of the segment lies within an eighth of a tile of one, so every tile the segment
+  // passes through is marked, and no tile further than about a quarter tile from it.
   const double h = std::min(g.dx, g.dy);
+  const double reach = 0.125 * h + 1e-9 * (std::fabs(g.x0) + std::fabs(g.y0) + h * static_cast<double>(n));
   std::vector<double> xa(count), ya(count), xb(count), yb(count);
   for (std::size_t k = 0; k < count; ++k) {
     const Curve& curve = first[k];
     xa[k] = CGAL::to_double(curve.source().x()), ya[k] = CGAL::to_double(curve.source().y());
     xb[k] = CGAL::to_double(curve.target().x()), yb[k] = CGAL::to_double(curve.target().y());
     const double length = std::hypot(xb[k] - xa[k], yb[k] - ya[k]);
-    const std::size_t steps = static_cast<std::size_t>(std::ceil(2.0 * length / h)) + 1;
+    const std::size_t steps = static_cast<std::size_t>(std::ceil(4.0 * length / h)) + 1;
     for (std::size_t s = 0; s <= steps; ++s) {
       const double u = static_cast<double>(s) / static_cast<double>(steps);
-      const std::size_t c = g.column(xa[k] + u * (xb[k] - xa[k])), r = g.row(ya[k] + u * (yb[k] - ya[k]));
-      for (std::size_t rr = r == 0 ? 0 : r - 1; rr <= std::min(n - 1, r + 1); ++rr)
-        for (std::size_t cc = c == 0 ? 0 : c - 1; cc <= std::min(n - 1, c + 1); ++cc) boundary[rr * n + cc] = 1;
+      const double x = xa[k] + u * (xb[k] - xa[k]), y = ya[k] + u * (yb[k] - ya[k]);
+      const std::size_t c0 = g.column(x - reach), c1 = g.column(x + reach);
+      const std::size_t r0 = g.row(y - reach), r1 = g.row(y + reach);
+      for (std::size_t rr = r0; rr <= r1; ++rr)
+        for (std::size_t cc = c0; cc <= c1; ++cc) boundary[rr * n + cc] = 1;
     }
   }
   // The other tiles: inside when an odd number of boundary crossings of the row's centre line lie
@@ -84,7 +95,12 @@ void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, st
       }
       const double xc = g.x0 + (static_cast<double>(c) + 0.5) * g.dx;
       const auto left = std::lower_bound(xs.begin(), xs.end(), xc) - xs.begin();
-      if (left % 2 == 1) set(t);
+      if (left % 2 == 1) {
+        set(t);
+        // Inside, and no boundary passes through this tile (or within about an eighth of a tile
+        // of it): the closed tile lies in the region.
+        if (whole) whole[t / 64] |= std::uint64_t{1} << (t % 64);
+      }
     }
   }
 }

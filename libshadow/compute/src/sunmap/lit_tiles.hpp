@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Where on a face each instant may light it, coarsely: a grid of tiles over the face's chart and,
 // per instant, the tiles its lit region may meet (a superset: every tile a boundary passes
-// through, and every tile inside the region). The threshold map alone uses it to bound the sun a
-// cell can still get by the instants still to come that may light the tiles under the cell, not
-// by every instant still to come (docs/sun-hours-map.md, step 7), so that cells in shade are
-// settled long before the end of a long period.
+// through, and every tile inside the region) and the tiles it surely lights whole (a subset: the
+// tiles inside it that no boundary comes near). The threshold map alone uses them to bound the
+// sun a cell can still get by the instants still to come, from above (those that may light the
+// tiles under the cell) and from below (those that light every tile under it whole), not by every
+// instant still to come (docs/sun-hours-map.md, step 7), so that cells in shade, and cells sure to
+// reach the top level, are settled long before the end of a long period.
 #pragma once
 
 #include "sunmap/face_overlay.hpp"
@@ -27,25 +29,36 @@ struct TileGrid {
   std::size_t row(double y) const;
 };
 
-/// The grid for a face whose instants' boundaries hold about `segments` segments: finer for
-/// more (up to 64 x 64), none below 16.
-TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments);
+/// The grid for a face whose instants' boundaries hold about `segments` segments each: finer for
+/// more (up to 256 x 256), none below 16, and coarser where `instants` masks of it (two bits
+/// per tile and instant) would pass kMaxTileBits.
+TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants);
+
+/// The most bits of masks one face's tiles may take (8 MiB: a 256 x 256 grid for 512 instants).
+constexpr double kMaxTileBits = 64.0 * 1024 * 1024;
 
 /// Sets in `mask` (grid.words() words, cleared first) the tiles the region bounded by the curves
 /// [first, last) (an instant's lit region's whole boundary on the face) may meet: those the
 /// boundary passes through (with a tile's margin, so that rounding to doubles cannot miss one)
-/// and those whose centre lies inside it.
-void mark_lit_tiles(const TileGrid& grid, const Curve* first, const Curve* last, std::uint64_t* mask);
+/// and those whose centre lies inside it. When `whole` is given (as many words, cleared first),
+/// sets there the tiles the region surely covers, closed tile and all: inside it, and neither
+/// passed through by the boundary nor next to a tile that is.
+void mark_lit_tiles(const TileGrid& grid, const Curve* first, const Curve* last, std::uint64_t* mask,
+                    std::uint64_t* whole = nullptr);
 
 /// What the threshold map alone knows in advance of one face: its grid, per instant the tiles it
-/// may light (instant i's words at i x grid.words(); all clear when it does not cut the face), and
-/// the hours of the instants that light it whole.
+/// may light and those it surely lights whole (instant i's words at i x grid.words(); all clear
+/// when it does not cut the face), and the hours of the instants that light the face whole.
 struct FaceTiles {
   TileGrid grid;
   std::vector<std::uint64_t> masks;
+  std::vector<std::uint64_t> whole_masks;
   mpq_class whole{0};
   bool lit(std::size_t instant, std::size_t tile) const {
     return (masks[instant * grid.words() + tile / 64] >> (tile % 64)) & 1U;
+  }
+  bool lit_whole(std::size_t instant, std::size_t tile) const {
+    return (whole_masks[instant * grid.words() + tile / 64] >> (tile % 64)) & 1U;
   }
 };
 

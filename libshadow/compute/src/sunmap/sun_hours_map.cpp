@@ -380,14 +380,20 @@ class MapBuilder {
     }
     // After the last batch each strip is finished in the same job (its level regions written and
     // its arrangement freed), one strip after another per thread.
-    for (const auto& job : jobs)
+    // A face's tiles go with its last strip (two bits per tile and instant: up to 8 MiB a face).
+    std::unique_ptr<std::atomic<std::size_t>[]> strips_left(new std::atomic<std::size_t>[faces_.size()]);
+    for (std::size_t k = 0; k < faces_.size(); ++k) strips_left[k].store(0);
+    for (const auto& job : jobs) {
       if (last) finished_[std::get<0>(job)] = 1;
+      ++strips_left[std::get<0>(job)];
+    }
     runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
       runtime::check_stop();
       const auto& [k, s, which] = jobs[j];
       rounds_[k][s].feed(curves[k], which, whole[k], unfed, first + count);
       if (!last) return;
       strip_maps_[k][s] = rounds_[k][s].finish();
+      if (strips_left[k].fetch_sub(1) == 1) tiles_[k] = sunmap::FaceTiles{};
       ++done_;
     });
   }
@@ -405,14 +411,16 @@ class MapBuilder {
     std::size_t most = 0;
     for (const auto& [b, e] : runs) most = std::max(most, e - b);
     sunmap::FaceTiles& t = tiles_[k];
-    t.grid = sunmap::tile_grid(requests_[k].face->chart, most);
+    t.grid = sunmap::tile_grid(requests_[k].face->chart, most, n_);
     if (t.grid.n == 0) return;
     t.whole = whole;
     t.masks.assign(t.grid.words() * n_, 0);
+    t.whole_masks.assign(t.grid.words() * n_, 0);
     runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
       const auto [b, e] = runs[r];
       const std::size_t i = static_cast<std::size_t>(std::labs(curves[b].data()) - 1);
-      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + i * t.grid.words());
+      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + i * t.grid.words(),
+                             t.whole_masks.data() + i * t.grid.words());
     });
     requests_[k].tiles = &t;
   }
