@@ -97,8 +97,7 @@ void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, st
       const auto left = std::lower_bound(xs.begin(), xs.end(), xc) - xs.begin();
       if (left % 2 == 1) {
         set(t);
-        // Inside, and no boundary passes through this tile (or within about an eighth of a tile
-        // of it): the closed tile lies in the region.
+        // Inside, and no boundary passes through the closed tile: all of it lies in the region.
         if (whole) whole[t / 64] |= std::uint64_t{1} << (t % 64);
       }
     }

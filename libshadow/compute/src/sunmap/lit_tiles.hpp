@@ -39,10 +39,10 @@ constexpr double kMaxTileBits = 64.0 * 1024 * 1024;
 
 /// Sets in `mask` (grid.words() words, cleared first) the tiles the region bounded by the curves
 /// [first, last) (an instant's lit region's whole boundary on the face) may meet: those the
-/// boundary passes through (with a tile's margin, so that rounding to doubles cannot miss one)
-/// and those whose centre lies inside it. When `whole` is given (as many words, cleared first),
-/// sets there the tiles the region surely covers, closed tile and all: inside it, and neither
-/// passed through by the boundary nor next to a tile that is.
+/// boundary passes through (with a margin of up to a quarter tile, so that rounding to doubles
+/// cannot miss one) and those whose centre lies inside it. When `whole` is given (as many words,
+/// cleared first), sets there the tiles the region surely covers, closed tile and all: inside
+/// it, and not marked as passed through by the boundary.
 void mark_lit_tiles(const TileGrid& grid, const Curve* first, const Curve* last, std::uint64_t* mask,
                     std::uint64_t* whole = nullptr);
 
