@@ -51,7 +51,7 @@ TEST(LitTiles, SquareByHand) {
     for (std::size_t c = 2; c < 5; ++c) EXPECT_TRUE(marked(mask, r * 10 + c)) << r << " " << c;
   for (std::size_t r = 0; r < 10; ++r)
     for (std::size_t c = 0; c < 10; ++c) {
-      const bool far = r >= 7 || c >= 7 || r == 0 || c == 0;
+      const bool far = r >= 6 || c >= 6 || r == 0 || c == 0;  // more than a quarter tile away
       if (far) EXPECT_FALSE(marked(mask, r * 10 + c)) << r << " " << c;
       EXPECT_EQ(marked(whole, r * 10 + c), r == 3 && c == 3) << r << " " << c;
     }
@@ -61,26 +61,37 @@ TEST(LitTiles, SquareByHand) {
   EXPECT_EQ(g.row(4.5), 4u);
 }
 
-// Seeded random regions: a rectangle minus a smaller one (a hole) and a second rectangle apart,
-// on grids of 7 to 40 tiles a side over [0, 20]^2. Every lattice point of step 0.1 inside the
-// region or on its boundary (exact test) lies in a marked tile, and not every tile is marked.
+// Seeded random regions: a rectangle minus a smaller one (a hole), a second rectangle and a
+// triangle (edges at slopes that clip tile corners between the marking's points), apart, on grids
+// of 7 to 40 tiles a side over [0, 20]^2. Every lattice point of step 0.1 inside the region or on
+// its boundary (exact test) lies in a marked tile, and not every tile is marked; exactly, with
+// CGAL's Boolean operations, every tile marked lit whole lies in the region and every unmarked
+// tile meets no interior point of it.
 TEST(LitTiles, NeverMissALitPoint) {
   std::mt19937 rng(20261129);
-  std::uniform_real_distribution<double> u(0.0, 20.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto jitter = [&](double scale) { return scale * u(rng); };
   for (int trial = 0; trial < 40; ++trial) {
     TileGrid g;
     g.n = 7 + static_cast<std::size_t>(trial) % 34;
     g.dx = g.dy = 20.0 / static_cast<double>(g.n);
-    const double ax = u(rng) * 0.5, ay = u(rng) * 0.5, aw = 2 + u(rng) * 0.4, ah = 2 + u(rng) * 0.4;
+    // The ring within [0, 11]^2, the rectangle within [12, 16.2] x [12, 14.2], the triangle
+    // within [12, 19.5] x [1, 10]: apart.
+    const double ax = jitter(5), ay = jitter(5), aw = 2 + jitter(4), ah = 2 + jitter(4);
     exact::PolygonWithHoles2 ring(rectangle(ax, ay, ax + aw, ay + ah));
     Polygon2 hole = rectangle(ax + 0.3 * aw, ay + 0.3 * ah, ax + 0.6 * aw, ay + 0.7 * ah);
     hole.reverse_orientation();  // clockwise, as the lit regions' holes
     ring.add_hole(hole);
-    const Polygon2 second = rectangle(12 + u(rng) * 0.2, 12 + u(rng) * 0.2, 16 + u(rng) * 0.2, 14 + u(rng) * 0.2);
+    const Polygon2 second = rectangle(12 + jitter(0.2), 12 + jitter(0.2), 16 + jitter(0.2), 14 + jitter(0.2));
+    Polygon2 triangle;  // counter-clockwise
+    triangle.push_back(Point2(12 + jitter(1), 1 + jitter(1)));
+    triangle.push_back(Point2(19.5 - jitter(1), 3 + jitter(1)));
+    triangle.push_back(Point2(14 + jitter(1), 10 - jitter(1)));
     std::vector<Curve> curves;
     add_boundary(ring.outer_boundary(), 3, curves);
     add_boundary(*ring.holes_begin(), 3, curves);
     add_boundary(second, 3, curves);
+    add_boundary(triangle, 3, curves);
     std::vector<std::uint64_t> mask(g.words(), 0), whole(g.words(), 0);
     mark_lit_tiles(g, curves.data(), curves.data() + curves.size(), mask.data(), whole.data());
     std::size_t count = 0, whole_count = 0;
@@ -90,32 +101,41 @@ TEST(LitTiles, NeverMissALitPoint) {
       if (marked(whole, t)) EXPECT_TRUE(marked(mask, t)) << trial << " tile " << t;
     }
     EXPECT_LT(count, g.n * g.n) << trial;
-    if (g.n >= 24) EXPECT_GT(whole_count, 0u) << trial;  // the 4 x 2 rectangle holds a tile at least
+    if (g.n >= 24) EXPECT_GT(whole_count, 0u) << trial;  // the 4 x 2 rectangle holds a tile and its margin
     for (int i = 0; i <= 200; ++i)
       for (int j = 0; j <= 200; ++j) {
         const Point2 p(0.1 * i, 0.1 * j);
         const bool in_ring = ring.outer_boundary().bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE &&
                              ring.holes_begin()->bounded_side(p) != CGAL::ON_BOUNDED_SIDE;
-        const bool in = in_ring || second.bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE;
-        // Lit whole: every tile the point lies in (closed tiles: up to four on their corners).
-        if (!in) {
-          const double x = 0.1 * i / g.dx, y = 0.1 * j / g.dy;
-          for (double cx : {std::floor(x), std::ceil(x) - 1})
-            for (double cy : {std::floor(y), std::ceil(y) - 1}) {
-              if (cx < 0 || cy < 0 || cx >= static_cast<double>(g.n) || cy >= static_cast<double>(g.n)) continue;
-              const std::size_t t = static_cast<std::size_t>(cy) * g.n + static_cast<std::size_t>(cx);
-              ASSERT_FALSE(marked(whole, t)) << "trial " << trial << " unlit point " << 0.1 * i << ", " << 0.1 * j;
-            }
-          continue;
-        }
+        const bool in = in_ring || second.bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE ||
+                        triangle.bounded_side(p) != CGAL::ON_UNBOUNDED_SIDE;
+        if (!in) continue;
         const std::size_t t = g.row(0.1 * j) * g.n + g.column(0.1 * i);
         ASSERT_TRUE(marked(mask, t)) << "trial " << trial << " point " << 0.1 * i << ", " << 0.1 * j;
+      }
+    exact::PolygonSet2 region(ring);
+    region.join(second);
+    region.join(triangle);
+    for (std::size_t r = 0; r < g.n; ++r)
+      for (std::size_t c = 0; c < g.n; ++c) {
+        const std::size_t t = r * g.n + c;
+        const Polygon2 tile = rectangle(static_cast<double>(c) * g.dx, static_cast<double>(r) * g.dy,
+                                        static_cast<double>(c + 1) * g.dx, static_cast<double>(r + 1) * g.dy);
+        if (marked(whole, t)) {
+          exact::PolygonSet2 outside(tile);
+          outside.difference(region);
+          EXPECT_TRUE(outside.is_empty()) << "trial " << trial << " tile " << c << ", " << r << " marked lit whole";
+        } else if (!marked(mask, t)) {
+          exact::PolygonSet2 inside(tile);
+          inside.intersection(region);
+          EXPECT_TRUE(inside.is_empty()) << "trial " << trial << " tile " << c << ", " << r << " unmarked";
+        }
       }
   }
 }
 
 // The grid's size: none for few segments, finer for more, at most 256 a side, and coarser where
-// the masks of many instants would pass kMaxTileBits.
+// the masks of many instants would pass the budget (kMaxTileBits unless given).
 TEST(LitTiles, GridSize) {
   const Polygon2 chart = rectangle(0, 0, 100, 50);
   EXPECT_EQ(tile_grid(chart, 10, 24).n, 0u);
@@ -126,6 +146,7 @@ TEST(LitTiles, GridSize) {
   EXPECT_LE(2.0 * static_cast<double>(year.n * year.n) * 4400.0, kMaxTileBits);
   EXPECT_DOUBLE_EQ(year.dx, 100.0 / static_cast<double>(year.n));
   EXPECT_DOUBLE_EQ(year.dy, 50.0 / static_cast<double>(year.n));
+  EXPECT_EQ(tile_grid(chart, 10000, 4400, 100.0).n, 0u);  // a budget below a 4 x 4 grid: none
 }
 
 }  // namespace

@@ -229,6 +229,32 @@ TEST(SunHoursLevels, StripsGiveTheSingleArrangementsAreasOnACity) {
   for (std::size_t k = 0; k < added.faces.size(); ++k) EXPECT_EQ(added.faces[k].level_areas, one.faces[k].level_areas);
 }
 
+// A low top level under a day of many small suns, in many small rounds: most cells reach the top
+// level long before the end, many of them settled there from below by the tiles (the instants
+// sure to light every tile under them), rounds before their hours get there. The threshold map
+// alone has the full map's exact level areas all the same, and sampled points their levels.
+TEST(SunHoursLevels, CellsSettledAtTheTopLevelKeepTheAreas) {
+  Scene scene = make_city(10, 60, 11);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < 40; ++k)
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(10 + 40 * std::sin(k * 0.0785), 70 + 5.5 * k)),
+                        0.125});
+  const ShadowEngine engine(scene, 2);
+  SunHoursOptions options;
+  options.threads = 2;
+  options.levels = {0.5, 1.5};
+  const SunHoursMap full = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.full = false;
+  for (const std::size_t round_edges : {std::size_t{8}, std::size_t{60}}) {
+    options.level_round_edges = round_edges;
+    const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+    for (std::size_t k = 0; k < only.faces.size(); ++k)
+      EXPECT_EQ(only.faces[k].level_areas, full.faces[k].level_areas) << "face " << only.faces[k].face_id;
+    EXPECT_GT(expect_level_points(scene, only, instants, 8 + round_edges), 100);
+  }
+}
+
 // Seeded random scenes (boxes, floating and tilted polygons, a point or directional light) under
 // that light and four random suns of random weights: strips of a few segments give the single
 // arrangement's exact areas per hours and per level, bit for bit.

@@ -122,10 +122,10 @@ class StripOverlay {
 
   // The threshold map alone, in rounds of instants (LevelRounds). Each round sweeps one fresh
   // arrangement of the boundaries kept from the round before and the round's instants'
-  // boundaries, walks it once for every face's hours, and replaces each hours value that can no
-  // longer change its level (the level now is the level even if every instant still to come lit
-  // it) by the smallest value of that level: touching faces of equal values then stay alike to
-  // the end, and only the edges between different values (and the chart's outline and the
+  // boundaries, walks it once for every face's hours, and replaces each hours value whose final
+  // level is known (the level now is the level even if every instant still to come lit it, or,
+  // with tiles, what may or surely will still come fixes it: settle) by the smallest value of
+  // that level: touching faces of equal values then stay alike to the end, and only the edges between different values (and the chart's outline and the
   // strip's frame) go on to the next round, each carrying the jump of value across it. The
   // arrangement so holds the boundaries between undecided cells and the level boundaries, not
   // every instant's. No edge is removed from a large arrangement (CGAL walks a face's boundary to
@@ -291,15 +291,17 @@ class StripOverlay {
   /// Instants accounted_ to `end` (exclusive) leave (or, `add`, enter) the tiles' counts.
   void account_tiles(std::size_t end, bool add = false) {
     if (remaining_.empty()) return;
-    const TileGrid& g = r_.tiles->grid;
-    for (std::size_t i = accounted_; i < end; ++i) {
-      if ((*r_.hours)[i] == 0) continue;
+    const FaceTiles& t = *r_.tiles;
+    const TileGrid& g = t.grid;
+    std::size_t slot = std::lower_bound(t.instants.begin(), t.instants.end(), accounted_) - t.instants.begin();
+    for (; slot < t.instants.size() && t.instants[slot] < end; ++slot) {
+      if ((*r_.hours)[t.instants[slot]] == 0) continue;
       for (std::size_t c = tc0_; c <= tc1_; ++c)
         for (std::size_t r = 0; r < g.n; ++r) {
           const std::size_t tile = r * g.n + c, at = (c - tc0_) * g.n + r;
-          if (!r_.tiles->lit(i, tile)) continue;
+          if (!t.lit(slot, tile)) continue;
           remaining_[at] += add ? 1 : -1;
-          if (r_.tiles->lit_whole(i, tile)) sure_[at] += add ? 1 : -1;
+          if (t.lit_whole(slot, tile)) sure_[at] += add ? 1 : -1;
         }
     }
     if (!add) accounted_ = std::max(accounted_, end);

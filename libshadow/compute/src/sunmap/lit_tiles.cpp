@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The tiles an instant may light on a face (lit_tiles.hpp), in doubles but never missing one: a
-// tile that a boundary passes through is marked with its neighbours, so rounding cannot miss it,
-// and every other tile lies wholly inside or wholly outside the region, which the crossings of
-// its row's centre line tell (the rounded boundary differs from the exact one only within a
-// marked tile). The same unmarked tiles found inside are the ones the region surely covers whole.
+// tile that a boundary passes through is marked, with a margin of an eighth of a tile and far
+// more than the rounding, so rounding cannot miss it, and every other tile lies wholly inside or
+// wholly outside the region, which the crossings of its row's centre line tell (the rounded
+// boundary differs from the exact one only within marked tiles). The unmarked tiles found
+// inside are the ones the region surely covers whole.
 #include "sunmap/lit_tiles.hpp"
 
 #include <algorithm>
@@ -21,7 +22,7 @@ std::size_t TileGrid::row(double y) const {
   return r <= 0 ? 0 : r >= static_cast<double>(n - 1) ? n - 1 : static_cast<std::size_t>(r);
 }
 
-TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants) {
+TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants, double max_bits) {
   TileGrid g;
   if (segments < 16 || chart.size() < 3) return g;
   double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
@@ -36,7 +37,7 @@ TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size
   // in fans of shadow edges from their corners; twice the root (tried first, the tiles then
   // marked with their eight neighbours) left nearly every such cell under a tile some boundary
   // passed near at every instant, so that the tiles decided almost nothing.
-  const double by_bits = std::sqrt(kMaxTileBits / (2.0 * static_cast<double>(std::max<std::size_t>(instants, 1))));
+  const double by_bits = std::sqrt(max_bits / (2.0 * static_cast<double>(std::max<std::size_t>(instants, 1))));
   const double side = std::min({std::ceil(8.0 * std::sqrt(static_cast<double>(segments))), 256.0, std::floor(by_bits)});
   if (side < 4) return g;
   g.n = static_cast<std::size_t>(side);
@@ -56,24 +57,25 @@ void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, st
   if (whole) std::fill(whole, whole + g.words(), std::uint64_t{0});
   std::vector<char> boundary(n * n, 0);
   auto set = [&](std::size_t t) { mask[t / 64] |= std::uint64_t{1} << (t % 64); };
-  // The boundary's tiles: points at most a quarter tile apart along each segment, each marking
-  // every tile that meets the square of half a quarter tile (and a rounding margin) around it.
-  // Every point of the segment lies within an eighth of a tile of one, so every tile the segment
+  // The boundary's tiles: points at most a quarter tile apart (along each axis) along each
+  // segment, each marking every tile that meets the box of an eighth of a tile to each side
+  // around it, widened by a margin far beyond the rounding of these doubles. Every point of the
+  // segment lies within an eighth of a tile of one on each axis, so every tile the segment
   // passes through is marked, and no tile further than about a quarter tile from it.
-  const double h = std::min(g.dx, g.dy);
-  const double reach = 0.125 * h + 1e-9 * (std::fabs(g.x0) + std::fabs(g.y0) + h * static_cast<double>(n));
+  const double reach_x = 0.125 * g.dx + 1e-9 * (std::fabs(g.x0) + g.dx * static_cast<double>(n));
+  const double reach_y = 0.125 * g.dy + 1e-9 * (std::fabs(g.y0) + g.dy * static_cast<double>(n));
   std::vector<double> xa(count), ya(count), xb(count), yb(count);
   for (std::size_t k = 0; k < count; ++k) {
     const Curve& curve = first[k];
     xa[k] = CGAL::to_double(curve.source().x()), ya[k] = CGAL::to_double(curve.source().y());
     xb[k] = CGAL::to_double(curve.target().x()), yb[k] = CGAL::to_double(curve.target().y());
-    const double length = std::hypot(xb[k] - xa[k], yb[k] - ya[k]);
-    const std::size_t steps = static_cast<std::size_t>(std::ceil(4.0 * length / h)) + 1;
+    const double span = std::max(std::fabs(xb[k] - xa[k]) / g.dx, std::fabs(yb[k] - ya[k]) / g.dy);
+    const std::size_t steps = static_cast<std::size_t>(std::ceil(4.0 * span)) + 1;
     for (std::size_t s = 0; s <= steps; ++s) {
       const double u = static_cast<double>(s) / static_cast<double>(steps);
       const double x = xa[k] + u * (xb[k] - xa[k]), y = ya[k] + u * (yb[k] - ya[k]);
-      const std::size_t c0 = g.column(x - reach), c1 = g.column(x + reach);
-      const std::size_t r0 = g.row(y - reach), r1 = g.row(y + reach);
+      const std::size_t c0 = g.column(x - reach_x), c1 = g.column(x + reach_x);
+      const std::size_t r0 = g.row(y - reach_y), r1 = g.row(y + reach_y);
       for (std::size_t rr = r0; rr <= r1; ++rr)
         for (std::size_t cc = c0; cc <= c1; ++cc) boundary[rr * n + cc] = 1;
     }

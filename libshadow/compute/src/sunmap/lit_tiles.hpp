@@ -19,6 +19,11 @@
 
 namespace shadow::sunmap {
 
+/// The most bits of masks one face's tiles may take (8 MiB: a 256 x 256 grid for 512 instants
+/// cutting the face), and all faces' together (64 MiB), shared evenly by the faces cut.
+constexpr double kMaxTileBits = 64.0 * 1024 * 1024;
+constexpr double kMaxTileBitsAll = 512.0 * 1024 * 1024;
+
 /// A grid of n x n tiles over a chart's bounding box; n 0: no grid (the face's bound is global).
 struct TileGrid {
   double x0 = 0, y0 = 0, dx = 1, dy = 1;
@@ -29,36 +34,37 @@ struct TileGrid {
   std::size_t row(double y) const;
 };
 
-/// The grid for a face whose instants' boundaries hold about `segments` segments each: finer for
-/// more (up to 256 x 256), none below 16, and coarser where `instants` masks of it (two bits
-/// per tile and instant) would pass kMaxTileBits.
-TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants);
-
-/// The most bits of masks one face's tiles may take (8 MiB: a 256 x 256 grid for 512 instants).
-constexpr double kMaxTileBits = 64.0 * 1024 * 1024;
+/// The grid for a face cut by `instants` instants whose boundaries hold about `segments`
+/// segments each: finer for more (up to 256 x 256), none below 16 segments, and coarser where
+/// their masks (two bits per tile and instant) would pass `max_bits`; none below 4 x 4.
+TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants,
+                   double max_bits = kMaxTileBits);
 
 /// Sets in `mask` (grid.words() words, cleared first) the tiles the region bounded by the curves
 /// [first, last) (an instant's lit region's whole boundary on the face) may meet: those the
-/// boundary passes through (with a margin of up to a quarter tile, so that rounding to doubles
-/// cannot miss one) and those whose centre lies inside it. When `whole` is given (as many words,
+/// boundary passes through (found from points along it, with a margin of an eighth of a tile
+/// and one far beyond the rounding of doubles, so that none is missed) and those whose centre
+/// lies inside it. When `whole` is given (as many words,
 /// cleared first), sets there the tiles the region surely covers, closed tile and all: inside
 /// it, and not marked as passed through by the boundary.
 void mark_lit_tiles(const TileGrid& grid, const Curve* first, const Curve* last, std::uint64_t* mask,
                     std::uint64_t* whole = nullptr);
 
-/// What the threshold map alone knows in advance of one face: its grid, per instant the tiles it
-/// may light and those it surely lights whole (instant i's words at i x grid.words(); all clear
-/// when it does not cut the face), and the hours of the instants that light the face whole.
+/// What the threshold map alone knows in advance of one face: its grid, the instants that cut it
+/// (ascending) and, per such instant (its slot: its index there), the tiles it may light and
+/// those it surely lights whole (slot s's words at s x grid.words()), and the hours of the
+/// instants that light the face whole.
 struct FaceTiles {
   TileGrid grid;
+  std::vector<std::size_t> instants;
   std::vector<std::uint64_t> masks;
   std::vector<std::uint64_t> whole_masks;
   mpq_class whole{0};
-  bool lit(std::size_t instant, std::size_t tile) const {
-    return (masks[instant * grid.words() + tile / 64] >> (tile % 64)) & 1U;
+  bool lit(std::size_t slot, std::size_t tile) const {
+    return (masks[slot * grid.words() + tile / 64] >> (tile % 64)) & 1U;
   }
-  bool lit_whole(std::size_t instant, std::size_t tile) const {
-    return (whole_masks[instant * grid.words() + tile / 64] >> (tile % 64)) & 1U;
+  bool lit_whole(std::size_t slot, std::size_t tile) const {
+    return (whole_masks[slot * grid.words() + tile / 64] >> (tile % 64)) & 1U;
   }
 };
 

@@ -359,6 +359,13 @@ class MapBuilder {
     // of ever more strips a round's worth of instants not yet swept: memory linear in them.
     std::vector<std::tuple<std::size_t, std::size_t, std::vector<std::size_t>>> jobs;  // face, strip, curves
     const bool last = first + count == n_;
+    if (last && !options_.stream_levels) {
+      // The tiles of every face cut share one budget (they are all made before the strips run).
+      std::size_t cut = 0;
+      for (std::size_t k = 0; k < faces_.size(); ++k)
+        if (rounds_[k].empty() && !(sample_[k].empty() && curves[k].empty())) ++cut;
+      tile_bits_ = std::min(sunmap::kMaxTileBits, sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut, 1)));
+    }
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       if ((*ctx_.prep)[faces_[k]].degenerate) continue;
       if (rounds_[k].empty()) {
@@ -411,16 +418,18 @@ class MapBuilder {
     std::size_t most = 0;
     for (const auto& [b, e] : runs) most = std::max(most, e - b);
     sunmap::FaceTiles& t = tiles_[k];
-    t.grid = sunmap::tile_grid(requests_[k].face->chart, most, n_);
+    t.grid = sunmap::tile_grid(requests_[k].face->chart, most, runs.size(), tile_bits_);
     if (t.grid.n == 0) return;
     t.whole = whole;
-    t.masks.assign(t.grid.words() * n_, 0);
-    t.whole_masks.assign(t.grid.words() * n_, 0);
+    t.instants.resize(runs.size());
+    for (std::size_t r = 0; r < runs.size(); ++r)
+      t.instants[r] = static_cast<std::size_t>(std::labs(curves[runs[r].first].data()) - 1);
+    t.masks.assign(t.grid.words() * runs.size(), 0);
+    t.whole_masks.assign(t.grid.words() * runs.size(), 0);
     runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
       const auto [b, e] = runs[r];
-      const std::size_t i = static_cast<std::size_t>(std::labs(curves[b].data()) - 1);
-      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + i * t.grid.words(),
-                             t.whole_masks.data() + i * t.grid.words());
+      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + r * t.grid.words(),
+                             t.whole_masks.data() + r * t.grid.words());
     });
     requests_[k].tiles = &t;
   }
@@ -532,6 +541,7 @@ class MapBuilder {
   std::vector<std::vector<Curve>> sample_;  ///< per face: boundaries held until its strips are chosen
   std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
   std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
+  double tile_bits_ = sunmap::kMaxTileBits;  ///< the most bits of masks one face's tiles may take
   std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
   std::vector<char> finished_;              ///< per face: its strips finished with the last batch
   SeriesResult* table_ = nullptr;           ///< SunHoursOptions::series_table, when asked for
