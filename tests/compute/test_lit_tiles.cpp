@@ -143,7 +143,8 @@ TEST(LitTiles, GridSize) {
   EXPECT_EQ(tile_grid(chart, 10000, 24).n, 256u);
   const TileGrid year = tile_grid(chart, 10000, 4400);
   EXPECT_LT(year.n, 256u);
-  EXPECT_LE(2.0 * static_cast<double>(year.n * year.n) * 4400.0, kMaxTileBits);
+  EXPECT_LE((2.0 * 64.0 * static_cast<double>(year.words()) + 64.0) * 4400.0, kMaxTileBits);  // whole words
+  EXPECT_GE(year.n, 80u);
   EXPECT_DOUBLE_EQ(year.dx, 100.0 / static_cast<double>(year.n));
   EXPECT_DOUBLE_EQ(year.dy, 50.0 / static_cast<double>(year.n));
   EXPECT_EQ(tile_grid(chart, 10000, 4400, 100.0).n, 0u);  // a budget below a 4 x 4 grid: none

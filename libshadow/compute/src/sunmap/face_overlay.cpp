@@ -125,8 +125,9 @@ class StripOverlay {
   // boundaries, walks it once for every face's hours, and replaces each hours value whose final
   // level is known (the level now is the level even if every instant still to come lit it, or,
   // with tiles, what may or surely will still come fixes it: settle) by the smallest value of
-  // that level: touching faces of equal values then stay alike to the end, and only the edges between different values (and the chart's outline and the
-  // strip's frame) go on to the next round, each carrying the jump of value across it. The
+  // that level: touching faces of equal values then stay alike to the end, and only the edges
+  // between different values (and the chart's outline and the strip's frame) go on to the next
+  // round, each carrying the jump of value across it. The
   // arrangement so holds the boundaries between undecided cells and the level boundaries, not
   // every instant's. No edge is removed from a large arrangement (CGAL walks a face's boundary to
   // remove an edge of it: removing many from one large region is slow). X-monotone curves

@@ -37,8 +37,13 @@ TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size
   // in fans of shadow edges from their corners; twice the root (tried first, the tiles then
   // marked with their eight neighbours) left nearly every such cell under a tile some boundary
   // passed near at every instant, so that the tiles decided almost nothing.
-  const double by_bits = std::sqrt(max_bits / (2.0 * static_cast<double>(std::max<std::size_t>(instants, 1))));
-  const double side = std::min({std::ceil(8.0 * std::sqrt(static_cast<double>(segments))), 256.0, std::floor(by_bits)});
+  // The masks' bits per instant cutting the face: two masks of whole 64-bit words, and the
+  // instant's index.
+  const auto bits = [](double side) { return 2.0 * 64.0 * std::ceil(side * side / 64.0) + 64.0; };
+  const double count = static_cast<double>(std::max<std::size_t>(instants, 1));
+  double side = std::min({std::ceil(8.0 * std::sqrt(static_cast<double>(segments))), 256.0,
+                          std::floor(std::sqrt(max_bits / (2.0 * count)))});
+  while (side >= 4 && bits(side) * count > max_bits) --side;
   if (side < 4) return g;
   g.n = static_cast<std::size_t>(side);
   g.x0 = xmin;

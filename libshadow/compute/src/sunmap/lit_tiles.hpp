@@ -19,8 +19,9 @@
 
 namespace shadow::sunmap {
 
-/// The most bits of masks one face's tiles may take (8 MiB: a 256 x 256 grid for 512 instants
-/// cutting the face), and all faces' together (64 MiB), shared evenly by the faces cut.
+/// The most bits one face's tiles may take (8 MiB: a 256 x 256 grid for about 500 instants
+/// cutting the face; the masks in whole 64-bit words and each instant's index), and all faces'
+/// together (64 MiB), shared evenly by the faces cut.
 constexpr double kMaxTileBits = 64.0 * 1024 * 1024;
 constexpr double kMaxTileBitsAll = 512.0 * 1024 * 1024;
 
@@ -36,7 +37,8 @@ struct TileGrid {
 
 /// The grid for a face cut by `instants` instants whose boundaries hold about `segments`
 /// segments each: finer for more (up to 256 x 256), none below 16 segments, and coarser where
-/// their masks (two bits per tile and instant) would pass `max_bits`; none below 4 x 4.
+/// their masks (two bits per tile and instant, in whole words, and the instant's index) would
+/// pass `max_bits`; none below 4 x 4.
 TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size_t instants,
                    double max_bits = kMaxTileBits);
 

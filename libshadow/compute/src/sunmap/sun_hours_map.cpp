@@ -364,7 +364,8 @@ class MapBuilder {
       std::size_t cut = 0;
       for (std::size_t k = 0; k < faces_.size(); ++k)
         if (rounds_[k].empty() && !(sample_[k].empty() && curves[k].empty())) ++cut;
-      tile_bits_ = std::min(sunmap::kMaxTileBits, sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut, 1)));
+      const double share = sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut, 1));
+      tile_bits_ = std::min(sunmap::kMaxTileBits, share);
     }
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       if ((*ctx_.prep)[faces_[k]].degenerate) continue;
@@ -387,7 +388,7 @@ class MapBuilder {
     }
     // After the last batch each strip is finished in the same job (its level regions written and
     // its arrangement freed), one strip after another per thread.
-    // A face's tiles go with its last strip (two bits per tile and instant: up to 8 MiB a face).
+    // A face's tiles go with its last strip (two bits per tile and instant cutting the face).
     std::unique_ptr<std::atomic<std::size_t>[]> strips_left(new std::atomic<std::size_t>[faces_.size()]);
     for (std::size_t k = 0; k < faces_.size(); ++k) strips_left[k].store(0);
     for (const auto& job : jobs) {
