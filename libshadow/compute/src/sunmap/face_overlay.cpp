@@ -135,7 +135,8 @@ class StripOverlay {
   // segment it was cut from, so that later intersections are computed from the input's lines and
   // not from lines through earlier intersections (whose exact numbers would grow round after
   // round). Instants arrive in time order, a batch at a time (feed), and are swept as soon as
-  // they fill a round: only the instants not yet swept are held.
+  // they fill a round: only the instants not yet swept are held. With tiles (every instant fed at
+  // once), they are swept sunniest first instead (order_pending).
 
   /// The outline's curves `which` (and the strip's frame): the first round's kept edges.
   void begin(const std::vector<Curve>& outline, const std::vector<std::size_t>& which) {
@@ -191,11 +192,15 @@ class StripOverlay {
     std::vector<XCurve> curves = std::move(kept_);
     kept_ = {};
     std::size_t added = 0;
+    // With every instant fed and tiles to tell where they light, the instants go sunniest first
+    // (order_pending): cells reach the top level sooner, or are settled there from below.
+    if (rounds_ == 0 && !counts_.empty() && fed_end_ == n_) order_pending();
     while (!pending_.empty() && (added == 0 || static_cast<double>(added) < want_)) {
       auto& [i, more] = pending_.front();
       added += more.size();
       pending_segments_ -= more.size();
       pending_hours_ -= (*r_.hours)[i];
+      if (ordered_) counts_.count(i, false);
       for (XCurve& c : more) curves.push_back(std::move(c));
       pending_.pop_front();
     }
@@ -207,7 +212,7 @@ class StripOverlay {
     base_pending_ = 0;
     walk(arr);
     outline_add_ = 0;
-    account_tiles(pending_.empty() ? fed_end_ : pending_.front().first);
+    if (!ordered_) counts_.walked_before(pending_.empty() ? fed_end_ : pending_.front().first);
     settle(arr, unfed_ + pending_hours_);
     kept_ = kept_curves(arr);
     ++rounds_;
@@ -260,7 +265,7 @@ class StripOverlay {
       }
       std::size_t now = level_of(hours_at_[v]);
       if (now != level_of(hours_at_[v] + remaining)) {
-        if (remaining_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
+        if (counts_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
         tiles_bound(f, most, least);
         if (level_of(hours_at_[v] + least) == top)
           now = top;  // surely reaches the top level
@@ -271,41 +276,34 @@ class StripOverlay {
     }
   }
 
-  /// The tiles under the strip (columns tc0_ to tc1_) and, per tile, the instants that may light
-  /// it and those that light it whole (lit_tiles.hpp), all of them: none is walked yet.
+  /// The tiles' counts under the strip (StripTileCounts), every instant cutting the face in them.
   void begin_tiles() {
     if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
-    const TileGrid& g = r_.tiles->grid;
-    tc0_ = strip_.whole ? 0 : g.column(strip_.x0);
-    tc1_ = strip_.whole ? g.n - 1 : g.column(strip_.x1);
-    remaining_.assign((tc1_ - tc0_ + 1) * g.n, 0);
-    sure_.assign(remaining_.size(), 0);
-    accounted_ = 0;
-    account_tiles(n_, true);
+    counts_.begin(*r_.tiles, strip_.whole, strip_.x0, strip_.x1, *r_.hours);
     whole_total_ = r_.tiles->whole;
-    for (double w : *r_.hours) {
-      most_weight_ = std::max(most_weight_, w);
-      if (w > 0 && (least_weight_ == 0 || w < least_weight_)) least_weight_ = w;
-    }
   }
 
-  /// Instants accounted_ to `end` (exclusive) leave (or, `add`, enter) the tiles' counts.
-  void account_tiles(std::size_t end, bool add = false) {
-    if (remaining_.empty()) return;
-    const FaceTiles& t = *r_.tiles;
-    const TileGrid& g = t.grid;
-    std::size_t slot = std::lower_bound(t.instants.begin(), t.instants.end(), accounted_) - t.instants.begin();
-    for (; slot < t.instants.size() && t.instants[slot] < end; ++slot) {
-      if ((*r_.hours)[t.instants[slot]] == 0) continue;
-      for (std::size_t c = tc0_; c <= tc1_; ++c)
-        for (std::size_t r = 0; r < g.n; ++r) {
-          const std::size_t tile = r * g.n + c, at = (c - tc0_) * g.n + r;
-          if (!t.lit(slot, tile)) continue;
-          remaining_[at] += add ? 1 : -1;
-          if (t.lit_whole(slot, tile)) sure_[at] += add ? 1 : -1;
-        }
+  /// Before the first round, with every instant fed: the pending instants in the order they are
+  /// swept, those lighting the most tiles of the strip whole first (in time order among equals),
+  /// and the tiles' counts made of them alone. The hours are sums, so any order gives the same
+  /// values; this one settles cells sooner. (Time order held, on a ground over many days, the
+  /// cells near buildings a few hours below the top level undecided until their sun came, day
+  /// after day; sunniest first, most of them reach it in the first rounds.) An instant with no
+  /// curve in the strip lights no point inside it (its lit region's boundary would enter the
+  /// strip, the chart's outline at least), so it leaves the counts.
+  void order_pending() {
+    std::vector<std::size_t> instants;
+    std::vector<std::pair<long, std::size_t>> key;  // (-tiles lit whole, position)
+    for (std::size_t p = 0; p < pending_.size(); ++p) {
+      instants.push_back(pending_[p].first);
+      key.emplace_back(-static_cast<long>(counts_.whole_tiles(pending_[p].first)), p);
     }
-    if (!add) accounted_ = std::max(accounted_, end);
+    counts_.recount(instants);
+    std::stable_sort(key.begin(), key.end());
+    std::deque<std::pair<std::size_t, std::vector<XCurve>>> sorted;
+    for (const auto& [k, p] : key) sorted.push_back(std::move(pending_[p]));
+    pending_.swap(sorted);
+    ordered_ = true;
   }
 
   /// Bounds on what the instants not yet walked add to face `f`: at most `most` (the whole-face
@@ -313,7 +311,6 @@ class StripOverlay {
   /// bounding box, times the largest weight), at least `least` (the same whole-face hours and the
   /// smallest count of those lighting such a tile whole, times the smallest positive weight).
   void tiles_bound(Arrangement::Face_const_handle f, mpq_class& most, mpq_class& least) const {
-    const TileGrid& g = r_.tiles->grid;
     double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
     auto h = f->outer_ccb();
     const auto first = h;
@@ -322,19 +319,11 @@ class StripOverlay {
       xmin = std::min(xmin, x.first), xmax = std::max(xmax, x.second);
       ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
     } while (++h != first);
-    const std::size_t c0 = std::max(tc0_, g.column(xmin)), c1 = std::min(tc1_, g.column(xmax));
-    const std::size_t r0 = g.row(ymin), r1 = g.row(ymax);
-    std::uint32_t up = 0, down = UINT32_MAX;
-    for (std::size_t c = c0; c <= c1; ++c)
-      for (std::size_t r = r0; r <= r1; ++r) {
-        const std::size_t at = (c - tc0_) * g.n + r;
-        up = std::max(up, remaining_[at]);
-        down = std::min(down, sure_[at]);
-      }
+    const StripTileCounts::Range range = counts_.under(xmin, xmax, ymin, ymax);
     most = whole_total_ - whole_walked_;
     least = most;
-    if (up != 0) most += mpq_class(most_weight_) * up;
-    if (down != 0 && down != UINT32_MAX) least += mpq_class(least_weight_) * down;
+    if (range.most != 0) most += mpq_class(counts_.most_weight()) * range.most;
+    if (range.least != 0) least += mpq_class(counts_.least_weight()) * range.least;
   }
 
   /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
@@ -585,13 +574,12 @@ class StripOverlay {
   mpq_class pending_hours_{0}, base_pending_{0}, unfed_{0};
   std::size_t least_ = 1, rounds_ = 0;
   double want_ = 1;  ///< the new segments the next round takes (at least)
-  // With tiles (OverlayRequest::tiles): the strip's tile columns, per tile (column-major from
-  // tc0_) the number of instants from accounted_ on that may light it and of those that light it
-  // whole, the instants fed so far, and the whole-face hours in all and walked so far.
-  std::size_t tc0_ = 0, tc1_ = 0, accounted_ = 0, fed_end_ = 0;
-  std::vector<std::uint32_t> remaining_, sure_;
-  double most_weight_ = 0;   ///< the largest instant's hours: a tile's upper bound is its count times it
-  double least_weight_ = 0;  ///< the smallest positive one: a tile's lower bound is its count times it
+  // With tiles (OverlayRequest::tiles): the counts of the tiles under the strip, whether the
+  // instants are swept sunniest first, the instants fed so far, and the whole-face hours in all
+  // and walked so far.
+  StripTileCounts counts_;
+  bool ordered_ = false;
+  std::size_t fed_end_ = 0;
   mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };

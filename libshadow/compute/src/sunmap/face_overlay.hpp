@@ -96,7 +96,8 @@ class StripOverlay;
 /// The threshold map alone of one strip (OverlayRequest::full false, with levels), fed the
 /// instants' boundaries in time order as they are computed, in rounds (docs/sun-hours-map.md,
 /// step 7): it holds the boundaries kept so far and the instants not yet swept, never every
-/// instant's. Fed everything at once it sweeps the same rounds as it would have then.
+/// instant's. Fed everything at once it sweeps the same rounds as it would have then, unless the
+/// request has tiles: it then sweeps the instants sunniest first.
 class LevelRounds {
  public:
   /// `outline`: the face's chart outline (tagged with the number of instants); `which`: those of

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace shadow::sunmap {
 
@@ -109,6 +110,86 @@ void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, st
       }
     }
   }
+}
+
+void StripTileCounts::begin(const FaceTiles& tiles, bool whole_strip, double x0, double x1,
+                            const std::vector<double>& hours) {
+  tiles_ = &tiles;
+  hours_ = &hours;
+  const TileGrid& g = tiles.grid;
+  c0_ = whole_strip ? 0 : g.column(x0);
+  c1_ = whole_strip ? g.n - 1 : g.column(x1);
+  most_.assign((c1_ - c0_ + 1) * g.n, 0);
+  least_.assign(most_.size(), 0);
+  walked_ = 0;
+  for (std::size_t s = 0; s < tiles.instants.size(); ++s) add_slot(s, true);
+  for (double w : hours) {
+    most_weight_ = std::max(most_weight_, w);
+    if (w > 0 && (least_weight_ == 0 || w < least_weight_)) least_weight_ = w;
+  }
+}
+
+std::size_t StripTileCounts::slot(std::size_t i) const {
+  const auto it = std::lower_bound(tiles_->instants.begin(), tiles_->instants.end(), i);
+  return it != tiles_->instants.end() && *it == i ? static_cast<std::size_t>(it - tiles_->instants.begin()) : SIZE_MAX;
+}
+
+void StripTileCounts::add_slot(std::size_t s, bool add) {
+  if ((*hours_)[tiles_->instants[s]] == 0) return;  // adds no hours: never counted
+  const std::size_t n = tiles_->grid.n;
+  for (std::size_t c = c0_; c <= c1_; ++c)
+    for (std::size_t r = 0; r < n; ++r) {
+      const std::size_t tile = r * n + c, at = (c - c0_) * n + r;
+      if (!tiles_->lit(s, tile)) continue;
+      most_[at] += add ? 1 : -1;
+      if (tiles_->lit_whole(s, tile)) least_[at] += add ? 1 : -1;
+    }
+}
+
+void StripTileCounts::count(std::size_t i, bool add) {
+  if (empty()) return;
+  const std::size_t s = slot(i);
+  if (s != SIZE_MAX) add_slot(s, add);
+}
+
+void StripTileCounts::walked_before(std::size_t end) {
+  if (empty()) return;
+  const std::vector<std::size_t>& instants = tiles_->instants;
+  std::size_t s = static_cast<std::size_t>(std::lower_bound(instants.begin(), instants.end(), walked_) - instants.begin());
+  for (; s < instants.size() && instants[s] < end; ++s) add_slot(s, false);
+  walked_ = std::max(walked_, end);
+}
+
+void StripTileCounts::recount(const std::vector<std::size_t>& instants) {
+  std::fill(most_.begin(), most_.end(), 0);
+  std::fill(least_.begin(), least_.end(), 0);
+  for (std::size_t i : instants) count(i, true);
+}
+
+std::size_t StripTileCounts::whole_tiles(std::size_t i) const {
+  if (empty()) return 0;
+  const std::size_t s = slot(i), n = tiles_->grid.n;
+  std::size_t count = 0;
+  if (s == SIZE_MAX) return 0;
+  for (std::size_t c = c0_; c <= c1_; ++c)
+    for (std::size_t r = 0; r < n; ++r) count += tiles_->lit_whole(s, r * n + c) ? 1 : 0;
+  return count;
+}
+
+StripTileCounts::Range StripTileCounts::under(double xmin, double xmax, double ymin, double ymax) const {
+  const TileGrid& g = tiles_->grid;
+  const std::size_t c0 = std::max(c0_, g.column(xmin)), c1 = std::min(c1_, g.column(xmax));
+  const std::size_t r0 = g.row(ymin), r1 = g.row(ymax);
+  Range out;
+  std::uint32_t least = UINT32_MAX;
+  for (std::size_t c = c0; c <= c1; ++c)
+    for (std::size_t r = r0; r <= r1; ++r) {
+      const std::size_t at = (c - c0_) * g.n + r;
+      out.most = std::max(out.most, most_[at]);
+      least = std::min(least, least_[at]);
+    }
+  out.least = least == UINT32_MAX ? 0 : least;
+  return out;
 }
 
 }  // namespace shadow::sunmap

@@ -70,4 +70,46 @@ struct FaceTiles {
   }
 };
 
+/// One strip's counts, per tile under it (the columns meeting x0 <= x <= x1), of the instants
+/// not yet walked that may light the tile and of those that light it whole: the threshold map
+/// alone's bounds on the sun still to come to a cell (docs/sun-hours-map.md, step 7).
+class StripTileCounts {
+ public:
+  /// The counts of every instant cutting the face (`tiles`, which must outlive this), under the
+  /// strip x0 <= x <= x1 of its chart (`whole_strip`: every column); `hours`: the instants'.
+  void begin(const FaceTiles& tiles, bool whole_strip, double x0, double x1, const std::vector<double>& hours);
+  bool empty() const { return most_.empty(); }
+
+  /// Instant i (of any weight; those of none are never counted) leaves (or, `add`, enters) the
+  /// counts. This and the other changes do nothing before begin.
+  void count(std::size_t i, bool add);
+  /// Every instant before `end` (in time order) that is still counted leaves the counts.
+  void walked_before(std::size_t end);
+  /// The counts made of `instants` alone (each once).
+  void recount(const std::vector<std::size_t>& instants);
+  /// The number of tiles under the strip that instant i lights whole.
+  std::size_t whole_tiles(std::size_t i) const;
+
+  /// Over the tiles under the strip that meet the box [xmin, xmax] x [ymin, ymax]: the largest
+  /// count of instants that may light one, and the smallest of those lighting one whole.
+  struct Range {
+    std::uint32_t most = 0, least = 0;
+  };
+  Range under(double xmin, double xmax, double ymin, double ymax) const;
+  double most_weight() const { return most_weight_; }    ///< the largest instant's hours
+  double least_weight() const { return least_weight_; }  ///< the smallest positive one
+
+ private:
+  /// The slot of instant i in the face's tiles, or none.
+  std::size_t slot(std::size_t i) const;
+  void add_slot(std::size_t slot, bool add);
+
+  const FaceTiles* tiles_ = nullptr;
+  const std::vector<double>* hours_ = nullptr;
+  std::size_t c0_ = 0, c1_ = 0;       ///< the strip's tile columns
+  std::size_t walked_ = 0;            ///< walked_before's: every instant before it has left
+  std::vector<std::uint32_t> most_, least_;  ///< per tile, column-major from c0_
+  double most_weight_ = 0, least_weight_ = 0;
+};
+
 }  // namespace shadow::sunmap
