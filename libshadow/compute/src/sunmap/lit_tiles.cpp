@@ -161,6 +161,7 @@ void StripTileCounts::walked_before(std::size_t end) {
 }
 
 void StripTileCounts::recount(const std::vector<std::size_t>& instants) {
+  walked_ = SIZE_MAX;  // instants leave one by one now (count), never by time
   std::fill(most_.begin(), most_.end(), 0);
   std::fill(least_.begin(), least_.end(), 0);
   for (std::size_t i : instants) count(i, true);

@@ -83,9 +83,11 @@ class StripTileCounts {
   /// Instant i (of any weight; those of none are never counted) leaves (or, `add`, enters) the
   /// counts. This and the other changes do nothing before begin.
   void count(std::size_t i, bool add);
-  /// Every instant before `end` (in time order) that is still counted leaves the counts.
+  /// Every instant from the last call's `end` (0 at first) up to `end` leaves the counts: the
+  /// accounting of instants walked in time order. After recount (instants walked in another
+  /// order, each leaving by count), it does nothing.
   void walked_before(std::size_t end);
-  /// The counts made of `instants` alone (each once).
+  /// The counts made of `instants` alone (each once); walked_before does nothing from then on.
   void recount(const std::vector<std::size_t>& instants);
   /// The number of tiles under the strip that instant i lights whole.
   std::size_t whole_tiles(std::size_t i) const;
