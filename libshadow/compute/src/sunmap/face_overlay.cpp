@@ -29,6 +29,7 @@
 #include <climits>
 #include <cmath>
 #include <deque>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 
@@ -192,15 +193,19 @@ class StripOverlay {
     std::vector<XCurve> curves = std::move(kept_);
     kept_ = {};
     std::size_t added = 0;
-    // With every instant fed and tiles to tell where they light, the instants go sunniest first
-    // (order_pending): cells reach the top level sooner, or are settled there from below.
-    if (rounds_ == 0 && !counts_.empty() && fed_end_ == n_) order_pending();
+    // With tiles (made only when every instant's boundaries are gathered, so fed at once), the
+    // instants go sunniest first (order_pending): cells reach the top level sooner, or are
+    // settled there from below.
+    if (rounds_ == 0 && !counts_.empty()) {
+      if (fed_end_ != n_) throw std::logic_error("LevelRounds: tiles need every instant fed before the first round");
+      order_pending();
+    }
     while (!pending_.empty() && (added == 0 || static_cast<double>(added) < want_)) {
       auto& [i, more] = pending_.front();
       added += more.size();
       pending_segments_ -= more.size();
       pending_hours_ -= (*r_.hours)[i];
-      if (ordered_) counts_.count(i, false);
+      counts_.count(i, false);
       for (XCurve& c : more) curves.push_back(std::move(c));
       pending_.pop_front();
     }
@@ -212,7 +217,6 @@ class StripOverlay {
     base_pending_ = 0;
     walk(arr);
     outline_add_ = 0;
-    if (!ordered_) counts_.walked_before(pending_.empty() ? fed_end_ : pending_.front().first);
     settle(arr, unfed_ + pending_hours_);
     kept_ = kept_curves(arr);
     ++rounds_;
@@ -276,7 +280,7 @@ class StripOverlay {
     }
   }
 
-  /// The tiles' counts under the strip (StripTileCounts), every instant cutting the face in them.
+  /// The tiles' counts under the strip (StripTileCounts), filled by order_pending.
   void begin_tiles() {
     if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
     counts_.begin(*r_.tiles, strip_.whole, strip_.x0, strip_.x1, *r_.hours);
@@ -303,7 +307,6 @@ class StripOverlay {
     std::deque<std::pair<std::size_t, std::vector<XCurve>>> sorted;
     for (const auto& [k, p] : key) sorted.push_back(std::move(pending_[p]));
     pending_.swap(sorted);
-    ordered_ = true;
   }
 
   /// Bounds on what the instants not yet walked add to face `f`: at most `most` (the whole-face
@@ -574,11 +577,9 @@ class StripOverlay {
   mpq_class pending_hours_{0}, base_pending_{0}, unfed_{0};
   std::size_t least_ = 1, rounds_ = 0;
   double want_ = 1;  ///< the new segments the next round takes (at least)
-  // With tiles (OverlayRequest::tiles): the counts of the tiles under the strip, whether the
-  // instants are swept sunniest first, the instants fed so far, and the whole-face hours in all
-  // and walked so far.
+  // With tiles (OverlayRequest::tiles): the counts of the tiles under the strip, the instants fed
+  // so far, and the whole-face hours in all and walked so far.
   StripTileCounts counts_;
-  bool ordered_ = false;
   std::size_t fed_end_ = 0;
   mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write

@@ -121,8 +121,6 @@ void StripTileCounts::begin(const FaceTiles& tiles, bool whole_strip, double x0,
   c1_ = whole_strip ? g.n - 1 : g.column(x1);
   most_.assign((c1_ - c0_ + 1) * g.n, 0);
   least_.assign(most_.size(), 0);
-  walked_ = 0;
-  for (std::size_t s = 0; s < tiles.instants.size(); ++s) add_slot(s, true);
   for (double w : hours) {
     most_weight_ = std::max(most_weight_, w);
     if (w > 0 && (least_weight_ == 0 || w < least_weight_)) least_weight_ = w;
@@ -152,16 +150,7 @@ void StripTileCounts::count(std::size_t i, bool add) {
   if (s != SIZE_MAX) add_slot(s, add);
 }
 
-void StripTileCounts::walked_before(std::size_t end) {
-  if (empty()) return;
-  const std::vector<std::size_t>& instants = tiles_->instants;
-  std::size_t s = static_cast<std::size_t>(std::lower_bound(instants.begin(), instants.end(), walked_) - instants.begin());
-  for (; s < instants.size() && instants[s] < end; ++s) add_slot(s, false);
-  walked_ = std::max(walked_, end);
-}
-
 void StripTileCounts::recount(const std::vector<std::size_t>& instants) {
-  walked_ = SIZE_MAX;  // instants leave one by one now (count), never by time
   std::fill(most_.begin(), most_.end(), 0);
   std::fill(least_.begin(), least_.end(), 0);
   for (std::size_t i : instants) count(i, true);

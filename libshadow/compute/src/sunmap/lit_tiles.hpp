@@ -75,19 +75,15 @@ struct FaceTiles {
 /// alone's bounds on the sun still to come to a cell (docs/sun-hours-map.md, step 7).
 class StripTileCounts {
  public:
-  /// The counts of every instant cutting the face (`tiles`, which must outlive this), under the
-  /// strip x0 <= x <= x1 of its chart (`whole_strip`: every column); `hours`: the instants'.
+  /// The tiles of `tiles` (which must outlive this) under the strip x0 <= x <= x1 of its chart
+  /// (`whole_strip`: every column), no instant counted yet; `hours`: the instants'.
   void begin(const FaceTiles& tiles, bool whole_strip, double x0, double x1, const std::vector<double>& hours);
   bool empty() const { return most_.empty(); }
 
   /// Instant i (of any weight; those of none are never counted) leaves (or, `add`, enters) the
   /// counts. This and the other changes do nothing before begin.
   void count(std::size_t i, bool add);
-  /// Every instant from the last call's `end` (0 at first) up to `end` leaves the counts: the
-  /// accounting of instants walked in time order. After recount (instants walked in another
-  /// order, each leaving by count), it does nothing.
-  void walked_before(std::size_t end);
-  /// The counts made of `instants` alone (each once); walked_before does nothing from then on.
+  /// The counts made of `instants` alone (each once).
   void recount(const std::vector<std::size_t>& instants);
   /// The number of tiles under the strip that instant i lights whole.
   std::size_t whole_tiles(std::size_t i) const;
@@ -109,7 +105,6 @@ class StripTileCounts {
   const FaceTiles* tiles_ = nullptr;
   const std::vector<double>* hours_ = nullptr;
   std::size_t c0_ = 0, c1_ = 0;       ///< the strip's tile columns
-  std::size_t walked_ = 0;            ///< walked_before's: every instant before it has left
   std::vector<std::uint32_t> most_, least_;  ///< per tile, column-major from c0_
   double most_weight_ = 0, least_weight_ = 0;
 };
