@@ -16,6 +16,7 @@
 #include "sunmap/face_overlay.hpp"
 
 #include "sunmap/lit_tiles.hpp"
+#include "sunmap/pending_boundaries.hpp"
 
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
@@ -169,6 +170,7 @@ class StripOverlay {
     unfed_ = 0;
     while (!pending_.empty()) round();
     if (rounds_ == 0 || sgn(base_pending_) != 0) round();  // whole-face hours still to add
+    bounds_ = {};
     // Every value is now a level's smallest (nothing remains to come), so the kept edges are the
     // level boundaries: one last sweep of them alone gives the level regions.
     Arrangement arr;
@@ -208,7 +210,9 @@ class StripOverlay {
       counts_.count(i, false);
       for (XCurve& c : more) curves.push_back(std::move(c));
       pending_.pop_front();
+      ++walked_;
     }
+    if (!bounds_.empty()) bounds_.walked(walked_);
     Arrangement arr;
     CGAL::insert(arr, curves.begin(), curves.end());  // one sweep of a fresh arrangement
     curves = {};
@@ -257,7 +261,9 @@ class StripOverlay {
   /// the chart are 0. With tiles, a value also is decided at the top level when what surely comes
   /// (the whole-face hours not yet walked, and the least that the instants lighting a tile whole
   /// bring to one tile under the face) takes it there: it gets the top level's smallest value,
-  /// which stays at the top level under any addition, as the face's hours do.
+  /// which stays at the top level under any addition, as the face's hours do. Where the tiles
+  /// decide neither, the boundaries still to come that may enter the cell itself are looked at
+  /// (settled_level).
   void settle(const Arrangement& arr, const mpq_class& remaining) {
     mpq_class most, least;
     const std::size_t top = r_.levels.size();
@@ -270,11 +276,16 @@ class StripOverlay {
       std::size_t now = level_of(hours_at_[v]);
       if (now != level_of(hours_at_[v] + remaining)) {
         if (counts_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
-        tiles_bound(f, most, least);
-        if (level_of(hours_at_[v] + least) == top)
+        const Box box = tiles_bound(f, most, least);
+        if (level_of(hours_at_[v] + least) == top) {
           now = top;  // surely reaches the top level
-        else if (most >= remaining || now != level_of(hours_at_[v] + most))
-          continue;  // undecided
+        } else if (most >= remaining || now != level_of(hours_at_[v] + most)) {
+          // Undecided by the tiles: by the boundaries that may enter the cell itself?
+          if (bounds_.empty()) continue;
+          now = settled_level(counts_, bounds_, box.xmin, box.xmax, box.ymin, box.ymax, hours_at_[v],
+                              whole_total_ - whole_walked_, r_.levels, now);
+          if (now == SIZE_MAX) continue;  // undecided
+        }
       }
       hours_at_[v] = now == 0 ? mpq_class(0) : r_.levels[now - 1];
     }
@@ -307,13 +318,21 @@ class StripOverlay {
     std::deque<std::pair<std::size_t, std::vector<XCurve>>> sorted;
     for (const auto& [k, p] : key) sorted.push_back(std::move(pending_[p]));
     pending_.swap(sorted);
+    std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
+    for (const auto& [i, curves] : pending_) order.emplace_back(i, &curves);
+    bounds_.build(*r_.tiles, counts_.first_column(), counts_.last_column(), strip_.whole, strip_.x0, strip_.x1, order,
+                  *r_.hours);
+    walked_ = 0;
   }
 
   /// Bounds on what the instants not yet walked add to face `f`: at most `most` (the whole-face
   /// hours not yet walked and the largest count of those that may light a tile meeting f's
   /// bounding box, times the largest weight), at least `least` (the same whole-face hours and the
   /// smallest count of those lighting such a tile whole, times the smallest positive weight).
-  void tiles_bound(Arrangement::Face_const_handle f, mpq_class& most, mpq_class& least) const {
+  struct Box {
+    double xmin, xmax, ymin, ymax;
+  };
+  Box tiles_bound(Arrangement::Face_const_handle f, mpq_class& most, mpq_class& least) const {
     double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
     auto h = f->outer_ccb();
     const auto first = h;
@@ -327,6 +346,7 @@ class StripOverlay {
     least = most;
     if (range.most != 0) most += mpq_class(counts_.most_weight()) * range.most;
     if (range.least != 0) least += mpq_class(counts_.least_weight()) * range.least;
+    return {xmin, xmax, ymin, ymax};
   }
 
   /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
@@ -580,6 +600,8 @@ class StripOverlay {
   // With tiles (OverlayRequest::tiles): the counts of the tiles under the strip, the instants fed
   // so far, and the whole-face hours in all and walked so far.
   StripTileCounts counts_;
+  PendingBoundaries bounds_;  ///< with tiles: the boundaries of the instants not yet walked, by tile
+  std::size_t walked_ = 0;    ///< instants walked since they were ordered
   std::size_t fed_end_ = 0;
   mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write

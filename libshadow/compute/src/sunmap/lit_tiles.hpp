@@ -94,6 +94,13 @@ class StripTileCounts {
     std::uint32_t most = 0, least = 0;
   };
   Range under(double xmin, double xmax, double ymin, double ymax) const;
+  /// The counts of tile (c, r), a tile under the strip.
+  Range at(std::size_t c, std::size_t r) const {
+    const std::size_t k = (c - c0_) * tiles_->grid.n + r;
+    return {most_[k], least_[k]};
+  }
+  std::size_t first_column() const { return c0_; }  ///< the strip's tile columns, first and last
+  std::size_t last_column() const { return c1_; }
   double most_weight() const { return most_weight_; }    ///< the largest instant's hours
   double least_weight() const { return least_weight_; }  ///< the smallest positive one
 
