@@ -142,7 +142,15 @@ class StripOverlay {
 
   /// The outline's curves `which` (and the strip's frame): the first round's kept edges.
   void begin(const std::vector<Curve>& outline, const std::vector<std::size_t>& which) {
-    for (const Curve& c : gather(outline, which, true)) kept_.emplace_back(c, Traits::Data_container(c.data()));
+    // The outline's edges carry the sides' states: the chart (open, 0 hours so far) on one side,
+    // outside on the other.
+    states_ = {{Side{Side::kOpen, 0}, Side{Side::kOutside, 0}}, {Side{Side::kOutside, 0}, Side{Side::kOpen, 0}}};
+    for (const Curve& c : gather(outline, which, true)) {
+      Traits::Data_container data(c.data());
+      const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
+      if (i == n_) data.insert(state_tag(c.data() > 0 ? 0 : 1));
+      (i == n_ + 1 ? frame_ : kept_).emplace_back(c, data);
+    }
     least_ = std::max<std::size_t>(r_.round_edges, 1);
     want_ = static_cast<double>(least_);
     begin_tiles();
@@ -171,11 +179,15 @@ class StripOverlay {
     while (!pending_.empty()) round();
     if (rounds_ == 0 || sgn(base_pending_) != 0) round();  // whole-face hours still to add
     bounds_ = {};
-    // Every value is now a level's smallest (nothing remains to come), so the kept edges are the
-    // level boundaries: one last sweep of them alone gives the level regions.
+    // Every cell is now settled (nothing remains to come), so the edges frozen round by round are
+    // the level boundaries: one last sweep of them alone (and the frame) gives the level regions.
+    if (!kept_.empty()) throw std::logic_error("LevelRounds: a cell is still open after the last round");
     Arrangement arr;
-    CGAL::insert(arr, kept_.begin(), kept_.end());
+    frozen_.insert(frozen_.end(), frame_.begin(), frame_.end());
+    CGAL::insert(arr, frozen_.begin(), frozen_.end());
     kept_ = {};
+    frozen_ = {};
+    jumps_.swap(frozen_jumps_);
     outline_add_ = 0;
     walk(arr);
     StripMap out;
@@ -194,6 +206,7 @@ class StripOverlay {
     const std::size_t kept_in = kept_.size();
     std::vector<XCurve> curves = std::move(kept_);
     kept_ = {};
+    curves.insert(curves.end(), frame_.begin(), frame_.end());
     std::size_t added = 0;
     // With tiles (made only when every instant's boundaries are gathered, so fed at once), the
     // instants go sunniest first (order_pending): cells reach the top level sooner, or are
@@ -219,7 +232,7 @@ class StripOverlay {
     outline_add_ = base_pending_;  // the whole-face hours fed since the last walk
     whole_walked_ += base_pending_;
     base_pending_ = 0;
-    walk(arr);
+    walk_round(arr);
     outline_add_ = 0;
     settle(arr, unfed_ + pending_hours_);
     kept_ = kept_curves(arr);
@@ -228,6 +241,8 @@ class StripOverlay {
     // (the kept edges and their jumps), not the walk's values of every face of this arrangement.
     hours_at_ = {};
     inside_ = {};
+    fresh_ = {};
+    open_ = {};
     // The new segments of a round cross one another (shadows of one caster at neighbouring
     // instants), so the arrangement grows faster than they do, up to about the square of their
     // number. Each round aims its arrangement at about twice the edges kept (at least twice
@@ -267,12 +282,10 @@ class StripOverlay {
   void settle(const Arrangement& arr, const mpq_class& remaining) {
     mpq_class most, least;
     const std::size_t top = r_.levels.size();
+    open_ = fresh_;
     for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) {
       const auto v = static_cast<std::size_t>(f->data());
-      if (inside_[v] <= 0) {
-        hours_at_[v] = 0;
-        continue;
-      }
+      if (!fresh_[v]) continue;  // outside, or settled in an earlier round
       std::size_t now = level_of(hours_at_[v]);
       if (now != level_of(hours_at_[v] + remaining)) {
         if (counts_.empty() || f->is_unbounded()) continue;  // undecided: kept exactly
@@ -288,6 +301,7 @@ class StripOverlay {
         }
       }
       hours_at_[v] = now == 0 ? mpq_class(0) : r_.levels[now - 1];
+      open_[v] = 0;
     }
   }
 
@@ -349,36 +363,152 @@ class StripOverlay {
     return {xmin, xmax, ymin, ymax};
   }
 
-  /// The edges of `arr` between faces of different values or sides of the chart, and the frame,
-  /// as curves for the next round: the outline's and frame's tags as they are, and a jump tag
-  /// (n + 3 + k for jumps_[k]) for a change of value across the edge.
+  /// A side of a kept edge: outside the chart, settled at a level (its smallest value), or open
+  /// with its hours so far.
+  struct Side {
+    enum Kind : int { kOutside, kSettled, kOpen } kind;
+    mpq_class value;
+    bool operator==(const Side& o) const { return kind == o.kind && (kind == kOutside || value == o.value); }
+  };
+  long state_tag(std::size_t k) const { return static_cast<long>(n_ + 3 + k); }
+
+  /// The state of walked face v now (after settle).
+  Side side_of(std::size_t v) const {
+    if (inside_[v] <= 0) return Side{Side::kOutside, 0};
+    return Side{open_[v] ? Side::kOpen : Side::kSettled, hours_at_[v]};
+  }
+
+  /// The edges of `arr` for the next round, and those frozen for the last sweep. An edge with an
+  /// open cell on a side is kept, carrying both sides' states (a tag n + 3 + k for states_[k])
+  /// and the outline's tag. An edge between two cells settled now (one of them at least in this
+  /// round) is a level boundary when their levels (or sides of the chart) differ: it is frozen,
+  /// carrying the jump of value across it (a tag n + 3 + k for frozen_jumps_[k]) and the
+  /// outline's tag, and never swept again before the last sweep; otherwise it goes. Edges between
+  /// cells settled in earlier rounds (the new instants' boundaries crossing them) go. A face
+  /// settled earlier is known by the edge's own state for it: such faces merge across the edges
+  /// frozen before, so their walked states say nothing. The frame's pieces go: the next round
+  /// sweeps the frame's four sides again (its pieces, split wherever an edge ever met it, were
+  /// most of the edges kept).
   std::vector<XCurve> kept_curves(const Arrangement& arr) {
     std::vector<XCurve> out;
-    std::vector<mpq_class> jumps;
-    std::map<mpq_class, long> index;
+    std::vector<std::pair<Side, Side>> states;
     for (auto e = arr.edges_begin(); e != arr.edges_end(); ++e) {
       Arrangement::Halfedge_const_handle h = e;
       if (h->direction() != CGAL::ARR_LEFT_TO_RIGHT) h = h->twin();
-      const long a = h->face()->data(), b = h->twin()->face()->data();  // left, right
-      const bool jump = hours_at_[a] != hours_at_[b];
-      if (inside_[a] == inside_[b] && !jump) continue;
+      const auto a = static_cast<std::size_t>(h->face()->data());  // left
+      const auto b = static_cast<std::size_t>(h->twin()->face()->data());  // right
       Traits::Data_container data;
+      const std::pair<Side, Side>* was = nullptr;
+      bool frame = false;
       for (long tag : h->curve().data()) {
         const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
-        if (i == n_ || i == n_ + 1) data.insert(tag);  // the outline, the frame
+        if (i == n_) data.insert(tag);  // the outline
+        frame = frame || i == n_ + 1;
+        if (i > n_ + 1) was = &states_[i - n_ - 2];
       }
-      if (jump) {
+      if (frame) continue;  // each round sweeps the whole frame again, not its pieces
+      const Side left = fresh_[a] || was == nullptr ? side_of(a) : was->first;
+      const Side right = fresh_[b] || was == nullptr ? side_of(b) : was->second;
+      if (left.kind == Side::kOpen || right.kind == Side::kOpen) {
+        if (left == right) continue;  // inside one open cell
+        data.insert(state_tag(states.size()));
+        states.emplace_back(left, right);
+        out.emplace_back(h->curve(), data);
+      } else if ((fresh_[a] || fresh_[b]) && !(left == right)) {
         // Like an instant's region of weight left - right on the left: crossing to the right
         // adds right - left.
-        mpq_class d = hours_at_[a] - hours_at_[b];
-        auto [it, added] = index.emplace(d, static_cast<long>(jumps.size()));
-        if (added) jumps.push_back(std::move(d));
-        data.insert(static_cast<long>(n_ + 3) + it->second);
+        const mpq_class d = left.value - right.value;
+        if (sgn(d) != 0) {
+          auto [it, added] = frozen_index_.emplace(d, static_cast<long>(frozen_jumps_.size()));
+          if (added) frozen_jumps_.push_back(d);
+          data.insert(static_cast<long>(n_ + 3) + it->second);
+        }
+        frozen_.emplace_back(h->curve(), data);  // the arrangement's curve: its supporting line kept
       }
-      out.emplace_back(h->curve(), data);  // the arrangement's curve: its supporting line kept
     }
-    jumps_.swap(jumps);
+    states_.swap(states);
     return out;
+  }
+
+  /// Walks a round's arrangement: every face gets the hours of the round's instants that light
+  /// it (crossing an instant's boundary adds or takes its weight; from the face along the frame's
+  /// bottom, outside the chart, or the unbounded face) and, from the kept edges' states, the
+  /// state of the cell it lies in (crossing a kept edge gives the state of its far side; other
+  /// edges keep it). A face of an open cell gets that cell's hours plus the round's, and the
+  /// whole-face hours of the round (outline_add_); fresh_ marks them.
+  void walk_round(Arrangement& arr) {
+    for (auto f = arr.faces_begin(); f != arr.faces_end(); ++f) f->set_data(-1);
+    const Arrangement::Face_handle unbounded = arr.unbounded_face();
+    unbounded->set_data(0);
+    std::vector<mpq_class> added(1, mpq_class(0));
+    std::vector<Side> side(1, Side{Side::kOutside, 0});
+    std::deque<Arrangement::Face_handle> queue;
+    const auto seed = [&](Arrangement::Face_handle f) {
+      f->set_data(static_cast<long>(added.size()));
+      added.emplace_back(0);
+      side.push_back(Side{Side::kOutside, 0});
+      queue.push_back(f);
+    };
+    std::size_t beyond = 0;  // the unbounded face lies beyond a strip's frame
+    if (strip_.whole) {
+      queue.push_back(unbounded);
+    } else {
+      beyond = 1;
+      const FT ylo(strip_.ylo);
+      for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end() && queue.empty(); ++c) {
+        auto h = *c;
+        do {
+          if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) {
+            seed(h->twin()->face());  // below the chart: outside, nothing lit
+            break;
+          }
+        } while (++h != *c);
+      }
+    }
+    auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
+      auto h = first;
+      do {
+        const Arrangement::Face_handle to = h->twin()->face();
+        if (to->data() < 0) {
+          const auto v = static_cast<std::size_t>(from->data());
+          mpq_class value = added[v];
+          Side state = side[v];
+          const bool left_to_right = h->direction() == CGAL::ARR_LEFT_TO_RIGHT;
+          for (long tag : h->curve().data()) {
+            const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
+            if (i >= n_ && i <= n_ + 1) continue;  // the outline (its states say it), a frame
+            if (i > n_ + 1) {
+              const auto& [left, right] = states_[i - n_ - 2];
+              state = left_to_right ? right : left;  // `to` lies right of a left-to-right h
+            } else {
+              // `from` lies on h's left; the region lies on the left of the left-to-right run
+              // when tag > 0.
+              const bool from_in_region = left_to_right == (tag > 0);
+              value += from_in_region ? mpq_class(-(*r_.hours)[i]) : mpq_class((*r_.hours)[i]);
+            }
+          }
+          to->set_data(static_cast<long>(added.size()));
+          added.push_back(std::move(value));
+          side.push_back(std::move(state));
+          queue.push_back(to);
+        }
+      } while (++h != first);
+    };
+    walk_faces(queue, visit_ccb);
+    hours_at_.assign(side.size(), mpq_class(0));
+    inside_.assign(side.size(), 0);
+    fresh_.assign(side.size(), 0);
+    for (std::size_t v = 0; v < side.size(); ++v) {
+      if (v < beyond) inside_[v] = -1;  // beyond the frame: never merged across it
+      if (side[v].kind == Side::kOutside) continue;
+      inside_[v] = 1;
+      if (side[v].kind == Side::kSettled) {
+        hours_at_[v] = side[v].value;
+      } else {
+        hours_at_[v] = side[v].value + added[v] + outline_add_;
+        fresh_[v] = 1;
+      }
+    }
   }
 
   /// The curves `which` of `all`, clipped to the strip, with its frame when `frame`.
@@ -586,12 +716,18 @@ class StripOverlay {
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
   std::vector<std::size_t> level_;   ///< per walked face: levels reached
-  std::vector<mpq_class> jumps_;     ///< run_levels: the kept edges' jumps of value (tags n + 3 + k)
+  std::vector<mpq_class> jumps_;     ///< the last sweep: the frozen edges' jumps of value (tags n + 3 + k)
   mpq_class outline_add_{0};         ///< the hours crossing the chart's outline inward adds
   // The threshold map alone (LevelRounds): the edges kept from the last round, the instants fed
   // and not yet swept (in time order: instant, its curves in the strip), their segments and
   // hours, the whole-face hours fed since the last walk, the hours of the instants still to be fed.
   std::vector<XCurve> kept_;
+  std::vector<XCurve> frame_;                  ///< a strip's frame, whole
+  std::vector<std::pair<Side, Side>> states_;  ///< the kept edges' sides (tags n + 3 + k)
+  std::vector<char> fresh_, open_;             ///< per walked face: of an open cell; still open after settle
+  std::vector<XCurve> frozen_;                 ///< the level boundaries found so far
+  std::vector<mpq_class> frozen_jumps_;        ///< their jumps of value (tags n + 3 + k)
+  std::map<mpq_class, long> frozen_index_;
   std::deque<std::pair<std::size_t, std::vector<XCurve>>> pending_;
   std::size_t pending_segments_ = 0;
   mpq_class pending_hours_{0}, base_pending_{0}, unfed_{0};
@@ -606,148 +742,6 @@ class StripOverlay {
   mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
-
-namespace {
-
-/// Interval bounds of a curve's x range.
-std::pair<double, double> x_range(const Curve& c) {
-  const auto a = CGAL::to_interval(c.source().x()), b = CGAL::to_interval(c.target().x());
-  return {std::min(a.first, b.first), std::max(a.second, b.second)};
-}
-
-}  // namespace
-
-void add_boundary(const Polygon2& polygon, long instant, std::vector<Curve>& curves) {
-  const std::size_t n = polygon.size();
-  for (std::size_t a = 0; a < n; ++a) {
-    const Point2& p = polygon[a];
-    const Point2& q = polygon[(a + 1) % n];
-    if (p == q) continue;
-    const long tag = CGAL::compare_xy(p, q) == CGAL::SMALLER ? instant + 1 : -(instant + 1);
-    curves.emplace_back(Kernel::Segment_2(p, q), tag);
-  }
-}
-
-void add_segment(const Point2& from, const Point2& to, bool left, long instant, std::vector<Curve>& curves) {
-  curves.emplace_back(Kernel::Segment_2(from, to), left ? instant + 1 : -(instant + 1));
-}
-
-double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale) {
-  // sqrt(chart_area^2 x scale), the rational rounded to 256 bits before the root as
-  // sqrt_to_double does, so the result is area_3d's bit for bit.
-  if (sgn(chart_area) == 0) return 0.0;
-  const mpq_class squared = chart_area * chart_area * scale;
-  return exact::sqrt_mpq_to_double(squared.get_mpq_t());
-}
-
-double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, const mpq_class& scale) {
-  std::size_t count = 0;
-  long top = LONG_MIN;  // the largest term's binary exponent
-  for (const std::vector<mpq_class>* part : parts)
-    for (const mpq_class& t : *part) {
-      if (sgn(t) == 0) continue;
-      ++count;
-      long e = 0;
-      mpf_class approx(t, 64);
-      mpf_get_d_2exp(&e, approx.get_mpf_t());
-      top = std::max(top, e);
-    }
-  if (count == 0) return 0.0;
-  // Fixed point with `shift` bits: each term truncated loses < 2^-shift, so the total lies in
-  // [S, S + count] x 2^-shift, a bracket about 2^-60 of the total's last bit wide (the terms are
-  // non-negative, so the total is at least the largest term).
-  long bits = 0;
-  while ((std::size_t{1} << bits) < count) ++bits;
-  const long shift = 53 + 60 + bits - top;
-  mpz_class sum(0), term;
-  for (const std::vector<mpq_class>* part : parts)
-    for (const mpq_class& t : *part) {
-      if (shift >= 0) {
-        mpz_mul_2exp(term.get_mpz_t(), t.get_num_mpz_t(), static_cast<mp_bitcnt_t>(shift));
-        mpz_fdiv_q(term.get_mpz_t(), term.get_mpz_t(), t.get_den_mpz_t());
-      } else {
-        mpz_mul_2exp(term.get_mpz_t(), t.get_den_mpz_t(), static_cast<mp_bitcnt_t>(-shift));
-        mpz_fdiv_q(term.get_mpz_t(), t.get_num_mpz_t(), term.get_mpz_t());
-      }
-      sum += term;
-    }
-  mpz_class unit(1);
-  mpq_class lo, hi;
-  if (shift >= 0) {
-    mpz_mul_2exp(unit.get_mpz_t(), unit.get_mpz_t(), static_cast<mp_bitcnt_t>(shift));
-    lo = mpq_class(sum, unit);
-    hi = mpq_class(sum + count, unit);
-  } else {
-    mpz_mul_2exp(unit.get_mpz_t(), unit.get_mpz_t(), static_cast<mp_bitcnt_t>(-shift));
-    lo = mpq_class(sum * unit);
-    hi = mpq_class((sum + count) * unit);
-  }
-  lo.canonicalize();
-  hi.canonicalize();
-  const double a = area_3d_mpq(lo, scale), b = area_3d_mpq(hi, scale);
-  if (a == b) return a;
-  // Too close to a tie to tell: the exact sum, pairwise (balanced) to keep the operands small.
-  std::vector<mpq_class> terms;
-  for (const std::vector<mpq_class>* part : parts) terms.insert(terms.end(), part->begin(), part->end());
-  while (terms.size() > 1) {
-    std::vector<mpq_class> next;
-    for (std::size_t k = 0; k + 1 < terms.size(); k += 2) next.push_back(terms[k] + terms[k + 1]);
-    if (terms.size() % 2 == 1) next.push_back(terms.back());
-    terms.swap(next);
-  }
-  return area_3d_mpq(terms.front(), scale);
-}
-
-std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t expected, const Polygon2& chart,
-                                 std::size_t strip_edges) {
-  const std::size_t count = curves.size();
-  if (strip_edges == 0 || expected <= strip_edges || count == 0) return {Strip{}};
-  double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
-  for (auto v = chart.vertices_begin(); v != chart.vertices_end(); ++v) {
-    const auto x = CGAL::to_interval(v->x()), y = CGAL::to_interval(v->y());
-    xmin = std::min(xmin, x.first), xmax = std::max(xmax, x.second);
-    ymin = std::min(ymin, y.first), ymax = std::max(ymax, y.second);
-  }
-  // Sides at quantiles of the segments' middles, strictly inside the chart's x range; the
-  // outer sides and the bottom and top a unit beyond it (every lit region lies in the chart).
-  std::vector<double> mids(count);
-  for (std::size_t c = 0; c < count; ++c) {
-    const auto [lo, hi] = x_range(curves[c]);
-    mids[c] = 0.5 * (lo + hi);
-  }
-  const std::size_t k = std::min<std::size_t>((expected + strip_edges - 1) / strip_edges, 4096);
-  std::vector<double> sides{std::floor(xmin) - 1.0};
-  for (std::size_t s = 1; s < k; ++s) {
-    auto nth = mids.begin() + static_cast<std::ptrdiff_t>(s * count / k);
-    std::nth_element(mids.begin(), nth, mids.end());
-    const double x = *nth;
-    if (x > sides.back() && x > xmin && x < xmax) sides.push_back(x);
-  }
-  sides.push_back(std::ceil(xmax) + 1.0);
-  std::vector<Strip> strips;
-  for (std::size_t s = 0; s + 1 < sides.size(); ++s)
-    strips.push_back(Strip{false, sides[s], sides[s + 1], std::floor(ymin) - 1.0, std::ceil(ymax) + 1.0});
-  return strips;
-}
-
-std::vector<std::vector<std::size_t>> bucket_curves(const std::vector<Curve>& curves, const std::vector<Strip>& strips) {
-  std::vector<std::vector<std::size_t>> out(strips.size());
-  if (strips.size() == 1 && strips[0].whole) {
-    out[0].resize(curves.size());
-    for (std::size_t c = 0; c < curves.size(); ++c) out[0][c] = c;
-    return out;
-  }
-  std::vector<double> lefts(strips.size());
-  for (std::size_t s = 0; s < strips.size(); ++s) lefts[s] = strips[s].x0;
-  for (std::size_t c = 0; c < curves.size(); ++c) {
-    const auto [lo, hi] = x_range(curves[c]);
-    // The strips whose [x0, x1] meets [lo, hi]: from the last whose x0 <= lo on.
-    auto first = std::upper_bound(lefts.begin(), lefts.end(), lo);
-    std::size_t s = first == lefts.begin() ? 0 : static_cast<std::size_t>(first - lefts.begin()) - 1;
-    for (; s < strips.size() && strips[s].x0 <= hi; ++s) out[s].push_back(c);
-  }
-  return out;
-}
 
 StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, const std::vector<std::size_t>& which,
                        const Strip& strip) {
