@@ -38,19 +38,19 @@ struct Region {
   std::vector<Curve> curves;
 };
 
-Region random_region(std::mt19937& rng, long tag) {
+Region random_region(std::mt19937& rng, long tag, double ox = 0, double oy = 0) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto jitter = [&](double scale) { return scale * u(rng); };
   Region out;
-  const double ax = jitter(5), ay = jitter(5), aw = 3 + jitter(3), ah = 3 + jitter(3);
+  const double ax = ox + jitter(5), ay = oy + jitter(5), aw = 3 + jitter(3), ah = 3 + jitter(3);
   exact::PolygonWithHoles2 ring(rectangle(ax, ay, ax + aw, ay + ah));
   Polygon2 hole = rectangle(ax + 0.3 * aw, ay + 0.3 * ah, ax + 0.6 * aw, ay + 0.7 * ah);
   hole.reverse_orientation();
   ring.add_hole(hole);
   Polygon2 triangle;
-  triangle.push_back(Point2(12 + jitter(2), 1 + jitter(6)));
-  triangle.push_back(Point2(19.5 - jitter(1), 3 + jitter(6)));
-  triangle.push_back(Point2(13 + jitter(3), 19 - jitter(6)));
+  triangle.push_back(Point2(ox + 12 + jitter(2), oy + 1 + jitter(6)));
+  triangle.push_back(Point2(ox + 19.5 - jitter(1), oy + 3 + jitter(6)));
+  triangle.push_back(Point2(ox + 13 + jitter(3), oy + 19 - jitter(6)));
   add_boundary(ring.outer_boundary(), tag, out.curves);
   add_boundary(*ring.holes_begin(), tag, out.curves);
   add_boundary(triangle, tag, out.curves);
@@ -153,6 +153,142 @@ TEST(PendingBoundaries, ClaimsHoldExactly) {
   EXPECT_GT(asked, 1000u);
   EXPECT_GT(decidable, asked / 2);
   EXPECT_GT(claims, decidable / 2);  // 3,647 of 4,641 when written
+}
+
+// Several instants in one strip's boundaries, walked one by one, on a grid far from the origin
+// (the margin follows the coordinates): for every box, the instants found dark (lit whole) are
+// never more than those exactly dark (lit whole) on its part under the tile among the instants
+// not yet walked that the tile's masks leave open, and a search asked for one stops at one.
+TEST(PendingBoundaries, CountsOfSeveralInstantsNeverExceedTheExactOnes) {
+  std::mt19937 rng(20261203);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::size_t found_total = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    const double ox = trial % 2 == 0 ? 0.0 : 41000.5, oy = trial % 2 == 0 ? 0.0 : -27000.25;
+    FaceTiles tiles;
+    tiles.grid.n = 10 + static_cast<std::size_t>(trial) * 3;
+    tiles.grid.x0 = ox, tiles.grid.y0 = oy;
+    tiles.grid.dx = tiles.grid.dy = 20.0 / static_cast<double>(tiles.grid.n);
+    const std::size_t instants = 4, words = tiles.grid.words();
+    std::vector<Region> regions;
+    std::vector<std::vector<XCurve>> curves(instants);
+    std::vector<double> hours(instants, 1.0);
+    tiles.masks.resize(instants * words);
+    tiles.whole_masks.resize(instants * words);
+    std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
+    for (std::size_t i = 0; i < instants; ++i) {
+      regions.push_back(random_region(rng, static_cast<long>(i), ox, oy));
+      tiles.instants.push_back(i);
+      const auto& c = regions[i].curves;
+      mark_lit_tiles(tiles.grid, c.data(), c.data() + c.size(), tiles.masks.data() + i * words,
+                     tiles.whole_masks.data() + i * words);
+      for (const Curve& k : c) curves[i].emplace_back(k, Traits::Data_container(k.data()));
+      order.emplace_back(i, &curves[i]);
+    }
+    PendingBoundaries pending;
+    pending.build(tiles, 0, tiles.grid.n - 1, true, ox, ox + 20, order, hours);
+    for (std::size_t walked = 0; walked < instants; ++walked) {
+      pending.walked(walked);
+      for (int b = 0; b < 150; ++b) {
+        const double w = 0.02 + 0.4 * u(rng), h = 0.02 + 0.4 * u(rng);
+        const double bx = ox + (20 - w) * u(rng), by = oy + (20 - h) * u(rng);
+        const std::size_t c = tiles.grid.column(bx), r = tiles.grid.row(by), t = r * tiles.grid.n + c;
+        const double tx0 = std::max(bx, ox + static_cast<double>(c) * tiles.grid.dx);
+        const double tx1 = std::min(bx + w, ox + static_cast<double>(c + 1) * tiles.grid.dx);
+        const double ty0 = std::max(by, oy + static_cast<double>(r) * tiles.grid.dy);
+        const double ty1 = std::min(by + h, oy + static_cast<double>(r + 1) * tiles.grid.dy);
+        const Polygon2 part = rectangle(tx0, ty0, tx1, ty1);
+        std::uint32_t open = 0, dark = 0, lit = 0;
+        for (std::size_t i = walked; i < instants; ++i) {
+          if (!tiles.lit(i, t) || tiles.lit_whole(i, t)) continue;
+          ++open;
+          exact::PolygonSet2 outside(part), inside(part);
+          outside.difference(regions[i].set);
+          inside.intersection(regions[i].set);
+          dark += inside.is_empty() ? 1 : 0;
+          lit += outside.is_empty() ? 1 : 0;
+        }
+        EXPECT_EQ(pending.undecided(c, r), open) << trial;
+        const PendingBoundaries::Refined all = pending.refine(c, r, bx, bx + w, by, by + h, UINT32_MAX, UINT32_MAX);
+        EXPECT_LE(all.dark, dark) << "trial " << trial << " walked " << walked << " box " << bx << ", " << by;
+        EXPECT_LE(all.lit, lit) << "trial " << trial << " walked " << walked << " box " << bx << ", " << by;
+        found_total += all.dark + all.lit;
+        const PendingBoundaries::Refined one = pending.refine(c, r, bx, bx + w, by, by + h, 1, 1);
+        EXPECT_LE(one.dark + one.lit, 1u);
+        if (all.dark + all.lit > 0) EXPECT_EQ(one.dark + one.lit, 1u);
+      }
+    }
+  }
+  EXPECT_GT(found_total, 200u);
+}
+
+// settled_level, the tiles' counts and the pending boundaries together: a cell it settles ends
+// at that level at every point of its box, checked exactly on a lattice of points in the box
+// (the hours a point gets: its value, and the weight of every instant not yet walked whose
+// region holds it).
+TEST(PendingBoundaries, SettledLevelsHoldAtEveryPointOfTheBox) {
+  std::mt19937 rng(20261204);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::vector<mpq_class> levels{mpq_class(3, 2), mpq_class(5, 2)};
+  std::size_t settled = 0, asked = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    FaceTiles tiles;
+    tiles.grid.n = 12 + static_cast<std::size_t>(trial) * 4;
+    tiles.grid.dx = tiles.grid.dy = 20.0 / static_cast<double>(tiles.grid.n);
+    const std::size_t instants = 4, words = tiles.grid.words();
+    std::vector<Region> regions;
+    std::vector<std::vector<XCurve>> curves(instants);
+    std::vector<double> hours{1.0, 0.5, 1.0, 0.75};
+    tiles.masks.resize(instants * words);
+    tiles.whole_masks.resize(instants * words);
+    std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
+    for (std::size_t i = 0; i < instants; ++i) {
+      regions.push_back(random_region(rng, static_cast<long>(i)));
+      tiles.instants.push_back(i);
+      const auto& c = regions[i].curves;
+      mark_lit_tiles(tiles.grid, c.data(), c.data() + c.size(), tiles.masks.data() + i * words,
+                     tiles.whole_masks.data() + i * words);
+      for (const Curve& k : c) curves[i].emplace_back(k, Traits::Data_container(k.data()));
+      order.emplace_back(i, &curves[i]);
+    }
+    StripTileCounts counts;
+    counts.begin(tiles, true, 0, 20, hours);
+    counts.recount({0, 1, 2, 3});
+    PendingBoundaries pending;
+    pending.build(tiles, 0, tiles.grid.n - 1, true, 0, 20, order, hours);
+    for (std::size_t walked = 0; walked < instants; ++walked) {
+      if (walked > 0) counts.count(walked - 1, false);
+      pending.walked(walked);
+      for (int b = 0; b < 120; ++b) {
+        const double w = 0.05 + 1.5 * u(rng) * tiles.grid.dx, h = 0.05 + 1.5 * u(rng) * tiles.grid.dy;
+        const double bx = (20 - w) * u(rng), by = (20 - h) * u(rng);
+        const mpq_class value(static_cast<int>(u(rng) * 12), 4);  // 0 to 2.75 hours
+        const std::size_t now = value >= levels[1] ? 2 : value >= levels[0] ? 1 : 0;
+        if (now == levels.size()) continue;  // at the top: nothing to settle
+        ++asked;
+        const std::size_t got = settled_level(counts, pending, bx, bx + w, by, by + h, value, 0, levels, now);
+        if (got == SIZE_MAX) continue;
+        ++settled;
+        for (int i = 0; i <= 4; ++i)
+          for (int j = 0; j <= 4; ++j) {
+            const Point2 p(bx + w * i / 4.0, by + h * j / 4.0);
+            mpq_class hours_at = value;
+            bool on_a_boundary = false;  // (no area: a boundary point's level is no claim)
+            for (std::size_t k = walked; k < instants; ++k) {
+              const CGAL::Oriented_side side = regions[k].set.oriented_side(p);
+              on_a_boundary = on_a_boundary || side == CGAL::ON_ORIENTED_BOUNDARY;
+              if (side == CGAL::ON_POSITIVE_SIDE) hours_at += mpq_class(hours[k]);
+            }
+            if (on_a_boundary) continue;
+            const std::size_t level = hours_at >= levels[1] ? 2 : hours_at >= levels[0] ? 1 : 0;
+            EXPECT_EQ(level, got) << "trial " << trial << " walked " << walked << " box " << bx << ", " << by
+                                  << " value " << value;
+          }
+      }
+    }
+  }
+  EXPECT_GT(asked, 1000u);
+  EXPECT_GT(settled, asked / 4);
 }
 
 }  // namespace

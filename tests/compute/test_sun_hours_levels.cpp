@@ -334,6 +334,37 @@ void expect_same_exact_areas(const SunHoursMap& a, const SunHoursMap& b, const s
 // exact level areas, integral and lit instants, face by face, at 1 and 2 threads, with strips
 // and without, small rounds and large; its cells cover each level with the same area; the full
 // map is the same cell for cell.
+// Streamed over more suns than a face's strips are chosen from (16), rounds run before the last
+// batch, while instants are still to come, and some faces (walls facing east) get no boundary
+// from the later suns: their rounds then end with cells still open, which the last round must
+// settle. East to west, 24 suns; the level areas those of every instant at once, exactly.
+TEST(SunHoursLevels, StreamedRoundsBeforeTheLastBatchSettleEveryCell) {
+  Scene scene = make_city(10, 60, 11);
+  validate_scene(scene);
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < 24; ++k) {
+    const double t = (k + 0.5) / 24.0;
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(4 + 50 * std::sin(3.14159 * t), 75 + 210 * t)),
+                        0.25 * (1 + k % 3)});
+  }
+  const ShadowEngine engine(scene, 2);
+  SunHoursOptions options;
+  options.threads = 2;
+  options.levels = {1, 2.5, 4, 6};
+  options.full = false;
+  const SunHoursMap all = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.stream_levels = true;
+  for (const auto [strip_edges, round_edges] : {std::pair<std::size_t, std::size_t>{0, 8}, {40, 8}, {40, 1000}})
+    for (const std::size_t batch : {std::size_t{1}, std::size_t{3}}) {
+      options.strip_edges = strip_edges;
+      options.level_round_edges = round_edges;
+      options.instant_batch = batch;
+      const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+      expect_same_exact_areas(all, streamed, "strips " + std::to_string(strip_edges) + ", rounds " +
+                                                 std::to_string(round_edges) + ", batch " + std::to_string(batch));
+    }
+}
+
 TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
   Scene scene = make_city(10, 60, 11);
   validate_scene(scene);

@@ -127,11 +127,12 @@ class StripOverlay {
   // boundaries, walks it once for every face's hours, and replaces each hours value whose final
   // level is known (the level now is the level even if every instant still to come lit it, or,
   // with tiles, what may or surely will still come fixes it: settle) by the smallest value of
-  // that level: touching faces of equal values then stay alike to the end, and only the edges
-  // between different values (and the chart's outline and the strip's frame) go on to the next
-  // round, each carrying the jump of value across it. The
-  // arrangement so holds the boundaries between undecided cells and the level boundaries, not
-  // every instant's. No edge is removed from a large arrangement (CGAL walks a face's boundary to
+  // that level: the cell is settled, its level final. Only the edges with an open cell on a side
+  // go on to the next round, each carrying its sides' states; an edge between two cells settled
+  // now is frozen, with the jump of value across it, when their levels differ (a level boundary,
+  // swept again only at the end), else dropped (kept_curves); the frame is swept whole each round.
+  // The arrangement so holds the open cells' boundaries, not the level boundaries found so far
+  // nor every instant's. No edge is removed from a large arrangement (CGAL walks a face's boundary to
   // remove an edge of it: removing many from one large region is slow). X-monotone curves
   // throughout: a kept edge is its arrangement curve, which keeps the supporting line of the
   // segment it was cut from, so that later intersections are computed from the input's lines and
@@ -177,7 +178,10 @@ class StripOverlay {
   StripMap finish() {
     unfed_ = 0;
     while (!pending_.empty()) round();
-    if (rounds_ == 0 || sgn(base_pending_) != 0) round();  // whole-face hours still to add
+    // Whole-face hours still to add, or cells left open by a round swept while instants were
+    // still to come (streamed: the later ones may never have reached this strip): one more round,
+    // with nothing left to come, settles every cell.
+    if (rounds_ == 0 || sgn(base_pending_) != 0 || !kept_.empty()) round();
     bounds_ = {};
     // Every cell is now settled (nothing remains to come), so the edges frozen round by round are
     // the level boundaries: one last sweep of them alone (and the frame) gives the level regions.
@@ -238,7 +242,7 @@ class StripOverlay {
     kept_ = kept_curves(arr);
     ++rounds_;
     // Every strip of every face is held between feeds: keep only what the next round needs
-    // (the kept edges and their jumps), not the walk's values of every face of this arrangement.
+    // (the kept edges and their states), not the walk's values of every face of this arrangement.
     hours_at_ = {};
     inside_ = {};
     fresh_ = {};
@@ -267,13 +271,13 @@ class StripOverlay {
     return level;
   }
 
-  /// Replaces every value that is decided, whatever the hours still to come add, by the smallest
+  /// Settles the faces of open cells (fresh_; the others are outside the chart or settled in an
+  /// earlier round) whose level is decided, marking the rest in open_. Replaces every value that is decided, whatever the hours still to come add, by the smallest
   /// value of its level (0 below the lowest): it keeps its level under any later additions, since
   /// level l's smallest value plus what may come stays below level l + 1 when the value did. What
   /// may come is `remaining` (every instant not yet walked), or, with tiles, for a face the hours
   /// not yet walked of the instants lighting the whole face, plus the most that the instants not
-  /// yet walked may bring to one tile under the face's bounding box (tiles_bound). Faces outside
-  /// the chart are 0. With tiles, a value also is decided at the top level when what surely comes
+  /// yet walked may bring to one tile under the face's bounding box (tiles_bound). With tiles, a value also is decided at the top level when what surely comes
   /// (the whole-face hours not yet walked, and the least that the instants lighting a tile whole
   /// bring to one tile under the face) takes it there: it gets the top level's smallest value,
   /// which stays at the top level under any addition, as the face's hours do. Where the tiles
@@ -404,16 +408,23 @@ class StripOverlay {
         const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
         if (i == n_) data.insert(tag);  // the outline
         frame = frame || i == n_ + 1;
-        if (i > n_ + 1) was = &states_[i - n_ - 2];
+        if (i > n_ + 1) {
+          if (was != nullptr) throw std::logic_error("LevelRounds: two kept edges overlap");
+          was = &states_[i - n_ - 2];
+        }
       }
       if (frame) continue;  // each round sweeps the whole frame again, not its pieces
+      // An open cell's boundary with a region settled (or outside) before this round is always
+      // (a piece of) a kept edge: a face of that region says nothing of its own level.
+      if (was == nullptr && fresh_[a] != fresh_[b])
+        throw std::logic_error("LevelRounds: an open cell meets a settled region along no kept edge");
       const Side left = fresh_[a] || was == nullptr ? side_of(a) : was->first;
       const Side right = fresh_[b] || was == nullptr ? side_of(b) : was->second;
       if (left.kind == Side::kOpen || right.kind == Side::kOpen) {
         if (left == right) continue;  // inside one open cell
         data.insert(state_tag(states.size()));
         states.emplace_back(left, right);
-        out.emplace_back(h->curve(), data);
+        out.push_back(edge_curve(h, data));
       } else if ((fresh_[a] || fresh_[b]) && !(left == right)) {
         // Like an instant's region of weight left - right on the left: crossing to the right
         // adds right - left.
@@ -423,7 +434,7 @@ class StripOverlay {
           if (added) frozen_jumps_.push_back(d);
           data.insert(static_cast<long>(n_ + 3) + it->second);
         }
-        frozen_.emplace_back(h->curve(), data);  // the arrangement's curve: its supporting line kept
+        frozen_.push_back(edge_curve(h, data));
       }
     }
     states_.swap(states);
@@ -509,6 +520,17 @@ class StripOverlay {
         fresh_[v] = 1;
       }
     }
+  }
+
+  /// Left-to-right edge h as a curve carrying `data`: on the supporting line of the segment it was
+  /// cut from (so that later intersections are computed from the input's lines), between the
+  /// edge's own ends. (The arrangement's curve of an edge along collinear boundaries may reach
+  /// beyond the edge: kept as it was, it overlapped its neighbours' in the next sweep.)
+  static XCurve edge_curve(Arrangement::Halfedge_const_handle h, const Traits::Data_container& data) {
+    const XCurve& cv = h->curve();
+    const SegmentTraits::X_monotone_curve_2 piece(cv.line(), h->source()->point(), h->target()->point(), true,
+                                                  cv.is_vertical(), false);
+    return XCurve(piece, data);
   }
 
   /// The curves `which` of `all`, clipped to the strip, with its frame when `frame`.
