@@ -70,6 +70,32 @@ bool clip(const Curve& c, const FT& x0, const FT& x1, XCurve& out) {
   return true;
 }
 
+/// `count` random regions (random_region) as a face's instants in time order: their tiles on an
+/// n x n grid of [ox, ox + 20] x [oy, oy + 20], and their curves, whole.
+struct Instants {
+  Instants(std::mt19937& rng, std::size_t count, std::size_t n, double ox = 0, double oy = 0) : curves(count) {
+    tiles.grid.n = n;
+    tiles.grid.x0 = ox, tiles.grid.y0 = oy;
+    tiles.grid.dx = tiles.grid.dy = 20.0 / static_cast<double>(n);
+    const std::size_t words = tiles.grid.words();
+    tiles.masks.resize(count * words);
+    tiles.whole_masks.resize(count * words);
+    for (std::size_t i = 0; i < count; ++i) {
+      regions.push_back(random_region(rng, static_cast<long>(i), ox, oy));
+      tiles.instants.push_back(i);
+      const auto& c = regions[i].curves;
+      mark_lit_tiles(tiles.grid, c.data(), c.data() + c.size(), tiles.masks.data() + i * words,
+                     tiles.whole_masks.data() + i * words);
+      for (const Curve& k : c) curves[i].emplace_back(k, Traits::Data_container(k.data()));
+      order.emplace_back(i, &curves[i]);
+    }
+  }
+  FaceTiles tiles;
+  std::vector<Region> regions;
+  std::vector<std::vector<XCurve>> curves;
+  std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
+};
+
 TEST(PendingBoundaries, ClaimsHoldExactly) {
   std::mt19937 rng(20261202);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -165,26 +191,12 @@ TEST(PendingBoundaries, CountsOfSeveralInstantsNeverExceedTheExactOnes) {
   std::size_t found_total = 0;
   for (int trial = 0; trial < 8; ++trial) {
     const double ox = trial % 2 == 0 ? 0.0 : 41000.5, oy = trial % 2 == 0 ? 0.0 : -27000.25;
-    FaceTiles tiles;
-    tiles.grid.n = 10 + static_cast<std::size_t>(trial) * 3;
-    tiles.grid.x0 = ox, tiles.grid.y0 = oy;
-    tiles.grid.dx = tiles.grid.dy = 20.0 / static_cast<double>(tiles.grid.n);
-    const std::size_t instants = 4, words = tiles.grid.words();
-    std::vector<Region> regions;
-    std::vector<std::vector<XCurve>> curves(instants);
+    Instants in(rng, 4, 10 + static_cast<std::size_t>(trial) * 3, ox, oy);
+    const FaceTiles& tiles = in.tiles;
+    const std::vector<Region>& regions = in.regions;
+    const std::size_t instants = regions.size();
     std::vector<double> hours(instants, 1.0);
-    tiles.masks.resize(instants * words);
-    tiles.whole_masks.resize(instants * words);
-    std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
-    for (std::size_t i = 0; i < instants; ++i) {
-      regions.push_back(random_region(rng, static_cast<long>(i), ox, oy));
-      tiles.instants.push_back(i);
-      const auto& c = regions[i].curves;
-      mark_lit_tiles(tiles.grid, c.data(), c.data() + c.size(), tiles.masks.data() + i * words,
-                     tiles.whole_masks.data() + i * words);
-      for (const Curve& k : c) curves[i].emplace_back(k, Traits::Data_container(k.data()));
-      order.emplace_back(i, &curves[i]);
-    }
+    const auto& order = in.order;
     PendingBoundaries pending;
     pending.build(tiles, 0, tiles.grid.n - 1, true, ox, ox + 20, order, hours);
     for (std::size_t walked = 0; walked < instants; ++walked) {
@@ -232,25 +244,12 @@ TEST(PendingBoundaries, SettledLevelsHoldAtEveryPointOfTheBox) {
   const std::vector<mpq_class> levels{mpq_class(3, 2), mpq_class(5, 2)};
   std::size_t settled = 0, asked = 0;
   for (int trial = 0; trial < 6; ++trial) {
-    FaceTiles tiles;
-    tiles.grid.n = 12 + static_cast<std::size_t>(trial) * 4;
-    tiles.grid.dx = tiles.grid.dy = 20.0 / static_cast<double>(tiles.grid.n);
-    const std::size_t instants = 4, words = tiles.grid.words();
-    std::vector<Region> regions;
-    std::vector<std::vector<XCurve>> curves(instants);
-    std::vector<double> hours{1.0, 0.5, 1.0, 0.75};
-    tiles.masks.resize(instants * words);
-    tiles.whole_masks.resize(instants * words);
-    std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
-    for (std::size_t i = 0; i < instants; ++i) {
-      regions.push_back(random_region(rng, static_cast<long>(i)));
-      tiles.instants.push_back(i);
-      const auto& c = regions[i].curves;
-      mark_lit_tiles(tiles.grid, c.data(), c.data() + c.size(), tiles.masks.data() + i * words,
-                     tiles.whole_masks.data() + i * words);
-      for (const Curve& k : c) curves[i].emplace_back(k, Traits::Data_container(k.data()));
-      order.emplace_back(i, &curves[i]);
-    }
+    Instants in(rng, 4, 12 + static_cast<std::size_t>(trial) * 4);
+    const FaceTiles& tiles = in.tiles;
+    const std::vector<Region>& regions = in.regions;
+    const std::size_t instants = regions.size();
+    const std::vector<double> hours{1.0, 0.5, 1.0, 0.75};
+    const auto& order = in.order;
     StripTileCounts counts;
     counts.begin(tiles, true, 0, 20, hours);
     counts.recount({0, 1, 2, 3});

@@ -67,6 +67,19 @@ Polygon2 ccb_polygon(Circulator first) {
   return polygon;
 }
 
+/// The face of `arr` just inside the bottom side of `strip`'s frame (below the chart), or none.
+Arrangement::Face_handle above_frame_bottom(Arrangement& arr, const Strip& strip) {
+  const Arrangement::Face_handle unbounded = arr.unbounded_face();
+  const FT ylo(strip.ylo);
+  for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end(); ++c) {
+    auto h = *c;
+    do {
+      if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) return h->twin()->face();
+    } while (++h != *c);
+  }
+  return Arrangement::Face_handle();
+}
+
 /// The point of segment pq (p.x < q.x) at x.
 Point2 at_x(const Point2& p, const Point2& q, const FT& x) {
   return Point2(x, p.y() + (q.y() - p.y()) * (x - p.x()) / (q.x() - p.x()));
@@ -465,16 +478,8 @@ class StripOverlay {
       queue.push_back(unbounded);
     } else {
       beyond = 1;
-      const FT ylo(strip_.ylo);
-      for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end() && queue.empty(); ++c) {
-        auto h = *c;
-        do {
-          if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) {
-            seed(h->twin()->face());  // below the chart: outside, nothing lit
-            break;
-          }
-        } while (++h != *c);
-      }
+      const Arrangement::Face_handle below = above_frame_bottom(arr, strip_);
+      if (below != Arrangement::Face_handle()) seed(below);  // below the chart: outside, nothing lit
     }
     auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
       auto h = first;
@@ -572,19 +577,12 @@ class StripOverlay {
     if (strip.whole) {
       queue.push_back(unbounded);
     } else {
-      const FT ylo(strip.ylo);
-      for (auto c = unbounded->inner_ccbs_begin(); c != unbounded->inner_ccbs_end() && queue.empty(); ++c) {
-        auto h = *c;
-        do {
-          if (h->source()->point().y() == ylo && h->target()->point().y() == ylo) {
-            const Arrangement::Face_handle seed = h->twin()->face();  // below the chart: 0 hours, outside
-            seed->set_data(1);
-            hours_at_.push_back(mpq_class(0));
-            inside_.push_back(0);
-            queue.push_back(seed);
-            break;
-          }
-        } while (++h != *c);
+      const Arrangement::Face_handle seed = above_frame_bottom(arr, strip);  // below the chart: 0 hours, outside
+      if (seed != Arrangement::Face_handle()) {
+        seed->set_data(1);
+        hours_at_.push_back(mpq_class(0));
+        inside_.push_back(0);
+        queue.push_back(seed);
       }
     }
     auto visit_ccb = [&](Arrangement::Face_handle from, Arrangement::Ccb_halfedge_circulator first) {
