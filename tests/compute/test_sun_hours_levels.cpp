@@ -309,6 +309,18 @@ RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) 
   }
 }
 
+/// `count` suns sweeping from east to west, low to high to low (4 to 54 degrees), of weights
+/// 0.25, 0.5 and 0.75 hours in turn.
+std::vector<SunHoursInstant> east_to_west(int count) {
+  std::vector<SunHoursInstant> instants;
+  for (int k = 0; k < count; ++k) {
+    const double t = (k + 0.5) / count;
+    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(4 + 50 * std::sin(3.14159 * t), 75 + 210 * t)),
+                        0.25 * (1 + k % 3)});
+  }
+  return instants;
+}
+
 /// Every exact area of two maps, bit for bit (the areas per hours only where both have them).
 void expect_same_exact_areas(const SunHoursMap& a, const SunHoursMap& b, const std::string& what) {
   ASSERT_EQ(a.faces.size(), b.faces.size()) << what;
@@ -327,13 +339,6 @@ void expect_same_exact_areas(const SunHoursMap& a, const SunHoursMap& b, const s
   }
 }
 
-// A city under 16 suns sweeping from east to west, low to high to low, of unequal weights: walls
-// dark under the first suns and cut by later ones, roofs lit whole. The instants' lit regions
-// computed all at once (instant_batch 0) and 1, 3 and 7 at a time, gathered (the default: the
-// same cells, bit for bit) and streamed (stream_levels): the threshold map alone has the same
-// exact level areas, integral and lit instants, face by face, at 1 and 2 threads, with strips
-// and without, small rounds and large; its cells cover each level with the same area; the full
-// map is the same cell for cell.
 // Streamed over more suns than a face's strips are chosen from (16), rounds run before the last
 // batch, while instants are still to come, and some faces (walls facing east) get no boundary
 // from the later suns: their rounds then end with cells still open, which the last round must
@@ -341,12 +346,7 @@ void expect_same_exact_areas(const SunHoursMap& a, const SunHoursMap& b, const s
 TEST(SunHoursLevels, StreamedRoundsBeforeTheLastBatchSettleEveryCell) {
   Scene scene = make_city(10, 60, 11);
   validate_scene(scene);
-  std::vector<SunHoursInstant> instants;
-  for (int k = 0; k < 24; ++k) {
-    const double t = (k + 0.5) / 24.0;
-    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(4 + 50 * std::sin(3.14159 * t), 75 + 210 * t)),
-                        0.25 * (1 + k % 3)});
-  }
+  const std::vector<SunHoursInstant> instants = east_to_west(24);
   const ShadowEngine engine(scene, 2);
   SunHoursOptions options;
   options.threads = 2;
@@ -365,15 +365,17 @@ TEST(SunHoursLevels, StreamedRoundsBeforeTheLastBatchSettleEveryCell) {
     }
 }
 
+// A city under 16 suns sweeping from east to west, low to high to low, of unequal weights: walls
+// dark under the first suns and cut by later ones, roofs lit whole. The instants' lit regions
+// computed all at once (instant_batch 0) and 1, 3 and 7 at a time, gathered (the default: the
+// same cells, bit for bit) and streamed (stream_levels): the threshold map alone has the same
+// exact level areas, integral and lit instants, face by face, at 1 and 2 threads, with strips
+// and without, small rounds and large; its cells cover each level with the same area; the full
+// map is the same cell for cell.
 TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
   Scene scene = make_city(10, 60, 11);
   validate_scene(scene);
-  std::vector<SunHoursInstant> instants;
-  for (int k = 0; k < 16; ++k) {
-    const double t = (k + 0.5) / 16.0;
-    instants.push_back({directional_light("s" + std::to_string(k), sun_direction(4 + 50 * std::sin(3.14159 * t), 75 + 210 * t)),
-                        0.25 * (1 + k % 3)});
-  }
+  const std::vector<SunHoursInstant> instants = east_to_west(16);
   for (const unsigned threads : {1u, 2u}) {
     const ShadowEngine engine(scene, threads);
     SunHoursOptions options;

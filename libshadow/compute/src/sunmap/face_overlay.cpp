@@ -204,7 +204,6 @@ class StripOverlay {
     CGAL::insert(arr, frozen_.begin(), frozen_.end());
     kept_ = {};
     frozen_ = {};
-    jumps_.swap(frozen_jumps_);
     outline_add_ = 0;
     walk(arr);
     StripMap out;
@@ -603,8 +602,8 @@ class StripOverlay {
             if (i == n_) {
               inside += step;
               if (sgn(outline_add_) != 0) value += step > 0 ? outline_add_ : mpq_class(-outline_add_);
-            } else if (i > n_) {  // run_levels: a kept edge's jump (tags are positive)
-              const mpq_class& jump = jumps_[i - n_ - 2];
+            } else if (i > n_) {  // the last sweep: a frozen edge's jump (tags are positive)
+              const mpq_class& jump = frozen_jumps_[i - n_ - 2];
               value += step > 0 ? jump : mpq_class(-jump);
             } else {
               value += step > 0 ? mpq_class((*r_.hours)[i]) : mpq_class(-(*r_.hours)[i]);
@@ -736,7 +735,6 @@ class StripOverlay {
   std::vector<mpq_class> hours_at_;  ///< per walked face (its data)
   std::vector<int> inside_;          ///< per walked face: 1 inside the chart, 0 outside
   std::vector<std::size_t> level_;   ///< per walked face: levels reached
-  std::vector<mpq_class> jumps_;     ///< the last sweep: the frozen edges' jumps of value (tags n + 3 + k)
   mpq_class outline_add_{0};         ///< the hours crossing the chart's outline inward adds
   // The threshold map alone (LevelRounds): the edges kept from the last round, the instants fed
   // and not yet swept (in time order: instant, its curves in the strip), their segments and

@@ -127,9 +127,9 @@ void StripTileCounts::begin(const FaceTiles& tiles, bool whole_strip, double x0,
   }
 }
 
-std::size_t StripTileCounts::slot(std::size_t i) const {
-  const auto it = std::lower_bound(tiles_->instants.begin(), tiles_->instants.end(), i);
-  return it != tiles_->instants.end() && *it == i ? static_cast<std::size_t>(it - tiles_->instants.begin()) : SIZE_MAX;
+std::size_t FaceTiles::slot(std::size_t i) const {
+  const auto it = std::lower_bound(instants.begin(), instants.end(), i);
+  return it != instants.end() && *it == i ? static_cast<std::size_t>(it - instants.begin()) : SIZE_MAX;
 }
 
 void StripTileCounts::add_slot(std::size_t s, bool add) {
@@ -146,7 +146,7 @@ void StripTileCounts::add_slot(std::size_t s, bool add) {
 
 void StripTileCounts::count(std::size_t i, bool add) {
   if (empty()) return;
-  const std::size_t s = slot(i);
+  const std::size_t s = tiles_->slot(i);
   if (s != SIZE_MAX) add_slot(s, add);
 }
 
@@ -158,7 +158,7 @@ void StripTileCounts::recount(const std::vector<std::size_t>& instants) {
 
 std::size_t StripTileCounts::whole_tiles(std::size_t i) const {
   if (empty()) return 0;
-  const std::size_t s = slot(i), n = tiles_->grid.n;
+  const std::size_t s = tiles_->slot(i), n = tiles_->grid.n;
   std::size_t count = 0;
   if (s == SIZE_MAX) return 0;
   for (std::size_t c = c0_; c <= c1_; ++c)

@@ -62,6 +62,8 @@ struct FaceTiles {
   std::vector<std::uint64_t> masks;
   std::vector<std::uint64_t> whole_masks;
   mpq_class whole{0};
+  /// The slot of instant i (its index in `instants`), or SIZE_MAX when it does not cut the face.
+  std::size_t slot(std::size_t i) const;
   bool lit(std::size_t slot, std::size_t tile) const {
     return (masks[slot * grid.words() + tile / 64] >> (tile % 64)) & 1U;
   }
@@ -105,8 +107,6 @@ class StripTileCounts {
   double least_weight() const { return least_weight_; }  ///< the smallest positive one
 
  private:
-  /// The slot of instant i in the face's tiles, or none.
-  std::size_t slot(std::size_t i) const;
   void add_slot(std::size_t slot, bool add);
 
   const FaceTiles* tiles_ = nullptr;

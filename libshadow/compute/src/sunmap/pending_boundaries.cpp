@@ -29,6 +29,18 @@ bool meets_box(double xa, double ya, double xb, double yb, double x0, double x1,
   return !all_left && !all_right;
 }
 
+/// `filed` (tile, value) pairs as per-tile lists: `start` (tiles + 1 offsets) into `values`,
+/// each tile's values in the order filed.
+void file_by_tile(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& filed, std::size_t tiles,
+                  std::vector<std::uint32_t>& start, std::vector<std::uint32_t>& values) {
+  start.assign(tiles + 1, 0);
+  for (const auto& [t, v] : filed) ++start[t + 1];
+  for (std::size_t t = 0; t < tiles; ++t) start[t + 1] += start[t];
+  values.resize(filed.size());
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  for (const auto& [t, v] : filed) values[next[t]++] = v;
+}
+
 }  // namespace
 
 void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_t c1, bool whole_strip, double x0,
@@ -79,43 +91,19 @@ void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_
       }
     }
   }
-  segment_start_.assign(count + 1, 0);
-  for (const auto& [t, id] : filed) ++segment_start_[t + 1];
-  for (std::size_t t = 0; t < count; ++t) segment_start_[t + 1] += segment_start_[t];
-  segment_ids_.resize(filed.size());
-  {
-    std::vector<std::uint32_t> next(segment_start_.begin(), segment_start_.end() - 1);
-    for (const auto& [t, id] : filed) segment_ids_[next[t]++] = id;  // ids ascend within a tile
-  }
+  file_by_tile(filed, count, segment_start_, segment_ids_);  // ids ascend within a tile
 
   // Per tile, the positions its masks leave undecided: may light it, not surely whole.
-  std::vector<std::size_t> slots(order.size(), SIZE_MAX);
+  filed.clear();
   for (std::size_t p = 0; p < order.size(); ++p) {
-    const auto it = std::lower_bound(tiles.instants.begin(), tiles.instants.end(), order[p].first);
-    if (it != tiles.instants.end() && *it == order[p].first && hours[order[p].first] > 0)
-      slots[p] = static_cast<std::size_t>(it - tiles.instants.begin());
+    const std::size_t slot = tiles.slot(order[p].first);
+    if (slot == SIZE_MAX || !(hours[order[p].first] > 0)) continue;
+    for (std::size_t c = c0; c <= c1; ++c)
+      for (std::size_t r = 0; r < n; ++r)
+        if (tiles.lit(slot, r * n + c) && !tiles.lit_whole(slot, r * n + c))
+          filed.emplace_back(static_cast<std::uint32_t>(at(c, r)), static_cast<std::uint32_t>(p));
   }
-  undecided_start_.assign(count + 1, 0);
-  for (int pass = 0; pass < 2; ++pass) {
-    std::vector<std::uint32_t> next;
-    if (pass == 1) {
-      for (std::size_t t = 0; t < count; ++t) undecided_start_[t + 1] += undecided_start_[t];
-      undecided_positions_.resize(undecided_start_[count]);
-      next.assign(undecided_start_.begin(), undecided_start_.end() - 1);
-    }
-    for (std::size_t p = 0; p < order.size(); ++p) {
-      if (slots[p] == SIZE_MAX) continue;
-      for (std::size_t c = c0; c <= c1; ++c)
-        for (std::size_t r = 0; r < n; ++r) {
-          const std::size_t tile = r * n + c;
-          if (!tiles.lit(slots[p], tile) || tiles.lit_whole(slots[p], tile)) continue;
-          if (pass == 0)
-            ++undecided_start_[at(c, r) + 1];
-          else
-            undecided_positions_[next[at(c, r)]++] = static_cast<std::uint32_t>(p);
-        }
-    }
-  }
+  file_by_tile(filed, count, undecided_start_, undecided_positions_);  // positions ascend within a tile
 }
 
 std::uint32_t PendingBoundaries::undecided(std::size_t c, std::size_t r) const {
@@ -228,41 +216,32 @@ std::size_t settled_level(const StripTileCounts& counts, const PendingBoundaries
   const std::size_t c1 = std::min(counts.last_column(), g.column(xmax));
   const std::size_t r0 = g.row(ymin), r1 = g.row(ymax), top = levels.size();
   if (c1 < c0 || now >= top || (c1 - c0 + 1) * (r1 - r0 + 1) > 4) return SIZE_MAX;
-  constexpr std::uint32_t kNever = UINT32_MAX;
-  const mpq_class base = value + whole;
-  // The level stays `now` where at most `stay` instants may still light a point (the largest
-  // weight each), and reaches the top where at least `reach` surely do (the smallest each).
-  std::uint64_t stay = kNever, reach = kNever;
-  const mpq_class most(counts.most_weight()), least(counts.least_weight());
-  if (sgn(most) > 0) {
-    const mpq_class room = levels[now] - base;  // most x k < room
-    if (sgn(room) <= 0) {
-      stay = kNever;  // cannot stay
-    } else {
-      const mpq_class q = room / most;
-      mpz_class k;
-      mpz_cdiv_q(k.get_mpz_t(), q.get_num_mpz_t(), q.get_den_mpz_t());
-      k -= 1;
-      stay = k.fits_ulong_p() ? std::min<std::uint64_t>(k.get_ui(), kNever - 1) : kNever - 1;
-    }
-  }
-  bool can_stay = sgn(most) <= 0 || stay != kNever;
-  if (sgn(least) > 0) {
-    const mpq_class need = levels[top - 1] - base;  // least x k >= need
-    if (sgn(need) <= 0) return top;
-    const mpq_class q = need / least;
+  constexpr std::uint64_t kNever = UINT32_MAX;
+  // The fewest instants of weight w that bring `need` (> 0): ceil(need / w), kNever at most.
+  const auto fewest = [kNever](const mpq_class& need, const mpq_class& w) -> std::uint64_t {
+    const mpq_class q = need / w;
     mpz_class k;
     mpz_cdiv_q(k.get_mpz_t(), q.get_num_mpz_t(), q.get_den_mpz_t());
-    reach = k.fits_ulong_p() ? std::min<std::uint64_t>(k.get_ui(), kNever) : kNever;
-  }
+    return k.fits_ulong_p() ? std::min<std::uint64_t>(k.get_ui(), kNever) : kNever;
+  };
+  const mpq_class base = value + whole, most(counts.most_weight()), least(counts.least_weight());
+  const mpq_class room = levels[now] - base, need = levels[top - 1] - base;
+  // A point leaves level `now` once `rise` of the instants that may light it do (the largest
+  // weight each; none rises it when that is 0, and it has left already when there is no room),
+  // and reaches the top once `reach` of those lighting it whole do (the smallest weight each).
+  const std::uint64_t rise = sgn(room) <= 0 ? 0 : sgn(most) <= 0 ? UINT64_MAX : fewest(room, most);
+  if (sgn(least) > 0 && sgn(need) <= 0) return top;
+  const std::uint64_t reach = sgn(least) > 0 ? fewest(need, least) : kNever;
   enum { kNone, kStay, kTop } outcome = kNone;
   for (std::size_t c = c0; c <= c1; ++c)
     for (std::size_t r = r0; r <= r1; ++r) {
       const StripTileCounts::Range range = counts.at(c, r);
-      const std::uint32_t want_dark = !can_stay ? kNever
-                                      : sgn(most) <= 0 || range.most <= stay ? 0
-                                                                             : static_cast<std::uint32_t>(range.most - stay);
-      const std::uint32_t want_lit = reach == kNever ? kNever
+      // How many of the tile's instants must be found dark on the box (for it to stay) or lit
+      // whole (for it to reach the top).
+      const std::uint32_t want_dark = rise == 0             ? UINT32_MAX
+                                      : range.most < rise   ? 0
+                                                            : static_cast<std::uint32_t>(range.most - rise + 1);
+      const std::uint32_t want_lit = reach == kNever        ? UINT32_MAX
                                      : range.least >= reach ? 0
                                                             : static_cast<std::uint32_t>(reach - range.least);
       auto tile = kNone;
