@@ -5,7 +5,8 @@
 // random scenes), the threshold map's level areas against the full map's areas, its cells against
 // an independent ray caster, its file, and its levels parsed from the command line's text. The
 // instants computed a batch at a time (SunHoursOptions::instant_batch), gathered or streamed
-// (stream_levels), against all at once: the same exact areas, bit for bit, at 1 and 2 threads.
+// (stream_levels), and the exact boundaries held in a budget (level_held_segments), against all
+// at once: the same exact areas, bit for bit, at 1 and 2 threads.
 #include "support/polygon_tools.hpp"
 #include "support/ray_caster.hpp"
 #include "support/scene_builders.hpp"
@@ -280,14 +281,19 @@ RC_GTEST_PROP(SunHoursLevelsProperties, StripsKeepExactAreasOnRandomScenes, ()) 
   options.full = false;
   options.level_round_edges = *rc::gen::inRange<std::size_t>(1, 40);  // from one instant per round up
   const SunHoursMap only = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.level_held_segments = *rc::gen::inRange<std::size_t>(0, 200);  // lit regions computed again
+  const SunHoursMap held = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+  options.level_held_segments = SunHoursOptions{}.level_held_segments;
   options.instant_batch = *rc::gen::inRange<std::size_t>(1, 5);  // streamed: 1 to 4 instants at a time
   options.stream_levels = true;
   const SunHoursMap streamed = compute_sun_hours_map(engine, all_faces(scene), instants, options);
   RC_ASSERT(one.faces.size() == strips.faces.size());
   RC_ASSERT(only.faces.size() == one.faces.size());
+  RC_ASSERT(held.faces.size() == one.faces.size());
   RC_ASSERT(streamed.faces.size() == one.faces.size());
   for (std::size_t k = 0; k < one.faces.size(); ++k) {
     RC_ASSERT(only.faces[k].level_areas == one.faces[k].level_areas);
+    RC_ASSERT(held.faces[k].level_areas == one.faces[k].level_areas);
     RC_ASSERT(streamed.faces[k].level_areas == one.faces[k].level_areas);
     RC_ASSERT(streamed.faces[k].hour_area == one.faces[k].hour_area);
   }
@@ -433,6 +439,58 @@ TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
       EXPECT_EQ(all.cells[c].region_id, streamed.cells[c].region_id);
     }
     EXPECT_EQ(all.level_cells.size(), streamed.level_cells.size());
+  }
+}
+
+// The threshold map alone holding few exact boundary segments (SunHoursOptions::
+// level_held_segments): faces past the budget have their lit regions computed again, a wave of
+// strips and a band of instants at a time (0: one strip and one instant). The same exact level
+// areas, integral and lit instants, face by face, as holding every boundary; its cells cover each
+// level with the same area, hold under the ray caster, and do not depend on the threads nor on
+// the batches the instants were first computed in.
+TEST(SunHoursLevels, HeldSegmentsBoundMemoryNotAreas) {
+  Scene scene = make_city(10, 60, 11);
+  validate_scene(scene);
+  const std::vector<SunHoursInstant> instants = east_to_west(16);
+  SunHoursOptions options;
+  options.levels = {1, 2.5, 4, 6};
+  options.full = false;
+  for (const auto [strip_edges, round_edges] : {std::pair<std::size_t, std::size_t>{0, 8}, {40, 8}, {40, 1000}}) {
+    options.strip_edges = strip_edges;
+    options.level_round_edges = round_edges;
+    options.threads = 2;
+    options.instant_batch = 16;
+    options.level_held_segments = SunHoursOptions{}.level_held_segments;
+    const ShadowEngine engine(scene, 2);
+    const SunHoursMap all = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+    std::map<std::pair<std::size_t, double>, double> want;  // (face, level): area of its cells
+    for (const SunHoursCell& c : all.level_cells) want[{c.face_id, c.sun_hours}] += c.area;
+    for (const std::size_t held : {std::size_t{0}, std::size_t{40}, std::size_t{400}, std::size_t{4000}}) {
+      const std::string what = "strips " + std::to_string(strip_edges) + ", rounds " + std::to_string(round_edges) +
+                               ", held " + std::to_string(held);
+      options.level_held_segments = held;
+      options.threads = 2;
+      options.instant_batch = 16;
+      const SunHoursMap bounded = compute_sun_hours_map(engine, all_faces(scene), instants, options);
+      expect_same_exact_areas(all, bounded, what);
+      std::map<std::pair<std::size_t, double>, double> got;
+      for (const SunHoursCell& c : bounded.level_cells) got[{c.face_id, c.sun_hours}] += c.area;
+      ASSERT_EQ(got.size(), want.size()) << what;
+      for (const auto& [key, area] : got) EXPECT_NEAR(area, want[key], 1e-9 * (1 + area)) << what;
+      if (held == 40 && strip_edges == 40 && round_edges == 8)
+        EXPECT_GT(expect_level_points(scene, bounded, instants, 9), 100) << what;
+      // One thread, and the instants first computed 3 at a time: the same cells, bit for bit.
+      const ShadowEngine one(scene, 1);
+      options.threads = 1;
+      options.instant_batch = 3;
+      const SunHoursMap again = compute_sun_hours_map(one, all_faces(scene), instants, options);
+      ASSERT_EQ(again.level_cells.size(), bounded.level_cells.size()) << what;
+      for (std::size_t c = 0; c < again.level_cells.size(); ++c) {
+        EXPECT_EQ(again.level_cells[c].polygon, bounded.level_cells[c].polygon) << what;
+        EXPECT_EQ(again.level_cells[c].area, bounded.level_cells[c].area) << what;
+        EXPECT_EQ(again.level_cells[c].sun_hours, bounded.level_cells[c].sun_hours) << what;
+      }
+    }
   }
 }
 

@@ -100,6 +100,7 @@ struct SunHoursBench {
   std::size_t level_round_edges = shadow::SunHoursOptions{}.level_round_edges;  ///< --level-round-edges
   std::size_t days = 1;              ///< --days: the same day's suns repeated (a period of equal days)
   std::size_t instant_batch = shadow::SunHoursOptions{}.instant_batch;  ///< --instant-batch
+  std::size_t level_held_segments = shadow::SunHoursOptions{}.level_held_segments;  ///< --level-held-segments
   bool stream_levels = false;                                            ///< --stream-levels
   bool skip_engine = false;          ///< --no-engine: leave out the per-instant engine run (its column shows -)
 };

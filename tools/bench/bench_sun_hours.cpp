@@ -116,6 +116,7 @@ int run_sun_hours(std::size_t boxes, const std::vector<std::size_t>& instant_cou
         level_options.level_round_edges = opt.level_round_edges;
         level_options.instant_batch = opt.instant_batch;
         level_options.stream_levels = opt.stream_levels;
+        level_options.level_held_segments = opt.level_held_segments;
         level_options.levels = opt.levels;
         level_options.full = false;
         start = std::chrono::steady_clock::now();

@@ -235,6 +235,8 @@ CLI::App* add_sun_hours_command(CLI::App& app, SunHoursArgs& a) {
   sun_cmd->add_option("--levels", a.opt.levels, "Also time the threshold map of these levels (hours)")->delimiter(',');
   sun_cmd->add_option("--strip-edges", a.opt.strip_edges, "SunHoursOptions::strip_edges (0: one arrangement per face)");
   sun_cmd->add_option("--level-round-edges", a.opt.level_round_edges, "SunHoursOptions::level_round_edges");
+  sun_cmd->add_option("--level-held-segments", a.opt.level_held_segments,
+                      "SunHoursOptions::level_held_segments (exact boundary segments held at once)");
   sun_cmd->add_option("--instant-batch", a.opt.instant_batch, "SunHoursOptions::instant_batch (0: every instant at once)");
   sun_cmd->add_flag("--stream-levels", a.opt.stream_levels,
                     "SunHoursOptions::stream_levels: the threshold map alone fed each batch as it comes");

@@ -131,12 +131,21 @@ struct SunHoursOptions {
   /// once, larger ones sweep less often; the results are the same.
   std::size_t level_round_edges = 1000;
   /// The instants' lit regions are computed this many instants at a time (on every face, in
-  /// parallel) and handed on before the next are computed; 0: all at once. Both maps gather
-  /// every instant's boundaries on the faces (the full map's strips are one sweep of them; the
-  /// threshold map alone's strips then run their rounds one strip after another per thread),
-  /// unless `stream_levels`; only the culling grids are per batch. Exact areas do not depend on
-  /// it.
+  /// parallel) and handed on before the next are computed; 0: all at once. The full map gathers
+  /// every instant's boundaries on the faces (its strips are one sweep of them); the threshold
+  /// map alone gathers them in doubles, and exactly up to `level_held_segments`, unless
+  /// `stream_levels`; only the culling grids are per batch. Exact areas and cells do not depend
+  /// on it.
   std::size_t instant_batch = 16;
+  /// The threshold map alone (`full` false, not streamed): the most exact boundary segments it
+  /// holds at once, about 600 bytes each. Every instant's boundaries are kept in doubles (about
+  /// 60 bytes a segment), and exactly while all faces' together stay within this; past it, the
+  /// faces holding the most have theirs computed again when their strips' rounds take them, a
+  /// wave of neighbouring strips at a time (about half this many segments of theirs) and, within
+  /// a wave, a band of instants at a time (about an eighth): memory bounded for the time of
+  /// computing the lit regions once more per wave (docs/sun-hours-map.md, step 7). Exact areas
+  /// do not depend on it; the cells may (within a band, the sunniest instants go first).
+  std::size_t level_held_segments = std::size_t{1} << 18;
   /// The threshold map alone (`full` false): feed each batch of instants to the strips' rounds
   /// as it comes and drop it, instead of gathering every instant's boundaries first (a face's
   /// strips are then chosen from the first 16 instants that cut it). It never holds every

@@ -2,12 +2,15 @@
 // A face's boundaries as curves, its strips, and the exact sums of its cells' areas
 // (face_overlay.hpp): what the overlay of one strip needs before and after it.
 #include "sunmap/face_overlay.hpp"
+#include "sunmap/rough_segments.hpp"
 
 #include "exact/lazy_geometry.hpp"
 
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdlib>
+#include <utility>
 
 namespace shadow::sunmap {
 
@@ -104,9 +107,12 @@ double area_3d_of_sum(const std::vector<const std::vector<mpq_class>*>& parts, c
   return area_3d_mpq(terms.front(), scale);
 }
 
-std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t expected, const Polygon2& chart,
-                                 std::size_t strip_edges) {
-  const std::size_t count = curves.size();
+namespace {
+
+/// The strips of a chart from the middles of its segments' x ranges (choose_strips).
+std::vector<Strip> strips_at_quantiles(std::vector<double> mids, std::size_t expected, const Polygon2& chart,
+                                       std::size_t strip_edges) {
+  const std::size_t count = mids.size();
   if (strip_edges == 0 || expected <= strip_edges || count == 0) return {Strip{}};
   double xmin = HUGE_VAL, xmax = -HUGE_VAL, ymin = HUGE_VAL, ymax = -HUGE_VAL;
   for (auto v = chart.vertices_begin(); v != chart.vertices_end(); ++v) {
@@ -116,11 +122,6 @@ std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t e
   }
   // Sides at quantiles of the segments' middles, strictly inside the chart's x range; the
   // outer sides and the bottom and top a unit beyond it (every lit region lies in the chart).
-  std::vector<double> mids(count);
-  for (std::size_t c = 0; c < count; ++c) {
-    const auto [lo, hi] = x_range(curves[c]);
-    mids[c] = 0.5 * (lo + hi);
-  }
   const std::size_t k = std::min<std::size_t>((expected + strip_edges - 1) / strip_edges, 4096);
   std::vector<double> sides{std::floor(xmin) - 1.0};
   for (std::size_t s = 1; s < k; ++s) {
@@ -136,23 +137,124 @@ std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t e
   return strips;
 }
 
-std::vector<std::vector<std::size_t>> bucket_curves(const std::vector<Curve>& curves, const std::vector<Strip>& strips) {
+/// The items whose x range [lo, hi] (range(item)) meets each strip's [x0, x1].
+template <class Range>
+std::vector<std::vector<std::size_t>> bucket_by_x(std::size_t count, const Range& range,
+                                                  const std::vector<Strip>& strips) {
   std::vector<std::vector<std::size_t>> out(strips.size());
   if (strips.size() == 1 && strips[0].whole) {
-    out[0].resize(curves.size());
-    for (std::size_t c = 0; c < curves.size(); ++c) out[0][c] = c;
+    out[0].resize(count);
+    for (std::size_t c = 0; c < count; ++c) out[0][c] = c;
     return out;
   }
   std::vector<double> lefts(strips.size());
   for (std::size_t s = 0; s < strips.size(); ++s) lefts[s] = strips[s].x0;
-  for (std::size_t c = 0; c < curves.size(); ++c) {
-    const auto [lo, hi] = x_range(curves[c]);
+  for (std::size_t c = 0; c < count; ++c) {
+    const auto [lo, hi] = range(c);
     // The strips whose [x0, x1] meets [lo, hi]: from the last whose x0 <= lo on.
     auto first = std::upper_bound(lefts.begin(), lefts.end(), lo);
     std::size_t s = first == lefts.begin() ? 0 : static_cast<std::size_t>(first - lefts.begin()) - 1;
     for (; s < strips.size() && strips[s].x0 <= hi; ++s) out[s].push_back(c);
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<Strip> choose_strips(const std::vector<Curve>& curves, std::size_t expected, const Polygon2& chart,
+                                 std::size_t strip_edges) {
+  std::vector<double> mids(curves.size());
+  for (std::size_t c = 0; c < curves.size(); ++c) {
+    const auto [lo, hi] = x_range(curves[c]);
+    mids[c] = 0.5 * (lo + hi);
+  }
+  return strips_at_quantiles(std::move(mids), expected, chart, strip_edges);
+}
+
+std::vector<Strip> choose_strips(const std::vector<RoughSegment>& segments, std::size_t expected,
+                                 const Polygon2& chart, std::size_t strip_edges) {
+  std::vector<double> mids(segments.size());
+  for (std::size_t c = 0; c < segments.size(); ++c) mids[c] = 0.5 * (segments[c].xlo + segments[c].xhi);
+  return strips_at_quantiles(std::move(mids), expected, chart, strip_edges);
+}
+
+std::vector<std::vector<std::size_t>> bucket_curves(const std::vector<Curve>& curves, const std::vector<Strip>& strips) {
+  return bucket_by_x(curves.size(), [&](std::size_t c) { return x_range(curves[c]); }, strips);
+}
+
+std::vector<std::vector<std::size_t>> bucket_rough(const std::vector<RoughSegment>& segments,
+                                                   const std::vector<Strip>& strips) {
+  return bucket_by_x(
+      segments.size(), [&](std::size_t c) { return std::pair<double, double>(segments[c].xlo, segments[c].xhi); },
+      strips);
+}
+
+RoughSegment rough_segment(const Curve& curve) {
+  // A tagged curve runs from its lexicographically smaller end (add_segment, add_boundary).
+  const Point2 &a = curve.source(), &b = curve.target();
+  const bool forward = CGAL::compare_xy(a, b) != CGAL::LARGER;
+  const Point2 &from = forward ? a : b, &to = forward ? b : a;
+  RoughSegment s;
+  s.xa = CGAL::to_double(from.x()), s.ya = CGAL::to_double(from.y());
+  s.xb = CGAL::to_double(to.x()), s.yb = CGAL::to_double(to.y());
+  const auto [lo, hi] = x_range(curve);
+  s.xlo = lo, s.xhi = hi;
+  s.instant = static_cast<std::uint32_t>(std::labs(curve.data()) - 1);
+  s.left = curve.data() > 0;
+  return s;
+}
+
+namespace {
+
+/// The point of segment pq (p.x < q.x) at x.
+Point2 at_x(const Point2& p, const Point2& q, const FT& x) {
+  return Point2(x, p.y() + (q.y() - p.y()) * (x - p.x()) / (q.x() - p.x()));
+}
+
+}  // namespace
+
+/// `c` clipped to the strip x0 <= x <= x1; false when nothing of it enters the strip's inside.
+bool clip_to_strip(const Curve& c, const FT& x0, const FT& x1, Curve& out) {
+  // Segments run from their lexicographically smaller end, so source().x() <= target().x().
+  Point2 p = c.source(), q = c.target();
+  if (CGAL::compare_xy(p, q) == CGAL::LARGER) std::swap(p, q);
+  if (q.x() <= x0 || p.x() >= x1) {
+    // Outside, or touching a side at one point, or lying on a side: the walk never crosses
+    // the sides, so such a segment changes nothing inside.
+    return false;
+  }
+  const Point2 a = p.x() < x0 ? at_x(p, q, x0) : p;
+  const Point2 b = q.x() > x1 ? at_x(p, q, x1) : q;
+  out = Curve(Kernel::Segment_2(a, b), c.data());
+  return true;
+}
+
+/// As sum over vertices of x_a (y_(a+1) - y_(a-1)): n products instead of 2n, each term a
+/// fraction added over one running denominator and the sum normalised once (each of GMP's
+/// rational products and sums takes gcds; one gcd of the longer numbers costs less).
+mpq_class exact_polygon_area(const Polygon2& cell) {
+  const std::size_t n = cell.size();
+  mpq_class dy;
+  mpz_class sum_n(0), sum_d(1), tn, td;
+  for (std::size_t a = 0; a < n; ++a) {
+    const auto& p = CGAL::exact(cell[a]);
+    const auto& next = CGAL::exact(cell[a + 1 == n ? 0 : a + 1]);
+    const auto& prev = CGAL::exact(cell[a == 0 ? n - 1 : a - 1]);
+    dy = next.y() - prev.y();
+    const mpq_srcptr x = p.x().get_mpq_t();
+    mpz_mul(tn.get_mpz_t(), mpq_numref(x), mpq_numref(dy.get_mpq_t()));
+    mpz_mul(td.get_mpz_t(), mpq_denref(x), mpq_denref(dy.get_mpq_t()));
+    // sum += tn / td over the running denominator, not normalised
+    sum_n *= td;
+    mpz_addmul(sum_n.get_mpz_t(), tn.get_mpz_t(), sum_d.get_mpz_t());
+    sum_d *= td;
+  }
+  sum_d *= 2;
+  mpq_class area;
+  mpq_set_num(area.get_mpq_t(), sum_n.get_mpz_t());
+  mpq_set_den(area.get_mpq_t(), sum_d.get_mpz_t());
+  mpq_canonicalize(area.get_mpq_t());
+  return area;
 }
 
 }  // namespace shadow::sunmap

@@ -17,6 +17,7 @@
 
 #include "sunmap/lit_tiles.hpp"
 #include "sunmap/pending_boundaries.hpp"
+#include "sunmap/rough_segments.hpp"
 
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
@@ -29,8 +30,10 @@
 #include <cstdint>
 #include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <deque>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 
@@ -78,27 +81,6 @@ Arrangement::Face_handle above_frame_bottom(Arrangement& arr, const Strip& strip
     } while (++h != *c);
   }
   return Arrangement::Face_handle();
-}
-
-/// The point of segment pq (p.x < q.x) at x.
-Point2 at_x(const Point2& p, const Point2& q, const FT& x) {
-  return Point2(x, p.y() + (q.y() - p.y()) * (x - p.x()) / (q.x() - p.x()));
-}
-
-/// `c` clipped to the strip x0 <= x <= x1; false when nothing of it enters the strip's inside.
-bool clip(const Curve& c, const FT& x0, const FT& x1, Curve& out) {
-  // Segments run from their lexicographically smaller end, so source().x() <= target().x().
-  Point2 p = c.source(), q = c.target();
-  if (CGAL::compare_xy(p, q) == CGAL::LARGER) std::swap(p, q);
-  if (q.x() <= x0 || p.x() >= x1) {
-    // Outside, or touching a side at one point, or lying on a side: the walk never crosses
-    // the sides, so such a segment changes nothing inside.
-    return false;
-  }
-  const Point2 a = p.x() < x0 ? at_x(p, q, x0) : p;
-  const Point2 b = q.x() > x1 ? at_x(p, q, x1) : q;
-  out = Curve(Kernel::Segment_2(a, b), c.data());
-  return true;
 }
 
 }  // namespace
@@ -151,8 +133,8 @@ class StripOverlay {
   // segment it was cut from, so that later intersections are computed from the input's lines and
   // not from lines through earlier intersections (whose exact numbers would grow round after
   // round). Instants arrive in time order, a batch at a time (feed), and are swept as soon as
-  // they fill a round: only the instants not yet swept are held. With tiles (every instant fed at
-  // once), they are swept sunniest first instead (order_pending).
+  // they fill a round: only the instants not yet swept are held. With tiles, the instants come
+  // in the order of a plan instead, the face's sunniest first (plan), and go the same way.
 
   /// The outline's curves `which` (and the strip's frame): the first round's kept edges.
   void begin(const std::vector<Curve>& outline, const std::vector<std::size_t>& which) {
@@ -171,8 +153,8 @@ class StripOverlay {
   }
 
   void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
-            const mpq_class& unfed, std::size_t fed_end) {
-    fed_end_ = fed_end;
+            const mpq_class& unfed) {
+    if (planned_) throw std::logic_error("LevelRounds: a planned strip is fed by feed_planned");
     for (const Curve& c : gather(curves, which, false)) {
       const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
       if (pending_.empty() || pending_.back().first != i) {
@@ -188,7 +170,73 @@ class StripOverlay {
     while (!pending_.empty() && static_cast<double>(pending_segments_) >= want_) round();
   }
 
+  /// The strip's instants (those of `order` whose boundary may enter it: with a segment among
+  /// `which` of `segments`) in the order they are swept: band by band of `order` (cut before the
+  /// positions `band_ends`; a band is fed at once), and within a band those lighting the most of
+  /// the strip's tiles whole first; the tiles' counts and pending boundaries made of them alone;
+  /// `whole` the hours of every instant lighting the whole face. (The hours are sums, so any
+  /// order gives the same values; the sunniest first settle cells sooner: on a ground over many
+  /// days, time order held the cells near buildings a few hours below the top level undecided
+  /// until their sun came, day after day.)
+  void plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
+            const std::vector<RoughSegment>& segments, const std::vector<std::size_t>& which, const mpq_class& whole) {
+    if (planned_ || rounds_ != 0 || !pending_.empty()) throw std::logic_error("LevelRounds: planned twice or late");
+    planned_ = true;
+    base_pending_ += whole;
+    std::vector<char> present(n_, 0);
+    for (std::size_t k : which) present[segments[k].instant] = 1;
+    // (band, -tiles of the strip lit whole, position in the face's order, instant)
+    std::vector<std::tuple<std::size_t, long, std::size_t, std::size_t>> key;
+    std::size_t band = 0;
+    for (std::size_t p = 0; p < order.size(); ++p) {
+      while (band < band_ends.size() && band_ends[band] <= p) ++band;
+      if (!present[order[p]]) continue;
+      const long lit = counts_.empty() ? 0 : static_cast<long>(counts_.whole_tiles(order[p]));
+      key.emplace_back(band, -lit, p, order[p]);
+      unfed_ += mpq_class((*r_.hours)[order[p]]);
+    }
+    std::sort(key.begin(), key.end());
+    std::vector<std::size_t> instants;
+    for (const auto& [b, lit, p, i] : key) {
+      plan_.emplace_back(p, i);
+      instants.push_back(i);
+    }
+    if (counts_.empty()) return;
+    counts_.recount(instants);
+    bounds_.build(*r_.tiles, counts_.first_column(), counts_.last_column(), strip_.whole, strip_.x0, strip_.x1,
+                  instants, segments, which, *r_.hours);
+  }
+
+  bool planned() const { return planned_; }
+
+  /// Feeds the planned instants at positions before `order_end` of the face's order: `which`
+  /// of `curves` are every boundary of theirs that may enter the strip (and of no other
+  /// instant). Sweeps every round that they fill.
+  void feed_planned(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, std::size_t order_end) {
+    if (!planned_) throw std::logic_error("LevelRounds: feed_planned before plan");
+    std::unordered_map<std::size_t, std::vector<XCurve>> by_instant;
+    for (const Curve& c : gather(curves, which, false))
+      by_instant[static_cast<std::size_t>(std::labs(c.data()) - 1)].emplace_back(c, Traits::Data_container(c.data()));
+    while (!plan_.empty() && plan_.front().first < order_end) {
+      const std::size_t i = plan_.front().second;
+      plan_.pop_front();
+      std::vector<XCurve> mine;
+      const auto it = by_instant.find(i);
+      if (it != by_instant.end()) {
+        mine = std::move(it->second);
+        by_instant.erase(it);
+      }
+      pending_segments_ += mine.size();
+      pending_hours_ += mpq_class((*r_.hours)[i]);
+      unfed_ -= mpq_class((*r_.hours)[i]);
+      pending_.emplace_back(i, std::move(mine));
+    }
+    if (!by_instant.empty()) throw std::logic_error("LevelRounds: a boundary of an instant not planned in the strip");
+    while (!pending_.empty() && static_cast<double>(pending_segments_) >= want_) round();
+  }
+
   StripMap finish() {
+    if (!plan_.empty()) throw std::logic_error("LevelRounds: finished before every planned instant was fed");
     unfed_ = 0;
     while (!pending_.empty()) round();
     // Whole-face hours still to add, or cells left open by a round swept while instants were
@@ -224,13 +272,6 @@ class StripOverlay {
     kept_ = {};
     curves.insert(curves.end(), frame_.begin(), frame_.end());
     std::size_t added = 0;
-    // With tiles (made only when every instant's boundaries are gathered, so fed at once), the
-    // instants go sunniest first (order_pending): cells reach the top level sooner, or are
-    // settled there from below.
-    if (rounds_ == 0 && !counts_.empty()) {
-      if (fed_end_ != n_) throw std::logic_error("LevelRounds: tiles need every instant fed before the first round");
-      order_pending();
-    }
     while (!pending_.empty() && (added == 0 || static_cast<double>(added) < want_)) {
       auto& [i, more] = pending_.front();
       added += more.size();
@@ -321,38 +362,11 @@ class StripOverlay {
     }
   }
 
-  /// The tiles' counts under the strip (StripTileCounts), filled by order_pending.
+  /// The tiles' counts under the strip (StripTileCounts), filled by plan.
   void begin_tiles() {
     if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
     counts_.begin(*r_.tiles, strip_.whole, strip_.x0, strip_.x1, *r_.hours);
     whole_total_ = r_.tiles->whole;
-  }
-
-  /// Before the first round, with every instant fed: the pending instants in the order they are
-  /// swept, those lighting the most tiles of the strip whole first (in time order among equals),
-  /// and the tiles' counts made of them alone. The hours are sums, so any order gives the same
-  /// values; this one settles cells sooner. (Time order held, on a ground over many days, the
-  /// cells near buildings a few hours below the top level undecided until their sun came, day
-  /// after day; sunniest first, most of them reach it in the first rounds.) An instant with no
-  /// curve in the strip lights no point inside it (its lit region's boundary would enter the
-  /// strip, the chart's outline at least), so it leaves the counts.
-  void order_pending() {
-    std::vector<std::size_t> instants;
-    std::vector<std::pair<long, std::size_t>> key;  // (-tiles lit whole, position)
-    for (std::size_t p = 0; p < pending_.size(); ++p) {
-      instants.push_back(pending_[p].first);
-      key.emplace_back(-static_cast<long>(counts_.whole_tiles(pending_[p].first)), p);
-    }
-    counts_.recount(instants);
-    std::stable_sort(key.begin(), key.end());
-    std::deque<std::pair<std::size_t, std::vector<XCurve>>> sorted;
-    for (const auto& [k, p] : key) sorted.push_back(std::move(pending_[p]));
-    pending_.swap(sorted);
-    std::vector<std::pair<std::size_t, const std::vector<XCurve>*>> order;
-    for (const auto& [i, curves] : pending_) order.emplace_back(i, &curves);
-    bounds_.build(*r_.tiles, counts_.first_column(), counts_.last_column(), strip_.whole, strip_.x0, strip_.x1, order,
-                  *r_.hours);
-    walked_ = 0;
   }
 
   /// Bounds on what the instants not yet walked add to face `f`: at most `most` (the whole-face
@@ -547,7 +561,7 @@ class StripOverlay {
       const FT x0(strip_.x0), x1(strip_.x1);
       Curve clipped;
       for (std::size_t c : which)
-        if (clip(all[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
+        if (clip_to_strip(all[c], x0, x1, clipped)) curves.push_back(std::move(clipped));
       if (!frame) return curves;
       Polygon2 rectangle;
       rectangle.push_back(Point2(strip_.x0, strip_.ylo));
@@ -671,14 +685,14 @@ class StripOverlay {
   /// (those that collapse are counted in dropped_area), as the exact engine writes fragments.
   void emit(Polygon2& cell, double value, std::vector<SunHoursCell>& dest, std::vector<mpq_class>& area,
             bool count_dropped) {
-    const mpq_class cell_area = exact_area(cell);
+    const mpq_class cell_area = exact_polygon_area(cell);
     area.push_back(abs(cell_area));
     if (write(cell, cell_area, value, dest)) return;
     if (sgn(cell_area) < 0) cell.reverse_orientation();
     std::vector<Polygon2> triangles;
     triangulate_region(PolygonWithHoles2(cell), triangles);
     for (const Polygon2& t : triangles) {
-      const mpq_class t_area = exact_area(t);
+      const mpq_class t_area = exact_polygon_area(t);
       if (!write(t, t_area, value, dest) && count_dropped) dropped_ += abs(t_area);
     }
   }
@@ -686,34 +700,6 @@ class StripOverlay {
   /// The exact signed chart area of a cell: the shoelace on its vertices' exact rational
   /// coordinates. The same value as polygon_area, with half the rational operations and no lazy
   /// DAG per term: the cells' exact areas were half the map's run time.
-  /// As sum over vertices of x_a (y_(a+1) - y_(a-1)): n products instead of 2n, each term a
-  /// fraction added over one running denominator and the sum normalised once (each of GMP's
-  /// rational products and sums takes gcds; one gcd of the longer numbers costs less).
-  static mpq_class exact_area(const Polygon2& cell) {
-    const std::size_t n = cell.size();
-    mpq_class dy;
-    mpz_class sum_n(0), sum_d(1), tn, td;
-    for (std::size_t a = 0; a < n; ++a) {
-      const auto& p = CGAL::exact(cell[a]);
-      const auto& next = CGAL::exact(cell[a + 1 == n ? 0 : a + 1]);
-      const auto& prev = CGAL::exact(cell[a == 0 ? n - 1 : a - 1]);
-      dy = next.y() - prev.y();
-      const mpq_srcptr x = p.x().get_mpq_t();
-      mpz_mul(tn.get_mpz_t(), mpq_numref(x), mpq_numref(dy.get_mpq_t()));
-      mpz_mul(td.get_mpz_t(), mpq_denref(x), mpq_denref(dy.get_mpq_t()));
-      // sum += tn / td over the running denominator, not normalised
-      sum_n *= td;
-      mpz_addmul(sum_n.get_mpz_t(), tn.get_mpz_t(), sum_d.get_mpz_t());
-      sum_d *= td;
-    }
-    sum_d *= 2;
-    mpq_class area;
-    mpq_set_num(area.get_mpq_t(), sum_n.get_mpz_t());
-    mpq_set_den(area.get_mpq_t(), sum_d.get_mpz_t());
-    mpq_canonicalize(area.get_mpq_t());
-    return area;
-  }
-
   bool write(const Polygon2& cell, const mpq_class& cell_area, double value, std::vector<SunHoursCell>& dest) {
     SunHoursCell c;
     c.face_id = r_.face_id;
@@ -755,8 +741,9 @@ class StripOverlay {
   // so far, and the whole-face hours in all and walked so far.
   StripTileCounts counts_;
   PendingBoundaries bounds_;  ///< with tiles: the boundaries of the instants not yet walked, by tile
-  std::size_t walked_ = 0;    ///< instants walked since they were ordered
-  std::size_t fed_end_ = 0;
+  std::size_t walked_ = 0;    ///< instants walked
+  bool planned_ = false;
+  std::deque<std::pair<std::size_t, std::size_t>> plan_;  ///< planned, not yet fed: (order position, instant)
   mpq_class whole_total_{0}, whole_walked_{0};
   mpq_class dropped_{0};             ///< exact chart area of the cells too thin to write
 };
@@ -778,9 +765,22 @@ LevelRounds::LevelRounds(LevelRounds&&) noexcept = default;
 LevelRounds& LevelRounds::operator=(LevelRounds&&) noexcept = default;
 
 void LevelRounds::feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
-                       const mpq_class& unfed, std::size_t fed_end) {
-  impl_->feed(curves, which, whole, unfed, fed_end);
+                       const mpq_class& unfed) {
+  impl_->feed(curves, which, whole, unfed);
 }
+
+void LevelRounds::plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
+                       const std::vector<RoughSegment>& segments, const std::vector<std::size_t>& which,
+                       const mpq_class& whole) {
+  impl_->plan(order, band_ends, segments, which, whole);
+}
+
+void LevelRounds::feed_planned(const std::vector<Curve>& curves, const std::vector<std::size_t>& which,
+                               std::size_t order_end) {
+  impl_->feed_planned(curves, which, order_end);
+}
+
+bool LevelRounds::planned() const { return impl_->planned(); }
 
 StripMap LevelRounds::finish() {
   StripMap out = impl_->finish();

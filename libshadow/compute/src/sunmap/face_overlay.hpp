@@ -68,7 +68,8 @@ struct StripMap {
   mpq_class dropped{0};                      ///< chart area of cells too thin to write
 };
 
-struct FaceTiles;  // lit_tiles.hpp
+struct FaceTiles;     // lit_tiles.hpp
+struct RoughSegment;  // rough_segments.hpp
 
 /// How a strip is overlaid.
 struct OverlayRequest {
@@ -94,10 +95,12 @@ StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, c
 class StripOverlay;
 
 /// The threshold map alone of one strip (OverlayRequest::full false, with levels), fed the
-/// instants' boundaries in time order as they are computed, in rounds (docs/sun-hours-map.md,
-/// step 7): it holds the boundaries kept so far and the instants not yet swept, never every
-/// instant's. Fed everything at once it sweeps the same rounds as it would have then, unless the
-/// request has tiles: it then sweeps the instants sunniest first.
+/// instants' boundaries as they are computed, in rounds (docs/sun-hours-map.md, step 7): it holds
+/// the boundaries kept so far and the instants fed and not yet swept, never every instant's.
+/// Either streamed (feed: in time order, the hours still to come bounded by all of them) or
+/// planned (plan, then feed_planned: in a face's order, the hours still to come bounded per cell
+/// by the request's tiles and the strip's pending boundaries). A round is swept once the instants
+/// fed fill it, so the rounds do not depend on how many instants come at a time.
 class LevelRounds {
  public:
   /// `outline`: the face's chart outline (tagged with the number of instants); `which`: those of
@@ -110,11 +113,24 @@ class LevelRounds {
 
   /// Feeds the next instants: the curves `which` of `curves` (their boundaries on the face, in
   /// time order, each tagged with its instant), `whole` the hours of those lighting the whole
-  /// face, `unfed` the hours of every instant still to be fed (a bound on what may still come),
-  /// `fed_end` the number of instants fed so far (this feed included; they come in time order).
-  /// Sweeps every round that these instants fill.
+  /// face, `unfed` the hours of every instant still to be fed (a bound on what may still come).
+  /// Streamed only (no plan). Sweeps every round that these instants fill.
   void feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
-            const mpq_class& unfed, std::size_t fed_end);
+            const mpq_class& unfed);
+
+  /// Before any feed: plans the instants of `order` (the face's instants cutting it, fed a band
+  /// at a time: the bands end before the positions `band_ends`) whose boundaries may enter the
+  /// strip (a segment among `which` of `segments`, the face's boundaries in doubles,
+  /// bucket_rough): swept band by band, the sunniest in the strip first within a band; `whole`
+  /// the hours of every instant lighting the whole face.
+  void plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
+            const std::vector<RoughSegment>& segments, const std::vector<std::size_t>& which,
+            const mpq_class& whole);
+  /// After plan: feeds the planned instants at positions before `order_end` (a band's end) in the
+  /// face's order, whose boundaries that may enter the strip are `which` of `curves` (all of
+  /// them, in any order). Sweeps every round that these instants fill.
+  void feed_planned(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, std::size_t order_end);
+  bool planned() const;
 
   /// After the last feed: the rounds left and the level regions.
   StripMap finish();
@@ -122,6 +138,13 @@ class LevelRounds {
  private:
   std::unique_ptr<StripOverlay> impl_;
 };
+
+/// `c` clipped to the strip x0 <= x <= x1 (into `out`); false when nothing of it enters the
+/// strip's inside (outside, touching a side at a point, or lying on a side).
+bool clip_to_strip(const Curve& c, const exact::FT& x0, const exact::FT& x1, Curve& out);
+
+/// The exact signed area of a polygon of exact points.
+mpq_class exact_polygon_area(const exact::Polygon2& polygon);
 
 /// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
 void add_boundary(const exact::Polygon2& polygon, long instant, std::vector<Curve>& curves);

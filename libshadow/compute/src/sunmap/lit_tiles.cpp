@@ -56,6 +56,14 @@ TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size
 
 void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, std::uint64_t* mask,
                     std::uint64_t* whole) {
+  std::vector<RoughSegment> rough;
+  rough.reserve(static_cast<std::size_t>(last - first));
+  for (const Curve* c = first; c != last; ++c) rough.push_back(rough_segment(*c));
+  mark_lit_tiles(g, rough.data(), rough.data() + rough.size(), mask, whole);
+}
+
+void mark_lit_tiles(const TileGrid& g, const RoughSegment* first, const RoughSegment* last, std::uint64_t* mask,
+                    std::uint64_t* whole) {
   const std::size_t count = static_cast<std::size_t>(last - first);
   const std::size_t n = g.n;
   if (n == 0) return;
@@ -72,9 +80,8 @@ void mark_lit_tiles(const TileGrid& g, const Curve* first, const Curve* last, st
   const double reach_y = 0.125 * g.dy + 1e-9 * (std::fabs(g.y0) + g.dy * static_cast<double>(n));
   std::vector<double> xa(count), ya(count), xb(count), yb(count);
   for (std::size_t k = 0; k < count; ++k) {
-    const Curve& curve = first[k];
-    xa[k] = CGAL::to_double(curve.source().x()), ya[k] = CGAL::to_double(curve.source().y());
-    xb[k] = CGAL::to_double(curve.target().x()), yb[k] = CGAL::to_double(curve.target().y());
+    const RoughSegment& segment = first[k];
+    xa[k] = segment.xa, ya[k] = segment.ya, xb[k] = segment.xb, yb[k] = segment.yb;
     const double span = std::max(std::fabs(xb[k] - xa[k]) / g.dx, std::fabs(yb[k] - ya[k]) / g.dy);
     const std::size_t steps = static_cast<std::size_t>(std::ceil(4.0 * span)) + 1;
     for (std::size_t s = 0; s <= steps; ++s) {

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "sunmap/face_overlay.hpp"
+#include "sunmap/rough_segments.hpp"
 
 #include <gmpxx.h>
 
@@ -50,6 +51,9 @@ TileGrid tile_grid(const exact::Polygon2& chart, std::size_t segments, std::size
 /// cleared first), sets there the tiles the region surely covers, closed tile and all: inside
 /// it, and not marked as passed through by the boundary.
 void mark_lit_tiles(const TileGrid& grid, const Curve* first, const Curve* last, std::uint64_t* mask,
+                    std::uint64_t* whole = nullptr);
+/// mark_lit_tiles from the boundary's rough segments (the same doubles).
+void mark_lit_tiles(const TileGrid& grid, const RoughSegment* first, const RoughSegment* last, std::uint64_t* mask,
                     std::uint64_t* whole = nullptr);
 
 /// What the threshold map alone knows in advance of one face: its grid, the instants that cut it

@@ -46,6 +46,29 @@ void file_by_tile(const std::vector<std::pair<std::uint32_t, std::uint32_t>>& fi
 void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_t c1, bool whole_strip, double x0,
                               double x1, const std::vector<std::pair<std::size_t, const std::vector<XCurve>*>>& order,
                               const std::vector<double>& hours) {
+  std::vector<std::size_t> instants;
+  std::vector<RoughSegment> segments;
+  for (const auto& [instant, curves] : order) {
+    instants.push_back(instant);
+    for (const XCurve& c : *curves) {
+      RoughSegment s;
+      s.xa = CGAL::to_double(c.left().x()), s.ya = CGAL::to_double(c.left().y());
+      s.xb = CGAL::to_double(c.right().x()), s.yb = CGAL::to_double(c.right().y());
+      s.xlo = std::min(s.xa, s.xb), s.xhi = std::max(s.xa, s.xb);
+      s.instant = static_cast<std::uint32_t>(instant);
+      s.left = *c.data().begin() > 0;
+      segments.push_back(s);
+    }
+  }
+  std::vector<std::size_t> which(segments.size());
+  for (std::size_t k = 0; k < which.size(); ++k) which[k] = k;
+  build(tiles, c0, c1, whole_strip, x0, x1, instants, segments, which, hours);
+}
+
+void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_t c1, bool whole_strip, double x0,
+                              double x1, const std::vector<std::size_t>& order,
+                              const std::vector<RoughSegment>& segments, const std::vector<std::size_t>& which,
+                              const std::vector<double>& hours) {
   const TileGrid& g = tiles.grid;
   if (g.n == 0 || c1 < c0) return;
   tiles_ = &tiles;
@@ -60,35 +83,43 @@ void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_
   // y difference over the segment's slope: that is added to the width.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> filed;  // (tile, segment)
   segments_.clear();
-  for (std::size_t p = 0; p < order.size(); ++p) {
-    const auto& [instant, curves] = order[p];
-    if (!(hours[instant] > 0)) continue;  // adds no hours: never counted
-    for (const XCurve& c : *curves) {
-      Segment s;
-      s.xa = CGAL::to_double(c.left().x()), s.ya = CGAL::to_double(c.left().y());
-      s.xb = CGAL::to_double(c.right().x()), s.yb = CGAL::to_double(c.right().y());
-      s.position = static_cast<std::uint32_t>(p);
-      s.left = *c.data().begin() > 0;
-      const auto id = static_cast<std::uint32_t>(segments_.size());
-      segments_.push_back(s);
-      const double ylo = std::min(s.ya, s.yb), yhi = std::max(s.ya, s.yb), dy = s.yb - s.ya, dx = s.xb - s.xa;
-      const double slack = dy == 0 ? 0 : kRound * (std::fabs(s.ya) + std::fabs(s.yb) + yhi - ylo + m) / std::fabs(dy);
-      for (std::size_t r = g.row(ylo - m), r1 = g.row(yhi + m); r <= r1; ++r) {
-        double ua = 0, ub = 1;  // the part of the segment in the row's band, as parameters
-        if (dy != 0) {
-          const double lo = r == 0 ? -HUGE_VAL : g.y0 + static_cast<double>(r) * g.dy - m;
-          const double hi = r + 1 == n ? HUGE_VAL : g.y0 + static_cast<double>(r + 1) * g.dy + m;
-          double u0 = (lo - s.ya) / dy, u1 = (hi - s.ya) / dy;
-          if (u0 > u1) std::swap(u0, u1);
-          ua = std::max(0.0, u0 - slack), ub = std::min(1.0, u1 + slack);
-          if (ua > ub) continue;
-        }
-        const double xu = s.xa + ua * dx, xv = s.xa + ub * dx;
-        const double reach = m + kRound * (std::fabs(s.xa) + std::fabs(dx));
-        const std::size_t ca = std::max(c0, g.column(std::min(xu, xv) - reach));
-        const std::size_t cb = std::min(c1, g.column(std::max(xu, xv) + reach));
-        for (std::size_t c = ca; c <= cb; ++c) filed.emplace_back(static_cast<std::uint32_t>(at(c, r)), id);
+  // The segments by the position of their instant in the order (ids then ascend by position);
+  // those of instants not in it, or of no weight (never counted), are left out.
+  std::vector<std::uint32_t> position_of(hours.size(), UINT32_MAX);
+  for (std::size_t p = 0; p < order.size(); ++p)
+    if (hours[order[p]] > 0) position_of[order[p]] = static_cast<std::uint32_t>(p);
+  std::vector<std::pair<std::uint32_t, std::size_t>> by_position;  // (position, segment)
+  by_position.reserve(which.size());
+  for (std::size_t k : which)
+    if (position_of[segments[k].instant] != UINT32_MAX) by_position.emplace_back(position_of[segments[k].instant], k);
+  std::stable_sort(by_position.begin(), by_position.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  segments_.reserve(by_position.size());
+  for (const auto& [position, k] : by_position) {
+    const RoughSegment& rough = segments[k];
+    Segment s;
+    s.xa = rough.xa, s.ya = rough.ya, s.xb = rough.xb, s.yb = rough.yb;
+    s.position = position;
+    s.left = rough.left;
+    const auto id = static_cast<std::uint32_t>(segments_.size());
+    segments_.push_back(s);
+    const double ylo = std::min(s.ya, s.yb), yhi = std::max(s.ya, s.yb), dy = s.yb - s.ya, dx = s.xb - s.xa;
+    const double slack = dy == 0 ? 0 : kRound * (std::fabs(s.ya) + std::fabs(s.yb) + yhi - ylo + m) / std::fabs(dy);
+    for (std::size_t r = g.row(ylo - m), r1 = g.row(yhi + m); r <= r1; ++r) {
+      double ua = 0, ub = 1;  // the part of the segment in the row's band, as parameters
+      if (dy != 0) {
+        const double lo = r == 0 ? -HUGE_VAL : g.y0 + static_cast<double>(r) * g.dy - m;
+        const double hi = r + 1 == n ? HUGE_VAL : g.y0 + static_cast<double>(r + 1) * g.dy + m;
+        double u0 = (lo - s.ya) / dy, u1 = (hi - s.ya) / dy;
+        if (u0 > u1) std::swap(u0, u1);
+        ua = std::max(0.0, u0 - slack), ub = std::min(1.0, u1 + slack);
+        if (ua > ub) continue;
       }
+      const double xu = s.xa + ua * dx, xv = s.xa + ub * dx;
+      const double reach = m + kRound * (std::fabs(s.xa) + std::fabs(dx));
+      const std::size_t ca = std::max(c0, g.column(std::min(xu, xv) - reach));
+      const std::size_t cb = std::min(c1, g.column(std::max(xu, xv) + reach));
+      for (std::size_t c = ca; c <= cb; ++c) filed.emplace_back(static_cast<std::uint32_t>(at(c, r)), id);
     }
   }
   file_by_tile(filed, count, segment_start_, segment_ids_);  // ids ascend within a tile
@@ -96,8 +127,8 @@ void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_
   // Per tile, the positions its masks leave undecided: may light it, not surely whole.
   filed.clear();
   for (std::size_t p = 0; p < order.size(); ++p) {
-    const std::size_t slot = tiles.slot(order[p].first);
-    if (slot == SIZE_MAX || !(hours[order[p].first] > 0)) continue;
+    const std::size_t slot = tiles.slot(order[p]);
+    if (slot == SIZE_MAX || !(hours[order[p]] > 0)) continue;
     for (std::size_t c = c0; c <= c1; ++c)
       for (std::size_t r = 0; r < n; ++r)
         if (tiles.lit(slot, r * n + c) && !tiles.lit_whole(slot, r * n + c))

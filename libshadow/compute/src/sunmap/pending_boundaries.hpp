@@ -31,6 +31,12 @@ class PendingBoundaries {
   void build(const FaceTiles& tiles, std::size_t c0, std::size_t c1, bool whole_strip, double x0, double x1,
              const std::vector<std::pair<std::size_t, const std::vector<XCurve>*>>& order,
              const std::vector<double>& hours);
+  /// The same from the instants `order` and their boundaries in doubles, `which` of `segments`
+  /// (any others are left out), not clipped to the strip: a segment is filed only under the
+  /// strip's columns, and within the strip it is the instant's boundary all the same.
+  void build(const FaceTiles& tiles, std::size_t c0, std::size_t c1, bool whole_strip, double x0, double x1,
+             const std::vector<std::size_t>& order, const std::vector<RoughSegment>& segments,
+             const std::vector<std::size_t>& which, const std::vector<double>& hours);
   bool empty() const { return tiles_ == nullptr; }
   const TileGrid& grid() const { return tiles_->grid; }
 

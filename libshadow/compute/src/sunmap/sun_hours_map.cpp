@@ -21,6 +21,7 @@
 #include "exact/regions.hpp"
 #include "sunmap/face_overlay.hpp"
 #include "sunmap/lit_tiles.hpp"
+#include "sunmap/rough_segments.hpp"
 
 #include <shadow/series.hpp>
 
@@ -49,12 +50,17 @@ namespace {
 using namespace exact;
 using sunmap::Curve;
 
+using sunmap::RoughSegment;
+
 /// What one instant leaves on one face.
 struct InstantPart {
   LitRegion::Kind kind = LitRegion::Kind::Dark;
   std::vector<Curve> curves;  ///< Partial: the lit region's boundary, tagged with the instant
+  std::vector<RoughSegment> rough;  ///< the threshold map alone, gathered: the curves in doubles
   mpq_class lit_area{0};      ///< the lit region's exact chart area (no lazy DAG kept)
 };
+
+
 
 /// The instants' weights, their lights and weights checked.
 std::vector<double> checked_hours(const std::vector<SunHoursInstant>& instants) {
@@ -143,27 +149,18 @@ FaceMap assemble(std::vector<sunmap::StripMap>& strips, SunHoursFace face, const
 
 }  // namespace
 
-std::vector<double> sun_hours_level_areas(const SunHoursMap& map) {
-  std::vector<double> out(map.levels.size(), 0.0);
-  for (const SunHoursFace& f : map.faces)
-    for (std::size_t k = 0; k < f.level_areas.size() && k < out.size(); ++k) out[k] += f.level_areas[k];
-  return out;
-}
-
-double sun_hours_map_area(const SunHoursMap& map) {
-  double area = 0.0;
-  for (const SunHoursFace& f : map.faces) area += f.area;
-  return area;
-}
 
 namespace {
 
 /// The map of `faces` under `instants`: the lit regions of a batch of instants at a time (every
 /// face-instant pair of the batch in parallel), then handed on before the next batch is computed.
-/// The full map gathers each face's boundaries (its strips' one sweep needs them all); so does
-/// the threshold map alone, whose strips then run their rounds (sunmap::LevelRounds) one job per
-/// strip, settling cells by the face's tiles (sunmap::FaceTiles); with stream_levels it feeds
-/// each batch to its strips' rounds instead and drops it.
+/// The full map gathers each face's boundaries (its strips' one sweep needs them all). The
+/// threshold map alone gathers them in doubles (sunmap::RoughSegment), and the exact ones only
+/// up to a budget: from the rough ones each face gets its tiles (sunmap::FaceTiles), the order
+/// its instants are swept in and its strips, each planned; the exact boundaries are then fed to
+/// the strips' rounds (sunmap::LevelRounds) in that order, those kept at once, the others
+/// computed again a band of instants at a time. With stream_levels each batch is fed to the
+/// strips' rounds in time order instead, and dropped.
 class MapBuilder {
  public:
   MapBuilder(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
@@ -226,6 +223,7 @@ class MapBuilder {
     ExactWorker exact;
     ShadowStats stats;        ///< the table's rows' pairs (SunHoursOptions::series_table)
     ShadowStats other_stats;  ///< the other faces' pairs (not receiving faces)
+    ShadowStats again_stats;  ///< pairs computed again (the threshold map alone): counted once
   };
 
   /// The series table of the map's receiving faces (SunHoursOptions::series_table):
@@ -261,6 +259,10 @@ class MapBuilder {
       whole_pending_.assign(count, mpq_class(0));
       sample_.resize(count);
       sampled_.assign(count, 0);
+      rough_.resize(count);
+      exact_.resize(count);
+      keep_exact_.assign(count, 1);
+      order_.resize(count);
     }
     for (std::size_t k = 0; k < count; ++k) {
       const std::size_t f = faces_[k];
@@ -282,12 +284,9 @@ class MapBuilder {
   /// parallel (one large ground uses every thread), into parts_ (face-major).
   void lit_batch(std::size_t first, std::size_t count) {
     // The culling grid of each directional light of the batch, shared read-only by the threads.
-    // Built one per thread at a time, as compute_series builds a batch's.
-    std::vector<std::optional<core::LightSpaceGrid>> grids(count);
-    runtime::parallel_for(count, threads_, [&](unsigned, std::size_t j) {
-      if (instants_[first + j].light.type == LightType::Directional)
-        grids[j].emplace(*ctx_.cull, *ctx_.prep, instants_[first + j].light.to_light, ctx_.solid_of);
-    });
+    std::vector<std::size_t> batch(count);
+    for (std::size_t j = 0; j < count; ++j) batch[j] = first + j;
+    const std::vector<std::optional<core::LightSpaceGrid>> grids = light_grids(batch);
     parts_.assign(faces_.size() * count, InstantPart{});
     runtime::parallel_for(
         parts_.size(), threads_,
@@ -302,12 +301,7 @@ class MapBuilder {
             ++done_;
             return;
           }
-          const ExactFace& P = w.exact.face(ctx_, f);
-          const ExactLight light = to_exact_light(instants_[i].light);
-          const int side = CGAL::sign(plane_at_light(P, light));
-          // The lit region's canonical boundary: the same segments whichever route made it.
-          const LitBoundary region = exact_lit_boundary(ctx_, w.exact, f, i, light, side, instants_[i].light,
-                                                        grids[j] ? &*grids[j] : nullptr, stats);
+          const LitBoundary region = lit_boundary(w, k, i, grids[j] ? &*grids[j] : nullptr, stats);
           if (row != SIZE_MAX) {  // the engine's FaceLighting: what compute_series writes for the pair
             const std::size_t at = table_->at(row, i);
             table_->lit_area[at] = region.lighting.lit_area;
@@ -320,10 +314,38 @@ class MapBuilder {
           part.curves.reserve(region.segments.size());
           for (const BoundarySegment& s : region.segments)
             sunmap::add_segment(s.from, s.to, s.left, static_cast<long>(i), part.curves);
+          if (gather_rough()) {
+            part.rough.reserve(part.curves.size());
+            for (const Curve& c : part.curves) part.rough.push_back(sunmap::rough_segment(c));
+          }
           ++done_;
         },
         report_);
   }
+
+  /// Face k's lit region under instant i: its canonical boundary, the same segments whichever
+  /// route made it (exact_lit_boundary), and the engine's lighting of the pair.
+  LitBoundary lit_boundary(Worker& w, std::size_t k, std::size_t i, const core::LightSpaceGrid* grid,
+                           ShadowStats& stats) {
+    const std::size_t f = faces_[k];
+    const ExactFace& P = w.exact.face(ctx_, f);
+    const ExactLight light = to_exact_light(instants_[i].light);
+    const int side = CGAL::sign(plane_at_light(P, light));
+    return exact_lit_boundary(ctx_, w.exact, f, i, light, side, instants_[i].light, grid, stats);
+  }
+
+  /// The culling grid of each directional light among `instants` (their positions), built in
+  /// parallel, one per thread at a time, as compute_series builds a batch's.
+  std::vector<std::optional<core::LightSpaceGrid>> light_grids(const std::vector<std::size_t>& instants) {
+    std::vector<std::optional<core::LightSpaceGrid>> grids(instants.size());
+    runtime::parallel_for(instants.size(), threads_, [&](unsigned, std::size_t j) {
+      if (instants_[instants[j]].light.type == LightType::Directional)
+        grids[j].emplace(*ctx_.cull, *ctx_.prep, instants_[instants[j]].light.to_light, ctx_.solid_of);
+    });
+    return grids;
+  }
+
+  bool gather_rough() const { return !full_ && !options_.stream_levels; }
 
   /// 2. The batch's parts, face by face: the integral's terms and the instants lit; the
   /// boundaries gathered (full map) or fed to the face's strips (threshold map alone).
@@ -343,14 +365,38 @@ class MapBuilder {
         // denominators.
         if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
         if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
-        std::vector<Curve>& into = full_ ? bounds_[k].curves : curves[k];
-        for (Curve& c : part.curves) into.push_back(std::move(c));
+        if (gather_rough()) {
+          rough_[k].insert(rough_[k].end(), part.rough.begin(), part.rough.end());
+          if (keep_exact_[k]) {
+            kept_segments_ += part.curves.size();
+            for (Curve& c : part.curves) exact_[k].push_back(std::move(c));
+          }
+        } else {
+          std::vector<Curve>& into = full_ ? bounds_[k].curves : curves[k];
+          for (Curve& c : part.curves) into.push_back(std::move(c));
+        }
         part = InstantPart{};
       }
       if (full_) bounds_[k].base += whole[k];
     }
     parts_ = {};
     if (full_) return;
+    const bool last = first + count == n_;
+    if (gather_rough()) {
+      for (std::size_t k = 0; k < faces_.size(); ++k) whole_pending_[k] += whole[k];
+      // Over the budget: the faces holding the most exact boundaries drop them, to be computed
+      // again (decided in face order, batch by batch: the same whatever the threads).
+      while (kept_segments_ > options_.level_held_segments) {
+        std::size_t most = 0;
+        for (std::size_t k = 1; k < faces_.size(); ++k)
+          if (exact_[k].size() > exact_[most].size()) most = k;
+        kept_segments_ -= exact_[most].size();
+        exact_[most] = {};
+        keep_exact_[most] = 0;
+      }
+      if (last) levels_gathered();
+      return;
+    }
     // A face's strips are chosen from its first 16 instants that cut it (or every instant, if
     // fewer; their boundaries are held until then), sized by those instants' segments: rounds
     // bound each strip's arrangement, but its kept edges (about a day's boundaries, undecided or
@@ -358,15 +404,6 @@ class MapBuilder {
     // of a day, low, cut a ground little), and sizing by every instant to come would give each
     // of ever more strips a round's worth of instants not yet swept: memory linear in them.
     std::vector<std::tuple<std::size_t, std::size_t, std::vector<std::size_t>>> jobs;  // face, strip, curves
-    const bool last = first + count == n_;
-    if (last && !options_.stream_levels) {
-      // The tiles of every face cut share one budget (they are all made before the strips run).
-      std::size_t cut = 0;
-      for (std::size_t k = 0; k < faces_.size(); ++k)
-        if (rounds_[k].empty() && !(sample_[k].empty() && curves[k].empty())) ++cut;
-      const double share = sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut, 1));
-      tile_bits_ = std::min(sunmap::kMaxTileBits, share);
-    }
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       if ((*ctx_.prep)[faces_[k]].degenerate) continue;
       if (rounds_[k].empty()) {
@@ -375,10 +412,9 @@ class MapBuilder {
         if (sample_[k].empty() && curves[k].empty()) continue;  // not cut yet
         sampled_[k] += count;
         for (Curve& c : curves[k]) sample_[k].push_back(std::move(c));
-        if ((!options_.stream_levels || sampled_[k] < 16) && !last) continue;  // gathering
+        if (sampled_[k] < 16 && !last) continue;  // gathering the sample
         curves[k] = std::move(sample_[k]);
         sample_[k] = {};
-        if (!options_.stream_levels) make_tiles(k, curves[k], whole_pending_[k]);
         start_rounds(k, curves[k], curves[k].size());
         whole[k] = whole_pending_[k];
         whole_pending_[k] = 0;
@@ -398,21 +434,190 @@ class MapBuilder {
     runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
       runtime::check_stop();
       const auto& [k, s, which] = jobs[j];
-      rounds_[k][s].feed(curves[k], which, whole[k], unfed, first + count);
+      rounds_[k][s].feed(curves[k], which, whole[k], unfed);
       if (!last) return;
       strip_maps_[k][s] = rounds_[k][s].finish();
-      if (strips_left[k].fetch_sub(1) == 1) tiles_[k] = sunmap::FaceTiles{};
       ++done_;
     });
+  }
+
+  /// The threshold map alone, gathered, after the last batch: each face cut by an instant gets
+  /// its tiles, the order its instants are swept in, and its strips, each planned; then its
+  /// exact boundaries are fed to them in that order and every strip is finished: those kept at
+  /// once, the others computed again, a band of instants of the order at a time (every face's
+  /// band b together, face-instant pairs in parallel, then face-strip pairs).
+  void levels_gathered() {
+    // The tiles of every face cut share one budget (they are all made before the strips run).
+    std::vector<std::size_t> cut;
+    for (std::size_t k = 0; k < faces_.size(); ++k)
+      if (!(*ctx_.prep)[faces_[k]].degenerate && !rough_[k].empty()) cut.push_back(k);
+    tile_bits_ = std::min(sunmap::kMaxTileBits,
+                          sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut.size(), 1)));
+    rough_which_.resize(faces_.size());
+    band_ends_.resize(faces_.size());
+    for (std::size_t k : cut) {
+      make_tiles(k, rough_[k], whole_pending_[k]);
+      order_[k] = face_order(k);
+      // One band for a face whose exact boundaries were kept; else bands of about an eighth of
+      // level_held_segments.
+      if (keep_exact_[k]) {
+        band_ends_[k] = {order_[k].size()};
+      } else {
+        std::vector<std::size_t> segments(n_, 0);
+        for (const RoughSegment& r : rough_[k]) ++segments[r.instant];
+        std::size_t held = 0;
+        for (std::size_t p = 0; p < order_[k].size(); ++p) {
+          held += segments[order_[k][p]];
+          if (held >= options_.level_held_segments / 8 || p + 1 == order_[k].size())
+            band_ends_[k].push_back(p + 1), held = 0;
+        }
+      }
+      // The outline (tagged n) joins the rough segments to choose the strips, and goes.
+      const std::size_t count = rough_[k].size();
+      for (const Curve& c : outline_[k]) rough_[k].push_back(sunmap::rough_segment(c));
+      start_rounds(k, sunmap::choose_strips(rough_[k], rough_[k].size(), requests_[k].face->chart,
+                                            options_.strip_edges));
+      rough_[k].resize(count);
+      rough_which_[k] = sunmap::bucket_rough(rough_[k], strips_[k]);
+    }
+    // The faces whose exact boundaries were kept: each strip planned, fed and finished in one job
+    // (its pending boundaries and rounds are held one strip per thread at a time).
+    std::vector<std::vector<std::vector<std::size_t>>> which(faces_.size());
+    std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face, strip)
+    for (std::size_t k : cut)
+      if (keep_exact_[k]) add_strip_jobs(k, exact_[k], jobs, which);
+    feed_strips(jobs, exact_, which, [&](std::size_t k) { return order_[k].size(); });
+    // The others a wave of strips at a time, their instants computed again band by band.
+    for (std::size_t k : cut)
+      if (!keep_exact_[k]) feed_in_waves(k);
+    for (std::size_t k : cut) rough_[k] = {}, rough_which_[k] = {};
+  }
+
+  /// Face k's strips planned, fed and finished a wave of neighbouring strips at a time (their
+  /// rough segments about half of level_held_segments together: their pending boundaries and
+  /// rounds are held at once), the instants whose boundaries enter the wave computed again band
+  /// by band: the band's face-instant pairs in parallel, then the wave's strips. Each wave
+  /// computes its instants again: memory bounded for time (docs/sun-hours-map.md, step 7).
+  void feed_in_waves(std::size_t k) {
+    const std::size_t strips = strips_[k].size();
+    std::vector<std::vector<std::vector<std::size_t>>> which(faces_.size());
+    std::vector<std::vector<Curve>> curves(faces_.size());
+    for (std::size_t s0 = 0; s0 < strips;) {
+      std::size_t s1 = s0, held = 0;
+      while (s1 < strips && (s1 == s0 || held + rough_which_[k][s1].size() <= options_.level_held_segments / 2))
+        held += rough_which_[k][s1++].size();
+      std::vector<char> present(n_, 0);
+      std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face, strip)
+      for (std::size_t s = s0; s < s1; ++s) {
+        for (std::size_t c : rough_which_[k][s]) present[rough_[k][c].instant] = 1;
+        jobs.emplace_back(k, s);
+      }
+      runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) { plan_strip(jobs[j]); });
+      const std::vector<sunmap::Strip> wave(strips_[k].begin() + static_cast<std::ptrdiff_t>(s0),
+                                            strips_[k].begin() + static_cast<std::ptrdiff_t>(s1));
+      for (std::size_t b = 0; b < band_ends_[k].size(); ++b) {
+        std::vector<std::size_t> instants;  // the band's instants entering the wave, in the face's order
+        for (std::size_t p = b == 0 ? 0 : band_ends_[k][b - 1]; p < band_ends_[k][b]; ++p)
+          if (present[order_[k][p]]) instants.push_back(order_[k][p]);
+        again_ += instants.size();
+        total_ += instants.size();
+        std::vector<std::size_t> sorted = instants;
+        std::sort(sorted.begin(), sorted.end());
+        const std::vector<std::optional<core::LightSpaceGrid>> grids = light_grids(sorted);
+        std::vector<std::vector<Curve>> instant_curves(instants.size());
+        runtime::parallel_for(
+            instants.size(), threads_,
+            [&](unsigned wi, std::size_t j) {
+              runtime::check_stop();
+              const std::size_t i = instants[j];
+              const auto g = std::lower_bound(sorted.begin(), sorted.end(), i) - sorted.begin();
+              Worker& w = workers_[wi];
+              const LitBoundary region = lit_boundary(w, k, i, grids[g] ? &*grids[g] : nullptr, w.again_stats);
+              for (const BoundarySegment& seg : region.segments)
+                sunmap::add_segment(seg.from, seg.to, seg.left, static_cast<long>(i), instant_curves[j]);
+              ++done_;
+            },
+            report_);
+        for (std::vector<Curve>& part : instant_curves)
+          for (Curve& c : part) curves[k].push_back(std::move(c));
+        instant_curves = {};
+        std::vector<std::vector<std::size_t>> in_wave = sunmap::bucket_curves(curves[k], wave);
+        which[k].assign(strips, {});
+        for (std::size_t s = s0; s < s1; ++s) which[k][s] = std::move(in_wave[s - s0]);
+        feed_strips(jobs, curves, which, [&](std::size_t) { return band_ends_[k][b]; });
+      }
+      s0 = s1;
+    }
+  }
+
+  /// The instants cutting face k (those with a rough segment) in the order its strips sweep
+  /// them: those lighting the most of its tiles whole first, in time order among equals.
+  std::vector<std::size_t> face_order(std::size_t k) const {
+    std::vector<std::size_t> order;
+    for (const RoughSegment& r : rough_[k])
+      if (order.empty() || order.back() != r.instant) order.push_back(r.instant);
+    const sunmap::FaceTiles& t = tiles_[k];
+    if (t.grid.n == 0) return order;
+    std::vector<std::pair<long, std::size_t>> key;  // (-tiles lit whole, instant)
+    for (std::size_t i : order) {
+      const std::size_t slot = t.slot(i), words = t.grid.words();
+      long whole = 0;
+      for (std::size_t w = 0; slot != SIZE_MAX && w < words; ++w)
+        whole += __builtin_popcountll(t.whole_masks[slot * words + w]);
+      key.emplace_back(-whole, i);
+    }
+    std::stable_sort(key.begin(), key.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t p = 0; p < key.size(); ++p) order[p] = key[p].second;
+    return order;
+  }
+
+  /// Plans strip (face k, s) from face k's rough segments, once.
+  void plan_strip(std::pair<std::size_t, std::size_t> job) {
+    const auto [k, s] = job;
+    if (rounds_[k][s].planned()) return;
+    rounds_[k][s].plan(order_[k], band_ends_[k], rough_[k], rough_which_[k][s], whole_pending_[k]);
+    rough_which_[k][s] = {};
+  }
+
+  /// The jobs feeding face k's strips `curves` (its boundaries, bucketed into which[k]).
+  void add_strip_jobs(std::size_t k, const std::vector<Curve>& curves,
+                      std::vector<std::pair<std::size_t, std::size_t>>& jobs,
+                      std::vector<std::vector<std::vector<std::size_t>>>& which) {
+    which[k] = sunmap::bucket_curves(curves, strips_[k]);
+    for (std::size_t s = 0; s < strips_[k].size(); ++s) jobs.emplace_back(k, s);
+  }
+
+  /// Feeds each job's strip (face, strip) the curves which[face][strip] of curves[face], those
+  /// of the instants before position order_end(face) of the face's order; a strip fed its last
+  /// instant is finished in the same job. The curves go once fed.
+  template <class OrderEnd>
+  void feed_strips(const std::vector<std::pair<std::size_t, std::size_t>>& jobs,
+                   std::vector<std::vector<Curve>>& curves, std::vector<std::vector<std::vector<std::size_t>>>& which,
+                   const OrderEnd& order_end) {
+    runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
+      runtime::check_stop();
+      const auto [k, s] = jobs[j];
+      const std::size_t end = order_end(k);
+      plan_strip(jobs[j]);
+      rounds_[k][s].feed_planned(curves[k], which[k][s], end);
+      which[k][s] = {};
+      if (end != order_[k].size()) return;
+      strip_maps_[k][s] = rounds_[k][s].finish();
+      ++done_;
+    });
+    for (const auto& [k, s] : jobs) {
+      curves[k] = {};
+      if (order_end(k) == order_[k].size()) finished_[k] = 1;
+    }
   }
 
   /// Face k's tiles (sunmap::FaceTiles) from every instant's boundaries on it (`curves`, in time
   /// order, each instant's together) and the hours of those lighting it whole: its rounds then
   /// settle a cell by the instants not yet swept that may light the tiles under it.
-  void make_tiles(std::size_t k, const std::vector<Curve>& curves, const mpq_class& whole) {
+  void make_tiles(std::size_t k, const std::vector<RoughSegment>& curves, const mpq_class& whole) {
     std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting the face: [begin, end)
     for (std::size_t c = 0; c < curves.size(); ++c)
-      if (c == 0 || std::labs(curves[c].data()) != std::labs(curves[c - 1].data()))
+      if (c == 0 || curves[c].instant != curves[c - 1].instant)
         runs.emplace_back(c, c + 1);
       else
         runs.back().second = c + 1;
@@ -424,7 +629,7 @@ class MapBuilder {
     t.whole = whole;
     t.instants.resize(runs.size());
     for (std::size_t r = 0; r < runs.size(); ++r)
-      t.instants[r] = static_cast<std::size_t>(std::labs(curves[runs[r].first].data()) - 1);
+      t.instants[r] = curves[runs[r].first].instant;
     t.masks.assign(t.grid.words() * runs.size(), 0);
     t.whole_masks.assign(t.grid.words() * runs.size(), 0);
     runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
@@ -441,9 +646,14 @@ class MapBuilder {
   void start_rounds(std::size_t k, const std::vector<Curve>& sample, std::size_t expected) {
     std::vector<Curve> with_outline = sample;
     with_outline.insert(with_outline.end(), outline_[k].begin(), outline_[k].end());
+    start_rounds(k, sunmap::choose_strips(with_outline, expected + outline_[k].size(), requests_[k].face->chart,
+                                          options_.strip_edges));
+  }
+
+  /// Face k's strips `strips` and their rounds, each starting from the outline.
+  void start_rounds(std::size_t k, std::vector<sunmap::Strip> strips) {
     if (strips_.size() < faces_.size()) strips_.resize(faces_.size());
-    strips_[k] = sunmap::choose_strips(with_outline, expected + outline_[k].size(), requests_[k].face->chart,
-                                       options_.strip_edges);
+    strips_[k] = std::move(strips);
     const std::vector<std::vector<std::size_t>> which = sunmap::bucket_curves(outline_[k], strips_[k]);
     for (std::size_t s = 0; s < strips_[k].size(); ++s)
       rounds_[k].emplace_back(requests_[k], strips_[k][s], outline_[k], which[s]);
@@ -497,13 +707,13 @@ class MapBuilder {
       if (rounds_[k].empty()) {
         start_rounds(k, {}, 0);
         for (std::size_t s = 0; s < rounds_[k].size(); ++s)
-          rounds_[k][s].feed({}, {}, whole_pending_[k], mpq_class(0), n_);
+          rounds_[k][s].feed({}, {}, whole_pending_[k], mpq_class(0));
       }
       strips += rounds_[k].size();
       if (finished_[k]) continue;
       for (std::size_t s = 0; s < rounds_[k].size(); ++s) jobs.emplace_back(k, s);
     }
-    total_ = faces_.size() * n_ + strips;
+    total_ = faces_.size() * n_ + again_ + strips;
     runtime::parallel_for(
         jobs.size(), threads_,
         [&](unsigned, std::size_t j) {
@@ -542,6 +752,14 @@ class MapBuilder {
   std::vector<std::vector<Curve>> sample_;  ///< per face: boundaries held until its strips are chosen
   std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
   std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
+  std::vector<std::vector<RoughSegment>> rough_;  ///< per face (gathered): every boundary, in doubles
+  std::vector<std::vector<Curve>> exact_;   ///< per face (gathered): every boundary, while kept
+  std::vector<char> keep_exact_;            ///< per face (gathered): its exact boundaries are kept
+  std::size_t kept_segments_ = 0;           ///< in exact_, all faces together
+  std::size_t again_ = 0;                   ///< face-instant pairs computed again
+  std::vector<std::vector<std::size_t>> order_;  ///< per face (gathered): its instants in sweep order
+  std::vector<std::vector<std::vector<std::size_t>>> rough_which_;  ///< per face and strip: its rough segments
+  std::vector<std::vector<std::size_t>> band_ends_;  ///< per face (gathered): its bands' ends in order_
   double tile_bits_ = sunmap::kMaxTileBits;  ///< the most bits of masks one face's tiles may take
   std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
   std::vector<char> finished_;              ///< per face: its strips finished with the last batch
@@ -574,91 +792,6 @@ void add_sun_hours_levels(SunHoursMap& map, const ShadowEngine& engine, const st
   map.levels = std::move(with.levels);
   map.level_cells = std::move(with.level_cells);
   map.level_regions = with.level_regions;
-}
-
-std::string sun_hours_levels_summary(const SunHoursMap& map, const std::string& indent) {
-  if (map.levels.empty()) return {};
-  const double area = sun_hours_map_area(map);
-  const std::vector<double> at_least = sun_hours_level_areas(map);
-  std::string out;
-  char line[256];
-  for (std::size_t k = 0; k < map.levels.size(); ++k) {
-    std::snprintf(line, sizeof line, "%sat least %g h of sun: area %.6g of %.6g (%.1f%%)\n", indent.c_str(), map.levels[k],
-                  at_least[k], area, area > 0 ? 100.0 * at_least[k] / area : 0.0);
-    out += line;
-  }
-  std::snprintf(line, sizeof line, "%sthreshold map: %zu cells (sun_hours_levels.vtp)\n", indent.c_str(), map.level_cells.size());
-  out += line;
-  return out;
-}
-
-std::vector<double> parse_sun_hours_levels(const std::string& text, const std::string& what) {
-  std::vector<double> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = text.find(',', start);
-    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const std::string where = what + " item " + std::to_string(out.size() + 1);
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (item.empty() || used == 0 || item.find_first_not_of(" \t", used) != std::string::npos)
-      throw InputError({"", where}, "expected a number of hours, got \"" + item + "\"");
-    if (!std::isfinite(value) || value < 0)
-      throw InputError({"", where}, "a level must be finite and >= 0 hours, got \"" + item + "\"");
-    out.push_back(value);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return out;
-}
-
-std::vector<std::size_t> sun_hours_map_faces(const Scene& scene) {
-  std::vector<std::size_t> faces;
-  for (std::size_t k = 0; k < scene.sun_hours_map.size(); ++k) {
-    const std::size_t m = scene.sun_hours_map[k];
-    if (m >= scene.meshes.size())  // a scene built in code: load_scene only stores valid indices
-      throw InputError({scene.source.string(), "sun_hours_map[" + std::to_string(k) + "]"},
-                       "mesh index " + std::to_string(m) + " is out of range (the scene has " +
-                           std::to_string(scene.meshes.size()) + " meshes)");
-    const Mesh& mesh = scene.meshes[m];
-    for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count; ++f) faces.push_back(f);
-  }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  return faces;
-}
-
-std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vector<std::string>& mesh_names,
-                                             const std::string& what) {
-  Scene chosen;
-  chosen.meshes = scene.meshes;
-  // A mesh's name, or type:<T> for every mesh of a CityJSON object type (select_meshes).
-  for (std::size_t k = 0; k < mesh_names.size(); ++k)
-    for (std::size_t m : select_meshes(scene, mesh_names[k], {"", what})) chosen.sun_hours_map.push_back(m);
-  return sun_hours_map_faces(chosen);
-}
-
-std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene) {
-  std::vector<SunHoursInstant> out;
-  if (!scene.sun) return out;
-  const double step_hours = hours_per_instant(*scene.sun);  // the series' rule (shadow/series.hpp)
-  for (const SunInstant& instant : scene.sun_instants) {
-    if (instant.light_id == SunInstant::none || instant.light_id >= scene.lights.size()) continue;
-    out.push_back({scene.lights[instant.light_id], step_hours});
-  }
-  return out;
-}
-
-std::vector<SunHoursInstant> sun_hours_instants(const SunSeries& suns) {
-  std::vector<SunHoursInstant> out;
-  out.reserve(suns.lights.size());
-  for (const Light& light : suns.lights) out.push_back({light, suns.hours_per_instant});
-  return out;
 }
 
 }  // namespace shadow

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The sun-hours map's inputs and summaries (shadow/sun_hours.hpp): which faces and instants a
+// scene asks for, the levels given on the command line, and the level areas reported.
+#include <shadow/error.hpp>
+#include <shadow/series.hpp>
+#include <shadow/sun_hours.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace shadow {
+
+std::vector<double> sun_hours_level_areas(const SunHoursMap& map) {
+  std::vector<double> out(map.levels.size(), 0.0);
+  for (const SunHoursFace& f : map.faces)
+    for (std::size_t k = 0; k < f.level_areas.size() && k < out.size(); ++k) out[k] += f.level_areas[k];
+  return out;
+}
+
+double sun_hours_map_area(const SunHoursMap& map) {
+  double area = 0.0;
+  for (const SunHoursFace& f : map.faces) area += f.area;
+  return area;
+}
+
+std::string sun_hours_levels_summary(const SunHoursMap& map, const std::string& indent) {
+  if (map.levels.empty()) return {};
+  const double area = sun_hours_map_area(map);
+  const std::vector<double> at_least = sun_hours_level_areas(map);
+  std::string out;
+  char line[256];
+  for (std::size_t k = 0; k < map.levels.size(); ++k) {
+    std::snprintf(line, sizeof line, "%sat least %g h of sun: area %.6g of %.6g (%.1f%%)\n", indent.c_str(), map.levels[k],
+                  at_least[k], area, area > 0 ? 100.0 * at_least[k] / area : 0.0);
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "%sthreshold map: %zu cells (sun_hours_levels.vtp)\n", indent.c_str(), map.level_cells.size());
+  out += line;
+  return out;
+}
+
+std::vector<double> parse_sun_hours_levels(const std::string& text, const std::string& what) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::string where = what + " item " + std::to_string(out.size() + 1);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used == 0 || item.find_first_not_of(" \t", used) != std::string::npos)
+      throw InputError({"", where}, "expected a number of hours, got \"" + item + "\"");
+    if (!std::isfinite(value) || value < 0)
+      throw InputError({"", where}, "a level must be finite and >= 0 hours, got \"" + item + "\"");
+    out.push_back(value);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<std::size_t> sun_hours_map_faces(const Scene& scene) {
+  std::vector<std::size_t> faces;
+  for (std::size_t k = 0; k < scene.sun_hours_map.size(); ++k) {
+    const std::size_t m = scene.sun_hours_map[k];
+    if (m >= scene.meshes.size())  // a scene built in code: load_scene only stores valid indices
+      throw InputError({scene.source.string(), "sun_hours_map[" + std::to_string(k) + "]"},
+                       "mesh index " + std::to_string(m) + " is out of range (the scene has " +
+                           std::to_string(scene.meshes.size()) + " meshes)");
+    const Mesh& mesh = scene.meshes[m];
+    for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count; ++f) faces.push_back(f);
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+std::vector<std::size_t> sun_hours_map_faces(const Scene& scene, const std::vector<std::string>& mesh_names,
+                                             const std::string& what) {
+  Scene chosen;
+  chosen.meshes = scene.meshes;
+  // A mesh's name, or type:<T> for every mesh of a CityJSON object type (select_meshes).
+  for (std::size_t k = 0; k < mesh_names.size(); ++k)
+    for (std::size_t m : select_meshes(scene, mesh_names[k], {"", what})) chosen.sun_hours_map.push_back(m);
+  return sun_hours_map_faces(chosen);
+}
+
+std::vector<SunHoursInstant> sun_hours_instants(const Scene& scene) {
+  std::vector<SunHoursInstant> out;
+  if (!scene.sun) return out;
+  const double step_hours = hours_per_instant(*scene.sun);  // the series' rule (shadow/series.hpp)
+  for (const SunInstant& instant : scene.sun_instants) {
+    if (instant.light_id == SunInstant::none || instant.light_id >= scene.lights.size()) continue;
+    out.push_back({scene.lights[instant.light_id], step_hours});
+  }
+  return out;
+}
+
+std::vector<SunHoursInstant> sun_hours_instants(const SunSeries& suns) {
+  std::vector<SunHoursInstant> out;
+  out.reserve(suns.lights.size());
+  for (const Light& light : suns.lights) out.push_back({light, suns.hours_per_instant});
+  return out;
+}
+
+
+}  // namespace shadow
