@@ -137,15 +137,6 @@ struct SunHoursOptions {
   /// `stream_levels`; only the culling grids are per batch. Exact areas and cells do not depend
   /// on it.
   std::size_t instant_batch = 16;
-  /// The threshold map alone (`full` false, not streamed): the most exact boundary segments it
-  /// holds at once, about 600 bytes each. Every instant's boundaries are kept in doubles (about
-  /// 60 bytes a segment), and exactly while all faces' together stay within this; past it, the
-  /// faces holding the most have theirs computed again when their strips' rounds take them, a
-  /// wave of neighbouring strips at a time (about half this many segments of theirs) and, within
-  /// a wave, a band of instants at a time (about an eighth): memory bounded for the time of
-  /// computing the lit regions once more per wave (docs/sun-hours-map.md, step 7). Exact areas
-  /// do not depend on it; the cells may (within a band, the sunniest instants go first).
-  std::size_t level_held_segments = std::size_t{1} << 18;
   /// The threshold map alone (`full` false): feed each batch of instants to the strips' rounds
   /// as it comes and drop it, instead of gathering every instant's boundaries first (a face's
   /// strips are then chosen from the first 16 instants that cut it). It never holds every
@@ -163,6 +154,18 @@ struct SunHoursOptions {
   /// pass). Its stats are that pass's counters for the rows; lit_area_error_bound is 0. Its
   /// memory is rows x instants x 25 bytes for the whole call.
   SeriesResult* series_table = nullptr;
+  // Members are added here, at the end: the layout of those above stays as it was.
+  /// The threshold map alone (`full` false, not streamed): about the most exact boundary
+  /// segments it keeps between computing the lit regions and the rounds, about 600 bytes each
+  /// (besides a batch's, `instant_batch`, while they are taken). Every instant's boundaries are
+  /// kept in doubles (about 60 bytes a segment), and exactly while all faces' together stay
+  /// within this; past it, the faces holding the most have theirs computed again when their
+  /// strips' rounds take them, a wave of strips at a time (about half this many segments of
+  /// theirs) and, within a wave, a band of instants at a time (about an eighth, at least 4
+  /// instants): memory bounded for the time of computing the lit regions once more per wave
+  /// (docs/sun-hours-map.md, step 7). Exact areas do not depend on it, nor on which faces keep
+  /// theirs; the cells may (a strip sweeps its sunniest instants first within a band).
+  std::size_t level_held_segments = std::size_t{1} << 18;
 };
 
 /// The exact sun-hours map on `faces` (face ids, any order, duplicates ignored) of the engine's

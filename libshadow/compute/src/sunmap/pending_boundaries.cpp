@@ -54,7 +54,7 @@ void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_
       RoughSegment s;
       s.xa = CGAL::to_double(c.left().x()), s.ya = CGAL::to_double(c.left().y());
       s.xb = CGAL::to_double(c.right().x()), s.yb = CGAL::to_double(c.right().y());
-      s.xlo = std::min(s.xa, s.xb), s.xhi = std::max(s.xa, s.xb);
+      s.xlo = CGAL::to_interval(c.left().x()).first, s.xhi = CGAL::to_interval(c.right().x()).second;
       s.instant = static_cast<std::uint32_t>(instant);
       s.left = *c.data().begin() > 0;
       segments.push_back(s);

@@ -17,8 +17,8 @@ namespace shadow::sunmap {
 
 /// One boundary segment of an instant's lit region on a face: from (xa, ya), its
 /// lexicographically smaller end, to (xb, yb), rounded to doubles; x between xlo and xhi for
-/// sure (interval bounds, as the exact curve's strips are chosen by); `left`: the lit region lies
-/// on its left.
+/// sure (interval bounds, as the exact curves are bucketed into strips by); `left`: the lit
+/// region lies on its left.
 struct RoughSegment {
   double xa, ya, xb, yb;
   double xlo, xhi;

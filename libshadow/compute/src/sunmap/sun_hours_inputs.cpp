@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The sun-hours map's inputs and summaries (shadow/sun_hours.hpp): which faces and instants a
 // scene asks for, the levels given on the command line, and the level areas reported.
+#include "sunmap/sun_hours_inputs.hpp"
+
+#include "core/lights.hpp"
+
 #include <shadow/error.hpp>
 #include <shadow/series.hpp>
 #include <shadow/sun_hours.hpp>
@@ -13,6 +17,51 @@
 #include <vector>
 
 namespace shadow {
+
+namespace sunmap {
+
+/// The instants' weights, their lights and weights checked.
+std::vector<double> checked_hours(const std::vector<SunHoursInstant>& instants) {
+  std::vector<double> hours(instants.size());
+  for (std::size_t i = 0; i < instants.size(); ++i) {
+    const std::string path = "instants[" + std::to_string(i) + "]";
+    shadow::detail::check_light(instants[i].light, "", path + ".light");
+    const double w = instants[i].hours;
+    if (!std::isfinite(w) || w < 0)
+      throw InputError({"", path + ".hours"}, "hours must be finite and >= 0, got " + std::to_string(w));
+    hours[i] = w;
+  }
+  return hours;
+}
+
+/// The face ids checked, ascending, repeats dropped.
+std::vector<std::size_t> checked_faces(const Scene& scene, const std::vector<std::size_t>& faces_in) {
+  std::vector<std::size_t> faces;
+  for (std::size_t k = 0; k < faces_in.size(); ++k) {
+    if (faces_in[k] >= scene.faces.size())
+      throw InputError({"", "sun-hours map faces[" + std::to_string(k) + "]"},
+                       "face id " + std::to_string(faces_in[k]) + " is out of range (the scene has " +
+                           std::to_string(scene.faces.size()) + " faces)");
+    faces.push_back(faces_in[k]);
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+/// Checks and sorts the levels: ascending, repeats dropped.
+std::vector<double> checked_levels(const std::vector<double>& levels) {
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    if (!std::isfinite(levels[k]) || levels[k] < 0)
+      throw InputError({"", "levels[" + std::to_string(k) + "]"},
+                       "a level must be finite and >= 0 hours, got " + std::to_string(levels[k]));
+  std::vector<double> out = levels;
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace sunmap
 
 std::vector<double> sun_hours_level_areas(const SunHoursMap& map) {
   std::vector<double> out(map.levels.size(), 0.0);

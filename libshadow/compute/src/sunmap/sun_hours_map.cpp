@@ -22,6 +22,7 @@
 #include "sunmap/face_overlay.hpp"
 #include "sunmap/lit_tiles.hpp"
 #include "sunmap/rough_segments.hpp"
+#include "sunmap/sun_hours_inputs.hpp"
 
 #include <shadow/series.hpp>
 
@@ -61,47 +62,6 @@ struct InstantPart {
 };
 
 
-
-/// The instants' weights, their lights and weights checked.
-std::vector<double> checked_hours(const std::vector<SunHoursInstant>& instants) {
-  std::vector<double> hours(instants.size());
-  for (std::size_t i = 0; i < instants.size(); ++i) {
-    const std::string path = "instants[" + std::to_string(i) + "]";
-    shadow::detail::check_light(instants[i].light, "", path + ".light");
-    const double w = instants[i].hours;
-    if (!std::isfinite(w) || w < 0)
-      throw InputError({"", path + ".hours"}, "hours must be finite and >= 0, got " + std::to_string(w));
-    hours[i] = w;
-  }
-  return hours;
-}
-
-/// The face ids checked, ascending, repeats dropped.
-std::vector<std::size_t> checked_faces(const Scene& scene, const std::vector<std::size_t>& faces_in) {
-  std::vector<std::size_t> faces;
-  for (std::size_t k = 0; k < faces_in.size(); ++k) {
-    if (faces_in[k] >= scene.faces.size())
-      throw InputError({"", "sun-hours map faces[" + std::to_string(k) + "]"},
-                       "face id " + std::to_string(faces_in[k]) + " is out of range (the scene has " +
-                           std::to_string(scene.faces.size()) + " faces)");
-    faces.push_back(faces_in[k]);
-  }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-  return faces;
-}
-
-/// Checks and sorts the levels: ascending, repeats dropped.
-std::vector<double> checked_levels(const std::vector<double>& levels) {
-  for (std::size_t k = 0; k < levels.size(); ++k)
-    if (!std::isfinite(levels[k]) || levels[k] < 0)
-      throw InputError({"", "levels[" + std::to_string(k) + "]"},
-                       "a level must be finite and >= 0 hours, got " + std::to_string(levels[k]));
-  std::vector<double> out = levels;
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
 
 /// One face's part of the map, its strips' parts concatenated (region ids local to the face).
 struct FaceMap {
@@ -169,10 +129,10 @@ class MapBuilder {
         instants_(instants),
         options_(options),
         threads_(runtime::resolve_threads(runtime::checked_threads(options.threads))),
-        hours_(checked_hours(instants)),
-        faces_(checked_faces(*ctx_.scene, faces_in)),
+        hours_(sunmap::checked_hours(instants)),
+        faces_(sunmap::checked_faces(*ctx_.scene, faces_in)),
         n_(instants.size()) {
-    map_.levels = checked_levels(options.levels);
+    map_.levels = sunmap::checked_levels(options.levels);
     full_ = options.full || map_.levels.empty();
     map_.full = full_;
     for (double w : hours_) map_.total_hours += w;  // informative; cells are summed exactly
@@ -424,13 +384,8 @@ class MapBuilder {
     }
     // After the last batch each strip is finished in the same job (its level regions written and
     // its arrangement freed), one strip after another per thread.
-    // A face's tiles go with its last strip (two bits per tile and instant cutting the face).
-    std::unique_ptr<std::atomic<std::size_t>[]> strips_left(new std::atomic<std::size_t>[faces_.size()]);
-    for (std::size_t k = 0; k < faces_.size(); ++k) strips_left[k].store(0);
-    for (const auto& job : jobs) {
+    for (const auto& job : jobs)
       if (last) finished_[std::get<0>(job)] = 1;
-      ++strips_left[std::get<0>(job)];
-    }
     runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
       runtime::check_stop();
       const auto& [k, s, which] = jobs[j];
@@ -455,22 +410,19 @@ class MapBuilder {
                           sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut.size(), 1)));
     rough_which_.resize(faces_.size());
     band_ends_.resize(faces_.size());
+    const std::size_t band_segments = options_.level_held_segments / 8;
     for (std::size_t k : cut) {
       make_tiles(k, rough_[k], whole_pending_[k]);
       order_[k] = face_order(k);
-      // One band for a face whose exact boundaries were kept; else bands of about an eighth of
-      // level_held_segments.
-      if (keep_exact_[k]) {
-        band_ends_[k] = {order_[k].size()};
-      } else {
-        std::vector<std::size_t> segments(n_, 0);
-        for (const RoughSegment& r : rough_[k]) ++segments[r.instant];
-        std::size_t held = 0;
-        for (std::size_t p = 0; p < order_[k].size(); ++p) {
-          held += segments[order_[k][p]];
-          if (held >= options_.level_held_segments / 8 || p + 1 == order_[k].size())
-            band_ends_[k].push_back(p + 1), held = 0;
-        }
+      // The bands of its order: about band_segments segments each, at least 4 instants (so
+      // that a band's lit regions can be computed in parallel), whether its exact curves were
+      // kept or not (its strips' order within a band so depends on the budget alone).
+      std::vector<std::size_t> segments(n_, 0);
+      for (const RoughSegment& r : rough_[k]) ++segments[r.instant];
+      for (std::size_t p = 0, held = 0, first = 0; p < order_[k].size(); ++p) {
+        held += segments[order_[k][p]];
+        if ((held >= band_segments && p + 1 - first >= 4) || p + 1 == order_[k].size())
+          band_ends_[k].push_back(p + 1), held = 0, first = p + 1;
       }
       // The outline (tagged n) joins the rough segments to choose the strips, and goes.
       const std::size_t count = rough_[k].size();
@@ -487,66 +439,106 @@ class MapBuilder {
     for (std::size_t k : cut)
       if (keep_exact_[k]) add_strip_jobs(k, exact_[k], jobs, which);
     feed_strips(jobs, exact_, which, [&](std::size_t k) { return order_[k].size(); });
+    jobs.clear();
+    for (std::size_t k : cut) {
+      if (!keep_exact_[k]) {
+        for (std::size_t s = 0; s < strips_[k].size(); ++s) jobs.emplace_back(k, s);
+        continue;
+      }
+      tiles_[k] = sunmap::FaceTiles{};  // its strips are finished
+      rough_[k] = {}, rough_which_[k] = {};
+    }
     // The others a wave of strips at a time, their instants computed again band by band.
-    for (std::size_t k : cut)
-      if (!keep_exact_[k]) feed_in_waves(k);
+    feed_in_waves(jobs);
     for (std::size_t k : cut) rough_[k] = {}, rough_which_[k] = {};
   }
 
-  /// Face k's strips planned, fed and finished a wave of neighbouring strips at a time (their
-  /// rough segments about half of level_held_segments together: their pending boundaries and
-  /// rounds are held at once), the instants whose boundaries enter the wave computed again band
-  /// by band: the band's face-instant pairs in parallel, then the wave's strips. Each wave
-  /// computes its instants again: memory bounded for time (docs/sun-hours-map.md, step 7).
-  void feed_in_waves(std::size_t k) {
-    const std::size_t strips = strips_[k].size();
+  /// The strips `all` (face, strip; each face's in order), of faces whose exact boundaries were
+  /// not kept, planned, fed and finished a wave of them at a time (their rough segments about
+  /// half of level_held_segments together: their pending boundaries and rounds are held at
+  /// once). Each wave's instants, those whose boundaries enter its strips, are computed again
+  /// band by band (band b of each face's order in the wave together, sharing the culling grids):
+  /// the band's face-instant pairs in parallel, then the wave's strips. Each wave computes its
+  /// instants once more: memory bounded for time (docs/sun-hours-map.md, step 7).
+  void feed_in_waves(const std::vector<std::pair<std::size_t, std::size_t>>& all) {
     std::vector<std::vector<std::vector<std::size_t>>> which(faces_.size());
     std::vector<std::vector<Curve>> curves(faces_.size());
-    for (std::size_t s0 = 0; s0 < strips;) {
-      std::size_t s1 = s0, held = 0;
-      while (s1 < strips && (s1 == s0 || held + rough_which_[k][s1].size() <= options_.level_held_segments / 2))
-        held += rough_which_[k][s1++].size();
-      std::vector<char> present(n_, 0);
-      std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face, strip)
-      for (std::size_t s = s0; s < s1; ++s) {
-        for (std::size_t c : rough_which_[k][s]) present[rough_[k][c].instant] = 1;
-        jobs.emplace_back(k, s);
+    for (std::size_t w0 = 0; w0 < all.size();) {
+      std::size_t w1 = w0, held = 0;
+      const auto rough_of = [&](std::size_t w) { return rough_which_[all[w].first][all[w].second].size(); };
+      while (w1 < all.size() && (w1 == w0 || held + rough_of(w1) <= options_.level_held_segments / 2))
+        held += rough_of(w1++);
+      const std::vector<std::pair<std::size_t, std::size_t>> wave(all.begin() + static_cast<std::ptrdiff_t>(w0),
+                                                                  all.begin() + static_cast<std::ptrdiff_t>(w1));
+      w0 = w1;
+      // Per face in the wave: its strips there [first, last) and the instants entering them.
+      struct Part {
+        std::size_t face, first, last;
+        std::vector<char> present;
+      };
+      std::vector<Part> parts;
+      std::size_t bands = 0;
+      for (const auto& [k, s] : wave) {
+        if (parts.empty() || parts.back().face != k) {
+          parts.push_back(Part{k, s, s, std::vector<char>(n_, 0)});
+          bands = std::max(bands, band_ends_[k].size());
+        }
+        parts.back().last = s + 1;
+        for (std::size_t c : rough_which_[k][s]) parts.back().present[rough_[k][c].instant] = 1;
       }
-      runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) { plan_strip(jobs[j]); });
-      const std::vector<sunmap::Strip> wave(strips_[k].begin() + static_cast<std::ptrdiff_t>(s0),
-                                            strips_[k].begin() + static_cast<std::ptrdiff_t>(s1));
-      for (std::size_t b = 0; b < band_ends_[k].size(); ++b) {
-        std::vector<std::size_t> instants;  // the band's instants entering the wave, in the face's order
-        for (std::size_t p = b == 0 ? 0 : band_ends_[k][b - 1]; p < band_ends_[k][b]; ++p)
-          if (present[order_[k][p]]) instants.push_back(order_[k][p]);
-        again_ += instants.size();
-        total_ += instants.size();
-        std::vector<std::size_t> sorted = instants;
-        std::sort(sorted.begin(), sorted.end());
-        const std::vector<std::optional<core::LightSpaceGrid>> grids = light_grids(sorted);
-        std::vector<std::vector<Curve>> instant_curves(instants.size());
+      runtime::parallel_for(wave.size(), threads_, [&](unsigned, std::size_t j) { plan_strip(wave[j]); });
+      for (std::size_t b = 0; b < bands; ++b) {
+        std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (face, instant), each face's in its order
+        std::vector<std::size_t> instants;
+        for (const Part& part : parts) {
+          const std::vector<std::size_t>& ends = band_ends_[part.face];
+          if (b >= ends.size()) continue;
+          for (std::size_t p = b == 0 ? 0 : ends[b - 1]; p < ends[b]; ++p)
+            if (part.present[order_[part.face][p]]) {
+              pairs.emplace_back(part.face, order_[part.face][p]);
+              instants.push_back(order_[part.face][p]);
+            }
+        }
+        again_ += pairs.size();
+        total_ += pairs.size();
+        std::sort(instants.begin(), instants.end());
+        instants.erase(std::unique(instants.begin(), instants.end()), instants.end());
+        const std::vector<std::optional<core::LightSpaceGrid>> grids = light_grids(instants);
+        std::vector<std::vector<Curve>> pair_curves(pairs.size());
         runtime::parallel_for(
-            instants.size(), threads_,
+            pairs.size(), threads_,
             [&](unsigned wi, std::size_t j) {
               runtime::check_stop();
-              const std::size_t i = instants[j];
-              const auto g = std::lower_bound(sorted.begin(), sorted.end(), i) - sorted.begin();
+              const auto [k, i] = pairs[j];
+              const auto g = std::lower_bound(instants.begin(), instants.end(), i) - instants.begin();
               Worker& w = workers_[wi];
               const LitBoundary region = lit_boundary(w, k, i, grids[g] ? &*grids[g] : nullptr, w.again_stats);
               for (const BoundarySegment& seg : region.segments)
-                sunmap::add_segment(seg.from, seg.to, seg.left, static_cast<long>(i), instant_curves[j]);
+                sunmap::add_segment(seg.from, seg.to, seg.left, static_cast<long>(i), pair_curves[j]);
               ++done_;
             },
             report_);
-        for (std::vector<Curve>& part : instant_curves)
-          for (Curve& c : part) curves[k].push_back(std::move(c));
-        instant_curves = {};
-        std::vector<std::vector<std::size_t>> in_wave = sunmap::bucket_curves(curves[k], wave);
-        which[k].assign(strips, {});
-        for (std::size_t s = s0; s < s1; ++s) which[k][s] = std::move(in_wave[s - s0]);
-        feed_strips(jobs, curves, which, [&](std::size_t) { return band_ends_[k][b]; });
+        for (std::size_t j = 0; j < pairs.size(); ++j) {
+          for (Curve& c : pair_curves[j]) curves[pairs[j].first].push_back(std::move(c));
+          pair_curves[j] = {};
+        }
+        std::vector<std::pair<std::size_t, std::size_t>> jobs;
+        for (const Part& part : parts) {
+          const std::size_t k = part.face;
+          if (b >= band_ends_[k].size()) continue;
+          const std::vector<sunmap::Strip> strips(strips_[k].begin() + static_cast<std::ptrdiff_t>(part.first),
+                                                  strips_[k].begin() + static_cast<std::ptrdiff_t>(part.last));
+          std::vector<std::vector<std::size_t>> in_wave = sunmap::bucket_curves(curves[k], strips);
+          which[k].assign(strips_[k].size(), {});
+          for (std::size_t s = part.first; s < part.last; ++s) {
+            which[k][s] = std::move(in_wave[s - part.first]);
+            jobs.emplace_back(k, s);
+          }
+        }
+        feed_strips(jobs, curves, which, [&](std::size_t k) { return band_ends_[k][b]; });
       }
-      s0 = s1;
+      for (const Part& part : parts)
+        if (part.last == strips_[part.face].size()) tiles_[part.face] = sunmap::FaceTiles{};  // all finished
     }
   }
 

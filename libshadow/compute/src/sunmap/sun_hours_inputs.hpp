@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The sun-hours map's inputs checked (sun_hours_inputs.cpp): one clear error naming the item and
+// the problem, before any work.
+#pragma once
+
+#include <shadow/scene.hpp>
+#include <shadow/sun_hours.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace shadow::sunmap {
+
+/// The instants' weights, their lights and weights checked.
+std::vector<double> checked_hours(const std::vector<SunHoursInstant>& instants);
+
+/// The face ids checked, ascending, repeats dropped.
+std::vector<std::size_t> checked_faces(const Scene& scene, const std::vector<std::size_t>& faces_in);
+
+/// Checks and sorts the levels: ascending, repeats dropped.
+std::vector<double> checked_levels(const std::vector<double>& levels);
+
+}  // namespace shadow::sunmap
