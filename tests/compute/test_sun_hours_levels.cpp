@@ -444,7 +444,7 @@ TEST(SunHoursLevels, StreamedInstantsGiveTheAreasOfAllAtOnce) {
 
 // The threshold map alone holding few exact boundary segments (SunHoursOptions::
 // level_held_segments): faces past the budget have their lit regions computed again, a wave of
-// strips and a band of instants at a time (0: one strip and one instant). The same exact level
+// strips and a band of instants at a time (0: one strip and four instants). The same exact level
 // areas, integral and lit instants, face by face, as holding every boundary; its cells cover each
 // level with the same area, hold under the ray caster, and do not depend on the threads nor on
 // the batches the instants were first computed in.

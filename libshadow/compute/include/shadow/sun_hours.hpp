@@ -132,8 +132,8 @@ struct SunHoursOptions {
   std::size_t level_round_edges = 1000;
   /// The instants' lit regions are computed this many instants at a time (on every face, in
   /// parallel) and handed on before the next are computed; 0: all at once. The full map gathers
-  /// every instant's boundaries on the faces (its strips are one sweep of them); the threshold
-  /// map alone gathers them in doubles, and exactly up to `level_held_segments`, unless
+  /// every instant's boundaries on the faces (its strips are one sweep of them); so does the
+  /// threshold map alone, exactly up to `level_held_segments` and in doubles past it, unless
   /// `stream_levels`; only the culling grids are per batch. Exact areas and cells do not depend
   /// on it.
   std::size_t instant_batch = 16;
@@ -158,14 +158,14 @@ struct SunHoursOptions {
   /// The threshold map alone (`full` false, not streamed): about the most exact boundary
   /// segments it keeps between computing the lit regions and the rounds, about 600 bytes each
   /// (besides a batch's, `instant_batch`, while they are taken). Every instant's boundaries are
-  /// kept in doubles (about 60 bytes a segment), and exactly while all faces' together stay
-  /// within this; past it, the faces holding the most have theirs computed again when their
+  /// kept exactly while all faces' together stay within this; past it, the faces holding the
+  /// most keep theirs in doubles (about 60 bytes a segment) and have them computed again when their
   /// strips' rounds take them, a wave of strips at a time (about half this many segments of
-  /// theirs) and, within a wave, a band of instants at a time (about an eighth, at least 4
+  /// theirs) and, within a wave, a band of instants at a time (about half, at least 4
   /// instants): memory bounded for the time of computing the lit regions once more per wave
   /// (docs/sun-hours-map.md, step 7). Exact areas do not depend on it, nor on which faces keep
   /// theirs; the cells may (a strip sweeps its sunniest instants first within a band).
-  std::size_t level_held_segments = std::size_t{1} << 18;
+  std::size_t level_held_segments = std::size_t{1} << 20;
 };
 
 /// The exact sun-hours map on `faces` (face ids, any order, duplicates ignored) of the engine's

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// A face's boundaries as curves, its strips, and the exact sums of its cells' areas
-// (face_overlay.hpp): what the overlay of one strip needs before and after it.
+// A face's boundaries as curves (and in doubles), its strips, clipping to a strip, a strip's
+// plan from exact curves, the exact sums of its cells' areas, and a face's map assembled from its
+// strips' (face_overlay.hpp): what the overlay of one strip needs before and after it.
 #include "sunmap/face_overlay.hpp"
 #include "sunmap/rough_segments.hpp"
 
@@ -9,6 +10,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <map>
+#include <numeric>
 #include <cstdlib>
 #include <utility>
 
@@ -255,6 +258,53 @@ mpq_class exact_polygon_area(const Polygon2& cell) {
   mpq_set_den(area.get_mpq_t(), sum_d.get_mpz_t());
   mpq_canonicalize(area.get_mpq_t());
   return area;
+}
+
+FaceMap assemble(std::vector<StripMap>& strips, SunHoursFace face, const mpq_class& scale, std::size_t levels) {
+  FaceMap out;
+  std::map<mpq_class, std::vector<const std::vector<mpq_class>*>> hour_area;
+  std::vector<std::vector<const std::vector<mpq_class>*>> level_area(levels + 1);
+  mpq_class dropped(0);
+  for (StripMap& s : strips) {
+    for (SunHoursCell& c : s.cells) {
+      c.region_id += out.regions;
+      out.cells.push_back(std::move(c));
+    }
+    out.regions += s.regions;
+    s.cells = {};
+    for (SunHoursCell& c : s.level_cells) {
+      c.region_id += out.level_regions;
+      out.level_cells.push_back(std::move(c));
+    }
+    out.level_regions += s.level_regions;
+    s.level_cells = {};
+    for (const auto& [hours, areas] : s.hour_area) hour_area[hours].push_back(&areas);
+    for (std::size_t k = 0; k < s.level_area.size() && k <= levels; ++k) level_area[k].push_back(&s.level_area[k]);
+    dropped += s.dropped;
+  }
+  face.dropped_area = area_3d_mpq(dropped, scale);
+  for (const auto& [hours, parts] : hour_area)
+    face.areas.push_back({exact::round_mpq_to_double(hours.get_mpq_t()), area_3d_of_sum(parts, scale)});
+  // At least level k: the cells of the levels k and above, summed exactly.
+  std::vector<const std::vector<mpq_class>*> at_least;
+  face.level_areas.assign(levels, 0.0);
+  for (std::size_t k = levels; k >= 1; --k) {
+    at_least.insert(at_least.end(), level_area[k].begin(), level_area[k].end());
+    face.level_areas[k - 1] = area_3d_of_sum(at_least, scale);
+  }
+  out.face = std::move(face);
+  strips.clear();
+  return out;
+}
+
+void LevelRounds::plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
+                       const std::vector<Curve>& curves, const std::vector<std::size_t>& which,
+                       const mpq_class& whole) {
+  std::vector<RoughSegment> rough;
+  for (std::size_t c : which) rough.push_back(rough_segment(curves[c]));
+  std::vector<std::size_t> all(rough.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  plan(order, band_ends, rough, all, whole);
 }
 
 }  // namespace shadow::sunmap

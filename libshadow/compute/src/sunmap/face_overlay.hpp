@@ -126,6 +126,9 @@ class LevelRounds {
   void plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
             const std::vector<RoughSegment>& segments, const std::vector<std::size_t>& which,
             const mpq_class& whole);
+  /// plan from the exact curves `which` of `curves` (those that may enter the strip).
+  void plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
+            const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole);
   /// After plan: feeds the planned instants at positions before `order_end` (a band's end) in the
   /// face's order, whose boundaries that may enter the strip are `which` of `curves` (all of
   /// them, in any order). Sweeps every round that these instants fill.
@@ -145,6 +148,17 @@ bool clip_to_strip(const Curve& c, const exact::FT& x0, const exact::FT& x1, Cur
 
 /// The exact signed area of a polygon of exact points.
 mpq_class exact_polygon_area(const exact::Polygon2& polygon);
+
+/// One face's part of the map, its strips' parts concatenated (region ids local to the face).
+struct FaceMap {
+  std::vector<SunHoursCell> cells, level_cells;
+  std::size_t regions = 0, level_regions = 0;
+  SunHoursFace face;
+};
+
+/// Face `face`'s map from its strips' parts (taken), its areas summed exactly and rounded once
+/// under (3D / chart area)^2 = `scale`, with `levels` levels.
+FaceMap assemble(std::vector<StripMap>& strips, SunHoursFace face, const mpq_class& scale, std::size_t levels);
 
 /// Adds the boundary of `polygon` (the region on its left) as curves tagged with `instant`.
 void add_boundary(const exact::Polygon2& polygon, long instant, std::vector<Curve>& curves);

@@ -36,13 +36,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 #include <exception>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <utility>
 
 namespace shadow {
@@ -53,73 +54,26 @@ using sunmap::Curve;
 
 using sunmap::RoughSegment;
 
+/// The instant a boundary segment belongs to.
+std::size_t instant_of(const Curve& c) { return static_cast<std::size_t>(std::labs(c.data()) - 1); }
+std::size_t instant_of(const RoughSegment& r) { return r.instant; }
+
 /// What one instant leaves on one face.
 struct InstantPart {
   LitRegion::Kind kind = LitRegion::Kind::Dark;
   std::vector<Curve> curves;  ///< Partial: the lit region's boundary, tagged with the instant
-  std::vector<RoughSegment> rough;  ///< the threshold map alone, gathered: the curves in doubles
   mpq_class lit_area{0};      ///< the lit region's exact chart area (no lazy DAG kept)
 };
-
-
-
-/// One face's part of the map, its strips' parts concatenated (region ids local to the face).
-struct FaceMap {
-  std::vector<SunHoursCell> cells, level_cells;
-  std::size_t regions = 0, level_regions = 0;
-  SunHoursFace face;
-};
-
-FaceMap assemble(std::vector<sunmap::StripMap>& strips, SunHoursFace face, const mpq_class& scale, std::size_t levels) {
-  FaceMap out;
-  std::map<mpq_class, std::vector<const std::vector<mpq_class>*>> hour_area;
-  std::vector<std::vector<const std::vector<mpq_class>*>> level_area(levels + 1);
-  mpq_class dropped(0);
-  for (sunmap::StripMap& s : strips) {
-    for (SunHoursCell& c : s.cells) {
-      c.region_id += out.regions;
-      out.cells.push_back(std::move(c));
-    }
-    out.regions += s.regions;
-    s.cells = {};
-    for (SunHoursCell& c : s.level_cells) {
-      c.region_id += out.level_regions;
-      out.level_cells.push_back(std::move(c));
-    }
-    out.level_regions += s.level_regions;
-    s.level_cells = {};
-    for (const auto& [hours, areas] : s.hour_area) hour_area[hours].push_back(&areas);
-    for (std::size_t k = 0; k < s.level_area.size() && k <= levels; ++k) level_area[k].push_back(&s.level_area[k]);
-    dropped += s.dropped;
-  }
-  face.dropped_area = sunmap::area_3d_mpq(dropped, scale);
-  for (const auto& [hours, parts] : hour_area)
-    face.areas.push_back({exact::round_mpq_to_double(hours.get_mpq_t()), sunmap::area_3d_of_sum(parts, scale)});
-  // At least level k: the cells of the levels k and above, summed exactly.
-  std::vector<const std::vector<mpq_class>*> at_least;
-  face.level_areas.assign(levels, 0.0);
-  for (std::size_t k = levels; k >= 1; --k) {
-    at_least.insert(at_least.end(), level_area[k].begin(), level_area[k].end());
-    face.level_areas[k - 1] = sunmap::area_3d_of_sum(at_least, scale);
-  }
-  out.face = std::move(face);
-  strips.clear();
-  return out;
-}
-
-}  // namespace
-
-
-namespace {
 
 /// The map of `faces` under `instants`: the lit regions of a batch of instants at a time (every
 /// face-instant pair of the batch in parallel), then handed on before the next batch is computed.
 /// The full map gathers each face's boundaries (its strips' one sweep needs them all). The
-/// threshold map alone gathers them in doubles (sunmap::RoughSegment), and the exact ones only
-/// up to a budget: from the rough ones each face gets its tiles (sunmap::FaceTiles), the order
-/// its instants are swept in and its strips, each planned; the exact boundaries are then fed to
-/// the strips' rounds (sunmap::LevelRounds) in that order, those kept at once, the others
-/// computed again a band of instants at a time. With stream_levels each batch is fed to the
+/// threshold map alone gathers the exact ones up to a budget, and past it the faces holding the
+/// most keep theirs in doubles (sunmap::RoughSegment): from what it kept each face gets its tiles
+/// (sunmap::FaceTiles), the order its instants are swept in and its strips, each planned; the
+/// exact boundaries are then fed to the strips' rounds (sunmap::LevelRounds) in that order,
+/// those kept at once, the others computed again a wave of strips and a band of instants at a
+/// time. With stream_levels each batch is fed to the
 /// strips' rounds in time order instead, and dropped.
 class MapBuilder {
  public:
@@ -161,7 +115,7 @@ class MapBuilder {
     // The faces in order, region ids shifted by the earlier faces'.
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       face_info_[k].hour_area = sunmap::area_3d_mpq(hour_area_[k], scales_[k]);
-      FaceMap fm = assemble(strip_maps[k], face_info_[k], scales_[k], map_.levels.size());
+      sunmap::FaceMap fm = sunmap::assemble(strip_maps[k], face_info_[k], scales_[k], map_.levels.size());
       if (!full_) fm.face.areas.clear();
       for (SunHoursCell& c : fm.cells) {
         c.region_id += map_.regions;
@@ -274,10 +228,6 @@ class MapBuilder {
           part.curves.reserve(region.segments.size());
           for (const BoundarySegment& s : region.segments)
             sunmap::add_segment(s.from, s.to, s.left, static_cast<long>(i), part.curves);
-          if (gather_rough()) {
-            part.rough.reserve(part.curves.size());
-            for (const Curve& c : part.curves) part.rough.push_back(sunmap::rough_segment(c));
-          }
           ++done_;
         },
         report_);
@@ -325,12 +275,11 @@ class MapBuilder {
         // denominators.
         if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
         if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
-        if (gather_rough()) {
-          rough_[k].insert(rough_[k].end(), part.rough.begin(), part.rough.end());
-          if (keep_exact_[k]) {
-            kept_segments_ += part.curves.size();
-            for (Curve& c : part.curves) exact_[k].push_back(std::move(c));
-          }
+        if (gather_rough() && keep_exact_[k]) {
+          kept_segments_ += part.curves.size();
+          for (Curve& c : part.curves) exact_[k].push_back(std::move(c));
+        } else if (gather_rough()) {
+          for (const Curve& c : part.curves) rough_[k].push_back(sunmap::rough_segment(c));
         } else {
           std::vector<Curve>& into = full_ ? bounds_[k].curves : curves[k];
           for (Curve& c : part.curves) into.push_back(std::move(c));
@@ -351,6 +300,7 @@ class MapBuilder {
         for (std::size_t k = 1; k < faces_.size(); ++k)
           if (exact_[k].size() > exact_[most].size()) most = k;
         kept_segments_ -= exact_[most].size();
+        for (const Curve& c : exact_[most]) rough_[most].push_back(sunmap::rough_segment(c));
         exact_[most] = {};
         keep_exact_[most] = 0;
       }
@@ -397,35 +347,51 @@ class MapBuilder {
   }
 
   /// The threshold map alone, gathered, after the last batch: each face cut by an instant gets
-  /// its tiles, the order its instants are swept in, and its strips, each planned; then its
-  /// exact boundaries are fed to them in that order and every strip is finished: those kept at
-  /// once, the others computed again, a band of instants of the order at a time (every face's
-  /// band b together, face-instant pairs in parallel, then face-strip pairs).
+  /// its tiles, the order its instants are swept in (cut into bands), and its strips; then each
+  /// strip is planned, fed its exact boundaries in that order and finished: a kept face's in one
+  /// job per strip, the others' computed again in waves (feed_in_waves).
   void levels_gathered() {
     // The tiles of every face cut share one budget (they are all made before the strips run).
     std::vector<std::size_t> cut;
     for (std::size_t k = 0; k < faces_.size(); ++k)
-      if (!(*ctx_.prep)[faces_[k]].degenerate && !rough_[k].empty()) cut.push_back(k);
+      if (!(*ctx_.prep)[faces_[k]].degenerate && !(rough_[k].empty() && exact_[k].empty())) cut.push_back(k);
     tile_bits_ = std::min(sunmap::kMaxTileBits,
                           sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut.size(), 1)));
     rough_which_.resize(faces_.size());
     band_ends_.resize(faces_.size());
-    const std::size_t band_segments = options_.level_held_segments / 8;
+    const std::size_t band_segments = options_.level_held_segments / 2;
     for (std::size_t k : cut) {
-      make_tiles(k, rough_[k], whole_pending_[k]);
+      // A face keeps either its exact curves or its rough segments, each instant's together.
+      const bool exact = keep_exact_[k] != 0;
+      std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting it: [begin, end)
+      const std::size_t count = exact ? exact_[k].size() : rough_[k].size();
+      for (std::size_t c = 0, i = SIZE_MAX; c < count; ++c) {
+        const std::size_t at = exact ? instant_of(exact_[k][c]) : instant_of(rough_[k][c]);
+        if (at != i) runs.emplace_back(c, c), i = at;
+        runs.back().second = c + 1;
+      }
+      if (exact) make_tiles(k, exact_[k], runs, whole_pending_[k]);
+      else make_tiles(k, rough_[k], runs, whole_pending_[k]);
       order_[k] = face_order(k);
       // The bands of its order: about band_segments segments each, at least 4 instants (so
       // that a band's lit regions can be computed in parallel), whether its exact curves were
-      // kept or not (its strips' order within a band so depends on the budget alone).
+      // kept or not (its strips' order within a band so depends on the budget alone). A band
+      // computed again keeps only the curves entering the wave's strips.
       std::vector<std::size_t> segments(n_, 0);
-      for (const RoughSegment& r : rough_[k]) ++segments[r.instant];
+      for (std::size_t r = 0; r < runs.size(); ++r) segments[tiles_[k].instants[r]] = runs[r].second - runs[r].first;
       for (std::size_t p = 0, held = 0, first = 0; p < order_[k].size(); ++p) {
         held += segments[order_[k][p]];
         if ((held >= band_segments && p + 1 - first >= 4) || p + 1 == order_[k].size())
           band_ends_[k].push_back(p + 1), held = 0, first = p + 1;
       }
-      // The outline (tagged n) joins the rough segments to choose the strips, and goes.
-      const std::size_t count = rough_[k].size();
+      // The outline (tagged n) joins the boundaries to choose the strips, and goes.
+      if (exact) {
+        exact_[k].insert(exact_[k].end(), outline_[k].begin(), outline_[k].end());
+        start_rounds(k, sunmap::choose_strips(exact_[k], exact_[k].size(), requests_[k].face->chart,
+                                              options_.strip_edges));
+        exact_[k].resize(count);
+        continue;
+      }
       for (const Curve& c : outline_[k]) rough_[k].push_back(sunmap::rough_segment(c));
       start_rounds(k, sunmap::choose_strips(rough_[k], rough_[k].size(), requests_[k].face->chart,
                                             options_.strip_edges));
@@ -446,7 +412,6 @@ class MapBuilder {
         continue;
       }
       tiles_[k] = sunmap::FaceTiles{};  // its strips are finished
-      rough_[k] = {}, rough_which_[k] = {};
     }
     // The others a wave of strips at a time, their instants computed again band by band.
     feed_in_waves(jobs);
@@ -486,7 +451,9 @@ class MapBuilder {
         parts.back().last = s + 1;
         for (std::size_t c : rough_which_[k][s]) parts.back().present[rough_[k][c].instant] = 1;
       }
-      runtime::parallel_for(wave.size(), threads_, [&](unsigned, std::size_t j) { plan_strip(wave[j]); });
+      std::unordered_map<std::size_t, std::pair<std::size_t, std::size_t>> span;  // face: its strips here
+      for (const Part& part : parts) span[part.face] = {part.first, part.last};
+      runtime::parallel_for(wave.size(), threads_, [&](unsigned, std::size_t j) { plan_strip(wave[j], {}, {}); });
       for (std::size_t b = 0; b < bands; ++b) {
         std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (face, instant), each face's in its order
         std::vector<std::size_t> instants;
@@ -513,8 +480,14 @@ class MapBuilder {
               const auto g = std::lower_bound(instants.begin(), instants.end(), i) - instants.begin();
               Worker& w = workers_[wi];
               const LitBoundary region = lit_boundary(w, k, i, grids[g] ? &*grids[g] : nullptr, w.again_stats);
-              for (const BoundarySegment& seg : region.segments)
-                sunmap::add_segment(seg.from, seg.to, seg.left, static_cast<long>(i), pair_curves[j]);
+              // Only the segments that may enter the wave's strips of face k (bucket_curves' test).
+              const auto [first, last] = span.at(k);
+              const sunmap::Strip &a = strips_[k][first], &z = strips_[k][last - 1];
+              for (const BoundarySegment& seg : region.segments) {
+                const auto p = CGAL::to_interval(seg.from.x()), q = CGAL::to_interval(seg.to.x());
+                if (a.whole || (std::min(p.first, q.first) <= z.x1 && std::max(p.second, q.second) >= a.x0))
+                  sunmap::add_segment(seg.from, seg.to, seg.left, static_cast<long>(i), pair_curves[j]);
+              }
               ++done_;
             },
             report_);
@@ -538,17 +511,18 @@ class MapBuilder {
         feed_strips(jobs, curves, which, [&](std::size_t k) { return band_ends_[k][b]; });
       }
       for (const Part& part : parts)
-        if (part.last == strips_[part.face].size()) tiles_[part.face] = sunmap::FaceTiles{};  // all finished
+        if (part.last == strips_[part.face].size()) {  // all its strips finished
+          tiles_[part.face] = sunmap::FaceTiles{};
+          rough_[part.face] = {}, rough_which_[part.face] = {};
+        }
     }
   }
 
-  /// The instants cutting face k (those with a rough segment) in the order its strips sweep
+  /// The instants cutting face k (those of its tiles, ascending) in the order its strips sweep
   /// them: those lighting the most of its tiles whole first, in time order among equals.
   std::vector<std::size_t> face_order(std::size_t k) const {
-    std::vector<std::size_t> order;
-    for (const RoughSegment& r : rough_[k])
-      if (order.empty() || order.back() != r.instant) order.push_back(r.instant);
     const sunmap::FaceTiles& t = tiles_[k];
+    std::vector<std::size_t> order = t.instants;  // ascending
     if (t.grid.n == 0) return order;
     std::vector<std::pair<long, std::size_t>> key;  // (-tiles lit whole, instant)
     for (std::size_t i : order) {
@@ -563,10 +537,16 @@ class MapBuilder {
     return order;
   }
 
-  /// Plans strip (face k, s) from face k's rough segments, once.
-  void plan_strip(std::pair<std::size_t, std::size_t> job) {
+  /// Plans strip (face k, s) once: a kept face's from its exact curves `which` of `curves`
+  /// (those bucketed into the strip), another's from its rough segments.
+  void plan_strip(std::pair<std::size_t, std::size_t> job, const std::vector<Curve>& curves,
+                  const std::vector<std::size_t>& which) {
     const auto [k, s] = job;
     if (rounds_[k][s].planned()) return;
+    if (keep_exact_[k]) {  // from its exact curves, bucketed into the strip
+      rounds_[k][s].plan(order_[k], band_ends_[k], curves, which, whole_pending_[k]);
+      return;
+    }
     rounds_[k][s].plan(order_[k], band_ends_[k], rough_[k], rough_which_[k][s], whole_pending_[k]);
     rough_which_[k][s] = {};
   }
@@ -590,7 +570,7 @@ class MapBuilder {
       runtime::check_stop();
       const auto [k, s] = jobs[j];
       const std::size_t end = order_end(k);
-      plan_strip(jobs[j]);
+      plan_strip(jobs[j], curves[k], which[k][s]);
       rounds_[k][s].feed_planned(curves[k], which[k][s], end);
       which[k][s] = {};
       if (end != order_[k].size()) return;
@@ -606,22 +586,17 @@ class MapBuilder {
   /// Face k's tiles (sunmap::FaceTiles) from every instant's boundaries on it (`curves`, in time
   /// order, each instant's together) and the hours of those lighting it whole: its rounds then
   /// settle a cell by the instants not yet swept that may light the tiles under it.
-  void make_tiles(std::size_t k, const std::vector<RoughSegment>& curves, const mpq_class& whole) {
-    std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting the face: [begin, end)
-    for (std::size_t c = 0; c < curves.size(); ++c)
-      if (c == 0 || curves[c].instant != curves[c - 1].instant)
-        runs.emplace_back(c, c + 1);
-      else
-        runs.back().second = c + 1;
+  template <class Segment>
+  void make_tiles(std::size_t k, const std::vector<Segment>& curves,
+                  const std::vector<std::pair<std::size_t, std::size_t>>& runs, const mpq_class& whole) {
     std::size_t most = 0;
     for (const auto& [b, e] : runs) most = std::max(most, e - b);
     sunmap::FaceTiles& t = tiles_[k];
     t.grid = sunmap::tile_grid(requests_[k].face->chart, most, runs.size(), tile_bits_);
+    t.instants.resize(runs.size());
+    for (std::size_t r = 0; r < runs.size(); ++r) t.instants[r] = instant_of(curves[runs[r].first]);
     if (t.grid.n == 0) return;
     t.whole = whole;
-    t.instants.resize(runs.size());
-    for (std::size_t r = 0; r < runs.size(); ++r)
-      t.instants[r] = curves[runs[r].first].instant;
     t.masks.assign(t.grid.words() * runs.size(), 0);
     t.whole_masks.assign(t.grid.words() * runs.size(), 0);
     runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
@@ -744,7 +719,7 @@ class MapBuilder {
   std::vector<std::vector<Curve>> sample_;  ///< per face: boundaries held until its strips are chosen
   std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
   std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
-  std::vector<std::vector<RoughSegment>> rough_;  ///< per face (gathered): every boundary, in doubles
+  std::vector<std::vector<RoughSegment>> rough_;  ///< per face (gathered, not kept): every boundary, in doubles
   std::vector<std::vector<Curve>> exact_;   ///< per face (gathered): every boundary, while kept
   std::vector<char> keep_exact_;            ///< per face (gathered): its exact boundaries are kept
   std::size_t kept_segments_ = 0;           ///< in exact_, all faces together
