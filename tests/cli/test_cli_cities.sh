@@ -217,6 +217,20 @@ assert only["full"] is False and only["file"] is None and only["cells"] == 0, on
 assert only["levels"] == full["levels"], (only["levels"], full["levels"])
 assert only["area"] == full["area"] and only["total_hours"] == full["total_hours"], only
 ' "$WORK/out-levels/report.json" "$WORK/out-levels-only/report.json"
+# --sun-hours-held-segments 0: every lit region computed again, a wave and a band at a time; the
+# same exact level areas to the last bit.
+run city_levels_held series "$WORK/city/scene.json" -o "$WORK/out-levels-held" --skip-invalid \
+  --sun-hours-map type:TINRelief --sun-hours-levels 4,2 --sun-hours-levels-only --sun-hours-held-segments 0
+check series_sun_hours_held_segments_areas_match '
+import json, sys
+only = json.load(open(sys.argv[1]))["sun_hours_map"]
+held = json.load(open(sys.argv[2]))["sun_hours_map"]
+assert held["full"] is False and held["levels"] == only["levels"], (held["levels"], only["levels"])
+' "$WORK/out-levels-only/report.json" "$WORK/out-levels-held/report.json"
+run held_without_levels_only series "$WORK/city/scene.json" -o "$WORK/out-held-bad" --skip-invalid \
+  --sun-hours-map type:TINRelief --sun-hours-levels 2 --sun-hours-held-segments 10
+expect_error sun_hours_held_segments_needs_levels_only held_without_levels_only "$WORK/out-held-bad" \
+  '--sun-hours-held-segments: applies to the threshold map alone'
 run levels_only_without_levels series "$WORK/city/scene.json" -o "$WORK/out-levels-only-bad" --skip-invalid \
   --sun-hours-map type:TINRelief --sun-hours-levels-only
 expect_error sun_hours_levels_only_needs_levels levels_only_without_levels "$WORK/out-levels-only-bad" \

@@ -75,6 +75,10 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_flag("--sun-hours-levels-only", args.sun_hours_levels_only,
                    "With --sun-hours-levels: compute the threshold map alone, not the full map (no sun_hours.vtp): "
                    "its memory follows the level boundaries instead of growing with the number of instants");
+  series->add_option("--sun-hours-held-segments", args.sun_hours_held_segments,
+                     "With --sun-hours-levels-only: the most exact boundary segments held at once (about 600 bytes "
+                     "each; default 1048576); past it lit regions are computed again, in less memory and more time "
+                     "(docs/sun-hours-map.md)");
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
@@ -183,6 +187,7 @@ shadow::SeriesJobOptions job_options(const SeriesArgs& args) {
   if (!args.sun_hours_map.empty()) o.sun_hours_map = mesh_names(args.sun_hours_map);
   if (!args.sun_hours_levels.empty()) o.sun_hours_levels = shadow::parse_sun_hours_levels(args.sun_hours_levels);
   o.sun_hours_levels_only = args.sun_hours_levels_only;
+  o.sun_hours_held_segments = args.sun_hours_held_segments;
   o.checkpoint = args.checkpoint;
   o.resume = args.resume;
   o.stop_after = args.stop_after;

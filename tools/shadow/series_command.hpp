@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,7 @@ struct SeriesArgs {
   std::string sun_hours_map;  ///< --sun-hours-map MESH[,MESH]: meshes that get the exact map
   std::string sun_hours_levels;  ///< --sun-hours-levels H[,H]: the threshold map's levels in hours
   bool sun_hours_levels_only = false;  ///< --sun-hours-levels-only: the threshold map alone
+  std::optional<std::size_t> sun_hours_held_segments;  ///< --sun-hours-held-segments N
   double planarity_tolerance = 1e-6;
   bool orient_outward = false;
   bool skip_invalid = false;  ///< --skip-invalid: leave out faces that fail validation

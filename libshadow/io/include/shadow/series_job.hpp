@@ -176,6 +176,12 @@ struct SeriesJobOptions {
   /// without a program's prefix; rank 0 only.
   std::function<void(const std::string&)> notice;
   std::function<void(SeriesJobStage)> stage;  ///< every rank, at each stage's start
+  // Members are added here, at the end: the layout of those above stays as it was.
+  /// With sun_hours_levels_only (`--sun-hours-held-segments`): SunHoursOptions::
+  /// level_held_segments, the most exact boundary segments the threshold map holds (0 or more;
+  /// fewer: less memory, more time computing lit regions again); unset: its default. An
+  /// InputError naming the flag without sun_hours_levels_only.
+  std::optional<std::size_t> sun_hours_held_segments;
 };
 
 /// What the job hands back to EnergyPlus: the objects that import energyplus-shading.csv

@@ -372,6 +372,9 @@ void SeriesJob::load() {
     }
     if (options_.sun_hours_levels_only && options_.sun_hours_levels.empty())
       throw InputError({"", "--sun-hours-levels-only"}, "needs levels: --sun-hours-levels H[,H]");
+    if (options_.sun_hours_held_segments && !options_.sun_hours_levels_only)
+      throw InputError({"", "--sun-hours-held-segments"},
+                       "applies to the threshold map alone: --sun-hours-levels H[,H] --sun-hours-levels-only");
     if (!options_.sun_hours_levels.empty() && s.map_faces.empty())
       throw InputError({"", "--sun-hours-levels"},
                        "needs a sun-hours map: --sun-hours-map MESH or the scene's \"sun_hours_map\"");
@@ -636,6 +639,7 @@ void SeriesJob::compute_map() {
       map_options.threads = options_.threads;
       map_options.levels = options_.sun_hours_levels;
       map_options.full = false;
+      if (options_.sun_hours_held_segments) map_options.level_held_segments = *options_.sun_hours_held_segments;
       if (options_.progress)
         map_options.progress = [&](const Progress& p) {
           options_.progress({SeriesJobProgress::Part::MapFaces, p.done, p.total, 0, false});
