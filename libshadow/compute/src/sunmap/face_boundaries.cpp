@@ -192,19 +192,30 @@ std::vector<std::vector<std::size_t>> bucket_rough(const std::vector<RoughSegmen
       strips);
 }
 
-RoughSegment rough_segment(const Curve& curve) {
-  // A tagged curve runs from its lexicographically smaller end (add_segment, add_boundary).
-  const Point2 &a = curve.source(), &b = curve.target();
+namespace {
+
+/// The rough form of segment ab tagged `tag` (face_overlay.hpp's tags: its instant and side).
+RoughSegment rough_of(const Point2& a, const Point2& b, long tag) {
+  // The segment runs from its lexicographically smaller end (add_segment, add_boundary).
   const bool forward = CGAL::compare_xy(a, b) != CGAL::LARGER;
   const Point2 &from = forward ? a : b, &to = forward ? b : a;
   RoughSegment s;
   s.xa = CGAL::to_double(from.x()), s.ya = CGAL::to_double(from.y());
   s.xb = CGAL::to_double(to.x()), s.yb = CGAL::to_double(to.y());
-  const auto [lo, hi] = x_range(curve);
-  s.xlo = lo, s.xhi = hi;
-  s.instant = static_cast<std::uint32_t>(std::labs(curve.data()) - 1);
-  s.left = curve.data() > 0;
+  // x_range's bounds, exactly, so that bucket_rough gives a strip every curve bucket_curves does.
+  const auto p = CGAL::to_interval(a.x()), q = CGAL::to_interval(b.x());
+  s.xlo = std::min(p.first, q.first), s.xhi = std::max(p.second, q.second);
+  s.instant = static_cast<std::uint32_t>(std::labs(tag) - 1);
+  s.left = tag > 0;
   return s;
+}
+
+}  // namespace
+
+RoughSegment rough_segment(const Curve& curve) { return rough_of(curve.source(), curve.target(), curve.data()); }
+
+RoughSegment rough_segment(const XCurve& curve) {
+  return rough_of(curve.source(), curve.target(), *curve.data().begin());
 }
 
 namespace {

@@ -697,9 +697,6 @@ class StripOverlay {
     }
   }
 
-  /// The exact signed chart area of a cell: the shoelace on its vertices' exact rational
-  /// coordinates. The same value as polygon_area, with half the rational operations and no lazy
-  /// DAG per term: the cells' exact areas were half the map's run time.
   bool write(const Polygon2& cell, const mpq_class& cell_area, double value, std::vector<SunHoursCell>& dest) {
     SunHoursCell c;
     c.face_id = r_.face_id;

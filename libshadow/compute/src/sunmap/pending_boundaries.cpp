@@ -51,13 +51,8 @@ void PendingBoundaries::build(const FaceTiles& tiles, std::size_t c0, std::size_
   for (const auto& [instant, curves] : order) {
     instants.push_back(instant);
     for (const XCurve& c : *curves) {
-      RoughSegment s;
-      s.xa = CGAL::to_double(c.left().x()), s.ya = CGAL::to_double(c.left().y());
-      s.xb = CGAL::to_double(c.right().x()), s.yb = CGAL::to_double(c.right().y());
-      s.xlo = CGAL::to_interval(c.left().x()).first, s.xhi = CGAL::to_interval(c.right().x()).second;
-      s.instant = static_cast<std::uint32_t>(instant);
-      s.left = *c.data().begin() > 0;
-      segments.push_back(s);
+      segments.push_back(rough_segment(c));
+      segments.back().instant = static_cast<std::uint32_t>(instant);  // the order's, whatever the tag
     }
   }
   std::vector<std::size_t> which(segments.size());

@@ -28,6 +28,8 @@ struct RoughSegment {
 
 /// The rough form of a curve (tagged as face_overlay.hpp tags them: its instant and side).
 RoughSegment rough_segment(const Curve& curve);
+/// The same of an x-monotone curve by its first tag (one instant's, or the outline's).
+RoughSegment rough_segment(const XCurve& curve);
 
 /// The indices of `segments` that may enter each strip: those of the exact curves
 /// (bucket_curves) and possibly more.

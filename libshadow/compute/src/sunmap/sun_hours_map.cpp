@@ -73,8 +73,8 @@ struct InstantPart {
 /// (sunmap::FaceTiles), the order its instants are swept in and its strips, each planned; the
 /// exact boundaries are then fed to the strips' rounds (sunmap::LevelRounds) in that order,
 /// those kept at once, the others computed again a wave of strips and a band of instants at a
-/// time. With stream_levels each batch is fed to the
-/// strips' rounds in time order instead, and dropped.
+/// time. With stream_levels each batch is fed to the strips' rounds in time order instead, and
+/// dropped.
 class MapBuilder {
  public:
   MapBuilder(const ShadowEngine& engine, const std::vector<std::size_t>& faces_in,
@@ -255,7 +255,8 @@ class MapBuilder {
     return grids;
   }
 
-  bool gather_rough() const { return !full_ && !options_.stream_levels; }
+  /// The threshold map alone, gathered (not streamed): exact boundaries kept within the budget.
+  bool levels_gathered_mode() const { return !full_ && !options_.stream_levels; }
 
   /// 2. The batch's parts, face by face: the integral's terms and the instants lit; the
   /// boundaries gathered (full map) or fed to the face's strips (threshold map alone).
@@ -275,10 +276,10 @@ class MapBuilder {
         // denominators.
         if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
         if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
-        if (gather_rough() && keep_exact_[k]) {
+        if (levels_gathered_mode() && keep_exact_[k]) {
           kept_segments_ += part.curves.size();
           for (Curve& c : part.curves) exact_[k].push_back(std::move(c));
-        } else if (gather_rough()) {
+        } else if (levels_gathered_mode()) {
           for (const Curve& c : part.curves) rough_[k].push_back(sunmap::rough_segment(c));
         } else {
           std::vector<Curve>& into = full_ ? bounds_[k].curves : curves[k];
@@ -291,7 +292,7 @@ class MapBuilder {
     parts_ = {};
     if (full_) return;
     const bool last = first + count == n_;
-    if (gather_rough()) {
+    if (levels_gathered_mode()) {
       for (std::size_t k = 0; k < faces_.size(); ++k) whole_pending_[k] += whole[k];
       // Over the budget: the faces holding the most exact boundaries drop them, to be computed
       // again (decided in face order, batch by batch: the same whatever the threads).
