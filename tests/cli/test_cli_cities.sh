@@ -231,6 +231,12 @@ run held_without_levels_only series "$WORK/city/scene.json" -o "$WORK/out-held-b
   --sun-hours-map type:TINRelief --sun-hours-levels 2 --sun-hours-held-segments 10
 expect_error sun_hours_held_segments_needs_levels_only held_without_levels_only "$WORK/out-held-bad" \
   '--sun-hours-held-segments: applies to the threshold map alone'
+for bad in -1 "" 99999999999999999999999 1e3; do
+  run held_bad series "$WORK/city/scene.json" -o "$WORK/out-held-bad-value" --skip-invalid \
+    --sun-hours-map type:TINRelief --sun-hours-levels 2 --sun-hours-levels-only --sun-hours-held-segments "$bad"
+  expect_error "sun_hours_held_segments_rejects_${bad:-empty}" held_bad "$WORK/out-held-bad-value" \
+    '--sun-hours-held-segments' "got \"$bad\""
+done
 run levels_only_without_levels series "$WORK/city/scene.json" -o "$WORK/out-levels-only-bad" --skip-invalid \
   --sun-hours-map type:TINRelief --sun-hours-levels-only
 expect_error sun_hours_levels_only_needs_levels levels_only_without_levels "$WORK/out-levels-only-bad" \

@@ -78,7 +78,8 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
   series->add_option("--sun-hours-held-segments", args.sun_hours_held_segments,
                      "With --sun-hours-levels-only: the most exact boundary segments held at once (about 600 bytes "
                      "each; default 1048576); past it lit regions are computed again, in less memory and more time "
-                     "(docs/sun-hours-map.md)");
+                     "(docs/sun-hours-map.md)")
+      ->check(shadow_cli::integer_in(0, 1000000000000LL));  // a trillion: beyond any machine's memory
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)
