@@ -21,6 +21,7 @@
 #include "exact/regions.hpp"
 #include "sunmap/face_overlay.hpp"
 #include "sunmap/lit_tiles.hpp"
+#include "sunmap/packed_boundaries.hpp"
 #include "sunmap/rough_segments.hpp"
 #include "sunmap/sun_hours_inputs.hpp"
 
@@ -40,6 +41,7 @@
 #include <stdexcept>
 #include <exception>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -55,7 +57,6 @@ using sunmap::Curve;
 using sunmap::RoughSegment;
 
 /// The instant a boundary segment belongs to.
-std::size_t instant_of(const Curve& c) { return static_cast<std::size_t>(std::labs(c.data()) - 1); }
 std::size_t instant_of(const RoughSegment& r) { return r.instant; }
 
 /// What one instant leaves on one face.
@@ -174,7 +175,7 @@ class MapBuilder {
       sample_.resize(count);
       sampled_.assign(count, 0);
       rough_.resize(count);
-      exact_.resize(count);
+      packed_.resize(count);
       keep_exact_.assign(count, 1);
       order_.resize(count);
     }
@@ -278,7 +279,7 @@ class MapBuilder {
         if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
         if (levels_gathered_mode() && keep_exact_[k]) {
           kept_segments_ += part.curves.size();
-          for (Curve& c : part.curves) exact_[k].push_back(std::move(c));
+          packed_[k].add(part.curves);
         } else if (levels_gathered_mode()) {
           for (const Curve& c : part.curves) rough_[k].push_back(sunmap::rough_segment(c));
         } else {
@@ -299,10 +300,10 @@ class MapBuilder {
       while (kept_segments_ > options_.level_held_segments) {
         std::size_t most = 0;
         for (std::size_t k = 1; k < faces_.size(); ++k)
-          if (exact_[k].size() > exact_[most].size()) most = k;
-        kept_segments_ -= exact_[most].size();
-        for (const Curve& c : exact_[most]) rough_[most].push_back(sunmap::rough_segment(c));
-        exact_[most] = {};
+          if (packed_[k].size() > packed_[most].size()) most = k;
+        kept_segments_ -= packed_[most].size();
+        rough_[most] = packed_[most].rough(threads_);
+        packed_[most] = {};
         keep_exact_[most] = 0;
       }
       if (last) levels_gathered();
@@ -355,24 +356,30 @@ class MapBuilder {
     // The tiles of every face cut share one budget (they are all made before the strips run).
     std::vector<std::size_t> cut;
     for (std::size_t k = 0; k < faces_.size(); ++k)
-      if (!(*ctx_.prep)[faces_[k]].degenerate && !(rough_[k].empty() && exact_[k].empty())) cut.push_back(k);
+      if (!(*ctx_.prep)[faces_[k]].degenerate && !(rough_[k].empty() && packed_[k].empty())) cut.push_back(k);
     tile_bits_ = std::min(sunmap::kMaxTileBits,
                           sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut.size(), 1)));
     rough_which_.resize(faces_.size());
     band_ends_.resize(faces_.size());
     const std::size_t band_segments = options_.level_held_segments / 2;
+    // Per kept face: the strips fed its packed curves that enter them.
+    std::vector<std::vector<std::vector<std::size_t>>> which(faces_.size());
     for (std::size_t k : cut) {
-      // A face keeps either its exact curves or its rough segments, each instant's together.
+      // A face keeps either its exact curves (packed) or its rough segments, each instant's
+      // together; either way its tiles, order, bands and strips come from the rough segments
+      // (a kept face's made for the purpose, the same doubles as its curves').
       const bool exact = keep_exact_[k] != 0;
+      std::vector<RoughSegment> made;
+      if (exact) made = packed_[k].rough(threads_);
+      std::vector<RoughSegment>& rough = exact ? made : rough_[k];
       std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting it: [begin, end)
-      const std::size_t count = exact ? exact_[k].size() : rough_[k].size();
+      const std::size_t count = rough.size();
       for (std::size_t c = 0, i = SIZE_MAX; c < count; ++c) {
-        const std::size_t at = exact ? instant_of(exact_[k][c]) : instant_of(rough_[k][c]);
+        const std::size_t at = instant_of(rough[c]);
         if (at != i) runs.emplace_back(c, c), i = at;
         runs.back().second = c + 1;
       }
-      if (exact) make_tiles(k, exact_[k], runs, whole_pending_[k]);
-      else make_tiles(k, rough_[k], runs, whole_pending_[k]);
+      make_tiles(k, rough, runs, whole_pending_[k]);
       order_[k] = face_order(k);
       // The bands of its order: about band_segments segments each, at least 4 instants (so
       // that a band's lit regions can be computed in parallel), whether its exact curves were
@@ -386,32 +393,40 @@ class MapBuilder {
           band_ends_[k].push_back(p + 1), held = 0, first = p + 1;
       }
       // The outline (tagged n) joins the boundaries to choose the strips, and goes.
-      if (exact) {
-        exact_[k].insert(exact_[k].end(), outline_[k].begin(), outline_[k].end());
-        start_rounds(k, sunmap::choose_strips(exact_[k], exact_[k].size(), requests_[k].face->chart,
-                                              options_.strip_edges));
-        exact_[k].resize(count);
-        continue;
-      }
-      for (const Curve& c : outline_[k]) rough_[k].push_back(sunmap::rough_segment(c));
-      start_rounds(k, sunmap::choose_strips(rough_[k], rough_[k].size(), requests_[k].face->chart,
-                                            options_.strip_edges));
-      rough_[k].resize(count);
-      rough_which_[k] = sunmap::bucket_rough(rough_[k], strips_[k]);
+      for (const Curve& c : outline_[k]) rough.push_back(sunmap::rough_segment(c));
+      start_rounds(k, sunmap::choose_strips(rough, rough.size(), requests_[k].face->chart, options_.strip_edges));
+      rough.resize(count);
+      if (exact) which[k] = sunmap::bucket_rough(rough, strips_[k]);  // as bucket_curves buckets its curves
+      else rough_which_[k] = sunmap::bucket_rough(rough, strips_[k]);
     }
-    // The faces whose exact boundaries were kept: each strip planned, fed and finished in one job
-    // (its pending boundaries and rounds are held one strip per thread at a time).
-    std::vector<std::vector<std::vector<std::size_t>>> which(faces_.size());
+    // The faces whose exact boundaries were kept: each strip unpacks its curves, is planned, fed
+    // and finished in one job (its curves, pending boundaries and rounds are held one strip per
+    // thread at a time).
     std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face, strip)
     for (std::size_t k : cut)
-      if (keep_exact_[k]) add_strip_jobs(k, exact_[k], jobs, which);
-    feed_strips(jobs, exact_, which, [&](std::size_t k) { return order_[k].size(); });
+      if (keep_exact_[k])
+        for (std::size_t s = 0; s < strips_[k].size(); ++s) jobs.emplace_back(k, s);
+    runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
+      runtime::check_stop();
+      const auto [k, s] = jobs[j];
+      std::vector<Curve> curves;
+      packed_[k].unpack(which[k][s], curves);
+      which[k][s] = {};
+      std::vector<std::size_t> all(curves.size());
+      std::iota(all.begin(), all.end(), std::size_t{0});
+      plan_strip(jobs[j], curves, all);
+      rounds_[k][s].feed_planned(curves, all, order_[k].size());
+      strip_maps_[k][s] = rounds_[k][s].finish();
+      ++done_;
+    });
     jobs.clear();
     for (std::size_t k : cut) {
       if (!keep_exact_[k]) {
         for (std::size_t s = 0; s < strips_[k].size(); ++s) jobs.emplace_back(k, s);
         continue;
       }
+      finished_[k] = 1;
+      packed_[k] = {};
       tiles_[k] = sunmap::FaceTiles{};  // its strips are finished
     }
     // The others a wave of strips at a time, their instants computed again band by band.
@@ -550,14 +565,6 @@ class MapBuilder {
     }
     rounds_[k][s].plan(order_[k], band_ends_[k], rough_[k], rough_which_[k][s], whole_pending_[k]);
     rough_which_[k][s] = {};
-  }
-
-  /// The jobs feeding face k's strips `curves` (its boundaries, bucketed into which[k]).
-  void add_strip_jobs(std::size_t k, const std::vector<Curve>& curves,
-                      std::vector<std::pair<std::size_t, std::size_t>>& jobs,
-                      std::vector<std::vector<std::vector<std::size_t>>>& which) {
-    which[k] = sunmap::bucket_curves(curves, strips_[k]);
-    for (std::size_t s = 0; s < strips_[k].size(); ++s) jobs.emplace_back(k, s);
   }
 
   /// Feeds each job's strip (face, strip) the curves which[face][strip] of curves[face], those
@@ -721,9 +728,9 @@ class MapBuilder {
   std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
   std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
   std::vector<std::vector<RoughSegment>> rough_;  ///< per face (gathered, not kept): every boundary, in doubles
-  std::vector<std::vector<Curve>> exact_;   ///< per face (gathered): every boundary, while kept
+  std::vector<sunmap::PackedBoundaries> packed_;  ///< per face (gathered): every boundary, while kept
   std::vector<char> keep_exact_;            ///< per face (gathered): its exact boundaries are kept
-  std::size_t kept_segments_ = 0;           ///< in exact_, all faces together
+  std::size_t kept_segments_ = 0;           ///< in packed_, all faces together
   std::size_t again_ = 0;                   ///< face-instant pairs computed again
   std::vector<std::vector<std::size_t>> order_;  ///< per face (gathered): its instants in sweep order
   std::vector<std::vector<std::vector<std::size_t>>> rough_which_;  ///< per face and strip: its rough segments

@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One face's exact boundary curves, packed (packed_boundaries.hpp).
+#include "sunmap/packed_boundaries.hpp"
+
+#include "runtime/parallel.hpp"
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <map>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace shadow::sunmap {
+
+using exact::Kernel;
+using exact::Point2;
+
+static_assert(GMP_NUMB_BITS == 64 && sizeof(mp_limb_t) == 8, "two 32-bit sizes are packed into one limb");
+
+namespace {
+
+/// Two signed 32-bit sizes in one limb.
+mp_limb_t two_sizes(long a, long b) {
+  if (std::labs(a) > INT32_MAX || std::labs(b) > INT32_MAX)
+    throw std::length_error("sun-hours map: a boundary point's coordinate has more than 2^31 limbs");
+  return (static_cast<mp_limb_t>(static_cast<std::uint32_t>(static_cast<std::int32_t>(a))) << 32) |
+         static_cast<std::uint32_t>(static_cast<std::int32_t>(b));
+}
+long high_size(mp_limb_t l) { return static_cast<std::int32_t>(static_cast<std::uint32_t>(l >> 32)); }
+long low_size(mp_limb_t l) { return static_cast<std::int32_t>(static_cast<std::uint32_t>(l)); }
+
+void append_limbs(mpz_srcptr z, std::deque<mp_limb_t>& out) {
+  const std::size_t n = mpz_size(z);
+  const mp_limb_t* l = mpz_limbs_read(z);
+  out.insert(out.end(), l, l + n);
+}
+
+/// The integer whose |size| limbs start at `l`, its sign that of `size`, into z.
+template <class Iterator>
+void read_integer(Iterator l, long size, mpz_ptr z) {
+  const std::size_t n = static_cast<std::size_t>(std::labs(size));
+  if (n == 0) {
+    mpz_set_ui(z, 0);
+    return;
+  }
+  mp_limb_t* w = mpz_limbs_write(z, static_cast<mp_size_t>(n));
+  std::copy(l, l + static_cast<std::ptrdiff_t>(n), w);
+  mpz_limbs_finish(z, static_cast<mp_size_t>(size));
+}
+
+}  // namespace
+
+std::uint64_t PackedBoundaries::pack_point(const Point2& p) {
+  const auto& e = CGAL::exact(p);  // held by p's own representation (p.x() would be a new one)
+  const mpq_class& x = e.x();
+  const mpq_class& y = e.y();
+  mpz_srcptr xn = mpq_numref(x.get_mpq_t()), xd = mpq_denref(x.get_mpq_t());
+  mpz_srcptr yn = mpq_numref(y.get_mpq_t()), yd = mpq_denref(y.get_mpq_t());
+  at_.push_back(limbs_.size());
+  limbs_.push_back(two_sizes(xn->_mp_size, xd->_mp_size));
+  limbs_.push_back(two_sizes(yn->_mp_size, yd->_mp_size));
+  append_limbs(xn, limbs_);
+  append_limbs(xd, limbs_);
+  append_limbs(yn, limbs_);
+  append_limbs(yd, limbs_);
+  return at_.size() - 1;
+}
+
+Point2 PackedBoundaries::unpack_point(std::uint64_t p) const {
+  auto l = limbs_.begin() + static_cast<std::ptrdiff_t>(at_[p]);
+  const long sizes[4] = {high_size(l[0]), low_size(l[0]), high_size(l[1]), low_size(l[1])};
+  l += 2;
+  mpq_class x, y;
+  mpz_ptr parts[4] = {mpq_numref(x.get_mpq_t()), mpq_denref(x.get_mpq_t()), mpq_numref(y.get_mpq_t()),
+                      mpq_denref(y.get_mpq_t())};
+  for (int k = 0; k < 4; ++k) {
+    read_integer(l, sizes[k], parts[k]);
+    l += static_cast<std::ptrdiff_t>(std::labs(sizes[k]));
+  }
+  // A leaf holding its exact point, as the canonical boundaries make theirs: the same interval
+  // and the same doubles as the point packed.
+  return Point2(Kernel::Exact_kernel::Point_2(x, y));
+}
+
+void PackedBoundaries::add(const std::vector<Curve>& curves) {
+  // Equal points by value: a curve's ends are objects of its own (CGAL's segment makes them),
+  // but the segments of a boundary meet end to end, so each point is packed once.
+  const auto less = [](const Point2& a, const Point2& b) { return CGAL::compare_xy(a, b) == CGAL::SMALLER; };
+  std::map<Point2, std::uint64_t, decltype(less)> packed(less);
+  const auto index = [&](const Point2& p) {
+    const auto [it, fresh] = packed.try_emplace(p, 0);
+    if (fresh) it->second = pack_point(p);
+    return it->second;
+  };
+  for (const Curve& c : curves) {
+    const std::uint64_t from = index(c.source());
+    const std::uint64_t to = index(c.target());
+    segments_.push_back(Segment{from, to, c.data(), CGAL::compare_xy(c.source(), c.target()) != CGAL::LARGER});
+  }
+}
+
+void PackedBoundaries::unpack(const std::vector<std::size_t>& which, std::vector<Curve>& out) const {
+  out.clear();
+  out.reserve(which.size());
+  std::unordered_map<std::uint64_t, Point2> points;
+  points.reserve(which.size() * 2);
+  const auto point = [&](std::uint64_t p) -> const Point2& {
+    const auto [it, fresh] = points.try_emplace(p);
+    if (fresh) it->second = unpack_point(p);
+    return it->second;
+  };
+  for (std::size_t k : which) {
+    const Segment& s = segments_[k];
+    out.emplace_back(Kernel::Segment_2(point(s.from), point(s.to)), s.tag);
+  }
+}
+
+std::vector<RoughSegment> PackedBoundaries::rough(unsigned threads) const {
+  // Each point's doubles once (they are what rough_segment reads of a curve's ends).
+  struct Doubles {
+    double x, y, xlo, xhi;
+  };
+  std::vector<Doubles> at(at_.size());
+  runtime::parallel_for_blocks(at_.size(), 4096, threads, [&](unsigned, std::size_t, std::size_t b, std::size_t e) {
+    for (std::size_t p = b; p < e; ++p) {
+      const Point2 q = unpack_point(p);
+      const auto xi = CGAL::to_interval(q.x());
+      at[p] = Doubles{CGAL::to_double(q.x()), CGAL::to_double(q.y()), xi.first, xi.second};
+    }
+  });
+  std::vector<RoughSegment> out(segments_.size());
+  for (std::size_t k = 0; k < segments_.size(); ++k) {
+    const Segment& s = segments_[k];
+    const Doubles &a = at[s.from], &b = at[s.to];
+    const Doubles &f = s.forward ? a : b, &t = s.forward ? b : a;  // rough_segment's ends
+    out[k] = RoughSegment{f.x, f.y, t.x, t.y, std::min(a.xlo, b.xlo), std::max(a.xhi, b.xhi),
+                          static_cast<std::uint32_t>(instant(k)), s.tag > 0};
+  }
+  return out;
+}
+
+std::size_t PackedBoundaries::bytes() const {
+  return at_.size() * sizeof(std::uint64_t) + limbs_.size() * sizeof(mp_limb_t) + segments_.size() * sizeof(Segment);
+}
+
+}  // namespace shadow::sunmap

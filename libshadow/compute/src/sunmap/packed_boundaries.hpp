@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// One face's exact boundary curves, every instant's, packed for the threshold map alone while
+// they wait for its strips (docs/sun-hours-map.md, step 7): each distinct end point's exact
+// rational coordinates as GMP limbs in one buffer, each segment two point indices and its tag.
+// A Curve holds its points and its supporting line as lazy CGAL objects, each with intervals,
+// reference counts and GMP numbers of their own (about 575 bytes a segment); packed, a segment
+// costs its numbers' limbs and some 40 bytes, so the exact curves of a period several times as
+// long stay within the same memory before any face's have to be computed again. A strip unpacks
+// the curves entering it when its rounds take them: the same exact points, the same tags.
+#pragma once
+
+#include "sunmap/face_overlay.hpp"
+#include "sunmap/rough_segments.hpp"
+
+#include <gmp.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+namespace shadow::sunmap {
+
+class PackedBoundaries {
+ public:
+  /// Appends `curves` (boundary curves tagged as face_overlay.hpp tags them, one instant's or a
+  /// few); a point that several of them end at is packed once.
+  void add(const std::vector<Curve>& curves);
+
+  std::size_t size() const { return segments_.size(); }
+  bool empty() const { return segments_.empty(); }
+  /// The instant segment `k` belongs to.
+  std::size_t instant(std::size_t k) const {
+    const long tag = segments_[k].tag;
+    return static_cast<std::size_t>((tag < 0 ? -tag : tag) - 1);
+  }
+
+  /// The curves `which` (indices into this), unpacked in that order into `out` (cleared); each
+  /// point unpacked once and shared by the curves ending at it.
+  void unpack(const std::vector<std::size_t>& which, std::vector<Curve>& out) const;
+  /// Every segment's rough form (rough_segment of its curve: the same doubles), in order.
+  std::vector<RoughSegment> rough(unsigned threads) const;
+
+  /// The bytes held (the deques' elements; their blocks hold a little more).
+  std::size_t bytes() const;
+
+ private:
+  struct Segment {
+    std::uint64_t from, to;  ///< point indices: the curve's source and target
+    long tag;
+    bool forward;  ///< the source is the lexicographically smaller end
+  };
+  // Deques, not vectors: they grow a block at a time, where a vector's doubling would hold up to
+  // twice the memory, and three times while it moves.
+  /// Point p's limbs start at limbs_[at_[p]]: four sizes (x's numerator, signed, and
+  /// denominator; y's), two to a limb, then the four numbers' limbs in that order.
+  std::deque<std::uint64_t> at_;
+  std::deque<mp_limb_t> limbs_;
+  std::deque<Segment> segments_;
+
+  std::uint64_t pack_point(const exact::Point2& p);
+  exact::Point2 unpack_point(std::uint64_t p) const;
+};
+
+}  // namespace shadow::sunmap
