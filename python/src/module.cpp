@@ -1166,16 +1166,23 @@ PYBIND11_MODULE(_libshadow, m) {
   m.def("compute_sun_hours_map",
         [](const Engine& e, std::optional<std::vector<std::size_t>> faces,
            std::optional<std::vector<SunHoursInstant>> instants, unsigned threads, bool merge_equal,
-           const py::object& progress, std::optional<std::vector<double>> levels, bool levels_only) {
+           const py::object& progress, std::optional<std::vector<double>> levels, bool levels_only,
+           std::optional<long long> held_segments) {
           const std::vector<std::size_t> f = faces ? *faces : sun_hours_map_faces(*e.scene);
           const std::vector<SunHoursInstant> i = instants ? *instants : sun_hours_instants(*e.scene);
           if (levels_only && (!levels || levels->empty()))
             throw InputError({"", "levels_only"}, "needs levels, e.g. levels=[2, 4, 6]");
+          if (held_segments && !levels_only)
+            throw InputError({"", "held_segments"}, "needs levels_only=True (it caps the threshold map alone)");
+          if (held_segments && (*held_segments < 0 || *held_segments > 1000000000000LL))
+            throw InputError({"", "held_segments"},
+                             "must be 0 to 1000000000000, got " + std::to_string(*held_segments));
           SunHoursOptions o;
           o.threads = threads;
           o.merge_equal = merge_equal;
           if (levels) o.levels = *levels;
           o.full = !levels_only;
+          if (held_segments) o.level_held_segments = static_cast<std::size_t>(*held_segments);
           o.progress = wrap_progress(progress);
           auto out = std::make_shared<SunHoursMap>();
           *out = without_gil([&] { return compute_sun_hours_map(*e.engine, f, i, o); });
@@ -1183,12 +1190,15 @@ PYBIND11_MODULE(_libshadow, m) {
         },
         py::arg("engine"), py::arg("faces") = py::none(), py::arg("instants") = py::none(), py::arg("threads") = 0,
         py::arg("merge_equal") = true, py::arg("progress") = py::none(), py::arg("levels") = py::none(),
-        py::arg("levels_only") = false,
+        py::arg("levels_only") = false, py::arg("held_segments") = py::none(),
         "The exact sun-hours map on `faces` (None: the scene's sun_hours_map meshes) under `instants`\n"
         "(None: the scene's suns, sun_hours_instants). With `levels` (hours, e.g. [2, 4, 6]) also the\n"
         "threshold map: the exact regions getting at least each level (levels, level_areas,\n"
         "face_level_areas, level_* cell arrays); `levels_only=True` computes it alone (no full map's\n"
-        "cells: its memory follows the level boundaries). The GIL is released while it works.");
+        "cells: its memory follows the level boundaries). `held_segments` (with levels_only) caps the\n"
+        "exact boundary segments it holds (SunHoursOptions::level_held_segments, 2^20 when None): past\n"
+        "it, lit regions are computed again, in less memory and more time, with the same level areas.\n"
+        "The GIL is released while it works.");
   m.def("write_sun_hours_vtp",
         [](const SunHoursMap& map, const std::filesystem::path& path, const ScenePtr& scene) {
           without_gil([&] {

@@ -221,6 +221,14 @@ def test_sun_hours_levels_alone_match_the_full_map(source_dir, tmp_path):
     assert len(alone.level_cell_polygons) == len(alone.level) == len(alone.level_region_id) == len(alone.level_cell_face_id)
     libshadow.write_sun_hours_levels_vtp(alone, str(tmp_path / "sun_hours_levels.vtp"), scene)
     assert (tmp_path / "sun_hours_levels.vtp").stat().st_size > 0
+    # A cap on the exact boundaries held: lit regions computed again, the same areas bit for bit.
+    capped = libshadow.compute_sun_hours_map(engine, levels=levels, levels_only=True, held_segments=0, threads=2)
+    assert capped.level_areas.tolist() == alone.level_areas.tolist()
+    assert capped.face_level_areas.tolist() == alone.face_level_areas.tolist()
+    for bad in ({"held_segments": 10}, {"levels_only": True, "held_segments": -1},
+                {"levels_only": True, "held_segments": 10**13}):
+        with pytest.raises(libshadow.InputError, match="held_segments"):
+            libshadow.compute_sun_hours_map(engine, levels=levels, **bad)
     with pytest.raises(libshadow.InputError):
         libshadow.compute_sun_hours_map(engine, levels_only=True)
     with pytest.raises(libshadow.InputError):
