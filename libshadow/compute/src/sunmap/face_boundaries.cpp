@@ -36,12 +36,12 @@ void add_boundary(const Polygon2& polygon, long instant, std::vector<Curve>& cur
     const Point2& q = polygon[(a + 1) % n];
     if (p == q) continue;
     const long tag = CGAL::compare_xy(p, q) == CGAL::SMALLER ? instant + 1 : -(instant + 1);
-    curves.emplace_back(Kernel::Segment_2(p, q), tag);
+    curves.emplace_back(SegmentTraits::Curve_2(p, q), tag);
   }
 }
 
 void add_segment(const Point2& from, const Point2& to, bool left, long instant, std::vector<Curve>& curves) {
-  curves.emplace_back(Kernel::Segment_2(from, to), left ? instant + 1 : -(instant + 1));
+  curves.emplace_back(SegmentTraits::Curve_2(from, to), left ? instant + 1 : -(instant + 1));
 }
 
 double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale) {
@@ -239,7 +239,7 @@ bool clip_to_strip(const Curve& c, const FT& x0, const FT& x1, Curve& out) {
   }
   const Point2 a = p.x() < x0 ? at_x(p, q, x0) : p;
   const Point2 b = q.x() > x1 ? at_x(p, q, x1) : q;
-  out = Curve(Kernel::Segment_2(a, b), c.data());
+  out = Curve(SegmentTraits::Curve_2(a, b), c.data());
   return true;
 }
 

@@ -113,7 +113,7 @@ void PackedBoundaries::unpack(const std::vector<std::size_t>& which, std::vector
   };
   for (std::size_t k : which) {
     const Segment& s = segments_[k];
-    out.emplace_back(Kernel::Segment_2(point(s.from), point(s.to)), s.tag);
+    out.emplace_back(SegmentTraits::Curve_2(point(s.from), point(s.to)), s.tag);
   }
 }
 
