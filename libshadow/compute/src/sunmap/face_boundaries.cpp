@@ -220,9 +220,16 @@ RoughSegment rough_segment(const XCurve& curve) {
 
 namespace {
 
-/// The point of segment pq (p.x < q.x) at x.
+/// The point of segment pq (p.x < q.x) at x, exact at once: a leaf holding its rationals (as a
+/// lazy expression it would hold a DAG of seven nodes over p and q until evaluated, and the
+/// strips' clipped copies were a third of a round's memory).
 Point2 at_x(const Point2& p, const Point2& q, const FT& x) {
-  return Point2(x, p.y() + (q.y() - p.y()) * (x - p.x()) / (q.x() - p.x()));
+  const auto &ep = CGAL::exact(p), &eq = CGAL::exact(q);
+  const mpq_class& ex = CGAL::exact(x);
+  mpq_class y = (ex - ep.x()) / (eq.x() - ep.x());
+  y *= eq.y() - ep.y();
+  y += ep.y();
+  return Point2(Kernel::Exact_kernel::Point_2(ex, y));
 }
 
 }  // namespace
