@@ -158,7 +158,7 @@ struct SunHoursOptions {
   /// The threshold map alone (`full` false, not streamed): about the most exact boundary
   /// segments it keeps between computing the lit regions and the rounds, packed (their points'
   /// exact rationals as GMP limbs, some 120-200 bytes a segment; besides a batch's, as CGAL
-  /// curves of about 600 bytes, `instant_batch`, while they are taken). Every instant's boundaries are
+  /// curves of several hundred bytes, `instant_batch`, while they are taken). Every instant's boundaries are
   /// kept exactly while all faces' together stay within this; past it, the faces holding the
   /// most keep theirs in doubles (about 60 bytes a segment) and have them computed again when their
   /// strips' rounds take them, a wave of strips at a time (about half this many segments of

@@ -58,18 +58,19 @@ std::uint64_t PackedBoundaries::pack_point(const Point2& p) {
   const mpq_class& y = e.y();
   mpz_srcptr xn = mpq_numref(x.get_mpq_t()), xd = mpq_denref(x.get_mpq_t());
   mpz_srcptr yn = mpq_numref(y.get_mpq_t()), yd = mpq_denref(y.get_mpq_t());
-  at_.push_back(limbs_.size());
-  limbs_.push_back(two_sizes(xn->_mp_size, xd->_mp_size));
-  limbs_.push_back(two_sizes(yn->_mp_size, yd->_mp_size));
-  append_limbs(xn, limbs_);
-  append_limbs(xd, limbs_);
-  append_limbs(yn, limbs_);
-  append_limbs(yd, limbs_);
-  return at_.size() - 1;
+  Store& s = *store_;
+  s.at.push_back(s.limbs.size());
+  s.limbs.push_back(two_sizes(xn->_mp_size, xd->_mp_size));
+  s.limbs.push_back(two_sizes(yn->_mp_size, yd->_mp_size));
+  append_limbs(xn, s.limbs);
+  append_limbs(xd, s.limbs);
+  append_limbs(yn, s.limbs);
+  append_limbs(yd, s.limbs);
+  return s.at.size() - 1;
 }
 
 Point2 PackedBoundaries::unpack_point(std::uint64_t p) const {
-  auto l = limbs_.begin() + static_cast<std::ptrdiff_t>(at_[p]);
+  auto l = store_->limbs.begin() + static_cast<std::ptrdiff_t>(store_->at[p]);
   const long sizes[4] = {high_size(l[0]), low_size(l[0]), high_size(l[1]), low_size(l[1])};
   l += 2;
   mpq_class x, y;
@@ -85,8 +86,10 @@ Point2 PackedBoundaries::unpack_point(std::uint64_t p) const {
 }
 
 void PackedBoundaries::add(const std::vector<Curve>& curves) {
-  // Equal points by value: a curve's ends are objects of its own (CGAL's segment makes them),
-  // but the segments of a boundary meet end to end, so each point is packed once.
+  if (curves.empty()) return;
+  if (!store_) store_ = std::make_unique<Store>();
+  // Equal points by value (the segments of a boundary meet end to end; whether they share the
+  // point's object depends on how they were made), so each point is packed once.
   const auto less = [](const Point2& a, const Point2& b) { return CGAL::compare_xy(a, b) == CGAL::SMALLER; };
   std::map<Point2, std::uint64_t, decltype(less)> packed(less);
   const auto index = [&](const Point2& p) {
@@ -97,7 +100,7 @@ void PackedBoundaries::add(const std::vector<Curve>& curves) {
   for (const Curve& c : curves) {
     const std::uint64_t from = index(c.source());
     const std::uint64_t to = index(c.target());
-    segments_.push_back(Segment{from, to, c.data(), CGAL::compare_xy(c.source(), c.target()) != CGAL::LARGER});
+    store_->segments.push_back(Segment{from, to, c.data(), CGAL::compare_xy(c.source(), c.target()) != CGAL::LARGER});
   }
 }
 
@@ -112,7 +115,7 @@ void PackedBoundaries::unpack(const std::vector<std::size_t>& which, std::vector
     return it->second;
   };
   for (std::size_t k : which) {
-    const Segment& s = segments_[k];
+    const Segment& s = store_->segments[k];
     out.emplace_back(SegmentTraits::Curve_2(point(s.from), point(s.to)), s.tag);
   }
 }
@@ -122,17 +125,18 @@ std::vector<RoughSegment> PackedBoundaries::rough(unsigned threads) const {
   struct Doubles {
     double x, y, xlo, xhi;
   };
-  std::vector<Doubles> at(at_.size());
-  runtime::parallel_for_blocks(at_.size(), 4096, threads, [&](unsigned, std::size_t, std::size_t b, std::size_t e) {
+  if (!store_) return {};
+  std::vector<Doubles> at(store_->at.size());
+  runtime::parallel_for_blocks(at.size(), 4096, threads, [&](unsigned, std::size_t, std::size_t b, std::size_t e) {
     for (std::size_t p = b; p < e; ++p) {
       const Point2 q = unpack_point(p);
       const auto xi = CGAL::to_interval(q.x());
       at[p] = Doubles{CGAL::to_double(q.x()), CGAL::to_double(q.y()), xi.first, xi.second};
     }
   });
-  std::vector<RoughSegment> out(segments_.size());
-  for (std::size_t k = 0; k < segments_.size(); ++k) {
-    const Segment& s = segments_[k];
+  std::vector<RoughSegment> out(size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const Segment& s = store_->segments[k];
     const Doubles &a = at[s.from], &b = at[s.to];
     const Doubles &f = s.forward ? a : b, &t = s.forward ? b : a;  // rough_segment's ends
     out[k] = RoughSegment{f.x, f.y, t.x, t.y, std::min(a.xlo, b.xlo), std::max(a.xhi, b.xhi),
@@ -142,7 +146,9 @@ std::vector<RoughSegment> PackedBoundaries::rough(unsigned threads) const {
 }
 
 std::size_t PackedBoundaries::bytes() const {
-  return at_.size() * sizeof(std::uint64_t) + limbs_.size() * sizeof(mp_limb_t) + segments_.size() * sizeof(Segment);
+  if (!store_) return 0;
+  return store_->at.size() * sizeof(std::uint64_t) + store_->limbs.size() * sizeof(mp_limb_t) +
+         store_->segments.size() * sizeof(Segment);
 }
 
 }  // namespace shadow::sunmap

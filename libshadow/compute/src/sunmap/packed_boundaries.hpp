@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // One face's exact boundary curves, every instant's, packed for the threshold map alone while
 // they wait for its strips (docs/sun-hours-map.md, step 7): each distinct end point's exact
-// rational coordinates as GMP limbs in one buffer, each segment two point indices and its tag.
-// A Curve holds its points and its supporting line as lazy CGAL objects, each with intervals,
-// reference counts and GMP numbers of their own (about 575 bytes a segment); packed, a segment
-// costs its numbers' limbs and some 40 bytes, so the exact curves of a period several times as
-// long stay within the same memory before any face's have to be computed again. A strip unpacks
-// the curves entering it when its rounds take them: the same exact points, the same tags.
+// rational coordinates as GMP limbs, each segment two point indices, its tag and its direction.
+// A Curve holds its points (and, once asked, its supporting line) as lazy CGAL objects, each
+// with an interval, a reference count and GMP numbers of its own: several hundred bytes a
+// segment (about 575 when curves were made through a lazy segment). Packed, a segment costs its
+// numbers' limbs and 40 bytes, some 120-200 in all, so the budget of segments held
+// (SunHoursOptions::level_held_segments) holds a third of the memory it did. A strip unpacks the
+// curves entering it when its rounds take them: the same exact points, the same tags.
 #pragma once
 
 #include "sunmap/face_overlay.hpp"
@@ -17,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <vector>
 
 namespace shadow::sunmap {
@@ -27,11 +29,11 @@ class PackedBoundaries {
   /// few); a point that several of them end at is packed once.
   void add(const std::vector<Curve>& curves);
 
-  std::size_t size() const { return segments_.size(); }
-  bool empty() const { return segments_.empty(); }
+  std::size_t size() const { return store_ ? store_->segments.size() : 0; }
+  bool empty() const { return size() == 0; }
   /// The instant segment `k` belongs to.
   std::size_t instant(std::size_t k) const {
-    const long tag = segments_[k].tag;
+    const long tag = store_->segments[k].tag;
     return static_cast<std::size_t>((tag < 0 ? -tag : tag) - 1);
   }
 
@@ -51,12 +53,16 @@ class PackedBoundaries {
     bool forward;  ///< the source is the lexicographically smaller end
   };
   // Deques, not vectors: they grow a block at a time, where a vector's doubling would hold up to
-  // twice the memory, and three times while it moves.
-  /// Point p's limbs start at limbs_[at_[p]]: four sizes (x's numerator, signed, and
-  /// denominator; y's), two to a limb, then the four numbers' limbs in that order.
-  std::deque<std::uint64_t> at_;
-  std::deque<mp_limb_t> limbs_;
-  std::deque<Segment> segments_;
+  // twice the memory, and three times while it moves. Made on the first add: an empty deque
+  // still holds a block (some 600 bytes), and a map has one of these per face.
+  struct Store {
+    /// Point p's limbs start at limbs[at[p]]: four sizes (x's numerator, signed, and
+    /// denominator; y's), two to a limb, then the four numbers' limbs in that order.
+    std::deque<std::uint64_t> at;
+    std::deque<mp_limb_t> limbs;
+    std::deque<Segment> segments;
+  };
+  std::unique_ptr<Store> store_;
 
   std::uint64_t pack_point(const exact::Point2& p);
   exact::Point2 unpack_point(std::uint64_t p) const;
