@@ -1174,9 +1174,10 @@ PYBIND11_MODULE(_libshadow, m) {
             throw InputError({"", "levels_only"}, "needs levels, e.g. levels=[2, 4, 6]");
           if (held_segments && !levels_only)
             throw InputError({"", "held_segments"}, "needs levels_only=True (it caps the threshold map alone)");
-          if (held_segments && (*held_segments < 0 || *held_segments > 1000000000000LL))
-            throw InputError({"", "held_segments"},
-                             "must be 0 to 1000000000000, got " + std::to_string(*held_segments));
+          if (held_segments &&
+              (*held_segments < 0 || *held_segments > static_cast<long long>(kMaxLevelHeldSegments)))
+            throw InputError({"", "held_segments"}, "must be 0 to " + std::to_string(kMaxLevelHeldSegments) +
+                                                        ", got " + std::to_string(*held_segments));
           SunHoursOptions o;
           o.threads = threads;
           o.merge_equal = merge_equal;

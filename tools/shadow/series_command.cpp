@@ -14,6 +14,7 @@
 #include <shadow/shadow.hpp>
 #include <shadow/series_files.hpp>
 #include <shadow/series_job.hpp>
+#include <shadow/sun_hours.hpp>
 
 #include <signal.h>
 #include <unistd.h>
@@ -76,10 +77,10 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                    "With --sun-hours-levels: compute the threshold map alone, not the full map (no sun_hours.vtp): "
                    "its memory follows the level boundaries instead of growing with the number of instants");
   series->add_option("--sun-hours-held-segments", args.sun_hours_held_segments,
-                     "With --sun-hours-levels-only: the most exact boundary segments held at once (about 600 bytes "
-                     "each; default 1048576); past it lit regions are computed again, in less memory and more time "
+                     "With --sun-hours-levels-only: the most exact boundary segments held at once (packed, some "
+                     "120-200 bytes each; default 1048576); past it lit regions are computed again, in less memory and more time "
                      "(docs/sun-hours-map.md)")
-      ->check(shadow_cli::integer_in(0, 1000000000000LL));  // a trillion: beyond any machine's memory
+      ->check(shadow_cli::integer_in(0, static_cast<long long>(shadow::kMaxLevelHeldSegments)));
   series->add_option("--planarity-tolerance", args.planarity_tolerance,
                      "Largest vertex distance from a face's plane, relative to the face's size")
       ->default_val(1e-6)

@@ -105,6 +105,10 @@ double sun_hours_map_area(const SunHoursMap& map);
 std::string sun_hours_levels_summary(const SunHoursMap& map, const std::string& indent = "");
 
 /// Options of compute_sun_hours_map.
+/// The largest SunHoursOptions::level_held_segments that `shadow series` and Python accept (a
+/// trillion: beyond any machine's memory, so larger is a typo).
+inline constexpr std::size_t kMaxLevelHeldSegments = 1000000000000;
+
 struct SunHoursOptions {
   /// Worker threads (faces are computed in parallel); 0: every hardware thread; at most 1024.
   unsigned threads = 0;

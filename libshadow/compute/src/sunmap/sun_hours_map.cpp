@@ -56,8 +56,6 @@ using sunmap::Curve;
 
 using sunmap::RoughSegment;
 
-/// The instant a boundary segment belongs to.
-std::size_t instant_of(const RoughSegment& r) { return r.instant; }
 
 /// What one instant leaves on one face.
 struct InstantPart {
@@ -375,7 +373,7 @@ class MapBuilder {
       std::vector<std::pair<std::size_t, std::size_t>> runs;  // per instant cutting it: [begin, end)
       const std::size_t count = rough.size();
       for (std::size_t c = 0, i = SIZE_MAX; c < count; ++c) {
-        const std::size_t at = instant_of(rough[c]);
+        const std::size_t at = rough[c].instant;
         if (at != i) runs.emplace_back(c, c), i = at;
         runs.back().second = c + 1;
       }
@@ -592,17 +590,16 @@ class MapBuilder {
   }
 
   /// Face k's tiles (sunmap::FaceTiles) from every instant's boundaries on it (`curves`, in time
-  /// order, each instant's together) and the hours of those lighting it whole: its rounds then
-  /// settle a cell by the instants not yet swept that may light the tiles under it.
-  template <class Segment>
-  void make_tiles(std::size_t k, const std::vector<Segment>& curves,
+  /// order, each instant's together, in doubles) and the hours of those lighting it whole: its
+  /// rounds then settle a cell by the instants not yet swept that may light the tiles under it.
+  void make_tiles(std::size_t k, const std::vector<RoughSegment>& curves,
                   const std::vector<std::pair<std::size_t, std::size_t>>& runs, const mpq_class& whole) {
     std::size_t most = 0;
     for (const auto& [b, e] : runs) most = std::max(most, e - b);
     sunmap::FaceTiles& t = tiles_[k];
     t.grid = sunmap::tile_grid(requests_[k].face->chart, most, runs.size(), tile_bits_);
     t.instants.resize(runs.size());
-    for (std::size_t r = 0; r < runs.size(); ++r) t.instants[r] = instant_of(curves[runs[r].first]);
+    for (std::size_t r = 0; r < runs.size(); ++r) t.instants[r] = curves[runs[r].first].instant;
     if (t.grid.n == 0) return;
     t.whole = whole;
     t.masks.assign(t.grid.words() * runs.size(), 0);
