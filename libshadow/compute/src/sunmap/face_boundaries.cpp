@@ -35,13 +35,13 @@ void add_boundary(const Polygon2& polygon, long instant, std::vector<Curve>& cur
     const Point2& p = polygon[a];
     const Point2& q = polygon[(a + 1) % n];
     if (p == q) continue;
-    const long tag = CGAL::compare_xy(p, q) == CGAL::SMALLER ? instant + 1 : -(instant + 1);
-    curves.emplace_back(SegmentTraits::Curve_2(p, q), tag);
+    curves.emplace_back(SegmentTraits::Curve_2(p, q),
+                        curve_tag(static_cast<std::size_t>(instant), CGAL::compare_xy(p, q) == CGAL::SMALLER));
   }
 }
 
 void add_segment(const Point2& from, const Point2& to, bool left, long instant, std::vector<Curve>& curves) {
-  curves.emplace_back(SegmentTraits::Curve_2(from, to), left ? instant + 1 : -(instant + 1));
+  curves.emplace_back(SegmentTraits::Curve_2(from, to), curve_tag(static_cast<std::size_t>(instant), left));
 }
 
 double area_3d_mpq(const mpq_class& chart_area, const mpq_class& scale) {
@@ -205,8 +205,8 @@ RoughSegment rough_of(const Point2& a, const Point2& b, long tag) {
   // x_range's bounds, exactly, so that bucket_rough gives a strip every curve bucket_curves does.
   const auto p = CGAL::to_interval(a.x()), q = CGAL::to_interval(b.x());
   s.xlo = std::min(p.first, q.first), s.xhi = std::max(p.second, q.second);
-  s.instant = static_cast<std::uint32_t>(std::labs(tag) - 1);
-  s.left = tag > 0;
+  s.instant = static_cast<std::uint32_t>(tag_instant(tag));
+  s.left = tag_left(tag);
   return s;
 }
 

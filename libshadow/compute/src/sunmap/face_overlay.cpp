@@ -143,8 +143,8 @@ class StripOverlay {
     states_ = {{Side{Side::kOpen, 0}, Side{Side::kOutside, 0}}, {Side{Side::kOutside, 0}, Side{Side::kOpen, 0}}};
     for (const Curve& c : gather(outline, which, true)) {
       Traits::Data_container data(c.data());
-      const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
-      if (i == n_) data.insert(state_tag(c.data() > 0 ? 0 : 1));
+      const std::size_t i = tag_instant(c.data());
+      if (i == n_) data.insert(state_tag(tag_left(c.data()) ? 0 : 1));
       (i == n_ + 1 ? frame_ : kept_).emplace_back(c, data);
     }
     least_ = std::max<std::size_t>(r_.round_edges, 1);
@@ -156,7 +156,7 @@ class StripOverlay {
             const mpq_class& unfed) {
     if (planned_) throw std::logic_error("LevelRounds: a planned strip is fed by feed_planned");
     for (const Curve& c : gather(curves, which, false)) {
-      const std::size_t i = static_cast<std::size_t>(std::labs(c.data()) - 1);
+      const std::size_t i = tag_instant(c.data());
       if (pending_.empty() || pending_.back().first != i) {
         pending_.emplace_back(i, std::vector<XCurve>{});
         pending_hours_ += (*r_.hours)[i];
@@ -216,7 +216,7 @@ class StripOverlay {
     if (!planned_) throw std::logic_error("LevelRounds: feed_planned before plan");
     std::unordered_map<std::size_t, std::vector<XCurve>> by_instant;
     for (const Curve& c : gather(curves, which, false))
-      by_instant[static_cast<std::size_t>(std::labs(c.data()) - 1)].emplace_back(c, Traits::Data_container(c.data()));
+      by_instant[tag_instant(c.data())].emplace_back(c, Traits::Data_container(c.data()));
     while (!plan_.empty() && plan_.front().first < order_end) {
       const std::size_t i = plan_.front().second;
       plan_.pop_front();
@@ -431,7 +431,7 @@ class StripOverlay {
       const std::pair<Side, Side>* was = nullptr;
       bool frame = false;
       for (long tag : h->curve().data()) {
-        const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
+        const std::size_t i = tag_instant(tag);
         if (i == n_) data.insert(tag);  // the outline
         frame = frame || i == n_ + 1;
         if (i > n_ + 1) {
@@ -504,7 +504,7 @@ class StripOverlay {
           Side state = side[v];
           const bool left_to_right = h->direction() == CGAL::ARR_LEFT_TO_RIGHT;
           for (long tag : h->curve().data()) {
-            const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
+            const std::size_t i = tag_instant(tag);
             if (i >= n_ && i <= n_ + 1) continue;  // the outline (its states say it), a frame
             if (i > n_ + 1) {
               const auto& [left, right] = states_[i - n_ - 2];
@@ -512,7 +512,7 @@ class StripOverlay {
             } else {
               // `from` lies on h's left; the region lies on the left of the left-to-right run
               // when tag > 0.
-              const bool from_in_region = left_to_right == (tag > 0);
+              const bool from_in_region = left_to_right == tag_left(tag);
               value += from_in_region ? mpq_class(-(*r_.hours)[i]) : mpq_class((*r_.hours)[i]);
             }
           }
@@ -607,11 +607,11 @@ class StripOverlay {
           int inside = inside_[from->data()];
           const bool left_to_right = h->direction() == CGAL::ARR_LEFT_TO_RIGHT;
           for (long tag : h->curve().data()) {
-            const std::size_t i = static_cast<std::size_t>(std::labs(tag) - 1);
+            const std::size_t i = tag_instant(tag);
             if (i == n_ + 1) continue;  // a frame (a strip's faces never reach one across it)
             // `from` lies on h's left; the region lies on the left of the left-to-right run
             // when tag > 0.
-            const bool from_in_region = left_to_right == (tag > 0);
+            const bool from_in_region = left_to_right == tag_left(tag);
             const int step = from_in_region ? -1 : 1;
             if (i == n_) {
               inside += step;

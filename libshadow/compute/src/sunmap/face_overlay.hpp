@@ -29,6 +29,16 @@ using SegmentTraits = CGAL::Arr_segment_traits_2<exact::Kernel>;
 // index `n` (the number of instants) stands for the face's chart outline, n + 1 for a strip's
 // frame (which changes nothing when crossed, and is never crossed).
 using Traits = CGAL::Arr_consolidated_curve_data_traits_2<SegmentTraits, long>;
+
+/// The tag of instant `instant`'s boundary curve, its region on the left when `left` (above).
+inline long curve_tag(std::size_t instant, bool left) {
+  const long t = static_cast<long>(instant) + 1;
+  return left ? t : -t;
+}
+/// The instant (or the outline's n, the frame's n + 1) a curve's tag names.
+inline std::size_t tag_instant(long tag) { return static_cast<std::size_t>((tag < 0 ? -tag : tag) - 1); }
+/// Whether the tagged curve's region lies on its left (run from its smaller end to the larger).
+inline bool tag_left(long tag) { return tag > 0; }
 using Curve = Traits::Curve_2;
 using XCurve = Traits::X_monotone_curve_2;  ///< a segment with every tag of the curves overlapping it
 

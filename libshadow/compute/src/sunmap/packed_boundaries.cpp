@@ -140,7 +140,7 @@ std::vector<RoughSegment> PackedBoundaries::rough(unsigned threads) const {
     const Doubles &a = at[s.from], &b = at[s.to];
     const Doubles &f = s.forward ? a : b, &t = s.forward ? b : a;  // rough_segment's ends
     out[k] = RoughSegment{f.x, f.y, t.x, t.y, std::min(a.xlo, b.xlo), std::max(a.xhi, b.xhi),
-                          static_cast<std::uint32_t>(instant(k)), s.tag > 0};
+                          static_cast<std::uint32_t>(instant(k)), tag_left(s.tag)};
   }
   return out;
 }

@@ -33,8 +33,7 @@ class PackedBoundaries {
   bool empty() const { return size() == 0; }
   /// The instant segment `k` belongs to.
   std::size_t instant(std::size_t k) const {
-    const long tag = store_->segments[k].tag;
-    return static_cast<std::size_t>((tag < 0 ? -tag : tag) - 1);
+    return tag_instant(store_->segments[k].tag);
   }
 
   /// The curves `which` (indices into this), unpacked in that order into `out` (cleared); each
