@@ -110,12 +110,16 @@ class MapBuilder {
     }
     if (table_)
       for (const Worker& w : workers_) table_->stats += w.stats;  // the rows' pairs in the lit pass
-    std::vector<std::vector<sunmap::StripMap>> strip_maps = full_ ? overlay_full() : finish_levels();
+    std::vector<sunmap::FaceMap> face_maps(faces_.size());
+    if (full_) {
+      face_maps = overlay_full();
+    } else {
+      std::vector<std::vector<sunmap::StripMap>> strip_maps = finish_levels();
+      for (std::size_t k = 0; k < faces_.size(); ++k) face_maps[k] = assemble_face(k, strip_maps[k]);
+    }
     // The faces in order, region ids shifted by the earlier faces'.
     for (std::size_t k = 0; k < faces_.size(); ++k) {
-      face_info_[k].hour_area = sunmap::area_3d_mpq(hour_area_[k], scales_[k]);
-      sunmap::FaceMap fm = sunmap::assemble(strip_maps[k], face_info_[k], scales_[k], map_.levels.size());
-      if (!full_) fm.face.areas.clear();
+      sunmap::FaceMap& fm = face_maps[k];
       for (SunHoursCell& c : fm.cells) {
         c.region_id += map_.regions;
         map_.cells.push_back(std::move(c));
@@ -127,6 +131,7 @@ class MapBuilder {
       }
       map_.level_regions += fm.level_regions;
       map_.faces.push_back(std::move(fm.face));
+      fm = {};
     }
     return std::move(map_);
   }
@@ -163,7 +168,8 @@ class MapBuilder {
     hour_area_.assign(count, mpq_class(0));
     requests_.resize(count);
     outline_.resize(count);
-    if (full_) bounds_.resize(count);
+    packed_.resize(count);
+    if (full_) base_.assign(count, mpq_class(0));
     else {
       tiles_.resize(count);
       strip_maps_.resize(count);
@@ -173,7 +179,6 @@ class MapBuilder {
       sample_.resize(count);
       sampled_.assign(count, 0);
       rough_.resize(count);
-      packed_.resize(count);
       keep_exact_.assign(count, 1);
       order_.resize(count);
     }
@@ -280,13 +285,14 @@ class MapBuilder {
           packed_[k].add(part.curves);
         } else if (levels_gathered_mode()) {
           for (const Curve& c : part.curves) rough_[k].push_back(sunmap::rough_segment(c));
+        } else if (full_) {
+          packed_[k].add(part.curves);
         } else {
-          std::vector<Curve>& into = full_ ? bounds_[k].curves : curves[k];
-          for (Curve& c : part.curves) into.push_back(std::move(c));
+          for (Curve& c : part.curves) curves[k].push_back(std::move(c));
         }
         part = InstantPart{};
       }
-      if (full_) bounds_[k].base += whole[k];
+      if (full_) base_[k] += whole[k];
     }
     parts_ = {};
     if (full_) return;
@@ -632,22 +638,36 @@ class MapBuilder {
     strip_maps_[k].resize(rounds_[k].size());
   }
 
-  /// 3. The full map: per face its outline and strips, then face-strip pairs in parallel.
-  std::vector<std::vector<sunmap::StripMap>> overlay_full() {
+  /// Face k's map from its strips' maps (taken): its areas summed exactly and rounded.
+  sunmap::FaceMap assemble_face(std::size_t k, std::vector<sunmap::StripMap>& strips) {
+    face_info_[k].hour_area = sunmap::area_3d_mpq(hour_area_[k], scales_[k]);
+    sunmap::FaceMap fm = sunmap::assemble(strips, face_info_[k], scales_[k], map_.levels.size());
+    if (!full_) fm.face.areas.clear();
+    return fm;
+  }
+
+  /// 3. The full map: per face its outline and strips (faces in parallel), then face-strip
+  /// pairs in parallel. The strips and buckets come from the packed boundaries' rough segments:
+  /// the same doubles as the curves' own x ranges, so the same strips as choose_strips and
+  /// bucket_curves of the curves give. A face is assembled as soon as its last strip is
+  /// overlaid, so that its cells' exact areas (a rational each) go as the map grows.
+  std::vector<sunmap::FaceMap> overlay_full() {
     std::vector<std::vector<sunmap::Strip>> strips(faces_.size());
     std::vector<std::vector<std::vector<std::size_t>>> buckets(faces_.size());
-    std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face index, strip)
-    for (std::size_t k = 0; k < faces_.size(); ++k) {
-      if ((*ctx_.prep)[faces_[k]].degenerate) continue;
-      sunmap::FaceBoundaries& b = bounds_[k];
-      for (Curve& c : outline_[k]) b.curves.push_back(std::move(c));
+    runtime::parallel_for(faces_.size(), threads_, [&](unsigned, std::size_t k) {
+      if ((*ctx_.prep)[faces_[k]].degenerate) return;
+      packed_[k].add(outline_[k]);  // after every instant's boundaries, as they were gathered
       outline_[k] = {};
-      strips[k] = sunmap::choose_strips(b.curves, b.curves.size(), requests_[k].face->chart, options_.strip_edges);
-      buckets[k] = sunmap::bucket_curves(b.curves, strips[k]);
+      const std::vector<RoughSegment> rough = packed_[k].rough(1);
+      strips[k] = sunmap::choose_strips(rough, rough.size(), requests_[k].face->chart, options_.strip_edges);
+      buckets[k] = sunmap::bucket_rough(rough, strips[k]);
+    });
+    std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face index, strip)
+    for (std::size_t k = 0; k < faces_.size(); ++k)
       for (std::size_t s = 0; s < strips[k].size(); ++s) jobs.emplace_back(k, s);
-    }
     total_ = faces_.size() * n_ + jobs.size();
     std::vector<std::vector<sunmap::StripMap>> strip_maps(faces_.size());
+    std::vector<sunmap::FaceMap> face_maps(faces_.size());
     // Per face: its strips not overlaid yet. The last one frees the face's boundaries, so that
     // they go as the cells come (a triangulated city's were most of the map's memory).
     std::unique_ptr<std::atomic<std::size_t>[]> strips_left(new std::atomic<std::size_t>[faces_.size()]);
@@ -660,13 +680,25 @@ class MapBuilder {
         [&](unsigned, std::size_t j) {
           runtime::check_stop();
           const auto [k, s] = jobs[j];
-          strip_maps[k][s] = sunmap::overlay_strip(requests_[k], bounds_[k], buckets[k][s], strips[k][s]);
+          // The strip's curves unpacked (in the order bucketed), overlaid, and let go.
+          sunmap::FaceBoundaries b;
+          packed_[k].unpack(buckets[k][s], b.curves);
+          b.base = base_[k];
           buckets[k][s] = {};
-          if (strips_left[k].fetch_sub(1) == 1) bounds_[k] = {};
+          std::vector<std::size_t> all(b.curves.size());
+          std::iota(all.begin(), all.end(), std::size_t{0});
+          strip_maps[k][s] = sunmap::overlay_strip(requests_[k], b, all, strips[k][s]);
+          if (strips_left[k].fetch_sub(1) == 1) {  // the face's last strip: the others are done
+            packed_[k] = {};
+            face_maps[k] = assemble_face(k, strip_maps[k]);
+          }
           ++done_;
         },
         report_);
-    return strip_maps;
+    // The faces without strips (degenerate) as well.
+    for (std::size_t k = 0; k < faces_.size(); ++k)
+      if (strips[k].empty()) face_maps[k] = assemble_face(k, strip_maps[k]);
+    return face_maps;
   }
 
   /// 3. The threshold map alone: the rounds left and the level regions, face-strip pairs in
@@ -717,7 +749,7 @@ class MapBuilder {
   std::vector<mpq_class> hour_area_;        ///< per face: sum over instants of w_i x lit chart area
   std::vector<sunmap::OverlayRequest> requests_;
   std::vector<std::vector<Curve>> outline_;  ///< per face: its chart's outline (tag n)
-  std::vector<sunmap::FaceBoundaries> bounds_;  ///< the full map: per face, every boundary
+  std::vector<mpq_class> base_;  ///< the full map: per face, the hours of the instants lighting it whole
   std::vector<std::vector<sunmap::Strip>> strips_;           ///< the threshold map alone: per face
   std::vector<std::vector<sunmap::LevelRounds>> rounds_;     ///< per face and strip
   std::vector<mpq_class> whole_pending_;  ///< per face: whole-face hours before its strips exist
@@ -725,7 +757,8 @@ class MapBuilder {
   std::vector<std::size_t> sampled_;        ///< per face: instants in sample_ (from the first that cut it)
   std::vector<sunmap::FaceTiles> tiles_;    ///< per face (gathered): where each instant may light it
   std::vector<std::vector<RoughSegment>> rough_;  ///< per face (gathered, not kept): every boundary, in doubles
-  std::vector<sunmap::PackedBoundaries> packed_;  ///< per face (gathered): every boundary, while kept
+  /// Per face (the full map, or the threshold map gathered): every boundary, while kept.
+  std::vector<sunmap::PackedBoundaries> packed_;
   std::vector<char> keep_exact_;            ///< per face (gathered): its exact boundaries are kept
   std::size_t kept_segments_ = 0;           ///< in packed_, all faces together
   std::size_t again_ = 0;                   ///< face-instant pairs computed again
