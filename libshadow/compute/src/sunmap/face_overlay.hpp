@@ -42,7 +42,8 @@ inline bool tag_left(long tag) { return tag > 0; }
 using Curve = Traits::Curve_2;
 using XCurve = Traits::X_monotone_curve_2;  ///< a segment with every tag of the curves overlapping it
 
-/// Every boundary of one face, gathered over the instants.
+/// Boundaries of one face gathered over the instants: all of them, or those entering one strip
+/// (the full map unpacks each strip's before overlaying it).
 struct FaceBoundaries {
   std::vector<Curve> curves;  ///< the partial instants' boundaries and the chart's outline
   mpq_class base{0};          ///< the hours of the instants that light the whole face

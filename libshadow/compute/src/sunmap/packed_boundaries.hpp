@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// One face's exact boundary curves, every instant's, packed for the threshold map alone while
-// they wait for its strips (docs/sun-hours-map.md, step 7): each distinct end point's exact
+// One face's exact boundary curves, every instant's, packed while they wait for the face's
+// strips, in the full map and in the threshold map alone (docs/sun-hours-map.md, step 7): each distinct end point's exact
 // rational coordinates as GMP limbs, each segment two point indices, its tag and its direction.
 // A Curve holds its points (and, once asked, its supporting line) as lazy CGAL objects, each
 // with an interval, a reference count and GMP numbers of its own: several hundred bytes a
 // segment (about 575 when curves were made through a lazy segment). Packed, a segment costs its
 // numbers' limbs and 40 bytes, some 120-200 in all, so the budget of segments held
 // (SunHoursOptions::level_held_segments) holds a third of the memory it did. A strip unpacks the
-// curves entering it when its rounds take them: the same exact points, the same tags.
+// curves entering it when its job (full map) or its rounds (threshold map) take them: the same
+// exact points, the same tags.
 #pragma once
 
 #include "sunmap/face_overlay.hpp"
@@ -25,13 +26,13 @@ namespace shadow::sunmap {
 
 class PackedBoundaries {
  public:
-  /// Appends `curves` (boundary curves tagged as face_overlay.hpp tags them, one instant's or a
-  /// few); a point that several of them end at is packed once.
+  /// Appends `curves` (boundary curves tagged as face_overlay.hpp tags them: one instant's, a
+  /// few, or the chart's outline); a point that several of them end at is packed once.
   void add(const std::vector<Curve>& curves);
 
   std::size_t size() const { return store_ ? store_->segments.size() : 0; }
   bool empty() const { return size() == 0; }
-  /// The instant segment `k` belongs to.
+  /// The instant segment `k` belongs to (the number of instants for the outline's).
   std::size_t instant(std::size_t k) const {
     return tag_instant(store_->segments[k].tag);
   }

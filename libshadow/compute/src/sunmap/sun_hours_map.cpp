@@ -66,7 +66,8 @@ struct InstantPart {
 
 /// The map of `faces` under `instants`: the lit regions of a batch of instants at a time (every
 /// face-instant pair of the batch in parallel), then handed on before the next batch is computed.
-/// The full map gathers each face's boundaries (its strips' one sweep needs them all). The
+/// The full map gathers each face's boundaries (its strips' one sweep needs them all), packed
+/// (sunmap::PackedBoundaries); each face is assembled by the job that overlays its last strip. The
 /// threshold map alone gathers the exact ones up to a budget, and past it the faces holding the
 /// most keep theirs in doubles (sunmap::RoughSegment): from what it kept each face gets its tiles
 /// (sunmap::FaceTiles), the order its instants are swept in and its strips, each planned; the
@@ -654,11 +655,15 @@ class MapBuilder {
   std::vector<sunmap::FaceMap> overlay_full() {
     std::vector<std::vector<sunmap::Strip>> strips(faces_.size());
     std::vector<std::vector<std::vector<std::size_t>>> buckets(faces_.size());
+    // Faces in parallel; a scene of fewer faces than threads (one large ground) makes each
+    // face's rough segments on every thread instead.
+    const unsigned per_face = faces_.size() < threads_ ? threads_ : 1;
     runtime::parallel_for(faces_.size(), threads_, [&](unsigned, std::size_t k) {
+      runtime::check_stop();
       if ((*ctx_.prep)[faces_[k]].degenerate) return;
       packed_[k].add(outline_[k]);  // after every instant's boundaries, as they were gathered
       outline_[k] = {};
-      const std::vector<RoughSegment> rough = packed_[k].rough(1);
+      const std::vector<RoughSegment> rough = packed_[k].rough(per_face);
       strips[k] = sunmap::choose_strips(rough, rough.size(), requests_[k].face->chart, options_.strip_edges);
       buckets[k] = sunmap::bucket_rough(rough, strips[k]);
     });
@@ -760,7 +765,7 @@ class MapBuilder {
   /// Per face (the full map, or the threshold map gathered): every boundary, while kept.
   std::vector<sunmap::PackedBoundaries> packed_;
   std::vector<char> keep_exact_;            ///< per face (gathered): its exact boundaries are kept
-  std::size_t kept_segments_ = 0;           ///< in packed_, all faces together
+  std::size_t kept_segments_ = 0;           ///< the threshold map gathered: in packed_, all faces together
   std::size_t again_ = 0;                   ///< face-instant pairs computed again
   std::vector<std::vector<std::size_t>> order_;  ///< per face (gathered): its instants in sweep order
   std::vector<std::vector<std::vector<std::size_t>>> rough_which_;  ///< per face and strip: its rough segments
