@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace shadow::sunmap {
 
@@ -187,6 +189,22 @@ StripTileCounts::Range StripTileCounts::under(double xmin, double xmax, double y
     }
   out.least = least == UINT32_MAX ? 0 : least;
   return out;
+}
+
+std::vector<std::size_t> sweep_order(const FaceTiles& t) {
+  std::vector<std::size_t> order = t.instants;  // ascending
+  if (t.grid.n == 0) return order;
+  std::vector<std::pair<long, std::size_t>> key;  // (-tiles lit whole, instant)
+  for (std::size_t i : order) {
+    const std::size_t slot = t.slot(i), words = t.grid.words();
+    long whole = 0;
+    for (std::size_t w = 0; slot != SIZE_MAX && w < words; ++w)
+      whole += __builtin_popcountll(t.whole_masks[slot * words + w]);
+    key.emplace_back(-whole, i);
+  }
+  std::stable_sort(key.begin(), key.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t p = 0; p < key.size(); ++p) order[p] = key[p].second;
+  return order;
 }
 
 }  // namespace shadow::sunmap

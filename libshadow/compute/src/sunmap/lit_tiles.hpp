@@ -76,6 +76,10 @@ struct FaceTiles {
   }
 };
 
+/// The instants cutting a face (t.instants, ascending) in the order its strips sweep them: those
+/// lighting the most of its tiles whole first, in time order among equals.
+std::vector<std::size_t> sweep_order(const FaceTiles& t);
+
 /// One strip's counts, per tile under it (the columns meeting x0 <= x <= x1), of the instants
 /// not yet walked that may light the tile and of those that light it whole: the threshold map
 /// alone's bounds on the sun still to come to a cell (docs/sun-hours-map.md, step 7).

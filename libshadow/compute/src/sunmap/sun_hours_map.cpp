@@ -385,7 +385,7 @@ class MapBuilder {
         runs.back().second = c + 1;
       }
       make_tiles(k, rough, runs, whole_pending_[k]);
-      order_[k] = face_order(k);
+      order_[k] = sunmap::sweep_order(tiles_[k]);
       // The bands of its order: about band_segments segments each, at least 4 instants (so
       // that a band's lit regions can be computed in parallel), whether its exact curves were
       // kept or not (its strips' order within a band so depends on the budget alone). A band
@@ -537,25 +537,6 @@ class MapBuilder {
           rough_[part.face] = {}, rough_which_[part.face] = {};
         }
     }
-  }
-
-  /// The instants cutting face k (those of its tiles, ascending) in the order its strips sweep
-  /// them: those lighting the most of its tiles whole first, in time order among equals.
-  std::vector<std::size_t> face_order(std::size_t k) const {
-    const sunmap::FaceTiles& t = tiles_[k];
-    std::vector<std::size_t> order = t.instants;  // ascending
-    if (t.grid.n == 0) return order;
-    std::vector<std::pair<long, std::size_t>> key;  // (-tiles lit whole, instant)
-    for (std::size_t i : order) {
-      const std::size_t slot = t.slot(i), words = t.grid.words();
-      long whole = 0;
-      for (std::size_t w = 0; slot != SIZE_MAX && w < words; ++w)
-        whole += __builtin_popcountll(t.whole_masks[slot * words + w]);
-      key.emplace_back(-whole, i);
-    }
-    std::stable_sort(key.begin(), key.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (std::size_t p = 0; p < key.size(); ++p) order[p] = key[p].second;
-    return order;
   }
 
   /// Plans strip (face k, s) once: a kept face's from its exact curves `which` of `curves`
