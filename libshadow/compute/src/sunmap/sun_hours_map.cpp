@@ -183,20 +183,24 @@ class MapBuilder {
       keep_exact_.assign(count, 1);
       order_.resize(count);
     }
-    for (std::size_t k = 0; k < count; ++k) {
+    // Each face's exact view is the map's own until the face is assembled (not a worker's, whose
+    // cache is trimmed: every worker kept every face it met, some 75 MB per thread on Delft).
+    map_faces_.resize(count);
+    runtime::parallel_for(count, threads_, [&](unsigned, std::size_t k) {
       const std::size_t f = faces_[k];
       SunHoursFace& info = face_info_[k];
       info.face_id = f;
       info.area = (*ctx_.face_area)[f];
       info.level_areas.assign(map_.levels.size(), 0.0);
       const core::FacePrep& fp = (*ctx_.prep)[f];
-      if (fp.degenerate) continue;
-      const ExactFace& P = workers_[0].exact.face(ctx_, f);
+      if (fp.degenerate) return;
+      map_faces_[k] = std::make_unique<ExactFace>(make_exact_face(ctx_.scene->faces[f].vertices, fp));
+      const ExactFace& P = *map_faces_[k];
       exact_to_mpq(P.area_scale_squared, scales_[k].get_mpq_t());
       sunmap::add_boundary(P.chart, static_cast<long>(n_), outline_[k]);
       requests_[k] = sunmap::OverlayRequest{&P,      &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
                                             options_.level_round_edges};
-    }
+    });
   }
 
   /// 1. The lit regions of instants [first, first + count) on every face, face-instant pairs in
@@ -212,6 +216,7 @@ class MapBuilder {
         [&](unsigned wi, std::size_t job) {
           runtime::check_stop();
           Worker& w = workers_[wi];
+          w.exact.trim(exact::kExactFaceCache);  // between items, as the engine's workers do
           const std::size_t k = job / count, j = job % count, i = first + j, f = faces_[k];
           const std::size_t row = table_ ? table_row_[k] : SIZE_MAX;
           ShadowStats& stats = row != SIZE_MAX ? w.stats : w.other_stats;
@@ -500,6 +505,7 @@ class MapBuilder {
               const auto [k, i] = pairs[j];
               const auto g = std::lower_bound(instants.begin(), instants.end(), i) - instants.begin();
               Worker& w = workers_[wi];
+              w.exact.trim(exact::kExactFaceCache);
               const LitBoundary region = lit_boundary(w, k, i, grids[g] ? &*grids[g] : nullptr, w.again_stats);
               // Only the segments that may enter the wave's strips of face k (bucket_curves' test).
               const auto [first, last] = span.at(k);
@@ -625,6 +631,7 @@ class MapBuilder {
     face_info_[k].hour_area = sunmap::area_3d_mpq(hour_area_[k], scales_[k]);
     sunmap::FaceMap fm = sunmap::assemble(strips, face_info_[k], scales_[k], map_.levels.size());
     if (!full_) fm.face.areas.clear();
+    map_faces_[k].reset();  // its strips are done
     return fm;
   }
 
@@ -734,6 +741,7 @@ class MapBuilder {
   std::vector<mpq_class> scales_;           ///< per face: (3D / chart area)^2
   std::vector<mpq_class> hour_area_;        ///< per face: sum over instants of w_i x lit chart area
   std::vector<sunmap::OverlayRequest> requests_;
+  std::vector<std::unique_ptr<ExactFace>> map_faces_;  ///< per face, until assembled: requests_' faces
   std::vector<std::vector<Curve>> outline_;  ///< per face: its chart's outline (tag n)
   std::vector<mpq_class> base_;  ///< the full map: per face, the hours of the instants lighting it whole
   std::vector<std::vector<sunmap::Strip>> strips_;           ///< the threshold map alone: per face
