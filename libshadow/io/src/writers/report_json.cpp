@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "runtime/parallel.hpp"
 #include "writers/face_identity_json.hpp"
+#include "writers/json_text.hpp"
 #include "writers/names.hpp"
 
 #include <shadow/output.hpp>
@@ -227,30 +228,7 @@ void append_face_entry(std::string& out, const Scene& scene, const EntryNames& n
   out += "\n      ]\n    }";
 }
 
-/// Pretty-printed (indent > 0) or compact text. Names come from user files: bytes that are not
-/// UTF-8 are replaced rather than failing the whole report.
-std::string dump(const Json& value, int indent = -1) {
-  return value.dump(indent, ' ', false, Json::error_handler_t::replace);
-}
-
-/// Appends `text` (a pretty-printed value) to `out`, indented by `indent` more spaces after each
-/// newline. JSON strings never hold a raw newline, so this cannot touch their content.
-void append_indented(std::string& out, const std::string& text, std::size_t indent) {
-  std::size_t from = 0;
-  for (std::size_t nl = text.find('\n'); nl != std::string::npos; nl = text.find('\n', from)) {
-    out.append(text, from, nl + 1 - from);
-    out.append(indent, ' ');
-    from = nl + 1;
-  }
-  out.append(text, from, std::string::npos);
-}
-
-std::string indent_more(const std::string& text, std::size_t indent) {
-  std::string out;
-  out.reserve(text.size() + text.size() / 8);
-  append_indented(out, text, indent);
-  return out;
-}
+std::string dump(const Json& value, int indent = -1) { return detail::dump_json(value, indent); }
 
 Json run_json(const Scene& scene, const ShadowResult& result, const RunInfo* run) {
   Json j;
@@ -383,7 +361,7 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   // The same text nlohmann's dump(2) gives for the whole document, but written piece by piece:
   // the faces array can be huge and is never held as one document.
   auto member = [&out](const char* key, const std::string& value_text, bool last = false) {
-    out << "  " << dump(Json(key)) << ": " << indent_more(value_text, 2) << (last ? "\n" : ",\n");
+    detail::write_member(out, key, value_text, last);
   };
   out << "{\n";
   member("libshadow_version", dump(Json(version())));

@@ -2,6 +2,7 @@
 // The datasets and report of a sun series (OutputDirectory::write_series, docs/series.md).
 #include "writers/series_outputs.hpp"
 #include "writers/face_identity_json.hpp"
+#include "writers/json_text.hpp"
 
 #include "writers/vtk_datasets.hpp"
 #include "writers/vtm_writer.hpp"
@@ -266,7 +267,12 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
   if (run != nullptr && run->sun_hours_map != nullptr) report["sun_hours_map"] = sun_hours_map_json(*run->sun_hours_map);
   if (!scene.skipped_faces.empty()) report["skipped_faces"] = skipped_faces_json(scene);  // as in compute's
 
-  Json faces = Json::array();
+  // The members so far, then the faces one entry at a time (a city's entries as one document
+  // were most of a series' peak memory at the end), then the rest: the bytes of dump(2).
+  out << "{\n";
+  for (const auto& [key, value] : report.items()) detail::write_member(out, key, detail::dump_json(value, 2));
+  report = Json::object();
+  out << "  \"faces\": [";
   for (std::size_t r = 0; r < series.faces.size(); ++r) {
     const std::size_t f = series.faces[r];
     const Face& face = scene.faces[f];
@@ -279,9 +285,9 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
     entry["area"] = series.area[r];
     entry["sun_hours"] = sun_hours[r];
     if (fast) entry["sun_hours_error_bound"] = sun_hours_bound[r];
-    faces.push_back(std::move(entry));
+    out << (r == 0 ? "\n    " : ",\n    ") << detail::indent_more(detail::dump_json(entry, 2), 4);
   }
-  report["faces"] = faces;
+  out << (series.faces.empty() ? "],\n" : "\n  ],\n");
   const ShadowStats& st = series.stats;
   Json stats = {{"receivers", st.receivers},           {"back_facing", st.back_facing},
                 {"candidate_pairs", st.candidate_pairs}, {"casting_pairs", st.casting_pairs},
@@ -294,11 +300,11 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
     stats["tiled_receivers"] = st.tiled_receivers;
     stats["tiles"] = st.tiles;
   }
-  report["stats"] = stats;
+  detail::write_member(out, "stats", detail::dump_json(stats, 2));
   Json warnings = Json::array();
   for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
-  report["warnings"] = warnings;
-  out << report.dump(2) << '\n';
+  detail::write_member(out, "warnings", detail::dump_json(warnings, 2), true);
+  out << "}\n";
 }
 
 }  // namespace shadow::detail
