@@ -184,7 +184,7 @@ class MapBuilder {
       order_.resize(count);
     }
     // Each face's exact view is the map's own until the face is assembled (not a worker's, whose
-    // cache is trimmed: every worker kept every face it met, some 75 MB per thread on Delft).
+    // cache is trimmed: every worker kept every face it met, some 55-60 MB per thread on Delft).
     map_faces_.resize(count);
     runtime::parallel_for(count, threads_, [&](unsigned, std::size_t k) {
       const std::size_t f = faces_[k];
