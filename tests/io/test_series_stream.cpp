@@ -233,6 +233,40 @@ TEST(SeriesStream, InstantsInAnyOrderWriteTheSameFiles) {
     EXPECT_TRUE(e.is_directory() || e.path().filename() == ".shadow.lock") << e.path();
 }
 
+// report.json, written a member and a face at a time, is the whole document's dump(2): with a
+// face name holding a bad byte (replaced, as compute's report does) and text that needs escaping,
+// and with no receiving face at all (an empty faces array).
+TEST(SeriesStream, ReportIsTheWholeDocumentsTextWithBadBytesAndWithNoFaces) {
+  const fs::path dir = scratch("report-text");
+  Whole w = whole_table(write_scene(dir));
+  ASSERT_GE(w.table.faces.size(), 2u);
+  w.scene.faces[w.table.faces[0]].name = std::string("caf\xC3\xA9 \xFF");  // e-acute, then a bad byte
+  w.scene.faces[w.table.faces[1]].name = "wall \"1\"\t\\";
+  {
+    shadow::OutputDirectory out(dir / "named");
+    out.write_series(w.scene, w.suns, w.table, shadow::OutputDirectory::SeriesFiles{});
+  }
+  const std::string text = read_file(dir / "named" / "report.json");
+  const nlohmann::ordered_json document = nlohmann::ordered_json::parse(text);
+  EXPECT_EQ(document.dump(2) + "\n", text);
+  EXPECT_EQ(document["faces"][0]["name"], "caf\xC3\xA9 \xEF\xBF\xBD");  // U+FFFD for the bad byte
+  EXPECT_EQ(document["faces"][1]["name"], "wall \"1\"\t\\");
+
+  Whole none = whole_table(write_scene(dir));
+  for (shadow::Mesh& m : none.scene.meshes) m.receiver = false;
+  shadow::SeriesOptions options;
+  options.threads = 1;
+  none.table = shadow::ShadowEngine(none.scene, 1).compute_series(none.suns.lights, options);
+  ASSERT_TRUE(none.table.faces.empty());
+  {
+    shadow::OutputDirectory out(dir / "none");
+    out.write_series(none.scene, none.suns, none.table, shadow::OutputDirectory::SeriesFiles{});
+  }
+  const std::string empty = read_file(dir / "none" / "report.json");
+  EXPECT_EQ(nlohmann::ordered_json::parse(empty).dump(2) + "\n", empty);
+  EXPECT_NE(empty.find("\"faces\": [],\n"), std::string::npos);
+}
+
 TEST(SeriesStream, StoppedMidStreamLeavesNoTemporariesAndResumesToTheSameFiles) {
   const fs::path dir = scratch("resume");
   const fs::path scene_file = write_scene(dir);
