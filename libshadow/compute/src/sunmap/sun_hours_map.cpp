@@ -216,7 +216,6 @@ class MapBuilder {
         [&](unsigned wi, std::size_t job) {
           runtime::check_stop();
           Worker& w = workers_[wi];
-          w.exact.trim(exact::kExactFaceCache);  // between items, as the engine's workers do
           const std::size_t k = job / count, j = job % count, i = first + j, f = faces_[k];
           const std::size_t row = table_ ? table_row_[k] : SIZE_MAX;
           ShadowStats& stats = row != SIZE_MAX ? w.stats : w.other_stats;
@@ -244,9 +243,12 @@ class MapBuilder {
   }
 
   /// Face k's lit region under instant i: its canonical boundary, the same segments whichever
-  /// route made it (exact_lit_boundary), and the engine's lighting of the pair.
+  /// route made it (exact_lit_boundary), and the engine's lighting of the pair. One call is one
+  /// work item: the worker's exact faces are trimmed first, as the engine's workers' are (the
+  /// result holds no reference into them).
   LitBoundary lit_boundary(Worker& w, std::size_t k, std::size_t i, const core::LightSpaceGrid* grid,
                            ShadowStats& stats) {
+    w.exact.trim(exact::kExactFaceCache);
     const std::size_t f = faces_[k];
     const ExactFace& P = w.exact.face(ctx_, f);
     const ExactLight light = to_exact_light(instants_[i].light);
@@ -505,7 +507,6 @@ class MapBuilder {
               const auto [k, i] = pairs[j];
               const auto g = std::lower_bound(instants.begin(), instants.end(), i) - instants.begin();
               Worker& w = workers_[wi];
-              w.exact.trim(exact::kExactFaceCache);
               const LitBoundary region = lit_boundary(w, k, i, grids[g] ? &*grids[g] : nullptr, w.again_stats);
               // Only the segments that may enter the wave's strips of face k (bucket_curves' test).
               const auto [first, last] = span.at(k);
