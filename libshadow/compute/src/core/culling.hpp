@@ -21,6 +21,8 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace shadow::core {
@@ -155,13 +157,14 @@ class LightSpaceGrid {
       if (!prep[f].degenerate) ++item_start_[item_of[f] + 1];
     for (std::size_t i = 1; i < item_start_.size(); ++i) item_start_[i] += item_start_[i - 1];
     item_faces_.resize(item_start_.back());
+    item_of_ = std::move(item_of);
     std::vector<Box> item_box(items);
     std::vector<char> item_seen(items, 0);
     {
       std::vector<std::uint32_t> fill(item_start_.begin(), item_start_.end() - 1);
       for (std::size_t f = 0; f < n; ++f) {
         if (prep[f].degenerate) continue;
-        const std::uint32_t i = item_of[f];
+        const std::uint32_t i = item_of_[f];
         item_faces_[fill[i]++] = static_cast<std::uint32_t>(f);
         item_box[i] = item_seen[i] ? merge(item_box[i], boxes_[f]) : boxes_[f];
         item_seen[i] = 1;
@@ -223,6 +226,9 @@ class LightSpaceGrid {
   [[nodiscard]] const std::vector<int>* solid_items() const { return solid_items_; }
 
   /// Calls visit(face) once for every face whose light-space box overlaps `face`'s.
+  ///
+  /// `visit` may return bool instead of void: true then means that it drops every later face of
+  /// the same item (a convex solid already listed), which the query then neither tests nor visits.
   template <class Visit>
   void query(std::size_t face, Visit&& visit) const {
     query_box(boxes_[face], visit, [](const LocalBounds&) { return true; });
@@ -231,11 +237,17 @@ class LightSpaceGrid {
   /// The same, but an item (a convex solid, or a face alone) for which keep_item(its local
   /// bounds) is false is skipped whole, its faces neither tested nor visited: keep_item must
   /// return false only where `visit` would drop every one of its faces anyway. Without item
-  /// bounds (the constructor's `item_bounds`) every item is kept.
+  /// bounds (the constructor's `item_bounds`) every item is kept. So is item `skip_item`
+  /// (item_of(); kNoItem: none), for which `visit` must drop every face.
   template <class Visit, class KeepItem>
-  void query(std::size_t face, Visit&& visit, KeepItem&& keep_item) const {
-    query_box(boxes_[face], visit, keep_item);
+  void query(std::size_t face, Visit&& visit, KeepItem&& keep_item, std::uint32_t skip_item = kNoItem) const {
+    query_box(boxes_[face], visit, keep_item, skip_item);
   }
+
+  static constexpr std::uint32_t kNoItem = UINT32_MAX;
+  /// The item that holds `face` (all of its convex solid's faces, with `solid_of`), kNoItem for
+  /// a degenerate face.
+  [[nodiscard]] std::uint32_t item_of(std::size_t face) const { return item_of_[face]; }
 
   /// Whether query(receiver) reports face q (a face the grid holds): their light-space boxes
   /// overlap by the margin, the test query() makes of each face of an item it meets.
@@ -264,7 +276,7 @@ class LightSpaceGrid {
   /// query_part with an item test, as query's.
   template <class Visit, class KeepItem>
   void query_part(std::size_t face, const std::vector<glm::dvec3>& points, double slack, Visit&& visit,
-                  KeepItem&& keep_item) const {
+                  KeepItem&& keep_item, std::uint32_t skip_item = kNoItem) const {
     Box b{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
           std::numeric_limits<double>::lowest(), std::numeric_limits<double>::lowest()};
     for (const glm::dvec3& p : points) {
@@ -275,12 +287,13 @@ class LightSpaceGrid {
     b = {std::max(b[0] - slack, f[0]), std::max(b[1] - slack, f[1]), std::min(b[2] + slack, f[2]),
          std::min(b[3] + slack, f[3])};
     if (!(b[0] <= b[2]) || !(b[1] <= b[3])) b = f;  // (rounding: fall back to the whole face)
-    query_box(b, visit, keep_item);
+    query_box(b, visit, keep_item, skip_item);
   }
 
  private:
   template <class Visit, class KeepItem>
-  void query_box(const std::array<double, 4>& b, Visit&& visit, KeepItem&& keep_item) const {
+  void query_box(const std::array<double, 4>& b, Visit&& visit, KeepItem&& keep_item,
+                 std::uint32_t skip_item = kNoItem) const {
     const LocalBounds* item_bounds = item_bounds_ ? item_bounds_->data() : nullptr;
     // Each overlapping face is reported once, in one cell both boxes cover (below), instead of
     // once per shared cell: most faces span several cells, and their repeats were most of a
@@ -312,11 +325,19 @@ class LightSpaceGrid {
           // An item the caller rules out whole (a solid behind the receiver's plane): none of
           // its faces' boxes and vertices are read (a cache miss each).
           const std::uint32_t item = entries_[e];
+          // The caller's own item (the receiver's solid, none of whose faces it takes): its
+          // faces overlap the receiver's box and were each tested and visited to be dropped.
+          if (item == skip_item) continue;
           if (item_bounds && !keep_item(item_bounds[item])) continue;
-          // The item's faces whose own boxes overlap.
+          // The item's faces whose own boxes overlap, until `visit` has done with the item.
           for (std::uint32_t k = item_start_[item]; k < item_start_[item + 1]; ++k) {
             const std::uint32_t f = item_faces_[k];
-            if (overlaps(boxes_[f])) visit(f);
+            if (!overlaps(boxes_[f])) continue;
+            if constexpr (std::is_same_v<decltype(visit(f)), bool>) {
+              if (visit(f)) break;
+            } else {
+              visit(f);
+            }
           }
         }
       }
@@ -328,7 +349,7 @@ class LightSpaceGrid {
   static std::size_t number_items(const std::vector<FacePrep>& prep, const std::vector<int>* solid_of,
                                   std::vector<std::uint32_t>& item_of) {
     const std::size_t n = prep.size();
-    item_of.assign(n, 0);
+    item_of.assign(n, kNoItem);
     std::vector<std::uint32_t> item_of_solid;
     std::size_t items = 0;
     for (std::size_t f = 0; f < n; ++f) {
@@ -487,6 +508,7 @@ class LightSpaceGrid {
   runtime::UninitVector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
   runtime::UninitVector<std::uint32_t> entry_first_;  ///< the items' first cells (first_cell), in entries_' order
   std::vector<std::uint32_t> item_start_, item_faces_;  ///< each item's faces (compressed rows)
+  std::vector<std::uint32_t> item_of_;  ///< each face's item (kNoItem: degenerate)
   const std::vector<LocalBounds>* item_bounds_ = nullptr;  ///< each item's local box (the constructor's)
   std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
 };
@@ -645,15 +667,26 @@ class CasterCandidates {
     const int own_solid = solid_of ? (*solid_of)[receiver] : -1;
     // The grid reports each face once (LightSpaceGrid.QueriesReportEveryOverlappingFaceOnce), as
     // does the loop over every face: no stamp per face.
-    auto consider = [&](std::size_t q) {
-      if (q == receiver) return;
+    // Returns true when the rest of q's grid item needs no visit: in one_face mode, once a
+    // solid is listed (its later faces would be dropped below).
+    auto consider = [&](std::size_t q) -> bool {
+      if (q == receiver) return false;
       const int solid = one_face || own_solid >= 0 ? (*solid_of)[q] : -1;
-      if (solid >= 0 && solid == own_solid) return;
-      if (one_face && solid >= 0 && solid_listed_[static_cast<std::size_t>(solid)] == stamp_) return;
-      if (!culler.may_cast(q)) return;
+      if (solid >= 0 && solid == own_solid) return false;
+      if (one_face && solid >= 0 && solid_listed_[static_cast<std::size_t>(solid)] == stamp_) return true;
+      if (!culler.may_cast(q)) return false;
       faces_.push_back(q);
-      if (one_face && solid >= 0) solid_listed_[static_cast<std::size_t>(solid)] = stamp_;
+      if (one_face && solid >= 0) {
+        solid_listed_[static_cast<std::size_t>(solid)] = stamp_;
+        return true;
+      }
+      return false;
     };
+    // The receiver's own convex solid, when it is one of the grid's items: none of its faces is
+    // taken (above), so the query skips it whole.
+    const std::uint32_t own_item = grid && own_solid >= 0 && grid->solid_items() == solid_of
+                                       ? grid->item_of(receiver)
+                                       : LightSpaceGrid::kNoItem;
     // An item of the grid (a convex solid, or a face alone) that the culler rules out whole.
     auto keep_item = [&](const LocalBounds& b) { return culler.may_cast_any(b); };
     if (grid && tile && tile_scene) {
@@ -671,9 +704,9 @@ class CasterCandidates {
       // The culling plane is within the normal's error (over the scene's diameter) and the
       // slack of the exact one.
       const double slack = (cf.normal_error + 1e-9) * tile_scene->diameter * 4 + 4 * cf.slack;
-      grid->query_part(receiver, corners_, std::isfinite(slack) ? slack : 0.0, consider, keep_item);
+      grid->query_part(receiver, corners_, std::isfinite(slack) ? slack : 0.0, consider, keep_item, own_item);
     } else if (grid) {
-      grid->query(receiver, consider, keep_item);
+      grid->query(receiver, consider, keep_item, own_item);
     } else {
       for (std::size_t q = 0; q < prep.size(); ++q)
         if (!prep[q].degenerate) consider(q);
