@@ -112,7 +112,30 @@ class LightSpaceGrid {
     u_ = glm::normalize(glm::cross(d, helper));
     v_ = glm::cross(d, u_);
     const std::size_t n = scene.faces.size();
-    boxes_.resize(n);  // uninitialised: each written below, on the thread of its block
+    // Items: a convex solid's faces together, every other face alone (faces in increasing
+    // order). Their faces' slots: each item's faces one after another (item_faces_), where the
+    // faces' boxes are kept (boxes_), so that a query reads an item's boxes in a row.
+    std::vector<std::uint32_t> item_of;
+    const std::size_t items = number_items(prep, solid_of, item_of);
+    if (item_bounds && item_bounds->size() != items)
+      throw std::logic_error("LightSpaceGrid: item bounds made for another scene or solids");
+    item_bounds_ = item_bounds;
+    item_start_.assign(items + 1, 0);
+    for (std::size_t f = 0; f < n; ++f)
+      if (!prep[f].degenerate) ++item_start_[item_of[f] + 1];
+    for (std::size_t i = 1; i < item_start_.size(); ++i) item_start_[i] += item_start_[i - 1];
+    item_faces_.resize(item_start_.back());
+    slot_.assign(n, kNoItem);
+    {
+      std::vector<std::uint32_t> fill(item_start_.begin(), item_start_.end() - 1);
+      for (std::size_t f = 0; f < n; ++f) {
+        if (prep[f].degenerate) continue;
+        slot_[f] = fill[item_of[f]]++;
+        item_faces_[slot_[f]] = static_cast<std::uint32_t>(f);
+      }
+    }
+    item_of_ = std::move(item_of);
+    boxes_.resize(item_faces_.size());  // uninitialised: each written below, on the thread of its block
     // Boxes by blocks of faces; each block's union, then the blocks' (min and max: exact, so
     // the same box in any order).
     constexpr std::size_t kBlock = 8192;
@@ -121,12 +144,9 @@ class LightSpaceGrid {
     std::vector<char> block_any(blocks, 0);
     runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
       for (std::size_t f = begin; f < end; ++f) {
-        if (prep[f].degenerate) {
-          boxes_[f] = Box{};
-          continue;
-        }
-        boxes_[f] = box_of(scene, scene.faces[f]);
-        block_box[b] = block_any[b] ? merge(block_box[b], boxes_[f]) : boxes_[f];
+        if (prep[f].degenerate) continue;
+        const Box& box = boxes_[slot_[f]] = box_of(scene, scene.faces[f]);
+        block_box[b] = block_any[b] ? merge(block_box[b], box) : box;
         block_any[b] = 1;
       }
     });
@@ -146,29 +166,11 @@ class LightSpaceGrid {
     const double cells_wanted = std::max<double>(1.0, 0.25 * static_cast<double>(n));
     const double square = std::max(std::sqrt(width * height / cells_wanted), 1e-300);
     counting_ = CellLayout(origin_, width, height, square, square);
-    // Items: a convex solid's faces together, every other face alone (faces in increasing order).
-    std::vector<std::uint32_t> item_of;
-    const std::size_t items = number_items(prep, solid_of, item_of);
-    if (item_bounds && item_bounds->size() != items)
-      throw std::logic_error("LightSpaceGrid: item bounds made for another scene or solids");
-    item_bounds_ = item_bounds;
-    item_start_.assign(items + 1, 0);
-    for (std::size_t f = 0; f < n; ++f)
-      if (!prep[f].degenerate) ++item_start_[item_of[f] + 1];
-    for (std::size_t i = 1; i < item_start_.size(); ++i) item_start_[i] += item_start_[i - 1];
-    item_faces_.resize(item_start_.back());
-    item_of_ = std::move(item_of);
+    // Each item's box: its faces' in increasing order (an item's faces are).
     std::vector<Box> item_box(items);
-    std::vector<char> item_seen(items, 0);
-    {
-      std::vector<std::uint32_t> fill(item_start_.begin(), item_start_.end() - 1);
-      for (std::size_t f = 0; f < n; ++f) {
-        if (prep[f].degenerate) continue;
-        const std::uint32_t i = item_of_[f];
-        item_faces_[fill[i]++] = static_cast<std::uint32_t>(f);
-        item_box[i] = item_seen[i] ? merge(item_box[i], boxes_[f]) : boxes_[f];
-        item_seen[i] = 1;
-      }
+    for (std::size_t i = 0; i < items; ++i) {
+      item_box[i] = boxes_[item_start_[i]];
+      for (std::uint32_t k = item_start_[i] + 1; k < item_start_[i + 1]; ++k) item_box[i] = merge(item_box[i], boxes_[k]);
     }
     // The query cells: as large as a typical item across each axis (the median of the items'
     // extents), and never smaller than the counting cells. A query of a box w x h over cells
@@ -231,7 +233,7 @@ class LightSpaceGrid {
   /// the same item (a convex solid already listed), which the query then neither tests nor visits.
   template <class Visit>
   void query(std::size_t face, Visit&& visit) const {
-    query_box(boxes_[face], visit, [](const LocalBounds&) { return true; });
+    query_box(face_box(face), visit, [](const LocalBounds&) { return true; });
   }
 
   /// The same, but an item (a convex solid, or a face alone) for which keep_item(its local
@@ -241,7 +243,7 @@ class LightSpaceGrid {
   /// (item_of(); kNoItem: none), for which `visit` must drop every face.
   template <class Visit, class KeepItem>
   void query(std::size_t face, Visit&& visit, KeepItem&& keep_item, std::uint32_t skip_item = kNoItem) const {
-    query_box(boxes_[face], visit, keep_item, skip_item);
+    query_box(face_box(face), visit, keep_item, skip_item);
   }
 
   static constexpr std::uint32_t kNoItem = UINT32_MAX;
@@ -252,8 +254,8 @@ class LightSpaceGrid {
   /// Whether query(receiver) reports face q (a face the grid holds): their light-space boxes
   /// overlap by the margin, the test query() makes of each face of an item it meets.
   [[nodiscard]] bool reports(std::size_t receiver, std::size_t q) const {
-    const Box& b = boxes_[receiver];
-    const Box& fb = boxes_[q];
+    const Box& b = face_box(receiver);
+    const Box& fb = face_box(q);
     return fb[0] <= b[2] + margin_ && b[0] <= fb[2] + margin_ && fb[1] <= b[3] + margin_ && b[1] <= fb[3] + margin_;
   }
 
@@ -263,7 +265,7 @@ class LightSpaceGrid {
   /// cells were sized like the items: this count decides which receivers are cut into tiles.
   [[nodiscard]] std::size_t count(std::size_t face) const {
     std::size_t n = 0;
-    for_cells(counting_, boxes_[face], [&](std::size_t c) { n += home_[c]; });
+    for_cells(counting_, face_box(face), [&](std::size_t c) { n += home_[c]; });
     return n;
   }
 
@@ -283,7 +285,7 @@ class LightSpaceGrid {
       const double u = glm::dot(u_, p), v = glm::dot(v_, p);
       b = {std::min(b[0], u), std::min(b[1], v), std::max(b[2], u), std::max(b[3], v)};
     }
-    const Box& f = boxes_[face];
+    const Box& f = face_box(face);
     b = {std::max(b[0] - slack, f[0]), std::max(b[1] - slack, f[1]), std::min(b[2] + slack, f[2]),
          std::min(b[3] + slack, f[3])};
     if (!(b[0] <= b[2]) || !(b[1] <= b[3])) b = f;  // (rounding: fall back to the whole face)
@@ -317,22 +319,24 @@ class LightSpaceGrid {
           // query visits [u0, u1] x [v0, v1]; with the boxes overlapping by the margin, iu <= u1
           // and u0 <= the item's last cell (and so for v), so that cell is visited and holds
           // the item. Integers only: no floor and division per entry, as a corner's cell took.
-          const std::uint32_t first = entry_first_[e];
-          const int home = int{std::max(u0, static_cast<int>(first & 0xffff)) == u} &
-                           int{std::max(v0, static_cast<int>(first >> 16)) == v};
+          const Entry& entry = entries_[e];
+          const int home = int{std::max(u0, static_cast<int>(entry.first & 0xffff)) == u} &
+                           int{std::max(v0, static_cast<int>(entry.first >> 16)) == v};
           // The entry's own copy of its item's box: read in cell order, no jump per entry.
-          if (!(overlaps(entry_boxes_[e]) & home)) continue;
-          // An item the caller rules out whole (a solid behind the receiver's plane): none of
-          // its faces' boxes and vertices are read (a cache miss each).
-          const std::uint32_t item = entries_[e];
+          if (!(overlaps(entry.box) & home)) continue;
           // The caller's own item (the receiver's solid, none of whose faces it takes): its
           // faces overlap the receiver's box and were each tested and visited to be dropped.
-          if (item == skip_item) continue;
-          if (item_bounds && !keep_item(item_bounds[item])) continue;
+          if (entry.item == skip_item) continue;
+          // The item's faces' boxes, in a row from its first slot (in the entry: no look-up
+          // first), are fetched while its bounds are tested.
+          __builtin_prefetch(&boxes_[entry.slots_begin]);
+          // An item the caller rules out whole (a solid behind the receiver's plane): none of
+          // its faces' boxes and vertices are read (a cache miss each).
+          if (item_bounds && !keep_item(item_bounds[entry.item])) continue;
           // The item's faces whose own boxes overlap, until `visit` has done with the item.
-          for (std::uint32_t k = item_start_[item]; k < item_start_[item + 1]; ++k) {
+          for (std::uint32_t k = entry.slots_begin; k < entry.slots_end; ++k) {
+            if (!overlaps(boxes_[k])) continue;
             const std::uint32_t f = item_faces_[k];
-            if (!overlaps(boxes_[f])) continue;
             if constexpr (std::is_same_v<decltype(visit(f)), bool>) {
               if (visit(f)) break;
             } else {
@@ -371,6 +375,13 @@ class LightSpaceGrid {
   }
 
   using Box = std::array<double, 4>;  // umin, vmin, umax, vmax
+  /// An item in a cell: its box, its first cell (first_cell), and its faces' slots.
+  struct Entry {
+    Box box;
+    std::uint32_t first;
+    std::uint32_t item;
+    std::uint32_t slots_begin, slots_end;
+  };
   static Box merge(const Box& a, const Box& b) {
     return {std::min(a[0], b[0]), std::min(a[1], b[1]), std::max(a[2], b[2]), std::max(a[3], b[3])};
   }
@@ -412,7 +423,7 @@ class LightSpaceGrid {
   /// ranges before it, so that every row is the one a single pass fills.
   static constexpr std::size_t kParallelCellItems = 4096;
   void fill_cells(const std::vector<FacePrep>& prep, const std::vector<Box>& item_box, unsigned threads) {
-    const std::size_t items = item_box.size(), n = boxes_.size(), cells = cells_.cells(),
+    const std::size_t items = item_box.size(), n = slot_.size(), cells = cells_.cells(),
                       counting_cells = counting_.cells();
     // At most 2^24 counters a table (ranges x cells): 64 MiB a table.
     const std::size_t ranges = std::clamp<std::size_t>(
@@ -425,19 +436,13 @@ class LightSpaceGrid {
       for (std::size_t i = 0; i < items; ++i) for_cells(cells_, item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
       home_.assign(counting_cells, 0);
       for (std::size_t f = 0; f < n; ++f)
-        if (!prep[f].degenerate) ++home_[counting_.cell_of(boxes_[f][0], boxes_[f][1])];
+        if (!prep[f].degenerate) ++home_[counting_.cell_of(face_box(f)[0], face_box(f)[1])];
       for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
       entries_.resize(start_.back());
-      entry_boxes_.resize(start_.back());
-      entry_first_.resize(start_.back());
       std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
       for (std::size_t i = 0; i < items; ++i) {
-        const std::uint32_t first = first_cell(item_box[i]);
-        for_cells(cells_, item_box[i], [&](std::size_t c) {
-          entry_boxes_[fill[c]] = item_box[i];
-          entry_first_[fill[c]] = first;
-          entries_[fill[c]++] = static_cast<std::uint32_t>(i);
-        });
+        const Entry entry = make_entry(i, item_box[i]);
+        for_cells(cells_, item_box[i], [&](std::size_t c) { entries_[fill[c]++] = entry; });
       }
       return;
     }
@@ -449,7 +454,7 @@ class LightSpaceGrid {
       for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
         for_cells(cells_, item_box[i], [&](std::size_t c) { ++count[r][c]; });
       for (std::size_t f = range_begin(r, n); f < range_begin(r + 1, n); ++f)
-        if (!prep[f].degenerate) ++home[r][counting_.cell_of(boxes_[f][0], boxes_[f][1])];
+        if (!prep[f].degenerate) ++home[r][counting_.cell_of(face_box(f)[0], face_box(f)[1])];
     });
     start_.assign(cells + 1, 0);
     for (std::size_t c = 0; c < cells; ++c) {
@@ -465,18 +470,23 @@ class LightSpaceGrid {
     for (std::size_t c = 0; c < counting_cells; ++c)
       for (std::size_t r = 0; r < ranges; ++r) home_[c] += home[r][c];
     entries_.resize(start_.back());
-    entry_boxes_.resize(start_.back());
-    entry_first_.resize(start_.back());
     runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
       for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i) {
-        const std::uint32_t first = first_cell(item_box[i]);
-        for_cells(cells_, item_box[i], [&](std::size_t c) {
-          entry_boxes_[count[r][c]] = item_box[i];
-          entry_first_[count[r][c]] = first;
-          entries_[count[r][c]++] = static_cast<std::uint32_t>(i);
-        });
+        const Entry entry = make_entry(i, item_box[i]);
+        for_cells(cells_, item_box[i], [&](std::size_t c) { entries_[count[r][c]++] = entry; });
       }
     });
+  }
+
+  /// Item i's entry in a cell, with its box `box`.
+  Entry make_entry(std::size_t i, const Box& box) const {
+    return {box, first_cell(box), static_cast<std::uint32_t>(i), item_start_[i], item_start_[i + 1]};
+  }
+
+  /// A face's light-space box (a degenerate face's: empty, at 0).
+  [[nodiscard]] const Box& face_box(std::size_t face) const {
+    static constexpr Box kNone{};
+    return slot_[face] == kNoItem ? kNone : boxes_[slot_[face]];
   }
 
   /// The first cell for_cells(b) visits, as u | v << 16 (nu, nv <= 2048).
@@ -498,15 +508,14 @@ class LightSpaceGrid {
   // The arrays by face and by entry are filled on every thread: UninitVector, so that their pages
   // are first touched there rather than zeroed on the calling thread before (a million faces:
   // some 70 MB).
-  runtime::UninitVector<Box> boxes_;
+  runtime::UninitVector<Box> boxes_;  ///< the faces' boxes, by slot (item_faces_' order)
+  std::vector<std::uint32_t> slot_;  ///< each face's slot (kNoItem: degenerate)
   std::array<double, 2> origin_{0, 0};
   double margin_ = 0;
   CellLayout counting_;  ///< home_'s cells, for count()
   CellLayout cells_;     ///< the entries' cells, for queries
   std::vector<std::uint32_t> start_;
-  runtime::UninitVector<std::uint32_t> entries_;  ///< items, by cell
-  runtime::UninitVector<Box> entry_boxes_;  ///< the items' boxes, in entries_' order
-  runtime::UninitVector<std::uint32_t> entry_first_;  ///< the items' first cells (first_cell), in entries_' order
+  runtime::UninitVector<Entry> entries_;  ///< items, by cell
   std::vector<std::uint32_t> item_start_, item_faces_;  ///< each item's faces (compressed rows)
   std::vector<std::uint32_t> item_of_;  ///< each face's item (kNoItem: degenerate)
   const std::vector<LocalBounds>* item_bounds_ = nullptr;  ///< each item's local box (the constructor's)
