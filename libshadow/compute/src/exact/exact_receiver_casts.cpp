@@ -126,7 +126,9 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
       if (w_.vertex_sign[v] == CGAL::POSITIVE) projector.project(cs.vertices[v], pts.emplace_back());
       if (w_.vertex_sign[v] == CGAL::ZERO) projector.chart(cs.vertices[v], pts.emplace_back());
     }
-    for (const auto& [a, b] : cs.edges) {
+    // Crossings only where some vertex is behind: the edges are not even read otherwise.
+    for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {
+      const auto& [a, b] = cs.edges[e];
       const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
       if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
         projector.crossing(cs.vertices[a], cs.vertices[b], pts.emplace_back());

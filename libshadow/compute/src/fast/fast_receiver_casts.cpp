@@ -109,10 +109,11 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   w_.casters.mark_solid_done(solid);
   const core::ConvexSolid& cs = (*ctx_.solids)[solid];
   vsign_.resize(cs.vertices.size());
-  bool any_front = false;
+  bool any_front = false, any_behind = false;
   for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
     vsign_[a] = rc_.scene_side(cs.vertices[a]);
     any_front |= vsign_[a] == CGAL::POSITIVE;
+    any_behind |= vsign_[a] == CGAL::NEGATIVE;
   }
   if (!any_front) return true;
   // Written in place (at most one point per vertex and per edge), not pushed one call each; the
@@ -124,7 +125,10 @@ bool ReceiverJob::cast_convex_solid(int solid) {
     if (vsign_[a] == CGAL::ZERO) points_[count++] = fr_.chart(cs.vertices[a]);
   }
   double cross_delta = 0;
-  for (const auto& [a, b] : cs.edges) {
+  // Crossings only where some vertex is behind (most solids cast lie wholly in front of the
+  // receiver's plane): the edges, a cache miss of their own, are not even read otherwise.
+  for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {
+    const auto& [a, b] = cs.edges[e];
     const CGAL::Sign sa = vsign_[a], sb = vsign_[b];
     if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE)) {
       glm::dvec3 x;
