@@ -125,8 +125,9 @@ bool ReceiverJob::cast_convex_solid(int solid) {
     if (vsign_[a] == CGAL::ZERO) points_[count++] = fr_.chart(cs.vertices[a]);
   }
   double cross_delta = 0;
-  // Crossings only where some vertex is behind (most solids cast lie wholly in front of the
-  // receiver's plane): the edges, a cache miss of their own, are not even read otherwise.
+  // Crossings only where some vertex is behind (a solid wholly in front of the receiver's plane,
+  // as every building is of the ground, has none): its edges, a cache miss of their own, are
+  // not read otherwise.
   for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {
     const auto& [a, b] = cs.edges[e];
     const CGAL::Sign sa = vsign_[a], sb = vsign_[b];
