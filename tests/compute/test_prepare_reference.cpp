@@ -770,6 +770,43 @@ TEST(CasterCandidates, OneFacePerSolidKeepsEachSolidsLowestFaceThatPasses) {
   EXPECT_GT(dropped, 1000u);  // solids met with several faces that pass: the case exists
 }
 
+// The grid query skips the receiver's own convex solid and, with one_face_per_solid, leaves a
+// solid's faces once one is listed. The same candidates as a grid of the same items that neither
+// skips nor leaves early: one made from a copy of solid_of (a pointer gather does not match).
+TEST(CasterCandidates, OwnSolidSkippedAndListedSolidsLeftEarlyGiveTheSameCandidates) {
+  const CullingCity c(300, 400, 5, 1);
+  const auto& [city, prep, solid_of, solids, cull] = std::tie(c.city, c.prep, c.solid_of, c.solids, c.cull);
+  const std::vector<int> solid_copy = solid_of;
+  shadow::core::CasterCandidates candidates;
+  candidates.reset(solids.size());
+  std::size_t skipped = 0, compared = 0;
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087), glm::dvec3(-0.2, 0.1, 1.0)}) {
+    shadow::Light sun;
+    sun.type = shadow::LightType::Directional;
+    sun.to_light = to_light;
+    const shadow::core::LightSpaceGrid with_solids(cull, prep, to_light, &solid_of, 1);
+    const shadow::core::LightSpaceGrid same_items(cull, prep, to_light, &solid_copy, 1);
+    for (std::size_t f = 0; f < city.faces.size(); ++f) {
+      if (prep[f].degenerate) continue;
+      if (solid_of[f] >= 0) {
+        ++skipped;
+        ASSERT_NE(with_solids.item_of(f), shadow::core::LightSpaceGrid::kNoItem) << f;
+      }
+      const shadow::core::ReceiverCuller culler(cull, prep[f], f, sun);
+      const std::vector<std::size_t> full = candidates.gather(culler, prep, f, &same_items, nullptr, nullptr, &solid_of, true);
+      ASSERT_EQ(candidates.gather(culler, prep, f, &with_solids, nullptr, nullptr, &solid_of, false), full) << f;
+      std::vector<std::size_t> want;
+      std::set<int> listed;
+      for (std::size_t q : full)
+        if (solid_of[q] < 0 || listed.insert(solid_of[q]).second) want.push_back(q);
+      ASSERT_EQ(candidates.gather(culler, prep, f, &with_solids, nullptr, nullptr, &solid_of, true), want) << f;
+      compared += full.size();
+    }
+  }
+  EXPECT_GT(skipped, 1000u);   // receivers on a solid: the skip applies
+  EXPECT_GT(compared, 1000u);  // and they have candidates
+}
+
 // An item of the grid (a convex solid, or a face alone) whose local box the culler rules out
 // whole (ReceiverCuller::may_cast_any) is skipped before its faces are read. Sound: no face whose
 // box it rules out passes may_cast. And the candidates are the same with the items' boxes and

@@ -239,8 +239,9 @@ class LightSpaceGrid {
   /// The same, but an item (a convex solid, or a face alone) for which keep_item(its local
   /// bounds) is false is skipped whole, its faces neither tested nor visited: keep_item must
   /// return false only where `visit` would drop every one of its faces anyway. Without item
-  /// bounds (the constructor's `item_bounds`) every item is kept. So is item `skip_item`
-  /// (item_of(); kNoItem: none), for which `visit` must drop every face.
+  /// bounds (the constructor's `item_bounds`) every item is kept. Item `skip_item` (item_of();
+  /// kNoItem: none) is skipped whole too, with or without bounds: `visit` must drop every one of
+  /// its faces.
   template <class Visit, class KeepItem>
   void query(std::size_t face, Visit&& visit, KeepItem&& keep_item, std::uint32_t skip_item = kNoItem) const {
     query_box(face_box(face), visit, keep_item, skip_item);
@@ -417,8 +418,8 @@ class LightSpaceGrid {
     double cell_u = 1, cell_v = 1;
     int nu = 1, nv = 1;
   };
-  /// The cells' compressed rows of items (`start_`, `entries_`, `entry_boxes_`: each cell's items
-  /// in increasing order) and `home_`. From kParallelCellItems items on, on `threads` threads: the
+  /// The cells' compressed rows of items (`start_`, `entries_`: each cell's items in increasing
+  /// order, each entry with its item's box) and `home_`. From kParallelCellItems items on, on `threads` threads: the
   /// items in as many ranges, counted per range and cell, each range's place in a cell after the
   /// ranges before it, so that every row is the one a single pass fills.
   static constexpr std::size_t kParallelCellItems = 4096;
@@ -505,7 +506,7 @@ class LightSpaceGrid {
 
   const std::vector<int>* solid_items_ = nullptr;
   glm::dvec3 u_{0.0}, v_{0.0};
-  // The arrays by face and by entry are filled on every thread: UninitVector, so that their pages
+  // The arrays by slot and by entry are filled on every thread: UninitVector, so that their pages
   // are first touched there rather than zeroed on the calling thread before (a million faces:
   // some 70 MB).
   runtime::UninitVector<Box> boxes_;  ///< the faces' boxes, by slot (item_faces_' order)

@@ -150,7 +150,8 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
     if (w_.vertex_sign[v] == CGAL::POSITIVE) w_.poly2.push_back(projector.project(cs.vertices[v]));
     if (w_.vertex_sign[v] == CGAL::ZERO) w_.poly2.push_back(projector.chart(cs.vertices[v]));
   }
-  for (const auto& [a, b] : cs.edges) {
+  for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {  // (as above)
+    const auto& [a, b] = cs.edges[e];
     const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
     if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
       w_.poly2.push_back(projector.crossing(cs.vertices[a], cs.vertices[b]));
