@@ -195,7 +195,7 @@ class LightSpaceGrid {
       }
     }
     cells_ = CellLayout(origin_, width, height, cu, cv);
-    fill_cells(prep, item_box, threads);
+    fill_cells(item_box, threads);
   }
 
   /// Each item's local box (the box of its faces' vertices, their largest slack), in the grid's
@@ -419,12 +419,12 @@ class LightSpaceGrid {
     int nu = 1, nv = 1;
   };
   /// The cells' compressed rows of items (`start_`, `entries_`: each cell's items in increasing
-  /// order, each entry with its item's box) and `home_`. From kParallelCellItems items on, on `threads` threads: the
-  /// items in as many ranges, counted per range and cell, each range's place in a cell after the
-  /// ranges before it, so that every row is the one a single pass fills.
+  /// order, each entry with its item's box) and `home_`. From kParallelCellItems items on, on
+  /// `threads` threads: the items in as many ranges, counted per range and cell, each range's
+  /// place in a cell after the ranges before it, so that every row is the one a single pass fills.
   static constexpr std::size_t kParallelCellItems = 4096;
-  void fill_cells(const std::vector<FacePrep>& prep, const std::vector<Box>& item_box, unsigned threads) {
-    const std::size_t items = item_box.size(), n = slot_.size(), cells = cells_.cells(),
+  void fill_cells(const std::vector<Box>& item_box, unsigned threads) {
+    const std::size_t items = item_box.size(), n = boxes_.size(), cells = cells_.cells(),
                       counting_cells = counting_.cells();
     // At most 2^24 counters a table (ranges x cells): 64 MiB a table.
     const std::size_t ranges = std::clamp<std::size_t>(
@@ -436,8 +436,7 @@ class LightSpaceGrid {
       start_.assign(cells + 1, 0);
       for (std::size_t i = 0; i < items; ++i) for_cells(cells_, item_box[i], [&](std::size_t c) { ++start_[c + 1]; });
       home_.assign(counting_cells, 0);
-      for (std::size_t f = 0; f < n; ++f)
-        if (!prep[f].degenerate) ++home_[counting_.cell_of(face_box(f)[0], face_box(f)[1])];
+      for (std::size_t k = 0; k < n; ++k) ++home_[counting_.cell_of(boxes_[k][0], boxes_[k][1])];  // (every slot a face)
       for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
       entries_.resize(start_.back());
       std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
@@ -454,8 +453,8 @@ class LightSpaceGrid {
     runtime::parallel_for(ranges, static_cast<unsigned>(ranges), [&](unsigned, std::size_t r) {
       for (std::size_t i = range_begin(r, items); i < range_begin(r + 1, items); ++i)
         for_cells(cells_, item_box[i], [&](std::size_t c) { ++count[r][c]; });
-      for (std::size_t f = range_begin(r, n); f < range_begin(r + 1, n); ++f)
-        if (!prep[f].degenerate) ++home[r][counting_.cell_of(face_box(f)[0], face_box(f)[1])];
+      for (std::size_t k = range_begin(r, n); k < range_begin(r + 1, n); ++k)
+        ++home[r][counting_.cell_of(boxes_[k][0], boxes_[k][1])];
     });
     start_.assign(cells + 1, 0);
     for (std::size_t c = 0; c < cells; ++c) {
@@ -643,7 +642,6 @@ class CasterCandidates {
   /// Sizes the stamps for a scene of `solids` convex solids.
   void reset(std::size_t solids) {
     solid_seen_.assign(solids, 0);
-    solid_listed_.assign(solids, 0);
     stamp_ = 0;
   }
 
@@ -668,7 +666,6 @@ class CasterCandidates {
     faces_.clear();
     if (++stamp_ == 0) {  // stamps wrapped: reset
       std::fill(solid_seen_.begin(), solid_seen_.end(), 0);
-      std::fill(solid_listed_.begin(), solid_listed_.end(), 0);
       stamp_ = 1;
     }
     const bool one_face = one_face_per_solid && solid_of != nullptr && grid != nullptr && grid->solid_items() == solid_of;
@@ -678,19 +675,15 @@ class CasterCandidates {
     // The grid reports each face once (LightSpaceGrid.QueriesReportEveryOverlappingFaceOnce), as
     // does the loop over every face: no stamp per face.
     // Returns true when the rest of q's grid item needs no visit: in one_face mode, once a
-    // solid is listed (its later faces would be dropped below).
+    // solid is listed. The grid takes each item in one cell only, so a solid's later faces are
+    // then neither tested nor listed.
     auto consider = [&](std::size_t q) -> bool {
       if (q == receiver) return false;
       const int solid = one_face || own_solid >= 0 ? (*solid_of)[q] : -1;
       if (solid >= 0 && solid == own_solid) return false;
-      if (one_face && solid >= 0 && solid_listed_[static_cast<std::size_t>(solid)] == stamp_) return true;
       if (!culler.may_cast(q)) return false;
       faces_.push_back(q);
-      if (one_face && solid >= 0) {
-        solid_listed_[static_cast<std::size_t>(solid)] = stamp_;
-        return true;
-      }
-      return false;
+      return one_face && solid >= 0;
     };
     // The receiver's own convex solid, when it is one of the grid's items: none of its faces is
     // taken (above), so the query skips it whole.
@@ -732,7 +725,6 @@ class CasterCandidates {
 
  private:
   std::vector<std::uint32_t> solid_seen_;
-  std::vector<std::uint32_t> solid_listed_;  ///< per convex solid: stamp_ once a face of it is listed
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> faces_;
   std::vector<glm::dvec3> corners_;
