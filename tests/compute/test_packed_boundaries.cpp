@@ -15,6 +15,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shadow::sunmap {
@@ -100,6 +101,55 @@ TEST(PackedBoundaries, UnpackTheSameExactPointsTagsAndRoughForms) {
     ASSERT_EQ(rough.size(), all.size());
     for (std::size_t k = 0; k < all.size(); ++k) expect_same_rough(rough[k], rough_segment(all[k]));
   }
+}
+
+TEST(PackedBoundaries, ChunksPackedApartAndAddedInOrderAreTheCurvesAdded) {
+  // The map packs each face-instant pair's boundary in its own work item (in any order, on any
+  // thread) and adds the chunks to the face's in instant order: the same store as adding the
+  // curves themselves in that order, point for point and limb for limb.
+  std::mt19937_64 rng(20261203);
+  std::vector<std::vector<Curve>> instants(30);
+  for (std::size_t i = 0; i < instants.size(); ++i) {
+    const std::size_t n = rng() % 9;  // some instants leave no boundary
+    Point2 previous = leaf(random_rational(rng), random_rational(rng));
+    for (std::size_t k = 0; k < n; ++k) {
+      const Point2 p = leaf(random_rational(rng), random_rational(rng));
+      if (p == previous) continue;
+      instants[i].emplace_back(Kernel::Segment_2(previous, p), rng() % 2 ? long(i + 1) : -long(i + 1));
+      previous = p;
+    }
+  }
+  PackedBoundaries direct;
+  for (const std::vector<Curve>& c : instants) direct.add(c);
+  // Packed in a shuffled order, as the threads finish them.
+  std::vector<std::size_t> order(instants.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), rng);
+  std::vector<PackedBoundaries::Chunk> chunks(instants.size());
+  for (std::size_t i : order) chunks[i] = PackedBoundaries::pack(instants[i]);
+  PackedBoundaries chunked;
+  for (std::size_t i = 0; i < chunks.size(); ++i) {
+    EXPECT_EQ(chunks[i].size(), instants[i].size());
+    chunked.add(std::move(chunks[i]));
+    EXPECT_EQ(chunks[i].size(), 0u);  // taken
+  }
+  ASSERT_EQ(chunked.size(), direct.size());
+  ASSERT_GT(direct.size(), 50u);
+  EXPECT_EQ(chunked.bytes(), direct.bytes());
+  std::vector<std::size_t> every(direct.size());
+  for (std::size_t k = 0; k < every.size(); ++k) every[k] = k;
+  std::vector<Curve> a, b;
+  direct.unpack(every, a);
+  chunked.unpack(every, b);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(b[k].data(), a[k].data());
+    EXPECT_EQ(chunked.instant(k), direct.instant(k));
+    EXPECT_TRUE(CGAL::exact(b[k].source()) == CGAL::exact(a[k].source()));
+    EXPECT_TRUE(CGAL::exact(b[k].target()) == CGAL::exact(a[k].target()));
+  }
+  const std::vector<RoughSegment> ra = direct.rough(1), rb = chunked.rough(2);
+  for (std::size_t k = 0; k < ra.size(); ++k) expect_same_rough(rb[k], ra[k]);
 }
 
 TEST(PackedBoundaries, HoldsAFractionOfTheCurvesMemory) {

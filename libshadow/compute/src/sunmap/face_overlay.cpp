@@ -753,8 +753,15 @@ StripMap overlay_strip(const OverlayRequest& request, const FaceBoundaries& b, c
 
 LevelRounds::LevelRounds(const OverlayRequest& request, const Strip& strip, const std::vector<Curve>& outline,
                          const std::vector<std::size_t>& which)
-    : impl_(std::make_unique<StripOverlay>(request, strip)) {
-  impl_->begin(outline, which);
+    : request_(&request), strip_(strip), outline_(&outline), outline_which_(which) {}
+
+StripOverlay& LevelRounds::started() {
+  if (!impl_) {
+    impl_ = std::make_unique<StripOverlay>(*request_, strip_);
+    impl_->begin(*outline_, outline_which_);
+    outline_which_ = {};
+  }
+  return *impl_;
 }
 
 LevelRounds::~LevelRounds() = default;
@@ -763,24 +770,24 @@ LevelRounds& LevelRounds::operator=(LevelRounds&&) noexcept = default;
 
 void LevelRounds::feed(const std::vector<Curve>& curves, const std::vector<std::size_t>& which, const mpq_class& whole,
                        const mpq_class& unfed) {
-  impl_->feed(curves, which, whole, unfed);
+  started().feed(curves, which, whole, unfed);
 }
 
 void LevelRounds::plan(const std::vector<std::size_t>& order, const std::vector<std::size_t>& band_ends,
                        const std::vector<RoughSegment>& segments, const std::vector<std::size_t>& which,
                        const mpq_class& whole) {
-  impl_->plan(order, band_ends, segments, which, whole);
+  started().plan(order, band_ends, segments, which, whole);
 }
 
 void LevelRounds::feed_planned(const std::vector<Curve>& curves, const std::vector<std::size_t>& which,
                                std::size_t order_end) {
-  impl_->feed_planned(curves, which, order_end);
+  started().feed_planned(curves, which, order_end);
 }
 
-bool LevelRounds::planned() const { return impl_->planned(); }
+bool LevelRounds::planned() const { return impl_ && impl_->planned(); }
 
 StripMap LevelRounds::finish() {
-  StripMap out = impl_->finish();
+  StripMap out = started().finish();
   impl_.reset();  // the kept edges and the walk's values go now, not with the face's other strips
   return out;
 }

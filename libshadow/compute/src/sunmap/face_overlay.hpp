@@ -115,7 +115,9 @@ class StripOverlay;
 class LevelRounds {
  public:
   /// `outline`: the face's chart outline (tagged with the number of instants); `which`: those of
-  /// its curves that may enter `strip` (bucket_curves). `request` must outlive this.
+  /// its curves that may enter `strip` (bucket_curves). `request` and `outline` must outlive
+  /// this: the strip's overlay is begun from them on first use, not here (a map sets up every
+  /// face's strips before their jobs run; Delft's overlays held from the start were 92 MB).
   LevelRounds(const OverlayRequest& request, const Strip& strip, const std::vector<Curve>& outline,
               const std::vector<std::size_t>& which);
   ~LevelRounds();
@@ -150,7 +152,13 @@ class LevelRounds {
   StripMap finish();
 
  private:
+  StripOverlay& started();  ///< the overlay, begun on first use
+
   std::unique_ptr<StripOverlay> impl_;
+  const OverlayRequest* request_;
+  Strip strip_;
+  const std::vector<Curve>* outline_;
+  std::vector<std::size_t> outline_which_;
 };
 
 /// `c` clipped to the strip x0 <= x <= x1 (into `out`); false when nothing of it enters the

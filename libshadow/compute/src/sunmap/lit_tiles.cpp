@@ -7,6 +7,8 @@
 // inside are the ones the region surely covers whole.
 #include "sunmap/lit_tiles.hpp"
 
+#include "runtime/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -205,6 +207,27 @@ std::vector<std::size_t> sweep_order(const FaceTiles& t) {
   std::stable_sort(key.begin(), key.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (std::size_t p = 0; p < key.size(); ++p) order[p] = key[p].second;
   return order;
+}
+
+FaceTiles make_face_tiles(const exact::Polygon2& chart, const std::vector<RoughSegment>& rough,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& runs, const mpq_class& whole,
+                          double max_bits, unsigned threads) {
+  std::size_t most = 0;
+  for (const auto& [b, e] : runs) most = std::max(most, e - b);
+  FaceTiles t;
+  t.grid = tile_grid(chart, most, runs.size(), max_bits);
+  t.instants.resize(runs.size());
+  for (std::size_t r = 0; r < runs.size(); ++r) t.instants[r] = rough[runs[r].first].instant;
+  if (t.grid.n == 0) return t;
+  t.whole = whole;
+  t.masks.assign(t.grid.words() * runs.size(), 0);
+  t.whole_masks.assign(t.grid.words() * runs.size(), 0);
+  runtime::parallel_for(runs.size(), threads, [&](unsigned, std::size_t r) {
+    const auto [b, e] = runs[r];
+    mark_lit_tiles(t.grid, rough.data() + b, rough.data() + e, t.masks.data() + r * t.grid.words(),
+                   t.whole_masks.data() + r * t.grid.words());
+  });
+  return t;
 }
 
 }  // namespace shadow::sunmap

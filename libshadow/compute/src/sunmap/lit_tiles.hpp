@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace shadow::sunmap {
@@ -75,6 +76,13 @@ struct FaceTiles {
     return (whole_masks[slot * grid.words() + tile / 64] >> (tile % 64)) & 1U;
   }
 };
+
+/// A face's tiles from every instant's boundaries on it: `rough` in time order, each instant's
+/// together, `runs` per instant cutting it its [begin, end) there; `whole`: the hours of the
+/// instants lighting it whole; the grid within `max_bits` (tile_grid); masks on `threads` threads.
+FaceTiles make_face_tiles(const exact::Polygon2& chart, const std::vector<RoughSegment>& rough,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& runs, const mpq_class& whole,
+                          double max_bits, unsigned threads);
 
 /// The instants cutting a face (t.instants, ascending) in the order its strips sweep them: those
 /// lighting the most of its tiles whole first, in time order among equals.

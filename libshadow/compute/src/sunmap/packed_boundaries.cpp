@@ -11,6 +11,8 @@
 #include <map>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace shadow::sunmap {
 
@@ -31,7 +33,7 @@ mp_limb_t two_sizes(long a, long b) {
 long high_size(mp_limb_t l) { return static_cast<std::int32_t>(static_cast<std::uint32_t>(l >> 32)); }
 long low_size(mp_limb_t l) { return static_cast<std::int32_t>(static_cast<std::uint32_t>(l)); }
 
-void append_limbs(mpz_srcptr z, std::deque<mp_limb_t>& out) {
+void append_limbs(mpz_srcptr z, std::vector<mp_limb_t>& out) {
   const std::size_t n = mpz_size(z);
   const mp_limb_t* l = mpz_limbs_read(z);
   out.insert(out.end(), l, l + n);
@@ -52,23 +54,6 @@ void read_integer(Iterator l, long size, mpz_ptr z) {
 
 }  // namespace
 
-std::uint64_t PackedBoundaries::pack_point(const Point2& p) {
-  const auto& e = CGAL::exact(p);  // held by p's own representation (p.x() would be a new one)
-  const mpq_class& x = e.x();
-  const mpq_class& y = e.y();
-  mpz_srcptr xn = mpq_numref(x.get_mpq_t()), xd = mpq_denref(x.get_mpq_t());
-  mpz_srcptr yn = mpq_numref(y.get_mpq_t()), yd = mpq_denref(y.get_mpq_t());
-  Store& s = *store_;
-  s.at.push_back(s.limbs.size());
-  s.limbs.push_back(two_sizes(xn->_mp_size, xd->_mp_size));
-  s.limbs.push_back(two_sizes(yn->_mp_size, yd->_mp_size));
-  append_limbs(xn, s.limbs);
-  append_limbs(xd, s.limbs);
-  append_limbs(yn, s.limbs);
-  append_limbs(yd, s.limbs);
-  return s.at.size() - 1;
-}
-
 Point2 PackedBoundaries::unpack_point(std::uint64_t p) const {
   auto l = store_->limbs.begin() + static_cast<std::ptrdiff_t>(store_->at[p]);
   const long sizes[4] = {high_size(l[0]), low_size(l[0]), high_size(l[1]), low_size(l[1])};
@@ -85,23 +70,50 @@ Point2 PackedBoundaries::unpack_point(std::uint64_t p) const {
   return Point2(Kernel::Exact_kernel::Point_2(x, y));
 }
 
-void PackedBoundaries::add(const std::vector<Curve>& curves) {
-  if (curves.empty()) return;
-  if (!store_) store_ = std::make_unique<Store>();
+PackedBoundaries::Chunk PackedBoundaries::pack(const std::vector<Curve>& curves) {
+  Chunk out;
   // Equal points by value (the segments of a boundary meet end to end; whether they share the
   // point's object depends on how they were made), so each point is packed once.
   const auto less = [](const Point2& a, const Point2& b) { return CGAL::compare_xy(a, b) == CGAL::SMALLER; };
   std::map<Point2, std::uint64_t, decltype(less)> packed(less);
   const auto index = [&](const Point2& p) {
     const auto [it, fresh] = packed.try_emplace(p, 0);
-    if (fresh) it->second = pack_point(p);
+    if (fresh) {
+      const auto& e = CGAL::exact(p);  // held by p's own representation (p.x() would be a new one)
+      mpz_srcptr xn = mpq_numref(e.x().get_mpq_t()), xd = mpq_denref(e.x().get_mpq_t());
+      mpz_srcptr yn = mpq_numref(e.y().get_mpq_t()), yd = mpq_denref(e.y().get_mpq_t());
+      out.at_.push_back(out.limbs_.size());
+      out.limbs_.push_back(two_sizes(xn->_mp_size, xd->_mp_size));
+      out.limbs_.push_back(two_sizes(yn->_mp_size, yd->_mp_size));
+      for (mpz_srcptr z : {xn, xd, yn, yd}) append_limbs(z, out.limbs_);
+      it->second = out.at_.size() - 1;
+    }
     return it->second;
   };
+  out.segments_.reserve(curves.size());
   for (const Curve& c : curves) {
     const std::uint64_t from = index(c.source());
     const std::uint64_t to = index(c.target());
-    store_->segments.push_back(Segment{from, to, c.data(), CGAL::compare_xy(c.source(), c.target()) != CGAL::LARGER});
+    out.segments_.push_back(Segment{from, to, c.data(), CGAL::compare_xy(c.source(), c.target()) != CGAL::LARGER});
   }
+  out.at_.shrink_to_fit();
+  out.limbs_.shrink_to_fit();
+  return out;
+}
+
+void PackedBoundaries::add(Chunk&& chunk) {
+  if (chunk.segments_.empty()) return;
+  if (!store_) store_ = std::make_unique<Store>();
+  Store& s = *store_;
+  const std::uint64_t points = s.at.size(), limbs = s.limbs.size();
+  for (std::uint64_t a : chunk.at_) s.at.push_back(a + limbs);
+  s.limbs.insert(s.limbs.end(), chunk.limbs_.begin(), chunk.limbs_.end());
+  for (Segment g : chunk.segments_) {
+    g.from += points;
+    g.to += points;
+    s.segments.push_back(g);
+  }
+  chunk = Chunk{};
 }
 
 void PackedBoundaries::unpack(const std::vector<std::size_t>& which, std::vector<Curve>& out) const {

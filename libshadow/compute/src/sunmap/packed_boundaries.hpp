@@ -25,10 +25,33 @@
 namespace shadow::sunmap {
 
 class PackedBoundaries {
+  struct Segment {
+    std::uint64_t from, to;  ///< point indices: the curve's source and target
+    long tag;
+    bool forward;  ///< the source is the lexicographically smaller end
+  };
+
  public:
-  /// Appends `curves` (boundary curves tagged as face_overlay.hpp tags them: one instant's, a
-  /// few, or the chart's outline); a point that several of them end at is packed once.
-  void add(const std::vector<Curve>& curves);
+  /// One call's curves packed on their own, in exactly sized vectors: a work item packs its
+  /// curves as soon as it makes them (face-instant pairs in parallel), and they are added to
+  /// the face's in order later, the same numbers as add(curves) would pack.
+  class Chunk {
+   public:
+    std::size_t size() const { return segments_.size(); }
+
+   private:
+    friend class PackedBoundaries;
+    std::vector<std::uint64_t> at_;  ///< as Store's, from 0
+    std::vector<mp_limb_t> limbs_;
+    std::vector<Segment> segments_;
+  };
+  /// `curves` (boundary curves tagged as face_overlay.hpp tags them: one instant's, a few, or
+  /// the chart's outline) packed; a point that several of them end at is packed once.
+  static Chunk pack(const std::vector<Curve>& curves);
+  /// Appends a chunk's curves (taken).
+  void add(Chunk&& chunk);
+  /// Appends `curves`: add(pack(curves)).
+  void add(const std::vector<Curve>& curves) { add(pack(curves)); }
 
   std::size_t size() const { return store_ ? store_->segments.size() : 0; }
   bool empty() const { return size() == 0; }
@@ -47,11 +70,6 @@ class PackedBoundaries {
   std::size_t bytes() const;
 
  private:
-  struct Segment {
-    std::uint64_t from, to;  ///< point indices: the curve's source and target
-    long tag;
-    bool forward;  ///< the source is the lexicographically smaller end
-  };
   // Deques, not vectors: they grow a block at a time, where a vector's doubling would hold up to
   // twice the memory, and three times while it moves. Made on the first add: an empty deque
   // still holds a block (some 600 bytes), and a map has one of these per face.
@@ -64,7 +82,6 @@ class PackedBoundaries {
   };
   std::unique_ptr<Store> store_;
 
-  std::uint64_t pack_point(const exact::Point2& p);
   exact::Point2 unpack_point(std::uint64_t p) const;
 };
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The sun-hours map's inputs and summaries (shadow/sun_hours.hpp): which faces and instants a
-// scene asks for, the levels given on the command line, and the level areas reported.
+// scene asks for, the levels given on the command line, the level areas reported, and a
+// threshold map added to a map computed without one.
 #include "sunmap/sun_hours_inputs.hpp"
 
 #include "core/lights.hpp"
@@ -13,7 +14,9 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shadow {
@@ -161,5 +164,24 @@ std::vector<SunHoursInstant> sun_hours_instants(const SunSeries& suns) {
   return out;
 }
 
+void add_sun_hours_levels(SunHoursMap& map, const ShadowEngine& engine, const std::vector<std::size_t>& faces,
+                          const std::vector<SunHoursInstant>& instants, const std::vector<double>& levels,
+                          unsigned threads) {
+  SunHoursOptions options;
+  options.threads = threads;
+  options.levels = levels;
+  options.full = false;
+  SunHoursMap with = compute_sun_hours_map(engine, faces, instants, options);
+  if (with.faces.size() != map.faces.size())
+    throw std::invalid_argument("add_sun_hours_levels: the map has other faces than those given");
+  for (std::size_t k = 0; k < map.faces.size(); ++k) {
+    if (with.faces[k].face_id != map.faces[k].face_id)
+      throw std::invalid_argument("add_sun_hours_levels: the map has other faces than those given");
+    map.faces[k].level_areas = std::move(with.faces[k].level_areas);
+  }
+  map.levels = std::move(with.levels);
+  map.level_cells = std::move(with.level_cells);
+  map.level_regions = with.level_regions;
+}
 
 }  // namespace shadow

@@ -60,7 +60,11 @@ using sunmap::RoughSegment;
 /// What one instant leaves on one face.
 struct InstantPart {
   LitRegion::Kind kind = LitRegion::Kind::Dark;
-  std::vector<Curve> curves;  ///< Partial: the lit region's boundary, tagged with the instant
+  /// Partial: the lit region's boundary, tagged with the instant, as the face keeps it: packed
+  /// (the full map; a face the threshold map keeps exact), in doubles (one it does not) or curves.
+  std::vector<Curve> curves;
+  sunmap::PackedBoundaries::Chunk packed;
+  std::vector<RoughSegment> rough;
   mpq_class lit_area{0};      ///< the lit region's exact chart area (no lazy DAG kept)
 };
 
@@ -115,8 +119,8 @@ class MapBuilder {
     if (full_) {
       face_maps = overlay_full();
     } else {
-      std::vector<std::vector<sunmap::StripMap>> strip_maps = finish_levels();
-      for (std::size_t k = 0; k < faces_.size(); ++k) face_maps[k] = assemble_face(k, strip_maps[k]);
+      finish_levels();
+      face_maps = std::move(face_maps_);
     }
     // The faces in order, region ids shifted by the earlier faces'.
     for (std::size_t k = 0; k < faces_.size(); ++k) {
@@ -174,6 +178,9 @@ class MapBuilder {
     else {
       tiles_.resize(count);
       strip_maps_.resize(count);
+      face_maps_.resize(count);
+      strips_left_.reset(new std::atomic<std::size_t>[count]);
+      for (std::size_t k = 0; k < count; ++k) strips_left_[k].store(0);
       finished_.assign(count, 0);
       rounds_.resize(count);
       whole_pending_.assign(count, mpq_class(0));
@@ -183,8 +190,9 @@ class MapBuilder {
       keep_exact_.assign(count, 1);
       order_.resize(count);
     }
-    // Each face's exact view is the map's own until the face is assembled (not a worker's, whose
-    // cache is trimmed: every worker kept every face it met, some 55-60 MB per thread on Delft).
+    // Each face's exact view is the map's own (not a worker's, whose cache is trimmed), made here
+    // for its scale and again, with its outline, when its strips start (face_view), until the face
+    // is assembled: the lit pass needs neither (Delft's 30,708 outlines alone were some 50 MB).
     map_faces_.resize(count);
     runtime::parallel_for(count, threads_, [&](unsigned, std::size_t k) {
       const std::size_t f = faces_[k];
@@ -197,10 +205,22 @@ class MapBuilder {
       map_faces_[k] = std::make_unique<ExactFace>(make_exact_face(ctx_.scene->faces[f].vertices, fp));
       const ExactFace& P = *map_faces_[k];
       exact_to_mpq(P.area_scale_squared, scales_[k].get_mpq_t());
-      sunmap::add_boundary(P.chart, static_cast<long>(n_), outline_[k]);
-      requests_[k] = sunmap::OverlayRequest{&P,      &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
+      requests_[k] = sunmap::OverlayRequest{nullptr, &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
                                             options_.level_round_edges};
+      map_faces_[k].reset();
     });
+  }
+
+  /// Face k's exact view (requests_[k].face) and outline_[k], made again for its strips; they go
+  /// when the face is assembled. A face's are made by one thread.
+  const ExactFace& face_view(std::size_t k) {
+    if (!map_faces_[k]) {
+      const std::size_t f = faces_[k];
+      map_faces_[k] = std::make_unique<ExactFace>(make_exact_face(ctx_.scene->faces[f].vertices, (*ctx_.prep)[f]));
+      requests_[k].face = map_faces_[k].get();
+      sunmap::add_boundary(map_faces_[k]->chart, static_cast<long>(n_), outline_[k]);
+    }
+    return *map_faces_[k];
   }
 
   /// 1. The lit regions of instants [first, first + count) on every face, face-instant pairs in
@@ -237,6 +257,13 @@ class MapBuilder {
           part.curves.reserve(region.segments.size());
           for (const BoundarySegment& s : region.segments)
             sunmap::add_segment(s.from, s.to, s.left, static_cast<long>(i), part.curves);
+          if (full_ || (levels_gathered_mode() && keep_exact_[k])) {
+            part.packed = sunmap::PackedBoundaries::pack(part.curves);
+            part.curves = {};
+          } else if (levels_gathered_mode()) {
+            for (const Curve& c : part.curves) part.rough.push_back(sunmap::rough_segment(c));
+            part.curves = {};
+          }
           ++done_;
         },
         report_);
@@ -289,12 +316,12 @@ class MapBuilder {
         if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
         if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
         if (levels_gathered_mode() && keep_exact_[k]) {
-          kept_segments_ += part.curves.size();
-          packed_[k].add(part.curves);
+          kept_segments_ += part.packed.size();
+          packed_[k].add(std::move(part.packed));
         } else if (levels_gathered_mode()) {
-          for (const Curve& c : part.curves) rough_[k].push_back(sunmap::rough_segment(c));
+          rough_[k].insert(rough_[k].end(), part.rough.begin(), part.rough.end());
         } else if (full_) {
-          packed_[k].add(part.curves);
+          packed_[k].add(std::move(part.packed));
         } else {
           for (Curve& c : part.curves) curves[k].push_back(std::move(c));
         }
@@ -355,7 +382,7 @@ class MapBuilder {
       const auto& [k, s, which] = jobs[j];
       rounds_[k][s].feed(curves[k], which, whole[k], unfed);
       if (!last) return;
-      strip_maps_[k][s] = rounds_[k][s].finish();
+      strip_done(k, s);
       ++done_;
     });
   }
@@ -371,6 +398,7 @@ class MapBuilder {
       if (!(*ctx_.prep)[faces_[k]].degenerate && !(rough_[k].empty() && packed_[k].empty())) cut.push_back(k);
     tile_bits_ = std::min(sunmap::kMaxTileBits,
                           sunmap::kMaxTileBitsAll / static_cast<double>(std::max<std::size_t>(cut.size(), 1)));
+    runtime::parallel_for(cut.size(), threads_, [&](unsigned, std::size_t j) { face_view(cut[j]); });
     rough_which_.resize(faces_.size());
     band_ends_.resize(faces_.size());
     const std::size_t band_segments = options_.level_held_segments / 2;
@@ -391,7 +419,8 @@ class MapBuilder {
         if (at != i) runs.emplace_back(c, c), i = at;
         runs.back().second = c + 1;
       }
-      make_tiles(k, rough, runs, whole_pending_[k]);
+      tiles_[k] = sunmap::make_face_tiles(face_view(k).chart, rough, runs, whole_pending_[k], tile_bits_, threads_);
+      if (tiles_[k].grid.n != 0) requests_[k].tiles = &tiles_[k];
       order_[k] = sunmap::sweep_order(tiles_[k]);
       // The bands of its order: about band_segments segments each, at least 4 instants (so
       // that a band's lit regions can be computed in parallel), whether its exact curves were
@@ -406,7 +435,7 @@ class MapBuilder {
       }
       // The outline (tagged n) joins the boundaries to choose the strips, and goes.
       for (const Curve& c : outline_[k]) rough.push_back(sunmap::rough_segment(c));
-      start_rounds(k, sunmap::choose_strips(rough, rough.size(), requests_[k].face->chart, options_.strip_edges));
+      start_rounds(k, sunmap::choose_strips(rough, rough.size(), face_view(k).chart, options_.strip_edges));
       rough.resize(count);
       if (exact) which[k] = sunmap::bucket_rough(rough, strips_[k]);  // as bucket_curves buckets its curves
       else rough_which_[k] = sunmap::bucket_rough(rough, strips_[k]);
@@ -428,7 +457,7 @@ class MapBuilder {
       std::iota(all.begin(), all.end(), std::size_t{0});
       plan_strip(jobs[j], curves, all);
       rounds_[k][s].feed_planned(curves, all, order_[k].size());
-      strip_maps_[k][s] = rounds_[k][s].finish();
+      strip_done(k, s);
       ++done_;
     });
     jobs.clear();
@@ -575,7 +604,7 @@ class MapBuilder {
       rounds_[k][s].feed_planned(curves[k], which[k][s], end);
       which[k][s] = {};
       if (end != order_[k].size()) return;
-      strip_maps_[k][s] = rounds_[k][s].finish();
+      strip_done(k, s);
       ++done_;
     });
     for (const auto& [k, s] : jobs) {
@@ -584,36 +613,14 @@ class MapBuilder {
     }
   }
 
-  /// Face k's tiles (sunmap::FaceTiles) from every instant's boundaries on it (`curves`, in time
-  /// order, each instant's together, in doubles) and the hours of those lighting it whole: its
-  /// rounds then settle a cell by the instants not yet swept that may light the tiles under it.
-  void make_tiles(std::size_t k, const std::vector<RoughSegment>& curves,
-                  const std::vector<std::pair<std::size_t, std::size_t>>& runs, const mpq_class& whole) {
-    std::size_t most = 0;
-    for (const auto& [b, e] : runs) most = std::max(most, e - b);
-    sunmap::FaceTiles& t = tiles_[k];
-    t.grid = sunmap::tile_grid(requests_[k].face->chart, most, runs.size(), tile_bits_);
-    t.instants.resize(runs.size());
-    for (std::size_t r = 0; r < runs.size(); ++r) t.instants[r] = curves[runs[r].first].instant;
-    if (t.grid.n == 0) return;
-    t.whole = whole;
-    t.masks.assign(t.grid.words() * runs.size(), 0);
-    t.whole_masks.assign(t.grid.words() * runs.size(), 0);
-    runtime::parallel_for(runs.size(), threads_, [&](unsigned, std::size_t r) {
-      const auto [b, e] = runs[r];
-      sunmap::mark_lit_tiles(t.grid, curves.data() + b, curves.data() + e, t.masks.data() + r * t.grid.words(),
-                             t.whole_masks.data() + r * t.grid.words());
-    });
-    requests_[k].tiles = &t;
-  }
-
   /// The strips of face k (from `sample`, the boundaries of its first instants that cut it, and
   /// its outline, sized by `expected` boundary segments) and their rounds, each starting from the
   /// outline.
   void start_rounds(std::size_t k, const std::vector<Curve>& sample, std::size_t expected) {
+    const exact::Polygon2& chart = face_view(k).chart;
     std::vector<Curve> with_outline = sample;
     with_outline.insert(with_outline.end(), outline_[k].begin(), outline_[k].end());
-    start_rounds(k, sunmap::choose_strips(with_outline, expected + outline_[k].size(), requests_[k].face->chart,
+    start_rounds(k, sunmap::choose_strips(with_outline, expected + outline_[k].size(), chart,
                                           options_.strip_edges));
   }
 
@@ -625,6 +632,7 @@ class MapBuilder {
     for (std::size_t s = 0; s < strips_[k].size(); ++s)
       rounds_[k].emplace_back(requests_[k], strips_[k][s], outline_[k], which[s]);
     strip_maps_[k].resize(rounds_[k].size());
+    strips_left_[k].store(rounds_[k].size());
   }
 
   /// Face k's map from its strips' maps (taken): its areas summed exactly and rounded.
@@ -633,6 +641,7 @@ class MapBuilder {
     sunmap::FaceMap fm = sunmap::assemble(strips, face_info_[k], scales_[k], map_.levels.size());
     if (!full_) fm.face.areas.clear();
     map_faces_[k].reset();  // its strips are done
+    outline_[k] = {};
     return fm;
   }
 
@@ -650,10 +659,11 @@ class MapBuilder {
     runtime::parallel_for(faces_.size(), threads_, [&](unsigned, std::size_t k) {
       runtime::check_stop();
       if ((*ctx_.prep)[faces_[k]].degenerate) return;
+      const exact::Polygon2& chart = face_view(k).chart;
       packed_[k].add(outline_[k]);  // after every instant's boundaries, as they were gathered
       outline_[k] = {};
       const std::vector<RoughSegment> rough = packed_[k].rough(per_face);
-      strips[k] = sunmap::choose_strips(rough, rough.size(), requests_[k].face->chart, options_.strip_edges);
+      strips[k] = sunmap::choose_strips(rough, rough.size(), chart, options_.strip_edges);
       buckets[k] = sunmap::bucket_rough(rough, strips[k]);
     });
     std::vector<std::pair<std::size_t, std::size_t>> jobs;  // (face index, strip)
@@ -695,11 +705,21 @@ class MapBuilder {
     return face_maps;
   }
 
+  /// The threshold map alone: strip s of face k is finished; the face's last strip assembles it,
+  /// so that its exact view and its cells' rational areas go then, not at the map's end.
+  void strip_done(std::size_t k, std::size_t s) {
+    strip_maps_[k][s] = rounds_[k][s].finish();
+    if (strips_left_[k].fetch_sub(1) == 1) face_maps_[k] = assemble_face(k, strip_maps_[k]);
+  }
+
   /// 3. The threshold map alone: the rounds left and the level regions, face-strip pairs in
-  /// parallel. A face no instant cut gets its strips (one, unless its outline is long) now.
-  std::vector<std::vector<sunmap::StripMap>> finish_levels() {
+  /// parallel; a face no instant cut gets its strips (one, unless its outline is long) now.
+  void finish_levels() {
     std::vector<std::pair<std::size_t, std::size_t>> jobs;
     std::size_t strips = 0;
+    runtime::parallel_for(faces_.size(), threads_, [&](unsigned, std::size_t k) {  // views of those starting now
+      if (rounds_[k].empty() && !(*ctx_.prep)[faces_[k]].degenerate) face_view(k);
+    });
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       if ((*ctx_.prep)[faces_[k]].degenerate) continue;
       if (rounds_[k].empty()) {
@@ -717,11 +737,12 @@ class MapBuilder {
         [&](unsigned, std::size_t j) {
           runtime::check_stop();
           const auto [k, s] = jobs[j];
-          strip_maps_[k][s] = rounds_[k][s].finish();
+          strip_done(k, s);
           ++done_;
         },
         report_);
-    return std::move(strip_maps_);
+    for (std::size_t k = 0; k < faces_.size(); ++k)  // no strips (degenerate): none to assemble it
+      if (rounds_[k].empty()) face_maps_[k] = assemble_face(k, strip_maps_[k]);
   }
 
   core::PreparedScene ctx_;
@@ -743,7 +764,7 @@ class MapBuilder {
   std::vector<mpq_class> hour_area_;        ///< per face: sum over instants of w_i x lit chart area
   std::vector<sunmap::OverlayRequest> requests_;
   std::vector<std::unique_ptr<ExactFace>> map_faces_;  ///< per face, until assembled: requests_' faces
-  std::vector<std::vector<Curve>> outline_;  ///< per face: its chart's outline (tag n)
+  std::vector<std::vector<Curve>> outline_;  ///< per face, with its view: its chart's outline (tag n)
   std::vector<mpq_class> base_;  ///< the full map: per face, the hours of the instants lighting it whole
   std::vector<std::vector<sunmap::Strip>> strips_;           ///< the threshold map alone: per face
   std::vector<std::vector<sunmap::LevelRounds>> rounds_;     ///< per face and strip
@@ -762,6 +783,8 @@ class MapBuilder {
   std::vector<std::vector<std::size_t>> band_ends_;  ///< per face (gathered): its bands' ends in order_
   double tile_bits_ = sunmap::kMaxTileBits;  ///< the most bits of masks one face's tiles may take
   std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
+  std::unique_ptr<std::atomic<std::size_t>[]> strips_left_;  ///< per face: its strips not finished
+  std::vector<sunmap::FaceMap> face_maps_;  ///< per face, assembled by its last strip (threshold map)
   std::vector<char> finished_;              ///< per face: its strips finished with the last batch
   SeriesResult* table_ = nullptr;           ///< SunHoursOptions::series_table, when asked for
   std::vector<std::size_t> table_row_;      ///< per face: its row in table_ (SIZE_MAX: not a receiver)
@@ -772,26 +795,6 @@ class MapBuilder {
 SunHoursMap compute_sun_hours_map(const ShadowEngine& engine, const std::vector<std::size_t>& faces,
                                   const std::vector<SunHoursInstant>& instants, const SunHoursOptions& options) {
   return MapBuilder(engine, faces, instants, options).build();
-}
-
-void add_sun_hours_levels(SunHoursMap& map, const ShadowEngine& engine, const std::vector<std::size_t>& faces,
-                          const std::vector<SunHoursInstant>& instants, const std::vector<double>& levels,
-                          unsigned threads) {
-  SunHoursOptions options;
-  options.threads = threads;
-  options.levels = levels;
-  options.full = false;
-  SunHoursMap with = compute_sun_hours_map(engine, faces, instants, options);
-  if (with.faces.size() != map.faces.size())
-    throw std::invalid_argument("add_sun_hours_levels: the map has other faces than those given");
-  for (std::size_t k = 0; k < map.faces.size(); ++k) {
-    if (with.faces[k].face_id != map.faces[k].face_id)
-      throw std::invalid_argument("add_sun_hours_levels: the map has other faces than those given");
-    map.faces[k].level_areas = std::move(with.faces[k].level_areas);
-  }
-  map.levels = std::move(with.levels);
-  map.level_cells = std::move(with.level_cells);
-  map.level_regions = with.level_regions;
 }
 
 }  // namespace shadow
