@@ -149,7 +149,20 @@ TEST(PackedBoundaries, ChunksPackedApartAndAddedInOrderAreTheCurvesAdded) {
     EXPECT_TRUE(CGAL::exact(b[k].target()) == CGAL::exact(a[k].target()));
   }
   const std::vector<RoughSegment> ra = direct.rough(1), rb = chunked.rough(2);
+  ASSERT_EQ(rb.size(), ra.size());
   for (std::size_t k = 0; k < ra.size(); ++k) expect_same_rough(rb[k], ra[k]);
+  // And both are the curves themselves (add(curves) is add(pack(curves)) now: the offsets of
+  // the chunks after the first are checked against the source, not only against each other).
+  std::size_t k = 0;
+  for (const std::vector<Curve>& curves : instants)
+    for (const Curve& c : curves) {
+      EXPECT_EQ(b[k].data(), c.data());
+      EXPECT_TRUE(CGAL::exact(b[k].source()) == CGAL::exact(c.source()));
+      EXPECT_TRUE(CGAL::exact(b[k].target()) == CGAL::exact(c.target()));
+      expect_same_rough(rb[k], rough_segment(c));
+      ++k;
+    }
+  EXPECT_EQ(k, b.size());
 }
 
 TEST(PackedBoundaries, HoldsAFractionOfTheCurvesMemory) {

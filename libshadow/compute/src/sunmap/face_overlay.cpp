@@ -757,6 +757,7 @@ LevelRounds::LevelRounds(const OverlayRequest& request, const Strip& strip, cons
 
 StripOverlay& LevelRounds::started() {
   if (!impl_) {
+    if (!outline_) throw std::logic_error("LevelRounds: used after finish");  // its outline may be gone
     impl_ = std::make_unique<StripOverlay>(*request_, strip_);
     impl_->begin(*outline_, outline_which_);
     outline_which_ = {};
@@ -788,6 +789,7 @@ bool LevelRounds::planned() const { return impl_ && impl_->planned(); }
 
 StripMap LevelRounds::finish() {
   StripMap out = started().finish();
+  outline_ = nullptr;
   impl_.reset();  // the kept edges and the walk's values go now, not with the face's other strips
   return out;
 }

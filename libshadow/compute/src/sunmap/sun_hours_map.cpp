@@ -202,12 +202,9 @@ class MapBuilder {
       info.level_areas.assign(map_.levels.size(), 0.0);
       const core::FacePrep& fp = (*ctx_.prep)[f];
       if (fp.degenerate) return;
-      map_faces_[k] = std::make_unique<ExactFace>(make_exact_face(ctx_.scene->faces[f].vertices, fp));
-      const ExactFace& P = *map_faces_[k];
-      exact_to_mpq(P.area_scale_squared, scales_[k].get_mpq_t());
+      exact_to_mpq(make_exact_face(ctx_.scene->faces[f].vertices, fp).area_scale_squared, scales_[k].get_mpq_t());
       requests_[k] = sunmap::OverlayRequest{nullptr, &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
                                             options_.level_round_edges};
-      map_faces_[k].reset();
     });
   }
 
@@ -218,6 +215,7 @@ class MapBuilder {
       const std::size_t f = faces_[k];
       map_faces_[k] = std::make_unique<ExactFace>(make_exact_face(ctx_.scene->faces[f].vertices, (*ctx_.prep)[f]));
       requests_[k].face = map_faces_[k].get();
+      CGAL::exact(map_faces_[k]->area_scale_squared);  // here, not first by its strips' jobs at once
       sunmap::add_boundary(map_faces_[k]->chart, static_cast<long>(n_), outline_[k]);
     }
     return *map_faces_[k];
