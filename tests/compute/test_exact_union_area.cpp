@@ -267,6 +267,36 @@ TEST(ExactUnionArea, ManyBoxesInAGridEqualTheBooleanUnion) {
   EXPECT_GT(u.counts().pairs, 0u);
 }
 
+TEST(ExactUnionArea, ShedScratchMeasuresTheSameAgain) {
+  // A worker sheds the union's scratch after a union of many pairs (ExactWorker::trim): what it
+  // measures next, large or small, is the same as from scratch kept or new.
+  Generator g(7);
+  std::vector<Polygon2> many, few = {box(0, 0, 2, 1), box(1, 0, 3, 2)};
+  for (int k = 0; k < 120; ++k) {
+    const FT x = g.coord(4, 3), y = g.coord(4, 3);  // crowded: most boxes meet most others
+    many.push_back(box(x, y, x + FT(g.uniform(4, 12)) / 4, y + FT(g.uniform(4, 12)) / 4));
+  }
+  ConvexUnionArea kept, shed;
+  EQ a, b;
+  ASSERT_TRUE(kept.twice_area(many, a));
+  ASSERT_TRUE(shed.twice_area(many, b));
+  const std::size_t pairs = shed.counts().pairs;
+  ASSERT_GT(pairs, 2000u);
+  shed.shed(pairs * 2);  // room for this many: kept
+  EXPECT_EQ(shed.counts().pairs, pairs);
+  shed.shed(16);  // freed, counts and all
+  EXPECT_EQ(shed.counts().pairs, 0u);
+  ASSERT_TRUE(shed.twice_area(few, b));
+  ASSERT_TRUE(kept.twice_area(few, a));
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(b / 2, joined_area(few));
+  shed.shed(16);
+  ASSERT_TRUE(shed.twice_area(many, b));
+  ASSERT_TRUE(kept.twice_area(many, a));
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(b / 2, joined_area(many));
+}
+
 std::vector<shadow::exact::QPoint2> rational(const std::vector<Point2>& points) {
   std::vector<shadow::exact::QPoint2> out;
   for (const Point2& p : points) out.push_back({CGAL::exact(p.x()), CGAL::exact(p.y())});

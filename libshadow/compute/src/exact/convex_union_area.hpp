@@ -37,8 +37,7 @@
 
 namespace shadow::exact {
 
-/// Twice the exact area of a union of convex polygons, reusing its scratch between calls (one
-/// per thread).
+/// Twice the exact area of a union of convex polygons; one per thread, its scratch reused.
 class ConvexUnionArea {
  public:
   using EQ = shadow::exact::EQ;
@@ -161,6 +160,8 @@ class ConvexUnionArea {
   }
 
   [[nodiscard]] const Counts& counts() const { return counts_; }
+  /// Frees the scratch, sized by the largest union met, once it has room for over `pairs` pairs.
+  void shed(std::size_t pairs) { if (pair_a_.capacity() > pairs) *this = ConvexUnionArea(); }
 
   /// From this many polygons on, those sharing an edge run both ways are merged where convex
   /// (merge_shared_edges); below it the hashing would cost more than it saves.
@@ -593,7 +594,6 @@ class ConvexUnionArea {
     crossing_parameter(s, s2, u, u2, t.n.get_mpz_t(), t.d.get_mpz_t(), scratch_, f_);
     return t;
   }
-
   /// p < q for two parameters on the current edge.
   bool less(Param& p, Param& q) {
     if (p.kind != 2 || q.kind != 2) {

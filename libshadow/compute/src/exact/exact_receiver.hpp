@@ -35,6 +35,13 @@ namespace shadow::exact {
 /// receivers rarely need (each is a receiver once per light).
 constexpr std::size_t kExactFaceCache = 4096;
 
+/// The most polygon pairs a worker's union scratch keeps room for between work items (some
+/// 3 MB; ConvexUnionArea::shed). Its lists are sized by the largest union the thread met:
+/// Delft's water triangle under 4,112 casts left some 27 MB a thread to the end of the run. A
+/// receiver under that many overlapping casts is rare, and costly enough that growing the
+/// scratch again is nothing beside it.
+constexpr std::size_t kUnionPairsKept = std::size_t{1} << 16;
+
 /// Per-thread exact state. Epeck objects are never shared between threads.
 struct ExactWorker {
   std::vector<std::unique_ptr<ExactFace>> faces;  ///< built on first use
@@ -113,6 +120,7 @@ struct ExactWorker {
     // The exact areas outlive trims (a series measures every receiver at every instant) up to
     // eight times as many faces: a million-face series would otherwise end with one per face.
     if (areas_q.size() > 8 * cap) areas_q.clear();
+    union_area.shed(kUnionPairsKept);
     if (built.size() <= cap) return;
     for (std::size_t f : built) faces[f].reset();
     built.clear();
