@@ -179,9 +179,7 @@ class MapBuilder {
       tiles_.resize(count);
       strip_maps_.resize(count);
       face_maps_.resize(count);
-      strips_left_.reset(new std::atomic<std::size_t>[count]);
-      for (std::size_t k = 0; k < count; ++k) strips_left_[k].store(0);
-      finished_.assign(count, 0);
+      strips_left_ = std::make_unique<std::atomic<std::size_t>[]>(count);
       rounds_.resize(count);
       whole_pending_.assign(count, mpq_class(0));
       sample_.resize(count);
@@ -190,9 +188,9 @@ class MapBuilder {
       keep_exact_.assign(count, 1);
       order_.resize(count);
     }
-    // Each face's exact view is the map's own (not a worker's, whose cache is trimmed), made here
-    // for its scale and again, with its outline, when its strips start (face_view), until the face
-    // is assembled: the lit pass needs neither (Delft's 30,708 outlines alone were some 50 MB).
+    // Each face's exact view is the map's own (not a worker's, whose cache is trimmed), made with
+    // its outline and scale when its strips start (face_view), until the face is assembled: the
+    // lit pass needs none of them (Delft's 30,708 outlines alone were some 50 MB).
     map_faces_.resize(count);
     runtime::parallel_for(count, threads_, [&](unsigned, std::size_t k) {
       const std::size_t f = faces_[k];
@@ -202,7 +200,6 @@ class MapBuilder {
       info.level_areas.assign(map_.levels.size(), 0.0);
       const core::FacePrep& fp = (*ctx_.prep)[f];
       if (fp.degenerate) return;
-      exact_to_mpq(make_exact_face(ctx_.scene->faces[f].vertices, fp).area_scale_squared, scales_[k].get_mpq_t());
       requests_[k] = sunmap::OverlayRequest{nullptr, &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
                                             options_.level_round_edges};
     });
@@ -215,7 +212,8 @@ class MapBuilder {
       const std::size_t f = faces_[k];
       map_faces_[k] = std::make_unique<ExactFace>(make_exact_face(ctx_.scene->faces[f].vertices, (*ctx_.prep)[f]));
       requests_[k].face = map_faces_[k].get();
-      CGAL::exact(map_faces_[k]->area_scale_squared);  // here, not first by its strips' jobs at once
+      // Its area scale made exact here, not first by its strips' jobs at once.
+      exact_to_mpq(map_faces_[k]->area_scale_squared, scales_[k].get_mpq_t());
       sunmap::add_boundary(map_faces_[k]->chart, static_cast<long>(n_), outline_[k]);
     }
     return *map_faces_[k];
@@ -255,7 +253,7 @@ class MapBuilder {
           part.curves.reserve(region.segments.size());
           for (const BoundarySegment& s : region.segments)
             sunmap::add_segment(s.from, s.to, s.left, static_cast<long>(i), part.curves);
-          if (full_ || (levels_gathered_mode() && keep_exact_[k])) {
+          if (keeps_packed(k)) {
             part.packed = sunmap::PackedBoundaries::pack(part.curves);
             part.curves = {};
           } else if (levels_gathered_mode()) {
@@ -294,6 +292,9 @@ class MapBuilder {
 
   /// The threshold map alone, gathered (not streamed): exact boundaries kept within the budget.
   bool levels_gathered_mode() const { return !full_ && !options_.stream_levels; }
+  /// Face k keeps its boundaries packed (the full map, and a face the gathered threshold map keeps
+  /// exact); else in doubles (gathered) or as curves (streamed).
+  bool keeps_packed(std::size_t k) const { return full_ || (levels_gathered_mode() && keep_exact_[k]); }
 
   /// 2. The batch's parts, face by face: the integral's terms and the instants lit; the
   /// boundaries gathered (full map) or fed to the face's strips (threshold map alone).
@@ -313,13 +314,11 @@ class MapBuilder {
         // denominators.
         if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
         if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
-        if (levels_gathered_mode() && keep_exact_[k]) {
-          kept_segments_ += part.packed.size();
+        if (keeps_packed(k)) {
+          if (!full_) kept_segments_ += part.packed.size();
           packed_[k].add(std::move(part.packed));
         } else if (levels_gathered_mode()) {
           rough_[k].insert(rough_[k].end(), part.rough.begin(), part.rough.end());
-        } else if (full_) {
-          packed_[k].add(std::move(part.packed));
         } else {
           for (Curve& c : part.curves) curves[k].push_back(std::move(c));
         }
@@ -373,8 +372,6 @@ class MapBuilder {
     }
     // After the last batch each strip is finished in the same job (its level regions written and
     // its arrangement freed), one strip after another per thread.
-    for (const auto& job : jobs)
-      if (last) finished_[std::get<0>(job)] = 1;
     runtime::parallel_for(jobs.size(), threads_, [&](unsigned, std::size_t j) {
       runtime::check_stop();
       const auto& [k, s, which] = jobs[j];
@@ -464,7 +461,6 @@ class MapBuilder {
         for (std::size_t s = 0; s < strips_[k].size(); ++s) jobs.emplace_back(k, s);
         continue;
       }
-      finished_[k] = 1;
       packed_[k] = {};
       tiles_[k] = sunmap::FaceTiles{};  // its strips are finished
     }
@@ -605,10 +601,7 @@ class MapBuilder {
       strip_done(k, s);
       ++done_;
     });
-    for (const auto& [k, s] : jobs) {
-      curves[k] = {};
-      if (order_end(k) == order_[k].size()) finished_[k] = 1;
-    }
+    for (const auto& [k, s] : jobs) curves[k] = {};
   }
 
   /// The strips of face k (from `sample`, the boundaries of its first instants that cut it, and
@@ -726,7 +719,7 @@ class MapBuilder {
           rounds_[k][s].feed({}, {}, whole_pending_[k], mpq_class(0));
       }
       strips += rounds_[k].size();
-      if (finished_[k]) continue;
+      if (strips_left_[k].load() == 0) continue;  // its strips finished with the last batch
       for (std::size_t s = 0; s < rounds_[k].size(); ++s) jobs.emplace_back(k, s);
     }
     total_ = faces_.size() * n_ + again_ + strips;
@@ -783,7 +776,6 @@ class MapBuilder {
   std::vector<std::vector<sunmap::StripMap>> strip_maps_;  ///< per face and strip, once finished
   std::unique_ptr<std::atomic<std::size_t>[]> strips_left_;  ///< per face: its strips not finished
   std::vector<sunmap::FaceMap> face_maps_;  ///< per face, assembled by its last strip (threshold map)
-  std::vector<char> finished_;              ///< per face: its strips finished with the last batch
   SeriesResult* table_ = nullptr;           ///< SunHoursOptions::series_table, when asked for
   std::vector<std::size_t> table_row_;      ///< per face: its row in table_ (SIZE_MAX: not a receiver)
 };
