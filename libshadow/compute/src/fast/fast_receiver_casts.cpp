@@ -109,21 +109,24 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   w_.casters.mark_solid_done(solid);
   const core::ConvexSolid& cs = (*ctx_.solids)[solid];
   vsign_.resize(cs.vertices.size());
-  bool any_front = false, any_behind = false;
-  for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
-    vsign_[a] = rc_.scene_side(cs.vertices[a]);
-    any_front |= vsign_[a] == CGAL::POSITIVE;
-    any_behind |= vsign_[a] == CGAL::NEGATIVE;
-  }
-  if (!any_front) return true;
   // Written in place (at most one point per vertex and per edge), not pushed one call each; the
   // scratch is not shrunk here (resizing it to each solid's count zero-filled it every time).
   if (points_.size() < cs.vertices.size() + cs.edges.size()) points_.resize(cs.vertices.size() + cs.edges.size());
+  // Each vertex's side and its projection from one s (scene_side's and project's, the same
+  // double): one dot product a vertex, not two.
+  bool any_front = false, any_behind = false;
   std::size_t count = 0;
   for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
-    if (vsign_[a] == CGAL::POSITIVE) points_[count++] = fr_.project(cs.vertices[a]);
-    if (vsign_[a] == CGAL::ZERO) points_[count++] = fr_.chart(cs.vertices[a]);
+    const glm::dvec3& y = cs.vertices[a];
+    const double s = rc_.s(y);
+    const CGAL::Sign sign = rc_.scene_side(y, s);
+    vsign_[a] = sign;
+    any_front |= sign == CGAL::POSITIVE;
+    any_behind |= sign == CGAL::NEGATIVE;
+    if (sign == CGAL::POSITIVE) points_[count++] = fr_.project(y, s);
+    if (sign == CGAL::ZERO) points_[count++] = fr_.chart(y);
   }
+  if (!any_front) return true;
   double cross_delta = 0;
   // Crossings only where some vertex is behind (a solid wholly in front of the receiver's plane,
   // as every building is of the ground, has none): its edges, a cache miss of their own, are

@@ -108,9 +108,10 @@ struct Receiver {
   /// factor of 2 over the normal's direction error and the roundings; the second factor is
   /// room for a direction bound derived by hand (set_up_frame), at the cost of sending a few
   /// more vertices near the plane to the predicate.
-  [[nodiscard]] CGAL::Sign scene_side(const glm::dvec3& y) const {
+  [[nodiscard]] CGAL::Sign scene_side(const glm::dvec3& y) const { return scene_side(y, s(y)); }
+  /// scene_side(y) where `value` is s(y), already computed.
+  [[nodiscard]] CGAL::Sign scene_side(const glm::dvec3& y, double value) const {
     assert(exact_sides);
-    const double value = s(y);
     if (value > 2 * s_error) return CGAL::POSITIVE;
     if (value < -2 * s_error) return CGAL::NEGATIVE;
     return side(y);
@@ -241,8 +242,9 @@ class FastReceiver {
 
   glm::dvec2 chart(const glm::dvec3& y) const { return {y[rc_.i], y[rc_.j]}; }
 
-  glm::dvec2 project(const glm::dvec3& y) const {
-    const double s = rc_.s(y);
+  glm::dvec2 project(const glm::dvec3& y) const { return project(y, rc_.s(y)); }
+  /// project(y) where `s` is rc_.s(y), already computed.
+  glm::dvec2 project(const glm::dvec3& y, double s) const {
     return {y[rc_.i] - s * rc_.shift.x, y[rc_.j] - s * rc_.shift.y};
   }
 
