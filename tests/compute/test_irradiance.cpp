@@ -92,7 +92,7 @@ std::string sunny_epw(int days) {
   std::string text =
       "LOCATION,Canyon,XX,ZZZ,Test,000001,49.5,8.5,1.0,100.0\nDESIGN CONDITIONS,0\nTYPICAL/EXTREME PERIODS,0\n"
       "GROUND TEMPERATURES,0\nHOLIDAYS/DAYLIGHT SAVINGS,No,0,0,0\nCOMMENTS 1,test\nCOMMENTS 2,\n"
-      "DATA PERIODS,1,1,Data,Wednesday, 6/21,6/22\n";
+      "DATA PERIODS,1,1,Data,Wednesday, 6/21,6/" + std::to_string(20 + days) + "\n";
   for (int d = 0; d < days; ++d)
     for (int h = 1; h <= 24; ++h) {
       const bool day = h >= 7 && h <= 18;

@@ -153,6 +153,39 @@ TEST(Weather, ErrorsNameFileLineAndField) {
   EXPECT_THROW(shadow::read_epw("/nonexistent/weather.epw"), shadow::InputError);
 }
 
+// A file cut short, at a line's end or within its last line, is an error naming where it stops:
+// read as it was, a year cut in April came out as a whole year's irradiation missing May to
+// December, with nothing said.
+TEST(Weather, AFileCutShortIsAnError) {
+  std::string header = kHeader;
+  header.replace(header.find("2/28,3/ 1"), 9, "6/20,6/21");
+  const std::string whole = header + two_days(2023, 6, 20).substr(std::string(kHeader).size());
+  EXPECT_EQ(parse(whole).hours(), 48u);
+
+  // Stopped after the first day: the records follow hour by hour, but end before DATA PERIODS.
+  const std::string first_day = whole.substr(0, whole.find("2023,6,21,1,"));
+  EXPECT_EQ(error_of(first_day), "test.epw: line 32: the records stop at 6/20 hour 24, but DATA PERIODS (line 8) "
+                                 "runs the data to 6/21 hour 24: the file is cut short (24 hourly records)");
+
+  // Stopped within the last line: its cut field would have read as a smaller number.
+  const std::string cut_line = whole.substr(0, whole.find(",50,", whole.find("2023,6,21,24,")) + 2);
+  EXPECT_EQ(error_of(cut_line), "test.epw: line 56: the record has 16 fields, the records before it 35: is the file "
+                                "cut short?");
+
+  // The periods that real generators write: M/D/YYYY and YYYY/M/D (Tokyo's file) read alike.
+  for (const char* end : {"6/21/2023", "2023/6/21", "2023/06/21"}) {
+    std::string dated = whole;
+    dated.replace(dated.find("6/20,6/21"), 9, std::string("6/20,") + end);
+    EXPECT_EQ(parse(dated).hours(), 48u) << end;
+    std::string dated_cut = first_day;
+    dated_cut.replace(dated_cut.find("6/20,6/21"), 9, std::string("6/20,") + end);
+    EXPECT_NE(error_of(dated_cut).find("the file is cut short"), std::string::npos) << end;
+  }
+
+  // Records that do not begin where the header starts the data are read as they are.
+  EXPECT_EQ(parse(two_days(2023, 6, 20).substr(0, two_days(2023, 6, 20).find("2023,6,21,1,"))).hours(), 24u);
+}
+
 // TMY3: the site line (the name quoted, with a comma), the column names, hourly records.
 const char* kTmy3Header =
     "722780,\"PHOENIX, SKY HARBOR INTL AP\",AZ,-7.0,33.450,-111.983,337\n"
@@ -273,6 +306,13 @@ TEST(Tmy3, ErrorsNameFileLineAndField) {
 }
 
 // read_weather: a name ending in .csv is TMY3, any other EPW.
+// A TMY3 file states no period (a short one may be meant), but a last line cut in the middle is
+// an error, not a smaller last value.
+TEST(Tmy3, ALastLineCutShortIsAnError) {
+  const std::string cut = std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "0", "0", "0") + "06/01/2001,02:00,0,0,0\n";
+  EXPECT_EQ(tmy3_error(cut), "test.csv: line 4: the record has 5 fields, the records before it 17: is the file cut short?");
+}
+
 TEST(Tmy3, ReadWeatherChoosesByName) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "libshadow_test_tmy3";
   std::filesystem::create_directories(dir);

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace shadow {
@@ -73,6 +74,54 @@ void read_record(const std::vector<std::string>& f, const LineReader& r, Weather
   w.albedo.push_back(albedo);
 }
 
+/// A DATA PERIODS date as (month, day): `M/D`, `M/D/YYYY` or `YYYY/M/D` (all written by real
+/// files' generators); {0, 0} when the text is none of these.
+std::pair<int, int> period_date(const std::string& text) {
+  std::vector<int> parts;
+  std::string digits;
+  for (char c : trim(text) + "/") {
+    if (c == '/') {
+      if (digits.empty() || digits.size() > 4) return {0, 0};
+      parts.push_back(std::stoi(digits));
+      digits.clear();
+    } else if (c >= '0' && c <= '9') {
+      digits += c;
+    } else if (c != ' ') {
+      return {0, 0};
+    }
+  }
+  std::pair<int, int> md{0, 0};
+  if (parts.size() == 2) md = {parts[0], parts[1]};
+  if (parts.size() == 3) md = parts[0] > 31 ? std::pair{parts[1], parts[2]} : std::pair{parts[0], parts[1]};
+  if (md.first < 1 || md.first > 12 || md.second < 1 || md.second > 31) return {0, 0};
+  return md;
+}
+
+/// What the header's DATA PERIODS line says the records cover: from the first period's start
+/// (hour 1) to the last period's end (hour 24). Zero dates: not stated in a form read here.
+struct DataPeriod {
+  std::size_t line = 0;
+  std::pair<int, int> start{0, 0}, end{0, 0};
+};
+
+std::string date_text(int month, int day) { return std::to_string(month) + "/" + std::to_string(day); }
+
+/// Records that begin where DATA PERIODS starts the data must run to where it ends: they follow
+/// hour by hour (place_records), so the last must be the period's last hour. A file cut short (a
+/// download or a copy that stopped) otherwise reads as a shorter year without a word. (Records
+/// that begin elsewhere do not follow the header at all; they are read as they are.)
+void check_period(const Weather& w, const DataPeriod& period, const std::vector<std::size_t>& lines) {
+  if (period.start.first == 0 || period.end.first == 0) return;
+  if (w.month[0] != period.start.first || w.day[0] != period.start.second || w.hour[0] != 1) return;
+  const std::size_t last = w.hours() - 1;
+  if (w.month[last] == period.end.first && w.day[last] == period.end.second && w.hour[last] == 24) return;
+  throw InputError({w.source, "line " + std::to_string(lines.back())},
+                   "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " +
+                       std::to_string(w.hour[last]) + ", but DATA PERIODS (line " + std::to_string(period.line) +
+                       ") runs the data to " + date_text(period.end.first, period.end.second) +
+                       " hour 24: the file is cut short (" + std::to_string(w.hours()) + " hourly records)");
+}
+
 }  // namespace
 
 Weather parse_epw(std::istream& in, const std::string& name) {
@@ -81,6 +130,8 @@ Weather parse_epw(std::istream& in, const std::string& name) {
   LineReader r{name};
   std::string line;
   std::vector<std::size_t> record_lines;
+  std::size_t record_fields = 0;
+  DataPeriod period;
   while (std::getline(in, line)) {
     ++r.line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -94,15 +145,29 @@ Weather parse_epw(std::istream& in, const std::string& name) {
         const int per_hour = r.integer(f, 2, "records per hour", 1, 60);
         if (per_hour != 1) r.fail(3, "records per hour", "only hourly EPW files are read (this one has " +
                                                              std::to_string(per_hour) + " records per hour)");
+        const int periods = r.integer(f, 1, "number of data periods", 1, 366);
+        const std::size_t end_field = 6 + 4 * static_cast<std::size_t>(periods - 1);
+        if (f.size() > end_field) {
+          period.line = r.line;
+          period.start = period_date(f[5]);
+          period.end = period_date(f[end_field]);
+        }
       }
     } else {
       if (trim(line).empty()) continue;  // a blank last line
+      // Every record has as many fields as the first: a last line cut in the middle (a file
+      // that stopped) would otherwise read its cut field as a smaller number.
+      if (record_lines.empty()) record_fields = f.size();
+      else if (f.size() != record_fields)
+        r.fail(0, "", "the record has " + std::to_string(f.size()) + " fields, the records before it " +
+                          std::to_string(record_fields) + (f.size() < record_fields ? ": is the file cut short?" : ""));
       read_record(f, r, w);
       record_lines.push_back(r.line);
     }
   }
   if (r.line == 0) throw InputError({name, ""}, "empty file: not an EPW weather file");
   weather_detail::place_records(w, record_lines, 8);
+  check_period(w, period, record_lines);
   return w;
 }
 

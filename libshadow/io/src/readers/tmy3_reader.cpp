@@ -143,6 +143,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   std::string line;
   Columns columns;
   std::vector<std::size_t> record_lines;
+  std::size_t record_fields = 0;
   while (std::getline(in, line)) {
     ++r.line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -154,6 +155,12 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
       columns = read_columns(f, r);
     } else {
       if (trim(line).empty()) continue;  // a blank last line
+      // No record has fewer fields than the first: a last line cut in the middle (a file that
+      // stopped) would otherwise read its cut field as a smaller number.
+      if (record_lines.empty()) record_fields = f.size();
+      else if (f.size() < record_fields)
+        r.fail(0, "", "the record has " + std::to_string(f.size()) + " fields, the records before it " +
+                          std::to_string(record_fields) + ": is the file cut short?");
       read_record(f, r, columns, w);
       record_lines.push_back(r.line);
     }
