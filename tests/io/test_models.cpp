@@ -348,6 +348,23 @@ TEST(CityJson, ErrorsNameTheJsonPath) {
                 .find("CityObjects[\"A\"].geometry[0].boundaries[0][0][1]: inner ring 1 is outside the outer ring"),
             std::string::npos)
       << error_of([&] { shadow::load_scene(dir.path() / "hole.city.json"); });
+  // A misspelt geometry type: the object was left out without a word (a building fewer).
+  doc = boxes_cityjson();
+  doc["CityObjects"]["B"]["geometry"][0]["type"] = "Multisurface";
+  dir.write("typo.city.json", doc.dump());
+  EXPECT_NE(error_of([&] { shadow::load_scene(dir.path() / "typo.city.json"); })
+                .find("typo.city.json: CityObjects[\"B\"].geometry[0].type: unknown geometry type \"Multisurface\""),
+            std::string::npos);
+  // Without its transform a 2.0 file's integer vertices are read as metres, and the scene says so.
+  doc = boxes_cityjson();
+  doc.erase("transform");
+  dir.write("bare.city.json", doc.dump());
+  const shadow::Scene bare = shadow::load_scene(dir.path() / "bare.city.json");
+  ASSERT_FALSE(bare.faces.empty());
+  bool warned = false;
+  for (const shadow::Warning& w : bare.warnings)
+    warned |= w.to_string().find("bare.city.json: transform: missing, which CityJSON 2.0 requires") != std::string::npos;
+  EXPECT_TRUE(warned);
   dir.write("broken.city.json", "{\"type\": \"CityJSON\",\n \"version\": ");
   EXPECT_NE(error_of([&] { shadow::load_scene(dir.path() / "broken.city.json"); }).find("broken.city.json: line 2"),
             std::string::npos);

@@ -123,7 +123,14 @@ class Reader {
 
   void read_transform(const Json& doc) {
     const Json* t = find(doc, "transform");
-    if (t == nullptr) return;  // CityJSON 1.0 allowed vertices without one
+    if (t == nullptr) {  // CityJSON 1.0 allowed vertices without one; 1.1 and 2.0 require it
+      const std::string v = find(doc, "version")->get<std::string>();
+      if (v != "1.0")
+        model_.warnings.push_back({{file_, "transform"},
+                                   "missing, which CityJSON " + v + " requires (its vertices are integers scaled by "
+                                   "it): the vertices are read as written, in metres"});
+      return;
+    }
     if (!t->is_object()) fail("transform", "expected an object {\"scale\", \"translate\"}, got " + describe(*t));
     for (const char* key : {"scale", "translate"}) {
       const Json* v = find(*t, key);
@@ -194,8 +201,12 @@ class Reader {
         ++instances_;
         continue;
       }
+      if (t == "MultiPoint" || t == "MultiLineString") continue;  // points and lines have no area
+      // Any other name (a misspelt "Multisurface") would leave the object out without a word.
       if (t != "MultiSurface" && t != "CompositeSurface" && t != "Solid" && t != "MultiSolid" && t != "CompositeSolid")
-        continue;  // points and lines have no area
+        fail(gpath + ".type", "unknown geometry type " + json_string(t) +
+                                  " (CityJSON's are MultiPoint, MultiLineString, MultiSurface, CompositeSurface, Solid, "
+                                  "MultiSolid, CompositeSolid and GeometryInstance)");
       any_surface = true;
       const Json* lod = find(geom, "lod");
       const double value = lod == nullptr ? 0.0 : lod_value(*lod);
