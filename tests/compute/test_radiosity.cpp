@@ -422,6 +422,15 @@ TEST(Radiosity, BadOptionsAreInputErrors) {
   options.tolerance = 1e-3;
   options.max_element_area = -1;
   EXPECT_THROW(shadow::solve_radiosity(scene, options), shadow::InputError);
+  // An element area that would make billions of elements is refused before any is made (it ran
+  // the process out of memory, killed by the system with no word).
+  options.max_element_area = 1e-12;
+  try {
+    shadow::solve_radiosity(scene, options);
+    ADD_FAILURE() << "no error";
+  } catch (const shadow::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_element_area: 1e-12 m^2 would cut the scene's"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

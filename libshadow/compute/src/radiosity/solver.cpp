@@ -20,6 +20,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <string>
@@ -45,6 +46,10 @@ double typical_patch_edge(const Scene& scene) {
   return 2.0 * std::sqrt(areas[areas.size() / 2]);
 }
 
+/// The most elements a solve makes (some 200 bytes each with their patches and links' share:
+/// a few GB).
+constexpr std::size_t kMaxElements = std::size_t{1} << 24;
+
 void check_options(const RadiosityOptions& o, const Scene& scene) {
   if (!(o.max_element_area >= 0.0) || !std::isfinite(o.max_element_area))
     throw InputError({"", "max_element_area"}, "max_element_area must be a finite number >= 0 (m^2)");
@@ -67,6 +72,23 @@ void check_options(const RadiosityOptions& o, const Scene& scene) {
   if (o.refine_tolerance > 0.0 && o.method == RadiosityMethod::hierarchical)
     throw InputError({"", "refine_tolerance"}, "adaptive refinement is for the shooting method (the hierarchy's far "
                                                "links carry no gradient)");
+  // An element area far below the scene's (a unit slip: 1e-9 for 1e-3) asked for some 1e10
+  // elements, and the process grew until the system killed it, with no word. Refused before any
+  // is made: each element is at least max_element_area / 2 (halved until below the limit).
+  if (o.max_element_area > 0.0) {
+    double total = 0.0;
+    for (const Face& face : scene.faces)
+      if (!face.degenerate && face.vertices.size() >= 3) total += 0.5 * glm::length(radiosity::newell_normal(face.vertices));
+    const double at_least = total / o.max_element_area;
+    if (at_least > static_cast<double>(kMaxElements)) {
+      char text[256];
+      std::snprintf(text, sizeof text,
+                    "%g m^2 would cut the scene's %.6g m^2 into at least %.3g elements (at most %zu "
+                    "are made): choose a larger element area",
+                    o.max_element_area, total, at_least, kMaxElements);
+      throw InputError({"", "max_element_area"}, text);
+    }
+  }
   runtime::checked_threads(o.threads);
   if (!o.face_irradiance.empty()) {
     if (o.face_irradiance.size() != scene.faces.size())
