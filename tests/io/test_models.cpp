@@ -268,6 +268,12 @@ TEST(CityJson, HighestLodByDefaultOrTheChosenOne) {
   options.cityjson_lod = "two";
   EXPECT_NE(error_of([&] { shadow::load_scene(file, options); }).find("lod.city.json: the level of detail to read, \"two\", is not one"),
             std::string::npos);
+  // A level no object has: an error naming the levels there are, not an empty scene and exit 0.
+  options.cityjson_lod = "5";
+  EXPECT_NE(error_of([&] { shadow::load_scene(file, options); })
+                .find("lod.city.json: CityObjects: no city object has geometry of LoD 5 (the file's: 1.2, 2)"),
+            std::string::npos)
+      << error_of([&] { shadow::load_scene(file, options); });
 }
 
 TEST(CityJson, InnerRingsAreCutOutExactly) {

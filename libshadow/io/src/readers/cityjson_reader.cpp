@@ -19,8 +19,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -81,6 +83,17 @@ class Reader {
                                      (lost_parents_ == 1 ? " city object names a parent" : " city objects name a parent (this is the first)") +
                                      " that is not in CityObjects, or parents that lead back to it: its results per "
                                      "object stop at the last parent found"});
+    // A level of detail no object has leaves an empty scene: its shadows would be "computed" on
+    // nothing, exit 0. Say which levels the file has instead.
+    if (skipped_lod_ > 0 && model_.meshes.empty()) {
+      std::string present;
+      for (double lod : lods_present_) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", lod);
+        present += (present.empty() ? "" : ", ") + std::string(text);
+      }
+      fail("CityObjects", "no city object has geometry of LoD " + options_.cityjson_lod + " (the file's: " + present + ")");
+    }
     if (skipped_lod_ > 0)
       model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(skipped_lod_) +
                                                               " city objects have no geometry of LoD " +
@@ -211,6 +224,7 @@ class Reader {
       const Json* lod = find(geom, "lod");
       const double value = lod == nullptr ? 0.0 : lod_value(*lod);
       if (lod != nullptr && std::isnan(value)) fail(gpath + ".lod", "expected a level of detail like \"2.2\", got " + describe(*lod));
+      lods_present_.insert(value);
       if (want ? value == wanted && chosen == geometry->size() : value > best) {
         best = value;
         chosen = g;
@@ -479,6 +493,7 @@ class Reader {
   std::vector<glm::dvec3> vertices_;
   glm::dvec3 low_{0.0}, high_{0.0};
   bool used_any_ = false;
+  std::set<double> lods_present_;  ///< the surfaces' levels of detail, for an error naming them
   std::size_t skipped_lod_ = 0, instances_ = 0, triangulated_ = 0, degenerate_ = 0;
   std::string first_degenerate_;
   double worst_off_ = 0;
