@@ -72,6 +72,19 @@ fi
 # --write-idf: the model with its ShadowCalculation replaced; it reads again to the same fractions.
 "$SHADOW" series "$WORK/model.idf" -o "$WORK/written" --from 2023-06-20 --to 2023-06-21 --step 60 -q \
   --write-idf "$WORK/imported.idf" 2>/dev/null || fail "--write-idf" "exit $?"
+# Two days of a year: the summary says the rest of the CSV is 0 (fully shaded) before anyone runs
+# EnergyPlus on the copy; and a leap year's rows against the model's 365-day RunPeriod.
+"$SHADOW" series "$WORK/model.idf" -o "$WORK/written-note" --from 2023-06-20 --to 2023-06-21 --step 60 \
+  --write-idf "$WORK/imported-note.idf" >"$WORK/note.out" 2>/dev/null || fail "--write-idf note" "exit $?"
+"$SHADOW" series "$WORK/model.idf" -o "$WORK/written-leap" --from 2028-06-20 --to 2028-06-20 --step 60 \
+  --write-idf "$WORK/imported-leap.idf" >"$WORK/leap.out" 2>/dev/null || fail "--write-idf leap" "exit $?"
+if grep -q "note: energyplus-shading.csv: the period covers 48 of the year's 8760 time steps; the others are 0, fully shaded" "$WORK/note.out" &&
+   ! grep -q "RunPeriod" "$WORK/note.out" &&
+   grep -q "the CSV's 8784 time steps are 2028's (366 days): EnergyPlus will not match them" "$WORK/leap.out"; then
+  pass "--write-idf: the summary notes a part of the year and a year of another length"
+else
+  fail "--write-idf notes" "$(grep note "$WORK/note.out" "$WORK/leap.out")"
+fi
 if [[ $(grep -c '^ShadowCalculation,' "$WORK/imported.idf") -eq 1 ]] && ! grep -q PolygonClipping "$WORK/imported.idf" &&
    grep -qF "$(cd "$WORK/written" && pwd)/energyplus-shading.csv;" "$WORK/imported.idf"; then
   pass "--write-idf: one ShadowCalculation, Imported, naming the CSV"

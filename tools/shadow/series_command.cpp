@@ -230,6 +230,7 @@ void print_hand_back(const shadow::SeriesEnergyPlusHandBack& back, const SeriesA
   const bool csv = std::any_of(written.begin(), written.end(),
                                [](const fs::path& p) { return p.filename() == "energyplus-shading.csv"; });
   if (!csv) return;
+  if (!back.note.empty()) std::printf("  note: %s\n", back.note.c_str());
   if (back.objects.empty()) {
     std::printf("  EnergyPlus: no energyplus-objects.idf (%s)\n", back.problem.c_str());
     return;

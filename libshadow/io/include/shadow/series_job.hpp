@@ -192,6 +192,10 @@ struct SeriesEnergyPlusHandBack {
   std::string problem;  ///< why `objects` is empty
   bool model = false;   ///< the scene file is an EnergyPlus model
   std::optional<EnergyPlusImportCopy> copy;  ///< written to SeriesJobOptions::write_idf
+  /// What the user should know before running EnergyPlus on it: the CSV covers part of the year
+  /// (the other time steps 0, fully shaded), or the copy's RunPeriod is another year than the
+  /// CSV's. Empty when neither.
+  std::string note;
 };
 
 /// A finished job, as rank 0 sees it (on the other ranks only `ranks` is set).

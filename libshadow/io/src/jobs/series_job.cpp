@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <functional>
@@ -190,7 +191,7 @@ void replace_period(Scene& scene, const SeriesJobOptions& options) {
 
 /// The objects handed back to EnergyPlus; with write_idf the model's copy, checked before any
 /// computing (a copy that cannot be made must not cost a year of suns).
-SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, const Scene& scene) {
+SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, const Scene& scene, int model_year) {
   SeriesEnergyPlusHandBack back;
   back.csv = (fs::absolute(options.output) / "energyplus-shading.csv").lexically_normal().string();
   back.model = is_energyplus_model(options.scene);
@@ -201,10 +202,19 @@ SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, cons
     back.problem = e.problem();
     if (!idf.empty()) throw InputError({"", "--write-idf"}, "the CSV's path " + back.csv + ": " + e.problem());
   }
-  if (idf.empty()) return back;
   const EnergyPlusSchedule schedule = energyplus_schedule(scene);
+  if (schedule.written && !schedule.reason.empty()) back.note = "energyplus-shading.csv: " + schedule.reason;
+  if (idf.empty()) return back;
   if (!schedule.written)
     throw InputError({"", "--write-idf"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
+  // --from/--to in a year of another length: the copy still runs the model's RunPeriod, against
+  // rows made for this one (a leap year's 366 days against 365, or the other way round).
+  const auto leap = [](int y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; };
+  if (model_year > 0 && leap(model_year) != leap(schedule.year))
+    back.note += std::string(back.note.empty() ? "" : "; ") + "the copy keeps the model's RunPeriod in " +
+                 std::to_string(model_year) + " (" + (leap(model_year) ? "366" : "365") + " days), but the CSV's " +
+                 std::to_string(schedule.rows) + " time steps are " + std::to_string(schedule.year) + "'s (" +
+                 (leap(schedule.year) ? "366" : "365") + " days): EnergyPlus will not match them";
   std::error_code ec;
   if (fs::equivalent(options.scene, options.write_idf, ec))
     throw InputError({"", "--write-idf"}, idf + " is the model itself: name another file");
@@ -358,6 +368,10 @@ void SeriesJob::load() {
   State& s = *state_;
   if (options_.stage) options_.stage(SeriesJobStage::Loading);
   s.scene = load_scene(options_.scene, options_.load);
+  // The model's own year (an EnergyPlus model's RunPeriod), before --from/--to replace it.
+  int model_year = 0;
+  if (s.scene.sun && s.scene.sun->start.size() >= 4 && s.scene.sun->times.empty())
+    model_year = std::atoi(s.scene.sun->start.substr(0, 4).c_str());
   if (!options_.from.empty() || !options_.to.empty() || options_.step_minutes > 0) replace_period(s.scene, options_);
   try {
     s.suns = sun_series(s.scene);
@@ -383,7 +397,7 @@ void SeriesJob::load() {
   } catch (const InputError& e) {
     rethrow_naming_scene(e, options_.scene);
   }
-  s.hand_back = prepare_hand_back(options_, s.scene);
+  s.hand_back = prepare_hand_back(options_, s.scene, is_energyplus_model(options_.scene) ? model_year : 0);
 
   s.series_options.threads = options_.threads;
   s.series_options.arithmetic = options_.arithmetic;

@@ -159,7 +159,7 @@ EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
   schedule.written = true;
   if (schedule.rows_in_period < schedule.rows)
     schedule.reason = "the period covers " + std::to_string(schedule.rows_in_period) + " of the year's " +
-                      std::to_string(schedule.rows) + " time steps; the others are 0 (EnergyPlus reads a whole year)";
+                      std::to_string(schedule.rows) + " time steps; the others are 0, fully shaded (EnergyPlus reads a whole year)";
   if (outside > 0)
     schedule.reason += std::string(schedule.reason.empty() ? "" : "; ") + std::to_string(outside) +
                        " instants after the year " + std::to_string(schedule.year) + " are left out";
