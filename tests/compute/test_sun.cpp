@@ -552,6 +552,30 @@ TEST(SceneSun, ASunBlockNeedsNoLights) {
   EXPECT_TRUE(light.contains("to_light"));  // existing keys stay
 }
 
+// A period whose local time is far from the sun's at the site (a zone forgotten: Tokyo in UTC)
+// loads, with a warning naming the sun block; the right zone, or one a few hours off as real zones
+// are, says nothing.
+TEST(SceneSun, ALocalTimeFarFromTheSunsIsAWarning) {
+  auto warnings = [](const std::string& zone) {
+    std::string text = kSunScene;
+    const std::string longitude = "\"longitude\": -105.1786", time_zone = "\"time_zone\": \"UTC-07:00\",";
+    text.replace(text.find(longitude), longitude.size(), "\"longitude\": 139.7");
+    text.replace(text.find(time_zone), time_zone.size(), zone);
+    std::vector<std::string> out;
+    for (const shadow::Warning& w : shadow::parse_scene(text, "scene.json").warnings) out.push_back(w.to_string());
+    return out;
+  };
+  const std::vector<std::string> forgotten = warnings("");
+  ASSERT_EQ(forgotten.size(), 1u);
+  EXPECT_NE(forgotten[0].find("scene.json: sun: no \"time_zone\" or \"utc_offset\": the local time UTC+0 h is 9.3 h "
+                              "from the sun's time at longitude 139.7"),
+            std::string::npos)
+      << forgotten[0];
+  EXPECT_EQ(warnings("\"utc_offset\": -5, ").size(), 1u);
+  EXPECT_TRUE(warnings("\"time_zone\": \"UTC+09:00\", ").empty());
+  EXPECT_TRUE(warnings("\"utc_offset\": 7, ").empty());  // 2.3 h off: as some real zones are
+}
+
 TEST(SceneSun, TimesInTheSceneAndTheirErrors) {
   const std::string times = R"({
     "meshes": [{"name": "m", "polygons": [[[0, 0, 0], [1, 0, 0], [1, 1, 0]]]}],

@@ -102,7 +102,10 @@ Scene SceneReader::read(const std::string& text) {
   if (sun != nullptr) {
     // The suns' lights come after the scene's own; expanding is cheap next to loading meshes.
     scene_.source = scene_file_;
-    add_sun_lights(scene_, read_sun(*sun));
+    const SunPeriod period = read_sun(*sun);
+    if (std::optional<std::string> doubt = local_time_doubt(period, find(*sun, "utc_offset") || find(*sun, "time_zone")))
+      scene_.warnings.push_back({{file_, "sun"}, *doubt});
+    add_sun_lights(scene_, period);
   }
   if (const Json* planes = find(document, "planes")) read_planes(*planes);
   if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);

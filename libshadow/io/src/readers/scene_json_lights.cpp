@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -135,6 +136,25 @@ void SceneReader::read_lights(const Json& lights, bool may_be_empty) {
     if (const Json* color = find(l, "color")) light.color = get_color(*color, member(path, "color"));
     scene_.lights.push_back(std::move(light));
   }
+}
+
+std::optional<std::string> local_time_doubt(const SunPeriod& period, bool offset_given) {
+  if (!period.times.empty()) return std::nullopt;  // explicit times carry their own zone, mostly
+  // Local standard time is within some 3 hours of the sun's (Kashgar, on Beijing's UTC+8 at 76 E,
+  // is 2.9 h off); more is most often a forgotten or mistyped zone, which shifts every instant.
+  const double solar = period.site.longitude / 15.0;
+  double off = std::fmod(period.utc_offset_hours - solar, 24.0);
+  if (off > 12.0) off -= 24.0;
+  if (off < -12.0) off += 24.0;
+  if (std::abs(off) <= 3.5) return std::nullopt;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "%s UTC%+g h is %.1f h from the sun's time at longitude %g (about UTC%+.0f): the period's dates "
+                "and hours are local standard time in UTC%+g; set \"time_zone\" or \"utc_offset\" if that is not "
+                "the site's",
+                offset_given ? "the local time" : "no \"time_zone\" or \"utc_offset\": the local time",
+                period.utc_offset_hours, std::abs(off), period.site.longitude, solar, period.utc_offset_hours);
+  return std::string(text);
 }
 
 SunPeriod SceneReader::read_sun(const Json& sun) const {

@@ -39,6 +39,11 @@ std::string suggestion(const std::string& given, const std::vector<std::string>&
 /// Mesh::model for a model's format.
 std::string model_name(scene_readers::ModelFormat format);
 
+/// A warning for a sun period whose local standard time is more than 3.5 hours from the sun's at
+/// its longitude (a forgotten or mistyped zone shifts every instant); `offset_given`: the block
+/// had "utc_offset" or "time_zone". None for explicit times or a plausible zone.
+std::optional<std::string> local_time_doubt(const SunPeriod& period, bool offset_given);
+
 // ---- the scene reader --------------------------------------------------------------------------
 
 /// An inline polygon: its vertices, and the optional name, kind and holes of the object form.
