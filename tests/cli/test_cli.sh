@@ -153,7 +153,16 @@ if [[ $status -eq 2 && $(wc -l <"$WORK/series-bad-date.stderr") -eq 1 && ! -e "$
 else
   fail series_from_bad_date "status $status: $(cat "$WORK/series-bad-date.stderr")"
 fi
-
+# --from alone after the model's RunPeriod ends: the message names --from, the option given.
+status=0
+"$SHADOW" series "$idf" -o "$WORK/out-series-from-late" --from 2024-01-01 2>"$WORK/series-from-late.stderr" >/dev/null ||
+  status=$?
+if [[ $status -eq 2 && $(wc -l <"$WORK/series-from-late.stderr") -eq 1 ]] &&
+   grep -q -- "--from: --from 2024-01-01 is after the period's end .*: give --to too" "$WORK/series-from-late.stderr"; then
+  pass series_from_alone_after_the_end
+else
+  fail series_from_alone_after_the_end "status $status: $(cat "$WORK/series-from-late.stderr")"
+fi
 if [[ $top_help == *compute* ]]; then pass "help_lists_compute"; else fail "help_lists_compute" "$top_help"; fi
 for word in compute -o --threads --quiet; do
   if [[ $compute_help == *"$word"* ]]; then

@@ -244,6 +244,10 @@ expect_error sun_hours_levels_only_needs_levels levels_only_without_levels "$WOR
 run bad_levels series "$WORK/city/scene.json" -o "$WORK/out-bad-levels" --skip-invalid --sun-hours-map type:TINRelief \
   --sun-hours-levels 2,x
 expect_error bad_sun_hours_level bad_levels "$WORK/out-bad-levels" '--sun-hours-levels item 2: expected a number of hours, got "x"'
+# Given empty (a script's unset variable): an error, not a run without the levels.
+run empty_levels series "$WORK/city/scene.json" -o "$WORK/out-empty-levels" --skip-invalid --sun-hours-map type:TINRelief \
+  --sun-hours-levels ""
+expect_error empty_sun_hours_levels empty_levels "$WORK/out-empty-levels" '--sun-hours-levels item 1: expected a number of hours, got ""'
 run levels_without_map series "$WORK/city/scene.json" -o "$WORK/out-levels-no-map" --skip-invalid --sun-hours-levels 2
 expect_error sun_hours_levels_need_a_map levels_without_map "$WORK/out-levels-no-map" '--sun-hours-levels: needs a sun-hours map'
 

@@ -437,6 +437,13 @@ TEST(SunPeriod, ErrorsNameThePlace) {
   p = june_day();
   p.site.latitude = 91;
   expect_error(p, "sun.latitude", "[-90, 90]");
+  // The number as written, not %g's exponent ("got 1e+02" for 100).
+  p.site.latitude = 100;
+  expect_error(p, "sun.latitude", "degrees (north positive), got 100");
+  p.site.latitude = 1500.25;
+  expect_error(p, "sun.latitude", "got 1500.25");
+  p.site.latitude = 1e150;
+  expect_error(p, "sun.latitude", "got 1e+150");
   p = june_day();
   p.site.longitude = -181;
   expect_error(p, "sun.longitude", "[-180, 180]");

@@ -72,7 +72,8 @@ CLI::App* add_series_command(CLI::App& app, SeriesArgs& args) {
                      "`sun_hours_map`; docs/sun-hours-map.md)");
   series->add_option("--sun-hours-levels", args.sun_hours_levels,
                      "With the sun-hours map: also write sun_hours_levels.vtp, the exact regions getting at least "
-                     "each of these hours (comma-separated, e.g. 2,4,6), and their areas to report.json");
+                     "each of these hours (comma-separated, e.g. 2,4,6), and their areas to report.json")
+      ->each([&args](const std::string&) { args.sun_hours_levels_given = true; });
   series->add_flag("--sun-hours-levels-only", args.sun_hours_levels_only,
                    "With --sun-hours-levels: compute the threshold map alone, not the full map (no sun_hours.vtp): "
                    "its memory follows the level boundaries instead of growing with the number of instants");
@@ -187,7 +188,8 @@ shadow::SeriesJobOptions job_options(const SeriesArgs& args) {
   o.fragments = args.fragments;
   if (args.energyplus_shading) o.energyplus_shading = true;
   if (!args.sun_hours_map.empty()) o.sun_hours_map = mesh_names(args.sun_hours_map);
-  if (!args.sun_hours_levels.empty()) o.sun_hours_levels = shadow::parse_sun_hours_levels(args.sun_hours_levels);
+  // Given empty ("" from a script's unset variable): an error, not a run without the levels.
+  if (args.sun_hours_levels_given) o.sun_hours_levels = shadow::parse_sun_hours_levels(args.sun_hours_levels);
   o.sun_hours_levels_only = args.sun_hours_levels_only;
   o.sun_hours_held_segments = args.sun_hours_held_segments;
   o.checkpoint = args.checkpoint;

@@ -19,6 +19,7 @@ struct SeriesArgs {
   bool fast = false;
   bool quiet = false;
   std::size_t every = 1;
+  bool sun_hours_levels_given = false;  ///< --sun-hours-levels given (even empty: then an error)
   bool every_given = false;  ///< --every given: else shadow::default_series_every() decides (long periods: a bounded number)
   bool fragments = false;
   bool energyplus_shading = false;  ///< --energyplus-shading: write it for any scene, not only an EnergyPlus model

@@ -12,12 +12,24 @@
 namespace shadow::detail {
 
 /// `x` printed in the shortest %g form that parses back to `x` exactly ("0.1", "1e+150",
-/// "3.2733906078961419e+150"); "inf", "-inf" and "nan" as printf writes them.
+/// "3.2733906078961419e+150"), without an exponent where the number has up to 16 digits before
+/// the point ("100", not %g's "1e+02"); "inf", "-inf" and "nan" as printf writes them.
 inline std::string format_number(double x) {
   char buffer[32];
-  for (int digits = 1; digits <= 17; ++digits) {
+  int digits = 1;
+  for (; digits <= 17; ++digits) {
     std::snprintf(buffer, sizeof buffer, "%.*g", digits, x);
     if (std::strtod(buffer, nullptr) == x) break;  // NaN never compares equal: ends at 17 digits
+  }
+  const double magnitude = x < 0 ? -x : x;
+  if (magnitude >= 1 && magnitude < 1e16) {
+    char plain[32];
+    for (int more = digits; more <= 17; ++more) {
+      std::snprintf(plain, sizeof plain, "%.*g", more, x);
+      bool exponent = false;
+      for (const char* c = plain; *c != '\0'; ++c) exponent |= *c == 'e';
+      if (!exponent && std::strtod(plain, nullptr) == x) return plain;
+    }
   }
   return buffer;
 }

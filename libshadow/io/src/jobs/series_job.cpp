@@ -183,9 +183,21 @@ void replace_period(Scene& scene, const SeriesJobOptions& options) {
   } catch (const InputError& e) {
     // The period's keys came from the options: name them as the command line does.
     const std::string& place = e.where().place;
-    const std::string flag = place == "sun.start" ? "--from" : place == "sun.end" ? "--to"
-                           : place == "sun.step_minutes" ? "--step" : place;
-    throw InputError({flag == place ? e.where().file : std::string(), flag}, e.problem());
+    std::string flag = place == "sun.start" ? "--from" : place == "sun.end" ? "--to"
+                     : place == "sun.step_minutes" ? "--step" : place;
+    std::string problem = e.problem();
+    // Only --from given, after the scene's own end: the option given is the one to name.
+    if (flag == "--to" && options.to.empty() && !options.from.empty()) {
+      flag = "--from";
+      problem = "--from " + options.from + " is after the period's end " + period.end +
+                " (the scene's or the model's): give --to too";
+    }
+    if (flag == "--from" && options.from.empty() && !options.to.empty()) {
+      flag = "--to";
+      problem = "--to " + options.to + " is before the period's start " + period.start +
+                " (the scene's or the model's): give --from too";
+    }
+    throw InputError({flag == place ? e.where().file : std::string(), flag}, problem);
   }
 }
 
