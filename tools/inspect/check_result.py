@@ -31,7 +31,25 @@ def read_vtp(path):
     return reader.GetOutput()
 
 
+def compute_output_problem(outdir, names):
+    """Why `outdir` is not a `shadow compute` output directory (one line), or None."""
+    if not os.path.isdir(outdir):
+        return f"{outdir}: no such directory"
+    missing = [n for n in names if not os.path.isfile(os.path.join(outdir, n))]
+    if not missing:
+        return None
+    other = [n for n in ("sunlit.csv", "irradiation.csv", "radiosity.csv") if os.path.isfile(os.path.join(outdir, n))]
+    what = (f" (it holds {other[0]}: a `shadow series`, `irradiance` or `radiosity` output, which "
+            "tools/paraview/open_result.py opens)") if other else ""
+    return f"{outdir}: no {', '.join(missing)}: not a `shadow compute` output directory{what}"
+
+
 def main(outdir):
+    problem = compute_output_problem(
+        outdir, ["report.json", "scene.vtm", "fragments.vtp", "faces.vtp", "plane_shadows.vtp", "lights.vtp"])
+    if problem:
+        print("check_result:", problem, file=sys.stderr)
+        return 2
     problems = []
 
     def check(condition, message):
@@ -227,4 +245,7 @@ def main(outdir):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        print("usage: check_result.py OUTDIR  (a `shadow compute` output directory)", file=sys.stderr)
+        sys.exit(2)
     sys.exit(main(sys.argv[1]))

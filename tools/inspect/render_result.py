@@ -9,8 +9,11 @@ display:
 """
 import argparse
 import os
+import sys
 
 import vtk
+
+from check_result import compute_output_problem
 
 
 def read(path):
@@ -27,6 +30,16 @@ def main():
     parser.add_argument("--light", type=int, default=0)
     parser.add_argument("--size", type=int, nargs=2, default=[1200, 800])
     args = parser.parse_args()
+
+    # One line for a folder that is not a compute output (a series' or irradiance run's, a typo),
+    # not a traceback under VTK's own errors.
+    problem = compute_output_problem(args.outdir, ["fragments.vtp", "lights.vtp"])
+    if problem:
+        sys.exit(f"render_result: {problem}")
+    lights = read(os.path.join(args.outdir, "lights.vtp"))
+    count = lights.GetNumberOfPoints()
+    if not 0 <= args.light < count:
+        sys.exit(f"render_result: --light {args.light}: {args.outdir} has {count} light(s), numbered 0 to {count - 1}")
 
     fragments = read(os.path.join(args.outdir, "fragments.vtp"))
     # Keep this light's fragments.
@@ -65,7 +78,6 @@ def main():
     bounds = surface.GetOutput().GetBounds()
     centre = [(bounds[0] + bounds[1]) / 2, (bounds[2] + bounds[3]) / 2, (bounds[4] + bounds[5]) / 2]
     size = max(bounds[1] - bounds[0], bounds[3] - bounds[2], bounds[5] - bounds[4])
-    lights = read(os.path.join(args.outdir, "lights.vtp"))
     to_light = lights.GetPointData().GetArray("to_light").GetTuple3(args.light)
     horizontal = [-to_light[0], -to_light[1]]
     norm = max((horizontal[0] ** 2 + horizontal[1] ** 2) ** 0.5, 1e-9)
