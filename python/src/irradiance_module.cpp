@@ -85,6 +85,13 @@ void bind_irradiance(py::module_& m) {
       .def_property_readonly("diffuse_horizontal", [](const shadow::Weather& w) { return array_of(w.diffuse_horizontal); })
       .def_property_readonly("dry_bulb", [](const shadow::Weather& w) { return array_of(w.dry_bulb); })
       .def_property_readonly("albedo", [](const shadow::Weather& w) { return array_of(w.albedo); })
+      .def_property_readonly("warnings",
+                             [](const shadow::Weather& w) {
+                               std::vector<std::string> out;
+                               for (const shadow::Warning& warning : w.warnings) out.push_back(warning.to_string());
+                               return out;
+                             },
+                             "what the reader found odd but read as written, one line each")
       .def("__len__", &shadow::Weather::hours);
 
   m.def("read_epw", &shadow::read_epw, py::arg("path"),

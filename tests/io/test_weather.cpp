@@ -186,6 +186,21 @@ TEST(Weather, AFileCutShortIsAnError) {
   EXPECT_EQ(parse(two_days(2023, 6, 20).substr(0, two_days(2023, 6, 20).find("2023,6,21,1,"))).hours(), 24u);
 }
 
+// Diffuse horizontal above global horizontal (by 800 Wh/m2 here) cannot be: read as written,
+// with one warning naming the first such line and the count; a few Wh/m2 of noise says nothing.
+TEST(Weather, DiffuseAboveGlobalWarns) {
+  std::string text = kHeader;
+  text += record(2023, 6, 1, 1, "100", "200", "105");  // within noise
+  text += record(2023, 6, 1, 2, "169", "200", "969");
+  text += record(2023, 6, 1, 3, "10", "0", "900");
+  const shadow::Weather w = parse(text);
+  ASSERT_EQ(w.warnings.size(), 1u);
+  EXPECT_EQ(w.warnings[0].to_string(), "test.epw: line 10: diffuse horizontal 969 Wh/m2 exceeds global horizontal 169 "
+                                       "(diffuse is part of global); 2 hours like it (this is the first), read as written");
+  EXPECT_DOUBLE_EQ(w.diffuse_horizontal[1], 969.0);
+  EXPECT_TRUE(parse(two_days(2023, 6, 20)).warnings.empty());
+}
+
 // TMY3: the site line (the name quoted, with a comma), the column names, hourly records.
 const char* kTmy3Header =
     "722780,\"PHOENIX, SKY HARBOR INTL AP\",AZ,-7.0,33.450,-111.983,337\n"

@@ -142,8 +142,10 @@ int run_irradiance(const IrradianceArgs& args) {
       for (std::size_t m : shadow::select_meshes(scene, name, {args.scene, "--ground"}))
         if (std::find(scene.ground->begin(), scene.ground->end(), m) == scene.ground->end()) scene.ground->push_back(m);
   }
-  if (talk)
+  if (talk) {
+    for (const shadow::Warning& warning : weather.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
     for (const shadow::Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+  }
 
   shadow::IrradianceOptions options;
   options.sky = args.sky == "isotropic" ? shadow::SkyModel::Isotropic : shadow::SkyModel::Perez;

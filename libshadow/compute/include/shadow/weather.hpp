@@ -10,6 +10,7 @@
 /// the reader of EPW files is shadow/epw.hpp. See docs/irradiance.md.
 #pragma once
 
+#include <shadow/error.hpp>
 #include <shadow/sun.hpp>
 
 #include <cstddef>
@@ -48,6 +49,9 @@ struct Weather {
   std::vector<double> diffuse_horizontal;  ///< Wh/m2 (field 16); NaN when missing
   std::vector<double> dry_bulb;            ///< degrees C (field 7); NaN when missing
   std::vector<double> albedo;              ///< ground reflectance (field 33); NaN when missing or absent
+  /// What the reader found odd but read as written: hours whose diffuse horizontal exceeds the
+  /// global horizontal (diffuse is part of global) by more than measurement allows.
+  std::vector<Warning> warnings;
 
   [[nodiscard]] std::size_t hours() const { return month.size(); }
   /// The mean of the albedo values present, or NaN when the file has none.

@@ -168,6 +168,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
   if (r.line == 0) throw InputError({name, ""}, "empty file: not an EPW weather file");
   weather_detail::place_records(w, record_lines, 8);
   check_period(w, period, record_lines);
+  weather_detail::check_diffuse_within_global(w, record_lines);
   return w;
 }
 

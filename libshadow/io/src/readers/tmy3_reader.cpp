@@ -173,6 +173,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   fields.hour_field = columns.time + 1;
   fields.hour_name = "Time (HH:MM)";
   weather_detail::place_records(w, record_lines, 2, fields);
+  weather_detail::check_diffuse_within_global(w, record_lines);
   return w;
 }
 

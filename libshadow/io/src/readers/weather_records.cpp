@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -105,6 +106,25 @@ void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_
     w.start_utc[i] = local - offset;
     expected = local + 3600;
   }
+}
+
+void check_diffuse_within_global(Weather& w, const std::vector<std::size_t>& lines) {
+  std::size_t count = 0, first = 0;
+  for (std::size_t i = 0; i < w.hours(); ++i) {
+    const double global = w.global_horizontal[i], diffuse = w.diffuse_horizontal[i];
+    // (NaN, missing, compares false)
+    if (diffuse > global + 50.0 && diffuse > 1.1 * global) {
+      if (count++ == 0) first = i;
+    }
+  }
+  if (count == 0) return;
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "diffuse horizontal %g Wh/m2 exceeds global horizontal %g (diffuse is part of global); %zu hour%s "
+                "like it%s, read as written",
+                w.diffuse_horizontal[first], w.global_horizontal[first], count, count == 1 ? "" : "s",
+                count == 1 ? "" : " (this is the first)");
+  w.warnings.push_back({{w.source, "line " + std::to_string(lines[first])}, text});
 }
 
 }  // namespace shadow::weather_detail

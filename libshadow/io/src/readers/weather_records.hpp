@@ -50,4 +50,9 @@ struct RecordFields {
 void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_t header_lines,
                    const RecordFields& fields = {});
 
+/// Adds one warning to `w` when some hours' diffuse horizontal exceeds their global horizontal
+/// by more than 50 Wh/m2 and 10% (diffuse is part of global: such values are misplaced columns
+/// or bad data, read as written), naming the first such record's line and how many there are.
+void check_diffuse_within_global(Weather& w, const std::vector<std::size_t>& lines);
+
 }  // namespace shadow::weather_detail
