@@ -274,6 +274,21 @@ TEST(CityJson, HighestLodByDefaultOrTheChosenOne) {
                 .find("lod.city.json: CityObjects: no city object has geometry of LoD 5 (the file's: 1.2, 2)"),
             std::string::npos)
       << error_of([&] { shadow::load_scene(file, options); });
+  // In a scene of two models, a level one of them lacks (a terrain of LoD 1 beside buildings of
+  // LoD 1.2) leaves that one out with its warning; a level neither has is the error.
+  Json terrain = boxes_cityjson();
+  for (auto& [id, object] : terrain["CityObjects"].items()) object["geometry"][0]["lod"] = "1";
+  dir.write("terrain.city.json", terrain.dump());
+  const fs::path two = dir.write("two.json", R"({"meshes": [{"name": "b", "file": "lod.city.json"},
+    {"name": "t", "file": "terrain.city.json"}], "lights": [{"name": "sun", "type": "directional", "to_light": [0, 0, 1]}]})");
+  options.cityjson_lod = "1.2";
+  EXPECT_EQ(shadow::load_scene(two, options).faces.size(), 1u);
+  options.cityjson_lod = "5";
+  EXPECT_NE(error_of([&] { shadow::load_scene(two, options); })
+                .find("two.json: meshes[0].file: no city object of any model has geometry of LoD 5 (\"lod.city.json\" "
+                      "has 1.2, 2)"),
+            std::string::npos)
+      << error_of([&] { shadow::load_scene(two, options); });
 }
 
 TEST(CityJson, InnerRingsAreCutOutExactly) {

@@ -158,27 +158,42 @@ TEST(Weather, ErrorsNameFileLineAndField) {
 // December, with nothing said.
 TEST(Weather, AFileCutShortIsAnError) {
   std::string header = kHeader;
-  header.replace(header.find("2/28,3/ 1"), 9, "6/20,6/21");
-  const std::string whole = header + two_days(2023, 6, 20).substr(std::string(kHeader).size());
-  EXPECT_EQ(parse(whole).hours(), 48u);
+  header.replace(header.find("2/28,3/ 1"), 9, "6/20,6/22");
+  std::string whole = header;
+  for (int d = 0; d < 3; ++d)
+    for (int h = 1; h <= 24; ++h) whole += record(2023, 6, 20 + d, h, "100", "200", "50");
+  EXPECT_EQ(parse(whole).hours(), 72u);
+  EXPECT_TRUE(parse(whole).warnings.empty());
 
-  // Stopped after the first day: the records follow hour by hour, but end before DATA PERIODS.
+  // Stopped after the first day: the records follow hour by hour, but end two days early.
   const std::string first_day = whole.substr(0, whole.find("2023,6,21,1,"));
   EXPECT_EQ(error_of(first_day), "test.epw: line 32: the records stop at 6/20 hour 24, but DATA PERIODS (line 8) "
-                                 "runs the data to 6/21 hour 24: the file is cut short (24 hourly records)");
+                                 "runs the data to 6/22 hour 24: 48 hours missing: the file is cut short (24 hourly "
+                                 "records; if it was shortened on purpose, set the DATA PERIODS end to 6/20)");
+  // A day or less missing (leap-year converters are said to drop 31 December): a warning.
+  const shadow::Weather two_days_read = parse(whole.substr(0, whole.find("2023,6,22,1,")));
+  ASSERT_EQ(two_days_read.warnings.size(), 1u);
+  EXPECT_EQ(two_days_read.warnings[0].to_string(),
+            "test.epw: line 56: the records stop at 6/21 hour 24, but DATA PERIODS (line 8) runs the data to 6/22 "
+            "hour 24: 24 hours missing; read as it is");
 
-  // Stopped within the last line: its cut field would have read as a smaller number.
-  const std::string cut_line = whole.substr(0, whole.find(",50,", whole.find("2023,6,21,24,")) + 2);
-  EXPECT_EQ(error_of(cut_line), "test.epw: line 56: the record has 16 fields, the records before it 35: is the file "
-                                "cut short?");
+  // Stopped within the last line: its cut field would have read as a smaller number (DHI 5 for 50).
+  const std::string cut_line = whole.substr(0, whole.find(",50,", whole.find("2023,6,22,24,")) + 2);
+  EXPECT_EQ(error_of(cut_line), "test.epw: line 80: the last record has 16 fields, the first 35: is the file cut short?");
+  // A record before the last without the optional trailing fields is read as before.
+  std::string trimmed = whole;
+  const std::size_t second = trimmed.find("2023,6,20,2,");
+  const std::size_t albedo = trimmed.find(",0.25,0,0\n", second);
+  trimmed.erase(albedo, std::string(",0.25,0,0").size());
+  EXPECT_EQ(parse(trimmed).hours(), 72u);
 
   // The periods that real generators write: M/D/YYYY and YYYY/M/D (Tokyo's file) read alike.
-  for (const char* end : {"6/21/2023", "2023/6/21", "2023/06/21"}) {
+  for (const char* end : {"6/22/2023", "2023/6/22", "2023/06/22"}) {
     std::string dated = whole;
-    dated.replace(dated.find("6/20,6/21"), 9, std::string("6/20,") + end);
-    EXPECT_EQ(parse(dated).hours(), 48u) << end;
+    dated.replace(dated.find("6/20,6/22"), 9, std::string("6/20,") + end);
+    EXPECT_EQ(parse(dated).hours(), 72u) << end;
     std::string dated_cut = first_day;
-    dated_cut.replace(dated_cut.find("6/20,6/21"), 9, std::string("6/20,") + end);
+    dated_cut.replace(dated_cut.find("6/20,6/22"), 9, std::string("6/20,") + end);
     EXPECT_NE(error_of(dated_cut).find("the file is cut short"), std::string::npos) << end;
   }
 
@@ -322,10 +337,12 @@ TEST(Tmy3, ErrorsNameFileLineAndField) {
 
 // read_weather: a name ending in .csv is TMY3, any other EPW.
 // A TMY3 file states no period (a short one may be meant), but a last line cut in the middle is
-// an error, not a smaller last value.
+// an error, not a smaller last value (an albedo of 0.2 for 0.25).
 TEST(Tmy3, ALastLineCutShortIsAnError) {
-  const std::string cut = std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "0", "0", "0") + "06/01/2001,02:00,0,0,0\n";
-  EXPECT_EQ(tmy3_error(cut), "test.csv: line 4: the record has 5 fields, the records before it 17: is the file cut short?");
+  const std::string last = tmy3_record(2001, 6, 1, 2, "0", "0", "0");
+  const std::string cut = std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "0", "0", "0") +
+                          last.substr(0, last.find(",F") - 1) + "\n";
+  EXPECT_EQ(tmy3_error(cut), "test.csv: line 4: the last record has 16 fields, the first 17: is the file cut short?");
 }
 
 TEST(Tmy3, ReadWeatherChoosesByName) {

@@ -38,7 +38,7 @@ def compute_output_problem(outdir, names):
     missing = [n for n in names if not os.path.isfile(os.path.join(outdir, n))]
     if not missing:
         return None
-    other = [n for n in ("sunlit.csv", "irradiation.csv", "radiosity.csv") if os.path.isfile(os.path.join(outdir, n))]
+    other = [n for n in ("sunlit.csv", "irradiation.csv", "radiosity.vtp") if os.path.isfile(os.path.join(outdir, n))]
     what = (f" (it holds {other[0]}: a `shadow series`, `irradiance` or `radiosity` output, which "
             "tools/paraview/open_result.py opens)") if other else ""
     return f"{outdir}: no {', '.join(missing)}: not a `shadow compute` output directory{what}"

@@ -113,6 +113,16 @@ CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
   return cmd;
 }
 
+namespace {
+
+/// The weather file's warnings, then the scene's, one line each on stderr.
+void print_warnings(const std::vector<shadow::Warning>& weather, const std::vector<shadow::Warning>& scene) {
+  for (const std::vector<shadow::Warning>* list : {&weather, &scene})
+    for (const shadow::Warning& warning : *list) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
+}
+
+}  // namespace
+
 int run_irradiance(const IrradianceArgs& args) {
   const auto start = Clock::now();
   const bool talk = !args.quiet;
@@ -142,10 +152,7 @@ int run_irradiance(const IrradianceArgs& args) {
       for (std::size_t m : shadow::select_meshes(scene, name, {args.scene, "--ground"}))
         if (std::find(scene.ground->begin(), scene.ground->end(), m) == scene.ground->end()) scene.ground->push_back(m);
   }
-  if (talk) {
-    for (const shadow::Warning& warning : weather.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
-    for (const shadow::Warning& warning : scene.warnings) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
-  }
+  if (talk) print_warnings(weather.warnings, scene.warnings);
 
   shadow::IrradianceOptions options;
   options.sky = args.sky == "isotropic" ? shadow::SkyModel::Isotropic : shadow::SkyModel::Perez;

@@ -74,7 +74,8 @@ void check_options(const RadiosityOptions& o, const Scene& scene) {
                                                "links carry no gradient)");
   // An element area far below the scene's (a unit slip: 1e-9 for 1e-3) asked for some 1e10
   // elements, and the process grew until the system killed it, with no word. Refused before any
-  // is made: each element is at least max_element_area / 2 (halved until below the limit).
+  // is made: no element is larger than max_element_area, so the faces' area over it is a lower
+  // bound on their count.
   if (o.max_element_area > 0.0) {
     double total = 0.0;
     for (const Face& face : scene.faces)

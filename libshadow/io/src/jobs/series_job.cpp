@@ -192,11 +192,6 @@ void replace_period(Scene& scene, const SeriesJobOptions& options) {
       problem = "--from " + options.from + " is after the period's end " + period.end +
                 " (the scene's or the model's): give --to too";
     }
-    if (flag == "--from" && options.from.empty() && !options.to.empty()) {
-      flag = "--to";
-      problem = "--to " + options.to + " is before the period's start " + period.start +
-                " (the scene's or the model's): give --from too";
-    }
     throw InputError({flag == place ? e.where().file : std::string(), flag}, problem);
   }
 }
@@ -223,8 +218,9 @@ SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, cons
   // rows made for this one (a leap year's 366 days against 365, or the other way round).
   const auto leap = [](int y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; };
   if (model_year > 0 && leap(model_year) != leap(schedule.year))
-    back.note += std::string(back.note.empty() ? "" : "; ") + "the copy keeps the model's RunPeriod in " +
-                 std::to_string(model_year) + " (" + (leap(model_year) ? "366" : "365") + " days), but the CSV's " +
+    back.note += std::string(back.note.empty() ? "" : "; ") + "the copy keeps the model's RunPeriod, a year of " +
+                 (leap(model_year) ? "366" : "365") + " days (" + std::to_string(model_year) +
+                 (model_year == 2023 ? ", or the model names none" : "") + "), but the CSV's " +
                  std::to_string(schedule.rows) + " time steps are " + std::to_string(schedule.year) + "'s (" +
                  (leap(schedule.year) ? "366" : "365") + " days): EnergyPlus will not match them";
   std::error_code ec;

@@ -83,16 +83,14 @@ class Reader {
                                      (lost_parents_ == 1 ? " city object names a parent" : " city objects name a parent (this is the first)") +
                                      " that is not in CityObjects, or parents that lead back to it: its results per "
                                      "object stop at the last parent found"});
-    // A level of detail no object has leaves an empty scene: its shadows would be "computed" on
-    // nothing, exit 0. Say which levels the file has instead.
-    if (skipped_lod_ > 0 && model_.meshes.empty()) {
-      std::string present;
+    // A level of detail no object has: the scene's loader makes it an error where no file has it
+    // (else an empty scene is "computed", exit 0), naming the levels there are.
+    if (skipped_lod_ > 0 && lods_present_.count(lod_value(Json(options_.cityjson_lod))) == 0) {
       for (double lod : lods_present_) {
         char text[32];
         std::snprintf(text, sizeof text, "%g", lod);
-        present += (present.empty() ? "" : ", ") + std::string(text);
+        model_.absent_lod_levels += (model_.absent_lod_levels.empty() ? "" : ", ") + std::string(text);
       }
-      fail("CityObjects", "no city object has geometry of LoD " + options_.cityjson_lod + " (the file's: " + present + ")");
     }
     if (skipped_lod_ > 0)
       model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(skipped_lod_) +

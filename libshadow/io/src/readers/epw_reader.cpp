@@ -106,20 +106,38 @@ struct DataPeriod {
 
 std::string date_text(int month, int day) { return std::to_string(month) + "/" + std::to_string(day); }
 
-/// Records that begin where DATA PERIODS starts the data must run to where it ends: they follow
-/// hour by hour (place_records), so the last must be the period's last hour. A file cut short (a
-/// download or a copy that stopped) otherwise reads as a shorter year without a word. (Records
-/// that begin elsewhere do not follow the header at all; they are read as they are.)
-void check_period(const Weather& w, const DataPeriod& period, const std::vector<std::size_t>& lines) {
+/// Day of a 365-day year (1 January: 0), for counting the hours between two dates of a period.
+int day_of_year(int month, int day) {
+  static constexpr int kBefore[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
+  return kBefore[month - 1] + day - 1;
+}
+
+/// Records that begin where DATA PERIODS starts the data should run to where it ends: they
+/// follow hour by hour (place_records), so the hours between the last record and the period's
+/// last hour are missing. More than a day missing is a file cut short (a download or a copy that
+/// stopped), which otherwise reads as a shorter year without a word: an error. A day or less is
+/// a warning (converters of leap years are said to drop 31 December). Records that begin
+/// elsewhere, or run past the end, do not follow the header; they are read as they are.
+void check_period(Weather& w, const DataPeriod& period, const std::vector<std::size_t>& lines) {
   if (period.start.first == 0 || period.end.first == 0) return;
   if (w.month[0] != period.start.first || w.day[0] != period.start.second || w.hour[0] != 1) return;
   const std::size_t last = w.hours() - 1;
-  if (w.month[last] == period.end.first && w.day[last] == period.end.second && w.hour[last] == 24) return;
+  const int missing = (day_of_year(period.end.first, period.end.second) - day_of_year(w.month[last], w.day[last])) * 24 +
+                      24 - w.hour[last];
+  // (Wrapped past 31 December, or beyond the end: not a file that stopped early.)
+  if (missing <= 0 || w.month[last] * 100 + w.day[last] < period.start.first * 100 + period.start.second) return;
+  const std::string problem =
+      "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " + std::to_string(w.hour[last]) +
+      ", but DATA PERIODS (line " + std::to_string(period.line) + ") runs the data to " +
+      date_text(period.end.first, period.end.second) + " hour 24: " + std::to_string(missing) + " hours missing";
+  if (missing <= 24) {
+    w.warnings.push_back({{w.source, "line " + std::to_string(lines.back())}, problem + "; read as it is"});
+    return;
+  }
   throw InputError({w.source, "line " + std::to_string(lines.back())},
-                   "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " +
-                       std::to_string(w.hour[last]) + ", but DATA PERIODS (line " + std::to_string(period.line) +
-                       ") runs the data to " + date_text(period.end.first, period.end.second) +
-                       " hour 24: the file is cut short (" + std::to_string(w.hours()) + " hourly records)");
+                   problem + ": the file is cut short (" + std::to_string(w.hours()) +
+                       " hourly records; if it was shortened on purpose, set the DATA PERIODS end to " +
+                       date_text(w.month[last], w.day[last]) + ")");
 }
 
 }  // namespace
@@ -130,7 +148,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
   LineReader r{name};
   std::string line;
   std::vector<std::size_t> record_lines;
-  std::size_t record_fields = 0;
+  std::size_t record_fields = 0, last_short = 0;
   DataPeriod period;
   while (std::getline(in, line)) {
     ++r.line;
@@ -155,17 +173,20 @@ Weather parse_epw(std::istream& in, const std::string& name) {
       }
     } else {
       if (trim(line).empty()) continue;  // a blank last line
-      // Every record has as many fields as the first: a last line cut in the middle (a file
-      // that stopped) would otherwise read its cut field as a smaller number.
+      // A last record with fewer fields than the first is a line cut in the middle (a file that
+      // stopped): its cut field would read as a smaller number. (Records before it may leave out
+      // trailing fields they do not need.)
       if (record_lines.empty()) record_fields = f.size();
-      else if (f.size() != record_fields)
-        r.fail(0, "", "the record has " + std::to_string(f.size()) + " fields, the records before it " +
-                          std::to_string(record_fields) + (f.size() < record_fields ? ": is the file cut short?" : ""));
+      last_short = f.size() < record_fields ? f.size() : 0;
       read_record(f, r, w);
       record_lines.push_back(r.line);
     }
   }
   if (r.line == 0) throw InputError({name, ""}, "empty file: not an EPW weather file");
+  if (last_short > 0)
+    throw InputError({name, "line " + std::to_string(record_lines.back())},
+                     "the last record has " + std::to_string(last_short) + " fields, the first " +
+                         std::to_string(record_fields) + ": is the file cut short?");
   weather_detail::place_records(w, record_lines, 8);
   check_period(w, period, record_lines);
   weather_detail::check_diffuse_within_global(w, record_lines);

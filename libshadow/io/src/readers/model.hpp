@@ -7,6 +7,7 @@
 #include <shadow/sun.hpp>
 
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace shadow::scene_readers {
@@ -29,6 +30,9 @@ struct Model {
   /// it they are an InputError). `mesh` is the model mesh's name; no warning is added for them
   /// here: validation warns about every skipped face in one place.
   std::vector<SkippedFace> skipped;
+  /// When LoadOptions::cityjson_lod names a level that no object of the file has: the levels it
+  /// has ("1.2, 2"), for an error where the scene has that level nowhere; empty otherwise.
+  std::string absent_lod_levels;
 };
 
 }  // namespace shadow::scene_readers

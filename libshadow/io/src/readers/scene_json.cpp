@@ -123,6 +123,11 @@ Scene SceneReader::read(const std::string& text) {
     load_faces(std::move(pending_[i]));
     scene_meshes_of_.emplace_back(first, scene_.meshes.size());
   }
+  // A level of detail that no model file has (one that some lack is their warning only).
+  if (!lod_absent_.empty() && lod_absent_.size() == lod_files_)
+    fail(lod_absent_.front().first, "no city object of " + (lod_files_ == 1 ? std::string("its model") : "any model") +
+                                        " has geometry of LoD " + options_.cityjson_lod + " (" +
+                                        lod_absent_.front().second + ")");
   apply_model_receivers();
   apply_mesh_list(sun_hours_map_names_, scene_.sun_hours_map);
   if (ground != nullptr) {
@@ -411,6 +416,9 @@ Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
     for (std::size_t f = mesh.first_face; f < mesh.first_face + mesh.face_count && f < scene.faces.size(); ++f)
       scene.faces[f].mesh = m;
   }
+  if (!model.absent_lod_levels.empty())
+    throw InputError({scene_file.string(), "CityObjects"}, "no city object has geometry of LoD " + options.cityjson_lod +
+                                                               " (the file's: " + model.absent_lod_levels + ")");
   if (scene.faces.empty())
     throw InputError({scene_file.string(), ""}, "the model has no geometry that libshadow reads (see docs/cityjson.md "
                                                 "and docs/energyplus.md for what is read)");

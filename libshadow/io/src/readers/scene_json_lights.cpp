@@ -149,7 +149,7 @@ std::optional<std::string> local_time_doubt(const SunPeriod& period, bool offset
   if (std::abs(off) <= 3.5) return std::nullopt;
   char text[320];
   std::snprintf(text, sizeof text,
-                "%s UTC%+g h is %.1f h from the sun's time at longitude %g (about UTC%+.0f): the period's dates "
+                "%s UTC%+g h is %.1f h from the sun's time at longitude %g (about UTC%+.1f): the period's dates "
                 "and hours are local standard time in UTC%+g; set \"time_zone\" or \"utc_offset\" if that is not "
                 "the site's",
                 offset_given ? "the local time" : "no \"time_zone\" or \"utc_offset\": the local time",

@@ -287,6 +287,11 @@ void SceneReader::load_faces(PendingMesh pending) {
     if (format != scene_readers::ModelFormat::none) {
       bytes = {};  // (`text` is not read again)
       scene_readers::Model model = scene_readers::read_model(format, file, display, options_);
+      if (format == scene_readers::ModelFormat::cityjson && !options_.cityjson_lod.empty()) {
+        ++lod_files_;
+        if (!model.absent_lod_levels.empty())
+          lod_absent_.emplace_back(member(pending.path, "file"), quote(pending.file) + " has " + model.absent_lod_levels);
+      }
       for (Warning& w : model.warnings) scene_.warnings.push_back(std::move(w));
       for (SkippedFace& skipped : model.skipped) {  // surfaces the reader left out (skip_invalid)
         skipped.mesh = pending.name + "/" + skipped.mesh;

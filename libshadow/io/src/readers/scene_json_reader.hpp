@@ -203,6 +203,8 @@ class SceneReader {
   std::vector<std::pair<std::string, std::string>> sun_hours_map_names_;  // (JSON path, mesh name)
   std::vector<std::pair<std::string, std::string>> ground_names_;  // (JSON path, mesh name)
   std::vector<std::pair<std::size_t, std::size_t>> scene_meshes_of_;  // per scene-file mesh: [first, end) of scene_.meshes
+  std::size_t lod_files_ = 0;  // CityJSON files read with LoadOptions::cityjson_lod
+  std::vector<std::pair<std::string, std::string>> lod_absent_;  // (JSON path, "file" has levels) without that LoD
 };
 
 }  // namespace shadow::scene_json

@@ -143,7 +143,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   std::string line;
   Columns columns;
   std::vector<std::size_t> record_lines;
-  std::size_t record_fields = 0;
+  std::size_t record_fields = 0, last_short = 0;
   while (std::getline(in, line)) {
     ++r.line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -155,18 +155,20 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
       columns = read_columns(f, r);
     } else {
       if (trim(line).empty()) continue;  // a blank last line
-      // No record has fewer fields than the first: a last line cut in the middle (a file that
-      // stopped) would otherwise read its cut field as a smaller number.
+      // A last record with fewer fields than the first is a line cut in the middle (a file that
+      // stopped): its cut field would read as a smaller number.
       if (record_lines.empty()) record_fields = f.size();
-      else if (f.size() < record_fields)
-        r.fail(0, "", "the record has " + std::to_string(f.size()) + " fields, the records before it " +
-                          std::to_string(record_fields) + ": is the file cut short?");
+      last_short = f.size() < record_fields ? f.size() : 0;
       read_record(f, r, columns, w);
       record_lines.push_back(r.line);
     }
   }
   if (r.line == 0) throw InputError({name, ""}, "empty file: not a TMY3 weather file");
   if (r.line == 1) throw InputError({name, "line 2"}, "the second line of a TMY3 file names the columns; the file ends before it");
+  if (last_short > 0)
+    throw InputError({name, "line " + std::to_string(record_lines.back())},
+                     "the last record has " + std::to_string(last_short) + " fields, the first " +
+                         std::to_string(record_fields) + ": is the file cut short?");
   weather_detail::RecordFields fields;
   fields.day_field = columns.date + 1;
   fields.day_name = "Date (MM/DD/YYYY)";

@@ -156,6 +156,7 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
   }
   j["faces"] = faces;
   Json warnings = Json::array();
+  for (const Warning& w : weather.warnings) warnings.push_back(w.to_string());
   for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
   j["warnings"] = warnings;
   Json skipped = Json::array();  // --skip-invalid: the faces left out
