@@ -32,6 +32,18 @@ def test_read_epw(tmp_path):
         bad = tmp_path / "bad.epw"
         bad.write_text("nothing\n")
         libshadow.read_epw(str(bad))
+    assert w.warnings == []
+    # Global horizontal missing (9999): no diffuse-above-global warning can be decided; a
+    # global of 0 under a diffuse of 100 is one.
+    odd = tmp_path / "odd.epw"
+    odd.write_text(open(_epw(tmp_path / "day2.epw")).read().replace(",9999,600,100,", ",0,600,100,"))
+    warnings = libshadow.read_epw(str(odd)).warnings
+    assert len(warnings) == 1 and "diffuse horizontal 100 Wh/m2 exceeds global horizontal 0" in warnings[0], warnings
+    # Records that stop before DATA PERIODS' end: a day or less missing is a warning (more, an error).
+    cut = tmp_path / "cut.epw"
+    cut.write_text("\n".join(open(_epw(tmp_path / "day3.epw")).read().split("\n")[:20]) + "\n")
+    cut_read = libshadow.read_epw(str(cut))
+    assert len(cut_read) == 12 and len(cut_read.warnings) == 1 and "12 hours missing" in cut_read.warnings[0]
 
 
 def test_irradiance_open_roof(tmp_path):
