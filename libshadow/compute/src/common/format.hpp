@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 
 namespace shadow::detail {
@@ -26,9 +27,7 @@ inline std::string format_number(double x) {
     char plain[32];
     for (int more = digits; more <= 17; ++more) {
       std::snprintf(plain, sizeof plain, "%.*g", more, x);
-      bool exponent = false;
-      for (const char* c = plain; *c != '\0'; ++c) exponent |= *c == 'e';
-      if (!exponent && std::strtod(plain, nullptr) == x) return plain;
+      if (std::strchr(plain, 'e') == nullptr && std::strtod(plain, nullptr) == x) return plain;
     }
   }
   return buffer;

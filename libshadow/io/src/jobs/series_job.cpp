@@ -8,6 +8,7 @@
 #include <shadow/energyplus.hpp>
 #include <shadow/error.hpp>
 #include <shadow/series_job.hpp>
+#include <shadow/sun.hpp>
 #include <shadow/version.hpp>
 
 #include <signal.h>
@@ -216,7 +217,7 @@ SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, cons
     throw InputError({"", "--write-idf"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
   // --from/--to in a year of another length: the copy still runs the model's RunPeriod, against
   // rows made for this one (a leap year's 366 days against 365, or the other way round).
-  const auto leap = [](int y) { return (y % 4 == 0 && y % 100 != 0) || y % 400 == 0; };
+  const auto leap = [](int y) { return is_valid_date(y, 2, 29); };
   if (model_year > 0 && leap(model_year) != leap(schedule.year))
     back.note += std::string(back.note.empty() ? "" : "; ") + "the copy keeps the model's RunPeriod, a year of " +
                  (leap(model_year) ? "366" : "365") + " days (" + std::to_string(model_year) +

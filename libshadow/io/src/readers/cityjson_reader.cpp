@@ -9,6 +9,7 @@
 #include "readers/cityjson_reader.hpp"
 #include "validation/planarity.hpp"
 
+#include "common/format.hpp"
 #include "core/polygon_holes.hpp"
 #include "readers/json_document.hpp"
 #include "readers/obj_reader.hpp"
@@ -19,7 +20,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <set>
@@ -86,11 +86,8 @@ class Reader {
     // A level of detail no object has: the scene's loader makes it an error where no file has it
     // (else an empty scene is "computed", exit 0), naming the levels there are.
     if (skipped_lod_ > 0 && lods_present_.count(lod_value(Json(options_.cityjson_lod))) == 0) {
-      for (double lod : lods_present_) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%g", lod);
-        model_.absent_lod_levels += (model_.absent_lod_levels.empty() ? "" : ", ") + std::string(text);
-      }
+      for (double lod : lods_present_)
+        model_.absent_lod_levels += (model_.absent_lod_levels.empty() ? "" : ", ") + detail::format_number(lod);
     }
     if (skipped_lod_ > 0)
       model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(skipped_lod_) +

@@ -5,13 +5,14 @@
 #include <shadow/epw.hpp>
 
 #include <shadow/error.hpp>
+#include <shadow/sun.hpp>
 
 #include "readers/weather_records.hpp"
 
 #include <cerrno>
-#include <cstring>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -106,12 +107,6 @@ struct DataPeriod {
 
 std::string date_text(int month, int day) { return std::to_string(month) + "/" + std::to_string(day); }
 
-/// Day of a 365-day year (1 January: 0), for counting the hours between two dates of a period.
-int day_of_year(int month, int day) {
-  static constexpr int kBefore[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
-  return kBefore[month - 1] + day - 1;
-}
-
 /// Records that begin where DATA PERIODS starts the data should run to where it ends: they
 /// follow hour by hour (place_records), so the hours between the last record and the period's
 /// last hour are missing. More than a day missing is a file cut short (a download or a copy that
@@ -122,8 +117,10 @@ void check_period(Weather& w, const DataPeriod& period, const std::vector<std::s
   if (period.start.first == 0 || period.end.first == 0) return;
   if (w.month[0] != period.start.first || w.day[0] != period.start.second || w.hour[0] != 1) return;
   const std::size_t last = w.hours() - 1;
-  const int missing = (day_of_year(period.end.first, period.end.second) - day_of_year(w.month[last], w.day[last])) * 24 +
-                      24 - w.hour[last];
+  // Days between the two dates in a year of 365 (the period's dates name none).
+  const auto days = days_from_civil(2001, period.end.first, period.end.second) -
+                    days_from_civil(2001, w.month[last], w.day[last]);
+  const auto missing = days * 24 + 24 - w.hour[last];
   // (Wrapped past 31 December, or beyond the end: not a file that stopped early.)
   if (missing <= 0 || w.month[last] * 100 + w.day[last] < period.start.first * 100 + period.start.second) return;
   const std::string problem =
@@ -183,10 +180,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
     }
   }
   if (r.line == 0) throw InputError({name, ""}, "empty file: not an EPW weather file");
-  if (last_short > 0)
-    throw InputError({name, "line " + std::to_string(record_lines.back())},
-                     "the last record has " + std::to_string(last_short) + " fields, the first " +
-                         std::to_string(record_fields) + ": is the file cut short?");
+  weather_detail::check_last_record_fields(name, record_lines, last_short, record_fields);
   weather_detail::place_records(w, record_lines, 8);
   check_period(w, period, record_lines);
   weather_detail::check_diffuse_within_global(w, record_lines);

@@ -165,10 +165,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   }
   if (r.line == 0) throw InputError({name, ""}, "empty file: not a TMY3 weather file");
   if (r.line == 1) throw InputError({name, "line 2"}, "the second line of a TMY3 file names the columns; the file ends before it");
-  if (last_short > 0)
-    throw InputError({name, "line " + std::to_string(record_lines.back())},
-                     "the last record has " + std::to_string(last_short) + " fields, the first " +
-                         std::to_string(record_fields) + ": is the file cut short?");
+  weather_detail::check_last_record_fields(name, record_lines, last_short, record_fields);
   weather_detail::RecordFields fields;
   fields.day_field = columns.date + 1;
   fields.day_name = "Date (MM/DD/YYYY)";

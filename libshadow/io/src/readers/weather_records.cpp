@@ -3,13 +3,14 @@
 // naming the file, line and field, and the records placed in time.
 #include "readers/weather_records.hpp"
 
+#include "common/format.hpp"
+
 #include <shadow/error.hpp>
 #include <shadow/sun.hpp>
 
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <string>
@@ -108,6 +109,14 @@ void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_
   }
 }
 
+void check_last_record_fields(const std::string& file, const std::vector<std::size_t>& lines, std::size_t last_short,
+                              std::size_t first_fields) {
+  if (last_short == 0) return;
+  throw InputError({file, "line " + std::to_string(lines.back())},
+                   "the last record has " + std::to_string(last_short) + " fields, the first " +
+                       std::to_string(first_fields) + ": is the file cut short?");
+}
+
 void check_diffuse_within_global(Weather& w, const std::vector<std::size_t>& lines) {
   std::size_t count = 0, first = 0;
   for (std::size_t i = 0; i < w.hours(); ++i) {
@@ -118,13 +127,11 @@ void check_diffuse_within_global(Weather& w, const std::vector<std::size_t>& lin
     }
   }
   if (count == 0) return;
-  char text[256];
-  std::snprintf(text, sizeof text,
-                "diffuse horizontal %g Wh/m2 exceeds global horizontal %g (diffuse is part of global); %zu hour%s "
-                "like it%s, read as written",
-                w.diffuse_horizontal[first], w.global_horizontal[first], count, count == 1 ? "" : "s",
-                count == 1 ? "" : " (this is the first)");
-  w.warnings.push_back({{w.source, "line " + std::to_string(lines[first])}, text});
+  w.warnings.push_back({{w.source, "line " + std::to_string(lines[first])},
+                        "diffuse horizontal " + detail::format_number(w.diffuse_horizontal[first]) +
+                            " Wh/m2 exceeds global horizontal " + detail::format_number(w.global_horizontal[first]) +
+                            " (diffuse is part of global); " + std::to_string(count) + (count == 1 ? " hour" : " hours") +
+                            " like it" + (count == 1 ? "" : " (this is the first)") + ", read as written"});
 }
 
 }  // namespace shadow::weather_detail

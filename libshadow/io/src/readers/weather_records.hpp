@@ -50,6 +50,12 @@ struct RecordFields {
 void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_t header_lines,
                    const RecordFields& fields = {});
 
+/// Throws when the last record (at lines.back()) had `last_short` fields, fewer than the first's
+/// `first_fields` (0: it had as many): a line cut in the middle by a file that stopped, whose cut
+/// field would read as a smaller number.
+void check_last_record_fields(const std::string& file, const std::vector<std::size_t>& lines, std::size_t last_short,
+                              std::size_t first_fields);
+
 /// Adds one warning to `w` when some hours' diffuse horizontal exceeds their global horizontal
 /// by more than 50 Wh/m2 and 10% (diffuse is part of global: such values are misplaced columns
 /// or bad data, read as written), naming the first such record's line and how many there are.
