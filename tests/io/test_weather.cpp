@@ -151,6 +151,18 @@ TEST(Weather, ErrorsNameFileLineAndField) {
                                   "one has 4 records per hour)");
   EXPECT_EQ(error_of(kHeader), "test.epw: line 8: no hourly records after the 8 header lines");
   EXPECT_THROW(shadow::read_epw("/nonexistent/weather.epw"), shadow::InputError);
+  // A directory or a device is refused at once (/dev/zero was read without end, growing).
+  for (const char* path : {"/tmp", "/dev/zero"}) {
+    for (auto read : {&shadow::read_epw, &shadow::read_tmy3}) {
+      try {
+        read(path);
+        ADD_FAILURE() << "no error for " << path;
+      } catch (const shadow::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(std::string(path) + ": cannot open the weather file: "), std::string::npos)
+            << e.what();
+      }
+    }
+  }
 }
 
 // A file cut short, at a line's end or within its last line, is an error naming where it stops:

@@ -9,12 +9,10 @@
 
 #include "readers/weather_records.hpp"
 
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -188,8 +186,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
 }
 
 Weather read_epw(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, ""}, std::string("cannot open the weather file: ") + std::strerror(errno));
+  std::istringstream in(weather_detail::read_weather_file(path));
   return parse_epw(in, path);
 }
 

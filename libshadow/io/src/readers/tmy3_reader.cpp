@@ -11,11 +11,9 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -177,8 +175,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
 }
 
 Weather read_tmy3(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError({path, ""}, std::string("cannot open the weather file: ") + std::strerror(errno));
+  std::istringstream in(weather_detail::read_weather_file(path));
   return parse_tmy3(in, path);
 }
 

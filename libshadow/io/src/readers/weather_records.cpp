@@ -6,6 +6,7 @@
 #include "common/format.hpp"
 
 #include <shadow/error.hpp>
+#include <shadow/input_file.hpp>
 #include <shadow/sun.hpp>
 
 #include <cerrno>
@@ -17,6 +18,17 @@
 #include <vector>
 
 namespace shadow::weather_detail {
+
+std::string read_weather_file(const std::string& path) {
+  try {
+    return read_input_file(path, path, std::uintmax_t{1} << 30, "the weather file limit");
+  } catch (const InputError& e) {
+    const std::string prefix = "cannot open";
+    std::string problem = e.problem();
+    if (problem.rfind(prefix, 0) == 0) problem.insert(prefix.size(), " the weather file");
+    throw InputError(e.where(), problem);
+  }
+}
 
 std::vector<std::string> split_fields(const std::string& line, bool quotes) {
   std::vector<std::string> fields(1);

@@ -11,6 +11,12 @@
 
 namespace shadow::weather_detail {
 
+/// The whole of weather file `path`, read as the scene's files are (shadow/input_file.hpp):
+/// a regular file only, at most 1 GiB (an hourly year is some 2 MB), so that a directory, a FIFO
+/// or /dev/zero is one error instead of a wait without end. Errors read "cannot open the weather
+/// file: ...".
+std::string read_weather_file(const std::string& path);
+
 /// The fields of one CSV line. With `quotes`, a field in double quotes may hold commas (and ""
 /// for a quote); EPW records have no quoting and are split at every comma.
 std::vector<std::string> split_fields(const std::string& line, bool quotes = false);
