@@ -311,7 +311,7 @@ TEST(Tmy3, MissingValuesCrlfAndOptionalColumns) {
   EXPECT_EQ(w.direct_normal[1], 8.0);
   // Without the dry bulb and albedo columns: NaN.
   const std::string bare = "1,Site,XX,0,10,20,5\nDate (MM/DD/YYYY),Time (HH:MM),GHI (W/m^2),DNI (W/m^2),DHI (W/m^2)\n"
-                           "01/01/2010,01:00,0,0,0\n01/01/2010,02:00,0,0,0\n";
+                           "03/01/2010,01:00,0,0,0\n03/01/2010,02:00,0,0,0\n";
   const shadow::Weather b = parse_tmy3(bare);
   ASSERT_EQ(b.hours(), 2u);
   EXPECT_TRUE(std::isnan(b.albedo[1]));
@@ -355,6 +355,43 @@ TEST(Tmy3, ALastLineCutShortIsAnError) {
   const std::string cut = std::string(kTmy3Header) + tmy3_record(2001, 6, 1, 1, "0", "0", "0") +
                           last.substr(0, last.find(",F") - 1) + "\n";
   EXPECT_EQ(tmy3_error(cut), "test.csv: line 4: the last record has 16 fields, the first 17: is the file cut short?");
+}
+
+// A TMY3 file is a year of hours (1/1 hour 1 to 12/31 hour 24) and states no other period:
+// records that begin on 1 January and stop more than a day early are a file cut short (it would
+// read as a shorter year without a word); a day or less missing is a warning; records that begin
+// later are part of a year, read as they are.
+TEST(Tmy3, AYearCutShortIsAnError) {
+  auto year_to = [](int month, int day, int hour) {
+    std::string text = kTmy3Header;
+    for (int m = 1, d = 1, h = 1;;) {
+      text += tmy3_record(1990 + m, m, d, h, "0", "0", "0");
+      if (m == month && d == day && h == hour) break;
+      if (++h > 24) {
+        h = 1;
+        static const int kDays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+        if (++d > kDays[m - 1]) d = 1, ++m;
+      }
+    }
+    return text;
+  };
+  const shadow::Weather whole = parse_tmy3(year_to(12, 31, 24));
+  EXPECT_EQ(whole.hours(), 8760u);
+  EXPECT_TRUE(whole.warnings.empty());
+  EXPECT_EQ(tmy3_error(year_to(5, 12, 7)),
+            "test.csv: line 3153: the records stop at 5/12 hour 7, but a TMY3 year runs from 1/1 hour 1 to 12/31 hour "
+            "24: 5609 hours missing: the file is cut short (3151 hourly records; for part of the year, read the whole "
+            "file with --from and --to)");
+  const shadow::Weather day_short = parse_tmy3(year_to(12, 30, 24));
+  EXPECT_EQ(day_short.hours(), 8736u);
+  ASSERT_EQ(day_short.warnings.size(), 1u);
+  EXPECT_EQ(day_short.warnings[0].to_string(),
+            "test.csv: line 8738: the records stop at 12/30 hour 24, but a TMY3 year runs from 1/1 hour 1 to 12/31 hour "
+            "24: 24 hours missing; read as it is");
+  // Part of a year that does not begin on 1 January: read as it is, without a word.
+  std::string june = kTmy3Header;
+  for (int h = 1; h <= 24; ++h) june += tmy3_record(2001, 6, 1, h, "0", "0", "0");
+  EXPECT_TRUE(parse_tmy3(june).warnings.empty());
 }
 
 TEST(Tmy3, ReadWeatherChoosesByName) {

@@ -6,6 +6,7 @@
 #include <shadow/epw.hpp>
 
 #include <shadow/error.hpp>
+#include <shadow/sun.hpp>
 
 #include "readers/weather_records.hpp"
 
@@ -125,6 +126,33 @@ void read_record(const std::vector<std::string>& f, const LineReader& r, const C
   w.albedo.push_back(albedo);
 }
 
+/// A TMY3 file is a typical year: NREL's 8,760 records run from 1 January hour 1 to 31 December
+/// hour 24, and it has no header that could state a shorter period. Records that begin at that
+/// first hour and stop more than a day before the last are a file cut short (a download or a
+/// copy that stopped), which would otherwise read as a shorter year without a word: an error.
+/// A day or less is a warning, as for EPW. Records that begin later are read as they are (part
+/// of a year, made so on purpose).
+void check_year_end(Weather& w, const std::vector<std::size_t>& lines) {
+  if (w.hours() == 0 || w.month[0] != 1 || w.day[0] != 1 || w.hour[0] != 1) return;
+  const std::size_t last = w.hours() - 1;
+  // Days to 31 December in a year of 365, as a typical year has (dates alone: the records'
+  // years are those of their months' sources).
+  const auto days = days_from_civil(2001, 12, 31) - days_from_civil(2001, w.month[last], w.day[last]);
+  const auto missing = days * 24 + 24 - w.hour[last];
+  if (missing <= 0) return;
+  const std::string problem = "the records stop at " + std::to_string(w.month[last]) + "/" + std::to_string(w.day[last]) +
+                              " hour " + std::to_string(w.hour[last]) +
+                              ", but a TMY3 year runs from 1/1 hour 1 to 12/31 hour 24: " + std::to_string(missing) +
+                              " hours missing";
+  if (missing <= 24) {
+    w.warnings.push_back({{w.source, "line " + std::to_string(lines.back())}, problem + "; read as it is"});
+    return;
+  }
+  throw InputError({w.source, "line " + std::to_string(lines.back())},
+                   problem + ": the file is cut short (" + std::to_string(w.hours()) +
+                       " hourly records; for part of the year, read the whole file with --from and --to)");
+}
+
 bool ends_with_csv(const std::string& path) {
   if (path.size() < 4) return false;
   std::string tail = path.substr(path.size() - 4);
@@ -170,6 +198,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   fields.hour_field = columns.time + 1;
   fields.hour_name = "Time (HH:MM)";
   weather_detail::place_records(w, record_lines, 2, fields);
+  check_year_end(w, record_lines);
   weather_detail::check_diffuse_within_global(w, record_lines);
   return w;
 }
