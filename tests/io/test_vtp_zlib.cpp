@@ -66,6 +66,7 @@ std::string vtk_bytes(vtkPolyData* poly, const fs::path& path) {
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();
   writer->SetCompressorTypeToZLib();
+  writer->SetCompressionLevel(shadow::detail::kVtpZlibLevel);
   writer->SetHeaderTypeToUInt64();
   writer->SetIdTypeToInt64();
   EXPECT_EQ(writer->Write(), 1);

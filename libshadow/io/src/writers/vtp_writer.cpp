@@ -35,6 +35,7 @@ void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();  // raw binary: base64 would add a third to the size
   writer->SetCompressorTypeToZLib();
+  writer->SetCompressionLevel(kVtpZlibLevel);
   writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
   writer->SetIdTypeToInt64();
   // The same compressor (class name and level), its blocks compressed on every thread as the
