@@ -21,6 +21,7 @@
 #include <rapidcheck/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <array>
 #include <set>
 #include <stdexcept>
@@ -733,6 +734,64 @@ TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
       }
     }
   EXPECT_GT(reported, 8 * city.faces.size());  // the queries meet many faces, not a handful
+}
+
+// A query with a depth (how far towards the light the caller's points reach at the least) leaves
+// out exactly the items that reach less far, each of its faces wholly behind every such point,
+// and keeps every face of every other item: the cells' entries are sorted by reach and the scan
+// of a cell stops at the first that falls short. Against the query without a depth.
+TEST(LightSpaceGrid, ADepthLeavesOutOnlyItemsWhollyBehindIt) {
+  const shadow::Scene city = shadow::make_city(300, 400, 5);
+  std::vector<shadow::core::FacePrep> prep(city.faces.size());
+  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
+  std::vector<int> solid_of;
+  shadow::exact::find_convex_solids(city, prep, solid_of, 1);
+  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 1);
+  const auto keep_all = [](const shadow::core::LocalBounds&) { return true; };
+  std::size_t left_out = 0, kept = 0;
+  for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087), glm::dvec3(-0.2, 0.1, 1.0)}) {
+    const glm::dvec3 d = glm::normalize(to_light);
+    const shadow::core::LightSpaceGrid grid(cull, prep, to_light, &solid_of, 2);
+    auto deepest = [&](std::size_t g) {  // of face g's vertices
+      const shadow::core::CullFace& cf = cull.faces[g];
+      double w = -1e300;
+      for (std::size_t a = cf.first; a < cf.first + cf.count; ++a) w = std::max(w, glm::dot(d, cull.vertices[a]));
+      return w;
+    };
+    for (std::size_t f = 0; f < city.faces.size(); f += 5) {
+      if (prep[f].degenerate) continue;
+      std::vector<std::size_t> all, near;
+      grid.query(f, [&](std::size_t g) { all.push_back(g); }, keep_all);
+      // The depth of the receiver's own vertex nearest the light: items beyond it and behind it.
+      const shadow::core::CullFace& cf = cull.faces[f];
+      double min_depth = 1e300;
+      for (std::size_t a = cf.first; a < cf.first + cf.count; ++a) min_depth = std::min(min_depth, grid.depth(cull.vertices[a]));
+      grid.query(f, [&](std::size_t g) { near.push_back(g); }, keep_all, shadow::core::LightSpaceGrid::kNoItem, min_depth);
+      std::sort(all.begin(), all.end());
+      std::sort(near.begin(), near.end());
+      ASSERT_TRUE(std::includes(all.begin(), all.end(), near.begin(), near.end())) << "face " << f;
+      // Per item of the full list: left out whole when its deepest face falls short (by more
+      // than the margin), kept whole otherwise.
+      std::map<std::uint32_t, double> item_depth;
+      for (std::size_t g : all) {
+        const std::uint32_t item = grid.item_of(g);
+        item_depth[item] = item_depth.count(item) ? std::max(item_depth[item], deepest(g)) : deepest(g);
+      }
+      for (std::size_t g : all) {
+        const bool in_near = std::binary_search(near.begin(), near.end(), g);
+        const double reach = item_depth[grid.item_of(g)];
+        if (!in_near) {
+          EXPECT_LT(reach, min_depth) << "face " << g << " left out of face " << f << "'s query";
+          ++left_out;
+        } else {
+          EXPECT_GT(reach, min_depth - 1e-6) << "face " << g << " kept in face " << f << "'s query";
+          ++kept;
+        }
+      }
+    }
+  }
+  EXPECT_GT(left_out, 1000u);  // the depth leaves out many items, not a handful
+  EXPECT_GT(kept, 1000u);
 }
 
 // With one_face_per_solid (a caller that casts every convex solid as one hull at its first face
