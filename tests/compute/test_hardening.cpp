@@ -331,6 +331,33 @@ TEST(FragmentPolygons, ASliverFaceWhollyLitOrInShadowIsWrittenOnlyAsValidPolygon
   }
 }
 
+TEST(CullingThinReceivers, AReceiverWithoutANormalInDoublesKeepsItsCasters) {
+  // A sliver whose exact area (4.6e-15 m^2) rounds to zero in doubles has no culling normal: the
+  // light-space grid's depth cut once lifted its chart corners with that normal, got NaN, and
+  // left out every caster, so the sliver under a roof read as lit whole. The cut now takes the
+  // receiver's own vertices, which need no normal.
+  Scene scene;
+  add_mesh(scene, "sliver", {{{0, 0, 0}, {1.7638479564302947, 8.519489903165045, 0}, {3.940988363159399, 19.03520677393165, 0}}});
+  add_mesh(scene, "roof", {rectangle_z(-5, -5, 10, 25, 5)});
+  scene.lights.push_back(directional_light("sun", {0, 0, 1}));
+  scene.lights.push_back(directional_light("low sun", {0.3, 0.2, 1}));
+  validate_scene(scene);
+  ASSERT_FALSE(scene.faces[0].degenerate);
+  for (Arithmetic arithmetic : {Arithmetic::Exact, Arithmetic::Fast}) {
+    SCOPED_TRACE(arithmetic == Arithmetic::Exact ? "exact" : "fast");
+    ShadowOptions options;
+    options.arithmetic = arithmetic;
+    options.polygons = false;
+    const ShadowResult r = compute_shadows(scene, options);
+    for (std::size_t light = 0; light < 2; ++light) {
+      const FaceLighting* sliver = r.find(0, light);
+      ASSERT_NE(sliver, nullptr);
+      EXPECT_TRUE(sliver->faces_light) << "light " << light;
+      EXPECT_EQ(sliver->lit_fraction, 0.0) << "light " << light;
+    }
+  }
+}
+
 TEST(LargeFaces, CombOverAGroundCastsItsExactAreaAndTheGroundsCellsTileIt) {
   // The ground's lit region is a box with one comb-shaped hole of 8,000 vertices: its cells
   // come from a triangulation of that region (it used to take minutes).

@@ -381,13 +381,28 @@ TEST(Tmy3, AYearCutShortIsAnError) {
   EXPECT_EQ(tmy3_error(year_to(5, 12, 7)),
             "test.csv: line 3153: the records stop at 5/12 hour 7, but a TMY3 year runs from 1/1 hour 1 to 12/31 hour "
             "24: 5609 hours missing: the file is cut short (3151 hourly records; for part of the year, read the whole "
-            "file with --from and --to)");
+            "file and choose the days: `shadow irradiance --from/--to`)");
   const shadow::Weather day_short = parse_tmy3(year_to(12, 30, 24));
   EXPECT_EQ(day_short.hours(), 8736u);
   ASSERT_EQ(day_short.warnings.size(), 1u);
   EXPECT_EQ(day_short.warnings[0].to_string(),
             "test.csv: line 8738: the records stop at 12/30 hour 24, but a TMY3 year runs from 1/1 hour 1 to 12/31 hour "
             "24: 24 hours missing; read as it is");
+  // A year and a few hours of the next (records that wrap past 12/31 hour 24): whole.
+  std::string longer = year_to(12, 31, 24);
+  for (int h = 1; h <= 5; ++h) longer += tmy3_record(2002, 1, 1, h, "0", "0", "0");
+  EXPECT_TRUE(parse_tmy3(longer).warnings.empty());
+  // Records that hold 29 February count the days to 31 December in a leap year.
+  std::string leap = kTmy3Header;
+  for (int m = 1, d = 1; m <= 2; ++d) {
+    if (d > (m == 1 ? 31 : 29)) d = 1, ++m;
+    if (m > 2) break;
+    for (int h = 1; h <= 24; ++h) leap += tmy3_record(2004, m, d, h, "0", "0", "0");
+  }
+  EXPECT_NE(tmy3_error(leap).find("the records stop at 2/29 hour 24, but a TMY3 year runs from 1/1 hour 1 to 12/31 hour "
+                                  "24: 7344 hours missing"),
+            std::string::npos)
+      << tmy3_error(leap);
   // Part of a year that does not begin on 1 January: read as it is, without a word.
   std::string june = kTmy3Header;
   for (int h = 1; h <= 24; ++h) june += tmy3_record(2001, 6, 1, h, "0", "0", "0");

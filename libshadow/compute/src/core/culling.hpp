@@ -211,35 +211,41 @@ class CasterCandidates {
     // An item of the grid (a convex solid, or a face alone) that the culler rules out whole.
     auto keep_item = [&](const LocalBounds& b) { return culler.may_cast_any(b); };
     if (grid) {
-      // The corners of the chart box (the tile's, or the receiver's) on the receiver's plane,
-      // local frame: the light-space box of a tile's, and the depth of both. The culling plane
-      // is within the normal's error (over the scene's diameter) and the slack of the exact one.
       const CullScene& scene = tile && tile_scene ? *tile_scene : culler.scene();
-      const FacePrep& box = tile && tile_scene ? *tile : prep[receiver];
       const CullFace& cf = scene.faces[receiver];
-      const int k = box.axis, i = chart_i(k), j = chart_j(k);
-      corners_.clear();
-      for (int c = 0; c < 4; ++c) {
-        glm::dvec3 p;
-        p[i] = (c == 1 || c == 2 ? box.chart_max[0] : box.chart_min[0]) - scene.origin[i];
-        p[j] = (c >= 2 ? box.chart_max[1] : box.chart_min[1]) - scene.origin[j];
-        p[k] = -(cf.offset + cf.normal[i] * p[i] + cf.normal[j] * p[j]) / cf.normal[k];
-        corners_.push_back(p);
-      }
-      const double slack = (cf.normal_error + 1e-9) * scene.diameter * 4 + 4 * cf.slack;
-      // A caster shadows the chart box only through points on its rays to the light, each at
-      // least as deep as the nearest corner (depth grows along a ray towards the light): an
-      // item reaching less deep, by more than the plane's slack, casts nothing on it.
-      double min_depth = std::numeric_limits<double>::lowest();
-      if (std::isfinite(slack)) {
+      // How near the light a point whose shadow counts lies at the least (the query's min_depth):
+      // a caster shades a point only through points on its ray to the light, each nearer the
+      // light than it, so an item that reaches less near casts nothing that counts.
+      if (tile && tile_scene) {
+        // A tile: the light-space box of its corners on the receiver's plane (local frame).
+        const int k = tile->axis, i = chart_i(k), j = chart_j(k);
+        corners_.clear();
+        for (int c = 0; c < 4; ++c) {
+          glm::dvec3 p;
+          p[i] = (c == 1 || c == 2 ? tile->chart_max[0] : tile->chart_min[0]) - tile_scene->origin[i];
+          p[j] = (c >= 2 ? tile->chart_max[1] : tile->chart_min[1]) - tile_scene->origin[j];
+          p[k] = -(cf.offset + cf.normal[i] * p[i] + cf.normal[j] * p[j]) / cf.normal[k];
+          corners_.push_back(p);
+        }
+        // The culling plane is within the normal's error (over the scene's diameter) and the
+        // slack of the exact one.
+        const double slack = (cf.normal_error + 1e-9) * tile_scene->diameter * 4 + 4 * cf.slack;
+        // The tile's corners bound its points' depth (more tightly than the receiver's vertices,
+        // and in four steps however many vertices it has) where the plane's height over the chart
+        // is well conditioned: a corner's error is about (sqrt(3) e_n D + slack) / (|n_k| - e_n),
+        // within `slack` from |n_k| - e_n >= 0.45. Elsewhere the receiver's vertices do.
         double nearest = std::numeric_limits<double>::max();
-        for (const glm::dvec3& p : corners_) nearest = std::min(nearest, grid->depth(p));
-        if (std::isfinite(nearest)) min_depth = nearest - slack;
-      }
-      if (tile && tile_scene)
+        bool corners_bound = std::abs(cf.normal[k]) - cf.normal_error >= 0.45 && std::isfinite(slack);
+        for (const glm::dvec3& p : corners_) {
+          const double depth = grid->depth(p);
+          corners_bound = corners_bound && std::isfinite(depth);
+          nearest = std::min(nearest, depth);
+        }
+        const double min_depth = corners_bound ? nearest - slack : depth_floor(*grid, scene, cf);
         grid->query_part(receiver, corners_, std::isfinite(slack) ? slack : 0.0, consider, keep_item, own_item, min_depth);
-      else
-        grid->query(receiver, consider, keep_item, own_item, min_depth);
+      } else {
+        grid->query(receiver, consider, keep_item, own_item, depth_floor(*grid, scene, cf));
+      }
     } else {
       for (std::size_t q = 0; q < prep.size(); ++q)
         if (!prep[q].degenerate) consider(q);
@@ -254,6 +260,24 @@ class CasterCandidates {
   void mark_solid_done(int s) { solid_seen_[static_cast<std::size_t>(s)] = stamp_; }
 
  private:
+  /// The least depth (LightSpaceGrid::depth) of the receiver's points as the exact engine sees
+  /// them, less room for rounding, from its own vertices: depth is linear, so its least over the
+  /// face is at a vertex; the exact engine moves a vertex by at most the face's slack; 1e-9 D
+  /// covers the dot products' rounding. It needs no normal (a face whose area rounds to zero in
+  /// doubles has none). The lowest double, so no cut, where a depth is not finite.
+  static double depth_floor(const LightSpaceGrid& grid, const CullScene& scene, const CullFace& cf) {
+    constexpr double kNoCut = std::numeric_limits<double>::lowest();
+    if (cf.count == 0) return kNoCut;
+    double nearest = std::numeric_limits<double>::max();
+    for (std::size_t a = cf.first; a < cf.first + cf.count; ++a) {
+      const double depth = grid.depth(scene.vertices[a]);
+      if (!std::isfinite(depth)) return kNoCut;
+      nearest = std::min(nearest, depth);
+    }
+    const double floor = nearest - cf.slack - 1e-9 * scene.diameter;
+    return std::isfinite(floor) ? floor : kNoCut;
+  }
+
   std::vector<std::uint32_t> solid_seen_;
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> faces_;

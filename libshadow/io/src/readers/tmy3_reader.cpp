@@ -133,11 +133,15 @@ void read_record(const std::vector<std::string>& f, const LineReader& r, const C
 /// A day or less is a warning, as for EPW. Records that begin later are read as they are (part
 /// of a year, made so on purpose).
 void check_year_end(Weather& w, const std::vector<std::size_t>& lines) {
-  if (w.hours() == 0 || w.month[0] != 1 || w.day[0] != 1 || w.hour[0] != 1) return;
+  // (A year of records or more: whole, even where it runs on into the next year.)
+  if (w.hours() == 0 || w.hours() >= 8760 || w.month[0] != 1 || w.day[0] != 1 || w.hour[0] != 1) return;
   const std::size_t last = w.hours() - 1;
-  // Days to 31 December in a year of 365, as a typical year has (dates alone: the records'
-  // years are those of their months' sources).
-  const auto days = days_from_civil(2001, 12, 31) - days_from_civil(2001, w.month[last], w.day[last]);
+  // Days to 31 December in a year of 365, as a typical year has, or of 366 where the records
+  // hold 29 February (dates alone: the records' years are those of their months' sources).
+  bool leap = false;
+  for (std::size_t r = 0; r <= last && !leap; ++r) leap = w.month[r] == 2 && w.day[r] == 29;
+  const int calendar = leap ? 2024 : 2001;
+  const auto days = days_from_civil(calendar, 12, 31) - days_from_civil(calendar, w.month[last], w.day[last]);
   const auto missing = days * 24 + 24 - w.hour[last];
   if (missing <= 0) return;
   const std::string problem = "the records stop at " + std::to_string(w.month[last]) + "/" + std::to_string(w.day[last]) +
@@ -150,7 +154,8 @@ void check_year_end(Weather& w, const std::vector<std::size_t>& lines) {
   }
   throw InputError({w.source, "line " + std::to_string(lines.back())},
                    problem + ": the file is cut short (" + std::to_string(w.hours()) +
-                       " hourly records; for part of the year, read the whole file with --from and --to)");
+                       " hourly records; for part of the year, read the whole file and choose the days: "
+                       "`shadow irradiance --from/--to`)");
 }
 
 bool ends_with_csv(const std::string& path) {
