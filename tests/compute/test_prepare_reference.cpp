@@ -741,12 +741,8 @@ TEST(LightSpaceGrid, QueriesReportEveryOverlappingFaceOnce) {
 // and keeps every face of every other item: the cells' entries are sorted by reach and the scan
 // of a cell stops at the first that falls short. Against the query without a depth.
 TEST(LightSpaceGrid, ADepthLeavesOutOnlyItemsWhollyBehindIt) {
-  const shadow::Scene city = shadow::make_city(300, 400, 5);
-  std::vector<shadow::core::FacePrep> prep(city.faces.size());
-  for (std::size_t f = 0; f < prep.size(); ++f) prep[f] = shadow::exact::prepare_face(city.faces[f].vertices);
-  std::vector<int> solid_of;
-  shadow::exact::find_convex_solids(city, prep, solid_of, 1);
-  const shadow::core::CullScene cull = shadow::core::make_cull_scene(city, prep, 1);
+  const CullingCity c(300, 400, 5, 1);
+  const auto& [city, prep, solid_of, cull] = std::tie(c.city, c.prep, c.solid_of, c.cull);
   const auto keep_all = [](const shadow::core::LocalBounds&) { return true; };
   std::size_t left_out = 0, kept = 0;
   for (const glm::dvec3 to_light : {glm::dvec3(0.5, -0.5, 0.64), glm::dvec3(0.7, -0.7, 0.087), glm::dvec3(-0.2, 0.1, 1.0)}) {
