@@ -332,7 +332,7 @@ TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
     std::vector<double> angles(static_cast<std::size_t>(n));
     for (double& a : angles) a = unit(random) * 6.283;
     std::sort(angles.begin(), angles.end());
-    std::vector<glm::dvec2> poly;
+    shadow::fast::ChartPoints poly;
     for (double a : angles) {
       glm::dvec2 p{centre.x + rx * std::cos(a + turn), centre.y + ry * std::sin(a)};
       const double snap = unit(random);
@@ -342,7 +342,7 @@ TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
       else if (snap < 0.32) p.y = hi[1];
       poly.push_back(p);
     }
-    std::vector<glm::dvec2> want = poly, got = poly, scratch;
+    shadow::fast::ChartPoints want = poly, got = poly, scratch;
     for (int c = 0; c < 2 && want.size() >= 3; ++c) {
       shadow::fast::clip_axis(want, c, lo[c], true, scratch);
       if (c == 0 && want.size() < 3) ++emptied;  // the loop ends before the second axis
@@ -360,7 +360,7 @@ TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
   // before the clip in x, not after: the second axis has to be tested on the clipped polygon.
   {
     const std::array<double, 2> lo{0.0, -2.0}, hi{2.0, 1.2e-16};
-    std::vector<glm::dvec2> want{{-1.0, -1.0}, {0.0, 1.2e-16}, {1.0, -1.5}}, got = want, scratch;
+    shadow::fast::ChartPoints want{{-1.0, -1.0}, {0.0, 1.2e-16}, {1.0, -1.5}}, got = want, scratch;
     for (int c = 0; c < 2; ++c) {
       shadow::fast::clip_axis(want, c, lo[c], true, scratch);
       shadow::fast::clip_axis(want, c, hi[c], false, scratch);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "geometry/clip_convex.hpp"
+#include "geometry/default_init_allocator.hpp"
 
 #include <glm/vec2.hpp>
 
@@ -13,10 +14,14 @@
 
 namespace shadow::fast {
 
+/// Chart points in doubles: the casts' polygons and the scratch of their clips and hulls, which
+/// grow without a zero fill (geometry/default_init_allocator.hpp).
+using ChartPoints = std::vector<glm::dvec2, geometry::DefaultInitAllocator<glm::dvec2>>;
+
 /// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper)
 /// (geometry/clip_convex.hpp). Crossing points get the bound exactly in coordinate c. In doubles a
 /// vertex is inside or outside (side +1 or -1), never on the boundary: as before the one walk.
-inline void clip_axis(std::vector<glm::dvec2>& poly, int c, double bound, bool lower, std::vector<glm::dvec2>& scratch) {
+inline void clip_axis(ChartPoints& poly, int c, double bound, bool lower, ChartPoints& scratch) {
   auto side = [&](std::size_t a) {
     const glm::dvec2& p = poly[a];
     return (lower ? p[c] >= bound : p[c] <= bound) ? 1 : -1;
@@ -38,8 +43,8 @@ inline void clip_axis(std::vector<glm::dvec2>& poly, int c, double bound, bool l
 /// keep the polygon as it is. The lower clip of an axis leaves its upper test as it was (its new
 /// vertices lie on the lower bound); the new vertices' other coordinate is rounded, so the second
 /// axis is tested on the polygon as clipped. A cast is most often inside most of the sides.
-inline void clip_to_box_sides(std::vector<glm::dvec2>& poly, const std::array<double, 2>& lo,
-                              const std::array<double, 2>& hi, std::vector<glm::dvec2>& scratch) {
+inline void clip_to_box_sides(ChartPoints& poly, const std::array<double, 2>& lo,
+                              const std::array<double, 2>& hi, ChartPoints& scratch) {
   for (int c = 0; c < 2 && poly.size() >= 3; ++c) {
     bool above_lo = true, below_hi = true;
     for (const glm::dvec2& p : poly) {

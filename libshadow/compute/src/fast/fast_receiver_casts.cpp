@@ -15,7 +15,7 @@ namespace shadow::fast::receiver_job {
 namespace {
 
 /// Convex hull (counter-clockwise, Andrew's monotone chain) in doubles of pts[0, n) (reordered).
-void convex_hull(std::vector<glm::dvec2>& pts, std::size_t n, std::vector<glm::dvec2>& hull) {
+void convex_hull(ChartPoints& pts, std::size_t n, ChartPoints& hull) {
   const auto end = pts.begin() + static_cast<std::ptrdiff_t>(n);
   std::sort(pts.begin(), end, [](const glm::dvec2& a, const glm::dvec2& b) {
     return a.x < b.x || (a.x == b.x && a.y < b.y);

@@ -44,7 +44,7 @@ inline EK::Point_3 epick(const glm::dvec3& v) { return EK::Point_3(v.x, v.y, v.z
 /// Twice the signed area of a grid polygon, exactly (fast/cluster_union.hpp).
 inline Int128 area2(const CL::Path& path) { return twice_area(path); }
 
-inline double perimeter(const std::vector<glm::dvec2>& poly) {
+inline double perimeter(const ChartPoints& poly) {
   double length = 0;
   for (std::size_t a = 0; a < poly.size(); ++a) length += glm::length(poly[geometry::cyclic_next(a, poly.size())] - poly[a]);
   return length;
@@ -131,7 +131,7 @@ struct Receiver {
 
 /// One projected caster polygon in the chart with its estimated double error.
 struct Cast {
-  std::vector<glm::dvec2> poly;
+  ChartPoints poly;
   double delta = 0;         ///< bound on each vertex's distance to the exact point
   double free_length = 0;   ///< perimeter before the box clip (directional), for the bound
 };
@@ -139,7 +139,7 @@ struct Cast {
 
 /// FastReceiver's vectors (part of ReceiverScratch: kept by the worker).
 struct FastReceiverScratch {
-  std::vector<glm::dvec2> box_clip;
+  ChartPoints box_clip;
   std::vector<Hom> hom, hom_clip;
 };
 
@@ -277,7 +277,7 @@ class FastReceiver {
  private:
   const Receiver& rc_;
   double base_delta_ = 0, max_delta_ = 0, position_error_ = 0, s_extra_ = 0;
-  std::vector<glm::dvec2>& scratch_;
+  ChartPoints& scratch_;
   std::vector<Hom>&hom_, &scratch_hom_;
 };
 
@@ -320,9 +320,10 @@ struct Grid {
 struct ReceiverScratch {
   CL::Paths casts, maybe, windowed, cells;
   std::vector<CL::Path> spare;  ///< emptied paths with their capacity, for the next casts
-  std::vector<CGAL::Sign> vsign, psign;
+  std::vector<CGAL::Sign, geometry::DefaultInitAllocator<CGAL::Sign>> vsign;  // resized to each caster, unfilled
+  std::vector<CGAL::Sign> psign;
   std::vector<char> unsure;
-  std::vector<glm::dvec2> points, hull, outline;
+  ChartPoints points, hull, outline;
   Cast cast;
   CL::Path receiver, window;
   CL::PolyTree shadow_tree, lit_tree;
@@ -445,7 +446,7 @@ class ReceiverJob {
   /// Whether every point of points[0, n) lies beyond one side of the receiver's chart box by
   /// more than `margin`. False where a point is not finite: the cast then goes on as before this
   /// test, and add_cast's finiteness check sends the receiver to the exact engine.
-  [[nodiscard]] bool beyond_chart_box(const std::vector<glm::dvec2>& points, std::size_t n, double margin) const {
+  [[nodiscard]] bool beyond_chart_box(const ChartPoints& points, std::size_t n, double margin) const {
     if (n == 0) return false;
     glm::dvec2 lo = points[0], hi = points[0];
     for (std::size_t a = 0; a < n; ++a) {
@@ -534,14 +535,15 @@ class ReceiverJob {
   bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine
   double scale_ = 0, cell_ = 0;
   // Scratch.
-  std::vector<CGAL::Sign>&vsign_, &psign_;
+  std::vector<CGAL::Sign, geometry::DefaultInitAllocator<CGAL::Sign>>& vsign_;
+  std::vector<CGAL::Sign>& psign_;
   std::vector<char>& unsure_;
-  std::vector<glm::dvec2>&points_, &hull_;
+  ChartPoints&points_, &hull_;
   Cast& cast_;
   CL::Path& receiver_;
   bool receiver_ready_ = false;                    // receiver_ and the two below set up
   double receiver_length_ = 0, receiver_rho_ = 0;  // see set_up_receiver
-  std::vector<glm::dvec2>& outline_;
+  ChartPoints& outline_;
   CL::Path& window_;           // receiver_ counter-clockwise, for clip_casts_to_window
   int window_convex_ = -1;     // convex_window(): -1 not known yet
   CL::Paths& windowed_;        // the casts clipped to it

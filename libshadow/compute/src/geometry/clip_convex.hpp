@@ -52,8 +52,10 @@ ClipCase clip_case(std::size_t n, SideOf&& side) {
 /// cyclically): keeps every vertex with side(a) >= 0, and between two consecutive vertices on
 /// strictly opposite sides inserts cross(a, b), the point where the boundary crosses edge ab.
 /// `out` is cleared first and receives the clipped polygon (it may then be swapped in).
-template <class Point, class SideOf, class Cross>
-void clip_convex(const std::vector<Point>& poly, SideOf&& side, Cross&& cross, std::vector<Point>& out) {
+/// `Points`: a std::vector of the point type, with any allocator.
+template <class Points, class SideOf, class Cross>
+void clip_convex(const Points& poly, SideOf&& side, Cross&& cross, Points& out) {
+  using Point = typename Points::value_type;
   const std::size_t n = poly.size();
   // Plain points (the fast path's doubles) are written in place instead of by a push_back call
   // per vertex (an out-of-line call the compiler kept). Each vertex gives at most two (itself
