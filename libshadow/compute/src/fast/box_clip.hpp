@@ -17,7 +17,7 @@ namespace shadow::fast {
 /// Chart points in doubles: the casts' polygons and the scratch of their clips and hulls, which
 /// grow without a zero fill (geometry/default_init_allocator.hpp): an element that resize() or
 /// ChartPoints(n) makes holds no value until it is written (write before reading).
-using ChartPoints = std::vector<glm::dvec2, geometry::DefaultInitAllocator<glm::dvec2>>;
+using ChartPoints = geometry::UnfilledVector<glm::dvec2>;
 
 /// Sutherland-Hodgman clip of a convex polygon to x[c] >= bound (lower) or <= bound (upper)
 /// (geometry/clip_convex.hpp). Crossing points get the bound exactly in coordinate c. In doubles a

@@ -12,6 +12,7 @@
 #include "fast/window_clip.hpp"
 #include "geometry/clip_convex.hpp"
 #include "geometry/cyclic_index.hpp"
+#include "geometry/default_init_allocator.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
@@ -58,7 +59,7 @@ struct Hom {
 /// Clip of a convex homogeneous polygon to f(p) >= 0 for a linear f (geometry/clip_convex.hpp;
 /// side +1 or -1 as in clip_axis).
 template <class F>
-void clip_hom(std::vector<Hom>& poly, F f, std::vector<Hom>& scratch) {
+void clip_hom(geometry::UnfilledVector<Hom>& poly, F f, geometry::UnfilledVector<Hom>& scratch) {
   geometry::clip_convex(poly, [&](std::size_t a) { return f(poly[a]) >= 0 ? 1 : -1; },
                         [&](std::size_t a, std::size_t b) {
                           const Hom& p = poly[a];
@@ -140,7 +141,7 @@ struct Cast {
 /// FastReceiver's vectors (part of ReceiverScratch: kept by the worker).
 struct FastReceiverScratch {
   ChartPoints box_clip;
-  std::vector<Hom> hom, hom_clip;
+  geometry::UnfilledVector<Hom> hom, hom_clip;  // (as ChartPoints: clip_convex sizes, writes, shrinks)
 };
 
 class FastReceiver {
@@ -278,7 +279,7 @@ class FastReceiver {
   const Receiver& rc_;
   double base_delta_ = 0, max_delta_ = 0, position_error_ = 0, s_extra_ = 0;
   ChartPoints& scratch_;
-  std::vector<Hom>&hom_, &scratch_hom_;
+  geometry::UnfilledVector<Hom>&hom_, &scratch_hom_;
 };
 
 /// The integer grid over the receiver's chart box: its corners are grid points.
@@ -320,7 +321,7 @@ struct Grid {
 struct ReceiverScratch {
   CL::Paths casts, maybe, windowed, cells;
   std::vector<CL::Path> spare;  ///< emptied paths with their capacity, for the next casts
-  std::vector<CGAL::Sign, geometry::DefaultInitAllocator<CGAL::Sign>> vsign;  // resized to each caster, unfilled
+  geometry::UnfilledVector<CGAL::Sign> vsign;  ///< resized to each caster's vertices, then written
   std::vector<CGAL::Sign> psign;
   std::vector<char> unsure;
   ChartPoints points, hull, outline;
@@ -535,7 +536,7 @@ class ReceiverJob {
   bool not_finite_ = false;  // overflow in doubles (coordinates near 1e150): exact engine
   double scale_ = 0, cell_ = 0;
   // Scratch.
-  std::vector<CGAL::Sign, geometry::DefaultInitAllocator<CGAL::Sign>>& vsign_;
+  geometry::UnfilledVector<CGAL::Sign>& vsign_;
   std::vector<CGAL::Sign>& psign_;
   std::vector<char>& unsure_;
   ChartPoints&points_, &hull_;

@@ -11,6 +11,7 @@
 #include <new>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace shadow::geometry {
 
@@ -33,5 +34,10 @@ struct DefaultInitAllocator : std::allocator<T> {
                                                         std::forward<Args>(args)...);
   }
 };
+
+/// A vector whose resize() leaves new elements of a plain type unwritten: scratch sized to its
+/// largest output and shrunk to what was written. Write every element before reading it.
+template <class T>
+using UnfilledVector = std::vector<T, DefaultInitAllocator<T>>;
 
 }  // namespace shadow::geometry
