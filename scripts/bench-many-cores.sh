@@ -1,17 +1,38 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Issue 35, goal 5: the many-core measurements of docs/benchmarks.md ("Sixteen cores"), in one
-# run that fits a short lease of a many-core machine. Usage:
+# Issue 35, goal 5: the many-core measurements of docs/benchmarks.md ("Sixteen cores again"), in
+# one run that fits a short lease of a many-core machine. Two uses:
 #
+#   scripts/bench-many-cores.sh pack BUNDLE.tar.xz
+#       here, after a release build: shadow, shadow-bench, /usr/bin/time and every library they
+#       load but glibc's, in bin/ and lib/, for a machine that has none of them (about 26 MB)
 #   scripts/bench-many-cores.sh BIN_DIR OUT_DIR [SECONDS]
+#       there, with LD_LIBRARY_PATH naming the bundle's lib/: the measurements
 #
-# BIN_DIR holds shadow and shadow-bench (built elsewhere, their libraries found through
-# LD_LIBRARY_PATH); OUT_DIR receives one log per step and summary.txt. Steps, most wanted first:
-# the 10,000-box city's tiles at 1-16 threads, the million faces' whole `shadow compute` (fast
-# and exact, 2 and 16 threads), the 1,000-box city's year of suns (fast and exact, 16 threads)
-# and the 10,000-box city's fast year. A step that could not finish in the SECONDS left
-# (default 480) is skipped and says so. Scenes are generated under $TMPDIR.
+# OUT_DIR receives one log per step and summary.txt. Steps, most wanted first: the 10,000-box
+# city's tiles at 1-16 threads, the million faces' whole `shadow compute` (fast and exact, 16 and
+# 2 threads), the engine alone on the million faces, the 1,000-box city's year of suns (fast and
+# exact, 16 threads) and the 10,000-box city's fast year. A step that could not finish in the
+# SECONDS left (default 480) is skipped and says so. Scenes are generated under $TMPDIR.
 set -uo pipefail
+if [[ ${1:-} == pack ]]; then
+  set -e
+  bundle=$(realpath -m "$2")
+  root=$(cd "$(dirname "$0")/.." && pwd)
+  stage=$(mktemp -d)
+  trap 'rm -rf "$stage"' EXIT
+  mkdir -p "$stage/bin" "$stage/lib"
+  programs=("$root/build/release/bin/shadow" "$root/build/release/bin/shadow-bench")
+  cp "${programs[@]}" /usr/bin/time "$stage/bin/"
+  # glibc's own libraries stay behind: they must match the other machine's loader.
+  ldd "${programs[@]}" | awk '/=> \//{print $3}' | sort -u |
+    grep -v -E '/(libc|libm|libpthread|libdl|librt|ld-linux-x86-64)\.so' |
+    while read -r lib; do cp -L "$lib" "$stage/lib/"; done
+  strip --strip-unneeded "$stage/bin/shadow" "$stage/bin/shadow-bench" "$stage"/lib/libshadow*.so*
+  tar -C "$stage" -cJf "$bundle" bin lib
+  echo "$bundle: $(du -h "$bundle" | cut -f1)"
+  exit 0
+fi
 bin=$(cd "$1" && pwd)
 out=$2
 budget=${3:-480}
@@ -48,6 +69,7 @@ timed() {
 # A year of hourly suns on a written city: its scene without lights, with the year's sun.
 year_scene() {
   local dir=$1
+  [[ -f $dir/scene.json ]] || return 0  # its write-city step was skipped
   python3 - "$dir/scene.json" <<'EOF'
 import json, sys
 path = sys.argv[1]
