@@ -18,6 +18,7 @@
 # 16-core machine) or when its scene was not written, and stopped when the SECONDS (default 480)
 # run out. Scenes are generated under $TMPDIR.
 set -uo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
 
 usage() {
   echo "usage: $0 pack BUNDLE.tar.xz | $0 BUNDLE_DIR OUT_DIR [SECONDS]" >&2
@@ -28,18 +29,18 @@ if [[ ${1:-} == pack ]]; then
   [[ $# -eq 2 ]] || usage
   set -e
   bundle=$(realpath -m "$2")
-  root=$(cd "$(dirname "$0")/.." && pwd)
   stage=$(mktemp -d)
   trap 'rm -rf "$stage"' EXIT
   mkdir -p "$stage/bin" "$stage/lib"
   programs=("$root/build/release/bin/shadow" "$root/build/release/bin/shadow-bench")
   cp "${programs[@]}" /usr/bin/time "$stage/bin/"
-  if ldd "${programs[@]}" | grep 'not found'; then
+  libraries=$(ldd "${programs[@]}")
+  if grep 'not found' <<<"$libraries"; then
     echo "pack: a library above is not found: build and install first" >&2
     exit 1
   fi
   # glibc's own libraries stay behind: they must match the other machine's loader.
-  ldd "${programs[@]}" | awk '/=> \//{print $3}' | sort -u |
+  awk '/=> \//{print $3}' <<<"$libraries" | sort -u |
     grep -v -E '/(libc|libm|libmvec|libpthread|libdl|librt|libresolv|libutil|libanl|libthread_db|libnss_[a-z]+|ld-linux-x86-64)\.so' |
     while read -r lib; do cp -L "$lib" "$stage/lib/"; done
   strip --strip-unneeded "$stage/bin/shadow" "$stage/bin/shadow-bench"
@@ -99,21 +100,6 @@ else
   timed=()
   say "no GNU time: the steps' times are the summary's"
 fi
-# A year of hourly suns on a written city: its scene without lights, with the year's sun.
-year_scene() {
-  local dir=$1
-  [[ -f $dir/scene.json ]] || return 0  # its write-city step was skipped: so are its years
-  python3 - "$dir/scene.json" >>"$summary" 2>&1 <<'EOF' || say "year scene in $dir failed (python3)"
-import json, sys
-path = sys.argv[1]
-scene = json.load(open(path))
-scene.pop("lights", None)
-scene["sun"] = {"latitude": 48, "longitude": 2.35, "time_zone": "UTC+01:00",
-                "start": "2026-01-01", "end": "2026-12-31", "step_minutes": 60}
-json.dump(scene, open(path, "w"), indent=1)
-EOF
-}
-
 {
   echo "nproc: $(nproc)"
   grep -m1 'model name' /proc/cpuinfo
@@ -138,14 +124,14 @@ for threads in 1 2 4 8 16; do
   step "year-sample-$threads" 30 "${bench[@]}" series --sample 400 --runs 4 --arithmetic fast --threads "$threads"
   step "year-sample-exact-$threads" 30 "${bench[@]}" series --sample 64 --runs 2 --arithmetic exact --threads "$threads"
 done
-step write-year 20 "${bench[@]}" write-city --boxes 1000 --elevation 40 --output "$work/year"
-year_scene "$work/year"
-step year-fast-16 40 --needs "$work/year/scene.json" "${timed[@]}" "${shadow[@]}" series "$work/year/scene.json" \
+# The year scenes: the same city as write-city's, with a year of hourly suns at 48° N, 2.35° E.
+city_scene=(python3 "$root/tools/bench/city_scene.py" --longitude 2.35)
+step write-year 20 "${city_scene[@]}" --boxes 1000 -o "$work/year.json"
+step year-fast-16 40 --needs "$work/year.json" "${timed[@]}" "${shadow[@]}" series "$work/year.json" \
   -o "$work/year-out" --fast --threads 16 --quiet
-step year-exact-16 90 --needs "$work/year/scene.json" "${timed[@]}" "${shadow[@]}" series "$work/year/scene.json" \
+step year-exact-16 90 --needs "$work/year.json" "${timed[@]}" "${shadow[@]}" series "$work/year.json" \
   -o "$work/year-out" --threads 16 --quiet
-step write-year-10k 20 "${bench[@]}" write-city --boxes 10000 --elevation 40 --output "$work/year10k"
-year_scene "$work/year10k"
-step year10k-fast-16 160 --needs "$work/year10k/scene.json" "${timed[@]}" "${shadow[@]}" series \
-  "$work/year10k/scene.json" -o "$work/year10k-out" --fast --threads 16 --quiet
+step write-year-10k 30 "${city_scene[@]}" --boxes 10000 -o "$work/year10k.json"
+step year10k-fast-16 160 --needs "$work/year10k.json" "${timed[@]}" "${shadow[@]}" series "$work/year10k.json" \
+  -o "$work/year10k-out" --fast --threads 16 --quiet
 say "finished"
