@@ -134,4 +134,29 @@ elif command -v xvfb-run >/dev/null 2>&1; then
   LAUNCH=()
 fi
 
+# ---- the render module: loaded for `shadow render` only -------------------------------------------
+# The program itself loads no rendering library (every other subcommand paid ~20 ms for them);
+# `shadow render` loads them from its module, and a program without its module says so.
+if command -v ldd >/dev/null 2>&1; then
+  loaded=$(ldd "$SHADOW" 2>&1)
+  if grep -E -q 'libvtkRendering|libcairo|libX11|libGL' <<<"$loaded"; then
+    fail "render_libraries_not_loaded_by_shadow" "$(grep -E 'libvtkRendering|libcairo|libX11|libGL' <<<"$loaded" | head -3)"
+  else
+    pass "render_libraries_not_loaded_by_shadow"
+  fi
+fi
+# A copy of the program in a folder without the module (its libraries found as before, through
+# its run path): one line naming the module, exit 4 (an internal error: the install is broken),
+# no file.
+mkdir -p "$WORK/alone/bin"
+cp "$SHADOW" "$WORK/alone/bin/shadow"
+status=0
+"$WORK/alone/bin/shadow" render "$SCENE" -o "$WORK/alone/view.svg" >"$WORK/alone.stdout" 2>"$WORK/alone.stderr" || status=$?
+if [[ $status -ne 4 || $(wc -l <"$WORK/alone.stderr") -ne 1 ]] ||
+   ! grep -q "shadow_render_module.so" "$WORK/alone.stderr" || [[ -e "$WORK/alone/view.svg" ]]; then
+  fail "render_without_its_module" "exit $status: $(cat "$WORK/alone.stderr")"
+else
+  pass "render_without_its_module"
+fi
+
 cli_test_end

@@ -4,8 +4,7 @@
 #include <shadow/shadow.hpp>
 
 #ifdef LIBSHADOW_HAVE_RENDER
-#include <shadow/render/render_image.hpp>
-#include "render_command.hpp"
+#include "render_module.hpp"
 #endif
 
 #include "cli_checks.hpp"
@@ -326,11 +325,8 @@ int main(int argc, char** argv) {
 #ifdef LIBSHADOW_HAVE_RENDER
     if (*render) {
       shadow_cli::set_stage(shadow_cli::Stage::Rendering);
-      return run_render(render_args, argc, argv);
+      return run_render_module(render_args, argc, argv);
     }
-  } catch (const shadow::render::RenderError& e) {
-    std::cerr << "shadow: error: " << e.what() << "\n";
-    return kOutputFailed;
 #endif
   } catch (const shadow::InputError& e) {
     std::cerr << "shadow: error: " << e.what() << "\n";
