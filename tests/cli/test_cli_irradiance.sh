@@ -304,6 +304,37 @@ expect_error bad_patches "--sky-patches" "$WORK/scene.json" --weather "$WORK/day
 expect_error bad_reflectance "--ground-reflectance" "$WORK/scene.json" --weather "$WORK/day.epw" --ground-reflectance 2
 expect_error bad_period "before it starts" "$WORK/scene.json" --weather "$WORK/day.epw" --from 07-01 --to 06-01
 expect_error empty_period "no record of the weather file" "$WORK/scene.json" --weather "$WORK/day.epw" --from 07-01
+expect_error period_past_the_file "ends after the file's last record" "$WORK/scene.json" --weather "$WORK/day.epw" \
+  --from 06-21 --to 06-22
+
+# --from/--to on a file whose records run across 31 December (31 December 2020, 1 January 2021):
+# the dates are placed on the file's timeline. Read as month-days, --from 01-01 took 31 December
+# too, and --from 12-31 --to 01-01 was "before it starts".
+python3 - "$WORK/day.epw" "$WORK/new-year.epw" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+header, records = lines[:8], [l for l in lines[8:] if l]
+header[7] = "DATA PERIODS,1,1,Data,Thursday, 12/31,1/ 1"
+out = header + [r.replace("2021,6,21,", "2020,12,31,", 1) for r in records] + [r.replace("2021,6,21,", "2021,1,1,", 1) for r in records]
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+PY
+period_hours() {
+  local name=$1
+  shift
+  if "$SHADOW" irradiance "$WORK/scene.json" --weather "$WORK/new-year.epw" -o "$WORK/out-$name" "$@" >"$WORK/$name.stdout" 2>&1; then
+    sed -n 's/.* \([0-9]*\) hours of .*/\1/p' "$WORK/$name.stdout" | head -1
+  else
+    echo "exit $?: $(cat "$WORK/$name.stdout")"
+  fi
+}
+hours_jan=$(period_hours period_jan --from 01-01)
+hours_both=$(period_hours period_both --from 12-31 --to 01-01)
+hours_dec=$(period_hours period_dec --to 12-31)
+if [[ $hours_jan == 24 && $hours_both == 48 && $hours_dec == 24 ]]; then
+  pass period_across_new_year
+else
+  fail period_across_new_year "hours: --from 01-01 '$hours_jan' (24), --from 12-31 --to 01-01 '$hours_both' (48), --to 12-31 '$hours_dec' (24)"
+fi
 
 expect_error bad_map "--map" "$WORK/scene.json" --weather "$WORK/day.epw" --map nothing
 expect_error bad_ground "--ground" "$WORK/scene.json" --weather "$WORK/day.epw" --ground nothing

@@ -92,6 +92,29 @@ TEST(Weather, MissingValuesAreNaN) {
   EXPECT_DOUBLE_EQ(w.diffuse_horizontal[1], 30.0);
 }
 
+// An albedo of 0 is what files that do not measure it write (CWEC, TMY2 conversions): read as
+// written it took the ground-reflected part off every wall; it is missing, with one warning.
+TEST(Weather, ZeroAlbedoIsMissing) {
+  std::string text = kHeader;
+  text += record(2023, 3, 1, 1, "10", "20", "30", "0.000");
+  text += record(2023, 3, 1, 2, "10", "20", "30", "0");
+  const shadow::Weather w = parse(text);
+  EXPECT_TRUE(std::isnan(w.albedo[0]));
+  EXPECT_TRUE(std::isnan(w.albedo[1]));
+  EXPECT_TRUE(std::isnan(w.mean_albedo()));
+  ASSERT_EQ(w.warnings.size(), 1u);
+  EXPECT_EQ(w.warnings[0].to_string(), "test.epw: line 9, field 33 (albedo): albedo 0 in 2 records (the first here), "
+                                       "read as missing: files that do not measure the albedo write 0 there");
+}
+
+// A UTF-8 byte order mark before LOCATION (an editor's save) was "the first line of an EPW file
+// is LOCATION"; TMY3 files already skipped it.
+TEST(Weather, ByteOrderMark) {
+  const shadow::Weather w = parse("\xEF\xBB\xBF" + two_days(2023, 6, 20));
+  EXPECT_EQ(w.location.city, "Testville");
+  EXPECT_EQ(w.hours(), 48u);
+}
+
 TEST(Weather, LeapYears) {
   // 29 February in a typical year stamped 2023 (not a leap year): the records go in 2024.
   std::string text = kHeader;
@@ -109,6 +132,37 @@ TEST(Weather, LeapYears) {
   const shadow::Weather p = parse(plain);
   EXPECT_EQ(p.year, 2023);
   EXPECT_EQ(p.start_utc[24] - p.start_utc[0], 86400);
+}
+
+// Typical years mix months of different years: a January from 1996 (a leap year) ahead of a
+// February without 29 February was refused ("records must follow hour by hour"); the records go
+// in the nearest year they fit, the later of two as near. An actual year from July 2023 to June
+// 2024 holds 29 February in its second calendar year (it was pushed to 2025 and refused).
+TEST(Weather, RecordsGoInTheNearestYearTheyFit) {
+  std::string text = kHeader;
+  for (int h = 1; h <= 24; ++h) text += record(1996, 2, 28, h, "0", "0", "0");
+  for (int h = 1; h <= 24; ++h) text += record(1996, 3, 1, h, "0", "0", "0");
+  const shadow::Weather typical = parse(text);
+  EXPECT_EQ(typical.year, 1997);
+  EXPECT_EQ(typical.start_utc[24] - typical.start_utc[0], 86400);
+  EXPECT_EQ(typical.start_utc[0], shadow::days_from_civil(1997, 2, 28) * 86400 - 3600);  // UTC+1
+
+  std::string actual = kHeader;
+  actual.replace(actual.find("2/28,3/ 1"), 9, "12/31/2023,2/29/2024");
+  for (int h = 1; h <= 24; ++h) actual += record(2023, 12, 31, h, "0", "0", "0");
+  for (int m = 1; m <= 2; ++m)
+    for (int d = 1; d <= (m == 1 ? 31 : 29); ++d)
+      for (int h = 1; h <= 24; ++h) actual += record(2024, m, d, h, "0", "0", "0");
+  const shadow::Weather wrapped = parse(actual);
+  EXPECT_EQ(wrapped.year, 2023);
+  EXPECT_EQ(wrapped.start_utc.back(), shadow::days_from_civil(2024, 2, 29) * 86400 + 23 * 3600 - 3600);
+  EXPECT_TRUE(wrapped.warnings.empty());
+
+  // 1 March after 28 February, then 29 February, fit no year: the stamped year names the record.
+  std::string neither = text;
+  for (int h = 1; h <= 24; ++h) neither += record(1996, 2, 29, h, "0", "0", "0");
+  EXPECT_EQ(error_of(neither), "test.epw: line 33, field 4 (hour): records must follow hour by hour: the previous "
+                               "record was 2/28 hour 24");
 }
 
 TEST(Weather, YearEndWrapsToTheNextYear) {
@@ -208,6 +262,30 @@ TEST(Weather, AFileCutShortIsAnError) {
     dated_cut.replace(dated_cut.find("6/20,6/22"), 9, std::string("6/20,") + end);
     EXPECT_NE(error_of(dated_cut).find("the file is cut short"), std::string::npos) << end;
   }
+
+  // A period that runs past 31 December (7/1 to 6/30): records cut before its end, before or
+  // after the year's end, are cut short too (they were read as a shorter year, without a word).
+  std::string july = header;
+  july.replace(july.find("6/20,6/22"), 9, "7/ 1,6/30");
+  for (int d = 1; d <= 31; ++d)
+    for (int h = 1; h <= 24; ++h) july += record(2023, 7, d, h, "100", "200", "50");
+  EXPECT_EQ(error_of(july), "test.epw: line 752: the records stop at 7/31 hour 24, but DATA PERIODS (line 8) runs "
+                            "the data to 6/30 hour 24: 8040 hours missing: the file is cut short (744 hourly records; "
+                            "if it was shortened on purpose, set the DATA PERIODS end to 7/31)");
+
+  // Records that end where the header ends the data but begin later lost their beginning: an
+  // error over a day, a warning for a day or less.
+  std::string late = header;
+  late.replace(late.find("6/20,6/22"), 9, "6/18,6/22");
+  late += whole.substr(header.size());
+  EXPECT_EQ(error_of(late), "test.epw: line 9: the records begin at 6/20 hour 1, but DATA PERIODS (line 8) starts "
+                            "the data at 6/18 hour 1: 48 hours missing: the file lost its beginning (72 hourly records; "
+                            "if it was shortened on purpose, set the DATA PERIODS start to 6/20)");
+  late.replace(late.find("6/18,6/22"), 9, "6/19,6/22");
+  const shadow::Weather day_late = parse(late);
+  ASSERT_EQ(day_late.warnings.size(), 1u);
+  EXPECT_EQ(day_late.warnings[0].to_string(), "test.epw: line 9: the records begin at 6/20 hour 1, but DATA PERIODS "
+                                              "(line 8) starts the data at 6/19 hour 1: 24 hours missing; read as it is");
 
   // Records that do not begin where the header starts the data are read as they are.
   EXPECT_EQ(parse(two_days(2023, 6, 20).substr(0, two_days(2023, 6, 20).find("2023,6,21,1,"))).hours(), 24u);

@@ -49,19 +49,56 @@ std::pair<int, int> month_day(const std::string& text, const char* flag) {
 }
 
 /// The records [first, end) of the period --from..--to (inclusive dates) in the weather file.
+/// The dates are placed on the file's own timeline, which may run past 31 December (an actual
+/// year from July to June, `--from 03-01` means the March in it): --from is the first time that
+/// date begins at or after the day of the first record, --to the first time that date ends after
+/// --from (so `--from 12-01 --to 02-28` is a winter, where the file holds one). Without --from
+/// the period begins with the file, without --to it ends with it. A period that ends after the
+/// file's last record is an error naming it, not a shorter period without a word.
 std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, const IrradianceArgs& args) {
-  std::size_t first = 0, end = w.hours();
-  if (args.from.empty() && args.to.empty()) return {first, end};
-  const auto key = [&](std::size_t r) { return w.month[r] * 100 + w.day[r]; };
-  const int from = args.from.empty() ? 0 : month_day(args.from, "--from").first * 100 + month_day(args.from, "--from").second;
-  const int to = args.to.empty() ? 9999 : month_day(args.to, "--to").first * 100 + month_day(args.to, "--to").second;
-  if (from > to) throw shadow::InputError({"", "--from"}, "the period ends (--to " + args.to + ") before it starts");
-  while (first < w.hours() && key(first) < from) ++first;
-  end = first;
-  while (end < w.hours() && key(end) >= from && key(end) <= to) ++end;
-  if (first == end)
-    throw shadow::InputError({args.weather, ""}, "no record of the weather file falls between --from and --to");
-  return {first, end};
+  if (args.from.empty() && args.to.empty()) return {0, w.hours()};
+  const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
+  const auto local = [&](std::size_t r) { return w.start_utc[r] + offset; };  // local standard seconds
+  const auto floor_day = [](std::int64_t t) { return t >= 0 ? t / 86400 : -((-t + 86399) / 86400); };
+  const std::size_t last = w.hours() - 1;
+  const std::int64_t file_begins = local(0), file_ends = local(last) + 3600;
+  const auto record_text = [&](std::size_t r) {
+    return std::to_string(w.month[r]) + "/" + std::to_string(w.day[r]) + " hour " + std::to_string(w.hour[r]);
+  };
+  const std::string span = " (the records run from " + record_text(0) + " to " + record_text(last) + ")";
+  // The first midnight of month/day in the year of day `from_day` or a later one, at or after it.
+  const auto day_on_or_after = [](std::pair<int, int> md, std::int64_t from_day) {
+    std::int64_t year = shadow::civil_from_days(from_day).year;
+    for (int k = 0; k < 8; ++k, ++year)
+      if (shadow::is_valid_date(year, md.first, md.second) && shadow::days_from_civil(year, md.first, md.second) >= from_day)
+        return shadow::days_from_civil(year, md.first, md.second);
+    return from_day;  // (not reached: 29 February comes within 8 years)
+  };
+  if (!args.from.empty() && !args.to.empty()) {
+    const auto from = month_day(args.from, "--from"), to = month_day(args.to, "--to");
+    const bool across_new_year = shadow::civil_from_days(floor_day(file_begins)).year !=
+                                 shadow::civil_from_days(floor_day(file_ends - 1)).year;
+    if (from > to && !across_new_year)
+      throw shadow::InputError({"", "--from"}, "the period ends (--to " + args.to + ") before it starts (a period across "
+                                               "31 December needs a weather file whose records run across it)" + span);
+  }
+  std::int64_t begin = file_begins, end = file_ends;
+  if (!args.from.empty()) begin = day_on_or_after(month_day(args.from, "--from"), floor_day(file_begins)) * 86400;
+  if (begin >= file_ends)
+    throw shadow::InputError({args.weather, ""}, "no record of the weather file falls on or after --from " + args.from + span);
+  if (!args.to.empty()) {
+    end = (day_on_or_after(month_day(args.to, "--to"), floor_day(begin)) + 1) * 86400;
+    if (end > file_ends)
+      throw shadow::InputError({args.weather, ""}, "the period --from " + (args.from.empty() ? std::string("(the file's start)") : args.from) +
+                                                       " --to " + args.to + " ends after the file's last record" + span);
+  }
+  std::size_t first = 0;
+  while (first < w.hours() && local(first) < begin) ++first;
+  std::size_t stop = first;
+  while (stop < w.hours() && local(stop) < end) ++stop;
+  if (first == stop)
+    throw shadow::InputError({args.weather, ""}, "no record of the weather file falls between --from and --to" + span);
+  return {first, stop};
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "readers/weather_records.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <sstream>
@@ -23,6 +24,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+using weather_detail::AlbedoReader;
 using weather_detail::LineReader;
 using weather_detail::split_fields;
 using weather_detail::trim;
@@ -53,8 +55,8 @@ void read_location(const std::vector<std::string>& f, const LineReader& r, Weath
   if (loc.elevation < -1000.0 || loc.elevation > 100000.0) r.fail(10, "elevation", "not in [-1000, 100000] metres");
 }
 
-/// One hourly record appended to `w`; `previous_day` (days since 1970, local) and hour check order.
-void read_record(const std::vector<std::string>& f, const LineReader& r, Weather& w) {
+/// One hourly record appended to `w`.
+void read_record(const std::vector<std::string>& f, const LineReader& r, Weather& w, AlbedoReader& albedo_reader) {
   const int year = r.integer(f, 0, "year", -9999, 9999);
   const int month = r.integer(f, 1, "month", 1, 12);
   const int day = r.integer(f, 2, "day", 1, 31);
@@ -68,71 +70,101 @@ void read_record(const std::vector<std::string>& f, const LineReader& r, Weather
   w.global_horizontal.push_back(irradiation(r, f, 13, "global horizontal radiation"));
   w.direct_normal.push_back(irradiation(r, f, 14, "direct normal radiation"));
   w.diffuse_horizontal.push_back(irradiation(r, f, 15, "diffuse horizontal radiation"));
-  double albedo = f.size() > 32 ? r.number(f, 32, "albedo", true) : kNaN;
-  if (!(albedo >= 0.0 && albedo <= 1.0)) albedo = kNaN;  // 999: missing; other values unusable
-  w.albedo.push_back(albedo);
+  // (999: missing; 0: not measured, AlbedoReader; other values outside (0, 1] unusable)
+  w.albedo.push_back(albedo_reader(f.size() > 32 ? r.number(f, 32, "albedo", true) : kNaN, r.line));
 }
 
-/// A DATA PERIODS date as (month, day): `M/D`, `M/D/YYYY` or `YYYY/M/D` (all written by real
-/// files' generators); {0, 0} when the text is none of these.
-std::pair<int, int> period_date(const std::string& text) {
+/// A DATA PERIODS date: `M/D`, `M/D/YYYY` or `YYYY/M/D` (all written by real files'
+/// generators); month 0 when the text is none of these, year 0 when it names none.
+struct PeriodDate {
+  int year = 0, month = 0, day = 0;
+  [[nodiscard]] int key() const { return month * 100 + day; }
+};
+
+PeriodDate period_date(const std::string& text) {
   std::vector<int> parts;
   std::string digits;
   for (char c : trim(text) + "/") {
     if (c == '/') {
-      if (digits.empty() || digits.size() > 4) return {0, 0};
+      if (digits.empty() || digits.size() > 4) return {};
       parts.push_back(std::stoi(digits));
       digits.clear();
     } else if (c >= '0' && c <= '9') {
       digits += c;
     } else if (c != ' ') {
-      return {0, 0};
+      return {};
     }
   }
-  std::pair<int, int> md{0, 0};
-  if (parts.size() == 2) md = {parts[0], parts[1]};
-  if (parts.size() == 3) md = parts[0] > 31 ? std::pair{parts[1], parts[2]} : std::pair{parts[0], parts[1]};
-  if (md.first < 1 || md.first > 12 || md.second < 1 || md.second > 31) return {0, 0};
-  return md;
+  PeriodDate date;
+  if (parts.size() == 2) date = {0, parts[0], parts[1]};
+  if (parts.size() == 3) date = parts[0] > 31 ? PeriodDate{parts[0], parts[1], parts[2]} : PeriodDate{parts[2], parts[0], parts[1]};
+  if (date.month < 1 || date.month > 12 || date.day < 1 || date.day > 31) return {};
+  return date;
 }
 
 /// What the header's DATA PERIODS line says the records cover: from the first period's start
-/// (hour 1) to the last period's end (hour 24). Zero dates: not stated in a form read here.
+/// (hour 1) to the last period's end (hour 24). Month 0: not stated in a form read here.
 struct DataPeriod {
   std::size_t line = 0;
-  std::pair<int, int> start{0, 0}, end{0, 0};
+  PeriodDate start, end;
 };
 
 std::string date_text(int month, int day) { return std::to_string(month) + "/" + std::to_string(day); }
 
-/// Records that begin where DATA PERIODS starts the data should run to where it ends: they
-/// follow hour by hour (place_records), so the hours between the last record and the period's
-/// last hour are missing. More than a day missing is a file cut short (a download or a copy that
-/// stopped), which otherwise reads as a shorter year without a word: an error. A day or less is
-/// a warning (converters of leap years are said to drop 31 December). Records that begin
-/// elsewhere, or run past the end, do not follow the header; they are read as they are.
+/// The records should cover what DATA PERIODS states: they follow hour by hour (place_records),
+/// so records that begin at the period's start and stop before its end miss the hours between,
+/// and records that end at the period's end but begin after its start miss the hours before.
+/// More than a day missing is a file cut short, or one that lost its beginning (a download or a
+/// copy that stopped, an edit), which otherwise reads as a shorter year without a word: an
+/// error. A day or less is a warning (converters of leap years are said to drop 31 December).
+/// Records that match neither end of the period do not follow the header; they are read as they
+/// are. The period's dates are placed in the calendar years of the records: its start in the
+/// first record's year, its end as many years later as the period's years say, else in the same
+/// year, or the next when the period runs past 31 December (7/1 to 6/30).
 void check_period(Weather& w, const DataPeriod& period, const std::vector<std::size_t>& lines) {
-  if (period.start.first == 0 || period.end.first == 0) return;
-  if (w.month[0] != period.start.first || w.day[0] != period.start.second || w.hour[0] != 1) return;
+  if (period.start.month == 0 || period.end.month == 0) return;
+  const std::int64_t first_year = w.year;
+  std::int64_t years = period.end.key() < period.start.key() ? 1 : 0;
+  if (period.start.year > 0 && period.end.year - period.start.year >= years) years = period.end.year - period.start.year;
+  if (!is_valid_date(first_year, period.start.month, period.start.day) ||
+      !is_valid_date(first_year + years, period.end.month, period.end.day))
+    return;  // (29 February of a common year: not a period these records can follow)
+  const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
   const std::size_t last = w.hours() - 1;
-  // Days between the two dates in a year of 365 (the period's dates name none).
-  const auto days = days_from_civil(2001, period.end.first, period.end.second) -
-                    days_from_civil(2001, w.month[last], w.day[last]);
-  const auto missing = days * 24 + 24 - w.hour[last];
-  // (Wrapped past 31 December, or beyond the end: not a file that stopped early.)
-  if (missing <= 0 || w.month[last] * 100 + w.day[last] < period.start.first * 100 + period.start.second) return;
-  const std::string problem =
-      "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " + std::to_string(w.hour[last]) +
-      ", but DATA PERIODS (line " + std::to_string(period.line) + ") runs the data to " +
-      date_text(period.end.first, period.end.second) + " hour 24: " + std::to_string(missing) + " hours missing";
-  if (missing <= 24) {
-    w.warnings.push_back({{w.source, "line " + std::to_string(lines.back())}, problem + "; read as it is"});
-    return;
+  const std::int64_t begins = w.start_utc[0] + offset, ends = w.start_utc[last] + offset + 3600;  // local seconds
+  const std::int64_t start = days_from_civil(first_year, period.start.month, period.start.day) * 86400;
+  const std::int64_t end = (days_from_civil(first_year + years, period.end.month, period.end.day) + 1) * 86400;
+  const std::string records = std::to_string(w.hours()) + " hourly records";
+  if (begins == start && ends < end) {
+    const std::int64_t missing = (end - ends) / 3600;
+    const std::string problem =
+        "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " + std::to_string(w.hour[last]) +
+        ", but DATA PERIODS (line " + std::to_string(period.line) + ") runs the data to " +
+        date_text(period.end.month, period.end.day) + " hour 24: " + std::to_string(missing) + " hours missing";
+    if (missing <= 24) {
+      w.warnings.push_back({{w.source, "line " + std::to_string(lines.back())}, problem + "; read as it is"});
+      return;
+    }
+    throw InputError({w.source, "line " + std::to_string(lines.back())},
+                     problem + ": the file is cut short (" + records +
+                         "; if it was shortened on purpose, set the DATA PERIODS end to " +
+                         date_text(w.month[last], w.day[last]) + ")");
   }
-  throw InputError({w.source, "line " + std::to_string(lines.back())},
-                   problem + ": the file is cut short (" + std::to_string(w.hours()) +
-                       " hourly records; if it was shortened on purpose, set the DATA PERIODS end to " +
-                       date_text(w.month[last], w.day[last]) + ")");
+  if (ends == end && begins > start) {
+    const std::int64_t missing = (begins - start) / 3600;
+    const std::string problem =
+        "the records begin at " + date_text(w.month[0], w.day[0]) + " hour " + std::to_string(w.hour[0]) +
+        ", but DATA PERIODS (line " + std::to_string(period.line) + ") starts the data at " +
+        date_text(period.start.month, period.start.day) + " hour 1: " + std::to_string(missing) + " hours missing";
+    if (missing <= 24) {
+      w.warnings.push_back({{w.source, "line " + std::to_string(lines.front())}, problem + "; read as it is"});
+      return;
+    }
+    throw InputError({w.source, "line " + std::to_string(lines.front())},
+                     problem + ": the file lost its beginning (" + records +
+                         "; if it was shortened on purpose, set the DATA PERIODS start to " +
+                         date_text(w.month[0], w.day[0]) + ")");
+  }
 }
 
 }  // namespace
@@ -145,9 +177,11 @@ Weather parse_epw(std::istream& in, const std::string& name) {
   std::vector<std::size_t> record_lines;
   std::size_t record_fields = 0, last_short = 0;
   DataPeriod period;
+  AlbedoReader albedo_reader;
   while (std::getline(in, line)) {
     ++r.line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (r.line == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
     const std::vector<std::string> f = split_fields(line);
     if (r.line == 1) {
       read_location(f, r, w.location);
@@ -173,7 +207,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
       // trailing fields they do not need.)
       if (record_lines.empty()) record_fields = f.size();
       last_short = f.size() < record_fields ? f.size() : 0;
-      read_record(f, r, w);
+      read_record(f, r, w, albedo_reader);
       record_lines.push_back(r.line);
     }
   }
@@ -181,6 +215,7 @@ Weather parse_epw(std::istream& in, const std::string& name) {
   weather_detail::check_last_record_fields(name, record_lines, last_short, record_fields);
   weather_detail::place_records(w, record_lines, 8);
   check_period(w, period, record_lines);
+  albedo_reader.warn_zero_albedo(w, "field 33 (albedo)");
   weather_detail::check_diffuse_within_global(w, record_lines);
   return w;
 }

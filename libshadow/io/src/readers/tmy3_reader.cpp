@@ -97,7 +97,8 @@ double irradiation(const LineReader& r, const std::vector<std::string>& f, std::
   return value;
 }
 
-void read_record(const std::vector<std::string>& f, const LineReader& r, const Columns& c, Weather& w) {
+void read_record(const std::vector<std::string>& f, const LineReader& r, const Columns& c, Weather& w,
+                 weather_detail::AlbedoReader& albedo_reader) {
   if (c.date >= f.size()) r.fail(c.date + 1, c.names[c.date], "the line has only " + std::to_string(f.size()) + " fields");
   const std::string date = trim(f[c.date]);
   const std::size_t s1 = date.find('/'), s2 = date.find('/', s1 == std::string::npos ? 0 : s1 + 1);
@@ -121,9 +122,8 @@ void read_record(const std::vector<std::string>& f, const LineReader& r, const C
   w.direct_normal.push_back(irradiation(r, f, c.dni, c));
   w.diffuse_horizontal.push_back(irradiation(r, f, c.dhi, c));
   w.dry_bulb.push_back(c.dry_bulb == std::string::npos ? kNaN : value_or_missing(r, f, c.dry_bulb, c));
-  double albedo = c.albedo == std::string::npos ? kNaN : value_or_missing(r, f, c.albedo, c);
-  if (!(albedo >= 0.0 && albedo <= 1.0)) albedo = kNaN;  // missing, or unusable as a reflectance
-  w.albedo.push_back(albedo);
+  // (missing; 0: not measured, AlbedoReader; other values outside (0, 1] unusable)
+  w.albedo.push_back(albedo_reader(c.albedo == std::string::npos ? kNaN : value_or_missing(r, f, c.albedo, c), r.line));
 }
 
 /// A TMY3 file is a typical year: NREL's 8,760 records run from 1 January hour 1 to 31 December
@@ -175,6 +175,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   Columns columns;
   std::vector<std::size_t> record_lines;
   std::size_t record_fields = 0, last_short = 0;
+  weather_detail::AlbedoReader albedo_reader;
   while (std::getline(in, line)) {
     ++r.line;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -190,7 +191,7 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
       // stopped): its cut field would read as a smaller number.
       if (record_lines.empty()) record_fields = f.size();
       last_short = f.size() < record_fields ? f.size() : 0;
-      read_record(f, r, columns, w);
+      read_record(f, r, columns, w, albedo_reader);
       record_lines.push_back(r.line);
     }
   }
@@ -204,6 +205,8 @@ Weather parse_tmy3(std::istream& in, const std::string& name) {
   fields.hour_name = "Time (HH:MM)";
   weather_detail::place_records(w, record_lines, 2, fields);
   check_year_end(w, record_lines);
+  if (columns.albedo != std::string::npos)
+    albedo_reader.warn_zero_albedo(w, "field " + std::to_string(columns.albedo + 1) + " (" + columns.names[columns.albedo] + ")");
   weather_detail::check_diffuse_within_global(w, record_lines);
   return w;
 }

@@ -89,23 +89,63 @@ int LineReader::integer(const std::vector<std::string>& fields, std::size_t inde
   return static_cast<int>(value);
 }
 
+namespace {
+
+/// Whether record i starts a new year: 1 January hour 1 after a record of another day.
+bool starts_next_year(const Weather& w, std::size_t i) {
+  return i > 0 && w.month[i] == 1 && w.day[i] == 1 && w.hour[i] == 1 && !(w.month[i - 1] == 1 && w.day[i - 1] == 1);
+}
+
+/// The year of the first record: the first record's own year when the records fit it, else the
+/// nearest year they fit (the later of two as near). Records fit a year when every calendar year
+/// they run through (the k-th after a wrap past 31 December is the first's + k) is a leap year
+/// where they hold 29 February and a common year where 1 March follows 28 February. Typical
+/// years mix months of different years, so a file stamped 1996 in January may have no 29
+/// February, and one stamped 2023 may hold it; an actual year from July 2023 to June 2024 holds
+/// it in its second calendar year. When no year fits (29 February and 1 March after 28 February
+/// in one year), the first record's year is kept and place_records names the record.
+int placement_year(const Weather& w) {
+  std::vector<int> needs;  // per calendar year run through: +1 leap, -1 common, 0 either
+  needs.push_back(0);
+  for (std::size_t i = 0; i < w.hours(); ++i) {
+    if (starts_next_year(w, i)) needs.push_back(0);
+    int need = 0;
+    if (w.month[i] == 2 && w.day[i] == 29) need = 1;
+    if (i > 0 && w.month[i] == 3 && w.day[i] == 1 && w.month[i - 1] == 2 && w.day[i - 1] == 28) need = -1;
+    if (need == 0) continue;
+    if (needs.back() == -need) return w.record_year[0];  // no year fits
+    needs.back() = need;
+  }
+  const auto fits = [&](int first) {
+    for (std::size_t k = 0; k < needs.size(); ++k) {
+      const bool leap = is_valid_date(first + static_cast<int>(k), 2, 29);
+      if ((needs[k] == 1 && !leap) || (needs[k] == -1 && leap)) return false;
+    }
+    return true;
+  };
+  const int stamped = w.record_year[0];
+  for (int d = 0; d <= 8; ++d) {  // (leap years repeat every 4, every 8 across a century's end)
+    if (stamped + d <= 9999 && fits(stamped + d)) return stamped + d;
+    if (d > 0 && stamped - d >= -9999 && fits(stamped - d)) return stamped - d;
+  }
+  return stamped;
+}
+
+}  // namespace
+
 /// Places the records in time: consecutive hours from the first (a year's end wraps to the
 /// next year's first hour), in Weather::year.
 void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_t header_lines,
                    const RecordFields& fields) {
   if (w.hours() == 0) throw InputError({w.source, "line " + std::to_string(lines.empty() ? header_lines : lines.back())},
                                        "no hourly records after the " + std::to_string(header_lines) + " header lines");
-  bool has_feb29 = false;
-  for (std::size_t i = 0; i < w.hours(); ++i) has_feb29 |= (w.month[i] == 2 && w.day[i] == 29);
-  w.year = w.record_year[0];
-  if (has_feb29 && !is_valid_date(w.year, 2, 29)) w.year = 2024;
+  w.year = placement_year(w);
   const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
   std::int64_t year = w.year;
   std::int64_t expected = 0;  // local seconds of the next record's start
   w.start_utc.resize(w.hours());
   for (std::size_t i = 0; i < w.hours(); ++i) {
-    if (i > 0 && w.month[i] == 1 && w.day[i] == 1 && w.hour[i] == 1 && !(w.month[i - 1] == 1 && w.day[i - 1] == 1))
-      ++year;  // Dec 31 hour 24 -> Jan 1 hour 1
+    if (starts_next_year(w, i)) ++year;  // Dec 31 hour 24 -> Jan 1 hour 1
     const std::string place = "line " + std::to_string(lines[i]);
     if (!is_valid_date(year, w.month[i], w.day[i]))
       throw InputError({w.source, place + ", field " + std::to_string(fields.day_field) + " (" + fields.day_name + ")"},
@@ -144,6 +184,13 @@ void check_diffuse_within_global(Weather& w, const std::vector<std::size_t>& lin
                             " Wh/m2 exceeds global horizontal " + detail::format_number(w.global_horizontal[first]) +
                             " (diffuse is part of global); " + std::to_string(count) + (count == 1 ? " hour" : " hours") +
                             " like it" + (count == 1 ? "" : " (this is the first)") + ", read as written"});
+}
+
+void AlbedoReader::warn_zero_albedo(Weather& w, const std::string& field) const {
+  if (zeros == 0) return;
+  w.warnings.push_back({{w.source, "line " + std::to_string(first_zero_line) + ", " + field},
+                        "albedo 0 in " + std::to_string(zeros) + (zeros == 1 ? " record" : " records") +
+                            " (the first here), read as missing: files that do not measure the albedo write 0 there"});
 }
 
 }  // namespace shadow::weather_detail
