@@ -276,6 +276,28 @@ TEST(EnergyPlus, ClockwiseEntryAndRelativeCoordinatesWithZoneOriginAndNorth) {
   EXPECT_FALSE(m.sun);  // no Site:Location
 }
 
+// ASHRAE 90.1 Appendix G baselines are rotated by Compliance:Building: EnergyPlus turns every
+// vertex by it, after the north axis, and in world coordinates by it alone. It was not read: a
+// rotated baseline came out shaded as the unrotated one, without a word. A Timestep object with
+// its field blank is the field's default, 6 steps an hour.
+TEST(EnergyPlus, AppendixGRotationTurnsTheBuilding) {
+  const std::string rest =
+      "Zone, Z1;\n"
+      "Site:Location, Somewhere, 45, 7, 1, 200;\n"
+      "Timestep, ;\n"
+      "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+      "  0, 0, 3,  0, 0, 0,  4, 0, 0,  4, 0, 3;\n";
+  const Model relative = idf("Building, B, 30;\nCompliance:Building, 90;\n" + rest);
+  ASSERT_TRUE(relative.sun);
+  EXPECT_EQ(relative.sun->north_axis, 120.0);
+  EXPECT_EQ(relative.sun->step_minutes, 10);
+  const Model world = idf("GlobalGeometryRules, UpperLeftCorner, Counterclockwise, World;\n"
+                          "Building, B, 30;\nCompliance:Building, 90;\n" + rest);
+  ASSERT_TRUE(world.sun);
+  EXPECT_EQ(world.sun->north_axis, 90.0);
+  EXPECT_EQ(world.faces[0].vertices[0], dvec3(0, 0, 3));  // drawn as written; the sun turns
+}
+
 TEST(EnergyPlus, WorldCoordinatesIgnoreZoneOriginAndNorthAxisWithAWarning) {
   const Model m = idf(
       "GlobalGeometryRules, UpperLeftCorner, Counterclockwise, World;\n"
@@ -287,7 +309,7 @@ TEST(EnergyPlus, WorldCoordinatesIgnoreZoneOriginAndNorthAxisWithAWarning) {
   EXPECT_EQ(m.faces[0].vertices[0], dvec3(0, 0, 3));
   ASSERT_TRUE(m.sun);
   EXPECT_EQ(m.sun->north_axis, 0.0);
-  EXPECT_EQ(m.sun->step_minutes, 10);  // no Timestep: EnergyPlus's default of 6 per hour
+  EXPECT_EQ(m.sun->step_minutes, 15);  // no Timestep: EnergyPlus takes 4 per hour
   EXPECT_EQ(m.sun->start, "2023-01-01");
   ASSERT_FALSE(m.warnings.empty());
   bool ignored = false;
@@ -684,6 +706,23 @@ TEST(EnergyPlus, OverhangsAndFinsAreDrawnFromTheirWindow) {
   EXPECT_EQ(shade.at("P"), (std::vector<dvec3>{{1, 0, 2.25}, {3, 0, 2.25}, {3, -0.5, 2.25}, {1, -0.5, 2.25}}));
   EXPECT_EQ(shade.at("F Left"), (std::vector<dvec3>{{0.75, 0, 0.5}, {0.75, 0, 2.25}, {0.75, -0.5, 2.25}, {0.75, -0.5, 0.5}}));
   EXPECT_EQ(shade.at("F Right"), (std::vector<dvec3>{{3.25, 0, 1}, {3.25, 0, 2}, {3.25, -1, 2}, {3.25, -1, 1}}));
+  // Tilted 45 degrees: EnergyPlus gives both fins the azimuth window - (180 - tilt), so both
+  // turn toward the window's right: the left fin leans over the window (it leaned away).
+  const Model tilted = idf(kWall + "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n"
+                                   "  1,0,2, 1,0,1, 3,0,1, 3,0,2;\n"
+                                   "Shading:Fin, T, Win, 0, 0, 0, 45, 1, 0, 0, 0, 45, 1;\n");
+  std::map<std::string, std::vector<dvec3>> fin;
+  for (const Face& f : tilted.faces)
+    if (f.kind == "Shading") fin[f.name] = f.vertices;
+  ASSERT_EQ(fin.size(), 2u);
+  const double h = std::sqrt(0.5);
+  for (const auto& [name, x] : std::map<std::string, double>{{"T Left", 1.0}, {"T Right", 3.0}}) {
+    const std::vector<dvec3>& v = fin.at(name);
+    ASSERT_EQ(v.size(), 4u) << name;
+    EXPECT_EQ(v[0], dvec3(x, 0, 1)) << name;
+    EXPECT_NEAR(v[2].x, x + h, 1e-12) << name;
+    EXPECT_NEAR(v[2].y, -h, 1e-12) << name;
+  }
   EXPECT_TRUE(ThrowsInputError([&] { idf(kWall + "Shading:Overhang, O, Nowhere, 0.5, 90, 0, 0, 1;\n"); },
                                {"line 6, Shading:Overhang \"O\" field \"Window or Door Name\"",
                                 "no window or door named \"Nowhere\""}));

@@ -273,6 +273,7 @@ void Reader::load_epjson(const std::string& text) {
 
 
 void Reader::read_globals() {
+  double appendix_g_rotation = 0.0;
   for (const Object& o : objects_) {
     const std::string cls = o.spec->name;
     if (cls == "GlobalGeometryRules") {
@@ -290,6 +291,8 @@ void Reader::read_globals() {
       }
     } else if (cls == "Building") {
       north_axis_ = number_or(o, "north_axis", 0.0);
+    } else if (cls == "Compliance:Building") {
+      appendix_g_rotation = number_or(o, "building_rotation_for_appendix_g", 0.0);
     } else if (cls == "Zone") {
       ZoneFrame zone{o.name, number_or(o, "direction_of_relative_north", 0.0),
                      {number_or(o, "x_origin", 0.0), number_or(o, "y_origin", 0.0), number_or(o, "z_origin", 0.0)},
@@ -309,6 +312,11 @@ void Reader::read_globals() {
                            "relative north are ignored, as EnergyPlus does"});
     north_axis_ = 0.0;
   }
+  // Compliance:Building's rotation for ASHRAE 90.1 Appendix G turns every vertex, in world
+  // coordinates too (where it is the only turn), after the Building North Axis: EnergyPlus's
+  // building rotation is their sum. Site shading in relative coordinates stays where it is, as
+  // for the north axis (world_to_model turns it back by the sum).
+  north_axis_ += appendix_g_rotation;
 }
 
 namespace {
@@ -392,7 +400,9 @@ std::optional<SunPeriod> Reader::read_sun() {
   if (sun.end < sun.start)
     fail(dates != nullptr ? dates->place : location->place, "the run period ends (" + sun.end + ") before it begins (" +
                                                                sun.start + ")");
-  int per_hour = 6;  // EnergyPlus's default Timestep
+  // No Timestep object: EnergyPlus takes 4 steps an hour ("Number of TimeSteps in Hour
+  // defaulted to 4"); the object with its field blank: the field's default, 6.
+  int per_hour = timestep == nullptr ? 4 : 6;
   if (timestep != nullptr) {
     const Value& v = field(*timestep, "number_of_timesteps_per_hour");
     const std::optional<double> x = number(v);

@@ -157,6 +157,7 @@ std::vector<ClassSpec> class_specs(int version) {
        {{"Name", nullptr}, {"Direction of Relative North", "direction_of_relative_north"},
         {"X Origin", "x_origin"}, {"Y Origin", "y_origin"}, {"Z Origin", "z_origin"}}},
       {"Building", {{"Name", nullptr}, {"North Axis", "north_axis"}}},
+      {"Compliance:Building", {{"Building Rotation for Appendix G", "building_rotation_for_appendix_g"}}},
       {"GlobalGeometryRules",
        {{"Starting Vertex Position", "starting_vertex_position"},
         {"Vertex Entry Direction", "vertex_entry_direction"},

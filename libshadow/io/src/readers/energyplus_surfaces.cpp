@@ -212,8 +212,10 @@ std::vector<std::vector<glm::dvec3>> Reader::window_shades(const Object& o, cons
     const double below = number_or(o, (std::string(side) + "_distance_below_bottom_of_window").c_str(), 0.0);
     const auto [c, s] = angle((std::string(side) + "_tilt_angle_from_window_door").c_str());
     const double x = left_side ? -extension : f->width + extension;
-    const glm::dvec3 away = left_side ? -f->right : f->right;
-    const glm::dvec3 out = depth * (s * f->n + c * away);
+    // Both fins turn the same way about their vertical edges: EnergyPlus gives each the azimuth
+    // window - (180 - tilt), so below 90 degrees the left fin leans over the window and the right
+    // one away from it (SurfaceGeometry.cc, Shading:Fin).
+    const glm::dvec3 out = depth * (s * f->n + c * f->right);
     const glm::dvec3 a = f->at(x, -below), b = f->at(x, f->height + above);
     shades.push_back({a, b, b + out, a + out});
   }
