@@ -512,7 +512,7 @@ PYBIND11_MODULE(_libshadow, m) {
   py::class_<SunPeriod>(m, "SunPeriod", "A scene's sun block: a site and a period (start..end, step) or times.")
       .def(py::init([](const SolarSite& site, double utc_offset_hours, const std::string& start, const std::string& end,
                        int step_minutes, const std::vector<py::object>& times, double north_axis,
-                       double min_elevation, double delta_t) {
+                       double min_elevation, double delta_t, bool energyplus_times) {
              SunPeriod p;
              p.site = site;
              p.utc_offset_hours = utc_offset_hours;
@@ -523,11 +523,12 @@ PYBIND11_MODULE(_libshadow, m) {
              p.north_axis = north_axis;
              p.min_elevation = min_elevation;
              p.delta_t = delta_t;
+             p.energyplus_times = energyplus_times;
              return p;
            }),
            py::arg("site"), py::arg("utc_offset_hours") = 0.0, py::arg("start") = "", py::arg("end") = "",
            py::arg("step_minutes") = 60, py::arg("times") = std::vector<py::object>{}, py::arg("north_axis") = 0.0,
-           py::arg("min_elevation") = 0.0, py::arg("delta_t") = 69.0)
+           py::arg("min_elevation") = 0.0, py::arg("delta_t") = 69.0, py::arg("energyplus_times") = false)
       .def_readwrite("site", &SunPeriod::site)
       .def_readwrite("utc_offset_hours", &SunPeriod::utc_offset_hours)
       .def_readwrite("start", &SunPeriod::start)
@@ -537,6 +538,8 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readwrite("north_axis", &SunPeriod::north_axis)
       .def_readwrite("min_elevation", &SunPeriod::min_elevation)
       .def_readwrite("delta_t", &SunPeriod::delta_t)
+      .def_readwrite("energyplus_times", &SunPeriod::energyplus_times,
+                     "instants where EnergyPlus takes each time step's sun (the step's end, or mid-hour hourly)")
       .def_readwrite("time_zone", &SunPeriod::time_zone);
 
   py::class_<SunInstant>(m, "SunInstant", "One instant of a sun period; light_id is None below the horizon.")

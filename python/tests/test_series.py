@@ -45,11 +45,15 @@ def test_series_equals_one_compute_per_sun(sun_scene):
     assert (np.abs(libshadow.sun_hours(fast, by="face")[1] - hours) <= bound + 1e-12).all()
 
 
-def test_series_files_equal_the_cli_s(cli, source_dir, tmp_path, sun_scene):
-    scene_path = source_dir / "examples" / "sun" / "scene.json"
+def test_series_files_equal_the_cli_s(cli, source_dir, tmp_path):
+    # The example with its suns where EnergyPlus takes them (mid-hour), for energyplus-shading.csv.
+    scene = json.loads((source_dir / "examples" / "sun" / "scene.json").read_text())
+    scene["sun"]["energyplus_times"] = True
+    scene_path = tmp_path / "scene.json"
+    scene_path.write_text(json.dumps(scene))
     subprocess.run([cli, "series", "-q", str(scene_path), "-o", str(tmp_path / "cli"), "-t", "2",
                     "--energyplus-shading"], check=True)
-    series = libshadow.ShadowEngine(sun_scene).compute_series(threads=2)
+    series = libshadow.ShadowEngine(libshadow.load_scene(str(scene_path))).compute_series(threads=2)
     sunlit = libshadow.sunlit_csv(series)
     assert sunlit == (tmp_path / "cli" / "sunlit.csv").read_bytes().decode()
     rows = list(csv.reader(io.StringIO(sunlit)))

@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <map>
 #include <sstream>
 #include <string>
 #include <tuple>
@@ -59,17 +60,21 @@ shadow::UtcSeconds utc(int year, int month, int day, int hour = 0, int minute = 
 /// Adds a sun period to `scene`: one instant every `step` minutes from `first` (UTC, at solar
 /// longitude 0 so that UTC is solar time) for `count` instants, the equinox sun at `lat` (so a
 /// day repeats: enough for the file structure tests). Instants below the horizon get no light.
+/// With `energyplus`, the instants are where EnergyPlus takes each step's sun
+/// (SunPeriod::energyplus_times): at the step's end, or mid-step for a step of an hour.
 void add_equinox_period(shadow::Scene& scene, double lat, shadow::UtcSeconds first, std::size_t count, int step,
-                        const std::string& start, const std::string& end) {
+                        const std::string& start, const std::string& end, bool energyplus = false) {
   shadow::SunPeriod period;
   period.site.latitude = lat;
   period.start = start;
   period.end = end;
   period.step_minutes = step;
+  period.energyplus_times = energyplus;
   scene.sun = period;
+  const shadow::UtcSeconds at = !energyplus ? 0 : step < 60 ? step * 60 : step * 30;
   for (std::size_t i = 0; i < count; ++i) {
     shadow::SunInstant instant;
-    instant.time = first + static_cast<shadow::UtcSeconds>(i) * step * 60;
+    instant.time = first + at + static_cast<shadow::UtcSeconds>(i) * step * 60;
     const double hour = static_cast<double>((instant.time % 86400 + 86400) % 86400) / 3600.0;
     const glm::dvec3 d = equinox_sun(lat, hour);
     instant.position.to_light = d;
@@ -537,7 +542,7 @@ void write_year(const fs::path& dir, int year, int step, std::size_t every) {
   const bool leap = year % 4 == 0;
   const std::size_t count = static_cast<std::size_t>((leap ? 366 : 365) * 24 * 60 / step);
   add_equinox_period(scene, 45.0, utc(year, 1, 1), count, step, std::to_string(year) + "-01-01",
-                     std::to_string(year) + "-12-31");
+                     std::to_string(year) + "-12-31", /*energyplus=*/true);
   const shadow::SunSeries suns = shadow::sun_series(scene);
   const shadow::ShadowEngine engine(scene, 2);
   shadow::SeriesOptions options;
@@ -576,12 +581,12 @@ void write_year(const fs::path& dir, int year, int step, std::size_t every) {
   EXPECT_EQ(report["series"]["above_horizon"], suns.lights.size());
   EXPECT_EQ(report["series"]["energyplus"]["rows"], count);
   EXPECT_EQ(report["series"]["energyplus"]["rows_in_period"], count);
-  // The equinox sun every day: the square has sun whenever the sun is up (11 h a day at hourly
-  // steps: 07..17), the south-facing wall too.
+  // The equinox sun every day: the square has sun whenever the sun is up (12 h a day at hourly
+  // steps, whose suns are mid-hour: 06:30..17:30), the south-facing wall too.
   const double days = leap ? 366 : 365;
   if (step == 60) {
-    EXPECT_EQ(report["faces"][0]["sun_hours"], 11.0 * days);
-    EXPECT_EQ(report["series"]["surfaces"][1]["sun_hours"], 11.0 * days);
+    EXPECT_EQ(report["faces"][0]["sun_hours"], 12.0 * days);
+    EXPECT_EQ(report["series"]["surfaces"][1]["sun_hours"], 12.0 * days);
   }
 
   // series.pvd names readable .vtp files with lit_fraction; faces.vtp has sun_hours.
@@ -594,7 +599,7 @@ void write_year(const fs::path& dir, int year, int step, std::size_t every) {
   faces->SetFileName((dir / "faces.vtp").c_str());
   faces->Update();
   ASSERT_NE(faces->GetOutput()->GetCellData()->GetArray("sun_hours"), nullptr);
-  if (step == 60) EXPECT_EQ(faces->GetOutput()->GetCellData()->GetArray("sun_hours")->GetTuple1(0), 11.0 * days);
+  if (step == 60) EXPECT_EQ(faces->GetOutput()->GetCellData()->GetArray("sun_hours")->GetTuple1(0), 12.0 * days);
 }
 
 fs::path files_dir(const std::string& name) {
@@ -618,7 +623,7 @@ TEST(SeriesFiles, Year2026QuarterHours) { year_case("2026-15min", 2026, 15, 0); 
 TEST(SeriesFiles, ShortPeriodFillsTheRestOfTheYearWithZeros) {
   shadow::Scene scene;
   shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
-  add_equinox_period(scene, 45.0, utc(2026, 12, 21), 24 * 2, 30, "2026-12-21", "2026-12-21");
+  add_equinox_period(scene, 45.0, utc(2026, 12, 21), 24 * 2, 30, "2026-12-21", "2026-12-21", true);
   scene.sun->step_minutes = 30;
   const shadow::EnergyPlusSchedule schedule = shadow::energyplus_schedule(scene);
   EXPECT_TRUE(schedule.written);
@@ -627,6 +632,46 @@ TEST(SeriesFiles, ShortPeriodFillsTheRestOfTheYearWithZeros) {
   EXPECT_NE(schedule.reason.find("the others are 0"), std::string::npos);
   scene.sun->step_minutes = 90;
   EXPECT_FALSE(shadow::energyplus_schedule(scene).written);
+  // Instants at the steps' starts would give every row the sun of the step before EnergyPlus's
+  // (half an hour early at hourly steps): no file, and the reason.
+  scene.sun->step_minutes = 30;
+  scene.sun->energyplus_times = false;
+  const shadow::EnergyPlusSchedule starts = shadow::energyplus_schedule(scene);
+  EXPECT_FALSE(starts.written);
+  EXPECT_NE(starts.reason.find("EnergyPlus takes each step's sun at its end"), std::string::npos) << starts.reason;
+}
+
+// Each row holds the sun EnergyPlus takes for that time step: the instant at the step's end
+// (the 15:15 row, 15:15), or mid-hour at hourly steps (the 16:00 row, 15:30). Rows held the
+// sun of the step's start: one step early, half an hour at hourly steps.
+TEST(SeriesFiles, EachRowHoldsTheSunEnergyPlusTakesForItsStep) {
+  for (const int step : {15, 60}) {
+    shadow::Scene scene;
+    shadow::add_mesh(scene, "square", {shadow::rectangle_z(0, 0, 10, 10, 0)});
+    const std::size_t per_day = static_cast<std::size_t>(24 * 60 / step);
+    add_equinox_period(scene, 45.0, utc(2026, 3, 20), per_day, step, "2026-03-20", "2026-03-20", true);
+    // A lit fraction per instant that names its time: minutes after midnight / 10000.
+    const shadow::SunSeries suns = shadow::sun_series(scene);
+    shadow::SurfaceSeries surfaces;
+    surfaces.surfaces = shadow::named_surfaces(scene);
+    surfaces.instants = suns.lights.size();
+    surfaces.lit_fraction.resize(surfaces.instants);
+    for (std::size_t i = 0; i < surfaces.instants; ++i)
+      surfaces.lit_fraction[i] = static_cast<double>((suns.times[i] % 86400) / 60) / 10000.0;
+    std::ostringstream csv;
+    ASSERT_TRUE(shadow::write_energyplus_shading_csv(csv, scene, suns, surfaces).written);
+    std::istringstream in(csv.str());
+    std::string line;
+    std::map<std::string, std::string> row;
+    while (std::getline(in, line)) row[line.substr(0, line.find(','))] = line.substr(line.find(',') + 1);
+    if (step == 15) {
+      EXPECT_EQ(row.at("03/20 15:15"), "0.0915");  // 915 minutes: 15:15
+      EXPECT_EQ(row.at("03/20 12:00"), "0.072");   // 720 minutes: noon
+    } else {
+      EXPECT_EQ(row.at("03/20 16:00"), "0.093");   // 930 minutes: 15:30
+      EXPECT_EQ(row.at("03/20 13:00"), "0.075");   // 750 minutes: 12:30
+    }
+  }
 }
 
 TEST(SeriesFiles, APeriodAllBelowTheHorizonWritesEmptyRowsAndZeros) {
@@ -635,10 +680,11 @@ TEST(SeriesFiles, APeriodAllBelowTheHorizonWritesEmptyRowsAndZeros) {
   shadow::SunPeriod period;
   period.start = period.end = "2026-06-21";
   period.step_minutes = 60;
+  period.energyplus_times = true;
   scene.sun = period;
   for (int h = 0; h < 24; ++h) {  // a polar night: every instant below the horizon, no light
     shadow::SunInstant instant;
-    instant.time = utc(2026, 6, 21, h);
+    instant.time = utc(2026, 6, 21, h, 30);
     scene.sun_instants.push_back(instant);
   }
   const shadow::SunSeries suns = shadow::sun_series(scene);
@@ -729,7 +775,7 @@ shadow::Scene mixed_case_scene() {
   shadow::add_mesh(scene, "zone", {{{0, 0, 0}, {4, 0, 0}, {4, 0, 3}, {0, 0, 3}}, shadow::rectangle_z(0, -5, 4, 0, 0)});
   scene.faces[0].name = "Zn001:Wall001";
   scene.faces[1].name = "Zn001:Flr001";
-  add_equinox_period(scene, 45.0, utc(2026, 3, 20), 24, 60, "2026-03-20", "2026-03-20");
+  add_equinox_period(scene, 45.0, utc(2026, 3, 20), 24, 60, "2026-03-20", "2026-03-20", /*energyplus=*/true);
   return scene;
 }
 

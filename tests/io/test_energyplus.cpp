@@ -291,6 +291,12 @@ TEST(EnergyPlus, AppendixGRotationTurnsTheBuilding) {
   ASSERT_TRUE(relative.sun);
   EXPECT_EQ(relative.sun->north_axis, 120.0);
   EXPECT_EQ(relative.sun->step_minutes, 10);
+  // Daylight saving time: EnergyPlus reads every schedule an hour later while it is on, the
+  // imported shading file too (ScheduleManager.cc, LookUpScheduleValue): said, not silent.
+  const Model dst = idf(rest + "RunPeriodControl:DaylightSavingTime, 2nd Sunday in March, 1st Sunday in November;\n");
+  bool warned = false;
+  for (const auto& w : dst.warnings) warned = warned || w.message.find("one hour later") != std::string::npos;
+  EXPECT_TRUE(warned);
   const Model world = idf("GlobalGeometryRules, UpperLeftCorner, Counterclockwise, World;\n"
                           "Building, B, 30;\nCompliance:Building, 90;\n" + rest);
   ASSERT_TRUE(world.sun);

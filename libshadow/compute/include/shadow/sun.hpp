@@ -50,6 +50,15 @@ struct SunPeriod {
   std::string start;              ///< first local date, `YYYY-MM-DD` (empty with `times`)
   std::string end;                ///< last local date, inclusive
   int step_minutes = 60;          ///< minutes between instants, dividing a day
+  /// Where a period's instants fall in their steps. False: at each step's start (00:00, 01:00,
+  /// ... local standard time). True: where EnergyPlus takes the sun for its time steps
+  /// (SolarShading.cc, FigureSunCosines): at each step's end for a step shorter than an hour
+  /// (00:15, 00:30, ..., 24:00 with 15 minutes), mid-step otherwise (00:30, 01:30, ... with an
+  /// hour), so that energyplus-shading.csv holds, for each time step, the sun EnergyPlus would
+  /// use there. Set by the EnergyPlus reader (a model's RunPeriod and Timestep) and, unless the
+  /// scene's `sun` block says otherwise (`"energyplus_times"`), for any scene that writes
+  /// energyplus-shading.csv.
+  bool energyplus_times = false;
   std::vector<UtcSeconds> times;  ///< explicit instants (instead of a period)
   double north_axis = 0.0;        ///< degrees clockwise from true north to the model's +y
   double min_elevation = 0.0;     ///< suns at or below this elevation (degrees) are skipped

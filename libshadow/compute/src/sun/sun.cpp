@@ -312,9 +312,11 @@ std::vector<SunInstant> expand_sun_period(const SunPeriod& p) {
     const std::int64_t start = *parse_iso_date(p.start), end = *parse_iso_date(p.end);
     const std::int64_t offset_seconds = std::llround(p.utc_offset_hours * 3600.0);
     const std::int64_t step = std::int64_t{p.step_minutes} * 60;
+    // (SunPeriod::energyplus_times: EnergyPlus's sun of each step, at its end or its middle)
+    const std::int64_t first = !p.energyplus_times ? 0 : step < 3600 ? step : step / 2;
     times.reserve(static_cast<std::size_t>((end - start + 1) * (86400 / step)));
     for (std::int64_t day = start; day <= end; ++day)
-      for (std::int64_t local = 0; local < 86400; local += step)
+      for (std::int64_t local = first; local < first + 86400; local += step)
         times.push_back(day * 86400 + local - offset_seconds);
   }
   std::vector<SunInstant> instants(times.size());

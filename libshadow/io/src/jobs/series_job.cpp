@@ -199,7 +199,8 @@ void replace_period(Scene& scene, const SeriesJobOptions& options) {
 
 /// The objects handed back to EnergyPlus; with write_idf the model's copy, checked before any
 /// computing (a copy that cannot be made must not cost a year of suns).
-SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, const Scene& scene, int model_year) {
+SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, const Scene& scene, int model_year,
+                                           int model_step) {
   SeriesEnergyPlusHandBack back;
   back.csv = (fs::absolute(options.output) / "energyplus-shading.csv").lexically_normal().string();
   back.model = is_energyplus_model(options.scene);
@@ -212,6 +213,13 @@ SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, cons
   }
   const EnergyPlusSchedule schedule = energyplus_schedule(scene);
   if (schedule.written && !schedule.reason.empty()) back.note = "energyplus-shading.csv: " + schedule.reason;
+  // --step against the model's Timestep: EnergyPlus refuses a file of another number of rows.
+  if (schedule.written && model_step > 0 && 60 / model_step != schedule.timesteps_per_hour)
+    back.note += std::string(back.note.empty() ? "" : "; ") + "the model's Timestep is " +
+                 std::to_string(60 / model_step) + " per hour, the CSV's " +
+                 std::to_string(schedule.timesteps_per_hour) +
+                 " (--step): EnergyPlus reads the CSV only with the same Timestep (set it in the model, or run "
+                 "without --step)";
   if (idf.empty()) return back;
   if (!schedule.written)
     throw InputError({"", "--write-idf"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
@@ -381,7 +389,15 @@ void SeriesJob::load() {
   int model_year = 0;
   if (s.scene.sun && s.scene.sun->start.size() >= 4 && s.scene.sun->times.empty())
     model_year = std::atoi(s.scene.sun->start.substr(0, 4).c_str());
+  const int model_step = s.scene.sun && s.scene.sun->times.empty() ? s.scene.sun->step_minutes : 0;
   if (!options_.from.empty() || !options_.to.empty() || options_.step_minutes > 0) replace_period(s.scene, options_);
+  // energyplus-shading.csv asked for: each step's sun where EnergyPlus takes it
+  // (SunPeriod::energyplus_times), whatever the scene's sun block says.
+  if (options_.energyplus_shading && s.scene.sun && s.scene.sun->times.empty() && !s.scene.sun->energyplus_times) {
+    SunPeriod period = *s.scene.sun;
+    period.energyplus_times = true;
+    replace_sun_lights(s.scene, period);
+  }
   try {
     s.suns = sun_series(s.scene);
     // The exact sun-hours map (docs/sun-hours-map.md) on the scene's `sun_hours_map` meshes and
@@ -406,7 +422,8 @@ void SeriesJob::load() {
   } catch (const InputError& e) {
     rethrow_naming_scene(e, options_.scene);
   }
-  s.hand_back = prepare_hand_back(options_, s.scene, is_energyplus_model(options_.scene) ? model_year : 0);
+  const bool model = is_energyplus_model(options_.scene);
+  s.hand_back = prepare_hand_back(options_, s.scene, model ? model_year : 0, model ? model_step : 0);
 
   s.series_options.threads = options_.threads;
   s.series_options.arithmetic = options_.arithmetic;

@@ -414,6 +414,16 @@ std::optional<SunPeriod> Reader::read_sun() {
     }
   }
   sun.step_minutes = 60 / per_hour;
+  sun.energyplus_times = true;  // each step's sun where EnergyPlus takes it
+  // Read from EnergyPlus's ScheduleManager.cc, not run: LookUpScheduleValue adds the daylight
+  // saving indicator to the hour of every schedule it reads, the imported shading file's too,
+  // whose rows are in standard time (as libshadow writes them and EnergyPlus exports them).
+  if (const auto dst = ignored_.find("runperiodcontrol:daylightsavingtime"); dst != ignored_.end())
+    warnings_.push_back({{file_, dst->second.second},
+                         "the model has daylight saving time: EnergyPlus reads schedules one hour later while it is "
+                         "on, so a run importing energyplus-shading.csv (rows in standard time) would take each "
+                         "hour's shading from the next hour's row then; remove RunPeriodControl:DaylightSavingTime "
+                         "for that run"});
   return sun;
 }
 

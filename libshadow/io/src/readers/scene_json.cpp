@@ -128,6 +128,18 @@ Scene SceneReader::read(const std::string& text) {
     fail(lod_absent_.front().first, "no city object of " + (lod_files_ == 1 ? std::string("its model") : "any model") +
                                         " has geometry of LoD " + options_.cityjson_lod + " (" +
                                         lod_absent_.front().second + ")");
+  // A scene that writes energyplus-shading.csv (asked for, or holding an EnergyPlus model) takes
+  // each step's sun where EnergyPlus takes it, unless its sun block says otherwise.
+  if (sun != nullptr && scene_.sun && scene_.sun->times.empty() && !scene_.sun->energyplus_times &&
+      find(*sun, "energyplus_times") == nullptr) {
+    bool energyplus = false;
+    for (const Mesh& mesh : scene_.meshes) energyplus = energyplus || mesh.model == "energyplus";
+    if (scene_.energyplus_shading.value_or(energyplus)) {
+      SunPeriod period = *scene_.sun;
+      period.energyplus_times = true;
+      replace_sun_lights(scene_, period);
+    }
+  }
   apply_model_receivers();
   apply_mesh_list(sun_hours_map_names_, scene_.sun_hours_map);
   if (ground != nullptr) {

@@ -161,7 +161,7 @@ SunPeriod SceneReader::read_sun(const Json& sun) const {
   require_object(sun, "sun", "the sun block");
   check_keys(sun, "sun", {"latitude", "longitude", "elevation", "pressure", "temperature", "utc_offset",
                           "time_zone", "start", "end", "step_minutes", "times", "north_axis",
-                          "min_elevation", "delta_t", "angular_diameter"});
+                          "min_elevation", "delta_t", "angular_diameter", "energyplus_times"});
   SunPeriod period;
   period.site.latitude = get_number(require(sun, "sun", "latitude", "degrees, north positive"), "sun.latitude");
   period.site.longitude = get_number(require(sun, "sun", "longitude", "degrees, east positive"), "sun.longitude");
@@ -207,6 +207,11 @@ SunPeriod SceneReader::read_sun(const Json& sun) const {
                                    std::to_string(minutes));
     period.step_minutes = static_cast<int>(minutes);
     if (find(sun, "times") != nullptr) fail("sun", "\"step_minutes\" belongs to a period; with \"times\" leave it out");
+  }
+  if (const Json* ep = find(sun, "energyplus_times")) {
+    if (!ep->is_boolean()) fail("sun.energyplus_times", "expected true or false, got " + describe(*ep));
+    if (find(sun, "times") != nullptr) fail("sun", "\"energyplus_times\" belongs to a period; with \"times\" leave it out");
+    period.energyplus_times = ep->get<bool>();
   }
   if (const Json* times = find(sun, "times")) {
     require_array(*times, "sun.times");

@@ -91,6 +91,7 @@ Json sun_json(const Scene& scene) {
                {"temperature", sun.site.temperature}};
   if (sun.times.empty()) {
     j["period"] = {{"start", sun.start}, {"end", sun.end}, {"step_minutes", sun.step_minutes}};
+    if (sun.energyplus_times) j["period"]["energyplus_times"] = true;
   } else {
     Json times = Json::array();
     for (const UtcSeconds t : sun.times) times.push_back(format_iso8601_utc(t));

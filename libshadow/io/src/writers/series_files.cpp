@@ -59,6 +59,16 @@ std::int64_t offset_seconds(const SunPeriod& period) {
   return static_cast<std::int64_t>(std::llround(period.utc_offset_hours * 3600.0));
 }
 
+/// The time step (row) of the year whose sun EnergyPlus takes at `into` seconds after the year's
+/// first local second: the step that ends there when steps are shorter than an hour, the hour
+/// whose middle it is with one step an hour (SolarShading.cc, FigureSunCosines); -1 for an
+/// instant at no such time, or before the year (SunPeriod::energyplus_times places them there).
+std::int64_t energyplus_row(std::int64_t into, std::int64_t step) {
+  const std::int64_t at = step < 3600 ? step : step / 2;
+  if (into < at || (into - at) % step != 0) return -1;
+  return (into - at) / step;
+}
+
 }  // namespace
 
 
@@ -128,6 +138,12 @@ EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
     schedule.reason = "the period has no instants";
     return schedule;
   }
+  if (!period.energyplus_times) {
+    schedule.reason = "the period's instants start their time steps, but EnergyPlus takes each step's sun at its end "
+                      "(mid-hour with one step an hour): set the sun block's \"energyplus_times\" to true "
+                      "(SunPeriod::energyplus_times)";
+    return schedule;
+  }
   {
     // EnergyPlus upper-cases names: two columns that differ only by case would be one surface
     // to it, and it would read only one of them.
@@ -142,7 +158,8 @@ EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
     }
   }
   const std::int64_t offset = offset_seconds(period);
-  schedule.year = static_cast<int>(civil(scene.sun_instants.front().time + offset).year);
+  // (The first instant is at its step's end or middle: never at the year's first second.)
+  schedule.year = static_cast<int>(civil(scene.sun_instants.front().time + offset - 1).year);
   schedule.timesteps_per_hour = 60 / period.step_minutes;
   const std::size_t days = is_leap(schedule.year) ? 366 : 365;
   schedule.rows = days * 24 * static_cast<std::size_t>(schedule.timesteps_per_hour);
@@ -150,8 +167,8 @@ EnergyPlusSchedule energyplus_schedule(const Scene& scene) {
   const std::int64_t step = static_cast<std::int64_t>(period.step_minutes) * 60;
   std::size_t outside = 0;
   for (const SunInstant& instant : scene.sun_instants) {
-    const std::int64_t into = instant.time + offset - year_start;
-    if (into < 0 || into / step >= static_cast<std::int64_t>(schedule.rows))
+    const std::int64_t row = energyplus_row(instant.time + offset - year_start, step);
+    if (row < 0 || row >= static_cast<std::int64_t>(schedule.rows))
       ++outside;
     else
       ++schedule.rows_in_period;
@@ -206,10 +223,8 @@ EnergyPlusRows::EnergyPlusRows(const Scene& scene, const SunSeries& suns, std::s
   // Which series column fills each row (rows without one are night or outside the period: 0).
   column_.assign(schedule_.rows, SIZE_MAX);
   for (std::size_t i = 0; i < suns.times.size() && i < instants; ++i) {
-    const std::int64_t into = suns.times[i] + offset - year_start_;
-    if (into < 0) continue;
-    const std::int64_t row = into / step_;  // the step this instant starts (or lies in)
-    if (row < static_cast<std::int64_t>(schedule_.rows)) column_[static_cast<std::size_t>(row)] = i;
+    const std::int64_t row = energyplus_row(suns.times[i] + offset - year_start_, step_);
+    if (row >= 0 && row < static_cast<std::int64_t>(schedule_.rows)) column_[static_cast<std::size_t>(row)] = i;
   }
   fills_.assign(instants, false);
   for (const std::size_t i : column_)

@@ -207,7 +207,10 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
   s["integration"] = suns.explicit_times
                          ? "each instant counts for the median gap between consecutive times: "
                            "sun_hours = sum(lit_fraction) * hours_per_instant"
-                         : "each instant stands for the step it starts: sun_hours = sum(lit_fraction) * step_minutes / 60";
+                         : scene.sun && scene.sun->energyplus_times
+                             ? "each instant stands for the step it ends (mid-step for steps of an hour or more, "
+                               "EnergyPlus's times): sun_hours = sum(lit_fraction) * step_minutes / 60"
+                             : "each instant stands for the step it starts: sun_hours = sum(lit_fraction) * step_minutes / 60";
   if (scene.sun) {
     const SunPeriod& p = *scene.sun;
     s["site"] = {{"latitude", p.site.latitude}, {"longitude", p.site.longitude}, {"elevation", p.site.elevation}};
@@ -216,6 +219,7 @@ void write_series_report_json(std::ostream& out, const Scene& scene, const SunSe
       s["start"] = p.start;
       s["end"] = p.end;
       s["step_minutes"] = p.step_minutes;
+      if (p.energyplus_times) s["energyplus_times"] = true;
     }
     s["north_axis"] = p.north_axis;
     s["min_elevation"] = p.min_elevation;
