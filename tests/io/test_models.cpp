@@ -291,6 +291,77 @@ TEST(CityJson, HighestLodByDefaultOrTheChosenOne) {
       << error_of([&] { shadow::load_scene(two, options); });
 }
 
+// GeometryInstance (trees, street furniture): the template's surfaces placed by the matrix at
+// the reference point, at the template's LoD. They were left out, and an object with another
+// geometry beside its instance was read at that one's lower LoD, while the warning said the
+// object was left out.
+TEST(CityJson, GeometryInstancesArePlacedTemplates) {
+  TempDir dir("instances");
+  const Json square = {{"type", "MultiSurface"}, {"lod", "2"}, {"boundaries", Json::array({Json::array({Json::array({0, 1, 2, 3})})})}};
+  Json doc = {{"type", "CityJSON"},
+              {"version", "2.0"},
+              {"transform", {{"scale", {1, 1, 1}}, {"translate", {0, 0, 0}}}},
+              {"vertices", {{100, 200, 0}, {0, 0, 0}, {5, 0, 0}, {5, 5, 0}, {0, 5, 0}}},
+              {"geometry-templates", {{"templates", Json::array({square})},
+                                      {"vertices-templates", {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}}}},
+              {"CityObjects",
+               {{"T", {{"type", "SolitaryVegetationObject"},
+                       {"geometry", Json::array({{{"type", "GeometryInstance"}, {"template", 0}, {"boundaries", {0}},
+                                                  {"transformationMatrix", {2, 0, 0, 3, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1}}},
+                                                 {{"type", "MultiSurface"}, {"lod", "1"},
+                                                  {"boundaries", Json::array({Json::array({Json::array({1, 2, 3, 4})})})}}})}}},
+                {"M", {{"type", "CityFurniture"},
+                       {"geometry", Json::array({{{"type", "GeometryInstance"}, {"template", 0}, {"boundaries", {0}},
+                                                  {"transformationMatrix", {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}}})}}}}}};
+  const fs::path file = dir.write("instances.city.json", doc.dump());
+  const shadow::Scene scene = shadow::load_scene(file);
+  ASSERT_EQ(scene.faces.size(), 2u);
+  EXPECT_TRUE(scene.warnings.empty());
+  std::map<std::string, const shadow::Face*> by_name;
+  for (const shadow::Face& f : scene.faces) by_name[f.name] = &f;
+  ASSERT_TRUE(by_name.count("T/0") == 1 && by_name.count("M/0") == 1);
+  // T: the LoD 2 template, doubled and moved 3 in x, at (100, 200, 0): a 2 x 2 square at z = 2.
+  const shadow::Face& tree = *by_name.at("T/0");
+  EXPECT_EQ(tree.vertices, (std::vector<glm::dvec3>{{103, 200, 2}, {105, 200, 2}, {105, 202, 2}, {103, 202, 2}}));
+  EXPECT_EQ(tree.source.place, "CityObjects[\"T\"].geometry[0].template.boundaries[0]");
+  // M: mirrored in x, so the ring is reversed and the square still faces up.
+  const std::vector<glm::dvec3>& v = by_name.at("M/0")->vertices;
+  EXPECT_EQ(v, (std::vector<glm::dvec3>{{100, 201, 1}, {99, 201, 1}, {99, 200, 1}, {100, 200, 1}}));
+  double twice_area_up = 0.0;  // counter-clockwise seen from above: facing up
+  for (std::size_t i = 0; i < v.size(); ++i)
+    twice_area_up += v[i].x * v[(i + 1) % v.size()].y - v[(i + 1) % v.size()].x * v[i].y;
+  EXPECT_GT(twice_area_up, 0.0);
+  // --lod 1 takes T's own LoD 1 surface; M has none.
+  shadow::LoadOptions options;
+  options.cityjson_lod = "1";
+  const shadow::Scene lod1 = shadow::load_scene(file, options);
+  ASSERT_EQ(lod1.faces.size(), 1u);
+  EXPECT_EQ(lod1.faces[0].vertices[1], glm::dvec3(5, 0, 0));
+  // A template index out of range is an error naming the instance.
+  doc["CityObjects"]["M"]["geometry"][0]["template"] = 4;
+  dir.write("bad.city.json", doc.dump());
+  EXPECT_NE(error_of([&] { shadow::load_scene(dir.path() / "bad.city.json"); })
+                .find("CityObjects[\"M\"].geometry[0].template: template 4 out of range (the file has 1)"),
+            std::string::npos)
+      << error_of([&] { shadow::load_scene(dir.path() / "bad.city.json"); });
+}
+
+// A translation off the decimal grid by less than 1e-6 of a grid unit was snapped onto it (4e-7
+// at scale 1 lost); only the decimal's own rounding is.
+TEST(CityJson, ATranslationOffTheGridIsKept) {
+  TempDir dir("translate");
+  const Json doc = {{"type", "CityJSON"},
+                    {"version", "2.0"},
+                    {"transform", {{"scale", {1, 1, 1}}, {"translate", {4e-7, 0.5, 0}}}},
+                    {"vertices", {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}}},
+                    {"CityObjects", {{"A", {{"type", "Building"},
+                                            {"geometry", Json::array({{{"type", "MultiSurface"}, {"lod", "2"},
+                                                                       {"boundaries", Json::array({Json::array({Json::array({0, 1, 2, 3})})})}}})}}}}}};
+  const shadow::Scene scene = shadow::load_scene(dir.write("t.city.json", doc.dump()));
+  ASSERT_EQ(scene.faces.size(), 1u);
+  EXPECT_EQ(scene.faces[0].vertices[0], glm::dvec3(4e-7, 0.5, 0));
+}
+
 TEST(CityJson, InnerRingsAreCutOutExactly) {
   TempDir dir("holes");
   // A 10 m x 4 m wall (y = 0) with a 2 m x 1.5 m window, and the window itself as a surface.

@@ -73,6 +73,7 @@ class Reader {
                    ", is not one (a number like \"2\" or \"2.2\")");
     read_transform(doc);
     read_vertices(doc);
+    templates_ = find(doc, "geometry-templates");
     const Json* objects = find(doc, "CityObjects");
     if (objects == nullptr || !objects->is_object()) fail("CityObjects", "missing or not an object");
     objects_ = objects;
@@ -102,10 +103,6 @@ class Reader {
                                                               " surfaces are not planar (up to " + std::to_string(worst_off_) +
                                                               " m off their plane) and were split into triangles of their own "
                                                               "vertices; the triangles keep the surface's name"});
-    if (instances_ > 0)
-      model_.warnings.push_back({{file_, "CityObjects"}, std::to_string(instances_) +
-                                                              " geometries are GeometryInstance (templates), which are not "
-                                                              "read; their objects were left out of the scene"});
     // The VTK outputs' origin: whole metres below the model, when it is far from (0, 0, 0).
     if (used_any_ && std::max({std::fabs(low_.x), std::fabs(low_.y), std::fabs(high_.x), std::fabs(high_.y)}) >= 1e4)
       model_.origin = glm::dvec3(std::floor(low_.x), std::floor(low_.y), std::floor(low_.z));
@@ -154,7 +151,10 @@ class Reader {
         const double power = std::pow(10.0, k);
         if (scale_[i] == 1.0 / power) {
           const double t = translate_[i] * power, rounded = std::nearbyint(t);
-          if (std::fabs(t - rounded) <= 1e-6 && std::fabs(rounded) < 0x1p52) {
+          // Only the decimal's own rounding (78612.16900000001 x 1000 is a few ulps off the
+          // grid); a translation truly off the grid (4e-7 at scale 1) is kept (fma below).
+          const double ulps = 16.0 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::fabs(t));
+          if (std::fabs(t - rounded) <= ulps && std::fabs(rounded) < 0x1p52) {
             decimal_[i] = power;
             translate_units_[i] = rounded;
           }
@@ -204,21 +204,23 @@ class Reader {
       if (!geom.is_object()) fail(gpath, "expected a geometry object, got " + describe(geom));
       const Json* type = find(geom, "type");
       if (type == nullptr || !type->is_string()) fail(gpath + ".type", "missing or not a string");
-      const std::string t = type->get<std::string>();
-      if (t == "GeometryInstance") {
-        ++instances_;
-        continue;
-      }
+      // A GeometryInstance stands for its template (its type and LoD), placed.
+      const bool instance = type->get<std::string>() == "GeometryInstance";
+      const Json& source = instance ? instance_template(geom, gpath) : geom;
+      const std::string spath = instance ? gpath + ".template" : gpath;
+      const Json* source_type = instance ? find(source, "type") : type;
+      if (source_type == nullptr || !source_type->is_string()) fail(spath + ".type", "missing or not a string");
+      const std::string t = source_type->get<std::string>();
       if (t == "MultiPoint" || t == "MultiLineString") continue;  // points and lines have no area
       // Any other name (a misspelt "Multisurface") would leave the object out without a word.
       if (t != "MultiSurface" && t != "CompositeSurface" && t != "Solid" && t != "MultiSolid" && t != "CompositeSolid")
-        fail(gpath + ".type", "unknown geometry type " + json_string(t) +
+        fail(spath + ".type", "unknown geometry type " + json_string(t) +
                                   " (CityJSON's are MultiPoint, MultiLineString, MultiSurface, CompositeSurface, Solid, "
-                                  "MultiSolid, CompositeSolid and GeometryInstance)");
+                                  "MultiSolid, CompositeSolid" + (instance ? std::string(" for a template") : " and GeometryInstance") + ")");
       any_surface = true;
-      const Json* lod = find(geom, "lod");
+      const Json* lod = find(source, "lod");
       const double value = lod == nullptr ? 0.0 : lod_value(*lod);
-      if (lod != nullptr && std::isnan(value)) fail(gpath + ".lod", "expected a level of detail like \"2.2\", got " + describe(*lod));
+      if (lod != nullptr && std::isnan(value)) fail(spath + ".lod", "expected a level of detail like \"2.2\", got " + describe(*lod));
       lods_present_.insert(value);
       if (want ? value == wanted && chosen == geometry->size() : value > best) {
         best = value;
@@ -238,7 +240,11 @@ class Reader {
       mesh.parent_type = object_type(*city_object(root), "CityObjects[" + json_string(root) + "]");
     }
     mesh.first_face = model_.faces.size();
-    read_geometry(id, (*geometry)[chosen], element(path + ".geometry", chosen));
+    const Json& chosen_geometry = (*geometry)[chosen];
+    if (chosen_geometry["type"] == "GeometryInstance")
+      read_instance(id, chosen_geometry, element(path + ".geometry", chosen));
+    else
+      read_geometry(id, chosen_geometry, element(path + ".geometry", chosen));
     mesh.face_count = model_.faces.size() - mesh.first_face;
     if (mesh.face_count == 0) return;
     for (std::size_t f = mesh.first_face; f < model_.faces.size(); ++f) model_.faces[f].mesh = model_.meshes.size();
@@ -304,6 +310,87 @@ class Reader {
     const Json& s = (*surfaces)[i];
     const Json* type = s.is_object() ? find(s, "type") : nullptr;
     return type != nullptr && type->is_string() ? type->get<std::string>() : "";
+  }
+
+  // ---- GeometryInstance: a template of `geometry-templates`, placed by a matrix at a vertex ----
+
+  /// The template an instance names (checked).
+  const Json& instance_template(const Json& geom, const std::string& gpath) const {
+    const Json* list = templates_ != nullptr && templates_->is_object() ? find(*templates_, "templates") : nullptr;
+    if (list == nullptr || !list->is_array())
+      fail(gpath, "a GeometryInstance, but the file has no \"geometry-templates\" with \"templates\"");
+    const Json* index = find(geom, "template");
+    if (index == nullptr || !index->is_number_unsigned())
+      fail(gpath + ".template", "expected the index of a template, got " + (index == nullptr ? std::string("nothing") : describe(*index)));
+    const std::size_t t = index->get<std::size_t>();
+    if (t >= list->size())
+      fail(gpath + ".template", "template " + std::to_string(t) + " out of range (the file has " +
+                                    std::to_string(list->size()) + ")");
+    const Json& tmpl = (*list)[t];
+    if (!tmpl.is_object()) fail("geometry-templates.templates[" + std::to_string(t) + "]", "expected a geometry object");
+    if (const Json* type = find(tmpl, "type"); type != nullptr && *type == "GeometryInstance")
+      fail("geometry-templates.templates[" + std::to_string(t) + "].type", "a template cannot be a GeometryInstance");
+    return tmpl;
+  }
+
+  /// The template's surfaces, each template vertex v placed at M v + the reference point (M the
+  /// instance's row-major 4 x 4 `transformationMatrix`, affine; the reference point the one vertex
+  /// of its `boundaries`, in the file's vertices). A matrix that mirrors reverses the rings, so
+  /// the surfaces keep facing the way the template's do.
+  void read_instance(const std::string& id, const Json& geom, const std::string& gpath) {
+    const Json& tmpl = instance_template(geom, gpath);
+    const Json* reference = find(geom, "boundaries");
+    if (reference == nullptr || !reference->is_array() || reference->size() != 1 || !(*reference)[0].is_number_unsigned())
+      fail(gpath + ".boundaries", "expected one vertex index (the reference point), got " +
+                                      (reference == nullptr ? std::string("nothing") : describe(*reference)));
+    const std::size_t r = (*reference)[0].get<std::size_t>();
+    if (r >= vertices_.size())
+      fail(element(gpath + ".boundaries", 0), "vertex index " + std::to_string(r) + " out of range (the file has " +
+                                                  std::to_string(vertices_.size()) + " vertices)");
+    const glm::dvec3 origin = vertices_[r];
+    const Json* matrix = find(geom, "transformationMatrix");
+    if (matrix == nullptr || !matrix->is_array() || matrix->size() != 16)
+      fail(gpath + ".transformationMatrix", "expected 16 numbers (a 4 x 4 matrix, row by row)");
+    double m[16];
+    for (std::size_t k = 0; k < 16; ++k) m[k] = number((*matrix)[k], element(gpath + ".transformationMatrix", k));
+    if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
+      fail(gpath + ".transformationMatrix", "the last row must be 0, 0, 0, 1 (an affine placement)");
+    load_template_vertices();
+    std::vector<glm::dvec3> placed;
+    placed.reserve(template_vertices_.size());
+    for (const glm::dvec3& v : template_vertices_) {
+      glm::dvec3 p;
+      for (int row = 0; row < 3; ++row)
+        p[row] = m[4 * row] * v.x + m[4 * row + 1] * v.y + m[4 * row + 2] * v.z + m[4 * row + 3] + origin[row];
+      for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(p[c]) || std::fabs(p[c]) > max_coordinate)
+          fail(gpath + ".transformationMatrix", "a placed template vertex is out of range");
+      placed.push_back(p);
+    }
+    const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                       m[2] * (m[4] * m[9] - m[5] * m[8]);
+    std::swap(vertices_, placed);
+    vertex_table_ = "the templates have";
+    mirror_ = det < 0;
+    read_geometry(id, tmpl, gpath + ".template");
+    mirror_ = false;
+    vertex_table_ = "the file has";
+    std::swap(vertices_, placed);
+  }
+
+  /// `geometry-templates.vertices-templates`, read once: real coordinates (no transform).
+  void load_template_vertices() {
+    if (template_vertices_loaded_) return;
+    template_vertices_loaded_ = true;
+    const Json* list = find(*templates_, "vertices-templates");
+    if (list == nullptr || !list->is_array()) fail("geometry-templates.vertices-templates", "missing or not an array");
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const Json& v = (*list)[i];
+      const std::string place = element("geometry-templates.vertices-templates", i);
+      if (!v.is_array() || v.size() != 3) fail(place, "expected 3 numbers [x, y, z], got " + describe(v));
+      template_vertices_.emplace_back(number(v[0], element(place, 0)), number(v[1], element(place, 1)),
+                                      number(v[2], element(place, 2)));
+    }
   }
 
   void read_geometry(const std::string& id, const Json& geom, const std::string& gpath) {
@@ -387,7 +474,7 @@ class Reader {
       if (!i.is_number_unsigned()) fail(element(place, k), "expected a vertex index, got " + describe(i));
       const std::size_t index = i.get<std::size_t>();
       if (index >= vertices_.size())
-        fail(element(place, k), "vertex index " + std::to_string(index) + " out of range (the file has " +
+        fail(element(place, k), "vertex index " + std::to_string(index) + " out of range (" + vertex_table_ + " " +
                                std::to_string(vertices_.size()) + " vertices)");
       const glm::dvec3& p = vertices_[index];
       out.push_back(p);
@@ -396,6 +483,7 @@ class Reader {
       low_ = glm::dvec3(std::min(low_.x, p.x), std::min(low_.y, p.y), std::min(low_.z, p.z));
       high_ = glm::dvec3(std::max(high_.x, p.x), std::max(high_.y, p.y), std::max(high_.z, p.z));
     }
+    if (mirror_) std::reverse(out.begin(), out.end());
     return out;
   }
 
@@ -489,7 +577,12 @@ class Reader {
   glm::dvec3 low_{0.0}, high_{0.0};
   bool used_any_ = false;
   std::set<double> lods_present_;  ///< the surfaces' levels of detail, for an error naming them
-  std::size_t skipped_lod_ = 0, instances_ = 0, triangulated_ = 0, degenerate_ = 0;
+  std::size_t skipped_lod_ = 0, triangulated_ = 0, degenerate_ = 0;
+  const Json* templates_ = nullptr;                 // geometry-templates
+  std::vector<glm::dvec3> template_vertices_;       // its vertices-templates, once read
+  bool template_vertices_loaded_ = false;
+  std::string vertex_table_ = "the file has";       // whose vertices ring() indexes (for errors)
+  bool mirror_ = false;                             // an instance whose matrix mirrors: rings reversed
   std::string first_degenerate_;
   double worst_off_ = 0;
   const Json* objects_ = nullptr;  // CityObjects
