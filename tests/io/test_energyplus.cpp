@@ -276,6 +276,31 @@ TEST(EnergyPlus, ClockwiseEntryAndRelativeCoordinatesWithZoneOriginAndNorth) {
   EXPECT_FALSE(m.sun);  // no Site:Location
 }
 
+// Where the Rectangular Surface Coordinate System differs from the Coordinate System,
+// EnergyPlus's MakeRectangularVertices places a simple surface's corner by the rectangular one:
+// relative through the zone's origin (and the building's north axis) even with world
+// coordinates, world as written even with relative ones; the azimuth turns with the building
+// and zone only with relative coordinates. Both came out elsewhere, exit 0.
+TEST(EnergyPlus, SimpleSurfacesFollowTheRectangularCoordinateSystem) {
+  const Model world = idf("GlobalGeometryRules, UpperLeftCorner, Counterclockwise, World;\n"
+                          "Zone, Z1, 0, 20, 10, 0;\n"
+                          "Wall:Exterior, South, C, Z1, , 180, 90, 0, 0, 0, 10, 3;\n");
+  ASSERT_EQ(world.faces.size(), 1u);
+  EXPECT_EQ(world.faces[0].vertices[0], dvec3(20, 10, 0));
+  EXPECT_EQ(world.faces[0].vertices[1], dvec3(30, 10, 0));
+  const Model fence = idf("Building, B, 30;\n"
+                          "GlobalGeometryRules, UpperLeftCorner, Counterclockwise, Relative, Relative, World;\n"
+                          "Shading:Building, Fence, 180, 90, 0, -5, 0, 10, 2;\n");
+  ASSERT_EQ(fence.faces.size(), 1u);
+  // The world corner (0, -5) in the building frame (turned back by the north axis, 30 degrees);
+  // the fence still runs along the building's x.
+  const std::vector<dvec3>& v = fence.faces[0].vertices;
+  EXPECT_NEAR(v[0].x, 2.5, 1e-12);
+  EXPECT_NEAR(v[0].y, -5 * std::sqrt(0.75), 1e-12);
+  EXPECT_NEAR(v[1].x, 12.5, 1e-12);
+  EXPECT_NEAR(v[1].y, -5 * std::sqrt(0.75), 1e-12);
+}
+
 // ASHRAE 90.1 Appendix G baselines are rotated by Compliance:Building: EnergyPlus turns every
 // vertex by it, after the north axis, and in world coordinates by it alone. It was not read: a
 // rotated baseline came out shaded as the unrotated one, without a word. A Timestep object with

@@ -290,7 +290,7 @@ void Reader::read_globals() {
         (std::string_view(key) == "coordinate_system" ? world_ : rectangular_world_) = world;
       }
     } else if (cls == "Building") {
-      north_axis_ = number_or(o, "north_axis", 0.0);
+      north_axis_ = building_north_ = number_or(o, "north_axis", 0.0);
     } else if (cls == "Compliance:Building") {
       appendix_g_rotation = number_or(o, "building_rotation_for_appendix_g", 0.0);
     } else if (cls == "Zone") {
@@ -308,8 +308,11 @@ void Reader::read_globals() {
     for (const ZoneFrame& z : zones_) moved = moved || z.north != 0.0 || z.origin != glm::dvec3(0.0);
     if (moved)
       warnings_.push_back({{file_, "GlobalGeometryRules"},
-                           "world coordinates: Building North Axis, zone origins and zone directions of "
-                           "relative north are ignored, as EnergyPlus does"});
+                           std::string("world coordinates: Building North Axis, zone origins and zone directions of "
+                                       "relative north are ignored, as EnergyPlus does") +
+                               (rectangular_world_ ? "" : " (but for the simple rectangular surfaces: with Rectangular "
+                                                          "Surface Coordinate System Relative EnergyPlus places their "
+                                                          "corners through them)")});
     north_axis_ = 0.0;
   }
   // Compliance:Building's rotation for ASHRAE 90.1 Appendix G turns every vertex, in world
@@ -317,6 +320,7 @@ void Reader::read_globals() {
   // building rotation is their sum. Site shading in relative coordinates stays where it is, as
   // for the north axis (world_to_model turns it back by the sum).
   north_axis_ += appendix_g_rotation;
+  appendix_g_ = appendix_g_rotation;
 }
 
 namespace {

@@ -133,7 +133,9 @@ class Reader {
   std::vector<glm::dvec3> rectangle_in_base(const Object& o, const Surface& base) const;
   std::vector<std::vector<glm::dvec3>> window_shades(const Object& o, const Surface& window) const;
   std::vector<glm::dvec3> rectangle(const Object& o, double default_tilt, const char* size_key,
-                                    double extra_azimuth = 0.0) const;
+                                    double extra_azimuth = 0.0, const glm::dvec3* start = nullptr) const;
+  std::vector<glm::dvec3> crossed_rectangle(const Object& o, double default_tilt, const char* size_key,
+                                            const ZoneFrame* zone) const;
   void read_globals();
   void read_surfaces();
   // read_surfaces's passes, in order: each may name surfaces of the earlier ones.
@@ -168,7 +170,9 @@ class Reader {
   bool clockwise_ = false;
   bool world_ = false;  // GlobalGeometryRules Coordinate System World/Absolute
   bool rectangular_world_ = false;
-  double north_axis_ = 0.0;
+  double north_axis_ = 0.0;        // the sun's: the model frame's +y from true north (with appendix_g_)
+  double building_north_ = 0.0;    // Building's North Axis as written (kept in world coordinates)
+  double appendix_g_ = 0.0;        // Compliance:Building's Building Rotation for Appendix G
   std::vector<ZoneFrame> zones_;
   std::map<std::string, std::size_t> zone_index_;  // lower name -> zones_
   std::vector<Surface> surfaces_;

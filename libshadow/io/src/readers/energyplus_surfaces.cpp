@@ -227,11 +227,13 @@ std::vector<std::vector<glm::dvec3>> Reader::window_shades(const Object& o, cons
 // horizontal (90: vertical; 0: facing up), in the object's own frame; vertices counter-clockwise
 // seen from outside (EnergyPlus builds them so, whatever the vertex entry direction).
 std::vector<glm::dvec3> Reader::rectangle(const Object& o, double default_tilt, const char* size_key,
-                                          double extra_azimuth) const {
+                                          double extra_azimuth, const glm::dvec3* start_at) const {
   const double azimuth = required_number(field(o, "azimuth_angle"), "azimuth angle") + extra_azimuth;
   const double tilt = number_or(o, "tilt_angle", default_tilt);
-  const glm::dvec3 start(number_or(o, "starting_x_coordinate", 0.0), number_or(o, "starting_y_coordinate", 0.0),
-                         number_or(o, "starting_z_coordinate", 0.0));
+  const glm::dvec3 start = start_at != nullptr ? *start_at
+                                               : glm::dvec3(number_or(o, "starting_x_coordinate", 0.0),
+                                                            number_or(o, "starting_y_coordinate", 0.0),
+                                                            number_or(o, "starting_z_coordinate", 0.0));
   const Value& length_field = field(o, "length");
   const Value& height_field = field(o, size_key);
   const double length = required_number(length_field, "length");
@@ -244,6 +246,32 @@ std::vector<glm::dvec3> Reader::rectangle(const Object& o, double default_tilt, 
   const glm::dvec3 up(-ct * sa, -ct * ca, st);  // up the slope, perpendicular to right
   auto at = [&](double u, double v) { return start + u * right + v * up; };
   return {at(0, 0), at(length, 0), at(length, height), at(0, height)};
+}
+
+// A simple zone surface (zone given) or Shading:Building (none) whose Rectangular Surface
+// Coordinate System differs from the Coordinate System: placed as EnergyPlus's
+// MakeRectangularVertices places it, then turned into the model frame (by -north_axis_). Its
+// corner: relative, through the zone's frame and the building's rotation (north axis and
+// Appendix G), in world coordinates too; world, turned by the Appendix G rotation alone. Its
+// azimuth (GetRectSurfaces, GetRectDetShdSurfaceData): the building's and the zone's north are
+// added only with relative coordinates, the Appendix G rotation always. Where the two systems
+// agree, the caller's direct arithmetic gives the same rectangle.
+std::vector<glm::dvec3> Reader::crossed_rectangle(const Object& o, double default_tilt, const char* size_key,
+                                                  const ZoneFrame* zone) const {
+  glm::dvec3 base(number_or(o, "starting_x_coordinate", 0.0), number_or(o, "starting_y_coordinate", 0.0),
+                  number_or(o, "starting_z_coordinate", 0.0));
+  double turn = appendix_g_;  // the corner's rotation into EnergyPlus's world
+  if (!rectangular_world_) {
+    turn += building_north_;
+    if (zone != nullptr) {
+      base = rotate_clockwise_frame(base, zone->north);
+      base += zone->origin;
+    }
+  }
+  double azimuth = appendix_g_;
+  if (!world_) azimuth += building_north_ + (zone != nullptr ? zone->north : 0.0);
+  const glm::dvec3 corner = rotate_clockwise_frame(base, turn - north_axis_);
+  return rectangle(o, default_tilt, size_key, azimuth - north_axis_, &corner);
 }
 
 // Shading is opaque here: a transmittance schedule (a tree in leaf) is not applied, and said so.
@@ -348,13 +376,8 @@ void Reader::read_base_surfaces() {
       s.zone = zone.name;
       s.kind = simple->kind;
       s.group = static_cast<Surface::Group>(simple->group);
-      if (rectangular_world_ && !world_) {
-        // Corner in world coordinates; the azimuth is still taken relative to the building and
-        // turned with the zone (EnergyPlus), so the building-frame shape is drawn at the corner.
-        s.vertices = rectangle(o, simple->tilt, simple->size_key, zone.north);
-        const glm::dvec3 corner = s.vertices.front();
-        const glm::dvec3 moved = world_to_model(corner);
-        for (glm::dvec3& p : s.vertices) p = moved + (p - corner);
+      if (rectangular_world_ != world_) {
+        s.vertices = crossed_rectangle(o, simple->tilt, simple->size_key, &zone);
       } else {
         s.vertices = rectangle(o, simple->tilt, simple->size_key);
         for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zone);
@@ -371,9 +394,13 @@ void Reader::read_base_surfaces() {
     } else if (cls == "Shading:Site" || cls == "Shading:Building") {
       s.kind = "Shading";
       s.group = cls == "Shading:Site" ? Surface::SiteShading : Surface::BuildingShading;
-      s.vertices = rectangle(o, 90.0, "height");
-      if (s.group == Surface::SiteShading)
-        for (glm::dvec3& p : s.vertices) p = world_to_model(p);
+      if (s.group == Surface::BuildingShading && rectangular_world_ != world_) {
+        s.vertices = crossed_rectangle(o, 90.0, "height", nullptr);
+      } else {
+        s.vertices = rectangle(o, 90.0, "height");
+        if (s.group == Surface::SiteShading)
+          for (glm::dvec3& p : s.vertices) p = world_to_model(p);
+      }
       add_surface(std::move(s));
     }
   }
