@@ -492,6 +492,35 @@ const std::string kWall =
     "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
     "  0, 0, 3,  0, 0, 0,  4, 0, 0,  4, 0, 3;\n";
 
+// A simple Window is measured from its base surface's Vertex(2) as EnergyPlus orders the
+// vertices (MakeRelativeRectangularVertices), along the base's azimuth; a flat roof's azimuth
+// comes from its edge Vertex(2) -> Vertex(3). The corner of the bounding rectangle and the
+// model's +x put a window on a wall wider at the top, and a skylight, elsewhere (exit 0).
+TEST(EnergyPlus, SimpleWindowsStartFromEnergyPlusVertexTwo) {
+  const Model gable = idf(std::string(kHeader) +
+                          "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+                          "  -1, 0, 3,  0, 0, 0,  10, 0, 0,  11, 0, 3;\n"
+                          "Window, Win, C, W, , 1, 1, 1, 2, 1.5;\n");
+  const Model roof = idf(std::string(kHeader) +
+                         "BuildingSurface:Detailed, R, Roof, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+                         "  10, 0, 3,  10, 8, 3,  0, 8, 3,  0, 0, 3;\n"
+                         "Window, Sky, C, R, , 1, 1, 1, 2, 1;\n");
+  // Declared from the lower left corner: the first vertex is Vertex(2).
+  const Model lower_left = idf(std::string("Version, 24.1;\nGlobalGeometryRules, LowerLeftCorner, Counterclockwise, "
+                                           "Relative;\nZone, Z1;\n") +
+                               "BuildingSurface:Detailed, W, Wall, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+                               "  0, 0, 0,  10, 0, 0,  11, 0, 3,  -1, 0, 3;\n"
+                               "Window, Win, C, W, , 1, 1, 1, 2, 1.5;\n");
+  const auto window = [](const Model& m, const std::string& name) {
+    for (const Face& f : m.faces)
+      if (f.name == name) return f.vertices;
+    return std::vector<dvec3>{};
+  };
+  EXPECT_EQ(window(gable, "Win"), (std::vector<dvec3>{{1, 0, 1}, {3, 0, 1}, {3, 0, 2.5}, {1, 0, 2.5}}));
+  EXPECT_EQ(window(lower_left, "Win"), (std::vector<dvec3>{{1, 0, 1}, {3, 0, 1}, {3, 0, 2.5}, {1, 0, 2.5}}));
+  EXPECT_EQ(window(roof, "Sky"), (std::vector<dvec3>{{9, 7, 3}, {7, 7, 3}, {7, 6, 3}, {9, 6, 3}}));
+}
+
 TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {
   auto window = [](const std::string& name, const std::string& vertices) {
     return "FenestrationSurface:Detailed, " + name + ", Window, G, W, , , , 1, 4,\n  " + vertices + ";\n";

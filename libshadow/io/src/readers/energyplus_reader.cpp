@@ -278,6 +278,10 @@ void Reader::read_globals() {
     const std::string cls = o.spec->name;
     if (cls == "GlobalGeometryRules") {
       const Value& direction = field(o, "vertex_entry_direction");
+      const Value& corner = field(o, "starting_vertex_position");
+      const char* const corners[] = {"UpperLeftCorner", "LowerLeftCorner", "LowerRightCorner", "UpperRightCorner"};
+      for (int c = 0; c < 4; ++c)
+        if (same_text(corner.text, corners[c])) start_corner_ = c;
       if (same_text(direction.text, "Clockwise"))
         clockwise_ = true;
       else if (direction.present && !same_text(direction.text, "Counterclockwise"))

@@ -116,6 +116,10 @@ class Reader {
     enum Group { ZoneGroup, BuildingShading, SiteShading, NotExposed, Dropped } group = ZoneGroup;
     std::vector<glm::dvec3> vertices;  ///< model coordinates, counter-clockwise seen from outside
     std::vector<std::size_t> openings;
+    /// The index in `vertices` of EnergyPlus's Vertex(2) (its lower left corner once it has put
+    /// the upper left first, counter-clockwise): where its simple windows and doors are measured
+    /// from (MakeRelativeRectangularVertices). 0 for the rectangles built here.
+    std::size_t lower_left = 0;
     bool opening = false;
     std::string name;  ///< the object's name, or "<fin> Left"/"<fin> Right" for a fin's two shades
   };
@@ -126,6 +130,7 @@ class Reader {
     std::string place;
   };
   std::vector<glm::dvec3> raw_vertices(const Object& o) const;
+  std::size_t lower_left_index(std::size_t n) const;
   glm::dvec3 zone_to_model(const glm::dvec3& p, const ZoneFrame& zone) const;
   glm::dvec3 world_to_model(const glm::dvec3& p) const;
   const ZoneFrame& zone_of(const Object& o, std::string_view key) const;
@@ -168,6 +173,7 @@ class Reader {
   std::vector<Warning> warnings_;
 
   bool clockwise_ = false;
+  int start_corner_ = 0;  // Starting Vertex Position: 0 upper left, 1 lower left, 2 lower right, 3 upper right
   bool world_ = false;  // GlobalGeometryRules Coordinate System World/Absolute
   bool rectangular_world_ = false;
   double north_axis_ = 0.0;        // the sun's: the model frame's +y from true north (with appendix_g_)

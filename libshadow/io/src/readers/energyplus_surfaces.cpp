@@ -94,6 +94,20 @@ std::vector<glm::dvec3> Reader::raw_vertices(const Object& o) const {
   return out;
 }
 
+// EnergyPlus's Vertex(2) of a surface given by n vertices, as an index into raw_vertices's list:
+// GetVertices turns a clockwise list around its first vertex, then rotates it so that the
+// first vertex given lands at the Starting Vertex Position's place (upper left 1, lower left 2,
+// lower right 3, upper right 4; a triangle's upper right counts as upper left). raw_vertices
+// reversed a clockwise list whole (its first vertex last).
+std::size_t Reader::lower_left_index(std::size_t n) const {
+  if (n == 0) return 0;
+  const long long c = n < 4 && start_corner_ == 3 ? 0 : start_corner_;
+  const long long size = static_cast<long long>(n);
+  const auto mod = [&](long long k) { return static_cast<std::size_t>(((k % size) + size) % size); };
+  const std::size_t file_index = clockwise_ ? mod(c - 1) : mod(1 - c);
+  return clockwise_ ? n - 1 - file_index : file_index;
+}
+
 const Reader::ZoneFrame& Reader::zone_of(const Object& o, std::string_view key) const {
   const Value& v = field(o, key);
   const auto it = zone_index_.find(lower(v.text));
@@ -114,44 +128,46 @@ namespace {
 
 // Window, Door, GlazedDoor: a rectangle given in its base surface's own coordinates (x along
 // the surface to the right seen from outside, z up the surface; origin at its lower left).
-/// A planar surface's own coordinates, as EnergyPlus's simple windows and shades use them: x to
-/// the right seen from outside (horizontal), y up the surface, n out; origin at the lower left
-/// of the surface's bounding rectangle in x and y, which spans [0, width] x [0, height].
+/// A planar surface's own coordinates, as EnergyPlus's simple windows and shades use them
+/// (MakeRelativeRectangularVertices): x to the right seen from outside, y up the surface, n out;
+/// origin at EnergyPlus's Vertex(2) (`lower_left`). x is horizontal, from the azimuth, except on a
+/// horizontal surface, whose azimuth EnergyPlus takes from its edge Vertex(2) -> Vertex(3). width
+/// and height span the surface in x and y from the origin's side (its bounding rectangle).
 struct SurfaceFrame {
   glm::dvec3 corner, right, up, n;
   double width = 0.0, height = 0.0;
   [[nodiscard]] glm::dvec3 at(double u, double v) const { return corner + u * right + v * up; }
 };
 
-std::optional<SurfaceFrame> surface_frame(const std::vector<glm::dvec3>& b) {
+std::optional<SurfaceFrame> surface_frame(const std::vector<glm::dvec3>& b, std::size_t lower_left) {
   SurfaceFrame f;
   f.n = geometry::newell_normal(b, b.front());
   const double n_length = std::sqrt(f.n.x * f.n.x + f.n.y * f.n.y + f.n.z * f.n.z);
-  if (!(n_length > 0)) return std::nullopt;
+  if (!(n_length > 0) || lower_left >= b.size()) return std::nullopt;
   f.n /= n_length;
-  // Right seen from outside: up x n; for a horizontal surface, the model's +x (roof) or -x (floor).
+  // Right seen from outside: up x n; for a horizontal surface, along its edge from Vertex(2).
   f.right = glm::dvec3(-f.n.y, f.n.x, 0.0);
   const double r = std::sqrt(f.right.x * f.right.x + f.right.y * f.right.y);
-  if (r < 1e-9)
-    f.right = glm::dvec3(f.n.z > 0 ? 1.0 : -1.0, 0.0, 0.0);
-  else
+  if (r < 1e-9) {
+    const glm::dvec3 edge = b[(lower_left + 1) % b.size()] - b[lower_left];
+    const double e = std::sqrt(edge.x * edge.x + edge.y * edge.y);
+    if (!(e > 0)) return std::nullopt;
+    f.right = glm::dvec3(edge.x / e, edge.y / e, 0.0);
+  } else {
     f.right /= r;
+  }
   const glm::dvec3& n = f.n;
   const glm::dvec3& x = f.right;
   f.up = glm::dvec3(n.y * x.z - n.z * x.y, n.z * x.x - n.x * x.z, n.x * x.y - n.y * x.x);
-  double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
-  for (std::size_t i = 0; i < b.size(); ++i) {
-    const glm::dvec3 d = b[i] - b.front();
-    const double px = d.x * f.right.x + d.y * f.right.y + d.z * f.right.z;
-    const double py = d.x * f.up.x + d.y * f.up.y + d.z * f.up.z;
-    if (i == 0 || px < min_x) min_x = px;
-    if (i == 0 || py < min_y) min_y = py;
-    if (i == 0 || px > max_x) max_x = px;
-    if (i == 0 || py > max_y) max_y = py;
+  double max_x = 0, max_y = 0;
+  f.corner = b[lower_left];
+  for (const glm::dvec3& p : b) {
+    const glm::dvec3 d = p - f.corner;
+    max_x = std::max(max_x, d.x * f.right.x + d.y * f.right.y + d.z * f.right.z);
+    max_y = std::max(max_y, d.x * f.up.x + d.y * f.up.y + d.z * f.up.z);
   }
-  f.corner = b.front() + min_x * f.right + min_y * f.up;
-  f.width = max_x - min_x;
-  f.height = max_y - min_y;
+  f.width = max_x;
+  f.height = max_y;
   return f;
 }
 
@@ -167,7 +183,7 @@ std::vector<glm::dvec3> Reader::rectangle_in_base(const Object& o, const Surface
   const double height = required_number(height_field, "height");
   if (!(length > 0)) fail(length_field.place, "the length must be positive");
   if (!(height > 0)) fail(height_field.place, "the height must be positive");
-  const std::optional<SurfaceFrame> f = surface_frame(base.vertices);
+  const std::optional<SurfaceFrame> f = surface_frame(base.vertices, base.lower_left);
   if (!f) fail(o.place, "its base surface has zero area");
   return {f->at(x, z), f->at(x + length, z), f->at(x + length, z + height), f->at(x, z + height)};
 }
@@ -176,7 +192,7 @@ std::vector<glm::dvec3> Reader::rectangle_in_base(const Object& o, const Surface
 // door. The angle from the window is 90 for a shade square to it; below 90 it turns toward the
 // wall beyond the window's edge (up for an overhang, outward sideways for a fin).
 std::vector<std::vector<glm::dvec3>> Reader::window_shades(const Object& o, const Surface& window) const {
-  const std::optional<SurfaceFrame> f = surface_frame(window.vertices);
+  const std::optional<SurfaceFrame> f = surface_frame(window.vertices, window.lower_left);
   if (!f) fail(o.place, "its window or door has zero area");
   const std::string cls = o.spec->name;
   const bool projection = cls.find(":Projection") != std::string::npos;
@@ -369,6 +385,7 @@ void Reader::read_base_surfaces() {
         s.kind = s.group == Surface::ZoneGroup ? "Roof" : "Ceiling";
       }
       s.vertices = raw_vertices(o);
+      s.lower_left = lower_left_index(s.vertices.size());
       for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zone);
       add_surface(std::move(s));
     } else if (const SimpleSurface* simple = simple_surface(cls)) {
@@ -388,6 +405,7 @@ void Reader::read_base_surfaces() {
       s.kind = "Shading";
       s.group = cls == "Shading:Site:Detailed" ? Surface::SiteShading : Surface::BuildingShading;
       s.vertices = raw_vertices(o);
+      s.lower_left = lower_left_index(s.vertices.size());
       if (s.group == Surface::SiteShading)
         for (glm::dvec3& p : s.vertices) p = world_to_model(p);
       add_surface(std::move(s));
@@ -427,6 +445,7 @@ void Reader::read_openings() {
           fail(type.place, "expected Window, Door, GlassDoor, TubularDaylightDome or TubularDaylightDiffuser, not \"" +
                                type.text + "\"");
         s.vertices = raw_vertices(o);
+      s.lower_left = lower_left_index(s.vertices.size());
         for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zones_[zone_index_.at(lower(b.zone))]);
       } else {
         s.kind = cls == "GlazedDoor" ? "GlassDoor" : cls;
@@ -442,6 +461,7 @@ void Reader::read_openings() {
       s.kind = "Shading";
       s.group = Surface::BuildingShading;
       s.vertices = raw_vertices(o);
+      s.lower_left = lower_left_index(s.vertices.size());
       if (!b.zone.empty())
         for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zones_[zone_index_.at(lower(b.zone))]);
       add_surface(std::move(s));
