@@ -134,36 +134,32 @@ void check_period(Weather& w, const DataPeriod& period, const std::vector<std::s
   const std::int64_t begins = w.start_utc[0] + offset, ends = w.start_utc[last] + offset + 3600;  // local seconds
   const std::int64_t start = days_from_civil(first_year, period.start.month, period.start.day) * 86400;
   const std::int64_t end = (days_from_civil(first_year + years, period.end.month, period.end.day) + 1) * 86400;
-  const std::string records = std::to_string(w.hours()) + " hourly records";
+  // A day or less missing: a warning; more: the error, with the fix when it was on purpose.
+  const auto missing_hours = [&](std::int64_t missing, std::size_t line, const std::string& problem,
+                                 const std::string& what, const std::string& fix) {
+    if (missing <= 24) {
+      w.warnings.push_back({{w.source, "line " + std::to_string(line)}, problem + "; read as it is"});
+      return;
+    }
+    throw InputError({w.source, "line " + std::to_string(line)},
+                     problem + ": " + what + " (" + std::to_string(w.hours()) +
+                         " hourly records; if it was shortened on purpose, set the DATA PERIODS " + fix + ")");
+  };
+  const auto hours_text = [](std::int64_t missing) { return ": " + std::to_string(missing) + " hours missing"; };
   if (begins == start && ends < end) {
     const std::int64_t missing = (end - ends) / 3600;
-    const std::string problem =
-        "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " + std::to_string(w.hour[last]) +
-        ", but DATA PERIODS (line " + std::to_string(period.line) + ") runs the data to " +
-        date_text(period.end.month, period.end.day) + " hour 24: " + std::to_string(missing) + " hours missing";
-    if (missing <= 24) {
-      w.warnings.push_back({{w.source, "line " + std::to_string(lines.back())}, problem + "; read as it is"});
-      return;
-    }
-    throw InputError({w.source, "line " + std::to_string(lines.back())},
-                     problem + ": the file is cut short (" + records +
-                         "; if it was shortened on purpose, set the DATA PERIODS end to " +
-                         date_text(w.month[last], w.day[last]) + ")");
-  }
-  if (ends == end && begins > start) {
+    missing_hours(missing, lines.back(),
+                  "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " +
+                      std::to_string(w.hour[last]) + ", but DATA PERIODS (line " + std::to_string(period.line) +
+                      ") runs the data to " + date_text(period.end.month, period.end.day) + " hour 24" + hours_text(missing),
+                  "the file is cut short", "end to " + date_text(w.month[last], w.day[last]));
+  } else if (ends == end && begins > start) {
     const std::int64_t missing = (begins - start) / 3600;
-    const std::string problem =
-        "the records begin at " + date_text(w.month[0], w.day[0]) + " hour " + std::to_string(w.hour[0]) +
-        ", but DATA PERIODS (line " + std::to_string(period.line) + ") starts the data at " +
-        date_text(period.start.month, period.start.day) + " hour 1: " + std::to_string(missing) + " hours missing";
-    if (missing <= 24) {
-      w.warnings.push_back({{w.source, "line " + std::to_string(lines.front())}, problem + "; read as it is"});
-      return;
-    }
-    throw InputError({w.source, "line " + std::to_string(lines.front())},
-                     problem + ": the file lost its beginning (" + records +
-                         "; if it was shortened on purpose, set the DATA PERIODS start to " +
-                         date_text(w.month[0], w.day[0]) + ")");
+    missing_hours(missing, lines.front(),
+                  "the records begin at " + date_text(w.month[0], w.day[0]) + " hour " + std::to_string(w.hour[0]) +
+                      ", but DATA PERIODS (line " + std::to_string(period.line) + ") starts the data at " +
+                      date_text(period.start.month, period.start.day) + " hour 1" + hours_text(missing),
+                  "the file lost its beginning", "start to " + date_text(w.month[0], w.day[0]));
   }
 }
 
