@@ -205,7 +205,8 @@ def _sun_data(sun):
         if sun.times:
             d["times"] = [format_iso8601_utc(t) for t in sun.times]
         else:
-            d.update({"start": sun.start, "end": sun.end, "step_minutes": sun.step_minutes})
+            d.update({"start": sun.start, "end": sun.end, "step_minutes": sun.step_minutes,
+                      "energyplus_times": sun.energyplus_times})
         return d
     return sun
 

@@ -327,6 +327,16 @@ TEST(EnergyPlus, AppendixGRotationTurnsTheBuilding) {
   ASSERT_TRUE(world.sun);
   EXPECT_EQ(world.sun->north_axis, 90.0);
   EXPECT_EQ(world.faces[0].vertices[0], dvec3(0, 0, 3));  // drawn as written; the sun turns
+  // Site shading is the one thing EnergyPlus does not turn in world coordinates: turned back here
+  // (it stayed with the building, west of it instead of south).
+  const Model site = idf("GlobalGeometryRules, UpperLeftCorner, Counterclockwise, World;\n"
+                         "Compliance:Building, 90;\n" + rest +
+                         "Shading:Site:Detailed, Fence, , 4,  0, -5, 2,  0, -5, 0,  4, -5, 0,  4, -5, 2;\n");
+  for (const auto& f : site.faces)
+    if (f.name == "Fence") {
+      EXPECT_NEAR(f.vertices[0].x, 5.0, 1e-12);
+      EXPECT_NEAR(f.vertices[0].y, 0.0, 1e-12);
+    }
 }
 
 TEST(EnergyPlus, WorldCoordinatesIgnoreZoneOriginAndNorthAxisWithAWarning) {
@@ -519,6 +529,15 @@ TEST(EnergyPlus, SimpleWindowsStartFromEnergyPlusVertexTwo) {
   EXPECT_EQ(window(gable, "Win"), (std::vector<dvec3>{{1, 0, 1}, {3, 0, 1}, {3, 0, 2.5}, {1, 0, 2.5}}));
   EXPECT_EQ(window(lower_left, "Win"), (std::vector<dvec3>{{1, 0, 1}, {3, 0, 1}, {3, 0, 2.5}, {1, 0, 2.5}}));
   EXPECT_EQ(window(roof, "Sky"), (std::vector<dvec3>{{9, 7, 3}, {7, 7, 3}, {7, 6, 3}, {9, 6, 3}}));
+  // An overhang on a window entered from another corner than the one declared: sized as
+  // EnergyPlus sizes it (Width |V3 - V2|, Height |V2 - V1|), not refused as a zero-width shade.
+  const Model odd = idf(kWall + "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n"
+                                "  1,0,1, 3,0,1, 3,0,2, 1,0,2;\n"
+                                "Shading:Overhang, O, Win, 0.5, 90, 0, 0, 1;\n");
+  const std::vector<dvec3> overhang = window(odd, "O");
+  ASSERT_EQ(overhang.size(), 4u);
+  EXPECT_EQ(overhang[0], dvec3(3, 0, 3.5));
+  EXPECT_EQ(overhang[1], dvec3(4, 0, 3.5));
 }
 
 TEST(EnergyPlus, WindowOutsideItsWallOffItsPlaneOrOverlapping) {

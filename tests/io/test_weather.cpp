@@ -144,6 +144,10 @@ TEST(Weather, RecordsGoInTheNearestYearTheyFit) {
   for (int h = 1; h <= 24; ++h) text += record(1996, 3, 1, h, "0", "0", "0");
   const shadow::Weather typical = parse(text);
   EXPECT_EQ(typical.year, 1997);
+  ASSERT_EQ(typical.warnings.size(), 1u);  // said, not silent
+  EXPECT_EQ(typical.warnings[0].to_string(), "test.epw: line 9, field 1 (year): the records are stamped 1996, but they "
+                                             "have no 29 February: they are placed in 1997, the nearest year they fit "
+                                             "(typical years mix months of different years)");
   EXPECT_EQ(typical.start_utc[24] - typical.start_utc[0], 86400);
   EXPECT_EQ(typical.start_utc[0], shadow::days_from_civil(1997, 2, 28) * 86400 - 3600);  // UTC+1
 
@@ -286,6 +290,18 @@ TEST(Weather, AFileCutShortIsAnError) {
   ASSERT_EQ(day_late.warnings.size(), 1u);
   EXPECT_EQ(day_late.warnings[0].to_string(), "test.epw: line 9: the records begin at 6/20 hour 1, but DATA PERIODS "
                                               "(line 8) starts the data at 6/19 hour 1: 24 hours missing; read as it is");
+
+  // A period across 31 December whose records lost their first months (the period's end found
+  // in the last record's year, its start the year before): an error too. It was read as a
+  // shorter year.
+  std::string winter = header;
+  winter.replace(winter.find("6/20,6/22"), 9, "7/1/2023,1/2/2024");
+  for (int d = 1; d <= 2; ++d)
+    for (int h = 1; h <= 24; ++h) winter += record(2024, 1, d, h, "100", "200", "50");
+  EXPECT_NE(error_of(winter).find("the records begin at 1/1 hour 1, but DATA PERIODS (line 8) starts the data at 7/1 "
+                                  "hour 1: 4416 hours missing: the file lost its beginning"),
+            std::string::npos)
+      << error_of(winter);
 
   // Records that do not begin where the header starts the data are read as they are.
   EXPECT_EQ(parse(two_days(2023, 6, 20).substr(0, two_days(2023, 6, 20).find("2023,6,21,1,"))).hours(), 24u);

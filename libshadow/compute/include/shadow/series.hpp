@@ -3,7 +3,8 @@
 /// @brief Sun series: the scene's suns as one job, sun hours, results per named surface (the
 /// files they make are written by shadow/series_files.hpp and shadow/output.hpp). See docs/series.md.
 ///
-/// Integration rule: each instant stands for the step that it starts. For a `sun` period,
+/// Integration rule: each instant stands for its step (the step it starts, or with
+/// SunPeriod::energyplus_times the step it ends or the middle of which it is). For a `sun` period,
 /// sun_hours = sum over instants of lit_fraction x step_minutes / 60. For explicit `times`,
 /// each instant counts for the median gap between consecutive times (a single time counts for
 /// one hour); report.json says which weight was used (`hours_per_instant`).

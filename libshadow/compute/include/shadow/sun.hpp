@@ -163,9 +163,10 @@ inline constexpr std::size_t max_sun_instants = 1'000'000;
 void check_sun_period(const SunPeriod& period, const std::string& file = {},
                       const std::string& place = "sun");
 
-/// Every instant of `period` in time order with its sun's position: for a period, one instant at
-/// the start of each step of each local standard day from `start` to `end` inclusive (UTC =
-/// local - utc_offset); or the `times`. light_id is left SunInstant::none.
+/// Every instant of `period` in time order with its sun's position: for a period, one instant per
+/// step of each local standard day from `start` to `end` inclusive, at the step's start (or, with
+/// `energyplus_times`, its end, or its middle for steps of an hour or more) (UTC = local -
+/// utc_offset); or the `times`. light_id is left SunInstant::none.
 /// @throws InputError (check_sun_period, with an empty file name)
 std::vector<SunInstant> expand_sun_period(const SunPeriod& period);
 

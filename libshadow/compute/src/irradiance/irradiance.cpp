@@ -113,8 +113,10 @@ void sky_of_hours(IrradianceResult& r, const Weather& weather, const IrradianceO
     h.ghi = std::isnan(weather.global_horizontal[rec]) ? h.dni * std::max(0.0, cos_zenith) + dhi
                                                        : weather.global_horizontal[rec];
     if (options.sky == SkyModel::Perez && sun.elevation > 0.0) {
-      const int doy = static_cast<int>(days_from_civil(weather.year, weather.month[rec], weather.day[rec]) -
-                                       days_from_civil(weather.year, 1, 1)) + 1;
+      // The record's own calendar year (a file from July to June runs through two).
+      const std::int64_t local = weather.start_utc[rec] + std::llround(weather.location.time_zone_hours * 3600.0);
+      const std::int64_t day = local >= 0 ? local / 86400 : -((-local + 86399) / 86400);
+      const int doy = static_cast<int>(day - days_from_civil(civil_from_days(day).year, 1, 1)) + 1;
       h.perez = perez_sky(dhi, h.dni, sun.zenith, extraterrestrial_normal(doy), relative_airmass(sun.zenith));
     }
     if (sun.elevation > 0.0 && (h.dni > 0.0 || h.perez.f1 > 0.0)) {

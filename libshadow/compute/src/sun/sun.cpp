@@ -374,6 +374,13 @@ void replace_sun_lights(Scene& scene, const SunPeriod& period) {
   scene.lights = std::move(kept);
   scene.sun.reset();
   scene.sun_instants.clear();
+  // The old period's own warning goes with it (add_sun_lights says it again where it holds).
+  const std::string night = "the sun is at or below min_elevation";
+  scene.warnings.erase(std::remove_if(scene.warnings.begin(), scene.warnings.end(),
+                                      [&](const Warning& w) {
+                                        return w.where.place == "sun" && w.message.rfind(night, 0) == 0;
+                                      }),
+                       scene.warnings.end());
   add_sun_lights(scene, period);
 }
 

@@ -65,7 +65,8 @@ glm::dvec3 Reader::zone_to_model(const glm::dvec3& p, const ZoneFrame& zone) con
 // World (true north) to building coordinates: the building's +y is north_axis_ clockwise from
 // true north, so a world point's building coordinates turn the other way.
 glm::dvec3 Reader::world_to_model(const glm::dvec3& p) const {
-  if (world_) return p;
+  // (With world coordinates north_axis_ is the Appendix G rotation alone, usually 0: EnergyPlus
+  // turns every surface but site shading by it, so site shading turns back by it here.)
   return rotate_clockwise_frame(p, -north_axis_);
 }
 
@@ -132,7 +133,7 @@ namespace {
 /// (MakeRelativeRectangularVertices): x to the right seen from outside, y up the surface, n out;
 /// origin at EnergyPlus's Vertex(2) (`lower_left`). x is horizontal, from the azimuth, except on a
 /// horizontal surface, whose azimuth EnergyPlus takes from its edge Vertex(2) -> Vertex(3). width
-/// and height span the surface in x and y from the origin's side (its bounding rectangle).
+/// and height are EnergyPlus's: the edges Vertex(2) -> Vertex(3) and Vertex(1) -> Vertex(2).
 struct SurfaceFrame {
   glm::dvec3 corner, right, up, n;
   double width = 0.0, height = 0.0;
@@ -159,15 +160,12 @@ std::optional<SurfaceFrame> surface_frame(const std::vector<glm::dvec3>& b, std:
   const glm::dvec3& n = f.n;
   const glm::dvec3& x = f.right;
   f.up = glm::dvec3(n.y * x.z - n.z * x.y, n.z * x.x - n.x * x.z, n.x * x.y - n.y * x.x);
-  double max_x = 0, max_y = 0;
+  // EnergyPlus's Width |Vertex(3) - Vertex(2)| and Height |Vertex(2) - Vertex(1)| (GetVertices):
+  // what its overhangs and fins are sized by.
   f.corner = b[lower_left];
-  for (const glm::dvec3& p : b) {
-    const glm::dvec3 d = p - f.corner;
-    max_x = std::max(max_x, d.x * f.right.x + d.y * f.right.y + d.z * f.right.z);
-    max_y = std::max(max_y, d.x * f.up.x + d.y * f.up.y + d.z * f.up.z);
-  }
-  f.width = max_x;
-  f.height = max_y;
+  const auto length = [](const glm::dvec3& d) { return std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z); };
+  f.width = length(b[(lower_left + 1) % b.size()] - f.corner);
+  f.height = length(f.corner - b[(lower_left + b.size() - 1) % b.size()]);
   return f;
 }
 
@@ -445,7 +443,7 @@ void Reader::read_openings() {
           fail(type.place, "expected Window, Door, GlassDoor, TubularDaylightDome or TubularDaylightDiffuser, not \"" +
                                type.text + "\"");
         s.vertices = raw_vertices(o);
-      s.lower_left = lower_left_index(s.vertices.size());
+        s.lower_left = lower_left_index(s.vertices.size());
         for (glm::dvec3& p : s.vertices) p = zone_to_model(p, zones_[zone_index_.at(lower(b.zone))]);
       } else {
         s.kind = cls == "GlazedDoor" ? "GlassDoor" : cls;

@@ -118,22 +118,33 @@ std::string date_text(int month, int day) { return std::to_string(month) + "/" +
 /// copy that stopped, an edit), which otherwise reads as a shorter year without a word: an
 /// error. A day or less is a warning (converters of leap years are said to drop 31 December).
 /// Records that match neither end of the period do not follow the header; they are read as they
-/// are. The period's dates are placed in the calendar years of the records: its start in the
-/// first record's year, its end as many years later as the period's years say, else in the same
-/// year, or the next when the period runs past 31 December (7/1 to 6/30).
+/// are. The period's dates are placed in the calendar years of the records, from the end that
+/// matches: checking for a cut end, its start in the first record's year; checking for a lost
+/// beginning, its end in the last record's year. The other date lies as many years away as the
+/// period's years say, else in the same year, or the next when the period runs past 31 December
+/// (7/1 to 6/30).
 void check_period(Weather& w, const DataPeriod& period, const std::vector<std::size_t>& lines) {
   if (period.start.month == 0 || period.end.month == 0) return;
-  const std::int64_t first_year = w.year;
   std::int64_t years = period.end.key() < period.start.key() ? 1 : 0;
   if (period.start.year > 0 && period.end.year - period.start.year >= years) years = period.end.year - period.start.year;
-  if (!is_valid_date(first_year, period.start.month, period.start.day) ||
-      !is_valid_date(first_year + years, period.end.month, period.end.day))
-    return;  // (29 February of a common year: not a period these records can follow)
   const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
   const std::size_t last = w.hours() - 1;
   const std::int64_t begins = w.start_utc[0] + offset, ends = w.start_utc[last] + offset + 3600;  // local seconds
-  const std::int64_t start = days_from_civil(first_year, period.start.month, period.start.day) * 86400;
-  const std::int64_t end = (days_from_civil(first_year + years, period.end.month, period.end.day) + 1) * 86400;
+  const std::int64_t last_second = ends - 1;  // the day of the last record's last second
+  const std::int64_t last_day = last_second >= 0 ? last_second / 86400 : -((-last_second + 86399) / 86400);
+  // The period [start, end) in local seconds with its start in `start_year`; false for a date
+  // that is not one there (29 February of a common year: not a period these records follow).
+  const auto place = [&](std::int64_t start_year, std::int64_t& start, std::int64_t& end) {
+    if (!is_valid_date(start_year, period.start.month, period.start.day) ||
+        !is_valid_date(start_year + years, period.end.month, period.end.day))
+      return false;
+    start = days_from_civil(start_year, period.start.month, period.start.day) * 86400;
+    end = (days_from_civil(start_year + years, period.end.month, period.end.day) + 1) * 86400;
+    return true;
+  };
+  std::int64_t start = 0, end = 0, start_b = 0, end_b = 0;
+  const bool from_start = place(w.year, start, end);
+  const bool from_end = place(civil_from_days(last_day).year - years, start_b, end_b);
   // A day or less missing: a warning; more: the error, with the fix when it was on purpose.
   const auto missing_hours = [&](std::int64_t missing, std::size_t line, const std::string& problem,
                                  const std::string& what, const std::string& fix) {
@@ -146,15 +157,15 @@ void check_period(Weather& w, const DataPeriod& period, const std::vector<std::s
                          " hourly records; if it was shortened on purpose, set the DATA PERIODS " + fix + ")");
   };
   const auto hours_text = [](std::int64_t missing) { return ": " + std::to_string(missing) + " hours missing"; };
-  if (begins == start && ends < end) {
+  if (from_start && begins == start && ends < end) {
     const std::int64_t missing = (end - ends) / 3600;
     missing_hours(missing, lines.back(),
                   "the records stop at " + date_text(w.month[last], w.day[last]) + " hour " +
                       std::to_string(w.hour[last]) + ", but DATA PERIODS (line " + std::to_string(period.line) +
                       ") runs the data to " + date_text(period.end.month, period.end.day) + " hour 24" + hours_text(missing),
                   "the file is cut short", "end to " + date_text(w.month[last], w.day[last]));
-  } else if (ends == end && begins > start) {
-    const std::int64_t missing = (begins - start) / 3600;
+  } else if (from_end && ends == end_b && begins > start_b) {
+    const std::int64_t missing = (begins - start_b) / 3600;
     missing_hours(missing, lines.front(),
                   "the records begin at " + date_text(w.month[0], w.day[0]) + " hour " + std::to_string(w.hour[0]) +
                       ", but DATA PERIODS (line " + std::to_string(period.line) + ") starts the data at " +

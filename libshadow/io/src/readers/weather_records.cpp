@@ -140,6 +140,13 @@ void place_records(Weather& w, const std::vector<std::size_t>& lines, std::size_
   if (w.hours() == 0) throw InputError({w.source, "line " + std::to_string(lines.empty() ? header_lines : lines.back())},
                                        "no hourly records after the " + std::to_string(header_lines) + " header lines");
   w.year = placement_year(w);
+  if (w.year != w.record_year[0])
+    w.warnings.push_back({{w.source, "line " + std::to_string(lines.front()) + ", field 1 (year)"},
+                          "the records are stamped " + std::to_string(w.record_year[0]) + ", but " +
+                              (is_valid_date(w.record_year[0], 2, 29) ? "they have no 29 February"
+                                                                      : "they hold 29 February") +
+                              ": they are placed in " + std::to_string(w.year) +
+                              ", the nearest year they fit (typical years mix months of different years)"});
   const auto offset = static_cast<std::int64_t>(std::llround(w.location.time_zone_hours * 3600.0));
   std::int64_t year = w.year;
   std::int64_t expected = 0;  // local seconds of the next record's start
