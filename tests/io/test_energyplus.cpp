@@ -655,9 +655,19 @@ TEST(EnergyPlus, WindowProudOfItsWallTooDeepOrSkew) {
 
 // --- Results back into EnergyPlus ---------------------------------------------------------------
 
+/// The test's own temporary directory, removed when the test program ends.
+struct TempFiles {
+  fs::path dir = fs::temp_directory_path() / ("libshadow_test_energyplus_" + std::to_string(::getpid()));
+  ~TempFiles() {
+    std::error_code ignored;
+    fs::remove_all(dir, ignored);
+  }
+};
+
 /// A file in the test's own temporary directory.
 fs::path temp_file(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / ("libshadow_test_energyplus_" + std::to_string(::getpid()));
+  static const TempFiles files;
+  const fs::path& dir = files.dir;
   fs::create_directories(dir);
   const fs::path file = dir / name;
   std::ofstream(file, std::ios::binary) << text;

@@ -466,7 +466,11 @@ TEST(VtpZlibDeathTest, VtksWriterCrashesWhenZlibFails) {
   // Why a failed block must never reach the writer: VTK 9.1's vtkXMLWriter uses the array
   // vtkDataCompressor::Compress returns without looking, and that is null when zlib failed.
   GTEST_FLAG_SET(death_test_style, "threadsafe");
-  const fs::path dir = temp_dir();
+  // The "threadsafe" style runs this body again in a child process, which dies inside Write():
+  // a directory named by the process id would be the child's own and stay behind, so this one
+  // has a fixed name that the parent removes.
+  const fs::path dir = fs::temp_directory_path() / "libshadow-test_vtp_zlib-death";
+  fs::create_directories(dir);
   EXPECT_DEATH(
       {
         vtkNew<vtkXMLPolyDataWriter> writer;
