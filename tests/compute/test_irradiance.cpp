@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -302,6 +303,59 @@ TEST(Irradiance, MapCellsAddUpToTheFacesDirect) {
   }
   EXPECT_GT(r.direct[row_of(r, c.floor)], 0.0);
   EXPECT_EQ(r.direct[row_of(r, bottom)], 0.0);
+}
+
+// A missing direct normal or diffuse value counts 0 and the other is kept, as EnergyPlus reads
+// them (before, either missing zeroed the whole hour); both missing, the hour adds nothing. Each
+// case against the same file with the value written as 0, bit for bit, on a roof, a south wall
+// and a wall facing away from the sun.
+TEST(Irradiance, AMissingValueCountsZeroAndKeepsTheOther) {
+  shadow::Scene scene;
+  shadow::add_mesh(scene, "flat", {shadow::rectangle_z(0, 0, 1, 1, 0)});
+  shadow::add_mesh(scene, "south", {{{100, 0, 0}, {101, 0, 0}, {101, 0, 1}, {100, 0, 1}}});
+  shadow::add_mesh(scene, "north", {{{201, 0, 0}, {200, 0, 0}, {200, 0, 1}, {201, 0, 1}}});
+  shadow::validate_scene(scene);
+  const shadow::ShadowEngine engine(scene, 1);
+  shadow::IrradianceOptions options;
+  options.series.threads = 1;
+  const shadow::Weather base = weather(1);
+  const std::size_t noon = 12, afternoon = 15;  // records of hours 13 and 16: DNI 600, DHI 100
+  ASSERT_EQ(base.direct_normal[noon], 600.0);
+  ASSERT_EQ(base.diffuse_horizontal[afternoon], 100.0);
+  const shadow::IrradianceResult full = shadow::compute_irradiance(engine, scene, base, options);
+  EXPECT_EQ(full.missing_hours, 0u);
+  auto run = [&](std::vector<double> shadow::Weather::*field, std::size_t rec, double value) {
+    shadow::Weather w = base;
+    (w.*field)[rec] = value;
+    return shadow::compute_irradiance(engine, scene, w, options);
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (auto field : {&shadow::Weather::direct_normal, &shadow::Weather::diffuse_horizontal}) {
+    for (std::size_t rec : {noon, afternoon}) {
+      const shadow::IrradianceResult missing = run(field, rec, nan);
+      const shadow::IrradianceResult zero = run(field, rec, 0.0);
+      EXPECT_EQ(missing.missing_hours, 1u);
+      EXPECT_EQ(zero.missing_hours, 0u);
+      for (std::size_t row = 0; row < 3; ++row) {
+        EXPECT_EQ(missing.direct[row], zero.direct[row]) << row;
+        EXPECT_EQ(missing.sky_diffuse[row], zero.sky_diffuse[row]) << row;
+        EXPECT_EQ(missing.ground_reflected[row], zero.ground_reflected[row]) << row;
+        EXPECT_EQ(missing.total[row], zero.total[row]) << row;
+      }
+      // The value kept still counts: the hour is not dropped whole.
+      EXPECT_GT(full.total[0] - missing.total[0], 0.0);
+      EXPECT_LT(full.total[0] - missing.total[0], (field == &shadow::Weather::direct_normal ? 0.6 : 0.1) + 1e-9);
+    }
+  }
+  // Both missing: the hour adds nothing, its global horizontal value (500) not read either.
+  shadow::Weather both = base, dark = base;
+  both.direct_normal[afternoon] = both.diffuse_horizontal[afternoon] = nan;
+  dark.direct_normal[afternoon] = dark.diffuse_horizontal[afternoon] = dark.global_horizontal[afternoon] = 0.0;
+  const shadow::IrradianceResult a = shadow::compute_irradiance(engine, scene, both, options);
+  const shadow::IrradianceResult b = shadow::compute_irradiance(engine, scene, dark, options);
+  EXPECT_EQ(a.missing_hours, 1u);
+  for (std::size_t row = 0; row < 3; ++row) EXPECT_EQ(a.total[row], b.total[row]) << row;
+  EXPECT_GT(b.total[1], 0.0);
 }
 
 // A scene for irradiance needs no lights (its suns come from the weather file); others still do.

@@ -277,7 +277,9 @@ int run_irradiance(const IrradianceArgs& args) {
               weather.location.latitude, weather.location.longitude, result.sun_lights.size(), result.patches.size(),
               args.sky.c_str(), result.ground_reflectance);
   if (result.missing_hours > 0)
-    std::printf("  %zu hours with missing irradiation in the weather file counted as 0\n", result.missing_hours);
+    std::printf("  %zu hours with direct normal or diffuse horizontal irradiation missing in the weather file: "
+                "the missing value counted as 0\n",
+                result.missing_hours);
   const std::vector<shadow::IrradianceGroup> surfaces =
       shadow::irradiance_groups(scene, result, shadow::IrradianceGrouping::Surface);
   const std::size_t shown = std::min<std::size_t>(surfaces.size(), 10);

@@ -120,7 +120,7 @@ struct IrradianceHour {
   double zenith = 90.0;             ///< the sun's zenith at mid-hour (degrees)
   glm::dvec3 to_sun{0.0, 0.0, 1.0}; ///< unit vector toward the sun, model coordinates
   PerezSky perez;                   ///< F1 = F2 = 0 for the isotropic sky
-  bool missing = false;             ///< DNI or DHI missing in the file: the hour counts 0
+  bool missing = false;             ///< DNI or DHI missing in the file: that one counts 0 (both: the hour)
   static constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
 };
 
@@ -175,7 +175,7 @@ struct IrradianceResult {
   SeriesResult ground;
   SkyModel sky_model = SkyModel::Perez;
   double ground_reflectance = 0.2;
-  std::size_t missing_hours = 0;  ///< hours of the period with DNI or DHI missing (counted as 0)
+  std::size_t missing_hours = 0;  ///< hours of the period with DNI or DHI missing (that value counted as 0)
   double seconds_sky = 0.0, seconds_ground = 0.0, seconds_sun = 0.0, seconds_sums = 0.0;  ///< time per stage
   /// Energy conservation over every face and hour (W/m2): the largest excess of shaded over
   /// unshaded direct and sky diffuse (<= 0 up to rounding), and the smallest component (>= 0).

@@ -100,13 +100,18 @@ void sky_of_hours(IrradianceResult& r, const Weather& weather, const IrradianceO
     const SunPosition sun = solar_position(site, weather.start_utc[rec] + 1800, options.north_axis, options.delta_t);
     h.zenith = sun.zenith;
     h.to_sun = sun.to_light;
-    const double dni = weather.direct_normal[rec], dhi = weather.diffuse_horizontal[rec];
+    // A missing value counts 0, the other of the two kept (as EnergyPlus's weather manager
+    // does): an hour with only its diffuse measured still lights the faces with it. Both
+    // missing: the hour adds nothing, whatever its global horizontal value says.
+    double dni = weather.direct_normal[rec], dhi = weather.diffuse_horizontal[rec];
     h.missing = std::isnan(dni) || std::isnan(dhi);
-    if (h.missing) {
-      ++r.missing_hours;
+    if (h.missing) ++r.missing_hours;
+    if (std::isnan(dni) && std::isnan(dhi)) {
       r.hours.push_back(h);
       continue;
     }
+    if (std::isnan(dni)) dni = 0.0;
+    if (std::isnan(dhi)) dhi = 0.0;
     const double cos_zenith = std::cos(sun.zenith * kPi / 180.0);
     h.dhi = dhi;
     h.dni = sun.elevation > 0.0 ? dni : 0.0;  // no beam from a sun below the horizon at mid-hour
@@ -168,7 +173,7 @@ void sum_rows(IrradianceResult& r, const Weather& weather) {
     if (!(r.area[row] > 0.0)) continue;
     double bound = 0.0;
     for (const IrradianceHour& h : r.hours) {
-      if (h.missing || h.sun == IrradianceHour::none) continue;
+      if (h.sun == IrradianceHour::none) continue;
       const double c = glm::dot(r.normal[row], h.to_sun);
       if (c > 0.0) bound += h.dni * c * (r.sun.lit_area_error_bound[r.sun.at(row, h.sun)] / r.area[row]);
     }
@@ -181,7 +186,6 @@ void sum_rows(IrradianceResult& r, const Weather& weather) {
 FaceIrradiance face_irradiance(const IrradianceResult& r, std::size_t row, std::size_t h) {
   FaceIrradiance e;
   const IrradianceHour& hour = r.hours[h];
-  if (hour.missing) return e;
   const glm::dvec3& n = r.normal[row];
   const double cos_incidence = glm::dot(n, hour.to_sun);
   const double lit = hour.sun == IrradianceHour::none ? 0.0 : r.sun.lit_fraction[r.sun.at(row, hour.sun)];
@@ -268,7 +272,7 @@ SunHoursMap irradiation_map(const ShadowEngine& engine, const IrradianceResult& 
   for (const auto& [normal, group] : groups) {
     std::vector<SunHoursInstant> instants;
     for (const IrradianceHour& h : r.hours) {
-      if (h.missing || h.sun == IrradianceHour::none) continue;
+      if (h.sun == IrradianceHour::none) continue;
       const double c = normal[0] * h.to_sun.x + normal[1] * h.to_sun.y + normal[2] * h.to_sun.z;
       if (!(c > 0.0) || !(h.dni > 0.0)) continue;  // no beam on the face: the hour adds nothing
       instants.push_back({r.sun_lights[h.sun], h.dni * c / 1000.0});
