@@ -336,6 +336,52 @@ else
   fail period_across_new_year "hours: --from 01-01 '$hours_jan' (24), --from 12-31 --to 01-01 '$hours_both' (48), --to 12-31 '$hours_dec' (24)"
 fi
 
+# A date with its year on a file of two years (2020 and 2021, DNI 600 in 2020 and 300 in 2021):
+# that day where the file holds it (before, the year was dropped and 06-21 of 2020 taken); a day
+# the file does not hold is an error; on the two-day file above a year it does not hold leaves
+# the month and day (a typical year stamped with other years).
+python3 - "$WORK/day.epw" "$WORK/two-years.epw" <<'PY'
+import datetime, sys
+lines = open(sys.argv[1]).read().splitlines()
+header, records = lines[:8], [l for l in lines[8:] if l]
+header[7] = "DATA PERIODS,1,1,Data,Wednesday, 1/ 1/2020,12/31/2021"
+out = list(header)
+day = datetime.date(2020, 1, 1)
+while day.year < 2022:
+    for r in records:
+        fields = r.split(",")
+        fields[0:3] = [str(day.year), str(day.month), str(day.day)]
+        if fields[14] != "0":
+            fields[14] = "600" if day.year == 2020 else "300"
+        out.append(",".join(fields))
+    day += datetime.timedelta(days=1)
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+PY
+roof_direct() {
+  local name=$1 file=$2
+  shift 2
+  if "$SHADOW" irradiance "$WORK/scene.json" --weather "$file" -o "$WORK/out-$name" -q "$@" >"$WORK/$name.stdout" 2>&1; then
+    python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); print(r["run"]["period"]["hours"], round(r["faces"][0]["annual_irradiation_kwh_m2"]["direct"], 3))' \
+      "$WORK/out-$name/report.json"
+  else
+    echo "exit $?: $(cat "$WORK/$name.stdout")"
+  fi
+}
+y2020=$(roof_direct year_2020 "$WORK/two-years.epw" --from 2020-06-21 --to 2020-06-21)
+y2021=$(roof_direct year_2021 "$WORK/two-years.epw" --from 2021-06-21 --to 2021-06-21)
+md=$(roof_direct year_month_day "$WORK/two-years.epw" --from 06-21 --to 06-21)
+typical=$(roof_direct year_typical "$WORK/new-year.epw" --from 2030-01-01)
+if [[ ${y2020%% *} == 24 && ${y2021%% *} == 24 && $md == "$y2020" && ${typical%% *} == 24 ]] &&
+   python3 -c "import sys; a, b = float('${y2020#* }'), float('${y2021#* }'); sys.exit(0 if abs(b - a / 2) < 1e-3 * a else 1)"; then
+  pass period_with_its_year
+else
+  fail period_with_its_year "2020-06-21 '$y2020', 2021-06-21 '$y2021' (half the direct), 06-21 '$md' (2020's), typical 2030-01-01 '$typical' (24 hours)"
+fi
+expect_error period_year_not_in_file "--from 2019-06-21 is not a day of the weather file" "$WORK/scene.json" \
+  --weather "$WORK/two-years.epw" --from 2019-06-21
+expect_error period_year_reversed "before it starts" "$WORK/scene.json" --weather "$WORK/two-years.epw" \
+  --from 2021-06-21 --to 2020-06-22
+
 expect_error bad_map "--map" "$WORK/scene.json" --weather "$WORK/day.epw" --map nothing
 expect_error bad_ground "--ground" "$WORK/scene.json" --weather "$WORK/day.epw" --ground nothing
 

@@ -37,23 +37,33 @@ std::vector<std::string> split_names(const std::string& list) {
   return names;
 }
 
-/// A month and day from `MM-DD` or `YYYY-MM-DD` (the year is not used: weather years are typical).
-std::pair<int, int> month_day(const std::string& text, const char* flag) {
+/// A date of --from or --to: `MM-DD`, or `YYYY-MM-DD` (year 0 when none is written).
+struct PeriodDate {
   int year = 0, month = 0, day = 0;
+  std::pair<int, int> month_day() const { return {month, day}; }
+};
+
+PeriodDate period_date(const std::string& text, const char* flag) {
+  PeriodDate d;
   char tail = 0;
-  const bool with_year = std::sscanf(text.c_str(), "%d-%d-%d%c", &year, &month, &day, &tail) == 3;
-  const bool without = !with_year && std::sscanf(text.c_str(), "%d-%d%c", &month, &day, &tail) == 2;
-  if ((!with_year && !without) || !shadow::is_valid_date(2024, month, day))
+  const bool with_year = std::sscanf(text.c_str(), "%d-%d-%d%c", &d.year, &d.month, &d.day, &tail) == 3;
+  if (!with_year) d.year = 0;
+  const bool without = !with_year && std::sscanf(text.c_str(), "%d-%d%c", &d.month, &d.day, &tail) == 2;
+  if ((!with_year && !without) || !shadow::is_valid_date(with_year ? d.year : 2024, d.month, d.day) ||
+      (with_year && d.year < 1))
     throw shadow::InputError({"", flag}, "'" + text + "' is not a date: write MM-DD or YYYY-MM-DD");
-  return {month, day};
+  return d;
 }
 
 /// The records [first, end) of the period --from..--to (inclusive dates) in the weather file.
 /// The dates are placed on the file's own timeline, which may run past 31 December (an actual
 /// year from July to June, `--from 03-01` means the March in it): --from is the first time that
 /// date begins at or after the day of the first record, --to the first time that date ends after
-/// --from (so `--from 12-01 --to 02-28` is a winter, where the file holds one). Without --from
-/// the period begins with the file, without --to it ends with it. A period that ends after the
+/// --from (so `--from 12-01 --to 02-28` is a winter, where the file holds one). A date with its
+/// year is that day when the file's records hold it (a file of several years, or an actual
+/// year); on a file of a year or less that does not hold it (a typical year, stamped with other
+/// years) only its month and day count; on a longer file it is an error. Without --from the
+/// period begins with the file, without --to it ends with it. A period that ends after the
 /// file's last record is an error naming it, not a shorter period without a word.
 std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, const IrradianceArgs& args) {
   if (args.from.empty() && args.to.empty()) return {0, w.hours()};
@@ -62,8 +72,11 @@ std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, con
   const auto floor_day = [](std::int64_t t) { return t >= 0 ? t / 86400 : -((-t + 86399) / 86400); };
   const std::size_t last = w.hours() - 1;
   const std::int64_t file_begins = local(0), file_ends = local(last) + 3600;
-  const auto record_text = [&](std::size_t r) {
-    return std::to_string(w.month[r]) + "/" + std::to_string(w.day[r]) + " hour " + std::to_string(w.hour[r]);
+  const std::int64_t first_day = floor_day(file_begins), last_day = floor_day(file_ends - 1);
+  const auto record_text = [&](std::size_t r) {  // the record's day on the timeline (its hour ends it)
+    const auto day = shadow::civil_from_days(floor_day(local(r)));
+    return std::to_string(day.year) + "-" + std::to_string(w.month[r]) + "-" + std::to_string(w.day[r]) + " hour " +
+           std::to_string(w.hour[r]);
   };
   const std::string span = " (the records run from " + record_text(0) + " to " + record_text(last) + ")";
   // The first midnight of month/day in the year of day `from_day` or a later one, at or after it.
@@ -74,20 +87,38 @@ std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, con
         return shadow::days_from_civil(year, md.first, md.second);
     return from_day;  // (not reached: 29 February comes within 8 years)
   };
-  if (!args.from.empty() && !args.to.empty()) {
-    const auto from = month_day(args.from, "--from"), to = month_day(args.to, "--to");
-    const bool across_new_year = shadow::civil_from_days(floor_day(file_begins)).year !=
-                                 shadow::civil_from_days(floor_day(file_ends - 1)).year;
-    if (from > to && !across_new_year)
+  // A date's day on the timeline: its own where the file holds it, else by month and day on a
+  // file of a year or less, else an error.
+  const bool longer_than_a_year = last_day - first_day + 1 > 366;
+  const auto day_of = [&](const PeriodDate& d, const std::string& text, const char* flag, std::int64_t from_day) {
+    if (d.year != 0) {
+      const std::int64_t own = shadow::days_from_civil(d.year, d.month, d.day);
+      if (own >= first_day && own <= last_day) return own;
+      if (longer_than_a_year)
+        throw shadow::InputError({args.weather, ""}, std::string(flag) + " " + text +
+                                                         " is not a day of the weather file, which holds more than a "
+                                                         "year: write a day in it, or MM-DD" + span);
+    }
+    return day_on_or_after(d.month_day(), from_day);
+  };
+  std::optional<PeriodDate> from, to;
+  if (!args.from.empty()) from = period_date(args.from, "--from");
+  if (!args.to.empty()) to = period_date(args.to, "--to");
+  if (from && to && from->year == 0 && to->year == 0) {
+    const bool across_new_year = shadow::civil_from_days(first_day).year != shadow::civil_from_days(last_day).year;
+    if (from->month_day() > to->month_day() && !across_new_year)
       throw shadow::InputError({"", "--from"}, "the period ends (--to " + args.to + ") before it starts (a period across "
                                                "31 December needs a weather file whose records run across it)" + span);
   }
   std::int64_t begin = file_begins, end = file_ends;
-  if (!args.from.empty()) begin = day_on_or_after(month_day(args.from, "--from"), floor_day(file_begins)) * 86400;
+  if (from) begin = day_of(*from, args.from, "--from", first_day) * 86400;
   if (begin >= file_ends)
     throw shadow::InputError({args.weather, ""}, "no record of the weather file falls on or after --from " + args.from + span);
-  if (!args.to.empty()) {
-    end = (day_on_or_after(month_day(args.to, "--to"), floor_day(begin)) + 1) * 86400;
+  if (to) {
+    end = (day_of(*to, args.to, "--to", floor_day(begin)) + 1) * 86400;
+    if (end <= begin)
+      throw shadow::InputError({"", "--to"}, "the period ends (--to " + args.to + ") before it starts (--from " +
+                                                 args.from + ")" + span);
     if (end > file_ends)
       throw shadow::InputError({args.weather, ""}, "the period --from " + (args.from.empty() ? std::string("(the file's start)") : args.from) +
                                                        " --to " + args.to + " ends after the file's last record" + span);
@@ -121,7 +152,7 @@ CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
   cmd->add_option("--ground-reflectance", args.ground_reflectance,
                   "Ground reflectance in [0, 1] (default: the weather file's mean albedo, else 0.2)")
       ->check(shadow_cli::finite_in(0.0, 1.0));
-  cmd->add_option("--from", args.from, "First day of the period (MM-DD or YYYY-MM-DD; the year is not used)");
+  cmd->add_option("--from", args.from, "First day of the period (MM-DD, or YYYY-MM-DD: that day where the weather file holds it)");
   cmd->add_option("--to", args.to, "Last day of the period, inclusive");
   cmd->add_flag("--fast", args.fast, "The fast path for the sunlit fractions (doubles; docs/numeric-contract.md)");
   cmd->add_option("--map", args.map,
