@@ -344,6 +344,18 @@ TEST(CityJson, GeometryInstancesArePlacedTemplates) {
                 .find("CityObjects[\"M\"].geometry[0].template: template 4 out of range (the file has 1)"),
             std::string::npos)
       << error_of([&] { shadow::load_scene(dir.path() / "bad.city.json"); });
+  // Only the vertices the template's surfaces use are placed: one that no surface uses and that
+  // a matrix would place out of range is no error (it was: every template vertex was placed for
+  // every instance); a used one placed out of range is, naming the instance's matrix.
+  doc["CityObjects"]["M"]["geometry"][0]["template"] = 0;
+  doc["geometry-templates"]["vertices-templates"].push_back({1e300, 0, 0});
+  doc["CityObjects"]["M"]["geometry"][0]["transformationMatrix"] = {1e10, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_EQ(shadow::load_scene(dir.write("unused.city.json", doc.dump())).faces.size(), 2u);
+  doc["CityObjects"]["M"]["geometry"][0]["transformationMatrix"] = {1e300, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("far.city.json", doc.dump())); })
+                .find("CityObjects[\"M\"].geometry[0].transformationMatrix: a placed template vertex is out of range"),
+            std::string::npos)
+      << error_of([&] { shadow::load_scene(dir.path() / "far.city.json"); });
 }
 
 // A translation off the decimal grid by less than 1e-6 of a grid unit was snapped onto it (4e-7

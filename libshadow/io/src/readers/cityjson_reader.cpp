@@ -356,26 +356,38 @@ class Reader {
     if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1)
       fail(gpath + ".transformationMatrix", "the last row must be 0, 0, 0, 1 (an affine placement)");
     load_template_vertices();
-    std::vector<glm::dvec3> placed;
-    placed.reserve(template_vertices_.size());
-    for (const glm::dvec3& v : template_vertices_) {
-      glm::dvec3 p;
-      for (int row = 0; row < 3; ++row)
-        p[row] = m[4 * row] * v.x + m[4 * row + 1] * v.y + m[4 * row + 2] * v.z + m[4 * row + 3] + origin[row];
-      for (int c = 0; c < 3; ++c)
-        if (!std::isfinite(p[c]) || std::fabs(p[c]) > max_coordinate)
-          fail(gpath + ".transformationMatrix", "a placed template vertex is out of range");
-      placed.push_back(p);
-    }
     const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
                        m[2] * (m[4] * m[9] - m[5] * m[8]);
-    std::swap(vertices_, placed);
+    // The template's vertices are placed as its rings use them (ring()): an instance costs the
+    // vertices of its template's surfaces, not every template vertex of the file.
+    Placement placement;
+    std::copy(m, m + 16, placement.m);
+    placement.origin = origin;
+    placement.matrix_path = gpath + ".transformationMatrix";
+    placement_ = &placement;
     vertex_table_ = "the templates have";
     mirror_ = det < 0;
+    struct Restore {  // also when the template's geometry fails
+      Reader* reader;
+      ~Restore() {
+        reader->placement_ = nullptr;
+        reader->mirror_ = false;
+        reader->vertex_table_ = "the file has";
+      }
+    } restore{this};
     read_geometry(id, tmpl, gpath + ".template");
-    mirror_ = false;
-    vertex_table_ = "the file has";
-    std::swap(vertices_, placed);
+  }
+
+  /// A template vertex placed by the instance being read: M v + the reference point.
+  glm::dvec3 placed(const glm::dvec3& v) const {
+    const Placement& at = *placement_;
+    glm::dvec3 p;
+    for (int row = 0; row < 3; ++row)
+      p[row] = at.m[4 * row] * v.x + at.m[4 * row + 1] * v.y + at.m[4 * row + 2] * v.z + at.m[4 * row + 3] + at.origin[row];
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(p[c]) || std::fabs(p[c]) > max_coordinate)
+        fail(at.matrix_path, "a placed template vertex is out of range");
+    return p;
   }
 
   /// `geometry-templates.vertices-templates`, read once: real coordinates (no transform).
@@ -473,10 +485,11 @@ class Reader {
       const Json& i = r[k];
       if (!i.is_number_unsigned()) fail(element(place, k), "expected a vertex index, got " + describe(i));
       const std::size_t index = i.get<std::size_t>();
-      if (index >= vertices_.size())
+      const std::vector<glm::dvec3>& table = placement_ != nullptr ? template_vertices_ : vertices_;
+      if (index >= table.size())
         fail(element(place, k), "vertex index " + std::to_string(index) + " out of range (" + vertex_table_ + " " +
-                               std::to_string(vertices_.size()) + " vertices)");
-      const glm::dvec3& p = vertices_[index];
+                               std::to_string(table.size()) + " vertices)");
+      const glm::dvec3 p = placement_ != nullptr ? placed(table[index]) : table[index];
       out.push_back(p);
       if (!used_any_) low_ = high_ = p;
       used_any_ = true;
@@ -583,6 +596,12 @@ class Reader {
   bool template_vertices_loaded_ = false;
   std::string vertex_table_ = "the file has";       // whose vertices ring() indexes (for errors)
   bool mirror_ = false;                             // an instance whose matrix mirrors: rings reversed
+  struct Placement {                                // the instance being read (read_instance)
+    double m[16];
+    glm::dvec3 origin;
+    std::string matrix_path;
+  };
+  const Placement* placement_ = nullptr;            // set while an instance's template is read
   std::string first_degenerate_;
   double worst_off_ = 0;
   const Json* objects_ = nullptr;  // CityObjects
