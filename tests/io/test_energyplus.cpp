@@ -529,6 +529,22 @@ TEST(EnergyPlus, SimpleWindowsStartFromEnergyPlusVertexTwo) {
   EXPECT_EQ(window(gable, "Win"), (std::vector<dvec3>{{1, 0, 1}, {3, 0, 1}, {3, 0, 2.5}, {1, 0, 2.5}}));
   EXPECT_EQ(window(lower_left, "Win"), (std::vector<dvec3>{{1, 0, 1}, {3, 0, 1}, {3, 0, 2.5}, {1, 0, 2.5}}));
   EXPECT_EQ(window(roof, "Sky"), (std::vector<dvec3>{{9, 7, 3}, {7, 7, 3}, {7, 6, 3}, {9, 6, 3}}));
+  // A roof 5e-9 radians off horizontal is horizontal to EnergyPlus (its unit normal's z rounds
+  // to 1): the skylight's axes still come from the edge (they came from the normal's azimuth
+  // above 1e-9, turning the skylight about the roof); at 1e-7 radians from the normal's.
+  const auto tilted_roof = [](const std::string& dz) {
+    return idf(std::string(kHeader) +
+               "BuildingSurface:Detailed, R, Roof, C, Z1, , Outdoors, , SunExposed, WindExposed, , 4,\n"
+               "  10, 0, 3,  10, 8, 3" + dz + ",  0, 8, 3" + dz + ",  0, 0, 3;\n"
+               "Window, Sky, C, R, , 1, 1, 1, 2, 1;\n");
+  };
+  const std::vector<dvec3> nearly = window(tilted_roof(".00000004"), "Sky");
+  const std::vector<dvec3> flat_sky = window(roof, "Sky");
+  ASSERT_EQ(nearly.size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k)
+    EXPECT_LT(glm::length(nearly[k] - flat_sky[k]), 1e-6) << k;
+  // (Its x axis then runs east from Vertex(2), the north-east corner: the skylight leaves the roof.)
+  EXPECT_TRUE(ThrowsInputError([&] { tilted_roof(".0000008"); }, {"Window \"Sky\"", "not inside its base surface"}));
   // An overhang on a window entered from another corner than the one declared: sized as
   // EnergyPlus sizes it (Width |V3 - V2|, Height |V2 - V1|), not refused as a zero-width shade.
   const Model odd = idf(kWall + "FenestrationSurface:Detailed, Win, Window, G, W, , , , 1, 4,\n"

@@ -147,9 +147,12 @@ std::optional<SurfaceFrame> surface_frame(const std::vector<glm::dvec3>& b, std:
   if (!(n_length > 0) || lower_left >= b.size()) return std::nullopt;
   f.n /= n_length;
   // Right seen from outside: up x n; for a horizontal surface, along its edge from Vertex(2).
+  // Horizontal as EnergyPlus decides it (DetermineAzimuthAndTilt): the unit normal's z within
+  // one bit of +-1, a tilt below about 1.5e-8 radians; a tilt above that takes its azimuth from
+  // the normal, however small.
   f.right = glm::dvec3(-f.n.y, f.n.x, 0.0);
   const double r = std::sqrt(f.right.x * f.right.x + f.right.y * f.right.y);
-  if (r < 1e-9) {
+  if (!(std::abs(f.n.z) < 1.0 - 1.12e-16) || !(r > 0.0)) {
     const glm::dvec3 edge = b[(lower_left + 1) % b.size()] - b[lower_left];
     const double e = std::sqrt(edge.x * edge.x + edge.y * edge.y);
     if (!(e > 0)) return std::nullopt;
