@@ -323,9 +323,12 @@ int run_irradiance(const IrradianceArgs& args) {
               std::chrono::duration<double>(computed - start).count(), result.seconds_sky, result.seconds_ground,
               result.seconds_sun,
               result.seconds_sums,
-              result.max_direct_excess <= 1e-9 && result.max_diffuse_excess <= 1e-6 && result.min_component >= 0.0
-                  ? "ok"
-                  : "FAILED (report.json: energy_check)");
+              result.energy_check_ok() ? "ok" : "FAILED (report.json: energy_check)");
+  if (result.max_horizon_band_excess > 1e-6)
+    std::printf("  sky diffuse up to %.3g W/m2 above the unshaded on faces whose horizon is hidden: Perez's horizon "
+                "band is negative in some hours (a low sun), and hiding it takes that away (the model's own; "
+                "docs/irradiance.md, Energy check)\n",
+                result.max_horizon_band_excess);
   if (!result.scene_reflected.empty() && result.reflections.hierarchical)
     std::printf("  reflections: %zu radiosity elements, hierarchical (%zu near and %zu far links, %zu iterations), "
                 "unshot %.3g%%, error estimate %.3g%%, in %.3f s (in the totals above)\n",

@@ -131,6 +131,10 @@ struct FaceIrradiance {
   double ground_reflected = 0.0;
   double direct_unshaded = 0.0;       ///< DNI max(0, cos incidence): the face alone in the world
   double sky_diffuse_unshaded = 0.0;  ///< the same sky on the face without obstructions
+  /// Perez's horizon band where it is negative (some hours with a low sun), times the share of the horizon
+  /// hidden from the face: by this much the shaded sky diffuse may exceed the unshaded. The
+  /// model's own: hiding a horizon darker than the isotropic sky takes its negative term away.
+  double sky_diffuse_horizon_allowance = 0.0;
   [[nodiscard]] double total() const { return direct + sky_diffuse + ground_reflected; }
 };
 
@@ -178,8 +182,16 @@ struct IrradianceResult {
   std::size_t missing_hours = 0;  ///< hours of the period with DNI or DHI missing (that value counted as 0)
   double seconds_sky = 0.0, seconds_ground = 0.0, seconds_sun = 0.0, seconds_sums = 0.0;  ///< time per stage
   /// Energy conservation over every face and hour (W/m2): the largest excess of shaded over
-  /// unshaded direct and sky diffuse (<= 0 up to rounding), and the smallest component (>= 0).
+  /// unshaded direct and sky diffuse (<= 0 up to rounding; the sky diffuse's beyond its
+  /// FaceIrradiance::sky_diffuse_horizon_allowance), and the smallest component (>= 0).
   double max_direct_excess = 0.0, max_diffuse_excess = 0.0, min_component = 0.0;
+  /// The largest excess of shaded over unshaded sky diffuse that Perez's negative horizon band
+  /// explains (W/m2; allowed, reported so that it is seen).
+  double max_horizon_band_excess = 0.0;
+  /// The energy check holds: the excesses above within rounding, no component negative.
+  [[nodiscard]] bool energy_check_ok() const {
+    return max_direct_excess <= 1e-9 && max_diffuse_excess <= 1e-6 && min_component >= 0.0;
+  }
   /// Per row, kWh/m2 over the period: what the scene's own faces reflect onto the face (empty
   /// unless add_scene_reflections ran; it is then part of `total`, not of the monthly totals).
   std::vector<double> scene_reflected;

@@ -157,7 +157,10 @@ void sum_rows(IrradianceResult& r, const Weather& weather) {
       r.monthly_ground_reflected[m] += e.ground_reflected / 1000.0;
       r.monthly_total[m] += e.total() / 1000.0;
       r.max_direct_excess = std::max(r.max_direct_excess, e.direct - e.direct_unshaded);
-      r.max_diffuse_excess = std::max(r.max_diffuse_excess, e.sky_diffuse - e.sky_diffuse_unshaded);
+      const double diffuse_excess = e.sky_diffuse - e.sky_diffuse_unshaded;
+      r.max_diffuse_excess = std::max(r.max_diffuse_excess, diffuse_excess - e.sky_diffuse_horizon_allowance);
+      r.max_horizon_band_excess =
+          std::max(r.max_horizon_band_excess, std::min(diffuse_excess, e.sky_diffuse_horizon_allowance));
       r.min_component = std::min({r.min_component, e.direct, e.sky_diffuse, e.ground_reflected});
     }
     r.direct[row] = direct / 1000.0;
@@ -206,6 +209,7 @@ FaceIrradiance face_irradiance(const IrradianceResult& r, std::size_t row, std::
     const double shaded = hour.dhi * (1.0 - hour.perez.f1) * r.sky_view_factor[row] + parts.circumsolar * lit +
                           parts.horizon * r.horizon_view[row];
     e.sky_diffuse = std::max(0.0, shaded);
+    if (parts.horizon < 0.0) e.sky_diffuse_horizon_allowance = -parts.horizon * std::max(0.0, 1.0 - r.horizon_view[row]);
   }
   e.ground_reflected = r.ground_reflectance * hour.ghi * r.ground_view[row];
   return e;

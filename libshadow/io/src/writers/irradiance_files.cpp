@@ -128,7 +128,8 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
   j["energy_check"] = {{"max_direct_excess_w_m2", r.max_direct_excess},
                        {"max_sky_diffuse_excess_w_m2", r.max_diffuse_excess},
                        {"min_component_w_m2", r.min_component},
-                       {"ok", r.max_direct_excess <= 1e-9 && r.max_diffuse_excess <= 1e-6 && r.min_component >= 0.0}};
+                       {"sky_diffuse_excess_from_negative_horizon_band_w_m2", r.max_horizon_band_excess},
+                       {"ok", r.energy_check_ok()}};
   Json faces = Json::array();
   for (std::size_t row = 0; row < r.faces.size(); ++row) {
     Json f;
