@@ -251,7 +251,7 @@ TEST(PendingBoundaries, SettledLevelsHoldAtEveryPointOfTheBox) {
     const std::vector<double> hours{1.0, 0.5, 1.0, 0.75};
     const auto& order = in.order;
     StripTileCounts counts;
-    counts.begin(tiles, true, 0, 20, hours);
+    counts.begin(tiles, true, 0, 20, hours, {mpq_class(1), mpq_class(1, 2), mpq_class(1), mpq_class(3, 4)});
     counts.recount({0, 1, 2, 3});
     PendingBoundaries pending;
     pending.build(tiles, 0, tiles.grid.n - 1, true, 0, 20, order, hours);

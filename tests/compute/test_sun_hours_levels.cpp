@@ -118,6 +118,46 @@ TEST(SunHoursLevels, BoxUnderThreeSunsHasTheAreasWorkedOutByHand) {
   }
 }
 
+// Instants of a weight a double cannot hold (a 20-minute step: 1/3 h each). Three of them make
+// exactly 1 hour: the part lit under all three reaches the level 1 h, and the full map says 1 h
+// there. Summed as the doubles' own values they made 1 - 2^-54 and the level had no area
+// (a 10-minute step lost every region of exactly 2, 4, 6 h the same way).
+TEST(SunHoursLevels, StepsOfThirdsReachTheirLevelsExactly) {
+  const Scene scene = box_scene();
+  const ShadowEngine engine(scene, 2);
+  std::vector<SunHoursInstant> thirds = box_suns();
+  for (SunHoursInstant& instant : thirds) instant.hours = 1.0 / 3.0;
+  SunHoursOptions options;
+  options.threads = 2;
+  options.levels = {0.5, 1};
+  // By hand (box_suns): every sun lights 388, two of them 2 + 4 + 2 more, one of them 2.
+  const SunHoursMap map = compute_sun_hours_map(engine, faces_of_mesh(scene, 0), thirds, options);
+  ASSERT_EQ(map.faces.size(), 1u);
+  EXPECT_EQ(map.faces[0].level_areas, (std::vector<double>{394, 388}));
+  EXPECT_EQ(map.total_hours, 1.0);
+  const std::vector<SunHoursArea>& areas = map.faces[0].areas;
+  ASSERT_EQ(areas.size(), 4u);
+  EXPECT_EQ(areas[0].sun_hours, 0.0);
+  EXPECT_EQ(areas[1].sun_hours, 1.0 / 3.0);
+  EXPECT_EQ(areas[2].sun_hours, 2.0 / 3.0);
+  EXPECT_EQ(areas[3].sun_hours, 1.0);
+  EXPECT_EQ(areas[3].area, 388.0);
+  options.full = false;
+  for (const std::size_t batch : {std::size_t{1}, std::size_t{0}}) {
+    options.instant_batch = batch;
+    const SunHoursMap only = compute_sun_hours_map(engine, faces_of_mesh(scene, 0), thirds, options);
+    EXPECT_EQ(only.faces[0].level_areas, (std::vector<double>{394, 388})) << "batch " << batch;
+  }
+  // A weight with no fraction of small denominator behind it is summed as the double it is.
+  std::vector<SunHoursInstant> odd = box_suns();
+  for (SunHoursInstant& instant : odd) instant.hours = 0.1 + 1e-12;
+  options.full = true;
+  options.instant_batch = 0;
+  const SunHoursMap plain = compute_sun_hours_map(engine, faces_of_mesh(scene, 0), odd, options);
+  const double a = 0.1 + 1e-12;
+  EXPECT_EQ(plain.faces[0].areas.back().sun_hours, 2 * a + a);  // 3a rounded once (2a is exact)
+}
+
 /// Exact areas per hours, face by face.
 void expect_same_areas(const SunHoursMap& a, const SunHoursMap& b) {
   ASSERT_EQ(a.faces.size(), b.faces.size());

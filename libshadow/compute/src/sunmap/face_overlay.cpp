@@ -159,7 +159,7 @@ class StripOverlay {
       const std::size_t i = tag_instant(c.data());
       if (pending_.empty() || pending_.back().first != i) {
         pending_.emplace_back(i, std::vector<XCurve>{});
-        pending_hours_ += (*r_.hours)[i];
+        pending_hours_ += (*r_.exact_hours)[i];
       }
       pending_.back().second.emplace_back(c, Traits::Data_container(c.data()));
       ++pending_segments_;
@@ -193,7 +193,7 @@ class StripOverlay {
       if (!present[order[p]]) continue;
       const long lit = counts_.empty() ? 0 : static_cast<long>(counts_.whole_tiles(order[p]));
       key.emplace_back(band, -lit, p, order[p]);
-      unfed_ += mpq_class((*r_.hours)[order[p]]);
+      unfed_ += (*r_.exact_hours)[order[p]];
     }
     std::sort(key.begin(), key.end());
     std::vector<std::size_t> instants;
@@ -227,8 +227,8 @@ class StripOverlay {
         by_instant.erase(it);
       }
       pending_segments_ += mine.size();
-      pending_hours_ += mpq_class((*r_.hours)[i]);
-      unfed_ -= mpq_class((*r_.hours)[i]);
+      pending_hours_ += (*r_.exact_hours)[i];
+      unfed_ -= (*r_.exact_hours)[i];
       pending_.emplace_back(i, std::move(mine));
     }
     if (!by_instant.empty()) throw std::logic_error("LevelRounds: a boundary of an instant not planned in the strip");
@@ -276,7 +276,7 @@ class StripOverlay {
       auto& [i, more] = pending_.front();
       added += more.size();
       pending_segments_ -= more.size();
-      pending_hours_ -= (*r_.hours)[i];
+      pending_hours_ -= (*r_.exact_hours)[i];
       counts_.count(i, false);
       for (XCurve& c : more) curves.push_back(std::move(c));
       pending_.pop_front();
@@ -365,7 +365,7 @@ class StripOverlay {
   /// The tiles' counts under the strip (StripTileCounts), filled by plan.
   void begin_tiles() {
     if (r_.tiles == nullptr || r_.tiles->grid.n == 0) return;
-    counts_.begin(*r_.tiles, strip_.whole, strip_.x0, strip_.x1, *r_.hours);
+    counts_.begin(*r_.tiles, strip_.whole, strip_.x0, strip_.x1, *r_.hours, *r_.exact_hours);
     whole_total_ = r_.tiles->whole;
   }
 
@@ -388,8 +388,8 @@ class StripOverlay {
     const StripTileCounts::Range range = counts_.under(xmin, xmax, ymin, ymax);
     most = whole_total_ - whole_walked_;
     least = most;
-    if (range.most != 0) most += mpq_class(counts_.most_weight()) * range.most;
-    if (range.least != 0) least += mpq_class(counts_.least_weight()) * range.least;
+    if (range.most != 0) most += counts_.most_weight() * range.most;
+    if (range.least != 0) least += counts_.least_weight() * range.least;
     return {xmin, xmax, ymin, ymax};
   }
 
@@ -513,7 +513,7 @@ class StripOverlay {
               // `from` lies on h's left; the region lies on the left of the left-to-right run
               // when tag > 0.
               const bool from_in_region = left_to_right == tag_left(tag);
-              value += from_in_region ? mpq_class(-(*r_.hours)[i]) : mpq_class((*r_.hours)[i]);
+              value += from_in_region ? mpq_class(-(*r_.exact_hours)[i]) : (*r_.exact_hours)[i];
             }
           }
           to->set_data(static_cast<long>(added.size()));
@@ -620,7 +620,7 @@ class StripOverlay {
               const mpq_class& jump = frozen_jumps_[i - n_ - 2];
               value += step > 0 ? jump : mpq_class(-jump);
             } else {
-              value += step > 0 ? mpq_class((*r_.hours)[i]) : mpq_class(-(*r_.hours)[i]);
+              value += step > 0 ? (*r_.exact_hours)[i] : mpq_class(-(*r_.exact_hours)[i]);
             }
           }
           to->set_data(static_cast<long>(hours_at_.size()));

@@ -88,6 +88,9 @@ struct OverlayRequest {
   const core::FacePrep* prep = nullptr;
   std::size_t face_id = 0;
   const std::vector<double>* hours = nullptr;  ///< the instants' weights
+  /// The same weights as summed exactly (sunmap::exact_hours): every exact sum, bound and level
+  /// comparison uses these; `hours` only says which are zero.
+  const std::vector<mpq_class>* exact_hours = nullptr;
   bool merge = true;                           ///< merge touching cells of equal hours
   bool full = true;                            ///< emit the full map's cells
   std::vector<mpq_class> levels;               ///< ascending thresholds; empty: no threshold map

@@ -124,7 +124,7 @@ void mark_lit_tiles(const TileGrid& g, const RoughSegment* first, const RoughSeg
 }
 
 void StripTileCounts::begin(const FaceTiles& tiles, bool whole_strip, double x0, double x1,
-                            const std::vector<double>& hours) {
+                            const std::vector<double>& hours, const std::vector<mpq_class>& exact_hours) {
   tiles_ = &tiles;
   hours_ = &hours;
   const TileGrid& g = tiles.grid;
@@ -132,9 +132,10 @@ void StripTileCounts::begin(const FaceTiles& tiles, bool whole_strip, double x0,
   c1_ = whole_strip ? g.n - 1 : g.column(x1);
   most_.assign((c1_ - c0_ + 1) * g.n, 0);
   least_.assign(most_.size(), 0);
-  for (double w : hours) {
-    most_weight_ = std::max(most_weight_, w);
-    if (w > 0 && (least_weight_ == 0 || w < least_weight_)) least_weight_ = w;
+  most_weight_ = 0, least_weight_ = 0;
+  for (const mpq_class& w : exact_hours) {
+    if (w > most_weight_) most_weight_ = w;
+    if (sgn(w) > 0 && (sgn(least_weight_) == 0 || w < least_weight_)) least_weight_ = w;
   }
 }
 

@@ -94,8 +94,10 @@ std::vector<std::size_t> sweep_order(const FaceTiles& t);
 class StripTileCounts {
  public:
   /// The tiles of `tiles` (which must outlive this) under the strip x0 <= x <= x1 of its chart
-  /// (`whole_strip`: every column), no instant counted yet; `hours`: the instants'.
-  void begin(const FaceTiles& tiles, bool whole_strip, double x0, double x1, const std::vector<double>& hours);
+  /// (`whole_strip`: every column), no instant counted yet; `hours`: the instants', and
+  /// `exact_hours` the same as the map sums them (sunmap::exact_hours).
+  void begin(const FaceTiles& tiles, bool whole_strip, double x0, double x1, const std::vector<double>& hours,
+             const std::vector<mpq_class>& exact_hours);
   bool empty() const { return most_.empty(); }
 
   /// Instant i (of any weight; those of none are never counted) leaves (or, `add`, enters) the
@@ -119,8 +121,8 @@ class StripTileCounts {
   }
   std::size_t first_column() const { return c0_; }  ///< the strip's tile columns, first and last
   std::size_t last_column() const { return c1_; }
-  double most_weight() const { return most_weight_; }    ///< the largest instant's hours
-  double least_weight() const { return least_weight_; }  ///< the smallest positive one
+  const mpq_class& most_weight() const { return most_weight_; }    ///< the largest instant's hours
+  const mpq_class& least_weight() const { return least_weight_; }  ///< the smallest positive one
 
  private:
   void add_slot(std::size_t slot, bool add);
@@ -129,7 +131,7 @@ class StripTileCounts {
   const std::vector<double>* hours_ = nullptr;
   std::size_t c0_ = 0, c1_ = 0;       ///< the strip's tile columns
   std::vector<std::uint32_t> most_, least_;  ///< per tile, column-major from c0_
-  double most_weight_ = 0, least_weight_ = 0;
+  mpq_class most_weight_{0}, least_weight_{0};
 };
 
 }  // namespace shadow::sunmap

@@ -37,6 +37,44 @@ std::vector<double> checked_hours(const std::vector<SunHoursInstant>& instants) 
   return hours;
 }
 
+namespace {
+
+/// The fraction of denominator at most kMaxDenominator that rounds to `w` (>= 0, finite), else w.
+/// Such a fraction p/q is within half an ulp of w, far less than 1 / (2 q^2), so it is one of
+/// w's continued-fraction convergents (Legendre): those are tried in turn.
+mpq_class exact_weight(double w) {
+  constexpr unsigned long kMaxDenominator = 1000000;
+  const mpq_class value(w);
+  if (w == 0.0 || value.get_den() == 1) return value;
+  // Strictly inside the rounding interval of w: rounds to w whatever the tie rule.
+  const mpq_class below(std::nextafter(w, 0.0)), above(std::nextafter(w, HUGE_VAL));
+  const mpq_class lo = (below + value) / 2, hi = (value + above) / 2;
+  mpz_class h0 = 1, h1 = 0, k0 = 0, k1 = 1;  // convergents h/k: (h0/k0) the latest, (h1/k1) the one before
+  mpq_class x = value;
+  for (int steps = 0; steps < 64; ++steps) {
+    mpz_class a;
+    mpz_fdiv_q(a.get_mpz_t(), x.get_num_mpz_t(), x.get_den_mpz_t());
+    const mpz_class h = a * h0 + h1, k = a * k0 + k1;
+    if (k > kMaxDenominator) break;
+    const mpq_class candidate(h, k);  // (in lowest terms: convergents are)
+    if (lo < candidate && candidate < hi) return candidate;
+    h1 = h0, k1 = k0, h0 = h, k0 = k;
+    x -= a;
+    if (x == 0) break;
+    x = 1 / x;
+  }
+  return value;
+}
+
+}  // namespace
+
+std::vector<mpq_class> exact_hours(const std::vector<double>& hours) {
+  std::vector<mpq_class> exact;
+  exact.reserve(hours.size());
+  for (double w : hours) exact.push_back(exact_weight(w));
+  return exact;
+}
+
 /// The face ids checked, ascending, repeats dropped.
 std::vector<std::size_t> checked_faces(const Scene& scene, const std::vector<std::size_t>& faces_in) {
   std::vector<std::size_t> faces;

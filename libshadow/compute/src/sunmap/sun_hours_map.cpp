@@ -88,12 +88,15 @@ class MapBuilder {
         options_(options),
         threads_(runtime::resolve_threads(runtime::checked_threads(options.threads))),
         hours_(sunmap::checked_hours(instants)),
+        hours_q_(sunmap::exact_hours(hours_)),
         faces_(sunmap::checked_faces(*ctx_.scene, faces_in)),
         n_(instants.size()) {
     map_.levels = sunmap::checked_levels(options.levels);
     full_ = options.full || map_.levels.empty();
     map_.full = full_;
-    for (double w : hours_) map_.total_hours += w;  // informative; cells are summed exactly
+    mpq_class total(0);
+    for (const mpq_class& w : hours_q_) total += w;
+    map_.total_hours = total.get_d();  // rounded once, as the cells' hours
     for (double h : map_.levels) level_q_.emplace_back(h);
     workers_ = std::vector<Worker>(threads_);
     for (Worker& w : workers_) w.exact.reset(ctx_.scene->faces.size(), ctx_.solids->size());
@@ -107,7 +110,7 @@ class MapBuilder {
     const std::size_t batch = options_.instant_batch == 0 ? std::max<std::size_t>(n_, 1) : options_.instant_batch;
     // unfed[b]: the hours of the instants from b on (exact), a bound on what is still to come.
     std::vector<mpq_class> unfed(n_ + 1, mpq_class(0));
-    for (std::size_t i = n_; i-- > 0;) unfed[i] = unfed[i + 1] + mpq_class(hours_[i]);
+    for (std::size_t i = n_; i-- > 0;) unfed[i] = unfed[i + 1] + hours_q_[i];
     for (std::size_t first = 0; first < n_; first += batch) {
       const std::size_t count = std::min(batch, n_ - first);
       lit_batch(first, count);
@@ -200,7 +203,7 @@ class MapBuilder {
       info.level_areas.assign(map_.levels.size(), 0.0);
       const core::FacePrep& fp = (*ctx_.prep)[f];
       if (fp.degenerate) return;
-      requests_[k] = sunmap::OverlayRequest{nullptr, &fp,     f, &hours_, options_.merge_equal, full_, level_q_,
+      requests_[k] = sunmap::OverlayRequest{nullptr, &fp, f, &hours_, &hours_q_, options_.merge_equal, full_, level_q_,
                                             options_.level_round_edges};
     });
   }
@@ -312,8 +315,8 @@ class MapBuilder {
         // exact rational as the sum over the overlay's faces of hours x area (the tests check
         // the cells against it), and far cheaper than thousands of cell areas with unrelated
         // denominators.
-        if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += mpq_class(hours_[i]) * part.lit_area;
-        if (part.kind == LitRegion::Kind::Whole) whole[k] += mpq_class(hours_[i]);
+        if (hours_[i] != 0 && sgn(part.lit_area) != 0) hour_area_[k] += hours_q_[i] * part.lit_area;
+        if (part.kind == LitRegion::Kind::Whole) whole[k] += hours_q_[i];
         if (keeps_packed(k)) {
           if (!full_) kept_segments_ += part.packed.size();
           packed_[k].add(std::move(part.packed));
@@ -741,6 +744,7 @@ class MapBuilder {
   const SunHoursOptions& options_;
   unsigned threads_;
   std::vector<double> hours_;
+  std::vector<mpq_class> hours_q_;  // the weights as summed (sunmap::exact_hours)
   std::vector<std::size_t> faces_;
   std::size_t n_;
   SunHoursMap map_;
