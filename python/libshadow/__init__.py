@@ -117,7 +117,8 @@ def _plain(value, place, problems):
 
 def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=None, sun=None,
                     camera=None, name="<python>", base_dir=None, planarity_tolerance=1e-6,
-                    sun_hours_map=None, orient_outward=False, cityjson_lod="", skip_invalid=False):
+                    sun_hours_map=None, orient_outward=False, cityjson_lod="", skip_invalid=False,
+                    require_lights=True):
     """A validated Scene from Python data laid out like the scene file (docs/scene-format.md).
 
     meshes: a list of dicts ``{"name": ..., "polygons": ...}`` (or ``"file"``: an OBJ path, relative to
@@ -130,6 +131,8 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     datetimes) or a ``SunPeriod``. sun_hours_map: names of the meshes that get the exact
     sun-hours map. receivers and sun_hours_map also take ``"<mesh>/<id>"`` and ``"type:<T>"`` (a
     CityJSON object type). skip_invalid: leave out faces that fail validation (``Scene.skipped_faces``).
+    require_lights=False: a scene without lights is accepted (for ``irradiance()``, whose suns come
+    from the weather).
 
     The scene is read and validated by the same code as a scene file, so it is the same scene bit
     for bit, and errors are the CLI's: ``InputError`` naming ``name`` and the place (``meshes[0].polygons[2]``).
@@ -137,7 +140,7 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     document = {"meshes": _meshes_data(meshes)}
     if lights is not None:
         document["lights"] = [_light_data(l) for l in lights]
-    elif sun is None:
+    elif sun is None and require_lights:
         document["lights"] = []
     if planes is not None:
         document["planes"] = list(planes)
@@ -159,7 +162,8 @@ def scene_from_data(meshes, lights=None, planes=None, receivers=None, materials=
     # Mesh files are found relative to the directory of the name given to the parser; errors
     # name it as given (no directory unless base_dir asks for one).
     source = name if base_dir is None else _os.path.join(str(base_dir), name)
-    return parse_scene(text, source, planarity_tolerance, orient_outward, cityjson_lod, skip_invalid)
+    return parse_scene(text, source, planarity_tolerance, orient_outward, cityjson_lod, skip_invalid,
+                       require_lights)
 
 
 def _meshes_data(meshes):

@@ -125,7 +125,12 @@ void bind_irradiance(py::module_& m) {
         shadow::IrradianceOptions options;
         options.sky = sky == "perez" ? shadow::SkyModel::Perez : shadow::SkyModel::Isotropic;
         options.sky_patches = sky_patches;
-        if (ground_reflectance) options.ground_reflectance = *ground_reflectance;
+        if (ground_reflectance) {
+          // NaN is the library's "not given": from Python it would silently take the default.
+          if (std::isnan(*ground_reflectance))
+            throw shadow::InputError({"", "ground_reflectance"}, "nan is not in [0, 1] (None: the weather's albedo, else 0.2)");
+          options.ground_reflectance = *ground_reflectance;
+        }
         options.first_record = first_record;
         if (end_record) options.end_record = *end_record;
         if (scene->sun) options.north_axis = scene->sun->north_axis;

@@ -702,33 +702,39 @@ PYBIND11_MODULE(_libshadow, m) {
         "seeded; mesh 0 'ground', mesh 1 'buildings'. `lights` (Light objects) are its lights.");
   m.def("load_scene",
         [](const std::filesystem::path& path, double tolerance, bool orient_outward, const std::string& lod,
-           bool skip_invalid) {
+           bool skip_invalid, bool require_lights) {
           LoadOptions o;
           o.planarity_tolerance = tolerance;
           o.orient_outward = orient_outward;
           o.cityjson_lod = lod;
           o.skip_invalid = skip_invalid;
+          o.require_lights = require_lights;
           return without_gil([&] { return std::make_shared<Scene>(load_scene(path, o)); });
         },
         py::arg("path"), py::arg("planarity_tolerance") = 1e-6, py::arg("orient_outward") = false,
-        py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false,
+        py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false, py::arg("require_lights") = true,
         "Reads and validates a scene file and its meshes (OBJ, CityJSON, EnergyPlus). Raises InputError\n"
         "(a ValueError). orient_outward: turn every mesh's closed parts outward (--orient-outward);\n"
         "cityjson_lod: the CityJSON level of detail ('' : the highest of each object);\n"
-        "skip_invalid: leave out faces that fail validation (--skip-invalid), listed in Scene.skipped_faces.");
+        "skip_invalid: leave out faces that fail validation (--skip-invalid), listed in Scene.skipped_faces;\n"
+        "require_lights=False: a scene without lights is read (for irradiance(): the suns come from the\n"
+        "weather, as `shadow irradiance` reads its scene).");
   m.def("parse_scene",
         [](const std::string& text, const std::filesystem::path& name, double tolerance, bool orient_outward,
-           const std::string& lod, bool skip_invalid) {
+           const std::string& lod, bool skip_invalid, bool require_lights) {
           LoadOptions o;
           o.planarity_tolerance = tolerance;
           o.orient_outward = orient_outward;
           o.cityjson_lod = lod;
           o.skip_invalid = skip_invalid;
+          o.require_lights = require_lights;
           return without_gil([&] { return std::make_shared<Scene>(parse_scene(text, name, o)); });
         },
         py::arg("text"), py::arg("name") = "<string>", py::arg("planarity_tolerance") = 1e-6,
         py::arg("orient_outward") = false, py::arg("cityjson_lod") = "", py::arg("skip_invalid") = false,
-        "Parses and validates scene JSON text; `name` names it in errors and anchors mesh files.");
+        py::arg("require_lights") = true,
+        "Parses and validates scene JSON text; `name` names it in errors and anchors mesh files.\n"
+        "require_lights=False: a scene without lights is read (see load_scene).");
 
   // ---- results ----------------------------------------------------------------------------------
   py::class_<PlaneShadow>(m, "PlaneShadow", "The shadow the scene casts on one plane from one light.")

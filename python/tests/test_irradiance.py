@@ -71,6 +71,27 @@ def test_irradiance_open_roof(tmp_path):
     assert list(frame.index) == [0] and frame.loc[0, "total"] == r["total"][0] and frame.loc[0, "jun"] == r["monthly_total"][0, 5]
 
 
+def test_irradiance_scene_without_lights(tmp_path):
+    # A scene for irradiance needs no lights (its suns come from the weather file), as
+    # `shadow irradiance` reads it: require_lights=False on every loader; by default still refused.
+    w = libshadow.read_epw(_epw(tmp_path / "day.epw"))
+    text = '{"meshes": [{"name": "roof", "polygons": [[[0,0,0],[4,0,0],[4,4,0],[0,4,0]]]}]}'
+    (tmp_path / "roof.json").write_text(text)
+    with pytest.raises(libshadow.InputError, match="lights"):
+        libshadow.load_scene(str(tmp_path / "roof.json"))
+    scenes = [libshadow.load_scene(str(tmp_path / "roof.json"), require_lights=False),
+              libshadow.parse_scene(text, require_lights=False),
+              libshadow.scene_from_data({"roof": [[[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]]]}, require_lights=False)]
+    totals = [libshadow.irradiance(s, w, sky="isotropic", threads=1)["total"][0] for s in scenes]
+    assert all(len(s.lights) == 0 for s in scenes)
+    assert totals[0] > 0 and totals == [totals[0]] * 3
+    with pytest.raises(libshadow.InputError, match="no lights"):
+        libshadow.scene_from_data({"roof": [[[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]]]})
+    # NaN is not "not given" from Python: it was taken silently as the default reflectance.
+    with pytest.raises(libshadow.InputError, match="ground_reflectance"):
+        libshadow.irradiance(scenes[0], w, ground_reflectance=float("nan"))
+
+
 def _tmy3(path):
     lines = ['1,"Testtown, test",XX,1.0,48.0,2.0,0.0',
              "Date (MM/DD/YYYY),Time (HH:MM),GHI (W/m^2),DNI (W/m^2),DHI (W/m^2),Alb (unitless)"]

@@ -379,6 +379,8 @@ else
 fi
 expect_error period_year_not_in_file "--from 2019-06-21 is not a day of the weather file" "$WORK/scene.json" \
   --weather "$WORK/two-years.epw" --from 2019-06-21
+expect_error period_leap_day "--from 02-29: the weather file has no 29 February" "$WORK/scene.json" \
+  --weather "$WORK/day.epw" --from 02-29
 expect_error period_year_reversed "before it starts" "$WORK/scene.json" --weather "$WORK/two-years.epw" \
   --from 2021-06-21 --to 2020-06-22
 

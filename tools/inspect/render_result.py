@@ -5,7 +5,7 @@ in warm light and shadowed pieces in blue-grey, the plane shadow outline, from a
 view. A quick look without ParaView; it needs Debian's python3-vtk9 and, headless, a virtual
 display:
 
-    xvfb-run -a /usr/bin/python3 tools/render_result.py OUTDIR image.png [--light 0]
+    xvfb-run -a /usr/bin/python3 tools/inspect/render_result.py OUTDIR image.png [--light 0]
 """
 import argparse
 import os

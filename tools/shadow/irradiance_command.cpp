@@ -19,6 +19,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <tuple>
 
 namespace {
 
@@ -104,6 +105,15 @@ std::pair<std::size_t, std::size_t> period_records(const shadow::Weather& w, con
   std::optional<PeriodDate> from, to;
   if (!args.from.empty()) from = period_date(args.from, "--from");
   if (!args.to.empty()) to = period_date(args.to, "--to");
+  // 29 February where the records have none (a typical year is not a leap year) says so, rather
+  // than that no record falls on or after it.
+  bool has_leap_day = false;
+  for (std::size_t r = 0; r < w.hours() && !has_leap_day; ++r) has_leap_day = w.month[r] == 2 && w.day[r] == 29;
+  for (const auto& [date, text, flag] : {std::tuple{&from, &args.from, "--from"}, std::tuple{&to, &args.to, "--to"}})
+    if (*date && (*date)->month == 2 && (*date)->day == 29 && !has_leap_day)
+      throw shadow::InputError({args.weather, ""}, std::string(flag) + " " + *text +
+                                                       ": the weather file has no 29 February (its records are not "
+                                                       "of a leap year); write 02-28 or 03-01" + span);
   if (from && to && from->year == 0 && to->year == 0) {
     const bool across_new_year = shadow::civil_from_days(first_day).year != shadow::civil_from_days(last_day).year;
     if (from->month_day() > to->month_day() && !across_new_year)

@@ -58,6 +58,14 @@ CLI::App* add_radiosity_command(CLI::App& app, RadiosityArgs& args) {
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
   cmd->add_flag("-q,--quiet", args.quiet, "Print nothing but errors");
+  // The scene is read as `shadow compute` reads it (validation's errors suggest these flags).
+  cmd->add_option("--planarity-tolerance", args.planarity_tolerance,
+                  "Largest vertex distance from a face's plane, relative to the face's size")
+      ->default_val(1e-6)
+      ->check(shadow_cli::positive_up_to(1.0));
+  cmd->add_flag("--orient-outward", args.orient_outward, "Turn the closed parts of every mesh outward");
+  cmd->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
+  cmd->add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
   return cmd;
 }
 
@@ -65,7 +73,8 @@ int run_radiosity(const RadiosityArgs& args) {
   using Clock = std::chrono::steady_clock;
   const std::string started = shadow::utc_now();
   shadow::Scene scene =
-      shadow::load_scene(args.scene, shadow_cli::load_options(args.planarity_tolerance, false, "", args.threads));
+      shadow::load_scene(args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod,
+                                                              args.threads, args.skip_invalid));
   shadow::OutputDirectory output(args.outdir);
   if (!args.quiet)
     for (const shadow::Warning& warning : scene.warnings)
@@ -125,6 +134,8 @@ int run_radiosity(const RadiosityArgs& args) {
       std::printf("radiosity: %zu elements in %zu patches on %zu faces, %zu shots in %.2f s%s\n",
                   result.elements.size(), result.patches, scene.faces.size(), result.shots, run.seconds,
                   result.converged ? "" : " (not converged)");
+    if (!scene.skipped_faces.empty())
+      std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n", scene.skipped_faces.size());
     if (options.refine_tolerance > 0)
       std::printf("  adaptive refinement: %zu -> %zu elements in %zu passes, estimated element field error %.3g%%\n",
                   result.initial_elements, result.elements.size(), result.refine_passes,

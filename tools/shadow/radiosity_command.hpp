@@ -20,6 +20,9 @@ struct RadiosityArgs {
   unsigned threads = 0;
   bool quiet = false;
   double planarity_tolerance = 1e-6;
+  bool orient_outward = false;  // --orient-outward
+  std::string lod;              // --lod
+  bool skip_invalid = false;    // --skip-invalid
 };
 
 /// Declares `shadow radiosity` and its options on `app`.

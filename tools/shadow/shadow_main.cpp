@@ -70,14 +70,17 @@ fs::path paraview_script() {
 /// lights; report.json's summary.per_mesh has them all.
 void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& result) {
   constexpr std::size_t kMeshes = 20, kLights = 4;
+  // Only the lights shown are summed: a model's year of suns on a city's meshes would otherwise
+  // hold meshes x lights sums.
+  const std::size_t lights = std::min(scene.lights.size(), kLights);
   std::vector<std::vector<double>> area(scene.meshes.size()), lit(scene.meshes.size());
   for (const shadow::FaceLighting& fl : result.lighting) {
-    if (fl.face_id >= scene.faces.size() || fl.light_id >= scene.lights.size()) continue;
+    if (fl.face_id >= scene.faces.size() || fl.light_id >= lights) continue;
     const std::size_t m = scene.faces[fl.face_id].mesh;
     if (m >= scene.meshes.size()) continue;
     if (area[m].empty()) {
-      area[m].assign(scene.lights.size(), 0.0);
-      lit[m].assign(scene.lights.size(), 0.0);
+      area[m].assign(lights, 0.0);
+      lit[m].assign(lights, 0.0);
     }
     area[m][fl.light_id] += fl.area;
     lit[m][fl.light_id] += fl.lit_area;
@@ -88,7 +91,7 @@ void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& 
     if (++with_results > kMeshes) continue;
     ++shown;
     std::printf("  mesh %s lit", scene.meshes[m].name.c_str());
-    for (std::size_t l = 0; l < scene.lights.size() && l < kLights; ++l)
+    for (std::size_t l = 0; l < lights; ++l)
       std::printf("%s %s %.2f%%", l == 0 ? "" : ",", scene.lights[l].name.c_str(),
                   area[m][l] > 0 ? 100.0 * lit[m][l] / area[m][l] : 0.0);
     std::printf("%s\n", scene.lights.size() > kLights ? ", ... (report.json: summary.per_mesh)" : "");
@@ -166,15 +169,25 @@ int run_compute(const ComputeArgs& args) {
     if (args.skip_invalid || !scene.skipped_faces.empty())
       std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n",
                   scene.skipped_faces.size());
-    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-      double area = 0, lit = 0;
-      for (const shadow::FaceLighting& fl : result.lighting)
-        if (fl.light_id == l) {
-          area += fl.area;
-          lit += fl.lit_area;
-        }
-      std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
-                  lit, area, area > 0 ? 100.0 * lit / area : 0.0);
+    // Each light's totals in one pass over the results; a long list of lights (a model's year
+    // of suns) shows its first few and says where the rest are.
+    constexpr std::size_t kLightLines = 20;
+    const std::size_t light_lines = std::min(scene.lights.size(), kLightLines);
+    std::vector<double> light_area(light_lines, 0.0), light_lit(light_lines, 0.0);
+    for (const shadow::FaceLighting& fl : result.lighting)
+      if (fl.light_id < light_lines) {
+        light_area[fl.light_id] += fl.area;
+        light_lit[fl.light_id] += fl.lit_area;
+      }
+    for (std::size_t l = 0; l < light_lines; ++l)
+      std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(), light_lit[l],
+                  light_area[l], light_area[l] > 0 ? 100.0 * light_lit[l] / light_area[l] : 0.0);
+    if (scene.lights.size() > light_lines) {
+      std::printf("  ... %zu more lights (report.json: summary.per_light)\n", scene.lights.size() - light_lines);
+      if (scene.sun)
+        std::printf("  the scene's sun block is a period of %zu suns: `shadow series` computes them as a series "
+                    "(sunlit fractions per instant, sun hours; docs/series.md)\n",
+                    scene.lights.size());
     }
     print_mesh_summary(scene, result);
     if (options.arithmetic == shadow::Arithmetic::Fast)

@@ -385,6 +385,13 @@ void SeriesJob::load() {
   State& s = *state_;
   if (options_.stage) options_.stage(SeriesJobStage::Loading);
   s.scene = load_scene(options_.scene, options_.load);
+  // A model read whole that implies no sun (a CityJSON file; an IDF without Site:Location):
+  // say how to give it one, as `shadow compute` says how to give it lights.
+  if (!s.scene.sun && !s.scene.meshes.empty() && !s.scene.meshes.front().model.empty() &&
+      s.scene.meshes.front().file == options_.scene.string())
+    throw InputError({options_.scene.string(), ""},
+                     "the model carries no sun (a series needs its period or times): write a scene JSON that names "
+                     "this file as a mesh \"file\" and add a \"sun\" block (docs/series.md, docs/scene-format.md)");
   // The model's own year (an EnergyPlus model's RunPeriod), before --from/--to replace it.
   int model_year = 0;
   if (s.scene.sun && s.scene.sun->start.size() >= 4 && s.scene.sun->times.empty())
