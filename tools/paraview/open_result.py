@@ -201,10 +201,18 @@ def nice_step(span, most=7):
     return 10 * step
 
 
+def unlit(shown):
+    """Draw `shown` in its legend's colours: no headlight shading, which would darken faces seen
+    at a slant until their colour read as another value (a south wall of 925 kWh/m2 as about 200)."""
+    shown.Ambient = 1.0
+    shown.Diffuse = 0.0
+
+
 def style_sun_hours(shown, source, view, total=None):
     """Colour the map by sun_hours from 0 to the period's total (`total`, else the map's
     `total_hours`): one band per hour up to a day, labels at round hours, the legend titled
-    "sun hours"."""
+    "sun hours"; unlit, so that a colour is its value."""
+    unlit(shown)
     ColorBy(shown, ("CELLS", "sun_hours"))
     lut = GetColorTransferFunction("sun_hours")
     lut.ApplyPreset("Inferno (matplotlib)", True)
@@ -509,6 +517,7 @@ def open_series(args, outdir, report, read):
         view = views[next_view]
         next_view += 1
         shown = Show(instants, view)
+        unlit(shown)
         ColorBy(shown, ("CELLS", "lit_fraction"))
         fraction = GetColorTransferFunction("lit_fraction")
         fraction.ApplyPreset("Inferno (matplotlib)", True)
@@ -546,7 +555,9 @@ def irradiation_top(sources):
 
 def style_irradiation(shown, view, top, step, bar=True):
     """Colour by the total irradiation from 0 to `top` kWh/m2 (Inferno; faces that receive no
-    light, NaN in faces.vtp, in grey), the legend titled with the unit, labels at round values."""
+    light, NaN in faces.vtp, in grey), the legend titled with the unit, labels at round values;
+    unlit, so that a colour is its value."""
+    unlit(shown)
     ColorBy(shown, ("CELLS", IRRADIATION))
     lut = GetColorTransferFunction(IRRADIATION)
     lut.ApplyPreset("Inferno (matplotlib)", True)
@@ -756,6 +767,7 @@ def main():
 
     # Right: faces by lit fraction, with a legend.
     faces_shown = Show(faces, right)
+    unlit(faces_shown)
     array = "lit_fraction_" + sanitize(light_name)
     ColorBy(faces_shown, ("CELLS", array))
     fraction = GetColorTransferFunction(array)
