@@ -219,6 +219,8 @@ def scene_to_dict(scene):
     """The scene as Python data in the layout scene_from_data takes (inline polygons as numpy arrays;
     faces are those after validation, consecutive duplicate vertices removed, with their names and
     kinds; the camera and a CityJSON model's origin, which do not change the shadows, are left out)."""
+    if not isinstance(scene, Scene):
+        raise TypeError("scene_to_dict: expected a libshadow.Scene, got %s" % type(scene).__name__)
     meshes = []
     faces = scene.faces
     names, kinds = scene.face_name, scene.face_kind
@@ -461,6 +463,8 @@ def _hours_weight(weight):
 
 
 def _series_weight(series, weight):
+    if not isinstance(series, SeriesResult):
+        raise TypeError("expected a libshadow.SeriesResult, got %s" % type(series).__name__)
     if weight is not None:
         return _hours_weight(weight)
     scene = series.scene

@@ -87,6 +87,11 @@ def test_irradiance_scene_without_lights(tmp_path):
     assert totals[0] > 0 and totals == [totals[0]] * 3
     with pytest.raises(libshadow.InputError, match="no lights"):
         libshadow.scene_from_data({"roof": [[[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]]]})
+    # Wrong types: TypeError, as docs/python.md promises (was AttributeError).
+    with pytest.raises(TypeError):
+        libshadow.scene_to_dict(None)
+    with pytest.raises(TypeError):
+        libshadow.surface_series(None)
     # NaN is not "not given" from Python: it was taken silently as the default reflectance.
     with pytest.raises(libshadow.InputError, match="ground_reflectance"):
         libshadow.irradiance(scenes[0], w, ground_reflectance=float("nan"))

@@ -199,6 +199,18 @@ void print_warnings(const std::vector<shadow::Warning>& weather, const std::vect
     for (const shadow::Warning& warning : *list) std::cerr << "shadow: warning: " << warning.to_string() << "\n";
 }
 
+/// The summary's stage times and the energy check (docs/irradiance.md, Energy check).
+void print_times_and_check(const shadow::IrradianceResult& result, double seconds) {
+  std::printf("  computed in %.3f s: sky patches %.3f s, ground patches %.3f s, sun %.3f s, sums %.3f s; energy check %s\n",
+              seconds, result.seconds_sky, result.seconds_ground, result.seconds_sun, result.seconds_sums,
+              result.energy_check_ok() ? "ok" : "FAILED (report.json: energy_check)");
+  if (result.max_horizon_band_excess > 1e-6)
+    std::printf("  sky diffuse up to %.3g W/m2 above the unshaded on faces whose horizon is hidden: Perez's horizon "
+                "band is negative in some hours (a low sun), and hiding it takes that away (the model's own; "
+                "docs/irradiance.md, Energy check)\n",
+                result.max_horizon_band_excess);
+}
+
 }  // namespace
 
 int run_irradiance(const IrradianceArgs& args) {
@@ -329,16 +341,7 @@ int run_irradiance(const IrradianceArgs& args) {
                 surfaces[s].name.c_str(), surfaces[s].total, surfaces[s].direct, surfaces[s].sky_diffuse,
                 surfaces[s].ground_reflected, surfaces[s].sky_view_factor, surfaces[s].ground_view_factor);
   if (surfaces.size() > shown) std::printf("  ... %zu more in irradiation.csv\n", surfaces.size() - shown);
-  std::printf("  computed in %.3f s: sky patches %.3f s, ground patches %.3f s, sun %.3f s, sums %.3f s; energy check %s\n",
-              std::chrono::duration<double>(computed - start).count(), result.seconds_sky, result.seconds_ground,
-              result.seconds_sun,
-              result.seconds_sums,
-              result.energy_check_ok() ? "ok" : "FAILED (report.json: energy_check)");
-  if (result.max_horizon_band_excess > 1e-6)
-    std::printf("  sky diffuse up to %.3g W/m2 above the unshaded on faces whose horizon is hidden: Perez's horizon "
-                "band is negative in some hours (a low sun), and hiding it takes that away (the model's own; "
-                "docs/irradiance.md, Energy check)\n",
-                result.max_horizon_band_excess);
+  print_times_and_check(result, std::chrono::duration<double>(computed - start).count());
   if (!result.scene_reflected.empty() && result.reflections.hierarchical)
     std::printf("  reflections: %zu radiosity elements, hierarchical (%zu near and %zu far links, %zu iterations), "
                 "unshot %.3g%%, error estimate %.3g%%, in %.3f s (in the totals above)\n",
