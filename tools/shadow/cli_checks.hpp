@@ -128,6 +128,19 @@ inline const char* skip_invalid_help() {
          "listed in report.json (skipped_faces); face ids count the faces kept";
 }
 
+/// How `shadow irradiance` and `shadow radiosity` read their scene: --planarity-tolerance,
+/// --orient-outward, --lod and --skip-invalid (validation's errors suggest these flags).
+inline void add_scene_reading_options(CLI::App* cmd, double& planarity_tolerance, bool& orient_outward,
+                                      std::string& lod, bool& skip_invalid) {
+  cmd->add_option("--planarity-tolerance", planarity_tolerance,
+                  "Largest vertex distance from a face's plane, relative to the face's size")
+      ->default_val(1e-6)
+      ->check(positive_up_to(1.0));
+  cmd->add_flag("--orient-outward", orient_outward, "Turn the closed parts of every mesh outward");
+  cmd->add_option("--lod", lod, "CityJSON level of detail to read (default: the highest of each city object)");
+  cmd->add_flag("--skip-invalid", skip_invalid, skip_invalid_help());
+}
+
 /// The load options of `shadow compute`, `shadow series` and `shadow render` (the same four
 /// flags, and `--threads` for validation's per-face checks).
 inline shadow::LoadOptions load_options(double planarity_tolerance, bool orient_outward, const std::string& lod,

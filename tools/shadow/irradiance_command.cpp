@@ -181,13 +181,7 @@ CLI::App* add_irradiance_command(CLI::App& app, IrradianceArgs& args) {
   cmd->add_option("-t,--threads", args.threads, "Worker threads (0: all cores; at most 1024)")
       ->default_val(0)
       ->check(shadow_cli::integer_in(0, 1024));
-  cmd->add_option("--planarity-tolerance", args.planarity_tolerance,
-                  "Largest vertex distance from a face's plane, relative to the face's size")
-      ->default_val(1e-6)
-      ->check(shadow_cli::positive_up_to(1.0));
-  cmd->add_flag("--orient-outward", args.orient_outward, "Turn the closed parts of every mesh outward");
-  cmd->add_option("--lod", args.lod, "CityJSON level of detail to read (default: the highest of each city object)");
-  cmd->add_flag("--skip-invalid", args.skip_invalid, shadow_cli::skip_invalid_help());
+  shadow_cli::add_scene_reading_options(cmd, args.planarity_tolerance, args.orient_outward, args.lod, args.skip_invalid);
   return cmd;
 }
 
