@@ -2,6 +2,7 @@
 // The files of `shadow irradiance` (shadow/irradiance_output.hpp, docs/irradiance.md).
 #include <shadow/irradiance_output.hpp>
 
+#include "writers/face_identity_json.hpp"
 #include "writers/series_outputs.hpp"
 #include "writers/staged_files.hpp"
 #include "writers/vtk_datasets.hpp"
@@ -160,10 +161,7 @@ Json report_json(const Scene& scene, const Weather& weather, const IrradianceRes
   for (const Warning& w : weather.warnings) warnings.push_back(w.to_string());
   for (const Warning& w : scene.warnings) warnings.push_back(w.to_string());
   j["warnings"] = warnings;
-  Json skipped = Json::array();  // --skip-invalid: the faces left out
-  for (const SkippedFace& f : scene.skipped_faces)
-    skipped.push_back({{"name", f.name}, {"mesh", f.mesh}, {"source", f.source.to_string()}, {"reason", f.reason}});
-  j["skipped_faces"] = skipped;
+  j["skipped_faces"] = detail::skipped_faces_json(scene);  // --skip-invalid: the faces left out
   for (const auto& [key, grouping] : {std::pair<const char*, IrradianceGrouping>{"surfaces", IrradianceGrouping::Surface},
                                       {"objects", IrradianceGrouping::Object},
                                       {"meshes", IrradianceGrouping::Mesh}}) {

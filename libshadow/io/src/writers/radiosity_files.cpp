@@ -179,12 +179,8 @@ void write_radiosity_report_json(std::ostream& out, const Scene& scene, const Ra
     faces.push_back(std::move(entry));
   }
   doc["faces"] = std::move(faces);
-  if (!scene.skipped_faces.empty()) {  // --skip-invalid: the faces left out, as compute's report lists them
-    Json skipped = Json::array();
-    for (const SkippedFace& f : scene.skipped_faces)
-      skipped.push_back({{"name", f.name}, {"mesh", f.mesh}, {"source", f.source.to_string()}, {"reason", f.reason}});
-    doc["skipped_faces"] = skipped;
-  }
+  // --skip-invalid: the faces left out, as compute's report lists them.
+  if (!scene.skipped_faces.empty()) doc["skipped_faces"] = detail::skipped_faces_json(scene);
   out << doc.dump(2) << "\n";
 }
 
