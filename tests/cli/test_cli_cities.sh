@@ -130,6 +130,15 @@ if [[ $(cat "$WORK/city_skip.status") -eq 0 ]] &&
 else
   fail city_skip_series_with_a_map_by_type "$(cat "$WORK/city_skip.stderr" "$WORK/city_skip.stdout")"
 fi
+# The scene's mesh name of the model file on --sun-hours-map, as the scene's "sun_hours_map" takes
+# it: every face of the model (the building's 6, the part's valid 1, the terrain's 1), not the ground.
+run city_by_scene_mesh series "$WORK/city/scene.json" -o "$WORK/out-city-mesh" --skip-invalid --sun-hours-map city
+if [[ $(cat "$WORK/city_by_scene_mesh.status") -eq 0 ]] &&
+   grep -q '^  sun-hours map: [0-9]* cells on 8 faces (sun_hours.vtp)' "$WORK/city_by_scene_mesh.stdout"; then
+  pass city_map_by_the_scene_mesh_of_a_model
+else
+  fail city_map_by_the_scene_mesh_of_a_model "$(cat "$WORK/city_by_scene_mesh.stderr" "$WORK/city_by_scene_mesh.stdout")"
+fi
 check city_skip_series_report '
 import json, sys
 r = json.load(open(sys.argv[1]))

@@ -101,6 +101,26 @@ status=0
 if [[ $status -eq 2 && $(wc -l <"$WORK/bad.err") -eq 1 ]] && grep -q -- '--write-idf.*is the model itself' "$WORK/bad.err" &&
    [[ ! -e "$WORK/bad/report.json" ]]; then pass "--write-idf onto the model itself: one error line"; else
   fail "--write-idf onto the model itself" "status $status: $(cat "$WORK/bad.err")"; fi
+# --energyplus-shading asked for by name on a step EnergyPlus cannot take: one error before any
+# computing, not a run without the file.
+status=0
+"$SHADOW" series "$WORK/model.idf" -o "$WORK/bad-step" --from 2023-06-20 --to 2023-06-20 --step 90 \
+  --energyplus-shading 2>"$WORK/bad-step.err" >/dev/null || status=$?
+if [[ $status -eq 2 && $(wc -l <"$WORK/bad-step.err") -eq 1 ]] &&
+   grep -q -- '--energyplus-shading: energyplus-shading.csv cannot be written for this run: step_minutes 90 does not divide an hour' \
+     "$WORK/bad-step.err" && [[ ! -e "$WORK/bad-step/report.json" ]]; then
+  pass "--energyplus-shading on a 90-minute step: one error line, nothing written"
+else
+  fail "--energyplus-shading on a 90-minute step" "status $status: $(cat "$WORK/bad-step.err")"
+fi
+# Without the flag the model's run goes on and says why there is no CSV.
+"$SHADOW" series "$WORK/model.idf" -o "$WORK/step90" --from 2023-06-20 --to 2023-06-20 --step 90 \
+  >"$WORK/step90.out" 2>/dev/null || fail "a model at 90 minutes" "exit $?"
+if [[ ! -e "$WORK/step90/energyplus-shading.csv" ]] && grep -q "no energyplus-shading.csv: step_minutes 90" "$WORK/step90.out"; then
+  pass "a model at 90 minutes without the flag: no CSV, and the summary says why"
+else
+  fail "a model at 90 minutes" "$(grep -i energyplus "$WORK/step90.out")"
+fi
 
 # A month: at most 48 per-instant files by default, spread over it, and the summary says so;
 # --every 1 asks for them all.

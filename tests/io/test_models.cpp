@@ -1036,6 +1036,16 @@ TEST(MeshTypes, ReceiversAndSunHoursMapsByCityJsonObjectType) {
   EXPECT_EQ(shadow::sun_hours_map_faces(mapped, {"type:TINRelief"}, "--sun-hours-map"), (std::vector<std::size_t>{12}));
   EXPECT_EQ(shadow::sun_hours_map_faces(mapped, {"city/B", "type:TINRelief"}, "--sun-hours-map"),
             (std::vector<std::size_t>{6, 7, 8, 9, 10, 11, 12}));
+  // The scene mesh's own name on --sun-hours-map, as the scene key takes it: every mesh of its
+  // model, and not the scene's other meshes.
+  const std::size_t city_faces = mapped.meshes[3].first_face;
+  std::vector<std::size_t> all_city(city_faces);
+  for (std::size_t f = 0; f < city_faces; ++f) all_city[f] = f;
+  EXPECT_EQ(shadow::sun_hours_map_faces(mapped, {"city"}, "--sun-hours-map"), all_city);
+  EXPECT_EQ(shadow::select_meshes(mapped, "city", {"", "--sun-hours-map"}), (std::vector<std::size_t>{0, 1, 2}));
+  EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(mapped, {"cit"}, "--sun-hours-map"); })
+                .find("--sun-hours-map: no mesh is named \"cit\""),
+            std::string::npos);
   // An unknown type names the key or flag, the type and the types present.
   EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("u.json", typed_scene(R"(, "receivers": ["type:Bridge"])"))); })
                 .find("u.json: receivers[0]: the type \"Bridge\" selects no mesh (the object types present: "

@@ -236,7 +236,8 @@ std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only =
 /// The meshes (indices into Scene::meshes, ascending) that one name selects, as `receivers`,
 /// `sun_hours_map` and `--sun-hours-map` spell it: a mesh's name selects that mesh (a model's
 /// meshes are named `<scene mesh>/<id>` inside a scene file, `<id>` when the model is the
-/// scene); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
+/// scene); the name of a scene file's mesh whose `file` is a model selects all of that model's
+/// meshes (those named `<name>/...`); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
 /// object type such as `type:Building` or `type:TINRelief`, or `type:zone` for EnergyPlus zones;
 /// compared as written).
 /// @throws InputError at `where` (the key or flag that gave the name: `receivers[2]`,

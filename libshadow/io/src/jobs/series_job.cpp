@@ -212,6 +212,10 @@ SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, cons
     if (!idf.empty()) throw InputError({"", "--write-idf"}, "the CSV's path " + back.csv + ": " + e.problem());
   }
   const EnergyPlusSchedule schedule = energyplus_schedule(scene);
+  // Asked for by name and impossible (a step that does not divide an hour, explicit times):
+  // refused before a year of suns is computed, not a run that silently lacks the file.
+  if (options.energyplus_shading == true && !schedule.written)
+    throw InputError({"", "--energyplus-shading"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
   if (schedule.written && !schedule.reason.empty()) back.note = "energyplus-shading.csv: " + schedule.reason;
   // --step against the model's Timestep: EnergyPlus refuses a file of another number of rows.
   if (schedule.written && model_step > 0 && 60 / model_step != schedule.timesteps_per_hour)
@@ -400,7 +404,8 @@ void SeriesJob::load() {
   if (!options_.from.empty() || !options_.to.empty() || options_.step_minutes > 0) replace_period(s.scene, options_);
   // energyplus-shading.csv asked for: each step's sun where EnergyPlus takes it
   // (SunPeriod::energyplus_times), whatever the scene's sun block says.
-  if (options_.energyplus_shading && s.scene.sun && s.scene.sun->times.empty() && !s.scene.sun->energyplus_times) {
+  if (options_.energyplus_shading == true && s.scene.sun && s.scene.sun->times.empty() &&
+      !s.scene.sun->energyplus_times) {
     SunPeriod period = *s.scene.sun;
     period.energyplus_times = true;
     replace_sun_lights(s.scene, period);
