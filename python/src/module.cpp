@@ -401,6 +401,9 @@ PYBIND11_MODULE(_libshadow, m) {
       .def_readonly("parent", &Mesh::parent,
                     "CityJSON: the top-level city object this one is part of (named like meshes), or ''")
       .def_readonly("parent_type", &Mesh::parent_type, "the CityJSON type of parent, or ''")
+      .def_readonly("scene_mesh", &Mesh::scene_mesh,
+                    "a model's mesh read through a scene file's mesh: that mesh's name, which selects them all; ''\n"
+                    "otherwise")
       .def("__repr__", [](const Mesh& x) {
         return "Mesh(name=" + py::repr(py::str(x.name)).cast<std::string>() + ", faces=" +
                std::to_string(x.face_count) + ", receiver=" + (x.receiver ? "True" : "False") + ")";

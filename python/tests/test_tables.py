@@ -154,6 +154,7 @@ def test_sun_hours_per_object_rolls_parts_up(city, cli, tmp_path):
     meshes = {m.name: m for m in scene.meshes}
     assert meshes["city/B1-low"].object_type == "BuildingPart"
     assert meshes["city/B1-low"].parent == "city/B1" and meshes["city/B1-low"].parent_type == "Building"
+    assert meshes["city/B1-low"].scene_mesh == "city"
     assert meshes["city/B2"].object_type == "Building" and meshes["city/B2"].parent == ""
     objects = scene.objects()
     assert [(o.id, o.type, [scene.meshes[m].name for m in o.meshes]) for o in objects] == [

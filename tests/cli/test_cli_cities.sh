@@ -130,6 +130,12 @@ if [[ $(cat "$WORK/city_skip.status") -eq 0 ]] &&
 else
   fail city_skip_series_with_a_map_by_type "$(cat "$WORK/city_skip.stderr" "$WORK/city_skip.stdout")"
 fi
+# --energyplus-shading asked for on explicit sun times: one error before any computing, saying
+# how to give a period instead.
+run city_eplus_times series "$WORK/city/scene.json" -o "$WORK/out-eplus-times" --skip-invalid --energyplus-shading
+expect_error energyplus_shading_on_explicit_times city_eplus_times "$WORK/out-eplus-times" \
+  '--energyplus-shading: energyplus-shading.csv cannot be written for this run: the sun is given as explicit times' \
+  '(--from and --to give a period instead)'
 # The scene's mesh name of the model file on --sun-hours-map, as the scene's "sun_hours_map" takes
 # it: every face of the model (the building's 6, the part's valid 1, the terrain's 1), not the ground.
 run city_by_scene_mesh series "$WORK/city/scene.json" -o "$WORK/out-city-mesh" --skip-invalid --sun-hours-map city

@@ -1046,6 +1046,27 @@ TEST(MeshTypes, ReceiversAndSunHoursMapsByCityJsonObjectType) {
   EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(mapped, {"cit"}, "--sun-hours-map"); })
                 .find("--sun-hours-map: no mesh is named \"cit\""),
             std::string::npos);
+  // Only the scene mesh's own name: not the start of a model id holding '/', nor a model read
+  // as the scene itself (its meshes have no scene mesh).
+  Json slashed = doc;
+  slashed["CityObjects"]["T/1"] = slashed["CityObjects"]["T"];
+  slashed["CityObjects"].erase("T");
+  dir.write("slashed.city.json", slashed.dump());
+  const shadow::Scene alone = shadow::load_scene(dir.path() / "slashed.city.json");
+  EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(alone, {"T"}, "--sun-hours-map"); })
+                .find("--sun-hours-map: no mesh is named \"T\""),
+            std::string::npos);
+  EXPECT_EQ(shadow::select_meshes(alone, "T/1", {"", "--sun-hours-map"}).size(), 1u);
+  EXPECT_NE(error_of([&] { shadow::sun_hours_map_faces(whole, {"city"}, "--sun-hours-map"); })
+                .find("no mesh is named \"city\""),
+            std::string::npos);
+  const shadow::Scene inside = shadow::load_scene(dir.write(
+      "s.json", R"({"meshes": [{"name": "city", "file": "slashed.city.json"}],
+                    "lights": [{"name": "sun", "type": "directional", "to_light": [0.3, 0.2, 0.9]}]})"));
+  EXPECT_EQ(shadow::select_meshes(inside, "city", {"", "--sun-hours-map"}).size(), inside.meshes.size());
+  EXPECT_NE(error_of([&] { shadow::select_meshes(inside, "city/T", {"", "--sun-hours-map"}); })
+                .find("no mesh is named \"city/T\""),
+            std::string::npos);
   // An unknown type names the key or flag, the type and the types present.
   EXPECT_NE(error_of([&] { shadow::load_scene(dir.write("u.json", typed_scene(R"(, "receivers": ["type:Bridge"])"))); })
                 .find("u.json: receivers[0]: the type \"Bridge\" selects no mesh (the object types present: "

@@ -56,6 +56,10 @@ struct Mesh {
   /// empty for OBJ files and inline polygons. A scene with an EnergyPlus mesh gets
   /// energyplus-shading.csv from `shadow series` (docs/series.md).
   std::string model;
+  /// A model's mesh read through a scene file's mesh (`{"name": "city", "file": "x.city.json"}`):
+  /// that scene mesh's name, which selects all of them (select_meshes()). Empty otherwise, also
+  /// for a model read as the scene itself.
+  std::string scene_mesh;
   /// What the mesh is in the model it was read from: a CityJSON city object's `type`
   /// (`Building`, `BuildingPart`, `TINRelief`, ...) or `zone` for an EnergyPlus zone; empty for
   /// meshes of a scene file or an OBJ file and for EnergyPlus's shading groups. `type:<T>` in
@@ -237,7 +241,7 @@ std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only =
 /// `sun_hours_map` and `--sun-hours-map` spell it: a mesh's name selects that mesh (a model's
 /// meshes are named `<scene mesh>/<id>` inside a scene file, `<id>` when the model is the
 /// scene); the name of a scene file's mesh whose `file` is a model selects all of that model's
-/// meshes (those named `<name>/...`); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
+/// meshes (Mesh::scene_mesh); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
 /// object type such as `type:Building` or `type:TINRelief`, or `type:zone` for EnergyPlus zones;
 /// compared as written).
 /// @throws InputError at `where` (the key or flag that gave the name: `receivers[2]`,

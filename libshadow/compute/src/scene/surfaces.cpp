@@ -58,16 +58,13 @@ std::vector<std::size_t> select_meshes(const Scene& scene, const std::string& na
   // A mesh's own name first: a mesh whose name happens to begin with "type:" is still found.
   for (std::size_t m = 0; m < scene.meshes.size(); ++m)
     if (scene.meshes[m].name == name) return {m};
+  // A scene file's mesh whose `file` is a model became that model's meshes: its name selects
+  // them all, as the scene's keys take it.
+  for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    if (!name.empty() && scene.meshes[m].scene_mesh == name) chosen.push_back(m);
+  if (!chosen.empty()) return chosen;
   const std::string prefix = "type:";
-  if (name.rfind(prefix, 0) != 0) {
-    // A scene file's mesh whose `file` is a model became that model's meshes, named
-    // `<scene mesh>/<id>`: the scene mesh's name selects them all, as the scene's keys do.
-    const std::string model_prefix = name + "/";
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-      if (!scene.meshes[m].model.empty() && scene.meshes[m].name.rfind(model_prefix, 0) == 0) chosen.push_back(m);
-    if (!chosen.empty()) return chosen;
-    throw InputError(where, "no mesh is named \"" + name + "\"");
-  }
+  if (name.rfind(prefix, 0) != 0) throw InputError(where, "no mesh is named \"" + name + "\"");
   const std::string type = name.substr(prefix.size());
   std::vector<std::string> present;  // the types of the scene's meshes, in order of appearance
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {

@@ -212,10 +212,6 @@ SeriesEnergyPlusHandBack prepare_hand_back(const SeriesJobOptions& options, cons
     if (!idf.empty()) throw InputError({"", "--write-idf"}, "the CSV's path " + back.csv + ": " + e.problem());
   }
   const EnergyPlusSchedule schedule = energyplus_schedule(scene);
-  // Asked for by name and impossible (a step that does not divide an hour, explicit times):
-  // refused before a year of suns is computed, not a run that silently lacks the file.
-  if (options.energyplus_shading == true && !schedule.written)
-    throw InputError({"", "--energyplus-shading"}, "energyplus-shading.csv cannot be written for this run: " + schedule.reason);
   if (schedule.written && !schedule.reason.empty()) back.note = "energyplus-shading.csv: " + schedule.reason;
   // --step against the model's Timestep: EnergyPlus refuses a file of another number of rows.
   if (schedule.written && model_step > 0 && 60 / model_step != schedule.timesteps_per_hour)
@@ -409,6 +405,16 @@ void SeriesJob::load() {
     SunPeriod period = *s.scene.sun;
     period.energyplus_times = true;
     replace_sun_lights(s.scene, period);
+  }
+  // Asked for by name and impossible (a step that does not divide an hour, explicit times,
+  // names EnergyPlus would confuse): refused before the engine is built and any sun computed,
+  // not a run that silently lacks the file.
+  if (options_.energyplus_shading == true) {
+    const EnergyPlusSchedule schedule = energyplus_schedule(s.scene);
+    if (!schedule.written)
+      throw InputError({"", "--energyplus-shading"},
+                       "energyplus-shading.csv cannot be written for this run: " + schedule.reason +
+                           (s.scene.sun && !s.scene.sun->times.empty() ? " (--from and --to give a period instead)" : ""));
   }
   try {
     s.suns = sun_series(s.scene);

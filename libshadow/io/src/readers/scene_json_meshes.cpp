@@ -316,6 +316,7 @@ void SceneReader::load_faces(PendingMesh pending) {
         Mesh& mesh = new_mesh(pending.name + "/" + part.name);
         mesh.receiver = pending.receiver && part.receiver;
         mesh.model = model_name(format);
+        mesh.scene_mesh = pending.name;
         // What the model says the mesh is; a CityJSON part's parent is named like the meshes.
         mesh.object_type = part.object_type;
         if (!part.parent.empty()) {
