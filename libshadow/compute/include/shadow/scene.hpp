@@ -241,9 +241,9 @@ std::vector<SceneObject> scene_objects(const Scene& scene, bool receivers_only =
 /// `sun_hours_map` and `--sun-hours-map` spell it: a mesh's name selects that mesh (a model's
 /// meshes are named `<scene mesh>/<id>` inside a scene file, `<id>` when the model is the
 /// scene); the name of a scene file's mesh whose `file` is a model selects all of that model's
-/// meshes (Mesh::scene_mesh); otherwise `type:<T>` selects every mesh whose Mesh::object_type is `T` (a CityJSON
-/// object type such as `type:Building` or `type:TINRelief`, or `type:zone` for EnergyPlus zones;
-/// compared as written).
+/// meshes (Mesh::scene_mesh); otherwise `type:<T>` selects every mesh whose Mesh::object_type
+/// is `T` (a CityJSON object type such as `type:Building` or `type:TINRelief`, or `type:zone`
+/// for EnergyPlus zones; compared as written).
 /// @throws InputError at `where` (the key or flag that gave the name: `receivers[2]`,
 /// `--sun-hours-map`) for a name no mesh has, or a type no mesh has (listing the types present).
 std::vector<std::size_t> select_meshes(const Scene& scene, const std::string& name, const SourceLocation& where);

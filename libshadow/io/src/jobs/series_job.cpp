@@ -398,18 +398,17 @@ void SeriesJob::load() {
     model_year = std::atoi(s.scene.sun->start.substr(0, 4).c_str());
   const int model_step = s.scene.sun && s.scene.sun->times.empty() ? s.scene.sun->step_minutes : 0;
   if (!options_.from.empty() || !options_.to.empty() || options_.step_minutes > 0) replace_period(s.scene, options_);
-  // energyplus-shading.csv asked for: each step's sun where EnergyPlus takes it
-  // (SunPeriod::energyplus_times), whatever the scene's sun block says.
-  if (options_.energyplus_shading == true && s.scene.sun && s.scene.sun->times.empty() &&
-      !s.scene.sun->energyplus_times) {
-    SunPeriod period = *s.scene.sun;
-    period.energyplus_times = true;
-    replace_sun_lights(s.scene, period);
-  }
-  // Asked for by name and impossible (a step that does not divide an hour, explicit times,
-  // names EnergyPlus would confuse): refused before the engine is built and any sun computed,
-  // not a run that silently lacks the file.
   if (options_.energyplus_shading == true) {
+    // energyplus-shading.csv asked for: each step's sun where EnergyPlus takes it
+    // (SunPeriod::energyplus_times), whatever the scene's sun block says.
+    if (s.scene.sun && s.scene.sun->times.empty() && !s.scene.sun->energyplus_times) {
+      SunPeriod period = *s.scene.sun;
+      period.energyplus_times = true;
+      replace_sun_lights(s.scene, period);
+    }
+    // Impossible (a step that does not divide an hour, explicit times, names EnergyPlus would
+    // confuse): refused before the engine is built and any sun computed, not a run that
+    // silently lacks the file.
     const EnergyPlusSchedule schedule = energyplus_schedule(s.scene);
     if (!schedule.written)
       throw InputError({"", "--energyplus-shading"},
