@@ -14,6 +14,7 @@
 #include "arealight/area_receiver.hpp"
 
 #include "core/lights.hpp"
+#include "geometry/unit_vector.hpp"
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -234,6 +235,9 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   // counts as one item that is done when its tiles are, as compute() counts receivers.
   engine_detail::ForwardProgress report_instants(options.progress, 0, instants);
   double tile_share = 0.0;
+  std::vector<std::size_t> live;  // a batch's work items (c * count + k), in item order
+  std::vector<glm::dvec3> sun(batch);
+  std::vector<char> directional(batch);
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
@@ -244,6 +248,30 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of, 1, &item_bounds);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
+    // Receivers certainly turned away from a sun of the batch (about half of a city's faces
+    // under each): their attached shadow goes into the table here, with no work item. It is what
+    // either engine's job gives them (the fast job's first test is this one; the exact engine
+    // decides the same side exactly): a back-facing receiver counted, every value in the table 0.
+    live.clear();
+    std::uint64_t turned_away = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const Light& light = lights[order[first + k]];
+      sun[k] = light.type == LightType::Directional ? geometry::unit(light.to_light) : glm::dvec3(0.0);
+      directional[k] = light.type == LightType::Directional;
+    }
+    for (std::size_t c = 0; c < computed; ++c) {
+      const core::CullFace& face = impl.cull.faces[result.faces[computed_rows[c]]];
+      for (std::size_t k = 0; k < count; ++k) {
+        if (directional[k] && core::certainly_turned_away(face, sun[k])) {
+          table.write(computed_rows[c], first + k, FaceLighting{});
+          ++turned_away;
+        } else {
+          live.push_back(c * count + k);
+        }
+      }
+    }
+    workers[0].stats.receivers += turned_away;
+    workers[0].stats.back_facing += turned_away;
 
     auto report_fraction = [&](double fraction) {
       report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));
@@ -252,7 +280,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     Impl::RoundProgress progress;
     if (report_instants) {
       progress.first = [&](std::size_t done) {
-        round_fraction = (1 - tile_share) * static_cast<double>(done) / static_cast<double>(std::max<std::size_t>(1, computed * count));
+        round_fraction = (1 - tile_share) * static_cast<double>(done) / static_cast<double>(std::max<std::size_t>(1, live.size()));
         report_fraction(round_fraction);
       };
       // The tile round: the rest of the batch, in proportion to the tiles done.
@@ -269,15 +297,16 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     // (docs/benchmarks.md, "Memory"): CPU time the same within noise, peak memory 38% higher at
     // 2,500 boxes.
     const Impl::RoundsDone done = impl.compute_rounds(
-        computed * count,
-        [&](std::size_t item) {
-          const std::size_t k = item % count, instant = order[first + k];
+        live.size(),
+        [&](std::size_t i) {
+          const std::size_t item = live[i], k = item % count, instant = order[first + k];
           return Impl::WorkItem{result.faces[computed_rows[item / count]], instant, &lights[instant],
                                 grids[k] ? &*grids[k] : nullptr, k};
         },
         mode, workers,
         [&](unsigned wi, std::size_t slot) -> std::optional<exact::ExactLight>& { return exact_lights[wi][slot]; },
-        [&](std::size_t item, const Impl::Item& out) {
+        [&](std::size_t i, const Impl::Item& out) {
+          const std::size_t item = live[i];
           table.write(computed_rows[item / count], first + item % count, out.lighting);
         },
         progress);
