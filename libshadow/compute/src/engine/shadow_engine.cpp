@@ -34,6 +34,7 @@
 #include "exact/exact_receiver.hpp"
 #include "exact/lazy_geometry.hpp"
 #include "fast/fast_receiver.hpp"
+#include "geometry/unit_vector.hpp"
 #include "planes/plane_shadows.hpp"
 
 #include <shadow/shadows.hpp>
@@ -166,12 +167,45 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
 
+  // Areas only under a directional light: the receivers certainly turned away from it (about
+  // half of a city's faces) get their attached shadow here, with no work item, as either
+  // engine's job would give it (compute_series does the same).
+  std::vector<std::size_t> live;  // the other receivers (indices into `receivers`)
+  const bool prefilter = grid && !options.polygons;
+  if (prefilter) {
+    const glm::dvec3 sun = geometry::unit(light_in.to_light);
+    std::vector<char> away(receivers.size(), 0);
+    runtime::parallel_for_blocks(receivers.size(), 4096, threads,
+                                 [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
+      std::uint64_t n = 0;
+      for (std::size_t r = begin; r < end; ++r) {
+        const std::size_t f = receivers[r];
+        if (!core::certainly_turned_away(cull.faces[f], sun)) continue;
+        away[r] = 1;
+        FaceLighting& out = items[r].lighting;
+        out = FaceLighting{};
+        out.face_id = f;
+        out.light_id = light_id;
+        out.area = face_area[f];
+        out.shadow_area = out.area;
+        ++n;
+      }
+      workers[wi].stats.receivers += n;
+      workers[wi].stats.back_facing += n;
+    });
+    live.reserve(receivers.size());
+    for (std::size_t r = 0; r < receivers.size(); ++r)
+      if (!away[r]) live.push_back(r);
+  }
+  const std::size_t turned_away = prefilter ? receivers.size() - live.size() : 0;
+  auto receiver_of = [&](std::size_t i) { return prefilter ? live[i] : i; };
+
   // Progress in receivers done: a receiver split into tiles counts when its tiles are done
   // (in proportion during the tile round).
   engine_detail::ForwardProgress report_receivers(options.progress, progress_base, progress_total);
   RoundProgress progress;
   if (report_receivers) {
-    progress.first = [&](std::size_t done) { report_receivers(done); };
+    progress.first = [&](std::size_t done) { report_receivers(turned_away + done); };
     progress.tiles = [&](std::size_t done, std::size_t total, std::size_t split) {
       report_receivers(receivers.size() - split + (total == 0 ? split : done * split / total));
     };
@@ -183,9 +217,10 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   mode.split_above = mode.fast ? options.fast_tile_casters : options.tile_casters;
   const core::LightSpaceGrid* grid_ptr = grid ? &*grid : nullptr;
   compute_rounds(
-      receivers.size(), [&](std::size_t r) { return WorkItem{receivers[r], light_id, &light_in, grid_ptr, 0}; }, mode,
+      receivers.size() - turned_away,
+      [&](std::size_t i) { return WorkItem{receivers[receiver_of(i)], light_id, &light_in, grid_ptr, 0}; }, mode,
       workers, [&](unsigned wi, std::size_t) -> std::optional<ExactLight>& { return lights[wi]; },
-      [&](std::size_t r, Item& item) { items[r] = std::move(item); }, progress);
+      [&](std::size_t i, Item& item) { items[receiver_of(i)] = std::move(item); }, progress);
 }
 
 ShadowEngine::Impl::Item ShadowEngine::Impl::compute_item(ThreadState& w, std::optional<exact::ExactLight>& exact_light,
