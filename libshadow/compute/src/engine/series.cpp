@@ -169,6 +169,38 @@ std::vector<std::size_t> rows_to_compute(const std::vector<std::size_t>& rows, c
   return out;
 }
 
+/// Receivers certainly turned away from a sun of a batch (about half of a city's faces under
+/// each) get their attached shadow in the table here, with no work item: what either engine's
+/// job gives them (the fast job's first test is this one; the exact engine decides the same side
+/// exactly): a back-facing receiver, every value in the table 0. The batch's instants are
+/// lights[instant[k]], k < count, at positions first + k; `live` gets the other work items
+/// (c * count + k, c indexing computed_rows), in item order; `stats` counts the others.
+void write_turned_away(const core::CullScene& cull, const std::vector<Light>& lights, const std::size_t* instant,
+                       std::size_t count, const std::vector<std::size_t>& faces,
+                       const std::vector<std::size_t>& computed_rows, std::size_t first, StagedTable& table,
+                       std::vector<std::size_t>& live, ShadowStats& stats) {
+  std::vector<glm::dvec3> sun(count);
+  std::vector<char> directional(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const Light& light = lights[instant[k]];
+    directional[k] = light.type == LightType::Directional;
+    if (directional[k]) sun[k] = geometry::unit(light.to_light);
+  }
+  live.clear();
+  for (std::size_t c = 0; c < computed_rows.size(); ++c) {
+    const core::CullFace& face = cull.faces[faces[computed_rows[c]]];
+    for (std::size_t k = 0; k < count; ++k) {
+      if (directional[k] && core::certainly_turned_away(face, sun[k])) {
+        table.write(computed_rows[c], first + k, FaceLighting{});
+        ++stats.receivers;
+        ++stats.back_facing;
+      } else {
+        live.push_back(c * count + k);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, const SeriesOptions& options) const {
@@ -236,8 +268,6 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   engine_detail::ForwardProgress report_instants(options.progress, 0, instants);
   double tile_share = 0.0;
   std::vector<std::size_t> live;  // a batch's work items (c * count + k), in item order
-  std::vector<glm::dvec3> sun(batch);
-  std::vector<char> directional(batch);
 
   for (std::size_t first = 0; first < instants; first += batch) {
     const std::size_t count = std::min(batch, instants - first);
@@ -248,30 +278,8 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of, 1, &item_bounds);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
-    // Receivers certainly turned away from a sun of the batch (about half of a city's faces
-    // under each): their attached shadow goes into the table here, with no work item. It is what
-    // either engine's job gives them (the fast job's first test is this one; the exact engine
-    // decides the same side exactly): a back-facing receiver counted, every value in the table 0.
-    live.clear();
-    std::uint64_t turned_away = 0;
-    for (std::size_t k = 0; k < count; ++k) {
-      const Light& light = lights[order[first + k]];
-      sun[k] = light.type == LightType::Directional ? geometry::unit(light.to_light) : glm::dvec3(0.0);
-      directional[k] = light.type == LightType::Directional;
-    }
-    for (std::size_t c = 0; c < computed; ++c) {
-      const core::CullFace& face = impl.cull.faces[result.faces[computed_rows[c]]];
-      for (std::size_t k = 0; k < count; ++k) {
-        if (directional[k] && core::certainly_turned_away(face, sun[k])) {
-          table.write(computed_rows[c], first + k, FaceLighting{});
-          ++turned_away;
-        } else {
-          live.push_back(c * count + k);
-        }
-      }
-    }
-    workers[0].stats.receivers += turned_away;
-    workers[0].stats.back_facing += turned_away;
+    write_turned_away(impl.cull, lights, order.data() + first, count, result.faces, computed_rows, first, table, live,
+                      workers[0].stats);
 
     auto report_fraction = [&](double fraction) {
       report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));
