@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <cstring>
 #include <map>
 #include <random>
 #include <string>
@@ -219,6 +220,45 @@ TEST(FastPath, BackFacingFacesAreExactlyShadowed) {
   EXPECT_EQ(down->lit_area, 0.0);
   EXPECT_EQ(down->shadow_area, down->area);
   EXPECT_EQ(down->lit_area_error_bound, 0.0);
+}
+
+TEST(FastPath, TurnedAwayReceiversWrittenWithoutAJobAgreeWithTheJob) {
+  // Areas only under a directional light, the receivers certainly turned away from it get their
+  // attached shadow without a work item; with polygons every receiver is a job that decides its
+  // facing itself. Both give every turned-away face the same values and counts, in both
+  // arithmetics, also for walls edge-on to a sun due south (their side decided exactly).
+  Scene scene = make_city(30, 60, 5);
+  scene.lights.push_back(directional_light("sun", sun_direction(35, 160)));
+  scene.lights.push_back(directional_light("south", sun_direction(40, 180)));
+  validate_scene(scene);
+  for (const Arithmetic arithmetic : {Arithmetic::Exact, Arithmetic::Fast}) {
+    ShadowOptions areas = with(arithmetic);
+    areas.polygons = false;
+    ShadowOptions polygons = with(arithmetic);
+    polygons.polygons = true;
+    const ShadowResult a = compute_shadows(scene, areas);
+    const ShadowResult p = compute_shadows(scene, polygons);
+    ASSERT_EQ(a.lighting.size(), p.lighting.size());
+    std::size_t turned_away = 0;
+    for (std::size_t k = 0; k < a.lighting.size(); ++k) {
+      const FaceLighting& x = a.lighting[k];
+      const FaceLighting& y = p.lighting[k];
+      ASSERT_EQ(x.face_id, y.face_id);
+      ASSERT_EQ(x.faces_light, y.faces_light) << "face " << x.face_id << ", light " << x.light_id;
+      if (x.faces_light) continue;
+      ++turned_away;
+      EXPECT_EQ(x.lit_area, 0.0);
+      EXPECT_EQ(x.lit_fraction, 0.0);
+      EXPECT_EQ(x.lit_area_error_bound, 0.0);
+      EXPECT_EQ(std::memcmp(&x.area, &y.area, sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(&x.shadow_area, &y.shadow_area, sizeof(double)), 0);
+      EXPECT_EQ(x.light_id, y.light_id);
+    }
+    EXPECT_GT(turned_away, a.lighting.size() / 3);
+    EXPECT_EQ(a.stats.receivers, p.stats.receivers);
+    EXPECT_EQ(a.stats.back_facing, p.stats.back_facing);
+    EXPECT_EQ(a.stats.back_facing, turned_away);
+  }
 }
 
 TEST(FastPath, SeededPlanarScenesStayWithinTheirBounds) {

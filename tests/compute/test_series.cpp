@@ -158,6 +158,10 @@ void expect_series_equals_compute(shadow::Arithmetic arithmetic, std::size_t til
   EXPECT_GT(shadowed, 20u) << "the city should shade something";
   // The same work, counted the same way (tiles included).
   EXPECT_EQ(series.stats.receivers, summed.receivers);
+  // Receivers turned away from a sun are written without a work item, and still counted.
+  EXPECT_EQ(series.stats.back_facing, summed.back_facing);
+  EXPECT_GT(summed.back_facing, lights.size()) << "a city's walls should look away from every sun";
+  EXPECT_EQ(series.stats.unshadowed, summed.unshadowed);
   EXPECT_EQ(series.stats.tiled_receivers, summed.tiled_receivers);
   EXPECT_EQ(series.stats.tiles, summed.tiles);
   EXPECT_EQ(series.stats.candidate_pairs, summed.candidate_pairs);
