@@ -174,11 +174,13 @@ std::vector<std::size_t> rows_to_compute(const std::vector<std::size_t>& rows, c
 /// job gives them (the fast job's first test is this one; the exact engine decides the same side
 /// exactly): a back-facing receiver, every value in the table 0. The batch's instants are
 /// lights[instant[k]], k < count, at positions first + k; `live` gets the other work items
-/// (c * count + k, c indexing computed_rows), in item order; `stats` counts the others.
+/// (c * count + k, c indexing computed_rows), in item order; the workers' stats count the
+/// others. Rows in blocks on every thread (a 10,000-box city's batch on 16 threads is some
+/// four million tests), each block's items kept apart, then joined in order.
 void write_turned_away(const core::CullScene& cull, const std::vector<Light>& lights, const std::size_t* instant,
                        std::size_t count, const std::vector<std::size_t>& faces,
                        const std::vector<std::size_t>& computed_rows, std::size_t first, StagedTable& table,
-                       std::vector<std::size_t>& live, ShadowStats& stats) {
+                       std::vector<std::size_t>& live, std::vector<ShadowEngine::Impl::ThreadState>& workers) {
   std::vector<glm::dvec3> sun(count);
   std::vector<char> directional(count);
   for (std::size_t k = 0; k < count; ++k) {
@@ -186,19 +188,27 @@ void write_turned_away(const core::CullScene& cull, const std::vector<Light>& li
     directional[k] = light.type == LightType::Directional;
     if (directional[k]) sun[k] = geometry::unit(light.to_light);
   }
-  live.clear();
-  for (std::size_t c = 0; c < computed_rows.size(); ++c) {
-    const core::CullFace& face = cull.faces[faces[computed_rows[c]]];
-    for (std::size_t k = 0; k < count; ++k) {
-      if (directional[k] && core::certainly_turned_away(face, sun[k])) {
-        table.write(computed_rows[c], first + k, FaceLighting{});
-        ++stats.receivers;
-        ++stats.back_facing;
-      } else {
-        live.push_back(c * count + k);
+  constexpr std::size_t kRows = 512;
+  std::vector<std::vector<std::size_t>> blocks((computed_rows.size() + kRows - 1) / kRows);
+  runtime::parallel_for_blocks(computed_rows.size(), kRows, static_cast<unsigned>(workers.size()),
+                               [&](unsigned wi, std::size_t b, std::size_t begin, std::size_t end) {
+    std::vector<std::size_t>& block = blocks[b];
+    ShadowStats& stats = workers[wi].stats;
+    for (std::size_t c = begin; c < end; ++c) {
+      const core::CullFace& face = cull.faces[faces[computed_rows[c]]];
+      for (std::size_t k = 0; k < count; ++k) {
+        if (directional[k] && core::certainly_turned_away(face, sun[k])) {
+          table.write(computed_rows[c], first + k, FaceLighting{});
+          ++stats.receivers;
+          ++stats.back_facing;
+        } else {
+          block.push_back(c * count + k);
+        }
       }
     }
-  }
+  });
+  live.clear();
+  for (const std::vector<std::size_t>& block : blocks) live.insert(live.end(), block.begin(), block.end());
 }
 
 }  // namespace
@@ -279,7 +289,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
     write_turned_away(impl.cull, lights, order.data() + first, count, result.faces, computed_rows, first, table, live,
-                      workers[0].stats);
+                      workers);
 
     auto report_fraction = [&](double fraction) {
       report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));
