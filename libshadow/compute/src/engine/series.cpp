@@ -175,7 +175,7 @@ std::vector<std::size_t> rows_to_compute(const std::vector<std::size_t>& rows, c
 /// exactly): a back-facing receiver, every value in the table 0. The batch's instants are
 /// lights[instant[k]], k < count, at positions first + k; `live` gets the other work items
 /// (c * count + k, c indexing computed_rows), in item order; the workers' stats count the
-/// others. Rows in blocks on every thread (a 10,000-box city's batch on 16 threads is some
+/// turned-away ones. Rows in blocks on every thread (a 10,000-box city's batch on 16 threads is some
 /// four million tests), each block's items kept apart, then joined in order.
 void write_turned_away(const core::CullScene& cull, const std::vector<Light>& lights, const std::size_t* instant,
                        std::size_t count, const std::vector<std::size_t>& faces,
@@ -250,7 +250,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
 
   std::vector<Impl::ThreadState> workers = impl.make_workers(threads, fast);
   // A batch of instants at a time: their light-space grids are built together, then every
-  // (receiver, instant) pair of the batch is one work item. A few instants per thread keep the
+  // (receiver, instant) pair of the batch not turned away from its sun is one work item. A few instants per thread keep the
   // threads busy to the batch's end without holding a grid per instant of the year.
   const std::size_t batch = std::min<std::size_t>(instants, std::max<std::size_t>(8, 4 * static_cast<std::size_t>(threads)));
   // The instants in the order of their suns' directions, so that a batch holds neighbouring suns
