@@ -250,6 +250,9 @@ TEST(FastPath, TurnedAwayReceiversWrittenWithoutAJobAgreeWithTheJob) {
       EXPECT_EQ(x.lit_area, 0.0);
       EXPECT_EQ(x.lit_fraction, 0.0);
       EXPECT_EQ(x.lit_area_error_bound, 0.0);
+      EXPECT_EQ(std::memcmp(&x.lit_area, &y.lit_area, sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(&x.lit_fraction, &y.lit_fraction, sizeof(double)), 0);
+      EXPECT_EQ(std::memcmp(&x.lit_area_error_bound, &y.lit_area_error_bound, sizeof(double)), 0);
       EXPECT_EQ(std::memcmp(&x.area, &y.area, sizeof(double)), 0);
       EXPECT_EQ(std::memcmp(&x.shadow_area, &y.shadow_area, sizeof(double)), 0);
       EXPECT_EQ(x.light_id, y.light_id);

@@ -169,46 +169,21 @@ std::vector<std::size_t> rows_to_compute(const std::vector<std::size_t>& rows, c
   return out;
 }
 
-/// Receivers certainly turned away from a sun of a batch (about half of a city's faces under
-/// each) get their attached shadow in the table here, with no work item: what either engine's
-/// job gives them (the fast job's first test is this one; the exact engine decides the same side
-/// exactly): a back-facing receiver, every value in the table 0. The batch's instants are
-/// lights[instant[k]], k < count, at positions first + k; `live` gets the other work items
-/// (c * count + k, c indexing computed_rows), in item order; the workers' stats count the
-/// turned-away ones. Rows in blocks on every thread (a 10,000-box city's batch on 16 threads is some
-/// four million tests), each block's items kept apart, then joined in order.
-void write_turned_away(const core::CullScene& cull, const std::vector<Light>& lights, const std::size_t* instant,
-                       std::size_t count, const std::vector<std::size_t>& faces,
-                       const std::vector<std::size_t>& computed_rows, std::size_t first, StagedTable& table,
-                       std::vector<std::size_t>& live, std::vector<ShadowEngine::Impl::ThreadState>& workers) {
-  std::vector<glm::dvec3> sun(count);
-  std::vector<char> directional(count);
+/// A batch's pairs turned away from their suns written into the table as attached shadows
+/// (engine_detail::split_turned_away); `live` gets the batch's other items, c * count + k (c
+/// indexing computed_rows, sun k: lights[instant[k]] at position first + k), in item order.
+void split_batch(const core::CullScene& cull, const std::vector<Light>& lights, const std::size_t* instant,
+                 std::size_t count, const std::vector<std::size_t>& faces, const std::vector<std::size_t>& computed_rows,
+                 std::size_t first, StagedTable& table, std::vector<std::size_t>& live,
+                 std::vector<ShadowEngine::Impl::ThreadState>& workers) {
+  std::vector<std::optional<glm::dvec3>> suns(count);
   for (std::size_t k = 0; k < count; ++k) {
     const Light& light = lights[instant[k]];
-    directional[k] = light.type == LightType::Directional;
-    if (directional[k]) sun[k] = geometry::unit(light.to_light);
+    if (light.type == LightType::Directional) suns[k] = geometry::unit(light.to_light);
   }
-  constexpr std::size_t kRows = 512;
-  std::vector<std::vector<std::size_t>> blocks((computed_rows.size() + kRows - 1) / kRows);
-  runtime::parallel_for_blocks(computed_rows.size(), kRows, static_cast<unsigned>(workers.size()),
-                               [&](unsigned wi, std::size_t b, std::size_t begin, std::size_t end) {
-    std::vector<std::size_t>& block = blocks[b];
-    ShadowStats& stats = workers[wi].stats;
-    for (std::size_t c = begin; c < end; ++c) {
-      const core::CullFace& face = cull.faces[faces[computed_rows[c]]];
-      for (std::size_t k = 0; k < count; ++k) {
-        if (directional[k] && core::certainly_turned_away(face, sun[k])) {
-          table.write(computed_rows[c], first + k, FaceLighting{});
-          ++stats.receivers;
-          ++stats.back_facing;
-        } else {
-          block.push_back(c * count + k);
-        }
-      }
-    }
-  });
-  live.clear();
-  for (const std::vector<std::size_t>& block : blocks) live.insert(live.end(), block.begin(), block.end());
+  engine_detail::split_turned_away(
+      cull, computed_rows.size(), suns, [&](std::size_t c) { return faces[computed_rows[c]]; },
+      [&](std::size_t c, std::size_t k) { table.write(computed_rows[c], first + k, FaceLighting{}); }, live, workers);
 }
 
 }  // namespace
@@ -249,9 +224,9 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   }
 
   std::vector<Impl::ThreadState> workers = impl.make_workers(threads, fast);
-  // A batch of instants at a time: their light-space grids are built together, then every
-  // (receiver, instant) pair of the batch not turned away from its sun is one work item. A few instants per thread keep the
-  // threads busy to the batch's end without holding a grid per instant of the year.
+  // A batch of instants at a time: their light-space grids are built together, then each
+  // (receiver, instant) pair not turned away from its sun is a work item. A few instants per
+  // thread keep the threads busy to the batch's end without holding a grid per instant of the year.
   const std::size_t batch = std::min<std::size_t>(instants, std::max<std::size_t>(8, 4 * static_cast<std::size_t>(threads)));
   // The instants in the order of their suns' directions, so that a batch holds neighbouring suns
   // (the same hour on neighbouring days), not neighbouring hours.
@@ -288,8 +263,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of, 1, &item_bounds);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
-    write_turned_away(impl.cull, lights, order.data() + first, count, result.faces, computed_rows, first, table, live,
-                      workers);
+    split_batch(impl.cull, lights, order.data() + first, count, result.faces, computed_rows, first, table, live, workers);
 
     auto report_fraction = [&](double fraction) {
       report_instants(first + std::min(count, static_cast<std::size_t>(std::max(0.0, fraction) * static_cast<double>(count))));

@@ -167,36 +167,22 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
 
-  // Areas only under a directional light: the receivers certainly turned away from it (about
-  // half of a city's faces) get their attached shadow here, with no work item, as either
-  // engine's job would give it (compute_series does the same).
+  // Areas only under a directional light: the receivers certainly turned away from it get their
+  // attached shadow here, with no work item (as in compute_series).
   std::vector<std::size_t> live;  // the other receivers (indices into `receivers`)
   const bool prefilter = grid && !options.polygons;
-  if (prefilter) {
-    const glm::dvec3 sun = geometry::unit(light_in.to_light);
-    std::vector<char> away(receivers.size(), 0);
-    runtime::parallel_for_blocks(receivers.size(), 4096, threads,
-                                 [&](unsigned wi, std::size_t, std::size_t begin, std::size_t end) {
-      std::uint64_t n = 0;
-      for (std::size_t r = begin; r < end; ++r) {
-        const std::size_t f = receivers[r];
-        if (!core::certainly_turned_away(cull.faces[f], sun)) continue;
-        away[r] = 1;
-        FaceLighting& out = items[r].lighting;
-        out = FaceLighting{};
-        out.face_id = f;
-        out.light_id = light_id;
-        out.area = face_area[f];
-        out.shadow_area = out.area;
-        ++n;
-      }
-      workers[wi].stats.receivers += n;
-      workers[wi].stats.back_facing += n;
-    });
-    live.reserve(receivers.size());
-    for (std::size_t r = 0; r < receivers.size(); ++r)
-      if (!away[r]) live.push_back(r);
-  }
+  if (prefilter)
+    engine_detail::split_turned_away(
+        cull, receivers.size(), {geometry::unit(light_in.to_light)}, [&](std::size_t r) { return receivers[r]; },
+        [&](std::size_t r, std::size_t) {
+          FaceLighting& out = items[r].lighting;
+          out = FaceLighting{};
+          out.face_id = receivers[r];
+          out.light_id = light_id;
+          out.area = face_area[receivers[r]];
+          out.shadow_area = out.area;
+        },
+        live, workers);
   const std::size_t turned_away = prefilter ? receivers.size() - live.size() : 0;
   auto receiver_of = [&](std::size_t i) { return prefilter ? live[i] : i; };
 

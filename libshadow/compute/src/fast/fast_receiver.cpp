@@ -51,6 +51,9 @@ bool ReceiverJob::run() {
     // the receiver's frame. Half of a city's faces look away from each sun; where this cannot
     // tell, decide_facing does. (Such a face no longer counts as a fallback when its frame
     // would have been ill-conditioned: the exact engine gave the same attached shadow.)
+    // The engine's rounds split these pairs off before they become work items
+    // (engine_detail::split_turned_away, the same test), so this one is the reference it copies
+    // and the guard for any other caller of the job.
     if (core::certainly_turned_away(cull_.faces[face_id_], geometry::unit(light_.to_light))) {
       ++local_.back_facing;
       out_.shadow_area = out_.area;
