@@ -9,6 +9,7 @@
 
 #include "cli_checks.hpp"
 #include "out_of_memory.hpp"
+#include "page_policy.hpp"
 #include "progress_line.hpp"
 #include "sun_command.hpp"
 #include "world.hpp"
@@ -101,6 +102,9 @@ void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& 
 }
 
 int run_compute(const ComputeArgs& args) {
+  // One computation, its memory touched about once (page_policy.hpp).
+  shadow_cli::prefer_small_pages();
+  shadow_cli::keep_freed_pages();
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   shadow::RunInfo run;
