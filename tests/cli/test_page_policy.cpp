@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The page policy of `shadow compute` (tools/shadow/page_policy.hpp): after it, the process
-// gets no transparent huge pages, and a large block it frees is used again without fresh page
-// faults. Each test runs in a process of its own (gtest_discover_tests), so the policy set here
-// stays here.
+// The page policy of `shadow compute`'s reading and writing (tools/shadow/page_policy.hpp):
+// during such a stage the process gets no transparent huge pages and a large block it frees is
+// used again without fresh page faults; after it, what was there before. Each test runs in a
+// process of its own (gtest_discover_tests).
 #include "page_policy.hpp"
 
 #include <gtest/gtest.h>
@@ -36,36 +36,55 @@ long faults_of_one_block(std::size_t size) {
   return minor_faults() - before;
 }
 
-}  // namespace
-
-TEST(PagePolicy, ComputeRunsOnSmallPages) {
-  shadow_cli::prefer_small_pages();
+/// The process's THP_enabled line (1: it may have huge pages), or -1 where the kernel has none.
+int thp_enabled() {
   std::ifstream status("/proc/self/status");
   std::string line;
-  bool seen = false;
   while (std::getline(status, line))
-    if (line.rfind("THP_enabled:", 0) == 0) {
-      seen = true;
-      EXPECT_NE(line.find('0'), std::string::npos) << line;
-    }
-  if (!seen) GTEST_SKIP() << "this kernel does not say whether a process may have huge pages";
+    if (line.rfind("THP_enabled:", 0) == 0) return line.find('1') != std::string::npos ? 1 : 0;
+  return -1;
 }
 
-TEST(PagePolicy, AFreedLargeBlockIsUsedAgainWithoutFreshPages) {
+ssize_t decay(const char* name) {
+  ssize_t value = -3;
+  std::size_t size = sizeof value;
+  EXPECT_EQ(mallctl(name, &value, &size, nullptr, 0), 0) << name;
+  return value;
+}
+
+}  // namespace
+
+TEST(PagePolicy, ATouchedOnceStageRunsOnSmallPagesAndPutsBackWhatWasThere) {
+  const int before = thp_enabled();
+  if (before < 0) GTEST_SKIP() << "this kernel does not say whether a process may have huge pages";
+  {
+    shadow_cli::TouchedOnceStage stage;
+    EXPECT_EQ(thp_enabled(), 0);
+  }
+  EXPECT_EQ(thp_enabled(), before);
+  // A process that had huge pages turned off keeps them off after a stage.
+  shadow_cli::set_small_pages_only(true);
+  { shadow_cli::TouchedOnceStage stage; }
+  EXPECT_EQ(thp_enabled(), 0);
+  shadow_cli::set_small_pages_only(false);
+  EXPECT_EQ(thp_enabled(), 1);
+}
+
+TEST(PagePolicy, AFreedLargeBlockIsUsedAgainWithoutFreshPagesDuringTheStageOnly) {
   if (mallctl == nullptr) GTEST_SKIP() << "not linked with jemalloc: the C library's allocator as it is";
-  shadow_cli::prefer_small_pages();
-  shadow_cli::keep_freed_pages();
-  ssize_t decay = 0;
-  std::size_t size = sizeof decay;
-  ASSERT_EQ(mallctl("arenas.dirty_decay_ms", &decay, &size, nullptr, 0), 0);
-  EXPECT_EQ(decay, -1);
-  ASSERT_EQ(mallctl("arena.0.dirty_decay_ms", &decay, &size, nullptr, 0), 0);
-  EXPECT_EQ(decay, -1);
-  // 64 MiB (above jemalloc's 8 MiB, where blocks were handed back at once): 16,384 pages the
+  const ssize_t dirty = decay("arenas.dirty_decay_ms"), arena0 = decay("arena.0.dirty_decay_ms");
+  // 64 MiB (above jemalloc's 8 MiB, where blocks are handed back at once): 16,384 pages the
   // first time, next to none the second.
   constexpr std::size_t kBlock = std::size_t{64} << 20;
-  const long first = faults_of_one_block(kBlock);
-  const long second = faults_of_one_block(kBlock);
-  EXPECT_GE(first, 8000);
-  EXPECT_LT(second, first / 10) << "first " << first << " faults, second " << second;
+  {
+    shadow_cli::TouchedOnceStage stage;
+    EXPECT_EQ(decay("arenas.dirty_decay_ms"), -1);
+    EXPECT_EQ(decay("arena.0.dirty_decay_ms"), -1);
+    const long first = faults_of_one_block(kBlock);
+    const long second = faults_of_one_block(kBlock);
+    EXPECT_GE(first, 8000);
+    EXPECT_LT(second, first / 10) << "first " << first << " faults, second " << second;
+  }
+  EXPECT_EQ(decay("arenas.dirty_decay_ms"), dirty);
+  EXPECT_EQ(decay("arena.0.dirty_decay_ms"), arena0);
 }

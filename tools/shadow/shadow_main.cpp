@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <string>
 
 namespace {
@@ -102,9 +103,10 @@ void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& 
 }
 
 int run_compute(const ComputeArgs& args) {
-  // One computation, its memory touched about once (page_policy.hpp).
-  shadow_cli::prefer_small_pages();
-  shadow_cli::keep_freed_pages();
+  // Reading and writing touch their memory about once, preparing and computing revisit it:
+  // 4 KiB pages and freed blocks kept for the first two only (page_policy.hpp).
+  std::optional<shadow_cli::TouchedOnceStage> touched_once;
+  touched_once.emplace();
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   shadow::RunInfo run;
@@ -117,6 +119,7 @@ int run_compute(const ComputeArgs& args) {
       args.scene, shadow_cli::load_options(args.planarity_tolerance, args.orient_outward, args.lod, args.threads,
                                             args.skip_invalid));
   const auto loaded = Clock::now();
+  touched_once.reset();
   if (scene.lights.empty() && !scene.sun)
     // A model read whole (CityJSON, or an EnergyPlus file without a sun) brings no light.
     throw shadow::InputError({args.scene, ""},
@@ -160,6 +163,7 @@ int run_compute(const ComputeArgs& args) {
   const auto computed = Clock::now();
 
   shadow_cli::set_stage(Stage::Writing);
+  touched_once.emplace();
   const std::vector<fs::path> written = output.write(scene, result, &run);
   const auto finished = Clock::now();
 
