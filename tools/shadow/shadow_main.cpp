@@ -165,6 +165,7 @@ int run_compute(const ComputeArgs& args) {
   shadow_cli::set_stage(Stage::Writing);
   touched_once.emplace();
   const std::vector<fs::path> written = output.write(scene, result, &run);
+  touched_once.reset();
   const auto finished = Clock::now();
 
   if (!args.quiet) {
