@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "out_of_memory.hpp"
 
-#include <dlfcn.h>
+#include "page_policy.hpp"
+
 #include <gmp.h>
 #include <unistd.h>
 
@@ -62,8 +63,7 @@ void install_gmp_out_of_memory() { mp_set_memory_functions(gmp_allocate, gmp_rea
 void install_new_out_of_memory() { std::set_new_handler([] { exit_out_of_memory(); }); }
 
 void prepare_allocator_arenas() {
-  using Mallctl = int (*)(const char*, void*, std::size_t*, void*, std::size_t);
-  const auto mallctl = reinterpret_cast<Mallctl>(::dlsym(RTLD_DEFAULT, "mallctl"));
+  const AllocatorControl mallctl = allocator_control();
   if (mallctl == nullptr) return;
   unsigned arenas = 0, mine = 0;
   std::size_t size = sizeof arenas;

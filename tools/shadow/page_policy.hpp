@@ -28,7 +28,7 @@
 namespace shadow_cli {
 
 /// jemalloc's control call where the program runs on jemalloc (our builds link it, or it is
-/// preloaded), looked up at run time as out_of_memory.cpp does; null with another allocator.
+/// preloaded), looked up at run time; null with another allocator.
 using AllocatorControl = int (*)(const char*, void*, std::size_t*, void*, std::size_t);
 inline AllocatorControl allocator_control() {
   return reinterpret_cast<AllocatorControl>(::dlsym(RTLD_DEFAULT, "mallctl"));
@@ -77,8 +77,7 @@ class TouchedOnceStage {
     mode_before_ = huge_page_mode();
     set_huge_page_mode(1);
     if (!decays) return;
-    arenas_ = arenas;
-    for (unsigned a = 0; a < arenas_; ++a)  // (arenas not made yet answer an error: nothing to do)
+    for (unsigned a = 0; a < arenas; ++a)  // (arenas not made yet answer an error: nothing to do)
       for (int kind = 0; kind < 2; ++kind) {
         ssize_t never = -1, old = 0;
         std::size_t old_size = sizeof old;
@@ -98,12 +97,13 @@ class TouchedOnceStage {
     set_huge_page_mode(mode_before_);
     if (!active_) return;
     set_defaults(default_[0], default_[1]);
-    unsigned arenas = arenas_;
+    const std::size_t saved_arenas = saved_.size() / 2;
+    unsigned arenas = static_cast<unsigned>(saved_arenas);
     std::size_t count_size = sizeof arenas;
     (void)control_("arenas.narenas", &arenas, &count_size, nullptr, 0);
     for (unsigned a = 0; a < arenas; ++a)
       for (int kind = 0; kind < 2; ++kind) {
-        ssize_t value = a < arenas_ ? saved_[2 * a + kind] : kUnread;
+        ssize_t value = a < saved_arenas ? saved_[2 * a + kind] : kUnread;
         if (value == kUnread) value = default_[kind];
         (void)control_(DecayName(a, kind).text, nullptr, nullptr, &value, sizeof value);
       }
@@ -126,7 +126,6 @@ class TouchedOnceStage {
   int mode_before_ = -1;
   bool ended_ = false;
   bool active_ = false;  // decay times changed (jemalloc there)
-  unsigned arenas_ = 0;
   ssize_t default_[2] = {0, 0};
   std::vector<ssize_t> saved_;  // each arena's dirty and muzzy decay before the stage
 };

@@ -105,8 +105,7 @@ void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& 
 int run_compute(const ComputeArgs& args) {
   // Reading and writing touch their memory about once, preparing and computing revisit it:
   // 4 KiB pages and freed blocks kept for the first two only (page_policy.hpp).
-  std::optional<shadow_cli::TouchedOnceStage> touched_once;
-  touched_once.emplace();
+  std::optional<shadow_cli::TouchedOnceStage> touched_once(std::in_place);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   shadow::RunInfo run;
