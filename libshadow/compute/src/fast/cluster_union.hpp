@@ -401,7 +401,15 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  for_overlapping_boxes(box, false, s.order, s.open, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); });
+  // Swept along the axis the boxes are shorter in (a low sun's long shadows: swept across
+  // them, most of a ground's casts would stay open). The clusters are the same either way.
+  double extent_x = 0, extent_y = 0;
+  for (const GridBox& b : box) {
+    extent_x += static_cast<double>(b.x1 - b.x0);
+    extent_y += static_cast<double>(b.y1 - b.y0);
+  }
+  for_overlapping_boxes(box, false, s.order, s.open, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); },
+                        extent_y < extent_x);
   // Members of each cluster, in input order.
   std::vector<std::size_t>&first = s.first, &next = s.next, &last = s.last;
   first.assign(n, n);
@@ -419,8 +427,11 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   ClusteredArea out;
   std::vector<std::size_t>& members = s.members;
   CL::Paths cluster, united, merged;
-  for (std::size_t r = 0; r < n; ++r) {
-    if (first[r] == n) continue;
+  // Clusters in the order of their first member (not of their root, which depends on the
+  // order the sweep found the pairs in): the boundary areas' double sum in a fixed order.
+  for (std::size_t q = 0; q < n; ++q) {
+    const std::size_t r = find(q);
+    if (first[r] != q) continue;
     members.clear();
     bool all_convex = true;
     for (std::size_t p = first[r]; p != n; p = next[p]) {
