@@ -6,6 +6,7 @@
 
 #include "core/cull_scene.hpp"
 #include "core/face_prep.hpp"
+#include "core/solid_outlines.hpp"
 #include "geometry/unit_vector.hpp"
 #include "runtime/parallel.hpp"
 #include "runtime/uninit_vector.hpp"
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
@@ -198,6 +200,14 @@ class LightSpaceGrid {
              double min_depth = std::numeric_limits<double>::lowest()) const {
     query_box(face_box(face), visit, keep_item, skip_item, min_depth);
   }
+
+  /// Finds the outlines of `solids` (the scene's convex solids, as `solid_of` numbers them) seen
+  /// from this grid's light, on `threads` threads, for the fast path's casts (outlines()).
+  void find_outlines(const std::vector<ConvexSolid>& solids, unsigned threads = 1) {
+    outlines_.emplace(solids, d_, threads);
+  }
+  /// The outlines find_outlines() found, or null before it.
+  [[nodiscard]] const SolidOutlines* outlines() const { return outlines_ ? &*outlines_ : nullptr; }
 
   /// How far towards the light a local-frame point lies (d . p, d the unit direction to it).
   [[nodiscard]] double depth(const glm::dvec3& p) const { return glm::dot(d_, p); }
@@ -510,6 +520,7 @@ class LightSpaceGrid {
   std::vector<double> item_reach_;  ///< each item's reach (box_of), while the entries are made
   const std::vector<LocalBounds>* item_bounds_ = nullptr;  ///< each item's local box (the constructor's)
   std::vector<std::uint32_t> home_;  ///< per cell: the faces whose box's lower corner is in it
+  std::optional<SolidOutlines> outlines_;  ///< the convex solids' outlines (find_outlines)
 };
 
 }  // namespace shadow::core

@@ -165,7 +165,10 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   }
   const unsigned threads = static_cast<unsigned>(workers.size());
   std::optional<core::LightSpaceGrid> grid;
-  if (light_in.type == LightType::Directional) grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
+  if (light_in.type == LightType::Directional) {
+    grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
+    if (options.arithmetic == Arithmetic::Fast) grid->find_outlines(solids, threads);  // (the fast casts')
+  }
 
   // Areas only under a directional light: the receivers certainly turned away from it get their
   // attached shadow here, with no work item (as in compute_series).

@@ -4,6 +4,8 @@
 // on the grid, or charged to the bound when it collapses.
 #include "fast/receiver_job.hpp"
 
+#include "core/light_space_grid.hpp"
+#include "core/solid_outlines.hpp"
 #include "geometry/unit_vector.hpp"
 
 #include <algorithm>
@@ -40,6 +42,33 @@ void convex_hull(ChartPoints& pts, std::size_t n, ChartPoints& hull) {
     hull[k++] = pts[i - 1];
   }
   hull.resize(k - 1);
+}
+
+/// The convex hull of pts[outline[0, m)], the corners of a convex solid's projected hull in
+/// their order seen from the light (core/solid_outlines.hpp), into `hull` as convex_hull gives it:
+/// counter-clockwise from the least point (x, then y). The projection onto a receiver's chart may
+/// turn the order over; false where the corners, in doubles, do not all turn strictly one way
+/// (a receiver nearly edge-on to the light, points not finite): convex_hull decides those.
+bool hull_from_outline(const ChartPoints& pts, const core::SolidOutlines::Outline& outline, ChartPoints& hull) {
+  const std::size_t m = outline.size;
+  if (m < 3) return false;
+  auto at = [&](std::size_t c) -> const glm::dvec2& { return pts[outline.data[c]]; };
+  bool left = true, right = true;
+  std::size_t first = 0;  // the least point
+  for (std::size_t c = 0; c < m; ++c) {
+    const glm::dvec2 &o = at(c), &a = at(c + 1 < m ? c + 1 : c + 1 - m), &b = at(c + 2 < m ? c + 2 : c + 2 - m);
+    const double turn = (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+    left = left && turn > 0;
+    right = right && turn < 0;
+    if (o.x < at(first).x || (o.x == at(first).x && o.y < at(first).y)) first = c;
+  }
+  if (!left && !right) return false;
+  hull.resize(m);
+  for (std::size_t j = 0, c = first; j < m; ++j) {  // from the least point, counter-clockwise on the chart
+    hull[j] = at(c);
+    c = left ? (c + 1 < m ? c + 1 : 0) : (c > 0 ? c - 1 : m - 1);
+  }
+  return true;
 }
 
 }  // namespace
@@ -148,7 +177,13 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   // may lie in the prism over the box (a fifth of the solids cast on a fast instant). No hull and
   // no clip for them.
   if (beyond_chart_box(points_, count, delta + 4 * kEps * rc_.magnitude)) return true;
-  convex_hull(points_, count, hull_);
+  // Wholly in front (no vertex behind): points_ holds every vertex's point, in vertex order, and
+  // the hull's corners are those of the solid's outline seen from the light, in its order or
+  // the reverse: no sort. The outline is certain for the exact projection, so the corners are
+  // the exact hull's, each within delta of its exact point, as convex_hull's would be.
+  const core::SolidOutlines* outlines = grid_index_ ? grid_index_->outlines() : nullptr;
+  if (any_behind || !outlines || !hull_from_outline(points_, outlines->outline(static_cast<std::size_t>(solid)), hull_))
+    convex_hull(points_, count, hull_);
   cast_.poly.swap(hull_);  // (hull_ is scratch: convex_hull empties it first)
   cast_.delta = delta;
   if (cast_.poly.size() < 3) {  // flat in doubles: the exact hull is at most a sliver
