@@ -102,6 +102,11 @@ TEST(SolidOutlines, NoneWhereVerticesProjectOntoTheOutlinesEdgesOrCorners) {
   const SolidOutlines outlines(solids, general);
   EXPECT_EQ(outlines.outline(0).size, 6u);
   EXPECT_EQ(check_outlines(solids, general, outlines), 1u);
+  // Tied to the solids they were found for (their vertex indices mean nothing for others).
+  const std::vector<ConvexSolid> copy = solids;
+  EXPECT_TRUE(outlines.of(&solids));
+  EXPECT_FALSE(outlines.of(&copy));
+  EXPECT_FALSE(SolidOutlines().of(nullptr));
   // Out of range, and no solids.
   EXPECT_EQ(outlines.outline(1).size, 0u);
   EXPECT_EQ(SolidOutlines().outline(0).size, 0u);

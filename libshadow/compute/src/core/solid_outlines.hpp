@@ -12,9 +12,9 @@
 #pragma once
 
 #include "core/convex_solid.hpp"
+#include "geometry/monotone_chain.hpp"
 #include "geometry/unit_vector.hpp"
 #include "runtime/parallel.hpp"
-#include "runtime/uninit_vector.hpp"
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -33,9 +33,9 @@ namespace shadow::core {
 /// projections along the light are the corners of the projected convex hull, counter-clockwise
 /// about the direction to the light. Kept only where that is certain for the exact projection:
 /// every corner turns, and every other vertex lies inside every edge, by a margin of 1e-9 of the
-/// solid's squared extent, some million times what the doubles' rounding (and the direction's)
-/// can move a cross product. Elsewhere (a face edge-on to the light, say) a solid has no outline,
-/// and its casts take the hull of all their points as before.
+/// solid's light-space reach times its 3D reach, some 1e5 times what the doubles' rounding (and
+/// the direction's) can move such a cross product. Elsewhere (a face edge-on to the light, say) a
+/// solid has no outline, and its casts take the hull of all their points as before.
 class SolidOutlines {
  public:
   SolidOutlines() = default;
@@ -46,20 +46,29 @@ class SolidOutlines {
     const glm::dvec3 u = glm::normalize(glm::cross(d, helper));
     const glm::dvec3 v = glm::cross(d, u);  // (u, v, d) right-handed: counter-clockwise seen from the light
     const std::size_t n = solids.size();
-    // Each solid's outline into its own slot of 2 kMaxCorners (the chain's room), then packed in order.
-    std::vector<std::uint8_t> count(n, 0);
-    runtime::UninitVector<std::uint8_t> slots(n * 2 * kMaxCorners);
+    // Each block's outlines one after another (a block's solids are consecutive, so its run is
+    // one piece of corners_), then the runs joined in order.
     constexpr std::size_t kBlock = 1024;
-    runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
-      for (std::size_t s = begin; s < end; ++s)
-        count[s] = static_cast<std::uint8_t>(outline(solids[s], u, v, &slots[s * 2 * kMaxCorners]));
+    std::vector<std::uint8_t> count(n, 0);
+    std::vector<std::vector<std::uint8_t>> runs((n + kBlock - 1) / kBlock);
+    runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+      std::array<std::uint8_t, 2 * kMaxCorners> corners;  // (the chain's room)
+      for (std::size_t s = begin; s < end; ++s) {
+        const std::size_t m = find_outline(solids[s], u, v, corners.data());
+        count[s] = static_cast<std::uint8_t>(m);
+        runs[b].insert(runs[b].end(), corners.begin(), corners.begin() + static_cast<std::ptrdiff_t>(m));
+      }
     });
     start_.assign(n + 1, 0);
     for (std::size_t s = 0; s < n; ++s) start_[s + 1] = start_[s] + count[s];
-    corners_.resize(start_[n]);
-    for (std::size_t s = 0; s < n; ++s)
-      std::copy_n(&slots[s * 2 * kMaxCorners], count[s], corners_.begin() + start_[s]);
+    corners_.reserve(start_[n]);
+    for (const std::vector<std::uint8_t>& run : runs) corners_.insert(corners_.end(), run.begin(), run.end());
+    solids_ = &solids;
   }
+
+  /// Whether these are the outlines of `solids` (the same vector, as find_outlines was given):
+  /// outlines hold vertex indices, which mean nothing for other solids.
+  [[nodiscard]] bool of(const std::vector<ConvexSolid>* solids) const { return solids != nullptr && solids == solids_; }
 
   /// Solid `s`'s outline: `size` vertex indices from `data`, counter-clockwise seen from the
   /// light; size 0 where the outline is not certain (or for an outline of no solids).
@@ -78,23 +87,24 @@ class SolidOutlines {
  private:
   /// The certain outline of `cs` into corners[0, m) (room for 2 kMaxCorners), m returned; 0
   /// where there is none.
-  static std::size_t outline(const ConvexSolid& cs, const glm::dvec3& u, const glm::dvec3& v, std::uint8_t* corners) {
+  static std::size_t find_outline(const ConvexSolid& cs, const glm::dvec3& u, const glm::dvec3& v, std::uint8_t* corners) {
     const std::size_t n = cs.vertices.size();
     if (n < 3 || n > kMaxCorners) return 0;
     // Light-space points about the first vertex (small numbers: the rounding is relative to the
     // solid's size, not to the scene's).
     std::array<glm::dvec2, kMaxCorners> q;
-    double reach2 = 0;
+    double reach2 = 0, height2 = 0;  // the largest |q|^2, and |y|^2 in 3D
     for (std::size_t a = 0; a < n; ++a) {
       const glm::dvec3 y = cs.vertices[a] - cs.vertices[0];
       q[a] = {glm::dot(u, y), glm::dot(v, y)};
       reach2 = std::max(reach2, q[a].x * q[a].x + q[a].y * q[a].y);
+      height2 = std::max(height2, glm::dot(y, y));
     }
-    if (!(reach2 > 0) || !std::isfinite(reach2)) return 0;
-    // |q| <= reach for every point, so a cross product of differences is at most 4 reach^2 and
-    // rounds by some 1e-15 of it; the direction's own rounding (u, v not exactly orthogonal to
-    // the exact direction) moves the points by some 1e-16 of reach.
-    const double margin = 1e-9 * reach2;
+    if (!(reach2 > 0) || !std::isfinite(height2)) return 0;
+    // Each q is within some 10 eps H of the exact projection along the exact direction (H the 3D
+    // reach: the products' rounding, and u and v a few ulps off the exact frame), so a cross
+    // product of differences, whose factors are at most 2 reach, moves by some 1e-14 reach H.
+    const double margin = 1e-9 * std::sqrt(reach2 * height2);
     auto cross = [&](std::size_t o, std::size_t a, std::size_t b) {
       return (q[a].x - q[o].x) * (q[b].y - q[o].y) - (q[a].y - q[o].y) * (q[b].x - q[o].x);
     };
@@ -108,16 +118,9 @@ class SolidOutlines {
       }
       order[j] = static_cast<std::uint8_t>(i);
     }
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      while (k >= 2 && cross(corners[k - 2], corners[k - 1], order[i]) <= 0) --k;
-      corners[k++] = order[i];
-    }
-    for (std::size_t i = n - 1, t = k + 1; i > 0; --i) {
-      while (k >= t && cross(corners[k - 2], corners[k - 1], order[i - 1]) <= 0) --k;
-      corners[k++] = order[i - 1];
-    }
-    const std::size_t m = k - 1;
+    const std::size_t m = geometry::monotone_chain(order.data(), n, corners, [&](std::size_t o, std::size_t a, std::size_t b) {
+      return cross(o, a, b) > 0;
+    });
     if (m < 3) return 0;
     // Certain: every corner turns left by the margin, every other vertex is inside every edge by it.
     std::uint32_t on_outline = 0;  // (n <= 32)
@@ -136,6 +139,7 @@ class SolidOutlines {
 
   std::vector<std::uint32_t> start_;       ///< each solid's first corner in corners_ (compressed rows)
   std::vector<std::uint8_t> corners_;      ///< vertex indices, outline after outline
+  const std::vector<ConvexSolid>* solids_ = nullptr;  ///< the solids they outline
 };
 
 }  // namespace shadow::core

@@ -6,6 +6,7 @@
 
 #include "core/light_space_grid.hpp"
 #include "core/solid_outlines.hpp"
+#include "geometry/monotone_chain.hpp"
 #include "geometry/unit_vector.hpp"
 
 #include <algorithm>
@@ -28,41 +29,42 @@ void convex_hull(ChartPoints& pts, std::size_t n, ChartPoints& hull) {
     hull.assign(pts.begin(), pts.begin() + static_cast<std::ptrdiff_t>(n));
     return;
   }
-  auto cross = [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
-    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-  };
   hull.resize(2 * n);
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  for (std::size_t i = n - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
-    hull[k++] = pts[i - 1];
-  }
-  hull.resize(k - 1);
+  // (A turn that is not a number keeps its point: add_cast then sends the receiver to the exact engine.)
+  hull.resize(geometry::monotone_chain(pts.data(), n, hull.data(), [](const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
+    return !((a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x) <= 0);
+  }));
 }
 
 /// The convex hull of pts[outline[0, m)], the corners of a convex solid's projected hull in
 /// their order seen from the light (core/solid_outlines.hpp), into `hull` as convex_hull gives it:
 /// counter-clockwise from the least point (x, then y). The projection onto a receiver's chart may
-/// turn the order over; false where the corners, in doubles, do not all turn strictly one way
-/// (a receiver nearly edge-on to the light, points not finite): convex_hull decides those.
+/// turn the order over; false where the corners, in doubles, do not make a convex polygon turning
+/// strictly one way (a receiver nearly edge-on to the light, points not finite): convex_hull
+/// decides those.
 bool hull_from_outline(const ChartPoints& pts, const core::SolidOutlines::Outline& outline, ChartPoints& hull) {
   const std::size_t m = outline.size;
   if (m < 3) return false;
   auto at = [&](std::size_t c) -> const glm::dvec2& { return pts[outline.data[c]]; };
   bool left = true, right = true;
   std::size_t first = 0;  // the least point
+  // Turning one way everywhere, a closed polygon may still wind twice (a pentagram): once round,
+  // the edges' x direction changes sign twice (around the end too), as in is_convex_ccw.
+  int changes = 0, first_sign = 0, last_sign = 0;
   for (std::size_t c = 0; c < m; ++c) {
     const glm::dvec2 &o = at(c), &a = at(c + 1 < m ? c + 1 : c + 1 - m), &b = at(c + 2 < m ? c + 2 : c + 2 - m);
     const double turn = (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
     left = left && turn > 0;
     right = right && turn < 0;
     if (o.x < at(first).x || (o.x == at(first).x && o.y < at(first).y)) first = c;
+    const int sign = a.x > o.x ? 1 : a.x < o.x ? -1 : 0;
+    if (sign == 0) continue;
+    if (first_sign == 0) first_sign = sign;
+    if (last_sign != 0 && sign != last_sign) ++changes;
+    last_sign = sign;
   }
-  if (!left && !right) return false;
+  if (first_sign != 0 && last_sign != first_sign) ++changes;
+  if ((!left && !right) || changes > 2) return false;
   hull.resize(m);
   for (std::size_t j = 0, c = first; j < m; ++j) {  // from the least point, counter-clockwise on the chart
     hull[j] = at(c);
@@ -182,7 +184,7 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   // the reverse: no sort. The outline is certain for the exact projection, so the corners are
   // the exact hull's, each within delta of its exact point, as convex_hull's would be.
   const core::SolidOutlines* outlines = grid_index_ ? grid_index_->outlines() : nullptr;
-  if (any_behind || !outlines || !hull_from_outline(points_, outlines->outline(static_cast<std::size_t>(solid)), hull_))
+  if (any_behind || !outlines || !outlines->of(ctx_.solids) || !hull_from_outline(points_, outlines->outline(static_cast<std::size_t>(solid)), hull_))
     convex_hull(points_, count, hull_);
   cast_.poly.swap(hull_);  // (hull_ is scratch: convex_hull empties it first)
   cast_.delta = delta;
