@@ -37,6 +37,13 @@ ConvexSolid turned(ConvexSolid s, double angle, double tilt) {
   return s;
 }
 
+/// The outlines of `solids` seen from `to_light`, in a frame across it made here.
+SolidOutlines outlines_from(const std::vector<ConvexSolid>& solids, const glm::dvec3& to_light, unsigned threads = 1) {
+  const glm::dvec3 d = glm::normalize(to_light);
+  const glm::dvec3 u = glm::normalize(glm::cross(d, std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+  return SolidOutlines(solids, u, glm::cross(d, u), threads);
+}
+
 /// Seen from the light (towards -to_light), `y` lies strictly left of a -> b.
 bool left_of(const glm::dvec3& to_light, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& y) {
   const long double ux = static_cast<long double>(b.x) - a.x, uy = static_cast<long double>(b.y) - a.y,
@@ -83,7 +90,7 @@ TEST(SolidOutlines, AreTheProjectedHullsCounterClockwiseSeenFromTheLight) {
     const double elevation = 0.02 + 1.5 * unit(rng), azimuth = 6.3 * unit(rng);
     const glm::dvec3 to_light(std::cos(elevation) * std::sin(azimuth), std::cos(elevation) * std::cos(azimuth),
                               std::sin(elevation));
-    const SolidOutlines outlines(solids, to_light, 1 + static_cast<unsigned>(k % 3));
+    const SolidOutlines outlines = outlines_from(solids, to_light, 1 + static_cast<unsigned>(k % 3));
     found += check_outlines(solids, to_light, outlines);
     total += solids.size();
   }
@@ -94,12 +101,12 @@ TEST(SolidOutlines, AreTheProjectedHullsCounterClockwiseSeenFromTheLight) {
 TEST(SolidOutlines, NoneWhereVerticesProjectOntoTheOutlinesEdgesOrCorners) {
   const std::vector<ConvexSolid> solids{box(0, 0, 0, 10, 20, 30)};
   // Straight down: each top corner covers a bottom one.
-  EXPECT_EQ(SolidOutlines(solids, {0, 0, 1}).outline(0).size, 0u);
+  EXPECT_EQ(outlines_from(solids, {0, 0, 1}).outline(0).size, 0u);
   // Along the faces x = 0 and x = 10 (edge-on): their vertices lie on two of the outline's edges.
-  EXPECT_EQ(SolidOutlines(solids, {0, 1, 1}).outline(0).size, 0u);
+  EXPECT_EQ(outlines_from(solids, {0, 1, 1}).outline(0).size, 0u);
   // A general direction: six corners.
   const glm::dvec3 general(0.3, -0.4, 0.8);
-  const SolidOutlines outlines(solids, general);
+  const SolidOutlines outlines = outlines_from(solids, general);
   EXPECT_EQ(outlines.outline(0).size, 6u);
   EXPECT_EQ(check_outlines(solids, general, outlines), 1u);
   // Tied to the solids they were found for (their vertex indices mean nothing for others).
@@ -110,14 +117,14 @@ TEST(SolidOutlines, NoneWhereVerticesProjectOntoTheOutlinesEdgesOrCorners) {
   // Out of range, and no solids.
   EXPECT_EQ(outlines.outline(1).size, 0u);
   EXPECT_EQ(SolidOutlines().outline(0).size, 0u);
-  EXPECT_EQ(SolidOutlines({}, general).outline(0).size, 0u);
+  EXPECT_EQ(outlines_from({}, general).outline(0).size, 0u);
 }
 
 TEST(SolidOutlines, TheSameOnEveryThreadCount) {
   std::vector<ConvexSolid> solids;
   for (int i = 0; i < 3000; ++i) solids.push_back(turned(box(i % 50, i / 50, 0, i % 50 + 0.7, i / 50 + 0.4, 1 + i % 7), 0.01 * i, 0.0));
   const glm::dvec3 to_light(0.2, 0.5, 0.3);
-  const SolidOutlines one(solids, to_light, 1), three(solids, to_light, 3);
+  const SolidOutlines one = outlines_from(solids, to_light, 1), three = outlines_from(solids, to_light, 3);
   for (std::size_t s = 0; s < solids.size(); ++s) {
     const SolidOutlines::Outline a = one.outline(s), b = three.outline(s);
     ASSERT_EQ(a.size, b.size);

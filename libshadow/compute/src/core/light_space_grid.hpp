@@ -204,7 +204,7 @@ class LightSpaceGrid {
   /// Finds the outlines of `solids` (the scene's convex solids, as `solid_of` numbers them) seen
   /// from this grid's light, on `threads` threads, for the fast path's casts (outlines()).
   void find_outlines(const std::vector<ConvexSolid>& solids, unsigned threads = 1) {
-    outlines_.emplace(solids, d_, threads);
+    outlines_.emplace(solids, u_, v_, threads);  // (u_ x v_ = d_)
   }
   /// The outlines find_outlines() found, or null before it.
   [[nodiscard]] const SolidOutlines* outlines() const { return outlines_ ? &*outlines_ : nullptr; }

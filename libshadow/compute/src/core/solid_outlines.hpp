@@ -13,7 +13,6 @@
 
 #include "core/convex_solid.hpp"
 #include "geometry/monotone_chain.hpp"
-#include "geometry/unit_vector.hpp"
 #include "runtime/parallel.hpp"
 
 #include <glm/geometric.hpp>
@@ -40,11 +39,9 @@ class SolidOutlines {
  public:
   SolidOutlines() = default;
 
-  SolidOutlines(const std::vector<ConvexSolid>& solids, const glm::dvec3& to_light, unsigned threads = 1) {
-    const glm::dvec3 d = geometry::unit(to_light);
-    const glm::dvec3 helper = std::abs(d.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
-    const glm::dvec3 u = glm::normalize(glm::cross(d, helper));
-    const glm::dvec3 v = glm::cross(d, u);  // (u, v, d) right-handed: counter-clockwise seen from the light
+  /// `u` and `v`: unit vectors across the light, u x v towards it (the light-space grid's frame),
+  /// so that counter-clockwise in (u, v) is counter-clockwise seen from the light.
+  SolidOutlines(const std::vector<ConvexSolid>& solids, const glm::dvec3& u, const glm::dvec3& v, unsigned threads = 1) {
     const std::size_t n = solids.size();
     // Each block's outlines one after another (a block's solids are consecutive, so its run is
     // one piece of corners_), then the runs joined in order.
