@@ -399,12 +399,12 @@ TEST(ClusterUnion, OverlappingBoxesAlongEitherAxisAreTheSamePairs) {
     for (bool closed : {false, true}) {
       if (!closed && !positive[trial % 2]) continue;
       std::vector<std::pair<std::size_t, std::size_t>> by_x, by_y, brute;
-      std::vector<std::size_t> order, open;
+      shadow::fast::BoxSweepScratch sweep;
       auto add = [](std::vector<std::pair<std::size_t, std::size_t>>& to) {
         return [&to](std::size_t p, std::size_t o) { to.emplace_back(std::min(p, o), std::max(p, o)); };
       };
-      shadow::fast::for_overlapping_boxes(boxes, closed, order, open, add(by_x));
-      shadow::fast::for_overlapping_boxes(boxes, closed, order, open, add(by_y), true);
+      shadow::fast::for_overlapping_boxes(boxes, closed, sweep, add(by_x));
+      shadow::fast::for_overlapping_boxes(boxes, closed, sweep, add(by_y), true);
       for (std::size_t a = 0; a < boxes.size(); ++a)
         for (std::size_t b = a + 1; b < boxes.size(); ++b) {
           const shadow::fast::GridBox &p = boxes[a], &q = boxes[b];

@@ -39,18 +39,30 @@ struct GridBox {
   long long x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
+/// for_overlapping_boxes' scratch: the boxes in the sweep's order, each with the extents its
+/// tests read (no look-up through an index).
+struct BoxSweepScratch {
+  struct Entry {
+    long long lo = 0, hi = 0;              ///< extent in the sweep's axis
+    long long lo_across = 0, hi_across = 0;
+    std::size_t index = 0;
+  };
+  std::vector<Entry> sorted;
+};
+
 /// Vectors reused from one union to the next (their contents mean nothing between calls).
 struct ClusterScratch {
   // clustered_union_area: the polygons' boxes, the union-find, the clusters' member lists.
   std::vector<GridBox> boxes;
-  std::vector<std::size_t> parent, first, next, last, members, order, open;
+  std::vector<std::size_t> parent, first, next, last, members;
+  BoxSweepScratch sweep;
   std::vector<char> convex;
   // boundary_union_area2: one cluster's boxes, extents across the shadows, neighbours, the
   // covered intervals of an edge.
   std::vector<GridBox> box;
   std::vector<std::pair<double, double>> across, covered;
   std::vector<std::vector<std::size_t>> near;
-  std::vector<std::size_t> near_order, near_open;
+  BoxSweepScratch near_sweep;
   // merge_shared_edges: a cluster's points and slots and the merge's own scratch; the merged
   // polygons' boxes.
   std::vector<long long> merge_x, merge_y;

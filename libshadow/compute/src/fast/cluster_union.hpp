@@ -96,39 +96,54 @@ inline GridBox grid_box(const ClipperLib::Path& path) {
   return b;
 }
 
+namespace cluster_detail {
+
+/// for_overlapping_boxes with its axis and closedness fixed at compile time.
+template <bool AlongY, bool Closed, class Pair>
+void sweep_boxes(const std::vector<GridBox>& boxes, BoxSweepScratch& scratch, Pair&& pair) {
+  using Entry = BoxSweepScratch::Entry;
+  std::vector<Entry>& sorted = scratch.sorted;
+  sorted.resize(boxes.size());
+  for (std::size_t a = 0; a < boxes.size(); ++a) {
+    const GridBox& b = boxes[a];
+    sorted[a] = AlongY ? Entry{b.y0, b.y1, b.x0, b.x1, a} : Entry{b.x0, b.x1, b.y0, b.y1, a};
+  }
+  std::sort(sorted.begin(), sorted.end(), [](const Entry& a, const Entry& b) {
+    return a.lo != b.lo ? a.lo < b.lo : a.index < b.index;
+  });
+  // Each box against the boxes after it in the sweep's order that start before it ends: the
+  // pairs a sweep with a list of open boxes finds (a box meets a later one exactly when it is
+  // still open at the later one's lower end), from a read-only scan.
+  const std::size_t n = sorted.size();
+  for (std::size_t a = 0; a < n; ++a) {
+    const Entry& p = sorted[a];
+    for (std::size_t b = a + 1; b < n; ++b) {
+      const Entry& q = sorted[b];
+      if (Closed ? q.lo > p.hi : q.lo >= p.hi) break;  // this one and every later one start after p ends
+      if (Closed ? p.hi_across >= q.lo_across && q.hi_across >= p.lo_across
+                 : p.hi_across > q.lo_across && q.hi_across > p.lo_across)
+        pair(q.index, p.index);
+    }
+  }
+}
+
+}  // namespace cluster_detail
+
 /// Calls pair(a, b) for every two of `boxes` that overlap, by a sweep in x, or in y with
 /// `along_y` (each box against the boxes still open at its lower edge in the sweep's axis): with
 /// positive area (for boxes of positive width and height; a box of zero width at another's lower
 /// edge in the sweep's axis is reported too), or with `closed` touching too. The pairs are then
-/// the same either way, in another order; a sweep across long boxes keeps fewer open. `order`
-/// and `open` are scratch.
+/// the same either way, in another order; a sweep across long boxes keeps fewer open. Each open
+/// box carries its own extents, and the axis is chosen once, not at every comparison.
 template <class Pair>
-void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, std::vector<std::size_t>& order,
-                           std::vector<std::size_t>& open, Pair&& pair, bool along_y = false) {
-  // (lo, hi) along the sweep, (lo, hi) across it.
-  auto lo = [&](const GridBox& b) { return along_y ? b.y0 : b.x0; };
-  auto hi = [&](const GridBox& b) { return along_y ? b.y1 : b.x1; };
-  auto lo_across = [&](const GridBox& b) { return along_y ? b.x0 : b.y0; };
-  auto hi_across = [&](const GridBox& b) { return along_y ? b.x1 : b.y1; };
-  order.resize(boxes.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return lo(boxes[a]) != lo(boxes[b]) ? lo(boxes[a]) < lo(boxes[b]) : a < b;
-  });
-  open.clear();
-  for (std::size_t p : order) {
-    const GridBox& b = boxes[p];
-    std::size_t kept = 0;
-    for (std::size_t o : open) {
-      const GridBox& c = boxes[o];
-      if (closed ? hi(c) < lo(b) : hi(c) <= lo(b)) continue;  // ended before this one starts
-      open[kept++] = o;
-      if (closed ? hi_across(c) >= lo_across(b) && hi_across(b) >= lo_across(c)
-                 : hi_across(c) > lo_across(b) && hi_across(b) > lo_across(c))
-        pair(p, o);
-    }
-    open.resize(kept);
-    open.push_back(p);
+void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, BoxSweepScratch& scratch, Pair&& pair,
+                           bool along_y = false) {
+  if (along_y) {
+    if (closed) cluster_detail::sweep_boxes<true, true>(boxes, scratch, pair);
+    else cluster_detail::sweep_boxes<true, false>(boxes, scratch, pair);
+  } else {
+    if (closed) cluster_detail::sweep_boxes<false, true>(boxes, scratch, pair);
+    else cluster_detail::sweep_boxes<false, false>(boxes, scratch, pair);
   }
 }
 
@@ -218,7 +233,7 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
     extent_x += static_cast<double>(b.x1 - b.x0);
     extent_y += static_cast<double>(b.y1 - b.y0);
   }
-  for_overlapping_boxes(box, true, scratch.near_order, scratch.near_open, [&](std::size_t p, std::size_t o) {
+  for_overlapping_boxes(box, true, scratch.near_sweep, [&](std::size_t p, std::size_t o) {
     if (apart(across[p], across[o])) return;
     near[p].push_back(o);
     near[o].push_back(p);
@@ -408,7 +423,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     extent_x += static_cast<double>(b.x1 - b.x0);
     extent_y += static_cast<double>(b.y1 - b.y0);
   }
-  for_overlapping_boxes(box, false, s.order, s.open, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); },
+  for_overlapping_boxes(box, false, s.sweep, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); },
                         extent_y < extent_x);
   // Members of each cluster, in input order.
   std::vector<std::size_t>&first = s.first, &next = s.next, &last = s.last;
