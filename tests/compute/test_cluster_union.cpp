@@ -101,16 +101,21 @@ TEST(ClusterUnion, AnalyticCasesWithSharedAndCollinearEdges) {
 
 // An edge that lies wholly in another polygon, decided in integers alone, has no uncovered part
 // and no rounding: it adds nothing to the area or to the bound, however many polygons cover it.
-// (Its other intervals are not computed: most edges of a crowded cluster are such.)
+// (Its other intervals are not computed: most edges of a crowded cluster are such.) A polygon
+// wholly inside a convex one is left out before the measure, its edges and pairs with it.
 TEST(ClusterUnion, EdgesInsideAnotherPolygonAddNothingToTheBound) {
   const CL::Path outer = rect(0, 0, 10, 10);
-  const ClusteredArea one = shadow::fast::clustered_union_area({outer, rect(2, 2, 4, 4)}, 0, 1);
-  const ClusteredArea three =
-      shadow::fast::clustered_union_area({outer, rect(2, 2, 4, 4), rect(5, 5, 9, 8), rect(3, 3, 8, 7)}, 0, 1);
-  EXPECT_EQ(area_of(one), 100.0);
-  EXPECT_EQ(area_of(three), 100.0);
-  EXPECT_GT(one.boundary.error, 0.0);  // the outer square's edges, measured
+  const CL::Path across = rect(8, 2, 14, 4);  // its left side lies inside `outer`
+  ClusterUnionCounts one_counts, three_counts;
+  const ClusteredArea one = shadow::fast::clustered_union_area({outer, across}, 0, 1, &one_counts);
+  const ClusteredArea three = shadow::fast::clustered_union_area(
+      {outer, rect(2, 2, 4, 4), across, rect(5, 5, 9, 8), rect(3, 3, 8, 7)}, 0, 1, &three_counts);
+  EXPECT_EQ(area_of(one), 108.0);
+  EXPECT_EQ(area_of(three), 108.0);
+  EXPECT_GT(one.boundary.error, 0.0);  // the sides that cross, measured
   EXPECT_EQ(three.boundary.error, one.boundary.error);
+  EXPECT_EQ(one_counts.inside, 0u);
+  EXPECT_EQ(three_counts.inside, 3u);
   // Along the outer square's sides, the same way, after it: inside by the rule for shared lines.
   const ClusteredArea along = shadow::fast::clustered_union_area({outer, rect(0, 0, 10, 3), rect(4, 0, 6, 9)}, 0, 1);
   EXPECT_EQ(area_of(along), 100.0);
@@ -185,6 +190,73 @@ TEST(ClusterUnion, RandomConvexClustersAgreeWithAFineClipperUnion) {
     EXPECT_LT(error_of(a), 1e-9 * (1 + fine)) << "round " << round;
   }
   EXPECT_GT(boundaries, 200u);  // the boundary measure was reached
+}
+
+// Polygons inside others (the casts of low solids inside a tall one's shadow on a wall), equal
+// ones, and ones inside a polygon that is itself inside another, among random convex polygons:
+// those left out are exactly the ones inside another (of equal ones, all but the first; counted
+// here by a test of every vertex against every edge), the area is within its bound of Clipper's
+// union, and a cluster left with one polygon is its exact area.
+TEST(ClusterUnion, PolygonsInsideOthersAreLeftOut) {
+  std::mt19937 rng(20261206);
+  auto within = [](const CL::Path& outer, const CL::Path& inner) {
+    for (std::size_t f = 0; f < outer.size(); ++f) {
+      const CL::IntPoint &a = outer[f], &b = outer[(f + 1) % outer.size()];
+      for (const CL::IntPoint& v : inner)
+        if (static_cast<double>(b.X - a.X) * static_cast<double>(v.Y - a.Y) -
+                static_cast<double>(b.Y - a.Y) * static_cast<double>(v.X - a.X) < 0)
+          return false;
+    }
+    return true;
+  };
+  std::size_t left_out = 0, nested = 0;
+  for (int round = 0; round < 300; ++round) {
+    CL::Paths polygons = random_convex(rng, 2 + static_cast<std::size_t>(round % 9), round % 2 ? 40 : 400);
+    const std::size_t given = polygons.size();
+    for (std::size_t k = 0; k < given; ++k) {
+      const int kind = std::uniform_int_distribution<int>(0, 3)(rng);
+      const CL::IntPoint o = polygons[k][0];
+      if (kind == 1) polygons.push_back(polygons[k]);  // a copy
+      if (kind >= 2) {
+        // The polygon scaled by 4 about 0, with its half and its quarter towards its first vertex
+        // (4o + (4q - 4o) / 2 and 4o + (4q - 4o) / 4: on the grid), each inside the one before.
+        CL::Path half = polygons[k], quarter = polygons[k];
+        for (CL::IntPoint& q : polygons[k]) q = {4 * q.X, 4 * q.Y};
+        for (CL::IntPoint& q : half) q = {2 * o.X + 2 * q.X, 2 * o.Y + 2 * q.Y};
+        for (CL::IntPoint& q : quarter) q = {3 * o.X + q.X, 3 * o.Y + q.Y};
+        polygons.push_back(half);
+        if (kind == 3) polygons.push_back(quarter);
+        nested += kind - 1;
+      }
+    }
+    std::shuffle(polygons.begin(), polygons.end(), rng);
+    std::size_t expected = 0;
+    for (std::size_t p = 0; p < polygons.size(); ++p)
+      for (std::size_t q = 0; q < polygons.size(); ++q)
+        if (q != p && within(polygons[q], polygons[p]) && (!within(polygons[p], polygons[q]) || q < p)) {
+          ++expected;
+          break;
+        }
+    ClusterUnionCounts counts;
+    const ClusteredArea a = shadow::fast::clustered_union_area(polygons, 1, 0.5, &counts);
+    EXPECT_EQ(counts.inside, expected) << "round " << round;
+    left_out += counts.inside;
+    double clipper_error = 0;
+    const double fine = fine_union_area(polygons, clipper_error);
+    EXPECT_NEAR(area_of(a), fine, error_of(a) + clipper_error + 1e-9 * fine) << "round " << round;
+    EXPECT_FALSE(a.clipper);
+  }
+  EXPECT_GT(nested, 200u);
+  EXPECT_GE(left_out, nested);
+  // A polygon with a copy and one inside it: one convex polygon left, its exact shoelace area.
+  ClusterUnionCounts counts;
+  const ClusteredArea one =
+      shadow::fast::clustered_union_area({rect(0, 0, 10, 10), rect(1, 1, 3, 3), rect(0, 0, 10, 10)}, 0, 1, &counts);
+  EXPECT_EQ(counts.inside, 2u);
+  EXPECT_EQ(counts.singletons, 1u);
+  EXPECT_EQ(counts.boundaries, 0u);
+  EXPECT_EQ(area_of(one), 100.0);
+  EXPECT_EQ(error_of(one), 0.0);
 }
 
 // The fast path's workers keep one ClusterScratch for every union they measure (no allocation,

@@ -56,7 +56,7 @@ struct ClusterScratch {
   std::vector<GridBox> boxes;
   std::vector<std::size_t> parent, first, next, last, members;
   BoxSweepScratch sweep;
-  std::vector<char> convex;
+  std::vector<char> convex, inside;
   // boundary_union_area2: one cluster's boxes, extents across the shadows, neighbours, the
   // covered intervals of an edge.
   std::vector<GridBox> box;

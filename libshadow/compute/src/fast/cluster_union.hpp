@@ -331,12 +331,33 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   return out;
 }
 
+/// Whether `inner` lies in the convex counter-clockwise polygon `outer` (is_convex_ccw), its
+/// boundary included: every vertex of `inner` on the inner side of every edge of `outer`, decided
+/// in integers (the boundary measure's bounds: 64 bits hold every product). Boxes first: an
+/// inner box not inside the outer one settles most pairs.
+inline bool contains_polygon(const ClipperLib::Path& outer, const GridBox& outer_box, const ClipperLib::Path& inner,
+                             const GridBox& inner_box) {
+  if (inner_box.x0 < outer_box.x0 || inner_box.x1 > outer_box.x1 || inner_box.y0 < outer_box.y0 ||
+      inner_box.y1 > outer_box.y1)
+    return false;
+  const std::size_t n = outer.size();
+  for (std::size_t f = 0; f < n; ++f) {
+    const ClipperLib::IntPoint& q0 = outer[f];
+    const ClipperLib::IntPoint& q1 = outer[geometry::cyclic_next(f, n)];
+    const std::int64_t gx = q1.X - q0.X, gy = q1.Y - q0.Y;
+    for (const ClipperLib::IntPoint& v : inner)
+      if (gx * (v.Y - q0.Y) - gy * (v.X - q0.X) < 0) return false;
+  }
+  return true;
+}
+
 /// Counts of what the clustered union did (for the tests and the benchmarks).
 struct ClusterUnionCounts {
   std::size_t singletons = 0;  ///< convex polygons measured without a union
   std::size_t boundaries = 0;  ///< clusters of convex polygons measured by their boundary
   std::size_t unions = 0;      ///< Clipper unions run (a cluster with a polygon that is not convex)
   std::size_t merged = 0;      ///< clusters whose polygons merge_shared_edges united (some of them)
+  std::size_t inside = 0;      ///< polygons left out, inside another (contains_polygon)
 };
 
 /// From this many convex polygons on, a cluster's polygons that share an edge run both ways are
@@ -423,8 +444,32 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     extent_x += static_cast<double>(b.x1 - b.x0);
     extent_y += static_cast<double>(b.y1 - b.y0);
   }
-  for_overlapping_boxes(box, false, s.sweep, [&](std::size_t p, std::size_t o) { parent[find(p)] = find(o); },
-                        extent_y < extent_x);
+  std::vector<char>& convex = s.convex;
+  convex.resize(n);
+  for (std::size_t p = 0; p < n; ++p) convex[p] = is_convex_ccw(polygons[p]) ? 1 : 0;
+  // A polygon inside a convex one adds nothing to the union: it is left out (half the polygons
+  // of the year's clusters are, the casts of low solids inside a tall one's on a wall), and
+  // with it the pairs it made, and a cluster left with one convex polygon is its shoelace area.
+  // Every pair that such a polygon makes with its container overlaps with positive area, so the
+  // sweep below meets it. Of polygons equal as sets, the first stays.
+  std::vector<char>& inside = s.inside;
+  inside.assign(n, 0);
+  std::size_t left_out = 0;
+  // A pair with a polygon already left out is passed over whole: its container's box holds the
+  // polygon's, so the container meets the other one too and joins its cluster (or it lies in one
+  // that stays and does), and a polygon inside the one left out lies in the container too.
+  for_overlapping_boxes(box, false, s.sweep, [&](std::size_t p, std::size_t o) {
+    if (inside[p] || inside[o]) return;
+    parent[find(p)] = find(o);
+    const GridBox &bp = box[p], &bo = box[o];
+    const bool p_in_o = convex[o] && contains_polygon(polygons[o], bo, polygons[p], bp);
+    const bool o_in_p = convex[p] && contains_polygon(polygons[p], bp, polygons[o], bo);
+    if (p_in_o || o_in_p) {
+      inside[p_in_o && o_in_p ? std::max(p, o) : p_in_o ? p : o] = 1;
+      ++left_out;
+    }
+  }, extent_y < extent_x);
+  if (counts) counts->inside += left_out;
   // Members of each cluster, in input order.
   std::vector<std::size_t>&first = s.first, &next = s.next, &last = s.last;
   first.assign(n, n);
@@ -436,9 +481,6 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     else next[last[r]] = p;
     last[r] = p;
   }
-  std::vector<char>& convex = s.convex;
-  convex.resize(n);
-  for (std::size_t p = 0; p < n; ++p) convex[p] = is_convex_ccw(polygons[p]) ? 1 : 0;
   ClusteredArea out;
   std::vector<std::size_t>& members = s.members;
   CL::Paths cluster, united, merged;
@@ -450,6 +492,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     members.clear();
     bool all_convex = true;
     for (std::size_t p = first[r]; p != n; p = next[p]) {
+      if (inside[p]) continue;
       members.push_back(p);
       all_convex &= convex[p] != 0;
     }
