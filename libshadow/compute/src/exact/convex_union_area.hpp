@@ -3,20 +3,10 @@
 // "The exact union's area without a Boolean operation"). Include only from src/exact/*.cpp or
 // tests (CGAL).
 //
-// Twice the area of a region is the integral of cross(p, dp) around its boundary. The boundary
-// of a union of closed convex counter-clockwise polygons P_1..P_n is made of pieces of their
-// edges, so
-//
-//   2 area = sum over edges e = (s, s + d) of every P_i of cross(s, d) * L_e,
-//
-// where L_e is the measure of the parameters t in [0, 1] for which s + t d is not covered. A
-// point is covered by P_j (j != i) when it lies in P_j's interior, or on an edge of P_j on the
-// same line as e, going the same way, with j < i: a stretch of boundary that several polygons
-// share is counted once, by the smallest index; an edge on the same line going the other way
-// does not cover (the polygons lie on both sides, and the two edges' pieces cancel). The
-// covered set from one P_j is an open interval of t (an intersection of half-planes), the
-// intervals of all P_j are merged, and L_e is what they leave of [0, 1].
-//
+// Twice the area of a union of closed convex counter-clockwise polygons is the sum over every
+// edge e = (s, s + d) of cross(s, d) L_e, L_e the part of the edge's parameters t in [0, 1] that
+// no other polygon covers: its interior, or, on the same line going the same way, a polygon of a
+// smaller index (a shared stretch counts once; one shared the other way cancels).
 // Exact throughout: signs and comparisons are filtered (intervals first, exact rationals when
 // the intervals cannot decide), and only the ends of the uncovered pieces are made exactly. The
 // polygons come as plain rational points (exact/rational_points.hpp): no lazy number is
@@ -26,6 +16,7 @@
 #include "exact/boundary_chain.hpp"
 #include "exact/kernel.hpp"
 #include "exact/rational_points.hpp"
+#include "geometry/box_sweep.hpp"
 #include "geometry/shared_edge_merge.hpp"
 
 #include <algorithm>
@@ -49,6 +40,7 @@ class ConvexUnionArea {
     std::size_t edges_partial = 0;  ///< edges partly covered (those need exact parameters)
     std::size_t exact_params = 0;   ///< parameters t made exactly
     std::size_t merged = 0;         ///< polygons merged into a neighbour along a shared edge
+    std::size_t inside = 0;         ///< polygons left out, inside another (areas only)
   };
 
   /// Twice the exact area of the union of the polygons points[first[k], first[k + 1]) (each
@@ -82,7 +74,8 @@ class ConvexUnionArea {
       // Rounding upward for every interval filter of the sweep, set once (the exact fallbacks
       // are GMP integer arithmetic; nothing below rounds a plain double).
       CGAL::Protect_FPU_rounding<true> guard;
-      for (std::size_t i = 0; i + 1 < first_.size(); ++i) measure_polygon(i);
+      for (std::size_t i = 0; i + 1 < first_.size(); ++i)
+        if (!inside_[i]) measure_polygon(i);
     }
     boundary_ = nullptr;
     out = sum_terms();
@@ -114,7 +107,7 @@ class ConvexUnionArea {
     {
       CGAL::Protect_FPU_rounding<true> guard;
       for (std::size_t i = 0; i + 1 < first_.size(); ++i)
-        if (meet(box_[i], window_box_)) measure_polygon(i);  // (a polygon apart adds nothing)
+        if (!inside_[i] && meet(box_[i], window_box_)) measure_polygon(i);  // (a polygon apart adds nothing)
       for (std::size_t v = win_first_; v < pts_.size(); ++v) measure_window_edge(v);
     }
     boundary_ = nullptr;
@@ -340,44 +333,46 @@ class ConvexUnionArea {
   // ---- neighbours: polygon pairs whose boxes meet (a sweep in x) ------------------------------
   void find_pairs() {
     const std::size_t n = box_.size();
-    order_.resize(n);
-    std::iota(order_.begin(), order_.end(), std::size_t{0});
-    std::sort(order_.begin(), order_.end(),
-              [&](std::size_t a, std::size_t b) { return box_[a].x0 != box_[b].x0 ? box_[a].x0 < box_[b].x0 : a < b; });
     pair_a_.clear();
     pair_b_.clear();
-    open_.clear();
-    for (std::size_t p : order_) {
-      const Box& b = box_[p];
-      std::size_t kept = 0;
-      for (std::size_t o : open_) {
-        const Box& c = box_[o];
-        if (c.x1 < b.x0) continue;  // closed before this one starts
-        open_[kept++] = o;
-        if (c.y1 >= b.y0 && b.y1 >= c.y0) {
-          pair_a_.push_back(p);
-          pair_b_.push_back(o);
-        }
-      }
-      open_.resize(kept);
-      open_.push_back(p);
-    }
+    geometry::sweep_boxes<false, true>(box_, sorted_, [&](std::size_t later, std::size_t earlier) {
+      pair_a_.push_back(later);
+      pair_b_.push_back(earlier);
+    });
     counts_.pairs = pair_a_.size();
-    // Neighbour lists, both ways (CSR).
-    nstart_.assign(n + 1, 0);
-    for (std::size_t k = 0; k < pair_a_.size(); ++k) {
-      ++nstart_[pair_a_[k] + 1];
-      ++nstart_[pair_b_[k] + 1];
-    }
-    for (std::size_t p = 0; p < n; ++p) nstart_[p + 1] += nstart_[p];
-    nlist_.resize(nstart_[n]);
-    fill_ = nstart_;
-    for (std::size_t k = 0; k < pair_a_.size(); ++k) {
-      nlist_[fill_[pair_a_[k]]++] = pair_b_[k];
-      nlist_[fill_[pair_b_[k]]++] = pair_a_[k];
-    }
+    geometry::neighbour_lists(pair_a_, pair_b_, n, nstart_, nlist_, fill_);
     separator_.resize(nlist_.size());
     for (std::size_t k = 0; k < nlist_.size(); ++k) separator_[k] = first_[nlist_[k]];
+    inside_.assign(n, 0);
+    if (!boundary_) find_inside();
+  }
+
+  /// Areas only (no boundary asked for; it would be split at other vertices): a polygon inside
+  /// another adds nothing to the union, so it is neither measured nor a cover. Each is left out
+  /// by a pair with one that is not (yet): it lies in one that stays, and the union is the same
+  /// point set, so twice its area is the same rational. Of polygons equal as sets the first stays.
+  void find_inside() {
+    CGAL::Protect_FPU_rounding<true> guard;  // turn()'s filters
+    // Boxes first (the interval boxes: where they do not nest, a polygon is only left in), then
+    // every vertex of `inner` on the left of, or on, every edge of `outer`.
+    auto within = [&](std::size_t inner, std::size_t outer) {
+      const Box &i = box_[inner], &o = box_[outer];
+      if (i.x0 < o.x0 || o.x1 < i.x1 || i.y0 < o.y0 || o.y1 < i.y1) return false;
+      for (std::size_t f = first_[outer]; f < first_[outer + 1]; ++f)
+        for (std::size_t v = first_[inner]; v < first_[inner + 1]; ++v)
+          if (turn(f, nxt_[f], v) == CGAL::NEGATIVE) return false;
+      return true;
+    };
+    for (std::size_t k = 0; k < pair_a_.size(); ++k) {
+      const std::size_t a = pair_a_[k], b = pair_b_[k];
+      if (inside_[a] || inside_[b]) continue;
+      const bool a_in_b = within(a, b);
+      const bool b_in_a = within(b, a);
+      if (a_in_b || b_in_a) {
+        inside_[a_in_b && b_in_a ? std::max(a, b) : a_in_b ? a : b] = 1;
+        ++counts_.inside;
+      }
+    }
   }
 
   // ---- one polygon's edges ----------------------------------------------------------------------
@@ -419,7 +414,7 @@ class ConvexUnionArea {
       const auto holds = [&](const Box& c) { return c.x0 <= eb.x0 && c.y0 <= eb.y0 && eb.x1 <= c.x1 && eb.y1 <= c.y1; };
       const auto test = [&](std::size_t k) {
         const std::size_t j = nlist_[k];
-        if (!meet(eb, box_[j])) return;
+        if (inside_[j] || !meet(eb, box_[j])) return;
         Cover c;
         if (!cover_by(i, j, c, separator_[k])) return;
         if (c.lo.kind == 0 && c.hi.kind == 1) {
@@ -495,7 +490,7 @@ class ConvexUnionArea {
     cur_v_ = v;
     cur_w_ = w;
     for (std::size_t j = 0; j + 1 < first_.size(); ++j) {
-      if (!meet(eb, box_[j])) continue;
+      if (inside_[j] || !meet(eb, box_[j])) continue;
       Cover c;
       std::size_t from = first_[j];
       if (!cover_by(0, j, c, from)) continue;  // (i = 0: a collinear edge going the same way does not cover)
@@ -767,7 +762,9 @@ class ConvexUnionArea {
   std::vector<std::size_t> nxt_;    ///< the next vertex around the same polygon
   std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
   std::vector<Box> box_;
-  std::vector<std::size_t> order_, open_, pair_a_, pair_b_, nstart_, nlist_, fill_;
+  std::vector<geometry::BoxSweepEntry<double>> sorted_;
+  std::vector<std::size_t> pair_a_, pair_b_, nstart_, nlist_, fill_;
+  std::vector<char> inside_;  ///< per polygon: left out, inside another (find_inside)
   std::vector<std::size_t> separator_;  ///< per nlist_ entry: the neighbour's edge cover_by tests first
   geometry::SharedEdgeMerge merge_;
   std::vector<const QPoint2*> merged_pts_;  ///< merge_shared_edges' scratch

@@ -5,6 +5,7 @@
 // fast_receiver.hpp.
 #pragma once
 
+#include "geometry/box_sweep.hpp"
 #include "geometry/shared_edge_merge.hpp"
 
 #include <cstddef>
@@ -39,15 +40,9 @@ struct GridBox {
   long long x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-/// for_overlapping_boxes' scratch: the boxes in the sweep's order, each with the extents its
-/// tests read (no look-up through an index).
+/// for_overlapping_boxes' scratch (geometry/box_sweep.hpp): the boxes in the sweep's order.
 struct BoxSweepScratch {
-  struct Entry {
-    long long lo = 0, hi = 0;              ///< extent in the sweep's axis
-    long long lo_across = 0, hi_across = 0;
-    std::size_t index = 0;
-  };
-  std::vector<Entry> sorted;
+  std::vector<geometry::BoxSweepEntry<long long>> sorted;
 };
 
 /// Vectors reused from one union to the next (their contents mean nothing between calls).

@@ -96,54 +96,21 @@ inline GridBox grid_box(const ClipperLib::Path& path) {
   return b;
 }
 
-namespace cluster_detail {
-
-/// for_overlapping_boxes with its axis and closedness fixed at compile time.
-template <bool AlongY, bool Closed, class Pair>
-void sweep_boxes(const std::vector<GridBox>& boxes, BoxSweepScratch& scratch, Pair&& pair) {
-  using Entry = BoxSweepScratch::Entry;
-  std::vector<Entry>& sorted = scratch.sorted;
-  sorted.resize(boxes.size());
-  for (std::size_t a = 0; a < boxes.size(); ++a) {
-    const GridBox& b = boxes[a];
-    sorted[a] = AlongY ? Entry{b.y0, b.y1, b.x0, b.x1, a} : Entry{b.x0, b.x1, b.y0, b.y1, a};
-  }
-  std::sort(sorted.begin(), sorted.end(), [](const Entry& a, const Entry& b) {
-    return a.lo != b.lo ? a.lo < b.lo : a.index < b.index;
-  });
-  // Each box against the boxes after it in the sweep's order that start before it ends: the
-  // pairs a sweep with a list of open boxes finds (a box meets a later one exactly when it is
-  // still open at the later one's lower end), from a read-only scan.
-  const std::size_t n = sorted.size();
-  for (std::size_t a = 0; a < n; ++a) {
-    const Entry& p = sorted[a];
-    for (std::size_t b = a + 1; b < n; ++b) {
-      const Entry& q = sorted[b];
-      if (Closed ? q.lo > p.hi : q.lo >= p.hi) break;  // this one and every later one start after p ends
-      if (Closed ? p.hi_across >= q.lo_across && q.hi_across >= p.lo_across
-                 : p.hi_across > q.lo_across && q.hi_across > p.lo_across)
-        pair(q.index, p.index);
-    }
-  }
-}
-
-}  // namespace cluster_detail
-
-/// Calls pair(a, b) for every two of `boxes` that overlap, by a sweep in x, or in y with
-/// `along_y` (each box against the boxes still open at its lower edge in the sweep's axis): with
-/// positive area (for boxes of positive width and height; a box of zero width at another's lower
-/// edge in the sweep's axis is reported too), or with `closed` touching too. The pairs are then
-/// the same either way, in another order; a sweep across long boxes keeps fewer open. Each open
-/// box carries its own extents, and the axis is chosen once, not at every comparison.
+/// Calls pair(a, b) for every two of `boxes` that overlap (geometry::sweep_boxes), along x, or
+/// along y with `along_y`: with positive area (for boxes of positive width and height; a box of
+/// zero width at another's lower edge in the sweep's axis is reported too), or with `closed`
+/// touching too. The pairs are the same either way, in another order; along long boxes each
+/// box meets fewer later ones. The axis is chosen once, not at every comparison.
 template <class Pair>
 void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, BoxSweepScratch& scratch, Pair&& pair,
                            bool along_y = false) {
+  using geometry::sweep_boxes;
   if (along_y) {
-    if (closed) cluster_detail::sweep_boxes<true, true>(boxes, scratch, pair);
-    else cluster_detail::sweep_boxes<true, false>(boxes, scratch, pair);
+    if (closed) sweep_boxes<true, true>(boxes, scratch.sorted, pair);
+    else sweep_boxes<true, false>(boxes, scratch.sorted, pair);
   } else {
-    if (closed) cluster_detail::sweep_boxes<false, true>(boxes, scratch, pair);
-    else cluster_detail::sweep_boxes<false, false>(boxes, scratch, pair);
+    if (closed) sweep_boxes<false, true>(boxes, scratch.sorted, pair);
+    else sweep_boxes<false, false>(boxes, scratch.sorted, pair);
   }
 }
 
