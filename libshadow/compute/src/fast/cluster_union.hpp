@@ -101,16 +101,17 @@ inline GridBox grid_box(const ClipperLib::Path& path) {
 /// zero width at another's lower edge in the sweep's axis is reported too), or with `closed`
 /// touching too. The pairs are the same either way, in another order; along long boxes each
 /// box meets fewer later ones. The axis is chosen once, not at every comparison.
-template <class Pair>
+/// `passed`: as geometry::sweep_boxes's.
+template <class Pair, class Passed = geometry::NonePassed>
 void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, BoxSweepScratch& scratch, Pair&& pair,
-                           bool along_y = false) {
+                           bool along_y = false, Passed&& passed = {}) {
   using geometry::sweep_boxes;
   if (along_y) {
-    if (closed) sweep_boxes<true, true>(boxes, scratch.sorted, pair);
-    else sweep_boxes<true, false>(boxes, scratch.sorted, pair);
+    if (closed) sweep_boxes<true, true>(boxes, scratch.sorted, pair, passed);
+    else sweep_boxes<true, false>(boxes, scratch.sorted, pair, passed);
   } else {
-    if (closed) sweep_boxes<false, true>(boxes, scratch.sorted, pair);
-    else sweep_boxes<false, false>(boxes, scratch.sorted, pair);
+    if (closed) sweep_boxes<false, true>(boxes, scratch.sorted, pair, passed);
+    else sweep_boxes<false, false>(boxes, scratch.sorted, pair, passed);
   }
 }
 
@@ -422,11 +423,11 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   std::vector<char>& inside = s.inside;
   inside.assign(n, 0);
   std::size_t left_out = 0;
-  // A pair with a polygon already left out is passed over whole: its container's box holds the
-  // polygon's, so the container meets the other one too and joins its cluster (or it lies in one
-  // that stays and does), and a polygon inside the one left out lies in the container too.
+  // A pair with a polygon already left out is passed over whole (the sweep is told so): its
+  // container's box holds the polygon's, so the container meets the other one too and joins its
+  // cluster (or it lies in one that stays and does), and a polygon inside the one left out lies
+  // in the container too.
   for_overlapping_boxes(box, false, s.sweep, [&](std::size_t p, std::size_t o) {
-    if (inside[p] || inside[o]) return;
     parent[find(p)] = find(o);
     const GridBox &bp = box[p], &bo = box[o];
     const bool p_in_o = convex[o] && contains_polygon(polygons[o], bo, polygons[p], bp);
@@ -435,7 +436,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
       inside[p_in_o && o_in_p ? std::max(p, o) : p_in_o ? p : o] = 1;
       ++left_out;
     }
-  }, extent_y < extent_x);
+  }, extent_y < extent_x, [&](std::size_t p) { return inside[p] != 0; });
   if (counts) counts->inside += left_out;
   // Members of each cluster, in input order.
   std::vector<std::size_t>&first = s.first, &next = s.next, &last = s.last;

@@ -25,8 +25,15 @@ struct BoxSweepEntry {
 /// with a list of open boxes would still hold it at the later one's lower end, so the pairs are
 /// those (open: a box of zero extent at another's lower end in the sweep's axis is reported
 /// too; along the other axis the pairs are the same, in another order). `sorted` is scratch.
-template <bool AlongY, bool Closed, class Box, class T, class Pair>
-void sweep_boxes(const std::vector<Box>& boxes, std::vector<BoxSweepEntry<T>>& sorted, Pair&& pair) {
+///
+/// `passed(index)`, where given, says a box needs no more pairs (the caller has done with it):
+/// from then on none of its pairs is reported, and the boxes after it are not scanned for it.
+struct NonePassed {
+  constexpr bool operator()(std::size_t) const { return false; }
+};
+template <bool AlongY, bool Closed, class Box, class T, class Pair, class Passed = NonePassed>
+void sweep_boxes(const std::vector<Box>& boxes, std::vector<BoxSweepEntry<T>>& sorted, Pair&& pair,
+                 Passed&& passed = {}) {
   using Entry = BoxSweepEntry<T>;
   sorted.resize(boxes.size());
   for (std::size_t a = 0; a < boxes.size(); ++a) {
@@ -39,12 +46,16 @@ void sweep_boxes(const std::vector<Box>& boxes, std::vector<BoxSweepEntry<T>>& s
   const std::size_t n = sorted.size();
   for (std::size_t a = 0; a < n; ++a) {
     const Entry& p = sorted[a];
+    if (passed(p.index)) continue;
     for (std::size_t b = a + 1; b < n; ++b) {
       const Entry& q = sorted[b];
       if (Closed ? q.lo > p.hi : q.lo >= p.hi) break;  // this one and every later one start after p ends
       if (Closed ? p.hi_across >= q.lo_across && q.hi_across >= p.lo_across
-                 : p.hi_across > q.lo_across && q.hi_across > p.lo_across)
+                 : p.hi_across > q.lo_across && q.hi_across > p.lo_across) {
+        if (passed(q.index)) continue;
         pair(q.index, p.index);
+        if (passed(p.index)) break;
+      }
     }
   }
 }
