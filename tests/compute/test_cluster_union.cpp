@@ -116,6 +116,19 @@ TEST(ClusterUnion, EdgesInsideAnotherPolygonAddNothingToTheBound) {
   EXPECT_EQ(three.boundary.error, one.boundary.error);
   EXPECT_EQ(one_counts.inside, 0u);
   EXPECT_EQ(three_counts.inside, 3u);
+  // The measure itself, given polygons inside the outer square (the clusters leave them out
+  // first): their edges lie wholly inside it, so they add no term and nothing to the bound, and
+  // they cut none of its edges.
+  const CL::Paths nested = {outer, rect(2, 2, 4, 4), rect(5, 5, 9, 8), rect(3, 3, 8, 7)};
+  std::vector<shadow::fast::GridBox> boxes;
+  for (const CL::Path& p : nested) boxes.push_back(shadow::fast::grid_box(p));
+  shadow::fast::ClusterScratch scratch;
+  const shadow::fast::BoundaryArea alone = shadow::fast::boundary_union_area2(nested, boxes, {0}, 0, 1, scratch);
+  const shadow::fast::BoundaryArea all = shadow::fast::boundary_union_area2(nested, boxes, {0, 1, 2, 3}, 0, 1, scratch);
+  EXPECT_EQ(alone.twice_area, 200.0);
+  EXPECT_EQ(all.twice_area, 200.0);
+  EXPECT_GT(alone.error, 0.0);
+  EXPECT_EQ(all.error, alone.error);
   // Along the outer square's sides, the same way, after it: inside by the rule for shared lines.
   const ClusteredArea along = shadow::fast::clustered_union_area({outer, rect(0, 0, 10, 3), rect(4, 0, 6, 9)}, 0, 1);
   EXPECT_EQ(area_of(along), 100.0);
@@ -248,6 +261,18 @@ TEST(ClusterUnion, PolygonsInsideOthersAreLeftOut) {
   }
   EXPECT_GT(nested, 200u);
   EXPECT_GE(left_out, nested);
+  // Only a convex polygon contains: an L (not convex) inside a square is left out, a rectangle
+  // inside the L stays (the L is no container) and their cluster goes through Clipper.
+  const CL::Path l_shape = {{0, 0}, {20, 0}, {20, 10}, {10, 10}, {10, 20}, {0, 20}};
+  ClusterUnionCounts in_square, in_hull;
+  const ClusteredArea l_in = shadow::fast::clustered_union_area({rect(-1, -1, 21, 21), l_shape}, 0, 1, &in_square);
+  EXPECT_EQ(in_square.inside, 1u);
+  EXPECT_FALSE(l_in.clipper);
+  EXPECT_EQ(area_of(l_in), 22.0 * 22.0);
+  const ClusteredArea hull_in = shadow::fast::clustered_union_area({l_shape, rect(1, 1, 19, 9)}, 0, 1, &in_hull);
+  EXPECT_EQ(in_hull.inside, 0u);
+  EXPECT_TRUE(hull_in.clipper);
+  EXPECT_EQ(area_of(hull_in), 300.0);
   // A polygon with a copy and one inside it: one convex polygon left, its exact shoelace area.
   ClusterUnionCounts counts;
   const ClusteredArea one =

@@ -418,8 +418,9 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   // A polygon inside a convex one adds nothing to the union: it is left out (half the polygons
   // of the year's clusters are, the casts of low solids inside a tall one's on a wall), and
   // with it the pairs it made, and a cluster left with one convex polygon is its shoelace area.
-  // Every pair that such a polygon makes with its container overlaps with positive area, so the
-  // sweep below meets it. Of polygons equal as sets, the first stays.
+  // Every pair that such a polygon (of positive area, as every cast is) makes with its container
+  // overlaps with positive area, so the sweep below meets it (one of zero area may stay, which
+  // is harmless). Of polygons equal as sets, the first stays.
   std::vector<char>& inside = s.inside;
   inside.assign(n, 0);
   std::size_t left_out = 0;
