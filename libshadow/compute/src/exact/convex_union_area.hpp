@@ -1,16 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The exact area of a union of convex polygons without an arrangement (docs/algorithm.md,
-// "The exact union's area without a Boolean operation"). Include only from src/exact/*.cpp or
-// tests (CGAL).
+// The exact area of a union of convex polygons without an arrangement (docs/algorithm.md, "The
+// union's area without a Boolean operation"). Include only from src/exact/*.cpp or tests (CGAL).
 //
-// Twice the area of a union of closed convex counter-clockwise polygons is the sum over every
-// edge e = (s, s + d) of cross(s, d) L_e, L_e the part of the edge's parameters t in [0, 1] that
-// no other polygon covers: its interior, or, on the same line going the same way, a polygon of a
-// smaller index (a shared stretch counts once; one shared the other way cancels).
-// Exact throughout: signs and comparisons are filtered (intervals first, exact rationals when
-// the intervals cannot decide), and only the ends of the uncovered pieces are made exactly. The
-// polygons come as plain rational points (exact/rational_points.hpp): no lazy number is
-// evaluated here.
+// Twice the area is the sum over every edge e = (s, s + d) of cross(s, d) L_e, L_e the part of
+// e that no other polygon covers (its interior, or the same line the same way with a smaller
+// index). Exact: filtered signs, exact ends of the uncovered pieces only, plain rational points
+// (exact/rational_points.hpp), no lazy number.
 #pragma once
 
 #include "exact/boundary_chain.hpp"
@@ -164,9 +159,7 @@ class ConvexUnionArea {
   struct Box {
     double x0, y0, x1, y1;
   };
-  [[nodiscard]] static bool meet(const Box& a, const Box& b) {
-    return a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
-  }
+  [[nodiscard]] static bool meet(const Box& a, const Box& b) { return a.x0 <= b.x1 && b.x0 <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1; }
 
   /// A parameter t on the current edge: 0, 1, or where the line of edge f (a vertex index)
   /// crosses the edge (exact value made on demand, in exact_[cache]).
@@ -348,26 +341,36 @@ class ConvexUnionArea {
   }
 
   /// Areas only (no boundary asked for; it would be split at other vertices): a polygon inside
-  /// another adds nothing to the union, so it is neither measured nor a cover. Each is left out
-  /// by a pair with one that is not (yet): it lies in one that stays, and the union is the same
-  /// point set, so twice its area is the same rational. Of polygons equal as sets the first stays.
+  /// another (in a window, its part in the window) adds nothing to the union, so it is neither
+  /// measured nor a cover. Each is left out by a pair with one that is not (yet): it lies in one
+  /// that stays, and the union is the same point set, so twice its area is the same rational.
   void find_inside() {
-    CGAL::Protect_FPU_rounding<true> guard;  // turn()'s filters
+    CGAL::Protect_FPU_rounding<true> guard;  // the filters of turn() and of the corners' sides
     // Boxes first (the interval boxes: where they do not nest, a polygon is only left in), then
-    // every vertex of `inner` on the left of, or on, every edge of `outer`.
-    auto within = [&](std::size_t inner, std::size_t outer) {
-      const Box &i = box_[inner], &o = box_[outer];
-      if (i.x0 < o.x0 || o.x1 < i.x1 || i.y0 < o.y0 || o.y1 < i.y1) return false;
+    // every vertex of `inner` on the left of, or on, every edge of `outer`. In a window, else,
+    // the corners of the box where inner's and the window's boxes meet (it holds inner's part
+    // in the window), certainly by the intervals alone (the exact points may be scaled).
+    auto lies_in = [&](std::size_t inner, std::size_t outer) {
+      const Box &i = box_[inner], &o = box_[outer], &w = window_box_;
+      bool in = o.x0 <= i.x0 && i.x1 <= o.x1 && o.y0 <= i.y0 && i.y1 <= o.y1;
+      for (std::size_t f = first_[outer]; in && f < first_[outer + 1]; ++f)
+        for (std::size_t v = first_[inner]; in && v < first_[inner + 1]; ++v) in = turn(f, nxt_[f], v) != CGAL::NEGATIVE;
+      if (in || !window_) return in;
+      const Box c{std::max(i.x0, w.x0), std::max(i.y0, w.y0), std::min(i.x1, w.x1), std::min(i.y1, w.y1)};
+      if (!(c.x0 <= c.x1 && c.y0 <= c.y1) || c.x0 < o.x0 || o.x1 < c.x1 || c.y0 < o.y0 || o.y1 < c.y1) return false;
       for (std::size_t f = first_[outer]; f < first_[outer + 1]; ++f)
-        for (std::size_t v = first_[inner]; v < first_[inner + 1]; ++v)
-          if (turn(f, nxt_[f], v) == CGAL::NEGATIVE) return false;
+        for (int corner = 0; corner < 4; ++corner) {
+          const IPoint2 &p = ip_[f], &q = ip_[nxt_[f]];
+          const IA x(corner & 1 ? c.x1 : c.x0), y(corner & 2 ? c.y1 : c.y0);
+          const CGAL::Uncertain<CGAL::Sign> side = CGAL::sign((q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x));
+          if (!CGAL::is_certain(side) || CGAL::get_certain(side) == CGAL::NEGATIVE) return false;
+        }
       return true;
     };
     for (std::size_t k = 0; k < pair_a_.size(); ++k) {
       const std::size_t a = pair_a_[k], b = pair_b_[k];
       if (inside_[a] || inside_[b]) continue;
-      const bool a_in_b = within(a, b);
-      const bool b_in_a = within(b, a);
+      const bool a_in_b = lies_in(a, b), b_in_a = lies_in(b, a);
       if (a_in_b || b_in_a) {
         inside_[a_in_b && b_in_a ? std::max(a, b) : a_in_b ? a : b] = 1;
         ++counts_.inside;
