@@ -86,15 +86,16 @@ class ConvexUnionArea {
   /// when some polygon or the window is not convex.
   bool twice_area_in_window(const QPoint2* points, const std::vector<std::size_t>& first, const QPoint2* window,
                             std::size_t m, EQ& out, BoundaryChain* boundary = nullptr) {
+    struct WindowCall {  // the window's mode left on the way out, even by an exception (GMP's)
+      ConvexUnionArea& u;
+      ~WindowCall() { u.window_ = false; }
+    } call{*this};
     bool convex_polygons = false;
     {
       CGAL::Protect_FPU_rounding<true> guard;
       convex_polygons = load(points, first) && load_window(window, m);
     }
-    if (!convex_polygons) {
-      window_ = false;
-      return false;
-    }
+    if (!convex_polygons) return false;
     boundary_ = boundary;
     find_pairs();
     terms_.clear();
@@ -106,7 +107,6 @@ class ConvexUnionArea {
       for (std::size_t v = win_first_; v < pts_.size(); ++v) measure_window_edge(v);
     }
     boundary_ = nullptr;
-    window_ = false;
     out = sum_terms();
     return true;
   }
