@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <deque>
-#include <numeric>
 #include <utility>
 #include <vector>
 

@@ -18,6 +18,11 @@ struct BoxSweepEntry {
   std::size_t index;
 };
 
+/// sweep_boxes' `passed` where the caller never has done with a box.
+struct NonePassed {
+  constexpr bool operator()(std::size_t) const { return false; }
+};
+
 /// Calls pair(later, earlier) for every two of `boxes` (with members x0, y0, x1, y1) that
 /// overlap: with positive extent along both axes, or with `Closed` touching too. Along x, or
 /// along y with `AlongY`: each box against the boxes after it in the order of their lower ends
@@ -28,9 +33,6 @@ struct BoxSweepEntry {
 ///
 /// `passed(index)`, where given, says a box needs no more pairs (the caller has done with it):
 /// from then on none of its pairs is reported, and the boxes after it are not scanned for it.
-struct NonePassed {
-  constexpr bool operator()(std::size_t) const { return false; }
-};
 template <bool AlongY, bool Closed, class Box, class T, class Pair, class Passed = NonePassed>
 void sweep_boxes(const std::vector<Box>& boxes, std::vector<BoxSweepEntry<T>>& sorted, Pair&& pair,
                  Passed&& passed = {}) {
