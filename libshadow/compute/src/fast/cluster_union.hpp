@@ -20,6 +20,7 @@
 #include "fast/cluster_scratch.hpp"
 #include "geometry/cyclic_index.hpp"
 #include "geometry/shared_edge_merge.hpp"
+#include "geometry/winds_once.hpp"
 
 #include <polyclipping/clipper.hpp>
 
@@ -60,28 +61,21 @@ inline bool left_or_straight(ClusterInt128 ux, ClusterInt128 uy, ClusterInt128 v
 
 /// Whether a grid polygon is convex and counter-clockwise with positive area, so that its
 /// non-zero-fill region is its shoelace area. Every turn is to the left (or straight on, going
-/// the same way), and the x direction changes sign at most twice around it: each full turn of
-/// the edge direction changes it twice, so the boundary winds once (a pentagram turns left
+/// the same way), and the boundary winds once (geometry::XSignChanges: a pentagram turns left
 /// everywhere but winds twice).
 inline bool is_convex_ccw(const ClipperLib::Path& path) {
   const std::size_t n = path.size();
   if (n < 3) return false;
-  int changes = 0, last_sign = 0, first_sign = 0;
+  geometry::XSignChanges winding;
   for (std::size_t a = 0; a < n; ++a) {
     const ClipperLib::IntPoint& p = path[a];
     const ClipperLib::IntPoint& q = path[geometry::cyclic_next(a, n)];
     const ClipperLib::IntPoint& r = path[geometry::cyclic_next(geometry::cyclic_next(a, n), n)];
     const ClusterInt128 ux = q.X - p.X, uy = q.Y - p.Y, vx = r.X - q.X, vy = r.Y - q.Y;
     if (!left_or_straight(ux, uy, vx, vy)) return false;  // a right turn, a spike back, or a repeated point
-    const int sign = ux > 0 ? 1 : ux < 0 ? -1 : 0;
-    if (sign != 0) {
-      if (first_sign == 0) first_sign = sign;
-      if (last_sign != 0 && sign != last_sign) ++changes;
-      last_sign = sign;
-    }
+    winding.add(geometry::sign_of_difference(p.X, q.X));
   }
-  if (last_sign != 0 && first_sign != 0 && last_sign != first_sign) ++changes;  // around the end
-  return changes <= 2 && twice_area(path) > 0;
+  return winding.winds_once() && twice_area(path) > 0;
 }
 
 inline GridBox grid_box(const ClipperLib::Path& path) {

@@ -8,6 +8,7 @@
 #include "core/solid_outlines.hpp"
 #include "geometry/monotone_chain.hpp"
 #include "geometry/unit_vector.hpp"
+#include "geometry/winds_once.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -48,23 +49,17 @@ bool hull_from_outline(const ChartPoints& pts, const core::SolidOutlines::Outlin
   auto at = [&](std::size_t c) -> const glm::dvec2& { return pts[outline.data[c]]; };
   bool left = true, right = true;
   std::size_t first = 0;  // the least point
-  // Turning one way everywhere, a closed polygon may still wind twice (a pentagram): once round,
-  // the edges' x direction changes sign twice (around the end too), as in is_convex_ccw.
-  int changes = 0, first_sign = 0, last_sign = 0;
+  // Turning one way everywhere, a closed polygon may still wind twice (a pentagram).
+  geometry::XSignChanges winding;
   for (std::size_t c = 0; c < m; ++c) {
     const glm::dvec2 &o = at(c), &a = at(c + 1 < m ? c + 1 : c + 1 - m), &b = at(c + 2 < m ? c + 2 : c + 2 - m);
     const double turn = (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
     left = left && turn > 0;
     right = right && turn < 0;
     if (o.x < at(first).x || (o.x == at(first).x && o.y < at(first).y)) first = c;
-    const int sign = a.x > o.x ? 1 : a.x < o.x ? -1 : 0;
-    if (sign == 0) continue;
-    if (first_sign == 0) first_sign = sign;
-    if (last_sign != 0 && sign != last_sign) ++changes;
-    last_sign = sign;
+    winding.add(geometry::sign_of_difference(o.x, a.x));
   }
-  if (first_sign != 0 && last_sign != first_sign) ++changes;
-  if ((!left && !right) || changes > 2) return false;
+  if ((!left && !right) || !winding.winds_once()) return false;
   hull.resize(m);
   for (std::size_t j = 0, c = first; j < m; ++j) {  // from the least point, counter-clockwise on the chart
     hull[j] = at(c);
