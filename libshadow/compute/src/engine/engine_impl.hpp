@@ -323,6 +323,13 @@ inline int receiver_side(const core::PreparedScene& ctx, exact::ExactWorker& w, 
   return CGAL::sign(exact::plane_at_light(w.face(ctx, f), light));
 }
 
+/// Whether a directional light's grid should find the solids' outlines (find_outlines), which
+/// both engines' solid casts take instead of sorting each solid's points: only where a solid may
+/// shade several receivers (as many receivers to compute as solids, or more), not for a lone
+/// ground under a city (docs/benchmarks.md, the twenty-fourth look). compute() and
+/// compute_series() decide alike.
+inline bool outlines_pay(std::size_t receivers, std::size_t solids) { return receivers >= solids; }
+
 /// Work items whose receiver is certainly turned away from its directional light, split off
 /// before a round (compute_light and compute_series, areas only): half of a city's faces look
 /// away from each sun, and each was a work item of its own. Items are row * count + k for rows

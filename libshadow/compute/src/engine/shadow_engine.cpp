@@ -167,9 +167,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) {
     grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
-    // The solids' outlines, for the fast casts: they pay where a solid shades several receivers
-    // (docs/benchmarks.md, the twenty-fourth look), not for a lone ground under a city.
-    if (options.arithmetic == Arithmetic::Fast && receivers.size() >= solids.size()) grid->find_outlines(solids, threads);
+    if (engine_detail::outlines_pay(receivers.size(), solids.size())) grid->find_outlines(solids, threads);
   }
 
   // Areas only under a directional light: the receivers certainly turned away from it get their

@@ -5,6 +5,9 @@
 // areas-only route's rational casts, kept whole when they reach the box (reaches_chart_box).
 #include "exact/exact_receiver_job.hpp"
 
+#include "core/light_space_grid.hpp"
+#include "core/solid_outlines.hpp"
+
 #include <CGAL/convex_hull_2.h>
 
 #include <gmpxx.h>
@@ -121,20 +124,22 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
     // points, crossings or hull for it.
     if (any_behind && projector.misses_box(cs.vertices, w_.vertex_sign, cs.edges)) return;
     QPointList& pts = w_.qpoly;
-    pts.clear();
-    for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
-      if (w_.vertex_sign[v] == CGAL::POSITIVE) projector.project(cs.vertices[v], pts.emplace_back());
-      if (w_.vertex_sign[v] == CGAL::ZERO) projector.chart(cs.vertices[v], pts.emplace_back());
+    if (!hull_from_outline(solid, pts)) {
+      pts.clear();
+      for (std::size_t v = 0; v < cs.vertices.size(); ++v) {
+        if (w_.vertex_sign[v] == CGAL::POSITIVE) projector.project(cs.vertices[v], pts.emplace_back());
+        if (w_.vertex_sign[v] == CGAL::ZERO) projector.chart(cs.vertices[v], pts.emplace_back());
+      }
+      // Crossings only where some vertex is behind: the edges are not even read otherwise.
+      for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {
+        const auto& [a, b] = cs.edges[e];
+        const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
+        if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
+          projector.crossing(cs.vertices[a], cs.vertices[b], pts.emplace_back());
+      }
+      convex_hull(pts, w_.qscratch, w_.qorder, w_.qchain, w_.qs);
+      pts.swap(w_.qscratch);
     }
-    // Crossings only where some vertex is behind: the edges are not even read otherwise.
-    for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {
-      const auto& [a, b] = cs.edges[e];
-      const CGAL::Sign sa = w_.vertex_sign[a], sb = w_.vertex_sign[b];
-      if ((sa == CGAL::POSITIVE && sb == CGAL::NEGATIVE) || (sa == CGAL::NEGATIVE && sb == CGAL::POSITIVE))
-        projector.crossing(cs.vertices[a], cs.vertices[b], pts.emplace_back());
-    }
-    convex_hull(pts, w_.qscratch, w_.qorder, w_.qchain, w_.qs);
-    pts.swap(w_.qscratch);
     clip_to_chart_box_q(pts);
     if (pts.size() < 3) return;
     if (area_sign(pts, w_.qs, w_.qarea) != CGAL::POSITIVE) return;  // flat: edge-on solid
@@ -166,6 +171,43 @@ void ExactReceiverJob::cast_convex_solid(int solid) {
   note_cover(projected);
   shadows_.push_back(std::move(projected));
   ++stats_.casting_pairs;
+}
+
+bool ExactReceiverJob::hull_from_outline(int solid, QPointList& hull) {
+  // Only for a solid wholly in front of the receiver's plane: its points are then its projected
+  // vertices alone, and the outline's corners are the corners of their hull.
+  for (const CGAL::Sign sign : w_.vertex_sign)
+    if (sign != CGAL::POSITIVE) return false;
+  const core::SolidOutlines* outlines = grid_ != nullptr ? grid_->outlines() : nullptr;
+  if (outlines == nullptr || !outlines->of(ctx_.solids)) return false;
+  const core::SolidOutlines::Outline outline = outlines->outline(static_cast<std::size_t>(solid));
+  if (outline.size < 3) return false;
+  // The projection onto the receiver's plane along the light is an affine map of the plane
+  // across the light (core/solid_outlines.hpp), and the outline is certain for the exact
+  // projection: strictly convex, every other vertex strictly inside. So the exact hull of the
+  // projected vertices is the corners' images in the outline's order, or in the reverse order
+  // where the map turns the plane over, or flat where the map is (a receiver edge-on to the
+  // light: every image on one line, where convex_hull would leave fewer than 3 points).
+  const core::ConvexSolid& cs = (*ctx_.solids)[static_cast<std::size_t>(solid)];
+  ScaledChart& projector = scaled_chart();
+  hull.clear();
+  for (std::size_t c = 0; c < outline.size; ++c) projector.project(cs.vertices[outline.data[c]], hull.emplace_back());
+  CGAL::Protect_FPU_rounding<true> guard;
+  const CGAL::Sign turn = orientation<false>(hull[0], hull[0].i, hull[1], hull[1].i, hull[2], hull[2].i, w_.qs);
+  if (turn == CGAL::ZERO) {
+    hull.clear();
+    return true;
+  }
+  if (turn == CGAL::NEGATIVE) std::reverse(hull.begin(), hull.end());
+  // From the least point (x, then y), as convex_hull gives it: the same polygon, vertex for vertex.
+  std::size_t least = 0;
+  for (std::size_t c = 1; c < hull.size(); ++c) {
+    const QPoint2 &p = hull[c], &q = hull[least];
+    const int cx = compare(p.x, p.i.x, q.x, q.i.x);
+    if (cx < 0 || (cx == 0 && compare(p.y, p.i.y, q.y, q.i.y) < 0)) least = c;
+  }
+  std::rotate(hull.begin(), hull.begin() + static_cast<std::ptrdiff_t>(least), hull.end());
+  return true;
 }
 
 void ExactReceiverJob::cast_face(std::size_t q) {

@@ -106,6 +106,11 @@ class ExactReceiverJob {
 
   // ---- a convex solid casts the hull of its projection (see core::ConvexSolid) --------------------
   void cast_convex_solid(int solid);
+  /// The rational hull of a solid wholly in front of the receiver (every vertex_sign positive)
+  /// from its outline seen from the light (the grid's core::SolidOutlines), into `hull` as
+  /// convex_hull gives it, without sorting or testing all its points; false where there is no
+  /// such outline, and convex_hull must decide.
+  bool hull_from_outline(int solid, QPointList& hull);
 
   // ---- a caster face, convex piece by convex piece ------------------------------------------
   void cast_face(std::size_t q);
