@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -43,7 +44,7 @@ struct DoubleAffine {
 class ReceiverCuller {
  public:
   ReceiverCuller(const CullScene& cull, const FacePrep& fp, std::size_t face_id, const Light& light)
-      : cull_(&cull) {
+      : cull_(&cull), receiver_(face_id) {
     const CullFace& cp = cull.faces[face_id];
     const double D = cull.diameter;
     glm::dvec3 lxyz;
@@ -54,6 +55,7 @@ class ReceiverCuller {
     } else {
       lxyz = geometry::unit(light.to_light);
       lw = 0.0;
+      if (light.type == LightType::Directional && !light.is_extended()) direction_ = light.to_light;
       if (!cull.closed_outward.empty() && light.type == LightType::Directional) {  // (never a lamp: it may be inside)
         closed_outward_ = cull.closed_outward.data();
         to_light_ = lxyz;
@@ -120,6 +122,50 @@ class ReceiverCuller {
   /// The scene the culler tests faces of.
   [[nodiscard]] const CullScene& scene() const { return *cull_; }
 
+  /// Lets caster_plane_rules_out() decide, with the scene's input faces (`scene` and `prep`, of
+  /// the same faces as the CullScene): under a directional light, for an exactly planar receiver.
+  void use_caster_planes(const Scene& scene, const std::vector<FacePrep>& prep) {
+    if (direction_ && prep[receiver_].exactly_planar) {
+      input_ = &scene;
+      input_prep_ = &prep;
+    }
+  }
+
+  /// True when face q certainly casts nothing on the receiver because the whole receiver lies on
+  /// the light's side of q's plane, or on it: a ray from a point there to the light only moves
+  /// away from that plane, so it never meets q (a wall and the ground it stands on, a roof and
+  /// the ground). Exactly planar casters only (the exact engine's polygon is then the input's);
+  /// false where use_caster_planes() was not called or did not apply. For a face cast on its own
+  /// only: a convex solid casts its hull, which one of its faces' planes does not bound.
+  ///
+  /// A caster in a plane x_k = c (every input vertex with the same coordinate k: the ground, a
+  /// floor) is decided exactly by comparing input doubles, also for receiver vertices on the
+  /// plane (the foot of a wall). Any other plane in doubles, by its rigorous error bound (as the
+  /// receiver's own plane test above): certain where the receiver is clearly on the light's side.
+  [[nodiscard]] bool caster_plane_rules_out(std::size_t q) const {
+    if (input_ == nullptr || !(*input_prep_)[q].exactly_planar) return false;
+    const std::vector<glm::dvec3>& receiver = input_->faces[receiver_].vertices;
+    const std::vector<glm::dvec3>& caster = input_->faces[q].vertices;
+    for (int k = 0; k < 3; ++k) {
+      const double c = caster[0][k];
+      if (!std::all_of(caster.begin(), caster.end(), [&](const glm::dvec3& v) { return v[k] == c; })) continue;
+      const double d = (*direction_)[k];  // the light's side of x_k = c: the sign of d_k
+      if (d == 0) return false;  // edge-on to the light: left to the engines
+      return std::all_of(receiver.begin(), receiver.end(), [&](const glm::dvec3& y) { return d > 0 ? y[k] >= c : y[k] <= c; });
+    }
+    const CullFace& cq = cull_->faces[q];
+    const glm::dvec3 unit = geometry::unit(*direction_);
+    const double light_side = certainly_turned_away(cq, unit, -1.0) ? 1.0 : certainly_turned_away(cq, unit, 1.0) ? -1.0 : 0.0;
+    if (light_side == 0.0) return false;
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    const double D = cull_->diameter;
+    const double error = 1e-9 * D + 2 * (cq.normal_error * D + (static_cast<double>(cq.count) + 16) * eps * D);
+    const CullFace& cr = cull_->faces[receiver_];
+    for (std::size_t a = cr.first; a < cr.first + cr.count; ++a)
+      if (!(light_side * (glm::dot(cq.normal, cull_->vertices[a]) + cq.offset) > error)) return false;
+    return true;
+  }
+
   /// False when face q is certainly outside the receiver's slab, prism or pyramid, or, under a
   /// directional light, a face of a closed solid certainly turned away from the light: a ray
   /// that enters an embedded closed solid leaves it again nearer the light, through a face
@@ -143,6 +189,10 @@ class ReceiverCuller {
  private:
 
   const CullScene* cull_;
+  std::size_t receiver_;
+  std::optional<glm::dvec3> direction_;  ///< a directional light's to_light, as given
+  const Scene* input_ = nullptr;         ///< use_caster_planes()
+  const std::vector<FacePrep>* input_prep_ = nullptr;
   const signed char* closed_outward_ = nullptr;  ///< CullScene::closed_outward under a directional light
   glm::dvec3 to_light_{0.0};
   bool above_caps_ = false;  ///< the light is certainly above every horizontal plane (to_light.z > 0)
@@ -200,6 +250,7 @@ class CasterCandidates {
       const int solid = one_face || own_solid >= 0 ? (*solid_of)[q] : -1;
       if (solid >= 0 && solid == own_solid) return false;
       if (!culler.may_cast(q)) return false;
+      if ((solid_of == nullptr || (*solid_of)[q] < 0) && culler.caster_plane_rules_out(q)) return false;
       faces_.push_back(q);
       return one_face && solid >= 0;
     };

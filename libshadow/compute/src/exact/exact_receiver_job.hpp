@@ -49,7 +49,8 @@ class ExactReceiverJob {
  private:
   // ---- culling in doubles -------------------------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
-    const core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
+    core::ReceiverCuller culler(*ctx_.cull, fp_, face_id_, light_in_);
+    culler.use_caster_planes(*ctx_.scene, *ctx_.prep);
     const std::vector<std::size_t>& candidates =
         w_.casters.gather(culler, *ctx_.prep, face_id_, grid_, tile_ ? ctx_.cull : nullptr, tile_ ? &fp_ : nullptr,
                           ctx_.solid_of, /*one_face_per_solid=*/!point_light_ && fp_.exactly_planar);  // as run() casts

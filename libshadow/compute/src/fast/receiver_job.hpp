@@ -422,7 +422,8 @@ class ReceiverJob {
 
   // ---- culling: the exact engine's tests ----------------------------------------------------
   const std::vector<std::size_t>& gather_casters() {
-    const core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
+    core::ReceiverCuller culler(cull_, fp_, face_id_, light_);
+    culler.use_caster_planes(scene_, prep_);
     const std::vector<std::size_t>& candidates =
         w_.casters.gather(culler, prep_, face_id_, grid_index_, tile_ ? &cull_ : nullptr, tile_ ? &fp_ : nullptr,
                           ctx_.solid_of, /*one_face_per_solid=*/!rc_.point && rc_.exact_sides);  // as cast_all casts
