@@ -716,7 +716,9 @@ TEST(ExactUnionAreaInTheEngine, ClosedSolidsCastThroughTheirFacesTurnedToTheLigh
   const shadow::ShadowResult b = shadow::compute_shadows(apart, options);
   const std::size_t shadowed = expect_same_lighting(a, b);
   EXPECT_GT(shadowed, 40u);
-  EXPECT_LT(a.stats.candidate_pairs, b.stats.candidate_pairs * 3 / 4);  // the faces turned away were dropped
+  // The faces turned away were dropped. (Many of them are left out in both scenes by the
+  // caster-plane rule too, core/culling.hpp: the receiver lies on the light's side of their plane.)
+  EXPECT_LT(a.stats.candidate_pairs, b.stats.candidate_pairs * 9 / 10);
 }
 
 TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
