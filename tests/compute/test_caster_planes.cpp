@@ -32,16 +32,18 @@ struct Prepared {
   }
 };
 
-/// Whether the ray from p towards the light (direction d) meets triangle abc at a parameter
-/// clearly above 0, strictly inside (long double, margins far above its rounding).
-bool ray_meets(const glm::dvec3& p, const glm::dvec3& d, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+/// Whether the ray p + t d meets triangle abc at a parameter clearly above 0 (and below
+/// `t_max`: 1 for the segment to a lamp at p + d), strictly inside (long double, margins far
+/// above its rounding).
+bool ray_meets(const glm::dvec3& p, const glm::dvec3& d, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+               long double t_max) {
   using L = long double;
   const L ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z, vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
   const L nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
   const L den = nx * d.x + ny * d.y + nz * d.z;
   if (std::fabs(den) < 1e-12L) return false;
   const L t = -(nx * (p.x - a.x) + ny * (p.y - a.y) + nz * (p.z - a.z)) / den;
-  if (t <= 1e-9L) return false;
+  if (t <= 1e-9L || t >= t_max - 1e-9L) return false;
   const L x = p.x + t * d.x, y = p.y + t * d.y, z = p.z + t * d.z;
   auto side = [&](const glm::dvec3& s, const glm::dvec3& e) {
     const L ex = e.x - s.x, ey = e.y - s.y, ez = e.z - s.z, wx = x - s.x, wy = y - s.y, wz = z - s.z;
@@ -57,7 +59,7 @@ TEST(CasterPlanes, RaysFromReceiversLeftOutNeverMeetTheCaster) {
   std::mt19937_64 rng(20261207);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto coordinate = [&] { return std::round(40 * unit(rng) - 20) / 2; };  // halves: ties on planes
-  std::size_t ruled_out = 0, pairs = 0, rays = 0;
+  std::size_t ruled_out = 0, lamp_ruled_out = 0, pairs = 0, rays = 0;
   for (int round = 0; round < 60; ++round) {
     Scene scene;
     std::vector<Polygon3> faces;
@@ -74,8 +76,11 @@ TEST(CasterPlanes, RaysFromReceiversLeftOutNeverMeetTheCaster) {
     // A wall on the ground rectangle's plane z = 0 (the foot of a wall: vertices on the plane).
     faces.push_back({{0, 0, 0}, {4, 1, 0}, {4, 1, 3}, {0, 0, 3}});
     for (const Polygon3& f : faces) add_mesh(scene, "f" + std::to_string(scene.meshes.size()), {f});
+    // A sun, or (every third round) a lamp, on a plane of the faces' coordinates now and then.
+    const bool lamp = round % 3 == 2;
     const glm::dvec3 d = sun_direction(5 + 80 * unit(rng), 360 * unit(rng));
-    scene.lights.push_back(directional_light("sun", d));
+    const glm::dvec3 at(coordinate(), coordinate(), round % 2 == 0 ? coordinate() : 12.0);
+    scene.lights.push_back(lamp ? point_light("lamp", at) : directional_light("sun", d));
     bool valid = true;
     try {
       validate_scene(scene);
@@ -93,6 +98,7 @@ TEST(CasterPlanes, RaysFromReceiversLeftOutNeverMeetTheCaster) {
         ++pairs;
         if (!culler.caster_plane_rules_out(q)) continue;
         ++ruled_out;
+        lamp_ruled_out += lamp ? 1 : 0;
         const Polygon3& R = scene.faces[r].vertices;
         const Polygon3& Q = scene.faces[q].vertices;
         for (int k = 0; k < 64; ++k) {  // points of the receiver: convex combinations of its vertices
@@ -106,17 +112,37 @@ TEST(CasterPlanes, RaysFromReceiversLeftOutNeverMeetTheCaster) {
           point /= total;
           for (std::size_t t = 1; t + 1 < Q.size(); ++t) {  // the caster's fan (convex faces here)
             ++rays;
-            EXPECT_FALSE(ray_meets(point, d, Q[0], Q[t], Q[t + 1])) << "round " << round << " receiver " << r << " caster " << q;
+            const bool meets = lamp ? ray_meets(point, at - point, Q[0], Q[t], Q[t + 1], 1)
+                                    : ray_meets(point, d, Q[0], Q[t], Q[t + 1], 1e300L);
+            EXPECT_FALSE(meets) << "round " << round << " receiver " << r << " caster " << q;
           }
         }
       }
     }
   }
   // Not vacuous: the rule applies to a good share of the pairs (every face on the ground's light
-  // side, for one).
-  std::printf("%zu of %zu pairs left out, %zu rays\n", ruled_out, pairs, rays);
+  // side, for one), under lamps too.
+  std::printf("%zu of %zu pairs left out (%zu under lamps), %zu rays\n", ruled_out, pairs, lamp_ruled_out, rays);
   EXPECT_GT(ruled_out, pairs / 10);
+  EXPECT_GT(lamp_ruled_out, ruled_out / 20);
   EXPECT_GT(rays, 10000u);
+}
+
+TEST(CasterPlanes, ALampOnTheFloorsPlaneDecidesNothing) {
+  Scene scene;
+  add_mesh(scene, "floor", {rectangle_z(-10, -10, 10, 10, 0)});
+  add_mesh(scene, "table", {rectangle_z(0, 0, 2, 1, 0.8)});
+  scene.lights.push_back(point_light("lamp", {1, 1, 2.5}));
+  scene.lights.push_back(point_light("on the floor", {5, 5, 0}));
+  scene.lights.push_back(point_light("under it", {5, 5, -1}));
+  validate_scene(scene);
+  const Prepared p(scene);
+  const bool expected[] = {true, false, false};
+  for (std::size_t l = 0; l < 3; ++l) {
+    core::ReceiverCuller culler(p.cull, p.prep[1], 1, scene.lights[l]);
+    culler.use_caster_planes(scene, p.prep);
+    EXPECT_EQ(culler.caster_plane_rules_out(0), expected[l]) << scene.lights[l].name;
+  }
 }
 
 TEST(CasterPlanes, NotWhereTheLightIsExtendedOrTheCullerWasNotAsked) {

@@ -50,6 +50,7 @@ class ReceiverCuller {
     glm::dvec3 lxyz;
     double lw;
     if (light.type == LightType::Point) {
+      lamp_ = light.position;
       lxyz = light.position - cull.origin;
       lw = 1.0;
     } else {
@@ -123,25 +124,28 @@ class ReceiverCuller {
   [[nodiscard]] const CullScene& scene() const { return *cull_; }
 
   /// Lets caster_plane_rules_out() decide, with the scene's input faces (`scene` and `prep`, of
-  /// the same faces as the CullScene): under a directional light, for an exactly planar receiver.
+  /// the same faces as the CullScene): under a directional light or a lamp, for an exactly
+  /// planar receiver.
   void use_caster_planes(const Scene& scene, const std::vector<FacePrep>& prep) {
-    if (direction_ && prep[receiver_].exactly_planar) {
+    if ((direction_ || lamp_) && prep[receiver_].exactly_planar) {
       input_ = &scene;
       input_prep_ = &prep;
     }
   }
 
   /// True when face q certainly casts nothing on the receiver because the whole receiver lies on
-  /// the light's side of q's plane, or on it: a ray from a point there to the light only moves
-  /// away from that plane, so it never meets q (a wall and the ground it stands on, a roof and
-  /// the ground). Exactly planar casters only (the exact engine's polygon is then the input's);
-  /// false where use_caster_planes() was not called or did not apply. For a face cast on its own
-  /// only: a convex solid casts its hull, which one of its faces' planes does not bound.
+  /// the light's side of q's plane, or on it, and the light strictly on that side: a ray from a
+  /// point there to the light only moves away from that plane, so it never meets q (a wall and
+  /// the ground it stands on, a roof and the ground, a table top and the floor under a lamp).
+  /// Exactly planar casters only (the exact engine's polygon is then the input's); false where
+  /// use_caster_planes() was not called or did not apply. For a face cast on its own only: a
+  /// convex solid casts its hull, which one of its faces' planes does not bound.
   ///
   /// A caster in a plane x_k = c (every input vertex with the same coordinate k: the ground, a
   /// floor) is decided exactly by comparing input doubles, also for receiver vertices on the
-  /// plane (the foot of a wall). Any other plane in doubles, by its rigorous error bound (as the
-  /// receiver's own plane test above): certain where the receiver is clearly on the light's side.
+  /// plane (the foot of a wall). Any other plane, under a directional light only, in doubles by
+  /// its rigorous error bound (as the receiver's own plane test above): certain where the
+  /// receiver is clearly on the light's side.
   [[nodiscard]] bool caster_plane_rules_out(std::size_t q) const {
     if (input_ == nullptr || !(*input_prep_)[q].exactly_planar) return false;
     const std::vector<glm::dvec3>& receiver = input_->faces[receiver_].vertices;
@@ -149,10 +153,12 @@ class ReceiverCuller {
     for (int k = 0; k < 3; ++k) {
       const double c = caster[0][k];
       if (!std::all_of(caster.begin(), caster.end(), [&](const glm::dvec3& v) { return v[k] == c; })) continue;
-      const double d = (*direction_)[k];  // the light's side of x_k = c: the sign of d_k
-      if (d == 0) return false;  // edge-on to the light: left to the engines
-      return std::all_of(receiver.begin(), receiver.end(), [&](const glm::dvec3& y) { return d > 0 ? y[k] >= c : y[k] <= c; });
+      // The light's side of x_k = c: the sign of d_k, or of the lamp's x_k - c.
+      const int light = direction_ ? ((*direction_)[k] > 0) - ((*direction_)[k] < 0) : ((*lamp_)[k] > c) - ((*lamp_)[k] < c);
+      if (light == 0) return false;  // edge-on to the light, or a lamp on the plane: left to the engines
+      return std::all_of(receiver.begin(), receiver.end(), [&](const glm::dvec3& y) { return light > 0 ? y[k] >= c : y[k] <= c; });
     }
+    if (!direction_) return false;
     const CullFace& cq = cull_->faces[q];
     const glm::dvec3 unit = geometry::unit(*direction_);
     const double light_side = certainly_turned_away(cq, unit, -1.0) ? 1.0 : certainly_turned_away(cq, unit, 1.0) ? -1.0 : 0.0;
@@ -191,6 +197,7 @@ class ReceiverCuller {
   const CullScene* cull_;
   std::size_t receiver_;
   std::optional<glm::dvec3> direction_;  ///< a directional light's to_light, as given
+  std::optional<glm::dvec3> lamp_;       ///< a point light's position, as given
   const Scene* input_ = nullptr;         ///< use_caster_planes()
   const std::vector<FacePrep>* input_prep_ = nullptr;
   const signed char* closed_outward_ = nullptr;  ///< CullScene::closed_outward under a directional light
