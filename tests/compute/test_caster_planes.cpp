@@ -169,6 +169,10 @@ TEST(CasterPlanes, AWallOnTheGroundIsNoCandidateAWallThroughItIs) {
   // caster (its far part lies in front of the wall's plane) whose cast falls below the wall.
   // Now it is none; the same wall sunk 1 m into the ground keeps it, and the part below the
   // ground is in its shadow: lit 4 x 3 of 4 x 4.
+  ShadowOptions options;
+  options.threads = 1;
+  options.polygons = false;
+  options.planes = false;
   for (const Arithmetic arithmetic : {Arithmetic::Exact, Arithmetic::Fast}) {
     for (const double foot : {0.0, -1.0}) {
       Scene scene;
@@ -176,10 +180,6 @@ TEST(CasterPlanes, AWallOnTheGroundIsNoCandidateAWallThroughItIs) {
       add_mesh(scene, "wall", {{{0, 0, foot}, {4, 0, foot}, {4, 0, 3}, {0, 0, 3}}});  // facing -y: south
       scene.lights.push_back(directional_light("sun", sun_direction(30, 180)));
       validate_scene(scene);
-      ShadowOptions options;
-      options.threads = 1;
-      options.polygons = false;
-      options.planes = false;
       options.arithmetic = arithmetic;
       const ShadowResult r = compute_shadows(scene, options);
       const FaceLighting* wall = r.find(1, 0);
