@@ -128,20 +128,26 @@ TEST(CasterPlanes, RaysFromReceiversLeftOutNeverMeetTheCaster) {
   EXPECT_GT(rays, 10000u);
 }
 
-TEST(CasterPlanes, ALampOnTheFloorsPlaneDecidesNothing) {
+TEST(CasterPlanes, ALightInTheFloorsPlaneOrACasterNotExactlyPlanarDecidesNothing) {
   Scene scene;
   add_mesh(scene, "floor", {rectangle_z(-10, -10, 10, 10, 0)});
   add_mesh(scene, "table", {rectangle_z(0, 0, 2, 1, 0.8)});
+  // A quad planar only within tolerance, under the table: no exact plane to decide by.
+  add_mesh(scene, "warped", {{{-1, -1, 0.1}, {3, -1, 0.1}, {3, 2, 0.1 + 1e-12}, {-1, 2, 0.1}}});
   scene.lights.push_back(point_light("lamp", {1, 1, 2.5}));
   scene.lights.push_back(point_light("on the floor", {5, 5, 0}));
   scene.lights.push_back(point_light("under it", {5, 5, -1}));
+  scene.lights.push_back(directional_light("sun", {0.3, 0.2, 1}));
+  scene.lights.push_back(directional_light("level sun", {1, 0.5, 0}));
   validate_scene(scene);
   const Prepared p(scene);
-  const bool expected[] = {true, false, false};
-  for (std::size_t l = 0; l < 3; ++l) {
+  ASSERT_FALSE(p.prep[2].exactly_planar);
+  const bool expected[] = {true, false, false, true, false};
+  for (std::size_t l = 0; l < scene.lights.size(); ++l) {
     core::ReceiverCuller culler(p.cull, p.prep[1], 1, scene.lights[l]);
     culler.use_caster_planes(scene, p.prep);
     EXPECT_EQ(culler.caster_plane_rules_out(0), expected[l]) << scene.lights[l].name;
+    EXPECT_FALSE(culler.caster_plane_rules_out(2)) << scene.lights[l].name;
   }
 }
 

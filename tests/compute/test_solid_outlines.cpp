@@ -120,6 +120,20 @@ TEST(SolidOutlines, NoneWhereVerticesProjectOntoTheOutlinesEdgesOrCorners) {
   EXPECT_EQ(outlines_from({}, general).outline(0).size, 0u);
 }
 
+TEST(SolidOutlines, TinySolidsGetNoneWhereRoundingIsNoLongerRelative) {
+  // The exact engine takes its hulls from the outlines, so they must stay certain at every
+  // scale: a box some 1e-90 across still gets one (its squares are normal doubles), one of
+  // some 1e-150 does not (they would not be), nor one of 2^-1000.
+  const glm::dvec3 general(0.3, -0.4, 0.8);
+  for (const int e : {-300, -500, -1000}) {
+    const double s = std::ldexp(1.0, e);
+    const std::vector<ConvexSolid> solids{box(0, 0, 0, 10 * s, 20 * s, 30 * s)};
+    const SolidOutlines outlines = outlines_from(solids, general);
+    EXPECT_EQ(outlines.outline(0).size, e == -300 ? 6u : 0u) << "2^" << e;
+    if (e == -300) EXPECT_EQ(check_outlines(solids, general, outlines), 1u);
+  }
+}
+
 TEST(SolidOutlines, TheSameOnEveryThreadCount) {
   std::vector<ConvexSolid> solids;
   for (int i = 0; i < 3000; ++i) solids.push_back(turned(box(i % 50, i / 50, 0, i % 50 + 0.7, i / 50 + 0.4, 1 + i % 7), 0.01 * i, 0.0));

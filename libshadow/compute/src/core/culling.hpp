@@ -56,7 +56,10 @@ class ReceiverCuller {
     } else {
       lxyz = geometry::unit(light.to_light);
       lw = 0.0;
-      if (light.type == LightType::Directional && !light.is_extended()) direction_ = light.to_light;
+      if (light.type == LightType::Directional && !light.is_extended()) {
+        direction_ = light.to_light;
+        unit_direction_ = lxyz;
+      }
       if (!cull.closed_outward.empty() && light.type == LightType::Directional) {  // (never a lamp: it may be inside)
         closed_outward_ = cull.closed_outward.data();
         to_light_ = lxyz;
@@ -136,10 +139,10 @@ class ReceiverCuller {
   /// True when face q certainly casts nothing on the receiver because the whole receiver lies on
   /// the light's side of q's plane, or on it, and the light strictly on that side: a ray from a
   /// point there to the light only moves away from that plane, so it never meets q (a wall and
-  /// the ground it stands on, a roof and the ground, a table top and the floor under a lamp).
-  /// Exactly planar casters only (the exact engine's polygon is then the input's); false where
-  /// use_caster_planes() was not called or did not apply. For a face cast on its own only: a
-  /// convex solid casts its hull, which one of its faces' planes does not bound.
+  /// the ground it stands on, a table top and the floor under a lamp). Exactly planar casters
+  /// only (the exact engine's polygon is then the input's); false where use_caster_planes() was
+  /// not called or did not apply. For a face cast on its own only: a convex solid is cast once,
+  /// as one hull at its first listed face, so its faces are not left out one by one.
   ///
   /// A caster in a plane x_k = c (every input vertex with the same coordinate k: the ground, a
   /// floor) is decided exactly by comparing input doubles, also for receiver vertices on the
@@ -160,8 +163,9 @@ class ReceiverCuller {
     }
     if (!direction_) return false;
     const CullFace& cq = cull_->faces[q];
-    const glm::dvec3 unit = geometry::unit(*direction_);
-    const double light_side = certainly_turned_away(cq, unit, -1.0) ? 1.0 : certainly_turned_away(cq, unit, 1.0) ? -1.0 : 0.0;
+    const double light_side = certainly_turned_away(cq, unit_direction_, -1.0)  ? 1.0
+                              : certainly_turned_away(cq, unit_direction_, 1.0) ? -1.0
+                                                                                 : 0.0;
     if (light_side == 0.0) return false;
     constexpr double eps = std::numeric_limits<double>::epsilon();
     const double D = cull_->diameter;
@@ -197,6 +201,7 @@ class ReceiverCuller {
   const CullScene* cull_;
   std::size_t receiver_;
   std::optional<glm::dvec3> direction_;  ///< a directional light's to_light, as given
+  glm::dvec3 unit_direction_{0.0};       ///< and as a unit vector
   std::optional<glm::dvec3> lamp_;       ///< a point light's position, as given
   const Scene* input_ = nullptr;         ///< use_caster_planes()
   const std::vector<FacePrep>* input_prep_ = nullptr;

@@ -202,7 +202,8 @@ class LightSpaceGrid {
   }
 
   /// Finds the outlines of `solids` (the scene's convex solids, as `solid_of` numbers them) seen
-  /// from this grid's light, on `threads` threads, for the fast path's casts (outlines()).
+  /// from this grid's light, on `threads` threads, for both engines' casts of convex solids
+  /// (outlines()).
   void find_outlines(const std::vector<ConvexSolid>& solids, unsigned threads = 1) {
     outlines_.emplace(solids, u_, v_, threads);  // (u_ x v_ = d_)
   }

@@ -8,7 +8,8 @@
 // their cyclic order, are the same for every receiver: only the map, and with it the turning
 // direction, changes. The fast path sorted and walked each solid's projected points for every
 // receiver it shades; with the outline it takes the corners in order instead
-// (fast/fast_receiver_casts.cpp).
+// (fast/fast_receiver_casts.cpp), and so does the exact engine on its areas-only route
+// (exact/exact_receiver_casts.cpp): the outline is certain for the exact projection.
 #pragma once
 
 #include "core/convex_solid.hpp"
@@ -97,11 +98,13 @@ class SolidOutlines {
       reach2 = std::max(reach2, q[a].x * q[a].x + q[a].y * q[a].y);
       height2 = std::max(height2, glm::dot(y, y));
     }
-    if (!(reach2 > 0) || !std::isfinite(height2)) return 0;
+    // (Tiny solids get none: below some 1e-140 the squares and the cross products would leave the
+    // normal doubles, where rounding is no longer relative and the margin no longer covers it.)
+    if (!(reach2 > 1e-280) || !std::isfinite(height2)) return 0;
     // Each q is within some 10 eps H of the exact projection along the exact direction (H the 3D
     // reach: the products' rounding, and u and v a few ulps off the exact frame), so a cross
     // product of differences, whose factors are at most 2 reach, moves by some 1e-14 reach H.
-    const double margin = 1e-9 * std::sqrt(reach2 * height2);
+    const double margin = 1e-9 * std::sqrt(reach2) * std::sqrt(height2);
     auto cross = [&](std::size_t o, std::size_t a, std::size_t b) {
       return (q[a].x - q[o].x) * (q[b].y - q[o].y) - (q[a].y - q[o].y) * (q[b].x - q[o].x);
     };

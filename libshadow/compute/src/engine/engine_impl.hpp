@@ -324,11 +324,14 @@ inline int receiver_side(const core::PreparedScene& ctx, exact::ExactWorker& w, 
 }
 
 /// Whether a directional light's grid should find the solids' outlines (find_outlines), which
-/// both engines' solid casts take instead of sorting each solid's points: only where a solid may
-/// shade several receivers (as many receivers to compute as solids, or more), not for a lone
-/// ground under a city (docs/benchmarks.md, the twenty-fourth look). compute() and
-/// compute_series() decide alike.
-inline bool outlines_pay(std::size_t receivers, std::size_t solids) { return receivers >= solids; }
+/// the solid casts take instead of sorting each solid's points: the fast path's, and the exact
+/// engine's where only areas are asked for (`areas_only`; with polygons it builds its hulls with
+/// CGAL), and only where a solid may shade several receivers (as many receivers to compute as
+/// solids, or more), not for a lone ground under a city (docs/benchmarks.md, the twenty-fourth
+/// look). compute() and compute_series() decide alike.
+inline bool outlines_pay(Arithmetic arithmetic, bool areas_only, std::size_t receivers, std::size_t solids) {
+  return (arithmetic == Arithmetic::Fast || areas_only) && receivers >= solids;
+}
 
 /// Work items whose receiver is certainly turned away from its directional light, split off
 /// before a round (compute_light and compute_series, areas only): half of a city's faces look

@@ -261,7 +261,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
       grids[k].reset();
       const Light& light = lights[order[first + k]];
       if (light.type == LightType::Directional) grids[k].emplace(impl.cull, impl.prep, light.to_light, &impl.solid_of, 1, &item_bounds);
-      if (grids[k] && engine_detail::outlines_pay(computed_rows.size(), impl.solids.size())) grids[k]->find_outlines(impl.solids);
+      if (grids[k] && engine_detail::outlines_pay(options.arithmetic, true, computed_rows.size(), impl.solids.size())) grids[k]->find_outlines(impl.solids);
     });
     for (auto& per_worker : exact_lights) per_worker.assign(count, std::nullopt);
     split_batch(impl.cull, lights, order.data() + first, count, result.faces, computed_rows, first, table, live, workers);

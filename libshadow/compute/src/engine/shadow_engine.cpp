@@ -167,7 +167,7 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
   std::optional<core::LightSpaceGrid> grid;
   if (light_in.type == LightType::Directional) {
     grid.emplace(cull, prep, light_in.to_light, &solid_of, threads);
-    if (engine_detail::outlines_pay(receivers.size(), solids.size())) grid->find_outlines(solids, threads);
+    if (engine_detail::outlines_pay(options.arithmetic, !options.polygons, receivers.size(), solids.size())) grid->find_outlines(solids, threads);
   }
 
   // Areas only under a directional light: the receivers certainly turned away from it get their

@@ -186,18 +186,16 @@ bool ExactReceiverJob::hull_from_outline(int solid, QPointList& hull) {
   // across the light (core/solid_outlines.hpp), and the outline is certain for the exact
   // projection: strictly convex, every other vertex strictly inside. So the exact hull of the
   // projected vertices is the corners' images in the outline's order, or in the reverse order
-  // where the map turns the plane over, or flat where the map is (a receiver edge-on to the
-  // light: every image on one line, where convex_hull would leave fewer than 3 points).
+  // where the map turns the plane over. (The map is flat only for a receiver edge-on to the
+  // light, which casts nothing and never gets here: three images on a line send the solid to
+  // convex_hull all the same.)
   const core::ConvexSolid& cs = (*ctx_.solids)[static_cast<std::size_t>(solid)];
   ScaledChart& projector = scaled_chart();
   hull.clear();
   for (std::size_t c = 0; c < outline.size; ++c) projector.project(cs.vertices[outline.data[c]], hull.emplace_back());
   CGAL::Protect_FPU_rounding<true> guard;
   const CGAL::Sign turn = orientation<false>(hull[0], hull[0].i, hull[1], hull[1].i, hull[2], hull[2].i, w_.qs);
-  if (turn == CGAL::ZERO) {
-    hull.clear();
-    return true;
-  }
+  if (turn == CGAL::ZERO) return false;
   if (turn == CGAL::NEGATIVE) std::reverse(hull.begin(), hull.end());
   // From the least point (x, then y), as convex_hull gives it: the same polygon, vertex for vertex.
   std::size_t least = 0;
