@@ -13,6 +13,7 @@
 #include "exact/rational_points.hpp"
 #include "geometry/box_sweep.hpp"
 #include "geometry/shared_edge_merge.hpp"
+#include "geometry/winds_once.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -302,24 +303,19 @@ class ConvexUnionArea {
   }
 
   /// Whether vertices [a, b) (no two consecutive equal) make a convex polygon that winds once:
-  /// every turn to the left or straight on, and the sign of dx changes at most twice around it
-  /// (a pentagram turns left everywhere but winds twice). Exact predicates.
+  /// every turn to the left or straight on, and the boundary winding once
+  /// (geometry::XSignChanges: a pentagram turns left everywhere but winds twice). Exact predicates.
   bool convex(std::size_t a, std::size_t b) {
     const std::size_t n = b - a;
     if (n < 3) return false;
-    int changes = 0, last = 0, first = 0;
+    geometry::XSignChanges winding;
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t p = a + k, q = a + (k + 1) % n, r = a + (k + 2) % n;
       if (!left_or_straight(p, q, r)) return false;  // a right turn, or a spike back
-      const int sign = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);
-      if (sign != 0) {
-        if (first == 0) first = sign;
-        if (last != 0 && sign != last) ++changes;
-        last = sign;
-      }
+      const int dx = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);  // (GMP's: any sign-valued int)
+      winding.add((dx > 0) - (dx < 0));
     }
-    if (last != 0 && first != 0 && last != first) ++changes;
-    return changes <= 2;
+    return winding.winds_once();
   }
 
   // ---- neighbours: polygon pairs whose boxes meet (a sweep in x) ------------------------------
