@@ -56,13 +56,10 @@ class ReceiverCuller {
     } else {
       lxyz = geometry::unit(light.to_light);
       lw = 0.0;
-      if (light.type == LightType::Directional && !light.is_extended()) {
-        direction_ = light.to_light;
-        unit_direction_ = lxyz;
-      }
+      to_light_ = lxyz;
+      if (light.type == LightType::Directional && !light.is_extended()) direction_ = light.to_light;
       if (!cull.closed_outward.empty() && light.type == LightType::Directional) {  // (never a lamp: it may be inside)
         closed_outward_ = cull.closed_outward.data();
-        to_light_ = lxyz;
         above_caps_ = lxyz.z > 16 * std::numeric_limits<double>::epsilon();  // the unit vector's rounding
       }
     }
@@ -153,9 +150,10 @@ class ReceiverCuller {
     if (input_ == nullptr || !(*input_prep_)[q].exactly_planar) return false;
     const std::vector<glm::dvec3>& receiver = input_->faces[receiver_].vertices;
     const std::vector<glm::dvec3>& caster = input_->faces[q].vertices;
-    for (int k = 0; k < 3; ++k) {
-      const double c = caster[0][k];
-      if (!std::all_of(caster.begin(), caster.end(), [&](const glm::dvec3& v) { return v[k] == c; })) continue;
+    // A plane x_k = c has its normal along k: k is the face's dominant axis.
+    const int k = (*input_prep_)[q].axis;
+    const double c = caster[0][k];
+    if (std::all_of(caster.begin(), caster.end(), [&](const glm::dvec3& v) { return v[k] == c; })) {
       // The light's side of x_k = c: the sign of d_k, or of the lamp's x_k - c.
       const int light = direction_ ? ((*direction_)[k] > 0) - ((*direction_)[k] < 0) : ((*lamp_)[k] > c) - ((*lamp_)[k] < c);
       if (light == 0) return false;  // edge-on to the light, or a lamp on the plane: left to the engines
@@ -163,9 +161,9 @@ class ReceiverCuller {
     }
     if (!direction_) return false;
     const CullFace& cq = cull_->faces[q];
-    const double light_side = certainly_turned_away(cq, unit_direction_, -1.0)  ? 1.0
-                              : certainly_turned_away(cq, unit_direction_, 1.0) ? -1.0
-                                                                                 : 0.0;
+    const double light_side = certainly_turned_away(cq, to_light_, -1.0)  ? 1.0
+                              : certainly_turned_away(cq, to_light_, 1.0) ? -1.0
+                                                                           : 0.0;
     if (light_side == 0.0) return false;
     constexpr double eps = std::numeric_limits<double>::epsilon();
     const double D = cull_->diameter;
@@ -201,12 +199,11 @@ class ReceiverCuller {
   const CullScene* cull_;
   std::size_t receiver_;
   std::optional<glm::dvec3> direction_;  ///< a directional light's to_light, as given
-  glm::dvec3 unit_direction_{0.0};       ///< and as a unit vector
   std::optional<glm::dvec3> lamp_;       ///< a point light's position, as given
   const Scene* input_ = nullptr;         ///< use_caster_planes()
   const std::vector<FacePrep>* input_prep_ = nullptr;
   const signed char* closed_outward_ = nullptr;  ///< CullScene::closed_outward under a directional light
-  glm::dvec3 to_light_{0.0};
+  glm::dvec3 to_light_{0.0};  ///< a directional light's unit direction to it
   bool above_caps_ = false;  ///< the light is certainly above every horizontal plane (to_light.z > 0)
   std::array<DoubleAffine, 5> tests_;
   std::array<double, 5> length_{};  ///< |tests_[t].a|

@@ -312,8 +312,7 @@ class ConvexUnionArea {
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t p = a + k, q = a + (k + 1) % n, r = a + (k + 2) % n;
       if (!left_or_straight(p, q, r)) return false;  // a right turn, or a spike back
-      const int dx = compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x);  // (GMP's: any sign-valued int)
-      winding.add((dx > 0) - (dx < 0));
+      winding.add(compare(pts_[q]->x, ip_[q].x, pts_[p]->x, ip_[p].x));
     }
     return winding.winds_once();
   }
