@@ -14,6 +14,7 @@
 #include "arealight/area_receiver.hpp"
 
 #include "core/lights.hpp"
+#include "core/spatial_order.hpp"
 #include "geometry/unit_vector.hpp"
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
@@ -169,6 +170,19 @@ std::vector<std::size_t> rows_to_compute(const std::vector<std::size_t>& rows, c
   return out;
 }
 
+/// The rows to compute (rows_to_compute) along a curve through the scene
+/// (core/spatial_order.hpp), the order their items are computed in: neighbouring receivers share
+/// casters, which the worker then still has.
+std::vector<std::size_t> along_the_scene(const ShadowEngine::Impl& impl, const std::vector<std::size_t>& faces,
+                                         const std::vector<std::size_t>& given, unsigned threads) {
+  const std::vector<std::size_t> rows = rows_to_compute(faces, given, impl.scene->faces.size());
+  const std::vector<std::size_t> along = core::spatial_order(
+      impl.cull, impl.solid_of, impl.solids, rows.size(), [&](std::size_t c) { return faces[rows[c]]; }, threads);
+  std::vector<std::size_t> out(rows.size());
+  for (std::size_t i = 0; i < along.size(); ++i) out[i] = rows[along[i]];
+  return out;
+}
+
 /// A batch's pairs turned away from their suns written into the table as attached shadows
 /// (engine_detail::split_turned_away); `live` gets the batch's other items, c * count + k (c
 /// indexing computed_rows, sun k: lights[instant[k]] at position first + k), in item order.
@@ -215,7 +229,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
     return result;
   }
 
-  const std::vector<std::size_t> computed_rows = rows_to_compute(result.faces, options.given_faces, scene.faces.size());
+  const std::vector<std::size_t> computed_rows = along_the_scene(impl, result.faces, options.given_faces, threads);
   const std::size_t computed = computed_rows.size();
   if (computed == 0) {  // every row given: no worker, grid or batch
     result.zero_entries();

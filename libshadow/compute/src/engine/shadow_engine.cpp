@@ -19,6 +19,7 @@
 // (exact/exact_receiver.cpp, also the fast path's fallback), and assembles the result;
 // compute_shadows and find_lighting.
 #include "engine/engine_impl.hpp"
+#include "core/spatial_order.hpp"
 
 #include "arealight/area_receiver.hpp"
 #include "core/culling.hpp"
@@ -187,7 +188,11 @@ void ShadowEngine::Impl::compute_light(const Light& light_in, std::size_t light_
         },
         live, workers);
   const std::size_t turned_away = prefilter ? receivers.size() - live.size() : 0;
-  auto receiver_of = [&](std::size_t i) { return prefilter ? live[i] : i; };
+  // The rest along a curve through the scene (core/spatial_order.hpp): neighbours share casters.
+  const std::vector<std::size_t> order = core::spatial_order(
+      cull, solid_of, solids, receivers.size() - turned_away,
+      [&](std::size_t i) { return receivers[prefilter ? live[i] : i]; }, threads);
+  auto receiver_of = [&](std::size_t i) { return prefilter ? live[order[i]] : order[i]; };
 
   // Progress in receivers done: a receiver split into tiles counts when its tiles are done
   // (in proportion during the tile round).
