@@ -14,6 +14,8 @@ packages=(
   libgtest-dev libgmock-dev librapidcheck-dev
   libcli11-dev nlohmann-json3-dev
   libjemalloc-dev
+  # The zlib streams of every .vtp file, made by libdeflate (libshadow/io, vtk_zlib_blocks).
+  libdeflate-dev
   # `mpirun -np N shadow series` and its test (docs/cluster.md); the build works without it.
   libopenmpi-dev openmpi-bin
   # `shadow render` and its tests on a machine without a display: an X server in memory and

@@ -13,7 +13,8 @@
 #include <vtkPolyData.h>
 #include <vtkStringArray.h>
 #include <vtkType.h>
-#include <vtk_zlib.h>
+
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -60,20 +61,26 @@ std::vector<unsigned char> end_offsets(vtkCellArray* cells) {
   return bytes;
 }
 
-/// zlib's compress2 at `level`, as vtkZLibDataCompressor calls it; empty when zlib fails for
-/// another reason than memory (the writer then compresses the block itself and reports it).
-std::vector<unsigned char> deflate_block(const unsigned char* bytes, std::size_t size, int level) {
-  std::vector<unsigned char> out(compressBound(static_cast<uLong>(size)));
-  uLongf out_size = static_cast<uLongf>(out.size());
-  const int status = compress2(out.data(), &out_size, bytes, static_cast<uLong>(size), level);
-  if (status == Z_MEM_ERROR) throw std::bad_alloc();
-  if (status != Z_OK) return {};
-  out.resize(out_size);
-  out.shrink_to_fit();
-  return out;
+}  // namespace
+
+void PrecompressedZLib::DeflateDeleter::operator()(libdeflate_compressor* compressor) const {
+  libdeflate_free_compressor(compressor);
 }
 
-}  // namespace
+libdeflate_compressor* PrecompressedZLib::deflater(std::size_t slot) {
+  if (deflaters_.size() <= slot) deflaters_.resize(slot + 1);
+  auto& made = deflaters_[slot];
+  if (!made || deflater_level_ != GetCompressionLevel()) {
+    // (A level changed since: every compressor made again at the new one.)
+    if (deflater_level_ != GetCompressionLevel()) {
+      for (auto& other : deflaters_) other.reset();
+      deflater_level_ = GetCompressionLevel();
+    }
+    made.reset(libdeflate_alloc_compressor(deflater_level_));
+    if (!made) throw std::bad_alloc();  // libdeflate's only failure: no memory
+  }
+  return made.get();
+}
 
 PrecompressedZLib* PrecompressedZLib::New() {
   auto* compressor = new PrecompressedZLib;
@@ -148,7 +155,6 @@ void PrecompressedZLib::prepare(vtkPolyData* data, std::size_t block_size, unsig
   }
   stats_.foreseen = blocks_.size();
   enabled_ = !blocks_.empty();
-  checked_ = false;
 }
 
 void PrecompressedZLib::rethrow_failure() const {
@@ -170,13 +176,6 @@ PrecompressedZLib::Block* PrecompressedZLib::find(const unsigned char* bytes, st
   return nullptr;
 }
 
-bool PrecompressedZLib::same_as_vtk(const Block& block) {
-  if (block.zlib.empty()) return true;  // nothing to compare: that block goes to VTK anyway
-  std::vector<unsigned char> own(GetMaximumCompressionSpace(block.size));
-  const std::size_t size = vtkZLibDataCompressor::CompressBuffer(block.bytes, block.size, own.data(), own.size());
-  return size == block.zlib.size() && std::equal(block.zlib.begin(), block.zlib.end(), own.begin());
-}
-
 void PrecompressedZLib::compress_window(std::size_t first, bool fail_first) {
   // This block and the next ones not yet compressed, in the writer's order, up to the window.
   std::vector<std::size_t> window;
@@ -186,23 +185,18 @@ void PrecompressedZLib::compress_window(std::size_t first, bool fail_first) {
     window.push_back(b);
     bytes += blocks_[b].size;
   }
-  const int level = GetCompressionLevel();
-  runtime::parallel_for(window.size(), threads_, [&](unsigned, std::size_t k) {
+  // A compressor per worker, made here (not on the workers: the list is not theirs to grow).
+  for (unsigned w = 0; w < threads_; ++w) deflater(1 + w);
+  runtime::parallel_for(window.size(), threads_, [&](unsigned worker, std::size_t k) {
     Block& block = blocks_[window[k]];
     if (fail_first && k == 0) throw std::bad_alloc();
-    block.zlib = deflate_block(block.bytes, block.size, level);
+    libdeflate_compressor* compressor = deflaters_[1 + worker].get();
+    block.zlib.resize(libdeflate_zlib_compress_bound(compressor, block.size));
+    block.zlib.resize(libdeflate_zlib_compress(compressor, block.bytes, block.size, block.zlib.data(), block.zlib.size()));
+    block.zlib.shrink_to_fit();
   });
   for (const std::size_t b : window) blocks_[b].compressed = true;
   ++stats_.windows;
-  // The same zlib as VTK's, at the same level? The first block compressed by
-  // vtkZLibDataCompressor itself says so; if not, every block is left to it.
-  if (!checked_) {
-    checked_ = true;
-    if (!same_as_vtk(blocks_[first])) {
-      enabled_ = false;
-      for (const std::size_t b : window) std::vector<unsigned char>().swap(blocks_[b].zlib);
-    }
-  }
 }
 
 size_t PrecompressedZLib::failed(std::exception_ptr failure, unsigned char* compressed) {
@@ -238,8 +232,16 @@ size_t PrecompressedZLib::CompressBuffer(unsigned char const* uncompressed, size
     return size;
   }
   ++stats_.direct;
-  // vtkZLibDataCompressor fails only when zlib runs out of memory (the space is always enough).
-  const std::size_t size = vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
+  // Here and now, on the writer's thread, with the same compressor's bytes as the threads'.
+  std::size_t size = 0;
+  try {
+    size = libdeflate_zlib_compress(deflater(0), uncompressed, uncompressed_size, compressed, space);
+  } catch (...) {
+    return failed(std::current_exception(), compressed);
+  }
+  // (libdeflate's stream not within zlib's bound, which the writer made room for: zlib's own,
+  // which is. vtkZLibDataCompressor fails only when zlib runs out of memory.)
+  if (size == 0) size = vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
   if (size == 0) return failed(std::make_exception_ptr(std::bad_alloc()), compressed);
   return size;
 }

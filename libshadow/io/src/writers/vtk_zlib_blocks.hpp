@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Internal: the zlib blocks of a .vtp file compressed on every thread while VTK writes it.
+// Internal: the zlib blocks of a .vtp file, made by libdeflate on every thread while VTK writes it.
 //
 // vtkXMLWriter cuts each array of the appended data into blocks of BlockSize bytes and hands
 // them to its compressor one after the other, on the calling thread: for a million faces that
@@ -8,24 +8,30 @@
 // the writer will ask for (the arrays' own memory, and for string arrays and cell offsets the
 // bytes the writer builds from them) and in which order. Asked for a block it has not
 // compressed yet, it compresses that block and those after it, a window of about
-// `window_bytes`, on every thread (zlib alone: no VTK off the calling thread), then hands them
-// over one by one as the writer asks. VTK still writes everything else (the XML, the headers,
-// the offsets), so the file is the one VTK writes, byte for byte; at most a window's
-// compressed blocks are held at a time.
+// `window_bytes`, on every thread (libdeflate alone: no VTK off the calling thread), then hands
+// them over one by one as the writer asks. VTK still writes everything else (the XML, the
+// headers, the offsets); at most a window's compressed blocks are held at a time.
 //
-// Any block it did not foresee (or whose bytes differ from what it foresaw) is compressed there
-// and then by vtkZLibDataCompressor itself, as before: a wrong guess costs time, never bytes.
+// Every block is a zlib stream made by libdeflate, whose level 1 deflates a million faces'
+// arrays in about 0.4 of zlib's time at level 1, a little smaller (docs/benchmarks.md). The file
+// names vtkZLibDataCompressor, and every zlib reader (VTK's, ParaView's, Python's zlib) inflates
+// it as it would VTK's own: only the compressed bytes differ from those VTK would write, never
+// the arrays they hold. Any block it did not foresee (or whose bytes differ from what it
+// foresaw) is compressed there and then, by the same libdeflate: the file's bytes do not depend
+// on the thread count.
 #pragma once
 
 #include <vtkZLibDataCompressor.h>
 
 #include <cstddef>
 #include <exception>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
 class vtkAbstractArray;
 class vtkPolyData;
+struct libdeflate_compressor;
 
 namespace shadow::detail {
 
@@ -37,8 +43,8 @@ struct ZLibBlockStats {
   std::size_t windows = 0;   ///< rounds of compression on the threads
 };
 
-/// A vtkZLibDataCompressor (its class name, level and results) whose blocks are compressed in
-/// windows on several threads. Without prepare() it is vtkZLibDataCompressor.
+/// A vtkZLibDataCompressor (its class name and level, zlib streams) whose blocks libdeflate
+/// makes: in windows on several threads after prepare(), else one by one as the writer asks.
 class PrecompressedZLib : public vtkZLibDataCompressor {
  public:
   // No vtkTypeMacro: the writer names the compressor in the file ("vtkZLibDataCompressor"),
@@ -55,8 +61,8 @@ class PrecompressedZLib : public vtkZLibDataCompressor {
   void prepare(vtkPolyData* data, std::size_t block_size, unsigned threads,
                std::size_t window_bytes = kWindowBytes);
 
-  /// Rethrows what failed while compressing, if anything (std::bad_alloc when zlib ran out of
-  /// memory, on the threads or on the writer's): the writer itself never sees an exception,
+  /// Rethrows what failed while compressing, if anything (std::bad_alloc when libdeflate or zlib
+  /// ran out of memory, on the threads or on the writer's): the writer itself never sees an exception,
   /// nor a failed block (VTK 9.1 would dereference the null array it then gets). From a failure
   /// on, every block is one placeholder byte, so the writer ends soon; its file must go.
   void rethrow_failure() const;
@@ -83,7 +89,7 @@ class PrecompressedZLib : public vtkZLibDataCompressor {
     const unsigned char* bytes = nullptr;
     std::size_t size = 0;
     std::vector<unsigned char> zlib;
-    bool compressed = false;  ///< tried on the threads (`zlib` empty if zlib refused it)
+    bool compressed = false;  ///< tried on the threads (`zlib` empty if it did not fit)
     bool served = false;
   };
   void add_in_place(vtkAbstractArray* array, std::size_t block_size);
@@ -95,8 +101,12 @@ class PrecompressedZLib : public vtkZLibDataCompressor {
   void compress_window(std::size_t first, bool fail_first);
   /// A failed block: the failure kept for rethrow_failure(), a placeholder byte for the writer.
   size_t failed(std::exception_ptr failure, unsigned char* compressed);
-  /// Whether this process's zlib gives vtkZLibDataCompressor's bytes for `block`.
-  bool same_as_vtk(const Block& block);
+  /// libdeflate's compressor of `slot` (0: the writer's thread; 1 + w: worker w) at this
+  /// compressor's level, made on first use. @throws std::bad_alloc when libdeflate has no memory.
+  libdeflate_compressor* deflater(std::size_t slot);
+  struct DeflateDeleter {
+    void operator()(libdeflate_compressor* compressor) const;
+  };
 
   /// Blocks of arrays the writer reads in place, found by their address.
   std::unordered_map<const unsigned char*, std::size_t> in_place_;
@@ -110,7 +120,8 @@ class PrecompressedZLib : public vtkZLibDataCompressor {
   unsigned threads_ = 1;
   std::size_t window_bytes_ = kWindowBytes;
   bool enabled_ = false;  ///< off: every block compressed when asked
-  bool checked_ = false;  ///< the first block compared with vtkZLibDataCompressor's
+  std::vector<std::unique_ptr<libdeflate_compressor, DeflateDeleter>> deflaters_;  ///< by slot
+  int deflater_level_ = -1;  ///< the level deflaters_ were made at
   std::exception_ptr failure_;
   std::size_t calls_ = 0;
   std::size_t fail_at_call_ = static_cast<std::size_t>(-1);

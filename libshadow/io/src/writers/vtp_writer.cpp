@@ -38,8 +38,9 @@ void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
   writer->SetCompressionLevel(kVtpZlibLevel);
   writer->SetHeaderTypeToUInt64();  // blocks over 4 GiB stay addressable
   writer->SetIdTypeToInt64();
-  // The same compressor (class name and level), its blocks compressed on every thread as the
-  // writer comes to them; a failed block never reaches the writer (vtk_zlib_blocks.hpp).
+  // A zlib compressor of the same class name and level, its blocks made by libdeflate (on every
+  // thread as the writer comes to them); a failed block never reaches the writer
+  // (vtk_zlib_blocks.hpp).
   vtkNew<PrecompressedZLib> compressor;
   vtkNew<VtkErrorCapture> compressor_errors;  // zlib's failures, told by the writer's error
   compressor->AddObserver(vtkCommand::ErrorEvent, compressor_errors);
@@ -53,7 +54,7 @@ void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
   const int ok = writer->Write();
   const unsigned long code = writer->GetErrorCode();
   if (options.stats != nullptr) *options.stats = compressor->stats();
-  compressor->rethrow_failure();  // zlib out of memory: std::bad_alloc, the file unfinished
+  compressor->rethrow_failure();  // out of memory: std::bad_alloc, the file unfinished
   if (ok == 1 && code == vtkErrorCode::NoError) return;
 
   const int saved_errno = errno;

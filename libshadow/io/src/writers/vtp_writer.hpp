@@ -11,9 +11,10 @@ namespace shadow::detail {
 
 struct ZLibBlockStats;
 
-/// zlib's level for every .vtp: 1, its fastest. Against VTK's default 5, a million faces'
-/// faces.vtp is written in about half the time and is 14% larger; readers inflate either alike
-/// (docs/benchmarks.md, "zlib's fastest level").
+/// The deflate level of every .vtp: 1, the fastest. Against zlib's level 5 (VTK's default), a
+/// million faces' faces.vtp was written in about half the time and 14% larger; readers inflate
+/// either alike (docs/benchmarks.md, "zlib's fastest level"). libdeflate makes the blocks at
+/// this level (vtk_zlib_blocks.hpp).
 inline constexpr int kVtpZlibLevel = 1;
 
 /// How write_polydata compresses.
@@ -28,10 +29,10 @@ struct VtpWriteOptions {
   ZLibBlockStats* stats = nullptr;
 };
 
-/// Writes `data` as a binary, appended, zlib-compressed .vtp file (vtkXMLPolyDataWriter, zlib at
-/// kVtpZlibLevel). With
-/// `options.threads` above 1 the zlib blocks are compressed on that many threads, a window at a
-/// time (vtk_zlib_blocks.hpp): the same bytes, sooner.
+/// Writes `data` as a binary, appended, zlib-compressed .vtp file (vtkXMLPolyDataWriter; the
+/// zlib blocks made by libdeflate at kVtpZlibLevel, vtk_zlib_blocks.hpp). With
+/// `options.threads` above 1 the blocks are compressed on that many threads, a window at a
+/// time: the same bytes, sooner.
 /// @throws OutputError naming `shown_as` (default: `path`) and VTK's reason; std::bad_alloc
 /// when zlib runs out of memory (the file at `path` is then unfinished: the caller removes it).
 void write_polydata(vtkPolyData* data, const std::filesystem::path& path,

@@ -187,7 +187,8 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   const auto lights = staged.stage("lights.vtp");
   const auto vtm = staged.stage("scene.vtm");
   const auto report = staged.stage("report.json");  // staged last, so placed last
-  // The zlib blocks of each .vtp compressed on every thread (same bytes: vtk_zlib_blocks.hpp).
+  // The zlib blocks of each .vtp made on every thread (the same bytes on any count:
+  // vtk_zlib_blocks.hpp).
   const unsigned threads = runtime::resolve_threads(run != nullptr ? run->options.threads : 0);
   auto write_vtk = [&] {
     const detail::VtpWriteOptions vtp{threads};
@@ -208,7 +209,7 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   // other on this thread: VTK's errors are captured on the calling thread only (vtk_errors), and
   // with both at once a zlib allocation failure while compressing, on a thread of its own, went
   // uncaptured and crashed instead of exiting 6 (ctest cli_out_of_memory). The blocks compressed
-  // on the other threads call zlib alone, no VTK; zlib out of memory there is std::bad_alloc.
+  // on the other threads call libdeflate alone, no VTK; out of memory there is std::bad_alloc.
   write_vtk();
   write_report_file(report, scene, result, run);
   return staged.commit();
