@@ -683,6 +683,28 @@ TEST_F(OutputTest, ReportIsPrettyPrintedWithTwoSpaceIndentInAFixedKeyOrder) {
                                             "planes", "summary", "stats", "warnings"}));
 }
 
+TEST_F(OutputTest, ReportNumbersAreNlohmannsOwnWholeOrNot) {
+  // Whole numbers are written without nlohmann's digit search (report_json.cpp): the text is
+  // still its dump(2), at the edges of that shortcut (-0.0, 1e15 and just below, 2^53) too.
+  const double numbers[] = {0.0, -0.0, 1.0, -1.0, 90.0, 270.0, 41925349.0, 999999999999999.0, 1e15,
+                            -999999999999999.0, 123456789012345.0, 9007199254740992.0, 1e21, 1e-5,
+                            -2.5e-300, 3.0000000000000004};
+  std::size_t k = 0;
+  for (FaceLighting& e : result_.lighting) {
+    e.lit_area = numbers[k++ % std::size(numbers)];
+    e.shadow_area = numbers[k++ % std::size(numbers)];
+    e.lit_fraction = numbers[k++ % std::size(numbers)];
+    e.area = numbers[k++ % std::size(numbers)];
+  }
+  ASSERT_GE(k, std::size(numbers));
+  std::ostringstream text;
+  shadow::write_report_json(text, scene_, result_);
+  EXPECT_EQ(text.str(), nlohmann::ordered_json::parse(text.str()).dump(2) + "\n");
+  EXPECT_NE(text.str().find("-0.0,"), std::string::npos);
+  EXPECT_NE(text.str().find("999999999999999.0,"), std::string::npos);
+  EXPECT_NE(text.str().find("1e+15,"), std::string::npos);
+}
+
 TEST_F(OutputTest, ReportStatsNameTilesOnlyWhenReceiversWereSplit) {
   std::ostringstream whole;
   shadow::write_report_json(whole, scene_, result_);

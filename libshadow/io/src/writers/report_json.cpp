@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <exception>
 #include <map>
@@ -119,6 +120,18 @@ void append_number(std::string& out, double x) {
     return;
   }
   char buffer[64];
+  // A whole number below 1e15 (a normal's 0 and 1, an axis-aligned face's azimuth and tilt, a
+  // shadowed face's lit area): nlohmann writes its digits and ".0" (-0.0 too), written here
+  // without its shortest-digits search, which took a sixth of a million faces' report.
+  if (std::fabs(x) < 1e15 && x == std::trunc(x)) {
+    char* end = buffer;
+    if (std::signbit(x)) *end++ = '-';
+    end = std::to_chars(end, buffer + sizeof buffer, static_cast<long long>(std::fabs(x))).ptr;
+    *end++ = '.';
+    *end++ = '0';
+    out.append(buffer, static_cast<std::size_t>(end - buffer));
+    return;
+  }
   char* end = nlohmann::detail::to_chars(buffer, buffer + sizeof buffer, x);
   out.append(buffer, static_cast<std::size_t>(end - buffer));
 }
