@@ -93,7 +93,9 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::func
   impl_->face_area.assign(n, 0.0);
   // The bits every coordinate spans (integer charts, exact/scaled_chart.hpp), per thread.
   std::vector<core::BitSpan> spans(threads);
-  runtime::parallel_for(n, threads, [&](unsigned thread, std::size_t f) {
+  // Faces in blocks: handed out one by one, a million faces' two shared counters per face
+  // (taken and done) bounced between the cores.
+  auto prepare = [&](unsigned thread, std::size_t f) {
     const Face& face = scene.faces[f];
     for (const glm::dvec3& v : face.vertices)
       for (int k = 0; k < 3; ++k) spans[thread].add(v[k]);
@@ -112,6 +114,9 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::func
     }
     const exact::ExactFace ef = exact::make_exact_face(face.vertices, prep);
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
+  };
+  runtime::parallel_for_blocks(n, 256, threads, [&](unsigned thread, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) prepare(thread, f);
   });
   core::BitSpan span;
   for (const core::BitSpan& s : spans) span.add(s);

@@ -186,12 +186,11 @@ std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const
   shadow::detail::check_scene_numbers(scene);  // the scene may never have been validated
   const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
   std::vector<core::FacePrep> prep(scene.faces.size());
-  runtime::parallel_for(scene.faces.size(), threads, [&](unsigned, std::size_t f) {
-    if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) {
-      prep[f].degenerate = true;
-      return;
+  runtime::parallel_for_blocks(scene.faces.size(), 256, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t f = begin; f < end; ++f) {
+      if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) prep[f].degenerate = true;
+      else prep[f] = exact::prepare_face(scene.faces[f].vertices);
     }
-    prep[f] = exact::prepare_face(scene.faces[f].vertices);
   });
   std::vector<int> solid_of;
   const std::vector<core::ConvexSolid> solids = exact::find_convex_solids(scene, prep, solid_of, threads);
