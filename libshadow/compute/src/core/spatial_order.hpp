@@ -20,9 +20,10 @@
 
 namespace shadow::core {
 
-/// The Morton code of a point of the local frame (CullScene's: within its diameter of the
-/// origin), 21 bits an axis: close codes are close points, mostly. A coordinate out of that
-/// reach is clamped to its end; one that is not finite counts as the lower end.
+/// The Morton code of a point of the local frame (CullScene's: the scene's box centred on the
+/// origin, its diagonal `diameter`, so every coordinate within half of it), 21 bits an axis:
+/// close codes are close points, mostly. A coordinate out of that reach is clamped to its end;
+/// one that is not finite counts as the lower end.
 inline std::uint64_t morton_code(const glm::dvec3& p, double diameter) {
   auto spread = [](std::uint64_t x) {  // 21 bits to every third of 63
     x &= 0x1fffff;
@@ -36,7 +37,7 @@ inline std::uint64_t morton_code(const glm::dvec3& p, double diameter) {
   constexpr double kCells = 1 << 21;
   std::uint64_t code = 0;
   for (int a = 0; a < 3; ++a) {
-    const double t = (p[a] / diameter + 1.0) * 0.5 * kCells;  // [-D, D] onto [0, 2^21)
+    const double t = (p[a] / diameter + 0.5) * kCells;  // [-D/2, D/2] onto [0, 2^21)
     const std::uint64_t q = std::isfinite(t) ? static_cast<std::uint64_t>(std::clamp(t, 0.0, kCells - 1)) : 0;
     code |= spread(q) << a;
   }
@@ -45,14 +46,20 @@ inline std::uint64_t morton_code(const glm::dvec3& p, double diameter) {
 
 /// A permutation of `count` receivers (face_of(r) their faces) along the Morton curve of their
 /// places: a face's first vertex, or for a face of a convex solid (solid_of), the solid's first
-/// vertex, so that a solid's faces stay together. The codes' top 32 bits (about 10 an axis: a
-/// cell a 1,600th of the scene across) are sorted, stably: a solid's faces, and any faces in one
-/// cell, keep their order. The places on `threads` threads; the order does not depend on them.
+/// vertex, so that a solid's faces stay together. The codes' top 32 bits (10 of x, 11 of y and
+/// z: cells of a 1,024th and a 2,048th of the scene's diagonal) are sorted, stably: a solid's
+/// faces, and any faces in one cell, keep their order. The places on `threads` threads; the
+/// order does not depend on them. More rows than 32 bits number: the given order.
 template <class FaceOf>
 std::vector<std::size_t> spatial_order(const CullScene& cull, const std::vector<int>& solid_of,
                                        const std::vector<ConvexSolid>& solids, std::size_t count, FaceOf&& face_of,
                                        unsigned threads = 1) {
-  // Each row's code above its index (rows fit 32 bits: a scene's faces do).
+  std::vector<std::size_t> order(count);
+  if (count > UINT32_MAX) {  // (rows would not fit below the codes)
+    for (std::size_t r = 0; r < count; ++r) order[r] = r;
+    return order;
+  }
+  // Each row's code above its index.
   std::vector<std::uint64_t> keyed(count);
   runtime::parallel_for_blocks(count, 16384, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t r = begin; r < end; ++r) {
@@ -81,7 +88,6 @@ std::vector<std::size_t> spatial_order(const CullScene& cull, const std::vector<
       keyed.swap(scratch);
     }
   }
-  std::vector<std::size_t> order(count);
   for (std::size_t i = 0; i < count; ++i) order[i] = static_cast<std::size_t>(keyed[i] & 0xffffffffULL);
   return order;
 }

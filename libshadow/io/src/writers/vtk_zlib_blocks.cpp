@@ -232,16 +232,26 @@ size_t PrecompressedZLib::CompressBuffer(unsigned char const* uncompressed, size
     return size;
   }
   ++stats_.direct;
-  // Here and now, on the writer's thread, with the same compressor's bytes as the threads'.
+  // Here and now, on the writer's thread, with the same compressor's bytes as the threads', made
+  // in room of libdeflate's own bound as theirs are: libdeflate before 1.19 keeps a few bytes of
+  // its output buffer free, so straight into the writer's `space` a stream that fits it tightly
+  // would fail here and not on the threads, and the file would depend on the thread count.
   std::size_t size = 0;
   try {
-    size = libdeflate_zlib_compress(deflater(0), uncompressed, uncompressed_size, compressed, space);
+    libdeflate_compressor* compressor = deflater(0);
+    direct_.resize(libdeflate_zlib_compress_bound(compressor, uncompressed_size));
+    size = libdeflate_zlib_compress(compressor, uncompressed, uncompressed_size, direct_.data(), direct_.size());
   } catch (...) {
     return failed(std::current_exception(), compressed);
   }
-  // (libdeflate's stream not within zlib's bound, which the writer made room for: zlib's own,
-  // which is. vtkZLibDataCompressor fails only when zlib runs out of memory.)
-  if (size == 0) size = vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
+  if (size > 0 && size <= space) {
+    std::memcpy(compressed, direct_.data(), size);
+    return size;
+  }
+  // libdeflate's stream is longer than zlib's bound, which the writer made room for (a block
+  // served from the threads is not then either): zlib's own. vtkZLibDataCompressor fails only
+  // when zlib runs out of memory.
+  size = vtkZLibDataCompressor::CompressBuffer(uncompressed, uncompressed_size, compressed, space);
   if (size == 0) return failed(std::make_exception_ptr(std::bad_alloc()), compressed);
   return size;
 }

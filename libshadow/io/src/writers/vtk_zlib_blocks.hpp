@@ -13,12 +13,13 @@
 // headers, the offsets); at most a window's compressed blocks are held at a time.
 //
 // Every block is a zlib stream made by libdeflate, whose level 1 deflates a million faces'
-// arrays in about 0.4 of zlib's time at level 1, a little smaller (docs/benchmarks.md). The file
-// names vtkZLibDataCompressor, and every zlib reader (VTK's, ParaView's, Python's zlib) inflates
-// it as it would VTK's own: only the compressed bytes differ from those VTK would write, never
-// the arrays they hold. Any block it did not foresee (or whose bytes differ from what it
-// foresaw) is compressed there and then, by the same libdeflate: the file's bytes do not depend
-// on the thread count.
+// arrays in about 0.4 of zlib's time at level 1, a little smaller (docs/benchmarks.md,
+// "Twenty-seventh look"), but for a block whose stream would be longer than zlib's bound (which
+// the writer makes room for): zlib's own then. The file names vtkZLibDataCompressor, and every
+// zlib reader (VTK's, ParaView's, Python's zlib) inflates it as it would VTK's own: only the
+// compressed bytes differ from those VTK would write, never the arrays they hold. Any block it
+// did not foresee (or whose bytes differ from what it foresaw) is compressed there and then, in
+// the same way: the file's bytes do not depend on the thread count.
 #pragma once
 
 #include <vtkZLibDataCompressor.h>
@@ -122,6 +123,7 @@ class PrecompressedZLib : public vtkZLibDataCompressor {
   bool enabled_ = false;  ///< off: every block compressed when asked
   std::vector<std::unique_ptr<libdeflate_compressor, DeflateDeleter>> deflaters_;  ///< by slot
   int deflater_level_ = -1;  ///< the level deflaters_ were made at
+  std::vector<unsigned char> direct_;  ///< a block compressed when asked, before it is copied
   std::exception_ptr failure_;
   std::size_t calls_ = 0;
   std::size_t fail_at_call_ = static_cast<std::size_t>(-1);

@@ -34,7 +34,7 @@ struct VtpWriteOptions {
 /// `options.threads` above 1 the blocks are compressed on that many threads, a window at a
 /// time: the same bytes, sooner.
 /// @throws OutputError naming `shown_as` (default: `path`) and VTK's reason; std::bad_alloc
-/// when zlib runs out of memory (the file at `path` is then unfinished: the caller removes it).
+/// when the compressor (libdeflate or zlib) runs out of memory (the file at `path` is then unfinished: the caller removes it).
 void write_polydata(vtkPolyData* data, const std::filesystem::path& path,
                     const std::filesystem::path& shown_as = {}, const VtpWriteOptions& options = {});
 
