@@ -94,7 +94,9 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::func
   // The bits every coordinate spans (integer charts, exact/scaled_chart.hpp), per thread.
   std::vector<core::BitSpan> spans(threads);
   // Faces in blocks: handed out one by one, a million faces' two shared counters per face
-  // (taken and done) bounced between the cores.
+  // (taken and done) bounced between the cores. At least 64 blocks a thread: a few faces of
+  // thousands of vertices each (seconds in all) stay spread over the threads, and a stop request
+  // is seen between them.
   auto prepare = [&](unsigned thread, std::size_t f) {
     const Face& face = scene.faces[f];
     for (const glm::dvec3& v : face.vertices)
@@ -115,9 +117,10 @@ ShadowEngine::ShadowEngine(const Scene& scene, unsigned threads, const std::func
     const exact::ExactFace ef = exact::make_exact_face(face.vertices, prep);
     impl_->face_area[f] = exact::area_3d(ef.chart_area, ef.area_scale_squared);
   };
-  runtime::parallel_for_blocks(n, 256, threads, [&](unsigned thread, std::size_t, std::size_t begin, std::size_t end) {
-    for (std::size_t f = begin; f < end; ++f) prepare(thread, f);
-  });
+  runtime::parallel_for_blocks(n, runtime::block_of(n, threads), threads,
+                               [&](unsigned thread, std::size_t, std::size_t begin, std::size_t end) {
+                                 for (std::size_t f = begin; f < end; ++f) prepare(thread, f);
+                               });
   core::BitSpan span;
   for (const core::BitSpan& s : spans) span.add(s);
   impl_->chart_least_bit = core::chart_least_bit(span);

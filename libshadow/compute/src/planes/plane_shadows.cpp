@@ -186,7 +186,8 @@ std::vector<PlaneShadow> planes::compute_plane_shadows(const Scene& scene, const
   shadow::detail::check_scene_numbers(scene);  // the scene may never have been validated
   const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
   std::vector<core::FacePrep> prep(scene.faces.size());
-  runtime::parallel_for_blocks(scene.faces.size(), 256, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
+  runtime::parallel_for_blocks(scene.faces.size(), runtime::block_of(scene.faces.size(), threads), threads,
+                               [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       if (scene.faces[f].degenerate || scene.faces[f].vertices.size() < 3) prep[f].degenerate = true;
       else prep[f] = exact::prepare_face(scene.faces[f].vertices);

@@ -238,4 +238,12 @@ inline void parallel_for_blocks(std::size_t count, std::size_t block, unsigned t
       progress, leaving);
 }
 
+/// A block size for parallel_for_blocks over `count` items of unknown, possibly very unequal
+/// cost on `threads` threads: at most 256 items (a million cheap items need not be handed out
+/// one by one), and at least 64 blocks a thread where there are items enough (a few costly ones
+/// still spread over the threads, and a stop request is seen between them).
+inline std::size_t block_of(std::size_t count, unsigned threads) {
+  return std::clamp<std::size_t>(count / (std::size_t{64} * std::max(1u, threads)), 1, 256);
+}
+
 }  // namespace shadow::runtime
