@@ -103,10 +103,13 @@ Inflated inflate_file(const std::string& file) {
     offsets.push_back(std::stoull(file.substr(at, end - at)));
     at = end;
   }
-  out.xml = file.substr(0, data);  // without the offsets' values
+  // Without the offsets' values, nor the spaces that pad them to the room the writer kept.
+  out.xml = file.substr(0, data);
   for (std::size_t at = 0; (at = out.xml.find(" offset=\"", at)) != std::string::npos;) {
     at += 9;
     out.xml.erase(at, out.xml.find('"', at) - at);
+    const std::size_t padding = at + 1;
+    out.xml.erase(padding, out.xml.find_first_not_of(' ', padding) - padding);
   }
   std::sort(offsets.begin(), offsets.end());
   offsets.erase(std::unique(offsets.begin(), offsets.end()), offsets.end());
