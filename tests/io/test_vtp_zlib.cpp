@@ -96,18 +96,15 @@ Inflated inflate_file(const std::string& file) {
     return out;
   }
   const std::size_t data = file.find('_', appended) + 1;
+  // The XML without the offsets' values (taken out here), nor the spaces that pad them to the
+  // room the writer kept.
   std::vector<std::uint64_t> offsets;
-  for (std::size_t at = 0; (at = file.find(" offset=\"", at)) < appended;) {
-    at += 9;
-    const std::size_t end = file.find('"', at);
-    offsets.push_back(std::stoull(file.substr(at, end - at)));
-    at = end;
-  }
-  // Without the offsets' values, nor the spaces that pad them to the room the writer kept.
   out.xml = file.substr(0, data);
   for (std::size_t at = 0; (at = out.xml.find(" offset=\"", at)) != std::string::npos;) {
     at += 9;
-    out.xml.erase(at, out.xml.find('"', at) - at);
+    const std::size_t digits = out.xml.find('"', at) - at;
+    offsets.push_back(std::stoull(out.xml.substr(at, digits)));
+    out.xml.erase(at, digits);
     const std::size_t padding = at + 1;
     out.xml.erase(padding, out.xml.find_first_not_of(' ', padding) - padding);
   }

@@ -61,6 +61,17 @@ std::vector<unsigned char> end_offsets(vtkCellArray* cells) {
   return bytes;
 }
 
+/// `size` bytes as one zlib stream made by `compressor` into `out`, sized to it: 0 bytes where
+/// it failed. Always in room of libdeflate's own bound, on the threads and on the writer's
+/// thread alike: libdeflate before 1.19 keeps a few bytes of its output buffer free, so straight
+/// into the writer's tighter room a stream could fail on one thread count and not another, and
+/// the file would depend on it.
+void deflate_into(libdeflate_compressor* compressor, const unsigned char* bytes, std::size_t size,
+                  std::vector<unsigned char>& out) {
+  out.resize(libdeflate_zlib_compress_bound(compressor, size));
+  out.resize(libdeflate_zlib_compress(compressor, bytes, size, out.data(), out.size()));
+}
+
 }  // namespace
 
 void PrecompressedZLib::DeflateDeleter::operator()(libdeflate_compressor* compressor) const {
@@ -68,17 +79,14 @@ void PrecompressedZLib::DeflateDeleter::operator()(libdeflate_compressor* compre
 }
 
 libdeflate_compressor* PrecompressedZLib::deflater(std::size_t slot) {
+  if (deflater_level_ != GetCompressionLevel()) {  // (a level changed: every compressor made again)
+    deflaters_.clear();
+    deflater_level_ = GetCompressionLevel();
+  }
   if (deflaters_.size() <= slot) deflaters_.resize(slot + 1);
   auto& made = deflaters_[slot];
-  if (!made || deflater_level_ != GetCompressionLevel()) {
-    // (A level changed since: every compressor made again at the new one.)
-    if (deflater_level_ != GetCompressionLevel()) {
-      for (auto& other : deflaters_) other.reset();
-      deflater_level_ = GetCompressionLevel();
-    }
-    made.reset(libdeflate_alloc_compressor(deflater_level_));
-    if (!made) throw std::bad_alloc();  // libdeflate's only failure: no memory
-  }
+  if (!made) made.reset(libdeflate_alloc_compressor(deflater_level_));
+  if (!made) throw std::bad_alloc();  // libdeflate's only failure: no memory
   return made.get();
 }
 
@@ -190,9 +198,7 @@ void PrecompressedZLib::compress_window(std::size_t first, bool fail_first) {
   runtime::parallel_for(window.size(), threads_, [&](unsigned worker, std::size_t k) {
     Block& block = blocks_[window[k]];
     if (fail_first && k == 0) throw std::bad_alloc();
-    libdeflate_compressor* compressor = deflaters_[1 + worker].get();
-    block.zlib.resize(libdeflate_zlib_compress_bound(compressor, block.size));
-    block.zlib.resize(libdeflate_zlib_compress(compressor, block.bytes, block.size, block.zlib.data(), block.zlib.size()));
+    deflate_into(deflaters_[1 + worker].get(), block.bytes, block.size, block.zlib);
     block.zlib.shrink_to_fit();
   });
   for (const std::size_t b : window) blocks_[b].compressed = true;
@@ -232,18 +238,13 @@ size_t PrecompressedZLib::CompressBuffer(unsigned char const* uncompressed, size
     return size;
   }
   ++stats_.direct;
-  // Here and now, on the writer's thread, with the same compressor's bytes as the threads', made
-  // in room of libdeflate's own bound as theirs are: libdeflate before 1.19 keeps a few bytes of
-  // its output buffer free, so straight into the writer's `space` a stream that fits it tightly
-  // would fail here and not on the threads, and the file would depend on the thread count.
-  std::size_t size = 0;
+  // Here and now, on the writer's thread, the threads' bytes (deflate_into).
   try {
-    libdeflate_compressor* compressor = deflater(0);
-    direct_.resize(libdeflate_zlib_compress_bound(compressor, uncompressed_size));
-    size = libdeflate_zlib_compress(compressor, uncompressed, uncompressed_size, direct_.data(), direct_.size());
+    deflate_into(deflater(0), uncompressed, uncompressed_size, direct_);
   } catch (...) {
     return failed(std::current_exception(), compressed);
   }
+  std::size_t size = direct_.size();
   if (size > 0 && size <= space) {
     std::memcpy(compressed, direct_.data(), size);
     return size;
