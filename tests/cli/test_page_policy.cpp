@@ -2,7 +2,8 @@
 // The page policy of `shadow compute`'s reading and writing (tools/shadow/page_policy.hpp):
 // during such a stage the process gets no transparent huge pages and a large block it frees is
 // used again without fresh page faults; after it, what was there before. Each test runs in a
-// process of its own (gtest_discover_tests).
+// process of its own (gtest_discover_tests). Which page size the stage asks for is measured on
+// the host (a probe) or chosen with LIBSHADOW_PAGES.
 #include "page_policy.hpp"
 
 #include <gtest/gtest.h>
@@ -95,4 +96,32 @@ TEST(PagePolicy, AFreedLargeBlockIsUsedAgainWithoutFreshPagesDuringTheStageOnly)
   }
   EXPECT_EQ(decay(control, "arenas.dirty_decay_ms"), dirty);
   EXPECT_EQ(decay(control, "arena.0.dirty_decay_ms"), arena0);
+}
+
+TEST(PagePolicy, AStageAskedForTheProcesssOwnPagesLeavesTheHugePageModeAlone) {
+  const int before = thp_enabled();
+  if (before < 0) GTEST_SKIP() << "this kernel's /proc/self/status has no THP_enabled line (before Linux 5.0)";
+  {
+    shadow_cli::TouchedOnceStage stage(/*small_pages=*/false);
+    EXPECT_EQ(thp_enabled(), before);
+  }
+  EXPECT_EQ(thp_enabled(), before);
+}
+
+TEST(PagePolicy, TheProbeTimesBothPageSizes) {
+  const shadow_cli::PageCosts costs = shadow_cli::measure_page_costs();
+  // 2 MiB written page by page takes some time, and far less than a second, on either size.
+  EXPECT_GT(costs.small, 0.0);
+  EXPECT_GT(costs.huge, 0.0);
+  EXPECT_LT(costs.small, 1.0);
+  EXPECT_LT(costs.huge, 1.0);
+}
+
+TEST(PagePolicy, AnEnvironmentVariableChoosesThePageSizeWithoutTheProbe) {
+  // (the choice is made once a process: this test's process makes it here)
+  ASSERT_EQ(::setenv("LIBSHADOW_PAGES", "huge", 1), 0);
+  EXPECT_FALSE(shadow_cli::small_pages_for_touched_once());
+  ASSERT_EQ(::setenv("LIBSHADOW_PAGES", "small", 1), 0);
+  EXPECT_FALSE(shadow_cli::small_pages_for_touched_once()) << "measured once a process";
+  ::unsetenv("LIBSHADOW_PAGES");
 }

@@ -3,26 +3,33 @@
 // their memory (tools/allocator/jemalloc_conf.cpp): the engine revisits its prepared faces and
 // light-space grids for every receiver (and `shadow series` for thousands of instants), where a
 // 2 MiB page saves TLB misses. Reading a scene and writing its result touch their memory about
-// once, and there a huge page only costs: the kernel clears all 2 MiB at the first touch, out
-// of cache, before the program writes it again. jemalloc also hands the pages of freed blocks
-// back to the kernel over its decay time (10 s), much of them within a run of a few seconds, so
-// what the OBJ parse frees is cleared afresh for the scene's arrays (a million faces: 2.6 GB
-// cleared for a peak of 1.1 GB). So `shadow compute` reads and writes on 4 KiB pages and keeps
-// its freed blocks meanwhile, and prepares and computes as before. A million faces, fast, 2
-// threads, side by side: 6.9-8.9 s before (huge pages cleared at the host's varying speed),
-// 6.2-6.8 s after, the same peak; the scene's own arrays, read on small pages, cost a
-// 10,000-box city's polygons 2-3% in the shadows (the engine revisits them)
-// (docs/benchmarks.md, "Twenty-third look").
+// once; there the cheaper page size depends on the host, by a factor of ten either way:
+//  - on some virtual machines the kernel clears a huge page whole, out of cache and slowly (2.6 GB
+//    of huge pages cost a million faces 3.7-5.5 s of system time where 4 KiB pages cost 1.9 s);
+//  - on others every 4 KiB fault is a trip through the hypervisor (10 us each, 5 ms a 2 MiB
+//    where one huge page takes 0.15 ms): there small pages cost a million faces 2 s.
+// So `shadow compute` measures the two on its host once (a probe of 2 MiB each, a few ms) and
+// reads and writes on the cheaper, with LIBSHADOW_PAGES=small|huge to choose without the probe.
+// jemalloc also hands the pages of freed blocks back to the kernel over its decay time (10 s),
+// much of them within a run of a few seconds, so what the OBJ parse frees is cleared afresh for
+// the scene's arrays (a million faces: 2.6 GB cleared for a peak of 1.1 GB). So the stages that
+// touch their memory once keep their freed blocks meanwhile, on either page size
+// (docs/benchmarks.md, "Twenty-third look" and "Twenty-eighth look").
 #pragma once
 
 #include <dlfcn.h>
 #if defined(__linux__)
 #include <sys/prctl.h>
 #endif
+#include <sys/mman.h>
 #include <sys/types.h>
 
+#include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <vector>
 
 namespace shadow_cli {
@@ -55,8 +62,53 @@ inline void set_huge_page_mode(int mode) {
 #endif
 }
 
+/// What first touching 2 MiB costs this process on each page size, in seconds (negative where
+/// it could not be measured: no anonymous memory, or madvise refused).
+struct PageCosts {
+  double small = -1;  ///< 512 pages of 4 KiB, each cleared by the kernel at its first write
+  double huge = -1;   ///< one transparent huge page, where the kernel gives one (else small ones)
+};
+
+/// Writes through 2 MiB of fresh memory page by page, as a reader filling its arrays does, on
+/// the page size asked for, and returns the seconds it took (-1 where the memory was refused).
+inline double time_first_touch(bool huge) {
+  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  void* raw = ::mmap(nullptr, 2 * kHuge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (raw == MAP_FAILED) return -1;
+  // (aligned to 2 MiB, so that one huge page can cover it)
+  auto* block = reinterpret_cast<char*>((reinterpret_cast<std::uintptr_t>(raw) + kHuge - 1) & ~(kHuge - 1));
+  double seconds = -1;
+  if (::madvise(block, kHuge, huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE) == 0) {
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t offset = 0; offset < kHuge; offset += 4096) std::memset(block + offset, 1, 4096);
+    asm volatile("" : : "r"(block) : "memory");  // (the writes are not dead stores)
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  ::munmap(raw, 2 * kHuge);
+  return seconds;
+}
+
+/// Both costs, measured now (a few milliseconds).
+inline PageCosts measure_page_costs() { return PageCosts{time_first_touch(false), time_first_touch(true)}; }
+
+/// Whether memory touched about once should come on 4 KiB pages: LIBSHADOW_PAGES=small or huge
+/// where set, else huge pages only where the probe found them at least twice as cheap a byte
+/// (the margin: the probe's one huge page is a small sample, and small pages were the rule
+/// before the probe). Measured once a process.
+inline bool small_pages_for_touched_once() {
+  static const bool small = [] {
+    if (const char* choice = std::getenv("LIBSHADOW_PAGES")) {
+      if (std::strcmp(choice, "small") == 0) return true;
+      if (std::strcmp(choice, "huge") == 0) return false;
+    }
+    const PageCosts costs = measure_page_costs();
+    return !(costs.small > 0 && costs.huge > 0 && 2 * costs.huge < costs.small);
+  }();
+  return small;
+}
+
 /// A stage whose memory is touched about once (reading a scene, writing a result): while it
-/// lasts, 4 KiB pages, and jemalloc keeps the pages this process frees for its own later
+/// lasts, 4 KiB pages where asked (small_pages_for_touched_once()), and jemalloc keeps the pages this process frees for its own later
 /// allocations instead of handing them back to the kernel (decay -1 on every arena made so far
 /// and, as their default, on those made later): no page is cleared twice. end() (or the
 /// destructor) puts the page mode and each arena's decay back for the stages that revisit their
@@ -65,7 +117,10 @@ inline void set_huge_page_mode(int mode) {
 /// 10,000-box city's polygons 3-5%. Without jemalloc, only the page size is set.
 class TouchedOnceStage {
  public:
-  TouchedOnceStage() : control_(allocator_control()) {
+  /// On 4 KiB pages.
+  TouchedOnceStage() : TouchedOnceStage(true) {}
+  /// On 4 KiB pages where `small_pages`, else on the page size the process had.
+  explicit TouchedOnceStage(bool small_pages) : control_(allocator_control()) {
     // (Everything that may throw before the process is changed.)
     unsigned arenas = 0;
     std::size_t count_size = sizeof arenas;
@@ -75,7 +130,7 @@ class TouchedOnceStage {
                         control_("arenas.narenas", &arenas, &count_size, nullptr, 0) == 0;
     if (decays) saved_.assign(std::size_t{2} * arenas, kUnread);
     mode_before_ = huge_page_mode();
-    set_huge_page_mode(1);
+    if (small_pages) set_huge_page_mode(1);
     if (!decays) return;
     for (unsigned a = 0; a < arenas; ++a)  // (arenas not made yet answer an error: nothing to do)
       for (int kind = 0; kind < 2; ++kind) {

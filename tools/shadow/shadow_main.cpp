@@ -104,8 +104,10 @@ void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& 
 
 int run_compute(const ComputeArgs& args) {
   // Reading and writing touch their memory about once, preparing and computing revisit it:
-  // 4 KiB pages and freed blocks kept for the first two only (page_policy.hpp).
-  std::optional<shadow_cli::TouchedOnceStage> touched_once(std::in_place);
+  // freed blocks kept for the first two only, on the page size cheaper on this host to touch
+  // once (page_policy.hpp).
+  const bool small_pages = shadow_cli::small_pages_for_touched_once();
+  std::optional<shadow_cli::TouchedOnceStage> touched_once(std::in_place, small_pages);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   shadow::RunInfo run;
@@ -162,7 +164,7 @@ int run_compute(const ComputeArgs& args) {
   const auto computed = Clock::now();
 
   shadow_cli::set_stage(Stage::Writing);
-  touched_once.emplace();
+  touched_once.emplace(small_pages);
   const std::vector<fs::path> written = output.write(scene, result, &run);
   touched_once.reset();
   const auto finished = Clock::now();
