@@ -8,7 +8,7 @@
 //    of huge pages cost a million faces 3.7-5.5 s of system time where 4 KiB pages cost 1.9 s);
 //  - on others every 4 KiB fault is a trip through the hypervisor (10 us each, 5 ms a 2 MiB
 //    where one huge page takes 0.15 ms): there small pages cost a million faces 2 s.
-// So `shadow compute` measures the two on its host once (a probe of 2 MiB each, a few ms) and
+// So `shadow compute` measures the two on its host once (2 MiB each, twice: 4-11 ms) and
 // reads and writes on the cheaper, with LIBSHADOW_PAGES=small|huge to choose without the probe.
 // jemalloc also hands the pages of freed blocks back to the kernel over its decay time (10 s),
 // much of them within a run of a few seconds, so what the OBJ parse frees is cleared afresh for
@@ -88,13 +88,23 @@ inline double time_first_touch(bool huge) {
   return seconds;
 }
 
-/// Both costs, measured now (a few milliseconds).
-inline PageCosts measure_page_costs() { return PageCosts{time_first_touch(false), time_first_touch(true)}; }
+/// Both costs, measured now: the mean of two rounds, small then huge (about 11 ms on a host
+/// whose small pages fault at 10 us, 4 ms on one whose huge pages clear at 1 GB/s). The first
+/// huge page a process touches may wait for the kernel to find or make one; the mean keeps it.
+inline PageCosts measure_page_costs() {
+  PageCosts costs{0, 0};
+  for (int round = 0; round < 2; ++round) {
+    const double small = time_first_touch(false), huge = time_first_touch(true);
+    if (small < 0 || huge < 0) return PageCosts{};
+    costs.small += small / 2;
+    costs.huge += huge / 2;
+  }
+  return costs;
+}
 
 /// Whether memory touched about once should come on 4 KiB pages: LIBSHADOW_PAGES=small or huge
-/// where set, else huge pages only where the probe found them at least twice as cheap a byte
-/// (the margin: the probe's one huge page is a small sample, and small pages were the rule
-/// before the probe). Measured once a process.
+/// where set, else the page size the probe found cheaper a byte (small where it could not tell).
+/// Measured once a process.
 inline bool small_pages_for_touched_once() {
   static const bool small = [] {
     if (const char* choice = std::getenv("LIBSHADOW_PAGES")) {
@@ -102,7 +112,7 @@ inline bool small_pages_for_touched_once() {
       if (std::strcmp(choice, "huge") == 0) return false;
     }
     const PageCosts costs = measure_page_costs();
-    return !(costs.small > 0 && costs.huge > 0 && 2 * costs.huge < costs.small);
+    return !(costs.small > 0 && costs.huge > 0 && costs.huge < costs.small);
   }();
   return small;
 }
