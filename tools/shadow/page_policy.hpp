@@ -8,7 +8,7 @@
 //    of huge pages cost a million faces 3.7-5.5 s of system time where 4 KiB pages cost 1.9 s);
 //  - on others every 4 KiB fault is a trip through the hypervisor (10 us each, 5 ms a 2 MiB
 //    where one huge page takes 0.15 ms): there small pages cost a million faces 2 s.
-// So `shadow compute` measures the two on its host once (2 MiB each, twice: 4-11 ms) and
+// So `shadow compute` measures the two on its host once (twice 256 KiB and 2 MiB: 2-8 ms) and
 // reads and writes on the cheaper, with LIBSHADOW_PAGES=small|huge to choose without the probe.
 // jemalloc also hands the pages of freed blocks back to the kernel over its decay time (10 s),
 // much of them within a run of a few seconds, so what the OBJ parse frees is cleared afresh for
@@ -24,6 +24,7 @@
 #include <sys/mman.h>
 #include <sys/types.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -69,9 +70,10 @@ struct PageCosts {
   double huge = -1;   ///< one transparent huge page, where the kernel gives one (else small ones)
 };
 
-/// Writes through 2 MiB of fresh memory page by page, as a reader filling its arrays does, on
-/// the page size asked for, and returns the seconds it took (-1 where the memory was refused).
-inline double time_first_touch(bool huge) {
+/// Writes through `bytes` (at most 2 MiB) of fresh memory page by page, as a reader filling its
+/// arrays does, on the page size asked for, and returns the seconds it took (-1 where the memory
+/// was refused).
+inline double time_first_touch(bool huge, std::size_t bytes) {
   constexpr std::size_t kHuge = std::size_t{2} << 20;
   void* raw = ::mmap(nullptr, 2 * kHuge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (raw == MAP_FAILED) return -1;
@@ -80,7 +82,7 @@ inline double time_first_touch(bool huge) {
   double seconds = -1;
   if (::madvise(block, kHuge, huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE) == 0) {
     const auto start = std::chrono::steady_clock::now();
-    for (std::size_t offset = 0; offset < kHuge; offset += 4096) std::memset(block + offset, 1, 4096);
+    for (std::size_t offset = 0; offset < std::min(bytes, kHuge); offset += 4096) std::memset(block + offset, 1, 4096);
     asm volatile("" : : "r"(block) : "memory");  // (the writes are not dead stores)
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -88,15 +90,18 @@ inline double time_first_touch(bool huge) {
   return seconds;
 }
 
-/// Both costs, measured now: the mean of two rounds, small then huge (about 11 ms on a host
-/// whose small pages fault at 10 us, 4 ms on one whose huge pages clear at 1 GB/s). The first
-/// huge page a process touches may wait for the kernel to find or make one; the mean keeps it.
+/// Both costs, measured now: the mean of two rounds, small then huge. Small pages are timed on
+/// 256 KiB (64 faults; each costs the same) and scaled to 2 MiB, a huge page whole: about 2 ms
+/// on a host whose small pages fault at 10 us, 4-8 ms on one whose huge pages clear at 1 GB/s.
+/// The first huge page a process touches may wait for the kernel to find or make one; the mean
+/// keeps it.
 inline PageCosts measure_page_costs() {
+  constexpr std::size_t kSmallSample = std::size_t{256} << 10;
   PageCosts costs{0, 0};
   for (int round = 0; round < 2; ++round) {
-    const double small = time_first_touch(false), huge = time_first_touch(true);
+    const double small = time_first_touch(false, kSmallSample), huge = time_first_touch(true, std::size_t{2} << 20);
     if (small < 0 || huge < 0) return PageCosts{};
-    costs.small += small / 2;
+    costs.small += 8 * small / 2;
     costs.huge += huge / 2;
   }
   return costs;
