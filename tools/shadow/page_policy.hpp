@@ -123,13 +123,14 @@ inline bool small_pages_for_touched_once() {
 }
 
 /// A stage whose memory is touched about once (reading a scene, writing a result): while it
-/// lasts, 4 KiB pages where asked (small_pages_for_touched_once()), and jemalloc keeps the pages this process frees for its own later
-/// allocations instead of handing them back to the kernel (decay -1 on every arena made so far
-/// and, as their default, on those made later): no page is cleared twice. end() (or the
-/// destructor) puts the page mode and each arena's decay back for the stages that revisit their
-/// memory (arenas made during the stage get the default; the CLI makes them all at its start,
-/// prepare_allocator_arenas). Kept through preparing and computing as well, the two cost a
-/// 10,000-box city's polygons 3-5%. Without jemalloc, only the page size is set.
+/// lasts, 4 KiB pages where asked (small_pages_for_touched_once()), and jemalloc keeps the pages
+/// this process frees for its own later allocations instead of handing them back to the kernel
+/// (decay -1 on every arena made so far and, as their default, on those made later): no page is
+/// cleared twice. end() (or the destructor) puts the page mode and each arena's decay back for
+/// the stages that revisit their memory (arenas made during the stage get the default; the CLI
+/// makes them all at its start, prepare_allocator_arenas). Kept through preparing and computing
+/// as well, the two cost a 10,000-box city's polygons 3-5%. Without jemalloc, only the page
+/// size is set.
 class TouchedOnceStage {
  public:
   /// On 4 KiB pages.
