@@ -12,8 +12,8 @@
 // (docs/benchmarks.md, "Ninth look"). Measured there side by side: a sample of the year's suns
 // on the 1,000-box city 20% less time (fast) and 13% (exact); a million faces the same wall
 // time (the shadows 12% faster, reading 0.7 s slower: huge pages are zeroed whole) and 5% more
-// peak memory; on a later host 1-2 s slower, so `shadow compute` now reads and writes on small
-// pages (tools/shadow/page_policy.hpp).
+// peak memory; on a later host 1-2 s slower, on another 2 s faster, so `shadow compute` reads
+// and writes on the page size it measures cheaper on its host (tools/shadow/page_policy.hpp).
 extern "C" {
 extern const char* malloc_conf;
 const char* malloc_conf = "thp:always";

@@ -3,13 +3,14 @@
 // their memory (tools/allocator/jemalloc_conf.cpp): the engine revisits its prepared faces and
 // light-space grids for every receiver (and `shadow series` for thousands of instants), where a
 // 2 MiB page saves TLB misses. Reading a scene and writing its result touch their memory about
-// once; there the cheaper page size depends on the host, by a factor of ten either way:
+// once; there the cheaper page size depends on the host, by a factor of 2 to 30 either way:
 //  - on some virtual machines the kernel clears a huge page whole, out of cache and slowly (2.6 GB
 //    of huge pages cost a million faces 3.7-5.5 s of system time where 4 KiB pages cost 1.9 s);
-//  - on others every 4 KiB fault is a trip through the hypervisor (10 us each, 5 ms a 2 MiB
+//  - on others every 4 KiB fault is a trip through the hypervisor (10 us each, 5 ms for 2 MiB
 //    where one huge page takes 0.15 ms): there small pages cost a million faces 2 s.
 // So `shadow compute` measures the two on its host once (twice 256 KiB and 2 MiB: 2-8 ms) and
-// reads and writes on the cheaper, with LIBSHADOW_PAGES=small|huge to choose without the probe.
+// reads and writes on the cheaper, with LIBSHADOW_PAGES=small|huge to choose without the probe
+// (any other value: the probe). Linux only; elsewhere small pages, as the prctl below.
 // jemalloc also hands the pages of freed blocks back to the kernel over its decay time (10 s),
 // much of them within a run of a few seconds, so what the OBJ parse frees is cleared afresh for
 // the scene's arrays (a million faces: 2.6 GB cleared for a peak of 1.1 GB). So the stages that
@@ -21,8 +22,10 @@
 #if defined(__linux__)
 #include <sys/prctl.h>
 #endif
-#include <sys/mman.h>
 #include <sys/types.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -66,7 +69,7 @@ inline void set_huge_page_mode(int mode) {
 /// What first touching 2 MiB costs this process on each page size, in seconds (negative where
 /// it could not be measured: no anonymous memory, or madvise refused).
 struct PageCosts {
-  double small = -1;  ///< 512 pages of 4 KiB, each cleared by the kernel at its first write
+  double small = -1;  ///< 4 KiB pages, each cleared by the kernel at its first write (64 timed, x 8)
   double huge = -1;   ///< one transparent huge page, where the kernel gives one (else small ones)
 };
 
@@ -74,6 +77,7 @@ struct PageCosts {
 /// arrays does, on the page size asked for, and returns the seconds it took (-1 where the memory
 /// was refused).
 inline double time_first_touch(bool huge, std::size_t bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
   constexpr std::size_t kHuge = std::size_t{2} << 20;
   void* raw = ::mmap(nullptr, 2 * kHuge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (raw == MAP_FAILED) return -1;
@@ -88,13 +92,19 @@ inline double time_first_touch(bool huge, std::size_t bytes) {
   }
   ::munmap(raw, 2 * kHuge);
   return seconds;
+#else
+  (void)huge;
+  (void)bytes;
+  return -1;
+#endif
 }
 
 /// Both costs, measured now: the mean of two rounds, small then huge. Small pages are timed on
 /// 256 KiB (64 faults; each costs the same) and scaled to 2 MiB, a huge page whole: about 2 ms
 /// on a host whose small pages fault at 10 us, 4-8 ms on one whose huge pages clear at 1 GB/s.
-/// The first huge page a process touches may wait for the kernel to find or make one; the mean
-/// keeps it.
+/// The first huge page a process touches may wait for the kernel to find or make one (up to
+/// 7 ms here), and a host that clears fresh huge pages slowly shows it only on the first: the
+/// mean keeps it at half weight, where the minimum would hide such a host.
 inline PageCosts measure_page_costs() {
   constexpr std::size_t kSmallSample = std::size_t{256} << 10;
   PageCosts costs{0, 0};
