@@ -66,6 +66,9 @@ inline void set_huge_page_mode(int mode) {
 #endif
 }
 
+/// A transparent huge page on x86-64: the probe's unit.
+inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
 /// What first touching 2 MiB costs this process on each page size, in seconds (negative where
 /// it could not be measured: no anonymous memory, or madvise refused).
 struct PageCosts {
@@ -78,7 +81,7 @@ struct PageCosts {
 /// was refused).
 inline double time_first_touch(bool huge, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
-  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  constexpr std::size_t kHuge = kHugePageBytes;
   void* raw = ::mmap(nullptr, 2 * kHuge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (raw == MAP_FAILED) return -1;
   // (aligned to 2 MiB, so that one huge page can cover it)
@@ -109,7 +112,7 @@ inline PageCosts measure_page_costs() {
   constexpr std::size_t kSmallSample = std::size_t{256} << 10;
   PageCosts costs{0, 0};
   for (int round = 0; round < 2; ++round) {
-    const double small = time_first_touch(false, kSmallSample), huge = time_first_touch(true, std::size_t{2} << 20);
+    const double small = time_first_touch(false, kSmallSample), huge = time_first_touch(true, kHugePageBytes);
     if (small < 0 || huge < 0) return PageCosts{};
     costs.small += 8 * small / 2;
     costs.huge += huge / 2;
