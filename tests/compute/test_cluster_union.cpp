@@ -476,43 +476,46 @@ TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
   EXPECT_GT(large_clipped, 100u);  // the vectors' walk
 }
 
-// The sweep for overlapping boxes finds the same pairs along x and along y (boundary_union_area2
-// sweeps along the boxes' shorter axis), touching boxes only when closed. (Open, a box of zero
-// width at another's lower edge in the sweep's axis counts as overlapping it; every polygon the
-// fast path measures has positive width and height, so open sweeps are checked on such boxes.)
-TEST(ClusterUnion, OverlappingBoxesAlongEitherAxisAreTheSamePairs) {
+// The sweep across the shadows finds exactly the pairs whose boxes overlap (with positive area,
+// or touching too when closed) and whose extents across are not apart, as a test of every pair
+// does, for directions along the axes, diagonal and zero (the fallback), with and without a
+// polygon passed over.
+TEST(ClusterUnion, TheSweepAcrossFindsThePairsThatMeetInBoxAndAcross) {
   std::mt19937_64 random(7);
-  std::uniform_int_distribution<CL::cInt> corner(0, 60), size(0, 25);
-  const bool positive[2] = {false, true};
-  for (int trial = 0; trial < 200; ++trial) {
-    std::vector<shadow::fast::GridBox> boxes(1 + trial % 40);
-    for (shadow::fast::GridBox& b : boxes) {
-      b.x0 = corner(random);
-      b.y0 = corner(random);
-      const CL::cInt least = positive[trial % 2] ? 1 : 0;
-      b.x1 = b.x0 + std::max(least, size(random)) * (trial % 3 == 0 ? 4 : 1);  // some long along x
-      b.y1 = b.y0 + std::max(least, size(random));
+  std::uniform_int_distribution<CL::cInt> corner(0, 60), size(1, 25);
+  const double directions[][2] = {{1, 0}, {0, 1}, {1, 1}, {-3, 1}, {0, 0}};
+  for (int trial = 0; trial < 300; ++trial) {
+    CL::Paths polygons(1 + trial % 40);
+    std::vector<shadow::fast::GridBox> boxes;
+    for (CL::Path& path : polygons) {
+      // A quadrilateral long along x in some trials: its box is not its extent across.
+      const CL::cInt x = corner(random), y = corner(random), w = size(random) * (trial % 3 == 0 ? 4 : 1);
+      const CL::cInt h = size(random), skew = size(random) - 12;
+      path = {{x, y}, {x + w, y + skew}, {x + w, y + skew + h}, {x, y + h}};
+      boxes.push_back(shadow::fast::grid_box(path));
     }
+    const double* d = directions[trial % 5];
+    const shadow::fast::AcrossAxis axis = shadow::fast::across_axis(d[0], d[1]);
+    std::vector<std::pair<double, double>> across;
+    for (const CL::Path& path : polygons) across.push_back(shadow::fast::across_extent(path, axis));
+    const std::size_t skipped = trial % 4 == 0 ? 0 : polygons.size();  // one passed over in a quarter
     for (bool closed : {false, true}) {
-      if (!closed && !positive[trial % 2]) continue;
-      std::vector<std::pair<std::size_t, std::size_t>> by_x, by_y, brute;
-      shadow::fast::BoxSweepScratch sweep;
-      auto add = [](std::vector<std::pair<std::size_t, std::size_t>>& to) {
-        return [&to](std::size_t p, std::size_t o) { to.emplace_back(std::min(p, o), std::max(p, o)); };
-      };
-      shadow::fast::for_overlapping_boxes(boxes, closed, sweep, add(by_x));
-      shadow::fast::for_overlapping_boxes(boxes, closed, sweep, add(by_y), true);
+      std::vector<std::pair<std::size_t, std::size_t>> swept, brute;
+      std::vector<shadow::fast::AcrossSweepEntry> scratch;
+      auto add = [&](std::size_t p, std::size_t o) { swept.emplace_back(std::min(p, o), std::max(p, o)); };
+      auto passed = [&](std::size_t p) { return p == skipped; };
+      if (closed) shadow::fast::sweep_across<true>(boxes, across, scratch, add, passed);
+      else shadow::fast::sweep_across<false>(boxes, across, scratch, add, passed);
       for (std::size_t a = 0; a < boxes.size(); ++a)
         for (std::size_t b = a + 1; b < boxes.size(); ++b) {
+          if (a == skipped || b == skipped) continue;
           const shadow::fast::GridBox &p = boxes[a], &q = boxes[b];
           const bool meet = closed ? p.x0 <= q.x1 && q.x0 <= p.x1 && p.y0 <= q.y1 && q.y0 <= p.y1
                                    : p.x0 < q.x1 && q.x0 < p.x1 && p.y0 < q.y1 && q.y0 < p.y1;
-          if (meet) brute.emplace_back(a, b);
+          if (meet && !shadow::fast::apart(across[a], across[b])) brute.emplace_back(a, b);
         }
-      std::sort(by_x.begin(), by_x.end());
-      std::sort(by_y.begin(), by_y.end());
-      ASSERT_EQ(by_x, brute) << "trial " << trial;
-      ASSERT_EQ(by_y, brute) << "trial " << trial;
+      std::sort(swept.begin(), swept.end());
+      ASSERT_EQ(swept, brute) << "trial " << trial << (closed ? " closed" : " open");
     }
   }
 }

@@ -2,9 +2,10 @@
 // The area of a union of grid polygons, cluster by cluster.
 //
 // A receiver's casts fall into groups that do not touch: the shadows of the boxes around one
-// street corner never meet those of the next block. Polygons whose bounding boxes do not overlap
-// (interiors disjoint) add their areas, so the union's area is the sum over clusters of
-// overlapping boxes (connected components), each united on its own. A cluster of one convex
+// street corner never meet those of the next block. Polygons whose bounding boxes do not overlap,
+// or whose extents across the shadows' direction are apart (interiors disjoint either way), add
+// their areas, so the union's area is the sum over clusters of polygons that meet in both
+// (connected components), each united on its own. A cluster of one convex
 // polygon needs no union at all: its shoelace area is exact on the grid. Under the year's suns
 // most of a city's casts are such singletons or small clusters, and Clipper's sweep, whose
 // active edge list spans the whole receiver, was a third of the fast path's time.
@@ -90,22 +91,75 @@ inline GridBox grid_box(const ClipperLib::Path& path) {
   return b;
 }
 
-/// Calls pair(a, b) for every two of `boxes` that overlap (geometry::sweep_boxes), along x, or
-/// along y with `along_y`: with positive area (for boxes of positive width and height; a box of
-/// zero width at another's lower edge in the sweep's axis is reported too), or with `closed`
-/// touching too. The pairs are the same either way, in another order; along long boxes each
-/// box meets fewer later ones. The axis is chosen once, not at every comparison.
-/// `passed`: as geometry::sweep_boxes's.
-template <class Pair, class Passed = geometry::NonePassed>
-void for_overlapping_boxes(const std::vector<GridBox>& boxes, bool closed, BoxSweepScratch& scratch, Pair&& pair,
-                           bool along_y = false, Passed&& passed = {}) {
-  using geometry::sweep_boxes;
-  if (along_y) {
-    if (closed) sweep_boxes<true, true>(boxes, scratch.sorted, pair, passed);
-    else sweep_boxes<true, false>(boxes, scratch.sorted, pair, passed);
-  } else {
-    if (closed) sweep_boxes<false, true>(boxes, scratch.sorted, pair, passed);
-    else sweep_boxes<false, false>(boxes, scratch.sorted, pair, passed);
+/// The unit normal (nx, ny) to the shadows' direction (ax, ay) in grid units: a low sun's casts
+/// are long along (ax, ay) and narrow across it. Where the direction is zero or not finite
+/// (a sun straight above the receiver), the normal to (0, 1).
+struct AcrossAxis {
+  double nx = -1, ny = 0;
+};
+
+inline AcrossAxis across_axis(double ax, double ay) {
+  double length = std::hypot(ax, ay);
+  if (!(length > 0) || !std::isfinite(length)) {
+    ax = 0;
+    ay = 1;
+    length = 1;
+  }
+  return {-ay / length, ax / length};
+}
+
+/// How far a polygon's extent across is widened on either side: far beyond the rounding of
+/// nx X + ny Y for grid coordinates (|coordinates| <= 2^31, a unit normal: under 1e-6), so that
+/// two polygons whose widened extents are apart are disjoint (a separating axis).
+inline constexpr double kAcrossMargin = 1e-3;
+
+/// A polygon's extent along the axis, widened by kAcrossMargin on both sides.
+inline std::pair<double, double> across_extent(const ClipperLib::Path& path, const AcrossAxis& axis) {
+  double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
+  for (const ClipperLib::IntPoint& q : path) {
+    const double t = axis.nx * static_cast<double>(q.X) + axis.ny * static_cast<double>(q.Y);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  return {lo - kAcrossMargin, hi + kAcrossMargin};
+}
+
+/// Whether two widened extents are apart (the polygons are then disjoint).
+inline bool apart(const std::pair<double, double>& u, const std::pair<double, double>& v) {
+  return u.second < v.first || v.second < u.first;
+}
+
+/// Calls pair(later, earlier) for every two polygons whose extents across (`across`, from
+/// across_extent) are not apart and whose `boxes` overlap with positive area, or with `Closed`
+/// touching too: one sort by the extents' lower ends and a scan of the later ones that start
+/// before each ends (as geometry::sweep_boxes does along x or y). Across the shadows a ground's
+/// casts under a low sun are narrow, so each meets few later ones, where along x or y a
+/// diagonal shadow's box is long both ways and met most of a crowded cluster. The pairs are
+/// those of the boxes' sweep less those apart across, which are disjoint.
+/// `passed(index)`, where given, says a polygon needs no more pairs, as sweep_boxes's.
+template <bool Closed, class Pair, class Passed = geometry::NonePassed>
+void sweep_across(const std::vector<GridBox>& boxes, const std::vector<std::pair<double, double>>& across,
+                  std::vector<AcrossSweepEntry>& sorted, Pair&& pair, Passed&& passed = {}) {
+  const std::size_t n = boxes.size();
+  sorted.resize(n);
+  for (std::size_t a = 0; a < n; ++a) sorted[a] = AcrossSweepEntry{across[a].first, across[a].second, boxes[a], a};
+  std::sort(sorted.begin(), sorted.end(), [](const AcrossSweepEntry& a, const AcrossSweepEntry& b) {
+    return a.lo != b.lo ? a.lo < b.lo : a.index < b.index;
+  });
+  for (std::size_t a = 0; a < n; ++a) {
+    const AcrossSweepEntry& p = sorted[a];
+    if (passed(p.index)) continue;
+    for (std::size_t b = a + 1; b < n; ++b) {
+      const AcrossSweepEntry& q = sorted[b];
+      if (q.lo > p.hi) break;  // apart, as is every later one (q.hi >= q.lo >= p.lo)
+      const GridBox &u = p.box, &v = q.box;
+      const bool meet = Closed ? u.x0 <= v.x1 && v.x0 <= u.x1 && u.y0 <= v.y1 && v.y0 <= u.y1
+                               : u.x0 < v.x1 && v.x0 < u.x1 && u.y0 < v.y1 && v.y0 < u.y1;
+      if (!meet) continue;
+      if (passed(q.index)) continue;
+      pair(q.index, p.index);
+      if (passed(p.index)) break;
+    }
   }
 }
 
@@ -156,50 +210,28 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   std::vector<GridBox>& box = scratch.box;
   box.resize(m);
   GridBox all{};
-  // Extents across (ax, ay), widened far beyond their rounding (|coordinates| <= 2^31, a unit
-  // normal: under 1e-6): two polygons whose extents are apart are disjoint (a separating axis).
-  double length = std::hypot(ax, ay);
-  if (!(length > 0) || !std::isfinite(length)) {
-    ax = 0;
-    ay = 1;
-    length = 1;
-  }
-  const double nx = -ay / length, ny = ax / length, margin = 1e-3;
+  // Extents across the shadows (across_extent): two polygons whose extents are apart are disjoint.
+  const AcrossAxis axis = across_axis(ax, ay);
+  const double nx = axis.nx, ny = axis.ny, margin = kAcrossMargin;
   std::vector<std::pair<double, double>>& across = scratch.across;
   across.resize(m);
-  auto apart = [](const std::pair<double, double>& u, const std::pair<double, double>& v) {
-    return u.second < v.first || v.second < u.first;
-  };
   for (std::size_t a = 0; a < m; ++a) {
-    const CL::Path& path = polygons[members[a]];
     const GridBox& b = box[a] = boxes[members[a]];
-    double lo = std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::lowest();
-    for (const CL::IntPoint& q : path) {
-      const double t = nx * static_cast<double>(q.X) + ny * static_cast<double>(q.Y);
-      lo = std::min(lo, t);
-      hi = std::max(hi, t);
-    }
-    across[a] = {lo - margin, hi + margin};
+    across[a] = across_extent(polygons[members[a]], axis);
     all = a == 0 ? b : GridBox{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
   }
-  // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters),
-  // swept along the axis the boxes are shorter in (a low sun's shadows are long: swept along
-  // them, most of a large cluster stays open). The lists' order does not matter below: each
-  // edge's covered intervals are sorted by value before they are measured, and an edge found
-  // inside one polygon adds nothing whichever polygon that is.
+  // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters) and
+  // whose extents across are not apart, found by a sweep across the shadows (sweep_across). The
+  // lists' order does not matter below: each edge's covered intervals are sorted by value
+  // before they are measured, and an edge found inside one polygon adds nothing whichever
+  // polygon that is.
   std::vector<std::vector<std::size_t>>& near = scratch.near;
   if (near.size() < m) near.resize(m);
   for (std::size_t a = 0; a < m; ++a) near[a].clear();
-  double extent_x = 0, extent_y = 0;
-  for (const GridBox& b : box) {
-    extent_x += static_cast<double>(b.x1 - b.x0);
-    extent_y += static_cast<double>(b.y1 - b.y0);
-  }
-  for_overlapping_boxes(box, true, scratch.near_sweep, [&](std::size_t p, std::size_t o) {
-    if (apart(across[p], across[o])) return;
+  sweep_across<true>(box, across, scratch.sweep, [&](std::size_t p, std::size_t o) {
     near[p].push_back(o);
     near[o].push_back(p);
-  }, extent_y < extent_x);
+  });
   // Local coordinates about the cluster's centre keep cross(s, d) small (the area is the same:
   // the uncovered pieces close up into the union's boundary).
   const CL::cInt cx = all.x0 / 2 + all.x1 / 2, cy = all.y0 / 2 + all.y1 / 2;
@@ -375,7 +407,9 @@ struct ClusteredArea {
 
 /// The area of the union (non-zero fill) of `polygons`, each closed and counter-clockwise (as the
 /// fast path's casts are), computed cluster by cluster: polygons in one cluster are those whose
-/// bounding boxes overlap with positive area, transitively. A convex singleton is its shoelace
+/// bounding boxes overlap with positive area and whose extents across (ax, ay) are not apart
+/// (sweep_across), transitively. (ax, ay): the shadows' direction, any non-zero one giving the
+/// same area; along it a low sun's casts are long. A convex singleton is its shoelace
 /// area; a cluster of convex polygons is measured by its boundary (boundary_union_area2); any
 /// other cluster goes through one Clipper union.
 /// `scratch`: the caller's reusable vectors (a fast-path worker's), or none (allocated here).
@@ -391,7 +425,8 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   std::vector<GridBox>& box = s.boxes;
   box.resize(n);
   for (std::size_t p = 0; p < n; ++p) box[p] = grid_box(polygons[p]);
-  // Union-find over the pairs whose boxes overlap with positive area (touching adds no area).
+  // Union-find over the pairs whose boxes overlap with positive area (touching adds no area) and
+  // whose extents across are not apart.
   std::vector<std::size_t>& parent = s.parent;
   parent.resize(n);
   std::iota(parent.begin(), parent.end(), std::size_t{0});
@@ -399,13 +434,12 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  // Swept along the axis the boxes are shorter in (a low sun's long shadows: swept across
-  // them, most of a ground's casts would stay open). The clusters are the same either way.
-  double extent_x = 0, extent_y = 0;
-  for (const GridBox& b : box) {
-    extent_x += static_cast<double>(b.x1 - b.x0);
-    extent_y += static_cast<double>(b.y1 - b.y0);
-  }
+  // Pairs found by a sweep across the shadows (sweep_across): a low sun's casts on a ground are
+  // long and narrow, and a pair apart across them is disjoint, so it joins no cluster.
+  const AcrossAxis axis = across_axis(ax, ay);
+  std::vector<std::pair<double, double>>& across = s.across_all;
+  across.resize(n);
+  for (std::size_t p = 0; p < n; ++p) across[p] = across_extent(polygons[p], axis);
   std::vector<char>& convex = s.convex;
   convex.resize(n);
   for (std::size_t p = 0; p < n; ++p) convex[p] = is_convex_ccw(polygons[p]) ? 1 : 0;
@@ -413,16 +447,17 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   // of the year's clusters are, the casts of low solids inside a tall one's on a wall), and
   // with it the pairs it made, and a cluster left with one convex polygon is its shoelace area.
   // Every pair that such a polygon (of positive area, as every cast is) makes with its container
-  // overlaps with positive area, so the sweep below meets it (one of zero area may stay, which
-  // is harmless). Of polygons equal as sets, the first stays.
+  // overlaps with positive area, and their extents across meet, so the sweep below meets it (one
+  // of zero area may stay, which is harmless). Of polygons equal as sets, the first stays.
   std::vector<char>& inside = s.inside;
   inside.assign(n, 0);
   std::size_t left_out = 0;
   // A pair with a polygon already left out is passed over whole (the sweep is told so): its
-  // container's box holds the polygon's, so the container meets the other one too and joins its
-  // cluster (or it lies in one that stays and does), and a polygon inside the one left out lies
-  // in the container too.
-  for_overlapping_boxes(box, false, s.sweep, [&](std::size_t p, std::size_t o) {
+  // container holds the polygon, so the container meets the other one too and joins its cluster
+  // (or it lies in one that stays and does), or is apart from it across (to within the extents'
+  // rounding, far below their margin) and so disjoint from it; and a polygon inside the one left
+  // out lies in the container too.
+  sweep_across<false>(box, across, s.sweep, [&](std::size_t p, std::size_t o) {
     parent[find(p)] = find(o);
     const GridBox &bp = box[p], &bo = box[o];
     const bool p_in_o = convex[o] && contains_polygon(polygons[o], bo, polygons[p], bp);
@@ -431,7 +466,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
       inside[p_in_o && o_in_p ? std::max(p, o) : p_in_o ? p : o] = 1;
       ++left_out;
     }
-  }, extent_y < extent_x, [&](std::size_t p) { return inside[p] != 0; });
+  }, [&](std::size_t p) { return inside[p] != 0; });
   if (counts) counts->inside += left_out;
   // Members of each cluster, in input order.
   std::vector<std::size_t>&first = s.first, &next = s.next, &last = s.last;
