@@ -501,11 +501,11 @@ TEST(ClusterUnion, TheSweepAcrossFindsThePairsThatMeetInBoxAndAcross) {
     const std::size_t skipped = trial % 4 == 0 ? 0 : polygons.size();  // one passed over in a quarter
     for (bool closed : {false, true}) {
       std::vector<std::pair<std::size_t, std::size_t>> swept, brute;
-      std::vector<shadow::fast::AcrossSweepEntry> scratch;
+      std::vector<shadow::geometry::AcrossSweepEntry<shadow::fast::GridBox>> scratch;
       auto add = [&](std::size_t p, std::size_t o) { swept.emplace_back(std::min(p, o), std::max(p, o)); };
       auto passed = [&](std::size_t p) { return p == skipped; };
-      if (closed) shadow::fast::sweep_across<true>(boxes, across, scratch, add, passed);
-      else shadow::fast::sweep_across<false>(boxes, across, scratch, add, passed);
+      if (closed) shadow::geometry::sweep_across<true>(boxes, across, scratch, add, passed);
+      else shadow::geometry::sweep_across<false>(boxes, across, scratch, add, passed);
       for (std::size_t a = 0; a < boxes.size(); ++a)
         for (std::size_t b = a + 1; b < boxes.size(); ++b) {
           if (a == skipped || b == skipped) continue;

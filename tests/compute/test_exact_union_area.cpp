@@ -270,6 +270,29 @@ TEST(ExactUnionArea, ManyBoxesInAGridEqualTheBooleanUnion) {
   EXPECT_GT(u.counts().pairs, 0u);
 }
 
+TEST(ExactUnionArea, LongDiagonalShadowsApartAcrossAreNotNeighbours) {
+  // A low sun's casts on a ground, diagonal: 60 long thin parallelograms along (1, 1), whose
+  // boxes all overlap, side by side with gaps across (every fifth one shifted onto its
+  // neighbour). The neighbours are found across their main direction, so the strips apart across
+  // make no pair (every box pair would be 1,770), and the area is the Boolean union's.
+  std::vector<Polygon2> polygons;
+  for (int k = 0; k < 60; ++k) {
+    const FT x = FT(k) / 2 - (k % 5 == 0 ? FT(3) / 8 : FT(0)), w = FT(1) / 4;
+    Polygon2 p;
+    p.push_back(Point2(x, 0));
+    p.push_back(Point2(x + w, 0));
+    p.push_back(Point2(x + w + 10, 10));
+    p.push_back(Point2(x + 10, 10));
+    polygons.push_back(p);
+  }
+  ConvexUnionArea u;
+  EQ twice;
+  ASSERT_TRUE(u.twice_area(polygons, twice));
+  EXPECT_EQ(twice / 2, joined_area(polygons));
+  EXPECT_GT(u.counts().pairs, 0u);   // the shifted ones meet a neighbour
+  EXPECT_LE(u.counts().pairs, 24u);  // 12 shifted strips, at most two neighbours each
+}
+
 TEST(ExactUnionArea, ShedScratchMeasuresTheSameAgain) {
   // A worker sheds the union's scratch after a union of many pairs (ExactWorker::trim): what it
   // measures next, large or small, is the same as from scratch kept or new.

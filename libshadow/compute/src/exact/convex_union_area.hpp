@@ -11,6 +11,7 @@
 #include "exact/boundary_chain.hpp"
 #include "exact/kernel.hpp"
 #include "exact/rational_points.hpp"
+#include "exact/union_across.hpp"
 #include "geometry/box_sweep.hpp"
 #include "geometry/shared_edge_merge.hpp"
 #include "geometry/winds_once.hpp"
@@ -31,7 +32,7 @@ class ConvexUnionArea {
   /// Counts of the last call (for tests and the benchmark's notes).
   struct Counts {
     std::size_t polygons = 0;       ///< input polygons
-    std::size_t pairs = 0;          ///< polygon pairs whose bounding boxes meet
+    std::size_t pairs = 0;          ///< polygon pairs whose boxes meet, not apart across
     std::size_t edges_partial = 0;  ///< edges partly covered (those need exact parameters)
     std::size_t exact_params = 0;   ///< parameters t made exactly
     std::size_t merged = 0;         ///< polygons merged into a neighbour along a shared edge
@@ -317,12 +318,13 @@ class ConvexUnionArea {
     return winding.winds_once();
   }
 
-  // ---- neighbours: polygon pairs whose boxes meet (a sweep in x) ------------------------------
+  // ---- neighbours: polygon pairs whose boxes meet, not apart across (exact/union_across.hpp) ----
   void find_pairs() {
     const std::size_t n = box_.size();
     pair_a_.clear();
     pair_b_.clear();
-    geometry::sweep_boxes<false, true>(box_, sorted_, [&](std::size_t later, std::size_t earlier) {
+    across_extents(ip_, nxt_, first_, across_);
+    geometry::sweep_across<true>(box_, across_, sorted_, [&](std::size_t later, std::size_t earlier) {
       pair_a_.push_back(later);
       pair_b_.push_back(earlier);
     });
@@ -759,7 +761,8 @@ class ConvexUnionArea {
   std::vector<std::size_t> nxt_;    ///< the next vertex around the same polygon
   std::vector<std::size_t> first_;  ///< polygon i: vertices [first_[i], first_[i + 1])
   std::vector<Box> box_;
-  std::vector<geometry::BoxSweepEntry<double>> sorted_;
+  std::vector<std::pair<double, double>> across_;  ///< per polygon: its extent across (union_across.hpp)
+  std::vector<geometry::AcrossSweepEntry<Box>> sorted_;
   std::vector<std::size_t> pair_a_, pair_b_, nstart_, nlist_, fill_;
   std::vector<char> inside_;  ///< per polygon: left out, inside another (find_inside)
   std::vector<std::size_t> separator_;  ///< per nlist_ entry: the neighbour's edge cover_by tests first

@@ -40,21 +40,13 @@ struct GridBox {
   long long x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 };
 
-/// A polygon in sweep_across's order (fast/cluster_union.hpp): its extent across the shadows,
-/// its box and its index, read in order without a look-up.
-struct AcrossSweepEntry {
-  double lo = 0, hi = 0;
-  GridBox box;
-  std::size_t index = 0;
-};
-
 /// Vectors reused from one union to the next (their contents mean nothing between calls).
 struct ClusterScratch {
   // clustered_union_area: the polygons' boxes, the union-find, the clusters' member lists.
   std::vector<GridBox> boxes;
   std::vector<std::size_t> parent, first, next, last, members;
   std::vector<std::pair<double, double>> across_all;  ///< every polygon's extent across the shadows
-  std::vector<AcrossSweepEntry> sweep;                ///< sweep_across's order (both sweeps)
+  std::vector<geometry::AcrossSweepEntry<GridBox>> sweep;  ///< sweep_across's order (both sweeps)
   std::vector<char> convex, inside;
   // boundary_union_area2: one cluster's boxes, extents across the shadows, neighbours, the
   // covered intervals of an edge.

@@ -129,40 +129,6 @@ inline bool apart(const std::pair<double, double>& u, const std::pair<double, do
   return u.second < v.first || v.second < u.first;
 }
 
-/// Calls pair(later, earlier) for every two polygons whose extents across (`across`, from
-/// across_extent) are not apart and whose `boxes` overlap with positive area, or with `Closed`
-/// touching too: one sort by the extents' lower ends and a scan of the later ones that start
-/// before each ends (as geometry::sweep_boxes does along x or y). Across the shadows a ground's
-/// casts under a low sun are narrow, so each meets few later ones, where along x or y a
-/// diagonal shadow's box is long both ways and met most of a crowded cluster. The pairs are
-/// those of the boxes' sweep less those apart across, which are disjoint.
-/// `passed(index)`, where given, says a polygon needs no more pairs, as sweep_boxes's.
-template <bool Closed, class Pair, class Passed = geometry::NonePassed>
-void sweep_across(const std::vector<GridBox>& boxes, const std::vector<std::pair<double, double>>& across,
-                  std::vector<AcrossSweepEntry>& sorted, Pair&& pair, Passed&& passed = {}) {
-  const std::size_t n = boxes.size();
-  sorted.resize(n);
-  for (std::size_t a = 0; a < n; ++a) sorted[a] = AcrossSweepEntry{across[a].first, across[a].second, boxes[a], a};
-  std::sort(sorted.begin(), sorted.end(), [](const AcrossSweepEntry& a, const AcrossSweepEntry& b) {
-    return a.lo != b.lo ? a.lo < b.lo : a.index < b.index;
-  });
-  for (std::size_t a = 0; a < n; ++a) {
-    const AcrossSweepEntry& p = sorted[a];
-    if (passed(p.index)) continue;
-    for (std::size_t b = a + 1; b < n; ++b) {
-      const AcrossSweepEntry& q = sorted[b];
-      if (q.lo > p.hi) break;  // apart, as is every later one (q.hi >= q.lo >= p.lo)
-      const GridBox &u = p.box, &v = q.box;
-      const bool meet = Closed ? u.x0 <= v.x1 && v.x0 <= u.x1 && u.y0 <= v.y1 && v.y0 <= u.y1
-                               : u.x0 < v.x1 && v.x0 < u.x1 && u.y0 < v.y1 && v.y0 < u.y1;
-      if (!meet) continue;
-      if (passed(q.index)) continue;
-      pair(q.index, p.index);
-      if (passed(p.index)) break;
-    }
-  }
-}
-
 /// The measure of a union of intervals (sorted here; at least one), in doubles: the runs of
 /// overlapping ones, each its end minus its start, summed in order.
 inline double union_measure(std::vector<std::pair<double, double>>& intervals) {
@@ -221,14 +187,14 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
     all = a == 0 ? b : GridBox{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
   }
   // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters) and
-  // whose extents across are not apart, found by a sweep across the shadows (sweep_across). The
-  // lists' order does not matter below: each edge's covered intervals are sorted by value
-  // before they are measured, and an edge found inside one polygon adds nothing whichever
-  // polygon that is.
+  // whose extents across are not apart, found by a sweep across the shadows
+  // (geometry::sweep_across). The lists' order does not matter below: each edge's covered
+  // intervals are sorted by value before they are measured, and an edge found inside one
+  // polygon adds nothing whichever polygon that is.
   std::vector<std::vector<std::size_t>>& near = scratch.near;
   if (near.size() < m) near.resize(m);
   for (std::size_t a = 0; a < m; ++a) near[a].clear();
-  sweep_across<true>(box, across, scratch.sweep, [&](std::size_t p, std::size_t o) {
+  geometry::sweep_across<true>(box, across, scratch.sweep, [&](std::size_t p, std::size_t o) {
     near[p].push_back(o);
     near[o].push_back(p);
   });
@@ -408,8 +374,8 @@ struct ClusteredArea {
 /// The area of the union (non-zero fill) of `polygons`, each closed and counter-clockwise (as the
 /// fast path's casts are), computed cluster by cluster: polygons in one cluster are those whose
 /// bounding boxes overlap with positive area and whose extents across (ax, ay) are not apart
-/// (sweep_across), transitively. (ax, ay): the shadows' direction, any non-zero one giving the
-/// same area; along it a low sun's casts are long. A convex singleton is its shoelace
+/// (geometry::sweep_across), transitively. (ax, ay): the shadows' direction, any non-zero one
+/// giving the same area; along it a low sun's casts are long. A convex singleton is its shoelace
 /// area; a cluster of convex polygons is measured by its boundary (boundary_union_area2); any
 /// other cluster goes through one Clipper union.
 /// `scratch`: the caller's reusable vectors (a fast-path worker's), or none (allocated here).
@@ -434,8 +400,8 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     while (parent[a] != a) a = parent[a] = parent[parent[a]];
     return a;
   };
-  // Pairs found by a sweep across the shadows (sweep_across): a low sun's casts on a ground are
-  // long and narrow, and a pair apart across them is disjoint, so it joins no cluster.
+  // Pairs found by a sweep across the shadows (geometry::sweep_across): a low sun's casts on a
+  // ground are long and narrow, and a pair apart across them is disjoint, so it joins no cluster.
   const AcrossAxis axis = across_axis(ax, ay);
   std::vector<std::pair<double, double>>& across = s.across_all;
   across.resize(n);
@@ -457,7 +423,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
   // (or it lies in one that stays and does), or is apart from it across (to within the extents'
   // rounding, far below their margin) and so disjoint from it; and a polygon inside the one left
   // out lies in the container too.
-  sweep_across<false>(box, across, s.sweep, [&](std::size_t p, std::size_t o) {
+  geometry::sweep_across<false>(box, across, s.sweep, [&](std::size_t p, std::size_t o) {
     parent[find(p)] = find(o);
     const GridBox &bp = box[p], &bo = box[o];
     const bool p_in_o = convex[o] && contains_polygon(polygons[o], bo, polygons[p], bp);

@@ -1,63 +1,83 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Every two axis-aligned boxes that overlap, by one sort and a read-only scan, and such pairs as
-// lists of neighbours: the fast path's clusters of casts (fast/cluster_union.hpp) and the exact
-// union's neighbours (exact/convex_union_area.hpp), on their own coordinates (integers, doubles).
+// Every two polygons whose boxes overlap and whose extents across a direction are not apart, by
+// one sort and a read-only scan, and such pairs as lists of neighbours: the fast path's clusters
+// of casts (fast/cluster_union.hpp) and the exact union's neighbours (exact/convex_union_area.hpp),
+// on their own coordinates (integers, doubles).
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace shadow::geometry {
 
-/// A box in the sweep's order, with the extents its tests read (no look-up through an index).
-template <class T>
-struct BoxSweepEntry {
-  T lo, hi;              ///< extent in the sweep's axis
-  T lo_across, hi_across;
-  std::size_t index;
-};
-
-/// sweep_boxes' `passed` where the caller never has done with a box.
+/// sweep_across's `passed` where the caller never has done with an item.
 struct NonePassed {
   constexpr bool operator()(std::size_t) const { return false; }
 };
 
-/// Calls pair(later, earlier) for every two of `boxes` (with members x0, y0, x1, y1) that
-/// overlap: with positive extent along both axes, or with `Closed` touching too. Along x, or
-/// along y with `AlongY`: each box against the boxes after it in the order of their lower ends
-/// (ties by index) that start before it ends; a box then meets a later one exactly when a sweep
-/// with a list of open boxes would still hold it at the later one's lower end, so the pairs are
-/// those (open: a box of zero extent at another's lower end in the sweep's axis is reported
-/// too; along the other axis the pairs are the same, in another order). `sorted` is scratch.
-///
-/// `passed(index)`, where given, says a box needs no more pairs (the caller has done with it):
-/// from then on none of its pairs is reported, and the boxes after it are not scanned for it.
-template <bool AlongY, bool Closed, class Box, class T, class Pair, class Passed = NonePassed>
-void sweep_boxes(const std::vector<Box>& boxes, std::vector<BoxSweepEntry<T>>& sorted, Pair&& pair,
-                 Passed&& passed = {}) {
-  using Entry = BoxSweepEntry<T>;
-  sorted.resize(boxes.size());
-  for (std::size_t a = 0; a < boxes.size(); ++a) {
-    const Box& b = boxes[a];
-    sorted[a] = AlongY ? Entry{b.y0, b.y1, b.x0, b.x1, a} : Entry{b.x0, b.x1, b.y0, b.y1, a};
+/// The main direction of segments, for sweep_across's axis: the principal axis of their
+/// directions, each weighted by its length squared (sums of |d|^2 (cos 2a, sin 2a), so that a
+/// segment and its reverse count alike). Under a low sun the casts' long edges run along the
+/// shadows.
+struct MainDirection {
+  double c = 0, s = 0;
+  void add(double dx, double dy) {
+    c += dx * dx - dy * dy;
+    s += 2 * dx * dy;
   }
+  /// The unit normal (nx, ny) to the main direction; (-1, 0), the normal to (0, 1), where there
+  /// is none (no segment, or sums that are not finite).
+  [[nodiscard]] std::pair<double, double> across() const {
+    if (!std::isfinite(c) || !std::isfinite(s) || (c == 0 && s == 0)) return {-1.0, 0.0};
+    const double a = 0.5 * std::atan2(s, c);
+    return {-std::sin(a), std::cos(a)};
+  }
+};
+
+/// An item in sweep_across's order: its extent across (the sweep's axis), its box (members x0,
+/// y0, x1, y1) and its index, read in order without a look-up.
+template <class Box>
+struct AcrossSweepEntry {
+  double lo = 0, hi = 0;
+  Box box{};
+  std::size_t index = 0;
+};
+
+/// Calls pair(later, earlier) for every two items whose extents `across` (closed intervals
+/// along some axis, one per box: a separating axis's, where items apart along it are disjoint)
+/// are not apart and whose `boxes` overlap with positive extent along both axes, or with
+/// `Closed` touching too: one sort by the extents' lower ends (ties by index) and a scan of the
+/// later ones that start before each ends, the box test after. Where items are long and narrow
+/// along one direction (a low sun's shadows), across it each meets few later ones, while a sweep
+/// along x or y met most of a crowded cluster: a diagonal shadow's box is long both ways.
+///
+/// `passed(index)`, where given, says an item needs no more pairs (the caller has done with it):
+/// from then on none of its pairs is reported, and the items after it are not scanned for it.
+template <bool Closed, class Box, class Pair, class Passed = NonePassed>
+void sweep_across(const std::vector<Box>& boxes, const std::vector<std::pair<double, double>>& across,
+                  std::vector<AcrossSweepEntry<Box>>& sorted, Pair&& pair, Passed&& passed = {}) {
+  using Entry = AcrossSweepEntry<Box>;
+  const std::size_t n = boxes.size();
+  sorted.resize(n);
+  for (std::size_t a = 0; a < n; ++a) sorted[a] = Entry{across[a].first, across[a].second, boxes[a], a};
   std::sort(sorted.begin(), sorted.end(), [](const Entry& a, const Entry& b) {
     return a.lo != b.lo ? a.lo < b.lo : a.index < b.index;
   });
-  const std::size_t n = sorted.size();
   for (std::size_t a = 0; a < n; ++a) {
     const Entry& p = sorted[a];
     if (passed(p.index)) continue;
     for (std::size_t b = a + 1; b < n; ++b) {
       const Entry& q = sorted[b];
-      if (Closed ? q.lo > p.hi : q.lo >= p.hi) break;  // this one and every later one start after p ends
-      if (Closed ? p.hi_across >= q.lo_across && q.hi_across >= p.lo_across
-                 : p.hi_across > q.lo_across && q.hi_across > p.lo_across) {
-        if (passed(q.index)) continue;
-        pair(q.index, p.index);
-        if (passed(p.index)) break;
-      }
+      if (q.lo > p.hi) break;  // apart, as is every later one (q.hi >= q.lo >= p.lo)
+      const Box &u = p.box, &v = q.box;
+      const bool meet = Closed ? u.x0 <= v.x1 && v.x0 <= u.x1 && u.y0 <= v.y1 && v.y0 <= u.y1
+                               : u.x0 < v.x1 && v.x0 < u.x1 && u.y0 < v.y1 && v.y0 < u.y1;
+      if (!meet || passed(q.index)) continue;
+      pair(q.index, p.index);
+      if (passed(p.index)) break;
     }
   }
 }
