@@ -20,6 +20,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec2.hpp>
 
 #include <algorithm>
@@ -241,12 +242,18 @@ class FastReceiver {
     s_extra_ = s_extra;
   }
 
-  glm::dvec2 chart(const glm::dvec3& y) const { return {y[rc_.i], y[rc_.j]}; }
+  // Coordinates by index through value_ptr: glm's operator[] is a switch on the index, a
+  // branch per coordinate of every caster vertex.
+  glm::dvec2 chart(const glm::dvec3& y) const {
+    const double* c = glm::value_ptr(y);
+    return {c[rc_.i], c[rc_.j]};
+  }
 
   glm::dvec2 project(const glm::dvec3& y) const { return project(y, rc_.s(y)); }
   /// project(y) where `s` is rc_.s(y), already computed.
   glm::dvec2 project(const glm::dvec3& y, double s) const {
-    return {y[rc_.i] - s * rc_.shift.x, y[rc_.j] - s * rc_.shift.y};
+    const double* c = glm::value_ptr(y);
+    return {c[rc_.i] - s * rc_.shift.x, c[rc_.j] - s * rc_.shift.y};
   }
 
   /// Where segment a-b (exact signs strictly opposite) crosses the receiver's plane, with its
