@@ -476,6 +476,33 @@ TEST(ClusterUnion, BoxClipSkippingInsideSidesIsTheFourClips) {
   EXPECT_GT(large_clipped, 100u);  // the vectors' walk
 }
 
+// A low sun's casts on a ground, diagonal: 60 long thin strips along (1, 1), side by side with
+// gaps across them (every fifth shifted onto its neighbour), whose boxes overlap up to 20 strips
+// apart. Measured across the shadows' direction, the strips apart across are clusters of their
+// own: 38 singletons (exact shoelace areas) and 11 pairs measured by their boundary, where the
+// boxes alone made one cluster of all 60. The area is the Clipper union's within the bound.
+TEST(ClusterUnion, DiagonalStripsApartAcrossTheShadowsAreClustersOfTheirOwn) {
+  CL::Paths strips;
+  for (CL::cInt k = 0; k < 60; ++k) {
+    const CL::cInt x = 4 * k - (k % 5 == 0 ? 3 : 0);
+    strips.push_back({{x, 0}, {x + 2, 0}, {x + 82, 80}, {x + 80, 80}});
+  }
+  ClusterUnionCounts counts;
+  const ClusteredArea a = shadow::fast::clustered_union_area(strips, 1, 1, &counts);
+  EXPECT_EQ(counts.singletons, 38u);
+  EXPECT_EQ(counts.boundaries, 11u);
+  EXPECT_FALSE(a.clipper);
+  double clipper_error = 0;
+  const double fine = fine_union_area(strips, clipper_error);
+  EXPECT_NEAR(area_of(a), fine, error_of(a) + clipper_error);
+  // Along x (the shadows' direction taken as (0, 1), the fallback), the strips are wide across
+  // and their boxes overlap: the same area, from fewer, larger clusters.
+  ClusterUnionCounts along_x;
+  const ClusteredArea b = shadow::fast::clustered_union_area(strips, 0, 1, &along_x);
+  EXPECT_LT(along_x.singletons, counts.singletons);
+  EXPECT_NEAR(area_of(b), fine, error_of(b) + clipper_error);
+}
+
 // The sweep across the shadows finds exactly the pairs whose boxes overlap (with positive area,
 // or touching too when closed) and whose extents across are not apart, as a test of every pair
 // does, for directions along the axes, diagonal and zero (the fallback), with and without a
@@ -518,6 +545,33 @@ TEST(ClusterUnion, TheSweepAcrossFindsThePairsThatMeetInBoxAndAcross) {
       ASSERT_EQ(swept, brute) << "trial " << trial << (closed ? " closed" : " open");
     }
   }
+}
+
+// Extents that touch exactly (integers: a box's own y extent) are not apart, and an item marked
+// passed by `pair` itself (as clustered_union_area leaves a cast out) makes no later pair.
+TEST(ClusterUnion, TheSweepAcrossKeepsTouchingExtentsAndStopsAtAPassedItem) {
+  std::vector<shadow::fast::GridBox> boxes = {{0, 0, 10, 2}, {0, 2, 10, 4}, {0, 4, 10, 6}, {20, 0, 30, 6}};
+  std::vector<std::pair<double, double>> across;
+  for (const shadow::fast::GridBox& b : boxes) across.emplace_back(static_cast<double>(b.y0), static_cast<double>(b.y1));
+  std::vector<shadow::geometry::AcrossSweepEntry<shadow::fast::GridBox>> scratch;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  shadow::geometry::sweep_across<true>(boxes, across, scratch, [&](std::size_t p, std::size_t o) {
+    pairs.emplace_back(std::min(p, o), std::max(p, o));
+  });
+  std::sort(pairs.begin(), pairs.end());
+  // Boxes 0-1 and 1-2 touch along y = 2 and y = 4 (extents touching too); box 3 is apart in x.
+  EXPECT_EQ(pairs, (std::vector<std::pair<std::size_t, std::size_t>>{{0, 1}, {1, 2}}));
+  // Three boxes overlapping one another: the first pair marks its earlier item passed, so that
+  // item meets nothing more, and the other two still pair.
+  boxes = {{0, 0, 10, 10}, {1, 1, 9, 9}, {2, 2, 8, 8}};
+  across = {{0, 10}, {1, 9}, {2, 8}};
+  std::vector<char> passed(3, 0);
+  pairs.clear();
+  shadow::geometry::sweep_across<false>(boxes, across, scratch, [&](std::size_t later, std::size_t earlier) {
+    pairs.emplace_back(earlier, later);
+    passed[earlier] = 1;
+  }, [&](std::size_t p) { return passed[p] != 0; });
+  EXPECT_EQ(pairs, (std::vector<std::pair<std::size_t, std::size_t>>{{0, 1}, {1, 2}}));
 }
 
 }  // namespace

@@ -149,8 +149,11 @@ class ConvexUnionArea {
   }
 
   [[nodiscard]] const Counts& counts() const { return counts_; }
-  /// Frees the scratch, sized by the largest union met, once it has room for over `pairs` pairs.
-  void shed(std::size_t pairs) { if (pair_a_.capacity() > pairs) *this = ConvexUnionArea(); }
+  /// Frees the scratch, sized by the largest union met, once it has room for over `pairs` pairs
+  /// or polygons (a large union whose polygons lie apart across keeps few pairs).
+  void shed(std::size_t pairs) {
+    if (pair_a_.capacity() > pairs || box_.capacity() > pairs) *this = ConvexUnionArea();
+  }
 
   /// From this many polygons on, those sharing an edge run both ways are merged where convex
   /// (merge_shared_edges); below it the hashing would cost more than it saves.

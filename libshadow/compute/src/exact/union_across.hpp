@@ -21,7 +21,7 @@ namespace shadow::exact {
 /// the polygon on the unit normal to the polygons' main direction (geometry::MainDirection, of
 /// their edges in doubles: any direction gives rigorous extents, this one narrow ones). The
 /// projections are taken in interval arithmetic from the points' intervals (rounding upward set
-/// here); an extent that is not a number (an interval that is the whole line) is the whole line.
+/// here); a polygon with a projection that is not a number is given the whole line.
 inline void across_extents(const std::vector<IPoint2>& points, const std::vector<std::size_t>& next,
                            const std::vector<std::size_t>& first, std::vector<std::pair<double, double>>& out) {
   const std::size_t n = first.empty() ? 0 : first.size() - 1;
@@ -36,6 +36,11 @@ inline void across_extents(const std::vector<IPoint2>& points, const std::vector
     double lo = kInfinity, hi = -kInfinity;
     for (std::size_t v = first[i]; v < first[i + 1]; ++v) {
       const IA t = nx * points[v].x + ny * points[v].y;
+      if (!(t.inf() <= t.sup())) {  // (not a number: std::min would drop it silently)
+        lo = -kInfinity;
+        hi = kInfinity;
+        break;
+      }
       lo = std::min(lo, t.inf());
       hi = std::max(hi, t.sup());
     }

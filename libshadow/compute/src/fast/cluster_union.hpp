@@ -19,6 +19,7 @@
 #pragma once
 
 #include "fast/cluster_scratch.hpp"
+#include "geometry/box_sweep.hpp"
 #include "geometry/cyclic_index.hpp"
 #include "geometry/shared_edge_merge.hpp"
 #include "geometry/winds_once.hpp"

@@ -56,6 +56,7 @@ struct AcrossSweepEntry {
 ///
 /// `passed(index)`, where given, says an item needs no more pairs (the caller has done with it):
 /// from then on none of its pairs is reported, and the items after it are not scanned for it.
+/// Every extent must have lo <= hi (neither a NaN): the scan's stop relies on it.
 template <bool Closed, class Box, class Pair, class Passed = NonePassed>
 void sweep_across(const std::vector<Box>& boxes, const std::vector<std::pair<double, double>>& across,
                   std::vector<AcrossSweepEntry<Box>>& sorted, Pair&& pair, Passed&& passed = {}) {
