@@ -120,11 +120,18 @@ TEST(ClusterUnion, EdgesInsideAnotherPolygonAddNothingToTheBound) {
   // first): their edges lie wholly inside it, so they add no term and nothing to the bound, and
   // they cut none of its edges.
   const CL::Paths nested = {outer, rect(2, 2, 4, 4), rect(5, 5, 9, 8), rect(3, 3, 8, 7)};
+  const shadow::fast::AcrossAxis axis = shadow::fast::across_axis(0, 1);
   std::vector<shadow::fast::GridBox> boxes;
-  for (const CL::Path& p : nested) boxes.push_back(shadow::fast::grid_box(p));
+  std::vector<std::pair<double, double>> extents;
+  for (const CL::Path& p : nested) {
+    boxes.push_back(shadow::fast::grid_box(p));
+    extents.push_back(shadow::fast::across_extent(p, axis));
+  }
   shadow::fast::ClusterScratch scratch;
-  const shadow::fast::BoundaryArea alone = shadow::fast::boundary_union_area2(nested, boxes, {0}, 0, 1, scratch);
-  const shadow::fast::BoundaryArea all = shadow::fast::boundary_union_area2(nested, boxes, {0, 1, 2, 3}, 0, 1, scratch);
+  const shadow::fast::BoundaryArea alone =
+      shadow::fast::boundary_union_area2(nested, boxes, extents, {0}, axis, scratch);
+  const shadow::fast::BoundaryArea all =
+      shadow::fast::boundary_union_area2(nested, boxes, extents, {0, 1, 2, 3}, axis, scratch);
   EXPECT_EQ(alone.twice_area, 200.0);
   EXPECT_EQ(all.twice_area, 200.0);
   EXPECT_GT(alone.error, 0.0);

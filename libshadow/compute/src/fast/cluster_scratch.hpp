@@ -59,6 +59,7 @@ struct ClusterScratch {
   std::vector<std::size_t> merge_next, merge_first;
   geometry::SharedEdgeMerge merge;
   std::vector<GridBox> merged_boxes;
+  std::vector<std::pair<double, double>> merged_across;
 };
 
 }  // namespace shadow::fast

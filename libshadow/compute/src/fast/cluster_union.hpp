@@ -162,14 +162,17 @@ struct BoundaryArea {
 
 ///
 /// Coordinates within 2^30 of 0 (the fast path's grid), so that 64-bit integers hold every
-/// product exactly. (ax, ay), any non-zero direction (the shadows' in grid units), only speeds up the search for
-/// overlapping pairs: long thin shadows along it have wide boxes but narrow extents across it.
-/// `boxes`: the bounding box of every polygon (grid_box).
+/// product exactly. `axis` (across_axis of any direction: the shadows' in grid units) only speeds
+/// up the search for overlapping pairs: long thin shadows have wide boxes but narrow extents
+/// across their direction.
+/// `boxes`, `extents`: the bounding box (grid_box) and the extent across `axis` (across_extent) of
+/// every polygon, made once by the caller for all its clusters.
 /// `scratch`: vectors reused from call to call (the caller's worker keeps them: most receivers'
 /// clusters are small and many, and allocating for each, or finding a thread-local scratch
 /// through the dynamic linker's TLS look-up, was a visible share of the measure).
 inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, const std::vector<GridBox>& boxes,
-                                         const std::vector<std::size_t>& members, double ax, double ay,
+                                         const std::vector<std::pair<double, double>>& extents,
+                                         const std::vector<std::size_t>& members, const AcrossAxis& axis,
                                          ClusterScratch& scratch) {
   namespace CL = ClipperLib;
   constexpr double kEps = std::numeric_limits<double>::epsilon();
@@ -178,13 +181,12 @@ inline BoundaryArea boundary_union_area2(const ClipperLib::Paths& polygons, cons
   box.resize(m);
   GridBox all{};
   // Extents across the shadows (across_extent): two polygons whose extents are apart are disjoint.
-  const AcrossAxis axis = across_axis(ax, ay);
   const double nx = axis.nx, ny = axis.ny, margin = kAcrossMargin;
   std::vector<std::pair<double, double>>& across = scratch.across;
   across.resize(m);
   for (std::size_t a = 0; a < m; ++a) {
     const GridBox& b = box[a] = boxes[members[a]];
-    across[a] = across_extent(polygons[members[a]], axis);
+    across[a] = extents[members[a]];
     all = a == 0 ? b : GridBox{std::min(all.x0, b.x0), std::min(all.y0, b.y0), std::max(all.x1, b.x1), std::max(all.y1, b.y1)};
   }
   // Neighbours: polygons whose boxes meet (closed: a shared edge on the box's side matters) and
@@ -469,6 +471,7 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
     if (all_convex) {
       const CL::Paths* measured = &polygons;
       const std::vector<GridBox>* boxes = &box;
+      const std::vector<std::pair<double, double>>* extents = &across;
       if (merge_shared && members.size() >= kMergeClusterFrom &&
           fast::merge_shared_edges(polygons, members, s, merged)) {
         if (counts) ++counts->merged;
@@ -478,12 +481,17 @@ inline ClusteredArea clustered_union_area(const ClipperLib::Paths& polygons, dou
         }
         measured = &merged;
         s.merged_boxes.resize(merged.size());
-        for (std::size_t p = 0; p < merged.size(); ++p) s.merged_boxes[p] = grid_box(merged[p]);
+        s.merged_across.resize(merged.size());
+        for (std::size_t p = 0; p < merged.size(); ++p) {
+          s.merged_boxes[p] = grid_box(merged[p]);
+          s.merged_across[p] = across_extent(merged[p], axis);
+        }
         boxes = &s.merged_boxes;
+        extents = &s.merged_across;
         members.resize(merged.size());
         std::iota(members.begin(), members.end(), std::size_t{0});
       }
-      const BoundaryArea b = boundary_union_area2(*measured, *boxes, members, ax, ay, s);
+      const BoundaryArea b = boundary_union_area2(*measured, *boxes, *extents, members, axis, s);
       out.boundary.twice_area += b.twice_area;
       out.boundary.error += b.error + 2 * std::numeric_limits<double>::epsilon() * std::abs(out.boundary.twice_area);
       if (counts) ++counts->boundaries;
