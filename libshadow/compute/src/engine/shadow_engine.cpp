@@ -27,6 +27,7 @@
 #include "core/input_checks.hpp"
 #include "core/lights.hpp"
 #include "arealight/light_visibility.hpp"
+#include "runtime/first_touch.hpp"
 #include "runtime/parallel.hpp"
 #include "core/tiles.hpp"
 #include "engine/engine_access.hpp"
@@ -468,24 +469,34 @@ ShadowResult ShadowEngine::Impl::assemble(std::vector<ItemTable>& per_light,
   ShadowResult result;
   const std::size_t lights = per_light.size();
   const std::size_t receivers = lights ? per_light[0].size() : 0;
-  // The lighting rows (receiver-major, then light) copied by blocks on every worker's thread.
-  result.lighting.resize(lights * receivers);
-  runtime::parallel_for_blocks(receivers, 4096, static_cast<unsigned>(std::max<std::size_t>(1, workers.size())),
-                            [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
-                              for (std::size_t r = begin; r < end; ++r)
-                                for (std::size_t li = 0; li < lights; ++li)
-                                  result.lighting[r * lights + li] = per_light[li][r].lighting;
-                            });
+  // The lighting rows (receiver-major, then light) copied by blocks on every worker's thread,
+  // their pages first touched there too (a million rows: 96 MB). Each block notes whether any
+  // of its items has fragments, so that the renumbering below visits only those blocks (areas
+  // only: none, where visiting every item was a serial pass over the whole table).
+  const unsigned threads = static_cast<unsigned>(std::max<std::size_t>(1, workers.size()));
+  constexpr std::size_t kBlock = 4096;
+  runtime::resize_touched(result.lighting, lights * receivers, threads);
+  std::vector<char> block_has_fragments((receivers + kBlock - 1) / kBlock, 0);
+  runtime::parallel_for_blocks(receivers, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    for (std::size_t r = begin; r < end; ++r)
+      for (std::size_t li = 0; li < lights; ++li) {
+        const Item& item = per_light[li][r];
+        result.lighting[r * lights + li] = item.lighting;
+        if (!item.fragments.empty()) block_has_fragments[b] = 1;
+      }
+  });
   // Fragments in the same order, their ids made global.
   std::size_t next_fragment_id = 0;
-  for (std::size_t r = 0; r < receivers; ++r) {
-    for (std::size_t li = 0; li < lights; ++li) {
-      Item& item = per_light[li][r];
-      if (item.fragments.empty()) continue;
-      engine_detail::append_renumbered(item.fragments, result.fragments, next_fragment_id);
-      item.fragments.clear();
-      item.fragments.shrink_to_fit();
-    }
+  for (std::size_t b = 0; b < block_has_fragments.size(); ++b) {
+    if (!block_has_fragments[b]) continue;
+    for (std::size_t r = b * kBlock; r < std::min(receivers, (b + 1) * kBlock); ++r)
+      for (std::size_t li = 0; li < lights; ++li) {
+        Item& item = per_light[li][r];
+        if (item.fragments.empty()) continue;
+        engine_detail::append_renumbered(item.fragments, result.fragments, next_fragment_id);
+        item.fragments.clear();
+        item.fragments.shrink_to_fit();
+      }
   }
   for (const ThreadState& w : workers) {
     result.stats += w.stats;

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "runtime/first_touch.hpp"
 #include "runtime/parallel.hpp"
 #include "runtime/uninit_vector.hpp"
 
@@ -340,9 +341,17 @@ bool parse_obj_in_chunks(std::string_view text, const std::string& display_name,
   runtime::parallel_for(n, threads, [&](unsigned, std::size_t k) {
     std::copy(chunks[k].vertices.begin(), chunks[k].vertices.end(), vertices.begin() + static_cast<std::ptrdiff_t>(vertex0[k]));
   });
-  faces.assign(face0[n], {});
-  if (face_lines != nullptr) face_lines->assign(face0[n], 0);
-  if (face_groups != nullptr) face_groups->assign(face0[n], {});
+  // Sized on this thread, their pages first touched on every thread (runtime/first_touch.hpp).
+  faces.clear();
+  runtime::resize_touched(faces, face0[n], threads);
+  if (face_lines != nullptr) {
+    face_lines->clear();
+    runtime::resize_touched(*face_lines, face0[n], threads);  // (zeros, as assign(n, 0) gave)
+  }
+  if (face_groups != nullptr) {
+    face_groups->clear();
+    runtime::resize_touched(*face_groups, face0[n], threads);
+  }
   // Every part's faces; the first error of the file is the first part's that has one: a bad
   // reference comes before the part's own error (its faces precede that line).
   std::vector<std::optional<LineError>> failed(n);

@@ -9,6 +9,7 @@
 #include "readers/json_document.hpp"
 #include "readers/model_dispatch.hpp"
 #include "readers/obj_reader.hpp"
+#include "runtime/first_touch.hpp"
 #include "runtime/parallel.hpp"
 #include "validation/planarity.hpp"
 
@@ -350,8 +351,8 @@ void SceneReader::load_faces(PendingMesh pending) {
     // The faces made on every thread (a million-face file: placing vertices, a source and a
     // name each), in file order.
     const std::size_t first = scene_.faces.size(), mesh = scene_.meshes.size() - 1;
-    scene_.faces.resize(first + polygons.size());
     const unsigned threads = std::min(runtime::resolve_threads(options_.threads), runtime::kMaxThreads);
+    runtime::resize_touched(scene_.faces, first + polygons.size(), threads);
     runtime::parallel_for_blocks(polygons.size(), 4096, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
       for (std::size_t j = begin; j < end; ++j) {
         Face& face = scene_.faces[first + j];
