@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "writers/vtk_zlib_blocks.hpp"
 
+#include "runtime/first_touch.hpp"
 #include "runtime/parallel.hpp"
 
 #include <vtkAbstractArray.h>
@@ -27,18 +28,29 @@ namespace shadow::detail {
 namespace {
 
 /// The string array's values as vtkXMLWriter puts them in its blocks: each value's bytes and a
-/// terminating zero, one after the other (a value may run on into the next block).
-std::vector<unsigned char> packed_strings(vtkStringArray* strings) {
-  const vtkIdType count = strings->GetNumberOfValues();
-  std::size_t total = 0;
-  for (vtkIdType i = 0; i < count; ++i) total += strings->GetValue(i).size() + 1;
+/// terminating zero, one after the other (a value may run on into the next block). Made on
+/// `threads` threads, by blocks of values (a million faces' four string arrays were a tenth of a
+/// second of one thread): each block's size, then each block's bytes at its place.
+std::vector<unsigned char> packed_strings(vtkStringArray* strings, unsigned threads) {
+  const std::size_t count = static_cast<std::size_t>(std::max<vtkIdType>(strings->GetNumberOfValues(), 0));
+  const vtkStdString* values = count > 0 ? strings->GetPointer(0) : nullptr;
+  constexpr std::size_t kBlock = 16384;
+  std::vector<std::size_t> start((count + kBlock - 1) / kBlock + 1, 0);
+  runtime::parallel_for_blocks(count, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    std::size_t size = 0;
+    for (std::size_t i = begin; i < end; ++i) size += values[i].size() + 1;
+    start[b + 1] = size;
+  });
+  for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   std::vector<unsigned char> bytes;
-  bytes.reserve(total);
-  for (vtkIdType i = 0; i < count; ++i) {
-    const std::string& value = strings->GetValue(i);
-    bytes.insert(bytes.end(), value.begin(), value.end());
-    bytes.push_back(0);
-  }
+  runtime::resize_touched(bytes, start.back(), threads);  // (zeros: every value's terminator)
+  runtime::parallel_for_blocks(count, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+    unsigned char* out = bytes.data() + start[b];
+    for (std::size_t i = begin; i < end; ++i) {
+      std::memcpy(out, values[i].data(), values[i].size());
+      out += values[i].size() + 1;
+    }
+  });
   return bytes;
 }
 
@@ -147,7 +159,7 @@ void PrecompressedZLib::prepare(vtkPolyData* data, std::size_t block_size, unsig
     for (int i = 0; i < arrays->GetNumberOfArrays(); ++i) {
       vtkAbstractArray* array = arrays->GetAbstractArray(i);
       if (auto* strings = vtkStringArray::SafeDownCast(array))
-        add_copied(packed_strings(strings), block_size);
+        add_copied(packed_strings(strings, threads_), block_size);
       else
         add_in_place(array, block_size);
     }
