@@ -757,6 +757,21 @@ TEST_F(OutputTest, AStaleReportIsReplacedByTheNewOne) {
   EXPECT_EQ(report["faces"].size(), 2u);
 }
 
+TEST_F(OutputTest, TheStaleReportIsGoneOnceTheDirectoryIsOpenedAndItsRemovalLeavesNothing) {
+  // A large report: it is moved aside at once and removed in the background (staged_files.hpp).
+  std::ofstream(root_ / "report.json") << std::string(std::size_t{8} << 20, ' ') << R"({"stale": true})";
+  {
+    shadow::OutputDirectory output(root_);
+    EXPECT_FALSE(fs::exists(root_ / "report.json"));
+    output.write(scene_, result_);
+    EXPECT_FALSE(read_report(root_).contains("stale"));
+  }
+  // Neither the old report nor its hidden name stays behind.
+  EXPECT_EQ(directory_listing(root_),
+            (std::set<std::string>{"faces.vtp", "fragments.vtp", "lights.vtp", "plane_shadows.vtp", "report.json",
+                                   "scene.vtm"}));
+}
+
 TEST_F(OutputTest, AFailedRunRemovesTheStaleReportAndItsOwnTemporaries) {
   // An old, complete-looking run, and an obstacle that makes the new one fail at the end:
   // a directory where scene.vtm has to go.
@@ -926,10 +941,10 @@ TEST_F(OutputTest, TheLockIsReleasedAndItsFileRemovedWhenTheDirectoryIsClosed) {
 TEST_F(OutputTest, StaleTemporariesOfDeadProcessesAreRemoved) {
   // PID 2147483646 exceeds any pid_max: no such process. Our own PID is alive.
   const std::vector<std::string> dead = {".fragments.vtp.tmp-2147483646", ".report.json.tmp-2147483646",
-                                         ".scene.vtm.tmp-2147483646"};
+                                         ".scene.vtm.tmp-2147483646", ".report.json.old-2147483646"};
   const std::string live = ".faces.vtp.tmp-" + std::to_string(getppid());
   const std::vector<std::string> foreign = {".fragments.vtp.tmp-abc", "notes.tmp-2147483646",
-                                            ".other.vtp.tmp-2147483646"};
+                                            ".other.vtp.tmp-2147483646", ".faces.vtp.old-2147483646"};
   for (const std::string& name : dead) std::ofstream(root_ / name) << "half";
   for (const std::string& name : foreign) std::ofstream(root_ / name) << "mine";
   std::ofstream(root_ / live) << "being written";

@@ -11,12 +11,14 @@
 
 #include <cerrno>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <ostream>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -121,6 +123,45 @@ inline void remove_stale_report(const std::filesystem::path& report) {
     throw OutputError(report.string() + ": is a directory; cannot replace it with the report");
   std::filesystem::remove(report, ec);
   if (ec) throw OutputError(report.string() + ": cannot remove the old report: " + ec.message());
+}
+
+/// The name remove_stale_report_aside() gives the report it moves aside: `.report.json.old-PID`.
+inline std::filesystem::path report_aside(const std::filesystem::path& report) {
+  return report.parent_path() /
+         ("." + report.filename().string() + ".old-" + std::to_string(static_cast<long>(::getpid())));
+}
+
+/// remove_stale_report with its slow part in the background: the report is renamed aside at
+/// once (report_aside(): from here on no report is there, as after remove_stale_report), and the
+/// renamed file is removed on the thread returned, which the caller joins. Removing a large
+/// report frees its pages in the kernel and, where the earlier run's writes are still on their
+/// way to the disk, waits for them: a million faces' 560 MB took 0.05-0.2 s in which the rest
+/// of the run waited. Where the rename fails, or no thread starts, the report is removed here
+/// (the thread returned is then not joinable). A run killed before the thread is done leaves the
+/// hidden file, which a later run into the directory removes (its process is gone).
+inline std::thread remove_stale_report_aside(const std::filesystem::path& report) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::symlink_status(report, ec);
+  if (!std::filesystem::exists(status) || std::filesystem::is_directory(status)) {
+    remove_stale_report(report);  // (nothing there; or a directory: its error)
+    return {};
+  }
+  const std::filesystem::path aside = report_aside(report);
+  std::filesystem::remove(aside, ec);  // a leftover of an earlier process with our pid
+  std::filesystem::rename(report, aside, ec);
+  if (ec) {
+    remove_stale_report(report);
+    return {};
+  }
+  try {
+    return std::thread([aside] {
+      std::error_code ignored;
+      std::filesystem::remove(aside, ignored);
+    });
+  } catch (const std::exception&) {  // no thread (or no memory for its copy of the name)
+    std::filesystem::remove(aside, ec);
+    return {};
+  }
 }
 
 }  // namespace shadow::detail

@@ -27,6 +27,7 @@
 #include <vector>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <utility>
 
 #include <fcntl.h>
@@ -72,7 +73,9 @@ void remove_stale_temporaries(const fs::path& outdir, bool series_folder = false
         outputs.push_back(name.substr(1, tmp - 1));
     }
     for (const std::string& output : outputs) {
-      const std::string prefix = "." + output + ".tmp-";
+      // `.NAME.tmp-PID`, or the report an earlier run moved aside (remove_stale_report_aside).
+      std::string prefix = "." + output + ".tmp-";
+      if (name.rfind(prefix, 0) != 0 && output == "report.json") prefix = "." + output + ".old-";
       if (name.rfind(prefix, 0) != 0) continue;
       const std::string digits = name.substr(prefix.size());
       if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) break;
@@ -143,6 +146,13 @@ class DirectoryLock {
 struct OutputDirectory::Impl {
   fs::path outdir;
   std::unique_ptr<DirectoryLock> lock;
+  std::thread removing_report;  ///< removes the old report moved aside (remove_stale_report_aside)
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl() {  // (before the lock is released: members go in reverse order)
+    if (removing_report.joinable()) removing_report.join();
+  }
 };
 
 OutputDirectory::OutputDirectory(const fs::path& outdir) : impl_(std::make_unique<Impl>()) {
@@ -152,8 +162,8 @@ OutputDirectory::OutputDirectory(const fs::path& outdir) : impl_(std::make_uniqu
   remove_stale_temporaries(outdir);
   if (fs::is_directory(outdir / "series")) remove_stale_temporaries(outdir / "series", true);
   // First, before any computing: a run killed from here on leaves no report.json, so nothing
-  // in the directory looks like a complete result.
-  remove_stale_report(outdir / "report.json");
+  // in the directory looks like a complete result. (Moved aside at once, removed meanwhile.)
+  impl_->removing_report = detail::remove_stale_report_aside(outdir / "report.json");
 }
 
 OutputDirectory::~OutputDirectory() = default;
