@@ -585,8 +585,9 @@ PYBIND11_MODULE(_libshadow, m) {
         "Minutes east of UTC of 'UTC', 'UTC+hh:mm', ...; None for anything else.");
   m.def("check_sun_period", &check_sun_period, py::arg("period"), py::arg("file") = "", py::arg("place") = "sun",
         "Raises InputError when the period is out of range.");
-  m.def("expand_sun_period", &expand_sun_period, py::arg("period"),
-        "Every instant of the period in time order with its sun's position (light_id None).");
+  m.def("expand_sun_period", &expand_sun_period, py::arg("period"), py::arg("threads") = 1,
+        "Every instant of the period in time order with its sun's position (light_id None), the\n"
+        "positions computed on `threads` threads (0: every hardware thread).");
   m.def("sun_light_name", &sun_light_name, py::arg("time"));
   m.def("replace_sun_lights",
         [](const ScenePtr& scene, const SunPeriod& period) {

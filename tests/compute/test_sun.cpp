@@ -392,6 +392,25 @@ TEST(SunPeriod, OneInstantAtTheStartOfEachStep) {
   EXPECT_EQ(two[1].time, q.times[1]);
 }
 
+TEST(SunPeriod, ThePositionsAreTheSameOnEveryThreadCount) {
+  // Ten days at 5-minute steps: 2,880 positions, in blocks over the threads.
+  shadow::SunPeriod p = june_day();
+  p.end = "2026-06-30";
+  p.step_minutes = 5;
+  const std::vector<shadow::SunInstant> one = shadow::expand_sun_period(p, 1);
+  ASSERT_EQ(one.size(), 10u * 288u);
+  for (unsigned threads : {2u, 3u, 0u}) {
+    const std::vector<shadow::SunInstant> many = shadow::expand_sun_period(p, threads);
+    ASSERT_EQ(many.size(), one.size());
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      ASSERT_EQ(many[i].time, one[i].time) << i;
+      ASSERT_EQ(many[i].position.azimuth, one[i].position.azimuth) << i << ", threads " << threads;
+      ASSERT_EQ(many[i].position.elevation, one[i].position.elevation) << i << ", threads " << threads;
+      ASSERT_EQ(many[i].position.to_light, one[i].position.to_light) << i << ", threads " << threads;
+    }
+  }
+}
+
 TEST(SunPeriod, PressureZeroIsTheAirlessGeometricPosition) {
   // NREL's SPA takes pressures from 0 to 5000 millibars; 0 is the usual way to ask for the sun
   // without refraction. A sun block may say so, and its suns are then the geometric ones.

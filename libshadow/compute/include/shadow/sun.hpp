@@ -166,9 +166,11 @@ void check_sun_period(const SunPeriod& period, const std::string& file = {},
 /// Every instant of `period` in time order with its sun's position: for a period, one instant per
 /// step of each local standard day from `start` to `end` inclusive, at the step's start (or, with
 /// `energyplus_times`, its end, or its middle for steps of an hour or more) (UTC = local -
-/// utc_offset); or the `times`. light_id is left SunInstant::none.
+/// utc_offset); or the `times`. light_id is left SunInstant::none. The positions are computed on
+/// `threads` threads (0: every hardware thread; the instants are the same on any count): a year
+/// at one-minute steps is half a million positions, seconds of one thread.
 /// @throws InputError (check_sun_period, with an empty file name)
-std::vector<SunInstant> expand_sun_period(const SunPeriod& period);
+std::vector<SunInstant> expand_sun_period(const SunPeriod& period, unsigned threads = 1);
 
 /// The name of the directional light of the sun at `time`: `sun 2026-06-21T12:00:00Z`.
 std::string sun_light_name(UtcSeconds time);
@@ -178,14 +180,15 @@ std::string sun_light_name(UtcSeconds time);
 /// Scene::sun_instants (light_id set for those, SunInstant::none for the others). The instants
 /// below are those with light_id == none. When no sun is above, a Scene::warnings entry says so.
 /// Call it once per scene: a second call would append the suns again.
+/// The positions are computed on `threads` threads, as expand_sun_period's.
 /// @throws InputError (check_sun_period with the scene's source as file; a light name taken)
-void add_sun_lights(Scene& scene, const SunPeriod& period);
+void add_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads = 1);
 
 /// Replaces the scene's sun period: removes the directional lights an earlier add_sun_lights
 /// appended (the lights named by Scene::sun_instants; other lights keep their order), then
 /// add_sun_lights(scene, period). `shadow series --from/--to/--step` uses it to run a model's
 /// own site over another period.
 /// @throws InputError like add_sun_lights
-void replace_sun_lights(Scene& scene, const SunPeriod& period);
+void replace_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads = 1);
 
 }  // namespace shadow

@@ -180,7 +180,7 @@ void replace_period(Scene& scene, const SeriesJobOptions& options) {
   if (!options.to.empty()) period.end = options.to;
   if (options.step_minutes > 0) period.step_minutes = options.step_minutes;
   try {
-    replace_sun_lights(scene, period);
+    replace_sun_lights(scene, period, options.threads);
   } catch (const InputError& e) {
     // The period's keys came from the options: name them as the command line does.
     const std::string& place = e.where().place;
@@ -404,7 +404,7 @@ void SeriesJob::load() {
     if (s.scene.sun && s.scene.sun->times.empty() && !s.scene.sun->energyplus_times) {
       SunPeriod period = *s.scene.sun;
       period.energyplus_times = true;
-      replace_sun_lights(s.scene, period);
+      replace_sun_lights(s.scene, period, options_.threads);
     }
     // Impossible (a step that does not divide an hour, explicit times, names EnergyPlus would
     // confuse): refused before the engine is built and any sun computed, not a run that

@@ -105,7 +105,7 @@ Scene SceneReader::read(const std::string& text) {
     const SunPeriod period = read_sun(*sun);
     if (std::optional<std::string> doubt = local_time_doubt(period, find(*sun, "utc_offset") || find(*sun, "time_zone")))
       scene_.warnings.push_back({{file_, "sun"}, *doubt});
-    add_sun_lights(scene_, period);
+    add_sun_lights(scene_, period, options_.threads);
   }
   if (const Json* planes = find(document, "planes")) read_planes(*planes);
   if (const Json* receivers = find(document, "receivers")) read_receivers(*receivers);
@@ -137,7 +137,7 @@ Scene SceneReader::read(const std::string& text) {
     if (scene_.energyplus_shading.value_or(energyplus)) {
       SunPeriod period = *scene_.sun;
       period.energyplus_times = true;
-      replace_sun_lights(scene_, period);
+      replace_sun_lights(scene_, period, options_.threads);
     }
   }
   apply_model_receivers();
@@ -435,7 +435,7 @@ Scene load_scene(const fs::path& scene_file, const LoadOptions& options) {
     throw InputError({scene_file.string(), ""}, "the model has no geometry that libshadow reads (see docs/cityjson.md "
                                                 "and docs/energyplus.md for what is read)");
   // The sun the model implies (EnergyPlus Site:Location and RunPeriod) lights it.
-  if (model.sun) add_sun_lights(scene, *model.sun);
+  if (model.sun) add_sun_lights(scene, *model.sun, options.threads);
   validate_scene(scene, options);
   return scene;
 }
