@@ -585,27 +585,28 @@ PYBIND11_MODULE(_libshadow, m) {
         "Minutes east of UTC of 'UTC', 'UTC+hh:mm', ...; None for anything else.");
   m.def("check_sun_period", &check_sun_period, py::arg("period"), py::arg("file") = "", py::arg("place") = "sun",
         "Raises InputError when the period is out of range.");
-  m.def("expand_sun_period", &expand_sun_period, py::arg("period"), py::arg("threads") = 1,
+  m.def("expand_sun_period", py::overload_cast<const SunPeriod&, unsigned>(&expand_sun_period), py::arg("period"),
+        py::arg("threads") = 1,
         "Every instant of the period in time order with its sun's position (light_id None), the\n"
         "positions computed on `threads` threads (0: every hardware thread).");
   m.def("sun_light_name", &sun_light_name, py::arg("time"));
   m.def("replace_sun_lights",
-        [](const ScenePtr& scene, const SunPeriod& period) {
+        [](const ScenePtr& scene, const SunPeriod& period, unsigned threads) {
           auto out = std::make_shared<Scene>(need_scene(scene));
-          replace_sun_lights(*out, period);
+          replace_sun_lights(*out, period, threads);
           return out;
         },
-        py::arg("scene"), py::arg("period"),
+        py::arg("scene"), py::arg("period"), py::arg("threads") = 1,
         "A copy of the scene with its sun period replaced: the earlier suns' lights removed, the\n"
         "period's added (other lights keep their order). The scene given is left as it was.");
   // A copy, not the scene changed in place: an engine may be computing on the scene given.
   m.def("add_sun_lights",
-        [](const ScenePtr& scene, const SunPeriod& period) {
+        [](const ScenePtr& scene, const SunPeriod& period, unsigned threads) {
           auto out = std::make_shared<Scene>(need_scene(scene));
-          add_sun_lights(*out, period);
+          add_sun_lights(*out, period, threads);
           return out;
         },
-        py::arg("scene"), py::arg("period"),
+        py::arg("scene"), py::arg("period"), py::arg("threads") = 1,
         "A copy of the scene with the period's suns above min_elevation appended to its lights (and\n"
         "its sun and sun_instants set); the scene given is left as it was.");
 

@@ -772,6 +772,19 @@ TEST_F(OutputTest, TheStaleReportIsGoneOnceTheDirectoryIsOpenedAndItsRemovalLeav
                                    "scene.vtm"}));
 }
 
+TEST_F(OutputTest, AStaleReportThatIsALinkGoesWithoutItsTarget) {
+  // The link itself is moved aside and removed; the file it points to is not ours to remove.
+  const fs::path target = root_ / "kept.json";
+  std::ofstream(target) << R"({"someone else's": true})";
+  fs::create_symlink(target, root_ / "report.json");
+  {
+    shadow::OutputDirectory output(root_);
+    EXPECT_FALSE(fs::exists(fs::symlink_status(root_ / "report.json")));
+  }
+  EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(target)));
+  EXPECT_EQ(directory_listing(root_), std::set<std::string>{"kept.json"});
+}
+
 TEST_F(OutputTest, AFailedRunRemovesTheStaleReportAndItsOwnTemporaries) {
   // An old, complete-looking run, and an obstacle that makes the new one fail at the end:
   // a directory where scene.vtm has to go.
@@ -943,15 +956,18 @@ TEST_F(OutputTest, StaleTemporariesOfDeadProcessesAreRemoved) {
   const std::vector<std::string> dead = {".fragments.vtp.tmp-2147483646", ".report.json.tmp-2147483646",
                                          ".scene.vtm.tmp-2147483646", ".report.json.old-2147483646"};
   const std::string live = ".faces.vtp.tmp-" + std::to_string(getppid());
+  const std::string live_aside = ".report.json.old-" + std::to_string(getppid());
   const std::vector<std::string> foreign = {".fragments.vtp.tmp-abc", "notes.tmp-2147483646",
                                             ".other.vtp.tmp-2147483646", ".faces.vtp.old-2147483646"};
   for (const std::string& name : dead) std::ofstream(root_ / name) << "half";
   for (const std::string& name : foreign) std::ofstream(root_ / name) << "mine";
   std::ofstream(root_ / live) << "being written";
+  std::ofstream(root_ / live_aside) << "being removed";
   shadow::write_outputs(root_, scene_, result_);
   for (const std::string& name : dead) EXPECT_FALSE(fs::exists(root_ / name)) << name;
   for (const std::string& name : foreign) EXPECT_TRUE(fs::exists(root_ / name)) << name;
   EXPECT_TRUE(fs::exists(root_ / live));
+  EXPECT_TRUE(fs::exists(root_ / live_aside));
 }
 
 // ---- issue 30, item 10: one file staged like every output (shadow render's images) -------------

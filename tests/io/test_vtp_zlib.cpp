@@ -389,6 +389,13 @@ TEST(VtpZlib, ManyBlocksAndEveryKindOfCellGiveVtksArrays) {
   EXPECT_GT(blocks, 100u);
 }
 
+TEST(VtpZlib, StringArraysPackedInSeveralBlocksGiveVtksArrays) {
+  // 40,000 cells: the cells' strings (a quarter of them empty, one longer than two zlib blocks)
+  // are packed for the compressor in three blocks of values on every thread (packed_strings).
+  const std::size_t blocks = expect_vtk_arrays(maker(40000, 0, 0, 6, true), "strings in several blocks");
+  EXPECT_EQ(blocks, expected_blocks(make_polydata(40000, 0, 0, 6, true)));
+}
+
 TEST(VtpZlib, BlocksThatHardlyCompressGiveTheSameBytesOnEveryThreadCount) {
   // Random doubles in short arrays and in the last, short block of longer ones: their streams
   // come within a few bytes of zlib's bound, the room the writer gives a block. Compressed when

@@ -170,7 +170,9 @@ void check_sun_period(const SunPeriod& period, const std::string& file = {},
 /// `threads` threads (0: every hardware thread; the instants are the same on any count): a year
 /// at one-minute steps is half a million positions, seconds of one thread.
 /// @throws InputError (check_sun_period, with an empty file name)
-std::vector<SunInstant> expand_sun_period(const SunPeriod& period, unsigned threads = 1);
+std::vector<SunInstant> expand_sun_period(const SunPeriod& period, unsigned threads);
+/// expand_sun_period on one thread.
+std::vector<SunInstant> expand_sun_period(const SunPeriod& period);
 
 /// The name of the directional light of the sun at `time`: `sun 2026-06-21T12:00:00Z`.
 std::string sun_light_name(UtcSeconds time);
@@ -182,13 +184,17 @@ std::string sun_light_name(UtcSeconds time);
 /// Call it once per scene: a second call would append the suns again.
 /// The positions are computed on `threads` threads, as expand_sun_period's.
 /// @throws InputError (check_sun_period with the scene's source as file; a light name taken)
-void add_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads = 1);
+void add_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads);
+/// add_sun_lights on one thread.
+void add_sun_lights(Scene& scene, const SunPeriod& period);
 
 /// Replaces the scene's sun period: removes the directional lights an earlier add_sun_lights
 /// appended (the lights named by Scene::sun_instants; other lights keep their order), then
 /// add_sun_lights(scene, period). `shadow series --from/--to/--step` uses it to run a model's
 /// own site over another period.
 /// @throws InputError like add_sun_lights
-void replace_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads = 1);
+void replace_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads);
+/// replace_sun_lights on one thread.
+void replace_sun_lights(Scene& scene, const SunPeriod& period);
 
 }  // namespace shadow

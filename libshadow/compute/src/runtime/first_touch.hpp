@@ -9,6 +9,7 @@
 
 #include "runtime/parallel.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -20,7 +21,8 @@ namespace shadow::runtime {
 inline void touch_pages(void* begin, std::size_t bytes, unsigned threads) {
   constexpr std::size_t kPage = 4096;
   constexpr std::size_t kPagesPerBlock = 512;  // 2 MiB: one transparent huge page's worth
-  if (begin == nullptr || bytes < 2 * kPagesPerBlock * kPage || resolve_threads(threads) < 2) return;
+  threads = std::min(resolve_threads(threads), kMaxThreads);
+  if (begin == nullptr || bytes < 2 * kPagesPerBlock * kPage || threads < 2) return;
   auto* const bytes_at = static_cast<volatile char*>(begin);
   const std::size_t pages = (bytes + kPage - 1) / kPage;
   parallel_for_blocks(pages, kPagesPerBlock, threads, [&](unsigned, std::size_t, std::size_t first, std::size_t end) {
@@ -29,12 +31,14 @@ inline void touch_pages(void* begin, std::size_t bytes, unsigned threads) {
   bytes_at[bytes - 1] = 0;  // (the last page, where `begin` is not page-aligned)
 }
 
-/// v.resize(n) after reserving n elements and touching the new elements' pages on `threads`
-/// threads (touch_pages): the same vector, its pages faulted in parallel.
+/// v.resize(n) after reserving room for n elements and touching the new elements' pages on
+/// `threads` threads (touch_pages): the same vector, its pages faulted in parallel. The room
+/// grows at least twofold, as resize's own does, so that a vector grown by many calls (a scene
+/// read one mesh file after another) is not moved whole each time.
 template <class T, class Allocator>
 void resize_touched(std::vector<T, Allocator>& v, std::size_t n, unsigned threads) {
   if (n > v.size()) {
-    v.reserve(n);
+    if (n > v.capacity()) v.reserve(std::max(n, 2 * v.capacity()));
     // The storage past size() holds no object yet: its pages can be touched before resize().
     touch_pages(v.data() + v.size(), (n - v.size()) * sizeof(T), threads);
   }

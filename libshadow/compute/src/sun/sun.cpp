@@ -324,6 +324,7 @@ std::vector<SunInstant> expand_sun_period(const SunPeriod& p, unsigned threads) 
   // instructions an instant), in blocks on every thread asked for.
   std::vector<SunInstant> instants(times.size());
   constexpr std::size_t kBlock = 256;
+  // (Clamped like the readers' counts: validation names a count above the limit as the error.)
   const unsigned workers = times.size() < 2 * kBlock ? 1u : std::min(runtime::resolve_threads(threads), runtime::kMaxThreads);
   runtime::parallel_for_blocks(times.size(), kBlock, workers, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
@@ -333,6 +334,8 @@ std::vector<SunInstant> expand_sun_period(const SunPeriod& p, unsigned threads) 
   });
   return instants;
 }
+
+std::vector<SunInstant> expand_sun_period(const SunPeriod& period) { return expand_sun_period(period, 1); }
 
 std::string sun_light_name(UtcSeconds time) { return "sun " + format_iso8601_utc(time); }
 
@@ -369,6 +372,8 @@ void add_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads) {
   scene.sun_instants = std::move(instants);
 }
 
+void add_sun_lights(Scene& scene, const SunPeriod& period) { add_sun_lights(scene, period, 1); }
+
 void replace_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads) {
   // Checked before anything changes: on an error the scene keeps its period and lights.
   check_sun_period(period, scene.source.string());
@@ -390,5 +395,7 @@ void replace_sun_lights(Scene& scene, const SunPeriod& period, unsigned threads)
                        scene.warnings.end());
   add_sun_lights(scene, period, threads);
 }
+
+void replace_sun_lights(Scene& scene, const SunPeriod& period) { replace_sun_lights(scene, period, 1); }
 
 }  // namespace shadow

@@ -328,7 +328,7 @@ FaceParts find_parts(const runtime::UninitVector<EdgeUse>& edges, std::size_t n,
 /// in pieces, each piece's runs on one thread, joined in a union-find of atomic parents where a
 /// root is only ever linked under a lower root (a compare-and-swap that fails when it is no
 /// longer a root, and is tried again) and a face's parent only ever moves to one of its
-/// ancestors (path halving). So every parent is below its child, and each part's root is its
+/// ancestors (path splitting). So every parent is below its child, and each part's root is its
 /// lowest face as on one thread: the same result, whatever the threads' order. (A million faces
 /// took a tenth of a second of one thread here, the other waiting.)
 FaceParts find_parts_parallel(const runtime::UninitVector<EdgeUse>& edges, std::size_t n, unsigned threads) {

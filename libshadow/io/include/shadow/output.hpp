@@ -103,8 +103,9 @@ class SeriesFileStream {
 /// Opening it, at the start of a run and before any computing: creates the directory (and its
 /// parents), takes an exclusive lock on `OUTDIR/.shadow.lock` (flock; a second writer gets an
 /// OutputError at once instead of mixing files), removes temporary files
-/// (`.NAME.tmp-PID`) left by killed processes that no longer exist, and removes the old
-/// `report.json`. report.json is written last, so while a run is under way, and after a run
+/// (`.NAME.tmp-PID`, and `.report.json.old-PID`) left by killed processes that no longer exist,
+/// and removes the old `report.json` (renamed at once to `.report.json.old-PID`, deleted in the
+/// background until the directory is closed). report.json is written last, so while a run is under way, and after a run
 /// was killed, the directory has no report.json: its absence means "incomplete". The lock file
 /// is removed again when the directory is closed.
 class OutputDirectory {
