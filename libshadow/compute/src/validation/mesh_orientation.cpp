@@ -4,7 +4,6 @@
 // turned outward on request.
 #include "validation/mesh_orientation.hpp"
 
-#include "runtime/first_touch.hpp"
 #include "runtime/parallel.hpp"
 #include "runtime/uninit_vector.hpp"
 #include "geometry/point_hash.hpp"
@@ -274,9 +273,10 @@ long double part_volume(const Scene& scene, const std::vector<std::size_t>& face
 /// part's root (the part's lowest face), whether one of its edge runs is open (used once, or three
 /// times or more: the run's first use's face is marked) or used twice the same way
 /// (inconsistent), and with `orient` each face's manifold neighbours (other face, same way).
+/// (UninitVector: the parallel search writes every entry, on the thread of its block.)
 struct FaceParts {
-  std::vector<std::size_t> root_of;
-  std::vector<char> open, inconsistent;
+  runtime::UninitVector<std::size_t> root_of;
+  runtime::UninitVector<char> open, inconsistent;
   std::vector<std::vector<std::pair<std::size_t, bool>>> neighbours;
 };
 
@@ -388,9 +388,9 @@ FaceParts find_parts_parallel(const runtime::UninitVector<EdgeUse>& edges, std::
     }
   });
   FaceParts parts;
-  runtime::resize_touched(parts.root_of, n, threads);
-  runtime::resize_touched(parts.open, n, threads);
-  runtime::resize_touched(parts.inconsistent, n, threads);
+  parts.root_of.resize(n);
+  parts.open.resize(n);
+  parts.inconsistent.resize(n);
   runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t f = begin; f < end; ++f) {
       parts.root_of[f] = root(static_cast<std::uint32_t>(f));
@@ -517,9 +517,9 @@ void check_orientation(Scene& scene, std::size_t mesh_index, bool orient, std::v
   const FaceParts found = grouped && !orient && threads > 1 && n < (std::size_t{1} << 32)
                               ? find_parts_parallel(edges, n, threads)
                               : find_parts(edges, n, orient);
-  const std::vector<std::size_t>& root_of = found.root_of;
-  const std::vector<char>& open = found.open;
-  const std::vector<char>& inconsistent = found.inconsistent;
+  const auto& root_of = found.root_of;
+  const auto& open = found.open;
+  const auto& inconsistent = found.inconsistent;
   const auto& neighbours = found.neighbours;
   // Each part's faces, ascending, by root (a counting sort: members of part r are
   // member[first[r], first[r + 1])).
