@@ -13,10 +13,14 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <map>
+#include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace shadow {
@@ -112,43 +116,125 @@ Json sun_json(const Scene& scene) {
   return j;
 }
 
-/// A number as nlohmann's serializer writes it (its shortest round-trip form, `null` when not
-/// finite), appended without building a value.
-void append_number(std::string& out, double x) {
-  if (!std::isfinite(x)) {
-    out += "null";
-    return;
+/// A growing text buffer whose appends are inline copies. A million faces' entries appended
+/// through std::string's out-of-line append (a capacity check and a copy call for every key)
+/// spent a third of their instructions there.
+class TextBuffer {
+ public:
+  void clear() noexcept { size_ = 0; }
+  [[nodiscard]] const char* data() const noexcept { return data_.get(); }
+  [[nodiscard]] std::size_t size() const noexcept { return size_; }
+  /// Room for `n` more bytes: where they go. advance() to the end of what was written there.
+  [[gnu::always_inline]] char* room(std::size_t n) {
+    if (capacity_ - size_ < n) grow(n);
+    return data_.get() + size_;
   }
-  char buffer[64];
+  void advance(const char* end) noexcept { size_ = static_cast<std::size_t>(end - data_.get()); }
+  [[gnu::always_inline]] void append(const char* text, std::size_t n) {
+    std::memcpy(room(n), text, n);
+    size_ += n;
+  }
+  void append(const std::string& text) { append(text.data(), text.size()); }
+  /// A string literal (its length known at compile time: the copy is a few moves).
+  template <std::size_t N>
+  [[gnu::always_inline]] void literal(const char (&text)[N]) {
+    append(text, N - 1);
+  }
+
+ private:
+  [[gnu::noinline]] void grow(std::size_t n) {
+    const std::size_t capacity = std::max({size_ + n, 2 * capacity_, std::size_t{4096}});
+    std::unique_ptr<char[]> data(new char[capacity]);
+    if (size_ > 0) std::memcpy(data.get(), data_.get(), size_);
+    data_ = std::move(data);
+    capacity_ = capacity;
+  }
+  std::unique_ptr<char[]> data_;
+  std::size_t size_ = 0, capacity_ = 0;
+};
+
+/// A number as nlohmann's serializer writes it (its shortest round-trip form, `null` when not
+/// finite), written at `at` (room for 64 bytes): the end of what was written.
+char* write_number(char* at, double x) {
+  if (!std::isfinite(x)) {
+    std::memcpy(at, "null", 4);
+    return at + 4;
+  }
   // A whole number below 1e15 (a normal's 0 and 1, an axis-aligned face's azimuth and tilt, a
   // shadowed face's lit area): nlohmann writes its digits and ".0" (-0.0 too), written here
   // without its shortest-digits search, which took a sixth of a million faces' report.
   if (std::fabs(x) < 1e15 && x == std::trunc(x)) {
-    char* end = buffer;
-    if (std::signbit(x)) *end++ = '-';
-    end = std::to_chars(end, buffer + sizeof buffer, static_cast<long long>(std::fabs(x))).ptr;
-    *end++ = '.';
-    *end++ = '0';
-    out.append(buffer, static_cast<std::size_t>(end - buffer));
-    return;
+    if (std::signbit(x)) *at++ = '-';
+    at = std::to_chars(at, at + 32, static_cast<long long>(std::fabs(x))).ptr;
+    *at++ = '.';
+    *at++ = '0';
+    return at;
   }
-  char* end = nlohmann::detail::to_chars(buffer, buffer + sizeof buffer, x);
-  out.append(buffer, static_cast<std::size_t>(end - buffer));
+  return nlohmann::detail::to_chars(at, at + 64, x);
 }
 
-/// A JSON string as nlohmann writes it (escapes, bytes that are not UTF-8 replaced): printable
-/// ASCII without quote or backslash is copied as is, anything else goes through nlohmann.
-void append_string(std::string& out, const std::string& text) {
-  const bool plain = std::all_of(text.begin(), text.end(), [](char c) {
-    return c >= 0x20 && c < 0x7f && c != '"' && c != '\\';
-  });
-  if (plain) {
-    out += '"';
-    out += text;
-    out += '"';
+void append_number(TextBuffer& out, double x) { out.advance(write_number(out.room(64), x)); }
+
+void append_unsigned(TextBuffer& out, std::size_t n) {
+  char* at = out.room(24);
+  out.advance(std::to_chars(at, at + 24, n).ptr);
+}
+
+/// Whether nlohmann writes `text` as it is between quotes: printable ASCII without a quote or a
+/// backslash.
+bool plain_json_text(const std::string& text) {
+  return std::all_of(text.begin(), text.end(), [](char c) { return c >= 0x20 && c < 0x7f && c != '"' && c != '\\'; });
+}
+
+/// A JSON string as nlohmann writes it (escapes, bytes that are not UTF-8 replaced): plain text
+/// (plain_json_text) is copied as is, anything else goes through nlohmann.
+std::string json_string(const std::string& text) {
+  if (plain_json_text(text)) return '"' + text + '"';
+  return Json(text).dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+void append_string(TextBuffer& out, const std::string& text) {
+  if (plain_json_text(text)) {
+    char* at = out.room(text.size() + 2);
+    *at++ = '"';
+    std::memcpy(at, text.data(), text.size());
+    at += text.size();
+    *at++ = '"';
+    out.advance(at);
   } else {
-    out += Json(text).dump(-1, ' ', false, Json::error_handler_t::replace);
+    out.append(json_string(text));
   }
+}
+
+/// A face's source as append_string(out, source.to_string()) writes it, without making that
+/// string when both parts are plain (a million faces: a string each). `plain_file`: the last file
+/// name found plain, which most faces share (one mesh file's faces follow one another).
+void append_source(TextBuffer& out, const SourceLocation& source, std::string& plain_file) {
+  if (source.file.empty() || source.place.empty()) {
+    append_string(out, source.to_string());
+    return;
+  }
+  if (source.file != plain_file) {
+    if (!plain_json_text(source.file)) {
+      append_string(out, source.to_string());
+      return;
+    }
+    plain_file = source.file;
+  }
+  if (!plain_json_text(source.place)) {
+    append_string(out, source.to_string());
+    return;
+  }
+  char* at = out.room(source.file.size() + source.place.size() + 4);
+  *at++ = '"';
+  std::memcpy(at, source.file.data(), source.file.size());
+  at += source.file.size();
+  *at++ = ':';
+  *at++ = ' ';
+  std::memcpy(at, source.place.data(), source.place.size());
+  at += source.place.size();
+  *at++ = '"';
+  out.advance(at);
 }
 
 /// What face entries share: each light's and mesh's name as JSON text, made once.
@@ -157,89 +243,89 @@ struct EntryNames {
   std::vector<std::string> meshes;  ///< by mesh id
   EntryNames(const Scene& scene, std::size_t light_ids) {
     for (std::size_t l = 0; l < light_ids; ++l) {
-      lights.emplace_back();
-      append_string(lights.back(), detail::light_display_name(scene, l));
+      lights.push_back(json_string(detail::light_display_name(scene, l)));
     }
     for (const Mesh& mesh : scene.meshes) {
-      meshes.emplace_back();
-      append_string(meshes.back(), mesh.name);
+      meshes.push_back(json_string(mesh.name));
     }
   }
 };
 
-/// Appends face `face_id`'s report entry from its FaceLighting entries (all for `face_id`), as
+/// Appends face `face_id`'s report entry from its `count` FaceLighting entries (all for `face_id`), as
 /// the faces array holds it (4 spaces in, 2 more a level): the text nlohmann's dump(2) gives for
 /// the whole document, written directly (a million faces' entries built as values and dumped
 /// took most of a report's time). Keys in this order; those after `faces_light` are additive.
-void append_face_entry(std::string& out, const Scene& scene, const EntryNames& names, std::size_t face_id,
-                       const std::vector<const FaceLighting*>& entries, bool fast) {
-  auto member = [&out](const char* indent_and_key) { out += indent_and_key; };
-  out += "{\n      \"id\": ";
-  out += std::to_string(face_id);
-  member(",\n      \"mesh\": ");
+void append_face_entry(TextBuffer& out, const Scene& scene, const EntryNames& names, std::size_t face_id,
+                       const FaceLighting* const* entries, std::size_t count, bool fast, std::string& plain_file) {
+  out.literal("{\n      \"id\": ");
+  append_unsigned(out, face_id);
+  out.literal(",\n      \"mesh\": ");
   const std::size_t mesh = face_id < scene.faces.size() ? scene.faces[face_id].mesh : scene.meshes.size();
-  out += mesh < names.meshes.size() ? names.meshes[mesh] : std::string("\"\"");
+  if (mesh < names.meshes.size()) out.append(names.meshes[mesh]);
+  else out.literal("\"\"");
   if (face_id < scene.faces.size()) {
     const Face& face = scene.faces[face_id];
     const detail::FaceOrientation o = detail::face_orientation(face, detail::north_axis_of(scene));
-    member(",\n      \"name\": ");
+    out.literal(",\n      \"name\": ");
     append_string(out, face.name);
-    member(",\n      \"source\": ");
-    append_string(out, face.source.to_string());
+    out.literal(",\n      \"source\": ");
+    append_source(out, face.source, plain_file);
     if (!face.kind.empty()) {
-      member(",\n      \"kind\": ");
+      out.literal(",\n      \"kind\": ");
       append_string(out, face.kind);
     }
-    member(",\n      \"normal\": [\n        ");
+    out.literal(",\n      \"normal\": [\n        ");
     append_number(out, o.normal.x);
-    out += ",\n        ";
+    out.literal(",\n        ");
     append_number(out, o.normal.y);
-    out += ",\n        ";
+    out.literal(",\n        ");
     append_number(out, o.normal.z);
-    member("\n      ],\n      \"azimuth\": ");
+    out.literal("\n      ],\n      \"azimuth\": ");
     append_number(out, o.azimuth);
-    member(",\n      \"tilt\": ");
+    out.literal(",\n      \"tilt\": ");
     append_number(out, o.tilt);
   }
-  member(",\n      \"area\": ");
-  append_number(out, entries.front()->area);
-  member(",\n      \"lights\": [");
-  for (std::size_t i = 0; i < entries.size(); ++i) {
+  out.literal(",\n      \"area\": ");
+  append_number(out, entries[0]->area);
+  out.literal(",\n      \"lights\": [");
+  for (std::size_t i = 0; i < count; ++i) {
     const FaceLighting& e = *entries[i];
-    out += i == 0 ? "\n        {\n          \"light\": " : ",\n        {\n          \"light\": ";
-    out += std::to_string(e.light_id);
-    member(",\n          \"light_name\": ");
-    if (e.light_id < names.lights.size()) out += names.lights[e.light_id];
+    if (i == 0) out.literal("\n        {\n          \"light\": ");
+    else out.literal(",\n        {\n          \"light\": ");
+    append_unsigned(out, e.light_id);
+    out.literal(",\n          \"light_name\": ");
+    if (e.light_id < names.lights.size()) out.append(names.lights[e.light_id]);
     else append_string(out, detail::light_display_name(scene, e.light_id));
-    member(",\n          \"lit_area\": ");
+    out.literal(",\n          \"lit_area\": ");
     append_number(out, e.lit_area);
-    member(",\n          \"shadow_area\": ");
+    out.literal(",\n          \"shadow_area\": ");
     append_number(out, e.shadow_area);
-    member(",\n          \"lit_fraction\": ");
+    out.literal(",\n          \"lit_fraction\": ");
     append_number(out, e.lit_fraction);
-    member(e.faces_light ? ",\n          \"faces_light\": true" : ",\n          \"faces_light\": false");
+    if (e.faces_light) out.literal(",\n          \"faces_light\": true");
+    else out.literal(",\n          \"faces_light\": false");
     // The fast path's certificate: |lit_area - exact lit area| <= this.
     if (fast) {
-      member(",\n          \"lit_area_error_bound\": ");
+      out.literal(",\n          \"lit_area_error_bound\": ");
       append_number(out, e.lit_area_error_bound);
     }
     // Cells too thin to be written as double polygons (only when there are some).
     if (e.dropped_area > 0) {
-      member(",\n          \"dropped_area\": ");
+      out.literal(",\n          \"dropped_area\": ");
       append_number(out, e.dropped_area);
     }
     // An extended light's exact regions (docs/area-lights.md).
     if (e.light_id < scene.lights.size() && scene.lights[e.light_id].is_extended()) {
-      member(",\n          \"fully_lit_area\": ");
+      out.literal(",\n          \"fully_lit_area\": ");
       append_number(out, e.fully_lit_area);
-      member(",\n          \"penumbra_area\": ");
+      out.literal(",\n          \"penumbra_area\": ");
       append_number(out, e.penumbra_area);
-      member(",\n          \"umbra_area\": ");
+      out.literal(",\n          \"umbra_area\": ");
       append_number(out, e.umbra_area);
     }
-    out += "\n        }";
+    out.literal("\n        }");
   }
-  out += "\n      ]\n    }";
+  out.literal("\n      ]\n    }");
 }
 
 std::string dump(const Json& value, int indent = -1) { return detail::dump_json(value, indent); }
@@ -298,18 +384,19 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
   constexpr std::size_t kFacesPerBlock = 1024;
   const std::size_t blocks = (receiving_faces + kFacesPerBlock - 1) / kFacesPerBlock;
   const std::size_t window = std::min<std::size_t>(blocks, std::size_t{4} * threads);
-  std::vector<std::string> made(window), written(window);
+  std::vector<TextBuffer> made(window), written(window);
   auto make = [&](std::size_t first, std::size_t count) {
     runtime::parallel_for(count, static_cast<unsigned>(std::min<std::size_t>(threads, count)), [&](unsigned, std::size_t k) {
-      std::string& text = made[k];
+      TextBuffer& text = made[k];
       text.clear();
-      std::vector<const FaceLighting*> group;
+      std::string plain_file;
       const std::size_t end = std::min(receiving_faces, (first + k + 1) * kFacesPerBlock);
       for (std::size_t g = (first + k) * kFacesPerBlock; g < end; ++g) {
-        group.assign(entries.begin() + static_cast<std::ptrdiff_t>(group_start[g]),
-                     entries.begin() + static_cast<std::ptrdiff_t>(group_start[g + 1]));
-        text += g == 0 ? "\n    " : ",\n    ";
-        append_face_entry(text, scene, names, group.front()->face_id, group, fast);
+        const FaceLighting* const* group = entries.data() + group_start[g];
+        if (g == 0) text.literal("\n    ");
+        else text.literal(",\n    ");
+        append_face_entry(text, scene, names, group[0]->face_id, group, group_start[g + 1] - group_start[g], fast,
+                          plain_file);
       }
     });
   };
@@ -337,7 +424,8 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
     made.swap(written);
     auto write = [&out, &written, &write_error, count] {
       try {
-        for (std::size_t k = 0; k < count; ++k) out << written[k];
+        for (std::size_t k = 0; k < count; ++k)
+          out.write(written[k].data(), static_cast<std::streamsize>(written[k].size()));
       } catch (...) {
         write_error = std::current_exception();
       }
@@ -387,17 +475,26 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   if (scene.sun) member("sun", dump(sun_json(scene), 2));
 
   // The faces' totals in face order, on one thread (the sums' bits follow their order)...
+  // (The totals last added to are kept at hand: neighbouring entries mostly share their light
+  // and mesh, and a map's search for each of a million entries was most of this loop.)
   std::vector<std::size_t> group_start;  // each face's first entry, then entries.size()
+  group_start.reserve(entries.size() + 1);
+  std::pair<std::size_t, LightTotals*> last_light{SIZE_MAX, nullptr};
+  std::pair<std::pair<std::size_t, std::size_t>, LightTotals*> last_mesh{{SIZE_MAX, SIZE_MAX}, nullptr};
   for (std::size_t i = 0; i < entries.size();) {
     const std::size_t face_id = entries[i]->face_id;
     group_start.push_back(i);
     for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
-      LightTotals& totals = per_light[entries[i]->light_id];
+      const std::size_t light_id = entries[i]->light_id;
+      if (last_light.first != light_id) last_light = {light_id, &per_light[light_id]};
+      LightTotals& totals = *last_light.second;
       totals.area.add(entries[i]->area);
       totals.lit_area.add(entries[i]->lit_area);
       totals.bound.add(entries[i]->lit_area_error_bound);
       if (face_id < scene.faces.size()) {
-        LightTotals& m = per_mesh[{scene.faces[face_id].mesh, entries[i]->light_id}];
+        const std::pair<std::size_t, std::size_t> key{scene.faces[face_id].mesh, light_id};
+        if (last_mesh.first != key) last_mesh = {key, &per_mesh[key]};
+        LightTotals& m = *last_mesh.second;
         m.area.add(entries[i]->area);
         m.lit_area.add(entries[i]->lit_area);
       }
