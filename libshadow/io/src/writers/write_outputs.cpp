@@ -21,6 +21,7 @@
 #include <ctime>
 #include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -215,13 +216,35 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
          {"lights", "lights.vtp"}},
         vtm.temp, vtm.final_path);
   };
-  // The VTK files, then report.json (its face entries are made on every thread), one after the
-  // other on this thread: VTK's errors are captured on the calling thread only (vtk_errors), and
-  // with both at once a zlib allocation failure while compressing, on a thread of its own, went
-  // uncaptured and crashed instead of exiting 6 (ctest cli_out_of_memory). The blocks compressed
-  // on the other threads call libdeflate alone, no VTK; out of memory there is std::bad_alloc.
+  // The VTK files on this thread, report.json (no VTK) on a thread of its own meanwhile: each
+  // leaves the cores idle now and then (the kernel's copy of 560 MB of text for a million faces,
+  // the .vtp's serial parts), which the other fills. VTK stays on the calling thread: its errors
+  // are captured there only (vtk_errors), and with VTK on a thread of its own a zlib allocation
+  // failure while compressing went uncaptured and crashed instead of exiting 6 (ctest
+  // cli_out_of_memory). The blocks compressed on the other threads call libdeflate alone, no
+  // VTK; out of memory there, or in the report, is std::bad_alloc. The report's failure is
+  // rethrown here after the VTK files' own (which comes first: the one the user sees).
+  std::exception_ptr report_error;
+  std::thread reporting;
+  if (threads > 1) {
+    reporting = std::thread([&] {
+      try {
+        write_report_file(report, scene, result, run);
+      } catch (...) {
+        report_error = std::current_exception();
+      }
+    });
+  }
+  struct JoinOnExit {
+    std::thread& thread;
+    ~JoinOnExit() {
+      if (thread.joinable()) thread.join();
+    }
+  } join_reporting{reporting};
   write_vtk();
-  write_report_file(report, scene, result, run);
+  if (reporting.joinable()) reporting.join();
+  else write_report_file(report, scene, result, run);
+  if (report_error) std::rethrow_exception(report_error);
   return staged.commit();
 }
 
