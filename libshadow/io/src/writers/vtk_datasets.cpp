@@ -30,6 +30,7 @@
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+#include <vector>
 
 namespace shadow::detail {
 namespace {
@@ -115,14 +116,28 @@ struct Box {
   double diagonal = 1.0;
 };
 
-Box scene_box(const Scene& scene) {
-  glm::dvec3 lo(std::numeric_limits<double>::infinity());
-  glm::dvec3 hi(-std::numeric_limits<double>::infinity());
-  for (const Face& face : scene.faces) {
-    for (const glm::dvec3& v : face.vertices) {
-      lo = glm::min(lo, v);
-      hi = glm::max(hi, v);
-    }
+/// On `threads` threads, in blocks of faces (a million faces' vertices took some 30 ms on one):
+/// minima and maxima are exact, so the box is the same on any count.
+Box scene_box(const Scene& scene, unsigned threads) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr std::size_t kBlock = 16384;
+  const std::size_t blocks = (scene.faces.size() + kBlock - 1) / kBlock;
+  std::vector<glm::dvec3> block_lo(blocks, glm::dvec3(kInf)), block_hi(blocks, glm::dvec3(-kInf));
+  runtime::parallel_for_blocks(scene.faces.size(), kBlock, threads,
+                               [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
+                                 glm::dvec3 lo(kInf), hi(-kInf);
+                                 for (std::size_t f = begin; f < end; ++f)
+                                   for (const glm::dvec3& v : scene.faces[f].vertices) {
+                                     lo = glm::min(lo, v);
+                                     hi = glm::max(hi, v);
+                                   }
+                                 block_lo[b] = lo;
+                                 block_hi[b] = hi;
+                               });
+  glm::dvec3 lo(kInf), hi(-kInf);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    lo = glm::min(lo, block_lo[b]);
+    hi = glm::max(hi, block_hi[b]);
   }
   Box box;
   if (!(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z)) return box;
@@ -356,9 +371,9 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
   return poly;
 }
 
-vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene) {
+vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene, unsigned threads) {
   const std::size_t n = scene.lights.size();
-  const Box box = scene_box(scene);
+  const Box box = scene_box(scene, threads);
 
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();

@@ -29,7 +29,8 @@ vtkSmartPointer<vtkPolyData> make_faces_polydata(const Scene& scene, const Shado
 vtkSmartPointer<vtkPolyData> make_plane_shadows_polydata(const ShadowResult& result);
 
 /// One vertex per light; point arrays light_id, type, to_light, direction, name, intensity, color.
-vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene);
+/// The scene's box (where a sun's glyph stands) is found on `threads` threads.
+vtkSmartPointer<vtkPolyData> make_lights_polydata(const Scene& scene, unsigned threads = 1);
 
 /// sun_hours.vtp: one polygon cell per SunHoursCell; cell arrays sun_hours (active scalars),
 /// face_id, region_id, area; field data total_hours.

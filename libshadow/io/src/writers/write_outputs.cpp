@@ -208,7 +208,7 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
     detail::write_polydata(shifted(detail::make_faces_polydata(scene, result, threads)), faces.temp, faces.final_path, vtp);
     detail::write_polydata(shifted(detail::make_plane_shadows_polydata(result)), plane_shadows.temp,
                            plane_shadows.final_path, vtp);
-    detail::write_polydata(shifted(detail::make_lights_polydata(scene)), lights.temp, lights.final_path, vtp);
+    detail::write_polydata(shifted(detail::make_lights_polydata(scene, threads)), lights.temp, lights.final_path, vtp);
     detail::write_vtm(
         {{"faces", "faces.vtp"},
          {"fragments", "fragments.vtp"},
