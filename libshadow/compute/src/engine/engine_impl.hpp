@@ -78,6 +78,13 @@ struct ShadowEngine::Impl {
     Item& operator[](std::size_t r) { return blocks_[r / kBlock][r % kBlock]; }
     const Item& operator[](std::size_t r) const { return blocks_[r / kBlock][r % kBlock]; }
     [[nodiscard]] std::size_t size() const { return size_; }
+    /// Frees the items on `threads` threads (a million items' destructors are a serial pass
+    /// otherwise); the table is empty after.
+    void release(unsigned threads) {
+      runtime::parallel_for(blocks_.size(), threads, [&](unsigned, std::size_t b) { std::vector<Item>().swap(blocks_[b]); });
+      blocks_.clear();
+      size_ = 0;
+    }
 
    private:
     static constexpr std::size_t kBlock = 4096;
