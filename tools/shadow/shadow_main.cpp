@@ -22,6 +22,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <exception>
@@ -30,6 +31,8 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace {
 
@@ -70,33 +73,57 @@ fs::path paraview_script() {
 
 /// Lit fractions per mesh (a building, a city object): the first meshes, each with its first
 /// lights; report.json's summary.per_mesh has them all.
-void print_mesh_summary(const shadow::Scene& scene, const shadow::ShadowResult& result) {
-  constexpr std::size_t kMeshes = 20, kLights = 4;
-  // Only the lights shown are summed: a model's year of suns on a city's meshes would otherwise
-  // hold meshes x lights sums.
-  const std::size_t lights = std::min(scene.lights.size(), kLights);
-  std::vector<std::vector<double>> area(scene.meshes.size()), lit(scene.meshes.size());
-  for (const shadow::FaceLighting& fl : result.lighting) {
-    if (fl.face_id >= scene.faces.size() || fl.light_id >= lights) continue;
-    const std::size_t m = scene.faces[fl.face_id].mesh;
-    if (m >= scene.meshes.size()) continue;
-    if (area[m].empty()) {
-      area[m].assign(lights, 0.0);
-      lit[m].assign(lights, 0.0);
+/// The totals the summary prints: made while the output files are written (a million faces'
+/// passes over the faces and the results took some 30 ms on one thread after them).
+struct ComputeSummary {
+  static constexpr std::size_t kMeshes = 20, kLights = 4, kLightLines = 20;
+  std::size_t receivers = 0;
+  std::vector<double> light_area, light_lit;           ///< the first kLightLines lights
+  std::vector<std::vector<double>> mesh_area, mesh_lit;  ///< per mesh, its first kLights lights
+
+  ComputeSummary(const shadow::Scene& scene, const shadow::ShadowResult& result) {
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) receivers += scene.is_receiver(f) ? 1 : 0;
+    // Each light's totals in one pass over the results; a long list of lights (a model's year
+    // of suns) shows its first few and says where the rest are.
+    const std::size_t light_lines = std::min(scene.lights.size(), kLightLines);
+    light_area.assign(light_lines, 0.0);
+    light_lit.assign(light_lines, 0.0);
+    for (const shadow::FaceLighting& fl : result.lighting)
+      if (fl.light_id < light_lines) {
+        light_area[fl.light_id] += fl.area;
+        light_lit[fl.light_id] += fl.lit_area;
+      }
+    // Only the lights shown are summed per mesh: a model's year of suns on a city's meshes would
+    // otherwise hold meshes x lights sums.
+    const std::size_t lights = std::min(scene.lights.size(), kLights);
+    mesh_area.resize(scene.meshes.size());
+    mesh_lit.resize(scene.meshes.size());
+    for (const shadow::FaceLighting& fl : result.lighting) {
+      if (fl.face_id >= scene.faces.size() || fl.light_id >= lights) continue;
+      const std::size_t m = scene.faces[fl.face_id].mesh;
+      if (m >= scene.meshes.size()) continue;
+      if (mesh_area[m].empty()) {
+        mesh_area[m].assign(lights, 0.0);
+        mesh_lit[m].assign(lights, 0.0);
+      }
+      mesh_area[m][fl.light_id] += fl.area;
+      mesh_lit[m][fl.light_id] += fl.lit_area;
     }
-    area[m][fl.light_id] += fl.area;
-    lit[m][fl.light_id] += fl.lit_area;
   }
+};
+
+void print_mesh_summary(const shadow::Scene& scene, const ComputeSummary& summary) {
+  const std::size_t lights = std::min(scene.lights.size(), ComputeSummary::kLights);
   std::size_t shown = 0, with_results = 0;
   for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
-    if (area[m].empty()) continue;
-    if (++with_results > kMeshes) continue;
+    if (summary.mesh_area[m].empty()) continue;
+    if (++with_results > ComputeSummary::kMeshes) continue;
     ++shown;
     std::printf("  mesh %s lit", scene.meshes[m].name.c_str());
     for (std::size_t l = 0; l < lights; ++l)
       std::printf("%s %s %.2f%%", l == 0 ? "" : ",", scene.lights[l].name.c_str(),
-                  area[m][l] > 0 ? 100.0 * lit[m][l] / area[m][l] : 0.0);
-    std::printf("%s\n", scene.lights.size() > kLights ? ", ... (report.json: summary.per_mesh)" : "");
+                  summary.mesh_area[m][l] > 0 ? 100.0 * summary.mesh_lit[m][l] / summary.mesh_area[m][l] : 0.0);
+    std::printf("%s\n", scene.lights.size() > ComputeSummary::kLights ? ", ... (report.json: summary.per_mesh)" : "");
   }
   if (with_results > shown)
     std::printf("  ... %zu more meshes (report.json: summary.per_mesh)\n", with_results - shown);
@@ -164,34 +191,45 @@ int run_compute(const ComputeArgs& args) {
   const auto computed = Clock::now();
 
   shadow_cli::set_stage(Stage::Writing);
+  // The summary's totals on a thread of their own while the files are written (both read the
+  // scene and the result, neither changes them).
+  std::optional<ComputeSummary> summary;
+  std::exception_ptr summing_error;
+  std::thread summing;
+  if (!args.quiet)
+    summing = std::thread([&] {
+      try {
+        summary.emplace(scene, result);
+      } catch (...) {
+        summing_error = std::current_exception();
+      }
+    });
+  struct JoinOnExit {
+    std::thread& thread;
+    ~JoinOnExit() {
+      if (thread.joinable()) thread.join();
+    }
+  } join_summing{summing};
   touched_once.emplace(small_pages);
   const std::vector<fs::path> written = output.write(scene, result, &run);
   touched_once.reset();
   const auto finished = Clock::now();
 
   if (!args.quiet) {
+    summing.join();
+    if (summing_error) std::rethrow_exception(summing_error);
     auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
-    std::size_t receivers = 0;
-    for (std::size_t f = 0; f < scene.faces.size(); ++f) receivers += scene.is_receiver(f) ? 1 : 0;
     std::printf("shadow %s: %zu faces (%zu receiving), %zu lights, %zu fragments\n",
-                shadow::version(), scene.faces.size(), receivers, scene.lights.size(),
+                shadow::version(), scene.faces.size(), summary->receivers, scene.lights.size(),
                 result.fragments.size());
     if (args.skip_invalid || !scene.skipped_faces.empty())
       std::printf("  skipped: %zu invalid faces (--skip-invalid; report.json: skipped_faces)\n",
                   scene.skipped_faces.size());
-    // Each light's totals in one pass over the results; a long list of lights (a model's year
-    // of suns) shows its first few and says where the rest are.
-    constexpr std::size_t kLightLines = 20;
-    const std::size_t light_lines = std::min(scene.lights.size(), kLightLines);
-    std::vector<double> light_area(light_lines, 0.0), light_lit(light_lines, 0.0);
-    for (const shadow::FaceLighting& fl : result.lighting)
-      if (fl.light_id < light_lines) {
-        light_area[fl.light_id] += fl.area;
-        light_lit[fl.light_id] += fl.lit_area;
-      }
+    const std::size_t light_lines = summary->light_area.size();
     for (std::size_t l = 0; l < light_lines; ++l)
-      std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(), light_lit[l],
-                  light_area[l], light_area[l] > 0 ? 100.0 * light_lit[l] / light_area[l] : 0.0);
+      std::printf("  light %zu %-12s lit %.6g of %.6g (%.2f%%)\n", l, scene.lights[l].name.c_str(),
+                  summary->light_lit[l], summary->light_area[l],
+                  summary->light_area[l] > 0 ? 100.0 * summary->light_lit[l] / summary->light_area[l] : 0.0);
     if (scene.lights.size() > light_lines) {
       std::printf("  ... %zu more lights (report.json: summary.per_light)\n", scene.lights.size() - light_lines);
       if (scene.sun)
@@ -199,7 +237,7 @@ int run_compute(const ComputeArgs& args) {
                     "(sunlit fractions per instant, sun hours; docs/series.md)\n",
                     scene.lights.size());
     }
-    print_mesh_summary(scene, result);
+    print_mesh_summary(scene, *summary);
     if (options.arithmetic == shadow::Arithmetic::Fast)
       std::printf("  arithmetic fast: lit areas within their bounds in report.json (%llu receivers computed exactly)\n",
                   static_cast<unsigned long long>(result.stats.fast_exact_fallbacks));
