@@ -438,6 +438,50 @@ void write_face_entries(std::ostream& out, const Scene& scene, const std::vector
   finish_writing();
 }
 
+/// The summary's totals, each face's entries after the other's in face order (the sums' bits
+/// follow their order), and where each face's entries start.
+struct ReportTotals {
+  struct LightTotals {
+    Sum area;
+    Sum lit_area;
+    Sum bound;
+  };
+  std::map<std::size_t, LightTotals> per_light;
+  std::map<std::pair<std::size_t, std::size_t>, LightTotals> per_mesh;  // (mesh, light)
+  Sum total_area;
+  std::vector<std::size_t> group_start;  ///< each face's first entry, then entries.size()
+
+  /// `entries` by face, then light. The totals last added to are kept at hand: neighbouring
+  /// entries mostly share their light and mesh, and a map's search for each of a million
+  /// entries was most of this loop.
+  ReportTotals(const Scene& scene, const std::vector<const FaceLighting*>& entries) {
+    group_start.reserve(entries.size() + 1);
+    std::pair<std::size_t, LightTotals*> last_light{SIZE_MAX, nullptr};
+    std::pair<std::pair<std::size_t, std::size_t>, LightTotals*> last_mesh{{SIZE_MAX, SIZE_MAX}, nullptr};
+    for (std::size_t i = 0; i < entries.size();) {
+      const std::size_t face_id = entries[i]->face_id;
+      group_start.push_back(i);
+      for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
+        const std::size_t light_id = entries[i]->light_id;
+        if (last_light.first != light_id) last_light = {light_id, &per_light[light_id]};
+        LightTotals& totals = *last_light.second;
+        totals.area.add(entries[i]->area);
+        totals.lit_area.add(entries[i]->lit_area);
+        totals.bound.add(entries[i]->lit_area_error_bound);
+        if (face_id < scene.faces.size()) {
+          const std::pair<std::size_t, std::size_t> key{scene.faces[face_id].mesh, light_id};
+          if (last_mesh.first != key) last_mesh = {key, &per_mesh[key]};
+          LightTotals& m = *last_mesh.second;
+          m.area.add(entries[i]->area);
+          m.lit_area.add(entries[i]->lit_area);
+        }
+      }
+      total_area.add(entries[group_start.back()]->area);
+    }
+    group_start.push_back(entries.size());
+  }
+};
+
 void write_report(std::ostream& out, const Scene& scene, const ShadowResult& result, const RunInfo* run) {
   // Entries by face then light, whatever order they came in (the engine already sorts them).
   std::vector<const FaceLighting*> entries;
@@ -449,16 +493,7 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   if (!std::is_sorted(entries.begin(), entries.end(), by_face_light))
     std::stable_sort(entries.begin(), entries.end(), by_face_light);
 
-  struct LightTotals {
-    Sum area;
-    Sum lit_area;
-    Sum bound;
-  };
   const bool fast = result.arithmetic == Arithmetic::Fast;
-  std::map<std::size_t, LightTotals> per_light;
-  std::map<std::pair<std::size_t, std::size_t>, LightTotals> per_mesh;  // (mesh, light)
-  Sum total_area;
-  std::size_t receiving_faces = 0;
 
   // The same text nlohmann's dump(2) gives for the whole document, but written piece by piece:
   // the faces array can be huge and is never held as one document.
@@ -475,34 +510,9 @@ void write_report(std::ostream& out, const Scene& scene, const ShadowResult& res
   if (scene.sun) member("sun", dump(sun_json(scene), 2));
 
   // The faces' totals in face order, on one thread (the sums' bits follow their order)...
-  // (The totals last added to are kept at hand: neighbouring entries mostly share their light
-  // and mesh, and a map's search for each of a million entries was most of this loop.)
-  std::vector<std::size_t> group_start;  // each face's first entry, then entries.size()
-  group_start.reserve(entries.size() + 1);
-  std::pair<std::size_t, LightTotals*> last_light{SIZE_MAX, nullptr};
-  std::pair<std::pair<std::size_t, std::size_t>, LightTotals*> last_mesh{{SIZE_MAX, SIZE_MAX}, nullptr};
-  for (std::size_t i = 0; i < entries.size();) {
-    const std::size_t face_id = entries[i]->face_id;
-    group_start.push_back(i);
-    for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
-      const std::size_t light_id = entries[i]->light_id;
-      if (last_light.first != light_id) last_light = {light_id, &per_light[light_id]};
-      LightTotals& totals = *last_light.second;
-      totals.area.add(entries[i]->area);
-      totals.lit_area.add(entries[i]->lit_area);
-      totals.bound.add(entries[i]->lit_area_error_bound);
-      if (face_id < scene.faces.size()) {
-        const std::pair<std::size_t, std::size_t> key{scene.faces[face_id].mesh, light_id};
-        if (last_mesh.first != key) last_mesh = {key, &per_mesh[key]};
-        LightTotals& m = *last_mesh.second;
-        m.area.add(entries[i]->area);
-        m.lit_area.add(entries[i]->lit_area);
-      }
-    }
-    total_area.add(entries[group_start.back()]->area);
-  }
-  receiving_faces = group_start.size();
-  group_start.push_back(entries.size());
+  const ReportTotals report_totals(scene, entries);
+  const auto& [per_light, per_mesh, total_area, group_start] = report_totals;
+  const std::size_t receiving_faces = group_start.size() - 1;
   // ... and their text on every thread.
   out << "  \"faces\": [";
   write_face_entries(out, scene, entries, group_start, fast, run != nullptr ? run->options.threads : 0);
