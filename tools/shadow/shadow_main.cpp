@@ -31,6 +31,7 @@
 #include <new>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -192,18 +193,24 @@ int run_compute(const ComputeArgs& args) {
 
   shadow_cli::set_stage(Stage::Writing);
   // The summary's totals on a thread of their own while the files are written (both read the
-  // scene and the result, neither changes them).
+  // scene and the result, neither changes them); on this thread after them where one thread was
+  // asked for, or where no thread could be started.
   std::optional<ComputeSummary> summary;
   std::exception_ptr summing_error;
   std::thread summing;
-  if (!args.quiet)
-    summing = std::thread([&] {
-      try {
-        summary.emplace(scene, result);
-      } catch (...) {
-        summing_error = std::current_exception();
-      }
-    });
+  if (!args.quiet && args.threads != 1) {
+    try {
+      summing = std::thread([&] {
+        try {
+          summary.emplace(scene, result);
+        } catch (...) {
+          summing_error = std::current_exception();
+        }
+      });
+    } catch (const std::system_error&) {
+      // (made below instead)
+    }
+  }
   struct JoinOnExit {
     std::thread& thread;
     ~JoinOnExit() {
@@ -216,8 +223,9 @@ int run_compute(const ComputeArgs& args) {
   const auto finished = Clock::now();
 
   if (!args.quiet) {
-    summing.join();
+    if (summing.joinable()) summing.join();
     if (summing_error) std::rethrow_exception(summing_error);
+    if (!summary) summary.emplace(scene, result);
     auto seconds = [](Clock::duration d) { return std::chrono::duration<double>(d).count(); };
     std::printf("shadow %s: %zu faces (%zu receiving), %zu lights, %zu fragments\n",
                 shadow::version(), scene.faces.size(), summary->receivers, scene.lights.size(),

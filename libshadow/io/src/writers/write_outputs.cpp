@@ -227,13 +227,17 @@ std::vector<fs::path> OutputDirectory::write(const Scene& scene, const ShadowRes
   std::exception_ptr report_error;
   std::thread reporting;
   if (threads > 1) {
-    reporting = std::thread([&] {
-      try {
-        write_report_file(report, scene, result, run);
-      } catch (...) {
-        report_error = std::current_exception();
-      }
-    });
+    try {
+      reporting = std::thread([&] {
+        try {
+          write_report_file(report, scene, result, run);
+        } catch (...) {
+          report_error = std::current_exception();
+        }
+      });
+    } catch (const std::system_error&) {
+      // No thread to be had (a process limit): the report after the VTK files, below.
+    }
   }
   struct JoinOnExit {
     std::thread& thread;
