@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The output files of a large result do not depend on the thread count: report.json's face
-// entries are made on every thread (in blocks, written in face order) and the VTK files are
-// written beside it on a thread of their own. Same bytes at 1, 2 and 4 threads, and report.json
+// entries are made on every thread (in blocks, written in face order), and the report is written
+// on a thread of its own while the VTK files are written on the calling thread. Same bytes at 1, 2 and 4 threads, and report.json
 // is exactly nlohmann's dump(2) of its own content (the text the report had when it was one
 // document).
 #include <shadow/output.hpp>
@@ -48,6 +48,20 @@ Scene make_scene(std::size_t faces) {
     if (f % 97 == 5) face.vertices = {{x, 0, 0}, {x + 1, 0, 0}, {x + 2, 0, 0}};  // no area: null azimuth
     face.mesh = f % 7 == 3 ? 1 : 0;
     face.source = {"blocks.obj", "line " + std::to_string(f + 1)};
+    // Sources the report writes from their parts, or through the escaping of the whole: no file,
+    // no place, neither, a Windows path, a name with a quote, bytes beyond ASCII, a control byte;
+    // files alternating within a block of faces.
+    switch (f % 23) {
+      case 2: face.source = {"", "line 9"}; break;
+      case 4: face.source = {"blocks.obj", ""}; break;
+      case 6: face.source = {"", ""}; break;
+      case 8: face.source = {"C:\\models\\blocks.obj", "line 3"}; break;
+      case 10: face.source = {"the \"old\" blocks.obj", "line 4"}; break;
+      case 12: face.source = {"caf\xC3\xA9.obj", "line 5"}; break;
+      case 14: face.source = {"blocks.obj", "line\x01 6"}; break;
+      case 16: face.source = {"other.obj", "line " + std::to_string(f)}; break;
+      default: break;
+    }
     if (f % 5 == 0) face.name = "wall \"" + std::to_string(f / 5) + "\"\n\\";
     if (f % 11 == 0) face.name = std::string("caf\xC3\xA9 \xFF") + std::to_string(f);  // é, then a bad byte
     if (f % 3 == 0) face.kind = "WallSurface";
@@ -226,4 +240,28 @@ TEST(ReportThreads, OutputDirectoryWritesTheSameFilesAtOneTwoAndFourThreads) {
   EXPECT_EQ(files[1], files[0]);
   EXPECT_EQ(files[2], files[0]);
   fs::remove_all(root);
+}
+
+// A result whose light ids lie beyond the scene's (a caller's own light, compute(light, id)),
+// up to the largest size_t: each is written and summed under its own id, as any other.
+TEST(ReportThreads, LightIdsBeyondTheScenesAreWrittenAndSummed) {
+  const Scene scene = make_scene(40);
+  ShadowResult result = make_result(scene, false);
+  result.lighting.erase(std::remove_if(result.lighting.begin(), result.lighting.end(),
+                                       [](const FaceLighting& e) { return e.light_id != 0; }),
+                        result.lighting.end());
+  for (FaceLighting& e : result.lighting) e.light_id = e.face_id % 2 ? 7 : std::numeric_limits<std::size_t>::max();  // (the first: the largest)
+  for (const unsigned threads : {1u, 2u}) {
+    const std::string text = report_text(scene, result, threads);
+    const nlohmann::ordered_json document = nlohmann::ordered_json::parse(text);
+    EXPECT_EQ(document.dump(2) + "\n", text);
+    const nlohmann::ordered_json& per_light = document["summary"]["per_light"];
+    ASSERT_EQ(per_light.size(), 2u) << threads << " threads";
+    EXPECT_EQ(per_light[0]["light"], 7u);
+    EXPECT_EQ(per_light[1]["light"], std::numeric_limits<std::size_t>::max());
+    double area = 0;
+    for (const FaceLighting& e : result.lighting)
+      if (e.light_id == 7) area += e.area;
+    EXPECT_NEAR(per_light[0]["area"].get<double>(), area, 1e-9 * area);
+  }
 }

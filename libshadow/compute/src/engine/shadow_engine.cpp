@@ -532,8 +532,8 @@ std::vector<std::size_t> receiving_faces(const Scene& scene, unsigned threads) {
     for (std::size_t f = begin; f < end; ++f)
       if (scene.is_receiver(f)) found[b].push_back(f);
   });
-  std::vector<std::size_t> receivers;
   if (found.size() == 1) return std::move(found[0]);
+  std::vector<std::size_t> receivers;
   std::size_t count = 0;
   for (const std::vector<std::size_t>& block : found) count += block.size();
   receivers.reserve(count);

@@ -131,6 +131,7 @@ class TextBuffer {
   }
   void advance(const char* end) noexcept { size_ = static_cast<std::size_t>(end - data_.get()); }
   [[gnu::always_inline]] void append(const char* text, std::size_t n) {
+    if (n == 0) return;  // (no buffer yet: memcpy may not take a null pointer)
     std::memcpy(room(n), text, n);
     size_ += n;
   }
@@ -455,7 +456,6 @@ struct ReportTotals {
   /// entries mostly share their light and mesh, and a map's search for each of a million
   /// entries was most of this loop.
   ReportTotals(const Scene& scene, const std::vector<const FaceLighting*>& entries) {
-    group_start.reserve(entries.size() + 1);
     std::pair<std::size_t, LightTotals*> last_light{SIZE_MAX, nullptr};
     std::pair<std::pair<std::size_t, std::size_t>, LightTotals*> last_mesh{{SIZE_MAX, SIZE_MAX}, nullptr};
     for (std::size_t i = 0; i < entries.size();) {
@@ -463,14 +463,14 @@ struct ReportTotals {
       group_start.push_back(i);
       for (; i < entries.size() && entries[i]->face_id == face_id; ++i) {
         const std::size_t light_id = entries[i]->light_id;
-        if (last_light.first != light_id) last_light = {light_id, &per_light[light_id]};
+        if (last_light.second == nullptr || last_light.first != light_id) last_light = {light_id, &per_light[light_id]};
         LightTotals& totals = *last_light.second;
         totals.area.add(entries[i]->area);
         totals.lit_area.add(entries[i]->lit_area);
         totals.bound.add(entries[i]->lit_area_error_bound);
         if (face_id < scene.faces.size()) {
           const std::pair<std::size_t, std::size_t> key{scene.faces[face_id].mesh, light_id};
-          if (last_mesh.first != key) last_mesh = {key, &per_mesh[key]};
+          if (last_mesh.second == nullptr || last_mesh.first != key) last_mesh = {key, &per_mesh[key]};
           LightTotals& m = *last_mesh.second;
           m.area.add(entries[i]->area);
           m.lit_area.add(entries[i]->lit_area);
