@@ -824,6 +824,36 @@ TEST_F(OutputTest, AVtkWriteFailureNamesTheFileAndVtksReason) {
   EXPECT_FALSE(fs::exists(root_ / "fragments.vtp"));
 }
 
+// report.json is written on a thread of its own while the VTK files are written (from two
+// threads on). Its failure alone, and a VTK failure while it is being written, each give one
+// OutputError naming the file, no file put in place and no temporary left, at every thread count.
+TEST_F(OutputTest, AReportFailureAloneOrAVtkFailureBesideTheReportLeaveNothingAtAnyThreadCount) {
+  for (const unsigned threads : {1u, 2u, 4u}) {
+    shadow::RunInfo run;
+    run.options.threads = threads;
+    for (const char* failing : {"report.json", "fragments.vtp"}) {
+      fs::remove_all(root_);
+      fs::create_directories(root_);
+      std::ofstream(root_ / "report.json") << "old";
+      const fs::path blocker = root_ / ("." + std::string(failing) + ".tmp-" + std::to_string(getpid()));
+      fs::create_directories(blocker / "keep");
+      ::testing::internal::CaptureStderr();
+      try {
+        shadow::write_outputs(root_, scene_, result_, run);
+        ADD_FAILURE() << failing << ", " << threads << " threads: expected OutputError";
+      } catch (const OutputError& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.find((root_ / failing).string() + ": "), 0u) << threads << " threads: " << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      }
+      EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+      fs::remove_all(blocker);
+      EXPECT_TRUE(directory_listing(root_).empty())
+          << failing << ", " << threads << " threads: a file or temporary left behind";
+    }
+  }
+}
+
 TEST_F(OutputTest, AFailedWriteIsAnOutputErrorThatSaysSoAndLeavesNoReport) {
   // Every write past 64 bytes of a regular file fails (EFBIG) under this limit, as on a full
   // disk: SIGXFSZ ignored, so that write() returns the error instead of killing the process.
