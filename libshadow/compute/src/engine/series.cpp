@@ -218,8 +218,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   SeriesResult result;
   result.arithmetic = options.arithmetic;
   result.instants = lights.size();
-  for (std::size_t f = 0; f < scene.faces.size(); ++f)
-    if (scene.is_receiver(f)) result.faces.push_back(f);
+  result.faces = engine_detail::receiving_faces(scene, threads);
   const std::size_t rows = result.faces.size();
   const std::size_t instants = lights.size();
   result.area.resize(rows);

@@ -520,34 +520,11 @@ void ShadowEngine::Impl::release_workers(std::vector<ThreadState>& workers) {
   });
 }
 
-namespace {
-
-/// The scene's receiving faces in increasing order, found on `threads` threads: each face's mesh
-/// is a read of its own record (a million faces: one cache line each, some 20 ms on one thread).
-std::vector<std::size_t> receiving_faces(const Scene& scene, unsigned threads) {
-  constexpr std::size_t kBlock = 16384;
-  const std::size_t n = scene.faces.size();
-  std::vector<std::vector<std::size_t>> found((n + kBlock - 1) / kBlock);
-  runtime::parallel_for_blocks(n, kBlock, threads, [&](unsigned, std::size_t b, std::size_t begin, std::size_t end) {
-    for (std::size_t f = begin; f < end; ++f)
-      if (scene.is_receiver(f)) found[b].push_back(f);
-  });
-  if (found.size() == 1) return std::move(found[0]);
-  std::vector<std::size_t> receivers;
-  std::size_t count = 0;
-  for (const std::vector<std::size_t>& block : found) count += block.size();
-  receivers.reserve(count);
-  for (const std::vector<std::size_t>& block : found) receivers.insert(receivers.end(), block.begin(), block.end());
-  return receivers;
-}
-
-}  // namespace
-
 ShadowResult ShadowEngine::Impl::run(const std::vector<const Light*>& lights,
                                      const std::vector<std::size_t>& light_ids,
                                      const ShadowOptions& options) const {
   const unsigned threads = runtime::resolve_threads(runtime::checked_threads(options.threads));
-  const std::vector<std::size_t> receivers = receiving_faces(*scene, threads);
+  const std::vector<std::size_t> receivers = engine_detail::receiving_faces(*scene, threads);
   std::vector<ThreadState> workers = make_workers(threads, options.arithmetic == Arithmetic::Fast);
   std::vector<ItemTable> per_light;
   for (std::size_t li = 0; li < lights.size(); ++li)
