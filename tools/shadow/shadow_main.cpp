@@ -84,22 +84,21 @@ struct ComputeSummary {
 
   ComputeSummary(const shadow::Scene& scene, const shadow::ShadowResult& result) {
     for (std::size_t f = 0; f < scene.faces.size(); ++f) receivers += scene.is_receiver(f) ? 1 : 0;
-    // Each light's totals in one pass over the results; a long list of lights (a model's year
-    // of suns) shows its first few and says where the rest are.
+    // Each light's and each mesh's totals in one pass over the results (each sum in the results'
+    // order). A long list of lights (a model's year of suns) shows its first few and says where
+    // the rest are; only the lights shown are summed per mesh: a model's year of suns on a city's
+    // meshes would otherwise hold meshes x lights sums.
     const std::size_t light_lines = std::min(scene.lights.size(), kLightLines);
     light_area.assign(light_lines, 0.0);
     light_lit.assign(light_lines, 0.0);
-    for (const shadow::FaceLighting& fl : result.lighting)
-      if (fl.light_id < light_lines) {
-        light_area[fl.light_id] += fl.area;
-        light_lit[fl.light_id] += fl.lit_area;
-      }
-    // Only the lights shown are summed per mesh: a model's year of suns on a city's meshes would
-    // otherwise hold meshes x lights sums.
     const std::size_t lights = std::min(scene.lights.size(), kLights);
     mesh_area.resize(scene.meshes.size());
     mesh_lit.resize(scene.meshes.size());
     for (const shadow::FaceLighting& fl : result.lighting) {
+      if (fl.light_id < light_lines) {
+        light_area[fl.light_id] += fl.area;
+        light_lit[fl.light_id] += fl.lit_area;
+      }
       if (fl.face_id >= scene.faces.size() || fl.light_id >= lights) continue;
       const std::size_t m = scene.faces[fl.face_id].mesh;
       if (m >= scene.meshes.size()) continue;
