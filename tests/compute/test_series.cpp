@@ -19,6 +19,7 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -26,6 +27,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 #include <map>
 #include <sstream>
@@ -428,6 +430,55 @@ TEST(Series, NamedSurfacesAddTheirFacesUp) {
   std::ostringstream ep;
   EXPECT_FALSE(shadow::write_energyplus_shading_csv(ep, scene, suns, surfaces).written);  // explicit times
   EXPECT_TRUE(ep.str().empty());
+}
+
+TEST(Series, SunlitCsvValuesReadBackAsTheSameDoubles) {
+  // sunlit.csv's numbers: to_chars's shortest form of each value, so that it reads back as the
+  // same double; 0 and 1 (faces turned away, unshadowed) as "0" and "1", -0 keeping its sign.
+  const std::vector<double> values = {0.0,
+                                      -0.0,
+                                      1.0,
+                                      0.5,
+                                      1.0 - std::numeric_limits<double>::epsilon() / 2,
+                                      1.0 + std::numeric_limits<double>::epsilon(),
+                                      1.778735898664716e-16,
+                                      std::numeric_limits<double>::denorm_min(),
+                                      -std::numeric_limits<double>::min(),
+                                      -2.2250738585072014e-308,
+                                      std::numeric_limits<double>::max(),
+                                      0.1 + 0.2};
+  shadow::SunSeries suns;
+  suns.times = {utc(2026, 6, 21, 12)};
+  shadow::SurfaceSeries surfaces;
+  surfaces.instants = 1;
+  for (std::size_t s = 0; s < values.size(); ++s) {
+    shadow::NamedSurface named;
+    named.label = "s" + std::to_string(s);
+    surfaces.surfaces.push_back(named);
+  }
+  surfaces.lit_fraction = values;
+  std::ostringstream csv;
+  shadow::write_sunlit_csv(csv, suns, surfaces);
+  const std::string text = csv.str();
+  const std::size_t row = text.find("\r\n") + 2;
+  ASSERT_EQ(text.substr(text.size() - 2), "\r\n");
+  std::vector<std::string> fields;
+  std::stringstream line(text.substr(row, text.size() - 2 - row));
+  for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
+  ASSERT_EQ(fields.size(), values.size() + 1);
+  EXPECT_EQ(fields[0], "2026-06-21T12:00:00Z");
+  EXPECT_EQ(fields[1], "0");
+  EXPECT_EQ(fields[2], "-0");
+  EXPECT_EQ(fields[3], "1");
+  EXPECT_EQ(fields[4], "0.5");
+  for (std::size_t s = 0; s < values.size(); ++s) {
+    char shortest[64];
+    const auto written = std::to_chars(shortest, shortest + sizeof shortest, values[s]);
+    EXPECT_EQ(fields[s + 1], std::string(shortest, written.ptr)) << s;
+    double back = 0;
+    ASSERT_EQ(std::from_chars(fields[s + 1].data(), fields[s + 1].data() + fields[s + 1].size(), back).ec, std::errc()) << s;
+    EXPECT_EQ(std::memcmp(&back, &values[s], sizeof back), 0) << s << ": " << fields[s + 1];
+  }
 }
 
 TEST(Series, SunHoursPerObjectRollPartsUpAreaWeighted) {

@@ -51,6 +51,7 @@ class EnergyPlusRows {
   std::vector<bool> fills_;          ///< per instant: whether it fills a row
   std::map<std::size_t, std::vector<double>> waiting_;  ///< instants whose row is not written yet
   std::size_t next_row_ = 0;
+  std::string row_;  ///< a row's text, its room kept from one row to the next
 };
 
 }  // namespace shadow::detail
