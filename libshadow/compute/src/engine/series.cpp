@@ -16,7 +16,6 @@
 #include "core/lights.hpp"
 #include "core/spatial_order.hpp"
 #include "geometry/unit_vector.hpp"
-#include "runtime/first_touch.hpp"
 #include "runtime/parallel.hpp"
 #include "exact/lazy_geometry.hpp"
 
@@ -78,18 +77,11 @@ std::vector<std::size_t> by_direction(const std::vector<Light>& lights) {
 /// more than the table: memory beyond the table's stays small.
 class StagedTable {
  public:
-  StagedTable(SeriesResult& result, std::size_t rows, std::size_t instants, std::size_t batch, unsigned threads)
+  StagedTable(SeriesResult& result, std::size_t rows, std::size_t instants, std::size_t batch)
       : result_(result), rows_(rows), instants_(instants), batch_(batch),
         length_(std::min(instants, batch * std::max<std::size_t>(1, 64 / batch))) {
-    // The table's rows x instants cells, 0, as SeriesResult::zero_entries() makes them, but with
-    // their fresh pages first touched on every thread: a series job's round of 2^20 cells is
-    // 26 MB, whose pages the kernel clearing on this thread alone had left the other threads
-    // waiting some 30 ms a round (a year on the 1,000-box city: 26 rounds, 0.7 s).
-    each_array([&](auto&, auto& table) {
-      table.clear();
-      runtime::resize_touched(table, rows * instants, threads);
-    });
-    each_array([&](auto& stage, auto&) { runtime::resize_touched(stage, rows * length_, threads); });
+    result.zero_entries();  // (rows x instants: the result's rows and columns)
+    each_array([&](auto& stage, auto&) { stage.resize(rows * length_); });
   }
 
   /// Before the batch starting at `position` (a multiple of the batch size): the stage before
@@ -265,7 +257,7 @@ SeriesResult ShadowEngine::compute_series(const std::vector<Light>& lights_in, c
   mode.fast = fast;
   mode.polygons = false;
   mode.split_above = fast ? options.fast_tile_casters : options.tile_casters;
-  StagedTable table(result, rows, instants, batch, threads);
+  StagedTable table(result, rows, instants, batch);
   // Progress in instants, moving through both rounds of a batch: a fraction of the batch is done,
   // the first round standing for (1 - tile_share) of it and the tile round for the rest.
   // tile_share is the tile round's share of the previous batch's time (neighbouring instants
