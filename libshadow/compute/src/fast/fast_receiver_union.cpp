@@ -166,7 +166,10 @@ double ReceiverJob::windowed_length() const {
 }
 
 bool ReceiverJob::unite() {
-  set_up_receiver();
+  // A box receiver's outline on the grid is its box, which nothing below reads when only areas
+  // are asked for (the casts are clipped to it already): its grid points and length (four
+  // roundings and four hypot calls a receiver) only for polygons and for other outlines.
+  if (!fp_.chart_is_box || polygons_) set_up_receiver();
   const double receiver_length = receiver_length_;
   if (!fp_.chart_is_box) bound_.receiver_outline(receiver_length, receiver_rho_);
   Int128 shadow2 = 0, gap2 = 0;
@@ -218,17 +221,21 @@ bool ReceiverJob::unite() {
     // (A box receiver's edges meet the casts only at their vertices, already grid points.)
     if (!clustered && !windowed)
       bound_.union_rounding(cast_length_ + (fp_.chart_is_box ? 0.0 : receiver_length * (1 + 1e-9)), levels * rho_);
-    CL::Clipper clipper;
-    clipper.StrictlySimple(false);
-    if (!strips_only && !clustered && !windowed) clipper.AddPaths(*casts, CL::ptSubject, true);
     // Casters are clipped to the chart box already: a rectangular receiver needs no intersection.
     const CL::ClipType op = fp_.chart_is_box ? CL::ctUnion : CL::ctIntersection;
-    if (!fp_.chart_is_box && !strips_only && !windowed) clipper.AddPath(receiver_, CL::ptClip, true);
+    // Clipper's union only where it measures the shadow (not after the strips or the clusters).
+    auto make_clipper = [&](CL::Clipper& clipper) {
+      clipper.StrictlySimple(false);
+      clipper.AddPaths(*casts, CL::ptSubject, true);
+      if (!fp_.chart_is_box) clipper.AddPath(receiver_, CL::ptClip, true);
+    };
     if (strips_only) {
       for (const CL::Path& p : united) shadow2 += area2(p);  // holes come out negative
     } else if (clustered || windowed) {
       // (measured above)
     } else if (polygons_) {
+      CL::Clipper clipper;
+      make_clipper(clipper);
       clipper.Execute(op, shadow_tree_, CL::pftNonZero, CL::pftNonZero);
       CL::Paths all;
       CL::PolyTreeToPaths(shadow_tree_, all);
@@ -240,6 +247,8 @@ bool ReceiverJob::unite() {
       lit.AddPaths(*casts, CL::ptClip, true);
       lit.Execute(CL::ctDifference, lit_tree_, CL::pftNonZero, CL::pftNonZero);
     } else {
+      CL::Clipper clipper;
+      make_clipper(clipper);
       CL::Paths shadow_paths;
       clipper.Execute(op, shadow_paths, CL::pftNonZero, CL::pftNonZero);
       for (const CL::Path& p : shadow_paths) shadow2 += area2(p);  // holes come out negative
