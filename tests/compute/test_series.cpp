@@ -435,6 +435,7 @@ TEST(Series, NamedSurfacesAddTheirFacesUp) {
 TEST(Series, SunlitCsvValuesReadBackAsTheSameDoubles) {
   // sunlit.csv's numbers: to_chars's shortest form of each value, so that it reads back as the
   // same double; 0 and 1 (faces turned away, unshadowed) as "0" and "1", -0 keeping its sign.
+  // Two rows, so that the second is written after the first in the same buffer.
   const std::vector<double> values = {0.0,
                                       -0.0,
                                       1.0,
@@ -443,27 +444,36 @@ TEST(Series, SunlitCsvValuesReadBackAsTheSameDoubles) {
                                       1.0 + std::numeric_limits<double>::epsilon(),
                                       1.778735898664716e-16,
                                       std::numeric_limits<double>::denorm_min(),
-                                      -std::numeric_limits<double>::min(),
-                                      -2.2250738585072014e-308,
+                                      -3 * std::numeric_limits<double>::denorm_min(),
+                                      2.2250738585072009e-308,  // the largest subnormal
+                                      -std::numeric_limits<double>::min(),  // the longest text: 24 characters
                                       std::numeric_limits<double>::max(),
+                                      std::numeric_limits<double>::infinity(),
                                       0.1 + 0.2};
   shadow::SunSeries suns;
-  suns.times = {utc(2026, 6, 21, 12)};
+  suns.times = {utc(2026, 6, 21, 12), utc(2026, 6, 21, 13)};
   shadow::SurfaceSeries surfaces;
-  surfaces.instants = 1;
+  surfaces.instants = 2;
   for (std::size_t s = 0; s < values.size(); ++s) {
     shadow::NamedSurface named;
     named.label = "s" + std::to_string(s);
     surfaces.surfaces.push_back(named);
+    surfaces.lit_fraction.push_back(values[s]);  // instant 0
+    surfaces.lit_fraction.push_back(0.25);       // instant 1 (surface-major: s * instants + i)
   }
-  surfaces.lit_fraction = values;
   std::ostringstream csv;
   shadow::write_sunlit_csv(csv, suns, surfaces);
   const std::string text = csv.str();
   const std::size_t row = text.find("\r\n") + 2;
+  const std::size_t second = text.find("\r\n", row) + 2;
   ASSERT_EQ(text.substr(text.size() - 2), "\r\n");
+  std::string expected_second = "2026-06-21T13:00:00Z";
+  for (std::size_t s = 0; s < values.size(); ++s) expected_second += ",0.25";
+  EXPECT_EQ(text.substr(second), expected_second + "\r\n");
+  const std::string first_row = text.substr(row, second - 2 - row);
+  ASSERT_NE(first_row.back(), ',');
   std::vector<std::string> fields;
-  std::stringstream line(text.substr(row, text.size() - 2 - row));
+  std::stringstream line(first_row);
   for (std::string field; std::getline(line, field, ',');) fields.push_back(field);
   ASSERT_EQ(fields.size(), values.size() + 1);
   EXPECT_EQ(fields[0], "2026-06-21T12:00:00Z");

@@ -57,7 +57,7 @@ std::string number(double value) {
   return std::string(buffer, end);
 }
 
-/// The longest shortest form of a double ("-2.2250738585072014e-308"), and its comma.
+/// The longest shortest form of a double ("-2.2250738585072014e-308"), without its comma.
 constexpr std::size_t kMostNumberChars = 24;
 
 /// `,value` for each of `values`, as number() writes them, then the line's end, appended to
@@ -77,7 +77,7 @@ void write_values_line(std::ostream& out, std::string& row, const std::vector<do
       *p++ = '1';
     } else {
       const auto [end, error] = std::to_chars(p, p + kMostNumberChars, f);
-      if (error != std::errc()) throw std::logic_error("sunlit.csv: a value longer than a double's shortest form");
+      if (error != std::errc()) throw std::logic_error("series CSV row: a value longer than a double's shortest form");
       p = end;
     }
   }
@@ -290,10 +290,12 @@ void EnergyPlusRows::write_ready(std::ostream& out) {
     const int minute = static_cast<int>(((end - year_start_) % kDay) / 60);
     const int shown = minute == 0 ? 24 * 60 : minute;
     std::snprintf(stamp, sizeof stamp, "%02d/%02d %02d:%02d", day.month, day.day, shown / 60, shown % 60);
-    if (i == SIZE_MAX) {
-      out << stamp;
-      for (std::size_t s = 0; s < surfaces_; ++s) out << ",0";
-      out << '\n';
+    if (i == SIZE_MAX) {  // a step without an instant (night, outside the period): zeros
+      row_.assign(stamp);
+      row_.reserve(row_.size() + 2 * surfaces_ + 1);
+      for (std::size_t s = 0; s < surfaces_; ++s) row_ += ",0";
+      row_ += '\n';
+      out.write(row_.data(), static_cast<std::streamsize>(row_.size()));
     } else {
       row_.assign(stamp);
       write_values_line(out, row_, found->second, "\n");
