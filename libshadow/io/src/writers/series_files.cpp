@@ -290,14 +290,13 @@ void EnergyPlusRows::write_ready(std::ostream& out) {
     const int minute = static_cast<int>(((end - year_start_) % kDay) / 60);
     const int shown = minute == 0 ? 24 * 60 : minute;
     std::snprintf(stamp, sizeof stamp, "%02d/%02d %02d:%02d", day.month, day.day, shown / 60, shown % 60);
+    row_.assign(stamp);
     if (i == SIZE_MAX) {  // a step without an instant (night, outside the period): zeros
-      row_.assign(stamp);
       row_.reserve(row_.size() + 2 * surfaces_ + 1);
       for (std::size_t s = 0; s < surfaces_; ++s) row_ += ",0";
       row_ += '\n';
       out.write(row_.data(), static_cast<std::streamsize>(row_.size()));
     } else {
-      row_.assign(stamp);
       write_values_line(out, row_, found->second, "\n");
       waiting_.erase(found);
     }
