@@ -98,24 +98,28 @@ class ReceiverCuller {
     // (light_side near zero, where rounding could flip it) keeps only the plane test.
     count_ = light_side > 1e-7 * (lw != 0.0 ? scale : 1.0) && light_side > 4 * light_side_error ? tests_.size() : 1;
     for (std::size_t t = 0; t < tests_.size(); ++t) length_[t] = glm::length(tests_[t].a);  // once, not per caster
+    // may_cast_any's room for rounding, per test, once per receiver instead of a sum of
+    // magnitudes per box: the scene's local coordinates lie within its diameter of 0 (the
+    // vertices less the centre of their box), so no box's sum exceeds |b| + D |a|_1.
+    for (std::size_t t = 0; t < tests_.size(); ++t) {
+      const DoubleAffine& f = tests_[t];
+      any_room_[t] = 32 * eps * (std::abs(f.b) + D * (std::abs(f.a.x) + std::abs(f.a.y) + std::abs(f.a.z)));
+    }
   }
 
   /// False when may_cast is certainly false for every face whose vertices lie in `b` (with a
   /// slack of at most b.slack): for one of the tests, the box lies wholly outside it, with room
-  /// for may_cast's own rounding. Its maximum over the box and may_cast's value at any vertex in
-  /// it are each within 4 eps of their exact values relative to the same sum of magnitudes
-  /// (three products and the constant), so a gap of 32 eps of that sum covers both.
+  /// for may_cast's own rounding. `b` bounds faces of this culler's scene (face_bounds(),
+  /// LightSpaceGrid::item_bounds()). Its maximum over the box (at the corner each coefficient's
+  /// sign picks) and may_cast's value at any vertex in it are each within 4 eps of their exact
+  /// values relative to the same sum of magnitudes (three products and the constant), so a gap of
+  /// 32 eps of a bound on that sum (any_room_) covers both.
   [[nodiscard]] bool may_cast_any(const LocalBounds& b) const {
-    constexpr double eps = std::numeric_limits<double>::epsilon();
     for (std::size_t t = 0; t < count_; ++t) {
       const DoubleAffine& f = tests_[t];
-      double most = f.b, magnitude = std::abs(f.b);
-      for (int c = 0; c < 3; ++c) {
-        const double low = f.a[c] * b.lo[c], high = f.a[c] * b.hi[c];
-        most += std::max(low, high);
-        magnitude += std::max(std::abs(low), std::abs(high));
-      }
-      if (most + 32 * eps * magnitude < -(f.tolerance + length_[t] * b.slack)) return false;
+      double most = f.b;
+      for (int c = 0; c < 3; ++c) most += f.a[c] * (f.a[c] >= 0 ? b.hi[c] : b.lo[c]);
+      if (most + any_room_[t] < -(f.tolerance + length_[t] * b.slack)) return false;
     }
     return true;
   }
@@ -207,6 +211,7 @@ class ReceiverCuller {
   bool above_caps_ = false;  ///< the light is certainly above every horizontal plane (to_light.z > 0)
   std::array<DoubleAffine, 5> tests_;
   std::array<double, 5> length_{};  ///< |tests_[t].a|
+  std::array<double, 5> any_room_{};  ///< may_cast_any's room for rounding, per test
   std::size_t count_ = 1;
 };
 
