@@ -513,6 +513,80 @@ TEST(FastPath, ExactlyEdgeOnWallsStayOnTheFastPath) {
   EXPECT_EQ(fast.stats.fast_exact_fallbacks, 0u);
 }
 
+// A wall in one solid's shadow whole is decided by that solid alone (areas only): lit area 0 with
+// bound 0, as the exact engine finds. Where the solid's shadow only reaches the wall's edge or
+// misses it by a nanometre, the doubles cannot tell, and the wall goes the usual way: a bound
+// above 0 that holds the exact answer.
+TEST(FastPath, AWallInOneSolidsShadowWholeIsDecidedByIt) {
+  // The wall y = 0 of a 10 x 5 x 10 box, facing +y, and in front of it a slab, y in [2, 3] and 20
+  // high; the sun at (1/8, 1, 1) from the wall (no face edge-on to it), so that a point (x, y, z)
+  // casts onto the wall's plane at (x - y / 8, z - y), all exact in binary: the slab's shadow spans
+  // z in [-3, 18] and x from its left side less 3/8 to its right side less 1/4.
+  for (const double gap : {-1.0, 0.0, 1e-9}) {
+    Scene scene;
+    add_mesh(scene, "house", box_faces({0, -5, 0}, {10, 0, 10}));
+    add_mesh(scene, "slab", box_faces({0.375 + gap, 2, 0}, {10.25 - std::min(gap, 0.0), 3, 20}));
+    scene.lights.push_back(directional_light("sun", {0.125, 1, 1}));
+    validate_scene(scene);
+    char label_text[32];
+    std::snprintf(label_text, sizeof label_text, "gap %g", gap);
+    const std::string label = label_text;
+    const ShadowResult fast = expect_within_bounds(scene, label, false);
+    const ShadowResult exact = compute_shadows(scene, with(Arithmetic::Exact, false));
+    std::size_t walls = 0;
+    for (std::size_t a = 0; a < fast.lighting.size(); ++a) {
+      const FaceLighting& f = fast.lighting[a];
+      const Polygon3& face = scene.faces[f.face_id].vertices;
+      const glm::dvec3 n = newell_normal(face);
+      if (!(n.y > 0 && n.x == 0 && n.z == 0) || face[0].y != 0.0) continue;  // the house's wall facing the slab
+      ++walls;
+      ASSERT_TRUE(f.faces_light) << label;
+      const double exact_lit = exact.lighting[a].lit_area;
+      if (gap < 0) {  // a metre to spare on either side
+        EXPECT_EQ(exact_lit, 0.0);
+        EXPECT_EQ(f.lit_area, 0.0);
+        EXPECT_EQ(f.shadow_area, f.area);
+        EXPECT_EQ(f.lit_area_error_bound, 0.0) << "decided by the slab alone";
+        continue;
+      }
+      if (gap == 0) EXPECT_EQ(exact_lit, 0.0) << "the shadow's edge on the wall's edge";
+      else EXPECT_NEAR(exact_lit, 1e-8, 1e-14) << "a strip a nanometre wide, 10 m high";
+      EXPECT_GT(f.lit_area_error_bound, 0.0) << label << ": the doubles cannot tell, so no certain cover";
+      EXPECT_LE(std::abs(f.lit_area - exact_lit), f.lit_area_error_bound) << label;
+    }
+    EXPECT_EQ(walls, 1u) << label;
+  }
+}
+
+// The same on a city under a low and a high sun, areas only: every wall or roof decided by one
+// solid is exactly unlit in the exact engine too, some are, and neither the values nor the
+// counts depend on the number of threads.
+TEST(FastPath, ReceiversInOneSolidsShadowAgreeWithTheExactEngine) {
+  Scene scene = make_city(80, 120, 11);
+  scene.lights.push_back(directional_light("sun8", sun_direction(8, 200)));
+  scene.lights.push_back(directional_light("sun35", sun_direction(35, 120)));
+  const ShadowResult fast = expect_within_bounds(scene, "city, areas only", false);
+  const ShadowResult exact = compute_shadows(scene, with(Arithmetic::Exact, false));
+  std::size_t decided = 0;
+  for (std::size_t a = 0; a < fast.lighting.size(); ++a) {
+    const FaceLighting& f = fast.lighting[a];
+    if (!f.faces_light || f.lit_area != 0.0 || f.lit_area_error_bound != 0.0) continue;
+    ++decided;
+    EXPECT_EQ(exact.lighting[a].lit_area, 0.0) << "face " << f.face_id << " light " << f.light_id;
+  }
+  EXPECT_GE(decided, 20u);  // the low sun shades many walls whole
+  ShadowOptions one = with(Arithmetic::Fast, false);
+  one.threads = 1;
+  const ShadowResult single = compute_shadows(scene, one);
+  ASSERT_EQ(single.lighting.size(), fast.lighting.size());
+  for (std::size_t a = 0; a < fast.lighting.size(); ++a) {
+    EXPECT_EQ(single.lighting[a].lit_area, fast.lighting[a].lit_area);
+    EXPECT_EQ(single.lighting[a].lit_area_error_bound, fast.lighting[a].lit_area_error_bound);
+  }
+  EXPECT_EQ(single.stats.candidate_pairs, fast.stats.candidate_pairs);
+  EXPECT_EQ(single.stats.casting_pairs, fast.stats.casting_pairs);
+}
+
 TEST(FastPath, ExactRemainsTheDefault) {
   const ShadowOptions options;
   EXPECT_EQ(options.arithmetic, Arithmetic::Exact);

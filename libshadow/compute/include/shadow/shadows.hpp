@@ -159,6 +159,8 @@ struct ShadowStats {
   /// Occluder-receiver pairs after culling in doubles (boxes, the receiver's slab and prism). A
   /// convex solid that the engine casts as one hull (a directional light on an exactly planar
   /// receiver) counts once, as in casting_pairs; otherwise each of its faces that passes counts.
+  /// Arithmetic::Fast, areas only: a receiver that one solid certainly shades whole is decided
+  /// without the search, and counts that one pair (docs/numeric-contract.md).
   std::uint64_t candidate_pairs = 0;
   std::uint64_t casting_pairs = 0;      ///< pairs whose exact projection was non-empty
   std::uint64_t unshadowed = 0;         ///< front-facing receivers with nothing in front (no clipping)

@@ -324,7 +324,6 @@ class CasterCandidates {
   /// Marks convex solid `s` as cast on the current receiver.
   void mark_solid_done(int s) { solid_seen_[static_cast<std::size_t>(s)] = stamp_; }
 
- private:
   /// The least depth (LightSpaceGrid::depth) of the receiver's points as the exact engine sees
   /// them, less room for rounding, from its own vertices: depth is linear, so its least over the
   /// face is at a vertex; the exact engine moves a vertex by at most the face's slack; 1e-9 D
@@ -343,6 +342,7 @@ class CasterCandidates {
     return std::isfinite(floor) ? floor : kNoCut;
   }
 
+ private:
   std::vector<std::uint32_t> solid_seen_;
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> faces_;

@@ -226,6 +226,27 @@ class LightSpaceGrid {
     return fb[0] <= b[2] + margin_ && b[0] <= fb[2] + margin_ && fb[1] <= b[3] + margin_ && b[1] <= fb[3] + margin_;
   }
 
+  /// Calls visit(first face of the item) for each item whose light-space box contains `face`'s
+  /// own and that reaches `min_depth` (as query's), in the order of the entries of the one cell
+  /// that holds the centre of `face`'s box (an item containing the box is in every cell the box
+  /// meets), until visit returns true. These are the only items whose shadow can cover the whole
+  /// face; the caller decides whether one does. A filter only: no margin is needed.
+  template <class Visit>
+  void query_containing(std::size_t face, double min_depth, Visit&& visit) const {
+    if (slot_[face] == kNoItem) return;
+    const Box& b = boxes_[slot_[face]];
+    const double cu = 0.5 * (b[0] + b[2]), cv = 0.5 * (b[1] + b[3]);
+    if (!std::isfinite(cu) || !std::isfinite(cv)) return;
+    const std::size_t c = cells_.cell_of(cu, cv);
+    for (std::uint32_t e = start_[c]; e < start_[c + 1]; ++e) {
+      const Entry& entry = entries_[e];
+      if (entry.reach < min_depth) break;  // (the cell's entries by reach: the rest lie behind)
+      const Box& o = entry.box;
+      if ((int{o[0] <= b[0]} & int{o[1] <= b[1]} & int{b[2] <= o[2]} & int{b[3] <= o[3]}) == 0) continue;
+      if (visit(static_cast<std::size_t>(item_faces_[entry.slots_begin]))) return;
+    }
+  }
+
   /// About how many faces query(face) meets, in O(cells): the faces whose light-space box has its
   /// lower corner in a counting cell that `face`'s box touches (each face counted once). The
   /// counting cells are the grid's first layout (square, one per four faces), kept when the query

@@ -196,6 +196,57 @@ bool ReceiverJob::cast_convex_solid(int solid) {
   return true;
 }
 
+bool ReceiverJob::may_be_covered_whole() const {
+  if (polygons_ || tile_ || !fp_.chart_is_box || rc_.point || !rc_.exact_sides || !grid_index_) return false;
+  if (light_.type != LightType::Directional || light_.is_extended()) return false;
+  const core::SolidOutlines* outlines = grid_index_->outlines();
+  return outlines && outlines->of(ctx_.solids) && ctx_.solid_of;
+}
+
+bool ReceiverJob::one_solid_covers() {
+  const core::SolidOutlines& outlines = *grid_index_->outlines();
+  const int own_solid = (*ctx_.solid_of)[face_id_];
+  // Each corner of the box is certainly inside the exact hull when it is inside every edge of
+  // the hull in doubles by more than the corners' error (delta: theirs, and the chart's rounding
+  // as for any cast): the exact hull contains the doubles' hull shrunk by that much.
+  const std::array<glm::dvec2, 4> box{glm::dvec2(rc_.lo[0], rc_.lo[1]), glm::dvec2(rc_.hi[0], rc_.lo[1]),
+                                      glm::dvec2(rc_.hi[0], rc_.hi[1]), glm::dvec2(rc_.lo[0], rc_.hi[1])};
+  auto covers = [&](const ChartPoints& hull, double delta) {
+    const std::size_t m = hull.size();
+    for (std::size_t a = 0; a < m; ++a) {
+      const glm::dvec2 p = hull[a], d = hull[a + 1 < m ? a + 1 : 0] - p;
+      // The distance's rounding: the differences, the products and the sum, each within a few
+      // eps of the terms' magnitudes; the length's within a few eps of itself.
+      const double reach = delta * glm::length(d) * (1 + 1e-9);
+      for (const glm::dvec2& c : box) {
+        const glm::dvec2 e = c - p;
+        const double tx = d.x * e.y, ty = d.y * e.x;
+        if (!(tx - ty - 8 * kEps * (std::abs(tx) + std::abs(ty)) > reach)) return false;
+      }
+    }
+    return true;
+  };
+  bool found = false;
+  const double min_depth = core::CasterCandidates::depth_floor(*grid_index_, cull_, cull_.faces[face_id_]);
+  grid_index_->query_containing(face_id_, min_depth, [&](std::size_t q) {
+    const int solid = (*ctx_.solid_of)[q];
+    if (solid < 0 || solid == own_solid) return false;
+    const core::ConvexSolid& cs = (*ctx_.solids)[static_cast<std::size_t>(solid)];
+    if (points_.size() < cs.vertices.size()) points_.resize(cs.vertices.size());
+    // Every vertex certainly in front (the doubles' test of scene_side, no predicate): the hull
+    // of the projected vertices is then the solid's shadow on the receiver's plane.
+    for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
+      const double s = rc_.s(cs.vertices[a]);
+      if (!(s > 2 * rc_.s_error)) return false;
+      points_[a] = fr_.project(cs.vertices[a], s);
+    }
+    if (!hull_from_outline(points_, outlines.outline(static_cast<std::size_t>(solid)), hull_)) return false;
+    found = covers(hull_, parallel_delta_ + 4 * kEps * rc_.magnitude);
+    return found;
+  });
+  return found;
+}
+
 bool ReceiverJob::cast_face(std::size_t q) {
   const core::FacePrep& qp = prep_[q];
   const Face& qface = scene_.faces[q];

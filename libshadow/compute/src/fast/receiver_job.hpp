@@ -438,6 +438,18 @@ class ReceiverJob {
     return candidates;
   }
 
+  // ---- one solid's shadow over the whole receiver ------------------------------------------
+  /// Whether the receiver's outline is its chart box and the casts would be convex solids' hulls
+  /// under a directional light, areas only: where one_solid_covers() may decide the receiver.
+  [[nodiscard]] bool may_be_covered_whole() const;
+  /// True when some convex solid wholly in front of the receiver certainly shades all of it: the
+  /// exact hull of its projection contains the chart box (its projected outline, each corner
+  /// within parallel_delta_ of the exact one, contains the box by more than that). Then the exact
+  /// lit area is 0, whatever the other casters do. Only solids whose light-space box contains the
+  /// receiver's (LightSpaceGrid::query_containing) are tried; nothing is changed but scratch.
+  /// After set_up_projection().
+  bool one_solid_covers();
+
   // ---- projection in doubles: tolerances and the grid ---------------------------------------
   bool set_up_projection();
 
