@@ -558,6 +558,34 @@ TEST(FastPath, AWallInOneSolidsShadowWholeIsDecidedByIt) {
   }
 }
 
+// The same for a solid partly behind the wall's plane: its shadow is the hull of its front part's
+// projection and of its edges' crossings with the plane.
+TEST(FastPath, AWallInTheShadowOfASolidAcrossItsPlaneIsDecidedByIt) {
+  // The sun at (4, 1, 1): a point (x, y, z) casts onto the wall y = 0 at (x - 4y, z - y). A slab
+  // beside the house, x in [11, 25], y in [-2, 3], 20 high: its front part (y >= 0) casts over
+  // x in [-1, 25] and z in [-3, 20], the wall's 10 x 10 m with a metre to spare.
+  Scene scene;
+  add_mesh(scene, "house", box_faces({0, -5, 0}, {10, 0, 10}));
+  add_mesh(scene, "slab", box_faces({11, -2, 0}, {25, 3, 20}));
+  scene.lights.push_back(directional_light("sun", {4, 1, 1}));
+  validate_scene(scene);
+  const ShadowResult fast = expect_within_bounds(scene, "across the plane", false);
+  const ShadowResult exact = compute_shadows(scene, with(Arithmetic::Exact, false));
+  std::size_t walls = 0;
+  for (std::size_t a = 0; a < fast.lighting.size(); ++a) {
+    const FaceLighting& f = fast.lighting[a];
+    const Polygon3& face = scene.faces[f.face_id].vertices;
+    const glm::dvec3 n = newell_normal(face);
+    if (!(n.y > 0 && n.x == 0 && n.z == 0) || face[0].y != 0.0 || face[0].x > 10) continue;  // the house's wall
+    ++walls;
+    EXPECT_TRUE(f.faces_light);
+    EXPECT_EQ(exact.lighting[a].lit_area, 0.0);
+    EXPECT_EQ(f.lit_area, 0.0);
+    EXPECT_EQ(f.lit_area_error_bound, 0.0) << "decided by the slab alone";
+  }
+  EXPECT_EQ(walls, 1u);
+}
+
 // The same on a city under a low and a high sun, areas only: every wall or roof decided by one
 // solid is exactly unlit in the exact engine too, some are, and neither the values nor the
 // counts depend on the number of threads.

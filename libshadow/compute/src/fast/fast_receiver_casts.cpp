@@ -232,16 +232,37 @@ bool ReceiverJob::one_solid_covers() {
     const int solid = (*ctx_.solid_of)[q];
     if (solid < 0 || solid == own_solid) return false;
     const core::ConvexSolid& cs = (*ctx_.solids)[static_cast<std::size_t>(solid)];
-    if (points_.size() < cs.vertices.size()) points_.resize(cs.vertices.size());
-    // Every vertex certainly in front (the doubles' test of scene_side, no predicate): the hull
-    // of the projected vertices is then the solid's shadow on the receiver's plane.
+    if (points_.size() < cs.vertices.size() + cs.edges.size()) points_.resize(cs.vertices.size() + cs.edges.size());
+    vsign_.resize(cs.vertices.size());
+    // Every vertex's side certain in doubles (scene_side's test, no predicate: a vertex too near
+    // the plane for it rules the solid out). The shadow is the hull of the front vertices'
+    // projections and of the edges' crossings with the plane, as cast_convex_solid makes it.
+    bool any_behind = false;
+    std::size_t count = 0;
     for (std::size_t a = 0; a < cs.vertices.size(); ++a) {
       const double s = rc_.s(cs.vertices[a]);
-      if (!(s > 2 * rc_.s_error)) return false;
-      points_[a] = fr_.project(cs.vertices[a], s);
+      if (s > 2 * rc_.s_error) {
+        vsign_[a] = CGAL::POSITIVE;
+        points_[count++] = fr_.project(cs.vertices[a], s);
+      } else if (s < -2 * rc_.s_error) {
+        vsign_[a] = CGAL::NEGATIVE;
+        any_behind = true;
+      } else {
+        return false;
+      }
     }
-    if (!hull_from_outline(points_, outlines.outline(static_cast<std::size_t>(solid)), hull_)) return false;
-    found = covers(hull_, parallel_delta_ + 4 * kEps * rc_.magnitude);
+    if (count == 0) return false;
+    double cross_delta = 0;
+    for (std::size_t e = 0; any_behind && e < cs.edges.size(); ++e) {
+      const auto& [a, b] = cs.edges[e];
+      if (vsign_[a] == vsign_[b]) continue;
+      glm::dvec3 x;
+      if (!fr_.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
+      points_[count++] = fr_.chart(x);
+    }
+    if (any_behind) convex_hull(points_, count, hull_);
+    else if (!hull_from_outline(points_, outlines.outline(static_cast<std::size_t>(solid)), hull_)) return false;
+    found = hull_.size() >= 3 && covers(hull_, std::max(parallel_delta_, cross_delta) + 4 * kEps * rc_.magnitude);
     return found;
   });
   return found;
