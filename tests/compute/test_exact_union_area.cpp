@@ -755,6 +755,52 @@ TEST(ExactUnionAreaInTheEngine, CityUnderSunsAndALampEqualsTheJoin) {
   expect_areas_route_equals_join_route(scene, 40);  // the ground in tiles
 }
 
+// Areas only, a receiver's casts begin with the solids whose light-space box contains its own,
+// and one whose cast holds the whole chart box ends the job before the candidate search. Every
+// area is the join's all the same (those casts are ones the search would make, in another
+// order), receivers so decided are dark, and neither the areas nor the counts depend on the
+// number of threads. Walls shaded whole by a slab in front of them and by one across their
+// plane, and a city under a low and a high sun.
+TEST(ExactUnionAreaInTheEngine, ReceiversInOneSolidsShadowEqualTheJoin) {
+  for (const glm::dvec3 to_light : {glm::dvec3(0.125, 1, 1), glm::dvec3(4, 1, 1)}) {
+    shadow::Scene scene;
+    shadow::add_mesh(scene, "house", shadow::box_faces({0, -5, 0}, {10, 0, 10}));
+    if (to_light.x < 1) shadow::add_mesh(scene, "slab", shadow::box_faces({-0.625, 2, 0}, {11.25, 3, 20}));
+    else shadow::add_mesh(scene, "slab", shadow::box_faces({11, -2, 0}, {25, 3, 20}));  // across the wall's plane
+    scene.lights.push_back(shadow::directional_light("sun", to_light));
+    shadow::validate_scene(scene);
+    shadow::ShadowOptions areas;
+    areas.polygons = false;
+    const shadow::ShadowResult result = shadow::compute_shadows(scene, areas);
+    const shadow::FaceLighting* wall = nullptr;
+    for (const shadow::FaceLighting& l : result.lighting) {
+      const shadow::Polygon3& face = scene.faces[l.face_id].vertices;
+      if (l.face_id < 6 && face[0].y == 0 && face[1].y == 0 && face[2].y == 0) wall = &l;
+    }
+    ASSERT_NE(wall, nullptr);
+    EXPECT_TRUE(wall->faces_light);
+    EXPECT_EQ(wall->lit_area, 0.0);
+    EXPECT_EQ(wall->shadow_area, wall->area);
+    expect_same_lighting(result, shadow::compute_shadows(scene, shadow::ShadowOptions{}));
+  }
+  shadow::Scene city = shadow::make_city(80, 120, 11);
+  city.lights.push_back(shadow::directional_light("low sun", shadow::sun_direction(8, 200)));
+  city.lights.push_back(shadow::directional_light("high sun", shadow::sun_direction(35, 120)));
+  shadow::validate_scene(city);
+  expect_areas_route_equals_join_route(city, 0);
+  shadow::ShadowOptions two, one;
+  two.polygons = one.polygons = false;
+  two.threads = 2;
+  one.threads = 1;
+  const shadow::ShadowResult a = shadow::compute_shadows(city, two), b = shadow::compute_shadows(city, one);
+  expect_same_lighting(a, b);
+  EXPECT_EQ(a.stats.candidate_pairs, b.stats.candidate_pairs);
+  EXPECT_EQ(a.stats.casting_pairs, b.stats.casting_pairs);
+  std::size_t dark = 0;
+  for (const shadow::FaceLighting& l : a.lighting) dark += l.faces_light && l.lit_area == 0.0 ? 1 : 0;
+  EXPECT_GE(dark, 20u);  // the low sun shades many walls whole
+}
+
 // A city turned 30 degrees about the vertical: its roofs and its ground are rectangles whose
 // charts are not their bounding boxes (the walls' still are), so the casts on them are clipped
 // to the convex chart and united from their boundaries, not joined; on the L-shaped forecourt,

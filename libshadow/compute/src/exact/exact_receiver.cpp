@@ -142,7 +142,30 @@ ReceiverResult ExactReceiverJob::run(int facing) {
       return std::move(item_);
     }
   }
-  const std::vector<std::size_t>& candidates = gather_casters();
+  corner0_ = epick(face_.vertices[fp_.corner[1]]);
+  corner1_ = epick(face_.vertices[fp_.corner[2]]);
+  corner2_ = epick(face_.vertices[fp_.corner[0]]);
+  const int own_solid = (*ctx_.solid_of)[face_id_];
+  // A receiver in one solid's shadow whole (a fifth of a city's lit walls and roofs over a
+  // year): the solids whose light-space box contains the receiver's are cast first, and one
+  // whose cast holds the chart box (note_cover_q, exactly) ends the job before the candidate
+  // search. The others' casts stay: each is the exact shadow the search would have it cast (a
+  // solid the culler rules out casts nothing on the box), and the union's area, exact, does not
+  // depend on the order.
+  w_.cast_first.clear();
+  if (q_mode_ && fp_.chart_is_box && !tile_ && grid_ && ctx_.solids && ctx_.solid_of) {
+    grid_->query_containing(face_id_, core::CasterCandidates::depth_floor(*grid_, *ctx_.cull, ctx_.cull->faces[face_id_]),
+                            [&](std::size_t q) {
+                              const int solid = (*ctx_.solid_of)[q];
+                              if (solid < 0 || solid == own_solid) return false;
+                              w_.cast_first.push_back(solid);
+                              cast_convex_solid(solid);
+                              return covered_;
+                            });
+  }
+  static const std::vector<std::size_t> kNone;
+  const std::vector<std::size_t>& candidates = covered_ ? kNone : gather_casters();
+  if (covered_) stats_.candidate_pairs += w_.cast_first.size();
   if (split_above_ > 0 && !grid_ && candidates.size() > split_above_ && core::tileable(fp_)) {
     // Too many casters for one work item: the engine splits the face into tiles (and counts
     // it then), nothing else is done here.
@@ -151,10 +174,8 @@ ReceiverResult ExactReceiverJob::run(int facing) {
     item_.split_candidates = candidates.size();
     return std::move(item_);
   }
-  corner0_ = epick(face_.vertices[fp_.corner[1]]);
-  corner1_ = epick(face_.vertices[fp_.corner[2]]);
-  corner2_ = epick(face_.vertices[fp_.corner[0]]);
-  const int own_solid = (*ctx_.solid_of)[face_id_];
+  // (The search began a new round of the solids' marks: those cast already are not cast again.)
+  for (const int solid : w_.cast_first) w_.casters.mark_solid_done(solid);
   for (std::size_t q : candidates) {
     const int solid = (*ctx_.solid_of)[q];
     if (solid >= 0 && (solid == own_solid || w_.casters.solid_done(solid))) continue;

@@ -46,6 +46,7 @@ constexpr std::size_t kUnionPairsKept = std::size_t{1} << 16;
 struct ExactWorker {
   std::vector<std::unique_ptr<ExactFace>> faces;  ///< built on first use
   core::CasterCandidates casters;
+  std::vector<int> cast_first;  ///< the solids a job cast before its candidate search (run())
   std::vector<Point3> poly, scratch;
   std::vector<Point2> poly2, scratch2;
   // Areas only, a chart that is not a box: the casts clipped to the chart or to one of its
