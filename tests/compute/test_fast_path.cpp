@@ -599,7 +599,8 @@ TEST(FastPath, ReceiversInOneSolidsShadowAgreeWithTheExactEngine) {
   scene.lights.push_back(directional_light("sun8", sun_direction(8, 200)));
   scene.lights.push_back(directional_light("sun35", sun_direction(35, 120)));
   const ShadowResult fast = expect_within_bounds(scene, "city, areas only", false);
-  const ShadowResult exact = compute_shadows(scene, with(Arithmetic::Exact, false));
+  // (With polygons the exact engine joins the casts: a reference that takes no route of this.)
+  const ShadowResult exact = compute_shadows(scene, with(Arithmetic::Exact, true));
   std::size_t decided = 0;
   for (std::size_t a = 0; a < fast.lighting.size(); ++a) {
     const FaceLighting& f = fast.lighting[a];

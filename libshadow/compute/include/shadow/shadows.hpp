@@ -159,8 +159,10 @@ struct ShadowStats {
   /// Occluder-receiver pairs after culling in doubles (boxes, the receiver's slab and prism). A
   /// convex solid that the engine casts as one hull (a directional light on an exactly planar
   /// receiver) counts once, as in casting_pairs; otherwise each of its faces that passes counts.
-  /// Arithmetic::Fast, areas only: a receiver that one solid certainly shades whole is decided
-  /// without the search, and counts that one pair (docs/numeric-contract.md).
+  /// Areas only, a box receiver, a directional light: a receiver that one solid shades whole is
+  /// decided without the search. The fast path counts that one pair (docs/numeric-contract.md);
+  /// the exact engine counts the solids it cast first, the covering one last
+  /// (docs/algorithm.md), and those casts are in casting_pairs.
   std::uint64_t candidate_pairs = 0;
   std::uint64_t casting_pairs = 0;      ///< pairs whose exact projection was non-empty
   std::uint64_t unshadowed = 0;         ///< front-facing receivers with nothing in front (no clipping)

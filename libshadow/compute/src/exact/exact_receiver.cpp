@@ -146,14 +146,15 @@ ReceiverResult ExactReceiverJob::run(int facing) {
   corner1_ = epick(face_.vertices[fp_.corner[2]]);
   corner2_ = epick(face_.vertices[fp_.corner[0]]);
   const int own_solid = (*ctx_.solid_of)[face_id_];
-  // A receiver in one solid's shadow whole (a fifth of a city's lit walls and roofs over a
-  // year): the solids whose light-space box contains the receiver's are cast first, and one
-  // whose cast holds the chart box (note_cover_q, exactly) ends the job before the candidate
-  // search. The others' casts stay: each is the exact shadow the search would have it cast (a
-  // solid the culler rules out casts nothing on the box), and the union's area, exact, does not
-  // depend on the order.
+  // A receiver in one solid's shadow whole (a fifth of a city's walls and roofs with some
+  // shadow over a year): the solids whose light-space box contains the receiver's are cast
+  // first, and one whose cast holds the chart box (note_cover_q, exactly) ends the job before
+  // the candidate search. The others' casts stay: each is the exact shadow the search would
+  // have it cast (a solid the culler rules out casts nothing on the box), and the union's area,
+  // exact, does not depend on the order.
   w_.cast_first.clear();
-  if (q_mode_ && fp_.chart_is_box && !tile_ && grid_ && ctx_.solids && ctx_.solid_of) {
+  if (q_mode_ && fp_.chart_is_box && !tile_ && grid_ && ctx_.solids && ctx_.solid_of &&
+      grid_->solid_items() == ctx_.solid_of) {  // (items that are solids: each met once)
     grid_->query_containing(face_id_, core::CasterCandidates::depth_floor(*grid_, *ctx_.cull, ctx_.cull->faces[face_id_]),
                             [&](std::size_t q) {
                               const int solid = (*ctx_.solid_of)[q];

@@ -79,10 +79,10 @@ bool ReceiverJob::run() {
       return true;
     }
   }
-  // A receiver in one solid's shadow whole (a fifth of a city's lit walls and roofs under a
-  // year's suns, most of them under a low sun) needs neither the candidate search nor the other
-  // casts: its exact lit area is 0. Tried on the few solids whose light-space box contains the
-  // receiver's.
+  // A receiver in one solid's shadow whole (a fifth of a city's walls and roofs with some
+  // shadow under a year's suns, most of them under a low sun) needs neither the candidate
+  // search nor the other casts: its exact lit area is 0. Tried on the few solids whose
+  // light-space box contains the receiver's.
   const bool try_cover = may_be_covered_whole();
   if (try_cover) {
     if (!set_up_projection()) return false;

@@ -199,12 +199,13 @@ bool ReceiverJob::cast_convex_solid(int solid) {
 bool ReceiverJob::may_be_covered_whole() const {
   if (polygons_ || tile_ || !fp_.chart_is_box || rc_.point || !rc_.exact_sides || !grid_index_) return false;
   if (light_.type != LightType::Directional || light_.is_extended()) return false;
-  const core::SolidOutlines* outlines = grid_index_->outlines();
-  return outlines && outlines->of(ctx_.solids) && ctx_.solid_of;
+  // (A grid whose items are the solids: query_containing then meets each solid once.)
+  return ctx_.solids && ctx_.solid_of && grid_index_->solid_items() == ctx_.solid_of;
 }
 
 bool ReceiverJob::one_solid_covers() {
-  const core::SolidOutlines& outlines = *grid_index_->outlines();
+  const core::SolidOutlines* outlines = grid_index_->outlines();
+  if (outlines && !outlines->of(ctx_.solids)) outlines = nullptr;
   const int own_solid = (*ctx_.solid_of)[face_id_];
   // Each corner of the box is certainly inside the exact hull when it is inside every edge of
   // the hull in doubles by more than the corners' error (delta: theirs, and the chart's rounding
@@ -260,8 +261,9 @@ bool ReceiverJob::one_solid_covers() {
       if (!fr_.crossing(cs.vertices[a], cs.vertices[b], x, cross_delta)) return false;
       points_[count++] = fr_.chart(x);
     }
-    if (any_behind) convex_hull(points_, count, hull_);
-    else if (!hull_from_outline(points_, outlines.outline(static_cast<std::size_t>(solid)), hull_)) return false;
+    // (As cast_convex_solid: the outline's corners where it holds, else the hull of the points.)
+    if (any_behind || !outlines || !hull_from_outline(points_, outlines->outline(static_cast<std::size_t>(solid)), hull_))
+      convex_hull(points_, count, hull_);
     found = hull_.size() >= 3 && covers(hull_, std::max(parallel_delta_, cross_delta) + 4 * kEps * rc_.magnitude);
     return found;
   });

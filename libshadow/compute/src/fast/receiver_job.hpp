@@ -442,12 +442,14 @@ class ReceiverJob {
   /// Whether the receiver's outline is its chart box and the casts would be convex solids' hulls
   /// under a directional light, areas only: where one_solid_covers() may decide the receiver.
   [[nodiscard]] bool may_be_covered_whole() const;
-  /// True when some convex solid wholly in front of the receiver certainly shades all of it: the
-  /// exact hull of its projection contains the chart box (its projected outline, each corner
-  /// within parallel_delta_ of the exact one, contains the box by more than that). Then the exact
-  /// lit area is 0, whatever the other casters do. Only solids whose light-space box contains the
-  /// receiver's (LightSpaceGrid::query_containing) are tried; nothing is changed but scratch.
-  /// After set_up_projection().
+  /// True when some convex solid, every vertex's side of the receiver's plane certain in
+  /// doubles, certainly shades all of the receiver: the exact hull of its front part's projection
+  /// contains the chart box (the hull of its projected front vertices and its edges' crossings
+  /// with the plane, each point within its error of an exact one, contains the box by more than
+  /// that error and the chart's rounding). Then the exact lit area is 0, whatever the other
+  /// casters do. Only solids whose light-space box contains the receiver's
+  /// (LightSpaceGrid::query_containing) are tried; nothing is changed but scratch. After
+  /// set_up_projection().
   bool one_solid_covers();
 
   // ---- projection in doubles: tolerances and the grid ---------------------------------------
