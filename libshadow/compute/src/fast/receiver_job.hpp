@@ -466,6 +466,25 @@ class ReceiverJob {
   /// light, exactly planar receiver).
   bool cast_convex_solid(int solid);
 
+  /// What solid_points() found of a convex solid.
+  struct SolidPoints {
+    std::size_t count = 0;  ///< its points: points_[0, count)
+    bool any_front = false, any_behind = false;
+    double cross_delta = 0;  ///< the crossings' error (0 without crossings)
+  };
+  /// The points whose hull is convex solid `cs`'s shadow on the receiver's plane, into points_:
+  /// its vertices in front projected and those on the plane as they are, in vertex order, then,
+  /// where some vertex is in front and some behind, its edges' crossings with the plane. Each
+  /// vertex's side in vsign_: scene_side's, or with kCertainSides its test in doubles alone, a
+  /// vertex that test cannot tell making this return false. False also where a crossing is
+  /// ill-conditioned (fr_.crossing).
+  template <bool kCertainSides>
+  bool solid_points(const core::ConvexSolid& cs, SolidPoints& out);
+  /// The hull of solid_points()' points of convex solid `solid` into hull_, counter-clockwise:
+  /// the corners of its outline seen from the light where it is wholly in front and those make a
+  /// convex polygon on the chart, else their convex hull.
+  void solid_hull(int solid, const SolidPoints& points);
+
   /// Whether every point of points[0, n) lies beyond one side of the receiver's chart box by
   /// more than `margin`. False where a point is not finite: the cast then goes on as before this
   /// test, and add_cast's finiteness check sends the receiver to the exact engine.
